@@ -1,0 +1,27 @@
+
+# Consider dependencies only in project.
+set(CMAKE_DEPENDS_IN_PROJECT_ONLY OFF)
+
+# The set of languages for which implicit dependencies are needed:
+set(CMAKE_DEPENDS_LANGUAGES
+  )
+
+# The set of dependency files which are needed:
+set(CMAKE_DEPENDS_DEPENDENCY_FILES
+  "/work/main/src/vi_contact.c" "CMakeFiles/vi_core.dir/src/vi_contact.c.o" "gcc" "CMakeFiles/vi_core.dir/src/vi_contact.c.o.d"
+  "/work/main/src/vi_model.c" "CMakeFiles/vi_core.dir/src/vi_model.c.o" "gcc" "CMakeFiles/vi_core.dir/src/vi_model.c.o.d"
+  "/work/main/src/vi_sim.c" "CMakeFiles/vi_core.dir/src/vi_sim.c.o" "gcc" "CMakeFiles/vi_core.dir/src/vi_sim.c.o.d"
+  "/work/main/src/vi_solver.c" "CMakeFiles/vi_core.dir/src/vi_solver.c.o" "gcc" "CMakeFiles/vi_core.dir/src/vi_solver.c.o.d"
+  "/work/main/src/vi_variables.c" "CMakeFiles/vi_core.dir/src/vi_variables.c.o" "gcc" "CMakeFiles/vi_core.dir/src/vi_variables.c.o.d"
+  )
+
+# Targets to which this target links which contain Fortran sources.
+set(CMAKE_Fortran_TARGET_LINKED_INFO_FILES
+  )
+
+# Targets to which this target links which contain Fortran sources.
+set(CMAKE_Fortran_TARGET_FORWARD_LINKED_INFO_FILES
+  )
+
+# Fortran module output directory.
+set(CMAKE_Fortran_TARGET_MODULE_DIR "")

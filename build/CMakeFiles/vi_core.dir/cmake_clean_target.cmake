@@ -1,0 +1,3 @@
+file(REMOVE_RECURSE
+  "libvi_core.a"
+)

@@ -1,0 +1,2 @@
+# Empty dependencies file for vi_dump_variables.
+# This may be replaced when dependencies are built.

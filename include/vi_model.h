@@ -1,0 +1,106 @@
+/*
+ * vi_model.h - the hybrid model of a mass pressed onto a vibrating platform (no solver, no FMI).
+ *
+ * Continuous state x = (delta, v): indentation delta = yC - y [m] and mass velocity v [m/s]
+ * (the indentation, not y, is integrated: it stays exact when yC carries a large offset).
+ *
+ *   delta' = yC'(t) - v
+ *   v'     = (F(delta, mode, memory) - W(t)) / m,     W(t) = P + m g - F_ext(t)  (net load down)
+ *   yC(t)  = yC_in(t) + a (cos(2 pi f (t - t0)) - 1)   (t0: start time)
+ *
+ * Inputs are ramps over a communication step: u(t) = u + du (t - t_u) (du = 0: zero-order hold).
+ *
+ * Modes (output `mode`): 0 free, 1 elastic on the virgin curve (Hertz, Johnson below delta_Y,
+ * LEPP spring), 2 plastic (Johnson virgin loading beyond delta_Y; LEPP flow at F_Y; with a moving
+ * contact point: above delta_Y either way), 3 elastic unload/reload (Johnson, eq. 4), 4 stick
+ * (Johnson paper unloading: Filippov sliding at a turning point, F = F_hold = W + m yC'').
+ *
+ * Each mode has up to VI_NGUARDS guard functions g >= 0; the mode is left when a guard falls
+ * through zero (CVODE root direction -1 for all):
+ *   0: g0 = s - delta                  contact (s = 0, delta_f or delta_p)
+ *   1: g0 = delta - s                  separation
+ *      g1 = delta_Y - delta            yield (Johnson), delta_p + delta_Y - delta (LEPP)
+ *   2: g0 = delta'                     turning point (Johnson, LEPP)
+ *      g0 = delta - delta_Y            back below yield (Johnson, moving contact point)
+ *   3: g0 = delta - delta_f            separation
+ *      g1 = delta_c - delta            reloading reaches delta_c
+ *   4: g0 = F_load(delta_c) - F_hold   plastic loading resumes
+ *      g1 = F_hold - F_unload(delta_c) unloading starts
+ * At an event the state is snapped onto the surface that was reached, and the next mode is chosen
+ * from the sign of (position, rate, acceleration) relative to each surface (vi_model_resolve).
+ */
+#ifndef VI_MODEL_H
+#define VI_MODEL_H
+
+#include <stddef.h>
+
+#include "vi_contact.h"
+#include "vi_variables.h"
+
+#define VI_NGUARDS 2
+
+/* An input over a communication step: value u + du (t - t). */
+typedef struct {
+    double u, du, t;
+} vi_ramp;
+
+typedef struct {
+    /* constants, from the parameters (vi_model_setup) */
+    int law;       /* VI_ContactModel_* */
+    int moving;    /* Johnson with a moving contact point */
+    int unloading; /* VI_UNLOAD_PAPER or VI_UNLOAD_CONTINUOUS */
+    double m, W0;  /* mass [kg], P + m g [N] */
+    double K;      /* Hertz constant [N/m^1.5] */
+    vi_johnson J;  /* E*, R*, theta_Y, F_Y, delta_Y */
+    double k_lin;  /* F_Y/delta_Y [N/m] */
+    double a, omega, t0; /* harmonic excitation: amplitude [m], 2 pi f [rad/s], phase origin [s] */
+    double f_contact;    /* linearised contact resonance at the initial static load [Hz] (initial state) */
+
+    /* inputs */
+    vi_ramp yC_in, F_ext;
+
+    /* discrete state */
+    int mode;          /* VI_Mode_* */
+    int yielded;       /* Johnson, fixed contact point: plastic memory exists */
+    vi_unload_curve U; /* Johnson memory: delta_c, Rbar, delta_r, delta_f (valid when yielded) */
+    double delta_p;    /* LEPP permanent set [m] (in mode 2 it is delta - delta_Y) */
+    long n_impacts;
+} vi_model;
+
+/* Check the parameters and derive the constants. Returns 0, or -1 with a message in msg. */
+int vi_model_setup(vi_model *M, const vi_parameters *p, double t0, char *msg, size_t msg_size);
+
+/* Platform position yC(t) [m]; its first and second derivatives when the pointers are not NULL. */
+double vi_model_platform(const vi_model *M, double t, double *dyC, double *ddyC);
+
+/* Initial state at time t0 (parameters init, v0) on the virgin curve; sets the mode and f_contact,
+ * the linearised resonance at the static load W(t0) (unloading stiffness when pre-loaded plastically). */
+void vi_model_initial_state(vi_model *M, int init, double v0, double t0, double x[2]);
+
+/* Contact force [N] in the current mode. */
+double vi_model_force(const vi_model *M, double t, const double x[2]);
+void vi_model_rhs(const vi_model *M, double t, const double x[2], double dx[2]);
+/* d(v')/d(delta): the only nonzero state derivative of the right-hand side besides d(delta')/dv = -1. */
+double vi_model_stiffness_over_mass(const vi_model *M, double t, const double x[2]);
+void vi_model_guards(const vi_model *M, double t, const double x[2], double g[VI_NGUARDS]);
+
+/* Write down the memory that tracks the state (delta_c while Johnson loads plastically, delta_p
+ * while LEPP flows) and put a sticking mass exactly on the platform's velocity. Call it before the
+ * state is changed from outside (an input jump) and before vi_model_resolve. */
+void vi_model_freeze(vi_model *M, double t, double x[2]);
+/* Apply the event: guard `fired` of the current mode reached zero at time t. Freezes, snaps x onto
+ * the surface, and chooses the next mode. Returns the new mode. */
+int vi_model_event(vi_model *M, double t, double x[2], int fired);
+/* Choose the mode consistent with (delta, rate, acceleration) at an arbitrary state, e.g. after an
+ * input jump (freeze first); updates the memory if the state lies beyond it and counts a contact
+ * onset. Returns the new mode. */
+int vi_model_resolve(vi_model *M, double t, double x[2]);
+
+/* Typical indentation [m] and velocity [m/s] of the problem, for absolute tolerances. */
+void vi_model_scales(const vi_model *M, double x0_delta, double v0, double *L, double *V);
+
+/* Derived parameters (E_star ... f_contact) and outputs at (t, x). */
+void vi_model_calculated(const vi_model *M, vi_outputs *out);
+void vi_model_outputs(const vi_model *M, double t, const double x[2], vi_outputs *out);
+
+#endif

@@ -1,0 +1,345 @@
+/* vi_model.c - hybrid model: modes, right-hand side, guards, events; equations in vi_model.h. */
+#include "vi_model.h"
+
+#include <math.h>
+#include <stdio.h>
+
+static double ramp(const vi_ramp *r, double t) { return r->u + r->du * (t - r->t); }
+static int is_johnson_fixed(const vi_model *M) { return M->law == VI_ContactModel_johnson && !M->moving; }
+
+/* Net load pressing the mass down, W(t) = P + m g - F_ext(t) [N]. */
+static double net_load(const vi_model *M, double t) { return M->W0 - ramp(&M->F_ext, t); }
+
+#define CHECK(cond, ...)                                 \
+    do {                                                 \
+        if (!(cond)) {                                   \
+            snprintf(msg, msg_size, __VA_ARGS__);        \
+            return -1;                                   \
+        }                                                \
+    } while (0)
+
+int vi_model_setup(vi_model *M, const vi_parameters *p, double t0, char *msg, size_t msg_size)
+{
+    const double reals[] = {p->m, p->P, p->g, p->R1, p->R2, p->E1, p->E2, p->nu1,
+                            p->nu2, p->Y, p->theta_Y, p->v0, p->a, p->f};
+    for (size_t i = 0; i < sizeof reals / sizeof reals[0]; i++)
+        CHECK(isfinite(reals[i]), "a parameter is not finite (NaN or infinite)");
+    CHECK(p->m > 0.0, "m = %g kg: the mass must be positive", p->m);
+    CHECK(p->R1 >= 0.0 && p->R2 >= 0.0, "R1 = %g m, R2 = %g m: radii must be >= 0 (0 = plane)", p->R1, p->R2);
+    CHECK(p->R1 > 0.0 || p->R2 > 0.0, "R1 = R2 = 0: two planes have no point contact; give a radius");
+    CHECK(p->E1 > 0.0 && p->E2 > 0.0, "E1 = %g Pa, E2 = %g Pa: Young's moduli must be positive", p->E1, p->E2);
+    CHECK(p->nu1 > -1.0 && p->nu1 <= 0.5 && p->nu2 > -1.0 && p->nu2 <= 0.5,
+          "nu1 = %g, nu2 = %g: Poisson's ratios must lie in (-1, 0.5]", p->nu1, p->nu2);
+    CHECK(p->Y > 0.0 && p->theta_Y > 0.0, "Y = %g Pa, theta_Y = %g: both must be positive", p->Y, p->theta_Y);
+    CHECK(p->f >= 0.0, "f = %g Hz: the excitation frequency must be >= 0", p->f);
+    CHECK(p->contact_model >= VI_ContactModel_hertz && p->contact_model <= VI_ContactModel_lepp,
+          "contact_model = %d: use hertz (1), johnson (2) or lepp (3)", p->contact_model);
+    CHECK(p->unloading == VI_Unloading_paper || p->unloading == VI_Unloading_continuous,
+          "unloading = %d: use paper (1) or continuous (2)", p->unloading);
+    CHECK(p->yield_formula == VI_YieldFormula_textbook || p->yield_formula == VI_YieldFormula_printed,
+          "yield_formula = %d: use textbook (1) or printed (2)", p->yield_formula);
+    CHECK(p->init == VI_Init_static || p->init == VI_Init_touching, "init = %d: use static (1) or touching (2)",
+          p->init);
+
+    M->law = p->contact_model;
+    M->moving = p->moving_contact != 0;
+    M->unloading = p->unloading == VI_Unloading_continuous ? VI_UNLOAD_CONTINUOUS : VI_UNLOAD_PAPER;
+    M->m = p->m;
+    M->W0 = p->P + p->m * p->g;
+    M->J.E_star = vi_effective_modulus(p->E1, p->nu1, p->E2, p->nu2);
+    M->J.R_star = vi_effective_radius(p->R1, p->R2);
+    M->J.theta_Y = p->theta_Y;
+    M->K = vi_hertz_constant(M->J.E_star, M->J.R_star);
+    M->J.F_Y = vi_yield_force(p->yield_formula == VI_YieldFormula_printed ? VI_YIELD_PRINTED : VI_YIELD_TEXTBOOK,
+                              p->theta_Y, p->Y, M->J.R_star, M->J.E_star);
+    M->J.delta_Y = vi_hertz_indentation(M->K, M->J.F_Y);
+    M->k_lin = M->J.F_Y / M->J.delta_Y;
+    M->a = p->a;
+    M->omega = 2.0 * VI_PI * p->f;
+    M->t0 = t0;
+    CHECK(isfinite(M->W0) && isfinite(M->K) && M->K > 0.0 && isfinite(M->J.F_Y) && M->J.F_Y > 0.0 &&
+              M->J.delta_Y > 0.0 && isfinite(M->k_lin) && M->k_lin > 0.0,
+          "the parameters give no finite positive contact stiffness or yield force (E* = %g Pa, R* = %g m, "
+          "F_Y = %g N, delta_Y = %g m)", M->J.E_star, M->J.R_star, M->J.F_Y, M->J.delta_Y);
+    return 0;
+}
+
+double vi_model_platform(const vi_model *M, double t, double *dyC, double *ddyC)
+{
+    double ph = M->omega * (t - M->t0), c = cos(ph);
+    if (dyC) *dyC = M->yC_in.du - M->a * M->omega * sin(ph);
+    if (ddyC) *ddyC = -M->a * M->omega * M->omega * c;
+    return ramp(&M->yC_in, t) + M->a * (c - 1.0);
+}
+
+/* Force holding a sticking mass on the platform: F_hold = W(t) + m yC''(t). */
+static double hold_force(const vi_model *M, double t)
+{
+    double ddyC;
+    vi_model_platform(M, t, NULL, &ddyC);
+    return net_load(M, t) + M->m * ddyC;
+}
+
+double vi_model_force(const vi_model *M, double t, const double x[2])
+{
+    double d = x[0];
+    switch (M->mode) {
+    case VI_Mode_elastic:
+        if (M->law == VI_ContactModel_lepp) return d > M->delta_p ? M->k_lin * (d - M->delta_p) : 0.0;
+        if (M->law == VI_ContactModel_johnson) return vi_johnson_load(&M->J, d);
+        return vi_hertz_force(M->K, d);
+    case VI_Mode_plastic:
+        return M->law == VI_ContactModel_lepp ? M->J.F_Y : vi_johnson_load(&M->J, d);
+    case VI_Mode_unload:
+        return vi_unload_force(&M->U, d);
+    case VI_Mode_stick:
+        return hold_force(M, t);
+    default:
+        return 0.0;
+    }
+}
+
+void vi_model_rhs(const vi_model *M, double t, const double x[2], double dx[2])
+{
+    double dyC, ddyC;
+    vi_model_platform(M, t, &dyC, &ddyC);
+    if (M->mode == VI_Mode_stick) { /* Filippov sliding on delta = delta_c: the mass moves with the platform */
+        dx[0] = 0.0;
+        dx[1] = ddyC;
+        return;
+    }
+    dx[0] = dyC - x[1];
+    dx[1] = (vi_model_force(M, t, x) - net_load(M, t)) / M->m;
+}
+
+double vi_model_stiffness_over_mass(const vi_model *M, double t, const double x[2])
+{
+    (void)t;
+    double d = x[0], k = 0.0;
+    switch (M->mode) {
+    case VI_Mode_elastic:
+        k = M->law == VI_ContactModel_lepp      ? (d > M->delta_p ? M->k_lin : 0.0)
+            : M->law == VI_ContactModel_johnson ? vi_johnson_load_stiffness(&M->J, d)
+                                                : vi_hertz_stiffness(M->K, d);
+        break;
+    case VI_Mode_plastic: k = M->law == VI_ContactModel_lepp ? 0.0 : vi_johnson_load_stiffness(&M->J, d); break;
+    case VI_Mode_unload: k = vi_unload_stiffness(&M->U, d); break;
+    default: break;
+    }
+    return k / M->m;
+}
+
+/* Indentation at which the bodies touch: 0, the permanent set delta_f (Johnson) or delta_p (LEPP). */
+static double contact_surface(const vi_model *M)
+{
+    if (M->law == VI_ContactModel_lepp) return M->delta_p;
+    if (is_johnson_fixed(M) && M->yielded) return M->U.delta_f;
+    return 0.0;
+}
+
+/* Indentation at which the virgin elastic branch yields (mode 1 -> 2); +inf for Hertz. */
+static double yield_surface(const vi_model *M)
+{
+    if (M->law == VI_ContactModel_lepp) return M->delta_p + M->J.delta_Y;
+    if (M->law == VI_ContactModel_johnson) return M->J.delta_Y;
+    return INFINITY;
+}
+
+void vi_model_guards(const vi_model *M, double t, const double x[2], double g[VI_NGUARDS])
+{
+    double d = x[0], dyC;
+    g[0] = g[1] = 1.0; /* inactive */
+    switch (M->mode) {
+    case VI_Mode_free: g[0] = contact_surface(M) - d; break;
+    case VI_Mode_elastic:
+        g[0] = d - contact_surface(M);
+        if (M->law != VI_ContactModel_hertz) g[1] = yield_surface(M) - d;
+        break;
+    case VI_Mode_plastic:
+        if (M->moving && M->law == VI_ContactModel_johnson) {
+            g[0] = d - M->J.delta_Y;
+        } else {
+            vi_model_platform(M, t, &dyC, NULL);
+            g[0] = dyC - x[1]; /* delta' */
+        }
+        break;
+    case VI_Mode_unload:
+        g[0] = d - M->U.delta_f;
+        g[1] = M->U.delta_c - d;
+        break;
+    case VI_Mode_stick: {
+        double F_hold = hold_force(M, t);
+        g[0] = vi_johnson_load(&M->J, M->U.delta_c) - F_hold;
+        g[1] = F_hold - vi_unload_force(&M->U, M->U.delta_c);
+        break;
+    }
+    default: break;
+    }
+}
+
+void vi_model_freeze(vi_model *M, double t, double x[2])
+{
+    if (M->mode == VI_Mode_plastic && is_johnson_fixed(M))
+        M->U = vi_johnson_unload_curve(&M->J, M->unloading, x[0]);
+    else if (M->mode == VI_Mode_plastic && M->law == VI_ContactModel_lepp)
+        M->delta_p = x[0] - M->J.delta_Y;
+    else if (M->mode == VI_Mode_stick)
+        vi_model_platform(M, t, &x[1], NULL);
+}
+
+int vi_model_event(vi_model *M, double t, double x[2], int fired)
+{
+    vi_model_freeze(M, t, x);
+    switch (M->mode) {
+    case VI_Mode_free: x[0] = contact_surface(M); break;
+    case VI_Mode_elastic: x[0] = fired == 0 ? contact_surface(M) : yield_surface(M); break;
+    case VI_Mode_plastic:
+        if (M->moving && M->law == VI_ContactModel_johnson) x[0] = M->J.delta_Y;
+        else vi_model_platform(M, t, &x[1], NULL); /* turning point: delta' = 0 */
+        break;
+    case VI_Mode_unload: x[0] = fired == 0 ? M->U.delta_f : M->U.delta_c; break;
+    case VI_Mode_stick: x[0] = M->U.delta_c; break;
+    default: break;
+    }
+    return vi_model_resolve(M, t, x);
+}
+
+/* The sign of the first nonzero of (position, rate, acceleration) is positive. */
+static int ahead(double pos, double rate, double acc)
+{
+    return pos > 0.0 || (pos == 0.0 && (rate > 0.0 || (rate == 0.0 && acc > 0.0)));
+}
+
+int vi_model_resolve(vi_model *M, double t, double x[2])
+{
+    double dyC, d = x[0], F_hold = hold_force(M, t);
+    vi_model_platform(M, t, &dyC, NULL);
+    double r = dyC - x[1];
+    /* acceleration of delta under a contact force F is (F_hold - F)/m: its sign is that of F_hold - F */
+    int mode = VI_Mode_free;
+    switch (M->law) {
+    case VI_ContactModel_hertz: mode = ahead(d, r, F_hold) ? VI_Mode_elastic : VI_Mode_free; break;
+    case VI_ContactModel_lepp:
+        if (ahead(d - M->delta_p, r, F_hold)) {
+            if (d - M->delta_p > M->J.delta_Y) M->delta_p = d - M->J.delta_Y; /* pushed beyond yield: flowed */
+            mode = ahead(d - M->delta_p - M->J.delta_Y, r, F_hold - M->J.F_Y) ? VI_Mode_plastic : VI_Mode_elastic;
+        }
+        break;
+    case VI_ContactModel_johnson:
+        if (!M->yielded || M->moving) {
+            if (!ahead(d, r, F_hold)) break;
+            mode = ahead(d - M->J.delta_Y, r, F_hold - M->J.F_Y) ? VI_Mode_plastic : VI_Mode_elastic;
+            if (mode == VI_Mode_elastic || M->moving) break;
+            M->yielded = 1;
+            M->U = vi_johnson_unload_curve(&M->J, M->unloading, d > M->J.delta_Y ? d : M->J.delta_Y);
+        }
+        if (d > M->U.delta_c) M->U = vi_johnson_unload_curve(&M->J, M->unloading, d); /* pushed deeper */
+        {
+            double F_load = vi_johnson_load(&M->J, M->U.delta_c), F_unload = vi_unload_force(&M->U, d);
+            if (ahead(d - M->U.delta_c, r, F_hold - F_load))
+                mode = VI_Mode_plastic;
+            else if (d == M->U.delta_c && r == 0.0 && F_hold > F_unload && M->unloading == VI_UNLOAD_PAPER)
+                mode = VI_Mode_stick; /* F_unload < F_hold <= F_load: neither branch is consistent */
+            else if (ahead(d - M->U.delta_f, r, F_hold - F_unload))
+                mode = VI_Mode_unload;
+        }
+        break;
+    default: break;
+    }
+    if (M->mode == VI_Mode_free && mode != VI_Mode_free) M->n_impacts++;
+    M->mode = mode;
+    return mode;
+}
+
+/* Linearised contact stiffness at the static load W [N/m]. */
+static double static_stiffness(const vi_model *M, double W)
+{
+    if (W <= 0.0) return 0.0;
+    switch (M->law) {
+    case VI_ContactModel_hertz: return vi_hertz_stiffness(M->K, vi_hertz_indentation(M->K, W));
+    case VI_ContactModel_lepp: return M->k_lin;
+    default: {
+        double d = vi_johnson_load_indentation(&M->J, W);
+        if (M->moving || d <= M->J.delta_Y) return vi_johnson_load_stiffness(&M->J, d);
+        vi_unload_curve U = vi_johnson_unload_curve(&M->J, M->unloading, d); /* small oscillations unload */
+        return vi_unload_stiffness(&U, d);
+    }
+    }
+}
+
+void vi_model_initial_state(vi_model *M, int init, double v0, double t0, double x[2])
+{
+    M->f_contact = sqrt(static_stiffness(M, net_load(M, t0)) / M->m) / (2.0 * VI_PI);
+    M->mode = VI_Mode_free;
+    M->yielded = 0;
+    M->delta_p = 0.0;
+    x[0] = 0.0;
+    x[1] = v0;
+    if (init == VI_Init_static) {
+        double W = net_load(M, t0), d = 0.0;
+        if (W > 0.0) {
+            if (M->law == VI_ContactModel_hertz) d = vi_hertz_indentation(M->K, W);
+            else if (M->law == VI_ContactModel_johnson) {
+                d = vi_johnson_load_indentation(&M->J, W);
+                while (vi_johnson_load(&M->J, d) < W) d = nextafter(d, INFINITY); /* at rest: F(d) >= W */
+            }
+            else d = W <= M->J.F_Y ? W / M->k_lin : M->J.delta_Y; /* beyond F_Y: flows from the start */
+        }
+        if (is_johnson_fixed(M) && d > M->J.delta_Y) { /* plastically pre-loaded */
+            M->yielded = 1;
+            M->U = vi_johnson_unload_curve(&M->J, M->unloading, d);
+        }
+        x[0] = d;
+        vi_model_platform(M, t0, &x[1], NULL);
+    }
+    vi_model_resolve(M, t0, x);
+    M->n_impacts = 0;
+}
+
+void vi_model_scales(const vi_model *M, double x0_delta, double v0, double *L, double *V)
+{
+    double c[4] = {M->J.delta_Y, fabs(x0_delta), 0.0, fabs(M->a)};
+    if (v0 != 0.0) /* Hertz impact: delta_max = (15 m v0^2 / (16 E* sqrt(R*)))^(2/5) */
+        c[2] = pow(15.0 * M->m * v0 * v0 / (16.0 * M->J.E_star * sqrt(M->J.R_star)), 0.4);
+    double l = c[0];
+    for (int i = 1; i < 4; i++)
+        if (c[i] > 0.0 && c[i] < l) l = c[i];
+    *L = l;
+    *V = l * sqrt(vi_hertz_stiffness(M->K, l) / M->m);
+}
+
+void vi_model_calculated(const vi_model *M, vi_outputs *out)
+{
+    out->E_star = M->J.E_star;
+    out->R_star = M->J.R_star;
+    out->F_Y = M->J.F_Y;
+    out->delta_Y = M->J.delta_Y;
+    out->k_lin = M->k_lin;
+    out->f_contact = M->f_contact;
+}
+
+void vi_model_outputs(const vi_model *M, double t, const double x[2], vi_outputs *out)
+{
+    double d = x[0];
+    out->yC = vi_model_platform(M, t, NULL, NULL);
+    out->F = vi_model_force(M, t, x);
+    out->delta = d;
+    out->y = out->yC - d;
+    out->v = x[1];
+    out->contact = M->mode != VI_Mode_free;
+    out->mode = M->mode;
+    out->n_impacts = (int)M->n_impacts;
+    out->delta_c = out->delta_f = out->delta_p = out->W_plastic = 0.0;
+    out->Rbar = M->J.R_star;
+    if (is_johnson_fixed(M) && M->yielded) {
+        vi_unload_curve U = M->mode == VI_Mode_plastic ? vi_johnson_unload_curve(&M->J, M->unloading, d) : M->U;
+        out->delta_c = U.delta_c;
+        out->delta_f = U.delta_f;
+        out->Rbar = U.Rbar;
+        /* dissipated = work along the virgin curve - energy the unloading curve gives back */
+        out->W_plastic = vi_johnson_load_work(&M->J, U.delta_c) - vi_unload_energy(&U, U.delta_c);
+    } else if (M->law == VI_ContactModel_lepp) {
+        out->delta_p = M->mode == VI_Mode_plastic ? d - M->J.delta_Y : M->delta_p;
+        out->W_plastic = M->J.F_Y * out->delta_p;
+    }
+}

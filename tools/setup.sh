@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# Install everything VibroImpact needs on a Debian machine (idempotent, quiet when all is there).
+#   apt: C compiler, cmake, pkg-config, SUNDIALS 6.4 (libsundials-dev), Criterion (libcriterion-dev)
+#   pip: fmpy, numpy, scipy, matplotlib, pytest, libcosimpy  (into $PYTHON, default python3)
+set -euo pipefail
+
+PYTHON=${PYTHON:-python3}
+APT_PKGS=(gcc make cmake pkg-config libsundials-dev libcriterion-dev python3)
+PIP_PKGS=(fmpy numpy scipy matplotlib pytest libcosimpy)
+PY_MODULES="fmpy numpy scipy matplotlib pytest libcosimpy"
+
+missing=()
+for p in "${APT_PKGS[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  SUDO=""
+  [ "$(id -u)" -ne 0 ] && SUDO=sudo
+  echo "setup: apt-get install ${missing[*]}"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+if ! "$PYTHON" -c "import importlib.util, sys; sys.exit(any(importlib.util.find_spec(m) is None for m in '$PY_MODULES'.split()))" 2>/dev/null; then
+  echo "setup: pip install ${PIP_PKGS[*]}"
+  "$PYTHON" -m pip install --quiet --disable-pip-version-check "${PIP_PKGS[@]}"
+fi
