@@ -177,12 +177,20 @@ void vi_model_guards(const vi_model *M, double t, const double x[2], double g[VI
     }
 }
 
+/* LEPP plastic flow to x[0]: the permanent set follows, delta_p = delta - delta_Y; x[0] is then
+ * rounded onto the yield surface so that its guard is exactly zero, never an ulp below. */
+static void lepp_flow_to(vi_model *M, double x[2])
+{
+    M->delta_p = x[0] - M->J.delta_Y;
+    x[0] = yield_surface(M);
+}
+
 void vi_model_freeze(vi_model *M, double t, double x[2])
 {
     if (M->mode == VI_Mode_plastic && is_johnson_fixed(M))
         M->U = vi_johnson_unload_curve(&M->J, M->unloading, x[0]);
     else if (M->mode == VI_Mode_plastic && M->law == VI_ContactModel_lepp)
-        M->delta_p = x[0] - M->J.delta_Y;
+        lepp_flow_to(M, x);
     else if (M->mode == VI_Mode_stick)
         vi_model_platform(M, t, &x[1], NULL);
 }
@@ -221,8 +229,8 @@ int vi_model_resolve(vi_model *M, double t, double x[2])
     case VI_ContactModel_hertz: mode = ahead(d, r, F_hold) ? VI_Mode_elastic : VI_Mode_free; break;
     case VI_ContactModel_lepp:
         if (ahead(d - M->delta_p, r, F_hold)) {
-            if (d - M->delta_p > M->J.delta_Y) M->delta_p = d - M->J.delta_Y; /* pushed beyond yield: flowed */
-            mode = ahead(d - M->delta_p - M->J.delta_Y, r, F_hold - M->J.F_Y) ? VI_Mode_plastic : VI_Mode_elastic;
+            if (d > yield_surface(M)) lepp_flow_to(M, x); /* pushed beyond yield: it flowed */
+            mode = ahead(x[0] - yield_surface(M), r, F_hold - M->J.F_Y) ? VI_Mode_plastic : VI_Mode_elastic;
         }
         break;
     case VI_ContactModel_johnson:
