@@ -23,5 +23,5 @@ fi
 
 if ! "$PYTHON" -c "import importlib.util, sys; sys.exit(any(importlib.util.find_spec(m) is None for m in '$PY_MODULES'.split()))" 2>/dev/null; then
   echo "setup: pip install ${PIP_PKGS[*]}"
-  "$PYTHON" -m pip install --quiet --disable-pip-version-check "${PIP_PKGS[@]}"
+  "$PYTHON" -m pip install --quiet --disable-pip-version-check --root-user-action=ignore "${PIP_PKGS[@]}"
 fi
