@@ -1,3 +1,0 @@
-file(REMOVE_RECURSE
-  "libvi_core.a"
-)
