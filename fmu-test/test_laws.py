@@ -1,0 +1,153 @@
+"""Johnson and LEPP dynamics through fmpy against closed forms written here from model.md (not from
+the C code): impact restitution, energy balance, stick, moving contact, large platform offset."""
+import numpy as np
+import pytest
+from fmpy import simulate_fmu
+from scipy.optimize import brentq
+
+from conftest import effective
+
+JOHNSON, LEPP = 2, 3
+TH = 1.1
+
+
+def load(e, d):
+    """Virgin curve: Hertz to delta_Y, eq. 3 beyond."""
+    d = np.asarray(d, float)
+    k = np.maximum(2 * d / e["delta_Y"] - 1, 1.0)
+    return np.where(d <= e["delta_Y"], e["K"] * np.clip(d, 0, None) ** 1.5, e["F_Y"] * k * (1 + np.log(k) / (3 * TH)))
+
+
+def load_work(e, d):
+    from scipy.integrate import quad
+    return quad(lambda x: float(load(e, x)), 0, e["delta_Y"])[0] + quad(lambda x: float(load(e, x)), e["delta_Y"], d)[0]
+
+
+def unload_curve(e, dc, variant):
+    """(Rbar, delta_r) of eq. 4 after delta_c."""
+    if variant == 1:
+        kc = 2 * dc / e["delta_Y"] - 1
+        return e["R_star"] * np.sqrt(kc), e["delta_Y"] * np.sqrt(kc)
+    Fc = float(load(e, dc))
+    ac = np.sqrt(e["R_star"] * (2 * dc - e["delta_Y"]))
+    return 4 * e["E_star"] * ac ** 3 / (3 * Fc), 3 * Fc / (4 * e["E_star"] * ac)
+
+
+def impact(fmu_path, params, v0, stop, step=1e-6):
+    p = dict(init=2, P=0.0, g=0.0, v0=v0, rtol=1e-10, **params)
+    return simulate_fmu(fmu_path, start_values=p, stop_time=stop, output_interval=step,
+                        output=["v", "delta", "F", "mode", "delta_c", "delta_f", "delta_p", "Rbar", "W_plastic"])
+
+
+@pytest.mark.parametrize("ratio", [1.5, 3.0, 10.0])
+def test_lepp_restitution(fmu_path, ratio):
+    e = effective(dict(P=0.0, g=0.0))
+    vY = e["F_Y"] / np.sqrt(e["k_lin"] * e["m"])
+    v0 = -ratio * vY
+    r = impact(fmu_path, dict(contact_model=LEPP), v0, stop=0.02)
+    assert r["mode"][-1] == 0
+    assert abs(r["v"][-1] / -v0 - vY / -v0) < 1e-6
+    # permanent set m (v0^2 - vY^2)/(2 F_Y), dissipated F_Y delta_p (literature.md 1.9)
+    dp = e["m"] * (v0 ** 2 - vY ** 2) / (2 * e["F_Y"])
+    assert r["delta_p"][-1] == pytest.approx(dp, rel=1e-6)
+    assert r["W_plastic"][-1] == pytest.approx(0.5 * e["m"] * (v0 ** 2 - vY ** 2), rel=1e-6)
+
+
+@pytest.mark.parametrize("variant", [1, 2])
+@pytest.mark.parametrize("ratio", [1.2, 2.0, 5.0])
+def test_johnson_restitution(fmu_path, variant, ratio):
+    e = effective(dict(P=0.0, g=0.0))
+    vY = np.sqrt(2 * 0.4 * e["F_Y"] * e["delta_Y"] / e["m"])  # 1/2 m vY^2 = Hertz work to delta_Y
+    v0 = -ratio * vY
+    W_load = 0.5 * e["m"] * v0 ** 2
+    dc = brentq(lambda d: load_work(e, d) - W_load, e["delta_Y"], 100 * e["delta_Y"], xtol=1e-16, rtol=1e-15)
+    Rbar, dr = unload_curve(e, dc, variant)
+    W_unload = 0.4 * 4 / 3 * e["E_star"] * np.sqrt(Rbar) * dr ** 2.5
+    r = impact(fmu_path, dict(contact_model=JOHNSON, unloading=variant), v0, stop=0.02)
+    assert r["mode"][-1] == 0
+    assert r["delta_c"][-1] == pytest.approx(dc, rel=1e-6)
+    assert r["Rbar"][-1] == pytest.approx(Rbar, rel=1e-6)
+    assert abs(r["v"][-1] / -v0 - np.sqrt(W_unload / W_load)) < 1e-6
+    assert r["W_plastic"][-1] == pytest.approx(W_load - W_unload, rel=1e-5, abs=1e-9 * W_load)
+
+
+def stored_energy(e, r, law):
+    """Elastic energy held by the contact at each sample, from the outputs and the laws."""
+    d, mode = r["delta"], r["mode"]
+    if law == LEPP:
+        return r["F"] ** 2 / (2 * e["k_lin"])
+    U = np.where(mode == 1, 0.4 * e["K"] * np.clip(d, 0, None) ** 2.5, 0.0)
+    on_curve = (mode == 2) | (mode == 3) | (mode == 4)
+    dd = np.where(mode == 4, r["delta_c"], d)  # a sticking mass sits at delta_c
+    Kbar = 4 / 3 * e["E_star"] * np.sqrt(r["Rbar"])
+    return np.where(on_curve, 0.4 * Kbar * np.clip(dd - r["delta_f"], 0, None) ** 2.5, U)
+
+
+@pytest.mark.parametrize("law, variant", [(JOHNSON, 1), (JOHNSON, 2), (LEPP, 1)])
+def test_energy_balance_of_a_bouncing_run(fmu_path, law, variant):
+    """a = 0: kinetic + stored + W_plastic - work of the load is constant. The mass leaves the
+    platform at 1 m/s and lands under its load."""
+    e = effective({})
+    p = dict(contact_model=law, unloading=variant, init=2, v0=1.0, rtol=1e-9)
+    r = simulate_fmu(fmu_path, start_values=p, stop_time=0.05, output_interval=2e-6,
+                     output=["v", "y", "delta", "F", "mode", "delta_c", "delta_f", "Rbar", "W_plastic", "n_impacts"])
+    assert r["n_impacts"][-1] >= 1 and r["W_plastic"][-1] > 0
+    balance = 0.5 * e["m"] * r["v"] ** 2 + stored_energy(e, r, law) + r["W_plastic"] + e["W"] * (r["y"] - r["y"][0])
+    scale = 0.5 * e["m"] * 1.0 ** 2
+    assert np.max(np.abs(balance - balance[0])) < 1e-5 * scale
+
+
+def test_stick_stays_put(fmu_path):
+    """Johnson, paper unloading, printed yield formula (F_Y < load): pre-loaded, a = 0, 1 s."""
+    r = simulate_fmu(fmu_path, start_values=dict(contact_model=JOHNSON, yield_formula=2, Y=6e8, a=0.0),
+                     stop_time=1.0, output_interval=1e-3, output=["delta", "v", "F", "mode", "n_impacts"])
+    e = effective({})
+    assert np.all(np.isfinite(r["delta"]))
+    assert np.all(r["mode"] == 4)
+    assert np.ptp(r["delta"]) == 0.0 and np.all(np.abs(r["v"]) == 0.0)
+    assert np.all(np.abs(r["F"] / e["W"] - 1) < 1e-12) and r["n_impacts"][-1] == 0
+
+
+@pytest.mark.parametrize("a", [2e-7, 5e-7, 2e-6])
+def test_stick_under_excitation(fmu_path, a):
+    """Pre-loaded on the loading curve, the holding force W + m yC'' swings by s = m a (2 pi f)^2.
+    Its upward swings load plastically until F_load(delta_c) >= W + s; from then on the mass sticks
+    (the band [F_unload, F_load] holds the swing), provided W - s stays above F_unload: true for the
+    two small amplitudes, while the largest one unloads at once. No case chatters or blows up."""
+    e = effective({})
+    FY = e["F_Y"] / np.pi  # printed yield formula
+    ep = dict(e, F_Y=FY, delta_Y=(FY / e["K"]) ** (2 / 3))
+    r = simulate_fmu(fmu_path, start_values=dict(contact_model=JOHNSON, yield_formula=2, a=a),
+                     stop_time=0.2, output_interval=1e-4, output=["delta", "mode", "delta_c", "F"])
+    assert np.all(np.isfinite(r["delta"]))
+    swing = e["m"] * a * (2 * np.pi * 560) ** 2
+    if a < 1e-6:
+        assert set(np.unique(r["mode"])) == {2, 4}
+        late = r["time"] > 0.1
+        assert np.all(r["mode"][late] == 4) and np.ptp(r["delta_c"][late]) == 0
+        # inertia carries the indentation past the point where F_load = W + s, never short of it
+        assert e["W"] + swing <= float(load(ep, r["delta_c"][-1])) < e["W"] + 2 * swing
+    else:
+        assert r["mode"][1] in (0, 3)
+
+
+def test_moving_contact_is_conservative_and_single_valued(fmu_path):
+    e = effective({})
+    r = simulate_fmu(fmu_path, start_values=dict(contact_model=JOHNSON, moving_contact=True, a=1e-4),
+                     stop_time=0.05, output_interval=1e-5, output=["delta", "F", "W_plastic", "mode", "n_impacts"])
+    assert np.all(r["W_plastic"] == 0.0)
+    assert r["delta"].max() > 2 * e["delta_Y"]  # it did go plastic
+    assert np.allclose(r["F"], load(e, r["delta"]), rtol=1e-12, atol=1e-9 * e["F_Y"])
+    assert set(np.unique(r["mode"])) <= {0, 1, 2}
+
+
+@pytest.mark.parametrize("law", [1, 2, 3])
+def test_platform_offset_changes_nothing(fmu_path, law):
+    out = ["delta", "F", "v", "delta_c", "delta_p", "W_plastic", "y"]
+    base = dict(contact_model=law, a=1e-4)
+    r0 = simulate_fmu(fmu_path, start_values=base, stop_time=0.02, output_interval=1e-5, output=out)
+    r1 = simulate_fmu(fmu_path, start_values=dict(base, yC_in=1.0), stop_time=0.02, output_interval=1e-5, output=out)
+    for name in out[:-1]:
+        scale = np.max(np.abs(r0[name])) or 1.0
+        assert np.max(np.abs(r1[name] - r0[name])) <= 1e-9 * scale, name
+    assert np.allclose(r1["y"] - 1.0, r0["y"], rtol=0, atol=1e-12)
