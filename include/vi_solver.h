@@ -11,6 +11,10 @@
 #ifndef VI_SOLVER_H
 #define VI_SOLVER_H
 
+/* Sizes this wrapper is made for: small dense systems. */
+#define VI_SOLVER_MAX_N 4
+#define VI_SOLVER_MAX_GUARDS 16
+
 typedef void (*vi_log_fn)(void *env, int category, const char *fmt, ...);
 enum { VI_LOG_EVENTS, VI_LOG_SOLVER, VI_LOG_WARNING, VI_LOG_ERROR };
 
@@ -19,7 +23,7 @@ typedef void (*vi_guard_fn)(double t, const double *x, double *g, void *user);
 typedef void (*vi_jac_fn)(double t, const double *x, double *jac_row_major, void *user);
 
 typedef struct {
-    int n, nguards;
+    int n, nguards; /* at most VI_SOLVER_MAX_N and VI_SOLVER_MAX_GUARDS */
     vi_rhs_fn rhs;
     vi_guard_fn guards;
     vi_jac_fn jac;      /* NULL: difference quotients */

@@ -58,13 +58,10 @@ static int jac_cb(sunrealtype t, N_Vector x, N_Vector fx, SUNMatrix J, void *ud,
     (void)fx, (void)t1, (void)t2, (void)t3;
     vi_solver *s = ud;
     int n = s->cfg.n;
-    double jac[16];
-    double *j = n <= 4 ? jac : malloc(sizeof(double) * (size_t)(n * n));
-    if (!j) return -1;
+    double j[VI_SOLVER_MAX_N * VI_SOLVER_MAX_N];
     s->cfg.jac(t, N_VGetArrayPointer(x), j, s->cfg.user);
     for (int r = 0; r < n; r++)
         for (int c = 0; c < n; c++) SM_ELEMENT_D(J, r, c) = j[r * n + c];
-    if (j != jac) free(j);
     return 0;
 }
 
@@ -88,8 +85,7 @@ static int configure(vi_solver *s, double t0, const double *x0)
     CHECK(CVodeSetMaxNumSteps(s->cvode, c->max_steps));
     if (c->max_step > 0.0) CHECK(CVodeSetMaxStep(s->cvode, c->max_step));
     if (c->nguards > 0) {
-        int dir[16];
-        if (c->nguards > 16) return check_flag(s, CV_ILL_INPUT, "vi_solver_create (more than 16 guards)");
+        int dir[VI_SOLVER_MAX_GUARDS];
         for (int i = 0; i < c->nguards; i++) dir[i] = -1;
         CHECK(CVodeRootInit(s->cvode, c->nguards, guard_cb));
         CHECK(CVodeSetRootDirection(s->cvode, dir));
@@ -100,6 +96,11 @@ static int configure(vi_solver *s, double t0, const double *x0)
 
 vi_solver *vi_solver_create(const vi_solver_config *cfg, double t0, const double *x0)
 {
+    if (cfg->n < 1 || cfg->n > VI_SOLVER_MAX_N || cfg->nguards < 0 || cfg->nguards > VI_SOLVER_MAX_GUARDS) {
+        cfg->log(cfg->log_env, VI_LOG_ERROR, "vi_solver_create: %d states and %d guards exceed the limits %d and %d",
+                 cfg->n, cfg->nguards, VI_SOLVER_MAX_N, VI_SOLVER_MAX_GUARDS);
+        return NULL;
+    }
     vi_solver *s = calloc(1, sizeof *s);
     if (!s) {
         cfg->log(cfg->log_env, VI_LOG_ERROR, "out of memory creating the solver");
