@@ -13,6 +13,16 @@ from conftest import effective, start
 ERROR = 3
 
 
+@pytest.fixture
+def running(logged, vr):
+    """(log, slave) of an instance initialized with the defaults; freed afterwards."""
+    log = logged()
+    s = log.instantiate()
+    start(s, vr)
+    yield log, s
+    s.freeInstance()
+
+
 def error_logged(log, *words):
     return any(status == ERROR and all(w in msg for w in words) for status, _, msg in log.messages)
 
@@ -54,60 +64,45 @@ def test_do_step_before_initialization(logged, vr):
 
 
 @pytest.mark.parametrize("h", [-1e-3, 0.0, float("nan")])
-def test_bad_step_size(logged, vr, h):
-    log = logged()
-    s = log.instantiate()
-    start(s, vr)
+def test_bad_step_size(running, h):
+    log, s = running
     with pytest.raises(FMICallException):
         s.doStep(0.0, h)
     assert error_logged(log, "step size")
     s.doStep(0.0, 1e-4)  # the instance is still usable
-    s.freeInstance()
 
 
-def test_wrong_communication_point(logged, vr):
-    log = logged()
-    s = log.instantiate()
-    start(s, vr)
+def test_wrong_communication_point(running):
+    log, s = running
     with pytest.raises(FMICallException):
         s.doStep(0.5, 1e-3)
     assert error_logged(log, "currentCommunicationPoint")
-    s.freeInstance()
 
 
-def test_unknown_value_reference_and_wrong_type(logged, vr):
-    log = logged()
-    s = log.instantiate()
-    start(s, vr)
+def test_unknown_value_reference_and_wrong_type(running, vr):
+    log, s = running
     for call in (lambda: s.getReal([9999]), lambda: s.setReal([9999], [1.0]), lambda: s.getInteger([vr["m"]]),
                  lambda: s.setReal([vr["mode"]], [1.0]), lambda: s.getString([vr["m"]])):
         with pytest.raises(FMICallException):
             call()
     assert error_logged(log, "unknown value reference 9999")
     assert error_logged(log, "m", "is of type Real")
-    s.freeInstance()
 
 
-def test_parameters_are_fixed_after_initialization(logged, vr):
-    log = logged()
-    s = log.instantiate()
-    start(s, vr)
+def test_parameters_are_fixed_after_initialization(running, vr):
+    log, s = running
     with pytest.raises(FMICallException):
         s.setReal([vr["m"]], [1.0])
     assert error_logged(log, "fixed parameter")
     with pytest.raises(FMICallException):
         s.setReal([vr["F"]], [1.0])
-    s.freeInstance()
 
 
-def test_non_finite_input_is_refused(logged, vr):
-    log = logged()
-    s = log.instantiate()
-    start(s, vr)
+def test_non_finite_input_is_refused(running, vr):
+    log, s = running
     with pytest.raises(FMICallException):
         s.setReal([vr["yC_in"]], [float("nan")])
     assert error_logged(log, "yC_in", "finite")
-    s.freeInstance()
 
 
 @pytest.mark.parametrize("params, words", [

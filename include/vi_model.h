@@ -44,6 +44,9 @@ typedef struct {
     double u, du, t;
 } vi_ramp;
 
+/* The ramp's value at time t. */
+static inline double vi_ramp_at(const vi_ramp *r, double t) { return r->u + r->du * (t - r->t); }
+
 typedef struct {
     /* constants, from the parameters (vi_model_setup) */
     int law;       /* VI_ContactModel_* */

@@ -4,11 +4,10 @@
 #include <math.h>
 #include <stdio.h>
 
-static double ramp(const vi_ramp *r, double t) { return r->u + r->du * (t - r->t); }
 static int is_johnson_fixed(const vi_model *M) { return M->law == VI_ContactModel_johnson && !M->moving; }
 
 /* Net load pressing the mass down, W(t) = P + m g - F_ext(t) [N]. */
-static double net_load(const vi_model *M, double t) { return M->W0 - ramp(&M->F_ext, t); }
+static double net_load(const vi_model *M, double t) { return M->W0 - vi_ramp_at(&M->F_ext, t); }
 
 #define CHECK(cond, ...)                                 \
     do {                                                 \
@@ -69,7 +68,7 @@ double vi_model_platform(const vi_model *M, double t, double *dyC, double *ddyC)
     double ph = M->omega * (t - M->t0), c = cos(ph);
     if (dyC) *dyC = M->yC_in.du - M->a * M->omega * sin(ph);
     if (ddyC) *ddyC = -M->a * M->omega * M->omega * c;
-    return ramp(&M->yC_in, t) + M->a * (c - 1.0);
+    return vi_ramp_at(&M->yC_in, t) + M->a * (c - 1.0);
 }
 
 /* Force holding a sticking mass on the platform: F_hold = W(t) + m yC''(t). */

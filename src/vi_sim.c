@@ -119,7 +119,7 @@ static void apply_inputs(vi_sim *s)
     double t = d->t;
     d->inputs_changed = 0;
     vi_ramp y_old = M->yC_in, f_old = M->F_ext;
-    double y_old_t = y_old.u + y_old.du * (t - y_old.t), f_old_t = f_old.u + f_old.du * (t - f_old.t);
+    double y_old_t = vi_ramp_at(&y_old, t), f_old_t = vi_ramp_at(&f_old, t);
     if (d->in.yC_in == y_old_t && d->din.yC_in == y_old.du && d->in.F_ext == f_old_t && d->din.F_ext == f_old.du)
         return; /* the same signal: nothing happens */
     vi_model_freeze(M, t, d->x);
