@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
-"""Simulate the paper's scenarios through fmpy and write results/<scenario>.csv and .png.
+"""Simulate the paper's scenarios through fmpy; write results/<scenario>.csv and .png, an overview
+image (results/overview.png) and a table of figures (results/summary.csv).
 
-Usage: python3 tools/paper.py [scenario ...]   (default: all of SCENARIOS)
-The FMU is build/VibroImpact.fmu (or $VI_FMU). Scenarios follow ../shared/design/model.md section 5.
+Usage: python3 tools/paper.py [scenario ...]   (default: every scenario of the table)
+The scenarios are the one table in fmu-test/reference/scenarios.py. The FMU is
+build/VibroImpact.fmu (or $VI_FMU); each run uses the FMU's defaults for the solver (rtol 1e-6).
 """
 import os
 import pathlib
@@ -16,39 +18,107 @@ import numpy as np  # noqa: E402
 from fmpy import simulate_fmu  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "fmu-test" / "reference"))
+from scenarios import SCENARIOS, STOP_TIME  # noqa: E402
+
 FMU = os.environ.get("VI_FMU", str(ROOT / "build" / "VibroImpact.fmu"))
 OUT = ROOT / "results"
-OUTPUTS = ["yC", "y", "delta", "F", "v", "mode", "n_impacts", "delta_c", "delta_f", "Rbar", "W_plastic"]
-
-# name: (caption, start values); common: R* = 0.475 m, steel, P = 40 kN, m = P/(10 g), a = 0.1 mm, f = 560 Hz
-SCENARIOS = {
-    "fig4b": ("Fig. 4b: Johnson, fixed contact point, Y = 6e8 Pa (yields, then bounces)",
-              dict(contact_model=2, Y=6e8, a=1e-4, f=560.0)),
-}
+INTERVAL = 1e-5  # s, output grid
+OUTPUTS = ["yC", "y", "delta", "F", "v", "contact", "mode", "n_impacts", "delta_c", "delta_f", "delta_p",
+           "Rbar", "W_plastic"]
+SUMMARY = ["scenario", "n_impacts", "F_max_kN", "F_mean_kN", "contact_fraction", "delta_max_um", "delta_p_um",
+           "delta_f_um", "W_plastic_J", "y_p2p_mm"]
 
 
-def run(name, caption, params, stop=0.1, interval=1e-5):
-    r = simulate_fmu(FMU, start_values=params, stop_time=stop, output_interval=interval, output=OUTPUTS)
-    OUT.mkdir(exist_ok=True)
-    np.savetxt(OUT / f"{name}.csv", np.column_stack([r[c] for c in r.dtype.names]), delimiter=",",
-               header=",".join(r.dtype.names), comments="", fmt="%.10g")
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
+def simulate(scenario):
+    return simulate_fmu(FMU, start_values=scenario.full, stop_time=STOP_TIME, output_interval=INTERVAL,
+                        output=OUTPUTS)
+
+
+def summarize(name, r):
+    return dict(scenario=name, n_impacts=int(r["n_impacts"][-1]), F_max_kN=r["F"].max() / 1e3,
+                F_mean_kN=np.trapezoid(r["F"], r["time"]) / (r["time"][-1] - r["time"][0]) / 1e3,
+                contact_fraction=float(np.mean(r["contact"])), delta_max_um=r["delta"].max() * 1e6,
+                delta_p_um=r["delta_p"][-1] * 1e6, delta_f_um=r["delta_f"][-1] * 1e6,
+                W_plastic_J=r["W_plastic"][-1], y_p2p_mm=np.ptp(r["y"]) * 1e3)
+
+
+def draw_positions(ax, r, lepp, lw=1.0):
+    """Paper style: 1 thin, the platform yC(t); 2 bold, the mass y(t); LEPP (Fig. 6) adds the
+    platform's unloaded surface yC - delta_p (the indentation is then the gap between it and y)."""
     ms = 1e3 * r["time"]
-    ax1.plot(ms, 1e3 * r["yC"], lw=0.8, label="1: platform $y_C(t)$")
-    ax1.plot(ms, 1e3 * r["y"], lw=1.2, label="2: mass $y(t)$")
-    ax1.set_ylabel("position [mm]")
-    ax1.legend(loc="lower right")
-    ax1.set_title(caption, fontsize=10)
-    ax2.plot(ms, 1e-3 * r["F"], lw=0.8, color="C3")
-    ax2.set_ylabel("contact force [kN]")
-    ax2.set_xlabel("time [ms]")
+    ax.plot(ms, 1e3 * r["yC"], lw=0.5 * lw, color="k", label="1: platform $y_C(t)$")
+    if lepp:
+        ax.plot(ms, 1e3 * (r["yC"] - r["delta_p"]), lw=0.5 * lw, color="C2", label="2: $y_C - \\delta_p$")
+    ax.plot(ms, 1e3 * r["y"], lw=1.3 * lw, color="C0", label=f"{3 if lepp else 2}: mass $y(t)$")
+    ax.set_ylabel("position [mm]")
+
+
+def plot(name, scenario, r, s):
+    lepp = scenario.full.get("contact_model") == 3
+    fig = plt.figure(figsize=(10, 7))
+    grid = fig.add_gridspec(2, 2, height_ratios=[1.2, 1], width_ratios=[1.6, 1])
+    ax = fig.add_subplot(grid[0, :])
+    draw_positions(ax, r, lepp)
+    ax.set_xlabel("time [ms]")
+    ax.legend(loc="lower left", fontsize=8)
+    ax.set_title(f"{scenario.title}\n{s['n_impacts']} impacts, max force {s['F_max_kN']:.0f} kN, "
+                 f"W_plastic {s['W_plastic_J']:.3g} J", fontsize=10)
+    ax = fig.add_subplot(grid[1, 0])
+    ax.plot(1e3 * r["time"], 1e-3 * r["F"], lw=0.7, color="C3")
+    ax.set_xlabel("time [ms]")
+    ax.set_ylabel("contact force F [kN]")
+    ax = fig.add_subplot(grid[1, 1])
+    ax.plot(1e6 * r["delta"], 1e-3 * r["F"], lw=0.5, color="C3")
+    ax.set_xlim(left=min(0.0, 1e6 * r["delta"][r["F"] > 0].min(initial=0.0)))
+    ax.set_xlabel(r"indentation $\delta$ [$\mu$m]")
+    ax.set_ylabel("F [kN]")
     fig.tight_layout()
-    fig.savefig(OUT / f"{name}.png", dpi=110)
+    fig.savefig(OUT / f"{name}.png", dpi=100)
     plt.close(fig)
-    print(f"{name}: {r['n_impacts'][-1]} impacts, max force {r['F'].max() / 1e3:.1f} kN, "
-          f"W_plastic {r['W_plastic'][-1]:.4g} J -> results/{name}.csv, results/{name}.png")
+
+
+def overview(runs):
+    names = list(runs)
+    cols = 3
+    rows = -(-len(names) // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(13, 2.6 * rows), squeeze=False)
+    for ax, name in zip(axes.flat, names):
+        scenario, r = runs[name]
+        draw_positions(ax, r, scenario.full.get("contact_model") == 3, lw=0.7)
+        ax.set_title(scenario.title, fontsize=8)
+        ax.tick_params(labelsize=7)
+        ax.yaxis.label.set_size(7)
+    for ax in list(axes.flat)[len(names):]:
+        ax.axis("off")
+    fig.suptitle("VibroImpact FMU: the paper's scenarios (thin: platform, bold: mass; time in ms)", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(OUT / "overview.png", dpi=90)
+    plt.close(fig)
+
+
+def main(names):
+    OUT.mkdir(exist_ok=True)
+    runs, rows = {}, []
+    for name in names:
+        scenario = SCENARIOS[name]
+        r = simulate(scenario)
+        np.savetxt(OUT / f"{name}.csv", np.column_stack([r[c] for c in r.dtype.names]), delimiter=",",
+                   header=",".join(r.dtype.names), comments="", fmt="%.10g")
+        s = summarize(name, r)
+        plot(name, scenario, r, s)
+        runs[name] = (scenario, r)
+        rows.append(s)
+        print(f"{name}: {s['n_impacts']} impacts, max force {s['F_max_kN']:.1f} kN, mean force "
+              f"{s['F_mean_kN']:.2f} kN, in contact {100 * s['contact_fraction']:.0f}% of the time, "
+              f"W_plastic {s['W_plastic_J']:.4g} J -> results/{name}.csv, results/{name}.png")
+    overview(runs)
+    with open(OUT / "summary.csv", "w") as out:
+        out.write(",".join(SUMMARY) + "\n")
+        for s in rows:
+            out.write(",".join(f"{s[k]:.6g}" if isinstance(s[k], float) else str(s[k]) for k in SUMMARY) + "\n")
+    print(f"overview -> results/overview.png, figures -> results/summary.csv")
 
 
 if __name__ == "__main__":
-    for name in sys.argv[1:] or SCENARIOS:
-        run(name, *SCENARIOS[name])
+    main(sys.argv[1:] or list(SCENARIOS))
