@@ -1,0 +1,136 @@
+#!/usr/bin/env python3
+"""Run the FMU on every scenario and compare it with the committed reference (reference/data/).
+
+Usage: python3 fmu-test/compare_reference.py     (prints the table quoted in the README)
+
+The FMU runs at RTOL_FMU = 1e-11, the tolerance of the reference trace, through FMU2Slave: one
+doStep per reference sample, with logEvents on so that every mode change inside a step is recorded
+with its exact time. test_paper.py asserts on the figures compare() returns.
+"""
+import csv
+import gzip
+import json
+import pathlib
+import sys
+
+import numpy as np
+from fmpy import extract, read_model_description
+
+HERE = pathlib.Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+sys.path.insert(0, str(HERE / "reference"))
+from conftest import FMU, Logged  # noqa: E402
+from generate import EPS_Y  # noqa: E402
+from scenarios import SCENARIOS, STOP_TIME  # noqa: E402
+
+DATA = HERE / "reference" / "data"
+SUMMARY = json.loads((DATA / "summary.json").read_text())
+RTOL_FMU = 1e-11
+REALS = ["y", "v", "F", "W_plastic"]
+INTEGERS = ["mode", "n_impacts"]
+
+
+def read_trace(name):
+    with gzip.open(DATA / f"{name}.trace.csv.gz", "rt") as f:
+        rows = list(csv.DictReader(f))
+    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
+
+
+def read_events(name):
+    """(t, mode before, mode after) of the reference's mode changes."""
+    with open(DATA / f"{name}.events.csv") as f:
+        return [(float(r["time"]), int(r["mode_before"]), int(r["mode_after"])) for r in csv.DictReader(f)]
+
+
+def fmu_events(messages):
+    """(t, before, after) of every mode change the FMU logged:
+    "t = <t> s: guard <g> of mode <a>, mode <a> -> <b>, ..." (events that keep the mode are skipped)."""
+    out = []
+    for _, category, text in messages:
+        if category == "logEvents" and " s: guard " in text:
+            t = float(text.split("t = ")[1].split(" s:")[0])
+            before, after = (int(x) for x in text.split(", mode ")[1].split(",")[0].split(" -> "))
+            if before != after:
+                out.append((t, before, after))
+    return out
+
+
+class Runner:
+    """Simulates scenarios with the FMU on the reference's sample grid."""
+
+    def __init__(self, fmu_path=FMU, unzipdir=None):
+        self.md = read_model_description(str(fmu_path))
+        self.unzipdir = unzipdir or extract(str(fmu_path))
+        self.vr = {v.name: v.valueReference for v in self.md.modelVariables}
+
+    def run(self, name, t, rtol=RTOL_FMU):
+        """-> ({output name: samples at t}, [(t, before, after) of each mode change])."""
+        inst = Logged(self.md, self.unzipdir, name=name)
+        s, vr = inst.instantiate(logging=True), self.vr
+        s.setDebugLogging(True, ["logEvents"])
+        s.setupExperiment(tolerance=rtol, startTime=float(t[0]), stopTime=float(t[-1]))
+        s.enterInitializationMode()
+        for key, value in SCENARIOS[name].full.items():
+            if isinstance(value, bool):
+                s.setBoolean([vr[key]], [value])
+            elif isinstance(value, int):
+                s.setInteger([vr[key]], [value])
+            else:
+                s.setReal([vr[key]], [float(value)])
+        s.exitInitializationMode()
+        reals, integers = [vr[n] for n in REALS], [vr[n] for n in INTEGERS]
+        out = np.empty((len(t), len(REALS) + len(INTEGERS)))
+        for k in range(len(t)):
+            if k:
+                s.doStep(t[k - 1], t[k] - t[k - 1])
+            out[k] = s.getReal(reals) + s.getInteger(integers)
+        s.terminate()
+        s.freeInstance()
+        return dict(zip(REALS + INTEGERS, out.T)), fmu_events(inst.messages)
+
+
+def transitions(events):
+    counts = {}
+    for _, a, b in events:
+        counts[f"{a}->{b}"] = counts.get(f"{a}->{b}", 0) + 1
+    return dict(sorted(counts.items()))
+
+
+def compare(name, runner):
+    """Figures of the FMU against the reference for one scenario (all over the horizon unless said)."""
+    ref, info = read_trace(name), SUMMARY[name]
+    fmu, events = runner.run(name, ref["time"])
+    t, h = ref["time"], info["horizon"]
+    within = t <= h
+    err_y = np.abs(fmu["y"] - ref["y"])
+    beyond = np.nonzero(err_y > EPS_Y)[0]
+    ref_events = [e for e in read_events(name) if e[0] <= h - 1e-6]
+    fmu_ev = [e for e in events if e[0] <= h - 1e-6]
+    return dict(
+        horizon=h,
+        agrees_until=float(t[beyond[0]]) if len(beyond) else float(t[-1]),  # FMU within EPS_Y of the reference
+        dy=float(err_y[within].max()),
+        dF_rel=float(np.abs(fmu["F"] - ref["F"])[within].max() / np.abs(ref["F"]).max()),
+        dW_rel=float(np.abs(fmu["W_plastic"] - ref["W_plastic"])[within].max() / max(np.abs(ref["W_plastic"]).max(),
+                                                                                   1e-300)),
+        events_ref=[e[1:] for e in ref_events], events_fmu=[e[1:] for e in fmu_ev],
+        event_dt=max((abs(a[0] - b[0]) for a, b in zip(fmu_ev, ref_events)), default=0.0),
+        transitions=transitions(events), transitions_ref=info["transitions"],
+        n_impacts=int(fmu["n_impacts"][-1]), n_impacts_ref=info["n_impacts"],
+        fmu=fmu, ref=ref)
+
+
+def main():
+    runner = Runner()
+    print("| scenario | horizon [ms] | FMU within 0.1 um until [ms] | max abs(y - y_ref) [m] | max abs(F - F_ref)/max F "
+          "| mode changes compared | max event time diff [s] | impacts FMU / ref (0.1 s) |")
+    print("|---|---|---|---|---|---|---|---|")
+    for name in SCENARIOS:
+        c = compare(name, runner)
+        same = "same" if c["events_fmu"] == c["events_ref"] else "DIFFERENT"
+        print(f"| {name} | {1e3 * c['horizon']:.1f} | {1e3 * c['agrees_until']:.1f} | {c['dy']:.1e} | {c['dF_rel']:.1e} "
+              f"| {len(c['events_ref'])} ({same}) | {c['event_dt']:.1e} | {c['n_impacts']} / {c['n_impacts_ref']} |")
+
+
+if __name__ == "__main__":
+    main()
