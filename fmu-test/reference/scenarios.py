@@ -83,3 +83,19 @@ for _k, _fig in ((10, "fig6a"), (12, "fig6b"), (13, "fig6c")):
         f"{SCENARIOS[_fig].title.split(':')[0]} at a = 30 um: LEPP, P = {_k} m g",
         SCENARIOS[_fig].paper,
         dict(SCENARIOS[_fig].params, a=3e-5), supplementary=True)
+
+# Beyond the paper: the options its figures do not exercise, so that the FMU is checked against the
+# reference on them too.
+SCENARIOS["stick"] = Scenario(
+    "Beyond the paper: stick (Johnson, paper unloading, Y = 2e8 Pa, f = 100 Hz)",
+    "not in the paper: the Filippov sliding mode of model.md section 3 (mass rides at delta = delta_c)",
+    dict(contact_model=JOHNSON, Y=2e8, f=100.0), supplementary=True)
+SCENARIOS["continuous"] = Scenario(
+    "Beyond the paper: Johnson, continuous unloading, Y = 6e8 Pa",
+    "not in the paper: unloading = continuous (force and contact radius continuous at delta_c)",
+    dict(contact_model=JOHNSON, Y=6e8, unloading=2), supplementary=True)
+SCENARIOS["printed"] = Scenario(
+    "Beyond the paper: Johnson, printed yield formula (F_Y < P + m g: pre-loaded start)",
+    "not in the paper's figures: eq. 5 as printed, without the factor pi; the static load already "
+    "yields the material, so the mass starts on an unloading curve",
+    dict(contact_model=JOHNSON, Y=6e8, yield_formula=2), supplementary=True)
