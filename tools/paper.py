@@ -2,7 +2,8 @@
 """Simulate the paper's scenarios through fmpy; write results/<scenario>.csv and .png, an overview
 image (results/overview.png) and a table of figures (results/summary.csv).
 
-Usage: python3 tools/paper.py [scenario ...]   (default: every scenario of the table)
+Usage: python3 tools/paper.py [--gallery] [scenario ...]   (default: every scenario of the table)
+  --gallery  also write smaller copies of the images to doc/gallery/ (committed, shown in the README)
 The scenarios are the one table in fmu-test/reference/scenarios.py. The FMU is
 build/VibroImpact.fmu (or $VI_FMU). Runs use rtol 1e-11 (not the FMU's default 1e-6): the bouncing
 scenarios are chaotic, and the tighter tolerance keeps the drawn trajectory on the reference's for
@@ -25,6 +26,7 @@ from scenarios import SCENARIOS, STOP_TIME  # noqa: E402
 
 FMU = os.environ.get("VI_FMU", str(ROOT / "build" / "VibroImpact.fmu"))
 OUT = ROOT / "results"
+GALLERY = ROOT / "doc" / "gallery"
 INTERVAL = 1e-5  # s, output grid
 RTOL = 1e-11
 OUTPUTS = ["yC", "y", "delta", "F", "v", "contact", "mode", "n_impacts", "delta_c", "delta_f", "delta_p",
@@ -57,7 +59,15 @@ def draw_positions(ax, r, lepp, lw=1.0):
     ax.set_ylabel("position [mm]")
 
 
-def plot(name, scenario, r, s):
+def save(fig, filename, dpi, gallery):
+    fig.savefig(OUT / filename, dpi=dpi)
+    if gallery:
+        GALLERY.mkdir(parents=True, exist_ok=True)
+        fig.savefig(GALLERY / filename, dpi=0.6 * dpi)
+    plt.close(fig)
+
+
+def plot(name, scenario, r, s, gallery):
     lepp = scenario.full.get("contact_model") == 3
     fig = plt.figure(figsize=(10, 7))
     grid = fig.add_gridspec(2, 2, height_ratios=[1.2, 1], width_ratios=[1.6, 1])
@@ -77,11 +87,10 @@ def plot(name, scenario, r, s):
     ax.set_xlabel(r"indentation $\delta$ [$\mu$m]")
     ax.set_ylabel("F [kN]")
     fig.tight_layout()
-    fig.savefig(OUT / f"{name}.png", dpi=100)
-    plt.close(fig)
+    save(fig, f"{name}.png", 100, gallery)
 
 
-def overview(runs):
+def overview(runs, gallery):
     names = list(runs)
     cols = 3
     rows = -(-len(names) // cols)
@@ -96,11 +105,10 @@ def overview(runs):
         ax.axis("off")
     fig.suptitle("VibroImpact FMU: the paper's scenarios (thin: platform, bold: mass; time in ms)", fontsize=10)
     fig.tight_layout()
-    fig.savefig(OUT / "overview.png", dpi=90)
-    plt.close(fig)
+    save(fig, "overview.png", 90, gallery)
 
 
-def main(names):
+def main(names, gallery=False):
     OUT.mkdir(exist_ok=True)
     runs, rows = {}, []
     for name in names:
@@ -109,13 +117,13 @@ def main(names):
         np.savetxt(OUT / f"{name}.csv", np.column_stack([r[c] for c in r.dtype.names]), delimiter=",",
                    header=",".join(r.dtype.names), comments="", fmt="%.10g")
         s = summarize(name, r)
-        plot(name, scenario, r, s)
+        plot(name, scenario, r, s, gallery)
         runs[name] = (scenario, r)
         rows.append(s)
         print(f"{name}: {s['n_impacts']} impacts, max force {s['F_max_kN']:.1f} kN, mean force "
               f"{s['F_mean_kN']:.2f} kN, in contact {100 * s['contact_fraction']:.0f}% of the time, "
               f"W_plastic {s['W_plastic_J']:.4g} J -> results/{name}.csv, results/{name}.png")
-    overview(runs)
+    overview(runs, gallery)
     with open(OUT / "summary.csv", "w") as out:
         out.write(",".join(SUMMARY) + "\n")
         for s in rows:
@@ -124,4 +132,6 @@ def main(names):
 
 
 if __name__ == "__main__":
-    main(sys.argv[1:] or list(SCENARIOS))
+    args = sys.argv[1:]
+    gallery = "--gallery" in args
+    main([a for a in args if a != "--gallery"] or list(SCENARIOS), gallery)
