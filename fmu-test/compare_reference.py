@@ -20,7 +20,7 @@ from fmpy import extract, read_model_description
 HERE = pathlib.Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(HERE / "reference"))
-from conftest import FMU, Logged  # noqa: E402
+from conftest import FMU, Logged, start  # noqa: E402
 from generate import EPS_Y  # noqa: E402
 from scenarios import SCENARIOS, STOP_TIME  # noqa: E402
 
@@ -69,16 +69,7 @@ class Runner:
         inst = Logged(self.md, self.unzipdir, name=name)
         s, vr = inst.instantiate(logging=True), self.vr
         s.setDebugLogging(True, ["logEvents"])
-        s.setupExperiment(tolerance=rtol, startTime=float(t[0]), stopTime=float(t[-1]))
-        s.enterInitializationMode()
-        for key, value in SCENARIOS[name].full.items():
-            if isinstance(value, bool):
-                s.setBoolean([vr[key]], [value])
-            elif isinstance(value, int):
-                s.setInteger([vr[key]], [value])
-            else:
-                s.setReal([vr[key]], [float(value)])
-        s.exitInitializationMode()
+        start(s, vr, SCENARIOS[name].full, tolerance=rtol, start_time=float(t[0]), stop_time=float(t[-1]))
         reals, integers = [vr[n] for n in REALS], [vr[n] for n in INTEGERS]
         out = np.empty((len(t), len(REALS) + len(INTEGERS)))
         for k in range(len(t)):
