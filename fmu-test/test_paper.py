@@ -23,11 +23,11 @@ every kind of mode change must be equal. The figures measured on this machine ar
 import numpy as np
 import pytest
 
-from compare_reference import DATA, EPS_Y, SCENARIOS, STOP_TIME, SUMMARY, Runner, compare, read_trace
+from compare_reference import (DATA, EPS_Y, EVENT_DT, SCENARIOS, STOP_TIME, SUMMARY, Runner, compare,
+                               read_trace)
 
 F_REL = 1e-3
 W_REL = 1e-4
-EVENT_DT = 1e-6  # s
 
 
 @pytest.fixture(scope="module")
@@ -53,7 +53,7 @@ def test_reference_covers_every_scenario():
 def test_committed_reference_is_current(name):
     """The committed trace is what reference/vi_reference.py computes now (within the horizon, to 1 %
     of EPS_Y: a SciPy upgrade may change the last digits, not the trajectory)."""
-    from generate import RTOL_TRUE
+    from compare_reference import RTOL_TRUE
     from vi_reference import simulate
     ref = read_trace(name)
     now = simulate(SCENARIOS[name].full, STOP_TIME, rtol=RTOL_TRUE, t_eval=ref["time"])

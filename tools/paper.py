@@ -31,8 +31,8 @@ INTERVAL = 1e-5  # s, output grid
 RTOL = 1e-11
 OUTPUTS = ["yC", "y", "delta", "F", "v", "contact", "mode", "n_impacts", "delta_c", "delta_f", "delta_p",
            "Rbar", "W_plastic"]
-SUMMARY = ["scenario", "n_impacts", "F_max_kN", "F_mean_kN", "contact_fraction", "delta_max_um", "delta_p_um",
-           "delta_f_um", "W_plastic_J", "y_p2p_mm"]
+SUMMARY = ["scenario", "n_impacts", "F_min_kN", "F_max_kN", "F_mean_kN", "contact_fraction", "stick_fraction",
+           "delta_max_um", "delta_p_um", "delta_f_um", "W_plastic_J", "y_p2p_mm"]
 
 
 def simulate(scenario):
@@ -41,9 +41,11 @@ def simulate(scenario):
 
 
 def summarize(name, r):
-    return dict(scenario=name, n_impacts=int(r["n_impacts"][-1]), F_max_kN=r["F"].max() / 1e3,
+    return dict(scenario=name, n_impacts=int(r["n_impacts"][-1]), F_min_kN=r["F"].min() / 1e3,
+                F_max_kN=r["F"].max() / 1e3,
                 F_mean_kN=np.trapezoid(r["F"], r["time"]) / (r["time"][-1] - r["time"][0]) / 1e3,
-                contact_fraction=float(np.mean(r["contact"])), delta_max_um=r["delta"].max() * 1e6,
+                contact_fraction=float(np.mean(r["contact"])), stick_fraction=float(np.mean(r["mode"] == 4)),
+                delta_max_um=r["delta"].max() * 1e6,
                 delta_p_um=r["delta_p"][-1] * 1e6, delta_f_um=r["delta_f"][-1] * 1e6,
                 W_plastic_J=r["W_plastic"][-1], y_p2p_mm=np.ptp(r["y"]) * 1e3)
 

@@ -40,16 +40,17 @@ def grid():
 
 
 def horizon(t, y_true, y_loose, eps=EPS_Y):
-    """First sample time at which |y_true - y_loose| > eps (the whole run if never)."""
+    """First sample time at which |y_true - y_loose| > eps (the whole run if never). Also how long
+    the FMU stays on the reference (compare_reference.py, tools/bench.py)."""
     bad = np.nonzero(np.abs(y_true - y_loose) > eps)[0]
     return float(t[bad[0]]) if len(bad) else float(t[-1])
 
 
 def transitions(events):
-    """Counts of each mode change 'from->to'."""
+    """Counts of each mode change 'before->after' in events (t, before, after, ...)."""
     counts = {}
-    for _, a, b, _ in events:
-        counts[f"{a}->{b}"] = counts.get(f"{a}->{b}", 0) + 1
+    for e in events:
+        counts[f"{e[1]}->{e[2]}"] = counts.get(f"{e[1]}->{e[2]}", 0) + 1
     return dict(sorted(counts.items()))
 
 
