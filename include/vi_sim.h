@@ -12,6 +12,17 @@
 #include "vi_solver.h"
 #include "vi_variables.h"
 
+/* Valid ranges of the tolerance (parameter rtol, or the tolerance of fmi2SetupExperiment) and of
+ * max_step, checked at initialization. Above 1e-2 the error is of the order of the motion itself;
+ * below 1e-14 the tolerance is under the rounding of a double state. max_step is 0 (no limit) or at
+ * least VI_MAX_STEP_MIN. */
+#define VI_RTOL_MIN 1e-14
+#define VI_RTOL_MAX 1e-2
+#define VI_MAX_STEP_MIN 1e-12 /* s */
+
+/* Results of vi_sim_advance (contract C1). */
+enum { VI_SIM_OK = 0, VI_SIM_DISCARD = 1, VI_SIM_ERROR = -1 };
+
 typedef struct {
     vi_parameters par;
     vi_inputs in;        /* input values as last set */
@@ -52,5 +63,11 @@ void vi_sim_outputs(const vi_sim *s, vi_outputs *out);
 /* Restart the solver from s->d after it was overwritten by a saved state. 0 or -1 (s->msg). */
 int vi_sim_restore(vi_sim *s);
 void vi_sim_statistics(const vi_sim *s, vi_solver_stats *st);
+
+/* Contract C3: is d a state this FMU could have produced? Checks every field of vi_sim_data owned by the
+ * simulation layer (finite times, state, tolerances and inputs; counters >= 0; enumerations and flags
+ * in range) and then the model's part (vi_model_check). 0 when valid, else -1 with the first bad
+ * field named in msg. No pointer in d is trusted (there are none). */
+int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n);
 
 #endif

@@ -51,12 +51,14 @@ int vi_sim_prepare(vi_sim *s)
     vi_sim_data *d = &s->d;
     const vi_parameters *p = &d->par;
     double rtol = rtol_of(d);
-    if (!(rtol >= 1e-14 && rtol < 1.0)) {
-        snprintf(s->msg, sizeof s->msg, "relative tolerance %g: use a value in [1e-14, 1)", rtol);
+    if (!(rtol >= VI_RTOL_MIN && rtol <= VI_RTOL_MAX)) {
+        snprintf(s->msg, sizeof s->msg, "relative tolerance %s = %g: use a value in [%g, %g]",
+                 d->tolerance > 0.0 ? "(fmi2SetupExperiment)" : "rtol", rtol, VI_RTOL_MIN, VI_RTOL_MAX);
         return -1;
     }
-    if (!(p->max_step >= 0.0 && isfinite(p->max_step))) {
-        snprintf(s->msg, sizeof s->msg, "max_step = %g s: use 0 (none) or a positive step", p->max_step);
+    if (!(p->max_step == 0.0 || (p->max_step >= VI_MAX_STEP_MIN && isfinite(p->max_step)))) {
+        snprintf(s->msg, sizeof s->msg, "max_step = %g s: use 0 (no limit) or a finite step >= %g s", p->max_step,
+                 VI_MAX_STEP_MIN);
         return -1;
     }
     if (p->solver != VI_Solver_bdf && p->solver != VI_Solver_adams) {
@@ -176,6 +178,63 @@ void vi_sim_outputs(const vi_sim *s, vi_outputs *out)
     vi_model_calculated(&s->d.M, out);
     vi_model_outputs(&s->d.M, s->d.t, s->d.x, out);
 }
+
+/* ---- contract C3: validity of a state payload ---------------------------------------------- */
+
+#define BAD(...) return snprintf(msg, n, __VA_ARGS__), -1
+
+/* Is `value` an item of the enumeration type `type`? */
+static int enum_item(const char *type, int value)
+{
+    for (int i = 0; i < vi_enum_item_count; i++)
+        if (vi_enum_items[i].value == value && strcmp(vi_enum_items[i].type, type) == 0) return 1;
+    return 0;
+}
+
+/* Parameters and inputs (values and derivatives), through the variable table so that every row is
+ * covered and named. */
+static int check_variables(const vi_sim_data *d, char *msg, size_t n)
+{
+    for (int vr = 0; vr < VI_NVARS; vr++) {
+        const vi_variable *v = &vi_variable_table[vr];
+        const char *base = v->group == VI_GROUP_PARAMETERS ? (const char *)&d->par
+                           : v->group == VI_GROUP_INPUTS   ? (const char *)&d->in
+                                                           : NULL;
+        if (!base) continue;
+        if (v->type == VI_Real) {
+            double x = *(const double *)(base + v->offset);
+            if (!isfinite(x)) BAD("%s = %g is not finite", v->name, x);
+            if (v->group == VI_GROUP_INPUTS) {
+                double dx = *(const double *)((const char *)&d->din + v->offset);
+                if (!isfinite(dx)) BAD("the derivative of %s = %g is not finite", v->name, dx);
+            }
+        } else {
+            int k = *(const int *)(base + v->offset);
+            if (strcmp(v->enumeration, "none") != 0 && !enum_item(v->enumeration, k))
+                BAD("%s = %d is not an item of %s", v->name, k, v->enumeration);
+            if (v->type == VI_Boolean && k != 0 && k != 1) BAD("%s = %d is not a Boolean", v->name, k);
+        }
+    }
+    return 0;
+}
+
+int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n)
+{
+    if (check_variables(d, msg, n) < 0) return -1;
+    if (d->inputs_changed != 0 && d->inputs_changed != 1) BAD("inputs_changed = %d is not 0 or 1", d->inputs_changed);
+    if (!isfinite(d->t_start)) BAD("t_start = %g is not finite", d->t_start);
+    if (d->tolerance != 0.0 && !(d->tolerance >= VI_RTOL_MIN && d->tolerance <= VI_RTOL_MAX))
+        BAD("tolerance = %g is neither 0 nor in [%g, %g]", d->tolerance, VI_RTOL_MIN, VI_RTOL_MAX);
+    if (!isfinite(d->t) || d->t < d->t_start) BAD("t = %g is not finite or before t_start = %g", d->t, d->t_start);
+    for (int i = 0; i < 2; i++) {
+        if (!isfinite(d->x[i])) BAD("x[%d] = %g is not finite", i, d->x[i]);
+        if (!(d->atol[i] >= 0.0 && isfinite(d->atol[i]))) BAD("atol[%d] = %g is not finite and >= 0", i, d->atol[i]);
+    }
+    if (d->n_events < 0) BAD("n_events = %ld is negative", d->n_events);
+    /* TODO(C3, helper M): return vi_model_check(&d->M, d->x, msg, n) once it is on main. */
+    return 0;
+}
+#undef BAD
 
 void vi_sim_statistics(const vi_sim *s, vi_solver_stats *st)
 {
