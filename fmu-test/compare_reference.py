@@ -90,12 +90,18 @@ def compare(name, runner, rtol=RTOL_FMU):
     within = t <= h
     err_y = np.abs(fmu["y"] - ref["y"])
     ref_events = [e for e in read_events(name) if e[0] <= h - EVENT_DT]
+    # the force jumps at some mode changes (paper unloading, stick): event times agree to EVENT_DT, so
+    # samples that close to a reference event may lie on either side of it and are not compared for F
+    near_event = np.zeros_like(within)
+    for e in read_events(name):
+        near_event |= np.abs(t - e[0]) <= EVENT_DT
+    force_compared = within & ~near_event
     fmu_ev = [e for e in events if e[0] <= h - EVENT_DT]
     return dict(
         horizon=h,
         agrees_until=horizon(t, ref["y"], fmu["y"]),  # FMU within EPS_Y of the reference
         dy=float(err_y[within].max()),
-        dF_rel=float(np.abs(fmu["F"] - ref["F"])[within].max() / np.abs(ref["F"]).max()),
+        dF_rel=float(np.abs(fmu["F"] - ref["F"])[force_compared].max() / np.abs(ref["F"]).max()),
         dW_rel=float(np.abs(fmu["W_plastic"] - ref["W_plastic"])[within].max() / max(np.abs(ref["W_plastic"]).max(),
                                                                                    1e-300)),
         events_ref=[e[1:] for e in ref_events], events_fmu=[e[1:] for e in fmu_ev],

@@ -69,7 +69,9 @@
   X(F_Y, Real, none, calculatedParameter, fixed, calculated, 0.0, "N", "yield force") \
   X(delta_Y, Real, none, calculatedParameter, fixed, calculated, 0.0, "m", "yield indentation") \
   X(k_lin, Real, none, calculatedParameter, fixed, calculated, 0.0, "N/m", "stiffness of the linear elastic-perfectly plastic model, F_Y/delta_Y") \
-  X(f_contact, Real, none, calculatedParameter, fixed, calculated, 0.0, "Hz", "linearised contact resonance at the static load")
+  X(f_contact, Real, none, calculatedParameter, fixed, calculated, 0.0, "Hz", "linearised contact resonance at the static load") \
+  X(F_mean, Real, none, output, continuous, calculated, 0.0, "N", "contact force averaged over the last communication step: its impulse divided by the step") \
+  X(k_contact, Real, none, output, continuous, calculated, 0.0, "N/m", "tangent contact stiffness dF/ddelta at the current state, 0 out of contact")
 
 /* Enumeration types: E(type, description); items in VI_ITEMS_<type>(I) as I(type, name, value). */
 #define VI_ENUMERATIONS(E) \

@@ -1,7 +1,9 @@
-/* vi_solver.c - CVODE 6.4 wrapper; see vi_solver.h. */
+/* vi_solver.c - the solver interface (vi_solver.h) over SUNDIALS CVODE 6.4. */
 #include "vi_solver.h"
 
 #include <cvode/cvode.h>
+#include <float.h>
+#include <math.h>
 #include <nvector/nvector_serial.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,12 +13,15 @@
 
 struct vi_solver {
     vi_solver_config cfg;
-    double *atol_copy;
+    double atol_copy[VI_SOLVER_MAX_N];
     SUNContext ctx;
     void *cvode;
     N_Vector x, atol;
     SUNMatrix A;
     SUNLinearSolver LS;
+    long max_steps_set;           /* the value last given to CVodeSetMaxNumSteps */
+    int fresh;                    /* no CVode call since the last (re)initialisation */
+    double t0;                    /* time of the last (re)initialisation */
     vi_solver_stats before_reset; /* CVodeReInit zeroes CVODE's counters: the sums before it */
 };
 
@@ -38,17 +43,18 @@ static int check_ptr(const vi_solver *s, const void *p, const char *call)
     return VI_SOLVER_FAILED;
 }
 
+/* Callbacks: the serial vectors' data are read directly (NV_DATA_S), no operation-table call. */
 static int rhs_cb(sunrealtype t, N_Vector x, N_Vector dx, void *ud)
 {
-    vi_solver *s = ud;
-    s->cfg.rhs(t, N_VGetArrayPointer(x), N_VGetArrayPointer(dx), s->cfg.user);
+    const vi_solver *s = ud;
+    s->cfg.rhs(t, NV_DATA_S(x), NV_DATA_S(dx), s->cfg.user);
     return 0;
 }
 
 static int guard_cb(sunrealtype t, N_Vector x, sunrealtype *g, void *ud)
 {
-    vi_solver *s = ud;
-    s->cfg.guards(t, N_VGetArrayPointer(x), g, s->cfg.user);
+    const vi_solver *s = ud;
+    s->cfg.guards(t, NV_DATA_S(x), g, s->cfg.user);
     return 0;
 }
 
@@ -56,33 +62,34 @@ static int jac_cb(sunrealtype t, N_Vector x, N_Vector fx, SUNMatrix J, void *ud,
                   N_Vector t3)
 {
     (void)fx, (void)t1, (void)t2, (void)t3;
-    vi_solver *s = ud;
+    const vi_solver *s = ud;
     int n = s->cfg.n;
     double j[VI_SOLVER_MAX_N * VI_SOLVER_MAX_N];
-    s->cfg.jac(t, N_VGetArrayPointer(x), j, s->cfg.user);
+    s->cfg.jac(t, NV_DATA_S(x), j, s->cfg.user);
     for (int r = 0; r < n; r++)
         for (int c = 0; c < n; c++) SM_ELEMENT_D(J, r, c) = j[r * n + c];
     return 0;
 }
 
+/* CVODE's own messages. The work limit is not an error here: vi_solver_advance reports it. */
 static void err_cb(int code, const char *module, const char *function, char *msg, void *ud)
 {
-    vi_solver *s = ud;
+    const vi_solver *s = ud;
+    if (code == CV_TOO_MUCH_WORK) return;
     s->cfg.log(s->cfg.log_env, code < 0 ? VI_LOG_ERROR : VI_LOG_WARNING, "%s %s: %s", module, function, msg);
 }
 
 static int configure(vi_solver *s, double t0, const double *x0)
 {
     const vi_solver_config *c = &s->cfg;
-    memcpy(N_VGetArrayPointer(s->x), x0, sizeof(double) * (size_t)c->n);
-    memcpy(N_VGetArrayPointer(s->atol), c->atol, sizeof(double) * (size_t)c->n);
+    memcpy(NV_DATA_S(s->x), x0, sizeof(double) * (size_t)c->n);
+    memcpy(NV_DATA_S(s->atol), c->atol, sizeof(double) * (size_t)c->n);
     CHECK(CVodeSetErrHandlerFn(s->cvode, err_cb, s));
     CHECK(CVodeInit(s->cvode, rhs_cb, t0, s->x));
     CHECK(CVodeSetUserData(s->cvode, s));
     CHECK(CVodeSVtolerances(s->cvode, c->rtol, s->atol));
     CHECK(CVodeSetLinearSolver(s->cvode, s->LS, s->A));
     if (c->jac) CHECK(CVodeSetJacFn(s->cvode, jac_cb));
-    CHECK(CVodeSetMaxNumSteps(s->cvode, c->max_steps));
     if (c->max_step > 0.0) CHECK(CVodeSetMaxStep(s->cvode, c->max_step));
     if (c->nguards > 0) {
         int dir[VI_SOLVER_MAX_GUARDS];
@@ -91,6 +98,8 @@ static int configure(vi_solver *s, double t0, const double *x0)
         CHECK(CVodeSetRootDirection(s->cvode, dir));
         CHECK(CVodeSetNoInactiveRootWarn(s->cvode));
     }
+    s->fresh = 1;
+    s->t0 = t0;
     return 0;
 }
 
@@ -101,18 +110,20 @@ vi_solver *vi_solver_create(const vi_solver_config *cfg, double t0, const double
                  cfg->n, cfg->nguards, VI_SOLVER_MAX_N, VI_SOLVER_MAX_GUARDS);
         return NULL;
     }
+    if (cfg->method != VI_METHOD_BDF && cfg->method != VI_METHOD_ADAMS) {
+        cfg->log(cfg->log_env, VI_LOG_ERROR, "vi_solver_create: unknown method %d", cfg->method);
+        return NULL;
+    }
     vi_solver *s = calloc(1, sizeof *s);
     if (!s) {
         cfg->log(cfg->log_env, VI_LOG_ERROR, "out of memory creating the solver");
         return NULL;
     }
     s->cfg = *cfg;
-    s->atol_copy = malloc(sizeof(double) * (size_t)cfg->n);
-    if (check_ptr(s, s->atol_copy, "malloc") < 0) goto fail;
     memcpy(s->atol_copy, cfg->atol, sizeof(double) * (size_t)cfg->n);
     s->cfg.atol = s->atol_copy;
     if (check_flag(s, SUNContext_Create(NULL, &s->ctx), "SUNContext_Create") < 0) goto fail;
-    s->cvode = CVodeCreate(cfg->adams ? CV_ADAMS : CV_BDF, s->ctx);
+    s->cvode = CVodeCreate(cfg->method == VI_METHOD_ADAMS ? CV_ADAMS : CV_BDF, s->ctx);
     if (check_ptr(s, s->cvode, "CVodeCreate") < 0) goto fail;
     s->x = N_VNew_Serial(cfg->n, s->ctx);
     if (check_ptr(s, s->x, "N_VNew_Serial") < 0) goto fail;
@@ -131,22 +142,46 @@ fail:
 
 int vi_solver_reset(vi_solver *s, double t0, const double *x0)
 {
-    memcpy(N_VGetArrayPointer(s->x), x0, sizeof(double) * (size_t)s->cfg.n);
+    memcpy(NV_DATA_S(s->x), x0, sizeof(double) * (size_t)s->cfg.n);
     vi_solver_statistics(s, &s->before_reset);
     s->before_reset.resets++;
     CHECK(CVodeReInit(s->cvode, t0, s->x));
+    s->fresh = 1;
+    s->t0 = t0;
     return 0;
 }
 
-int vi_solver_advance(vi_solver *s, double tout, double *t, double *x, int *fired)
+int vi_solver_advance(vi_solver *s, double tout, long max_steps, double *t, double *x, int *fired, long *taken)
 {
+    *taken = 0;
+    if (max_steps <= 0) return VI_SOLVER_LIMIT; /* nothing moved: *t and x are where they were */
+    if (s->fresh && tout - s->t0 <= 4.0 * DBL_EPSILON * fmax(fabs(s->t0), fabs(tout))) {
+        /* closer than CVODE can start an integration: x(tout) = x(t0) to within a few ulps of time.
+         * The solver stays at t0 and the next call integrates from there. */
+        memcpy(x, NV_DATA_S(s->x), sizeof(double) * (size_t)s->cfg.n);
+        *t = tout;
+        return VI_SOLVER_REACHED;
+    }
+    if (max_steps != s->max_steps_set) {
+        CHECK(CVodeSetMaxNumSteps(s->cvode, max_steps));
+        s->max_steps_set = max_steps;
+    }
     sunrealtype tret = *t;
-    CHECK(CVodeSetStopTime(s->cvode, tout));
+    long nst0 = 0, nst1 = 0;
+    CVodeGetNumSteps(s->cvode, &nst0);
     int flag = CVode(s->cvode, tout, s->x, &tret, CV_NORMAL);
+    CVodeGetNumSteps(s->cvode, &nst1);
+    *taken = nst1 - nst0;
+    if (flag == CV_TOO_MUCH_WORK) {
+        *t = tret;
+        memcpy(x, NV_DATA_S(s->x), sizeof(double) * (size_t)s->cfg.n);
+        return VI_SOLVER_LIMIT;
+    }
     CHECK(flag);
-    *t = tret;
-    memcpy(x, N_VGetArrayPointer(s->x), sizeof(double) * (size_t)s->cfg.n);
+    s->fresh = 0;
+    memcpy(x, NV_DATA_S(s->x), sizeof(double) * (size_t)s->cfg.n);
     if (flag == CV_ROOT_RETURN) {
+        *t = tret;
         CHECK(CVodeGetRootInfo(s->cvode, fired));
         return VI_SOLVER_EVENT;
     }
@@ -191,6 +226,5 @@ void vi_solver_free(vi_solver *s)
     if (s->x) N_VDestroy(s->x);
     if (s->atol) N_VDestroy(s->atol);
     if (s->ctx) SUNContext_Free(&s->ctx);
-    free(s->atol_copy);
     free(s);
 }
