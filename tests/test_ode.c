@@ -1,0 +1,303 @@
+/* Unit tests of the one-step integrator (vi_ode.h). Expected values come from the Butcher order
+ * conditions (rooted trees, computed here), from closed-form solutions, and from the documented
+ * behaviour (event rules, bounds, bit-exact restart); none is taken from the code's own output. */
+#include <criterion/criterion.h>
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "vi_ode.h"
+
+#define PI 3.14159265358979323846
+
+/* ---------------------------------------------------------------------------------------------
+ * Rooted trees up to order 8 and the order conditions sum_i w_i Phi_i(t) = 1/gamma(t)
+ * ------------------------------------------------------------------------------------------- */
+#define MAX_ORDER 8
+#define MAX_TREES 256
+#define NS VI_ODE_STAGES
+
+typedef struct {
+    int order, nch, ch[MAX_ORDER];
+    long double gamma;
+} tree;
+
+static tree T[MAX_TREES];
+static int n_trees;
+
+/* Append all trees of order `ord` whose children (indices < limit, non-increasing) sum to rem. */
+static void grow(int ord, int limit, int *ch, int nch, int rem, int max_idx)
+{
+    if (rem == 0) {
+        cr_assert(n_trees < MAX_TREES);
+        tree *t = &T[n_trees++];
+        t->order = ord;
+        t->nch = nch;
+        t->gamma = ord;
+        for (int i = 0; i < nch; i++) {
+            t->ch[i] = ch[i];
+            t->gamma *= T[ch[i]].gamma;
+        }
+        return;
+    }
+    for (int i = max_idx; i >= 0; i--) {
+        if (i >= limit || T[i].order > rem) continue;
+        ch[nch] = i;
+        grow(ord, limit, ch, nch + 1, rem - T[i].order, i);
+    }
+}
+
+static void make_trees(void)
+{
+    n_trees = 0;
+    int ch[MAX_ORDER];
+    for (int ord = 1; ord <= MAX_ORDER; ord++) {
+        int limit = n_trees;
+        grow(ord, limit, ch, 0, ord - 1, limit - 1);
+    }
+}
+
+/* phi[t][i] = Phi_i(t) for all trees and stages; aphi[t][i] = sum_j a_ij Phi_j(t); the same with
+ * |a_ij| (phi_abs, aphi_abs) is the scale of the rounding errors of the double coefficients. */
+static long double phi[MAX_TREES][NS], aphi[MAX_TREES][NS], phi_abs[MAX_TREES][NS], aphi_abs[MAX_TREES][NS];
+
+static void elementary_weights(const vi_ode_tableau *m)
+{
+    for (int t = 0; t < n_trees; t++) {
+        for (int i = 0; i < NS; i++) {
+            long double p = 1.0L, pa = 1.0L;
+            for (int c = 0; c < T[t].nch; c++) p *= aphi[T[t].ch[c]][i], pa *= aphi_abs[T[t].ch[c]][i];
+            phi[t][i] = p;
+            phi_abs[t][i] = pa;
+        }
+        for (int i = 0; i < NS; i++) {
+            long double s = 0.0L, sa = 0.0L;
+            for (int j = 0; j < i; j++) {
+                s += (long double)m->a[i][j] * phi[t][j];
+                sa += fabsl((long double)m->a[i][j]) * phi_abs[t][j];
+            }
+            aphi[t][i] = s;
+            aphi_abs[t][i] = sa;
+        }
+    }
+}
+
+/* Largest scaled residual of sum_i w_i Phi_i(t) = target(t) over trees with order in [lo, hi],
+ * where target = theta^order / gamma (theta = 1 for the step) or 0 (zero = 1). */
+static double residual(const long double *w, int lo, int hi, long double theta, int zero)
+{
+    double worst = 0.0;
+    for (int t = 0; t < n_trees; t++) {
+        if (T[t].order < lo || T[t].order > hi) continue;
+        long double s = 0.0L, scale = 0.0L;
+        for (int i = 0; i < NS; i++) {
+            s += w[i] * phi[t][i];
+            scale += fabsl(w[i]) * phi_abs[t][i];
+        }
+        long double target = zero ? 0.0L : powl(theta, T[t].order) / T[t].gamma;
+        double r = (double)(fabsl(s - target) / (scale + fabsl(target)));
+        if (r > worst) worst = r;
+        if (getenv("VI_ODE_SHOW_RESIDUALS")) printf("order %d tree %d residual %.3g\n", T[t].order, t, r);
+    }
+    return worst;
+}
+
+Test(tableau, rooted_tree_counts)
+{
+    static const int count[MAX_ORDER + 1] = {0, 1, 1, 2, 4, 9, 20, 48, 115}; /* OEIS A000081 */
+    make_trees();
+    int per[MAX_ORDER + 1] = {0};
+    for (int t = 0; t < n_trees; t++) per[T[t].order]++;
+    for (int o = 1; o <= MAX_ORDER; o++) cr_assert_eq(per[o], count[o], "order %d: %d trees", o, per[o]);
+    cr_assert_eq(n_trees, 200);
+}
+
+Test(tableau, nodes_are_row_sums_and_published_values)
+{
+    const vi_ode_tableau *m = vi_ode_method();
+    for (int i = 0; i < NS; i++) {
+        long double s = 0.0L, sa = 0.0L;
+        for (int j = 0; j < i; j++) s += m->a[i][j], sa += fabs(m->a[i][j]);
+        cr_assert(fabsl(s - m->c[i]) <= 2.0L * DBL_EPSILON * (sa + 1.0L), "stage %d: sum a = %.17Lg, c = %.17g", i, s,
+                  m->c[i]);
+    }
+    double r6 = sqrt(6.0), c4 = (6.0 - r6) / 30.0;
+    cr_assert(fabs(m->c[3] - c4) < 1e-16 && fabs(m->c[4] - (6.0 + r6) / 30.0) < 1e-16);
+    cr_assert(fabs(m->c[2] - 2.0 * c4 / 3.0) < 1e-16 && fabs(m->c[1] - 4.0 * c4 / 9.0) < 1e-16);
+    cr_assert(m->c[11] == 1.0 && m->c[12] == 1.0);
+    for (int j = 0; j < NS; j++) cr_assert(m->a[12][j] == m->b[j], "stage 13 is f at the new point");
+}
+
+Test(tableau, step_has_order_8_and_estimators_orders_5_and_3)
+{
+    const vi_ode_tableau *m = vi_ode_method();
+    make_trees();
+    elementary_weights(m);
+    long double b[NS], e5[NS], e3[NS];
+    for (int i = 0; i < NS; i++) b[i] = m->b[i], e5[i] = m->e5[i], e3[i] = m->e3[i];
+    double rb = residual(b, 1, 8, 1.0L, 0);
+    cr_assert(rb < 1e-14, "order conditions of b up to order 8: residual %g", rb);
+    /* estimator e = b - bhat: bhat of order 5 (3), i.e. sum e Phi = 0 for trees up to order 5 (3) */
+    double r5 = residual(e5, 1, 5, 1.0L, 1), r3 = residual(e3, 1, 3, 1.0L, 1);
+    cr_assert(r5 < 1e-14 && r3 < 1e-14, "estimators: residuals %g %g", r5, r3);
+    /* and not of a higher order (else the estimate would vanish too fast) */
+    cr_assert(residual(e5, 6, 6, 1.0L, 1) > 1e-6 && residual(e3, 4, 4, 1.0L, 1) > 1e-6);
+}
+
+/* The continuous weights b_i(theta) of the dense output as documented in vi_ode.h. */
+static void dense_weights(const vi_ode_tableau *m, long double th, long double *w)
+{
+    long double t1 = 1.0L - th;
+    for (int i = 0; i < NS; i++) {
+        long double q0 = m->b[i], q1 = (i == 0) - q0, q2 = q0 - (i == 12) - q1;
+        long double q[7] = {q0, q1, q2, m->d[0][i], m->d[1][i], m->d[2][i], m->d[3][i]};
+        w[i] = th * (q[0] + t1 * (q[1] + th * (q[2] + t1 * (q[3] + th * (q[4] + t1 * (q[5] + th * q[6]))))));
+    }
+}
+
+Test(tableau, dense_output_has_order_7)
+{
+    const vi_ode_tableau *m = vi_ode_method();
+    make_trees();
+    elementary_weights(m);
+    long double w[NS];
+    /* a polynomial identity of degree <= 7 in theta that holds at theta = 0 and 8 more points */
+    for (int k = 1; k <= 8; k++) {
+        long double th = k / 8.0L;
+        dense_weights(m, th, w);
+        double r = residual(w, 1, 7, th, 0);
+        cr_assert(r < 1e-14, "dense output at theta = %Lg: residual %g", th, r);
+    }
+    dense_weights(m, 0.5L, w);
+    cr_assert(residual(w, 8, 8, 0.5L, 0) > 1e-8, "not of order 8 inside the step");
+    dense_weights(m, 1.0L, w);
+    for (int i = 0; i < NS; i++) cr_assert(fabsl(w[i] - m->b[i]) < 1e-14L, "theta = 1 gives the step");
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Problems with closed-form solutions
+ * ------------------------------------------------------------------------------------------- */
+
+/* Harmonic oscillator x'' = -x: x = (x, v), x(t) = x0 cos t + v0 sin t. */
+static void osc(double t, const double *x, double *dx, void *u)
+{
+    (void)t, (void)u;
+    dx[0] = x[1];
+    dx[1] = -x[0];
+}
+static void osc_exact(double t, const double *x0, double *x)
+{
+    x[0] = x0[0] * cos(t) + x0[1] * sin(t);
+    x[1] = -x0[0] * sin(t) + x0[1] * cos(t);
+}
+
+/* y' = -2 t y^2, y(0) = 1: y = 1/(1 + t^2). */
+static void riccati(double t, const double *x, double *dx, void *u)
+{
+    (void)u;
+    dx[0] = -2.0 * t * x[0] * x[0];
+}
+static void riccati_exact(double t, const double *x0, double *x)
+{
+    (void)x0;
+    x[0] = 1.0 / (1.0 + t * t);
+}
+
+/* Forced oscillator x'' + x = cos 2t from rest: x = (cos t - cos 2t)/3. */
+static void forced(double t, const double *x, double *dx, void *u)
+{
+    (void)u;
+    dx[0] = x[1];
+    dx[1] = -x[0] + cos(2.0 * t);
+}
+static void forced_exact(double t, const double *x0, double *x)
+{
+    (void)x0;
+    x[0] = (cos(t) - cos(2.0 * t)) / 3.0;
+    x[1] = (-sin(t) + 2.0 * sin(2.0 * t)) / 3.0;
+}
+
+typedef struct {
+    const char *name;
+    int n;
+    vi_ode_rhs_fn f;
+    void (*exact)(double t, const double *x0, double *x);
+    double x0[2], T;
+    int n_first; /* fewest fixed steps over [0, T] in the order test (the asymptotic range starts there) */
+} problem;
+
+static const problem PROBLEMS[] = {
+    {"oscillator", 2, osc, osc_exact, {1.0, 0.5}, 8.0, 8},
+    {"riccati", 1, riccati, riccati_exact, {1.0, 0.0}, 4.0, 16}, /* poles at +-i: h < 0.3 */
+    {"forced", 2, forced, forced_exact, {0.0, 0.0}, 6.0, 8},
+};
+#define N_PROBLEMS (int)(sizeof PROBLEMS / sizeof PROBLEMS[0])
+
+static vi_ode_problem make(const problem *pr, double rtol, double atol)
+{
+    vi_ode_problem p = {.n = pr->n, .rhs = pr->f, .rtol = rtol};
+    for (int i = 0; i < pr->n; i++) p.atol[i] = atol;
+    return p;
+}
+
+static double max_err(const double *a, const double *b, int n)
+{
+    double e = 0.0;
+    for (int i = 0; i < n; i++) e = fmax(e, fabs(a[i] - b[i]));
+    return e;
+}
+
+/* Integrate to pr->T (steps bounded); return the largest max-norm error at the step points and the
+ * number of steps. */
+static double run(const problem *pr, vi_ode_problem *p, long *steps)
+{
+    vi_ode s;
+    double e = 0.0, xe[2];
+    cr_assert_eq(vi_ode_init(&s, p, 0.0, pr->x0, 0.0, 0u), VI_ODE_OK);
+    for (long k = 0; s.t < pr->T; k++) {
+        cr_assert(k < 1000000, "too many steps");
+        int r = vi_ode_step(&s, p, pr->T);
+        cr_assert_eq(r, VI_ODE_OK, "%s: %s at t = %g", pr->name, vi_ode_status_text(r), s.t);
+        pr->exact(s.t, pr->x0, xe);
+        e = fmax(e, max_err(s.x, xe, pr->n));
+    }
+    cr_assert(s.t == pr->T, "ends exactly at t_stop");
+    if (steps) *steps = s.st.accepted;
+    return e;
+}
+
+/* Least-squares slope of log y against log x. */
+__attribute__((unused)) static double slope(const double *x, const double *y, int n)
+{
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    for (int i = 0; i < n; i++) {
+        double lx = log(x[i]), ly = log(y[i]);
+        sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
+    }
+    return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+Test(order, global_error_falls_like_h8_with_fixed_steps)
+{
+    for (int k = 0; k < N_PROBLEMS; k++) {
+        const problem *pr = &PROBLEMS[k];
+        double e[5];
+        int checked = 0;
+        for (int j = 0; j < 5; j++) {
+            vi_ode_problem p = make(pr, 1e-6, 1e-6);
+            p.h_fixed = pr->T / (pr->n_first << j);
+            e[j] = run(pr, &p, NULL);
+        }
+        for (int j = 0; j + 1 < 5; j++) {
+            double ord = log2(e[j] / e[j + 1]);
+            cr_log_info("%s: %d steps: error %.3e, observed order %.2f", pr->name, pr->n_first << j, e[j], ord);
+            if (e[j + 1] < 5e-15) continue; /* rounding */
+            checked++;
+            cr_assert(ord >= 7.5 && ord <= 9.5, "%s: order %.2f from %d to %d steps", pr->name, ord,
+                      pr->n_first << j, pr->n_first << (j + 1));
+        }
+        cr_assert(checked >= 2, "%s: order seen over %d halvings only", pr->name, checked);
+    }
+}
