@@ -225,13 +225,14 @@ typedef struct {
     vi_ode_rhs_fn f;
     void (*exact)(double t, const double *x0, double *x);
     double x0[2], T;
-    int n_first; /* fewest fixed steps over [0, T] in the order test (the asymptotic range starts there) */
+    int n_first;    /* fewest fixed steps over [0, T] in the order test (the asymptotic range starts there) */
+    double h_dense; /* largest step of the dense-output test */
 } problem;
 
 static const problem PROBLEMS[] = {
-    {"oscillator", 2, osc, osc_exact, {1.0, 0.5}, 8.0, 8},
-    {"riccati", 1, riccati, riccati_exact, {1.0, 0.0}, 4.0, 16}, /* poles at +-i: h < 0.3 */
-    {"forced", 2, forced, forced_exact, {0.0, 0.0}, 6.0, 8},
+    {"oscillator", 2, osc, osc_exact, {1.0, 0.5}, 8.0, 8, 1.0},
+    {"riccati", 1, riccati, riccati_exact, {1.0, 0.0}, 4.0, 16, 0.4}, /* poles at +-i */
+    {"forced", 2, forced, forced_exact, {0.0, 0.0}, 6.0, 8, 0.75},
 };
 #define N_PROBLEMS (int)(sizeof PROBLEMS / sizeof PROBLEMS[0])
 
@@ -269,7 +270,7 @@ static double run(const problem *pr, vi_ode_problem *p, long *steps)
 }
 
 /* Least-squares slope of log y against log x. */
-__attribute__((unused)) static double slope(const double *x, const double *y, int n)
+static double slope(const double *x, const double *y, int n)
 {
     double sx = 0, sy = 0, sxx = 0, sxy = 0;
     for (int i = 0; i < n; i++) {
@@ -299,5 +300,106 @@ Test(order, global_error_falls_like_h8_with_fixed_steps)
                       pr->n_first << j, pr->n_first << (j + 1));
         }
         cr_assert(checked >= 2, "%s: order seen over %d halvings only", pr->name, checked);
+    }
+}
+
+/* One fixed step of size h from the exact solution at t0: the state after it. */
+static void one_step(const problem *pr, double t0, double h, vi_ode *s, vi_ode_problem *p)
+{
+    double x0[2];
+    pr->exact(t0, pr->x0, x0);
+    *p = make(pr, 1e-6, 1e-6);
+    p->h_fixed = h;
+    cr_assert_eq(vi_ode_init(s, p, t0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(s, p, INFINITY), VI_ODE_OK);
+    cr_assert(s->t == t0 + h);
+}
+
+Test(estimate, embedded_estimate_behaves_like_h8)
+{
+    /* err = err5^2 / sqrt(err5^2 + 0.01 err3^2) with err5 ~ h^6, err3 ~ h^4: ~ h^8 for small h */
+    for (int k = 0; k < N_PROBLEMS; k++) {
+        const problem *pr = &PROBLEMS[k];
+        double hs[4], es[4];
+        for (int j = 0; j < 4; j++) {
+            vi_ode s;
+            vi_ode_problem p;
+            hs[j] = 0.2 / (1 << j);
+            one_step(pr, 0.3, hs[j], &s, &p);
+            es[j] = s.err;
+            cr_assert(es[j] > 0.0);
+        }
+        double sl = slope(hs, es, 4);
+        cr_log_info("%s: estimate %.3e .. %.3e, slope %.2f", pr->name, es[0], es[3], sl);
+        cr_assert(sl > 7.5 && sl < 8.5, "%s: estimate slope %.2f", pr->name, sl);
+    }
+}
+
+Test(estimate, error_proportional_to_tolerance_and_steps_like_tol_minus_one_eighth)
+{
+    for (int k = 0; k < N_PROBLEMS; k++) {
+        problem pr = PROBLEMS[k];
+        /* the oscillators over many periods (the step count is not dominated by the start); the
+         * Riccati solution grows ever smoother, its step count is not a power of tol: error only */
+        int periodic = pr.f != riccati;
+        if (periodic) pr.T = 50.0;
+        double tol[9], err[9], steps[9];
+        for (int j = 0; j < 9; j++) {
+            tol[j] = pow(10.0, -4.0 - j);
+            vi_ode_problem p = make(&pr, tol[j], tol[j]);
+            long ns;
+            err[j] = run(&pr, &p, &ns);
+            steps[j] = (double)ns;
+            cr_log_info("%s: tol %.0e error %.2e (ratio %.2f) steps %ld", pr.name, tol[j], err[j], err[j] / tol[j], ns);
+            cr_assert(err[j] < 30.0 * tol[j] && err[j] > 1e-2 * tol[j], "%s: tol %g error %g", pr.name, tol[j], err[j]);
+        }
+        double se = slope(tol, err, 9), ss = slope(tol, steps, 9);
+        cr_log_info("%s: error ~ tol^%.3f, steps ~ tol^%.3f", pr.name, se, ss);
+        cr_assert(se > 0.9 && se < 1.1, "%s: error ~ tol^%.3f", pr.name, se);
+        if (periodic) cr_assert(ss > -0.14 && ss < -0.11, "%s: steps ~ tol^%.3f (expected -1/8)", pr.name, ss);
+    }
+}
+
+Test(dense, local_error_of_order_7_inside_exact_at_ends)
+{
+    for (int k = 0; k < N_PROBLEMS; k++) {
+        const problem *pr = &PROBLEMS[k];
+        double hs[3], e_mid[3], e_end[3], e_der[3];
+        for (int j = 0; j < 3; j++) {
+            vi_ode s;
+            vi_ode_problem p;
+            double t0 = 1.0, h = hs[j] = pr->h_dense / (1 << j), x[2], dx[2], xe[2], xe2[2], f[2];
+            one_step(pr, t0, h, &s, &p);
+            /* the ends, exactly */
+            cr_assert_eq(vi_ode_dense(&s, &p, t0, x, dx), VI_ODE_OK);
+            cr_assert(memcmp(x, s.step.x0, sizeof(double) * (size_t)pr->n) == 0);
+            pr->f(t0, s.step.x0, f, NULL);
+            cr_assert(max_err(dx, f, pr->n) <= 1e-12 * (1.0 + fabs(f[0]) + fabs(f[pr->n - 1])), "x'(t0) = f");
+            cr_assert_eq(vi_ode_dense(&s, &p, s.t, x, dx), VI_ODE_OK);
+            cr_assert(memcmp(x, s.x, sizeof(double) * (size_t)pr->n) == 0);
+            pr->f(s.t, s.x, f, NULL);
+            cr_assert(max_err(dx, f, pr->n) <= 1e-12 * (1.0 + fabs(f[0]) + fabs(f[pr->n - 1])), "x'(t1) = f");
+            /* inside: worst of a few points; the end: the step's own local error */
+            e_mid[j] = e_der[j] = 0.0;
+            for (int i = 1; i <= 4; i++) {
+                double t = t0 + h * (i / 5.0);
+                cr_assert_eq(vi_ode_dense(&s, &p, t, x, dx), VI_ODE_OK);
+                pr->exact(t, pr->x0, xe);
+                e_mid[j] = fmax(e_mid[j], max_err(x, xe, pr->n));
+                double d = 1e-6; /* the exact derivative by central differences of the exact solution */
+                pr->exact(t + d, pr->x0, xe2);
+                pr->exact(t - d, pr->x0, xe);
+                for (int c = 0; c < pr->n; c++) e_der[j] = fmax(e_der[j], fabs(dx[c] - (xe2[c] - xe[c]) / (2 * d)));
+            }
+            pr->exact(s.t, pr->x0, xe);
+            e_end[j] = max_err(s.x, xe, pr->n);
+        }
+        cr_assert(e_mid[2] > 1e-13 && e_end[2] > 5e-15, "%s: errors %g %g above rounding", pr->name, e_mid[2], e_end[2]);
+        double sm = slope(hs, e_mid, 3), se = slope(hs, e_end, 3);
+        cr_log_info("%s: dense local error %.2e .. %.2e slope %.2f; step end slope %.2f; derivative error %.2e .. %.2e",
+                    pr->name, e_mid[0], e_mid[2], sm, se, e_der[0], e_der[2]);
+        cr_assert(sm > 7.5 && sm < 8.7, "%s: dense output local error ~ h^%.2f (order 7: h^8)", pr->name, sm);
+        cr_assert(se > 8.3, "%s: step local error ~ h^%.2f (order 8: h^9)", pr->name, se);
+        cr_assert(e_der[2] < 1e-7 && e_der[2] < 1e-3 * e_der[0], "%s: derivative of the interpolant", pr->name);
     }
 }
