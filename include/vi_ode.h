@@ -85,7 +85,7 @@
  *   (armed, > 0 at the interval's left end) > 0 at a and at least one of them <= 0 at b. New points
  *   come from the Illinois variant of regula falsi on the guard whose linear root estimate is
  *   earliest, kept at least a few ulps inside the bracket, with a bisection whenever two steps did
- *   not halve the bracket; the search stops when b - a <= 4 eps max(|a|, |b|) (a few ulps of t),
+ *   not halve the bracket; the search stops when b - a <= eps max(|a|, |b|) (1 or 2 ulps of t),
  *   after at most VI_ODE_MAX_ROOT_ITERS guard evaluations (VI_ODE_ERR_ROOT if not, which the
  *   bisections rule out for finite guards). The event is reported at
  *       s.ev_t = b   (the first point found with the guard <= 0; s.ev_t - s.ev_t_lo = b - a),

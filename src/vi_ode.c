@@ -285,11 +285,13 @@ int vi_ode_init(vi_ode *s, const vi_ode_problem *p, double t0, const double *x0,
     if (!s || vi_ode_check(p, NULL, 0) != VI_ODE_OK || !x0 || !isfinite(t0) || !(h0 >= 0.0 && isfinite(h0)))
         return VI_ODE_ERR_ARGS;
     if (!finite_n(x0, p->n)) return VI_ODE_ERR_ARGS;
+    double x[VI_ODE_MAX_N];
+    memcpy(x, x0, sizeof(double) * (size_t)p->n); /* x0 may point into *s (e.g. s->ev_x) */
     memset(s, 0, sizeof *s);
     s->n = p->n;
     s->ng = p->ng;
     s->t = t0;
-    memcpy(s->x, x0, sizeof(double) * (size_t)p->n);
+    memcpy(s->x, x, sizeof(double) * (size_t)p->n);
     rhs(p, &s->st, t0, s->x, s->f);
     if (!finite_n(s->f, p->n)) return VI_ODE_ERR_NONFINITE;
     if (p->ng > 0) {
@@ -350,7 +352,7 @@ static int root_search(vi_ode *s, span *sp, const vi_ode_problem *p, double a, d
     double w1 = INFINITY, w2 = INFINITY;     /* bracket widths one and two iterations ago */
     int iter = 0;
     for (;;) {
-        double tol = fmax(4.0 * DBL_EPSILON * fmax(fabs(a), fabs(b)), DBL_MIN);
+        double tol = fmax(DBL_EPSILON * fmax(fabs(a), fabs(b)), DBL_MIN); /* 1 or 2 ulps */
         if (b - a <= tol) break;
         if (iter >= VI_ODE_MAX_ROOT_ITERS) return VI_ODE_ERR_ROOT;
         iter++;
@@ -488,8 +490,10 @@ int vi_ode_step(vi_ode *s, const vi_ode_problem *p, double t_stop)
             h = t_stop - s->t;
             t1 = t_stop;
             clipped = 1;
-        } else
+        } else {
             t1 = s->t + h;
+            h = t1 - s->t; /* exact: the step really spans [t, t1], so t does not drift by roundings */
+        }
         s->st.attempts++;
         for (int i = 1; i < S_STEP; i++) stage(p, &s->st, i, s->t, s->x, h, sp.k);
         for (int c = 0; c < n; c++) {

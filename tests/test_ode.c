@@ -403,3 +403,240 @@ Test(dense, local_error_of_order_7_inside_exact_at_ends)
         cr_assert(e_der[2] < 1e-7 && e_der[2] < 1e-3 * e_der[0], "%s: derivative of the interpolant", pr->name);
     }
 }
+
+/* ---------------------------------------------------------------------------------------------
+ * Events
+ * ------------------------------------------------------------------------------------------- */
+typedef struct {
+    int kind;
+    double tau;
+} gctx;
+
+enum { G_X, G_MULTI, G_TWO_ROOTS, G_JUMP, G_FLAT, G_TINY, G_NAN };
+
+static void guards(double t, const double *x, double *g, void *u)
+{
+    const gctx *c = u;
+    switch (c->kind) {
+    case G_X: g[0] = x[0]; break;
+    case G_MULTI: g[0] = x[0], g[1] = 2.0 * x[0], g[2] = x[0] + 0.5, g[3] = x[0] - 0.2; break;
+    case G_TWO_ROOTS: g[0] = (t - 0.9) * (t - 1.1); break;
+    case G_JUMP: g[0] = t < c->tau ? 1.0 : -1.0; break;
+    case G_FLAT: g[0] = pow(c->tau - t, 5); break;
+    case G_TINY: g[0] = 1e-300 * (c->tau - t); break;
+    case G_NAN: g[0] = fabs(t - c->tau) < 0.05 ? NAN : c->tau - t; break;
+    }
+}
+
+/* The oscillator with rhs user data NULL and guards with context c. */
+static void osc_u(double t, const double *x, double *dx, void *u)
+{
+    (void)u;
+    osc(t, x, dx, NULL);
+}
+
+static vi_ode_problem event_problem(gctx *c, int ng, double h_fixed, double rtol)
+{
+    vi_ode_problem p = {.n = 2, .ng = ng, .rhs = osc_u, .guards = guards, .user = c, .rtol = rtol,
+                        .atol = {rtol, rtol}, .h_fixed = h_fixed};
+    return p;
+}
+
+/* Step until an event or t_end (bounded); returns the status of the last step. */
+static int until_event(vi_ode *s, vi_ode_problem *p, double t_end)
+{
+    for (int k = 0; k < 100000; k++) {
+        int r = vi_ode_step(s, p, t_end);
+        if (r != VI_ODE_OK || s->t >= t_end) return r;
+    }
+    cr_assert_fail("no end");
+    return -1;
+}
+
+/* The event's bracket: a few ulps wide, guard > 0 at its left end and <= 0 at ev_t (dense output). */
+static void check_bracket(vi_ode *s, vi_ode_problem *p, int guard)
+{
+    double x[2], g[VI_ODE_MAX_G];
+    cr_assert(s->ev_t > s->step.t0 && s->ev_t <= s->t, "event inside the step");
+    cr_assert(s->ev_t - s->ev_t_lo <= DBL_EPSILON * fabs(s->ev_t), "bracket %g wide at %g",
+              s->ev_t - s->ev_t_lo, s->ev_t);
+    cr_assert_eq(vi_ode_dense(s, p, s->ev_t_lo, x, NULL), VI_ODE_OK);
+    p->guards(s->ev_t_lo, x, g, p->user);
+    cr_assert(g[guard] > 0.0, "guard > 0 at the left end of the bracket");
+    p->guards(s->ev_t, s->ev_x, g, p->user);
+    cr_assert(g[guard] <= 0.0, "guard <= 0 at the event");
+}
+
+Test(events, oscillator_zero_crossings_to_machine_precision)
+{
+    gctx c = {G_X, 0};
+    vi_ode_problem p = event_problem(&c, 1, 0.05, 1e-6); /* fixed steps: solution error ~1e-16 */
+    vi_ode s;
+    double x0[2] = {1.0, 0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    for (int k = 0; k < 4; k++) {
+        cr_assert_eq(until_event(&s, &p, 100.0), VI_ODE_EVENT);
+        double exact = PI / 2 + 2 * PI * k;
+        cr_log_info("event %d at %.17g, exact %.17g, rel. error %.2e", k, s.ev_t, exact, (s.ev_t - exact) / exact);
+        cr_assert(fabs(s.ev_t - exact) <= 2e-15 * exact, "event %d at %.17g, exact %.17g", k, s.ev_t, exact);
+        cr_assert_eq(s.ev_fired, 1u);
+        cr_assert(fabs(s.ev_x[0]) <= 4 * DBL_EPSILON * exact && fabs(s.ev_x[1] + 1.0) < 1e-14, "x = %g", s.ev_x[0]);
+        check_bracket(&s, &p, 0);
+        /* the mode does not change: restart there, the guard that fired held until it moved away */
+        cr_assert_eq(vi_ode_restart(&s, &p, s.ev_t, s.ev_x, 0.0, s.ev_fired), VI_ODE_OK);
+    }
+    cr_assert_eq(s.st.events, 4);
+}
+
+Test(events, adaptive_steps_locate_the_root_of_the_interpolant)
+{
+    gctx c = {G_X, 0};
+    vi_ode_problem p = event_problem(&c, 1, 0.0, 1e-9);
+    vi_ode s;
+    double x0[2] = {1.0, 0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    for (int k = 0; k < 3; k++) {
+        cr_assert_eq(until_event(&s, &p, 100.0), VI_ODE_EVENT);
+        double exact = PI / 2 + 2 * PI * k;
+        cr_assert(fabs(s.ev_t - exact) <= 1e-8 * exact, "event %d at %.17g, exact %.17g", k, s.ev_t, exact);
+        check_bracket(&s, &p, 0);
+        cr_assert_eq(vi_ode_step(&s, &p, 100.0), VI_ODE_ERR_ARGS, "no step past a pending event");
+        cr_assert_eq(vi_ode_restart(&s, &p, s.ev_t, s.ev_x, 0.0, s.ev_fired), VI_ODE_OK);
+    }
+}
+
+Test(events, two_roots_inside_one_step_need_interior_samples)
+{
+    gctx c = {G_TWO_ROOTS, 0};
+    vi_ode_problem p = event_problem(&c, 1, 2.0, 1e-6); /* one step [0, 2], g > 0 at both ends */
+    vi_ode s;
+    double x0[2] = {1.0, 0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 2.0), VI_ODE_OK, "without samples the dip below zero is not seen");
+    p.guard_samples = 3; /* samples at 0.5, 1, 1.5: g(1) < 0 */
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 2.0), VI_ODE_EVENT);
+    cr_assert(fabs(s.ev_t - 0.9) <= 2 * DBL_EPSILON, "first root 0.9: %.17g", s.ev_t);
+    check_bracket(&s, &p, 0);
+    cr_assert_eq(s.st.dense_builds, 1, "dense output built once per step");
+}
+
+Test(events, first_guard_wins_and_ties_fire_together)
+{
+    gctx c = {G_MULTI, 0};
+    /* g0 = x, g1 = 2x (same root), g2 = x + 1/2, g3 = x - 1/5 on x = cos t */
+    struct {
+        double t;
+        unsigned fired;
+    } expect[] = {{acos(0.2), 8u}, {PI / 2, 3u}, {2 * PI / 3, 4u}, {2 * PI + acos(0.2), 8u}, {5 * PI / 2, 3u}};
+    for (int fixed = 0; fixed < 2; fixed++) {
+        vi_ode_problem p = event_problem(&c, 4, fixed ? 0.8 : 0.0, 1e-12); /* fixed: several roots in a step */
+        vi_ode s;
+        double x0[2] = {1.0, 0.0};
+        cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+        for (int k = 0; k < 5; k++) {
+            cr_assert_eq(until_event(&s, &p, 100.0), VI_ODE_EVENT);
+            cr_assert(fabs(s.ev_t - expect[k].t) < (fixed ? 1e-6 : 1e-10), "event %d at %.15g, expected %.15g", k,
+                      s.ev_t, expect[k].t);
+            cr_assert_eq(s.ev_fired, expect[k].fired, "event %d: fired %#x, expected %#x", k, s.ev_fired,
+                         expect[k].fired);
+            for (int i = 0; i < 4; i++)
+                if (s.ev_fired & (1u << i)) check_bracket(&s, &p, i);
+            cr_assert_eq(vi_ode_restart(&s, &p, s.ev_t, s.ev_x, 0.0, s.ev_fired), VI_ODE_OK);
+        }
+    }
+}
+
+Test(events, guard_zero_at_start_fires_only_after_being_positive)
+{
+    gctx c = {G_X, 0};
+    vi_ode_problem p = event_problem(&c, 1, 0.0, 1e-12);
+    vi_ode s;
+    double up[2] = {0.0, 1.0}, down[2] = {0.0, -1.0}; /* x = sin t, x = -sin t: g = 0 at the start */
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, up, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(s.armed, 0u, "g = 0 does not arm");
+    cr_assert_eq(until_event(&s, &p, 100.0), VI_ODE_EVENT);
+    cr_assert(fabs(s.ev_t - PI) < 1e-10, "sin t falls through 0 at pi: %.17g", s.ev_t);
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, down, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(until_event(&s, &p, 100.0), VI_ODE_EVENT);
+    cr_assert(fabs(s.ev_t - 2 * PI) < 1e-10, "-sin t falls through 0 at 2 pi: %.17g", s.ev_t);
+}
+
+Test(events, hold_keeps_a_guard_sitting_at_zero_from_firing_again)
+{
+    gctx c = {G_X, 0};
+    vi_ode_problem p = event_problem(&c, 1, 0.0, 1e-12);
+    vi_ode s;
+    double x0[2] = {1e-20, -1.0}; /* g barely positive, moving down */
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(until_event(&s, &p, 100.0), VI_ODE_EVENT);
+    cr_assert(s.ev_t < 1e-15, "an armed guard fires at once: %g", s.ev_t);
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 1u), VI_ODE_OK);
+    cr_assert_eq(until_event(&s, &p, 100.0), VI_ODE_EVENT);
+    cr_assert(fabs(s.ev_t - 2 * PI) < 1e-9, "held: fires after it rose above 0 and fell back, %.17g", s.ev_t);
+    /* arm_eps: a guard arms only above its threshold */
+    double low[2] = {0.3, 0.0};
+    p.arm_eps[0] = 0.5;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, low, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(until_event(&s, &p, 20.0), VI_ODE_OK, "0.3 cos t never exceeds 0.5: never armed");
+    p.arm_eps[0] = 0.2;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, low, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(until_event(&s, &p, 20.0), VI_ODE_EVENT);
+    cr_assert(fabs(s.ev_t - PI / 2) < 1e-9);
+}
+
+Test(events, root_search_is_bounded_and_exact_for_hard_guards)
+{
+    int kinds[] = {G_JUMP, G_FLAT, G_TINY};
+    double taus[] = {0.7, 0.3, 0.123456789};
+    for (int k = 0; k < 3; k++) {
+        for (int j = 0; j < 3; j++) {
+            gctx c = {kinds[k], taus[j]};
+            vi_ode_problem p = event_problem(&c, 1, 1.0, 1e-6); /* one step [0, 1] */
+            vi_ode s;
+            double x0[2] = {1.0, 0.0};
+            cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+            cr_assert_eq(vi_ode_step(&s, &p, 1.0), VI_ODE_EVENT, "kind %d tau %g", kinds[k], taus[j]);
+            cr_log_info("kind %d tau %.9g: %ld iterations, error %.2e", kinds[k], taus[j], s.st.root_iters,
+                        s.ev_t - taus[j]);
+            cr_assert(s.ev_t >= taus[j] && s.ev_t - taus[j] <= DBL_EPSILON * taus[j], "kind %d: %.17g vs %.17g",
+                      kinds[k], s.ev_t, taus[j]);
+            cr_assert(s.st.root_iters <= 3 * 53, "kind %d: %ld iterations", kinds[k], s.st.root_iters);
+        }
+    }
+}
+
+Test(events, nonfinite_guard_fails_and_leaves_the_state)
+{
+    gctx c = {G_NAN, 0.7};
+    vi_ode_problem p = event_problem(&c, 1, 0.25, 1e-6);
+    vi_ode s, before;
+    double x0[2] = {1.0, 0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 10.0), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 10.0), VI_ODE_OK);
+    before = s;
+    cr_assert_eq(vi_ode_step(&s, &p, 10.0), VI_ODE_ERR_NONFINITE, "the root search meets NaN near 0.7");
+    s.st = before.st; /* the statistics count the work */
+    cr_assert(memcmp(&s, &before, sizeof s) == 0, "state unchanged by a failed step");
+}
+
+Test(order, time_does_not_drift_over_many_steps)
+{
+    /* 10^4 fixed steps: t + h is rounded each step; the step must span exactly [t, fl(t + h)] or the
+     * solution drifts in phase by ~1e4 roundings of t (~3e-11 here) */
+    problem pr = PROBLEMS[0];
+    pr.T = 100.0;
+    vi_ode_problem p = make(&pr, 1e-6, 1e-6);
+    p.h_fixed = 0.01;
+    vi_ode s;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, pr.x0, 0.0, 0u), VI_ODE_OK);
+    for (long k = 0; s.t < pr.T; k++) {
+        cr_assert(k < 20000);
+        cr_assert_eq(vi_ode_step(&s, &p, pr.T), VI_ODE_OK);
+    }
+    double xe[2];
+    pr.exact(pr.T, pr.x0, xe);
+    cr_log_info("error after 10^4 steps: %.2e", max_err(s.x, xe, 2));
+    cr_assert(max_err(s.x, xe, 2) < 2e-12, "error %g after 10^4 steps", max_err(s.x, xe, 2));
+}
