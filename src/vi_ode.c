@@ -492,6 +492,7 @@ int vi_ode_step(vi_ode *s, const vi_ode_problem *p, double t_stop)
             clipped = 1;
         } else {
             t1 = s->t + h;
+            if (t1 - s->t > h_lim) t1 = nextafter(t1, -INFINITY); /* max_step holds exactly */
             h = t1 - s->t; /* exact: the step really spans [t, t1], so t does not drift by roundings */
         }
         s->st.attempts++;

@@ -640,3 +640,231 @@ Test(order, time_does_not_drift_over_many_steps)
     cr_log_info("error after 10^4 steps: %.2e", max_err(s.x, xe, 2));
     cr_assert(max_err(s.x, xe, 2) < 2e-12, "error %g after 10^4 steps", max_err(s.x, xe, 2));
 }
+
+/* ---------------------------------------------------------------------------------------------
+ * Plain-data state, limits, failures, accounting
+ * ------------------------------------------------------------------------------------------- */
+
+/* Drive a forced oscillator with guards through steps, events and restarts (`dense`: also query
+ * the dense output between steps). Returns the number of events. */
+static int drive(vi_ode *s, vi_ode_problem *p, int steps, int dense)
+{
+    int events = 0;
+    for (int k = 0; k < steps; k++) {
+        int r = vi_ode_step(s, p, 1e3);
+        cr_assert(r >= 0, "%s", vi_ode_status_text(r));
+        if (dense) {
+            double x[2], dx[2];
+            cr_assert_eq(vi_ode_dense(s, p, s->step.t0 + 0.37 * (s->t - s->step.t0), x, dx), VI_ODE_OK);
+        }
+        if (r == VI_ODE_EVENT) {
+            double x[2] = {s->ev_x[0], -0.9 * s->ev_x[1]}; /* a jump at the event */
+            cr_assert_eq(vi_ode_restart(s, p, s->ev_t, x, 0.0, s->ev_fired), VI_ODE_OK);
+            events++;
+        }
+    }
+    return events;
+}
+
+static void forced_u(double t, const double *x, double *dx, void *u)
+{
+    (void)u;
+    forced(t, x, dx, NULL);
+}
+
+Test(state, copy_continues_bit_for_bit_and_dense_requests_do_not_matter)
+{
+    gctx c = {G_MULTI, 0};
+    vi_ode_problem p = {.n = 2, .ng = 4, .rhs = forced_u, .guards = guards, .user = &c, .rtol = 1e-9,
+                        .atol = {1e-12, 1e-12}, .guard_samples = 2};
+    vi_ode a, b, d;
+    double x0[2] = {0.5, 0.0};
+    cr_assert_eq(vi_ode_init(&a, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert(drive(&a, &p, 40, 0) > 0);
+    memcpy(&b, &a, sizeof a);
+    memcpy(&d, &a, sizeof a);
+    int ea = drive(&a, &p, 200, 0), eb = drive(&b, &p, 200, 0), ed = drive(&d, &p, 200, 1);
+    cr_assert(ea > 3 && ea == eb && ea == ed, "events %d %d %d", ea, eb, ed);
+    cr_assert(memcmp(&a, &b, sizeof a) == 0, "a byte copy continues identically");
+    /* with dense requests only the statistics differ (guard_samples > 0: dense is built anyway) */
+    cr_assert(a.t == d.t && a.h == d.h && memcmp(a.x, d.x, sizeof a.x) == 0 && memcmp(&a.step, &d.step, sizeof a.step) == 0);
+    p.guard_samples = 0; /* now dense output is built on demand only */
+    cr_assert_eq(vi_ode_init(&a, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    memcpy(&d, &a, sizeof a);
+    drive(&a, &p, 200, 0);
+    drive(&d, &p, 200, 1);
+    cr_assert(d.st.dense_builds > a.st.dense_builds);
+    cr_assert(a.t == d.t && a.h == d.h && memcmp(a.x, d.x, sizeof a.x) == 0 && memcmp(a.g, d.g, sizeof a.g) == 0);
+}
+
+Test(state, max_step_and_t_stop_are_respected)
+{
+    problem pr = PROBLEMS[0];
+    vi_ode_problem p = make(&pr, 1e-6, 1e-6);
+    p.max_step = 0.01;
+    vi_ode s;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, pr.x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert(s.h <= 0.01);
+    double t_stop = 1.0 / 3.0;
+    long k;
+    for (k = 0; s.t < t_stop; k++) {
+        cr_assert(k < 1000);
+        cr_assert_eq(vi_ode_step(&s, &p, t_stop), VI_ODE_OK);
+        cr_assert(s.t - s.step.t0 <= 0.01, "step %g > max_step", s.t - s.step.t0);
+        cr_assert(s.t <= t_stop);
+    }
+    cr_assert(s.t == t_stop, "t_stop reached exactly");
+    cr_assert(k >= 34 && k <= 35, "%ld steps of at most 0.01 over 1/3", k);
+    cr_assert_eq(vi_ode_step(&s, &p, t_stop), VI_ODE_ERR_ARGS, "t_stop must lie ahead");
+    /* a large step stops at t_stop too */
+    p.max_step = 0.0;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, pr.x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 1e-9), VI_ODE_OK);
+    cr_assert(s.t == 1e-9);
+}
+
+static void blowup(double t, const double *x, double *dx, void *u)
+{
+    (void)t, (void)u;
+    dx[0] = x[0] * x[0]; /* x = 1/(1 - t) */
+}
+
+static void nan_after(double t, const double *x, double *dx, void *u)
+{
+    (void)u;
+    dx[0] = t > 0.5 ? NAN : -x[0];
+}
+
+static void stiff(double t, const double *x, double *dx, void *u)
+{
+    (void)u;
+    dx[0] = -1e6 * (x[0] - cos(t));
+}
+
+Test(failures, reported_never_a_hang_and_the_state_is_kept)
+{
+    vi_ode_problem p = {.n = 1, .rhs = blowup, .rtol = 1e-8, .atol = {1e-8}};
+    vi_ode s, before;
+    double x0[1] = {1.0};
+    int r = VI_ODE_OK;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    for (int k = 0; k < 100000 && r == VI_ODE_OK; k++) {
+        before = s;
+        r = vi_ode_step(&s, &p, 2.0);
+    }
+    cr_assert(r == VI_ODE_ERR_HMIN || r == VI_ODE_ERR_NONFINITE, "blow-up at t = 1: %s", vi_ode_status_text(r));
+    /* the numerical solution's own singularity lies within about rtol of t = 1 */
+    cr_assert(fabs(s.t - 1.0) < 1e-6 && s.x[0] > 1e6, "stopped at the singularity: t = %.17g, x = %g", s.t, s.x[0]);
+    s.st = before.st;
+    cr_assert(memcmp(&s, &before, sizeof s) == 0, "state unchanged by the failed step");
+
+    p.rhs = nan_after;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    r = VI_ODE_OK;
+    for (int k = 0; k < 100000 && r == VI_ODE_OK; k++) r = vi_ode_step(&s, &p, 2.0);
+    cr_assert_eq(r, VI_ODE_ERR_NONFINITE, "%s", vi_ode_status_text(r));
+    cr_assert(s.t <= 0.5 && s.t > 0.49, "t = %g", s.t);
+    cr_assert(s.st.rejected <= VI_ODE_MAX_REJECTS);
+
+    p.rhs = stiff; /* needs h ~ 3e-6: below h_min */
+    p.h_min = 1e-3;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 1e-2, 0u), VI_ODE_OK);
+    r = VI_ODE_OK;
+    for (int k = 0; k < 100000 && r == VI_ODE_OK; k++) r = vi_ode_step(&s, &p, 2.0);
+    cr_assert_eq(r, VI_ODE_ERR_HMIN, "%s", vi_ode_status_text(r));
+
+    /* a fixed step that meets NaN fails at once */
+    p.rhs = nan_after;
+    p.h_min = 0.0;
+    p.h_fixed = 0.3;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 2.0), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 2.0), VI_ODE_ERR_NONFINITE);
+    cr_assert(s.t == 0.3);
+    /* not finite at the start */
+    cr_assert_eq(vi_ode_init(&s, &p, 0.7, x0, 0.0, 0u), VI_ODE_ERR_NONFINITE);
+}
+
+Test(failures, invalid_problems_and_calls)
+{
+    char msg[128];
+    vi_ode_problem ok = {.n = 2, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6}};
+    cr_assert_eq(vi_ode_check(&ok, msg, sizeof msg), VI_ODE_OK);
+    struct {
+        const char *field;
+        vi_ode_problem p;
+    } bad[] = {
+        {"n", {.n = 0, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6}}},
+        {"n", {.n = VI_ODE_MAX_N + 1, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6, 1e-6, 1e-6}}},
+        {"rhs", {.n = 2, .rtol = 1e-6, .atol = {1e-6, 1e-6}}},
+        {"guards", {.n = 2, .ng = 1, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6}}},
+        {"ng", {.n = 2, .ng = VI_ODE_MAX_G + 1, .rhs = osc_u, .guards = guards, .rtol = 1e-6, .atol = {1e-6, 1e-6}}},
+        {"rtol", {.n = 2, .rhs = osc_u, .rtol = 0.0, .atol = {1e-6, 1e-6}}},
+        {"rtol", {.n = 2, .rhs = osc_u, .rtol = NAN, .atol = {1e-6, 1e-6}}},
+        {"atol", {.n = 2, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 0.0}}},
+        {"max_step", {.n = 2, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6}, .max_step = -1}},
+        {"h_min", {.n = 2, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6}, .h_min = INFINITY}},
+        {"h_fixed", {.n = 2, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6}, .h_fixed = -1}},
+        {"guard_samples",
+         {.n = 2, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6}, .guard_samples = VI_ODE_MAX_SAMPLES + 1}},
+        {"arm_eps", {.n = 2, .ng = 1, .rhs = osc_u, .guards = guards, .rtol = 1e-6, .atol = {1e-6, 1e-6}, .arm_eps = {-1}}},
+    };
+    vi_ode s;
+    double x0[2] = {1.0, 0.0};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        msg[0] = 0;
+        cr_assert_eq(vi_ode_check(&bad[i].p, msg, sizeof msg), VI_ODE_ERR_ARGS, "%s", bad[i].field);
+        cr_assert(strstr(msg, bad[i].field) == msg, "message names %s: %s", bad[i].field, msg);
+        cr_assert_eq(vi_ode_init(&s, &bad[i].p, 0.0, x0, 0.0, 0u), VI_ODE_ERR_ARGS);
+    }
+    double xnan[2] = {NAN, 0.0};
+    cr_assert_eq(vi_ode_init(&s, &ok, 0.0, xnan, 0.0, 0u), VI_ODE_ERR_ARGS);
+    cr_assert_eq(vi_ode_init(&s, &ok, INFINITY, x0, 0.0, 0u), VI_ODE_ERR_ARGS);
+    cr_assert_eq(vi_ode_init(&s, &ok, 0.0, x0, -1.0, 0u), VI_ODE_ERR_ARGS);
+    cr_assert_eq(vi_ode_init(&s, &ok, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    double x[2];
+    cr_assert_eq(vi_ode_dense(&s, &ok, 0.0, x, NULL), VI_ODE_ERR_ARGS, "no step yet");
+    cr_assert_eq(vi_ode_step(&s, &ok, NAN), VI_ODE_ERR_ARGS);
+    cr_assert_eq(vi_ode_step(&s, &ok, 1.0), VI_ODE_OK);
+    cr_assert_eq(vi_ode_dense(&s, &ok, s.t * (1 + 1e-15), x, NULL), VI_ODE_ERR_ARGS, "beyond the step");
+    cr_assert_eq(vi_ode_dense(&s, &ok, -1e-300, x, NULL), VI_ODE_ERR_ARGS, "before the step");
+    vi_ode_problem other = ok;
+    other.n = 1;
+    cr_assert_eq(vi_ode_step(&s, &other, 1.0), VI_ODE_ERR_ARGS, "state made for another problem");
+    for (int st = -6; st <= 2; st++) cr_assert(vi_ode_status_text(st) != NULL);
+    cr_assert(strcmp(vi_ode_status_text(VI_ODE_ERR_HMIN), vi_ode_status_text(VI_ODE_ERR_ROOT)) != 0);
+}
+
+static long rhs_calls;
+static void counted(double t, const double *x, double *dx, void *u)
+{
+    (void)u;
+    rhs_calls++;
+    osc(t, x, dx, NULL);
+}
+
+Test(state, statistics_count_the_work)
+{
+    vi_ode_problem p = {.n = 2, .rhs = counted, .rtol = 1e-10, .atol = {1e-10, 1e-10}};
+    vi_ode s;
+    double x0[2] = {1.0, 0.0};
+    rhs_calls = 0;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(s.st.rhs_evals, 2, "f(t0) and the first-step estimate");
+    for (int k = 0; k < 50; k++) cr_assert_eq(vi_ode_step(&s, &p, 1e3), VI_ODE_OK);
+    cr_assert_eq(s.st.attempts, s.st.accepted + s.st.rejected);
+    cr_assert_eq(s.st.accepted, 50);
+    cr_assert_eq(s.st.rhs_evals, 2 + 12 * s.st.accepted + 11 * s.st.rejected, "12 per step, 11 per rejection");
+    double x[2];
+    cr_assert_eq(vi_ode_dense(&s, &p, s.step.t0, x, NULL), VI_ODE_OK);
+    cr_assert_eq(vi_ode_dense(&s, &p, s.t, x, NULL), VI_ODE_OK);
+    cr_assert_eq(s.st.dense_builds, 1);
+    cr_assert_eq(s.st.rhs_evals, 2 + 12 * s.st.accepted + 11 * s.st.rejected + 3, "3 for the dense output, once");
+    cr_assert_eq(s.st.rhs_evals, rhs_calls);
+    vi_ode_stats before = s.st;
+    cr_assert_eq(vi_ode_restart(&s, &p, s.t, s.x, s.h, 0u), VI_ODE_OK);
+    cr_assert_eq(s.st.accepted, before.accepted, "restart keeps the statistics");
+    cr_assert_eq(s.st.rhs_evals, before.rhs_evals + 1, "h0 given: f(t0) only");
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.5, 0u), VI_ODE_OK);
+    cr_assert(s.st.accepted == 0 && s.h == 0.5, "init clears the statistics; h0 used");
+}
