@@ -125,6 +125,11 @@ static const vi_ode_tableau TABLEAU = {C, A, Bw, E5, E3, D};
 
 const vi_ode_tableau *vi_ode_method(void) { return &TABLEAU; }
 
+/* Sparsity: in row i of A, and in b, e5, e3 and d, the nonzero entries are column 0 and columns
+ * LO[i] .. i-1 (a few zeros among those are multiplied through). Row 12 is b, e5, e3. */
+static const int LO[NS] = {1, 1, 1, 2, 2, 3, 3, 3, 3, 3, 3, 3, 5, 6, 5, 5};
+#define LO_D 5
+
 /* Step-size controller (HNW II.4): h_new = h min(FAC_MAX, max(FAC_MIN, SAFETY err^(-1/8))). */
 #define SAFETY 0.9
 #define FAC_MIN 0.2
@@ -140,6 +145,11 @@ static int finite_n(const double *v, int n)
     return 1;
 }
 
+static void copy_n(double *dst, const double *src, int n)
+{
+    for (int i = 0; i < n; i++) dst[i] = src[i];
+}
+
 static void rhs(const vi_ode_problem *p, vi_ode_stats *st, double t, const double *x, double *dx)
 {
     p->rhs(t, x, dx, p->user);
@@ -153,68 +163,115 @@ static int guards(const vi_ode_problem *p, vi_ode_stats *st, double t, const dou
     return finite_n(g, p->ng);
 }
 
-/* Stage i of a step of size h from (t, x): y = x + h sum_{j<i} a_ij k_j, k_i = f(t + c_i h, y). */
-static void stage(const vi_ode_problem *p, vi_ode_stats *st, int i, double t, const double *x, double h,
-                  double k[NS][VI_ODE_MAX_N])
+/* The component loops of the stages run over a fixed number of LANES (2 when n <= 2, else
+ * VI_ODE_MAX_N): a compile-time length the compiler unrolls into registers. The functions taking
+ * `lanes` are inline and called with a constant. Lanes beyond n hold zeros in every stage
+ * (vi_ode_init zeroes the state, rhs writes n values), so they stay zero. */
+#define LANES(n) ((n) <= 2 ? 2 : VI_ODE_MAX_N)
+
+/* sum[c] = w[0] k[0][c] + sum_{j = lo}^{hi - 1} w[j] k[j][c] */
+static inline void combine(const double *w, int lo, int hi, const double k[NS][VI_ODE_MAX_N], double *sum, int lanes)
 {
-    int n = p->n;
-    double y[VI_ODE_MAX_N];
-    for (int c = 0; c < n; c++) {
-        double sum = 0.0;
-        for (int j = 0; j < i; j++) sum += A[i][j] * k[j][c];
-        y[c] = x[c] + h * sum;
+    double acc[VI_ODE_MAX_N];
+    for (int c = 0; c < lanes; c++) acc[c] = w[0] * k[0][c];
+    for (int j = lo; j < hi; j++) {
+        double a = w[j];
+        for (int c = 0; c < lanes; c++) acc[c] += a * k[j][c];
     }
-    rhs(p, st, t + C[i] * h, y, k[i]);
+    for (int c = 0; c < lanes; c++) sum[c] = acc[c];
+}
+
+/* Stage i of the step in sp (t0, x0, h): k_i = f(t0 + c_i h, x0 + h sum_{j<i} a_ij k_j). */
+static inline void stage(const vi_ode_problem *p, vi_ode_stats *st, span *sp, int i, double h, int lanes)
+{
+    double y[VI_ODE_MAX_N];
+    combine(A[i], LO[i], i, sp->k, y, lanes);
+    for (int c = 0; c < lanes; c++) y[c] = sp->x0[c] + h * y[c];
+    rhs(p, st, sp->t0 + C[i] * h, y, sp->k[i]);
+}
+
+/* Stages 2..12 of a step of size h from (sp->t0, sp->x0) with k[0] set; x1 and the sums of the
+ * two estimators. */
+static inline void attempt(const vi_ode_problem *p, vi_ode_stats *st, span *sp, double h, double *e5, double *e3,
+                           int lanes)
+{
+    double sb[VI_ODE_MAX_N];
+    for (int i = 1; i < S_STEP; i++) stage(p, st, sp, i, h, lanes);
+    combine(Bw, LO[S_END], S_STEP, sp->k, sb, lanes);
+    combine(E5, LO[S_END], S_STEP, sp->k, e5, lanes);
+    combine(E3, LO[S_END], S_STEP, sp->k, e3, lanes);
+    for (int c = 0; c < lanes; c++) {
+        sp->x1[c] = sp->x0[c] + h * sb[c];
+        e5[c] *= h;
+        e3[c] *= h;
+    }
+}
+
+static void attempt_2(const vi_ode_problem *p, vi_ode_stats *st, span *sp, double h, double *e5, double *e3)
+{
+    attempt(p, st, sp, h, e5, e3, 2);
+}
+
+static void attempt_max(const vi_ode_problem *p, vi_ode_stats *st, span *sp, double h, double *e5, double *e3)
+{
+    attempt(p, st, sp, h, e5, e3, VI_ODE_MAX_N);
 }
 
 /* The three extra stages and the coefficients q of the dense output of a step. */
-static int dense_build(span *sp, const vi_ode_problem *p, vi_ode_stats *st)
+static inline int dense_build_lanes(span *sp, const vi_ode_problem *p, vi_ode_stats *st, int lanes)
 {
-    if (sp->dense_ready) return VI_ODE_OK;
     int n = p->n;
     double h = sp->t1 - sp->t0;
     for (int i = S_DENSE; i < NS; i++) {
-        stage(p, st, i, sp->t0, sp->x0, h, sp->k);
+        stage(p, st, sp, i, h, lanes);
         if (!finite_n(sp->k[i], n)) return VI_ODE_ERR_NONFINITE;
     }
-    for (int c = 0; c < n; c++) {
+    for (int c = 0; c < lanes; c++) {
         double q0 = sp->x1[c] - sp->x0[c];
         double q1 = h * sp->k[0][c] - q0;
         sp->q[0][c] = q0;
         sp->q[1][c] = q1;
         sp->q[2][c] = q0 - h * sp->k[S_END][c] - q1;
-        for (int r = 0; r < 4; r++) {
-            double sum = 0.0;
-            for (int j = 0; j < NS; j++) sum += D[r][j] * sp->k[j][c];
-            sp->q[3 + r][c] = h * sum;
-        }
+    }
+    for (int r = 0; r < 4; r++) {
+        combine(D[r], LO_D, NS, sp->k, sp->q[3 + r], lanes);
+        for (int c = 0; c < lanes; c++) sp->q[3 + r][c] *= h;
     }
     sp->dense_ready = 1;
     st->dense_builds++;
     return VI_ODE_OK;
 }
 
-/* Evaluate the built dense output at t in [t0, t1]; the step ends are returned exactly. */
+static int dense_build(span *sp, const vi_ode_problem *p, vi_ode_stats *st)
+{
+    if (sp->dense_ready) return VI_ODE_OK;
+    return LANES(p->n) == 2 ? dense_build_lanes(sp, p, st, 2) : dense_build_lanes(sp, p, st, VI_ODE_MAX_N);
+}
+
+/* Evaluate the built dense output at t in [t0, t1] (and x' when dx != NULL); the step ends are
+ * returned exactly. From the inside out: a_l = q_l + w a_(l+1), w alternating theta (l odd) and
+ * theta1 = 1 - theta (l even); the derivatives d_l = da_l/dtheta follow (theta1' = -1). */
 static void dense_eval(const span *sp, int n, double t, double *x, double *dx)
 {
     double h = sp->t1 - sp->t0, th = (t - sp->t0) / h, th1 = 1.0 - th;
-    if (t == sp->t1) memcpy(x, sp->x1, sizeof(double) * (size_t)n);
-    if (t == sp->t0) memcpy(x, sp->x0, sizeof(double) * (size_t)n);
-    /* x = x0 + th (q0 + th1 (q1 + th (q2 + th1 (q3 + th (q4 + th1 (q5 + th q6)))))):
-     * from the inside out, r = q_l + w r with w alternating th, th1; r' follows (th' = 1, th1' = -1). */
     for (int c = 0; c < n; c++) {
-        double r = sp->q[6][c], dr = 0.0;
-        for (int l = 5; l >= 0; l--) {
-            if (l % 2) { /* l = 5, 3, 1: weight th */
-                dr = r + th * dr;
-                r = sp->q[l][c] + th * r;
-            } else {     /* l = 4, 2, 0: weight th1 */
-                dr = -r + th1 * dr;
-                r = sp->q[l][c] + th1 * r;
-            }
+        const double *q5 = &sp->q[5][c], *q4 = &sp->q[4][c], *q3 = &sp->q[3][c];
+        double a5 = *q5 + th * sp->q[6][c];
+        double a4 = *q4 + th1 * a5;
+        double a3 = *q3 + th * a4;
+        double a2 = sp->q[2][c] + th1 * a3;
+        double a1 = sp->q[1][c] + th * a2;
+        double a0 = sp->q[0][c] + th1 * a1;
+        x[c] = t == sp->t1 ? sp->x1[c] : t == sp->t0 ? sp->x0[c] : sp->x0[c] + th * a0;
+        if (dx) {
+            double d5 = sp->q[6][c];
+            double d4 = -a5 + th1 * d5;
+            double d3 = a4 + th * d4;
+            double d2 = -a3 + th1 * d3;
+            double d1 = a2 + th * d2;
+            double d0 = -a1 + th1 * d1;
+            dx[c] = (a0 + th * d0) / h;
         }
-        if (dx) dx[c] = (r + th * dr) / h;
-        if (t != sp->t1 && t != sp->t0) x[c] = sp->x0[c] + th * r;
     }
 }
 
@@ -251,31 +308,34 @@ int vi_ode_check(const vi_ode_problem *p, char *msg, size_t size)
     return VI_ODE_OK;
 }
 
-/* RMS norm of v scaled by sc. */
-static double norm(const double *v, const double *sc, int n)
+/* RMS norm of v scaled by 1/inv_sc. */
+static double norm(const double *v, const double *inv_sc, int n)
 {
     double s = 0.0;
     for (int i = 0; i < n; i++) {
-        double r = v[i] / sc[i];
+        double r = v[i] * inv_sc[i];
         s += r * r;
     }
     return sqrt(s / n);
 }
 
+/* err^(-1/8) by three square roots (cheaper than pow, and exact to rounding). */
+static double inv_root8(double err) { return 1.0 / sqrt(sqrt(sqrt(err))); }
+
 /* Hairer's starting step size (HNW I, II.4): from ||x0||, ||f0|| and a difference quotient of f. */
 static double initial_step(const vi_ode_problem *p, vi_ode_stats *st, double t0, const double *x0, const double *f0)
 {
     int n = p->n;
-    double sc[VI_ODE_MAX_N], x1[VI_ODE_MAX_N], f1[VI_ODE_MAX_N], df[VI_ODE_MAX_N];
-    for (int i = 0; i < n; i++) sc[i] = p->atol[i] + p->rtol * fabs(x0[i]);
-    double d0 = norm(x0, sc, n), d1 = norm(f0, sc, n);
+    double isc[VI_ODE_MAX_N], x1[VI_ODE_MAX_N], f1[VI_ODE_MAX_N], df[VI_ODE_MAX_N];
+    for (int i = 0; i < n; i++) isc[i] = 1.0 / (p->atol[i] + p->rtol * fabs(x0[i]));
+    double d0 = norm(x0, isc, n), d1 = norm(f0, isc, n);
     double h0 = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
     if (p->max_step > 0.0 && h0 > p->max_step) h0 = p->max_step;
     for (int i = 0; i < n; i++) x1[i] = x0[i] + h0 * f0[i];
     rhs(p, st, t0 + h0, x1, f1);
     if (!finite_n(f1, n)) return h0;
     for (int i = 0; i < n; i++) df[i] = (f1[i] - f0[i]) / h0;
-    double d2 = norm(df, sc, n), dm = fmax(d1, d2);
+    double d2 = norm(df, isc, n), dm = fmax(d1, d2);
     double h1 = dm <= 1e-15 ? fmax(1e-6, h0 * 1e-3) : pow(0.01 / dm, 1.0 / VI_ODE_ORDER);
     return fmin(100.0 * h0, h1);
 }
@@ -286,12 +346,13 @@ int vi_ode_init(vi_ode *s, const vi_ode_problem *p, double t0, const double *x0,
         return VI_ODE_ERR_ARGS;
     if (!finite_n(x0, p->n)) return VI_ODE_ERR_ARGS;
     double x[VI_ODE_MAX_N];
-    memcpy(x, x0, sizeof(double) * (size_t)p->n); /* x0 may point into *s (e.g. s->ev_x) */
+    copy_n(x, x0, p->n); /* x0 may point into *s (e.g. s->ev_x) */
     memset(s, 0, sizeof *s);
     s->n = p->n;
     s->ng = p->ng;
-    s->t = t0;
-    memcpy(s->x, x, sizeof(double) * (size_t)p->n);
+    s->t = s->t_old = t0;
+    copy_n(s->x, x, p->n);
+    copy_n(s->x_old, x, p->n);
     rhs(p, &s->st, t0, s->x, s->f);
     if (!finite_n(s->f, p->n)) return VI_ODE_ERR_NONFINITE;
     if (p->ng > 0) {
@@ -345,8 +406,8 @@ static int root_search(vi_ode *s, span *sp, const vi_ode_problem *p, double a, d
 {
     int n = p->n, ng = p->ng;
     double ga[VI_ODE_MAX_G], gb[VI_ODE_MAX_G], gm[VI_ODE_MAX_G], xm[VI_ODE_MAX_N];
-    memcpy(ga, g_a, sizeof(double) * (size_t)ng);
-    memcpy(gb, g_b, sizeof(double) * (size_t)ng);
+    copy_n(ga, g_a, ng);
+    copy_n(gb, g_b, ng);
     double wa = 1.0, wb = 1.0;               /* Illinois weights of the two ends */
     int side = 0;                            /* -1: b moved last time, +1: a moved last time */
     double w1 = INFINITY, w2 = INFINITY;     /* bracket widths one and two iterations ago */
@@ -382,13 +443,13 @@ static int root_search(vi_ode *s, span *sp, const vi_ode_problem *p, double a, d
         if (!guards(p, &s->st, tm, xm, gm)) return VI_ODE_ERR_NONFINITE;
         if (nonpositive(gm, ng, cand)) { /* a crossing in [a, tm] */
             b = tm;
-            memcpy(gb, gm, sizeof(double) * (size_t)ng);
+            copy_n(gb, gm, ng);
             wb = 1.0;
             if (side == -1) wa *= 0.5;
             side = -1;
         } else {
             a = tm;
-            memcpy(ga, gm, sizeof(double) * (size_t)ng);
+            copy_n(ga, gm, ng);
             wa = 1.0;
             if (side == 1) wb *= 0.5;
             side = 1;
@@ -397,22 +458,18 @@ static int root_search(vi_ode *s, span *sp, const vi_ode_problem *p, double a, d
     s->ev_t = b;
     s->ev_t_lo = a;
     s->ev_fired = nonpositive(gb, ng, cand);
-    if (b == sp->t1)
-        memcpy(s->ev_x, sp->x1, sizeof(double) * (size_t)n);
-    else
-        dense_eval(sp, n, b, s->ev_x, NULL);
+    dense_eval(sp, n, b, s->ev_x, NULL);
     return VI_ODE_EVENT;
 }
 
 /* Scan the step for the first falling crossing of an armed guard (see vi_ode.h, EVENTS).
- * g_end: the guards at t1 (already evaluated). Updates s->armed, or sets the event. */
-static int event_search(vi_ode *s, span *sp, const vi_ode_problem *p, const double *g_end)
+ * g_end: the guards at t1 (already evaluated). Returns VI_ODE_OK with *armed updated, or the event. */
+static int event_search(vi_ode *s, span *sp, const vi_ode_problem *p, const double *g_end, unsigned int *armed)
 {
     int n = p->n, ng = p->ng, m = p->guard_samples;
     double g_prev[VI_ODE_MAX_G], g_j[VI_ODE_MAX_G], x_j[VI_ODE_MAX_N];
-    unsigned int armed = s->armed;
     double t_prev = sp->t0;
-    memcpy(g_prev, s->g, sizeof(double) * (size_t)ng);
+    copy_n(g_prev, s->g, ng);
     for (int j = 1; j <= m + 1; j++) {
         double t_j;
         if (j <= m) {
@@ -423,62 +480,43 @@ static int event_search(vi_ode *s, span *sp, const vi_ode_problem *p, const doub
             if (!guards(p, &s->st, t_j, x_j, g_j)) return VI_ODE_ERR_NONFINITE;
         } else {
             t_j = sp->t1;
-            memcpy(g_j, g_end, sizeof(double) * (size_t)ng);
+            copy_n(g_j, g_end, ng);
         }
         unsigned int cand = 0;
         for (int i = 0; i < ng; i++)
-            if ((armed & (1u << i)) && g_prev[i] > 0.0) cand |= 1u << i;
+            if ((*armed & (1u << i)) && g_prev[i] > 0.0) cand |= 1u << i;
         if (nonpositive(g_j, ng, cand)) {
             int r = dense_build(sp, p, &s->st);
             if (r != VI_ODE_OK) return r;
             return root_search(s, sp, p, t_prev, t_j, g_prev, g_j, cand);
         }
         for (int i = 0; i < ng; i++)
-            if (g_j[i] > p->arm_eps[i]) armed |= 1u << i;
+            if (g_j[i] > p->arm_eps[i]) *armed |= 1u << i;
         t_prev = t_j;
-        memcpy(g_prev, g_j, sizeof(double) * (size_t)ng);
+        copy_n(g_prev, g_j, ng);
     }
-    s->armed = armed;
     return VI_ODE_OK;
 }
 
 /* ---------------------------------------------------------------------------------------------
  * The step
  * ------------------------------------------------------------------------------------------- */
-
-/* Copy the n used components of a step (the state's unused components stay zero). */
-static void span_commit(span *dst, const span *src, int n)
-{
-    size_t sz = sizeof(double) * (size_t)n;
-    int nk = src->dense_ready ? NS : S_END + 1;
-    dst->t0 = src->t0;
-    dst->t1 = src->t1;
-    memcpy(dst->x0, src->x0, sz);
-    memcpy(dst->x1, src->x1, sz);
-    for (int j = 0; j < nk; j++) memcpy(dst->k[j], src->k[j], sz);
-    if (src->dense_ready)
-        for (int l = 0; l < 7; l++) memcpy(dst->q[l], src->q[l], sz);
-    dst->dense_ready = src->dense_ready;
-    dst->have = 1;
-}
-
 int vi_ode_step(vi_ode *s, const vi_ode_problem *p, double t_stop)
 {
     if (!s || !p || s->n != p->n || s->ng != p->ng || s->n < 1 || s->n > VI_ODE_MAX_N || s->event_pending ||
-        !(t_stop > s->t) || !(s->h > 0.0))
+        !(t_stop > s->t) || !(s->h > 0.0) || (s->cur != 0 && s->cur != 1))
         return VI_ODE_ERR_ARGS;
     int n = p->n;
     int fixed = p->h_fixed > 0.0;
     double h_lim = p->max_step > 0.0 ? p->max_step : INFINITY;
-    double h_min = fmax(p->h_min, 16.0 * DBL_EPSILON * fabs(s->t));
+    double h_min = 16.0 * DBL_EPSILON * fabs(s->t);
+    if (p->h_min > h_min) h_min = p->h_min;
     double h_prop = s->h;
-    double sc[VI_ODE_MAX_N], e5[VI_ODE_MAX_N], e3[VI_ODE_MAX_N];
-    span sp;
-    sp.t0 = s->t;
-    sp.dense_ready = 0;
-    sp.have = 1;
-    memcpy(sp.x0, s->x, sizeof(double) * (size_t)n);
-    memcpy(sp.k[0], s->f, sizeof(double) * (size_t)n);
+    span *sp = &s->sp[1 - s->cur]; /* the new step is built here; committed by flipping cur */
+    sp->t0 = s->t;
+    sp->dense_ready = 0;
+    copy_n(sp->x0, s->x, n);
+    copy_n(sp->k[0], s->f, n);
 
     int rejections = 0, nonfinite = 0;
     double h = fixed ? p->h_fixed : s->h, err = 0.0;
@@ -496,34 +534,33 @@ int vi_ode_step(vi_ode *s, const vi_ode_problem *p, double t_stop)
             h = t1 - s->t; /* exact: the step really spans [t, t1], so t does not drift by roundings */
         }
         s->st.attempts++;
-        for (int i = 1; i < S_STEP; i++) stage(p, &s->st, i, s->t, s->x, h, sp.k);
+        double e5[VI_ODE_MAX_N], e3[VI_ODE_MAX_N], n5 = 0.0, n3 = 0.0;
+        if (LANES(n) == 2)
+            attempt_2(p, &s->st, sp, h, e5, e3);
+        else
+            attempt_max(p, &s->st, sp, h, e5, e3);
         for (int c = 0; c < n; c++) {
-            double sb = 0.0, s5 = 0.0, s3 = 0.0;
-            for (int j = 0; j < S_STEP; j++) {
-                sb += Bw[j] * sp.k[j][c];
-                s5 += E5[j] * sp.k[j][c];
-                s3 += E3[j] * sp.k[j][c];
-            }
-            sp.x1[c] = s->x[c] + h * sb;
-            e5[c] = h * s5;
-            e3[c] = h * s3;
-            sc[c] = p->atol[c] + p->rtol * fmax(fabs(s->x[c]), fabs(sp.x1[c]));
+            double ax = fabs(s->x[c]), ax1 = fabs(sp->x1[c]);
+            double isc = 1.0 / (p->atol[c] + p->rtol * (ax > ax1 ? ax : ax1));
+            double r5 = e5[c] * isc, r3 = e3[c] * isc;
+            n5 += r5 * r5;
+            n3 += r3 * r3;
         }
-        double n5 = norm(e5, sc, n), n3 = norm(e3, sc, n);
-        double den = n5 * n5 + 0.01 * n3 * n3;
-        err = den > 0.0 ? n5 * n5 / sqrt(den) : 0.0;
-        int bad = !isfinite(err) || !finite_n(sp.x1, n);
+        /* err = ||e5||^2 / sqrt(||e5||^2 + 0.01 ||e3||^2) in RMS norms */
+        double den = n5 + 0.01 * n3;
+        err = den > 0.0 ? n5 / sqrt(den * n) : 0.0;
+        int bad = !isfinite(err) || !finite_n(sp->x1, n);
         if (!bad && (fixed || err <= 1.0)) {
-            rhs(p, &s->st, t1, sp.x1, sp.k[S_END]);
-            bad = !finite_n(sp.k[S_END], n);
+            rhs(p, &s->st, t1, sp->x1, sp->k[S_END]);
+            bad = !finite_n(sp->k[S_END], n);
         }
         if (!bad && (fixed || err <= 1.0)) { /* accepted */
-            sp.t1 = t1;
+            sp->t1 = t1;
             if (fixed)
                 h_prop = p->h_fixed;
             else {
-                double fac = err > 0.0 ? SAFETY * pow(err, -1.0 / VI_ODE_ORDER) : FAC_MAX;
-                fac = fmin(FAC_MAX, fmax(FAC_MIN, fac));
+                double fac = err > 0.0 ? SAFETY * inv_root8(err) : FAC_MAX;
+                fac = fac > FAC_MAX ? FAC_MAX : fac < FAC_MIN ? FAC_MIN : fac;
                 if (rejections > 0 && fac > 1.0) fac = 1.0;
                 h_prop = h * fac;
                 /* a step shortened to reach t_stop says little about the step size */
@@ -535,28 +572,34 @@ int vi_ode_step(vi_ode *s, const vi_ode_problem *p, double t_stop)
         s->st.rejected++;
         nonfinite = bad;
         if (fixed) return VI_ODE_ERR_NONFINITE;
-        h *= bad ? FAC_MIN : fmax(FAC_MIN, SAFETY * pow(err, -1.0 / VI_ODE_ORDER));
+        double fac = bad ? FAC_MIN : SAFETY * inv_root8(err);
+        h *= fac < FAC_MIN ? FAC_MIN : fac;
         if (++rejections >= VI_ODE_MAX_REJECTS) return nonfinite ? VI_ODE_ERR_NONFINITE : VI_ODE_ERR_REJECTS;
         if (h < h_min) return nonfinite ? VI_ODE_ERR_NONFINITE : VI_ODE_ERR_HMIN;
     }
 
     /* Guards at the new point, then the event search; the state changes only when all succeeded. */
     double g_end[VI_ODE_MAX_G];
+    unsigned int armed = s->armed;
     int status = VI_ODE_OK;
     if (p->ng > 0) {
-        if (!guards(p, &s->st, sp.t1, sp.x1, g_end)) return VI_ODE_ERR_NONFINITE;
-        status = event_search(s, &sp, p, g_end);
+        if (!guards(p, &s->st, sp->t1, sp->x1, g_end)) return VI_ODE_ERR_NONFINITE;
+        status = event_search(s, sp, p, g_end, &armed);
         if (status < 0) return status;
-        memcpy(s->g, g_end, sizeof(double) * (size_t)p->ng);
+        copy_n(s->g, g_end, p->ng);
     }
+    s->cur = 1 - s->cur;
+    s->have_step = 1;
+    s->armed = armed;
     s->st.accepted++;
     s->err = err;
     s->h = h_prop;
     s->rejected_last = rejections;
-    s->t = sp.t1;
-    memcpy(s->x, sp.x1, sizeof(double) * (size_t)n);
-    memcpy(s->f, sp.k[S_END], sizeof(double) * (size_t)n);
-    span_commit(&s->step, &sp, n);
+    s->t_old = sp->t0;
+    s->t = sp->t1;
+    copy_n(s->x_old, sp->x0, n);
+    copy_n(s->x, sp->x1, n);
+    copy_n(s->f, sp->k[S_END], n);
     if (status == VI_ODE_EVENT) {
         s->event_pending = 1;
         s->st.events++;
@@ -565,15 +608,17 @@ int vi_ode_step(vi_ode *s, const vi_ode_problem *p, double t_stop)
 }
 
 /* ---------------------------------------------------------------------------------------------
- * Dense output of the committed step
+ * Dense output of the last accepted step
  * ------------------------------------------------------------------------------------------- */
 int vi_ode_dense(vi_ode *s, const vi_ode_problem *p, double t, double *x, double *dx)
 {
-    if (!s || !p || !x || s->n != p->n || !s->step.have || !(t >= s->step.t0 && t <= s->step.t1))
+    if (!s || !p || !x || s->n != p->n || !s->have_step || (s->cur != 0 && s->cur != 1) ||
+        !(t >= s->t_old && t <= s->t))
         return VI_ODE_ERR_ARGS;
-    int r = dense_build(&s->step, p, &s->st);
+    span *sp = &s->sp[s->cur];
+    int r = dense_build(sp, p, &s->st);
     if (r != VI_ODE_OK) return r;
-    dense_eval(&s->step, p->n, t, x, dx);
+    dense_eval(sp, p->n, t, x, dx);
     return VI_ODE_OK;
 }
 

@@ -372,8 +372,8 @@ Test(dense, local_error_of_order_7_inside_exact_at_ends)
             one_step(pr, t0, h, &s, &p);
             /* the ends, exactly */
             cr_assert_eq(vi_ode_dense(&s, &p, t0, x, dx), VI_ODE_OK);
-            cr_assert(memcmp(x, s.step.x0, sizeof(double) * (size_t)pr->n) == 0);
-            pr->f(t0, s.step.x0, f, NULL);
+            cr_assert(memcmp(x, s.x_old, sizeof(double) * (size_t)pr->n) == 0);
+            pr->f(t0, s.x_old, f, NULL);
             cr_assert(max_err(dx, f, pr->n) <= 1e-12 * (1.0 + fabs(f[0]) + fabs(f[pr->n - 1])), "x'(t0) = f");
             cr_assert_eq(vi_ode_dense(&s, &p, s.t, x, dx), VI_ODE_OK);
             cr_assert(memcmp(x, s.x, sizeof(double) * (size_t)pr->n) == 0);
@@ -457,7 +457,7 @@ static int until_event(vi_ode *s, vi_ode_problem *p, double t_end)
 static void check_bracket(vi_ode *s, vi_ode_problem *p, int guard)
 {
     double x[2], g[VI_ODE_MAX_G];
-    cr_assert(s->ev_t > s->step.t0 && s->ev_t <= s->t, "event inside the step");
+    cr_assert(s->ev_t > s->t_old && s->ev_t <= s->t, "event inside the step");
     cr_assert(s->ev_t - s->ev_t_lo <= DBL_EPSILON * fabs(s->ev_t), "bracket %g wide at %g",
               s->ev_t - s->ev_t_lo, s->ev_t);
     cr_assert_eq(vi_ode_dense(s, p, s->ev_t_lo, x, NULL), VI_ODE_OK);
@@ -617,7 +617,8 @@ Test(events, nonfinite_guard_fails_and_leaves_the_state)
     cr_assert_eq(vi_ode_step(&s, &p, 10.0), VI_ODE_OK);
     before = s;
     cr_assert_eq(vi_ode_step(&s, &p, 10.0), VI_ODE_ERR_NONFINITE, "the root search meets NaN near 0.7");
-    s.st = before.st; /* the statistics count the work */
+    s.st = before.st;                          /* the statistics count the work */
+    s.sp[1 - s.cur] = before.sp[1 - before.cur]; /* the scratch half holds the failed attempt */
     cr_assert(memcmp(&s, &before, sizeof s) == 0, "state unchanged by a failed step");
 }
 
@@ -655,7 +656,7 @@ static int drive(vi_ode *s, vi_ode_problem *p, int steps, int dense)
         cr_assert(r >= 0, "%s", vi_ode_status_text(r));
         if (dense) {
             double x[2], dx[2];
-            cr_assert_eq(vi_ode_dense(s, p, s->step.t0 + 0.37 * (s->t - s->step.t0), x, dx), VI_ODE_OK);
+            cr_assert_eq(vi_ode_dense(s, p, s->t_old + 0.37 * (s->t - s->t_old), x, dx), VI_ODE_OK);
         }
         if (r == VI_ODE_EVENT) {
             double x[2] = {s->ev_x[0], -0.9 * s->ev_x[1]}; /* a jump at the event */
@@ -687,7 +688,7 @@ Test(state, copy_continues_bit_for_bit_and_dense_requests_do_not_matter)
     cr_assert(ea > 3 && ea == eb && ea == ed, "events %d %d %d", ea, eb, ed);
     cr_assert(memcmp(&a, &b, sizeof a) == 0, "a byte copy continues identically");
     /* with dense requests only the statistics differ (guard_samples > 0: dense is built anyway) */
-    cr_assert(a.t == d.t && a.h == d.h && memcmp(a.x, d.x, sizeof a.x) == 0 && memcmp(&a.step, &d.step, sizeof a.step) == 0);
+    cr_assert(a.t == d.t && a.h == d.h && memcmp(a.x, d.x, sizeof a.x) == 0 && memcmp(a.sp, d.sp, sizeof a.sp) == 0);
     p.guard_samples = 0; /* now dense output is built on demand only */
     cr_assert_eq(vi_ode_init(&a, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
     memcpy(&d, &a, sizeof a);
@@ -710,7 +711,7 @@ Test(state, max_step_and_t_stop_are_respected)
     for (k = 0; s.t < t_stop; k++) {
         cr_assert(k < 1000);
         cr_assert_eq(vi_ode_step(&s, &p, t_stop), VI_ODE_OK);
-        cr_assert(s.t - s.step.t0 <= 0.01, "step %g > max_step", s.t - s.step.t0);
+        cr_assert(s.t - s.t_old <= 0.01, "step %g > max_step", s.t - s.t_old);
         cr_assert(s.t <= t_stop);
     }
     cr_assert(s.t == t_stop, "t_stop reached exactly");
@@ -756,6 +757,7 @@ Test(failures, reported_never_a_hang_and_the_state_is_kept)
     /* the numerical solution's own singularity lies within about rtol of t = 1 */
     cr_assert(fabs(s.t - 1.0) < 1e-6 && s.x[0] > 1e6, "stopped at the singularity: t = %.17g, x = %g", s.t, s.x[0]);
     s.st = before.st;
+    s.sp[1 - s.cur] = before.sp[1 - before.cur];
     cr_assert(memcmp(&s, &before, sizeof s) == 0, "state unchanged by the failed step");
 
     p.rhs = nan_after;
@@ -856,7 +858,7 @@ Test(state, statistics_count_the_work)
     cr_assert_eq(s.st.accepted, 50);
     cr_assert_eq(s.st.rhs_evals, 2 + 12 * s.st.accepted + 11 * s.st.rejected, "12 per step, 11 per rejection");
     double x[2];
-    cr_assert_eq(vi_ode_dense(&s, &p, s.step.t0, x, NULL), VI_ODE_OK);
+    cr_assert_eq(vi_ode_dense(&s, &p, s.t_old, x, NULL), VI_ODE_OK);
     cr_assert_eq(vi_ode_dense(&s, &p, s.t, x, NULL), VI_ODE_OK);
     cr_assert_eq(s.st.dense_builds, 1);
     cr_assert_eq(s.st.rhs_evals, 2 + 12 * s.st.accepted + 11 * s.st.rejected + 3, "3 for the dense output, once");
