@@ -59,6 +59,7 @@ typedef struct {
     long n_events;
     double step_t0, step_v0;         /* start of the last step and the velocity there (for F_mean) */
     double guard_band[VI_NGUARDS];   /* > 0: the guard is disarmed and shifted up by this (re-arming) */
+    vi_ode ode;                      /* solver = dop853: the one-step method's whole continuation */
 } vi_sim_data;
 
 typedef struct {

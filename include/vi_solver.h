@@ -1,7 +1,16 @@
 /*
  * vi_solver.h - one interface over the integrators of a small dense ODE system with guards:
- * SUNDIALS CVODE 6.4 (BDF or Adams-Moulton, Newton iteration, dense linear solver) and a built-in
- * explicit one-step method (added behind the same calls).
+ * SUNDIALS CVODE 6.4 (BDF or Adams-Moulton, Newton iteration, dense linear solver) and the built-in
+ * explicit one-step method Dormand-Prince 8(5,3) with dense output (vi_ode.h).
+ *
+ * Where the integrator's state lives:
+ *   CVODE keeps its history (Nordsieck array, order, step size) inside its own memory. It cannot be
+ *   copied out, so a state taken for later (vi_solver_checkpoint) restarts CVODE at that point:
+ *   the running solver and a copy restored later (vi_solver_resume) both continue with a cold
+ *   start from the same data, bit for bit alike.
+ *   The one-step method keeps its whole continuation (time, step size, last step with its stages,
+ *   guard values and arming) in a plain-data vi_ode that the caller owns (cfg->ode, inside the FMU
+ *   state): a checkpoint costs nothing and a restored copy continues exactly where it was.
  *
  * Lifecycle: vi_solver_create -> (vi_solver_reset | vi_solver_advance)* -> vi_solver_free.
  * The solver integrates x' = rhs(t, x) and stops at the first zero of any guard g_i(t, x) crossed
@@ -20,6 +29,10 @@
 #ifndef VI_SOLVER_H
 #define VI_SOLVER_H
 
+#include <stddef.h>
+
+#include "vi_ode.h"
+
 /* Sizes this wrapper is made for: small dense systems. */
 #define VI_SOLVER_MAX_N 4
 #define VI_SOLVER_MAX_GUARDS 16
@@ -32,7 +45,11 @@ typedef void (*vi_guard_fn)(double t, const double *x, double *g, void *user);
 typedef void (*vi_jac_fn)(double t, const double *x, double *jac_row_major, void *user);
 
 /* Integration methods (the values of the FMU's `solver` enumeration). */
-enum { VI_METHOD_BDF = 1, VI_METHOD_ADAMS = 2 };
+enum { VI_METHOD_BDF = 1, VI_METHOD_ADAMS = 2, VI_METHOD_DOP853 = 3 };
+
+/* Interior guard samples per step of the one-step method (see vi_ode.h, EVENTS): a guard that dips
+ * below zero and back within one step is seen when it is below zero at a sample. */
+#define VI_SOLVER_GUARD_SAMPLES 2
 
 typedef struct {
     int n, nguards; /* at most VI_SOLVER_MAX_N and VI_SOLVER_MAX_GUARDS */
@@ -44,6 +61,7 @@ typedef struct {
     double rtol;
     const double *atol; /* n absolute tolerances */
     double max_step;    /* 0: none */
+    vi_ode *ode;        /* VI_METHOD_DOP853: the continuation, owned by the caller (plain data) */
     vi_log_fn log;
     void *log_env;
 } vi_solver_config;
@@ -56,8 +74,14 @@ enum { VI_SOLVER_REACHED = 0, VI_SOLVER_EVENT = 1, VI_SOLVER_LIMIT = 2, VI_SOLVE
 
 typedef struct vi_solver vi_solver;
 
-/* NULL on failure (logged). Copies the configuration; cfg->atol must hold n values. */
+/* NULL on failure (logged). Copies the configuration; cfg->atol must hold n values. Starts at (t0, x0). */
 vi_solver *vi_solver_create(const vi_solver_config *cfg, double t0, const double *x0);
+/* As vi_solver_create, but continuing a saved state: the one-step method continues from *cfg->ode as
+ * it is (checked); CVODE starts at (t0, x0) as after vi_solver_checkpoint. */
+vi_solver *vi_solver_resume(const vi_solver_config *cfg, double t0, const double *x0);
+/* Make (t0, x0), the caller's current point, a point from which vi_solver_resume continues exactly as
+ * this solver will: CVODE restarts there; the one-step method has nothing to do. 0 or FAILED. */
+int vi_solver_checkpoint(vi_solver *s, double t0, const double *x0);
 /* Cold restart from (t0, x0): the next advance starts a new integration there. 0 or VI_SOLVER_FAILED. */
 int vi_solver_reset(vi_solver *s, double t0, const double *x0);
 /* Integrate towards tout > *t taking at most max_steps internal steps (*taken: how many it took).
@@ -70,6 +94,10 @@ int vi_solver_reset(vi_solver *s, double t0, const double *x0);
 int vi_solver_advance(vi_solver *s, double tout, long max_steps, double *t, double *x, int *fired, long *taken);
 /* Cumulative counters since vi_solver_create. */
 void vi_solver_statistics(const vi_solver *s, vi_solver_stats *st);
+/* Is *o a continuation of the one-step method for n states and nguards guards whose current point
+ * is at or after t (a state restored from outside may hold anything)? 0, or -1 with the first bad
+ * field in msg. */
+int vi_solver_ode_check(const vi_ode *o, int n, int nguards, double t, char *msg, size_t size);
 void vi_solver_free(vi_solver *s);
 
 #endif

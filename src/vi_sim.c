@@ -7,7 +7,8 @@
 #include <stdio.h>
 #include <string.h>
 
-_Static_assert((int)VI_Solver_bdf == (int)VI_METHOD_BDF && (int)VI_Solver_adams == (int)VI_METHOD_ADAMS,
+_Static_assert((int)VI_Solver_bdf == (int)VI_METHOD_BDF && (int)VI_Solver_adams == (int)VI_METHOD_ADAMS &&
+                   (int)VI_Solver_dop853 == (int)VI_METHOD_DOP853,
                "the solver enumeration is the solver layer's method number");
 
 static void sim_rhs(double t, const double *x, double *dx, void *user)
@@ -76,8 +77,8 @@ int vi_sim_prepare(vi_sim *s)
                  VI_MAX_STEP_MIN);
         return -1;
     }
-    if (p->solver != VI_Solver_bdf && p->solver != VI_Solver_adams) {
-        snprintf(s->msg, sizeof s->msg, "solver = %d: use bdf (1) or adams (2)", p->solver);
+    if (p->solver != VI_Solver_bdf && p->solver != VI_Solver_adams && p->solver != VI_Solver_dop853) {
+        snprintf(s->msg, sizeof s->msg, "solver = %d: use bdf (1), adams (2) or dop853 (3)", p->solver);
         return -1;
     }
     if (!isfinite(d->in.yC_in) || !isfinite(d->in.F_ext)) {
@@ -96,16 +97,17 @@ int vi_sim_prepare(vi_sim *s)
     return 0;
 }
 
-/* (Re)create the solver at the current state with the tolerances stored in s->d. */
-static int create_solver(vi_sim *s)
+/* (Re)create the solver with the tolerances stored in s->d: starting at the current state, or
+ * (resume) continuing the continuation in s->d as it is. */
+static int create_solver(vi_sim *s, int resume)
 {
     vi_sim_data *d = &s->d;
     vi_solver_free(s->solver);
     vi_solver_config cfg = {
         .n = 2, .nguards = VI_NGUARDS, .rhs = sim_rhs, .guards = sim_guards, .jac = sim_jac, .user = d,
         .method = d->par.solver, .rtol = rtol_of(d), .atol = d->atol, .max_step = d->par.max_step,
-        .log = s->log, .log_env = s->log_env};
-    s->solver = vi_solver_create(&cfg, d->t, d->x);
+        .ode = &d->ode, .log = s->log, .log_env = s->log_env};
+    s->solver = resume ? vi_solver_resume(&cfg, d->t, d->x) : vi_solver_create(&cfg, d->t, d->x);
     s->solver_stale = 0;
     if (!s->solver) {
         snprintf(s->msg, sizeof s->msg, "could not create the solver");
@@ -123,16 +125,19 @@ int vi_sim_initialize(vi_sim *s)
     d->atol[0] = rtol * L;
     d->atol[1] = rtol * V;
     d->initialized = 1;
-    if (create_solver(s) < 0) return -1;
-    s->log(s->log_env, VI_LOG_SOLVER, "CVODE %s, rtol %g, atol %g m and %g m/s (scales %g m, %g m/s)",
-           d->par.solver == VI_Solver_adams ? "Adams" : "BDF", rtol, d->atol[0], d->atol[1], L, V);
+    memset(&d->ode, 0, sizeof d->ode);
+    if (create_solver(s, 0) < 0) return -1;
+    static const char *const names[] = {[VI_Solver_bdf] = "CVODE BDF", [VI_Solver_adams] = "CVODE Adams",
+                                        [VI_Solver_dop853] = "Dormand-Prince 8(5,3)"};
+    s->log(s->log_env, VI_LOG_SOLVER, "%s, rtol %g, atol %g m and %g m/s (scales %g m, %g m/s)",
+           names[d->par.solver], rtol, d->atol[0], d->atol[1], L, V);
     return 0;
 }
 
 int vi_sim_checkpoint(vi_sim *s)
 {
     if (!s->d.initialized || !s->solver) return 0;
-    if (vi_solver_reset(s->solver, s->d.t, s->d.x) < 0) {
+    if (vi_solver_checkpoint(s->solver, s->d.t, s->d.x) < 0) {
         snprintf(s->msg, sizeof s->msg, "could not restart the solver at t = %.17g s", s->d.t);
         return -1;
     }
@@ -148,7 +153,7 @@ int vi_sim_restore(vi_sim *s)
         s->solver = NULL;
         return 0;
     }
-    return create_solver(s);
+    return create_solver(s, 1);
 }
 
 /* New input values take effect at time t: the platform may jump (the mass does not), the force may
@@ -336,7 +341,7 @@ void vi_sim_outputs(vi_sim *s, vi_outputs *out)
 
 /* ---- contract C3: validity of a state payload ---------------------------------------------- */
 
-#define BAD(...) return snprintf(msg, n, __VA_ARGS__), -1
+#define BAD(...) do { snprintf(msg, n, __VA_ARGS__); return -1; } while (0)
 
 /* Is `value` an item of the enumeration type `type`? */
 static int enum_item(const char *type, int value)
@@ -392,6 +397,9 @@ int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n)
     for (int i = 0; i < VI_NGUARDS; i++)
         if (!(d->guard_band[i] >= 0.0 && isfinite(d->guard_band[i])))
             BAD("guard_band[%d] = %g is not finite and >= 0", i, d->guard_band[i]);
+    if (d->initialized && d->par.solver == VI_Solver_dop853 &&
+        vi_solver_ode_check(&d->ode, 2, VI_NGUARDS, d->t, msg, n) < 0)
+        return -1;
     /* TODO(C3, helper M): return vi_model_check(&d->M, d->x, msg, n) once it is on main. */
     return 0;
 }

@@ -1,9 +1,11 @@
-/* vi_solver.c - the solver interface (vi_solver.h) over SUNDIALS CVODE 6.4. */
+/* vi_solver.c - the solver interface (vi_solver.h): SUNDIALS CVODE 6.4 (BDF, Adams) and the built-in
+ * one-step method (vi_ode.h, Dormand-Prince 8(5,3)). */
 #include "vi_solver.h"
 
 #include <cvode/cvode.h>
 #include <float.h>
 #include <math.h>
+#include <stdio.h>
 #include <nvector/nvector_serial.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,6 +16,10 @@
 struct vi_solver {
     vi_solver_config cfg;
     double atol_copy[VI_SOLVER_MAX_N];
+    /* the one-step method: the problem (the continuation is *cfg.ode) */
+    vi_ode_problem ode_problem;
+    long ode_resets;
+    /* CVODE */
     SUNContext ctx;
     void *cvode;
     N_Vector x, atol;
@@ -103,14 +109,97 @@ static int configure(vi_solver *s, double t0, const double *x0)
     return 0;
 }
 
-vi_solver *vi_solver_create(const vi_solver_config *cfg, double t0, const double *x0)
+/* ---- the one-step method ---------------------------------------------------------------------- */
+
+static int ode_fail(const vi_solver *s, int status, const char *call)
 {
-    if (cfg->n < 1 || cfg->n > VI_SOLVER_MAX_N || cfg->nguards < 0 || cfg->nguards > VI_SOLVER_MAX_GUARDS) {
+    s->cfg.log(s->cfg.log_env, VI_LOG_ERROR, "%s failed at t = %.17g s: %s", call, s->cfg.ode->t,
+               vi_ode_status_text(status));
+    return VI_SOLVER_FAILED;
+}
+
+static int ode_setup(vi_solver *s)
+{
+    const vi_solver_config *c = &s->cfg;
+    vi_ode_problem *p = &s->ode_problem;
+    *p = (vi_ode_problem){.n = c->n, .ng = c->nguards, .rhs = c->rhs, .guards = c->guards, .user = c->user,
+                          .rtol = c->rtol, .max_step = c->max_step, .guard_samples = VI_SOLVER_GUARD_SAMPLES};
+    memcpy(p->atol, c->atol, sizeof(double) * (size_t)c->n);
+    char msg[256];
+    if (!c->ode || vi_ode_check(p, msg, sizeof msg) < 0) {
+        c->log(c->log_env, VI_LOG_ERROR, "one-step method: %s", c->ode ? msg : "no continuation given");
+        return VI_SOLVER_FAILED;
+    }
+    return 0;
+}
+
+int vi_solver_ode_check(const vi_ode *o, int n, int nguards, double t, char *msg, size_t size)
+{
+#define ODE_BAD(...) do { snprintf(msg, size, __VA_ARGS__); return -1; } while (0)
+    if (o->n != n || o->ng != nguards) ODE_BAD("ode: made for %d states and %d guards, not %d and %d", o->n, o->ng, n, nguards);
+    if (!isfinite(o->t) || o->t < t) ODE_BAD("ode.t = %g is not finite or before t = %g", o->t, t);
+    if (!(o->h > 0.0 && isfinite(o->h))) ODE_BAD("ode.h = %g is not finite and positive", o->h);
+    if (o->event_pending != 0 && o->event_pending != 1) ODE_BAD("ode.event_pending = %d", o->event_pending);
+    if (o->have_step != 0 && o->have_step != 1) ODE_BAD("ode.have_step = %d", o->have_step);
+    if (o->cur != 0 && o->cur != 1) ODE_BAD("ode.cur = %d", o->cur);
+    if (o->have_step && !(o->t_old <= t)) ODE_BAD("ode: the last step [%g, %g] does not span t = %g", o->t_old, o->t, t);
+    if (!o->have_step && o->t != t) ODE_BAD("ode.t = %g: a restart must be at t = %g", o->t, t);
+    for (int i = 0; i < n; i++)
+        if (!isfinite(o->x[i]) || !isfinite(o->f[i])) ODE_BAD("ode.x[%d] or ode.f[%d] is not finite", i, i);
+    for (int i = 0; i < nguards; i++)
+        if (!isfinite(o->g[i])) ODE_BAD("ode.g[%d] is not finite", i);
+    return 0;
+#undef ODE_BAD
+}
+
+static int ode_valid(const vi_solver *s, double t0)
+{
+    char msg[160];
+    if (vi_solver_ode_check(s->cfg.ode, s->cfg.n, s->cfg.nguards, t0, msg, sizeof msg) == 0) return 1;
+    s->cfg.log(s->cfg.log_env, VI_LOG_ERROR, "one-step method: the saved continuation is inconsistent: %s", msg);
+    return 0;
+}
+
+static int ode_advance(vi_solver *s, double tout, long max_steps, double *t, double *x, int *fired, long *taken)
+{
+    vi_ode *o = s->cfg.ode;
+    const vi_ode_problem *p = &s->ode_problem;
+    int n = s->cfg.n;
+    for (;;) { /* bounded: every pass takes a step, at most max_steps */
+        if (o->event_pending && o->ev_t <= tout) {
+            *t = o->ev_t;
+            memcpy(x, o->ev_x, sizeof(double) * (size_t)n);
+            for (int i = 0; i < s->cfg.nguards; i++) fired[i] = (o->ev_fired >> i) & 1u;
+            return VI_SOLVER_EVENT;
+        }
+        if (tout <= o->t) { /* inside the last step: its interpolant */
+            int r = o->have_step ? vi_ode_dense(o, p, tout, x, NULL) : VI_ODE_ERR_ARGS;
+            if (r < 0) return ode_fail(s, r, "vi_ode_dense");
+            *t = tout;
+            return VI_SOLVER_REACHED;
+        }
+        if (*taken >= max_steps) {
+            *t = o->t;
+            memcpy(x, o->x, sizeof(double) * (size_t)n);
+            return VI_SOLVER_LIMIT;
+        }
+        int r = vi_ode_step(o, p, INFINITY);
+        if (r < 0) return ode_fail(s, r, "vi_ode_step");
+        ++*taken;
+    }
+}
+
+/* ---- creation, common to both ----------------------------------------------------------------- */
+
+static vi_solver *create(const vi_solver_config *cfg, double t0, const double *x0, int resume)
+{
+    if (cfg->n < 1 || cfg->n > VI_SOLVER_MAX_N || cfg->n > VI_ODE_MAX_N || cfg->nguards < 0 ||
+        cfg->nguards > VI_SOLVER_MAX_GUARDS || cfg->nguards > VI_ODE_MAX_G) {
         cfg->log(cfg->log_env, VI_LOG_ERROR, "vi_solver_create: %d states and %d guards exceed the limits %d and %d",
                  cfg->n, cfg->nguards, VI_SOLVER_MAX_N, VI_SOLVER_MAX_GUARDS);
         return NULL;
     }
-    if (cfg->method != VI_METHOD_BDF && cfg->method != VI_METHOD_ADAMS) {
+    if (cfg->method != VI_METHOD_BDF && cfg->method != VI_METHOD_ADAMS && cfg->method != VI_METHOD_DOP853) {
         cfg->log(cfg->log_env, VI_LOG_ERROR, "vi_solver_create: unknown method %d", cfg->method);
         return NULL;
     }
@@ -122,6 +211,12 @@ vi_solver *vi_solver_create(const vi_solver_config *cfg, double t0, const double
     s->cfg = *cfg;
     memcpy(s->atol_copy, cfg->atol, sizeof(double) * (size_t)cfg->n);
     s->cfg.atol = s->atol_copy;
+    if (cfg->method == VI_METHOD_DOP853) {
+        if (ode_setup(s) < 0) goto fail;
+        if (resume ? !ode_valid(s, t0) : vi_solver_reset(s, t0, x0) < 0) goto fail;
+        s->ode_resets = 0;
+        return s;
+    }
     if (check_flag(s, SUNContext_Create(NULL, &s->ctx), "SUNContext_Create") < 0) goto fail;
     s->cvode = CVodeCreate(cfg->method == VI_METHOD_ADAMS ? CV_ADAMS : CV_BDF, s->ctx);
     if (check_ptr(s, s->cvode, "CVodeCreate") < 0) goto fail;
@@ -140,8 +235,28 @@ fail:
     return NULL;
 }
 
+vi_solver *vi_solver_create(const vi_solver_config *cfg, double t0, const double *x0)
+{
+    return create(cfg, t0, x0, 0);
+}
+
+vi_solver *vi_solver_resume(const vi_solver_config *cfg, double t0, const double *x0)
+{
+    return create(cfg, t0, x0, 1);
+}
+
+int vi_solver_checkpoint(vi_solver *s, double t0, const double *x0)
+{
+    return s->cfg.method == VI_METHOD_DOP853 ? 0 : vi_solver_reset(s, t0, x0);
+}
+
 int vi_solver_reset(vi_solver *s, double t0, const double *x0)
 {
+    if (s->cfg.method == VI_METHOD_DOP853) {
+        s->ode_resets++;
+        int r = vi_ode_restart(s->cfg.ode, &s->ode_problem, t0, x0, 0.0, 0u);
+        return r < 0 ? ode_fail(s, r, "vi_ode_restart") : 0;
+    }
     memcpy(NV_DATA_S(s->x), x0, sizeof(double) * (size_t)s->cfg.n);
     vi_solver_statistics(s, &s->before_reset);
     s->before_reset.resets++;
@@ -154,6 +269,7 @@ int vi_solver_reset(vi_solver *s, double t0, const double *x0)
 int vi_solver_advance(vi_solver *s, double tout, long max_steps, double *t, double *x, int *fired, long *taken)
 {
     *taken = 0;
+    if (s->cfg.method == VI_METHOD_DOP853) return ode_advance(s, tout, max_steps, t, x, fired, taken);
     if (max_steps <= 0) return VI_SOLVER_LIMIT; /* nothing moved: *t and x are where they were */
     if (s->fresh && tout - s->t0 <= 4.0 * DBL_EPSILON * fmax(fabs(s->t0), fabs(tout))) {
         /* closer than CVODE can start an integration: x(tout) = x(t0) to within a few ulps of time.
@@ -204,6 +320,12 @@ static void current_counters(const vi_solver *s, vi_solver_stats *st)
 
 void vi_solver_statistics(const vi_solver *s, vi_solver_stats *st)
 {
+    if (s->cfg.method == VI_METHOD_DOP853) {
+        const vi_ode_stats *o = &s->cfg.ode->st;
+        *st = (vi_solver_stats){.steps = o->accepted, .rhs_evals = o->rhs_evals, .err_test_fails = o->rejected,
+                                .guard_evals = o->guard_evals, .resets = s->ode_resets};
+        return;
+    }
     vi_solver_stats c;
     current_counters(s, &c);
     const vi_solver_stats *b = &s->before_reset;
