@@ -60,6 +60,7 @@ static void set_input_ramps(vi_model *M, const vi_sim_data *d, double t)
 }
 
 static double rtol_of(const vi_sim_data *d) { return d->tolerance > 0.0 ? d->tolerance : d->par.rtol; }
+static void arm_guards_at_zero(vi_sim_data *d);
 
 int vi_sim_prepare(vi_sim *s)
 {
@@ -125,6 +126,7 @@ int vi_sim_initialize(vi_sim *s)
     d->atol[0] = rtol * L;
     d->atol[1] = rtol * V;
     d->initialized = 1;
+    arm_guards_at_zero(d);
     memset(&d->ode, 0, sizeof d->ode);
     if (create_solver(s, 0) < 0) return -1;
     static const char *const names[] = {[VI_Solver_bdf] = "CVODE BDF", [VI_Solver_adams] = "CVODE Adams",
@@ -177,30 +179,31 @@ static void apply_inputs(vi_sim *s)
         s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: input change, mode %d -> %d", t, mode, M->mode);
         memset(d->guard_band, 0, sizeof d->guard_band);
     }
+    arm_guards_at_zero(d);
     s->solver_stale = 1;
 }
 
 /* ---- re-arming of guards after events that keep the mode ----------------------------------- */
 
-/* The noise of guard i at (t, x): how much it moves under a state error of the integration
- * tolerance (rtol |x_k| + atol_k in each state) and under rounding (one ulp of t and of each state). */
-static double guard_noise(const vi_sim_data *d, int i)
+/* The noise of the guards at (t, x): how much each moves under rounding (one ulp of t and of each
+ * state; ulps[i]) and under a state error of the integration tolerance (rtol |x_k| + atol_k in each
+ * state; tol[i]). */
+static void guard_noise(const vi_sim_data *d, double ulps[VI_NGUARDS], double tol[VI_NGUARDS])
 {
     const vi_model *M = &d->M;
-    double g0[VI_NGUARDS], g[VI_NGUARDS], y[2] = {d->x[0], d->x[1]}, tol = 0.0, ulps = 0.0, rtol = rtol_of(d);
+    double g0[VI_NGUARDS], g[VI_NGUARDS], y[2] = {d->x[0], d->x[1]}, rtol = rtol_of(d);
     vi_model_guards(M, d->t, y, g0);
     vi_model_guards(M, nextafter(d->t, INFINITY), y, g);
-    ulps += fabs(g[i] - g0[i]);
+    for (int i = 0; i < VI_NGUARDS; i++) ulps[i] = fabs(g[i] - g0[i]), tol[i] = 0.0;
     for (int k = 0; k < 2; k++) {
         y[k] = nextafter(d->x[k], INFINITY);
         vi_model_guards(M, d->t, y, g);
-        ulps += fabs(g[i] - g0[i]);
+        for (int i = 0; i < VI_NGUARDS; i++) ulps[i] += fabs(g[i] - g0[i]);
         y[k] = d->x[k] + (rtol * fabs(d->x[k]) + d->atol[k]);
         vi_model_guards(M, d->t, y, g);
-        tol += fabs(g[i] - g0[i]);
+        for (int i = 0; i < VI_NGUARDS; i++) tol[i] += fabs(g[i] - g0[i]);
         y[k] = d->x[k];
     }
-    return VI_GRAZE_TOL * tol + VI_GRAZE_ULPS * ulps;
 }
 
 /* A disarmed guard is armed again once it lies above its band. */
@@ -210,6 +213,22 @@ static void rearm_guards(vi_sim_data *d)
     vi_model_guards(&d->M, d->t, d->x, g);
     for (int i = 0; i < VI_NGUARDS; i++)
         if (d->guard_band[i] > 0.0 && g[i] > d->guard_band[i]) d->guard_band[i] = 0.0;
+}
+
+/* The guards of a mode just entered (or of a state just changed from outside) that start at zero,
+ * up to rounding, the state snapped onto their surface: shifted up by their rounding noise, so that
+ * they count as positive from the start (the mode was chosen because the motion goes inside) and a
+ * crossing back, however soon, is found. (A guard that starts at zero would otherwise wait until it
+ * has been seen positive, and a short excursion within one step would be missed.) */
+static void arm_guards_at_zero(vi_sim_data *d)
+{
+    double g[VI_NGUARDS], ulps[VI_NGUARDS], tol[VI_NGUARDS];
+    vi_model_guards(&d->M, d->t, d->x, g);
+    guard_noise(d, ulps, tol);
+    for (int i = 0; i < VI_NGUARDS; i++) {
+        double noise = VI_GRAZE_ULPS * ulps[i] + DBL_MIN;
+        if (d->guard_band[i] == 0.0 && fabs(g[i]) <= noise) d->guard_band[i] = noise;
+    }
 }
 
 /* ---- the loop ------------------------------------------------------------------------------- */
@@ -237,10 +256,13 @@ static void apply_event(vi_sim *s, int fired)
            d->t, fired, from, from, d->M.mode, d->x[0], d->x[1]);
     if (d->M.mode != from) {
         memset(d->guard_band, 0, sizeof d->guard_band);
+        arm_guards_at_zero(d);
         return;
     }
     rearm_guards(d);
-    d->guard_band[fired] = guard_noise(d, fired) + DBL_MIN;
+    double ulps[VI_NGUARDS], tol[VI_NGUARDS];
+    guard_noise(d, ulps, tol);
+    d->guard_band[fired] = VI_GRAZE_TOL * tol[fired] + VI_GRAZE_ULPS * ulps[fired] + DBL_MIN;
 }
 
 int vi_sim_advance(vi_sim *s, double t_end)
