@@ -209,6 +209,9 @@ static void guard_noise(const vi_sim_data *d, double ulps[VI_NGUARDS], double to
 /* A disarmed guard is armed again once it lies above its band. */
 static void rearm_guards(vi_sim_data *d)
 {
+    int any = 0;
+    for (int i = 0; i < VI_NGUARDS; i++) any |= d->guard_band[i] > 0.0;
+    if (!any) return;
     double g[VI_NGUARDS];
     vi_model_guards(&d->M, d->t, d->x, g);
     for (int i = 0; i < VI_NGUARDS; i++)

@@ -22,12 +22,15 @@ struct vi_solver {
     /* CVODE */
     SUNContext ctx;
     void *cvode;
-    N_Vector x, atol;
+    N_Vector x, atol, dky;
     SUNMatrix A;
     SUNLinearSolver LS;
-    long max_steps_set;           /* the value last given to CVodeSetMaxNumSteps */
-    int fresh;                    /* no CVode call since the last (re)initialisation */
+    int fresh;                    /* no step since the last (re)initialisation */
     double t0;                    /* time of the last (re)initialisation */
+    double tn;                    /* CVODE's internal time: the end of its last step */
+    int root_pending;             /* a guard zero was found in the last step, at troot <= tn ... */
+    double troot, xroot[VI_SOLVER_MAX_N];
+    int rootsfound[VI_SOLVER_MAX_GUARDS]; /* ... for these guards; not reported yet */
     vi_solver_stats before_reset; /* CVodeReInit zeroes CVODE's counters: the sums before it */
 };
 
@@ -224,6 +227,8 @@ static vi_solver *create(const vi_solver_config *cfg, double t0, const double *x
     if (check_ptr(s, s->x, "N_VNew_Serial") < 0) goto fail;
     s->atol = N_VNew_Serial(cfg->n, s->ctx);
     if (check_ptr(s, s->atol, "N_VNew_Serial") < 0) goto fail;
+    s->dky = N_VNew_Serial(cfg->n, s->ctx);
+    if (check_ptr(s, s->dky, "N_VNew_Serial") < 0) goto fail;
     s->A = SUNDenseMatrix(cfg->n, cfg->n, s->ctx);
     if (check_ptr(s, s->A, "SUNDenseMatrix") < 0) goto fail;
     s->LS = SUNLinSol_Dense(s->x, s->A, s->ctx);
@@ -262,47 +267,59 @@ int vi_solver_reset(vi_solver *s, double t0, const double *x0)
     s->before_reset.resets++;
     CHECK(CVodeReInit(s->cvode, t0, s->x));
     s->fresh = 1;
-    s->t0 = t0;
+    s->t0 = s->tn = t0;
+    s->root_pending = 0;
     return 0;
 }
 
+/* CVODE is driven one internal step at a time (CV_ONE_STEP): a communication point inside the last
+ * step costs one interpolation (CVodeGetDky), no call into the integrator and no root check of its
+ * own; CVODE checks the guards once per step over the whole step. A root found in a step is held
+ * until the output points before it have been served. */
 int vi_solver_advance(vi_solver *s, double tout, long max_steps, double *t, double *x, int *fired, long *taken)
 {
+    size_t bytes = sizeof(double) * (size_t)s->cfg.n;
     *taken = 0;
     if (s->cfg.method == VI_METHOD_DOP853) return ode_advance(s, tout, max_steps, t, x, fired, taken);
-    if (max_steps <= 0) return VI_SOLVER_LIMIT; /* nothing moved: *t and x are where they were */
     if (s->fresh && tout - s->t0 <= 4.0 * DBL_EPSILON * fmax(fabs(s->t0), fabs(tout))) {
         /* closer than CVODE can start an integration: x(tout) = x(t0) to within a few ulps of time.
          * The solver stays at t0 and the next call integrates from there. */
-        memcpy(x, NV_DATA_S(s->x), sizeof(double) * (size_t)s->cfg.n);
+        memcpy(x, NV_DATA_S(s->x), bytes);
         *t = tout;
         return VI_SOLVER_REACHED;
     }
-    if (max_steps != s->max_steps_set) {
-        CHECK(CVodeSetMaxNumSteps(s->cvode, max_steps));
-        s->max_steps_set = max_steps;
+    for (;;) { /* bounded: every pass takes a step, at most max_steps */
+        if (s->root_pending && s->troot <= tout) {
+            s->root_pending = 0;
+            *t = s->troot;
+            memcpy(x, s->xroot, bytes);
+            memcpy(fired, s->rootsfound, sizeof(int) * (size_t)s->cfg.nguards);
+            return VI_SOLVER_EVENT;
+        }
+        if (!s->fresh && tout <= s->tn) {
+            CHECK(CVodeGetDky(s->cvode, tout, 0, s->dky));
+            memcpy(x, NV_DATA_S(s->dky), bytes);
+            *t = tout;
+            return VI_SOLVER_REACHED;
+        }
+        if (*taken >= max_steps) { /* s->x holds x(tn): no root is pending in a completed step */
+            *t = s->tn;
+            memcpy(x, NV_DATA_S(s->x), bytes);
+            return VI_SOLVER_LIMIT;
+        }
+        sunrealtype tret;
+        int flag = CVode(s->cvode, tout, s->x, &tret, CV_ONE_STEP);
+        CHECK(flag);
+        CHECK(CVodeGetCurrentTime(s->cvode, &s->tn));
+        s->fresh = 0;
+        ++*taken;
+        if (flag == CV_ROOT_RETURN) {
+            s->root_pending = 1;
+            s->troot = tret;
+            memcpy(s->xroot, NV_DATA_S(s->x), bytes);
+            CHECK(CVodeGetRootInfo(s->cvode, s->rootsfound));
+        }
     }
-    sunrealtype tret = *t;
-    long nst0 = 0, nst1 = 0;
-    CVodeGetNumSteps(s->cvode, &nst0);
-    int flag = CVode(s->cvode, tout, s->x, &tret, CV_NORMAL);
-    CVodeGetNumSteps(s->cvode, &nst1);
-    *taken = nst1 - nst0;
-    if (flag == CV_TOO_MUCH_WORK) {
-        *t = tret;
-        memcpy(x, NV_DATA_S(s->x), sizeof(double) * (size_t)s->cfg.n);
-        return VI_SOLVER_LIMIT;
-    }
-    CHECK(flag);
-    s->fresh = 0;
-    memcpy(x, NV_DATA_S(s->x), sizeof(double) * (size_t)s->cfg.n);
-    if (flag == CV_ROOT_RETURN) {
-        *t = tret;
-        CHECK(CVodeGetRootInfo(s->cvode, fired));
-        return VI_SOLVER_EVENT;
-    }
-    *t = tout;
-    return VI_SOLVER_REACHED;
 }
 
 /* CVODE's counters since the last (re)initialisation. */
@@ -347,6 +364,7 @@ void vi_solver_free(vi_solver *s)
     if (s->A) SUNMatDestroy(s->A);
     if (s->x) N_VDestroy(s->x);
     if (s->atol) N_VDestroy(s->atol);
+    if (s->dky) N_VDestroy(s->dky);
     if (s->ctx) SUNContext_Free(&s->ctx);
     free(s);
 }
