@@ -262,3 +262,42 @@ def test_libcosimpy_agrees_with_fmpy(fmu_path, vr):
     d0 = (e["W"] / e["K"]) ** (2 / 3)
     assert abs(y_cosim - r["y"][-1]) < 1e-5 * d0
     assert abs(v_cosim - r["v"][-1]) < 1e-5 * d0 * 2 * np.pi * 267
+
+
+def test_string_parameter_set_get_and_limits(logged, vr):
+    """String variables: stored in the instance (plain data), read back, refused when too long or
+    NULL, fixed after initialization like any fixed parameter, back to the start value on reset."""
+    log = logged()
+    s = log.instantiate()
+    p = vr["profile_file"]
+    s.setString([p], ["rail/profile.txt"])
+    longest = "x" * 1023
+    s.setString([p], [longest])
+    with pytest.raises(FMICallException):
+        s.setString([p], ["y" * 1024])
+    assert error_logged(log, "profile_file", "longer than 1023")
+    with pytest.raises(FMICallException):
+        s.setString([p], [None])
+    assert error_logged(log, "profile_file", "NULL")
+    s.setupExperiment(startTime=0.0)
+    s.enterInitializationMode()
+    assert s.getString([p]) == [longest.encode()]  # the refused values left it unchanged
+    s.setString([p], ["a.txt"])
+    assert s.getString([p]) == [b"a.txt"]
+    with pytest.raises(FMICallException):
+        s.getString([vr["m"]])
+    assert error_logged(log, "m", "is of type Real")
+    with pytest.raises(FMICallException):
+        s.getReal([p])
+    assert error_logged(log, "profile_file", "is of type String")
+    s.reset()
+    s.setupExperiment(startTime=0.0)
+    s.enterInitializationMode()
+    assert s.getString([p]) == [b""]
+    s.setString([p], [""])
+    s.exitInitializationMode()
+    with pytest.raises(FMICallException):
+        s.setString([p], ["b.txt"])
+    assert error_logged(log, "profile_file", "fixed parameter")
+    assert s.getString([p]) == [b""]
+    s.freeInstance()

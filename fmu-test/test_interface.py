@@ -7,7 +7,7 @@ from fmpy.validation import validate_fmu
 
 from conftest import BUILD, ROOT
 
-TYPE_OF = {"Real": "Real", "Integer": "Integer", "Boolean": "Boolean", "Enumeration": "Enumeration"}
+TYPE_OF = {"Real": "Real", "Integer": "Integer", "Boolean": "Boolean", "Enumeration": "Enumeration", "String": "String"}
 
 
 def c_table():
@@ -35,7 +35,9 @@ def test_xml_matches_c_table(model_description):
         assert (sv.declaredType.name if sv.declaredType else "none") == enum, where
         if typ == "Real":
             assert (sv.unit or "") == unit, where
-        if initial == "exact":
+        if initial == "exact" and typ == "String":
+            assert sv.start == start, where
+        elif initial == "exact":
             expected = float(start)
             got = {"true": 1.0, "false": 0.0}.get(sv.start, None) if typ == "Boolean" else float(sv.start)
             assert got == expected, where

@@ -2,7 +2,8 @@
  * vi_variables.h - the one table of VibroImpact's FMU variables.
  *
  * Every FMU variable is one row of VI_VARIABLES. Its value reference is its
- * position in the table (0, 1, 2, ...). From the rows the compiler generates
+ * position in the table (0, 1, 2, ...): append new rows at the end, so that the
+ * value references users already rely on stay valid. From the rows the compiler generates
  *   - the structs vi_parameters, vi_inputs and vi_outputs, one field per
  *     variable, named as the variable (so the model reads p->m, p->Y, ...),
  *   - the defaults (start values) of parameters and inputs,
@@ -11,11 +12,13 @@
  * fails when the two disagree (it reads the table through vi_dump_variables).
  *
  * Columns: X(name, type, enum, causality, variability, initial, start, unit, description)
- *   type        Real | Integer | Boolean | Enumeration (read and written as Integer)
+ *   type        Real | Integer | Boolean | Enumeration (read and written as Integer) | String
+ *               (String: parameters and inputs only, stored as char[VI_STRING_SIZE] so that the
+ *               whole state stays plain data; longer values are refused)
  *   enum        the enumeration type (VI_ENUMERATIONS) of an Enumeration, else none
  *   causality   parameter | input | output | calculatedParameter
  *   initial     exact | calculated  (outputs and calculated parameters: calculated)
- *   start       start value (ignored when initial is calculated)
+ *   start       start value (ignored when initial is calculated); a string literal for String
  *   unit        SI unit symbol as declared in modelDescription.xml, "" for none
  */
 #ifndef VI_VARIABLES_H
@@ -69,7 +72,8 @@
   X(F_Y, Real, none, calculatedParameter, fixed, calculated, 0.0, "N", "yield force") \
   X(delta_Y, Real, none, calculatedParameter, fixed, calculated, 0.0, "m", "yield indentation") \
   X(k_lin, Real, none, calculatedParameter, fixed, calculated, 0.0, "N/m", "stiffness of the linear elastic-perfectly plastic model, F_Y/delta_Y") \
-  X(f_contact, Real, none, calculatedParameter, fixed, calculated, 0.0, "Hz", "linearised contact resonance at the static load")
+  X(f_contact, Real, none, calculatedParameter, fixed, calculated, 0.0, "Hz", "linearised contact resonance at the static load") \
+  X(profile_file, String, none, parameter, fixed, exact, "", "", "profile rolled over (Fig. 1b): two-column text table x [m], h [m]; relative paths: FMU resources, then working directory; empty = none")
 
 /* Enumeration types: E(type, description); items in VI_ITEMS_<type>(I) as I(type, name, value). */
 #define VI_ENUMERATIONS(E) \
@@ -97,10 +101,32 @@ enum { VI_ENUMERATIONS(VI_ENUM_ITEMS_) };
 #define VI_VR_(name, ...) VI_VR_##name,
 enum { VI_VARIABLES(VI_VR_) VI_NVARS };
 
+/* Longest String value + 1 (the terminating NUL). */
+#define VI_STRING_SIZE 1024
+
 #define VI_CTYPE_Real double
 #define VI_CTYPE_Integer int
 #define VI_CTYPE_Boolean int /* fmi2Boolean */
 #define VI_CTYPE_Enumeration int
+#define VI_CTYPE_String char /* array of VI_STRING_SIZE */
+
+/* The declaration of a field of the given type. */
+#define VI_DECL_Real(name) double name;
+#define VI_DECL_Integer(name) int name;
+#define VI_DECL_Boolean(name) int name;
+#define VI_DECL_Enumeration(name) int name;
+#define VI_DECL_String(name) char name[VI_STRING_SIZE];
+/* The numeric start value of a row (0 for String) and its string start value (NULL unless String). */
+#define VI_START_NUM_Real(start) (double)(start)
+#define VI_START_NUM_Integer(start) (double)(start)
+#define VI_START_NUM_Boolean(start) (double)(start)
+#define VI_START_NUM_Enumeration(start) (double)(start)
+#define VI_START_NUM_String(start) 0.0
+#define VI_START_STR_Real(start) NULL
+#define VI_START_STR_Integer(start) NULL
+#define VI_START_STR_Boolean(start) NULL
+#define VI_START_STR_Enumeration(start) NULL
+#define VI_START_STR_String(start) start
 
 /* Which struct holds a variable: parameters, inputs, or outputs (with calculated parameters). */
 #define VI_IF_PAR_parameter(x) x
@@ -116,14 +142,14 @@ enum { VI_VARIABLES(VI_VR_) VI_NVARS };
 #define VI_IF_OUT_output(x) x
 #define VI_IF_OUT_calculatedParameter(x) x
 
-#define VI_FIELD_PAR_(name, type, en, caus, ...) VI_IF_PAR_##caus(VI_CTYPE_##type name;)
-#define VI_FIELD_IN_(name, type, en, caus, ...) VI_IF_IN_##caus(VI_CTYPE_##type name;)
-#define VI_FIELD_OUT_(name, type, en, caus, ...) VI_IF_OUT_##caus(VI_CTYPE_##type name;)
+#define VI_FIELD_PAR_(name, type, en, caus, ...) VI_IF_PAR_##caus(VI_DECL_##type(name))
+#define VI_FIELD_IN_(name, type, en, caus, ...) VI_IF_IN_##caus(VI_DECL_##type(name))
+#define VI_FIELD_OUT_(name, type, en, caus, ...) VI_IF_OUT_##caus(VI_DECL_##type(name))
 typedef struct { VI_VARIABLES(VI_FIELD_PAR_) } vi_parameters;
 typedef struct { VI_VARIABLES(VI_FIELD_IN_) } vi_inputs;
 typedef struct { VI_VARIABLES(VI_FIELD_OUT_) } vi_outputs;
 
-typedef enum { VI_Real, VI_Integer, VI_Boolean, VI_Enumeration } vi_type;
+typedef enum { VI_Real, VI_Integer, VI_Boolean, VI_Enumeration, VI_String } vi_type;
 typedef enum { VI_GROUP_PARAMETERS, VI_GROUP_INPUTS, VI_GROUP_OUTPUTS } vi_group;
 
 typedef struct {
@@ -131,7 +157,8 @@ typedef struct {
     vi_type type;
     const char *enumeration;   /* declared type of an Enumeration, else "none" */
     const char *causality, *variability, *initial;
-    double start;              /* meaningful when initial is exact */
+    double start;              /* meaningful when initial is exact (0 for String) */
+    const char *start_string;  /* the start value of a String, else NULL */
     const char *unit, *description;
     vi_group group;            /* the struct that holds the value ... */
     size_t offset;             /* ... and where in it */

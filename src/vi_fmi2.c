@@ -29,8 +29,9 @@ typedef enum {
 #define ST_WRITABLE (ST_INSTANTIATED | ST_INIT | ST_STEP_COMPLETE)
 #define ST_RUNNING (ST_STEP_COMPLETE | ST_STEP_FAILED | ST_TERMINATED)
 
-/* Log categories, as listed in modelDescription.xml. Errors are logged whatever is enabled. */
-#define VI_LOG_CATEGORIES(C) C(logEvents) C(logSolver) C(logStatusWarning) C(logStatusError) C(logFmi2Call) C(logAll)
+/* Log categories, as listed in modelDescription.xml. Discards and errors are logged whatever is enabled. */
+#define VI_LOG_CATEGORIES(C) \
+    C(logEvents) C(logSolver) C(logStatusWarning) C(logStatusDiscard) C(logStatusError) C(logFmi2Call) C(logAll)
 #define VI_CAT_ENUM_(name) CAT_##name,
 enum { VI_LOG_CATEGORIES(VI_CAT_ENUM_) CAT_COUNT };
 #define VI_CAT_NAME_(name) #name,
@@ -50,7 +51,7 @@ static int enabled(const Component *c, int cat) { return (c->log_mask >> cat & 1
 
 static void vlog(const Component *c, fmi2Status status, int cat, const char *fmt, va_list ap)
 {
-    if (!c->cb.logger || (status < fmi2Error && !enabled(c, cat))) return;
+    if (!c->cb.logger || (status < fmi2Discard && !enabled(c, cat))) return;
     char text[1024], escaped[2 * sizeof text];
     vsnprintf(text, sizeof text, fmt, ap);
     size_t j = 0; /* the logger treats the message as a format: escape '%' */
@@ -288,7 +289,7 @@ static const vi_variable *lookup(Component *c, const char *fn, fmi2ValueReferenc
     const vi_variable *v = &vi_variable_table[vr];
     vi_type t = v->type == VI_Enumeration ? VI_Integer : v->type;
     if (t != api) {
-        static const char *const type_names[] = {"Real", "Integer", "Boolean", "Enumeration"};
+        static const char *const type_names[] = {"Real", "Integer", "Boolean", "Enumeration", "String"};
         LOG_ERROR(c, "%s: value reference %u (%s) is of type %s", fn, (unsigned)vr, v->name, type_names[v->type]);
         return NULL;
     }
@@ -334,18 +335,29 @@ DEFINE_GET(Real, fmi2Real, VI_Real)
 DEFINE_GET(Integer, fmi2Integer, VI_Integer)
 DEFINE_GET(Boolean, fmi2Boolean, VI_Boolean)
 
-/* May v be set now? Inputs: before and after initialization; fixed parameters: until the end of
- * initialization mode; nothing else ever. */
+static int tunable(const vi_variable *v) { return strcmp(v->variability, "tunable") == 0; }
+
+/* May v be set now? Inputs and tunable parameters: before and after initialization; fixed
+ * parameters: until the end of initialization mode; nothing else ever. (The callers allow only
+ * Instantiated, InitializationMode and StepComplete.) */
 static int settable(Component *c, const char *fn, const vi_variable *v)
 {
     if (v->group == VI_GROUP_INPUTS) return 1;
-    if (v->group == VI_GROUP_PARAMETERS && (c->state & (ST_INSTANTIATED | ST_INIT))) return 1;
+    if (v->group == VI_GROUP_PARAMETERS && ((c->state & (ST_INSTANTIATED | ST_INIT)) || tunable(v))) return 1;
     if (v->group == VI_GROUP_PARAMETERS)
         LOG_ERROR(c, "%s: %s is a fixed parameter: set it before fmi2ExitInitializationMode (or after fmi2Reset)", fn,
                   v->name);
     else
         LOG_ERROR(c, "%s: %s is an %s and cannot be set", fn, v->name, v->causality);
     return 0;
+}
+
+/* After a value was set: a new input value holds (zero-order) until a derivative is set; an input or
+ * a tunable parameter set between steps takes effect at the start of the next step. */
+static void changed(Component *c, const vi_variable *v)
+{
+    if (v->group == VI_GROUP_INPUTS && v->type == VI_Real) *(double *)((char *)&c->sim.d.din + v->offset) = 0.0;
+    if (v->group == VI_GROUP_INPUTS || c->state == ST_STEP_COMPLETE) c->sim.d.inputs_changed = 1;
 }
 
 #define DEFINE_SET(Api, ctype, api_type, check)                                                                \
@@ -367,10 +379,7 @@ static int settable(Component *c, const char *fn, const vi_variable *v)
         for (size_t i = 0; i < nvr; i++) {                                                                     \
             const vi_variable *v = &vi_variable_table[vr[i]];                                                  \
             *(VI_CTYPE_##Api *)storage(c, v) = (VI_CTYPE_##Api)value[i];                                       \
-            if (v->group == VI_GROUP_INPUTS) { /* a new value: zero-order hold until a derivative is set */ \
-                *(double *)((char *)&c->sim.d.din + v->offset) = 0.0;                                          \
-                c->sim.d.inputs_changed = 1;                                                                   \
-            }                                                                                                  \
+            changed(c, v);                                                                                     \
         }                                                                                                      \
         return fmi2OK;                                                                                         \
     }
@@ -378,27 +387,49 @@ DEFINE_SET(Real, fmi2Real, VI_Real, isfinite(value[i]))
 DEFINE_SET(Integer, fmi2Integer, VI_Integer, 1)
 DEFINE_SET(Boolean, fmi2Boolean, VI_Boolean, 1)
 
-/* There are no String variables: any value reference is an error. */
-static fmi2Status no_strings(Component *c, const char *fn, const fmi2ValueReference vr[], size_t nvr)
-{
-    if (nvr == 0) return fmi2OK;
-    if (!vr || vr[0] >= VI_NVARS) LOG_ERROR(c, "%s: unknown value reference", fn);
-    else LOG_ERROR(c, "%s: value reference %u (%s) is not a String", fn, (unsigned)vr[0], vi_variable_table[vr[0]].name);
-    return fmi2Error;
-}
-
 fmi2Status fmi2GetString(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr, fmi2String value[])
 {
-    (void)value;
     ENTER("fmi2GetString", ST_READABLE);
-    return no_strings(c, "fmi2GetString", vr, nvr);
+    if (nvr > 0 && (!vr || !value)) {
+        LOG_ERROR(c, "fmi2GetString: NULL array");
+        return fmi2Error;
+    }
+    for (size_t i = 0; i < nvr; i++) {
+        const vi_variable *v = lookup(c, "fmi2GetString", vr[i], VI_String);
+        if (!v) return fmi2Error;
+        value[i] = storage(c, v); /* the stored value: valid until it is set again */
+    }
+    return fmi2OK;
 }
 
 fmi2Status fmi2SetString(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr, const fmi2String value[])
 {
-    (void)value;
     ENTER("fmi2SetString", ST_WRITABLE);
-    return no_strings(c, "fmi2SetString", vr, nvr);
+    if (nvr > 0 && (!vr || !value)) {
+        LOG_ERROR(c, "fmi2SetString: NULL array");
+        return fmi2Error;
+    }
+    for (size_t i = 0; i < nvr; i++) {
+        const vi_variable *v = lookup(c, "fmi2SetString", vr[i], VI_String);
+        if (!v || !settable(c, "fmi2SetString", v)) return fmi2Error;
+        if (!value[i]) {
+            LOG_ERROR(c, "fmi2SetString: the value of %s is NULL", v->name);
+            return fmi2Error;
+        }
+        size_t n = 0;
+        while (n < VI_STRING_SIZE && value[i][n]) n++;
+        if (n == VI_STRING_SIZE) {
+            LOG_ERROR(c, "fmi2SetString: the value of %s is longer than %d characters", v->name, VI_STRING_SIZE - 1);
+            return fmi2Error;
+        }
+    }
+    for (size_t i = 0; i < nvr; i++) {
+        const vi_variable *v = &vi_variable_table[vr[i]];
+        char *p = storage(c, v);
+        memmove(p, value[i], strlen(value[i]) + 1); /* the value may be our own (from fmi2GetString) */
+        changed(c, v);
+    }
+    return fmi2OK;
 }
 
 /* ---- FMU state ---------------------------------------------------------------------------- */
@@ -568,7 +599,13 @@ fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real currentCommunicationPoint, fm
         LOG_ERROR(c, "fmi2DoStep: the step to %.17g passes the stop time %.17g", tc + h, c->stop_time);
         return fmi2Error;
     }
-    if (vi_sim_advance(&c->sim, tc + h) < 0) return fail(c, "fmi2DoStep");
+    int rc = vi_sim_advance(&c->sim, tc + h);
+    if (rc < 0) return fail(c, "fmi2DoStep");
+    if (rc > 0) { /* stopped early at a consistent state: fmi2LastSuccessfulTime tells where */
+        logf_(c, fmi2Discard, CAT_logStatusDiscard, "fmi2DoStep: %s", c->sim.msg);
+        c->state = ST_STEP_FAILED;
+        return fmi2Discard;
+    }
     return fmi2OK;
 }
 
