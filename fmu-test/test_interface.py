@@ -11,7 +11,7 @@ TYPE_OF = {"Real": "Real", "Integer": "Integer", "Boolean": "Boolean", "Enumerat
 
 
 def c_table():
-    out = subprocess.run([str(BUILD / "vi_dump_variables")], check=True, capture_output=True, text=True).stdout
+    out = subprocess.run([str(BUILD / "VibroImpact_dump_variables")], check=True, capture_output=True, text=True).stdout
     rows = [line.split("\t") for line in out.splitlines()]
     guid = next(r[1] for r in rows if r[0] == "guid")
     variables = [r[1:] for r in rows if r[0] == "var"]

@@ -1,30 +1,19 @@
 /*
- * vi_variables.h - the one table of VibroImpact's FMU variables.
+ * vi_variables.h - the one table of VibroImpact's FMU variables (the contact model).
  *
- * Every FMU variable is one row of VI_VARIABLES. Its value reference is its
- * position in the table (0, 1, 2, ...): append new rows at the end, so that the
- * value references users already rely on stay valid. From the rows the compiler generates
- *   - the structs vi_parameters, vi_inputs and vi_outputs, one field per
- *     variable, named as the variable (so the model reads p->m, p->Y, ...),
- *   - the defaults (start values) of parameters and inputs,
- *   - vi_variable_table, the descriptor array the FMI glue uses for get/set.
- * modelDescription.xml repeats the table by hand; fmu-test/test_interface.py
- * fails when the two disagree (it reads the table through vi_dump_variables).
- *
- * Columns: X(name, type, enum, causality, variability, initial, start, unit, description)
- *   type        Real | Integer | Boolean | Enumeration (read and written as Integer) | String
- *               (String: parameters and inputs only, stored as char[VI_STRING_SIZE] so that the
- *               whole state stays plain data; longer values are refused)
- *   enum        the enumeration type (VI_ENUMERATIONS) of an Enumeration, else none
- *   causality   parameter | input | output | calculatedParameter
- *   initial     exact | calculated  (outputs and calculated parameters: calculated)
- *   start       start value (ignored when initial is calculated); a string literal for String
- *   unit        SI unit symbol as declared in modelDescription.xml, "" for none
+ * Every FMU variable is one row of VI_VARIABLES; the columns and what the compiler generates from
+ * the rows (structs vi_parameters, vi_inputs, vi_outputs named field by field as the variables,
+ * value references VI_VR_<name>, enumeration constants VI_<Type>_<item>, start values, and the
+ * descriptor array vi_variable_table the FMI layer uses for get/set) are explained in vi_table.h.
+ * The value reference of a variable is its row number: append new rows at the end, so that the
+ * value references users already rely on stay valid.
+ * modelDescription.xml repeats the table by hand; fmu-test/test_interface.py fails when the two
+ * disagree (it reads the table through VibroImpact_dump_variables).
  */
 #ifndef VI_VARIABLES_H
 #define VI_VARIABLES_H
 
-#include <stddef.h>
+#include "vi_table.h"
 
 #define VI_GUID "{5b7e0c3a-2f1d-4e8b-9a61-7c4d2e9f1a03}"
 #define VI_MODEL_IDENTIFIER "VibroImpact"
@@ -90,90 +79,6 @@
 #define VI_ITEMS_Solver(I) I(Solver, bdf, 1) I(Solver, adams, 2)
 #define VI_ITEMS_Mode(I) I(Mode, free, 0) I(Mode, elastic, 1) I(Mode, plastic, 2) I(Mode, unload, 3) I(Mode, stick, 4)
 
-/* ---- generated from the tables above; nothing below names a variable ---- */
-
-/* Enumeration constants: VI_ContactModel_hertz, ..., VI_Mode_stick. */
-#define VI_ENUM_CONST_(T, n, v) VI_##T##_##n = v,
-#define VI_ENUM_ITEMS_(T, d) VI_ITEMS_##T(VI_ENUM_CONST_)
-enum { VI_ENUMERATIONS(VI_ENUM_ITEMS_) };
-
-/* Value references: VI_VR_yC_in = 0, ...; VI_NVARS variables in all. */
-#define VI_VR_(name, ...) VI_VR_##name,
-enum { VI_VARIABLES(VI_VR_) VI_NVARS };
-
-/* Longest String value + 1 (the terminating NUL). */
-#define VI_STRING_SIZE 1024
-
-#define VI_CTYPE_Real double
-#define VI_CTYPE_Integer int
-#define VI_CTYPE_Boolean int /* fmi2Boolean */
-#define VI_CTYPE_Enumeration int
-#define VI_CTYPE_String char /* array of VI_STRING_SIZE */
-
-/* The declaration of a field of the given type. */
-#define VI_DECL_Real(name) double name;
-#define VI_DECL_Integer(name) int name;
-#define VI_DECL_Boolean(name) int name;
-#define VI_DECL_Enumeration(name) int name;
-#define VI_DECL_String(name) char name[VI_STRING_SIZE];
-/* The numeric start value of a row (0 for String) and its string start value (NULL unless String). */
-#define VI_START_NUM_Real(start) (double)(start)
-#define VI_START_NUM_Integer(start) (double)(start)
-#define VI_START_NUM_Boolean(start) (double)(start)
-#define VI_START_NUM_Enumeration(start) (double)(start)
-#define VI_START_NUM_String(start) 0.0
-#define VI_START_STR_Real(start) NULL
-#define VI_START_STR_Integer(start) NULL
-#define VI_START_STR_Boolean(start) NULL
-#define VI_START_STR_Enumeration(start) NULL
-#define VI_START_STR_String(start) start
-
-/* Which struct holds a variable: parameters, inputs, or outputs (with calculated parameters). */
-#define VI_IF_PAR_parameter(x) x
-#define VI_IF_PAR_input(x)
-#define VI_IF_PAR_output(x)
-#define VI_IF_PAR_calculatedParameter(x)
-#define VI_IF_IN_parameter(x)
-#define VI_IF_IN_input(x) x
-#define VI_IF_IN_output(x)
-#define VI_IF_IN_calculatedParameter(x)
-#define VI_IF_OUT_parameter(x)
-#define VI_IF_OUT_input(x)
-#define VI_IF_OUT_output(x) x
-#define VI_IF_OUT_calculatedParameter(x) x
-
-#define VI_FIELD_PAR_(name, type, en, caus, ...) VI_IF_PAR_##caus(VI_DECL_##type(name))
-#define VI_FIELD_IN_(name, type, en, caus, ...) VI_IF_IN_##caus(VI_DECL_##type(name))
-#define VI_FIELD_OUT_(name, type, en, caus, ...) VI_IF_OUT_##caus(VI_DECL_##type(name))
-typedef struct { VI_VARIABLES(VI_FIELD_PAR_) } vi_parameters;
-typedef struct { VI_VARIABLES(VI_FIELD_IN_) } vi_inputs;
-typedef struct { VI_VARIABLES(VI_FIELD_OUT_) } vi_outputs;
-
-typedef enum { VI_Real, VI_Integer, VI_Boolean, VI_Enumeration, VI_String } vi_type;
-typedef enum { VI_GROUP_PARAMETERS, VI_GROUP_INPUTS, VI_GROUP_OUTPUTS } vi_group;
-
-typedef struct {
-    const char *name;
-    vi_type type;
-    const char *enumeration;   /* declared type of an Enumeration, else "none" */
-    const char *causality, *variability, *initial;
-    double start;              /* meaningful when initial is exact (0 for String) */
-    const char *start_string;  /* the start value of a String, else NULL */
-    const char *unit, *description;
-    vi_group group;            /* the struct that holds the value ... */
-    size_t offset;             /* ... and where in it */
-} vi_variable;
-
-typedef struct { const char *type, *name; int value; } vi_enum_item;
-
-/* vi_variable_table[vr] describes the variable with value reference vr (vr < VI_NVARS). */
-extern const vi_variable vi_variable_table[VI_NVARS];
-/* All enumeration items, grouped by type; vi_enum_item_count entries. */
-extern const vi_enum_item vi_enum_items[];
-extern const int vi_enum_item_count;
-
-/* Fill the structs with the start values of the table. */
-void vi_parameters_default(vi_parameters *p);
-void vi_inputs_default(vi_inputs *in);
+VI_TABLE_DECLARE
 
 #endif

@@ -1,6 +1,8 @@
 /*
- * vi_fmi2.c - FMI 2.0 Co-Simulation glue: argument and state-machine checks, value references
- * (through vi_variable_table), logging, FMU state. All physics lives in vi_sim / vi_model.
+ * vi_fmi2.c - the generic FMI 2.0 Co-Simulation layer (vi_fmu.h): argument and state-machine
+ * checks, value access through the model's variable table, logging with categories, the FMU state
+ * envelope and its serialization, status functions, fmi2DoStep checks. It knows no model: it
+ * reaches the one model of this binary through vi_fmu_this_model and its hooks.
  */
 #include <float.h>
 #include <math.h>
@@ -9,8 +11,9 @@
 #include <string.h>
 
 #include "fmi2Functions.h"
-#include "vi_sim.h"
-#include "vi_variables.h"
+#include "vi_fmu.h"
+
+#define MODEL (&vi_fmu_this_model)
 
 /* ---- instance ---------------------------------------------------------------------------- */
 
@@ -38,7 +41,8 @@ enum { VI_LOG_CATEGORIES(VI_CAT_ENUM_) CAT_COUNT };
 static const char *const category_names[CAT_COUNT] = {VI_LOG_CATEGORIES(VI_CAT_NAME_)};
 
 typedef struct {
-    vi_sim sim;
+    void *model;   /* the model's instance (MODEL->instance_size bytes) */
+    void *outputs; /* scratch for outputs computed on demand (MODEL->outputs_size bytes) */
     fmi2CallbackFunctions cb;
     char *name;
     vi_fmu_state state;
@@ -73,14 +77,14 @@ static void logf_(const Component *c, fmi2Status status, int cat, const char *fm
 #define LOG_ERROR(c, ...) logf_(c, fmi2Error, CAT_logStatusError, __VA_ARGS__)
 #define LOG_CALL(c, ...) do { if (enabled(c, CAT_logFmi2Call)) logf_(c, fmi2OK, CAT_logFmi2Call, __VA_ARGS__); } while (0)
 
-/* Logger handed to the simulation layer. */
-static void sim_log(void *env, int category, const char *fmt, ...)
+/* Logger handed to the model. */
+static void model_log(void *env, int category, const char *fmt, ...)
 {
     const Component *c = env;
-    static const int cat_of[] = {[VI_LOG_EVENTS] = CAT_logEvents, [VI_LOG_SOLVER] = CAT_logSolver,
-                                 [VI_LOG_WARNING] = CAT_logStatusWarning, [VI_LOG_ERROR] = CAT_logStatusError};
-    static const fmi2Status status_of[] = {[VI_LOG_EVENTS] = fmi2OK, [VI_LOG_SOLVER] = fmi2OK,
-                                           [VI_LOG_WARNING] = fmi2Warning, [VI_LOG_ERROR] = fmi2Error};
+    static const int cat_of[] = {[VI_FMU_LOG_EVENTS] = CAT_logEvents, [VI_FMU_LOG_SOLVER] = CAT_logSolver,
+                                 [VI_FMU_LOG_WARNING] = CAT_logStatusWarning, [VI_FMU_LOG_ERROR] = CAT_logStatusError};
+    static const fmi2Status status_of[] = {[VI_FMU_LOG_EVENTS] = fmi2OK, [VI_FMU_LOG_SOLVER] = fmi2OK,
+                                           [VI_FMU_LOG_WARNING] = fmi2Warning, [VI_FMU_LOG_ERROR] = fmi2Error};
     va_list ap;
     va_start(ap, fmt);
     vlog(c, status_of[category], cat_of[category], fmt, ap);
@@ -119,7 +123,7 @@ static Component *enter(fmi2Component comp, const char *fn, unsigned allowed)
 /* A failed simulation call: log the reason and put the instance into the error state. */
 static fmi2Status fail(Component *c, const char *fn)
 {
-    LOG_ERROR(c, "%s: %s", fn, c->sim.msg);
+    LOG_ERROR(c, "%s: %s", fn, MODEL->message(c->model));
     c->state = ST_ERROR;
     return fmi2Error;
 }
@@ -168,28 +172,36 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
         return NULL;
     }
     if (fmuType != fmi2CoSimulation) {
-        LOG_ERROR(&tmp, "fmi2Instantiate: VibroImpact is a Co-Simulation FMU; fmuType %d is not supported", (int)fmuType);
+        LOG_ERROR(&tmp, "fmi2Instantiate: %s is a Co-Simulation FMU; fmuType %d is not supported",
+                  MODEL->model_identifier, (int)fmuType);
         return NULL;
     }
-    if (!fmuGUID || strcmp(fmuGUID, VI_GUID) != 0) {
-        LOG_ERROR(&tmp, "fmi2Instantiate: GUID '%s' does not match this FMU's '%s'", fmuGUID ? fmuGUID : "(null)", VI_GUID);
+    if (!fmuGUID || strcmp(fmuGUID, MODEL->guid) != 0) {
+        LOG_ERROR(&tmp, "fmi2Instantiate: GUID '%s' does not match this FMU's '%s'", fmuGUID ? fmuGUID : "(null)",
+                  MODEL->guid);
         return NULL;
     }
     Component *c = functions->allocateMemory(1, sizeof *c);
     char *name = functions->allocateMemory(strlen(instanceName) + 1, 1);
-    if (!c || !name) {
+    void *model = functions->allocateMemory(1, MODEL->instance_size);
+    void *outputs = functions->allocateMemory(1, MODEL->outputs_size);
+    if (!c || !name || !model || !outputs) {
         LOG_ERROR(&tmp, "fmi2Instantiate: out of memory");
-        if (c) functions->freeMemory(c);
-        if (name) functions->freeMemory(name);
+        void *blocks[] = {c, name, model, outputs};
+        for (int i = 0; i < 4; i++)
+            if (blocks[i]) functions->freeMemory(blocks[i]);
         return NULL;
     }
     memset(c, 0, sizeof *c);
+    memset(model, 0, MODEL->instance_size);
     strcpy(name, instanceName);
+    c->model = model;
+    c->outputs = outputs;
     c->cb = *functions;
     c->name = name;
     c->state = ST_INSTANTIATED;
     c->log_mask = loggingOn ? (1u << CAT_COUNT) - 1u : 0u;
-    vi_sim_init(&c->sim, sim_log, c);
+    MODEL->init(c->model, model_log, c);
     LOG_CALL(c, "fmi2Instantiate: %s", instanceName);
     return c;
 }
@@ -199,8 +211,10 @@ void fmi2FreeInstance(fmi2Component comp)
     Component *c = comp;
     if (!c) return;
     LOG_CALL(c, "fmi2FreeInstance");
-    vi_sim_free(&c->sim);
+    MODEL->release(c->model);
     fmi2CallbackFreeMemory free_memory = c->cb.freeMemory;
+    free_memory(c->outputs);
+    free_memory(c->model);
     free_memory(c->name);
     free_memory(c);
 }
@@ -215,8 +229,7 @@ fmi2Status fmi2SetupExperiment(fmi2Component comp, fmi2Boolean toleranceDefined,
                      "time (got start %g, tolerance %g, stop %g)", startTime, tolerance, stopTime);
         return fmi2Error;
     }
-    c->sim.d.t_start = startTime;
-    c->sim.d.tolerance = toleranceDefined ? tolerance : 0.0;
+    MODEL->setup_experiment(c->model, startTime, toleranceDefined != 0, tolerance);
     c->stop_time_defined = stopTimeDefined != 0;
     c->stop_time = stopTime;
     return fmi2OK;
@@ -232,28 +245,15 @@ fmi2Status fmi2EnterInitializationMode(fmi2Component comp)
 fmi2Status fmi2ExitInitializationMode(fmi2Component comp)
 {
     ENTER("fmi2ExitInitializationMode", ST_INIT);
-    if (vi_sim_initialize(&c->sim) < 0) return fail(c, "fmi2ExitInitializationMode");
-    logf_(c, fmi2OK, CAT_logEvents, "initial mode %d, delta = %.9g m, v = %.9g m/s", c->sim.d.M.mode, c->sim.d.x[0],
-          c->sim.d.x[1]);
+    if (MODEL->initialize(c->model) < 0) return fail(c, "fmi2ExitInitializationMode");
     c->state = ST_STEP_COMPLETE;
     return fmi2OK;
-}
-
-static void log_statistics(const Component *c)
-{
-    vi_solver_stats st;
-    vi_sim_statistics(&c->sim, &st);
-    logf_(c, fmi2OK, CAT_logSolver,
-          "CVODE statistics: %ld steps, %ld rhs evaluations, %ld Jacobian evaluations, %ld nonlinear iterations, "
-          "%ld nonlinear failures, %ld error test failures, %ld guard evaluations, %ld restarts, %ld events",
-          st.steps, st.rhs_evals, st.jac_evals, st.nonlin_iters, st.nonlin_fails, st.err_test_fails, st.guard_evals,
-          st.resets, c->sim.d.n_events);
 }
 
 fmi2Status fmi2Terminate(fmi2Component comp)
 {
     ENTER("fmi2Terminate", ST_STEP_COMPLETE | ST_STEP_FAILED);
-    log_statistics(c);
+    if (MODEL->terminate) MODEL->terminate(c->model);
     c->state = ST_TERMINATED;
     return fmi2OK;
 }
@@ -261,7 +261,7 @@ fmi2Status fmi2Terminate(fmi2Component comp)
 fmi2Status fmi2Reset(fmi2Component comp)
 {
     ENTER("fmi2Reset", ST_ANY_BUT_FATAL);
-    vi_sim_reset(&c->sim);
+    MODEL->reset(c->model);
     c->stop_time_defined = 0;
     c->state = ST_INSTANTIATED;
     return fmi2OK;
@@ -269,24 +269,22 @@ fmi2Status fmi2Reset(fmi2Component comp)
 
 /* ---- variables ---------------------------------------------------------------------------- */
 
+/* Where the value of v lives; NULL for outputs (computed on demand). */
 static void *storage(Component *c, const vi_variable *v)
 {
-    switch (v->group) {
-    case VI_GROUP_PARAMETERS: return (char *)&c->sim.d.par + v->offset;
-    case VI_GROUP_INPUTS: return (char *)&c->sim.d.in + v->offset;
-    default: return NULL; /* outputs are computed on demand */
-    }
+    if (v->group == VI_GROUP_OUTPUTS) return NULL;
+    return (char *)MODEL->storage(c->model, v->group) + v->offset;
 }
 
 /* The variable behind vr if it is accessed through the API type `api` (Real, Integer or Boolean;
  * enumerations go through Integer); NULL (logged) otherwise. */
 static const vi_variable *lookup(Component *c, const char *fn, fmi2ValueReference vr, vi_type api)
 {
-    if (vr >= VI_NVARS) {
+    if (vr >= (fmi2ValueReference)MODEL->nvariables) {
         LOG_ERROR(c, "%s: unknown value reference %u", fn, (unsigned)vr);
         return NULL;
     }
-    const vi_variable *v = &vi_variable_table[vr];
+    const vi_variable *v = &MODEL->variables[vr];
     vi_type t = v->type == VI_Enumeration ? VI_Integer : v->type;
     if (t != api) {
         static const char *const type_names[] = {"Real", "Integer", "Boolean", "Enumeration", "String"};
@@ -296,15 +294,15 @@ static const vi_variable *lookup(Component *c, const char *fn, fmi2ValueReferenc
     return v;
 }
 
-/* Outputs and calculated parameters: computed from the current state (in initialization mode from
- * the initial state the current parameters give). */
-static int current_outputs(Component *c, const char *fn, vi_outputs *out)
+/* Outputs and calculated parameters into c->outputs: computed from the current state (in
+ * initialization mode from the initial state the current parameters give). */
+static int current_outputs(Component *c, const char *fn)
 {
-    if (c->state == ST_INIT && vi_sim_prepare(&c->sim) < 0) {
-        LOG_ERROR(c, "%s: %s", fn, c->sim.msg);
+    if (c->state == ST_INIT && MODEL->prepare(c->model) < 0) {
+        LOG_ERROR(c, "%s: %s", fn, MODEL->message(c->model));
         return -1;
     }
-    vi_sim_outputs(&c->sim, out);
+    MODEL->outputs(c->model, c->outputs);
     return 0;
 }
 
@@ -316,16 +314,15 @@ static int current_outputs(Component *c, const char *fn, vi_outputs *out)
             LOG_ERROR(c, "fmi2Get" #Api ": NULL array");                                                       \
             return fmi2Error;                                                                                  \
         }                                                                                                      \
-        vi_outputs out;                                                                                        \
         int have_out = 0;                                                                                      \
         for (size_t i = 0; i < nvr; i++) {                                                                     \
             const vi_variable *v = lookup(c, "fmi2Get" #Api, vr[i], api_type);                                \
             if (!v) return fmi2Error;                                                                          \
             const void *p = storage(c, v);                                                                     \
             if (!p) {                                                                                          \
-                if (!have_out && current_outputs(c, "fmi2Get" #Api, &out) < 0) return fmi2Error;              \
+                if (!have_out && current_outputs(c, "fmi2Get" #Api) < 0) return fmi2Error;                     \
                 have_out = 1;                                                                                  \
-                p = (const char *)&out + v->offset;                                                            \
+                p = (const char *)c->outputs + v->offset;                                                      \
             }                                                                                                  \
             value[i] = (ctype) * (const VI_CTYPE_##Api *)p;                                                    \
         }                                                                                                      \
@@ -356,8 +353,9 @@ static int settable(Component *c, const char *fn, const vi_variable *v)
  * a tunable parameter set between steps takes effect at the start of the next step. */
 static void changed(Component *c, const vi_variable *v)
 {
-    if (v->group == VI_GROUP_INPUTS && v->type == VI_Real) *(double *)((char *)&c->sim.d.din + v->offset) = 0.0;
-    if (v->group == VI_GROUP_INPUTS || c->state == ST_STEP_COMPLETE) c->sim.d.inputs_changed = 1;
+    if (v->group == VI_GROUP_INPUTS && v->type == VI_Real)
+        *(double *)((char *)MODEL->storage(c->model, VI_GROUP_INPUT_DERIVATIVES) + v->offset) = 0.0;
+    if (v->group == VI_GROUP_INPUTS || c->state == ST_STEP_COMPLETE) MODEL->changed(c->model);
 }
 
 #define DEFINE_SET(Api, ctype, api_type, check)                                                                \
@@ -377,7 +375,7 @@ static void changed(Component *c, const vi_variable *v)
             }                                                                                                  \
         }                                                                                                      \
         for (size_t i = 0; i < nvr; i++) {                                                                     \
-            const vi_variable *v = &vi_variable_table[vr[i]];                                                  \
+            const vi_variable *v = &MODEL->variables[vr[i]];                                                   \
             *(VI_CTYPE_##Api *)storage(c, v) = (VI_CTYPE_##Api)value[i];                                       \
             changed(c, v);                                                                                     \
         }                                                                                                      \
@@ -424,7 +422,7 @@ fmi2Status fmi2SetString(fmi2Component comp, const fmi2ValueReference vr[], size
         }
     }
     for (size_t i = 0; i < nvr; i++) {
-        const vi_variable *v = &vi_variable_table[vr[i]];
+        const vi_variable *v = &MODEL->variables[vr[i]];
         char *p = storage(c, v);
         memmove(p, value[i], strlen(value[i]) + 1); /* the value may be our own (from fmi2GetString) */
         changed(c, v);
@@ -437,10 +435,13 @@ fmi2Status fmi2SetString(fmi2Component comp, const fmi2ValueReference vr[], size
 #define VI_STATE_MAGIC 0x56494d55u /* "VIMU" */
 #define VI_STATE_VERSION 1u
 
+/* Header, then MODEL->state_size bytes of the model's plain data. */
 typedef struct {
     unsigned magic, version, size, fmu_state;
-    vi_sim_data data;
 } vi_saved_state;
+
+static size_t saved_size(void) { return sizeof(vi_saved_state) + MODEL->state_size; }
+static void *payload(const vi_saved_state *s) { return (char *)s + sizeof *s; }
 
 fmi2Status fmi2GetFMUstate(fmi2Component comp, fmi2FMUstate *FMUstate)
 {
@@ -449,19 +450,20 @@ fmi2Status fmi2GetFMUstate(fmi2Component comp, fmi2FMUstate *FMUstate)
         LOG_ERROR(c, "fmi2GetFMUstate: FMUstate is NULL");
         return fmi2Error;
     }
-    vi_saved_state *s = *FMUstate ? *FMUstate : c->cb.allocateMemory(1, sizeof *s);
+    vi_saved_state *s = *FMUstate ? *FMUstate : c->cb.allocateMemory(1, saved_size());
     if (!s) {
         LOG_ERROR(c, "fmi2GetFMUstate: out of memory");
         return fmi2Error;
     }
-    *s = (vi_saved_state){VI_STATE_MAGIC, VI_STATE_VERSION, (unsigned)sizeof *s, (unsigned)c->state, c->sim.d};
+    *s = (vi_saved_state){VI_STATE_MAGIC, VI_STATE_VERSION, (unsigned)saved_size(), (unsigned)c->state};
+    memcpy(payload(s), MODEL->state(c->model), MODEL->state_size);
     *FMUstate = s;
     return fmi2OK;
 }
 
 static int valid_state(const vi_saved_state *s)
 {
-    return s && s->magic == VI_STATE_MAGIC && s->version == VI_STATE_VERSION && s->size == sizeof *s &&
+    return s && s->magic == VI_STATE_MAGIC && s->version == VI_STATE_VERSION && s->size == saved_size() &&
            (s->fmu_state & ST_RUNNING);
 }
 
@@ -473,8 +475,9 @@ fmi2Status fmi2SetFMUstate(fmi2Component comp, fmi2FMUstate FMUstate)
         LOG_ERROR(c, "fmi2SetFMUstate: not a state of this FMU");
         return fmi2Error;
     }
-    c->sim.d = s->data;
-    if (vi_sim_restore(&c->sim) < 0) return fail(c, "fmi2SetFMUstate");
+    memcpy(MODEL->state(c->model), payload(s), MODEL->state_size);
+    if (MODEL->restore && MODEL->restore(c->model, (s->fmu_state & ST_RUNNING) != 0) < 0)
+        return fail(c, "fmi2SetFMUstate");
     c->state = (vi_fmu_state)s->fmu_state;
     return fmi2OK;
 }
@@ -496,18 +499,18 @@ fmi2Status fmi2SerializedFMUstateSize(fmi2Component comp, fmi2FMUstate FMUstate,
         LOG_ERROR(c, "fmi2SerializedFMUstateSize: invalid arguments");
         return fmi2Error;
     }
-    *size = sizeof(vi_saved_state);
+    *size = saved_size();
     return fmi2OK;
 }
 
 fmi2Status fmi2SerializeFMUstate(fmi2Component comp, fmi2FMUstate FMUstate, fmi2Byte serializedState[], size_t size)
 {
     ENTER("fmi2SerializeFMUstate", ST_ANY_BUT_FATAL);
-    if (!serializedState || size < sizeof(vi_saved_state) || !valid_state(FMUstate)) {
-        LOG_ERROR(c, "fmi2SerializeFMUstate: invalid arguments (need %zu bytes)", sizeof(vi_saved_state));
+    if (!serializedState || size < saved_size() || !valid_state(FMUstate)) {
+        LOG_ERROR(c, "fmi2SerializeFMUstate: invalid arguments (need %zu bytes)", saved_size());
         return fmi2Error;
     }
-    memcpy(serializedState, FMUstate, sizeof(vi_saved_state));
+    memcpy(serializedState, FMUstate, saved_size());
     return fmi2OK;
 }
 
@@ -515,22 +518,22 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component comp, const fmi2Byte serialized
                                    fmi2FMUstate *FMUstate)
 {
     ENTER("fmi2DeSerializeFMUstate", ST_ANY_BUT_FATAL);
-    vi_saved_state tmp;
-    if (!serializedState || !FMUstate || size != sizeof tmp) {
-        LOG_ERROR(c, "fmi2DeSerializeFMUstate: invalid arguments (expected %zu bytes, got %zu)", sizeof tmp, size);
+    vi_saved_state head;
+    if (!serializedState || !FMUstate || size != saved_size()) {
+        LOG_ERROR(c, "fmi2DeSerializeFMUstate: invalid arguments (expected %zu bytes, got %zu)", saved_size(), size);
         return fmi2Error;
     }
-    memcpy(&tmp, serializedState, sizeof tmp);
-    if (!valid_state(&tmp)) {
+    memcpy(&head, serializedState, sizeof head);
+    if (!valid_state(&head)) {
         LOG_ERROR(c, "fmi2DeSerializeFMUstate: the bytes are not a serialized state of this FMU version");
         return fmi2Error;
     }
-    vi_saved_state *s = *FMUstate ? *FMUstate : c->cb.allocateMemory(1, sizeof *s);
+    vi_saved_state *s = *FMUstate ? *FMUstate : c->cb.allocateMemory(1, saved_size());
     if (!s) {
         LOG_ERROR(c, "fmi2DeSerializeFMUstate: out of memory");
         return fmi2Error;
     }
-    *s = tmp;
+    memcpy(s, serializedState, saved_size());
     *FMUstate = s;
     return fmi2OK;
 }
@@ -565,8 +568,9 @@ fmi2Status fmi2SetRealInputDerivatives(fmi2Component comp, const fmi2ValueRefere
         }
     }
     for (size_t i = 0; i < nvr; i++) {
-        *(double *)((char *)&c->sim.d.din + vi_variable_table[vr[i]].offset) = value[i];
-        c->sim.d.inputs_changed = 1;
+        *(double *)((char *)MODEL->storage(c->model, VI_GROUP_INPUT_DERIVATIVES) + MODEL->variables[vr[i]].offset) =
+            value[i];
+        MODEL->changed(c->model);
     }
     return fmi2OK;
 }
@@ -585,7 +589,7 @@ fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real currentCommunicationPoint, fm
 {
     (void)noSetFMUStatePriorToCurrentPoint;
     ENTER("fmi2DoStep", ST_STEP_COMPLETE);
-    double tc = currentCommunicationPoint, h = communicationStepSize, t = c->sim.d.t;
+    double tc = currentCommunicationPoint, h = communicationStepSize, t = MODEL->time(c->model);
     double eps = 1e3 * DBL_EPSILON * fmax(1.0, fabs(t));
     if (!isfinite(tc) || !isfinite(h) || !(h > 0.0)) {
         LOG_ERROR(c, "fmi2DoStep: the communication step size must be finite and positive (got %g)", h);
@@ -599,10 +603,10 @@ fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real currentCommunicationPoint, fm
         LOG_ERROR(c, "fmi2DoStep: the step to %.17g passes the stop time %.17g", tc + h, c->stop_time);
         return fmi2Error;
     }
-    int rc = vi_sim_advance(&c->sim, tc + h);
+    int rc = MODEL->advance(c->model, tc + h);
     if (rc < 0) return fail(c, "fmi2DoStep");
     if (rc > 0) { /* stopped early at a consistent state: fmi2LastSuccessfulTime tells where */
-        logf_(c, fmi2Discard, CAT_logStatusDiscard, "fmi2DoStep: %s", c->sim.msg);
+        logf_(c, fmi2Discard, CAT_logStatusDiscard, "fmi2DoStep: %s", MODEL->message(c->model));
         c->state = ST_STEP_FAILED;
         return fmi2Discard;
     }
@@ -628,7 +632,7 @@ fmi2Status fmi2GetRealStatus(fmi2Component comp, const fmi2StatusKind s, fmi2Rea
 {
     ENTER("fmi2GetRealStatus", ST_RUNNING | ST_ERROR);
     if (s != fmi2LastSuccessfulTime || !value) return fmi2Discard;
-    *value = c->sim.d.t;
+    *value = MODEL->time(c->model);
     return fmi2OK;
 }
 
