@@ -27,7 +27,7 @@ function(vi_add_fmu name)
   add_library(${name}_model OBJECT ${ARG_SOURCES})
   target_include_directories(${name}_model PUBLIC ${VI_FMU_ROOT}/include ${ARG_INCLUDE_DIRS})
   target_compile_options(${name}_model PRIVATE ${VI_WARNINGS})
-  target_link_libraries(${name}_model PUBLIC ${ARG_LIBRARIES})
+  target_link_libraries(${name}_model PUBLIC ${ARG_LIBRARIES} m)
   set_target_properties(${name}_model PROPERTIES C_VISIBILITY_PRESET hidden POSITION_INDEPENDENT_CODE ON)
 
   add_library(${name} SHARED ${VI_FMU_ROOT}/src/vi_fmi2.c)

@@ -156,11 +156,45 @@ fmi2Status fmi2SetDebugLogging(fmi2Component comp, fmi2Boolean loggingOn, size_t
     return fmi2OK;
 }
 
+static int hex_digit(char ch)
+{
+    if (ch >= '0' && ch <= '9') return ch - '0';
+    if (ch >= 'a' && ch <= 'f') return ch - 'a' + 10;
+    if (ch >= 'A' && ch <= 'F') return ch - 'A' + 10;
+    return -1;
+}
+
+/* The local path of a file URI (file:///p, file:/p or file://localhost/p), percent-decoded, in a
+ * new block of the importer's memory; NULL when the URI is missing or names no local file. */
+static char *resource_path(const fmi2CallbackFunctions *cb, const char *uri)
+{
+    if (!uri || strncmp(uri, "file:", 5) != 0) return NULL;
+    const char *p = uri + 5;
+    if (strncmp(p, "///", 3) == 0) p += 2;
+    else if (strncmp(p, "//localhost/", 12) == 0) p += 11;
+    else if (strncmp(p, "//", 2) == 0) return NULL; /* another host */
+    if (*p != '/') return NULL;
+    char *path = cb->allocateMemory(strlen(p) + 1, 1);
+    if (!path) return NULL;
+    size_t j = 0;
+    for (size_t i = 0; p[i]; i++) {
+        int hi, lo;
+        if (p[i] == '%' && (hi = hex_digit(p[i + 1])) >= 0 && (lo = hex_digit(p[i + 2])) >= 0) {
+            path[j++] = (char)(hi * 16 + lo);
+            i += 2;
+        } else {
+            path[j++] = p[i];
+        }
+    }
+    path[j] = '\0';
+    return path;
+}
+
 fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2String fmuGUID,
                               fmi2String fmuResourceLocation, const fmi2CallbackFunctions *functions,
                               fmi2Boolean visible, fmi2Boolean loggingOn)
 {
-    (void)fmuResourceLocation, (void)visible;
+    (void)visible;
     if (!functions || !functions->logger) return NULL; /* nobody to tell */
     Component tmp = {.cb = *functions, .name = (char *)(instanceName ? instanceName : "?")};
     if (!functions->allocateMemory || !functions->freeMemory) {
@@ -202,6 +236,17 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     c->state = ST_INSTANTIATED;
     c->log_mask = loggingOn ? (1u << CAT_COUNT) - 1u : 0u;
     MODEL->init(c->model, model_log, c);
+    if (MODEL->set_resources) {
+        char *dir = resource_path(functions, fmuResourceLocation);
+        int rc = MODEL->set_resources(c->model, dir);
+        if (dir) functions->freeMemory(dir);
+        if (rc < 0) {
+            LOG_ERROR(c, "fmi2Instantiate: resources '%s': %s", fmuResourceLocation ? fmuResourceLocation : "(null)",
+                      MODEL->message(c->model));
+            fmi2FreeInstance(c);
+            return NULL;
+        }
+    }
     LOG_CALL(c, "fmi2Instantiate: %s", instanceName);
     return c;
 }
