@@ -301,3 +301,94 @@ def test_string_parameter_set_get_and_limits(logged, vr):
     assert error_logged(log, "profile_file", "fixed parameter")
     assert s.getString([p]) == [b""]
     s.freeInstance()
+
+
+# ---- FMU state in every FMI state (FMI 2.0: all but fatal; the instance takes the saved FMI state) ----
+
+def reference_run(logged, vr, params, start_time=0.0, n=30, h=1e-4):
+    s = logged().instantiate()
+    start(s, vr, params, start_time=start_time)
+    out = run_steps(s, vr, start_time, n, h)
+    s.freeInstance()
+    return out
+
+
+def test_fmu_state_taken_when_instantiated(logged, vr):
+    """fmusim's --initial-fmu-state-file and PyFMI take the state before initialization."""
+    params = dict(contact_model=1, a=1e-4)
+    ref = reference_run(logged, vr, params, start_time=0.5)
+    log = logged()
+    s = log.instantiate()
+    s.setupExperiment(startTime=0.5, stopTime=0.5 + 30e-4)
+    s.setInteger([vr["contact_model"]], [1])
+    s.setReal([vr["a"]], [1e-4])
+    blob = s.serializeFMUstate(s.getFMUstate())
+    other = logged().instantiate()
+    start(other, vr)  # running with the defaults ...
+    other.doStep(0.0, 1e-3)
+    other.setFMUstate(other.deSerializeFMUstate(blob))  # ... now instantiated with the saved settings
+    other.setReal([vr["m"]], [407.747])  # a fixed parameter may be set: Instantiated
+    other.enterInitializationMode()
+    other.exitInitializationMode()
+    assert np.array_equal(run_steps(other, vr, 0.5, 30, 1e-4), ref)
+    with pytest.raises(FMICallException):  # the saved stop time came along
+        other.doStep(0.5 + 30e-4, 1e-4)
+    other.freeInstance()
+    s.freeInstance()
+
+
+def test_fmu_state_taken_in_initialization_mode(logged, vr):
+    params = dict(contact_model=1, a=1e-4, P=50000.0)
+    ref = reference_run(logged, vr, params)
+    log = logged()
+    s = log.instantiate()
+    s.setupExperiment(startTime=0.0)
+    s.enterInitializationMode()
+    s.setInteger([vr["contact_model"]], [1])
+    s.setReal([vr["a"], vr["P"]], [1e-4, 50000.0])
+    state = s.getFMUstate()
+    s.exitInitializationMode()
+    s.doStep(0.0, 1e-3)
+    s.setFMUstate(state)  # back in initialization mode
+    with pytest.raises(FMICallException):
+        s.doStep(1e-3, 1e-4)
+    assert error_logged(log, "fmi2DoStep", "initialization mode")
+    e = effective({"P": 50000.0})
+    assert s.getReal([vr["F_Y"]])[0] == pytest.approx(e["F_Y"], rel=1e-12)
+    s.exitInitializationMode()
+    assert np.array_equal(run_steps(s, vr, 0.0, 30, 1e-4), ref)
+    s.freeInstance()
+
+
+def test_running_state_restored_into_an_instantiated_instance(logged, vr):
+    params = dict(contact_model=1, a=1e-4)
+    s = logged().instantiate()
+    start(s, vr, params)
+    run_steps(s, vr, 0.0, 10, 1e-4)
+    state = s.getFMUstate()
+    blob = s.serializeFMUstate(state)
+    run_steps(s, vr, 1e-3, 20, 1e-4)
+    s.setFMUstate(state)  # a restore in the running instance ...
+    again = run_steps(s, vr, 1e-3, 20, 1e-4)
+    fresh = logged().instantiate()  # ... and into one never initialized continue alike
+    fresh.setFMUstate(fresh.deSerializeFMUstate(blob))  # step complete at t = 1 ms
+    assert np.array_equal(run_steps(fresh, vr, 1e-3, 20, 1e-4), again)
+    for x in (s, fresh):
+        x.freeInstance()
+
+
+def test_terminated_state_restores_terminated(logged, vr):
+    log = logged()
+    s = log.instantiate()
+    start(s, vr)
+    s.doStep(0.0, 1e-4)
+    s.terminate()
+    done = s.getFMUstate()
+    s.reset()
+    start(s, vr)
+    s.setFMUstate(done)
+    with pytest.raises(FMICallException):
+        s.doStep(1e-4, 1e-4)
+    assert error_logged(log, "fmi2DoStep", "terminated")
+    assert s.getReal([vr["y"]])  # values stay readable
+    s.freeInstance()

@@ -194,3 +194,18 @@ def test_resources_folder_reaches_the_model_decoded(layer, lvr, tmp_path):
     _, t = layer(unzipdir=str(odd))
     start(t, lvr)
     assert t.getReal([lvr["resource_value"]]) == [0.125]
+
+
+def test_state_taken_after_a_discard_restores_step_failed(layer, lvr):
+    log, s = layer()
+    start(s, lvr, discard_at=0.25)
+    with pytest.raises(FMICallException):
+        s.doStep(0.0, 0.5)
+    failed = s.getFMUstate()
+    s.reset()
+    start(s, lvr)
+    s.setFMUstate(failed)
+    assert s.getRealStatus(fmi2LastSuccessfulTime) == 0.25
+    with pytest.raises(FMICallException):
+        s.doStep(0.25, 0.25)
+    assert logged_with(log, ERROR, "logStatusError", "fmi2DoStep", "step failed")

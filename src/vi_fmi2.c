@@ -6,6 +6,7 @@
  */
 #include <float.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -477,53 +478,85 @@ fmi2Status fmi2SetString(fmi2Component comp, const fmi2ValueReference vr[], size
 
 /* ---- FMU state ---------------------------------------------------------------------------- */
 
-#define VI_STATE_MAGIC 0x56494d55u /* "VIMU" */
-#define VI_STATE_VERSION 1u
+/* An FMU state: this header, then MODEL->state_size bytes of the model's plain data. It is taken
+ * and restored in every FMI state but fatal; restoring puts the instance into the FMI state the
+ * state was taken in. Serialized, it is the same bytes (for the same build of the FMU). */
+#define VI_STATE_MAGIC 0x554d4956u /* "VIMU" */
+#define VI_STATE_VERSION 2u
 
-/* Header, then MODEL->state_size bytes of the model's plain data. */
 typedef struct {
-    unsigned magic, version, size, fmu_state;
+    uint32_t magic, version;
+    uint64_t size;              /* bytes in all, this header included */
+    uint64_t model;             /* FNV-1a 64 of the model's GUID: a state of another model is refused */
+    uint32_t fmu_state;         /* the FMI state it was taken in (one ST_* bit) */
+    uint32_t stop_time_defined; /* fmi2SetupExperiment's stop time */
+    double stop_time;
 } vi_saved_state;
 
 static size_t saved_size(void) { return sizeof(vi_saved_state) + MODEL->state_size; }
 static void *payload(const vi_saved_state *s) { return (char *)s + sizeof *s; }
 
+/* FNV-1a, 64 bits, over n bytes, continuing from h (start with VI_FNV_OFFSET). */
+#define VI_FNV_OFFSET 0xcbf29ce484222325u
+static uint64_t fnv1a(uint64_t h, const void *data, size_t n)
+{
+    const unsigned char *p = data;
+    for (size_t i = 0; i < n; i++) h = (h ^ p[i]) * 0x100000001b3u;
+    return h;
+}
+
+static uint64_t model_id(void) { return fnv1a(VI_FNV_OFFSET, MODEL->guid, strlen(MODEL->guid)); }
+
+/* Is s a state of this FMU that may be used? Logs the first reason why not. */
+static int check_saved(Component *c, const char *fn, const vi_saved_state *s)
+{
+    const char *why = NULL;
+    if (!s) why = "the state is NULL";
+    else if (s->magic != VI_STATE_MAGIC) why = "not an FMU state of this layer (wrong magic number)";
+    else if (s->version != VI_STATE_VERSION) why = "an FMU state of another version of the layer";
+    else if (s->model != model_id()) why = "an FMU state of another model (GUID)";
+    else if (s->size != saved_size()) why = "an FMU state of another build of this model (size)";
+    else if (!(s->fmu_state & ST_ANY_BUT_FATAL) || (s->fmu_state & (s->fmu_state - 1u)))
+        why = "field fmu_state: not an FMI state";
+    else if (s->stop_time_defined > 1u || (s->stop_time_defined && !isfinite(s->stop_time)))
+        why = "field stop_time: not finite";
+    if (why) LOG_ERROR(c, "%s: %s", fn, why);
+    return why == NULL;
+}
+
 fmi2Status fmi2GetFMUstate(fmi2Component comp, fmi2FMUstate *FMUstate)
 {
-    ENTER("fmi2GetFMUstate", ST_RUNNING);
+    ENTER("fmi2GetFMUstate", ST_ANY_BUT_FATAL);
     if (!FMUstate) {
         LOG_ERROR(c, "fmi2GetFMUstate: FMUstate is NULL");
         return fmi2Error;
     }
+    if ((c->state & ST_RUNNING) && MODEL->checkpoint && MODEL->checkpoint(c->model) < 0)
+        return fail(c, "fmi2GetFMUstate");
     vi_saved_state *s = *FMUstate ? *FMUstate : c->cb.allocateMemory(1, saved_size());
     if (!s) {
         LOG_ERROR(c, "fmi2GetFMUstate: out of memory");
         return fmi2Error;
     }
-    *s = (vi_saved_state){VI_STATE_MAGIC, VI_STATE_VERSION, (unsigned)saved_size(), (unsigned)c->state};
+    *s = (vi_saved_state){.magic = VI_STATE_MAGIC, .version = VI_STATE_VERSION, .size = saved_size(),
+                          .model = model_id(), .fmu_state = (uint32_t)c->state,
+                          .stop_time_defined = (uint32_t)c->stop_time_defined, .stop_time = c->stop_time};
     memcpy(payload(s), MODEL->state(c->model), MODEL->state_size);
     *FMUstate = s;
     return fmi2OK;
 }
 
-static int valid_state(const vi_saved_state *s)
-{
-    return s && s->magic == VI_STATE_MAGIC && s->version == VI_STATE_VERSION && s->size == saved_size() &&
-           (s->fmu_state & ST_RUNNING);
-}
-
 fmi2Status fmi2SetFMUstate(fmi2Component comp, fmi2FMUstate FMUstate)
 {
-    ENTER("fmi2SetFMUstate", ST_RUNNING | ST_ERROR);
+    ENTER("fmi2SetFMUstate", ST_ANY_BUT_FATAL);
     const vi_saved_state *s = FMUstate;
-    if (!valid_state(s)) {
-        LOG_ERROR(c, "fmi2SetFMUstate: not a state of this FMU");
-        return fmi2Error;
-    }
+    if (!check_saved(c, "fmi2SetFMUstate", s)) return fmi2Error;
     memcpy(MODEL->state(c->model), payload(s), MODEL->state_size);
-    if (MODEL->restore && MODEL->restore(c->model, (s->fmu_state & ST_RUNNING) != 0) < 0)
-        return fail(c, "fmi2SetFMUstate");
+    c->stop_time_defined = (int)s->stop_time_defined;
+    c->stop_time = s->stop_time;
     c->state = (vi_fmu_state)s->fmu_state;
+    if (MODEL->restore && MODEL->restore(c->model, (s->fmu_state & (ST_RUNNING | ST_ERROR)) != 0) < 0)
+        return fail(c, "fmi2SetFMUstate");
     return fmi2OK;
 }
 
@@ -540,10 +573,11 @@ fmi2Status fmi2FreeFMUstate(fmi2Component comp, fmi2FMUstate *FMUstate)
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component comp, fmi2FMUstate FMUstate, size_t *size)
 {
     ENTER("fmi2SerializedFMUstateSize", ST_ANY_BUT_FATAL);
-    if (!size || !valid_state(FMUstate)) {
-        LOG_ERROR(c, "fmi2SerializedFMUstateSize: invalid arguments");
+    if (!size) {
+        LOG_ERROR(c, "fmi2SerializedFMUstateSize: size is NULL");
         return fmi2Error;
     }
+    if (!check_saved(c, "fmi2SerializedFMUstateSize", FMUstate)) return fmi2Error;
     *size = saved_size();
     return fmi2OK;
 }
@@ -551,10 +585,11 @@ fmi2Status fmi2SerializedFMUstateSize(fmi2Component comp, fmi2FMUstate FMUstate,
 fmi2Status fmi2SerializeFMUstate(fmi2Component comp, fmi2FMUstate FMUstate, fmi2Byte serializedState[], size_t size)
 {
     ENTER("fmi2SerializeFMUstate", ST_ANY_BUT_FATAL);
-    if (!serializedState || size < saved_size() || !valid_state(FMUstate)) {
-        LOG_ERROR(c, "fmi2SerializeFMUstate: invalid arguments (need %zu bytes)", saved_size());
+    if (!serializedState || size < saved_size()) {
+        LOG_ERROR(c, "fmi2SerializeFMUstate: need a buffer of %zu bytes (got %zu)", saved_size(), size);
         return fmi2Error;
     }
+    if (!check_saved(c, "fmi2SerializeFMUstate", FMUstate)) return fmi2Error;
     memcpy(serializedState, FMUstate, saved_size());
     return fmi2OK;
 }
@@ -564,13 +599,19 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component comp, const fmi2Byte serialized
 {
     ENTER("fmi2DeSerializeFMUstate", ST_ANY_BUT_FATAL);
     vi_saved_state head;
-    if (!serializedState || !FMUstate || size != saved_size()) {
-        LOG_ERROR(c, "fmi2DeSerializeFMUstate: invalid arguments (expected %zu bytes, got %zu)", saved_size(), size);
+    if (!serializedState || !FMUstate) {
+        LOG_ERROR(c, "fmi2DeSerializeFMUstate: NULL argument");
+        return fmi2Error;
+    }
+    if (size < sizeof head) {
+        LOG_ERROR(c, "fmi2DeSerializeFMUstate: %zu bytes are not a serialized state of this FMU (%zu bytes)", size,
+                  saved_size());
         return fmi2Error;
     }
     memcpy(&head, serializedState, sizeof head);
-    if (!valid_state(&head)) {
-        LOG_ERROR(c, "fmi2DeSerializeFMUstate: the bytes are not a serialized state of this FMU version");
+    if (!check_saved(c, "fmi2DeSerializeFMUstate", &head)) return fmi2Error;
+    if (size != saved_size()) {
+        LOG_ERROR(c, "fmi2DeSerializeFMUstate: %zu bytes given, a state has %zu", size, saved_size());
         return fmi2Error;
     }
     vi_saved_state *s = *FMUstate ? *FMUstate : c->cb.allocateMemory(1, saved_size());
