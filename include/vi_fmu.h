@@ -21,7 +21,8 @@
  * The model's instance is one block of instance_size bytes, allocated zeroed by the layer with
  * the importer's allocateMemory and passed to every hook as `m`. Everything that an FMU state
  * must hold lies in one plain-data block of state_size bytes inside it (the `state` hook): the
- * parameter, input and input-derivative structs, time, continuous and discrete state. Pointers
+ * parameter, input and input-derivative structs (where: the *_offset fields), time, continuous
+ * and discrete state. Pointers
  * in it are never trusted after a restore. Rules for hooks: no allocation in `advance` (allocate
  * in `init` or `initialize`, release in `release`); report a failure by returning a negative
  * value with a one-line reason in the buffer `message` returns; never call exit or abort.
@@ -57,6 +58,9 @@ typedef struct {
     size_t instance_size;                     /* bytes of the model's instance */
     size_t state_size;                        /* bytes of the plain-data block of the `state` hook */
     size_t outputs_size;                      /* sizeof(vi_outputs) */
+    /* Where the values live inside the plain-data block: offsets of its vi_parameters struct, its
+     * vi_inputs struct, and the vi_inputs struct of the input derivatives (offsetof). */
+    size_t parameters_offset, inputs_offset, input_derivatives_offset;
 
     /* ---- life cycle ---- */
     /* Zeroed memory -> defaults (start values of the table); keep log and env for messages. */
@@ -71,8 +75,6 @@ typedef struct {
     int (*set_resources)(void *m, const char *dir);
 
     /* ---- values ---- */
-    /* The struct of a group (vi_parameters, vi_inputs, or vi_inputs for the input derivatives). */
-    void *(*storage)(void *m, vi_group group);
     /* An input, or a tunable parameter between steps, was set: apply at the next step. */
     void (*changed)(void *m);
     /* Outputs and calculated parameters at the current time into *out (a vi_outputs). In
@@ -106,8 +108,11 @@ typedef struct {
      * FMI state was after initialization (step complete, step failed, terminated, error). 0 or -1. */
     int (*restore)(void *m, int running);
     /* Optional: check a saved block before it is used: every field finite and in range, modes
-     * consistent. 0, or -1 naming the first bad field in msg. */
-    int (*state_check)(const void *state, char *msg, size_t n);
+     * consistent; `running` as for `restore` (before initialization only the settings matter).
+     * 0, or -1 naming the first bad field in msg. The layer itself has already checked the
+     * header, the checksum and the table's values (Reals finite, Booleans 0 or 1, Strings
+     * terminated, enumerations items of their type once running). */
+    int (*state_check)(const void *state, int running, char *msg, size_t n);
 
     /* The reason of the last failure (a NUL-terminated string inside the instance). */
     const char *(*message)(const void *m);

@@ -316,10 +316,27 @@ fmi2Status fmi2Reset(fmi2Component comp)
 /* ---- variables ---------------------------------------------------------------------------- */
 
 /* Where the value of v lives; NULL for outputs (computed on demand). */
+/* The struct of a group inside a plain-data block of the model (NULL for outputs). */
+static void *group_in(const void *block, vi_group group)
+{
+    switch (group) {
+    case VI_GROUP_PARAMETERS: return (char *)block + MODEL->parameters_offset;
+    case VI_GROUP_INPUTS: return (char *)block + MODEL->inputs_offset;
+    case VI_GROUP_INPUT_DERIVATIVES: return (char *)block + MODEL->input_derivatives_offset;
+    default: return NULL;
+    }
+}
+
 static void *storage(Component *c, const vi_variable *v)
 {
     if (v->group == VI_GROUP_OUTPUTS) return NULL;
-    return (char *)MODEL->storage(c->model, v->group) + v->offset;
+    return (char *)group_in(MODEL->state(c->model), v->group) + v->offset;
+}
+
+/* The derivative of the Real input v. */
+static double *derivative(Component *c, const vi_variable *v)
+{
+    return (double *)((char *)group_in(MODEL->state(c->model), VI_GROUP_INPUT_DERIVATIVES) + v->offset);
 }
 
 /* The variable behind vr if it is accessed through the API type `api` (Real, Integer or Boolean;
@@ -400,11 +417,11 @@ static int settable(Component *c, const char *fn, const vi_variable *v)
 static void changed(Component *c, const vi_variable *v)
 {
     if (v->group == VI_GROUP_INPUTS && v->type == VI_Real)
-        *(double *)((char *)MODEL->storage(c->model, VI_GROUP_INPUT_DERIVATIVES) + v->offset) = 0.0;
+        *derivative(c, v) = 0.0;
     if (v->group == VI_GROUP_INPUTS || c->state == ST_STEP_COMPLETE) MODEL->changed(c->model);
 }
 
-#define DEFINE_SET(Api, ctype, api_type, check)                                                                \
+#define DEFINE_SET(Api, ctype, api_type, check, stored)                                                        \
     fmi2Status fmi2Set##Api(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr, const ctype value[]) \
     {                                                                                                          \
         ENTER("fmi2Set" #Api, ST_WRITABLE);                                                                    \
@@ -422,14 +439,14 @@ static void changed(Component *c, const vi_variable *v)
         }                                                                                                      \
         for (size_t i = 0; i < nvr; i++) {                                                                     \
             const vi_variable *v = &MODEL->variables[vr[i]];                                                   \
-            *(VI_CTYPE_##Api *)storage(c, v) = (VI_CTYPE_##Api)value[i];                                       \
+            *(VI_CTYPE_##Api *)storage(c, v) = (VI_CTYPE_##Api)(stored);                                       \
             changed(c, v);                                                                                     \
         }                                                                                                      \
         return fmi2OK;                                                                                         \
     }
-DEFINE_SET(Real, fmi2Real, VI_Real, isfinite(value[i]))
-DEFINE_SET(Integer, fmi2Integer, VI_Integer, 1)
-DEFINE_SET(Boolean, fmi2Boolean, VI_Boolean, 1)
+DEFINE_SET(Real, fmi2Real, VI_Real, isfinite(value[i]), value[i])
+DEFINE_SET(Integer, fmi2Integer, VI_Integer, 1, value[i])
+DEFINE_SET(Boolean, fmi2Boolean, VI_Boolean, 1, value[i] != fmi2False) /* stored as 0 or 1 */
 
 fmi2Status fmi2GetString(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr, fmi2String value[])
 {
@@ -480,9 +497,11 @@ fmi2Status fmi2SetString(fmi2Component comp, const fmi2ValueReference vr[], size
 
 /* An FMU state: this header, then MODEL->state_size bytes of the model's plain data. It is taken
  * and restored in every FMI state but fatal; restoring puts the instance into the FMI state the
- * state was taken in. Serialized, it is the same bytes (for the same build of the FMU). */
+ * state was taken in. Serialized, it is the same bytes (for the same build of the FMU). Before a
+ * state is used (set, serialized, deserialized) every part is checked: header, checksum, the
+ * table's values, and the model's own fields (state_check hook); the first bad part is named. */
 #define VI_STATE_MAGIC 0x554d4956u /* "VIMU" */
-#define VI_STATE_VERSION 2u
+#define VI_STATE_VERSION 3u
 
 typedef struct {
     uint32_t magic, version;
@@ -491,37 +510,98 @@ typedef struct {
     uint32_t fmu_state;         /* the FMI state it was taken in (one ST_* bit) */
     uint32_t stop_time_defined; /* fmi2SetupExperiment's stop time */
     double stop_time;
+    uint64_t checksum;          /* FNV-1a 64 of all bytes, this field taken as 0 */
 } vi_saved_state;
 
 static size_t saved_size(void) { return sizeof(vi_saved_state) + MODEL->state_size; }
 static void *payload(const vi_saved_state *s) { return (char *)s + sizeof *s; }
 
-/* FNV-1a, 64 bits, over n bytes, continuing from h (start with VI_FNV_OFFSET). */
+/* FNV-1a, 64 bits (Fowler, Noll, Vo), over n bytes, continuing from h (start with VI_FNV_OFFSET).
+ * Every step is a bijection of h, so any change of a single byte changes the result. */
 #define VI_FNV_OFFSET 0xcbf29ce484222325u
+#define VI_FNV_PRIME 0x100000001b3u
 static uint64_t fnv1a(uint64_t h, const void *data, size_t n)
 {
     const unsigned char *p = data;
-    for (size_t i = 0; i < n; i++) h = (h ^ p[i]) * 0x100000001b3u;
+    for (size_t i = 0; i < n; i++) h = (h ^ p[i]) * VI_FNV_PRIME;
     return h;
 }
 
 static uint64_t model_id(void) { return fnv1a(VI_FNV_OFFSET, MODEL->guid, strlen(MODEL->guid)); }
 
-/* Is s a state of this FMU that may be used? Logs the first reason why not. */
-static int check_saved(Component *c, const char *fn, const vi_saved_state *s)
+static uint64_t checksum(const vi_saved_state *s)
 {
-    const char *why = NULL;
-    if (!s) why = "the state is NULL";
-    else if (s->magic != VI_STATE_MAGIC) why = "not an FMU state of this layer (wrong magic number)";
-    else if (s->version != VI_STATE_VERSION) why = "an FMU state of another version of the layer";
-    else if (s->model != model_id()) why = "an FMU state of another model (GUID)";
-    else if (s->size != saved_size()) why = "an FMU state of another build of this model (size)";
+    vi_saved_state head = *s;
+    head.checksum = 0;
+    return fnv1a(fnv1a(VI_FNV_OFFSET, &head, sizeof head), payload(s), MODEL->state_size);
+}
+
+/* Is enumeration value k an item of type? */
+static int enum_item(const char *type, int k)
+{
+    for (int i = 0; i < MODEL->n_enum_items; i++)
+        if (MODEL->enum_items[i].value == k && strcmp(MODEL->enum_items[i].type, type) == 0) return 1;
+    return 0;
+}
+
+/* The table's values in a saved block: what the setters guarantee (finite Reals, Booleans 0 or 1,
+ * terminated Strings) and, once running, enumeration items. 0, or -1 with the first bad one. */
+static int check_values(const void *block, int running, char *msg, size_t n)
+{
+    for (int vr = 0; vr < MODEL->nvariables; vr++) {
+        const vi_variable *v = &MODEL->variables[vr];
+        if (v->group == VI_GROUP_OUTPUTS) continue;
+        const char *p = (const char *)group_in(block, v->group) + v->offset;
+        double x, dx;
+        int k;
+        switch (v->type) {
+        case VI_Real:
+            memcpy(&x, p, sizeof x);
+            if (!isfinite(x)) return snprintf(msg, n, "%s = %g is not finite", v->name, x), -1;
+            if (v->group != VI_GROUP_INPUTS) break;
+            memcpy(&dx, (const char *)group_in(block, VI_GROUP_INPUT_DERIVATIVES) + v->offset, sizeof dx);
+            if (!isfinite(dx)) return snprintf(msg, n, "the derivative of %s = %g is not finite", v->name, dx), -1;
+            break;
+        case VI_String:
+            if (!memchr(p, '\0', VI_STRING_SIZE)) return snprintf(msg, n, "%s is not a terminated string", v->name), -1;
+            break;
+        default:
+            memcpy(&k, p, sizeof k);
+            if (v->type == VI_Boolean && k != 0 && k != 1)
+                return snprintf(msg, n, "%s = %d is not a Boolean", v->name, k), -1;
+            if (running && strcmp(v->enumeration, "none") != 0 && !enum_item(v->enumeration, k))
+                return snprintf(msg, n, "%s = %d is not an item of %s", v->name, k, v->enumeration), -1;
+        }
+    }
+    return 0;
+}
+
+/* Was the saved FMI state after initialization? */
+static int saved_running(const vi_saved_state *s) { return (s->fmu_state & (ST_RUNNING | ST_ERROR)) != 0; }
+
+/* Is s (aligned, at least a header) a state of this FMU that may be used? Logs the first reason
+ * why not. `size`: the bytes the caller has. */
+static int check_saved(Component *c, const char *fn, const vi_saved_state *s, size_t size)
+{
+    char why[320] = "";
+    if (!s) snprintf(why, sizeof why, "the state is NULL");
+    else if (s->magic != VI_STATE_MAGIC) snprintf(why, sizeof why, "not an FMU state of this layer (magic number)");
+    else if (s->version != VI_STATE_VERSION) snprintf(why, sizeof why, "an FMU state of another layer version");
+    else if (s->model != model_id()) snprintf(why, sizeof why, "an FMU state of another model (GUID)");
+    else if (s->size != saved_size() || size != saved_size())
+        snprintf(why, sizeof why, "size %zu bytes: a state of this build of %s has %zu", size, MODEL->model_identifier,
+                 saved_size());
+    else if (s->checksum != checksum(s)) snprintf(why, sizeof why, "checksum mismatch: the state was altered");
     else if (!(s->fmu_state & ST_ANY_BUT_FATAL) || (s->fmu_state & (s->fmu_state - 1u)))
-        why = "field fmu_state: not an FMI state";
+        snprintf(why, sizeof why, "field fmu_state = %u is not an FMI state", (unsigned)s->fmu_state);
     else if (s->stop_time_defined > 1u || (s->stop_time_defined && !isfinite(s->stop_time)))
-        why = "field stop_time: not finite";
-    if (why) LOG_ERROR(c, "%s: %s", fn, why);
-    return why == NULL;
+        snprintf(why, sizeof why, "field stop_time is not finite");
+    else if (check_values(payload(s), saved_running(s), why, sizeof why) < 0 ||
+             (MODEL->state_check && MODEL->state_check(payload(s), saved_running(s), why, sizeof why) < 0)) {
+        if (!why[0]) snprintf(why, sizeof why, "invalid field");
+    }
+    if (why[0]) LOG_ERROR(c, "%s: invalid FMU state: %s", fn, why);
+    return why[0] == '\0';
 }
 
 fmi2Status fmi2GetFMUstate(fmi2Component comp, fmi2FMUstate *FMUstate)
@@ -542,6 +622,7 @@ fmi2Status fmi2GetFMUstate(fmi2Component comp, fmi2FMUstate *FMUstate)
                           .model = model_id(), .fmu_state = (uint32_t)c->state,
                           .stop_time_defined = (uint32_t)c->stop_time_defined, .stop_time = c->stop_time};
     memcpy(payload(s), MODEL->state(c->model), MODEL->state_size);
+    s->checksum = checksum(s);
     *FMUstate = s;
     return fmi2OK;
 }
@@ -550,7 +631,7 @@ fmi2Status fmi2SetFMUstate(fmi2Component comp, fmi2FMUstate FMUstate)
 {
     ENTER("fmi2SetFMUstate", ST_ANY_BUT_FATAL);
     const vi_saved_state *s = FMUstate;
-    if (!check_saved(c, "fmi2SetFMUstate", s)) return fmi2Error;
+    if (!check_saved(c, "fmi2SetFMUstate", s, s ? s->size : 0)) return fmi2Error;
     memcpy(MODEL->state(c->model), payload(s), MODEL->state_size);
     c->stop_time_defined = (int)s->stop_time_defined;
     c->stop_time = s->stop_time;
@@ -577,7 +658,8 @@ fmi2Status fmi2SerializedFMUstateSize(fmi2Component comp, fmi2FMUstate FMUstate,
         LOG_ERROR(c, "fmi2SerializedFMUstateSize: size is NULL");
         return fmi2Error;
     }
-    if (!check_saved(c, "fmi2SerializedFMUstateSize", FMUstate)) return fmi2Error;
+    const vi_saved_state *s = FMUstate;
+    if (!check_saved(c, "fmi2SerializedFMUstateSize", s, s ? s->size : 0)) return fmi2Error;
     *size = saved_size();
     return fmi2OK;
 }
@@ -589,7 +671,8 @@ fmi2Status fmi2SerializeFMUstate(fmi2Component comp, fmi2FMUstate FMUstate, fmi2
         LOG_ERROR(c, "fmi2SerializeFMUstate: need a buffer of %zu bytes (got %zu)", saved_size(), size);
         return fmi2Error;
     }
-    if (!check_saved(c, "fmi2SerializeFMUstate", FMUstate)) return fmi2Error;
+    const vi_saved_state *s = FMUstate;
+    if (!check_saved(c, "fmi2SerializeFMUstate", s, s ? s->size : 0)) return fmi2Error;
     memcpy(serializedState, FMUstate, saved_size());
     return fmi2OK;
 }
@@ -598,29 +681,31 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component comp, const fmi2Byte serialized
                                    fmi2FMUstate *FMUstate)
 {
     ENTER("fmi2DeSerializeFMUstate", ST_ANY_BUT_FATAL);
-    vi_saved_state head;
     if (!serializedState || !FMUstate) {
         LOG_ERROR(c, "fmi2DeSerializeFMUstate: NULL argument");
         return fmi2Error;
     }
-    if (size < sizeof head) {
-        LOG_ERROR(c, "fmi2DeSerializeFMUstate: %zu bytes are not a serialized state of this FMU (%zu bytes)", size,
-                  saved_size());
+    if (size < sizeof(vi_saved_state) || size > saved_size()) {
+        LOG_ERROR(c, "fmi2DeSerializeFMUstate: invalid FMU state: size %zu bytes: a state of this build of %s has %zu",
+                  size, MODEL->model_identifier, saved_size());
         return fmi2Error;
     }
-    memcpy(&head, serializedState, sizeof head);
-    if (!check_saved(c, "fmi2DeSerializeFMUstate", &head)) return fmi2Error;
-    if (size != saved_size()) {
-        LOG_ERROR(c, "fmi2DeSerializeFMUstate: %zu bytes given, a state has %zu", size, saved_size());
-        return fmi2Error;
-    }
-    vi_saved_state *s = *FMUstate ? *FMUstate : c->cb.allocateMemory(1, saved_size());
+    vi_saved_state *s = c->cb.allocateMemory(1, saved_size()); /* aligned, checked before it replaces anything */
     if (!s) {
         LOG_ERROR(c, "fmi2DeSerializeFMUstate: out of memory");
         return fmi2Error;
     }
-    memcpy(s, serializedState, saved_size());
-    *FMUstate = s;
+    memcpy(s, serializedState, size);
+    if (!check_saved(c, "fmi2DeSerializeFMUstate", s, size)) {
+        c->cb.freeMemory(s);
+        return fmi2Error;
+    }
+    if (*FMUstate) {
+        memcpy(*FMUstate, s, saved_size());
+        c->cb.freeMemory(s);
+    } else {
+        *FMUstate = s;
+    }
     return fmi2OK;
 }
 
@@ -654,8 +739,7 @@ fmi2Status fmi2SetRealInputDerivatives(fmi2Component comp, const fmi2ValueRefere
         }
     }
     for (size_t i = 0; i < nvr; i++) {
-        *(double *)((char *)MODEL->storage(c->model, VI_GROUP_INPUT_DERIVATIVES) + MODEL->variables[vr[i]].offset) =
-            value[i];
+        *derivative(c, &MODEL->variables[vr[i]]) = value[i];
         MODEL->changed(c->model);
     }
     return fmi2OK;

@@ -2,6 +2,8 @@
  * vi_fmu_contact.c - the contact model (vi_sim) as a model of the generic FMI 2.0 layer (vi_fmu.h).
  * Everything FMI-specific lives in src/vi_fmi2.c; this file only maps the layer's hooks onto vi_sim.
  */
+#include <stddef.h>
+
 #include "vi_fmu.h"
 #include "vi_sim.h"
 
@@ -12,17 +14,6 @@ _Static_assert((int)VI_FMU_LOG_EVENTS == (int)VI_LOG_EVENTS && (int)VI_FMU_LOG_S
 static void init(void *m, vi_fmu_log_fn log, void *env) { vi_sim_init(m, log, env); }
 static void reset(void *m) { vi_sim_reset(m); }
 static void release(void *m) { vi_sim_free(m); }
-
-static void *storage(void *m, vi_group group)
-{
-    vi_sim_data *d = &((vi_sim *)m)->d;
-    switch (group) {
-    case VI_GROUP_PARAMETERS: return &d->par;
-    case VI_GROUP_INPUTS: return &d->in;
-    case VI_GROUP_INPUT_DERIVATIVES: return &d->din;
-    default: return NULL;
-    }
-}
 
 static void changed(void *m) { ((vi_sim *)m)->d.inputs_changed = 1; }
 static void outputs(void *m, void *out) { vi_sim_outputs(m, out); }
@@ -77,11 +68,13 @@ const vi_fmu_model vi_fmu_this_model = {
     .instance_size = sizeof(vi_sim),
     .state_size = sizeof(vi_sim_data),
     .outputs_size = sizeof(vi_outputs),
+    .parameters_offset = offsetof(vi_sim_data, par),
+    .inputs_offset = offsetof(vi_sim_data, in),
+    .input_derivatives_offset = offsetof(vi_sim_data, din),
     .init = init,
     .reset = reset,
     .release = release,
     .set_resources = NULL,
-    .storage = storage,
     .changed = changed,
     .outputs = outputs,
     .setup_experiment = setup_experiment,

@@ -58,17 +58,6 @@ static int set_resources(void *m, const char *dir)
     return 0;
 }
 
-static void *storage(void *m, vi_group group)
-{
-    layer_data *d = &((layer *)m)->d;
-    switch (group) {
-    case VI_GROUP_PARAMETERS: return &d->par;
-    case VI_GROUP_INPUTS: return &d->in;
-    case VI_GROUP_INPUT_DERIVATIVES: return &d->din;
-    default: return NULL;
-    }
-}
-
 static void changed(void *m) { ((layer *)m)->d.inputs_changed = 1; }
 
 static void outputs(void *m, void *out)
@@ -143,6 +132,22 @@ static int advance(void *m, double t_end)
     return VI_FMU_OK;
 }
 
+#define BAD(...) return snprintf(msg, n, __VA_ARGS__), -1
+static int state_check(const void *state, int running, char *msg, size_t n)
+{
+    const layer_data *d = state;
+    if (!isfinite(d->t_start)) BAD("t_start = %g is not finite", d->t_start);
+    if (d->inputs_changed != 0 && d->inputs_changed != 1) BAD("inputs_changed = %d is not 0 or 1", d->inputs_changed);
+    if (!running) return 0; /* the rest is computed at initialization */
+    if (!(isfinite(d->t) && d->t >= d->t_start)) BAD("t = %g is not finite or before t_start", d->t);
+    if (!isfinite(d->x)) BAD("x = %g is not finite", d->x);
+    if (!(d->k > 0.0 && isfinite(d->k))) BAD("k = %g is not finite and positive", d->k);
+    if (!isfinite(d->u) || !isfinite(d->du) || !isfinite(d->t_u)) BAD("the input ramp is not finite");
+    if (d->steps < 0) BAD("steps = %ld is negative", d->steps);
+    return 0;
+}
+#undef BAD
+
 static double time_of(const void *m) { return ((const layer *)m)->d.t; }
 static void *state(void *m) { return &((layer *)m)->d; }
 static const char *message(const void *m) { return ((const layer *)m)->msg; }
@@ -157,11 +162,13 @@ const vi_fmu_model vi_fmu_this_model = {
     .instance_size = sizeof(layer),
     .state_size = sizeof(layer_data),
     .outputs_size = sizeof(vi_outputs),
+    .parameters_offset = offsetof(layer_data, par),
+    .inputs_offset = offsetof(layer_data, in),
+    .input_derivatives_offset = offsetof(layer_data, din),
     .init = init,
     .reset = reset,
     .release = release,
     .set_resources = set_resources,
-    .storage = storage,
     .changed = changed,
     .outputs = outputs,
     .setup_experiment = setup_experiment,
@@ -170,5 +177,6 @@ const vi_fmu_model vi_fmu_this_model = {
     .advance = advance,
     .time = time_of,
     .state = state,
+    .state_check = state_check,
     .message = message,
 };
