@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from fmpy import simulate_fmu
 from fmpy.fmi1 import FMICallException
-from fmpy.fmi2 import fmi2CoSimulation, fmi2ModelExchange
+from fmpy.fmi2 import fmi2CoSimulation, fmi2LastSuccessfulTime, fmi2ModelExchange
 
 from conftest import effective, start
 
@@ -391,4 +391,33 @@ def test_terminated_state_restores_terminated(logged, vr):
         s.doStep(1e-4, 1e-4)
     assert error_logged(log, "fmi2DoStep", "terminated")
     assert s.getReal([vr["y"]])  # values stay readable
+    s.freeInstance()
+
+
+# ---- steps that cannot advance time (issue 9 item 8) ----
+
+@pytest.mark.parametrize("t0, h", [(0.0, 5e-324), (0.0, 1e-300), (1.0, 1e-16), (1e17, 1e-5), (1e17, 100.0)])
+def test_step_too_short_to_advance_time_is_refused_and_nothing_happens(logged, vr, t0, h):
+    log = logged()
+    s = log.instantiate()
+    start(s, vr, dict(contact_model=1, a=1e-4), start_time=t0)
+    before = s.getReal([vr["y"], vr["v"], vr["F"]])
+    with pytest.raises(FMICallException) as e:
+        s.doStep(t0, h)
+    assert e.value.status == ERROR
+    assert error_logged(log, "fmi2DoStep", "too short to advance time", "nothing was done")
+    assert s.getReal([vr["y"], vr["v"], vr["F"]]) == before
+    step = 1e-4 if t0 < 1e3 else 512.0  # a step that does advance time there
+    s.doStep(t0, step)  # the instance is usable: still in step complete at t0
+    assert s.getRealStatus(fmi2LastSuccessfulTime) == t0 + step
+    s.freeInstance()
+
+
+def test_shortest_accepted_step_advances_time_exactly(logged, vr):
+    s = logged().instantiate()
+    start(s, vr, dict(contact_model=1, a=1e-4), start_time=1.0)
+    h = 16 * np.finfo(float).eps  # 16 units of the resolution at 1 s
+    s.doStep(1.0, h)
+    assert s.getRealStatus(fmi2LastSuccessfulTime) == 1.0 + h > 1.0
+    s.doStep(1.0 + h, 1e-4)
     s.freeInstance()

@@ -719,6 +719,11 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component comp, const fmi2ValueRefer
     return fmi2Error;
 }
 
+/* fmi2DoStep: currentCommunicationPoint may differ from the FMU's time by this many units of the
+ * time resolution (DBL_EPSILON max(1 s, |t|)); a step must advance time by at least VI_MIN_STEP_ULPS. */
+#define VI_TIME_MATCH_ULPS 1e3
+#define VI_MIN_STEP_ULPS 16.0
+
 /* ---- co-simulation ------------------------------------------------------------------------ */
 
 fmi2Status fmi2SetRealInputDerivatives(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr,
@@ -760,21 +765,35 @@ fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real currentCommunicationPoint, fm
     (void)noSetFMUStatePriorToCurrentPoint;
     ENTER("fmi2DoStep", ST_STEP_COMPLETE);
     double tc = currentCommunicationPoint, h = communicationStepSize, t = MODEL->time(c->model);
-    double eps = 1e3 * DBL_EPSILON * fmax(1.0, fabs(t));
+    double unit = DBL_EPSILON * fmax(1.0, fabs(t)); /* the resolution of time here, at least that at 1 s */
+    double t_end = tc + h;
+    /* Refused arguments leave the instance as it was (fmi2Error from fmi2DoStep: "the step could
+     * not be carried out at all"; the master may try another step). */
     if (!isfinite(tc) || !isfinite(h) || !(h > 0.0)) {
         LOG_ERROR(c, "fmi2DoStep: the communication step size must be finite and positive (got %g)", h);
         return fmi2Error;
     }
-    if (fabs(tc - t) > eps) {
+    if (fabs(tc - t) > VI_TIME_MATCH_ULPS * unit) {
         LOG_ERROR(c, "fmi2DoStep: currentCommunicationPoint %.17g does not match the FMU's time %.17g", tc, t);
         return fmi2Error;
     }
-    if (c->stop_time_defined && tc + h > c->stop_time + eps) {
-        LOG_ERROR(c, "fmi2DoStep: the step to %.17g passes the stop time %.17g", tc + h, c->stop_time);
+    if (!(t_end - t >= VI_MIN_STEP_ULPS * unit)) {
+        LOG_ERROR(c, "fmi2DoStep: a step of %g s is too short to advance time at t = %.17g s: use at least %g s "
+                     "(16 units of the time resolution there); nothing was done",
+                  h, t, VI_MIN_STEP_ULPS * unit);
         return fmi2Error;
     }
-    int rc = MODEL->advance(c->model, tc + h);
+    if (c->stop_time_defined && t_end > c->stop_time + VI_TIME_MATCH_ULPS * unit) {
+        LOG_ERROR(c, "fmi2DoStep: the step to %.17g passes the stop time %.17g", t_end, c->stop_time);
+        return fmi2Error;
+    }
+    int rc = MODEL->advance(c->model, t_end);
     if (rc < 0) return fail(c, "fmi2DoStep");
+    if (rc == 0 && MODEL->time(c->model) != t_end) { /* never fmi2OK for a step that did not happen */
+        LOG_ERROR(c, "fmi2DoStep: the model stopped at t = %.17g s instead of %.17g s", MODEL->time(c->model), t_end);
+        c->state = ST_ERROR;
+        return fmi2Error;
+    }
     if (rc > 0) { /* stopped early at a consistent state: fmi2LastSuccessfulTime tells where */
         logf_(c, fmi2Discard, CAT_logStatusDiscard, "fmi2DoStep: %s", MODEL->message(c->model));
         c->state = ST_STEP_FAILED;
