@@ -809,40 +809,49 @@ fmi2Status fmi2CancelStep(fmi2Component comp)
     return fmi2Error;
 }
 
+/* Status queries: fmi2DoStep runs synchronously, so only fmi2LastSuccessfulTime and fmi2Terminated
+ * have an answer; any other kind gets fmi2Discard ("not able to return the status information"). */
+static fmi2Status no_status(Component *c, const char *fn, fmi2StatusKind kind, const void *value)
+{
+    if (!value) {
+        LOG_ERROR(c, "%s: value is NULL", fn);
+        return fmi2Error;
+    }
+    logf_(c, fmi2Discard, CAT_logStatusDiscard, "%s: no status of kind %d (fmi2DoStep runs synchronously)", fn,
+          (int)kind);
+    return fmi2Discard;
+}
+
 fmi2Status fmi2GetStatus(fmi2Component comp, const fmi2StatusKind s, fmi2Status *value)
 {
-    (void)s, (void)value;
     ENTER("fmi2GetStatus", ST_RUNNING);
-    logf_(c, fmi2Discard, CAT_logStatusWarning, "fmi2GetStatus: no asynchronous step is pending");
-    return fmi2Discard;
+    return no_status(c, "fmi2GetStatus", s, value);
 }
 
 fmi2Status fmi2GetRealStatus(fmi2Component comp, const fmi2StatusKind s, fmi2Real *value)
 {
     ENTER("fmi2GetRealStatus", ST_RUNNING | ST_ERROR);
-    if (s != fmi2LastSuccessfulTime || !value) return fmi2Discard;
-    *value = MODEL->time(c->model);
+    if (s != fmi2LastSuccessfulTime || !value) return no_status(c, "fmi2GetRealStatus", s, value);
+    *value = MODEL->time(c->model); /* after fmi2Discard: where the step stopped */
     return fmi2OK;
 }
 
 fmi2Status fmi2GetIntegerStatus(fmi2Component comp, const fmi2StatusKind s, fmi2Integer *value)
 {
-    (void)s, (void)value;
     ENTER("fmi2GetIntegerStatus", ST_RUNNING);
-    return fmi2Discard;
+    return no_status(c, "fmi2GetIntegerStatus", s, value);
 }
 
 fmi2Status fmi2GetBooleanStatus(fmi2Component comp, const fmi2StatusKind s, fmi2Boolean *value)
 {
     ENTER("fmi2GetBooleanStatus", ST_RUNNING | ST_ERROR);
-    if (s != fmi2Terminated || !value) return fmi2Discard;
+    if (s != fmi2Terminated || !value) return no_status(c, "fmi2GetBooleanStatus", s, value);
     *value = fmi2False; /* the FMU never asks to end the simulation */
     return fmi2OK;
 }
 
 fmi2Status fmi2GetStringStatus(fmi2Component comp, const fmi2StatusKind s, fmi2String *value)
 {
-    (void)s, (void)value;
     ENTER("fmi2GetStringStatus", ST_RUNNING);
-    return fmi2Discard;
+    return no_status(c, "fmi2GetStringStatus", s, value);
 }
