@@ -91,3 +91,65 @@ def test_binary_exports_exactly_the_fmi2_functions():
         "fmi2DoStep", "fmi2CancelStep", "fmi2GetStatus", "fmi2GetRealStatus", "fmi2GetIntegerStatus",
         "fmi2GetBooleanStatus", "fmi2GetStringStatus"}
     assert exported == expected
+
+
+def check_model_structure(md):
+    """Outputs: every output, with the dependencies it declares; InitialUnknowns: every output and
+    calculated parameter."""
+    outputs = [v for v in md.modelVariables if v.causality == "output"]
+    assert [u.variable for u in md.outputs] == outputs
+    calculated = [v for v in md.modelVariables if v.causality == "calculatedParameter"]
+    assert [u.variable for u in md.initialUnknowns] == outputs + calculated
+
+
+def test_model_structure_declares_no_feedthrough(model_description):
+    check_model_structure(model_description)
+    assert all(u.dependencies == [] for u in model_description.outputs)
+
+
+def read_all(s, md, variables):
+    values = []
+    for v in variables:
+        get = {"Real": s.getReal, "Integer": s.getInteger, "Enumeration": s.getInteger, "Boolean": s.getBoolean}
+        values.append(get[v.type]([v.valueReference])[0])
+    return values
+
+
+def check_declared_independence(md, make_running, changes):
+    """For each input: setting it (value and derivative) at a communication point leaves every output
+    that does not declare a dependency on it unchanged until the next fmi2DoStep, and the next step
+    does feel it (so the check is not vacuous). make_running() -> (instance, time, step); the caller
+    frees the instances."""
+    outputs = [u.variable for u in md.outputs]
+    for name, value in changes.items():
+        inp = next(v for v in md.modelVariables if v.name == name)
+        # no dependencies attribute (None) means: depends on every input
+        free = [u.variable for u in md.outputs if u.dependencies is not None and inp not in u.dependencies]
+        assert free, name
+        s, t, h = make_running()
+        before = read_all(s, md, free)
+        s.setReal([inp.valueReference], [value])
+        s.setRealInputDerivatives([inp.valueReference], [1], [value / h])
+        assert read_all(s, md, free) == before, name
+        s.doStep(t, h)
+        changed = read_all(s, md, outputs)
+        s, t, h = make_running()
+        s.doStep(t, h)
+        assert read_all(s, md, outputs) != changed, name
+
+
+def test_outputs_do_not_change_before_the_next_step(model_description, logged, vr):
+    from conftest import start
+
+    made = []
+
+    def make_running():
+        made.append(logged().instantiate())
+        start(made[-1], vr, dict(contact_model=1, a=1e-4))
+        for k in range(20):
+            made[-1].doStep(k * 1e-4, 1e-4)
+        return made[-1], 20e-4, 1e-4
+
+    check_declared_independence(model_description, make_running, {"yC_in": 1e-6, "F_ext": 1e3})
+    for s in made:
+        s.freeInstance()

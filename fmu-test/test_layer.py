@@ -209,3 +209,16 @@ def test_state_taken_after_a_discard_restores_step_failed(layer, lvr):
     with pytest.raises(FMICallException):
         s.doStep(0.25, 0.25)
     assert logged_with(log, ERROR, "logStatusError", "fmi2DoStep", "step failed")
+
+
+def test_layer_model_structure_is_honest(layer_md, layer, lvr):
+    from test_interface import check_declared_independence, check_model_structure
+    check_model_structure(layer_md)
+
+    def make_running():
+        _, s = layer()
+        start(s, lvr)
+        s.doStep(0.0, 0.5)
+        return s, 0.5, 0.25
+
+    check_declared_independence(layer_md, make_running, {"u": 2.0})
