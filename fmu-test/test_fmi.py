@@ -238,30 +238,41 @@ def test_input_interpolation_equals_internal_excitation(logged, vr):
     assert np.max(np.abs(zoh - ref)) > 5 * np.max(np.abs(lin - ref))
 
 
-def test_libcosimpy_agrees_with_fmpy(fmu_path, vr):
+def test_libcosimpy_selects_the_hertz_law_and_agrees_with_fmpy(fmu_path, vr):
+    """libcosim ignores FMI 2.0 Enumeration variables; the enumerated options are Integers, so a
+    libcosim user selects the law by its value (contact law: hertz=1, ...). Y = 2e8 Pa makes Johnson
+    yield where Hertz does not, so the selection shows in the result."""
     pytest.importorskip("libcosimpy")
-    from libcosimpy.CosimEnums import CosimVariableType
     from libcosimpy.CosimExecution import CosimExecution
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
-    from libcosimpy.CosimManipulator import CosimManipulator
     from libcosimpy.CosimObserver import CosimObserver
     from libcosimpy.CosimSlave import CosimLocalSlave
     log_output_level(CosimLogLevel.WARNING)
-    h = 1e-4
+    h, t_end = 1e-4, 0.02
+    params = dict(contact_model=1, a=1e-4, Y=2e8, rtol=1e-10)
     ex = CosimExecution.from_step_size(step_size=int(h * 1e9))
     i = ex.add_local_slave(CosimLocalSlave(fmu_path=fmu_path, instance_name="vi"))
-    # libcosim ignores FMI 2.0 Enumeration variables (it warns): compare on the default Johnson law
-    ex.real_initial_value(i, vr["a"], 1e-5)
+    ex.integer_initial_value(i, vr["contact_model"], params["contact_model"])
+    ex.real_initial_value(i, vr["a"], params["a"])
+    ex.real_initial_value(i, vr["Y"], params["Y"])
+    ex.real_initial_value(i, vr["rtol"], params["rtol"])
     obs = CosimObserver.create_last_value()
     ex.add_observer(obs)
-    ex.simulate_until(target_time=int(0.02e9))
-    y_cosim, v_cosim = obs.last_real_values(i, [vr["y"], vr["v"]])
-    r = simulate_fmu(fmu_path, start_values=dict(a=1e-5), stop_time=0.02, output_interval=h, output=["y", "v"])
+    ex.simulate_until(target_time=int(t_end * 1e9))
+    y_cosim, v_cosim, w_cosim = obs.last_real_values(i, [vr["y"], vr["v"], vr["W_plastic"]])
+    n_cosim, mode_cosim = obs.last_integer_values(i, [vr["n_impacts"], vr["mode"]])
+    out = ["y", "v", "W_plastic", "n_impacts", "mode"]
+    hertz = simulate_fmu(fmu_path, start_values=params, stop_time=t_end, output_interval=h, output=out)
+    johnson = simulate_fmu(fmu_path, start_values={**params, "contact_model": 2}, stop_time=t_end,
+                           output_interval=h, output=out)
+    assert johnson["W_plastic"][-1] > 0 and hertz["W_plastic"][-1] == 0 == w_cosim  # the law was selected
     # libcosim counts time in integer nanoseconds, fmpy in floating point: equal to the tolerance
     e = effective({})
     d0 = (e["W"] / e["K"]) ** (2 / 3)
-    assert abs(y_cosim - r["y"][-1]) < 1e-5 * d0
-    assert abs(v_cosim - r["v"][-1]) < 1e-5 * d0 * 2 * np.pi * 267
+    assert abs(y_cosim - hertz["y"][-1]) < 1e-5 * d0
+    assert abs(v_cosim - hertz["v"][-1]) < 1e-5 * d0 * 2 * np.pi * 267
+    assert (n_cosim, mode_cosim) == (hertz["n_impacts"][-1], hertz["mode"][-1])
+    assert abs(y_cosim - johnson["y"][-1]) > 1e-3 * d0
 
 
 def test_string_parameter_set_get_and_limits(logged, vr):

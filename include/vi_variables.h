@@ -9,6 +9,11 @@
  * value references users already rely on stay valid.
  * modelDescription.xml repeats the table by hand; fmu-test/test_interface.py fails when the two
  * disagree (it reads the table through VibroImpact_dump_variables).
+ *
+ * Enumerated options are Integer variables whose enum column names their items (VI_ITEMS_*):
+ * libcosim ignores FMI 2.0 Enumeration variables, every importer sets Integers. The XML gives
+ * them min/max of the item values and lists the items in the description as "name=value" pairs,
+ * e.g. "contact law: hertz=1, johnson=2, lepp=3", so that tools can map names to values.
  */
 #ifndef VI_VARIABLES_H
 #define VI_VARIABLES_H
@@ -32,16 +37,16 @@
   X(nu2, Real, none, parameter, fixed, exact, 0.3, "", "Poisson's ratio of body 2") \
   X(Y, Real, none, parameter, fixed, exact, 6e8, "Pa", "uniaxial yield stress") \
   X(theta_Y, Real, none, parameter, fixed, exact, 1.1, "", "limiting mean pressure p_Y = theta_Y Y") \
-  X(contact_model, Enumeration, ContactModel, parameter, fixed, exact, 2, "", "contact law") \
+  X(contact_model, Integer, ContactModel, parameter, fixed, exact, 2, "", "contact law") \
   X(moving_contact, Boolean, none, parameter, fixed, exact, 0, "", "Johnson with a moving contact point: virgin curve both ways") \
-  X(unloading, Enumeration, Unloading, parameter, fixed, exact, 1, "", "Johnson unloading curve") \
-  X(yield_formula, Enumeration, YieldFormula, parameter, fixed, exact, 1, "", "formula for the yield force F_Y") \
-  X(init, Enumeration, Init, parameter, fixed, exact, 1, "", "initial state") \
+  X(unloading, Integer, Unloading, parameter, fixed, exact, 1, "", "Johnson unloading curve") \
+  X(yield_formula, Integer, YieldFormula, parameter, fixed, exact, 1, "", "formula for the yield force F_Y") \
+  X(init, Integer, Init, parameter, fixed, exact, 1, "", "initial state") \
   X(v0, Real, none, parameter, fixed, exact, 0.0, "m/s", "initial velocity of the mass when touching") \
   X(a, Real, none, parameter, fixed, exact, 0.0, "m", "amplitude of the internal harmonic platform excitation") \
   X(f, Real, none, parameter, fixed, exact, 560.0, "Hz", "frequency of the internal harmonic platform excitation") \
   X(rtol, Real, none, parameter, fixed, exact, 1e-6, "", "relative tolerance (a tolerance from fmi2SetupExperiment wins)") \
-  X(solver, Enumeration, Solver, parameter, fixed, exact, 1, "", "CVODE linear multistep method") \
+  X(solver, Integer, Solver, parameter, fixed, exact, 1, "", "CVODE linear multistep method") \
   X(max_step, Real, none, parameter, fixed, exact, 0.0, "s", "CVODE maximum internal step, 0 = none") \
   X(F, Real, none, output, continuous, calculated, 0.0, "N", "contact force") \
   X(delta, Real, none, output, continuous, calculated, 0.0, "m", "indentation yC - y") \
@@ -49,7 +54,7 @@
   X(v, Real, none, output, continuous, calculated, 0.0, "m/s", "mass velocity") \
   X(yC, Real, none, output, continuous, calculated, 0.0, "m", "platform position actually applied") \
   X(contact, Boolean, none, output, discrete, calculated, 0, "", "bodies touch") \
-  X(mode, Enumeration, Mode, output, discrete, calculated, 0, "", "mode of the hybrid automaton") \
+  X(mode, Integer, Mode, output, discrete, calculated, 0, "", "mode of the hybrid automaton") \
   X(delta_c, Real, none, output, continuous, calculated, 0.0, "m", "maximum indentation reached (Johnson)") \
   X(delta_f, Real, none, output, continuous, calculated, 0.0, "m", "final indentation of the unloading curve (Johnson)") \
   X(delta_p, Real, none, output, continuous, calculated, 0.0, "m", "permanent set (linear elastic-perfectly plastic)") \
@@ -64,7 +69,8 @@
   X(f_contact, Real, none, calculatedParameter, fixed, calculated, 0.0, "Hz", "linearised contact resonance at the static load") \
   X(profile_file, String, none, parameter, fixed, exact, "", "", "profile rolled over (Fig. 1b): two-column text table x [m], h [m]; relative paths: FMU resources, then working directory; empty = none")
 
-/* Enumeration types: E(type, description); items in VI_ITEMS_<type>(I) as I(type, name, value). */
+/* Enumeration types: E(type, description); items in VI_ITEMS_<type>(I) as I(type, name, value).
+ * Items are matched by name in the model through the constants VI_<type>_<name>. */
 #define VI_ENUMERATIONS(E) \
   E(ContactModel, "contact law") \
   E(Unloading, "Johnson unloading curve") \
