@@ -13,7 +13,7 @@
  *      modelIdentifier = the FMU's CMake name, guid = VI_GUID, and the layer's LogCategories:
  *      logEvents, logSolver, logStatusWarning, logStatusDiscard, logStatusError, logFmi2Call, logAll;
  *   3. the model file: the hooks below, and one definition
- *          const vi_fmu_model vi_fmu_this_model = { ... };
+ *          const vi_fmu_model vi_fmu_this_model = {VI_FMU_TABLE_FIELDS(...), .init = ..., ...};
  *   4. in CMake (cmake/vi_fmu.cmake):  vi_add_fmu(<Name> SOURCES <model .c files> XML <xml>
  *      [LIBRARIES <libs>] [INCLUDE_DIRS <dirs>] [RESOURCES <files>] [DOCUMENTATION <files>])
  *      which builds <Name>.so (exporting the fmi2* functions only) and packs build/<Name>.fmu.
@@ -117,6 +117,17 @@ typedef struct {
     /* The reason of the last failure (a NUL-terminated string inside the instance). */
     const char *(*message)(const void *m);
 } vi_fmu_model;
+
+/* The fields of vi_fmu_model that follow from the model's table (VI_MODEL_IDENTIFIER, VI_GUID and
+ * what VI_TABLE_DECLARE generates), its instance type, and its plain-data type, whose members par
+ * (vi_parameters), in and din (vi_inputs) hold the values:
+ *     const vi_fmu_model vi_fmu_this_model = {VI_FMU_TABLE_FIELDS(my_instance, my_data), .init = ..., ...}; */
+#define VI_FMU_TABLE_FIELDS(instance_type, data_type)                                                   \
+    .model_identifier = VI_MODEL_IDENTIFIER, .guid = VI_GUID, .variables = vi_variable_table,          \
+    .nvariables = VI_NVARS, .enum_items = vi_enum_items, .n_enum_items = VI_NENUM_ITEMS,                \
+    .instance_size = sizeof(instance_type), .state_size = sizeof(data_type),                           \
+    .outputs_size = sizeof(vi_outputs), .parameters_offset = offsetof(data_type, par),                 \
+    .inputs_offset = offsetof(data_type, in), .input_derivatives_offset = offsetof(data_type, din)
 
 /* Defined by the model: the one model of this FMU binary. */
 extern const vi_fmu_model vi_fmu_this_model;

@@ -59,18 +59,7 @@ static int restore(void *m, int running) { return running ? vi_sim_restore(m) : 
 static const char *message(const void *m) { return ((const vi_sim *)m)->msg; }
 
 const vi_fmu_model vi_fmu_this_model = {
-    .model_identifier = VI_MODEL_IDENTIFIER,
-    .guid = VI_GUID,
-    .variables = vi_variable_table,
-    .nvariables = VI_NVARS,
-    .enum_items = vi_enum_items,
-    .n_enum_items = VI_NENUM_ITEMS,
-    .instance_size = sizeof(vi_sim),
-    .state_size = sizeof(vi_sim_data),
-    .outputs_size = sizeof(vi_outputs),
-    .parameters_offset = offsetof(vi_sim_data, par),
-    .inputs_offset = offsetof(vi_sim_data, in),
-    .input_derivatives_offset = offsetof(vi_sim_data, din),
+    VI_FMU_TABLE_FIELDS(vi_sim, vi_sim_data),
     .init = init,
     .reset = reset,
     .release = release,

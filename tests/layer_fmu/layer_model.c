@@ -153,18 +153,7 @@ static void *state(void *m) { return &((layer *)m)->d; }
 static const char *message(const void *m) { return ((const layer *)m)->msg; }
 
 const vi_fmu_model vi_fmu_this_model = {
-    .model_identifier = VI_MODEL_IDENTIFIER,
-    .guid = VI_GUID,
-    .variables = vi_variable_table,
-    .nvariables = VI_NVARS,
-    .enum_items = vi_enum_items,
-    .n_enum_items = VI_NENUM_ITEMS,
-    .instance_size = sizeof(layer),
-    .state_size = sizeof(layer_data),
-    .outputs_size = sizeof(vi_outputs),
-    .parameters_offset = offsetof(layer_data, par),
-    .inputs_offset = offsetof(layer_data, in),
-    .input_derivatives_offset = offsetof(layer_data, din),
+    VI_FMU_TABLE_FIELDS(layer, layer_data),
     .init = init,
     .reset = reset,
     .release = release,
