@@ -1,5 +1,5 @@
 # vi_add_fmu(<Name> SOURCES <model .c files...> XML <modelDescription.xml>
-#            [LIBRARIES <libraries...>] [INCLUDE_DIRS <dirs...>]
+#            [LIBRARIES <libraries...>] [INCLUDE_DIRS <dirs...> (the calling folder is one already)]
 #            [RESOURCES <files...>] [DOCUMENTATION <files...>] [OUTPUT_DIRECTORY <dir>])
 #
 # Builds an FMI 2.0 Co-Simulation FMU of one model on the generic layer (include/vi_fmu.h):
@@ -25,7 +25,7 @@ function(vi_add_fmu name)
 
   # The model without the FMI layer: shared by the FMU binary and the table dump.
   add_library(${name}_model OBJECT ${ARG_SOURCES})
-  target_include_directories(${name}_model PUBLIC ${VI_FMU_ROOT}/include ${ARG_INCLUDE_DIRS})
+  target_include_directories(${name}_model PUBLIC ${VI_FMU_ROOT}/include ${CMAKE_CURRENT_SOURCE_DIR} ${ARG_INCLUDE_DIRS})
   target_compile_options(${name}_model PRIVATE ${VI_WARNINGS})
   target_link_libraries(${name}_model PUBLIC ${ARG_LIBRARIES} m)
   set_target_properties(${name}_model PROPERTIES C_VISIBILITY_PRESET hidden POSITION_INDEPENDENT_CODE ON)

@@ -222,3 +222,84 @@ def test_layer_model_structure_is_honest(layer_md, layer, lvr):
         return s, 0.5, 0.25
 
     check_declared_independence(layer_md, make_running, {"u": 2.0})
+
+
+def test_checkpoint_hook_runs_before_a_running_state_is_copied(layer, lvr):
+    _, s = layer()
+    s.setupExperiment(startTime=0.0)
+    early = s.getFMUstate()  # not running: no checkpoint
+    s.enterInitializationMode()
+    s.exitInitializationMode()
+    assert s.getReal([lvr["checkpoint_time"]]) == [0.0]
+    s.doStep(0.0, 0.5)
+    state = s.getFMUstate()
+    assert s.getReal([lvr["checkpoint_time"]]) == [0.5]
+    s.doStep(0.5, 0.25)
+    s.setFMUstate(state)
+    assert s.getReal([lvr["checkpoint_time"]]) == [0.5]  # the copy holds what the checkpoint wrote
+    s.setFMUstate(early)
+    s.enterInitializationMode()
+    assert s.getReal([lvr["checkpoint_time"]]) == [0.0]
+
+
+def raw_layer(layer_md, layer_dir, uri, callbacks=None):
+    """A LayerTest instance made with fmi2Instantiate directly (any resource URI); (log, slave)."""
+    import ctypes
+    log = Logged(layer_md, layer_dir)
+    s = log.slave
+    s.component = s.fmi2Instantiate(b"raw", 1, layer_md.guid.encode(), uri,
+                                    ctypes.byref(callbacks or log.callbacks), 0, 0)
+    return log, s
+
+
+@pytest.mark.parametrize("name, uri_name", [
+    ("09AF-afJ", "%30%39%41%46%2d%61%66%4a"),  # digits and both cases of hex letters, at their bounds
+    ("plain", "plain")])
+def test_resource_uri_percent_decoding(layer_md, layer_dir, lvr, tmp_path, name, uri_name):
+    shutil.copytree(pathlib.Path(layer_dir), tmp_path / name)
+    for uri in (f"file://{tmp_path}/{uri_name}/resources", f"file:{tmp_path}/{uri_name}/resources",
+                f"file://localhost{tmp_path}/{uri_name}/resources"):
+        _, s = raw_layer(layer_md, layer_dir, uri.encode())
+        assert s.component
+        start(s, lvr)
+        assert s.getReal([lvr["resource_value"]]) == [0.125], uri
+        s.freeInstance()
+
+
+@pytest.mark.parametrize("uri", [None, b"", b"http://example.org/resources", b"file://otherhost/tmp/resources",
+                                 b"file:relative/resources", b"file:///nonexistent%zz/resources"])
+def test_resource_uri_that_names_no_local_folder(layer_md, layer_dir, lvr, uri):
+    _, s = raw_layer(layer_md, layer_dir, uri)
+    assert s.component  # the model decides: LayerTest reads nothing
+    start(s, lvr)
+    assert s.getReal([lvr["resource_value"]]) == [-1.0]
+    s.freeInstance()
+
+
+def test_importer_out_of_memory_is_refused(layer_md, layer_dir, lvr):
+    """The importer's allocateMemory may return NULL: every allocation is checked."""
+    from fmpy import calloc
+    from fmpy.fmi2 import fmi2CallbackAllocateMemoryTYPE
+    fail = {"on": False}
+
+    def allocate(n, size):
+        return None if fail["on"] else calloc(n, size)
+
+    log = Logged(layer_md, layer_dir)
+    log.callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(allocate)
+    fail["on"] = True
+    _, s = raw_layer(layer_md, layer_dir, b"file:///tmp", callbacks=log.callbacks)
+    assert not s.component
+    assert any("out of memory" in m for _, _, m in log.messages)
+    fail["on"] = False
+    _, s = raw_layer(layer_md, layer_dir, b"file:///tmp", callbacks=log.callbacks)
+    start(s, lvr)
+    blob = s.serializeFMUstate(s.getFMUstate())
+    fail["on"] = True
+    for call in (s.getFMUstate, lambda: s.deSerializeFMUstate(blob)):
+        with pytest.raises(FMICallException):
+            call()
+    fail["on"] = False
+    assert sum("out of memory" in m for _, _, m in log.messages) == 3
+    s.doStep(0.0, 0.5)
+    s.freeInstance()

@@ -192,3 +192,49 @@ def test_calculated_parameters_in_initialization_mode(logged, vr):
     s.exitInitializationMode()
     assert s.getReal([vr[n] for n in names]) == [got[n] for n in names]
     s.freeInstance()
+
+
+def test_every_function_refuses_a_null_instance(running):
+    """No importer should pass NULL, but none may crash the FMU by doing so."""
+    _, s = running
+    d, i, p = ctypes.c_double(), ctypes.c_int(), ctypes.c_void_p()
+    vr = (ctypes.c_uint * 1)(0)
+    dll = ctypes.CDLL(s.dll._name)  # fresh function objects, without fmpy's argument types
+    calls = {
+        "fmi2SetDebugLogging": (0, ctypes.c_size_t(0), None),
+        "fmi2SetupExperiment": (0, ctypes.c_double(0), ctypes.c_double(0), 0, ctypes.c_double(0)),
+        "fmi2EnterInitializationMode": (), "fmi2ExitInitializationMode": (), "fmi2Terminate": (),
+        "fmi2Reset": (), "fmi2GetReal": (vr, 1, ctypes.byref(d)), "fmi2SetReal": (vr, 1, ctypes.byref(d)),
+        "fmi2GetInteger": (vr, 1, ctypes.byref(i)), "fmi2SetInteger": (vr, 1, ctypes.byref(i)),
+        "fmi2GetBoolean": (vr, 1, ctypes.byref(i)), "fmi2SetBoolean": (vr, 1, ctypes.byref(i)),
+        "fmi2GetString": (vr, 1, ctypes.byref(p)), "fmi2SetString": (vr, 1, ctypes.byref(p)),
+        "fmi2GetFMUstate": (ctypes.byref(p),), "fmi2SetFMUstate": (None,), "fmi2FreeFMUstate": (ctypes.byref(p),),
+        "fmi2DoStep": (ctypes.c_double(0), ctypes.c_double(1e-4), 1), "fmi2CancelStep": (),
+        "fmi2GetRealStatus": (fmi2LastSuccessfulTime, ctypes.byref(d)),
+        "fmi2GetBooleanStatus": (fmi2Terminated, ctypes.byref(i)),
+    }
+    for name, args in calls.items():
+        fn = getattr(dll, name)
+        fn.restype = ctypes.c_int
+        assert fn(None, *args) == ERROR, name
+    s.doStep(0.0, 1e-4)  # the real instance is untouched
+
+
+def test_debug_logging_with_null_categories_is_refused(running):
+    log, s = running
+    assert raw(s, "fmi2SetDebugLogging", 1, 2, None) == ERROR
+    assert any("fmi2SetDebugLogging" in m and "NULL" in m for m in errors(log))
+
+
+def test_serialize_refuses_a_state_altered_in_memory(running):
+    log, s = running
+    state = s.getFMUstate()
+    addr = state.value + 60
+    ctypes.memset(addr, ctypes.c_ubyte.from_address(addr).value ^ 1, 1)
+    buf = ctypes.create_string_buffer(1 << 16)
+    n = ctypes.c_size_t()
+    assert raw(s, "fmi2SerializedFMUstateSize", state, ctypes.byref(n)) == ERROR
+    assert raw(s, "fmi2SerializeFMUstate", state, buf, len(buf)) == ERROR
+    assert sum("checksum" in m for m in errors(log)) == 2
+    assert raw(s, "fmi2DeSerializeFMUstate", None, 100, ctypes.byref(ctypes.c_void_p())) == ERROR
+    s.freeFMUstate(state)

@@ -4,13 +4,15 @@
  * it runs against the sanitized VibroImpact.so; run under valgrind memcheck it runs against the
  * normal one. Any report of either fails the test (tools/test.sh).
  *
- *   fmu_driver <path to VibroImpact.so> <resources folder URI>
+ *   fmu_driver <path to VibroImpact.so> <resources folder URI> [<path to LayerTest.so> <its GUID>]
  *
  * What it does: instantiate; initialize a bouncing Hertz case and a yielding Johnson case; step with
  * events; read every variable; get, set, serialize and deserialize FMU states (also before
  * initialization and a corrupted one); refused calls and bad arguments; a failed initialization;
- * reset; many instances at once; free. The importer's memory functions count blocks, so that a
- * block the FMU forgets is reported even without a leak checker.
+ * reset; many instances at once; free. With LayerTest (the generic layer's test model, which reads
+ * its resources folder) also: resource URIs percent-decoded, missing, or not local. The importer's
+ * memory functions count blocks, so that a block the FMU forgets is reported even without a leak
+ * checker.
  */
 #include <dlfcn.h>
 #include <math.h>
@@ -79,6 +81,7 @@ static void *lib;
 
 static void load(const char *path)
 {
+    if (lib) dlclose(lib);
     lib = dlopen(path, RTLD_NOW | RTLD_LOCAL);
     if (!lib) {
         fprintf(stderr, "fmu_driver: %s\n", dlerror());
@@ -218,10 +221,35 @@ static void refusals(fmi2Component c, double t)
     EXPECT(F.debug_logging(c, fmi2True, 1, categories) == fmi2OK);
 }
 
+/* LayerTest through the generic calls only, with resource URIs of every kind. */
+static void layer_test(const char *path, const char *guid)
+{
+    load(path);
+    static const char *const uris[] = {"file:///tmp/%41b%2fc%7e%7E%zz/resources", "file:/tmp/resources",
+                                       "file://localhost/tmp/resources", "file://otherhost/tmp", "http://x/y",
+                                       "", NULL};
+    for (size_t i = 0; i < sizeof uris / sizeof uris[0]; i++) {
+        fmi2Component c = F.instantiate("layer", fmi2CoSimulation, guid, uris[i], &callbacks, fmi2False, fmi2False);
+        EXPECT(c != NULL);
+        if (!c) continue;
+        EXPECT(F.setup(c, fmi2False, 0.0, 0.0, fmi2False, 0.0) == fmi2OK);
+        EXPECT(F.enter_init(c) == fmi2OK);
+        EXPECT(F.exit_init(c) == fmi2OK);
+        double t = 0.0;
+        steps(c, &t, 10, 0.01);
+        fmi2FMUstate s = NULL;
+        EXPECT(F.get_state(c, &s) == fmi2OK);
+        steps(c, &t, 10, 0.01);
+        EXPECT(F.set_state(c, s) == fmi2OK);
+        EXPECT(F.free_state(c, &s) == fmi2OK);
+        F.free_instance(c);
+    }
+}
+
 int main(int argc, char **argv)
 {
-    if (argc != 3) {
-        fprintf(stderr, "usage: fmu_driver <VibroImpact.so> <resources URI>\n");
+    if (argc != 3 && argc != 5) {
+        fprintf(stderr, "usage: fmu_driver <VibroImpact.so> <resources URI> [<LayerTest.so> <its GUID>]\n");
         return 2;
     }
     load(argv[1]);
@@ -287,6 +315,8 @@ int main(int argc, char **argv)
     /* Instantiation refused: no leak either. */
     EXPECT(F.instantiate("bad", fmi2CoSimulation, "{wrong}", resources, &callbacks, fmi2False, fmi2False) == NULL);
     EXPECT(F.instantiate("bad", fmi2ModelExchange, VI_GUID, resources, &callbacks, fmi2False, fmi2False) == NULL);
+
+    if (argc == 5) layer_test(argv[3], argv[4]);
 
     EXPECT(live_blocks == 0);
     dlclose(lib);

@@ -17,6 +17,7 @@ typedef struct {
     double k, u, du, t_u; /* active rate and input ramp */
     long steps;
     double k_initial;
+    double checkpoint_time; /* written by the checkpoint hook */
 } layer_data;
 
 typedef struct {
@@ -69,6 +70,7 @@ static void outputs(void *m, void *out)
     o->label_length = (int)strlen(L->d.par.label);
     o->resource_value = L->resource_value;
     o->k_initial = L->d.k_initial;
+    o->checkpoint_time = L->d.checkpoint_time;
 }
 
 static void setup_experiment(void *m, double start_time, int tolerance_defined, double tolerance)
@@ -148,6 +150,13 @@ static int state_check(const void *state, int running, char *msg, size_t n)
 }
 #undef BAD
 
+static int checkpoint(void *m)
+{
+    layer_data *d = &((layer *)m)->d;
+    d->checkpoint_time = d->t;
+    return 0;
+}
+
 static double time_of(const void *m) { return ((const layer *)m)->d.t; }
 static void *state(void *m) { return &((layer *)m)->d; }
 static const char *message(const void *m) { return ((const layer *)m)->msg; }
@@ -166,6 +175,7 @@ const vi_fmu_model vi_fmu_this_model = {
     .advance = advance,
     .time = time_of,
     .state = state,
+    .checkpoint = checkpoint,
     .state_check = state_check,
     .message = message,
 };

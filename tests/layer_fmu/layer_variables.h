@@ -28,7 +28,8 @@
   X(steps, Integer, none, output, discrete, calculated, 0, "", "steps done") \
   X(label_length, Integer, none, output, discrete, calculated, 0, "", "length of label") \
   X(resource_value, Real, none, output, continuous, calculated, 0.0, "", "the number in resources/value.txt (-1 if unreadable)") \
-  X(k_initial, Real, none, calculatedParameter, fixed, calculated, 0.0, "1/s", "k at initialization")
+  X(k_initial, Real, none, calculatedParameter, fixed, calculated, 0.0, "1/s", "k at initialization") \
+  X(checkpoint_time, Real, none, output, continuous, calculated, 0.0, "s", "time of the last checkpoint (fmi2GetFMUstate when running)")
 
 #define VI_ENUMERATIONS(E) E(Method, "how to advance")
 #define VI_ITEMS_Method(I) I(Method, exact, 1)
