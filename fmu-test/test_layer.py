@@ -253,7 +253,7 @@ def raw_layer(layer_md, layer_dir, uri, callbacks=None):
 
 
 @pytest.mark.parametrize("name, uri_name", [
-    ("09AF-afJ", "%30%39%41%46%2d%61%66%4a"),  # digits and both cases of hex letters, at their bounds
+    ("09AF-afJOjo", "%30%39%41%46%2d%61%66%4A%4F%6a%6f"),  # hex digits 0 9 A F a f, at their bounds
     ("plain", "plain")])
 def test_resource_uri_percent_decoding(layer_md, layer_dir, lvr, tmp_path, name, uri_name):
     shutil.copytree(pathlib.Path(layer_dir), tmp_path / name)
