@@ -434,3 +434,19 @@ def test_shortest_accepted_step_advances_time_exactly(logged, vr):
     assert s.getRealStatus(fmi2LastSuccessfulTime) == 1.0 + h > 1.0
     s.doStep(1.0 + h, 1e-4)
     s.freeInstance()
+
+
+def test_initial_state_is_logged(logged, vr):
+    """logEvents at fmi2ExitInitializationMode: the initial mode and state, here the static
+    equilibrium on the Hertz curve, delta = (W/K)^(2/3), at rest."""
+    log = logged()
+    s = log.instantiate()
+    s.setDebugLogging(True, ["logEvents"])
+    start(s, vr, dict(contact_model=1))
+    e = effective({})
+    msg = next(m for _, cat, m in log.messages if cat == "logEvents" and m.startswith("initial mode"))
+    import re
+    mode, delta, v = re.fullmatch(r"initial mode (\d+), delta = (\S+) m, v = (\S+) m/s", msg).groups()
+    assert (int(mode), float(v)) == (1, 0.0)
+    assert float(delta) == pytest.approx((e["W"] / e["K"]) ** (2 / 3), rel=1e-8)
+    s.freeInstance()

@@ -611,7 +611,7 @@ fmi2Status fmi2GetFMUstate(fmi2Component comp, fmi2FMUstate *FMUstate)
         LOG_ERROR(c, "fmi2GetFMUstate: FMUstate is NULL");
         return fmi2Error;
     }
-    if ((c->state & ST_RUNNING) && MODEL->checkpoint && MODEL->checkpoint(c->model) < 0)
+    if ((c->state & ST_RUNNING) && MODEL->checkpoint && MODEL->checkpoint(c->model) != 0)
         return fail(c, "fmi2GetFMUstate");
     vi_saved_state *s = *FMUstate ? *FMUstate : c->cb.allocateMemory(1, saved_size());
     if (!s) {
@@ -636,7 +636,7 @@ fmi2Status fmi2SetFMUstate(fmi2Component comp, fmi2FMUstate FMUstate)
     c->stop_time_defined = (int)s->stop_time_defined;
     c->stop_time = s->stop_time;
     c->state = (vi_fmu_state)s->fmu_state;
-    if (MODEL->restore && MODEL->restore(c->model, (s->fmu_state & (ST_RUNNING | ST_ERROR)) != 0) < 0)
+    if (MODEL->restore && MODEL->restore(c->model, saved_running(s)) != 0)
         return fail(c, "fmi2SetFMUstate");
     return fmi2OK;
 }
