@@ -3,6 +3,8 @@ fmpy's validator, and the binary's dependencies and exports."""
 import pathlib
 import subprocess
 
+import pytest
+
 from fmpy.validation import validate_fmu
 
 from conftest import BUILD, ROOT
@@ -77,15 +79,17 @@ def test_capabilities(model_description):
     assert model_description.defaultExperiment.tolerance is None  # else fmpy always overrides rtol
 
 
-def test_binary_needs_only_libc_and_libm():
-    out = subprocess.run(["readelf", "-d", str(BUILD / "VibroImpact.so")], check=True, capture_output=True,
+@pytest.mark.parametrize("name", ["VibroImpact", "LayerTest"])  # every FMU built by vi_add_fmu
+def test_binary_needs_only_libc_and_libm(name):
+    out = subprocess.run(["readelf", "-d", str(BUILD / f"{name}.so")], check=True, capture_output=True,
                          text=True).stdout
     needed = sorted(line.split("[")[1].rstrip("]") for line in out.splitlines() if "(NEEDED)" in line)
     assert needed == ["libc.so.6", "libm.so.6"]
 
 
-def test_binary_exports_exactly_the_fmi2_functions():
-    out = subprocess.run(["nm", "-D", "--defined-only", str(BUILD / "VibroImpact.so")], check=True,
+@pytest.mark.parametrize("name", ["VibroImpact", "LayerTest"])
+def test_binary_exports_exactly_the_fmi2_functions(name):
+    out = subprocess.run(["nm", "-D", "--defined-only", str(BUILD / f"{name}.so")], check=True,
                          capture_output=True, text=True).stdout
     exported = {line.split()[-1] for line in out.splitlines() if line.split()[1] in "TtDdBbRr"}
     expected = {
