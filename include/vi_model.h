@@ -85,6 +85,9 @@ double vi_model_force(const vi_model *M, double t, const double x[2]);
 void vi_model_rhs(const vi_model *M, double t, const double x[2], double dx[2]);
 /* d(v')/d(delta): the only nonzero state derivative of the right-hand side besides d(delta')/dv = -1. */
 double vi_model_stiffness_over_mass(const vi_model *M, double t, const double x[2]);
+/* Jacobian of vi_model_rhs, row major: d(delta', v')/d(delta, v). In stick both rows are zero
+ * (delta' = 0, v' = yC''), so that a Newton iteration keeps delta exactly on delta_c. */
+void vi_model_jacobian(const vi_model *M, double t, const double x[2], double j[4]);
 void vi_model_guards(const vi_model *M, double t, const double x[2], double g[VI_NGUARDS]);
 
 /* Write down the memory that tracks the state (delta_c while Johnson loads plastically, delta_p
@@ -101,6 +104,28 @@ int vi_model_resolve(vi_model *M, double t, double x[2]);
 
 /* Typical indentation [m] and velocity [m/s] of the problem, for absolute tolerances. */
 void vi_model_scales(const vi_model *M, double x0_delta, double v0, double *L, double *V);
+
+/* Contract C3: is M (with the state x) a model this code could have produced? Checks, and names in
+ * msg the first bad field of:
+ *  - enumerations and flags: law, moving, unloading, mode (allowed for the law), yielded;
+ *  - constants: finite, m, K, E*, R*, theta_Y, F_Y, delta_Y, k_lin > 0, omega >= 0, and consistent with
+ *    each other (K = 4/3 E* sqrt(R*), F_Y = K delta_Y^1.5, k_lin = F_Y/delta_Y to 1e-9 relative);
+ *  - inputs: the ramps finite;
+ *  - memory: yielded only for Johnson with a fixed contact point; then the unloading curve U is the
+ *    one of delta_c (recomputed, 1e-9 relative), delta_c >= delta_Y, Rbar > 0, delta_f <= delta_c;
+ *    without yield U is all zero; delta_p finite, >= 0 for LEPP and 0 otherwise; n_impacts >= 0;
+ *  - mode against state, from what does not depend on the time (the signature carries none): the
+ *    length guards of the mode (contact, separation, yield, reloading to delta_c) and the memory a
+ *    mode implies (plastic: delta >= delta_c, or delta >= delta_p + delta_Y for LEPP; stick: delta =
+ *    delta_c, paper unloading) may not be below -VI_CHECK_GUARD_TOL times the length scale
+ *    max(delta_Y, |delta|, delta_c). Guards are >= 0 inside a mode and events snap the state onto
+ *    their surface, so a state this code wrote misses by rounding only; 1e-6 leaves room for the
+ *    solver's root location and flags a mode that does not belong to the state. The guards in
+ *    velocity and force (turning point, stick limits) need the time and are not checked here.
+ * A model never set up (law 0, as vi_sim_init leaves it) is valid when its discrete state is zero.
+ * Returns 0, or -1 with the message. Touches nothing (pointers in M are not followed). */
+#define VI_CHECK_GUARD_TOL 1e-6
+int vi_model_check(const vi_model *M, const double x[2], char *msg, size_t n);
 
 /* Derived parameters (E_star ... f_contact) and outputs at (t, x). */
 void vi_model_calculated(const vi_model *M, vi_outputs *out);

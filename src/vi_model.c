@@ -128,6 +128,13 @@ double vi_model_stiffness_over_mass(const vi_model *M, double t, const double x[
     return k / M->m;
 }
 
+void vi_model_jacobian(const vi_model *M, double t, const double x[2], double j[4])
+{
+    int stick = M->mode == VI_Mode_stick;
+    j[0] = 0.0, j[1] = stick ? 0.0 : -1.0;
+    j[2] = vi_model_stiffness_over_mass(M, t, x), j[3] = 0.0; /* 0 in stick */
+}
+
 /* Indentation at which the bodies touch: 0, the permanent set delta_f (Johnson) or delta_p (LEPP). */
 static double contact_surface(const vi_model *M)
 {
@@ -279,6 +286,7 @@ void vi_model_initial_state(vi_model *M, int init, double v0, double t0, double 
     M->f_contact = sqrt(static_stiffness(M, net_load(M, t0)) / M->m) / (2.0 * VI_PI);
     M->mode = VI_Mode_free;
     M->yielded = 0;
+    M->U = (vi_unload_curve){0};
     M->delta_p = 0.0;
     x[0] = 0.0;
     x[1] = v0;
@@ -314,6 +322,129 @@ void vi_model_scales(const vi_model *M, double x0_delta, double v0, double *L, d
     *L = l;
     *V = l * sqrt(vi_hertz_stiffness(M->K, l) / M->m);
 }
+
+/* ---- contract C3 ---------------------------------------------------------------------------- */
+
+#define BAD(...) return snprintf(msg, n, __VA_ARGS__), -1
+
+/* a and b agree to rel relative to the larger (both finite). */
+static int close_rel(double a, double b, double rel) { return fabs(a - b) <= rel * fmax(fabs(a), fabs(b)); }
+
+#define CONSISTENCY_TOL 1e-9
+
+static int check_constants(const vi_model *M, char *msg, size_t n)
+{
+    const struct { const char *name; double value; int positive; } c[] = {
+        {"m", M->m, 1},           {"W0", M->W0, 0},         {"K", M->K, 1},
+        {"E_star", M->J.E_star, 1}, {"R_star", M->J.R_star, 1}, {"theta_Y", M->J.theta_Y, 1},
+        {"F_Y", M->J.F_Y, 1},     {"delta_Y", M->J.delta_Y, 1}, {"k_lin", M->k_lin, 1},
+        {"a", M->a, 0},           {"omega", M->omega, 0},   {"t0", M->t0, 0},
+        {"f_contact", M->f_contact, 0}};
+    for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+        if (!isfinite(c[i].value)) BAD("model constant %s = %g is not finite", c[i].name, c[i].value);
+        if (c[i].positive && !(c[i].value > 0.0)) BAD("model constant %s = %g is not positive", c[i].name, c[i].value);
+    }
+    if (M->omega < 0.0) BAD("model constant omega = %g is negative", M->omega);
+    if (M->f_contact < 0.0) BAD("model constant f_contact = %g is negative", M->f_contact);
+    if (!close_rel(M->K, vi_hertz_constant(M->J.E_star, M->J.R_star), CONSISTENCY_TOL))
+        BAD("model constant K = %g does not match 4/3 E* sqrt(R*)", M->K);
+    if (!close_rel(M->J.F_Y, vi_hertz_force(M->K, M->J.delta_Y), CONSISTENCY_TOL))
+        BAD("model constant delta_Y = %g does not match F_Y = K delta_Y^1.5", M->J.delta_Y);
+    if (!close_rel(M->k_lin, M->J.F_Y / M->J.delta_Y, CONSISTENCY_TOL))
+        BAD("model constant k_lin = %g does not match F_Y/delta_Y", M->k_lin);
+    const vi_ramp *r[2] = {&M->yC_in, &M->F_ext};
+    const char *rn[2] = {"yC_in", "F_ext"};
+    for (int i = 0; i < 2; i++)
+        if (!isfinite(r[i]->u) || !isfinite(r[i]->du) || !isfinite(r[i]->t))
+            BAD("model input ramp %s (%g, %g, %g) is not finite", rn[i], r[i]->u, r[i]->du, r[i]->t);
+    return 0;
+}
+
+static int check_memory(const vi_model *M, char *msg, size_t n)
+{
+    if (M->yielded != 0 && M->yielded != 1) BAD("model flag yielded = %d is not 0 or 1", M->yielded);
+    if (M->n_impacts < 0) BAD("n_impacts = %ld is negative", M->n_impacts);
+    if (!isfinite(M->delta_p)) BAD("delta_p = %g is not finite", M->delta_p);
+    if (M->law == VI_ContactModel_lepp ? M->delta_p < 0.0 : M->delta_p != 0.0)
+        BAD("delta_p = %g is impossible for contact_model %d", M->delta_p, M->law);
+    const vi_unload_curve *U = &M->U;
+    const double u[5] = {U->delta_c, U->Rbar, U->delta_r, U->delta_f, U->Kbar};
+    if (!M->yielded) {
+        for (int i = 0; i < 5; i++)
+            if (u[i] != 0.0) BAD("unloading curve (delta_c = %g, Rbar = %g) present although yielded = 0", u[0], u[1]);
+        return 0;
+    }
+    if (!is_johnson_fixed(M)) BAD("yielded = 1 is impossible for contact_model %d (moving %d)", M->law, M->moving);
+    for (int i = 0; i < 5; i++)
+        if (!isfinite(u[i])) BAD("unloading curve: a value (delta_c %g, Rbar %g, delta_r %g, delta_f %g, Kbar %g) is not "
+                                 "finite", u[0], u[1], u[2], u[3], u[4]);
+    if (!(U->delta_c >= M->J.delta_Y * (1.0 - CONSISTENCY_TOL)))
+        BAD("delta_c = %g is below delta_Y = %g", U->delta_c, M->J.delta_Y);
+    if (!(U->Rbar > 0.0)) BAD("Rbar = %g is not positive", U->Rbar);
+    if (!(U->delta_f <= U->delta_c)) BAD("delta_f = %g is above delta_c = %g", U->delta_f, U->delta_c);
+    vi_unload_curve E = vi_johnson_unload_curve(&M->J, M->unloading, U->delta_c);
+    if (!close_rel(U->Rbar, E.Rbar, CONSISTENCY_TOL)) BAD("Rbar = %g does not belong to delta_c (%g)", U->Rbar, E.Rbar);
+    if (!close_rel(U->delta_r, E.delta_r, CONSISTENCY_TOL))
+        BAD("delta_r = %g does not belong to delta_c (%g)", U->delta_r, E.delta_r);
+    if (!(fabs(U->delta_f - E.delta_f) <= CONSISTENCY_TOL * U->delta_c))
+        BAD("delta_f = %g does not belong to delta_c (%g)", U->delta_f, E.delta_f);
+    if (!close_rel(U->Kbar, E.Kbar, CONSISTENCY_TOL)) BAD("Kbar = %g does not belong to Rbar (%g)", U->Kbar, E.Kbar);
+    return 0;
+}
+
+/* The mode is allowed for the law and the memory, and no time-free guard is clearly negative. */
+static int check_mode(const vi_model *M, const double x[2], char *msg, size_t n)
+{
+    int mode = M->mode, ok;
+    switch (M->law) {
+    case VI_ContactModel_hertz: ok = mode == VI_Mode_free || mode == VI_Mode_elastic; break;
+    case VI_ContactModel_lepp: ok = mode >= VI_Mode_free && mode <= VI_Mode_plastic; break;
+    default:
+        if (M->moving) ok = mode >= VI_Mode_free && mode <= VI_Mode_plastic;
+        else if (!M->yielded) ok = mode == VI_Mode_free || mode == VI_Mode_elastic;
+        else ok = mode == VI_Mode_free || mode == VI_Mode_plastic || mode == VI_Mode_unload ||
+                  (mode == VI_Mode_stick && M->unloading == VI_UNLOAD_PAPER);
+    }
+    if (!ok) BAD("mode = %d is impossible for contact_model %d (moving %d, unloading %d, yielded %d)", mode, M->law,
+                 M->moving, M->unloading, M->yielded);
+    double d = x[0], tol = VI_CHECK_GUARD_TOL * fmax(fmax(M->J.delta_Y, fabs(d)), fabs(M->U.delta_c));
+    double g[2] = {INFINITY, INFINITY};
+    switch (mode) {
+    case VI_Mode_free: g[0] = contact_surface(M) - d; break;
+    case VI_Mode_elastic: g[0] = d - contact_surface(M), g[1] = yield_surface(M) - d; break;
+    case VI_Mode_plastic:
+        g[0] = M->law == VI_ContactModel_lepp ? d - yield_surface(M)
+               : M->moving                    ? d - M->J.delta_Y
+                                              : d - M->U.delta_c;
+        break;
+    case VI_Mode_unload: g[0] = d - M->U.delta_f, g[1] = M->U.delta_c - d; break;
+    default: g[0] = d - M->U.delta_c, g[1] = M->U.delta_c - d; break; /* stick: on delta_c */
+    }
+    for (int i = 0; i < 2; i++)
+        if (g[i] < -tol)
+            BAD("mode %d does not fit the state: delta = %.17g m lies %g m beyond its surface %d (tolerance %g m)", mode,
+                d, -g[i], i, tol);
+    return 0;
+}
+
+int vi_model_check(const vi_model *M, const double x[2], char *msg, size_t n)
+{
+    if (!isfinite(x[0]) || !isfinite(x[1])) BAD("state (delta %g, v %g) is not finite", x[0], x[1]);
+    if (M->law == 0) { /* never set up */
+        if (M->mode != 0 || M->yielded != 0 || M->n_impacts != 0 || M->delta_p != 0.0)
+            BAD("model not set up (law = 0) but with a discrete state (mode %d)", M->mode);
+        return 0;
+    }
+    if (M->law < VI_ContactModel_hertz || M->law > VI_ContactModel_lepp)
+        BAD("contact law = %d is not hertz (1), johnson (2) or lepp (3)", M->law);
+    if (M->moving != 0 && M->moving != 1) BAD("model flag moving = %d is not 0 or 1", M->moving);
+    if (M->unloading != VI_UNLOAD_PAPER && M->unloading != VI_UNLOAD_CONTINUOUS)
+        BAD("unloading = %d is not paper (1) or continuous (2)", M->unloading);
+    if (M->mode < VI_Mode_free || M->mode > VI_Mode_stick) BAD("mode = %d is not in 0..4", M->mode);
+    if (check_constants(M, msg, n) < 0 || check_memory(M, msg, n) < 0) return -1;
+    return check_mode(M, x, msg, n);
+}
+#undef BAD
 
 void vi_model_calculated(const vi_model *M, vi_outputs *out)
 {

@@ -13,8 +13,7 @@ static void sim_rhs(double t, const double *x, double *dx, void *user) { vi_mode
 static void sim_guards(double t, const double *x, double *g, void *user) { vi_model_guards(user, t, x, g); }
 static void sim_jac(double t, const double *x, double *j, void *user)
 {
-    j[0] = 0.0, j[1] = -1.0; /* d(delta')/d(delta, v) */
-    j[2] = vi_model_stiffness_over_mass(user, t, x), j[3] = 0.0;
+    vi_model_jacobian(user, t, x, j);
 }
 
 void vi_sim_init(vi_sim *s, vi_log_fn log, void *log_env)

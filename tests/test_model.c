@@ -4,7 +4,10 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include <string.h>
+
 #include "vi_model.h"
+#include "vi_sim.h"
 
 static vi_model setup(int law, int moving, int unloading, double P, double g, double a)
 {
@@ -145,4 +148,169 @@ Test(model, resolved_mode_has_nonnegative_guards)
                     cr_assert(vi_model_force(&M, t, x) >= 0.0);
                 }
             }
+}
+
+/* ---- contract C3: vi_model_check ------------------------------------------------------------- */
+
+static void log_nothing(void *env, int category, const char *fmt, ...) { (void)env, (void)category, (void)fmt; }
+
+/* States written by the code itself pass: every communication point of bouncing runs of every law. */
+Test(model_check, accepts_every_state_of_real_runs)
+{
+    struct { int law, moving, unloading, formula; double Y; } cases[] = {
+        {1, 0, 1, 1, 6e8}, {2, 0, 1, 1, 6e8}, {2, 0, 2, 1, 6e8}, {2, 1, 1, 1, 6e8}, {3, 0, 1, 1, 6e8},
+        {2, 0, 1, 2, 6e8}, {2, 0, 1, 1, 2e8}};
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        vi_sim s;
+        vi_sim_init(&s, log_nothing, NULL);
+        s.d.par.contact_model = cases[c].law;
+        s.d.par.moving_contact = cases[c].moving;
+        s.d.par.unloading = cases[c].unloading;
+        s.d.par.yield_formula = cases[c].formula;
+        s.d.par.Y = cases[c].Y;
+        s.d.par.a = 1e-4;
+        s.d.par.f = cases[c].Y < 3e8 ? 100.0 : 560.0;
+        char msg[256];
+        cr_assert(vi_model_check(&s.d.M, s.d.x, msg, sizeof msg) == 0, "never set up: %s", msg);
+        cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+        int modes = 0;
+        for (int k = 1; k <= 300; k++) {
+            cr_assert(vi_sim_advance(&s, 1e-4 * k) == 0, "%s", s.msg);
+            modes |= 1 << s.d.M.mode;
+            cr_assert(vi_model_check(&s.d.M, s.d.x, msg, sizeof msg) == 0, "case %zu t = %g: %s", c, s.d.t, msg);
+        }
+        cr_assert(modes & 1 << VI_Mode_elastic || modes & 1 << VI_Mode_unload || modes & 1 << VI_Mode_stick);
+        vi_sim_free(&s);
+    }
+}
+
+/* The random states of the resolver (input jumps) pass too. */
+Test(model_check, accepts_resolved_random_states)
+{
+    srand(777);
+    for (int law = 1; law <= 3; law++)
+        for (int variant = 1; variant <= 2; variant++) {
+            vi_model M = setup(law, 0, variant, 40000.0, 9.81, 1e-4);
+            double x[2];
+            char msg[256];
+            vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
+            for (int k = 0; k < 2000; k++) {
+                double t = 1e-5 * k;
+                vi_model_freeze(&M, t, x);
+                x[0] = M.J.delta_Y * (8.0 * rand() / RAND_MAX - 1.0);
+                x[1] = 0.2 * (2.0 * rand() / RAND_MAX - 1.0);
+                vi_model_resolve(&M, t, x);
+                cr_assert(vi_model_check(&M, x, msg, sizeof msg) == 0, "law %d: %s", law, msg);
+            }
+        }
+}
+
+/* A model after a Johnson impact with yield: plastic memory and mode 3 or 0. */
+static vi_model yielded_model(double x[2])
+{
+    vi_model M = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
+    vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
+    M.mode = VI_Mode_plastic;
+    M.yielded = 1;
+    x[0] = 3.0 * M.J.delta_Y;
+    x[1] = 1.0; /* moving away: unloads */
+    vi_model_freeze(&M, 0.0, x);
+    cr_assert(vi_model_resolve(&M, 0.0, x) == VI_Mode_unload);
+    return M;
+}
+
+/* Spoil one field at a time; the check refuses and names it. */
+static const char *spoil(vi_model *M, double x[2], int which)
+{
+    switch (which) {
+    case 0: x[0] = NAN; return "state";
+    case 1: M->law = 4; return "contact law";
+    case 2: M->moving = 2; return "moving";
+    case 3: M->unloading = 0; return "unloading";
+    case 4: M->mode = 5; return "mode";
+    case 5: M->m = -1.0; return "constant m";
+    case 6: M->K *= 1.0 + 1e-6; return "K";
+    case 7: M->J.delta_Y = INFINITY; return "delta_Y";
+    case 8: M->k_lin *= 2.0; return "k_lin";
+    case 9: M->omega = -1.0; return "omega";
+    case 10: M->yC_in.du = NAN; return "yC_in";
+    case 11: M->yielded = 3; return "yielded";
+    case 12: M->n_impacts = -1; return "n_impacts";
+    case 13: M->delta_p = 1e-6; return "delta_p";
+    case 14: M->U.Rbar *= 1.001; return "Rbar";
+    case 15: M->U.delta_f = M->U.delta_c * 1.5; return "delta_f";
+    case 16: M->U.delta_c = 0.5 * M->J.delta_Y; return "delta_c";
+    case 17: M->U.Kbar = NAN; return "finite";
+    case 18: M->yielded = 0; return "yielded = 0";      /* memory left behind */
+    case 19: M->mode = VI_Mode_elastic; return "mode = 1"; /* virgin branch after yield */
+    case 20: M->mode = VI_Mode_free; return "mode 0 does not fit"; /* in contact at delta > delta_f */
+    case 21: x[0] = M->U.delta_c * 1.01; return "mode 3 does not fit"; /* beyond delta_c while unloading */
+    case 22: M->mode = VI_Mode_stick; return "mode 4 does not fit"; /* stick off delta_c */
+    case 23: M->unloading = VI_UNLOAD_CONTINUOUS; M->U = vi_johnson_unload_curve(&M->J, 2, M->U.delta_c);
+             M->mode = VI_Mode_stick; x[0] = M->U.delta_c; return "mode = 4"; /* stick needs paper unloading */
+    case 24: M->law = VI_ContactModel_hertz; return "yielded = 1 is impossible";
+    case 26: M->yielded = 0; M->U = (vi_unload_curve){0}; return "mode = 3"; /* unloading without memory */
+    case 25: M->f_contact = NAN; return "f_contact";
+    case 27: return NULL;
+    default: return NULL;
+    }
+}
+
+Test(model_check, names_the_first_bad_field)
+{
+    double x0[2];
+    char msg[256];
+    vi_model ok = yielded_model(x0);
+    cr_assert(vi_model_check(&ok, x0, msg, sizeof msg) == 0, "%s", msg);
+    x0[0] = 0.5 * (ok.U.delta_c + ok.U.delta_f); /* inside the unloading branch */
+    cr_assert(vi_model_check(&ok, x0, msg, sizeof msg) == 0, "%s", msg);
+    for (int k = 0;; k++) {
+        vi_model M = ok;
+        double x[2] = {x0[0], x0[1]};
+        const char *expect = spoil(&M, x, k);
+        if (!expect) break;
+        msg[0] = '\0';
+        cr_assert(vi_model_check(&M, x, msg, sizeof msg) < 0, "spoiled %d (%s) accepted", k, expect);
+        cr_assert(strstr(msg, expect) != NULL, "spoiled %d: expected '%s' in: %s", k, expect, msg);
+    }
+}
+
+/* The tolerance on the guards: a state a rounding beyond its surface passes, 1e-5 of delta_Y does not. */
+Test(model_check, guard_tolerance)
+{
+    vi_model M = setup(VI_ContactModel_hertz, 0, 1, 40000.0, 9.81, 0.0);
+    double x[2];
+    char msg[256];
+    vi_model_initial_state(&M, VI_Init_touching, 0.0, 0.0, x);
+    M.mode = VI_Mode_free;
+    x[0] = 1e-9 * M.J.delta_Y; /* penetrating by a rounding error while free */
+    cr_assert(vi_model_check(&M, x, msg, sizeof msg) == 0, "%s", msg);
+    x[0] = 1e-5 * M.J.delta_Y;
+    cr_assert(vi_model_check(&M, x, msg, sizeof msg) < 0);
+    M.mode = VI_Mode_elastic; /* in contact at -1e-5 delta_Y: separated */
+    x[0] = -1e-5 * M.J.delta_Y;
+    cr_assert(vi_model_check(&M, x, msg, sizeof msg) < 0);
+}
+
+/* In stick delta' = 0 exactly; with the stick Jacobian (d delta'/dv = 0) the Newton iteration keeps
+ * delta on delta_c bit for bit (with the free-motion Jacobian it drifted by 1e-6 relative). */
+Test(model, stick_keeps_delta_exactly_on_delta_c)
+{
+    vi_sim s;
+    vi_sim_init(&s, log_nothing, NULL);
+    s.d.par.Y = 2e8; /* the 'stick' scenario */
+    s.d.par.a = 1e-4;
+    s.d.par.f = 100.0;
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    int sticking = 0;
+    for (int k = 1; k <= 500; k++) {
+        cr_assert(vi_sim_advance(&s, 1e-4 * k) == 0, "%s", s.msg);
+        if (s.d.M.mode != VI_Mode_stick) continue;
+        sticking++;
+        cr_assert(s.d.x[0] == s.d.M.U.delta_c, "t = %g: delta - delta_c = %g", s.d.t, s.d.x[0] - s.d.M.U.delta_c);
+    }
+    cr_assert(sticking > 50, "%d samples in stick", sticking);
+    double j[4];
+    vi_model_jacobian(&s.d.M, s.d.t, s.d.x, j);
+    vi_sim_free(&s);
 }
