@@ -102,8 +102,21 @@ int vi_model_event(vi_model *M, double t, double x[2], int fired);
  * onset. Returns the new mode. */
 int vi_model_resolve(vi_model *M, double t, double x[2]);
 
-/* Typical indentation [m] and velocity [m/s] of the problem, for absolute tolerances. */
-void vi_model_scales(const vi_model *M, double x0_delta, double v0, double *L, double *V);
+/* Length L [m] and velocity V [m/s] scales of the active law in this scene, for the absolute
+ * tolerances (rtol L, rtol V), from the initial state x0 at t0. L is the largest indentation the
+ * law's own loads and speeds produce:
+ *   d_W      the static indentation under W(t0) = P + m g - F_ext on the law's virgin curve (W > 0);
+ *   delta_Y  for Johnson and LEPP only (Hertz has no yield: Y plays no role there);
+ *   d_v      the impact indentation at the initial approach speed v = |yC'(t0) - v(t0)| (or, when
+ *            neither a load nor that speed gives a scale, at the excitation's speed |a| 2 pi f):
+ *            Hertz and Johnson (15 m v^2/(16 E* sqrt(R*)))^(2/5), LEPP v sqrt(m/k_lin);
+ *   VI_SCALE_FALLBACK R* when all of these are 0 (no load, no speed, no excitation).
+ * The largest, not the smallest, so that a negligible load, speed or amplitude (P = 1e-200,
+ * v0 = 1e-100, a = 1e-300) cannot shrink the tolerances to nothing; vibrations much smaller than L
+ * are then resolved to rtol L (tighten rtol for them). V = L sqrt(k(L)/m), k the law's virgin
+ * stiffness at L (computed without overflow for tiny m). Both are finite and > 0. */
+#define VI_SCALE_FALLBACK 1e-6
+void vi_model_scales(const vi_model *M, const double x0[2], double *L, double *V);
 
 /* Contract C3: is M (with the state x) a model this code could have produced? Checks, and names in
  * msg the first bad field of:

@@ -281,6 +281,18 @@ static double static_stiffness(const vi_model *M, double W)
     }
 }
 
+/* Indentation at rest under W > 0 on the Johnson virgin curve, with F(d) >= W where rounding allows,
+ * so that a pre-loaded start does not see a spurious push into the material. The inverse is
+ * accurate to a few ulps; at most VI_STATIC_NUDGES steps of 1, 2, 4, ... ulps close the gap. When F
+ * cannot reach W (its value is denormal: loads below about 1e-300 N), d stays within 2^16 ulps. */
+#define VI_STATIC_NUDGES 16
+static double johnson_static_indentation(const vi_johnson *J, double W)
+{
+    double d = vi_johnson_load_indentation(J, W), step = nextafter(d, INFINITY) - d;
+    for (int i = 0; i < VI_STATIC_NUDGES && vi_johnson_load(J, d) < W; i++, step *= 2.0) d += step;
+    return d;
+}
+
 void vi_model_initial_state(vi_model *M, int init, double v0, double t0, double x[2])
 {
     M->f_contact = sqrt(static_stiffness(M, net_load(M, t0)) / M->m) / (2.0 * VI_PI);
@@ -294,10 +306,7 @@ void vi_model_initial_state(vi_model *M, int init, double v0, double t0, double 
         double W = net_load(M, t0), d = 0.0;
         if (W > 0.0) {
             if (M->law == VI_ContactModel_hertz) d = vi_hertz_indentation(M->K, W);
-            else if (M->law == VI_ContactModel_johnson) {
-                d = vi_johnson_load_indentation(&M->J, W);
-                while (vi_johnson_load(&M->J, d) < W) d = nextafter(d, INFINITY); /* at rest: F(d) >= W */
-            }
+            else if (M->law == VI_ContactModel_johnson) d = johnson_static_indentation(&M->J, W);
             else d = W <= M->J.F_Y ? W / M->k_lin : M->J.delta_Y; /* beyond F_Y: flows from the start */
         }
         if (is_johnson_fixed(M) && d > M->J.delta_Y) { /* plastically pre-loaded */
@@ -311,16 +320,36 @@ void vi_model_initial_state(vi_model *M, int init, double v0, double t0, double 
     M->n_impacts = 0;
 }
 
-void vi_model_scales(const vi_model *M, double x0_delta, double v0, double *L, double *V)
+/* Tangent stiffness of the virgin curve at delta > 0 [N/m]. */
+static double virgin_stiffness(const vi_model *M, double d)
 {
-    double c[4] = {M->J.delta_Y, fabs(x0_delta), 0.0, fabs(M->a)};
-    if (v0 != 0.0) /* Hertz impact: delta_max = (15 m v0^2 / (16 E* sqrt(R*)))^(2/5) */
-        c[2] = pow(15.0 * M->m * v0 * v0 / (16.0 * M->J.E_star * sqrt(M->J.R_star)), 0.4);
-    double l = c[0];
-    for (int i = 1; i < 4; i++)
-        if (c[i] > 0.0 && c[i] < l) l = c[i];
+    if (M->law == VI_ContactModel_lepp) return M->k_lin;
+    if (M->law == VI_ContactModel_johnson) return vi_johnson_load_stiffness(&M->J, d);
+    return vi_hertz_stiffness(M->K, d);
+}
+
+void vi_model_scales(const vi_model *M, const double x0[2], double *L, double *V)
+{
+    double W = net_load(M, M->t0), dyC, l = 0.0;
+    vi_model_platform(M, M->t0, &dyC, NULL);
+    if (W > 0.0) {
+        double dW = M->law == VI_ContactModel_hertz     ? vi_hertz_indentation(M->K, W)
+                    : M->law == VI_ContactModel_johnson ? vi_johnson_load_indentation(&M->J, W)
+                                                        : fmin(W / M->k_lin, M->J.delta_Y);
+        l = fmax(l, dW);
+    }
+    if (M->law != VI_ContactModel_hertz) l = fmax(l, M->J.delta_Y);
+    double v = fabs(dyC - x0[1]);
+    if (!(l > 0.0 || v > 0.0)) v = fabs(M->a) * M->omega; /* only the excitation moves anything */
+    if (v > 0.0 && isfinite(v)) {
+        double dv = M->law == VI_ContactModel_lepp
+                        ? v * sqrt(M->m) / sqrt(M->k_lin)
+                        : pow(15.0 * M->m * v * v / (16.0 * M->J.E_star * sqrt(M->J.R_star)), 0.4);
+        if (isfinite(dv)) l = fmax(l, dv);
+    }
+    if (!(l > 0.0)) l = VI_SCALE_FALLBACK * M->J.R_star;
     *L = l;
-    *V = l * sqrt(vi_hertz_stiffness(M->K, l) / M->m);
+    *V = l * (sqrt(virgin_stiffness(M, l)) / sqrt(M->m));
 }
 
 /* ---- contract C3 ---------------------------------------------------------------------------- */

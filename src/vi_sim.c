@@ -98,7 +98,7 @@ int vi_sim_initialize(vi_sim *s)
     if (vi_sim_prepare(s) < 0) return -1;
     vi_sim_data *d = &s->d;
     double L, V, rtol = rtol_of(d);
-    vi_model_scales(&d->M, d->x[0], d->par.v0, &L, &V);
+    vi_model_scales(&d->M, d->x, &L, &V);
     d->atol[0] = rtol * L;
     d->atol[1] = rtol * V;
     if (create_solver(s) < 0) return -1;

@@ -314,3 +314,107 @@ Test(model, stick_keeps_delta_exactly_on_delta_c)
     vi_model_jacobian(&s.d.M, s.d.t, s.d.x, j);
     vi_sim_free(&s);
 }
+
+/* Issue 9 item 3: the static state at extreme loads comes from a closed form or a bounded solve,
+ * never an ulp-by-ulp walk (which took 2^52 steps for load/F_Y below 1e-154). Expected indentation
+ * from logarithms: d = exp(2/3 (ln W - ln K)) (Hertz, and Johnson below yield). */
+Test(model, static_state_at_extreme_loads, .timeout = 20)
+{
+    const double loads[] = {4.9e-323, 1e-310, 1e-300, 1e-200, 1e-155, 1e-100, 1e-20, 1.0, 4e4, 1e12, 1e30, 1e100};
+    for (int law = 1; law <= 3; law++)
+        for (size_t i = 0; i < sizeof loads / sizeof loads[0]; i++) {
+            double W = loads[i], x[2];
+            vi_model M = setup(law, 0, VI_Unloading_paper, W, 0.0, 0.0);
+            vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
+            if (law == VI_ContactModel_lepp && W < M.J.F_Y) /* linear: W/k_lin, 0 where that underflows */
+                cr_assert(x[0] == W / M.k_lin, "law %d W %g: delta = %g", law, W, x[0]);
+            else
+                cr_assert(x[0] > 0.0 && isfinite(x[0]), "law %d W %g: delta = %g", law, W, x[0]);
+            cr_assert(M.mode != VI_Mode_free, "law %d W %g: mode %d", law, W, M.mode);
+            if (W < M.J.F_Y && law != VI_ContactModel_lepp) {
+                double expect = exp(2.0 / 3.0 * (log(W) - log(M.K)));
+                cr_assert(fabs(x[0] - expect) <= 1e-13 * expect, "law %d W %g: %.17g vs %.17g", law, W, x[0], expect);
+            }
+            if (W >= 1e-290 && !(law == VI_ContactModel_lepp && W > M.J.F_Y)) { /* the load is carried (LEPP beyond F_Y flows) */
+                double F = vi_model_force(&M, 0.0, x);
+                cr_assert(fabs(F - W) <= 1e-12 * W, "law %d W %g: F = %.17g", law, W, F);
+            }
+        }
+}
+
+/* The same for the extreme parameters of issue 9: R1 = 1e85 (load/F_Y ~ 1e-170) and m = 5e-324. */
+Test(model, static_state_with_extreme_parameters, .timeout = 20)
+{
+    vi_parameters p;
+    vi_parameters_default(&p);
+    p.R1 = 1e85;
+    vi_model M = {0};
+    char msg[256];
+    double x[2];
+    cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+    vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
+    double W = p.P + p.m * p.g;
+    cr_assert(fabs(vi_model_force(&M, 0.0, x) - W) <= 1e-12 * W);
+    vi_parameters_default(&p);
+    p.m = 5e-324;
+    p.P = 0.0;
+    cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+    vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
+    cr_assert(x[0] > 0.0 && M.mode == VI_Mode_elastic, "delta %g mode %d", x[0], M.mode);
+}
+
+/* Issue 9 item 6: the tolerance scales come from the active law: closed forms per case. */
+Test(model, scales_from_the_active_law)
+{
+    double x[2], L, V;
+    /* Hertz, static: L = the static indentation, whatever Y is (Y plays no role in Hertz) */
+    for (int k = 0; k < 2; k++) {
+        vi_parameters p;
+        vi_parameters_default(&p);
+        p.contact_model = VI_ContactModel_hertz;
+        p.Y = k ? 1e4 : 6e8;
+        p.a = 1e-300;
+        vi_model M = {0};
+        char msg[256];
+        cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0);
+        vi_model_initial_state(&M, VI_Init_static, 1e-100, 0.0, x);
+        vi_model_scales(&M, x, &L, &V);
+        double dW = pow((p.P + p.m * p.g) / M.K, 2.0 / 3.0);
+        cr_assert(fabs(L - dW) <= 1e-14 * dW, "Y = %g: L = %g vs %g", p.Y, L, dW);
+        double w = sqrt(1.5 * M.K * sqrt(dW) / p.m);
+        cr_assert(fabs(V - dW * w) <= 1e-14 * dW * w, "V = %g", V);
+    }
+    /* Johnson and LEPP: the larger of delta_Y and the static indentation */
+    for (int law = 2; law <= 3; law++) {
+        vi_model M = setup(law, 0, 1, 40000.0, 9.81, 1e-300);
+        vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
+        vi_model_scales(&M, x, &L, &V);
+        cr_assert(L == fmax(M.J.delta_Y, x[0]), "law %d: L = %g", law, L);
+    }
+    /* a drop (no load): the impact indentation at v0; Hertz closed form */
+    vi_model M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
+    vi_model_initial_state(&M, VI_Init_touching, -0.3, 0.0, x);
+    vi_model_scales(&M, x, &L, &V);
+    double dv = pow(15.0 * M.m * 0.09 / (16.0 * M.J.E_star * sqrt(M.J.R_star)), 0.4);
+    cr_assert(fabs(L - dv) <= 1e-14 * dv);
+    /* no load, no speed: the excitation's speed; nothing at all: 1e-6 R* */
+    M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 1e-4);
+    vi_model_initial_state(&M, VI_Init_touching, 0.0, 0.0, x);
+    vi_model_scales(&M, x, &L, &V);
+    double va = 1e-4 * 2.0 * VI_PI * 560.0;
+    dv = pow(15.0 * M.m * va * va / (16.0 * M.J.E_star * sqrt(M.J.R_star)), 0.4);
+    cr_assert(fabs(L - dv) <= 1e-14 * dv);
+    M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
+    vi_model_initial_state(&M, VI_Init_touching, 0.0, 0.0, x);
+    vi_model_scales(&M, x, &L, &V);
+    cr_assert(L == VI_SCALE_FALLBACK * M.J.R_star && V > 0.0);
+    /* extremes: finite and positive */
+    double loads[] = {1e-200, 4.9e-323, 1e100};
+    for (int i = 0; i < 3; i++)
+        for (int law = 1; law <= 3; law++) {
+            M = setup(law, 0, 1, loads[i], 0.0, 1e-300);
+            vi_model_initial_state(&M, VI_Init_static, 1e-100, 0.0, x);
+            vi_model_scales(&M, x, &L, &V);
+            cr_assert(L > 0.0 && isfinite(L) && V > 0.0 && isfinite(V), "law %d W %g: %g %g", law, loads[i], L, V);
+        }
+}
