@@ -27,7 +27,11 @@
  *   4: g0 = F_load(delta_c) - F_hold   plastic loading resumes
  *      g1 = F_hold - F_unload(delta_c) unloading starts
  * At an event the state is snapped onto the surface that was reached, and the next mode is chosen
- * from the sign of (position, rate, acceleration) relative to each surface (vi_model_resolve).
+ * from the sign of the first nonzero of (position, rate, acceleration, jerk) relative to each
+ * surface (vi_model_resolve). With delta' = 0 the acceleration of delta is (F_hold - F)/m and its
+ * jerk F_hold'/m, F_hold' = -F_ext' + m yC''': a tie of the holding force with a force of the law
+ * is broken by its rate. The stick guards are in force, not state, so they cannot be snapped: a
+ * stick guard that fired counts as exactly zero in the choice that follows.
  */
 #ifndef VI_MODEL_H
 #define VI_MODEL_H

@@ -63,20 +63,40 @@ int vi_model_setup(vi_model *M, const vi_parameters *p, double t0, char *msg, si
     return 0;
 }
 
+/* Platform position and its first three time derivatives at t: y[0..3] = yC, yC', yC'', yC'''. */
+static void platform(const vi_model *M, double t, double y[4])
+{
+    double ph = M->omega * (t - M->t0), c = cos(ph), s = sin(ph), aw = M->a * M->omega;
+    y[0] = vi_ramp_at(&M->yC_in, t) + M->a * (c - 1.0);
+    y[1] = M->yC_in.du - aw * s;
+    y[2] = -aw * M->omega * c;
+    y[3] = aw * M->omega * M->omega * s;
+}
+
 double vi_model_platform(const vi_model *M, double t, double *dyC, double *ddyC)
 {
-    double ph = M->omega * (t - M->t0), c = cos(ph);
-    if (dyC) *dyC = M->yC_in.du - M->a * M->omega * sin(ph);
-    if (ddyC) *ddyC = -M->a * M->omega * M->omega * c;
-    return vi_ramp_at(&M->yC_in, t) + M->a * (c - 1.0);
+    double y[4];
+    platform(M, t, y);
+    if (dyC) *dyC = y[1];
+    if (ddyC) *ddyC = y[2];
+    return y[0];
 }
 
 /* Force holding a sticking mass on the platform: F_hold = W(t) + m yC''(t). */
 static double hold_force(const vi_model *M, double t)
 {
-    double ddyC;
-    vi_model_platform(M, t, NULL, &ddyC);
-    return net_load(M, t) + M->m * ddyC;
+    double y[4];
+    platform(M, t, y);
+    return net_load(M, t) + M->m * y[2];
+}
+
+/* Its rate F_hold' = W' + m yC''' = -F_ext' + m yC''' [N/s]: with delta' = 0 it is m delta''' plus
+ * the force law's rate, so it breaks a tie of F_hold with a fixed force (next time derivative). */
+static double hold_force_rate(const vi_model *M, double t)
+{
+    double y[4];
+    platform(M, t, y);
+    return -M->F_ext.du + M->m * y[3];
 }
 
 double vi_model_force(const vi_model *M, double t, const double x[2])
@@ -201,6 +221,62 @@ void vi_model_freeze(vi_model *M, double t, double x[2])
         vi_model_platform(M, t, &x[1], NULL);
 }
 
+/* The sign of the first nonzero of (position, rate, acceleration, jerk) relative to a surface is
+ * positive. With delta' = 0 the acceleration of delta is (F_hold - F)/m and its jerk F_hold'/m (F
+ * fixed on the surface), so callers pass force differences and F_hold' for the last two. */
+static int ahead(double pos, double rate, double acc, double jerk)
+{
+    return pos > 0.0 || (pos == 0.0 && (rate > 0.0 || (rate == 0.0 && (acc > 0.0 || (acc == 0.0 && jerk > 0.0)))));
+}
+
+/* Which stick guard an event put exactly on its surface: its force difference counts as 0, so that
+ * the next derivative decides (the guard's value at the located root is only nearly 0). */
+enum { SNAP_NONE = -1, SNAP_LOAD = 0, SNAP_UNLOAD = 1 };
+
+static int resolve(vi_model *M, double t, double x[2], int snap)
+{
+    double dyC, d = x[0], F_hold = hold_force(M, t), j = hold_force_rate(M, t);
+    vi_model_platform(M, t, &dyC, NULL);
+    double r = dyC - x[1];
+    int mode = VI_Mode_free;
+    switch (M->law) {
+    case VI_ContactModel_hertz: mode = ahead(d, r, F_hold, j) ? VI_Mode_elastic : VI_Mode_free; break;
+    case VI_ContactModel_lepp:
+        if (ahead(d - M->delta_p, r, F_hold, j)) {
+            if (d > yield_surface(M)) lepp_flow_to(M, x); /* pushed beyond yield: it flowed */
+            mode = ahead(x[0] - yield_surface(M), r, F_hold - M->J.F_Y, j) ? VI_Mode_plastic : VI_Mode_elastic;
+        }
+        break;
+    case VI_ContactModel_johnson:
+        if (!M->yielded || M->moving) {
+            if (!ahead(d, r, F_hold, j)) break;
+            mode = ahead(d - M->J.delta_Y, r, F_hold - M->J.F_Y, j) ? VI_Mode_plastic : VI_Mode_elastic;
+            if (mode == VI_Mode_elastic || M->moving) break;
+            M->yielded = 1;
+            M->U = vi_johnson_unload_curve(&M->J, M->unloading, d > M->J.delta_Y ? d : M->J.delta_Y);
+        }
+        if (d > M->U.delta_c) M->U = vi_johnson_unload_curve(&M->J, M->unloading, d); /* pushed deeper */
+        {
+            double F_load = vi_johnson_load(&M->J, M->U.delta_c), F_unload = vi_unload_force(&M->U, d);
+            double dF_load = snap == SNAP_LOAD ? 0.0 : F_hold - F_load;
+            double dF_unload = snap == SNAP_UNLOAD ? 0.0 : F_hold - F_unload;
+            if (ahead(d - M->U.delta_c, r, dF_load, j))
+                mode = VI_Mode_plastic;
+            else if (d == M->U.delta_c && r == 0.0 && ahead(0.0, 0.0, dF_unload, j) && M->unloading == VI_UNLOAD_PAPER)
+                mode = VI_Mode_stick; /* F_unload < F_hold <= F_load: neither branch is consistent */
+            else if (ahead(d - M->U.delta_f, r, dF_unload, j))
+                mode = VI_Mode_unload;
+        }
+        break;
+    default: break;
+    }
+    if (M->mode == VI_Mode_free && mode != VI_Mode_free) M->n_impacts++;
+    M->mode = mode;
+    return mode;
+}
+
+int vi_model_resolve(vi_model *M, double t, double x[2]) { return resolve(M, t, x, SNAP_NONE); }
+
 int vi_model_event(vi_model *M, double t, double x[2], int fired)
 {
     vi_model_freeze(M, t, x);
@@ -212,57 +288,10 @@ int vi_model_event(vi_model *M, double t, double x[2], int fired)
         else vi_model_platform(M, t, &x[1], NULL); /* turning point: delta' = 0 */
         break;
     case VI_Mode_unload: x[0] = fired == 0 ? M->U.delta_f : M->U.delta_c; break;
-    case VI_Mode_stick: x[0] = M->U.delta_c; break;
+    case VI_Mode_stick: x[0] = M->U.delta_c; return resolve(M, t, x, fired == 0 ? SNAP_LOAD : SNAP_UNLOAD);
     default: break;
     }
     return vi_model_resolve(M, t, x);
-}
-
-/* The sign of the first nonzero of (position, rate, acceleration) is positive. */
-static int ahead(double pos, double rate, double acc)
-{
-    return pos > 0.0 || (pos == 0.0 && (rate > 0.0 || (rate == 0.0 && acc > 0.0)));
-}
-
-int vi_model_resolve(vi_model *M, double t, double x[2])
-{
-    double dyC, d = x[0], F_hold = hold_force(M, t);
-    vi_model_platform(M, t, &dyC, NULL);
-    double r = dyC - x[1];
-    /* acceleration of delta under a contact force F is (F_hold - F)/m: its sign is that of F_hold - F */
-    int mode = VI_Mode_free;
-    switch (M->law) {
-    case VI_ContactModel_hertz: mode = ahead(d, r, F_hold) ? VI_Mode_elastic : VI_Mode_free; break;
-    case VI_ContactModel_lepp:
-        if (ahead(d - M->delta_p, r, F_hold)) {
-            if (d > yield_surface(M)) lepp_flow_to(M, x); /* pushed beyond yield: it flowed */
-            mode = ahead(x[0] - yield_surface(M), r, F_hold - M->J.F_Y) ? VI_Mode_plastic : VI_Mode_elastic;
-        }
-        break;
-    case VI_ContactModel_johnson:
-        if (!M->yielded || M->moving) {
-            if (!ahead(d, r, F_hold)) break;
-            mode = ahead(d - M->J.delta_Y, r, F_hold - M->J.F_Y) ? VI_Mode_plastic : VI_Mode_elastic;
-            if (mode == VI_Mode_elastic || M->moving) break;
-            M->yielded = 1;
-            M->U = vi_johnson_unload_curve(&M->J, M->unloading, d > M->J.delta_Y ? d : M->J.delta_Y);
-        }
-        if (d > M->U.delta_c) M->U = vi_johnson_unload_curve(&M->J, M->unloading, d); /* pushed deeper */
-        {
-            double F_load = vi_johnson_load(&M->J, M->U.delta_c), F_unload = vi_unload_force(&M->U, d);
-            if (ahead(d - M->U.delta_c, r, F_hold - F_load))
-                mode = VI_Mode_plastic;
-            else if (d == M->U.delta_c && r == 0.0 && F_hold > F_unload && M->unloading == VI_UNLOAD_PAPER)
-                mode = VI_Mode_stick; /* F_unload < F_hold <= F_load: neither branch is consistent */
-            else if (ahead(d - M->U.delta_f, r, F_hold - F_unload))
-                mode = VI_Mode_unload;
-        }
-        break;
-    default: break;
-    }
-    if (M->mode == VI_Mode_free && mode != VI_Mode_free) M->n_impacts++;
-    M->mode = mode;
-    return mode;
 }
 
 /* Linearised contact stiffness at the static load W [N/m]. */

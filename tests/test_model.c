@@ -418,3 +418,48 @@ Test(model, scales_from_the_active_law)
             cr_assert(L > 0.0 && isfinite(L) && V > 0.0 && isfinite(V), "law %d W %g: %g %g", law, loads[i], L, V);
         }
 }
+
+/* Issue 9 item 5: ties (position, rate and force difference all zero) are broken by the next time
+ * derivative, F_hold' = -F_ext' + m yC'''. Exact ties built with P equal to a force of the band. */
+Test(model, stick_band_ties_broken_by_the_rate_of_the_holding_force)
+{
+    vi_model M = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
+    double dc = 3.0 * M.J.delta_Y;
+    vi_unload_curve U = vi_johnson_unload_curve(&M.J, VI_UNLOAD_PAPER, dc);
+    double F_load = vi_johnson_load(&M.J, dc), F_unload = vi_unload_force(&U, dc);
+    struct { double P, dF_ext; int mode; } cases[] = {
+        {F_load, -1.0, VI_Mode_plastic},  /* on the load limit, the load grows: loading resumes */
+        {F_load, +1.0, VI_Mode_stick},    /* on the load limit, the load falls: into the band */
+        {F_load, 0.0, VI_Mode_stick},     /* a tie in every derivative: stays */
+        {F_unload, +1.0, VI_Mode_unload}, /* on the unload limit, the load falls: unloading starts */
+        {F_unload, -1.0, VI_Mode_stick},  /* on the unload limit, the load grows: into the band */
+    };
+    for (int i = 0; i < 5; i++) {
+        M.W0 = cases[i].P; /* g = 0, a = 0: F_hold = W = P at the ramp's time */
+        M.F_ext = (vi_ramp){0.0, cases[i].dF_ext, 0.5};
+        M.yielded = 1, M.U = U, M.mode = VI_Mode_stick;
+        double x[2] = {dc, 0.0};
+        cr_assert(vi_model_resolve(&M, 0.5, x) == cases[i].mode, "case %d: mode %d", i, M.mode);
+    }
+}
+
+/* A stick guard that fires is on its surface even though the located root leaves it slightly on the
+ * near side: the mass starts loading at the quarter period where F_hold = W - m a w^2 cos(w t)
+ * rises through F_load = W (it stayed in stick a whole period before). */
+Test(model, fired_stick_guard_counts_as_on_its_surface)
+{
+    vi_model M = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 1e-5);
+    double dc = 3.0 * M.J.delta_Y;
+    vi_unload_curve U = vi_johnson_unload_curve(&M.J, VI_UNLOAD_PAPER, dc);
+    M.W0 = vi_johnson_load(&M.J, dc);
+    double w = M.omega, tq = 0.25 * 2.0 * VI_PI / w;
+    for (int k = -3; k <= 3; k++) {
+        double t = tq + k * 1e-16; /* the root as a solver locates it, on either side */
+        M.yielded = 1, M.U = U, M.mode = VI_Mode_stick;
+        double x[2] = {dc, 0.0}, g[VI_NGUARDS];
+        vi_model_freeze(&M, t, x);
+        vi_model_guards(&M, t, x, g);
+        cr_assert(fabs(g[0]) < 1e-9 * M.W0, "k %d: g0 = %g", k, g[0]);
+        cr_assert(vi_model_event(&M, t, x, 0) == VI_Mode_plastic, "k %d: mode %d", k, M.mode);
+    }
+}
