@@ -122,6 +122,20 @@ int vi_model_resolve(vi_model *M, double t, double x[2]);
 #define VI_SCALE_FALLBACK 1e-6
 void vi_model_scales(const vi_model *M, const double x0[2], double *L, double *V);
 
+/* Range of validity (issue 9 item 9). Eqs. 2-4 assume a contact radius small against R* (half-space,
+ * small slopes). The model leaves that range when the Hertz contact radius sqrt(R* delta) exceeds
+ * VI_VALIDITY_RADIUS R*, i.e. when the indentation delta (or the largest one, delta_c) exceeds
+ * VI_VALIDITY_RADIUS^2 R* = 0.01 R*. Returns 1 with a message naming the time, the indentation and
+ * the threshold, else 0. Meant to be checked at initialization, at events and at communication
+ * points, and reported once per instance (logStatusWarning). */
+#define VI_VALIDITY_RADIUS 0.1
+int vi_model_validity(const vi_model *M, double t, const double x[2], char *msg, size_t n);
+
+/* Options that contradict each other or are ignored (issue 9 item 9): moving_contact, continuous
+ * unloading or the printed yield formula where the law does not use them, v0 with a static start.
+ * Returns how many there are; msg lists them (one warning at initialization). */
+int vi_model_option_warnings(const vi_parameters *p, char *msg, size_t n);
+
 /* Contract C3: is M (with the state x) a model this code could have produced? Checks, and names in
  * msg the first bad field of:
  *  - enumerations and flags: law, moving, unloading, mode (allowed for the law), yielded;

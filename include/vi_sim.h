@@ -31,6 +31,7 @@ typedef struct {
     int solver_stale;    /* the state changed outside the solver: restart before the next advance */
     vi_log_fn log;
     void *log_env;
+    int warned_validity; /* the model left its range of validity: warned once (not part of the FMU state) */
     char msg[512];       /* last error message */
 } vi_sim;
 

@@ -381,6 +381,40 @@ void vi_model_scales(const vi_model *M, const double x0[2], double *L, double *V
     *V = l * (sqrt(virgin_stiffness(M, l)) / sqrt(M->m));
 }
 
+/* ---- validity ------------------------------------------------------------------------------ */
+
+int vi_model_validity(const vi_model *M, double t, const double x[2], char *msg, size_t n)
+{
+    double limit = VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * M->J.R_star;
+    double d = fmax(M->mode == VI_Mode_free ? 0.0 : x[0], M->yielded ? M->U.delta_c : 0.0);
+    if (!(d > limit)) return 0;
+    snprintf(msg, n, "t = %.17g s: the indentation %g m exceeds 0.01 R* = %g m (contact radius sqrt(R* delta) = %g m > "
+             "%g R*): the contact laws (paper eqs. 2-4) assume a contact radius small against R*, so the results "
+             "leave the model's range of validity", t, d, limit, sqrt(M->J.R_star * d), VI_VALIDITY_RADIUS);
+    return 1;
+}
+
+int vi_model_option_warnings(const vi_parameters *p, char *msg, size_t n)
+{
+    int count = 0, johnson = p->contact_model == VI_ContactModel_johnson;
+    size_t used = 0;
+    msg[0] = '\0';
+#define OPTION(cond, text)                                                               \
+    if (cond) {                                                                          \
+        int k = snprintf(msg + used, used < n ? n - used : 0, "%s" text, count ? "; " : ""); \
+        used += k > 0 ? (size_t)k : 0;                                                   \
+        count++;                                                                         \
+    }
+    OPTION(p->moving_contact && !johnson, "moving_contact = true is ignored: only the Johnson law has a moving contact point")
+    OPTION(p->unloading == VI_Unloading_continuous && !(johnson && !p->moving_contact),
+           "unloading = continuous is ignored: only Johnson with a fixed contact point unloads on eq. 4")
+    OPTION(p->yield_formula == VI_YieldFormula_printed && p->contact_model == VI_ContactModel_hertz,
+           "yield_formula = printed is ignored by the Hertz law (it changes only the calculated F_Y, delta_Y)")
+    OPTION(p->v0 != 0.0 && p->init == VI_Init_static, "v0 is ignored by a static start (init = static)")
+#undef OPTION
+    return count;
+}
+
 /* ---- contract C3 ---------------------------------------------------------------------------- */
 
 #define BAD(...) return snprintf(msg, n, __VA_ARGS__), -1

@@ -93,6 +93,16 @@ static int create_solver(vi_sim *s)
     return 0;
 }
 
+/* Warn once per instance when the contact leaves the model's range of validity (contract C6). */
+static void check_validity(vi_sim *s)
+{
+    char text[400];
+    if (!s->warned_validity && vi_model_validity(&s->d.M, s->d.t, s->d.x, text, sizeof text)) {
+        s->warned_validity = 1;
+        s->log(s->log_env, VI_LOG_WARNING, "%s", text);
+    }
+}
+
 int vi_sim_initialize(vi_sim *s)
 {
     if (vi_sim_prepare(s) < 0) return -1;
@@ -102,6 +112,9 @@ int vi_sim_initialize(vi_sim *s)
     d->atol[0] = rtol * L;
     d->atol[1] = rtol * V;
     if (create_solver(s) < 0) return -1;
+    char text[400];
+    if (vi_model_option_warnings(&d->par, text, sizeof text) > 0) s->log(s->log_env, VI_LOG_WARNING, "%s", text);
+    check_validity(s);
     s->log(s->log_env, VI_LOG_SOLVER, "CVODE %s, rtol %g, atol %g m and %g m/s (scales %g m, %g m/s)",
            d->par.solver == VI_Solver_adams ? "Adams" : "BDF", rtol, d->atol[0], d->atol[1], L, V);
     return 0;
@@ -149,6 +162,7 @@ int vi_sim_advance(vi_sim *s, double t_end)
         int from = d->M.mode;
         vi_model_event(&d->M, d->t, d->x, g);
         d->n_events++;
+        check_validity(s);
         s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: guard %d of mode %d, mode %d -> %d, delta = %.9g m, v = %.9g m/s",
                d->t, g, from, from, d->M.mode, d->x[0], d->x[1]);
         if (++events > VI_MAX_EVENTS_PER_STEP) {
@@ -163,6 +177,7 @@ int vi_sim_advance(vi_sim *s, double t_end)
         snprintf(s->msg, sizeof s->msg, "the state is not finite at t = %.17g s", d->t);
         return -1;
     }
+    check_validity(s);
     return 0;
 fail:
     snprintf(s->msg, sizeof s->msg, "CVODE failed near t = %.17g s (mode %d, delta = %g m, v = %g m/s)", d->t,

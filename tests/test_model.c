@@ -463,3 +463,27 @@ Test(model, fired_stick_guard_counts_as_on_its_surface)
         cr_assert(vi_model_event(&M, t, x, 0) == VI_Mode_plastic, "k %d: mode %d", k, M.mode);
     }
 }
+
+/* Issue 9 item 9: the validity threshold delta > 0.01 R* (contact radius sqrt(R* delta) > 0.1 R*). */
+Test(model, validity_threshold)
+{
+    vi_model M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
+    double x[2] = {0.0, 0.0}, limit = 0.01 * M.J.R_star;
+    char msg[400];
+    M.mode = VI_Mode_elastic;
+    x[0] = limit * (1.0 - 1e-12);
+    cr_assert(vi_model_validity(&M, 0.0, x, msg, sizeof msg) == 0);
+    x[0] = limit * (1.0 + 1e-12);
+    cr_assert(vi_model_validity(&M, 1.5, x, msg, sizeof msg) == 1);
+    cr_assert(strstr(msg, "t = 1.5 s") && strstr(msg, "0.01 R*"), "%s", msg);
+    M.mode = VI_Mode_free; /* apart: no contact radius */
+    cr_assert(vi_model_validity(&M, 0.0, x, msg, sizeof msg) == 0);
+    vi_parameters p;
+    vi_parameters_default(&p);
+    cr_assert(vi_model_option_warnings(&p, msg, sizeof msg) == 0 && msg[0] == '\0');
+    p.contact_model = VI_ContactModel_lepp, p.moving_contact = 1, p.unloading = 2, p.v0 = 1.0;
+    cr_assert(vi_model_option_warnings(&p, msg, sizeof msg) == 3, "%s", msg);
+    cr_assert(strstr(msg, "moving_contact") && strstr(msg, "unloading") && strstr(msg, "v0"), "%s", msg);
+    char tiny[8]; /* truncated, never overrun */
+    cr_assert(vi_model_option_warnings(&p, tiny, sizeof tiny) == 3 && strlen(tiny) == 7);
+}
