@@ -6,7 +6,9 @@
  *
  *   delta' = yC'(t) - v
  *   v'     = (F(delta, mode, memory) - W(t)) / m,     W(t) = P + m g - F_ext(t)  (net load down)
- *   yC(t)  = yC_in(t) + a (cos(2 pi f (t - t0)) - 1)   (t0: start time)
+ *   yC(t)  = yC_in(t) + a (cos(phi(t)) - 1),   phi(t) = phi0 + 2 pi f (t - t_phi)
+ *            (phi0 = 0, t_phi = t0 the start time; a and f are tunable: when f changes at t1 the
+ *            phase goes on from phi(t1) at the new rate, so phi and yC stay continuous)
  *
  * Inputs are ramps over a communication step: u(t) = u + du (t - t_u) (du = 0: zero-order hold).
  *
@@ -60,7 +62,8 @@ typedef struct {
     double K;      /* Hertz constant [N/m^1.5] */
     vi_johnson J;  /* E*, R*, theta_Y, F_Y, delta_Y */
     double k_lin;  /* F_Y/delta_Y [N/m] */
-    double a, omega, t0; /* harmonic excitation: amplitude [m], 2 pi f [rad/s], phase origin [s] */
+    double a, omega, t0; /* harmonic excitation: amplitude [m], 2 pi f [rad/s]; start time [s] */
+    double phi0, t_phi;  /* phase reference: phi(t) = phi0 + omega (t - t_phi) [rad, s] (state: tunable f) */
     double f_contact;    /* linearised contact resonance at the initial static load [Hz] (initial state) */
 
     /* inputs */
@@ -76,6 +79,17 @@ typedef struct {
 
 /* Check the parameters and derive the constants. Returns 0, or -1 with a message in msg. */
 int vi_model_setup(vi_model *M, const vi_parameters *p, double t0, char *msg, size_t msg_size);
+
+/* The excitation's parameters changed at time t (tunable a and f, contract C9): the phase phi
+ * stays continuous (a new f turns on from phi(t) at the new rate); a new a moves the platform by
+ * (a_new - a)(cos(phi(t)) - 1), and delta jumps with it while the mass does not move, as for a
+ * jump of yC_in. Call between vi_model_freeze and vi_model_resolve (the rate of delta changes).
+ * Returns 0, or -1 with a message (non-finite a or f, f < 0; nothing changed). */
+int vi_model_set_excitation(vi_model *M, double t, double x[2], double a, double f, char *msg, size_t n);
+/* Do (a, f) differ from the excitation the model runs? */
+int vi_model_excitation_differs(const vi_model *M, double a, double f);
+/* The excitation's phase phi(t) [rad]. */
+double vi_model_phase(const vi_model *M, double t);
 
 /* Platform position yC(t) [m]; its first and second derivatives when the pointers are not NULL. */
 double vi_model_platform(const vi_model *M, double t, double *dyC, double *ddyC);

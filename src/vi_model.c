@@ -56,6 +56,8 @@ int vi_model_setup(vi_model *M, const vi_parameters *p, double t0, char *msg, si
     M->a = p->a;
     M->omega = 2.0 * VI_PI * p->f;
     M->t0 = t0;
+    M->phi0 = 0.0;
+    M->t_phi = t0;
     CHECK(isfinite(M->W0) && isfinite(M->K) && M->K > 0.0 && isfinite(M->J.F_Y) && M->J.F_Y > 0.0 &&
               M->J.delta_Y > 0.0 && isfinite(M->k_lin) && M->k_lin > 0.0,
           "the parameters give no finite positive contact stiffness or yield force (E* = %g Pa, R* = %g m, "
@@ -63,10 +65,29 @@ int vi_model_setup(vi_model *M, const vi_parameters *p, double t0, char *msg, si
     return 0;
 }
 
+double vi_model_phase(const vi_model *M, double t) { return M->phi0 + M->omega * (t - M->t_phi); }
+
+int vi_model_excitation_differs(const vi_model *M, double a, double f) { return a != M->a || 2.0 * VI_PI * f != M->omega; }
+
+int vi_model_set_excitation(vi_model *M, double t, double x[2], double a, double f, char *msg, size_t n)
+{
+    if (!isfinite(a) || !isfinite(f) || f < 0.0) {
+        snprintf(msg, n, "a = %g m, f = %g Hz at t = %.17g s: a must be finite and f finite and >= 0", a, f, t);
+        return -1;
+    }
+    double ph = vi_model_phase(M, t), c = cos(ph);
+    x[0] += (a - M->a) * (c - 1.0); /* the platform moves, the mass does not */
+    M->a = a;
+    M->phi0 = fmod(ph, 2.0 * VI_PI);
+    M->t_phi = t;
+    M->omega = 2.0 * VI_PI * f;
+    return 0;
+}
+
 /* Platform position and its first three time derivatives at t: y[0..3] = yC, yC', yC'', yC'''. */
 static void platform(const vi_model *M, double t, double y[4])
 {
-    double ph = M->omega * (t - M->t0), c = cos(ph), s = sin(ph), aw = M->a * M->omega;
+    double ph = vi_model_phase(M, t), c = cos(ph), s = sin(ph), aw = M->a * M->omega;
     y[0] = vi_ramp_at(&M->yC_in, t) + M->a * (c - 1.0);
     y[1] = M->yC_in.du - aw * s;
     y[2] = -aw * M->omega * c;
@@ -431,6 +452,7 @@ static int check_constants(const vi_model *M, char *msg, size_t n)
         {"E_star", M->J.E_star, 1}, {"R_star", M->J.R_star, 1}, {"theta_Y", M->J.theta_Y, 1},
         {"F_Y", M->J.F_Y, 1},     {"delta_Y", M->J.delta_Y, 1}, {"k_lin", M->k_lin, 1},
         {"a", M->a, 0},           {"omega", M->omega, 0},   {"t0", M->t0, 0},
+        {"phi0", M->phi0, 0},     {"t_phi", M->t_phi, 0},
         {"f_contact", M->f_contact, 0}};
     for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
         if (!isfinite(c[i].value)) BAD("model constant %s = %g is not finite", c[i].name, c[i].value);

@@ -122,9 +122,9 @@ int vi_sim_initialize(vi_sim *s)
 
 int vi_sim_restore(vi_sim *s) { return create_solver(s); }
 
-/* New input values take effect at time t: the platform may jump (the mass does not), the force may
- * step; the mode is then chosen afresh from the new state. */
-static void apply_inputs(vi_sim *s)
+/* New input values (and tunable a, f) take effect at time t: the platform may jump (the mass does
+ * not), the force may step; the mode is then chosen afresh from the new state. 0, or -1 (s->msg). */
+static int apply_inputs(vi_sim *s)
 {
     vi_sim_data *d = &s->d;
     vi_model *M = &d->M;
@@ -132,21 +132,24 @@ static void apply_inputs(vi_sim *s)
     d->inputs_changed = 0;
     vi_ramp y_old = M->yC_in, f_old = M->F_ext;
     double y_old_t = vi_ramp_at(&y_old, t), f_old_t = vi_ramp_at(&f_old, t);
-    if (d->in.yC_in == y_old_t && d->din.yC_in == y_old.du && d->in.F_ext == f_old_t && d->din.F_ext == f_old.du)
-        return; /* the same signal: nothing happens */
+    if (d->in.yC_in == y_old_t && d->din.yC_in == y_old.du && d->in.F_ext == f_old_t && d->din.F_ext == f_old.du &&
+        !vi_model_excitation_differs(M, d->par.a, d->par.f))
+        return 0; /* the same signal: nothing happens */
     vi_model_freeze(M, t, d->x);
     int mode = M->mode;
     d->x[0] += d->in.yC_in - y_old_t; /* delta jumps with the platform */
     set_input_ramps(M, d, t);
+    if (vi_model_set_excitation(M, t, d->x, d->par.a, d->par.f, s->msg, sizeof s->msg) < 0) return -1;
     if (vi_model_resolve(M, t, d->x) != mode)
         s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: input change, mode %d -> %d", t, mode, M->mode);
     s->solver_stale = 1;
+    return 0;
 }
 
 int vi_sim_advance(vi_sim *s, double t_end)
 {
     vi_sim_data *d = &s->d;
-    if (d->inputs_changed) apply_inputs(s);
+    if (d->inputs_changed && apply_inputs(s) < 0) return -1;
     if (s->solver_stale) {
         if (vi_solver_reset(s->solver, d->t, d->x) < 0) goto fail;
         s->solver_stale = 0;
