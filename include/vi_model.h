@@ -6,10 +6,13 @@
  *
  *   delta' = yC'(t) - v
  *   v'     = (F(delta, mode, memory) - W(t)) / m,     W(t) = P + m g - F_ext(t)  (net load down)
- *   yC(t)  = yC_in(t) + a (cos(phi(t)) - 1),   phi(t) = phi0 + 2 pi f (t - t_phi)
+ *   yC(t)  = yC_in(t) + a (cos(phi(t)) - 1) + yb(x0 + V (t - t0)),   phi(t) = phi0 + 2 pi f (t - t_phi)
  *            (phi0 = 0, t_phi = t0 the start time; a and f are tunable: when f changes at t1 the
  *            phase goes on from phi(t1) at the new rate, so phi and yC stay continuous)
  *
+ *            yb: rolling over a profile (paper Fig. 1b, vi_profile.h), 0 without one; x0 is the position
+ *            on the profile at the start time t0, V the rolling speed. Where yb has a kink yC' jumps:
+ *            vi_model_next_breakpoint gives the time, and the loop restarts there (vi_model_breakpoint).
  * Inputs are ramps over a communication step: u(t) = u + du (t - t_u) (du = 0: zero-order hold).
  *
  * Modes (output `mode`): 0 free, 1 elastic on the virgin curve (Hertz, Johnson below delta_Y,
@@ -41,6 +44,7 @@
 #include <stddef.h>
 
 #include "vi_contact.h"
+#include "vi_profile.h"
 #include "vi_variables.h"
 
 #define VI_NGUARDS 2
@@ -65,6 +69,11 @@ typedef struct {
     double a, omega, t0; /* harmonic excitation: amplitude [m], 2 pi f [rad/s]; start time [s] */
     double phi0, t_phi;  /* phase reference: phi(t) = phi0 + omega (t - t_phi) [rad, s] (state: tunable f) */
     double f_contact;    /* linearised contact resonance at the initial static load [Hz] (initial state) */
+    double V, x0;        /* rolling speed [m/s] and position on the profile at t0 [m] */
+    /* The profile (owned by the simulation, not the model). A pointer inside the FMU state: never
+     * trusted from a saved state; the simulation attaches its own after setup and after every
+     * restore (vi_model_set_rolling). NULL: no profile, yb = 0. */
+    const vi_profile *profile;
 
     /* inputs */
     vi_ramp yC_in, F_ext;
@@ -90,6 +99,23 @@ int vi_model_set_excitation(vi_model *M, double t, double x[2], double a, double
 int vi_model_excitation_differs(const vi_model *M, double a, double f);
 /* The excitation's phase phi(t) [rad]. */
 double vi_model_phase(const vi_model *M, double t);
+
+/* Roll over profile (NULL: none) at speed V [m/s] from position x0 [m] at t0. Returns 0, or -1 with a
+ * message when x0 lies outside a non-periodic profile or V, x0 are not finite. */
+int vi_model_set_rolling(vi_model *M, const vi_profile *profile, double V, double x0, char *msg, size_t n);
+/* Position on the profile at time t [m]. */
+double vi_model_rolling_position(const vi_model *M, double t);
+/* Contract C10: the first time after t at which the platform velocity jumps (the rolling position
+ * passes a kink of yb); INFINITY if none. The time is rounded so that the position there is past the
+ * kink, so that yC' there is the value after the jump. */
+double vi_model_next_breakpoint(const vi_model *M, double t);
+/* At a breakpoint (time t): the rate of delta jumped with the platform velocity; choose the mode
+ * afresh (freeze, then resolve). Returns the mode. */
+int vi_model_breakpoint(vi_model *M, double t, double x[2]);
+/* The last time a non-periodic profile covers (the rolling position reaches its end); INFINITY
+ * without a profile, with a periodic one, or with V = 0. When it is finite, msg says why the motion
+ * cannot go past it. */
+double vi_model_rolling_limit(const vi_model *M, char *msg, size_t n);
 
 /* Platform position yC(t) [m]; its first and second derivatives when the pointers are not NULL. */
 double vi_model_platform(const vi_model *M, double t, double *dyC, double *ddyC);

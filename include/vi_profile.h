@@ -54,8 +54,8 @@ void vi_profile_free(vi_profile *p);
  * (right-hand values at an interval boundary). 0, or -1 when x lies outside a non-periodic profile
  * (then the values at the nearer end). */
 int vi_profile_eval(const vi_profile *p, double x, double y[4]);
-/* The first kink beyond x in the direction dir (+1 or -1), a kink within 8 ulps of x (rounding of
- * the positions in other periods) counting as at x, not beyond; +-INFINITY if none. */
+/* The first kink beyond x in the direction dir (+1 or -1), a kink within 8 eps (|x| + period) of x
+ * (rounding of the positions in other periods) counting as at x, not beyond; +-INFINITY if none. */
 double vi_profile_next_kink(const vi_profile *p, double x, int dir);
 
 /* Range [x_first, x_last] of the table, periodicity, radius, largest |yb'|, counts. */

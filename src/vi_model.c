@@ -58,6 +58,8 @@ int vi_model_setup(vi_model *M, const vi_parameters *p, double t0, char *msg, si
     M->t0 = t0;
     M->phi0 = 0.0;
     M->t_phi = t0;
+    M->profile = NULL;
+    M->V = M->x0 = 0.0;
     CHECK(isfinite(M->W0) && isfinite(M->K) && M->K > 0.0 && isfinite(M->J.F_Y) && M->J.F_Y > 0.0 &&
               M->J.delta_Y > 0.0 && isfinite(M->k_lin) && M->k_lin > 0.0,
           "the parameters give no finite positive contact stiffness or yield force (E* = %g Pa, R* = %g m, "
@@ -84,6 +86,63 @@ int vi_model_set_excitation(vi_model *M, double t, double x[2], double a, double
     return 0;
 }
 
+/* ---- rolling over a profile ------------------------------------------------------------------ */
+
+double vi_model_rolling_position(const vi_model *M, double t) { return M->x0 + M->V * (t - M->t0); }
+
+int vi_model_set_rolling(vi_model *M, const vi_profile *profile, double V, double x0, char *msg, size_t n)
+{
+    if (!isfinite(V) || !isfinite(x0)) {
+        snprintf(msg, n, "V = %g m/s, x0 = %g m: both must be finite", V, x0);
+        return -1;
+    }
+    if (profile && !vi_profile_periodic(profile) &&
+        !(x0 >= vi_profile_x_first(profile) && x0 <= vi_profile_x_last(profile))) {
+        snprintf(msg, n, "x0 = %g m lies outside the profile [%g, %g] m (set profile_periodic to repeat it)", x0,
+                 vi_profile_x_first(profile), vi_profile_x_last(profile));
+        return -1;
+    }
+    M->profile = profile;
+    M->V = V;
+    M->x0 = x0;
+    return 0;
+}
+
+/* At most this many ulp steps round a breakpoint time past its kink (a few suffice). */
+#define VI_BREAKPOINT_NUDGES 64
+
+double vi_model_next_breakpoint(const vi_model *M, double t)
+{
+    if (!M->profile || M->V == 0.0) return INFINITY;
+    int dir = M->V > 0.0 ? 1 : -1;
+    double xk = vi_profile_next_kink(M->profile, vi_model_rolling_position(M, t), dir);
+    if (!isfinite(xk)) return INFINITY;
+    double tk = M->t0 + (xk - M->x0) / M->V;
+    for (int i = 0; i < VI_BREAKPOINT_NUDGES; i++) { /* position past the kink: the piece after it */
+        double pos = vi_model_rolling_position(M, tk);
+        if (dir > 0 ? pos >= xk : pos < xk) break;
+        tk = nextafter(tk, INFINITY);
+    }
+    return tk > t ? tk : nextafter(t, INFINITY);
+}
+
+int vi_model_breakpoint(vi_model *M, double t, double x[2])
+{
+    vi_model_freeze(M, t, x);
+    return vi_model_resolve(M, t, x);
+}
+
+double vi_model_rolling_limit(const vi_model *M, char *msg, size_t n)
+{
+    if (!M->profile || vi_profile_periodic(M->profile) || M->V == 0.0) return INFINITY;
+    double end = M->V > 0.0 ? vi_profile_x_last(M->profile) : vi_profile_x_first(M->profile);
+    double t = M->t0 + (end - M->x0) / M->V;
+    snprintf(msg, n, "t = %.17g s: the rolling position x0 + V (t - t_start) = %.17g m reaches the end of the profile "
+             "(%s = %g m); the profile does not go on beyond it (set profile_periodic to repeat it)", t,
+             vi_model_rolling_position(M, t), M->V > 0.0 ? "x_last" : "x_first", end);
+    return t;
+}
+
 /* Platform position and its first three time derivatives at t: y[0..3] = yC, yC', yC'', yC'''. */
 static void platform(const vi_model *M, double t, double y[4])
 {
@@ -92,6 +151,11 @@ static void platform(const vi_model *M, double t, double y[4])
     y[1] = M->yC_in.du - aw * s;
     y[2] = -aw * M->omega * c;
     y[3] = aw * M->omega * M->omega * s;
+    if (M->profile) { /* yb(x0 + V (t - t0)): d/dt = V d/dx */
+        double b[4], V = M->V;
+        vi_profile_eval(M->profile, vi_model_rolling_position(M, t), b);
+        y[0] += b[0], y[1] += V * b[1], y[2] += V * V * b[2], y[3] += V * V * V * b[3];
+    }
 }
 
 double vi_model_platform(const vi_model *M, double t, double *dyC, double *ddyC)
@@ -390,7 +454,8 @@ void vi_model_scales(const vi_model *M, const double x0[2], double *L, double *V
     }
     if (M->law != VI_ContactModel_hertz) l = fmax(l, M->J.delta_Y);
     double v = fabs(dyC - x0[1]);
-    if (!(l > 0.0 || v > 0.0)) v = fabs(M->a) * M->omega; /* only the excitation moves anything */
+    if (!(l > 0.0 || v > 0.0)) /* only the excitation moves anything: harmonic and rolling */
+        v = fabs(M->a) * M->omega + (M->profile ? fabs(M->V) * vi_profile_max_slope(M->profile) : 0.0);
     if (v > 0.0 && isfinite(v)) {
         double dv = M->law == VI_ContactModel_lepp
                         ? v * sqrt(M->m) / sqrt(M->k_lin)
@@ -452,7 +517,8 @@ static int check_constants(const vi_model *M, char *msg, size_t n)
         {"E_star", M->J.E_star, 1}, {"R_star", M->J.R_star, 1}, {"theta_Y", M->J.theta_Y, 1},
         {"F_Y", M->J.F_Y, 1},     {"delta_Y", M->J.delta_Y, 1}, {"k_lin", M->k_lin, 1},
         {"a", M->a, 0},           {"omega", M->omega, 0},   {"t0", M->t0, 0},
-        {"phi0", M->phi0, 0},     {"t_phi", M->t_phi, 0},
+        {"phi0", M->phi0, 0},     {"t_phi", M->t_phi, 0},   {"V", M->V, 0},
+        {"x0", M->x0, 0},
         {"f_contact", M->f_contact, 0}};
     for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
         if (!isfinite(c[i].value)) BAD("model constant %s = %g is not finite", c[i].name, c[i].value);

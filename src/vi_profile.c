@@ -452,7 +452,7 @@ double vi_profile_next_kink(const vi_profile *p, double x, int dir)
         r = x - base;
     }
     /* a kink within rounding of r (positions of other periods are not exact) is the one at x */
-    double tol = 8.0 * DBL_EPSILON * (fabs(x) + fabs(p->lo) + fabs(p->hi));
+    double tol = 8.0 * DBL_EPSILON * (fabs(x) + p->period);
     double from = dir > 0 ? r + tol : r - tol;
     size_t a = 0, b = p->n_kinks; /* binary search: the first index with kinks[i] > from */
     while (a < b) {

@@ -156,10 +156,22 @@ int vi_sim_advance(vi_sim *s, double t_end)
     }
     long events = 0;
     int fired[VI_NGUARDS];
-    while (d->t < t_end) {
-        int rc = vi_solver_advance(s->solver, t_end, &d->t, d->x, fired);
+    char why[400]; /* rolling: the profile ends at `limit` (contract C10 for the kinks below) */
+    double limit = vi_model_rolling_limit(&d->M, why, sizeof why), target = fmin(t_end, limit);
+    while (d->t < target) {
+        double bp = vi_model_next_breakpoint(&d->M, d->t), stop = fmin(target, bp);
+        int rc = vi_solver_advance(s->solver, stop, &d->t, d->x, fired);
         if (rc == VI_SOLVER_FAILED) goto fail;
-        if (rc == VI_SOLVER_REACHED) break;
+        if (rc == VI_SOLVER_REACHED) {
+            if (stop == bp) { /* the platform velocity jumps: choose the mode afresh, restart */
+                int from = d->M.mode;
+                if (vi_model_breakpoint(&d->M, d->t, d->x) != from)
+                    s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: profile kink, mode %d -> %d", d->t, from, d->M.mode);
+                if (vi_solver_reset(s->solver, d->t, d->x) < 0) goto fail;
+            }
+            if (d->t >= target) break;
+            continue;
+        }
         int g = 0;
         while (g < VI_NGUARDS - 1 && fired[g] == 0) g++;
         int from = d->M.mode;
@@ -174,6 +186,10 @@ int vi_sim_advance(vi_sim *s, double t_end)
             return -1;
         }
         if (vi_solver_reset(s->solver, d->t, d->x) < 0) goto fail;
+    }
+    if (t_end > limit) { /* reached the end of the profile: nothing beyond it */
+        snprintf(s->msg, sizeof s->msg, "%s", why);
+        return -1;
     }
     d->t = t_end;
     if (!isfinite(d->x[0]) || !isfinite(d->x[1])) {

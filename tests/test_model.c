@@ -579,3 +579,94 @@ Test(excitation, negative_frequency_is_refused)
     cr_assert(strstr(s.msg, "f = -5 Hz") != NULL, "%s", s.msg);
     vi_sim_free(&s);
 }
+
+/* ---- rolling over a profile (issue 11 item 4) --------------------------------------------------- */
+
+/* A V-shaped trough of slope s0 with its bottom at x = 0: yb = s0 |x| + R1 (sqrt(1 + s0^2) - 1). */
+static vi_profile *v_trough(double s0)
+{
+    double x[] = {-10.0, 0.0, 10.0}, h[] = {10.0 * s0, 0.0, 10.0 * s0};
+    char msg[256];
+    vi_profile *p = vi_profile_create(x, h, 3, 0.475, 0, "v", msg, sizeof msg);
+    cr_assert(p != NULL, "%s", msg);
+    return p;
+}
+
+/* Static start on Hertz, rolled at V over the trough's kink: before it the mass rides the platform
+ * down uniformly (delta stays static); the kink turns the platform velocity by 2 s0 V, and the
+ * contact rings with amplitude 2 s0 V / omega_c (linearised, omega_c = 2 pi f_contact). The loop
+ * stops at the kink (contract C10) and restarts there. */
+Test(rolling, kink_is_a_breakpoint_and_rings_the_contact)
+{
+    for (int dir = -1; dir <= 1; dir += 2) {
+        double s0 = 1e-4, V = 1.0 * dir, x0 = -0.01 * dir, tk = 0.01; /* the kink at x = 0, t = 10 ms */
+        vi_profile *prof = v_trough(s0);
+        vi_sim s;
+        vi_sim_init(&s, log_nothing, NULL);
+        s.d.par.contact_model = VI_ContactModel_hertz;
+        s.d.par.rtol = 1e-10;
+        cr_assert(vi_sim_prepare(&s) == 0, "%s", s.msg);
+        char msg[256];
+        cr_assert(vi_model_set_rolling(&s.d.M, prof, V, x0, msg, sizeof msg) == 0, "%s", msg);
+        vi_model_initial_state(&s.d.M, VI_Init_static, 0.0, 0.0, s.d.x); /* at rest on the moving platform */
+        double ds = s.d.x[0], w = 2.0 * VI_PI * s.d.M.f_contact;
+        cr_assert(fabs(s.d.x[1] - (-s0 * V * dir)) <= 1e-18, "v0 %g", s.d.x[1]); /* yC' = -s0 |V| before the kink */
+        double bp = vi_model_next_breakpoint(&s.d.M, 0.0);
+        double xk = vi_profile_next_kink(prof, -dir, dir), pos = vi_model_rolling_position(&s.d.M, bp);
+        cr_assert(fabs(xk) < 1e-14 && fabs(bp - tk) <= 1e-14 && (dir > 0 ? pos >= xk : pos < xk),
+                  "breakpoint %.17g: position %g, kink %g", bp, pos, xk);
+        double L, Vs;
+        vi_model_scales(&s.d.M, s.d.x, &L, &Vs);
+        s.d.atol[0] = 1e-10 * L, s.d.atol[1] = 1e-10 * Vs;
+        cr_assert(vi_sim_restore(&s) == 0, "%s", s.msg);
+        double before = 0.0, after = 0.0;
+        for (int k = 1; k <= 400; k++) {
+            double t = 5e-5 * k;
+            cr_assert(vi_sim_advance(&s, t) == 0, "%s", s.msg);
+            if (t < tk) before = fmax(before, fabs(s.d.x[0] - ds));
+            else after = fmax(after, fabs(s.d.x[0] - ds));
+        }
+        double amp = 2.0 * s0 * fabs(V) / w;
+        cr_assert(before <= 1e-6 * amp, "dir %d: delta moved before the kink by %g", dir, before);
+        cr_assert(fabs(after - amp) <= 0.01 * amp, "dir %d: ringing %g vs %g", dir, after, amp);
+        vi_solver_stats st;
+        vi_sim_statistics(&s, &st);
+        cr_assert(st.resets >= 1);
+        vi_sim_free(&s);
+        vi_profile_free(prof);
+    }
+}
+
+Test(rolling, the_profile_ends)
+{
+    vi_profile *prof = v_trough(1e-4); /* x in [-10, 10] */
+    vi_sim s;
+    vi_sim_init(&s, log_nothing, NULL);
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    char msg[256];
+    cr_assert(vi_model_set_rolling(&s.d.M, prof, 2.0, 11.0, msg, sizeof msg) < 0);
+    cr_assert(strstr(msg, "x0 = 11 m lies outside the profile [-10, 10] m"), "%s", msg);
+    cr_assert(vi_model_set_rolling(&s.d.M, prof, 1000.0, 9.0, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(vi_sim_advance(&s, 5e-4) == 0, "%s", s.msg);
+    cr_assert(vi_sim_advance(&s, 2e-3) < 0); /* the end at t = 1 ms */
+    cr_assert(fabs(s.d.t - 1e-3) < 1e-15 && strstr(s.msg, "t = 0.001") && strstr(s.msg, "x_last = 10 m"), "t %g: %s",
+              s.d.t, s.msg);
+    vi_sim_free(&s);
+    vi_profile_free(prof);
+}
+
+/* The holding force of a sticking mass includes the profile's curvature: F_hold = W + m V^2 yb''. */
+Test(rolling, platform_derivatives_follow_the_profile)
+{
+    double x[] = {-1.0, 0.0, 1e-9, 1.0}, h[] = {0.0, 0.0, 0.01, 0.01}; /* a step: a circular ramp */
+    char msg[256];
+    vi_profile *prof = vi_profile_create(x, h, 4, 0.475, 0, "step", msg, sizeof msg);
+    vi_model M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
+    cr_assert(vi_model_set_rolling(&M, prof, 3.0, -0.05, msg, sizeof msg) == 0);
+    double t = 0.004, d = -0.05 + 3.0 * t - 1e-9, R = 0.475, dyC, ddyC; /* on the ramp */
+    double yC = vi_model_platform(&M, t, &dyC, &ddyC);
+    cr_assert(fabs(yC - (0.01 - d * d / (R + sqrt(R * R - d * d)))) <= 1e-15);
+    cr_assert(fabs(dyC - 3.0 * (-d / sqrt(R * R - d * d))) <= 1e-12);
+    cr_assert(fabs(ddyC - 9.0 * (-R * R / pow(R * R - d * d, 1.5))) <= 1e-9);
+    vi_profile_free(prof);
+}
