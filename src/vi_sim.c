@@ -25,16 +25,77 @@ void vi_sim_init(vi_sim *s, vi_log_fn log, void *log_env)
     vi_inputs_default(&s->d.in);
 }
 
+void vi_sim_set_resources(vi_sim *s, const char *dir)
+{
+    snprintf(s->resources, sizeof s->resources, "%s", dir ? dir : "");
+}
+
 void vi_sim_reset(vi_sim *s)
 {
-    vi_solver_free(s->solver);
+    char resources[VI_PATH_MAX];
+    memcpy(resources, s->resources, sizeof resources);
+    vi_sim_free(s);
     vi_sim_init(s, s->log, s->log_env);
+    memcpy(s->resources, resources, sizeof resources);
 }
 
 void vi_sim_free(vi_sim *s)
 {
     vi_solver_free(s->solver);
     s->solver = NULL;
+    vi_profile_free(s->profile);
+    s->profile = NULL;
+    s->profile_key[0] = '\0';
+}
+
+/* The file a profile_file names: as given when absolute; else in the resources folder if it is
+ * there, else relative to the working directory. 0, or -1 when the path does not fit. */
+static int profile_path(const vi_sim *s, const char *file, char *path, size_t n)
+{
+    int k;
+    if (file[0] != '/' && s->resources[0]) {
+        k = snprintf(path, n, "%s/%s", s->resources, file);
+        FILE *f = k > 0 && (size_t)k < n ? fopen(path, "r") : NULL;
+        if (f) {
+            fclose(f);
+            return 0;
+        }
+    }
+    k = snprintf(path, n, "%s", file);
+    return k > 0 && (size_t)k < n ? 0 : -1;
+}
+
+/* Load (or keep, when file, R1 and periodicity are those it was built for) the profile and hand it
+ * to the model with V and x0. Called after vi_model_setup and after a restore: a profile pointer
+ * read from a saved state is never used. 0, or -1 (s->msg). */
+static int attach_profile(vi_sim *s, const char *file, double V, double x0, int periodic)
+{
+    vi_model *M = &s->d.M;
+    double R1 = s->d.par.R1;
+    if (!file || !file[0]) {
+        vi_profile_free(s->profile);
+        s->profile = NULL;
+        s->profile_key[0] = '\0';
+        return vi_model_set_rolling(M, NULL, V, x0, s->msg, sizeof s->msg);
+    }
+    char path[VI_PATH_MAX], key[sizeof s->profile_key];
+    if (profile_path(s, file, path, sizeof path) < 0) {
+        snprintf(s->msg, sizeof s->msg, "profile_file '%.200s...': the path is too long", file);
+        return -1;
+    }
+    if (!(R1 > 0.0)) {
+        snprintf(s->msg, sizeof s->msg, "profile_file: rolling needs a body radius R1 > 0 (R1 = %g m)", R1);
+        return -1;
+    }
+    snprintf(key, sizeof key, "%s|%.17g|%d", path, R1, periodic != 0);
+    if (!s->profile || strcmp(key, s->profile_key) != 0) {
+        vi_profile_free(s->profile);
+        s->profile_key[0] = '\0';
+        s->profile = vi_profile_load(path, R1, periodic, s->msg, sizeof s->msg);
+        if (!s->profile) return -1;
+        memcpy(s->profile_key, key, sizeof key);
+    }
+    return vi_model_set_rolling(M, s->profile, V, x0, s->msg, sizeof s->msg);
 }
 
 static void set_input_ramps(vi_model *M, const vi_sim_data *d, double t)
@@ -67,6 +128,7 @@ int vi_sim_prepare(vi_sim *s)
         return -1;
     }
     if (vi_model_setup(&d->M, p, d->t_start, s->msg, sizeof s->msg) < 0) return -1;
+    if (attach_profile(s, "", 0.0, 0.0, 0) < 0) return -1; /* TODO(M): profile_file, V, x0, profile_periodic */
     d->t = d->t_start;
     set_input_ramps(&d->M, d, d->t);
     d->inputs_changed = 0;
