@@ -1,0 +1,7 @@
+"""Parameter sweeps of the VibroImpact FMU on Dask (tools/sweep.py is the command).
+
+spec    the FMU's interface, the --set/--grid options, the grid product and the chains (client side)
+point   one chain of points on one FMU instance, statistics on the fly, Poincare samples (worker side)
+engine  Dask: local cluster or scheduler, the FMU shipped to the workers, progress, CSV files
+plots   the PNGs of one sweep, and the response / bifurcation drawings the diagrams reuse
+"""
