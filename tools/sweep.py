@@ -55,6 +55,8 @@ def parse_args(argv):
                    help="worker processes of the local cluster (default: all cores)")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="use a running Dask scheduler, e.g. tcp://host:8786, instead of a local cluster")
+    p.add_argument("--connect-timeout", type=float, default=60.0, metavar="S",
+                   help="with --scheduler: how long to wait for the scheduler and its first worker (default 60 s)")
     p.add_argument("--sweep-direction", choices=["up", "down"], default=None,
                    help="continuation along the first grid variable, ascending (up) or descending (down)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -90,7 +92,7 @@ def main(argv=None):
         return 2
     try:
         rows = engine.run(sweep, interface, args.fmu, workers=args.workers, scheduler=args.scheduler,
-                          progress=not args.no_progress)
+                          progress=not args.no_progress, connect_timeout=args.connect_timeout)
     except spec.SpecError as e:
         print(f"sweep: {e}", file=sys.stderr)
         return 2

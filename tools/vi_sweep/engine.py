@@ -1,73 +1,32 @@
 """Dask runs the sweep: a LocalCluster by default, or a running scheduler by address.
 
-The FMU goes to the workers inside a worker plugin (its bytes; each worker extracts it once into
-its own local directory, which Dask removes when the plugin or the worker goes). The worker-side
-code of this package is shipped by value (cloudpickle), so a remote worker needs fmpy and numpy but
-not this repository. One task per chain (see spec.chains): an independent point is a chain of one.
+The code goes to the scheduler and the workers with Client.upload_file (a zip of this package), the
+FMU inside a worker plugin (worker.FMUPlugin), so a remote worker needs fmpy, numpy and distributed
+but not this repository. One task per chain (see spec.chains): an independent point is a chain of one.
 Results come back as plain data and are put in grid order, so the files do not depend on which
 worker ran what or when.
 """
 import csv
-import hashlib
 import json
 import logging
 import math
 import os
-import shutil
+import pathlib
 import sys
+import tempfile
 import uuid
 import zipfile
 
-import cloudpickle
-from distributed import Client, LocalCluster, as_completed, get_worker
-from distributed.diagnostics.plugin import WorkerPlugin
+from distributed import Client, LocalCluster, as_completed
 
-from . import point as _point
 from . import spec as _spec
 from .point import OUTPUT_NAMES, STATS
+from .worker import FMUPlugin, chain_task
 
-# ship this package's code with the tasks: remote workers need fmpy and numpy, not the repository
-cloudpickle.register_pickle_by_value(sys.modules[__package__])
+PACKAGE = pathlib.Path(__file__).resolve().parent
 
-CONNECT_TIMEOUT_S = 60   # to reach a given scheduler, and for its first worker to be there
 STATUS_COLUMNS = ["status", "message"]
 POINCARE_COLUMNS = ["period", "t", "delta", "v"]
-
-
-class FMUPlugin(WorkerPlugin):
-    """Carries the FMU to each worker and extracts it there once."""
-
-    def __init__(self, fmu_bytes, guid, model_identifier, vrs):
-        self.fmu_bytes, self.guid, self.model_identifier, self.vrs = fmu_bytes, guid, model_identifier, vrs
-        # one name per sweep: two sweeps on one cluster never share (or remove) each other's copy
-        self.name = f"vi-sweep-fmu-{hashlib.sha256(fmu_bytes).hexdigest()[:12]}-{uuid.uuid4().hex[:8]}"
-        self.dir = self.files = None
-
-    def setup(self, worker):
-        self.dir = os.path.join(worker.local_directory, self.name)
-        os.makedirs(self.dir, exist_ok=True)
-        fmu = os.path.join(self.dir, "model.fmu")
-        with open(fmu, "wb") as fh:
-            fh.write(self.fmu_bytes)
-        unzipdir = os.path.join(self.dir, "unzipped")
-        with zipfile.ZipFile(fmu) as z:
-            z.extractall(unzipdir)
-        self.files = _point.FMUFiles(unzipdir, self.guid, self.model_identifier, self.vrs)
-
-    def teardown(self, worker):
-        if self.dir:
-            shutil.rmtree(self.dir, ignore_errors=True)
-
-
-def _chain_task(plugin_name, fixed, per_point, timing, topic, chain_id):
-    worker = get_worker()
-    files = worker.plugins[plugin_name].files
-
-    def progress(k):
-        if topic:
-            worker.log_event(topic, (chain_id, k))
-
-    return _point.run_chain(files, fixed, per_point, timing, progress if len(per_point) > 1 else None)
 
 
 class _Bar:
@@ -95,8 +54,18 @@ def _error_results(n, message):
     return [dict({k: math.nan for k in STATS}, status="error", message=message, poincare=[]) for _ in range(n)]
 
 
-def run(sweep, interface, fmu_path, workers=None, scheduler=None, progress=True):
-    """Run every point; return [(values, result)] in grid order."""
+def package_zip(directory):
+    """This package as a zip that Client.upload_file puts on the scheduler's and workers' path."""
+    path = os.path.join(directory, "vi_sweep.zip")
+    with zipfile.ZipFile(path, "w") as z:
+        for f in sorted(PACKAGE.glob("*.py")):
+            z.write(f, f"vi_sweep/{f.name}")
+    return path
+
+
+def run(sweep, interface, fmu_path, workers=None, scheduler=None, progress=True, connect_timeout=60.0):
+    """Run every point; return [(values, result)] in grid order. With a scheduler address, wait at
+    most connect_timeout seconds to reach it and for its first worker."""
     _spec.check(sweep, interface)
     with open(fmu_path, "rb") as fh:
         fmu_bytes = fh.read()
@@ -113,12 +82,12 @@ def run(sweep, interface, fmu_path, workers=None, scheduler=None, progress=True)
 
     cluster = None
     if scheduler:
-        client = Client(scheduler, timeout=f"{CONNECT_TIMEOUT_S}s")
+        client = Client(scheduler, timeout=f"{connect_timeout}s")
         try:
-            client.wait_for_workers(1, timeout=CONNECT_TIMEOUT_S)
+            client.wait_for_workers(1, timeout=connect_timeout)
         except Exception:
             client.close()
-            raise RuntimeError(f"no worker joined the scheduler {scheduler} within {CONNECT_TIMEOUT_S} s") from None
+            raise RuntimeError(f"no worker joined the scheduler {scheduler} within {connect_timeout} s") from None
     else:
         cluster = LocalCluster(n_workers=workers or os.cpu_count(), threads_per_worker=1, processes=True,
                                dashboard_address=None, silence_logs=logging.ERROR)
@@ -132,10 +101,12 @@ def run(sweep, interface, fmu_path, workers=None, scheduler=None, progress=True)
                 done_in_chain[chain_id] += 1
                 bar.update(1)
             client.subscribe_topic(topic, on_event)
+        with tempfile.TemporaryDirectory() as tmp:
+            client.upload_file(package_zip(tmp), load=True)
         client.register_plugin(plugin)
         futures = {}
         for c, (indices, fixed, per_point) in enumerate(work):
-            fut = client.submit(_chain_task, plugin.name, fixed, per_point, timing, topic, c,
+            fut = client.submit(chain_task, plugin.name, fixed, per_point, timing, topic, c,
                                 key=f"vi-sweep-chain-{c}-{uuid.uuid4().hex[:8]}", pure=False)
             futures[fut] = c
         for fut in as_completed(futures):
