@@ -6,7 +6,6 @@ import csv
 import math
 import os
 import pathlib
-import shutil
 import signal
 import socket
 import subprocess

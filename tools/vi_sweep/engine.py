@@ -6,6 +6,7 @@ but not this repository. One task per chain (see spec.chains): an independent po
 Results come back as plain data and are put in grid order, so the files do not depend on which
 worker ran what or when.
 """
+import contextlib
 import csv
 import json
 import logging
@@ -14,6 +15,7 @@ import os
 import pathlib
 import sys
 import tempfile
+import threading
 import uuid
 import zipfile
 
@@ -63,9 +65,39 @@ def package_zip(directory):
     return path
 
 
-def run(sweep, interface, fmu_path, workers=None, scheduler=None, progress=True, connect_timeout=60.0):
-    """Run every point; return [(values, result)] in grid order. With a scheduler address, wait at
-    most connect_timeout seconds to reach it and for its first worker."""
+@contextlib.contextmanager
+def connect(workers=None, scheduler=None, connect_timeout=60.0):
+    """A Dask client: to a running scheduler (waiting at most connect_timeout seconds for it and its
+    first worker) or to a new LocalCluster of `workers` single-threaded processes (default: all
+    cores). This package's code is uploaded once per client."""
+    cluster = None
+    if scheduler:
+        client = Client(scheduler, timeout=f"{connect_timeout}s")
+        try:
+            client.wait_for_workers(1, timeout=connect_timeout)
+        except Exception:
+            client.close()
+            raise RuntimeError(f"no worker joined the scheduler {scheduler} within {connect_timeout} s") from None
+    else:
+        cluster = LocalCluster(n_workers=workers or os.cpu_count(), threads_per_worker=1, processes=True,
+                               dashboard_address=None, silence_logs=logging.ERROR)
+        client = Client(cluster)
+    try:
+        with tempfile.TemporaryDirectory() as tmp:
+            client.upload_file(package_zip(tmp), load=True)
+        yield client
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def run(sweep, interface, fmu_path, client=None, progress=True, **connect_options):
+    """Run every point on `client` (or on connect(**connect_options)); return [(values, result)] in
+    grid order."""
+    if client is None:
+        with connect(**connect_options) as c:
+            return run(sweep, interface, fmu_path, client=c, progress=progress)
     _spec.check(sweep, interface)
     with open(fmu_path, "rb") as fh:
         fmu_bytes = fh.read()
@@ -79,30 +111,19 @@ def run(sweep, interface, fmu_path, workers=None, scheduler=None, progress=True,
     timing = dict(stop_time=sweep.stop_time, step=sweep.step, transient=sweep.transient)
     topic = f"vi-sweep-progress-{uuid.uuid4().hex}" if sweep.direction else None
     results = [None] * len(points)
-
-    cluster = None
-    if scheduler:
-        client = Client(scheduler, timeout=f"{connect_timeout}s")
-        try:
-            client.wait_for_workers(1, timeout=connect_timeout)
-        except Exception:
-            client.close()
-            raise RuntimeError(f"no worker joined the scheduler {scheduler} within {connect_timeout} s") from None
-    else:
-        cluster = LocalCluster(n_workers=workers or os.cpu_count(), threads_per_worker=1, processes=True,
-                               dashboard_address=None, silence_logs=logging.ERROR)
-        client = Client(cluster)
     bar = _Bar(len(points), progress)
-    done_in_chain = [0] * len(work)
+    counted = [0] * len(work)   # points of each chain the bar has shown
+    lock = threading.Lock()     # the progress events arrive on the client's event loop thread
+
+    def count(c, n):
+        with lock:
+            n = min(n, len(work[c][0]) - counted[c])
+            counted[c] += n
+            bar.update(n)
+
     try:
         if topic:
-            def on_event(event):
-                chain_id, _ = event[1]
-                done_in_chain[chain_id] += 1
-                bar.update(1)
-            client.subscribe_topic(topic, on_event)
-        with tempfile.TemporaryDirectory() as tmp:
-            client.upload_file(package_zip(tmp), load=True)
+            client.subscribe_topic(topic, lambda event: count(event[1][0], 1))
         client.register_plugin(plugin)
         futures = {}
         for c, (indices, fixed, per_point) in enumerate(work):
@@ -118,8 +139,7 @@ def run(sweep, interface, fmu_path, workers=None, scheduler=None, progress=True,
                 out = _error_results(len(indices), f"worker task failed: {e!r}")
             for i, r in zip(indices, out):
                 results[i] = r
-            bar.update(len(indices) - done_in_chain[c])
-            done_in_chain[c] = len(indices)
+            count(c, len(indices))
     finally:
         bar.close()
         try:
@@ -128,9 +148,6 @@ def run(sweep, interface, fmu_path, workers=None, scheduler=None, progress=True,
             client.unregister_worker_plugin(plugin.name)
         except Exception:
             pass
-        client.close()
-        if cluster is not None:
-            cluster.close()
     return [(values, results[i]) for i, values in points]
 
 
