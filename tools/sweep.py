@@ -26,6 +26,7 @@ import argparse
 import os
 import pathlib
 import sys
+import time
 
 sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
 from vi_sweep import engine, plots, spec  # noqa: E402
@@ -90,6 +91,7 @@ def main(argv=None):
     except spec.SpecError as e:
         print(f"sweep: {e}", file=sys.stderr)
         return 2
+    t0 = time.perf_counter()
     try:
         rows = engine.run(sweep, interface, args.fmu, workers=args.workers, scheduler=args.scheduler,
                           progress=not args.no_progress, connect_timeout=args.connect_timeout)
@@ -103,7 +105,9 @@ def main(argv=None):
     if not args.no_plots:
         plots.sweep_figures(args.out, sweep, rows)
     failed = sum(r["status"] != "ok" for _, r in rows)
-    print(f"sweep: {len(rows)} points, {failed} failed -> {args.out}/sweep.csv, poincare.csv"
+    wall = time.perf_counter() - t0
+    print(f"sweep: {len(rows)} points in {wall:.1f} s ({len(rows) / wall:.1f}/s), {failed} failed -> "
+          f"{args.out}/sweep.csv, poincare.csv"
           + ("" if args.no_plots else ", response.png, bifurcation.png"))
     return 0
 

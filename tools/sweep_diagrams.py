@@ -7,7 +7,7 @@ Hertz and Johnson (Y = 6e8 Pa) contact with the paper's data (R* = 0.475 m, stee
 10 m g), excitation frequency swept up and down as continuation sweeps (each point starts from the
 previous point's final state, the frequency changed at phase 0), at the paper's amplitude
 a = 0.1 mm and at a = 5 um, where the jump sits at the contact resonance. Writes, under
-results/sweep/:
+results/sweeps/:
   <law>_<amplitude>_<up|down>/   each sweep's sweep.csv, poincare.csv, sweep.json and PNGs (tools/sweep.py's files)
   frequency_response.png         maximum/minimum force, largest separation, contact fraction against f
   bifurcation.png                the Poincare indentation (once per period after the transient) against f
@@ -28,7 +28,7 @@ from vi_sweep import engine, plots, spec  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 FMU = os.environ.get("VI_FMU", str(ROOT / "build" / "VibroImpact.fmu"))
-OUT = ROOT / "results" / "sweep"
+OUT = ROOT / "results" / "sweeps"
 GALLERY = ROOT / "doc" / "gallery"
 
 PAPER = ["R1=0.475", "R2=0", "E1=2.1e11", "E2=2.1e11", "nu1=0.3", "nu2=0.3", "P=40000", "m=407.747", "g=9.81",
@@ -93,7 +93,7 @@ def main():
                save(draw_bifurcation(runs, fc), "bifurcation.png", args.gallery)]
     write_summary(runs)
     print(f"sweep_diagrams: {sum(len(c['f']) for c, _ in runs.values())} points in {wall:.0f} s -> "
-          f"{', '.join(str(f.relative_to(ROOT)) for f in figures)}, results/sweep/summary.csv")
+          f"{', '.join(str(f.relative_to(ROOT)) for f in figures)}, results/sweeps/summary.csv")
 
 
 def draw_response(runs, fc):
