@@ -65,6 +65,8 @@ def parse_args(argv):
     args = p.parse_args(argv)
     if args.workers is not None and args.workers < 1:
         p.error("--workers must be at least 1")
+    if args.workers is not None and args.scheduler:
+        p.error("--workers sizes the local cluster; a --scheduler has its own workers")
     return args
 
 

@@ -36,7 +36,7 @@ PAPER = ["R1=0.475", "R2=0", "E1=2.1e11", "E2=2.1e11", "nu1=0.3", "nu2=0.3", "P=
 LAWS = [("hertz", "Hertz", ["contact_model=hertz"]),
         ("johnson", "Johnson, Y = 6e8 Pa", ["contact_model=johnson", "Y=6e8"])]
 # amplitude label, a [m], frequency grid START:STOP:N (full, quick)
-AMPLITUDES = [("a100um", 1e-4, "f=100:600:101", "f=100:600:26"),
+AMPLITUDES = [("a100um", 1e-4, "f=100:600:51", "f=100:600:26"),
               ("a5um", 5e-6, "f=200:330:66", "f=200:330:27")]
 STOP_TIME, TRANSIENT, STEP = 0.1, 0.05, 1e-5  # per point [s]
 DIRECTIONS = [("up", "C0", "^"), ("down", "C1", "v")]

@@ -56,13 +56,15 @@ def draw_response(axes, cols, x_name, mask=None, label="", **style):
 
 
 def draw_bifurcation(ax, poincare, x_name, mask=None, label="", **style):
-    """Poincare indentation [um] against the swept variable."""
+    """Poincare indentation against the swept variable, in um (mm when it exceeds 10 mm)."""
     mask = np.ones(len(poincare.get(x_name, [])), bool) if mask is None else mask
     if x_name not in poincare or not mask.any():
         return
     style = {"s": 2, "lw": 0, **style}
-    ax.scatter(poincare[x_name][mask], poincare["delta"][mask] * 1e6, label=label, **style)
-    ax.set_ylabel("indentation at phase 0 [$\\mu$m]")
+    big = np.nanmax(np.abs(poincare["delta"])) > 1e-2
+    scale, unit = (1e3, "mm") if big else (1e6, "$\\mu$m")
+    ax.scatter(poincare[x_name][mask], poincare["delta"][mask] * scale, label=label, **style)
+    ax.set_ylabel(f"indentation at phase 0 [{unit}]")
 
 
 def sweep_figures(out_dir, sweep, rows=None):
