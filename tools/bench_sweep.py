@@ -67,8 +67,9 @@ def main():
             same = "yes" if [r["F_max"] for _, r in res] == ref else "NO"
         label = f"LocalCluster, {workers} worker{'s' if workers > 1 else ''}" + (" (all cores)" if workers == cores else "")
         rows.append((label, f"{startup:.1f}", min(times), failed, same))
+    load = os.getloadavg()[0]
     print(f"{args.points}-point sweep (Hertz, a = 0.1 mm, f = 100..600 Hz, {args.stop_time:g} s per point, "
-          f"step {args.step:g} s), best of {args.repeat}, {cores} cores\n")
+          f"step {args.step:g} s), best of {args.repeat}, {cores} cores, load average {load:.1f} at the end\n")
     print("| run | cluster start [s] | sweep wall [s] | points/s | speed-up vs 1 worker | failed | same F_max as 1 worker |")
     print("|---|---|---|---|---|---|---|")
     one = next(r[2] for r in rows if r[0].startswith("LocalCluster, 1 "))
