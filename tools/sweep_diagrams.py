@@ -11,7 +11,7 @@ results/sweeps/:
   <law>_<amplitude>_<up|down>/   each sweep's sweep.csv, poincare.csv, sweep.json and PNGs (tools/sweep.py's files)
   frequency_response.png         maximum/minimum force, largest separation, contact fraction against f
   bifurcation.png                the Poincare indentation (once per period after the transient) against f
-  summary.csv                    per sweep: where contact is first lost / last regained, the largest force
+  summary.csv                    per sweep: where the mass first leaves the platform, the largest force and flight
 --gallery also writes smaller copies to doc/gallery/ (shown in the README). --quick: coarse grids.
 """
 import argparse
@@ -57,11 +57,10 @@ def sweep_of(interface, sets, grid, direction, quick):
                       title=" ".join(s for s in sets if s not in PAPER))
 
 
-def edges(cols):
-    """Lowest frequency where the mass leaves the platform, highest where it is in contact again."""
-    f, cf = cols["f"], cols["contact_fraction"]
-    lost = f[cf < 1]
-    return (lost.min() if len(lost) else np.nan), (lost.max() if len(lost) else np.nan)
+def first_loss(cols, direction):
+    """The first frequency, in the sweep's own order, at which the mass leaves the platform."""
+    f = cols["f"][cols["contact_fraction"] < 1]
+    return np.nan if not len(f) else (f.min() if direction == "up" else f.max())
 
 
 def main():
@@ -151,12 +150,12 @@ def save(fig, name, gallery):
 def write_summary(runs):
     with open(OUT / "summary.csv", "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["law", "amplitude", "direction", "points", "failed", "f_first_loss_Hz", "f_last_loss_Hz",
+        w.writerow(["law", "amplitude", "direction", "points", "failed", "f_contact_lost_Hz",
                     "F_max_kN", "f_at_F_max_Hz", "sep_max_mm"])
         for (law, amp, direction), (cols, _) in runs.items():
-            lo, hi = edges(cols)
             k = int(np.nanargmax(cols["F_max"]))
-            w.writerow([law, amp, direction, len(cols["f"]), sum(s != "ok" for s in cols["status"]), lo, hi,
+            w.writerow([law, amp, direction, len(cols["f"]), sum(s != "ok" for s in cols["status"]),
+                        first_loss(cols, direction),
                         f"{cols['F_max'][k] / 1e3:.1f}", cols["f"][k], f"{np.nanmax(cols['sep_max']) * 1e3:.3f}"])
 
 
