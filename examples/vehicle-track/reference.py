@@ -145,7 +145,8 @@ class System:
     """The coupled equations. With a profile, yb(t) follows its exact piecewise form along the
     path x0 + V t up to t_end (Profile.carriers)."""
 
-    def __init__(self, track=None, vehicle=None, wheel=None, profile=None, t_end=parameters.STOP_TIME):
+    def __init__(self, track=None, vehicle=None, wheel=None, profile=None, t_end=parameters.STOP_TIME,
+                 excitation=None):
         self.tr = dict(parameters.TRACK, **(track or {}))
         self.ve = dict(parameters.VEHICLE, **(vehicle or {}))
         self.wh = dict(parameters.WHEEL, **(wheel or {}))
@@ -155,6 +156,7 @@ class System:
         self.K = 4.0 / 3.0 * Es * np.sqrt(Rs)
         self.W = (w["m"] + self.ve["m_body"]) * w["g"] + w["P"]  # static wheel load [N]
         self.profile = profile
+        self.a, self.f = excitation or (0.0, 0.0)  # the contact FMU's internal harmonic a (cos 2 pi f t - 1)
         if profile is not None:
             starts, self.which = profile.carriers(w["x0"], w["x0"] + w["V"] * t_end)
             self.t_pieces = (starts - w["x0"]) / w["V"]
@@ -163,14 +165,17 @@ class System:
             self.t_pieces, self.which = np.array([0.0]), None
 
     def yb(self, t, piece=None):
-        """yb [m] and its time derivative [m/s] at t (on the given piece, else the one at t)."""
+        """The platform motion added to the rail's, yC - z_r [m], and its time derivative [m/s] at t:
+        the harmonic term and yb (on the given piece, else the one at t)."""
+        wt = 2.0 * math.pi * self.f * t
+        harm, dharm = self.a * (math.cos(wt) - 1.0), -self.a * 2.0 * math.pi * self.f * math.sin(wt)
         if self.profile is None:
-            return 0.0, 0.0
+            return harm, dharm
         w = self.wh
         if piece is None:
             piece = max(int(np.searchsorted(self.t_pieces, t, side="right")) - 1, 0)
         val, slope = self.profile.at(w["x0"] + w["V"] * t, int(self.which[piece]))
-        return val, slope * w["V"]
+        return val + harm, slope * w["V"] + dharm
 
     def force(self, delta):
         return self.K * delta ** 1.5 if delta > 0.0 else 0.0
@@ -284,10 +289,10 @@ def simulate(system, t_end, rtol=1e-8, max_steps=10 ** 7):
     raise RuntimeError("reference: too many steps")
 
 
-def default_system(profile_path=None, t_end=parameters.STOP_TIME):
+def default_system(profile_path=None, t_end=parameters.STOP_TIME, excitation=None):
     w = parameters.WHEEL
     prof = Profile.from_file(profile_path, w["R1"]) if profile_path else None
-    return System(profile=prof, t_end=t_end)
+    return System(profile=prof, t_end=t_end, excitation=excitation)
 
 
 def main():

@@ -1,0 +1,168 @@
+/*
+ * track.c - the Track FMU of the vehicle-track example: a rail mass on a rail pad on a sleeper
+ * mass on ballast, loaded by the wheel-rail contact force. Coordinates up positive, measured from
+ * the track at rest under its own weight (gravity on rail and sleeper is balanced there and drops
+ * out). The contact force on the wheel F = F_contact (input) acts on the rail as -F:
+ *
+ *   m_rail    z_r'' = -F - F_pad,                      F_pad = k_pad (z_r - z_s) + c_pad (v_r - v_s)
+ *   m_sleeper z_s'' = F_pad - k_ballast z_s - c_ballast v_s
+ *
+ * States x = (z_r, v_r, z_s, v_s, W_dissipated, W_in); the last two integrate the damper power
+ * c_pad (v_r - v_s)^2 + c_ballast v_s^2 and the input power -F v_r, so that
+ * E + W_dissipated - W_in stays at its initial value (E: kinetic + elastic energy).
+ * Start: at rest under the initial input, z_s = -F/k_ballast, z_r = z_s - F/k_pad.
+ */
+#include <math.h>
+#include <stdio.h>
+
+#include "track_variables.h"
+#include "vt_companion.h"
+
+VI_TABLE_DEFINE
+
+typedef struct {
+    vt_core core;
+    vi_parameters par;
+    vi_inputs in, din;
+} track_data;
+
+enum { ZR, VR, ZS, VS, WD, WI, N_TRACK };
+
+static void defaults(void *data)
+{
+    track_data *d = data;
+    vi_parameters_default(&d->par);
+    vi_inputs_default(&d->in);
+}
+
+static int check(const void *data, char *msg, size_t n)
+{
+    const vi_parameters *p = &((const track_data *)data)->par;
+    const struct { const char *name; double value; int zero_ok; } v[] = {
+        {"m_rail", p->m_rail, 0}, {"k_pad", p->k_pad, 0}, {"c_pad", p->c_pad, 1},
+        {"m_sleeper", p->m_sleeper, 0}, {"k_ballast", p->k_ballast, 0}, {"c_ballast", p->c_ballast, 1},
+    };
+    for (size_t i = 0; i < sizeof v / sizeof v[0]; i++) {
+        if (!(v[i].zero_ok ? v[i].value >= 0.0 : v[i].value > 0.0) || !isfinite(v[i].value)) {
+            snprintf(msg, n, "%s = %g: must be finite and %s 0", v[i].name, v[i].value, v[i].zero_ok ? ">=" : ">");
+            return -1;
+        }
+    }
+    if (!(p->rtol >= 1e-14 && p->rtol <= 1e-2)) {
+        snprintf(msg, n, "rtol = %g: must be in [1e-14, 1e-2]", p->rtol);
+        return -1;
+    }
+    return 0;
+}
+
+static void start(void *data)
+{
+    track_data *d = data;
+    double F = d->in.F_contact;
+    d->core.x[ZS] = -F / d->par.k_ballast;
+    d->core.x[ZR] = d->core.x[ZS] - F / d->par.k_pad;
+}
+
+static double rtol(const void *data) { return ((const track_data *)data)->par.rtol; }
+
+static double k_static(const vi_parameters *p) { return 1.0 / (1.0 / p->k_pad + 1.0 / p->k_ballast); }
+
+/* Undamped natural circular frequencies: det(K - w^2 M) = 0,
+ * m_r m_s w^4 - (k_pad m_s + (k_pad + k_ballast) m_r) w^2 + k_pad k_ballast = 0. */
+static void omegas(const vi_parameters *p, double *w1, double *w2)
+{
+    double a = p->m_rail * p->m_sleeper, b = p->k_pad * p->m_sleeper + (p->k_pad + p->k_ballast) * p->m_rail;
+    double c = p->k_pad * p->k_ballast, disc = sqrt(b * b - 4.0 * a * c);
+    *w1 = sqrt(2.0 * c / (b + disc)); /* the smaller root, without cancellation */
+    *w2 = sqrt((b + disc) / (2.0 * a));
+}
+
+/* Scales: the static deflection under the initial load (at least the rail's own weight) and that
+ * times the upper natural frequency; energies from the static elastic energy. */
+static void scales(const void *data, double *s)
+{
+    const track_data *d = data;
+    const vi_parameters *p = &d->par;
+    double w1, w2;
+    omegas(p, &w1, &w2);
+    double F = fmax(fabs(d->in.F_contact), p->m_rail * 9.81);
+    double L = F / k_static(p);
+    s[ZR] = s[ZS] = L;
+    s[VR] = s[VS] = L * w2;
+    s[WD] = s[WI] = 0.5 * F * L;
+}
+
+static void rhs(double t, const double *x, double *dx, const void *data)
+{
+    (void)t;
+    const track_data *d = data;
+    const vi_parameters *p = &d->par;
+    double F = d->in.F_contact;
+    double dv = x[VR] - x[VS];
+    double F_pad = p->k_pad * (x[ZR] - x[ZS]) + p->c_pad * dv;
+    dx[ZR] = x[VR];
+    dx[VR] = (-F - F_pad) / p->m_rail;
+    dx[ZS] = x[VS];
+    dx[VS] = (F_pad - p->k_ballast * x[ZS] - p->c_ballast * x[VS]) / p->m_sleeper;
+    dx[WD] = p->c_pad * dv * dv + p->c_ballast * x[VS] * x[VS];
+    dx[WI] = -F * x[VR];
+}
+
+static void jac(double t, const double *x, double *J, const void *data)
+{
+    (void)t;
+    const track_data *d = data;
+    const vi_parameters *p = &d->par;
+    const int n = N_TRACK;
+    for (int i = 0; i < n * n; i++) J[i] = 0.0;
+    double dv = x[VR] - x[VS];
+    J[ZR * n + VR] = 1.0;
+    J[VR * n + ZR] = -p->k_pad / p->m_rail;
+    J[VR * n + VR] = -p->c_pad / p->m_rail;
+    J[VR * n + ZS] = p->k_pad / p->m_rail;
+    J[VR * n + VS] = p->c_pad / p->m_rail;
+    J[ZS * n + VS] = 1.0;
+    J[VS * n + ZR] = p->k_pad / p->m_sleeper;
+    J[VS * n + VR] = p->c_pad / p->m_sleeper;
+    J[VS * n + ZS] = -(p->k_pad + p->k_ballast) / p->m_sleeper;
+    J[VS * n + VS] = -(p->c_pad + p->c_ballast) / p->m_sleeper;
+    J[WD * n + VR] = 2.0 * p->c_pad * dv;
+    J[WD * n + VS] = -2.0 * p->c_pad * dv + 2.0 * p->c_ballast * x[VS];
+    J[WI * n + VR] = -d->in.F_contact;
+}
+
+static void outputs(const void *data, void *out)
+{
+    const track_data *d = data;
+    const vi_parameters *p = &d->par;
+    const double *x = d->core.x;
+    vi_outputs *o = out;
+    o->z_rail = x[ZR];
+    o->v_rail = x[VR];
+    o->z_sleeper = x[ZS];
+    o->v_sleeper = x[VS];
+    double s = x[ZR] - x[ZS];
+    o->E = 0.5 * (p->m_rail * x[VR] * x[VR] + p->m_sleeper * x[VS] * x[VS] + p->k_pad * s * s +
+                  p->k_ballast * x[ZS] * x[ZS]);
+    o->W_dissipated = x[WD];
+    o->W_in = x[WI];
+    o->k_static = k_static(p);
+    double w1, w2;
+    omegas(p, &w1, &w2);
+    o->f1 = w1 / VT_TWO_PI;
+    o->f2 = w2 / VT_TWO_PI;
+}
+
+static const vt_model_def track_def = {
+    .n = N_TRACK,
+    .defaults = defaults,
+    .check = check,
+    .start = start,
+    .rtol = rtol,
+    .scales = scales,
+    .rhs = rhs,
+    .jac = jac,
+    .outputs = outputs,
+};
+
+VT_DEFINE_FMU(track_def, track_data);

@@ -1,0 +1,152 @@
+/*
+ * vehicle.c - the Vehicle FMU of the vehicle-track example: the sprung mass above one wheel on
+ * the primary suspension. The wheel is the contact FMU's mass; this FMU takes its position and
+ * velocity and gives the suspension force on it. Up positive; z_b is measured so that z_b = y_w
+ * when the spring carries the static load m_b g:
+ *
+ *   F_wheel = -m_b g + k (z_b - y_w) + c (v_b - v_w)      (force on the wheel)
+ *   m_b z_b'' = -k (z_b - y_w) - c (v_b - v_w)             (gravity balanced by the spring preload)
+ *
+ * Over a step the wheel moves at the velocity it was given: y_w(t) = y_wheel + v_wheel (t - t_in),
+ * v_w = v_wheel, from the time t_in the inputs were set (a first-order hold that needs no input
+ * derivatives, so every importer gets the same). States x = (z_b, v_b, W_dissipated, W_in): the
+ * damper power c (v_b - v_w)^2 and the power the wheel motion puts in, -F_wheel v_w, so that
+ * E + W_dissipated - W_in stays at its initial value, E = 1/2 m_b v_b^2 + 1/2 k (z_b - y_w)^2 +
+ * m_b g y_w. Start: the spring at its static load and the body moving with the wheel,
+ * z_b = y_wheel, v_b = v_wheel.
+ */
+#include <math.h>
+#include <stdio.h>
+
+#include "vehicle_variables.h"
+#include "vt_companion.h"
+
+VI_TABLE_DEFINE
+
+typedef struct {
+    vt_core core;
+    vi_parameters par;
+    vi_inputs in, din;
+} vehicle_data;
+
+enum { ZB, VB, WD, WI, N_VEHICLE };
+
+static void defaults(void *data)
+{
+    vehicle_data *d = data;
+    vi_parameters_default(&d->par);
+    vi_inputs_default(&d->in);
+}
+
+static int check(const void *data, char *msg, size_t n)
+{
+    const vi_parameters *p = &((const vehicle_data *)data)->par;
+    const struct { const char *name; double value; int zero_ok; } v[] = {
+        {"m_body", p->m_body, 0}, {"k_susp", p->k_susp, 0}, {"c_susp", p->c_susp, 1}, {"g", p->g, 1},
+    };
+    for (size_t i = 0; i < sizeof v / sizeof v[0]; i++) {
+        if (!(v[i].zero_ok ? v[i].value >= 0.0 : v[i].value > 0.0) || !isfinite(v[i].value)) {
+            snprintf(msg, n, "%s = %g: must be finite and %s 0", v[i].name, v[i].value, v[i].zero_ok ? ">=" : ">");
+            return -1;
+        }
+    }
+    if (!(p->rtol >= 1e-14 && p->rtol <= 1e-2)) {
+        snprintf(msg, n, "rtol = %g: must be in [1e-14, 1e-2]", p->rtol);
+        return -1;
+    }
+    return 0;
+}
+
+/* The wheel's position and velocity at t, from the held inputs. */
+static void wheel(const vehicle_data *d, double t, double *y, double *v)
+{
+    *v = d->in.v_wheel;
+    *y = d->in.y_wheel + d->in.v_wheel * (t - vt_input_time(&d->core));
+}
+
+static void start(void *data)
+{
+    vehicle_data *d = data;
+    d->core.x[ZB] = d->in.y_wheel;
+    d->core.x[VB] = d->in.v_wheel;
+}
+
+static double rtol(const void *data) { return ((const vehicle_data *)data)->par.rtol; }
+
+/* Scales: the static deflection of the spring, that times the natural frequency, and the static
+ * elastic energy. */
+static void scales(const void *data, double *s)
+{
+    const vi_parameters *p = &((const vehicle_data *)data)->par;
+    double L = fmax(p->m_body * p->g, p->m_body * 9.81e-3) / p->k_susp;
+    s[ZB] = L;
+    s[VB] = L * sqrt(p->k_susp / p->m_body);
+    s[WD] = s[WI] = 0.5 * p->k_susp * L * L;
+}
+
+static double force_on_wheel(const vehicle_data *d, double t, const double *x)
+{
+    const vi_parameters *p = &d->par;
+    double yw, vw;
+    wheel(d, t, &yw, &vw);
+    return -p->m_body * p->g + p->k_susp * (x[ZB] - yw) + p->c_susp * (x[VB] - vw);
+}
+
+static void rhs(double t, const double *x, double *dx, const void *data)
+{
+    const vehicle_data *d = data;
+    const vi_parameters *p = &d->par;
+    double F = force_on_wheel(d, t, x), dv = x[VB] - d->in.v_wheel;
+    dx[ZB] = x[VB];
+    dx[VB] = -(F + p->m_body * p->g) / p->m_body;
+    dx[WD] = p->c_susp * dv * dv;
+    dx[WI] = -F * d->in.v_wheel;
+}
+
+static void jac(double t, const double *x, double *J, const void *data)
+{
+    (void)t;
+    const vehicle_data *d = data;
+    const vi_parameters *p = &d->par;
+    const int n = N_VEHICLE;
+    for (int i = 0; i < n * n; i++) J[i] = 0.0;
+    double vw = d->in.v_wheel;
+    J[ZB * n + VB] = 1.0;
+    J[VB * n + ZB] = -p->k_susp / p->m_body;
+    J[VB * n + VB] = -p->c_susp / p->m_body;
+    J[WD * n + VB] = 2.0 * p->c_susp * (x[VB] - vw);
+    J[WI * n + ZB] = -p->k_susp * vw;
+    J[WI * n + VB] = -p->c_susp * vw;
+}
+
+static void outputs(const void *data, void *out)
+{
+    const vehicle_data *d = data;
+    const vi_parameters *p = &d->par;
+    const double *x = d->core.x;
+    vi_outputs *o = out;
+    double yw, vw;
+    wheel(d, d->core.t, &yw, &vw);
+    o->F_wheel = force_on_wheel(d, d->core.t, x);
+    o->z_body = x[ZB];
+    o->v_body = x[VB];
+    double s = x[ZB] - yw;
+    o->E = 0.5 * (p->m_body * x[VB] * x[VB] + p->k_susp * s * s) + p->m_body * p->g * yw;
+    o->W_dissipated = x[WD];
+    o->W_in = x[WI];
+    o->f_body = sqrt(p->k_susp / p->m_body) / VT_TWO_PI;
+}
+
+static const vt_model_def vehicle_def = {
+    .n = N_VEHICLE,
+    .defaults = defaults,
+    .check = check,
+    .start = start,
+    .rtol = rtol,
+    .scales = scales,
+    .rhs = rhs,
+    .jac = jac,
+    .outputs = outputs,
+};
+
+VT_DEFINE_FMU(vehicle_def, vehicle_data);
