@@ -57,6 +57,11 @@ class Slave:
         for k, val in start_values.items():
             self.set_start(k, val)
         self.fmu.enterInitializationMode()
+        self.running = False
+
+    def start(self):
+        self.fmu.exitInitializationMode()
+        self.running = True
 
     def has(self, name):
         return name in self.vr
@@ -98,8 +103,11 @@ class Slave:
         return set_
 
     def free(self):
-        self.fmu.terminate()
-        self.fmu.freeInstance()
+        try:
+            if self.running:
+                self.fmu.terminate()
+        finally:
+            self.fmu.freeInstance()
         shutil.rmtree(self.dir, ignore_errors=True)
 
 
@@ -132,11 +140,11 @@ def run(step, stop_time=parameters.STOP_TIME, scheme="gauss-seidel", order=("veh
         raise ValueError(f"stop_time {stop_time} is not a multiple of the step {step} (or too many steps)")
     sv_c = contact_start_values(profile, excitation)
     sv_c["rtol"] = rtol
-    C = Slave(build / "VibroImpact.fmu", "contact", sv_c)
-    T = Slave(build / "Track.fmu", "track", {"rtol": rtol})
-    V = Slave(build / "Vehicle.fmu", "vehicle", {"rtol": rtol})
-    slaves = {"contact": C, "track": T, "vehicle": V}
+    slaves = {}
     try:
+        C = slaves["contact"] = Slave(build / "VibroImpact.fmu", "contact", sv_c)
+        T = slaves["track"] = Slave(build / "Track.fmu", "track", {"rtol": rtol})
+        V = slaves["vehicle"] = Slave(build / "Vehicle.fmu", "vehicle", {"rtol": rtol})
         if force == "F_mean" and not C.has("F_mean"):
             raise RuntimeError("this VibroImpact.fmu has no output F_mean")
         c_out = [n for n in CONTACT_OUT if C.has(n)]
@@ -156,7 +164,7 @@ def run(step, stop_time=parameters.STOP_TIME, scheme="gauss-seidel", order=("veh
             c = get_c()
             set_v([c["y"], c["v"]])
         for s in slaves.values():
-            s.fmu.exitInitializationMode()
+            s.start()
         kk = get_k()
         K = 4.0 / 3.0 * kk["E_star"] * np.sqrt(kk["R_star"])
 
