@@ -37,6 +37,14 @@ import parameters
 HERE = pathlib.Path(__file__).resolve().parent
 ROOT = HERE.parent.parent
 
+# (from FMU, output, to FMU, input): what run() passes; OspSystemStructure.xml states the same.
+CONNECTIONS = [
+    ("vehicle", "F_wheel", "contact", "F_ext"),
+    ("contact", "y", "vehicle", "y_wheel"),
+    ("contact", "v", "vehicle", "v_wheel"),
+    ("track", "z_rail", "contact", "yC_in"),
+    ("contact", "F_mean", "track", "F_contact"),  # or F
+]
 CONTACT_OUT = ["F", "F_mean", "y", "v", "yC", "delta"]
 TRACK_OUT = ["z_rail", "v_rail", "E", "W_in", "W_dissipated"]
 VEHICLE_OUT = ["F_wheel", "z_body", "v_body", "E", "W_in", "W_dissipated"]

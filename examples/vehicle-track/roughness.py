@@ -30,9 +30,10 @@ BAND_HALF_WIDTH = 2.0 ** (1.0 / 6.0)  # one-third octave: edges at centre * 2**(
 
 
 def components(level_db=15.0, seed=1, shortest=0.01, per_band=16):
-    """Wavenumbers k [rad/m], amplitudes [m] and phases [rad] of the sinusoids."""
+    """Wavenumbers k [rad/m], amplitudes [m], phases [rad] of the sinusoids, and the centre
+    wavelength [m] of the band each belongs to."""
     rng = np.random.default_rng(seed)
-    k, amp, phase = [], [], []
+    k, amp, phase, band = [], [], [], []
     for lam, level in sorted(ISO3095_LIMIT_DB.items(), reverse=True):
         if lam < shortest * (1 - 1e-9):
             continue
@@ -41,7 +42,8 @@ def components(level_db=15.0, seed=1, shortest=0.01, per_band=16):
         k.append(rng.uniform(k_lo, k_hi, per_band))
         amp.append(np.full(per_band, r_band * np.sqrt(2.0 / per_band)))
         phase.append(rng.uniform(0.0, 2 * np.pi, per_band))
-    return np.concatenate(k), np.concatenate(amp), np.concatenate(phase)
+        band.append(np.full(per_band, lam))
+    return np.concatenate(k), np.concatenate(amp), np.concatenate(phase), np.concatenate(band)
 
 
 def taper(x, flat=1.0, ramp=0.3):
@@ -54,7 +56,7 @@ def profile(length=6.0, dx=1e-3, level_db=15.0, seed=1, shortest=0.01):
     """x [m] and h [m], sampled every dx."""
     n = int(round(length / dx)) + 1
     x = np.linspace(0.0, (n - 1) * dx, n)
-    k, amp, phase = components(level_db, seed, shortest)
+    k, amp, phase, _ = components(level_db, seed, shortest)
     h = np.zeros_like(x)
     for kk, aa, pp in zip(k, amp, phase):  # bounded: one pass per sinusoid
         h += aa * np.cos(kk * x + pp)

@@ -139,8 +139,11 @@ int vt_advance(void *m, double t_end)
         c->solver_stale = 1; /* the state stays where the last step ended */
         return VI_FMU_ERROR;
     }
+    double t0 = c->t, x0[VT_MAX_STATES];
+    memcpy(x0, c->x, sizeof x0);
     memcpy(c->x, x, sizeof(double) * (size_t)I->def->n);
     c->t = t_end;
+    if (I->def->step_done) I->def->step_done(I->data, t0, x0);
     return VI_FMU_OK;
 }
 

@@ -20,6 +20,9 @@
 
 #define VT_MAX_STATES VI_SOLVER_MAX_N
 #define VT_TWO_PI 6.28318530717958647692
+/* m: the absolute tolerance of displacements is rtol times this (a micrometre: the wheel-rail
+ * contact's indentation is tens of micrometres), velocities and energies follow from it. */
+#define VT_LENGTH_SCALE 1e-6
 
 /* The part of a model's plain-data block (its FMU state) that this file manages. A model's block
  * starts with it: typedef struct { vt_core core; vi_parameters par; vi_inputs in, din; ... }. */
@@ -50,6 +53,9 @@ typedef struct {
     void (*jac)(double t, const double *x, double *jac, const void *data);
     /* Outputs and calculated parameters at core.t into *out (a vi_outputs). */
     void (*outputs)(const void *data, void *out);
+    /* Optional: after a step from (t0, x0) to core.t, core.x (e.g. sums that follow exactly from
+     * the held inputs and the states at the step's ends). */
+    void (*step_done)(void *data, double t0, const double *x0);
 } vt_model_def;
 
 /* The layer's instance of a companion model: the model's block is `data`. */

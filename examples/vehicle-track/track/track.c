@@ -7,8 +7,9 @@
  *   m_rail    z_r'' = -F - F_pad,                      F_pad = k_pad (z_r - z_s) + c_pad (v_r - v_s)
  *   m_sleeper z_s'' = F_pad - k_ballast z_s - c_ballast v_s
  *
- * States x = (z_r, v_r, z_s, v_s, W_dissipated, W_in); the last two integrate the damper power
- * c_pad (v_r - v_s)^2 + c_ballast v_s^2 and the input power -F v_r, so that
+ * States x = (z_r, v_r, z_s, v_s, W_dissipated); the last integrates the damper power
+ * c_pad (v_r - v_s)^2 + c_ballast v_s^2. The work of the input, W_in = integral of -F v_r dt, is
+ * exact from the states: F is held over a step, so a step adds -F (z_r(end) - z_r(start)). Then
  * E + W_dissipated - W_in stays at its initial value (E: kinetic + elastic energy).
  * Start: at rest under the initial input, z_s = -F/k_ballast, z_r = z_s - F/k_pad.
  */
@@ -24,9 +25,10 @@ typedef struct {
     vt_core core;
     vi_parameters par;
     vi_inputs in, din;
+    double W_in; /* J, work of the input force on the rail so far */
 } track_data;
 
-enum { ZR, VR, ZS, VS, WD, WI, N_TRACK };
+enum { ZR, VR, ZS, VS, WD, N_TRACK };
 
 static void defaults(void *data)
 {
@@ -61,6 +63,14 @@ static void start(void *data)
     double F = d->in.F_contact;
     d->core.x[ZS] = -F / d->par.k_ballast;
     d->core.x[ZR] = d->core.x[ZS] - F / d->par.k_pad;
+    d->W_in = 0.0;
+}
+
+static void step_done(void *data, double t0, const double *x0)
+{
+    (void)t0;
+    track_data *d = data;
+    d->W_in += -d->in.F_contact * (d->core.x[ZR] - x0[ZR]);
 }
 
 static double rtol(const void *data) { return ((const track_data *)data)->par.rtol; }
@@ -77,19 +87,16 @@ static void omegas(const vi_parameters *p, double *w1, double *w2)
     *w2 = sqrt((b + disc) / (2.0 * a));
 }
 
-/* Scales: the static deflection under the initial load (at least the rail's own weight) and that
- * times the upper natural frequency; energies from the static elastic energy. */
+/* Absolute tolerance scales: VT_LENGTH_SCALE for the displacements, that times the upper natural
+ * frequency for the velocities, the pad's elastic energy at that length for the dissipated work. */
 static void scales(const void *data, double *s)
 {
-    const track_data *d = data;
-    const vi_parameters *p = &d->par;
+    const vi_parameters *p = &((const track_data *)data)->par;
     double w1, w2;
     omegas(p, &w1, &w2);
-    double F = fmax(fabs(d->in.F_contact), p->m_rail * 9.81);
-    double L = F / k_static(p);
-    s[ZR] = s[ZS] = L;
-    s[VR] = s[VS] = L * w2;
-    s[WD] = s[WI] = 0.5 * F * L;
+    s[ZR] = s[ZS] = VT_LENGTH_SCALE;
+    s[VR] = s[VS] = VT_LENGTH_SCALE * w2;
+    s[WD] = 0.5 * p->k_pad * VT_LENGTH_SCALE * VT_LENGTH_SCALE;
 }
 
 static void rhs(double t, const double *x, double *dx, const void *data)
@@ -105,7 +112,6 @@ static void rhs(double t, const double *x, double *dx, const void *data)
     dx[ZS] = x[VS];
     dx[VS] = (F_pad - p->k_ballast * x[ZS] - p->c_ballast * x[VS]) / p->m_sleeper;
     dx[WD] = p->c_pad * dv * dv + p->c_ballast * x[VS] * x[VS];
-    dx[WI] = -F * x[VR];
 }
 
 static void jac(double t, const double *x, double *J, const void *data)
@@ -128,7 +134,6 @@ static void jac(double t, const double *x, double *J, const void *data)
     J[VS * n + VS] = -(p->c_pad + p->c_ballast) / p->m_sleeper;
     J[WD * n + VR] = 2.0 * p->c_pad * dv;
     J[WD * n + VS] = -2.0 * p->c_pad * dv + 2.0 * p->c_ballast * x[VS];
-    J[WI * n + VR] = -d->in.F_contact;
 }
 
 static void outputs(const void *data, void *out)
@@ -145,7 +150,7 @@ static void outputs(const void *data, void *out)
     o->E = 0.5 * (p->m_rail * x[VR] * x[VR] + p->m_sleeper * x[VS] * x[VS] + p->k_pad * s * s +
                   p->k_ballast * x[ZS] * x[ZS]);
     o->W_dissipated = x[WD];
-    o->W_in = x[WI];
+    o->W_in = d->W_in;
     o->k_static = k_static(p);
     double w1, w2;
     omegas(p, &w1, &w2);
@@ -163,6 +168,7 @@ static const vt_model_def track_def = {
     .rhs = rhs,
     .jac = jac,
     .outputs = outputs,
+    .step_done = step_done,
 };
 
 VT_DEFINE_FMU(track_def, track_data);

@@ -9,11 +9,14 @@
  *
  * Over a step the wheel moves at the velocity it was given: y_w(t) = y_wheel + v_wheel (t - t_in),
  * v_w = v_wheel, from the time t_in the inputs were set (a first-order hold that needs no input
- * derivatives, so every importer gets the same). States x = (z_b, v_b, W_dissipated, W_in): the
- * damper power c (v_b - v_w)^2 and the power the wheel motion puts in, -F_wheel v_w, so that
- * E + W_dissipated - W_in stays at its initial value, E = 1/2 m_b v_b^2 + 1/2 k (z_b - y_w)^2 +
- * m_b g y_w. Start: the spring at its static load and the body moving with the wheel,
- * z_b = y_wheel, v_b = v_wheel.
+ * derivatives, so every importer gets the same). States x = (z_b, v_b, W_dissipated): the last
+ * integrates the damper power c (v_b - v_w)^2. The work the wheel motion does on the vehicle,
+ * W_in = integral of -F_wheel v_w dt, is exact from the states: v_w is held over a step and the
+ * impulse of F_wheel follows from the body's momentum, -m_b (v_b(end) - v_b(start)) - m_b g h.
+ * Then E + W_dissipated - W_in stays at its initial value within a step, E = 1/2 m_b v_b^2 +
+ * 1/2 k (z_b - y_w)^2 + m_b g y_w (a new y_wheel at a communication point moves E by the jump of
+ * the spring and weight terms). Start: the spring at its static load and the body moving with the
+ * wheel, z_b = y_wheel, v_b = v_wheel.
  */
 #include <math.h>
 #include <stdio.h>
@@ -27,9 +30,10 @@ typedef struct {
     vt_core core;
     vi_parameters par;
     vi_inputs in, din;
+    double W_in; /* J, work of the wheel motion on the vehicle so far */
 } vehicle_data;
 
-enum { ZB, VB, WD, WI, N_VEHICLE };
+enum { ZB, VB, WD, N_VEHICLE };
 
 static void defaults(void *data)
 {
@@ -69,19 +73,27 @@ static void start(void *data)
     vehicle_data *d = data;
     d->core.x[ZB] = d->in.y_wheel;
     d->core.x[VB] = d->in.v_wheel;
+    d->W_in = 0.0;
+}
+
+static void step_done(void *data, double t0, const double *x0)
+{
+    vehicle_data *d = data;
+    const vi_parameters *p = &d->par;
+    double impulse = -p->m_body * (d->core.x[VB] - x0[VB]) - p->m_body * p->g * (d->core.t - t0);
+    d->W_in += -impulse * d->in.v_wheel;
 }
 
 static double rtol(const void *data) { return ((const vehicle_data *)data)->par.rtol; }
 
-/* Scales: the static deflection of the spring, that times the natural frequency, and the static
- * elastic energy. */
+/* Absolute tolerance scales: VT_LENGTH_SCALE, that times the natural frequency, and the spring's
+ * elastic energy at that length. */
 static void scales(const void *data, double *s)
 {
     const vi_parameters *p = &((const vehicle_data *)data)->par;
-    double L = fmax(p->m_body * p->g, p->m_body * 9.81e-3) / p->k_susp;
-    s[ZB] = L;
-    s[VB] = L * sqrt(p->k_susp / p->m_body);
-    s[WD] = s[WI] = 0.5 * p->k_susp * L * L;
+    s[ZB] = VT_LENGTH_SCALE;
+    s[VB] = VT_LENGTH_SCALE * sqrt(p->k_susp / p->m_body);
+    s[WD] = 0.5 * p->k_susp * VT_LENGTH_SCALE * VT_LENGTH_SCALE;
 }
 
 static double force_on_wheel(const vehicle_data *d, double t, const double *x)
@@ -100,7 +112,6 @@ static void rhs(double t, const double *x, double *dx, const void *data)
     dx[ZB] = x[VB];
     dx[VB] = -(F + p->m_body * p->g) / p->m_body;
     dx[WD] = p->c_susp * dv * dv;
-    dx[WI] = -F * d->in.v_wheel;
 }
 
 static void jac(double t, const double *x, double *J, const void *data)
@@ -115,8 +126,6 @@ static void jac(double t, const double *x, double *J, const void *data)
     J[VB * n + ZB] = -p->k_susp / p->m_body;
     J[VB * n + VB] = -p->c_susp / p->m_body;
     J[WD * n + VB] = 2.0 * p->c_susp * (x[VB] - vw);
-    J[WI * n + ZB] = -p->k_susp * vw;
-    J[WI * n + VB] = -p->c_susp * vw;
 }
 
 static void outputs(const void *data, void *out)
@@ -133,7 +142,7 @@ static void outputs(const void *data, void *out)
     double s = x[ZB] - yw;
     o->E = 0.5 * (p->m_body * x[VB] * x[VB] + p->k_susp * s * s) + p->m_body * p->g * yw;
     o->W_dissipated = x[WD];
-    o->W_in = x[WI];
+    o->W_in = d->W_in;
     o->f_body = sqrt(p->k_susp / p->m_body) / VT_TWO_PI;
 }
 
@@ -147,6 +156,7 @@ static const vt_model_def vehicle_def = {
     .rhs = rhs,
     .jac = jac,
     .outputs = outputs,
+    .step_done = step_done,
 };
 
 VT_DEFINE_FMU(vehicle_def, vehicle_data);
