@@ -13,6 +13,22 @@ static const vt_core *core_c(const vt_instance *I) { return (const vt_core *)I->
 
 double vt_input_time(const vt_core *c) { return c->inputs_changed ? c->t : c->t_in; }
 
+int vt_check_rules(const vt_rule *rules, size_t n_rules, double rtol, char *msg, size_t n)
+{
+    for (size_t i = 0; i < n_rules; i++) {
+        const vt_rule *r = &rules[i];
+        if (!isfinite(r->value) || !(r->zero_ok ? r->value >= 0.0 : r->value > 0.0)) {
+            snprintf(msg, n, "%s = %g: must be finite and %s 0", r->name, r->value, r->zero_ok ? ">=" : ">");
+            return -1;
+        }
+    }
+    if (!(rtol >= 1e-14 && rtol <= 1e-2)) {
+        snprintf(msg, n, "rtol = %g: must be in [1e-14, 1e-2]", rtol);
+        return -1;
+    }
+    return 0;
+}
+
 void vt_init(void *m, const vt_model_def *def, vi_fmu_log_fn log, void *env)
 {
     vt_instance *I = m;
@@ -23,10 +39,9 @@ void vt_init(void *m, const vt_model_def *def, vi_fmu_log_fn log, void *env)
     I->msg[0] = '\0';
     vt_core *c = core(I);
     memset(c, 0, sizeof *c);
-    def->defaults(I->data);
 }
 
-/* Back to the defaults; the solver (if any) is kept and restarted at initialization. */
+/* Back to the start; the solver (if any) is kept and restarted at initialization. */
 void vt_reset(void *m)
 {
     vt_instance *I = m;

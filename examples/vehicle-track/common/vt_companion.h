@@ -38,8 +38,6 @@ typedef struct {
 
 typedef struct {
     int n; /* number of states, <= VT_MAX_STATES */
-    /* start values of parameters and inputs into the block (vi_parameters_default, vi_inputs_default) */
-    void (*defaults)(void *data);
     /* Check the parameters: 0, or -1 with a message naming the variable and its allowed range. */
     int (*check)(const void *data, char *msg, size_t n);
     /* The initial state (core.x) from the parameters and the inputs at core.t. */
@@ -71,9 +69,18 @@ typedef struct {
 /* The time the held inputs refer to: now when they were set since the last step. */
 double vt_input_time(const vt_core *c);
 
+/* Parameter checks for a model's `check`: each value finite and > 0 (>= 0 when zero_ok), and the
+ * relative tolerance in [1e-14, 1e-2]. 0, or -1 with a message naming the first bad one. */
+typedef struct {
+    const char *name;
+    double value;
+    int zero_ok;
+} vt_rule;
+int vt_check_rules(const vt_rule *rules, size_t n_rules, double rtol, char *msg, size_t n);
+
 /* The generic hooks (vt_companion.c). */
 void vt_init(void *m, const vt_model_def *def, vi_fmu_log_fn log, void *env);
-void vt_reset(void *m);
+void vt_reset(void *m); /* the model's defaults are applied after it (VT_DEFINE_FMU) */
 void vt_release(void *m);
 void vt_changed(void *m);
 void vt_outputs(void *m, void *out);
@@ -92,7 +99,22 @@ const char *vt_message(const void *m);
 /* In the model's file, after its table (VI_TABLE_DEFINE) and its vt_model_def DEF whose block
  * type is DATA (with members par, in and din): the one model of this FMU binary. */
 #define VT_DEFINE_FMU(DEF, DATA)                                                                  \
-    static void vt_init_##DATA(void *m, vi_fmu_log_fn log, void *env) { vt_init(m, &(DEF), log, env); } \
+    static void vt_defaults_##DATA(void *m)                                                       \
+    {                                                                                             \
+        DATA *d = vt_state(m);                                                                    \
+        vi_parameters_default(&d->par);                                                           \
+        vi_inputs_default(&d->in);                                                                \
+    }                                                                                             \
+    static void vt_init_##DATA(void *m, vi_fmu_log_fn log, void *env)                             \
+    {                                                                                             \
+        vt_init(m, &(DEF), log, env);                                                             \
+        vt_defaults_##DATA(m);                                                                    \
+    }                                                                                             \
+    static void vt_reset_##DATA(void *m)                                                          \
+    {                                                                                             \
+        vt_reset(m);                                                                              \
+        vt_defaults_##DATA(m);                                                                    \
+    }                                                                                             \
     static int vt_check_##DATA(const void *s, int running, char *msg, size_t n)                    \
     {                                                                                             \
         return vt_state_check(s, running, &(DEF), msg, n);                                        \
@@ -111,7 +133,7 @@ const char *vt_message(const void *m);
         .inputs_offset = offsetof(DATA, in),                                                       \
         .input_derivatives_offset = offsetof(DATA, din),                                           \
         .init = vt_init_##DATA,                                                                    \
-        .reset = vt_reset,                                                                         \
+        .reset = vt_reset_##DATA,                                                                  \
         .release = vt_release,                                                                     \
         .changed = vt_changed,                                                                     \
         .outputs = vt_outputs,                                                                     \

@@ -30,31 +30,14 @@ typedef struct {
 
 enum { ZR, VR, ZS, VS, WD, N_TRACK };
 
-static void defaults(void *data)
-{
-    track_data *d = data;
-    vi_parameters_default(&d->par);
-    vi_inputs_default(&d->in);
-}
-
 static int check(const void *data, char *msg, size_t n)
 {
     const vi_parameters *p = &((const track_data *)data)->par;
-    const struct { const char *name; double value; int zero_ok; } v[] = {
+    const vt_rule rules[] = {
         {"m_rail", p->m_rail, 0}, {"k_pad", p->k_pad, 0}, {"c_pad", p->c_pad, 1},
         {"m_sleeper", p->m_sleeper, 0}, {"k_ballast", p->k_ballast, 0}, {"c_ballast", p->c_ballast, 1},
     };
-    for (size_t i = 0; i < sizeof v / sizeof v[0]; i++) {
-        if (!(v[i].zero_ok ? v[i].value >= 0.0 : v[i].value > 0.0) || !isfinite(v[i].value)) {
-            snprintf(msg, n, "%s = %g: must be finite and %s 0", v[i].name, v[i].value, v[i].zero_ok ? ">=" : ">");
-            return -1;
-        }
-    }
-    if (!(p->rtol >= 1e-14 && p->rtol <= 1e-2)) {
-        snprintf(msg, n, "rtol = %g: must be in [1e-14, 1e-2]", p->rtol);
-        return -1;
-    }
-    return 0;
+    return vt_check_rules(rules, sizeof rules / sizeof rules[0], p->rtol, msg, n);
 }
 
 static void start(void *data)
@@ -160,7 +143,6 @@ static void outputs(const void *data, void *out)
 
 static const vt_model_def track_def = {
     .n = N_TRACK,
-    .defaults = defaults,
     .check = check,
     .start = start,
     .rtol = rtol,

@@ -35,30 +35,13 @@ typedef struct {
 
 enum { ZB, VB, WD, N_VEHICLE };
 
-static void defaults(void *data)
-{
-    vehicle_data *d = data;
-    vi_parameters_default(&d->par);
-    vi_inputs_default(&d->in);
-}
-
 static int check(const void *data, char *msg, size_t n)
 {
     const vi_parameters *p = &((const vehicle_data *)data)->par;
-    const struct { const char *name; double value; int zero_ok; } v[] = {
+    const vt_rule rules[] = {
         {"m_body", p->m_body, 0}, {"k_susp", p->k_susp, 0}, {"c_susp", p->c_susp, 1}, {"g", p->g, 1},
     };
-    for (size_t i = 0; i < sizeof v / sizeof v[0]; i++) {
-        if (!(v[i].zero_ok ? v[i].value >= 0.0 : v[i].value > 0.0) || !isfinite(v[i].value)) {
-            snprintf(msg, n, "%s = %g: must be finite and %s 0", v[i].name, v[i].value, v[i].zero_ok ? ">=" : ">");
-            return -1;
-        }
-    }
-    if (!(p->rtol >= 1e-14 && p->rtol <= 1e-2)) {
-        snprintf(msg, n, "rtol = %g: must be in [1e-14, 1e-2]", p->rtol);
-        return -1;
-    }
-    return 0;
+    return vt_check_rules(rules, sizeof rules / sizeof rules[0], p->rtol, msg, n);
 }
 
 /* The wheel's position and velocity at t, from the held inputs. */
@@ -148,7 +131,6 @@ static void outputs(const void *data, void *out)
 
 static const vt_model_def vehicle_def = {
     .n = N_VEHICLE,
-    .defaults = defaults,
     .check = check,
     .start = start,
     .rtol = rtol,
