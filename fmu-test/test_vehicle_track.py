@@ -101,13 +101,19 @@ def test_track_step_response_matches_the_matrix_exponential():
 
 @needs_fmus
 def test_track_energy_balance():
-    """E + W_dissipated - W_in stays at E(0) under a varying load."""
+    """Under a varying load the work the dampers dissipated (W_dissipated = W_in - (E - E(0)), with
+    W_in the exact work of the held load) equals the integral of the damper power
+    c_pad (v_r - v_s)^2 + c_ballast v_s^2 over the sampled velocities (trapezoid rule, 1e-5 s)."""
     r = run_track(lambda t: 66e3 + 20e3 * math.sin(2 * math.pi * 300 * t) + 10e3 * math.sin(2 * math.pi * 41 * t),
                   0.05, 1e-5)
-    balance = r["E"] + r["W_dissipated"] - r["W_in"] - r["E"][0]
-    assert r["W_dissipated"][-1] > 1.0  # the dampers work
-    # (the error accumulates over 5000 restarted steps at the default rtol 1e-8: 1.2e-6 of it)
-    assert np.max(np.abs(balance)) < 1e-5 * r["W_dissipated"][-1]
+    power = P_T["c_pad"] * (r["v_rail"] - r["v_sleeper"]) ** 2 + P_T["c_ballast"] * r["v_sleeper"] ** 2
+    dissipated = np.concatenate([[0.0], np.cumsum(0.5 * (power[1:] + power[:-1]) * np.diff(r["time"]))])
+    assert dissipated[-1] > 1.0  # the dampers work
+    assert np.max(np.abs(r["W_dissipated"] - dissipated)) < 1e-3 * dissipated[-1]
+    # W_in is the work of the held load: -F (z_r(end) - z_r(start)) summed over the steps
+    F = np.array([66e3 + 20e3 * math.sin(2 * math.pi * 300 * t) + 10e3 * math.sin(2 * math.pi * 41 * t)
+                  for t in r["time"][:-1]])
+    assert r["W_in"][-1] == pytest.approx(np.sum(-F * np.diff(r["z_rail"])), rel=1e-9)
 
 
 def run_vehicle(y_wheel, v_wheel, t_end, h, start_values=None):
@@ -210,39 +216,53 @@ def test_reference_energy_balance_and_convergence(harmonic_reference):
 
 def contact_has(*names):
     md = read_model_description(str(FMU))
-    have = {v.name: v.type for v in md.modelVariables}
+    have = {v.name for v in md.modelVariables}
     return all(n in have for n in names)
 
 
+@pytest.fixture(scope="module")
+def rough(tmp_path_factory):
+    """The example's roughness profile in a file, and the reference over the first 40 ms (the
+    roughness starts after 13 ms)."""
+    path = tmp_path_factory.mktemp("profile") / "profile.txt"
+    roughness.write(path, *roughness.profile(**parameters.ROUGHNESS))
+    T = 0.04
+    system = reference.default_system(str(path), T)
+    return path, T, system, reference.simulate(system, T, rtol=1e-10)
+
+
 @needs_fmus
-def test_coupled_run_matches_the_reference(harmonic_reference):
+def test_coupled_run_matches_the_reference(rough):
     """The recommended coupling (Gauss-Seidel vehicle -> contact -> track, the rail extrapolated
-    with its velocity, F_mean to the track) at 1e-5 s against the monolithic reference."""
-    if not contact_has("F_mean"):
-        pytest.skip("the contact FMU has no F_mean yet (issue 11 item 1)")
-    exc, T, system, sol = harmonic_reference
-    r = master.run(1e-5, T, "gauss-seidel", ("vehicle", "contact", "track"), "F_mean", "ramp", excitation=exc)
-    F_ref = sol.force(r["t"])
-    assert np.max(np.abs(r["contact.F"] - F_ref)) < 0.02 * system.W
-    assert np.max(np.abs(r["contact.F_mean"][1:] - sol.mean_force(r["t"]))) < 0.02 * system.W
-    # the track got the wheel's impulse: momentum is kept to the last step
+    with its velocity, F_mean to the track) at 1e-5 s against the monolithic reference, rolling
+    over the roughness: measured 0.29 % and 0.19 % of the wheel load; the end-of-step force F and
+    a held rail give 20 % and more (examples/vehicle-track/README.md)."""
+    if not contact_has("F_mean", "profile_file", "V", "x0"):
+        pytest.skip("the contact FMU has no F_mean or no rolling yet (issue 11 items 1 and 4)")
+    path, T, system, sol = rough
+    h = 1e-5
+    r = master.run(h, T, "gauss-seidel", ("vehicle", "contact", "track"), "F_mean", "ramp", profile=path)
+    assert np.max(np.abs(r["contact.F"] - sol.force(r["t"]))) < 0.01 * system.W
+    assert np.max(np.abs(r["contact.F_mean"][1:] - sol.mean_force(r["t"]))) < 0.01 * system.W
+    # the track got the wheel's impulse, step by step: momentum is kept
     J_ref = sol.state(T)[reference.J, 0]
-    assert abs(np.sum(r["F_to_track"][1:]) * 1e-5 - J_ref) < 1e-4 * J_ref
+    assert abs(np.sum(r["F_to_track"][1:]) * h - J_ref) < 1e-4 * J_ref
 
 
 @needs_fmus
-def test_libcosim_and_the_fmpy_master_agree():
+def test_libcosim_and_the_fmpy_master_agree(rough):
     """libcosim from OspSystemStructure.xml and master.py with the same (Jacobi) scheme."""
     pytest.importorskip("libcosimpy")
-    if not contact_has("F_mean", "profile_file"):
-        pytest.skip("the contact FMU has no F_mean or profile_file yet (issue 11 items 1 and 4)")
+    if not contact_has("F_mean", "profile_file", "V", "x0"):
+        pytest.skip("the contact FMU has no F_mean or no rolling yet (issue 11 items 1 and 4)")
     import cosim
-    exc, h, T = (20e-6, 600.0), 1e-5, 0.01
-    rc = cosim.run(h, T, "F_mean", excitation=exc)
-    rm = master.run(h, T, "jacobi", force="F_mean", excitation=exc)
-    W = reference.System().W
-    assert np.max(np.abs(rc["contact.F"][1:] - rm["contact.F"][1:])) < 1e-9 * W
+    path, _, system, _ = rough
+    h, T = 5e-6, 0.03
+    rc = cosim.run(h, T, "F_mean", profile=path)
+    rm = master.run(h, T, "jacobi", force="F_mean", profile=path)
+    assert np.max(np.abs(rc["contact.F"][1:] - rm["contact.F"][1:])) < 1e-9 * system.W
     assert np.max(np.abs(rc["track.z_rail"][1:] - rm["track.z_rail"][1:])) < 1e-12
+    assert np.max(np.abs(rc["vehicle.F_wheel"][1:] - rm["vehicle.F_wheel"][1:])) < 1e-9 * system.W
 
 
 def test_osp_file_agrees_with_parameters_and_the_master():

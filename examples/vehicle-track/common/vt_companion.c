@@ -109,9 +109,8 @@ static int create_solver(vt_instance *I)
     for (int i = 0; i < def->n; i++) atol[i] *= rtol;
     vi_solver_config cfg = {
         .n = def->n, .nguards = 0, .rhs = rhs_cb, .guards = NULL, .jac = def->jac ? jac_cb : NULL, .user = I,
-        .adams = 1, /* non-stiff, lightly damped oscillators */
-        .rtol = rtol, .atol = atol, .max_step = 0.0, .max_steps = VT_MAX_STEPS_PER_STEP,
-        .log = I->log, .log_env = I->env,
+        .method = VI_METHOD_ADAMS, /* non-stiff, lightly damped oscillators */
+        .rtol = rtol, .atol = atol, .max_step = 0.0, .ode = NULL, .log = I->log, .log_env = I->env,
     };
     vi_solver_free(I->solver);
     I->solver = vi_solver_create(&cfg, c->t, c->x);
@@ -147,18 +146,26 @@ int vt_advance(void *m, double t_end)
         }
         c->solver_stale = 0;
     }
-    double t = c->t, x[VT_MAX_STATES];
+    double t = c->t, x[VT_MAX_STATES], t0 = c->t, x0[VT_MAX_STATES];
     int fired[VI_SOLVER_MAX_GUARDS];
-    if (vi_solver_advance(I->solver, t_end, &t, x, fired) != VI_SOLVER_REACHED) {
+    long taken = 0;
+    /* The solver may step past t_end and interpolate back; the next step restarts it when an input
+     * changed, so no step integrates with inputs it was not given. */
+    int rc = vi_solver_advance(I->solver, t_end, VT_MAX_STEPS_PER_STEP, &t, x, fired, &taken);
+    if (rc != VI_SOLVER_REACHED && rc != VI_SOLVER_LIMIT) {
         snprintf(I->msg, sizeof I->msg, "the integration from t = %.17g s to %.17g s failed (see the log)", c->t, t_end);
         c->solver_stale = 1; /* the state stays where the last step ended */
         return VI_FMU_ERROR;
     }
-    double t0 = c->t, x0[VT_MAX_STATES];
     memcpy(x0, c->x, sizeof x0);
     memcpy(c->x, x, sizeof(double) * (size_t)I->def->n);
-    c->t = t_end;
+    c->t = t;
     if (I->def->step_done) I->def->step_done(I->data, t0, x0);
+    if (rc == VI_SOLVER_LIMIT) { /* a consistent point before t_end (contract C1) */
+        snprintf(I->msg, sizeof I->msg, "work bound: %ld internal steps in one step, stopped at t = %.17g s",
+                 VT_MAX_STEPS_PER_STEP, t);
+        return VI_FMU_DISCARD;
+    }
     return VI_FMU_OK;
 }
 
