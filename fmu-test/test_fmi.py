@@ -8,7 +8,7 @@ from fmpy import simulate_fmu
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import fmi2CoSimulation, fmi2LastSuccessfulTime, fmi2ModelExchange
 
-from conftest import effective, start
+from conftest import effective, start, with_solver
 
 ERROR = 3
 
@@ -333,6 +333,8 @@ def test_fmu_state_taken_when_instantiated(logged, vr):
     s.setupExperiment(startTime=0.5, stopTime=0.5 + 30e-4)
     s.setInteger([vr["contact_model"]], [1])
     s.setReal([vr["a"]], [1e-4])
+    for name, value in with_solver({}).items():  # the solver under test (VI_SOLVER), as reference_run has it
+        s.setInteger([vr[name]], [value])
     blob = s.serializeFMUstate(s.getFMUstate())
     other = logged().instantiate()
     start(other, vr)  # running with the defaults ...
@@ -357,6 +359,8 @@ def test_fmu_state_taken_in_initialization_mode(logged, vr):
     s.enterInitializationMode()
     s.setInteger([vr["contact_model"]], [1])
     s.setReal([vr["a"], vr["P"]], [1e-4, 50000.0])
+    for name, value in with_solver({}).items():  # the solver under test (VI_SOLVER), as reference_run has it
+        s.setInteger([vr[name]], [value])
     state = s.getFMUstate()
     s.exitInitializationMode()
     s.doStep(0.0, 1e-3)
