@@ -14,6 +14,7 @@
  *   cpu_s <min CPU seconds of the whole run> step_us <min CPU per fmi2DoStep, loop only, us>
  *   heap_bytes <heap in use after initialization minus before instantiation> steps <n>
  *   impacts <n_impacts at the end> rhs <rhs evaluations the FMU reports at fmi2Terminate (logSolver)>
+ *   discard_at <fmi2LastSuccessfulTime when a step returned fmi2Discard (the run stops there), else nan>
  * --out FILE writes, for the first run, the samples (t, y, v, F, delta, mode) as doubles.
  * Exit status 1 when a call fails (printed). */
 #define _GNU_SOURCE
@@ -80,6 +81,7 @@ int main(int argc, char **argv)
     LOAD(Instantiate); LOAD(SetupExperiment); LOAD(EnterInitializationMode); LOAD(ExitInitializationMode);
     LOAD(SetReal); LOAD(SetInteger); LOAD(SetBoolean); LOAD(GetReal); LOAD(GetInteger); LOAD(DoStep);
     LOAD(FreeInstance); LOAD(Terminate); LOAD(SetDebugLogging); LOAD(GetFMUstate); LOAD(FreeFMUstate);
+    LOAD(GetRealStatus);
     const char *guid = argv[2], *out_path = NULL;
     double t_stop = atof(argv[3]), h = atof(argv[4]), tol = atof(argv[6]);
     int repeats = atoi(argv[5]), nreads = -1, nvrs = 0, nsets = 0, checkpoint = 0;
@@ -109,6 +111,7 @@ int main(int argc, char **argv)
     double best = INFINITY, best_loop = INFINITY;
     long heap = 0;
     fmi2Integer impacts = 0;
+    double discard_at = NAN; /* fmi2LastSuccessfulTime after an fmi2Discard (the work bound) */
     for (int rep = 0; rep < repeats; rep++) {
         FILE *out = rep == 0 && out_path ? fopen(out_path, "wb") : NULL;
         size_t heap0 = mallinfo2().uordblks;
@@ -138,6 +141,10 @@ int main(int argc, char **argv)
         for (long k = 0; k < n; k++) {
             if (checkpoint && GetFMUstate(c, &state) != fmi2OK) return 1;
             fmi2Status st = DoStep(c, k * h, h, fmi2True);
+            if (st == fmi2Discard) {
+                GetRealStatus(c, fmi2LastSuccessfulTime, &discard_at);
+                break;
+            }
             if (st != fmi2OK) {
                 fprintf(stderr, "fmi2DoStep at t = %.17g returned %d\n", k * h, (int)st);
                 return 1;
@@ -160,8 +167,8 @@ int main(int argc, char **argv)
         if (c1 - c0 < best) best = c1 - c0;
         if (l1 - l0 < best_loop) best_loop = l1 - l0;
     }
-    printf("cpu_s %.9g step_us %.6g heap_bytes %ld steps %ld impacts %d rhs %ld\n", best, 1e6 * best_loop / (double)n,
-           heap, n, (int)impacts, rhs_evals);
+    printf("cpu_s %.9g step_us %.6g heap_bytes %ld steps %ld impacts %d rhs %ld discard_at %.17g\n", best,
+           1e6 * best_loop / (double)n, heap, n, (int)impacts, rhs_evals, discard_at);
     dlclose(lib);
     return 0;
 }
