@@ -96,7 +96,9 @@ def start(slave, vr, params=None, tolerance=None, start_time=0.0, stop_time=None
     slave.setupExperiment(tolerance=tolerance, startTime=start_time, stopTime=stop_time)
     slave.enterInitializationMode()
     for name, value in with_solver(params or {}).items():
-        if isinstance(value, bool):
+        if isinstance(value, str):
+            slave.setString([vr[name]], [value])
+        elif isinstance(value, bool):
             slave.setBoolean([vr[name]], [value])
         elif isinstance(value, int):
             slave.setInteger([vr[name]], [value])

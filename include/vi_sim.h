@@ -43,6 +43,8 @@ enum { VI_SIM_OK = 0, VI_SIM_DISCARD = 1, VI_SIM_ERROR = -1 };
  * state is snapped onto the surface there. */
 #define VI_GRAZE_TOL 4.0
 #define VI_GRAZE_ULPS 256.0
+/* Longest path of the resources folder or a profile file. */
+#define VI_PATH_MAX 4096
 
 typedef struct {
     vi_parameters par;
@@ -70,8 +72,18 @@ typedef struct {
     vi_outputs out;
     vi_log_fn log;
     void *log_env;
+    int warned_validity; /* the model left its range of validity: warned once (not part of the FMU state) */
+    /* Rolling: the profile the model points to (owned here, outside the FMU state), the file it came
+     * from with the radius and periodicity it was built for, and the FMU's resources folder. */
+    vi_profile *profile;
+    char profile_key[VI_PATH_MAX + 64];
+    char resources[VI_PATH_MAX];
     char msg[512];       /* last error message */
 } vi_sim;
+
+/* Contract C5: the FMU's resources folder (a path, not a URI; NULL or "" for none), where a relative
+ * profile_file is looked up first (then the working directory). Kept across vi_sim_reset. */
+void vi_sim_set_resources(vi_sim *s, const char *dir);
 
 /* Defaults of the variable table; no solver yet. */
 void vi_sim_init(vi_sim *s, vi_log_fn log, void *log_env);

@@ -28,8 +28,7 @@ static void sim_guards(double t, const double *x, double *g, void *user)
 static void sim_jac(double t, const double *x, double *j, void *user)
 {
     const vi_sim_data *d = user;
-    j[0] = 0.0, j[1] = -1.0; /* d(delta')/d(delta, v) */
-    j[2] = vi_model_stiffness_over_mass(&d->M, t, x), j[3] = 0.0;
+    vi_model_jacobian(&d->M, t, x, j);
 }
 
 void vi_sim_init(vi_sim *s, vi_log_fn log, void *log_env)
@@ -41,16 +40,77 @@ void vi_sim_init(vi_sim *s, vi_log_fn log, void *log_env)
     vi_inputs_default(&s->d.in);
 }
 
+void vi_sim_set_resources(vi_sim *s, const char *dir)
+{
+    snprintf(s->resources, sizeof s->resources, "%s", dir ? dir : "");
+}
+
 void vi_sim_reset(vi_sim *s)
 {
-    vi_solver_free(s->solver);
+    char resources[VI_PATH_MAX];
+    memcpy(resources, s->resources, sizeof resources);
+    vi_sim_free(s);
     vi_sim_init(s, s->log, s->log_env);
+    memcpy(s->resources, resources, sizeof resources);
 }
 
 void vi_sim_free(vi_sim *s)
 {
     vi_solver_free(s->solver);
     s->solver = NULL;
+    vi_profile_free(s->profile);
+    s->profile = NULL;
+    s->profile_key[0] = '\0';
+}
+
+/* The file a profile_file names: as given when absolute; else in the resources folder if it is
+ * there, else relative to the working directory. 0, or -1 when the path does not fit. */
+static int profile_path(const vi_sim *s, const char *file, char *path, size_t n)
+{
+    int k;
+    if (file[0] != '/' && s->resources[0]) {
+        k = snprintf(path, n, "%s/%s", s->resources, file);
+        FILE *f = k > 0 && (size_t)k < n ? fopen(path, "r") : NULL;
+        if (f) {
+            fclose(f);
+            return 0;
+        }
+    }
+    k = snprintf(path, n, "%s", file);
+    return k > 0 && (size_t)k < n ? 0 : -1;
+}
+
+/* Load (or keep, when file, R1 and periodicity are those it was built for) the profile and hand it
+ * to the model with V and x0. Called after vi_model_setup and after a restore: a profile pointer
+ * read from a saved state is never used. 0, or -1 (s->msg). */
+static int attach_profile(vi_sim *s, const char *file, double V, double x0, int periodic)
+{
+    vi_model *M = &s->d.M;
+    double R1 = s->d.par.R1;
+    if (!file || !file[0]) {
+        vi_profile_free(s->profile);
+        s->profile = NULL;
+        s->profile_key[0] = '\0';
+        return vi_model_set_rolling(M, NULL, V, x0, s->msg, sizeof s->msg);
+    }
+    char path[VI_PATH_MAX], key[sizeof s->profile_key];
+    if (profile_path(s, file, path, sizeof path) < 0) {
+        snprintf(s->msg, sizeof s->msg, "profile_file '%.200s...': the path is too long", file);
+        return -1;
+    }
+    if (!(R1 > 0.0)) {
+        snprintf(s->msg, sizeof s->msg, "profile_file: rolling needs a body radius R1 > 0 (R1 = %g m)", R1);
+        return -1;
+    }
+    snprintf(key, sizeof key, "%s|%.17g|%d", path, R1, periodic != 0);
+    if (!s->profile || strcmp(key, s->profile_key) != 0) {
+        vi_profile_free(s->profile);
+        s->profile_key[0] = '\0';
+        s->profile = vi_profile_load(path, R1, periodic, s->msg, sizeof s->msg);
+        if (!s->profile) return -1;
+        memcpy(s->profile_key, key, sizeof key);
+    }
+    return vi_model_set_rolling(M, s->profile, V, x0, s->msg, sizeof s->msg);
 }
 
 static void set_input_ramps(vi_model *M, const vi_sim_data *d, double t)
@@ -87,6 +147,7 @@ int vi_sim_prepare(vi_sim *s)
         return -1;
     }
     if (vi_model_setup(&d->M, p, d->t_start, s->msg, sizeof s->msg) < 0) return -1;
+    if (attach_profile(s, "", 0.0, 0.0, 0) < 0) return -1; /* TODO(M): profile_file, V, x0, profile_periodic */
     d->t = d->t_start;
     set_input_ramps(&d->M, d, d->t);
     d->inputs_changed = 0;
@@ -117,18 +178,31 @@ static int create_solver(vi_sim *s, int resume)
     return 0;
 }
 
+/* Warn once per instance when the contact leaves the model's range of validity (contract C6). */
+static void check_validity(vi_sim *s)
+{
+    char text[400];
+    if (!s->warned_validity && vi_model_validity(&s->d.M, s->d.t, s->d.x, text, sizeof text)) {
+        s->warned_validity = 1;
+        s->log(s->log_env, VI_LOG_WARNING, "%s", text);
+    }
+}
+
 int vi_sim_initialize(vi_sim *s)
 {
     if (vi_sim_prepare(s) < 0) return -1;
     vi_sim_data *d = &s->d;
     double L, V, rtol = rtol_of(d);
-    vi_model_scales(&d->M, d->x[0], d->par.v0, &L, &V);
+    vi_model_scales(&d->M, d->x, &L, &V);
     d->atol[0] = rtol * L;
     d->atol[1] = rtol * V;
     d->initialized = 1;
     arm_guards_at_zero(d);
     memset(&d->ode, 0, sizeof d->ode);
     if (create_solver(s, 0) < 0) return -1;
+    char text[400];
+    if (vi_model_option_warnings(&d->par, text, sizeof text) > 0) s->log(s->log_env, VI_LOG_WARNING, "%s", text);
+    check_validity(s);
     static const char *const names[] = {[VI_Solver_bdf] = "CVODE BDF", [VI_Solver_adams] = "CVODE Adams",
                                         [VI_Solver_dop853] = "Dormand-Prince 8(5,3)"};
     s->log(s->log_env, VI_LOG_SOLVER, "%s, rtol %g, atol %g m and %g m/s (scales %g m, %g m/s)",
@@ -158,10 +232,9 @@ int vi_sim_restore(vi_sim *s)
     return create_solver(s, 1);
 }
 
-/* New input values take effect at time t: the platform may jump (the mass does not), the force may
- * step; the mode is then chosen afresh from the new state. An input that continues its previous
- * ramp (held, or the same slope) changes nothing and does not restart the solver. */
-static void apply_inputs(vi_sim *s)
+/* New input values (and tunable a, f) take effect at time t: the platform may jump (the mass does
+ * not), the force may step; the mode is then chosen afresh from the new state. 0, or -1 (s->msg). */
+static int apply_inputs(vi_sim *s)
 {
     vi_sim_data *d = &s->d;
     vi_model *M = &d->M;
@@ -169,18 +242,21 @@ static void apply_inputs(vi_sim *s)
     d->inputs_changed = 0;
     vi_ramp y_old = M->yC_in, f_old = M->F_ext;
     double y_old_t = vi_ramp_at(&y_old, t), f_old_t = vi_ramp_at(&f_old, t);
-    if (d->in.yC_in == y_old_t && d->din.yC_in == y_old.du && d->in.F_ext == f_old_t && d->din.F_ext == f_old.du)
-        return; /* the same signal: nothing happens */
+    if (d->in.yC_in == y_old_t && d->din.yC_in == y_old.du && d->in.F_ext == f_old_t && d->din.F_ext == f_old.du &&
+        !vi_model_excitation_differs(M, d->par.a, d->par.f))
+        return 0; /* the same signal: nothing happens */
     vi_model_freeze(M, t, d->x);
     int mode = M->mode;
     d->x[0] += d->in.yC_in - y_old_t; /* delta jumps with the platform */
     set_input_ramps(M, d, t);
+    if (vi_model_set_excitation(M, t, d->x, d->par.a, d->par.f, s->msg, sizeof s->msg) < 0) return -1;
     if (vi_model_resolve(M, t, d->x) != mode) {
         s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: input change, mode %d -> %d", t, mode, M->mode);
         memset(d->guard_band, 0, sizeof d->guard_band);
     }
     arm_guards_at_zero(d);
     s->solver_stale = 1;
+    return 0;
 }
 
 /* ---- re-arming of guards after events that keep the mode ----------------------------------- */
@@ -289,7 +365,7 @@ int vi_sim_advance(vi_sim *s, double t_end)
     s->out_valid = 0;
     d->step_t0 = d->t;
     d->step_v0 = d->x[1];
-    if (d->inputs_changed) apply_inputs(s);
+    if (d->inputs_changed && apply_inputs(s) < 0) return VI_SIM_ERROR;
     rearm_guards(d);
     if (s->solver_stale) {
         if (vi_solver_reset(s->solver, d->t, d->x) < 0) goto fail;
@@ -298,20 +374,33 @@ int vi_sim_advance(vi_sim *s, double t_end)
     long steps_left = VI_MAX_STEPS_PER_ADVANCE, events = 0;
     int zeno = 0;
     int fired[VI_SOLVER_MAX_GUARDS];
-    while (d->t < t_end) { /* bounded: every pass is an event, and events are bounded below */
+    char why[400]; /* rolling: the profile ends at `limit`; its kinks are breakpoints (contract C10) */
+    double limit = vi_model_rolling_limit(&d->M, why, sizeof why), target = fmin(t_end, limit);
+    while (d->t < target) { /* bounded: every pass is an event or a breakpoint, both bounded below */
         long taken = 0;
-        double t_before = d->t;
-        int rc = vi_solver_advance(s->solver, t_end, steps_left, &d->t, d->x, fired, &taken);
+        double t_before = d->t, bp = vi_model_next_breakpoint(&d->M, d->t), stop = fmin(target, bp);
+        int rc = vi_solver_advance(s->solver, stop, steps_left, &d->t, d->x, fired, &taken);
         steps_left -= taken;
         if (rc == VI_SOLVER_FAILED) goto fail;
-        if (rc == VI_SOLVER_REACHED) break;
         if (rc == VI_SOLVER_LIMIT)
             return discard(s, "work bound: %ld internal steps in one step, stopped at t = %.17g s (mode %d); "
                               "continue from there or use smaller communication steps",
                            VI_MAX_STEPS_PER_ADVANCE, d->t, d->M.mode);
         int g = 0;
-        while (g < VI_NGUARDS - 1 && fired[g] == 0) g++;
-        apply_event(s, g);
+        if (rc == VI_SOLVER_REACHED) {
+            if (stop != bp) break;
+            /* a kink of the profile: the platform velocity jumps; choose the mode afresh, restart */
+            int from = d->M.mode;
+            if (vi_model_breakpoint(&d->M, d->t, d->x) != from) {
+                s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: profile kink, mode %d -> %d", d->t, from, d->M.mode);
+                memset(d->guard_band, 0, sizeof d->guard_band);
+            }
+            arm_guards_at_zero(d);
+        } else {
+            while (g < VI_NGUARDS - 1 && fired[g] == 0) g++;
+            apply_event(s, g);
+            check_validity(s);
+        }
         if (vi_solver_reset(s->solver, d->t, d->x) < 0) goto fail;
         zeno = vi_sim_zeno_count(zeno, t_before, d->t);
         if (zeno >= VI_ZENO_EVENTS)
@@ -323,11 +412,16 @@ int vi_sim_advance(vi_sim *s, double t_end)
                               "continue from there or use smaller communication steps",
                            VI_MAX_EVENTS_PER_ADVANCE, d->t, d->M.mode);
     }
+    if (t_end > limit) { /* reached the end of the profile: nothing beyond it */
+        snprintf(s->msg, sizeof s->msg, "%s", why);
+        return VI_SIM_ERROR;
+    }
     d->t = t_end;
     if (!isfinite(d->x[0]) || !isfinite(d->x[1])) {
         snprintf(s->msg, sizeof s->msg, "the state is not finite at t = %.17g s", d->t);
         return VI_SIM_ERROR;
     }
+    check_validity(s);
     return VI_SIM_OK;
 fail:
     snprintf(s->msg, sizeof s->msg, "the solver failed near t = %.17g s (mode %d, delta = %g m, v = %g m/s)", d->t,
@@ -431,8 +525,7 @@ int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n)
     if (d->initialized && d->par.solver == VI_Solver_dop853 &&
         vi_solver_ode_check(&d->ode, 2, VI_NGUARDS, d->t, msg, n) < 0)
         return -1;
-    /* TODO(C3, helper M): return vi_model_check(&d->M, d->x, msg, n) once it is on main. */
-    return 0;
+    return vi_model_check(&d->M, d->x, msg, n);
 }
 #undef BAD
 

@@ -105,7 +105,7 @@ static double model_run(const vi_parameters *par, double rtol, int samples, doub
     }
     double x[2], L, V;
     vi_model_initial_state(&M, par->init, par->v0, 0.0, x);
-    vi_model_scales(&M, x[0], par->v0, &L, &V);
+    vi_model_scales(&M, x, &L, &V);
     vi_ode_problem p = {.n = 2, .ng = VI_NGUARDS, .rhs = model_rhs, .guards = model_guards, .user = &M,
                         .rtol = rtol, .atol = {rtol * L, rtol * V}, .guard_samples = samples};
     vi_ode s;
