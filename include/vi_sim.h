@@ -113,6 +113,9 @@ int vi_sim_checkpoint(vi_sim *s);
 /* Start the solver from s->d after it was overwritten by a saved state (any FMI state). 0 or -1. */
 int vi_sim_restore(vi_sim *s);
 void vi_sim_statistics(const vi_sim *s, vi_solver_stats *st);
+/* The loop's Zeno rule: the count of consecutive events each within VI_ZENO_ULPS ulps of time of the
+ * point before (t_before: the previous event or the step's start), after one more event at t. */
+int vi_sim_zeno_count(int count, double t_before, double t);
 
 /* Contract C3: is d a state this FMU could have produced? Checks every field of vi_sim_data owned by the
  * simulation layer (finite times, state, tolerances and inputs; counters >= 0; enumerations and flags

@@ -312,6 +312,12 @@ static void arm_guards_at_zero(vi_sim_data *d)
 
 /* ---- the loop ------------------------------------------------------------------------------- */
 
+int vi_sim_zeno_count(int count, double t_before, double t)
+{
+    double ulp = nextafter(fabs(t), INFINITY) - fabs(t);
+    return t - t_before <= VI_ZENO_ULPS * ulp ? count + 1 : 0;
+}
+
 /* End the advance early (contract C1): the state at d->t is consistent and usable. */
 static int discard(vi_sim *s, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 static int discard(vi_sim *s, const char *fmt, ...)
@@ -365,7 +371,8 @@ int vi_sim_advance(vi_sim *s, double t_end)
         if (vi_solver_reset(s->solver, d->t, d->x) < 0) goto fail;
         s->solver_stale = 0;
     }
-    long steps_left = VI_MAX_STEPS_PER_ADVANCE, events = 0, zeno = 0;
+    long steps_left = VI_MAX_STEPS_PER_ADVANCE, events = 0;
+    int zeno = 0;
     int fired[VI_SOLVER_MAX_GUARDS];
     char why[400]; /* rolling: the profile ends at `limit`; its kinks are breakpoints (contract C10) */
     double limit = vi_model_rolling_limit(&d->M, why, sizeof why), target = fmin(t_end, limit);
@@ -395,12 +402,11 @@ int vi_sim_advance(vi_sim *s, double t_end)
             check_validity(s);
         }
         if (vi_solver_reset(s->solver, d->t, d->x) < 0) goto fail;
-        double ulp = nextafter(fabs(d->t), INFINITY) - fabs(d->t);
-        zeno = d->t - t_before <= VI_ZENO_ULPS * ulp ? zeno + 1 : 0;
+        zeno = vi_sim_zeno_count(zeno, t_before, d->t);
         if (zeno >= VI_ZENO_EVENTS)
-            return discard(s, "events accumulate at t = %.17g s (Zeno): %d events within %g s, the last on guard %d "
-                              "of mode %d; stopped there",
-                           d->t, VI_ZENO_EVENTS, VI_ZENO_EVENTS * VI_ZENO_ULPS * ulp, g, d->M.mode);
+            return discard(s, "events accumulate at t = %.17g s (Zeno): %d events each within %g ulps of time of the "
+                              "one before, the last on guard %d of mode %d; stopped there",
+                           d->t, VI_ZENO_EVENTS, VI_ZENO_ULPS, g, d->M.mode);
         if (++events >= VI_MAX_EVENTS_PER_ADVANCE && d->t < t_end)
             return discard(s, "work bound: %ld events in one step, stopped at t = %.17g s (mode %d); "
                               "continue from there or use smaller communication steps",

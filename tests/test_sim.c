@@ -80,3 +80,24 @@ Test(sim, refuses_a_step_end_that_does_not_exceed_the_time)
     cr_assert(vi_sim_advance(&s, t + 1e-3) == VI_SIM_OK, "%s", s.msg);
     vi_sim_free(&s);
 }
+
+/* Events accumulating geometrically at t* = 0.05 s (a bouncing ball with restitution 1/2: the gaps
+ * halve) reach the Zeno count once the gaps fall to rounding; regular events at 30 MHz never do. */
+Test(sim, zeno_rule_counts_accumulation_not_frequency)
+{
+    double t_star = 0.05, gap = 1e-6, t = t_star - 2.0 * gap, before = t;
+    int count = 0, n = 0;
+    while (count < VI_ZENO_EVENTS && n < 1000) {
+        t = fmin(t + gap, t_star);
+        gap *= 0.5;
+        count = vi_sim_zeno_count(count, before, t);
+        before = t;
+        n++;
+    }
+    cr_assert(count >= VI_ZENO_EVENTS, "not detected after %d events", n);
+    cr_assert(fabs(t - t_star) < 1e-12, "detected at %.17g, not at the accumulation point", t);
+    count = 0, t = 0.05;
+    for (int k = 0; k < 100000; k++, t += 1.0 / 3e7) count = vi_sim_zeno_count(count, t, t + 1.0 / 3e7);
+    cr_assert(count == 0, "regular events counted as Zeno");
+    cr_assert(vi_sim_zeno_count(5, 0.05, 0.06) == 0, "a gap resets the count");
+}

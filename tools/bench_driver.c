@@ -1,10 +1,11 @@
 /* bench_driver - runs the FMU binary directly (dlopen, no Python in the loop) for tools/bench.py.
  *
- *   vi_bench_driver FMU.so GUID T_STOP H REPEATS TOL --vrs Y,V,F,DELTA,MODE [--out FILE]
- *                   [--reads VR,VR,...] [vr=value ...]
+ *   vi_bench_driver FMU.so GUID T_STOP H REPEATS TOL --vrs Y,V,F,DELTA,MODE,N_IMPACTS [--out FILE]
+ *                   [--reads VR,VR,...] [--checkpoint] [vr=value ...]
  *
- * --vrs: the value references of y, v, F, delta (Reals) and mode (Integer) (tools/bench.py reads
- * them from modelDescription.xml). --reads: the Real outputs read after every step (default: y).
+ * --vrs: the value references of y, v, F, delta (Reals), mode and n_impacts (Integers)
+ * (tools/bench.py reads them from modelDescription.xml). --reads: the Real outputs read after every
+ * step (default: y). --checkpoint: fmi2GetFMUstate before every step (a master ready to roll back).
  * vr=value sets a start value before initialization: "r12=6e8" (Real), "i13=2" (Integer or
  * enumeration), "b14=1" (Boolean). TOL > 0 goes to fmi2SetupExperiment (0: the FMU's rtol counts).
  * The run: instantiate, set up, initialize, then fmi2DoStep with communication step H up to T_STOP,
@@ -12,6 +13,8 @@
  * REPEATS times; the minimum CPU time (the least disturbed run on a shared machine) is printed as
  *   cpu_s <min CPU seconds of the whole run> step_us <min CPU per fmi2DoStep, loop only, us>
  *   heap_bytes <heap in use after initialization minus before instantiation> steps <n>
+ *   impacts <n_impacts at the end> rhs <rhs evaluations the FMU reports at fmi2Terminate (logSolver)>
+ *   discard_at <fmi2LastSuccessfulTime when a step returned fmi2Discard (the run stops there), else nan>
  * --out FILE writes, for the first run, the samples (t, y, v, F, delta, mode) as doubles.
  * Exit status 1 when a call fails (printed). */
 #define _GNU_SOURCE
@@ -49,11 +52,16 @@ static double cpu_now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+static long rhs_evals = -1;
+
 static void logger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status status, fmi2String category,
                    fmi2String message, ...)
 {
     (void)env, (void)name;
     if (status >= fmi2Discard) fprintf(stderr, "[%s] %s\n", category, message);
+    const char *stats = strstr(message, "statistics: "); /* "... statistics: N steps, M rhs evaluations, ..." */
+    long steps, rhs;
+    if (stats && sscanf(stats, "statistics: %ld steps, %ld rhs", &steps, &rhs) == 2) rhs_evals = rhs;
 }
 
 #define LOAD(name) fmi2##name##TYPE *name = (fmi2##name##TYPE *)dlsym(lib, "fmi2" #name)
@@ -72,18 +80,20 @@ int main(int argc, char **argv)
     }
     LOAD(Instantiate); LOAD(SetupExperiment); LOAD(EnterInitializationMode); LOAD(ExitInitializationMode);
     LOAD(SetReal); LOAD(SetInteger); LOAD(SetBoolean); LOAD(GetReal); LOAD(GetInteger); LOAD(DoStep);
-    LOAD(FreeInstance); LOAD(Terminate);
+    LOAD(FreeInstance); LOAD(Terminate); LOAD(SetDebugLogging); LOAD(GetFMUstate); LOAD(FreeFMUstate);
+    LOAD(GetRealStatus);
     const char *guid = argv[2], *out_path = NULL;
     double t_stop = atof(argv[3]), h = atof(argv[4]), tol = atof(argv[6]);
-    int repeats = atoi(argv[5]), nreads = -1, nvrs = 0, nsets = 0;
-    fmi2ValueReference vrs[5], reads[MAX_READS];
+    int repeats = atoi(argv[5]), nreads = -1, nvrs = 0, nsets = 0, checkpoint = 0;
+    fmi2ValueReference vrs[6], reads[MAX_READS];
     char set_type[MAX_SETS];
     fmi2ValueReference set_vr[MAX_SETS];
     double set_value[MAX_SETS];
     for (int i = 7; i < argc; i++) {
         if (!strcmp(argv[i], "--out") && i + 1 < argc) out_path = argv[++i];
         else if (!strcmp(argv[i], "--reads") && i + 1 < argc) nreads = parse_vrs(argv[++i], reads, MAX_READS);
-        else if (!strcmp(argv[i], "--vrs") && i + 1 < argc) nvrs = parse_vrs(argv[++i], vrs, 5);
+        else if (!strcmp(argv[i], "--vrs") && i + 1 < argc) nvrs = parse_vrs(argv[++i], vrs, 6);
+        else if (!strcmp(argv[i], "--checkpoint")) checkpoint = 1;
         else if (nsets < MAX_SETS && sscanf(argv[i], "%c%u=%lf", &set_type[nsets], &set_vr[nsets], &set_value[nsets]) == 3)
             nsets++;
         else {
@@ -91,8 +101,8 @@ int main(int argc, char **argv)
             return 2;
         }
     }
-    if (nvrs != 5) {
-        fprintf(stderr, "--vrs Y,V,F,DELTA,MODE is required\n");
+    if (nvrs != 6) {
+        fprintf(stderr, "--vrs Y,V,F,DELTA,MODE,N_IMPACTS is required\n");
         return 2;
     }
     if (nreads < 0) nreads = 1, reads[0] = vrs[0];
@@ -100,6 +110,8 @@ int main(int argc, char **argv)
     fmi2CallbackFunctions cb = {logger, calloc, free, NULL, NULL};
     double best = INFINITY, best_loop = INFINITY;
     long heap = 0;
+    fmi2Integer impacts = 0;
+    double discard_at = NAN; /* fmi2LastSuccessfulTime after an fmi2Discard (the work bound) */
     for (int rep = 0; rep < repeats; rep++) {
         FILE *out = rep == 0 && out_path ? fopen(out_path, "wb") : NULL;
         size_t heap0 = mallinfo2().uordblks;
@@ -120,11 +132,19 @@ int main(int argc, char **argv)
             if (st > fmi2Warning) return 1;
         }
         if (ExitInitializationMode(c) > fmi2Warning) return 1;
+        fmi2String categories[] = {"logSolver"};
+        if (rep == 0) SetDebugLogging(c, fmi2True, 1, categories);
         heap = (long)(mallinfo2().uordblks - heap0);
         double l0 = cpu_now(), r[MAX_READS];
         fmi2Integer mode = 0;
+        fmi2FMUstate state = NULL;
         for (long k = 0; k < n; k++) {
+            if (checkpoint && GetFMUstate(c, &state) != fmi2OK) return 1;
             fmi2Status st = DoStep(c, k * h, h, fmi2True);
+            if (st == fmi2Discard) {
+                GetRealStatus(c, fmi2LastSuccessfulTime, &discard_at);
+                break;
+            }
             if (st != fmi2OK) {
                 fprintf(stderr, "fmi2DoStep at t = %.17g returned %d\n", k * h, (int)st);
                 return 1;
@@ -138,6 +158,8 @@ int main(int argc, char **argv)
             }
         }
         double l1 = cpu_now();
+        if (state) FreeFMUstate(c, &state);
+        GetInteger(c, &vrs[5], 1, &impacts);
         Terminate(c);
         FreeInstance(c);
         double c1 = cpu_now();
@@ -145,7 +167,8 @@ int main(int argc, char **argv)
         if (c1 - c0 < best) best = c1 - c0;
         if (l1 - l0 < best_loop) best_loop = l1 - l0;
     }
-    printf("cpu_s %.9g step_us %.6g heap_bytes %ld steps %ld\n", best, 1e6 * best_loop / (double)n, heap, n);
+    printf("cpu_s %.9g step_us %.6g heap_bytes %ld steps %ld impacts %d rhs %ld discard_at %.17g\n", best,
+           1e6 * best_loop / (double)n, heap, n, (int)impacts, rhs_evals, discard_at);
     dlclose(lib);
     return 0;
 }
