@@ -393,9 +393,10 @@ int vi_sim_advance(vi_sim *s, double t_end)
         long taken = 0;
         double t_before = d->t, bp = vi_model_next_breakpoint(&d->M, d->t), stop = fmin(target, bp);
         int rc = VI_SOLVER_REACHED;
-        if ((stop == bp || kinks) && stop - d->t <= VI_BREAKPOINT_ULPS * DBL_EPSILON * fabs(stop))
+        if ((stop == bp || kinks) && stop - d->t <= VI_BREAKPOINT_ULPS * DBL_EPSILON * fabs(stop)) {
             d->t = stop; /* a kink, or the end after one, within rounding of now: too close for the solver */
-        else
+            if (vi_solver_reset(s->solver, d->t, d->x) < 0) goto fail;
+        } else
             rc = vi_solver_advance(s->solver, stop, steps_left, &d->t, d->x, fired, &taken);
         steps_left -= taken;
         if (rc == VI_SOLVER_FAILED) goto fail;
