@@ -62,6 +62,8 @@ def test_impact_deeper_than_the_threshold_warns(logged, vr, v0, warn):
     (dict(contact_model=2, moving_contact=True, unloading=2), "unloading"),
     (dict(contact_model=1, yield_formula=2), "yield_formula"),
     (dict(v0=0.5), "v0"),
+    (dict(V=3.0), "profile_file"),
+    (dict(profile_periodic=True), "profile_file"),
 ])
 def test_contradicting_options_warn(logged, vr, params, name):
     inst, s = run(logged, vr, params, steps=3)

@@ -172,7 +172,8 @@ void vi_model_scales(const vi_model *M, const double x0[2], double *L, double *V
 int vi_model_validity(const vi_model *M, double t, const double x[2], char *msg, size_t n);
 
 /* Options that contradict each other or are ignored (issue 9 item 9): moving_contact, continuous
- * unloading or the printed yield formula where the law does not use them, v0 with a static start.
+ * unloading or the printed yield formula where the law does not use them, v0 with a static start,
+ * the rolling parameters without a profile.
  * Returns how many there are; msg lists them (one warning at initialization). */
 int vi_model_option_warnings(const vi_parameters *p, char *msg, size_t n);
 

@@ -2,8 +2,9 @@
  * vi_sim.h - one simulation: parameters, inputs, the hybrid model, its state, and the solver.
  * The FMI glue owns one vi_sim per instance; nothing here knows FMI.
  *
- * vi_sim_data is plain data (no pointers): it is what fmi2GetFMUstate copies and what
- * fmi2SerializeFMUstate writes. vi_sim_checkpoint before the copy and vi_sim_restore after it make a
+ * vi_sim_data is plain data: it is what fmi2GetFMUstate copies and what
+ * fmi2SerializeFMUstate writes. Its one pointer, the model's profile (rolling), is never trusted
+ * from a saved state: vi_sim_prepare and vi_sim_restore point it at the instance's own profile. vi_sim_checkpoint before the copy and vi_sim_restore after it make a
  * restored copy continue bit for bit like the original (contract C7).
  * The solver points into s->d: a vi_sim stays where it was initialized (never copied or moved).
  */
@@ -13,6 +14,9 @@
 #include "vi_model.h"
 #include "vi_solver.h"
 #include "vi_variables.h"
+
+/* Longest path of the resources folder or a profile file. */
+#define VI_PATH_MAX 4096
 
 /* Valid ranges of the tolerance (parameter rtol, or the tolerance of fmi2SetupExperiment) and of
  * max_step, checked at initialization. Above 1e-2 the error is of the order of the motion itself;
@@ -43,8 +47,9 @@ enum { VI_SIM_OK = 0, VI_SIM_DISCARD = 1, VI_SIM_ERROR = -1 };
  * state is snapped onto the surface there. */
 #define VI_GRAZE_TOL 4.0
 #define VI_GRAZE_ULPS 256.0
-/* Longest path of the resources folder or a profile file. */
-#define VI_PATH_MAX 4096
+/* A breakpoint of the platform motion (a kink of the rolling profile) closer than this many ulps of
+ * the time is taken at once, without integrating (the solver cannot step that little). */
+#define VI_BREAKPOINT_ULPS 64.0
 
 typedef struct {
     vi_parameters par;
@@ -120,7 +125,7 @@ int vi_sim_zeno_count(int count, double t_before, double t);
 /* Contract C3: is d a state this FMU could have produced? Checks every field of vi_sim_data owned by the
  * simulation layer (finite times, state, tolerances and inputs; counters >= 0; enumerations and flags
  * in range) and then the model's part (vi_model_check). 0 when valid, else -1 with the first bad
- * field named in msg. No pointer in d is trusted (there are none). */
+ * field named in msg. No pointer in d is followed (the model's profile pointer is not). */
 int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n);
 
 #endif

@@ -43,8 +43,8 @@
   X(yield_formula, Integer, YieldFormula, parameter, fixed, exact, 1, "", "formula for the yield force F_Y") \
   X(init, Integer, Init, parameter, fixed, exact, 1, "", "initial state") \
   X(v0, Real, none, parameter, fixed, exact, 0.0, "m/s", "initial velocity of the mass when touching") \
-  X(a, Real, none, parameter, fixed, exact, 0.0, "m", "amplitude of the internal harmonic platform excitation") \
-  X(f, Real, none, parameter, fixed, exact, 560.0, "Hz", "frequency of the internal harmonic platform excitation") \
+  X(a, Real, none, parameter, tunable, exact, 0.0, "m", "amplitude of the internal harmonic platform excitation (tunable: a change moves the platform)") \
+  X(f, Real, none, parameter, tunable, exact, 560.0, "Hz", "frequency of the internal harmonic platform excitation (tunable: the phase stays continuous)") \
   X(rtol, Real, none, parameter, fixed, exact, 1e-6, "", "relative tolerance (a tolerance from fmi2SetupExperiment wins)") \
   X(solver, Integer, Solver, parameter, fixed, exact, 2, "", "integration method: CVODE BDF or Adams (linear multistep), or Dormand-Prince 8(5,3) (explicit one-step, dense output)") \
   X(max_step, Real, none, parameter, fixed, exact, 0.0, "s", "CVODE maximum internal step, 0 = none") \
@@ -69,7 +69,10 @@
   X(f_contact, Real, none, calculatedParameter, fixed, calculated, 0.0, "Hz", "linearised contact resonance at the static load") \
   X(F_mean, Real, none, output, continuous, calculated, 0.0, "N", "contact force averaged over the last communication step: its impulse divided by the step") \
   X(k_contact, Real, none, output, continuous, calculated, 0.0, "N/m", "tangent contact stiffness dF/ddelta at the current state, 0 out of contact") \
-  X(profile_file, String, none, parameter, fixed, exact, "", "", "profile rolled over (Fig. 1b): two-column text table x [m], h [m]; relative paths: FMU resources, then working directory; empty = none")
+  X(profile_file, String, none, parameter, fixed, exact, "", "", "profile rolled over (Fig. 1b): two-column text table x [m], h [m]; relative paths: FMU resources, then working directory; empty = none") \
+  X(V, Real, none, parameter, fixed, exact, 0.0, "m/s", "rolling speed over the profile: yC = yC_in + a (cos(2 pi f t) - 1) + yb(x0 + V t)") \
+  X(x0, Real, none, parameter, fixed, exact, 0.0, "m", "position on the profile at the start time") \
+  X(profile_periodic, Boolean, none, parameter, fixed, exact, 0, "", "repeat the profile beyond its ends (its last height must equal the first); false: the run stops at its end")
 
 /* Enumeration types: E(type, description); items in VI_ITEMS_<type>(I) as I(type, name, value).
  * Items are matched by name in the model through the constants VI_<type>_<name>. */

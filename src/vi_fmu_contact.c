@@ -15,6 +15,12 @@ static void init(void *m, vi_fmu_log_fn log, void *env) { vi_sim_init(m, log, en
 static void reset(void *m) { vi_sim_reset(m); }
 static void release(void *m) { vi_sim_free(m); }
 
+static int set_resources(void *m, const char *dir)
+{
+    vi_sim_set_resources(m, dir);
+    return 0;
+}
+
 static void changed(void *m) { ((vi_sim *)m)->d.inputs_changed = 1; }
 static void outputs(void *m, void *out) { vi_sim_outputs(m, out); }
 
@@ -72,7 +78,7 @@ const vi_fmu_model vi_fmu_this_model = {
     .init = init,
     .reset = reset,
     .release = release,
-    .set_resources = NULL,
+    .set_resources = set_resources,
     .changed = changed,
     .outputs = outputs,
     .setup_experiment = setup_experiment,

@@ -497,6 +497,8 @@ int vi_model_option_warnings(const vi_parameters *p, char *msg, size_t n)
     OPTION(p->yield_formula == VI_YieldFormula_printed && p->contact_model == VI_ContactModel_hertz,
            "yield_formula = printed is ignored by the Hertz law (it changes only the calculated F_Y, delta_Y)")
     OPTION(p->v0 != 0.0 && p->init == VI_Init_static, "v0 is ignored by a static start (init = static)")
+    OPTION(!p->profile_file[0] && (p->V != 0.0 || p->x0 != 0.0 || p->profile_periodic),
+           "V, x0 and profile_periodic are ignored without a profile_file")
 #undef OPTION
     return count;
 }

@@ -80,37 +80,47 @@ static int profile_path(const vi_sim *s, const char *file, char *path, size_t n)
     return k > 0 && (size_t)k < n ? 0 : -1;
 }
 
-/* Load (or keep, when file, R1 and periodicity are those it was built for) the profile and hand it
- * to the model with V and x0. Called after vi_model_setup and after a restore: a profile pointer
- * read from a saved state is never used. 0, or -1 (s->msg). */
-static int attach_profile(vi_sim *s, const char *file, double V, double x0, int periodic)
+/* Load (or keep, when file, R1 and periodicity are those it was built for) the profile of the
+ * parameters and hand it to the model with V and x0. Called after vi_model_setup and after a
+ * restore: the profile pointer read from a saved state is never used. 0, or -1 (s->msg). */
+static int attach_profile(vi_sim *s)
 {
+    const vi_parameters *p = &s->d.par;
     vi_model *M = &s->d.M;
-    double R1 = s->d.par.R1;
-    if (!file || !file[0]) {
+    if (!p->profile_file[0]) {
         vi_profile_free(s->profile);
         s->profile = NULL;
         s->profile_key[0] = '\0';
-        return vi_model_set_rolling(M, NULL, V, x0, s->msg, sizeof s->msg);
+        return vi_model_set_rolling(M, NULL, p->V, p->x0, s->msg, sizeof s->msg);
     }
     char path[VI_PATH_MAX], key[sizeof s->profile_key];
-    if (profile_path(s, file, path, sizeof path) < 0) {
-        snprintf(s->msg, sizeof s->msg, "profile_file '%.200s...': the path is too long", file);
+    if (profile_path(s, p->profile_file, path, sizeof path) < 0) {
+        snprintf(s->msg, sizeof s->msg, "profile_file '%.200s...': the path is too long", p->profile_file);
         return -1;
     }
-    if (!(R1 > 0.0)) {
-        snprintf(s->msg, sizeof s->msg, "profile_file: rolling needs a body radius R1 > 0 (R1 = %g m)", R1);
+    if (!(p->R1 > 0.0)) {
+        snprintf(s->msg, sizeof s->msg, "profile_file: rolling needs a body radius R1 > 0 (R1 = %g m)", p->R1);
         return -1;
     }
-    snprintf(key, sizeof key, "%s|%.17g|%d", path, R1, periodic != 0);
+    snprintf(key, sizeof key, "%s|%.17g|%d", path, p->R1, p->profile_periodic != 0);
     if (!s->profile || strcmp(key, s->profile_key) != 0) {
         vi_profile_free(s->profile);
         s->profile_key[0] = '\0';
-        s->profile = vi_profile_load(path, R1, periodic, s->msg, sizeof s->msg);
+        s->profile = vi_profile_load(path, p->R1, p->profile_periodic, s->msg, sizeof s->msg);
         if (!s->profile) return -1;
         memcpy(s->profile_key, key, sizeof key);
     }
-    return vi_model_set_rolling(M, s->profile, V, x0, s->msg, sizeof s->msg);
+    return vi_model_set_rolling(M, s->profile, p->V, p->x0, s->msg, sizeof s->msg);
+}
+
+/* Warn once per instance when the contact leaves the model's range of validity (contract C6). */
+static void check_validity(vi_sim *s)
+{
+    char text[400];
+    if (!s->warned_validity && vi_model_validity(&s->d.M, s->d.t, s->d.x, text, sizeof text)) {
+        s->warned_validity = 1;
+        s->log(s->log_env, VI_LOG_WARNING, "%s", text);
+    }
 }
 
 static void set_input_ramps(vi_model *M, const vi_sim_data *d, double t)
@@ -147,7 +157,7 @@ int vi_sim_prepare(vi_sim *s)
         return -1;
     }
     if (vi_model_setup(&d->M, p, d->t_start, s->msg, sizeof s->msg) < 0) return -1;
-    if (attach_profile(s, "", 0.0, 0.0, 0) < 0) return -1; /* TODO(M): profile_file, V, x0, profile_periodic */
+    if (attach_profile(s) < 0) return -1;
     d->t = d->t_start;
     set_input_ramps(&d->M, d, d->t);
     d->inputs_changed = 0;
@@ -176,16 +186,6 @@ static int create_solver(vi_sim *s, int resume)
         return -1;
     }
     return 0;
-}
-
-/* Warn once per instance when the contact leaves the model's range of validity (contract C6). */
-static void check_validity(vi_sim *s)
-{
-    char text[400];
-    if (!s->warned_validity && vi_model_validity(&s->d.M, s->d.t, s->d.x, text, sizeof text)) {
-        s->warned_validity = 1;
-        s->log(s->log_env, VI_LOG_WARNING, "%s", text);
-    }
 }
 
 int vi_sim_initialize(vi_sim *s)
@@ -229,11 +229,14 @@ int vi_sim_restore(vi_sim *s)
         s->solver = NULL;
         return 0;
     }
+    if (attach_profile(s) < 0) return -1; /* the restored model's profile pointer is replaced by ours */
     return create_solver(s, 1);
 }
 
 /* New input values (and tunable a, f) take effect at time t: the platform may jump (the mass does
- * not), the force may step; the mode is then chosen afresh from the new state. 0, or -1 (s->msg). */
+ * not), the force may step; the mode is then chosen afresh from the new state. An input that
+ * continues its previous ramp (held, or the same slope) changes nothing and does not restart the
+ * solver. 0, or -1 (s->msg). */
 static int apply_inputs(vi_sim *s)
 {
     vi_sim_data *d = &s->d;
@@ -339,6 +342,7 @@ static void apply_event(vi_sim *s, int fired)
     d->n_events++;
     s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: guard %d of mode %d, mode %d -> %d, delta = %.9g m, v = %.9g m/s",
            d->t, fired, from, from, d->M.mode, d->x[0], d->x[1]);
+    check_validity(s);
     if (d->M.mode != from) {
         memset(d->guard_band, 0, sizeof d->guard_band);
         arm_guards_at_zero(d);
@@ -348,6 +352,20 @@ static void apply_event(vi_sim *s, int fired)
     double ulps[VI_NGUARDS], tol[VI_NGUARDS];
     guard_noise(d, ulps, tol);
     d->guard_band[fired] = VI_GRAZE_TOL * tol[fired] + VI_GRAZE_ULPS * ulps[fired] + DBL_MIN;
+}
+
+/* A kink of the rolling profile at d->t (contract C10): the platform velocity jumps, so the rate of
+ * delta does; the mode is chosen afresh (as after an input jump) and the solver restarts. */
+static int apply_breakpoint(vi_sim *s)
+{
+    vi_sim_data *d = &s->d;
+    int from = d->M.mode;
+    if (vi_model_breakpoint(&d->M, d->t, d->x) != from) {
+        s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: profile kink, mode %d -> %d", d->t, from, d->M.mode);
+        memset(d->guard_band, 0, sizeof d->guard_band);
+    }
+    arm_guards_at_zero(d);
+    return vi_solver_reset(s->solver, d->t, d->x);
 }
 
 int vi_sim_advance(vi_sim *s, double t_end)
@@ -371,36 +389,39 @@ int vi_sim_advance(vi_sim *s, double t_end)
         if (vi_solver_reset(s->solver, d->t, d->x) < 0) goto fail;
         s->solver_stale = 0;
     }
-    long steps_left = VI_MAX_STEPS_PER_ADVANCE, events = 0;
+    long steps_left = VI_MAX_STEPS_PER_ADVANCE, events = 0, kinks = 0;
     int zeno = 0;
     int fired[VI_SOLVER_MAX_GUARDS];
-    char why[400]; /* rolling: the profile ends at `limit`; its kinks are breakpoints (contract C10) */
+    char why[400]; /* rolling: a non-periodic profile ends at `limit` */
     double limit = vi_model_rolling_limit(&d->M, why, sizeof why), target = fmin(t_end, limit);
-    while (d->t < target) { /* bounded: every pass is an event or a breakpoint, both bounded below */
+    /* bounded: every pass is an event (bounded below) or a kink of the profile (finitely many in the
+     * distance |V| (t_end - t) rolled) */
+    while (d->t < target) {
         long taken = 0;
         double t_before = d->t, bp = vi_model_next_breakpoint(&d->M, d->t), stop = fmin(target, bp);
-        int rc = vi_solver_advance(s->solver, stop, steps_left, &d->t, d->x, fired, &taken);
+        int rc = VI_SOLVER_REACHED;
+        if ((stop == bp || kinks) && stop - d->t <= VI_BREAKPOINT_ULPS * DBL_EPSILON * fabs(stop)) {
+            d->t = stop; /* a kink, or the end after one, within rounding of now: too close for the solver */
+            if (vi_solver_reset(s->solver, d->t, d->x) < 0) goto fail;
+        } else
+            rc = vi_solver_advance(s->solver, stop, steps_left, &d->t, d->x, fired, &taken);
         steps_left -= taken;
         if (rc == VI_SOLVER_FAILED) goto fail;
+        if (rc == VI_SOLVER_REACHED) {
+            if (stop == bp) {
+                kinks++;
+                if (apply_breakpoint(s) < 0) goto fail;
+            }
+            if (d->t >= target) break;
+            continue;
+        }
         if (rc == VI_SOLVER_LIMIT)
             return discard(s, "work bound: %ld internal steps in one step, stopped at t = %.17g s (mode %d); "
                               "continue from there or use smaller communication steps",
                            VI_MAX_STEPS_PER_ADVANCE, d->t, d->M.mode);
         int g = 0;
-        if (rc == VI_SOLVER_REACHED) {
-            if (stop != bp) break;
-            /* a kink of the profile: the platform velocity jumps; choose the mode afresh, restart */
-            int from = d->M.mode;
-            if (vi_model_breakpoint(&d->M, d->t, d->x) != from) {
-                s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: profile kink, mode %d -> %d", d->t, from, d->M.mode);
-                memset(d->guard_band, 0, sizeof d->guard_band);
-            }
-            arm_guards_at_zero(d);
-        } else {
-            while (g < VI_NGUARDS - 1 && fired[g] == 0) g++;
-            apply_event(s, g);
-            check_validity(s);
-        }
+        while (g < VI_NGUARDS - 1 && fired[g] == 0) g++;
+        apply_event(s, g);
         if (vi_solver_reset(s->solver, d->t, d->x) < 0) goto fail;
         zeno = vi_sim_zeno_count(zeno, t_before, d->t);
         if (zeno >= VI_ZENO_EVENTS)
@@ -412,16 +433,13 @@ int vi_sim_advance(vi_sim *s, double t_end)
                               "continue from there or use smaller communication steps",
                            VI_MAX_EVENTS_PER_ADVANCE, d->t, d->M.mode);
     }
-    if (t_end > limit) { /* reached the end of the profile: nothing beyond it */
-        snprintf(s->msg, sizeof s->msg, "%s", why);
-        return VI_SIM_ERROR;
-    }
-    d->t = t_end;
     if (!isfinite(d->x[0]) || !isfinite(d->x[1])) {
         snprintf(s->msg, sizeof s->msg, "the state is not finite at t = %.17g s", d->t);
         return VI_SIM_ERROR;
     }
     check_validity(s);
+    if (t_end > limit) return discard(s, "%s", why); /* the end of the profile: nothing beyond it */
+    d->t = t_end;
     return VI_SIM_OK;
 fail:
     snprintf(s->msg, sizeof s->msg, "the solver failed near t = %.17g s (mode %d, delta = %g m, v = %g m/s)", d->t,

@@ -7,3 +7,4 @@ PYTHON=${PYTHON:-python3}
 cmake -S . -B build -DPython3_EXECUTABLE="$(command -v "$PYTHON")" >/dev/null
 cmake --build build -j"$(nproc)" >/dev/null
 "$PYTHON" tools/paper.py "$@"
+"$PYTHON" tools/rolling.py "$@"

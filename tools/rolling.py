@@ -5,7 +5,9 @@ frequency V/lambda lies below, near and above the contact resonance (as Fig. 5a/
 harmonic platform). The FMU's platform motion is the rolling constraint yb(x0 + V t) of the profile
 (profile_file), not the profile itself: the wheel cannot follow a trough sharper than its radius.
 
-Usage: python3 tools/rolling.py   ->  results/rolling/{corrugation.txt, rolling.png, rolling.csv}
+Usage: python3 tools/rolling.py [--gallery]
+  ->  results/rolling/{corrugation.txt, rolling.png, rolling.csv, constraint_harmonics.csv}
+  --gallery  also write a smaller copy of the figure to doc/gallery/rolling.png (shown in the README)
 The FMU is build/VibroImpact.fmu (or $VI_FMU).
 """
 import csv
@@ -44,7 +46,7 @@ def corrugation(path):
     with open(path, "w") as f:
         f.write(f"# corrugation: lambda = {LAMBDA} m, amplitude {AMPLITUDE} m; x [m]  h [m]\n")
         for a, b in zip(x, h):
-            f.write(f"{a!r} {b!r}\n")
+            f.write(f"{float(a)!r} {float(b)!r}\n")
     return x, h
 
 
@@ -66,7 +68,7 @@ def main():
     ax.plot(1e3 * s, 1e6 * profile_ref.yb(x, h, R1, s, periodic=True), lw=1.2, color="k",
             label=f"constraint yb(x), R1 = {R1} m")
     ax.set_xlabel("x [mm]"), ax.set_ylabel("[um]"), ax.legend(fontsize=8)
-    ax.set_title("corrugation and the wheel's rigid constraint (troughs bridged)", fontsize=9)
+    ax.set_title("corrugation h(x) and the constraint yb(x) the wheel's lowest point follows", fontsize=9)
     axes[0, 1].axis("off")
     rows = []
     for i, (name, (V, r)) in enumerate(runs.items(), start=1):
@@ -85,10 +87,21 @@ def main():
                          F_max_kN=r["F"].max() / 1e3, y_p2p_mm=np.ptp(r["y"]) * 1e3))
     fig.tight_layout()
     fig.savefig(OUT / "rolling.png", dpi=110)
+    if "--gallery" in sys.argv[1:]:
+        fig.savefig(ROOT / "doc" / "gallery" / "rolling.png", dpi=60)
     with open(OUT / "rolling.csv", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
+    # the constraint's harmonics: one period of yb, sampled, Fourier amplitudes of orders 1-5
+    s_per = np.linspace(0.0, LAMBDA, 512, endpoint=False)
+    amp = 2 * np.abs(np.fft.rfft(profile_ref.yb(x, h, R1, s_per, periodic=True)))[1:6] / len(s_per)
+    with open(OUT / "constraint_harmonics.csv", "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["order", "amplitude_um", "relative_to_first"])
+        for k, a in enumerate(amp, start=1):
+            w.writerow([k, a * 1e6, a / amp[0]])
+    print("harmonics of yb [um]: " + ", ".join(f"{k}: {a * 1e6:.3g}" for k, a in enumerate(amp, start=1)))
     for row in rows:
         print(", ".join(f"{k} {v:.4g}" if isinstance(v, float) else f"{k} {v}" for k, v in row.items()))
 

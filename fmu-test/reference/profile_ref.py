@@ -76,7 +76,7 @@ def yb(x, h, R, at, periodic=False, iterations=120):
     return out
 
 
-def contact_points(x, h, R, p, tol=1e-12):
+def contact_points(x, h, R, p, tol=1e-9):
     """The points s of the profile the body touches when its lowest point is above p: where
     h(s) + sqrt(R^2 - (p - s)^2) - R comes within tol of yb(p) (sampled on a fine grid)."""
     y = yb(x, h, R, [p])[0]
