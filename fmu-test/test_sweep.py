@@ -274,6 +274,24 @@ def test_continuation_continues_the_state(tmp_path):
     assert chain[0] == first[0]
 
 
+def test_chains_run_along_the_first_grid_one_per_combination_of_the_others():
+    """Grid order: first grid outermost. A continuation runs one chain per value of the other grids,
+    along the first grid in the sweep's direction; independent points are chains of one."""
+    interface = spec.Interface(str(FMU))
+    grids = [spec.parse_grid(interface, "F_ext=0:2000:3"), spec.parse_grid(interface, "a=1e-6:1e-4:2", log=True)]
+    assert grids[1][1] == [1e-6, 1e-4]
+    sw = spec.Sweep(fixed={"contact_model": 1}, grids=grids, stop_time=0.01, step=1e-5, direction="down")
+    points = sw.points()
+    assert [(v["F_ext"], v["a"]) for _, v in points] == [(x, y) for x in (0.0, 1000.0, 2000.0) for y in (1e-6, 1e-4)]
+    chains = spec.chains(sw, interface)
+    assert [c[0] for c in chains] == [[4, 2, 0], [5, 3, 1]]
+    for indices, fixed, per_point in chains:
+        assert {n for n, *_ in fixed} == {"contact_model", "a"}
+        assert [e[0][3] for e in per_point] == [points[i][1]["F_ext"] for i in indices]
+    sw.direction = None
+    assert [c[0] for c in spec.chains(sw, interface)] == [[i] for i in range(6)]
+
+
 def test_continuation_direction_orders_the_chain(tmp_path):
     """Rows stay in grid order; up runs ascending, down descending: the Poincare times say which
     point ran first on the instance."""
