@@ -1,0 +1,153 @@
+/*
+ * vt_companion.h - what the companion models of the vehicle-track example (track/, vehicle/)
+ * share: a small ODE system x' = f(t, x; parameters, inputs), advanced over each communication
+ * step by the repository's CVODE wrapper (include/vi_solver.h), as a model of the generic FMI 2.0
+ * layer (include/vi_fmu.h). A model folder holds only its physics: its variable table, one
+ * vt_model_def (right-hand side, Jacobian, parameter check, initial state, tolerance scales,
+ * outputs) and VT_DEFINE_FMU. This file turns that into the layer's hooks.
+ *
+ * Inputs are held over a step (zero-order hold); a model may extrapolate them in time from the
+ * time they were set (vt_input_time). When an input changed, the solver restarts at the start of
+ * the next step, since the right-hand side jumps there.
+ */
+#ifndef VT_COMPANION_H
+#define VT_COMPANION_H
+
+#include <stddef.h>
+
+#include "vi_fmu.h"
+#include "vi_solver.h"
+
+#define VT_MAX_STATES VI_SOLVER_MAX_N
+#define VT_TWO_PI 6.28318530717958647692
+/* m: the absolute tolerance of displacements is rtol times this (a micrometre: the wheel-rail
+ * contact's indentation is tens of micrometres), velocities and energies follow from it. */
+#define VT_LENGTH_SCALE 1e-6
+
+/* The part of a model's plain-data block (its FMU state) that this file manages. A model's block
+ * starts with it: typedef struct { vt_core core; vi_parameters par; vi_inputs in, din; ... }. */
+typedef struct {
+    double t_start;        /* s, from fmi2SetupExperiment */
+    double tolerance;      /* from fmi2SetupExperiment, 0 = none (the model's rtol counts) */
+    double t;              /* s, current time */
+    double t_in;           /* s, when the inputs were last set (they are held from then on) */
+    int inputs_changed;    /* an input was set since the last step */
+    int solver_stale;      /* the state changed outside the solver: restart before advancing */
+    double x[VT_MAX_STATES];
+} vt_core;
+
+typedef struct {
+    int n; /* number of states, <= VT_MAX_STATES */
+    /* Check the parameters: 0, or -1 with a message naming the variable and its allowed range. */
+    int (*check)(const void *data, char *msg, size_t n);
+    /* The initial state (core.x) from the parameters and the inputs at core.t. */
+    void (*start)(void *data);
+    /* The relative tolerance the parameters ask for (the experiment's tolerance wins). */
+    double (*rtol)(const void *data);
+    /* Absolute tolerance of each state divided by the relative tolerance (the model's own scales). */
+    void (*scales)(const void *data, double *scale);
+    /* x' = f(t, x) and, optionally, its Jacobian (row-major n x n). */
+    void (*rhs)(double t, const double *x, double *dx, const void *data);
+    void (*jac)(double t, const double *x, double *jac, const void *data);
+    /* Outputs and calculated parameters at core.t into *out (a vi_outputs). */
+    void (*outputs)(const void *data, void *out);
+    /* Optional: after a step from (t0, x0) to core.t, core.x (e.g. sums that follow exactly from
+     * the held inputs and the states at the step's ends). */
+    void (*step_done)(void *data, double t0, const double *x0);
+} vt_model_def;
+
+/* The layer's instance of a companion model: the model's block is `data`. */
+typedef struct {
+    const vt_model_def *def;
+    vi_solver *solver;
+    vi_fmu_log_fn log;
+    void *env;
+    char msg[256];
+    double data[]; /* the model's plain-data block, starting with vt_core */
+} vt_instance;
+
+/* The time the held inputs refer to: now when they were set since the last step. */
+double vt_input_time(const vt_core *c);
+
+/* Parameter checks for a model's `check`: each value finite and > 0 (>= 0 when zero_ok), and the
+ * relative tolerance in [1e-14, 1e-2]. 0, or -1 with a message naming the first bad one. */
+typedef struct {
+    const char *name;
+    double value;
+    int zero_ok;
+} vt_rule;
+int vt_check_rules(const vt_rule *rules, size_t n_rules, double rtol, char *msg, size_t n);
+
+/* The generic hooks (vt_companion.c). */
+void vt_init(void *m, const vt_model_def *def, vi_fmu_log_fn log, void *env);
+void vt_reset(void *m); /* the model's defaults are applied after it (VT_DEFINE_FMU) */
+void vt_release(void *m);
+void vt_changed(void *m);
+void vt_outputs(void *m, void *out);
+void vt_setup_experiment(void *m, double start_time, int tolerance_defined, double tolerance);
+int vt_prepare(void *m);
+int vt_initialize(void *m);
+int vt_advance(void *m, double t_end);
+double vt_time(const void *m);
+void vt_terminate(void *m);
+void *vt_state(void *m);
+int vt_checkpoint(void *m);
+int vt_restore(void *m, int running);
+int vt_state_check(const void *state, int running, const vt_model_def *def, char *msg, size_t n);
+const char *vt_message(const void *m);
+
+/* In the model's file, after its table (VI_TABLE_DEFINE) and its vt_model_def DEF whose block
+ * type is DATA (with members par, in and din): the one model of this FMU binary. */
+#define VT_DEFINE_FMU(DEF, DATA)                                                                  \
+    static void vt_defaults_##DATA(void *m)                                                       \
+    {                                                                                             \
+        DATA *d = vt_state(m);                                                                    \
+        vi_parameters_default(&d->par);                                                           \
+        vi_inputs_default(&d->in);                                                                \
+    }                                                                                             \
+    static void vt_init_##DATA(void *m, vi_fmu_log_fn log, void *env)                             \
+    {                                                                                             \
+        vt_init(m, &(DEF), log, env);                                                             \
+        vt_defaults_##DATA(m);                                                                    \
+    }                                                                                             \
+    static void vt_reset_##DATA(void *m)                                                          \
+    {                                                                                             \
+        vt_reset(m);                                                                              \
+        vt_defaults_##DATA(m);                                                                    \
+    }                                                                                             \
+    static int vt_check_##DATA(const void *s, int running, char *msg, size_t n)                    \
+    {                                                                                             \
+        return vt_state_check(s, running, &(DEF), msg, n);                                        \
+    }                                                                                             \
+    const vi_fmu_model vi_fmu_this_model = {                                                       \
+        .model_identifier = VI_MODEL_IDENTIFIER,                                                   \
+        .guid = VI_GUID,                                                                           \
+        .variables = vi_variable_table,                                                            \
+        .nvariables = VI_NVARS,                                                                    \
+        .enum_items = vi_enum_items,                                                               \
+        .n_enum_items = VI_NENUM_ITEMS,                                                            \
+        .instance_size = sizeof(vt_instance) + sizeof(DATA),                                       \
+        .state_size = sizeof(DATA),                                                                \
+        .outputs_size = sizeof(vi_outputs),                                                        \
+        .parameters_offset = offsetof(DATA, par),                                                  \
+        .inputs_offset = offsetof(DATA, in),                                                       \
+        .input_derivatives_offset = offsetof(DATA, din),                                           \
+        .init = vt_init_##DATA,                                                                    \
+        .reset = vt_reset_##DATA,                                                                  \
+        .release = vt_release,                                                                     \
+        .changed = vt_changed,                                                                     \
+        .outputs = vt_outputs,                                                                     \
+        .setup_experiment = vt_setup_experiment,                                                   \
+        .prepare = vt_prepare,                                                                     \
+        .initialize = vt_initialize,                                                               \
+        .advance = vt_advance,                                                                     \
+        .time = vt_time,                                                                           \
+        .terminate = vt_terminate,                                                                 \
+        .state = vt_state,                                                                         \
+        .checkpoint = vt_checkpoint,                                                               \
+        .restore = vt_restore,                                                                     \
+        .state_check = vt_check_##DATA,                                                            \
+        .message = vt_message,                                                                     \
+    }
+
+#endif

@@ -1,0 +1,60 @@
+"""The vehicle-track example's parameters, in one place.
+
+The track's and the vehicle's values are the start values of their FMUs (track/ and vehicle/
+modelDescription.xml, which mirror their C variable tables); they are read from there, so the
+reference, the masters and the FMUs cannot disagree. Sources:
+
+- Track, one support of a ballasted track (Math. Probl. Eng. 2017, article 5872419, "Study on
+  transmission characteristics of vertical rail vibrations in ballast track", Table 1): UIC60 rail
+  (7.745e-3 m^2, 7750 kg/m^3: 60.0 kg/m) on supports 0.55 m apart, rail pad 225 kN/mm with loss
+  factor 0.25, half sleeper 170 kg, ballast 20 kN/mm per half sleeper with loss factor 1. The
+  rail mass of one support is 60.0 kg/m * 0.55 m = 33 kg. The loss factors become viscous dampers
+  at each layer's own frequency, c = eta * sqrt(k m): pad 21.5 kN s/m, ballast 58.3 kN s/m.
+  One support carries the whole wheel load here: the rail beam, which spreads the load over a few
+  sleepers, is not modelled, so the track is softer than a real one at low frequencies.
+- Vehicle (Shock Vib. 2019, article 1212069, "A two-step composite time integration scheme for
+  vehicle-track interaction analysis considering contact separation", Table 2): car body 40 t,
+  bogie frame 3 t, wheelset 2 t, primary suspension 800 kN/m and 20 kN s/m per side. Per wheel:
+  unsprung mass 1000 kg (half a wheelset), sprung mass 40000/8 + 3000/4 = 5750 kg on the primary
+  suspension (the secondary suspension is not modelled).
+- Wheel-rail contact: Hertz, steel on steel, a 920 mm wheel (R1 = 0.46 m) on a rail head flat
+  along the track (R2 = 0): K = 4/3 E* sqrt(R1) = 1.04e11 N/m^1.5, within 10 % of the elliptic
+  wheel-rail contact constants of 0.87e11 to 0.96e11 N/m^1.5 quoted for a 0.46 m wheel on a
+  0.3 m rail crown.
+"""
+import pathlib
+import xml.etree.ElementTree as ET
+
+HERE = pathlib.Path(__file__).resolve().parent
+
+
+def fmu_defaults(folder):
+    """Start values of the parameters in <folder>/modelDescription.xml, by name."""
+    root = ET.parse(HERE / folder / "modelDescription.xml").getroot()
+    out = {}
+    for sv in root.iter("ScalarVariable"):
+        if sv.get("causality") == "parameter":
+            out[sv.get("name")] = float(sv.find("Real").get("start"))
+    return out
+
+
+TRACK = fmu_defaults("track")
+VEHICLE = fmu_defaults("vehicle")
+
+# The contact FMU (build/VibroImpact.fmu) as the wheel-rail contact: its mass is the wheel.
+WHEEL = {
+    "m": 1000.0,          # kg, half a 2 t wheelset
+    "P": 0.0,             # N: the load comes from the vehicle FMU through F_ext, and gravity
+    "g": VEHICLE["g"],
+    "R1": 0.46, "R2": 0.0,
+    "E1": 2.1e11, "E2": 2.1e11, "nu1": 0.3, "nu2": 0.3,
+    "contact_model": 1,   # hertz
+    "init": 1,            # static
+    "V": 30.0,            # m/s rolling speed (108 km/h)
+    "x0": 0.6,            # m: start on the flat first metre of the profile
+}
+
+# The roughness profile (roughness.py): ISO 3095 limit + 15 dB, seeded.
+ROUGHNESS = {"level_db": 15.0, "seed": 1, "length": 6.0, "dx": 1e-3}
+
+STOP_TIME = 0.15  # s: 4.5 m of rail at 30 m/s
