@@ -251,6 +251,10 @@ def test_item_names_from_the_description_of_an_integer(tmp_path):
 
 
 # ---- continuation -------------------------------------------------------------------------------
+def f_is_tunable():
+    return FMU.exists() and spec.Interface(str(FMU)).variables["f"].tunable
+
+
 def test_continuation_continues_the_state(tmp_path):
     """A chain of two equal points is one run cut in two: the second point's statistics over its
     [0, T] are the uninterrupted run's over [T, 2T] (the value is set again at the cut; the solver
@@ -271,6 +275,24 @@ def test_continuation_continues_the_state(tmp_path):
     assert chain[0] == first[0]
 
 
+def test_chains_run_along_the_first_grid_one_per_combination_of_the_others():
+    """Grid order: first grid outermost. A continuation runs one chain per value of the other grids,
+    along the first grid in the sweep's direction; independent points are chains of one."""
+    interface = spec.Interface(str(FMU))
+    grids = [spec.parse_grid(interface, "F_ext=0:2000:3"), spec.parse_grid(interface, "a=1e-6:1e-4:2", log=True)]
+    assert grids[1][1] == [1e-6, 1e-4]
+    sw = spec.Sweep(fixed={"contact_model": 1}, grids=grids, stop_time=0.01, step=1e-5, direction="down")
+    points = sw.points()
+    assert [(v["F_ext"], v["a"]) for _, v in points] == [(x, y) for x in (0.0, 1000.0, 2000.0) for y in (1e-6, 1e-4)]
+    chains = spec.chains(sw, interface)
+    assert [c[0] for c in chains] == [[4, 2, 0], [5, 3, 1]]
+    for indices, fixed, per_point in chains:
+        assert {n for n, *_ in fixed} == {"contact_model", "a"}
+        assert [e[0][3] for e in per_point] == [points[i][1]["F_ext"] for i in indices]
+    sw.direction = None
+    assert [c[0] for c in spec.chains(sw, interface)] == [[i] for i in range(6)]
+
+
 def test_continuation_direction_orders_the_chain(tmp_path):
     """Rows stay in grid order; up runs ascending, down descending: the Poincare times say which
     point ran first on the instance."""
@@ -282,3 +304,28 @@ def test_continuation_direction_orders_the_chain(tmp_path):
         first_t = [min(float(p["t"]) for p in pc if p["F_ext"] == r["F_ext"]) for r in rows]
         assert first_t == sorted(first_t, reverse=(direction == "down"))
         assert min(first_t) == 0.0
+
+
+@pytest.mark.timeout(150)
+@pytest.mark.skipif(not f_is_tunable(), reason="this FMU declares f fixed (contract C9 makes it tunable)")
+def test_up_and_down_sweeps_jump_on_either_side_of_the_resonance(tmp_path):
+    """Hertz, a = 5 um, continuation in the tunable f. Sweeping up, the mass stays on the platform
+    until the growing response lifts it off below the contact resonance; sweeping down it stays on
+    until above it. Without damping the bouncing then persists, so between the two jumps each
+    direction keeps a branch the other does not reach: hysteresis around f_contact."""
+    fn, _ = linear_resonance_hz()
+    args = ["--set", "contact_model=hertz", "--set", "a=5e-6", "--grid", "f=230:310:9", "--stop-time", "0.1",
+            "--transient", "0.05"]
+    _, _, up, _ = sweep(tmp_path / "up", *args, "--sweep-direction", "up")
+    _, _, down, _ = sweep(tmp_path / "down", *args, "--sweep-direction", "down")
+    f = col(up, "f")
+    cu, cd = col(up, "contact_fraction"), col(down, "contact_fraction")
+    assert cu[0] == 1.0 and cd[-1] == 1.0  # both start in permanent contact
+    f_up = f[np.argmax(cu < 1)]            # first loss of contact going up
+    f_down = f[::-1][np.argmax(cd[::-1] < 1)]  # first loss going down
+    assert f_up < fn < f_down, (f_up, fn, f_down)
+    # the bouncing, once reached, persists (no damping): each direction keeps a branch the other misses
+    below, above = f < f_up, f > f_down
+    assert below.any() and above.any()
+    assert np.all(cu[below] == 1) and np.all(cd[below] < 1)
+    assert np.all(cd[above] == 1) and np.all(cu[above] < 1)

@@ -71,6 +71,10 @@ def main():
     p.add_argument("--quick", action="store_true")
     args = p.parse_args()
     interface = spec.Interface(FMU)
+    if not interface.variables["f"].tunable:
+        print("sweep_diagrams: skipped: this FMU declares f fixed, and the continuation sweeps change it on a "
+              "running instance (f must be tunable)", file=sys.stderr)
+        return
     OUT.mkdir(parents=True, exist_ok=True)
     runs, t0 = {}, time.perf_counter()
     with engine.connect(workers=args.workers, scheduler=args.scheduler) as client:
@@ -142,7 +146,7 @@ def save(fig, name, gallery):
     fig.savefig(OUT / name, dpi=100)
     if gallery:
         GALLERY.mkdir(parents=True, exist_ok=True)
-        fig.savefig(GALLERY / f"sweep_{name}", dpi=60)
+        fig.savefig(GALLERY / f"sweep_{name}", dpi=75)
     plt.close(fig)
     return OUT / name
 
