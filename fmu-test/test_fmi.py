@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from fmpy import simulate_fmu
 from fmpy.fmi1 import FMICallException
-from fmpy.fmi2 import fmi2CoSimulation, fmi2ModelExchange
+from fmpy.fmi2 import fmi2CoSimulation, fmi2LastSuccessfulTime, fmi2ModelExchange
 
 from conftest import effective, start
 
@@ -238,27 +238,215 @@ def test_input_interpolation_equals_internal_excitation(logged, vr):
     assert np.max(np.abs(zoh - ref)) > 5 * np.max(np.abs(lin - ref))
 
 
-def test_libcosimpy_agrees_with_fmpy(fmu_path, vr):
+def test_libcosimpy_selects_the_hertz_law_and_agrees_with_fmpy(fmu_path, vr):
+    """libcosim ignores FMI 2.0 Enumeration variables; the enumerated options are Integers, so a
+    libcosim user selects the law by its value (contact law: hertz=1, ...). Y = 2e8 Pa makes Johnson
+    yield where Hertz does not, so the selection shows in the result."""
     pytest.importorskip("libcosimpy")
-    from libcosimpy.CosimEnums import CosimVariableType
     from libcosimpy.CosimExecution import CosimExecution
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
-    from libcosimpy.CosimManipulator import CosimManipulator
     from libcosimpy.CosimObserver import CosimObserver
     from libcosimpy.CosimSlave import CosimLocalSlave
     log_output_level(CosimLogLevel.WARNING)
-    h = 1e-4
+    h, t_end = 1e-4, 0.02
+    params = dict(contact_model=1, a=1e-4, Y=2e8, rtol=1e-10)
     ex = CosimExecution.from_step_size(step_size=int(h * 1e9))
     i = ex.add_local_slave(CosimLocalSlave(fmu_path=fmu_path, instance_name="vi"))
-    # libcosim ignores FMI 2.0 Enumeration variables (it warns): compare on the default Johnson law
-    ex.real_initial_value(i, vr["a"], 1e-5)
+    ex.integer_initial_value(i, vr["contact_model"], params["contact_model"])
+    ex.real_initial_value(i, vr["a"], params["a"])
+    ex.real_initial_value(i, vr["Y"], params["Y"])
+    ex.real_initial_value(i, vr["rtol"], params["rtol"])
     obs = CosimObserver.create_last_value()
     ex.add_observer(obs)
-    ex.simulate_until(target_time=int(0.02e9))
-    y_cosim, v_cosim = obs.last_real_values(i, [vr["y"], vr["v"]])
-    r = simulate_fmu(fmu_path, start_values=dict(a=1e-5), stop_time=0.02, output_interval=h, output=["y", "v"])
+    ex.simulate_until(target_time=int(t_end * 1e9))
+    y_cosim, v_cosim, w_cosim = obs.last_real_values(i, [vr["y"], vr["v"], vr["W_plastic"]])
+    n_cosim, mode_cosim = obs.last_integer_values(i, [vr["n_impacts"], vr["mode"]])
+    out = ["y", "v", "W_plastic", "n_impacts", "mode"]
+    hertz = simulate_fmu(fmu_path, start_values=params, stop_time=t_end, output_interval=h, output=out)
+    johnson = simulate_fmu(fmu_path, start_values={**params, "contact_model": 2}, stop_time=t_end,
+                           output_interval=h, output=out)
+    assert johnson["W_plastic"][-1] > 0 and hertz["W_plastic"][-1] == 0 == w_cosim  # the law was selected
     # libcosim counts time in integer nanoseconds, fmpy in floating point: equal to the tolerance
     e = effective({})
     d0 = (e["W"] / e["K"]) ** (2 / 3)
-    assert abs(y_cosim - r["y"][-1]) < 1e-5 * d0
-    assert abs(v_cosim - r["v"][-1]) < 1e-5 * d0 * 2 * np.pi * 267
+    assert abs(y_cosim - hertz["y"][-1]) < 1e-5 * d0
+    assert abs(v_cosim - hertz["v"][-1]) < 1e-5 * d0 * 2 * np.pi * 267
+    assert (n_cosim, mode_cosim) == (hertz["n_impacts"][-1], hertz["mode"][-1])
+    assert abs(y_cosim - johnson["y"][-1]) > 1e-3 * d0
+
+
+def test_string_parameter_set_get_and_limits(logged, vr):
+    """String variables: stored in the instance (plain data), read back, refused when too long or
+    NULL, fixed after initialization like any fixed parameter, back to the start value on reset."""
+    log = logged()
+    s = log.instantiate()
+    p = vr["profile_file"]
+    s.setString([p], ["rail/profile.txt"])
+    longest = "x" * 1023
+    s.setString([p], [longest])
+    with pytest.raises(FMICallException):
+        s.setString([p], ["y" * 1024])
+    assert error_logged(log, "profile_file", "longer than 1023")
+    with pytest.raises(FMICallException):
+        s.setString([p], [None])
+    assert error_logged(log, "profile_file", "NULL")
+    s.setupExperiment(startTime=0.0)
+    s.enterInitializationMode()
+    assert s.getString([p]) == [longest.encode()]  # the refused values left it unchanged
+    s.setString([p], ["a.txt"])
+    assert s.getString([p]) == [b"a.txt"]
+    with pytest.raises(FMICallException):
+        s.getString([vr["m"]])
+    assert error_logged(log, "m", "is of type Real")
+    with pytest.raises(FMICallException):
+        s.getReal([p])
+    assert error_logged(log, "profile_file", "is of type String")
+    s.reset()
+    s.setupExperiment(startTime=0.0)
+    s.enterInitializationMode()
+    assert s.getString([p]) == [b""]
+    s.setString([p], [""])
+    s.exitInitializationMode()
+    with pytest.raises(FMICallException):
+        s.setString([p], ["b.txt"])
+    assert error_logged(log, "profile_file", "fixed parameter")
+    assert s.getString([p]) == [b""]
+    s.freeInstance()
+
+
+# ---- FMU state in every FMI state (FMI 2.0: all but fatal; the instance takes the saved FMI state) ----
+
+def reference_run(logged, vr, params, start_time=0.0, n=30, h=1e-4):
+    s = logged().instantiate()
+    start(s, vr, params, start_time=start_time)
+    out = run_steps(s, vr, start_time, n, h)
+    s.freeInstance()
+    return out
+
+
+def test_fmu_state_taken_when_instantiated(logged, vr):
+    """fmusim's --initial-fmu-state-file and PyFMI take the state before initialization."""
+    params = dict(contact_model=1, a=1e-4)
+    ref = reference_run(logged, vr, params, start_time=0.5)
+    log = logged()
+    s = log.instantiate()
+    s.setupExperiment(startTime=0.5, stopTime=0.5 + 30e-4)
+    s.setInteger([vr["contact_model"]], [1])
+    s.setReal([vr["a"]], [1e-4])
+    blob = s.serializeFMUstate(s.getFMUstate())
+    other = logged().instantiate()
+    start(other, vr)  # running with the defaults ...
+    other.doStep(0.0, 1e-3)
+    other.setFMUstate(other.deSerializeFMUstate(blob))  # ... now instantiated with the saved settings
+    other.setReal([vr["m"]], [407.747])  # a fixed parameter may be set: Instantiated
+    other.enterInitializationMode()
+    other.exitInitializationMode()
+    assert np.array_equal(run_steps(other, vr, 0.5, 30, 1e-4), ref)
+    with pytest.raises(FMICallException):  # the saved stop time came along
+        other.doStep(0.5 + 30e-4, 1e-4)
+    other.freeInstance()
+    s.freeInstance()
+
+
+def test_fmu_state_taken_in_initialization_mode(logged, vr):
+    params = dict(contact_model=1, a=1e-4, P=50000.0)
+    ref = reference_run(logged, vr, params)
+    log = logged()
+    s = log.instantiate()
+    s.setupExperiment(startTime=0.0)
+    s.enterInitializationMode()
+    s.setInteger([vr["contact_model"]], [1])
+    s.setReal([vr["a"], vr["P"]], [1e-4, 50000.0])
+    state = s.getFMUstate()
+    s.exitInitializationMode()
+    s.doStep(0.0, 1e-3)
+    s.setFMUstate(state)  # back in initialization mode
+    with pytest.raises(FMICallException):
+        s.doStep(1e-3, 1e-4)
+    assert error_logged(log, "fmi2DoStep", "initialization mode")
+    e = effective({"P": 50000.0})
+    assert s.getReal([vr["F_Y"]])[0] == pytest.approx(e["F_Y"], rel=1e-12)
+    s.exitInitializationMode()
+    assert np.array_equal(run_steps(s, vr, 0.0, 30, 1e-4), ref)
+    s.freeInstance()
+
+
+def test_running_state_restored_into_an_instantiated_instance(logged, vr):
+    params = dict(contact_model=1, a=1e-4)
+    s = logged().instantiate()
+    start(s, vr, params)
+    run_steps(s, vr, 0.0, 10, 1e-4)
+    state = s.getFMUstate()
+    blob = s.serializeFMUstate(state)
+    run_steps(s, vr, 1e-3, 20, 1e-4)
+    s.setFMUstate(state)  # a restore in the running instance ...
+    again = run_steps(s, vr, 1e-3, 20, 1e-4)
+    fresh = logged().instantiate()  # ... and into one never initialized continue alike
+    fresh.setFMUstate(fresh.deSerializeFMUstate(blob))  # step complete at t = 1 ms
+    assert np.array_equal(run_steps(fresh, vr, 1e-3, 20, 1e-4), again)
+    for x in (s, fresh):
+        x.freeInstance()
+
+
+def test_terminated_state_restores_terminated(logged, vr):
+    log = logged()
+    s = log.instantiate()
+    start(s, vr)
+    s.doStep(0.0, 1e-4)
+    s.terminate()
+    done = s.getFMUstate()
+    s.reset()
+    start(s, vr)
+    s.setFMUstate(done)
+    with pytest.raises(FMICallException):
+        s.doStep(1e-4, 1e-4)
+    assert error_logged(log, "fmi2DoStep", "terminated")
+    assert s.getReal([vr["y"]])  # values stay readable
+    s.freeInstance()
+
+
+# ---- steps that cannot advance time (issue 9 item 8) ----
+
+@pytest.mark.parametrize("t0, h", [(0.0, 5e-324), (0.0, 1e-300), (1.0, 1e-16), (1e17, 1e-5), (1e17, 100.0)])
+def test_step_too_short_to_advance_time_is_refused_and_nothing_happens(logged, vr, t0, h):
+    log = logged()
+    s = log.instantiate()
+    start(s, vr, dict(contact_model=1, a=1e-4), start_time=t0)
+    before = s.getReal([vr["y"], vr["v"], vr["F"]])
+    with pytest.raises(FMICallException) as e:
+        s.doStep(t0, h)
+    assert e.value.status == ERROR
+    shortest = 16 * np.finfo(float).eps * max(1.0, t0)
+    assert error_logged(log, "fmi2DoStep", "too short to advance time", f"use at least {shortest:g} s",
+                        "nothing was done")
+    assert s.getReal([vr["y"], vr["v"], vr["F"]]) == before
+    step = 1e-4 if t0 < 1e3 else 512.0  # a step that does advance time there
+    s.doStep(t0, step)  # the instance is usable: still in step complete at t0
+    assert s.getRealStatus(fmi2LastSuccessfulTime) == t0 + step
+    s.freeInstance()
+
+
+def test_shortest_accepted_step_advances_time_exactly(logged, vr):
+    s = logged().instantiate()
+    start(s, vr, dict(contact_model=1, a=1e-4), start_time=1.0)
+    h = 16 * np.finfo(float).eps  # 16 units of the resolution at 1 s
+    s.doStep(1.0, h)
+    assert s.getRealStatus(fmi2LastSuccessfulTime) == 1.0 + h > 1.0
+    s.doStep(1.0 + h, 1e-4)
+    s.freeInstance()
+
+
+def test_initial_state_is_logged(logged, vr):
+    """logEvents at fmi2ExitInitializationMode: the initial mode and state, here the static
+    equilibrium on the Hertz curve, delta = (W/K)^(2/3), at rest."""
+    log = logged()
+    s = log.instantiate()
+    s.setDebugLogging(True, ["logEvents"])
+    start(s, vr, dict(contact_model=1))
+    e = effective({})
+    msg = next(m for _, cat, m in log.messages if cat == "logEvents" and m.startswith("initial mode"))
+    import re
+    mode, delta, v = re.fullmatch(r"initial mode (\d+), delta = (\S+) m, v = (\S+) m/s", msg).groups()
+    assert (int(mode), float(v)) == (1, 0.0)
+    assert float(delta) == pytest.approx((e["W"] / e["K"]) ** (2 / 3), rel=1e-8)
+    s.freeInstance()

@@ -3,15 +3,17 @@ fmpy's validator, and the binary's dependencies and exports."""
 import pathlib
 import subprocess
 
+import pytest
+
 from fmpy.validation import validate_fmu
 
 from conftest import BUILD, ROOT
 
-TYPE_OF = {"Real": "Real", "Integer": "Integer", "Boolean": "Boolean", "Enumeration": "Enumeration"}
+TYPE_OF = {"Real": "Real", "Integer": "Integer", "Boolean": "Boolean", "Enumeration": "Enumeration", "String": "String"}
 
 
-def c_table():
-    out = subprocess.run([str(BUILD / "vi_dump_variables")], check=True, capture_output=True, text=True).stdout
+def c_table(dump="VibroImpact_dump_variables"):
+    out = subprocess.run([str(BUILD / dump)], check=True, capture_output=True, text=True).stdout
     rows = [line.split("\t") for line in out.splitlines()]
     guid = next(r[1] for r in rows if r[0] == "guid")
     variables = [r[1:] for r in rows if r[0] == "var"]
@@ -19,9 +21,9 @@ def c_table():
     return guid, variables, enums
 
 
-def test_xml_matches_c_table(model_description):
-    md = model_description
-    guid, variables, enums = c_table()
+def check_xml_matches_c_table(md, dump):
+    """modelDescription.xml (read by fmpy) against the C table printed by the model's dump tool."""
+    guid, variables, enums = c_table(dump)
     assert md.guid == guid
     assert len(md.modelVariables) == len(variables)
     for sv, (vr, name, typ, enum, caus, var, initial, start, unit, desc) in zip(md.modelVariables, variables):
@@ -32,17 +34,30 @@ def test_xml_matches_c_table(model_description):
         assert sv.causality == caus, where
         assert sv.variability == var, where
         assert sv.description == desc, where
-        assert (sv.declaredType.name if sv.declaredType else "none") == enum, where
+        if typ == "Enumeration":
+            assert sv.declaredType is not None and sv.declaredType.name == enum, where
+        else:
+            assert sv.declaredType is None, where
+        if typ == "Integer" and enum != "none":  # an enumerated option as an Integer (libcosim sees it)
+            values = [value for t, _, value in enums if t == enum]
+            assert (int(sv.min), int(sv.max)) == (min(values), max(values)), where
         if typ == "Real":
             assert (sv.unit or "") == unit, where
-        if initial == "exact":
+        if initial == "exact" and typ == "String":
+            assert sv.start == start, where
+        elif initial == "exact":
             expected = float(start)
             got = {"true": 1.0, "false": 0.0}.get(sv.start, None) if typ == "Boolean" else float(sv.start)
             assert got == expected, where
         else:
             assert sv.start is None and sv.initial == "calculated", where
     xml_enums = [(t.name, i.name, int(i.value)) for t in md.typeDefinitions for i in t.items]
-    assert sorted(xml_enums) == sorted(enums)
+    declared = {v[3] for v in variables if v[2] == "Enumeration"}
+    assert sorted(xml_enums) == sorted(e for e in enums if e[0] in declared)
+
+
+def test_xml_matches_c_table(model_description):
+    check_xml_matches_c_table(model_description, "VibroImpact_dump_variables")
 
 
 def test_xml_at_top_level_is_the_packed_one(fmu_path):
@@ -64,15 +79,17 @@ def test_capabilities(model_description):
     assert model_description.defaultExperiment.tolerance is None  # else fmpy always overrides rtol
 
 
-def test_binary_needs_only_libc_and_libm():
-    out = subprocess.run(["readelf", "-d", str(BUILD / "VibroImpact.so")], check=True, capture_output=True,
+@pytest.mark.parametrize("name", ["VibroImpact", "LayerTest"])  # every FMU built by vi_add_fmu
+def test_binary_needs_only_libc_and_libm(name):
+    out = subprocess.run(["readelf", "-d", str(BUILD / f"{name}.so")], check=True, capture_output=True,
                          text=True).stdout
     needed = sorted(line.split("[")[1].rstrip("]") for line in out.splitlines() if "(NEEDED)" in line)
     assert needed == ["libc.so.6", "libm.so.6"]
 
 
-def test_binary_exports_exactly_the_fmi2_functions():
-    out = subprocess.run(["nm", "-D", "--defined-only", str(BUILD / "VibroImpact.so")], check=True,
+@pytest.mark.parametrize("name", ["VibroImpact", "LayerTest"])
+def test_binary_exports_exactly_the_fmi2_functions(name):
+    out = subprocess.run(["nm", "-D", "--defined-only", str(BUILD / f"{name}.so")], check=True,
                          capture_output=True, text=True).stdout
     exported = {line.split()[-1] for line in out.splitlines() if line.split()[1] in "TtDdBbRr"}
     expected = {
@@ -85,3 +102,65 @@ def test_binary_exports_exactly_the_fmi2_functions():
         "fmi2DoStep", "fmi2CancelStep", "fmi2GetStatus", "fmi2GetRealStatus", "fmi2GetIntegerStatus",
         "fmi2GetBooleanStatus", "fmi2GetStringStatus"}
     assert exported == expected
+
+
+def check_model_structure(md):
+    """Outputs: every output, with the dependencies it declares; InitialUnknowns: every output and
+    calculated parameter."""
+    outputs = [v for v in md.modelVariables if v.causality == "output"]
+    assert [u.variable for u in md.outputs] == outputs
+    unknowns = [v for v in md.modelVariables if v.causality in ("output", "calculatedParameter")]
+    assert [u.variable for u in md.initialUnknowns] == unknowns  # in the order of the variables
+
+
+def test_model_structure_declares_no_feedthrough(model_description):
+    check_model_structure(model_description)
+    assert all(u.dependencies == [] for u in model_description.outputs)
+
+
+def read_all(s, md, variables):
+    values = []
+    for v in variables:
+        get = {"Real": s.getReal, "Integer": s.getInteger, "Enumeration": s.getInteger, "Boolean": s.getBoolean}
+        values.append(get[v.type]([v.valueReference])[0])
+    return values
+
+
+def check_declared_independence(md, make_running, changes):
+    """For each input: setting it (value and derivative) at a communication point leaves every output
+    that does not declare a dependency on it unchanged until the next fmi2DoStep, and the next step
+    does feel it (so the check is not vacuous). make_running() -> (instance, time, step); the caller
+    frees the instances."""
+    outputs = [u.variable for u in md.outputs]
+    for name, value in changes.items():
+        inp = next(v for v in md.modelVariables if v.name == name)
+        # no dependencies attribute (None) means: depends on every input
+        free = [u.variable for u in md.outputs if u.dependencies is not None and inp not in u.dependencies]
+        assert free, name
+        s, t, h = make_running()
+        before = read_all(s, md, free)
+        s.setReal([inp.valueReference], [value])
+        s.setRealInputDerivatives([inp.valueReference], [1], [value / h])
+        assert read_all(s, md, free) == before, name
+        s.doStep(t, h)
+        changed = read_all(s, md, outputs)
+        s, t, h = make_running()
+        s.doStep(t, h)
+        assert read_all(s, md, outputs) != changed, name
+
+
+def test_outputs_do_not_change_before_the_next_step(model_description, logged, vr):
+    from conftest import start
+
+    made = []
+
+    def make_running():
+        made.append(logged().instantiate())
+        start(made[-1], vr, dict(contact_model=1, a=1e-4))
+        for k in range(20):
+            made[-1].doStep(k * 1e-4, 1e-4)
+        return made[-1], 20e-4, 1e-4
+
+    check_declared_independence(model_description, make_running, {"yC_in": 1e-6, "F_ext": 1e3})
+    for s in made:
+        s.freeInstance()

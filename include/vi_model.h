@@ -6,8 +6,13 @@
  *
  *   delta' = yC'(t) - v
  *   v'     = (F(delta, mode, memory) - W(t)) / m,     W(t) = P + m g - F_ext(t)  (net load down)
- *   yC(t)  = yC_in(t) + a (cos(2 pi f (t - t0)) - 1)   (t0: start time)
+ *   yC(t)  = yC_in(t) + a (cos(phi(t)) - 1) + yb(x0 + V (t - t0)),   phi(t) = phi0 + 2 pi f (t - t_phi)
+ *            (phi0 = 0, t_phi = t0 the start time; a and f are tunable: when f changes at t1 the
+ *            phase goes on from phi(t1) at the new rate, so phi and yC stay continuous)
  *
+ *            yb: rolling over a profile (paper Fig. 1b, vi_profile.h), 0 without one; x0 is the position
+ *            on the profile at the start time t0, V the rolling speed. Where yb has a kink yC' jumps:
+ *            vi_model_next_breakpoint gives the time, and the loop restarts there (vi_model_breakpoint).
  * Inputs are ramps over a communication step: u(t) = u + du (t - t_u) (du = 0: zero-order hold).
  *
  * Modes (output `mode`): 0 free, 1 elastic on the virgin curve (Hertz, Johnson below delta_Y,
@@ -27,7 +32,11 @@
  *   4: g0 = F_load(delta_c) - F_hold   plastic loading resumes
  *      g1 = F_hold - F_unload(delta_c) unloading starts
  * At an event the state is snapped onto the surface that was reached, and the next mode is chosen
- * from the sign of (position, rate, acceleration) relative to each surface (vi_model_resolve).
+ * from the sign of the first nonzero of (position, rate, acceleration, jerk) relative to each
+ * surface (vi_model_resolve). With delta' = 0 the acceleration of delta is (F_hold - F)/m and its
+ * jerk F_hold'/m, F_hold' = -F_ext' + m yC''': a tie of the holding force with a force of the law
+ * is broken by its rate. The stick guards are in force, not state, so they cannot be snapped: a
+ * stick guard that fired counts as exactly zero in the choice that follows.
  */
 #ifndef VI_MODEL_H
 #define VI_MODEL_H
@@ -35,6 +44,7 @@
 #include <stddef.h>
 
 #include "vi_contact.h"
+#include "vi_profile.h"
 #include "vi_variables.h"
 
 #define VI_NGUARDS 2
@@ -56,8 +66,14 @@ typedef struct {
     double K;      /* Hertz constant [N/m^1.5] */
     vi_johnson J;  /* E*, R*, theta_Y, F_Y, delta_Y */
     double k_lin;  /* F_Y/delta_Y [N/m] */
-    double a, omega, t0; /* harmonic excitation: amplitude [m], 2 pi f [rad/s], phase origin [s] */
+    double a, omega, t0; /* harmonic excitation: amplitude [m], 2 pi f [rad/s]; start time [s] */
+    double phi0, t_phi;  /* phase reference: phi(t) = phi0 + omega (t - t_phi) [rad, s] (state: tunable f) */
     double f_contact;    /* linearised contact resonance at the initial static load [Hz] (initial state) */
+    double V, x0;        /* rolling speed [m/s] and position on the profile at t0 [m] */
+    /* The profile (owned by the simulation, not the model). A pointer inside the FMU state: never
+     * trusted from a saved state; the simulation attaches its own after setup and after every
+     * restore (vi_model_set_rolling). NULL: no profile, yb = 0. */
+    const vi_profile *profile;
 
     /* inputs */
     vi_ramp yC_in, F_ext;
@@ -73,6 +89,34 @@ typedef struct {
 /* Check the parameters and derive the constants. Returns 0, or -1 with a message in msg. */
 int vi_model_setup(vi_model *M, const vi_parameters *p, double t0, char *msg, size_t msg_size);
 
+/* The excitation's parameters changed at time t (tunable a and f, contract C9): the phase phi
+ * stays continuous (a new f turns on from phi(t) at the new rate); a new a moves the platform by
+ * (a_new - a)(cos(phi(t)) - 1), and delta jumps with it while the mass does not move, as for a
+ * jump of yC_in. Call between vi_model_freeze and vi_model_resolve (the rate of delta changes).
+ * Returns 0, or -1 with a message (non-finite a or f, f < 0; nothing changed). */
+int vi_model_set_excitation(vi_model *M, double t, double x[2], double a, double f, char *msg, size_t n);
+/* Do (a, f) differ from the excitation the model runs? */
+int vi_model_excitation_differs(const vi_model *M, double a, double f);
+/* The excitation's phase phi(t) [rad]. */
+double vi_model_phase(const vi_model *M, double t);
+
+/* Roll over profile (NULL: none) at speed V [m/s] from position x0 [m] at t0. Returns 0, or -1 with a
+ * message when x0 lies outside a non-periodic profile or V, x0 are not finite. */
+int vi_model_set_rolling(vi_model *M, const vi_profile *profile, double V, double x0, char *msg, size_t n);
+/* Position on the profile at time t [m]. */
+double vi_model_rolling_position(const vi_model *M, double t);
+/* Contract C10: the first time after t at which the platform velocity jumps (the rolling position
+ * passes a kink of yb); INFINITY if none. The time is rounded so that the position there is past the
+ * kink, so that yC' there is the value after the jump. */
+double vi_model_next_breakpoint(const vi_model *M, double t);
+/* At a breakpoint (time t): the rate of delta jumped with the platform velocity; choose the mode
+ * afresh (freeze, then resolve). Returns the mode. */
+int vi_model_breakpoint(vi_model *M, double t, double x[2]);
+/* The last time a non-periodic profile covers (the rolling position reaches its end); INFINITY
+ * without a profile, with a periodic one, or with V = 0. When it is finite, msg says why the motion
+ * cannot go past it. */
+double vi_model_rolling_limit(const vi_model *M, char *msg, size_t n);
+
 /* Platform position yC(t) [m]; its first and second derivatives when the pointers are not NULL. */
 double vi_model_platform(const vi_model *M, double t, double *dyC, double *ddyC);
 
@@ -85,6 +129,9 @@ double vi_model_force(const vi_model *M, double t, const double x[2]);
 void vi_model_rhs(const vi_model *M, double t, const double x[2], double dx[2]);
 /* d(v')/d(delta): the only nonzero state derivative of the right-hand side besides d(delta')/dv = -1. */
 double vi_model_stiffness_over_mass(const vi_model *M, double t, const double x[2]);
+/* Jacobian of vi_model_rhs, row major: d(delta', v')/d(delta, v). In stick both rows are zero
+ * (delta' = 0, v' = yC''), so that a Newton iteration keeps delta exactly on delta_c. */
+void vi_model_jacobian(const vi_model *M, double t, const double x[2], double j[4]);
 void vi_model_guards(const vi_model *M, double t, const double x[2], double g[VI_NGUARDS]);
 
 /* Write down the memory that tracks the state (delta_c while Johnson loads plastically, delta_p
@@ -99,8 +146,57 @@ int vi_model_event(vi_model *M, double t, double x[2], int fired);
  * onset. Returns the new mode. */
 int vi_model_resolve(vi_model *M, double t, double x[2]);
 
-/* Typical indentation [m] and velocity [m/s] of the problem, for absolute tolerances. */
-void vi_model_scales(const vi_model *M, double x0_delta, double v0, double *L, double *V);
+/* Length L [m] and velocity V [m/s] scales of the active law in this scene, for the absolute
+ * tolerances (rtol L, rtol V), from the initial state x0 at t0. L is the largest indentation the
+ * law's own loads and speeds produce:
+ *   d_W      the static indentation under W(t0) = P + m g - F_ext on the law's virgin curve (W > 0);
+ *   delta_Y  for Johnson and LEPP only (Hertz has no yield: Y plays no role there);
+ *   d_v      the impact indentation at the initial approach speed v = |yC'(t0) - v(t0)| (or, when
+ *            neither a load nor that speed gives a scale, at the excitation's speed |a| 2 pi f):
+ *            Hertz and Johnson (15 m v^2/(16 E* sqrt(R*)))^(2/5), LEPP v sqrt(m/k_lin);
+ *   VI_SCALE_FALLBACK R* when all of these are 0 (no load, no speed, no excitation).
+ * The largest, not the smallest, so that a negligible load, speed or amplitude (P = 1e-200,
+ * v0 = 1e-100, a = 1e-300) cannot shrink the tolerances to nothing; vibrations much smaller than L
+ * are then resolved to rtol L (tighten rtol for them). V = L sqrt(k(L)/m), k the law's virgin
+ * stiffness at L (computed without overflow for tiny m). Both are finite and > 0. */
+#define VI_SCALE_FALLBACK 1e-6
+void vi_model_scales(const vi_model *M, const double x0[2], double *L, double *V);
+
+/* Range of validity (issue 9 item 9). Eqs. 2-4 assume a contact radius small against R* (half-space,
+ * small slopes). The model leaves that range when the Hertz contact radius sqrt(R* delta) exceeds
+ * VI_VALIDITY_RADIUS R*, i.e. when the indentation delta (or the largest one, delta_c) exceeds
+ * VI_VALIDITY_RADIUS^2 R* = 0.01 R*. Returns 1 with a message naming the time, the indentation and
+ * the threshold, else 0. Meant to be checked at initialization, at events and at communication
+ * points, and reported once per instance (logStatusWarning). */
+#define VI_VALIDITY_RADIUS 0.1
+int vi_model_validity(const vi_model *M, double t, const double x[2], char *msg, size_t n);
+
+/* Options that contradict each other or are ignored (issue 9 item 9): moving_contact, continuous
+ * unloading or the printed yield formula where the law does not use them, v0 with a static start.
+ * Returns how many there are; msg lists them (one warning at initialization). */
+int vi_model_option_warnings(const vi_parameters *p, char *msg, size_t n);
+
+/* Contract C3: is M (with the state x) a model this code could have produced? Checks, and names in
+ * msg the first bad field of:
+ *  - enumerations and flags: law, moving, unloading, mode (allowed for the law), yielded;
+ *  - constants: finite, m, K, E*, R*, theta_Y, F_Y, delta_Y, k_lin > 0, omega >= 0, and consistent with
+ *    each other (K = 4/3 E* sqrt(R*), F_Y = K delta_Y^1.5, k_lin = F_Y/delta_Y to 1e-9 relative);
+ *  - inputs: the ramps finite;
+ *  - memory: yielded only for Johnson with a fixed contact point; then the unloading curve U is the
+ *    one of delta_c (recomputed, 1e-9 relative), delta_c >= delta_Y, Rbar > 0, delta_f <= delta_c;
+ *    without yield U is all zero; delta_p finite, >= 0 for LEPP and 0 otherwise; n_impacts >= 0;
+ *  - mode against state, from what does not depend on the time (the signature carries none): the
+ *    length guards of the mode (contact, separation, yield, reloading to delta_c) and the memory a
+ *    mode implies (plastic: delta >= delta_c, or delta >= delta_p + delta_Y for LEPP; stick: delta =
+ *    delta_c, paper unloading) may not be below -VI_CHECK_GUARD_TOL times the length scale
+ *    max(delta_Y, |delta|, delta_c). Guards are >= 0 inside a mode and events snap the state onto
+ *    their surface, so a state this code wrote misses by rounding only; 1e-6 leaves room for the
+ *    solver's root location and flags a mode that does not belong to the state. The guards in
+ *    velocity and force (turning point, stick limits) need the time and are not checked here.
+ * A model never set up (law 0, as vi_sim_init leaves it) is valid when its discrete state is zero.
+ * Returns 0, or -1 with the message. Touches nothing (pointers in M are not followed). */
+#define VI_CHECK_GUARD_TOL 1e-6
+int vi_model_check(const vi_model *M, const double x[2], char *msg, size_t n);
 
 /* Derived parameters (E_star ... f_contact) and outputs at (t, x). */
 void vi_model_calculated(const vi_model *M, vi_outputs *out);

@@ -1,6 +1,7 @@
 /* vi_contact.c - contact laws; equations in vi_contact.h. */
 #include "vi_contact.h"
 
+#include <float.h>
 #include <math.h>
 
 double vi_effective_radius(double R1, double R2)
@@ -27,7 +28,15 @@ double vi_yield_force(int formula, double theta_Y, double Y, double R_star, doub
 double vi_hertz_force(double K, double delta) { return delta > 0.0 ? K * delta * sqrt(delta) : 0.0; }
 double vi_hertz_stiffness(double K, double delta) { return delta > 0.0 ? 1.5 * K * sqrt(delta) : 0.0; }
 double vi_hertz_energy(double K, double delta) { return delta > 0.0 ? 0.4 * K * delta * delta * sqrt(delta) : 0.0; }
-double vi_hertz_indentation(double K, double F) { return F > 0.0 ? cbrt((F / K) * (F / K)) : 0.0; }
+/* (F/S)^(2/3) for F, S > 0 without underflow: F/S is not squared before the root, and when F/S
+ * itself leaves the normal range (F denormal, S large) both are rooted first. */
+static double ratio_two_thirds(double F, double S)
+{
+    double q = F / S, r = q >= DBL_MIN ? cbrt(q) : cbrt(F) / cbrt(S);
+    return r * r;
+}
+
+double vi_hertz_indentation(double K, double F) { return F > 0.0 ? ratio_two_thirds(F, K) : 0.0; }
 
 /* k = 2 delta/delta_Y - 1, the ratio of the contact area to the area at yield. */
 static double area_ratio(const vi_johnson *J, double delta) { return 2.0 * delta / J->delta_Y - 1.0; }
@@ -67,7 +76,7 @@ double vi_johnson_load_work(const vi_johnson *J, double delta)
 
 double vi_johnson_load_indentation(const vi_johnson *J, double F)
 {
-    if (F <= J->F_Y) return F > 0.0 ? J->delta_Y * cbrt((F / J->F_Y) * (F / J->F_Y)) : 0.0;
+    if (F <= J->F_Y) return F > 0.0 ? J->delta_Y * ratio_two_thirds(F, J->F_Y) : 0.0;
     /* Solve k (1 + ln k/(3 theta)) = w for k >= 1. The left side is increasing and convex, so Newton
      * from k = w (where the residual is >= 0) decreases monotonically onto the root. */
     double w = F / J->F_Y, th3 = 3.0 * J->theta_Y, k = w;

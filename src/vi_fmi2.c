@@ -1,16 +1,20 @@
 /*
- * vi_fmi2.c - FMI 2.0 Co-Simulation glue: argument and state-machine checks, value references
- * (through vi_variable_table), logging, FMU state. All physics lives in vi_sim / vi_model.
+ * vi_fmi2.c - the generic FMI 2.0 Co-Simulation layer (vi_fmu.h): argument and state-machine
+ * checks, value access through the model's variable table, logging with categories, the FMU state
+ * envelope and its serialization, status functions, fmi2DoStep checks. It knows no model: it
+ * reaches the one model of this binary through vi_fmu_this_model and its hooks.
  */
 #include <float.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "fmi2Functions.h"
-#include "vi_sim.h"
-#include "vi_variables.h"
+#include "vi_fmu.h"
+
+#define MODEL (&vi_fmu_this_model)
 
 /* ---- instance ---------------------------------------------------------------------------- */
 
@@ -29,15 +33,17 @@ typedef enum {
 #define ST_WRITABLE (ST_INSTANTIATED | ST_INIT | ST_STEP_COMPLETE)
 #define ST_RUNNING (ST_STEP_COMPLETE | ST_STEP_FAILED | ST_TERMINATED)
 
-/* Log categories, as listed in modelDescription.xml. Errors are logged whatever is enabled. */
-#define VI_LOG_CATEGORIES(C) C(logEvents) C(logSolver) C(logStatusWarning) C(logStatusError) C(logFmi2Call) C(logAll)
+/* Log categories, as listed in modelDescription.xml. Discards and errors are logged whatever is enabled. */
+#define VI_LOG_CATEGORIES(C) \
+    C(logEvents) C(logSolver) C(logStatusWarning) C(logStatusDiscard) C(logStatusError) C(logFmi2Call) C(logAll)
 #define VI_CAT_ENUM_(name) CAT_##name,
 enum { VI_LOG_CATEGORIES(VI_CAT_ENUM_) CAT_COUNT };
 #define VI_CAT_NAME_(name) #name,
 static const char *const category_names[CAT_COUNT] = {VI_LOG_CATEGORIES(VI_CAT_NAME_)};
 
 typedef struct {
-    vi_sim sim;
+    void *model;   /* the model's instance (MODEL->instance_size bytes) */
+    void *outputs; /* scratch for outputs computed on demand (MODEL->outputs_size bytes) */
     fmi2CallbackFunctions cb;
     char *name;
     vi_fmu_state state;
@@ -50,7 +56,7 @@ static int enabled(const Component *c, int cat) { return (c->log_mask >> cat & 1
 
 static void vlog(const Component *c, fmi2Status status, int cat, const char *fmt, va_list ap)
 {
-    if (!c->cb.logger || (status < fmi2Error && !enabled(c, cat))) return;
+    if (!c->cb.logger || (status < fmi2Discard && !enabled(c, cat))) return;
     char text[1024], escaped[2 * sizeof text];
     vsnprintf(text, sizeof text, fmt, ap);
     size_t j = 0; /* the logger treats the message as a format: escape '%' */
@@ -72,14 +78,14 @@ static void logf_(const Component *c, fmi2Status status, int cat, const char *fm
 #define LOG_ERROR(c, ...) logf_(c, fmi2Error, CAT_logStatusError, __VA_ARGS__)
 #define LOG_CALL(c, ...) do { if (enabled(c, CAT_logFmi2Call)) logf_(c, fmi2OK, CAT_logFmi2Call, __VA_ARGS__); } while (0)
 
-/* Logger handed to the simulation layer. */
-static void sim_log(void *env, int category, const char *fmt, ...)
+/* Logger handed to the model. */
+static void model_log(void *env, int category, const char *fmt, ...)
 {
     const Component *c = env;
-    static const int cat_of[] = {[VI_LOG_EVENTS] = CAT_logEvents, [VI_LOG_SOLVER] = CAT_logSolver,
-                                 [VI_LOG_WARNING] = CAT_logStatusWarning, [VI_LOG_ERROR] = CAT_logStatusError};
-    static const fmi2Status status_of[] = {[VI_LOG_EVENTS] = fmi2OK, [VI_LOG_SOLVER] = fmi2OK,
-                                           [VI_LOG_WARNING] = fmi2Warning, [VI_LOG_ERROR] = fmi2Error};
+    static const int cat_of[] = {[VI_FMU_LOG_EVENTS] = CAT_logEvents, [VI_FMU_LOG_SOLVER] = CAT_logSolver,
+                                 [VI_FMU_LOG_WARNING] = CAT_logStatusWarning, [VI_FMU_LOG_ERROR] = CAT_logStatusError};
+    static const fmi2Status status_of[] = {[VI_FMU_LOG_EVENTS] = fmi2OK, [VI_FMU_LOG_SOLVER] = fmi2OK,
+                                           [VI_FMU_LOG_WARNING] = fmi2Warning, [VI_FMU_LOG_ERROR] = fmi2Error};
     va_list ap;
     va_start(ap, fmt);
     vlog(c, status_of[category], cat_of[category], fmt, ap);
@@ -118,7 +124,7 @@ static Component *enter(fmi2Component comp, const char *fn, unsigned allowed)
 /* A failed simulation call: log the reason and put the instance into the error state. */
 static fmi2Status fail(Component *c, const char *fn)
 {
-    LOG_ERROR(c, "%s: %s", fn, c->sim.msg);
+    LOG_ERROR(c, "%s: %s", fn, MODEL->message(c->model));
     c->state = ST_ERROR;
     return fmi2Error;
 }
@@ -151,11 +157,45 @@ fmi2Status fmi2SetDebugLogging(fmi2Component comp, fmi2Boolean loggingOn, size_t
     return fmi2OK;
 }
 
+static int hex_digit(char ch)
+{
+    if (ch >= '0' && ch <= '9') return ch - '0';
+    if (ch >= 'a' && ch <= 'f') return ch - 'a' + 10;
+    if (ch >= 'A' && ch <= 'F') return ch - 'A' + 10;
+    return -1;
+}
+
+/* The local path of a file URI (file:///p, file:/p or file://localhost/p), percent-decoded, in a
+ * new block of the importer's memory; NULL when the URI is missing or names no local file. */
+static char *resource_path(const fmi2CallbackFunctions *cb, const char *uri)
+{
+    if (!uri || strncmp(uri, "file:", 5) != 0) return NULL;
+    const char *p = uri + 5;
+    if (strncmp(p, "///", 3) == 0) p += 2;
+    else if (strncmp(p, "//localhost/", 12) == 0) p += 11;
+    else if (strncmp(p, "//", 2) == 0) return NULL; /* another host */
+    if (*p != '/') return NULL;
+    char *path = cb->allocateMemory(strlen(p) + 1, 1);
+    if (!path) return NULL;
+    size_t j = 0;
+    for (size_t i = 0; p[i]; i++) {
+        int hi, lo;
+        if (p[i] == '%' && (hi = hex_digit(p[i + 1])) >= 0 && (lo = hex_digit(p[i + 2])) >= 0) {
+            path[j++] = (char)(hi * 16 + lo);
+            i += 2;
+        } else {
+            path[j++] = p[i];
+        }
+    }
+    path[j] = '\0';
+    return path;
+}
+
 fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2String fmuGUID,
                               fmi2String fmuResourceLocation, const fmi2CallbackFunctions *functions,
                               fmi2Boolean visible, fmi2Boolean loggingOn)
 {
-    (void)fmuResourceLocation, (void)visible;
+    (void)visible;
     if (!functions || !functions->logger) return NULL; /* nobody to tell */
     Component tmp = {.cb = *functions, .name = (char *)(instanceName ? instanceName : "?")};
     if (!functions->allocateMemory || !functions->freeMemory) {
@@ -167,28 +207,47 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
         return NULL;
     }
     if (fmuType != fmi2CoSimulation) {
-        LOG_ERROR(&tmp, "fmi2Instantiate: VibroImpact is a Co-Simulation FMU; fmuType %d is not supported", (int)fmuType);
+        LOG_ERROR(&tmp, "fmi2Instantiate: %s is a Co-Simulation FMU; fmuType %d is not supported",
+                  MODEL->model_identifier, (int)fmuType);
         return NULL;
     }
-    if (!fmuGUID || strcmp(fmuGUID, VI_GUID) != 0) {
-        LOG_ERROR(&tmp, "fmi2Instantiate: GUID '%s' does not match this FMU's '%s'", fmuGUID ? fmuGUID : "(null)", VI_GUID);
+    if (!fmuGUID || strcmp(fmuGUID, MODEL->guid) != 0) {
+        LOG_ERROR(&tmp, "fmi2Instantiate: GUID '%s' does not match this FMU's '%s'", fmuGUID ? fmuGUID : "(null)",
+                  MODEL->guid);
         return NULL;
     }
     Component *c = functions->allocateMemory(1, sizeof *c);
     char *name = functions->allocateMemory(strlen(instanceName) + 1, 1);
-    if (!c || !name) {
+    void *model = functions->allocateMemory(1, MODEL->instance_size);
+    void *outputs = functions->allocateMemory(1, MODEL->outputs_size);
+    if (!c || !name || !model || !outputs) {
         LOG_ERROR(&tmp, "fmi2Instantiate: out of memory");
-        if (c) functions->freeMemory(c);
-        if (name) functions->freeMemory(name);
+        void *blocks[] = {c, name, model, outputs};
+        for (int i = 0; i < 4; i++)
+            if (blocks[i]) functions->freeMemory(blocks[i]);
         return NULL;
     }
     memset(c, 0, sizeof *c);
+    memset(model, 0, MODEL->instance_size);
     strcpy(name, instanceName);
+    c->model = model;
+    c->outputs = outputs;
     c->cb = *functions;
     c->name = name;
     c->state = ST_INSTANTIATED;
     c->log_mask = loggingOn ? (1u << CAT_COUNT) - 1u : 0u;
-    vi_sim_init(&c->sim, sim_log, c);
+    MODEL->init(c->model, model_log, c);
+    if (MODEL->set_resources) {
+        char *dir = resource_path(functions, fmuResourceLocation);
+        int rc = MODEL->set_resources(c->model, dir);
+        if (dir) functions->freeMemory(dir);
+        if (rc < 0) {
+            LOG_ERROR(c, "fmi2Instantiate: resources '%s': %s", fmuResourceLocation ? fmuResourceLocation : "(null)",
+                      MODEL->message(c->model));
+            fmi2FreeInstance(c);
+            return NULL;
+        }
+    }
     LOG_CALL(c, "fmi2Instantiate: %s", instanceName);
     return c;
 }
@@ -198,8 +257,10 @@ void fmi2FreeInstance(fmi2Component comp)
     Component *c = comp;
     if (!c) return;
     LOG_CALL(c, "fmi2FreeInstance");
-    vi_sim_free(&c->sim);
+    MODEL->release(c->model);
     fmi2CallbackFreeMemory free_memory = c->cb.freeMemory;
+    free_memory(c->outputs);
+    free_memory(c->model);
     free_memory(c->name);
     free_memory(c);
 }
@@ -214,8 +275,7 @@ fmi2Status fmi2SetupExperiment(fmi2Component comp, fmi2Boolean toleranceDefined,
                      "time (got start %g, tolerance %g, stop %g)", startTime, tolerance, stopTime);
         return fmi2Error;
     }
-    c->sim.d.t_start = startTime;
-    c->sim.d.tolerance = toleranceDefined ? tolerance : 0.0;
+    MODEL->setup_experiment(c->model, startTime, toleranceDefined != 0, tolerance);
     c->stop_time_defined = stopTimeDefined != 0;
     c->stop_time = stopTime;
     return fmi2OK;
@@ -231,28 +291,15 @@ fmi2Status fmi2EnterInitializationMode(fmi2Component comp)
 fmi2Status fmi2ExitInitializationMode(fmi2Component comp)
 {
     ENTER("fmi2ExitInitializationMode", ST_INIT);
-    if (vi_sim_initialize(&c->sim) < 0) return fail(c, "fmi2ExitInitializationMode");
-    logf_(c, fmi2OK, CAT_logEvents, "initial mode %d, delta = %.9g m, v = %.9g m/s", c->sim.d.M.mode, c->sim.d.x[0],
-          c->sim.d.x[1]);
+    if (MODEL->initialize(c->model) < 0) return fail(c, "fmi2ExitInitializationMode");
     c->state = ST_STEP_COMPLETE;
     return fmi2OK;
-}
-
-static void log_statistics(const Component *c)
-{
-    vi_solver_stats st;
-    vi_sim_statistics(&c->sim, &st);
-    logf_(c, fmi2OK, CAT_logSolver,
-          "CVODE statistics: %ld steps, %ld rhs evaluations, %ld Jacobian evaluations, %ld nonlinear iterations, "
-          "%ld nonlinear failures, %ld error test failures, %ld guard evaluations, %ld restarts, %ld events",
-          st.steps, st.rhs_evals, st.jac_evals, st.nonlin_iters, st.nonlin_fails, st.err_test_fails, st.guard_evals,
-          st.resets, c->sim.d.n_events);
 }
 
 fmi2Status fmi2Terminate(fmi2Component comp)
 {
     ENTER("fmi2Terminate", ST_STEP_COMPLETE | ST_STEP_FAILED);
-    log_statistics(c);
+    if (MODEL->terminate) MODEL->terminate(c->model);
     c->state = ST_TERMINATED;
     return fmi2OK;
 }
@@ -260,7 +307,7 @@ fmi2Status fmi2Terminate(fmi2Component comp)
 fmi2Status fmi2Reset(fmi2Component comp)
 {
     ENTER("fmi2Reset", ST_ANY_BUT_FATAL);
-    vi_sim_reset(&c->sim);
+    MODEL->reset(c->model);
     c->stop_time_defined = 0;
     c->state = ST_INSTANTIATED;
     return fmi2OK;
@@ -268,42 +315,57 @@ fmi2Status fmi2Reset(fmi2Component comp)
 
 /* ---- variables ---------------------------------------------------------------------------- */
 
+/* Where the value of v lives; NULL for outputs (computed on demand). */
+/* The struct of a group inside a plain-data block of the model (NULL for outputs). */
+static void *group_in(const void *block, vi_group group)
+{
+    switch (group) {
+    case VI_GROUP_PARAMETERS: return (char *)block + MODEL->parameters_offset;
+    case VI_GROUP_INPUTS: return (char *)block + MODEL->inputs_offset;
+    case VI_GROUP_INPUT_DERIVATIVES: return (char *)block + MODEL->input_derivatives_offset;
+    default: return NULL;
+    }
+}
+
 static void *storage(Component *c, const vi_variable *v)
 {
-    switch (v->group) {
-    case VI_GROUP_PARAMETERS: return (char *)&c->sim.d.par + v->offset;
-    case VI_GROUP_INPUTS: return (char *)&c->sim.d.in + v->offset;
-    default: return NULL; /* outputs are computed on demand */
-    }
+    if (v->group == VI_GROUP_OUTPUTS) return NULL;
+    return (char *)group_in(MODEL->state(c->model), v->group) + v->offset;
+}
+
+/* The derivative of the Real input v. */
+static double *derivative(Component *c, const vi_variable *v)
+{
+    return (double *)((char *)group_in(MODEL->state(c->model), VI_GROUP_INPUT_DERIVATIVES) + v->offset);
 }
 
 /* The variable behind vr if it is accessed through the API type `api` (Real, Integer or Boolean;
  * enumerations go through Integer); NULL (logged) otherwise. */
 static const vi_variable *lookup(Component *c, const char *fn, fmi2ValueReference vr, vi_type api)
 {
-    if (vr >= VI_NVARS) {
+    if (vr >= (fmi2ValueReference)MODEL->nvariables) {
         LOG_ERROR(c, "%s: unknown value reference %u", fn, (unsigned)vr);
         return NULL;
     }
-    const vi_variable *v = &vi_variable_table[vr];
+    const vi_variable *v = &MODEL->variables[vr];
     vi_type t = v->type == VI_Enumeration ? VI_Integer : v->type;
     if (t != api) {
-        static const char *const type_names[] = {"Real", "Integer", "Boolean", "Enumeration"};
+        static const char *const type_names[] = {"Real", "Integer", "Boolean", "Enumeration", "String"};
         LOG_ERROR(c, "%s: value reference %u (%s) is of type %s", fn, (unsigned)vr, v->name, type_names[v->type]);
         return NULL;
     }
     return v;
 }
 
-/* Outputs and calculated parameters: computed from the current state (in initialization mode from
- * the initial state the current parameters give). */
-static int current_outputs(Component *c, const char *fn, vi_outputs *out)
+/* Outputs and calculated parameters into c->outputs: computed from the current state (in
+ * initialization mode from the initial state the current parameters give). */
+static int current_outputs(Component *c, const char *fn)
 {
-    if (c->state == ST_INIT && vi_sim_prepare(&c->sim) < 0) {
-        LOG_ERROR(c, "%s: %s", fn, c->sim.msg);
+    if (c->state == ST_INIT && MODEL->prepare(c->model) < 0) {
+        LOG_ERROR(c, "%s: %s", fn, MODEL->message(c->model));
         return -1;
     }
-    vi_sim_outputs(&c->sim, out);
+    MODEL->outputs(c->model, c->outputs);
     return 0;
 }
 
@@ -315,16 +377,15 @@ static int current_outputs(Component *c, const char *fn, vi_outputs *out)
             LOG_ERROR(c, "fmi2Get" #Api ": NULL array");                                                       \
             return fmi2Error;                                                                                  \
         }                                                                                                      \
-        vi_outputs out;                                                                                        \
         int have_out = 0;                                                                                      \
         for (size_t i = 0; i < nvr; i++) {                                                                     \
             const vi_variable *v = lookup(c, "fmi2Get" #Api, vr[i], api_type);                                \
             if (!v) return fmi2Error;                                                                          \
             const void *p = storage(c, v);                                                                     \
             if (!p) {                                                                                          \
-                if (!have_out && current_outputs(c, "fmi2Get" #Api, &out) < 0) return fmi2Error;              \
+                if (!have_out && current_outputs(c, "fmi2Get" #Api) < 0) return fmi2Error;                     \
                 have_out = 1;                                                                                  \
-                p = (const char *)&out + v->offset;                                                            \
+                p = (const char *)c->outputs + v->offset;                                                      \
             }                                                                                                  \
             value[i] = (ctype) * (const VI_CTYPE_##Api *)p;                                                    \
         }                                                                                                      \
@@ -334,12 +395,15 @@ DEFINE_GET(Real, fmi2Real, VI_Real)
 DEFINE_GET(Integer, fmi2Integer, VI_Integer)
 DEFINE_GET(Boolean, fmi2Boolean, VI_Boolean)
 
-/* May v be set now? Inputs: before and after initialization; fixed parameters: until the end of
- * initialization mode; nothing else ever. */
+static int tunable(const vi_variable *v) { return strcmp(v->variability, "tunable") == 0; }
+
+/* May v be set now? Inputs and tunable parameters: before and after initialization; fixed
+ * parameters: until the end of initialization mode; nothing else ever. (The callers allow only
+ * Instantiated, InitializationMode and StepComplete.) */
 static int settable(Component *c, const char *fn, const vi_variable *v)
 {
     if (v->group == VI_GROUP_INPUTS) return 1;
-    if (v->group == VI_GROUP_PARAMETERS && (c->state & (ST_INSTANTIATED | ST_INIT))) return 1;
+    if (v->group == VI_GROUP_PARAMETERS && ((c->state & (ST_INSTANTIATED | ST_INIT)) || tunable(v))) return 1;
     if (v->group == VI_GROUP_PARAMETERS)
         LOG_ERROR(c, "%s: %s is a fixed parameter: set it before fmi2ExitInitializationMode (or after fmi2Reset)", fn,
                   v->name);
@@ -348,7 +412,16 @@ static int settable(Component *c, const char *fn, const vi_variable *v)
     return 0;
 }
 
-#define DEFINE_SET(Api, ctype, api_type, check)                                                                \
+/* After a value was set: a new input value holds (zero-order) until a derivative is set; an input or
+ * a tunable parameter set between steps takes effect at the start of the next step. */
+static void changed(Component *c, const vi_variable *v)
+{
+    if (v->group == VI_GROUP_INPUTS && v->type == VI_Real)
+        *derivative(c, v) = 0.0;
+    if (v->group == VI_GROUP_INPUTS || c->state == ST_STEP_COMPLETE) MODEL->changed(c->model);
+}
+
+#define DEFINE_SET(Api, ctype, api_type, check, stored)                                                        \
     fmi2Status fmi2Set##Api(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr, const ctype value[]) \
     {                                                                                                          \
         ENTER("fmi2Set" #Api, ST_WRITABLE);                                                                    \
@@ -365,86 +438,206 @@ static int settable(Component *c, const char *fn, const vi_variable *v)
             }                                                                                                  \
         }                                                                                                      \
         for (size_t i = 0; i < nvr; i++) {                                                                     \
-            const vi_variable *v = &vi_variable_table[vr[i]];                                                  \
-            *(VI_CTYPE_##Api *)storage(c, v) = (VI_CTYPE_##Api)value[i];                                       \
-            if (v->group == VI_GROUP_INPUTS) { /* a new value: zero-order hold until a derivative is set */ \
-                *(double *)((char *)&c->sim.d.din + v->offset) = 0.0;                                          \
-                c->sim.d.inputs_changed = 1;                                                                   \
-            }                                                                                                  \
+            const vi_variable *v = &MODEL->variables[vr[i]];                                                   \
+            *(VI_CTYPE_##Api *)storage(c, v) = (VI_CTYPE_##Api)(stored);                                       \
+            changed(c, v);                                                                                     \
         }                                                                                                      \
         return fmi2OK;                                                                                         \
     }
-DEFINE_SET(Real, fmi2Real, VI_Real, isfinite(value[i]))
-DEFINE_SET(Integer, fmi2Integer, VI_Integer, 1)
-DEFINE_SET(Boolean, fmi2Boolean, VI_Boolean, 1)
-
-/* There are no String variables: any value reference is an error. */
-static fmi2Status no_strings(Component *c, const char *fn, const fmi2ValueReference vr[], size_t nvr)
-{
-    if (nvr == 0) return fmi2OK;
-    if (!vr || vr[0] >= VI_NVARS) LOG_ERROR(c, "%s: unknown value reference", fn);
-    else LOG_ERROR(c, "%s: value reference %u (%s) is not a String", fn, (unsigned)vr[0], vi_variable_table[vr[0]].name);
-    return fmi2Error;
-}
+DEFINE_SET(Real, fmi2Real, VI_Real, isfinite(value[i]), value[i])
+DEFINE_SET(Integer, fmi2Integer, VI_Integer, 1, value[i])
+DEFINE_SET(Boolean, fmi2Boolean, VI_Boolean, 1, value[i] != fmi2False) /* stored as 0 or 1 */
 
 fmi2Status fmi2GetString(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr, fmi2String value[])
 {
-    (void)value;
     ENTER("fmi2GetString", ST_READABLE);
-    return no_strings(c, "fmi2GetString", vr, nvr);
+    if (nvr > 0 && (!vr || !value)) {
+        LOG_ERROR(c, "fmi2GetString: NULL array");
+        return fmi2Error;
+    }
+    for (size_t i = 0; i < nvr; i++) {
+        const vi_variable *v = lookup(c, "fmi2GetString", vr[i], VI_String);
+        if (!v) return fmi2Error;
+        value[i] = storage(c, v); /* the stored value: valid until it is set again */
+    }
+    return fmi2OK;
 }
 
 fmi2Status fmi2SetString(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr, const fmi2String value[])
 {
-    (void)value;
     ENTER("fmi2SetString", ST_WRITABLE);
-    return no_strings(c, "fmi2SetString", vr, nvr);
+    if (nvr > 0 && (!vr || !value)) {
+        LOG_ERROR(c, "fmi2SetString: NULL array");
+        return fmi2Error;
+    }
+    for (size_t i = 0; i < nvr; i++) {
+        const vi_variable *v = lookup(c, "fmi2SetString", vr[i], VI_String);
+        if (!v || !settable(c, "fmi2SetString", v)) return fmi2Error;
+        if (!value[i]) {
+            LOG_ERROR(c, "fmi2SetString: the value of %s is NULL", v->name);
+            return fmi2Error;
+        }
+        size_t n = 0;
+        while (n < VI_STRING_SIZE && value[i][n]) n++;
+        if (n == VI_STRING_SIZE) {
+            LOG_ERROR(c, "fmi2SetString: the value of %s is longer than %d characters", v->name, VI_STRING_SIZE - 1);
+            return fmi2Error;
+        }
+    }
+    for (size_t i = 0; i < nvr; i++) {
+        const vi_variable *v = &MODEL->variables[vr[i]];
+        char *p = storage(c, v);
+        memmove(p, value[i], strlen(value[i]) + 1); /* the value may be our own (from fmi2GetString) */
+        changed(c, v);
+    }
+    return fmi2OK;
 }
 
 /* ---- FMU state ---------------------------------------------------------------------------- */
 
-#define VI_STATE_MAGIC 0x56494d55u /* "VIMU" */
-#define VI_STATE_VERSION 1u
+/* An FMU state: this header, then MODEL->state_size bytes of the model's plain data. It is taken
+ * and restored in every FMI state but fatal; restoring puts the instance into the FMI state the
+ * state was taken in. Serialized, it is the same bytes (for the same build of the FMU). Before a
+ * state is used (set, serialized, deserialized) every part is checked: header, checksum, the
+ * table's values, and the model's own fields (state_check hook); the first bad part is named. */
+#define VI_STATE_MAGIC 0x554d4956u /* "VIMU" */
+#define VI_STATE_VERSION 3u
 
 typedef struct {
-    unsigned magic, version, size, fmu_state;
-    vi_sim_data data;
+    uint32_t magic, version;
+    uint64_t size;              /* bytes in all, this header included */
+    uint64_t model;             /* FNV-1a 64 of the model's GUID: a state of another model is refused */
+    uint32_t fmu_state;         /* the FMI state it was taken in (one ST_* bit) */
+    uint32_t stop_time_defined; /* fmi2SetupExperiment's stop time */
+    double stop_time;
+    uint64_t checksum;          /* FNV-1a 64 of all bytes, this field taken as 0 */
 } vi_saved_state;
+
+static size_t saved_size(void) { return sizeof(vi_saved_state) + MODEL->state_size; }
+static void *payload(const vi_saved_state *s) { return (char *)s + sizeof *s; }
+
+/* FNV-1a, 64 bits (Fowler, Noll, Vo), over n bytes, continuing from h (start with VI_FNV_OFFSET).
+ * Every step is a bijection of h, so any change of a single byte changes the result. */
+#define VI_FNV_OFFSET 0xcbf29ce484222325u
+#define VI_FNV_PRIME 0x100000001b3u
+static uint64_t fnv1a(uint64_t h, const void *data, size_t n)
+{
+    const unsigned char *p = data;
+    for (size_t i = 0; i < n; i++) h = (h ^ p[i]) * VI_FNV_PRIME;
+    return h;
+}
+
+static uint64_t model_id(void) { return fnv1a(VI_FNV_OFFSET, MODEL->guid, strlen(MODEL->guid)); }
+
+static uint64_t checksum(const vi_saved_state *s)
+{
+    vi_saved_state head = *s;
+    head.checksum = 0;
+    return fnv1a(fnv1a(VI_FNV_OFFSET, &head, sizeof head), payload(s), MODEL->state_size);
+}
+
+/* Is enumeration value k an item of type? */
+static int enum_item(const char *type, int k)
+{
+    for (int i = 0; i < MODEL->n_enum_items; i++)
+        if (MODEL->enum_items[i].value == k && strcmp(MODEL->enum_items[i].type, type) == 0) return 1;
+    return 0;
+}
+
+/* The table's values in a saved block: what the setters guarantee (finite Reals, Booleans 0 or 1,
+ * terminated Strings) and, once running, enumeration items. 0, or -1 with the first bad one. */
+static int check_values(const void *block, int running, char *msg, size_t n)
+{
+    for (int vr = 0; vr < MODEL->nvariables; vr++) {
+        const vi_variable *v = &MODEL->variables[vr];
+        if (v->group == VI_GROUP_OUTPUTS) continue;
+        const char *p = (const char *)group_in(block, v->group) + v->offset;
+        double x, dx;
+        int k;
+        switch (v->type) {
+        case VI_Real:
+            memcpy(&x, p, sizeof x);
+            if (!isfinite(x)) return snprintf(msg, n, "%s = %g is not finite", v->name, x), -1;
+            if (v->group != VI_GROUP_INPUTS) break;
+            memcpy(&dx, (const char *)group_in(block, VI_GROUP_INPUT_DERIVATIVES) + v->offset, sizeof dx);
+            if (!isfinite(dx)) return snprintf(msg, n, "the derivative of %s = %g is not finite", v->name, dx), -1;
+            break;
+        case VI_String:
+            if (!memchr(p, '\0', VI_STRING_SIZE)) return snprintf(msg, n, "%s is not a terminated string", v->name), -1;
+            break;
+        default:
+            memcpy(&k, p, sizeof k);
+            if (v->type == VI_Boolean && k != 0 && k != 1)
+                return snprintf(msg, n, "%s = %d is not a Boolean", v->name, k), -1;
+            if (running && strcmp(v->enumeration, "none") != 0 && !enum_item(v->enumeration, k))
+                return snprintf(msg, n, "%s = %d is not an item of %s", v->name, k, v->enumeration), -1;
+        }
+    }
+    return 0;
+}
+
+/* Was the saved FMI state after initialization? */
+static int saved_running(const vi_saved_state *s) { return (s->fmu_state & (ST_RUNNING | ST_ERROR)) != 0; }
+
+/* Is s (aligned, at least a header) a state of this FMU that may be used? Logs the first reason
+ * why not. `size`: the bytes the caller has. */
+static int check_saved(Component *c, const char *fn, const vi_saved_state *s, size_t size)
+{
+    char why[320] = "";
+    if (!s) snprintf(why, sizeof why, "the state is NULL");
+    else if (s->magic != VI_STATE_MAGIC) snprintf(why, sizeof why, "not an FMU state of this layer (magic number)");
+    else if (s->version != VI_STATE_VERSION) snprintf(why, sizeof why, "an FMU state of another layer version");
+    else if (s->model != model_id()) snprintf(why, sizeof why, "an FMU state of another model (GUID)");
+    else if (s->size != saved_size() || size != saved_size())
+        snprintf(why, sizeof why, "size %zu bytes: a state of this build of %s has %zu", size, MODEL->model_identifier,
+                 saved_size());
+    else if (s->checksum != checksum(s)) snprintf(why, sizeof why, "checksum mismatch: the state was altered");
+    else if (!(s->fmu_state & ST_ANY_BUT_FATAL) || (s->fmu_state & (s->fmu_state - 1u)))
+        snprintf(why, sizeof why, "field fmu_state = %u is not an FMI state", (unsigned)s->fmu_state);
+    else if (s->stop_time_defined > 1u || (s->stop_time_defined && !isfinite(s->stop_time)))
+        snprintf(why, sizeof why, "field stop_time is not finite");
+    else if (check_values(payload(s), saved_running(s), why, sizeof why) < 0 ||
+             (MODEL->state_check && MODEL->state_check(payload(s), saved_running(s), why, sizeof why) < 0)) {
+        if (!why[0]) snprintf(why, sizeof why, "invalid field");
+    }
+    if (why[0]) LOG_ERROR(c, "%s: invalid FMU state: %s", fn, why);
+    return why[0] == '\0';
+}
 
 fmi2Status fmi2GetFMUstate(fmi2Component comp, fmi2FMUstate *FMUstate)
 {
-    ENTER("fmi2GetFMUstate", ST_RUNNING);
+    ENTER("fmi2GetFMUstate", ST_ANY_BUT_FATAL);
     if (!FMUstate) {
         LOG_ERROR(c, "fmi2GetFMUstate: FMUstate is NULL");
         return fmi2Error;
     }
-    vi_saved_state *s = *FMUstate ? *FMUstate : c->cb.allocateMemory(1, sizeof *s);
+    if ((c->state & ST_RUNNING) && MODEL->checkpoint && MODEL->checkpoint(c->model) != 0)
+        return fail(c, "fmi2GetFMUstate");
+    vi_saved_state *s = *FMUstate ? *FMUstate : c->cb.allocateMemory(1, saved_size());
     if (!s) {
         LOG_ERROR(c, "fmi2GetFMUstate: out of memory");
         return fmi2Error;
     }
-    *s = (vi_saved_state){VI_STATE_MAGIC, VI_STATE_VERSION, (unsigned)sizeof *s, (unsigned)c->state, c->sim.d};
+    *s = (vi_saved_state){.magic = VI_STATE_MAGIC, .version = VI_STATE_VERSION, .size = saved_size(),
+                          .model = model_id(), .fmu_state = (uint32_t)c->state,
+                          .stop_time_defined = (uint32_t)c->stop_time_defined, .stop_time = c->stop_time};
+    memcpy(payload(s), MODEL->state(c->model), MODEL->state_size);
+    s->checksum = checksum(s);
     *FMUstate = s;
     return fmi2OK;
 }
 
-static int valid_state(const vi_saved_state *s)
-{
-    return s && s->magic == VI_STATE_MAGIC && s->version == VI_STATE_VERSION && s->size == sizeof *s &&
-           (s->fmu_state & ST_RUNNING);
-}
-
 fmi2Status fmi2SetFMUstate(fmi2Component comp, fmi2FMUstate FMUstate)
 {
-    ENTER("fmi2SetFMUstate", ST_RUNNING | ST_ERROR);
+    ENTER("fmi2SetFMUstate", ST_ANY_BUT_FATAL);
     const vi_saved_state *s = FMUstate;
-    if (!valid_state(s)) {
-        LOG_ERROR(c, "fmi2SetFMUstate: not a state of this FMU");
-        return fmi2Error;
-    }
-    c->sim.d = s->data;
-    if (vi_sim_restore(&c->sim) < 0) return fail(c, "fmi2SetFMUstate");
+    if (!check_saved(c, "fmi2SetFMUstate", s, s ? s->size : 0)) return fmi2Error;
+    memcpy(MODEL->state(c->model), payload(s), MODEL->state_size);
+    c->stop_time_defined = (int)s->stop_time_defined;
+    c->stop_time = s->stop_time;
     c->state = (vi_fmu_state)s->fmu_state;
+    if (MODEL->restore && MODEL->restore(c->model, saved_running(s)) != 0)
+        return fail(c, "fmi2SetFMUstate");
     return fmi2OK;
 }
 
@@ -461,22 +654,26 @@ fmi2Status fmi2FreeFMUstate(fmi2Component comp, fmi2FMUstate *FMUstate)
 fmi2Status fmi2SerializedFMUstateSize(fmi2Component comp, fmi2FMUstate FMUstate, size_t *size)
 {
     ENTER("fmi2SerializedFMUstateSize", ST_ANY_BUT_FATAL);
-    if (!size || !valid_state(FMUstate)) {
-        LOG_ERROR(c, "fmi2SerializedFMUstateSize: invalid arguments");
+    if (!size) {
+        LOG_ERROR(c, "fmi2SerializedFMUstateSize: size is NULL");
         return fmi2Error;
     }
-    *size = sizeof(vi_saved_state);
+    const vi_saved_state *s = FMUstate;
+    if (!check_saved(c, "fmi2SerializedFMUstateSize", s, s ? s->size : 0)) return fmi2Error;
+    *size = saved_size();
     return fmi2OK;
 }
 
 fmi2Status fmi2SerializeFMUstate(fmi2Component comp, fmi2FMUstate FMUstate, fmi2Byte serializedState[], size_t size)
 {
     ENTER("fmi2SerializeFMUstate", ST_ANY_BUT_FATAL);
-    if (!serializedState || size < sizeof(vi_saved_state) || !valid_state(FMUstate)) {
-        LOG_ERROR(c, "fmi2SerializeFMUstate: invalid arguments (need %zu bytes)", sizeof(vi_saved_state));
+    if (!serializedState || size < saved_size()) {
+        LOG_ERROR(c, "fmi2SerializeFMUstate: need a buffer of %zu bytes (got %zu)", saved_size(), size);
         return fmi2Error;
     }
-    memcpy(serializedState, FMUstate, sizeof(vi_saved_state));
+    const vi_saved_state *s = FMUstate;
+    if (!check_saved(c, "fmi2SerializeFMUstate", s, s ? s->size : 0)) return fmi2Error;
+    memcpy(serializedState, FMUstate, saved_size());
     return fmi2OK;
 }
 
@@ -484,23 +681,31 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component comp, const fmi2Byte serialized
                                    fmi2FMUstate *FMUstate)
 {
     ENTER("fmi2DeSerializeFMUstate", ST_ANY_BUT_FATAL);
-    vi_saved_state tmp;
-    if (!serializedState || !FMUstate || size != sizeof tmp) {
-        LOG_ERROR(c, "fmi2DeSerializeFMUstate: invalid arguments (expected %zu bytes, got %zu)", sizeof tmp, size);
+    if (!serializedState || !FMUstate) {
+        LOG_ERROR(c, "fmi2DeSerializeFMUstate: NULL argument");
         return fmi2Error;
     }
-    memcpy(&tmp, serializedState, sizeof tmp);
-    if (!valid_state(&tmp)) {
-        LOG_ERROR(c, "fmi2DeSerializeFMUstate: the bytes are not a serialized state of this FMU version");
+    if (size < sizeof(vi_saved_state) || size > saved_size()) {
+        LOG_ERROR(c, "fmi2DeSerializeFMUstate: invalid FMU state: size %zu bytes: a state of this build of %s has %zu",
+                  size, MODEL->model_identifier, saved_size());
         return fmi2Error;
     }
-    vi_saved_state *s = *FMUstate ? *FMUstate : c->cb.allocateMemory(1, sizeof *s);
+    vi_saved_state *s = c->cb.allocateMemory(1, saved_size()); /* aligned, checked before it replaces anything */
     if (!s) {
         LOG_ERROR(c, "fmi2DeSerializeFMUstate: out of memory");
         return fmi2Error;
     }
-    *s = tmp;
-    *FMUstate = s;
+    memcpy(s, serializedState, size);
+    if (!check_saved(c, "fmi2DeSerializeFMUstate", s, size)) {
+        c->cb.freeMemory(s);
+        return fmi2Error;
+    }
+    if (*FMUstate) {
+        memcpy(*FMUstate, s, saved_size());
+        c->cb.freeMemory(s);
+    } else {
+        *FMUstate = s;
+    }
     return fmi2OK;
 }
 
@@ -513,6 +718,11 @@ fmi2Status fmi2GetDirectionalDerivative(fmi2Component comp, const fmi2ValueRefer
     LOG_ERROR(c, "fmi2GetDirectionalDerivative: not provided (providesDirectionalDerivative=false)");
     return fmi2Error;
 }
+
+/* fmi2DoStep: currentCommunicationPoint may differ from the FMU's time by this many units of the
+ * time resolution (DBL_EPSILON max(1 s, |t|)); a step must advance time by at least VI_MIN_STEP_ULPS. */
+#define VI_TIME_MATCH_ULPS 1e3
+#define VI_MIN_STEP_ULPS 16.0
 
 /* ---- co-simulation ------------------------------------------------------------------------ */
 
@@ -534,8 +744,8 @@ fmi2Status fmi2SetRealInputDerivatives(fmi2Component comp, const fmi2ValueRefere
         }
     }
     for (size_t i = 0; i < nvr; i++) {
-        *(double *)((char *)&c->sim.d.din + vi_variable_table[vr[i]].offset) = value[i];
-        c->sim.d.inputs_changed = 1;
+        *derivative(c, &MODEL->variables[vr[i]]) = value[i];
+        MODEL->changed(c->model);
     }
     return fmi2OK;
 }
@@ -554,21 +764,41 @@ fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real currentCommunicationPoint, fm
 {
     (void)noSetFMUStatePriorToCurrentPoint;
     ENTER("fmi2DoStep", ST_STEP_COMPLETE);
-    double tc = currentCommunicationPoint, h = communicationStepSize, t = c->sim.d.t;
-    double eps = 1e3 * DBL_EPSILON * fmax(1.0, fabs(t));
+    double tc = currentCommunicationPoint, h = communicationStepSize, t = MODEL->time(c->model);
+    double unit = DBL_EPSILON * fmax(1.0, fabs(t)); /* the resolution of time here, at least that at 1 s */
+    double t_end = tc + h;
+    /* Refused arguments leave the instance as it was (fmi2Error from fmi2DoStep: "the step could
+     * not be carried out at all"; the master may try another step). */
     if (!isfinite(tc) || !isfinite(h) || !(h > 0.0)) {
         LOG_ERROR(c, "fmi2DoStep: the communication step size must be finite and positive (got %g)", h);
         return fmi2Error;
     }
-    if (fabs(tc - t) > eps) {
+    if (fabs(tc - t) > VI_TIME_MATCH_ULPS * unit) {
         LOG_ERROR(c, "fmi2DoStep: currentCommunicationPoint %.17g does not match the FMU's time %.17g", tc, t);
         return fmi2Error;
     }
-    if (c->stop_time_defined && tc + h > c->stop_time + eps) {
-        LOG_ERROR(c, "fmi2DoStep: the step to %.17g passes the stop time %.17g", tc + h, c->stop_time);
+    if (!(t_end - t >= VI_MIN_STEP_ULPS * unit)) {
+        LOG_ERROR(c, "fmi2DoStep: a step of %g s is too short to advance time at t = %.17g s: use at least %g s "
+                     "(16 units of the time resolution there); nothing was done",
+                  h, t, VI_MIN_STEP_ULPS * unit);
         return fmi2Error;
     }
-    if (vi_sim_advance(&c->sim, tc + h) < 0) return fail(c, "fmi2DoStep");
+    if (c->stop_time_defined && t_end > c->stop_time + VI_TIME_MATCH_ULPS * unit) {
+        LOG_ERROR(c, "fmi2DoStep: the step to %.17g passes the stop time %.17g", t_end, c->stop_time);
+        return fmi2Error;
+    }
+    int rc = MODEL->advance(c->model, t_end);
+    if (rc < 0) return fail(c, "fmi2DoStep");
+    if (rc == 0 && MODEL->time(c->model) != t_end) { /* never fmi2OK for a step that did not happen */
+        LOG_ERROR(c, "fmi2DoStep: the model stopped at t = %.17g s instead of %.17g s", MODEL->time(c->model), t_end);
+        c->state = ST_ERROR;
+        return fmi2Error;
+    }
+    if (rc > 0) { /* stopped early at a consistent state: fmi2LastSuccessfulTime tells where */
+        logf_(c, fmi2Discard, CAT_logStatusDiscard, "fmi2DoStep: %s", MODEL->message(c->model));
+        c->state = ST_STEP_FAILED;
+        return fmi2Discard;
+    }
     return fmi2OK;
 }
 
@@ -579,40 +809,49 @@ fmi2Status fmi2CancelStep(fmi2Component comp)
     return fmi2Error;
 }
 
+/* Status queries: fmi2DoStep runs synchronously, so only fmi2LastSuccessfulTime and fmi2Terminated
+ * have an answer; any other kind gets fmi2Discard ("not able to return the status information"). */
+static fmi2Status no_status(Component *c, const char *fn, fmi2StatusKind kind, const void *value)
+{
+    if (!value) {
+        LOG_ERROR(c, "%s: value is NULL", fn);
+        return fmi2Error;
+    }
+    logf_(c, fmi2Discard, CAT_logStatusDiscard, "%s: no status of kind %d (fmi2DoStep runs synchronously)", fn,
+          (int)kind);
+    return fmi2Discard;
+}
+
 fmi2Status fmi2GetStatus(fmi2Component comp, const fmi2StatusKind s, fmi2Status *value)
 {
-    (void)s, (void)value;
     ENTER("fmi2GetStatus", ST_RUNNING);
-    logf_(c, fmi2Discard, CAT_logStatusWarning, "fmi2GetStatus: no asynchronous step is pending");
-    return fmi2Discard;
+    return no_status(c, "fmi2GetStatus", s, value);
 }
 
 fmi2Status fmi2GetRealStatus(fmi2Component comp, const fmi2StatusKind s, fmi2Real *value)
 {
     ENTER("fmi2GetRealStatus", ST_RUNNING | ST_ERROR);
-    if (s != fmi2LastSuccessfulTime || !value) return fmi2Discard;
-    *value = c->sim.d.t;
+    if (s != fmi2LastSuccessfulTime || !value) return no_status(c, "fmi2GetRealStatus", s, value);
+    *value = MODEL->time(c->model); /* after fmi2Discard: where the step stopped */
     return fmi2OK;
 }
 
 fmi2Status fmi2GetIntegerStatus(fmi2Component comp, const fmi2StatusKind s, fmi2Integer *value)
 {
-    (void)s, (void)value;
     ENTER("fmi2GetIntegerStatus", ST_RUNNING);
-    return fmi2Discard;
+    return no_status(c, "fmi2GetIntegerStatus", s, value);
 }
 
 fmi2Status fmi2GetBooleanStatus(fmi2Component comp, const fmi2StatusKind s, fmi2Boolean *value)
 {
     ENTER("fmi2GetBooleanStatus", ST_RUNNING | ST_ERROR);
-    if (s != fmi2Terminated || !value) return fmi2Discard;
+    if (s != fmi2Terminated || !value) return no_status(c, "fmi2GetBooleanStatus", s, value);
     *value = fmi2False; /* the FMU never asks to end the simulation */
     return fmi2OK;
 }
 
 fmi2Status fmi2GetStringStatus(fmi2Component comp, const fmi2StatusKind s, fmi2String *value)
 {
-    (void)s, (void)value;
     ENTER("fmi2GetStringStatus", ST_RUNNING);
-    return fmi2Discard;
+    return no_status(c, "fmi2GetStringStatus", s, value);
 }

@@ -4,7 +4,10 @@
 #include <math.h>
 #include <stdlib.h>
 
+#include <string.h>
+
 #include "vi_model.h"
+#include "vi_sim.h"
 
 static vi_model setup(int law, int moving, int unloading, double P, double g, double a)
 {
@@ -145,4 +148,525 @@ Test(model, resolved_mode_has_nonnegative_guards)
                     cr_assert(vi_model_force(&M, t, x) >= 0.0);
                 }
             }
+}
+
+/* ---- contract C3: vi_model_check ------------------------------------------------------------- */
+
+static void log_nothing(void *env, int category, const char *fmt, ...) { (void)env, (void)category, (void)fmt; }
+
+/* States written by the code itself pass: every communication point of bouncing runs of every law. */
+Test(model_check, accepts_every_state_of_real_runs)
+{
+    struct { int law, moving, unloading, formula; double Y; } cases[] = {
+        {1, 0, 1, 1, 6e8}, {2, 0, 1, 1, 6e8}, {2, 0, 2, 1, 6e8}, {2, 1, 1, 1, 6e8}, {3, 0, 1, 1, 6e8},
+        {2, 0, 1, 2, 6e8}, {2, 0, 1, 1, 2e8}};
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        vi_sim s;
+        vi_sim_init(&s, log_nothing, NULL);
+        s.d.par.contact_model = cases[c].law;
+        s.d.par.moving_contact = cases[c].moving;
+        s.d.par.unloading = cases[c].unloading;
+        s.d.par.yield_formula = cases[c].formula;
+        s.d.par.Y = cases[c].Y;
+        s.d.par.a = 1e-4;
+        s.d.par.f = cases[c].Y < 3e8 ? 100.0 : 560.0;
+        char msg[256];
+        cr_assert(vi_model_check(&s.d.M, s.d.x, msg, sizeof msg) == 0, "never set up: %s", msg);
+        cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+        int modes = 0;
+        for (int k = 1; k <= 300; k++) {
+            cr_assert(vi_sim_advance(&s, 1e-4 * k) == 0, "%s", s.msg);
+            modes |= 1 << s.d.M.mode;
+            cr_assert(vi_model_check(&s.d.M, s.d.x, msg, sizeof msg) == 0, "case %zu t = %g: %s", c, s.d.t, msg);
+        }
+        cr_assert(modes & 1 << VI_Mode_elastic || modes & 1 << VI_Mode_unload || modes & 1 << VI_Mode_stick);
+        vi_sim_free(&s);
+    }
+}
+
+/* The random states of the resolver (input jumps) pass too. */
+Test(model_check, accepts_resolved_random_states)
+{
+    srand(777);
+    for (int law = 1; law <= 3; law++)
+        for (int variant = 1; variant <= 2; variant++) {
+            vi_model M = setup(law, 0, variant, 40000.0, 9.81, 1e-4);
+            double x[2];
+            char msg[256];
+            vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
+            for (int k = 0; k < 2000; k++) {
+                double t = 1e-5 * k;
+                vi_model_freeze(&M, t, x);
+                x[0] = M.J.delta_Y * (8.0 * rand() / RAND_MAX - 1.0);
+                x[1] = 0.2 * (2.0 * rand() / RAND_MAX - 1.0);
+                vi_model_resolve(&M, t, x);
+                cr_assert(vi_model_check(&M, x, msg, sizeof msg) == 0, "law %d: %s", law, msg);
+            }
+        }
+}
+
+/* A model after a Johnson impact with yield: plastic memory and mode 3 or 0. */
+static vi_model yielded_model(double x[2])
+{
+    vi_model M = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
+    vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
+    M.mode = VI_Mode_plastic;
+    M.yielded = 1;
+    x[0] = 3.0 * M.J.delta_Y;
+    x[1] = 1.0; /* moving away: unloads */
+    vi_model_freeze(&M, 0.0, x);
+    cr_assert(vi_model_resolve(&M, 0.0, x) == VI_Mode_unload);
+    return M;
+}
+
+/* Spoil one field at a time; the check refuses and names it. */
+static const char *spoil(vi_model *M, double x[2], int which)
+{
+    switch (which) {
+    case 0: x[0] = NAN; return "state";
+    case 1: M->law = 4; return "contact law";
+    case 2: M->moving = 2; return "moving";
+    case 3: M->unloading = 0; return "unloading";
+    case 4: M->mode = 5; return "mode";
+    case 5: M->m = -1.0; return "constant m";
+    case 6: M->K *= 1.0 + 1e-6; return "K";
+    case 7: M->J.delta_Y = INFINITY; return "delta_Y";
+    case 8: M->k_lin *= 2.0; return "k_lin";
+    case 9: M->omega = -1.0; return "omega";
+    case 10: M->yC_in.du = NAN; return "yC_in";
+    case 11: M->yielded = 3; return "yielded";
+    case 12: M->n_impacts = -1; return "n_impacts";
+    case 13: M->delta_p = 1e-6; return "delta_p";
+    case 14: M->U.Rbar *= 1.001; return "Rbar";
+    case 15: M->U.delta_f = M->U.delta_c * 1.5; return "delta_f";
+    case 16: M->U.delta_c = 0.5 * M->J.delta_Y; return "delta_c";
+    case 17: M->U.Kbar = NAN; return "finite";
+    case 18: M->yielded = 0; return "yielded = 0";      /* memory left behind */
+    case 19: M->mode = VI_Mode_elastic; return "mode = 1"; /* virgin branch after yield */
+    case 20: M->mode = VI_Mode_free; return "mode 0 does not fit"; /* in contact at delta > delta_f */
+    case 21: x[0] = M->U.delta_c * 1.01; return "mode 3 does not fit"; /* beyond delta_c while unloading */
+    case 22: M->mode = VI_Mode_stick; return "mode 4 does not fit"; /* stick off delta_c */
+    case 23: M->unloading = VI_UNLOAD_CONTINUOUS; M->U = vi_johnson_unload_curve(&M->J, 2, M->U.delta_c);
+             M->mode = VI_Mode_stick; x[0] = M->U.delta_c; return "mode = 4"; /* stick needs paper unloading */
+    case 24: M->law = VI_ContactModel_hertz; return "yielded = 1 is impossible";
+    case 26: M->yielded = 0; M->U = (vi_unload_curve){0}; return "mode = 3"; /* unloading without memory */
+    case 25: M->f_contact = NAN; return "f_contact";
+    case 27: return NULL;
+    default: return NULL;
+    }
+}
+
+Test(model_check, names_the_first_bad_field)
+{
+    double x0[2];
+    char msg[256];
+    vi_model ok = yielded_model(x0);
+    cr_assert(vi_model_check(&ok, x0, msg, sizeof msg) == 0, "%s", msg);
+    x0[0] = 0.5 * (ok.U.delta_c + ok.U.delta_f); /* inside the unloading branch */
+    cr_assert(vi_model_check(&ok, x0, msg, sizeof msg) == 0, "%s", msg);
+    for (int k = 0;; k++) {
+        vi_model M = ok;
+        double x[2] = {x0[0], x0[1]};
+        const char *expect = spoil(&M, x, k);
+        if (!expect) break;
+        msg[0] = '\0';
+        cr_assert(vi_model_check(&M, x, msg, sizeof msg) < 0, "spoiled %d (%s) accepted", k, expect);
+        cr_assert(strstr(msg, expect) != NULL, "spoiled %d: expected '%s' in: %s", k, expect, msg);
+    }
+}
+
+/* The tolerance on the guards: a state a rounding beyond its surface passes, 1e-5 of delta_Y does not. */
+Test(model_check, guard_tolerance)
+{
+    vi_model M = setup(VI_ContactModel_hertz, 0, 1, 40000.0, 9.81, 0.0);
+    double x[2];
+    char msg[256];
+    vi_model_initial_state(&M, VI_Init_touching, 0.0, 0.0, x);
+    M.mode = VI_Mode_free;
+    x[0] = 1e-9 * M.J.delta_Y; /* penetrating by a rounding error while free */
+    cr_assert(vi_model_check(&M, x, msg, sizeof msg) == 0, "%s", msg);
+    x[0] = 1e-5 * M.J.delta_Y;
+    cr_assert(vi_model_check(&M, x, msg, sizeof msg) < 0);
+    M.mode = VI_Mode_elastic; /* in contact at -1e-5 delta_Y: separated */
+    x[0] = -1e-5 * M.J.delta_Y;
+    cr_assert(vi_model_check(&M, x, msg, sizeof msg) < 0);
+}
+
+/* In stick delta' = 0 exactly; with the stick Jacobian (d delta'/dv = 0) the Newton iteration keeps
+ * delta on delta_c bit for bit (with the free-motion Jacobian it drifted by 1e-6 relative). */
+Test(model, stick_keeps_delta_exactly_on_delta_c)
+{
+    vi_sim s;
+    vi_sim_init(&s, log_nothing, NULL);
+    s.d.par.Y = 2e8; /* the 'stick' scenario */
+    s.d.par.a = 1e-4;
+    s.d.par.f = 100.0;
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    int sticking = 0;
+    for (int k = 1; k <= 500; k++) {
+        cr_assert(vi_sim_advance(&s, 1e-4 * k) == 0, "%s", s.msg);
+        if (s.d.M.mode != VI_Mode_stick) continue;
+        sticking++;
+        cr_assert(s.d.x[0] == s.d.M.U.delta_c, "t = %g: delta - delta_c = %g", s.d.t, s.d.x[0] - s.d.M.U.delta_c);
+    }
+    cr_assert(sticking > 50, "%d samples in stick", sticking);
+    double j[4];
+    vi_model_jacobian(&s.d.M, s.d.t, s.d.x, j);
+    vi_sim_free(&s);
+}
+
+/* Issue 9 item 3: the static state at extreme loads comes from a closed form or a bounded solve,
+ * never an ulp-by-ulp walk (which took 2^52 steps for load/F_Y below 1e-154). Expected indentation
+ * from logarithms: d = exp(2/3 (ln W - ln K)) (Hertz, and Johnson below yield). */
+Test(model, static_state_at_extreme_loads, .timeout = 20)
+{
+    const double loads[] = {4.9e-323, 1e-310, 1e-300, 1e-200, 1e-155, 1e-100, 1e-20, 1.0, 4e4, 1e12, 1e30, 1e100};
+    for (int law = 1; law <= 3; law++)
+        for (size_t i = 0; i < sizeof loads / sizeof loads[0]; i++) {
+            double W = loads[i], x[2];
+            vi_model M = setup(law, 0, VI_Unloading_paper, W, 0.0, 0.0);
+            vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
+            if (law == VI_ContactModel_lepp && W < M.J.F_Y) /* linear: W/k_lin, 0 where that underflows */
+                cr_assert(x[0] == W / M.k_lin, "law %d W %g: delta = %g", law, W, x[0]);
+            else
+                cr_assert(x[0] > 0.0 && isfinite(x[0]), "law %d W %g: delta = %g", law, W, x[0]);
+            cr_assert(M.mode != VI_Mode_free, "law %d W %g: mode %d", law, W, M.mode);
+            if (W < M.J.F_Y && law != VI_ContactModel_lepp) {
+                double expect = exp(2.0 / 3.0 * (log(W) - log(M.K)));
+                cr_assert(fabs(x[0] - expect) <= 1e-13 * expect, "law %d W %g: %.17g vs %.17g", law, W, x[0], expect);
+            }
+            if (W >= 1e-290 && !(law == VI_ContactModel_lepp && W > M.J.F_Y)) { /* the load is carried (LEPP beyond F_Y flows) */
+                double F = vi_model_force(&M, 0.0, x);
+                cr_assert(fabs(F - W) <= 1e-12 * W, "law %d W %g: F = %.17g", law, W, F);
+            }
+        }
+}
+
+/* The same for the extreme parameters of issue 9: R1 = 1e85 (load/F_Y ~ 1e-170) and m = 5e-324. */
+Test(model, static_state_with_extreme_parameters, .timeout = 20)
+{
+    vi_parameters p;
+    vi_parameters_default(&p);
+    p.R1 = 1e85;
+    vi_model M = {0};
+    char msg[256];
+    double x[2];
+    cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+    vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
+    double W = p.P + p.m * p.g;
+    cr_assert(fabs(vi_model_force(&M, 0.0, x) - W) <= 1e-12 * W);
+    vi_parameters_default(&p);
+    p.m = 5e-324;
+    p.P = 0.0;
+    cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+    vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
+    cr_assert(x[0] > 0.0 && M.mode == VI_Mode_elastic, "delta %g mode %d", x[0], M.mode);
+}
+
+/* Issue 9 item 6: the tolerance scales come from the active law: closed forms per case. */
+Test(model, scales_from_the_active_law)
+{
+    double x[2], L, V;
+    /* Hertz, static: L = the static indentation, whatever Y is (Y plays no role in Hertz) */
+    for (int k = 0; k < 2; k++) {
+        vi_parameters p;
+        vi_parameters_default(&p);
+        p.contact_model = VI_ContactModel_hertz;
+        p.Y = k ? 1e4 : 6e8;
+        p.a = 1e-300;
+        vi_model M = {0};
+        char msg[256];
+        cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0);
+        vi_model_initial_state(&M, VI_Init_static, 1e-100, 0.0, x);
+        vi_model_scales(&M, x, &L, &V);
+        double dW = pow((p.P + p.m * p.g) / M.K, 2.0 / 3.0);
+        cr_assert(fabs(L - dW) <= 1e-14 * dW, "Y = %g: L = %g vs %g", p.Y, L, dW);
+        double w = sqrt(1.5 * M.K * sqrt(dW) / p.m);
+        cr_assert(fabs(V - dW * w) <= 1e-14 * dW * w, "V = %g", V);
+    }
+    /* Johnson and LEPP: the larger of delta_Y and the static indentation */
+    for (int law = 2; law <= 3; law++) {
+        vi_model M = setup(law, 0, 1, 40000.0, 9.81, 1e-300);
+        vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
+        vi_model_scales(&M, x, &L, &V);
+        cr_assert(L == fmax(M.J.delta_Y, x[0]), "law %d: L = %g", law, L);
+    }
+    /* a drop (no load): the impact indentation at v0; Hertz closed form */
+    vi_model M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
+    vi_model_initial_state(&M, VI_Init_touching, -0.3, 0.0, x);
+    vi_model_scales(&M, x, &L, &V);
+    double dv = pow(15.0 * M.m * 0.09 / (16.0 * M.J.E_star * sqrt(M.J.R_star)), 0.4);
+    cr_assert(fabs(L - dv) <= 1e-14 * dv);
+    /* no load, no speed: the excitation's speed; nothing at all: 1e-6 R* */
+    M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 1e-4);
+    vi_model_initial_state(&M, VI_Init_touching, 0.0, 0.0, x);
+    vi_model_scales(&M, x, &L, &V);
+    double va = 1e-4 * 2.0 * VI_PI * 560.0;
+    dv = pow(15.0 * M.m * va * va / (16.0 * M.J.E_star * sqrt(M.J.R_star)), 0.4);
+    cr_assert(fabs(L - dv) <= 1e-14 * dv);
+    M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
+    vi_model_initial_state(&M, VI_Init_touching, 0.0, 0.0, x);
+    vi_model_scales(&M, x, &L, &V);
+    cr_assert(L == VI_SCALE_FALLBACK * M.J.R_star && V > 0.0);
+    /* extremes: finite and positive */
+    double loads[] = {1e-200, 4.9e-323, 1e100};
+    for (int i = 0; i < 3; i++)
+        for (int law = 1; law <= 3; law++) {
+            M = setup(law, 0, 1, loads[i], 0.0, 1e-300);
+            vi_model_initial_state(&M, VI_Init_static, 1e-100, 0.0, x);
+            vi_model_scales(&M, x, &L, &V);
+            cr_assert(L > 0.0 && isfinite(L) && V > 0.0 && isfinite(V), "law %d W %g: %g %g", law, loads[i], L, V);
+        }
+}
+
+/* Issue 9 item 5: ties (position, rate and force difference all zero) are broken by the next time
+ * derivative, F_hold' = -F_ext' + m yC'''. Exact ties built with P equal to a force of the band. */
+Test(model, stick_band_ties_broken_by_the_rate_of_the_holding_force)
+{
+    vi_model M = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
+    double dc = 3.0 * M.J.delta_Y;
+    vi_unload_curve U = vi_johnson_unload_curve(&M.J, VI_UNLOAD_PAPER, dc);
+    double F_load = vi_johnson_load(&M.J, dc), F_unload = vi_unload_force(&U, dc);
+    struct { double P, dF_ext; int mode; } cases[] = {
+        {F_load, -1.0, VI_Mode_plastic},  /* on the load limit, the load grows: loading resumes */
+        {F_load, +1.0, VI_Mode_stick},    /* on the load limit, the load falls: into the band */
+        {F_load, 0.0, VI_Mode_stick},     /* a tie in every derivative: stays */
+        {F_unload, +1.0, VI_Mode_unload}, /* on the unload limit, the load falls: unloading starts */
+        {F_unload, -1.0, VI_Mode_stick},  /* on the unload limit, the load grows: into the band */
+    };
+    for (int i = 0; i < 5; i++) {
+        M.W0 = cases[i].P; /* g = 0, a = 0: F_hold = W = P at the ramp's time */
+        M.F_ext = (vi_ramp){0.0, cases[i].dF_ext, 0.5};
+        M.yielded = 1, M.U = U, M.mode = VI_Mode_stick;
+        double x[2] = {dc, 0.0};
+        cr_assert(vi_model_resolve(&M, 0.5, x) == cases[i].mode, "case %d: mode %d", i, M.mode);
+    }
+}
+
+/* A stick guard that fires is on its surface even though the located root leaves it slightly on the
+ * near side: the mass starts loading at the quarter period where F_hold = W - m a w^2 cos(w t)
+ * rises through F_load = W (it stayed in stick a whole period before). */
+Test(model, fired_stick_guard_counts_as_on_its_surface)
+{
+    vi_model M = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 1e-5);
+    double dc = 3.0 * M.J.delta_Y;
+    vi_unload_curve U = vi_johnson_unload_curve(&M.J, VI_UNLOAD_PAPER, dc);
+    M.W0 = vi_johnson_load(&M.J, dc);
+    double w = M.omega, tq = 0.25 * 2.0 * VI_PI / w;
+    for (int k = -3; k <= 3; k++) {
+        double t = tq + k * 1e-16; /* the root as a solver locates it, on either side */
+        M.yielded = 1, M.U = U, M.mode = VI_Mode_stick;
+        double x[2] = {dc, 0.0}, g[VI_NGUARDS];
+        vi_model_freeze(&M, t, x);
+        vi_model_guards(&M, t, x, g);
+        cr_assert(fabs(g[0]) < 1e-9 * M.W0, "k %d: g0 = %g", k, g[0]);
+        cr_assert(vi_model_event(&M, t, x, 0) == VI_Mode_plastic, "k %d: mode %d", k, M.mode);
+    }
+}
+
+/* Issue 9 item 9: the validity threshold delta > 0.01 R* (contact radius sqrt(R* delta) > 0.1 R*). */
+Test(model, validity_threshold)
+{
+    vi_model M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
+    double x[2] = {0.0, 0.0}, limit = 0.01 * M.J.R_star;
+    char msg[400];
+    M.mode = VI_Mode_elastic;
+    x[0] = limit * (1.0 - 1e-12);
+    cr_assert(vi_model_validity(&M, 0.0, x, msg, sizeof msg) == 0);
+    x[0] = limit * (1.0 + 1e-12);
+    cr_assert(vi_model_validity(&M, 1.5, x, msg, sizeof msg) == 1);
+    cr_assert(strstr(msg, "t = 1.5 s") && strstr(msg, "0.01 R*"), "%s", msg);
+    M.mode = VI_Mode_free; /* apart: no contact radius */
+    cr_assert(vi_model_validity(&M, 0.0, x, msg, sizeof msg) == 0);
+    vi_parameters p;
+    vi_parameters_default(&p);
+    cr_assert(vi_model_option_warnings(&p, msg, sizeof msg) == 0 && msg[0] == '\0');
+    p.contact_model = VI_ContactModel_lepp, p.moving_contact = 1, p.unloading = 2, p.v0 = 1.0;
+    cr_assert(vi_model_option_warnings(&p, msg, sizeof msg) == 3, "%s", msg);
+    cr_assert(strstr(msg, "moving_contact") && strstr(msg, "unloading") && strstr(msg, "v0"), "%s", msg);
+    char tiny[8]; /* truncated, never overrun */
+    cr_assert(vi_model_option_warnings(&p, tiny, sizeof tiny) == 3 && strlen(tiny) == 7);
+}
+
+/* ---- tunable excitation (issue 12, contract C9) ------------------------------------------------ */
+
+/* A mass thrown up and away (no load, v0 = 1 m/s): the platform's position is the excitation alone. */
+static void flying(vi_sim *s, double a, double f)
+{
+    vi_sim_init(s, log_nothing, NULL);
+    s->d.par.contact_model = VI_ContactModel_hertz;
+    s->d.par.P = 0.0, s->d.par.g = 0.0, s->d.par.init = VI_Init_touching, s->d.par.v0 = 1.0;
+    s->d.par.a = a, s->d.par.f = f;
+    cr_assert(vi_sim_initialize(s) == 0, "%s", s->msg);
+}
+
+Test(excitation, frequency_change_keeps_phase_and_position_continuous)
+{
+    vi_sim s;
+    flying(&s, 1e-4, 100.0);
+    double t1 = 0.0123, t2 = 0.02;
+    cr_assert(vi_sim_advance(&s, t1) == 0, "%s", s.msg);
+    double y_before = vi_model_platform(&s.d.M, t1, NULL, NULL), v_mass = s.d.x[1], y_mass = y_before - s.d.x[0];
+    s.d.par.f = 250.0;
+    s.d.inputs_changed = 1;
+    cr_assert(vi_sim_advance(&s, t2) == 0, "%s", s.msg);
+    double ph1 = 2.0 * VI_PI * 100.0 * t1; /* closed form: the phase at t1, then 250 Hz */
+    cr_assert(fabs(vi_model_phase(&s.d.M, t1) - fmod(ph1, 2.0 * VI_PI)) < 1e-14);
+    cr_assert(fabs(vi_model_platform(&s.d.M, t1, NULL, NULL) - y_before) <= 1e-18, "yC jumped");
+    double expect = 1e-4 * (cos(ph1 + 2.0 * VI_PI * 250.0 * (t2 - t1)) - 1.0);
+    cr_assert(fabs(vi_model_platform(&s.d.M, t2, NULL, NULL) - expect) <= 1e-17, "%g vs %g",
+              vi_model_platform(&s.d.M, t2, NULL, NULL), expect);
+    /* free flight: the mass never felt the change (y = y1 + v1 (t - t1), no load) */
+    double y2 = vi_model_platform(&s.d.M, t2, NULL, NULL) - s.d.x[0];
+    cr_assert(s.d.M.mode == VI_Mode_free && s.d.x[1] == v_mass, "the mass got a kick");
+    cr_assert(fabs(y2 - (y_mass + v_mass * (t2 - t1))) <= 1e-6 * y2, "%.17g", y2);
+    vi_sim_free(&s);
+}
+
+Test(excitation, amplitude_change_moves_the_platform_not_the_mass)
+{
+    vi_sim s;
+    flying(&s, 1e-4, 100.0);
+    double t1 = 0.0031;
+    cr_assert(vi_sim_advance(&s, t1) == 0, "%s", s.msg);
+    double d_before = s.d.x[0], y_mass = vi_model_platform(&s.d.M, t1, NULL, NULL) - d_before;
+    s.d.par.a = 3e-4;
+    s.d.inputs_changed = 1;
+    cr_assert(vi_sim_advance(&s, t1 + 1e-3) == 0, "%s", s.msg);
+    double c = cos(2.0 * VI_PI * 100.0 * t1);
+    /* apply the change alone: redo it on a copy at t1 */
+    vi_sim r;
+    flying(&r, 1e-4, 100.0);
+    cr_assert(vi_sim_advance(&r, t1) == 0);
+    char msg[256]; /* apply the change at t1 itself, as the loop does at the start of the next step */
+    cr_assert(vi_model_set_excitation(&r.d.M, t1, r.d.x, 3e-4, 100.0, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(fabs(r.d.x[0] - (d_before + 2e-4 * (c - 1.0))) <= 1e-18, "delta jumps by da (cos - 1)");
+    cr_assert(fabs(vi_model_platform(&r.d.M, t1, NULL, NULL) - r.d.x[0] - y_mass) <= 1e-18, "the mass moved");
+    cr_assert(fabs(vi_model_platform(&r.d.M, t1, NULL, NULL) - 3e-4 * (c - 1.0)) <= 1e-18);
+    vi_sim_free(&s);
+    vi_sim_free(&r);
+}
+
+/* Up and down sweeps by changes at communication points: the platform follows the closed-form
+ * accumulated phase phi = sum f_k 2 pi dt_k at every point. */
+Test(excitation, sweep_up_and_down_follows_the_accumulated_phase)
+{
+    vi_sim s;
+    flying(&s, 1e-4, 50.0);
+    double t = 0.0, phase = 0.0, f = 50.0, h = 1e-3;
+    for (int k = 0; k < 60; k++) {
+        double f_next = k < 30 ? 50.0 + 10.0 * k : 50.0 + 10.0 * (59 - k); /* up, then down */
+        if (f_next != f) s.d.par.f = f_next, s.d.inputs_changed = 1, f = f_next;
+        cr_assert(vi_sim_advance(&s, t + h) == 0, "%s", s.msg);
+        phase += 2.0 * VI_PI * f * h;
+        t += h;
+        double expect = 1e-4 * (cos(phase) - 1.0), dyC, yC = vi_model_platform(&s.d.M, t, &dyC, NULL);
+        cr_assert(fabs(yC - expect) <= 1e-13 * 1e-4, "k %d: %g vs %g (%g)", k, yC, expect, yC - expect);
+        cr_assert(fabs(dyC + 1e-4 * 2.0 * VI_PI * f * sin(phase)) <= 1e-12, "k %d: velocity", k);
+    }
+    vi_sim_free(&s);
+}
+
+Test(excitation, negative_frequency_is_refused)
+{
+    vi_sim s;
+    flying(&s, 1e-4, 100.0);
+    cr_assert(vi_sim_advance(&s, 1e-3) == 0);
+    s.d.par.f = -5.0;
+    s.d.inputs_changed = 1;
+    cr_assert(vi_sim_advance(&s, 2e-3) < 0);
+    cr_assert(strstr(s.msg, "f = -5 Hz") != NULL, "%s", s.msg);
+    vi_sim_free(&s);
+}
+
+/* ---- rolling over a profile (issue 11 item 4) --------------------------------------------------- */
+
+/* A V-shaped trough of slope s0 with its bottom at x = 0: yb = s0 |x| + R1 (sqrt(1 + s0^2) - 1). */
+static vi_profile *v_trough(double s0)
+{
+    double x[] = {-10.0, 0.0, 10.0}, h[] = {10.0 * s0, 0.0, 10.0 * s0};
+    char msg[256];
+    vi_profile *p = vi_profile_create(x, h, 3, 0.475, 0, "v", msg, sizeof msg);
+    cr_assert(p != NULL, "%s", msg);
+    return p;
+}
+
+/* Static start on Hertz, rolled at V over the trough's kink: before it the mass rides the platform
+ * down uniformly (delta stays static); the kink turns the platform velocity by 2 s0 V, and the
+ * contact rings with amplitude 2 s0 V / omega_c (linearised, omega_c = 2 pi f_contact). The loop
+ * stops at the kink (contract C10) and restarts there. */
+Test(rolling, kink_is_a_breakpoint_and_rings_the_contact)
+{
+    for (int dir = -1; dir <= 1; dir += 2) {
+        double s0 = 1e-4, V = 1.0 * dir, x0 = -0.01 * dir, tk = 0.01; /* the kink at x = 0, t = 10 ms */
+        vi_profile *prof = v_trough(s0);
+        vi_sim s;
+        vi_sim_init(&s, log_nothing, NULL);
+        s.d.par.contact_model = VI_ContactModel_hertz;
+        s.d.par.rtol = 1e-10;
+        cr_assert(vi_sim_prepare(&s) == 0, "%s", s.msg);
+        char msg[256];
+        cr_assert(vi_model_set_rolling(&s.d.M, prof, V, x0, msg, sizeof msg) == 0, "%s", msg);
+        vi_model_initial_state(&s.d.M, VI_Init_static, 0.0, 0.0, s.d.x); /* at rest on the moving platform */
+        double ds = s.d.x[0], w = 2.0 * VI_PI * s.d.M.f_contact;
+        cr_assert(fabs(s.d.x[1] - (-s0 * V * dir)) <= 1e-18, "v0 %g", s.d.x[1]); /* yC' = -s0 |V| before the kink */
+        double bp = vi_model_next_breakpoint(&s.d.M, 0.0);
+        double xk = vi_profile_next_kink(prof, -dir, dir), pos = vi_model_rolling_position(&s.d.M, bp);
+        cr_assert(fabs(xk) < 1e-14 && fabs(bp - tk) <= 1e-14 && (dir > 0 ? pos >= xk : pos < xk),
+                  "breakpoint %.17g: position %g, kink %g", bp, pos, xk);
+        double L, Vs;
+        vi_model_scales(&s.d.M, s.d.x, &L, &Vs);
+        s.d.atol[0] = 1e-10 * L, s.d.atol[1] = 1e-10 * Vs;
+        s.d.initialized = 1; /* set up by hand: the solver starts from this state */
+        cr_assert(vi_sim_restore(&s) == 0, "%s", s.msg);
+        double before = 0.0, after = 0.0;
+        for (int k = 1; k <= 400; k++) {
+            double t = 5e-5 * k;
+            cr_assert(vi_sim_advance(&s, t) == 0, "%s", s.msg);
+            if (t < tk) before = fmax(before, fabs(s.d.x[0] - ds));
+            else after = fmax(after, fabs(s.d.x[0] - ds));
+        }
+        double amp = 2.0 * s0 * fabs(V) / w;
+        cr_assert(before <= 1e-6 * amp, "dir %d: delta moved before the kink by %g", dir, before);
+        cr_assert(fabs(after - amp) <= 0.01 * amp, "dir %d: ringing %g vs %g", dir, after, amp);
+        vi_solver_stats st;
+        vi_sim_statistics(&s, &st);
+        cr_assert(st.resets >= 1);
+        vi_sim_free(&s);
+        vi_profile_free(prof);
+    }
+}
+
+Test(rolling, the_profile_ends)
+{
+    vi_profile *prof = v_trough(1e-4); /* x in [-10, 10] */
+    vi_sim s;
+    vi_sim_init(&s, log_nothing, NULL);
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    char msg[256];
+    cr_assert(vi_model_set_rolling(&s.d.M, prof, 2.0, 11.0, msg, sizeof msg) < 0);
+    cr_assert(strstr(msg, "x0 = 11 m lies outside the profile [-10, 10] m"), "%s", msg);
+    cr_assert(vi_model_set_rolling(&s.d.M, prof, 1000.0, 9.0, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(vi_sim_advance(&s, 5e-4) == 0, "%s", s.msg);
+    cr_assert(vi_sim_advance(&s, 2e-3) < 0); /* the end at t = 1 ms */
+    cr_assert(fabs(s.d.t - 1e-3) < 1e-15 && strstr(s.msg, "t = 0.001") && strstr(s.msg, "x_last = 10 m"), "t %g: %s",
+              s.d.t, s.msg);
+    vi_sim_free(&s);
+    vi_profile_free(prof);
+}
+
+/* The holding force of a sticking mass includes the profile's curvature: F_hold = W + m V^2 yb''. */
+Test(rolling, platform_derivatives_follow_the_profile)
+{
+    double x[] = {-1.0, 0.0, 1e-9, 1.0}, h[] = {0.0, 0.0, 0.01, 0.01}; /* a step: a circular ramp */
+    char msg[256];
+    vi_profile *prof = vi_profile_create(x, h, 4, 0.475, 0, "step", msg, sizeof msg);
+    vi_model M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
+    cr_assert(vi_model_set_rolling(&M, prof, 3.0, -0.05, msg, sizeof msg) == 0);
+    double t = 0.004, d = -0.05 + 3.0 * t - 1e-9, R = 0.475, dyC, ddyC; /* on the ramp */
+    double yC = vi_model_platform(&M, t, &dyC, &ddyC);
+    cr_assert(fabs(yC - (0.01 - d * d / (R + sqrt(R * R - d * d)))) <= 1e-15);
+    cr_assert(fabs(dyC - 3.0 * (-d / sqrt(R * R - d * d))) <= 1e-12);
+    cr_assert(fabs(ddyC - 9.0 * (-R * R / pow(R * R - d * d, 1.5))) <= 1e-9);
+    vi_profile_free(prof);
 }

@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # Install everything VibroImpact needs on a Debian machine (idempotent, quiet when all is there).
-#   apt: C compiler, cmake, pkg-config, SUNDIALS 6.4 (libsundials-dev), Criterion (libcriterion-dev)
-#   pip: fmpy, numpy, scipy, matplotlib, pytest, pytest-timeout, libcosimpy  (into $PYTHON, default python3)
+#   apt: C compiler, cmake, pkg-config, SUNDIALS 6.4 (libsundials-dev), Criterion (libcriterion-dev),
+#        valgrind (the memory check of the FMU binary in tools/test.sh)
+#   pip: fmpy, numpy, scipy, matplotlib, pytest, pytest-timeout, libcosimpy, dask, distributed, tqdm  (into $PYTHON, default python3)
 set -euo pipefail
 
 PYTHON=${PYTHON:-python3}
-APT_PKGS=(gcc make cmake pkg-config libsundials-dev libcriterion-dev python3)
-PIP_PKGS=(fmpy numpy scipy matplotlib pytest pytest-timeout libcosimpy)
-PY_MODULES="fmpy numpy scipy matplotlib pytest pytest_timeout libcosimpy"
+APT_PKGS=(gcc make cmake pkg-config libsundials-dev libcriterion-dev valgrind python3)
+PIP_PKGS=(fmpy numpy scipy matplotlib pytest pytest-timeout libcosimpy dask distributed tqdm)
+PY_MODULES="fmpy numpy scipy matplotlib pytest pytest_timeout libcosimpy dask distributed tqdm"
 
 missing=()
 for p in "${APT_PKGS[@]}"; do

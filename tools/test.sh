@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# Every test: install what is needed, build (warnings are errors), C unit tests (ctest), FMU tests (pytest).
+# Every test: install what is needed, build (warnings are errors), C unit tests and the valgrind memcheck
+# of the FMU binary (ctest), FMU tests (pytest), then the C tests and the FMU driver again built with
+# AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/). Any failure or memory report fails the run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 PYTHON=${PYTHON:-python3}
@@ -8,3 +10,9 @@ cmake -S . -B build -DVI_WERROR=ON -DVI_REQUIRE_TESTS=ON -DPython3_EXECUTABLE="$
 cmake --build build -j"$(nproc)" >/dev/null
 (cd build && ctest --output-on-failure)
 "$PYTHON" -m pytest -q fmu-test
+# the whole FMU suite again with the other two solvers (adams, dop853); libcosim uses the FMU's default
+for solver in 2 3; do VI_SOLVER=$solver "$PYTHON" -m pytest -q fmu-test -k "not libcosimpy"; done
+cmake -S . -B build-asan -DVI_SANITIZE=ON -DVI_WERROR=ON -DVI_REQUIRE_TESTS=ON \
+  -DPython3_EXECUTABLE="$(command -v "$PYTHON")" >/dev/null
+cmake --build build-asan -j"$(nproc)" >/dev/null
+(cd build-asan && ctest --output-on-failure)

@@ -648,12 +648,19 @@ def _wrap_event(g, direction: int, t0: float, y0: np.ndarray):
     event direction (the resolver made the mode consistent); at t0 the event
     reports a tiny value on the pre-crossing side so that brentq never
     returns t0 and a return to the surface within the first step is found.
+    While such a segment is still exactly on the surface (g == 0: it leaves
+    it slowly, e.g. quadratically from a turning point, and the first steps
+    change delta by less than an ulp) it has not crossed it either: exact
+    zeros count as the pre-crossing side too. Without this, a segment
+    starting at delta = delta_c in unloading with delta' = 0 re-fired
+    "reload" every few 1e-16 s (a false Zeno stop).
     """
     start_on_surface = g(t0, y0) == 0.0
 
     def event(t, y):
-        if start_on_surface and t == t0:
-            return -direction * 1e-300
+        if start_on_surface:
+            value = -direction * 1e-300 if t == t0 else g(t, y)
+            return -direction * 1e-300 if value == 0.0 else value
         return g(t, y)
     event.terminal = True
     event.direction = direction

@@ -1,0 +1,135 @@
+/*
+ * vi_fmu.h - the generic FMI 2.0 Co-Simulation layer (src/vi_fmi2.c) and what a model gives it.
+ *
+ * The layer implements every fmi2* function of a Co-Simulation FMU and knows no model: argument
+ * and state-machine checks, value access through the model's variable table (vi_table.h),
+ * logging with categories, the FMU state envelope and its serialization, the status functions,
+ * and the fmi2DoStep checks (communication point, step size, stop time). It never integrates
+ * anything itself: inside fmi2DoStep the model advances with its own solver.
+ *
+ * To build an FMU of a model, a model author writes, in one folder:
+ *   1. a table header and one .c with VI_TABLE_DEFINE (see vi_table.h): the variables;
+ *   2. modelDescription.xml mirroring the table (value reference = row number), with
+ *      modelIdentifier = the FMU's CMake name, guid = VI_GUID, and the layer's LogCategories:
+ *      logEvents, logSolver, logStatusWarning, logStatusDiscard, logStatusError, logFmi2Call, logAll;
+ *   3. the model file: the hooks below, and one definition
+ *          const vi_fmu_model vi_fmu_this_model = {VI_FMU_TABLE_FIELDS(...), .init = ..., ...};
+ *   4. in CMake (cmake/vi_fmu.cmake):  vi_add_fmu(<Name> SOURCES <model .c files> XML <xml>
+ *      [LIBRARIES <libs>] [INCLUDE_DIRS <dirs>] [RESOURCES <files>] [DOCUMENTATION <files>])
+ *      which builds <Name>.so (exporting the fmi2* functions only) and packs build/<Name>.fmu.
+ *
+ * The model's instance is one block of instance_size bytes, allocated zeroed by the layer with
+ * the importer's allocateMemory and passed to every hook as `m`. Everything that an FMU state
+ * must hold lies in one plain-data block of state_size bytes inside it (the `state` hook): the
+ * parameter, input and input-derivative structs (where: the *_offset fields), time, continuous
+ * and discrete state. Pointers
+ * in it are never trusted after a restore. Rules for hooks: no allocation in `advance` (allocate
+ * in `init` or `initialize`, release in `release`); report a failure by returning a negative
+ * value with a one-line reason in the buffer `message` returns; never call exit or abort.
+ *
+ * What the layer guarantees to the hooks: called only in the FMI states where it makes sense
+ * (below); values are written into the model's structs only after all values of the call were
+ * checked (type, settable now, finite Real, String length); the model's `changed` hook is called
+ * after an input (any time) or a tunable parameter (between steps) was set.
+ */
+#ifndef VI_FMU_H
+#define VI_FMU_H
+
+#include <stddef.h>
+
+#include "vi_table.h"
+
+/* How a model talks to the importer's logger: category VI_FMU_LOG_* and a printf format. Events
+ * and solver messages are shown when their category is enabled, warnings as fmi2Warning, errors
+ * always. */
+typedef void (*vi_fmu_log_fn)(void *env, int category, const char *fmt, ...);
+enum { VI_FMU_LOG_EVENTS, VI_FMU_LOG_SOLVER, VI_FMU_LOG_WARNING, VI_FMU_LOG_ERROR };
+
+/* Result of the advance hook. */
+enum { VI_FMU_ERROR = -1, VI_FMU_OK = 0, VI_FMU_DISCARD = 1 };
+
+typedef struct {
+    /* ---- identity ---- */
+    const char *model_identifier, *guid;      /* as in modelDescription.xml */
+    const vi_variable *variables;             /* vi_variable_table */
+    int nvariables;                           /* VI_NVARS */
+    const vi_enum_item *enum_items;           /* vi_enum_items (for the table dump) */
+    int n_enum_items;                         /* vi_enum_item_count */
+    size_t instance_size;                     /* bytes of the model's instance */
+    size_t state_size;                        /* bytes of the plain-data block of the `state` hook */
+    size_t outputs_size;                      /* sizeof(vi_outputs) */
+    /* Where the values live inside the plain-data block: offsets of its vi_parameters struct, its
+     * vi_inputs struct, and the vi_inputs struct of the input derivatives (offsetof). */
+    size_t parameters_offset, inputs_offset, input_derivatives_offset;
+
+    /* ---- life cycle ---- */
+    /* Zeroed memory -> defaults (start values of the table); keep log and env for messages. */
+    void (*init)(void *m, vi_fmu_log_fn log, void *env);
+    /* Back to the defaults (fmi2Reset). */
+    void (*reset)(void *m);
+    /* Release what the model allocated (not m itself). */
+    void (*release)(void *m);
+    /* Optional (NULL: none). The FMU's resources folder as a path (decoded from the file URI
+     * fmuResourceLocation), once after init; NULL when the importer gave none that is a local
+     * folder. 0 or -1. */
+    int (*set_resources)(void *m, const char *dir);
+
+    /* ---- values ---- */
+    /* An input, or a tunable parameter between steps, was set: apply at the next step. */
+    void (*changed)(void *m);
+    /* Outputs and calculated parameters at the current time into *out (a vi_outputs). In
+     * initialization mode the layer calls `prepare` first. */
+    void (*outputs)(void *m, void *out);
+
+    /* ---- simulation ---- */
+    /* fmi2SetupExperiment: the arguments are checked (finite start, tolerance in (0, 1),
+     * stop >= start); tolerance_defined = 0 means none given. */
+    void (*setup_experiment)(void *m, double start_time, int tolerance_defined, double tolerance);
+    /* Check the parameters and compute calculated values and the initial state, so that outputs
+     * can be read in initialization mode. 0 or -1. */
+    int (*prepare)(void *m);
+    /* fmi2ExitInitializationMode: everything needed for stepping. 0 or -1. */
+    int (*initialize)(void *m);
+    /* Advance from the current time to t_end. VI_FMU_OK: time is t_end. VI_FMU_DISCARD: stopped
+     * earlier at a consistent state (time = the last successful time; the message says why).
+     * VI_FMU_ERROR: failed. */
+    int (*advance)(void *m, double t_end);
+    /* Current time [s]. */
+    double (*time)(const void *m);
+    /* Optional: fmi2Terminate (e.g. log statistics). */
+    void (*terminate)(void *m);
+
+    /* ---- FMU state ---- */
+    /* The plain-data block saved in an FMU state. */
+    void *(*state)(void *m);
+    /* Optional: make the block the complete continuation before it is copied. 0 or -1. */
+    int (*checkpoint)(void *m);
+    /* Optional: the block was overwritten by a saved state; `running` is nonzero when the saved
+     * FMI state was after initialization (step complete, step failed, terminated, error). 0 or -1. */
+    int (*restore)(void *m, int running);
+    /* Optional: check a saved block before it is used: every field finite and in range, modes
+     * consistent; `running` as for `restore` (before initialization only the settings matter).
+     * 0, or -1 naming the first bad field in msg. The layer itself has already checked the
+     * header, the checksum and the table's values (Reals finite, Booleans 0 or 1, Strings
+     * terminated, enumerations items of their type once running). */
+    int (*state_check)(const void *state, int running, char *msg, size_t n);
+
+    /* The reason of the last failure (a NUL-terminated string inside the instance). */
+    const char *(*message)(const void *m);
+} vi_fmu_model;
+
+/* The fields of vi_fmu_model that follow from the model's table (VI_MODEL_IDENTIFIER, VI_GUID and
+ * what VI_TABLE_DECLARE generates), its instance type, and its plain-data type, whose members par
+ * (vi_parameters), in and din (vi_inputs) hold the values:
+ *     const vi_fmu_model vi_fmu_this_model = {VI_FMU_TABLE_FIELDS(my_instance, my_data), .init = ..., ...}; */
+#define VI_FMU_TABLE_FIELDS(instance_type, data_type)                                                   \
+    .model_identifier = VI_MODEL_IDENTIFIER, .guid = VI_GUID, .variables = vi_variable_table,          \
+    .nvariables = VI_NVARS, .enum_items = vi_enum_items, .n_enum_items = VI_NENUM_ITEMS,                \
+    .instance_size = sizeof(instance_type), .state_size = sizeof(data_type),                           \
+    .outputs_size = sizeof(vi_outputs), .parameters_offset = offsetof(data_type, par),                 \
+    .inputs_offset = offsetof(data_type, in), .input_derivatives_offset = offsetof(data_type, din)
+
+/* Defined by the model: the one model of this FMU binary. */
+extern const vi_fmu_model vi_fmu_this_model;
+
+#endif

@@ -1,0 +1,70 @@
+/*
+ * vi_profile.h - rolling over an irregular surface (paper Fig. 1b): the rigid constraint yb.
+ *
+ * A body of radius R (R1) rolls over a profile h(x) given as a table (x_i, h_i), x increasing,
+ * linear between samples. The lowest point of the body, touching the profile without penetrating
+ * it, follows the constraint
+ *
+ *     yb(x) = max over s in the profile with |s - x| <= R of [h(s) + sqrt(R^2 - (x - s)^2)] - R,
+ *
+ * the upper envelope of the circles around the vertices and the lines parallel to the segments at
+ * distance R (segment tangents), minus R. It is computed exactly once (vi_profile_create): the
+ * envelope of those pieces is built by merging (every crossing located by a closed form or a
+ * bounded bisection to the last bit) into a sorted list of intervals, each carried by one piece:
+ *
+ *   vertex circle (x_i, h_i):  yb = h_i - d^2 / (R + sqrt(R^2 - d^2)),  d = x - x_i
+ *   segment tangent i:         yb = h_i + s (x - x_i) + R (sqrt(1 + s^2) - 1),  s the segment's slope,
+ *                              where the tangent point x + R s/sqrt(1 + s^2) lies on the segment.
+ *
+ * Evaluation (vi_profile_eval) only searches the interval (binary search, no allocation) and returns
+ * yb and its first three derivatives in x. yb is continuous; its slope jumps (a kink) where the body
+ * touches two points at once (it bridges a trough); vi_profile_next_kink finds them. A circle-line
+ * switch is tangent (only the curvature jumps) and is no kink.
+ *
+ * Range: without periodicity the profile exists on [x_first, x_last] only (the body touches nothing
+ * beyond), and yb is defined there; outside, vi_profile_eval clamps and returns -1. With periodicity
+ * the table is one period, L = x_last - x_first, and its last height must equal the first.
+ *
+ * Refused (with a message naming the file and line, or the position): a file that cannot be read,
+ * a line that is not two finite numbers, x not strictly increasing, fewer than two rows, a periodic
+ * table whose ends differ, and a profile with a step higher than the body can roll over (yb would
+ * jump). Lines that are empty or start with '#' are skipped. Every loop is bounded.
+ */
+#ifndef VI_PROFILE_H
+#define VI_PROFILE_H
+
+#include <stddef.h>
+
+typedef struct vi_profile vi_profile;
+
+/* A slope jump of yb smaller than this is no kink (tangent switches rounded to the last bits). */
+#define VI_PROFILE_KINK_SLOPE 1e-9
+/* Longest line of a profile file, and the most rows it may have. */
+#define VI_PROFILE_LINE_MAX 4096
+#define VI_PROFILE_ROWS_MAX 10000000
+
+/* From arrays (copied); name is used in messages. NULL on failure with the reason in msg. */
+vi_profile *vi_profile_create(const double *x, const double *h, size_t n, double R, int periodic, const char *name,
+                              char *msg, size_t msg_size);
+/* From a two-column text file at path. NULL on failure with the reason (file and line) in msg. */
+vi_profile *vi_profile_load(const char *path, double R, int periodic, char *msg, size_t msg_size);
+void vi_profile_free(vi_profile *p);
+
+/* yb(x) and its derivatives: y[0] = yb [m], y[1] = yb', y[2] = yb'' [1/m], y[3] = yb''' [1/m^2]
+ * (right-hand values at an interval boundary). 0, or -1 when x lies outside a non-periodic profile
+ * (then the values at the nearer end). */
+int vi_profile_eval(const vi_profile *p, double x, double y[4]);
+/* The first kink beyond x in the direction dir (+1 or -1), a kink within 8 eps (|x| + period) of x
+ * (rounding of the positions in other periods) counting as at x, not beyond; +-INFINITY if none. */
+double vi_profile_next_kink(const vi_profile *p, double x, int dir);
+
+/* Range [x_first, x_last] of the table, periodicity, radius, largest |yb'|, counts. */
+double vi_profile_x_first(const vi_profile *p);
+double vi_profile_x_last(const vi_profile *p);
+int vi_profile_periodic(const vi_profile *p);
+double vi_profile_radius(const vi_profile *p);
+double vi_profile_max_slope(const vi_profile *p);
+size_t vi_profile_pieces(const vi_profile *p); /* intervals of the envelope */
+size_t vi_profile_kinks(const vi_profile *p);  /* kinks in [x_first, x_last] (one period) */
+
+#endif

@@ -1,0 +1,181 @@
+/* layer_model.c - LayerTest (see layer_variables.h): the model hooks of the generic FMI layer. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "layer_variables.h"
+#include "vi_fmu.h"
+
+VI_TABLE_DEFINE
+
+/* Everything saved in an FMU state: plain data. */
+typedef struct {
+    vi_parameters par;
+    vi_inputs in, din;
+    int inputs_changed;
+    double t_start, t, x;
+    double k, u, du, t_u; /* active rate and input ramp */
+    long steps;
+    double k_initial;
+    double checkpoint_time; /* written by the checkpoint hook */
+} layer_data;
+
+typedef struct {
+    layer_data d;
+    double resource_value; /* read once at instantiation: not part of the state */
+    vi_fmu_log_fn log;
+    void *env;
+    char msg[256];
+} layer;
+
+static void init(void *m, vi_fmu_log_fn log, void *env)
+{
+    layer *L = m;
+    memset(&L->d, 0, sizeof L->d);
+    vi_parameters_default(&L->d.par);
+    vi_inputs_default(&L->d.in);
+    L->log = log;
+    L->env = env;
+}
+
+static void reset(void *m)
+{
+    layer *L = m;
+    init(m, L->log, L->env);
+}
+
+static void release(void *m) { (void)m; }
+
+static int set_resources(void *m, const char *dir)
+{
+    layer *L = m;
+    char path[2048];
+    L->resource_value = -1.0;
+    if (!dir || snprintf(path, sizeof path, "%s/value.txt", dir) >= (int)sizeof path) return 0;
+    FILE *f = fopen(path, "r");
+    if (!f) return 0;
+    if (fscanf(f, "%lf", &L->resource_value) != 1) L->resource_value = -1.0;
+    fclose(f);
+    return 0;
+}
+
+static void changed(void *m) { ((layer *)m)->d.inputs_changed = 1; }
+
+static void outputs(void *m, void *out)
+{
+    const layer *L = m;
+    vi_outputs *o = out;
+    o->x = L->d.x;
+    o->steps = (int)L->d.steps;
+    o->label_length = (int)strlen(L->d.par.label);
+    o->resource_value = L->resource_value;
+    o->k_initial = L->d.k_initial;
+    o->checkpoint_time = L->d.checkpoint_time;
+}
+
+static void setup_experiment(void *m, double start_time, int tolerance_defined, double tolerance)
+{
+    (void)tolerance_defined, (void)tolerance;
+    ((layer *)m)->d.t_start = start_time;
+}
+
+static int prepare(void *m)
+{
+    layer *L = m;
+    layer_data *d = &L->d;
+    if (!(d->par.k > 0.0)) {
+        snprintf(L->msg, sizeof L->msg, "k = %g: must be > 0", d->par.k);
+        return -1;
+    }
+    d->t = d->t_start;
+    d->x = d->par.x0;
+    d->k = d->k_initial = d->par.k;
+    d->u = d->in.u, d->du = d->din.u, d->t_u = d->t;
+    d->inputs_changed = 0;
+    d->steps = 0;
+    return 0;
+}
+
+static int initialize(void *m) { return prepare(m); }
+
+/* x' = -k x + u + du (t - t_u) from (t0, x0) to t1, exactly. */
+static double solve(const layer_data *d, double t0, double x0, double t1)
+{
+    double B = d->du / d->k, tau0 = t0 - d->t_u, tau1 = t1 - d->t_u;
+    double A = (d->u - B) / d->k; /* x_p(tau) = A + B tau */
+    return A + B * tau1 + (x0 - A - B * tau0) * exp(-d->k * (t1 - t0));
+}
+
+static int advance(void *m, double t_end)
+{
+    layer *L = m;
+    layer_data *d = &L->d;
+    if (d->inputs_changed) { /* new input ramp and tunable k from now on */
+        if (!(d->par.k > 0.0)) {
+            snprintf(L->msg, sizeof L->msg, "k = %g: must be > 0", d->par.k);
+            return VI_FMU_ERROR;
+        }
+        d->u = d->in.u, d->du = d->din.u, d->t_u = d->t, d->k = d->par.k;
+        d->inputs_changed = 0;
+    }
+    if (d->par.fail_at > d->t && d->par.fail_at < t_end) {
+        snprintf(L->msg, sizeof L->msg, "failed at fail_at = %g s", d->par.fail_at);
+        return VI_FMU_ERROR;
+    }
+    int stop = d->par.discard_at > d->t && d->par.discard_at < t_end;
+    double t1 = stop ? d->par.discard_at : t_end;
+    d->x = solve(d, d->t, d->x, t1);
+    d->t = t1;
+    d->steps++;
+    if (stop) {
+        snprintf(L->msg, sizeof L->msg, "stopped at t = %.17g s (discard_at)", d->t);
+        return VI_FMU_DISCARD;
+    }
+    return VI_FMU_OK;
+}
+
+#define BAD(...) return snprintf(msg, n, __VA_ARGS__), -1
+static int state_check(const void *state, int running, char *msg, size_t n)
+{
+    const layer_data *d = state;
+    if (!isfinite(d->t_start)) BAD("t_start = %g is not finite", d->t_start);
+    if (d->inputs_changed != 0 && d->inputs_changed != 1) BAD("inputs_changed = %d is not 0 or 1", d->inputs_changed);
+    if (!running) return 0; /* the rest is computed at initialization */
+    if (!(isfinite(d->t) && d->t >= d->t_start)) BAD("t = %g is not finite or before t_start", d->t);
+    if (!isfinite(d->x)) BAD("x = %g is not finite", d->x);
+    if (!(d->k > 0.0 && isfinite(d->k))) BAD("k = %g is not finite and positive", d->k);
+    if (!isfinite(d->u) || !isfinite(d->du) || !isfinite(d->t_u)) BAD("the input ramp is not finite");
+    if (d->steps < 0) BAD("steps = %ld is negative", d->steps);
+    return 0;
+}
+#undef BAD
+
+static int checkpoint(void *m)
+{
+    layer_data *d = &((layer *)m)->d;
+    d->checkpoint_time = d->t;
+    return 0;
+}
+
+static double time_of(const void *m) { return ((const layer *)m)->d.t; }
+static void *state(void *m) { return &((layer *)m)->d; }
+static const char *message(const void *m) { return ((const layer *)m)->msg; }
+
+const vi_fmu_model vi_fmu_this_model = {
+    VI_FMU_TABLE_FIELDS(layer, layer_data),
+    .init = init,
+    .reset = reset,
+    .release = release,
+    .set_resources = set_resources,
+    .changed = changed,
+    .outputs = outputs,
+    .setup_experiment = setup_experiment,
+    .prepare = prepare,
+    .initialize = initialize,
+    .advance = advance,
+    .time = time_of,
+    .state = state,
+    .checkpoint = checkpoint,
+    .state_check = state_check,
+    .message = message,
+};

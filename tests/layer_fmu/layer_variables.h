@@ -1,0 +1,39 @@
+/*
+ * layer_variables.h - variables of LayerTest, the smallest model on the generic FMI 2.0 layer
+ * (include/vi_fmu.h). It exists to test the layer apart from any physics, and shows a model author
+ * the whole of what a model writes: this table, layer_model.c, modelDescription.xml, and one
+ * vi_add_fmu() call in CMakeLists.txt.
+ *
+ * The model: x' = -k x + u(t), x(t_start) = x0, with u a ramp u + du (t - t_set) over a step; it is
+ * advanced by its closed-form solution. discard_at and fail_at make a step that crosses them stop
+ * with fmi2Discard (at discard_at) or fail with fmi2Error.
+ */
+#ifndef LAYER_VARIABLES_H
+#define LAYER_VARIABLES_H
+
+#include "vi_table.h"
+
+#define VI_GUID "{0e9c4f5a-7d21-4b8e-a3c6-5f1d2b7e9a40}"
+#define VI_MODEL_IDENTIFIER "LayerTest"
+
+#define VI_VARIABLES(X) \
+  X(u, Real, none, input, continuous, exact, 0.0, "", "input (interpolated with its derivative when given)") \
+  X(k, Real, none, parameter, tunable, exact, 1.0, "1/s", "decay rate (> 0), tunable") \
+  X(x0, Real, none, parameter, fixed, exact, 1.0, "", "initial value") \
+  X(discard_at, Real, none, parameter, fixed, exact, 0.0, "s", "a step across this time stops there with fmi2Discard (0 = never)") \
+  X(fail_at, Real, none, parameter, fixed, exact, 0.0, "s", "a step across this time fails with fmi2Error (0 = never)") \
+  X(label, String, none, parameter, fixed, exact, "start", "", "a String parameter") \
+  X(method, Enumeration, Method, parameter, fixed, exact, 1, "", "how to advance") \
+  X(x, Real, none, output, continuous, calculated, 0.0, "", "state") \
+  X(steps, Integer, none, output, discrete, calculated, 0, "", "steps done") \
+  X(label_length, Integer, none, output, discrete, calculated, 0, "", "length of label") \
+  X(resource_value, Real, none, output, continuous, calculated, 0.0, "", "the number in resources/value.txt (-1 if unreadable)") \
+  X(k_initial, Real, none, calculatedParameter, fixed, calculated, 0.0, "1/s", "k at initialization") \
+  X(checkpoint_time, Real, none, output, continuous, calculated, 0.0, "s", "time of the last checkpoint (fmi2GetFMUstate when running)")
+
+#define VI_ENUMERATIONS(E) E(Method, "how to advance")
+#define VI_ITEMS_Method(I) I(Method, exact, 1)
+
+VI_TABLE_DECLARE
+
+#endif

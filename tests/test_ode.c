@@ -1,0 +1,872 @@
+/* Unit tests of the one-step integrator (vi_ode.h). Expected values come from the Butcher order
+ * conditions (rooted trees, computed here), from closed-form solutions, and from the documented
+ * behaviour (event rules, bounds, bit-exact restart); none is taken from the code's own output. */
+#include <criterion/criterion.h>
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "vi_ode.h"
+
+#define PI 3.14159265358979323846
+
+/* ---------------------------------------------------------------------------------------------
+ * Rooted trees up to order 8 and the order conditions sum_i w_i Phi_i(t) = 1/gamma(t)
+ * ------------------------------------------------------------------------------------------- */
+#define MAX_ORDER 8
+#define MAX_TREES 256
+#define NS VI_ODE_STAGES
+
+typedef struct {
+    int order, nch, ch[MAX_ORDER];
+    long double gamma;
+} tree;
+
+static tree T[MAX_TREES];
+static int n_trees;
+
+/* Append all trees of order `ord` whose children (indices < limit, non-increasing) sum to rem. */
+static void grow(int ord, int limit, int *ch, int nch, int rem, int max_idx)
+{
+    if (rem == 0) {
+        cr_assert(n_trees < MAX_TREES);
+        tree *t = &T[n_trees++];
+        t->order = ord;
+        t->nch = nch;
+        t->gamma = ord;
+        for (int i = 0; i < nch; i++) {
+            t->ch[i] = ch[i];
+            t->gamma *= T[ch[i]].gamma;
+        }
+        return;
+    }
+    for (int i = max_idx; i >= 0; i--) {
+        if (i >= limit || T[i].order > rem) continue;
+        ch[nch] = i;
+        grow(ord, limit, ch, nch + 1, rem - T[i].order, i);
+    }
+}
+
+static void make_trees(void)
+{
+    n_trees = 0;
+    int ch[MAX_ORDER];
+    for (int ord = 1; ord <= MAX_ORDER; ord++) {
+        int limit = n_trees;
+        grow(ord, limit, ch, 0, ord - 1, limit - 1);
+    }
+}
+
+/* phi[t][i] = Phi_i(t) for all trees and stages; aphi[t][i] = sum_j a_ij Phi_j(t); the same with
+ * |a_ij| (phi_abs, aphi_abs) is the scale of the rounding errors of the double coefficients. */
+static long double phi[MAX_TREES][NS], aphi[MAX_TREES][NS], phi_abs[MAX_TREES][NS], aphi_abs[MAX_TREES][NS];
+
+static void elementary_weights(const vi_ode_tableau *m)
+{
+    for (int t = 0; t < n_trees; t++) {
+        for (int i = 0; i < NS; i++) {
+            long double p = 1.0L, pa = 1.0L;
+            for (int c = 0; c < T[t].nch; c++) p *= aphi[T[t].ch[c]][i], pa *= aphi_abs[T[t].ch[c]][i];
+            phi[t][i] = p;
+            phi_abs[t][i] = pa;
+        }
+        for (int i = 0; i < NS; i++) {
+            long double s = 0.0L, sa = 0.0L;
+            for (int j = 0; j < i; j++) {
+                s += (long double)m->a[i][j] * phi[t][j];
+                sa += fabsl((long double)m->a[i][j]) * phi_abs[t][j];
+            }
+            aphi[t][i] = s;
+            aphi_abs[t][i] = sa;
+        }
+    }
+}
+
+/* Largest scaled residual of sum_i w_i Phi_i(t) = target(t) over trees with order in [lo, hi],
+ * where target = theta^order / gamma (theta = 1 for the step) or 0 (zero = 1). */
+static double residual(const long double *w, int lo, int hi, long double theta, int zero)
+{
+    double worst = 0.0;
+    for (int t = 0; t < n_trees; t++) {
+        if (T[t].order < lo || T[t].order > hi) continue;
+        long double s = 0.0L, scale = 0.0L;
+        for (int i = 0; i < NS; i++) {
+            s += w[i] * phi[t][i];
+            scale += fabsl(w[i]) * phi_abs[t][i];
+        }
+        long double target = zero ? 0.0L : powl(theta, T[t].order) / T[t].gamma;
+        double r = (double)(fabsl(s - target) / (scale + fabsl(target)));
+        if (r > worst) worst = r;
+        if (getenv("VI_ODE_SHOW_RESIDUALS")) printf("order %d tree %d residual %.3g\n", T[t].order, t, r);
+    }
+    return worst;
+}
+
+Test(tableau, rooted_tree_counts)
+{
+    static const int count[MAX_ORDER + 1] = {0, 1, 1, 2, 4, 9, 20, 48, 115}; /* OEIS A000081 */
+    make_trees();
+    int per[MAX_ORDER + 1] = {0};
+    for (int t = 0; t < n_trees; t++) per[T[t].order]++;
+    for (int o = 1; o <= MAX_ORDER; o++) cr_assert_eq(per[o], count[o], "order %d: %d trees", o, per[o]);
+    cr_assert_eq(n_trees, 200);
+}
+
+Test(tableau, nodes_are_row_sums_and_published_values)
+{
+    const vi_ode_tableau *m = vi_ode_method();
+    for (int i = 0; i < NS; i++) {
+        long double s = 0.0L, sa = 0.0L;
+        for (int j = 0; j < i; j++) s += m->a[i][j], sa += fabs(m->a[i][j]);
+        cr_assert(fabsl(s - m->c[i]) <= 2.0L * DBL_EPSILON * (sa + 1.0L), "stage %d: sum a = %.17Lg, c = %.17g", i, s,
+                  m->c[i]);
+    }
+    double r6 = sqrt(6.0), c4 = (6.0 - r6) / 30.0;
+    cr_assert(fabs(m->c[3] - c4) < 1e-16 && fabs(m->c[4] - (6.0 + r6) / 30.0) < 1e-16);
+    cr_assert(fabs(m->c[2] - 2.0 * c4 / 3.0) < 1e-16 && fabs(m->c[1] - 4.0 * c4 / 9.0) < 1e-16);
+    cr_assert(m->c[11] == 1.0 && m->c[12] == 1.0);
+    for (int j = 0; j < NS; j++) cr_assert(m->a[12][j] == m->b[j], "stage 13 is f at the new point");
+}
+
+Test(tableau, step_has_order_8_and_estimators_orders_5_and_3)
+{
+    const vi_ode_tableau *m = vi_ode_method();
+    make_trees();
+    elementary_weights(m);
+    long double b[NS], e5[NS], e3[NS];
+    for (int i = 0; i < NS; i++) b[i] = m->b[i], e5[i] = m->e5[i], e3[i] = m->e3[i];
+    double rb = residual(b, 1, 8, 1.0L, 0);
+    cr_assert(rb < 1e-14, "order conditions of b up to order 8: residual %g", rb);
+    /* estimator e = b - bhat: bhat of order 5 (3), i.e. sum e Phi = 0 for trees up to order 5 (3) */
+    double r5 = residual(e5, 1, 5, 1.0L, 1), r3 = residual(e3, 1, 3, 1.0L, 1);
+    cr_assert(r5 < 1e-14 && r3 < 1e-14, "estimators: residuals %g %g", r5, r3);
+    /* and not of a higher order (else the estimate would vanish too fast) */
+    cr_assert(residual(e5, 6, 6, 1.0L, 1) > 1e-6 && residual(e3, 4, 4, 1.0L, 1) > 1e-6);
+}
+
+/* The continuous weights b_i(theta) of the dense output as documented in vi_ode.h. */
+static void dense_weights(const vi_ode_tableau *m, long double th, long double *w)
+{
+    long double t1 = 1.0L - th;
+    for (int i = 0; i < NS; i++) {
+        long double q0 = m->b[i], q1 = (i == 0) - q0, q2 = q0 - (i == 12) - q1;
+        long double q[7] = {q0, q1, q2, m->d[0][i], m->d[1][i], m->d[2][i], m->d[3][i]};
+        w[i] = th * (q[0] + t1 * (q[1] + th * (q[2] + t1 * (q[3] + th * (q[4] + t1 * (q[5] + th * q[6]))))));
+    }
+}
+
+Test(tableau, dense_output_has_order_7)
+{
+    const vi_ode_tableau *m = vi_ode_method();
+    make_trees();
+    elementary_weights(m);
+    long double w[NS];
+    /* a polynomial identity of degree <= 7 in theta that holds at theta = 0 and 8 more points */
+    for (int k = 1; k <= 8; k++) {
+        long double th = k / 8.0L;
+        dense_weights(m, th, w);
+        double r = residual(w, 1, 7, th, 0);
+        cr_assert(r < 1e-14, "dense output at theta = %Lg: residual %g", th, r);
+    }
+    dense_weights(m, 0.5L, w);
+    cr_assert(residual(w, 8, 8, 0.5L, 0) > 1e-8, "not of order 8 inside the step");
+    dense_weights(m, 1.0L, w);
+    for (int i = 0; i < NS; i++) cr_assert(fabsl(w[i] - m->b[i]) < 1e-14L, "theta = 1 gives the step");
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Problems with closed-form solutions
+ * ------------------------------------------------------------------------------------------- */
+
+/* Harmonic oscillator x'' = -x: x = (x, v), x(t) = x0 cos t + v0 sin t. */
+static void osc(double t, const double *x, double *dx, void *u)
+{
+    (void)t, (void)u;
+    dx[0] = x[1];
+    dx[1] = -x[0];
+}
+static void osc_exact(double t, const double *x0, double *x)
+{
+    x[0] = x0[0] * cos(t) + x0[1] * sin(t);
+    x[1] = -x0[0] * sin(t) + x0[1] * cos(t);
+}
+
+/* y' = -2 t y^2, y(0) = 1: y = 1/(1 + t^2). */
+static void riccati(double t, const double *x, double *dx, void *u)
+{
+    (void)u;
+    dx[0] = -2.0 * t * x[0] * x[0];
+}
+static void riccati_exact(double t, const double *x0, double *x)
+{
+    (void)x0;
+    x[0] = 1.0 / (1.0 + t * t);
+}
+
+/* Forced oscillator x'' + x = cos 2t from rest: x = (cos t - cos 2t)/3. */
+static void forced(double t, const double *x, double *dx, void *u)
+{
+    (void)u;
+    dx[0] = x[1];
+    dx[1] = -x[0] + cos(2.0 * t);
+}
+static void forced_exact(double t, const double *x0, double *x)
+{
+    (void)x0;
+    x[0] = (cos(t) - cos(2.0 * t)) / 3.0;
+    x[1] = (-sin(t) + 2.0 * sin(2.0 * t)) / 3.0;
+}
+
+typedef struct {
+    const char *name;
+    int n;
+    vi_ode_rhs_fn f;
+    void (*exact)(double t, const double *x0, double *x);
+    double x0[2], T;
+    int n_first;    /* fewest fixed steps over [0, T] in the order test (the asymptotic range starts there) */
+    double h_dense; /* largest step of the dense-output test */
+} problem;
+
+static const problem PROBLEMS[] = {
+    {"oscillator", 2, osc, osc_exact, {1.0, 0.5}, 8.0, 8, 1.0},
+    {"riccati", 1, riccati, riccati_exact, {1.0, 0.0}, 4.0, 16, 0.4}, /* poles at +-i */
+    {"forced", 2, forced, forced_exact, {0.0, 0.0}, 6.0, 8, 0.75},
+};
+#define N_PROBLEMS (int)(sizeof PROBLEMS / sizeof PROBLEMS[0])
+
+static vi_ode_problem make(const problem *pr, double rtol, double atol)
+{
+    vi_ode_problem p = {.n = pr->n, .rhs = pr->f, .rtol = rtol};
+    for (int i = 0; i < pr->n; i++) p.atol[i] = atol;
+    return p;
+}
+
+static double max_err(const double *a, const double *b, int n)
+{
+    double e = 0.0;
+    for (int i = 0; i < n; i++) e = fmax(e, fabs(a[i] - b[i]));
+    return e;
+}
+
+/* Integrate to pr->T (steps bounded); return the largest max-norm error at the step points and the
+ * number of steps. */
+static double run(const problem *pr, vi_ode_problem *p, long *steps)
+{
+    vi_ode s;
+    double e = 0.0, xe[2];
+    cr_assert_eq(vi_ode_init(&s, p, 0.0, pr->x0, 0.0, 0u), VI_ODE_OK);
+    for (long k = 0; s.t < pr->T; k++) {
+        cr_assert(k < 1000000, "too many steps");
+        int r = vi_ode_step(&s, p, pr->T);
+        cr_assert_eq(r, VI_ODE_OK, "%s: %s at t = %g", pr->name, vi_ode_status_text(r), s.t);
+        pr->exact(s.t, pr->x0, xe);
+        e = fmax(e, max_err(s.x, xe, pr->n));
+    }
+    cr_assert(s.t == pr->T, "ends exactly at t_stop");
+    if (steps) *steps = s.st.accepted;
+    return e;
+}
+
+/* Least-squares slope of log y against log x. */
+static double slope(const double *x, const double *y, int n)
+{
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    for (int i = 0; i < n; i++) {
+        double lx = log(x[i]), ly = log(y[i]);
+        sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
+    }
+    return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+Test(order, global_error_falls_like_h8_with_fixed_steps)
+{
+    for (int k = 0; k < N_PROBLEMS; k++) {
+        const problem *pr = &PROBLEMS[k];
+        double e[5];
+        int checked = 0;
+        for (int j = 0; j < 5; j++) {
+            vi_ode_problem p = make(pr, 1e-6, 1e-6);
+            p.h_fixed = pr->T / (pr->n_first << j);
+            e[j] = run(pr, &p, NULL);
+        }
+        for (int j = 0; j + 1 < 5; j++) {
+            double ord = log2(e[j] / e[j + 1]);
+            cr_log_info("%s: %d steps: error %.3e, observed order %.2f", pr->name, pr->n_first << j, e[j], ord);
+            if (e[j + 1] < 5e-15) continue; /* rounding */
+            checked++;
+            cr_assert(ord >= 7.5 && ord <= 9.5, "%s: order %.2f from %d to %d steps", pr->name, ord,
+                      pr->n_first << j, pr->n_first << (j + 1));
+        }
+        cr_assert(checked >= 2, "%s: order seen over %d halvings only", pr->name, checked);
+    }
+}
+
+/* One fixed step of size h from the exact solution at t0: the state after it. */
+static void one_step(const problem *pr, double t0, double h, vi_ode *s, vi_ode_problem *p)
+{
+    double x0[2];
+    pr->exact(t0, pr->x0, x0);
+    *p = make(pr, 1e-6, 1e-6);
+    p->h_fixed = h;
+    cr_assert_eq(vi_ode_init(s, p, t0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(s, p, INFINITY), VI_ODE_OK);
+    cr_assert(s->t == t0 + h);
+}
+
+Test(estimate, embedded_estimate_behaves_like_h8)
+{
+    /* err = err5^2 / sqrt(err5^2 + 0.01 err3^2) with err5 ~ h^6, err3 ~ h^4: ~ h^8 for small h */
+    for (int k = 0; k < N_PROBLEMS; k++) {
+        const problem *pr = &PROBLEMS[k];
+        double hs[4], es[4];
+        for (int j = 0; j < 4; j++) {
+            vi_ode s;
+            vi_ode_problem p;
+            hs[j] = 0.2 / (1 << j);
+            one_step(pr, 0.3, hs[j], &s, &p);
+            es[j] = s.err;
+            cr_assert(es[j] > 0.0);
+        }
+        double sl = slope(hs, es, 4);
+        cr_log_info("%s: estimate %.3e .. %.3e, slope %.2f", pr->name, es[0], es[3], sl);
+        cr_assert(sl > 7.5 && sl < 8.5, "%s: estimate slope %.2f", pr->name, sl);
+    }
+}
+
+Test(estimate, error_proportional_to_tolerance_and_steps_like_tol_minus_one_eighth)
+{
+    for (int k = 0; k < N_PROBLEMS; k++) {
+        problem pr = PROBLEMS[k];
+        /* the oscillators over many periods (the step count is not dominated by the start); the
+         * Riccati solution grows ever smoother, its step count is not a power of tol: error only */
+        int periodic = pr.f != riccati;
+        if (periodic) pr.T = 50.0;
+        double tol[9], err[9], steps[9];
+        for (int j = 0; j < 9; j++) {
+            tol[j] = pow(10.0, -4.0 - j);
+            vi_ode_problem p = make(&pr, tol[j], tol[j]);
+            long ns;
+            err[j] = run(&pr, &p, &ns);
+            steps[j] = (double)ns;
+            cr_log_info("%s: tol %.0e error %.2e (ratio %.2f) steps %ld", pr.name, tol[j], err[j], err[j] / tol[j], ns);
+            cr_assert(err[j] < 30.0 * tol[j] && err[j] > 1e-2 * tol[j], "%s: tol %g error %g", pr.name, tol[j], err[j]);
+        }
+        double se = slope(tol, err, 9), ss = slope(tol, steps, 9);
+        cr_log_info("%s: error ~ tol^%.3f, steps ~ tol^%.3f", pr.name, se, ss);
+        cr_assert(se > 0.9 && se < 1.1, "%s: error ~ tol^%.3f", pr.name, se);
+        if (periodic) cr_assert(ss > -0.14 && ss < -0.11, "%s: steps ~ tol^%.3f (expected -1/8)", pr.name, ss);
+    }
+}
+
+Test(dense, local_error_of_order_7_inside_exact_at_ends)
+{
+    for (int k = 0; k < N_PROBLEMS; k++) {
+        const problem *pr = &PROBLEMS[k];
+        double hs[3], e_mid[3], e_end[3], e_der[3];
+        for (int j = 0; j < 3; j++) {
+            vi_ode s;
+            vi_ode_problem p;
+            double t0 = 1.0, h = hs[j] = pr->h_dense / (1 << j), x[2], dx[2], xe[2], xe2[2], f[2];
+            one_step(pr, t0, h, &s, &p);
+            /* the ends, exactly */
+            cr_assert_eq(vi_ode_dense(&s, &p, t0, x, dx), VI_ODE_OK);
+            cr_assert(memcmp(x, s.x_old, sizeof(double) * (size_t)pr->n) == 0);
+            pr->f(t0, s.x_old, f, NULL);
+            cr_assert(max_err(dx, f, pr->n) <= 1e-12 * (1.0 + fabs(f[0]) + fabs(f[pr->n - 1])), "x'(t0) = f");
+            cr_assert_eq(vi_ode_dense(&s, &p, s.t, x, dx), VI_ODE_OK);
+            cr_assert(memcmp(x, s.x, sizeof(double) * (size_t)pr->n) == 0);
+            pr->f(s.t, s.x, f, NULL);
+            cr_assert(max_err(dx, f, pr->n) <= 1e-12 * (1.0 + fabs(f[0]) + fabs(f[pr->n - 1])), "x'(t1) = f");
+            /* inside: worst of a few points; the end: the step's own local error */
+            e_mid[j] = e_der[j] = 0.0;
+            for (int i = 1; i <= 4; i++) {
+                double t = t0 + h * (i / 5.0);
+                cr_assert_eq(vi_ode_dense(&s, &p, t, x, dx), VI_ODE_OK);
+                pr->exact(t, pr->x0, xe);
+                e_mid[j] = fmax(e_mid[j], max_err(x, xe, pr->n));
+                double d = 1e-6; /* the exact derivative by central differences of the exact solution */
+                pr->exact(t + d, pr->x0, xe2);
+                pr->exact(t - d, pr->x0, xe);
+                for (int c = 0; c < pr->n; c++) e_der[j] = fmax(e_der[j], fabs(dx[c] - (xe2[c] - xe[c]) / (2 * d)));
+            }
+            pr->exact(s.t, pr->x0, xe);
+            e_end[j] = max_err(s.x, xe, pr->n);
+        }
+        cr_assert(e_mid[2] > 1e-13 && e_end[2] > 5e-15, "%s: errors %g %g above rounding", pr->name, e_mid[2], e_end[2]);
+        double sm = slope(hs, e_mid, 3), se = slope(hs, e_end, 3);
+        cr_log_info("%s: dense local error %.2e .. %.2e slope %.2f; step end slope %.2f; derivative error %.2e .. %.2e",
+                    pr->name, e_mid[0], e_mid[2], sm, se, e_der[0], e_der[2]);
+        cr_assert(sm > 7.5 && sm < 8.7, "%s: dense output local error ~ h^%.2f (order 7: h^8)", pr->name, sm);
+        cr_assert(se > 8.3, "%s: step local error ~ h^%.2f (order 8: h^9)", pr->name, se);
+        cr_assert(e_der[2] < 1e-7 && e_der[2] < 1e-3 * e_der[0], "%s: derivative of the interpolant", pr->name);
+    }
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Events
+ * ------------------------------------------------------------------------------------------- */
+typedef struct {
+    int kind;
+    double tau;
+} gctx;
+
+enum { G_X, G_MULTI, G_TWO_ROOTS, G_JUMP, G_FLAT, G_TINY, G_NAN };
+
+static void guards(double t, const double *x, double *g, void *u)
+{
+    const gctx *c = u;
+    switch (c->kind) {
+    case G_X: g[0] = x[0]; break;
+    case G_MULTI: g[0] = x[0], g[1] = 2.0 * x[0], g[2] = x[0] + 0.5, g[3] = x[0] - 0.2; break;
+    case G_TWO_ROOTS: g[0] = (t - 0.9) * (t - 1.1); break;
+    case G_JUMP: g[0] = t < c->tau ? 1.0 : -1.0; break;
+    case G_FLAT: g[0] = pow(c->tau - t, 5); break;
+    case G_TINY: g[0] = 1e-300 * (c->tau - t); break;
+    case G_NAN: g[0] = fabs(t - c->tau) < 0.05 ? NAN : c->tau - t; break;
+    }
+}
+
+/* The oscillator with rhs user data NULL and guards with context c. */
+static void osc_u(double t, const double *x, double *dx, void *u)
+{
+    (void)u;
+    osc(t, x, dx, NULL);
+}
+
+static vi_ode_problem event_problem(gctx *c, int ng, double h_fixed, double rtol)
+{
+    vi_ode_problem p = {.n = 2, .ng = ng, .rhs = osc_u, .guards = guards, .user = c, .rtol = rtol,
+                        .atol = {rtol, rtol}, .h_fixed = h_fixed};
+    return p;
+}
+
+/* Step until an event or t_end (bounded); returns the status of the last step. */
+static int until_event(vi_ode *s, vi_ode_problem *p, double t_end)
+{
+    for (int k = 0; k < 100000; k++) {
+        int r = vi_ode_step(s, p, t_end);
+        if (r != VI_ODE_OK || s->t >= t_end) return r;
+    }
+    cr_assert_fail("no end");
+    return -1;
+}
+
+/* The event's bracket: a few ulps wide, guard > 0 at its left end and <= 0 at ev_t (dense output). */
+static void check_bracket(vi_ode *s, vi_ode_problem *p, int guard)
+{
+    double x[2], g[VI_ODE_MAX_G];
+    cr_assert(s->ev_t > s->t_old && s->ev_t <= s->t, "event inside the step");
+    cr_assert(s->ev_t - s->ev_t_lo <= DBL_EPSILON * fabs(s->ev_t), "bracket %g wide at %g",
+              s->ev_t - s->ev_t_lo, s->ev_t);
+    cr_assert_eq(vi_ode_dense(s, p, s->ev_t_lo, x, NULL), VI_ODE_OK);
+    p->guards(s->ev_t_lo, x, g, p->user);
+    cr_assert(g[guard] > 0.0, "guard > 0 at the left end of the bracket");
+    p->guards(s->ev_t, s->ev_x, g, p->user);
+    cr_assert(g[guard] <= 0.0, "guard <= 0 at the event");
+}
+
+Test(events, oscillator_zero_crossings_to_machine_precision)
+{
+    gctx c = {G_X, 0};
+    vi_ode_problem p = event_problem(&c, 1, 0.05, 1e-6); /* fixed steps: solution error ~1e-16 */
+    vi_ode s;
+    double x0[2] = {1.0, 0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    for (int k = 0; k < 4; k++) {
+        cr_assert_eq(until_event(&s, &p, 100.0), VI_ODE_EVENT);
+        double exact = PI / 2 + 2 * PI * k;
+        cr_log_info("event %d at %.17g, exact %.17g, rel. error %.2e", k, s.ev_t, exact, (s.ev_t - exact) / exact);
+        cr_assert(fabs(s.ev_t - exact) <= 2e-15 * exact, "event %d at %.17g, exact %.17g", k, s.ev_t, exact);
+        cr_assert_eq(s.ev_fired, 1u);
+        cr_assert(fabs(s.ev_x[0]) <= 4 * DBL_EPSILON * exact && fabs(s.ev_x[1] + 1.0) < 1e-14, "x = %g", s.ev_x[0]);
+        check_bracket(&s, &p, 0);
+        /* the mode does not change: restart there, the guard that fired held until it moved away */
+        cr_assert_eq(vi_ode_restart(&s, &p, s.ev_t, s.ev_x, 0.0, s.ev_fired), VI_ODE_OK);
+    }
+    cr_assert_eq(s.st.events, 4);
+}
+
+Test(events, adaptive_steps_locate_the_root_of_the_interpolant)
+{
+    gctx c = {G_X, 0};
+    vi_ode_problem p = event_problem(&c, 1, 0.0, 1e-9);
+    vi_ode s;
+    double x0[2] = {1.0, 0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    for (int k = 0; k < 3; k++) {
+        cr_assert_eq(until_event(&s, &p, 100.0), VI_ODE_EVENT);
+        double exact = PI / 2 + 2 * PI * k;
+        cr_assert(fabs(s.ev_t - exact) <= 1e-8 * exact, "event %d at %.17g, exact %.17g", k, s.ev_t, exact);
+        check_bracket(&s, &p, 0);
+        cr_assert_eq(vi_ode_step(&s, &p, 100.0), VI_ODE_ERR_ARGS, "no step past a pending event");
+        cr_assert_eq(vi_ode_restart(&s, &p, s.ev_t, s.ev_x, 0.0, s.ev_fired), VI_ODE_OK);
+    }
+}
+
+Test(events, two_roots_inside_one_step_need_interior_samples)
+{
+    gctx c = {G_TWO_ROOTS, 0};
+    vi_ode_problem p = event_problem(&c, 1, 2.0, 1e-6); /* one step [0, 2], g > 0 at both ends */
+    vi_ode s;
+    double x0[2] = {1.0, 0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 2.0), VI_ODE_OK, "without samples the dip below zero is not seen");
+    p.guard_samples = 3; /* samples at 0.5, 1, 1.5: g(1) < 0 */
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 2.0), VI_ODE_EVENT);
+    cr_assert(fabs(s.ev_t - 0.9) <= 2 * DBL_EPSILON, "first root 0.9: %.17g", s.ev_t);
+    check_bracket(&s, &p, 0);
+    cr_assert_eq(s.st.dense_builds, 1, "dense output built once per step");
+}
+
+Test(events, first_guard_wins_and_ties_fire_together)
+{
+    gctx c = {G_MULTI, 0};
+    /* g0 = x, g1 = 2x (same root), g2 = x + 1/2, g3 = x - 1/5 on x = cos t */
+    struct {
+        double t;
+        unsigned fired;
+    } expect[] = {{acos(0.2), 8u}, {PI / 2, 3u}, {2 * PI / 3, 4u}, {2 * PI + acos(0.2), 8u}, {5 * PI / 2, 3u}};
+    for (int fixed = 0; fixed < 2; fixed++) {
+        vi_ode_problem p = event_problem(&c, 4, fixed ? 0.8 : 0.0, 1e-12); /* fixed: several roots in a step */
+        vi_ode s;
+        double x0[2] = {1.0, 0.0};
+        cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+        for (int k = 0; k < 5; k++) {
+            cr_assert_eq(until_event(&s, &p, 100.0), VI_ODE_EVENT);
+            cr_assert(fabs(s.ev_t - expect[k].t) < (fixed ? 1e-6 : 1e-10), "event %d at %.15g, expected %.15g", k,
+                      s.ev_t, expect[k].t);
+            cr_assert_eq(s.ev_fired, expect[k].fired, "event %d: fired %#x, expected %#x", k, s.ev_fired,
+                         expect[k].fired);
+            for (int i = 0; i < 4; i++)
+                if (s.ev_fired & (1u << i)) check_bracket(&s, &p, i);
+            cr_assert_eq(vi_ode_restart(&s, &p, s.ev_t, s.ev_x, 0.0, s.ev_fired), VI_ODE_OK);
+        }
+    }
+}
+
+Test(events, guard_zero_at_start_fires_only_after_being_positive)
+{
+    gctx c = {G_X, 0};
+    vi_ode_problem p = event_problem(&c, 1, 0.0, 1e-12);
+    vi_ode s;
+    double up[2] = {0.0, 1.0}, down[2] = {0.0, -1.0}; /* x = sin t, x = -sin t: g = 0 at the start */
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, up, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(s.armed, 0u, "g = 0 does not arm");
+    cr_assert_eq(until_event(&s, &p, 100.0), VI_ODE_EVENT);
+    cr_assert(fabs(s.ev_t - PI) < 1e-10, "sin t falls through 0 at pi: %.17g", s.ev_t);
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, down, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(until_event(&s, &p, 100.0), VI_ODE_EVENT);
+    cr_assert(fabs(s.ev_t - 2 * PI) < 1e-10, "-sin t falls through 0 at 2 pi: %.17g", s.ev_t);
+}
+
+Test(events, hold_keeps_a_guard_sitting_at_zero_from_firing_again)
+{
+    gctx c = {G_X, 0};
+    vi_ode_problem p = event_problem(&c, 1, 0.0, 1e-12);
+    vi_ode s;
+    double x0[2] = {1e-20, -1.0}; /* g barely positive, moving down */
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(until_event(&s, &p, 100.0), VI_ODE_EVENT);
+    cr_assert(s.ev_t < 1e-15, "an armed guard fires at once: %g", s.ev_t);
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 1u), VI_ODE_OK);
+    cr_assert_eq(until_event(&s, &p, 100.0), VI_ODE_EVENT);
+    cr_assert(fabs(s.ev_t - 2 * PI) < 1e-9, "held: fires after it rose above 0 and fell back, %.17g", s.ev_t);
+    /* arm_eps: a guard arms only above its threshold */
+    double low[2] = {0.3, 0.0};
+    p.arm_eps[0] = 0.5;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, low, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(until_event(&s, &p, 20.0), VI_ODE_OK, "0.3 cos t never exceeds 0.5: never armed");
+    p.arm_eps[0] = 0.2;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, low, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(until_event(&s, &p, 20.0), VI_ODE_EVENT);
+    cr_assert(fabs(s.ev_t - PI / 2) < 1e-9);
+}
+
+Test(events, root_search_is_bounded_and_exact_for_hard_guards)
+{
+    int kinds[] = {G_JUMP, G_FLAT, G_TINY};
+    double taus[] = {0.7, 0.3, 0.123456789};
+    for (int k = 0; k < 3; k++) {
+        for (int j = 0; j < 3; j++) {
+            gctx c = {kinds[k], taus[j]};
+            vi_ode_problem p = event_problem(&c, 1, 1.0, 1e-6); /* one step [0, 1] */
+            vi_ode s;
+            double x0[2] = {1.0, 0.0};
+            cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+            cr_assert_eq(vi_ode_step(&s, &p, 1.0), VI_ODE_EVENT, "kind %d tau %g", kinds[k], taus[j]);
+            cr_log_info("kind %d tau %.9g: %ld iterations, error %.2e", kinds[k], taus[j], s.st.root_iters,
+                        s.ev_t - taus[j]);
+            cr_assert(s.ev_t >= taus[j] && s.ev_t - taus[j] <= DBL_EPSILON * taus[j], "kind %d: %.17g vs %.17g",
+                      kinds[k], s.ev_t, taus[j]);
+            cr_assert(s.st.root_iters <= 3 * 53, "kind %d: %ld iterations", kinds[k], s.st.root_iters);
+        }
+    }
+}
+
+Test(events, nonfinite_guard_fails_and_leaves_the_state)
+{
+    gctx c = {G_NAN, 0.7};
+    vi_ode_problem p = event_problem(&c, 1, 0.25, 1e-6);
+    vi_ode s, before;
+    double x0[2] = {1.0, 0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 10.0), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 10.0), VI_ODE_OK);
+    before = s;
+    cr_assert_eq(vi_ode_step(&s, &p, 10.0), VI_ODE_ERR_NONFINITE, "the root search meets NaN near 0.7");
+    s.st = before.st;                          /* the statistics count the work */
+    s.sp[1 - s.cur] = before.sp[1 - before.cur]; /* the scratch half holds the failed attempt */
+    cr_assert(memcmp(&s, &before, sizeof s) == 0, "state unchanged by a failed step");
+}
+
+Test(order, time_does_not_drift_over_many_steps)
+{
+    /* 10^4 fixed steps: t + h is rounded each step; the step must span exactly [t, fl(t + h)] or the
+     * solution drifts in phase by ~1e4 roundings of t (~3e-11 here) */
+    problem pr = PROBLEMS[0];
+    pr.T = 100.0;
+    vi_ode_problem p = make(&pr, 1e-6, 1e-6);
+    p.h_fixed = 0.01;
+    vi_ode s;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, pr.x0, 0.0, 0u), VI_ODE_OK);
+    for (long k = 0; s.t < pr.T; k++) {
+        cr_assert(k < 20000);
+        cr_assert_eq(vi_ode_step(&s, &p, pr.T), VI_ODE_OK);
+    }
+    double xe[2];
+    pr.exact(pr.T, pr.x0, xe);
+    cr_log_info("error after 10^4 steps: %.2e", max_err(s.x, xe, 2));
+    cr_assert(max_err(s.x, xe, 2) < 2e-12, "error %g after 10^4 steps", max_err(s.x, xe, 2));
+}
+
+/* ---------------------------------------------------------------------------------------------
+ * Plain-data state, limits, failures, accounting
+ * ------------------------------------------------------------------------------------------- */
+
+/* Drive a forced oscillator with guards through steps, events and restarts (`dense`: also query
+ * the dense output between steps). Returns the number of events. */
+static int drive(vi_ode *s, vi_ode_problem *p, int steps, int dense)
+{
+    int events = 0;
+    for (int k = 0; k < steps; k++) {
+        int r = vi_ode_step(s, p, 1e3);
+        cr_assert(r >= 0, "%s", vi_ode_status_text(r));
+        if (dense) {
+            double x[2], dx[2];
+            cr_assert_eq(vi_ode_dense(s, p, s->t_old + 0.37 * (s->t - s->t_old), x, dx), VI_ODE_OK);
+        }
+        if (r == VI_ODE_EVENT) {
+            double x[2] = {s->ev_x[0], -0.9 * s->ev_x[1]}; /* a jump at the event */
+            cr_assert_eq(vi_ode_restart(s, p, s->ev_t, x, 0.0, s->ev_fired), VI_ODE_OK);
+            events++;
+        }
+    }
+    return events;
+}
+
+static void forced_u(double t, const double *x, double *dx, void *u)
+{
+    (void)u;
+    forced(t, x, dx, NULL);
+}
+
+Test(state, copy_continues_bit_for_bit_and_dense_requests_do_not_matter)
+{
+    gctx c = {G_MULTI, 0};
+    vi_ode_problem p = {.n = 2, .ng = 4, .rhs = forced_u, .guards = guards, .user = &c, .rtol = 1e-9,
+                        .atol = {1e-12, 1e-12}, .guard_samples = 2};
+    vi_ode a, b, d;
+    double x0[2] = {0.5, 0.0};
+    cr_assert_eq(vi_ode_init(&a, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert(drive(&a, &p, 40, 0) > 0);
+    memcpy(&b, &a, sizeof a);
+    memcpy(&d, &a, sizeof a);
+    int ea = drive(&a, &p, 200, 0), eb = drive(&b, &p, 200, 0), ed = drive(&d, &p, 200, 1);
+    cr_assert(ea > 3 && ea == eb && ea == ed, "events %d %d %d", ea, eb, ed);
+    cr_assert(memcmp(&a, &b, sizeof a) == 0, "a byte copy continues identically");
+    /* with dense requests only the statistics differ (guard_samples > 0: dense is built anyway) */
+    cr_assert(a.t == d.t && a.h == d.h && memcmp(a.x, d.x, sizeof a.x) == 0 && memcmp(a.sp, d.sp, sizeof a.sp) == 0);
+    p.guard_samples = 0; /* now dense output is built on demand only */
+    cr_assert_eq(vi_ode_init(&a, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    memcpy(&d, &a, sizeof a);
+    drive(&a, &p, 200, 0);
+    drive(&d, &p, 200, 1);
+    cr_assert(d.st.dense_builds > a.st.dense_builds);
+    cr_assert(a.t == d.t && a.h == d.h && memcmp(a.x, d.x, sizeof a.x) == 0 && memcmp(a.g, d.g, sizeof a.g) == 0);
+}
+
+Test(state, max_step_and_t_stop_are_respected)
+{
+    problem pr = PROBLEMS[0];
+    vi_ode_problem p = make(&pr, 1e-6, 1e-6);
+    p.max_step = 0.01;
+    vi_ode s;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, pr.x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert(s.h <= 0.01);
+    double t_stop = 1.0 / 3.0;
+    long k;
+    for (k = 0; s.t < t_stop; k++) {
+        cr_assert(k < 1000);
+        cr_assert_eq(vi_ode_step(&s, &p, t_stop), VI_ODE_OK);
+        cr_assert(s.t - s.t_old <= 0.01, "step %g > max_step", s.t - s.t_old);
+        cr_assert(s.t <= t_stop);
+    }
+    cr_assert(s.t == t_stop, "t_stop reached exactly");
+    cr_assert(k >= 34 && k <= 35, "%ld steps of at most 0.01 over 1/3", k);
+    cr_assert_eq(vi_ode_step(&s, &p, t_stop), VI_ODE_ERR_ARGS, "t_stop must lie ahead");
+    /* a large step stops at t_stop too */
+    p.max_step = 0.0;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, pr.x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 1e-9), VI_ODE_OK);
+    cr_assert(s.t == 1e-9);
+}
+
+static void blowup(double t, const double *x, double *dx, void *u)
+{
+    (void)t, (void)u;
+    dx[0] = x[0] * x[0]; /* x = 1/(1 - t) */
+}
+
+static void nan_after(double t, const double *x, double *dx, void *u)
+{
+    (void)u;
+    dx[0] = t > 0.5 ? NAN : -x[0];
+}
+
+static void stiff(double t, const double *x, double *dx, void *u)
+{
+    (void)u;
+    dx[0] = -1e6 * (x[0] - cos(t));
+}
+
+Test(failures, reported_never_a_hang_and_the_state_is_kept)
+{
+    vi_ode_problem p = {.n = 1, .rhs = blowup, .rtol = 1e-8, .atol = {1e-8}};
+    vi_ode s, before;
+    double x0[1] = {1.0};
+    int r = VI_ODE_OK;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    for (int k = 0; k < 100000 && r == VI_ODE_OK; k++) {
+        before = s;
+        r = vi_ode_step(&s, &p, 2.0);
+    }
+    cr_assert(r == VI_ODE_ERR_HMIN || r == VI_ODE_ERR_NONFINITE, "blow-up at t = 1: %s", vi_ode_status_text(r));
+    /* the numerical solution's own singularity lies within about rtol of t = 1 */
+    cr_assert(fabs(s.t - 1.0) < 1e-6 && s.x[0] > 1e6, "stopped at the singularity: t = %.17g, x = %g", s.t, s.x[0]);
+    s.st = before.st;
+    s.sp[1 - s.cur] = before.sp[1 - before.cur];
+    cr_assert(memcmp(&s, &before, sizeof s) == 0, "state unchanged by the failed step");
+
+    p.rhs = nan_after;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    r = VI_ODE_OK;
+    for (int k = 0; k < 100000 && r == VI_ODE_OK; k++) r = vi_ode_step(&s, &p, 2.0);
+    cr_assert_eq(r, VI_ODE_ERR_NONFINITE, "%s", vi_ode_status_text(r));
+    cr_assert(s.t <= 0.5 && s.t > 0.49, "t = %g", s.t);
+    cr_assert(s.st.rejected <= VI_ODE_MAX_REJECTS);
+
+    p.rhs = stiff; /* needs h ~ 3e-6: below h_min */
+    p.h_min = 1e-3;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 1e-2, 0u), VI_ODE_OK);
+    r = VI_ODE_OK;
+    for (int k = 0; k < 100000 && r == VI_ODE_OK; k++) r = vi_ode_step(&s, &p, 2.0);
+    cr_assert_eq(r, VI_ODE_ERR_HMIN, "%s", vi_ode_status_text(r));
+
+    /* a fixed step that meets NaN fails at once */
+    p.rhs = nan_after;
+    p.h_min = 0.0;
+    p.h_fixed = 0.3;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 2.0), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 2.0), VI_ODE_ERR_NONFINITE);
+    cr_assert(s.t == 0.3);
+    /* not finite at the start */
+    cr_assert_eq(vi_ode_init(&s, &p, 0.7, x0, 0.0, 0u), VI_ODE_ERR_NONFINITE);
+}
+
+Test(failures, invalid_problems_and_calls)
+{
+    char msg[128];
+    vi_ode_problem ok = {.n = 2, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6}};
+    cr_assert_eq(vi_ode_check(&ok, msg, sizeof msg), VI_ODE_OK);
+    struct {
+        const char *field;
+        vi_ode_problem p;
+    } bad[] = {
+        {"n", {.n = 0, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6}}},
+        {"n", {.n = VI_ODE_MAX_N + 1, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6, 1e-6, 1e-6}}},
+        {"rhs", {.n = 2, .rtol = 1e-6, .atol = {1e-6, 1e-6}}},
+        {"guards", {.n = 2, .ng = 1, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6}}},
+        {"ng", {.n = 2, .ng = VI_ODE_MAX_G + 1, .rhs = osc_u, .guards = guards, .rtol = 1e-6, .atol = {1e-6, 1e-6}}},
+        {"rtol", {.n = 2, .rhs = osc_u, .rtol = 0.0, .atol = {1e-6, 1e-6}}},
+        {"rtol", {.n = 2, .rhs = osc_u, .rtol = NAN, .atol = {1e-6, 1e-6}}},
+        {"atol", {.n = 2, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 0.0}}},
+        {"max_step", {.n = 2, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6}, .max_step = -1}},
+        {"h_min", {.n = 2, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6}, .h_min = INFINITY}},
+        {"h_fixed", {.n = 2, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6}, .h_fixed = -1}},
+        {"guard_samples",
+         {.n = 2, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6}, .guard_samples = VI_ODE_MAX_SAMPLES + 1}},
+        {"arm_eps", {.n = 2, .ng = 1, .rhs = osc_u, .guards = guards, .rtol = 1e-6, .atol = {1e-6, 1e-6}, .arm_eps = {-1}}},
+    };
+    vi_ode s;
+    double x0[2] = {1.0, 0.0};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        msg[0] = 0;
+        cr_assert_eq(vi_ode_check(&bad[i].p, msg, sizeof msg), VI_ODE_ERR_ARGS, "%s", bad[i].field);
+        cr_assert(strstr(msg, bad[i].field) == msg, "message names %s: %s", bad[i].field, msg);
+        cr_assert_eq(vi_ode_init(&s, &bad[i].p, 0.0, x0, 0.0, 0u), VI_ODE_ERR_ARGS);
+    }
+    double xnan[2] = {NAN, 0.0};
+    cr_assert_eq(vi_ode_init(&s, &ok, 0.0, xnan, 0.0, 0u), VI_ODE_ERR_ARGS);
+    cr_assert_eq(vi_ode_init(&s, &ok, INFINITY, x0, 0.0, 0u), VI_ODE_ERR_ARGS);
+    cr_assert_eq(vi_ode_init(&s, &ok, 0.0, x0, -1.0, 0u), VI_ODE_ERR_ARGS);
+    cr_assert_eq(vi_ode_init(&s, &ok, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    double x[2];
+    cr_assert_eq(vi_ode_dense(&s, &ok, 0.0, x, NULL), VI_ODE_ERR_ARGS, "no step yet");
+    cr_assert_eq(vi_ode_step(&s, &ok, NAN), VI_ODE_ERR_ARGS);
+    cr_assert_eq(vi_ode_step(&s, &ok, 1.0), VI_ODE_OK);
+    cr_assert_eq(vi_ode_dense(&s, &ok, s.t * (1 + 1e-15), x, NULL), VI_ODE_ERR_ARGS, "beyond the step");
+    cr_assert_eq(vi_ode_dense(&s, &ok, -1e-300, x, NULL), VI_ODE_ERR_ARGS, "before the step");
+    vi_ode_problem other = ok;
+    other.n = 1;
+    cr_assert_eq(vi_ode_step(&s, &other, 1.0), VI_ODE_ERR_ARGS, "state made for another problem");
+    for (int st = -6; st <= 2; st++) cr_assert(vi_ode_status_text(st) != NULL);
+    cr_assert(strcmp(vi_ode_status_text(VI_ODE_ERR_HMIN), vi_ode_status_text(VI_ODE_ERR_ROOT)) != 0);
+}
+
+static long rhs_calls;
+static void counted(double t, const double *x, double *dx, void *u)
+{
+    (void)u;
+    rhs_calls++;
+    osc(t, x, dx, NULL);
+}
+
+Test(state, statistics_count_the_work)
+{
+    vi_ode_problem p = {.n = 2, .rhs = counted, .rtol = 1e-10, .atol = {1e-10, 1e-10}};
+    vi_ode s;
+    double x0[2] = {1.0, 0.0};
+    rhs_calls = 0;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(s.st.rhs_evals, 2, "f(t0) and the first-step estimate");
+    for (int k = 0; k < 50; k++) cr_assert_eq(vi_ode_step(&s, &p, 1e3), VI_ODE_OK);
+    cr_assert_eq(s.st.attempts, s.st.accepted + s.st.rejected);
+    cr_assert_eq(s.st.accepted, 50);
+    cr_assert_eq(s.st.rhs_evals, 2 + 12 * s.st.accepted + 11 * s.st.rejected, "12 per step, 11 per rejection");
+    double x[2];
+    cr_assert_eq(vi_ode_dense(&s, &p, s.t_old, x, NULL), VI_ODE_OK);
+    cr_assert_eq(vi_ode_dense(&s, &p, s.t, x, NULL), VI_ODE_OK);
+    cr_assert_eq(s.st.dense_builds, 1);
+    cr_assert_eq(s.st.rhs_evals, 2 + 12 * s.st.accepted + 11 * s.st.rejected + 3, "3 for the dense output, once");
+    cr_assert_eq(s.st.rhs_evals, rhs_calls);
+    vi_ode_stats before = s.st;
+    cr_assert_eq(vi_ode_restart(&s, &p, s.t, s.x, s.h, 0u), VI_ODE_OK);
+    cr_assert_eq(s.st.accepted, before.accepted, "restart keeps the statistics");
+    cr_assert_eq(s.st.rhs_evals, before.rhs_evals + 1, "h0 given: f(t0) only");
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.5, 0u), VI_ODE_OK);
+    cr_assert(s.st.accepted == 0 && s.h == 0.5, "init clears the statistics; h0 used");
+}

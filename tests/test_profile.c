@@ -1,0 +1,290 @@
+/* Unit tests of the rolling constraint yb (vi_profile.h). Expected values from closed forms (flat
+ * ground, a V-shaped trough, a step, a narrow bump, a periodic copy) and from a brute-force
+ * evaluation of the definition written here: the maximum over the vertices and, segment by
+ * segment, a golden-section search of the concave h(s) + sqrt(R^2 - (x - s)^2) (no envelope). */
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "vi_profile.h"
+
+#define R 0.475
+
+static vi_profile *make(const double *x, const double *h, size_t n, double r, int periodic)
+{
+    char msg[512];
+    vi_profile *p = vi_profile_create(x, h, n, r, periodic, "test", msg, sizeof msg);
+    cr_assert(p != NULL, "%s", msg);
+    return p;
+}
+
+static double yb(const vi_profile *p, double x)
+{
+    double y[4];
+    vi_profile_eval(p, x, y);
+    return y[0];
+}
+
+/* The definition: max over s in the table with |s - x| <= r of h(s) + sqrt(r^2 - (x - s)^2), - r. */
+static double brute(const double *x, const double *h, size_t n, double r, double at)
+{
+    double best = -INFINITY;
+    for (size_t i = 0; i < n; i++)
+        if (fabs(x[i] - at) <= r) best = fmax(best, h[i] + sqrt(r * r - (x[i] - at) * (x[i] - at)) - r);
+    for (size_t j = 0; j + 1 < n; j++) {
+        double a = fmax(x[j], at - r), b = fmin(x[j + 1], at + r);
+        if (!(b > a)) continue;
+        double s = (h[j + 1] - h[j]) / (x[j + 1] - x[j]);
+#define G(u) (h[j] + s * ((u) - x[j]) + sqrt(fmax(r * r - ((u) - at) * ((u) - at), 0.0)) - r)
+        double g = 0.5 * (sqrt(5.0) - 1.0), c = b - g * (b - a), d = a + g * (b - a);
+        for (int it = 0; it < 200; it++) { /* golden section on a concave function */
+            if (G(c) > G(d)) b = d;
+            else a = c;
+            c = b - g * (b - a), d = a + g * (b - a);
+        }
+        best = fmax(best, fmax(G(a), G(b)));
+#undef G
+    }
+    return best;
+}
+
+Test(profile, flat_ground_is_followed_exactly)
+{
+    double x[] = {0.0, 0.3, 1.0, 2.5}, h[] = {0.0, 0.0, 0.0, 0.0};
+    vi_profile *p = make(x, h, 4, R, 0);
+    for (int k = 0; k <= 100; k++) {
+        double y[4];
+        cr_assert(vi_profile_eval(p, 2.5 * k / 100.0, y) == 0);
+        cr_assert(y[0] == 0.0 && y[1] == 0.0 && y[2] == 0.0, "x %g: %g %g %g", 2.5 * k / 100.0, y[0], y[1], y[2]);
+    }
+    cr_assert(vi_profile_kinks(p) == 0);
+    vi_profile_free(p);
+}
+
+/* A V-shaped trough of slope s0: the body rests on both flanks, yb = s0 |x| + R (sqrt(1 + s0^2) - 1)
+ * near the bottom, with one kink (slope jump 2 s0) at x = 0. */
+Test(profile, v_trough_touches_both_flanks)
+{
+    double s0 = 0.05, x[] = {-1.0, 0.0, 1.0}, h[] = {s0, 0.0, s0};
+    vi_profile *p = make(x, h, 3, R, 0);
+    double lift = R * (sqrt(1.0 + s0 * s0) - 1.0);
+    for (int k = -50; k <= 50; k++) {
+        double at = 0.01 * k, y[4];
+        vi_profile_eval(p, at, y);
+        cr_assert(fabs(y[0] - (s0 * fabs(at) + lift)) <= 1e-15, "x %g: %.17g", at, y[0]);
+        if (k) cr_assert(y[1] == (k > 0 ? s0 : -s0) && y[2] == 0.0);
+    }
+    cr_assert(vi_profile_kinks(p) == 1);
+    cr_assert(fabs(vi_profile_next_kink(p, -0.3, 1)) <= 1e-15);
+    cr_assert(fabs(vi_profile_next_kink(p, 0.3, -1)) <= 1e-15);
+    cr_assert(vi_profile_next_kink(p, 0.3, 1) == INFINITY && vi_profile_next_kink(p, -0.3, -1) == -INFINITY);
+    vi_profile_free(p);
+}
+
+/* A step of height H < R (over 1 nm): approaching from the low side the body climbs the circle
+ * around the upper corner, yb = max(0, H - d^2/(R + sqrt(R^2 - d^2))), d = x - corner; one kink
+ * where that circle meets the ground, d = -sqrt(R^2 - (R - H)^2). */
+Test(profile, step_becomes_the_circular_ramp)
+{
+    double H = 0.01, c = 1e-9, x[] = {-1.0, 0.0, c, 1.0}, h[] = {0.0, 0.0, H, H};
+    vi_profile *p = make(x, h, 4, R, 0);
+    double foot = c - sqrt(R * R - (R - H) * (R - H));
+    for (int k = 0; k <= 400; k++) {
+        double at = -0.2 + 0.3 * k / 400.0, d = at - c;
+        double expect = at >= c ? H : fmax(0.0, H - d * d / (R + sqrt(R * R - d * d)));
+        cr_assert(fabs(yb(p, at) - expect) <= 1e-14, "x %g: %.17g vs %.17g", at, yb(p, at), expect);
+    }
+    cr_assert(vi_profile_kinks(p) == 1, "%zu kinks", vi_profile_kinks(p));
+    cr_assert(fabs(vi_profile_next_kink(p, -0.5, 1) - foot) <= 1e-12, "%.17g vs %.17g", vi_profile_next_kink(p, -0.5, 1),
+              foot);
+    /* the slope on the ramp: -d/sqrt(R^2 - d^2) */
+    double y[4], d = -0.05;
+    vi_profile_eval(p, c + d, y);
+    cr_assert(fabs(y[1] + d / sqrt(R * R - d * d)) <= 1e-12 && fabs(y[2] + R * R / pow(R * R - d * d, 1.5)) <= 1e-9);
+    vi_profile_free(p);
+}
+
+/* A narrow bump (width 2 um, height 0.2 mm): the body is lifted over it on the circle around its apex. */
+Test(profile, narrow_bump_is_swept_as_a_circle)
+{
+    double H = 2e-4, w = 1e-6, x[] = {-1.0, -w, 0.0, w, 1.0}, h[] = {0.0, 0.0, H, 0.0, 0.0};
+    vi_profile *p = make(x, h, 5, R, 0);
+    double half = sqrt(R * R - (R - H) * (R - H)); /* where the apex circle meets the ground */
+    for (int k = 0; k <= 200; k++) {
+        double at = -0.02 + 0.04 * k / 200.0, circle = H - at * at / (R + sqrt(R * R - at * at));
+        if (fabs(fabs(at) - half) < 2.0 * w) continue; /* the feet, where the flanks and ground meet */
+        cr_assert(fabs(yb(p, at) - fmax(circle, 0.0)) <= 1e-15, "x %g: %.17g vs %.17g", at, yb(p, at), circle);
+    }
+    cr_assert(vi_profile_kinks(p) == 2);
+    vi_profile_free(p);
+}
+
+/* Random rough profiles (steep and gentle, dense and sparse against R) against the brute force. */
+Test(profile, random_profiles_match_the_definition, .timeout = 60)
+{
+    srand(4242);
+    const struct { size_t n; double dx, amp, r; } cases[] = {
+        {400, 1e-3, 1e-4, R}, {400, 1e-3, 5e-3, R}, {200, 0.05, 0.02, R}, {300, 1e-2, 1e-3, 0.01}, {50, 0.5, 0.1, R}};
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        size_t n = cases[c].n;
+        double *x = malloc(n * sizeof *x), *h = malloc(n * sizeof *h);
+        x[0] = 0.0, h[0] = 0.0;
+        for (size_t i = 1; i < n; i++) {
+            x[i] = x[i - 1] + cases[c].dx * (0.2 + 1.6 * rand() / RAND_MAX);
+            h[i] = cases[c].amp * (2.0 * rand() / RAND_MAX - 1.0);
+        }
+        vi_profile *p = make(x, h, n, cases[c].r, 0);
+        double worst = 0.0;
+        for (int k = 0; k <= 1000; k++) {
+            double at = x[0] + (x[n - 1] - x[0]) * k / 1000.0;
+            worst = fmax(worst, fabs(yb(p, at) - brute(x, h, n, cases[c].r, at)));
+        }
+        cr_assert(worst <= 1e-12 * (cases[c].amp + cases[c].r), "case %zu: max |yb - brute| = %g", c, worst);
+        /* continuity, and the derivative against a central difference away from kinks */
+        for (int k = 1; k < 300; k++) {
+            double at = x[0] + (x[n - 1] - x[0]) * k / 300.0, e = 1e-7, y[4];
+            double kl = vi_profile_next_kink(p, at, -1), kr = vi_profile_next_kink(p, at, 1);
+            if (at - kl < 2 * e || kr - at < 2 * e) continue;
+            vi_profile_eval(p, at, y);
+            double fd = (yb(p, at + e) - yb(p, at - e)) / (2 * e);
+            cr_assert(fabs(fd - y[1]) <= 1e-5 * (1.0 + fabs(y[1])) + 1e-7 * fabs(y[2]) * 10, "case %zu x %g: %g vs %g",
+                      c, at, y[1], fd);
+        }
+        vi_profile_free(p);
+        free(x), free(h);
+    }
+}
+
+Test(profile, periodic_profile_repeats)
+{
+    enum { N = 65 };
+    double x[N], h[N], L = 0.2;
+    for (int i = 0; i < N; i++) {
+        x[i] = L * i / (N - 1);
+        h[i] = 5e-3 * cos(2.0 * 3.14159265358979323846 * x[i] / L); /* curvature 5e-3 (2 pi/L)^2 = 4.9/m > 1/R: bridged troughs */
+    }
+    h[N - 1] = h[0];
+    vi_profile *p = make(x, h, N, R, 1);
+    /* three periods of the table, evaluated by the definition, against the periodic profile */
+    double x3[3 * N - 2], h3[3 * N - 2];
+    for (int k = 0; k < 3; k++)
+        for (int i = 0; i < N; i++)
+            if (k == 0 || i > 0) x3[k * (N - 1) + i] = x[i] + k * L, h3[k * (N - 1) + i] = h[i];
+    for (int k = 0; k <= 400; k++) {
+        double at = L * k / 400.0;
+        double expect = brute(x3, h3, 3 * N - 2, R, at + L);
+        for (int shift = -3; shift <= 3; shift++)
+            cr_assert(fabs(yb(p, at + shift * L) - expect) <= 1e-12, "x %g shift %d: %.17g vs %.17g", at, shift,
+                      yb(p, at + shift * L), expect);
+    }
+    /* the kinks (the concave vertices the body rests in, and the bridge over the trough at L/2)
+     * repeat with the period, found both ways from any position */
+    size_t nk = vi_profile_kinks(p);
+    cr_assert(nk >= 1 && nk < N);
+    double at = 0.5 * L - 1e-9, k0 = vi_profile_next_kink(p, at, 1);
+    cr_assert(fabs(k0 - 0.5 * L) < 1e-12, "%g", k0);
+    for (int k = 0; k <= 100; k++) {
+        at = -2.0 * L + 4.0 * L * k / 100.0;
+        double up = vi_profile_next_kink(p, at, 1), down = vi_profile_next_kink(p, at, -1);
+        cr_assert(up > at && down < at && up - down <= L + 1e-12);
+        cr_assert(fabs(vi_profile_next_kink(p, at + L, 1) - (up + L)) < 1e-12);
+        cr_assert(vi_profile_next_kink(p, up, -1) <= at + 1e-15 && vi_profile_next_kink(p, down, 1) >= at - 1e-15);
+        /* no kink between at and up: yb' is continuous there */
+        double y1[4], y2[4];
+        vi_profile_eval(p, at + 0.25 * (up - at), y1);
+        vi_profile_eval(p, at + 0.75 * (up - at), y2);
+        cr_assert(isfinite(y1[1]) && isfinite(y2[1]));
+    }
+    cr_assert(yb(p, 0.5 * L) - h[(N - 1) / 2] > 1e-4, "the trough is bridged: %g", yb(p, 0.5 * L) - h[(N - 1) / 2]);
+    cr_assert(yb(p, 0.0) == h[0], "the crest is followed");
+    vi_profile_free(p);
+}
+
+Test(profile, outside_the_table)
+{
+    double x[] = {0.0, 1.0}, h[] = {0.0, 0.0}, y[4];
+    vi_profile *p = make(x, h, 2, R, 0);
+    cr_assert(vi_profile_eval(p, 1.0, y) == 0 && vi_profile_eval(p, 0.0, y) == 0);
+    cr_assert(vi_profile_eval(p, 1.0 + 1e-12, y) == -1 && vi_profile_eval(p, -1e-12, y) == -1);
+    cr_assert(vi_profile_x_first(p) == 0.0 && vi_profile_x_last(p) == 1.0);
+    vi_profile_free(p);
+}
+
+static void refused(const double *x, const double *h, size_t n, double r, int periodic, const char *expect)
+{
+    char msg[512] = "";
+    cr_assert(vi_profile_create(x, h, n, r, periodic, "bad", msg, sizeof msg) == NULL, "accepted: %s", expect);
+    cr_assert(strstr(msg, expect) != NULL, "expected '%s' in: %s", expect, msg);
+}
+
+Test(profile, bad_tables_are_refused)
+{
+    double x[] = {0.0, 1.0, 2.0}, h[] = {0.0, 0.1, 0.0};
+    refused(x, h, 1, R, 0, "at least two");
+    double xu[] = {0.0, 2.0, 1.0};
+    refused(xu, h, 3, R, 0, "row 3");
+    double xn[] = {0.0, NAN, 2.0};
+    refused(xn, h, 3, R, 0, "row 2");
+    double hp[] = {0.0, 0.1, 0.2};
+    refused(x, hp, 3, R, 1, "last height");
+    double xs[] = {0.0, 1.0, 1.0 + 1e-9, 3.0}, hs[] = {0.0, 0.0, 2.0 * R, 2.0 * R}; /* a wall higher than R */
+    refused(xs, hs, 4, R, 0, "cannot roll");
+    refused(x, h, 3, 0.0, 0, "R1");
+}
+
+static const char *write_file(const char *text)
+{
+    static char path[64];
+    snprintf(path, sizeof path, "/tmp/vi_profile_test_%d.txt", (int)getpid());
+    FILE *f = fopen(path, "w");
+    cr_assert(f != NULL);
+    fputs(text, f);
+    fclose(f);
+    return path;
+}
+
+Test(profile, files)
+{
+    char msg[512];
+    const char *path = write_file("# x [m], h [m]\n\n0 0\n0.5, 1e-4\n1.0;0\n  1.5\t2e-4  \n");
+    vi_profile *p = vi_profile_load(path, R, 0, msg, sizeof msg);
+    cr_assert(p != NULL, "%s", msg);
+    cr_assert(vi_profile_x_last(p) == 1.5 && yb(p, 0.5) == 1e-4);
+    vi_profile_free(p);
+    struct { const char *text, *expect; } bad[] = {
+        {"0 0\n1 0\nabc 2\n", "line 3: expected two numbers"},
+        {"0 0\n1\n", "line 2: expected two numbers"},
+        {"0 0\n1 0 7\n", "line 2: expected two numbers"},
+        {"0 0\n2 0\n1 0\n", "line 3: x = 1 is not greater"},
+        {"0 0\n1 inf\n", "line 2: x = 1, h = inf are not finite"},
+        {"# only\n0 0\n", "1 data rows"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        path = write_file(bad[i].text);
+        msg[0] = '\0';
+        cr_assert(vi_profile_load(path, R, 0, msg, sizeof msg) == NULL, "case %zu accepted", i);
+        cr_assert(strstr(msg, bad[i].expect) && strstr(msg, path), "case %zu: %s", i, msg);
+    }
+    remove(path);
+    cr_assert(vi_profile_load("/nonexistent/profile.txt", R, 0, msg, sizeof msg) == NULL);
+    cr_assert(strstr(msg, "/nonexistent/profile.txt") && strstr(msg, "cannot open"), "%s", msg);
+}
+
+/* A long profile (1e5 samples at 1 mm): built in bounded time, evaluated by binary search. */
+Test(profile, long_profile, .timeout = 30)
+{
+    enum { N = 100000 };
+    double *x = malloc(N * sizeof *x), *h = malloc(N * sizeof *h);
+    srand(7);
+    for (int i = 0; i < N; i++) x[i] = 1e-3 * i, h[i] = 5e-5 * sin(40.0 * x[i]) + 2e-6 * (2.0 * rand() / RAND_MAX - 1.0);
+    vi_profile *p = make(x, h, N, R, 0);
+    for (int k = 0; k < 50; k++) {
+        double at = 0.5 + 98.0 * k / 50.0;
+        cr_assert(fabs(yb(p, at) - brute(x, h, N, R, at)) <= 1e-15, "x %g", at);
+    }
+    vi_profile_free(p);
+    free(x), free(h);
+}

@@ -1,0 +1,36 @@
+#!/usr/bin/env python3
+"""Where W_plastic < 0 after a Johnson yield, from the closed forms (README, "The model in brief").
+
+Usage: python3 tools/wplastic.py [--Y Y]   (default Y = 6e8 Pa, the paper's Fig. 4b data)
+Prints, for paper and continuous unloading, the largest delta_c/delta_Y with W_plastic < 0 and the
+most negative W_plastic (J and in units of F_Y delta_Y). The closed form is the one
+fmu-test/test_laws.py checks the FMU against."""
+import pathlib
+import sys
+
+import numpy as np
+from scipy.optimize import brentq
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "fmu-test"))
+from conftest import effective  # noqa: E402
+from test_laws import w_plastic_closed_form  # noqa: E402
+
+
+def main():
+    args = sys.argv[1:]
+    Y = float(args[args.index("--Y") + 1]) if "--Y" in args else 6e8
+    e = effective(dict(Y=Y))
+    unit = e["F_Y"] * e["delta_Y"]
+    print(f"Y = {Y:g} Pa: F_Y = {e['F_Y']:.6g} N, delta_Y = {e['delta_Y']:.6g} m, F_Y delta_Y = {unit:.6g} J")
+    for variant, name in ((1, "paper"), (2, "continuous")):
+        wp = lambda r: w_plastic_closed_form(e, r * e["delta_Y"], variant)[1]  # noqa: E731
+        r_zero = brentq(wp, 1.0 + 1e-9 if variant == 1 else 1.5, 50.0, xtol=1e-12)
+        grid = np.linspace(1.0 + 1e-6, r_zero, 20001)
+        w = np.array([wp(r) for r in grid])
+        i = int(np.argmin(w))
+        print(f"{name:10s}: W_plastic < 0 for delta_c < {r_zero:.4f} delta_Y; most negative {w[i]:.4g} J "
+              f"= {w[i] / unit:.4f} F_Y delta_Y at delta_c = {grid[i]:.3f} delta_Y")
+
+
+if __name__ == "__main__":
+    main()
