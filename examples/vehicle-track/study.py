@@ -8,6 +8,7 @@ Writes into --out (default examples/vehicle-track/results, not committed):
   errors.png        force error, mean-force error and energy created by the coupling against the step
   traces.png        contact force over a stretch of rail: reference and co-simulations
   libcosim.csv      libcosim against the fmpy master with the same (Jacobi) scheme
+  summary.md        the tables of examples/vehicle-track/README.md
 --gallery also writes smaller copies of the two figures to examples/vehicle-track/doc/.
 
 Couplings compared (fmpy master, master.py):
@@ -126,25 +127,67 @@ def write_csv(path, rows):
         w.writerows(rows)
 
 
+def markdown(rows, lc, path):
+    """The tables of the README (examples/vehicle-track/README.md), from the rows."""
+    steps = sorted({r["step"] for r in rows})
+    labels = list(dict.fromkeys(r["coupling"] for r in rows))
+    cell = {(r["coupling"], r["step"]): r for r in rows}
+
+    def table(key, fmt, title):
+        out = [f"**{title}**", "", "| coupling | " + " | ".join(f"{h:g} s" for h in steps) + " |",
+               "|---|" + "---|" * len(steps)]
+        for lab in labels:
+            vals = []
+            for h in steps:
+                r = cell.get((lab, h), {})
+                v = r.get(key)
+                text = "failed" if v is None else fmt(v)
+                vals.append(text + (" (unstable)" if r.get("status") == "diverged" else ""))
+            out.append(f"| {lab} | " + " | ".join(vals) + " |")
+        return "\n".join(out) + "\n"
+
+    parts = [table("force_error", lambda v: f"{v:.2g}", "Force error, max |F - F_ref| / W"),
+             table("mean_force_error", lambda v: f"{v:.2g}", "Mean-force error, max |F_mean - F_mean,ref| / W"),
+             table("impulse_error", lambda v: f"{v:+.1e}", "Impulse error: impulse handed to the track over the run, relative"),
+             table("energy_created_rel", lambda v: f"{v:+.1e}",
+                   "Energy created by the coupling over the run / energy dissipated in the reference")]
+    if lc:
+        parts.append("**libcosim against the fmpy master, both Jacobi** (largest differences over the run)\n\n"
+                     "| step | force handed to the track | F [N] | y [m] | z_rail [m] | F_wheel [N] |\n"
+                     "|---|---|---|---|---|---|\n" +
+                     "".join(f"| {r['step']:g} s | {r['force']} | {r['max_abs_diff_F_N']:.1e} | {r['max_abs_diff_y_m']:.1e} "
+                             f"| {r['max_abs_diff_z_rail_m']:.1e} | {r['max_abs_diff_F_wheel_N']:.1e} |\n" for r in lc))
+    path.write_text("\n".join(parts))
+
+
 def plot(rows, keep, sol, system, targets, stop_time):
     """Draw the figures into each (folder, dpi) of targets."""
+    plot_errors(rows, targets)
+    plot_traces(keep, sol, targets, stop_time)
+
+
+def plot_errors(rows, targets):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.5))
     metrics_ = [("force_error", "force error  max|F - F_ref| / W"),
                 ("mean_force_error", "mean-force error  max|F_mean - F_mean,ref| / W"),
-                ("energy_created_rel", "energy created by the coupling / energy dissipated")]
+                ("energy_created_rel", "|energy created by the coupling| / energy dissipated\n(open: negative, the coupling dissipates)")]
     styles = {"GS hold": "o-", "GS ramp": "s-", "GS track first": "d:", "Jacobi": "^--"}
     for ax, (key, title) in zip(axes, metrics_):
         for label, *_ in COUPLINGS:
-            pts = [(r["step"], abs(r[key])) for r in rows
+            pts = [(r["step"], r[key]) for r in rows
                    if r["coupling"] == label and key in r and np.isfinite(r[key])]
             if not pts:
                 continue
-            x, y = zip(*pts)
-            ax.loglog(x, y, styles[label.split(",")[0]], color="C0" if label.endswith("F_mean") else "C3",
-                      alpha=0.9, label=label, mfc="none" if label.startswith("Jacobi") else None)
+            x, y = map(np.array, zip(*pts))
+            color = "C0" if label.endswith("F_mean") else "C3"
+            style = styles[label.split(",")[0]]
+            ax.loglog(x, np.abs(y), style, color=color, alpha=0.9, label=label,
+                      mfc="none" if label.startswith("Jacobi") else color)
+            if np.any(y < 0):
+                ax.loglog(x[y < 0], -y[y < 0], style[0], color=color, mfc="white")
         ax.set_xlabel("communication step [s]")
         ax.set_title(title, fontsize=10)
         ax.grid(True, which="both", alpha=0.3)
@@ -155,7 +198,12 @@ def plot(rows, keep, sol, system, targets, stop_time):
         fig.savefig(folder / "errors.png", dpi=dpi)
     plt.close(fig)
 
-    # traces over a stretch with the largest forces
+
+def plot_traces(keep, sol, targets, stop_time):
+    """Contact force over the stretch with the largest force: reference and co-simulations."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
     tg = np.linspace(0, stop_time, 200001)
     Fg = sol.force(tg)
     tc = tg[np.argmax(Fg)]
@@ -207,6 +255,7 @@ def main():
     # fmpy master on the same scheme where that is stable (2e-6 s) and where it is not (1e-5 s)
     lc = compare_libcosim([2e-6, 1e-5] if not a.quick else [1e-5], stop, profile, a.excitation, a.build)
     write_csv(out / "libcosim.csv", lc)
+    markdown(rows, lc, out / "summary.md")
     targets = [(out, 110)]
     if a.gallery:
         (HERE / "doc").mkdir(exist_ok=True)

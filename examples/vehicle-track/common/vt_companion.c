@@ -29,10 +29,11 @@ int vt_check_rules(const vt_rule *rules, size_t n_rules, double rtol, char *msg,
     return 0;
 }
 
-void vt_init(void *m, const vt_model_def *def, vi_fmu_log_fn log, void *env)
+void vt_init(void *m, const vt_model_def *def, void *data, vi_fmu_log_fn log, void *env)
 {
     vt_instance *I = m;
     I->def = def;
+    I->data = data;
     I->log = log;
     I->env = env;
     I->solver = NULL;
@@ -46,7 +47,7 @@ void vt_reset(void *m)
 {
     vt_instance *I = m;
     vi_solver *keep = I->solver;
-    vt_init(m, I->def, I->log, I->env);
+    vt_init(m, I->def, I->data, I->log, I->env);
     I->solver = keep;
 }
 

@@ -56,14 +56,15 @@ typedef struct {
     void (*step_done)(void *data, double t0, const double *x0);
 } vt_model_def;
 
-/* The layer's instance of a companion model: the model's block is `data`. */
+/* The layer's instance of a companion model; VT_DEFINE_FMU puts the model's plain-data block
+ * (starting with vt_core) right after it and points `data` at it. */
 typedef struct {
     const vt_model_def *def;
+    void *data;
     vi_solver *solver;
     vi_fmu_log_fn log;
     void *env;
     char msg[256];
-    double data[]; /* the model's plain-data block, starting with vt_core */
 } vt_instance;
 
 /* The time the held inputs refer to: now when they were set since the last step. */
@@ -79,7 +80,7 @@ typedef struct {
 int vt_check_rules(const vt_rule *rules, size_t n_rules, double rtol, char *msg, size_t n);
 
 /* The generic hooks (vt_companion.c). */
-void vt_init(void *m, const vt_model_def *def, vi_fmu_log_fn log, void *env);
+void vt_init(void *m, const vt_model_def *def, void *data, vi_fmu_log_fn log, void *env);
 void vt_reset(void *m); /* the model's defaults are applied after it (VT_DEFINE_FMU) */
 void vt_release(void *m);
 void vt_changed(void *m);
@@ -99,6 +100,10 @@ const char *vt_message(const void *m);
 /* In the model's file, after its table (VI_TABLE_DEFINE) and its vt_model_def DEF whose block
  * type is DATA (with members par, in and din): the one model of this FMU binary. */
 #define VT_DEFINE_FMU(DEF, DATA)                                                                  \
+    typedef struct {                                                                              \
+        vt_instance head;                                                                         \
+        DATA data;                                                                                \
+    } vt_instance_##DATA;                                                                         \
     static void vt_defaults_##DATA(void *m)                                                       \
     {                                                                                             \
         DATA *d = vt_state(m);                                                                    \
@@ -107,7 +112,7 @@ const char *vt_message(const void *m);
     }                                                                                             \
     static void vt_init_##DATA(void *m, vi_fmu_log_fn log, void *env)                             \
     {                                                                                             \
-        vt_init(m, &(DEF), log, env);                                                             \
+        vt_init(m, &(DEF), &((vt_instance_##DATA *)m)->data, log, env);                           \
         vt_defaults_##DATA(m);                                                                    \
     }                                                                                             \
     static void vt_reset_##DATA(void *m)                                                          \
@@ -120,18 +125,7 @@ const char *vt_message(const void *m);
         return vt_state_check(s, running, &(DEF), msg, n);                                        \
     }                                                                                             \
     const vi_fmu_model vi_fmu_this_model = {                                                       \
-        .model_identifier = VI_MODEL_IDENTIFIER,                                                   \
-        .guid = VI_GUID,                                                                           \
-        .variables = vi_variable_table,                                                            \
-        .nvariables = VI_NVARS,                                                                    \
-        .enum_items = vi_enum_items,                                                               \
-        .n_enum_items = VI_NENUM_ITEMS,                                                            \
-        .instance_size = sizeof(vt_instance) + sizeof(DATA),                                       \
-        .state_size = sizeof(DATA),                                                                \
-        .outputs_size = sizeof(vi_outputs),                                                        \
-        .parameters_offset = offsetof(DATA, par),                                                  \
-        .inputs_offset = offsetof(DATA, in),                                                       \
-        .input_derivatives_offset = offsetof(DATA, din),                                           \
+        VI_FMU_TABLE_FIELDS(vt_instance_##DATA, DATA),                                             \
         .init = vt_init_##DATA,                                                                    \
         .reset = vt_reset_##DATA,                                                                  \
         .release = vt_release,                                                                     \
