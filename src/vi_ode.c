@@ -432,10 +432,14 @@ static int root_search(vi_ode *s, span *sp, const vi_ode_problem *p, double a, d
             double fa = wa * ga[best], fb = wb * gb[best];
             tm = a + (b - a) * (fa / (fa - fb));
         }
-        double margin = 0.25 * tol;
-        if (tm < a + margin) tm = a + margin;
-        if (tm > b - margin) tm = b - margin;
-        if (!(tm > a && tm < b)) tm = a + 0.5 * (b - a);
+        /* at least tol (1 or 2 ulps) inside: an estimate at an end probes just beside it, which
+         * closes the bracket when the root is there */
+        if (b - a <= 2.0 * tol)
+            tm = a + 0.5 * (b - a);
+        else if (tm < a + tol)
+            tm = a + tol;
+        else if (tm > b - tol)
+            tm = b - tol;
         w2 = w1;
         w1 = b - a;
         dense_eval(sp, n, tm, xm, NULL);
@@ -503,7 +507,7 @@ static int event_search(vi_ode *s, span *sp, const vi_ode_problem *p, const doub
  * ------------------------------------------------------------------------------------------- */
 int vi_ode_step(vi_ode *s, const vi_ode_problem *p, double t_stop)
 {
-    if (!s || !p || s->n != p->n || s->ng != p->ng || s->n < 1 || s->n > VI_ODE_MAX_N || s->event_pending ||
+    if (!s || !p || s->n != p->n || s->ng != p->ng || s->n > VI_ODE_MAX_N || s->event_pending ||
         !(t_stop > s->t) || !(s->h > 0.0) || (s->cur != 0 && s->cur != 1))
         return VI_ODE_ERR_ARGS;
     int n = p->n;

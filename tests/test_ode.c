@@ -219,20 +219,51 @@ static void forced_exact(double t, const double *x0, double *x)
     x[1] = (-sin(t) + 2.0 * sin(2.0 * t)) / 3.0;
 }
 
+/* Two oscillators of frequencies 1 and 2 (4 states: the integrator's wider component path). */
+static void osc2(double t, const double *x, double *dx, void *u)
+{
+    (void)t, (void)u;
+    dx[0] = x[1], dx[1] = -x[0];
+    dx[2] = x[3], dx[3] = -4.0 * x[2];
+}
+static void osc2_exact(double t, const double *x0, double *x)
+{
+    osc_exact(t, x0, x);
+    x[2] = x0[2] * cos(2 * t) + 0.5 * x0[3] * sin(2 * t);
+    x[3] = -2.0 * x0[2] * sin(2 * t) + x0[3] * cos(2 * t);
+}
+
+/* The oscillator and the Riccati equation side by side (3 states). */
+static void osc_riccati(double t, const double *x, double *dx, void *u)
+{
+    osc(t, x, dx, u);
+    riccati(t, x + 2, dx + 2, u);
+}
+static void osc_riccati_exact(double t, const double *x0, double *x)
+{
+    osc_exact(t, x0, x);
+    riccati_exact(t, x0 + 2, x + 2);
+}
+
+#define NX VI_ODE_MAX_N
+
 typedef struct {
     const char *name;
     int n;
     vi_ode_rhs_fn f;
     void (*exact)(double t, const double *x0, double *x);
-    double x0[2], T;
+    double x0[NX], T;
     int n_first;    /* fewest fixed steps over [0, T] in the order test (the asymptotic range starts there) */
     double h_dense; /* largest step of the dense-output test */
+    int periodic;   /* the step count over a long run is a power of the tolerance */
 } problem;
 
 static const problem PROBLEMS[] = {
-    {"oscillator", 2, osc, osc_exact, {1.0, 0.5}, 8.0, 8, 1.0},
-    {"riccati", 1, riccati, riccati_exact, {1.0, 0.0}, 4.0, 16, 0.4}, /* poles at +-i */
-    {"forced", 2, forced, forced_exact, {0.0, 0.0}, 6.0, 8, 0.75},
+    {"oscillator", 2, osc, osc_exact, {1.0, 0.5}, 8.0, 8, 1.0, 1},
+    {"riccati", 1, riccati, riccati_exact, {1.0}, 4.0, 16, 0.4, 0}, /* poles at +-i */
+    {"forced", 2, forced, forced_exact, {0.0, 0.0}, 6.0, 8, 0.75, 1},
+    {"two oscillators", 4, osc2, osc2_exact, {1.0, 0.5, 0.3, -0.2}, 8.0, 16, 0.5, 1},
+    {"oscillator and riccati", 3, osc_riccati, osc_riccati_exact, {1.0, 0.5, 1.0}, 4.0, 16, 0.4, 0},
 };
 #define N_PROBLEMS (int)(sizeof PROBLEMS / sizeof PROBLEMS[0])
 
@@ -255,7 +286,7 @@ static double max_err(const double *a, const double *b, int n)
 static double run(const problem *pr, vi_ode_problem *p, long *steps)
 {
     vi_ode s;
-    double e = 0.0, xe[2];
+    double e = 0.0, xe[NX];
     cr_assert_eq(vi_ode_init(&s, p, 0.0, pr->x0, 0.0, 0u), VI_ODE_OK);
     for (long k = 0; s.t < pr->T; k++) {
         cr_assert(k < 1000000, "too many steps");
@@ -306,7 +337,7 @@ Test(order, global_error_falls_like_h8_with_fixed_steps)
 /* One fixed step of size h from the exact solution at t0: the state after it. */
 static void one_step(const problem *pr, double t0, double h, vi_ode *s, vi_ode_problem *p)
 {
-    double x0[2];
+    double x0[NX];
     pr->exact(t0, pr->x0, x0);
     *p = make(pr, 1e-6, 1e-6);
     p->h_fixed = h;
@@ -341,7 +372,7 @@ Test(estimate, error_proportional_to_tolerance_and_steps_like_tol_minus_one_eigh
         problem pr = PROBLEMS[k];
         /* the oscillators over many periods (the step count is not dominated by the start); the
          * Riccati solution grows ever smoother, its step count is not a power of tol: error only */
-        int periodic = pr.f != riccati;
+        int periodic = pr.periodic;
         if (periodic) pr.T = 50.0;
         double tol[9], err[9], steps[9];
         for (int j = 0; j < 9; j++) {
@@ -368,7 +399,7 @@ Test(dense, local_error_of_order_7_inside_exact_at_ends)
         for (int j = 0; j < 3; j++) {
             vi_ode s;
             vi_ode_problem p;
-            double t0 = 1.0, h = hs[j] = pr->h_dense / (1 << j), x[2], dx[2], xe[2], xe2[2], f[2];
+            double t0 = 1.0, h = hs[j] = pr->h_dense / (1 << j), x[NX], dx[NX], xe[NX], xe2[NX], f[NX];
             one_step(pr, t0, h, &s, &p);
             /* the ends, exactly */
             cr_assert_eq(vi_ode_dense(&s, &p, t0, x, dx), VI_ODE_OK);
@@ -528,7 +559,10 @@ Test(events, first_guard_wins_and_ties_fire_together)
         double x0[2] = {1.0, 0.0};
         cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
         for (int k = 0; k < 5; k++) {
+            long iters = s.st.root_iters;
             cr_assert_eq(until_event(&s, &p, 100.0), VI_ODE_EVENT);
+            /* smooth guards: the Illinois steps converge fast (a bisection alone needs ~50) */
+            cr_assert(s.st.root_iters - iters <= 20, "event %d: %ld root iterations", k, s.st.root_iters - iters);
             cr_assert(fabs(s.ev_t - expect[k].t) < (fixed ? 1e-6 : 1e-10), "event %d at %.15g, expected %.15g", k,
                       s.ev_t, expect[k].t);
             cr_assert_eq(s.ev_fired, expect[k].fired, "event %d: fired %#x, expected %#x", k, s.ev_fired,
@@ -862,4 +896,121 @@ Test(state, statistics_count_the_work)
     cr_assert_eq(s.st.rhs_evals, before.rhs_evals + 1, "h0 given: f(t0) only");
     cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.5, 0u), VI_ODE_OK);
     cr_assert(s.st.accepted == 0 && s.h == 0.5, "init clears the statistics; h0 used");
+}
+
+Test(events, root_at_the_step_end_and_bracket_never_moved_right)
+{
+    /* g = 1 before tau, -1 from tau on, tau = the step end: every probe lands left of the root */
+    gctx c = {G_JUMP, 1.0};
+    vi_ode_problem p = event_problem(&c, 1, 1.0, 1e-6);
+    vi_ode s;
+    double x0[2] = {1.0, 0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 5.0), VI_ODE_EVENT);
+    cr_assert(s.ev_t == 1.0 && s.ev_fired == 1u, "at the step end: %.17g, fired %#x", s.ev_t, s.ev_fired);
+    cr_assert(memcmp(s.ev_x, s.x, sizeof(double) * 2) == 0, "the state at the step end, exactly");
+    cr_assert(s.ev_t_lo < 1.0 && s.ev_t - s.ev_t_lo <= DBL_EPSILON);
+}
+
+Test(state, initial_step_is_hairers_estimate)
+{
+    /* HNW I, II.4: d0 = ||x0||, d1 = ||f0||, h0 = 0.01 d0/d1 (1e-6 if either < 1e-5),
+     * d2 = ||f(t0 + h0, x0 + h0 f0) - f0|| / h0, h1 = (0.01 / max(d1, d2))^(1/8)
+     * (max(1e-6, 1e-3 h0) if that max <= 1e-15), h = min(100 h0, h1); norms RMS with
+     * sc = atol + rtol |x0|. Oscillator x0 = (1, 0), rtol = atol = 1e-6: sc = (2e-6, 1e-6),
+     * d0 = 1/(2e-6 sqrt 2), f0 = (0, -1): d1 = 1/(1e-6 sqrt 2), h0 = 0.005; f1 = (-0.005, -1):
+     * d2 = 1/(2e-6 sqrt 2); h1 = (0.01 1e-6 sqrt 2)^(1/8). */
+    vi_ode_problem p = {.n = 2, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6}};
+    vi_ode s;
+    double x0[2] = {1.0, 0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    double h1 = pow(0.01 * 1e-6 * sqrt(2.0), 1.0 / 8.0);
+    cr_assert(fabs(s.h - fmin(0.5, h1)) < 1e-12 * h1, "h = %.17g, expected %.17g", s.h, h1);
+    /* f = 0: d1 = d2 = 0, so h0 = 1e-6 and h1 = max(1e-6, 1e-9) */
+    problem zero = PROBLEMS[0];
+    vi_ode_problem pz = make(&zero, 1e-6, 1e-6);
+    pz.rhs = blowup; /* x' = x^2 at x = 0: f = 0 */
+    double z[2] = {0.0, 0.0};
+    pz.n = 1;
+    cr_assert_eq(vi_ode_init(&s, &pz, 0.0, z, 0.0, 0u), VI_ODE_OK);
+    cr_assert(s.h == 1e-6, "h = %g", s.h);
+    /* limited by max_step; a given h0 is used */
+    p.max_step = 0.01;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert(s.h == 0.01);
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.003, 0u), VI_ODE_OK);
+    cr_assert(s.h == 0.003);
+}
+
+Test(state, step_size_control_rules)
+{
+    problem pr = PROBLEMS[0];
+    vi_ode_problem p = make(&pr, 1e-8, 1e-8);
+    vi_ode s;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, pr.x0, 0.0, 0u), VI_ODE_OK);
+    double x_prev[2] = {s.x[0], s.x[1]}, t_prev = s.t;
+    for (int k = 0; k < 5; k++) {
+        cr_assert_eq(vi_ode_step(&s, &p, 100.0), VI_ODE_OK);
+        cr_assert(s.t_old == t_prev && memcmp(s.x_old, x_prev, sizeof x_prev) == 0, "[t_old, t] is the last step");
+        t_prev = s.t, x_prev[0] = s.x[0], x_prev[1] = s.x[1];
+        cr_assert(s.err <= 1.0);
+        if (s.rejected_last == 0)
+            cr_assert(fabs(s.h / (s.t - s.t_old) - fmin(5.0, fmax(0.2, 0.9 / pow(s.err, 0.125)))) < 1e-12,
+                      "h_new = h min(5, max(0.2, 0.9 err^-1/8))");
+    }
+    /* a step shortened to reach t_stop keeps the proposal */
+    double h = s.h;
+    cr_assert_eq(vi_ode_step(&s, &p, s.t + 0.1 * h), VI_ODE_OK);
+    cr_assert(s.h >= h, "proposal %g kept after a short step to t_stop (was %g)", s.h, h);
+    /* a tiny fixed step */
+    p.h_fixed = 1e-4;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, pr.x0, 0.0, 0u), VI_ODE_OK);
+    int k = 0;
+    for (; s.t < 1e-3 && k < 100; k++) cr_assert_eq(vi_ode_step(&s, &p, 1e-3), VI_ODE_OK);
+    cr_assert_eq(k, 10, "%d fixed steps of 1e-4 over 1e-3", k);
+    cr_assert(s.t == 1e-3);
+}
+
+/* f jumps right after t = 0: the first stage (f = 0) disagrees with all others (f = 1e60) for every h,
+ * so the scaled error estimate stays ~1e4 however small h gets; h_min = 16 eps |t| = 0 at t = 0 */
+static void kink(double t, const double *x, double *dx, void *u)
+{
+    (void)x, (void)u;
+    dx[0] = t > 0.0 ? 1e60 : 0.0;
+}
+
+Test(failures, rejections_are_bounded)
+{
+    vi_ode_problem p = {.n = 1, .rhs = kink, .rtol = 1e-6, .atol = {1e-6}};
+    vi_ode s;
+    double x0[1] = {0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 1e-3, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 1.0), VI_ODE_ERR_REJECTS);
+    cr_assert_eq(s.st.rejected, VI_ODE_MAX_REJECTS);
+    cr_assert(s.t == 0.0 && s.h == 1e-3, "state unchanged");
+}
+
+Test(failures, check_bounds_and_null_arguments)
+{
+    gctx c = {G_X, 0};
+    vi_ode_problem p = {.n = 2, .ng = 1, .rhs = osc_u, .guards = guards, .user = &c, .rtol = 1e-6,
+                        .atol = {1e-6, 1e-6}, .guard_samples = VI_ODE_MAX_SAMPLES};
+    p.arm_eps[1] = -1.0; /* beyond ng: not looked at */
+    cr_assert_eq(vi_ode_check(&p, NULL, 0), VI_ODE_OK);
+    p.atol[2] = -1.0;    /* beyond n: not looked at */
+    cr_assert_eq(vi_ode_check(&p, NULL, 0), VI_ODE_OK);
+    vi_ode s;
+    double x0[2] = {1.0, 0.0};
+    cr_assert_eq(vi_ode_init(NULL, &p, 0.0, x0, 0.0, 0u), VI_ODE_ERR_ARGS);
+    cr_assert_eq(vi_ode_restart(NULL, &p, 0.0, x0, 0.0, 0u), VI_ODE_ERR_ARGS);
+    cr_assert_eq(vi_ode_init(&s, NULL, 0.0, x0, 0.0, 0u), VI_ODE_ERR_ARGS);
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, NULL, 0.0, 0u), VI_ODE_ERR_ARGS);
+    cr_assert_eq(vi_ode_check(NULL, NULL, 0), VI_ODE_ERR_ARGS);
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(NULL, &p, 1.0), VI_ODE_ERR_ARGS);
+    cr_assert_eq(vi_ode_step(&s, NULL, 1.0), VI_ODE_ERR_ARGS);
+    double x[2];
+    cr_assert_eq(vi_ode_step(&s, &p, 1.0), VI_ODE_OK);
+    cr_assert_eq(vi_ode_dense(&s, &p, s.t, NULL, NULL), VI_ODE_ERR_ARGS);
+    cr_assert_eq(vi_ode_dense(NULL, &p, s.t, x, NULL), VI_ODE_ERR_ARGS);
 }
