@@ -569,6 +569,7 @@ int vi_ode_step(vi_ode *s, const vi_ode_problem *p, double t_stop)
                 h_prop = h * fac;
                 /* a step shortened to reach t_stop says little about the step size */
                 if (clipped && rejections == 0 && h_prop < s->h) h_prop = s->h;
+                if (h_prop > h_lim) h_prop = h_lim;
             }
             break;
         }

@@ -744,6 +744,10 @@ Test(state, max_step_and_t_stop_are_respected)
     cr_assert(s.t == t_stop, "t_stop reached exactly");
     cr_assert(k >= 34 && k <= 35, "%ld steps of at most 0.01 over 1/3", k);
     cr_assert_eq(vi_ode_step(&s, &p, t_stop), VI_ODE_ERR_ARGS, "t_stop must lie ahead");
+    p.max_step = 1e-4; /* a small max_step */
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, pr.x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 1.0), VI_ODE_OK);
+    cr_assert(s.t == 1e-4 && s.h == 1e-4, "t = %g, proposal %g", s.t, s.h);
     /* a large step stops at t_stop too */
     p.max_step = 0.0;
     cr_assert_eq(vi_ode_init(&s, &p, 0.0, pr.x0, 0.0, 0u), VI_ODE_OK);
@@ -830,6 +834,7 @@ Test(failures, invalid_problems_and_calls)
         {"ng", {.n = 2, .ng = VI_ODE_MAX_G + 1, .rhs = osc_u, .guards = guards, .rtol = 1e-6, .atol = {1e-6, 1e-6}}},
         {"rtol", {.n = 2, .rhs = osc_u, .rtol = 0.0, .atol = {1e-6, 1e-6}}},
         {"rtol", {.n = 2, .rhs = osc_u, .rtol = NAN, .atol = {1e-6, 1e-6}}},
+        {"rtol", {.n = 2, .rhs = osc_u, .rtol = 1.0, .atol = {1e-6, 1e-6}}},
         {"atol", {.n = 2, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 0.0}}},
         {"max_step", {.n = 2, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6}, .max_step = -1}},
         {"h_min", {.n = 2, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6}, .h_min = INFINITY}},
@@ -892,7 +897,10 @@ Test(state, statistics_count_the_work)
     cr_assert_eq(s.st.rhs_evals, rhs_calls);
     vi_ode_stats before = s.st;
     cr_assert_eq(vi_ode_restart(&s, &p, s.t, s.x, s.h, 0u), VI_ODE_OK);
-    cr_assert_eq(s.st.accepted, before.accepted, "restart keeps the statistics");
+    cr_assert(s.st.attempts == before.attempts && s.st.accepted == before.accepted &&
+              s.st.rejected == before.rejected && s.st.guard_evals == before.guard_evals &&
+              s.st.dense_builds == before.dense_builds && s.st.root_iters == before.root_iters &&
+              s.st.events == before.events, "restart keeps the statistics");
     cr_assert_eq(s.st.rhs_evals, before.rhs_evals + 1, "h0 given: f(t0) only");
     cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.5, 0u), VI_ODE_OK);
     cr_assert(s.st.accepted == 0 && s.h == 0.5, "init clears the statistics; h0 used");
@@ -958,6 +966,15 @@ Test(state, step_size_control_rules)
             cr_assert(fabs(s.h / (s.t - s.t_old) - fmin(5.0, fmax(0.2, 0.9 / pow(s.err, 0.125)))) < 1e-12,
                       "h_new = h min(5, max(0.2, 0.9 err^-1/8))");
     }
+    /* growth by at most 5 per step; none right after a rejection */
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, pr.x0, 1e-6, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 100.0), VI_ODE_OK);
+    cr_assert(s.rejected_last == 0 && s.h == 5.0 * (s.t - s.t_old), "h grows by 5: %g after %g", s.h, s.t - s.t_old);
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, pr.x0, 3.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 100.0), VI_ODE_OK);
+    cr_assert(s.rejected_last > 0 && s.h <= s.t - s.t_old, "after %d rejections h %g <= %g", s.rejected_last, s.h,
+              s.t - s.t_old);
+    cr_assert_eq(s.st.rejected, s.rejected_last);
     /* a step shortened to reach t_stop keeps the proposal */
     double h = s.h;
     cr_assert_eq(vi_ode_step(&s, &p, s.t + 0.1 * h), VI_ODE_OK);
@@ -965,6 +982,7 @@ Test(state, step_size_control_rules)
     /* a tiny fixed step */
     p.h_fixed = 1e-4;
     cr_assert_eq(vi_ode_init(&s, &p, 0.0, pr.x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert(s.h == 1e-4);
     int k = 0;
     for (; s.t < 1e-3 && k < 100; k++) cr_assert_eq(vi_ode_step(&s, &p, 1e-3), VI_ODE_OK);
     cr_assert_eq(k, 10, "%d fixed steps of 1e-4 over 1e-3", k);
@@ -1013,4 +1031,37 @@ Test(failures, check_bounds_and_null_arguments)
     cr_assert_eq(vi_ode_step(&s, &p, 1.0), VI_ODE_OK);
     cr_assert_eq(vi_ode_dense(&s, &p, s.t, NULL, NULL), VI_ODE_ERR_ARGS);
     cr_assert_eq(vi_ode_dense(NULL, &p, s.t, x, NULL), VI_ODE_ERR_ARGS);
+}
+
+static void nan_in_dense_stage(double t, const double *x, double *dx, void *u)
+{
+    (void)u;
+    dx[0] = fabs(t - 0.1) < 0.005 ? NAN : -x[0]; /* only the dense-output stage at c = 0.1 of [0, 1] */
+}
+
+Test(failures, nonfinite_dense_stage_is_reported)
+{
+    vi_ode_problem p = {.n = 1, .rhs = nan_in_dense_stage, .rtol = 1e-6, .atol = {1e-6}, .h_fixed = 1.0};
+    vi_ode s;
+    double x0[1] = {1.0}, x[1] = {42.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 2.0), VI_ODE_OK, "the step's own stages avoid t = 0.1");
+    cr_assert_eq(vi_ode_dense(&s, &p, 0.5, x, NULL), VI_ODE_ERR_NONFINITE);
+    cr_assert(x[0] == 42.0, "nothing written");
+    cr_assert_eq(s.sp[s.cur].dense_ready, 0);
+}
+
+Test(state, initial_step_of_a_nonlinear_problem)
+{
+    /* y' = -2 t y^2 at t0 = 0.5, y0 = 0.8, rtol = 1e-6, atol = 1e-8: the formulas of HNW II.4 */
+    vi_ode_problem p = {.n = 1, .rhs = riccati, .rtol = 1e-6, .atol = {1e-8}};
+    vi_ode s;
+    double t0 = 0.5, y0 = 0.8, sc = 1e-8 + 1e-6 * y0;
+    double f0 = -2 * t0 * y0 * y0, d0 = y0 / sc, d1 = fabs(f0) / sc;
+    double h0 = 0.01 * d0 / d1, y1 = y0 + h0 * f0, f1 = -2 * (t0 + h0) * y1 * y1;
+    double d2 = fabs(f1 - f0) / h0 / sc, h1 = pow(0.01 / fmax(d1, d2), 1.0 / 8.0);
+    double expect = fmin(100 * h0, h1);
+    double x0[1] = {y0};
+    cr_assert_eq(vi_ode_init(&s, &p, t0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert(fabs(s.h - expect) <= 1e-13 * expect, "h = %.17g, expected %.17g", s.h, expect);
 }
