@@ -441,13 +441,16 @@ Test(dense, local_error_of_order_7_inside_exact_at_ends)
 typedef struct {
     int kind;
     double tau;
+    double t_min, t_max; /* range of the times the guards were evaluated at (set t_min = INFINITY) */
 } gctx;
 
 enum { G_X, G_MULTI, G_TWO_ROOTS, G_JUMP, G_FLAT, G_TINY, G_NAN };
 
 static void guards(double t, const double *x, double *g, void *u)
 {
-    const gctx *c = u;
+    gctx *c = u;
+    c->t_min = fmin(c->t_min, t);
+    c->t_max = fmax(c->t_max, t);
     switch (c->kind) {
     case G_X: g[0] = x[0]; break;
     case G_MULTI: g[0] = x[0], g[1] = 2.0 * x[0], g[2] = x[0] + 0.5, g[3] = x[0] - 0.2; break;
@@ -506,7 +509,7 @@ Test(events, oscillator_zero_crossings_at_pi_half_plus_2_pi_k)
         double h_fixed, rtol, tol;
     } runs[] = {{0.05, 1e-6, 2e-15}, {0.0, 1e-9, 1e-8}};
     for (int m = 0; m < 2; m++) {
-        gctx c = {G_X, 0};
+        gctx c = {G_X, 0, INFINITY, -INFINITY};
         vi_ode_problem p = event_problem(&c, 1, runs[m].h_fixed, runs[m].rtol);
         vi_ode s;
         double x0[2] = {1.0, 0.0};
@@ -531,7 +534,7 @@ Test(events, oscillator_zero_crossings_at_pi_half_plus_2_pi_k)
 
 Test(events, two_roots_inside_one_step_need_interior_samples)
 {
-    gctx c = {G_TWO_ROOTS, 0};
+    gctx c = {G_TWO_ROOTS, 0, INFINITY, -INFINITY};
     vi_ode_problem p = event_problem(&c, 1, 2.0, 1e-6); /* one step [0, 2], g > 0 at both ends */
     vi_ode s;
     double x0[2] = {1.0, 0.0};
@@ -541,13 +544,14 @@ Test(events, two_roots_inside_one_step_need_interior_samples)
     cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
     cr_assert_eq(vi_ode_step(&s, &p, 2.0), VI_ODE_EVENT);
     cr_assert(fabs(s.ev_t - 0.9) <= 2 * DBL_EPSILON, "first root 0.9: %.17g", s.ev_t);
+    cr_assert(c.t_min == 0.0 && c.t_max == 2.0, "guards evaluated inside the step only: [%g, %g]", c.t_min, c.t_max);
     check_bracket(&s, &p, 0);
     cr_assert_eq(s.st.dense_builds, 1, "dense output built once per step");
 }
 
 Test(events, first_guard_wins_and_ties_fire_together)
 {
-    gctx c = {G_MULTI, 0};
+    gctx c = {G_MULTI, 0, INFINITY, -INFINITY};
     /* g0 = x, g1 = 2x (same root), g2 = x + 1/2, g3 = x - 1/5 on x = cos t */
     struct {
         double t;
@@ -576,7 +580,7 @@ Test(events, first_guard_wins_and_ties_fire_together)
 
 Test(events, guard_zero_at_start_fires_only_after_being_positive)
 {
-    gctx c = {G_X, 0};
+    gctx c = {G_X, 0, INFINITY, -INFINITY};
     vi_ode_problem p = event_problem(&c, 1, 0.0, 1e-12);
     vi_ode s;
     double up[2] = {0.0, 1.0}, down[2] = {0.0, -1.0}; /* x = sin t, x = -sin t: g = 0 at the start */
@@ -591,7 +595,7 @@ Test(events, guard_zero_at_start_fires_only_after_being_positive)
 
 Test(events, hold_keeps_a_guard_sitting_at_zero_from_firing_again)
 {
-    gctx c = {G_X, 0};
+    gctx c = {G_X, 0, INFINITY, -INFINITY};
     vi_ode_problem p = event_problem(&c, 1, 0.0, 1e-12);
     vi_ode s;
     double x0[2] = {1e-20, -1.0}; /* g barely positive, moving down */
@@ -618,7 +622,7 @@ Test(events, root_search_is_bounded_and_exact_for_hard_guards)
     double taus[] = {0.7, 0.3, 0.123456789};
     for (int k = 0; k < 3; k++) {
         for (int j = 0; j < 3; j++) {
-            gctx c = {kinds[k], taus[j]};
+            gctx c = {kinds[k], taus[j], INFINITY, -INFINITY};
             vi_ode_problem p = event_problem(&c, 1, 1.0, 1e-6); /* one step [0, 1] */
             vi_ode s;
             double x0[2] = {1.0, 0.0};
@@ -635,7 +639,7 @@ Test(events, root_search_is_bounded_and_exact_for_hard_guards)
 
 Test(events, nonfinite_guard_fails_and_leaves_the_state)
 {
-    gctx c = {G_NAN, 0.7};
+    gctx c = {G_NAN, 0.7, INFINITY, -INFINITY};
     vi_ode_problem p = event_problem(&c, 1, 0.25, 1e-6);
     vi_ode s, before;
     double x0[2] = {1.0, 0.0};
@@ -702,7 +706,7 @@ static void forced_u(double t, const double *x, double *dx, void *u)
 
 Test(state, copy_continues_bit_for_bit_and_dense_requests_do_not_matter)
 {
-    gctx c = {G_MULTI, 0};
+    gctx c = {G_MULTI, 0, INFINITY, -INFINITY};
     vi_ode_problem p = {.n = 2, .ng = 4, .rhs = forced_u, .guards = guards, .user = &c, .rtol = 1e-9,
                         .atol = {1e-12, 1e-12}, .guard_samples = 2};
     vi_ode a, b, d;
@@ -865,6 +869,10 @@ Test(failures, invalid_problems_and_calls)
     vi_ode_problem other = ok;
     other.n = 1;
     cr_assert_eq(vi_ode_step(&s, &other, 1.0), VI_ODE_ERR_ARGS, "state made for another problem");
+    gctx c = {G_X, 0, INFINITY, -INFINITY};
+    other = ok;
+    other.ng = 1, other.guards = guards, other.user = &c;
+    cr_assert_eq(vi_ode_step(&s, &other, 1.0), VI_ODE_ERR_ARGS, "state made for another number of guards");
     for (int st = -6; st <= 2; st++) cr_assert(vi_ode_status_text(st) != NULL);
     cr_assert(strcmp(vi_ode_status_text(VI_ODE_ERR_HMIN), vi_ode_status_text(VI_ODE_ERR_ROOT)) != 0);
 }
@@ -909,7 +917,7 @@ Test(state, statistics_count_the_work)
 Test(events, root_at_the_step_end_and_bracket_never_moved_right)
 {
     /* g = 1 before tau, -1 from tau on, tau = the step end: every probe lands left of the root */
-    gctx c = {G_JUMP, 1.0};
+    gctx c = {G_JUMP, 1.0, INFINITY, -INFINITY};
     vi_ode_problem p = event_problem(&c, 1, 1.0, 1e-6);
     vi_ode s;
     double x0[2] = {1.0, 0.0};
@@ -1010,7 +1018,7 @@ Test(failures, rejections_are_bounded)
 
 Test(failures, check_bounds_and_null_arguments)
 {
-    gctx c = {G_X, 0};
+    gctx c = {G_X, 0, INFINITY, -INFINITY};
     vi_ode_problem p = {.n = 2, .ng = 1, .rhs = osc_u, .guards = guards, .user = &c, .rtol = 1e-6,
                         .atol = {1e-6, 1e-6}, .guard_samples = VI_ODE_MAX_SAMPLES};
     p.arm_eps[1] = -1.0; /* beyond ng: not looked at */
@@ -1064,4 +1072,87 @@ Test(state, initial_step_of_a_nonlinear_problem)
     double x0[1] = {y0};
     cr_assert_eq(vi_ode_init(&s, &p, t0, x0, 0.0, 0u), VI_ODE_OK);
     cr_assert(fabs(s.h - expect) <= 1e-13 * expect, "h = %.17g, expected %.17g", s.h, expect);
+}
+
+static void sixteen(double t, const double *x, double *g, void *u)
+{
+    (void)t, (void)u;
+    for (int i = 0; i < VI_ODE_MAX_G; i++) g[i] = x[0] + 0.1 * i; /* all cross cos t = -0.1 i */
+}
+
+static void still(double t, const double *x, double *dx, void *u)
+{
+    (void)t, (void)x, (void)u;
+    dx[0] = 0.0;
+}
+
+Test(state, sixteen_guards_and_a_constant_solution)
+{
+    vi_ode_problem p = {.n = 2, .ng = VI_ODE_MAX_G, .rhs = osc_u, .guards = sixteen, .rtol = 1e-10,
+                        .atol = {1e-10, 1e-10}};
+    vi_ode s;
+    double x0[2] = {1.0, 0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(s.armed, 0xffffu);
+    for (int i = 0; i < 10; i++) { /* guards 0..9 fire one after the other at acos(-0.1 i) */
+        cr_assert_eq(until_event(&s, &p, 10.0), VI_ODE_EVENT);
+        cr_assert_eq(s.ev_fired, 1u << i, "event %d fired %#x", i, s.ev_fired);
+        cr_assert(fabs(s.ev_t - acos(-0.1 * i)) < 1e-9);
+        cr_assert_eq(vi_ode_restart(&s, &p, s.ev_t, s.ev_x, 0.0, s.ev_fired), VI_ODE_OK);
+    }
+    /* f = 0: the error estimate is exactly 0, the step grows by the largest factor */
+    vi_ode_problem q = {.n = 1, .rhs = still, .rtol = 1e-6, .atol = {1e-6}};
+    double z[1] = {3.0};
+    cr_assert_eq(vi_ode_init(&s, &q, 0.0, z, 0.01, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &q, 100.0), VI_ODE_OK);
+    cr_assert(s.err == 0.0 && s.h == 0.05 && s.x[0] == 3.0, "err %g, h %g", s.err, s.h);
+}
+
+/* One step of the tableau as in a textbook (all stages, full sums, the published error formula):
+ * an independent implementation to compare the module's step with. */
+static void textbook_step(vi_ode_rhs_fn f, int n, double t, const double *x, double h, const double *atol,
+                          double rtol, double *x1, double *err)
+{
+    const vi_ode_tableau *m = vi_ode_method();
+    double k[VI_ODE_STAGES][NX], y[NX], e5[NX], e3[NX];
+    for (int i = 0; i < 12; i++) {
+        for (int c = 0; c < n; c++) {
+            y[c] = x[c];
+            for (int j = 0; j < i; j++) y[c] += h * m->a[i][j] * k[j][c];
+        }
+        f(t + m->c[i] * h, y, k[i], NULL);
+    }
+    double s5 = 0.0, s3 = 0.0;
+    for (int c = 0; c < n; c++) {
+        x1[c] = x[c], e5[c] = e3[c] = 0.0;
+        for (int j = 0; j < 12; j++) {
+            x1[c] += h * m->b[j] * k[j][c];
+            e5[c] += h * m->e5[j] * k[j][c];
+            e3[c] += h * m->e3[j] * k[j][c];
+        }
+        double sc = atol[c] + rtol * fmax(fabs(x[c]), fabs(x1[c]));
+        s5 += (e5[c] / sc) * (e5[c] / sc) / n;
+        s3 += (e3[c] / sc) * (e3[c] / sc) / n;
+    }
+    *err = s5 / sqrt(s5 + 0.01 * s3); /* ||e5||^2 / sqrt(||e5||^2 + 0.01 ||e3||^2), RMS norms */
+}
+
+Test(order, step_agrees_with_a_textbook_implementation_of_the_tableau)
+{
+    for (int k = 0; k < N_PROBLEMS; k++) {
+        const problem *pr = &PROBLEMS[k];
+        vi_ode_problem p = make(pr, 1e-7, 1e-9);
+        p.h_fixed = 0.3;
+        vi_ode s;
+        double x0[NX], x1[NX], err, t0 = 0.7;
+        pr->exact(t0, pr->x0, x0);
+        cr_assert_eq(vi_ode_init(&s, &p, t0, x0, 0.0, 0u), VI_ODE_OK);
+        cr_assert_eq(vi_ode_step(&s, &p, 10.0), VI_ODE_OK);
+        textbook_step(pr->f, pr->n, t0, x0, s.t - t0, p.atol, p.rtol, x1, &err);
+        for (int c = 0; c < pr->n; c++)
+            cr_assert(fabs(s.x[c] - x1[c]) <= 1e-14 * (fabs(x1[c]) + 1.0), "%s: x[%d] %.17g vs %.17g", pr->name, c,
+                      s.x[c], x1[c]);
+        /* the estimators cancel to O(h^6) and O(h^4): roundings of the stages show at ~1e-7 */
+        cr_assert(fabs(s.err - err) <= 1e-5 * err, "%s: err %.17g vs %.17g", pr->name, s.err, err);
+    }
 }
