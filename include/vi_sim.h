@@ -3,7 +3,9 @@
  * The FMI glue owns one vi_sim per instance; nothing here knows FMI.
  *
  * vi_sim_data is plain data (no pointers): it is what fmi2GetFMUstate copies and what
- * fmi2SerializeFMUstate writes. After it is restored the solver restarts from the restored state.
+ * fmi2SerializeFMUstate writes. vi_sim_checkpoint before the copy and vi_sim_restore after it make a
+ * restored copy continue bit for bit like the original (contract C7).
+ * The solver points into s->d: a vi_sim stays where it was initialized (never copied or moved).
  */
 #ifndef VI_SIM_H
 #define VI_SIM_H
@@ -12,6 +14,36 @@
 #include "vi_solver.h"
 #include "vi_variables.h"
 
+/* Valid ranges of the tolerance (parameter rtol, or the tolerance of fmi2SetupExperiment) and of
+ * max_step, checked at initialization. Above 1e-2 the error is of the order of the motion itself;
+ * below 1e-14 the tolerance is under the rounding of a double state. max_step is 0 (no limit) or at
+ * least VI_MAX_STEP_MIN. */
+#define VI_RTOL_MIN 1e-14
+#define VI_RTOL_MAX 1e-2
+#define VI_MAX_STEP_MIN 1e-12 /* s */
+
+/* Results of vi_sim_advance (contract C1). */
+enum { VI_SIM_OK = 0, VI_SIM_DISCARD = 1, VI_SIM_ERROR = -1 };
+
+/* Work bounds of one vi_sim_advance (one fmi2DoStep): internal solver steps and events. When either
+ * is reached the advance ends with VI_SIM_DISCARD at the time reached (a consistent state). At about
+ * 1 us per step the step bound is about a second of CPU. */
+#define VI_MAX_STEPS_PER_ADVANCE 1000000L
+#define VI_MAX_EVENTS_PER_ADVANCE 100000L
+/* Zeno: VI_ZENO_EVENTS consecutive events, each within VI_ZENO_ULPS units in the last place of t
+ * after the one before, are events accumulating at one instant; the advance ends there with
+ * VI_SIM_DISCARD. (Regular events, however many, are a matter of the work bounds.) */
+#define VI_ZENO_EVENTS 64
+#define VI_ZENO_ULPS 1024.0
+/* Re-arming: after an event that leaves the mode unchanged (grazing), the guard that fired sits at
+ * zero, and integration error or rounding alone could take it below zero again and again. It is
+ * shifted up by a band until it has moved above that band: VI_GRAZE_TOL times its change under a
+ * state error of the tolerance (rtol |x| + atol per state) plus VI_GRAZE_ULPS times its change under
+ * one ulp of t and of each state. A real crossing is still found, at most the band late, and the
+ * state is snapped onto the surface there. */
+#define VI_GRAZE_TOL 4.0
+#define VI_GRAZE_ULPS 256.0
+
 typedef struct {
     vi_parameters par;
     vi_inputs in;        /* input values as last set */
@@ -19,16 +51,23 @@ typedef struct {
     int inputs_changed;  /* set by the setters; applied at the start of the next step */
     double t_start;
     double tolerance;    /* from fmi2SetupExperiment, 0 when not defined (then par.rtol counts) */
+    int initialized;     /* vi_sim_initialize done: atol, model and state are those of a running simulation */
     vi_model M;
-    double t, x[2];      /* time [s] and state (delta [m], v [m/s]) */
+    double t, x[2];      /* time [s] and state (delta [m], v [m/s]); between events x is the solver's
+                            interpolant at t, the solver itself may be ahead */
     double atol[2];      /* absolute tolerances, from the problem's scales at initialization */
     long n_events;
+    double step_t0, step_v0;         /* start of the last step and the velocity there (for F_mean) */
+    double guard_band[VI_NGUARDS];   /* > 0: the guard is disarmed and shifted up by this (re-arming) */
+    vi_ode ode;                      /* solver = dop853: the one-step method's whole continuation */
 } vi_sim_data;
 
 typedef struct {
     vi_sim_data d;
     vi_solver *solver;
     int solver_stale;    /* the state changed outside the solver: restart before the next advance */
+    int out_valid;       /* out holds the outputs at the current d (lazy outputs) */
+    vi_outputs out;
     vi_log_fn log;
     void *log_env;
     char msg[512];       /* last error message */
@@ -45,12 +84,28 @@ void vi_sim_free(vi_sim *s);
 int vi_sim_prepare(vi_sim *s);
 /* vi_sim_prepare, then create the solver. 0 or -1 (s->msg). */
 int vi_sim_initialize(vi_sim *s);
-/* Integrate from s->d.t to t_end, locating and applying every event. 0 or -1 (s->msg). */
+/* Integrate from s->d.t to t_end > s->d.t, locating and applying every event (contract C1):
+ *   VI_SIM_OK:      s->d.t = t_end;
+ *   VI_SIM_DISCARD: a work bound was reached or events accumulate at one instant (Zeno); s->d.t is
+ *                   where the simulation got, the state there is consistent and usable, and s->msg
+ *                   names that time and the cause;
+ *   VI_SIM_ERROR:   s->msg says why (t_end not beyond s->d.t, solver failure, non-finite state). */
 int vi_sim_advance(vi_sim *s, double t_end);
-/* Outputs and calculated parameters at the current time. */
-void vi_sim_outputs(const vi_sim *s, vi_outputs *out);
-/* Restart the solver from s->d after it was overwritten by a saved state. 0 or -1 (s->msg). */
+/* Outputs and calculated parameters at the current time; computed at most once per state (lazy,
+ * cached until the state changes through a vi_sim call). */
+void vi_sim_outputs(vi_sim *s, vi_outputs *out);
+/* Contract C7: make s->d the complete continuation before it is copied into an FMU state. CVODE:
+ * the running solver restarts at (s->d.t, s->d.x), exactly as vi_sim_restore makes a restored copy
+ * start, so both continue from identical data. 0 or -1 (s->msg). */
+int vi_sim_checkpoint(vi_sim *s);
+/* Start the solver from s->d after it was overwritten by a saved state (any FMI state). 0 or -1. */
 int vi_sim_restore(vi_sim *s);
 void vi_sim_statistics(const vi_sim *s, vi_solver_stats *st);
+
+/* Contract C3: is d a state this FMU could have produced? Checks every field of vi_sim_data owned by the
+ * simulation layer (finite times, state, tolerances and inputs; counters >= 0; enumerations and flags
+ * in range) and then the model's part (vi_model_check). 0 when valid, else -1 with the first bad
+ * field named in msg. No pointer in d is trusted (there are none). */
+int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n);
 
 #endif

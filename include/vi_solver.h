@@ -1,15 +1,37 @@
 /*
- * vi_solver.h - a small wrapper around SUNDIALS CVODE 6.4 for a dense ODE system with rootfinding.
+ * vi_solver.h - one interface over the integrators of a small dense ODE system with guards:
+ * SUNDIALS CVODE 6.4 (BDF or Adams-Moulton, Newton iteration, dense linear solver) and the built-in
+ * explicit one-step method Dormand-Prince 8(5,3) with dense output (vi_ode.h).
+ *
+ * Where the integrator's state lives:
+ *   CVODE keeps its history (Nordsieck array, order, step size) inside its own memory. It cannot be
+ *   copied out, so a state taken for later (vi_solver_checkpoint) restarts CVODE at that point:
+ *   the running solver and a copy restored later (vi_solver_resume) both continue with a cold
+ *   start from the same data, bit for bit alike.
+ *   The one-step method keeps its whole continuation (time, step size, last step with its stages,
+ *   guard values and arming) in a plain-data vi_ode that the caller owns (cfg->ode, inside the FMU
+ *   state): a checkpoint costs nothing and a restored copy continues exactly where it was.
  *
  * Lifecycle: vi_solver_create -> (vi_solver_reset | vi_solver_advance)* -> vi_solver_free.
  * The solver integrates x' = rhs(t, x) and stops at the first zero of any guard g_i(t, x) crossed
- * from positive to negative (root direction -1), or at tout, which it never passes (the stop time
- * is set before every advance: SUNDIALS 6.4 forgets it once reached). After an event the caller
- * changes the model and calls vi_solver_reset (CVodeReInit, a cold restart).
+ * from positive to negative (root direction -1), or returns the state at tout.
+ *
+ * Integration past output points: vi_solver_advance sets no stop time. The solver keeps its step
+ * size and order, may step beyond tout, and returns x(tout) from its interpolant (CVODE:
+ * CVodeGetDky inside CVode's CV_NORMAL mode); guards are checked between the last output point and
+ * tout on that interpolant. The next call continues from the solver's own internal state, so a
+ * call whose tout lies inside the last internal step takes no new step. The caller restarts the
+ * solver (vi_solver_reset) only when the problem changes: after an event, an input jump, or when a
+ * state is taken (vi_sim_checkpoint).
+ *
  * Every SUNDIALS call is checked by one helper that logs the failing call through cfg->log.
  */
 #ifndef VI_SOLVER_H
 #define VI_SOLVER_H
+
+#include <stddef.h>
+
+#include "vi_ode.h"
 
 /* Sizes this wrapper is made for: small dense systems. */
 #define VI_SOLVER_MAX_N 4
@@ -22,17 +44,24 @@ typedef void (*vi_rhs_fn)(double t, const double *x, double *dx, void *user);
 typedef void (*vi_guard_fn)(double t, const double *x, double *g, void *user);
 typedef void (*vi_jac_fn)(double t, const double *x, double *jac_row_major, void *user);
 
+/* Integration methods (the values of the FMU's `solver` enumeration). */
+enum { VI_METHOD_BDF = 1, VI_METHOD_ADAMS = 2, VI_METHOD_DOP853 = 3 };
+
+/* Interior guard samples per step of the one-step method (see vi_ode.h, EVENTS): a guard that dips
+ * below zero and back within one step is seen when it is below zero at a sample. */
+#define VI_SOLVER_GUARD_SAMPLES 2
+
 typedef struct {
     int n, nguards; /* at most VI_SOLVER_MAX_N and VI_SOLVER_MAX_GUARDS */
     vi_rhs_fn rhs;
     vi_guard_fn guards;
     vi_jac_fn jac;      /* NULL: difference quotients */
     void *user;         /* passed to rhs, guards, jac */
-    int adams;          /* 0: BDF, 1: Adams-Moulton (both with Newton iteration and a dense solver) */
+    int method;         /* VI_METHOD_* */
     double rtol;
     const double *atol; /* n absolute tolerances */
     double max_step;    /* 0: none */
-    long max_steps;     /* per advance */
+    vi_ode *ode;        /* VI_METHOD_DOP853: the continuation, owned by the caller (plain data) */
     vi_log_fn log;
     void *log_env;
 } vi_solver_config;
@@ -41,18 +70,34 @@ typedef struct {
     long steps, rhs_evals, jac_evals, nonlin_iters, nonlin_fails, err_test_fails, guard_evals, resets;
 } vi_solver_stats;
 
-enum { VI_SOLVER_REACHED = 0, VI_SOLVER_EVENT = 1, VI_SOLVER_FAILED = -1 };
+enum { VI_SOLVER_REACHED = 0, VI_SOLVER_EVENT = 1, VI_SOLVER_LIMIT = 2, VI_SOLVER_FAILED = -1 };
 
 typedef struct vi_solver vi_solver;
 
-/* NULL on failure (logged). Copies the configuration; cfg->atol must hold n values. */
+/* NULL on failure (logged). Copies the configuration; cfg->atol must hold n values. Starts at (t0, x0). */
 vi_solver *vi_solver_create(const vi_solver_config *cfg, double t0, const double *x0);
-/* Restart from (t0, x0). 0 or VI_SOLVER_FAILED. */
+/* As vi_solver_create, but continuing a saved state: the one-step method continues from *cfg->ode as
+ * it is (checked); CVODE starts at (t0, x0) as after vi_solver_checkpoint. */
+vi_solver *vi_solver_resume(const vi_solver_config *cfg, double t0, const double *x0);
+/* Make (t0, x0), the caller's current point, a point from which vi_solver_resume continues exactly as
+ * this solver will: CVODE restarts there; the one-step method has nothing to do. 0 or FAILED. */
+int vi_solver_checkpoint(vi_solver *s, double t0, const double *x0);
+/* Cold restart from (t0, x0): the next advance starts a new integration there. 0 or VI_SOLVER_FAILED. */
 int vi_solver_reset(vi_solver *s, double t0, const double *x0);
-/* Integrate towards tout. On VI_SOLVER_EVENT, *t and x hold the event and fired[i] is nonzero for
- * the guards that crossed; on VI_SOLVER_REACHED, *t == tout. */
-int vi_solver_advance(vi_solver *s, double tout, double *t, double *x, int *fired);
+/* Integrate towards tout > *t taking at most max_steps internal steps (*taken: how many it took).
+ *   VI_SOLVER_REACHED: *t = tout and x = x(tout) (interpolated when the solver stepped beyond tout);
+ *   VI_SOLVER_EVENT:   *t and x hold the first guard zero in (*t, tout]; fired[i] != 0 for the
+ *                      guards that crossed; the caller resets the solver before going on;
+ *   VI_SOLVER_LIMIT:   max_steps taken: *t and x hold the solver's last internal step (< tout),
+ *                      a consistent point the solver can continue from;
+ *   VI_SOLVER_FAILED:  logged. */
+int vi_solver_advance(vi_solver *s, double tout, long max_steps, double *t, double *x, int *fired, long *taken);
+/* Cumulative counters since vi_solver_create. */
 void vi_solver_statistics(const vi_solver *s, vi_solver_stats *st);
+/* Is *o a continuation of the one-step method for n states and nguards guards whose current point
+ * is at or after t (a state restored from outside may hold anything)? 0, or -1 with the first bad
+ * field in msg. */
+int vi_solver_ode_check(const vi_ode *o, int n, int nguards, double t, char *msg, size_t size);
 void vi_solver_free(vi_solver *s);
 
 #endif

@@ -49,7 +49,7 @@
   X(a, Real, none, parameter, fixed, exact, 0.0, "m", "amplitude of the internal harmonic platform excitation") \
   X(f, Real, none, parameter, fixed, exact, 560.0, "Hz", "frequency of the internal harmonic platform excitation") \
   X(rtol, Real, none, parameter, fixed, exact, 1e-6, "", "relative tolerance (a tolerance from fmi2SetupExperiment wins)") \
-  X(solver, Enumeration, Solver, parameter, fixed, exact, 1, "", "CVODE linear multistep method") \
+  X(solver, Enumeration, Solver, parameter, fixed, exact, 1, "", "integration method: CVODE BDF or Adams (linear multistep), or Dormand-Prince 8(5,3) (explicit one-step, dense output)") \
   X(max_step, Real, none, parameter, fixed, exact, 0.0, "s", "CVODE maximum internal step, 0 = none") \
   X(F, Real, none, output, continuous, calculated, 0.0, "N", "contact force") \
   X(delta, Real, none, output, continuous, calculated, 0.0, "m", "indentation yC - y") \
@@ -69,7 +69,9 @@
   X(F_Y, Real, none, calculatedParameter, fixed, calculated, 0.0, "N", "yield force") \
   X(delta_Y, Real, none, calculatedParameter, fixed, calculated, 0.0, "m", "yield indentation") \
   X(k_lin, Real, none, calculatedParameter, fixed, calculated, 0.0, "N/m", "stiffness of the linear elastic-perfectly plastic model, F_Y/delta_Y") \
-  X(f_contact, Real, none, calculatedParameter, fixed, calculated, 0.0, "Hz", "linearised contact resonance at the static load")
+  X(f_contact, Real, none, calculatedParameter, fixed, calculated, 0.0, "Hz", "linearised contact resonance at the static load") \
+  X(F_mean, Real, none, output, continuous, calculated, 0.0, "N", "contact force averaged over the last communication step: its impulse divided by the step") \
+  X(k_contact, Real, none, output, continuous, calculated, 0.0, "N/m", "tangent contact stiffness dF/ddelta at the current state, 0 out of contact")
 
 /* Enumeration types: E(type, description); items in VI_ITEMS_<type>(I) as I(type, name, value). */
 #define VI_ENUMERATIONS(E) \
@@ -77,13 +79,13 @@
   E(Unloading, "Johnson unloading curve") \
   E(YieldFormula, "yield force formula") \
   E(Init, "initial state") \
-  E(Solver, "CVODE linear multistep method") \
+  E(Solver, "integration method") \
   E(Mode, "mode of the hybrid automaton")
 #define VI_ITEMS_ContactModel(I) I(ContactModel, hertz, 1) I(ContactModel, johnson, 2) I(ContactModel, lepp, 3)
 #define VI_ITEMS_Unloading(I) I(Unloading, paper, 1) I(Unloading, continuous, 2)
 #define VI_ITEMS_YieldFormula(I) I(YieldFormula, textbook, 1) I(YieldFormula, printed, 2)
 #define VI_ITEMS_Init(I) I(Init, static, 1) I(Init, touching, 2)
-#define VI_ITEMS_Solver(I) I(Solver, bdf, 1) I(Solver, adams, 2)
+#define VI_ITEMS_Solver(I) I(Solver, bdf, 1) I(Solver, adams, 2) I(Solver, dop853, 3)
 #define VI_ITEMS_Mode(I) I(Mode, free, 0) I(Mode, elastic, 1) I(Mode, plastic, 2) I(Mode, unload, 3) I(Mode, stick, 4)
 
 /* ---- generated from the tables above; nothing below names a variable ---- */

@@ -50,7 +50,7 @@ static int enabled(const Component *c, int cat) { return (c->log_mask >> cat & 1
 
 static void vlog(const Component *c, fmi2Status status, int cat, const char *fmt, va_list ap)
 {
-    if (!c->cb.logger || (status < fmi2Error && !enabled(c, cat))) return;
+    if (!c->cb.logger || (status < fmi2Discard && !enabled(c, cat))) return; /* discard, error: always */
     char text[1024], escaped[2 * sizeof text];
     vsnprintf(text, sizeof text, fmt, ap);
     size_t j = 0; /* the logger treats the message as a format: escape '%' */
@@ -418,6 +418,7 @@ fmi2Status fmi2GetFMUstate(fmi2Component comp, fmi2FMUstate *FMUstate)
         LOG_ERROR(c, "fmi2GetFMUstate: FMUstate is NULL");
         return fmi2Error;
     }
+    if (vi_sim_checkpoint(&c->sim) < 0) return fail(c, "fmi2GetFMUstate"); /* contract C7 */
     vi_saved_state *s = *FMUstate ? *FMUstate : c->cb.allocateMemory(1, sizeof *s);
     if (!s) {
         LOG_ERROR(c, "fmi2GetFMUstate: out of memory");
@@ -568,7 +569,13 @@ fmi2Status fmi2DoStep(fmi2Component comp, fmi2Real currentCommunicationPoint, fm
         LOG_ERROR(c, "fmi2DoStep: the step to %.17g passes the stop time %.17g", tc + h, c->stop_time);
         return fmi2Error;
     }
-    if (vi_sim_advance(&c->sim, tc + h) < 0) return fail(c, "fmi2DoStep");
+    int rc = vi_sim_advance(&c->sim, tc + h);
+    if (rc == VI_SIM_DISCARD) { /* contract C1: stopped at c->sim.d.t (fmi2LastSuccessfulTime) */
+        logf_(c, fmi2Discard, CAT_logStatusWarning, "fmi2DoStep: %s", c->sim.msg);
+        c->state = ST_STEP_FAILED;
+        return fmi2Discard;
+    }
+    if (rc != VI_SIM_OK) return fail(c, "fmi2DoStep");
     return fmi2OK;
 }
 

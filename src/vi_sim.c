@@ -1,20 +1,35 @@
 /* vi_sim.c - a simulation: inputs, initial state, and the event loop around the solver. */
 #include "vi_sim.h"
 
+#include <float.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
 
-/* Consecutive events within one step before the step is refused as chattering (Zeno). */
-#define VI_MAX_EVENTS_PER_STEP 100000L
-#define VI_MAX_STEPS_PER_ADVANCE 500000L
+_Static_assert((int)VI_Solver_bdf == (int)VI_METHOD_BDF && (int)VI_Solver_adams == (int)VI_METHOD_ADAMS &&
+                   (int)VI_Solver_dop853 == (int)VI_METHOD_DOP853,
+               "the solver enumeration is the solver layer's method number");
 
-static void sim_rhs(double t, const double *x, double *dx, void *user) { vi_model_rhs(user, t, x, dx); }
-static void sim_guards(double t, const double *x, double *g, void *user) { vi_model_guards(user, t, x, g); }
+static void sim_rhs(double t, const double *x, double *dx, void *user)
+{
+    const vi_sim_data *d = user;
+    vi_model_rhs(&d->M, t, x, dx);
+}
+
+/* The model's guards, each disarmed one shifted up by its band (see VI_GRAZE_NOISE). */
+static void sim_guards(double t, const double *x, double *g, void *user)
+{
+    const vi_sim_data *d = user;
+    vi_model_guards(&d->M, t, x, g);
+    for (int i = 0; i < VI_NGUARDS; i++) g[i] += d->guard_band[i];
+}
+
 static void sim_jac(double t, const double *x, double *j, void *user)
 {
+    const vi_sim_data *d = user;
     j[0] = 0.0, j[1] = -1.0; /* d(delta')/d(delta, v) */
-    j[2] = vi_model_stiffness_over_mass(user, t, x), j[3] = 0.0;
+    j[2] = vi_model_stiffness_over_mass(&d->M, t, x), j[3] = 0.0;
 }
 
 void vi_sim_init(vi_sim *s, vi_log_fn log, void *log_env)
@@ -45,22 +60,26 @@ static void set_input_ramps(vi_model *M, const vi_sim_data *d, double t)
 }
 
 static double rtol_of(const vi_sim_data *d) { return d->tolerance > 0.0 ? d->tolerance : d->par.rtol; }
+static void arm_guards_at_zero(vi_sim_data *d);
 
 int vi_sim_prepare(vi_sim *s)
 {
     vi_sim_data *d = &s->d;
     const vi_parameters *p = &d->par;
     double rtol = rtol_of(d);
-    if (!(rtol >= 1e-14 && rtol < 1.0)) {
-        snprintf(s->msg, sizeof s->msg, "relative tolerance %g: use a value in [1e-14, 1)", rtol);
+    s->out_valid = 0;
+    if (!(rtol >= VI_RTOL_MIN && rtol <= VI_RTOL_MAX)) {
+        snprintf(s->msg, sizeof s->msg, "relative tolerance %s = %g: use a value in [%g, %g]",
+                 d->tolerance > 0.0 ? "(fmi2SetupExperiment)" : "rtol", rtol, VI_RTOL_MIN, VI_RTOL_MAX);
         return -1;
     }
-    if (!(p->max_step >= 0.0 && isfinite(p->max_step))) {
-        snprintf(s->msg, sizeof s->msg, "max_step = %g s: use 0 (none) or a positive step", p->max_step);
+    if (!(p->max_step == 0.0 || (p->max_step >= VI_MAX_STEP_MIN && isfinite(p->max_step)))) {
+        snprintf(s->msg, sizeof s->msg, "max_step = %g s: use 0 (no limit) or a finite step >= %g s", p->max_step,
+                 VI_MAX_STEP_MIN);
         return -1;
     }
-    if (p->solver != VI_Solver_bdf && p->solver != VI_Solver_adams) {
-        snprintf(s->msg, sizeof s->msg, "solver = %d: use bdf (1) or adams (2)", p->solver);
+    if (p->solver != VI_Solver_bdf && p->solver != VI_Solver_adams && p->solver != VI_Solver_dop853) {
+        snprintf(s->msg, sizeof s->msg, "solver = %d: use bdf (1), adams (2) or dop853 (3)", p->solver);
         return -1;
     }
     if (!isfinite(d->in.yC_in) || !isfinite(d->in.F_ext)) {
@@ -73,22 +92,26 @@ int vi_sim_prepare(vi_sim *s)
     d->inputs_changed = 0;
     vi_model_initial_state(&d->M, p->init, p->v0, d->t, d->x);
     d->n_events = 0;
+    d->step_t0 = d->t;
+    d->step_v0 = d->x[1];
+    memset(d->guard_band, 0, sizeof d->guard_band);
     return 0;
 }
 
-/* (Re)create the solver at the current state with the tolerances stored in s->d. */
-static int create_solver(vi_sim *s)
+/* (Re)create the solver with the tolerances stored in s->d: starting at the current state, or
+ * (resume) continuing the continuation in s->d as it is. */
+static int create_solver(vi_sim *s, int resume)
 {
     vi_sim_data *d = &s->d;
     vi_solver_free(s->solver);
     vi_solver_config cfg = {
-        .n = 2, .nguards = VI_NGUARDS, .rhs = sim_rhs, .guards = sim_guards, .jac = sim_jac, .user = &d->M,
-        .adams = d->par.solver == VI_Solver_adams, .rtol = rtol_of(d), .atol = d->atol,
-        .max_step = d->par.max_step, .max_steps = VI_MAX_STEPS_PER_ADVANCE, .log = s->log, .log_env = s->log_env};
-    s->solver = vi_solver_create(&cfg, d->t, d->x);
+        .n = 2, .nguards = VI_NGUARDS, .rhs = sim_rhs, .guards = sim_guards, .jac = sim_jac, .user = d,
+        .method = d->par.solver, .rtol = rtol_of(d), .atol = d->atol, .max_step = d->par.max_step,
+        .ode = &d->ode, .log = s->log, .log_env = s->log_env};
+    s->solver = resume ? vi_solver_resume(&cfg, d->t, d->x) : vi_solver_create(&cfg, d->t, d->x);
     s->solver_stale = 0;
     if (!s->solver) {
-        snprintf(s->msg, sizeof s->msg, "could not create the CVODE solver");
+        snprintf(s->msg, sizeof s->msg, "could not create the solver");
         return -1;
     }
     return 0;
@@ -102,16 +125,42 @@ int vi_sim_initialize(vi_sim *s)
     vi_model_scales(&d->M, d->x[0], d->par.v0, &L, &V);
     d->atol[0] = rtol * L;
     d->atol[1] = rtol * V;
-    if (create_solver(s) < 0) return -1;
-    s->log(s->log_env, VI_LOG_SOLVER, "CVODE %s, rtol %g, atol %g m and %g m/s (scales %g m, %g m/s)",
-           d->par.solver == VI_Solver_adams ? "Adams" : "BDF", rtol, d->atol[0], d->atol[1], L, V);
+    d->initialized = 1;
+    arm_guards_at_zero(d);
+    memset(&d->ode, 0, sizeof d->ode);
+    if (create_solver(s, 0) < 0) return -1;
+    static const char *const names[] = {[VI_Solver_bdf] = "CVODE BDF", [VI_Solver_adams] = "CVODE Adams",
+                                        [VI_Solver_dop853] = "Dormand-Prince 8(5,3)"};
+    s->log(s->log_env, VI_LOG_SOLVER, "%s, rtol %g, atol %g m and %g m/s (scales %g m, %g m/s)",
+           names[d->par.solver], rtol, d->atol[0], d->atol[1], L, V);
     return 0;
 }
 
-int vi_sim_restore(vi_sim *s) { return create_solver(s); }
+int vi_sim_checkpoint(vi_sim *s)
+{
+    if (!s->d.initialized || !s->solver) return 0;
+    if (vi_solver_checkpoint(s->solver, s->d.t, s->d.x) < 0) {
+        snprintf(s->msg, sizeof s->msg, "could not restart the solver at t = %.17g s", s->d.t);
+        return -1;
+    }
+    s->solver_stale = 0;
+    return 0;
+}
+
+int vi_sim_restore(vi_sim *s)
+{
+    s->out_valid = 0;
+    if (!s->d.initialized) { /* a state from before initialization: no solver until then */
+        vi_solver_free(s->solver);
+        s->solver = NULL;
+        return 0;
+    }
+    return create_solver(s, 1);
+}
 
 /* New input values take effect at time t: the platform may jump (the mass does not), the force may
- * step; the mode is then chosen afresh from the new state. */
+ * step; the mode is then chosen afresh from the new state. An input that continues its previous
+ * ramp (held, or the same slope) changes nothing and does not restart the solver. */
 static void apply_inputs(vi_sim *s)
 {
     vi_sim_data *d = &s->d;
@@ -126,56 +175,260 @@ static void apply_inputs(vi_sim *s)
     int mode = M->mode;
     d->x[0] += d->in.yC_in - y_old_t; /* delta jumps with the platform */
     set_input_ramps(M, d, t);
-    if (vi_model_resolve(M, t, d->x) != mode)
+    if (vi_model_resolve(M, t, d->x) != mode) {
         s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: input change, mode %d -> %d", t, mode, M->mode);
+        memset(d->guard_band, 0, sizeof d->guard_band);
+    }
+    arm_guards_at_zero(d);
     s->solver_stale = 1;
+}
+
+/* ---- re-arming of guards after events that keep the mode ----------------------------------- */
+
+/* The noise of the guards at (t, x): how much each moves under rounding (one ulp of t and of each
+ * state; ulps[i]) and under a state error of the integration tolerance (rtol |x_k| + atol_k in each
+ * state; tol[i]). */
+static void guard_noise(const vi_sim_data *d, double ulps[VI_NGUARDS], double tol[VI_NGUARDS])
+{
+    const vi_model *M = &d->M;
+    double g0[VI_NGUARDS], g[VI_NGUARDS], y[2] = {d->x[0], d->x[1]}, rtol = rtol_of(d);
+    vi_model_guards(M, d->t, y, g0);
+    vi_model_guards(M, nextafter(d->t, INFINITY), y, g);
+    for (int i = 0; i < VI_NGUARDS; i++) ulps[i] = fabs(g[i] - g0[i]), tol[i] = 0.0;
+    for (int k = 0; k < 2; k++) {
+        y[k] = nextafter(d->x[k], INFINITY);
+        vi_model_guards(M, d->t, y, g);
+        for (int i = 0; i < VI_NGUARDS; i++) ulps[i] += fabs(g[i] - g0[i]);
+        y[k] = d->x[k] + (rtol * fabs(d->x[k]) + d->atol[k]);
+        vi_model_guards(M, d->t, y, g);
+        for (int i = 0; i < VI_NGUARDS; i++) tol[i] += fabs(g[i] - g0[i]);
+        y[k] = d->x[k];
+    }
+}
+
+/* A disarmed guard is armed again once it lies above its band. */
+static void rearm_guards(vi_sim_data *d)
+{
+    int any = 0;
+    for (int i = 0; i < VI_NGUARDS; i++) any |= d->guard_band[i] > 0.0;
+    if (!any) return;
+    double g[VI_NGUARDS];
+    vi_model_guards(&d->M, d->t, d->x, g);
+    for (int i = 0; i < VI_NGUARDS; i++)
+        if (d->guard_band[i] > 0.0 && g[i] > d->guard_band[i]) d->guard_band[i] = 0.0;
+}
+
+/* The guards of a mode just entered (or of a state just changed from outside) that start at zero,
+ * up to rounding, the state snapped onto their surface: shifted up by their rounding noise, so that
+ * they count as positive from the start (the mode was chosen because the motion goes inside) and a
+ * crossing back, however soon, is found. (A guard that starts at zero would otherwise wait until it
+ * has been seen positive, and a short excursion within one step would be missed.) */
+static void arm_guards_at_zero(vi_sim_data *d)
+{
+    double g[VI_NGUARDS], ulps[VI_NGUARDS], tol[VI_NGUARDS];
+    vi_model_guards(&d->M, d->t, d->x, g);
+    guard_noise(d, ulps, tol);
+    for (int i = 0; i < VI_NGUARDS; i++) {
+        double noise = VI_GRAZE_ULPS * ulps[i] + DBL_MIN;
+        if (d->guard_band[i] == 0.0 && fabs(g[i]) <= noise) d->guard_band[i] = noise;
+    }
+}
+
+/* ---- the loop ------------------------------------------------------------------------------- */
+
+/* End the advance early (contract C1): the state at d->t is consistent and usable. */
+static int discard(vi_sim *s, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static int discard(vi_sim *s, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(s->msg, sizeof s->msg, fmt, ap);
+    va_end(ap);
+    return VI_SIM_DISCARD;
+}
+
+/* One event at d->t: guard `fired` of the current mode reached zero. When the mode stays, that guard
+ * sits at zero and is disarmed (band) until it has moved away. */
+static void apply_event(vi_sim *s, int fired)
+{
+    vi_sim_data *d = &s->d;
+    int from = d->M.mode;
+    vi_model_event(&d->M, d->t, d->x, fired);
+    d->n_events++;
+    s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: guard %d of mode %d, mode %d -> %d, delta = %.9g m, v = %.9g m/s",
+           d->t, fired, from, from, d->M.mode, d->x[0], d->x[1]);
+    if (d->M.mode != from) {
+        memset(d->guard_band, 0, sizeof d->guard_band);
+        arm_guards_at_zero(d);
+        return;
+    }
+    rearm_guards(d);
+    double ulps[VI_NGUARDS], tol[VI_NGUARDS];
+    guard_noise(d, ulps, tol);
+    d->guard_band[fired] = VI_GRAZE_TOL * tol[fired] + VI_GRAZE_ULPS * ulps[fired] + DBL_MIN;
 }
 
 int vi_sim_advance(vi_sim *s, double t_end)
 {
     vi_sim_data *d = &s->d;
+    if (!s->solver) {
+        snprintf(s->msg, sizeof s->msg, "the simulation is not initialized");
+        return VI_SIM_ERROR;
+    }
+    if (!(t_end > d->t)) {
+        snprintf(s->msg, sizeof s->msg, "the step end %.17g s does not exceed the current time %.17g s in floating point",
+                 t_end, d->t);
+        return VI_SIM_ERROR;
+    }
+    s->out_valid = 0;
+    d->step_t0 = d->t;
+    d->step_v0 = d->x[1];
     if (d->inputs_changed) apply_inputs(s);
+    rearm_guards(d);
     if (s->solver_stale) {
         if (vi_solver_reset(s->solver, d->t, d->x) < 0) goto fail;
         s->solver_stale = 0;
     }
-    long events = 0;
-    int fired[VI_NGUARDS];
-    while (d->t < t_end) {
-        int rc = vi_solver_advance(s->solver, t_end, &d->t, d->x, fired);
+    long steps_left = VI_MAX_STEPS_PER_ADVANCE, events = 0, zeno = 0;
+    int fired[VI_SOLVER_MAX_GUARDS];
+    while (d->t < t_end) { /* bounded: every pass is an event, and events are bounded below */
+        long taken = 0;
+        double t_before = d->t;
+        int rc = vi_solver_advance(s->solver, t_end, steps_left, &d->t, d->x, fired, &taken);
+        steps_left -= taken;
         if (rc == VI_SOLVER_FAILED) goto fail;
         if (rc == VI_SOLVER_REACHED) break;
+        if (rc == VI_SOLVER_LIMIT)
+            return discard(s, "work bound: %ld internal steps in one step, stopped at t = %.17g s (mode %d); "
+                              "continue from there or use smaller communication steps",
+                           VI_MAX_STEPS_PER_ADVANCE, d->t, d->M.mode);
         int g = 0;
         while (g < VI_NGUARDS - 1 && fired[g] == 0) g++;
-        int from = d->M.mode;
-        vi_model_event(&d->M, d->t, d->x, g);
-        d->n_events++;
-        s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: guard %d of mode %d, mode %d -> %d, delta = %.9g m, v = %.9g m/s",
-               d->t, g, from, from, d->M.mode, d->x[0], d->x[1]);
-        if (++events > VI_MAX_EVENTS_PER_STEP) {
-            snprintf(s->msg, sizeof s->msg, "more than %ld events in one step near t = %.17g s (chattering)",
-                     VI_MAX_EVENTS_PER_STEP, d->t);
-            return -1;
-        }
+        apply_event(s, g);
         if (vi_solver_reset(s->solver, d->t, d->x) < 0) goto fail;
+        double ulp = nextafter(fabs(d->t), INFINITY) - fabs(d->t);
+        zeno = d->t - t_before <= VI_ZENO_ULPS * ulp ? zeno + 1 : 0;
+        if (zeno >= VI_ZENO_EVENTS)
+            return discard(s, "events accumulate at t = %.17g s (Zeno): %d events within %g s, the last on guard %d "
+                              "of mode %d; stopped there",
+                           d->t, VI_ZENO_EVENTS, VI_ZENO_EVENTS * VI_ZENO_ULPS * ulp, g, d->M.mode);
+        if (++events >= VI_MAX_EVENTS_PER_ADVANCE && d->t < t_end)
+            return discard(s, "work bound: %ld events in one step, stopped at t = %.17g s (mode %d); "
+                              "continue from there or use smaller communication steps",
+                           VI_MAX_EVENTS_PER_ADVANCE, d->t, d->M.mode);
     }
     d->t = t_end;
     if (!isfinite(d->x[0]) || !isfinite(d->x[1])) {
         snprintf(s->msg, sizeof s->msg, "the state is not finite at t = %.17g s", d->t);
-        return -1;
+        return VI_SIM_ERROR;
     }
-    return 0;
+    return VI_SIM_OK;
 fail:
-    snprintf(s->msg, sizeof s->msg, "CVODE failed near t = %.17g s (mode %d, delta = %g m, v = %g m/s)", d->t,
+    snprintf(s->msg, sizeof s->msg, "the solver failed near t = %.17g s (mode %d, delta = %g m, v = %g m/s)", d->t,
              d->M.mode, d->x[0], d->x[1]);
-    return -1;
+    return VI_SIM_ERROR;
 }
 
-void vi_sim_outputs(const vi_sim *s, vi_outputs *out)
+/* ---- outputs -------------------------------------------------------------------------------- */
+
+/* Tangent contact stiffness dF/ddelta [N/m] (0 out of contact). A sticking mass is held at delta_c
+ * between the two branches; small unloading would follow the unloading curve, so its stiffness. */
+static double contact_stiffness(const vi_model *M, double t, const double x[2])
 {
-    vi_model_calculated(&s->d.M, out);
-    vi_model_outputs(&s->d.M, s->d.t, s->d.x, out);
+    if (M->mode == VI_Mode_stick) return vi_unload_stiffness(&M->U, M->U.delta_c);
+    return M->m * vi_model_stiffness_over_mass(M, t, x);
 }
+
+/* The contact force averaged over the last step [t0, t]: the impulse over the step divided by it,
+ * from the momentum balance m v' = F - W(t), W = P + m g - F_ext(t) (F_ext linear over the step, so
+ * its mean is its midpoint value). Before any step: the force itself. */
+static double mean_force(const vi_sim_data *d, double F)
+{
+    const vi_model *M = &d->M;
+    double h = d->t - d->step_t0;
+    if (!(h > 0.0)) return F;
+    double W_mean = M->W0 - vi_ramp_at(&M->F_ext, d->step_t0 + 0.5 * h);
+    return M->m * (d->x[1] - d->step_v0) / h + W_mean;
+}
+
+void vi_sim_outputs(vi_sim *s, vi_outputs *out)
+{
+    if (!s->out_valid) {
+        const vi_sim_data *d = &s->d;
+        vi_model_calculated(&d->M, &s->out);
+        vi_model_outputs(&d->M, d->t, d->x, &s->out);
+        s->out.F_mean = mean_force(d, s->out.F);
+        s->out.k_contact = contact_stiffness(&d->M, d->t, d->x);
+        s->out_valid = 1;
+    }
+    *out = s->out;
+}
+
+/* ---- contract C3: validity of a state payload ---------------------------------------------- */
+
+#define BAD(...) do { snprintf(msg, n, __VA_ARGS__); return -1; } while (0)
+
+/* Is `value` an item of the enumeration type `type`? */
+static int enum_item(const char *type, int value)
+{
+    for (int i = 0; i < vi_enum_item_count; i++)
+        if (vi_enum_items[i].value == value && strcmp(vi_enum_items[i].type, type) == 0) return 1;
+    return 0;
+}
+
+/* Parameters and inputs (values and derivatives), through the variable table so that every row is
+ * covered and named. */
+static int check_variables(const vi_sim_data *d, char *msg, size_t n)
+{
+    for (int vr = 0; vr < VI_NVARS; vr++) {
+        const vi_variable *v = &vi_variable_table[vr];
+        const char *base = v->group == VI_GROUP_PARAMETERS ? (const char *)&d->par
+                           : v->group == VI_GROUP_INPUTS   ? (const char *)&d->in
+                                                           : NULL;
+        if (!base) continue;
+        if (v->type == VI_Real) {
+            double x = *(const double *)(base + v->offset);
+            if (!isfinite(x)) BAD("%s = %g is not finite", v->name, x);
+            if (v->group == VI_GROUP_INPUTS) {
+                double dx = *(const double *)((const char *)&d->din + v->offset);
+                if (!isfinite(dx)) BAD("the derivative of %s = %g is not finite", v->name, dx);
+            }
+        } else {
+            int k = *(const int *)(base + v->offset);
+            if (strcmp(v->enumeration, "none") != 0 && !enum_item(v->enumeration, k))
+                BAD("%s = %d is not an item of %s", v->name, k, v->enumeration);
+            if (v->type == VI_Boolean && k != 0 && k != 1) BAD("%s = %d is not a Boolean", v->name, k);
+        }
+    }
+    return 0;
+}
+
+int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n)
+{
+    if (check_variables(d, msg, n) < 0) return -1;
+    if (d->inputs_changed != 0 && d->inputs_changed != 1) BAD("inputs_changed = %d is not 0 or 1", d->inputs_changed);
+    if (!isfinite(d->t_start)) BAD("t_start = %g is not finite", d->t_start);
+    if (d->tolerance != 0.0 && !(d->tolerance >= VI_RTOL_MIN && d->tolerance <= VI_RTOL_MAX))
+        BAD("tolerance = %g is neither 0 nor in [%g, %g]", d->tolerance, VI_RTOL_MIN, VI_RTOL_MAX);
+    if (!isfinite(d->t) || d->t < d->t_start) BAD("t = %g is not finite or before t_start = %g", d->t, d->t_start);
+    for (int i = 0; i < 2; i++) {
+        if (!isfinite(d->x[i])) BAD("x[%d] = %g is not finite", i, d->x[i]);
+        if (!(d->atol[i] >= 0.0 && isfinite(d->atol[i]))) BAD("atol[%d] = %g is not finite and >= 0", i, d->atol[i]);
+    }
+    if (d->n_events < 0) BAD("n_events = %ld is negative", d->n_events);
+    if (d->initialized != 0 && d->initialized != 1) BAD("initialized = %d is not 0 or 1", d->initialized);
+    if (!isfinite(d->step_t0) || d->step_t0 > d->t || !isfinite(d->step_v0))
+        BAD("step_t0 = %g, step_v0 = %g: not finite or after t", d->step_t0, d->step_v0);
+    for (int i = 0; i < VI_NGUARDS; i++)
+        if (!(d->guard_band[i] >= 0.0 && isfinite(d->guard_band[i])))
+            BAD("guard_band[%d] = %g is not finite and >= 0", i, d->guard_band[i]);
+    if (d->initialized && d->par.solver == VI_Solver_dop853 &&
+        vi_solver_ode_check(&d->ode, 2, VI_NGUARDS, d->t, msg, n) < 0)
+        return -1;
+    /* TODO(C3, helper M): return vi_model_check(&d->M, d->x, msg, n) once it is on main. */
+    return 0;
+}
+#undef BAD
 
 void vi_sim_statistics(const vi_sim *s, vi_solver_stats *st)
 {

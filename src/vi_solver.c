@@ -1,7 +1,11 @@
-/* vi_solver.c - CVODE 6.4 wrapper; see vi_solver.h. */
+/* vi_solver.c - the solver interface (vi_solver.h): SUNDIALS CVODE 6.4 (BDF, Adams) and the built-in
+ * one-step method (vi_ode.h, Dormand-Prince 8(5,3)). */
 #include "vi_solver.h"
 
 #include <cvode/cvode.h>
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
 #include <nvector/nvector_serial.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,12 +15,22 @@
 
 struct vi_solver {
     vi_solver_config cfg;
-    double *atol_copy;
+    double atol_copy[VI_SOLVER_MAX_N];
+    /* the one-step method: the problem (the continuation is *cfg.ode) */
+    vi_ode_problem ode_problem;
+    long ode_resets;
+    /* CVODE */
     SUNContext ctx;
     void *cvode;
-    N_Vector x, atol;
+    N_Vector x, atol, dky;
     SUNMatrix A;
     SUNLinearSolver LS;
+    int fresh;                    /* no step since the last (re)initialisation */
+    double t0;                    /* time of the last (re)initialisation */
+    double tn;                    /* CVODE's internal time: the end of its last step */
+    int root_pending;             /* a guard zero was found in the last step, at troot <= tn ... */
+    double troot, xroot[VI_SOLVER_MAX_N];
+    int rootsfound[VI_SOLVER_MAX_GUARDS]; /* ... for these guards; not reported yet */
     vi_solver_stats before_reset; /* CVodeReInit zeroes CVODE's counters: the sums before it */
 };
 
@@ -38,17 +52,18 @@ static int check_ptr(const vi_solver *s, const void *p, const char *call)
     return VI_SOLVER_FAILED;
 }
 
+/* Callbacks: the serial vectors' data are read directly (NV_DATA_S), no operation-table call. */
 static int rhs_cb(sunrealtype t, N_Vector x, N_Vector dx, void *ud)
 {
-    vi_solver *s = ud;
-    s->cfg.rhs(t, N_VGetArrayPointer(x), N_VGetArrayPointer(dx), s->cfg.user);
+    const vi_solver *s = ud;
+    s->cfg.rhs(t, NV_DATA_S(x), NV_DATA_S(dx), s->cfg.user);
     return 0;
 }
 
 static int guard_cb(sunrealtype t, N_Vector x, sunrealtype *g, void *ud)
 {
-    vi_solver *s = ud;
-    s->cfg.guards(t, N_VGetArrayPointer(x), g, s->cfg.user);
+    const vi_solver *s = ud;
+    s->cfg.guards(t, NV_DATA_S(x), g, s->cfg.user);
     return 0;
 }
 
@@ -56,33 +71,34 @@ static int jac_cb(sunrealtype t, N_Vector x, N_Vector fx, SUNMatrix J, void *ud,
                   N_Vector t3)
 {
     (void)fx, (void)t1, (void)t2, (void)t3;
-    vi_solver *s = ud;
+    const vi_solver *s = ud;
     int n = s->cfg.n;
     double j[VI_SOLVER_MAX_N * VI_SOLVER_MAX_N];
-    s->cfg.jac(t, N_VGetArrayPointer(x), j, s->cfg.user);
+    s->cfg.jac(t, NV_DATA_S(x), j, s->cfg.user);
     for (int r = 0; r < n; r++)
         for (int c = 0; c < n; c++) SM_ELEMENT_D(J, r, c) = j[r * n + c];
     return 0;
 }
 
+/* CVODE's own messages. The work limit is not an error here: vi_solver_advance reports it. */
 static void err_cb(int code, const char *module, const char *function, char *msg, void *ud)
 {
-    vi_solver *s = ud;
+    const vi_solver *s = ud;
+    if (code == CV_TOO_MUCH_WORK) return;
     s->cfg.log(s->cfg.log_env, code < 0 ? VI_LOG_ERROR : VI_LOG_WARNING, "%s %s: %s", module, function, msg);
 }
 
 static int configure(vi_solver *s, double t0, const double *x0)
 {
     const vi_solver_config *c = &s->cfg;
-    memcpy(N_VGetArrayPointer(s->x), x0, sizeof(double) * (size_t)c->n);
-    memcpy(N_VGetArrayPointer(s->atol), c->atol, sizeof(double) * (size_t)c->n);
+    memcpy(NV_DATA_S(s->x), x0, sizeof(double) * (size_t)c->n);
+    memcpy(NV_DATA_S(s->atol), c->atol, sizeof(double) * (size_t)c->n);
     CHECK(CVodeSetErrHandlerFn(s->cvode, err_cb, s));
     CHECK(CVodeInit(s->cvode, rhs_cb, t0, s->x));
     CHECK(CVodeSetUserData(s->cvode, s));
     CHECK(CVodeSVtolerances(s->cvode, c->rtol, s->atol));
     CHECK(CVodeSetLinearSolver(s->cvode, s->LS, s->A));
     if (c->jac) CHECK(CVodeSetJacFn(s->cvode, jac_cb));
-    CHECK(CVodeSetMaxNumSteps(s->cvode, c->max_steps));
     if (c->max_step > 0.0) CHECK(CVodeSetMaxStep(s->cvode, c->max_step));
     if (c->nguards > 0) {
         int dir[VI_SOLVER_MAX_GUARDS];
@@ -91,14 +107,103 @@ static int configure(vi_solver *s, double t0, const double *x0)
         CHECK(CVodeSetRootDirection(s->cvode, dir));
         CHECK(CVodeSetNoInactiveRootWarn(s->cvode));
     }
+    s->fresh = 1;
+    s->t0 = t0;
     return 0;
 }
 
-vi_solver *vi_solver_create(const vi_solver_config *cfg, double t0, const double *x0)
+/* ---- the one-step method ---------------------------------------------------------------------- */
+
+static int ode_fail(const vi_solver *s, int status, const char *call)
 {
-    if (cfg->n < 1 || cfg->n > VI_SOLVER_MAX_N || cfg->nguards < 0 || cfg->nguards > VI_SOLVER_MAX_GUARDS) {
+    s->cfg.log(s->cfg.log_env, VI_LOG_ERROR, "%s failed at t = %.17g s: %s", call, s->cfg.ode->t,
+               vi_ode_status_text(status));
+    return VI_SOLVER_FAILED;
+}
+
+static int ode_setup(vi_solver *s)
+{
+    const vi_solver_config *c = &s->cfg;
+    vi_ode_problem *p = &s->ode_problem;
+    *p = (vi_ode_problem){.n = c->n, .ng = c->nguards, .rhs = c->rhs, .guards = c->guards, .user = c->user,
+                          .rtol = c->rtol, .max_step = c->max_step, .guard_samples = VI_SOLVER_GUARD_SAMPLES};
+    memcpy(p->atol, c->atol, sizeof(double) * (size_t)c->n);
+    char msg[256];
+    if (!c->ode || vi_ode_check(p, msg, sizeof msg) < 0) {
+        c->log(c->log_env, VI_LOG_ERROR, "one-step method: %s", c->ode ? msg : "no continuation given");
+        return VI_SOLVER_FAILED;
+    }
+    return 0;
+}
+
+int vi_solver_ode_check(const vi_ode *o, int n, int nguards, double t, char *msg, size_t size)
+{
+#define ODE_BAD(...) do { snprintf(msg, size, __VA_ARGS__); return -1; } while (0)
+    if (o->n != n || o->ng != nguards) ODE_BAD("ode: made for %d states and %d guards, not %d and %d", o->n, o->ng, n, nguards);
+    if (!isfinite(o->t) || o->t < t) ODE_BAD("ode.t = %g is not finite or before t = %g", o->t, t);
+    if (!(o->h > 0.0 && isfinite(o->h))) ODE_BAD("ode.h = %g is not finite and positive", o->h);
+    if (o->event_pending != 0 && o->event_pending != 1) ODE_BAD("ode.event_pending = %d", o->event_pending);
+    if (o->have_step != 0 && o->have_step != 1) ODE_BAD("ode.have_step = %d", o->have_step);
+    if (o->cur != 0 && o->cur != 1) ODE_BAD("ode.cur = %d", o->cur);
+    if (o->have_step && !(o->t_old <= t)) ODE_BAD("ode: the last step [%g, %g] does not span t = %g", o->t_old, o->t, t);
+    if (!o->have_step && o->t != t) ODE_BAD("ode.t = %g: a restart must be at t = %g", o->t, t);
+    for (int i = 0; i < n; i++)
+        if (!isfinite(o->x[i]) || !isfinite(o->f[i])) ODE_BAD("ode.x[%d] or ode.f[%d] is not finite", i, i);
+    for (int i = 0; i < nguards; i++)
+        if (!isfinite(o->g[i])) ODE_BAD("ode.g[%d] is not finite", i);
+    return 0;
+#undef ODE_BAD
+}
+
+static int ode_valid(const vi_solver *s, double t0)
+{
+    char msg[160];
+    if (vi_solver_ode_check(s->cfg.ode, s->cfg.n, s->cfg.nguards, t0, msg, sizeof msg) == 0) return 1;
+    s->cfg.log(s->cfg.log_env, VI_LOG_ERROR, "one-step method: the saved continuation is inconsistent: %s", msg);
+    return 0;
+}
+
+static int ode_advance(vi_solver *s, double tout, long max_steps, double *t, double *x, int *fired, long *taken)
+{
+    vi_ode *o = s->cfg.ode;
+    const vi_ode_problem *p = &s->ode_problem;
+    int n = s->cfg.n;
+    for (;;) { /* bounded: every pass takes a step, at most max_steps */
+        if (o->event_pending && o->ev_t <= tout) {
+            *t = o->ev_t;
+            memcpy(x, o->ev_x, sizeof(double) * (size_t)n);
+            for (int i = 0; i < s->cfg.nguards; i++) fired[i] = (o->ev_fired >> i) & 1u;
+            return VI_SOLVER_EVENT;
+        }
+        if (tout <= o->t) { /* inside the last step: its interpolant */
+            int r = o->have_step ? vi_ode_dense(o, p, tout, x, NULL) : VI_ODE_ERR_ARGS;
+            if (r < 0) return ode_fail(s, r, "vi_ode_dense");
+            *t = tout;
+            return VI_SOLVER_REACHED;
+        }
+        if (*taken >= max_steps) {
+            *t = o->t;
+            memcpy(x, o->x, sizeof(double) * (size_t)n);
+            return VI_SOLVER_LIMIT;
+        }
+        int r = vi_ode_step(o, p, INFINITY);
+        if (r < 0) return ode_fail(s, r, "vi_ode_step");
+        ++*taken;
+    }
+}
+
+/* ---- creation, common to both ----------------------------------------------------------------- */
+
+static vi_solver *create(const vi_solver_config *cfg, double t0, const double *x0, int resume)
+{
+    if (cfg->n < 1 || cfg->n > VI_SOLVER_MAX_N || cfg->n > VI_ODE_MAX_N || cfg->nguards < 0 ||
+        cfg->nguards > VI_SOLVER_MAX_GUARDS || cfg->nguards > VI_ODE_MAX_G) {
         cfg->log(cfg->log_env, VI_LOG_ERROR, "vi_solver_create: %d states and %d guards exceed the limits %d and %d",
                  cfg->n, cfg->nguards, VI_SOLVER_MAX_N, VI_SOLVER_MAX_GUARDS);
+        return NULL;
+    }
+    if (cfg->method != VI_METHOD_BDF && cfg->method != VI_METHOD_ADAMS && cfg->method != VI_METHOD_DOP853) {
+        cfg->log(cfg->log_env, VI_LOG_ERROR, "vi_solver_create: unknown method %d", cfg->method);
         return NULL;
     }
     vi_solver *s = calloc(1, sizeof *s);
@@ -107,17 +212,23 @@ vi_solver *vi_solver_create(const vi_solver_config *cfg, double t0, const double
         return NULL;
     }
     s->cfg = *cfg;
-    s->atol_copy = malloc(sizeof(double) * (size_t)cfg->n);
-    if (check_ptr(s, s->atol_copy, "malloc") < 0) goto fail;
     memcpy(s->atol_copy, cfg->atol, sizeof(double) * (size_t)cfg->n);
     s->cfg.atol = s->atol_copy;
+    if (cfg->method == VI_METHOD_DOP853) {
+        if (ode_setup(s) < 0) goto fail;
+        if (resume ? !ode_valid(s, t0) : vi_solver_reset(s, t0, x0) < 0) goto fail;
+        s->ode_resets = 0;
+        return s;
+    }
     if (check_flag(s, SUNContext_Create(NULL, &s->ctx), "SUNContext_Create") < 0) goto fail;
-    s->cvode = CVodeCreate(cfg->adams ? CV_ADAMS : CV_BDF, s->ctx);
+    s->cvode = CVodeCreate(cfg->method == VI_METHOD_ADAMS ? CV_ADAMS : CV_BDF, s->ctx);
     if (check_ptr(s, s->cvode, "CVodeCreate") < 0) goto fail;
     s->x = N_VNew_Serial(cfg->n, s->ctx);
     if (check_ptr(s, s->x, "N_VNew_Serial") < 0) goto fail;
     s->atol = N_VNew_Serial(cfg->n, s->ctx);
     if (check_ptr(s, s->atol, "N_VNew_Serial") < 0) goto fail;
+    s->dky = N_VNew_Serial(cfg->n, s->ctx);
+    if (check_ptr(s, s->dky, "N_VNew_Serial") < 0) goto fail;
     s->A = SUNDenseMatrix(cfg->n, cfg->n, s->ctx);
     if (check_ptr(s, s->A, "SUNDenseMatrix") < 0) goto fail;
     s->LS = SUNLinSol_Dense(s->x, s->A, s->ctx);
@@ -129,29 +240,86 @@ fail:
     return NULL;
 }
 
+vi_solver *vi_solver_create(const vi_solver_config *cfg, double t0, const double *x0)
+{
+    return create(cfg, t0, x0, 0);
+}
+
+vi_solver *vi_solver_resume(const vi_solver_config *cfg, double t0, const double *x0)
+{
+    return create(cfg, t0, x0, 1);
+}
+
+int vi_solver_checkpoint(vi_solver *s, double t0, const double *x0)
+{
+    return s->cfg.method == VI_METHOD_DOP853 ? 0 : vi_solver_reset(s, t0, x0);
+}
+
 int vi_solver_reset(vi_solver *s, double t0, const double *x0)
 {
-    memcpy(N_VGetArrayPointer(s->x), x0, sizeof(double) * (size_t)s->cfg.n);
+    if (s->cfg.method == VI_METHOD_DOP853) {
+        s->ode_resets++;
+        int r = vi_ode_restart(s->cfg.ode, &s->ode_problem, t0, x0, 0.0, 0u);
+        return r < 0 ? ode_fail(s, r, "vi_ode_restart") : 0;
+    }
+    memcpy(NV_DATA_S(s->x), x0, sizeof(double) * (size_t)s->cfg.n);
     vi_solver_statistics(s, &s->before_reset);
     s->before_reset.resets++;
     CHECK(CVodeReInit(s->cvode, t0, s->x));
+    s->fresh = 1;
+    s->t0 = s->tn = t0;
+    s->root_pending = 0;
     return 0;
 }
 
-int vi_solver_advance(vi_solver *s, double tout, double *t, double *x, int *fired)
+/* CVODE is driven one internal step at a time (CV_ONE_STEP): a communication point inside the last
+ * step costs one interpolation (CVodeGetDky), no call into the integrator and no root check of its
+ * own; CVODE checks the guards once per step over the whole step. A root found in a step is held
+ * until the output points before it have been served. */
+int vi_solver_advance(vi_solver *s, double tout, long max_steps, double *t, double *x, int *fired, long *taken)
 {
-    sunrealtype tret = *t;
-    CHECK(CVodeSetStopTime(s->cvode, tout));
-    int flag = CVode(s->cvode, tout, s->x, &tret, CV_NORMAL);
-    CHECK(flag);
-    *t = tret;
-    memcpy(x, N_VGetArrayPointer(s->x), sizeof(double) * (size_t)s->cfg.n);
-    if (flag == CV_ROOT_RETURN) {
-        CHECK(CVodeGetRootInfo(s->cvode, fired));
-        return VI_SOLVER_EVENT;
+    size_t bytes = sizeof(double) * (size_t)s->cfg.n;
+    *taken = 0;
+    if (s->cfg.method == VI_METHOD_DOP853) return ode_advance(s, tout, max_steps, t, x, fired, taken);
+    if (s->fresh && tout - s->t0 <= 4.0 * DBL_EPSILON * fmax(fabs(s->t0), fabs(tout))) {
+        /* closer than CVODE can start an integration: x(tout) = x(t0) to within a few ulps of time.
+         * The solver stays at t0 and the next call integrates from there. */
+        memcpy(x, NV_DATA_S(s->x), bytes);
+        *t = tout;
+        return VI_SOLVER_REACHED;
     }
-    *t = tout;
-    return VI_SOLVER_REACHED;
+    for (;;) { /* bounded: every pass takes a step, at most max_steps */
+        if (s->root_pending && s->troot <= tout) {
+            s->root_pending = 0;
+            *t = s->troot;
+            memcpy(x, s->xroot, bytes);
+            memcpy(fired, s->rootsfound, sizeof(int) * (size_t)s->cfg.nguards);
+            return VI_SOLVER_EVENT;
+        }
+        if (!s->fresh && tout <= s->tn) {
+            CHECK(CVodeGetDky(s->cvode, tout, 0, s->dky));
+            memcpy(x, NV_DATA_S(s->dky), bytes);
+            *t = tout;
+            return VI_SOLVER_REACHED;
+        }
+        if (*taken >= max_steps) { /* s->x holds x(tn): no root is pending in a completed step */
+            *t = s->tn;
+            memcpy(x, NV_DATA_S(s->x), bytes);
+            return VI_SOLVER_LIMIT;
+        }
+        sunrealtype tret;
+        int flag = CVode(s->cvode, tout, s->x, &tret, CV_ONE_STEP);
+        CHECK(flag);
+        CHECK(CVodeGetCurrentTime(s->cvode, &s->tn));
+        s->fresh = 0;
+        ++*taken;
+        if (flag == CV_ROOT_RETURN) {
+            s->root_pending = 1;
+            s->troot = tret;
+            memcpy(s->xroot, NV_DATA_S(s->x), bytes);
+            CHECK(CVodeGetRootInfo(s->cvode, s->rootsfound));
+        }
+    }
 }
 
 /* CVODE's counters since the last (re)initialisation. */
@@ -169,6 +337,12 @@ static void current_counters(const vi_solver *s, vi_solver_stats *st)
 
 void vi_solver_statistics(const vi_solver *s, vi_solver_stats *st)
 {
+    if (s->cfg.method == VI_METHOD_DOP853) {
+        const vi_ode_stats *o = &s->cfg.ode->st;
+        *st = (vi_solver_stats){.steps = o->accepted, .rhs_evals = o->rhs_evals, .err_test_fails = o->rejected,
+                                .guard_evals = o->guard_evals, .resets = s->ode_resets};
+        return;
+    }
     vi_solver_stats c;
     current_counters(s, &c);
     const vi_solver_stats *b = &s->before_reset;
@@ -190,7 +364,7 @@ void vi_solver_free(vi_solver *s)
     if (s->A) SUNMatDestroy(s->A);
     if (s->x) N_VDestroy(s->x);
     if (s->atol) N_VDestroy(s->atol);
+    if (s->dky) N_VDestroy(s->dky);
     if (s->ctx) SUNContext_Free(&s->ctx);
-    free(s->atol_copy);
     free(s);
 }

@@ -1,0 +1,151 @@
+/* bench_driver - runs the FMU binary directly (dlopen, no Python in the loop) for tools/bench.py.
+ *
+ *   vi_bench_driver FMU.so GUID T_STOP H REPEATS TOL --vrs Y,V,F,DELTA,MODE [--out FILE]
+ *                   [--reads VR,VR,...] [vr=value ...]
+ *
+ * --vrs: the value references of y, v, F, delta (Reals) and mode (Integer) (tools/bench.py reads
+ * them from modelDescription.xml). --reads: the Real outputs read after every step (default: y).
+ * vr=value sets a start value before initialization: "r12=6e8" (Real), "i13=2" (Integer or
+ * enumeration), "b14=1" (Boolean). TOL > 0 goes to fmi2SetupExperiment (0: the FMU's rtol counts).
+ * The run: instantiate, set up, initialize, then fmi2DoStep with communication step H up to T_STOP,
+ * reading the --reads outputs after each step, then free. It is repeated
+ * REPEATS times; the minimum CPU time (the least disturbed run on a shared machine) is printed as
+ *   cpu_s <min CPU seconds of the whole run> step_us <min CPU per fmi2DoStep, loop only, us>
+ *   heap_bytes <heap in use after initialization minus before instantiation> steps <n>
+ * --out FILE writes, for the first run, the samples (t, y, v, F, delta, mode) as doubles.
+ * Exit status 1 when a call fails (printed). */
+#define _GNU_SOURCE
+#include <dlfcn.h>
+#include <malloc.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "fmi2Functions.h"
+
+#define MAX_SETS 64
+#define MAX_READS 64
+
+/* "a,b,c" -> vr[], returns the count */
+static int parse_vrs(const char *text, fmi2ValueReference *vr, int max)
+{
+    int n = 0;
+    for (const char *p = text; *p && n < max; n++) {
+        char *end;
+        vr[n] = (fmi2ValueReference)strtoul(p, &end, 10);
+        if (end == p) return -1;
+        p = *end == ',' ? end + 1 : end;
+    }
+    return n;
+}
+
+static double cpu_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void logger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status status, fmi2String category,
+                   fmi2String message, ...)
+{
+    (void)env, (void)name;
+    if (status >= fmi2Discard) fprintf(stderr, "[%s] %s\n", category, message);
+}
+
+#define LOAD(name) fmi2##name##TYPE *name = (fmi2##name##TYPE *)dlsym(lib, "fmi2" #name)
+
+int main(int argc, char **argv)
+{
+    if (argc < 7) {
+        fprintf(stderr, "usage: %s FMU.so GUID T_STOP H REPEATS TOL --vrs Y,V,F,DELTA,MODE [--out FILE] "
+                        "[--reads VR,...] [vr=value ...]\n", argv[0]);
+        return 2;
+    }
+    void *lib = dlopen(argv[1], RTLD_NOW | RTLD_LOCAL);
+    if (!lib) {
+        fprintf(stderr, "dlopen: %s\n", dlerror());
+        return 2;
+    }
+    LOAD(Instantiate); LOAD(SetupExperiment); LOAD(EnterInitializationMode); LOAD(ExitInitializationMode);
+    LOAD(SetReal); LOAD(SetInteger); LOAD(SetBoolean); LOAD(GetReal); LOAD(GetInteger); LOAD(DoStep);
+    LOAD(FreeInstance); LOAD(Terminate);
+    const char *guid = argv[2], *out_path = NULL;
+    double t_stop = atof(argv[3]), h = atof(argv[4]), tol = atof(argv[6]);
+    int repeats = atoi(argv[5]), nreads = -1, nvrs = 0, nsets = 0;
+    fmi2ValueReference vrs[5], reads[MAX_READS];
+    char set_type[MAX_SETS];
+    fmi2ValueReference set_vr[MAX_SETS];
+    double set_value[MAX_SETS];
+    for (int i = 7; i < argc; i++) {
+        if (!strcmp(argv[i], "--out") && i + 1 < argc) out_path = argv[++i];
+        else if (!strcmp(argv[i], "--reads") && i + 1 < argc) nreads = parse_vrs(argv[++i], reads, MAX_READS);
+        else if (!strcmp(argv[i], "--vrs") && i + 1 < argc) nvrs = parse_vrs(argv[++i], vrs, 5);
+        else if (nsets < MAX_SETS && sscanf(argv[i], "%c%u=%lf", &set_type[nsets], &set_vr[nsets], &set_value[nsets]) == 3)
+            nsets++;
+        else {
+            fprintf(stderr, "bad argument %s\n", argv[i]);
+            return 2;
+        }
+    }
+    if (nvrs != 5) {
+        fprintf(stderr, "--vrs Y,V,F,DELTA,MODE is required\n");
+        return 2;
+    }
+    if (nreads < 0) nreads = 1, reads[0] = vrs[0];
+    long n = (long)floor(t_stop / h + 0.5);
+    fmi2CallbackFunctions cb = {logger, calloc, free, NULL, NULL};
+    double best = INFINITY, best_loop = INFINITY;
+    long heap = 0;
+    for (int rep = 0; rep < repeats; rep++) {
+        FILE *out = rep == 0 && out_path ? fopen(out_path, "wb") : NULL;
+        size_t heap0 = mallinfo2().uordblks;
+        double c0 = cpu_now();
+        fmi2Component c = Instantiate("bench", fmi2CoSimulation, guid, "file:///tmp", &cb, fmi2False, fmi2False);
+        if (!c || SetupExperiment(c, tol > 0, tol, 0.0, fmi2True, t_stop * (1 + 1e-12)) > fmi2Warning ||
+            EnterInitializationMode(c) > fmi2Warning) {
+            fprintf(stderr, "instantiation failed\n");
+            return 1;
+        }
+        for (int i = 0; i < nsets; i++) {
+            fmi2Status st;
+            if (set_type[i] == 'r') st = SetReal(c, &set_vr[i], 1, &set_value[i]);
+            else {
+                fmi2Integer k = (fmi2Integer)set_value[i];
+                st = set_type[i] == 'b' ? SetBoolean(c, &set_vr[i], 1, &k) : SetInteger(c, &set_vr[i], 1, &k);
+            }
+            if (st > fmi2Warning) return 1;
+        }
+        if (ExitInitializationMode(c) > fmi2Warning) return 1;
+        heap = (long)(mallinfo2().uordblks - heap0);
+        double l0 = cpu_now(), r[MAX_READS];
+        fmi2Integer mode = 0;
+        for (long k = 0; k < n; k++) {
+            fmi2Status st = DoStep(c, k * h, h, fmi2True);
+            if (st != fmi2OK) {
+                fprintf(stderr, "fmi2DoStep at t = %.17g returned %d\n", k * h, (int)st);
+                return 1;
+            }
+            GetReal(c, reads, (size_t)nreads, r);
+            if (out) {
+                GetReal(c, vrs, 4, r);
+                GetInteger(c, &vrs[4], 1, &mode);
+                double row[6] = {(k + 1) * h, r[0], r[1], r[2], r[3], mode};
+                fwrite(row, sizeof row, 1, out);
+            }
+        }
+        double l1 = cpu_now();
+        Terminate(c);
+        FreeInstance(c);
+        double c1 = cpu_now();
+        if (out) fclose(out);
+        if (c1 - c0 < best) best = c1 - c0;
+        if (l1 - l0 < best_loop) best_loop = l1 - l0;
+    }
+    printf("cpu_s %.9g step_us %.6g heap_bytes %ld steps %ld\n", best, 1e6 * best_loop / (double)n, heap, n);
+    dlclose(lib);
+    return 0;
+}
