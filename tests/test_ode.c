@@ -130,6 +130,17 @@ Test(tableau, nodes_are_row_sums_and_published_values)
     for (int j = 0; j < NS; j++) cr_assert(m->a[12][j] == m->b[j], "stage 13 is f at the new point");
 }
 
+Test(tableau, the_sums_skip_only_zeros)
+{
+    const vi_ode_tableau *m = vi_ode_method();
+    for (int i = 1; i < NS; i++)
+        for (int j = 1; j < m->lo[i]; j++) cr_assert(m->a[i][j] == 0.0, "a[%d][%d] is skipped", i, j);
+    for (int j = 1; j < m->lo[12]; j++) cr_assert(m->b[j] == 0.0 && m->e5[j] == 0.0 && m->e3[j] == 0.0);
+    for (int j = 12; j < NS; j++) cr_assert(m->b[j] == 0.0 && m->e5[j] == 0.0 && m->e3[j] == 0.0);
+    for (int r = 0; r < 4; r++)
+        for (int j = 1; j < m->lo_d; j++) cr_assert(m->d[r][j] == 0.0, "d[%d][%d] is skipped", r, j);
+}
+
 Test(tableau, step_has_order_8_and_estimators_orders_5_and_3)
 {
     const vi_ode_tableau *m = vi_ode_method();
