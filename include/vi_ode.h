@@ -236,6 +236,9 @@ typedef struct {
     const double (*a)[VI_ODE_STAGES];  /* [VI_ODE_STAGES][VI_ODE_STAGES], lower triangular */
     const double *b, *e5, *e3;         /* [VI_ODE_STAGES], zero beyond stage 12 */
     const double (*d)[VI_ODE_STAGES];  /* [4][VI_ODE_STAGES] */
+    const int *lo;                     /* the sums use a[i][0] and a[i][lo[i] .. i-1] only; b, e5, e3
+                                          columns 0 and lo[12] .. 11; d columns 0 and lo_d .. 15 */
+    int lo_d;
 } vi_ode_tableau;
 const vi_ode_tableau *vi_ode_method(void);
 

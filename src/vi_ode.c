@@ -121,14 +121,15 @@ static const double D[4][NS] = {
      -149.72683625798562581422},
 };
 
-static const vi_ode_tableau TABLEAU = {C, A, Bw, E5, E3, D};
-
-const vi_ode_tableau *vi_ode_method(void) { return &TABLEAU; }
-
-/* Sparsity: in row i of A, and in b, e5, e3 and d, the nonzero entries are column 0 and columns
- * LO[i] .. i-1 (a few zeros among those are multiplied through). Row 12 is b, e5, e3. */
+/* Sparsity: in row i of A the nonzero entries are column 0 and columns LO[i] .. i-1 (a few zeros
+ * among those are multiplied through); b, e5 and e3 have the pattern of row 12 (LO[12] .. 11), d
+ * that of column 0 and LO_D .. 15. The sums skip the rest (a test checks that only zeros are). */
 static const int LO[NS] = {1, 1, 1, 2, 2, 3, 3, 3, 3, 3, 3, 3, 5, 6, 5, 5};
 #define LO_D 5
+
+static const vi_ode_tableau TABLEAU = {C, A, Bw, E5, E3, D, LO, LO_D};
+
+const vi_ode_tableau *vi_ode_method(void) { return &TABLEAU; }
 
 /* Step-size controller (HNW II.4): h_new = h min(FAC_MAX, max(FAC_MIN, SAFETY err^(-1/8))). */
 #define SAFETY 0.9
@@ -255,10 +256,9 @@ static void dense_eval(const span *sp, int n, double t, double *x, double *dx)
 {
     double h = sp->t1 - sp->t0, th = (t - sp->t0) / h, th1 = 1.0 - th;
     for (int c = 0; c < n; c++) {
-        const double *q5 = &sp->q[5][c], *q4 = &sp->q[4][c], *q3 = &sp->q[3][c];
-        double a5 = *q5 + th * sp->q[6][c];
-        double a4 = *q4 + th1 * a5;
-        double a3 = *q3 + th * a4;
+        double a5 = sp->q[5][c] + th * sp->q[6][c];
+        double a4 = sp->q[4][c] + th1 * a5;
+        double a3 = sp->q[3][c] + th * a4;
         double a2 = sp->q[2][c] + th1 * a3;
         double a1 = sp->q[1][c] + th * a2;
         double a0 = sp->q[0][c] + th1 * a1;
@@ -432,10 +432,14 @@ static int root_search(vi_ode *s, span *sp, const vi_ode_problem *p, double a, d
             double fa = wa * ga[best], fb = wb * gb[best];
             tm = a + (b - a) * (fa / (fa - fb));
         }
-        double margin = 0.25 * tol;
-        if (tm < a + margin) tm = a + margin;
-        if (tm > b - margin) tm = b - margin;
-        if (!(tm > a && tm < b)) tm = a + 0.5 * (b - a);
+        /* at least tol (1 or 2 ulps) inside: an estimate at an end probes just beside it, which
+         * closes the bracket when the root is there */
+        if (b - a <= 2.0 * tol)
+            tm = a + 0.5 * (b - a);
+        else if (tm < a + tol)
+            tm = a + tol;
+        else if (tm > b - tol)
+            tm = b - tol;
         w2 = w1;
         w1 = b - a;
         dense_eval(sp, n, tm, xm, NULL);
@@ -503,7 +507,7 @@ static int event_search(vi_ode *s, span *sp, const vi_ode_problem *p, const doub
  * ------------------------------------------------------------------------------------------- */
 int vi_ode_step(vi_ode *s, const vi_ode_problem *p, double t_stop)
 {
-    if (!s || !p || s->n != p->n || s->ng != p->ng || s->n < 1 || s->n > VI_ODE_MAX_N || s->event_pending ||
+    if (!s || !p || s->n != p->n || s->ng != p->ng || s->n > VI_ODE_MAX_N || s->event_pending ||
         !(t_stop > s->t) || !(s->h > 0.0) || (s->cur != 0 && s->cur != 1))
         return VI_ODE_ERR_ARGS;
     int n = p->n;
@@ -565,6 +569,7 @@ int vi_ode_step(vi_ode *s, const vi_ode_problem *p, double t_stop)
                 h_prop = h * fac;
                 /* a step shortened to reach t_stop says little about the step size */
                 if (clipped && rejections == 0 && h_prop < s->h) h_prop = s->h;
+                if (h_prop > h_lim) h_prop = h_lim;
             }
             break;
         }
