@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from fmpy import simulate_fmu
 
-from conftest import effective, start
+from conftest import SOLVER, effective, start
 
 HERTZ = 1
 
@@ -43,9 +43,13 @@ def test_static_equilibrium_stays_put(fmu_path):
                      output=["delta", "v", "F", "y", "mode", "n_impacts"])
     e = effective({})
     d0 = (e["W"] / e["K"]) ** (2 / 3)
-    assert np.all(np.abs(r["delta"] / d0 - 1) < 1e-12)
-    assert np.all(np.abs(r["F"] / e["W"] - 1) < 1e-12)
-    assert np.all(np.abs(r["v"]) < 1e-12)
+    # CVODE keeps rest to rounding; the explicit one-step method's error-free steps grow to its
+    # stability limit on the contact oscillation, where rounding grows until the error control holds it:
+    # rest to the tolerance (rtol 1e-6; delta 2e-6 relative measured, F 1.5 times that)
+    tol = 1e-5 if SOLVER == 3 else 1e-12
+    assert np.all(np.abs(r["delta"] / d0 - 1) < tol)
+    assert np.all(np.abs(r["F"] / e["W"] - 1) < 1.5 * tol)
+    assert np.all(np.abs(r["v"]) < tol)
     assert np.all(r["mode"] == 1) and r["n_impacts"][-1] == 0
 
 

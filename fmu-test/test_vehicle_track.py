@@ -260,9 +260,13 @@ def test_libcosim_and_the_fmpy_master_agree(rough):
     h, T = 5e-6, 0.03
     rc = cosim.run(h, T, "F_mean", profile=path)
     rm = master.run(h, T, "jacobi", force="F_mean", profile=path)
-    assert np.max(np.abs(rc["contact.F"][1:] - rm["contact.F"][1:])) < 1e-9 * system.W
+    # The same scheme on the same FMUs: the importers differ only in how values travel (rounding), and
+    # a multistep solver's step sequence reacts to that at its tolerance (rtol 1e-6), far below the
+    # coupling error (about 1 % of W at this step): agreement to a tenth of the tolerance.
+    tol = 0.1 * 1e-6
+    assert np.max(np.abs(rc["contact.F"][1:] - rm["contact.F"][1:])) < tol * system.W
     assert np.max(np.abs(rc["track.z_rail"][1:] - rm["track.z_rail"][1:])) < 1e-12
-    assert np.max(np.abs(rc["vehicle.F_wheel"][1:] - rm["vehicle.F_wheel"][1:])) < 1e-9 * system.W
+    assert np.max(np.abs(rc["vehicle.F_wheel"][1:] - rm["vehicle.F_wheel"][1:])) < tol * system.W
 
 
 def test_osp_file_agrees_with_parameters_and_the_master():

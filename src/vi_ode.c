@@ -526,6 +526,8 @@ int vi_ode_step(vi_ode *s, const vi_ode_problem *p, double t_stop)
     double h = fixed ? p->h_fixed : s->h, err = 0.0;
     for (;;) {
         if (h > h_lim) h = h_lim;
+        /* a step under 16 ulps of t does not resolve time (t + h may round to t): the shortest is h_min */
+        if (!fixed && h < h_min && h_min <= h_lim) h = h_min;
         double t1;
         int clipped = 0;
         if (t_stop - s->t <= STRETCH * h && t_stop - s->t <= h_lim) {
@@ -537,6 +539,7 @@ int vi_ode_step(vi_ode *s, const vi_ode_problem *p, double t_stop)
             if (t1 - s->t > h_lim) t1 = nextafter(t1, -INFINITY); /* max_step holds exactly */
             h = t1 - s->t; /* exact: the step really spans [t, t1], so t does not drift by roundings */
         }
+        if (!(h > 0.0)) return VI_ODE_ERR_HMIN; /* fixed or max_step below the rounding of t */
         s->st.attempts++;
         double e5[VI_ODE_MAX_N], e3[VI_ODE_MAX_N], n5 = 0.0, n3 = 0.0;
         if (LANES(n) == 2)

@@ -1167,3 +1167,24 @@ Test(order, step_agrees_with_a_textbook_implementation_of_the_tableau)
         cr_assert(fabs(s.err - err) <= 1e-5 * err, "%s: err %.17g vs %.17g", pr->name, s.err, err);
     }
 }
+
+Test(state, a_step_below_the_rounding_of_t_advances_by_16_ulps_or_fails)
+{
+    /* At t = 1e17 one ulp is 16 s: a proposed step of 1 us used to be taken as h = 0 (t + h == t),
+     * accepted, and the next call refused (h = 0). The shortest step is 16 eps |t|. */
+    vi_ode_problem q = {.n = 1, .rhs = still, .rtol = 1e-6, .atol = {1e-6}};
+    vi_ode s;
+    double z[1] = {3.0}, t0 = 1e17, h_min = 16.0 * DBL_EPSILON * t0;
+    cr_assert_eq(vi_ode_init(&s, &q, t0, z, 1e-6, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &q, INFINITY), VI_ODE_OK);
+    double ulp = nextafter(t0, INFINITY) - t0; /* 16 s: t0 + h_min rounds to the time grid */
+    cr_assert(s.t - t0 >= h_min - ulp && s.t - t0 <= 2.0 * h_min, "t - t0 = %g, h_min %g", s.t - t0, h_min);
+    double t1 = s.t;
+    cr_assert_eq(vi_ode_step(&s, &q, INFINITY), VI_ODE_OK);
+    cr_assert(s.t > t1 && s.x[0] == 3.0);
+    /* a fixed step that rounds to nothing cannot advance: step size underflow, state kept */
+    q.h_fixed = 1.0;
+    cr_assert_eq(vi_ode_init(&s, &q, t0, z, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &q, INFINITY), VI_ODE_ERR_HMIN);
+    cr_assert(s.t == t0 && s.x[0] == 3.0);
+}
