@@ -27,6 +27,8 @@ _simulate_fmu = fmpy.simulate_fmu
 
 
 def _simulate_with_solver(filename, *args, start_values=None, **kw):
+    if pathlib.Path(str(filename)).name != FMU.name:  # the companion FMUs have their own solvers
+        return _simulate_fmu(filename, *args, start_values=start_values, **kw)
     return _simulate_fmu(filename, *args, start_values=with_solver(start_values or {}), **kw)
 
 

@@ -164,3 +164,21 @@ def test_outputs_do_not_change_before_the_next_step(model_description, logged, v
     check_declared_independence(model_description, make_running, {"yC_in": 1e-6, "F_ext": 1e3})
     for s in made:
         s.freeInstance()
+
+
+def test_doc_model_md_describes_every_variable(model_description):
+    """doc/model.md is the user's reference for the interface: every variable of modelDescription.xml
+    appears in a table row of its section 5, with its default where it has one."""
+    text = (ROOT / "doc" / "model.md").read_text()
+    section = text[text.index("## 5. FMI interface"):text.index("## 6.")]
+    rows = [line for line in section.splitlines() if line.startswith("| `")]
+    for sv in model_description.modelVariables:
+        named = [r for r in rows if f"`{sv.name}`" in r.split("|")[1]] + \
+                [line for line in section.splitlines() if f"`{sv.name}`" in line and sv.causality == "calculatedParameter"]
+        assert named, f"{sv.name} is not described in doc/model.md section 5"
+        if sv.causality in ("parameter", "input") and sv.type in ("Real", "Integer") and len(named[0].split("|")) > 4:
+            cells = [c.strip() for c in named[0].split("|")]
+            names = [n.strip("` ") for n in cells[1].split(",")]
+            defaults = [d.strip() for d in cells[3].split(",")]
+            if len(defaults) == len(names):
+                assert float(defaults[names.index(sv.name)]) == float(sv.start), f"default of {sv.name}"

@@ -47,7 +47,7 @@
   X(f, Real, none, parameter, tunable, exact, 560.0, "Hz", "frequency of the internal harmonic platform excitation (tunable: the phase stays continuous)") \
   X(rtol, Real, none, parameter, fixed, exact, 1e-6, "", "relative tolerance (a tolerance from fmi2SetupExperiment wins)") \
   X(solver, Integer, Solver, parameter, fixed, exact, 2, "", "integration method: CVODE BDF or Adams (linear multistep), or Dormand-Prince 8(5,3) (explicit one-step, dense output)") \
-  X(max_step, Real, none, parameter, fixed, exact, 0.0, "s", "CVODE maximum internal step, 0 = none") \
+  X(max_step, Real, none, parameter, fixed, exact, 0.0, "s", "maximum internal step of the solver, 0 = none") \
   X(F, Real, none, output, continuous, calculated, 0.0, "N", "contact force") \
   X(delta, Real, none, output, continuous, calculated, 0.0, "m", "indentation yC - y") \
   X(y, Real, none, output, continuous, calculated, 0.0, "m", "mass position") \
