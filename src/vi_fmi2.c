@@ -501,29 +501,50 @@ fmi2Status fmi2SetString(fmi2Component comp, const fmi2ValueReference vr[], size
  * state is used (set, serialized, deserialized) every part is checked: header, checksum, the
  * table's values, and the model's own fields (state_check hook); the first bad part is named. */
 #define VI_STATE_MAGIC 0x554d4956u /* "VIMU" */
-#define VI_STATE_VERSION 3u
+#define VI_STATE_VERSION 4u
 
 typedef struct {
     uint32_t magic, version;
     uint64_t size;              /* bytes in all, this header included */
-    uint64_t model;             /* FNV-1a 64 of the model's GUID: a state of another model is refused */
+    uint64_t model;             /* hash (below) of the model's GUID: a state of another model is refused */
     uint32_t fmu_state;         /* the FMI state it was taken in (one ST_* bit) */
     uint32_t stop_time_defined; /* fmi2SetupExperiment's stop time */
     double stop_time;
-    uint64_t checksum;          /* FNV-1a 64 of all bytes, this field taken as 0 */
+    uint64_t checksum;          /* hash (below) of all bytes, this field taken as 0 */
 } vi_saved_state;
 
 static size_t saved_size(void) { return sizeof(vi_saved_state) + MODEL->state_size; }
 static void *payload(const vi_saved_state *s) { return (char *)s + sizeof *s; }
 
-/* FNV-1a, 64 bits (Fowler, Noll, Vo), over n bytes, continuing from h (start with VI_FNV_OFFSET).
- * Every step is a bijection of h, so any change of a single byte changes the result. */
+/* The checksum: FNV-1a's round (Fowler, Noll, Vo: xor, then multiply by the 64-bit FNV prime) on
+ * 64-bit words instead of bytes, each followed by a xor-shift so that high bits feed back into low
+ * ones, in four interleaved lanes (a state of a few kB then costs a fraction of a microsecond, where
+ * byte-wise FNV-1a took 5 us on every fmi2GetFMUstate), the lanes and the tail bytes folded in at the
+ * end. Every round is a bijection of its lane and of its word, so any change of a single word (a
+ * single bit flip, say) changes the result. Start with h = VI_FNV_OFFSET. */
 #define VI_FNV_OFFSET 0xcbf29ce484222325u
 #define VI_FNV_PRIME 0x100000001b3u
+#define VI_HASH_LANES 4
+static uint64_t hash_round(uint64_t h, uint64_t w)
+{
+    h = (h ^ w) * VI_FNV_PRIME;
+    return h ^ (h >> 32);
+}
+
 static uint64_t fnv1a(uint64_t h, const void *data, size_t n)
 {
     const unsigned char *p = data;
-    for (size_t i = 0; i < n; i++) h = (h ^ p[i]) * VI_FNV_PRIME;
+    uint64_t lane[VI_HASH_LANES], w;
+    for (int k = 0; k < VI_HASH_LANES; k++) lane[k] = hash_round(h, (uint64_t)k);
+    size_t i = 0;
+    for (; i + 8 * VI_HASH_LANES <= n; i += 8 * VI_HASH_LANES)
+        for (int k = 0; k < VI_HASH_LANES; k++) {
+            memcpy(&w, p + i + 8 * (size_t)k, sizeof w);
+            lane[k] = hash_round(lane[k], w);
+        }
+    h = hash_round(lane[0], (uint64_t)n);
+    for (int k = 1; k < VI_HASH_LANES; k++) h = hash_round(h, lane[k]);
+    for (; i < n; i++) h = hash_round(h, p[i]);
     return h;
 }
 
