@@ -583,6 +583,18 @@ Test(excitation, negative_frequency_is_refused)
     vi_sim_free(&s);
 }
 
+Test(excitation, non_finite_amplitude_or_frequency_is_refused_and_changes_nothing)
+{
+    vi_model M = setup(VI_ContactModel_hertz, 0, VI_Unloading_paper, 0.0, 0.0, 1e-4);
+    double x[2] = {1e-6, 0.5}, bad[][2] = {{NAN, 100.0}, {INFINITY, 100.0}, {1e-4, NAN}, {1e-4, INFINITY}};
+    char msg[256];
+    for (int i = 0; i < 4; i++) {
+        cr_assert(vi_model_set_excitation(&M, 0.01, x, bad[i][0], bad[i][1], msg, sizeof msg) < 0, "case %d", i);
+        cr_assert(strstr(msg, "must be finite") != NULL, "%s", msg);
+        cr_assert(x[0] == 1e-6 && x[1] == 0.5 && M.a == 1e-4, "case %d changed the state", i);
+    }
+}
+
 /* ---- rolling over a profile (issue 11 item 4) --------------------------------------------------- */
 
 /* A V-shaped trough of slope s0 with its bottom at x = 0 on [-10, 10] m, written to a file:
