@@ -675,6 +675,26 @@ Test(rolling, the_profile_ends)
     remove(v_trough_file(1e-4));
 }
 
+/* The end of the table in the direction of travel, however slow: t_end = t0 + (x_end - x0)/V. */
+Test(rolling, the_profile_ends_ahead_for_slow_rolling_too)
+{
+    double x[] = {-10.0, 0.0, 10.0}, h[] = {1e-3, 0.0, 1e-3};
+    char msg[512];
+    vi_profile *prof = vi_profile_create(x, h, 3, 0.475, 0, "trough", msg, sizeof msg);
+    cr_assert(prof != NULL, "%s", msg);
+    vi_model M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
+    double V[] = {1e-5, 2.0, -1e-5, -2.0}, expect[] = {1e5, 0.5, 1.9e6, 9.5};
+    for (int i = 0; i < 4; i++) {
+        cr_assert(vi_model_set_rolling(&M, prof, V[i], 9.0, msg, sizeof msg) == 0, "%s", msg);
+        double t = vi_model_rolling_limit(&M, msg, sizeof msg);
+        cr_assert(fabs(t - expect[i]) <= 1e-12 * expect[i], "V = %g: t = %.17g", V[i], t);
+        cr_assert(strstr(msg, V[i] > 0 ? "x_last = 10 m" : "x_first = -10 m"), "%s", msg);
+    }
+    cr_assert(vi_model_set_rolling(&M, prof, 0.0, 9.0, msg, sizeof msg) == 0);
+    cr_assert(vi_model_rolling_limit(&M, msg, sizeof msg) == INFINITY); /* standing still: never */
+    vi_profile_free(prof);
+}
+
 /* A restored state carries a profile pointer that is never used: restore attaches the instance's own
  * (here: a fresh instance with the same parameters, and a saved pointer spoiled on purpose). */
 Test(rolling, restore_reattaches_the_profile)
