@@ -254,7 +254,8 @@ static const char *spoil(vi_model *M, double x[2], int which)
     case 24: M->law = VI_ContactModel_hertz; return "yielded = 1 is impossible";
     case 26: M->yielded = 0; M->U = (vi_unload_curve){0}; return "mode = 3"; /* unloading without memory */
     case 25: M->f_contact = NAN; return "f_contact";
-    case 27: return NULL;
+    case 27: M->m = 0.0; return "constant m = 0 is not positive";
+    case 28: M->K = 0.0; return "constant K = 0 is not positive"; /* before its consistency with E*, R* */
     default: return NULL;
     }
 }
@@ -489,6 +490,15 @@ Test(model, validity_threshold)
     cr_assert(strstr(msg, "moving_contact") && strstr(msg, "unloading") && strstr(msg, "v0"), "%s", msg);
     char tiny[8]; /* truncated, never overrun */
     cr_assert(vi_model_option_warnings(&p, tiny, sizeof tiny) == 3 && strlen(tiny) == 7);
+    /* the yield formula is ignored by Hertz only: every law with the default, Johnson and LEPP printed */
+    int laws[] = {VI_ContactModel_hertz, VI_ContactModel_johnson, VI_ContactModel_lepp};
+    for (int i = 0; i < 3; i++) {
+        vi_parameters_default(&p);
+        p.contact_model = laws[i];
+        cr_assert(vi_model_option_warnings(&p, msg, sizeof msg) == 0, "law %d: %s", laws[i], msg);
+        p.yield_formula = VI_YieldFormula_printed;
+        cr_assert(vi_model_option_warnings(&p, msg, sizeof msg) == (laws[i] == VI_ContactModel_hertz), "%s", msg);
+    }
 }
 
 /* ---- tunable excitation (issue 12, contract C9) ------------------------------------------------ */
