@@ -277,6 +277,12 @@ Test(model_check, names_the_first_bad_field)
         cr_assert(vi_model_check(&M, x, msg, sizeof msg) < 0, "spoiled %d (%s) accepted", k, expect);
         cr_assert(strstr(msg, expect) != NULL, "spoiled %d: expected '%s' in: %s", k, expect, msg);
     }
+    /* memory left behind (yielded = 0): the message gives the curve's own delta_c and Rbar */
+    vi_model M = ok;
+    M.yielded = 0;
+    char expect[128];
+    snprintf(expect, sizeof expect, "(delta_c = %g, Rbar = %g)", ok.U.delta_c, ok.U.Rbar);
+    cr_assert(vi_model_check(&M, x0, msg, sizeof msg) < 0 && strstr(msg, expect), "expected '%s' in: %s", expect, msg);
 }
 
 /* The tolerance on the guards: a state a rounding beyond its surface passes, 1e-5 of delta_Y does not. */
