@@ -100,10 +100,13 @@ Test(profile, step_becomes_the_circular_ramp)
     cr_assert(vi_profile_kinks(p) == 1, "%zu kinks", vi_profile_kinks(p));
     cr_assert(fabs(vi_profile_next_kink(p, -0.5, 1) - foot) <= 1e-12, "%.17g vs %.17g", vi_profile_next_kink(p, -0.5, 1),
               foot);
-    /* the slope on the ramp: -d/sqrt(R^2 - d^2) */
+    /* on the ramp yb = H + sqrt(R^2 - d^2) - R: yb' = -d/sqrt(R^2 - d^2), yb'' = -R^2/(R^2 - d^2)^1.5,
+     * yb''' = -3 R^2 d/(R^2 - d^2)^2.5 */
     double y[4], d = -0.05;
     vi_profile_eval(p, c + d, y);
     cr_assert(fabs(y[1] + d / sqrt(R * R - d * d)) <= 1e-12 && fabs(y[2] + R * R / pow(R * R - d * d, 1.5)) <= 1e-9);
+    double d3 = -3.0 * R * R * d / pow(R * R - d * d, 2.5);
+    cr_assert(fabs(y[3] - d3) <= 1e-9 * fabs(d3), "yb''' = %.17g, expected %.17g", y[3], d3);
     vi_profile_free(p);
 }
 
