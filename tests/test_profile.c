@@ -257,6 +257,22 @@ Test(profile, files)
     cr_assert(p != NULL, "%s", msg);
     cr_assert(vi_profile_x_last(p) == 1.5 && yb(p, 0.5) == 1e-4);
     vi_profile_free(p);
+    /* Windows line ends and trailing tabs */
+    p = vi_profile_load(write_file("0 0\r\n0.5 1e-4\t\r\n1 0\t\n"), R, 0, msg, sizeof msg);
+    cr_assert(p != NULL, "%s", msg);
+    cr_assert(vi_profile_x_last(p) == 1.0 && yb(p, 0.5) == 1e-4);
+    vi_profile_free(p);
+    /* the longest line: VI_PROFILE_LINE_MAX - 2 characters before its newline; one more is refused */
+    static char text[2 * VI_PROFILE_LINE_MAX];
+    for (int extra = 0; extra <= 1; extra++) {
+        int len = VI_PROFILE_LINE_MAX - 2 + extra;
+        snprintf(text, sizeof text, "0 0\n%-*s\n", len, "1 0"); /* "1 0" padded with spaces */
+        msg[0] = '\0';
+        p = vi_profile_load(write_file(text), R, 0, msg, sizeof msg);
+        cr_assert((p != NULL) == !extra, "a line of %d characters: %s", len, msg);
+        if (extra) cr_assert(strstr(msg, "line 2: longer than"), "%s", msg);
+        vi_profile_free(p);
+    }
     struct { const char *text, *expect; } bad[] = {
         {"0 0\n1 0\nabc 2\n", "line 3: expected two numbers"},
         {"0 0\n1\n", "line 2: expected two numbers"},
