@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include "vi_profile.h"
@@ -290,6 +291,36 @@ Test(profile, files)
     remove(path);
     cr_assert(vi_profile_load("/nonexistent/profile.txt", R, 0, msg, sizeof msg) == NULL);
     cr_assert(strstr(msg, "/nonexistent/profile.txt") && strstr(msg, "cannot open"), "%s", msg);
+}
+
+/* Memory running out while a file is read: refused with a message naming the line, no crash.
+ * (Criterion runs each test in its own process: the address-space limit stays in it. Skipped under
+ * AddressSanitizer, whose shadow memory needs the address space.) */
+Test(profile, out_of_memory_while_reading_is_refused)
+{
+#if defined(__SANITIZE_ADDRESS__)
+    cr_skip_test("AddressSanitizer reserves the address space");
+#endif
+    char path[64];
+    snprintf(path, sizeof path, "/tmp/vi_profile_test_big_%d.txt", (int)getpid());
+    FILE *f = fopen(path, "w");
+    cr_assert(f != NULL);
+    for (int i = 0; i < 1 << 20; i++) fprintf(f, "%d 0\n", i); /* 2 x 8 MB of doubles at the end */
+    fclose(f);
+    long vm_kb = -1;
+    char line[256];
+    FILE *st = fopen("/proc/self/status", "r");
+    cr_assert(st != NULL);
+    while (fgets(line, sizeof line, st))
+        if (sscanf(line, "VmSize: %ld kB", &vm_kb) == 1) break;
+    fclose(st);
+    cr_assert(vm_kb > 0);
+    struct rlimit lim = {(rlim_t)(vm_kb + 4096) * 1024, (rlim_t)(vm_kb + 4096) * 1024}; /* 4 MB more */
+    cr_assert(setrlimit(RLIMIT_AS, &lim) == 0);
+    char msg[512] = "";
+    vi_profile *p = vi_profile_load(path, R, 0, msg, sizeof msg);
+    remove(path);
+    cr_assert(p == NULL && strstr(msg, "out of memory at line"), "%s", msg);
 }
 
 /* A long profile (1e5 samples at 1 mm): built in bounded time, evaluated by binary search. */
