@@ -155,6 +155,20 @@ def test_non_finite_parameter_and_bad_boolean_and_unterminated_string_are_named(
     s.freeInstance()
 
 
+def test_non_finite_input_derivative_is_named(logged, vr):
+    """An input's derivative (fmi2SetRealInputDerivatives) is part of the state and checked like a value."""
+    log = logged()
+    s = log.instantiate()
+    start(s, vr, dict(contact_model=1))
+    s.setRealInputDerivatives([vr["yC_in"]], [1], [0.0123456789])  # a value that occurs once in the state
+    blob = s.serializeFMUstate(s.getFMUstate())
+    at = find_double(blob, 0.0123456789)
+    b = bytearray(blob)
+    b[at:at + 8] = struct.pack("<d", math.nan)
+    refused(log, s, reseal(b), "derivative of yC_in = nan is not finite")
+    s.freeInstance()
+
+
 def test_enumerations_are_checked_once_running(logged, vr):
     """Before initialization an out-of-range enumeration is a setting not yet checked (it is
     refused at initialization); in a running state it is corruption."""

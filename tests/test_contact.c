@@ -112,6 +112,22 @@ Test(johnson, loading_continuous_at_yield_with_slope_jump)
     REL(vi_johnson_load(&J, 2 * dY) / FY, 4.00, 2e-3);
 }
 
+Test(johnson, below_yield_is_the_hertz_curve_down_to_tiny_indentations)
+{
+    /* eq. 2: below delta_Y the virgin curve is Hertz, F = K delta^1.5 with K = F_Y/delta_Y^1.5,
+     * however small the indentation (a ringing contact far below yield lives there) */
+    vi_johnson J = paper_johnson();
+    double K = J.F_Y / pow(J.delta_Y, 1.5), s[] = {1e-9, 1e-6, 2e-4, 0.3, 1.0};
+    for (unsigned i = 0; i < sizeof s / sizeof s[0]; i++) {
+        double d = s[i] * J.delta_Y;
+        REL(vi_johnson_load(&J, d), K * pow(d, 1.5), 1e-13);
+        REL(vi_johnson_load_stiffness(&J, d), 1.5 * K * sqrt(d), 1e-13);
+        REL(vi_johnson_load_work(&J, d), 0.4 * K * pow(d, 2.5), 1e-13);
+    }
+    cr_assert(vi_johnson_load(&J, 0.0) == 0.0 && vi_johnson_load(&J, -1e-9) == 0.0);
+    cr_assert(vi_johnson_load_stiffness(&J, 0.0) == 0.0 && vi_johnson_load_work(&J, -1e-9) == 0.0);
+}
+
 Test(johnson, work_is_the_integral_of_the_load)
 {
     /* composite Simpson with 20000 panels: an independent quadrature of eq. 2/3 */

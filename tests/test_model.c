@@ -254,7 +254,8 @@ static const char *spoil(vi_model *M, double x[2], int which)
     case 24: M->law = VI_ContactModel_hertz; return "yielded = 1 is impossible";
     case 26: M->yielded = 0; M->U = (vi_unload_curve){0}; return "mode = 3"; /* unloading without memory */
     case 25: M->f_contact = NAN; return "f_contact";
-    case 27: return NULL;
+    case 27: M->m = 0.0; return "constant m = 0 is not positive";
+    case 28: M->K = 0.0; return "constant K = 0 is not positive"; /* before its consistency with E*, R* */
     default: return NULL;
     }
 }
@@ -276,6 +277,12 @@ Test(model_check, names_the_first_bad_field)
         cr_assert(vi_model_check(&M, x, msg, sizeof msg) < 0, "spoiled %d (%s) accepted", k, expect);
         cr_assert(strstr(msg, expect) != NULL, "spoiled %d: expected '%s' in: %s", k, expect, msg);
     }
+    /* memory left behind (yielded = 0): the message gives the curve's own delta_c and Rbar */
+    vi_model M = ok;
+    M.yielded = 0;
+    char expect[128];
+    snprintf(expect, sizeof expect, "(delta_c = %g, Rbar = %g)", ok.U.delta_c, ok.U.Rbar);
+    cr_assert(vi_model_check(&M, x0, msg, sizeof msg) < 0 && strstr(msg, expect), "expected '%s' in: %s", expect, msg);
 }
 
 /* The tolerance on the guards: a state a rounding beyond its surface passes, 1e-5 of delta_Y does not. */
@@ -489,6 +496,15 @@ Test(model, validity_threshold)
     cr_assert(strstr(msg, "moving_contact") && strstr(msg, "unloading") && strstr(msg, "v0"), "%s", msg);
     char tiny[8]; /* truncated, never overrun */
     cr_assert(vi_model_option_warnings(&p, tiny, sizeof tiny) == 3 && strlen(tiny) == 7);
+    /* the yield formula is ignored by Hertz only: every law with the default, Johnson and LEPP printed */
+    int laws[] = {VI_ContactModel_hertz, VI_ContactModel_johnson, VI_ContactModel_lepp};
+    for (int i = 0; i < 3; i++) {
+        vi_parameters_default(&p);
+        p.contact_model = laws[i];
+        cr_assert(vi_model_option_warnings(&p, msg, sizeof msg) == 0, "law %d: %s", laws[i], msg);
+        p.yield_formula = VI_YieldFormula_printed;
+        cr_assert(vi_model_option_warnings(&p, msg, sizeof msg) == (laws[i] == VI_ContactModel_hertz), "%s", msg);
+    }
 }
 
 /* ---- tunable excitation (issue 12, contract C9) ------------------------------------------------ */
@@ -583,6 +599,18 @@ Test(excitation, negative_frequency_is_refused)
     vi_sim_free(&s);
 }
 
+Test(excitation, non_finite_amplitude_or_frequency_is_refused_and_changes_nothing)
+{
+    vi_model M = setup(VI_ContactModel_hertz, 0, VI_Unloading_paper, 0.0, 0.0, 1e-4);
+    double x[2] = {1e-6, 0.5}, bad[][2] = {{NAN, 100.0}, {INFINITY, 100.0}, {1e-4, NAN}, {1e-4, INFINITY}};
+    char msg[256];
+    for (int i = 0; i < 4; i++) {
+        cr_assert(vi_model_set_excitation(&M, 0.01, x, bad[i][0], bad[i][1], msg, sizeof msg) < 0, "case %d", i);
+        cr_assert(strstr(msg, "must be finite") != NULL, "%s", msg);
+        cr_assert(x[0] == 1e-6 && x[1] == 0.5 && M.a == 1e-4, "case %d changed the state", i);
+    }
+}
+
 /* ---- rolling over a profile (issue 11 item 4) --------------------------------------------------- */
 
 /* A V-shaped trough of slope s0 with its bottom at x = 0 on [-10, 10] m, written to a file:
@@ -661,6 +689,26 @@ Test(rolling, the_profile_ends)
     cr_assert(strstr(s.msg, "x0 = 11 m lies outside the profile [-10, 10] m"), "%s", s.msg);
     vi_sim_free(&s);
     remove(v_trough_file(1e-4));
+}
+
+/* The end of the table in the direction of travel, however slow: t_end = t0 + (x_end - x0)/V. */
+Test(rolling, the_profile_ends_ahead_for_slow_rolling_too)
+{
+    double x[] = {-10.0, 0.0, 10.0}, h[] = {1e-3, 0.0, 1e-3};
+    char msg[512];
+    vi_profile *prof = vi_profile_create(x, h, 3, 0.475, 0, "trough", msg, sizeof msg);
+    cr_assert(prof != NULL, "%s", msg);
+    vi_model M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
+    double V[] = {1e-5, 2.0, -1e-5, -2.0}, expect[] = {1e5, 0.5, 1.9e6, 9.5};
+    for (int i = 0; i < 4; i++) {
+        cr_assert(vi_model_set_rolling(&M, prof, V[i], 9.0, msg, sizeof msg) == 0, "%s", msg);
+        double t = vi_model_rolling_limit(&M, msg, sizeof msg);
+        cr_assert(fabs(t - expect[i]) <= 1e-12 * expect[i], "V = %g: t = %.17g", V[i], t);
+        cr_assert(strstr(msg, V[i] > 0 ? "x_last = 10 m" : "x_first = -10 m"), "%s", msg);
+    }
+    cr_assert(vi_model_set_rolling(&M, prof, 0.0, 9.0, msg, sizeof msg) == 0);
+    cr_assert(vi_model_rolling_limit(&M, msg, sizeof msg) == INFINITY); /* standing still: never */
+    vi_profile_free(prof);
 }
 
 /* A restored state carries a profile pointer that is never used: restore attaches the instance's own

@@ -7,6 +7,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include "vi_profile.h"
@@ -100,10 +101,13 @@ Test(profile, step_becomes_the_circular_ramp)
     cr_assert(vi_profile_kinks(p) == 1, "%zu kinks", vi_profile_kinks(p));
     cr_assert(fabs(vi_profile_next_kink(p, -0.5, 1) - foot) <= 1e-12, "%.17g vs %.17g", vi_profile_next_kink(p, -0.5, 1),
               foot);
-    /* the slope on the ramp: -d/sqrt(R^2 - d^2) */
+    /* on the ramp yb = H + sqrt(R^2 - d^2) - R: yb' = -d/sqrt(R^2 - d^2), yb'' = -R^2/(R^2 - d^2)^1.5,
+     * yb''' = -3 R^2 d/(R^2 - d^2)^2.5 */
     double y[4], d = -0.05;
     vi_profile_eval(p, c + d, y);
     cr_assert(fabs(y[1] + d / sqrt(R * R - d * d)) <= 1e-12 && fabs(y[2] + R * R / pow(R * R - d * d, 1.5)) <= 1e-9);
+    double d3 = -3.0 * R * R * d / pow(R * R - d * d, 2.5);
+    cr_assert(fabs(y[3] - d3) <= 1e-9 * fabs(d3), "yb''' = %.17g, expected %.17g", y[3], d3);
     vi_profile_free(p);
 }
 
@@ -254,6 +258,22 @@ Test(profile, files)
     cr_assert(p != NULL, "%s", msg);
     cr_assert(vi_profile_x_last(p) == 1.5 && yb(p, 0.5) == 1e-4);
     vi_profile_free(p);
+    /* Windows line ends and trailing tabs */
+    p = vi_profile_load(write_file("0 0\r\n0.5 1e-4\t\r\n1 0\t\n"), R, 0, msg, sizeof msg);
+    cr_assert(p != NULL, "%s", msg);
+    cr_assert(vi_profile_x_last(p) == 1.0 && yb(p, 0.5) == 1e-4);
+    vi_profile_free(p);
+    /* the longest line: VI_PROFILE_LINE_MAX - 2 characters before its newline; one more is refused */
+    static char text[2 * VI_PROFILE_LINE_MAX];
+    for (int extra = 0; extra <= 1; extra++) {
+        int len = VI_PROFILE_LINE_MAX - 2 + extra;
+        snprintf(text, sizeof text, "0 0\n%-*s\n", len, "1 0"); /* "1 0" padded with spaces */
+        msg[0] = '\0';
+        p = vi_profile_load(write_file(text), R, 0, msg, sizeof msg);
+        cr_assert((p != NULL) == !extra, "a line of %d characters: %s", len, msg);
+        if (extra) cr_assert(strstr(msg, "line 2: longer than"), "%s", msg);
+        vi_profile_free(p);
+    }
     struct { const char *text, *expect; } bad[] = {
         {"0 0\n1 0\nabc 2\n", "line 3: expected two numbers"},
         {"0 0\n1\n", "line 2: expected two numbers"},
@@ -271,6 +291,36 @@ Test(profile, files)
     remove(path);
     cr_assert(vi_profile_load("/nonexistent/profile.txt", R, 0, msg, sizeof msg) == NULL);
     cr_assert(strstr(msg, "/nonexistent/profile.txt") && strstr(msg, "cannot open"), "%s", msg);
+}
+
+/* Memory running out while a file is read: refused with a message naming the line, no crash.
+ * (Criterion runs each test in its own process: the address-space limit stays in it. Skipped under
+ * AddressSanitizer, whose shadow memory needs the address space.) */
+Test(profile, out_of_memory_while_reading_is_refused)
+{
+#if defined(__SANITIZE_ADDRESS__)
+    cr_skip_test("AddressSanitizer reserves the address space");
+#endif
+    char path[64];
+    snprintf(path, sizeof path, "/tmp/vi_profile_test_big_%d.txt", (int)getpid());
+    FILE *f = fopen(path, "w");
+    cr_assert(f != NULL);
+    for (int i = 0; i < 1 << 20; i++) fprintf(f, "%d 0\n", i); /* 2 x 8 MB of doubles at the end */
+    fclose(f);
+    long vm_kb = -1;
+    char line[256];
+    FILE *st = fopen("/proc/self/status", "r");
+    cr_assert(st != NULL);
+    while (fgets(line, sizeof line, st))
+        if (sscanf(line, "VmSize: %ld kB", &vm_kb) == 1) break;
+    fclose(st);
+    cr_assert(vm_kb > 0);
+    struct rlimit lim = {(rlim_t)(vm_kb + 4096) * 1024, (rlim_t)(vm_kb + 4096) * 1024}; /* 4 MB more */
+    cr_assert(setrlimit(RLIMIT_AS, &lim) == 0);
+    char msg[512] = "";
+    vi_profile *p = vi_profile_load(path, R, 0, msg, sizeof msg);
+    remove(path);
+    cr_assert(p == NULL && strstr(msg, "out of memory at line"), "%s", msg);
 }
 
 /* A long profile (1e5 samples at 1 mm): built in bounded time, evaluated by binary search. */

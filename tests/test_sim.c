@@ -3,6 +3,7 @@
 #include <criterion/criterion.h>
 #include <math.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "vi_sim.h"
 
@@ -100,4 +101,47 @@ Test(sim, zeno_rule_counts_accumulation_not_frequency)
     for (int k = 0; k < 100000; k++, t += 1.0 / 3e7) count = vi_sim_zeno_count(count, t, t + 1.0 / 3e7);
     cr_assert(count == 0, "regular events counted as Zeno");
     cr_assert(vi_sim_zeno_count(5, 0.05, 0.06) == 0, "a gap resets the count");
+}
+
+/* The event count starts at zero and counts what happens: a mass thrown clear (no load) meets
+ * nothing; a Hertz drop (P = g = 0, touching, moving in) rebounds elastically and leaves once (one
+ * event, the separation), then flies on. */
+Test(sim, event_count_starts_at_zero_and_counts_the_separation)
+{
+    double v0[] = {1.0, -0.1};
+    long expect[] = {0, 1};
+    for (int i = 0; i < 2; i++) {
+        vi_sim s;
+        vi_sim_init(&s, quiet, NULL);
+        s.d.par.contact_model = VI_ContactModel_hertz;
+        s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = v0[i];
+        cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+        cr_assert(s.d.n_events == 0, "%ld events at the start", s.d.n_events);
+        cr_assert(vi_sim_advance(&s, 0.01) == VI_SIM_OK, "%s", s.msg);
+        cr_assert(s.d.n_events == expect[i] && s.d.M.mode == VI_Mode_free, "v0 = %g: %ld events, mode %d", v0[i],
+                  s.d.n_events, s.d.M.mode);
+        vi_sim_free(&s);
+    }
+}
+
+/* A relative profile_file is looked up in the resources folder first, whatever its length (here the
+ * root, "/": the file /tmp/... is named "tmp/..."; the tests do not run in "/"). */
+Test(sim, relative_profile_file_is_found_in_a_one_character_resources_folder)
+{
+    char name[64], abs[80];
+    snprintf(name, sizeof name, "tmp/vi_sim_test_%d.txt", (int)getpid());
+    snprintf(abs, sizeof abs, "/%s", name);
+    FILE *f = fopen(abs, "w");
+    cr_assert(f != NULL);
+    fputs("-1 0\n1 0\n", f);
+    fclose(f);
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    vi_sim_set_resources(&s, "/");
+    snprintf(s.d.par.profile_file, sizeof s.d.par.profile_file, "%s", name);
+    s.d.par.V = 1.0, s.d.par.x0 = 0.0;
+    int rc = vi_sim_initialize(&s);
+    remove(abs);
+    cr_assert(rc == 0, "%s", s.msg);
+    vi_sim_free(&s);
 }

@@ -3,7 +3,7 @@
 
 Usage:
     python3 tools/mutate.py [--sample N] [--seed S] [--files GLOB ...] [--timeout SEC] [--list]
-                            [--keep-going] [--only ID ...]
+                            [--only ID ...]
 
 Each mutant changes one place of one C file under src/ (operators, constants, a removed statement,
 a negated or forced condition, a changed return status). For each mutant the script copies the
@@ -13,6 +13,7 @@ tests (pytest -x, stopping at the first failure) with a time limit per mutant; a
 fails or times out is "killed", one whose run passes "survives". The score is
 killed / (killed + survived), with the mutants listed in tools/mutants-equivalent.txt left out
 (equivalent mutants: no test can tell them apart from the original; each entry gives the reason).
+A mutant is named `file:line:column:kind:old->new` (the names --only and the equivalents file use).
 
 The mutants are enumerated deterministically; --sample N draws N of them with --seed (default 1),
 stratified by file, so a rerun with the same arguments tests the same mutants. --list prints the
@@ -44,11 +45,12 @@ class Mutant:
     kind: str
     line: int
     old: str
+    col: int       # column of the replaced text (1-based): several mutants of one kind may share a line
 
     @property
     def ident(self):
         flat = lambda t: " ".join(t.split())  # noqa: E731
-        return f"{self.file}:{self.line}:{self.kind}:{flat(self.old)}->{flat(self.new)}"
+        return f"{self.file}:{self.line}:{self.col}:{self.kind}:{flat(self.old)}->{flat(self.new)}"
 
 
 # ---- finding mutation sites ------------------------------------------------------------------
@@ -120,11 +122,11 @@ def mutants_of(path):
     rel = str(path.relative_to(ROOT))
     text = path.read_text()
     masked = mask(text)
-    line_of = lambda pos: text.count("\n", 0, pos) + 1  # noqa: E731
     found = []
 
     def add(start, end, new, kind):
-        found.append(Mutant(rel, start, end, new, kind, line_of(start), text[start:end]))
+        line, col = text.count("\n", 0, start) + 1, start - text.rfind("\n", 0, start)
+        found.append(Mutant(rel, start, end, new, kind, line, text[start:end], col))
 
     # function bodies only: regions opened by a '{' at file scope that follows ')' (a definition)
     inside = bytearray(len(masked) + 1)
@@ -180,8 +182,8 @@ def mutants_of(path):
                     break
             j += 1
         cond = text[open_ + 1:j]
-        found.append(Mutant(rel, open_ + 1, j, f"!({cond})", "negate-condition", line_of(open_), cond))
-        found.append(Mutant(rel, open_ + 1, j, "0", "condition-false", line_of(open_), cond))
+        add(open_ + 1, j, f"!({cond})", "negate-condition")
+        add(open_ + 1, j, "0", "condition-false")
     for m in re.finditer(r"\b(fmi2OK|fmi2Error|fmi2Discard|fmi2Warning)\b", masked):
         if body(m.start()) and re.search(r"return\s*$", masked[max(0, m.start() - 20):m.start()]):
             add(m.start(), m.end(), STATUS[m.group()], "status")
@@ -198,7 +200,7 @@ def mutants_of(path):
                                  r"void|struct|vi_\w+|fmi2\w+|N_Vector|SUNContext|sunrealtype)\b", s)):
             start = pos + len(line) - len(line.lstrip())
             end = pos + len(line.rstrip("\n"))
-            found.append(Mutant(rel, start, end, ";", "remove-statement", line_of(start), text[start:end]))
+            add(start, end, ";", "remove-statement")
         pos += len(line)
     return found
 
