@@ -145,3 +145,18 @@ Test(sim, relative_profile_file_is_found_in_a_one_character_resources_folder)
     cr_assert(rc == 0, "%s", s.msg);
     vi_sim_free(&s);
 }
+
+/* A solver that cannot start fails the initialization (not the first step): the one-step method
+ * evaluates the right-hand side at the start, and a load of 1e300 N on 1e-10 kg, touching (no
+ * contact force yet), gives an acceleration beyond the doubles. */
+Test(sim, a_solver_that_cannot_start_fails_the_initialization)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.solver = VI_Solver_dop853;
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    s.d.par.P = 1e300, s.d.par.m = 1e-10, s.d.par.init = VI_Init_touching, s.d.par.v0 = 1.0;
+    cr_assert(vi_sim_initialize(&s) < 0, "initialized");
+    cr_assert(strstr(s.msg, "could not create the solver"), "%s", s.msg);
+    vi_sim_free(&s);
+}
