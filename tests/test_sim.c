@@ -62,6 +62,9 @@ Test(sim, data_check_names_the_first_bad_field)
     CASE(d.n_events = -1, "n_events");
     CASE(d.tolerance = 0.5, "tolerance");
     CASE(d.inputs_changed = 7, "inputs_changed");
+    CASE(d.step_t0 = NAN, "step_t0");
+    CASE(d.step_t0 = d.t + 1e-3, "step_t0");
+    CASE(d.step_v0 = INFINITY, "step_v0");
 #undef CASE
     vi_sim_free(&s);
 }
