@@ -65,6 +65,8 @@ Test(sim, data_check_names_the_first_bad_field)
     CASE(d.step_t0 = NAN, "step_t0");
     CASE(d.step_t0 = d.t + 1e-3, "step_t0");
     CASE(d.step_v0 = INFINITY, "step_v0");
+    CASE(d.guard_band[0] = -1e-9, "guard_band[0]");
+    CASE(d.guard_band[1] = NAN, "guard_band[1]");
 #undef CASE
     vi_sim_free(&s);
 }
