@@ -165,3 +165,29 @@ Test(sim, a_solver_that_cannot_start_fails_the_initialization)
     cr_assert(strstr(s.msg, "could not create the solver"), "%s", s.msg);
     vi_sim_free(&s);
 }
+
+/* With the one-step method the solver's continuation is part of the state and checked field by field. */
+Test(sim, data_check_names_bad_fields_of_the_one_step_continuation)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.solver = VI_Solver_dop853;
+    s.d.par.a = 1e-4;
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    cr_assert(vi_sim_advance(&s, 1e-3) == VI_SIM_OK, "%s", s.msg);
+    char msg[256];
+    cr_assert(vi_sim_data_check(&s.d, msg, sizeof msg) == 0, "%s", msg);
+    vi_sim_data d;
+#define CASE(stmt, field) d = s.d, stmt, refused(&d, field)
+    CASE(d.ode.event_pending = 2, "ode.event_pending");
+    CASE(d.ode.event_pending = -1, "ode.event_pending");
+    CASE(d.ode.have_step = 2, "ode.have_step");
+    CASE(d.ode.cur = 2, "ode.cur");
+    CASE(d.ode.h = 0.0, "ode.h");
+    CASE(d.ode.t = NAN, "ode.t");
+    CASE(d.ode.x[0] = NAN, "ode.x[0]");
+    CASE(d.ode.f[1] = INFINITY, "ode.f[1]");
+    CASE(d.ode.g[1] = NAN, "ode.g[1]");
+#undef CASE
+    vi_sim_free(&s);
+}
