@@ -191,3 +191,30 @@ Test(sim, data_check_names_bad_fields_of_the_one_step_continuation)
 #undef CASE
     vi_sim_free(&s);
 }
+
+/* ---- the solver interface (vi_solver.h) ------------------------------------------------------ */
+
+static void nan_after_half(double t, const double *x, double *dx, void *u)
+{
+    (void)x, (void)u;
+    dx[0] = t < 0.5 ? 1.0 : NAN;
+    dx[1] = 0.0;
+}
+
+/* The one-step method: a right-hand side that turns non-finite fails the advance (vi_ode_step
+ * refuses the step), never a success and never the work bound, which would tell the caller to go on
+ * from there. (CVODE instead approaches t = 0.5 in ever shorter successful steps.) */
+Test(solver, a_right_hand_side_turning_non_finite_fails_the_one_step_advance)
+{
+    vi_ode ode;
+    double atol[2] = {1e-9, 1e-9}, x0[2] = {0.0, 0.0}, x[2], t = 0.0;
+    vi_solver_config cfg = {.n = 2, .rhs = nan_after_half, .method = VI_METHOD_DOP853, .rtol = 1e-6, .atol = atol,
+                            .ode = &ode, .log = quiet};
+    vi_solver *s = vi_solver_create(&cfg, 0.0, x0);
+    cr_assert(s != NULL);
+    int fired[1];
+    long taken = 0;
+    int rc = vi_solver_advance(s, 1.0, 1000, &t, x, fired, &taken);
+    cr_assert(rc == VI_SOLVER_FAILED, "rc %d at t = %g after %ld steps", rc, t, taken);
+    vi_solver_free(s);
+}
