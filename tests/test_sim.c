@@ -3,7 +3,6 @@
 #include <criterion/criterion.h>
 #include <math.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "vi_sim.h"
 
@@ -127,28 +126,6 @@ Test(sim, event_count_starts_at_zero_and_counts_the_separation)
                   s.d.n_events, s.d.M.mode);
         vi_sim_free(&s);
     }
-}
-
-/* A relative profile_file is looked up in the resources folder first, whatever its length (here the
- * root, "/": the file /tmp/... is named "tmp/..."; the tests do not run in "/"). */
-Test(sim, relative_profile_file_is_found_in_a_one_character_resources_folder)
-{
-    char name[64], abs[80];
-    snprintf(name, sizeof name, "tmp/vi_sim_test_%d.txt", (int)getpid());
-    snprintf(abs, sizeof abs, "/%s", name);
-    FILE *f = fopen(abs, "w");
-    cr_assert(f != NULL);
-    fputs("-1 0\n1 0\n", f);
-    fclose(f);
-    vi_sim s;
-    vi_sim_init(&s, quiet, NULL);
-    vi_sim_set_resources(&s, "/");
-    snprintf(s.d.par.profile_file, sizeof s.d.par.profile_file, "%s", name);
-    s.d.par.V = 1.0, s.d.par.x0 = 0.0;
-    int rc = vi_sim_initialize(&s);
-    remove(abs);
-    cr_assert(rc == 0, "%s", s.msg);
-    vi_sim_free(&s);
 }
 
 /* A solver that cannot start fails the initialization (not the first step): the one-step method
