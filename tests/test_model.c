@@ -682,6 +682,14 @@ Test(rolling, the_profile_ends)
     cr_assert(fabs(s.d.t - 1e-3) < 1e-15 && strstr(s.msg, "t = 0.001") && strstr(s.msg, "x_last = 10 m"), "t %g: %s",
               s.d.t, s.msg);
     vi_sim_free(&s);
+    /* a step that ends exactly where the profile ends is complete: x_last is on the profile */
+    rolling_sim(&s, 1e-4, 1000.0, 9.0, 1e-6);
+    char why[400];
+    double end = vi_model_rolling_limit(&s.d.M, why, sizeof why);
+    cr_assert(vi_sim_advance(&s, end) == VI_SIM_OK, "%s", s.msg);
+    cr_assert(s.d.t == end && vi_model_rolling_position(&s.d.M, s.d.t) == 10.0);
+    cr_assert(vi_sim_advance(&s, end + 1e-6) == VI_SIM_DISCARD && s.d.t == end);
+    vi_sim_free(&s);
     vi_sim_init(&s, log_nothing, NULL); /* x0 outside the table */
     snprintf(s.d.par.profile_file, sizeof s.d.par.profile_file, "%s", v_trough_file(1e-4));
     s.d.par.V = 1.0, s.d.par.x0 = 11.0;

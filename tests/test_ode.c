@@ -967,31 +967,39 @@ Test(state, initial_step_is_hairers_estimate)
     cr_assert(s.h == 0.01);
     cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.003, 0u), VI_ODE_OK);
     cr_assert(s.h == 0.003);
-    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 1e-4, 0u), VI_ODE_OK); /* however small */
+    /* however small: a given h0, and max_step over the estimate and over a given h0 */
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 1e-4, 0u), VI_ODE_OK);
     cr_assert(s.h == 1e-4, "h = %g", s.h);
+    p.max_step = 1e-5;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert(s.h == 1e-5, "h = %g", s.h);
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.003, 0u), VI_ODE_OK);
+    cr_assert(s.h == 1e-5, "h = %g", s.h);
 }
 
-static void decay1000(double t, const double *x, double *dx, void *u)
+static void decay(double t, const double *x, double *dx, void *u)
 {
-    (void)t, (void)u;
-    dx[0] = -1000.0 * x[0];
+    (void)t;
+    dx[0] = -*(const double *)u * x[0];
 }
 
-Test(state, initial_step_on_both_sides_of_the_1e_minus_5_threshold)
+Test(state, initial_step_on_both_sides_of_the_1e_minus_5_thresholds)
 {
-    /* x' = -1000 x, atol = 1, rtol = 1e-10 (sc = 1 + 1e-10 x0): d0 = x0/sc, d1 = 1000 d0. HNW II.4:
-     * h0 = 1e-6 when d0 < 1e-5, else 0.01 d0/d1 = 1e-5; d2 = 1000 d1 (linear), h = min(100 h0, h1). */
-    vi_ode_problem p = {.n = 1, .rhs = decay1000, .rtol = 1e-10, .atol = {1.0}};
-    double y0[] = {1.005e-5, 0.995e-5};
-    for (int i = 0; i < 2; i++) {
-        double sc = 1.0 + 1e-10 * y0[i], d0 = y0[i] / sc, d1 = 1000.0 * d0;
-        double h0 = d0 < 1e-5 ? 1e-6 : 0.01 * d0 / d1, h1 = pow(0.01 / (1000.0 * d1), 1.0 / 8.0);
-        double expect = fmin(100.0 * h0, h1);
-        cr_assert(fabs(expect - (i == 0 ? 1e-3 : 1e-4)) < 1e-15); /* 100 h0 is the smaller */
+    /* x' = -k x, atol = 1, rtol = 1e-10 (sc = 1 + 1e-10 x0): d0 = x0/sc, d1 = k d0. HNW II.4: h0 = 1e-6
+     * when d0 or d1 < 1e-5, else 0.01 d0/d1; d2 = k d1 (linear), h = min(100 h0, h1). Each threshold
+     * from just above and just below, the other norm far from its own. */
+    double cases[][2] = {{1.005e-5, 1000.0}, {0.995e-5, 1000.0}, {1.0, 1.005e-5}, {1.0, 0.995e-5}};
+    for (int i = 0; i < 4; i++) {
+        double y0 = cases[i][0], k = cases[i][1];
+        vi_ode_problem p = {.n = 1, .rhs = decay, .user = &k, .rtol = 1e-10, .atol = {1.0}};
+        double sc = 1.0 + 1e-10 * y0, d0 = y0 / sc, d1 = k * d0;
+        double h0 = d0 < 1e-5 || d1 < 1e-5 ? 1e-6 : 0.01 * d0 / d1;
+        double expect = fmin(100.0 * h0, pow(0.01 / fmax(d1, k * d1), 1.0 / 8.0));
+        cr_assert((h0 == 1e-6) == (i % 2 == 1)); /* the cases are what they say */
         vi_ode s;
-        double x0[1] = {y0[i]};
+        double x0[1] = {y0};
         cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
-        cr_assert(fabs(s.h - expect) <= 1e-12 * expect, "x0 = %g: h = %.17g, expected %.17g", y0[i], s.h, expect);
+        cr_assert(fabs(s.h - expect) <= 1e-9 * expect, "case %d: h = %.17g, expected %.17g", i, s.h, expect);
     }
 }
 

@@ -3,7 +3,6 @@
 #include <criterion/criterion.h>
 #include <math.h>
 #include <string.h>
-#include <unistd.h>
 
 #include "vi_sim.h"
 
@@ -62,6 +61,11 @@ Test(sim, data_check_names_the_first_bad_field)
     CASE(d.n_events = -1, "n_events");
     CASE(d.tolerance = 0.5, "tolerance");
     CASE(d.inputs_changed = 7, "inputs_changed");
+    CASE(d.step_t0 = NAN, "step_t0");
+    CASE(d.step_t0 = d.t + 1e-3, "step_t0");
+    CASE(d.step_v0 = INFINITY, "step_v0");
+    CASE(d.guard_band[0] = -1e-9, "guard_band[0]");
+    CASE(d.guard_band[1] = NAN, "guard_band[1]");
 #undef CASE
     vi_sim_free(&s);
 }
@@ -124,24 +128,70 @@ Test(sim, event_count_starts_at_zero_and_counts_the_separation)
     }
 }
 
-/* A relative profile_file is looked up in the resources folder first, whatever its length (here the
- * root, "/": the file /tmp/... is named "tmp/..."; the tests do not run in "/"). */
-Test(sim, relative_profile_file_is_found_in_a_one_character_resources_folder)
+/* A solver that cannot start fails the initialization (not the first step): the one-step method
+ * evaluates the right-hand side at the start, and a load of 1e300 N on 1e-10 kg, touching (no
+ * contact force yet), gives an acceleration beyond the doubles. */
+Test(sim, a_solver_that_cannot_start_fails_the_initialization)
 {
-    char name[64], abs[80];
-    snprintf(name, sizeof name, "tmp/vi_sim_test_%d.txt", (int)getpid());
-    snprintf(abs, sizeof abs, "/%s", name);
-    FILE *f = fopen(abs, "w");
-    cr_assert(f != NULL);
-    fputs("-1 0\n1 0\n", f);
-    fclose(f);
     vi_sim s;
     vi_sim_init(&s, quiet, NULL);
-    vi_sim_set_resources(&s, "/");
-    snprintf(s.d.par.profile_file, sizeof s.d.par.profile_file, "%s", name);
-    s.d.par.V = 1.0, s.d.par.x0 = 0.0;
-    int rc = vi_sim_initialize(&s);
-    remove(abs);
-    cr_assert(rc == 0, "%s", s.msg);
+    s.d.par.solver = VI_Solver_dop853;
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    s.d.par.P = 1e300, s.d.par.m = 1e-10, s.d.par.init = VI_Init_touching, s.d.par.v0 = 1.0;
+    cr_assert(vi_sim_initialize(&s) < 0, "initialized");
+    cr_assert(strstr(s.msg, "could not create the solver"), "%s", s.msg);
     vi_sim_free(&s);
+}
+
+/* With the one-step method the solver's continuation is part of the state and checked field by field. */
+Test(sim, data_check_names_bad_fields_of_the_one_step_continuation)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.solver = VI_Solver_dop853;
+    s.d.par.a = 1e-4;
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    cr_assert(vi_sim_advance(&s, 1e-3) == VI_SIM_OK, "%s", s.msg);
+    char msg[256];
+    cr_assert(vi_sim_data_check(&s.d, msg, sizeof msg) == 0, "%s", msg);
+    vi_sim_data d;
+#define CASE(stmt, field) d = s.d, stmt, refused(&d, field)
+    CASE(d.ode.event_pending = 2, "ode.event_pending");
+    CASE(d.ode.event_pending = -1, "ode.event_pending");
+    CASE(d.ode.have_step = 2, "ode.have_step");
+    CASE(d.ode.cur = 2, "ode.cur");
+    CASE(d.ode.h = 0.0, "ode.h");
+    CASE(d.ode.t = NAN, "ode.t");
+    CASE(d.ode.x[0] = NAN, "ode.x[0]");
+    CASE(d.ode.f[1] = INFINITY, "ode.f[1]");
+    CASE(d.ode.g[1] = NAN, "ode.g[1]");
+#undef CASE
+    vi_sim_free(&s);
+}
+
+/* ---- the solver interface (vi_solver.h) ------------------------------------------------------ */
+
+static void nan_after_half(double t, const double *x, double *dx, void *u)
+{
+    (void)x, (void)u;
+    dx[0] = t < 0.5 ? 1.0 : NAN;
+    dx[1] = 0.0;
+}
+
+/* The one-step method: a right-hand side that turns non-finite fails the advance (vi_ode_step
+ * refuses the step), never a success and never the work bound, which would tell the caller to go on
+ * from there. (CVODE instead approaches t = 0.5 in ever shorter successful steps.) */
+Test(solver, a_right_hand_side_turning_non_finite_fails_the_one_step_advance)
+{
+    vi_ode ode;
+    double atol[2] = {1e-9, 1e-9}, x0[2] = {0.0, 0.0}, x[2], t = 0.0;
+    vi_solver_config cfg = {.n = 2, .rhs = nan_after_half, .method = VI_METHOD_DOP853, .rtol = 1e-6, .atol = atol,
+                            .ode = &ode, .log = quiet};
+    vi_solver *s = vi_solver_create(&cfg, 0.0, x0);
+    cr_assert(s != NULL);
+    int fired[1];
+    long taken = 0;
+    int rc = vi_solver_advance(s, 1.0, 1000, &t, x, fired, &taken);
+    cr_assert(rc == VI_SOLVER_FAILED, "rc %d at t = %g after %ld steps", rc, t, taken);
+    vi_solver_free(s);
 }
