@@ -27,7 +27,10 @@ _simulate_fmu = fmpy.simulate_fmu
 
 
 def _simulate_with_solver(filename, *args, start_values=None, **kw):
-    return _simulate_fmu(filename, *args, start_values=with_solver(start_values or {}), **kw)
+    """Only FMUs that have a `solver` parameter get it (not the vehicle-track example's Track and Vehicle)."""
+    if SOLVER is not None and any(v.name == "solver" for v in read_model_description(filename).modelVariables):
+        start_values = with_solver(start_values or {})
+    return _simulate_fmu(filename, *args, start_values=start_values or {}, **kw)
 
 
 fmpy.simulate_fmu = _simulate_with_solver
