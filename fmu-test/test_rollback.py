@@ -82,20 +82,3 @@ def test_reset_and_the_same_run_are_bit_for_bit(logged, vr, solver):
     np.testing.assert_array_equal(a, b)
     s.freeInstance()
 
-
-@each_solver
-def test_state_from_before_initialization_starts_the_same_run_again(logged, vr, solver):
-    """A state taken in Instantiated and set while running puts the instance back before
-    initialization (FMI 2.0: the FMU state includes the FMI state); initialized again, it runs as
-    the first time."""
-    s = logged().instantiate()
-    s.setInteger([vr["solver"]], [solver])
-    state = s.getFMUstate()
-    start(s, vr, fig4b(solver))
-    a = run(s, vr, 0.0, 500)
-    s.setFMUstate(state)
-    start(s, vr, fig4b(solver))
-    b = run(s, vr, 0.0, 500)
-    np.testing.assert_array_equal(a, b)
-    s.freeFMUstate(state)
-    s.freeInstance()

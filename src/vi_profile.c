@@ -307,7 +307,7 @@ vi_profile *vi_profile_create(const double *x, const double *h, size_t n, double
     p->xb[p->m] = p->hi;
     /* continuity, slopes and kinks at the boundaries (a periodic profile also at the seam) */
     for (size_t j = 0; j <= p->m; j++) {
-        double dl[3] = {0.0}, dr[3] = {0.0}, yl = 0.0, yr = 0.0;
+        double dl[3], dr[3], yl = NAN, yr = NAN; /* set before use (has_left, has_right); gcc -fsanitize cannot tell */
         int has_left = j > 0 || p->periodic, has_right = j < p->m || p->periodic;
         size_t jl = j > 0 ? j - 1 : p->m - 1, jr = j < p->m ? j : 0;
         double xl = j > 0 ? p->xb[j] : p->hi, xr = j < p->m ? p->xb[j] : p->lo;

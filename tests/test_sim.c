@@ -128,6 +128,29 @@ Test(sim, event_count_starts_at_zero_and_counts_the_separation)
     }
 }
 
+/* Restoring the data of an instance not yet initialized (every solver): no solver until the next
+ * initialization, so a step is refused; initialized again, the instance runs as before. */
+Test(sim, restoring_data_from_before_initialization_leaves_no_solver)
+{
+    int solvers[] = {VI_Solver_bdf, VI_Solver_adams, VI_Solver_dop853};
+    for (int i = 0; i < 3; i++) {
+        vi_sim s, fresh;
+        vi_sim_init(&s, quiet, NULL);
+        s.d.par.solver = solvers[i];
+        vi_sim_init(&fresh, quiet, NULL);
+        fresh.d.par.solver = solvers[i];
+        cr_assert(vi_sim_initialize(&s) == 0 && vi_sim_advance(&s, 1e-3) == VI_SIM_OK, "%s", s.msg);
+        double x_first = s.d.x[0];
+        s.d = fresh.d;
+        cr_assert(vi_sim_restore(&s) == 0, "solver %d: %s", solvers[i], s.msg);
+        cr_assert(vi_sim_advance(&s, 2e-3) == VI_SIM_ERROR && strstr(s.msg, "not initialized"), "solver %d: %s",
+                  solvers[i], s.msg);
+        cr_assert(vi_sim_initialize(&s) == 0 && vi_sim_advance(&s, 1e-3) == VI_SIM_OK, "%s", s.msg);
+        cr_assert(s.d.x[0] == x_first, "solver %d: the run differs", solvers[i]);
+        vi_sim_free(&s), vi_sim_free(&fresh);
+    }
+}
+
 /* A solver that cannot start fails the initialization (not the first step): the one-step method
  * evaluates the right-hand side at the start, and a load of 1e300 N on 1e-10 kg, touching (no
  * contact force yet), gives an acceleration beyond the doubles. */
