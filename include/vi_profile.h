@@ -8,9 +8,11 @@
  *     yb(x) = max over s in the profile with |s - x| <= R of [h(s) + sqrt(R^2 - (x - s)^2)] - R,
  *
  * the upper envelope of the circles around the vertices and the lines parallel to the segments at
- * distance R (segment tangents), minus R. It is computed exactly once (vi_profile_create): the
- * envelope of those pieces is built by merging (every crossing located by a closed form or a
- * bounded bisection to the last bit) into a sorted list of intervals, each carried by one piece:
+ * distance R (segment tangents), minus R. It is computed once (vi_profile_create), in time and memory
+ * linear in the rows: the pieces are taken in the order of the profile (the contact point moves
+ * forward along the profile as the body does) and kept on a stack of sorted intervals, each carried
+ * by one piece; a crossing of two pieces is located by a closed form (a bisection to the last bit
+ * when that does not decide). The pieces:
  *
  *   vertex circle (x_i, h_i):  yb = h_i - d^2 / (R + sqrt(R^2 - d^2)),  d = x - x_i
  *   segment tangent i:         yb = h_i + s (x - x_i) + R (sqrt(1 + s^2) - 1),  s the segment's slope,
@@ -27,8 +29,13 @@
  *
  * Refused (with a message naming the file and line, or the position): a file that cannot be read,
  * a line that is not two finite numbers, x not strictly increasing, fewer than two rows, a periodic
- * table whose ends differ, and a profile with a step higher than the body can roll over (yb would
- * jump). Lines that are empty or start with '#' are skipped. Every loop is bounded.
+ * table whose ends differ, a periodic table whose period is so short that the body spans more than
+ * VI_PROFILE_ROWS_MAX rows of its copies, and a profile with a step higher than the body can roll
+ * over (yb would jump). Lines that are empty or start with '#' are skipped. Every loop is bounded.
+ *
+ * File format: numbers are read as strtod reads them in the C locale (decimal point '.'; the common
+ * decimal forms are converted without strtod, to the same double), separated by white space, a
+ * comma or a semicolon.
  */
 #ifndef VI_PROFILE_H
 #define VI_PROFILE_H

@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <float.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,10 +19,9 @@ typedef struct {
 struct vi_profile {
     double R, lo, hi, period; /* period = hi - lo when periodic, else 0 */
     int periodic;
-    piece *pieces;
+    piece *pieces;  /* m pieces, one per interval */
     size_t m;       /* intervals */
     double *xb;     /* m + 1 boundaries, xb[0] = lo, xb[m] = hi */
-    int *pid;       /* m piece indices */
     double *kinks;  /* sorted kink positions in [lo, hi) */
     size_t n_kinks;
     double max_slope;
@@ -48,58 +48,63 @@ static double piece_eval(const piece *q, double R, double x, double d[3])
     return q->py - u * u / (R + root);
 }
 
-/* ---- envelopes: sorted, disjoint intervals [x0, x1) each carried by one piece ------------------ */
+/* ---- the envelope, built in one pass ------------------------------------------------------------
+ *
+ * The body's contact point s(x) never moves backwards along the profile: h(s) + sqrt(R^2 - (x - s)^2)
+ * has increasing differences in (x, s) (sqrt(R^2 - u^2) is concave), so its maximiser is nondecreasing
+ * in x. Taken in the order of the profile (circle of vertex 0, tangent of segment 0, circle of vertex
+ * 1, ...), the pieces therefore appear on the envelope in that order, each on one interval; and a
+ * new piece q beats the envelope of the pieces before it on one interval that ends where q's domain
+ * ends. Inserting q pops from a stack the intervals it wins whole, cuts the one it wins in part and
+ * pushes its own: every interval is pushed and popped at most once, so the construction is linear
+ * in the rows. Intervals of earlier pieces beyond q's domain (a circle that reaches further than the
+ * next tangent) are set aside and put back. A vertex circle and the tangent of a segment at that
+ * vertex meet where the tangent's domain starts or ends (the tangent is the higher inside its
+ * domain); such neighbours are not compared numerically, so the switch between them is exact. */
 
 typedef struct {
+    double x0, x1; /* [x0, x1) */
+    piece q;
+    size_t g; /* place in the order of the profile: 2 i the circle of vertex i, 2 i + 1 the tangent of segment i */
+} span;
+
+typedef struct {
+    span *s;
     size_t n, cap;
-    double *x0, *x1;
-    int *id;
-} envelope;
+} stack;
 
-static void env_free(envelope *e)
+/* Push [x0, x1) carried by q (joined to the top when that is the same piece and ends at x0). 0, or -1
+ * when out of memory. */
+static int push(stack *st, double x0, double x1, const piece *q, size_t g)
 {
-    free(e->x0), free(e->x1), free(e->id);
-    memset(e, 0, sizeof *e);
-}
-
-/* Append [a, b) carried by id, joining it to the last interval when that one ends at a with the
- * same piece. 0, or -1 when out of memory. */
-static int env_push(envelope *e, double a, double b, int id)
-{
-    if (!(b > a)) return 0;
-    if (e->n && e->id[e->n - 1] == id && e->x1[e->n - 1] == a) {
-        e->x1[e->n - 1] = b;
+    if (!(x1 > x0)) return 0;
+    if (st->n && st->s[st->n - 1].g == g && st->s[st->n - 1].x1 == x0) {
+        st->s[st->n - 1].x1 = x1;
         return 0;
     }
-    if (e->n == e->cap) {
-        size_t cap = e->cap ? 2 * e->cap : 16;
-        double *x0 = realloc(e->x0, cap * sizeof *x0), *x1 = x0 ? realloc(e->x1, cap * sizeof *x1) : NULL;
-        int *id_ = x1 ? realloc(e->id, cap * sizeof *id_) : NULL;
-        if (x0) e->x0 = x0;
-        if (x1) e->x1 = x1;
-        if (id_) e->id = id_;
-        if (!x0 || !x1 || !id_) return -1;
-        e->cap = cap;
+    if (st->n == st->cap) {
+        size_t cap = st->cap ? 2 * st->cap : 256;
+        span *s = realloc(st->s, cap * sizeof *s);
+        if (!s) return -1;
+        st->s = s, st->cap = cap;
     }
-    e->x0[e->n] = a, e->x1[e->n] = b, e->id[e->n] = id;
-    e->n++;
+    st->s[st->n++] = (span){x0, x1, *q, g};
     return 0;
 }
 
 typedef struct {
-    const piece *pieces;
     double R;
-    double tol; /* values closer than this count as equal (tangent pieces) */
+    double tol; /* values closer than this count as equal (the continuity check) */
 } context;
 
-static double gap(const context *c, int a, int b, double x)
+static double gap(const context *c, const piece *a, const piece *b, double x)
 {
-    return piece_eval(&c->pieces[a], c->R, x, NULL) - piece_eval(&c->pieces[b], c->R, x, NULL);
+    return piece_eval(a, c->R, x, NULL) - piece_eval(b, c->R, x, NULL);
 }
 
 /* The root of gap(a, b) in (lo, hi), where it changes sign strictly (bisection to the last bit,
  * at most 2100 halvings: more than the doubles between any two). */
-static double bisect(const context *c, int a, int b, double lo, double hi, double glo)
+static double bisect(const context *c, const piece *a, const piece *b, double lo, double hi, double glo)
 {
     for (int it = 0; it < 2100; it++) {
         double mid = lo + 0.5 * (hi - lo);
@@ -111,90 +116,86 @@ static double bisect(const context *c, int a, int b, double lo, double hi, doubl
     return hi;
 }
 
-/* Crossings of pieces a and b strictly inside (u, v): at most two (the difference of two equal
- * circles is monotone, that of a circle and a line concave, that of two lines linear). */
-static int crossings(const context *c, int a, int b, double u, double v, double r[2])
+/* A root in [w, v] of the equation piece a = piece b, in closed form; NAN when none is found there or
+ * the form does not decide (two roots in the bracket). */
+static double closed_form(double R, const piece *a, const piece *b, double w, double v)
 {
-    const piece *pa = &c->pieces[a], *pb = &c->pieces[b];
-    double cut[3] = {u, v, v};
-    int nb = 1;
-    if (pa->line != pb->line) { /* split at the extremum of the difference: the circle's slope = s */
-        const piece *circle = pa->line ? pb : pa, *line = pa->line ? pa : pb;
-        double xs = circle->px - line->s * c->R / hypot(1.0, line->s);
-        double ext = gap(c, a, b, xs > u && xs < v ? xs : 0.5 * (u + v));
-        if (xs > u && xs < v) {
-            if (fabs(ext) <= c->tol) return 0; /* tangent: they touch, no crossing */
-            cut[1] = xs, cut[2] = v, nb = 2;
+    double r1 = NAN, r2 = NAN;
+    if (!a->line && !b->line) { /* equal circles: the upper crossing on the bisector of the two vertices */
+        double dx = b->px - a->px, dy = b->py - a->py, d = hypot(dx, dy);
+        if (!(dx > 0.0) || !(d < 2.0 * R)) return NAN;
+        r1 = a->px + 0.5 * dx - dy / d * sqrt((R - 0.5 * d) * (R + 0.5 * d));
+    } else if (a->line && b->line) { /* two lines */
+        r1 = a->px + (b->py - a->py + b->s * (a->px - b->px)) / (a->s - b->s);
+    } else { /* circle (px, py) and line: with u = x - px, sqrt(R^2 - u^2) = A + s u, A = R + e */
+        const piece *cq = a->line ? b : a, *lq = a->line ? a : b;
+        double s = lq->s, e = lq->py + s * (cq->px - lq->px) - cq->py; /* the line above the vertex */
+        double hyp = hypot(1.0, s), A = R + e;
+        double disc = (R * (s * s / (hyp + 1.0)) - e) * (hyp * R + A); /* (1 + s^2) R^2 - A^2 */
+        if (!(disc >= 0.0)) return NAN;
+        double k = 1.0 + s * s, t = -(A * s + copysign(sqrt(disc), A * s)); /* u1 = t / k, u1 u2 = e (2R + e) / k */
+        double u1 = t / k, u2 = t != 0.0 ? e * (2.0 * R + e) / t : NAN;
+        if (A + s * u1 >= 0.0) r1 = cq->px + u1;
+        if (A + s * u2 >= 0.0) r2 = cq->px + u2;
+    }
+    int in1 = r1 >= w && r1 <= v, in2 = r2 >= w && r2 <= v;
+    return in1 == in2 ? NAN : in1 ? r1 : r2;
+}
+
+/* Where q (after p in the profile) takes over from p in [w, v]: gap(p, q) >= 0 at w, < 0 at v. */
+static double crossing(const context *c, const piece *p, const piece *q, double w, double v)
+{
+    double r = closed_form(c->R, p, q, w, v);
+    return r == r ? r : bisect(c, p, q, w, v, gap(c, p, q, w));
+}
+
+/* Add piece q (place g in the order of the profile) on its domain [a, b) to the envelope of the
+ * pieces before it. tail: scratch for what lies beyond b. 0, or -1 when out of memory. */
+static int insert(const context *c, stack *st, stack *tail, const piece *q, size_t g, double a, double b)
+{
+    if (!(b > a)) return 0;
+    tail->n = 0;
+    while (st->n && st->s[st->n - 1].x0 >= b) { /* bounded by the stack */
+        span *t = &st->s[--st->n];
+        if (push(tail, t->x0, t->x1, &t->q, t->g) < 0) return -1;
+    }
+    if (st->n && st->s[st->n - 1].x1 > b) {
+        span *t = &st->s[st->n - 1];
+        if (push(tail, b, t->x1, &t->q, t->g) < 0) return -1;
+        t->x1 = b;
+    }
+    /* q holds [start, b); where nothing lies yet it wins */
+    double start = !st->n ? a : fmax(a, fmin(b, st->s[st->n - 1].x1));
+    while (st->n) { /* bounded by the stack: every pass pops an interval or ends */
+        span *t = &st->s[st->n - 1];
+        if (t->x1 != start || !(start > a)) break;
+        double w = fmax(t->x0, a), from; /* q wins on [from, start) */
+        if (t->g + 1 == g) /* neighbours: a tangent wins inside its domain */
+            from = (g & 1u) ? w : start;
+        else if (gap(c, &t->q, q, w) < 0.0)
+            from = w;
+        else if (gap(c, &t->q, q, start) >= 0.0)
+            from = start;
+        else
+            from = crossing(c, &t->q, q, w, start);
+        if (from > w) {
+            t->x1 = from;
+            start = from;
+            break;
         }
+        start = w;
+        if (t->x0 < a) {
+            t->x1 = a;
+            break;
+        }
+        st->n--;
     }
-    int n = 0;
-    for (int k = 0; k < nb; k++) {
-        double lo = cut[k], hi = cut[k + 1], glo = gap(c, a, b, lo), ghi = gap(c, a, b, hi);
-        if (fabs(glo) <= c->tol || fabs(ghi) <= c->tol || (glo < 0.0) == (ghi < 0.0)) continue;
-        r[n++] = bisect(c, a, b, lo, hi, glo);
-    }
-    return n;
-}
-
-/* Upper envelope of a and b on [u, v), appended to out. */
-static int upper_of_two(const context *c, int a, int b, double u, double v, envelope *out)
-{
-    double r[2], cuts[4];
-    int n = crossings(c, a, b, u, v, r), k = 0;
-    cuts[k++] = u;
-    for (int i = 0; i < n; i++)
-        if (r[i] > cuts[k - 1] && r[i] < v) cuts[k++] = r[i];
-    cuts[k++] = v;
-    for (int i = 0; i + 1 < k; i++) {
-        double mid = cuts[i] + 0.5 * (cuts[i + 1] - cuts[i]);
-        if (env_push(out, cuts[i], cuts[i + 1], gap(c, a, b, mid) >= 0.0 ? a : b) < 0) return -1;
+    if (push(st, start, b, q, g) < 0) return -1;
+    while (tail->n) { /* bounded by the tail */
+        span *t = &tail->s[--tail->n];
+        if (push(st, t->x0, t->x1, &t->q, t->g) < 0) return -1;
     }
     return 0;
-}
-
-/* The piece of e active at position x, advancing *i past intervals that end at or before x; -1 in a gap. */
-static int active(const envelope *e, size_t *i, double x)
-{
-    while (*i < e->n && e->x1[*i] <= x) (*i)++;
-    return *i < e->n && e->x0[*i] <= x ? e->id[*i] : -1;
-}
-
-/* The next boundary of e after x (INFINITY if none), with *i as left by active(). */
-static double next_boundary(const envelope *e, size_t i, double x)
-{
-    if (i >= e->n) return INFINITY;
-    return e->x0[i] > x ? e->x0[i] : e->x1[i];
-}
-
-static int env_merge(const context *c, const envelope *A, const envelope *B, envelope *out)
-{
-    size_t ia = 0, ib = 0;
-    double u = fmin(A->n ? A->x0[0] : INFINITY, B->n ? B->x0[0] : INFINITY);
-    /* every pass moves u to the next boundary of A or B: at most 2 (A->n + B->n) passes */
-    for (size_t pass = 0; pass <= 2 * (A->n + B->n) && isfinite(u); pass++) {
-        int pa = active(A, &ia, u), pb = active(B, &ib, u);
-        double v = fmin(next_boundary(A, ia, u), next_boundary(B, ib, u));
-        if (!isfinite(v)) break;
-        int rc = 0;
-        if (pa >= 0 && pb >= 0) rc = upper_of_two(c, pa, pb, u, v, out);
-        else if (pa >= 0 || pb >= 0) rc = env_push(out, u, v, pa >= 0 ? pa : pb);
-        if (rc < 0) return -1;
-        u = v;
-    }
-    return 0;
-}
-
-/* Envelope of pieces [first, first + count), each on its domain [dom0, dom1). Recursion depth
- * log2(count). */
-static int env_build(const context *c, const double *dom0, const double *dom1, int first, int count, envelope *out)
-{
-    if (count == 1) return env_push(out, dom0[first], dom1[first], first);
-    envelope L = {0}, R = {0};
-    int half = count / 2, rc = -1;
-    if (env_build(c, dom0, dom1, first, half, &L) == 0 && env_build(c, dom0, dom1, first + half, count - half, &R) == 0)
-        rc = env_merge(c, &L, &R, out);
-    env_free(&L), env_free(&R);
-    return rc;
 }
 
 /* ---- construction ------------------------------------------------------------------------- */
@@ -202,7 +203,7 @@ static int env_build(const context *c, const double *dom0, const double *dom1, i
 void vi_profile_free(vi_profile *p)
 {
     if (!p) return;
-    free(p->pieces), free(p->xb), free(p->pid), free(p->kinks);
+    free(p->pieces), free(p->xb), free(p->kinks);
     free(p);
 }
 
@@ -212,62 +213,37 @@ void vi_profile_free(vi_profile *p)
         goto fail;                                     \
     } while (0)
 
-/* Candidate pieces of the envelope on [lo, hi], with their domains: the vertex circles (domain
- * |x - x_i| <= R) and the segment tangents (where the tangent point lies on the segment). A
- * periodic profile takes the copies of vertices and segments one period to each side whose domains
- * reach into [lo, hi]: the nearest copy of a vertex dominates the others. */
-static int make_pieces(const double *x, const double *h, size_t n, double R, int periodic, piece **out, double **d0,
-                       double **d1, int *count)
+/* The envelope on [lo, hi] of the vertex circles (domain |x - x_i| <= R) and the segment tangents
+ * (where the tangent point lies on the segment), taken in the order of the profile. A periodic
+ * profile is unrolled: the copies of the table one period apart, from the last vertex more than R
+ * before lo to the first more than R after hi (copies kmin .. kmax). 0, or -1 when out of memory. */
+static int build(const context *c, const double *x, const double *h, size_t n, int periodic, double lo, double hi,
+                 long kmin, long kmax, stack *st)
 {
-    size_t nv = periodic ? n - 1 : n, ns = n - 1, cap = 3 * nv + 3 * ns;
-    double lo = x[0], hi = x[n - 1], L = periodic ? hi - lo : 0.0;
-    piece *pc = malloc(cap * sizeof *pc);
-    double *a = malloc(cap * sizeof *a), *b = malloc(cap * sizeof *b);
-    if (!pc || !a || !b) {
-        free(pc), free(a), free(b);
-        return -1;
-    }
-    int k = 0;
-    for (size_t i = 0; i < nv + ns; i++) {
-        int line = i >= nv;
-        size_t j = line ? i - nv : i;
-        piece q = {line, x[j], h[j], 0.0};
-        double from = x[j] - R, to = x[j] + R;
-        if (line) {
+    double R = c->R, L = periodic ? hi - lo : 0.0;
+    size_t nv = periodic ? n - 1 : n, g = 0;
+    stack tail = {0};
+    int rc = 0;
+    for (long k = kmin; k <= kmax && rc == 0; k++) { /* bounded: kmax - kmin + 1 copies of n rows */
+        double off = (double)k * L;
+        for (size_t j = 0; j < nv && rc == 0; j++, g += 2) {
+            piece q = {0, x[j] + off, h[j], 0.0};
+            rc = insert(c, st, &tail, &q, g, fmax(x[j] - R + off, lo), fmin(x[j] + R + off, hi));
+            if (rc < 0 || j + 1 >= n) break;
             double s = (h[j + 1] - h[j]) / (x[j + 1] - x[j]), hyp = hypot(1.0, s), shift = R * (s / hyp);
-            q.s = s;
-            q.px = x[j] - shift;
-            q.py = h[j] - R * (s * s / (hyp * (hyp + 1.0))); /* h_j + R (1/hyp - 1), without cancellation */
-            from = q.px, to = x[j + 1] - shift;
-        }
-        /* copies: a vertex's nearest copy is one of k = -1, 0, 1; a tangent's domain (at most one
-         * period wide, shifted by up to R) meets [lo, hi] for at most two consecutive k */
-        double k0 = 0.0, k1 = 0.0;
-        if (periodic) {
-            k0 = line ? ceil((lo - to) / L) : -1.0;
-            k1 = line ? k0 + 1.0 : 1.0;
-        }
-        for (double copy = k0; copy <= k1; copy += 1.0) {
-            double off = copy * L, f = fmax(from + off, lo), t = fmin(to + off, hi);
-            if (!(t > f)) continue;
-            pc[k] = q;
-            pc[k].px += off;
-            a[k] = f, b[k] = t;
-            k++;
+            piece t = {1, x[j] - shift + off, h[j] - R * (s * s / (hyp * (hyp + 1.0))), s}; /* h_j + R (1/hyp - 1) */
+            rc = insert(c, st, &tail, &t, g + 1, fmax(t.px, lo), fmin(x[j + 1] - shift + off, hi));
         }
     }
-    *out = pc, *d0 = a, *d1 = b, *count = k;
-    return 0;
+    free(tail.s);
+    return rc;
 }
 
 vi_profile *vi_profile_create(const double *x, const double *h, size_t n, double R, int periodic, const char *name,
                               char *msg, size_t msg_size)
 {
     vi_profile *p = NULL;
-    piece *pc = NULL;
-    double *dom0 = NULL, *dom1 = NULL;
-    envelope env = {0};
-    int count = 0;
+    stack env = {0};
     if (!name) name = "profile";
     if (n < 2) FAIL("%s: %zu rows; a profile needs at least two (x [m], h [m])", name, n);
     if (!(R > 0.0 && isfinite(R))) FAIL("%s: the rolling radius R1 = %g m must be positive and finite", name, R);
@@ -284,26 +260,35 @@ vi_profile *vi_profile_create(const double *x, const double *h, size_t n, double
     if (!p) FAIL("%s: out of memory", name);
     p->R = R, p->lo = x[0], p->hi = x[n - 1], p->periodic = periodic != 0;
     p->period = periodic ? p->hi - p->lo : 0.0;
-    if (make_pieces(x, h, n, R, p->periodic, &pc, &dom0, &dom1, &count) < 0) FAIL("%s: out of memory", name);
+    long kmin = 0, kmax = 0;
+    if (p->periodic) { /* the copies whose vertices lie within R of [lo, hi], and one more each side */
+        double reach = ceil(R / p->period) + 1.0;
+        if (reach * 2.0 * (double)(n - 1) > VI_PROFILE_ROWS_MAX)
+            FAIL("%s: the period %g m is too short for R1 = %g m: the body spans %.0f periods of %zu rows, more than "
+                 "%d rows in all", name, p->period, R, 2.0 * reach, n - 1, VI_PROFILE_ROWS_MAX);
+        kmin = -(long)reach, kmax = (long)reach;
+    }
     double hmax = 0.0;
     for (size_t i = 0; i < n; i++) hmax = fmax(hmax, fabs(h[i]));
-    context c = {pc, R, 64.0 * DBL_EPSILON * (R + hmax)};
-    if (env_build(&c, dom0, dom1, 0, count, &env) < 0) FAIL("%s: out of memory", name);
+    context c = {R, 64.0 * DBL_EPSILON * (R + hmax)};
+    if (build(&c, x, h, n, p->periodic, p->lo, p->hi, kmin, kmax, &env) < 0) FAIL("%s: out of memory", name);
 
     /* the envelope covers [lo, hi] without gaps (every point lies under a vertex circle or a tangent) */
-    if (!env.n || env.x0[0] != p->lo || env.x1[env.n - 1] != p->hi)
-        FAIL("%s: internal error: the envelope covers [%g, %g] instead of [%g, %g]", name, env.n ? env.x0[0] : NAN,
-             env.n ? env.x1[env.n - 1] : NAN, p->lo, p->hi);
+    if (!env.n || env.s[0].x0 != p->lo || env.s[env.n - 1].x1 != p->hi)
+        FAIL("%s: internal error: the envelope covers [%g, %g] instead of [%g, %g]", name, env.n ? env.s[0].x0 : NAN,
+             env.n ? env.s[env.n - 1].x1 : NAN, p->lo, p->hi);
     p->m = env.n;
     p->xb = malloc((p->m + 1) * sizeof *p->xb);
-    p->pid = malloc(p->m * sizeof *p->pid);
+    p->pieces = malloc(p->m * sizeof *p->pieces);
     p->kinks = malloc((p->m + 1) * sizeof *p->kinks);
-    if (!p->xb || !p->pid || !p->kinks) FAIL("%s: out of memory", name);
+    if (!p->xb || !p->pieces || !p->kinks) FAIL("%s: out of memory", name);
     for (size_t j = 0; j < p->m; j++) {
-        if (j && env.x0[j] != env.x1[j - 1]) FAIL("%s: internal error: a gap in the envelope at x = %g", name, env.x1[j - 1]);
-        p->xb[j] = env.x0[j];
-        p->pid[j] = env.id[j];
+        if (j && env.s[j].x0 != env.s[j - 1].x1) FAIL("%s: internal error: a gap in the envelope at x = %g", name, env.s[j - 1].x1);
+        p->xb[j] = env.s[j].x0;
+        p->pieces[j] = env.s[j].q;
     }
+    free(env.s);
+    env.s = NULL;
     p->xb[p->m] = p->hi;
     /* continuity, slopes and kinks at the boundaries (a periodic profile also at the seam) */
     for (size_t j = 0; j <= p->m; j++) {
@@ -312,13 +297,13 @@ vi_profile *vi_profile_create(const double *x, const double *h, size_t n, double
         size_t jl = j > 0 ? j - 1 : p->m - 1, jr = j < p->m ? j : 0;
         double xl = j > 0 ? p->xb[j] : p->hi, xr = j < p->m ? p->xb[j] : p->lo;
         if (has_left) {
-            yl = piece_eval(&pc[p->pid[jl]], R, xl, dl);
+            yl = piece_eval(&p->pieces[jl], R, xl, dl);
             if (!isfinite(yl) || !isfinite(dl[0]))
                 FAIL("%s: the profile is too steep for R1 = %g m near x = %g m: the body cannot roll over it", name, R, xl);
             p->max_slope = fmax(p->max_slope, fabs(dl[0]));
         }
         if (has_right) {
-            yr = piece_eval(&pc[p->pid[jr]], R, xr, dr);
+            yr = piece_eval(&p->pieces[jr], R, xr, dr);
             if (!isfinite(yr) || !isfinite(dr[0]))
                 FAIL("%s: the profile is too steep for R1 = %g m near x = %g m: the body cannot roll over it", name, R, xr);
             p->max_slope = fmax(p->max_slope, fabs(dr[0]));
@@ -329,15 +314,105 @@ vi_profile *vi_profile_create(const double *x, const double *h, size_t n, double
                  name, R, xr, yr - yl);
         if (fabs(dr[0] - dl[0]) > VI_PROFILE_KINK_SLOPE && j < p->m) p->kinks[p->n_kinks++] = xr;
     }
-    env_free(&env);
-    free(dom0), free(dom1);
-    p->pieces = pc;
     return p;
 fail:
-    env_free(&env);
-    free(dom0), free(dom1), free(pc);
+    free(env.s);
     vi_profile_free(p);
     return NULL;
+}
+
+/* ---- reading a file ------------------------------------------------------------------------- */
+
+#ifdef __SIZEOF_INT128__
+typedef unsigned __int128 u128;
+
+/* 5^k for k = 0 .. VI_PROFILE_EXP10_MAX (5^27 < 2^63) and the powers of ten exact in a double. */
+#define VI_PROFILE_EXP10_MAX 27
+static const uint64_t POW5[VI_PROFILE_EXP10_MAX + 1] = {
+    1u, 5u, 25u, 125u, 625u, 3125u, 15625u, 78125u, 390625u, 1953125u, 9765625u, 48828125u, 244140625u,
+    1220703125u, 6103515625u, 30517578125u, 152587890625u, 762939453125u, 3814697265625u, 19073486328125u,
+    95367431640625u, 476837158203125u, 2384185791015625u, 11920928955078125u, 59604644775390625u,
+    298023223876953125u, 1490116119384765625u, 7450580596923828125u};
+static const double POW10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                                 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+
+/* (q + a fraction that is nonzero when sticky) 2^e2, rounded to the nearest double (ties to even).
+ * q has at most 53 bits when sticky is 0 and more than 53 otherwise. */
+static double round_u128(u128 q, int sticky, int e2)
+{
+    uint64_t hi = (uint64_t)(q >> 64);
+    int bits = hi ? 128 - __builtin_clzll(hi) : 64 - __builtin_clzll((uint64_t)q);
+    if (bits <= 53) return ldexp((double)(uint64_t)q, e2);
+    int drop = bits - 53;
+    uint64_t m = (uint64_t)(q >> drop);
+    u128 rest = q & (((u128)1 << drop) - 1), half = (u128)1 << (drop - 1);
+    if (rest > half || (rest == half && (sticky || (m & 1u)))) m++;
+    return ldexp((double)m, e2 + drop);
+}
+
+/* w 10^e correctly rounded, 0 < w < 2^64, |e| <= VI_PROFILE_EXP10_MAX: w 5^e 2^e is exact in 128 bits
+ * for e >= 0; for e < 0 the quotient (w 2^sh) / 5^-e has 64 bits or more and its remainder decides
+ * the rounding of a tie. */
+static double scaled(uint64_t w, int e)
+{
+    if (w < (1ull << 53) && e >= -22 && e <= 22) /* both exact: one rounding (Clinger's fast path) */
+        return e >= 0 ? (double)w * POW10[e] : (double)w / POW10[-e];
+    if (e >= 0) return round_u128((u128)w * POW5[e], 0, e);
+    int sh = 63 + __builtin_clzll(w); /* w 2^sh < 2^127 */
+    u128 n = (u128)w << sh, d = POW5[-e];
+    return round_u128(n / d, n % d != 0, -sh + e);
+}
+#endif
+
+/* The number at s as strtod reads it (*end after it; *end == s: none). The common decimal forms
+ * [+-]digits[.digits][(e|E)[+-]digits] with at most 19 significant digits and a decimal exponent
+ * within +-VI_PROFILE_EXP10_MAX are converted here, exactly as strtod rounds them (to nearest) but
+ * faster and with '.' whatever the locale; everything else (more digits, other exponents,
+ * hexadecimal, inf, nan, leading white space) is strtod's. */
+static double number(const char *s, char **end)
+{
+#ifdef __SIZEOF_INT128__
+    const char *c = s;
+    int neg = *c == '-', digits = 0, e10 = 0, seen = 0;
+    uint64_t w = 0;
+    if (*c == '+' || *c == '-') c++;
+    for (; *c == '0'; c++) seen = 1;
+    for (; *c >= '0' && *c <= '9'; c++, digits++) { /* bounded: 19 digits */
+        if (digits == 19) goto other;
+        w = 10 * w + (uint64_t)(*c - '0');
+        seen = 1;
+    }
+    if (*c == '.') {
+        c++;
+        if (!digits)
+            for (; *c == '0'; c++) e10--, seen = 1; /* bounded by the line */
+        for (; *c >= '0' && *c <= '9'; c++, digits++, e10--) { /* bounded: 19 digits */
+            if (digits == 19) goto other;
+            w = 10 * w + (uint64_t)(*c - '0');
+            seen = 1;
+        }
+    }
+    if (!seen || *c == 'x' || *c == 'X') goto other;
+    if (*c == 'e' || *c == 'E') {
+        const char *d = c + 1;
+        int eneg = *d == '-', ev = 0;
+        if (*d == '+' || *d == '-') d++;
+        if (*d >= '0' && *d <= '9') {
+            for (; *d >= '0' && *d <= '9'; d++) { /* bounded: the value stops it */
+                if (ev > 100000) goto other;
+                ev = 10 * ev + (*d - '0');
+            }
+            e10 += eneg ? -ev : ev;
+            c = d;
+        }
+    }
+    if (w && (e10 < -VI_PROFILE_EXP10_MAX || e10 > VI_PROFILE_EXP10_MAX)) goto other;
+    *end = (char *)c;
+    double v = w ? scaled(w, e10) : 0.0;
+    return neg ? -v : v;
+other:
+#endif
+    return strtod(s, end);
 }
 
 /* Parse "x h" (whitespace, comma or semicolon between); 1 for a data row, 0 to skip, -1 for a bad row. */
@@ -347,17 +422,20 @@ static int parse_row(char *line, double *x, double *h)
     while (*s == ' ' || *s == '\t') s++;
     if (*s == '\0' || *s == '\n' || *s == '\r' || *s == '#') return 0;
     char *end;
-    errno = 0;
-    *x = strtod(s, &end);
+    *x = number(s, &end);
     if (end == s) return -1;
     s = end;
     while (*s == ' ' || *s == '\t' || *s == ',' || *s == ';') s++;
-    *h = strtod(s, &end);
+    *h = number(s, &end);
     if (end == s) return -1;
     s = end;
     while (*s == ' ' || *s == '\t' || *s == '\r' || *s == '\n') s++;
     return *s == '\0' ? 1 : -1;
 }
+
+/* The file is read in blocks of VI_PROFILE_BLOCK bytes (more than two lines of the longest kind). */
+#define VI_PROFILE_BLOCK (1 << 16)
+_Static_assert(VI_PROFILE_BLOCK >= 2 * VI_PROFILE_LINE_MAX, "a block holds the longest line");
 
 vi_profile *vi_profile_load(const char *path, double R, int periodic, char *msg, size_t msg_size)
 {
@@ -367,14 +445,30 @@ vi_profile *vi_profile_load(const char *path, double R, int periodic, char *msg,
         return NULL;
     }
     double *x = NULL, *h = NULL;
-    size_t n = 0, cap = 0, line_no = 0;
-    char line[VI_PROFILE_LINE_MAX];
+    size_t n = 0, cap = 0, line_no = 0, have = 0, pos = 0; /* buf[pos, have): read, not parsed yet */
+    int eof = 0;
     vi_profile *p = NULL;
-    while (fgets(line, sizeof line, f)) { /* bounded by the file and VI_PROFILE_ROWS_MAX */
+    char *buf = malloc(VI_PROFILE_BLOCK + 1);
+    if (!buf) FAIL("profile_file '%s': out of memory at line %zu", path, line_no);
+    for (;;) { /* bounded by the file and VI_PROFILE_ROWS_MAX: every pass reads a block or takes a line */
+        char *line = buf + pos, *nl = memchr(line, '\n', have - pos);
+        if (!nl && !eof) {
+            if (have - pos > VI_PROFILE_LINE_MAX - 2)
+                FAIL("profile_file '%s', line %zu: longer than %d characters", path, line_no + 1, VI_PROFILE_LINE_MAX - 2);
+            memmove(buf, line, have - pos);
+            have -= pos, pos = 0;
+            size_t got = fread(buf + have, 1, VI_PROFILE_BLOCK - have, f);
+            have += got;
+            eof = got == 0;
+            continue;
+        }
+        if (!nl && pos == have) break;
+        if (!nl) nl = buf + have; /* the last line has no newline */
         line_no++;
-        size_t len = strlen(line);
-        if (len == sizeof line - 1 && line[len - 1] != '\n' && !feof(f))
+        if ((size_t)(nl - line) > VI_PROFILE_LINE_MAX - 2)
             FAIL("profile_file '%s', line %zu: longer than %d characters", path, line_no, VI_PROFILE_LINE_MAX - 2);
+        *nl = '\0';
+        pos = (size_t)(nl - buf) + (nl < buf + have);
         double xv, hv;
         int rc = parse_row(line, &xv, &hv);
         if (rc == 0) continue;
@@ -402,7 +496,7 @@ vi_profile *vi_profile_load(const char *path, double R, int periodic, char *msg,
     p = vi_profile_create(x, h, n, R, periodic, name, msg, msg_size);
 fail:
     fclose(f);
-    free(x), free(h);
+    free(buf), free(x), free(h);
     return p;
 }
 
@@ -438,7 +532,7 @@ int vi_profile_eval(const vi_profile *p, double x, double y[4])
 {
     int outside;
     double r = reduce(p, x, &outside);
-    y[0] = piece_eval(&p->pieces[p->pid[interval(p, r)]], p->R, r, y + 1);
+    y[0] = piece_eval(&p->pieces[interval(p, r)], p->R, r, y + 1);
     return outside ? -1 : 0;
 }
 

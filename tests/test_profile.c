@@ -3,6 +3,7 @@
  * evaluation of the definition written here: the maximum over the vertices and, segment by
  * segment, a golden-section search of the concave h(s) + sqrt(R^2 - (x - s)^2) (no envelope). */
 #include <criterion/criterion.h>
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -162,6 +163,70 @@ Test(profile, random_profiles_match_the_definition, .timeout = 60)
     }
 }
 
+/* The slopes of yb at x over the points where the body touches the profile (within tol of the best
+ * h(s) + sqrt(r^2 - (x - s)^2)): at a contact s the slope is -(x - s)/sqrt(r^2 - (x - s)^2). The
+ * candidates are the vertices and, on each segment, the point whose normal passes through the
+ * body's centre, s = x + r slope/sqrt(1 + slope^2), clamped to the segment. Their least and greatest. */
+static void contact_slopes(const double *x, const double *h, size_t n, double r, double at, double tol, double *lo,
+                           double *hi)
+{
+    double best = -INFINITY;
+    for (int pass = 0; pass < 2; pass++) {
+        for (size_t i = 0; i < 2 * n - 1; i++) {
+            double s;
+            if (i < n) s = x[i];
+            else {
+                size_t j = i - n;
+                double m = (h[j + 1] - h[j]) / (x[j + 1] - x[j]);
+                s = fmin(fmax(at + r * m / sqrt(1.0 + m * m), x[j]), x[j + 1]);
+            }
+            if (!(fabs(s - at) < r)) continue;
+            size_t j = i < n ? (i ? i - 1 : 0) : i - n; /* h(s) on segment j */
+            double hs = i < n ? h[i] : h[j] + (h[j + 1] - h[j]) * ((s - x[j]) / (x[j + 1] - x[j]));
+            double root = sqrt(r * r - (at - s) * (at - s)), v = hs + root, d = -(at - s) / root;
+            if (pass == 0) best = fmax(best, v);
+            else if (v >= best - tol) *lo = fmin(*lo, d), *hi = fmax(*hi, d);
+        }
+        if (pass == 0) *lo = INFINITY, *hi = -INFINITY;
+    }
+}
+
+/* A kink is where the body touches the profile at two places (it bridges a trough): yb's slope jumps
+ * there by the difference of the slopes at the two contacts. Where the contact passes from a vertex
+ * onto the next segment (a circle meeting a tangent) the slope is continuous: no kink. Every kink
+ * reported is checked against the slopes at the contacts; sparse, rough profiles. */
+Test(profile, kinks_are_two_point_contacts, .timeout = 60)
+{
+    srand(99);
+    const struct { size_t n; double dx, amp; int wave; } cases[] = {
+        {200, 0.1, 4e-3, 0}, {300, 0.3, 1e-3, 0}, {300, 0.04, 0.13, 1}, {300, 0.5, 0.2, 1}};
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        size_t n = cases[c].n, count = 0;
+        double *x = malloc(n * sizeof *x), *h = malloc(n * sizeof *h);
+        x[0] = 0.0, h[0] = 0.0;
+        for (size_t i = 1; i < n; i++) {
+            x[i] = x[i - 1] + cases[c].dx * (0.2 + 1.6 * rand() / RAND_MAX);
+            h[i] = cases[c].amp * (cases[c].wave ? sin(50.0 * x[i]) : 2.0 * rand() / RAND_MAX - 1.0);
+        }
+        vi_profile *p = make(x, h, n, R, 0);
+        for (double at = vi_profile_next_kink(p, x[0], 1); at < x[n - 1]; at = vi_profile_next_kink(p, at, 1)) {
+            double lo, hi, yl[4], yr[4];
+            vi_profile_eval(p, nextafter(at, -INFINITY), yl);
+            vi_profile_eval(p, at, yr);
+            double jump = fabs(yr[1] - yl[1]); /* the kink's place is known to some ulps: values to jump times that */
+            contact_slopes(x, h, n, R, at, 1e-14 * (R + cases[c].amp) + 64.0 * DBL_EPSILON * at * jump, &lo, &hi);
+            cr_assert(fabs(jump - (hi - lo)) <= 3e-7 + 1e-6 * jump,
+                      "case %zu: kink at x = %.17g: yb' jumps by %.3g, the slopes at the contacts differ by %.3g", c, at,
+                      jump, hi - lo);
+            count++;
+        }
+        cr_assert(count == vi_profile_kinks(p) && count > 0, "case %zu: %zu kinks walked, %zu counted", c, count,
+                  vi_profile_kinks(p));
+        vi_profile_free(p);
+        free(x), free(h);
+    }
+}
+
 Test(profile, periodic_profile_repeats)
 {
     enum { N = 65 };
@@ -291,6 +356,50 @@ Test(profile, files)
     remove(path);
     cr_assert(vi_profile_load("/nonexistent/profile.txt", R, 0, msg, sizeof msg) == NULL);
     cr_assert(strstr(msg, "/nonexistent/profile.txt") && strstr(msg, "cannot open"), "%s", msg);
+}
+
+/* Numbers are read as strtod reads them (the value to the bit, in the C locale): random decimals with
+ * 1 to 21 digits, exponents from -35 to 35 and signs, the printed forms %.17g and %.18e, and exact
+ * binary midpoints (ties) printed in full. Each goes into a two-row file "X H / 1e7 H": the first x
+ * is X and a flat profile is H everywhere. */
+Test(profile, numbers_are_read_as_strtod_reads_them, .timeout = 60)
+{
+    srand(2024);
+    char msg[512], text[256], num[2][64];
+    for (int k = 0; k < 3000; k++) {
+        for (int i = 0; i < 2; i++) {
+            char digits[32];
+            int nd = 1 + rand() % 21, dot = rand() % (nd + 1), e = rand() % 71 - 35, form = rand() % 5;
+            for (int d = 0; d < nd; d++) digits[d] = (char)('0' + rand() % 10);
+            digits[nd] = '\0';
+            const char *sign = rand() % 3 == 0 ? "-" : rand() % 4 == 0 ? "+" : "";
+            double v = ((double)rand() / RAND_MAX) * pow(10.0, e);
+            if (form == 0) snprintf(num[i], sizeof num[i], "%s%.*s.%se%d", sign, dot, digits, digits + dot, e);
+            else if (form == 1) snprintf(num[i], sizeof num[i], "%s%.*s.%s", sign, dot, digits, digits + dot);
+            else if (form == 2) snprintf(num[i], sizeof num[i], "%.17g", v);
+            else if (form == 3) snprintf(num[i], sizeof num[i], "%.18e", v);
+            else snprintf(num[i], sizeof num[i], "%.40g", ldexp((double)(rand() % (1 << 30)) * (1 << 23) + 0.5, -40 - rand() % 40));
+        }
+        double X = strtod(num[0], NULL), H = strtod(num[1], NULL);
+        if (!(fabs(X) < 1e6) || !(fabs(H) < 0.1 * R)) continue;
+        snprintf(text, sizeof text, "%s %s\n1e7 %s\n", num[0], num[1], num[1]);
+        vi_profile *p = vi_profile_load(write_file(text), R, 0, msg, sizeof msg);
+        cr_assert(p != NULL, "%s: %s", text, msg);
+        cr_assert(vi_profile_x_first(p) == X && yb(p, 1.0) == H, "%s: read %.17g and %.17g", text, vi_profile_x_first(p),
+                  yb(p, 1.0));
+        vi_profile_free(p);
+    }
+}
+
+/* A periodic profile whose period is so short that the body spans more than VI_PROFILE_ROWS_MAX rows
+ * of its copies is refused, naming the period. */
+Test(profile, periodic_period_too_short_for_the_body)
+{
+    double x[] = {0.0, 0.5e-7, 1e-7}, h[] = {0.0, 1e-9, 0.0};
+    refused(x, h, 3, R, 1, "the period 1e-07 m is too short");
+    vi_profile *p = make(x, h, 3, 1e-6, 1); /* a small body over the same period */
+    cr_assert(vi_profile_kinks(p) >= 1);
+    vi_profile_free(p);
 }
 
 /* Memory running out while a file is read: refused with a message naming the line, no crash.

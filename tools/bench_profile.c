@@ -1,0 +1,52 @@
+/* bench_profile - the cost of loading a rolling profile (vi_profile_load: reading the file and building
+ * the rigid-constraint envelope), for tools/bench.py.
+ *
+ *   vi_bench_profile FILE R1 PERIODIC REPEATS
+ *
+ * Loads FILE REPEATS times with radius R1 [m] (PERIODIC 0 or 1) and prints
+ *   cpu_s <min CPU seconds of one load> pieces <intervals of the envelope> kinks <kinks>
+ *   maxrss_kb <peak resident memory of this process [kB]>
+ * The minimum is taken because the machine may be shared. Exit status 1 when the file is refused
+ * (the message is printed). */
+#define _POSIX_C_SOURCE 199309L
+#include <stdio.h>
+#include <stdlib.h>
+#include <sys/resource.h>
+#include <time.h>
+
+#include "vi_profile.h"
+
+static double cpu_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc != 5) {
+        fprintf(stderr, "usage: %s FILE R1 PERIODIC REPEATS\n", argv[0]);
+        return 2;
+    }
+    double R = atof(argv[2]), best = 1e300;
+    int periodic = atoi(argv[3]), repeats = atoi(argv[4]);
+    size_t pieces = 0, kinks = 0;
+    char msg[8192];
+    for (int k = 0; k < repeats; k++) {
+        double c0 = cpu_now();
+        vi_profile *p = vi_profile_load(argv[1], R, periodic, msg, sizeof msg);
+        double c1 = cpu_now();
+        if (!p) {
+            fprintf(stderr, "%s\n", msg);
+            return 1;
+        }
+        pieces = vi_profile_pieces(p), kinks = vi_profile_kinks(p);
+        vi_profile_free(p);
+        if (c1 - c0 < best) best = c1 - c0;
+    }
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    printf("cpu_s %.9g pieces %zu kinks %zu maxrss_kb %ld\n", best, pieces, kinks, (long)ru.ru_maxrss);
+    return 0;
+}
