@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """Speed against accuracy: the benchmark suite of the FMU's solvers (figures, not a test).
 
-Usage: python3 tools/bench.py [--repeat N] [--quick] [--out DIR]
+Usage: python3 tools/bench.py [--repeat N] [--quick] [--out DIR] [--only SECTION,...]
   (after cmake --build build; prints markdown tables, writes DIR/bench.md and the PNG plots,
-   DIR defaults to doc/bench)
+   DIR defaults to doc/bench; --only runs just the named sections that stand alone (profile) and
+   prints them without writing anything)
 
 What it runs (the FMU binary through tools/bench_driver.c, dlopen'ed from C with no Python in the
 loop, unless said otherwise; CPU times are the minimum of N runs, default 5, because the machine is
@@ -39,6 +40,8 @@ shared; instruction counts would be steadier but do not compare with Python):
    every checkpoint; the one-step method carries its continuation).
 7. A stiff configuration (a light mass on a stiff contact), where the explicit method pays.
 8. The work bound: fig4b in one fmi2DoStep of 1e6 s, CPU until fmi2Discard and where it stopped.
+9. Loading a rolling profile of 1e4 ... 1e6 rows (vi_profile_load: reading and the envelope; the FMU's
+   initialization with it) against numpy.loadtxt reading the same file, per row, with the memory.
 """
 import os
 import pathlib
@@ -60,6 +63,8 @@ H_COMM = 1e-5
 BOUND = 1e-5
 RK4_STEPS = [1e-5, 5e-6, 2e-6, 1e-6, 5e-7, 2e-7, 1e-7, 5e-8, 2e-8, 1e-8, 5e-9, 2e-9]  # divide H_COMM
 RK4_CAP_S = 20.0  # skip RK4 steps whose run would take longer than this
+PROFILE_ROWS = [10 ** 4, 10 ** 5, 10 ** 6]
+PROFILE_TARGET_US = 0.3  # per row, and no slower than numpy.loadtxt reading the same file
 CASES = {
     "fig4b": dict(params=SCENARIOS["fig4b"].full, t_stop=0.04, title="Fig. 4b (Johnson, bouncing, plastic), 40 ms"),
     "fig5a": dict(params=SCENARIOS["fig5a"].full, t_stop=0.1, title="Fig. 5a (Hertz, sustained contact), 0.1 s"),
@@ -83,6 +88,8 @@ class Fmu:
 
     def arg(self, name, value):
         v = self.vars[name]
+        if v.type == "String":
+            return f"s{v.valueReference}={value}"
         kind = {"Real": "r", "Integer": "i", "Enumeration": "i", "Boolean": "b"}[v.type]
         return f"{kind}{v.valueReference}={float(value)!r}"
 
@@ -184,7 +191,11 @@ def matched(rtols, errors):
 
 # ---- the suite ------------------------------------------------------------------------------------
 
-def main(repeat, quick, outdir):
+# The sections that need no work-precision results, for --only.
+ALONE = {"profile": lambda out, fmu, work, repeat: profile_loading(out, fmu, work, repeat)}
+
+
+def main(repeat, quick, outdir, only=None):
     outdir.mkdir(parents=True, exist_ok=True)
     lines = []
 
@@ -197,6 +208,10 @@ def main(repeat, quick, outdir):
         work = pathlib.Path(tmp)
         fmu = Fmu(work)
         out(f"Machine: {os.cpu_count()} cores, shared; CPU times are the minimum of {repeat} runs.\n")
+        if only:
+            for name in only:
+                ALONE[name](out, fmu, work, repeat)
+            return
         results = {}
         for case, spec in CASES.items():
             p, T = spec["params"], spec["t_stop"]
@@ -235,6 +250,7 @@ def main(repeat, quick, outdir):
         memory_and_checkpoints(out, fmu, results, repeat)
         stiff(out, fmu, repeat)
         work_bound(out, fmu)
+        profile_loading(out, fmu, work, repeat)
         plots(results, rtols, outdir)
     (outdir / "bench.md").write_text("\n".join(lines) + "\n")
     print(f"\nwritten: {outdir / 'bench.md'} and the PNG plots in {outdir}")
@@ -399,6 +415,54 @@ def stiff(out, fmu, repeat):
         "CVODE methods are not.\n")
 
 
+def profile_loading(out, fmu, work, repeat):
+    """Loading a rolling profile against its number of rows, against numpy.loadtxt on the same file."""
+    out("### Loading a rolling profile against the number of rows\n")
+    out("A rail sampled every 0.1 mm (a random walk of 0.1 um steps and a 50 mm corrugation of 20 um), written by "
+        "numpy.savetxt (19 significant digits), R1 = 0.475 m. vi_profile_load: reading the file and building the "
+        "rigid-constraint envelope (tools/bench_profile.c); FMU: from fmi2Instantiate to the end of "
+        "fmi2ExitInitializationMode with profile_file set (the C driver); numpy.loadtxt: reading the same file. "
+        f"CPU times, the minimum of {repeat} runs; memory: the peak resident memory of the loading process above "
+        "that of a two-row file.\n")
+    out("| rows | file [MB] | vi_profile_load [ms] | [us/row] | numpy.loadtxt [us/row] | numpy.loadtxt / vi_profile_load "
+        "| FMU initialization [ms] | memory [bytes/row] | envelope intervals | kinks |")
+    out("|---|---|---|---|---|---|---|---|---|---|")
+
+    def load(path):
+        r = subprocess.run([str(BUILD / "vi_bench_profile"), str(path), "0.475", "0", str(repeat)], capture_output=True,
+                           text=True, check=True)
+        words = r.stdout.split()
+        return {k: float(v) for k, v in zip(words[::2], words[1::2])}
+
+    small = work / "profile_2.txt"
+    np.savetxt(small, [[0.0, 0.0], [1.0, 0.0]])
+    base_kb = load(small)["maxrss_kb"]
+    rng = np.random.default_rng(19)
+    worst, slower = 0.0, []
+    for n in PROFILE_ROWS:
+        x = 1e-4 * np.arange(n)
+        h = np.cumsum(rng.normal(0.0, 1e-7, n)) + 2e-5 * np.sin(2 * np.pi * x / 0.05)
+        path = work / f"profile_{n}.txt"
+        np.savetxt(path, np.column_stack([x, h]))
+        c = load(path)
+        best = np.inf
+        for _ in range(repeat):
+            t0 = time.process_time()
+            np.loadtxt(path)
+            best = min(best, time.process_time() - t0)
+        fig, _ = fmu.run(dict(contact_model=1, profile_file=str(path), V=1.0), 1e-4, 1e-6, repeat, h=1e-4)
+        us, np_us = 1e6 * c["cpu_s"] / n, 1e6 * best / n
+        worst = max(worst, us)
+        if us > np_us:
+            slower.append(n)
+        out(f"| {n} | {path.stat().st_size / 1e6:.1f} | {1e3 * c['cpu_s']:.1f} | {us:.3f} | {np_us:.3f} | "
+            f"{np_us / us:.1f} | {1e3 * fig['init_s']:.1f} | {1024 * (c['maxrss_kb'] - base_kb) / n:.0f} | "
+            f"{int(c['pieces'])} | {int(c['kinks'])} |")
+    verdict = "met" if worst <= PROFILE_TARGET_US and not slower else "missed"
+    out(f"\nTarget: at most {PROFILE_TARGET_US} us per row and no slower than numpy.loadtxt: {verdict} (worst "
+        f"{worst:.3f} us per row" + (f"; slower than numpy.loadtxt at {slower} rows" if slower else "") + ").\n")
+
+
 def work_bound(out, fmu):
     p = CASES["fig4b"]["params"]
     out("### The work bound: fig4b in one fmi2DoStep of 1e6 s\n")
@@ -460,4 +524,5 @@ def plots(results, rtols, outdir):
 if __name__ == "__main__":
     args = sys.argv[1:]
     main(int(args[args.index("--repeat") + 1]) if "--repeat" in args else 5, "--quick" in args,
-         pathlib.Path(args[args.index("--out") + 1]) if "--out" in args else ROOT / "doc" / "bench")
+         pathlib.Path(args[args.index("--out") + 1]) if "--out" in args else ROOT / "doc" / "bench",
+         args[args.index("--only") + 1].split(",") if "--only" in args else None)
