@@ -9,7 +9,7 @@ import pytest
 from conftest import start
 from solvers import SOLVERS, each_solver
 
-NAMES = {1: "CVODE BDF", 2: "CVODE Adams", 3: "Dormand-Prince 8(5,3)"}
+NAMES = {1: "CVODE BDF", 2: "CVODE Adams", 3: "Dormand-Prince 8(5,3)", 4: "auto (explicit one-step"}
 
 
 def statistics(log):
@@ -51,11 +51,11 @@ def test_the_solver_is_the_one_selected_and_says_so(logged, vr, solver):
 
 def test_solvers_agree_within_tolerance(logged, vr):
     """Fig. 5c-like Hertz bouncing over 10 ms at rtol 1e-9: the three methods differ (they are
-    different methods) but agree to well within 1e-6 of the motion."""
+    different methods) but agree to well within 1e-6 of the motion, and so does auto."""
     ys = {sv: run(logged, vr, dict(contact_model=1, a=1e-4, solver=sv), 1e-5, 1000, 1e-9)[1] for sv in NAMES}
     swing = np.ptp(ys[1])
     assert not np.array_equal(ys[1], ys[2]) and not np.array_equal(ys[2], ys[3])
-    for sv in (2, 3):
+    for sv in (2, 3, 4):
         assert np.abs(ys[sv] - ys[1]).max() < 1e-6 * swing
 
 

@@ -66,7 +66,8 @@ typedef struct {
     long n_events;
     double step_t0, step_v0;         /* start of the last step and the velocity there (for F_mean) */
     double guard_band[VI_NGUARDS];   /* > 0: the guard is disarmed and shifted up by this (re-arming) */
-    vi_ode ode;                      /* solver = dop853: the one-step method's whole continuation */
+    vi_ode ode;                      /* solver = dop853 or auto: the one-step method's whole continuation */
+    vi_solver_auto sw;               /* solver = auto: which method runs, and its stiffness counts */
 } vi_sim_data;
 
 typedef struct {

@@ -1,7 +1,8 @@
 /*
  * vi_solver.h - one interface over the integrators of a small dense ODE system with guards:
- * SUNDIALS CVODE 6.4 (BDF or Adams-Moulton, Newton iteration, dense linear solver) and the built-in
- * explicit one-step method Dormand-Prince 8(5,3) with dense output (vi_ode.h).
+ * SUNDIALS CVODE 6.4 (BDF or Adams-Moulton, Newton iteration, dense linear solver), the built-in
+ * explicit one-step method Dormand-Prince 8(5,3) with dense output (vi_ode.h), and `auto`: the
+ * one-step method while the problem is not stiff, CVODE BDF while it is (AUTO below).
  *
  * Where the integrator's state lives:
  *   CVODE keeps its history (Nordsieck array, order, step size) inside its own memory. It cannot be
@@ -24,6 +25,25 @@
  * solver (vi_solver_reset) only when the problem changes: after an event, an input jump, or when a
  * state is taken (vi_sim_checkpoint).
  *
+ * AUTO (VI_METHOD_AUTO, systems of at most 2 states with a Jacobian)
+ *   The one-step method tests every accepted step for stiffness (Hairer & Wanner, Solving ODEs II,
+ *   IV.2: a step held by stability, not accuracy, has h rho at the boundary of the method's
+ *   stability domain): h rho, h the step and rho the spectral radius of the Jacobian at its end,
+ *   against VI_AUTO_STIFF_HRHO. VI_AUTO_STIFF_STEPS such steps in a row (VI_AUTO_CALM_STEPS steps
+ *   below it in a row clear the count) make the problem stiff: CVODE BDF takes over from the end of
+ *   the last step. While BDF runs, once it has taken VI_AUTO_BDF_MIN_STEPS steps since it started
+ *   (its first steps are short), VI_AUTO_CALM_STEPS steps in a row whose h rho lies below
+ *   VI_AUTO_NONSTIFF_HRHO (BDF's own step resolves the fastest motion: an explicit method is stable
+ *   there) hand back to the one-step method from the end of BDF's last step. When the one-step
+ *   method fails (a step size underflow, too many rejected steps, a right-hand side that is not
+ *   finite) BDF takes over at its last point at once. A hand-over waits
+ *   until the running method is asked for a step beyond its last one, or happens at a restart
+ *   (vi_solver_reset, after an event). Events are located by whichever method runs.
+ *   Which method runs and the counts are plain data the caller owns (cfg->sw, inside the FMU
+ *   state), next to the one-step method's continuation (cfg->ode): a checkpoint costs nothing while
+ *   the one-step method runs and restarts BDF (as for CVODE alone) while BDF runs, so a restored
+ *   copy continues bit for bit like the original.
+ *
  * Every SUNDIALS call is checked by one helper that logs the failing call through cfg->log.
  */
 #ifndef VI_SOLVER_H
@@ -45,11 +65,31 @@ typedef void (*vi_guard_fn)(double t, const double *x, double *g, void *user);
 typedef void (*vi_jac_fn)(double t, const double *x, double *jac_row_major, void *user);
 
 /* Integration methods (the values of the FMU's `solver` enumeration). */
-enum { VI_METHOD_BDF = 1, VI_METHOD_ADAMS = 2, VI_METHOD_DOP853 = 3 };
+enum { VI_METHOD_BDF = 1, VI_METHOD_ADAMS = 2, VI_METHOD_DOP853 = 3, VI_METHOD_AUTO = 4 };
+
+/* AUTO's stiffness tests (see AUTO above). VI_AUTO_STIFF_HRHO is 0.8 times the nearest point of the
+ * boundary of DOP853's stability domain to the origin (5.96, on the imaginary axis; 6.39 on the
+ * negative real axis): the undamped oscillation of a stiff contact puts the eigenvalues on the
+ * imaginary axis. */
+#define VI_AUTO_STIFF_HRHO 4.8
+#define VI_AUTO_STIFF_STEPS 15
+#define VI_AUTO_CALM_STEPS 6
+#define VI_AUTO_NONSTIFF_HRHO 1.0
+#define VI_AUTO_BDF_MIN_STEPS 10
 
 /* Interior guard samples per step of the one-step method (see vi_ode.h, EVENTS): a guard that dips
  * below zero and back within one step is seen when it is below zero at a sample. */
 #define VI_SOLVER_GUARD_SAMPLES 2
+
+/* AUTO's choice: plain data owned by the caller (zeroed or as vi_solver_* left it). */
+typedef struct {
+    int bdf;        /* 1 while CVODE BDF runs (the problem was found stiff), 0 while the one-step method does */
+    int pending;    /* the running method's test asks for the other: hand over before the next step */
+    int stiff;      /* one-step method: steps in a row with h rho > VI_AUTO_STIFF_HRHO */
+    int calm;       /* steps in a row below the running method's threshold */
+    long steps;     /* BDF: steps since it last (re)started */
+    long switches;  /* hand-overs so far */
+} vi_solver_auto;
 
 typedef struct {
     int n, nguards; /* at most VI_SOLVER_MAX_N and VI_SOLVER_MAX_GUARDS */
@@ -61,13 +101,15 @@ typedef struct {
     double rtol;
     const double *atol; /* n absolute tolerances */
     double max_step;    /* 0: none */
-    vi_ode *ode;        /* VI_METHOD_DOP853: the continuation, owned by the caller (plain data) */
+    vi_ode *ode;        /* VI_METHOD_DOP853, AUTO: the continuation, owned by the caller (plain data) */
+    vi_solver_auto *sw; /* VI_METHOD_AUTO: which method runs, owned by the caller (plain data) */
     vi_log_fn log;
     void *log_env;
 } vi_solver_config;
 
 typedef struct {
     long steps, rhs_evals, jac_evals, nonlin_iters, nonlin_fails, err_test_fails, guard_evals, resets;
+    long switches; /* AUTO: hand-overs between the one-step method and BDF */
 } vi_solver_stats;
 
 enum { VI_SOLVER_REACHED = 0, VI_SOLVER_EVENT = 1, VI_SOLVER_LIMIT = 2, VI_SOLVER_FAILED = -1 };
@@ -77,12 +119,15 @@ typedef struct vi_solver vi_solver;
 /* NULL on failure (logged). Copies the configuration; cfg->atol must hold n values. Starts at (t0, x0). */
 vi_solver *vi_solver_create(const vi_solver_config *cfg, double t0, const double *x0);
 /* As vi_solver_create, but continuing a saved state: the one-step method continues from *cfg->ode as
- * it is (checked); CVODE starts at (t0, x0) as after vi_solver_checkpoint. */
+ * it is (checked); CVODE starts at (t0, x0) as after vi_solver_checkpoint; AUTO continues with the
+ * method *cfg->sw names. */
 vi_solver *vi_solver_resume(const vi_solver_config *cfg, double t0, const double *x0);
 /* Make (t0, x0), the caller's current point, a point from which vi_solver_resume continues exactly as
- * this solver will: CVODE restarts there; the one-step method has nothing to do. 0 or FAILED. */
+ * this solver will: CVODE (and AUTO while BDF runs) restarts there; the one-step method has nothing
+ * to do. 0 or FAILED. */
 int vi_solver_checkpoint(vi_solver *s, double t0, const double *x0);
-/* Cold restart from (t0, x0): the next advance starts a new integration there. 0 or VI_SOLVER_FAILED. */
+/* Cold restart from (t0, x0): the next advance starts a new integration there (AUTO: with the other
+ * method when a hand-over is pending). 0 or VI_SOLVER_FAILED. */
 int vi_solver_reset(vi_solver *s, double t0, const double *x0);
 /* Integrate towards tout > *t taking at most max_steps internal steps (*taken: how many it took).
  *   VI_SOLVER_REACHED: *t = tout and x = x(tout) (interpolated when the solver stepped beyond tout);
@@ -98,6 +143,8 @@ void vi_solver_statistics(const vi_solver *s, vi_solver_stats *st);
  * is at or after t (a state restored from outside may hold anything)? 0, or -1 with the first bad
  * field in msg. */
 int vi_solver_ode_check(const vi_ode *o, int n, int nguards, double t, char *msg, size_t size);
+/* Is *a a choice AUTO could have left (flags 0 or 1, counts in range)? 0, or -1 naming the field. */
+int vi_solver_auto_check(const vi_solver_auto *a, char *msg, size_t size);
 void vi_solver_free(vi_solver *s);
 
 #endif

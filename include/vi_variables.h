@@ -46,7 +46,7 @@
   X(a, Real, none, parameter, tunable, exact, 0.0, "m", "amplitude of the internal harmonic platform excitation (tunable: a change moves the platform)") \
   X(f, Real, none, parameter, tunable, exact, 560.0, "Hz", "frequency of the internal harmonic platform excitation (tunable: the phase stays continuous)") \
   X(rtol, Real, none, parameter, fixed, exact, 1e-6, "", "relative tolerance (a tolerance from fmi2SetupExperiment wins)") \
-  X(solver, Integer, Solver, parameter, fixed, exact, 2, "", "integration method: CVODE BDF or Adams (linear multistep), or Dormand-Prince 8(5,3) (explicit one-step, dense output)") \
+  X(solver, Integer, Solver, parameter, fixed, exact, 2, "", "integration method: CVODE BDF or Adams (linear multistep), Dormand-Prince 8(5,3) (explicit one-step, dense output), or auto (Dormand-Prince 8(5,3), CVODE BDF while the problem is stiff)") \
   X(max_step, Real, none, parameter, fixed, exact, 0.0, "s", "maximum internal step of the solver, 0 = none") \
   X(F, Real, none, output, continuous, calculated, 0.0, "N", "contact force") \
   X(delta, Real, none, output, continuous, calculated, 0.0, "m", "indentation yC - y") \
@@ -87,7 +87,7 @@
 #define VI_ITEMS_Unloading(I) I(Unloading, paper, 1) I(Unloading, continuous, 2)
 #define VI_ITEMS_YieldFormula(I) I(YieldFormula, textbook, 1) I(YieldFormula, printed, 2)
 #define VI_ITEMS_Init(I) I(Init, static, 1) I(Init, touching, 2)
-#define VI_ITEMS_Solver(I) I(Solver, bdf, 1) I(Solver, adams, 2) I(Solver, dop853, 3)
+#define VI_ITEMS_Solver(I) I(Solver, bdf, 1) I(Solver, adams, 2) I(Solver, dop853, 3) I(Solver, auto, 4)
 #define VI_ITEMS_Mode(I) I(Mode, free, 0) I(Mode, elastic, 1) I(Mode, plastic, 2) I(Mode, unload, 3) I(Mode, stick, 4)
 
 VI_TABLE_DECLARE

@@ -8,7 +8,7 @@
 #include <string.h>
 
 _Static_assert((int)VI_Solver_bdf == (int)VI_METHOD_BDF && (int)VI_Solver_adams == (int)VI_METHOD_ADAMS &&
-                   (int)VI_Solver_dop853 == (int)VI_METHOD_DOP853,
+                   (int)VI_Solver_dop853 == (int)VI_METHOD_DOP853 && (int)VI_Solver_auto == (int)VI_METHOD_AUTO,
                "the solver enumeration is the solver layer's method number");
 
 static void sim_rhs(double t, const double *x, double *dx, void *user)
@@ -148,8 +148,9 @@ int vi_sim_prepare(vi_sim *s)
                  VI_MAX_STEP_MIN);
         return -1;
     }
-    if (p->solver != VI_Solver_bdf && p->solver != VI_Solver_adams && p->solver != VI_Solver_dop853) {
-        snprintf(s->msg, sizeof s->msg, "solver = %d: use bdf (1), adams (2) or dop853 (3)", p->solver);
+    if (p->solver != VI_Solver_bdf && p->solver != VI_Solver_adams && p->solver != VI_Solver_dop853 &&
+        p->solver != VI_Solver_auto) {
+        snprintf(s->msg, sizeof s->msg, "solver = %d: use bdf (1), adams (2), dop853 (3) or auto (4)", p->solver);
         return -1;
     }
     if (!isfinite(d->in.yC_in) || !isfinite(d->in.F_ext)) {
@@ -178,7 +179,7 @@ static int create_solver(vi_sim *s, int resume)
     vi_solver_config cfg = {
         .n = 2, .nguards = VI_NGUARDS, .rhs = sim_rhs, .guards = sim_guards, .jac = sim_jac, .user = d,
         .method = d->par.solver, .rtol = rtol_of(d), .atol = d->atol, .max_step = d->par.max_step,
-        .ode = &d->ode, .log = s->log, .log_env = s->log_env};
+        .ode = &d->ode, .sw = &d->sw, .log = s->log, .log_env = s->log_env};
     s->solver = resume ? vi_solver_resume(&cfg, d->t, d->x) : vi_solver_create(&cfg, d->t, d->x);
     s->solver_stale = 0;
     if (!s->solver) {
@@ -199,12 +200,14 @@ int vi_sim_initialize(vi_sim *s)
     d->initialized = 1;
     arm_guards_at_zero(d);
     memset(&d->ode, 0, sizeof d->ode);
+    memset(&d->sw, 0, sizeof d->sw);
     if (create_solver(s, 0) < 0) return -1;
     char text[400];
     if (vi_model_option_warnings(&d->par, text, sizeof text) > 0) s->log(s->log_env, VI_LOG_WARNING, "%s", text);
     check_validity(s);
     static const char *const names[] = {[VI_Solver_bdf] = "CVODE BDF", [VI_Solver_adams] = "CVODE Adams",
-                                        [VI_Solver_dop853] = "Dormand-Prince 8(5,3)"};
+                                        [VI_Solver_dop853] = "Dormand-Prince 8(5,3)",
+                                        [VI_Solver_auto] = "auto (explicit one-step while not stiff, implicit BDF while stiff)"};
     s->log(s->log_env, VI_LOG_SOLVER, "%s, rtol %g, atol %g m and %g m/s (scales %g m, %g m/s)",
            names[d->par.solver], rtol, d->atol[0], d->atol[1], L, V);
     return 0;
@@ -540,9 +543,9 @@ int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n)
     for (int i = 0; i < VI_NGUARDS; i++)
         if (!(d->guard_band[i] >= 0.0 && isfinite(d->guard_band[i])))
             BAD("guard_band[%d] = %g is not finite and >= 0", i, d->guard_band[i]);
-    if (d->initialized && d->par.solver == VI_Solver_dop853 &&
-        vi_solver_ode_check(&d->ode, 2, VI_NGUARDS, d->t, msg, n) < 0)
-        return -1;
+    if (d->initialized && d->par.solver == VI_Solver_auto && vi_solver_auto_check(&d->sw, msg, n) < 0) return -1;
+    int one_step = d->par.solver == VI_Solver_dop853 || (d->par.solver == VI_Solver_auto && !d->sw.bdf);
+    if (d->initialized && one_step && vi_solver_ode_check(&d->ode, 2, VI_NGUARDS, d->t, msg, n) < 0) return -1;
     return vi_model_check(&d->M, d->x, msg, n);
 }
 #undef BAD

@@ -1,5 +1,6 @@
-/* vi_solver.c - the solver interface (vi_solver.h): SUNDIALS CVODE 6.4 (BDF, Adams) and the built-in
- * one-step method (vi_ode.h, Dormand-Prince 8(5,3)). */
+/* vi_solver.c - the solver interface (vi_solver.h): SUNDIALS CVODE 6.4 (BDF, Adams), the built-in
+ * one-step method (vi_ode.h, Dormand-Prince 8(5,3)), and AUTO switching between the one-step method
+ * and BDF. */
 #include "vi_solver.h"
 
 #include <cvode/cvode.h>
@@ -33,6 +34,9 @@ struct vi_solver {
     int rootsfound[VI_SOLVER_MAX_GUARDS]; /* ... for these guards; not reported yet */
     vi_solver_stats before_reset; /* CVodeReInit zeroes CVODE's counters: the sums before it */
 };
+
+/* Returned by the methods' advance loops under AUTO: the other method takes over here. */
+enum { HANDOVER = 100 };
 
 /* The one check for SUNDIALS return flags: logs the failing call and returns VI_SOLVER_FAILED. */
 static int check_flag(const vi_solver *s, int flag, const char *call)
@@ -163,6 +167,73 @@ static int ode_valid(const vi_solver *s, double t0)
     return 0;
 }
 
+/* ---- AUTO: the stiffness tests ----------------------------------------------------------------- */
+
+/* The spectral radius of the Jacobian at (t, x) (at most 2 states: from its trace and determinant). */
+static double spectral_radius(const vi_solver *s, double t, const double *x)
+{
+    double j[VI_SOLVER_MAX_N * VI_SOLVER_MAX_N];
+    s->cfg.jac(t, x, j, s->cfg.user);
+    if (s->cfg.n == 1) return fabs(j[0]);
+    double tr = 0.5 * (j[0] + j[3]), det = j[0] * j[3] - j[1] * j[2], disc = tr * tr - det;
+    return disc >= 0.0 ? fabs(tr) + sqrt(disc) : sqrt(det); /* a complex pair: |lambda|^2 = det */
+}
+
+/* After an accepted step of the one-step method: was it held by stability? */
+static void test_one_step(const vi_solver *s, const vi_ode *o)
+{
+    vi_solver_auto *a = s->cfg.sw;
+    double h_rho = (o->t - o->t_old) * spectral_radius(s, o->t, o->x);
+    if (h_rho > VI_AUTO_STIFF_HRHO) {
+        a->calm = 0;
+        if (++a->stiff >= VI_AUTO_STIFF_STEPS) a->stiff = VI_AUTO_STIFF_STEPS, a->pending = 1;
+    } else if (a->calm < VI_AUTO_CALM_STEPS && ++a->calm == VI_AUTO_CALM_STEPS) {
+        a->stiff = 0;
+    }
+}
+
+/* After a step of BDF (x at its end): does its step resolve the fastest motion? */
+static int test_bdf(vi_solver *s, const double *x)
+{
+    vi_solver_auto *a = s->cfg.sw;
+    if (a->steps < VI_AUTO_BDF_MIN_STEPS) a->steps++;
+    if (a->steps < VI_AUTO_BDF_MIN_STEPS) return 0;
+    double h;
+    CHECK(CVodeGetLastStep(s->cvode, &h));
+    if (!(h * spectral_radius(s, s->tn, x) < VI_AUTO_NONSTIFF_HRHO)) a->calm = 0;
+    else if (a->calm < VI_AUTO_CALM_STEPS && ++a->calm == VI_AUTO_CALM_STEPS) a->pending = 1;
+    return 0;
+}
+
+/* Flip AUTO to the other method (it starts at t). */
+static void hand_over(const vi_solver *s, double t)
+{
+    vi_solver_auto *a = s->cfg.sw;
+    a->bdf = !a->bdf;
+    a->pending = a->stiff = a->calm = 0;
+    a->steps = 0;
+    a->switches++;
+    if (a->bdf)
+        s->cfg.log(s->cfg.log_env, VI_LOG_SOLVER, "t = %.17g s: stiff (%d steps in a row held by stability, h rho > %g): "
+                   "CVODE BDF takes over", t, VI_AUTO_STIFF_STEPS, VI_AUTO_STIFF_HRHO);
+    else
+        s->cfg.log(s->cfg.log_env, VI_LOG_SOLVER, "t = %.17g s: not stiff (%d BDF steps in a row with h rho < %g): "
+                   "Dormand-Prince 8(5,3) takes over", t, VI_AUTO_CALM_STEPS, VI_AUTO_NONSTIFF_HRHO);
+}
+
+int vi_solver_auto_check(const vi_solver_auto *a, char *msg, size_t size)
+{
+#define AUTO_BAD(...) do { snprintf(msg, size, __VA_ARGS__); return -1; } while (0)
+    if (a->bdf != 0 && a->bdf != 1) AUTO_BAD("sw.bdf = %d is not 0 or 1", a->bdf);
+    if (a->pending != 0 && a->pending != 1) AUTO_BAD("sw.pending = %d is not 0 or 1", a->pending);
+    if (a->stiff < 0 || a->stiff > VI_AUTO_STIFF_STEPS) AUTO_BAD("sw.stiff = %d is not in [0, %d]", a->stiff, VI_AUTO_STIFF_STEPS);
+    if (a->calm < 0 || a->calm > VI_AUTO_CALM_STEPS) AUTO_BAD("sw.calm = %d is not in [0, %d]", a->calm, VI_AUTO_CALM_STEPS);
+    if (a->steps < 0 || a->steps > VI_AUTO_BDF_MIN_STEPS) AUTO_BAD("sw.steps = %ld is not in [0, %d]", a->steps, VI_AUTO_BDF_MIN_STEPS);
+    if (a->switches < 0) AUTO_BAD("sw.switches = %ld is negative", a->switches);
+    return 0;
+#undef AUTO_BAD
+}
+
 static int ode_advance(vi_solver *s, double tout, long max_steps, double *t, double *x, int *fired, long *taken)
 {
     vi_ode *o = s->cfg.ode;
@@ -186,9 +257,17 @@ static int ode_advance(vi_solver *s, double tout, long max_steps, double *t, dou
             memcpy(x, o->x, sizeof(double) * (size_t)n);
             return VI_SOLVER_LIMIT;
         }
+        if (s->cfg.method == VI_METHOD_AUTO && s->cfg.sw->pending) return HANDOVER;
         int r = vi_ode_step(o, p, INFINITY);
+        if (r < 0 && s->cfg.method == VI_METHOD_AUTO) { /* the state is as before the step: BDF tries from there */
+            s->cfg.log(s->cfg.log_env, VI_LOG_SOLVER, "t = %.17g s: Dormand-Prince 8(5,3) failed (%s)", o->t,
+                       vi_ode_status_text(r));
+            s->cfg.sw->pending = 1;
+            return HANDOVER;
+        }
         if (r < 0) return ode_fail(s, r, "vi_ode_step");
         ++*taken;
+        if (s->cfg.method == VI_METHOD_AUTO) test_one_step(s, o);
     }
 }
 
@@ -202,8 +281,14 @@ static vi_solver *create(const vi_solver_config *cfg, double t0, const double *x
                  cfg->n, cfg->nguards, VI_SOLVER_MAX_N, VI_SOLVER_MAX_GUARDS);
         return NULL;
     }
-    if (cfg->method != VI_METHOD_BDF && cfg->method != VI_METHOD_ADAMS && cfg->method != VI_METHOD_DOP853) {
+    if (cfg->method != VI_METHOD_BDF && cfg->method != VI_METHOD_ADAMS && cfg->method != VI_METHOD_DOP853 &&
+        cfg->method != VI_METHOD_AUTO) {
         cfg->log(cfg->log_env, VI_LOG_ERROR, "vi_solver_create: unknown method %d", cfg->method);
+        return NULL;
+    }
+    if (cfg->method == VI_METHOD_AUTO && (cfg->n > 2 || !cfg->jac || !cfg->sw)) {
+        cfg->log(cfg->log_env, VI_LOG_ERROR, "vi_solver_create: auto needs at most 2 states, a Jacobian and its "
+                 "choice (cfg->sw); got %d states%s%s", cfg->n, cfg->jac ? "" : ", no Jacobian", cfg->sw ? "" : ", no sw");
         return NULL;
     }
     vi_solver *s = calloc(1, sizeof *s);
@@ -221,7 +306,7 @@ static vi_solver *create(const vi_solver_config *cfg, double t0, const double *x
         return s;
     }
     if (check_flag(s, SUNContext_Create(NULL, &s->ctx), "SUNContext_Create") < 0) goto fail;
-    s->cvode = CVodeCreate(cfg->method == VI_METHOD_ADAMS ? CV_ADAMS : CV_BDF, s->ctx);
+    s->cvode = CVodeCreate(cfg->method == VI_METHOD_ADAMS ? CV_ADAMS : CV_BDF, s->ctx); /* AUTO: BDF */
     if (check_ptr(s, s->cvode, "CVodeCreate") < 0) goto fail;
     s->x = N_VNew_Serial(cfg->n, s->ctx);
     if (check_ptr(s, s->x, "N_VNew_Serial") < 0) goto fail;
@@ -234,6 +319,12 @@ static vi_solver *create(const vi_solver_config *cfg, double t0, const double *x
     s->LS = SUNLinSol_Dense(s->x, s->A, s->ctx);
     if (check_ptr(s, s->LS, "SUNLinSol_Dense") < 0) goto fail;
     if (configure(s, t0, x0) < 0) goto fail;
+    if (cfg->method == VI_METHOD_AUTO) { /* the one-step method first; resumed: the method the choice names */
+        if (ode_setup(s) < 0) goto fail;
+        if (!resume) *cfg->sw = (vi_solver_auto){0};
+        if (resume ? !cfg->sw->bdf && !ode_valid(s, t0) : vi_solver_reset(s, t0, x0) < 0) goto fail;
+        s->ode_resets = 0;
+    }
     return s;
 fail:
     vi_solver_free(s);
@@ -252,35 +343,50 @@ vi_solver *vi_solver_resume(const vi_solver_config *cfg, double t0, const double
 
 int vi_solver_checkpoint(vi_solver *s, double t0, const double *x0)
 {
-    return s->cfg.method == VI_METHOD_DOP853 ? 0 : vi_solver_reset(s, t0, x0);
+    int one_step = s->cfg.method == VI_METHOD_DOP853 || (s->cfg.method == VI_METHOD_AUTO && !s->cfg.sw->bdf);
+    return one_step ? 0 : vi_solver_reset(s, t0, x0);
 }
 
-int vi_solver_reset(vi_solver *s, double t0, const double *x0)
+/* Restart the one-step method, or CVODE, at (t0, x0). */
+static int ode_restart(vi_solver *s, double t0, const double *x0)
 {
-    if (s->cfg.method == VI_METHOD_DOP853) {
-        s->ode_resets++;
-        int r = vi_ode_restart(s->cfg.ode, &s->ode_problem, t0, x0, 0.0, 0u);
-        return r < 0 ? ode_fail(s, r, "vi_ode_restart") : 0;
-    }
+    int r = vi_ode_restart(s->cfg.ode, &s->ode_problem, t0, x0, 0.0, 0u);
+    return r < 0 ? ode_fail(s, r, "vi_ode_restart") : 0;
+}
+
+static void cvode_counters(const vi_solver *s, vi_solver_stats *st);
+
+static int cvode_restart(vi_solver *s, double t0, const double *x0)
+{
     memcpy(NV_DATA_S(s->x), x0, sizeof(double) * (size_t)s->cfg.n);
-    vi_solver_statistics(s, &s->before_reset);
-    s->before_reset.resets++;
+    cvode_counters(s, &s->before_reset);
     CHECK(CVodeReInit(s->cvode, t0, s->x));
     s->fresh = 1;
     s->t0 = s->tn = t0;
     s->root_pending = 0;
+    if (s->cfg.method == VI_METHOD_AUTO) s->cfg.sw->steps = 0, s->cfg.sw->calm = 0;
     return 0;
+}
+
+int vi_solver_reset(vi_solver *s, double t0, const double *x0)
+{
+    vi_solver_auto *a = s->cfg.method == VI_METHOD_AUTO ? s->cfg.sw : NULL;
+    if (a && a->pending) hand_over(s, t0);
+    if (s->cfg.method == VI_METHOD_DOP853 || (a && !a->bdf)) {
+        s->ode_resets++;
+        return ode_restart(s, t0, x0);
+    }
+    s->before_reset.resets++;
+    return cvode_restart(s, t0, x0);
 }
 
 /* CVODE is driven one internal step at a time (CV_ONE_STEP): a communication point inside the last
  * step costs one interpolation (CVodeGetDky), no call into the integrator and no root check of its
  * own; CVODE checks the guards once per step over the whole step. A root found in a step is held
  * until the output points before it have been served. */
-int vi_solver_advance(vi_solver *s, double tout, long max_steps, double *t, double *x, int *fired, long *taken)
+static int cvode_advance(vi_solver *s, double tout, long max_steps, double *t, double *x, int *fired, long *taken)
 {
     size_t bytes = sizeof(double) * (size_t)s->cfg.n;
-    *taken = 0;
-    if (s->cfg.method == VI_METHOD_DOP853) return ode_advance(s, tout, max_steps, t, x, fired, taken);
     if (s->fresh && tout - s->t0 <= 4.0 * DBL_EPSILON * fmax(fabs(s->t0), fabs(tout))) {
         /* closer than CVODE can start an integration: x(tout) = x(t0) to within a few ulps of time.
          * The solver stays at t0 and the next call integrates from there. */
@@ -307,6 +413,7 @@ int vi_solver_advance(vi_solver *s, double tout, long max_steps, double *t, doub
             memcpy(x, NV_DATA_S(s->x), bytes);
             return VI_SOLVER_LIMIT;
         }
+        if (s->cfg.method == VI_METHOD_AUTO && s->cfg.sw->pending) return HANDOVER; /* s->x holds x(tn) */
         sunrealtype tret;
         int flag = CVode(s->cvode, tout, s->x, &tret, CV_ONE_STEP);
         CHECK(flag);
@@ -319,7 +426,28 @@ int vi_solver_advance(vi_solver *s, double tout, long max_steps, double *t, doub
             memcpy(s->xroot, NV_DATA_S(s->x), bytes);
             CHECK(CVodeGetRootInfo(s->cvode, s->rootsfound));
         }
+        if (s->cfg.method == VI_METHOD_AUTO && test_bdf(s, NV_DATA_S(s->x)) < 0) return VI_SOLVER_FAILED;
     }
+}
+
+int vi_solver_advance(vi_solver *s, double tout, long max_steps, double *t, double *x, int *fired, long *taken)
+{
+    *taken = 0;
+    if (s->cfg.method == VI_METHOD_DOP853) return ode_advance(s, tout, max_steps, t, x, fired, taken);
+    if (s->cfg.method != VI_METHOD_AUTO) return cvode_advance(s, tout, max_steps, t, x, fired, taken);
+    /* AUTO: bounded, a hand-over is asked for only after steps taken since the one before (at most
+     * max_steps of them) */
+    for (long pass = 0; pass <= max_steps + 1; pass++) {
+        int r = s->cfg.sw->bdf ? cvode_advance(s, tout, max_steps, t, x, fired, taken)
+                               : ode_advance(s, tout, max_steps, t, x, fired, taken);
+        if (r != HANDOVER) return r;
+        const vi_ode *o = s->cfg.ode;
+        double t0 = s->cfg.sw->bdf ? s->tn : o->t, x0[VI_SOLVER_MAX_N];
+        memcpy(x0, s->cfg.sw->bdf ? NV_DATA_S(s->x) : o->x, sizeof(double) * (size_t)s->cfg.n);
+        hand_over(s, t0);
+        if ((s->cfg.sw->bdf ? cvode_restart(s, t0, x0) : ode_restart(s, t0, x0)) < 0) return VI_SOLVER_FAILED;
+    }
+    return VI_SOLVER_FAILED;
 }
 
 /* CVODE's counters since the last (re)initialisation. */
@@ -335,25 +463,32 @@ static void current_counters(const vi_solver *s, vi_solver_stats *st)
     CVodeGetNumGEvals(s->cvode, &st->guard_evals);
 }
 
-void vi_solver_statistics(const vi_solver *s, vi_solver_stats *st)
+/* CVODE's counters since vi_solver_create (the sums before its restarts included). */
+static void cvode_counters(const vi_solver *s, vi_solver_stats *st)
 {
-    if (s->cfg.method == VI_METHOD_DOP853) {
-        const vi_ode_stats *o = &s->cfg.ode->st;
-        *st = (vi_solver_stats){.steps = o->accepted, .rhs_evals = o->rhs_evals, .err_test_fails = o->rejected,
-                                .guard_evals = o->guard_evals, .resets = s->ode_resets};
-        return;
-    }
     vi_solver_stats c;
     current_counters(s, &c);
     const vi_solver_stats *b = &s->before_reset;
-    st->steps = b->steps + c.steps;
-    st->rhs_evals = b->rhs_evals + c.rhs_evals;
-    st->jac_evals = b->jac_evals + c.jac_evals;
-    st->nonlin_iters = b->nonlin_iters + c.nonlin_iters;
-    st->nonlin_fails = b->nonlin_fails + c.nonlin_fails;
-    st->err_test_fails = b->err_test_fails + c.err_test_fails;
-    st->guard_evals = b->guard_evals + c.guard_evals;
-    st->resets = b->resets;
+    *st = (vi_solver_stats){.steps = b->steps + c.steps, .rhs_evals = b->rhs_evals + c.rhs_evals,
+                            .jac_evals = b->jac_evals + c.jac_evals, .nonlin_iters = b->nonlin_iters + c.nonlin_iters,
+                            .nonlin_fails = b->nonlin_fails + c.nonlin_fails,
+                            .err_test_fails = b->err_test_fails + c.err_test_fails,
+                            .guard_evals = b->guard_evals + c.guard_evals, .resets = b->resets};
+}
+
+void vi_solver_statistics(const vi_solver *s, vi_solver_stats *st)
+{
+    memset(st, 0, sizeof *st);
+    if (s->cfg.method != VI_METHOD_DOP853) cvode_counters(s, st);
+    if (s->cfg.method == VI_METHOD_DOP853 || s->cfg.method == VI_METHOD_AUTO) {
+        const vi_ode_stats *o = &s->cfg.ode->st;
+        st->steps += o->accepted;
+        st->rhs_evals += o->rhs_evals;
+        st->err_test_fails += o->rejected;
+        st->guard_evals += o->guard_evals;
+        st->resets += s->ode_resets;
+    }
+    if (s->cfg.method == VI_METHOD_AUTO) st->switches = s->cfg.sw->switches;
 }
 
 void vi_solver_free(vi_solver *s)

@@ -218,3 +218,157 @@ Test(solver, a_right_hand_side_turning_non_finite_fails_the_one_step_advance)
     cr_assert(rc == VI_SOLVER_FAILED, "rc %d at t = %g after %ld steps", rc, t, taken);
     vi_solver_free(s);
 }
+
+/* ---- solver = auto ------------------------------------------------------------------------------ */
+
+/* A light mass (1e-7 kg) resting under the default Hertz load on a platform moving with a = 0.1 mm at
+ * 560 Hz: the contact rings at about 10 MHz, the motion follows the platform (the mass's inertia moves
+ * delta by about 1e-13 m). */
+static void light_mass(vi_sim *s, int solver)
+{
+    vi_sim_init(s, quiet, NULL);
+    s->d.par.solver = solver;
+    s->d.par.contact_model = VI_ContactModel_hertz;
+    s->d.par.m = 1e-7;
+    s->d.par.a = 1e-4;
+    cr_assert(vi_sim_initialize(s) == 0, "%s", s->msg);
+}
+
+/* auto finds the stiff contact stiff within its first steps and hands it to BDF: the platform is
+ * followed (y = yC - delta_static) at a few thousand right-hand sides, where the one-step method alone
+ * needs about 3 million for 10 ms. */
+Test(sim, auto_hands_a_stiff_contact_to_bdf)
+{
+    vi_sim s;
+    light_mass(&s, VI_Solver_auto);
+    double delta_static = s.d.x[0], worst = 0.0;
+    for (int k = 1; k <= 100; k++) {
+        cr_assert(vi_sim_advance(&s, 1e-4 * k) == VI_SIM_OK, "%s", s.msg);
+        vi_outputs out;
+        vi_sim_outputs(&s, &out);
+        worst = fmax(worst, fabs(out.y - (out.yC - delta_static)));
+    }
+    vi_solver_stats st;
+    vi_sim_statistics(&s, &st);
+    cr_assert(worst < 1e-10, "y departs from yC - delta_static by %g m", worst);
+    cr_assert(st.switches == 1 && s.d.sw.bdf == 1, "%ld hand-overs, bdf %d", st.switches, s.d.sw.bdf);
+    cr_assert(st.rhs_evals < 5000, "%ld rhs evaluations", st.rhs_evals);
+    vi_sim_free(&s);
+}
+
+/* In contact the light mass is stiff (BDF); pulled off the platform by an upward force of twice its
+ * load it flies free (no stiffness at all) and auto hands back to the one-step method. The Hertz
+ * contact is elastic and the net force F_ext - W = W constant, so from the rest at t1 (elastic energy
+ * 2/5 W delta_static) the energy balance 1/2 m v^2 = 2/5 W delta_static + W (y - y1) holds in flight,
+ * and y - y1 follows the parabola W/m (t - t1)^2 / 2 to within the short release. */
+Test(sim, auto_hands_back_when_the_mass_flies_free)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.solver = VI_Solver_auto;
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    s.d.par.m = 1e-7;
+    s.d.par.P = 1e-3;
+    s.d.par.g = 0.0;
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    double W = 1e-3, m = 1e-7, delta_static = s.d.x[0];
+    cr_assert(vi_sim_advance(&s, 1e-3) == VI_SIM_OK, "%s", s.msg);
+    cr_assert(s.d.sw.bdf == 1, "not handed to BDF in contact");
+    vi_outputs out;
+    vi_sim_outputs(&s, &out);
+    double y1 = out.y;
+    s.d.in.F_ext = 2.0 * W;
+    s.d.inputs_changed = 1;
+    for (int k = 1; k <= 10; k++) {
+        double t = 1e-3 + 1e-4 * k, tau = t - 1e-3;
+        cr_assert(vi_sim_advance(&s, t) == VI_SIM_OK, "%s", s.msg);
+        vi_sim_outputs(&s, &out);
+        double kinetic = 0.5 * m * out.v * out.v, work = 0.4 * W * delta_static + W * (out.y - y1);
+        cr_assert(fabs(kinetic - work) <= 1e-6 * work, "t = %g: 1/2 m v^2 = %.9g, work %.9g", t, kinetic, work);
+        cr_assert(fabs(out.y - y1 - 0.5 * W / m * tau * tau) <= 1e-2 * 0.5 * W / m * tau * tau, "t = %g: y - y1 = %g", t,
+                  out.y - y1);
+    }
+    vi_solver_stats st;
+    vi_sim_statistics(&s, &st);
+    cr_assert(s.d.M.mode == VI_Mode_free && s.d.sw.bdf == 0 && st.switches == 2, "mode %d, bdf %d, %ld hand-overs",
+              s.d.M.mode, s.d.sw.bdf, st.switches);
+    vi_sim_free(&s);
+}
+
+/* A state taken from a running auto instance (vi_sim_checkpoint, then a byte copy of the data, as the
+ * FMU does) and restored in another instance continues bit for bit like the original: taken while
+ * the one-step method runs (before the hand-over, which both then make at the same step) and while
+ * BDF runs. */
+Test(sim, auto_restored_state_continues_bit_for_bit)
+{
+    const double taken_at[] = {3e-7, 1e-3};
+    for (int i = 0; i < 2; i++) {
+        vi_sim a, b;
+        light_mass(&a, VI_Solver_auto);
+        cr_assert(vi_sim_advance(&a, taken_at[i]) == VI_SIM_OK, "%s", a.msg);
+        cr_assert(a.d.sw.bdf == i, "state %d taken with bdf = %d", i, a.d.sw.bdf);
+        cr_assert(vi_sim_checkpoint(&a) == 0, "%s", a.msg);
+        vi_sim_init(&b, quiet, NULL);
+        b.d = a.d;
+        cr_assert(vi_sim_restore(&b) == 0, "%s", b.msg);
+        for (int k = 1; k <= 30; k++) {
+            double t = taken_at[i] + 1e-4 * k;
+            cr_assert(vi_sim_advance(&a, t) == VI_SIM_OK && vi_sim_advance(&b, t) == VI_SIM_OK, "%s %s", a.msg, b.msg);
+            cr_assert(memcmp(a.d.x, b.d.x, sizeof a.d.x) == 0, "state %d, t = %g: %.17g %.17g vs %.17g %.17g", i, t,
+                      a.d.x[0], a.d.x[1], b.d.x[0], b.d.x[1]);
+        }
+        cr_assert(memcmp(&a.d.sw, &b.d.sw, sizeof a.d.sw) == 0 && a.d.sw.switches == 1);
+        vi_sim_free(&a), vi_sim_free(&b);
+    }
+}
+
+/* The data check names bad fields of auto's choice; while BDF runs the one-step continuation is not
+ * used (a hand-over back restarts it) and not checked. */
+Test(sim, data_check_names_bad_fields_of_the_auto_choice)
+{
+    vi_sim s;
+    light_mass(&s, VI_Solver_auto);
+    cr_assert(vi_sim_advance(&s, 1e-3) == VI_SIM_OK && s.d.sw.bdf == 1, "%s", s.msg);
+    char msg[256];
+    cr_assert(vi_sim_data_check(&s.d, msg, sizeof msg) == 0, "%s", msg);
+    vi_sim_data d;
+#define CASE(stmt, field) d = s.d, stmt, refused(&d, field)
+    CASE(d.sw.bdf = 2, "sw.bdf");
+    CASE(d.sw.pending = -1, "sw.pending");
+    CASE(d.sw.stiff = VI_AUTO_STIFF_STEPS + 1, "sw.stiff");
+    CASE(d.sw.calm = -1, "sw.calm");
+    CASE(d.sw.steps = -1, "sw.steps");
+    CASE(d.sw.switches = -1, "sw.switches");
+    CASE((d.sw.bdf = 0, d.ode.t = NAN), "ode.t");
+#undef CASE
+    d = s.d;
+    d.ode.t = NAN;
+    cr_assert(vi_sim_data_check(&d, msg, sizeof msg) == 0, "%s", msg);
+    vi_sim_free(&s);
+}
+
+static void jac_2(double t, const double *x, double *j, void *u)
+{
+    (void)t, (void)x, (void)u;
+    j[0] = j[1] = j[2] = j[3] = 0.0;
+}
+
+/* auto is made for at most 2 states with a Jacobian and the caller's choice block. */
+Test(solver, auto_needs_two_states_a_jacobian_and_its_choice)
+{
+    vi_ode ode;
+    vi_solver_auto sw;
+    double atol[3] = {1e-9, 1e-9, 1e-9}, x0[3] = {0.0, 0.0, 0.0};
+    vi_solver_config ok = {.n = 2, .rhs = nan_after_half, .jac = jac_2, .method = VI_METHOD_AUTO, .rtol = 1e-6,
+                           .atol = atol, .ode = &ode, .sw = &sw, .log = quiet};
+    vi_solver *s = vi_solver_create(&ok, 0.0, x0);
+    cr_assert(s != NULL);
+    vi_solver_free(s);
+    vi_solver_config bad = ok;
+    bad.n = 3;
+    cr_assert(vi_solver_create(&bad, 0.0, x0) == NULL);
+    bad = ok, bad.jac = NULL;
+    cr_assert(vi_solver_create(&bad, 0.0, x0) == NULL);
+    bad = ok, bad.sw = NULL;
+    cr_assert(vi_solver_create(&bad, 0.0, x0) == NULL);
+}
