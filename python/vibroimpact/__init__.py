@@ -1,0 +1,1 @@
+"""VibroImpact: the FMU of dynamic unilateral elasto-plastic contact and the Python around it."""
