@@ -54,3 +54,6 @@ def main(argv=None):
     except FileNotFoundError as e:   # no FMU: say how to get one, without a traceback
         print(f"vibroimpact {a.command}: {e}", file=sys.stderr)
         return 1
+    except BrokenPipeError:          # the output's reader left (| head)
+        sys.stderr.close()
+        return 1
