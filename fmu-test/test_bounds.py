@@ -1,4 +1,4 @@
-"""Valid ranges and bounded work (issue 9 items 3 and 8): tolerances and max_step outside their
+"""Valid ranges and bounded work: tolerances and max_step outside their
 documented ranges are refused at initialization with a message naming them and the range."""
 import numpy as np
 import pytest
@@ -55,7 +55,7 @@ def test_max_step_in_its_range_runs(logged, vr, max_step):
     s.freeInstance()
 
 
-# ---- bounded work per step, no false chattering (issue 9 items 3 and 4) ----------------------------
+# ---- bounded work per step, no false chattering --------------------------------------------------
 # Each case runs in a subprocess with a time limit: a hang fails fast instead of stalling the suite.
 
 RUNNER = r'''

@@ -96,7 +96,7 @@ def test_small_amplitude_hertz_peaks_at_f_contact(tmp_path):
     forcing and free oscillation, so the largest force over a fixed time falls at the grid point
     nearest the contact resonance. The grid (2 Hz apart) does not contain f_contact."""
     fn, _ = linear_resonance_hz()
-    assert fn == pytest.approx(271.5, abs=0.05)  # README: 271.5 Hz linearised at P + m g
+    assert fn == pytest.approx(271.5, abs=0.05)  # 271.5 Hz: the paper's data, Hertz linearised at P + m g
     # rtol 1e-9: at the default 1e-6 the integration error of the 10-nm response is 4 % of its swing
     _, _, rows, _ = sweep(tmp_path / "peak", "--set", "contact_model=hertz", "--set", "a=1e-8", "--set", "rtol=1e-9",
                           "--grid", "f=260.3:280.3:11", "--stop-time", "0.2", "--step", "1e-4")
