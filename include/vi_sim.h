@@ -18,14 +18,6 @@
 /* Longest path of the resources folder or a profile file. */
 #define VI_PATH_MAX 4096
 
-/* Valid ranges of the tolerance (parameter rtol, or the tolerance of fmi2SetupExperiment) and of
- * max_step, checked at initialization. Above 1e-2 the error is of the order of the motion itself;
- * below 1e-14 the tolerance is under the rounding of a double state. max_step is 0 (no limit) or at
- * least VI_MAX_STEP_MIN. */
-#define VI_RTOL_MIN 1e-14
-#define VI_RTOL_MAX 1e-2
-#define VI_MAX_STEP_MIN 1e-12 /* s */
-
 /* Results of vi_sim_advance (contract C1). */
 enum { VI_SIM_OK = 0, VI_SIM_DISCARD = 1, VI_SIM_ERROR = -1 };
 
@@ -77,7 +69,7 @@ typedef struct {
     vi_outputs out;
     vi_log_fn log;
     void *log_env;
-    int warned_validity; /* the model left its range of validity: warned once (not part of the FMU state) */
+    int warned_validity; /* VI_INVALID_* bits: the causes warned of (once each; not part of the FMU state) */
     /* Rolling: the profile the model points to (owned here, outside the FMU state), the file it came
      * from with the radius and periodicity it was built for, and the FMU's resources folder. */
     vi_profile *profile;

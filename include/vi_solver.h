@@ -33,6 +33,14 @@
 
 #include "vi_ode.h"
 
+/* The relative tolerances the solvers are used with (the models' parameter rtol declares this range;
+ * the tolerance of fmi2SetupExperiment is checked against it at initialization): above VI_RTOL_MAX
+ * the error is of the order of the motion itself; below VI_RTOL_MIN the tolerance is under the
+ * rounding of a double state. A maximum step is 0 (no limit) or at least VI_MAX_STEP_MIN. */
+#define VI_RTOL_MIN 1e-14
+#define VI_RTOL_MAX 1e-2
+#define VI_MAX_STEP_MIN 1e-12 /* s */
+
 /* Sizes this wrapper is made for: small dense systems. */
 #define VI_SOLVER_MAX_N 4
 #define VI_SOLVER_MAX_GUARDS 16
