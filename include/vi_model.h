@@ -108,7 +108,7 @@ double vi_model_phase(const vi_model *M, double t);
 int vi_model_set_rolling(vi_model *M, const vi_profile *profile, double V, double x0, char *msg, size_t n);
 /* Position on the profile at time t [m]. */
 double vi_model_rolling_position(const vi_model *M, double t);
-/* Contract C10: the first time after t at which the platform velocity jumps (the rolling position
+/* The first time after t at which the platform velocity jumps (the rolling position
  * passes a kink of yb); INFINITY if none. The time is rounded so that the position there is past the
  * kink, so that yC' there is the value after the jump. */
 double vi_model_next_breakpoint(const vi_model *M, double t);
@@ -190,7 +190,7 @@ int vi_model_validity(const vi_model *M, double R1, double t, const double x[2],
  * Returns how many there are; msg lists them (one warning at initialization). */
 int vi_model_option_warnings(const vi_parameters *p, char *msg, size_t n);
 
-/* Contract C3: is M (with the state x) a model this code could have produced? Checks, and names in
+/* Is M (with the state x) a model this code could have produced (doc/model.md section 7.6)? Checks, and names in
  * msg the first bad field of:
  *  - enumerations and flags: law, moving, unloading, mode (allowed for the law), yielded;
  *  - constants: finite, m, K, E*, R*, theta_Y, F_Y, delta_Y, k_lin > 0, omega >= 0, and consistent with

@@ -491,7 +491,7 @@ int vi_model_option_warnings(const vi_parameters *p, char *msg, size_t n)
     return count;
 }
 
-/* ---- contract C3 ---------------------------------------------------------------------------- */
+/* ---- validity of a saved model (doc/model.md section 7.6) ---------------------------------- */
 
 #define BAD(...) return snprintf(msg, n, __VA_ARGS__), -1
 

@@ -17,7 +17,7 @@ static void sim_rhs(double t, const double *x, double *dx, void *user)
     vi_model_rhs(&d->M, t, x, dx);
 }
 
-/* The model's guards, each disarmed one shifted up by its band (see VI_GRAZE_NOISE). */
+/* The model's guards, each disarmed one shifted up by its band (re-arming: VI_GRAZE_TOL, VI_GRAZE_ULPS). */
 static void sim_guards(double t, const double *x, double *g, void *user)
 {
     const vi_sim_data *d = user;
@@ -316,7 +316,7 @@ int vi_sim_zeno_count(int count, double t_before, double t)
     return t - t_before <= VI_ZENO_ULPS * ulp ? count + 1 : 0;
 }
 
-/* End the advance early (contract C1): the state at d->t is consistent and usable. */
+/* End the advance early (doc/model.md section 7.1): the state at d->t is consistent and usable. */
 static int discard(vi_sim *s, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 static int discard(vi_sim *s, const char *fmt, ...)
 {
@@ -349,7 +349,7 @@ static void apply_event(vi_sim *s, int fired)
     d->guard_band[fired] = VI_GRAZE_TOL * tol[fired] + VI_GRAZE_ULPS * ulps[fired] + DBL_MIN;
 }
 
-/* A kink of the rolling profile at d->t (contract C10): the platform velocity jumps, so the rate of
+/* A kink of the rolling profile at d->t (doc/model.md section 6): the platform velocity jumps, so the rate of
  * delta does; the mode is chosen afresh (as after an input jump) and the solver restarts. */
 static int apply_breakpoint(vi_sim *s)
 {
@@ -477,7 +477,7 @@ void vi_sim_outputs(vi_sim *s, vi_outputs *out)
     *out = s->out;
 }
 
-/* ---- contract C3: validity of a state payload ---------------------------------------------- */
+/* ---- validity of a state payload (doc/model.md section 7.6) --------------------------------- */
 
 #define BAD(...) do { snprintf(msg, n, __VA_ARGS__); return -1; } while (0)
 

@@ -188,7 +188,7 @@ Test(model, resolved_mode_has_nonnegative_guards)
             }
 }
 
-/* ---- contract C3: vi_model_check ------------------------------------------------------------- */
+/* ---- vi_model_check ----------------------------------------------------------------------------- */
 
 static void log_nothing(void *env, int category, const char *fmt, ...) { (void)env, (void)category, (void)fmt; }
 
@@ -382,7 +382,7 @@ Test(model, stick_keeps_delta_exactly_on_delta_c)
     vi_sim_free(&s);
 }
 
-/* Issue 9 item 3: the static state at extreme loads comes from a closed form or a bounded solve,
+/* The static state at extreme loads comes from a closed form or a bounded solve,
  * never an ulp-by-ulp walk (which took 2^52 steps for load/F_Y below 1e-154). Expected indentation
  * from logarithms: d = exp(2/3 (ln W - ln K)) (Hertz, and Johnson below yield). */
 Test(model, static_state_at_extreme_loads, .timeout = 20)
@@ -409,7 +409,7 @@ Test(model, static_state_at_extreme_loads, .timeout = 20)
         }
 }
 
-/* The same for the extreme parameters of issue 9: R1 = 1e85 (load/F_Y ~ 1e-170) and m = 5e-324. */
+/* The same for extreme parameters: R1 = 1e85 (load/F_Y ~ 1e-170) and m = 5e-324. */
 Test(model, static_state_with_extreme_parameters, .timeout = 20)
 {
     vi_parameters p;
@@ -430,7 +430,7 @@ Test(model, static_state_with_extreme_parameters, .timeout = 20)
     cr_assert(x[0] > 0.0 && M.mode == VI_Mode_elastic, "delta %g mode %d", x[0], M.mode);
 }
 
-/* Issue 9 item 6: the tolerance scales come from the active law: closed forms per case. */
+/* The tolerance scales come from the active law: closed forms per case. */
 Test(model, scales_from_the_active_law)
 {
     double x[2], L, V;
@@ -486,7 +486,7 @@ Test(model, scales_from_the_active_law)
         }
 }
 
-/* Issue 9 item 5: ties (position, rate and force difference all zero) are broken by the next time
+/* Ties (position, rate and force difference all zero) are broken by the next time
  * derivative, F_hold' = -F_ext' + m yC'''. Exact ties built with P equal to a force of the band. */
 Test(model, stick_band_ties_broken_by_the_rate_of_the_holding_force)
 {
@@ -672,7 +672,7 @@ Test(excitation, sweep_up_and_down_follows_the_accumulated_phase)
     vi_sim_free(&s);
 }
 
-/* ---- rolling over a profile (issue 11 item 4) --------------------------------------------------- */
+/* ---- rolling over a profile --------------------------------------------------------------------- */
 
 /* A V-shaped trough of slope s0 with its bottom at x = 0 on [-10, 10] m, written to a file:
  * yb = s0 |x| + R1 (sqrt(1 + s0^2) - 1). */
@@ -701,7 +701,7 @@ static void rolling_sim(vi_sim *s, double s0, double V, double x0, double rtol)
 /* Static start on Hertz, rolled at V over the trough's kink: before it the mass rides the platform
  * down uniformly (delta stays static); the kink turns the platform velocity by 2 s0 V, and the
  * contact rings with amplitude 2 s0 V / omega_c (linearised, omega_c = 2 pi f_contact). The loop
- * stops at the kink (contract C10) and restarts there. */
+ * stops at the kink (doc/model.md section 6) and restarts there. */
 Test(rolling, kink_is_a_breakpoint_and_rings_the_contact)
 {
     for (int dir = -1; dir <= 1; dir += 2) {

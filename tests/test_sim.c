@@ -1,5 +1,5 @@
-/* Unit tests of the simulation layer (vi_sim.h) that need no FMU: the state-payload check of
- * contract C3 names the first bad field; a valid state passes. */
+/* Unit tests of the simulation layer (vi_sim.h) that need no FMU: the state-payload check
+ * (doc/model.md section 7.6) names the first bad field; a valid state passes. */
 #include <criterion/criterion.h>
 #include <math.h>
 #include <string.h>

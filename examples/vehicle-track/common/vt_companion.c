@@ -151,7 +151,7 @@ int vt_advance(void *m, double t_end)
     memcpy(c->x, x, sizeof(double) * (size_t)I->def->n);
     c->t = t;
     if (I->def->step_done) I->def->step_done(I->data, t0, x0);
-    if (rc == VI_SOLVER_LIMIT) { /* a consistent point before t_end (contract C1) */
+    if (rc == VI_SOLVER_LIMIT) { /* a consistent point before t_end (doc/model.md section 7.1) */
         snprintf(I->msg, sizeof I->msg, "work bound: %ld internal steps in one step, stopped at t = %.17g s",
                  VT_MAX_STEPS_PER_STEP, t);
         return VI_FMU_DISCARD;
@@ -167,8 +167,8 @@ void vt_terminate(void *m)
     if (!I->solver) return;
     vi_solver_stats st;
     vi_solver_statistics(I->solver, &st);
-    I->log(I->env, VI_FMU_LOG_SOLVER, "CVODE statistics: %ld steps, %ld rhs evaluations, %ld restarts", st.steps,
-           st.rhs_evals, st.resets);
+    I->log(I->env, VI_FMU_LOG_SOLVER, "%s statistics: %ld steps, %ld rhs evaluations, %ld restarts", st.method,
+           st.steps, st.rhs_evals, st.resets);
 }
 
 void *vt_state(void *m) { return ((vt_instance *)m)->data; }
