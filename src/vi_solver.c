@@ -450,7 +450,8 @@ int vi_solver_advance(vi_solver *s, double tout, long max_steps, double *t, doub
     return VI_SOLVER_FAILED;
 }
 
-/* CVODE's counters since the last (re)initialisation. */
+/* CVODE's counters since the last (re)initialisation. Their return values are not checked: they fail
+ * only for a NULL CVODE memory or linear solver, and both exist for the solver's whole life. */
 static void current_counters(const vi_solver *s, vi_solver_stats *st)
 {
     memset(st, 0, sizeof *st);
@@ -489,6 +490,10 @@ void vi_solver_statistics(const vi_solver *s, vi_solver_stats *st)
         st->resets += s->ode_resets;
     }
     if (s->cfg.method == VI_METHOD_AUTO) st->switches = s->cfg.sw->switches;
+    st->method = s->cfg.method == VI_METHOD_DOP853 ? "Dormand-Prince 8(5,3)"
+                 : s->cfg.method == VI_METHOD_ADAMS ? "CVODE Adams"
+                 : s->cfg.method == VI_METHOD_BDF   ? "CVODE BDF"
+                                                    : "auto";
 }
 
 void vi_solver_free(vi_solver *s)

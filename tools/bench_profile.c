@@ -4,7 +4,7 @@
  *   vi_bench_profile FILE R1 PERIODIC REPEATS
  *
  * Loads FILE REPEATS times with radius R1 [m] (PERIODIC 0 or 1) and prints
- *   cpu_s <min CPU seconds of one load> pieces <intervals of the envelope> kinks <kinks>
+ *   cpu_s <min CPU seconds of one load> kinks <kinks of the rigid constraint>
  *   maxrss_kb <peak resident memory of this process [kB]>
  * The minimum is taken because the machine may be shared. Exit status 1 when the file is refused
  * (the message is printed). */
@@ -31,7 +31,7 @@ int main(int argc, char **argv)
     }
     double R = atof(argv[2]), best = 1e300;
     int periodic = atoi(argv[3]), repeats = atoi(argv[4]);
-    size_t pieces = 0, kinks = 0;
+    size_t kinks = 0;
     char msg[8192];
     for (int k = 0; k < repeats; k++) {
         double c0 = cpu_now();
@@ -41,12 +41,12 @@ int main(int argc, char **argv)
             fprintf(stderr, "%s\n", msg);
             return 1;
         }
-        pieces = vi_profile_pieces(p), kinks = vi_profile_kinks(p);
+        kinks = vi_profile_kinks(p);
         vi_profile_free(p);
         if (c1 - c0 < best) best = c1 - c0;
     }
     struct rusage ru;
     getrusage(RUSAGE_SELF, &ru);
-    printf("cpu_s %.9g pieces %zu kinks %zu maxrss_kb %ld\n", best, pieces, kinks, (long)ru.ru_maxrss);
+    printf("cpu_s %.9g kinks %zu maxrss_kb %ld\n", best, kinks, (long)ru.ru_maxrss);
     return 0;
 }
