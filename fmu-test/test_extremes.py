@@ -7,7 +7,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import ROOT, effective
+from conftest import ROOT, SOLVER, effective
 
 RUNNER = r"""
 import json, sys
@@ -105,7 +105,13 @@ def test_negligible_amplitude_keeps_the_static_state(fmu_path, law):
     r = outputs(fmu_path, dict(contact_model=law, a=1e-300))
     z = outputs(fmu_path, dict(contact_model=law, a=0.0))
     assert np.all(r["mode"] == 1)
-    assert np.abs(r["F"] - W).max() <= 1e-4 * W  # rest, to the tolerance (BDF keeps it to 1e-12)
+    # CVODE (bdf, adams) keeps rest to rounding: the right-hand side at the static state is zero to a
+    # few ulps of W, and so is every step (measured 3 ulps). The explicit one-step method's error-free
+    # steps grow to its stability limit on the contact oscillation, where rounding grows until the error
+    # control holds it: rest to the tolerance (rtol 1e-6; the force 1.5 times the indentation's error,
+    # with a factor 10 of global over local error, as in test_hertz).
+    tol = 1.5e-5 if SOLVER == 3 else 16 * np.finfo(float).eps
+    assert np.abs(r["F"] - W).max() <= tol * W
     assert np.abs(r["y"] - z["y"]).max() <= 1e-20
 
 

@@ -395,17 +395,20 @@ def test_running_state_restored_into_an_instantiated_instance(logged, vr):
 def test_terminated_state_restores_terminated(logged, vr):
     log = logged()
     s = log.instantiate()
-    start(s, vr)
+    start(s, vr, dict(a=1e-4))
     s.doStep(0.0, 1e-4)
     s.terminate()
+    names = [vr[n] for n in ("y", "v", "F", "yC")]
+    at_end = s.getReal(names)
     done = s.getFMUstate()
     s.reset()
-    start(s, vr)
+    start(s, vr, dict(a=1e-4))
+    assert s.getReal(names) != at_end  # the fresh start is elsewhere: the restore below must move it
     s.setFMUstate(done)
     with pytest.raises(FMICallException):
         s.doStep(1e-4, 1e-4)
     assert error_logged(log, "fmi2DoStep", "terminated")
-    assert s.getReal([vr["y"]])  # values stay readable
+    assert s.getReal(names) == at_end  # values stay readable: those of the terminated state, bit for bit
     s.freeInstance()
 
 

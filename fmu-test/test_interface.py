@@ -195,5 +195,7 @@ def test_doc_model_md_describes_every_variable(model_description):
             cells = [c.strip() for c in named[0].split("|")]
             names = [n.strip("` ") for n in cells[1].split(",")]
             defaults = [d.strip() for d in cells[3].split(",")]
-            if len(defaults) == len(names):
-                assert float(defaults[names.index(sv.name)]) == float(sv.start), f"default of {sv.name}"
+            if len(defaults) == 1:  # one default for every name of the row (`E1`, `E2` | Pa | 2.1e11)
+                defaults *= len(names)
+            assert len(defaults) == len(names), f"{sv.name}: {len(names)} names, {len(defaults)} defaults"
+            assert float(defaults[names.index(sv.name)]) == float(sv.start), f"default of {sv.name}"

@@ -117,8 +117,9 @@ def test_wrong_size_version_and_model_are_refused(blob_and_slave, layer_blob):
 def test_header_fields_are_validated(blob_and_slave):
     blob, log, s = blob_and_slave
     head = list(HEADER.unpack_from(blob))
-    for field, value, words in ((4, 0xFF, "fmu_state = 255"), (4, 0, "fmu_state = 0"),
-                                (5, 1, None), (6, math.nan, "stop_time")):
+    assert head[5:7] == [0, 0.0]  # taken without a stop time
+    for field, value, words in ((4, 0xFF, "fmu_state = 255"), (4, 0, "fmu_state = 0"), (5, 2, "stop_time"),
+                                (6, math.nan, "stop_time"), (5, 1, None)):
         h = head.copy()
         h[field] = value
         if field == 6:
@@ -126,6 +127,16 @@ def test_header_fields_are_validated(blob_and_slave):
         b = reseal(HEADER.pack(*h) + blob[HEADER.size:])
         if words:
             refused(log, s, b, words)
+        else:
+            # a valid header: a stop time defined at 0 s is accepted, restored, and binds the next step
+            state = s.deSerializeFMUstate(b)
+            s.setFMUstate(state)
+            s.freeFMUstate(state)
+            n = len(log.messages)
+            with pytest.raises(FMICallException):
+                s.doStep(2e-3, 1e-4)
+            new = [m for st, _, m in log.messages[n:] if st == ERROR]
+            assert new == ["fmi2DoStep: the step to 0.0020999999999999999 passes the stop time 0"], new
 
 
 def find_double(blob, x):

@@ -312,16 +312,38 @@ Test(model, stick_keeps_delta_exactly_on_delta_c)
     s.d.par.a = 1e-4;
     s.d.par.f = 100.0;
     cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
-    int sticking = 0;
+    int sticking = 0, touching = 0;
     for (int k = 1; k <= 500; k++) {
         cr_assert(vi_sim_advance(&s, 1e-4 * k) == 0, "%s", s.msg);
-        if (s.d.M.mode != VI_Mode_stick) continue;
+        const vi_model *M = &s.d.M;
+        double t = s.d.t, *x = s.d.x, j[4], fd[4];
+        vi_model_jacobian(M, t, x, j);
+        /* the right-hand side's own derivatives, by central differences of relative step 1e-6 */
+        for (int c = 0; c < 2; c++) {
+            double h = 1e-6 * fmax(fabs(x[c]), c == 0 ? M->J.delta_Y : 1e-3), xp[2] = {x[0], x[1]},
+                   xm[2] = {x[0], x[1]}, fp[2], fm[2];
+            xp[c] += h, xm[c] -= h;
+            vi_model_rhs(M, t, xp, fp);
+            vi_model_rhs(M, t, xm, fm);
+            fd[c] = (fp[0] - fm[0]) / (2 * h), fd[2 + c] = (fp[1] - fm[1]) / (2 * h);
+        }
+        if (M->mode == VI_Mode_free) continue;
+        if (M->mode != VI_Mode_stick) {
+            /* other contact modes: d delta'/dv = -1, d v'/d delta = k/m (the difference's truncation
+             * error is about (h/delta)^2 = 1e-12 relative, its rounding eps |v'| / (h k/m) about 1e-10) */
+            touching++;
+            cr_assert(j[0] == 0.0 && j[1] == -1.0 && j[3] == 0.0, "t = %g", t);
+            cr_assert(fd[0] == 0.0 && fabs(fd[1] + 1.0) <= 1e-6 && fd[3] == 0.0, "t = %g: %g %g %g", t, fd[0], fd[1], fd[3]);
+            cr_assert(fabs(j[2] - fd[2]) <= 1e-8 * fabs(j[2]), "t = %g mode %d: %g vs %g", t, M->mode, j[2], fd[2]);
+            continue;
+        }
         sticking++;
-        cr_assert(s.d.x[0] == s.d.M.U.delta_c, "t = %g: delta - delta_c = %g", s.d.t, s.d.x[0] - s.d.M.U.delta_c);
+        /* stick: delta' = 0 and v' = yC'' do not depend on the state, so the Jacobian is zero */
+        for (int i = 0; i < 4; i++)
+            cr_assert(j[i] == 0.0 && fd[i] == 0.0, "t = %g: J[%d] = %g, difference %g", t, i, j[i], fd[i]);
+        cr_assert(x[0] == M->U.delta_c, "t = %g: delta - delta_c = %g", t, x[0] - M->U.delta_c);
     }
-    cr_assert(sticking > 50, "%d samples in stick", sticking);
-    double j[4];
-    vi_model_jacobian(&s.d.M, s.d.t, s.d.x, j);
+    cr_assert(sticking > 50 && touching > 50, "%d samples in stick, %d in other contact modes", sticking, touching);
     vi_sim_free(&s);
 }
 
