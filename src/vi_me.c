@@ -28,17 +28,6 @@ static void sync(vi_me *e)
     d->x[0] = platform(M, d->t) - e->y;
 }
 
-/* Warn once per instance when the contact leaves the model's range of validity. */
-static void check_validity(vi_me *e)
-{
-    char text[400];
-    vi_sim *s = &e->s;
-    if (!s->warned_validity && vi_model_validity(&s->d.M, s->d.t, s->d.x, text, sizeof text)) {
-        s->warned_validity = 1;
-        s->log(s->log_env, VI_LOG_WARNING, "%s", text);
-    }
-}
-
 /* How much each guard moves under rounding (one ulp of t with y fixed, of y and of v: ulps[i]) and
  * under a state error of the tolerance (rtol |y| + atol in y, the same in v: tol[i]). */
 static void guard_noise(const vi_me *e, double ulps[VI_NGUARDS], double tol[VI_NGUARDS])
@@ -164,7 +153,7 @@ int vi_me_event_update(vi_me *e, vi_me_event *ev)
         d->inputs_changed = 0;
         vi_model_freeze(M, t, x);
         /* a new a moves the platform (delta with it), the mass stays */
-        if (vi_model_set_excitation(M, t, x, d->par.a, d->par.f, s->msg, sizeof s->msg) < 0) return -1;
+        vi_model_set_excitation(M, t, x, d->par.a, d->par.f);
         if (vi_model_resolve(M, t, x) != from)
             s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: input change, mode %d -> %d", t, from, M->mode);
     }
@@ -205,7 +194,7 @@ int vi_me_event_update(vi_me *e, vi_me_event *ev)
     for (int i = 0; i < VI_NGUARDS; i++) ev->another_pass |= g[i] + d->guard_band[i] < 0.0;
     d->step_t0 = t;
     d->step_v0 = d->x[1];
-    check_validity(e);
+    vi_sim_check_validity(&e->s);
     if (e->zeno >= VI_ZENO_EVENTS) {
         snprintf(s->msg, sizeof s->msg, "events accumulate at t = %.17g s (Zeno): %d events each within %g ulps of time "
                  "of the one before, the last on guard %d of mode %d; the motion cannot go on", t, VI_ZENO_EVENTS,
@@ -232,7 +221,7 @@ int vi_me_completed_step(vi_me *e)
         if (d->guard_band[i] > 0.0 && g[i] > d->guard_band[i]) d->guard_band[i] = 0.0; /* moved away: armed */
     d->step_t0 = d->t;
     d->step_v0 = d->x[1];
-    check_validity(e);
+    vi_sim_check_validity(&e->s);
     return 0;
 }
 
