@@ -125,7 +125,8 @@ typedef struct {
      * 0 or -1. */
     int (*restore)(void *m, int running);
     /* Optional: check a saved block before it is used: every field finite and in range, modes
-     * consistent; `running` as for `restore` (before initialization only the settings matter).
+     * consistent; `running` as for `restore` (before initialization only the settings matter; in
+     * Model Exchange the importer's states may lie beyond the mode's surfaces until the next event).
      * 0, or -1 naming the first bad field in msg. The layer itself has already checked the
      * header, the checksum and the table's values (Reals finite, Reals and Integers inside their
      * ranges, enumerations items of their type, Booleans 0 or 1, Strings terminated). */

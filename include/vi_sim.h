@@ -124,5 +124,7 @@ int vi_sim_zeno_count(int count, double t_before, double t);
  * in range) and then the model's part (vi_model_check). 0 when valid, else -1 with the first bad
  * field named in msg. No pointer in d is followed (the model's profile pointer is not). */
 int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n);
+/* The same with vi_model_check_between_events: the state of an outside integrator (Model Exchange). */
+int vi_sim_data_check_between_events(const vi_sim_data *d, char *msg, size_t n);
 
 #endif

@@ -642,8 +642,12 @@ static int check_values(const void *block, char *msg, size_t n)
     return 0;
 }
 
-/* Was the saved FMI state after initialization? */
-static int saved_running(const vi_saved_state *s) { return (s->fmu_state & (VI_ST_RUNNING | VI_ST_ERROR)) != 0; }
+/* Was the saved FMI state after initialization? Then VI_FMU_RUNNING_CS or _ME (the instance's interface). */
+static int saved_running(const vi_core *c, const vi_saved_state *s)
+{
+    if (!(s->fmu_state & (VI_ST_RUNNING | VI_ST_ERROR))) return 0;
+    return c->kind == VI_KIND_ME ? VI_FMU_RUNNING_ME : VI_FMU_RUNNING_CS;
+}
 
 /* The states an instance of this kind can be in. */
 static unsigned kind_states(const vi_core *c)
@@ -673,7 +677,7 @@ static int check_saved(vi_core *c, const char *fn, const vi_saved_state *s, size
     else if (s->stop_time_defined > 1u || (s->stop_time_defined && !isfinite(s->stop_time)))
         snprintf(why, sizeof why, "field stop_time is not finite");
     else if (check_values(payload(s), why, sizeof why) < 0 ||
-             (MODEL->state_check && MODEL->state_check(payload(s), saved_running(s), why, sizeof why) < 0)) {
+             (MODEL->state_check && MODEL->state_check(payload(s), saved_running(c, s), why, sizeof why) < 0)) {
         if (!why[0]) snprintf(why, sizeof why, "invalid field");
     }
     if (why[0]) LOG_ERROR(c, "%s: invalid FMU state: %s", fn, why);
@@ -707,8 +711,7 @@ vi_status vi_core_set_fmu_state(void *instance, const char *fn, const void *stat
     c->stop_time = s->stop_time;
     c->state = s->fmu_state;
     c->event_passes = 0;
-    int running = !saved_running(s) ? 0 : c->kind == VI_KIND_ME ? VI_FMU_RUNNING_ME : VI_FMU_RUNNING_CS;
-    if (MODEL->restore && MODEL->restore(c->model, running) != 0) return vi_core_fail(c, fn);
+    if (MODEL->restore && MODEL->restore(c->model, saved_running(c, s)) != 0) return vi_core_fail(c, fn);
     c->t_committed = MODEL->time(c->model);
     return VI_STATUS_OK;
 }

@@ -85,6 +85,7 @@ static int checkpoint(void *m) { return vi_me_checkpoint(m); }
 /* Every field of a saved block (doc/model.md section 7.6); before initialization only the settings exist. */
 static int state_check(const void *state, int running, char *msg, size_t n)
 {
+    if (running == VI_FMU_RUNNING_ME) return vi_sim_data_check_between_events(state, msg, n);
     return running ? vi_sim_data_check(state, msg, n) : 0;
 }
 

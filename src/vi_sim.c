@@ -481,7 +481,7 @@ void vi_sim_outputs(vi_sim *s, vi_outputs *out)
 
 #define BAD(...) do { snprintf(msg, n, __VA_ARGS__); return -1; } while (0)
 
-int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n)
+static int data_check(const vi_sim_data *d, int surfaces, char *msg, size_t n)
 {
     if (d->inputs_changed != 0 && d->inputs_changed != 1) BAD("inputs_changed = %d is not 0 or 1", d->inputs_changed);
     if (!isfinite(d->t_start)) BAD("t_start = %g is not finite", d->t_start);
@@ -502,9 +502,12 @@ int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n)
     if (d->initialized && d->par.solver == VI_Solver_dop853 &&
         vi_solver_ode_check(&d->ode, 2, VI_NGUARDS, d->t, msg, n) < 0)
         return -1;
-    return vi_model_check(&d->M, d->x, msg, n);
+    return surfaces ? vi_model_check(&d->M, d->x, msg, n) : vi_model_check_between_events(&d->M, d->x, msg, n);
 }
 #undef BAD
+
+int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n) { return data_check(d, 1, msg, n); }
+int vi_sim_data_check_between_events(const vi_sim_data *d, char *msg, size_t n) { return data_check(d, 0, msg, n); }
 
 void vi_sim_statistics(const vi_sim *s, vi_solver_stats *st)
 {
