@@ -562,8 +562,8 @@ static int check_memory(const vi_model *M, char *msg, size_t n)
     return 0;
 }
 
-/* The mode is allowed for the law and the memory, and no time-free guard is clearly negative. */
-static int check_mode(const vi_model *M, const double x[2], char *msg, size_t n)
+/* The mode is allowed for the law and the memory, and (surfaces) no time-free guard is clearly negative. */
+static int check_mode(const vi_model *M, const double x[2], int surfaces, char *msg, size_t n)
 {
     int mode = M->mode, ok;
     switch (M->law) {
@@ -577,6 +577,7 @@ static int check_mode(const vi_model *M, const double x[2], char *msg, size_t n)
     }
     if (!ok) BAD("mode = %d is impossible for contact_model %d (moving %d, unloading %d, yielded %d)", mode, M->law,
                  M->moving, M->unloading, M->yielded);
+    if (!surfaces) return 0;
     double d = x[0], tol = VI_CHECK_GUARD_TOL * fmax(fmax(M->J.delta_Y, fabs(d)), fabs(M->U.delta_c));
     double g[2] = {INFINITY, INFINITY};
     switch (mode) {
@@ -597,7 +598,7 @@ static int check_mode(const vi_model *M, const double x[2], char *msg, size_t n)
     return 0;
 }
 
-int vi_model_check(const vi_model *M, const double x[2], char *msg, size_t n)
+static int check(const vi_model *M, const double x[2], int surfaces, char *msg, size_t n)
 {
     if (!isfinite(x[0]) || !isfinite(x[1])) BAD("state (delta %g, v %g) is not finite", x[0], x[1]);
     if (M->law == 0) { /* never set up */
@@ -612,7 +613,13 @@ int vi_model_check(const vi_model *M, const double x[2], char *msg, size_t n)
         BAD("unloading = %d is not paper (1) or continuous (2)", M->unloading);
     if (M->mode < VI_Mode_free || M->mode > VI_Mode_stick) BAD("mode = %d is not in 0..4", M->mode);
     if (check_constants(M, msg, n) < 0 || check_memory(M, msg, n) < 0) return -1;
-    return check_mode(M, x, msg, n);
+    return check_mode(M, x, surfaces, msg, n);
+}
+
+int vi_model_check(const vi_model *M, const double x[2], char *msg, size_t n) { return check(M, x, 1, msg, n); }
+int vi_model_check_between_events(const vi_model *M, const double x[2], char *msg, size_t n)
+{
+    return check(M, x, 0, msg, n);
 }
 #undef BAD
 

@@ -115,7 +115,7 @@ static int attach_profile(vi_sim *s)
 
 /* Warn once per instance and cause when the simulation leaves the model's range of validity
  * (vi_model_validity). */
-static void check_validity(vi_sim *s)
+void vi_sim_check_validity(vi_sim *s)
 {
     char text[400];
     for (int cause; (cause = vi_model_validity(&s->d.M, s->d.par.R1, s->d.t, s->d.x, s->warned_validity, text,
@@ -198,7 +198,7 @@ int vi_sim_initialize(vi_sim *s)
     if (create_solver(s, 0) < 0) return -1;
     char text[400];
     if (vi_model_option_warnings(&d->par, text, sizeof text) > 0) s->log(s->log_env, VI_LOG_WARNING, "%s", text);
-    check_validity(s);
+    vi_sim_check_validity(s);
     static const char *const names[] = {[VI_Solver_bdf] = "CVODE BDF", [VI_Solver_adams] = "CVODE Adams",
                                         [VI_Solver_dop853] = "Dormand-Prince 8(5,3)",
                                         [VI_Solver_auto] = "auto (explicit one-step while not stiff, implicit BDF while stiff)"};
@@ -256,7 +256,7 @@ static void apply_inputs(vi_sim *s)
     }
     arm_guards_at_zero(d);
     s->solver_stale = 1;
-    check_validity(s); /* a new amplitude */
+    vi_sim_check_validity(s); /* a new amplitude */
 }
 
 /* ---- re-arming of guards after events that keep the mode ----------------------------------- */
@@ -339,7 +339,7 @@ static void apply_event(vi_sim *s, int fired)
     d->n_events++;
     s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: guard %d of mode %d, mode %d -> %d, delta = %.9g m, v = %.9g m/s",
            d->t, fired, from, from, d->M.mode, d->x[0], d->x[1]);
-    check_validity(s);
+    vi_sim_check_validity(s);
     if (d->M.mode != from) {
         memset(d->guard_band, 0, sizeof d->guard_band);
         arm_guards_at_zero(d);
@@ -434,7 +434,7 @@ int vi_sim_advance(vi_sim *s, double t_end)
         snprintf(s->msg, sizeof s->msg, "the state is not finite at t = %.17g s", d->t);
         return VI_SIM_ERROR;
     }
-    check_validity(s);
+    vi_sim_check_validity(s);
     if (t_end > limit) return discard(s, "%s", why); /* the end of the profile: nothing beyond it */
     d->t = t_end;
     return VI_SIM_OK;
@@ -483,7 +483,7 @@ void vi_sim_outputs(vi_sim *s, vi_outputs *out)
 
 #define BAD(...) do { snprintf(msg, n, __VA_ARGS__); return -1; } while (0)
 
-int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n)
+static int data_check(const vi_sim_data *d, int surfaces, char *msg, size_t n)
 {
     if (d->inputs_changed != 0 && d->inputs_changed != 1) BAD("inputs_changed = %d is not 0 or 1", d->inputs_changed);
     if (!isfinite(d->t_start)) BAD("t_start = %g is not finite", d->t_start);
@@ -504,9 +504,12 @@ int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n)
     if (d->initialized && d->par.solver == VI_Solver_auto && vi_solver_auto_check(&d->sw, msg, n) < 0) return -1;
     int one_step = d->par.solver == VI_Solver_dop853 || (d->par.solver == VI_Solver_auto && !d->sw.bdf);
     if (d->initialized && one_step && vi_solver_ode_check(&d->ode, 2, VI_NGUARDS, d->t, msg, n) < 0) return -1;
-    return vi_model_check(&d->M, d->x, msg, n);
+    return surfaces ? vi_model_check(&d->M, d->x, msg, n) : vi_model_check_between_events(&d->M, d->x, msg, n);
 }
 #undef BAD
+
+int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n) { return data_check(d, 1, msg, n); }
+int vi_sim_data_check_between_events(const vi_sim_data *d, char *msg, size_t n) { return data_check(d, 0, msg, n); }
 
 void vi_sim_statistics(const vi_sim *s, vi_solver_stats *st)
 {
