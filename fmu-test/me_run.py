@@ -75,7 +75,7 @@ class MeRunner:
         self.md = read_model_description(str(fmu_path))
 
     def run(self, name, t, rtol, solver=None):
-        from compare_reference import INTEGERS, REALS, SCENARIOS, fmu_events
+        from vibroimpact.compare import INTEGERS, REALS, SCENARIOS, fmu_events
         assert solver is None, "the importer integrates: the FMU's solver parameter plays no part"
         r, inst = run_me(self.fmu_path, SCENARIOS[name].full, float(t[-1]), rtol=rtol, output=REALS + INTEGERS,
                          output_interval=float(t[1] - t[0]), unzipdir=self.unzipdir, md=self.md)
