@@ -95,6 +95,10 @@ typedef struct {
     /* Outputs and calculated parameters at the current time into *out (a vi_outputs). In
      * initialization mode the layer calls `prepare` first. */
     void (*outputs)(void *m, void *out);
+    /* Optional (NULL: `outputs`): as `outputs`, but only those among the nvr value references vr[]
+     * need be computed (the others may be stale in *out): a get call passes its own array, so a
+     * model can skip outputs nobody reads. */
+    void (*outputs_of)(void *m, void *out, const unsigned vr[], size_t nvr);
 
     /* ---- simulation ---- */
     /* fmi2SetupExperiment: the arguments are checked (finite start, tolerance in (0, 1),

@@ -333,15 +333,16 @@ static const vi_variable *lookup(vi_core *c, const char *fn, unsigned vr, vi_typ
     return v;
 }
 
-/* Outputs and calculated parameters into c->outputs: computed from the current state (in
- * initialization mode from the initial state the current parameters give). */
-static int current_outputs(vi_core *c, const char *fn)
+/* The outputs and calculated parameters among vr[] into c->outputs: computed from the current state
+ * (in initialization mode from the initial state the current parameters give). */
+static int current_outputs(vi_core *c, const char *fn, const unsigned vr[], size_t nvr)
 {
     if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) {
         LOG_ERROR(c, "%s: %s", fn, MODEL->message(c->model));
         return -1;
     }
-    MODEL->outputs(c->model, c->outputs);
+    if (MODEL->outputs_of) MODEL->outputs_of(c->model, c->outputs, vr, nvr);
+    else MODEL->outputs(c->model, c->outputs);
     return 0;
 }
 
@@ -391,7 +392,7 @@ vi_status vi_core_get(void *instance, const char *fn, const unsigned vr[], size_
             continue;
         }
         if (!p) {
-            if (!have_out && current_outputs(c, fn) < 0) return VI_STATUS_ERROR;
+            if (!have_out && current_outputs(c, fn, vr, nvr) < 0) return VI_STATUS_ERROR;
             have_out = 1;
             p = (const char *)c->outputs + v->offset;
         }

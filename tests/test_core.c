@@ -29,6 +29,9 @@ typedef struct {
     data d;
     vi_fmu_log_fn log;
     void *env;
+    int outputs_calls;       /* calls of outputs_of, and the value references of the last one */
+    unsigned asked[8];
+    size_t n_asked;
 } stub;
 
 static void init(void *m, vi_fmu_log_fn log, void *env)
@@ -42,6 +45,14 @@ static void reset(void *m) { init(m, ((stub *)m)->log, ((stub *)m)->env); }
 static void release(void *m) { (void)m; }
 static void changed(void *m) { (void)m; }
 static void outputs(void *m, void *out) { ((vi_outputs *)out)->y = ((stub *)m)->d.par.k; }
+static void outputs_of(void *m, void *out, const unsigned vr[], size_t nvr)
+{
+    stub *s = m;
+    s->outputs_calls++;
+    s->n_asked = nvr < 8 ? nvr : 8;
+    memcpy(s->asked, vr, s->n_asked * sizeof *vr);
+    outputs(m, out);
+}
 static void setup_experiment(void *m, double t0, int td, double tol) { (void)td, (void)tol, ((stub *)m)->d.t = t0; }
 static int prepare(void *m) { return (void)m, 0; }
 static int advance(void *m, double t_end) { return ((stub *)m)->d.t = t_end, 0; }
@@ -51,7 +62,7 @@ static const char *message(const void *m) { return (void)m, ""; }
 
 const vi_fmu_model vi_fmu_this_model = {
     VI_FMU_TABLE_FIELDS(stub, data), .init = init, .reset = reset, .release = release, .changed = changed,
-    .outputs = outputs, .setup_experiment = setup_experiment, .prepare = prepare, .initialize = prepare,
+    .outputs = outputs, .outputs_of = outputs_of, .setup_experiment = setup_experiment, .prepare = prepare, .initialize = prepare,
     .advance = advance, .time = time_of, .state = state, .message = message,
 };
 
@@ -139,5 +150,24 @@ Test(core, the_model_logging_with_an_unknown_category_reaches_the_importer_as_an
     r.count = 0;
     s->log(s->env, VI_FMU_LOG_WARNING, "fine");
     cr_assert(r.count == 1 && r.status == VI_STATUS_WARNING && strcmp(r.text, "fine") == 0, "%d %s", r.count, r.text);
+    vi_core_free(c, "free");
+}
+
+/* A get call hands the model's outputs_of hook its own value references, once per call, and only
+ * when it reads an output: the model computes what is read (lazy outputs). */
+Test(core, a_get_asks_the_model_for_the_outputs_it_reads)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK && vi_core_exit_init(c, "exit") == VI_STATUS_OK);
+    stub *s = c->model;
+    get_k(c);
+    cr_assert(s->outputs_calls == 0, "a parameter read computed outputs");
+    unsigned vr[3] = {VI_VR_y, VI_VR_k, VI_VR_y};
+    double v[3];
+    cr_assert(vi_core_get(c, "get", vr, 3, VI_Real, v, VI_ELEM_DOUBLE) == VI_STATUS_OK);
+    cr_assert(s->outputs_calls == 1 && s->n_asked == 3 && memcmp(s->asked, vr, sizeof vr) == 0, "%d calls, %zu vrs",
+              s->outputs_calls, s->n_asked);
+    cr_assert(v[0] == 1.0 && v[1] == 1.0 && v[2] == 1.0);
     vi_core_free(c, "free");
 }
