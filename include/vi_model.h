@@ -217,6 +217,24 @@ int vi_model_check_between_events(const vi_model *M, const double x[2], char *ms
 
 /* Derived parameters (E_star ... f_contact) and outputs at (t, x). */
 void vi_model_calculated(const vi_model *M, vi_outputs *out);
-void vi_model_outputs(const vi_model *M, double t, const double x[2], vi_outputs *out);
+/* Groups of outputs computed together: a reader of y needs the platform position (a cosine), not the
+ * force law or the plastic work (a logarithm). The simulation layer adds VI_OUT_MEAN (F_mean) and
+ * VI_OUT_STIFFNESS (k_contact); Model Exchange VI_OUT_DERIVATIVES (der_y, der_v). */
+enum {
+    VI_OUT_STATE = 1u << 0,       /* delta, v, contact, mode, n_impacts: the state as it is */
+    VI_OUT_PLATFORM = 1u << 1,    /* yC and y = yC - delta */
+    VI_OUT_FORCE = 1u << 2,       /* F */
+    VI_OUT_MEMORY = 1u << 3,      /* delta_c, delta_f, delta_p, Rbar, W_plastic */
+    VI_OUT_CALCULATED = 1u << 4,  /* E_star, R_star, F_Y, delta_Y, k_lin, f_contact */
+    VI_OUT_MEAN = 1u << 5,        /* F_mean */
+    VI_OUT_STIFFNESS = 1u << 6,   /* k_contact */
+    VI_OUT_DERIVATIVES = 1u << 7, /* der_y, der_v */
+    VI_OUT_ALL = (1u << 8) - 1u
+};
+/* The group of the variable with value reference vr (0 when it is no output or calculated parameter). */
+unsigned vi_model_output_group(unsigned vr);
+/* The outputs of the groups VI_OUT_STATE ... VI_OUT_CALCULATED named in `groups` at (t, x) into *out;
+ * the other fields of *out are left as they are. */
+void vi_model_outputs(const vi_model *M, double t, const double x[2], unsigned groups, vi_outputs *out);
 
 #endif

@@ -68,7 +68,7 @@ typedef struct {
     vi_sim_data d;
     vi_solver *solver;
     int solver_stale;    /* the state changed outside the solver: restart before the next advance */
-    int out_valid;       /* out holds the outputs at the current d (lazy outputs) */
+    unsigned out_valid;  /* the groups of outputs (VI_OUT_*) out holds at the current d */
     vi_outputs out;
     vi_log_fn log;
     void *log_env;
@@ -103,8 +103,12 @@ int vi_sim_initialize(vi_sim *s);
  *                   names that time and the cause;
  *   VI_SIM_ERROR:   s->msg says why (t_end not beyond s->d.t, solver failure, non-finite state). */
 int vi_sim_advance(vi_sim *s, double t_end);
-/* Outputs and calculated parameters at the current time; computed at most once per state (lazy,
- * cached until the state changes through a vi_sim call). */
+/* The outputs of `groups` (VI_OUT_*, vi_model.h; VI_OUT_DERIVATIVES is Model Exchange's) at the
+ * current time into *out: each group computed when first asked for at the current state (lazy,
+ * cached in s->out until the state changes through a vi_sim call); the fields of other groups in
+ * *out are whatever s->out holds. */
+void vi_sim_outputs_of(vi_sim *s, unsigned groups, vi_outputs *out);
+/* Every output and calculated parameter at the current time. */
 void vi_sim_outputs(vi_sim *s, vi_outputs *out);
 /* Make s->d the complete continuation before it is copied into an FMU state. CVODE:
  * the running solver restarts at (s->d.t, s->d.x), exactly as vi_sim_restore makes a restored copy

@@ -37,6 +37,14 @@ static int set_resources(void *m, const char *dir)
 static void changed(void *m) { ((vi_sim *)m)->d.inputs_changed = 1; }
 static void outputs(void *m, void *out) { vi_me_outputs(m, out); }
 
+/* Only the groups of outputs the get call reads (reading y computes no force and no plastic work). */
+static void outputs_of(void *m, void *out, const unsigned vr[], size_t nvr)
+{
+    unsigned groups = 0;
+    for (size_t i = 0; i < nvr; i++) groups |= vi_model_output_group(vr[i]);
+    vi_me_outputs_of(m, groups, out);
+}
+
 static void setup_experiment(void *m, double start_time, int tolerance_defined, double tolerance)
 {
     vi_sim_data *d = &((vi_sim *)m)->d;
@@ -133,6 +141,7 @@ const vi_fmu_model vi_fmu_this_model = {
     .set_resources = set_resources,
     .changed = changed,
     .outputs = outputs,
+    .outputs_of = outputs_of,
     .setup_experiment = setup_experiment,
     .prepare = prepare,
     .initialize = initialize,

@@ -17,8 +17,8 @@ static void sync(vi_me *e)
 {
     vi_sim_data *d = &e->s.d;
     vi_model *M = &d->M;
+    if (!e->active) return; /* co-simulation: vi_sim keeps its outputs until its state changes */
     e->s.out_valid = 0;
-    if (!e->active) return;
     if (d->in.yC_in != M->yC_in.u || d->in.F_ext != M->F_ext.u || M->yC_in.du != 0.0 || M->F_ext.du != 0.0) {
         double x[2] = {platform(M, d->t) - e->y, d->x[1]};
         vi_model_freeze(M, d->t, x); /* the memory only: the state is the importer's */
@@ -225,16 +225,19 @@ int vi_me_completed_step(vi_me *e)
     return 0;
 }
 
-void vi_me_outputs(vi_me *e, vi_outputs *out)
+void vi_me_outputs_of(vi_me *e, unsigned groups, vi_outputs *out)
 {
     sync(e);
-    vi_sim_outputs(&e->s, out);
+    vi_sim_outputs_of(&e->s, groups, out);
+    if (!(groups & VI_OUT_DERIVATIVES)) return;
     const vi_sim_data *d = &e->s.d;
     double r[2];
     vi_model_rhs(&d->M, d->t, d->x, r);
     out->der_y = d->x[1];
     out->der_v = r[1];
 }
+
+void vi_me_outputs(vi_me *e, vi_outputs *out) { vi_me_outputs_of(e, VI_OUT_ALL, out); }
 
 int vi_me_checkpoint(vi_me *e)
 {

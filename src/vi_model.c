@@ -132,6 +132,15 @@ static void platform(const vi_model *M, double t, double y[4])
 
 double vi_model_platform(const vi_model *M, double t, double *dyC, double *ddyC)
 {
+    if (!dyC && !ddyC) { /* the position only: no sine, no derivatives of the profile */
+        double yC = vi_ramp_at(&M->yC_in, t) + M->a * (cos(vi_model_phase(M, t)) - 1.0);
+        if (M->profile) {
+            double b[4];
+            vi_profile_eval(M->profile, vi_model_rolling_position(M, t), b);
+            yC += b[0];
+        }
+        return yC;
+    }
     double y[4];
     platform(M, t, y);
     if (dyC) *dyC = y[1];
@@ -633,17 +642,37 @@ void vi_model_calculated(const vi_model *M, vi_outputs *out)
     out->f_contact = M->f_contact;
 }
 
-void vi_model_outputs(const vi_model *M, double t, const double x[2], vi_outputs *out)
+unsigned vi_model_output_group(unsigned vr)
+{
+    static const unsigned char group[VI_NVARS] = {
+        [VI_VR_delta] = VI_OUT_STATE, [VI_VR_v] = VI_OUT_STATE, [VI_VR_contact] = VI_OUT_STATE,
+        [VI_VR_mode] = VI_OUT_STATE, [VI_VR_n_impacts] = VI_OUT_STATE, [VI_VR_yC] = VI_OUT_PLATFORM,
+        [VI_VR_y] = VI_OUT_PLATFORM, [VI_VR_F] = VI_OUT_FORCE, [VI_VR_delta_c] = VI_OUT_MEMORY,
+        [VI_VR_delta_f] = VI_OUT_MEMORY, [VI_VR_delta_p] = VI_OUT_MEMORY, [VI_VR_Rbar] = VI_OUT_MEMORY,
+        [VI_VR_W_plastic] = VI_OUT_MEMORY, [VI_VR_E_star] = VI_OUT_CALCULATED, [VI_VR_R_star] = VI_OUT_CALCULATED,
+        [VI_VR_F_Y] = VI_OUT_CALCULATED, [VI_VR_delta_Y] = VI_OUT_CALCULATED, [VI_VR_k_lin] = VI_OUT_CALCULATED,
+        [VI_VR_f_contact] = VI_OUT_CALCULATED, [VI_VR_F_mean] = VI_OUT_MEAN, [VI_VR_k_contact] = VI_OUT_STIFFNESS,
+        [VI_VR_der_y] = VI_OUT_DERIVATIVES, [VI_VR_der_v] = VI_OUT_DERIVATIVES};
+    return vr < VI_NVARS ? group[vr] : 0u;
+}
+
+void vi_model_outputs(const vi_model *M, double t, const double x[2], unsigned groups, vi_outputs *out)
 {
     double d = x[0];
-    out->yC = vi_model_platform(M, t, NULL, NULL);
-    out->F = vi_model_force(M, t, x);
-    out->delta = d;
-    out->y = out->yC - d;
-    out->v = x[1];
-    out->contact = M->mode != VI_Mode_free;
-    out->mode = M->mode;
-    out->n_impacts = (int)M->n_impacts;
+    if (groups & VI_OUT_STATE) {
+        out->delta = d;
+        out->v = x[1];
+        out->contact = M->mode != VI_Mode_free;
+        out->mode = M->mode;
+        out->n_impacts = (int)M->n_impacts;
+    }
+    if (groups & VI_OUT_PLATFORM) {
+        out->yC = vi_model_platform(M, t, NULL, NULL);
+        out->y = out->yC - d;
+    }
+    if (groups & VI_OUT_FORCE) out->F = vi_model_force(M, t, x);
+    if (groups & VI_OUT_CALCULATED) vi_model_calculated(M, out);
+    if (!(groups & VI_OUT_MEMORY)) return;
     out->delta_c = out->delta_f = out->delta_p = out->W_plastic = 0.0;
     out->Rbar = M->J.R_star;
     if (is_johnson_fixed(M) && M->yielded) {

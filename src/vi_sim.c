@@ -457,27 +457,29 @@ static double contact_stiffness(const vi_model *M, double t, const double x[2])
 /* The contact force averaged over the last step [t0, t]: the impulse over the step divided by it,
  * from the momentum balance m v' = F - W(t), W = P + m g - F_ext(t) (F_ext linear over the step, so
  * its mean is its midpoint value). Before any step: the force itself. */
-static double mean_force(const vi_sim_data *d, double F)
+static double mean_force(const vi_sim_data *d)
 {
     const vi_model *M = &d->M;
     double h = d->t - d->step_t0;
-    if (!(h > 0.0)) return F;
+    if (!(h > 0.0)) return vi_model_force(M, d->t, d->x);
     double W_mean = M->W0 - vi_ramp_at(&M->F_ext, d->step_t0 + 0.5 * h);
     return M->m * (d->x[1] - d->step_v0) / h + W_mean;
 }
 
-void vi_sim_outputs(vi_sim *s, vi_outputs *out)
+void vi_sim_outputs_of(vi_sim *s, unsigned groups, vi_outputs *out)
 {
-    if (!s->out_valid) {
+    unsigned need = groups & (VI_OUT_ALL & ~VI_OUT_DERIVATIVES) & ~s->out_valid;
+    if (need) {
         const vi_sim_data *d = &s->d;
-        vi_model_calculated(&d->M, &s->out);
-        vi_model_outputs(&d->M, d->t, d->x, &s->out);
-        s->out.F_mean = mean_force(d, s->out.F);
-        s->out.k_contact = contact_stiffness(&d->M, d->t, d->x);
-        s->out_valid = 1;
+        vi_model_outputs(&d->M, d->t, d->x, need, &s->out);
+        if (need & VI_OUT_MEAN) s->out.F_mean = mean_force(d);
+        if (need & VI_OUT_STIFFNESS) s->out.k_contact = contact_stiffness(&d->M, d->t, d->x);
+        s->out_valid |= need;
     }
     *out = s->out;
 }
+
+void vi_sim_outputs(vi_sim *s, vi_outputs *out) { vi_sim_outputs_of(s, VI_OUT_ALL, out); }
 
 /* ---- validity of a state payload (doc/model.md section 7.6) --------------------------------- */
 

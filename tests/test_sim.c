@@ -366,3 +366,46 @@ Test(solver, auto_needs_two_states_a_jacobian_and_its_choice)
     bad = ok, bad.sw = NULL;
     cr_assert(vi_solver_create(&bad, 0.0, x0) == NULL);
 }
+
+/* ---- lazy outputs ------------------------------------------------------------------------------- */
+
+/* Reading a group of outputs computes that group only: y (the platform group) leaves the force, the
+ * plastic work and the rest untouched; every group read alone equals the same group read with all
+ * the others; a step makes every group new. (Johnson, yielded: W_plastic takes a logarithm.) */
+Test(sim, outputs_are_computed_per_group_when_read)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.a = 1e-4;
+    s.d.par.Y = 2e8; /* yields at the first impact */
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    cr_assert(vi_sim_advance(&s, 2e-3) == VI_SIM_OK, "%s", s.msg);
+    vi_outputs part, all;
+    s.out.W_plastic = s.out.F = s.out.F_mean = s.out.k_contact = s.out.E_star = -12345.0;
+    vi_sim_outputs_of(&s, VI_OUT_PLATFORM, &part);
+    cr_assert(s.out_valid == VI_OUT_PLATFORM, "groups computed: %#x", s.out_valid);
+    cr_assert(part.W_plastic == -12345.0 && part.F == -12345.0 && part.F_mean == -12345.0 &&
+              part.k_contact == -12345.0 && part.E_star == -12345.0, "a group nobody read was computed");
+    unsigned groups[] = {VI_OUT_STATE, VI_OUT_FORCE, VI_OUT_MEMORY, VI_OUT_CALCULATED, VI_OUT_MEAN, VI_OUT_STIFFNESS};
+    for (int step = 0; step < 2; step++) {
+        vi_outputs one[6];
+        for (int i = 0; i < 6; i++) {
+            s.out_valid = 0;
+            vi_sim_outputs_of(&s, groups[i], &one[i]);
+        }
+        s.out_valid = 0;
+        vi_sim_outputs(&s, &all);
+        cr_assert(all.W_plastic > 0.0 && all.delta_c > 0.0, "no plastic memory: %g", all.W_plastic);
+        cr_assert(one[0].delta == all.delta && one[0].v == all.v && one[0].mode == all.mode && one[0].n_impacts == all.n_impacts);
+        cr_assert(one[1].F == all.F && one[2].W_plastic == all.W_plastic && one[2].Rbar == all.Rbar &&
+                  one[3].E_star == all.E_star && one[4].F_mean == all.F_mean && one[5].k_contact == all.k_contact);
+        cr_assert(part.y == all.y && part.yC == all.yC, "y read alone %g, with all %g", part.y, all.y);
+        double W_before = all.W_plastic, y_before = all.y;
+        cr_assert(vi_sim_advance(&s, 4e-3 + 2e-3 * step) == VI_SIM_OK, "%s", s.msg);
+        cr_assert(s.out_valid == 0, "outputs kept over a step: %#x", s.out_valid);
+        vi_sim_outputs_of(&s, VI_OUT_PLATFORM | VI_OUT_MEMORY, &part);
+        cr_assert(part.y != y_before && part.W_plastic >= W_before, "y %g -> %g, W %g -> %g", y_before, part.y, W_before,
+                  part.W_plastic);
+    }
+    vi_sim_free(&s);
+}
