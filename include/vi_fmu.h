@@ -95,10 +95,11 @@ typedef struct {
     /* Outputs and calculated parameters at the current time into *out (a vi_outputs). In
      * initialization mode the layer calls `prepare` first. */
     void (*outputs)(void *m, void *out);
-    /* Optional (NULL: `outputs`): as `outputs`, but only those among the nvr value references vr[]
-     * need be computed (the others may be stale in *out): a get call passes its own array, so a
-     * model can skip outputs nobody reads. */
-    void (*outputs_of)(void *m, void *out, const unsigned vr[], size_t nvr);
+    /* Optional (NULL: `outputs`): where the outputs and calculated parameters at the current time
+     * are (a vi_outputs inside the model, read before the next call into the model), of which only
+     * those among the nvr value references vr[] need be up to date: a get call passes its own
+     * array, so a model computes what is read and nothing is copied. */
+    const void *(*outputs_of)(void *m, const unsigned vr[], size_t nvr);
 
     /* ---- simulation ---- */
     /* fmi2SetupExperiment: the arguments are checked (finite start, tolerance in (0, 1),

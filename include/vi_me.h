@@ -73,8 +73,8 @@ int vi_me_completed_step(vi_me *e);
 /* Outputs at the current time, states and inputs (der_y and der_v included); the mean force is
  * the one since the last event or completed step. */
 void vi_me_outputs(vi_me *e, vi_outputs *out);
-/* The outputs of `groups` only (VI_OUT_*, vi_model.h), as vi_sim_outputs_of. */
-void vi_me_outputs_of(vi_me *e, unsigned groups, vi_outputs *out);
+/* The outputs of `groups` only (VI_OUT_*, vi_model.h, der_y and der_v too), as vi_sim_outputs_of. */
+const vi_outputs *vi_me_outputs_of(vi_me *e, unsigned groups);
 /* Make s.d hold the current (t, delta, v) and memory before it is copied (FMU state), and take y
  * back from a restored s.d (`running`: a state taken after initialization, into an instance of
  * Model Exchange). 0 or -1 (s.msg). */

@@ -183,6 +183,9 @@ void vi_model_scales(const vi_model *M, const double x0[2], double *L, double *V
 #define VI_VALIDITY_RADIUS 0.1
 enum { VI_INVALID_INDENTATION = 1, VI_INVALID_AMPLITUDE = 2, VI_INVALID_PROFILE = 4 };
 int vi_model_validity(const vi_model *M, double R1, double t, const double x[2], int skip, char *msg, size_t n);
+/* The one cause that depends on the state alone: is the indentation beyond its limit at x? (The
+ * other two change only with a and the profile.) */
+int vi_model_indentation_invalid(const vi_model *M, const double x[2]);
 
 /* Options that contradict each other or are ignored: moving_contact, continuous
  * unloading or the printed yield formula where the law does not use them, v0 with a static start,
@@ -231,8 +234,8 @@ enum {
     VI_OUT_DERIVATIVES = 1u << 7, /* der_y, der_v */
     VI_OUT_ALL = (1u << 8) - 1u
 };
-/* The group of the variable with value reference vr (0 when it is no output or calculated parameter). */
-unsigned vi_model_output_group(unsigned vr);
+/* The group of each variable by value reference (0 when it is no output or calculated parameter). */
+extern const unsigned char vi_model_output_groups[VI_NVARS];
 /* The outputs of the groups VI_OUT_STATE ... VI_OUT_CALCULATED named in `groups` at (t, x) into *out;
  * the other fields of *out are left as they are. */
 void vi_model_outputs(const vi_model *M, double t, const double x[2], unsigned groups, vi_outputs *out);

@@ -73,6 +73,7 @@ typedef struct {
     vi_log_fn log;
     void *log_env;
     int warned_validity; /* VI_INVALID_* bits: the causes warned of (once each; not part of the FMU state) */
+    int validity_unchecked; /* a state was restored: check every cause at the next communication point */
     /* Rolling: the profile the model points to (owned here, outside the FMU state), the file it came
      * from with the radius and periodicity it was built for, and the FMU's resources folder. */
     vi_profile *profile;
@@ -104,10 +105,9 @@ int vi_sim_initialize(vi_sim *s);
  *   VI_SIM_ERROR:   s->msg says why (t_end not beyond s->d.t, solver failure, non-finite state). */
 int vi_sim_advance(vi_sim *s, double t_end);
 /* The outputs of `groups` (VI_OUT_*, vi_model.h; VI_OUT_DERIVATIVES is Model Exchange's) at the
- * current time into *out: each group computed when first asked for at the current state (lazy,
- * cached in s->out until the state changes through a vi_sim call); the fields of other groups in
- * *out are whatever s->out holds. */
-void vi_sim_outputs_of(vi_sim *s, unsigned groups, vi_outputs *out);
+ * current time: s->out, where each group is computed when first asked for at the current state
+ * (lazy, cached until the state changes through a vi_sim call); other groups may be stale there. */
+const vi_outputs *vi_sim_outputs_of(vi_sim *s, unsigned groups);
 /* Every output and calculated parameter at the current time. */
 void vi_sim_outputs(vi_sim *s, vi_outputs *out);
 /* Make s->d the complete continuation before it is copied into an FMU state. CVODE:

@@ -333,17 +333,18 @@ static const vi_variable *lookup(vi_core *c, const char *fn, unsigned vr, vi_typ
     return v;
 }
 
-/* The outputs and calculated parameters among vr[] into c->outputs: computed from the current state
- * (in initialization mode from the initial state the current parameters give). */
-static int current_outputs(vi_core *c, const char *fn, const unsigned vr[], size_t nvr)
+/* Where the outputs and calculated parameters among vr[] are, computed from the current state (in
+ * initialization mode from the initial state the current parameters give): the model's own, or
+ * c->outputs; NULL (logged) when preparing failed. */
+static const void *current_outputs(vi_core *c, const char *fn, const unsigned vr[], size_t nvr)
 {
     if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) {
         LOG_ERROR(c, "%s: %s", fn, MODEL->message(c->model));
-        return -1;
+        return NULL;
     }
-    if (MODEL->outputs_of) MODEL->outputs_of(c->model, c->outputs, vr, nvr);
-    else MODEL->outputs(c->model, c->outputs);
-    return 0;
+    if (MODEL->outputs_of) return MODEL->outputs_of(c->model, vr, nvr);
+    MODEL->outputs(c->model, c->outputs);
+    return c->outputs;
 }
 
 /* Element i of a face's array as a double, or as an int; stored into one. */
@@ -382,7 +383,7 @@ vi_status vi_core_get(void *instance, const char *fn, const unsigned vr[], size_
 {
     ENTER(VI_CALL_GET);
     if (nvr > 0 && (!vr || !values)) return vi_core_refuse(c, "%s: NULL array", fn);
-    int have_out = 0;
+    const void *outs = NULL;
     for (size_t i = 0; i < nvr; i++) {
         const vi_variable *v = lookup(c, fn, vr[i], api);
         if (!v) return VI_STATUS_ERROR;
@@ -392,9 +393,8 @@ vi_status vi_core_get(void *instance, const char *fn, const unsigned vr[], size_
             continue;
         }
         if (!p) {
-            if (!have_out && current_outputs(c, fn, vr, nvr) < 0) return VI_STATUS_ERROR;
-            have_out = 1;
-            p = (const char *)c->outputs + v->offset;
+            if (!outs && !(outs = current_outputs(c, fn, vr, nvr))) return VI_STATUS_ERROR;
+            p = (const char *)outs + v->offset;
         }
         if (api == VI_Real) elem_store(values, elem, i, *(const double *)p, 0);
         else elem_store(values, elem, i, 0.0, *(const int *)p);
@@ -782,7 +782,7 @@ vi_status vi_core_do_step(void *instance, const char *fn, double tc, double h)
 {
     ENTER(VI_CALL_DO_STEP);
     double t = MODEL->time(c->model);
-    double unit = DBL_EPSILON * fmax(1.0, fabs(t)); /* the resolution of time here, at least that at 1 s */
+    double unit = DBL_EPSILON * (fabs(t) > 1.0 ? fabs(t) : 1.0); /* the resolution of time here, at least that at 1 s */
     double t_end = tc + h;
     /* Refused arguments leave the instance as it was (fmi2Error from fmi2DoStep: "the step could
      * not be carried out at all"; the master may try another step). */

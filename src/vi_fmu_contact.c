@@ -38,11 +38,13 @@ static void changed(void *m) { ((vi_sim *)m)->d.inputs_changed = 1; }
 static void outputs(void *m, void *out) { vi_me_outputs(m, out); }
 
 /* Only the groups of outputs the get call reads (reading y computes no force and no plastic work). */
-static void outputs_of(void *m, void *out, const unsigned vr[], size_t nvr)
+static const void *outputs_of(void *m, const unsigned vr[], size_t nvr)
 {
     unsigned groups = 0;
-    for (size_t i = 0; i < nvr; i++) groups |= vi_model_output_group(vr[i]);
-    vi_me_outputs_of(m, groups, out);
+    for (size_t i = 0; i < nvr; i++) groups |= vr[i] < VI_NVARS ? vi_model_output_groups[vr[i]] : 0u;
+    vi_me *e = m;
+    if (!e->active && !(groups & VI_OUT_DERIVATIVES)) return vi_sim_outputs_of(&e->s, groups); /* co-simulation */
+    return vi_me_outputs_of(e, groups);
 }
 
 static void setup_experiment(void *m, double start_time, int tolerance_defined, double tolerance)

@@ -450,10 +450,21 @@ void vi_model_scales(const vi_model *M, const double x0[2], double *L, double *V
 
 /* ---- validity ------------------------------------------------------------------------------ */
 
+/* The indentation the range of validity looks at: delta in contact, or the largest one delta_c. */
+static double validity_indentation(const vi_model *M, const double x[2])
+{
+    double d = M->mode == VI_Mode_free ? 0.0 : x[0], dc = M->yielded ? M->U.delta_c : 0.0;
+    return dc > d || d != d ? dc : d; /* fmax */
+}
+
+int vi_model_indentation_invalid(const vi_model *M, const double x[2])
+{
+    return validity_indentation(M, x) > VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * M->J.R_star;
+}
+
 int vi_model_validity(const vi_model *M, double R1, double t, const double x[2], int skip, char *msg, size_t n)
 {
-    double R = M->J.R_star, limit = VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * R;
-    double d = fmax(M->mode == VI_Mode_free ? 0.0 : x[0], M->yielded ? M->U.delta_c : 0.0);
+    double R = M->J.R_star, limit = VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * R, d = validity_indentation(M, x);
     if (!(skip & VI_INVALID_INDENTATION) && d > limit) {
         snprintf(msg, n, "t = %.17g s: the indentation %g m exceeds %g R* = %g m (contact radius sqrt(R* delta) = %g m "
                  "> %g R*): the contact laws (paper eqs. 2-4) assume a contact radius small against R*, so the "
@@ -642,19 +653,15 @@ void vi_model_calculated(const vi_model *M, vi_outputs *out)
     out->f_contact = M->f_contact;
 }
 
-unsigned vi_model_output_group(unsigned vr)
-{
-    static const unsigned char group[VI_NVARS] = {
-        [VI_VR_delta] = VI_OUT_STATE, [VI_VR_v] = VI_OUT_STATE, [VI_VR_contact] = VI_OUT_STATE,
-        [VI_VR_mode] = VI_OUT_STATE, [VI_VR_n_impacts] = VI_OUT_STATE, [VI_VR_yC] = VI_OUT_PLATFORM,
-        [VI_VR_y] = VI_OUT_PLATFORM, [VI_VR_F] = VI_OUT_FORCE, [VI_VR_delta_c] = VI_OUT_MEMORY,
-        [VI_VR_delta_f] = VI_OUT_MEMORY, [VI_VR_delta_p] = VI_OUT_MEMORY, [VI_VR_Rbar] = VI_OUT_MEMORY,
-        [VI_VR_W_plastic] = VI_OUT_MEMORY, [VI_VR_E_star] = VI_OUT_CALCULATED, [VI_VR_R_star] = VI_OUT_CALCULATED,
-        [VI_VR_F_Y] = VI_OUT_CALCULATED, [VI_VR_delta_Y] = VI_OUT_CALCULATED, [VI_VR_k_lin] = VI_OUT_CALCULATED,
-        [VI_VR_f_contact] = VI_OUT_CALCULATED, [VI_VR_F_mean] = VI_OUT_MEAN, [VI_VR_k_contact] = VI_OUT_STIFFNESS,
-        [VI_VR_der_y] = VI_OUT_DERIVATIVES, [VI_VR_der_v] = VI_OUT_DERIVATIVES};
-    return vr < VI_NVARS ? group[vr] : 0u;
-}
+const unsigned char vi_model_output_groups[VI_NVARS] = {
+    [VI_VR_delta] = VI_OUT_STATE, [VI_VR_v] = VI_OUT_STATE, [VI_VR_contact] = VI_OUT_STATE,
+    [VI_VR_mode] = VI_OUT_STATE, [VI_VR_n_impacts] = VI_OUT_STATE, [VI_VR_yC] = VI_OUT_PLATFORM,
+    [VI_VR_y] = VI_OUT_PLATFORM, [VI_VR_F] = VI_OUT_FORCE, [VI_VR_delta_c] = VI_OUT_MEMORY,
+    [VI_VR_delta_f] = VI_OUT_MEMORY, [VI_VR_delta_p] = VI_OUT_MEMORY, [VI_VR_Rbar] = VI_OUT_MEMORY,
+    [VI_VR_W_plastic] = VI_OUT_MEMORY, [VI_VR_E_star] = VI_OUT_CALCULATED, [VI_VR_R_star] = VI_OUT_CALCULATED,
+    [VI_VR_F_Y] = VI_OUT_CALCULATED, [VI_VR_delta_Y] = VI_OUT_CALCULATED, [VI_VR_k_lin] = VI_OUT_CALCULATED,
+    [VI_VR_f_contact] = VI_OUT_CALCULATED, [VI_VR_F_mean] = VI_OUT_MEAN, [VI_VR_k_contact] = VI_OUT_STIFFNESS,
+    [VI_VR_der_y] = VI_OUT_DERIVATIVES, [VI_VR_der_v] = VI_OUT_DERIVATIVES};
 
 void vi_model_outputs(const vi_model *M, double t, const double x[2], unsigned groups, vi_outputs *out)
 {

@@ -118,6 +118,7 @@ static int attach_profile(vi_sim *s)
 void vi_sim_check_validity(vi_sim *s)
 {
     char text[400];
+    s->validity_unchecked = 0;
     for (int cause; (cause = vi_model_validity(&s->d.M, s->d.par.R1, s->d.t, s->d.x, s->warned_validity, text,
                                                sizeof text)) != 0;) { /* bounded: one more bit each time */
         s->warned_validity |= cause;
@@ -221,6 +222,7 @@ int vi_sim_checkpoint(vi_sim *s)
 int vi_sim_restore(vi_sim *s)
 {
     s->out_valid = 0;
+    s->validity_unchecked = 1;
     if (!s->d.initialized) { /* a state from before initialization: no solver until then */
         vi_solver_free(s->solver);
         s->solver = NULL;
@@ -390,12 +392,14 @@ int vi_sim_advance(vi_sim *s, double t_end)
     int zeno = 0;
     int fired[VI_SOLVER_MAX_GUARDS];
     char why[400]; /* rolling: a non-periodic profile ends at `limit` */
-    double limit = vi_model_rolling_limit(&d->M, why, sizeof why), target = fmin(t_end, limit);
+    double limit = d->M.profile ? vi_model_rolling_limit(&d->M, why, sizeof why) : INFINITY;
+    double target = limit < t_end ? limit : t_end;
     /* bounded: every pass is an event (bounded below) or a kink of the profile (finitely many in the
      * distance |V| (t_end - t) rolled) */
     while (d->t < target) {
         long taken = 0;
-        double t_before = d->t, bp = vi_model_next_breakpoint(&d->M, d->t), stop = fmin(target, bp);
+        double t_before = d->t, bp = d->M.profile ? vi_model_next_breakpoint(&d->M, d->t) : INFINITY;
+        double stop = bp < target ? bp : target;
         int rc = VI_SOLVER_REACHED;
         if ((stop == bp || kinks) && stop - d->t <= VI_BREAKPOINT_ULPS * DBL_EPSILON * fabs(stop)) {
             d->t = stop; /* a kink, or the end after one, within rounding of now: too close for the solver */
@@ -434,7 +438,11 @@ int vi_sim_advance(vi_sim *s, double t_end)
         snprintf(s->msg, sizeof s->msg, "the state is not finite at t = %.17g s", d->t);
         return VI_SIM_ERROR;
     }
-    vi_sim_check_validity(s);
+    /* at a communication point only the indentation can newly leave the range (a changes in
+     * apply_inputs, which checks; the profile is fixed), unless a state was restored since */
+    if (s->validity_unchecked ||
+        (!(s->warned_validity & VI_INVALID_INDENTATION) && vi_model_indentation_invalid(&d->M, d->x)))
+        vi_sim_check_validity(s);
     if (t_end > limit) return discard(s, "%s", why); /* the end of the profile: nothing beyond it */
     d->t = t_end;
     return VI_SIM_OK;
@@ -466,7 +474,7 @@ static double mean_force(const vi_sim_data *d)
     return M->m * (d->x[1] - d->step_v0) / h + W_mean;
 }
 
-void vi_sim_outputs_of(vi_sim *s, unsigned groups, vi_outputs *out)
+const vi_outputs *vi_sim_outputs_of(vi_sim *s, unsigned groups)
 {
     unsigned need = groups & (VI_OUT_ALL & ~VI_OUT_DERIVATIVES) & ~s->out_valid;
     if (need) {
@@ -476,10 +484,10 @@ void vi_sim_outputs_of(vi_sim *s, unsigned groups, vi_outputs *out)
         if (need & VI_OUT_STIFFNESS) s->out.k_contact = contact_stiffness(&d->M, d->t, d->x);
         s->out_valid |= need;
     }
-    *out = s->out;
+    return &s->out;
 }
 
-void vi_sim_outputs(vi_sim *s, vi_outputs *out) { vi_sim_outputs_of(s, VI_OUT_ALL, out); }
+void vi_sim_outputs(vi_sim *s, vi_outputs *out) { *out = *vi_sim_outputs_of(s, VI_OUT_ALL); }
 
 /* ---- validity of a state payload (doc/model.md section 7.6) --------------------------------- */
 
