@@ -1,11 +1,12 @@
 /* bench_driver - runs the FMU binary directly (dlopen, no Python in the loop) for `vibroimpact bench`.
  *
  *   vi_bench_driver FMU.so GUID T_STOP H REPEATS TOL --vrs Y,V,F,DELTA,MODE,N_IMPACTS [--out FILE]
- *                   [--reads VR,VR,...] [--checkpoint] [vr=value ...]
+ *                   [--reads VR,VR,...] [--checkpoint] [--budget S] [vr=value ...]
  *
  * --vrs: the value references of y, v, F, delta (Reals), mode and n_impacts (Integers)
  * (vibroimpact/bench.py reads them from modelDescription.xml). --reads: the Real outputs read after every
- * step (default: y). --checkpoint: fmi2GetFMUstate before every step (a master ready to roll back).
+ * step (default: y; "--reads ''" reads nothing). --checkpoint: fmi2GetFMUstate before every step (a
+ * master ready to roll back). --budget S: no further repeat once the runs have taken S s of CPU.
  * vr=value sets a start value before initialization: "r12=6e8" (Real), "i13=2" (Integer or
  * enumeration), "b14=1" (Boolean), "s46=/path/profile.txt" (String). TOL > 0 goes to fmi2SetupExperiment (0: the FMU's rtol counts).
  * The run: instantiate, set up, initialize, then fmi2DoStep with communication step H up to T_STOP,
@@ -86,6 +87,7 @@ int main(int argc, char **argv)
     const char *guid = argv[2], *out_path = NULL;
     double t_stop = atof(argv[3]), h = atof(argv[4]), tol = atof(argv[6]);
     int repeats = atoi(argv[5]), nreads = -1, nvrs = 0, nsets = 0, checkpoint = 0;
+    double budget = INFINITY, spent = 0.0;
     fmi2ValueReference vrs[6], reads[MAX_READS];
     char set_type[MAX_SETS];
     fmi2ValueReference set_vr[MAX_SETS];
@@ -96,6 +98,7 @@ int main(int argc, char **argv)
         else if (!strcmp(argv[i], "--reads") && i + 1 < argc) nreads = parse_vrs(argv[++i], reads, MAX_READS);
         else if (!strcmp(argv[i], "--vrs") && i + 1 < argc) nvrs = parse_vrs(argv[++i], vrs, 6);
         else if (!strcmp(argv[i], "--checkpoint")) checkpoint = 1;
+        else if (!strcmp(argv[i], "--budget") && i + 1 < argc) budget = atof(argv[++i]);
         else if (nsets < MAX_SETS && argv[i][0] == 's' && sscanf(argv[i], "s%u=", &set_vr[nsets]) == 1 && strchr(argv[i], '='))
             set_type[nsets] = 's', set_text[nsets] = strchr(argv[i], '=') + 1, nsets++;
         else if (nsets < MAX_SETS && sscanf(argv[i], "%c%u=%lf", &set_type[nsets], &set_vr[nsets], &set_value[nsets]) == 3)
@@ -116,7 +119,7 @@ int main(int argc, char **argv)
     long heap = 0;
     fmi2Integer impacts = 0;
     double discard_at = NAN; /* fmi2LastSuccessfulTime after an fmi2Discard (the work bound) */
-    for (int rep = 0; rep < repeats; rep++) {
+    for (int rep = 0; rep < repeats && spent < budget; rep++) {
         FILE *out = rep == 0 && out_path ? fopen(out_path, "wb") : NULL;
         size_t heap0 = mallinfo2().uordblks;
         double c0 = cpu_now();
@@ -155,7 +158,7 @@ int main(int argc, char **argv)
                 fprintf(stderr, "fmi2DoStep at t = %.17g returned %d\n", k * h, (int)st);
                 return 1;
             }
-            GetReal(c, reads, (size_t)nreads, r);
+            if (nreads > 0) GetReal(c, reads, (size_t)nreads, r);
             if (out) {
                 GetReal(c, vrs, 4, r);
                 GetInteger(c, &vrs[4], 1, &mode);
@@ -171,6 +174,7 @@ int main(int argc, char **argv)
         double c1 = cpu_now();
         if (out) fclose(out);
         if (c1 - c0 < best) best = c1 - c0;
+        spent += c1 - c0;
         if (l1 - l0 < best_loop) best_loop = l1 - l0;
     }
     printf("cpu_s %.9g step_us %.6g init_s %.9g heap_bytes %ld steps %ld impacts %d rhs %ld discard_at %.17g\n", best,
