@@ -43,7 +43,7 @@ def test_every_parameter_with_a_valid_range_declares_it(model_description):
     for name in ("nu1", "nu2"):
         assert bounds(name) == (math.nextafter(-1.0, 0.0), 0.5), name
     assert bounds("rtol") == (1e-14, 1e-2)
-    assert bounds("contact_model") == (1, 3) and bounds("solver") == (1, 3) and bounds("init") == (1, 2)
+    assert bounds("contact_model") == (1, 3) and bounds("solver") == (1, 4) and bounds("init") == (1, 2)
     for name in ("P", "g", "v0", "a", "V", "x0", "yC_in", "F_ext"):
         assert bounds(name) == (None, None), name
     for v in ranged(model_description):  # the start values lie inside
@@ -91,7 +91,7 @@ def test_every_declared_bound_is_refused_just_outside_and_accepted_at_the_bound(
     ("rtol", 0.5, ["rtol = 0.5", "1e-14 <= rtol <= 0.01"]),
     ("max_step", -1e-3, ["max_step = -0.001", "max_step >= 0", "at least 1e-12"]),
     ("contact_model", 7, ["contact_model = 7", "hertz=1, johnson=2, lepp=3"]),
-    ("solver", 0, ["solver = 0", "bdf=1, adams=2, dop853=3"]),
+    ("solver", 0, ["solver = 0", "bdf=1, adams=2, dop853=3, auto=4"]),
 ])
 def test_the_message_names_the_variable_the_value_and_the_range(logged, vr, name, value, words):
     inst = logged()
