@@ -116,6 +116,9 @@ void vi_sim_outputs(vi_sim *s, vi_outputs *out);
 int vi_sim_checkpoint(vi_sim *s);
 /* Start the solver from s->d after it was overwritten by a saved state (any FMI state). 0 or -1. */
 int vi_sim_restore(vi_sim *s);
+/* As vi_sim_restore for a state of Model Exchange, where the importer integrates: no solver is made
+ * (and the solver's continuation in s->d is neither used nor checked). */
+int vi_sim_restore_without_solver(vi_sim *s);
 void vi_sim_statistics(const vi_sim *s, vi_solver_stats *st);
 /* Warn (once per cause and instance) when the contact leaves the model's range of validity at the
  * current state (vi_model_validity). */
@@ -129,7 +132,8 @@ int vi_sim_zeno_count(int count, double t_before, double t);
  * in range) and then the model's part (vi_model_check). 0 when valid, else -1 with the first bad
  * field named in msg. No pointer in d is followed (the model's profile pointer is not). */
 int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n);
-/* The same with vi_model_check_between_events: the state of an outside integrator (Model Exchange). */
+/* The same with vi_model_check_between_events and without the solver's continuation (ode, sw): the
+ * state of an outside integrator (Model Exchange). */
 int vi_sim_data_check_between_events(const vi_sim_data *d, char *msg, size_t n);
 
 #endif

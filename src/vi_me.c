@@ -254,7 +254,7 @@ int vi_me_checkpoint(vi_me *e)
 
 int vi_me_restore(vi_me *e, int running)
 {
-    if (vi_sim_restore(&e->s) < 0) return -1;
+    if ((running ? vi_sim_restore_without_solver(&e->s) : vi_sim_restore(&e->s)) < 0) return -1;
     e->active = running;
     e->zeno = 0;
     if (e->active) e->y = platform(&e->s.d.M, e->s.d.t) - e->s.d.x[0];

@@ -219,18 +219,21 @@ int vi_sim_checkpoint(vi_sim *s)
     return 0;
 }
 
-int vi_sim_restore(vi_sim *s)
+static int restore(vi_sim *s, int with_solver)
 {
     s->out_valid = 0;
     s->validity_unchecked = 1;
-    if (!s->d.initialized) { /* a state from before initialization: no solver until then */
+    if (!s->d.initialized || !with_solver) { /* before initialization (no solver until then), or Model Exchange */
         vi_solver_free(s->solver);
         s->solver = NULL;
-        return 0;
+        if (!s->d.initialized) return 0;
     }
     if (attach_profile(s) < 0) return -1; /* the restored model's profile pointer is replaced by ours */
-    return create_solver(s, 1);
+    return with_solver ? create_solver(s, 1) : 0;
 }
+
+int vi_sim_restore(vi_sim *s) { return restore(s, 1); }
+int vi_sim_restore_without_solver(vi_sim *s) { return restore(s, 0); }
 
 /* New input values (and tunable a, f) take effect at time t: the platform may jump (the mass does
  * not), the force may step; the mode is then chosen afresh from the new state. An input that
@@ -511,9 +514,11 @@ static int data_check(const vi_sim_data *d, int surfaces, char *msg, size_t n)
     for (int i = 0; i < VI_NGUARDS; i++)
         if (!(d->guard_band[i] >= 0.0 && isfinite(d->guard_band[i])))
             BAD("guard_band[%d] = %g is not finite and >= 0", i, d->guard_band[i]);
-    if (d->initialized && d->par.solver == VI_Solver_auto && vi_solver_auto_check(&d->sw, msg, n) < 0) return -1;
+    /* the solver's continuation (co-simulation; Model Exchange states, between events, have none in use) */
+    int solver = d->initialized && surfaces;
+    if (solver && d->par.solver == VI_Solver_auto && vi_solver_auto_check(&d->sw, msg, n) < 0) return -1;
     int one_step = d->par.solver == VI_Solver_dop853 || (d->par.solver == VI_Solver_auto && !d->sw.bdf);
-    if (d->initialized && one_step && vi_solver_ode_check(&d->ode, 2, VI_NGUARDS, d->t, msg, n) < 0) return -1;
+    if (solver && one_step && vi_solver_ode_check(&d->ode, 2, VI_NGUARDS, d->t, msg, n) < 0) return -1;
     return surfaces ? vi_model_check(&d->M, d->x, msg, n) : vi_model_check_between_events(&d->M, d->x, msg, n);
 }
 #undef BAD
