@@ -478,8 +478,8 @@ def per_call_floor(out, fmu, results, repeat):
     out("| part | dop853 | bdf |")
     out("|---|---|---|")
     for label in list(parts["dop853"]):
-        out(f"| {label} | {parts['dop853'][label]:.0f} | {parts['bdf'][label]:.0f} |")
-    out(f"| total | {sum(parts['dop853'].values()):.0f} | {sum(parts['bdf'].values()):.0f} |\n")
+        out(f"| {label} | {round(parts['dop853'][label])} | {round(parts['bdf'][label])} |")
+    out(f"| total | {round(sum(parts['dop853'].values()))} | {round(sum(parts['bdf'].values()))} |\n")
 
 
 def importer_share(out, fmu, results, repeat):
