@@ -77,18 +77,6 @@ def test_amplitude_change_moves_the_platform_at_once(fmu):
     assert d == pytest.approx(yC - y, abs=1e-16) and abs(d - d_before) > 1e-5
 
 
-def test_negative_frequency_refused_at_the_step(fmu):
-    md, unzipdir, vr = fmu
-    inst = Logged(md, unzipdir)
-    s = inst.instantiate()
-    start(s, vr, dict(FLYING, a=1e-4))
-    s.doStep(0.0, 1e-3)
-    s.setReal([vr["f"]], [-5.0])
-    with pytest.raises(Exception):
-        s.doStep(1e-3, 1e-3)
-    assert "f = -5 Hz" in inst.text()
-
-
 def test_fixed_parameters_stay_fixed(fmu):
     md, unzipdir, vr = fmu
     s = Logged(md, unzipdir).instantiate()

@@ -8,10 +8,12 @@
 #include "vi_fmi_core.h"
 
 #include <float.h>
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdbool.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define MODEL (&vi_fmu_this_model)
@@ -116,9 +118,12 @@ static void model_log(void *env, int category, const char *fmt, ...)
                                           [VI_FMU_LOG_WARNING] = VI_STATUS_WARNING,
                                           [VI_FMU_LOG_ERROR] = VI_STATUS_ERROR};
     const vi_core *c = env;
+    int known = category >= 0 && category < (int)(sizeof cat_of / sizeof cat_of[0]);
+    if (!known) /* a model's mistake: its message still reaches the importer, as an error */
+        vi_core_log(c, VI_STATUS_ERROR, VI_CAT_ERROR, "the model logged with the unknown category %d:", category);
     va_list ap;
     va_start(ap, fmt);
-    vlog(c, status_of[category], cat_of[category], fmt, ap);
+    vlog(c, known ? status_of[category] : VI_STATUS_ERROR, known ? cat_of[category] : VI_CAT_ERROR, fmt, ap);
     va_end(ap);
 }
 
@@ -391,6 +396,49 @@ vi_status vi_core_get(void *instance, const char *fn, const unsigned vr[], size_
 
 static int tunable(const vi_variable *v) { return strcmp(v->variability, "tunable") == 0; }
 
+/* Is enumeration value k an item of type? */
+static int enum_item(const char *type, int k)
+{
+    for (int i = 0; i < MODEL->n_enum_items; i++)
+        if (MODEL->enum_items[i].value == k && strcmp(MODEL->enum_items[i].type, type) == 0) return 1;
+    return 0;
+}
+
+/* x in as few digits as read back as x (at most 17). */
+static void format_value(double x, char *text, size_t n)
+{
+    for (int digits = 15; digits <= 17; digits++) {
+        snprintf(text, n, "%.*g", digits, x);
+        if (strtod(text, NULL) == x) return;
+    }
+}
+
+/* Is x a valid value of the Real or Integer variable v: inside its range (the table's min and max)
+ * and, for an enumerated Integer, one of its items? 0, or -1 with a message naming the variable,
+ * the value and what is allowed. */
+static int check_range(const vi_variable *v, double x, char *msg, size_t n)
+{
+    char range[256] = "";
+    if (strcmp(v->enumeration, "none") != 0) {
+        if (x >= INT_MIN && x <= INT_MAX && x == (int)x && enum_item(v->enumeration, (int)x)) return 0;
+        size_t used = 0;
+        for (int i = 0; i < MODEL->n_enum_items && used < sizeof range; i++) {
+            const vi_enum_item *e = &MODEL->enum_items[i];
+            if (strcmp(e->type, v->enumeration) != 0) continue;
+            int k = snprintf(range + used, sizeof range - used, "%s%s=%d", used ? ", " : "", e->name, e->value);
+            used += k > 0 ? (size_t)k : 0;
+        }
+        snprintf(msg, n, "%s = %.0f is not one of its items %s", v->name, x, range);
+        return -1;
+    }
+    if (vi_in_range(v, x)) return 0;
+    char value[32];
+    format_value(x, value, sizeof value);
+    vi_range_text(v, range, sizeof range);
+    snprintf(msg, n, "%s = %s is outside its range %s (%s)", v->name, value, range, v->description);
+    return -1;
+}
+
 /* May v be set now? Inputs and tunable parameters: before and after initialization; fixed
  * parameters: until the end of initialization mode; nothing else ever. (The callers allow only
  * the states of their call.) */
@@ -428,6 +476,11 @@ static int acceptable(vi_core *c, const char *fn, const vi_variable *v, const vo
     }
     if (v->type == VI_Real && !isfinite(elem_real(values, elem, i)))
         return LOG_ERROR(c, "%s: %s must be finite", fn, v->name), 0;
+    char why[512];
+    if (v->type != VI_Boolean &&
+        check_range(v, v->type == VI_Real ? elem_real(values, elem, i) : (double)elem_int(values, elem, i), why,
+                    sizeof why) < 0)
+        return LOG_ERROR(c, "%s: %s; nothing was set", fn, why), 0;
     return 1;
 }
 
@@ -500,12 +553,13 @@ typedef struct {
 static size_t saved_size(void) { return sizeof(vi_saved_state) + MODEL->state_size; }
 static void *payload(const vi_saved_state *s) { return (char *)s + sizeof *s; }
 
-/* The checksum: FNV-1a's round (Fowler, Noll, Vo: xor, then multiply by the 64-bit FNV prime) on
- * 64-bit words instead of bytes, each followed by a xor-shift so that high bits feed back into low
- * ones, in four interleaved lanes (a state of a few kB then costs a fraction of a microsecond, where
- * byte-wise FNV-1a took 5 us on every fmi2GetFMUstate), the lanes and the tail bytes folded in at the
- * end. Every round is a bijection of its lane and of its word, so any change of a single word (a
- * single bit flip, say) changes the result. Start with h = VI_FNV_OFFSET. */
+/* The hash behind model_id and checksum: the multiply-xor round of FNV-1a (Fowler, Noll, Vo: xor,
+ * then multiply by the 64-bit FNV prime) applied to 64-bit words instead of bytes, each followed by
+ * a xor-shift so that high bits feed back into low ones, in four interleaved lanes, the lanes and
+ * the tail bytes folded in at the end. It is not FNV-1a itself (which goes byte by byte): a state of
+ * a few kB costs a fraction of a microsecond. Every round is a bijection of its lane and of its
+ * word, so any change of a single word (a single bit flip, say) changes the result. Start with
+ * h = VI_FNV_OFFSET. */
 #define VI_FNV_OFFSET 0xcbf29ce484222325u
 #define VI_FNV_PRIME 0x100000001b3u
 #define VI_HASH_LANES 4
@@ -515,7 +569,7 @@ static uint64_t hash_round(uint64_t h, uint64_t w)
     return h ^ (h >> 32);
 }
 
-static uint64_t fnv1a(uint64_t h, const void *data, size_t n)
+static uint64_t state_hash(uint64_t h, const void *data, size_t n)
 {
     const unsigned char *p = data;
     uint64_t lane[VI_HASH_LANES], w;
@@ -532,26 +586,19 @@ static uint64_t fnv1a(uint64_t h, const void *data, size_t n)
     return h;
 }
 
-static uint64_t model_id(void) { return fnv1a(VI_FNV_OFFSET, MODEL->guid, strlen(MODEL->guid)); }
+static uint64_t model_id(void) { return state_hash(VI_FNV_OFFSET, MODEL->guid, strlen(MODEL->guid)); }
 
 static uint64_t checksum(const vi_saved_state *s)
 {
     vi_saved_state head = *s;
     head.checksum = 0;
-    return fnv1a(fnv1a(VI_FNV_OFFSET, &head, sizeof head), payload(s), MODEL->state_size);
+    return state_hash(state_hash(VI_FNV_OFFSET, &head, sizeof head), payload(s), MODEL->state_size);
 }
 
-/* Is enumeration value k an item of type? */
-static int enum_item(const char *type, int k)
-{
-    for (int i = 0; i < MODEL->n_enum_items; i++)
-        if (MODEL->enum_items[i].value == k && strcmp(MODEL->enum_items[i].type, type) == 0) return 1;
-    return 0;
-}
-
-/* The table's values in a saved block: what the setters guarantee (finite Reals, Booleans 0 or 1,
- * terminated Strings) and, once running, enumeration items. 0, or -1 with the first bad one. */
-static int check_values(const void *block, int running, char *msg, size_t n)
+/* The table's values in a saved block: what the setters guarantee (finite Reals inside their
+ * ranges, Integers inside theirs, enumerations items of their type, Booleans 0 or 1, terminated
+ * Strings). 0, or -1 with the first bad one. */
+static int check_values(const void *block, char *msg, size_t n)
 {
     for (int vr = 0; vr < MODEL->nvariables; vr++) {
         const vi_variable *v = &MODEL->variables[vr];
@@ -563,6 +610,7 @@ static int check_values(const void *block, int running, char *msg, size_t n)
         case VI_Real:
             memcpy(&x, p, sizeof x);
             if (!isfinite(x)) return snprintf(msg, n, "%s = %g is not finite", v->name, x), -1;
+            if (check_range(v, x, msg, n) < 0) return -1;
             if (v->group != VI_GROUP_INPUTS) break;
             memcpy(&dx, (const char *)group_in(block, VI_GROUP_INPUT_DERIVATIVES) + v->offset, sizeof dx);
             if (!isfinite(dx)) return snprintf(msg, n, "the derivative of %s = %g is not finite", v->name, dx), -1;
@@ -574,8 +622,7 @@ static int check_values(const void *block, int running, char *msg, size_t n)
             memcpy(&k, p, sizeof k);
             if (v->type == VI_Boolean && k != 0 && k != 1)
                 return snprintf(msg, n, "%s = %d is not a Boolean", v->name, k), -1;
-            if (running && strcmp(v->enumeration, "none") != 0 && !enum_item(v->enumeration, k))
-                return snprintf(msg, n, "%s = %d is not an item of %s", v->name, k, v->enumeration), -1;
+            if (v->type != VI_Boolean && check_range(v, k, msg, n) < 0) return -1;
         }
     }
     return 0;
@@ -611,7 +658,7 @@ static int check_saved(vi_core *c, const char *fn, const vi_saved_state *s, size
                  state_name(s->fmu_state));
     else if (s->stop_time_defined > 1u || (s->stop_time_defined && !isfinite(s->stop_time)))
         snprintf(why, sizeof why, "field stop_time is not finite");
-    else if (check_values(payload(s), saved_running(s), why, sizeof why) < 0 ||
+    else if (check_values(payload(s), why, sizeof why) < 0 ||
              (MODEL->state_check && MODEL->state_check(payload(s), saved_running(s), why, sizeof why) < 0)) {
         if (!why[0]) snprintf(why, sizeof why, "invalid field");
     }
@@ -724,8 +771,8 @@ vi_status vi_core_do_step(void *instance, const char *fn, double tc, double h)
         return vi_core_refuse(c, "%s: currentCommunicationPoint %.17g does not match the FMU's time %.17g", fn, tc, t);
     if (!(t_end - t >= VI_MIN_STEP_ULPS * unit))
         return vi_core_refuse(c, "%s: a step of %g s is too short to advance time at t = %.17g s: use at least %g s "
-                                 "(16 units of the time resolution there); nothing was done",
-                              fn, h, t, VI_MIN_STEP_ULPS * unit);
+                                 "(%g units of the time resolution there); nothing was done",
+                              fn, h, t, VI_MIN_STEP_ULPS * unit, VI_MIN_STEP_ULPS);
     if (c->stop_time_defined && t_end > c->stop_time + VI_TIME_MATCH_ULPS * unit)
         return vi_core_refuse(c, "%s: the step to %.17g passes the stop time %.17g", fn, t_end, c->stop_time);
     int rc = MODEL->advance(c->model, t_end);
