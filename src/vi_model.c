@@ -4,22 +4,17 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "vi_check.h"
+
 static int is_johnson_fixed(const vi_model *M) { return M->law == VI_ContactModel_johnson && !M->moving; }
 
 /* Net load pressing the mass down, W(t) = P + m g - F_ext(t) [N]. */
 static double net_load(const vi_model *M, double t) { return M->W0 - vi_ramp_at(&M->F_ext, t); }
 
-#define CHECK(cond, ...)                                 \
-    do {                                                 \
-        if (!(cond)) {                                   \
-            snprintf(msg, msg_size, __VA_ARGS__);        \
-            return -1;                                   \
-        }                                                \
-    } while (0)
-
 int vi_model_setup(vi_model *M, const vi_parameters *p, double t0, char *msg, size_t msg_size)
 {
-    CHECK(p->R1 > 0.0 || p->R2 > 0.0, "R1 = R2 = 0: two planes have no point contact; give a radius");
+    if (!(p->R1 > 0.0 || p->R2 > 0.0))
+        VI_FAIL(msg, msg_size, "R1 = R2 = 0: two planes have no point contact; give a radius");
 
     M->law = p->contact_model;
     M->moving = p->moving_contact != 0;
@@ -41,10 +36,10 @@ int vi_model_setup(vi_model *M, const vi_parameters *p, double t0, char *msg, si
     M->t_phi = t0;
     M->profile = NULL;
     M->V = M->x0 = 0.0;
-    CHECK(isfinite(M->W0) && isfinite(M->K) && M->K > 0.0 && isfinite(M->J.F_Y) && M->J.F_Y > 0.0 &&
-              M->J.delta_Y > 0.0 && isfinite(M->k_lin) && M->k_lin > 0.0,
-          "the parameters give no finite positive contact stiffness or yield force (E* = %g Pa, R* = %g m, "
-          "F_Y = %g N, delta_Y = %g m)", M->J.E_star, M->J.R_star, M->J.F_Y, M->J.delta_Y);
+    if (!(isfinite(M->W0) && isfinite(M->K) && M->K > 0.0 && isfinite(M->J.F_Y) && M->J.F_Y > 0.0 &&
+          M->J.delta_Y > 0.0 && isfinite(M->k_lin) && M->k_lin > 0.0))
+        VI_FAIL(msg, msg_size, "the parameters give no finite positive contact stiffness or yield force (E* = %g Pa, "
+                "R* = %g m, F_Y = %g N, delta_Y = %g m)", M->J.E_star, M->J.R_star, M->J.F_Y, M->J.delta_Y);
     return 0;
 }
 
@@ -578,7 +573,6 @@ int vi_model_option_warnings(const vi_parameters *p, char *msg, size_t n)
 
 /* ---- validity of a saved model (doc/model.md section 7.6) ---------------------------------- */
 
-#define BAD(...) return snprintf(msg, n, __VA_ARGS__), -1
 
 /* a and b agree to rel relative to the larger (both finite). */
 static int close_rel(double a, double b, double rel) { return fabs(a - b) <= rel * fmax(fabs(a), fabs(b)); }
@@ -596,54 +590,60 @@ static int check_constants(const vi_model *M, char *msg, size_t n)
         {"x0", M->x0, 0},
         {"f_contact", M->f_contact, 0}};
     for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
-        if (!isfinite(c[i].value)) BAD("model constant %s = %g is not finite", c[i].name, c[i].value);
-        if (c[i].positive && !(c[i].value > 0.0)) BAD("model constant %s = %g is not positive", c[i].name, c[i].value);
+        if (!isfinite(c[i].value)) VI_FAIL(msg, n, "model constant %s = %g is not finite", c[i].name, c[i].value);
+        if (c[i].positive && !(c[i].value > 0.0))
+            VI_FAIL(msg, n, "model constant %s = %g is not positive", c[i].name, c[i].value);
     }
-    if (M->omega < 0.0) BAD("model constant omega = %g is negative", M->omega);
-    if (M->f_contact < 0.0) BAD("model constant f_contact = %g is negative", M->f_contact);
+    if (M->omega < 0.0) VI_FAIL(msg, n, "model constant omega = %g is negative", M->omega);
+    if (M->f_contact < 0.0) VI_FAIL(msg, n, "model constant f_contact = %g is negative", M->f_contact);
     if (!close_rel(M->K, vi_hertz_constant(M->J.E_star, M->J.R_star), CONSISTENCY_TOL))
-        BAD("model constant K = %g does not match 4/3 E* sqrt(R*)", M->K);
+        VI_FAIL(msg, n, "model constant K = %g does not match 4/3 E* sqrt(R*)", M->K);
     if (!close_rel(M->J.F_Y, vi_hertz_force(M->K, M->J.delta_Y), CONSISTENCY_TOL))
-        BAD("model constant delta_Y = %g does not match F_Y = K delta_Y^1.5", M->J.delta_Y);
+        VI_FAIL(msg, n, "model constant delta_Y = %g does not match F_Y = K delta_Y^1.5", M->J.delta_Y);
     if (!close_rel(M->k_lin, M->J.F_Y / M->J.delta_Y, CONSISTENCY_TOL))
-        BAD("model constant k_lin = %g does not match F_Y/delta_Y", M->k_lin);
+        VI_FAIL(msg, n, "model constant k_lin = %g does not match F_Y/delta_Y", M->k_lin);
     const vi_ramp *r[2] = {&M->yC_in, &M->F_ext};
     const char *rn[2] = {"yC_in", "F_ext"};
     for (int i = 0; i < 2; i++)
         if (!isfinite(r[i]->u) || !isfinite(r[i]->du) || !isfinite(r[i]->t))
-            BAD("model input ramp %s (%g, %g, %g) is not finite", rn[i], r[i]->u, r[i]->du, r[i]->t);
+            VI_FAIL(msg, n, "model input ramp %s (%g, %g, %g) is not finite", rn[i], r[i]->u, r[i]->du, r[i]->t);
     return 0;
 }
 
 static int check_memory(const vi_model *M, char *msg, size_t n)
 {
-    if (M->yielded != 0 && M->yielded != 1) BAD("model flag yielded = %d is not 0 or 1", M->yielded);
-    if (M->n_impacts < 0) BAD("n_impacts = %ld is negative", M->n_impacts);
-    if (!isfinite(M->delta_p)) BAD("delta_p = %g is not finite", M->delta_p);
+    if (M->yielded != 0 && M->yielded != 1) VI_FAIL(msg, n, "model flag yielded = %d is not 0 or 1", M->yielded);
+    if (M->n_impacts < 0) VI_FAIL(msg, n, "n_impacts = %ld is negative", M->n_impacts);
+    if (!isfinite(M->delta_p)) VI_FAIL(msg, n, "delta_p = %g is not finite", M->delta_p);
     if (law(M)->permanent_set ? M->delta_p < 0.0 : M->delta_p != 0.0)
-        BAD("delta_p = %g is impossible for contact_model %s", M->delta_p, law(M)->name);
+        VI_FAIL(msg, n, "delta_p = %g is impossible for contact_model %s", M->delta_p, law(M)->name);
     const vi_unload_curve *U = &M->U;
     const double u[5] = {U->delta_c, U->Rbar, U->delta_r, U->delta_f, U->Kbar};
     if (!M->yielded) {
         for (int i = 0; i < 5; i++)
-            if (u[i] != 0.0) BAD("unloading curve (delta_c = %g, Rbar = %g) present although yielded = 0", u[0], u[1]);
+            if (u[i] != 0.0)
+                VI_FAIL(msg, n, "unloading curve (delta_c = %g, Rbar = %g) present although yielded = 0", u[0], u[1]);
         return 0;
     }
-    if (!is_johnson_fixed(M)) BAD("yielded = 1 is impossible for contact_model %s (moving %d)", law(M)->name, M->moving);
+    if (!is_johnson_fixed(M))
+        VI_FAIL(msg, n, "yielded = 1 is impossible for contact_model %s (moving %d)", law(M)->name, M->moving);
     for (int i = 0; i < 5; i++)
-        if (!isfinite(u[i])) BAD("unloading curve: a value (delta_c %g, Rbar %g, delta_r %g, delta_f %g, Kbar %g) is not "
-                                 "finite", u[0], u[1], u[2], u[3], u[4]);
+        if (!isfinite(u[i]))
+            VI_FAIL(msg, n, "unloading curve: a value (delta_c %g, Rbar %g, delta_r %g, delta_f %g, Kbar %g) is not "
+                    "finite", u[0], u[1], u[2], u[3], u[4]);
     if (!(U->delta_c >= M->J.delta_Y * (1.0 - CONSISTENCY_TOL)))
-        BAD("delta_c = %g is below delta_Y = %g", U->delta_c, M->J.delta_Y);
-    if (!(U->Rbar > 0.0)) BAD("Rbar = %g is not positive", U->Rbar);
-    if (!(U->delta_f <= U->delta_c)) BAD("delta_f = %g is above delta_c = %g", U->delta_f, U->delta_c);
+        VI_FAIL(msg, n, "delta_c = %g is below delta_Y = %g", U->delta_c, M->J.delta_Y);
+    if (!(U->Rbar > 0.0)) VI_FAIL(msg, n, "Rbar = %g is not positive", U->Rbar);
+    if (!(U->delta_f <= U->delta_c)) VI_FAIL(msg, n, "delta_f = %g is above delta_c = %g", U->delta_f, U->delta_c);
     vi_unload_curve E = vi_johnson_unload_curve(&M->J, M->unloading, U->delta_c);
-    if (!close_rel(U->Rbar, E.Rbar, CONSISTENCY_TOL)) BAD("Rbar = %g does not belong to delta_c (%g)", U->Rbar, E.Rbar);
+    if (!close_rel(U->Rbar, E.Rbar, CONSISTENCY_TOL))
+        VI_FAIL(msg, n, "Rbar = %g does not belong to delta_c (%g)", U->Rbar, E.Rbar);
     if (!close_rel(U->delta_r, E.delta_r, CONSISTENCY_TOL))
-        BAD("delta_r = %g does not belong to delta_c (%g)", U->delta_r, E.delta_r);
+        VI_FAIL(msg, n, "delta_r = %g does not belong to delta_c (%g)", U->delta_r, E.delta_r);
     if (!(fabs(U->delta_f - E.delta_f) <= CONSISTENCY_TOL * U->delta_c))
-        BAD("delta_f = %g does not belong to delta_c (%g)", U->delta_f, E.delta_f);
-    if (!close_rel(U->Kbar, E.Kbar, CONSISTENCY_TOL)) BAD("Kbar = %g does not belong to Rbar (%g)", U->Kbar, E.Kbar);
+        VI_FAIL(msg, n, "delta_f = %g does not belong to delta_c (%g)", U->delta_f, E.delta_f);
+    if (!close_rel(U->Kbar, E.Kbar, CONSISTENCY_TOL))
+        VI_FAIL(msg, n, "Kbar = %g does not belong to Rbar (%g)", U->Kbar, E.Kbar);
     return 0;
 }
 
@@ -653,8 +653,8 @@ static int check_mode(const vi_model *M, const double x[2], char *msg, size_t n)
     const law_fns *L = law(M);
     int mode = M->mode;
     if (!L->mode_allowed(M, mode))
-        BAD("mode = %d is impossible for contact_model %s (moving %d, unloading %d, yielded %d)", mode, L->name,
-            M->moving, M->unloading, M->yielded);
+        VI_FAIL(msg, n, "mode = %d is impossible for contact_model %s (moving %d, unloading %d, yielded %d)", mode,
+                L->name, M->moving, M->unloading, M->yielded);
     double d = x[0], tol = VI_CHECK_GUARD_TOL * fmax(fmax(M->J.delta_Y, fabs(d)), fabs(M->U.delta_c));
     double g[2] = {INFINITY, INFINITY};
     switch (mode) {
@@ -666,30 +666,30 @@ static int check_mode(const vi_model *M, const double x[2], char *msg, size_t n)
     }
     for (int i = 0; i < 2; i++)
         if (g[i] < -tol)
-            BAD("mode %d does not fit the state: delta = %.17g m lies %g m beyond its surface %d (tolerance %g m)", mode,
-                d, -g[i], i, tol);
+            VI_FAIL(msg, n, "mode %d does not fit the state: delta = %.17g m lies %g m beyond its surface %d "
+                    "(tolerance %g m)", mode, d, -g[i], i, tol);
     return 0;
 }
 
 int vi_model_check(const vi_model *M, const double x[2], char *msg, size_t n)
 {
-    if (!isfinite(x[0]) || !isfinite(x[1])) BAD("state (delta %g, v %g) is not finite", x[0], x[1]);
+    if (!isfinite(x[0]) || !isfinite(x[1])) VI_FAIL(msg, n, "state (delta %g, v %g) is not finite", x[0], x[1]);
     if (M->law == 0) { /* never set up */
         if (M->mode != 0 || M->yielded != 0 || M->n_impacts != 0 || M->delta_p != 0.0)
-            BAD("model not set up (law = 0) but with a discrete state (mode %d)", M->mode);
+            VI_FAIL(msg, n, "model not set up (law = 0) but with a discrete state (mode %d)", M->mode);
         return 0;
     }
     if (M->law < VI_ContactModel_hertz || M->law > VI_ContactModel_lepp)
-        BAD("contact law = %d is not hertz (%d), johnson (%d) or lepp (%d)", M->law, VI_ContactModel_hertz,
-            VI_ContactModel_johnson, VI_ContactModel_lepp);
-    if (M->moving != 0 && M->moving != 1) BAD("model flag moving = %d is not 0 or 1", M->moving);
+        VI_FAIL(msg, n, "contact law = %d is not hertz (%d), johnson (%d) or lepp (%d)", M->law, VI_ContactModel_hertz,
+                VI_ContactModel_johnson, VI_ContactModel_lepp);
+    if (M->moving != 0 && M->moving != 1) VI_FAIL(msg, n, "model flag moving = %d is not 0 or 1", M->moving);
     if (M->unloading != VI_UNLOAD_PAPER && M->unloading != VI_UNLOAD_CONTINUOUS)
-        BAD("unloading = %d is not paper (%d) or continuous (%d)", M->unloading, VI_UNLOAD_PAPER, VI_UNLOAD_CONTINUOUS);
-    if (M->mode < VI_Mode_free || M->mode > VI_Mode_stick) BAD("mode = %d is not in 0..4", M->mode);
+        VI_FAIL(msg, n, "unloading = %d is not paper (%d) or continuous (%d)", M->unloading, VI_UNLOAD_PAPER,
+                VI_UNLOAD_CONTINUOUS);
+    if (M->mode < VI_Mode_free || M->mode > VI_Mode_stick) VI_FAIL(msg, n, "mode = %d is not in 0..4", M->mode);
     if (check_constants(M, msg, n) < 0 || check_memory(M, msg, n) < 0) return -1;
     return check_mode(M, x, msg, n);
 }
-#undef BAD
 
 void vi_model_calculated(const vi_model *M, vi_outputs *out)
 {
