@@ -686,7 +686,8 @@ int vi_model_check(const vi_model *M, const double x[2], char *msg, size_t n)
     if (M->unloading != VI_UNLOAD_PAPER && M->unloading != VI_UNLOAD_CONTINUOUS)
         VI_FAIL(msg, n, "unloading = %d is not paper (%d) or continuous (%d)", M->unloading, VI_UNLOAD_PAPER,
                 VI_UNLOAD_CONTINUOUS);
-    if (M->mode < VI_Mode_free || M->mode > VI_Mode_stick) VI_FAIL(msg, n, "mode = %d is not in 0..4", M->mode);
+    if (M->mode < VI_Mode_free || M->mode > VI_Mode_stick)
+        VI_FAIL(msg, n, "mode = %d is not in %d..%d", M->mode, VI_Mode_free, VI_Mode_stick);
     if (check_constants(M, msg, n) < 0 || check_memory(M, msg, n) < 0) return -1;
     return check_mode(M, x, msg, n);
 }

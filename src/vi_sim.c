@@ -190,10 +190,8 @@ int vi_sim_initialize(vi_sim *s)
     char text[400];
     if (vi_model_option_warnings(&d->par, text, sizeof text) > 0) s->log(s->log_env, VI_LOG_WARNING, "%s", text);
     check_validity(s);
-    static const char *const names[] = {[VI_Solver_bdf] = "CVODE BDF", [VI_Solver_adams] = "CVODE Adams",
-                                        [VI_Solver_dop853] = "Dormand-Prince 8(5,3)"};
     s->log(s->log_env, VI_LOG_SOLVER, "%s, rtol %g, atol %g m and %g m/s (scales %g m, %g m/s)",
-           names[d->par.solver], rtol, d->atol[0], d->atol[1], L, V);
+           vi_solver_method_name(d->par.solver), rtol, d->atol[0], d->atol[1], L, V);
     return 0;
 }
 

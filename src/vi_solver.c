@@ -36,6 +36,16 @@ struct vi_solver {
     vi_solver_stats before_reset; /* CVodeReInit zeroes CVODE's counters: the sums before it */
 };
 
+const char *vi_solver_method_name(int method)
+{
+    switch (method) {
+    case VI_METHOD_BDF: return "CVODE BDF";
+    case VI_METHOD_ADAMS: return "CVODE Adams";
+    case VI_METHOD_DOP853: return "Dormand-Prince 8(5,3)";
+    default: return "unknown method";
+    }
+}
+
 /* The one check for SUNDIALS return flags: logs the failing call and returns VI_SOLVER_FAILED. */
 static int check_flag(const vi_solver *s, int flag, const char *call)
 {
@@ -342,7 +352,7 @@ void vi_solver_statistics(const vi_solver *s, vi_solver_stats *st)
 {
     if (s->cfg.method == VI_METHOD_DOP853) {
         const vi_ode_stats *o = &s->cfg.ode->st;
-        *st = (vi_solver_stats){.method = "Dormand-Prince 8(5,3)", .steps = o->accepted, .rhs_evals = o->rhs_evals,
+        *st = (vi_solver_stats){.method = vi_solver_method_name(s->cfg.method), .steps = o->accepted, .rhs_evals = o->rhs_evals,
                                 .err_test_fails = o->rejected, .guard_evals = o->guard_evals, .resets = s->ode_resets};
         return;
     }
@@ -357,7 +367,7 @@ void vi_solver_statistics(const vi_solver *s, vi_solver_stats *st)
     st->err_test_fails = b->err_test_fails + c.err_test_fails;
     st->guard_evals = b->guard_evals + c.guard_evals;
     st->resets = b->resets;
-    st->method = s->cfg.method == VI_METHOD_ADAMS ? "CVODE Adams" : "CVODE BDF";
+    st->method = vi_solver_method_name(s->cfg.method);
 }
 
 void vi_solver_free(vi_solver *s)
