@@ -116,6 +116,9 @@ int vi_sim_checkpoint(vi_sim *s);
 /* Start the solver from s->d after it was overwritten by a saved state (any FMI state). 0 or -1. */
 int vi_sim_restore(vi_sim *s);
 void vi_sim_statistics(const vi_sim *s, vi_solver_stats *st);
+/* Warn (once per cause and instance) when the contact leaves the model's range of validity at the
+ * current state (vi_model_validity). */
+void vi_sim_check_validity(vi_sim *s);
 /* The loop's Zeno rule: the count of consecutive events each within VI_ZENO_ULPS ulps of time of the
  * point before (t_before: the previous event or the step's start), after one more event at t. */
 int vi_sim_zeno_count(int count, double t_before, double t);
@@ -127,5 +130,7 @@ int vi_sim_zeno_count(int count, double t_before, double t);
  * in their ranges, items of their enumerations) before it calls this. 0 when valid, else -1 with the
  * first bad field named in msg. No pointer in d is followed (the model's profile pointer is not). */
 int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n);
+/* The same with vi_model_check_between_events: the state of an outside integrator (Model Exchange). */
+int vi_sim_data_check_between_events(const vi_sim_data *d, char *msg, size_t n);
 
 #endif

@@ -647,14 +647,15 @@ static int check_memory(const vi_model *M, char *msg, size_t n)
     return 0;
 }
 
-/* The mode is allowed for the law and the memory, and no time-free guard is clearly negative. */
-static int check_mode(const vi_model *M, const double x[2], char *msg, size_t n)
+/* The mode is allowed for the law and the memory, and (surfaces) no time-free guard is clearly negative. */
+static int check_mode(const vi_model *M, const double x[2], int surfaces, char *msg, size_t n)
 {
     const law_fns *L = law(M);
     int mode = M->mode;
     if (!L->mode_allowed(M, mode))
         VI_FAIL(msg, n, "mode = %d is impossible for contact_model %s (moving %d, unloading %d, yielded %d)", mode,
                 L->name, M->moving, M->unloading, M->yielded);
+    if (!surfaces) return 0;
     double d = x[0], tol = VI_CHECK_GUARD_TOL * fmax(fmax(M->J.delta_Y, fabs(d)), fabs(M->U.delta_c));
     double g[2] = {INFINITY, INFINITY};
     switch (mode) {
@@ -671,7 +672,7 @@ static int check_mode(const vi_model *M, const double x[2], char *msg, size_t n)
     return 0;
 }
 
-int vi_model_check(const vi_model *M, const double x[2], char *msg, size_t n)
+static int check(const vi_model *M, const double x[2], int surfaces, char *msg, size_t n)
 {
     if (!isfinite(x[0]) || !isfinite(x[1])) VI_FAIL(msg, n, "state (delta %g, v %g) is not finite", x[0], x[1]);
     if (M->law == 0) { /* never set up */
@@ -689,7 +690,13 @@ int vi_model_check(const vi_model *M, const double x[2], char *msg, size_t n)
     if (M->mode < VI_Mode_free || M->mode > VI_Mode_stick)
         VI_FAIL(msg, n, "mode = %d is not in %d..%d", M->mode, VI_Mode_free, VI_Mode_stick);
     if (check_constants(M, msg, n) < 0 || check_memory(M, msg, n) < 0) return -1;
-    return check_mode(M, x, msg, n);
+    return check_mode(M, x, surfaces, msg, n);
+}
+
+int vi_model_check(const vi_model *M, const double x[2], char *msg, size_t n) { return check(M, x, 1, msg, n); }
+int vi_model_check_between_events(const vi_model *M, const double x[2], char *msg, size_t n)
+{
+    return check(M, x, 0, msg, n);
 }
 
 void vi_model_calculated(const vi_model *M, vi_outputs *out)

@@ -113,7 +113,7 @@ static int attach_profile(vi_sim *s)
 
 /* Warn once per instance and cause when the simulation leaves the model's range of validity
  * (vi_model_validity). */
-static void check_validity(vi_sim *s)
+void vi_sim_check_validity(vi_sim *s)
 {
     char text[400];
     for (int cause; (cause = vi_model_validity(&s->d.M, s->d.par.R1, s->d.t, s->d.x, s->warned_validity, text,
@@ -189,7 +189,7 @@ int vi_sim_initialize(vi_sim *s)
     if (create_solver(s, 0) < 0) return -1;
     char text[400];
     if (vi_model_option_warnings(&d->par, text, sizeof text) > 0) s->log(s->log_env, VI_LOG_WARNING, "%s", text);
-    check_validity(s);
+    vi_sim_check_validity(s);
     s->log(s->log_env, VI_LOG_SOLVER, "%s, rtol %g, atol %g m and %g m/s (scales %g m, %g m/s)",
            vi_solver_method_name(d->par.solver), rtol, d->atol[0], d->atol[1], L, V);
     return 0;
@@ -242,7 +242,7 @@ static void apply_inputs(vi_sim *s)
     }
     arm_guards_at_zero(d);
     s->solver_stale = 1;
-    check_validity(s); /* a new amplitude */
+    vi_sim_check_validity(s); /* a new amplitude */
 }
 
 /* ---- re-arming of guards after events that keep the mode ----------------------------------- */
@@ -325,7 +325,7 @@ static void apply_event(vi_sim *s, int fired)
     d->n_events++;
     s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: guard %d of mode %d, mode %d -> %d, delta = %.9g m, v = %.9g m/s",
            d->t, fired, from, from, d->M.mode, d->x[0], d->x[1]);
-    check_validity(s);
+    vi_sim_check_validity(s);
     if (d->M.mode != from) {
         memset(d->guard_band, 0, sizeof d->guard_band);
         arm_guards_at_zero(d);
@@ -420,7 +420,7 @@ int vi_sim_advance(vi_sim *s, double t_end)
         snprintf(s->msg, sizeof s->msg, "the state is not finite at t = %.17g s", d->t);
         return VI_SIM_ERROR;
     }
-    check_validity(s);
+    vi_sim_check_validity(s);
     if (t_end > limit) return discard(s, "%s", why); /* the end of the profile: nothing beyond it */
     d->t = t_end;
     return VI_SIM_OK;
@@ -468,7 +468,7 @@ void vi_sim_outputs(vi_sim *s, vi_outputs *out)
 /* ---- validity of a state payload (doc/model.md section 7.6) --------------------------------- */
 
 
-int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n)
+static int data_check(const vi_sim_data *d, int surfaces, char *msg, size_t n)
 {
     if (d->inputs_changed != 0 && d->inputs_changed != 1)
         VI_FAIL(msg, n, "inputs_changed = %d is not 0 or 1", d->inputs_changed);
@@ -492,8 +492,11 @@ int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n)
     if (d->initialized && d->par.solver == VI_Solver_dop853 &&
         vi_solver_ode_check(&d->ode, 2, VI_NGUARDS, d->t, msg, n) < 0)
         return -1;
-    return vi_model_check(&d->M, d->x, msg, n);
+    return surfaces ? vi_model_check(&d->M, d->x, msg, n) : vi_model_check_between_events(&d->M, d->x, msg, n);
 }
+
+int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n) { return data_check(d, 1, msg, n); }
+int vi_sim_data_check_between_events(const vi_sim_data *d, char *msg, size_t n) { return data_check(d, 0, msg, n); }
 
 void vi_sim_statistics(const vi_sim *s, vi_solver_stats *st)
 {
