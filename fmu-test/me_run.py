@@ -2,39 +2,27 @@
 
 run_me(fmu_path, params, stop_time, ...) -> (result, messages): fmpy.simulate_fmu with
 fmi_type='ModelExchange' on an instance whose logger records (status, category, text), with logEvents
-on, so that every mode change is known with its exact time (compare_reference.fmu_events reads them).
+on, so that every mode change is known with its exact time (vibroimpact.compare.fmu_events reads them).
 """
-import ctypes
-
 import numpy as np
 from fmpy import extract, read_model_description, simulate_fmu
-from fmpy.fmi2 import FMU2Model, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE, \
-    fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE
+from fmpy.fmi2 import FMU2Model
 
-calloc = ctypes.cdll.LoadLibrary(None).calloc
-calloc.restype, calloc.argtypes = ctypes.c_void_p, [ctypes.c_size_t, ctypes.c_size_t]
-free = ctypes.cdll.LoadLibrary(None).free
-free.argtypes = [ctypes.c_void_p]
+from vibroimpact.compare import INTEGERS, REALS, fmu_events
+from vibroimpact.fmu import MessageLog
+from vibroimpact.reference.scenarios import SCENARIOS
 
 
-class MeInstance:
-    """An FMU2Model whose logger records (status, category, message)."""
+class MeInstance(MessageLog):
+    """An FMU2Model whose logger records (status, category, message) in `messages`."""
 
     def __init__(self, fmu_path, unzipdir=None, md=None, name="me"):
+        super().__init__()
         self.md = md or read_model_description(str(fmu_path))
         self.unzipdir = unzipdir or extract(str(fmu_path))
-        self.messages = []
         self.model = FMU2Model(guid=self.md.guid, unzipDirectory=self.unzipdir,
                                modelIdentifier=self.md.modelExchange.modelIdentifier, instanceName=name)
-        cb = fmi2CallbackFunctions()
-        cb.logger = fmi2CallbackLoggerTYPE(self._log)
-        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-        self.callbacks = cb
         self.vr = {v.name: v.valueReference for v in self.md.modelVariables}
-
-    def _log(self, env, name, status, category, message):
-        self.messages.append((status, category.decode(), message.decode().replace("%%", "%")))
 
     def instantiate(self, categories=("logEvents",)):
         self.model.instantiate(callbacks=self.callbacks, loggingOn=False)
@@ -67,7 +55,7 @@ def on_grid(result, t, name):
 
 
 class MeRunner:
-    """compare_reference.Runner's interface (run(name, t, rtol, solver) -> (outputs on t, mode changes))
+    """vibroimpact.compare.Runner's interface (run(name, t, rtol, solver) -> (outputs on t, mode changes))
     for Model Exchange: fmpy's CVode integrates, output on the reference's grid."""
 
     def __init__(self, fmu_path, unzipdir=None):
@@ -75,7 +63,6 @@ class MeRunner:
         self.md = read_model_description(str(fmu_path))
 
     def run(self, name, t, rtol, solver=None):
-        from compare_reference import INTEGERS, REALS, SCENARIOS, fmu_events
         assert solver is None, "the importer integrates: the FMU's solver parameter plays no part"
         r, inst = run_me(self.fmu_path, SCENARIOS[name].full, float(t[-1]), rtol=rtol, output=REALS + INTEGERS,
                          output_interval=float(t[1] - t[0]), unzipdir=self.unzipdir, md=self.md)
