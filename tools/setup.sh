@@ -26,3 +26,21 @@ if ! "$PYTHON" -c "import importlib.util, sys; sys.exit(any(importlib.util.find_
   echo "setup: pip install ${PIP_PKGS[*]}"
   "$PYTHON" -m pip install --quiet --disable-pip-version-check --root-user-action=ignore "${PIP_PKGS[@]}"
 fi
+
+# ---- fmi-sim: the Rust FMI simulator, the second importer of the Model Exchange tests ----------------
+# `cargo install fmi-sim` with the cargo on the PATH or in ~/.cargo/bin (rustup's place); without one,
+# rustup's installer puts a minimal current toolchain there (Debian 12's cargo is too old for fmi-sim).
+export PATH="$PATH:$HOME/.cargo/bin"
+if ! command -v fmi-sim >/dev/null; then
+  if ! command -v cargo >/dev/null; then
+    if ! command -v curl >/dev/null; then
+      SUDO=""
+      [ "$(id -u)" -eq 0 ] || SUDO=sudo
+      DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends curl ca-certificates >/dev/null
+    fi
+    echo "setup: rustup (minimal toolchain) into ~/.cargo"
+    curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh -s -- -y --quiet --profile minimal --no-modify-path >/dev/null
+  fi
+  echo "setup: cargo install fmi-sim"
+  cargo install --quiet --locked fmi-sim
+fi
