@@ -185,7 +185,8 @@ double vi_core_time(const vi_core *c);
  * the discrete states do not settle and the instance goes into the error state. */
 #define VI_MAX_EVENT_PASSES 100
 vi_status vi_core_enter_event_mode(void *instance, const char *fn);
-/* One pass (the model's event_update); *ev as the model filled it. */
+/* One pass (the model's event_update); *ev as the model filled it. When the model asks to terminate, its
+ * reason is logged as a warning whatever is enabled. */
 vi_status vi_core_new_discrete_states(void *instance, const char *fn, vi_fmu_event *ev);
 vi_status vi_core_enter_continuous_mode(void *instance, const char *fn);
 /* *enter_event: the model asks for an event now; *terminate: always 0 (the model asks at events). */

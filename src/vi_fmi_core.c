@@ -851,7 +851,11 @@ vi_status vi_core_new_discrete_states(void *instance, const char *fn, vi_fmu_eve
         return VI_STATUS_ERROR;
     }
     if (ev->next_time_defined && !(ev->next_time > MODEL->time(c->model))) ev->next_time_defined = 0;
-    if (ev->terminate) vi_core_log(c, VI_STATUS_WARNING, VI_CAT_WARNING, "%s: %s", fn, MODEL->message(c->model));
+    if (ev->terminate && c->cb.logger) { /* why the run ends: logged whatever is enabled */
+        char text[1024];
+        snprintf(text, sizeof text, "%s: terminateSimulation: %s", fn, MODEL->message(c->model));
+        c->face->emit(c, VI_STATUS_WARNING, category_name(c, VI_CAT_WARNING), text);
+    }
     c->t_committed = MODEL->time(c->model);
     return VI_STATUS_OK;
 }
