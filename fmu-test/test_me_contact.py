@@ -8,7 +8,7 @@ import pytest
 from fmpy import simulate_fmu
 from fmpy.fmi1 import FMICallException
 
-from compare_reference import SCENARIOS
+from vibroimpact.reference.scenarios import SCENARIOS
 from me_run import Me, MeInstance, run_me
 
 
