@@ -26,8 +26,8 @@
 #define VI_RTOL_MAX 1e-2
 #define VI_MAX_STEP_MIN 1e-12 /* s */
 
-/* Results of vi_sim_advance (contract C1). */
-enum { VI_SIM_OK = 0, VI_SIM_DISCARD = 1, VI_SIM_ERROR = -1 };
+/* Results of vi_sim_advance (contract C1); VI_SIM_EVENT only from vi_sim_advance_until. */
+enum { VI_SIM_OK = 0, VI_SIM_DISCARD = 1, VI_SIM_ERROR = -1, VI_SIM_EVENT = 2 };
 
 /* Work bounds of one vi_sim_advance (one fmi2DoStep): internal solver steps and events. When either
  * is reached the advance ends with VI_SIM_DISCARD at the time reached (a consistent state). At about
@@ -108,6 +108,13 @@ int vi_sim_initialize(vi_sim *s);
  *                   names that time and the cause;
  *   VI_SIM_ERROR:   s->msg says why (t_end not beyond s->d.t, solver failure, non-finite state). */
 int vi_sim_advance(vi_sim *s, double t_end);
+/* vi_sim_advance, and with stop_at_mode_change nonzero it also ends at the first change of mode
+ * (contact, separation, yield, turning point, stick entry or exit; by an event or a kink of the
+ * profile) after the instant it starts (more than VI_ZENO_ULPS ulps of time after it):
+ *   VI_SIM_EVENT:   s->d.t is the time of that change as the solver located it (t_end or earlier),
+ *                   the new mode is in force and the state there is consistent; the next advance
+ *                   continues from it as an uninterrupted one would. */
+int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change);
 /* Outputs and calculated parameters at the current time; computed at most once per state (lazy,
  * cached until the state changes through a vi_sim call). */
 void vi_sim_outputs(vi_sim *s, vi_outputs *out);

@@ -368,7 +368,19 @@ static int apply_breakpoint(vi_sim *s)
     return vi_solver_reset(s->solver, d->t, d->x);
 }
 
-int vi_sim_advance(vi_sim *s, double t_end)
+/* Early return: does the advance end here, after an event or a profile kink that may have switched
+ * the mode from mode_before? Only when asked, the mode changed, and the time lies beyond the instant
+ * the advance started (more than VI_ZENO_ULPS ulps after it, by the Zeno rule's measure): mode
+ * changes at that instant are taken in the same advance, so every early return makes progress and
+ * events accumulating at one instant still meet the Zeno rule. */
+static int stop_here(const vi_sim *s, int stop_at_mode_change, int mode_before)
+{
+    return stop_at_mode_change && s->d.M.mode != mode_before && vi_sim_zeno_count(0, s->d.step_t0, s->d.t) == 0;
+}
+
+int vi_sim_advance(vi_sim *s, double t_end) { return vi_sim_advance_until(s, t_end, 0); }
+
+int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change)
 {
     vi_sim_data *d = &s->d;
     if (!s->solver) {
@@ -390,7 +402,7 @@ int vi_sim_advance(vi_sim *s, double t_end)
         s->solver_stale = 0;
     }
     long steps_left = VI_MAX_STEPS_PER_ADVANCE, events = 0, kinks = 0;
-    int zeno = 0;
+    int zeno = 0, stopped = 0; /* stopped: at a mode change, asked for by stop_at_mode_change */
     int fired[VI_SOLVER_MAX_GUARDS];
     char why[400]; /* rolling: a non-periodic profile ends at `limit` */
     double limit = vi_model_rolling_limit(&d->M, why, sizeof why), target = fmin(t_end, limit);
@@ -398,6 +410,7 @@ int vi_sim_advance(vi_sim *s, double t_end)
      * distance |V| (t_end - t) rolled) */
     while (d->t < target) {
         long taken = 0;
+        int mode_before = d->M.mode;
         double t_before = d->t, bp = vi_model_next_breakpoint(&d->M, d->t), stop = fmin(target, bp);
         int rc = VI_SOLVER_REACHED;
         if ((stop == bp || kinks) && stop - d->t <= VI_BREAKPOINT_ULPS * DBL_EPSILON * fabs(stop)) {
@@ -412,6 +425,7 @@ int vi_sim_advance(vi_sim *s, double t_end)
                 kinks++;
                 if (apply_breakpoint(s) < 0) goto fail;
             }
+            if ((stopped = stop_here(s, stop_at_mode_change, mode_before))) break;
             if (d->t >= target) break;
             continue;
         }
@@ -432,12 +446,14 @@ int vi_sim_advance(vi_sim *s, double t_end)
             return discard(s, "work bound: %ld events in one step, stopped at t = %.17g s (mode %d); "
                               "continue from there or use smaller communication steps",
                            VI_MAX_EVENTS_PER_ADVANCE, d->t, d->M.mode);
+        if ((stopped = stop_here(s, stop_at_mode_change, mode_before))) break;
     }
     if (!isfinite(d->x[0]) || !isfinite(d->x[1])) {
         snprintf(s->msg, sizeof s->msg, "the state is not finite at t = %.17g s", d->t);
         return VI_SIM_ERROR;
     }
     check_validity(s);
+    if (stopped) return VI_SIM_EVENT;
     if (t_end > limit) return discard(s, "%s", why); /* the end of the profile: nothing beyond it */
     d->t = t_end;
     return VI_SIM_OK;
