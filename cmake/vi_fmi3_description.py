@@ -1,0 +1,230 @@
+"""Write the FMI 3.0 modelDescription.xml of a model on the generic FMI layer (include/vi_fmu.h).
+
+Run at build time by vi_add_fmu(... FMI_VERSIONS 3) (cmake/vi_fmu.cmake):
+
+    python vi_fmi3_description.py --fmi2 modelDescription.xml --time-vr VR --out OUT.xml --dump [EMULATOR...] DUMP
+
+DUMP is the model's <Name>_dump_variables (tests/dump_variables.c; run under EMULATOR when cross
+compiling), which prints the variable table, the one source of truth for the variables. From it come every variable (name, value
+reference, type, causality, variability, initial, start, unit, description), the Enumeration types
+with their items, the instantiationToken (the table's GUID) and the lists of ModelStructure.
+What the table does not hold comes from the model's FMI 2.0 description, which the FMI 2.0 tests
+check against the same table: the model's name, description and version, the unit definitions,
+the default experiment, the log categories' descriptions, the descriptions of enumeration types,
+the bounds (min, max, nominal) of numeric variables, and which inputs each output depends on.
+
+Types: Real -> Float64, Boolean -> Boolean, String -> String, Integer -> Int32, and Integer or
+Enumeration rows whose enum column names an enumeration -> Enumeration of that type (read and
+written as Int64 through the FMI 3.0 API). FMI 3.0 also asks for the independent variable: `time`,
+with the value reference VR that the face answers to (VI_FMI3_TIME_VR in cmake/vi_fmu.cmake, given
+to both). The capabilities are those of the FMI 3.0 face (src/vi_fmi3.c), written once here.
+"""
+import argparse
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+from xml.sax.saxutils import escape, quoteattr
+
+# The FMI 3.0 face's Co-Simulation capabilities (src/vi_fmi3.c implements exactly these).
+CO_SIMULATION = dict(
+    needsExecutionTool="false",
+    canBeInstantiatedOnlyOncePerProcess="false",
+    canGetAndSetFMUState="true",
+    canSerializeFMUState="true",
+    providesDirectionalDerivatives="false",
+    providesAdjointDerivatives="false",
+    canHandleVariableCommunicationStepSize="true",
+    maxOutputDerivativeOrder="0",
+    providesIntermediateUpdate="false",
+    mightReturnEarlyFromDoStep="true",
+    canReturnEarlyAfterIntermediateUpdate="false",
+    hasEventMode="true",
+    providesEvaluateDiscreteStates="false",
+)
+
+# The log category of FMI calls is named after the version; every other category keeps its name.
+CALL_CATEGORY = {"logFmi2Call": "logFmi3Call"}
+
+
+def fail(msg):
+    sys.exit(f"vi_fmi3_description.py: {msg}")
+
+
+def read_table(command):
+    """The dump: guid, variables (dicts) in value-reference order, enumeration items by type."""
+    guid, variables, items = None, [], {}
+    run = subprocess.run(command, stdout=subprocess.PIPE, universal_newlines=True, encoding="utf-8")
+    if run.returncode != 0:
+        fail(f"{' '.join(command)} failed with exit code {run.returncode}")
+    path = command[-1]
+    for line in run.stdout.splitlines():
+        cols = line.split("\t")
+        if cols[0] == "guid":
+            guid = cols[1]
+        elif cols[0] == "var":
+            vr, name, typ, enum, caus, var, init, start, unit, desc = cols[1:11]
+            variables.append(dict(vr=int(vr), name=name, type=typ, enum=enum, causality=caus, variability=var,
+                                  initial=init, start=start, unit=unit, description=desc))
+        elif cols[0] == "enum":
+            items.setdefault(cols[1], []).append((cols[2], int(cols[3])))
+    if guid is None or not variables:
+        fail(f"{path}: no guid or no variables (is it the output of <Name>_dump_variables?)")
+    for i, v in enumerate(variables):
+        if v["vr"] != i:
+            fail(f"{path}: value reference {v['vr']} in row {i}")
+        if v["enum"] != "none":
+            if v["enum"] not in items:
+                fail(f"{v['name']}: enumeration {v['enum']} has no items")
+            # the dump appends the items to an Integer's description, as the FMI 2.0 XML does
+            suffix = ": " + ", ".join(f"{n}={k}" for n, k in items[v["enum"]])
+            if v["description"].endswith(suffix):
+                v["description"] = v["description"][: -len(suffix)]
+    return guid, variables, items
+
+
+def number(text):
+    """A start value as the shortest text that reads back as the same double (integers plain)."""
+    x = float(text)
+    return str(int(x)) if x.is_integer() and abs(x) < 2**53 else repr(x)
+
+
+def attrs(**kw):
+    return "".join(f" {k}={quoteattr(str(v))}" for k, v in kw.items() if v is not None)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--fmi2", required=True, help="the model's FMI 2.0 modelDescription.xml")
+    ap.add_argument("--time-vr", required=True, type=int, help="value reference of the independent variable time")
+    ap.add_argument("--out", required=True, help="the FMI 3.0 modelDescription.xml to write")
+    ap.add_argument("--dump", required=True, nargs="+", help="the command that prints the table")
+    args = ap.parse_args()
+
+    guid, variables, items = read_table(args.dump)
+    md2 = ET.parse(args.fmi2).getroot()
+    if md2.get("guid") != guid:
+        fail(f"{args.fmi2}: guid {md2.get('guid')} is not the table's {guid}")
+    cs2 = md2.find("CoSimulation")
+    if cs2 is None:
+        fail(f"{args.fmi2}: no CoSimulation element")
+    sv2 = md2.findall("ModelVariables/ScalarVariable")
+    if [s.get("name") for s in sv2] != [v["name"] for v in variables]:
+        fail(f"{args.fmi2}: its variables are not the table's (run the FMI 2.0 interface tests)")
+    vr_of_index = {i + 1: int(s.get("valueReference")) for i, s in enumerate(sv2)}
+
+    out = ['<?xml version="1.0" encoding="UTF-8"?>',
+           "<!-- Generated by cmake/vi_fmi3_description.py from the variable table and the FMI 2.0",
+           "     description of the same model: do not edit. -->"]
+    root = dict(fmiVersion="3.0", modelName=md2.get("modelName"),
+                description=md2.get("description") and md2.get("description").replace("fmi2", "fmi3"),
+                version=md2.get("version"), author=md2.get("author"), copyright=md2.get("copyright"),
+                license=md2.get("license"), generationTool="VibroImpact cmake/vi_fmi3_description.py",
+                instantiationToken=guid, variableNamingConvention=md2.get("variableNamingConvention"))
+    out.append(f"<fmiModelDescription{attrs(**root)}>")
+    out.append(f"  <CoSimulation{attrs(modelIdentifier=cs2.get('modelIdentifier'), **CO_SIMULATION)}/>")
+
+    units = md2.find("UnitDefinitions")
+    unit_names = {u.get("name") for u in md2.findall("UnitDefinitions/Unit")}
+    if units is not None and len(units):
+        out.append("  <UnitDefinitions>")
+        for u in units:
+            out.append("    " + ET.tostring(u, encoding="unicode").strip())
+        out.append("  </UnitDefinitions>")
+
+    enum_desc = {s.get("name"): s.get("description") for s in md2.findall("TypeDefinitions/SimpleType")}
+    if items:
+        out.append("  <TypeDefinitions>")
+        for t, its in items.items():
+            out.append(f"    <EnumerationType{attrs(name=t, description=enum_desc.get(t))}>")
+            for n, k in its:
+                out.append(f"      <Item{attrs(name=n, value=k)}/>")
+            out.append("    </EnumerationType>")
+        out.append("  </TypeDefinitions>")
+
+    cats = md2.findall("LogCategories/Category")
+    if cats:
+        out.append("  <LogCategories>")
+        for c in cats:
+            name = CALL_CATEGORY.get(c.get("name"), c.get("name"))
+            desc = c.get("description")
+            out.append(f"    <Category{attrs(name=name, description=desc and desc.replace('fmi2', 'fmi3'))}/>")
+        out.append("  </LogCategories>")
+
+    de = md2.find("DefaultExperiment")
+    if de is not None:
+        out.append(f"  <DefaultExperiment{attrs(**de.attrib)}/>")
+
+    out.append("  <ModelVariables>")
+    if args.time_vr < len(variables):
+        fail(f"--time-vr {args.time_vr} is a row of the table")
+    time = attrs(name="time", valueReference=args.time_vr, description="simulation time", causality="independent",
+                 variability="continuous", unit="s" if "s" in unit_names else None)
+    out.append(f"    <Float64{time}/>")
+    for v, s in zip(variables, sv2):
+        t2 = s[0] if len(s) else None  # the FMI 2.0 type element (bounds)
+        enum = v["enum"] if v["enum"] != "none" else None
+        element = {"Real": "Float64", "Integer": "Int32", "Boolean": "Boolean", "String": "String",
+                   "Enumeration": "Enumeration"}[v["type"]]
+        if enum:
+            element = "Enumeration"
+        given = v["initial"] == "exact" and v["causality"] in ("parameter", "input")
+        a = dict(name=v["name"], valueReference=v["vr"], description=v["description"] or None,
+                 causality=v["causality"], variability=v["variability"],
+                 initial=v["initial"] if v["causality"] in ("output", "calculatedParameter") else None)
+        if element == "Enumeration":
+            a["declaredType"] = enum
+        if element in ("Float64", "Int32") and t2 is not None:
+            for b in ("min", "max") + (("nominal",) if element == "Float64" else ()):
+                a[b] = t2.get(b)
+        if element == "Float64" and v["unit"]:
+            a["unit"] = v["unit"]
+        if element == "Float64" and t2 is not None and t2.get("derivative"):
+            a["derivative"] = vr_of_index[int(t2.get("derivative"))]
+        if element == "String":
+            if given:
+                out.append(f"    <String{attrs(**a)}><Start{attrs(value=v['start'])}/></String>")
+            else:
+                out.append(f"    <String{attrs(**a)}/>")
+            continue
+        if given:
+            a["start"] = ("true" if float(v["start"]) else "false") if element == "Boolean" else number(v["start"])
+        out.append(f"    <{element}{attrs(**a)}/>")
+    out.append("  </ModelVariables>")
+
+    # ModelStructure: the lists follow from the table (outputs; outputs and calculated parameters
+    # initially); the dependencies of each come from the FMI 2.0 description, translated from its
+    # indices to value references.
+    deps2 = {}
+    for kind in ("Outputs", "InitialUnknowns"):
+        for u in md2.findall(f"ModelStructure/{kind}/Unknown"):
+            deps2[(kind, vr_of_index[int(u.get("index"))])] = u
+    outputs = [v["vr"] for v in variables if v["causality"] == "output"]
+    initial = [v["vr"] for v in variables if v["causality"] in ("output", "calculatedParameter")
+               and v["initial"] == "calculated"]
+    for kind, vrs in (("Outputs", outputs), ("InitialUnknowns", initial)):
+        listed = sorted(vr for k, vr in deps2 if k == kind)
+        if listed != sorted(vrs):
+            fail(f"{args.fmi2}: ModelStructure/{kind} lists value references {listed}, the table gives {vrs}")
+
+    def unknown(element, kind, vr):
+        u = deps2[(kind, vr)]
+        d = u.get("dependencies")
+        a = dict(valueReference=vr)
+        if d is not None:
+            a["dependencies"] = " ".join(str(vr_of_index[int(i)]) for i in d.split())
+            if u.get("dependenciesKind") is not None:
+                a["dependenciesKind"] = u.get("dependenciesKind")
+        return f"    <{element}{attrs(**a)}/>"
+
+    out.append("  <ModelStructure>")
+    out += [unknown("Output", "Outputs", vr) for vr in outputs]
+    out += [unknown("InitialUnknown", "InitialUnknowns", vr) for vr in initial]
+    out.append("  </ModelStructure>")
+    out.append("</fmiModelDescription>")
+    text = "\n".join(out) + "\n"
+    with open(args.out, "w", encoding="utf-8") as f:
+        f.write(text)
+
+
+if __name__ == "__main__":
+    main()
