@@ -6,15 +6,17 @@
 # Builds Co-Simulation FMUs of one model on the generic layer (include/vi_fmu.h), one per FMI version,
 # all from the same compiled model (<Name>_model):
 #   FMI 2.0 (the XML given, hand-written and tested against the model's table):
-#     <Name>               the shared library <Name>.so: the model + src/vi_fmi2.c, exporting the fmi2*
+#     <Name>               the shared library <Name>.so: the model + the layer (src/vi_fmi_core.c and the
+#                          FMI 2.0 face src/vi_fmi2.c), exporting the fmi2*
 #                          functions only (static libraries linked in stay hidden); it must match
 #                          modelIdentifier="<Name>" in the XML
 #     <Name>_fmu (ALL)     packs <OUTPUT_DIRECTORY>/<Name>.fmu (default: the top build directory):
 #                          modelDescription.xml, binaries/linux64/<Name>.so, resources/, documentation/
 #   FMI 3.0 (the model description generated from the table and the FMI 2.0 XML by
 #   cmake/vi_fmi3_description.py):
-#     <Name>_fmi3          the shared library <OUTPUT_DIRECTORY>/fmi3/<Name>.so: the model + src/vi_fmi3.c,
-#                          exporting the fmi3* functions only
+#     <Name>_fmi3          the shared library <OUTPUT_DIRECTORY>/fmi3/<Name>.so: the model + the layer
+#                          (src/vi_fmi_core.c and the FMI 3.0 face src/vi_fmi3.c), exporting the fmi3*
+#                          functions only
 #     <Name>_fmi3_fmu (ALL) packs <OUTPUT_DIRECTORY>/fmi3/<Name>.fmu: modelDescription.xml,
 #                          binaries/x86_64-linux/<Name>.so, resources/, documentation/
 #   <Name>_dump_variables  prints the model's variable table (tests/dump_variables.c), for the test that
@@ -75,7 +77,7 @@ function(vi_add_fmu name)
       message(FATAL_ERROR "vi_add_fmu(${name}): FMI_VERSIONS ${version}: use 2 and/or 3")
     endif()
 
-    add_library(${target} SHARED ${face})
+    add_library(${target} SHARED ${face} ${VI_FMU_ROOT}/src/vi_fmi_core.c)
     target_include_directories(${target} PRIVATE ${FMI2_HEADERS_DIR} ${VI_FMU_ROOT}/include)
     target_compile_definitions(${target} PRIVATE ${defs})
     target_compile_options(${target} PRIVATE ${VI_WARNINGS})
