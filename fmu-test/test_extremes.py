@@ -7,21 +7,20 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import ROOT, effective
+from conftest import effective, with_solver
 
 RUNNER = r"""
 import json, sys
-sys.path.insert(0, sys.argv[1])
-from conftest import Logged, start
 from fmpy import read_model_description, extract
-fmu, params, steps, h = sys.argv[2], json.loads(sys.argv[3]), int(sys.argv[4]), float(sys.argv[5])
+from vibroimpact.fmu import Logged, initialize
+fmu, params, steps, h = sys.argv[1], json.loads(sys.argv[2]), int(sys.argv[3]), float(sys.argv[4])
 md = read_model_description(fmu)
 vr = {v.name: v.valueReference for v in md.modelVariables}
 L = Logged(md, extract(fmu))
 s = L.instantiate()
 out = {"ok": True, "messages": []}
 try:
-    start(s, vr, params)
+    initialize(s, vr, params)
     t = 0.0
     for k in range(steps):
         s.doStep(t, h)
@@ -40,7 +39,7 @@ print(json.dumps(out))
 def run(fmu_path, params, steps=0, h=1e-4, timeout=30):
     """Initialize (and step) in a subprocess; a hang is a failure after `timeout` seconds."""
     try:
-        p = subprocess.run([sys.executable, "-c", RUNNER, str(ROOT / "fmu-test"), fmu_path, json.dumps(params),
+        p = subprocess.run([sys.executable, "-c", RUNNER, fmu_path, json.dumps(with_solver(params)),
                             str(steps), str(h)], capture_output=True, text=True, timeout=timeout)
     except subprocess.TimeoutExpired:
         pytest.fail(f"{params}: no answer within {timeout} s (hang)")

@@ -16,10 +16,7 @@ NAMES = ("y", "v", "F", "delta", "W_plastic", "F_mean")
 
 
 def fig4b(solver):
-    import sys
-    from conftest import ROOT
-    sys.path.insert(0, str(ROOT / "fmu-test" / "reference"))
-    from scenarios import SCENARIOS
+    from vibroimpact.reference.scenarios import SCENARIOS
     return {**SCENARIOS["fig4b"].full, "solver": solver}
 
 

@@ -2,19 +2,15 @@
 F_hold = W + m yC'' meets a limit of the stick band at an instant where position, rate and force
 difference all vanish; the tie is broken by the next derivative, F_hold' (vi_model_resolve), and a
 stick guard that fires counts as exactly on its surface. Checked against the independent reference
-(fmu-test/reference/vi_reference.py) for several laws, loads and excitations: the first mode
+(vibroimpact.reference.model) for several laws, loads and excitations: the first mode
 changes agree in kind and time. Before the fix the FMU left stick whole periods late (20 ms at
 100 Hz) or never."""
-import sys
-
 import pytest
 from fmpy import extract, read_model_description
 
 from conftest import Logged, start
-from compare_reference import fmu_events
-
-sys.path.insert(0, str(__import__("pathlib").Path(__file__).parent / "reference"))
-from vi_reference import simulate  # noqa: E402
+from vibroimpact.compare import fmu_events
+from vibroimpact.reference.model import simulate
 
 T, H = 0.03, 1e-3
 CASES = {  # name: parameters (static start, pre-loaded: W = 44 kN above F_Y)

@@ -3,7 +3,6 @@ roughness profile against its spectrum, the monolithic reference against its own
 co-simulation (fmpy master and libcosim) against the reference."""
 import math
 import pathlib
-import sys
 import xml.etree.ElementTree as ET
 
 import numpy as np
@@ -14,12 +13,13 @@ from scipy.linalg import expm
 
 from conftest import BUILD, FMU
 
+# the example's modules, importable through pytest.ini's pythonpath
+import master
+import parameters
+import reference
+import roughness
+
 EXAMPLE = pathlib.Path(__file__).resolve().parent.parent / "examples" / "vehicle-track"
-sys.path.insert(0, str(EXAMPLE))
-import master  # noqa: E402
-import parameters  # noqa: E402
-import reference  # noqa: E402
-import roughness  # noqa: E402
 
 TRACK, VEHICLE = BUILD / "Track.fmu", BUILD / "Vehicle.fmu"
 P_T, P_V = parameters.TRACK, parameters.VEHICLE
