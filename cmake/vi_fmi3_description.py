@@ -5,25 +5,27 @@ Run at build time by vi_add_fmu(... FMI_VERSIONS 3) (cmake/vi_fmu.cmake):
     python vi_fmi3_description.py --fmi2 modelDescription.xml --time-vr VR --out OUT.xml --dump [EMULATOR...] DUMP
 
 DUMP is the model's <Name>_dump_variables (tests/dump_variables.c; run under EMULATOR when cross
-compiling), which prints the variable table, the one source of truth for the variables. From it come every variable (name, value
-reference, type, causality, variability, initial, start, unit, description), the Enumeration types
-with their items, the instantiationToken (the table's GUID) and the lists of ModelStructure.
-What the table does not hold comes from the model's FMI 2.0 description, which the FMI 2.0 tests
-check against the same table: the model's name, description and version, the unit definitions,
-the default experiment, the log categories' descriptions, the descriptions of enumeration types,
-the bounds (min, max, nominal) of numeric variables, and which inputs each output depends on.
+compiling), which prints the variable table, the one source of truth for the variables. From it
+come every variable (name, value reference, type, causality, variability, initial, start, unit,
+description), the Enumeration types with their items, the instantiationToken (the table's GUID)
+and the lists of ModelStructure. What the table does not hold comes from the model's FMI 2.0
+description, which the FMI 2.0 tests check against the same table: the model's name, description
+and version, the unit definitions, the default experiment, the log categories' descriptions, the
+descriptions of enumeration types, the bounds (min, max, nominal) of numeric variables, and which
+inputs each output depends on.
 
-Types: Real -> Float64, Boolean -> Boolean, String -> String, Integer -> Int32, and Integer or
-Enumeration rows whose enum column names an enumeration -> Enumeration of that type (read and
-written as Int64 through the FMI 3.0 API). FMI 3.0 also asks for the independent variable: `time`,
-with the value reference VR that the face answers to (VI_FMI3_TIME_VR in cmake/vi_fmu.cmake, given
-to both). The capabilities are those of the FMI 3.0 face (src/vi_fmi3.c), written once here.
+Types: Real -> Float64 (its unit through a Float64Type named as the unit), Boolean -> Boolean,
+String -> String, Integer -> Int32, and Integer or Enumeration rows whose enum column names an
+enumeration -> Enumeration of that type (read and written as Int64 through the FMI 3.0 API).
+FMI 3.0 also asks for the independent variable: `time`, with the value reference VR that the face
+answers to (VI_FMI3_TIME_VR in cmake/vi_fmu.cmake, given to both). The capabilities are those of
+the FMI 3.0 face (src/vi_fmi3.c), written once here.
 """
 import argparse
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
-from xml.sax.saxutils import escape, quoteattr
+from xml.sax.saxutils import quoteattr
 
 # The FMI 3.0 face's Co-Simulation capabilities (src/vi_fmi3.c implements exactly these).
 CO_SIMULATION = dict(
@@ -131,9 +133,15 @@ def main():
             out.append("    " + ET.tostring(u, encoding="unicode").strip())
         out.append("  </UnitDefinitions>")
 
+    # Units reach the variables through one Float64Type per unit, named as the unit (as the FMI 3.0
+    # Reference FMUs declare them; some importers read no unit attribute on a variable itself).
+    float_units = sorted({v["unit"] for v in variables if v["type"] == "Real" and v["unit"]} |
+                         ({"s"} if "s" in unit_names else set()))
     enum_desc = {s.get("name"): s.get("description") for s in md2.findall("TypeDefinitions/SimpleType")}
-    if items:
+    if items or float_units:
         out.append("  <TypeDefinitions>")
+        for u in float_units:
+            out.append(f"    <Float64Type{attrs(name=u, unit=u)}/>")
         for t, its in items.items():
             out.append(f"    <EnumerationType{attrs(name=t, description=enum_desc.get(t))}>")
             for n, k in its:
@@ -158,7 +166,7 @@ def main():
     if args.time_vr < len(variables):
         fail(f"--time-vr {args.time_vr} is a row of the table")
     time = attrs(name="time", valueReference=args.time_vr, description="simulation time", causality="independent",
-                 variability="continuous", unit="s" if "s" in unit_names else None)
+                 variability="continuous", declaredType="s" if "s" in unit_names else None)
     out.append(f"    <Float64{time}/>")
     for v, s in zip(variables, sv2):
         t2 = s[0] if len(s) else None  # the FMI 2.0 type element (bounds)
@@ -177,7 +185,7 @@ def main():
             for b in ("min", "max") + (("nominal",) if element == "Float64" else ()):
                 a[b] = t2.get(b)
         if element == "Float64" and v["unit"]:
-            a["unit"] = v["unit"]
+            a["declaredType"] = v["unit"]
         if element == "Float64" and t2 is not None and t2.get("derivative"):
             a["derivative"] = vr_of_index[int(t2.get("derivative"))]
         if element == "String":

@@ -18,10 +18,10 @@
 /* Longest path of the resources folder or a profile file. */
 #define VI_PATH_MAX 4096
 
-/* Valid ranges of the tolerance (parameter rtol, or the tolerance of fmi2SetupExperiment) and of
- * max_step, checked at initialization. Above 1e-2 the error is of the order of the motion itself;
- * below 1e-14 the tolerance is under the rounding of a double state. max_step is 0 (no limit) or at
- * least VI_MAX_STEP_MIN. */
+/* Valid ranges of the tolerance (parameter rtol, or the importer's: fmi2SetupExperiment,
+ * fmi3EnterInitializationMode) and of max_step, checked at initialization. Above 1e-2 the error is
+ * of the order of the motion itself; below 1e-14 the tolerance is under the rounding of a double
+ * state. max_step is 0 (no limit) or at least VI_MAX_STEP_MIN. */
 #define VI_RTOL_MIN 1e-14
 #define VI_RTOL_MAX 1e-2
 #define VI_MAX_STEP_MIN 1e-12 /* s */
@@ -57,7 +57,8 @@ typedef struct {
     vi_inputs din;       /* their time derivatives (order 1); setting a value resets its derivative */
     int inputs_changed;  /* set by the setters; applied at the start of the next step */
     double t_start;
-    double tolerance;    /* from fmi2SetupExperiment, 0 when not defined (then par.rtol counts) */
+    double tolerance;    /* the importer's (fmi2SetupExperiment, fmi3EnterInitializationMode), 0 when not
+                            defined (then par.rtol counts) */
     int initialized;     /* vi_sim_initialize done: atol, model and state are those of a running simulation */
     vi_model M;
     double t, x[2];      /* time [s] and state (delta [m], v [m/s]); between events x is the solver's

@@ -45,7 +45,7 @@
   X(v0, Real, none, parameter, fixed, exact, 0.0, "m/s", "initial velocity of the mass when touching") \
   X(a, Real, none, parameter, tunable, exact, 0.0, "m", "amplitude of the internal harmonic platform excitation (tunable: a change moves the platform)") \
   X(f, Real, none, parameter, tunable, exact, 560.0, "Hz", "frequency of the internal harmonic platform excitation (tunable: the phase stays continuous)") \
-  X(rtol, Real, none, parameter, fixed, exact, 1e-6, "", "relative tolerance (a tolerance from fmi2SetupExperiment wins)") \
+  X(rtol, Real, none, parameter, fixed, exact, 1e-6, "", "relative tolerance (a tolerance from fmi2SetupExperiment or fmi3EnterInitializationMode wins)") \
   X(solver, Integer, Solver, parameter, fixed, exact, 2, "", "integration method: CVODE BDF or Adams (linear multistep), or Dormand-Prince 8(5,3) (explicit one-step, dense output)") \
   X(max_step, Real, none, parameter, fixed, exact, 0.0, "s", "maximum internal step of the solver, 0 = none") \
   X(F, Real, none, output, continuous, calculated, 0.0, "N", "contact force") \

@@ -140,7 +140,7 @@ int vi_sim_prepare(vi_sim *s)
     s->out_valid = 0;
     if (!(rtol >= VI_RTOL_MIN && rtol <= VI_RTOL_MAX)) {
         snprintf(s->msg, sizeof s->msg, "relative tolerance %s = %g: use a value in [%g, %g]",
-                 d->tolerance > 0.0 ? "(fmi2SetupExperiment)" : "rtol", rtol, VI_RTOL_MIN, VI_RTOL_MAX);
+                 d->tolerance > 0.0 ? "(the importer's: fmi2SetupExperiment, fmi3EnterInitializationMode)" : "rtol", rtol, VI_RTOL_MIN, VI_RTOL_MAX);
         return -1;
     }
     if (!(p->max_step == 0.0 || (p->max_step >= VI_MAX_STEP_MIN && isfinite(p->max_step)))) {
