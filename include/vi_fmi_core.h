@@ -102,6 +102,8 @@ typedef struct {
      * (the model's time; in initialization mode the start time) and never set. */
     int has_time;
     unsigned time_vr;
+    /* Nonzero: Co-Simulation has Event Mode (FMI 3.0), so FMU states taken there may be restored. */
+    int cs_event_mode;
 } vi_face;
 
 /* The importer's callbacks as the core keeps them: memory (calloc and free semantics) and an

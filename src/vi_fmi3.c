@@ -51,7 +51,8 @@ static const char *const type_names[] = {[VI_Real] = "Float64", [VI_Integer] = "
                                          [VI_Enumeration] = "Enumeration (Int64)", [VI_String] = "String"};
 
 static const vi_face face = {.call_category = "logFmi3Call", .emit = emit, .named_enumerations = 1,
-                             .type_names = type_names, .has_time = 1, .time_vr = VI_FMI3_TIME_VR};
+                             .type_names = type_names, .has_time = 1, .time_vr = VI_FMI3_TIME_VR,
+                             .cs_event_mode = 1};
 
 /* A function this FMU does not provide: refused (after the state check of `call`). */
 static fmi3Status not_provided(fmi3Instance instance, vi_call call, const char *fn, const char *why)

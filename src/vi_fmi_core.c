@@ -606,7 +606,8 @@ static unsigned kind_states(const vi_core *c)
 {
     unsigned common = VI_ST_INSTANTIATED | VI_ST_INIT | VI_ST_TERMINATED | VI_ST_ERROR;
     return common | (c->kind == VI_KIND_ME ? VI_ST_EVENT | VI_ST_CONTINUOUS
-                                           : VI_ST_STEP_COMPLETE | VI_ST_STEP_FAILED | VI_ST_EVENT);
+                                           : VI_ST_STEP_COMPLETE | VI_ST_STEP_FAILED |
+                                                 (c->face->cs_event_mode ? VI_ST_EVENT : 0u));
 }
 
 /* Is s (aligned, at least a header) a state of this FMU that may be used? Logs the first reason
@@ -781,7 +782,7 @@ vi_status vi_core_do_step_to_event(void *instance, const char *fn, double tc, do
 vi_status vi_core_enter_event_mode(void *instance, const char *fn)
 {
     ENTER(VI_CALL_ENTER_EVENT_MODE);
-    if (c->kind == VI_KIND_CS && c->state != VI_ST_STEP_COMPLETE)
+    if (c->kind == VI_KIND_CS && (c->state != VI_ST_STEP_COMPLETE || !c->face->cs_event_mode))
         return vi_core_refuse(c, "%s: not allowed in state '%s'", fn, state_name(c->state));
     c->state = VI_ST_EVENT;
     return VI_STATUS_OK;
