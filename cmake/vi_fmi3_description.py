@@ -2,7 +2,8 @@
 
 Run at build time by vi_add_fmu(... FMI_VERSIONS 3) (cmake/vi_fmu.cmake):
 
-    python vi_fmi3_description.py --fmi2 modelDescription.xml --time-vr VR --out OUT.xml --dump [EMULATOR...] DUMP
+    python vi_fmi3_description.py --fmi2 modelDescription.xml --time-vr VR --derivative-vr-base BASE
+                                  --out OUT.xml --dump [EMULATOR...] DUMP
 
 DUMP is the model's <Name>_dump_variables (tests/dump_variables.c; run under EMULATOR when cross
 compiling), which prints the variable table, the one source of truth for the variables. From it
@@ -18,7 +19,10 @@ Types: Real -> Float64 (its unit through a Float64Type named as the unit), Boole
 String -> String, Integer -> Int32, and Integer or Enumeration rows whose enum column names an
 enumeration -> Enumeration of that type (read and written as Int64 through the FMI 3.0 API).
 FMI 3.0 also asks for the independent variable: `time`, with the value reference VR that the face
-answers to (VI_FMI3_TIME_VR in cmake/vi_fmu.cmake, given to both). The capabilities are those of
+answers to (VI_FMI3_TIME_VR in cmake/vi_fmu.cmake, given to both). FMI 3.0 has no call for input
+derivatives: when the FMI 2.0 description says canInterpolateInputs="true", each Real input `u` of
+row r gets an input `der(u)` (derivative="r") at value reference BASE + r
+(VI_FMI3_DERIVATIVE_VR_BASE), which the face maps onto the input's derivative. The capabilities are those of
 the FMI 3.0 face (src/vi_fmi3.c), written once here.
 """
 import argparse
@@ -98,6 +102,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--fmi2", required=True, help="the model's FMI 2.0 modelDescription.xml")
     ap.add_argument("--time-vr", required=True, type=int, help="value reference of the independent variable time")
+    ap.add_argument("--derivative-vr-base", required=True, type=int,
+                    help="value reference of der(u) for the Real input u in row 0 (row r: base + r)")
     ap.add_argument("--out", required=True, help="the FMI 3.0 modelDescription.xml to write")
     ap.add_argument("--dump", required=True, nargs="+", help="the command that prints the table")
     args = ap.parse_args()
@@ -135,8 +141,11 @@ def main():
 
     # Units reach the variables through one Float64Type per unit, named as the unit (as the FMI 3.0
     # Reference FMUs declare them; some importers read no unit attribute on a variable itself).
+    # (the unit of der(u) is u's unit per second where the model defines that unit)
+    rate_of = {v["name"]: v["unit"] + "/s" for v in variables if v["type"] == "Real" and v["causality"] == "input"
+               and v["unit"] and v["unit"] + "/s" in unit_names}
     float_units = sorted({v["unit"] for v in variables if v["type"] == "Real" and v["unit"]} |
-                         ({"s"} if "s" in unit_names else set()))
+                         set(rate_of.values()) | ({"s"} if "s" in unit_names else set()))
     enum_desc = {s.get("name"): s.get("description") for s in md2.findall("TypeDefinitions/SimpleType")}
     if items or float_units:
         out.append("  <TypeDefinitions>")
@@ -163,8 +172,9 @@ def main():
         out.append(f"  <DefaultExperiment{attrs(**de.attrib)}/>")
 
     out.append("  <ModelVariables>")
-    if args.time_vr < len(variables):
-        fail(f"--time-vr {args.time_vr} is a row of the table")
+    if args.time_vr < len(variables) or args.derivative_vr_base < len(variables) or \
+            args.derivative_vr_base <= args.time_vr < args.derivative_vr_base + len(variables):
+        fail(f"--time-vr {args.time_vr} and --derivative-vr-base {args.derivative_vr_base} overlap the table's rows")
     time = attrs(name="time", valueReference=args.time_vr, description="simulation time", causality="independent",
                  variability="continuous", declaredType="s" if "s" in unit_names else None)
     out.append(f"    <Float64{time}/>")
@@ -197,6 +207,14 @@ def main():
         if given:
             a["start"] = ("true" if float(v["start"]) else "false") if element == "Boolean" else number(v["start"])
         out.append(f"    <{element}{attrs(**a)}/>")
+    for v in variables:  # the derivatives of the Real inputs, when the model uses them
+        if v["type"] == "Real" and v["causality"] == "input" and cs2.get("canInterpolateInputs") == "true":
+            a = dict(name=f"der({v['name']})", valueReference=args.derivative_vr_base + v["vr"],
+                     description=f"time derivative of {v['name']}: the input moves on this slope over the next "
+                                 f"step (set it after {v['name']}, whose setting resets it to 0)",
+                     causality="input", variability="continuous", declaredType=rate_of.get(v["name"]), derivative=v["vr"],
+                     start="0")
+            out.append(f"    <Float64{attrs(**a)}/>")
     out.append("  </ModelVariables>")
 
     # ModelStructure: the lists follow from the table (outputs; outputs and calculated parameters

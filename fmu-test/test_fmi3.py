@@ -10,7 +10,8 @@ what only FMI 3.0 offers.
   and exactly the mode changes the FMU itself logs; with Event Mode too, eventHandlingNeeded marks
   the same stops and the importer passes through fmi3EnterEventMode, fmi3UpdateDiscreteStates and
   fmi3EnterStepMode with the same result.
-- The tolerance given to fmi3EnterInitializationMode acts as FMI 2.0's fmi2SetupExperiment's.
+- The tolerance given to fmi3EnterInitializationMode acts as FMI 2.0's fmi2SetupExperiment's; the
+  input derivatives der(yC_in), der(F_ext) act as fmi2SetRealInputDerivatives.
 - Enumerations by item name, the independent variable time, the data types, the calls of Event Mode
   in the states where they are refused; the layer's test model and the vehicle-track companions
   built for FMI 3.0 behave as their FMI 2.0 builds; fmi-sim (a second importer) runs the FMU.
@@ -331,6 +332,39 @@ def test_enumerations_by_item_name(md3, logged3, vr3, kinds3):
     for k in ("time", "y", "mode", "n_impacts"):
         assert np.array_equal(r3[k], r2[k]), k
     assert set(r3["mode"]) == {items["free"], items["elastic"]}
+
+
+def test_input_derivatives_are_variables_and_act_as_in_fmi2(logged3, vr3, logged, vr):
+    """der(yC_in) set after yC_in moves the platform input on that slope over the step, as
+    fmi2SetRealInputDerivatives does (bit for bit); setting yC_in again resets it to 0."""
+    from conftest import start
+
+    def slope(t):
+        return 0.02 * math.cos(2 * math.pi * 300 * t)
+
+    s2 = logged().instantiate()
+    start(s2, vr, dict(contact_model=1))
+    s3 = logged3().instantiate()
+    fmi3.initialize(s3, vr3, dict(contact_model=1), kinds={"contact_model": "Enumeration"})
+    y_in, h = 0.0, 1e-4
+    for k in range(200):
+        t = k * h
+        s2.setReal([vr["yC_in"]], [y_in])
+        s2.setRealInputDerivatives([vr["yC_in"]], [1], [slope(t)])
+        s3.setFloat64([vr3["yC_in"], vr3["der(yC_in)"]], [y_in, slope(t)])
+        assert s3.getFloat64([vr3["der(yC_in)"]]) == [slope(t)]
+        s2.doStep(t, h)
+        s3.doStep(t, h)
+        y_in += slope(t) * h
+        assert s3.getFloat64([vr3["y"], vr3["yC"], vr3["F"]]) == s2.getReal([vr["y"], vr["yC"], vr["F"]])
+    assert abs(s3.getFloat64([vr3["yC"]])[0] - y_in) < 1e-15  # the platform followed the ramps
+    s3.setFloat64([vr3["der(yC_in)"]], [1.0])
+    s3.setFloat64([vr3["yC_in"]], [y_in])  # a value after its derivative resets it
+    assert s3.getFloat64([vr3["der(yC_in)"]]) == [0.0]
+    nan = (ctypes.c_double * 1)(math.nan)
+    assert raw(s3, "fmi3SetFloat64", (ctypes.c_uint * 1)(vr3["der(F_ext)"]), 1, nan, 1) == ERROR
+    s2.freeInstance()
+    s3.freeInstance()
 
 
 def test_types_time_and_bad_values(logged3, vr3):

@@ -16,6 +16,7 @@ from conftest import BUILD, ROOT
 
 GENERATOR = ROOT / "cmake" / "vi_fmi3_description.py"
 TIME_VR = 2147483647  # VI_FMI3_TIME_VR in cmake/vi_fmu.cmake
+DER_BASE = 1073741824  # VI_FMI3_DERIVATIVE_VR_BASE
 MODELS = {"VibroImpact": ROOT / "modelDescription.xml", "LayerTest": ROOT / "tests/layer_fmu/modelDescription.xml",
           "Track": ROOT / "examples/vehicle-track/track/modelDescription.xml",
           "Vehicle": ROOT / "examples/vehicle-track/vehicle/modelDescription.xml"}
@@ -76,7 +77,7 @@ def test_the_independent_variable_is_time(pair):
 
 def test_every_variable_as_in_fmi2(pair):
     name, md2, md3 = pair
-    v3s = md3.modelVariables[1:]
+    v3s = md3.modelVariables[1:1 + len(md2.modelVariables)]
     assert [v.name for v in v3s] == [v.name for v in md2.modelVariables]
     for v2, v3 in zip(md2.modelVariables, v3s):
         what = f"{name}.{v2.name}"
@@ -109,6 +110,22 @@ def test_every_variable_as_in_fmi2(pair):
             assert str(v3.start) == str(v2.start), what
 
 
+def test_every_real_input_has_its_derivative_after_the_table(pair):
+    """FMI 3.0 has no fmi3SetInputDerivatives: der(u) of each Real input u (what fmi2SetRealInputDerivatives
+    sets in FMI 2.0, canInterpolateInputs) is an input variable of its own."""
+    name, md2, md3 = pair
+    inputs = [v for v in md2.modelVariables if v.causality == "input" and v.type == "Real"]
+    ders = md3.modelVariables[1 + len(md2.modelVariables):]
+    if not md2.coSimulation.canInterpolateInputs:  # the companions hold their inputs their own way
+        inputs = []
+    assert [d.name for d in ders] == [f"der({v.name})" for v in inputs]
+    for d, v in zip(ders, inputs):
+        assert (d.causality, d.variability, d.type, d.start) == ("input", "continuous", "Float64", "0"), name
+        assert d.derivative.name == v.name and d.valueReference == DER_BASE + v.valueReference
+        if d.declaredType:
+            assert d.declaredType.unit == f"{v.unit}/s"
+
+
 def test_model_structure_as_in_fmi2(pair):
     name, md2, md3 = pair
     deps = lambda u: None if u.dependencies is None else sorted(d.name for d in u.dependencies)  # noqa: E731
@@ -128,11 +145,13 @@ def test_the_generator_refuses_an_fmi2_description_that_disagrees_with_the_table
         bad = tmp_path / "md2.xml"
         bad.write_text(text)
         run = subprocess.run([sys.executable, str(GENERATOR), "--fmi2", str(bad), "--time-vr", str(TIME_VR),
-                              "--out", str(tmp_path / "out.xml"), "--dump", str(dump)], capture_output=True, text=True)
+                              "--derivative-vr-base", str(DER_BASE), "--out", str(tmp_path / "out.xml"),
+                              "--dump", str(dump)], capture_output=True, text=True)
         assert run.returncode != 0, what
         assert "vi_fmi3_description.py:" in run.stderr, (what, run.stderr)
     good = subprocess.run([sys.executable, str(GENERATOR), "--fmi2", str(MODELS["VibroImpact"]), "--time-vr",
-                           str(TIME_VR), "--out", str(tmp_path / "out.xml"), "--dump", str(dump)], capture_output=True)
+                           str(TIME_VR), "--derivative-vr-base", str(DER_BASE), "--out", str(tmp_path / "out.xml"),
+                           "--dump", str(dump)], capture_output=True)
     assert good.returncode == 0
     packed = tmp_path / "packed"
     shutil.unpack_archive(str(fmu3("VibroImpact")), str(packed), "zip")

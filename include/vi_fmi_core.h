@@ -102,6 +102,11 @@ typedef struct {
      * (the model's time; in initialization mode the start time) and never set. */
     int has_time;
     unsigned time_vr;
+    /* Nonzero: derivative_vr_base + r is the value reference of the first time derivative of the Real
+     * input in row r (FMI 3.0 has no fmi2SetRealInputDerivatives: the derivatives are variables, read
+     * and written as Reals; setting an input's value resets its derivative to 0 as before). */
+    int has_input_derivatives;
+    unsigned derivative_vr_base;
     /* Nonzero: Co-Simulation has Event Mode (FMI 3.0), so FMU states taken there may be restored. */
     int cs_event_mode;
 } vi_face;

@@ -4,7 +4,8 @@
  * and FMU states. What is FMI 3.0 only lives here: instantiation with its options (eventModeUsed,
  * earlyReturnAllowed), the tolerance and times given to fmi3EnterInitializationMode, Event Mode in
  * Co-Simulation, the results of fmi3DoStep (early return at the model's events), the
- * independent variable `time`, and the data types (Float64, Int32, Enumeration as Int64, Boolean,
+ * independent variable `time`, the derivatives of the Real inputs as variables `der(<input>)`
+ * (FMI 3.0 has no fmi3SetInputDerivatives), and the data types (Float64, Int32, Enumeration as Int64, Boolean,
  * String; the model has no other). The capabilities this face offers are listed in the FMI 3.0
  * model description (cmake/vi_fmi3_description.py).
  *
@@ -24,8 +25,8 @@
 #include "fmi3Functions.h"
 #include "vi_fmi_core.h"
 
-#ifndef VI_FMI3_TIME_VR
-#error "VI_FMI3_TIME_VR (the value reference of time) comes from cmake/vi_fmu.cmake"
+#if !defined(VI_FMI3_TIME_VR) || !defined(VI_FMI3_DERIVATIVE_VR_BASE)
+#error "VI_FMI3_TIME_VR and VI_FMI3_DERIVATIVE_VR_BASE (value references) come from cmake/vi_fmu.cmake"
 #endif
 
 _Static_assert((int)VI_STATUS_OK == (int)fmi3OK && (int)VI_STATUS_WARNING == (int)fmi3Warning &&
@@ -52,6 +53,7 @@ static const char *const type_names[] = {[VI_Real] = "Float64", [VI_Integer] = "
 
 static const vi_face face = {.call_category = "logFmi3Call", .emit = emit, .named_enumerations = 1,
                              .type_names = type_names, .has_time = 1, .time_vr = VI_FMI3_TIME_VR,
+                             .has_input_derivatives = 1, .derivative_vr_base = VI_FMI3_DERIVATIVE_VR_BASE,
                              .cs_event_mode = 1};
 
 /* A function this FMU does not provide: refused (after the state check of `call`). */

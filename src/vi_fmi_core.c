@@ -329,6 +329,16 @@ static const vi_variable *lookup(vi_core *c, const char *fn, unsigned vr, vi_typ
 /* Is vr the independent variable time of the face? */
 static int is_time(const vi_core *c, unsigned vr) { return c->face->has_time && vr == c->face->time_vr; }
 
+/* The Real input whose derivative has the value reference vr in the face, else NULL. */
+static const vi_variable *input_of_derivative(const vi_core *c, unsigned vr)
+{
+    if (!c->face->has_input_derivatives || vr < c->face->derivative_vr_base) return NULL;
+    unsigned row = vr - c->face->derivative_vr_base;
+    if (row >= (unsigned)MODEL->nvariables) return NULL;
+    const vi_variable *v = &MODEL->variables[row];
+    return v->group == VI_GROUP_INPUTS && v->type == VI_Real ? v : NULL;
+}
+
 /* Outputs and calculated parameters into c->outputs: computed from the current state (in
  * initialization mode from the initial state the current parameters give). */
 static int current_outputs(vi_core *c, const char *fn)
@@ -383,6 +393,11 @@ vi_status vi_core_get(void *instance, const char *fn, const unsigned vr[], size_
             if (!have_out && current_outputs(c, fn) < 0) return VI_STATUS_ERROR;
             have_out = 1;
             elem_store(values, elem, i, MODEL->time(c->model), 0);
+            continue;
+        }
+        const vi_variable *in = api == VI_Real ? input_of_derivative(c, vr[i]) : NULL;
+        if (in) {
+            elem_store(values, elem, i, *derivative(c, in), 0);
             continue;
         }
         const vi_variable *v = lookup(c, fn, vr[i], api);
@@ -454,10 +469,20 @@ vi_status vi_core_set(void *instance, const char *fn, const unsigned vr[], size_
     if (nvr > 0 && (!vr || !values)) return vi_core_refuse(c, "%s: NULL array", fn);
     for (size_t i = 0; i < nvr; i++) {
         if (is_time(c, vr[i])) return vi_core_refuse(c, "%s: time is the independent variable: it cannot be set", fn);
+        const vi_variable *in = api == VI_Real ? input_of_derivative(c, vr[i]) : NULL;
+        if (in && !isfinite(elem_real(values, elem, i)))
+            return vi_core_refuse(c, "%s: the derivative of %s must be finite", fn, in->name);
+        if (in) continue;
         const vi_variable *v = lookup(c, fn, vr[i], api);
         if (!v || !settable(c, fn, v) || !acceptable(c, fn, v, values, elem, i)) return VI_STATUS_ERROR;
     }
     for (size_t i = 0; i < nvr; i++) {
+        const vi_variable *in = api == VI_Real ? input_of_derivative(c, vr[i]) : NULL;
+        if (in) { /* in the order given: a value set after its derivative resets it */
+            *derivative(c, in) = elem_real(values, elem, i);
+            MODEL->changed(c->model);
+            continue;
+        }
         const vi_variable *v = &MODEL->variables[vr[i]];
         void *p = storage(c, v);
         if (api == VI_String) {
