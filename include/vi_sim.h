@@ -47,6 +47,11 @@ enum { VI_SIM_OK = 0, VI_SIM_DISCARD = 1, VI_SIM_ERROR = -1, VI_SIM_EVENT = 2 };
  * state is snapped onto the surface there. */
 #define VI_GRAZE_TOL 4.0
 #define VI_GRAZE_ULPS 256.0
+/* Early return (vi_sim_advance_until): a change of mode ends the advance only when it comes more than
+ * this many units of the time resolution DBL_EPSILON max(1 s, |t|) after the advance's start (the
+ * FMI layer takes steps of at least 16 such units); a change closer to the start is taken in the
+ * same advance, as one at its very instant. */
+#define VI_EARLY_RETURN_UNITS 1024.0
 /* A breakpoint of the platform motion (a kink of the rolling profile) closer than this many ulps of
  * the time is taken at once, without integrating (the solver cannot step that little). */
 #define VI_BREAKPOINT_ULPS 64.0
@@ -111,7 +116,7 @@ int vi_sim_initialize(vi_sim *s);
 int vi_sim_advance(vi_sim *s, double t_end);
 /* vi_sim_advance, and with stop_at_mode_change nonzero it also ends at the first change of mode
  * (contact, separation, yield, turning point, stick entry or exit; by an event or a kink of the
- * profile) after the instant it starts (more than VI_ZENO_ULPS ulps of time after it):
+ * profile) after the instant it starts (more than VI_EARLY_RETURN_UNITS units of time after it):
  *   VI_SIM_EVENT:   s->d.t is the time of that change as the solver located it (t_end or earlier),
  *                   the new mode is in force and the state there is consistent; the next advance
  *                   continues from it as an uninterrupted one would. */

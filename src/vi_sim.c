@@ -370,12 +370,14 @@ static int apply_breakpoint(vi_sim *s)
 
 /* Early return: does the advance end here, after an event or a profile kink that may have switched
  * the mode from mode_before? Only when asked, the mode changed, and the time lies beyond the instant
- * the advance started (more than VI_ZENO_ULPS ulps after it, by the Zeno rule's measure): mode
- * changes at that instant are taken in the same advance, so every early return makes progress and
- * events accumulating at one instant still meet the Zeno rule. */
+ * the advance started (more than VI_EARLY_RETURN_UNITS units of the time resolution after it): mode
+ * changes at that instant are taken in the same advance, so every early return makes a step an
+ * importer can take with its other FMUs, and events accumulating at one instant still meet the
+ * Zeno rule. */
 static int stop_here(const vi_sim *s, int stop_at_mode_change, int mode_before)
 {
-    return stop_at_mode_change && s->d.M.mode != mode_before && vi_sim_zeno_count(0, s->d.step_t0, s->d.t) == 0;
+    double unit = DBL_EPSILON * fmax(1.0, fabs(s->d.t));
+    return stop_at_mode_change && s->d.M.mode != mode_before && s->d.t - s->d.step_t0 > VI_EARLY_RETURN_UNITS * unit;
 }
 
 int vi_sim_advance(vi_sim *s, double t_end) { return vi_sim_advance_until(s, t_end, 0); }

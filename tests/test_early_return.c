@@ -2,6 +2,7 @@
  * advance ends at each change of mode, at the time an uninterrupted advance changes mode there, and
  * the run goes on as the uninterrupted one; without it, nothing changes. */
 #include <criterion/criterion.h>
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -161,19 +162,19 @@ static void land_after_gap(double gap, changes *c, double *t0, double *t, int *m
     vi_sim_free(&s);
 }
 
-Test(early_return, a_mode_change_within_the_zeno_measure_of_the_start_is_taken_in_the_advance)
+Test(early_return, a_mode_change_within_the_time_resolution_of_the_start_is_taken_in_the_advance)
 {
     changes c;
-    double t0, t, ulp = nextafter(1e-4, 1.0) - 1e-4;
+    double t0, t, unit = VI_EARLY_RETURN_UNITS * DBL_EPSILON; /* at t = 1e-4 s: 2.3e-13 s */
     int mode;
-    /* 1e-16 m above: the landing is about 1.5e5 ulps of time later, a stop */
-    land_after_gap(1e-16, &c, &t0, &t, &mode);
-    cr_assert(mode == VI_Mode_elastic && c.n == 1 && t > t0 + VI_ZENO_ULPS * ulp, "t - t0 = %g s, mode %d", t - t0, mode);
-    /* 1e-19 m above: the landing, about 150 ulps later, is the instant the advance started; it runs on
+    /* 1e-13 m above: the landing is about 2e-12 s later, a stop */
+    land_after_gap(1e-13, &c, &t0, &t, &mode);
+    cr_assert(mode == VI_Mode_elastic && c.n == 1 && t > t0 + unit, "t - t0 = %g s, mode %d", t - t0, mode);
+    /* 1e-15 m above: the landing, about 2e-14 s later, is the instant the advance started; it runs on
      * to the separation */
-    land_after_gap(1e-19, &c, &t0, &t, &mode);
-    cr_assert(c.n == 2 && c.to[0] == VI_Mode_elastic && c.t[0] - t0 <= VI_ZENO_ULPS * ulp,
-              "%d changes, the first %g s after the start", c.n, c.n ? c.t[0] - t0 : 0.0);
+    land_after_gap(1e-15, &c, &t0, &t, &mode);
+    cr_assert(c.n == 2 && c.to[0] == VI_Mode_elastic && c.t[0] - t0 <= unit, "%d changes, the first %g s after the start",
+              c.n, c.n ? c.t[0] - t0 : 0.0);
     cr_assert(mode == VI_Mode_free && t - t0 > 1e-3, "stopped %g s after the start in mode %d", t - t0, mode);
 }
 
