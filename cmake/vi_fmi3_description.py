@@ -3,23 +3,25 @@
 Run at build time by vi_add_fmu(... FMI_VERSIONS 3) (cmake/vi_fmu.cmake):
 
     python vi_fmi3_description.py --fmi2 modelDescription.xml --time-vr VR --derivative-vr-base BASE
-                                  --out OUT.xml --dump [EMULATOR...] DUMP
+                                  --indicator-vr-base INDICATOR_BASE --out OUT.xml --dump [EMULATOR...] DUMP
 
 DUMP is the model's <Name>_dump_variables (tests/dump_variables.c; run under EMULATOR when cross
 compiling), which prints the variable table, the one source of truth for the variables. From it
-come every variable (name, value reference, type, causality, variability, initial, start, unit,
-description), the Enumeration types with their items, the instantiationToken (the table's GUID)
+come every variable (name, value reference, type, causality, variability, initial, start, min,
+max, unit, description), the Enumeration types with their items, the instantiationToken (the table's GUID)
 and the lists of ModelStructure. What the table does not hold comes from the model's FMI 2.0
 description, which the FMI 2.0 tests check against the same table: the model's name, description
 and version, the unit definitions, the default experiment, the log categories' descriptions, the
-descriptions of enumeration types, the bounds (min, max, nominal) of numeric variables, and which
-inputs each output depends on.
+descriptions of enumeration types, the nominal values, Model Exchange (its capabilities, the state
+derivatives, the number of event indicators), and which variables each unknown depends on.
 
-Types: Real -> Float64 (its unit through a Float64Type named as the unit), Boolean -> Boolean,
+Types: Real -> Float64 (its unit and nominal value through a Float64Type), Boolean -> Boolean,
 String -> String, Integer -> Int32, and Integer or Enumeration rows whose enum column names an
 enumeration -> Enumeration of that type (read and written as Int64 through the FMI 3.0 API).
 FMI 3.0 also asks for the independent variable: `time`, with the value reference VR that the face
-answers to (VI_FMI3_TIME_VR in cmake/vi_fmu.cmake, given to both). FMI 3.0 has no call for input
+answers to (VI_FMI3_TIME_VR in cmake/vi_fmu.cmake, given to both). When the FMI 2.0 description
+has Model Exchange, so has this one, and FMI 3.0 lists the event indicators as variables:
+event_indicator_<i> at value reference INDICATOR_BASE + i (VI_FMI3_INDICATOR_VR_BASE). FMI 3.0 has no call for input
 derivatives: when the FMI 2.0 description says canInterpolateInputs="true", each Real input `u` of
 row r gets an input `der(u)` (derivative="r") at value reference BASE + r
 (VI_FMI3_DERIVATIVE_VR_BASE), which the face maps onto the input's derivative. The capabilities are those of
@@ -48,6 +50,17 @@ CO_SIMULATION = dict(
     providesEvaluateDiscreteStates="false",
 )
 
+# ... and Model Exchange capabilities (with those the FMI 2.0 description states: directional
+# derivatives, completed integrator step).
+MODEL_EXCHANGE = dict(
+    needsExecutionTool="false",
+    canBeInstantiatedOnlyOncePerProcess="false",
+    canGetAndSetFMUState="true",
+    canSerializeFMUState="true",
+    providesAdjointDerivatives="false",
+    providesEvaluateDiscreteStates="false",
+)
+
 # The log category of FMI calls is named after the version; every other category keeps its name.
 CALL_CATEGORY = {"logFmi2Call": "logFmi3Call"}
 
@@ -68,9 +81,10 @@ def read_table(command):
         if cols[0] == "guid":
             guid = cols[1]
         elif cols[0] == "var":
-            vr, name, typ, enum, caus, var, init, start, unit, desc = cols[1:11]
+            vr, name, typ, enum, caus, var, init, start, lo, hi, unit, desc = cols[1:13]
             variables.append(dict(vr=int(vr), name=name, type=typ, enum=enum, causality=caus, variability=var,
-                                  initial=init, start=start, unit=unit, description=desc))
+                                  initial=init, start=start, min=lo or None, max=hi or None, unit=unit,
+                                  description=desc))
         elif cols[0] == "enum":
             items.setdefault(cols[1], []).append((cols[2], int(cols[3])))
     if guid is None or not variables:
@@ -104,6 +118,8 @@ def main():
     ap.add_argument("--time-vr", required=True, type=int, help="value reference of the independent variable time")
     ap.add_argument("--derivative-vr-base", required=True, type=int,
                     help="value reference of der(u) for the Real input u in row 0 (row r: base + r)")
+    ap.add_argument("--indicator-vr-base", required=True, type=int,
+                    help="value reference of the first event indicator (Model Exchange; indicator i: base + i)")
     ap.add_argument("--out", required=True, help="the FMI 3.0 modelDescription.xml to write")
     ap.add_argument("--dump", required=True, nargs="+", help="the command that prints the table")
     args = ap.parse_args()
@@ -129,6 +145,13 @@ def main():
                 license=md2.get("license"), generationTool="VibroImpact cmake/vi_fmi3_description.py",
                 instantiationToken=guid, variableNamingConvention=md2.get("variableNamingConvention"))
     out.append(f"<fmiModelDescription{attrs(**root)}>")
+    me2 = md2.find("ModelExchange")
+    if me2 is not None:  # the model offers Model Exchange (the layer's ME hooks)
+        needs_step = "true" if me2.get("completedIntegratorStepNotNeeded", "false") == "false" else "false"
+        me = attrs(modelIdentifier=me2.get("modelIdentifier"), **MODEL_EXCHANGE,
+                   providesDirectionalDerivatives=me2.get("providesDirectionalDerivative", "false"),
+                   needsCompletedIntegratorStep=needs_step)
+        out.append(f"  <ModelExchange{me}/>")
     out.append(f"  <CoSimulation{attrs(modelIdentifier=cs2.get('modelIdentifier'), **CO_SIMULATION)}/>")
 
     units = md2.find("UnitDefinitions")
@@ -139,18 +162,28 @@ def main():
             out.append("    " + ET.tostring(u, encoding="unicode").strip())
         out.append("  </UnitDefinitions>")
 
-    # Units reach the variables through one Float64Type per unit, named as the unit (as the FMI 3.0
-    # Reference FMUs declare them; some importers read no unit attribute on a variable itself).
-    # (the unit of der(u) is u's unit per second where the model defines that unit)
+    # Units and nominal values reach the variables through Float64Types, one per unit (named as the
+    # unit) and one per unit and nominal value (as the FMI 3.0 Reference FMUs declare them; some
+    # importers read no unit or nominal attribute on a variable itself). The unit of der(u) is u's
+    # unit per second where the model defines that unit.
     rate_of = {v["name"]: v["unit"] + "/s" for v in variables if v["type"] == "Real" and v["causality"] == "input"
                and v["unit"] and v["unit"] + "/s" in unit_names}
-    float_units = sorted({v["unit"] for v in variables if v["type"] == "Real" and v["unit"]} |
-                         set(rate_of.values()) | ({"s"} if "s" in unit_names else set()))
+    nominal_of = {v["name"]: s[0].get("nominal") for v, s in zip(variables, sv2)
+                  if v["type"] == "Real" and len(s) and s[0].get("nominal")}
+
+    def float_type(v):
+        """(name, unit, nominal) of the Float64Type of the Real row v, or None."""
+        unit, nominal = v["unit"] or None, nominal_of.get(v["name"])
+        if nominal:
+            return (f"{unit} (nominal {nominal})" if unit else f"nominal {nominal}"), unit, nominal
+        return (unit, unit, None) if unit else None
+    float_types = sorted({float_type(v) for v in variables if v["type"] == "Real" and float_type(v)} |
+                         {(u, u, None) for u in rate_of.values()} | ({("s", "s", None)} if "s" in unit_names else set()))
     enum_desc = {s.get("name"): s.get("description") for s in md2.findall("TypeDefinitions/SimpleType")}
-    if items or float_units:
+    if items or float_types:
         out.append("  <TypeDefinitions>")
-        for u in float_units:
-            out.append(f"    <Float64Type{attrs(name=u, unit=u)}/>")
+        for name, unit, nominal in float_types:
+            out.append(f"    <Float64Type{attrs(name=name, unit=unit, nominal=nominal)}/>")
         for t, its in items.items():
             out.append(f"    <EnumerationType{attrs(name=t, description=enum_desc.get(t))}>")
             for n, k in its:
@@ -172,9 +205,9 @@ def main():
         out.append(f"  <DefaultExperiment{attrs(**de.attrib)}/>")
 
     out.append("  <ModelVariables>")
-    if args.time_vr < len(variables) or args.derivative_vr_base < len(variables) or \
-            args.derivative_vr_base <= args.time_vr < args.derivative_vr_base + len(variables):
-        fail(f"--time-vr {args.time_vr} and --derivative-vr-base {args.derivative_vr_base} overlap the table's rows")
+    bases = sorted([(args.time_vr, 1), (args.derivative_vr_base, len(variables)), (args.indicator_vr_base, 1000)])
+    if bases[0][0] < len(variables) or any(b + n > c for (b, n), (c, _) in zip(bases, bases[1:])):
+        fail(f"--time-vr, --derivative-vr-base, --indicator-vr-base overlap each other or the table's rows")
     time = attrs(name="time", valueReference=args.time_vr, description="simulation time", causality="independent",
                  variability="continuous", declaredType="s" if "s" in unit_names else None)
     out.append(f"    <Float64{time}/>")
@@ -188,14 +221,13 @@ def main():
         given = v["initial"] == "exact" and v["causality"] in ("parameter", "input")
         a = dict(name=v["name"], valueReference=v["vr"], description=v["description"] or None,
                  causality=v["causality"], variability=v["variability"],
-                 initial=v["initial"] if v["causality"] in ("output", "calculatedParameter") else None)
+                 initial=v["initial"] if v["causality"] in ("output", "calculatedParameter", "local") else None)
         if element == "Enumeration":
             a["declaredType"] = enum
-        if element in ("Float64", "Int32") and t2 is not None:
-            for b in ("min", "max") + (("nominal",) if element == "Float64" else ()):
-                a[b] = t2.get(b)
-        if element == "Float64" and v["unit"]:
-            a["declaredType"] = v["unit"]
+        if element in ("Float64", "Int32"):
+            a["min"], a["max"] = (v[b] and number(v[b]) for b in ("min", "max"))
+        if element == "Float64" and float_type(v):
+            a["declaredType"] = float_type(v)[0]
         if element == "Float64" and t2 is not None and t2.get("derivative"):
             a["derivative"] = vr_of_index[int(t2.get("derivative"))]
         if element == "String":
@@ -215,18 +247,26 @@ def main():
                      causality="input", variability="continuous", declaredType=rate_of.get(v["name"]), derivative=v["vr"],
                      start="0")
             out.append(f"    <Float64{attrs(**a)}/>")
+    n_indicators = int(md2.get("numberOfEventIndicators", "0")) if me2 is not None else 0
+    for i in range(n_indicators):  # Model Exchange: FMI 3.0 lists the event indicators as variables
+        a = dict(name=f"event_indicator_{i}", valueReference=args.indicator_vr_base + i,
+                 description=f"event indicator {i} of the hybrid automaton (fmi3GetEventIndicators): the mode "
+                             f"changes where it crosses zero", causality="local", variability="continuous",
+                 initial="calculated")
+        out.append(f"    <Float64{attrs(**a)}/>")
     out.append("  </ModelVariables>")
 
-    # ModelStructure: the lists follow from the table (outputs; outputs and calculated parameters
-    # initially); the dependencies of each come from the FMI 2.0 description, translated from its
+    # ModelStructure: the lists follow from the table (outputs; initially the outputs, calculated
+    # parameters and state derivatives that are calculated); the dependencies of each come from the FMI 2.0 description, translated from its
     # indices to value references.
     deps2 = {}
-    for kind in ("Outputs", "InitialUnknowns"):
+    for kind in ("Outputs", "Derivatives", "InitialUnknowns"):
         for u in md2.findall(f"ModelStructure/{kind}/Unknown"):
             deps2[(kind, vr_of_index[int(u.get("index"))])] = u
     outputs = [v["vr"] for v in variables if v["causality"] == "output"]
-    initial = [v["vr"] for v in variables if v["causality"] in ("output", "calculatedParameter")
-               and v["initial"] == "calculated"]
+    derivatives = {int(s.get("valueReference")) for s in sv2 if len(s) and s[0].get("derivative")}
+    initial = [v["vr"] for v in variables if v["initial"] in ("calculated", "approx")
+               and (v["causality"] in ("output", "calculatedParameter") or v["vr"] in derivatives)]
     for kind, vrs in (("Outputs", outputs), ("InitialUnknowns", initial)):
         listed = sorted(vr for k, vr in deps2 if k == kind)
         if listed != sorted(vrs):
@@ -242,9 +282,17 @@ def main():
                 a["dependenciesKind"] = u.get("dependenciesKind")
         return f"    <{element}{attrs(**a)}/>"
 
+    state_derivatives = [vr for k, vr in deps2 if k == "Derivatives"]  # in the FMI 2.0 order
+    if sorted(state_derivatives) != sorted(derivatives & set(state_derivatives)) or \
+            (me2 is not None and sorted(state_derivatives) != sorted(derivatives)):
+        fail(f"{args.fmi2}: ModelStructure/Derivatives {state_derivatives} are not the variables with a derivative "
+             f"attribute {sorted(derivatives)}")
     out.append("  <ModelStructure>")
     out += [unknown("Output", "Outputs", vr) for vr in outputs]
-    out += [unknown("InitialUnknown", "InitialUnknowns", vr) for vr in initial]
+    out += [unknown("ContinuousStateDerivative", "Derivatives", vr) for vr in state_derivatives]
+    out += [unknown("InitialUnknown", "InitialUnknowns", vr) for vr in initial
+            if me2 is not None or vr not in derivatives]
+    out += [f"    <EventIndicator{attrs(valueReference=args.indicator_vr_base + i)}/>" for i in range(n_indicators)]
     out.append("  </ModelStructure>")
     out.append("</fmiModelDescription>")
     text = "\n".join(out) + "\n"

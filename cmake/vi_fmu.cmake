@@ -27,6 +27,8 @@ set(VI_FMU_ROOT ${CMAKE_CURRENT_LIST_DIR}/..)
 # and der(<input>) of the Real input in row r at VI_FMI3_DERIVATIVE_VR_BASE + r.
 set(VI_FMI3_TIME_VR 2147483647)
 set(VI_FMI3_DERIVATIVE_VR_BASE 1073741824)
+# and, in Model Exchange, event indicator i at VI_FMI3_INDICATOR_VR_BASE + i
+set(VI_FMI3_INDICATOR_VR_BASE 1610612736)
 
 function(vi_add_fmu name)
   cmake_parse_arguments(ARG "" "XML;OUTPUT_DIRECTORY" "SOURCES;LIBRARIES;INCLUDE_DIRS;RESOURCES;DOCUMENTATION;FMI_VERSIONS" ${ARGN})
@@ -67,12 +69,14 @@ function(vi_add_fmu name)
       set(platform x86_64-linux)
       set(out_dir ${ARG_OUTPUT_DIRECTORY}/fmi3)
       set(version_xml ${CMAKE_CURRENT_BINARY_DIR}/${name}_fmi3/modelDescription.xml)
-      set(defs VI_FMI3_TIME_VR=${VI_FMI3_TIME_VR}u VI_FMI3_DERIVATIVE_VR_BASE=${VI_FMI3_DERIVATIVE_VR_BASE}u)
+      set(defs VI_FMI3_TIME_VR=${VI_FMI3_TIME_VR}u VI_FMI3_DERIVATIVE_VR_BASE=${VI_FMI3_DERIVATIVE_VR_BASE}u
+               VI_FMI3_INDICATOR_VR_BASE=${VI_FMI3_INDICATOR_VR_BASE}u)
       set(generator ${VI_FMU_ROOT}/cmake/vi_fmi3_description.py)
       add_custom_command(OUTPUT ${version_xml}
         COMMAND ${CMAKE_COMMAND} -E make_directory ${CMAKE_CURRENT_BINARY_DIR}/${name}_fmi3
         COMMAND ${Python3_EXECUTABLE} ${generator} --fmi2 ${xml} --time-vr ${VI_FMI3_TIME_VR}
-                --derivative-vr-base ${VI_FMI3_DERIVATIVE_VR_BASE} --out ${version_xml}
+                --derivative-vr-base ${VI_FMI3_DERIVATIVE_VR_BASE} --indicator-vr-base ${VI_FMI3_INDICATOR_VR_BASE}
+                --out ${version_xml}
                 --dump ${CMAKE_CROSSCOMPILING_EMULATOR} $<TARGET_FILE:${name}_dump_variables>
         DEPENDS ${generator} ${xml} ${name}_dump_variables
         COMMENT "Generating the FMI 3.0 modelDescription.xml of ${name}")

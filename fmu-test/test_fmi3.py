@@ -15,6 +15,8 @@ what only FMI 3.0 offers.
 - Enumerations by item name, the independent variable time, the data types, the calls of Event Mode
   in the states where they are refused; the layer's test model and the vehicle-track companions
   built for FMI 3.0 behave as their FMI 2.0 builds; fmi-sim (a second importer) runs the FMU.
+- Model Exchange: fmpy integrates the FMI 3.0 interface to the FMI 2.0 one's numbers, bit for bit;
+  event indicators are also variables; the directional derivative is FMI 2.0's.
 """
 import csv
 import ctypes
@@ -33,9 +35,9 @@ from fmpy.fmi1 import FMICallException
 from conftest import BUILD, FMU
 from solvers import each_solver
 from vibroimpact import fmi3
-from vibroimpact.compare import (EPS_Y, EVENT_DT, INTEGERS, REALS, SCENARIOS, STOP_TIME, Runner, compare,
-                                 fmu_events, read_events)
-from vibroimpact.reference.generate import DATA
+from vibroimpact.compare import EVENT_DT, INTEGERS, REALS, SCENARIOS, Runner, compare, fmu_events, read_events
+from vibroimpact.reference.generate import DATA, EPS_Y
+from vibroimpact.reference.scenarios import STOP_TIME
 
 OK, DISCARD, ERROR = fmi3.OK, fmi3.DISCARD, fmi3.ERROR
 RTOL = 1e-11  # the reference's tolerance (vibroimpact.compare.RTOL_FMU)
@@ -381,7 +383,7 @@ def test_types_time_and_bad_values(logged3, vr3):
     cases = {  # call -> (arguments, words of the message)
         "fmi3GetInt32": ((one(vr3["contact_model"]), 1, (ctypes.c_int32 * 1)(), 1), "Enumeration (Int64)"),
         "fmi3GetInt64": ((one(vr3["m"]), 1, (ctypes.c_int64 * 1)(), 1), "is of type Float64"),
-        "fmi3SetInt64": ((one(vr3["solver"]), 1, (ctypes.c_int64 * 1)(2 ** 40), 1), "out of range"),
+        "fmi3SetInt64": ((one(vr3["solver"]), 1, (ctypes.c_int64 * 1)(2 ** 40), 1), "is not one of its items"),
         "fmi3SetFloat64": ((one(vr3["time"]), 1, (ctypes.c_double * 1)(1.0), 1), "independent variable"),
         "fmi3GetFloat64": ((one(vr3["m"], vr3["P"]), 2, (ctypes.c_double * 2)(), 1), "nValues = 1"),
         "fmi3GetFloat32": ((one(vr3["m"]), 1, (ctypes.c_float * 1)(), 1), "not a Float32 variable"),
@@ -396,32 +398,90 @@ def test_types_time_and_bad_values(logged3, vr3):
     assert raw(s, "fmi3SetFloat64", one(vr3["a"]), 1, nan, 1) == ERROR
     assert raw(s, "fmi3SetString", one(vr3["profile_file"]), 1, (ctypes.c_char_p * 1)(b"x" * 5000), 1) == ERROR
     assert s.getFloat64([vr3["a"]]) == [0.0]
-    s.setInt64([vr3["contact_model"]], [9])  # not an item: refused when initialization ends, as in FMI 2.0
-    assert raw(s, "fmi3ExitInitializationMode") == ERROR
-    assert any("contact_model" in m for m in errors(log))
+    # not an item, outside the range: refused at once, as in FMI 2.0, naming what is allowed
+    assert raw(s, "fmi3SetInt64", one(vr3["contact_model"]), 1, (ctypes.c_int64 * 1)(9), 1) == ERROR
+    assert "hertz=1, johnson=2, lepp=3" in errors(log)[-1]
+    assert raw(s, "fmi3SetFloat64", one(vr3["nu1"]), 1, (ctypes.c_double * 1)(0.7), 1) == ERROR
+    assert "nu1" in errors(log)[-1] and "range" in errors(log)[-1]
+    s.exitInitializationMode()
     s.freeInstance()
 
 
-def test_other_interfaces_and_functions_are_refused(md3, dir3, logged3, vr3):
-    from fmpy.fmi3 import FMU3Model
-    model = FMU3Model(guid=md3.guid, unzipDirectory=dir3, modelIdentifier="VibroImpact", instanceName="me")
-    msgs = []
-    with pytest.raises(Exception):
-        model.instantiate(logMessage=lambda env, st, cat, m: msgs.append(m.decode()))
-    assert any("Co-Simulation" in m for m in msgs)
+def test_other_functions_are_refused(logged3, vr3):
     log = logged3()
     s = log.instantiate()
     with pytest.raises(Exception):
         logged3(token="{00000000-0000-0000-0000-000000000000}").instantiate()
     fmi3.initialize(s, vr3, {})
     d = (ctypes.c_double * 1)()
-    for fn, args in {"fmi3GetDirectionalDerivative": (None, 0, None, 0, None, 0, d, 1),
+    for fn, args in {"fmi3GetDirectionalDerivative": (None, 0, None, 0, None, 0, d, 0),
+                     "fmi3GetAdjointDerivative": (None, 0, None, 0, None, 0, d, 0),
                      "fmi3GetOutputDerivatives": (None, 0, None, d, 0), "fmi3EnterConfigurationMode": (),
                      "fmi3EvaluateDiscreteStates": (), "fmi3SetTime": (0.0,),
-                     "fmi3GetNumberOfContinuousStates": (ctypes.byref(ctypes.c_size_t()),)}.items():
+                     "fmi3GetNumberOfContinuousStates": (ctypes.byref(ctypes.c_size_t()),),
+                     "fmi3GetEventIndicators": (d, 2)}.items():
         assert raw(s, fn, *args) == ERROR, fn
-    assert all("not provided" in m or "not allowed" in m for m in errors(log))
+    assert all("not provided" in m or "Model Exchange" in m or "not allowed in state" in m for m in errors(log)), errors(log)
     s.freeInstance()
+
+
+# ---- Model Exchange ------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("name", ["fig4b", "fig5c", "fig6b", "stick"])
+def test_model_exchange_is_the_fmi2_one(name):
+    """fmpy integrates the FMI 3.0 and the FMI 2.0 Model Exchange interfaces (its CVode, its event
+    handling) to the same numbers, bit for bit, events included."""
+    kw = dict(fmi_type="ModelExchange", stop_time=0.02, output_interval=1e-4, relative_tolerance=1e-8,
+              output=["y", "v", "F", "mode", "n_impacts"])
+    r2 = fmpy.simulate_fmu(str(FMU), start_values=dict(SCENARIOS[name].full), **kw)
+    r3 = fmpy.simulate_fmu(str(FMU3), start_values=dict(SCENARIOS[name].full), **kw)
+    for k in ("time", "y", "v", "F", "mode", "n_impacts"):
+        assert np.array_equal(r3[k], r2[k]), k
+    assert len(set(r3["mode"])) >= 2
+
+
+def test_model_exchange_calls(md3, dir3, vr3):
+    """The FMI 3.0 Model Exchange functions on the core's: counts as the model description's, event
+    indicators also as variables, the directional derivative as FMI 2.0's, the interfaces apart."""
+    from fmpy.fmi2 import FMU2Model
+    from fmpy.fmi3 import FMU3Model
+    msgs = []
+    m3 = FMU3Model(guid=md3.guid, unzipDirectory=dir3, modelIdentifier="VibroImpact", instanceName="me3")
+    m3.instantiate(logMessage=lambda env, st, cat, m: msgs.append((st, m.decode())))
+    m3.enterInitializationMode(tolerance=1e-8)
+    m3.setFloat64([vr3["a"]], [1e-4])
+    m3.exitInitializationMode()
+    fmi3.update_discrete_states(m3)
+    m3.enterContinuousTimeMode()
+    assert m3.getNumberOfContinuousStates() == len(md3.derivatives) == 2
+    assert m3.getNumberOfEventIndicators() == len(md3.eventIndicators) == 2
+    m3.setTime(1e-4)
+    z = (ctypes.c_double * 2)()
+    m3.getEventIndicators(z, 2)
+    assert m3.getFloat64([u.variable.valueReference for u in md3.eventIndicators]) == list(z)
+    assert raw(m3, "fmi3SetFloat64", (ctypes.c_uint * 1)(md3.eventIndicators[0].variable.valueReference), 1,
+               (ctypes.c_double * 1)(1.0), 1) == ERROR
+    assert raw(m3, "fmi3DoStep", 0.0, 1e-4, True, *[ctypes.byref(ctypes.c_bool()) for _ in range(3)],
+               ctypes.byref(ctypes.c_double())) == ERROR
+    states = [vr3["y"], vr3["v"]]
+    seeds = [1.0, 0.0]
+    der = [u.variable.valueReference for u in md3.derivatives]
+    J3 = m3.getDirectionalDerivative(der, states, seeds)
+    md2 = read_model_description(str(FMU))
+    m2 = FMU2Model(guid=md2.guid, unzipDirectory=extract(str(FMU)), modelIdentifier="VibroImpact", instanceName="me2")
+    m2.instantiate()
+    m2.setupExperiment(tolerance=1e-8)
+    m2.enterInitializationMode()
+    m2.setReal([vr3["a"]], [1e-4])
+    m2.exitInitializationMode()
+    while m2.newDiscreteStates()[0]:
+        pass
+    m2.enterContinuousTimeMode()
+    m2.setTime(1e-4)
+    assert m2.getDirectionalDerivative(der, states, seeds) == J3
+    assert J3 != [0.0, 0.0]
+    m2.freeInstance()
+    m3.freeInstance()
 
 
 # ---- the other models on the layer, built for FMI 3.0 --------------------------------------------------

@@ -260,8 +260,9 @@ def test_bad_values_are_refused_naming_the_variable(version, faces):
 def test_a_failed_initialization_and_a_discarded_step(version, faces, tmp_path):
     f = faces(version)
     f.s.enterInitializationMode()
-    f.set_real("m", -1.0)
-    assert f.raw("ExitInitializationMode") == ERROR and "m" in f.errors()[-1]
+    assert f.set_real("m", -1.0) == ERROR and "m = -1 is outside its range" in f.errors()[-1]
+    f.set_real("max_step", 1e-13)  # in its range, but no step the solver can take: refused at initialization
+    assert f.raw("ExitInitializationMode") == ERROR and "max_step" in f.errors()[-1]
     assert f.step(0.0, H) == ERROR  # the error state
     f.s.reset()
     profile = tmp_path / "p.txt"

@@ -30,7 +30,8 @@ def test_lepp_restitution(fmu_path, ratio):
     r = impact(fmu_path, dict(contact_model=LEPP), v0, stop=0.02)
     assert r["mode"][-1] == 0
     assert abs(r["v"][-1] / -v0 - vY / -v0) < 1e-6
-    # permanent set m (v0^2 - vY^2)/(2 F_Y), dissipated F_Y delta_p (literature.md 1.9)
+    # energy balance of the linear elastic-perfectly plastic spring: permanent set m (v0^2 - vY^2)/(2 F_Y),
+    # dissipated F_Y delta_p
     dp = e["m"] * (v0 ** 2 - vY ** 2) / (2 * e["F_Y"])
     assert r["delta_p"][-1] == pytest.approx(dp, rel=1e-6)
     assert r["W_plastic"][-1] == pytest.approx(0.5 * e["m"] * (v0 ** 2 - vY ** 2), rel=1e-6)

@@ -25,9 +25,10 @@ every kind of mode change must be equal. `vibroimpact compare` prints the figure
 import numpy as np
 import pytest
 
-from vibroimpact.compare import (DATA, EPS_Y, EVENT_DT, SCENARIOS, STOP_TIME, SUMMARY, Runner, compare,
-                               read_trace)
 from solvers import each_solver
+from vibroimpact.compare import EVENT_DT, SUMMARY, Runner, compare, read_trace
+from vibroimpact.reference.generate import DATA, EPS_Y, RTOL_TRUE
+from vibroimpact.reference.scenarios import SCENARIOS, STOP_TIME
 
 F_REL = 1e-3
 W_REL = 1e-4
@@ -56,7 +57,6 @@ def test_reference_covers_every_scenario():
 def test_committed_reference_is_current(name):
     """The committed trace is what vibroimpact.reference.model computes now (within the horizon, to 1 %
     of EPS_Y: a SciPy upgrade may change the last digits, not the trajectory)."""
-    from vibroimpact.compare import RTOL_TRUE
     from vibroimpact.reference.model import simulate
     ref = read_trace(name)
     now = simulate(SCENARIOS[name].full, STOP_TIME, rtol=RTOL_TRUE, t_eval=ref["time"])

@@ -1,4 +1,4 @@
-"""Exact rollback (issue 9 item 1, contract C7): for every solver, a run continued from a saved FMU
+"""Exact rollback: for every solver, a run continued from a saved FMU
 state is bit for bit the run that continues without the save: get state at t, run to t2 -> A; set
 the state, run to t2 again -> B; A == B. The same for a serialized state restored into a fresh
 instance, and for fmi2Reset followed by the same run. Fig. 4b (chaotic bouncing, Johnson) at the

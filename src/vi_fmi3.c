@@ -6,8 +6,10 @@
  * Co-Simulation, the results of fmi3DoStep (early return at the model's events), the
  * independent variable `time`, the derivatives of the Real inputs as variables `der(<input>)`
  * (FMI 3.0 has no fmi3SetInputDerivatives), and the data types (Float64, Int32, Enumeration as Int64, Boolean,
- * String; the model has no other). The capabilities this face offers are listed in the FMI 3.0
- * model description (cmake/vi_fmi3_description.py).
+ * String; the model has no other), and the event indicators of Model Exchange as variables
+ * event_indicator_<i>. Model Exchange is the core's (vi_core_* ME calls on the model's ME hooks) for
+ * a model that has them. The capabilities this face offers are listed in the FMI 3.0 model
+ * description (cmake/vi_fmi3_description.py).
  *
  * Co-Simulation states map onto the core's: Step Mode = step complete, Step Discarded = step
  * failed, Event Mode = event.
@@ -25,8 +27,8 @@
 #include "fmi3Functions.h"
 #include "vi_fmi_core.h"
 
-#if !defined(VI_FMI3_TIME_VR) || !defined(VI_FMI3_DERIVATIVE_VR_BASE)
-#error "VI_FMI3_TIME_VR and VI_FMI3_DERIVATIVE_VR_BASE (value references) come from cmake/vi_fmu.cmake"
+#if !defined(VI_FMI3_TIME_VR) || !defined(VI_FMI3_DERIVATIVE_VR_BASE) || !defined(VI_FMI3_INDICATOR_VR_BASE)
+#error "VI_FMI3_TIME_VR, VI_FMI3_DERIVATIVE_VR_BASE and VI_FMI3_INDICATOR_VR_BASE come from cmake/vi_fmu.cmake"
 #endif
 
 _Static_assert((int)VI_STATUS_OK == (int)fmi3OK && (int)VI_STATUS_WARNING == (int)fmi3Warning &&
@@ -54,7 +56,8 @@ static const char *const type_names[] = {[VI_Real] = "Float64", [VI_Integer] = "
 static const vi_face face = {.call_category = "logFmi3Call", .emit = emit, .named_enumerations = 1,
                              .type_names = type_names, .has_time = 1, .time_vr = VI_FMI3_TIME_VR,
                              .has_input_derivatives = 1, .derivative_vr_base = VI_FMI3_DERIVATIVE_VR_BASE,
-                             .cs_event_mode = 1};
+                             .cs_event_mode = 1, .has_indicator_vrs = 1,
+                             .indicator_vr_base = VI_FMI3_INDICATOR_VR_BASE};
 
 /* A function this FMU does not provide: refused (after the state check of `call`). */
 static fmi3Status not_provided(fmi3Instance instance, vi_call call, const char *fn, const char *why)
@@ -312,10 +315,16 @@ fmi3Status fmi3GetDirectionalDerivative(fmi3Instance instance, const fmi3ValueRe
                                         const fmi3ValueReference knowns[], size_t nKnowns, const fmi3Float64 seed[],
                                         size_t nSeed, fmi3Float64 sensitivity[], size_t nSensitivity)
 {
-    (void)unknowns, (void)nUnknowns, (void)knowns, (void)nKnowns, (void)seed, (void)nSeed, (void)sensitivity,
-        (void)nSensitivity;
-    return not_provided(instance, VI_CALL_DIRECTIONAL_DERIVATIVE, "fmi3GetDirectionalDerivative",
-                        "providesDirectionalDerivatives = false");
+    const char *fn = "fmi3GetDirectionalDerivative";
+    if (nSeed != nKnowns || nSensitivity != nUnknowns) { /* every variable is a scalar */
+        vi_core *c = vi_core_enter(instance, VI_CALL_DIRECTIONAL_DERIVATIVE, fn);
+        if (!c) return fmi3Error;
+        return (fmi3Status)vi_core_refuse(c, "%s: nSeed = %zu and nSensitivity = %zu must equal nKnowns = %zu and "
+                                             "nUnknowns = %zu (every variable is a scalar)",
+                                          fn, nSeed, nSensitivity, nKnowns, nUnknowns);
+    }
+    return (fmi3Status)vi_core_directional_derivative(instance, fn, unknowns, nUnknowns, knowns, nKnowns, seed,
+                                                      sensitivity);
 }
 
 fmi3Status fmi3GetAdjointDerivative(fmi3Instance instance, const fmi3ValueReference unknowns[], size_t nUnknowns,
@@ -410,9 +419,10 @@ fmi3Status fmi3ActivateModelPartition(fmi3Instance instance, fmi3ValueReference 
 
 /* ---- Event Mode ----------------------------------------------------------------------------- */
 
-/* In Co-Simulation the model applies each event inside fmi3DoStep, so Event Mode has nothing left
- * to update: the importer may set inputs and tunable parameters there (they take effect in the next
- * step) and read the outputs just after the event. */
+/* Model Exchange: one pass of the model's event iteration. In Co-Simulation the model applies each
+ * event inside fmi3DoStep, so Event Mode has nothing left to update: the importer may set inputs and
+ * tunable parameters there (they take effect in the next step) and read the outputs just after the
+ * event. */
 fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discreteStatesNeedUpdate,
                                     fmi3Boolean *terminateSimulation, fmi3Boolean *nominalsOfContinuousStatesChanged,
                                     fmi3Boolean *valuesOfContinuousStatesChanged, fmi3Boolean *nextEventTimeDefined,
@@ -424,7 +434,16 @@ fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discrete
     if (!discreteStatesNeedUpdate || !terminateSimulation || !nominalsOfContinuousStatesChanged ||
         !valuesOfContinuousStatesChanged || !nextEventTimeDefined || !nextEventTime)
         return (fmi3Status)vi_core_refuse(c, "%s: NULL argument", fn);
-    if (c->kind != VI_KIND_CS) return (fmi3Status)vi_core_refuse(c, "%s: Co-Simulation only", fn);
+    if (c->kind == VI_KIND_ME) { /* one pass of the model's event iteration */
+        vi_fmu_event ev;
+        vi_status st = vi_core_new_discrete_states(instance, fn, &ev);
+        if (st == VI_STATUS_OK) {
+            *discreteStatesNeedUpdate = ev.another_pass, *terminateSimulation = ev.terminate;
+            *nominalsOfContinuousStatesChanged = ev.nominals_changed, *valuesOfContinuousStatesChanged = ev.states_changed;
+            *nextEventTimeDefined = ev.next_time_defined, *nextEventTime = ev.next_time_defined ? ev.next_time : 0.0;
+        }
+        return (fmi3Status)st;
+    }
     *discreteStatesNeedUpdate = false;
     *terminateSimulation = false;
     *nominalsOfContinuousStatesChanged = false;
@@ -434,70 +453,78 @@ fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discrete
     return fmi3OK;
 }
 
-/* ---- Model Exchange: not provided ----------------------------------------------------------- */
-
-#define NO_ME(call, fn) not_provided(instance, call, fn, "this FMU offers Co-Simulation only")
+/* ---- Model Exchange ------------------------------------------------------------------------- */
 
 fmi3Status fmi3EnterContinuousTimeMode(fmi3Instance instance)
 {
-    return NO_ME(VI_CALL_ENTER_CONTINUOUS_MODE, "fmi3EnterContinuousTimeMode");
+    return (fmi3Status)vi_core_enter_continuous_mode(instance, "fmi3EnterContinuousTimeMode");
 }
 
 fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance, fmi3Boolean noSetFMUStatePriorToCurrentPoint,
                                        fmi3Boolean *enterEventMode, fmi3Boolean *terminateSimulation)
 {
-    (void)noSetFMUStatePriorToCurrentPoint, (void)enterEventMode, (void)terminateSimulation;
-    return NO_ME(VI_CALL_COMPLETED_STEP, "fmi3CompletedIntegratorStep");
+    (void)noSetFMUStatePriorToCurrentPoint; /* nothing is kept for earlier points */
+    int enter = 0, terminate = 0;
+    vi_status st = vi_core_completed_step(instance, "fmi3CompletedIntegratorStep",
+                                          enterEventMode && terminateSimulation ? &enter : NULL, &terminate);
+    if (st == VI_STATUS_OK) *enterEventMode = enter, *terminateSimulation = terminate;
+    return (fmi3Status)st;
 }
 
 fmi3Status fmi3SetTime(fmi3Instance instance, fmi3Float64 time)
 {
-    (void)time;
-    return NO_ME(VI_CALL_SET_TIME, "fmi3SetTime");
+    return (fmi3Status)vi_core_set_time(instance, "fmi3SetTime", time);
 }
 
 fmi3Status fmi3SetContinuousStates(fmi3Instance instance, const fmi3Float64 continuousStates[],
                                    size_t nContinuousStates)
 {
-    (void)continuousStates, (void)nContinuousStates;
-    return NO_ME(VI_CALL_SET_STATES, "fmi3SetContinuousStates");
+    return (fmi3Status)vi_core_set_states(instance, "fmi3SetContinuousStates", continuousStates, nContinuousStates);
 }
 
 fmi3Status fmi3GetContinuousStateDerivatives(fmi3Instance instance, fmi3Float64 derivatives[],
                                              size_t nContinuousStates)
 {
-    (void)derivatives, (void)nContinuousStates;
-    return NO_ME(VI_CALL_GET_DERIVATIVES, "fmi3GetContinuousStateDerivatives");
+    return (fmi3Status)vi_core_get_derivatives(instance, "fmi3GetContinuousStateDerivatives", derivatives,
+                                               nContinuousStates);
 }
 
 fmi3Status fmi3GetEventIndicators(fmi3Instance instance, fmi3Float64 eventIndicators[], size_t nEventIndicators)
 {
-    (void)eventIndicators, (void)nEventIndicators;
-    return NO_ME(VI_CALL_GET_EVENT_INDICATORS, "fmi3GetEventIndicators");
+    return (fmi3Status)vi_core_get_event_indicators(instance, "fmi3GetEventIndicators", eventIndicators,
+                                                    nEventIndicators);
 }
 
 fmi3Status fmi3GetContinuousStates(fmi3Instance instance, fmi3Float64 continuousStates[], size_t nContinuousStates)
 {
-    (void)continuousStates, (void)nContinuousStates;
-    return NO_ME(VI_CALL_GET_STATES, "fmi3GetContinuousStates");
+    return (fmi3Status)vi_core_get_states(instance, "fmi3GetContinuousStates", continuousStates, nContinuousStates);
 }
 
 fmi3Status fmi3GetNominalsOfContinuousStates(fmi3Instance instance, fmi3Float64 nominals[], size_t nContinuousStates)
 {
-    (void)nominals, (void)nContinuousStates;
-    return NO_ME(VI_CALL_GET_NOMINALS, "fmi3GetNominalsOfContinuousStates");
+    return (fmi3Status)vi_core_get_nominals(instance, "fmi3GetNominalsOfContinuousStates", nominals, nContinuousStates);
+}
+
+/* The numbers of the model (as the model description's ContinuousStateDerivative and EventIndicator
+ * elements count them); Model Exchange instances only. */
+static fmi3Status me_count(fmi3Instance instance, const char *fn, size_t *count, int value)
+{
+    vi_core *c = vi_core_enter(instance, VI_CALL_GET_STATES, fn);
+    if (!c) return fmi3Error;
+    if (c->kind != VI_KIND_ME) return (fmi3Status)vi_core_refuse(c, "%s: a Model Exchange function", fn);
+    if (!count) return (fmi3Status)vi_core_refuse(c, "%s: NULL argument", fn);
+    *count = (size_t)value;
+    return fmi3OK;
 }
 
 fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance instance, size_t *nEventIndicators)
 {
-    (void)nEventIndicators;
-    return NO_ME(VI_CALL_GET_EVENT_INDICATORS, "fmi3GetNumberOfEventIndicators");
+    return me_count(instance, "fmi3GetNumberOfEventIndicators", nEventIndicators, vi_fmu_this_model.n_indicators);
 }
 
 fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance instance, size_t *nContinuousStates)
 {
-    (void)nContinuousStates;
-    return NO_ME(VI_CALL_GET_STATES, "fmi3GetNumberOfContinuousStates");
+    return me_count(instance, "fmi3GetNumberOfContinuousStates", nContinuousStates, vi_fmu_this_model.n_states);
 }
 
 /* ---- Co-Simulation -------------------------------------------------------------------------- */

@@ -7,12 +7,15 @@
  */
 #include "vi_fmi_core.h"
 
+#include "vi_check.h"
+
 #include <float.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdbool.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define MODEL (&vi_fmu_this_model)
@@ -118,9 +121,12 @@ static void model_log(void *env, int category, const char *fmt, ...)
                                           [VI_FMU_LOG_WARNING] = VI_STATUS_WARNING,
                                           [VI_FMU_LOG_ERROR] = VI_STATUS_ERROR};
     const vi_core *c = env;
+    int known = category >= 0 && category < (int)(sizeof cat_of / sizeof cat_of[0]);
+    if (!known) /* a model's mistake: its message still reaches the importer, as an error */
+        vi_core_log(c, VI_STATUS_ERROR, VI_CAT_ERROR, "the model logged with the unknown category %d:", category);
     va_list ap;
     va_start(ap, fmt);
-    vlog(c, status_of[category], cat_of[category], fmt, ap);
+    vlog(c, known ? status_of[category] : VI_STATUS_ERROR, known ? cat_of[category] : VI_CAT_ERROR, fmt, ap);
     va_end(ap);
 }
 
@@ -178,9 +184,9 @@ vi_core *vi_core_instantiate(const vi_face *face, const vi_callbacks *cb, const 
         LOG_ERROR(&tmp, "%s: instanceName must be a non-empty string", fn);
         return NULL;
     }
-    if (kind != VI_KIND_CS) {
-        LOG_ERROR(&tmp, "%s: %s is a Co-Simulation FMU; the interface type asked for is not supported", fn,
-                  MODEL->model_identifier);
+    if (kind != VI_KIND_CS && !(kind == VI_KIND_ME && MODEL->n_states > 0)) {
+        LOG_ERROR(&tmp, "%s: %s does not offer the interface type asked for (%s)", fn, MODEL->model_identifier,
+                  kind == VI_KIND_ME ? "Model Exchange" : "unknown type");
         return NULL;
     }
     if (!guid || strcmp(guid, MODEL->guid) != 0) {
@@ -255,6 +261,13 @@ vi_status vi_core_enter_init(void *instance, const char *fn)
 vi_status vi_core_exit_init(void *instance, const char *fn)
 {
     ENTER(VI_CALL_EXIT_INIT);
+    if (c->kind == VI_KIND_ME) {
+        if (MODEL->me_initialize(c->model) < 0) return vi_core_fail(c, fn);
+        c->state = VI_ST_EVENT; /* the importer runs the initial event iteration */
+        c->t_committed = MODEL->time(c->model);
+        c->event_passes = 0;
+        return VI_STATUS_OK;
+    }
     if (MODEL->initialize(c->model) < 0) return vi_core_fail(c, fn);
     c->state = VI_ST_STEP_COMPLETE;
     return VI_STATUS_OK;
@@ -329,6 +342,14 @@ static const vi_variable *lookup(vi_core *c, const char *fn, unsigned vr, vi_typ
 /* Is vr the independent variable time of the face? */
 static int is_time(const vi_core *c, unsigned vr) { return c->face->has_time && vr == c->face->time_vr; }
 
+/* Is vr an event indicator of the face (its index), else -1? */
+static int indicator_of(const vi_core *c, unsigned vr)
+{
+    if (!c->face->has_indicator_vrs || vr < c->face->indicator_vr_base) return -1;
+    unsigned i = vr - c->face->indicator_vr_base;
+    return i < (unsigned)MODEL->n_indicators ? (int)i : -1;
+}
+
 /* The Real input whose derivative has the value reference vr in the face, else NULL. */
 static const vi_variable *input_of_derivative(const vi_core *c, unsigned vr)
 {
@@ -400,6 +421,17 @@ vi_status vi_core_get(void *instance, const char *fn, const unsigned vr[], size_
             elem_store(values, elem, i, *derivative(c, in), 0);
             continue;
         }
+        int k = api == VI_Real ? indicator_of(c, vr[i]) : -1;
+        if (k >= 0) { /* the model's indicators at the current state (in initialization mode: the initial one) */
+            double z[VI_MAX_INDICATORS];
+            if (c->kind != VI_KIND_ME || MODEL->n_indicators > VI_MAX_INDICATORS)
+                return vi_core_refuse(c, "%s: value reference %u is an event indicator of Model Exchange", fn, vr[i]);
+            if (!have_out && current_outputs(c, fn) < 0) return VI_STATUS_ERROR;
+            have_out = 1;
+            MODEL->indicators(c->model, z);
+            elem_store(values, elem, i, z[k], 0);
+            continue;
+        }
         const vi_variable *v = lookup(c, fn, vr[i], api);
         if (!v) return VI_STATUS_ERROR;
         const void *p = storage(c, v);
@@ -420,11 +452,57 @@ vi_status vi_core_get(void *instance, const char *fn, const unsigned vr[], size_
 
 static int tunable(const vi_variable *v) { return strcmp(v->variability, "tunable") == 0; }
 
+/* Is enumeration value k an item of type? */
+static int enum_item(const char *type, int k)
+{
+    for (int i = 0; i < MODEL->n_enum_items; i++)
+        if (MODEL->enum_items[i].value == k && strcmp(MODEL->enum_items[i].type, type) == 0) return 1;
+    return 0;
+}
+
+/* x in as few digits as read back as x (at most 17). */
+static void format_value(double x, char *text, size_t n)
+{
+    for (int digits = 15; digits <= 17; digits++) {
+        snprintf(text, n, "%.*g", digits, x);
+        if (strtod(text, NULL) == x) return;
+    }
+}
+
+/* Is x a valid value of the Real or Integer variable v: inside its range (the table's min and max)
+ * and, for an enumerated Integer, one of its items? 0, or -1 with a message naming the variable,
+ * the value and what is allowed. */
+static int check_range(const vi_variable *v, double x, char *msg, size_t n)
+{
+    char range[256] = "";
+    if (strcmp(v->enumeration, "none") != 0) {
+        if (x >= INT_MIN && x <= INT_MAX && x == (int)x && enum_item(v->enumeration, (int)x)) return 0;
+        size_t used = 0;
+        for (int i = 0; i < MODEL->n_enum_items && used < sizeof range; i++) {
+            const vi_enum_item *e = &MODEL->enum_items[i];
+            if (strcmp(e->type, v->enumeration) != 0) continue;
+            int k = snprintf(range + used, sizeof range - used, "%s%s=%d", used ? ", " : "", e->name, e->value);
+            used += k > 0 ? (size_t)k : 0;
+        }
+        VI_FAIL(msg, n, "%s = %.0f is not one of its items %s", v->name, x, range);
+    }
+    if (vi_in_range(v, x)) return 0;
+    char value[32];
+    format_value(x, value, sizeof value);
+    vi_range_text(v, range, sizeof range);
+    VI_FAIL(msg, n, "%s = %s is outside its range %s (%s)", v->name, value, range, v->description);
+}
+
 /* May v be set now? Inputs and tunable parameters: before and after initialization; fixed
  * parameters: until the end of initialization mode; nothing else ever. (The callers allow only
  * the states of their call.) */
 static int settable(vi_core *c, const char *fn, const vi_variable *v)
 {
+    if (c->state == VI_ST_CONTINUOUS && !(v->group == VI_GROUP_INPUTS && strcmp(v->variability, "continuous") == 0)) {
+        LOG_ERROR(c, "%s: %s cannot be set in continuous-time mode (only continuous inputs can): set it in event mode",
+                  fn, v->name);
+        return 0;
+    }
     if (v->group == VI_GROUP_INPUTS) return 1;
     if (v->group == VI_GROUP_PARAMETERS && ((c->state & (VI_ST_INSTANTIATED | VI_ST_INIT)) || tunable(v))) return 1;
     if (v->group == VI_GROUP_PARAMETERS)
@@ -436,10 +514,12 @@ static int settable(vi_core *c, const char *fn, const vi_variable *v)
 }
 
 /* After a value was set: a new input value holds (zero-order) until a derivative is set; an input or
- * a tunable parameter set between steps takes effect at the start of the next step. */
+ * a tunable parameter set between steps (co-simulation) or in event mode (model exchange) is
+ * announced to the model. */
 static void changed(vi_core *c, const vi_variable *v)
 {
     if (v->group == VI_GROUP_INPUTS && v->type == VI_Real) *derivative(c, v) = 0.0;
+    if (c->state == VI_ST_CONTINUOUS) return; /* Model Exchange reads its inputs at every evaluation */
     if (v->group == VI_GROUP_INPUTS || (c->state & (VI_ST_STEP_COMPLETE | VI_ST_EVENT))) MODEL->changed(c->model);
 }
 
@@ -457,8 +537,11 @@ static int acceptable(vi_core *c, const char *fn, const vi_variable *v, const vo
     }
     if (v->type == VI_Real && !isfinite(elem_real(values, elem, i)))
         return LOG_ERROR(c, "%s: %s must be finite", fn, v->name), 0;
-    if (v->type != VI_Real && elem == VI_ELEM_INT64 && (elem_int(values, elem, i) < INT_MIN || elem_int(values, elem, i) > INT_MAX))
-        return LOG_ERROR(c, "%s: %s = %lld is out of range", fn, v->name, elem_int(values, elem, i)), 0;
+    char why[512];
+    if (v->type != VI_Boolean &&
+        check_range(v, v->type == VI_Real ? elem_real(values, elem, i) : (double)elem_int(values, elem, i), why,
+                    sizeof why) < 0)
+        return LOG_ERROR(c, "%s: %s; nothing was set", fn, why), 0;
     return 1;
 }
 
@@ -469,6 +552,8 @@ vi_status vi_core_set(void *instance, const char *fn, const unsigned vr[], size_
     if (nvr > 0 && (!vr || !values)) return vi_core_refuse(c, "%s: NULL array", fn);
     for (size_t i = 0; i < nvr; i++) {
         if (is_time(c, vr[i])) return vi_core_refuse(c, "%s: time is the independent variable: it cannot be set", fn);
+        if (indicator_of(c, vr[i]) >= 0)
+            return vi_core_refuse(c, "%s: value reference %u is an event indicator: it cannot be set", fn, vr[i]);
         const vi_variable *in = api == VI_Real ? input_of_derivative(c, vr[i]) : NULL;
         if (in && !isfinite(elem_real(values, elem, i)))
             return vi_core_refuse(c, "%s: the derivative of %s must be finite", fn, in->name);
@@ -542,12 +627,13 @@ typedef struct {
 static size_t saved_size(void) { return sizeof(vi_saved_state) + MODEL->state_size; }
 static void *payload(const vi_saved_state *s) { return (char *)s + sizeof *s; }
 
-/* The checksum: FNV-1a's round (Fowler, Noll, Vo: xor, then multiply by the 64-bit FNV prime) on
- * 64-bit words instead of bytes, each followed by a xor-shift so that high bits feed back into low
- * ones, in four interleaved lanes (a state of a few kB then costs a fraction of a microsecond, where
- * byte-wise FNV-1a took 5 us on every fmi2GetFMUstate), the lanes and the tail bytes folded in at the
- * end. Every round is a bijection of its lane and of its word, so any change of a single word (a
- * single bit flip, say) changes the result. Start with h = VI_FNV_OFFSET. */
+/* The hash behind model_id and checksum: the multiply-xor round of FNV-1a (Fowler, Noll, Vo: xor,
+ * then multiply by the 64-bit FNV prime) applied to 64-bit words instead of bytes, each followed by
+ * a xor-shift so that high bits feed back into low ones, in four interleaved lanes, the lanes and
+ * the tail bytes folded in at the end. It is not FNV-1a itself (which goes byte by byte): a state of
+ * a few kB costs a fraction of a microsecond. Every round is a bijection of its lane and of its
+ * word, so any change of a single word (a single bit flip, say) changes the result. Start with
+ * h = VI_FNV_OFFSET. */
 #define VI_FNV_OFFSET 0xcbf29ce484222325u
 #define VI_FNV_PRIME 0x100000001b3u
 #define VI_HASH_LANES 4
@@ -557,7 +643,7 @@ static uint64_t hash_round(uint64_t h, uint64_t w)
     return h ^ (h >> 32);
 }
 
-static uint64_t fnv1a(uint64_t h, const void *data, size_t n)
+static uint64_t state_hash(uint64_t h, const void *data, size_t n)
 {
     const unsigned char *p = data;
     uint64_t lane[VI_HASH_LANES], w;
@@ -574,26 +660,19 @@ static uint64_t fnv1a(uint64_t h, const void *data, size_t n)
     return h;
 }
 
-static uint64_t model_id(void) { return fnv1a(VI_FNV_OFFSET, MODEL->guid, strlen(MODEL->guid)); }
+static uint64_t model_id(void) { return state_hash(VI_FNV_OFFSET, MODEL->guid, strlen(MODEL->guid)); }
 
 static uint64_t checksum(const vi_saved_state *s)
 {
     vi_saved_state head = *s;
     head.checksum = 0;
-    return fnv1a(fnv1a(VI_FNV_OFFSET, &head, sizeof head), payload(s), MODEL->state_size);
+    return state_hash(state_hash(VI_FNV_OFFSET, &head, sizeof head), payload(s), MODEL->state_size);
 }
 
-/* Is enumeration value k an item of type? */
-static int enum_item(const char *type, int k)
-{
-    for (int i = 0; i < MODEL->n_enum_items; i++)
-        if (MODEL->enum_items[i].value == k && strcmp(MODEL->enum_items[i].type, type) == 0) return 1;
-    return 0;
-}
-
-/* The table's values in a saved block: what the setters guarantee (finite Reals, Booleans 0 or 1,
- * terminated Strings) and, once running, enumeration items. 0, or -1 with the first bad one. */
-static int check_values(const void *block, int running, char *msg, size_t n)
+/* The table's values in a saved block: what the setters guarantee (finite Reals inside their
+ * ranges, Integers inside theirs, enumerations items of their type, Booleans 0 or 1, terminated
+ * Strings). 0, or -1 with the first bad one. */
+static int check_values(const void *block, char *msg, size_t n)
 {
     for (int vr = 0; vr < MODEL->nvariables; vr++) {
         const vi_variable *v = &MODEL->variables[vr];
@@ -604,27 +683,31 @@ static int check_values(const void *block, int running, char *msg, size_t n)
         switch (v->type) {
         case VI_Real:
             memcpy(&x, p, sizeof x);
-            if (!isfinite(x)) return snprintf(msg, n, "%s = %g is not finite", v->name, x), -1;
+            if (!isfinite(x)) VI_FAIL(msg, n, "%s = %g is not finite", v->name, x);
+            if (check_range(v, x, msg, n) < 0) return -1;
             if (v->group != VI_GROUP_INPUTS) break;
             memcpy(&dx, (const char *)group_in(block, VI_GROUP_INPUT_DERIVATIVES) + v->offset, sizeof dx);
-            if (!isfinite(dx)) return snprintf(msg, n, "the derivative of %s = %g is not finite", v->name, dx), -1;
+            if (!isfinite(dx)) VI_FAIL(msg, n, "the derivative of %s = %g is not finite", v->name, dx);
             break;
         case VI_String:
-            if (!memchr(p, '\0', VI_STRING_SIZE)) return snprintf(msg, n, "%s is not a terminated string", v->name), -1;
+            if (!memchr(p, '\0', VI_STRING_SIZE)) VI_FAIL(msg, n, "%s is not a terminated string", v->name);
             break;
         default:
             memcpy(&k, p, sizeof k);
             if (v->type == VI_Boolean && k != 0 && k != 1)
-                return snprintf(msg, n, "%s = %d is not a Boolean", v->name, k), -1;
-            if (running && strcmp(v->enumeration, "none") != 0 && !enum_item(v->enumeration, k))
-                return snprintf(msg, n, "%s = %d is not an item of %s", v->name, k, v->enumeration), -1;
+                VI_FAIL(msg, n, "%s = %d is not a Boolean", v->name, k);
+            if (v->type != VI_Boolean && check_range(v, k, msg, n) < 0) return -1;
         }
     }
     return 0;
 }
 
-/* Was the saved FMI state after initialization? */
-static int saved_running(const vi_saved_state *s) { return (s->fmu_state & (VI_ST_RUNNING | VI_ST_ERROR)) != 0; }
+/* Was the saved FMI state after initialization? Then VI_FMU_RUNNING_CS or _ME (the instance's interface). */
+static int saved_running(const vi_core *c, const vi_saved_state *s)
+{
+    if (!(s->fmu_state & (VI_ST_RUNNING | VI_ST_ERROR))) return 0;
+    return c->kind == VI_KIND_ME ? VI_FMU_RUNNING_ME : VI_FMU_RUNNING_CS;
+}
 
 /* The states an instance of this kind can be in. */
 static unsigned kind_states(const vi_core *c)
@@ -655,8 +738,8 @@ static int check_saved(vi_core *c, const char *fn, const vi_saved_state *s, size
                  state_name(s->fmu_state));
     else if (s->stop_time_defined > 1u || (s->stop_time_defined && !isfinite(s->stop_time)))
         snprintf(why, sizeof why, "field stop_time is not finite");
-    else if (check_values(payload(s), saved_running(s), why, sizeof why) < 0 ||
-             (MODEL->state_check && MODEL->state_check(payload(s), saved_running(s), why, sizeof why) < 0)) {
+    else if (check_values(payload(s), why, sizeof why) < 0 ||
+             (MODEL->state_check && MODEL->state_check(payload(s), saved_running(c, s), why, sizeof why) < 0)) {
         if (!why[0]) snprintf(why, sizeof why, "invalid field");
     }
     if (why[0]) LOG_ERROR(c, "%s: invalid FMU state: %s", fn, why);
@@ -689,7 +772,9 @@ vi_status vi_core_set_fmu_state(void *instance, const char *fn, const void *stat
     c->stop_time_defined = (int)s->stop_time_defined;
     c->stop_time = s->stop_time;
     c->state = s->fmu_state;
-    if (MODEL->restore && MODEL->restore(c->model, saved_running(s)) != 0) return vi_core_fail(c, fn);
+    c->event_passes = 0;
+    if (MODEL->restore && MODEL->restore(c->model, saved_running(c, s)) != 0) return vi_core_fail(c, fn);
+    c->t_committed = MODEL->time(c->model);
     return VI_STATUS_OK;
 }
 
@@ -768,8 +853,8 @@ static vi_status do_step(void *instance, const char *fn, double tc, double h, in
         return vi_core_refuse(c, "%s: currentCommunicationPoint %.17g does not match the FMU's time %.17g", fn, tc, t);
     if (!(t_end - t >= VI_MIN_STEP_ULPS * unit))
         return vi_core_refuse(c, "%s: a step of %g s is too short to advance time at t = %.17g s: use at least %g s "
-                                 "(16 units of the time resolution there); nothing was done",
-                              fn, h, t, VI_MIN_STEP_ULPS * unit);
+                                 "(%g units of the time resolution there); nothing was done",
+                              fn, h, t, VI_MIN_STEP_ULPS * unit, VI_MIN_STEP_ULPS);
     if (c->stop_time_defined && t_end > c->stop_time + VI_TIME_MATCH_ULPS * unit)
         return vi_core_refuse(c, "%s: the step to %.17g passes the stop time %.17g", fn, t_end, c->stop_time);
     int rc = event && MODEL->advance_to_event ? MODEL->advance_to_event(c->model, t_end) : MODEL->advance(c->model, t_end);
@@ -804,12 +889,34 @@ vi_status vi_core_do_step_to_event(void *instance, const char *fn, double tc, do
     return st;
 }
 
+/* ---- Model Exchange --------------------------------------------------------------------------- */
+
+/* A Model Exchange call on an instance of the other interface, or an array of the wrong length. */
+static int me_args(vi_core *c, const char *fn, const void *array, size_t n, size_t expected, const char *what)
+{
+    if (c->kind != VI_KIND_ME)
+        return LOG_ERROR(c, "%s: a Model Exchange function; this instance is a Co-Simulation one", fn), 0;
+    if (expected > 0 && !array) return LOG_ERROR(c, "%s: the array is NULL", fn), 0;
+    if (n != expected)
+        return LOG_ERROR(c, "%s: %zu %s given; %s has %zu", fn, n, what, MODEL->model_identifier, expected), 0;
+    return 1;
+}
+#define ME_ARGS(array, n, expected, what) \
+    if (!me_args(c, fn, array, n, expected, what)) return VI_STATUS_ERROR
+
 vi_status vi_core_enter_event_mode(void *instance, const char *fn)
 {
     ENTER(VI_CALL_ENTER_EVENT_MODE);
-    if (c->kind == VI_KIND_CS && (c->state != VI_ST_STEP_COMPLETE || !c->face->cs_event_mode))
-        return vi_core_refuse(c, "%s: not allowed in state '%s'", fn, state_name(c->state));
+    if (c->kind == VI_KIND_CS) { /* Co-Simulation with Event Mode (FMI 3.0): from Step Mode */
+        if (c->state != VI_ST_STEP_COMPLETE || !c->face->cs_event_mode)
+            return vi_core_refuse(c, "%s: not allowed in state '%s'", fn, state_name(c->state));
+        c->state = VI_ST_EVENT;
+        return VI_STATUS_OK;
+    }
+    ME_ARGS(NULL, 0, 0, "");
+    if (c->state == VI_ST_CONTINUOUS) c->event_passes = 0;
     c->state = VI_ST_EVENT;
+    c->t_committed = MODEL->time(c->model);
     return VI_STATUS_OK;
 }
 
@@ -818,5 +925,146 @@ vi_status vi_core_enter_step_mode(void *instance, const char *fn)
     ENTER(VI_CALL_ENTER_STEP_MODE);
     if (c->kind != VI_KIND_CS) return vi_core_refuse(c, "%s: only for Co-Simulation", fn);
     c->state = VI_ST_STEP_COMPLETE;
+    return VI_STATUS_OK;
+}
+
+vi_status vi_core_new_discrete_states(void *instance, const char *fn, vi_fmu_event *ev)
+{
+    ENTER(VI_CALL_NEW_DISCRETE_STATES);
+    ME_ARGS(NULL, 0, 0, "");
+    if (!ev) return vi_core_refuse(c, "%s: fmi2EventInfo is NULL", fn);
+    memset(ev, 0, sizeof *ev);
+    if (++c->event_passes > VI_MAX_EVENT_PASSES) {
+        LOG_ERROR(c, "%s: the mode does not settle at t = %.17g s: %d passes of the event iteration, each leaving the "
+                     "state inconsistent with its mode (chattering); stopped", fn, MODEL->time(c->model),
+                  VI_MAX_EVENT_PASSES);
+        c->state = VI_ST_ERROR;
+        return VI_STATUS_ERROR;
+    }
+    if (MODEL->event_update(c->model, ev) < 0) return vi_core_fail(c, fn);
+    if (ev->next_time_defined && !(ev->next_time > MODEL->time(c->model))) ev->next_time_defined = 0;
+    if (ev->terminate) vi_core_log(c, VI_STATUS_WARNING, VI_CAT_WARNING, "%s: %s", fn, MODEL->message(c->model));
+    c->t_committed = MODEL->time(c->model);
+    return VI_STATUS_OK;
+}
+
+vi_status vi_core_enter_continuous_mode(void *instance, const char *fn)
+{
+    ENTER(VI_CALL_ENTER_CONTINUOUS_MODE);
+    ME_ARGS(NULL, 0, 0, "");
+    c->state = VI_ST_CONTINUOUS;
+    c->event_passes = 0;
+    return VI_STATUS_OK;
+}
+
+vi_status vi_core_completed_step(void *instance, const char *fn, int *enter_event, int *terminate)
+{
+    ENTER(VI_CALL_COMPLETED_STEP);
+    ME_ARGS(NULL, 0, 0, "");
+    if (!enter_event || !terminate) return vi_core_refuse(c, "%s: NULL argument", fn);
+    *enter_event = MODEL->completed_step(c->model) != 0;
+    *terminate = 0;
+    c->t_committed = MODEL->time(c->model);
+    return VI_STATUS_OK;
+}
+
+vi_status vi_core_set_time(void *instance, const char *fn, double t)
+{
+    ENTER(VI_CALL_SET_TIME);
+    ME_ARGS(NULL, 0, 0, "");
+    if (!isfinite(t)) return vi_core_refuse(c, "%s: time %g is not finite", fn, t);
+    if (t < c->t_committed)
+        return vi_core_refuse(c, "%s: t = %.17g s lies before the last event or completed integrator step (%.17g s); "
+                                 "time goes back only within the current step (restore an FMU state to go further)",
+                              fn, t, c->t_committed);
+    if (c->state == VI_ST_EVENT && t != MODEL->time(c->model))
+        return vi_core_refuse(c, "%s: t = %.17g s in event mode, whose time is %.17g s: time moves in continuous-time "
+                                 "mode only", fn, t, MODEL->time(c->model));
+    MODEL->set_time(c->model, t);
+    return VI_STATUS_OK;
+}
+
+vi_status vi_core_set_states(void *instance, const char *fn, const double x[], size_t n)
+{
+    ENTER(VI_CALL_SET_STATES);
+    ME_ARGS(x, n, (size_t)MODEL->n_states, "states");
+    for (size_t i = 0; i < n; i++)
+        if (!isfinite(x[i]))
+            return vi_core_refuse(c, "%s: state %zu (%s) = %g is not finite; nothing was set", fn, i,
+                                  MODEL->variables[MODEL->state_vrs[i]].name, x[i]);
+    MODEL->set_states(c->model, x);
+    return VI_STATUS_OK;
+}
+
+vi_status vi_core_get_states(void *instance, const char *fn, double x[], size_t n)
+{
+    ENTER(VI_CALL_GET_STATES);
+    ME_ARGS(x, n, (size_t)MODEL->n_states, "states");
+    if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) return vi_core_refuse(c, "%s: %s", fn, MODEL->message(c->model));
+    MODEL->get_states(c->model, x);
+    return VI_STATUS_OK;
+}
+
+vi_status vi_core_get_derivatives(void *instance, const char *fn, double dx[], size_t n)
+{
+    ENTER(VI_CALL_GET_DERIVATIVES);
+    ME_ARGS(dx, n, (size_t)MODEL->n_states, "derivatives");
+    MODEL->derivatives(c->model, dx);
+    return VI_STATUS_OK;
+}
+
+vi_status vi_core_get_event_indicators(void *instance, const char *fn, double z[], size_t n)
+{
+    ENTER(VI_CALL_GET_EVENT_INDICATORS);
+    ME_ARGS(z, n, (size_t)MODEL->n_indicators, "event indicators");
+    if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) return vi_core_refuse(c, "%s: %s", fn, MODEL->message(c->model));
+    MODEL->indicators(c->model, z);
+    return VI_STATUS_OK;
+}
+
+vi_status vi_core_get_nominals(void *instance, const char *fn, double nominal[], size_t n)
+{
+    ENTER(VI_CALL_GET_NOMINALS);
+    ME_ARGS(nominal, n, (size_t)MODEL->n_states, "nominals");
+    MODEL->nominals(c->model, nominal);
+    return VI_STATUS_OK;
+}
+
+/* Is vr a state of the model (its index in state order), or -1? */
+static int state_index(unsigned vr)
+{
+    for (int i = 0; i < MODEL->n_states; i++)
+        if (MODEL->state_vrs[i] == vr) return i;
+    return -1;
+}
+
+vi_status vi_core_directional_derivative(void *instance, const char *fn, const unsigned unknown[], size_t n_unknown,
+                                         const unsigned known[], size_t n_known, const double dknown[],
+                                         double dunknown[])
+{
+    ENTER(VI_CALL_DIRECTIONAL_DERIVATIVE);
+    if (c->kind != VI_KIND_ME)
+        return vi_core_refuse(c, "%s: provided in Model Exchange only (the Co-Simulation interface declares "
+                                 "providesDirectionalDerivative=false)", fn);
+    if ((n_unknown > 0 && (!unknown || !dunknown)) || (n_known > 0 && (!known || !dknown)))
+        return vi_core_refuse(c, "%s: NULL array", fn);
+    for (size_t i = 0; i < n_unknown; i++) {
+        const vi_variable *v = lookup(c, fn, unknown[i], VI_Real);
+        if (!v) return VI_STATUS_ERROR;
+        int is_derivative = 0;
+        for (int k = 0; k < MODEL->n_states; k++) is_derivative |= MODEL->derivative_vrs[k] == unknown[i];
+        if (!is_derivative && v->group != VI_GROUP_OUTPUTS)
+            return vi_core_refuse(c, "%s: unknown %s is neither a state derivative nor an output", fn, v->name);
+    }
+    for (size_t i = 0; i < n_known; i++) {
+        const vi_variable *v = lookup(c, fn, known[i], VI_Real);
+        if (!v) return VI_STATUS_ERROR;
+        if (state_index(known[i]) < 0 && v->group != VI_GROUP_INPUTS)
+            return vi_core_refuse(c, "%s: known %s is neither a state nor an input", fn, v->name);
+        if (!isfinite(dknown[i])) return vi_core_refuse(c, "%s: the seed of %s is not finite", fn, v->name);
+    }
+    if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) return vi_core_refuse(c, "%s: %s", fn, MODEL->message(c->model));
+    if (MODEL->directional_derivative(c->model, unknown, n_unknown, known, n_known, dknown, dunknown) < 0)
+        return vi_core_refuse(c, "%s: %s", fn, MODEL->message(c->model));
     return VI_STATUS_OK;
 }

@@ -141,7 +141,7 @@ static fmi3Status initialize(fmi3Instance c, int law, double a, double Y, int ev
     const fmi3Int64 law_v = law;
     EXPECT(F.enter_init(c, fmi3True, 1e-7, 0.0, fmi3False, 0.0) == fmi3OK);
     EXPECT(F.set_float64(c, vr, 2, v, 2) == fmi3OK);
-    EXPECT(F.set_int64(c, &law_vr, 1, &law_v, 1) == fmi3OK);
+    if (F.set_int64(c, &law_vr, 1, &law_v, 1) != fmi3OK) return fmi3Error; /* not an item: refused at once */
     fmi3Status st = F.exit_init(c);
     if (st == fmi3OK && event_mode) event_iteration(c);
     return st;
@@ -303,10 +303,16 @@ int main(int argc, char **argv)
     read_all(c);
     EXPECT(F.free_state(c, &before) == fmi3OK);
     EXPECT(F.reset(c) == fmi3OK);
-    EXPECT(initialize(c, 7, 1e-4, 6e8, 0) == fmi3Error);
+    EXPECT(initialize(c, 7, 1e-4, 6e8, 0) == fmi3Error); /* contact_model = 7 refused */
     fmi3Boolean handling, terminate, early;
     fmi3Float64 last;
     EXPECT(F.do_step(c, 0.0, 1e-4, fmi3True, &handling, &terminate, &early, &last) == fmi3Error);
+    EXPECT(F.reset(c) == fmi3OK);
+    const fmi3ValueReference m_vr = VI_VR_m;
+    const fmi3Float64 negative = -1.0;
+    EXPECT(F.enter_init(c, fmi3False, 0.0, 0.0, fmi3False, 0.0) == fmi3OK);
+    EXPECT(F.set_float64(c, &m_vr, 1, &negative, 1) == fmi3Error); /* outside its range */
+    EXPECT(F.exit_init(c) == fmi3OK);
     EXPECT(F.reset(c) == fmi3OK);
     F.free_instance(c);
     F.free_instance(NULL);
@@ -330,7 +336,10 @@ int main(int argc, char **argv)
                          logger, NULL) == NULL);
     EXPECT(F.instantiate("", VI_GUID, resources, fmi3False, fmi3False, fmi3False, fmi3False, NULL, 0, NULL, logger,
                          NULL) == NULL);
-    EXPECT(F.instantiate_me("me", VI_GUID, resources, fmi3False, fmi3False, NULL, logger) == NULL);
+    EXPECT(F.instantiate_me("me", "{wrong}", resources, fmi3False, fmi3False, NULL, logger) == NULL);
+    fmi3Instance me = F.instantiate_me("me", VI_GUID, resources, fmi3False, fmi3False, NULL, logger);
+    EXPECT(me != NULL); /* its calls are driven by fmu-test/test_fmi3.py; here: created and freed */
+    F.free_instance(me);
 
     dlclose(lib);
     if (failures) fprintf(stderr, "fmu3_driver: %d checks failed\n", failures);

@@ -14,8 +14,8 @@ import json
 import numpy as np
 
 from .fmu import Logged, fmu_path, initialize
-from .reference.generate import DATA, EPS_Y, RTOL_TRUE, horizon, transitions  # noqa: F401  (EPS_Y: for the tests)
-from .reference.scenarios import SCENARIOS, STOP_TIME  # noqa: F401  (STOP_TIME: for the tests)
+from .reference.generate import DATA, RTOL_TRUE, horizon, transitions
+from .reference.scenarios import SCENARIOS
 
 SUMMARY = json.loads((DATA / "summary.json").read_text())
 RTOL_FMU = 1e-11
