@@ -3,15 +3,24 @@
 #            [RESOURCES <files...>] [DOCUMENTATION <files...>] [OUTPUT_DIRECTORY <dir>])
 #
 # Builds an FMI 2.0 Co-Simulation FMU of one model on the generic layer (include/vi_fmu.h):
-#   <Name>                 the shared library <Name>.so: the model's SOURCES + src/vi_fmi2.c; it exports
-#                          the fmi2* functions only (static libraries linked in stay hidden) and must
-#                          match modelIdentifier="<Name>" in the XML
+#   <Name>                 the shared library <Name>.so (<Name>.dll on Windows): the model's SOURCES +
+#                          src/vi_fmi2.c; it exports the fmi2* functions only (static libraries linked
+#                          in stay hidden) and must match modelIdentifier="<Name>" in the XML
 #   <Name>_fmu (ALL)       packs <OUTPUT_DIRECTORY>/<Name>.fmu (default: the top build directory):
-#                          modelDescription.xml, binaries/linux64/<Name>.so, resources/, documentation/
+#                          modelDescription.xml, binaries/<VI_FMI2_PLATFORM>/<Name>.so|.dll, resources/,
+#                          documentation/ (no FMU where FMI 2.0 names no platform, e.g. aarch64 Linux)
 #   <Name>_dump_variables  prints the model's variable table (tests/dump_variables.c), for the test that
 #                          compares the table with the XML
 # The model's sources must define `const vi_fmu_model vi_fmu_this_model` and its table (vi_table.h).
+#
+# The platform comes from cmake/vi_platform.cmake (the build machine or a cross toolchain file).
+# VI_FMU_MERGE_BINARIES (cache, a list of build directories of the same sources for other platforms,
+# tools/release.sh): the FMU packed here also holds the binaries/ of the FMU at the same place in each
+# of those builds (where there is one), whose modelDescription.xml must equal this one.
 set(VI_FMU_ROOT ${CMAKE_CURRENT_LIST_DIR}/..)
+include(${CMAKE_CURRENT_LIST_DIR}/vi_platform.cmake)
+set(VI_FMU_MERGE_BINARIES "" CACHE STRING
+    "Build directories of other platforms whose FMU binaries the FMUs packed here also hold")
 
 function(vi_add_fmu name)
   cmake_parse_arguments(ARG "" "XML;OUTPUT_DIRECTORY" "SOURCES;LIBRARIES;INCLUDE_DIRS;RESOURCES;DOCUMENTATION" ${ARGN})
@@ -34,17 +43,41 @@ function(vi_add_fmu name)
   target_include_directories(${name} PRIVATE ${FMI2_HEADERS_DIR} ${VI_FMU_ROOT}/include)
   target_compile_options(${name} PRIVATE ${VI_WARNINGS})
   target_link_libraries(${name} PRIVATE ${name}_model) # an object library: its objects go in
-  target_link_options(${name} PRIVATE -Wl,--exclude-libs,ALL -Wl,--no-undefined)
-  set_target_properties(${name} PROPERTIES PREFIX "" C_VISIBILITY_PRESET hidden
-                                           LIBRARY_OUTPUT_DIRECTORY ${ARG_OUTPUT_DIRECTORY})
+  target_link_options(${name} PRIVATE -Wl,--exclude-libs,ALL -Wl,--no-undefined) # ELF and PE (mingw-w64)
+  set_target_properties(${name} PROPERTIES PREFIX "" C_VISIBILITY_PRESET hidden # a DLL is a "runtime" output
+                                           LIBRARY_OUTPUT_DIRECTORY ${ARG_OUTPUT_DIRECTORY}
+                                           RUNTIME_OUTPUT_DIRECTORY ${ARG_OUTPUT_DIRECTORY})
 
   add_executable(${name}_dump_variables ${VI_FMU_ROOT}/tests/dump_variables.c)
   target_compile_options(${name}_dump_variables PRIVATE ${VI_WARNINGS})
   target_link_libraries(${name}_dump_variables PRIVATE ${name}_model)
   set_target_properties(${name}_dump_variables PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${ARG_OUTPUT_DIRECTORY})
 
+  if(NOT VI_FMI2_PLATFORM)
+    message(STATUS "${name}: FMI 2.0 names no platform for ${VI_FMI3_PLATFORM}: the binary only, no FMU")
+    return()
+  endif()
   set(fmu ${ARG_OUTPUT_DIRECTORY}/${name}.fmu)
   set(stage ${CMAKE_CURRENT_BINARY_DIR}/${name}.stage)
+  set(platform_binaries ${stage}/binaries/${VI_FMI2_PLATFORM})
+  set(merge_binaries "")
+  set(merge_fmus "")
+  file(RELATIVE_PATH fmu_in_build ${CMAKE_BINARY_DIR} ${fmu})
+  foreach(dir ${VI_FMU_MERGE_BINARIES})
+    set(other ${dir}/${fmu_in_build})
+    if(NOT EXISTS ${other})
+      message(STATUS "${name}: no ${other} to take binaries from (FMI 2.0 names no platform there, or not built)")
+      continue()
+    endif()
+    list(APPEND merge_fmus ${other})
+    list(APPEND merge_binaries
+      COMMAND ${CMAKE_COMMAND} -E rm -rf ${stage}.other
+      COMMAND ${CMAKE_COMMAND} -E make_directory ${stage}.other
+      COMMAND ${CMAKE_COMMAND} -E chdir ${stage}.other ${CMAKE_COMMAND} -E tar xf ${other} modelDescription.xml binaries
+      COMMAND ${CMAKE_COMMAND} -E compare_files ${xml} ${stage}.other/modelDescription.xml
+      COMMAND ${CMAKE_COMMAND} -E copy_directory ${stage}.other/binaries ${stage}/binaries
+      COMMAND ${CMAKE_COMMAND} -E rm -rf ${stage}.other)
+  endforeach()
   set(copy_resources "")
   set(copy_docs "")
   set(parts modelDescription.xml binaries)
@@ -64,14 +97,15 @@ function(vi_add_fmu name)
   endif()
   add_custom_command(OUTPUT ${fmu}
     COMMAND ${CMAKE_COMMAND} -E rm -rf ${stage}
-    COMMAND ${CMAKE_COMMAND} -E make_directory ${stage}/binaries/linux64 ${stage}/documentation ${stage}/resources
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${platform_binaries} ${stage}/documentation ${stage}/resources
     COMMAND ${CMAKE_COMMAND} -E copy ${xml} ${stage}/modelDescription.xml
-    COMMAND ${CMAKE_COMMAND} -E copy $<TARGET_FILE:${name}> ${stage}/binaries/linux64/
+    COMMAND ${CMAKE_COMMAND} -E copy $<TARGET_FILE:${name}> ${platform_binaries}/
+    ${merge_binaries}
     ${copy_resources}
     ${copy_docs}
     COMMAND ${CMAKE_COMMAND} -E rm -f ${fmu}
     COMMAND ${CMAKE_COMMAND} -E chdir ${stage} ${CMAKE_COMMAND} -E tar cf ${fmu} --format=zip ${parts}
-    DEPENDS ${name} ${xml} ${ARG_RESOURCES} ${ARG_DOCUMENTATION}
+    DEPENDS ${name} ${xml} ${ARG_RESOURCES} ${ARG_DOCUMENTATION} ${merge_fmus}
     COMMENT "Packing ${name}.fmu")
   add_custom_target(${name}_fmu ALL DEPENDS ${fmu})
 endfunction()
