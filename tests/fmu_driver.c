@@ -28,9 +28,10 @@
  * checker.
  *
  * Cases (run):
- *   fig4b-<solver>   Fig. 4b (Johnson, Y = 6e8 Pa, a = 0.1 mm, f = 560 Hz) for 0.1 s at rtol 1e-10,
- *   fig5a-<solver>   a Fig. 5a-like run (Hertz, f = 100 Hz), solver bdf, adams or dop853: y after
- *                    every communication step of 1e-5 s, the impact count at the end
+ *   fig4b-<solver>   Fig. 4b (Johnson, Y = 6e8 Pa, a = 0.1 mm, f = 560 Hz) for 30 ms at rtol 1e-10,
+ *   fig5a-<solver>   a Fig. 5a-like run (Hertz, f = 100 Hz) for 0.1 s, solver bdf, adams or dop853:
+ *                    y after every communication step of 1e-5 s, the impact count at the end
+ *   fig4b_100ms-<solver>  Fig. 4b for the paper's 0.1 s (see scenarios[] below)
  *   refusals         bad parameter values, calls in the wrong order or with bad arguments, a missing
  *                    profile file: the status of every call and the messages logged
  *   rollback         per solver: a run from an FMU state, from its serialized copy and after
@@ -396,7 +397,6 @@ static int check_binary(int argc, char **argv)
 
 #define RTOL_CASES 1e-10     /* relative tolerance of the trajectory cases */
 #define H_CASES 1e-5         /* s, communication step of the trajectory cases */
-#define T_STOP_CASES 0.1     /* s, the paper's run length */
 #define ROLLBACK_STEPS 2000  /* steps of 1e-5 s run from the state (20 ms) */
 #define LOG_SIZE 4096        /* characters of the messages kept per call */
 #define LAYER_VR_resource_value 10 /* tests/layer_fmu/layer_variables.h: the row of resource_value */
@@ -470,11 +470,16 @@ typedef struct {
     const char *name;
     int law;
     double a, f, Y; /* m, Hz, Pa */
+    double t_stop;  /* s */
 } scenario;
 
+/* Fig. 4b bounces chaotically: a difference in the last bit (another C library's pow or cos) grows
+ * about tenfold every 5 ms, so platforms agree to 1e-7 of the range of y for the first 30 ms (8
+ * impacts, every mode) but not over the paper's 0.1 s (fig4b_100ms shows how far they part). */
 static const scenario scenarios[] = {
-    {"fig4b", VI_ContactModel_johnson, 1e-4, 560.0, 6e8},
-    {"fig5a", VI_ContactModel_hertz, 1e-4, 100.0, 6e8},
+    {"fig4b", VI_ContactModel_johnson, 1e-4, 560.0, 6e8, 0.03},
+    {"fig5a", VI_ContactModel_hertz, 1e-4, 100.0, 6e8, 0.1},
+    {"fig4b_100ms", VI_ContactModel_johnson, 1e-4, 560.0, 6e8, 0.1},
 };
 static const char *const solver_names[] = {"bdf", "adams", "dop853"};
 static const int solver_values[] = {VI_Solver_bdf, VI_Solver_adams, VI_Solver_dop853};
@@ -527,7 +532,7 @@ static void case_trajectory(const scenario *sc, size_t solver)
 {
     fmi2Component c = start_scenario(sc, solver_values[solver]);
     if (!c) return;
-    const long n = lround(T_STOP_CASES / H_CASES);
+    const long n = lround(sc->t_stop / H_CASES);
     printf("# %s, solver %s, rtol %g, %ld steps of %g s: t y\n", sc->name, solver_names[solver], RTOL_CASES, n,
            H_CASES);
     for (long k = 0; k < n; k++) {
