@@ -5,7 +5,8 @@
 #                                                      (when the sources build FMI 3.0 FMUs; else skipped)
 # and the aarch64 Linux libraries (FMI 2.0 names no platform for them) in build/release/aarch64-linux/.
 #
-# One build (CMakeLists.txt, vi_add_fmu in cmake/vi_fmu.cmake) per target in build/release/<target>/:
+# One build (CMakeLists.txt, vi_add_fmu in cmake/vi_fmu.cmake; Release, warnings are errors, the FMU
+# binaries stripped) per target in build/release/<target>/:
 #   x86_64-windows  cmake/toolchain-x86_64-windows.cmake (mingw-w64)
 #   aarch64-linux   cmake/toolchain-aarch64-linux.cmake  (gcc-aarch64-linux-gnu)
 #   x86_64-linux    this machine; its FMUs also take the binaries of the others (VI_FMU_MERGE_BINARIES)
@@ -110,13 +111,15 @@ configure_and_build() { # <target> <cmake arguments...>
   local target=$1 dir="$BUILD/$1" log="$BUILD/$1.log"
   shift
   mkdir -p "$BUILD"
-  cmake -S "$ROOT" -B "$dir" -DCMAKE_BUILD_TYPE=Release -DVI_WERROR=ON -DPython3_EXECUTABLE="$PYTHON" "$@" >"$log" 2>&1 \
+  cmake -S "$ROOT" -B "$dir" -DCMAKE_BUILD_TYPE=Release -DVI_WERROR=ON -DPython3_EXECUTABLE="$PYTHON" \
+    -DCMAKE_SHARED_LINKER_FLAGS=-s "$@" >"$log" 2>&1 \
     || { tail -n 30 "$log"; die "configure for $target failed ($log)"; }
   cmake --build "$dir" -j"$JOBS" --target "${FMUS[@]}" fmu_driver LayerTest >>"$log" 2>&1 \
     || { tail -n 40 "$log"; die "build for $target failed ($log)"; }
   # the FMUs (where FMI 2.0 names the platform; and FMI 3.0 ones when the sources make them)
   local fmu_targets
-  fmu_targets=$(cmake --build "$dir" --target help 2>/dev/null | sed -n 's/^\.\.\. \([A-Za-z0-9_]*_fmu[0-9]*\)$/\1/p' \
+  fmu_targets=$(cmake --build "$dir" --target help 2>/dev/null \
+                | sed -n 's/^\.\.\. \([A-Za-z0-9_]*_fmu[0-9]*\)$/\1/p; s/^\([A-Za-z0-9_]*_fmu[0-9]*\): phony$/\1/p' \
                 | grep -v '^LayerTest_' || true)
   if [ -n "$fmu_targets" ]; then
     # shellcheck disable=SC2086
