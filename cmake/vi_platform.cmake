@@ -42,5 +42,5 @@ message(STATUS "FMU platform: FMI 2.0 '${VI_FMI2_PLATFORM}', FMI 3.0 '${VI_FMI3_
 
 if(MINGW)
   add_compile_definitions(__USE_MINGW_ANSI_STDIO=1)
-  add_link_options(-static-libgcc)
+  add_link_options(-static-libgcc -Wl,--no-insert-timestamp) # no link time in the DLL: the same bytes every build
 endif()
