@@ -26,7 +26,7 @@ def check_xml_matches_c_table(md, dump):
     guid, variables, enums = c_table(dump)
     assert md.guid == guid
     assert len(md.modelVariables) == len(variables)
-    for sv, (vr, name, typ, enum, caus, var, initial, start, unit, desc) in zip(md.modelVariables, variables):
+    for sv, (vr, name, typ, enum, caus, var, initial, start, lo, hi, unit, desc) in zip(md.modelVariables, variables):
         where = f"variable {name}"
         assert sv.name == name, where
         assert sv.valueReference == int(vr), where
@@ -41,6 +41,9 @@ def check_xml_matches_c_table(md, dump):
         if typ == "Integer" and enum != "none":  # an enumerated option as an Integer (libcosim sees it)
             values = [value for t, _, value in enums if t == enum]
             assert (int(sv.min), int(sv.max)) == (min(values), max(values)), where
+        elif typ in ("Real", "Integer"):  # the table's range, as the inclusive bounds FMI declares
+            assert (None if sv.min is None else float(sv.min)) == (float(lo) if lo else None), where + " min"
+            assert (None if sv.max is None else float(sv.max)) == (float(hi) if hi else None), where + " max"
         if typ == "Real":
             assert (sv.unit or "") == unit, where
         if initial == "exact" and typ == "String":
@@ -180,5 +183,7 @@ def test_doc_model_md_describes_every_variable(model_description):
             cells = [c.strip() for c in named[0].split("|")]
             names = [n.strip("` ") for n in cells[1].split(",")]
             defaults = [d.strip() for d in cells[3].split(",")]
-            if len(defaults) == len(names):
-                assert float(defaults[names.index(sv.name)]) == float(sv.start), f"default of {sv.name}"
+            if len(defaults) == 1:  # one default for every name of the row (`E1`, `E2` | Pa | 2.1e11)
+                defaults *= len(names)
+            assert len(defaults) == len(names), f"{sv.name}: {len(names)} names, {len(defaults)} defaults"
+            assert float(defaults[names.index(sv.name)]) == float(sv.start), f"default of {sv.name}"

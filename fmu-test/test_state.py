@@ -1,4 +1,4 @@
-"""Checked FMU state buffers (issue 9 item 7): a serialized state carries a header (magic, version,
+"""Checked FMU state buffers: a serialized state carries a header (magic, version,
 size, model, FMI state, stop time) and a checksum built on FNV-1a's round; every field is validated before a
 state is used, and the first bad one is named. The tests alter states the way a broken file, a
 wrong file or a memory fault would, and recompute the checksum themselves (an independent
@@ -117,8 +117,9 @@ def test_wrong_size_version_and_model_are_refused(blob_and_slave, layer_blob):
 def test_header_fields_are_validated(blob_and_slave):
     blob, log, s = blob_and_slave
     head = list(HEADER.unpack_from(blob))
-    for field, value, words in ((4, 0xFF, "fmu_state = 255"), (4, 0, "fmu_state = 0"),
-                                (5, 1, None), (6, math.nan, "stop_time")):
+    assert head[5:7] == [0, 0.0]  # taken without a stop time
+    for field, value, words in ((4, 0xFF, "fmu_state = 255"), (4, 0, "fmu_state = 0"), (5, 2, "stop_time"),
+                                (6, math.nan, "stop_time"), (5, 1, None)):
         h = head.copy()
         h[field] = value
         if field == 6:
@@ -126,6 +127,16 @@ def test_header_fields_are_validated(blob_and_slave):
         b = reseal(HEADER.pack(*h) + blob[HEADER.size:])
         if words:
             refused(log, s, b, words)
+        else:
+            # a valid header: a stop time defined at 0 s is accepted, restored, and binds the next step
+            state = s.deSerializeFMUstate(b)
+            s.setFMUstate(state)
+            s.freeFMUstate(state)
+            n = len(log.messages)
+            with pytest.raises(FMICallException):
+                s.doStep(2e-3, 1e-4)
+            new = [m for st, _, m in log.messages[n:] if st == ERROR]
+            assert new == ["fmi2DoStep: the step to 0.0020999999999999999 passes the stop time 0"], new
 
 
 def find_double(blob, x):
@@ -169,13 +180,11 @@ def test_non_finite_input_derivative_is_named(logged, vr):
     s.freeInstance()
 
 
-def test_enumerations_are_checked_once_running(logged, vr):
-    """Before initialization an out-of-range enumeration is a setting not yet checked (it is
-    refused at initialization); in a running state it is corruption."""
+def test_enumerations_out_of_their_items_are_named(logged, vr):
+    """fmi2SetInteger refuses a value that is not an item (test_ranges.py), so a state holding one
+    is corruption."""
     log = logged()
     s = log.instantiate()
-    s.setInteger([vr["contact_model"]], [7])
-    s.freeFMUstate(s.deSerializeFMUstate(s.serializeFMUstate(s.getFMUstate())))  # accepted
     blobs = []
     for law in (1, 3):
         s.reset()

@@ -1,4 +1,4 @@
-"""Tunable excitation (issue 12, contract C9): a and f may be set between steps; the change takes
+"""Tunable excitation: a and f may be set between steps; the change takes
 effect at the start of the next step with the phase of the excitation continuous. Closed forms: with
 the mass thrown clear of the platform (no load, v0 = 1 m/s) the output yC is the excitation alone,
 yC = a (cos phi - 1) with the phase phi accumulating 2 pi f dt over each step."""
@@ -39,10 +39,20 @@ def test_sweep_up_and_down_keeps_the_phase(fmu):
         if a_new != a:
             s.setReal([vr["a"]], [a_new])
         v_before = s.getReal([vr["v"]])[0]
-        s.doStep(t, h)
-        if a_new == a and k > 0:  # only f changed at t: the platform is continuous there
-            yC_t = a * (np.cos(phase) - 1.0)
-            assert yC_prev == pytest.approx(yC_t, abs=1e-15)  # a phase jump of f h would move it ~1e-5 m
+        if a_new == a and f_new != f:
+            # only f changed at t: read the platform just after t (a step of eps), where the new f
+            # already acts. With the phase kept, yC moves by at most a omega_new eps from yC(t); a phase
+            # restarted as omega_new t would move it by about a |omega_new - omega| t (6e-9 m to 5e-7 m here).
+            eps = 1e-12
+            s.doStep(t, eps)
+            yC_eps = s.getReal([vr["yC"]])[0]
+            omega_new = 2 * np.pi * f_new
+            # |yC'| <= a omega_new over a step of eps (to one ulp of t), plus rounding of yC
+            assert abs(yC_eps - yC_prev) <= a * omega_new * (eps + np.spacing(t)) + 4 * np.spacing(a), k
+            assert yC_eps == pytest.approx(a * (np.cos(phase + omega_new * eps) - 1.0), abs=1e-16), k
+            s.doStep(t + eps, h - eps)
+        else:
+            s.doStep(t, h)
         f, a = f_new, a_new
         phase += 2 * np.pi * f * h
         t += h
@@ -65,18 +75,6 @@ def test_amplitude_change_moves_the_platform_at_once(fmu):
     # the platform moved by (a_new - a)(cos phi - 1) at once: yC = a_new (cos phi - 1) just after
     assert yC == pytest.approx(3e-4 * (np.cos(2 * np.pi * 100.0 * (0.0031 + 1e-9)) - 1.0), abs=1e-16)
     assert d == pytest.approx(yC - y, abs=1e-16) and abs(d - d_before) > 1e-5
-
-
-def test_negative_frequency_refused_at_the_step(fmu):
-    md, unzipdir, vr = fmu
-    inst = Logged(md, unzipdir)
-    s = inst.instantiate()
-    start(s, vr, dict(FLYING, a=1e-4))
-    s.doStep(0.0, 1e-3)
-    s.setReal([vr["f"]], [-5.0])
-    with pytest.raises(Exception):
-        s.doStep(1e-3, 1e-3)
-    assert "f = -5 Hz" in inst.text()
 
 
 def test_fixed_parameters_stay_fixed(fmu):

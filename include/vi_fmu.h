@@ -29,7 +29,8 @@
  *
  * What the layer guarantees to the hooks: called only in the FMI states where it makes sense
  * (below); values are written into the model's structs only after all values of the call were
- * checked (type, settable now, finite Real, String length); the model's `changed` hook is called
+ * checked (type, settable now, finite Real, inside the table's range or an item of its enumeration,
+ * String length), so the model sees only values inside their ranges; the model's `changed` hook is called
  * after an input (any time) or a tunable parameter (between steps) was set.
  */
 #ifndef VI_FMU_H
@@ -110,8 +111,8 @@ typedef struct {
     /* Optional: check a saved block before it is used: every field finite and in range, modes
      * consistent; `running` as for `restore` (before initialization only the settings matter).
      * 0, or -1 naming the first bad field in msg. The layer itself has already checked the
-     * header, the checksum and the table's values (Reals finite, Booleans 0 or 1, Strings
-     * terminated, enumerations items of their type once running). */
+     * header, the checksum and the table's values (Reals finite, Reals and Integers inside their
+     * ranges, enumerations items of their type, Booleans 0 or 1, Strings terminated). */
     int (*state_check)(const void *state, int running, char *msg, size_t n);
 
     /* The reason of the last failure (a NUL-terminated string inside the instance). */

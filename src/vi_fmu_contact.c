@@ -51,9 +51,9 @@ static void terminate(void *m)
     vi_solver_stats st;
     vi_sim_statistics(s, &st);
     s->log(s->log_env, VI_LOG_SOLVER,
-           "CVODE statistics: %ld steps, %ld rhs evaluations, %ld Jacobian evaluations, %ld nonlinear iterations, "
+           "%s statistics: %ld steps, %ld rhs evaluations, %ld Jacobian evaluations, %ld nonlinear iterations, "
            "%ld nonlinear failures, %ld error test failures, %ld guard evaluations, %ld restarts, %ld events",
-           st.steps, st.rhs_evals, st.jac_evals, st.nonlin_iters, st.nonlin_fails, st.err_test_fails, st.guard_evals,
+           st.method ? st.method : "solver", st.steps, st.rhs_evals, st.jac_evals, st.nonlin_iters, st.nonlin_fails, st.err_test_fails, st.guard_evals,
            st.resets, s->d.n_events);
 }
 
@@ -62,10 +62,10 @@ static void *state(void *m) { return &((vi_sim *)m)->d; }
 /* A state saved before initialization needs no solver: fmi2ExitInitializationMode creates one. */
 static int restore(void *m, int running) { return running ? vi_sim_restore(m) : 0; }
 
-/* Contract C7: a state taken from a running instance is its complete continuation. */
+/* A state taken from a running instance is its complete continuation (doc/model.md section 7.5). */
 static int checkpoint(void *m) { return vi_sim_checkpoint(m); }
 
-/* Contract C3: every field of a saved block; before initialization only the settings exist. */
+/* Every field of a saved block (doc/model.md section 7.6); before initialization only the settings exist. */
 static int state_check(const void *state, int running, char *msg, size_t n)
 {
     return running ? vi_sim_data_check(state, msg, n) : 0;

@@ -19,26 +19,7 @@ static double net_load(const vi_model *M, double t) { return M->W0 - vi_ramp_at(
 
 int vi_model_setup(vi_model *M, const vi_parameters *p, double t0, char *msg, size_t msg_size)
 {
-    const double reals[] = {p->m, p->P, p->g, p->R1, p->R2, p->E1, p->E2, p->nu1,
-                            p->nu2, p->Y, p->theta_Y, p->v0, p->a, p->f};
-    for (size_t i = 0; i < sizeof reals / sizeof reals[0]; i++)
-        CHECK(isfinite(reals[i]), "a parameter is not finite (NaN or infinite)");
-    CHECK(p->m > 0.0, "m = %g kg: the mass must be positive", p->m);
-    CHECK(p->R1 >= 0.0 && p->R2 >= 0.0, "R1 = %g m, R2 = %g m: radii must be >= 0 (0 = plane)", p->R1, p->R2);
     CHECK(p->R1 > 0.0 || p->R2 > 0.0, "R1 = R2 = 0: two planes have no point contact; give a radius");
-    CHECK(p->E1 > 0.0 && p->E2 > 0.0, "E1 = %g Pa, E2 = %g Pa: Young's moduli must be positive", p->E1, p->E2);
-    CHECK(p->nu1 > -1.0 && p->nu1 <= 0.5 && p->nu2 > -1.0 && p->nu2 <= 0.5,
-          "nu1 = %g, nu2 = %g: Poisson's ratios must lie in (-1, 0.5]", p->nu1, p->nu2);
-    CHECK(p->Y > 0.0 && p->theta_Y > 0.0, "Y = %g Pa, theta_Y = %g: both must be positive", p->Y, p->theta_Y);
-    CHECK(p->f >= 0.0, "f = %g Hz: the excitation frequency must be >= 0", p->f);
-    CHECK(p->contact_model >= VI_ContactModel_hertz && p->contact_model <= VI_ContactModel_lepp,
-          "contact_model = %d: use hertz (1), johnson (2) or lepp (3)", p->contact_model);
-    CHECK(p->unloading == VI_Unloading_paper || p->unloading == VI_Unloading_continuous,
-          "unloading = %d: use paper (1) or continuous (2)", p->unloading);
-    CHECK(p->yield_formula == VI_YieldFormula_textbook || p->yield_formula == VI_YieldFormula_printed,
-          "yield_formula = %d: use textbook (1) or printed (2)", p->yield_formula);
-    CHECK(p->init == VI_Init_static || p->init == VI_Init_touching, "init = %d: use static (1) or touching (2)",
-          p->init);
 
     M->law = p->contact_model;
     M->moving = p->moving_contact != 0;
@@ -71,19 +52,14 @@ double vi_model_phase(const vi_model *M, double t) { return M->phi0 + M->omega *
 
 int vi_model_excitation_differs(const vi_model *M, double a, double f) { return a != M->a || 2.0 * VI_PI * f != M->omega; }
 
-int vi_model_set_excitation(vi_model *M, double t, double x[2], double a, double f, char *msg, size_t n)
+void vi_model_set_excitation(vi_model *M, double t, double x[2], double a, double f)
 {
-    if (!isfinite(a) || !isfinite(f) || f < 0.0) {
-        snprintf(msg, n, "a = %g m, f = %g Hz at t = %.17g s: a must be finite and f finite and >= 0", a, f, t);
-        return -1;
-    }
     double ph = vi_model_phase(M, t), c = cos(ph);
     x[0] += (a - M->a) * (c - 1.0); /* the platform moves, the mass does not */
     M->a = a;
     M->phi0 = fmod(ph, 2.0 * VI_PI);
     M->t_phi = t;
     M->omega = 2.0 * VI_PI * f;
-    return 0;
 }
 
 /* ---- rolling over a profile ------------------------------------------------------------------ */
@@ -92,10 +68,6 @@ double vi_model_rolling_position(const vi_model *M, double t) { return M->x0 + M
 
 int vi_model_set_rolling(vi_model *M, const vi_profile *profile, double V, double x0, char *msg, size_t n)
 {
-    if (!isfinite(V) || !isfinite(x0)) {
-        snprintf(msg, n, "V = %g m/s, x0 = %g m: both must be finite", V, x0);
-        return -1;
-    }
     if (profile && !vi_profile_periodic(profile) &&
         !(x0 >= vi_profile_x_first(profile) && x0 <= vi_profile_x_last(profile))) {
         snprintf(msg, n, "x0 = %g m lies outside the profile [%g, %g] m (set profile_periodic to repeat it)", x0,
@@ -469,15 +441,31 @@ void vi_model_scales(const vi_model *M, const double x0[2], double *L, double *V
 
 /* ---- validity ------------------------------------------------------------------------------ */
 
-int vi_model_validity(const vi_model *M, double t, const double x[2], char *msg, size_t n)
+int vi_model_validity(const vi_model *M, double R1, double t, const double x[2], int skip, char *msg, size_t n)
 {
-    double limit = VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * M->J.R_star;
+    double R = M->J.R_star, limit = VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * R;
     double d = fmax(M->mode == VI_Mode_free ? 0.0 : x[0], M->yielded ? M->U.delta_c : 0.0);
-    if (!(d > limit)) return 0;
-    snprintf(msg, n, "t = %.17g s: the indentation %g m exceeds 0.01 R* = %g m (contact radius sqrt(R* delta) = %g m > "
-             "%g R*): the contact laws (paper eqs. 2-4) assume a contact radius small against R*, so the results "
-             "leave the model's range of validity", t, d, limit, sqrt(M->J.R_star * d), VI_VALIDITY_RADIUS);
-    return 1;
+    if (!(skip & VI_INVALID_INDENTATION) && d > limit) {
+        snprintf(msg, n, "t = %.17g s: the indentation %g m exceeds %g R* = %g m (contact radius sqrt(R* delta) = %g m "
+                 "> %g R*): the contact laws (paper eqs. 2-4) assume a contact radius small against R*, so the "
+                 "results leave the model's range of validity", t, d, VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS, limit,
+                 sqrt(R * d), VI_VALIDITY_RADIUS);
+        return VI_INVALID_INDENTATION;
+    }
+    if (!(skip & VI_INVALID_AMPLITUDE) && fabs(M->a) > R) {
+        snprintf(msg, n, "t = %.17g s: the excitation amplitude a = %g m exceeds R* = %g m: the contact laws (paper "
+                 "eqs. 2-4) describe a local contact, with every displacement small against R*, so the results "
+                 "leave the model's range of validity", t, M->a, R);
+        return VI_INVALID_AMPLITUDE;
+    }
+    double span = M->profile ? vi_profile_height_span(M->profile) : 0.0;
+    if (!(skip & VI_INVALID_PROFILE) && span > R1) {
+        snprintf(msg, n, "t = %.17g s: the heights of profile_file span %g m, more than the rolling radius R1 = %g m: "
+                 "rolling over a profile (paper Fig. 1b) assumes a roughness small against the wheel, so the results "
+                 "leave the model's range of validity", t, span, R1);
+        return VI_INVALID_PROFILE;
+    }
+    return 0;
 }
 
 int vi_model_option_warnings(const vi_parameters *p, char *msg, size_t n)
@@ -503,7 +491,7 @@ int vi_model_option_warnings(const vi_parameters *p, char *msg, size_t n)
     return count;
 }
 
-/* ---- contract C3 ---------------------------------------------------------------------------- */
+/* ---- validity of a saved model (doc/model.md section 7.6) ---------------------------------- */
 
 #define BAD(...) return snprintf(msg, n, __VA_ARGS__), -1
 

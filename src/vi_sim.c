@@ -17,7 +17,7 @@ static void sim_rhs(double t, const double *x, double *dx, void *user)
     vi_model_rhs(&d->M, t, x, dx);
 }
 
-/* The model's guards, each disarmed one shifted up by its band (see VI_GRAZE_NOISE). */
+/* The model's guards, each disarmed one shifted up by its band (re-arming: VI_GRAZE_TOL, VI_GRAZE_ULPS). */
 static void sim_guards(double t, const double *x, double *g, void *user)
 {
     const vi_sim_data *d = user;
@@ -113,12 +113,14 @@ static int attach_profile(vi_sim *s)
     return vi_model_set_rolling(M, s->profile, p->V, p->x0, s->msg, sizeof s->msg);
 }
 
-/* Warn once per instance when the contact leaves the model's range of validity (contract C6). */
+/* Warn once per instance and cause when the simulation leaves the model's range of validity
+ * (vi_model_validity). */
 static void check_validity(vi_sim *s)
 {
     char text[400];
-    if (!s->warned_validity && vi_model_validity(&s->d.M, s->d.t, s->d.x, text, sizeof text)) {
-        s->warned_validity = 1;
+    for (int cause; (cause = vi_model_validity(&s->d.M, s->d.par.R1, s->d.t, s->d.x, s->warned_validity, text,
+                                               sizeof text)) != 0;) { /* bounded: one more bit each time */
+        s->warned_validity |= cause;
         s->log(s->log_env, VI_LOG_WARNING, "%s", text);
     }
 }
@@ -136,24 +138,17 @@ int vi_sim_prepare(vi_sim *s)
 {
     vi_sim_data *d = &s->d;
     const vi_parameters *p = &d->par;
-    double rtol = rtol_of(d);
     s->out_valid = 0;
-    if (!(rtol >= VI_RTOL_MIN && rtol <= VI_RTOL_MAX)) {
-        snprintf(s->msg, sizeof s->msg, "relative tolerance %s = %g: use a value in [%g, %g]",
-                 d->tolerance > 0.0 ? "(fmi2SetupExperiment)" : "rtol", rtol, VI_RTOL_MIN, VI_RTOL_MAX);
+    /* The parameters lie in the ranges of the variable table (rtol among them); left to check: the
+     * experiment's tolerance, and max_step between 0 and VI_MAX_STEP_MIN. */
+    if (d->tolerance > 0.0 && !(d->tolerance >= VI_RTOL_MIN && d->tolerance <= VI_RTOL_MAX)) {
+        snprintf(s->msg, sizeof s->msg, "relative tolerance (fmi2SetupExperiment) = %g: use a value in [%g, %g]",
+                 d->tolerance, VI_RTOL_MIN, VI_RTOL_MAX);
         return -1;
     }
-    if (!(p->max_step == 0.0 || (p->max_step >= VI_MAX_STEP_MIN && isfinite(p->max_step)))) {
-        snprintf(s->msg, sizeof s->msg, "max_step = %g s: use 0 (no limit) or a finite step >= %g s", p->max_step,
+    if (!(p->max_step == 0.0 || p->max_step >= VI_MAX_STEP_MIN)) {
+        snprintf(s->msg, sizeof s->msg, "max_step = %g s: use 0 (no limit) or a step >= %g s", p->max_step,
                  VI_MAX_STEP_MIN);
-        return -1;
-    }
-    if (p->solver != VI_Solver_bdf && p->solver != VI_Solver_adams && p->solver != VI_Solver_dop853) {
-        snprintf(s->msg, sizeof s->msg, "solver = %d: use bdf (1), adams (2) or dop853 (3)", p->solver);
-        return -1;
-    }
-    if (!isfinite(d->in.yC_in) || !isfinite(d->in.F_ext)) {
-        snprintf(s->msg, sizeof s->msg, "the inputs yC_in and F_ext must be finite");
         return -1;
     }
     if (vi_model_setup(&d->M, p, d->t_start, s->msg, sizeof s->msg) < 0) return -1;
@@ -236,8 +231,8 @@ int vi_sim_restore(vi_sim *s)
 /* New input values (and tunable a, f) take effect at time t: the platform may jump (the mass does
  * not), the force may step; the mode is then chosen afresh from the new state. An input that
  * continues its previous ramp (held, or the same slope) changes nothing and does not restart the
- * solver. 0, or -1 (s->msg). */
-static int apply_inputs(vi_sim *s)
+ * solver. */
+static void apply_inputs(vi_sim *s)
 {
     vi_sim_data *d = &s->d;
     vi_model *M = &d->M;
@@ -247,19 +242,19 @@ static int apply_inputs(vi_sim *s)
     double y_old_t = vi_ramp_at(&y_old, t), f_old_t = vi_ramp_at(&f_old, t);
     if (d->in.yC_in == y_old_t && d->din.yC_in == y_old.du && d->in.F_ext == f_old_t && d->din.F_ext == f_old.du &&
         !vi_model_excitation_differs(M, d->par.a, d->par.f))
-        return 0; /* the same signal: nothing happens */
+        return; /* the same signal: nothing happens */
     vi_model_freeze(M, t, d->x);
     int mode = M->mode;
     d->x[0] += d->in.yC_in - y_old_t; /* delta jumps with the platform */
     set_input_ramps(M, d, t);
-    if (vi_model_set_excitation(M, t, d->x, d->par.a, d->par.f, s->msg, sizeof s->msg) < 0) return -1;
+    vi_model_set_excitation(M, t, d->x, d->par.a, d->par.f);
     if (vi_model_resolve(M, t, d->x) != mode) {
         s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: input change, mode %d -> %d", t, mode, M->mode);
         memset(d->guard_band, 0, sizeof d->guard_band);
     }
     arm_guards_at_zero(d);
     s->solver_stale = 1;
-    return 0;
+    check_validity(s); /* a new amplitude */
 }
 
 /* ---- re-arming of guards after events that keep the mode ----------------------------------- */
@@ -321,7 +316,7 @@ int vi_sim_zeno_count(int count, double t_before, double t)
     return t - t_before <= VI_ZENO_ULPS * ulp ? count + 1 : 0;
 }
 
-/* End the advance early (contract C1): the state at d->t is consistent and usable. */
+/* End the advance early (doc/model.md section 7.1): the state at d->t is consistent and usable. */
 static int discard(vi_sim *s, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 static int discard(vi_sim *s, const char *fmt, ...)
 {
@@ -354,7 +349,7 @@ static void apply_event(vi_sim *s, int fired)
     d->guard_band[fired] = VI_GRAZE_TOL * tol[fired] + VI_GRAZE_ULPS * ulps[fired] + DBL_MIN;
 }
 
-/* A kink of the rolling profile at d->t (contract C10): the platform velocity jumps, so the rate of
+/* A kink of the rolling profile at d->t (doc/model.md section 6): the platform velocity jumps, so the rate of
  * delta does; the mode is chosen afresh (as after an input jump) and the solver restarts. */
 static int apply_breakpoint(vi_sim *s)
 {
@@ -383,7 +378,7 @@ int vi_sim_advance(vi_sim *s, double t_end)
     s->out_valid = 0;
     d->step_t0 = d->t;
     d->step_v0 = d->x[1];
-    if (d->inputs_changed && apply_inputs(s) < 0) return VI_SIM_ERROR;
+    if (d->inputs_changed) apply_inputs(s);
     rearm_guards(d);
     if (s->solver_stale) {
         if (vi_solver_reset(s->solver, d->t, d->x) < 0) goto fail;
@@ -482,48 +477,12 @@ void vi_sim_outputs(vi_sim *s, vi_outputs *out)
     *out = s->out;
 }
 
-/* ---- contract C3: validity of a state payload ---------------------------------------------- */
+/* ---- validity of a state payload (doc/model.md section 7.6) --------------------------------- */
 
 #define BAD(...) do { snprintf(msg, n, __VA_ARGS__); return -1; } while (0)
 
-/* Is `value` an item of the enumeration type `type`? */
-static int enum_item(const char *type, int value)
-{
-    for (int i = 0; i < vi_enum_item_count; i++)
-        if (vi_enum_items[i].value == value && strcmp(vi_enum_items[i].type, type) == 0) return 1;
-    return 0;
-}
-
-/* Parameters and inputs (values and derivatives), through the variable table so that every row is
- * covered and named. */
-static int check_variables(const vi_sim_data *d, char *msg, size_t n)
-{
-    for (int vr = 0; vr < VI_NVARS; vr++) {
-        const vi_variable *v = &vi_variable_table[vr];
-        const char *base = v->group == VI_GROUP_PARAMETERS ? (const char *)&d->par
-                           : v->group == VI_GROUP_INPUTS   ? (const char *)&d->in
-                                                           : NULL;
-        if (!base) continue;
-        if (v->type == VI_Real) {
-            double x = *(const double *)(base + v->offset);
-            if (!isfinite(x)) BAD("%s = %g is not finite", v->name, x);
-            if (v->group == VI_GROUP_INPUTS) {
-                double dx = *(const double *)((const char *)&d->din + v->offset);
-                if (!isfinite(dx)) BAD("the derivative of %s = %g is not finite", v->name, dx);
-            }
-        } else {
-            int k = *(const int *)(base + v->offset);
-            if (strcmp(v->enumeration, "none") != 0 && !enum_item(v->enumeration, k))
-                BAD("%s = %d is not an item of %s", v->name, k, v->enumeration);
-            if (v->type == VI_Boolean && k != 0 && k != 1) BAD("%s = %d is not a Boolean", v->name, k);
-        }
-    }
-    return 0;
-}
-
 int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n)
 {
-    if (check_variables(d, msg, n) < 0) return -1;
     if (d->inputs_changed != 0 && d->inputs_changed != 1) BAD("inputs_changed = %d is not 0 or 1", d->inputs_changed);
     if (!isfinite(d->t_start)) BAD("t_start = %g is not finite", d->t_start);
     if (d->tolerance != 0.0 && !(d->tolerance >= VI_RTOL_MIN && d->tolerance <= VI_RTOL_MAX))

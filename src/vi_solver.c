@@ -322,7 +322,8 @@ int vi_solver_advance(vi_solver *s, double tout, long max_steps, double *t, doub
     }
 }
 
-/* CVODE's counters since the last (re)initialisation. */
+/* CVODE's counters since the last (re)initialisation. Their return values are not checked: they fail
+ * only for a NULL CVODE memory or linear solver, and both exist for the solver's whole life. */
 static void current_counters(const vi_solver *s, vi_solver_stats *st)
 {
     memset(st, 0, sizeof *st);
@@ -339,8 +340,8 @@ void vi_solver_statistics(const vi_solver *s, vi_solver_stats *st)
 {
     if (s->cfg.method == VI_METHOD_DOP853) {
         const vi_ode_stats *o = &s->cfg.ode->st;
-        *st = (vi_solver_stats){.steps = o->accepted, .rhs_evals = o->rhs_evals, .err_test_fails = o->rejected,
-                                .guard_evals = o->guard_evals, .resets = s->ode_resets};
+        *st = (vi_solver_stats){.method = "Dormand-Prince 8(5,3)", .steps = o->accepted, .rhs_evals = o->rhs_evals,
+                                .err_test_fails = o->rejected, .guard_evals = o->guard_evals, .resets = s->ode_resets};
         return;
     }
     vi_solver_stats c;
@@ -354,6 +355,7 @@ void vi_solver_statistics(const vi_solver *s, vi_solver_stats *st)
     st->err_test_fails = b->err_test_fails + c.err_test_fails;
     st->guard_evals = b->guard_evals + c.guard_evals;
     st->resets = b->resets;
+    st->method = s->cfg.method == VI_METHOD_ADAMS ? "CVODE Adams" : "CVODE BDF";
 }
 
 void vi_solver_free(vi_solver *s)

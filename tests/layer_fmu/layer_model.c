@@ -83,10 +83,6 @@ static int prepare(void *m)
 {
     layer *L = m;
     layer_data *d = &L->d;
-    if (!(d->par.k > 0.0)) {
-        snprintf(L->msg, sizeof L->msg, "k = %g: must be > 0", d->par.k);
-        return -1;
-    }
     d->t = d->t_start;
     d->x = d->par.x0;
     d->k = d->k_initial = d->par.k;
@@ -110,11 +106,7 @@ static int advance(void *m, double t_end)
 {
     layer *L = m;
     layer_data *d = &L->d;
-    if (d->inputs_changed) { /* new input ramp and tunable k from now on */
-        if (!(d->par.k > 0.0)) {
-            snprintf(L->msg, sizeof L->msg, "k = %g: must be > 0", d->par.k);
-            return VI_FMU_ERROR;
-        }
+    if (d->inputs_changed) { /* new input ramp and tunable k (> 0: the layer checks its range) from now on */
         d->u = d->in.u, d->du = d->din.u, d->t_u = d->t, d->k = d->par.k;
         d->inputs_changed = 0;
     }

@@ -17,19 +17,19 @@
 #define VI_MODEL_IDENTIFIER "LayerTest"
 
 #define VI_VARIABLES(X) \
-  X(u, Real, none, input, continuous, exact, 0.0, "", "input (interpolated with its derivative when given)") \
-  X(k, Real, none, parameter, tunable, exact, 1.0, "1/s", "decay rate (> 0), tunable") \
-  X(x0, Real, none, parameter, fixed, exact, 1.0, "", "initial value") \
-  X(discard_at, Real, none, parameter, fixed, exact, 0.0, "s", "a step across this time stops there with fmi2Discard (0 = never)") \
-  X(fail_at, Real, none, parameter, fixed, exact, 0.0, "s", "a step across this time fails with fmi2Error (0 = never)") \
-  X(label, String, none, parameter, fixed, exact, "start", "", "a String parameter") \
-  X(method, Enumeration, Method, parameter, fixed, exact, 1, "", "how to advance") \
-  X(x, Real, none, output, continuous, calculated, 0.0, "", "state") \
-  X(steps, Integer, none, output, discrete, calculated, 0, "", "steps done") \
-  X(label_length, Integer, none, output, discrete, calculated, 0, "", "length of label") \
-  X(resource_value, Real, none, output, continuous, calculated, 0.0, "", "the number in resources/value.txt (-1 if unreadable)") \
-  X(k_initial, Real, none, calculatedParameter, fixed, calculated, 0.0, "1/s", "k at initialization") \
-  X(checkpoint_time, Real, none, output, continuous, calculated, 0.0, "s", "time of the last checkpoint (fmi2GetFMUstate when running)")
+  X(u, Real, none, input, continuous, exact, 0.0, VI_NONE, VI_NONE, "", "input (interpolated with its derivative when given)") \
+  X(k, Real, none, parameter, tunable, exact, 1.0, VI_ABOVE(0.0), VI_NONE, "1/s", "decay rate (> 0), tunable") \
+  X(x0, Real, none, parameter, fixed, exact, 1.0, VI_NONE, VI_NONE, "", "initial value") \
+  X(discard_at, Real, none, parameter, fixed, exact, 0.0, VI_NONE, VI_NONE, "s", "a step across this time stops there with fmi2Discard (0 = never)") \
+  X(fail_at, Real, none, parameter, fixed, exact, 0.0, VI_NONE, VI_NONE, "s", "a step across this time fails with fmi2Error (0 = never)") \
+  X(label, String, none, parameter, fixed, exact, "start", VI_NONE, VI_NONE, "", "a String parameter") \
+  X(method, Enumeration, Method, parameter, fixed, exact, 1, VI_NONE, VI_NONE, "", "how to advance") \
+  X(x, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "", "state") \
+  X(steps, Integer, none, output, discrete, calculated, 0, VI_NONE, VI_NONE, "", "steps done") \
+  X(label_length, Integer, none, output, discrete, calculated, 0, VI_NONE, VI_NONE, "", "length of label") \
+  X(resource_value, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "", "the number in resources/value.txt (-1 if unreadable)") \
+  X(k_initial, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "1/s", "k at initialization") \
+  X(checkpoint_time, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "s", "time of the last checkpoint (fmi2GetFMUstate when running)")
 
 #define VI_ENUMERATIONS(E) E(Method, "how to advance")
 #define VI_ITEMS_Method(I) I(Method, exact, 1)

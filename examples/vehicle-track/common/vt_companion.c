@@ -13,22 +13,6 @@ static const vt_core *core_c(const vt_instance *I) { return (const vt_core *)I->
 
 double vt_input_time(const vt_core *c) { return c->inputs_changed ? c->t : c->t_in; }
 
-int vt_check_rules(const vt_rule *rules, size_t n_rules, double rtol, char *msg, size_t n)
-{
-    for (size_t i = 0; i < n_rules; i++) {
-        const vt_rule *r = &rules[i];
-        if (!isfinite(r->value) || !(r->zero_ok ? r->value >= 0.0 : r->value > 0.0)) {
-            snprintf(msg, n, "%s = %g: must be finite and %s 0", r->name, r->value, r->zero_ok ? ">=" : ">");
-            return -1;
-        }
-    }
-    if (!(rtol >= 1e-14 && rtol <= 1e-2)) {
-        snprintf(msg, n, "rtol = %g: must be in [1e-14, 1e-2]", rtol);
-        return -1;
-    }
-    return 0;
-}
-
 void vt_init(void *m, const vt_model_def *def, void *data, vi_fmu_log_fn log, void *env)
 {
     vt_instance *I = m;
@@ -77,7 +61,12 @@ int vt_prepare(void *m)
 {
     vt_instance *I = m;
     vt_core *c = core(I);
-    if (I->def->check(I->data, I->msg, sizeof I->msg) < 0) return -1;
+    if (c->tolerance > 0.0 && !(c->tolerance >= VI_RTOL_MIN && c->tolerance <= VI_RTOL_MAX)) {
+        snprintf(I->msg, sizeof I->msg, "relative tolerance (fmi2SetupExperiment) = %g: use a value in [%g, %g]",
+                 c->tolerance, VI_RTOL_MIN, VI_RTOL_MAX);
+        return -1;
+    }
+    if (I->def->check && I->def->check(I->data, I->msg, sizeof I->msg) < 0) return -1;
     c->t = c->t_in = c->t_start;
     c->inputs_changed = 0;
     memset(c->x, 0, sizeof c->x);
@@ -162,7 +151,7 @@ int vt_advance(void *m, double t_end)
     memcpy(c->x, x, sizeof(double) * (size_t)I->def->n);
     c->t = t;
     if (I->def->step_done) I->def->step_done(I->data, t0, x0);
-    if (rc == VI_SOLVER_LIMIT) { /* a consistent point before t_end (contract C1) */
+    if (rc == VI_SOLVER_LIMIT) { /* a consistent point before t_end (doc/model.md section 7.1) */
         snprintf(I->msg, sizeof I->msg, "work bound: %ld internal steps in one step, stopped at t = %.17g s",
                  VT_MAX_STEPS_PER_STEP, t);
         return VI_FMU_DISCARD;
@@ -178,8 +167,8 @@ void vt_terminate(void *m)
     if (!I->solver) return;
     vi_solver_stats st;
     vi_solver_statistics(I->solver, &st);
-    I->log(I->env, VI_FMU_LOG_SOLVER, "CVODE statistics: %ld steps, %ld rhs evaluations, %ld restarts", st.steps,
-           st.rhs_evals, st.resets);
+    I->log(I->env, VI_FMU_LOG_SOLVER, "%s statistics: %ld steps, %ld rhs evaluations, %ld restarts", st.method,
+           st.steps, st.rhs_evals, st.resets);
 }
 
 void *vt_state(void *m) { return ((vt_instance *)m)->data; }
@@ -203,7 +192,11 @@ int vt_restore(void *m, int running)
 int vt_state_check(const void *state, int running, const vt_model_def *def, char *msg, size_t n)
 {
     const vt_core *c = state;
-    if (def->check(state, msg, n) < 0) return -1;
+    if (c->tolerance != 0.0 && !(c->tolerance >= VI_RTOL_MIN && c->tolerance <= VI_RTOL_MAX)) {
+        snprintf(msg, n, "tolerance = %g is neither 0 nor in [%g, %g]", c->tolerance, VI_RTOL_MIN, VI_RTOL_MAX);
+        return -1;
+    }
+    if (def->check && def->check(state, msg, n) < 0) return -1;
     if (!running) return 0; /* before initialization only the settings matter */
     if (!isfinite(c->t) || !isfinite(c->t_in) || !isfinite(c->t_start) || c->t_in > c->t) {
         snprintf(msg, n, "time t = %g s, t_in = %g s, t_start = %g s: not finite or inputs set after t", c->t, c->t_in,

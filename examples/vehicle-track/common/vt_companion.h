@@ -38,7 +38,9 @@ typedef struct {
 
 typedef struct {
     int n; /* number of states, <= VT_MAX_STATES */
-    /* Check the parameters: 0, or -1 with a message naming the variable and its allowed range. */
+    /* Optional (NULL: none). Check what the ranges of the variable table cannot say (the layer
+     * refuses a value outside its range when it is set): 0, or -1 with a message naming the
+     * variables and what is allowed. */
     int (*check)(const void *data, char *msg, size_t n);
     /* The initial state (core.x) from the parameters and the inputs at core.t. */
     void (*start)(void *data);
@@ -69,15 +71,6 @@ typedef struct {
 
 /* The time the held inputs refer to: now when they were set since the last step. */
 double vt_input_time(const vt_core *c);
-
-/* Parameter checks for a model's `check`: each value finite and > 0 (>= 0 when zero_ok), and the
- * relative tolerance in [1e-14, 1e-2]. 0, or -1 with a message naming the first bad one. */
-typedef struct {
-    const char *name;
-    double value;
-    int zero_ok;
-} vt_rule;
-int vt_check_rules(const vt_rule *rules, size_t n_rules, double rtol, char *msg, size_t n);
 
 /* The generic hooks (vt_companion.c). */
 void vt_init(void *m, const vt_model_def *def, void *data, vi_fmu_log_fn log, void *env);

@@ -31,16 +31,6 @@ typedef struct {
 
 enum { ZR, VR, ZS, VS, N_TRACK };
 
-static int check(const void *data, char *msg, size_t n)
-{
-    const vi_parameters *p = &((const track_data *)data)->par;
-    const vt_rule rules[] = {
-        {"m_rail", p->m_rail, 0}, {"k_pad", p->k_pad, 0}, {"c_pad", p->c_pad, 1},
-        {"m_sleeper", p->m_sleeper, 0}, {"k_ballast", p->k_ballast, 0}, {"c_ballast", p->c_ballast, 1},
-    };
-    return vt_check_rules(rules, sizeof rules / sizeof rules[0], p->rtol, msg, n);
-}
-
 /* Kinetic energy of rail and sleeper and elastic energy of pad and ballast [J]. */
 static double energy(const track_data *d)
 {
@@ -147,7 +137,6 @@ static void outputs(const void *data, void *out)
 
 static const vt_model_def track_def = {
     .n = N_TRACK,
-    .check = check,
     .start = start,
     .rtol = rtol,
     .scales = scales,

@@ -35,15 +35,6 @@ typedef struct {
 
 enum { ZB, VB, WD, N_VEHICLE };
 
-static int check(const void *data, char *msg, size_t n)
-{
-    const vi_parameters *p = &((const vehicle_data *)data)->par;
-    const vt_rule rules[] = {
-        {"m_body", p->m_body, 0}, {"k_susp", p->k_susp, 0}, {"c_susp", p->c_susp, 1}, {"g", p->g, 1},
-    };
-    return vt_check_rules(rules, sizeof rules / sizeof rules[0], p->rtol, msg, n);
-}
-
 /* The wheel's position and velocity at t, from the held inputs. */
 static void wheel(const vehicle_data *d, double t, double *y, double *v)
 {
@@ -131,7 +122,6 @@ static void outputs(const void *data, void *out)
 
 static const vt_model_def vehicle_def = {
     .n = N_VEHICLE,
-    .check = check,
     .start = start,
     .rtol = rtol,
     .scales = scales,
