@@ -17,14 +17,13 @@
 # only fmi2* functions; the Linux libraries need only libc and libm and export only fmi2* functions;
 # every FMU holds the binaries of its platforms and fmpy validates it.
 #
-# Usage: tools/release.sh            (PYTHON: the interpreter with fmpy, default python3; JOBS: default nproc)
+# Usage: tools/release.sh            (PYTHON: the interpreter, as for tools/setup.sh; JOBS: default nproc)
 # Installs what it needs (tools/setup.sh, then the cross compilers, wine64, qemu-user, dpkg-dev) and,
 # the first time, lists source packages for the Debian archive entry of
 # /etc/apt/sources.list.d/debian.sources (Types: deb deb-src).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD
-PYTHON=$(command -v "${PYTHON:-python3}")
 JOBS=${JOBS:-$(nproc)}
 SUNDIALS_VERSION=6.4.1
 CACHE=${XDG_CACHE_HOME:-$HOME/.cache}/vibroimpact
@@ -43,7 +42,7 @@ SUDO=""
 [ "$(uname -m)" = x86_64 ] || die "the release is made on an x86_64 Debian machine (this is $(uname -m))"
 
 # --- what the builds need ---------------------------------------------------------------------------
-PYTHON=$PYTHON ./tools/setup.sh
+PYTHON=$(./tools/setup.sh) # the interpreter with fmpy (from $PYTHON, or the .venv/ setup makes)
 missing=()
 for p in "${CROSS_APT_PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -19,4 +19,4 @@ cmake --build build-asan -j"$(nproc)" >/dev/null
 
 # Cross-platform: the release FMUs (tools/release.sh: dist/fmi2 with linux64 and win64, the aarch64
 # libraries), the win64 DLLs under wine64 and the aarch64 libraries under qemu-user against linux64.
-PYTHON="$PYTHON" ./tools/cross_test.sh
+PYTHON="$PY" ./tools/cross_test.sh
