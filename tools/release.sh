@@ -85,22 +85,27 @@ fi
 SUNDIALS_SRC=$(sundials_src)
 
 # --- CVODE for each cross target: static libraries, nothing else --------------------------------------
+# The cached build is used when it was made from the same toolchain file with the same options.
+SUNDIALS_OPTIONS=(-DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_LIBDIR=lib
+  -DCMAKE_POSITION_INDEPENDENT_CODE=ON -DBUILD_SHARED_LIBS=OFF -DBUILD_STATIC_LIBS=ON
+  -DBUILD_CVODE=ON -DBUILD_CVODES=OFF -DBUILD_ARKODE=OFF -DBUILD_IDA=OFF -DBUILD_IDAS=OFF -DBUILD_KINSOL=OFF
+  -DBUILD_FORTRAN_MODULE_INTERFACE=OFF -DEXAMPLES_ENABLE_C=OFF -DEXAMPLES_ENABLE_CXX=OFF -DEXAMPLES_INSTALL=OFF
+  -DBUILD_TESTING=OFF -DENABLE_MPI=OFF -DENABLE_OPENMP=OFF -DENABLE_PTHREAD=OFF -DSUNDIALS_INDEX_SIZE=64)
 sundials_prefix() { echo "$CACHE/sundials-$SUNDIALS_VERSION-$1"; }
 for target in "${CROSS_TARGETS[@]}"; do
   prefix=$(sundials_prefix "$target")
-  [ -f "$prefix/lib/cmake/sundials/SUNDIALSConfig.cmake" ] && continue
+  toolchain="$ROOT/cmake/toolchain-$target.cmake"
+  key=$({ basename "$SUNDIALS_SRC"; cat "$toolchain"; echo "${SUNDIALS_OPTIONS[*]}"; } | sha256sum | cut -c1-16)
+  [ -f "$prefix/lib/cmake/sundials/SUNDIALSConfig.cmake" ] && [ "$(cat "$prefix/build-key" 2>/dev/null)" = "$key" ] && continue
   echo "release: SUNDIALS $SUNDIALS_VERSION (CVODE, static) for $target into $prefix"
   work="$CACHE/build-sundials-$target"
-  rm -rf "$work" "$prefix.partial"
-  cmake -S "$SUNDIALS_SRC" -B "$work" -DCMAKE_TOOLCHAIN_FILE="$ROOT/cmake/toolchain-$target.cmake" \
-    -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX="$prefix.partial" -DCMAKE_INSTALL_LIBDIR=lib \
-    -DCMAKE_POSITION_INDEPENDENT_CODE=ON -DBUILD_SHARED_LIBS=OFF -DBUILD_STATIC_LIBS=ON \
-    -DBUILD_CVODE=ON -DBUILD_CVODES=OFF -DBUILD_ARKODE=OFF -DBUILD_IDA=OFF -DBUILD_IDAS=OFF -DBUILD_KINSOL=OFF \
-    -DBUILD_FORTRAN_MODULE_INTERFACE=OFF -DEXAMPLES_ENABLE_C=OFF -DEXAMPLES_ENABLE_CXX=OFF -DEXAMPLES_INSTALL=OFF \
-    -DBUILD_TESTING=OFF -DENABLE_MPI=OFF -DENABLE_OPENMP=OFF -DENABLE_PTHREAD=OFF -DSUNDIALS_INDEX_SIZE=64 \
-    >"$work.log" 2>&1 || { tail -n 30 "$work.log"; die "SUNDIALS configure for $target failed ($work.log)"; }
+  rm -rf "$work" "$prefix.partial" "$prefix"
+  cmake -S "$SUNDIALS_SRC" -B "$work" -DCMAKE_TOOLCHAIN_FILE="$toolchain" -DCMAKE_INSTALL_PREFIX="$prefix.partial" \
+    "${SUNDIALS_OPTIONS[@]}" >"$work.log" 2>&1 \
+    || { tail -n 30 "$work.log"; die "SUNDIALS configure for $target failed ($work.log)"; }
   cmake --build "$work" -j"$JOBS" >>"$work.log" 2>&1 || { tail -n 30 "$work.log"; die "SUNDIALS build for $target failed ($work.log)"; }
   cmake --install "$work" >>"$work.log" 2>&1 || die "SUNDIALS install for $target failed ($work.log)"
+  echo "$key" >"$prefix.partial/build-key"
   mv "$prefix.partial" "$prefix"
   rm -rf "$work" "$work.log"
 done
