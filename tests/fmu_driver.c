@@ -445,25 +445,25 @@ static fmi2Component new_instance(void)
     return F.instantiate("driver", fmi2CoSimulation, VI_GUID, NULL, &record_callbacks, fmi2False, fmi2False);
 }
 
-static fmi2Status set_real_named(fmi2Component c, fmi2ValueReference vr, double value)
+static fmi2Status set_real_value(fmi2Component c, fmi2ValueReference vr, double value)
 {
     return F.set_real(c, &vr, 1, &value);
 }
 
-static fmi2Status set_integer_named(fmi2Component c, fmi2ValueReference vr, int value)
+static fmi2Status set_integer_value(fmi2Component c, fmi2ValueReference vr, int value)
 {
     const fmi2Integer v = value;
     return F.set_integer(c, &vr, 1, &v);
 }
 
-static double get_real_named(fmi2Component c, fmi2ValueReference vr)
+static double get_real_value(fmi2Component c, fmi2ValueReference vr)
 {
     fmi2Real v = NAN;
     EXPECT(F.get_real(c, &vr, 1, &v) == fmi2OK);
     return v;
 }
 
-static int get_integer_named(fmi2Component c, fmi2ValueReference vr)
+static int get_integer_value(fmi2Component c, fmi2ValueReference vr)
 {
     fmi2Integer v = -1;
     EXPECT(F.get_integer(c, &vr, 1, &v) == fmi2OK);
@@ -500,11 +500,11 @@ static fmi2Component start_scenario(const scenario *sc, int solver)
     if (!c) return NULL;
     fmi2Status st = F.setup(c, fmi2True, RTOL_CASES, 0.0, fmi2False, 0.0);
     if (st == fmi2OK) st = F.enter_init(c);
-    if (st == fmi2OK) st = set_integer_named(c, VI_VR_contact_model, sc->law);
-    if (st == fmi2OK) st = set_integer_named(c, VI_VR_solver, solver);
-    if (st == fmi2OK) st = set_real_named(c, VI_VR_a, sc->a);
-    if (st == fmi2OK) st = set_real_named(c, VI_VR_f, sc->f);
-    if (st == fmi2OK) st = set_real_named(c, VI_VR_Y, sc->Y);
+    if (st == fmi2OK) st = set_integer_value(c, VI_VR_contact_model, sc->law);
+    if (st == fmi2OK) st = set_integer_value(c, VI_VR_solver, solver);
+    if (st == fmi2OK) st = set_real_value(c, VI_VR_a, sc->a);
+    if (st == fmi2OK) st = set_real_value(c, VI_VR_f, sc->f);
+    if (st == fmi2OK) st = set_real_value(c, VI_VR_Y, sc->Y);
     if (st == fmi2OK) st = F.exit_init(c);
     if (st != fmi2OK) {
         fprintf(stderr, "fmu_driver: %s did not initialize:%s\n", sc->name, logged);
@@ -527,8 +527,8 @@ static int run_steps(fmi2Component c, long k0, long n, double *ys)
             return -1;
         }
         if (ys) {
-            ys[2 * (k - k0)] = get_real_named(c, VI_VR_y);
-            ys[2 * (k - k0) + 1] = get_real_named(c, VI_VR_F);
+            ys[2 * (k - k0)] = get_real_value(c, VI_VR_y);
+            ys[2 * (k - k0) + 1] = get_real_value(c, VI_VR_F);
         }
     }
     return 0;
@@ -543,9 +543,9 @@ static void case_trajectory(const scenario *sc, size_t solver)
            H_CASES);
     for (long k = 0; k < n; k++) {
         if (run_steps(c, k, 1, NULL) < 0) break;
-        printf("~ y %.17g %.17g\n", (k + 1) * H_CASES, get_real_named(c, VI_VR_y));
+        printf("~ y %.17g %.17g\n", (k + 1) * H_CASES, get_real_value(c, VI_VR_y));
     }
-    printf("= n_impacts %d\n", get_integer_named(c, VI_VR_n_impacts));
+    printf("= n_impacts %d\n", get_integer_value(c, VI_VR_n_impacts));
     F.free_instance(c);
 }
 
@@ -583,8 +583,8 @@ static void case_refusals(void)
         if (!c) continue;
         EXPECT(F.setup(c, fmi2False, 0.0, 0.0, fmi2False, 0.0) == fmi2OK);
         EXPECT(F.enter_init(c) == fmi2OK);
-        fmi2Status set = bad[i].is_integer ? set_integer_named(c, bad[i].vr, (int)bad[i].value)
-                                           : set_real_named(c, bad[i].vr, bad[i].value);
+        fmi2Status set = bad[i].is_integer ? set_integer_value(c, bad[i].vr, (int)bad[i].value)
+                                           : set_real_value(c, bad[i].vr, bad[i].value);
         snprintf(label, sizeof label, "set %s", bad[i].label);
         print_status(label, set);
         fmi2Status init = F.exit_init(c);
@@ -696,11 +696,11 @@ static void case_rollback(void)
         EXPECT(F.reset(c) == fmi2OK);
         EXPECT(F.setup(c, fmi2True, RTOL_CASES, 0.0, fmi2False, 0.0) == fmi2OK);
         EXPECT(F.enter_init(c) == fmi2OK);
-        EXPECT(set_integer_named(c, VI_VR_contact_model, sc->law) == fmi2OK);
-        EXPECT(set_integer_named(c, VI_VR_solver, solver_values[s]) == fmi2OK);
-        EXPECT(set_real_named(c, VI_VR_a, sc->a) == fmi2OK);
-        EXPECT(set_real_named(c, VI_VR_f, sc->f) == fmi2OK);
-        EXPECT(set_real_named(c, VI_VR_Y, sc->Y) == fmi2OK);
+        EXPECT(set_integer_value(c, VI_VR_contact_model, sc->law) == fmi2OK);
+        EXPECT(set_integer_value(c, VI_VR_solver, solver_values[s]) == fmi2OK);
+        EXPECT(set_real_value(c, VI_VR_a, sc->a) == fmi2OK);
+        EXPECT(set_real_value(c, VI_VR_f, sc->f) == fmi2OK);
+        EXPECT(set_real_value(c, VI_VR_Y, sc->Y) == fmi2OK);
         EXPECT(F.exit_init(c) == fmi2OK);
         run_steps(c, 0, k0, NULL);
         fmi2FMUstate taken = NULL;
