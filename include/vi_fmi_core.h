@@ -117,6 +117,9 @@ struct vi_core {
     unsigned log_mask; /* bit per VI_CAT_* */
     int stop_time_defined;
     double stop_time;
+    /* Model Exchange */
+    double t_committed; /* the last event or completed integrator step: time never goes back before it */
+    int event_passes;   /* passes of the discrete-state iteration at the current event */
 };
 
 /* ---- logging and the state machine (for the faces' own calls) ---- */
@@ -172,5 +175,31 @@ vi_status vi_core_deserialize(void *instance, const char *fn, const unsigned cha
 vi_status vi_core_do_step(void *instance, const char *fn, double current_time, double step);
 /* The model's current time [s] (fmi2LastSuccessfulTime after a discarded step). */
 double vi_core_time(const vi_core *c);
+
+/* ---- Model Exchange ----
+ * Time may go back within the current integrator step (root location, interpolation), never before
+ * the last event or completed integrator step (going further back needs an FMU state). States and
+ * time must be finite; a call in a state the standard does not allow it in is refused with the
+ * state named. Array lengths must be the model's numbers of states and event indicators. */
+/* At most this many passes of the discrete-state iteration at one event; then the mode does not
+ * settle and the instance goes into the error state. */
+#define VI_MAX_EVENT_PASSES 100
+vi_status vi_core_enter_event_mode(void *instance, const char *fn);
+/* One pass (the model's event_update); *ev as the model filled it. */
+vi_status vi_core_new_discrete_states(void *instance, const char *fn, vi_fmu_event *ev);
+vi_status vi_core_enter_continuous_mode(void *instance, const char *fn);
+/* *enter_event: the model asks for an event now; *terminate: always 0 (the model asks at events). */
+vi_status vi_core_completed_step(void *instance, const char *fn, int *enter_event, int *terminate);
+vi_status vi_core_set_time(void *instance, const char *fn, double t);
+vi_status vi_core_set_states(void *instance, const char *fn, const double x[], size_t n);
+vi_status vi_core_get_states(void *instance, const char *fn, double x[], size_t n);
+vi_status vi_core_get_derivatives(void *instance, const char *fn, double dx[], size_t n);
+vi_status vi_core_get_event_indicators(void *instance, const char *fn, double z[], size_t n);
+vi_status vi_core_get_nominals(void *instance, const char *fn, double nominal[], size_t n);
+/* Model Exchange only (the Co-Simulation interface declares none): unknowns are state derivatives
+ * and outputs, knowns are states and inputs. */
+vi_status vi_core_directional_derivative(void *instance, const char *fn, const unsigned unknown[], size_t n_unknown,
+                                         const unsigned known[], size_t n_known, const double dknown[],
+                                         double dunknown[]);
 
 #endif

@@ -211,6 +211,9 @@ int vi_model_option_warnings(const vi_parameters *p, char *msg, size_t n);
  * Returns 0, or -1 with the message. Touches nothing (pointers in M are not followed). */
 #define VI_CHECK_GUARD_TOL 1e-6
 int vi_model_check(const vi_model *M, const double x[2], char *msg, size_t n);
+/* vi_model_check without the mode against the state: a state an outside integrator may hold (Model
+ * Exchange), which lies beyond its mode's surfaces between a crossing and the event that follows. */
+int vi_model_check_between_events(const vi_model *M, const double x[2], char *msg, size_t n);
 
 /* Derived parameters (E_star ... f_contact) and outputs at (t, x). */
 void vi_model_calculated(const vi_model *M, vi_outputs *out);

@@ -26,7 +26,8 @@
  *               (String: parameters and inputs only, stored as char[VI_STRING_SIZE] inside the
  *               struct, so that the state stays plain data; longer values are refused)
  *   enum        the enumeration type (VI_ENUMERATIONS) whose items name the values, else none
- *   causality   parameter | input | output | calculatedParameter
+ *   causality   parameter | input | output | calculatedParameter | local (a local is computed on demand
+ *               like an output: the state derivatives of Model Exchange)
  *   variability constant | fixed | tunable | discrete | continuous (tunable parameters may be set
  *               between steps; the model's `changed` hook hears of it)
  *   initial     exact | calculated  (outputs and calculated parameters: calculated)
@@ -173,19 +174,22 @@ static inline void vi_range_text(const vi_variable *v, char *text, size_t n)
 #define VI_NO_STRING_OUT_Enumeration
 #define VI_NO_STRING_OUT_String _Static_assert(0, "String outputs are not supported");
 
-/* Which struct holds a variable: parameters, inputs, or outputs (with calculated parameters). */
+/* Which struct holds a variable: parameters, inputs, or outputs (with calculated parameters and locals). */
 #define VI_IF_PAR_parameter(x) x
 #define VI_IF_PAR_input(x)
 #define VI_IF_PAR_output(x)
 #define VI_IF_PAR_calculatedParameter(x)
+#define VI_IF_PAR_local(x)
 #define VI_IF_IN_parameter(x)
 #define VI_IF_IN_input(x) x
 #define VI_IF_IN_output(x)
 #define VI_IF_IN_calculatedParameter(x)
+#define VI_IF_IN_local(x)
 #define VI_IF_OUT_parameter(x)
 #define VI_IF_OUT_input(x)
 #define VI_IF_OUT_output(x) x
 #define VI_IF_OUT_calculatedParameter(x) x
+#define VI_IF_OUT_local(x) x
 
 #define VI_ENUM_CONST_(T, n, v) VI_##T##_##n = v,
 #define VI_ENUM_ITEMS_(T, d) VI_ITEMS_##T(VI_ENUM_CONST_)

@@ -73,7 +73,9 @@
   X(profile_file, String, none, parameter, fixed, exact, "", VI_NONE, VI_NONE, "", "profile rolled over (Fig. 1b): two-column text table x [m], h [m]; relative paths: FMU resources, then working directory; empty = none") \
   X(V, Real, none, parameter, fixed, exact, 0.0, VI_NONE, VI_NONE, "m/s", "rolling speed over the profile: yC = yC_in + a (cos(2 pi f t) - 1) + yb(x0 + V t)") \
   X(x0, Real, none, parameter, fixed, exact, 0.0, VI_NONE, VI_NONE, "m", "position on the profile at the start time") \
-  X(profile_periodic, Boolean, none, parameter, fixed, exact, 0, VI_NONE, VI_NONE, "", "repeat the profile beyond its ends (its last height must equal the first); false: the run stops at its end")
+  X(profile_periodic, Boolean, none, parameter, fixed, exact, 0, VI_NONE, VI_NONE, "", "repeat the profile beyond its ends (its last height must equal the first); false: the run stops at its end") \
+  X(der_y, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s", "time derivative of y (Model Exchange: the derivative of the state y)") \
+  X(der_v, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s2", "time derivative of v, the acceleration of the mass (Model Exchange: the derivative of the state v)")
 
 /* Enumeration types: E(type, description); items in VI_ITEMS_<type>(I) as I(type, name, value).
  * Items are matched by name in the model through the constants VI_<type>_<name>. */

@@ -1,6 +1,6 @@
 /*
- * vi_fmi2.c - the FMI 2.0 face of the generic layer: every fmi2* function of a Co-Simulation FMU,
- * each a translation into the shared core (vi_fmi_core.h), which does the checks, the state
+ * vi_fmi2.c - the FMI 2.0 face of the generic layer: every fmi2* function of a Co-Simulation and
+ * Model Exchange FMU, each a translation into the shared core (vi_fmi_core.h), which does the checks, the state
  * machine, value access, logging and FMU states. What is FMI 2.0 only lives here: the logger's
  * calling convention, the resource URI, the status queries.
  */
@@ -174,15 +174,12 @@ fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte serializedSta
                                            FMUstate);
 }
 
-fmi2Status fmi2GetDirectionalDerivative(fmi2Component comp, const fmi2ValueReference vUnknown_ref[], size_t nUnknown,
+fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference vUnknown_ref[], size_t nUnknown,
                                         const fmi2ValueReference vKnown_ref[], size_t nKnown,
                                         const fmi2Real dvKnown[], fmi2Real dvUnknown[])
 {
-    (void)vUnknown_ref, (void)nUnknown, (void)vKnown_ref, (void)nKnown, (void)dvKnown, (void)dvUnknown;
-    const char *fn = "fmi2GetDirectionalDerivative";
-    vi_core *c = vi_core_enter(comp, VI_CALL_DIRECTIONAL_DERIVATIVE, fn);
-    if (!c) return fmi2Error;
-    return (fmi2Status)vi_core_refuse(c, "%s: not provided (providesDirectionalDerivative=false)", fn);
+    return (fmi2Status)vi_core_directional_derivative(c, "fmi2GetDirectionalDerivative", vUnknown_ref, nUnknown,
+                                                      vKnown_ref, nKnown, dvKnown, dvUnknown);
 }
 
 /* ---- co-simulation ------------------------------------------------------------------------ */
@@ -265,4 +262,69 @@ fmi2Status fmi2GetStringStatus(fmi2Component comp, const fmi2StatusKind s, fmi2S
 {
     STATUS_ENTER(VI_CALL_GET_STATUS, "fmi2GetStringStatus");
     return no_status(c, fn, s, value);
+}
+
+/* ---- model exchange ----------------------------------------------------------------------- */
+
+fmi2Status fmi2EnterEventMode(fmi2Component c) { return (fmi2Status)vi_core_enter_event_mode(c, "fmi2EnterEventMode"); }
+
+fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *fmi2eventInfo)
+{
+    vi_fmu_event ev;
+    vi_status st = vi_core_new_discrete_states(c, "fmi2NewDiscreteStates", fmi2eventInfo ? &ev : NULL);
+    if (st == VI_STATUS_OK) {
+        fmi2eventInfo->newDiscreteStatesNeeded = ev.another_pass ? fmi2True : fmi2False;
+        fmi2eventInfo->terminateSimulation = ev.terminate ? fmi2True : fmi2False;
+        fmi2eventInfo->nominalsOfContinuousStatesChanged = ev.nominals_changed ? fmi2True : fmi2False;
+        fmi2eventInfo->valuesOfContinuousStatesChanged = ev.states_changed ? fmi2True : fmi2False;
+        fmi2eventInfo->nextEventTimeDefined = ev.next_time_defined ? fmi2True : fmi2False;
+        fmi2eventInfo->nextEventTime = ev.next_time_defined ? ev.next_time : 0.0;
+    }
+    return (fmi2Status)st;
+}
+
+fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c)
+{
+    return (fmi2Status)vi_core_enter_continuous_mode(c, "fmi2EnterContinuousTimeMode");
+}
+
+fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean noSetFMUStatePriorToCurrentPoint,
+                                       fmi2Boolean *enterEventMode, fmi2Boolean *terminateSimulation)
+{
+    (void)noSetFMUStatePriorToCurrentPoint; /* nothing is kept for earlier points */
+    int enter = 0, terminate = 0;
+    vi_status st = vi_core_completed_step(c, "fmi2CompletedIntegratorStep", enterEventMode && terminateSimulation
+                                                                                 ? &enter : NULL, &terminate);
+    if (st == VI_STATUS_OK) {
+        *enterEventMode = enter ? fmi2True : fmi2False;
+        *terminateSimulation = terminate ? fmi2True : fmi2False;
+    }
+    return (fmi2Status)st;
+}
+
+fmi2Status fmi2SetTime(fmi2Component c, fmi2Real time) { return (fmi2Status)vi_core_set_time(c, "fmi2SetTime", time); }
+
+fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t nx)
+{
+    return (fmi2Status)vi_core_set_states(c, "fmi2SetContinuousStates", x, nx);
+}
+
+fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real derivatives[], size_t nx)
+{
+    return (fmi2Status)vi_core_get_derivatives(c, "fmi2GetDerivatives", derivatives, nx);
+}
+
+fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real eventIndicators[], size_t ni)
+{
+    return (fmi2Status)vi_core_get_event_indicators(c, "fmi2GetEventIndicators", eventIndicators, ni);
+}
+
+fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx)
+{
+    return (fmi2Status)vi_core_get_states(c, "fmi2GetContinuousStates", x, nx);
+}
+
+fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real x_nominal[], size_t nx)
+{
+    return (fmi2Status)vi_core_get_nominals(c, "fmi2GetNominalsOfContinuousStates", x_nominal, nx);
 }

@@ -7,6 +7,8 @@
  */
 #include "vi_fmi_core.h"
 
+#include "vi_check.h"
+
 #include <float.h>
 #include <limits.h>
 #include <math.h>
@@ -181,9 +183,9 @@ vi_core *vi_core_instantiate(const vi_face *face, const vi_callbacks *cb, const 
         LOG_ERROR(&tmp, "%s: instanceName must be a non-empty string", fn);
         return NULL;
     }
-    if (kind != VI_KIND_CS) {
-        LOG_ERROR(&tmp, "%s: %s is a Co-Simulation FMU; the interface type asked for is not supported", fn,
-                  MODEL->model_identifier);
+    if (kind != VI_KIND_CS && !(kind == VI_KIND_ME && MODEL->n_states > 0)) {
+        LOG_ERROR(&tmp, "%s: %s does not offer the interface type asked for (%s)", fn, MODEL->model_identifier,
+                  kind == VI_KIND_ME ? "Model Exchange" : "unknown type");
         return NULL;
     }
     if (!guid || strcmp(guid, MODEL->guid) != 0) {
@@ -258,6 +260,13 @@ vi_status vi_core_enter_init(void *instance, const char *fn)
 vi_status vi_core_exit_init(void *instance, const char *fn)
 {
     ENTER(VI_CALL_EXIT_INIT);
+    if (c->kind == VI_KIND_ME) {
+        if (MODEL->me_initialize(c->model) < 0) return vi_core_fail(c, fn);
+        c->state = VI_ST_EVENT; /* the importer runs the initial event iteration */
+        c->t_committed = MODEL->time(c->model);
+        c->event_passes = 0;
+        return VI_STATUS_OK;
+    }
     if (MODEL->initialize(c->model) < 0) return vi_core_fail(c, fn);
     c->state = VI_ST_STEP_COMPLETE;
     return VI_STATUS_OK;
@@ -428,15 +437,13 @@ static int check_range(const vi_variable *v, double x, char *msg, size_t n)
             int k = snprintf(range + used, sizeof range - used, "%s%s=%d", used ? ", " : "", e->name, e->value);
             used += k > 0 ? (size_t)k : 0;
         }
-        snprintf(msg, n, "%s = %.0f is not one of its items %s", v->name, x, range);
-        return -1;
+        VI_FAIL(msg, n, "%s = %.0f is not one of its items %s", v->name, x, range);
     }
     if (vi_in_range(v, x)) return 0;
     char value[32];
     format_value(x, value, sizeof value);
     vi_range_text(v, range, sizeof range);
-    snprintf(msg, n, "%s = %s is outside its range %s (%s)", v->name, value, range, v->description);
-    return -1;
+    VI_FAIL(msg, n, "%s = %s is outside its range %s (%s)", v->name, value, range, v->description);
 }
 
 /* May v be set now? Inputs and tunable parameters: before and after initialization; fixed
@@ -444,6 +451,11 @@ static int check_range(const vi_variable *v, double x, char *msg, size_t n)
  * the states of their call.) */
 static int settable(vi_core *c, const char *fn, const vi_variable *v)
 {
+    if (c->state == VI_ST_CONTINUOUS && !(v->group == VI_GROUP_INPUTS && strcmp(v->variability, "continuous") == 0)) {
+        LOG_ERROR(c, "%s: %s cannot be set in continuous-time mode (only continuous inputs can): set it in event mode",
+                  fn, v->name);
+        return 0;
+    }
     if (v->group == VI_GROUP_INPUTS) return 1;
     if (v->group == VI_GROUP_PARAMETERS && ((c->state & (VI_ST_INSTANTIATED | VI_ST_INIT)) || tunable(v))) return 1;
     if (v->group == VI_GROUP_PARAMETERS)
@@ -455,11 +467,13 @@ static int settable(vi_core *c, const char *fn, const vi_variable *v)
 }
 
 /* After a value was set: a new input value holds (zero-order) until a derivative is set; an input or
- * a tunable parameter set between steps takes effect at the start of the next step. */
+ * a tunable parameter set between steps (co-simulation) or in event mode (model exchange) is
+ * announced to the model. */
 static void changed(vi_core *c, const vi_variable *v)
 {
     if (v->group == VI_GROUP_INPUTS && v->type == VI_Real) *derivative(c, v) = 0.0;
-    if (v->group == VI_GROUP_INPUTS || c->state == VI_ST_STEP_COMPLETE) MODEL->changed(c->model);
+    if (c->state == VI_ST_CONTINUOUS) return; /* Model Exchange reads its inputs at every evaluation */
+    if (v->group == VI_GROUP_INPUTS || (c->state & (VI_ST_STEP_COMPLETE | VI_ST_EVENT))) MODEL->changed(c->model);
 }
 
 /* Is the value acceptable for v (checked before anything is stored)? Logs why not. */
@@ -609,27 +623,31 @@ static int check_values(const void *block, char *msg, size_t n)
         switch (v->type) {
         case VI_Real:
             memcpy(&x, p, sizeof x);
-            if (!isfinite(x)) return snprintf(msg, n, "%s = %g is not finite", v->name, x), -1;
+            if (!isfinite(x)) VI_FAIL(msg, n, "%s = %g is not finite", v->name, x);
             if (check_range(v, x, msg, n) < 0) return -1;
             if (v->group != VI_GROUP_INPUTS) break;
             memcpy(&dx, (const char *)group_in(block, VI_GROUP_INPUT_DERIVATIVES) + v->offset, sizeof dx);
-            if (!isfinite(dx)) return snprintf(msg, n, "the derivative of %s = %g is not finite", v->name, dx), -1;
+            if (!isfinite(dx)) VI_FAIL(msg, n, "the derivative of %s = %g is not finite", v->name, dx);
             break;
         case VI_String:
-            if (!memchr(p, '\0', VI_STRING_SIZE)) return snprintf(msg, n, "%s is not a terminated string", v->name), -1;
+            if (!memchr(p, '\0', VI_STRING_SIZE)) VI_FAIL(msg, n, "%s is not a terminated string", v->name);
             break;
         default:
             memcpy(&k, p, sizeof k);
             if (v->type == VI_Boolean && k != 0 && k != 1)
-                return snprintf(msg, n, "%s = %d is not a Boolean", v->name, k), -1;
+                VI_FAIL(msg, n, "%s = %d is not a Boolean", v->name, k);
             if (v->type != VI_Boolean && check_range(v, k, msg, n) < 0) return -1;
         }
     }
     return 0;
 }
 
-/* Was the saved FMI state after initialization? */
-static int saved_running(const vi_saved_state *s) { return (s->fmu_state & (VI_ST_RUNNING | VI_ST_ERROR)) != 0; }
+/* Was the saved FMI state after initialization? Then VI_FMU_RUNNING_CS or _ME (the instance's interface). */
+static int saved_running(const vi_core *c, const vi_saved_state *s)
+{
+    if (!(s->fmu_state & (VI_ST_RUNNING | VI_ST_ERROR))) return 0;
+    return c->kind == VI_KIND_ME ? VI_FMU_RUNNING_ME : VI_FMU_RUNNING_CS;
+}
 
 /* The states an instance of this kind can be in. */
 static unsigned kind_states(const vi_core *c)
@@ -659,7 +677,7 @@ static int check_saved(vi_core *c, const char *fn, const vi_saved_state *s, size
     else if (s->stop_time_defined > 1u || (s->stop_time_defined && !isfinite(s->stop_time)))
         snprintf(why, sizeof why, "field stop_time is not finite");
     else if (check_values(payload(s), why, sizeof why) < 0 ||
-             (MODEL->state_check && MODEL->state_check(payload(s), saved_running(s), why, sizeof why) < 0)) {
+             (MODEL->state_check && MODEL->state_check(payload(s), saved_running(c, s), why, sizeof why) < 0)) {
         if (!why[0]) snprintf(why, sizeof why, "invalid field");
     }
     if (why[0]) LOG_ERROR(c, "%s: invalid FMU state: %s", fn, why);
@@ -692,7 +710,9 @@ vi_status vi_core_set_fmu_state(void *instance, const char *fn, const void *stat
     c->stop_time_defined = (int)s->stop_time_defined;
     c->stop_time = s->stop_time;
     c->state = s->fmu_state;
-    if (MODEL->restore && MODEL->restore(c->model, saved_running(s)) != 0) return vi_core_fail(c, fn);
+    c->event_passes = 0;
+    if (MODEL->restore && MODEL->restore(c->model, saved_running(c, s)) != 0) return vi_core_fail(c, fn);
+    c->t_committed = MODEL->time(c->model);
     return VI_STATUS_OK;
 }
 
@@ -787,5 +807,171 @@ vi_status vi_core_do_step(void *instance, const char *fn, double tc, double h)
         c->state = VI_ST_STEP_FAILED;
         return VI_STATUS_DISCARD;
     }
+    return VI_STATUS_OK;
+}
+
+/* ---- Model Exchange --------------------------------------------------------------------------- */
+
+/* A Model Exchange call on an instance of the other interface, or an array of the wrong length. */
+static int me_args(vi_core *c, const char *fn, const void *array, size_t n, size_t expected, const char *what)
+{
+    if (c->kind != VI_KIND_ME)
+        return LOG_ERROR(c, "%s: a Model Exchange function; this instance is a Co-Simulation one", fn), 0;
+    if (expected > 0 && !array) return LOG_ERROR(c, "%s: the array is NULL", fn), 0;
+    if (n != expected)
+        return LOG_ERROR(c, "%s: %zu %s given; %s has %zu", fn, n, what, MODEL->model_identifier, expected), 0;
+    return 1;
+}
+#define ME_ARGS(array, n, expected, what) \
+    if (!me_args(c, fn, array, n, expected, what)) return VI_STATUS_ERROR
+
+vi_status vi_core_enter_event_mode(void *instance, const char *fn)
+{
+    ENTER(VI_CALL_ENTER_EVENT_MODE);
+    ME_ARGS(NULL, 0, 0, "");
+    if (c->state == VI_ST_CONTINUOUS) c->event_passes = 0;
+    c->state = VI_ST_EVENT;
+    c->t_committed = MODEL->time(c->model);
+    return VI_STATUS_OK;
+}
+
+vi_status vi_core_new_discrete_states(void *instance, const char *fn, vi_fmu_event *ev)
+{
+    ENTER(VI_CALL_NEW_DISCRETE_STATES);
+    ME_ARGS(NULL, 0, 0, "");
+    if (!ev) return vi_core_refuse(c, "%s: fmi2EventInfo is NULL", fn);
+    memset(ev, 0, sizeof *ev);
+    if (++c->event_passes > VI_MAX_EVENT_PASSES) {
+        LOG_ERROR(c, "%s: the mode does not settle at t = %.17g s: %d passes of the event iteration, each leaving the "
+                     "state inconsistent with its mode (chattering); stopped", fn, MODEL->time(c->model),
+                  VI_MAX_EVENT_PASSES);
+        c->state = VI_ST_ERROR;
+        return VI_STATUS_ERROR;
+    }
+    if (MODEL->event_update(c->model, ev) < 0) return vi_core_fail(c, fn);
+    if (ev->next_time_defined && !(ev->next_time > MODEL->time(c->model))) ev->next_time_defined = 0;
+    if (ev->terminate) vi_core_log(c, VI_STATUS_WARNING, VI_CAT_WARNING, "%s: %s", fn, MODEL->message(c->model));
+    c->t_committed = MODEL->time(c->model);
+    return VI_STATUS_OK;
+}
+
+vi_status vi_core_enter_continuous_mode(void *instance, const char *fn)
+{
+    ENTER(VI_CALL_ENTER_CONTINUOUS_MODE);
+    ME_ARGS(NULL, 0, 0, "");
+    c->state = VI_ST_CONTINUOUS;
+    c->event_passes = 0;
+    return VI_STATUS_OK;
+}
+
+vi_status vi_core_completed_step(void *instance, const char *fn, int *enter_event, int *terminate)
+{
+    ENTER(VI_CALL_COMPLETED_STEP);
+    ME_ARGS(NULL, 0, 0, "");
+    if (!enter_event || !terminate) return vi_core_refuse(c, "%s: NULL argument", fn);
+    *enter_event = MODEL->completed_step(c->model) != 0;
+    *terminate = 0;
+    c->t_committed = MODEL->time(c->model);
+    return VI_STATUS_OK;
+}
+
+vi_status vi_core_set_time(void *instance, const char *fn, double t)
+{
+    ENTER(VI_CALL_SET_TIME);
+    ME_ARGS(NULL, 0, 0, "");
+    if (!isfinite(t)) return vi_core_refuse(c, "%s: time %g is not finite", fn, t);
+    if (t < c->t_committed)
+        return vi_core_refuse(c, "%s: t = %.17g s lies before the last event or completed integrator step (%.17g s); "
+                                 "time goes back only within the current step (restore an FMU state to go further)",
+                              fn, t, c->t_committed);
+    if (c->state == VI_ST_EVENT && t != MODEL->time(c->model))
+        return vi_core_refuse(c, "%s: t = %.17g s in event mode, whose time is %.17g s: time moves in continuous-time "
+                                 "mode only", fn, t, MODEL->time(c->model));
+    MODEL->set_time(c->model, t);
+    return VI_STATUS_OK;
+}
+
+vi_status vi_core_set_states(void *instance, const char *fn, const double x[], size_t n)
+{
+    ENTER(VI_CALL_SET_STATES);
+    ME_ARGS(x, n, (size_t)MODEL->n_states, "states");
+    for (size_t i = 0; i < n; i++)
+        if (!isfinite(x[i]))
+            return vi_core_refuse(c, "%s: state %zu (%s) = %g is not finite; nothing was set", fn, i,
+                                  MODEL->variables[MODEL->state_vrs[i]].name, x[i]);
+    MODEL->set_states(c->model, x);
+    return VI_STATUS_OK;
+}
+
+vi_status vi_core_get_states(void *instance, const char *fn, double x[], size_t n)
+{
+    ENTER(VI_CALL_GET_STATES);
+    ME_ARGS(x, n, (size_t)MODEL->n_states, "states");
+    if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) return vi_core_refuse(c, "%s: %s", fn, MODEL->message(c->model));
+    MODEL->get_states(c->model, x);
+    return VI_STATUS_OK;
+}
+
+vi_status vi_core_get_derivatives(void *instance, const char *fn, double dx[], size_t n)
+{
+    ENTER(VI_CALL_GET_DERIVATIVES);
+    ME_ARGS(dx, n, (size_t)MODEL->n_states, "derivatives");
+    MODEL->derivatives(c->model, dx);
+    return VI_STATUS_OK;
+}
+
+vi_status vi_core_get_event_indicators(void *instance, const char *fn, double z[], size_t n)
+{
+    ENTER(VI_CALL_GET_EVENT_INDICATORS);
+    ME_ARGS(z, n, (size_t)MODEL->n_indicators, "event indicators");
+    if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) return vi_core_refuse(c, "%s: %s", fn, MODEL->message(c->model));
+    MODEL->indicators(c->model, z);
+    return VI_STATUS_OK;
+}
+
+vi_status vi_core_get_nominals(void *instance, const char *fn, double nominal[], size_t n)
+{
+    ENTER(VI_CALL_GET_NOMINALS);
+    ME_ARGS(nominal, n, (size_t)MODEL->n_states, "nominals");
+    MODEL->nominals(c->model, nominal);
+    return VI_STATUS_OK;
+}
+
+/* Is vr a state of the model (its index in state order), or -1? */
+static int state_index(unsigned vr)
+{
+    for (int i = 0; i < MODEL->n_states; i++)
+        if (MODEL->state_vrs[i] == vr) return i;
+    return -1;
+}
+
+vi_status vi_core_directional_derivative(void *instance, const char *fn, const unsigned unknown[], size_t n_unknown,
+                                         const unsigned known[], size_t n_known, const double dknown[],
+                                         double dunknown[])
+{
+    ENTER(VI_CALL_DIRECTIONAL_DERIVATIVE);
+    if (c->kind != VI_KIND_ME)
+        return vi_core_refuse(c, "%s: provided in Model Exchange only (the Co-Simulation interface declares "
+                                 "providesDirectionalDerivative=false)", fn);
+    if ((n_unknown > 0 && (!unknown || !dunknown)) || (n_known > 0 && (!known || !dknown)))
+        return vi_core_refuse(c, "%s: NULL array", fn);
+    for (size_t i = 0; i < n_unknown; i++) {
+        const vi_variable *v = lookup(c, fn, unknown[i], VI_Real);
+        if (!v) return VI_STATUS_ERROR;
+        int is_derivative = 0;
+        for (int k = 0; k < MODEL->n_states; k++) is_derivative |= MODEL->derivative_vrs[k] == unknown[i];
+        if (!is_derivative && v->group != VI_GROUP_OUTPUTS)
+            return vi_core_refuse(c, "%s: unknown %s is neither a state derivative nor an output", fn, v->name);
+    }
+    for (size_t i = 0; i < n_known; i++) {
+        const vi_variable *v = lookup(c, fn, known[i], VI_Real);
+        if (!v) return VI_STATUS_ERROR;
+        if (state_index(known[i]) < 0 && v->group != VI_GROUP_INPUTS)
+            return vi_core_refuse(c, "%s: known %s is neither a state nor an input", fn, v->name);
+        if (!isfinite(dknown[i])) return vi_core_refuse(c, "%s: the seed of %s is not finite", fn, v->name);
+    }
+    if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) return vi_core_refuse(c, "%s: %s", fn, MODEL->message(c->model));
+    if (MODEL->directional_derivative(c->model, unknown, n_unknown, known, n_known, dknown, dunknown) < 0)
+        return vi_core_refuse(c, "%s: %s", fn, MODEL->message(c->model));
     return VI_STATUS_OK;
 }

@@ -387,7 +387,7 @@ static int check_binary(int argc, char **argv)
 
     /* Instantiation refused: no leak either. */
     EXPECT(F.instantiate("bad", fmi2CoSimulation, "{wrong}", resources, &callbacks, fmi2False, fmi2False) == NULL);
-    EXPECT(F.instantiate("bad", fmi2ModelExchange, VI_GUID, resources, &callbacks, fmi2False, fmi2False) == NULL);
+    EXPECT(F.instantiate("bad", (fmi2Type)7, VI_GUID, resources, &callbacks, fmi2False, fmi2False) == NULL);
 
     if (argc == 5) layer_test(argv[3], argv[4]);
 

@@ -54,7 +54,7 @@ apt_install "${APT_PKGS[@]}"
 
 # ---- the interpreter ----------------------------------------------------------------------------------
 PYTHON=${PYTHON:-python3}
-BASE=$(command -v "$PYTHON") || { echo "setup: no interpreter '$PYTHON' (PYTHON)"; exit 1; }
+BASE=$("$PYTHON" -c 'import sys; print(sys.executable)') || { echo "setup: no interpreter '$PYTHON' (PYTHON)"; exit 1; }
 # pip may install into it: a virtual environment, or an interpreter with pip that is not externally managed
 can_pip() {
   "$1" - <<'EOF' 2>/dev/null
@@ -65,7 +65,7 @@ sys.exit(0 if importlib.util.find_spec("pip") and (venv or not managed) else 1)
 EOF
 }
 if can_pip "$BASE"; then
-  PY=$("$BASE" -c 'import sys; print(sys.executable)')
+  PY=$BASE
 else
   PY="$ROOT/.venv/bin/python"
   base_id=$("$BASE" -c 'import sys; print(sys.base_prefix, sys.version_info[:2])')
