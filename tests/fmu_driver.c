@@ -37,6 +37,9 @@
  *   fig5a-<solver>   a Fig. 5a-like run (Hertz, f = 100 Hz) for 0.1 s, solver bdf, adams or dop853:
  *                    y after every communication step of 1e-5 s, the impact count at the end
  *   fig4b_100ms-<solver>  Fig. 4b for the paper's 0.1 s (see scenarios[] below)
+ *   fig4b-me, fig5a-me    the same runs through Model Exchange, this driver integrating (classical
+ *                    Runge-Kutta, fixed step 1e-6 s, events at the end of the step where an event
+ *                    indicator changes sign): y every 1e-5 s, the event and impact counts
  *   refusals         bad parameter values, calls in the wrong order or with bad arguments, a missing
  *                    profile file: the status of every call and the messages logged
  *   rollback         per solver: a run from an FMU state, from its serialized copy and after
@@ -491,6 +494,7 @@ static const char *const solver_names[] = {"bdf", "adams", "dop853"};
 static const int solver_values[] = {VI_Solver_bdf, VI_Solver_adams, VI_Solver_dop853};
 #define N_SCENARIOS (sizeof scenarios / sizeof scenarios[0])
 #define N_SOLVERS (sizeof solver_values / sizeof solver_values[0])
+#define N_ME_SCENARIOS 2 /* fig4b and fig5a through Model Exchange too */
 
 /* Instantiate and initialize one scenario with one solver at RTOL_CASES; NULL on failure. */
 static fmi2Component start_scenario(const scenario *sc, int solver)
@@ -646,15 +650,141 @@ static void case_refusals(void)
     F.free_instance(c);
 
     logged[0] = '\0';
-    fmi2Component none =
+    fmi2Component other =
         F.instantiate("driver", fmi2CoSimulation, "{wrong}", NULL, &record_callbacks, fmi2False, fmi2False);
-    printf("= fmi2Instantiate with a wrong GUID: %s%s\n", none ? "an instance" : "NULL", logged);
-    EXPECT(none == NULL);
+    printf("= fmi2Instantiate with a wrong GUID: %s%s\n", other ? "an instance" : "NULL", logged);
+    EXPECT(other == NULL);
     logged[0] = '\0';
-    none = F.instantiate("driver", fmi2ModelExchange, VI_GUID, NULL, &record_callbacks, fmi2False, fmi2False);
-    printf("= fmi2Instantiate for Model Exchange: %s%s\n", none ? "an instance" : "NULL", logged);
+    other = F.instantiate("driver", fmi2ModelExchange, VI_GUID, NULL, &record_callbacks, fmi2False, fmi2False);
+    printf("= fmi2Instantiate for Model Exchange: %s%s\n", other ? "an instance" : "NULL", logged);
     logged[0] = '\0';
-    if (none) F.free_instance(none);
+    if (other) F.free_instance(other);
+}
+
+/* ---- Model Exchange: this driver as the importer's integrator ------------------------------------- */
+
+#define ME_NX 2        /* continuous states of VibroImpact: y, v (modelDescription.xml, Derivatives) */
+#define ME_NZ 2        /* its event indicators (numberOfEventIndicators) */
+#define ME_H 1e-6      /* s, the fixed step of the classical Runge-Kutta method below */
+#define ME_EVENT_PASSES 100 /* bound of the fmi2NewDiscreteStates iteration */
+
+static struct {
+    fmi2SetTimeTYPE *set_time;
+    fmi2SetContinuousStatesTYPE *set_states;
+    fmi2GetContinuousStatesTYPE *get_states;
+    fmi2GetDerivativesTYPE *get_derivatives;
+    fmi2GetEventIndicatorsTYPE *get_indicators;
+    fmi2CompletedIntegratorStepTYPE *completed_step;
+    fmi2EnterEventModeTYPE *enter_event_mode;
+    fmi2NewDiscreteStatesTYPE *new_discrete_states;
+    fmi2EnterContinuousTimeModeTYPE *enter_continuous;
+} M;
+
+static void load_me(void)
+{
+#define SYM(field, name)                                                  \
+    do {                                                                  \
+        *(void **)&M.field = lib_symbol(name);                            \
+        if (!M.field) {                                                   \
+            fprintf(stderr, "fmu_driver: %s is not exported\n", name);    \
+            exit(2);                                                      \
+        }                                                                 \
+    } while (0)
+    SYM(set_time, "fmi2SetTime");
+    SYM(set_states, "fmi2SetContinuousStates");
+    SYM(get_states, "fmi2GetContinuousStates");
+    SYM(get_derivatives, "fmi2GetDerivatives");
+    SYM(get_indicators, "fmi2GetEventIndicators");
+    SYM(completed_step, "fmi2CompletedIntegratorStep");
+    SYM(enter_event_mode, "fmi2EnterEventMode");
+    SYM(new_discrete_states, "fmi2NewDiscreteStates");
+    SYM(enter_continuous, "fmi2EnterContinuousTimeMode");
+#undef SYM
+}
+
+/* Event mode until the discrete states settle, then continuous-time mode; the states and indicators
+ * after it. 0, or -1 (counted as a failure). */
+static int me_event_iteration(fmi2Component c, double *x, double *z, long *passes)
+{
+    fmi2EventInfo ev = {.newDiscreteStatesNeeded = fmi2True};
+    for (int k = 0; k < ME_EVENT_PASSES && ev.newDiscreteStatesNeeded; k++, (*passes)++)
+        if (M.new_discrete_states(c, &ev) != fmi2OK) return failures++, -1;
+    EXPECT(!ev.newDiscreteStatesNeeded && !ev.terminateSimulation && !ev.nextEventTimeDefined);
+    if (M.enter_continuous(c) != fmi2OK || M.get_states(c, x, ME_NX) != fmi2OK ||
+        M.get_indicators(c, z, ME_NZ) != fmi2OK)
+        return failures++, -1;
+    return 0;
+}
+
+/* x' at (t, x) into dx; 0, or -1. */
+static int me_derivatives(fmi2Component c, double t, const double *x, double *dx)
+{
+    return M.set_time(c, t) == fmi2OK && M.set_states(c, x, ME_NX) == fmi2OK &&
+                   M.get_derivatives(c, dx, ME_NX) == fmi2OK
+               ? 0
+               : -1;
+}
+
+/* A scenario through Model Exchange: classical Runge-Kutta with the fixed step ME_H, an event where
+ * an indicator changes sign over a step or the FMU asks for one (no root location: the event is
+ * handled at the end of that step); y after every 1e-5 s, the event count. */
+static void case_model_exchange(const scenario *sc)
+{
+    load_me();
+    logged[0] = '\0';
+    fmi2Component c = F.instantiate("me", fmi2ModelExchange, VI_GUID, NULL, &record_callbacks, fmi2False, fmi2False);
+    EXPECT(c != NULL);
+    if (!c) return;
+    fmi2Status st = F.setup(c, fmi2False, 0.0, 0.0, fmi2False, 0.0);
+    if (st == fmi2OK) st = F.enter_init(c);
+    if (st == fmi2OK) st = set_integer_value(c, VI_VR_contact_model, sc->law);
+    if (st == fmi2OK) st = set_real_value(c, VI_VR_a, sc->a);
+    if (st == fmi2OK) st = set_real_value(c, VI_VR_f, sc->f);
+    if (st == fmi2OK) st = set_real_value(c, VI_VR_Y, sc->Y);
+    if (st == fmi2OK) st = F.exit_init(c);
+    double x[ME_NX], z[ME_NZ];
+    long events = 0, passes = 0;
+    if (st != fmi2OK || me_event_iteration(c, x, z, &passes) < 0) {
+        fprintf(stderr, "fmu_driver: %s (Model Exchange) did not initialize:%s\n", sc->name, logged);
+        failures++;
+        F.free_instance(c);
+        return;
+    }
+    const long n = lround(sc->t_stop / ME_H), every = lround(H_CASES / ME_H);
+    printf("# %s, Model Exchange, classical Runge-Kutta, %ld steps of %g s: t y\n", sc->name, n, ME_H);
+    for (long k = 0; k < n; k++) {
+        const double t = k * ME_H, t1 = (k + 1) * ME_H;
+        double k1[ME_NX], k2[ME_NX], k3[ME_NX], k4[ME_NX], xs[ME_NX], z1[ME_NZ];
+        int rc = me_derivatives(c, t, x, k1);
+        for (int i = 0; i < ME_NX; i++) xs[i] = x[i] + 0.5 * ME_H * k1[i];
+        rc = rc < 0 ? rc : me_derivatives(c, t + 0.5 * ME_H, xs, k2);
+        for (int i = 0; i < ME_NX; i++) xs[i] = x[i] + 0.5 * ME_H * k2[i];
+        rc = rc < 0 ? rc : me_derivatives(c, t + 0.5 * ME_H, xs, k3);
+        for (int i = 0; i < ME_NX; i++) xs[i] = x[i] + ME_H * k3[i];
+        rc = rc < 0 ? rc : me_derivatives(c, t1, xs, k4);
+        for (int i = 0; i < ME_NX; i++) x[i] += ME_H / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+        fmi2Boolean enter = fmi2False, stop = fmi2False;
+        if (rc == 0 && M.set_time(c, t1) == fmi2OK && M.set_states(c, x, ME_NX) == fmi2OK &&
+            M.completed_step(c, fmi2True, &enter, &stop) == fmi2OK && M.get_indicators(c, z1, ME_NZ) == fmi2OK) {
+            int crossed = 0;
+            for (int i = 0; i < ME_NZ; i++) crossed |= (z[i] > 0.0) != (z1[i] > 0.0);
+            memcpy(z, z1, sizeof z);
+            if ((crossed || enter) && (M.enter_event_mode(c) != fmi2OK || me_event_iteration(c, x, z, &passes) < 0))
+                rc = -1;
+            events += crossed || enter;
+        } else {
+            rc = -1;
+        }
+        if (rc < 0 || stop) {
+            fprintf(stderr, "fmu_driver: %s (Model Exchange) stopped at t = %g:%s\n", sc->name, t1, logged);
+            failures++;
+            break;
+        }
+        if ((k + 1) % every == 0) printf("~ y %.17g %.17g\n", (double)((k + 1) / every) * H_CASES, x[0]);
+    }
+    printf("= Model Exchange: %ld events, %ld passes of fmi2NewDiscreteStates, n_impacts %d\n", events, passes,
+           get_integer_value(c, VI_VR_n_impacts));
+    F.free_instance(c);
 }
 
 /* n steps' y and F equal bit for bit (NaN included). */
@@ -727,6 +857,7 @@ static int list_cases(void)
 {
     for (size_t i = 0; i < N_SCENARIOS; i++)
         for (size_t s = 0; s < N_SOLVERS; s++) printf("%s-%s\n", scenarios[i].name, solver_names[s]);
+    for (size_t i = 0; i < N_ME_SCENARIOS; i++) printf("%s-me\n", scenarios[i].name);
     printf("refusals\nrollback\n");
     return 0;
 }
@@ -741,6 +872,14 @@ static int run_case(const char *path, const char *name)
     } else if (strcmp(name, "rollback") == 0) {
         case_rollback();
         found = 1;
+    }
+    for (size_t i = 0; i < N_ME_SCENARIOS && !found; i++) {
+        char full[64];
+        snprintf(full, sizeof full, "%s-me", scenarios[i].name);
+        if (strcmp(name, full) == 0) {
+            case_model_exchange(&scenarios[i]);
+            found = 1;
+        }
     }
     for (size_t i = 0; i < N_SCENARIOS && !found; i++)
         for (size_t s = 0; s < N_SOLVERS && !found; s++) {
