@@ -13,8 +13,10 @@ set(CMAKE_FIND_ROOT_PATH_MODE_LIBRARY ONLY)
 set(CMAKE_FIND_ROOT_PATH_MODE_INCLUDE ONLY)
 set(CMAKE_FIND_ROOT_PATH_MODE_PACKAGE ONLY)
 
-# Programs built for this target run here under qemu-user (ctest, try_run).
+# Programs built for this target run here under qemu-user (ctest, try_run, build steps), which finds
+# the aarch64 C library through QEMU_LD_PREFIX (as -L would: no option-like word in the command).
 find_program(VI_QEMU NAMES qemu-aarch64 qemu-aarch64-static)
-if(VI_QEMU)
-  set(CMAKE_CROSSCOMPILING_EMULATOR ${VI_QEMU} -L /usr/${VI_CROSS_TRIPLE})
+find_program(VI_ENV env)
+if(VI_QEMU AND VI_ENV)
+  set(CMAKE_CROSSCOMPILING_EMULATOR ${VI_ENV} QEMU_LD_PREFIX=/usr/${VI_CROSS_TRIPLE} ${VI_QEMU})
 endif()

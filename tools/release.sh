@@ -14,7 +14,7 @@
 # 6.4.1) as static libraries and kept in ${XDG_CACHE_HOME:-~/.cache}/vibroimpact/, so that the next run
 # is fast; the native build links Debian's libsundials-dev (the same 6.4.1).
 # Checked before anything is copied to dist/: the DLLs import only KERNEL32.dll and msvcrt.dll and export
-# only fmi2* functions; the Linux libraries need only libc and libm and export only fmi2* functions;
+# only fmi2* (fmi3*) functions; the Linux libraries need only libc and libm and export only those;
 # every FMU holds the binaries of its platforms and fmpy validates it.
 #
 # Usage: tools/release.sh            (PYTHON: the interpreter, as for tools/setup.sh; JOBS: default nproc)
@@ -140,8 +140,8 @@ done
 configure_and_build "$NATIVE" -DVI_FMU_MERGE_BINARIES="$(IFS=';'; echo "${merge[*]}")"
 
 # --- checks of every binary ------------------------------------------------------------------------
-check_pe() { # <dll>: imports only Windows system DLLs, exports only fmi2* functions
-  local dll=$1 imports exports
+check_pe() { # <dll> [<prefix>]: imports only Windows system DLLs, exports only <prefix>* (fmi2) functions
+  local dll=$1 prefix=${2:-fmi2} imports exports
   [ -f "$dll" ] || die "$dll was not built"
   imports=$(x86_64-w64-mingw32-objdump -p "$dll" | sed -n 's/^\s*DLL Name: //p' | sort -u | tr '\n' ' ')
   for i in $imports; do
@@ -149,11 +149,11 @@ check_pe() { # <dll>: imports only Windows system DLLs, exports only fmi2* funct
   done
   exports=$(x86_64-w64-mingw32-objdump -p "$dll" | awk '/\[Ordinal\/Name Pointer\] Table/ { on = 1; next } on && /^[ \t]*\[/ { print $NF; next } on { on = 0 }')
   [ -n "$exports" ] || die "$dll exports nothing"
-  if grep -qv '^fmi2' <<<"$exports"; then die "$dll exports more than fmi2*: $(grep -v '^fmi2' <<<"$exports" | tr '\n' ' ')"; fi
-  echo "imports ${imports% }; exports $(wc -l <<<"$exports") fmi2* functions"
+  if grep -qv "^$prefix" <<<"$exports"; then die "$dll exports more than $prefix*: $(grep -v "^$prefix" <<<"$exports" | tr '\n' ' ')"; fi
+  echo "imports ${imports% }; exports $(wc -l <<<"$exports") $prefix* functions"
 }
-check_elf() { # <so>: needs only libc and libm, exports only fmi2* functions
-  local so=$1 needed exports
+check_elf() { # <so> [<prefix>]: needs only libc and libm, exports only <prefix>* (fmi2) functions
+  local so=$1 prefix=${2:-fmi2} needed exports
   [ -f "$so" ] || die "$so was not built"
   needed=$(readelf -dW "$so" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p' | tr '\n' ' ')
   for n in $needed; do
@@ -161,8 +161,8 @@ check_elf() { # <so>: needs only libc and libm, exports only fmi2* functions
   done
   exports=$(readelf -W --dyn-syms "$so" | awk '$5 == "GLOBAL" && $7 != "UND" && ($4 == "FUNC" || $4 == "OBJECT") { sub(/@.*/, "", $8); print $8 }')
   [ -n "$exports" ] || die "$so exports nothing"
-  if grep -qv '^fmi2' <<<"$exports"; then die "$so exports more than fmi2*: $(grep -v '^fmi2' <<<"$exports" | tr '\n' ' ')"; fi
-  echo "needs ${needed% }; exports $(wc -l <<<"$exports") fmi2* functions"
+  if grep -qv "^$prefix" <<<"$exports"; then die "$so exports more than $prefix*: $(grep -v "^$prefix" <<<"$exports" | tr '\n' ' ')"; fi
+  echo "needs ${needed% }; exports $(wc -l <<<"$exports") $prefix* functions"
 }
 declare -A CHECKED
 for fmu in "${FMUS[@]}"; do
@@ -170,6 +170,11 @@ for fmu in "${FMUS[@]}"; do
   CHECKED[$fmu.so]=$(check_elf "$BUILD/x86_64-linux/$fmu.so")
   CHECKED[$fmu.aarch64]=$(check_elf "$BUILD/aarch64-linux/$fmu.so")
   readelf -h "$BUILD/aarch64-linux/$fmu.so" | grep -q 'Machine:.*AArch64' || die "$fmu.so for aarch64-linux is not an AArch64 library"
+  if [ -f "$BUILD/$NATIVE/fmi3/$fmu.fmu" ]; then # the FMI 3.0 binaries, where the sources build them
+    CHECKED[$fmu.fmi3.dll]=$(check_pe "$BUILD/x86_64-windows/fmi3/$fmu.dll" fmi3)
+    CHECKED[$fmu.fmi3.so]=$(check_elf "$BUILD/x86_64-linux/fmi3/$fmu.so" fmi3)
+    CHECKED[$fmu.fmi3.aarch64]=$(check_elf "$BUILD/aarch64-linux/fmi3/$fmu.so" fmi3)
+  fi
 done
 
 # --- dist/ ------------------------------------------------------------------------------------------
@@ -220,15 +225,19 @@ fi
 # --- what was made -----------------------------------------------------------------------------------
 size() { stat -c %s "$1"; }
 echo "release: SUNDIALS $SUNDIALS_VERSION (Debian source $(basename "$SUNDIALS_SRC")) for ${CROSS_TARGETS[*]}: $CACHE"
-printf '%-28s %10s  %s\n' "file" "bytes" "contents / checks"
+printf '%-36s %10s  %s\n' "file" "bytes" "contents / checks"
 for f in "$ROOT"/dist/fmi2/*.fmu "$ROOT"/dist/fmi3/*.fmu; do
   [ -f "$f" ] || continue
-  printf '%-28s %10s  %s\n' "${f#"$ROOT"/}" "$(size "$f")" "$(fmu_platforms "$f" | sed 's|^binaries/\([^/]*\)/.*|\1|' | tr '\n' ' ')(fmpy: valid)"
+  printf '%-36s %10s  %s\n' "${f#"$ROOT"/}" "$(size "$f")" "$(fmu_platforms "$f" | sed 's|^binaries/\([^/]*\)/.*|\1|' | tr '\n' ' ')(fmpy: valid)"
 done
 for fmu in "${FMUS[@]}"; do
-  printf '%-28s %10s  %s\n' "linux64/$fmu.so" "$(size "$BUILD/x86_64-linux/$fmu.so")" "${CHECKED[$fmu.so]}"
-  printf '%-28s %10s  %s\n' "win64/$fmu.dll" "$(size "$BUILD/x86_64-windows/$fmu.dll")" "${CHECKED[$fmu.dll]}"
-  printf '%-28s %10s  %s\n' "aarch64-linux/$fmu.so" "$(size "$BUILD/aarch64-linux/$fmu.so")" "${CHECKED[$fmu.aarch64]}"
+  printf '%-36s %10s  %s\n' "linux64/$fmu.so" "$(size "$BUILD/x86_64-linux/$fmu.so")" "${CHECKED[$fmu.so]}"
+  printf '%-36s %10s  %s\n' "win64/$fmu.dll" "$(size "$BUILD/x86_64-windows/$fmu.dll")" "${CHECKED[$fmu.dll]}"
+  printf '%-36s %10s  %s\n' "aarch64-linux/$fmu.so" "$(size "$BUILD/aarch64-linux/$fmu.so")" "${CHECKED[$fmu.aarch64]}"
+  [ -n "${CHECKED[$fmu.fmi3.so]:-}" ] || continue
+  printf '%-36s %10s  %s\n' "fmi3 x86_64-linux/$fmu.so" "$(size "$BUILD/x86_64-linux/fmi3/$fmu.so")" "${CHECKED[$fmu.fmi3.so]}"
+  printf '%-36s %10s  %s\n' "fmi3 x86_64-windows/$fmu.dll" "$(size "$BUILD/x86_64-windows/fmi3/$fmu.dll")" "${CHECKED[$fmu.fmi3.dll]}"
+  printf '%-36s %10s  %s\n' "fmi3 aarch64-linux/$fmu.so" "$(size "$BUILD/aarch64-linux/fmi3/$fmu.so")" "${CHECKED[$fmu.fmi3.aarch64]}"
 done
 echo "release: dist/fmi3: $fmi3_note"
 echo "release: aarch64-linux libraries (no FMI 2.0 platform): build/release/aarch64-linux/{$(IFS=,; echo "${FMUS[*]}")}.so"
