@@ -9,7 +9,7 @@ import pytest
 from conftest import start
 from solvers import SOLVERS, each_solver
 
-NAMES = {1: "CVODE BDF", 2: "CVODE Adams", 3: "Dormand-Prince 8(5,3)", 4: "auto (explicit one-step"}
+NAMES = {1: "CVODE BDF", 2: "CVODE Adams", 3: "Dormand-Prince 8(5,3)", 4: "auto"}
 
 
 def statistics(log):

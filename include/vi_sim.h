@@ -6,7 +6,8 @@
  *
  * vi_sim_data is plain data: it is what fmi2GetFMUstate copies and what
  * fmi2SerializeFMUstate writes. Its one pointer, the model's profile (rolling), is never trusted
- * from a saved state: vi_sim_prepare and vi_sim_restore point it at the instance's own profile. vi_sim_checkpoint before the copy and vi_sim_restore after it make a
+ * from a saved state: vi_sim_prepare and vi_sim_restore point it at the instance's own profile.
+ * vi_sim_checkpoint before the copy and vi_sim_restore after it make a
  * restored copy continue bit for bit like the original (doc/model.md section 7.5).
  * The solver points into s->d: a vi_sim stays where it was initialized (never copied or moved).
  */
@@ -20,8 +21,8 @@
 /* Longest path of the resources folder or a profile file. */
 #define VI_PATH_MAX 4096
 
-/* Results of vi_sim_advance (doc/model.md section 7.1). */
-enum { VI_SIM_OK = 0, VI_SIM_DISCARD = 1, VI_SIM_ERROR = -1 };
+/* Results of vi_sim_advance (doc/model.md section 7.1); VI_SIM_EVENT only from vi_sim_advance_until. */
+enum { VI_SIM_OK = 0, VI_SIM_DISCARD = 1, VI_SIM_ERROR = -1, VI_SIM_EVENT = 2 };
 
 /* Work bounds of one vi_sim_advance (one fmi2DoStep): internal solver steps and events. When either
  * is reached the advance ends with VI_SIM_DISCARD at the time reached (a consistent state). At about
@@ -41,6 +42,11 @@ enum { VI_SIM_OK = 0, VI_SIM_DISCARD = 1, VI_SIM_ERROR = -1 };
  * state is snapped onto the surface there. */
 #define VI_GRAZE_TOL 4.0
 #define VI_GRAZE_ULPS 256.0
+/* Early return (vi_sim_advance_until): a change of mode ends the advance only when it comes more than
+ * this many units of the time resolution DBL_EPSILON max(1 s, |t|) after the advance's start (the
+ * FMI layer takes steps of at least 16 such units); a change closer to the start is taken in the
+ * same advance, as one at its very instant. */
+#define VI_EARLY_RETURN_UNITS 1024.0
 /* A breakpoint of the platform motion (a kink of the rolling profile) closer than this many ulps of
  * the time is taken at once, without integrating (the solver cannot step that little). */
 #define VI_BREAKPOINT_ULPS 64.0
@@ -51,7 +57,8 @@ typedef struct {
     vi_inputs din;       /* their time derivatives (order 1); setting a value resets its derivative */
     int inputs_changed;  /* set by the setters; applied at the start of the next step */
     double t_start;
-    double tolerance;    /* from fmi2SetupExperiment, 0 when not defined (then par.rtol counts) */
+    double tolerance;    /* the importer's (fmi2SetupExperiment, fmi3EnterInitializationMode), 0 when not
+                            defined (then par.rtol counts) */
     int initialized;     /* vi_sim_initialize done: atol, model and state are those of a running simulation */
     vi_model M;
     double t, x[2];      /* time [s] and state (delta [m], v [m/s]); between events x is the solver's
@@ -92,7 +99,10 @@ void vi_sim_init(vi_sim *s, vi_log_fn log, void *log_env);
 void vi_sim_reset(vi_sim *s);
 void vi_sim_free(vi_sim *s);
 
-/* Check the parameters and compute the derived ones and the initial state (no solver).
+/* Check what the ranges of the variable table cannot say (each parameter lies in its range: the
+ * FMI layer refuses other values when they are set): the experiment's tolerance in [VI_RTOL_MIN,
+ * VI_RTOL_MAX], max_step 0 or at least VI_MAX_STEP_MIN, a radius > 0 (vi_model_setup), a profile
+ * that loads for R1 > 0; then compute the derived parameters and the initial state (no solver).
  * 0, or -1 with the reason in s->msg. */
 int vi_sim_prepare(vi_sim *s);
 /* vi_sim_prepare, then create the solver. 0 or -1 (s->msg). */
@@ -104,6 +114,13 @@ int vi_sim_initialize(vi_sim *s);
  *                   names that time and the cause;
  *   VI_SIM_ERROR:   s->msg says why (t_end not beyond s->d.t, solver failure, non-finite state). */
 int vi_sim_advance(vi_sim *s, double t_end);
+/* vi_sim_advance, and with stop_at_mode_change nonzero it also ends at the first change of mode
+ * (contact, separation, yield, turning point, stick entry or exit; by an event or a kink of the
+ * profile) after the instant it starts (more than VI_EARLY_RETURN_UNITS units of time after it):
+ *   VI_SIM_EVENT:   s->d.t is the time of that change as the solver located it (t_end or earlier),
+ *                   the new mode is in force and the state there is consistent; the next advance
+ *                   continues from it as an uninterrupted one would. */
+int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change);
 /* The outputs of `groups` (VI_OUT_*, vi_model.h; VI_OUT_DERIVATIVES is Model Exchange's) at the
  * current time: s->out, where each group is computed when first asked for at the current state
  * (lazy, cached until the state changes through a vi_sim call); other groups may be stale there. */
@@ -127,10 +144,12 @@ void vi_sim_check_validity(vi_sim *s);
  * point before (t_before: the previous event or the step's start), after one more event at t. */
 int vi_sim_zeno_count(int count, double t_before, double t);
 
-/* Is d a state this FMU could have produced (doc/model.md section 7.6)? Checks every field of vi_sim_data owned by the
- * simulation layer (finite times, state, tolerances and inputs; counters >= 0; enumerations and flags
- * in range) and then the model's part (vi_model_check). 0 when valid, else -1 with the first bad
- * field named in msg. No pointer in d is followed (the model's profile pointer is not). */
+/* Is d a state this FMU could have produced (doc/model.md section 7.6)? Checks every field of
+ * vi_sim_data that the simulation layer owns (finite times and state, the tolerances, counters >= 0,
+ * flags 0 or 1, the one-step method's continuation) and then the model's part (vi_model_check). The
+ * parameters and inputs (par, in, din) are the variable table's: the FMI layer checks them (finite,
+ * in their ranges, items of their enumerations) before it calls this. 0 when valid, else -1 with the
+ * first bad field named in msg. No pointer in d is followed (the model's profile pointer is not). */
 int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n);
 /* The same with vi_model_check_between_events and without the solver's continuation (ode, sw): the
  * state of an outside integrator (Model Exchange). */

@@ -78,6 +78,8 @@ typedef void (*vi_jac_fn)(double t, const double *x, double *jac_row_major, void
 
 /* Integration methods (the values of the FMU's `solver` enumeration). */
 enum { VI_METHOD_BDF = 1, VI_METHOD_ADAMS = 2, VI_METHOD_DOP853 = 3, VI_METHOD_AUTO = 4 };
+/* Its name for messages: "CVODE BDF", "CVODE Adams", "Dormand-Prince 8(5,3)", "auto"; "unknown method" else. */
+const char *vi_solver_method_name(int method);
 
 /* AUTO's stiffness tests (see AUTO above). VI_AUTO_STIFF_HRHO is 0.8 times the nearest point of the
  * boundary of DOP853's stability domain to the origin (5.96, on the imaginary axis; 6.39 on the
@@ -121,7 +123,7 @@ typedef struct {
 } vi_solver_config;
 
 typedef struct {
-    const char *method; /* the method that ran: "CVODE BDF", "CVODE Adams", "Dormand-Prince 8(5,3)", "auto" */
+    const char *method; /* the method that ran (vi_solver_method_name) */
     long steps, rhs_evals, jac_evals, nonlin_iters, nonlin_fails, err_test_fails, guard_evals, resets;
     long switches; /* AUTO: hand-overs between the one-step method and BDF */
 } vi_solver_stats;

@@ -30,6 +30,7 @@ need_cargo() { CARGO_PKGS+=("$@"); }
 #   need_apt gcc-mingw-w64-x86-64
 #   need_pip some-package
 #   need_cargo some-program=some-crate
+need_cargo fmi-sim=fmi-sim # the Rust FMI simulator: the second importer of the Model Exchange and FMI 3.0 tests
 # ------------------------------------------------------------------------------------------------------
 
 # ---- apt ----------------------------------------------------------------------------------------------
@@ -49,12 +50,18 @@ apt_install() {
   fi
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 }
-[ ${#CARGO_PKGS[@]} -eq 0 ] || command -v cargo >/dev/null || need_apt cargo
+# cargo: the one on the PATH or in ~/.cargo/bin (rustup's place); without one, rustup's installer puts a
+# minimal current toolchain there (Debian 12's cargo is too old for the crates above), curl from apt
+NEED_RUSTUP=""
+if [ ${#CARGO_PKGS[@]} -gt 0 ] && ! command -v cargo >/dev/null; then
+  for entry in "${CARGO_PKGS[@]}"; do command -v "${entry%%=*}" >/dev/null || NEED_RUSTUP=1; done
+  [ -z "$NEED_RUSTUP" ] || need_apt curl ca-certificates
+fi
 apt_install "${APT_PKGS[@]}"
 
 # ---- the interpreter ----------------------------------------------------------------------------------
 PYTHON=${PYTHON:-python3}
-BASE=$(command -v "$PYTHON") || { echo "setup: no interpreter '$PYTHON' (PYTHON)"; exit 1; }
+BASE=$("$PYTHON" -c 'import sys; print(sys.executable)') || { echo "setup: no interpreter '$PYTHON' (PYTHON)"; exit 1; }
 # pip may install into it: a virtual environment, or an interpreter with pip that is not externally managed
 can_pip() {
   "$1" - <<'EOF' 2>/dev/null
@@ -65,7 +72,7 @@ sys.exit(0 if importlib.util.find_spec("pip") and (venv or not managed) else 1)
 EOF
 }
 if can_pip "$BASE"; then
-  PY=$("$BASE" -c 'import sys; print(sys.executable)')
+  PY=$BASE
 else
   PY="$ROOT/.venv/bin/python"
   base_id=$("$BASE" -c 'import sys; print(sys.base_prefix, sys.version_info[:2])')
@@ -113,6 +120,10 @@ EOF
 fi
 
 # ---- cargo --------------------------------------------------------------------------------------------
+if [ -n "$NEED_RUSTUP" ]; then
+  echo "setup: rustup (minimal toolchain) into ~/.cargo"
+  curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh -s -- -y --quiet --profile minimal --no-modify-path >/dev/null
+fi
 for entry in "${CARGO_PKGS[@]}"; do
   program=${entry%%=*} crate=${entry#*=}
   if ! command -v "$program" >/dev/null; then
