@@ -100,7 +100,9 @@ typedef struct {
     /* The names of the vi_type values as the face's API calls them (messages); NULL: the table's. */
     const char *const *type_names;
     /* Nonzero: time_vr is the value reference of the independent variable time, read as a Real
-     * (the model's time; in initialization mode the start time) and never set. */
+     * (the model's time; in initialization mode the start time) and never set. This one and the
+     * derivative and indicator references below lie beyond the table's rows (vi_core_get looks for
+     * them only there). */
     int has_time;
     unsigned time_vr;
     /* Nonzero: derivative_vr_base + r is the value reference of the first time derivative of the Real

@@ -320,7 +320,7 @@ static double *derivative(vi_core *c, const vi_variable *v)
 
 /* The variable behind vr if it is accessed through the API type `api` (Real, Integer or Boolean;
  * enumerations go through Integer); NULL (logged) otherwise. */
-static const vi_variable *lookup(vi_core *c, const char *fn, unsigned vr, vi_type api)
+static inline const vi_variable *lookup(vi_core *c, const char *fn, unsigned vr, vi_type api)
 {
     if (vr >= (unsigned)MODEL->nvariables) {
         LOG_ERROR(c, "%s: unknown value reference %u", fn, vr);
@@ -363,7 +363,7 @@ static const vi_variable *input_of_derivative(const vi_core *c, unsigned vr)
 /* Where the outputs and calculated parameters among vr[] are, computed from the current state (in
  * initialization mode from the initial state the current parameters give): the model's own, or
  * c->outputs; NULL (logged) when preparing failed. */
-static const void *current_outputs(vi_core *c, const char *fn, const unsigned vr[], size_t nvr)
+static inline const void *current_outputs(vi_core *c, const char *fn, const unsigned vr[], size_t nvr)
 {
     if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) {
         LOG_ERROR(c, "%s: %s", fn, MODEL->message(c->model));
@@ -412,25 +412,28 @@ vi_status vi_core_get(void *instance, const char *fn, const unsigned vr[], size_
     if (nvr > 0 && (!vr || !values)) return vi_core_refuse(c, "%s: NULL array", fn);
     const void *outs = NULL;
     for (size_t i = 0; i < nvr; i++) {
-        if (is_time(c, vr[i]) && api == VI_Real) { /* in initialization mode: the start time (prepare) */
-            if (!outs && !(outs = current_outputs(c, fn, vr, nvr))) return VI_STATUS_ERROR;
-            elem_store(values, elem, i, MODEL->time(c->model), 0);
-            continue;
-        }
-        const vi_variable *in = api == VI_Real ? input_of_derivative(c, vr[i]) : NULL;
-        if (in) {
-            elem_store(values, elem, i, *derivative(c, in), 0);
-            continue;
-        }
-        int k = api == VI_Real ? indicator_of(c, vr[i]) : -1;
-        if (k >= 0) { /* the model's indicators at the current state (in initialization mode: the initial one) */
-            double z[VI_MAX_INDICATORS];
-            if (c->kind != VI_KIND_ME || MODEL->n_indicators > VI_MAX_INDICATORS)
-                return vi_core_refuse(c, "%s: value reference %u is an event indicator of Model Exchange", fn, vr[i]);
-            if (!outs && !(outs = current_outputs(c, fn, vr, nvr))) return VI_STATUS_ERROR;
-            MODEL->indicators(c->model, z);
-            elem_store(values, elem, i, z[k], 0);
-            continue;
+        if (vr[i] >= (unsigned)MODEL->nvariables && api == VI_Real) { /* the face's own, beyond the table's rows */
+            if (is_time(c, vr[i])) { /* in initialization mode: the start time (prepare) */
+                if (!outs && !(outs = current_outputs(c, fn, vr, nvr))) return VI_STATUS_ERROR;
+                elem_store(values, elem, i, MODEL->time(c->model), 0);
+                continue;
+            }
+            const vi_variable *in = input_of_derivative(c, vr[i]);
+            if (in) {
+                elem_store(values, elem, i, *derivative(c, in), 0);
+                continue;
+            }
+            int k = indicator_of(c, vr[i]);
+            if (k >= 0) { /* the model's indicators at the current state (in initialization mode: the initial one) */
+                double z[VI_MAX_INDICATORS];
+                if (c->kind != VI_KIND_ME || MODEL->n_indicators > VI_MAX_INDICATORS)
+                    return vi_core_refuse(c, "%s: value reference %u is an event indicator of Model Exchange", fn,
+                                          vr[i]);
+                if (!outs && !(outs = current_outputs(c, fn, vr, nvr))) return VI_STATUS_ERROR;
+                MODEL->indicators(c->model, z);
+                elem_store(values, elem, i, z[k], 0);
+                continue;
+            }
         }
         const vi_variable *v = lookup(c, fn, vr[i], api);
         if (!v) return VI_STATUS_ERROR;
