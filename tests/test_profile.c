@@ -227,17 +227,19 @@ Test(profile, kinks_are_two_point_contacts, .timeout = 60)
             h[i] = cases[c].amp * (cases[c].wave ? sin(50.0 * x[i]) : 2.0 * rand() / RAND_MAX - 1.0);
         }
         vi_profile *p = make(x, h, n, R, 0);
+        double bad_at = NAN, bad_jump = 0.0, bad_contacts = 0.0; /* the first kink that is none */
         for (double at = vi_profile_next_kink(p, x[0], 1); at < x[n - 1]; at = vi_profile_next_kink(p, at, 1)) {
             double lo, hi, yl[4], yr[4];
             vi_profile_eval(p, nextafter(at, -INFINITY), yl);
             vi_profile_eval(p, at, yr);
             double jump = fabs(yr[1] - yl[1]); /* the kink's place is known to some ulps: values to jump times that */
             contact_slopes(x, h, n, R, at, 1e-14 * (R + cases[c].amp) + 64.0 * DBL_EPSILON * at * jump, &lo, &hi);
-            cr_assert(fabs(jump - (hi - lo)) <= 3e-7 + 1e-6 * jump,
-                      "case %zu: kink at x = %.17g: yb' jumps by %.3g, the slopes at the contacts differ by %.3g", c, at,
-                      jump, hi - lo);
+            if (!(fabs(jump - (hi - lo)) <= 3e-7 + 1e-6 * jump) && isnan(bad_at))
+                bad_at = at, bad_jump = jump, bad_contacts = hi - lo;
             count++;
         }
+        cr_assert(isnan(bad_at), "case %zu: kink at x = %.17g: yb' jumps by %.3g, the slopes at the contacts differ by %.3g",
+                  c, bad_at, bad_jump, bad_contacts);
         cr_assert(count == vi_profile_kinks(p) && count > 0, "case %zu: %zu kinks walked, %zu counted", c, count,
                   vi_profile_kinks(p));
         vi_profile_free(p);
@@ -382,7 +384,7 @@ Test(profile, files)
 Test(profile, numbers_are_read_as_strtod_reads_them, .timeout = 60)
 {
     srand(2024);
-    char msg[512], text[256], num[2][64];
+    char msg[512], text[256], num[2][64], first_bad[1024] = "";
     for (int k = 0; k < 3000; k++) {
         for (int i = 0; i < 2; i++) {
             char digits[32];
@@ -401,11 +403,12 @@ Test(profile, numbers_are_read_as_strtod_reads_them, .timeout = 60)
         if (!(fabs(X) < 1e6) || !(fabs(H) < 0.1 * R)) continue;
         snprintf(text, sizeof text, "%s %s\n1e7 %s\n", num[0], num[1], num[1]);
         vi_profile *p = vi_profile_load(write_file(text), R, 0, msg, sizeof msg);
-        cr_assert(p != NULL, "%s: %s", text, msg);
-        cr_assert(vi_profile_x_first(p) == X && yb(p, 1.0) == H, "%s: read %.17g and %.17g", text, vi_profile_x_first(p),
-                  yb(p, 1.0));
+        if (!first_bad[0] && (!p || vi_profile_x_first(p) != X || yb(p, 1.0) != H))
+            snprintf(first_bad, sizeof first_bad, "%s: %s, read %.17g and %.17g", text, p ? "loaded" : msg,
+                     p ? vi_profile_x_first(p) : NAN, p ? yb(p, 1.0) : NAN);
         vi_profile_free(p);
     }
+    cr_assert(first_bad[0] == '\0', "%s", first_bad);
 }
 
 /* A periodic profile whose period is so short that the body spans more than VI_PROFILE_ROWS_MAX rows
