@@ -9,9 +9,6 @@
 #include "vi_check.h"
 
 #define VT_MAX_STEPS_PER_STEP 100000L /* CVODE steps within one communication step */
-/* J: nominal magnitude of the work W_in as a Model Exchange state (the importer's absolute
- * tolerance is its relative tolerance times this; the work is hundreds of joules here). */
-#define VT_WORK_NOMINAL 1.0
 
 static vt_core *core(vt_instance *I) { return (vt_core *)I->data; }
 static const vt_core *core_c(const vt_instance *I) { return (const vt_core *)I->data; }
@@ -73,7 +70,6 @@ int vt_prepare(void *m)
     c->t = c->t_in = c->t_start;
     c->inputs_changed = 0;
     memset(c->x, 0, sizeof c->x);
-    c->w_in = 0.0;
     I->def->start(I->data);
     c->solver_stale = 1;
     return 0;
@@ -185,8 +181,8 @@ int vt_checkpoint(void *m)
 int vt_restore(void *m, int running)
 {
     vt_instance *I = m;
-    /* fmi2ExitInitializationMode creates the solver; in Model Exchange the importer integrates */
-    if (!running || running == VI_FMU_RUNNING_ME) return 0;
+    if (!running) return 0; /* fmi2ExitInitializationMode creates the solver */
+    if (running == VI_FMU_RUNNING_ME) return 0; /* the importer integrates */
     if (!I->solver && create_solver(I) < 0) return -1;
     core(I)->solver_stale = 1;
     return 0;
@@ -204,84 +200,7 @@ int vt_state_check(const void *state, int running, const vt_model_def *def, char
                 c->t_start);
     for (int i = 0; i < def->n; i++)
         if (!isfinite(c->x[i])) VI_FAIL(msg, n, "state x[%d] = %g: not finite", i, c->x[i]);
-    if (!isfinite(c->w_in)) VI_FAIL(msg, n, "W_in = %g J: not finite", c->w_in);
     return 0;
 }
 
 const char *vt_message(const void *m) { return ((const vt_instance *)m)->msg; }
-
-/* ---- Model Exchange: the importer integrates x' = rhs and W_in' = power_in with the inputs as set ---- */
-
-int vt_me_initialize(void *m)
-{
-    vt_instance *I = m;
-    if (vi_fmu_this_model.n_states != I->def->n + 1)
-        VI_FAIL(I->msg, sizeof I->msg, "%d Model Exchange states declared for a model of %d states and W_in",
-                vi_fmu_this_model.n_states, I->def->n);
-    return vt_prepare(m);
-}
-
-/* The inputs are the values set now: the time they refer to moves with the time. */
-void vt_set_time(void *m, double t)
-{
-    vt_core *c = core(m);
-    c->t = c->t_in = t;
-}
-
-void vt_get_states(void *m, double x[])
-{
-    vt_instance *I = m;
-    const vt_core *c = core_c(I);
-    memcpy(x, c->x, sizeof(double) * (size_t)I->def->n);
-    x[I->def->n] = c->w_in;
-}
-
-void vt_set_states(void *m, const double x[])
-{
-    vt_instance *I = m;
-    vt_core *c = core(I);
-    memcpy(c->x, x, sizeof(double) * (size_t)I->def->n);
-    c->w_in = x[I->def->n];
-}
-
-void vt_derivatives(void *m, double dx[])
-{
-    vt_instance *I = m;
-    const vt_core *c = core_c(I);
-    I->def->rhs(c->t, c->x, dx, I->data);
-    dx[I->def->n] = I->def->power_in(I->data);
-}
-
-/* No events: no indicators. */
-void vt_indicators(void *m, double z[]) { (void)m, (void)z; }
-
-/* The model's absolute tolerance scales (as in Co-Simulation), and VT_WORK_NOMINAL for W_in. */
-void vt_nominals(const void *m, double nominal[])
-{
-    const vt_instance *I = m;
-    I->def->scales(I->data, nominal);
-    nominal[I->def->n] = VT_WORK_NOMINAL;
-}
-
-/* Nothing is discrete: an input or a tunable parameter acts as soon as it is set. */
-int vt_event_update(void *m, vi_fmu_event *ev)
-{
-    (void)m, (void)ev;
-    return 0;
-}
-
-int vt_completed_step(void *m)
-{
-    (void)m;
-    return 0;
-}
-
-/* Not provided (providesDirectionalDerivative="false"). */
-int vt_directional_derivative(void *m, const unsigned unknown[], size_t n_unknown, const unsigned known[],
-                              size_t n_known, const double dknown[], double dunknown[])
-{
-    (void)unknown, (void)n_unknown, (void)known, (void)n_known, (void)dknown, (void)dunknown;
-    vt_instance *I = m;
-    VI_FAIL(I->msg, sizeof I->msg, "%s gives no directional derivatives (providesDirectionalDerivative=false)",
-            vi_fmu_this_model.model_identifier);
-}

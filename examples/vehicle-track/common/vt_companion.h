@@ -9,12 +9,6 @@
  * Inputs are held over a step (zero-order hold); a model may extrapolate them in time from the
  * time they were set (vt_input_time). When an input changed, the solver restarts at the start of
  * the next step, since the right-hand side jumps there.
- *
- * Model Exchange: the importer integrates the same right-hand side with the inputs as they are
- * set now (vt_input_time is the current time). The continuous states are the model's states
- * followed by the work of the inputs W_in (core.w_in, whose rate the model gives: power_in); in
- * Co-Simulation the model's step_done computes W_in exactly from the held inputs instead. The
- * models have no events (no event indicators) and give no directional derivatives.
  */
 #ifndef VT_COMPANION_H
 #define VT_COMPANION_H
@@ -40,7 +34,8 @@ typedef struct {
     int inputs_changed;    /* an input was set since the last step */
     int solver_stale;      /* the state changed outside the solver: restart before advancing */
     double x[VT_MAX_STATES];
-    double w_in;           /* J, work done on the model by its inputs so far (the output W_in) */
+    /* Model Exchange: the last completed step of the importer (for step_done) */
+    double t_step, x_step[VT_MAX_STATES];
 } vt_core;
 
 typedef struct {
@@ -61,10 +56,9 @@ typedef struct {
     /* Outputs and calculated parameters at core.t into *out (a vi_outputs). */
     void (*outputs)(const void *data, void *out);
     /* Optional: after a step from (t0, x0) to core.t, core.x (e.g. sums that follow exactly from
-     * the held inputs and the states at the step's ends). */
+     * the held inputs and the states at the step's ends; in Model Exchange a step is the importer's
+     * completed step and the inputs are those at its end). */
     void (*step_done)(void *data, double t0, const double *x0);
-    /* Model Exchange: the rate of the inputs' work, dW_in/dt [W], at core.t, core.x and the inputs. */
-    double (*power_in)(const void *data);
 } vt_model_def;
 
 /* The layer's instance of a companion model; VT_DEFINE_FMU puts the model's plain-data block
@@ -99,24 +93,22 @@ int vt_restore(void *m, int running);
 int vt_state_check(const void *state, int running, const vt_model_def *def, char *msg, size_t n);
 const char *vt_message(const void *m);
 
-/* Model Exchange hooks (vt_companion.c): n states = def->n + 1 (the last is core.w_in). */
+/* Model Exchange (vt_companion_me.c): the importer integrates x' = f(t, x) with the inputs as they
+ * are set (no hold, no extrapolation); no event indicators, no directional derivatives. */
 int vt_me_initialize(void *m);
-void vt_set_time(void *m, double t);
-void vt_get_states(void *m, double x[]);
-void vt_set_states(void *m, const double x[]);
-void vt_derivatives(void *m, double dx[]);
-void vt_indicators(void *m, double z[]);
-void vt_nominals(const void *m, double nominal[]);
-int vt_event_update(void *m, vi_fmu_event *ev);
-int vt_completed_step(void *m);
-int vt_directional_derivative(void *m, const unsigned unknown[], size_t n_unknown, const unsigned known[],
-                              size_t n_known, const double dknown[], double dunknown[]);
+void vt_me_set_time(void *m, double t);
+void vt_me_get_states(void *m, double x[]);
+void vt_me_set_states(void *m, const double x[]);
+void vt_me_derivatives(void *m, double dx[]);
+void vt_me_nominals(const void *m, double nominal[]);
+int vt_me_event_update(void *m, vi_fmu_event *ev);
+int vt_me_completed_step(void *m);
 
 /* In the model's file, after its table (VI_TABLE_DEFINE) and its vt_model_def DEF whose block
- * type is DATA (with members par, in and din): the one model of this FMU binary. STATE_VRS and
- * DERIVATIVE_VRS are arrays of DEF.n + 1 value references: the Model Exchange states (the model's
- * states, then W_in) and their derivatives (local variables der_<state>). */
-#define VT_DEFINE_FMU(DEF, DATA, STATE_VRS, DERIVATIVE_VRS)                                        \
+ * type is DATA (with members par, in and din): the one model of this FMU binary, Co-Simulation and
+ * Model Exchange. N is the number of states (a constant, = DEF.n), STATE_VRS and DERIVATIVE_VRS
+ * arrays of N value references: the states (outputs) and their derivatives (locals), in state order. */
+#define VT_DEFINE_FMU(DEF, DATA, N, STATE_VRS, DERIVATIVE_VRS)                                    \
     typedef struct {                                                                              \
         vt_instance head;                                                                         \
         DATA data;                                                                                \
@@ -159,20 +151,18 @@ int vt_directional_derivative(void *m, const unsigned unknown[], size_t n_unknow
         .restore = vt_restore,                                                                     \
         .state_check = vt_check_##DATA,                                                            \
         .message = vt_message,                                                                     \
-        .n_states = (int)(sizeof(STATE_VRS) / sizeof(STATE_VRS)[0]),                               \
+        .n_states = (N),                                                                           \
         .n_indicators = 0,                                                                         \
         .state_vrs = (STATE_VRS),                                                                  \
         .derivative_vrs = (DERIVATIVE_VRS),                                                        \
         .me_initialize = vt_me_initialize,                                                         \
-        .set_time = vt_set_time,                                                                   \
-        .get_states = vt_get_states,                                                               \
-        .set_states = vt_set_states,                                                               \
-        .derivatives = vt_derivatives,                                                             \
-        .indicators = vt_indicators,                                                               \
-        .nominals = vt_nominals,                                                                   \
-        .event_update = vt_event_update,                                                           \
-        .completed_step = vt_completed_step,                                                       \
-        .directional_derivative = vt_directional_derivative,                                       \
+        .set_time = vt_me_set_time,                                                                \
+        .get_states = vt_me_get_states,                                                            \
+        .set_states = vt_me_set_states,                                                            \
+        .derivatives = vt_me_derivatives,                                                          \
+        .nominals = vt_me_nominals,                                                                \
+        .event_update = vt_me_event_update,                                                        \
+        .completed_step = vt_me_completed_step,                                                    \
     }
 
 #endif

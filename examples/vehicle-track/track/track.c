@@ -8,8 +8,7 @@
  *   m_sleeper z_s'' = F_pad - k_ballast z_s - c_ballast v_s
  *
  * States x = (z_r, v_r, z_s, v_s). The work of the input, W_in = integral of -F v_r dt, is exact
- * from the states: F is held over a step, so a step adds -F (z_r(end) - z_r(start)); in Model
- * Exchange the importer integrates it (a fifth state, W_in' = -F v_r). The stored
+ * from the states: F is held over a step, so a step adds -F (z_r(end) - z_r(start)). The stored
  * energy E (kinetic + elastic) depends on the states only, so the work dissipated in the dampers
  * (the integral of c_pad (v_r - v_s)^2 + c_ballast v_s^2) is W_dissipated = W_in - (E - E(0)).
  * Start: at rest under the initial input, z_s = -F/k_ballast, z_r = z_s - F/k_pad.
@@ -26,7 +25,8 @@ typedef struct {
     vt_core core;
     vi_parameters par;
     vi_inputs in, din;
-    double E0; /* J, stored energy at the start */
+    double W_in; /* J, work of the input force on the rail so far */
+    double E0;   /* J, stored energy at the start */
 } track_data;
 
 enum { ZR, VR, ZS, VS, N_TRACK };
@@ -47,6 +47,7 @@ static void start(void *data)
     double F = d->in.F_contact;
     d->core.x[ZS] = -F / d->par.k_ballast;
     d->core.x[ZR] = d->core.x[ZS] - F / d->par.k_pad;
+    d->W_in = 0.0;
     d->E0 = energy(d);
 }
 
@@ -54,14 +55,7 @@ static void step_done(void *data, double t0, const double *x0)
 {
     (void)t0;
     track_data *d = data;
-    d->core.w_in += -d->in.F_contact * (d->core.x[ZR] - x0[ZR]);
-}
-
-/* dW_in/dt = -F v_r [W] (Model Exchange). */
-static double power_in(const void *data)
-{
-    const track_data *d = data;
-    return -d->in.F_contact * d->core.x[VR];
+    d->W_in += -d->in.F_contact * (d->core.x[ZR] - x0[ZR]);
 }
 
 static double rtol(const void *data) { return ((const track_data *)data)->par.rtol; }
@@ -132,8 +126,8 @@ static void outputs(const void *data, void *out)
     o->z_sleeper = x[ZS];
     o->v_sleeper = x[VS];
     o->E = energy(d);
-    o->W_dissipated = d->core.w_in - (o->E - d->E0);
-    o->W_in = d->core.w_in;
+    o->W_dissipated = d->W_in - (o->E - d->E0);
+    o->W_in = d->W_in;
     o->k_static = k_static(p);
     double w1, w2;
     omegas(p, &w1, &w2);
@@ -141,11 +135,7 @@ static void outputs(const void *data, void *out)
     o->f2 = w2 / VT_TWO_PI;
     double dx[N_TRACK];
     rhs(d->core.t, x, dx, d);
-    o->der_z_rail = dx[ZR];
-    o->der_v_rail = dx[VR];
-    o->der_z_sleeper = dx[ZS];
-    o->der_v_sleeper = dx[VS];
-    o->der_W_in = power_in(d);
+    o->der_z_rail = dx[ZR], o->der_v_rail = dx[VR], o->der_z_sleeper = dx[ZS], o->der_v_sleeper = dx[VS];
 }
 
 static const vt_model_def track_def = {
@@ -157,11 +147,10 @@ static const vt_model_def track_def = {
     .jac = jac,
     .outputs = outputs,
     .step_done = step_done,
-    .power_in = power_in,
 };
 
-static const unsigned state_vrs[] = {VI_VR_z_rail, VI_VR_v_rail, VI_VR_z_sleeper, VI_VR_v_sleeper, VI_VR_W_in};
-static const unsigned derivative_vrs[] = {VI_VR_der_z_rail, VI_VR_der_v_rail, VI_VR_der_z_sleeper, VI_VR_der_v_sleeper,
-                                          VI_VR_der_W_in};
+/* Model Exchange: the states and their derivatives, in the order of x. */
+static const unsigned state_vrs[N_TRACK] = {VI_VR_z_rail, VI_VR_v_rail, VI_VR_z_sleeper, VI_VR_v_sleeper};
+static const unsigned derivative_vrs[N_TRACK] = {VI_VR_der_z_rail, VI_VR_der_v_rail, VI_VR_der_z_sleeper, VI_VR_der_v_sleeper};
 
-VT_DEFINE_FMU(track_def, track_data, state_vrs, derivative_vrs);
+VT_DEFINE_FMU(track_def, track_data, N_TRACK, state_vrs, derivative_vrs);

@@ -16,8 +16,7 @@
  * Then E + W_dissipated - W_in stays at its initial value within a step, E = 1/2 m_b v_b^2 +
  * 1/2 k (z_b - y_w)^2 + m_b g y_w (a new y_wheel at a communication point moves E by the jump of
  * the spring and weight terms). Start: the spring at its static load and the body moving with the
- * wheel, z_b = y_wheel, v_b = v_wheel. In Model Exchange the wheel is where its inputs say now
- * (y_w = y_wheel, v_w = v_wheel) and the importer integrates W_in' = -F_wheel v_w (a fourth state).
+ * wheel, z_b = y_wheel, v_b = v_wheel.
  */
 #include <math.h>
 #include <stdio.h>
@@ -31,6 +30,7 @@ typedef struct {
     vt_core core;
     vi_parameters par;
     vi_inputs in, din;
+    double W_in; /* J, work of the wheel motion on the vehicle so far */
 } vehicle_data;
 
 enum { ZB, VB, WD, N_VEHICLE };
@@ -47,6 +47,7 @@ static void start(void *data)
     vehicle_data *d = data;
     d->core.x[ZB] = d->in.y_wheel;
     d->core.x[VB] = d->in.v_wheel;
+    d->W_in = 0.0;
 }
 
 static void step_done(void *data, double t0, const double *x0)
@@ -54,7 +55,7 @@ static void step_done(void *data, double t0, const double *x0)
     vehicle_data *d = data;
     const vi_parameters *p = &d->par;
     double impulse = -p->m_body * (d->core.x[VB] - x0[VB]) - p->m_body * p->g * (d->core.t - t0);
-    d->core.w_in += -impulse * d->in.v_wheel;
+    d->W_in += -impulse * d->in.v_wheel;
 }
 
 static double rtol(const void *data) { return ((const vehicle_data *)data)->par.rtol; }
@@ -75,15 +76,6 @@ static double force_on_wheel(const vehicle_data *d, double t, const double *x)
     double yw, vw;
     wheel(d, t, &yw, &vw);
     return -p->m_body * p->g + p->k_susp * (x[ZB] - yw) + p->c_susp * (x[VB] - vw);
-}
-
-/* dW_in/dt = -F_wheel v_w [W] (Model Exchange). */
-static double power_in(const void *data)
-{
-    const vehicle_data *d = data;
-    double yw, vw;
-    wheel(d, d->core.t, &yw, &vw);
-    return -force_on_wheel(d, d->core.t, d->core.x) * vw;
 }
 
 static void rhs(double t, const double *x, double *dx, const void *data)
@@ -124,14 +116,11 @@ static void outputs(const void *data, void *out)
     double s = x[ZB] - yw;
     o->E = 0.5 * (p->m_body * x[VB] * x[VB] + p->k_susp * s * s) + p->m_body * p->g * yw;
     o->W_dissipated = x[WD];
-    o->W_in = d->core.w_in;
+    o->W_in = d->W_in;
     o->f_body = sqrt(p->k_susp / p->m_body) / VT_TWO_PI;
     double dx[N_VEHICLE];
     rhs(d->core.t, x, dx, d);
-    o->der_z_body = dx[ZB];
-    o->der_v_body = dx[VB];
-    o->der_W_dissipated = dx[WD];
-    o->der_W_in = power_in(d);
+    o->der_z_body = dx[ZB], o->der_v_body = dx[VB], o->der_W_dissipated = dx[WD];
 }
 
 static const vt_model_def vehicle_def = {
@@ -143,10 +132,10 @@ static const vt_model_def vehicle_def = {
     .jac = jac,
     .outputs = outputs,
     .step_done = step_done,
-    .power_in = power_in,
 };
 
-static const unsigned state_vrs[] = {VI_VR_z_body, VI_VR_v_body, VI_VR_W_dissipated, VI_VR_W_in};
-static const unsigned derivative_vrs[] = {VI_VR_der_z_body, VI_VR_der_v_body, VI_VR_der_W_dissipated, VI_VR_der_W_in};
+/* Model Exchange: the states and their derivatives, in the order of x. */
+static const unsigned state_vrs[N_VEHICLE] = {VI_VR_z_body, VI_VR_v_body, VI_VR_W_dissipated};
+static const unsigned derivative_vrs[N_VEHICLE] = {VI_VR_der_z_body, VI_VR_der_v_body, VI_VR_der_W_dissipated};
 
-VT_DEFINE_FMU(vehicle_def, vehicle_data, state_vrs, derivative_vrs);
+VT_DEFINE_FMU(vehicle_def, vehicle_data, N_VEHICLE, state_vrs, derivative_vrs);

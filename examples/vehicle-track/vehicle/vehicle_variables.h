@@ -28,10 +28,9 @@
   X(W_dissipated, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "J", "work dissipated in the suspension damper so far") \
   X(W_in, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "J", "work done on the vehicle by the wheel motion so far: integral of -F_wheel v_wheel dt") \
   X(f_body, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "Hz", "undamped natural frequency of the sprung mass on the suspension, wheel held") \
-  X(der_z_body, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s", "time derivative of z_body (Model Exchange: the derivative of the state z_body)") \
-  X(der_v_body, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s2", "time derivative of v_body, the sprung mass's acceleration (Model Exchange: the derivative of the state v_body)") \
-  X(der_W_dissipated, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "W", "time derivative of W_dissipated, the damper power c_susp (v_body - v_wheel)^2 (Model Exchange: the derivative of the state W_dissipated)") \
-  X(der_W_in, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "W", "time derivative of W_in, the power of the wheel motion on the vehicle, -F_wheel v_wheel (Model Exchange: the derivative of the state W_in)")
+  X(der_z_body, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s", "Model Exchange: the time derivative of the state z_body") \
+  X(der_v_body, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s2", "Model Exchange: the time derivative of the state v_body") \
+  X(der_W_dissipated, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "W", "Model Exchange: the time derivative of the state W_dissipated")
 
 #define VI_ENUMERATIONS(E)
 
