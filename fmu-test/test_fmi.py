@@ -412,7 +412,7 @@ def test_terminated_state_restores_terminated(logged, vr):
     s.freeInstance()
 
 
-# ---- steps that cannot advance time (issue 9 item 8) ----
+# ---- steps that cannot advance time ----
 
 @pytest.mark.parametrize("t0, h", [(0.0, 5e-324), (0.0, 1e-300), (1.0, 1e-16), (1e17, 1e-5), (1e17, 100.0)])
 def test_step_too_short_to_advance_time_is_refused_and_nothing_happens(logged, vr, t0, h):

@@ -8,8 +8,8 @@ import pytest
 from fmpy import simulate_fmu
 from fmpy.fmi1 import FMICallException
 
-from compare_reference import SCENARIOS
-from me_run import Me, MeInstance, run_me
+from vibroimpact.reference.scenarios import SCENARIOS
+from vibroimpact.me import Me, MeInstance, run_me
 
 
 @pytest.fixture

@@ -17,8 +17,8 @@ import ctypes
 import numpy as np
 import pytest
 
-from compare_reference import SCENARIOS
-from me_run import MeInstance
+from vibroimpact.reference.scenarios import SCENARIOS
+from vibroimpact.me import MeInstance
 
 KNOWNS = ["y", "v", "yC_in", "F_ext"]
 FD_REL = 1e-4

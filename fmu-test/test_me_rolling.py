@@ -4,19 +4,15 @@ kinks of yb (the body bridging a trough) are time events the importer meets exac
 over a corrugation follow the linearised closed form, Model Exchange follows co-simulation over a
 profile with kinks, and the end of a non-periodic table ends the run (terminateSimulation) with its
 time and position."""
-import sys
-import pathlib
-
 import numpy as np
 import pytest
 from fmpy import simulate_fmu
 
 from conftest import effective
-from me_run import run_me
+from vibroimpact.me import run_me
 from test_rolling import R1, ROUND, write
 
-sys.path.insert(0, str(pathlib.Path(__file__).parent / "reference"))
-import profile_ref  # noqa: E402
+from vibroimpact.reference import profile as profile_ref
 
 LAM, A = 0.05, 3e-4  # curvature 4.7/m > 1/R1: the body bridges every trough, yb has a kink there
 

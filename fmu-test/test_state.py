@@ -1,4 +1,4 @@
-"""Checked FMU state buffers (issue 9 item 7): a serialized state carries a header (magic, version,
+"""Checked FMU state buffers: a serialized state carries a header (magic, version,
 size, model, FMI state, stop time) and a checksum built on FNV-1a's round; every field is validated before a
 state is used, and the first bad one is named. The tests alter states the way a broken file, a
 wrong file or a memory fault would, and recompute the checksum themselves (an independent

@@ -1,4 +1,4 @@
-"""FMI-level behaviour the physics tests never reach (issue 9 item 10): the status functions, the
+"""FMI-level behaviour the physics tests never reach: the status functions, the
 state machine after failures, input values and derivatives, fmi2SetupExperiment's place, the stop
 time, calculated parameters in initialization mode. Each test names the fault it catches."""
 import ctypes

@@ -1,4 +1,4 @@
-"""Tunable excitation (issue 12, contract C9): a and f may be set between steps; the change takes
+"""Tunable excitation: a and f may be set between steps; the change takes
 effect at the start of the next step with the phase of the excitation continuous. Closed forms: with
 the mass thrown clear of the platform (no load, v0 = 1 m/s) the output yC is the excitation alone,
 yC = a (cos phi - 1) with the phase phi accumulating 2 pi f dt over each step."""

@@ -100,7 +100,8 @@ typedef struct {
     /* fmi2SetupExperiment: the arguments are checked (finite start, tolerance in (0, 1),
      * stop >= start); tolerance_defined = 0 means none given. */
     void (*setup_experiment)(void *m, double start_time, int tolerance_defined, double tolerance);
-    /* Check the parameters and compute calculated values and the initial state, so that outputs
+    /* Check what the table's ranges cannot say about the parameters (the layer has refused values
+     * outside their ranges) and compute calculated values and the initial state, so that outputs
      * can be read in initialization mode. 0 or -1. */
     int (*prepare)(void *m);
     /* fmi2ExitInitializationMode: everything needed for stepping. 0 or -1. */

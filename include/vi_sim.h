@@ -6,7 +6,8 @@
  *
  * vi_sim_data is plain data: it is what fmi2GetFMUstate copies and what
  * fmi2SerializeFMUstate writes. Its one pointer, the model's profile (rolling), is never trusted
- * from a saved state: vi_sim_prepare and vi_sim_restore point it at the instance's own profile. vi_sim_checkpoint before the copy and vi_sim_restore after it make a
+ * from a saved state: vi_sim_prepare and vi_sim_restore point it at the instance's own profile.
+ * vi_sim_checkpoint before the copy and vi_sim_restore after it make a
  * restored copy continue bit for bit like the original (doc/model.md section 7.5).
  * The solver points into s->d: a vi_sim stays where it was initialized (never copied or moved).
  */
@@ -90,7 +91,10 @@ void vi_sim_init(vi_sim *s, vi_log_fn log, void *log_env);
 void vi_sim_reset(vi_sim *s);
 void vi_sim_free(vi_sim *s);
 
-/* Check the parameters and compute the derived ones and the initial state (no solver).
+/* Check what the ranges of the variable table cannot say (each parameter lies in its range: the
+ * FMI layer refuses other values when they are set): the experiment's tolerance in [VI_RTOL_MIN,
+ * VI_RTOL_MAX], max_step 0 or at least VI_MAX_STEP_MIN, a radius > 0 (vi_model_setup), a profile
+ * that loads for R1 > 0; then compute the derived parameters and the initial state (no solver).
  * 0, or -1 with the reason in s->msg. */
 int vi_sim_prepare(vi_sim *s);
 /* vi_sim_prepare, then create the solver. 0 or -1 (s->msg). */
@@ -119,10 +123,12 @@ void vi_sim_check_validity(vi_sim *s);
  * point before (t_before: the previous event or the step's start), after one more event at t. */
 int vi_sim_zeno_count(int count, double t_before, double t);
 
-/* Is d a state this FMU could have produced (doc/model.md section 7.6)? Checks every field of vi_sim_data owned by the
- * simulation layer (finite times, state, tolerances and inputs; counters >= 0; enumerations and flags
- * in range) and then the model's part (vi_model_check). 0 when valid, else -1 with the first bad
- * field named in msg. No pointer in d is followed (the model's profile pointer is not). */
+/* Is d a state this FMU could have produced (doc/model.md section 7.6)? Checks every field of
+ * vi_sim_data that the simulation layer owns (finite times and state, the tolerances, counters >= 0,
+ * flags 0 or 1, the one-step method's continuation) and then the model's part (vi_model_check). The
+ * parameters and inputs (par, in, din) are the variable table's: the FMI layer checks them (finite,
+ * in their ranges, items of their enumerations) before it calls this. 0 when valid, else -1 with the
+ * first bad field named in msg. No pointer in d is followed (the model's profile pointer is not). */
 int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n);
 /* The same with vi_model_check_between_events: the state of an outside integrator (Model Exchange). */
 int vi_sim_data_check_between_events(const vi_sim_data *d, char *msg, size_t n);

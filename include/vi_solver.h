@@ -58,6 +58,8 @@ typedef void (*vi_jac_fn)(double t, const double *x, double *jac_row_major, void
 
 /* Integration methods (the values of the FMU's `solver` enumeration). */
 enum { VI_METHOD_BDF = 1, VI_METHOD_ADAMS = 2, VI_METHOD_DOP853 = 3 };
+/* Its name for messages: "CVODE BDF", "CVODE Adams", "Dormand-Prince 8(5,3)"; "unknown method" else. */
+const char *vi_solver_method_name(int method);
 
 /* Interior guard samples per step of the one-step method (see vi_ode.h, EVENTS): a guard that dips
  * below zero and back within one step is seen when it is below zero at a sample. */
@@ -79,7 +81,7 @@ typedef struct {
 } vi_solver_config;
 
 typedef struct {
-    const char *method; /* the method that ran: "CVODE BDF", "CVODE Adams", "Dormand-Prince 8(5,3)" */
+    const char *method; /* the method that ran (vi_solver_method_name) */
     long steps, rhs_evals, jac_evals, nonlin_iters, nonlin_fails, err_test_fails, guard_evals, resets;
 } vi_solver_stats;
 

@@ -7,6 +7,8 @@
  */
 #include "vi_fmi_core.h"
 
+#include "vi_check.h"
+
 #include <float.h>
 #include <limits.h>
 #include <math.h>
@@ -435,15 +437,13 @@ static int check_range(const vi_variable *v, double x, char *msg, size_t n)
             int k = snprintf(range + used, sizeof range - used, "%s%s=%d", used ? ", " : "", e->name, e->value);
             used += k > 0 ? (size_t)k : 0;
         }
-        snprintf(msg, n, "%s = %.0f is not one of its items %s", v->name, x, range);
-        return -1;
+        VI_FAIL(msg, n, "%s = %.0f is not one of its items %s", v->name, x, range);
     }
     if (vi_in_range(v, x)) return 0;
     char value[32];
     format_value(x, value, sizeof value);
     vi_range_text(v, range, sizeof range);
-    snprintf(msg, n, "%s = %s is outside its range %s (%s)", v->name, value, range, v->description);
-    return -1;
+    VI_FAIL(msg, n, "%s = %s is outside its range %s (%s)", v->name, value, range, v->description);
 }
 
 /* May v be set now? Inputs and tunable parameters: before and after initialization; fixed
@@ -623,19 +623,19 @@ static int check_values(const void *block, char *msg, size_t n)
         switch (v->type) {
         case VI_Real:
             memcpy(&x, p, sizeof x);
-            if (!isfinite(x)) return snprintf(msg, n, "%s = %g is not finite", v->name, x), -1;
+            if (!isfinite(x)) VI_FAIL(msg, n, "%s = %g is not finite", v->name, x);
             if (check_range(v, x, msg, n) < 0) return -1;
             if (v->group != VI_GROUP_INPUTS) break;
             memcpy(&dx, (const char *)group_in(block, VI_GROUP_INPUT_DERIVATIVES) + v->offset, sizeof dx);
-            if (!isfinite(dx)) return snprintf(msg, n, "the derivative of %s = %g is not finite", v->name, dx), -1;
+            if (!isfinite(dx)) VI_FAIL(msg, n, "the derivative of %s = %g is not finite", v->name, dx);
             break;
         case VI_String:
-            if (!memchr(p, '\0', VI_STRING_SIZE)) return snprintf(msg, n, "%s is not a terminated string", v->name), -1;
+            if (!memchr(p, '\0', VI_STRING_SIZE)) VI_FAIL(msg, n, "%s is not a terminated string", v->name);
             break;
         default:
             memcpy(&k, p, sizeof k);
             if (v->type == VI_Boolean && k != 0 && k != 1)
-                return snprintf(msg, n, "%s = %d is not a Boolean", v->name, k), -1;
+                VI_FAIL(msg, n, "%s = %d is not a Boolean", v->name, k);
             if (v->type != VI_Boolean && check_range(v, k, msg, n) < 0) return -1;
         }
     }

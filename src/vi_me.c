@@ -63,7 +63,11 @@ static void guard_noise(const vi_me *e, double ulps[VI_NGUARDS], double tol[VI_N
     }
 }
 
-/* Guards that start at zero (up to rounding) in a mode just entered are lifted by their noise. */
+/* Guards that start at zero (up to rounding) in a mode just entered are lifted by their noise and by
+ * the band the importer's steps may move them (VI_GRAZE_TOL times the change under a state error of
+ * the tolerance): a mode left tangentially (stick exit, where the rate of delta is zero) would
+ * otherwise see its guard cross back and forth within the integration error. A real crossing back is
+ * found at most the band late. */
 static void arm_guards_at_zero(vi_me *e)
 {
     vi_sim_data *d = &e->s.d;
@@ -72,7 +76,7 @@ static void arm_guards_at_zero(vi_me *e)
     guard_noise(e, ulps, tol);
     for (int i = 0; i < VI_NGUARDS; i++) {
         double noise = VI_GRAZE_ULPS * ulps[i] + DBL_MIN;
-        if (d->guard_band[i] == 0.0 && fabs(g[i]) <= noise) d->guard_band[i] = noise;
+        if (d->guard_band[i] == 0.0 && fabs(g[i]) <= noise) d->guard_band[i] = noise + VI_GRAZE_TOL * tol[i];
     }
 }
 
@@ -207,7 +211,7 @@ int vi_me_event_update(vi_me *e, vi_me_event *ev)
     d->step_t0 = t;
     d->step_v0 = d->x[1];
     vi_sim_check_validity(&e->s);
-    if (e->zeno >= VI_ZENO_EVENTS) {
+    if (fired >= 0 && e->zeno >= VI_ZENO_EVENTS) {
         snprintf(s->msg, sizeof s->msg, "events accumulate at t = %.17g s (Zeno): %d events each within %g ulps of time "
                  "of the one before, the last on guard %d of mode %d; the motion cannot go on", t, VI_ZENO_EVENTS,
                  VI_ZENO_ULPS, fired, before);

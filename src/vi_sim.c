@@ -7,6 +7,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "vi_check.h"
+
 _Static_assert((int)VI_Solver_bdf == (int)VI_METHOD_BDF && (int)VI_Solver_adams == (int)VI_METHOD_ADAMS &&
                    (int)VI_Solver_dop853 == (int)VI_METHOD_DOP853,
                "the solver enumeration is the solver layer's method number");
@@ -94,14 +96,10 @@ static int attach_profile(vi_sim *s)
         return vi_model_set_rolling(M, NULL, p->V, p->x0, s->msg, sizeof s->msg);
     }
     char path[VI_PATH_MAX], key[sizeof s->profile_key];
-    if (profile_path(s, p->profile_file, path, sizeof path) < 0) {
-        snprintf(s->msg, sizeof s->msg, "profile_file '%.200s...': the path is too long", p->profile_file);
-        return -1;
-    }
-    if (!(p->R1 > 0.0)) {
-        snprintf(s->msg, sizeof s->msg, "profile_file: rolling needs a body radius R1 > 0 (R1 = %g m)", p->R1);
-        return -1;
-    }
+    if (profile_path(s, p->profile_file, path, sizeof path) < 0)
+        VI_FAIL(s->msg, sizeof s->msg, "profile_file '%.200s...': the path is too long", p->profile_file);
+    if (!(p->R1 > 0.0))
+        VI_FAIL(s->msg, sizeof s->msg, "profile_file: rolling needs a body radius R1 > 0 (R1 = %g m)", p->R1);
     snprintf(key, sizeof key, "%s|%.17g|%d", path, p->R1, p->profile_periodic != 0);
     if (!s->profile || strcmp(key, s->profile_key) != 0) {
         vi_profile_free(s->profile);
@@ -141,16 +139,12 @@ int vi_sim_prepare(vi_sim *s)
     s->out_valid = 0;
     /* The parameters lie in the ranges of the variable table (rtol among them); left to check: the
      * experiment's tolerance, and max_step between 0 and VI_MAX_STEP_MIN. */
-    if (d->tolerance > 0.0 && !(d->tolerance >= VI_RTOL_MIN && d->tolerance <= VI_RTOL_MAX)) {
-        snprintf(s->msg, sizeof s->msg, "relative tolerance (fmi2SetupExperiment) = %g: use a value in [%g, %g]",
-                 d->tolerance, VI_RTOL_MIN, VI_RTOL_MAX);
-        return -1;
-    }
-    if (!(p->max_step == 0.0 || p->max_step >= VI_MAX_STEP_MIN)) {
-        snprintf(s->msg, sizeof s->msg, "max_step = %g s: use 0 (no limit) or a step >= %g s", p->max_step,
-                 VI_MAX_STEP_MIN);
-        return -1;
-    }
+    if (d->tolerance > 0.0 && !(d->tolerance >= VI_RTOL_MIN && d->tolerance <= VI_RTOL_MAX))
+        VI_FAIL(s->msg, sizeof s->msg, "relative tolerance (fmi2SetupExperiment) = %g: use a value in [%g, %g]",
+                d->tolerance, VI_RTOL_MIN, VI_RTOL_MAX);
+    if (!(p->max_step == 0.0 || p->max_step >= VI_MAX_STEP_MIN))
+        VI_FAIL(s->msg, sizeof s->msg, "max_step = %g s: use 0 (no limit) or a step >= %g s", p->max_step,
+                VI_MAX_STEP_MIN);
     if (vi_model_setup(&d->M, p, d->t_start, s->msg, sizeof s->msg) < 0) return -1;
     if (attach_profile(s) < 0) return -1;
     d->t = d->t_start;
@@ -176,10 +170,8 @@ static int create_solver(vi_sim *s, int resume)
         .ode = &d->ode, .log = s->log, .log_env = s->log_env};
     s->solver = resume ? vi_solver_resume(&cfg, d->t, d->x) : vi_solver_create(&cfg, d->t, d->x);
     s->solver_stale = 0;
-    if (!s->solver) {
-        snprintf(s->msg, sizeof s->msg, "could not create the solver");
-        return -1;
-    }
+    if (!s->solver)
+        VI_FAIL(s->msg, sizeof s->msg, "could not create the solver");
     return 0;
 }
 
@@ -198,20 +190,16 @@ int vi_sim_initialize(vi_sim *s)
     char text[400];
     if (vi_model_option_warnings(&d->par, text, sizeof text) > 0) s->log(s->log_env, VI_LOG_WARNING, "%s", text);
     vi_sim_check_validity(s);
-    static const char *const names[] = {[VI_Solver_bdf] = "CVODE BDF", [VI_Solver_adams] = "CVODE Adams",
-                                        [VI_Solver_dop853] = "Dormand-Prince 8(5,3)"};
     s->log(s->log_env, VI_LOG_SOLVER, "%s, rtol %g, atol %g m and %g m/s (scales %g m, %g m/s)",
-           names[d->par.solver], rtol, d->atol[0], d->atol[1], L, V);
+           vi_solver_method_name(d->par.solver), rtol, d->atol[0], d->atol[1], L, V);
     return 0;
 }
 
 int vi_sim_checkpoint(vi_sim *s)
 {
     if (!s->d.initialized || !s->solver) return 0;
-    if (vi_solver_checkpoint(s->solver, s->d.t, s->d.x) < 0) {
-        snprintf(s->msg, sizeof s->msg, "could not restart the solver at t = %.17g s", s->d.t);
-        return -1;
-    }
+    if (vi_solver_checkpoint(s->solver, s->d.t, s->d.x) < 0)
+        VI_FAIL(s->msg, sizeof s->msg, "could not restart the solver at t = %.17g s", s->d.t);
     s->solver_stale = 0;
     return 0;
 }
@@ -479,32 +467,33 @@ void vi_sim_outputs(vi_sim *s, vi_outputs *out)
 
 /* ---- validity of a state payload (doc/model.md section 7.6) --------------------------------- */
 
-#define BAD(...) do { snprintf(msg, n, __VA_ARGS__); return -1; } while (0)
 
 static int data_check(const vi_sim_data *d, int surfaces, char *msg, size_t n)
 {
-    if (d->inputs_changed != 0 && d->inputs_changed != 1) BAD("inputs_changed = %d is not 0 or 1", d->inputs_changed);
-    if (!isfinite(d->t_start)) BAD("t_start = %g is not finite", d->t_start);
+    if (d->inputs_changed != 0 && d->inputs_changed != 1)
+        VI_FAIL(msg, n, "inputs_changed = %d is not 0 or 1", d->inputs_changed);
+    if (!isfinite(d->t_start)) VI_FAIL(msg, n, "t_start = %g is not finite", d->t_start);
     if (d->tolerance != 0.0 && !(d->tolerance >= VI_RTOL_MIN && d->tolerance <= VI_RTOL_MAX))
-        BAD("tolerance = %g is neither 0 nor in [%g, %g]", d->tolerance, VI_RTOL_MIN, VI_RTOL_MAX);
-    if (!isfinite(d->t) || d->t < d->t_start) BAD("t = %g is not finite or before t_start = %g", d->t, d->t_start);
+        VI_FAIL(msg, n, "tolerance = %g is neither 0 nor in [%g, %g]", d->tolerance, VI_RTOL_MIN, VI_RTOL_MAX);
+    if (!isfinite(d->t) || d->t < d->t_start)
+        VI_FAIL(msg, n, "t = %g is not finite or before t_start = %g", d->t, d->t_start);
     for (int i = 0; i < 2; i++) {
-        if (!isfinite(d->x[i])) BAD("x[%d] = %g is not finite", i, d->x[i]);
-        if (!(d->atol[i] >= 0.0 && isfinite(d->atol[i]))) BAD("atol[%d] = %g is not finite and >= 0", i, d->atol[i]);
+        if (!isfinite(d->x[i])) VI_FAIL(msg, n, "x[%d] = %g is not finite", i, d->x[i]);
+        if (!(d->atol[i] >= 0.0 && isfinite(d->atol[i])))
+            VI_FAIL(msg, n, "atol[%d] = %g is not finite and >= 0", i, d->atol[i]);
     }
-    if (d->n_events < 0) BAD("n_events = %ld is negative", d->n_events);
-    if (d->initialized != 0 && d->initialized != 1) BAD("initialized = %d is not 0 or 1", d->initialized);
+    if (d->n_events < 0) VI_FAIL(msg, n, "n_events = %ld is negative", d->n_events);
+    if (d->initialized != 0 && d->initialized != 1) VI_FAIL(msg, n, "initialized = %d is not 0 or 1", d->initialized);
     if (!isfinite(d->step_t0) || d->step_t0 > d->t || !isfinite(d->step_v0))
-        BAD("step_t0 = %g, step_v0 = %g: not finite or after t", d->step_t0, d->step_v0);
+        VI_FAIL(msg, n, "step_t0 = %g, step_v0 = %g: not finite or after t", d->step_t0, d->step_v0);
     for (int i = 0; i < VI_NGUARDS; i++)
         if (!(d->guard_band[i] >= 0.0 && isfinite(d->guard_band[i])))
-            BAD("guard_band[%d] = %g is not finite and >= 0", i, d->guard_band[i]);
+            VI_FAIL(msg, n, "guard_band[%d] = %g is not finite and >= 0", i, d->guard_band[i]);
     if (d->initialized && d->par.solver == VI_Solver_dop853 &&
         vi_solver_ode_check(&d->ode, 2, VI_NGUARDS, d->t, msg, n) < 0)
         return -1;
     return surfaces ? vi_model_check(&d->M, d->x, msg, n) : vi_model_check_between_events(&d->M, d->x, msg, n);
 }
-#undef BAD
 
 int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n) { return data_check(d, 1, msg, n); }
 int vi_sim_data_check_between_events(const vi_sim_data *d, char *msg, size_t n) { return data_check(d, 0, msg, n); }

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "layer_variables.h"
+#include "vi_check.h"
 #include "vi_fmu.h"
 
 VI_TABLE_DEFINE
@@ -135,23 +136,23 @@ static int advance(void *m, double t_end)
     return VI_FMU_OK;
 }
 
-#define BAD(...) return snprintf(msg, n, __VA_ARGS__), -1
 static int state_check(const void *state, int running, char *msg, size_t n)
 {
     const layer_data *d = state;
-    if (!isfinite(d->t_start)) BAD("t_start = %g is not finite", d->t_start);
-    if (d->inputs_changed != 0 && d->inputs_changed != 1) BAD("inputs_changed = %d is not 0 or 1", d->inputs_changed);
+    if (!isfinite(d->t_start)) VI_FAIL(msg, n, "t_start = %g is not finite", d->t_start);
+    if (d->inputs_changed != 0 && d->inputs_changed != 1)
+        VI_FAIL(msg, n, "inputs_changed = %d is not 0 or 1", d->inputs_changed);
     if (!running) return 0; /* the rest is computed at initialization */
-    if (!(isfinite(d->t) && d->t >= d->t_start)) BAD("t = %g is not finite or before t_start", d->t);
-    if (!isfinite(d->x)) BAD("x = %g is not finite", d->x);
-    if (!(d->k > 0.0 && isfinite(d->k))) BAD("k = %g is not finite and positive", d->k);
-    if (!isfinite(d->u) || !isfinite(d->du) || !isfinite(d->t_u)) BAD("the input ramp is not finite");
-    if (d->steps < 0) BAD("steps = %ld is negative", d->steps);
+    if (!(isfinite(d->t) && d->t >= d->t_start)) VI_FAIL(msg, n, "t = %g is not finite or before t_start", d->t);
+    if (!isfinite(d->x)) VI_FAIL(msg, n, "x = %g is not finite", d->x);
+    if (!(d->k > 0.0 && isfinite(d->k))) VI_FAIL(msg, n, "k = %g is not finite and positive", d->k);
+    if (!isfinite(d->u) || !isfinite(d->du) || !isfinite(d->t_u)) VI_FAIL(msg, n, "the input ramp is not finite");
+    if (d->steps < 0) VI_FAIL(msg, n, "steps = %ld is negative", d->steps);
     if (d->events < 0 || (d->above != 0 && d->above != 1) || (d->time_event != 0 && d->time_event != 1))
-        BAD("events = %ld, above = %d, time_event = %d: not a count and two flags", d->events, d->above, d->time_event);
+        VI_FAIL(msg, n, "events = %ld, above = %d, time_event = %d: not a count and two flags", d->events, d->above,
+                d->time_event);
     return 0;
 }
-#undef BAD
 
 static int checkpoint(void *m)
 {

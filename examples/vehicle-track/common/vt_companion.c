@@ -6,6 +6,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "vi_check.h"
+
 #define VT_MAX_STEPS_PER_STEP 100000L /* CVODE steps within one communication step */
 
 static vt_core *core(vt_instance *I) { return (vt_core *)I->data; }
@@ -61,11 +63,9 @@ int vt_prepare(void *m)
 {
     vt_instance *I = m;
     vt_core *c = core(I);
-    if (c->tolerance > 0.0 && !(c->tolerance >= VI_RTOL_MIN && c->tolerance <= VI_RTOL_MAX)) {
-        snprintf(I->msg, sizeof I->msg, "relative tolerance (fmi2SetupExperiment) = %g: use a value in [%g, %g]",
-                 c->tolerance, VI_RTOL_MIN, VI_RTOL_MAX);
-        return -1;
-    }
+    if (c->tolerance > 0.0 && !(c->tolerance >= VI_RTOL_MIN && c->tolerance <= VI_RTOL_MAX))
+        VI_FAIL(I->msg, sizeof I->msg, "relative tolerance (fmi2SetupExperiment) = %g: use a value in [%g, %g]",
+                c->tolerance, VI_RTOL_MIN, VI_RTOL_MAX);
     if (I->def->check && I->def->check(I->data, I->msg, sizeof I->msg) < 0) return -1;
     c->t = c->t_in = c->t_start;
     c->inputs_changed = 0;
@@ -104,10 +104,8 @@ static int create_solver(vt_instance *I)
     };
     vi_solver_free(I->solver);
     I->solver = vi_solver_create(&cfg, c->t, c->x);
-    if (!I->solver) {
-        snprintf(I->msg, sizeof I->msg, "the solver could not be created (see the log)");
-        return -1;
-    }
+    if (!I->solver)
+        VI_FAIL(I->msg, sizeof I->msg, "the solver could not be created (see the log)");
     return 0;
 }
 
@@ -193,23 +191,15 @@ int vt_restore(void *m, int running)
 int vt_state_check(const void *state, int running, const vt_model_def *def, char *msg, size_t n)
 {
     const vt_core *c = state;
-    if (c->tolerance != 0.0 && !(c->tolerance >= VI_RTOL_MIN && c->tolerance <= VI_RTOL_MAX)) {
-        snprintf(msg, n, "tolerance = %g is neither 0 nor in [%g, %g]", c->tolerance, VI_RTOL_MIN, VI_RTOL_MAX);
-        return -1;
-    }
+    if (c->tolerance != 0.0 && !(c->tolerance >= VI_RTOL_MIN && c->tolerance <= VI_RTOL_MAX))
+        VI_FAIL(msg, n, "tolerance = %g is neither 0 nor in [%g, %g]", c->tolerance, VI_RTOL_MIN, VI_RTOL_MAX);
     if (def->check && def->check(state, msg, n) < 0) return -1;
     if (!running) return 0; /* before initialization only the settings matter */
-    if (!isfinite(c->t) || !isfinite(c->t_in) || !isfinite(c->t_start) || c->t_in > c->t) {
-        snprintf(msg, n, "time t = %g s, t_in = %g s, t_start = %g s: not finite or inputs set after t", c->t, c->t_in,
-                 c->t_start);
-        return -1;
-    }
-    for (int i = 0; i < def->n; i++) {
-        if (!isfinite(c->x[i])) {
-            snprintf(msg, n, "state x[%d] = %g: not finite", i, c->x[i]);
-            return -1;
-        }
-    }
+    if (!isfinite(c->t) || !isfinite(c->t_in) || !isfinite(c->t_start) || c->t_in > c->t)
+        VI_FAIL(msg, n, "time t = %g s, t_in = %g s, t_start = %g s: not finite or inputs set after t", c->t, c->t_in,
+                c->t_start);
+    for (int i = 0; i < def->n; i++)
+        if (!isfinite(c->x[i])) VI_FAIL(msg, n, "state x[%d] = %g: not finite", i, c->x[i]);
     return 0;
 }
 

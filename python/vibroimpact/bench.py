@@ -1,13 +1,14 @@
-#!/usr/bin/env python3
 """Speed against accuracy: the benchmark suite of the FMU's solvers (figures, not a test).
 
-Usage: python3 tools/bench.py [--repeat N] [--quick] [--out DIR]
-  (after cmake --build build; prints markdown tables, writes DIR/bench.md and the PNG plots,
-   DIR defaults to doc/bench)
+    vibroimpact bench [--repeat N] [--quick] [--out DIR] [--build DIR]
+
+Prints Markdown tables and writes DIR/bench.md and the PNG plots (DIR: doc/bench by default). It
+needs a CMake build folder (default: the folder of vibroimpact.fmu_path(), build/ in a checkout)
+with the FMU and the programs vi_bench_driver and vi_bench_rk4 (tools/bench_driver.c, bench_rk4.c).
 
 What it runs (the FMU binary through tools/bench_driver.c, dlopen'ed from C with no Python in the
-loop, unless said otherwise; CPU times are the minimum of N runs, default 5, because the machine is
-shared; instruction counts would be steadier but do not compare with Python):
+loop, unless said otherwise; CPU times are the minimum of N runs, default 5, because other
+processes disturb single runs; instruction counts would be steadier but do not compare with Python):
 
 1. Work-precision, every solver (bdf, adams, dop853), rtol 1e-3 ... 1e-12 in half decades, on
      fig4b   Johnson, Y = 6e8 Pa, bouncing and plastic (paper Fig. 4b), 40 ms;
@@ -20,7 +21,7 @@ shared; instruction counts would be steadier but do not compare with Python):
    rtol 1e-14 (checked against adams at 1e-13 and the Python reference at 1e-12: the table prints
    their distance). The error of the drop is the larger of the relative energy error over the run
    and |restitution - 1|.
-   In the same run: the Python reference (fmu-test/reference/vi_reference.py, SciPy DOP853 with
+   In the same run: the Python reference (vibroimpact.reference.model, SciPy DOP853 with
    event location) at its own tolerances, and a fixed-step RK4 without event location
    (tools/bench_rk4.c: guards looked at only at step ends) from the communication step down, until
    it reaches the accuracy or its run would take more than RK4_CAP_S.
@@ -40,19 +41,20 @@ shared; instruction counts would be steadier but do not compare with Python):
 7. A stiff configuration (a light mass on a stiff contact), where the explicit method pays.
 8. The work bound: fig4b in one fmi2DoStep of 1e6 s, CPU until fmi2Discard and where it stopped.
 """
+import argparse
 import os
 import pathlib
 import subprocess
-import sys
 import tempfile
 import time
 
 import numpy as np
 
-ROOT = pathlib.Path(__file__).resolve().parent.parent
-BUILD = pathlib.Path(os.environ.get("VI_BUILD_DIR", ROOT / "build"))
-sys.path.insert(0, str(ROOT / "fmu-test" / "reference"))
-from scenarios import SCENARIOS  # noqa: E402
+from .fmu import NAME, build_dir
+from .reference.closed_forms import effective
+from .reference.scenarios import SCENARIOS
+
+PROGRAMS = ("vi_bench_driver", "vi_bench_rk4")
 
 SOLVERS = {"bdf": 1, "adams": 2, "dop853": 3}
 RTOLS = [10.0 ** (-e / 2) for e in range(6, 25)]  # 1e-3 ... 1e-12, half decades
@@ -71,9 +73,10 @@ CASES = {
 # ---- the FMU and the programs ---------------------------------------------------------------------
 
 class Fmu:
-    def __init__(self, workdir):
+    def __init__(self, workdir, build):
         from fmpy import extract, read_model_description
-        self.path = BUILD / "VibroImpact.fmu"
+        self.build = build
+        self.path = build / NAME
         self.md = read_model_description(str(self.path))
         self.unzip = extract(str(self.path), unzipdir=str(workdir / "fmu"))
         self.so = str(pathlib.Path(self.unzip) / "binaries" / "linux64" / "VibroImpact.so")
@@ -89,7 +92,7 @@ class Fmu:
     def run(self, params, t_stop, rtol, repeat, h=H_COMM, extra=()):
         """-> (dict of the driver's figures, samples (t, y, v, F, delta, mode))."""
         out = self.work / "samples.bin"
-        cmd = [str(BUILD / "vi_bench_driver"), self.so, self.md.guid, repr(t_stop), repr(h), str(repeat),
+        cmd = [str(self.build / "vi_bench_driver"), self.so, self.md.guid, repr(t_stop), repr(h), str(repeat),
                repr(rtol), "--vrs", self.vrs, "--out", str(out), *extra]
         cmd += [self.arg(k, v) for k, v in params.items()]
         r = subprocess.run(cmd, capture_output=True, text=True)
@@ -99,22 +102,22 @@ class Fmu:
         return {k: float(v) for k, v in zip(words[::2], words[1::2])}, np.fromfile(out).reshape(-1, 6)
 
 
-def rk4(params, t_stop, h, repeat, work):
+def rk4(build, params, t_stop, h, repeat, work):
     out = work / "rk4.bin"
-    cmd = [str(BUILD / "vi_bench_rk4"), repr(t_stop), repr(H_COMM), repr(h), str(repeat), str(out)]
+    cmd = [str(build / "vi_bench_rk4"), repr(t_stop), repr(H_COMM), repr(h), str(repeat), str(out)]
     cmd += [f"{k}={float(v)!r}" for k, v in params.items()]
     r = subprocess.run(cmd, capture_output=True, text=True, check=True)
     words = r.stdout.split()
     return {k: float(v) for k, v in zip(words[::2], words[1::2])}, np.fromfile(out).reshape(-1, 6)
 
 
-def rhs_ns(params):
-    cmd = [str(BUILD / "vi_bench_rk4"), "--rhs-cost", "2000000"] + [f"{k}={float(v)!r}" for k, v in params.items()]
+def rhs_ns(build, params):
+    cmd = [str(build / "vi_bench_rk4"), "--rhs-cost", "2000000"] + [f"{k}={float(v)!r}" for k, v in params.items()]
     return float(subprocess.run(cmd, capture_output=True, text=True, check=True).stdout.split()[1])
 
 
 def python_reference(params, t_stop, rtol, repeat):
-    from vi_reference import simulate
+    from .reference.model import simulate
     t = H_COMM * np.arange(1, round(t_stop / H_COMM) + 1)
     best, r = np.inf, None
     for _ in range(repeat):
@@ -162,8 +165,6 @@ def trace_error(samples, ref):
 
 def drop_error(samples, params):
     """Larger of the relative energy error over the run and |restitution - 1| (closed forms)."""
-    sys.path.insert(0, str(ROOT / "fmu-test"))
-    from conftest import effective
     e = effective(params)
     m, K, v0 = e["m"], e["K"], params["v0"]
     v, d = samples[:, 2], samples[:, 4]
@@ -184,7 +185,25 @@ def matched(rtols, errors):
 
 # ---- the suite ------------------------------------------------------------------------------------
 
-def main(repeat, quick, outdir):
+def main(argv=None):
+    p = argparse.ArgumentParser(prog="vibroimpact bench", description=__doc__.split("\n\n")[0],
+                                epilog=__doc__.split("\n\n", 1)[1], formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--repeat", type=int, default=5, metavar="N", help="runs per figure; the fastest counts (default 5)")
+    p.add_argument("--quick", action="store_true", help="every other tolerance only")
+    p.add_argument("--out", type=pathlib.Path, default=pathlib.Path("doc", "bench"), metavar="DIR",
+                   help="output folder (default doc/bench)")
+    p.add_argument("--build", type=pathlib.Path, default=None, metavar="DIR",
+                   help="the CMake build folder (default: the folder of vibroimpact.fmu_path())")
+    a = p.parse_args(argv)
+    build = a.build or build_dir()
+    missing = [str(build / f) for f in (NAME,) + PROGRAMS if not (build / f).is_file()]
+    if missing:
+        p.error(f"missing {', '.join(missing)}: build them with cmake -S . -B build && cmake --build build "
+                "in a checkout, or name the build folder with --build")
+    run_suite(a.repeat, a.quick, a.out, build)
+
+
+def run_suite(repeat, quick, outdir, build):
     outdir.mkdir(parents=True, exist_ok=True)
     lines = []
 
@@ -195,8 +214,8 @@ def main(repeat, quick, outdir):
     rtols = RTOLS[::2] if quick else RTOLS
     with tempfile.TemporaryDirectory() as tmp:
         work = pathlib.Path(tmp)
-        fmu = Fmu(work)
-        out(f"Machine: {os.cpu_count()} cores, shared; CPU times are the minimum of {repeat} runs.\n")
+        fmu = Fmu(work, build)
+        out(f"Machine: {os.cpu_count()} cores; CPU times are the minimum of {repeat} runs.\n")
         results = {}
         for case, spec in CASES.items():
             p, T = spec["params"], spec["t_stop"]
@@ -221,11 +240,11 @@ def main(repeat, quick, outdir):
             for h in RK4_STEPS:
                 if T / h * 60e-9 > RK4_CAP_S:  # about 60 ns per RK4 step
                     break
-                fig, s = rk4(p, T, h, 1, work)
+                fig, s = rk4(build, p, T, h, 1, work)
                 res["rk4"][h] = (fig["cpu_s"], err(s))
                 if err(s) <= BOUND:
                     break
-            res["rhs_ns"] = rhs_ns(p)
+            res["rhs_ns"] = rhs_ns(build, p)
             results[case] = res
             report_case(out, case, spec, res, rtols)
         report_matched(out, results, rtols)
@@ -296,7 +315,7 @@ def report_matched(out, results, rtols):
             out(f"| {case} | {name} | {r:.0e} | {1e3 * cpu:.2f} | {e:.1e} | "
                 f"{fmt(pr, '.0e')}, {fmt(py_cpu and 1e3 * py_cpu, '.0f')} | {speed} | "
                 f"{1e3 * limit:.3f} | {cpu / limit:.1f} | {rk} |")
-    out(f"\nOne rhs evaluation alone: " + ", ".join(f"{c} {r['rhs_ns']:.1f} ns" for c, r in results.items()) + ".\n")
+    out("\nOne rhs evaluation alone: " + ", ".join(f"{c} {r['rhs_ns']:.1f} ns" for c, r in results.items()) + ".\n")
 
 
 def best_rtol(results, name, case="fig4b"):
@@ -455,9 +474,3 @@ def plots(results, rtols, outdir):
     fig.tight_layout()
     fig.savefig(outdir / "cost.png", dpi=90)
     plt.close(fig)
-
-
-if __name__ == "__main__":
-    args = sys.argv[1:]
-    main(int(args[args.index("--repeat") + 1]) if "--repeat" in args else 5, "--quick" in args,
-         pathlib.Path(args[args.index("--out") + 1]) if "--out" in args else ROOT / "doc" / "bench")

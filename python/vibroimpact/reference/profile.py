@@ -10,7 +10,7 @@ This module evaluates that maximum numerically, with no geometry worked out befo
 candidates are the samples inside the window (exact), and on every segment inside the window the
 maximum of the concave function h(s) + sqrt(R^2 - (x - s)^2), found by a golden-section search
 (vectorised over segments) refined to the last bits. It is written for the tests of the FMU's
-profile (fmu-test/test_rolling.py), not from the FMU's C code.
+profile (fmu-test/test_rolling.py) and the rolling figure, not from the FMU's C code.
 """
 import numpy as np
 

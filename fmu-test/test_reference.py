@@ -2,20 +2,17 @@
 
 Every expected value below is computed here from the formulas of model.md /
 the paper (eqs. 1-5) or from energy arguments, never copied from a run.
-Run:  python3 -m pytest -q fmu-test/reference/test_reference.py
+Run:  python3 -m pytest -q fmu-test/test_reference.py
 """
 
 import math
-import os
-import sys
 
 import numpy as np
 import pytest
 from scipy.integrate import quad
 from scipy.optimize import brentq
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import vi_reference as vr  # noqa: E402
+from vibroimpact.reference import model as vr
 
 M = 407.747          # kg
 G = 9.81             # m/s2

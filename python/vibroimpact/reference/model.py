@@ -1,9 +1,8 @@
 """Independent reference implementation of the VibroImpact hybrid model.
 
-Written from the contract (shared/design/model.md), the source paper
+Written from the model's definition (doc/model.md) and the source paper
 (Kowalska 2002, "Modelling and simulation of dynamic unilateral elasto-plastic
-contact of compact hard bodies") and the public README definitions only; it
-does not use the C implementation.  Units are SI throughout (m, s, N, J).
+contact of compact hard bodies") only; it does not use the C implementation.  Units are SI throughout (m, s, N, J).
 
 System (vertical axis up)
 -------------------------
@@ -759,7 +758,7 @@ def simulate(params: dict, t_end: float, rtol: float = 1e-10,
              atol_scale: float | None = None, t_eval=None) -> Result:
     """Simulate the hybrid model on [0, t_end] and sample the outputs.
 
-    params: FMU parameter names (defaults as in model.md section 4).
+    params: FMU parameter names (defaults as in doc/model.md section 5).
     rtol: relative tolerance of DOP853.
     atol_scale: dimensionless factor (default 1) on the absolute tolerances
         atol = rtol * atol_scale * (delta_ref, v_ref), see ``_tolerances``.

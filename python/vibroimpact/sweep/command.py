@@ -1,7 +1,6 @@
-#!/usr/bin/env python3
 """Parameter sweeps of the VibroImpact FMU on Dask.
 
-  python3 tools/sweep.py --set contact_model=hertz --set a=1e-4 --grid f=100:600:51 \\
+  vibroimpact sweep --set contact_model=hertz --set a=1e-4 --grid f=100:600:51 \\
       --stop-time 0.2 --transient 0.1 --step 1e-5 --out results/sweep-hertz
 
 Runs the full product of the grids, one FMU instance per point (or per continuation chain) with
@@ -17,29 +16,25 @@ final state on the same instance: the new value is set at the communication poin
 previous point ended (a whole number of excitation periods, so at phase 0). One chain per
 combination of the other grids; the chains run in parallel.
 
-Time grid and statistics: see tools/vi_sweep/point.py (the step is shrunk to divide the excitation
+Time grid and statistics: see vibroimpact/sweep/point.py (the step is shrunk to divide the excitation
 period; each point runs a whole number of periods covering --stop-time). Failed points stay in the
 CSV with status 'error' and the FMU's message. The exit code is 0 when the sweep ran, even when
 some points failed; 2 for options that cannot run.
 """
 import argparse
-import os
-import pathlib
 import sys
 import time
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-from vi_sweep import engine, plots, spec  # noqa: E402
-
-ROOT = pathlib.Path(__file__).resolve().parent.parent
-DEFAULT_FMU = os.environ.get("VI_FMU", str(ROOT / "build" / "VibroImpact.fmu"))
+from ..fmu import ENV, fmu_path
+from . import engine, plots, spec
 
 
 def parse_args(argv):
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+    p = argparse.ArgumentParser(prog="vibroimpact sweep", description=__doc__.split("\n\n")[0],
                                 formatter_class=argparse.RawDescriptionHelpFormatter,
-                                epilog="CSV columns and the time grid: README section 'Parameter sweeps'.")
-    p.add_argument("--fmu", default=DEFAULT_FMU, help="the FMU (default: build/VibroImpact.fmu or $VI_FMU)")
+                                epilog=__doc__.split("\n\n", 1)[1])
+    p.add_argument("--fmu", default=None, help=f"the FMU (default: vibroimpact.fmu_path(): ${ENV}, the installed "
+                   "package's FMU, or build/VibroImpact.fmu of a checkout)")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="fixed start value (repeatable); enumerations by value or item name, e.g. contact_model=hertz")
     p.add_argument("--grid", action="append", dest="grids", default=[], type=lambda t: (t, False),
@@ -82,9 +77,11 @@ def build(args, interface):
 
 def main(argv=None):
     args = parse_args(sys.argv[1:] if argv is None else argv)
-    if not os.path.exists(args.fmu):
-        print(f"sweep: {args.fmu} is missing: build it with cmake -S . -B build && cmake --build build",
-              file=sys.stderr)
+    try:
+        args.fmu = str(fmu_path() if args.fmu is None else args.fmu)
+        open(args.fmu, "rb").close()
+    except OSError as e:
+        print(f"sweep: {e}", file=sys.stderr)
         return 2
     interface = spec.Interface(args.fmu)
     try:
@@ -103,7 +100,7 @@ def main(argv=None):
     except (OSError, RuntimeError, TimeoutError) as e:  # no scheduler there, no worker joining, ...
         print(f"sweep: {e}", file=sys.stderr)
         return 1
-    engine.write(args.out, sweep, rows, argv=["tools/sweep.py"] + (sys.argv[1:] if argv is None else argv))
+    engine.write(args.out, sweep, rows, argv=["vibroimpact", "sweep"] + (sys.argv[1:] if argv is None else argv))
     if not args.no_plots:
         plots.sweep_figures(args.out, sweep, rows)
     failed = sum(r["status"] != "ok" for _, r in rows)
@@ -112,7 +109,3 @@ def main(argv=None):
           f"{args.out}/sweep.csv, poincare.csv"
           + ("" if args.no_plots else ", response.png, bifurcation.png"))
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

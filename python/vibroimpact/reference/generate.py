@@ -1,34 +1,31 @@
-#!/usr/bin/env python3
-"""Generate the committed reference traces and event tables from the independent reference
-implementation (vi_reference.py), and find each scenario's predictable horizon.
+"""Regenerate the committed reference traces and event tables from the independent reference model
+(model.py), and find each scenario's predictable horizon.
 
-Usage: python3 fmu-test/reference/generate.py [scenario ...]    (default: all; writes data/)
+    vibroimpact reference [scenario ...] [--out DIR]     (default: every scenario, into DATA)
 
 For every scenario of scenarios.py the reference runs twice over [0, STOP_TIME]: at RTOL_TRUE (the
 reference trace) and at RTOL_LOOSE. The predictable horizon is the first sample time at which the
 two runs' mass positions differ by more than EPS_Y; it is how far a trajectory computed with a
 relative error of about RTOL_LOOSE can be trusted to EPS_Y (the bouncing cases are chaotic: an error
-grows by orders of magnitude over each long flight). Written to data/:
+grows by orders of magnitude over each long flight). Written to DATA (vibroimpact/reference/data/):
   <name>.trace.csv.gz   time [s], y [m], v [m/s], F [N], mode, W_plastic [J] every SAMPLE s
                         (the whole run: the test uses it up to the horizon)
   <name>.events.csv     time [s], mode before, mode after, kind: every mode change of the RTOL_TRUE run
   summary.json          per scenario: tolerances, horizon, counts, the largest energy-balance
                         residual [J] of the RTOL_TRUE run, run times
 """
+import argparse
 import gzip
 import json
 import pathlib
-import sys
 import time
 
 import numpy as np
 
-HERE = pathlib.Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))
-from scenarios import SCENARIOS, STOP_TIME  # noqa: E402
-from vi_reference import simulate  # noqa: E402
+from .model import simulate
+from .scenarios import SCENARIOS, STOP_TIME
 
-DATA = HERE / "data"
+DATA = pathlib.Path(__file__).resolve().parent / "data"
 SAMPLE = 2e-5      # s, trace grid (90 samples per period at 560 Hz)
 RTOL_TRUE = 1e-11  # the reference
 RTOL_LOOSE = 1e-8  # the perturbed run that defines the horizon
@@ -41,7 +38,7 @@ def grid():
 
 def horizon(t, y_true, y_loose, eps=EPS_Y):
     """First sample time at which |y_true - y_loose| > eps (the whole run if never). Also how long
-    the FMU stays on the reference (compare_reference.py, tools/bench.py)."""
+    the FMU stays on the reference (vibroimpact compare, vibroimpact bench)."""
     bad = np.nonzero(np.abs(y_true - y_loose) > eps)[0]
     return float(t[bad[0]]) if len(bad) else float(t[-1])
 
@@ -69,7 +66,7 @@ def write_events(path, events):
             out.write(f"{t:.15e},{a},{b},{kind}\n")
 
 
-def generate(name):
+def generate(name, out=DATA):
     scenario = SCENARIOS[name]
     t = grid()
     t0 = time.perf_counter()
@@ -77,8 +74,8 @@ def generate(name):
     t1 = time.perf_counter()
     loose = simulate(scenario.full, STOP_TIME, rtol=RTOL_LOOSE, t_eval=t)
     t2 = time.perf_counter()
-    write_trace(DATA / f"{name}.trace.csv.gz", t, true)
-    write_events(DATA / f"{name}.events.csv", true.events)
+    write_trace(out / f"{name}.trace.csv.gz", t, true)
+    write_events(out / f"{name}.events.csv", true.events)
     h = horizon(t, true.y, loose.y)
     info = dict(rtol_true=RTOL_TRUE, rtol_loose=RTOL_LOOSE, eps_y=EPS_Y, sample=SAMPLE, horizon=h,
                 n_impacts=int(true.n_impacts[-1]), n_impacts_loose=int(loose.n_impacts[-1]),
@@ -92,14 +89,22 @@ def generate(name):
     return info
 
 
-def main(names):
-    DATA.mkdir(exist_ok=True)
-    path = DATA / "summary.json"
+def parser():
+    p = argparse.ArgumentParser(prog="vibroimpact reference", description=__doc__.split("\n\n")[0],
+                                epilog=__doc__.split("\n\n", 2)[2], formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("scenarios", nargs="*", metavar="scenario", help=f"default: all ({', '.join(SCENARIOS)})")
+    p.add_argument("--out", type=pathlib.Path, default=DATA, metavar="DIR", help=f"output folder (default {DATA})")
+    return p
+
+
+def main(argv=None):
+    a = parser().parse_args(argv)
+    unknown = [n for n in a.scenarios if n not in SCENARIOS]
+    if unknown:
+        parser().error(f"unknown scenario {', '.join(unknown)}")
+    a.out.mkdir(parents=True, exist_ok=True)
+    path = a.out / "summary.json"
     summary = json.loads(path.read_text()) if path.exists() else {}
-    for name in names:
-        summary[name] = generate(name)
+    for name in a.scenarios or list(SCENARIOS):
+        summary[name] = generate(name, a.out)
     path.write_text(json.dumps({k: summary[k] for k in SCENARIOS if k in summary}, indent=1) + "\n")
-
-
-if __name__ == "__main__":
-    main(sys.argv[1:] or list(SCENARIOS))

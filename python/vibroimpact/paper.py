@@ -1,17 +1,15 @@
-#!/usr/bin/env python3
-"""Simulate the paper's scenarios through fmpy; write results/<scenario>.csv and .png, an overview
-image (results/overview.png) and a table of figures (results/summary.csv).
+"""Simulate the paper's scenarios through fmpy; write <out>/<scenario>.csv and .png, an overview
+image (<out>/overview.png) and a table of figures (<out>/summary.csv); <out> is results/ by default.
 
-Usage: python3 tools/paper.py [--gallery] [scenario ...]   (default: every scenario of the table)
-  --gallery  also write smaller copies of the images to doc/gallery/ (committed, shown in the README)
-The scenarios are the one table in fmu-test/reference/scenarios.py. The FMU is
-build/VibroImpact.fmu (or $VI_FMU). Runs use rtol 1e-11 (not the FMU's default 1e-6): the bouncing
-scenarios are chaotic, and the tighter tolerance keeps the drawn trajectory on the reference's for
-longer (fmu-test/reference/data/summary.json has each scenario's predictable horizon).
+    vibroimpact paper [--out DIR] [--gallery] [scenario ...]   (default: every scenario of the table)
+
+The scenarios are the one table in vibroimpact/reference/scenarios.py; the FMU is
+vibroimpact.fmu_path(). Runs use rtol 1e-11 (not the FMU's default 1e-6): the bouncing scenarios
+are chaotic, and the tighter tolerance keeps the drawn trajectory on the reference's for longer
+(vibroimpact/reference/data/summary.json has each scenario's predictable horizon).
 """
-import os
+import argparse
 import pathlib
-import sys
 
 import matplotlib
 
@@ -20,13 +18,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from fmpy import simulate_fmu  # noqa: E402
 
-ROOT = pathlib.Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT / "fmu-test" / "reference"))
-from scenarios import SCENARIOS, STOP_TIME  # noqa: E402
+from .fmu import fmu_path  # noqa: E402
+from .reference.scenarios import SCENARIOS, STOP_TIME  # noqa: E402
 
-FMU = os.environ.get("VI_FMU", str(ROOT / "build" / "VibroImpact.fmu"))
-OUT = ROOT / "results"
-GALLERY = ROOT / "doc" / "gallery"
+OUT = pathlib.Path("results")
+GALLERY = pathlib.Path("doc", "gallery")
 INTERVAL = 1e-5  # s, output grid
 RTOL = 1e-11
 OUTPUTS = ["yC", "y", "delta", "F", "v", "contact", "mode", "n_impacts", "delta_c", "delta_f", "delta_p",
@@ -36,7 +32,7 @@ SUMMARY = ["scenario", "n_impacts", "F_min_kN", "F_max_kN", "F_mean_kN", "contac
 
 
 def simulate(scenario):
-    return simulate_fmu(FMU, start_values=scenario.full, stop_time=STOP_TIME, output_interval=INTERVAL,
+    return simulate_fmu(str(fmu_path()), start_values=scenario.full, stop_time=STOP_TIME, output_interval=INTERVAL,
                         relative_tolerance=RTOL, output=OUTPUTS)
 
 
@@ -61,15 +57,15 @@ def draw_positions(ax, r, lepp, lw=1.0):
     ax.set_ylabel("position [mm]")
 
 
-def save(fig, filename, dpi, gallery):
-    fig.savefig(OUT / filename, dpi=dpi)
+def save(fig, out, filename, dpi, gallery):
+    fig.savefig(out / filename, dpi=dpi)
     if gallery:
         GALLERY.mkdir(parents=True, exist_ok=True)
         fig.savefig(GALLERY / filename, dpi=0.6 * dpi)
     plt.close(fig)
 
 
-def plot(name, scenario, r, s, gallery):
+def plot(out, name, scenario, r, s, gallery):
     lepp = scenario.full.get("contact_model") == 3
     fig = plt.figure(figsize=(10, 7))
     grid = fig.add_gridspec(2, 2, height_ratios=[1.2, 1], width_ratios=[1.6, 1])
@@ -89,10 +85,10 @@ def plot(name, scenario, r, s, gallery):
     ax.set_xlabel(r"indentation $\delta$ [$\mu$m]")
     ax.set_ylabel("F [kN]")
     fig.tight_layout()
-    save(fig, f"{name}.png", 100, gallery)
+    save(fig, out, f"{name}.png", 100, gallery)
 
 
-def overview(runs, gallery):
+def overview(out, runs, gallery):
     names = list(runs)
     cols = 3
     rows = -(-len(names) // cols)
@@ -107,33 +103,37 @@ def overview(runs, gallery):
         ax.axis("off")
     fig.suptitle("VibroImpact FMU: the paper's scenarios (thin: platform, bold: mass; time in ms)", fontsize=10)
     fig.tight_layout()
-    save(fig, "overview.png", 90, gallery)
+    save(fig, out, "overview.png", 90, gallery)
 
 
-def main(names, gallery=False):
-    OUT.mkdir(exist_ok=True)
+def main(argv=None):
+    p = argparse.ArgumentParser(prog="vibroimpact paper", description=__doc__.split("\n\n")[0],
+                                epilog=__doc__.split("\n\n", 2)[2], formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("scenarios", nargs="*", metavar="scenario", help=f"default: all ({', '.join(SCENARIOS)})")
+    p.add_argument("--out", type=pathlib.Path, default=OUT, metavar="DIR", help=f"output folder (default {OUT})")
+    p.add_argument("--gallery", action="store_true", help=f"also write smaller copies of the images to {GALLERY}/")
+    a = p.parse_args(argv)
+    unknown = [n for n in a.scenarios if n not in SCENARIOS]
+    if unknown:
+        p.error(f"unknown scenario {', '.join(unknown)}")
+    names, gallery, out = a.scenarios or list(SCENARIOS), a.gallery, a.out
+    out.mkdir(parents=True, exist_ok=True)
     runs, rows = {}, []
     for name in names:
         scenario = SCENARIOS[name]
         r = simulate(scenario)
-        np.savetxt(OUT / f"{name}.csv", np.column_stack([r[c] for c in r.dtype.names]), delimiter=",",
+        np.savetxt(out / f"{name}.csv", np.column_stack([r[c] for c in r.dtype.names]), delimiter=",",
                    header=",".join(r.dtype.names), comments="", fmt="%.10g")
         s = summarize(name, r)
-        plot(name, scenario, r, s, gallery)
+        plot(out, name, scenario, r, s, gallery)
         runs[name] = (scenario, r)
         rows.append(s)
         print(f"{name}: {s['n_impacts']} impacts, max force {s['F_max_kN']:.1f} kN, mean force "
               f"{s['F_mean_kN']:.2f} kN, in contact {100 * s['contact_fraction']:.0f}% of the time, "
-              f"W_plastic {s['W_plastic_J']:.4g} J -> results/{name}.csv, results/{name}.png")
-    overview(runs, gallery)
-    with open(OUT / "summary.csv", "w") as out:
-        out.write(",".join(SUMMARY) + "\n")
+              f"W_plastic {s['W_plastic_J']:.4g} J -> {out / name}.csv, {out / name}.png")
+    overview(out, runs, gallery)
+    with open(out / "summary.csv", "w") as fh:
+        fh.write(",".join(SUMMARY) + "\n")
         for s in rows:
-            out.write(",".join(f"{s[k]:.6g}" if isinstance(s[k], float) else str(s[k]) for k in SUMMARY) + "\n")
-    print(f"overview -> results/overview.png, figures -> results/summary.csv")
-
-
-if __name__ == "__main__":
-    args = sys.argv[1:]
-    gallery = "--gallery" in args
-    main([a for a in args if a != "--gallery"] or list(SCENARIOS), gallery)
+            fh.write(",".join(f"{s[k]:.6g}" if isinstance(s[k], float) else str(s[k]) for k in SUMMARY) + "\n")
+    print(f"overview -> {out / 'overview.png'}, figures -> {out / 'summary.csv'}")

@@ -1,8 +1,7 @@
-#!/usr/bin/env python3
 """Wall time of a 200-point sweep: in one process without Dask (the baseline), then on a Dask
-LocalCluster of 1, 2 and all cores. Prints a Markdown table (README "Parameter sweeps").
+LocalCluster of 1, 2 and all cores. Prints a Markdown table.
 
-  python3 tools/bench_sweep.py [--points 200] [--repeat 2] [--stop-time 0.1] [--step 1e-5]
+  vibroimpact bench-sweep [--points 200] [--repeat 2] [--stop-time 0.1] [--step 1e-5]
 
 The sweep: Hertz, a = 0.1 mm, f from 100 to 600 Hz (the paper's data; most points bounce), each
 point 0.1 s with a 10 us communication step. Times are the best of --repeat runs; the cluster's
@@ -12,16 +11,11 @@ much of the cluster the sweep actually got, and the wall times move by 10 % or m
 """
 import argparse
 import os
-import pathlib
-import sys
 import tempfile
 import time
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-from vi_sweep import engine, point, spec  # noqa: E402
-
-ROOT = pathlib.Path(__file__).resolve().parent.parent
-FMU = os.environ.get("VI_FMU", str(ROOT / "build" / "VibroImpact.fmu"))
+from ..fmu import fmu_path
+from . import engine, point, spec
 
 
 def make_sweep(interface, n, stop_time, step):
@@ -30,11 +24,11 @@ def make_sweep(interface, n, stop_time, step):
                       step=step)
 
 
-def baseline(sweep, interface):
+def baseline(fmu, sweep, interface):
     """The same chains, one after the other, in this process (no Dask)."""
     from fmpy import extract
     with tempfile.TemporaryDirectory() as tmp:
-        files = point.FMUFiles(extract(FMU, unzipdir=tmp), interface.guid, interface.model_identifier,
+        files = point.FMUFiles(extract(fmu, unzipdir=tmp), interface.guid, interface.model_identifier,
                                {n: interface.variables[n].vr for n in point.OUTPUT_NAMES})
         timing = dict(stop_time=sweep.stop_time, step=sweep.step, transient=sweep.transient)
         t = time.perf_counter()
@@ -42,18 +36,20 @@ def baseline(sweep, interface):
         return time.perf_counter() - t, out
 
 
-def main():
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--points", type=int, default=200)
-    p.add_argument("--repeat", type=int, default=2)
-    p.add_argument("--stop-time", type=float, default=0.1)
-    p.add_argument("--step", type=float, default=1e-5)
-    args = p.parse_args()
-    interface = spec.Interface(FMU)
+def main(argv=None):
+    p = argparse.ArgumentParser(prog="vibroimpact bench-sweep", description=__doc__.split("\n\n")[0],
+                                epilog=__doc__.split("\n\n", 2)[2], formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--points", type=int, default=200, help="grid points (default 200)")
+    p.add_argument("--repeat", type=int, default=2, help="runs of each configuration; the best counts (default 2)")
+    p.add_argument("--stop-time", type=float, default=0.1, help="run length per point [s] (default 0.1)")
+    p.add_argument("--step", type=float, default=1e-5, help="communication step [s] (default 1e-5)")
+    args = p.parse_args(argv)
+    fmu = str(fmu_path())
+    interface = spec.Interface(fmu)
     sweep = make_sweep(interface, args.points, args.stop_time, args.step)
     cores = os.cpu_count()
     rows = []
-    best, ref = min(baseline(sweep, interface) for _ in range(args.repeat))[0], None
+    best, ref = min(baseline(fmu, sweep, interface) for _ in range(args.repeat))[0], None
     rows.append(("one process, no Dask", "-", best))
     for workers in sorted({1, 2, cores}):
         t0 = time.perf_counter()
@@ -63,7 +59,7 @@ def main():
             for _ in range(args.repeat):
                 cpu0 = sum(client.run(time.process_time).values())
                 t = time.perf_counter()
-                res = engine.run(sweep, interface, FMU, client=client, progress=False)
+                res = engine.run(sweep, interface, fmu, client=client, progress=False)
                 times.append((time.perf_counter() - t, sum(client.run(time.process_time).values()) - cpu0))
             failed = sum(r["status"] != "ok" for _, r in res)
             ref = ref or [r["F_max"] for _, r in res]
@@ -82,7 +78,3 @@ def main():
         failed, same, cpu = r[3:] if len(r) > 3 else ("-", "-", None)
         busy = f"{cpu:.1f} | {cpu / r[2]:.2f}" if cpu is not None else "- | -"
         print(f"| {r[0]} | {r[1]} | {r[2]:.2f} | {args.points / r[2]:.1f} | {one / r[2]:.2f} | {busy} | {failed} | {same} |")
-
-
-if __name__ == "__main__":
-    main()

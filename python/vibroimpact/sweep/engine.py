@@ -1,8 +1,8 @@
 """Dask runs the sweep: a LocalCluster by default, or a running scheduler by address.
 
-The code goes to the scheduler and the workers with Client.upload_file (a zip of this package), the
-FMU inside a worker plugin (worker.FMUPlugin), so a remote worker needs fmpy, numpy and distributed
-but not this repository. One task per chain (see spec.chains): an independent point is a chain of one.
+The code the workers run goes to the scheduler and the workers with Client.upload_file (package_zip),
+the FMU inside a worker plugin (worker.FMUPlugin), so a remote worker needs fmpy, numpy and
+distributed but neither this repository nor the installed package. One task per chain (see spec.chains): an independent point is a chain of one.
 Results come back as plain data and are put in grid order, so the files do not depend on which
 worker ran what or when.
 """
@@ -25,7 +25,8 @@ from . import spec as _spec
 from .point import OUTPUT_NAMES, STATS
 from .worker import FMUPlugin, chain_task
 
-PACKAGE = pathlib.Path(__file__).resolve().parent
+SWEEP = pathlib.Path(__file__).resolve().parent
+TOP = SWEEP.parent   # the vibroimpact package
 
 STATUS_COLUMNS = ["status", "message"]
 POINCARE_COLUMNS = ["period", "t", "delta", "v"]
@@ -57,11 +58,12 @@ def _error_results(n, message):
 
 
 def package_zip(directory):
-    """This package as a zip that Client.upload_file puts on the scheduler's and workers' path."""
-    path = os.path.join(directory, "vi_sweep.zip")
+    """What the workers run as a zip that Client.upload_file puts on the scheduler's and workers'
+    path: the vibroimpact package with its helpers (fmu.py) and this subpackage, nothing else."""
+    path = os.path.join(directory, "vibroimpact.zip")
     with zipfile.ZipFile(path, "w") as z:
-        for f in sorted(PACKAGE.glob("*.py")):
-            z.write(f, f"vi_sweep/{f.name}")
+        for f in (TOP / "__init__.py", TOP / "fmu.py", *sorted(SWEEP.glob("*.py"))):
+            z.write(f, f.relative_to(TOP.parent).as_posix())
     return path
 
 

@@ -1,9 +1,9 @@
 """What a worker runs: one chain of points on one FMU instance (fmpy's FMU2Slave), the statistics
 computed on the fly, and the Poincare samples.
 
-This module is shipped to the Dask workers by value (cloudpickle), so a worker needs only fmpy and
-numpy, not this repository. It imports nothing from the rest of the package, and returns plain data
-(dicts, lists, floats) so that the client can read it without the worker's classes.
+The sweep ships this module to the Dask workers (engine.package_zip), so a worker needs only fmpy and
+numpy, not this repository. It imports nothing from the package but vibroimpact.fmu, and returns
+plain data (dicts, lists, floats) so that the client can read it without the worker's classes.
 
 Time grid of a point. With P = 1/f the excitation period (f read from the FMU after its start
 values are set), the communication step is h = P / ceil(P / step), the largest step not above
@@ -30,6 +30,8 @@ import os
 import threading
 
 import numpy as np
+
+from ..fmu import MessageLog, set_value
 
 STATS = ["F_max", "F_min", "F_mean", "delta_max", "sep_max", "contact_fraction", "n_impacts", "W_plastic"]
 # what a step reads: Reals, then Integers (mode and n_impacts; an enumeration is read as an integer)
@@ -109,17 +111,9 @@ class Instance:
     """One FMU instance with a logger that keeps what the FMU says, and fast value access."""
 
     def __init__(self, slave, vrs):
-        from fmpy import calloc, free
-        from fmpy.fmi2 import (fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE, fmi2CallbackFunctions,
-                               fmi2CallbackLoggerTYPE)
         self.slave = slave
-        self.messages = []
-        cb = fmi2CallbackFunctions()
-        cb.logger = fmi2CallbackLoggerTYPE(self._log)
-        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-        self.callbacks = cb     # keep alive as long as the instance
-        slave.instantiate(callbacks=cb, loggingOn=False)
+        self.log = MessageLog(limit=MAX_MESSAGES, unique=True)   # referenced as long as the instance lives
+        slave.instantiate(callbacks=self.log.callbacks, loggingOn=False)
         slave.setDebugLogging(True, WARN_CATEGORIES)
         fn = slave._functions   # raw ctypes functions: no fmpy wrapper in the stepping loop
         self._do_step, self._get_real, self._get_int = fn["fmi2DoStep"], fn["fmi2GetReal"], fn["fmi2GetInteger"]
@@ -133,25 +127,20 @@ class Instance:
         self._int_rows = [ctypes.cast(self.ints.ctypes.data + j * self.ints.strides[0], iptr) for j in range(CHUNK)]
         self.t = 0.0
 
-    def _log(self, env, name, status, category, message):
-        text = message.decode("utf-8", "replace").replace("%%", "%")
-        if len(self.messages) < MAX_MESSAGES and text not in self.messages:
-            self.messages.append(text)
+    @property
+    def messages(self):
+        """What the FMU logged since the last clear_messages(), each text once."""
+        return self.log.texts()
+
+    def clear_messages(self):
+        self.log.messages.clear()
 
     def error(self, what):
         return "; ".join(self.messages) or what
 
     def set(self, values):
-        s = self.slave
         for _, vr, kind, x in values:
-            if kind == "Real":
-                s.setReal([vr], [float(x)])
-            elif kind == "Integer":
-                s.setInteger([vr], [int(x)])
-            elif kind == "Boolean":
-                s.setBoolean([vr], [bool(x)])
-            else:
-                s.setString([vr], [str(x)])
+            set_value(self.slave, vr, x, kind)
 
     def start(self, values):
         s = self.slave
@@ -252,7 +241,7 @@ def run_chain(files, fixed, per_point, timing, progress=None):
             res.update(status="ok", t_start=t_start, h=h,
                        poincare=[(t_start + i * h, d, v) for i, d, v in w.poincare])
             res["message"] = "; ".join(filter(None, [restart_note] + inst.messages))
-            inst.messages.clear()
+            inst.clear_messages()
         except Exception as e:  # the FMU's own words when it gave any, else the exception
             text = inst.error(str(e)) if inst is not None and inst.messages else (str(e) or repr(e))
             res.update(_nan_stats(), status="error", message=text, poincare=[])

@@ -1,19 +1,18 @@
-#!/usr/bin/env python3
 """Rolling over a corrugated rail (paper Fig. 1b; Fig. 5-like): the wheel of the paper (R1 = 0.475 m,
 Hertz, P = 40 kN = 10 m g) rolls over a sinusoidal corrugation at three speeds, so that the passing
 frequency V/lambda lies below, near and above the contact resonance (as Fig. 5a/b/c do with the
 harmonic platform). The FMU's platform motion is the rolling constraint yb(x0 + V t) of the profile
 (profile_file), not the profile itself: the wheel cannot follow a trough sharper than its radius.
 
-Usage: python3 tools/rolling.py [--gallery]
-  ->  results/rolling/{corrugation.txt, rolling.png, rolling.csv, constraint_harmonics.csv}
-  --gallery  also write a smaller copy of the figure to doc/gallery/rolling.png (shown in the README)
-The FMU is build/VibroImpact.fmu (or $VI_FMU).
+    vibroimpact rolling [--out DIR] [--gallery]
+        ->  DIR/{corrugation.txt, rolling.png, rolling.csv, constraint_harmonics.csv}
+
+The FMU is vibroimpact.fmu_path(); the constraint drawn beside it comes from the independent
+reference (vibroimpact.reference.profile).
 """
+import argparse
 import csv
-import os
 import pathlib
-import sys
 
 import matplotlib
 
@@ -22,11 +21,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from fmpy import simulate_fmu  # noqa: E402
 
-ROOT = pathlib.Path(__file__).resolve().parent.parent
-FMU = os.environ.get("VI_FMU", str(ROOT / "build" / "VibroImpact.fmu"))
-OUT = ROOT / "results" / "rolling"
-sys.path.insert(0, str(ROOT / "fmu-test" / "reference"))
-import profile_ref  # noqa: E402
+from .fmu import fmu_path  # noqa: E402
+from .reference import profile as profile_ref  # noqa: E402
+
+OUT = pathlib.Path("results", "rolling")
+GALLERY = pathlib.Path("doc", "gallery")
 
 LAMBDA = 0.05      # m, corrugation wavelength (short-pitch rail corrugation: 30-80 mm)
 AMPLITUDE = 1e-4   # m, as the paper's a = 0.1 mm
@@ -50,14 +49,22 @@ def corrugation(path):
     return x, h
 
 
-def main():
-    OUT.mkdir(parents=True, exist_ok=True)
-    path = OUT / "corrugation.txt"
+def main(argv=None):
+    p = argparse.ArgumentParser(prog="vibroimpact rolling", description=__doc__.split("\n\n")[0],
+                                epilog=__doc__.split("\n\n", 1)[1], formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--out", type=pathlib.Path, default=OUT, metavar="DIR", help=f"output folder (default {OUT})")
+    p.add_argument("--gallery", action="store_true",
+                   help=f"also write a smaller copy of the figure to {GALLERY / 'rolling.png'}")
+    args = p.parse_args(argv)
+    out = args.out
+    fmu = str(fmu_path())
+    out.mkdir(parents=True, exist_ok=True)
+    path = out / "corrugation.txt"
     x, h = corrugation(path)
     runs = {}
     for name, f_pass in PASSING.items():
         V = f_pass * LAMBDA
-        runs[name] = (V, simulate_fmu(FMU, start_values=dict(contact_model=1, profile_file=str(path), V=V,
+        runs[name] = (V, simulate_fmu(fmu, start_values=dict(contact_model=1, profile_file=str(path.resolve()), V=V,
                                                              profile_periodic=True),
                                       stop_time=STOP, output_interval=INTERVAL, relative_tolerance=1e-10,
                                       output=OUTPUTS))
@@ -86,17 +93,18 @@ def main():
                          contact_fraction=float(np.mean(r["contact"])), F_min_kN=r["F"].min() / 1e3,
                          F_max_kN=r["F"].max() / 1e3, y_p2p_mm=np.ptp(r["y"]) * 1e3))
     fig.tight_layout()
-    fig.savefig(OUT / "rolling.png", dpi=110)
-    if "--gallery" in sys.argv[1:]:
-        fig.savefig(ROOT / "doc" / "gallery" / "rolling.png", dpi=60)
-    with open(OUT / "rolling.csv", "w", newline="") as f:
+    fig.savefig(out / "rolling.png", dpi=110)
+    if args.gallery:
+        GALLERY.mkdir(parents=True, exist_ok=True)
+        fig.savefig(GALLERY / "rolling.png", dpi=60)
+    with open(out / "rolling.csv", "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
     # the constraint's harmonics: one period of yb, sampled, Fourier amplitudes of orders 1-5
     s_per = np.linspace(0.0, LAMBDA, 512, endpoint=False)
     amp = 2 * np.abs(np.fft.rfft(profile_ref.yb(x, h, R1, s_per, periodic=True)))[1:6] / len(s_per)
-    with open(OUT / "constraint_harmonics.csv", "w", newline="") as f:
+    with open(out / "constraint_harmonics.csv", "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["order", "amplitude_um", "relative_to_first"])
         for k, a in enumerate(amp, start=1):
@@ -104,7 +112,3 @@ def main():
     print("harmonics of yb [um]: " + ", ".join(f"{k}: {a * 1e6:.3g}" for k, a in enumerate(amp, start=1)))
     for row in rows:
         print(", ".join(f"{k} {v:.4g}" if isinstance(v, float) else f"{k} {v}" for k, v in row.items()))
-
-
-if __name__ == "__main__":
-    main()

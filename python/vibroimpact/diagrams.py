@@ -1,35 +1,31 @@
-#!/usr/bin/env python3
 """Amplitude-frequency response and bifurcation diagrams of the paper's system (part of the main job).
 
-  python3 tools/sweep_diagrams.py [--workers N | --scheduler ADDRESS] [--gallery] [--quick]
+  vibroimpact diagrams [--workers N | --scheduler ADDRESS] [--out DIR] [--gallery] [--quick]
 
 Hertz and Johnson (Y = 6e8 Pa) contact with the paper's data (R* = 0.475 m, steel, P = 40 kN =
 10 m g), excitation frequency swept up and down as continuation sweeps (each point starts from the
 previous point's final state, the frequency changed at phase 0), at the paper's amplitude
-a = 0.1 mm and at a = 5 um, where the jump sits at the contact resonance. Writes, under
-results/sweeps/:
-  <law>_<amplitude>_<up|down>/   each sweep's sweep.csv, poincare.csv, sweep.json and PNGs (tools/sweep.py's files)
+a = 0.1 mm and at a = 5 um, where the jump sits at the contact resonance. Writes, under --out
+(default results/sweeps):
+  <law>_<amplitude>_<up|down>/   each sweep's sweep.csv, poincare.csv, sweep.json and PNGs (vibroimpact sweep's files)
   frequency_response.png         maximum/minimum force, largest separation, contact fraction against f
   bifurcation.png                the Poincare indentation (once per period after the transient) against f
   summary.csv                    per sweep: where the mass first leaves the platform, the largest force and flight
---gallery also writes smaller copies to doc/gallery/ (shown in the README). --quick: coarse grids.
+--gallery also writes smaller copies to doc/gallery/ (of the current folder). --quick: coarse grids.
 """
 import argparse
 import csv
-import os
 import pathlib
 import sys
 import time
 
 import numpy as np
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
-from vi_sweep import engine, plots, spec  # noqa: E402
+from .fmu import fmu_path
+from .sweep import engine, plots, spec
 
-ROOT = pathlib.Path(__file__).resolve().parent.parent
-FMU = os.environ.get("VI_FMU", str(ROOT / "build" / "VibroImpact.fmu"))
-OUT = ROOT / "results" / "sweeps"
-GALLERY = ROOT / "doc" / "gallery"
+OUT = pathlib.Path("results", "sweeps")
+GALLERY = pathlib.Path("doc", "gallery")
 
 PAPER = ["R1=0.475", "R2=0", "E1=2.1e11", "E2=2.1e11", "nu1=0.3", "nu2=0.3", "P=40000", "m=407.747", "g=9.81",
          "init=static"]
@@ -42,11 +38,11 @@ STOP_TIME, TRANSIENT, STEP = 0.1, 0.05, 1e-5  # per point [s]
 DIRECTIONS = [("up", "C0", "^"), ("down", "C1", "v")]
 
 
-def f_contact(interface, sets):
+def f_contact(fmu, interface, sets):
     """The FMU's calculated linearised contact resonance for these start values."""
     from fmpy import simulate_fmu
     values = {n: v for n, v in (spec.parse_set(interface, s) for s in sets)}
-    r = simulate_fmu(FMU, start_values=values, stop_time=1e-4, output_interval=1e-4, output=["f_contact"])
+    r = simulate_fmu(fmu, start_values=values, stop_time=1e-4, output_interval=1e-4, output=["f_contact"])
     return float(r["f_contact"][0])
 
 
@@ -63,19 +59,24 @@ def first_loss(cols, direction):
     return np.nan if not len(f) else (f.min() if direction == "up" else f.max())
 
 
-def main():
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--workers", type=int, default=None)
-    p.add_argument("--scheduler", default=None)
-    p.add_argument("--gallery", action="store_true")
-    p.add_argument("--quick", action="store_true")
-    args = p.parse_args()
-    interface = spec.Interface(FMU)
+def main(argv=None):
+    p = argparse.ArgumentParser(prog="vibroimpact diagrams", description=__doc__.split("\n\n")[0],
+                                epilog=__doc__.split("\n\n", 2)[2], formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--workers", type=int, default=None, metavar="N",
+                   help="worker processes of the local cluster (default: all cores)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS", help="a running Dask scheduler instead")
+    p.add_argument("--out", type=pathlib.Path, default=OUT, metavar="DIR", help=f"output folder (default {OUT})")
+    p.add_argument("--gallery", action="store_true", help=f"also write smaller copies of the figures to {GALLERY}/")
+    p.add_argument("--quick", action="store_true", help="coarse grids and a coarser step")
+    args = p.parse_args(argv)
+    fmu = str(fmu_path())
+    out_dir = args.out
+    interface = spec.Interface(fmu)
     if not interface.variables["f"].tunable:
-        print("sweep_diagrams: skipped: this FMU declares f fixed, and the continuation sweeps change it on a "
+        print("diagrams: skipped: this FMU declares f fixed, and the continuation sweeps change it on a "
               "running instance (f must be tunable)", file=sys.stderr)
         return
-    OUT.mkdir(parents=True, exist_ok=True)
+    out_dir.mkdir(parents=True, exist_ok=True)
     runs, t0 = {}, time.perf_counter()
     with engine.connect(workers=args.workers, scheduler=args.scheduler) as client:
         for amp, a, grid, grid_quick in AMPLITUDES:
@@ -83,20 +84,20 @@ def main():
                 sets = PAPER + law_sets + [f"a={a}"]
                 for direction, _, _ in DIRECTIONS:
                     sw = sweep_of(interface, sets, grid_quick if args.quick else grid, direction, args.quick)
-                    out = OUT / f"{law}_{amp}_{direction}"
-                    rows = engine.run(sw, interface, FMU, client=client, progress=False)
-                    engine.write(out, sw, rows, argv=["tools/sweep_diagrams.py"])
+                    out = out_dir / f"{law}_{amp}_{direction}"
+                    rows = engine.run(sw, interface, fmu, client=client, progress=False)
+                    engine.write(out, sw, rows, argv=["vibroimpact", "diagrams"])
                     plots.sweep_figures(out, sw)
                     runs[law, amp, direction] = engine.read(out)
-                    print(f"sweep_diagrams: {out.relative_to(ROOT)}: {len(rows)} points, "
+                    print(f"diagrams: {out}: {len(rows)} points, "
                           f"{sum(r['status'] != 'ok' for _, r in rows)} failed", flush=True)
     wall = time.perf_counter() - t0
-    fc = {law: f_contact(interface, PAPER + sets) for law, _, sets in LAWS}
-    figures = [save(draw_response(runs, fc), "frequency_response.png", args.gallery),
-               save(draw_bifurcation(runs, fc), "bifurcation.png", args.gallery)]
-    write_summary(runs)
-    print(f"sweep_diagrams: {sum(len(c['f']) for c, _ in runs.values())} points in {wall:.0f} s -> "
-          f"{', '.join(str(f.relative_to(ROOT)) for f in figures)}, results/sweeps/summary.csv")
+    fc = {law: f_contact(fmu, interface, PAPER + sets) for law, _, sets in LAWS}
+    figures = [save(draw_response(runs, fc), out_dir, "frequency_response.png", args.gallery),
+               save(draw_bifurcation(runs, fc), out_dir, "bifurcation.png", args.gallery)]
+    write_summary(runs, out_dir)
+    print(f"diagrams: {sum(len(c['f']) for c, _ in runs.values())} points in {wall:.0f} s -> "
+          f"{', '.join(str(f) for f in figures)}, {out_dir / 'summary.csv'}")
 
 
 def draw_response(runs, fc):
@@ -141,18 +142,18 @@ def draw_bifurcation(runs, fc):
     return fig
 
 
-def save(fig, name, gallery):
+def save(fig, out_dir, name, gallery):
     import matplotlib.pyplot as plt
-    fig.savefig(OUT / name, dpi=100)
+    fig.savefig(out_dir / name, dpi=100)
     if gallery:
         GALLERY.mkdir(parents=True, exist_ok=True)
         fig.savefig(GALLERY / f"sweep_{name}", dpi=75)
     plt.close(fig)
-    return OUT / name
+    return out_dir / name
 
 
-def write_summary(runs):
-    with open(OUT / "summary.csv", "w", newline="") as fh:
+def write_summary(runs, out_dir):
+    with open(out_dir / "summary.csv", "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["law", "amplitude", "direction", "points", "failed", "f_contact_lost_Hz",
                     "F_max_kN", "f_at_F_max_Hz", "sep_max_mm"])
@@ -161,7 +162,3 @@ def write_summary(runs):
             w.writerow([law, amp, direction, len(cols["f"]), sum(s != "ok" for s in cols["status"]),
                         first_loss(cols, direction),
                         f"{cols['F_max'][k] / 1e3:.1f}", cols["f"][k], f"{np.nanmax(cols['sep_max']) * 1e3:.3f}"])
-
-
-if __name__ == "__main__":
-    main()

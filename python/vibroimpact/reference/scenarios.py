@@ -1,11 +1,11 @@
-"""The paper's scenarios (Kowalska 2002, Figs. 4-6; ../shared/design/model.md section 5): one table.
+"""The paper's scenarios (Kowalska 2002, Figs. 4-6; doc/model.md section 4): one table.
 
 Every scenario starts in static equilibrium (init = static) at t = 0 and runs 0.1 s. Common to all:
 R* = 0.475 m (R1 = 0.475, R2 = 0: sphere on a plane), steel E1 = E2 = 2.1e11 Pa, nu = 0.3,
 P = 40 kN = 10 m g (m = P/(10 g) = 407.747 kg, g = 9.81), platform yC(t) = a (cos(2 pi f t) - 1)
 with a = 0.1 mm and f = 560 Hz, textbook yield formula, theta_Y = 1.1.
 
-What the paper leaves open, and what we chose (the README explains why):
+What the paper leaves open, and what is chosen here:
 - Fig. 5 (Hertz) names no frequencies, only "below", "close to" and "over" the contact resonance
   (267.19 Hz with g = 0; 271.5 Hz linearised at P + m g): 100 Hz, 267 Hz and 560 Hz.
 - Fig. 6 (LEPP) names no yield stress: Y = 6e8 Pa as in Figs. 4b/c. P = 10, 12, 13 m g with m fixed.
@@ -88,7 +88,7 @@ for _k, _fig in ((10, "fig6a"), (12, "fig6b"), (13, "fig6c")):
 # reference on them too.
 SCENARIOS["stick"] = Scenario(
     "Beyond the paper: stick (Johnson, paper unloading, Y = 2e8 Pa, f = 100 Hz)",
-    "not in the paper: the Filippov sliding mode of model.md section 3 (mass rides at delta = delta_c)",
+    "not in the paper: the Filippov sliding mode of doc/model.md section 3 (mass rides at delta = delta_c)",
     dict(contact_model=JOHNSON, Y=2e8, f=100.0), supplementary=True)
 SCENARIOS["continuous"] = Scenario(
     "Beyond the paper: Johnson, continuous unloading, Y = 6e8 Pa",

@@ -1,24 +1,24 @@
-#!/usr/bin/env python3
-"""Where W_plastic < 0 after a Johnson yield, from the closed forms (README, "The model in brief").
+"""Where W_plastic < 0 after a Johnson yield, from the closed forms (doc/model.md).
 
-Usage: python3 tools/wplastic.py [--Y Y]   (default Y = 6e8 Pa, the paper's Fig. 4b data)
+    vibroimpact wplastic [--Y Y]      (default Y = 6e8 Pa, the paper's Fig. 4b data)
+
 Prints, for paper and continuous unloading, the largest delta_c/delta_Y with W_plastic < 0 and the
-most negative W_plastic (J and in units of F_Y delta_Y). The closed form is the one
-fmu-test/test_laws.py checks the FMU against."""
-import pathlib
-import sys
+most negative W_plastic (J and in units of F_Y delta_Y). The closed form
+(vibroimpact.reference.closed_forms) is the one fmu-test/test_laws.py checks the FMU against.
+"""
+import argparse
 
 import numpy as np
 from scipy.optimize import brentq
 
-sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent.parent / "fmu-test"))
-from conftest import effective  # noqa: E402
-from test_laws import w_plastic_closed_form  # noqa: E402
+from .reference.closed_forms import effective, w_plastic_closed_form
 
 
-def main():
-    args = sys.argv[1:]
-    Y = float(args[args.index("--Y") + 1]) if "--Y" in args else 6e8
+def main(argv=None):
+    p = argparse.ArgumentParser(prog="vibroimpact wplastic", description=__doc__.split("\n\n")[0],
+                                epilog=__doc__.split("\n\n", 2)[2], formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--Y", type=float, default=6e8, help="yield stress [Pa] (default 6e8)")
+    Y = p.parse_args(argv).Y
     e = effective(dict(Y=Y))
     unit = e["F_Y"] * e["delta_Y"]
     print(f"Y = {Y:g} Pa: F_Y = {e['F_Y']:.6g} N, delta_Y = {e['delta_Y']:.6g} m, F_Y delta_Y = {unit:.6g} J")
@@ -30,7 +30,3 @@ def main():
         i = int(np.argmin(w))
         print(f"{name:10s}: W_plastic < 0 for delta_c < {r_zero:.4f} delta_Y; most negative {w[i]:.4g} J "
               f"= {w[i] / unit:.4f} F_Y delta_Y at delta_c = {grid[i]:.3f} delta_Y")
-
-
-if __name__ == "__main__":
-    main()

@@ -1,8 +1,9 @@
 """What runs on a Dask worker: the plugin that brings the FMU there, and the task that runs one chain.
 
-The client sends this package to the scheduler and the workers with Client.upload_file (a zip of
-tools/vi_sweep), so a worker needs fmpy, numpy and distributed, not this repository. This module and
-point.py import nothing else from the package (the scheduler imports them to read the task graph).
+The client sends this code to the scheduler and the workers with Client.upload_file
+(engine.package_zip), so a worker needs fmpy, numpy and distributed, not this repository. This module
+and point.py import nothing from the package but vibroimpact.fmu, which imports fmpy only when used
+(the scheduler imports them to read the task graph).
 """
 import hashlib
 import os

@@ -17,8 +17,8 @@ REAL, INTEGER, BOOLEAN, STRING = "Real", "Integer", "Boolean", "String"
 _KIND = {"Real": REAL, "Integer": INTEGER, "Enumeration": INTEGER, "Boolean": BOOLEAN, "String": STRING}
 _SETTABLE = {"parameter", "input"}
 _TRUE, _FALSE = {"true", "1", "yes", "on"}, {"false", "0", "no", "off"}
-# "name=value" pairs in a description (contract C8: an enumeration turned Integer for libcosim keeps its
-# item names there, e.g. "contact law: hertz=1, johnson=2, lepp=3").
+# "name=value" pairs in a description: an enumeration declared as an Integer (as for libcosim) can keep
+# its item names there, e.g. "contact law: hertz=1, johnson=2, lepp=3".
 _ITEM_PAIR = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)\s*=\s*(-?\d+)")
 
 

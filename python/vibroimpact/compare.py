@@ -1,31 +1,22 @@
-#!/usr/bin/env python3
-"""Run the FMU on every scenario and compare it with the committed reference (reference/data/).
+"""The FMU on every scenario against the committed reference traces (vibroimpact/reference/data/).
 
-Usage: python3 fmu-test/compare_reference.py [--rtol R] [--solver S]   (prints the table quoted in the README)
-  --rtol R    run the FMU at relative tolerance R instead of RTOL_FMU (e.g. 1e-6, the FMU's default)
-  --solver S  the FMU's `solver` value (1 bdf, 2 adams, 3 dop853; default: the FMU's default)
+    vibroimpact compare [--rtol R] [--solver S]      prints a Markdown table, one row per scenario
 
 The FMU runs at RTOL_FMU = 1e-11, the tolerance of the reference trace, through FMU2Slave: one
 doStep per reference sample, with logEvents on so that every mode change inside a step is recorded
-with its exact time. test_paper.py asserts on the figures compare() returns.
+with its exact time. The tests (fmu-test/test_paper.py) assert on the figures compare() returns.
 """
+import argparse
 import csv
 import gzip
 import json
-import pathlib
-import sys
 
 import numpy as np
-from fmpy import extract, read_model_description
 
-HERE = pathlib.Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))
-sys.path.insert(0, str(HERE / "reference"))
-from conftest import FMU, Logged, start  # noqa: E402
-from generate import EPS_Y, RTOL_TRUE, horizon, transitions  # noqa: E402
-from scenarios import SCENARIOS, STOP_TIME  # noqa: E402
+from .fmu import Logged, fmu_path, initialize
+from .reference.generate import DATA, RTOL_TRUE, horizon, transitions
+from .reference.scenarios import SCENARIOS
 
-DATA = HERE / "reference" / "data"
 SUMMARY = json.loads((DATA / "summary.json").read_text())
 RTOL_FMU = 1e-11
 EVENT_DT = 1e-6  # s: event times are compared up to the horizon minus this
@@ -61,9 +52,11 @@ def fmu_events(messages):
 class Runner:
     """Simulates scenarios with the FMU on the reference's sample grid."""
 
-    def __init__(self, fmu_path=FMU, unzipdir=None):
-        self.md = read_model_description(str(fmu_path))
-        self.unzipdir = unzipdir or extract(str(fmu_path))
+    def __init__(self, fmu=None, unzipdir=None):
+        from fmpy import extract, read_model_description
+        fmu = str(fmu or fmu_path())
+        self.md = read_model_description(fmu)
+        self.unzipdir = unzipdir or extract(fmu)
         self.vr = {v.name: v.valueReference for v in self.md.modelVariables}
 
     def run(self, name, t, rtol=RTOL_FMU, solver=None):
@@ -73,7 +66,7 @@ class Runner:
         s, vr = inst.instantiate(logging=True), self.vr
         s.setDebugLogging(True, ["logEvents"])
         params = {**SCENARIOS[name].full, **({} if solver is None else {"solver": solver})}
-        start(s, vr, params, tolerance=rtol, start_time=float(t[0]), stop_time=float(t[-1]))
+        initialize(s, vr, params, tolerance=rtol, start_time=float(t[0]), stop_time=float(t[-1]))
         reals, integers = [vr[n] for n in REALS], [vr[n] for n in INTEGERS]
         out = np.empty((len(t), len(REALS) + len(INTEGERS)))
         for k in range(len(t)):
@@ -114,7 +107,19 @@ def compare(name, runner, rtol=RTOL_FMU, solver=None):
         fmu=fmu, ref=ref)
 
 
-def main(rtol, solver):
+def parser():
+    p = argparse.ArgumentParser(prog="vibroimpact compare", description=__doc__.split("\n\n")[0],
+                                epilog=__doc__.split("\n\n", 2)[2], formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--rtol", type=float, default=RTOL_FMU,
+                   help=f"the FMU's relative tolerance (default {RTOL_FMU:g}; the FMU's own default is 1e-6)")
+    p.add_argument("--solver", type=int, default=None, help="the FMU's `solver` value: 1 bdf, 2 adams, 3 dop853 "
+                   "(default: the FMU's default)")
+    return p
+
+
+def main(argv=None):
+    a = parser().parse_args(argv)
+    rtol, solver = a.rtol, a.solver
     runner = Runner()
     print(f"FMU at rtol {rtol:g} (solver {solver or 'default'}), reference at rtol {RTOL_TRUE:g}\n")
     print("| scenario | horizon [ms] | FMU within 0.1 um until [ms] | max abs(y - y_ref) [m] | max abs(F - F_ref)/max F "
@@ -125,9 +130,3 @@ def main(rtol, solver):
         same = "same" if c["events_fmu"] == c["events_ref"] else "DIFFERENT"
         print(f"| {name} | {1e3 * c['horizon']:.1f} | {1e3 * c['agrees_until']:.1f} | {c['dy']:.1e} | {c['dF_rel']:.1e} "
               f"| {len(c['events_ref'])} ({same}) | {c['event_dt']:.1e} | {c['n_impacts']} / {c['n_impacts_ref']} |")
-
-
-if __name__ == "__main__":
-    args = sys.argv[1:]
-    main(float(args[args.index("--rtol") + 1]) if "--rtol" in args else RTOL_FMU,
-         int(args[args.index("--solver") + 1]) if "--solver" in args else None)

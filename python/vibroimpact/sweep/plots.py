@@ -1,6 +1,6 @@
 """Figures from the sweep's CSV files: the response against the first grid variable (maximum and
 minimum force, largest separation, contact fraction) and the bifurcation diagram (the Poincare
-indentation). sweep_figures draws one sweep; the draw_* functions are what tools/sweep_diagrams.py
+indentation). sweep_figures draws one sweep; the draw_* functions are what vibroimpact.diagrams
 combines into the up/down, Hertz/Johnson figures."""
 import os
 
