@@ -169,6 +169,9 @@ typedef struct {
     /* The importer completed an integrator step at the current state: 1 to ask for an event now,
      * else 0. */
     int (*completed_step)(void *m);
+    /* Optional: continuous-time mode begins (fmi2EnterContinuousTimeMode); inputs set after the last
+     * pass of the event iteration act from now on as continuous-time inputs do. */
+    void (*enter_continuous)(void *m);
     /* Directional derivative at the current point: dunknown = J dknown, J the partial derivatives
      * of the unknowns (state derivatives and outputs, value references) with respect to the knowns
      * (states and inputs, value references). 0, or -1 naming the first pair it cannot give. */

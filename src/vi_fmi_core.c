@@ -864,6 +864,7 @@ vi_status vi_core_enter_continuous_mode(void *instance, const char *fn)
 {
     ENTER(VI_CALL_ENTER_CONTINUOUS_MODE);
     ME_ARGS(NULL, 0, 0, "");
+    if (MODEL->enter_continuous) MODEL->enter_continuous(c->model);
     c->state = VI_ST_CONTINUOUS;
     c->event_passes = 0;
     return VI_STATUS_OK;

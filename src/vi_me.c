@@ -224,6 +224,12 @@ int vi_me_event_update(vi_me *e, vi_me_event *ev)
     return 0;
 }
 
+void vi_me_enter_continuous(vi_me *e)
+{
+    e->s.d.inputs_changed = 0;
+    sync(e);
+}
+
 int vi_me_completed_step(vi_me *e)
 {
     vi_sim_data *d = &e->s.d;
