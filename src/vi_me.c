@@ -262,8 +262,15 @@ int vi_me_checkpoint(vi_me *e)
 {
     sync(e);
     if (e->active) {
-        double x[2] = {e->s.d.x[0], e->s.d.x[1]};
-        vi_model_freeze(&e->s.d.M, e->s.d.t, x); /* the memory of the current state (not the state) */
+        vi_sim_data *d = &e->s.d;
+        double x[2] = {d->x[0], d->x[1]};
+        vi_model_freeze(&d->M, d->t, x); /* the memory of the current state (not the state) */
+        /* the model's own solver does not run in Model Exchange: start it at the current point, so
+         * that its continuation (dop853) belongs to the state saved */
+        if (e->s.solver && vi_solver_reset(e->s.solver, d->t, d->x) < 0) {
+            snprintf(e->s.msg, sizeof e->s.msg, "could not restart the solver at t = %.17g s", d->t);
+            return -1;
+        }
     }
     return vi_sim_checkpoint(&e->s);
 }

@@ -244,7 +244,7 @@ def run(stop_time=parameters.STOP_TIME, profile=None, excitation=None, rtol=1e-1
         Xg = np.empty((n + 1, len(s.X0)))
         Fg = np.empty(n + 1)
         t, X, k = 0.0, s.X0.copy(), 0
-        n_events = n_time_events = 0
+        event_times, n_time_events = [], 0
         start = time.process_time()
         for _ in range(MAX_SEGMENTS):  # bounded: every span ends at an event, a time event or span later
             if t >= stop_time:
@@ -263,7 +263,7 @@ def run(stop_time=parameters.STOP_TIME, profile=None, excitation=None, rtol=1e-1
             if sol.status == 1:  # a state event: located by solve_ivp, handled by the FMUs
                 s.connect(t, X)
                 s.t_next = s.event_iteration()
-                n_events += 1
+                event_times.append(t)
             elif t >= s.t_next or s.completed(t, X):  # a time event (a kink of the profile), or asked for
                 s.connect(t, X)
                 s.t_next = s.event_iteration()
@@ -272,7 +272,8 @@ def run(stop_time=parameters.STOP_TIME, profile=None, excitation=None, rtol=1e-1
         else:
             raise RuntimeError("too many spans")
         cpu = time.process_time() - start
-        return dict(t=tg, X=Xg, F=Fg, cpu=cpu, n_rhs=s.n_rhs, n_events=n_events, n_time_events=n_time_events,
+        return dict(t=tg, X=Xg, F=Fg, cpu=cpu, n_rhs=s.n_rhs, n_events=len(event_times), event_times=event_times,
+                    n_time_events=n_time_events,
                     contact_messages=s.C.log.texts())
     finally:
         s.free()
@@ -329,8 +330,10 @@ def main():
         m = compare(r, sol, system)
         rows.append((f"Model Exchange, one solver ({a.method}, rtol {rtol:g})", m["force_error"],
                      m["mean_force_error"], f"{m['energy_residual_rel']:.1e} (balance)", r["cpu"]))
-        print(f"ME rtol {rtol:g}: {r['n_events']} state events, {r['n_time_events']} time events, {r['n_rhs']} "
-              f"right-hand sides; y within {m['y_error_m']:.1e} m; energy balance {m['energy_residual_J']:.1e} J")
+        print(f"ME rtol {rtol:g}: state events at {', '.join(f'{t:.9f}' for t in r['event_times'])} s "
+              f"(reference: {', '.join(f'{t:.9f}' for t, _ in sol.events)} s), {r['n_time_events']} time events, "
+              f"{r['n_rhs']} right-hand sides; y within {m['y_error_m']:.1e} m; energy balance "
+              f"{m['energy_residual_J']:.1e} J")
     if not a.no_cosim:
         import study
         for label, scheme, order, rail, force in study.COUPLINGS:
