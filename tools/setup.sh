@@ -30,17 +30,7 @@ need_cargo() { CARGO_PKGS+=("$@"); }
 #   need_apt gcc-mingw-w64-x86-64
 #   need_pip some-package
 #   need_cargo some-program=some-crate
-# ------------------------------------------------------------------------------------------------------
-
-# ---- fmi-sim: the Rust FMI simulator, the second importer of the Model Exchange tests -----------------
-# (fmu-test/test_me_fmisim.py). cargo from the PATH or ~/.cargo/bin (rustup's place); without one,
-# rustup's installer puts a minimal current toolchain there (Debian 12's cargo is too old for fmi-sim).
-need_cargo fmi-sim=fmi-sim
-install_rust() {
-  command -v curl >/dev/null || apt_install curl ca-certificates
-  echo "setup: rustup (minimal toolchain) into ~/.cargo"
-  curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh -s -- -y --quiet --profile minimal --no-modify-path >/dev/null
-}
+need_cargo fmi-sim=fmi-sim # the Rust FMI simulator: the second importer of the Model Exchange and FMI 3.0 tests
 # ------------------------------------------------------------------------------------------------------
 
 # ---- apt ----------------------------------------------------------------------------------------------
@@ -60,6 +50,13 @@ apt_install() {
   fi
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 }
+# cargo: the one on the PATH or in ~/.cargo/bin (rustup's place); without one, rustup's installer puts a
+# minimal current toolchain there (Debian 12's cargo is too old for the crates above), curl from apt
+NEED_RUSTUP=""
+if [ ${#CARGO_PKGS[@]} -gt 0 ] && ! command -v cargo >/dev/null; then
+  for entry in "${CARGO_PKGS[@]}"; do command -v "${entry%%=*}" >/dev/null || NEED_RUSTUP=1; done
+  [ -z "$NEED_RUSTUP" ] || need_apt curl ca-certificates
+fi
 apt_install "${APT_PKGS[@]}"
 
 # ---- the interpreter ----------------------------------------------------------------------------------
@@ -123,8 +120,11 @@ EOF
 fi
 
 # ---- cargo --------------------------------------------------------------------------------------------
+if [ -n "$NEED_RUSTUP" ]; then
+  echo "setup: rustup (minimal toolchain) into ~/.cargo"
+  curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh -s -- -y --quiet --profile minimal --no-modify-path >/dev/null
+fi
 for entry in "${CARGO_PKGS[@]}"; do
-  command -v "${entry%%=*}" >/dev/null || command -v cargo >/dev/null || install_rust
   program=${entry%%=*} crate=${entry#*=}
   if ! command -v "$program" >/dev/null; then
     echo "setup: cargo install $crate"

@@ -15,6 +15,7 @@ COMMANDS = {
     "me-cost": ("me", "main", "Model Exchange in fmpy against co-simulation: error and CPU time (doc/model-exchange.md)"),
     "reference": ("reference.generate", "main", "regenerate the reference traces from the independent model"),
     "wplastic": ("wplastic", "main", "where the plastic work is negative after a Johnson yield (closed forms)"),
+    "fmi3": ("fmi3_report", "main", "the FMI 3.0 FMU's early returns on every scenario against the reference (a table)"),
     "path": (None, None, "print the path of the FMU the commands use (vibroimpact.fmu_path())"),
 }
 
