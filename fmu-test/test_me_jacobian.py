@@ -17,7 +17,7 @@ import ctypes
 import numpy as np
 import pytest
 
-from compare_reference import SCENARIOS
+from vibroimpact.reference.scenarios import SCENARIOS
 from me_run import MeInstance
 
 KNOWNS = ["y", "v", "yC_in", "F_ext"]

@@ -114,9 +114,9 @@ FLYING = dict(contact_model=1, P=0.0, g=0.0, init=2, v0=1.0, a=1e-4, f=100.0)
 
 
 def test_negative_frequency_while_running_is_refused_and_the_run_goes_on_with_the_old_one(logged, vr):
-    """f = -1 set between steps: fmi2SetReal refuses it (it used to return fmi2OK, and the next
-    fmi2DoStep failed and ended the instance); f keeps its value and the run continues exactly like a
-    run in which nobody tried."""
+    """f = -1 set between steps: fmi2SetReal refuses it (rather than accepting it and letting the next
+    fmi2DoStep fail and end the instance); f keeps its value and the run continues exactly like a run
+    in which nobody tried."""
     inst, ref = logged(), logged()
     s, r = inst.instantiate(), ref.instantiate()
     start(s, vr, FLYING)

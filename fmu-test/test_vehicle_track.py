@@ -150,7 +150,8 @@ def test_vehicle_wheel_inputs_feed_through_and_energy_balances():
     works on the body's transient."""
     md = read_model_description(str(VEHICLE))
     deps = {u.variable.name: sorted(d.name for d in (u.dependencies or [])) for u in md.outputs}
-    assert deps["F_wheel"] == ["v_wheel", "y_wheel"] and deps["z_body"] == []
+    # the inputs at once (and, in Model Exchange, the states z_body, v_body)
+    assert deps["F_wheel"] == ["v_body", "v_wheel", "y_wheel", "z_body"] and deps["z_body"] == ["z_body"]
     v, h = 0.01, 1e-3
     r = run_vehicle(lambda t: v * max(t - h, 0.0), lambda t: v if t > h / 2 else 0.0, 1.0, h)
     balance = r["E"] + r["W_dissipated"] - r["W_in"] - r["E"][0]

@@ -141,7 +141,7 @@ struct vi_core {
     unsigned face_options; /* the face's own settings of the instance (not in FMU states) */
     /* Model Exchange */
     double t_committed; /* the last event or completed integrator step: time never goes back before it */
-    int event_passes;   /* passes of the discrete-state iteration at the current event */
+    int event_passes;   /* passes in a row of the discrete-state iteration that asked for another one */
 };
 
 /* ---- logging and the state machine (for the faces' own calls) ---- */
@@ -211,15 +211,16 @@ double vi_core_time(const vi_core *c);
  * the last event or completed integrator step (going further back needs an FMU state). States and
  * time must be finite; a call in a state the standard does not allow it in is refused with the
  * state named. Array lengths must be the model's numbers of states and event indicators. */
-/* At most this many passes of the discrete-state iteration at one event; then the mode does not
- * settle and the instance goes into the error state. */
+/* At most this many passes of the discrete-state iteration in a row may ask for another one; then
+ * the discrete states do not settle and the instance goes into the error state. */
 #define VI_MAX_EVENT_PASSES 100
 /* Event indicators a face may read one by one (indicator_vr_base). */
 #define VI_MAX_INDICATORS 64
 /* Model Exchange: continuous-time mode -> Event Mode; Co-Simulation with Event Mode (FMI 3.0): Step
  * Mode -> Event Mode. */
 vi_status vi_core_enter_event_mode(void *instance, const char *fn);
-/* One pass (the model's event_update); *ev as the model filled it. */
+/* One pass (the model's event_update); *ev as the model filled it. When the model asks to terminate, its
+ * reason is logged as a warning whatever is enabled. */
 vi_status vi_core_new_discrete_states(void *instance, const char *fn, vi_fmu_event *ev);
 vi_status vi_core_enter_continuous_mode(void *instance, const char *fn);
 /* *enter_event: the model asks for an event now; *terminate: always 0 (the model asks at events). */

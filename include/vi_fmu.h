@@ -142,7 +142,9 @@ typedef struct {
     const char *(*message)(const void *m);
 
     /* ---- Model Exchange (optional: a model with n_states = 0 offers Co-Simulation only, and its
-     * modelDescription.xml has no <ModelExchange>; with n_states > 0 every hook below is required).
+     * modelDescription.xml has no <ModelExchange>; with n_states > 0 every hook below is required,
+     * but `indicators` when n_indicators = 0 and `directional_derivative`, whose absence the XML
+     * declares with providesDirectionalDerivative="false").
      * The importer integrates x' = f(t, x, u); the model keeps its mode, memory and time. The layer
      * has checked every argument: states and time finite, the call allowed in the FMI state. ---- */
     int n_states;     /* continuous states (numberOfContinuousStates) */

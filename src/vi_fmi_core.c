@@ -934,16 +934,21 @@ vi_status vi_core_new_discrete_states(void *instance, const char *fn, vi_fmu_eve
     ME_ARGS(NULL, 0, 0, "");
     if (!ev) return vi_core_refuse(c, "%s: fmi2EventInfo is NULL", fn);
     memset(ev, 0, sizeof *ev);
-    if (++c->event_passes > VI_MAX_EVENT_PASSES) {
-        LOG_ERROR(c, "%s: the mode does not settle at t = %.17g s: %d passes of the event iteration, each leaving the "
-                     "state inconsistent with its mode (chattering); stopped", fn, MODEL->time(c->model),
-                  VI_MAX_EVENT_PASSES);
+    if (MODEL->event_update(c->model, ev) < 0) return vi_core_fail(c, fn);
+    c->event_passes = ev->another_pass ? c->event_passes + 1 : 0;
+    if (c->event_passes >= VI_MAX_EVENT_PASSES) {
+        LOG_ERROR(c, "%s: the discrete states do not settle at t = %.17g s: %d passes of the event iteration in a row "
+                     "each asked for another one (the state stays inconsistent with its mode: chattering); stopped",
+                  fn, MODEL->time(c->model), VI_MAX_EVENT_PASSES);
         c->state = VI_ST_ERROR;
         return VI_STATUS_ERROR;
     }
-    if (MODEL->event_update(c->model, ev) < 0) return vi_core_fail(c, fn);
     if (ev->next_time_defined && !(ev->next_time > MODEL->time(c->model))) ev->next_time_defined = 0;
-    if (ev->terminate) vi_core_log(c, VI_STATUS_WARNING, VI_CAT_WARNING, "%s: %s", fn, MODEL->message(c->model));
+    if (ev->terminate && c->cb.logger) { /* why the run ends: logged whatever is enabled */
+        char text[1024];
+        snprintf(text, sizeof text, "%s: terminateSimulation: %s", fn, MODEL->message(c->model));
+        c->face->emit(c, VI_STATUS_WARNING, category_name(c, VI_CAT_WARNING), text);
+    }
     c->t_committed = MODEL->time(c->model);
     return VI_STATUS_OK;
 }
@@ -1017,6 +1022,7 @@ vi_status vi_core_get_event_indicators(void *instance, const char *fn, double z[
 {
     ENTER(VI_CALL_GET_EVENT_INDICATORS);
     ME_ARGS(z, n, (size_t)MODEL->n_indicators, "event indicators");
+    if (n == 0) return VI_STATUS_OK;
     if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) return vi_core_refuse(c, "%s: %s", fn, MODEL->message(c->model));
     MODEL->indicators(c->model, z);
     return VI_STATUS_OK;
@@ -1043,9 +1049,9 @@ vi_status vi_core_directional_derivative(void *instance, const char *fn, const u
                                          double dunknown[])
 {
     ENTER(VI_CALL_DIRECTIONAL_DERIVATIVE);
-    if (c->kind != VI_KIND_ME)
-        return vi_core_refuse(c, "%s: provided in Model Exchange only (the Co-Simulation interface declares "
-                                 "providesDirectionalDerivative=false)", fn);
+    if (c->kind != VI_KIND_ME || !MODEL->directional_derivative)
+        return vi_core_refuse(c, "%s: not provided (providesDirectionalDerivative=false%s)", fn,
+                              c->kind != VI_KIND_ME ? " in Co-Simulation" : "");
     if ((n_unknown > 0 && (!unknown || !dunknown)) || (n_known > 0 && (!known || !dknown)))
         return vi_core_refuse(c, "%s: NULL array", fn);
     for (size_t i = 0; i < n_unknown; i++) {

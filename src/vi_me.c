@@ -10,22 +10,33 @@ static double rtol_of(const vi_sim_data *d) { return d->tolerance > 0.0 ? d->tol
 
 static double platform(const vi_model *M, double t) { return vi_model_platform(M, t, NULL, NULL); }
 
-/* Bring the model in step with the importer's time, states and inputs: inputs that changed since the
- * last call take effect now (the memory is written down first at the state before the change, as
- * for an input change in co-simulation; the mass stays where it is), and delta = yC(t) - y. */
-static void sync(vi_me *e)
+/* Inputs that changed since they were last taken act from now on (the memory is written down first at
+ * the state before the change, as for an input change in co-simulation; the mass stays where it
+ * is, so delta moves with the platform). The state itself is the importer's: x is a copy. */
+static void take_inputs(vi_me *e, double x[2])
 {
     vi_sim_data *d = &e->s.d;
     vi_model *M = &d->M;
+    if (d->in.yC_in == M->yC_in.u && d->in.F_ext == M->F_ext.u && M->yC_in.du == 0.0 && M->F_ext.du == 0.0) return;
+    vi_model_freeze(M, d->t, x);
+    M->yC_in = (vi_ramp){d->in.yC_in, 0.0, d->t};
+    M->F_ext = (vi_ramp){d->in.F_ext, 0.0, d->t};
+    x[0] = platform(M, d->t) - e->y;
+}
+
+/* Bring the model in step with the importer's time, states and inputs: delta = yC(t) - y. Inputs set
+ * in continuous-time mode act at once; inputs set in event mode (d->inputs_changed, from the layer's
+ * `changed`) wait for the event iteration, which applies them as a jump. */
+static void sync(vi_me *e)
+{
+    vi_sim_data *d = &e->s.d;
     e->s.out_valid = 0;
     if (!e->active) return;
-    if (d->in.yC_in != M->yC_in.u || d->in.F_ext != M->F_ext.u || M->yC_in.du != 0.0 || M->F_ext.du != 0.0) {
-        double x[2] = {platform(M, d->t) - e->y, d->x[1]};
-        vi_model_freeze(M, d->t, x); /* the memory only: the state is the importer's */
-        M->yC_in = (vi_ramp){d->in.yC_in, 0.0, d->t};
-        M->F_ext = (vi_ramp){d->in.F_ext, 0.0, d->t};
+    if (!d->inputs_changed) {
+        double x[2] = {platform(&d->M, d->t) - e->y, d->x[1]};
+        take_inputs(e, x);
     }
-    d->x[0] = platform(M, d->t) - e->y;
+    d->x[0] = platform(&d->M, d->t) - e->y;
 }
 
 /* How much each guard moves under rounding (one ulp of t with y fixed, of y and of v: ulps[i]) and
@@ -151,7 +162,8 @@ int vi_me_event_update(vi_me *e, vi_me_event *ev)
     }
     if (d->inputs_changed || vi_model_excitation_differs(M, d->par.a, d->par.f)) { /* set in event mode */
         d->inputs_changed = 0;
-        vi_model_freeze(M, t, x);
+        vi_model_freeze(M, t, x); /* the memory of the state before the jump */
+        take_inputs(e, x);
         /* a new a moves the platform (delta with it), the mass stays */
         vi_model_set_excitation(M, t, x, d->par.a, d->par.f);
         if (vi_model_resolve(M, t, x) != from)

@@ -30,6 +30,7 @@ need_cargo() { CARGO_PKGS+=("$@"); }
 #   need_apt gcc-mingw-w64-x86-64
 #   need_pip some-package
 #   need_cargo some-program=some-crate
+need_cargo fmi-sim=fmi-sim # the Rust FMI simulator: the second importer of the Model Exchange and FMI 3.0 tests
 # ------------------------------------------------------------------------------------------------------
 
 # ---- apt ----------------------------------------------------------------------------------------------
@@ -49,7 +50,13 @@ apt_install() {
   fi
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 }
-[ ${#CARGO_PKGS[@]} -eq 0 ] || command -v cargo >/dev/null || need_apt cargo
+# cargo: the one on the PATH or in ~/.cargo/bin (rustup's place); without one, rustup's installer puts a
+# minimal current toolchain there (Debian 12's cargo is too old for the crates above), curl from apt
+NEED_RUSTUP=""
+if [ ${#CARGO_PKGS[@]} -gt 0 ] && ! command -v cargo >/dev/null; then
+  for entry in "${CARGO_PKGS[@]}"; do command -v "${entry%%=*}" >/dev/null || NEED_RUSTUP=1; done
+  [ -z "$NEED_RUSTUP" ] || need_apt curl ca-certificates
+fi
 apt_install "${APT_PKGS[@]}"
 
 # ---- the interpreter ----------------------------------------------------------------------------------
@@ -113,6 +120,10 @@ EOF
 fi
 
 # ---- cargo --------------------------------------------------------------------------------------------
+if [ -n "$NEED_RUSTUP" ]; then
+  echo "setup: rustup (minimal toolchain) into ~/.cargo"
+  curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh -s -- -y --quiet --profile minimal --no-modify-path >/dev/null
+fi
 for entry in "${CARGO_PKGS[@]}"; do
   program=${entry%%=*} crate=${entry#*=}
   if ! command -v "$program" >/dev/null; then

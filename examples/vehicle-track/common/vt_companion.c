@@ -182,6 +182,7 @@ int vt_restore(void *m, int running)
 {
     vt_instance *I = m;
     if (!running) return 0; /* fmi2ExitInitializationMode creates the solver */
+    if (running == VI_FMU_RUNNING_ME) return 0; /* the importer integrates */
     if (!I->solver && create_solver(I) < 0) return -1;
     core(I)->solver_stale = 1;
     return 0;

@@ -133,6 +133,9 @@ static void outputs(const void *data, void *out)
     omegas(p, &w1, &w2);
     o->f1 = w1 / VT_TWO_PI;
     o->f2 = w2 / VT_TWO_PI;
+    double dx[N_TRACK];
+    rhs(d->core.t, x, dx, d);
+    o->der_z_rail = dx[ZR], o->der_v_rail = dx[VR], o->der_z_sleeper = dx[ZS], o->der_v_sleeper = dx[VS];
 }
 
 static const vt_model_def track_def = {
@@ -146,4 +149,8 @@ static const vt_model_def track_def = {
     .step_done = step_done,
 };
 
-VT_DEFINE_FMU(track_def, track_data);
+/* Model Exchange: the states and their derivatives, in the order of x. */
+static const unsigned state_vrs[N_TRACK] = {VI_VR_z_rail, VI_VR_v_rail, VI_VR_z_sleeper, VI_VR_v_sleeper};
+static const unsigned derivative_vrs[N_TRACK] = {VI_VR_der_z_rail, VI_VR_der_v_rail, VI_VR_der_z_sleeper, VI_VR_der_v_sleeper};
+
+VT_DEFINE_FMU(track_def, track_data, N_TRACK, state_vrs, derivative_vrs);

@@ -31,7 +31,11 @@
   X(W_in, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "J", "work done on the rail by the input force so far: integral of -F_contact v_rail dt") \
   X(k_static, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "N/m", "static stiffness at the rail, 1/(1/k_pad + 1/k_ballast)") \
   X(f1, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "Hz", "lower undamped natural frequency of the track (rail and sleeper in phase)") \
-  X(f2, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "Hz", "upper undamped natural frequency of the track (rail against sleeper)")
+  X(f2, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "Hz", "upper undamped natural frequency of the track (rail against sleeper)") \
+  X(der_z_rail, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s", "Model Exchange: the time derivative of the state z_rail") \
+  X(der_v_rail, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s2", "Model Exchange: the time derivative of the state v_rail") \
+  X(der_z_sleeper, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s", "Model Exchange: the time derivative of the state z_sleeper") \
+  X(der_v_sleeper, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s2", "Model Exchange: the time derivative of the state v_sleeper")
 
 #define VI_ENUMERATIONS(E)
 

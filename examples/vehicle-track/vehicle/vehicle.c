@@ -118,6 +118,9 @@ static void outputs(const void *data, void *out)
     o->W_dissipated = x[WD];
     o->W_in = d->W_in;
     o->f_body = sqrt(p->k_susp / p->m_body) / VT_TWO_PI;
+    double dx[N_VEHICLE];
+    rhs(d->core.t, x, dx, d);
+    o->der_z_body = dx[ZB], o->der_v_body = dx[VB], o->der_W_dissipated = dx[WD];
 }
 
 static const vt_model_def vehicle_def = {
@@ -131,4 +134,8 @@ static const vt_model_def vehicle_def = {
     .step_done = step_done,
 };
 
-VT_DEFINE_FMU(vehicle_def, vehicle_data);
+/* Model Exchange: the states and their derivatives, in the order of x. */
+static const unsigned state_vrs[N_VEHICLE] = {VI_VR_z_body, VI_VR_v_body, VI_VR_W_dissipated};
+static const unsigned derivative_vrs[N_VEHICLE] = {VI_VR_der_z_body, VI_VR_der_v_body, VI_VR_der_W_dissipated};
+
+VT_DEFINE_FMU(vehicle_def, vehicle_data, N_VEHICLE, state_vrs, derivative_vrs);

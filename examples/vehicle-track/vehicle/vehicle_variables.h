@@ -27,7 +27,10 @@
   X(E, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "J", "stored energy: kinetic energy of the sprung mass, elastic energy of the spring about its static load, and the potential m_body g y_wheel") \
   X(W_dissipated, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "J", "work dissipated in the suspension damper so far") \
   X(W_in, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "J", "work done on the vehicle by the wheel motion so far: integral of -F_wheel v_wheel dt") \
-  X(f_body, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "Hz", "undamped natural frequency of the sprung mass on the suspension, wheel held")
+  X(f_body, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "Hz", "undamped natural frequency of the sprung mass on the suspension, wheel held") \
+  X(der_z_body, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s", "Model Exchange: the time derivative of the state z_body") \
+  X(der_v_body, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s2", "Model Exchange: the time derivative of the state v_body") \
+  X(der_W_dissipated, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "W", "Model Exchange: the time derivative of the state W_dissipated")
 
 #define VI_ENUMERATIONS(E)
 
