@@ -6,23 +6,32 @@
 # Builds Co-Simulation FMUs of one model on the generic layer (include/vi_fmu.h), one per FMI version,
 # all from the same compiled model (<Name>_model):
 #   FMI 2.0 (the XML given, hand-written and tested against the model's table):
-#     <Name>               the shared library <Name>.so: the model + the layer (src/vi_fmi_core.c and the
-#                          FMI 2.0 face src/vi_fmi2.c), exporting the fmi2*
+#     <Name>               the shared library <Name>.so (.dll on Windows): the model + the layer
+#                          (src/vi_fmi_core.c and the FMI 2.0 face src/vi_fmi2.c), exporting the fmi2*
 #                          functions only (static libraries linked in stay hidden); it must match
 #                          modelIdentifier="<Name>" in the XML
 #     <Name>_fmu (ALL)     packs <OUTPUT_DIRECTORY>/<Name>.fmu (default: the top build directory):
-#                          modelDescription.xml, binaries/linux64/<Name>.so, resources/, documentation/
+#                          modelDescription.xml, binaries/<VI_FMI2_PLATFORM>/<Name>.so, resources/,
+#                          documentation/ (no FMU where FMI 2.0 names no platform: aarch64 Linux)
 #   FMI 3.0 (the model description generated from the table and the FMI 2.0 XML by
 #   cmake/vi_fmi3_description.py):
 #     <Name>_fmi3          the shared library <OUTPUT_DIRECTORY>/fmi3/<Name>.so: the model + the layer
 #                          (src/vi_fmi_core.c and the FMI 3.0 face src/vi_fmi3.c), exporting the fmi3*
 #                          functions only
 #     <Name>_fmi3_fmu (ALL) packs <OUTPUT_DIRECTORY>/fmi3/<Name>.fmu: modelDescription.xml,
-#                          binaries/x86_64-linux/<Name>.so, resources/, documentation/
+#                          binaries/<VI_FMI3_PLATFORM>/<Name>.so, resources/, documentation/
 #   <Name>_dump_variables  prints the model's variable table (tests/dump_variables.c), for the test that
 #                          compares the table with the XML and for the FMI 3.0 description
 # The model's sources must define `const vi_fmu_model vi_fmu_this_model` and its table (vi_table.h).
+#
+# The platform comes from cmake/vi_platform.cmake (the build machine or a cross toolchain file).
+# VI_FMU_MERGE_BINARIES (cache, a list of build directories of the same sources for other platforms,
+# tools/release.sh): each FMU packed here also holds the binaries/ of the FMU at the same place in each
+# of those builds (where there is one), whose modelDescription.xml must equal this one.
 set(VI_FMU_ROOT ${CMAKE_CURRENT_LIST_DIR}/..)
+include(${CMAKE_CURRENT_LIST_DIR}/vi_platform.cmake)
+set(VI_FMU_MERGE_BINARIES "" CACHE STRING
+    "Build directories of other platforms whose FMU binaries the FMUs packed here also hold")
 # Value references of every FMI 3.0 FMU that are no row of a table: the independent variable `time`,
 # and der(<input>) of the Real input in row r at VI_FMI3_DERIVATIVE_VR_BASE + r.
 set(VI_FMI3_TIME_VR 2147483647)
@@ -59,14 +68,14 @@ function(vi_add_fmu name)
     if(version STREQUAL "2")
       set(target ${name})
       set(face ${VI_FMU_ROOT}/src/vi_fmi2.c)
-      set(platform linux64)
+      set(platform ${VI_FMI2_PLATFORM})
       set(out_dir ${ARG_OUTPUT_DIRECTORY})
       set(version_xml ${xml})
       set(defs "")
     elseif(version STREQUAL "3")
       set(target ${name}_fmi3)
       set(face ${VI_FMU_ROOT}/src/vi_fmi3.c)
-      set(platform x86_64-linux)
+      set(platform ${VI_FMI3_PLATFORM})
       set(out_dir ${ARG_OUTPUT_DIRECTORY}/fmi3)
       set(version_xml ${CMAKE_CURRENT_BINARY_DIR}/${name}_fmi3/modelDescription.xml)
       set(defs VI_FMI3_TIME_VR=${VI_FMI3_TIME_VR}u VI_FMI3_DERIVATIVE_VR_BASE=${VI_FMI3_DERIVATIVE_VR_BASE}u
@@ -89,12 +98,35 @@ function(vi_add_fmu name)
     target_compile_definitions(${target} PRIVATE ${defs})
     target_compile_options(${target} PRIVATE ${VI_WARNINGS})
     target_link_libraries(${target} PRIVATE ${name}_model) # an object library: its objects go in
-    target_link_options(${target} PRIVATE -Wl,--exclude-libs,ALL -Wl,--no-undefined)
+    target_link_options(${target} PRIVATE -Wl,--exclude-libs,ALL -Wl,--no-undefined) # ELF and PE (mingw-w64)
     set_target_properties(${target} PROPERTIES PREFIX "" OUTPUT_NAME ${name} C_VISIBILITY_PRESET hidden
-                                               LIBRARY_OUTPUT_DIRECTORY ${out_dir})
+                                               LIBRARY_OUTPUT_DIRECTORY ${out_dir}
+                                               RUNTIME_OUTPUT_DIRECTORY ${out_dir}) # a DLL is a "runtime" output
+    if(NOT platform)
+      message(STATUS "${name}: FMI ${version}.0 names no platform for ${VI_FMI3_PLATFORM}: the binary only, no FMU")
+      continue()
+    endif()
 
     set(fmu ${out_dir}/${name}.fmu)
     set(stage ${CMAKE_CURRENT_BINARY_DIR}/${target}.stage)
+    set(merge_binaries "")
+    set(merge_fmus "")
+    file(RELATIVE_PATH fmu_in_build ${CMAKE_BINARY_DIR} ${fmu})
+    foreach(dir ${VI_FMU_MERGE_BINARIES})
+      set(other ${dir}/${fmu_in_build})
+      if(NOT EXISTS ${other})
+        message(STATUS "${name}: no ${other} to take binaries from (no platform name there, or not built)")
+        continue()
+      endif()
+      list(APPEND merge_fmus ${other})
+      list(APPEND merge_binaries
+        COMMAND ${CMAKE_COMMAND} -E rm -rf ${stage}.other
+        COMMAND ${CMAKE_COMMAND} -E make_directory ${stage}.other
+        COMMAND ${CMAKE_COMMAND} -E chdir ${stage}.other ${CMAKE_COMMAND} -E tar xf ${other} modelDescription.xml binaries
+        COMMAND ${CMAKE_COMMAND} -E compare_files ${version_xml} ${stage}.other/modelDescription.xml
+        COMMAND ${CMAKE_COMMAND} -E copy_directory ${stage}.other/binaries ${stage}/binaries
+        COMMAND ${CMAKE_COMMAND} -E rm -rf ${stage}.other)
+    endforeach()
     set(copy_resources "")
     set(copy_docs "")
     set(parts modelDescription.xml binaries)
@@ -117,11 +149,12 @@ function(vi_add_fmu name)
       COMMAND ${CMAKE_COMMAND} -E make_directory ${stage}/binaries/${platform} ${stage}/documentation ${stage}/resources
       COMMAND ${CMAKE_COMMAND} -E copy ${version_xml} ${stage}/modelDescription.xml
       COMMAND ${CMAKE_COMMAND} -E copy $<TARGET_FILE:${target}> ${stage}/binaries/${platform}/
+      ${merge_binaries}
       ${copy_resources}
       ${copy_docs}
       COMMAND ${CMAKE_COMMAND} -E rm -f ${fmu}
       COMMAND ${CMAKE_COMMAND} -E chdir ${stage} ${CMAKE_COMMAND} -E tar cf ${fmu} --format=zip ${parts}
-      DEPENDS ${target} ${version_xml} ${ARG_RESOURCES} ${ARG_DOCUMENTATION}
+      DEPENDS ${target} ${version_xml} ${ARG_RESOURCES} ${ARG_DOCUMENTATION} ${merge_fmus}
       COMMENT "Packing ${name}.fmu (FMI ${version}.0)")
     add_custom_target(${target}_fmu ALL DEPENDS ${fmu})
   endforeach()

@@ -20,6 +20,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "vi_format.h"
 #include "vi_fmu.h"
 
 typedef enum { VI_STATUS_OK, VI_STATUS_WARNING, VI_STATUS_DISCARD, VI_STATUS_ERROR, VI_STATUS_FATAL } vi_status;
@@ -147,14 +148,13 @@ struct vi_core {
 /* ---- logging and the state machine (for the faces' own calls) ---- */
 /* Is the category enabled? */
 int vi_core_logs(const vi_core *c, int category);
-void vi_core_log(const vi_core *c, vi_status status, int category, const char *fmt, ...)
-    __attribute__((format(printf, 4, 5)));
+void vi_core_log(const vi_core *c, vi_status status, int category, const char *fmt, ...) VI_PRINTF_FORMAT(4, 5);
 /* The instance if `call` is allowed in its state (logs the call), else NULL (logs why). */
 vi_core *vi_core_enter(void *instance, vi_call call, const char *fn);
 /* A failed simulation call: log the model's reason, enter the error state, VI_STATUS_ERROR. */
 vi_status vi_core_fail(vi_core *c, const char *fn);
 /* A message for a call refused before anything changed (state unchanged): VI_STATUS_ERROR. */
-vi_status vi_core_refuse(const vi_core *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+vi_status vi_core_refuse(const vi_core *c, const char *fmt, ...) VI_PRINTF_FORMAT(2, 3);
 
 /* ---- life cycle ---- */
 /* Check the arguments, allocate the instance with cb (logging through face), initialize the model

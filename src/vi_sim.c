@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "vi_check.h"
+#include "vi_format.h"
 
 _Static_assert((int)VI_Solver_bdf == (int)VI_METHOD_BDF && (int)VI_Solver_adams == (int)VI_METHOD_ADAMS &&
                    (int)VI_Solver_dop853 == (int)VI_METHOD_DOP853,
@@ -306,7 +307,7 @@ int vi_sim_zeno_count(int count, double t_before, double t)
 }
 
 /* End the advance early (doc/model.md section 7.1): the state at d->t is consistent and usable. */
-static int discard(vi_sim *s, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static int discard(vi_sim *s, const char *fmt, ...) VI_PRINTF_FORMAT(2, 3);
 static int discard(vi_sim *s, const char *fmt, ...)
 {
     va_list ap;
