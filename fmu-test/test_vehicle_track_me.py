@@ -76,7 +76,7 @@ def test_me_run_matches_the_reference(rough):
     1e-5 s, test_vehicle_track.py), the impulse and the work dissipated in the dampers to rtol
     (ten and a hundred times: they add up over the run)."""
     path, T, system, sol = rough
-    r = me_master.run(T, RTOL, profile=path)
+    r = me_master.run(T, path, rtol=RTOL)
     assert r["time_events"] > 100  # the kinks of the rolling constraint over 27 ms of roughness
     assert force_error(r, sol, system) < force_tolerance(system)
     J_ref = sol.state(T)[reference.J, 0]
@@ -94,7 +94,7 @@ def test_me_run_meets_the_contact_losses_and_onsets():
     exc, T = (300e-6, 300.0), 0.02
     system = reference.default_system(None, T, excitation=exc)
     sol = reference.simulate(system, T, rtol=1e-10)
-    r = me_master.run(T, RTOL, excitation=exc)
+    r = me_master.run(T, excitation=exc, rtol=RTOL)
     ref_times = np.unique(np.round([t for t, _ in sol.events], 9))
     me_times = r["state_events"][np.concatenate([[True], np.diff(r["state_events"]) > 1e-6])]
     assert len(ref_times) == 10 and len(me_times) == len(ref_times)
@@ -113,5 +113,5 @@ def test_me_run_fails_on_a_broken_coupling(rough, broken):
     conns = {"rail not connected": [c for c in C if c[3] != "yC_in"],
              "F_mean to the track": [c if c[3] != "F_contact" else ("contact", "F_mean", "track", "F_contact")
                                      for c in C]}[broken]
-    r = me_master.run(T, RTOL, profile=path, connections=conns)
+    r = me_master.run(T, path, rtol=RTOL, connections=conns)
     assert force_error(r, sol, system) > 100 * force_tolerance(system)
