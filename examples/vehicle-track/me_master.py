@@ -211,7 +211,8 @@ class Coupled:
             dX[self.slices[f.name]] = f.dx
         c_pad, c_ballast, c_susp = self.dampers
         vr, vs, F = self.get_v_rail(), self.get_v_sleeper(), self.get_F()
-        dX[self.nq:] = (F, c_pad * (vr - vs) ** 2 + c_ballast * vs ** 2 + c_susp * (self.get_v_body() - self.get_v()) ** 2)
+        dv_susp = self.get_v_body() - self.get_v()
+        dX[self.nq:] = (F, c_pad * (vr - vs) ** 2 + c_ballast * vs ** 2 + c_susp * dv_susp ** 2)
         return dX
 
     def indicators(self, t, X):
@@ -415,7 +416,8 @@ def main():
               f"{r['time_events']} time events, state events at "
               f"{', '.join(f'{t:.9f}' for t in r['state_events']) or 'none'} s; against the reference: force "
               f"{m['force_error']:.1e} W, mean force {m['mean_force_error']:.1e} W, impulse {m['impulse_error']:+.1e}, "
-              f"dissipated work {m['dissipation_error']:+.1e}; wheel {m['y_error_m']:.1e} m, rail {m['z_rail_error_m']:.1e} m")
+              f"dissipated work {m['dissipation_error']:+.1e}; wheel {m['y_error_m']:.1e} m, "
+              f"rail {m['z_rail_error_m']:.1e} m")
 
 
 if __name__ == "__main__":
