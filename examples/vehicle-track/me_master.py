@@ -400,19 +400,25 @@ def main():
     ap.add_argument("--method", default="DOP853", help="solve_ivp's method (DOP853, RK45, Radau, BDF, LSODA)")
     ap.add_argument("--profile", help="profile file (x, h); default: the example's roughness")
     a = ap.parse_args()
-    profile = a.profile
-    if not profile:
-        profile = pathlib.Path(tempfile.mkdtemp(prefix="vt_me_")) / "profile.txt"
-        roughness.write(profile, *roughness.profile(**parameters.ROUGHNESS))
-    system = reference.default_system(profile, a.stop_time)
+    with tempfile.TemporaryDirectory(prefix="vt_me_") as tmp:
+        profile = a.profile
+        if not profile:
+            profile = pathlib.Path(tmp) / "profile.txt"
+            roughness.write(profile, *roughness.profile(**parameters.ROUGHNESS))
+        compare_runs(profile, a.stop_time, a.rtol, a.method)
+
+
+def compare_runs(profile, stop_time, rtols, method):
+    """The reference and a Model Exchange run per tolerance, printed."""
+    system = reference.default_system(profile, stop_time)
     cpu0 = time.process_time()
-    sol = reference.simulate(system, a.stop_time, rtol=1e-10)
+    sol = reference.simulate(system, stop_time, rtol=1e-10)
     print(f"reference: {time.process_time() - cpu0:.1f} s CPU, contact changes at "
           f"{', '.join(f'{t:.9f}' for t, _ in sol.events) or 'none'} s")
-    for rtol in a.rtol:
-        r = run(a.stop_time, profile, rtol=rtol, method=a.method)
+    for rtol in rtols:
+        r = run(stop_time, profile, rtol=rtol, method=method)
         m = compare(r, sol, system)
-        print(f"Model Exchange, {a.method}, rtol {rtol:g}: {r['cpu_s']:.1f} s CPU, {r['evaluations']} evaluations, "
+        print(f"Model Exchange, {method}, rtol {rtol:g}: {r['cpu_s']:.1f} s CPU, {r['evaluations']} evaluations, "
               f"{r['time_events']} time events, state events at "
               f"{', '.join(f'{t:.9f}' for t in r['state_events']) or 'none'} s; against the reference: force "
               f"{m['force_error']:.1e} W, mean force {m['mean_force_error']:.1e} W, impulse {m['impulse_error']:+.1e}, "
