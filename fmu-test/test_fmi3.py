@@ -32,7 +32,7 @@ import pytest
 from fmpy import extract, read_model_description
 from fmpy.fmi1 import FMICallException
 
-from conftest import BUILD, FMU
+from conftest import BUILD, FMU, with_solver
 from solvers import each_solver
 from vibroimpact import fmi3
 from vibroimpact.compare import EVENT_DT, INTEGERS, REALS, SCENARIOS, Runner, compare, fmu_events, read_events
@@ -347,7 +347,7 @@ def test_input_derivatives_are_variables_and_act_as_in_fmi2(logged3, vr3, kinds3
     s2 = logged().instantiate()
     start(s2, vr, dict(contact_model=1))
     s3 = logged3().instantiate()
-    fmi3.initialize(s3, vr3, with_solver(dict(contact_model=1)), kinds=kinds3)  # the solver start() gives s2
+    fmi3.initialize(s3, vr3, with_solver(dict(contact_model=1)), kinds=kinds3)
     y_in, h = 0.0, 1e-4
     for k in range(200):
         t = k * h
@@ -490,7 +490,7 @@ def test_model_exchange_calls(md3, dir3, vr3):
                                                ("LayerTest", "u", 0.5)])
 def test_companion_and_layer_models_match_their_fmi2_builds(name, signal, value):
     """The input steps at 5 ms; every output follows it in both builds alike, with or without early
-    return and Event Mode (the models have no events)."""
+    return and Event Mode (the models have no events), and in Model Exchange."""
     md = read_model_description(str(BUILD / f"{name}.fmu"))
     outputs = [v.name for v in md.modelVariables if v.causality == "output" and v.type == "Real"]
     steps = np.array([(0.0, 0.0), (0.005, value)], dtype=[("time", np.float64), (signal, np.float64)])
@@ -504,6 +504,11 @@ def test_companion_and_layer_models_match_their_fmi2_builds(name, signal, value)
     assert moved, "the input step moved no output"
     for k in outputs:  # fmpy records Event Mode's extra samples: compare at the common times
         assert np.array_equal(np.interp(r2["time"], r3e["time"], r3e[k]), r2[k]), k
+    if md.modelExchange:  # and their Model Exchange interfaces, integrated by fmpy's CVode
+        r2 = fmpy.simulate_fmu(str(BUILD / f"{name}.fmu"), fmi_type="ModelExchange", **kw)
+        r3 = fmpy.simulate_fmu(str(BUILD / "fmi3" / f"{name}.fmu"), fmi_type="ModelExchange", **kw)
+        for k in ["time"] + outputs:
+            assert np.array_equal(r3[k], r2[k]), k
 
 
 def test_layer_discard_and_failure_map_to_fmi3(tmp_path):
