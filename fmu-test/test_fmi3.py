@@ -280,7 +280,7 @@ def test_a_state_taken_in_event_mode_restores_event_mode(logged3, vr3, kinds3):
 # ---- the tolerance of fmi3EnterInitializationMode --------------------------------------------------------
 
 def test_tolerance_acts_as_fmi2_setup_experiment(logged3, vr3, kinds3, logged, vr):
-    from conftest import start, with_solver
+    from conftest import start
 
     def run3(tolerance):
         s = logged3().instantiate()
@@ -339,7 +339,7 @@ def test_enumerations_by_item_name(md3, logged3, vr3, kinds3):
 def test_input_derivatives_are_variables_and_act_as_in_fmi2(logged3, vr3, kinds3, logged, vr):
     """der(yC_in) set after yC_in moves the platform input on that slope over the step, as
     fmi2SetRealInputDerivatives does (bit for bit); setting yC_in again resets it to 0."""
-    from conftest import start, with_solver
+    from conftest import start
 
     def slope(t):
         return 0.02 * math.cos(2 * math.pi * 300 * t)
