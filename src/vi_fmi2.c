@@ -57,12 +57,19 @@ static int enabled(const Component *c, int cat) { return (c->log_mask >> cat & 1
 static void vlog(const Component *c, fmi2Status status, int cat, const char *fmt, va_list ap)
 {
     if (!c->cb.logger || (status < fmi2Discard && !enabled(c, cat))) return;
-    char text[1024], escaped[2 * sizeof text];
+    char text[1024], escaped[4 * sizeof text];
     vsnprintf(text, sizeof text, fmt, ap);
-    size_t j = 0; /* the logger treats the message as a format: escape '%' */
-    for (size_t i = 0; text[i] && j + 2 < sizeof escaped; i++) {
-        if (text[i] == '%') escaped[j++] = '%';
-        escaped[j++] = text[i];
+    /* the logger treats the message as a format: '%' as "%%"; a byte that is no printable ASCII (a
+     * control character of an instance name or a String value the importer gave) as \xNN */
+    size_t j = 0;
+    for (size_t i = 0; text[i] && j + 4 < sizeof escaped; i++) {
+        unsigned char ch = (unsigned char)text[i];
+        if (ch < 0x20 || ch > 0x7e) {
+            j += (size_t)snprintf(escaped + j, sizeof escaped - j, "\\x%02x", ch);
+            continue;
+        }
+        if (ch == '%') escaped[j++] = '%';
+        escaped[j++] = (char)ch;
     }
     escaped[j] = '\0';
     c->cb.logger(c->cb.componentEnvironment, c->name, status, category_names[cat], escaped);

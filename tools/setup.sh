@@ -26,3 +26,17 @@ if ! "$PYTHON" -c "import importlib.util, sys; sys.exit(any(importlib.util.find_
   echo "setup: pip install ${PIP_PKGS[*]}"
   "$PYTHON" -m pip install --quiet --disable-pip-version-check --root-user-action=ignore "${PIP_PKGS[@]}"
 fi
+
+# ---- the libFuzzer harness (tests/fuzz): clang with its sanitizer and libFuzzer runtimes ----------------
+FUZZ_APT_PKGS=(clang libclang-rt-14-dev)
+fuzz_missing=()
+for p in "${FUZZ_APT_PKGS[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || fuzz_missing+=("$p")
+done
+if [ ${#fuzz_missing[@]} -gt 0 ]; then
+  SUDO=""
+  [ "$(id -u)" -ne 0 ] && SUDO=sudo
+  echo "setup: apt-get install ${fuzz_missing[*]}"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${fuzz_missing[@]}" >/dev/null
+fi

@@ -1,0 +1,55 @@
+"""Regression tests of what the libFuzzer harness (tests/fuzz) found. Each names the harness's check
+it failed; the input that found it is in the seed corpus, tests/fuzz/corpus/VibroImpact/, so that
+the fuzz test runs it again too."""
+import re
+import unicodedata
+
+import pytest
+from fmpy.fmi1 import FMICallException
+
+from conftest import Logged, start
+
+
+def printable(text):
+    """No control characters (C0, DEL, C1): what the harness's logger accepts."""
+    return not any(unicodedata.category(ch) == "Cc" for ch in text)
+
+
+def test_control_characters_of_the_instance_name_and_strings_are_escaped_in_messages(model_description, unzipdir, vr):
+    """The harness's 'message ... has a byte that starts no printable character': the FMU copied the
+    instance name (fmi2Instantiate's call log) and String values (a profile_file that cannot be
+    read) into messages byte for byte, control characters and all (a terminal escape, a bell, a
+    newline that splits a log line). They are shown escaped, and the message still names them."""
+    log = Logged(model_description, unzipdir, name="a\x1b[2Jb\x07")
+    s = log.instantiate(logging=True)
+    s.setString([vr["profile_file"]], ["no\nsuch\x1bfile"])
+    with pytest.raises(FMICallException):
+        start(s, vr, dict(contact_model=1))
+    texts = [m for _, _, m in log.messages]
+    assert any("fmi2Instantiate" in m for m in texts) and any("profile_file" in m for m in texts), texts
+    bad = [m for m in texts if not printable(m)]
+    assert bad == [], bad
+    assert any("a\\x1b[2Jb\\x07" in m for m in texts), texts  # the name, escaped
+    assert any("no\\x0asuch\\x1bfile" in m for m in texts), texts
+    s.freeInstance()
+
+
+@pytest.mark.parametrize("when", ["initialization mode", "exit"])
+def test_outputs_beyond_the_range_of_double_are_refused_not_nan(logged, vr, when):
+    """The harness's 'fmi2GetReal gave NaN ... with fmi2OK': Johnson pre-loaded by P = 1e300 N starts
+    at delta = 2.5e288 m, where the work along the virgin curve and the energy given back on
+    unloading both overflow, and W_plastic = inf - inf = NaN was reported with fmi2OK (in
+    initialization mode and after it). Such a state cannot be represented: initialization is
+    refused, naming the output."""
+    log = logged()
+    s = log.instantiate()
+    s.setupExperiment()
+    s.enterInitializationMode()
+    s.setReal([vr["P"]], [1e300])
+    with pytest.raises(FMICallException):
+        if when == "exit":
+            s.exitInitializationMode()
+        else:
+            s.getReal([vr["W_plastic"]])
+    assert any(re.search(r"W_plastic = -?nan at t = 0 s", m) for st, _, m in log.messages if st == 3), log.messages
+    s.freeInstance()
