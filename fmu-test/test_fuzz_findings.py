@@ -53,3 +53,30 @@ def test_outputs_beyond_the_range_of_double_are_refused_not_nan(logged, vr, when
             s.getReal([vr["W_plastic"]])
     assert any(re.search(r"W_plastic = -?nan at t = 0 s", m) for st, _, m in log.messages if st == 3), log.messages
     s.freeInstance()
+
+
+def test_no_nan_output_with_ok_after_a_failed_initialization(logged, vr, model_description):
+    """The harness's 'fmi2GetReal gave NaN ... with fmi2OK' again: after fmi2ExitInitializationMode
+    failed (nu2 = 0.525, outside (-1, 0.5]) the instance is in the error state, where values may
+    still be read; k_contact, computed from the half-set-up model, was NaN with fmi2OK. An output
+    without a finite value is refused (fmi2Error naming it and the state); the others read as before."""
+    log = logged()
+    s = log.instantiate()
+    s.setupExperiment()
+    s.enterInitializationMode()
+    s.setReal([vr["nu2"]], [0.525])
+    with pytest.raises(FMICallException):
+        s.exitInitializationMode()
+    for v in model_description.modelVariables:
+        if v.type != "Real":
+            continue
+        try:
+            x = s.getReal([v.valueReference])[0]
+        except FMICallException:
+            continue
+        assert x == x, f"{v.name} = NaN with fmi2OK"
+    with pytest.raises(FMICallException):
+        s.getReal([vr["k_contact"]])
+    assert re.fullmatch(r"fmi2GetReal: k_contact = -?nan has no value in state 'error'", log.messages[-1][2]), log.messages
+    assert s.getReal([vr["nu2"]]) == [0.525]  # a parameter reads as set
+    s.freeInstance()

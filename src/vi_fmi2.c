@@ -376,31 +376,36 @@ static int current_outputs(Component *c, const char *fn)
     return 0;
 }
 
-#define DEFINE_GET(Api, ctype, api_type)                                                                       \
+#define DEFINE_GET(Api, ctype, api_type, valid)                                                              \
     fmi2Status fmi2Get##Api(fmi2Component comp, const fmi2ValueReference vr[], size_t nvr, ctype value[])    \
-    {                                                                                                          \
-        ENTER("fmi2Get" #Api, ST_READABLE);                                                                    \
-        if (nvr > 0 && (!vr || !value)) {                                                                      \
-            LOG_ERROR(c, "fmi2Get" #Api ": NULL array");                                                       \
-            return fmi2Error;                                                                                  \
-        }                                                                                                      \
-        int have_out = 0;                                                                                      \
-        for (size_t i = 0; i < nvr; i++) {                                                                     \
-            const vi_variable *v = lookup(c, "fmi2Get" #Api, vr[i], api_type);                                \
-            if (!v) return fmi2Error;                                                                          \
-            const void *p = storage(c, v);                                                                     \
-            if (!p) {                                                                                          \
-                if (!have_out && current_outputs(c, "fmi2Get" #Api) < 0) return fmi2Error;                     \
-                have_out = 1;                                                                                  \
-                p = (const char *)c->outputs + v->offset;                                                      \
-            }                                                                                                  \
-            value[i] = (ctype) * (const VI_CTYPE_##Api *)p;                                                    \
-        }                                                                                                      \
-        return fmi2OK;                                                                                         \
+    {                                                                                                        \
+        ENTER("fmi2Get" #Api, ST_READABLE);                                                                  \
+        if (nvr > 0 && (!vr || !value)) {                                                                    \
+            LOG_ERROR(c, "fmi2Get" #Api ": NULL array");                                                     \
+            return fmi2Error;                                                                                \
+        }                                                                                                    \
+        int have_out = 0;                                                                                    \
+        for (size_t i = 0; i < nvr; i++) {                                                                   \
+            const vi_variable *v = lookup(c, "fmi2Get" #Api, vr[i], api_type);                               \
+            if (!v) return fmi2Error;                                                                        \
+            const void *p = storage(c, v);                                                                   \
+            if (!p) {                                                                                        \
+                if (!have_out && current_outputs(c, "fmi2Get" #Api) < 0) return fmi2Error;                   \
+                have_out = 1;                                                                                \
+                p = (const char *)c->outputs + v->offset;                                                    \
+            }                                                                                                \
+            value[i] = (ctype) * (const VI_CTYPE_##Api *)p;                                                  \
+            if (!(valid)) { /* an output without a value (after a failed initialization, say) */             \
+                LOG_ERROR(c, "fmi2Get" #Api ": %s = %g has no value in state '%s'", v->name, (double)value[i], \
+                          state_name(c->state));                                                             \
+                return fmi2Error;                                                                            \
+            }                                                                                                \
+        }                                                                                                    \
+        return fmi2OK;                                                                                       \
     }
-DEFINE_GET(Real, fmi2Real, VI_Real)
-DEFINE_GET(Integer, fmi2Integer, VI_Integer)
-DEFINE_GET(Boolean, fmi2Boolean, VI_Boolean)
+DEFINE_GET(Real, fmi2Real, VI_Real, isfinite(value[i]))
+DEFINE_GET(Integer, fmi2Integer, VI_Integer, 1)
+DEFINE_GET(Boolean, fmi2Boolean, VI_Boolean, 1)
 
 static int tunable(const vi_variable *v) { return strcmp(v->variability, "tunable") == 0; }
 
