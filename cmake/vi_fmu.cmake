@@ -3,7 +3,7 @@
 #            [RESOURCES <files...>] [DOCUMENTATION <files...>] [OUTPUT_DIRECTORY <dir>])
 #
 # Builds an FMI 2.0 Co-Simulation FMU of one model on the generic layer (include/vi_fmu.h):
-#   <Name>                 the shared library <Name>.so: the model's SOURCES + src/vi_fmi2.c; it exports
+#   <Name>                 the shared library <Name>.so: the model's SOURCES + the layer (src/vi_fmi_core.c, src/vi_fmi2.c); it exports
 #                          the fmi2* functions only (static libraries linked in stay hidden) and must
 #                          match modelIdentifier="<Name>" in the XML
 #   <Name>_fmu (ALL)       packs <OUTPUT_DIRECTORY>/<Name>.fmu (default: the top build directory):
@@ -30,7 +30,7 @@ function(vi_add_fmu name)
   target_link_libraries(${name}_model PUBLIC ${ARG_LIBRARIES} m)
   set_target_properties(${name}_model PROPERTIES C_VISIBILITY_PRESET hidden POSITION_INDEPENDENT_CODE ON)
 
-  add_library(${name} SHARED ${VI_FMU_ROOT}/src/vi_fmi2.c)
+  add_library(${name} SHARED ${VI_FMU_ROOT}/src/vi_fmi2.c ${VI_FMU_ROOT}/src/vi_fmi_core.c)
   target_include_directories(${name} PRIVATE ${FMI2_HEADERS_DIR} ${VI_FMU_ROOT}/include)
   target_compile_options(${name} PRIVATE ${VI_WARNINGS})
   target_link_libraries(${name} PRIVATE ${name}_model) # an object library: its objects go in

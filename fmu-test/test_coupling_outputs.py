@@ -1,18 +1,14 @@
-"""Coupling outputs (issue 11 item 1): F_mean, the contact force averaged over the last communication
+"""Coupling outputs: F_mean, the contact force averaged over the last communication
 step (its impulse divided by the step), and k_contact, the tangent contact stiffness dF/ddelta.
 Expected values: closed forms (static load, the Hertz drop's impulse 2 m v0, the derivatives of the
 contact laws of paper eqs. 2-4 and Fig. 3 computed here) and an independent quadrature of the force
 sampled finely."""
-import sys
-
 import numpy as np
 import pytest
 
-from conftest import ROOT, effective, start
+from conftest import effective, start
 from solvers import each_solver
-
-sys.path.insert(0, str(ROOT / "fmu-test" / "reference"))
-from scenarios import SCENARIOS  # noqa: E402
+from vibroimpact.reference.scenarios import SCENARIOS
 
 HERTZ, JOHNSON, LEPP = 1, 2, 3
 

@@ -57,14 +57,16 @@ def test_outputs_beyond_the_range_of_double_are_refused_not_nan(logged, vr, when
 
 def test_no_nan_output_with_ok_after_a_failed_initialization(logged, vr, model_description):
     """The harness's 'fmi2GetReal gave NaN ... with fmi2OK' again: after fmi2ExitInitializationMode
-    failed (nu2 = 0.525, outside (-1, 0.5]) the instance is in the error state, where values may
-    still be read; k_contact, computed from the half-set-up model, was NaN with fmi2OK. An output
-    without a finite value is refused (fmi2Error naming it and the state); the others read as before."""
+    failed, the instance is in the error state, where values may still be read, and outputs computed
+    from the model that failed to initialize were NaN with fmi2OK (found as k_contact after a
+    refused Poisson's ratio, which is now refused when set; here W_plastic after the load of
+    1e300 N above). An output without a finite value is refused (fmi2Error naming it and the state);
+    the others read as before."""
     log = logged()
     s = log.instantiate()
     s.setupExperiment()
     s.enterInitializationMode()
-    s.setReal([vr["nu2"]], [0.525])
+    s.setReal([vr["P"]], [1e300])
     with pytest.raises(FMICallException):
         s.exitInitializationMode()
     for v in model_description.modelVariables:
@@ -76,7 +78,7 @@ def test_no_nan_output_with_ok_after_a_failed_initialization(logged, vr, model_d
             continue
         assert x == x, f"{v.name} = NaN with fmi2OK"
     with pytest.raises(FMICallException):
-        s.getReal([vr["k_contact"]])
-    assert re.fullmatch(r"fmi2GetReal: k_contact = -?nan has no value in state 'error'", log.messages[-1][2]), log.messages
-    assert s.getReal([vr["nu2"]]) == [0.525]  # a parameter reads as set
+        s.getReal([vr["W_plastic"]])
+    assert re.fullmatch(r"fmi2GetReal: W_plastic = -?nan has no value in state 'error'", log.messages[-1][2]), log.messages
+    assert s.getReal([vr["P"]]) == [1e300]  # a parameter reads as set
     s.freeInstance()

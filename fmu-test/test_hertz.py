@@ -1,5 +1,5 @@
 """Hertz contact end to end through fmpy: drop test, static equilibrium, calculated parameters,
-contact resonance. Expected values are closed forms (literature.md 1.1, model.md) or the paper's."""
+contact resonance. Expected values are closed forms (the Hertz impact, doc/model.md) or the paper's."""
 import numpy as np
 import pytest
 from fmpy import simulate_fmu
@@ -32,7 +32,8 @@ def test_drop_restitution_and_peak_indentation(fmu_path, v0):
     assert abs(restitution - 1.0) < 1e-6
     dmax = (15 * e["m"] * v0 ** 2 / (16 * e["E_star"] * np.sqrt(e["R_star"]))) ** 0.4
     assert abs(peak(r["time"], r["delta"]) / dmax - 1.0) < 1e-6
-    # contact duration 2.9433 delta_max / v0 (literature.md 1.1), to the sampling step
+    # contact duration of the Hertz impact, 2 delta_max/v0 * int_0^1 dx/sqrt(1 - x^2.5) = 2.9433 delta_max/v0,
+    # to the sampling step
     t_contact = r["time"][r["contact"].astype(bool)]
     assert abs((t_contact[-1] - t_contact[0]) - 2.9433 * dmax / -v0) < 3 * 2e-6
     assert r["n_impacts"][-1] == 0  # a contact present at the start is not counted

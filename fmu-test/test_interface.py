@@ -26,7 +26,7 @@ def check_xml_matches_c_table(md, dump):
     guid, variables, enums = c_table(dump)
     assert md.guid == guid
     assert len(md.modelVariables) == len(variables)
-    for sv, (vr, name, typ, enum, caus, var, initial, start, unit, desc) in zip(md.modelVariables, variables):
+    for sv, (vr, name, typ, enum, caus, var, initial, start, lo, hi, unit, desc) in zip(md.modelVariables, variables):
         where = f"variable {name}"
         assert sv.name == name, where
         assert sv.valueReference == int(vr), where
@@ -41,6 +41,9 @@ def check_xml_matches_c_table(md, dump):
         if typ == "Integer" and enum != "none":  # an enumerated option as an Integer (libcosim sees it)
             values = [value for t, _, value in enums if t == enum]
             assert (int(sv.min), int(sv.max)) == (min(values), max(values)), where
+        elif typ in ("Real", "Integer"):  # the table's range, as the inclusive bounds FMI declares
+            assert (None if sv.min is None else float(sv.min)) == (float(lo) if lo else None), where + " min"
+            assert (None if sv.max is None else float(sv.max)) == (float(hi) if hi else None), where + " max"
         if typ == "Real":
             assert (sv.unit or "") == unit, where
         if initial == "exact" and typ == "String":
@@ -100,22 +103,37 @@ def test_binary_exports_exactly_the_fmi2_functions(name):
         "fmi2FreeFMUstate", "fmi2SerializedFMUstateSize", "fmi2SerializeFMUstate", "fmi2DeSerializeFMUstate",
         "fmi2GetDirectionalDerivative", "fmi2SetRealInputDerivatives", "fmi2GetRealOutputDerivatives",
         "fmi2DoStep", "fmi2CancelStep", "fmi2GetStatus", "fmi2GetRealStatus", "fmi2GetIntegerStatus",
-        "fmi2GetBooleanStatus", "fmi2GetStringStatus"}
+        "fmi2GetBooleanStatus", "fmi2GetStringStatus",
+        "fmi2EnterEventMode", "fmi2NewDiscreteStates", "fmi2EnterContinuousTimeMode", "fmi2CompletedIntegratorStep",
+        "fmi2SetTime", "fmi2SetContinuousStates", "fmi2GetDerivatives", "fmi2GetEventIndicators",
+        "fmi2GetContinuousStates", "fmi2GetNominalsOfContinuousStates"}
     assert exported == expected
 
 
 def check_model_structure(md):
-    """Outputs: every output, with the dependencies it declares; InitialUnknowns: every output and
-    calculated parameter."""
+    """Outputs: every output, with the dependencies it declares; Derivatives: the derivative of every
+    state (Model Exchange); InitialUnknowns: every output, calculated parameter and state derivative."""
     outputs = [v for v in md.modelVariables if v.causality == "output"]
     assert [u.variable for u in md.outputs] == outputs
-    unknowns = [v for v in md.modelVariables if v.causality in ("output", "calculatedParameter")]
+    derivatives = [v for v in md.modelVariables if v.derivative is not None]
+    assert [u.variable for u in md.derivatives] == derivatives
+    unknowns = [v for v in md.modelVariables if v.causality in ("output", "calculatedParameter") or v in derivatives]
     assert [u.variable for u in md.initialUnknowns] == unknowns  # in the order of the variables
+    known = {v.name for v in md.modelVariables if v.causality == "input"} | {v.derivative.name for v in derivatives}
+    for u in md.outputs + md.derivatives:  # dependencies on inputs and states only
+        assert all(d.name in known for d in u.dependencies or []), u.variable.name
 
 
-def test_model_structure_declares_no_feedthrough(model_description):
+def test_model_structure_declares_the_model_exchange_dependencies(model_description):
+    """The force follows the indentation yC - y at once: in Model Exchange F depends directly on the input
+    yC_in and the state y; the discrete outputs depend on nothing continuous (the Jacobian test in
+    test_me_jacobian.py checks every declared pair against the FMU's partial derivatives)."""
     check_model_structure(model_description)
-    assert all(u.dependencies == [] for u in model_description.outputs)
+    deps = {u.variable.name: sorted(d.name for d in u.dependencies) for u in model_description.outputs}
+    assert deps["F"] == ["F_ext", "y", "yC_in"] and deps["y"] == ["y"] and deps["v"] == ["v"]
+    assert deps["mode"] == deps["contact"] == deps["n_impacts"] == []
+    der = {u.variable.name: sorted(d.name for d in u.dependencies) for u in model_description.derivatives}
+    assert der == {"der_y": ["v"], "der_v": ["F_ext", "y", "yC_in"]}
 
 
 def read_all(s, md, variables):

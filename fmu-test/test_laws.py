@@ -1,36 +1,19 @@
-"""Johnson and LEPP dynamics through fmpy against closed forms written here from model.md (not from
-the C code): impact restitution, energy balance, stick, moving contact, large platform offset."""
+"""Johnson and LEPP dynamics through fmpy against the closed forms of doc/model.md
+(vibroimpact.reference.closed_forms, not from the C code): impact restitution, energy balance, stick,
+moving contact, large platform offset."""
 import numpy as np
 import pytest
 from fmpy import simulate_fmu
 from scipy.optimize import brentq
 
-from conftest import effective
+from vibroimpact.reference.closed_forms import effective, load, unload_curve, w_plastic_closed_form
 
 JOHNSON, LEPP = 2, 3
-TH = 1.1
-
-
-def load(e, d):
-    """Virgin curve: Hertz to delta_Y, eq. 3 beyond."""
-    d = np.asarray(d, float)
-    k = np.maximum(2 * d / e["delta_Y"] - 1, 1.0)
-    return np.where(d <= e["delta_Y"], e["K"] * np.clip(d, 0, None) ** 1.5, e["F_Y"] * k * (1 + np.log(k) / (3 * TH)))
 
 
 def load_work(e, d):
     from scipy.integrate import quad
     return quad(lambda x: float(load(e, x)), 0, e["delta_Y"])[0] + quad(lambda x: float(load(e, x)), e["delta_Y"], d)[0]
-
-
-def unload_curve(e, dc, variant):
-    """(Rbar, delta_r) of eq. 4 after delta_c."""
-    if variant == 1:
-        kc = 2 * dc / e["delta_Y"] - 1
-        return e["R_star"] * np.sqrt(kc), e["delta_Y"] * np.sqrt(kc)
-    Fc = float(load(e, dc))
-    ac = np.sqrt(e["R_star"] * (2 * dc - e["delta_Y"]))
-    return 4 * e["E_star"] * ac ** 3 / (3 * Fc), 3 * Fc / (4 * e["E_star"] * ac)
 
 
 def impact(fmu_path, params, v0, stop, step=1e-6):
@@ -47,7 +30,8 @@ def test_lepp_restitution(fmu_path, ratio):
     r = impact(fmu_path, dict(contact_model=LEPP), v0, stop=0.02)
     assert r["mode"][-1] == 0
     assert abs(r["v"][-1] / -v0 - vY / -v0) < 1e-6
-    # permanent set m (v0^2 - vY^2)/(2 F_Y), dissipated F_Y delta_p (literature.md 1.9)
+    # energy balance of the linear elastic-perfectly plastic spring: permanent set m (v0^2 - vY^2)/(2 F_Y),
+    # dissipated F_Y delta_p
     dp = e["m"] * (v0 ** 2 - vY ** 2) / (2 * e["F_Y"])
     assert r["delta_p"][-1] == pytest.approx(dp, rel=1e-6)
     assert r["W_plastic"][-1] == pytest.approx(0.5 * e["m"] * (v0 ** 2 - vY ** 2), rel=1e-6)
@@ -153,16 +137,6 @@ def test_platform_offset_changes_nothing(fmu_path, law):
         scale = np.max(np.abs(r0[name])) or 1.0
         assert np.max(np.abs(r1[name] - r0[name])) <= 1e-9 * scale, name
     assert np.allclose(r1["y"] - 1.0, r0["y"], rtol=0, atol=1e-12)
-
-
-def w_plastic_closed_form(e, dc, variant):
-    """W_plastic after a maximum indentation dc: work along the virgin curve (eq. 3, closed-form
-    antiderivative) minus the elastic energy 2/5 F_unload(dc) delta_r the unloading curve returns."""
-    k, th3 = 2 * dc / e["delta_Y"] - 1, 3 * TH
-    W_load = 0.4 * e["F_Y"] * e["delta_Y"] + 0.5 * e["F_Y"] * e["delta_Y"] * (
-        0.5 * (k * k - 1) + (0.5 * k * k * np.log(k) - 0.25 * (k * k - 1)) / th3)
-    Rbar, dr = unload_curve(e, dc, variant)
-    return W_load, W_load - 0.4 * 4 / 3 * e["E_star"] * np.sqrt(Rbar) * dr ** 2.5
 
 
 @pytest.mark.parametrize("variant, dc_over_dY, negative", [

@@ -1,9 +1,9 @@
-"""The FMU against the independent reference (fmu-test/reference/) on every scenario of the paper.
+"""The FMU against the independent reference (vibroimpact.reference) on every scenario of the paper.
 
-The reference traces and event tables are committed (reference/generate.py writes them from
-reference/vi_reference.py, a SciPy DOP853 implementation written from model.md alone). The FMU runs
-at rtol 1e-11, the tolerance of the reference trace (compare_reference.py does the runs), with every
-value of its `solver` parameter.
+The reference traces and event tables are committed (`vibroimpact reference` writes them from
+vibroimpact/reference/model.py, a SciPy DOP853 implementation written from doc/model.md alone). The
+FMU runs at rtol 1e-11, the tolerance of the reference trace (vibroimpact.compare does the runs), with
+every value of its `solver` parameter.
 
 Within each scenario's predictable horizon (how long two reference runs at rtol 1e-11 and 1e-8 stay
 within EPS_Y of each other) the FMU must follow the reference trace:
@@ -20,15 +20,15 @@ within EPS_Y of each other) the FMU must follow the reference trace:
 Beyond the horizon a bouncing trajectory is one of many equally valid ones, so the whole run is
 compared by statistics: impacts within 20 % of the reference's, and the momentum balance (mean force
 = load + m dv/T, exact for any trajectory); for the scenarios predictable to the end, the counts of
-every kind of mode change must be equal. The figures measured on this machine are in the README
-(python3 fmu-test/compare_reference.py).
+every kind of mode change must be equal. `vibroimpact compare` prints the figures as a table.
 """
 import numpy as np
 import pytest
 
-from compare_reference import (DATA, EPS_Y, EVENT_DT, SCENARIOS, STOP_TIME, SUMMARY, Runner, compare,
-                               read_trace)
 from solvers import each_solver
+from vibroimpact.compare import EVENT_DT, SUMMARY, Runner, compare, read_trace
+from vibroimpact.reference.generate import DATA, EPS_Y, RTOL_TRUE
+from vibroimpact.reference.scenarios import SCENARIOS, STOP_TIME
 
 F_REL = 1e-3
 W_REL = 1e-4
@@ -55,10 +55,9 @@ def test_reference_covers_every_scenario():
 
 @pytest.mark.parametrize("name", SCENARIOS)
 def test_committed_reference_is_current(name):
-    """The committed trace is what reference/vi_reference.py computes now (within the horizon, to 1 %
+    """The committed trace is what vibroimpact.reference.model computes now (within the horizon, to 1 %
     of EPS_Y: a SciPy upgrade may change the last digits, not the trajectory)."""
-    from compare_reference import RTOL_TRUE
-    from vi_reference import simulate
+    from vibroimpact.reference.model import simulate
     ref = read_trace(name)
     now = simulate(SCENARIOS[name].full, STOP_TIME, rtol=RTOL_TRUE, t_eval=ref["time"])
     within = ref["time"] <= SUMMARY[name]["horizon"]

@@ -1,4 +1,4 @@
-"""Exact rollback (issue 9 item 1, contract C7): for every solver, a run continued from a saved FMU
+"""Exact rollback: for every solver, a run continued from a saved FMU
 state is bit for bit the run that continues without the save: get state at t, run to t2 -> A; set
 the state, run to t2 again -> B; A == B. The same for a serialized state restored into a fresh
 instance, and for fmi2Reset followed by the same run. Fig. 4b (chaotic bouncing, Johnson) at the
@@ -16,10 +16,7 @@ NAMES = ("y", "v", "F", "delta", "W_plastic", "F_mean")
 
 
 def fig4b(solver):
-    import sys
-    from conftest import ROOT
-    sys.path.insert(0, str(ROOT / "fmu-test" / "reference"))
-    from scenarios import SCENARIOS
+    from vibroimpact.reference.scenarios import SCENARIOS
     return {**SCENARIOS["fig4b"].full, "solver": solver}
 
 

@@ -1,8 +1,8 @@
-"""Rolling over an irregular surface (issue 11 item 4, paper Fig. 1b) through the FMU.
+"""Rolling over an irregular surface (paper Fig. 1b) through the FMU.
 
 With a = 0 and yC_in = 0 the FMU's output yC is the rigid constraint yb(x0 + V t) itself, so the
 FMU's yb is sampled at every communication point and compared with the independent reference
-fmu-test/reference/profile_ref.py (the definition evaluated by search, no geometry worked out) and
+vibroimpact.reference.profile (the definition evaluated by search, no geometry worked out) and
 with closed forms: a gentle sinusoid is followed exactly at its crests; a sinusoid whose curvature
 exceeds 1/R1 bridges its troughs (the body touches two points there); a step becomes the circular
 ramp around its upper corner; a narrow bump is swept as the circle around its apex. Then: the
@@ -10,10 +10,7 @@ dynamics over a corrugation against the linearised closed form, bad files refuse
 initialization with file and line, the end of a table, periodic tables, the resources folder, and
 FMU states with a profile.
 """
-import os
-import pathlib
 import shutil
-import sys
 import zipfile
 
 import numpy as np
@@ -22,9 +19,7 @@ from fmpy import extract, read_model_description
 
 from conftest import Logged, effective, start
 from solvers import each_solver
-
-sys.path.insert(0, str(pathlib.Path(__file__).parent / "reference"))
-import profile_ref  # noqa: E402
+from vibroimpact.reference import profile as profile_ref
 
 R1 = 0.475
 # absolute rounding of yb: the reference's sqrt(R1^2 - d^2) - R1 carries a few ulps of R1

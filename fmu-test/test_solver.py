@@ -1,4 +1,4 @@
-"""The solver layer seen from outside (issue 10): every `solver` value selects its method and says
+"""The solver layer seen from outside: every `solver` value selects its method and says
 so, runs the same motion within its tolerance, honours max_step, and integrates past communication
 points (small communication steps cost no extra internal steps)."""
 import re

@@ -1,4 +1,4 @@
-"""tools/sweep.py, the sweep command, on small grids and short runs: physics against closed forms
+"""`vibroimpact sweep`, the sweep command, on small grids and short runs: physics against closed forms
 (rest, the linear response's Poincare samples, the resonance at f_contact), results independent of
 the number of workers and of the scheduler (a Dask scheduler and worker started here on loopback),
 failed points kept with the FMU's message, enumerations by item name, continuation sweeps."""
@@ -14,11 +14,11 @@ import time
 
 import numpy as np
 import pytest
-from conftest import DEFAULTS, FMU, ROOT, effective
+from conftest import DEFAULTS, FMU, effective
 
-SWEEP = ROOT / "tools" / "sweep.py"
-sys.path.insert(0, str(ROOT / "tools"))
-from vi_sweep import spec  # noqa: E402
+from vibroimpact.sweep import spec
+
+SWEEP = [sys.executable, "-m", "vibroimpact", "sweep"]
 
 W = DEFAULTS["P"] + DEFAULTS["m"] * DEFAULTS["g"]  # static load P + m g [N]
 RUN_TIMEOUT_S = 100
@@ -26,7 +26,7 @@ RUN_TIMEOUT_S = 100
 
 def sweep(out, *args, workers=2, check=True):
     """Run the command; return (returncode, stderr, rows of sweep.csv, rows of poincare.csv)."""
-    cmd = [sys.executable, str(SWEEP), "--fmu", str(FMU), "--out", str(out), "--no-progress", "--no-plots", *args]
+    cmd = [*SWEEP, "--fmu", str(FMU), "--out", str(out), "--no-progress", "--no-plots", *args]
     if workers and "--scheduler" not in args:
         cmd += ["--workers", str(workers)]
     p = subprocess.run(cmd, capture_output=True, text=True, timeout=RUN_TIMEOUT_S, cwd=out.parent)
@@ -96,7 +96,7 @@ def test_small_amplitude_hertz_peaks_at_f_contact(tmp_path):
     forcing and free oscillation, so the largest force over a fixed time falls at the grid point
     nearest the contact resonance. The grid (2 Hz apart) does not contain f_contact."""
     fn, _ = linear_resonance_hz()
-    assert fn == pytest.approx(271.5, abs=0.05)  # README: 271.5 Hz linearised at P + m g
+    assert fn == pytest.approx(271.5, abs=0.05)  # 271.5 Hz: the paper's data, Hertz linearised at P + m g
     # rtol 1e-9: at the default 1e-6 the integration error of the 10-nm response is 4 % of its swing
     _, _, rows, _ = sweep(tmp_path / "peak", "--set", "contact_model=hertz", "--set", "a=1e-8", "--set", "rtol=1e-9",
                           "--grid", "f=260.3:280.3:11", "--stop-time", "0.2", "--step", "1e-4")
@@ -152,8 +152,8 @@ def wait_for_port(port, proc, timeout=60):
 
 @pytest.fixture
 def dask_cluster(tmp_path):
-    """`dask scheduler` and one `dask worker` on loopback, as separate processes, in a directory
-    without this repository on the path (the sweep ships its code to the worker)."""
+    """`dask scheduler` and one `dask worker` on loopback, as separate processes started in a directory
+    of their own (the sweep ships its code and the FMU to the worker)."""
     port = free_port()
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     work = tmp_path / "cluster"
@@ -205,7 +205,9 @@ def test_a_failed_point_stays_with_the_fmus_message(tmp_path):
         assert r["status"] == ("error" if bad else "ok"), r
         if bad:
             assert r["F_max"] == "" and r["n_impacts"] == ""
-            assert ("nu1" in r["message"]) if m > 0 else ("m = -100" in r["message"]), r["message"]
+            wrong = {"nu1 = ": nu > 0.5, "m = -100": m <= 0}  # the message names a value that is wrong
+            named = [w for w in wrong if w in r["message"]]
+            assert named and all(wrong[w] for w in named), r["message"]
         else:
             assert float(r["F_max"]) > 0 and r["message"] == ""
 
@@ -231,7 +233,7 @@ def test_enumerations_by_item_name_or_value(tmp_path):
 
 
 def test_item_names_from_the_description_of_an_integer(tmp_path):
-    """Contract C8: an enumeration turned Integer (for libcosim) keeps 'name=value' pairs in its
+    """An enumeration declared as an Integer (as for libcosim) may keep 'name=value' pairs in its
     description; the sweep maps item names through them."""
     from fmpy import extract
     xml = pathlib.Path(extract(str(FMU), unzipdir=str(tmp_path / "x"))) / "modelDescription.xml"
@@ -307,7 +309,7 @@ def test_continuation_direction_orders_the_chain(tmp_path):
 
 
 @pytest.mark.timeout(150)
-@pytest.mark.skipif(not f_is_tunable(), reason="this FMU declares f fixed (contract C9 makes it tunable)")
+@pytest.mark.skipif(not f_is_tunable(), reason="this FMU declares f fixed")
 def test_up_and_down_sweeps_jump_on_either_side_of_the_resonance(tmp_path):
     """Hertz, a = 5 um, continuation in the tunable f. Sweeping up, the mass stays on the platform
     until the growing response lifts it off below the contact resonance; sweeping down it stays on

@@ -1,4 +1,4 @@
-"""Tunable excitation (issue 12, contract C9): a and f may be set between steps; the change takes
+"""Tunable excitation: a and f may be set between steps; the change takes
 effect at the start of the next step with the phase of the excitation continuous. Closed forms: with
 the mass thrown clear of the platform (no load, v0 = 1 m/s) the output yC is the excitation alone,
 yC = a (cos phi - 1) with the phase phi accumulating 2 pi f dt over each step."""
@@ -75,18 +75,6 @@ def test_amplitude_change_moves_the_platform_at_once(fmu):
     # the platform moved by (a_new - a)(cos phi - 1) at once: yC = a_new (cos phi - 1) just after
     assert yC == pytest.approx(3e-4 * (np.cos(2 * np.pi * 100.0 * (0.0031 + 1e-9)) - 1.0), abs=1e-16)
     assert d == pytest.approx(yC - y, abs=1e-16) and abs(d - d_before) > 1e-5
-
-
-def test_negative_frequency_refused_at_the_step(fmu):
-    md, unzipdir, vr = fmu
-    inst = Logged(md, unzipdir)
-    s = inst.instantiate()
-    start(s, vr, dict(FLYING, a=1e-4))
-    s.doStep(0.0, 1e-3)
-    s.setReal([vr["f"]], [-5.0])
-    with pytest.raises(Exception):
-        s.doStep(1e-3, 1e-3)
-    assert "f = -5 Hz" in inst.text()
 
 
 def test_fixed_parameters_stay_fixed(fmu):

@@ -1,4 +1,4 @@
-"""Issue 9 item 9: the FMU says when a result leaves the model's range of validity (a contact radius
+"""The FMU says when a result leaves the model's range of validity (a contact radius
 sqrt(R* delta) above 0.1 R*, i.e. delta > 0.01 R*) and when options contradict each other, through
 the logger (fmi2Warning, category logStatusWarning), once per instance. Thresholds from closed forms:
 the Hertz static indentation (W/K)^(2/3) and the Hertz impact indentation

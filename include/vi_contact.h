@@ -1,7 +1,7 @@
 /*
  * vi_contact.h - contact laws of hard spheres: pure functions, no solver, no FMI.
  *
- * Equation numbers refer to Kowalska 2002 (../shared/seed); see also docs in README.md.
+ * Equation numbers refer to Kowalska 2002, the paper the model follows (doc/model.md section 2).
  * SI units throughout: lengths in m, forces in N, moduli and stresses in Pa, energies in J.
  * delta is the indentation (relative approach), positive when the bodies overlap.
  *

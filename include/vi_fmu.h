@@ -29,7 +29,8 @@
  *
  * What the layer guarantees to the hooks: called only in the FMI states where it makes sense
  * (below); values are written into the model's structs only after all values of the call were
- * checked (type, settable now, finite Real, String length); the model's `changed` hook is called
+ * checked (type, settable now, finite Real, inside the table's range or an item of its enumeration,
+ * String length), so the model sees only values inside their ranges; the model's `changed` hook is called
  * after an input (any time) or a tunable parameter (between steps) was set.
  */
 #ifndef VI_FMU_H
@@ -45,8 +46,22 @@
 typedef void (*vi_fmu_log_fn)(void *env, int category, const char *fmt, ...);
 enum { VI_FMU_LOG_EVENTS, VI_FMU_LOG_SOLVER, VI_FMU_LOG_WARNING, VI_FMU_LOG_ERROR };
 
+/* `running` of the restore hook. */
+enum { VI_FMU_RUNNING_CS = 1, VI_FMU_RUNNING_ME = 2 };
+
 /* Result of the advance hook. */
 enum { VI_FMU_ERROR = -1, VI_FMU_OK = 0, VI_FMU_DISCARD = 1 };
+
+/* What one pass of the discrete-state iteration (event_update hook) reports. The layer zeroes it
+ * before the call. */
+typedef struct {
+    int another_pass;        /* the mode is not yet consistent: call again at the same time */
+    int terminate;           /* nothing can go on from here (the message says why) */
+    int states_changed;      /* the continuous states changed (snapped onto a surface, say) */
+    int nominals_changed;    /* the nominals of the continuous states changed */
+    int next_time_defined;   /* a time event is due at next_time (> the current time) */
+    double next_time;
+} vi_fmu_event;
 
 typedef struct {
     /* ---- identity ---- */
@@ -85,7 +100,8 @@ typedef struct {
     /* fmi2SetupExperiment: the arguments are checked (finite start, tolerance in (0, 1),
      * stop >= start); tolerance_defined = 0 means none given. */
     void (*setup_experiment)(void *m, double start_time, int tolerance_defined, double tolerance);
-    /* Check the parameters and compute calculated values and the initial state, so that outputs
+    /* Check what the table's ranges cannot say about the parameters (the layer has refused values
+     * outside their ranges) and compute calculated values and the initial state, so that outputs
      * can be read in initialization mode. 0 or -1. */
     int (*prepare)(void *m);
     /* fmi2ExitInitializationMode: everything needed for stepping. 0 or -1. */
@@ -105,17 +121,59 @@ typedef struct {
     /* Optional: make the block the complete continuation before it is copied. 0 or -1. */
     int (*checkpoint)(void *m);
     /* Optional: the block was overwritten by a saved state; `running` is nonzero when the saved
-     * FMI state was after initialization (step complete, step failed, terminated, error). 0 or -1. */
+     * FMI state was after initialization (step complete, step failed, event, continuous time,
+     * terminated, error): VI_FMU_RUNNING_CS or VI_FMU_RUNNING_ME, the interface of the instance.
+     * 0 or -1. */
     int (*restore)(void *m, int running);
     /* Optional: check a saved block before it is used: every field finite and in range, modes
-     * consistent; `running` as for `restore` (before initialization only the settings matter).
+     * consistent; `running` as for `restore` (before initialization only the settings matter; in
+     * Model Exchange the importer's states may lie beyond the mode's surfaces until the next event).
      * 0, or -1 naming the first bad field in msg. The layer itself has already checked the
-     * header, the checksum and the table's values (Reals finite, Booleans 0 or 1, Strings
-     * terminated, enumerations items of their type once running). */
+     * header, the checksum and the table's values (Reals finite, Reals and Integers inside their
+     * ranges, enumerations items of their type, Booleans 0 or 1, Strings terminated). */
     int (*state_check)(const void *state, int running, char *msg, size_t n);
 
     /* The reason of the last failure (a NUL-terminated string inside the instance). */
     const char *(*message)(const void *m);
+
+    /* ---- Model Exchange (optional: a model with n_states = 0 offers Co-Simulation only, and its
+     * modelDescription.xml has no <ModelExchange>; with n_states > 0 every hook below is required,
+     * but `indicators` when n_indicators = 0 and `directional_derivative`, whose absence the XML
+     * declares with providesDirectionalDerivative="false").
+     * The importer integrates x' = f(t, x, u); the model keeps its mode, memory and time. The layer
+     * has checked every argument: states and time finite, the call allowed in the FMI state. ---- */
+    int n_states;     /* continuous states (numberOfContinuousStates) */
+    int n_indicators; /* event indicators (numberOfEventIndicators) */
+    /* Value references of the states and of their derivatives (n_states each), in state order. */
+    const unsigned *state_vrs, *derivative_vrs;
+    /* fmi2ExitInitializationMode of a Model Exchange instance: like `initialize`, for an importer's
+     * integrator (the model's own solver is not used). 0 or -1. */
+    int (*me_initialize)(void *m);
+    /* The importer sets the time [s] (states keep their values, inputs theirs). */
+    void (*set_time)(void *m, double t);
+    /* The continuous states, read and written in the order of state_vrs. */
+    void (*get_states)(void *m, double x[]);
+    void (*set_states)(void *m, const double x[]);
+    /* The derivatives x' at the current time, states and inputs (in the current mode). */
+    void (*derivatives)(void *m, double dx[]);
+    /* The event indicators z at the current time, states and inputs: an event is due where one
+     * changes sign (a guard of the mode reached zero). */
+    void (*indicators)(void *m, double z[]);
+    /* Nominal magnitudes of the states (for the importer's absolute tolerances): the scales of the
+     * problem once initialized, 1 before. */
+    void (*nominals)(const void *m, double nominal[]);
+    /* One pass of the discrete-state iteration at the current time (event mode): apply what is due
+     * (guards that reached zero, time events, inputs and tunable parameters set since the last
+     * pass) and fill *ev. 0 or -1 (message). */
+    int (*event_update)(void *m, vi_fmu_event *ev);
+    /* The importer completed an integrator step at the current state: 1 to ask for an event now,
+     * else 0. */
+    int (*completed_step)(void *m);
+    /* Directional derivative at the current point: dunknown = J dknown, J the partial derivatives
+     * of the unknowns (state derivatives and outputs, value references) with respect to the knowns
+     * (states and inputs, value references). 0, or -1 naming the first pair it cannot give. */
+    int (*directional_derivative)(void *m, const unsigned unknown[], size_t n_unknown, const unsigned known[],
+                                  size_t n_known, const double dknown[], double dunknown[]);
 } vi_fmu_model;
 
 /* The fields of vi_fmu_model that follow from the model's table (VI_MODEL_IDENTIFIER, VI_GUID and

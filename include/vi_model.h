@@ -86,26 +86,29 @@ typedef struct {
     long n_impacts;
 } vi_model;
 
-/* Check the parameters and derive the constants. Returns 0, or -1 with a message in msg. */
+/* Derive the constants from the parameters. Each parameter lies in its range of the variable table
+ * (finite, m > 0, -1 < nu <= 0.5, enumerations one of their items, ...: the FMI layer refuses any
+ * other value when it is set); what the table cannot say is checked here: at least one radius > 0,
+ * and a finite positive contact stiffness and yield force. Returns 0, or -1 with a message in msg. */
 int vi_model_setup(vi_model *M, const vi_parameters *p, double t0, char *msg, size_t msg_size);
 
-/* The excitation's parameters changed at time t (tunable a and f, contract C9): the phase phi
- * stays continuous (a new f turns on from phi(t) at the new rate); a new a moves the platform by
- * (a_new - a)(cos(phi(t)) - 1), and delta jumps with it while the mass does not move, as for a
- * jump of yC_in. Call between vi_model_freeze and vi_model_resolve (the rate of delta changes).
- * Returns 0, or -1 with a message (non-finite a or f, f < 0; nothing changed). */
-int vi_model_set_excitation(vi_model *M, double t, double x[2], double a, double f, char *msg, size_t n);
+/* The excitation's parameters changed at time t (tunable a and f, finite, f >= 0 as the variable
+ * table says): the phase phi stays continuous (a new f turns on from phi(t) at the new rate); a new
+ * a moves the platform by (a_new - a)(cos(phi(t)) - 1), and delta jumps with it while the mass does
+ * not move, as for a jump of yC_in. Call between vi_model_freeze and vi_model_resolve (the rate of
+ * delta changes). */
+void vi_model_set_excitation(vi_model *M, double t, double x[2], double a, double f);
 /* Do (a, f) differ from the excitation the model runs? */
 int vi_model_excitation_differs(const vi_model *M, double a, double f);
 /* The excitation's phase phi(t) [rad]. */
 double vi_model_phase(const vi_model *M, double t);
 
-/* Roll over profile (NULL: none) at speed V [m/s] from position x0 [m] at t0. Returns 0, or -1 with a
- * message when x0 lies outside a non-periodic profile or V, x0 are not finite. */
+/* Roll over profile (NULL: none) at speed V [m/s] from position x0 [m] at t0 (both finite). Returns 0,
+ * or -1 with a message when x0 lies outside a non-periodic profile. */
 int vi_model_set_rolling(vi_model *M, const vi_profile *profile, double V, double x0, char *msg, size_t n);
 /* Position on the profile at time t [m]. */
 double vi_model_rolling_position(const vi_model *M, double t);
-/* Contract C10: the first time after t at which the platform velocity jumps (the rolling position
+/* The first time after t at which the platform velocity jumps (the rolling position
  * passes a kink of yb); INFINITY if none. The time is rounded so that the position there is past the
  * kink, so that yC' there is the value after the jump. */
 double vi_model_next_breakpoint(const vi_model *M, double t);
@@ -162,22 +165,32 @@ int vi_model_resolve(vi_model *M, double t, double x[2]);
 #define VI_SCALE_FALLBACK 1e-6
 void vi_model_scales(const vi_model *M, const double x0[2], double *L, double *V);
 
-/* Range of validity (issue 9 item 9). Eqs. 2-4 assume a contact radius small against R* (half-space,
- * small slopes). The model leaves that range when the Hertz contact radius sqrt(R* delta) exceeds
- * VI_VALIDITY_RADIUS R*, i.e. when the indentation delta (or the largest one, delta_c) exceeds
- * VI_VALIDITY_RADIUS^2 R* = 0.01 R*. Returns 1 with a message naming the time, the indentation and
- * the threshold, else 0. Meant to be checked at initialization, at events and at communication
- * points, and reported once per instance (logStatusWarning). */
+/* Range of validity. The contact laws (eqs. 2-4) describe the local contact of bodies whose radii
+ * are large against the contact and against every displacement of the problem (half-space, small
+ * slopes). Three ways to leave that range, each a bit of the result:
+ *   VI_INVALID_INDENTATION  the Hertz contact radius sqrt(R* delta) exceeds VI_VALIDITY_RADIUS R*,
+ *                           i.e. the indentation delta (or the largest one, delta_c) exceeds
+ *                           VI_VALIDITY_RADIUS^2 R*;
+ *   VI_INVALID_AMPLITUDE    the excitation amplitude |a| exceeds R*: the platform moves by more than
+ *                           the radius of curvature of the contact (above the contact resonance the
+ *                           indentation swings by about a, a hundred times the first limit);
+ *   VI_INVALID_PROFILE      the profile's heights span more than the rolling radius R1 (paper
+ *                           Fig. 1b: a wheel rolling over a roughness small against it).
+ * Returns the bit of the first cause that is not in `skip`, with a message naming the time, the
+ * value and the limit; 0 when there is none. The simulation checks at initialization, at events,
+ * at communication points and after a change of a, and warns once per cause and instance
+ * (logStatusWarning). */
 #define VI_VALIDITY_RADIUS 0.1
-int vi_model_validity(const vi_model *M, double t, const double x[2], char *msg, size_t n);
+enum { VI_INVALID_INDENTATION = 1, VI_INVALID_AMPLITUDE = 2, VI_INVALID_PROFILE = 4 };
+int vi_model_validity(const vi_model *M, double R1, double t, const double x[2], int skip, char *msg, size_t n);
 
-/* Options that contradict each other or are ignored (issue 9 item 9): moving_contact, continuous
+/* Options that contradict each other or are ignored: moving_contact, continuous
  * unloading or the printed yield formula where the law does not use them, v0 with a static start,
  * the rolling parameters without a profile.
  * Returns how many there are; msg lists them (one warning at initialization). */
 int vi_model_option_warnings(const vi_parameters *p, char *msg, size_t n);
 
-/* Contract C3: is M (with the state x) a model this code could have produced? Checks, and names in
+/* Is M (with the state x) a model this code could have produced (doc/model.md section 7.6)? Checks, and names in
  * msg the first bad field of:
  *  - enumerations and flags: law, moving, unloading, mode (allowed for the law), yielded;
  *  - constants: finite, m, K, E*, R*, theta_Y, F_Y, delta_Y, k_lin > 0, omega >= 0, and consistent with
@@ -198,6 +211,9 @@ int vi_model_option_warnings(const vi_parameters *p, char *msg, size_t n);
  * Returns 0, or -1 with the message. Touches nothing (pointers in M are not followed). */
 #define VI_CHECK_GUARD_TOL 1e-6
 int vi_model_check(const vi_model *M, const double x[2], char *msg, size_t n);
+/* vi_model_check without the mode against the state: a state an outside integrator may hold (Model
+ * Exchange), which lies beyond its mode's surfaces between a crossing and the event that follows. */
+int vi_model_check_between_events(const vi_model *M, const double x[2], char *msg, size_t n);
 
 /* Derived parameters (E_star ... f_contact) and outputs at (t, x). */
 void vi_model_calculated(const vi_model *M, vi_outputs *out);

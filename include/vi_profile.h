@@ -58,13 +58,13 @@ int vi_profile_eval(const vi_profile *p, double x, double y[4]);
  * (rounding of the positions in other periods) counting as at x, not beyond; +-INFINITY if none. */
 double vi_profile_next_kink(const vi_profile *p, double x, int dir);
 
-/* Range [x_first, x_last] of the table, periodicity, radius, largest |yb'|, counts. */
+/* Range [x_first, x_last] of the table, periodicity, largest |yb'|, the kinks in [x_first, x_last]
+ * (one period), and the span of the table's heights, max h - min h [m]. */
 double vi_profile_x_first(const vi_profile *p);
 double vi_profile_x_last(const vi_profile *p);
 int vi_profile_periodic(const vi_profile *p);
-double vi_profile_radius(const vi_profile *p);
 double vi_profile_max_slope(const vi_profile *p);
-size_t vi_profile_pieces(const vi_profile *p); /* intervals of the envelope */
-size_t vi_profile_kinks(const vi_profile *p);  /* kinks in [x_first, x_last] (one period) */
+size_t vi_profile_kinks(const vi_profile *p);
+double vi_profile_height_span(const vi_profile *p);
 
 #endif

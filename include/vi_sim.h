@@ -1,11 +1,14 @@
 /*
  * vi_sim.h - one simulation: parameters, inputs, the hybrid model, its state, and the solver.
- * The FMI glue owns one vi_sim per instance; nothing here knows FMI.
+ * The FMI glue (src/vi_fmu_contact.c) owns one vi_sim per instance and calls it through the
+ * functions below; nothing here calls FMI. Comments and messages name the FMI call a value comes
+ * from where the user needs it: the tolerance is the one of fmi2SetupExperiment.
  *
  * vi_sim_data is plain data: it is what fmi2GetFMUstate copies and what
  * fmi2SerializeFMUstate writes. Its one pointer, the model's profile (rolling), is never trusted
- * from a saved state: vi_sim_prepare and vi_sim_restore point it at the instance's own profile. vi_sim_checkpoint before the copy and vi_sim_restore after it make a
- * restored copy continue bit for bit like the original (contract C7).
+ * from a saved state: vi_sim_prepare and vi_sim_restore point it at the instance's own profile.
+ * vi_sim_checkpoint before the copy and vi_sim_restore after it make a
+ * restored copy continue bit for bit like the original (doc/model.md section 7.5).
  * The solver points into s->d: a vi_sim stays where it was initialized (never copied or moved).
  */
 #ifndef VI_SIM_H
@@ -18,15 +21,7 @@
 /* Longest path of the resources folder or a profile file. */
 #define VI_PATH_MAX 4096
 
-/* Valid ranges of the tolerance (parameter rtol, or the tolerance of fmi2SetupExperiment) and of
- * max_step, checked at initialization. Above 1e-2 the error is of the order of the motion itself;
- * below 1e-14 the tolerance is under the rounding of a double state. max_step is 0 (no limit) or at
- * least VI_MAX_STEP_MIN. */
-#define VI_RTOL_MIN 1e-14
-#define VI_RTOL_MAX 1e-2
-#define VI_MAX_STEP_MIN 1e-12 /* s */
-
-/* Results of vi_sim_advance (contract C1). */
+/* Results of vi_sim_advance (doc/model.md section 7.1). */
 enum { VI_SIM_OK = 0, VI_SIM_DISCARD = 1, VI_SIM_ERROR = -1 };
 
 /* Work bounds of one vi_sim_advance (one fmi2DoStep): internal solver steps and events. When either
@@ -77,7 +72,7 @@ typedef struct {
     vi_outputs out;
     vi_log_fn log;
     void *log_env;
-    int warned_validity; /* the model left its range of validity: warned once (not part of the FMU state) */
+    int warned_validity; /* VI_INVALID_* bits: the causes warned of (once each; not part of the FMU state) */
     /* Rolling: the profile the model points to (owned here, outside the FMU state), the file it came
      * from with the radius and periodicity it was built for, and the FMU's resources folder. */
     vi_profile *profile;
@@ -86,7 +81,7 @@ typedef struct {
     char msg[512];       /* last error message */
 } vi_sim;
 
-/* Contract C5: the FMU's resources folder (a path, not a URI; NULL or "" for none), where a relative
+/* The FMU's resources folder (a path, not a URI; NULL or "" for none), where a relative
  * profile_file is looked up first (then the working directory). Kept across vi_sim_reset. */
 void vi_sim_set_resources(vi_sim *s, const char *dir);
 
@@ -96,12 +91,15 @@ void vi_sim_init(vi_sim *s, vi_log_fn log, void *log_env);
 void vi_sim_reset(vi_sim *s);
 void vi_sim_free(vi_sim *s);
 
-/* Check the parameters and compute the derived ones and the initial state (no solver).
+/* Check what the ranges of the variable table cannot say (each parameter lies in its range: the
+ * FMI layer refuses other values when they are set): the experiment's tolerance in [VI_RTOL_MIN,
+ * VI_RTOL_MAX], max_step 0 or at least VI_MAX_STEP_MIN, a radius > 0 (vi_model_setup), a profile
+ * that loads for R1 > 0; then compute the derived parameters and the initial state (no solver).
  * 0, or -1 with the reason in s->msg. */
 int vi_sim_prepare(vi_sim *s);
 /* vi_sim_prepare, then create the solver. 0 or -1 (s->msg). */
 int vi_sim_initialize(vi_sim *s);
-/* Integrate from s->d.t to t_end > s->d.t, locating and applying every event (contract C1):
+/* Integrate from s->d.t to t_end > s->d.t, locating and applying every event (doc/model.md section 7.1):
  *   VI_SIM_OK:      s->d.t = t_end;
  *   VI_SIM_DISCARD: a work bound was reached or events accumulate at one instant (Zeno); s->d.t is
  *                   where the simulation got, the state there is consistent and usable, and s->msg
@@ -111,21 +109,28 @@ int vi_sim_advance(vi_sim *s, double t_end);
 /* Outputs and calculated parameters at the current time; computed at most once per state (lazy,
  * cached until the state changes through a vi_sim call). */
 void vi_sim_outputs(vi_sim *s, vi_outputs *out);
-/* Contract C7: make s->d the complete continuation before it is copied into an FMU state. CVODE:
+/* Make s->d the complete continuation before it is copied into an FMU state. CVODE:
  * the running solver restarts at (s->d.t, s->d.x), exactly as vi_sim_restore makes a restored copy
  * start, so both continue from identical data. 0 or -1 (s->msg). */
 int vi_sim_checkpoint(vi_sim *s);
 /* Start the solver from s->d after it was overwritten by a saved state (any FMI state). 0 or -1. */
 int vi_sim_restore(vi_sim *s);
 void vi_sim_statistics(const vi_sim *s, vi_solver_stats *st);
+/* Warn (once per cause and instance) when the contact leaves the model's range of validity at the
+ * current state (vi_model_validity). */
+void vi_sim_check_validity(vi_sim *s);
 /* The loop's Zeno rule: the count of consecutive events each within VI_ZENO_ULPS ulps of time of the
  * point before (t_before: the previous event or the step's start), after one more event at t. */
 int vi_sim_zeno_count(int count, double t_before, double t);
 
-/* Contract C3: is d a state this FMU could have produced? Checks every field of vi_sim_data owned by the
- * simulation layer (finite times, state, tolerances and inputs; counters >= 0; enumerations and flags
- * in range) and then the model's part (vi_model_check). 0 when valid, else -1 with the first bad
- * field named in msg. No pointer in d is followed (the model's profile pointer is not). */
+/* Is d a state this FMU could have produced (doc/model.md section 7.6)? Checks every field of
+ * vi_sim_data that the simulation layer owns (finite times and state, the tolerances, counters >= 0,
+ * flags 0 or 1, the one-step method's continuation) and then the model's part (vi_model_check). The
+ * parameters and inputs (par, in, din) are the variable table's: the FMI layer checks them (finite,
+ * in their ranges, items of their enumerations) before it calls this. 0 when valid, else -1 with the
+ * first bad field named in msg. No pointer in d is followed (the model's profile pointer is not). */
 int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n);
+/* The same with vi_model_check_between_events: the state of an outside integrator (Model Exchange). */
+int vi_sim_data_check_between_events(const vi_sim_data *d, char *msg, size_t n);
 
 #endif

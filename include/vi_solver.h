@@ -17,14 +17,18 @@
  * from positive to negative (root direction -1), or returns the state at tout.
  *
  * Integration past output points: vi_solver_advance sets no stop time. The solver keeps its step
- * size and order, may step beyond tout, and returns x(tout) from its interpolant (CVODE:
- * CVodeGetDky inside CVode's CV_NORMAL mode); guards are checked between the last output point and
- * tout on that interpolant. The next call continues from the solver's own internal state, so a
- * call whose tout lies inside the last internal step takes no new step. The caller restarts the
+ * size and order, may step beyond tout, and returns x(tout) from its interpolant (CVODE: driven
+ * one internal step at a time in CV_ONE_STEP mode, x(tout) from CVodeGetDky; the guards are
+ * checked by CVODE over each whole step, and a root found beyond tout is held until the calls
+ * reach it). The next call continues from the solver's own internal state, so a call whose tout
+ * lies inside the last internal step takes no new step. The caller restarts the
  * solver (vi_solver_reset) only when the problem changes: after an event, an input jump, or when a
  * state is taken (vi_sim_checkpoint).
  *
- * Every SUNDIALS call is checked by one helper that logs the failing call through cfg->log.
+ * Every SUNDIALS call that sets up or advances CVODE is checked by one helper that logs the failing
+ * call through cfg->log. The counter queries of vi_solver_statistics (CVodeGetNum*) are not: on
+ * the live CVODE memory with its linear solver attached they cannot fail (they fail only for a
+ * NULL memory or linear solver), and a statistic is no reason to fail a run.
  */
 #ifndef VI_SOLVER_H
 #define VI_SOLVER_H
@@ -32,6 +36,14 @@
 #include <stddef.h>
 
 #include "vi_ode.h"
+
+/* The relative tolerances the solvers are used with (the models' parameter rtol declares this range;
+ * the tolerance of fmi2SetupExperiment is checked against it at initialization): above VI_RTOL_MAX
+ * the error is of the order of the motion itself; below VI_RTOL_MIN the tolerance is under the
+ * rounding of a double state. A maximum step is 0 (no limit) or at least VI_MAX_STEP_MIN. */
+#define VI_RTOL_MIN 1e-14
+#define VI_RTOL_MAX 1e-2
+#define VI_MAX_STEP_MIN 1e-12 /* s */
 
 /* Sizes this wrapper is made for: small dense systems. */
 #define VI_SOLVER_MAX_N 4
@@ -46,6 +58,8 @@ typedef void (*vi_jac_fn)(double t, const double *x, double *jac_row_major, void
 
 /* Integration methods (the values of the FMU's `solver` enumeration). */
 enum { VI_METHOD_BDF = 1, VI_METHOD_ADAMS = 2, VI_METHOD_DOP853 = 3 };
+/* Its name for messages: "CVODE BDF", "CVODE Adams", "Dormand-Prince 8(5,3)"; "unknown method" else. */
+const char *vi_solver_method_name(int method);
 
 /* Interior guard samples per step of the one-step method (see vi_ode.h, EVENTS): a guard that dips
  * below zero and back within one step is seen when it is below zero at a sample. */
@@ -67,6 +81,7 @@ typedef struct {
 } vi_solver_config;
 
 typedef struct {
+    const char *method; /* the method that ran (vi_solver_method_name) */
     long steps, rhs_evals, jac_evals, nonlin_iters, nonlin_fails, err_test_fails, guard_evals, resets;
 } vi_solver_stats;
 
@@ -92,7 +107,8 @@ int vi_solver_reset(vi_solver *s, double t0, const double *x0);
  *                      a consistent point the solver can continue from;
  *   VI_SOLVER_FAILED:  logged. */
 int vi_solver_advance(vi_solver *s, double tout, long max_steps, double *t, double *x, int *fired, long *taken);
-/* Cumulative counters since vi_solver_create. */
+/* Cumulative counters since vi_solver_create, and the method's name. (The one-step method has no
+ * Jacobian and no nonlinear iteration: those stay 0; its rejected steps count as error test failures.) */
 void vi_solver_statistics(const vi_solver *s, vi_solver_stats *st);
 /* Is *o a continuation of the one-step method for n states and nguards guards whose current point
  * is at or after t (a state restored from outside may hold anything)? 0, or -1 with the first bad

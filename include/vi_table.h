@@ -10,9 +10,9 @@
  *   #include "vi_table.h"
  *   #define VI_GUID "{...}"                      // the guid of the model's modelDescription.xml
  *   #define VI_VARIABLES(X) \
- *     X(u, Real, none, input, continuous, exact, 0.0, "N", "force in") \
- *     X(k, Real, none, parameter, fixed, exact, 1e6, "N/m", "stiffness") \
- *     X(x, Real, none, output, continuous, calculated, 0.0, "m", "position")
+ *     X(u, Real, none, input, continuous, exact, 0.0, VI_NONE, VI_NONE, "N", "force in") \
+ *     X(k, Real, none, parameter, fixed, exact, 1e6, VI_ABOVE(0.0), VI_NONE, "N/m", "stiffness") \
+ *     X(x, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m", "position")
  *   #define VI_ENUMERATIONS(E)                   // none (or E(Type, "description") ...)
  *   VI_TABLE_DECLARE
  *
@@ -20,17 +20,29 @@
  *   #include "<model>_variables.h"
  *   VI_TABLE_DEFINE
  *
- * Columns: X(name, type, enum, causality, variability, initial, start, unit, description)
+ * Columns: X(name, type, enum, causality, variability, initial, start, min, max, unit, description)
  *   name        the FMU variable name and the C field name
  *   type        Real | Integer | Boolean | Enumeration (read and written as Integer) | String
  *               (String: parameters and inputs only, stored as char[VI_STRING_SIZE] inside the
  *               struct, so that the state stays plain data; longer values are refused)
  *   enum        the enumeration type (VI_ENUMERATIONS) whose items name the values, else none
- *   causality   parameter | input | output | calculatedParameter
+ *   causality   parameter | input | output | calculatedParameter | local (a local is computed on demand
+ *               like an output: the state derivatives of Model Exchange)
  *   variability constant | fixed | tunable | discrete | continuous (tunable parameters may be set
  *               between steps; the model's `changed` hook hears of it)
  *   initial     exact | calculated  (outputs and calculated parameters: calculated)
  *   start       start value (ignored when initial is calculated); a string literal for String
+ *   min, max    the valid range of a Real or Integer parameter or input, each bound one of
+ *                 VI_NONE        no bound on this side
+ *                 VI_AT(x)       inclusive: x itself is valid (modelDescription.xml: min/max = x)
+ *                 VI_ABOVE(x)    exclusive lower bound, VI_BELOW(x) exclusive upper bound: x itself
+ *                                is not valid. FMI min/max are inclusive, so modelDescription.xml
+ *                                declares the nearest double inside (vi_bound_inclusive: for
+ *                                VI_ABOVE(0.0) the smallest positive double), which is exactly the
+ *                                same set of doubles.
+ *               The range of an enumerated Integer (enum column) is its items: write VI_NONE. The
+ *               generic FMI layer refuses a value outside the range in fmi2SetReal/fmi2SetInteger,
+ *               naming the variable and the range; the model sees only values inside it.
  *   unit        unit symbol as declared in modelDescription.xml, "" for none
  * The value reference of a variable is its row number (0, 1, 2, ...): append new rows at the end,
  * so that the value references users already rely on stay valid.
@@ -47,8 +59,14 @@
 #ifndef VI_TABLE_H
 #define VI_TABLE_H
 
+#include <math.h>
 #include <stddef.h>
+#include <stdio.h>
 #include <string.h> /* memcpy in VI_TABLE_DEFINE */
+
+/* The text of a macro's value, e.g. in a description: "at least " VI_STRING_OF(VI_MAX_STEP_MIN). */
+#define VI_STRING_OF_(x) #x
+#define VI_STRING_OF(x) VI_STRING_OF_(x)
 
 /* Longest String value + 1 (the terminating NUL). */
 #define VI_STRING_SIZE 1024
@@ -58,6 +76,17 @@ typedef enum { VI_Real, VI_Integer, VI_Boolean, VI_Enumeration, VI_String } vi_t
  * the struct (of type vi_inputs) that holds the first time derivatives of the Real inputs. */
 typedef enum { VI_GROUP_PARAMETERS, VI_GROUP_INPUTS, VI_GROUP_OUTPUTS, VI_GROUP_INPUT_DERIVATIVES } vi_group;
 
+/* One bound of a valid range (the min and max columns). */
+typedef enum { VI_BOUND_NONE, VI_BOUND_INCLUSIVE, VI_BOUND_EXCLUSIVE } vi_bound_kind;
+typedef struct {
+    double value;
+    vi_bound_kind kind;
+} vi_bound;
+#define VI_NONE {0.0, VI_BOUND_NONE}
+#define VI_AT(x) {(x), VI_BOUND_INCLUSIVE}
+#define VI_ABOVE(x) {(x), VI_BOUND_EXCLUSIVE}
+#define VI_BELOW(x) {(x), VI_BOUND_EXCLUSIVE}
+
 typedef struct {
     const char *name;
     vi_type type;
@@ -65,12 +94,43 @@ typedef struct {
     const char *causality, *variability, *initial;
     double start;              /* meaningful when initial is exact (0 for String) */
     const char *start_string;  /* the start value of a String, else NULL */
+    vi_bound min, max;         /* valid range (VI_BOUND_NONE for enumerations: their items) */
     const char *unit, *description;
     vi_group group;            /* the struct that holds the value ... */
     size_t offset;             /* ... and where in it */
 } vi_variable;
 
 typedef struct { const char *type, *name; int value; } vi_enum_item;
+
+/* The inclusive bound equal to b as a set of doubles: the min (upper = 0) or max (upper = 1)
+ * modelDescription.xml declares; -INFINITY or INFINITY without a bound. */
+static inline double vi_bound_inclusive(vi_bound b, int upper)
+{
+    if (b.kind == VI_BOUND_NONE) return upper ? INFINITY : -INFINITY;
+    return b.kind == VI_BOUND_EXCLUSIVE ? nextafter(b.value, upper ? -INFINITY : INFINITY) : b.value;
+}
+
+/* Does x lie in the range of v (NaN never does)? Enumerations are checked against their items. */
+static inline int vi_in_range(const vi_variable *v, double x)
+{
+    return x >= vi_bound_inclusive(v->min, 0) && x <= vi_bound_inclusive(v->max, 1);
+}
+
+/* The range of v as the user reads it, e.g. "m > 0", "-1 < nu1 <= 0.5", "f >= 0"; "" without one. */
+static inline void vi_range_text(const vi_variable *v, char *text, size_t n)
+{
+    char lo[48] = "", hi[48] = "";
+    if (v->min.kind != VI_BOUND_NONE)
+        snprintf(lo, sizeof lo, "%.15g %s ", v->min.value, v->min.kind == VI_BOUND_EXCLUSIVE ? "<" : "<=");
+    if (v->max.kind != VI_BOUND_NONE)
+        snprintf(hi, sizeof hi, " %s %.15g", v->max.kind == VI_BOUND_EXCLUSIVE ? "<" : "<=", v->max.value);
+    if (v->min.kind != VI_BOUND_NONE && v->max.kind == VI_BOUND_NONE) /* "m > 0" reads better than "0 < m" */
+        snprintf(text, n, "%s %s %.15g", v->name, v->min.kind == VI_BOUND_EXCLUSIVE ? ">" : ">=", v->min.value);
+    else if (v->min.kind != VI_BOUND_NONE || v->max.kind != VI_BOUND_NONE)
+        snprintf(text, n, "%s%s%s", lo, v->name, hi);
+    else if (n > 0)
+        text[0] = '\0';
+}
 
 /* ---- helpers of the generators (nothing below names a variable) ---- */
 
@@ -114,19 +174,22 @@ typedef struct { const char *type, *name; int value; } vi_enum_item;
 #define VI_NO_STRING_OUT_Enumeration
 #define VI_NO_STRING_OUT_String _Static_assert(0, "String outputs are not supported");
 
-/* Which struct holds a variable: parameters, inputs, or outputs (with calculated parameters). */
+/* Which struct holds a variable: parameters, inputs, or outputs (with calculated parameters and locals). */
 #define VI_IF_PAR_parameter(x) x
 #define VI_IF_PAR_input(x)
 #define VI_IF_PAR_output(x)
 #define VI_IF_PAR_calculatedParameter(x)
+#define VI_IF_PAR_local(x)
 #define VI_IF_IN_parameter(x)
 #define VI_IF_IN_input(x) x
 #define VI_IF_IN_output(x)
 #define VI_IF_IN_calculatedParameter(x)
+#define VI_IF_IN_local(x)
 #define VI_IF_OUT_parameter(x)
 #define VI_IF_OUT_input(x)
 #define VI_IF_OUT_output(x) x
 #define VI_IF_OUT_calculatedParameter(x) x
+#define VI_IF_OUT_local(x) x
 
 #define VI_ENUM_CONST_(T, n, v) VI_##T##_##n = v,
 #define VI_ENUM_ITEMS_(T, d) VI_ITEMS_##T(VI_ENUM_CONST_)
@@ -142,9 +205,9 @@ typedef struct { const char *type, *name; int value; } vi_enum_item;
 #define VI_OFFSET_OF_(caus, name)                                                                   \
     VI_IF_PAR_##caus(offsetof(vi_parameters, name)) VI_IF_IN_##caus(offsetof(vi_inputs, name))      \
         VI_IF_OUT_##caus(offsetof(vi_outputs, name))
-#define VI_ROW_(name, type, en, caus, var, init, start, unit, desc)                                  \
-    {#name, VI_##type, #en, #caus, #var, #init, VI_START_NUM_##type(start), VI_START_STR_##type(start), unit, desc, \
-     VI_GROUP_OF_(caus), VI_OFFSET_OF_(caus, name)},
+#define VI_ROW_(name, type, en, caus, var, init, start, lo, hi, unit, desc)                          \
+    {#name, VI_##type, #en, #caus, #var, #init, VI_START_NUM_##type(start), VI_START_STR_##type(start), lo, hi,  \
+     unit, desc, VI_GROUP_OF_(caus), VI_OFFSET_OF_(caus, name)},
 #define VI_ITEM_ROW_(T, n, v) {#T, #n, v},
 #define VI_TYPE_ITEMS_(T, d) VI_ITEMS_##T(VI_ITEM_ROW_)
 #define VI_DEFAULT_PAR_(name, type, en, caus, var, init, start, ...) VI_IF_PAR_##caus(VI_ASSIGN_##type(p->name, start))

@@ -18,61 +18,64 @@
 #ifndef VI_VARIABLES_H
 #define VI_VARIABLES_H
 
+#include "vi_solver.h" /* VI_RTOL_MIN, VI_RTOL_MAX, VI_MAX_STEP_MIN */
 #include "vi_table.h"
 
 #define VI_GUID "{5b7e0c3a-2f1d-4e8b-9a61-7c4d2e9f1a03}"
 #define VI_MODEL_IDENTIFIER "VibroImpact"
 
 #define VI_VARIABLES(X) \
-  X(yC_in, Real, none, input, continuous, exact, 0.0, "m", "platform displacement input (interpolated with its derivative when given)") \
-  X(F_ext, Real, none, input, continuous, exact, 0.0, "N", "external force on the mass, up positive") \
-  X(m, Real, none, parameter, fixed, exact, 407.747, "kg", "mass") \
-  X(P, Real, none, parameter, fixed, exact, 40000.0, "N", "constant pressing load") \
-  X(g, Real, none, parameter, fixed, exact, 9.81, "m/s2", "gravity (0 makes P the whole load)") \
-  X(R1, Real, none, parameter, fixed, exact, 0.475, "m", "radius of body 1 (0 = plane)") \
-  X(R2, Real, none, parameter, fixed, exact, 0.0, "m", "radius of body 2 (0 = plane)") \
-  X(E1, Real, none, parameter, fixed, exact, 2.1e11, "Pa", "Young's modulus of body 1") \
-  X(E2, Real, none, parameter, fixed, exact, 2.1e11, "Pa", "Young's modulus of body 2") \
-  X(nu1, Real, none, parameter, fixed, exact, 0.3, "", "Poisson's ratio of body 1") \
-  X(nu2, Real, none, parameter, fixed, exact, 0.3, "", "Poisson's ratio of body 2") \
-  X(Y, Real, none, parameter, fixed, exact, 6e8, "Pa", "uniaxial yield stress") \
-  X(theta_Y, Real, none, parameter, fixed, exact, 1.1, "", "limiting mean pressure p_Y = theta_Y Y") \
-  X(contact_model, Integer, ContactModel, parameter, fixed, exact, 2, "", "contact law") \
-  X(moving_contact, Boolean, none, parameter, fixed, exact, 0, "", "Johnson with a moving contact point: virgin curve both ways") \
-  X(unloading, Integer, Unloading, parameter, fixed, exact, 1, "", "Johnson unloading curve") \
-  X(yield_formula, Integer, YieldFormula, parameter, fixed, exact, 1, "", "formula for the yield force F_Y") \
-  X(init, Integer, Init, parameter, fixed, exact, 1, "", "initial state") \
-  X(v0, Real, none, parameter, fixed, exact, 0.0, "m/s", "initial velocity of the mass when touching") \
-  X(a, Real, none, parameter, tunable, exact, 0.0, "m", "amplitude of the internal harmonic platform excitation (tunable: a change moves the platform)") \
-  X(f, Real, none, parameter, tunable, exact, 560.0, "Hz", "frequency of the internal harmonic platform excitation (tunable: the phase stays continuous)") \
-  X(rtol, Real, none, parameter, fixed, exact, 1e-6, "", "relative tolerance (a tolerance from fmi2SetupExperiment wins)") \
-  X(solver, Integer, Solver, parameter, fixed, exact, 2, "", "integration method: CVODE BDF or Adams (linear multistep), or Dormand-Prince 8(5,3) (explicit one-step, dense output)") \
-  X(max_step, Real, none, parameter, fixed, exact, 0.0, "s", "maximum internal step of the solver, 0 = none") \
-  X(F, Real, none, output, continuous, calculated, 0.0, "N", "contact force") \
-  X(delta, Real, none, output, continuous, calculated, 0.0, "m", "indentation yC - y") \
-  X(y, Real, none, output, continuous, calculated, 0.0, "m", "mass position") \
-  X(v, Real, none, output, continuous, calculated, 0.0, "m/s", "mass velocity") \
-  X(yC, Real, none, output, continuous, calculated, 0.0, "m", "platform position actually applied") \
-  X(contact, Boolean, none, output, discrete, calculated, 0, "", "bodies touch") \
-  X(mode, Integer, Mode, output, discrete, calculated, 0, "", "mode of the hybrid automaton") \
-  X(delta_c, Real, none, output, continuous, calculated, 0.0, "m", "maximum indentation reached (Johnson)") \
-  X(delta_f, Real, none, output, continuous, calculated, 0.0, "m", "final indentation of the unloading curve (Johnson)") \
-  X(delta_p, Real, none, output, continuous, calculated, 0.0, "m", "permanent set (linear elastic-perfectly plastic)") \
-  X(Rbar, Real, none, output, continuous, calculated, 0.0, "m", "effective radius after plastic deformation (Johnson)") \
-  X(W_plastic, Real, none, output, continuous, calculated, 0.0, "J", "plastic work dissipated so far") \
-  X(n_impacts, Integer, none, output, discrete, calculated, 0, "", "contact onsets so far (a contact present at the start is not counted)") \
-  X(E_star, Real, none, calculatedParameter, fixed, calculated, 0.0, "Pa", "effective Young's modulus (paper eq. 1)") \
-  X(R_star, Real, none, calculatedParameter, fixed, calculated, 0.0, "m", "effective radius (paper eq. 1)") \
-  X(F_Y, Real, none, calculatedParameter, fixed, calculated, 0.0, "N", "yield force") \
-  X(delta_Y, Real, none, calculatedParameter, fixed, calculated, 0.0, "m", "yield indentation") \
-  X(k_lin, Real, none, calculatedParameter, fixed, calculated, 0.0, "N/m", "stiffness of the linear elastic-perfectly plastic model, F_Y/delta_Y") \
-  X(f_contact, Real, none, calculatedParameter, fixed, calculated, 0.0, "Hz", "linearised contact resonance at the static load") \
-  X(F_mean, Real, none, output, continuous, calculated, 0.0, "N", "contact force averaged over the last communication step: its impulse divided by the step") \
-  X(k_contact, Real, none, output, continuous, calculated, 0.0, "N/m", "tangent contact stiffness dF/ddelta at the current state, 0 out of contact") \
-  X(profile_file, String, none, parameter, fixed, exact, "", "", "profile rolled over (Fig. 1b): two-column text table x [m], h [m]; relative paths: FMU resources, then working directory; empty = none") \
-  X(V, Real, none, parameter, fixed, exact, 0.0, "m/s", "rolling speed over the profile: yC = yC_in + a (cos(2 pi f t) - 1) + yb(x0 + V t)") \
-  X(x0, Real, none, parameter, fixed, exact, 0.0, "m", "position on the profile at the start time") \
-  X(profile_periodic, Boolean, none, parameter, fixed, exact, 0, "", "repeat the profile beyond its ends (its last height must equal the first); false: the run stops at its end")
+  X(yC_in, Real, none, input, continuous, exact, 0.0, VI_NONE, VI_NONE, "m", "platform displacement input (interpolated with its derivative when given)") \
+  X(F_ext, Real, none, input, continuous, exact, 0.0, VI_NONE, VI_NONE, "N", "external force on the mass, up positive") \
+  X(m, Real, none, parameter, fixed, exact, 407.747, VI_ABOVE(0.0), VI_NONE, "kg", "mass") \
+  X(P, Real, none, parameter, fixed, exact, 40000.0, VI_NONE, VI_NONE, "N", "constant pressing load") \
+  X(g, Real, none, parameter, fixed, exact, 9.81, VI_NONE, VI_NONE, "m/s2", "gravity (0 makes P the whole load)") \
+  X(R1, Real, none, parameter, fixed, exact, 0.475, VI_AT(0.0), VI_NONE, "m", "radius of body 1 (0 = plane)") \
+  X(R2, Real, none, parameter, fixed, exact, 0.0, VI_AT(0.0), VI_NONE, "m", "radius of body 2 (0 = plane)") \
+  X(E1, Real, none, parameter, fixed, exact, 2.1e11, VI_ABOVE(0.0), VI_NONE, "Pa", "Young's modulus of body 1") \
+  X(E2, Real, none, parameter, fixed, exact, 2.1e11, VI_ABOVE(0.0), VI_NONE, "Pa", "Young's modulus of body 2") \
+  X(nu1, Real, none, parameter, fixed, exact, 0.3, VI_ABOVE(-1.0), VI_AT(0.5), "", "Poisson's ratio of body 1") \
+  X(nu2, Real, none, parameter, fixed, exact, 0.3, VI_ABOVE(-1.0), VI_AT(0.5), "", "Poisson's ratio of body 2") \
+  X(Y, Real, none, parameter, fixed, exact, 6e8, VI_ABOVE(0.0), VI_NONE, "Pa", "uniaxial yield stress") \
+  X(theta_Y, Real, none, parameter, fixed, exact, 1.1, VI_ABOVE(0.0), VI_NONE, "", "limiting mean pressure p_Y = theta_Y Y") \
+  X(contact_model, Integer, ContactModel, parameter, fixed, exact, 2, VI_NONE, VI_NONE, "", "contact law") \
+  X(moving_contact, Boolean, none, parameter, fixed, exact, 0, VI_NONE, VI_NONE, "", "Johnson with a moving contact point: virgin curve both ways") \
+  X(unloading, Integer, Unloading, parameter, fixed, exact, 1, VI_NONE, VI_NONE, "", "Johnson unloading curve") \
+  X(yield_formula, Integer, YieldFormula, parameter, fixed, exact, 1, VI_NONE, VI_NONE, "", "formula for the yield force F_Y") \
+  X(init, Integer, Init, parameter, fixed, exact, 1, VI_NONE, VI_NONE, "", "initial state") \
+  X(v0, Real, none, parameter, fixed, exact, 0.0, VI_NONE, VI_NONE, "m/s", "initial velocity of the mass when touching") \
+  X(a, Real, none, parameter, tunable, exact, 0.0, VI_NONE, VI_NONE, "m", "amplitude of the internal harmonic platform excitation (tunable: a change moves the platform)") \
+  X(f, Real, none, parameter, tunable, exact, 560.0, VI_AT(0.0), VI_NONE, "Hz", "frequency of the internal harmonic platform excitation (tunable: the phase stays continuous)") \
+  X(rtol, Real, none, parameter, fixed, exact, 1e-6, VI_AT(VI_RTOL_MIN), VI_AT(VI_RTOL_MAX), "", "relative tolerance (a tolerance from fmi2SetupExperiment wins)") \
+  X(solver, Integer, Solver, parameter, fixed, exact, 2, VI_NONE, VI_NONE, "", "integration method: CVODE BDF or Adams (linear multistep), or Dormand-Prince 8(5,3) (explicit one-step, dense output)") \
+  X(max_step, Real, none, parameter, fixed, exact, 0.0, VI_AT(0.0), VI_NONE, "s", "maximum internal step of the solver: 0 = none, else at least " VI_STRING_OF(VI_MAX_STEP_MIN) " s") \
+  X(F, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N", "contact force") \
+  X(delta, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m", "indentation yC - y") \
+  X(y, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m", "mass position") \
+  X(v, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s", "mass velocity") \
+  X(yC, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m", "platform position actually applied") \
+  X(contact, Boolean, none, output, discrete, calculated, 0, VI_NONE, VI_NONE, "", "bodies touch") \
+  X(mode, Integer, Mode, output, discrete, calculated, 0, VI_NONE, VI_NONE, "", "mode of the hybrid automaton") \
+  X(delta_c, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m", "maximum indentation reached (Johnson)") \
+  X(delta_f, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m", "final indentation of the unloading curve (Johnson)") \
+  X(delta_p, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m", "permanent set (linear elastic-perfectly plastic)") \
+  X(Rbar, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m", "effective radius after plastic deformation (Johnson)") \
+  X(W_plastic, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "J", "plastic work dissipated so far") \
+  X(n_impacts, Integer, none, output, discrete, calculated, 0, VI_NONE, VI_NONE, "", "contact onsets so far (a contact present at the start is not counted)") \
+  X(E_star, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "Pa", "effective Young's modulus (paper eq. 1)") \
+  X(R_star, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "m", "effective radius (paper eq. 1)") \
+  X(F_Y, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "N", "yield force") \
+  X(delta_Y, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "m", "yield indentation") \
+  X(k_lin, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "N/m", "stiffness of the linear elastic-perfectly plastic model, F_Y/delta_Y") \
+  X(f_contact, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "Hz", "linearised contact resonance at the static load") \
+  X(F_mean, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N", "contact force averaged over the last communication step: its impulse divided by the step") \
+  X(k_contact, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N/m", "tangent contact stiffness dF/ddelta at the current state, 0 out of contact") \
+  X(profile_file, String, none, parameter, fixed, exact, "", VI_NONE, VI_NONE, "", "profile rolled over (Fig. 1b): two-column text table x [m], h [m]; relative paths: FMU resources, then working directory; empty = none") \
+  X(V, Real, none, parameter, fixed, exact, 0.0, VI_NONE, VI_NONE, "m/s", "rolling speed over the profile: yC = yC_in + a (cos(2 pi f t) - 1) + yb(x0 + V t)") \
+  X(x0, Real, none, parameter, fixed, exact, 0.0, VI_NONE, VI_NONE, "m", "position on the profile at the start time") \
+  X(profile_periodic, Boolean, none, parameter, fixed, exact, 0, VI_NONE, VI_NONE, "", "repeat the profile beyond its ends (its last height must equal the first); false: the run stops at its end") \
+  X(der_y, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s", "time derivative of y (Model Exchange: the derivative of the state y)") \
+  X(der_v, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s2", "time derivative of v, the acceleration of the mass (Model Exchange: the derivative of the state v)")
 
 /* Enumeration types: E(type, description); items in VI_ITEMS_<type>(I) as I(type, name, value).
  * Items are matched by name in the model through the constants VI_<type>_<name>. */

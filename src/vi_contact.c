@@ -74,17 +74,22 @@ double vi_johnson_load_work(const vi_johnson *J, double delta)
     return hertz_part + 0.5 * J->F_Y * J->delta_Y * prim;
 }
 
+/* The Newton iteration of vi_johnson_load_indentation stops when a step is below VI_NEWTON_ULPS ulps
+ * of k (it converges quadratically: a few iterations), after VI_NEWTON_MAX_ITER at most. */
+#define VI_NEWTON_ULPS 4.0
+#define VI_NEWTON_MAX_ITER 100
+
 double vi_johnson_load_indentation(const vi_johnson *J, double F)
 {
     if (F <= J->F_Y) return F > 0.0 ? J->delta_Y * ratio_two_thirds(F, J->F_Y) : 0.0;
     /* Solve k (1 + ln k/(3 theta)) = w for k >= 1. The left side is increasing and convex, so Newton
      * from k = w (where the residual is >= 0) decreases monotonically onto the root. */
     double w = F / J->F_Y, th3 = 3.0 * J->theta_Y, k = w;
-    for (int it = 0; it < 100; it++) {
+    for (int it = 0; it < VI_NEWTON_MAX_ITER; it++) {
         double r = k * (1.0 + log(k) / th3) - w;
         double step = r / (1.0 + (log(k) + 1.0) / th3);
         k -= step;
-        if (fabs(step) <= 4.0 * 2.2204460492503131e-16 * k) break;
+        if (fabs(step) <= VI_NEWTON_ULPS * DBL_EPSILON * k) break;
     }
     return 0.5 * J->delta_Y * (k + 1.0);
 }

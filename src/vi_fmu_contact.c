@@ -1,18 +1,31 @@
 /*
- * vi_fmu_contact.c - the contact model (vi_sim) as a model of the generic FMI 2.0 layer (vi_fmu.h).
- * Everything FMI-specific lives in src/vi_fmi2.c; this file only maps the layer's hooks onto vi_sim.
+ * vi_fmu_contact.c - the contact model as a model of the generic FMI layer (vi_fmu.h): Co-Simulation
+ * on vi_sim (its own solver), Model Exchange on vi_me (the importer's). Everything FMI-specific
+ * lives in the layer (src/vi_fmi_core.c, src/vi_fmi2.c); this file only maps the layer's hooks.
  */
 #include <stddef.h>
 
 #include "vi_fmu.h"
-#include "vi_sim.h"
+#include "vi_me.h"
 
 _Static_assert((int)VI_FMU_LOG_EVENTS == (int)VI_LOG_EVENTS && (int)VI_FMU_LOG_SOLVER == (int)VI_LOG_SOLVER &&
                    (int)VI_FMU_LOG_WARNING == (int)VI_LOG_WARNING && (int)VI_FMU_LOG_ERROR == (int)VI_LOG_ERROR,
                "vi_sim logs with the layer's categories");
 
-static void init(void *m, vi_fmu_log_fn log, void *env) { vi_sim_init(m, log, env); }
-static void reset(void *m) { vi_sim_reset(m); }
+static void init(void *m, vi_fmu_log_fn log, void *env)
+{
+    vi_me *e = m;
+    vi_sim_init(&e->s, log, env);
+    e->active = 0;
+}
+
+static void reset(void *m)
+{
+    vi_me *e = m;
+    vi_sim_reset(&e->s);
+    e->active = 0;
+}
+
 static void release(void *m) { vi_sim_free(m); }
 
 static int set_resources(void *m, const char *dir)
@@ -22,7 +35,7 @@ static int set_resources(void *m, const char *dir)
 }
 
 static void changed(void *m) { ((vi_sim *)m)->d.inputs_changed = 1; }
-static void outputs(void *m, void *out) { vi_sim_outputs(m, out); }
+static void outputs(void *m, void *out) { vi_me_outputs(m, out); }
 
 static void setup_experiment(void *m, double start_time, int tolerance_defined, double tolerance)
 {
@@ -51,30 +64,69 @@ static void terminate(void *m)
     vi_solver_stats st;
     vi_sim_statistics(s, &st);
     s->log(s->log_env, VI_LOG_SOLVER,
-           "CVODE statistics: %ld steps, %ld rhs evaluations, %ld Jacobian evaluations, %ld nonlinear iterations, "
+           "%s statistics: %ld steps, %ld rhs evaluations, %ld Jacobian evaluations, %ld nonlinear iterations, "
            "%ld nonlinear failures, %ld error test failures, %ld guard evaluations, %ld restarts, %ld events",
-           st.steps, st.rhs_evals, st.jac_evals, st.nonlin_iters, st.nonlin_fails, st.err_test_fails, st.guard_evals,
+           st.method ? st.method : "solver", st.steps, st.rhs_evals, st.jac_evals, st.nonlin_iters, st.nonlin_fails, st.err_test_fails, st.guard_evals,
            st.resets, s->d.n_events);
 }
 
 static void *state(void *m) { return &((vi_sim *)m)->d; }
 
 /* A state saved before initialization needs no solver: fmi2ExitInitializationMode creates one. */
-static int restore(void *m, int running) { return running ? vi_sim_restore(m) : 0; }
+static int restore(void *m, int running)
+{
+    if (!running) return ((vi_me *)m)->active = 0;
+    return running == VI_FMU_RUNNING_ME ? vi_me_restore(m, 1) : vi_sim_restore(m);
+}
 
-/* Contract C7: a state taken from a running instance is its complete continuation. */
-static int checkpoint(void *m) { return vi_sim_checkpoint(m); }
+/* A state taken from a running instance is its complete continuation (doc/model.md section 7.5). */
+static int checkpoint(void *m) { return vi_me_checkpoint(m); }
 
-/* Contract C3: every field of a saved block; before initialization only the settings exist. */
+/* Every field of a saved block (doc/model.md section 7.6); before initialization only the settings exist. */
 static int state_check(const void *state, int running, char *msg, size_t n)
 {
+    if (running == VI_FMU_RUNNING_ME) return vi_sim_data_check_between_events(state, msg, n);
     return running ? vi_sim_data_check(state, msg, n) : 0;
 }
 
 static const char *message(const void *m) { return ((const vi_sim *)m)->msg; }
 
+/* ---- Model Exchange ---- */
+
+static const unsigned state_vrs[VI_ME_NSTATES] = {VI_VR_y, VI_VR_v};
+static const unsigned derivative_vrs[VI_ME_NSTATES] = {VI_VR_der_y, VI_VR_der_v};
+
+static int me_initialize(void *m) { return vi_me_initialize(m); }
+static void set_time(void *m, double t) { vi_me_set_time(m, t); }
+static void get_states(void *m, double x[]) { vi_me_get_states(m, x); }
+static void set_states(void *m, const double x[]) { vi_me_set_states(m, x); }
+static void derivatives(void *m, double dx[]) { vi_me_derivatives(m, dx); }
+static void indicators(void *m, double z[]) { vi_me_indicators(m, z); }
+static void nominals(const void *m, double nominal[]) { vi_me_nominals(m, nominal); }
+static int completed_step(void *m) { return vi_me_completed_step(m); }
+
+static int event_update(void *m, vi_fmu_event *ev)
+{
+    vi_me_event e;
+    if (vi_me_event_update(m, &e) < 0) return -1;
+    *ev = (vi_fmu_event){.another_pass = e.another_pass, .terminate = e.terminate, .states_changed = e.states_changed,
+                         .next_time_defined = e.next_time_defined, .next_time = e.next_time};
+    return 0;
+}
+
+static int directional_derivative(void *m, const unsigned unknown[], size_t n_unknown, const unsigned known[],
+                                  size_t n_known, const double dknown[], double dunknown[])
+{
+    for (size_t i = 0; i < n_unknown; i++) {
+        dunknown[i] = 0.0;
+        for (size_t j = 0; j < n_known; j++)
+            if (dknown[j] != 0.0) dunknown[i] += vi_me_partial(m, (int)unknown[i], (int)known[j]) * dknown[j];
+    }
+    return 0;
+}
+
 const vi_fmu_model vi_fmu_this_model = {
-    VI_FMU_TABLE_FIELDS(vi_sim, vi_sim_data),
+    VI_FMU_TABLE_FIELDS(vi_me, vi_sim_data),
     .init = init,
     .reset = reset,
     .release = release,
@@ -92,4 +144,18 @@ const vi_fmu_model vi_fmu_this_model = {
     .restore = restore,
     .state_check = state_check,
     .message = message,
+    .n_states = VI_ME_NSTATES,
+    .n_indicators = VI_ME_NINDICATORS,
+    .state_vrs = state_vrs,
+    .derivative_vrs = derivative_vrs,
+    .me_initialize = me_initialize,
+    .set_time = set_time,
+    .get_states = get_states,
+    .set_states = set_states,
+    .derivatives = derivatives,
+    .indicators = indicators,
+    .nominals = nominals,
+    .event_update = event_update,
+    .completed_step = completed_step,
+    .directional_derivative = directional_derivative,
 };

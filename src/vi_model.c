@@ -4,41 +4,17 @@
 #include <math.h>
 #include <stdio.h>
 
+#include "vi_check.h"
+
 static int is_johnson_fixed(const vi_model *M) { return M->law == VI_ContactModel_johnson && !M->moving; }
 
 /* Net load pressing the mass down, W(t) = P + m g - F_ext(t) [N]. */
 static double net_load(const vi_model *M, double t) { return M->W0 - vi_ramp_at(&M->F_ext, t); }
 
-#define CHECK(cond, ...)                                 \
-    do {                                                 \
-        if (!(cond)) {                                   \
-            snprintf(msg, msg_size, __VA_ARGS__);        \
-            return -1;                                   \
-        }                                                \
-    } while (0)
-
 int vi_model_setup(vi_model *M, const vi_parameters *p, double t0, char *msg, size_t msg_size)
 {
-    const double reals[] = {p->m, p->P, p->g, p->R1, p->R2, p->E1, p->E2, p->nu1,
-                            p->nu2, p->Y, p->theta_Y, p->v0, p->a, p->f};
-    for (size_t i = 0; i < sizeof reals / sizeof reals[0]; i++)
-        CHECK(isfinite(reals[i]), "a parameter is not finite (NaN or infinite)");
-    CHECK(p->m > 0.0, "m = %g kg: the mass must be positive", p->m);
-    CHECK(p->R1 >= 0.0 && p->R2 >= 0.0, "R1 = %g m, R2 = %g m: radii must be >= 0 (0 = plane)", p->R1, p->R2);
-    CHECK(p->R1 > 0.0 || p->R2 > 0.0, "R1 = R2 = 0: two planes have no point contact; give a radius");
-    CHECK(p->E1 > 0.0 && p->E2 > 0.0, "E1 = %g Pa, E2 = %g Pa: Young's moduli must be positive", p->E1, p->E2);
-    CHECK(p->nu1 > -1.0 && p->nu1 <= 0.5 && p->nu2 > -1.0 && p->nu2 <= 0.5,
-          "nu1 = %g, nu2 = %g: Poisson's ratios must lie in (-1, 0.5]", p->nu1, p->nu2);
-    CHECK(p->Y > 0.0 && p->theta_Y > 0.0, "Y = %g Pa, theta_Y = %g: both must be positive", p->Y, p->theta_Y);
-    CHECK(p->f >= 0.0, "f = %g Hz: the excitation frequency must be >= 0", p->f);
-    CHECK(p->contact_model >= VI_ContactModel_hertz && p->contact_model <= VI_ContactModel_lepp,
-          "contact_model = %d: use hertz (1), johnson (2) or lepp (3)", p->contact_model);
-    CHECK(p->unloading == VI_Unloading_paper || p->unloading == VI_Unloading_continuous,
-          "unloading = %d: use paper (1) or continuous (2)", p->unloading);
-    CHECK(p->yield_formula == VI_YieldFormula_textbook || p->yield_formula == VI_YieldFormula_printed,
-          "yield_formula = %d: use textbook (1) or printed (2)", p->yield_formula);
-    CHECK(p->init == VI_Init_static || p->init == VI_Init_touching, "init = %d: use static (1) or touching (2)",
-          p->init);
+    if (!(p->R1 > 0.0 || p->R2 > 0.0))
+        VI_FAIL(msg, msg_size, "R1 = R2 = 0: two planes have no point contact; give a radius");
 
     M->law = p->contact_model;
     M->moving = p->moving_contact != 0;
@@ -60,10 +36,10 @@ int vi_model_setup(vi_model *M, const vi_parameters *p, double t0, char *msg, si
     M->t_phi = t0;
     M->profile = NULL;
     M->V = M->x0 = 0.0;
-    CHECK(isfinite(M->W0) && isfinite(M->K) && M->K > 0.0 && isfinite(M->J.F_Y) && M->J.F_Y > 0.0 &&
-              M->J.delta_Y > 0.0 && isfinite(M->k_lin) && M->k_lin > 0.0,
-          "the parameters give no finite positive contact stiffness or yield force (E* = %g Pa, R* = %g m, "
-          "F_Y = %g N, delta_Y = %g m)", M->J.E_star, M->J.R_star, M->J.F_Y, M->J.delta_Y);
+    if (!(isfinite(M->W0) && isfinite(M->K) && M->K > 0.0 && isfinite(M->J.F_Y) && M->J.F_Y > 0.0 &&
+          M->J.delta_Y > 0.0 && isfinite(M->k_lin) && M->k_lin > 0.0))
+        VI_FAIL(msg, msg_size, "the parameters give no finite positive contact stiffness or yield force (E* = %g Pa, "
+                "R* = %g m, F_Y = %g N, delta_Y = %g m)", M->J.E_star, M->J.R_star, M->J.F_Y, M->J.delta_Y);
     return 0;
 }
 
@@ -71,19 +47,14 @@ double vi_model_phase(const vi_model *M, double t) { return M->phi0 + M->omega *
 
 int vi_model_excitation_differs(const vi_model *M, double a, double f) { return a != M->a || 2.0 * VI_PI * f != M->omega; }
 
-int vi_model_set_excitation(vi_model *M, double t, double x[2], double a, double f, char *msg, size_t n)
+void vi_model_set_excitation(vi_model *M, double t, double x[2], double a, double f)
 {
-    if (!isfinite(a) || !isfinite(f) || f < 0.0) {
-        snprintf(msg, n, "a = %g m, f = %g Hz at t = %.17g s: a must be finite and f finite and >= 0", a, f, t);
-        return -1;
-    }
     double ph = vi_model_phase(M, t), c = cos(ph);
     x[0] += (a - M->a) * (c - 1.0); /* the platform moves, the mass does not */
     M->a = a;
     M->phi0 = fmod(ph, 2.0 * VI_PI);
     M->t_phi = t;
     M->omega = 2.0 * VI_PI * f;
-    return 0;
 }
 
 /* ---- rolling over a profile ------------------------------------------------------------------ */
@@ -92,10 +63,6 @@ double vi_model_rolling_position(const vi_model *M, double t) { return M->x0 + M
 
 int vi_model_set_rolling(vi_model *M, const vi_profile *profile, double V, double x0, char *msg, size_t n)
 {
-    if (!isfinite(V) || !isfinite(x0)) {
-        snprintf(msg, n, "V = %g m/s, x0 = %g m: both must be finite", V, x0);
-        return -1;
-    }
     if (profile && !vi_profile_periodic(profile) &&
         !(x0 >= vi_profile_x_first(profile) && x0 <= vi_profile_x_last(profile))) {
         snprintf(msg, n, "x0 = %g m lies outside the profile [%g, %g] m (set profile_periodic to repeat it)", x0,
@@ -184,22 +151,229 @@ static double hold_force_rate(const vi_model *M, double t)
     return -M->F_ext.du + M->m * y[3];
 }
 
+/* ---- the contact laws as the automaton uses them: one row of functions per law ---------------- */
+
+/* What the automaton asks of a law's mode choice: the rates at (t, x) relative to the surfaces. */
+typedef struct {
+    double r;      /* delta' [m/s] */
+    double F_hold; /* force holding the mass on the platform, W + m yC'' [N] */
+    double j;      /* its rate [N/s] (the tie-breaker) */
+    int snap;      /* SNAP_*: the stick guard an event put exactly on its surface */
+} rates;
+
+typedef struct {
+    const char *name;
+    /* force [N] and stiffness dF/ddelta [N/m] in the elastic and the plastic mode at indentation d */
+    double (*elastic_force)(const vi_model *M, double d);
+    double (*elastic_stiffness)(const vi_model *M, double d);
+    double (*plastic_force)(const vi_model *M, double d); /* NULL: the law never yields */
+    double (*plastic_stiffness)(const vi_model *M, double d);
+    /* the indentation at which the bodies touch, and at which the elastic branch yields (INFINITY:
+     * never) */
+    double (*contact_surface)(const vi_model *M);
+    double (*yield_surface)(const vi_model *M);
+    /* the lowest indentation the plastic mode may have (vi_model_check) */
+    double (*plastic_floor)(const vi_model *M);
+    /* write down the memory a plastic motion leaves at x (mode plastic; may round x onto a surface);
+     * NULL: nothing to write down */
+    void (*freeze_plastic)(vi_model *M, double x[2]);
+    /* the mode consistent with x and the rates (vi_model_resolve); may update the memory */
+    int (*choose)(vi_model *M, double x[2], const rates *q);
+    /* may the law (with its flags and memory) be in this mode? */
+    int (*mode_allowed)(const vi_model *M, int mode);
+    /* at rest under the load W > 0: indentation on the virgin curve, and the stiffness of small
+     * oscillations there */
+    double (*static_indentation)(const vi_model *M, double W);
+    double (*static_stiffness)(const vi_model *M, double W);
+    /* the virgin curve's stiffness at d > 0, and the impact indentation at approach speed v > 0 */
+    double (*virgin_stiffness)(const vi_model *M, double d);
+    double (*impact_indentation)(const vi_model *M, double v);
+    /* the memory outputs (delta_c, delta_f, delta_p, Rbar, W_plastic) at indentation d */
+    void (*memory_outputs)(const vi_model *M, double d, vi_outputs *out);
+    int permanent_set; /* the memory is the permanent set delta_p (else delta_p stays 0) */
+} law_fns;
+
+static const law_fns *law(const vi_model *M);
+
+/* The sign of the first nonzero of (position, rate, acceleration, jerk) relative to a surface is
+ * positive. With delta' = 0 the acceleration of delta is (F_hold - F)/m and its jerk F_hold'/m (F
+ * fixed on the surface), so callers pass force differences and F_hold' for the last two. */
+static int ahead(double pos, double rate, double acc, double jerk)
+{
+    return pos > 0.0 || (pos == 0.0 && (rate > 0.0 || (rate == 0.0 && (acc > 0.0 || (acc == 0.0 && jerk > 0.0)))));
+}
+
+/* Which stick guard an event put exactly on its surface: its force difference counts as 0, so that
+ * the next derivative decides (the guard's value at the located root is only nearly 0). */
+enum { SNAP_NONE = -1, SNAP_LOAD = 0, SNAP_UNLOAD = 1 };
+
+/* Hertz and Johnson share the impact indentation (15 m v^2/(16 E* sqrt(R*)))^(2/5). */
+static double hertz_impact(const vi_model *M, double v)
+{
+    return pow(15.0 * M->m * v * v / (16.0 * M->J.E_star * sqrt(M->J.R_star)), 0.4);
+}
+static double zero_surface(const vi_model *M) { return (void)M, 0.0; }
+static void no_memory(const vi_model *M, double d, vi_outputs *out) { (void)M, (void)d, (void)out; }
+
+/* Hertz (eq. 2): elastic only. */
+static double hertz_force(const vi_model *M, double d) { return vi_hertz_force(M->K, d); }
+static double hertz_stiffness(const vi_model *M, double d) { return vi_hertz_stiffness(M->K, d); }
+static double hertz_no_yield(const vi_model *M) { return (void)M, INFINITY; }
+static int hertz_choose(vi_model *M, double x[2], const rates *q)
+{
+    (void)M;
+    return ahead(x[0], q->r, q->F_hold, q->j) ? VI_Mode_elastic : VI_Mode_free;
+}
+static int hertz_modes(const vi_model *M, int mode) { return (void)M, mode == VI_Mode_free || mode == VI_Mode_elastic; }
+static double hertz_static_indentation(const vi_model *M, double W) { return vi_hertz_indentation(M->K, W); }
+static double hertz_static_stiffness(const vi_model *M, double W)
+{
+    return vi_hertz_stiffness(M->K, vi_hertz_indentation(M->K, W));
+}
+
+/* Johnson (eqs. 3, 4): the virgin curve, with a fixed contact point the unloading memory U. */
+static double johnson_load(const vi_model *M, double d) { return vi_johnson_load(&M->J, d); }
+static double johnson_load_stiffness(const vi_model *M, double d) { return vi_johnson_load_stiffness(&M->J, d); }
+static double johnson_contact(const vi_model *M) { return is_johnson_fixed(M) && M->yielded ? M->U.delta_f : 0.0; }
+static double johnson_yield(const vi_model *M) { return M->J.delta_Y; }
+static double johnson_plastic_floor(const vi_model *M) { return M->moving ? M->J.delta_Y : M->U.delta_c; }
+static void johnson_freeze(vi_model *M, double x[2])
+{
+    if (!M->moving) M->U = vi_johnson_unload_curve(&M->J, M->unloading, x[0]);
+}
+static int johnson_choose(vi_model *M, double x[2], const rates *q)
+{
+    double d = x[0], r = q->r, F_hold = q->F_hold, j = q->j;
+    int mode = VI_Mode_free;
+    if (!M->yielded || M->moving) {
+        if (!ahead(d, r, F_hold, j)) return VI_Mode_free;
+        mode = ahead(d - M->J.delta_Y, r, F_hold - M->J.F_Y, j) ? VI_Mode_plastic : VI_Mode_elastic;
+        if (mode == VI_Mode_elastic || M->moving) return mode;
+        M->yielded = 1;
+        M->U = vi_johnson_unload_curve(&M->J, M->unloading, d > M->J.delta_Y ? d : M->J.delta_Y);
+    }
+    if (d > M->U.delta_c) M->U = vi_johnson_unload_curve(&M->J, M->unloading, d); /* pushed deeper */
+    double F_load = vi_johnson_load(&M->J, M->U.delta_c), F_unload = vi_unload_force(&M->U, d);
+    double dF_load = q->snap == SNAP_LOAD ? 0.0 : F_hold - F_load;
+    double dF_unload = q->snap == SNAP_UNLOAD ? 0.0 : F_hold - F_unload;
+    if (ahead(d - M->U.delta_c, r, dF_load, j)) return VI_Mode_plastic;
+    if (d == M->U.delta_c && r == 0.0 && ahead(0.0, 0.0, dF_unload, j) && M->unloading == VI_UNLOAD_PAPER)
+        return VI_Mode_stick; /* F_unload < F_hold <= F_load: neither branch is consistent */
+    if (ahead(d - M->U.delta_f, r, dF_unload, j)) return VI_Mode_unload;
+    return mode;
+}
+static int johnson_modes(const vi_model *M, int mode)
+{
+    if (M->moving) return mode >= VI_Mode_free && mode <= VI_Mode_plastic;
+    if (!M->yielded) return mode == VI_Mode_free || mode == VI_Mode_elastic;
+    return mode == VI_Mode_free || mode == VI_Mode_plastic || mode == VI_Mode_unload ||
+           (mode == VI_Mode_stick && M->unloading == VI_UNLOAD_PAPER);
+}
+/* Indentation at rest under W > 0 on the Johnson virgin curve, with F(d) >= W where rounding allows,
+ * so that a pre-loaded start does not see a spurious push into the material. The inverse is
+ * accurate to a few ulps; at most VI_STATIC_NUDGES steps of 1, 2, 4, ... ulps close the gap. When F
+ * cannot reach W (its value is denormal: loads below about 1e-300 N), d stays within 2^16 ulps. */
+#define VI_STATIC_NUDGES 16
+static double johnson_static_indentation(const vi_model *M, double W)
+{
+    double d = vi_johnson_load_indentation(&M->J, W), step = nextafter(d, INFINITY) - d;
+    for (int i = 0; i < VI_STATIC_NUDGES && vi_johnson_load(&M->J, d) < W; i++, step *= 2.0) d += step;
+    return d;
+}
+static double johnson_static_stiffness(const vi_model *M, double W)
+{
+    double d = vi_johnson_load_indentation(&M->J, W);
+    if (M->moving || d <= M->J.delta_Y) return vi_johnson_load_stiffness(&M->J, d);
+    vi_unload_curve U = vi_johnson_unload_curve(&M->J, M->unloading, d); /* small oscillations unload */
+    return vi_unload_stiffness(&U, d);
+}
+static void johnson_memory(const vi_model *M, double d, vi_outputs *out)
+{
+    if (!is_johnson_fixed(M) || !M->yielded) return;
+    vi_unload_curve U = M->mode == VI_Mode_plastic ? vi_johnson_unload_curve(&M->J, M->unloading, d) : M->U;
+    out->delta_c = U.delta_c;
+    out->delta_f = U.delta_f;
+    out->Rbar = U.Rbar;
+    /* dissipated = work along the virgin curve - energy the unloading curve gives back */
+    out->W_plastic = vi_johnson_load_work(&M->J, U.delta_c) - vi_unload_energy(&U, U.delta_c);
+}
+
+/* Linear elastic-perfectly plastic (paper Fig. 3): a spring k_lin from the permanent set delta_p,
+ * flowing at F_Y. */
+static double lepp_force(const vi_model *M, double d) { return d > M->delta_p ? M->k_lin * (d - M->delta_p) : 0.0; }
+static double lepp_stiffness(const vi_model *M, double d) { return d > M->delta_p ? M->k_lin : 0.0; }
+static double lepp_flow_force(const vi_model *M, double d) { return (void)d, M->J.F_Y; }
+static double lepp_flow_stiffness(const vi_model *M, double d) { return (void)M, (void)d, 0.0; }
+static double lepp_contact(const vi_model *M) { return M->delta_p; }
+static double lepp_yield(const vi_model *M) { return M->delta_p + M->J.delta_Y; }
+/* Plastic flow to x[0]: the permanent set follows, delta_p = delta - delta_Y; x[0] is then rounded
+ * onto the yield surface so that its guard is exactly zero, never an ulp below. */
+static void lepp_flow_to(vi_model *M, double x[2])
+{
+    M->delta_p = x[0] - M->J.delta_Y;
+    x[0] = lepp_yield(M);
+}
+static int lepp_choose(vi_model *M, double x[2], const rates *q)
+{
+    if (!ahead(x[0] - M->delta_p, q->r, q->F_hold, q->j)) return VI_Mode_free;
+    if (x[0] > lepp_yield(M)) lepp_flow_to(M, x); /* pushed beyond yield: it flowed */
+    return ahead(x[0] - lepp_yield(M), q->r, q->F_hold - M->J.F_Y, q->j) ? VI_Mode_plastic : VI_Mode_elastic;
+}
+static int lepp_modes(const vi_model *M, int mode) { return (void)M, mode >= VI_Mode_free && mode <= VI_Mode_plastic; }
+static double lepp_static_indentation(const vi_model *M, double W)
+{
+    return W <= M->J.F_Y ? W / M->k_lin : M->J.delta_Y; /* beyond F_Y: flows from the start */
+}
+static double lepp_static_stiffness(const vi_model *M, double W) { return (void)W, M->k_lin; }
+static double lepp_virgin_stiffness(const vi_model *M, double d) { return (void)d, M->k_lin; }
+static double lepp_impact(const vi_model *M, double v) { return v * sqrt(M->m) / sqrt(M->k_lin); }
+static void lepp_memory(const vi_model *M, double d, vi_outputs *out)
+{
+    out->delta_p = M->mode == VI_Mode_plastic ? d - M->J.delta_Y : M->delta_p;
+    out->W_plastic = M->J.F_Y * out->delta_p;
+}
+
+static const law_fns laws[] = {
+    [VI_ContactModel_hertz] = {
+        .name = "hertz", .elastic_force = hertz_force, .elastic_stiffness = hertz_stiffness,
+        .contact_surface = zero_surface, .yield_surface = hertz_no_yield, .plastic_floor = hertz_no_yield,
+        .choose = hertz_choose, .mode_allowed = hertz_modes, .static_indentation = hertz_static_indentation,
+        .static_stiffness = hertz_static_stiffness, .virgin_stiffness = hertz_stiffness,
+        .impact_indentation = hertz_impact, .memory_outputs = no_memory},
+    [VI_ContactModel_johnson] = {
+        .name = "johnson", .elastic_force = johnson_load, .elastic_stiffness = johnson_load_stiffness,
+        .plastic_force = johnson_load, .plastic_stiffness = johnson_load_stiffness, .contact_surface = johnson_contact,
+        .yield_surface = johnson_yield, .plastic_floor = johnson_plastic_floor, .freeze_plastic = johnson_freeze,
+        .choose = johnson_choose, .mode_allowed = johnson_modes, .static_indentation = johnson_static_indentation,
+        .static_stiffness = johnson_static_stiffness, .virgin_stiffness = johnson_load_stiffness,
+        .impact_indentation = hertz_impact, .memory_outputs = johnson_memory},
+    [VI_ContactModel_lepp] = {
+        .name = "lepp", .elastic_force = lepp_force, .elastic_stiffness = lepp_stiffness,
+        .plastic_force = lepp_flow_force, .plastic_stiffness = lepp_flow_stiffness, .contact_surface = lepp_contact,
+        .yield_surface = lepp_yield, .plastic_floor = lepp_yield, .freeze_plastic = lepp_flow_to,
+        .choose = lepp_choose, .mode_allowed = lepp_modes, .static_indentation = lepp_static_indentation,
+        .static_stiffness = lepp_static_stiffness, .virgin_stiffness = lepp_virgin_stiffness,
+        .impact_indentation = lepp_impact, .memory_outputs = lepp_memory, .permanent_set = 1},
+};
+
+/* The row of M's law (set up, or checked to be one of the three). */
+static const law_fns *law(const vi_model *M) { return &laws[M->law]; }
+
+/* Johnson with a moving contact point leaves the plastic mode when it falls back below delta_Y;
+ * every other plastic motion ends at a turning point (delta' = 0). */
+static int plastic_ends_at_yield(const vi_model *M) { return M->law == VI_ContactModel_johnson && M->moving; }
+
+/* ---- force, right-hand side, guards, events ------------------------------------------------------ */
+
 double vi_model_force(const vi_model *M, double t, const double x[2])
 {
     double d = x[0];
     switch (M->mode) {
-    case VI_Mode_elastic:
-        if (M->law == VI_ContactModel_lepp) return d > M->delta_p ? M->k_lin * (d - M->delta_p) : 0.0;
-        if (M->law == VI_ContactModel_johnson) return vi_johnson_load(&M->J, d);
-        return vi_hertz_force(M->K, d);
-    case VI_Mode_plastic:
-        return M->law == VI_ContactModel_lepp ? M->J.F_Y : vi_johnson_load(&M->J, d);
-    case VI_Mode_unload:
-        return vi_unload_force(&M->U, d);
-    case VI_Mode_stick:
-        return hold_force(M, t);
-    default:
-        return 0.0;
+    case VI_Mode_elastic: return law(M)->elastic_force(M, d);
+    case VI_Mode_plastic: return law(M)->plastic_force(M, d);
+    case VI_Mode_unload: return vi_unload_force(&M->U, d);
+    case VI_Mode_stick: return hold_force(M, t);
+    default: return 0.0;
     }
 }
 
@@ -221,12 +395,8 @@ double vi_model_stiffness_over_mass(const vi_model *M, double t, const double x[
     (void)t;
     double d = x[0], k = 0.0;
     switch (M->mode) {
-    case VI_Mode_elastic:
-        k = M->law == VI_ContactModel_lepp      ? (d > M->delta_p ? M->k_lin : 0.0)
-            : M->law == VI_ContactModel_johnson ? vi_johnson_load_stiffness(&M->J, d)
-                                                : vi_hertz_stiffness(M->K, d);
-        break;
-    case VI_Mode_plastic: k = M->law == VI_ContactModel_lepp ? 0.0 : vi_johnson_load_stiffness(&M->J, d); break;
+    case VI_Mode_elastic: k = law(M)->elastic_stiffness(M, d); break;
+    case VI_Mode_plastic: k = law(M)->plastic_stiffness(M, d); break;
     case VI_Mode_unload: k = vi_unload_stiffness(&M->U, d); break;
     default: break;
     }
@@ -240,35 +410,19 @@ void vi_model_jacobian(const vi_model *M, double t, const double x[2], double j[
     j[2] = vi_model_stiffness_over_mass(M, t, x), j[3] = 0.0; /* 0 in stick */
 }
 
-/* Indentation at which the bodies touch: 0, the permanent set delta_f (Johnson) or delta_p (LEPP). */
-static double contact_surface(const vi_model *M)
-{
-    if (M->law == VI_ContactModel_lepp) return M->delta_p;
-    if (is_johnson_fixed(M) && M->yielded) return M->U.delta_f;
-    return 0.0;
-}
-
-/* Indentation at which the virgin elastic branch yields (mode 1 -> 2); +inf for Hertz. */
-static double yield_surface(const vi_model *M)
-{
-    if (M->law == VI_ContactModel_lepp) return M->delta_p + M->J.delta_Y;
-    if (M->law == VI_ContactModel_johnson) return M->J.delta_Y;
-    return INFINITY;
-}
-
 void vi_model_guards(const vi_model *M, double t, const double x[2], double g[VI_NGUARDS])
 {
-    double d = x[0], dyC;
+    double d = x[0], dyC, yield = law(M)->yield_surface(M);
     g[0] = g[1] = 1.0; /* inactive */
     switch (M->mode) {
-    case VI_Mode_free: g[0] = contact_surface(M) - d; break;
+    case VI_Mode_free: g[0] = law(M)->contact_surface(M) - d; break;
     case VI_Mode_elastic:
-        g[0] = d - contact_surface(M);
-        if (M->law != VI_ContactModel_hertz) g[1] = yield_surface(M) - d;
+        g[0] = d - law(M)->contact_surface(M);
+        if (isfinite(yield)) g[1] = yield - d;
         break;
     case VI_Mode_plastic:
-        if (M->moving && M->law == VI_ContactModel_johnson) {
-            g[0] = d - M->J.delta_Y;
+        if (plastic_ends_at_yield(M)) {
+            g[0] = d - yield;
         } else {
             vi_model_platform(M, t, &dyC, NULL);
             g[0] = dyC - x[1]; /* delta' */
@@ -288,73 +442,18 @@ void vi_model_guards(const vi_model *M, double t, const double x[2], double g[VI
     }
 }
 
-/* LEPP plastic flow to x[0]: the permanent set follows, delta_p = delta - delta_Y; x[0] is then
- * rounded onto the yield surface so that its guard is exactly zero, never an ulp below. */
-static void lepp_flow_to(vi_model *M, double x[2])
-{
-    M->delta_p = x[0] - M->J.delta_Y;
-    x[0] = yield_surface(M);
-}
-
 void vi_model_freeze(vi_model *M, double t, double x[2])
 {
-    if (M->mode == VI_Mode_plastic && is_johnson_fixed(M))
-        M->U = vi_johnson_unload_curve(&M->J, M->unloading, x[0]);
-    else if (M->mode == VI_Mode_plastic && M->law == VI_ContactModel_lepp)
-        lepp_flow_to(M, x);
-    else if (M->mode == VI_Mode_stick)
-        vi_model_platform(M, t, &x[1], NULL);
+    if (M->mode == VI_Mode_plastic && law(M)->freeze_plastic) law(M)->freeze_plastic(M, x);
+    else if (M->mode == VI_Mode_stick) vi_model_platform(M, t, &x[1], NULL);
 }
-
-/* The sign of the first nonzero of (position, rate, acceleration, jerk) relative to a surface is
- * positive. With delta' = 0 the acceleration of delta is (F_hold - F)/m and its jerk F_hold'/m (F
- * fixed on the surface), so callers pass force differences and F_hold' for the last two. */
-static int ahead(double pos, double rate, double acc, double jerk)
-{
-    return pos > 0.0 || (pos == 0.0 && (rate > 0.0 || (rate == 0.0 && (acc > 0.0 || (acc == 0.0 && jerk > 0.0)))));
-}
-
-/* Which stick guard an event put exactly on its surface: its force difference counts as 0, so that
- * the next derivative decides (the guard's value at the located root is only nearly 0). */
-enum { SNAP_NONE = -1, SNAP_LOAD = 0, SNAP_UNLOAD = 1 };
 
 static int resolve(vi_model *M, double t, double x[2], int snap)
 {
-    double dyC, d = x[0], F_hold = hold_force(M, t), j = hold_force_rate(M, t);
+    double dyC;
     vi_model_platform(M, t, &dyC, NULL);
-    double r = dyC - x[1];
-    int mode = VI_Mode_free;
-    switch (M->law) {
-    case VI_ContactModel_hertz: mode = ahead(d, r, F_hold, j) ? VI_Mode_elastic : VI_Mode_free; break;
-    case VI_ContactModel_lepp:
-        if (ahead(d - M->delta_p, r, F_hold, j)) {
-            if (d > yield_surface(M)) lepp_flow_to(M, x); /* pushed beyond yield: it flowed */
-            mode = ahead(x[0] - yield_surface(M), r, F_hold - M->J.F_Y, j) ? VI_Mode_plastic : VI_Mode_elastic;
-        }
-        break;
-    case VI_ContactModel_johnson:
-        if (!M->yielded || M->moving) {
-            if (!ahead(d, r, F_hold, j)) break;
-            mode = ahead(d - M->J.delta_Y, r, F_hold - M->J.F_Y, j) ? VI_Mode_plastic : VI_Mode_elastic;
-            if (mode == VI_Mode_elastic || M->moving) break;
-            M->yielded = 1;
-            M->U = vi_johnson_unload_curve(&M->J, M->unloading, d > M->J.delta_Y ? d : M->J.delta_Y);
-        }
-        if (d > M->U.delta_c) M->U = vi_johnson_unload_curve(&M->J, M->unloading, d); /* pushed deeper */
-        {
-            double F_load = vi_johnson_load(&M->J, M->U.delta_c), F_unload = vi_unload_force(&M->U, d);
-            double dF_load = snap == SNAP_LOAD ? 0.0 : F_hold - F_load;
-            double dF_unload = snap == SNAP_UNLOAD ? 0.0 : F_hold - F_unload;
-            if (ahead(d - M->U.delta_c, r, dF_load, j))
-                mode = VI_Mode_plastic;
-            else if (d == M->U.delta_c && r == 0.0 && ahead(0.0, 0.0, dF_unload, j) && M->unloading == VI_UNLOAD_PAPER)
-                mode = VI_Mode_stick; /* F_unload < F_hold <= F_load: neither branch is consistent */
-            else if (ahead(d - M->U.delta_f, r, dF_unload, j))
-                mode = VI_Mode_unload;
-        }
-        break;
-    default: break;
-    }
+    rates q = {.r = dyC - x[1], .F_hold = hold_force(M, t), .j = hold_force_rate(M, t), .snap = snap};
+    int mode = law(M)->choose(M, x, &q);
     if (M->mode == VI_Mode_free && mode != VI_Mode_free) M->n_impacts++;
     M->mode = mode;
     return mode;
@@ -366,10 +465,10 @@ int vi_model_event(vi_model *M, double t, double x[2], int fired)
 {
     vi_model_freeze(M, t, x);
     switch (M->mode) {
-    case VI_Mode_free: x[0] = contact_surface(M); break;
-    case VI_Mode_elastic: x[0] = fired == 0 ? contact_surface(M) : yield_surface(M); break;
+    case VI_Mode_free: x[0] = law(M)->contact_surface(M); break;
+    case VI_Mode_elastic: x[0] = fired == 0 ? law(M)->contact_surface(M) : law(M)->yield_surface(M); break;
     case VI_Mode_plastic:
-        if (M->moving && M->law == VI_ContactModel_johnson) x[0] = M->J.delta_Y;
+        if (plastic_ends_at_yield(M)) x[0] = law(M)->yield_surface(M);
         else vi_model_platform(M, t, &x[1], NULL); /* turning point: delta' = 0 */
         break;
     case VI_Mode_unload: x[0] = fired == 0 ? M->U.delta_f : M->U.delta_c; break;
@@ -379,37 +478,10 @@ int vi_model_event(vi_model *M, double t, double x[2], int fired)
     return vi_model_resolve(M, t, x);
 }
 
-/* Linearised contact stiffness at the static load W [N/m]. */
-static double static_stiffness(const vi_model *M, double W)
-{
-    if (W <= 0.0) return 0.0;
-    switch (M->law) {
-    case VI_ContactModel_hertz: return vi_hertz_stiffness(M->K, vi_hertz_indentation(M->K, W));
-    case VI_ContactModel_lepp: return M->k_lin;
-    default: {
-        double d = vi_johnson_load_indentation(&M->J, W);
-        if (M->moving || d <= M->J.delta_Y) return vi_johnson_load_stiffness(&M->J, d);
-        vi_unload_curve U = vi_johnson_unload_curve(&M->J, M->unloading, d); /* small oscillations unload */
-        return vi_unload_stiffness(&U, d);
-    }
-    }
-}
-
-/* Indentation at rest under W > 0 on the Johnson virgin curve, with F(d) >= W where rounding allows,
- * so that a pre-loaded start does not see a spurious push into the material. The inverse is
- * accurate to a few ulps; at most VI_STATIC_NUDGES steps of 1, 2, 4, ... ulps close the gap. When F
- * cannot reach W (its value is denormal: loads below about 1e-300 N), d stays within 2^16 ulps. */
-#define VI_STATIC_NUDGES 16
-static double johnson_static_indentation(const vi_johnson *J, double W)
-{
-    double d = vi_johnson_load_indentation(J, W), step = nextafter(d, INFINITY) - d;
-    for (int i = 0; i < VI_STATIC_NUDGES && vi_johnson_load(J, d) < W; i++, step *= 2.0) d += step;
-    return d;
-}
-
 void vi_model_initial_state(vi_model *M, int init, double v0, double t0, double x[2])
 {
-    M->f_contact = sqrt(static_stiffness(M, net_load(M, t0)) / M->m) / (2.0 * VI_PI);
+    double W0 = net_load(M, t0);
+    M->f_contact = sqrt(W0 > 0.0 ? law(M)->static_stiffness(M, W0) / M->m : 0.0) / (2.0 * VI_PI);
     M->mode = VI_Mode_free;
     M->yielded = 0;
     M->U = (vi_unload_curve){0};
@@ -417,12 +489,7 @@ void vi_model_initial_state(vi_model *M, int init, double v0, double t0, double 
     x[0] = 0.0;
     x[1] = v0;
     if (init == VI_Init_static) {
-        double W = net_load(M, t0), d = 0.0;
-        if (W > 0.0) {
-            if (M->law == VI_ContactModel_hertz) d = vi_hertz_indentation(M->K, W);
-            else if (M->law == VI_ContactModel_johnson) d = johnson_static_indentation(&M->J, W);
-            else d = W <= M->J.F_Y ? W / M->k_lin : M->J.delta_Y; /* beyond F_Y: flows from the start */
-        }
+        double d = W0 > 0.0 ? law(M)->static_indentation(M, W0) : 0.0;
         if (is_johnson_fixed(M) && d > M->J.delta_Y) { /* plastically pre-loaded */
             M->yielded = 1;
             M->U = vi_johnson_unload_curve(&M->J, M->unloading, d);
@@ -434,50 +501,51 @@ void vi_model_initial_state(vi_model *M, int init, double v0, double t0, double 
     M->n_impacts = 0;
 }
 
-/* Tangent stiffness of the virgin curve at delta > 0 [N/m]. */
-static double virgin_stiffness(const vi_model *M, double d)
-{
-    if (M->law == VI_ContactModel_lepp) return M->k_lin;
-    if (M->law == VI_ContactModel_johnson) return vi_johnson_load_stiffness(&M->J, d);
-    return vi_hertz_stiffness(M->K, d);
-}
-
 void vi_model_scales(const vi_model *M, const double x0[2], double *L, double *V)
 {
     double W = net_load(M, M->t0), dyC, l = 0.0;
     vi_model_platform(M, M->t0, &dyC, NULL);
-    if (W > 0.0) {
-        double dW = M->law == VI_ContactModel_hertz     ? vi_hertz_indentation(M->K, W)
-                    : M->law == VI_ContactModel_johnson ? vi_johnson_load_indentation(&M->J, W)
-                                                        : fmin(W / M->k_lin, M->J.delta_Y);
-        l = fmax(l, dW);
-    }
-    if (M->law != VI_ContactModel_hertz) l = fmax(l, M->J.delta_Y);
+    if (W > 0.0) l = fmax(l, law(M)->static_indentation(M, W));
+    if (isfinite(law(M)->yield_surface(M))) l = fmax(l, M->J.delta_Y);
     double v = fabs(dyC - x0[1]);
     if (!(l > 0.0 || v > 0.0)) /* only the excitation moves anything: harmonic and rolling */
         v = fabs(M->a) * M->omega + (M->profile ? fabs(M->V) * vi_profile_max_slope(M->profile) : 0.0);
     if (v > 0.0 && isfinite(v)) {
-        double dv = M->law == VI_ContactModel_lepp
-                        ? v * sqrt(M->m) / sqrt(M->k_lin)
-                        : pow(15.0 * M->m * v * v / (16.0 * M->J.E_star * sqrt(M->J.R_star)), 0.4);
+        double dv = law(M)->impact_indentation(M, v);
         if (isfinite(dv)) l = fmax(l, dv);
     }
     if (!(l > 0.0)) l = VI_SCALE_FALLBACK * M->J.R_star;
     *L = l;
-    *V = l * (sqrt(virgin_stiffness(M, l)) / sqrt(M->m));
+    *V = l * (sqrt(law(M)->virgin_stiffness(M, l)) / sqrt(M->m));
 }
 
 /* ---- validity ------------------------------------------------------------------------------ */
 
-int vi_model_validity(const vi_model *M, double t, const double x[2], char *msg, size_t n)
+int vi_model_validity(const vi_model *M, double R1, double t, const double x[2], int skip, char *msg, size_t n)
 {
-    double limit = VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * M->J.R_star;
+    double R = M->J.R_star, limit = VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * R;
     double d = fmax(M->mode == VI_Mode_free ? 0.0 : x[0], M->yielded ? M->U.delta_c : 0.0);
-    if (!(d > limit)) return 0;
-    snprintf(msg, n, "t = %.17g s: the indentation %g m exceeds 0.01 R* = %g m (contact radius sqrt(R* delta) = %g m > "
-             "%g R*): the contact laws (paper eqs. 2-4) assume a contact radius small against R*, so the results "
-             "leave the model's range of validity", t, d, limit, sqrt(M->J.R_star * d), VI_VALIDITY_RADIUS);
-    return 1;
+    if (!(skip & VI_INVALID_INDENTATION) && d > limit) {
+        snprintf(msg, n, "t = %.17g s: the indentation %g m exceeds %g R* = %g m (contact radius sqrt(R* delta) = %g m "
+                 "> %g R*): the contact laws (paper eqs. 2-4) assume a contact radius small against R*, so the "
+                 "results leave the model's range of validity", t, d, VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS, limit,
+                 sqrt(R * d), VI_VALIDITY_RADIUS);
+        return VI_INVALID_INDENTATION;
+    }
+    if (!(skip & VI_INVALID_AMPLITUDE) && fabs(M->a) > R) {
+        snprintf(msg, n, "t = %.17g s: the excitation amplitude a = %g m exceeds R* = %g m: the contact laws (paper "
+                 "eqs. 2-4) describe a local contact, with every displacement small against R*, so the results "
+                 "leave the model's range of validity", t, M->a, R);
+        return VI_INVALID_AMPLITUDE;
+    }
+    double span = M->profile ? vi_profile_height_span(M->profile) : 0.0;
+    if (!(skip & VI_INVALID_PROFILE) && span > R1) {
+        snprintf(msg, n, "t = %.17g s: the heights of profile_file span %g m, more than the rolling radius R1 = %g m: "
+                 "rolling over a profile (paper Fig. 1b) assumes a roughness small against the wheel, so the results "
+                 "leave the model's range of validity", t, span, R1);
+        return VI_INVALID_PROFILE;
+    }
+    return 0;
 }
 
 int vi_model_option_warnings(const vi_parameters *p, char *msg, size_t n)
@@ -503,9 +571,8 @@ int vi_model_option_warnings(const vi_parameters *p, char *msg, size_t n)
     return count;
 }
 
-/* ---- contract C3 ---------------------------------------------------------------------------- */
+/* ---- validity of a saved model (doc/model.md section 7.6) ---------------------------------- */
 
-#define BAD(...) return snprintf(msg, n, __VA_ARGS__), -1
 
 /* a and b agree to rel relative to the larger (both finite). */
 static int close_rel(double a, double b, double rel) { return fabs(a - b) <= rel * fmax(fabs(a), fabs(b)); }
@@ -523,110 +590,114 @@ static int check_constants(const vi_model *M, char *msg, size_t n)
         {"x0", M->x0, 0},
         {"f_contact", M->f_contact, 0}};
     for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
-        if (!isfinite(c[i].value)) BAD("model constant %s = %g is not finite", c[i].name, c[i].value);
-        if (c[i].positive && !(c[i].value > 0.0)) BAD("model constant %s = %g is not positive", c[i].name, c[i].value);
+        if (!isfinite(c[i].value)) VI_FAIL(msg, n, "model constant %s = %g is not finite", c[i].name, c[i].value);
+        if (c[i].positive && !(c[i].value > 0.0))
+            VI_FAIL(msg, n, "model constant %s = %g is not positive", c[i].name, c[i].value);
     }
-    if (M->omega < 0.0) BAD("model constant omega = %g is negative", M->omega);
-    if (M->f_contact < 0.0) BAD("model constant f_contact = %g is negative", M->f_contact);
+    if (M->omega < 0.0) VI_FAIL(msg, n, "model constant omega = %g is negative", M->omega);
+    if (M->f_contact < 0.0) VI_FAIL(msg, n, "model constant f_contact = %g is negative", M->f_contact);
     if (!close_rel(M->K, vi_hertz_constant(M->J.E_star, M->J.R_star), CONSISTENCY_TOL))
-        BAD("model constant K = %g does not match 4/3 E* sqrt(R*)", M->K);
+        VI_FAIL(msg, n, "model constant K = %g does not match 4/3 E* sqrt(R*)", M->K);
     if (!close_rel(M->J.F_Y, vi_hertz_force(M->K, M->J.delta_Y), CONSISTENCY_TOL))
-        BAD("model constant delta_Y = %g does not match F_Y = K delta_Y^1.5", M->J.delta_Y);
+        VI_FAIL(msg, n, "model constant delta_Y = %g does not match F_Y = K delta_Y^1.5", M->J.delta_Y);
     if (!close_rel(M->k_lin, M->J.F_Y / M->J.delta_Y, CONSISTENCY_TOL))
-        BAD("model constant k_lin = %g does not match F_Y/delta_Y", M->k_lin);
+        VI_FAIL(msg, n, "model constant k_lin = %g does not match F_Y/delta_Y", M->k_lin);
     const vi_ramp *r[2] = {&M->yC_in, &M->F_ext};
     const char *rn[2] = {"yC_in", "F_ext"};
     for (int i = 0; i < 2; i++)
         if (!isfinite(r[i]->u) || !isfinite(r[i]->du) || !isfinite(r[i]->t))
-            BAD("model input ramp %s (%g, %g, %g) is not finite", rn[i], r[i]->u, r[i]->du, r[i]->t);
+            VI_FAIL(msg, n, "model input ramp %s (%g, %g, %g) is not finite", rn[i], r[i]->u, r[i]->du, r[i]->t);
     return 0;
 }
 
 static int check_memory(const vi_model *M, char *msg, size_t n)
 {
-    if (M->yielded != 0 && M->yielded != 1) BAD("model flag yielded = %d is not 0 or 1", M->yielded);
-    if (M->n_impacts < 0) BAD("n_impacts = %ld is negative", M->n_impacts);
-    if (!isfinite(M->delta_p)) BAD("delta_p = %g is not finite", M->delta_p);
-    if (M->law == VI_ContactModel_lepp ? M->delta_p < 0.0 : M->delta_p != 0.0)
-        BAD("delta_p = %g is impossible for contact_model %d", M->delta_p, M->law);
+    if (M->yielded != 0 && M->yielded != 1) VI_FAIL(msg, n, "model flag yielded = %d is not 0 or 1", M->yielded);
+    if (M->n_impacts < 0) VI_FAIL(msg, n, "n_impacts = %ld is negative", M->n_impacts);
+    if (!isfinite(M->delta_p)) VI_FAIL(msg, n, "delta_p = %g is not finite", M->delta_p);
+    if (law(M)->permanent_set ? M->delta_p < 0.0 : M->delta_p != 0.0)
+        VI_FAIL(msg, n, "delta_p = %g is impossible for contact_model %s", M->delta_p, law(M)->name);
     const vi_unload_curve *U = &M->U;
     const double u[5] = {U->delta_c, U->Rbar, U->delta_r, U->delta_f, U->Kbar};
     if (!M->yielded) {
         for (int i = 0; i < 5; i++)
-            if (u[i] != 0.0) BAD("unloading curve (delta_c = %g, Rbar = %g) present although yielded = 0", u[0], u[1]);
+            if (u[i] != 0.0)
+                VI_FAIL(msg, n, "unloading curve (delta_c = %g, Rbar = %g) present although yielded = 0", u[0], u[1]);
         return 0;
     }
-    if (!is_johnson_fixed(M)) BAD("yielded = 1 is impossible for contact_model %d (moving %d)", M->law, M->moving);
+    if (!is_johnson_fixed(M))
+        VI_FAIL(msg, n, "yielded = 1 is impossible for contact_model %s (moving %d)", law(M)->name, M->moving);
     for (int i = 0; i < 5; i++)
-        if (!isfinite(u[i])) BAD("unloading curve: a value (delta_c %g, Rbar %g, delta_r %g, delta_f %g, Kbar %g) is not "
-                                 "finite", u[0], u[1], u[2], u[3], u[4]);
+        if (!isfinite(u[i]))
+            VI_FAIL(msg, n, "unloading curve: a value (delta_c %g, Rbar %g, delta_r %g, delta_f %g, Kbar %g) is not "
+                    "finite", u[0], u[1], u[2], u[3], u[4]);
     if (!(U->delta_c >= M->J.delta_Y * (1.0 - CONSISTENCY_TOL)))
-        BAD("delta_c = %g is below delta_Y = %g", U->delta_c, M->J.delta_Y);
-    if (!(U->Rbar > 0.0)) BAD("Rbar = %g is not positive", U->Rbar);
-    if (!(U->delta_f <= U->delta_c)) BAD("delta_f = %g is above delta_c = %g", U->delta_f, U->delta_c);
+        VI_FAIL(msg, n, "delta_c = %g is below delta_Y = %g", U->delta_c, M->J.delta_Y);
+    if (!(U->Rbar > 0.0)) VI_FAIL(msg, n, "Rbar = %g is not positive", U->Rbar);
+    if (!(U->delta_f <= U->delta_c)) VI_FAIL(msg, n, "delta_f = %g is above delta_c = %g", U->delta_f, U->delta_c);
     vi_unload_curve E = vi_johnson_unload_curve(&M->J, M->unloading, U->delta_c);
-    if (!close_rel(U->Rbar, E.Rbar, CONSISTENCY_TOL)) BAD("Rbar = %g does not belong to delta_c (%g)", U->Rbar, E.Rbar);
+    if (!close_rel(U->Rbar, E.Rbar, CONSISTENCY_TOL))
+        VI_FAIL(msg, n, "Rbar = %g does not belong to delta_c (%g)", U->Rbar, E.Rbar);
     if (!close_rel(U->delta_r, E.delta_r, CONSISTENCY_TOL))
-        BAD("delta_r = %g does not belong to delta_c (%g)", U->delta_r, E.delta_r);
+        VI_FAIL(msg, n, "delta_r = %g does not belong to delta_c (%g)", U->delta_r, E.delta_r);
     if (!(fabs(U->delta_f - E.delta_f) <= CONSISTENCY_TOL * U->delta_c))
-        BAD("delta_f = %g does not belong to delta_c (%g)", U->delta_f, E.delta_f);
-    if (!close_rel(U->Kbar, E.Kbar, CONSISTENCY_TOL)) BAD("Kbar = %g does not belong to Rbar (%g)", U->Kbar, E.Kbar);
+        VI_FAIL(msg, n, "delta_f = %g does not belong to delta_c (%g)", U->delta_f, E.delta_f);
+    if (!close_rel(U->Kbar, E.Kbar, CONSISTENCY_TOL))
+        VI_FAIL(msg, n, "Kbar = %g does not belong to Rbar (%g)", U->Kbar, E.Kbar);
     return 0;
 }
 
-/* The mode is allowed for the law and the memory, and no time-free guard is clearly negative. */
-static int check_mode(const vi_model *M, const double x[2], char *msg, size_t n)
+/* The mode is allowed for the law and the memory, and (surfaces) no time-free guard is clearly negative. */
+static int check_mode(const vi_model *M, const double x[2], int surfaces, char *msg, size_t n)
 {
-    int mode = M->mode, ok;
-    switch (M->law) {
-    case VI_ContactModel_hertz: ok = mode == VI_Mode_free || mode == VI_Mode_elastic; break;
-    case VI_ContactModel_lepp: ok = mode >= VI_Mode_free && mode <= VI_Mode_plastic; break;
-    default:
-        if (M->moving) ok = mode >= VI_Mode_free && mode <= VI_Mode_plastic;
-        else if (!M->yielded) ok = mode == VI_Mode_free || mode == VI_Mode_elastic;
-        else ok = mode == VI_Mode_free || mode == VI_Mode_plastic || mode == VI_Mode_unload ||
-                  (mode == VI_Mode_stick && M->unloading == VI_UNLOAD_PAPER);
-    }
-    if (!ok) BAD("mode = %d is impossible for contact_model %d (moving %d, unloading %d, yielded %d)", mode, M->law,
-                 M->moving, M->unloading, M->yielded);
+    const law_fns *L = law(M);
+    int mode = M->mode;
+    if (!L->mode_allowed(M, mode))
+        VI_FAIL(msg, n, "mode = %d is impossible for contact_model %s (moving %d, unloading %d, yielded %d)", mode,
+                L->name, M->moving, M->unloading, M->yielded);
+    if (!surfaces) return 0;
     double d = x[0], tol = VI_CHECK_GUARD_TOL * fmax(fmax(M->J.delta_Y, fabs(d)), fabs(M->U.delta_c));
     double g[2] = {INFINITY, INFINITY};
     switch (mode) {
-    case VI_Mode_free: g[0] = contact_surface(M) - d; break;
-    case VI_Mode_elastic: g[0] = d - contact_surface(M), g[1] = yield_surface(M) - d; break;
-    case VI_Mode_plastic:
-        g[0] = M->law == VI_ContactModel_lepp ? d - yield_surface(M)
-               : M->moving                    ? d - M->J.delta_Y
-                                              : d - M->U.delta_c;
-        break;
+    case VI_Mode_free: g[0] = L->contact_surface(M) - d; break;
+    case VI_Mode_elastic: g[0] = d - L->contact_surface(M), g[1] = L->yield_surface(M) - d; break;
+    case VI_Mode_plastic: g[0] = d - L->plastic_floor(M); break;
     case VI_Mode_unload: g[0] = d - M->U.delta_f, g[1] = M->U.delta_c - d; break;
     default: g[0] = d - M->U.delta_c, g[1] = M->U.delta_c - d; break; /* stick: on delta_c */
     }
     for (int i = 0; i < 2; i++)
         if (g[i] < -tol)
-            BAD("mode %d does not fit the state: delta = %.17g m lies %g m beyond its surface %d (tolerance %g m)", mode,
-                d, -g[i], i, tol);
+            VI_FAIL(msg, n, "mode %d does not fit the state: delta = %.17g m lies %g m beyond its surface %d "
+                    "(tolerance %g m)", mode, d, -g[i], i, tol);
     return 0;
 }
 
-int vi_model_check(const vi_model *M, const double x[2], char *msg, size_t n)
+static int check(const vi_model *M, const double x[2], int surfaces, char *msg, size_t n)
 {
-    if (!isfinite(x[0]) || !isfinite(x[1])) BAD("state (delta %g, v %g) is not finite", x[0], x[1]);
+    if (!isfinite(x[0]) || !isfinite(x[1])) VI_FAIL(msg, n, "state (delta %g, v %g) is not finite", x[0], x[1]);
     if (M->law == 0) { /* never set up */
         if (M->mode != 0 || M->yielded != 0 || M->n_impacts != 0 || M->delta_p != 0.0)
-            BAD("model not set up (law = 0) but with a discrete state (mode %d)", M->mode);
+            VI_FAIL(msg, n, "model not set up (law = 0) but with a discrete state (mode %d)", M->mode);
         return 0;
     }
     if (M->law < VI_ContactModel_hertz || M->law > VI_ContactModel_lepp)
-        BAD("contact law = %d is not hertz (1), johnson (2) or lepp (3)", M->law);
-    if (M->moving != 0 && M->moving != 1) BAD("model flag moving = %d is not 0 or 1", M->moving);
+        VI_FAIL(msg, n, "contact law = %d is not hertz (%d), johnson (%d) or lepp (%d)", M->law, VI_ContactModel_hertz,
+                VI_ContactModel_johnson, VI_ContactModel_lepp);
+    if (M->moving != 0 && M->moving != 1) VI_FAIL(msg, n, "model flag moving = %d is not 0 or 1", M->moving);
     if (M->unloading != VI_UNLOAD_PAPER && M->unloading != VI_UNLOAD_CONTINUOUS)
-        BAD("unloading = %d is not paper (1) or continuous (2)", M->unloading);
-    if (M->mode < VI_Mode_free || M->mode > VI_Mode_stick) BAD("mode = %d is not in 0..4", M->mode);
+        VI_FAIL(msg, n, "unloading = %d is not paper (%d) or continuous (%d)", M->unloading, VI_UNLOAD_PAPER,
+                VI_UNLOAD_CONTINUOUS);
+    if (M->mode < VI_Mode_free || M->mode > VI_Mode_stick)
+        VI_FAIL(msg, n, "mode = %d is not in %d..%d", M->mode, VI_Mode_free, VI_Mode_stick);
     if (check_constants(M, msg, n) < 0 || check_memory(M, msg, n) < 0) return -1;
-    return check_mode(M, x, msg, n);
+    return check_mode(M, x, surfaces, msg, n);
 }
-#undef BAD
+
+int vi_model_check(const vi_model *M, const double x[2], char *msg, size_t n) { return check(M, x, 1, msg, n); }
+int vi_model_check_between_events(const vi_model *M, const double x[2], char *msg, size_t n)
+{
+    return check(M, x, 0, msg, n);
+}
 
 void vi_model_calculated(const vi_model *M, vi_outputs *out)
 {
@@ -651,15 +722,5 @@ void vi_model_outputs(const vi_model *M, double t, const double x[2], vi_outputs
     out->n_impacts = (int)M->n_impacts;
     out->delta_c = out->delta_f = out->delta_p = out->W_plastic = 0.0;
     out->Rbar = M->J.R_star;
-    if (is_johnson_fixed(M) && M->yielded) {
-        vi_unload_curve U = M->mode == VI_Mode_plastic ? vi_johnson_unload_curve(&M->J, M->unloading, d) : M->U;
-        out->delta_c = U.delta_c;
-        out->delta_f = U.delta_f;
-        out->Rbar = U.Rbar;
-        /* dissipated = work along the virgin curve - energy the unloading curve gives back */
-        out->W_plastic = vi_johnson_load_work(&M->J, U.delta_c) - vi_unload_energy(&U, U.delta_c);
-    } else if (M->law == VI_ContactModel_lepp) {
-        out->delta_p = M->mode == VI_Mode_plastic ? d - M->J.delta_Y : M->delta_p;
-        out->W_plastic = M->J.F_Y * out->delta_p;
-    }
+    law(M)->memory_outputs(M, d, out);
 }

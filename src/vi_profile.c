@@ -25,6 +25,7 @@ struct vi_profile {
     double *kinks;  /* sorted kink positions in [lo, hi) */
     size_t n_kinks;
     double max_slope;
+    double h_span; /* max h - min h of the table [m] */
 };
 
 /* ---- pieces -------------------------------------------------------------------------------- */
@@ -285,8 +286,9 @@ vi_profile *vi_profile_create(const double *x, const double *h, size_t n, double
     p->R = R, p->lo = x[0], p->hi = x[n - 1], p->periodic = periodic != 0;
     p->period = periodic ? p->hi - p->lo : 0.0;
     if (make_pieces(x, h, n, R, p->periodic, &pc, &dom0, &dom1, &count) < 0) FAIL("%s: out of memory", name);
-    double hmax = 0.0;
-    for (size_t i = 0; i < n; i++) hmax = fmax(hmax, fabs(h[i]));
+    double hmax = 0.0, hlo = h[0], hhi = h[0];
+    for (size_t i = 0; i < n; i++) hmax = fmax(hmax, fabs(h[i])), hlo = fmin(hlo, h[i]), hhi = fmax(hhi, h[i]);
+    p->h_span = hhi - hlo;
     context c = {pc, R, 64.0 * DBL_EPSILON * (R + hmax)};
     if (env_build(&c, dom0, dom1, 0, count, &env) < 0) FAIL("%s: out of memory", name);
 
@@ -473,7 +475,6 @@ double vi_profile_next_kink(const vi_profile *p, double x, int dir)
 double vi_profile_x_first(const vi_profile *p) { return p->lo; }
 double vi_profile_x_last(const vi_profile *p) { return p->hi; }
 int vi_profile_periodic(const vi_profile *p) { return p->periodic; }
-double vi_profile_radius(const vi_profile *p) { return p->R; }
 double vi_profile_max_slope(const vi_profile *p) { return p->max_slope; }
-size_t vi_profile_pieces(const vi_profile *p) { return p->m; }
+double vi_profile_height_span(const vi_profile *p) { return p->h_span; }
 size_t vi_profile_kinks(const vi_profile *p) { return p->n_kinks; }

@@ -7,6 +7,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "vi_check.h"
+
 _Static_assert((int)VI_Solver_bdf == (int)VI_METHOD_BDF && (int)VI_Solver_adams == (int)VI_METHOD_ADAMS &&
                    (int)VI_Solver_dop853 == (int)VI_METHOD_DOP853,
                "the solver enumeration is the solver layer's method number");
@@ -17,7 +19,7 @@ static void sim_rhs(double t, const double *x, double *dx, void *user)
     vi_model_rhs(&d->M, t, x, dx);
 }
 
-/* The model's guards, each disarmed one shifted up by its band (see VI_GRAZE_NOISE). */
+/* The model's guards, each disarmed one shifted up by its band (re-arming: VI_GRAZE_TOL, VI_GRAZE_ULPS). */
 static void sim_guards(double t, const double *x, double *g, void *user)
 {
     const vi_sim_data *d = user;
@@ -94,14 +96,10 @@ static int attach_profile(vi_sim *s)
         return vi_model_set_rolling(M, NULL, p->V, p->x0, s->msg, sizeof s->msg);
     }
     char path[VI_PATH_MAX], key[sizeof s->profile_key];
-    if (profile_path(s, p->profile_file, path, sizeof path) < 0) {
-        snprintf(s->msg, sizeof s->msg, "profile_file '%.200s...': the path is too long", p->profile_file);
-        return -1;
-    }
-    if (!(p->R1 > 0.0)) {
-        snprintf(s->msg, sizeof s->msg, "profile_file: rolling needs a body radius R1 > 0 (R1 = %g m)", p->R1);
-        return -1;
-    }
+    if (profile_path(s, p->profile_file, path, sizeof path) < 0)
+        VI_FAIL(s->msg, sizeof s->msg, "profile_file '%.200s...': the path is too long", p->profile_file);
+    if (!(p->R1 > 0.0))
+        VI_FAIL(s->msg, sizeof s->msg, "profile_file: rolling needs a body radius R1 > 0 (R1 = %g m)", p->R1);
     snprintf(key, sizeof key, "%s|%.17g|%d", path, p->R1, p->profile_periodic != 0);
     if (!s->profile || strcmp(key, s->profile_key) != 0) {
         vi_profile_free(s->profile);
@@ -113,12 +111,14 @@ static int attach_profile(vi_sim *s)
     return vi_model_set_rolling(M, s->profile, p->V, p->x0, s->msg, sizeof s->msg);
 }
 
-/* Warn once per instance when the contact leaves the model's range of validity (contract C6). */
-static void check_validity(vi_sim *s)
+/* Warn once per instance and cause when the simulation leaves the model's range of validity
+ * (vi_model_validity). */
+void vi_sim_check_validity(vi_sim *s)
 {
     char text[400];
-    if (!s->warned_validity && vi_model_validity(&s->d.M, s->d.t, s->d.x, text, sizeof text)) {
-        s->warned_validity = 1;
+    for (int cause; (cause = vi_model_validity(&s->d.M, s->d.par.R1, s->d.t, s->d.x, s->warned_validity, text,
+                                               sizeof text)) != 0;) { /* bounded: one more bit each time */
+        s->warned_validity |= cause;
         s->log(s->log_env, VI_LOG_WARNING, "%s", text);
     }
 }
@@ -158,26 +158,15 @@ int vi_sim_prepare(vi_sim *s)
 {
     vi_sim_data *d = &s->d;
     const vi_parameters *p = &d->par;
-    double rtol = rtol_of(d);
     s->out_valid = 0;
-    if (!(rtol >= VI_RTOL_MIN && rtol <= VI_RTOL_MAX)) {
-        snprintf(s->msg, sizeof s->msg, "relative tolerance %s = %g: use a value in [%g, %g]",
-                 d->tolerance > 0.0 ? "(fmi2SetupExperiment)" : "rtol", rtol, VI_RTOL_MIN, VI_RTOL_MAX);
-        return -1;
-    }
-    if (!(p->max_step == 0.0 || (p->max_step >= VI_MAX_STEP_MIN && isfinite(p->max_step)))) {
-        snprintf(s->msg, sizeof s->msg, "max_step = %g s: use 0 (no limit) or a finite step >= %g s", p->max_step,
-                 VI_MAX_STEP_MIN);
-        return -1;
-    }
-    if (p->solver != VI_Solver_bdf && p->solver != VI_Solver_adams && p->solver != VI_Solver_dop853) {
-        snprintf(s->msg, sizeof s->msg, "solver = %d: use bdf (1), adams (2) or dop853 (3)", p->solver);
-        return -1;
-    }
-    if (!isfinite(d->in.yC_in) || !isfinite(d->in.F_ext)) {
-        snprintf(s->msg, sizeof s->msg, "the inputs yC_in and F_ext must be finite");
-        return -1;
-    }
+    /* The parameters lie in the ranges of the variable table (rtol among them); left to check: the
+     * experiment's tolerance, and max_step between 0 and VI_MAX_STEP_MIN. */
+    if (d->tolerance > 0.0 && !(d->tolerance >= VI_RTOL_MIN && d->tolerance <= VI_RTOL_MAX))
+        VI_FAIL(s->msg, sizeof s->msg, "relative tolerance (fmi2SetupExperiment) = %g: use a value in [%g, %g]",
+                d->tolerance, VI_RTOL_MIN, VI_RTOL_MAX);
+    if (!(p->max_step == 0.0 || p->max_step >= VI_MAX_STEP_MIN))
+        VI_FAIL(s->msg, sizeof s->msg, "max_step = %g s: use 0 (no limit) or a step >= %g s", p->max_step,
+                VI_MAX_STEP_MIN);
     if (vi_model_setup(&d->M, p, d->t_start, s->msg, sizeof s->msg) < 0) return -1;
     if (attach_profile(s) < 0) return -1;
     d->t = d->t_start;
@@ -203,10 +192,8 @@ static int create_solver(vi_sim *s, int resume)
         .ode = &d->ode, .log = s->log, .log_env = s->log_env};
     s->solver = resume ? vi_solver_resume(&cfg, d->t, d->x) : vi_solver_create(&cfg, d->t, d->x);
     s->solver_stale = 0;
-    if (!s->solver) {
-        snprintf(s->msg, sizeof s->msg, "could not create the solver");
-        return -1;
-    }
+    if (!s->solver)
+        VI_FAIL(s->msg, sizeof s->msg, "could not create the solver");
     return 0;
 }
 
@@ -224,21 +211,17 @@ int vi_sim_initialize(vi_sim *s)
     if (create_solver(s, 0) < 0) return -1;
     char text[400];
     if (vi_model_option_warnings(&d->par, text, sizeof text) > 0) s->log(s->log_env, VI_LOG_WARNING, "%s", text);
-    check_validity(s);
-    static const char *const names[] = {[VI_Solver_bdf] = "CVODE BDF", [VI_Solver_adams] = "CVODE Adams",
-                                        [VI_Solver_dop853] = "Dormand-Prince 8(5,3)"};
+    vi_sim_check_validity(s);
     s->log(s->log_env, VI_LOG_SOLVER, "%s, rtol %g, atol %g m and %g m/s (scales %g m, %g m/s)",
-           names[d->par.solver], rtol, d->atol[0], d->atol[1], L, V);
+           vi_solver_method_name(d->par.solver), rtol, d->atol[0], d->atol[1], L, V);
     return 0;
 }
 
 int vi_sim_checkpoint(vi_sim *s)
 {
     if (!s->d.initialized || !s->solver) return 0;
-    if (vi_solver_checkpoint(s->solver, s->d.t, s->d.x) < 0) {
-        snprintf(s->msg, sizeof s->msg, "could not restart the solver at t = %.17g s", s->d.t);
-        return -1;
-    }
+    if (vi_solver_checkpoint(s->solver, s->d.t, s->d.x) < 0)
+        VI_FAIL(s->msg, sizeof s->msg, "could not restart the solver at t = %.17g s", s->d.t);
     s->solver_stale = 0;
     return 0;
 }
@@ -258,8 +241,8 @@ int vi_sim_restore(vi_sim *s)
 /* New input values (and tunable a, f) take effect at time t: the platform may jump (the mass does
  * not), the force may step; the mode is then chosen afresh from the new state. An input that
  * continues its previous ramp (held, or the same slope) changes nothing and does not restart the
- * solver. 0, or -1 (s->msg). */
-static int apply_inputs(vi_sim *s)
+ * solver. */
+static void apply_inputs(vi_sim *s)
 {
     vi_sim_data *d = &s->d;
     vi_model *M = &d->M;
@@ -269,19 +252,19 @@ static int apply_inputs(vi_sim *s)
     double y_old_t = vi_ramp_at(&y_old, t), f_old_t = vi_ramp_at(&f_old, t);
     if (d->in.yC_in == y_old_t && d->din.yC_in == y_old.du && d->in.F_ext == f_old_t && d->din.F_ext == f_old.du &&
         !vi_model_excitation_differs(M, d->par.a, d->par.f))
-        return 0; /* the same signal: nothing happens */
+        return; /* the same signal: nothing happens */
     vi_model_freeze(M, t, d->x);
     int mode = M->mode;
     d->x[0] += d->in.yC_in - y_old_t; /* delta jumps with the platform */
     set_input_ramps(M, d, t);
-    if (vi_model_set_excitation(M, t, d->x, d->par.a, d->par.f, s->msg, sizeof s->msg) < 0) return -1;
+    vi_model_set_excitation(M, t, d->x, d->par.a, d->par.f);
     if (vi_model_resolve(M, t, d->x) != mode) {
         s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: input change, mode %d -> %d", t, mode, M->mode);
         memset(d->guard_band, 0, sizeof d->guard_band);
     }
     arm_guards_at_zero(d);
     s->solver_stale = 1;
-    return 0;
+    vi_sim_check_validity(s); /* a new amplitude */
 }
 
 /* ---- re-arming of guards after events that keep the mode ----------------------------------- */
@@ -343,7 +326,7 @@ int vi_sim_zeno_count(int count, double t_before, double t)
     return t - t_before <= VI_ZENO_ULPS * ulp ? count + 1 : 0;
 }
 
-/* End the advance early (contract C1): the state at d->t is consistent and usable. */
+/* End the advance early (doc/model.md section 7.1): the state at d->t is consistent and usable. */
 static int discard(vi_sim *s, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 static int discard(vi_sim *s, const char *fmt, ...)
 {
@@ -364,7 +347,7 @@ static void apply_event(vi_sim *s, int fired)
     d->n_events++;
     s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: guard %d of mode %d, mode %d -> %d, delta = %.9g m, v = %.9g m/s",
            d->t, fired, from, from, d->M.mode, d->x[0], d->x[1]);
-    check_validity(s);
+    vi_sim_check_validity(s);
     if (d->M.mode != from) {
         memset(d->guard_band, 0, sizeof d->guard_band);
         arm_guards_at_zero(d);
@@ -376,7 +359,7 @@ static void apply_event(vi_sim *s, int fired)
     d->guard_band[fired] = VI_GRAZE_TOL * tol[fired] + VI_GRAZE_ULPS * ulps[fired] + DBL_MIN;
 }
 
-/* A kink of the rolling profile at d->t (contract C10): the platform velocity jumps, so the rate of
+/* A kink of the rolling profile at d->t (doc/model.md section 6): the platform velocity jumps, so the rate of
  * delta does; the mode is chosen afresh (as after an input jump) and the solver restarts. */
 static int apply_breakpoint(vi_sim *s)
 {
@@ -405,7 +388,7 @@ int vi_sim_advance(vi_sim *s, double t_end)
     s->out_valid = 0;
     d->step_t0 = d->t;
     d->step_v0 = d->x[1];
-    if (d->inputs_changed && apply_inputs(s) < 0) return VI_SIM_ERROR;
+    if (d->inputs_changed) apply_inputs(s);
     rearm_guards(d);
     if (s->solver_stale) {
         if (vi_solver_reset(s->solver, d->t, d->x) < 0) goto fail;
@@ -460,7 +443,7 @@ int vi_sim_advance(vi_sim *s, double t_end)
         return VI_SIM_ERROR;
     }
     if (outputs_finite(s) < 0) return VI_SIM_ERROR;
-    check_validity(s);
+    vi_sim_check_validity(s);
     if (t_end > limit) return discard(s, "%s", why); /* the end of the profile: nothing beyond it */
     d->t = t_end;
     return VI_SIM_OK;
@@ -505,70 +488,38 @@ void vi_sim_outputs(vi_sim *s, vi_outputs *out)
     *out = s->out;
 }
 
-/* ---- contract C3: validity of a state payload ---------------------------------------------- */
+/* ---- validity of a state payload (doc/model.md section 7.6) --------------------------------- */
 
-#define BAD(...) do { snprintf(msg, n, __VA_ARGS__); return -1; } while (0)
 
-/* Is `value` an item of the enumeration type `type`? */
-static int enum_item(const char *type, int value)
+static int data_check(const vi_sim_data *d, int surfaces, char *msg, size_t n)
 {
-    for (int i = 0; i < vi_enum_item_count; i++)
-        if (vi_enum_items[i].value == value && strcmp(vi_enum_items[i].type, type) == 0) return 1;
-    return 0;
-}
-
-/* Parameters and inputs (values and derivatives), through the variable table so that every row is
- * covered and named. */
-static int check_variables(const vi_sim_data *d, char *msg, size_t n)
-{
-    for (int vr = 0; vr < VI_NVARS; vr++) {
-        const vi_variable *v = &vi_variable_table[vr];
-        const char *base = v->group == VI_GROUP_PARAMETERS ? (const char *)&d->par
-                           : v->group == VI_GROUP_INPUTS   ? (const char *)&d->in
-                                                           : NULL;
-        if (!base) continue;
-        if (v->type == VI_Real) {
-            double x = *(const double *)(base + v->offset);
-            if (!isfinite(x)) BAD("%s = %g is not finite", v->name, x);
-            if (v->group == VI_GROUP_INPUTS) {
-                double dx = *(const double *)((const char *)&d->din + v->offset);
-                if (!isfinite(dx)) BAD("the derivative of %s = %g is not finite", v->name, dx);
-            }
-        } else {
-            int k = *(const int *)(base + v->offset);
-            if (strcmp(v->enumeration, "none") != 0 && !enum_item(v->enumeration, k))
-                BAD("%s = %d is not an item of %s", v->name, k, v->enumeration);
-            if (v->type == VI_Boolean && k != 0 && k != 1) BAD("%s = %d is not a Boolean", v->name, k);
-        }
-    }
-    return 0;
-}
-
-int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n)
-{
-    if (check_variables(d, msg, n) < 0) return -1;
-    if (d->inputs_changed != 0 && d->inputs_changed != 1) BAD("inputs_changed = %d is not 0 or 1", d->inputs_changed);
-    if (!isfinite(d->t_start)) BAD("t_start = %g is not finite", d->t_start);
+    if (d->inputs_changed != 0 && d->inputs_changed != 1)
+        VI_FAIL(msg, n, "inputs_changed = %d is not 0 or 1", d->inputs_changed);
+    if (!isfinite(d->t_start)) VI_FAIL(msg, n, "t_start = %g is not finite", d->t_start);
     if (d->tolerance != 0.0 && !(d->tolerance >= VI_RTOL_MIN && d->tolerance <= VI_RTOL_MAX))
-        BAD("tolerance = %g is neither 0 nor in [%g, %g]", d->tolerance, VI_RTOL_MIN, VI_RTOL_MAX);
-    if (!isfinite(d->t) || d->t < d->t_start) BAD("t = %g is not finite or before t_start = %g", d->t, d->t_start);
+        VI_FAIL(msg, n, "tolerance = %g is neither 0 nor in [%g, %g]", d->tolerance, VI_RTOL_MIN, VI_RTOL_MAX);
+    if (!isfinite(d->t) || d->t < d->t_start)
+        VI_FAIL(msg, n, "t = %g is not finite or before t_start = %g", d->t, d->t_start);
     for (int i = 0; i < 2; i++) {
-        if (!isfinite(d->x[i])) BAD("x[%d] = %g is not finite", i, d->x[i]);
-        if (!(d->atol[i] >= 0.0 && isfinite(d->atol[i]))) BAD("atol[%d] = %g is not finite and >= 0", i, d->atol[i]);
+        if (!isfinite(d->x[i])) VI_FAIL(msg, n, "x[%d] = %g is not finite", i, d->x[i]);
+        if (!(d->atol[i] >= 0.0 && isfinite(d->atol[i])))
+            VI_FAIL(msg, n, "atol[%d] = %g is not finite and >= 0", i, d->atol[i]);
     }
-    if (d->n_events < 0) BAD("n_events = %ld is negative", d->n_events);
-    if (d->initialized != 0 && d->initialized != 1) BAD("initialized = %d is not 0 or 1", d->initialized);
+    if (d->n_events < 0) VI_FAIL(msg, n, "n_events = %ld is negative", d->n_events);
+    if (d->initialized != 0 && d->initialized != 1) VI_FAIL(msg, n, "initialized = %d is not 0 or 1", d->initialized);
     if (!isfinite(d->step_t0) || d->step_t0 > d->t || !isfinite(d->step_v0))
-        BAD("step_t0 = %g, step_v0 = %g: not finite or after t", d->step_t0, d->step_v0);
+        VI_FAIL(msg, n, "step_t0 = %g, step_v0 = %g: not finite or after t", d->step_t0, d->step_v0);
     for (int i = 0; i < VI_NGUARDS; i++)
         if (!(d->guard_band[i] >= 0.0 && isfinite(d->guard_band[i])))
-            BAD("guard_band[%d] = %g is not finite and >= 0", i, d->guard_band[i]);
+            VI_FAIL(msg, n, "guard_band[%d] = %g is not finite and >= 0", i, d->guard_band[i]);
     if (d->initialized && d->par.solver == VI_Solver_dop853 &&
         vi_solver_ode_check(&d->ode, 2, VI_NGUARDS, d->t, msg, n) < 0)
         return -1;
-    return vi_model_check(&d->M, d->x, msg, n);
+    return surfaces ? vi_model_check(&d->M, d->x, msg, n) : vi_model_check_between_events(&d->M, d->x, msg, n);
 }
-#undef BAD
+
+int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n) { return data_check(d, 1, msg, n); }
+int vi_sim_data_check_between_events(const vi_sim_data *d, char *msg, size_t n) { return data_check(d, 0, msg, n); }
 
 void vi_sim_statistics(const vi_sim *s, vi_solver_stats *st)
 {

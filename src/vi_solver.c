@@ -13,6 +13,8 @@
 #include <sunlinsol/sunlinsol_dense.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
+#include "vi_check.h"
+
 struct vi_solver {
     vi_solver_config cfg;
     double atol_copy[VI_SOLVER_MAX_N];
@@ -33,6 +35,16 @@ struct vi_solver {
     int rootsfound[VI_SOLVER_MAX_GUARDS]; /* ... for these guards; not reported yet */
     vi_solver_stats before_reset; /* CVodeReInit zeroes CVODE's counters: the sums before it */
 };
+
+const char *vi_solver_method_name(int method)
+{
+    switch (method) {
+    case VI_METHOD_BDF: return "CVODE BDF";
+    case VI_METHOD_ADAMS: return "CVODE Adams";
+    case VI_METHOD_DOP853: return "Dormand-Prince 8(5,3)";
+    default: return "unknown method";
+    }
+}
 
 /* The one check for SUNDIALS return flags: logs the failing call and returns VI_SOLVER_FAILED. */
 static int check_flag(const vi_solver *s, int flag, const char *call)
@@ -138,21 +150,21 @@ static int ode_setup(vi_solver *s)
 
 int vi_solver_ode_check(const vi_ode *o, int n, int nguards, double t, char *msg, size_t size)
 {
-#define ODE_BAD(...) do { snprintf(msg, size, __VA_ARGS__); return -1; } while (0)
-    if (o->n != n || o->ng != nguards) ODE_BAD("ode: made for %d states and %d guards, not %d and %d", o->n, o->ng, n, nguards);
-    if (!isfinite(o->t) || o->t < t) ODE_BAD("ode.t = %g is not finite or before t = %g", o->t, t);
-    if (!(o->h > 0.0 && isfinite(o->h))) ODE_BAD("ode.h = %g is not finite and positive", o->h);
-    if (o->event_pending != 0 && o->event_pending != 1) ODE_BAD("ode.event_pending = %d", o->event_pending);
-    if (o->have_step != 0 && o->have_step != 1) ODE_BAD("ode.have_step = %d", o->have_step);
-    if (o->cur != 0 && o->cur != 1) ODE_BAD("ode.cur = %d", o->cur);
-    if (o->have_step && !(o->t_old <= t)) ODE_BAD("ode: the last step [%g, %g] does not span t = %g", o->t_old, o->t, t);
-    if (!o->have_step && o->t != t) ODE_BAD("ode.t = %g: a restart must be at t = %g", o->t, t);
+    if (o->n != n || o->ng != nguards)
+        VI_FAIL(msg, size, "ode: made for %d states and %d guards, not %d and %d", o->n, o->ng, n, nguards);
+    if (!isfinite(o->t) || o->t < t) VI_FAIL(msg, size, "ode.t = %g is not finite or before t = %g", o->t, t);
+    if (!(o->h > 0.0 && isfinite(o->h))) VI_FAIL(msg, size, "ode.h = %g is not finite and positive", o->h);
+    if (o->event_pending != 0 && o->event_pending != 1) VI_FAIL(msg, size, "ode.event_pending = %d", o->event_pending);
+    if (o->have_step != 0 && o->have_step != 1) VI_FAIL(msg, size, "ode.have_step = %d", o->have_step);
+    if (o->cur != 0 && o->cur != 1) VI_FAIL(msg, size, "ode.cur = %d", o->cur);
+    if (o->have_step && !(o->t_old <= t))
+        VI_FAIL(msg, size, "ode: the last step [%g, %g] does not span t = %g", o->t_old, o->t, t);
+    if (!o->have_step && o->t != t) VI_FAIL(msg, size, "ode.t = %g: a restart must be at t = %g", o->t, t);
     for (int i = 0; i < n; i++)
-        if (!isfinite(o->x[i]) || !isfinite(o->f[i])) ODE_BAD("ode.x[%d] or ode.f[%d] is not finite", i, i);
+        if (!isfinite(o->x[i]) || !isfinite(o->f[i])) VI_FAIL(msg, size, "ode.x[%d] or ode.f[%d] is not finite", i, i);
     for (int i = 0; i < nguards; i++)
-        if (!isfinite(o->g[i])) ODE_BAD("ode.g[%d] is not finite", i);
+        if (!isfinite(o->g[i])) VI_FAIL(msg, size, "ode.g[%d] is not finite", i);
     return 0;
-#undef ODE_BAD
 }
 
 static int ode_valid(const vi_solver *s, double t0)
@@ -322,7 +334,8 @@ int vi_solver_advance(vi_solver *s, double tout, long max_steps, double *t, doub
     }
 }
 
-/* CVODE's counters since the last (re)initialisation. */
+/* CVODE's counters since the last (re)initialisation. Their return values are not checked: they fail
+ * only for a NULL CVODE memory or linear solver, and both exist for the solver's whole life. */
 static void current_counters(const vi_solver *s, vi_solver_stats *st)
 {
     memset(st, 0, sizeof *st);
@@ -339,8 +352,8 @@ void vi_solver_statistics(const vi_solver *s, vi_solver_stats *st)
 {
     if (s->cfg.method == VI_METHOD_DOP853) {
         const vi_ode_stats *o = &s->cfg.ode->st;
-        *st = (vi_solver_stats){.steps = o->accepted, .rhs_evals = o->rhs_evals, .err_test_fails = o->rejected,
-                                .guard_evals = o->guard_evals, .resets = s->ode_resets};
+        *st = (vi_solver_stats){.method = vi_solver_method_name(s->cfg.method), .steps = o->accepted, .rhs_evals = o->rhs_evals,
+                                .err_test_fails = o->rejected, .guard_evals = o->guard_evals, .resets = s->ode_resets};
         return;
     }
     vi_solver_stats c;
@@ -354,6 +367,7 @@ void vi_solver_statistics(const vi_solver *s, vi_solver_stats *st)
     st->err_test_fails = b->err_test_fails + c.err_test_fails;
     st->guard_evals = b->guard_evals + c.guard_evals;
     st->resets = b->resets;
+    st->method = vi_solver_method_name(s->cfg.method);
 }
 
 void vi_solver_free(vi_solver *s)

@@ -1,9 +1,11 @@
 /* Print the variable table of the FMU's model (vi_fmu_this_model) as tab-separated text for
  * fmu-test/test_interface.py:
  *   guid <GUID>
- *   var <vr> <name> <type> <enumeration> <causality> <variability> <initial> <start> <unit> <description>
- *       (<start> of a String is the string itself; the description of an Integer with enumeration
- *       items is followed by them, as modelDescription.xml gives it: "contact law: hertz=1, johnson=2")
+ *   var <vr> <name> <type> <enumeration> <causality> <variability> <initial> <start> <min> <max> <unit> <description>
+ *       (<start> of a String is the string itself; <min> and <max> are the inclusive bounds that
+ *       modelDescription.xml declares (vi_bound_inclusive), empty without a bound; the description of
+ *       an Integer with enumeration items is followed by them, as modelDescription.xml gives it:
+ *       "contact law: hertz=1, johnson=2")
  *   enum <type> <item> <value>                                                                       */
 #include <stdio.h>
 #include <string.h>
@@ -17,11 +19,13 @@ int main(void)
     printf("guid\t%s\n", m->guid);
     for (int vr = 0; vr < m->nvariables; vr++) {
         const vi_variable *v = &m->variables[vr];
-        char start[64];
+        char start[64], lo[64] = "", hi[64] = "";
         snprintf(start, sizeof start, "%.17g", v->start);
-        printf("var\t%d\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s", vr, v->name, types[v->type], v->enumeration,
-               v->causality, v->variability, v->initial, v->type == VI_String ? v->start_string : start, v->unit,
-               v->description);
+        if (v->min.kind != VI_BOUND_NONE) snprintf(lo, sizeof lo, "%.17g", vi_bound_inclusive(v->min, 0));
+        if (v->max.kind != VI_BOUND_NONE) snprintf(hi, sizeof hi, "%.17g", vi_bound_inclusive(v->max, 1));
+        printf("var\t%d\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s", vr, v->name, types[v->type], v->enumeration,
+               v->causality, v->variability, v->initial, v->type == VI_String ? v->start_string : start, lo, hi,
+               v->unit, v->description);
         const char *sep = ": ";
         for (int i = 0; v->type == VI_Integer && i < m->n_enum_items; i++) {
             if (strcmp(m->enum_items[i].type, v->enumeration) != 0) continue;

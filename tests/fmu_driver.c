@@ -292,9 +292,9 @@ int main(int argc, char **argv)
     read_all(c);
     EXPECT(F.free_state(c, &early) == fmi2OK);
 
-    /* A failed initialization, then reset. */
+    /* A failed initialization (Y = 1e300 is in its range, but the yield force overflows), then reset. */
     EXPECT(F.reset(c) == fmi2OK);
-    EXPECT(initialize(c, 7, 1e-4, 6e8) == fmi2Error);
+    EXPECT(initialize(c, VI_ContactModel_johnson, 1e-4, 1e300) == fmi2Error);
     EXPECT(F.do_step(c, 0.0, 1e-4, fmi2True) == fmi2Error);
     EXPECT(F.reset(c) == fmi2OK);
     F.free_instance(c);
@@ -314,7 +314,7 @@ int main(int argc, char **argv)
 
     /* Instantiation refused: no leak either. */
     EXPECT(F.instantiate("bad", fmi2CoSimulation, "{wrong}", resources, &callbacks, fmi2False, fmi2False) == NULL);
-    EXPECT(F.instantiate("bad", fmi2ModelExchange, VI_GUID, resources, &callbacks, fmi2False, fmi2False) == NULL);
+    EXPECT(F.instantiate("bad", (fmi2Type)7, VI_GUID, resources, &callbacks, fmi2False, fmi2False) == NULL);
 
     if (argc == 5) layer_test(argv[3], argv[4]);
 

@@ -1,8 +1,9 @@
 /* Unit tests of the contact laws (vi_contact.h). Expected values come from closed forms, from the
- * paper's data, or from the Hertz reference case of ../shared/design/literature.md section 1.1
- * (steel sphere R = 10 mm on a steel half-space: E* = 115.4 GPa, K = 1.538e10 N/m^1.5;
- * v = 0.1 m/s: delta_max = 3.721 um, F_max = 110.4 N; p0 = 1.6 GPa at yield: delta_Y = 4.744 um,
- * F_Y = 159.0 N). */
+ * paper's data, or from a Hertz reference case computed independently from Hertz's impact formulas
+ * (Johnson, Contact Mechanics, 1985, chapter 11: delta_max = (15 m v^2/(16 E* sqrt(R*)))^(2/5),
+ * F_max = K delta_max^(3/2)): a steel sphere R = 10 mm (32.88 g) on a steel half-space, E* = 115.4 GPa,
+ * K = 1.538e10 N/m^1.5; v = 0.1 m/s: delta_max = 3.721 um, F_max = 110.4 N; p0 = 1.6 GPa at yield:
+ * delta_Y = 4.744 um, F_Y = 159.0 N. */
 #include <criterion/criterion.h>
 #include <math.h>
 
@@ -26,7 +27,7 @@ Test(effective, modulus_eq1)
 {
     /* equal materials: E* = E / (2 (1 - nu^2)) */
     REL(vi_effective_modulus(E_steel, nu_steel, E_steel, nu_steel), E_steel / (2.0 * 0.91), 1e-15);
-    /* literature reference case */
+    /* the Hertz reference case above */
     REL(vi_effective_modulus(210e9, 0.3, 210e9, 0.3), 115.4e9, 1e-3);
     /* a rigid second body: E* = E1/(1 - nu1^2) */
     REL(vi_effective_modulus(E_steel, nu_steel, 1e300, 0.0), E_steel / 0.91, 1e-12);
@@ -63,7 +64,7 @@ Test(hertz, static_indentation)
 
 Test(yield, textbook_formula_reference_case)
 {
-    /* literature: yield when the maximum Hertz pressure p0 = 1.5 p_mean reaches 1.6 GPa */
+    /* yield when the maximum Hertz pressure p0 = 1.5 p_mean reaches 1.6 GPa */
     double Es = vi_effective_modulus(210e9, 0.3, 210e9, 0.3), K = vi_hertz_constant(Es, 0.01);
     double FY = vi_yield_force(VI_YIELD_TEXTBOOK, 1.0, 1.6e9 / 1.5, 0.01, Es);
     REL(FY, 159.0, 1e-3);
@@ -107,7 +108,7 @@ Test(johnson, loading_continuous_at_yield_with_slope_jump)
     double above = (vi_johnson_load(&J, dY + h) - vi_johnson_load(&J, dY)) / h / (FY / dY);
     REL(below, 1.5, 1e-6);
     REL(above, 2.0 * (1.0 + 1.0 / (3.0 * 1.1)), 1e-6);
-    /* eq. 3 at delta = 2 delta_Y: k = 3, F = 3 F_Y (1 + ln 3/3.3) (literature table: 4.00 F_Y) */
+    /* eq. 3 at delta = 2 delta_Y: k = 3, F = 3 F_Y (1 + ln 3/3.3) (4.00 F_Y to three digits) */
     REL(vi_johnson_load(&J, 2 * dY), 3.0 * FY * (1.0 + log(3.0) / 3.3), 1e-14);
     REL(vi_johnson_load(&J, 2 * dY) / FY, 4.00, 2e-3);
 }

@@ -28,27 +28,62 @@ static vi_model setup(int law, int moving, int unloading, double P, double g, do
     return M;
 }
 
-Test(model, rejects_bad_parameters)
+/* What the ranges of the variable table cannot say: two planes (R1 = R2 = 0) have no contact. */
+Test(model, rejects_two_planes)
 {
     vi_parameters p;
     vi_parameters_default(&p);
     vi_model M;
     char msg[256];
-    p.m = -1;
-    cr_assert(vi_model_setup(&M, &p, 0, msg, sizeof msg) < 0);
-    cr_assert(strstr(msg, "mass") != NULL, "%s", msg);
-    vi_parameters_default(&p);
     p.R1 = p.R2 = 0;
     cr_assert(vi_model_setup(&M, &p, 0, msg, sizeof msg) < 0);
-    vi_parameters_default(&p);
-    p.Y = NAN;
-    cr_assert(vi_model_setup(&M, &p, 0, msg, sizeof msg) < 0);
-    vi_parameters_default(&p);
-    p.contact_model = 7;
-    cr_assert(vi_model_setup(&M, &p, 0, msg, sizeof msg) < 0);
-    vi_parameters_default(&p);
-    p.nu1 = 0.7;
-    cr_assert(vi_model_setup(&M, &p, 0, msg, sizeof msg) < 0);
+    cr_assert(strstr(msg, "R1 = R2 = 0") != NULL, "%s", msg);
+    p.R2 = 1e-3;
+    cr_assert(vi_model_setup(&M, &p, 0, msg, sizeof msg) == 0, "%s", msg);
+}
+
+/* The variable table's ranges (include/vi_variables.h): the exclusive bounds are exactly the doubles
+ * beyond them (m > 0: 5e-324 is in, 0 is out; -1 < nu <= 0.5), the inclusive ones contain their
+ * bound, every start value lies in its range, and the range reads as written in model.md. */
+static const vi_variable *var(const char *name)
+{
+    for (int vr = 0; vr < VI_NVARS; vr++)
+        if (strcmp(vi_variable_table[vr].name, name) == 0) return &vi_variable_table[vr];
+    cr_assert_fail("no variable %s", name);
+    return NULL;
+}
+
+Test(table, ranges_of_the_contact_model)
+{
+    const struct { const char *name; double out, in; } edge[] = {
+        {"m", 0.0, 5e-324},        {"m", -1.0, 1e300},          {"E1", 0.0, 5e-324},   {"E2", -0.0, 5e-324},
+        {"Y", 0.0, 5e-324},        {"theta_Y", 0.0, 5e-324},    {"R1", -5e-324, 0.0},  {"R2", -5e-324, 0.0},
+        {"nu1", -1.0, nextafter(-1.0, 0.0)}, {"nu2", -1.0, nextafter(-1.0, 0.0)},
+        {"nu1", nextafter(0.5, 1.0), 0.5},   {"nu2", nextafter(0.5, 1.0), 0.5},
+        {"f", -5e-324, 0.0},       {"max_step", -5e-324, 0.0},  {"rtol", 0.0, 1e-14},  {"rtol", 0.011, 1e-2},
+        {"rtol", nextafter(1e-14, 0.0), 1e-14}, {"rtol", nextafter(1e-2, 1.0), 1e-2},
+        {"m", NAN, 1.0},           {"nu1", NAN, 0.0},
+    };
+    for (size_t i = 0; i < sizeof edge / sizeof edge[0]; i++) {
+        const vi_variable *v = var(edge[i].name);
+        cr_assert(!vi_in_range(v, edge[i].out), "%s = %g accepted", edge[i].name, edge[i].out);
+        cr_assert(vi_in_range(v, edge[i].in), "%s = %g refused", edge[i].name, edge[i].in);
+    }
+    const char *unbounded[] = {"P", "g", "v0", "a", "V", "x0", "yC_in", "F_ext"};
+    for (size_t i = 0; i < sizeof unbounded / sizeof unbounded[0]; i++)
+        cr_assert(vi_in_range(var(unbounded[i]), -1e300) && vi_in_range(var(unbounded[i]), 1e300), "%s", unbounded[i]);
+    for (int vr = 0; vr < VI_NVARS; vr++) {
+        const vi_variable *v = &vi_variable_table[vr];
+        if (strcmp(v->initial, "exact") == 0 && v->type != VI_String)
+            cr_assert(vi_in_range(v, v->start), "the start value of %s is outside its range", v->name);
+    }
+    const struct { const char *name, *text; } texts[] = {
+        {"m", "m > 0"}, {"nu1", "-1 < nu1 <= 0.5"}, {"R1", "R1 >= 0"}, {"rtol", "1e-14 <= rtol <= 0.01"}, {"a", ""}};
+    for (size_t i = 0; i < sizeof texts / sizeof texts[0]; i++) {
+        char text[128];
+        vi_range_text(var(texts[i].name), text, sizeof text);
+        cr_assert(strcmp(text, texts[i].text) == 0, "%s: '%s'", texts[i].name, text);
+    }
 }
 
 Test(model, static_state_carries_the_load)
@@ -153,7 +188,7 @@ Test(model, resolved_mode_has_nonnegative_guards)
             }
 }
 
-/* ---- contract C3: vi_model_check ------------------------------------------------------------- */
+/* ---- vi_model_check ----------------------------------------------------------------------------- */
 
 static void log_nothing(void *env, int category, const char *fmt, ...) { (void)env, (void)category, (void)fmt; }
 
@@ -347,7 +382,7 @@ Test(model, stick_keeps_delta_exactly_on_delta_c)
     vi_sim_free(&s);
 }
 
-/* Issue 9 item 3: the static state at extreme loads comes from a closed form or a bounded solve,
+/* The static state at extreme loads comes from a closed form or a bounded solve,
  * never an ulp-by-ulp walk (which took 2^52 steps for load/F_Y below 1e-154). Expected indentation
  * from logarithms: d = exp(2/3 (ln W - ln K)) (Hertz, and Johnson below yield). */
 Test(model, static_state_at_extreme_loads, .timeout = 20)
@@ -374,7 +409,7 @@ Test(model, static_state_at_extreme_loads, .timeout = 20)
         }
 }
 
-/* The same for the extreme parameters of issue 9: R1 = 1e85 (load/F_Y ~ 1e-170) and m = 5e-324. */
+/* The same for extreme parameters: R1 = 1e85 (load/F_Y ~ 1e-170) and m = 5e-324. */
 Test(model, static_state_with_extreme_parameters, .timeout = 20)
 {
     vi_parameters p;
@@ -395,7 +430,7 @@ Test(model, static_state_with_extreme_parameters, .timeout = 20)
     cr_assert(x[0] > 0.0 && M.mode == VI_Mode_elastic, "delta %g mode %d", x[0], M.mode);
 }
 
-/* Issue 9 item 6: the tolerance scales come from the active law: closed forms per case. */
+/* The tolerance scales come from the active law: closed forms per case. */
 Test(model, scales_from_the_active_law)
 {
     double x[2], L, V;
@@ -451,7 +486,7 @@ Test(model, scales_from_the_active_law)
         }
 }
 
-/* Issue 9 item 5: ties (position, rate and force difference all zero) are broken by the next time
+/* Ties (position, rate and force difference all zero) are broken by the next time
  * derivative, F_hold' = -F_ext' + m yC'''. Exact ties built with P equal to a force of the band. */
 Test(model, stick_band_ties_broken_by_the_rate_of_the_holding_force)
 {
@@ -496,20 +531,30 @@ Test(model, fired_stick_guard_counts_as_on_its_surface)
     }
 }
 
-/* Issue 9 item 9: the validity threshold delta > 0.01 R* (contact radius sqrt(R* delta) > 0.1 R*). */
+/* The validity thresholds (vi_model.h): delta > 0.01 R* (contact radius sqrt(R* delta) > 0.1 R*),
+ * |a| > R*, a profile whose heights span more than R1; each cause once (skip). */
 Test(model, validity_threshold)
 {
     vi_model M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
-    double x[2] = {0.0, 0.0}, limit = 0.01 * M.J.R_star;
+    double x[2] = {0.0, 0.0}, limit = 0.01 * M.J.R_star, R1 = 0.475;
     char msg[400];
     M.mode = VI_Mode_elastic;
     x[0] = limit * (1.0 - 1e-12);
-    cr_assert(vi_model_validity(&M, 0.0, x, msg, sizeof msg) == 0);
+    cr_assert(vi_model_validity(&M, R1, 0.0, x, 0, msg, sizeof msg) == 0);
     x[0] = limit * (1.0 + 1e-12);
-    cr_assert(vi_model_validity(&M, 1.5, x, msg, sizeof msg) == 1);
+    cr_assert(vi_model_validity(&M, R1, 1.5, x, 0, msg, sizeof msg) == VI_INVALID_INDENTATION);
     cr_assert(strstr(msg, "t = 1.5 s") && strstr(msg, "0.01 R*"), "%s", msg);
+    cr_assert(vi_model_validity(&M, R1, 1.5, x, VI_INVALID_INDENTATION, msg, sizeof msg) == 0);
     M.mode = VI_Mode_free; /* apart: no contact radius */
-    cr_assert(vi_model_validity(&M, 0.0, x, msg, sizeof msg) == 0);
+    cr_assert(vi_model_validity(&M, R1, 0.0, x, 0, msg, sizeof msg) == 0);
+    /* the amplitude against R* (= R1 = 0.475 m here, R2 = 0), either sign */
+    M.a = -M.J.R_star;
+    cr_assert(vi_model_validity(&M, R1, 0.0, x, 0, msg, sizeof msg) == 0);
+    M.a = nextafter(-M.J.R_star, -INFINITY);
+    cr_assert(vi_model_validity(&M, R1, 2.0, x, 0, msg, sizeof msg) == VI_INVALID_AMPLITUDE);
+    cr_assert(strstr(msg, "t = 2 s") && strstr(msg, "a = -0.475 m") && strstr(msg, "R* = 0.475 m"), "%s", msg);
+    cr_assert(vi_model_validity(&M, R1, 2.0, x, VI_INVALID_AMPLITUDE, msg, sizeof msg) == 0);
+    M.a = 0.0;
     vi_parameters p;
     vi_parameters_default(&p);
     cr_assert(vi_model_option_warnings(&p, msg, sizeof msg) == 0 && msg[0] == '\0');
@@ -529,7 +574,26 @@ Test(model, validity_threshold)
     }
 }
 
-/* ---- tunable excitation (issue 12, contract C9) ------------------------------------------------ */
+/* A profile whose heights span more than R1 is accepted (its slopes are gentle) and out of validity. */
+Test(model, validity_of_the_profile_heights)
+{
+    const double x[] = {0.0, 50.0, 100.0}, h_ok[] = {0.0, 0.4, 0.0}, h_tall[] = {0.0, 0.5, 0.0};
+    char msg[400];
+    for (int tall = 0; tall < 2; tall++) {
+        vi_profile *p = vi_profile_create(x, tall ? h_tall : h_ok, 3, 0.475, 0, "test", msg, sizeof msg);
+        cr_assert(p != NULL, "%s", msg);
+        cr_assert(vi_profile_height_span(p) == (tall ? 0.5 : 0.4));
+        vi_model M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
+        cr_assert(vi_model_set_rolling(&M, p, 1.0, 10.0, msg, sizeof msg) == 0, "%s", msg);
+        double s[2] = {0.0, 0.0};
+        int cause = vi_model_validity(&M, 0.475, 0.0, s, 0, msg, sizeof msg);
+        cr_assert(cause == (tall ? VI_INVALID_PROFILE : 0), "tall %d: %d %s", tall, cause, msg);
+        if (tall) cr_assert(strstr(msg, "span 0.5 m") && strstr(msg, "R1 = 0.475 m"), "%s", msg);
+        vi_profile_free(p);
+    }
+}
+
+/* ---- tunable excitation ------------------------------------------------------------------------- */
 
 /* A mass thrown up and away (no load, v0 = 1 m/s): the platform's position is the excitation alone. */
 static void flying(vi_sim *s, double a, double f)
@@ -580,8 +644,7 @@ Test(excitation, amplitude_change_moves_the_platform_not_the_mass)
     vi_sim r;
     flying(&r, 1e-4, 100.0);
     cr_assert(vi_sim_advance(&r, t1) == 0);
-    char msg[256]; /* apply the change at t1 itself, as the loop does at the start of the next step */
-    cr_assert(vi_model_set_excitation(&r.d.M, t1, r.d.x, 3e-4, 100.0, msg, sizeof msg) == 0, "%s", msg);
+    vi_model_set_excitation(&r.d.M, t1, r.d.x, 3e-4, 100.0); /* at t1 itself, as the loop does next step */
     cr_assert(fabs(r.d.x[0] - (d_before + 2e-4 * (c - 1.0))) <= 1e-18, "delta jumps by da (cos - 1)");
     cr_assert(fabs(vi_model_platform(&r.d.M, t1, NULL, NULL) - r.d.x[0] - y_mass) <= 1e-18, "the mass moved");
     cr_assert(fabs(vi_model_platform(&r.d.M, t1, NULL, NULL) - 3e-4 * (c - 1.0)) <= 1e-18);
@@ -609,31 +672,7 @@ Test(excitation, sweep_up_and_down_follows_the_accumulated_phase)
     vi_sim_free(&s);
 }
 
-Test(excitation, negative_frequency_is_refused)
-{
-    vi_sim s;
-    flying(&s, 1e-4, 100.0);
-    cr_assert(vi_sim_advance(&s, 1e-3) == 0);
-    s.d.par.f = -5.0;
-    s.d.inputs_changed = 1;
-    cr_assert(vi_sim_advance(&s, 2e-3) < 0);
-    cr_assert(strstr(s.msg, "f = -5 Hz") != NULL, "%s", s.msg);
-    vi_sim_free(&s);
-}
-
-Test(excitation, non_finite_amplitude_or_frequency_is_refused_and_changes_nothing)
-{
-    vi_model M = setup(VI_ContactModel_hertz, 0, VI_Unloading_paper, 0.0, 0.0, 1e-4);
-    double x[2] = {1e-6, 0.5}, bad[][2] = {{NAN, 100.0}, {INFINITY, 100.0}, {1e-4, NAN}, {1e-4, INFINITY}};
-    char msg[256];
-    for (int i = 0; i < 4; i++) {
-        cr_assert(vi_model_set_excitation(&M, 0.01, x, bad[i][0], bad[i][1], msg, sizeof msg) < 0, "case %d", i);
-        cr_assert(strstr(msg, "must be finite") != NULL, "%s", msg);
-        cr_assert(x[0] == 1e-6 && x[1] == 0.5 && M.a == 1e-4, "case %d changed the state", i);
-    }
-}
-
-/* ---- rolling over a profile (issue 11 item 4) --------------------------------------------------- */
+/* ---- rolling over a profile --------------------------------------------------------------------- */
 
 /* A V-shaped trough of slope s0 with its bottom at x = 0 on [-10, 10] m, written to a file:
  * yb = s0 |x| + R1 (sqrt(1 + s0^2) - 1). */
@@ -662,7 +701,7 @@ static void rolling_sim(vi_sim *s, double s0, double V, double x0, double rtol)
 /* Static start on Hertz, rolled at V over the trough's kink: before it the mass rides the platform
  * down uniformly (delta stays static); the kink turns the platform velocity by 2 s0 V, and the
  * contact rings with amplitude 2 s0 V / omega_c (linearised, omega_c = 2 pi f_contact). The loop
- * stops at the kink (contract C10) and restarts there. */
+ * stops at the kink (doc/model.md section 6) and restarts there. */
 Test(rolling, kink_is_a_breakpoint_and_rings_the_contact)
 {
     for (int dir = -1; dir <= 1; dir += 2) {

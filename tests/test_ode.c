@@ -1204,8 +1204,8 @@ Test(order, step_agrees_with_a_textbook_implementation_of_the_tableau)
 
 Test(state, a_step_below_the_rounding_of_t_advances_by_16_ulps_or_fails)
 {
-    /* At t = 1e17 one ulp is 16 s: a proposed step of 1 us used to be taken as h = 0 (t + h == t),
-     * accepted, and the next call refused (h = 0). The shortest step is 16 eps |t|. */
+    /* At t = 1e17 one ulp is 16 s: a proposed step of 1 us would be h = 0 (t + h == t); the
+     * shortest step taken is 16 eps |t|. */
     vi_ode_problem q = {.n = 1, .rhs = still, .rtol = 1e-6, .atol = {1e-6}};
     vi_ode s;
     double z[1] = {3.0}, t0 = 1e17, h_min = 16.0 * DBL_EPSILON * t0;

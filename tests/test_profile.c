@@ -53,13 +53,13 @@ static double brute(const double *x, const double *h, size_t n, double r, double
 }
 
 /* The largest excess of a change of yb' between neighbours of n points spread over (a, b) over what
- * its curvature allows: on a vertex circle yb'' = -(1 + yb'^2)^(3/2) / R, on a segment tangent 0, so
- * between two points u < w on no kink |yb'(w) - yb'(u)| <= (w - u) (1 + S^2)^(3/2) / R with S the
- * largest |yb'|. <= 0 when yb' is continuous over (a, b) (to rounding); > 0 at a slope jump above
- * that allowance. */
-static double slope_jump(const vi_profile *p, double a, double b, int n)
+ * the curvature of p (built for the given radius) allows: on a vertex circle
+ * yb'' = -(1 + yb'^2)^(3/2) / radius, on a segment tangent 0, so between two points u < w on no kink
+ * |yb'(w) - yb'(u)| <= (w - u) (1 + S^2)^(3/2) / radius with S the largest |yb'|. <= 0 when yb' is
+ * continuous over (a, b) (to rounding); > 0 at a slope jump above that allowance. */
+static double slope_jump(const vi_profile *p, double radius, double a, double b, int n)
 {
-    double S = vi_profile_max_slope(p), bound = pow(1.0 + S * S, 1.5) / vi_profile_radius(p), worst = -INFINITY;
+    double S = vi_profile_max_slope(p), bound = pow(1.0 + S * S, 1.5) / radius, worst = -INFINITY;
     double prev[4], y[4], du = (b - a) / n;
     vi_profile_eval(p, a + 0.5 * du, prev);
     for (int i = 1; i < n; i++) {
@@ -216,8 +216,8 @@ Test(profile, periodic_profile_repeats)
         cr_assert(vi_profile_next_kink(p, up, -1) <= at + 1e-15 && vi_profile_next_kink(p, down, 1) >= at - 1e-15);
         /* no kink between at and up: yb' is continuous there (Lipschitz with the curvature bound), and
          * the same check over an interval that holds the kink at up sees the slope jump */
-        cr_assert(slope_jump(p, at, up, 400) <= 0.0, "x %g..%g: a slope jump of %g", at, up, slope_jump(p, at, up, 400));
-        cr_assert(slope_jump(p, at, up + 0.01 * (up - at), 400) > 0.0, "x %g: the kink at %g is not seen", at, up);
+        cr_assert(slope_jump(p, R, at, up, 400) <= 0.0, "x %g..%g: a slope jump of %g", at, up, slope_jump(p, R, at, up, 400));
+        cr_assert(slope_jump(p, R, at, up + 0.01 * (up - at), 400) > 0.0, "x %g: the kink at %g is not seen", at, up);
     }
     cr_assert(yb(p, 0.5 * L) - h[(N - 1) / 2] > 1e-4, "the trough is bridged: %g", yb(p, 0.5 * L) - h[(N - 1) / 2]);
     cr_assert(yb(p, 0.0) == h[0], "the crest is followed");

@@ -1,5 +1,5 @@
-/* Unit tests of the simulation layer (vi_sim.h) that need no FMU: the state-payload check of
- * contract C3 names the first bad field; a valid state passes. */
+/* Unit tests of the simulation layer (vi_sim.h) that need no FMU: the state-payload check
+ * (doc/model.md section 7.6) names the first bad field; a valid state passes. */
 #include <criterion/criterion.h>
 #include <math.h>
 #include <string.h>
@@ -51,12 +51,6 @@ Test(sim, data_check_names_the_first_bad_field)
     CASE(d.t = NAN, "t =");
     CASE(d.t = d.t_start - 1.0, "t =");
     CASE(d.t_start = INFINITY, "t_start");
-    CASE(d.in.yC_in = NAN, "yC_in");
-    CASE(d.din.F_ext = INFINITY, "derivative of F_ext");
-    CASE(d.par.m = NAN, "m =");
-    CASE(d.par.contact_model = 9, "contact_model");
-    CASE(d.par.solver = 0, "solver");
-    CASE(d.par.moving_contact = 2, "moving_contact");
     CASE(d.atol[1] = -1.0, "atol[1]");
     CASE(d.n_events = -1, "n_events");
     CASE(d.tolerance = 0.5, "tolerance");

@@ -1,10 +1,10 @@
-/* bench_driver - runs the FMU binary directly (dlopen, no Python in the loop) for tools/bench.py.
+/* bench_driver - runs the FMU binary directly (dlopen, no Python in the loop) for `vibroimpact bench`.
  *
  *   vi_bench_driver FMU.so GUID T_STOP H REPEATS TOL --vrs Y,V,F,DELTA,MODE,N_IMPACTS [--out FILE]
  *                   [--reads VR,VR,...] [--checkpoint] [vr=value ...]
  *
  * --vrs: the value references of y, v, F, delta (Reals), mode and n_impacts (Integers)
- * (tools/bench.py reads them from modelDescription.xml). --reads: the Real outputs read after every
+ * (vibroimpact/bench.py reads them from modelDescription.xml). --reads: the Real outputs read after every
  * step (default: y). --checkpoint: fmi2GetFMUstate before every step (a master ready to roll back).
  * vr=value sets a start value before initialization: "r12=6e8" (Real), "i13=2" (Integer or
  * enumeration), "b14=1" (Boolean). TOL > 0 goes to fmi2SetupExperiment (0: the FMU's rtol counts).

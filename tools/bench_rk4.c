@@ -8,12 +8,12 @@
  *
  * --rhs-cost: nanoseconds per evaluation of the model's right-hand side alone (vi_model_rhs), the
  * minimum over 5 rounds of N evaluations at states along one RK4 run of 10 ms (the contact modes and
- * free flight the run visits), for the "limit" of tools/bench.py (rhs evaluations x their cost).
+ * free flight the run visits), for the "limit" of `vibroimpact bench` (rhs evaluations x their cost).
  * name=value sets a parameter of the variable table (Reals, Integers, Booleans by name). Outputs y,
  * v, F, delta, mode at every communication point (H_COMM a multiple of H_RK4) go to OUT as doubles
  * (t, y, v, F, delta, mode), as tools/bench_driver.c writes them. Prints
  *   cpu_s <min CPU seconds over REPEATS runs> steps <RK4 steps> events <events applied>
- * Part of tools/bench.py; not a test. */
+ * Part of `vibroimpact bench`; not a test. */
 #define _POSIX_C_SOURCE 199309L
 #include <math.h>
 #include <stdio.h>

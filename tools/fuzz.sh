@@ -33,11 +33,12 @@ build() {
   [ -x "$BIN" ] || { echo "fuzz.sh: $BIN was not built (is VI_FUZZ on and clang's libFuzzer installed?)" >&2; exit 2; }
 }
 
-trace() { VI_FUZZ_TRACE=1 "$BIN" -runs=1 "$1" 2>&1 | grep -a -v '^INFO:' || true; }
+trace() { VI_FUZZ_TRACE=1 timeout 900 "$BIN" -runs=1 "$1" 2>&1 | grep -a -v '^INFO:' || true; }
 
 minimize() {
   local crash=$1 out=$1.min
-  "$BIN" -minimize_crash=1 -max_total_time=120 -exact_artifact_path="$out" "$crash" >/dev/null 2>&1 || true
+  # bounded: an input with slow calls makes every attempt slow
+  timeout 600 "$BIN" -minimize_crash=1 -max_total_time=120 -exact_artifact_path="$out" "$crash" >/dev/null 2>&1 || true
   [ -s "$out" ] || cp "$crash" "$out"
   echo "== $out ($(stat -c %s "$out") bytes; $(stat -c %s "$crash") before):"
   trace "$out" | grep -a -E '^\[|^    |FINDING|ERROR|SUMMARY|^#[0-9]+ ' | head -80
@@ -56,7 +57,7 @@ case $cmd in
     # -fork=1: a finding does not end the campaign; each is saved and the fuzzing goes on
     "$BIN" -fork=1 -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1 -max_total_time="$seconds" -timeout=600 \
       -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix="$FINDINGS/" "$work" "$SEEDS" 2>&1 |
-      grep -a -E '^#[0-9]+.*(pulse|DONE)|FINDING|ERROR|SUMMARY|slowest|stat::|INFO: fuzzed' || true
+      grep -a -E '^#[0-9]+: cov|FINDING|ERROR|SUMMARY|slowest|INFO: fuzzed' || true
     after=$(ls "$FINDINGS" | grep -v '\.min$' | sort || true)
     new=$(comm -13 <(echo "$before") <(echo "$after") | grep -v '^$' || true)
     if [ -z "$new" ]; then

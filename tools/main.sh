@@ -1,12 +1,16 @@
 #!/usr/bin/env bash
-# Main job: install what is needed, build the FMU, simulate the paper's scenarios (results/), and map the
-# frequency response with up/down continuation sweeps on Dask (results/sweeps/).
+# Main job: install what is needed, build the FMU, simulate the paper's scenarios (results/), roll the
+# wheel over a corrugated rail (results/rolling/), and map the frequency response with up/down
+# continuation sweeps on Dask (results/sweeps/). Arguments go to `vibroimpact paper` (scenario names,
+# --gallery); --gallery also refreshes the rolling figure in doc/gallery/.
+# Python: the interpreter tools/setup.sh chose ($PYTHON, or the virtual environment .venv/ made from it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-PYTHON=${PYTHON:-python3}
-./tools/setup.sh
-cmake -S . -B build -DPython3_EXECUTABLE="$(command -v "$PYTHON")" >/dev/null
+PY=$(./tools/setup.sh)
+cmake -S . -B build -DPython3_EXECUTABLE="$PY" >/dev/null
 cmake --build build -j"$(nproc)" >/dev/null
-"$PYTHON" tools/paper.py "$@"
-"$PYTHON" tools/rolling.py "$@"
-"$PYTHON" tools/sweep_diagrams.py
+"$PY" -m vibroimpact paper "$@"
+gallery=()
+for a in "$@"; do [ "$a" != --gallery ] || gallery=(--gallery); done
+"$PY" -m vibroimpact rolling "${gallery[@]}"
+"$PY" -m vibroimpact diagrams

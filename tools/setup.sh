@@ -1,42 +1,136 @@
 #!/usr/bin/env bash
-# Install everything VibroImpact needs on a Debian machine (idempotent, quiet when all is there).
-#   apt: C compiler, cmake, pkg-config, SUNDIALS 6.4 (libsundials-dev), Criterion (libcriterion-dev),
-#        valgrind (the memory check of the FMU binary in tools/test.sh)
-#   pip: fmpy, numpy, scipy, matplotlib, pytest, pytest-timeout, libcosimpy, dask, distributed, tqdm  (into $PYTHON, default python3)
+# Install everything VibroImpact needs on a Debian machine; idempotent, quiet when all is there.
+#
+#   PY=$(./tools/setup.sh)     the Python interpreter to run everything with is the one line on stdout
+#                              (all messages go to stderr)
+#
+# The interpreter: $PYTHON (default python3). When it refuses pip installs (Debian's own python3 is
+# externally managed, PEP 668, or an interpreter without pip), a virtual environment .venv/ in the
+# repository is made from it (python3-venv from apt when missing) and used instead.
+# Into that interpreter: the package `vibroimpact` from this checkout, editable, with its test extra
+# (its dependencies are listed once, in pyproject.toml); the build backend first, because the
+# editable install runs without build isolation (no download when nothing changed).
+# apt: C compiler, cmake, pkg-config, SUNDIALS 6.4 (libsundials-dev), Criterion (libcriterion-dev),
+#      valgrind (the memory check of the FMU binary in tools/test.sh).
 set -euo pipefail
+exec 3>&1 1>&2 # stdout carries the interpreter only; everything else goes to stderr
+cd "$(dirname "$0")/.."
+ROOT=$(pwd)
+export PATH="$PATH:$HOME/.cargo/bin" # cargo installs its programs there
 
-PYTHON=${PYTHON:-python3}
 APT_PKGS=(gcc make cmake pkg-config libsundials-dev libcriterion-dev valgrind python3)
-PIP_PKGS=(fmpy numpy scipy matplotlib pytest pytest-timeout libcosimpy dask distributed tqdm)
-PY_MODULES="fmpy numpy scipy matplotlib pytest pytest_timeout libcosimpy dask distributed tqdm"
+PIP_PKGS=(scikit-build-core) # the build backend of pyproject.toml, for the editable install
+CARGO_PKGS=()                # "program=crate": cargo install crate when program is not on PATH
 
+need_apt() { APT_PKGS+=("$@"); }
+need_pip() { PIP_PKGS+=("$@"); }
+need_cargo() { CARGO_PKGS+=("$@"); }
+
+# ---- extra installs: add one line per need here, e.g. -----------------------------------------------
+#   need_apt gcc-mingw-w64-x86-64
+#   need_pip some-package
+#   need_cargo some-program=some-crate
+need_cargo fmi-sim=fmi-sim # the Rust FMI simulator: the second importer of the Model Exchange and FMI 3.0 tests
+need_apt clang libclang-rt-14-dev # clang with libFuzzer and the sanitizers: the fuzz harness (tests/fuzz)
+# ------------------------------------------------------------------------------------------------------
+
+# ---- apt ----------------------------------------------------------------------------------------------
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO=sudo; fi
+APT_UPDATED=""
+apt_install() {
+  local missing=() p
+  for p in "$@"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  [ ${#missing[@]} -gt 0 ] || return 0
+  echo "setup: apt-get install ${missing[*]}"
+  if [ -z "$APT_UPDATED" ]; then
+    $SUDO apt-get update -qq
+    APT_UPDATED=1
+  fi
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+}
+# cargo: the one on the PATH or in ~/.cargo/bin (rustup's place); without one, rustup's installer puts a
+# minimal current toolchain there (Debian 12's cargo is too old for the crates above), curl from apt
+NEED_RUSTUP=""
+if [ ${#CARGO_PKGS[@]} -gt 0 ] && ! command -v cargo >/dev/null; then
+  for entry in "${CARGO_PKGS[@]}"; do command -v "${entry%%=*}" >/dev/null || NEED_RUSTUP=1; done
+  [ -z "$NEED_RUSTUP" ] || need_apt curl ca-certificates
+fi
+apt_install "${APT_PKGS[@]}"
+
+# ---- the interpreter ----------------------------------------------------------------------------------
+PYTHON=${PYTHON:-python3}
+BASE=$("$PYTHON" -c 'import sys; print(sys.executable)') || { echo "setup: no interpreter '$PYTHON' (PYTHON)"; exit 1; }
+# pip may install into it: a virtual environment, or an interpreter with pip that is not externally managed
+can_pip() {
+  "$1" - <<'EOF' 2>/dev/null
+import importlib.util, os, sys, sysconfig
+venv = sys.prefix != sys.base_prefix
+managed = os.path.exists(os.path.join(sysconfig.get_path("stdlib"), "EXTERNALLY-MANAGED"))
+sys.exit(0 if importlib.util.find_spec("pip") and (venv or not managed) else 1)
+EOF
+}
+if can_pip "$BASE"; then
+  PY=$BASE
+else
+  PY="$ROOT/.venv/bin/python"
+  base_id=$("$BASE" -c 'import sys; print(sys.base_prefix, sys.version_info[:2])')
+  if ! [ -x "$PY" ] || [ "$("$PY" -c 'import sys; print(sys.base_prefix, sys.version_info[:2])' 2>/dev/null)" != "$base_id" ] \
+      || ! can_pip "$PY"; then
+    if ! "$BASE" -c 'import ensurepip, venv' 2>/dev/null; then
+      ver=$("$BASE" -c 'import sys; print("%d.%d" % sys.version_info[:2])')
+      pkg=python$ver-venv
+      apt-cache show "$pkg" >/dev/null 2>&1 || pkg=python3-venv
+      apt_install "$pkg"
+    fi
+    echo "setup: $BASE does not take pip installs; making the virtual environment .venv/ (run everything with $PY)"
+    rm -rf "$ROOT/.venv"
+    "$BASE" -m venv "$ROOT/.venv"
+  fi
+fi
+
+# ---- pip ----------------------------------------------------------------------------------------------
+PIP=("$PY" -m pip install --quiet --disable-pip-version-check)
+[ "$(id -u)" -ne 0 ] || PIP+=(--root-user-action=ignore)
 missing=()
-for p in "${APT_PKGS[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+for p in "${PIP_PKGS[@]}"; do
+  "$PY" -c "import importlib.metadata as m, sys; m.distribution(sys.argv[1])" "${p%%[<>=!~;[]*}" 2>/dev/null \
+    || missing+=("$p")
 done
 if [ ${#missing[@]} -gt 0 ]; then
-  SUDO=""
-  [ "$(id -u)" -ne 0 ] && SUDO=sudo
-  echo "setup: apt-get install ${missing[*]}"
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  echo "setup: pip install ${missing[*]}"
+  "${PIP[@]}" "${missing[@]}"
+fi
+# the package, editable, unless it is installed from this checkout since pyproject.toml last changed and
+# every requirement it declares (test extra included) is there
+if ! "$PY" - "$ROOT" <<'EOF' 2>/dev/null; then
+import importlib.metadata as m, json, os, pathlib, re, sys
+root = pathlib.Path(sys.argv[1]).resolve()
+d = m.distribution("vibroimpact")
+url = [f for f in d.files if f.name == "direct_url.json"][0]
+info = json.loads(url.read_text())
+assert info.get("dir_info", {}).get("editable") and info["url"] == root.as_uri()
+assert os.path.getmtime(d.locate_file(url)) >= os.path.getmtime(root / "pyproject.toml")
+for r in d.requires or []:
+    m.distribution(re.match(r"[A-Za-z0-9._-]+", r).group(0))
+EOF
+  echo "setup: pip install -e .[test] (the vibroimpact package of this checkout)"
+  "${PIP[@]}" --no-build-isolation -e "$ROOT[test]"
 fi
 
-if ! "$PYTHON" -c "import importlib.util, sys; sys.exit(any(importlib.util.find_spec(m) is None for m in '$PY_MODULES'.split()))" 2>/dev/null; then
-  echo "setup: pip install ${PIP_PKGS[*]}"
-  "$PYTHON" -m pip install --quiet --disable-pip-version-check --root-user-action=ignore "${PIP_PKGS[@]}"
+# ---- cargo --------------------------------------------------------------------------------------------
+if [ -n "$NEED_RUSTUP" ]; then
+  echo "setup: rustup (minimal toolchain) into ~/.cargo"
+  curl --proto '=https' --tlsv1.2 -sSf https://sh.rustup.rs | sh -s -- -y --quiet --profile minimal --no-modify-path >/dev/null
 fi
-
-# ---- the libFuzzer harness (tests/fuzz): clang with its sanitizer and libFuzzer runtimes ----------------
-FUZZ_APT_PKGS=(clang libclang-rt-14-dev)
-fuzz_missing=()
-for p in "${FUZZ_APT_PKGS[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || fuzz_missing+=("$p")
+for entry in "${CARGO_PKGS[@]}"; do
+  program=${entry%%=*} crate=${entry#*=}
+  if ! command -v "$program" >/dev/null; then
+    echo "setup: cargo install $crate"
+    cargo install --quiet --locked "$crate"
+  fi
 done
-if [ ${#fuzz_missing[@]} -gt 0 ]; then
-  SUDO=""
-  [ "$(id -u)" -ne 0 ] && SUDO=sudo
-  echo "setup: apt-get install ${fuzz_missing[*]}"
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${fuzz_missing[@]}" >/dev/null
-fi
+
+echo "$PY" >&3

@@ -2,17 +2,17 @@
 # Every test: install what is needed, build (warnings are errors), C unit tests and the valgrind memcheck
 # of the FMU binary (ctest), FMU tests (pytest), then the C tests and the FMU driver again built with
 # AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/). Any failure or memory report fails the run.
+# Python: the interpreter tools/setup.sh chose ($PYTHON, or the virtual environment .venv/ made from it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-PYTHON=${PYTHON:-python3}
-./tools/setup.sh
-cmake -S . -B build -DVI_WERROR=ON -DVI_REQUIRE_TESTS=ON -DPython3_EXECUTABLE="$(command -v "$PYTHON")" >/dev/null
+PY=$(./tools/setup.sh)
+export PATH="$PATH:$HOME/.cargo/bin"
+cmake -S . -B build -DVI_WERROR=ON -DVI_REQUIRE_TESTS=ON -DPython3_EXECUTABLE="$PY" >/dev/null
 cmake --build build -j"$(nproc)" >/dev/null
 (cd build && ctest --output-on-failure)
-"$PYTHON" -m pytest -q fmu-test
+"$PY" -m pytest -q fmu-test
 # the whole FMU suite again with the other two solvers (bdf, dop853); libcosim uses the FMU's default
-for solver in 1 3; do VI_SOLVER=$solver "$PYTHON" -m pytest -q fmu-test -k "not libcosimpy"; done
-cmake -S . -B build-asan -DVI_SANITIZE=ON -DVI_WERROR=ON -DVI_REQUIRE_TESTS=ON \
-  -DPython3_EXECUTABLE="$(command -v "$PYTHON")" >/dev/null
+for solver in 1 3; do VI_SOLVER=$solver "$PY" -m pytest -q fmu-test -k "not libcosimpy"; done
+cmake -S . -B build-asan -DVI_SANITIZE=ON -DVI_WERROR=ON -DVI_REQUIRE_TESTS=ON -DPython3_EXECUTABLE="$PY" >/dev/null
 cmake --build build-asan -j"$(nproc)" >/dev/null
 (cd build-asan && ctest --output-on-failure)

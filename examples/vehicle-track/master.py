@@ -33,9 +33,7 @@ from fmpy import extract, read_model_description
 from fmpy.fmi2 import FMU2Slave
 
 import parameters
-
-HERE = pathlib.Path(__file__).resolve().parent
-ROOT = HERE.parent.parent
+import vibroimpact
 
 # (from FMU, output, to FMU, input): what run() passes; OspSystemStructure.xml states the same.
 CONNECTIONS = [
@@ -56,8 +54,7 @@ class Slave:
     def __init__(self, path, name, start_values, t0=0.0, tolerance=None):
         self.md = read_model_description(str(path))
         self.dir = extract(str(path), unzipdir=tempfile.mkdtemp(prefix=f"vt_{name}_"))
-        self.vr = {v.name: v.valueReference for v in self.md.modelVariables}
-        self.types = {v.name: v.type for v in self.md.modelVariables}
+        self.vr, self.types = vibroimpact.fmu.variables(self.md)
         self.fmu = FMU2Slave(guid=self.md.guid, unzipDirectory=self.dir,
                              modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName=name)
         self.fmu.instantiate()
@@ -75,16 +72,7 @@ class Slave:
         return name in self.vr
 
     def set_start(self, name, value):
-        t = self.types[name]
-        vr = [self.vr[name]]
-        if t == "Real":
-            self.fmu.setReal(vr, [float(value)])
-        elif t in ("Integer", "Enumeration"):
-            self.fmu.setInteger(vr, [int(value)])
-        elif t == "Boolean":
-            self.fmu.setBoolean(vr, [bool(value)])
-        else:
-            self.fmu.setString(vr, [str(value)])
+        vibroimpact.set_value(self.fmu, self.vr[name], value, self.types[name])
 
     def getter(self, names):
         vr = (ctypes.c_uint * len(names))(*[self.vr[n] for n in names])
@@ -133,7 +121,8 @@ def contact_start_values(profile=None, excitation=None):
 
 
 def build_dir():
-    return ROOT / "build"
+    """The folder with the three FMUs: that of vibroimpact.fmu_path() (build/ of the checkout)."""
+    return vibroimpact.build_dir()
 
 
 def run(step, stop_time=parameters.STOP_TIME, scheme="gauss-seidel", order=("vehicle", "contact", "track"),

@@ -7,9 +7,8 @@
 set -euo pipefail
 HERE="$(cd "$(dirname "$0")" && pwd)"
 ROOT="$(cd "$HERE/../.." && pwd)"
-PYTHON=${PYTHON:-python3}
-"$ROOT/tools/setup.sh"
-cmake -S "$ROOT" -B "$ROOT/build" -DPython3_EXECUTABLE="$(command -v "$PYTHON")" >/dev/null
+PY=$("$ROOT/tools/setup.sh")
+cmake -S "$ROOT" -B "$ROOT/build" -DPython3_EXECUTABLE="$PY" >/dev/null
 cmake --build "$ROOT/build" -j"$(nproc)" >/dev/null
 cd "$HERE"
-"$PYTHON" study.py --build "$ROOT/build" --out "$HERE/results" "$@"
+"$PY" study.py --build "$ROOT/build" --out "$HERE/results" "$@"

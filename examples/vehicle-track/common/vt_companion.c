@@ -6,28 +6,14 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "vi_check.h"
+
 #define VT_MAX_STEPS_PER_STEP 100000L /* CVODE steps within one communication step */
 
 static vt_core *core(vt_instance *I) { return (vt_core *)I->data; }
 static const vt_core *core_c(const vt_instance *I) { return (const vt_core *)I->data; }
 
 double vt_input_time(const vt_core *c) { return c->inputs_changed ? c->t : c->t_in; }
-
-int vt_check_rules(const vt_rule *rules, size_t n_rules, double rtol, char *msg, size_t n)
-{
-    for (size_t i = 0; i < n_rules; i++) {
-        const vt_rule *r = &rules[i];
-        if (!isfinite(r->value) || !(r->zero_ok ? r->value >= 0.0 : r->value > 0.0)) {
-            snprintf(msg, n, "%s = %g: must be finite and %s 0", r->name, r->value, r->zero_ok ? ">=" : ">");
-            return -1;
-        }
-    }
-    if (!(rtol >= 1e-14 && rtol <= 1e-2)) {
-        snprintf(msg, n, "rtol = %g: must be in [1e-14, 1e-2]", rtol);
-        return -1;
-    }
-    return 0;
-}
 
 void vt_init(void *m, const vt_model_def *def, void *data, vi_fmu_log_fn log, void *env)
 {
@@ -77,7 +63,10 @@ int vt_prepare(void *m)
 {
     vt_instance *I = m;
     vt_core *c = core(I);
-    if (I->def->check(I->data, I->msg, sizeof I->msg) < 0) return -1;
+    if (c->tolerance > 0.0 && !(c->tolerance >= VI_RTOL_MIN && c->tolerance <= VI_RTOL_MAX))
+        VI_FAIL(I->msg, sizeof I->msg, "relative tolerance (fmi2SetupExperiment) = %g: use a value in [%g, %g]",
+                c->tolerance, VI_RTOL_MIN, VI_RTOL_MAX);
+    if (I->def->check && I->def->check(I->data, I->msg, sizeof I->msg) < 0) return -1;
     c->t = c->t_in = c->t_start;
     c->inputs_changed = 0;
     memset(c->x, 0, sizeof c->x);
@@ -115,10 +104,8 @@ static int create_solver(vt_instance *I)
     };
     vi_solver_free(I->solver);
     I->solver = vi_solver_create(&cfg, c->t, c->x);
-    if (!I->solver) {
-        snprintf(I->msg, sizeof I->msg, "the solver could not be created (see the log)");
-        return -1;
-    }
+    if (!I->solver)
+        VI_FAIL(I->msg, sizeof I->msg, "the solver could not be created (see the log)");
     return 0;
 }
 
@@ -162,7 +149,7 @@ int vt_advance(void *m, double t_end)
     memcpy(c->x, x, sizeof(double) * (size_t)I->def->n);
     c->t = t;
     if (I->def->step_done) I->def->step_done(I->data, t0, x0);
-    if (rc == VI_SOLVER_LIMIT) { /* a consistent point before t_end (contract C1) */
+    if (rc == VI_SOLVER_LIMIT) { /* a consistent point before t_end (doc/model.md section 7.1) */
         snprintf(I->msg, sizeof I->msg, "work bound: %ld internal steps in one step, stopped at t = %.17g s",
                  VT_MAX_STEPS_PER_STEP, t);
         return VI_FMU_DISCARD;
@@ -178,8 +165,8 @@ void vt_terminate(void *m)
     if (!I->solver) return;
     vi_solver_stats st;
     vi_solver_statistics(I->solver, &st);
-    I->log(I->env, VI_FMU_LOG_SOLVER, "CVODE statistics: %ld steps, %ld rhs evaluations, %ld restarts", st.steps,
-           st.rhs_evals, st.resets);
+    I->log(I->env, VI_FMU_LOG_SOLVER, "%s statistics: %ld steps, %ld rhs evaluations, %ld restarts", st.method,
+           st.steps, st.rhs_evals, st.resets);
 }
 
 void *vt_state(void *m) { return ((vt_instance *)m)->data; }
@@ -195,6 +182,7 @@ int vt_restore(void *m, int running)
 {
     vt_instance *I = m;
     if (!running) return 0; /* fmi2ExitInitializationMode creates the solver */
+    if (running == VI_FMU_RUNNING_ME) return 0; /* the importer integrates */
     if (!I->solver && create_solver(I) < 0) return -1;
     core(I)->solver_stale = 1;
     return 0;
@@ -203,19 +191,15 @@ int vt_restore(void *m, int running)
 int vt_state_check(const void *state, int running, const vt_model_def *def, char *msg, size_t n)
 {
     const vt_core *c = state;
-    if (def->check(state, msg, n) < 0) return -1;
+    if (c->tolerance != 0.0 && !(c->tolerance >= VI_RTOL_MIN && c->tolerance <= VI_RTOL_MAX))
+        VI_FAIL(msg, n, "tolerance = %g is neither 0 nor in [%g, %g]", c->tolerance, VI_RTOL_MIN, VI_RTOL_MAX);
+    if (def->check && def->check(state, msg, n) < 0) return -1;
     if (!running) return 0; /* before initialization only the settings matter */
-    if (!isfinite(c->t) || !isfinite(c->t_in) || !isfinite(c->t_start) || c->t_in > c->t) {
-        snprintf(msg, n, "time t = %g s, t_in = %g s, t_start = %g s: not finite or inputs set after t", c->t, c->t_in,
-                 c->t_start);
-        return -1;
-    }
-    for (int i = 0; i < def->n; i++) {
-        if (!isfinite(c->x[i])) {
-            snprintf(msg, n, "state x[%d] = %g: not finite", i, c->x[i]);
-            return -1;
-        }
-    }
+    if (!isfinite(c->t) || !isfinite(c->t_in) || !isfinite(c->t_start) || c->t_in > c->t)
+        VI_FAIL(msg, n, "time t = %g s, t_in = %g s, t_start = %g s: not finite or inputs set after t", c->t, c->t_in,
+                c->t_start);
+    for (int i = 0; i < def->n; i++)
+        if (!isfinite(c->x[i])) VI_FAIL(msg, n, "state x[%d] = %g: not finite", i, c->x[i]);
     return 0;
 }
 

@@ -34,11 +34,15 @@ typedef struct {
     int inputs_changed;    /* an input was set since the last step */
     int solver_stale;      /* the state changed outside the solver: restart before advancing */
     double x[VT_MAX_STATES];
+    /* Model Exchange: the last completed step of the importer (for step_done) */
+    double t_step, x_step[VT_MAX_STATES];
 } vt_core;
 
 typedef struct {
     int n; /* number of states, <= VT_MAX_STATES */
-    /* Check the parameters: 0, or -1 with a message naming the variable and its allowed range. */
+    /* Optional (NULL: none). Check what the ranges of the variable table cannot say (the layer
+     * refuses a value outside its range when it is set): 0, or -1 with a message naming the
+     * variables and what is allowed. */
     int (*check)(const void *data, char *msg, size_t n);
     /* The initial state (core.x) from the parameters and the inputs at core.t. */
     void (*start)(void *data);
@@ -52,7 +56,8 @@ typedef struct {
     /* Outputs and calculated parameters at core.t into *out (a vi_outputs). */
     void (*outputs)(const void *data, void *out);
     /* Optional: after a step from (t0, x0) to core.t, core.x (e.g. sums that follow exactly from
-     * the held inputs and the states at the step's ends). */
+     * the held inputs and the states at the step's ends; in Model Exchange a step is the importer's
+     * completed step and the inputs are those at its end). */
     void (*step_done)(void *data, double t0, const double *x0);
 } vt_model_def;
 
@@ -69,15 +74,6 @@ typedef struct {
 
 /* The time the held inputs refer to: now when they were set since the last step. */
 double vt_input_time(const vt_core *c);
-
-/* Parameter checks for a model's `check`: each value finite and > 0 (>= 0 when zero_ok), and the
- * relative tolerance in [1e-14, 1e-2]. 0, or -1 with a message naming the first bad one. */
-typedef struct {
-    const char *name;
-    double value;
-    int zero_ok;
-} vt_rule;
-int vt_check_rules(const vt_rule *rules, size_t n_rules, double rtol, char *msg, size_t n);
 
 /* The generic hooks (vt_companion.c). */
 void vt_init(void *m, const vt_model_def *def, void *data, vi_fmu_log_fn log, void *env);
@@ -97,9 +93,22 @@ int vt_restore(void *m, int running);
 int vt_state_check(const void *state, int running, const vt_model_def *def, char *msg, size_t n);
 const char *vt_message(const void *m);
 
+/* Model Exchange (vt_companion_me.c): the importer integrates x' = f(t, x) with the inputs as they
+ * are set (no hold, no extrapolation); no event indicators, no directional derivatives. */
+int vt_me_initialize(void *m);
+void vt_me_set_time(void *m, double t);
+void vt_me_get_states(void *m, double x[]);
+void vt_me_set_states(void *m, const double x[]);
+void vt_me_derivatives(void *m, double dx[]);
+void vt_me_nominals(const void *m, double nominal[]);
+int vt_me_event_update(void *m, vi_fmu_event *ev);
+int vt_me_completed_step(void *m);
+
 /* In the model's file, after its table (VI_TABLE_DEFINE) and its vt_model_def DEF whose block
- * type is DATA (with members par, in and din): the one model of this FMU binary. */
-#define VT_DEFINE_FMU(DEF, DATA)                                                                  \
+ * type is DATA (with members par, in and din): the one model of this FMU binary, Co-Simulation and
+ * Model Exchange. N is the number of states (a constant, = DEF.n), STATE_VRS and DERIVATIVE_VRS
+ * arrays of N value references: the states (outputs) and their derivatives (locals), in state order. */
+#define VT_DEFINE_FMU(DEF, DATA, N, STATE_VRS, DERIVATIVE_VRS)                                    \
     typedef struct {                                                                              \
         vt_instance head;                                                                         \
         DATA data;                                                                                \
@@ -142,6 +151,18 @@ const char *vt_message(const void *m);
         .restore = vt_restore,                                                                     \
         .state_check = vt_check_##DATA,                                                            \
         .message = vt_message,                                                                     \
+        .n_states = (N),                                                                           \
+        .n_indicators = 0,                                                                         \
+        .state_vrs = (STATE_VRS),                                                                  \
+        .derivative_vrs = (DERIVATIVE_VRS),                                                        \
+        .me_initialize = vt_me_initialize,                                                         \
+        .set_time = vt_me_set_time,                                                                \
+        .get_states = vt_me_get_states,                                                            \
+        .set_states = vt_me_set_states,                                                            \
+        .derivatives = vt_me_derivatives,                                                          \
+        .nominals = vt_me_nominals,                                                                \
+        .event_update = vt_me_event_update,                                                        \
+        .completed_step = vt_me_completed_step,                                                    \
     }
 
 #endif

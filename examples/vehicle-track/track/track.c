@@ -31,16 +31,6 @@ typedef struct {
 
 enum { ZR, VR, ZS, VS, N_TRACK };
 
-static int check(const void *data, char *msg, size_t n)
-{
-    const vi_parameters *p = &((const track_data *)data)->par;
-    const vt_rule rules[] = {
-        {"m_rail", p->m_rail, 0}, {"k_pad", p->k_pad, 0}, {"c_pad", p->c_pad, 1},
-        {"m_sleeper", p->m_sleeper, 0}, {"k_ballast", p->k_ballast, 0}, {"c_ballast", p->c_ballast, 1},
-    };
-    return vt_check_rules(rules, sizeof rules / sizeof rules[0], p->rtol, msg, n);
-}
-
 /* Kinetic energy of rail and sleeper and elastic energy of pad and ballast [J]. */
 static double energy(const track_data *d)
 {
@@ -143,11 +133,13 @@ static void outputs(const void *data, void *out)
     omegas(p, &w1, &w2);
     o->f1 = w1 / VT_TWO_PI;
     o->f2 = w2 / VT_TWO_PI;
+    double dx[N_TRACK];
+    rhs(d->core.t, x, dx, d);
+    o->der_z_rail = dx[ZR], o->der_v_rail = dx[VR], o->der_z_sleeper = dx[ZS], o->der_v_sleeper = dx[VS];
 }
 
 static const vt_model_def track_def = {
     .n = N_TRACK,
-    .check = check,
     .start = start,
     .rtol = rtol,
     .scales = scales,
@@ -157,4 +149,8 @@ static const vt_model_def track_def = {
     .step_done = step_done,
 };
 
-VT_DEFINE_FMU(track_def, track_data);
+/* Model Exchange: the states and their derivatives, in the order of x. */
+static const unsigned state_vrs[N_TRACK] = {VI_VR_z_rail, VI_VR_v_rail, VI_VR_z_sleeper, VI_VR_v_sleeper};
+static const unsigned derivative_vrs[N_TRACK] = {VI_VR_der_z_rail, VI_VR_der_v_rail, VI_VR_der_z_sleeper, VI_VR_der_v_sleeper};
+
+VT_DEFINE_FMU(track_def, track_data, N_TRACK, state_vrs, derivative_vrs);

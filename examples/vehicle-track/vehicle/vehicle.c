@@ -35,15 +35,6 @@ typedef struct {
 
 enum { ZB, VB, WD, N_VEHICLE };
 
-static int check(const void *data, char *msg, size_t n)
-{
-    const vi_parameters *p = &((const vehicle_data *)data)->par;
-    const vt_rule rules[] = {
-        {"m_body", p->m_body, 0}, {"k_susp", p->k_susp, 0}, {"c_susp", p->c_susp, 1}, {"g", p->g, 1},
-    };
-    return vt_check_rules(rules, sizeof rules / sizeof rules[0], p->rtol, msg, n);
-}
-
 /* The wheel's position and velocity at t, from the held inputs. */
 static void wheel(const vehicle_data *d, double t, double *y, double *v)
 {
@@ -127,11 +118,13 @@ static void outputs(const void *data, void *out)
     o->W_dissipated = x[WD];
     o->W_in = d->W_in;
     o->f_body = sqrt(p->k_susp / p->m_body) / VT_TWO_PI;
+    double dx[N_VEHICLE];
+    rhs(d->core.t, x, dx, d);
+    o->der_z_body = dx[ZB], o->der_v_body = dx[VB], o->der_W_dissipated = dx[WD];
 }
 
 static const vt_model_def vehicle_def = {
     .n = N_VEHICLE,
-    .check = check,
     .start = start,
     .rtol = rtol,
     .scales = scales,
@@ -141,4 +134,8 @@ static const vt_model_def vehicle_def = {
     .step_done = step_done,
 };
 
-VT_DEFINE_FMU(vehicle_def, vehicle_data);
+/* Model Exchange: the states and their derivatives, in the order of x. */
+static const unsigned state_vrs[N_VEHICLE] = {VI_VR_z_body, VI_VR_v_body, VI_VR_W_dissipated};
+static const unsigned derivative_vrs[N_VEHICLE] = {VI_VR_der_z_body, VI_VR_der_v_body, VI_VR_der_W_dissipated};
+
+VT_DEFINE_FMU(vehicle_def, vehicle_data, N_VEHICLE, state_vrs, derivative_vrs);

@@ -1,0 +1,182 @@
+"""The documentation cannot go stale unnoticed: doc/testing.md names every test file and no other,
+every relative link of README.md and doc/ resolves (file and heading), the README stays a front
+door (at most 300 lines), the pages hold no pointers outside the repository and no lab notes, and
+the README's fmpy example runs and finds the impact count of the independent reference."""
+import json
+import pathlib
+import re
+import subprocess
+import sys
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+TESTING = ROOT / "doc" / "testing.md"
+README = ROOT / "README.md"
+README_MAX_LINES = 300
+
+# What counts as a test file: every C, Python or shell file under the test folders, and every
+# test_* or *_test file anywhere else.
+TEST_DIRS = ("tests", "fmu-test")
+TEST_SUFFIXES = {".c", ".py", ".sh"}
+# Folders that hold generated or installed files, never the repository's own tests.
+SKIP_DIRS = {"results", "__pycache__", "node_modules", "dist", "_skbuild"}
+
+
+def skipped_dir(name):
+    return name in SKIP_DIRS or name.startswith((".", "build")) or name.endswith(".egg-info")
+
+
+def repo_test_files():
+    found = set()
+    stack = [ROOT]
+    while stack:
+        folder = stack.pop()
+        for p in folder.iterdir():
+            if p.is_dir():
+                if not skipped_dir(p.name):
+                    stack.append(p)
+                continue
+            rel = p.relative_to(ROOT)
+            if p.suffix not in TEST_SUFFIXES:
+                continue
+            if rel.parts[0] in TEST_DIRS or p.stem.startswith("test_") or p.stem.endswith("_test"):
+                found.add(rel.as_posix())
+    return found
+
+
+def section(text, heading):
+    """The lines of a markdown section, from its heading to the next heading of the same level."""
+    level = heading.split(" ", 1)[0]
+    lines = text.splitlines()
+    start = lines.index(heading)
+    end = next((i for i in range(start + 1, len(lines))
+                if lines[i].startswith(level + " ") and lines[i].count("#") == len(level)), len(lines))
+    return lines[start + 1:end]
+
+
+def listed_test_files():
+    rows = [ln for ln in section(TESTING.read_text(), "## Every test file") if ln.startswith("| `")]
+    return [re.match(r"\| `([^`]+)` \|", ln).group(1) for ln in rows]
+
+
+def test_testing_md_names_every_test_file():
+    listed = listed_test_files()
+    assert len(listed) == len(set(listed)), f"named twice in doc/testing.md: {sorted(p for p in listed if listed.count(p) > 1)}"
+    missing = sorted(repo_test_files() - set(listed))
+    assert not missing, f"test files without a line in doc/testing.md, section 'Every test file': {missing}"
+
+
+def test_testing_md_names_no_file_that_does_not_exist():
+    gone = sorted(p for p in listed_test_files() if not (ROOT / p).is_file())
+    assert not gone, f"doc/testing.md names files that do not exist: {gone}"
+
+
+def test_the_test_file_rule_sees_the_known_kinds():
+    """The rule above must see C tests, FMU tests and the reference's tests (else it checks nothing)."""
+    found = repo_test_files()
+    assert any(p.startswith("tests/test_") and p.endswith(".c") for p in found)
+    assert any(p.startswith("fmu-test/test_") for p in found)
+    assert any(p.endswith("test_reference.py") for p in found)
+    assert "fmu-test/test_docs.py" in found
+
+
+# ---- links ----------------------------------------------------------------------------------------
+
+def pages():
+    return [README] + sorted((ROOT / "doc").rglob("*.md"))
+
+
+def prose(text):
+    """The text without fenced code blocks and inline code (links there are not links)."""
+    text = re.sub(r"^```.*?^```", "", text, flags=re.S | re.M)
+    return re.sub(r"`[^`\n]*`", "", text)
+
+
+LINK = re.compile(r"!?\[[^\]]*\]\(([^)\s]+)(?:\s+\"[^\"]*\")?\)")
+
+
+def slug(heading):
+    """GitHub's anchor of a heading: lower case, punctuation dropped, spaces to hyphens."""
+    return re.sub(r"[^\w\- ]", "", heading.strip().lower()).replace(" ", "-")
+
+
+def anchors(page):
+    seen, result = {}, set()
+    for line in re.sub(r"^```.*?^```", "", page.read_text(), flags=re.S | re.M).splitlines():
+        m = re.match(r"#{1,6} (.*)", line)
+        if m:
+            s = slug(m.group(1))
+            n = seen.get(s, 0)
+            seen[s] = n + 1
+            result.add(s if n == 0 else f"{s}-{n}")
+    return result
+
+
+def test_slug_follows_github():
+    assert slug("Energy and negative plastic work") == "energy-and-negative-plastic-work"
+    assert slug("7.1 A step that cannot finish ends early, in a consistent state") == \
+        "71-a-step-that-cannot-finish-ends-early-in-a-consistent-state"
+    assert slug("What `W_plastic` means") == "what-w_plastic-means"
+
+
+def test_every_relative_link_resolves():
+    bad = []
+    for page in pages():
+        for target in LINK.findall(prose(page.read_text())):
+            if re.match(r"[a-z][a-z0-9+.-]*:", target):  # https:, mailto:
+                continue
+            path, _, anchor = target.partition("#")
+            dest = (page.parent / path).resolve() if path else page
+            where = f"{page.relative_to(ROOT)}: {target}"
+            if ROOT not in dest.parents and dest != ROOT:
+                bad.append(f"{where} (outside the repository)")
+            elif not dest.exists():
+                bad.append(f"{where} (no such file)")
+            elif anchor and dest.suffix == ".md" and anchor not in anchors(dest):
+                bad.append(f"{where} (no such heading)")
+    assert not bad, "broken links:\n" + "\n".join(bad)
+
+
+def test_readme_is_a_front_door():
+    n = len(README.read_text().splitlines())
+    assert n <= README_MAX_LINES, f"README.md has {n} lines; move detail to a page under doc/"
+
+
+LAB_NOTES = [r"\.\./shared", r"\b[Ii]ssues? #?[0-9]+", r"\bcontract C[0-9]+", r"\bmissed by\b",
+             r"\btarget (was|of)\b", r"\bagainst a target\b", r"\bbefore this change\b",
+             r"\bload average\b", r"\bagent\b"]
+
+
+def test_pages_hold_no_lab_notes():
+    hits = []
+    for page in pages():
+        for i, line in enumerate(page.read_text().splitlines(), 1):
+            for pattern in LAB_NOTES:
+                if re.search(pattern, line):
+                    hits.append(f"{page.relative_to(ROOT)}:{i}: {line.strip()}")
+    assert not hits, "history, targets and pointers outside the repository belong in commit messages:\n" + \
+        "\n".join(hits)
+
+
+# ---- the README's example -------------------------------------------------------------------------
+
+def readme_example():
+    m = re.search(r"^```python\n(.*?)^```", README.read_text(), flags=re.S | re.M)
+    assert m, "README.md has no ```python example"
+    return m.group(1)
+
+
+@pytest.mark.timeout(60)
+def test_readme_example_runs_and_finds_the_references_impacts(fmu_path, tmp_path):
+    """The README's example is the paper's Fig. 4b at rtol 1e-11; the independent reference
+    (its reference/data/summary.json) counts the impacts of that run."""
+    code = readme_example().replace('"build/VibroImpact.fmu"', repr(fmu_path))
+    run = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=50)
+    assert run.returncode == 0, run.stderr
+    m = re.search(r"(\d+) impacts", run.stdout)
+    assert m, run.stdout
+    found = [p for top in ("python", "fmu-test") for p in (ROOT / top).glob("**/reference/data/summary.json")]
+    assert len(found) == 1, found
+    reference = json.loads(found[0].read_text())
+    assert int(m.group(1)) == reference["fig4b"]["n_impacts"], run.stdout

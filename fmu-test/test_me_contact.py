@@ -1,0 +1,127 @@
+"""Model Exchange of the contact FMU where the importer does something unusual: a state it sets that
+contradicts the mode, input jumps and tunable parameters at events (as co-simulation applies them),
+non-finite values, and the nominals of its absolute tolerances."""
+import math
+
+import numpy as np
+import pytest
+from fmpy import simulate_fmu
+from fmpy.fmi1 import FMICallException
+
+from vibroimpact.reference.scenarios import SCENARIOS
+from me_run import Me, MeInstance, run_me
+
+
+@pytest.fixture
+def me(fmu_path, unzipdir, model_description):
+    made = []
+
+    def make():
+        inst = MeInstance(fmu_path, unzipdir, model_description)
+        inst.instantiate(categories=("logEvents",))
+        made.append(inst.model)
+        return inst, Me(inst)
+
+    yield make
+    for f in made:
+        f.freeInstance()
+
+
+def test_penetration_set_during_free_flight_is_caught_by_the_indicators(me):
+    """The mass leaves the platform (touching start, moving up); the importer then sets a position
+    1 um inside the platform. The free mode's contact indicator turns negative at once (an importer
+    sees the sign change), and the event iteration takes the state as it is: elastic, with the Hertz
+    force of that penetration."""
+    inst, m = me()
+    m.start(params=dict(contact_model=1, init=2, v0=0.01, a=0.0))
+    assert m.integer("mode") == 0
+    z0 = m.indicators()
+    assert min(z0) > 0.0
+    m.fmu.setTime(1e-4)
+    y, v = m.states()
+    yC = m.real("yC")
+    m.set_states([yC - 1e-6, v])
+    assert m.real("F") == 0.0 and m.indicators()[0] < 0.0  # flagged, not hidden
+    m.fmu.enterEventMode()
+    info = m.settle()
+    assert m.integer("mode") == 1 and not info[3]  # the state as it is: no snap
+    K = 4.0 / 3.0 * m.real("E_star") * math.sqrt(m.real("R_star"))
+    assert m.real("delta") == pytest.approx(1e-6, rel=1e-9)
+    assert m.real("F") == pytest.approx(K * 1e-6 ** 1.5, rel=1e-9)
+    assert min(m.indicators()) > 0.0
+
+
+def test_non_finite_states_are_refused(me):
+    inst, m = me()
+    m.start(params=dict(contact_model=1))
+    x = m.states()
+    with pytest.raises(FMICallException):
+        m.set_states([float("nan"), 0.0])
+    assert m.states() == x and any("state 0 (y) = nan is not finite" in e for e in inst.errors())
+
+
+def test_nominals_are_the_problem_scales(me):
+    """y is tens of micrometres: the nominals are the length and velocity scales co-simulation uses for
+    its absolute tolerances (doc/model.md), so rtol x nominal is a sensible atol for an importer."""
+    inst, m = me()
+    m.start(params=dict(contact_model=1))
+    L, V = m.nominals()
+    d_static = m.real("delta")
+    assert L == pytest.approx(d_static, rel=1e-6)  # Hertz, static start: the static indentation
+    k = 1.5 * 4.0 / 3.0 * m.real("E_star") * math.sqrt(m.real("R_star")) * math.sqrt(L)
+    assert V == pytest.approx(L * math.sqrt(k / 407.747), rel=1e-6)
+
+
+def test_tunable_amplitude_moves_the_platform_at_the_event(me):
+    """A new a set in event mode acts in the event iteration, as at a co-simulation step: the platform
+    moves by (a_new - a)(cos phi - 1), the mass stays, the indentation follows."""
+    inst, m = me()
+    m.start(params=dict(contact_model=1, a=1e-5, f=100.0))
+    t = 1.3e-3
+    m.fmu.setTime(t)
+    m.fmu.completedIntegratorStep()
+    y0, yC0, d0 = m.real("y"), m.real("yC"), m.real("delta")
+    m.fmu.enterEventMode()
+    m.set("a", 3e-5)
+    assert m.real("yC") == yC0  # not before the event iteration
+    m.settle()
+    move = 2e-5 * (math.cos(2 * math.pi * 100.0 * t) - 1.0)
+    assert m.real("yC") == pytest.approx(yC0 + move, abs=1e-18)
+    assert m.real("y") == pytest.approx(y0, abs=1e-18) and m.real("delta") == pytest.approx(d0 + move, abs=1e-18)
+
+
+def step_input(t_jump, jump, stop):
+    dt = np.dtype([("time", np.float64), ("yC_in", np.float64)])
+    return np.array([(0.0, 0.0), (t_jump, 0.0), (t_jump, jump), (stop, jump)], dtype=dt)
+
+
+def test_input_jump_during_plastic_loading_acts_as_in_co_simulation(fmu_path, unzipdir, model_description):
+    """Johnson (Fig. 4b): the platform drops by 2 um while the contact loads plastically. Co-simulation
+    applies a new yC_in at the step after its communication point (memory written down at the old
+    indentation, then the jump, then the mode chosen); fmpy's Model Exchange loop meets the jump as an
+    input event and sets it in event mode. Both unload from the same delta_c (2 um above the new
+    indentation), reload onto the virgin curve and go on alike."""
+    from conftest import Logged, start
+    p, t_jump, jump, stop, h = SCENARIOS["fig4b"].full, 1.6e-3, -2e-6, 4e-3, 1e-4
+    r, inst = run_me(fmu_path, p, stop, rtol=1e-11, output=("y", "delta_c", "mode"), output_interval=h,
+                     input=step_input(t_jump, jump, stop))
+    assert not inst.errors()
+    log = Logged(model_description, unzipdir)
+    s = log.instantiate(logging=True)
+    s.setDebugLogging(True, ["logEvents"])
+    vr = {v.name: v.valueReference for v in model_description.modelVariables}
+    start(s, vr, p, tolerance=1e-11)
+    y, dc = [], []
+    for k in range(int(round(stop / h)) + 1):
+        if k:
+            s.doStep((k - 1) * h, h)
+        if abs(k * h - t_jump) < h / 2:
+            s.setReal([vr["yC_in"]], [jump])
+        y.append(s.getReal([vr["y"]])[0])
+        dc.append(s.getReal([vr["delta_c"]])[0])
+    s.freeInstance()
+    cs_modes = [m for m in log.text().splitlines() if "input change, mode 2 -> 3" in m]
+    me_modes = [m for _, _, m in inst.messages if "input change, mode 2 -> 3" in m]
+    assert len(cs_modes) == len(me_modes) == 1  # unloading after the jump
+    assert np.abs(r["delta_c"] - dc).max() <= 1e-12
+    assert np.abs(r["y"] - y).max() <= 1e-10

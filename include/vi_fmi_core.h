@@ -1,0 +1,210 @@
+/*
+ * vi_fmi_core.h - what every FMI face of the generic layer shares (src/vi_fmi_core.c).
+ *
+ * A face (src/vi_fmi2.c for FMI 2.0) is a thin translation of one version of the standard's C API
+ * into the calls below; the core holds everything that does not depend on the version: the
+ * instance life cycle, the state machine (a table of the FMI states in which each call is allowed),
+ * value access through the model's variable table (vi_table.h) with its checks, logging with
+ * categories, the checked FMU-state envelope with its checksum and serialization, and the
+ * simulation calls that reach the model's hooks (vi_fmu.h). No check, checksum or state format is
+ * written in a face.
+ *
+ * Conventions: every core call that takes an instance takes the name of the standard's function
+ * it serves (`fn`, used in every message) and returns a vi_status, whose values are those of
+ * fmi2Status and fmi3Status (OK, Warning, Discard, Error, Fatal), so that a face returns it cast.
+ * A NULL instance gives VI_STATUS_ERROR without a message (nobody to tell).
+ */
+#ifndef VI_FMI_CORE_H
+#define VI_FMI_CORE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "vi_fmu.h"
+
+typedef enum { VI_STATUS_OK, VI_STATUS_WARNING, VI_STATUS_DISCARD, VI_STATUS_ERROR, VI_STATUS_FATAL } vi_status;
+
+/* The interface an instance was created for. */
+typedef enum { VI_KIND_CS, VI_KIND_ME } vi_kind;
+
+/* FMI states, one bit each (Co-Simulation: instantiated, init, step complete, step failed,
+ * terminated, error; Model Exchange: instantiated, init, event, continuous time, terminated, error).
+ * The numbers are stored in FMU states: never renumber. */
+enum {
+    VI_ST_INSTANTIATED = 1 << 0,
+    VI_ST_INIT = 1 << 1,
+    VI_ST_STEP_COMPLETE = 1 << 2,
+    VI_ST_STEP_FAILED = 1 << 3,
+    VI_ST_TERMINATED = 1 << 4,
+    VI_ST_ERROR = 1 << 5,
+    VI_ST_FATAL = 1 << 6,
+    VI_ST_EVENT = 1 << 7,
+    VI_ST_CONTINUOUS = 1 << 8,
+};
+#define VI_ST_ANY_BUT_FATAL                                                                                   \
+    (VI_ST_INSTANTIATED | VI_ST_INIT | VI_ST_STEP_COMPLETE | VI_ST_STEP_FAILED | VI_ST_TERMINATED | VI_ST_ERROR | \
+     VI_ST_EVENT | VI_ST_CONTINUOUS)
+/* After initialization (an FMU state taken there is restored with a running model). */
+#define VI_ST_RUNNING (VI_ST_STEP_COMPLETE | VI_ST_STEP_FAILED | VI_ST_TERMINATED | VI_ST_EVENT | VI_ST_CONTINUOUS)
+
+/* The calls of the state machine; vi_core_allowed[call] is the set of states it is allowed in. */
+typedef enum {
+    VI_CALL_SET_DEBUG_LOGGING,
+    VI_CALL_SETUP_EXPERIMENT,
+    VI_CALL_ENTER_INIT,
+    VI_CALL_EXIT_INIT,
+    VI_CALL_TERMINATE,
+    VI_CALL_RESET,
+    VI_CALL_GET,            /* values of any type */
+    VI_CALL_SET_REAL,       /* Real values (in continuous time: inputs of continuous variability) */
+    VI_CALL_SET_DISCRETE,   /* Integer, Boolean, String values */
+    VI_CALL_FMU_STATE,      /* get, set, free, serialize, deserialize an FMU state */
+    VI_CALL_DIRECTIONAL_DERIVATIVE,
+    VI_CALL_SET_INPUT_DERIVATIVES,
+    VI_CALL_GET_OUTPUT_DERIVATIVES,
+    VI_CALL_DO_STEP,
+    VI_CALL_CANCEL_STEP,
+    VI_CALL_GET_STATUS,     /* the Co-Simulation status queries */
+    VI_CALL_GET_LAST_STATUS, /* last successful time, terminated: also after an error */
+    VI_CALL_ENTER_EVENT_MODE,
+    VI_CALL_NEW_DISCRETE_STATES,
+    VI_CALL_ENTER_CONTINUOUS_MODE,
+    VI_CALL_COMPLETED_STEP,
+    VI_CALL_SET_TIME,
+    VI_CALL_SET_STATES,
+    VI_CALL_GET_DERIVATIVES,
+    VI_CALL_GET_EVENT_INDICATORS,
+    VI_CALL_GET_STATES,
+    VI_CALL_GET_NOMINALS,
+    VI_CALL_COUNT
+} vi_call;
+extern const unsigned vi_core_allowed[VI_CALL_COUNT];
+
+/* Log categories (as listed in every modelDescription.xml); the call category is named by the
+ * face (logFmi2Call). Discards and errors are logged whatever is enabled. */
+enum { VI_CAT_EVENTS, VI_CAT_SOLVER, VI_CAT_WARNING, VI_CAT_DISCARD, VI_CAT_ERROR, VI_CAT_CALL, VI_CAT_ALL, VI_CAT_COUNT };
+
+typedef struct vi_core vi_core;
+
+/* The longest message text a face's emit gets, with its NUL (control characters written \\xNN). */
+#define VI_CORE_MESSAGE_MAX 4096
+
+/* What a face tells the core about itself. */
+typedef struct {
+    const char *call_category; /* the name of the category VI_CAT_CALL, e.g. "logFmi2Call" */
+    /* Hand one finished message to the importer's logger (escape it as the version requires). The
+     * text is printable ASCII, at most VI_CORE_MESSAGE_MAX bytes with its NUL. */
+    void (*emit)(const vi_core *c, vi_status status, const char *category, const char *text);
+} vi_face;
+
+/* The importer's callbacks as the core keeps them: memory (calloc and free semantics) and an
+ * opaque logger with its environment, called only by the face's emit. */
+typedef void (*vi_any_fn)(void);
+typedef struct {
+    void *(*alloc)(size_t n, size_t size);
+    void (*free)(void *p);
+    vi_any_fn logger;
+    void *env;
+} vi_callbacks;
+
+/* The instance. Faces read it (their emit, their status queries) but change it only through the
+ * calls below. */
+struct vi_core {
+    const vi_face *face;
+    vi_callbacks cb;
+    vi_kind kind;
+    void *model;   /* the model's instance (MODEL->instance_size bytes) */
+    void *outputs; /* scratch for outputs computed on demand (MODEL->outputs_size bytes) */
+    char *name;
+    unsigned state; /* one VI_ST_* bit */
+    unsigned log_mask; /* bit per VI_CAT_* */
+    int stop_time_defined;
+    double stop_time;
+    /* Model Exchange */
+    double t_committed; /* the last event or completed integrator step: time never goes back before it */
+    int event_passes;   /* passes in a row of the discrete-state iteration that asked for another one */
+};
+
+/* ---- logging and the state machine (for the faces' own calls) ---- */
+/* Is the category enabled? */
+int vi_core_logs(const vi_core *c, int category);
+void vi_core_log(const vi_core *c, vi_status status, int category, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+/* The instance if `call` is allowed in its state (logs the call), else NULL (logs why). */
+vi_core *vi_core_enter(void *instance, vi_call call, const char *fn);
+/* A failed simulation call: log the model's reason, enter the error state, VI_STATUS_ERROR. */
+vi_status vi_core_fail(vi_core *c, const char *fn);
+/* A message for a call refused before anything changed (state unchanged): VI_STATUS_ERROR. */
+vi_status vi_core_refuse(const vi_core *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* ---- life cycle ---- */
+/* Check the arguments, allocate the instance with cb (logging through face), initialize the model
+ * and hand it its resources folder (a local path or NULL). NULL (logged) on any failure. */
+vi_core *vi_core_instantiate(const vi_face *face, const vi_callbacks *cb, const char *fn, const char *name,
+                             vi_kind kind, const char *guid, const char *resource_dir, const char *resource_label,
+                             int logging_on);
+void vi_core_free(vi_core *c, const char *fn);
+vi_status vi_core_set_debug_logging(void *instance, const char *fn, int on, size_t n, const char *const categories[]);
+vi_status vi_core_setup_experiment(void *instance, const char *fn, int tolerance_defined, double tolerance,
+                                   double start, int stop_defined, double stop);
+vi_status vi_core_enter_init(void *instance, const char *fn);
+vi_status vi_core_exit_init(void *instance, const char *fn);
+vi_status vi_core_terminate(void *instance, const char *fn);
+vi_status vi_core_reset(void *instance, const char *fn);
+
+/* ---- values ---- */
+/* How a face's array holds values: double, int (fmi2Integer, fmi2Boolean, int32), int64, C bool,
+ * const char *. */
+typedef enum { VI_ELEM_DOUBLE, VI_ELEM_INT, VI_ELEM_INT64, VI_ELEM_BOOL, VI_ELEM_STRING } vi_elem;
+/* Read nvr values of API type `api` (Real, Integer (enumerations too), Boolean, String). */
+vi_status vi_core_get(void *instance, const char *fn, const unsigned vr[], size_t nvr, vi_type api, void *values,
+                      vi_elem elem);
+/* Write nvr values: all are checked (type, settable now, finite Real in its range, String length)
+ * before any is stored. */
+vi_status vi_core_set(void *instance, const char *fn, const unsigned vr[], size_t nvr, vi_type api,
+                      const void *values, vi_elem elem);
+/* First derivatives of Real inputs (Co-Simulation): order 1 only, finite. */
+vi_status vi_core_set_input_derivatives(void *instance, const char *fn, const unsigned vr[], size_t nvr,
+                                        const int order[], const double values[]);
+
+/* ---- FMU state ---- */
+vi_status vi_core_get_fmu_state(void *instance, const char *fn, void **state);
+vi_status vi_core_set_fmu_state(void *instance, const char *fn, const void *state);
+vi_status vi_core_free_fmu_state(void *instance, const char *fn, void **state);
+vi_status vi_core_fmu_state_size(void *instance, const char *fn, const void *state, size_t *size);
+vi_status vi_core_serialize(void *instance, const char *fn, const void *state, unsigned char *bytes, size_t size);
+vi_status vi_core_deserialize(void *instance, const char *fn, const unsigned char *bytes, size_t size, void **state);
+
+/* ---- Co-Simulation ---- */
+vi_status vi_core_do_step(void *instance, const char *fn, double current_time, double step);
+/* The model's current time [s] (fmi2LastSuccessfulTime after a discarded step). */
+double vi_core_time(const vi_core *c);
+
+/* ---- Model Exchange ----
+ * Time may go back within the current integrator step (root location, interpolation), never before
+ * the last event or completed integrator step (going further back needs an FMU state). States and
+ * time must be finite; a call in a state the standard does not allow it in is refused with the
+ * state named. Array lengths must be the model's numbers of states and event indicators. */
+/* At most this many passes of the discrete-state iteration in a row may ask for another one; then
+ * the discrete states do not settle and the instance goes into the error state. */
+#define VI_MAX_EVENT_PASSES 100
+vi_status vi_core_enter_event_mode(void *instance, const char *fn);
+/* One pass (the model's event_update); *ev as the model filled it. When the model asks to terminate, its
+ * reason is logged as a warning whatever is enabled. */
+vi_status vi_core_new_discrete_states(void *instance, const char *fn, vi_fmu_event *ev);
+vi_status vi_core_enter_continuous_mode(void *instance, const char *fn);
+/* *enter_event: the model asks for an event now; *terminate: always 0 (the model asks at events). */
+vi_status vi_core_completed_step(void *instance, const char *fn, int *enter_event, int *terminate);
+vi_status vi_core_set_time(void *instance, const char *fn, double t);
+vi_status vi_core_set_states(void *instance, const char *fn, const double x[], size_t n);
+vi_status vi_core_get_states(void *instance, const char *fn, double x[], size_t n);
+vi_status vi_core_get_derivatives(void *instance, const char *fn, double dx[], size_t n);
+vi_status vi_core_get_event_indicators(void *instance, const char *fn, double z[], size_t n);
+vi_status vi_core_get_nominals(void *instance, const char *fn, double nominal[], size_t n);
+/* Model Exchange only (the Co-Simulation interface declares none): unknowns are state derivatives
+ * and outputs, knowns are states and inputs. */
+vi_status vi_core_directional_derivative(void *instance, const char *fn, const unsigned unknown[], size_t n_unknown,
+                                         const unsigned known[], size_t n_known, const double dknown[],
+                                         double dunknown[]);
+
+#endif

@@ -1,0 +1,87 @@
+/*
+ * vi_me.h - one simulation (vi_sim.h) advanced by somebody else's integrator: the contact model as
+ * an ODE with events for Model Exchange. Nothing here knows FMI; src/vi_fmu_contact.c maps the FMI
+ * layer's hooks onto these functions.
+ *
+ * States (the importer integrates them):  y [m], the mass position, and v [m/s], its velocity:
+ *     y' = v,      v' = (F(delta, mode, memory) - W(t)) / m        (in stick: v' = yC''(t))
+ * with delta = yC(t) - y (vi_model.h: the platform yC includes the input yC_in, the harmonic
+ * excitation and the rolling profile). The position y, not the indentation, is the state, so that
+ * the derivatives need the input yC_in only through its value (Model Exchange passes no input
+ * derivatives): a new yC_in moves the platform while the mass stays where it is. The model keeps
+ * delta in the simulation's state (d->x[0]) in step with y.
+ *
+ * The plastic memory needs no state of its own: while it changes (Johnson loading beyond delta_Y,
+ * LEPP flow) it equals delta (delta_c = delta, delta_p = delta - delta_Y), and it is written down
+ * when that mode is left (vi_model_freeze).
+ *
+ * Event indicators: the VI_NGUARDS guards of the current mode (vi_model.h: contact, separation,
+ * yield, Johnson turning point, stick entry and exit, LEPP flow start and end), each > 0 inside the
+ * mode; a guard that starts at zero after an event is lifted by its rounding noise and a guard that
+ * fired without a change of mode (grazing) by its band (vi_sim.h, VI_GRAZE_*), until it has moved
+ * away; both come back to the plain guard at a completed step.
+ *
+ * The input yC_in is taken by its value only: the rate of delta that the turning point (Johnson,
+ * LEPP) and stick guards use is yC' without the input's rate. With a moving input and a plastic
+ * law, prefer co-simulation with input derivatives, or move the platform through a, f and the
+ * rolling profile, whose rates are known.
+ */
+#ifndef VI_ME_H
+#define VI_ME_H
+
+#include "vi_sim.h"
+
+#define VI_ME_NSTATES 2
+#define VI_ME_NINDICATORS VI_NGUARDS
+
+typedef struct {
+    vi_sim s;   /* first member: a vi_me is a vi_sim */
+    int active; /* initialized for Model Exchange */
+    double y;   /* the state y [m] the importer integrates (v is s.d.x[1]) */
+    int zeno;   /* consecutive events each within VI_ZENO_ULPS of the one before (vi_sim_zeno_count) */
+    double t_event; /* time of the last state event */
+} vi_me;
+
+/* What one pass of the event iteration did. */
+typedef struct {
+    int another_pass, terminate, states_changed, next_time_defined;
+    double next_time;
+} vi_me_event;
+
+/* vi_sim_initialize (the initial state), then Model Exchange: 0 or -1 (s.msg). */
+int vi_me_initialize(vi_me *e);
+void vi_me_set_time(vi_me *e, double t);
+/* x = (y, v). */
+void vi_me_get_states(vi_me *e, double x[VI_ME_NSTATES]);
+void vi_me_set_states(vi_me *e, const double x[VI_ME_NSTATES]);
+void vi_me_derivatives(vi_me *e, double dx[VI_ME_NSTATES]);
+void vi_me_indicators(vi_me *e, double z[VI_ME_NINDICATORS]);
+/* The scales of the problem (vi_model_scales: L [m], V [m/s]) once initialized, 1 before. */
+void vi_me_nominals(const vi_me *e, double nominal[VI_ME_NSTATES]);
+/* One pass of the event iteration at the current time: tunable a, f and inputs set in event mode
+ * (as an input change of co-simulation: freeze, move the platform, choose the mode); a kink of the
+ * rolling profile passed (time event); the first guard at or below zero (a guard within its band
+ * of zero is snapped onto its surface, vi_model_event; one clearly beyond is a state the importer
+ * set or stepped to: the mode is chosen for the state as it is, vi_model_resolve). another_pass
+ * when a guard of the new mode is still below zero. At the end of a non-periodic profile, and when
+ * events accumulate at one instant (VI_ZENO_EVENTS state events each within VI_ZENO_ULPS of the one
+ * before): terminate (s.msg says why). 0, or -1 (s.msg). */
+int vi_me_event_update(vi_me *e, vi_me_event *ev);
+/* A completed step of the importer: re-arm guards that moved away, start the mean force anew.
+ * 1 when an event is due now (a kink or the profile's end was stepped over), else 0. */
+int vi_me_completed_step(vi_me *e);
+/* Outputs at the current time, states and inputs (der_y and der_v included); the mean force is
+ * the one since the last event or completed step. */
+void vi_me_outputs(vi_me *e, vi_outputs *out);
+/* Make s.d hold the current (t, delta, v) and memory before it is copied (FMU state), and take y
+ * back from a restored s.d (`running`: a state taken after initialization, into an instance of
+ * Model Exchange). 0 or -1 (s.msg). */
+int vi_me_checkpoint(vi_me *e);
+int vi_me_restore(vi_me *e, int running);
+
+/* The partial derivative of the unknown with value reference `unknown` (der_y, der_v or an output)
+ * with respect to the known `known` (the states y, v or the inputs yC_in, F_ext), at the current
+ * point, analytic, in the current mode. */
+double vi_me_partial(vi_me *e, int unknown, int known);
+
+#endif

@@ -1,0 +1,22 @@
+"""VibroImpact: an FMI 2.0 Co-Simulation FMU of dynamic unilateral elasto-plastic contact (Kowalska 2002),
+and the Python around it: the independent reference model, the sweeps on Dask, the figures and the
+benchmark, behind one command, `vibroimpact` (cli.py).
+
+    import vibroimpact
+    vibroimpact.fmu_path()     # the FMU: $VI_FMU, the one installed in this package, or build/ of a checkout
+
+The helpers every script uses are in vibroimpact.fmu (fmu_path, set_value, initialize, MessageLog).
+"""
+import importlib as _importlib
+import sys as _sys
+
+# The sweep ships this package's worker-side code to Dask workers with Client.upload_file, which reloads
+# the package on a long-lived worker: reload the modules a worker runs with it, so that it never runs an
+# older sweep's code.
+for _name in ("fmu", "sweep.point", "sweep.worker"):
+    if f"{__name__}.{_name}" in _sys.modules:
+        _importlib.reload(_sys.modules[f"{__name__}.{_name}"])
+
+from .fmu import ENV, Logged, MessageLog, build_dir, fmu_path, initialize, set_value  # noqa: E402
+
+__all__ = ["ENV", "Logged", "MessageLog", "build_dir", "fmu_path", "initialize", "set_value"]

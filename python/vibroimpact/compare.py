@@ -1,0 +1,132 @@
+"""The FMU on every scenario against the committed reference traces (vibroimpact/reference/data/).
+
+    vibroimpact compare [--rtol R] [--solver S]      prints a Markdown table, one row per scenario
+
+The FMU runs at RTOL_FMU = 1e-11, the tolerance of the reference trace, through FMU2Slave: one
+doStep per reference sample, with logEvents on so that every mode change inside a step is recorded
+with its exact time. The tests (fmu-test/test_paper.py) assert on the figures compare() returns.
+"""
+import argparse
+import csv
+import gzip
+import json
+
+import numpy as np
+
+from .fmu import Logged, fmu_path, initialize
+from .reference.generate import DATA, RTOL_TRUE, horizon, transitions
+from .reference.scenarios import SCENARIOS
+
+SUMMARY = json.loads((DATA / "summary.json").read_text())
+RTOL_FMU = 1e-11
+EVENT_DT = 1e-6  # s: event times are compared up to the horizon minus this
+REALS = ["y", "v", "F", "W_plastic"]
+INTEGERS = ["mode", "n_impacts"]
+
+
+def read_trace(name):
+    with gzip.open(DATA / f"{name}.trace.csv.gz", "rt") as f:
+        rows = list(csv.DictReader(f))
+    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
+
+
+def read_events(name):
+    """(t, mode before, mode after) of the reference's mode changes."""
+    with open(DATA / f"{name}.events.csv") as f:
+        return [(float(r["time"]), int(r["mode_before"]), int(r["mode_after"])) for r in csv.DictReader(f)]
+
+
+def fmu_events(messages):
+    """(t, before, after) of every mode change the FMU logged:
+    "t = <t> s: guard <g> of mode <a>, mode <a> -> <b>, ..." (events that keep the mode are skipped)."""
+    out = []
+    for _, category, text in messages:
+        if category == "logEvents" and " s: guard " in text:
+            t = float(text.split("t = ")[1].split(" s:")[0])
+            before, after = (int(x) for x in text.split(", mode ")[1].split(",")[0].split(" -> "))
+            if before != after:
+                out.append((t, before, after))
+    return out
+
+
+class Runner:
+    """Simulates scenarios with the FMU on the reference's sample grid."""
+
+    def __init__(self, fmu=None, unzipdir=None):
+        from fmpy import extract, read_model_description
+        fmu = str(fmu or fmu_path())
+        self.md = read_model_description(fmu)
+        self.unzipdir = unzipdir or extract(fmu)
+        self.vr = {v.name: v.valueReference for v in self.md.modelVariables}
+
+    def run(self, name, t, rtol=RTOL_FMU, solver=None):
+        """-> ({output name: samples at t}, [(t, before, after) of each mode change]); solver: the
+        `solver` enumeration value (None: the FMU's default)."""
+        inst = Logged(self.md, self.unzipdir, name=name)
+        s, vr = inst.instantiate(logging=True), self.vr
+        s.setDebugLogging(True, ["logEvents"])
+        params = {**SCENARIOS[name].full, **({} if solver is None else {"solver": solver})}
+        initialize(s, vr, params, tolerance=rtol, start_time=float(t[0]), stop_time=float(t[-1]))
+        reals, integers = [vr[n] for n in REALS], [vr[n] for n in INTEGERS]
+        out = np.empty((len(t), len(REALS) + len(INTEGERS)))
+        for k in range(len(t)):
+            if k:
+                s.doStep(t[k - 1], t[k] - t[k - 1])
+            out[k] = s.getReal(reals) + s.getInteger(integers)
+        s.terminate()
+        s.freeInstance()
+        return dict(zip(REALS + INTEGERS, out.T)), fmu_events(inst.messages)
+
+
+def compare(name, runner, rtol=RTOL_FMU, solver=None):
+    """Figures of the FMU against the reference for one scenario (all over the horizon unless said)."""
+    ref, info = read_trace(name), SUMMARY[name]
+    fmu, events = runner.run(name, ref["time"], rtol, solver)
+    t, h = ref["time"], info["horizon"]
+    within = t <= h
+    err_y = np.abs(fmu["y"] - ref["y"])
+    ref_events = [e for e in read_events(name) if e[0] <= h - EVENT_DT]
+    # the force jumps at some mode changes (paper unloading, stick): event times agree to EVENT_DT, so
+    # samples that close to a reference event may lie on either side of it and are not compared for F
+    near_event = np.zeros_like(within)
+    for e in read_events(name):
+        near_event |= np.abs(t - e[0]) <= EVENT_DT
+    force_compared = within & ~near_event
+    fmu_ev = [e for e in events if e[0] <= h - EVENT_DT]
+    return dict(
+        horizon=h,
+        agrees_until=horizon(t, ref["y"], fmu["y"]),  # FMU within EPS_Y of the reference
+        dy=float(err_y[within].max()),
+        dF_rel=float(np.abs(fmu["F"] - ref["F"])[force_compared].max() / np.abs(ref["F"]).max()),
+        dW_rel=float(np.abs(fmu["W_plastic"] - ref["W_plastic"])[within].max() / max(np.abs(ref["W_plastic"]).max(),
+                                                                                   1e-300)),
+        events_ref=[e[1:] for e in ref_events], events_fmu=[e[1:] for e in fmu_ev],
+        event_dt=max((abs(a[0] - b[0]) for a, b in zip(fmu_ev, ref_events)), default=0.0),
+        transitions=transitions(events), transitions_ref=info["transitions"],
+        n_impacts=int(fmu["n_impacts"][-1]), n_impacts_ref=info["n_impacts"],
+        fmu=fmu, ref=ref)
+
+
+def parser():
+    p = argparse.ArgumentParser(prog="vibroimpact compare", description=__doc__.split("\n\n")[0],
+                                epilog=__doc__.split("\n\n", 2)[2], formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--rtol", type=float, default=RTOL_FMU,
+                   help=f"the FMU's relative tolerance (default {RTOL_FMU:g}; the FMU's own default is 1e-6)")
+    p.add_argument("--solver", type=int, default=None, help="the FMU's `solver` value: 1 bdf, 2 adams, 3 dop853 "
+                   "(default: the FMU's default)")
+    return p
+
+
+def main(argv=None):
+    a = parser().parse_args(argv)
+    rtol, solver = a.rtol, a.solver
+    runner = Runner()
+    print(f"FMU at rtol {rtol:g} (solver {solver or 'default'}), reference at rtol {RTOL_TRUE:g}\n")
+    print("| scenario | horizon [ms] | FMU within 0.1 um until [ms] | max abs(y - y_ref) [m] | max abs(F - F_ref)/max F "
+          "| mode changes compared | max event time diff [s] | impacts FMU / ref (0.1 s) |")
+    print("|---|---|---|---|---|---|---|---|")
+    for name in SCENARIOS:
+        c = compare(name, runner, rtol, solver)
+        same = "same" if c["events_fmu"] == c["events_ref"] else "DIFFERENT"
+        print(f"| {name} | {1e3 * c['horizon']:.1f} | {1e3 * c['agrees_until']:.1f} | {c['dy']:.1e} | {c['dF_rel']:.1e} "
+              f"| {len(c['events_ref'])} ({same}) | {c['event_dt']:.1e} | {c['n_impacts']} / {c['n_impacts_ref']} |")

@@ -1,0 +1,111 @@
+"""Parameter sweeps of the VibroImpact FMU on Dask.
+
+  vibroimpact sweep --set contact_model=hertz --set a=1e-4 --grid f=100:600:51 \\
+      --stop-time 0.2 --transient 0.1 --step 1e-5 --out results/sweep-hertz
+
+Runs the full product of the grids, one FMU instance per point (or per continuation chain) with
+fmpy's FMU2Slave, on a Dask LocalCluster (--workers N, default: all cores) or on a running Dask
+scheduler (--scheduler tcp://host:8786). Writes DIR/sweep.csv (one row per point: the grid values,
+then F_max F_min F_mean delta_max sep_max contact_fraction n_impacts W_plastic status message),
+DIR/poincare.csv (indentation and velocity once per excitation period after the transient),
+DIR/sweep.json (the settings) and DIR/response.png, DIR/bifurcation.png.
+
+--sweep-direction up|down: a continuation sweep. Along the first grid variable (which must be
+tunable, e.g. the excitation a or f, or an input), each point continues from the previous point's
+final state on the same instance: the new value is set at the communication point where the
+previous point ended (a whole number of excitation periods, so at phase 0). One chain per
+combination of the other grids; the chains run in parallel.
+
+Time grid and statistics: see vibroimpact/sweep/point.py (the step is shrunk to divide the excitation
+period; each point runs a whole number of periods covering --stop-time). Failed points stay in the
+CSV with status 'error' and the FMU's message. The exit code is 0 when the sweep ran, even when
+some points failed; 2 for options that cannot run.
+"""
+import argparse
+import sys
+import time
+
+from ..fmu import ENV, fmu_path
+from . import engine, plots, spec
+
+
+def parse_args(argv):
+    p = argparse.ArgumentParser(prog="vibroimpact sweep", description=__doc__.split("\n\n")[0],
+                                formatter_class=argparse.RawDescriptionHelpFormatter,
+                                epilog=__doc__.split("\n\n", 1)[1])
+    p.add_argument("--fmu", default=None, help=f"the FMU (default: vibroimpact.fmu_path(): ${ENV}, the installed "
+                   "package's FMU, or build/VibroImpact.fmu of a checkout)")
+    p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                   help="fixed start value (repeatable); enumerations by value or item name, e.g. contact_model=hertz")
+    p.add_argument("--grid", action="append", dest="grids", default=[], type=lambda t: (t, False),
+                   metavar="NAME=START:STOP:N", help="linear grid (repeatable); the full product of all grids is run")
+    p.add_argument("--loggrid", action="append", dest="grids", type=lambda t: (t, True),
+                   metavar="NAME=START:STOP:N", help="logarithmic grid (repeatable)")
+    p.add_argument("--stop-time", type=float, default=0.1, metavar="T", help="run length per point [s] (default 0.1)")
+    p.add_argument("--step", type=float, default=1e-5, metavar="H",
+                   help="largest communication step [s]; statistics are sampled at each step (default 1e-5)")
+    p.add_argument("--transient", type=float, default=0.0, metavar="T0",
+                   help="statistics and Poincare samples over [T0, T] of each point (default 0)")
+    p.add_argument("--out", default="results/sweep", metavar="DIR", help="output directory (default results/sweep)")
+    p.add_argument("--workers", type=int, default=None, metavar="N",
+                   help="worker processes of the local cluster (default: all cores)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="use a running Dask scheduler, e.g. tcp://host:8786, instead of a local cluster")
+    p.add_argument("--connect-timeout", type=float, default=60.0, metavar="S",
+                   help="with --scheduler: how long to wait for the scheduler and its first worker (default 60 s)")
+    p.add_argument("--sweep-direction", choices=["up", "down"], default=None,
+                   help="continuation along the first grid variable, ascending (up) or descending (down)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--no-plots", action="store_true", help="write the CSV files only")
+    args = p.parse_args(argv)
+    if args.workers is not None and args.workers < 1:
+        p.error("--workers must be at least 1")
+    if args.workers is not None and args.scheduler:
+        p.error("--workers sizes the local cluster; a --scheduler has its own workers")
+    return args
+
+
+def build(args, interface):
+    """The Sweep the options describe, in the order the grids were given on the command line."""
+    fixed = dict(spec.parse_set(interface, s) for s in args.set)
+    grids = [spec.parse_grid(interface, text, log) for text, log in args.grids]  # in the order given
+    log_axes = tuple(g[0] for g, (_, log) in zip(grids, args.grids) if log)
+    return spec.Sweep(fixed=fixed, grids=grids, stop_time=args.stop_time, step=args.step,
+                      transient=args.transient, direction=args.sweep_direction, log_axes=log_axes,
+                      title=" ".join(args.set))
+
+
+def main(argv=None):
+    args = parse_args(sys.argv[1:] if argv is None else argv)
+    try:
+        args.fmu = str(fmu_path() if args.fmu is None else args.fmu)
+        open(args.fmu, "rb").close()
+    except OSError as e:
+        print(f"sweep: {e}", file=sys.stderr)
+        return 2
+    interface = spec.Interface(args.fmu)
+    try:
+        sweep = build(args, interface)
+        spec.check(sweep, interface)
+    except spec.SpecError as e:
+        print(f"sweep: {e}", file=sys.stderr)
+        return 2
+    t0 = time.perf_counter()
+    try:
+        rows = engine.run(sweep, interface, args.fmu, workers=args.workers, scheduler=args.scheduler,
+                          progress=not args.no_progress, connect_timeout=args.connect_timeout)
+    except spec.SpecError as e:
+        print(f"sweep: {e}", file=sys.stderr)
+        return 2
+    except (OSError, RuntimeError, TimeoutError) as e:  # no scheduler there, no worker joining, ...
+        print(f"sweep: {e}", file=sys.stderr)
+        return 1
+    engine.write(args.out, sweep, rows, argv=["vibroimpact", "sweep"] + (sys.argv[1:] if argv is None else argv))
+    if not args.no_plots:
+        plots.sweep_figures(args.out, sweep, rows)
+    failed = sum(r["status"] != "ok" for _, r in rows)
+    wall = time.perf_counter() - t0
+    print(f"sweep: {len(rows)} points in {wall:.1f} s ({len(rows) / wall:.1f}/s), {failed} failed -> "
+          f"{args.out}/sweep.csv, poincare.csv"
+          + ("" if args.no_plots else ", response.png, bifurcation.png"))
+    return 0

@@ -1,0 +1,357 @@
+/* vi_me.c - the contact model advanced by an importer's integrator (Model Exchange); see vi_me.h. */
+#include "vi_me.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static double rtol_of(const vi_sim_data *d) { return d->tolerance > 0.0 ? d->tolerance : d->par.rtol; }
+
+static double platform(const vi_model *M, double t) { return vi_model_platform(M, t, NULL, NULL); }
+
+/* Inputs that changed since they were last taken act from now on (the memory is written down first at
+ * the state before the change, as for an input change in co-simulation; the mass stays where it
+ * is, so delta moves with the platform). The state itself is the importer's: x is a copy. */
+static void take_inputs(vi_me *e, double x[2])
+{
+    vi_sim_data *d = &e->s.d;
+    vi_model *M = &d->M;
+    if (d->in.yC_in == M->yC_in.u && d->in.F_ext == M->F_ext.u && M->yC_in.du == 0.0 && M->F_ext.du == 0.0) return;
+    vi_model_freeze(M, d->t, x);
+    M->yC_in = (vi_ramp){d->in.yC_in, 0.0, d->t};
+    M->F_ext = (vi_ramp){d->in.F_ext, 0.0, d->t};
+    x[0] = platform(M, d->t) - e->y;
+}
+
+/* Bring the model in step with the importer's time, states and inputs: delta = yC(t) - y. Inputs set
+ * in continuous-time mode act at once; inputs set in event mode (d->inputs_changed, from the layer's
+ * `changed`) wait for the event iteration, which applies them as a jump. */
+static void sync(vi_me *e)
+{
+    vi_sim_data *d = &e->s.d;
+    e->s.out_valid = 0;
+    if (!e->active) return;
+    if (!d->inputs_changed) {
+        double x[2] = {platform(&d->M, d->t) - e->y, d->x[1]};
+        take_inputs(e, x);
+    }
+    d->x[0] = platform(&d->M, d->t) - e->y;
+}
+
+/* How much each guard moves under rounding (one ulp of t with y fixed, of y and of v: ulps[i]) and
+ * under a state error of the tolerance (rtol |y| + atol in y, the same in v: tol[i]). */
+static void guard_noise(const vi_me *e, double ulps[VI_NGUARDS], double tol[VI_NGUARDS])
+{
+    const vi_sim_data *d = &e->s.d;
+    const vi_model *M = &d->M;
+    double g0[VI_NGUARDS], g[VI_NGUARDS], rtol = rtol_of(d), t = d->t, y = e->y, v = d->x[1];
+    double x[2] = {platform(M, t) - y, v};
+    vi_model_guards(M, t, x, g0);
+    double t1 = nextafter(t, INFINITY), x1[2] = {platform(M, t1) - y, v};
+    vi_model_guards(M, t1, x1, g);
+    for (int i = 0; i < VI_NGUARDS; i++) ulps[i] = fabs(g[i] - g0[i]), tol[i] = 0.0;
+    const double dy[2] = {nextafter(y, INFINITY) - y, rtol * fabs(y) + d->atol[0]};
+    const double dv[2] = {nextafter(v, INFINITY) - v, rtol * fabs(v) + d->atol[1]};
+    for (int k = 0; k < 2; k++) {
+        double *acc = k == 0 ? ulps : tol;
+        double xy[2] = {x[0] - dy[k], v}, xv[2] = {x[0], v + dv[k]};
+        vi_model_guards(M, t, xy, g);
+        for (int i = 0; i < VI_NGUARDS; i++) acc[i] += fabs(g[i] - g0[i]);
+        vi_model_guards(M, t, xv, g);
+        for (int i = 0; i < VI_NGUARDS; i++) acc[i] += fabs(g[i] - g0[i]);
+    }
+}
+
+/* Guards that start at zero (up to rounding) in a mode just entered are lifted by their noise. */
+static void arm_guards_at_zero(vi_me *e)
+{
+    vi_sim_data *d = &e->s.d;
+    double g[VI_NGUARDS], ulps[VI_NGUARDS], tol[VI_NGUARDS];
+    vi_model_guards(&d->M, d->t, d->x, g);
+    guard_noise(e, ulps, tol);
+    for (int i = 0; i < VI_NGUARDS; i++) {
+        double noise = VI_GRAZE_ULPS * ulps[i] + DBL_MIN;
+        if (d->guard_band[i] == 0.0 && fabs(g[i]) <= noise) d->guard_band[i] = noise;
+    }
+}
+
+int vi_me_initialize(vi_me *e)
+{
+    vi_sim *s = &e->s;
+    if (vi_sim_initialize(s) < 0) return -1;
+    vi_sim_data *d = &s->d;
+    vi_model *M = &d->M;
+    M->yC_in = (vi_ramp){d->in.yC_in, 0.0, d->t}; /* Model Exchange passes values only */
+    M->F_ext = (vi_ramp){d->in.F_ext, 0.0, d->t};
+    e->y = platform(M, d->t) - d->x[0];
+    e->active = 1;
+    e->zeno = 0;
+    e->t_event = d->t;
+    sync(e);
+    memset(d->guard_band, 0, sizeof d->guard_band);
+    arm_guards_at_zero(e);
+    double nominal[2];
+    vi_me_nominals(e, nominal);
+    s->log(s->log_env, VI_LOG_SOLVER, "Model Exchange: the importer integrates y and v (nominals %g m, %g m/s); "
+           "initial mode %d, delta = %.9g m, v = %.9g m/s", nominal[0], nominal[1], M->mode, d->x[0], d->x[1]);
+    return 0;
+}
+
+void vi_me_set_time(vi_me *e, double t)
+{
+    e->s.d.t = t;
+    sync(e);
+}
+
+void vi_me_get_states(vi_me *e, double x[VI_ME_NSTATES])
+{
+    const vi_sim_data *d = &e->s.d;
+    x[0] = e->active ? e->y : platform(&d->M, d->t) - d->x[0]; /* before: the initial state prepared */
+    x[1] = d->x[1];
+}
+
+void vi_me_set_states(vi_me *e, const double x[VI_ME_NSTATES])
+{
+    e->y = x[0];
+    e->s.d.x[1] = x[1];
+    sync(e);
+}
+
+void vi_me_derivatives(vi_me *e, double dx[VI_ME_NSTATES])
+{
+    const vi_sim_data *d = &e->s.d;
+    double r[2];
+    vi_model_rhs(&d->M, d->t, d->x, r);
+    dx[0] = d->x[1];
+    dx[1] = r[1];
+}
+
+void vi_me_indicators(vi_me *e, double z[VI_ME_NINDICATORS])
+{
+    const vi_sim_data *d = &e->s.d;
+    vi_model_guards(&d->M, d->t, d->x, z);
+    for (int i = 0; i < VI_NGUARDS; i++) z[i] += d->guard_band[i];
+}
+
+void vi_me_nominals(const vi_me *e, double nominal[VI_ME_NSTATES])
+{
+    const vi_sim_data *d = &e->s.d;
+    double rtol = rtol_of(d);
+    for (int i = 0; i < 2; i++) nominal[i] = e->active && d->atol[i] > 0.0 ? d->atol[i] / rtol : 1.0;
+}
+
+/* The end of a non-periodic profile at or before t: 1 with the reason in msg. */
+static int past_profile_end(const vi_model *M, double t, char *msg, size_t n)
+{
+    return t >= vi_model_rolling_limit(M, msg, n);
+}
+
+int vi_me_event_update(vi_me *e, vi_me_event *ev)
+{
+    vi_sim *s = &e->s;
+    vi_sim_data *d = &s->d;
+    vi_model *M = &d->M;
+    memset(ev, 0, sizeof *ev);
+    sync(e);
+    double t = d->t, x[2] = {d->x[0], d->x[1]}, g[VI_NGUARDS], ulps[VI_NGUARDS], tol[VI_NGUARDS];
+    int from = M->mode;
+    if (past_profile_end(M, t, s->msg, sizeof s->msg)) {
+        ev->terminate = 1;
+        return 0;
+    }
+    if (d->inputs_changed || vi_model_excitation_differs(M, d->par.a, d->par.f)) { /* set in event mode */
+        d->inputs_changed = 0;
+        vi_model_freeze(M, t, x); /* the memory of the state before the jump */
+        take_inputs(e, x);
+        /* a new a moves the platform (delta with it), the mass stays */
+        vi_model_set_excitation(M, t, x, d->par.a, d->par.f);
+        if (vi_model_resolve(M, t, x) != from)
+            s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: input change, mode %d -> %d", t, from, M->mode);
+    }
+    if (vi_model_next_breakpoint(M, d->step_t0) <= t) { /* a kink of the profile: the platform's rate jumped */
+        int before = M->mode;
+        if (vi_model_breakpoint(M, t, x) != before)
+            s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: profile kink, mode %d -> %d", t, before, M->mode);
+    }
+    int fired = -1, before = M->mode;
+    vi_model_guards(M, t, x, g);
+    for (int i = 0; i < VI_NGUARDS && fired < 0; i++)
+        if (g[i] + (M->mode == from ? d->guard_band[i] : 0.0) <= 0.0) fired = i;
+    if (fired >= 0) {
+        guard_noise(e, ulps, tol);
+        double band = VI_GRAZE_TOL * tol[fired] + VI_GRAZE_ULPS * ulps[fired] + DBL_MIN;
+        if (fabs(g[fired]) <= band) { /* a located crossing: onto the surface */
+            vi_model_event(M, t, x, fired);
+        } else { /* a state beyond the surface: the mode of the state as it is */
+            vi_model_freeze(M, t, x);
+            vi_model_resolve(M, t, x);
+        }
+        d->n_events++;
+        e->zeno = vi_sim_zeno_count(e->zeno, e->t_event, t);
+        e->t_event = t;
+        s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: guard %d of mode %d, mode %d -> %d, delta = %.9g m, "
+               "v = %.9g m/s", t, fired, before, before, M->mode, x[0], x[1]);
+        if (M->mode == before && M->mode == from) d->guard_band[fired] = band; /* grazing: disarmed */
+    }
+    if (x[0] != d->x[0] || x[1] != d->x[1]) { /* snapped, frozen onto the platform, or a new a */
+        ev->states_changed = 1;
+        e->y = platform(M, t) - x[0];
+        d->x[1] = x[1];
+    }
+    d->x[0] = platform(M, t) - e->y;
+    if (M->mode != from) memset(d->guard_band, 0, sizeof d->guard_band);
+    arm_guards_at_zero(e);
+    vi_model_guards(M, t, d->x, g);
+    for (int i = 0; i < VI_NGUARDS; i++) ev->another_pass |= g[i] + d->guard_band[i] < 0.0;
+    d->step_t0 = t;
+    d->step_v0 = d->x[1];
+    vi_sim_check_validity(&e->s);
+    if (e->zeno >= VI_ZENO_EVENTS) {
+        snprintf(s->msg, sizeof s->msg, "events accumulate at t = %.17g s (Zeno): %d events each within %g ulps of time "
+                 "of the one before, the last on guard %d of mode %d; the motion cannot go on", t, VI_ZENO_EVENTS,
+                 VI_ZENO_ULPS, fired, before);
+        ev->terminate = 1;
+    }
+    char why[8];
+    double next = fmin(vi_model_next_breakpoint(M, t), vi_model_rolling_limit(M, why, sizeof why));
+    if (isfinite(next) && next > t) ev->next_time_defined = 1, ev->next_time = next;
+    s->out_valid = 0;
+    return 0;
+}
+
+int vi_me_completed_step(vi_me *e)
+{
+    vi_sim_data *d = &e->s.d;
+    char why[8];
+    sync(e);
+    if (vi_model_next_breakpoint(&d->M, d->step_t0) <= d->t || past_profile_end(&d->M, d->t, why, sizeof why))
+        return 1; /* a time event was stepped over: handle it here */
+    double g[VI_NGUARDS];
+    vi_model_guards(&d->M, d->t, d->x, g);
+    for (int i = 0; i < VI_NGUARDS; i++)
+        if (d->guard_band[i] > 0.0 && g[i] > d->guard_band[i]) d->guard_band[i] = 0.0; /* moved away: armed */
+    d->step_t0 = d->t;
+    d->step_v0 = d->x[1];
+    vi_sim_check_validity(&e->s);
+    return 0;
+}
+
+void vi_me_outputs(vi_me *e, vi_outputs *out)
+{
+    sync(e);
+    vi_sim_outputs(&e->s, out);
+    const vi_sim_data *d = &e->s.d;
+    double r[2];
+    vi_model_rhs(&d->M, d->t, d->x, r);
+    out->der_y = d->x[1];
+    out->der_v = r[1];
+}
+
+int vi_me_checkpoint(vi_me *e)
+{
+    sync(e);
+    if (e->active) {
+        double x[2] = {e->s.d.x[0], e->s.d.x[1]};
+        vi_model_freeze(&e->s.d.M, e->s.d.t, x); /* the memory of the current state (not the state) */
+    }
+    return vi_sim_checkpoint(&e->s);
+}
+
+int vi_me_restore(vi_me *e, int running)
+{
+    if (vi_sim_restore(&e->s) < 0) return -1;
+    e->active = running;
+    e->zeno = 0;
+    if (e->active) e->y = platform(&e->s.d.M, e->s.d.t) - e->s.d.x[0];
+    return 0;
+}
+
+/* ---- the Jacobian ---------------------------------------------------------------------------- */
+
+/* d(stiffness)/d(delta) [N/m^2], the second derivative of the force in the current mode (0 where the
+ * force is linear or constant, and in stick, where the reported stiffness is that at delta_c). */
+static double stiffness_rate(const vi_model *M, double d)
+{
+    const vi_johnson *J = &M->J;
+    double s;
+    switch (M->mode) {
+    case VI_Mode_elastic:
+    case VI_Mode_plastic:
+        if (M->law == VI_ContactModel_lepp) return 0.0;
+        if (M->law == VI_ContactModel_hertz) return d > 0.0 ? 0.75 * M->K / sqrt(d) : 0.0;
+        if (d <= J->delta_Y) return (s = d / J->delta_Y) > 0.0 ? 0.75 * J->F_Y / (J->delta_Y * J->delta_Y * sqrt(s)) : 0.0;
+        /* eq. 3: F'' = 4 F_Y / (3 theta_Y k delta_Y^2), k = 2 delta/delta_Y - 1 */
+        return 4.0 * J->F_Y / (3.0 * J->theta_Y * (2.0 * d / J->delta_Y - 1.0) * J->delta_Y * J->delta_Y);
+    case VI_Mode_unload: return (s = d - M->U.delta_f) > 0.0 ? 0.75 * M->U.Kbar / sqrt(s) : 0.0;
+    default: return 0.0;
+    }
+}
+
+/* Rates of the unloading curve's parameters with delta_c (Johnson, fixed contact point, while it
+ * loads plastically and delta_c = delta): d/d(delta_c) of Rbar, delta_r, and the plastic work. */
+typedef struct {
+    double Rbar, delta_r, W_plastic;
+} unload_rates;
+
+static unload_rates memory_rates(const vi_model *M, double dc)
+{
+    const vi_johnson *J = &M->J;
+    vi_unload_curve U = vi_johnson_unload_curve(J, M->unloading, dc);
+    unload_rates r;
+    if (M->unloading == VI_UNLOAD_CONTINUOUS) { /* a_c^2 = R* (2 delta_c - delta_Y), F_c the load at delta_c */
+        double F = vi_johnson_load(J, dc), dF = vi_johnson_load_stiffness(J, dc);
+        double a = sqrt(J->R_star * (2.0 * dc - J->delta_Y)), da = J->R_star / a;
+        r.Rbar = 4.0 * J->E_star / 3.0 * (3.0 * a * a * da / F - a * a * a * dF / (F * F)); /* Rbar = 4 E* a^3/(3 F) */
+        r.delta_r = 3.0 / (4.0 * J->E_star) * (dF / a - F * da / (a * a));                 /* delta_r = 3 F/(4 E* a) */
+    } else { /* Rbar = R* sqrt(k_c), delta_r = delta_Y sqrt(k_c), k_c = 2 delta_c/delta_Y - 1 */
+        double sk = sqrt(2.0 * dc / J->delta_Y - 1.0);
+        r.Rbar = J->R_star / (J->delta_Y * sk);
+        r.delta_r = 1.0 / sk;
+    }
+    /* W = load work(delta_c) - 0.4 Kbar delta_r^2.5, Kbar = 4/3 E* sqrt(Rbar) */
+    double dK = 2.0 / 3.0 * J->E_star * r.Rbar / sqrt(U.Rbar), dr = U.delta_r;
+    r.W_plastic = vi_johnson_load(J, dc) - 0.4 * dK * dr * dr * sqrt(dr) - U.Kbar * dr * sqrt(dr) * r.delta_r;
+    return r;
+}
+
+double vi_me_partial(vi_me *e, int unknown, int known)
+{
+    sync(e);
+    const vi_sim_data *d = &e->s.d;
+    const vi_model *M = &d->M;
+    double dlt = d->x[0], m = M->m, h = d->t - d->step_t0;
+    int stick = M->mode == VI_Mode_stick, plastic = M->mode == VI_Mode_plastic;
+    double k = stick ? 0.0 : m * vi_model_stiffness_over_mass(M, d->t, d->x); /* dF/ddelta */
+    int johnson_memory = plastic && M->law == VI_ContactModel_johnson && !M->moving;
+    int lepp_flow = plastic && M->law == VI_ContactModel_lepp;
+    /* The unknown's partials with respect to delta, v, F_ext, and yC (directly, not through delta). */
+    double a_d = 0.0, a_v = 0.0, a_F = 0.0, a_yC = 0.0;
+    switch (unknown) {
+    case VI_VR_der_y: a_v = 1.0; break;
+    case VI_VR_der_v: a_d = k / m, a_F = stick ? 0.0 : 1.0 / m; break; /* (F - W0 + F_ext)/m; stick: yC'' */
+    case VI_VR_F: a_d = k, a_F = stick ? -1.0 : 0.0; break;             /* stick: F_hold = W0 - F_ext + m yC'' */
+    case VI_VR_F_mean:
+        if (h > 0.0) a_v = m / h, a_F = -1.0; /* m (v - v0)/h + W0 - F_ext */
+        else a_d = k, a_F = stick ? -1.0 : 0.0;
+        break;
+    case VI_VR_delta: a_d = 1.0; break;
+    case VI_VR_y: a_d = -1.0, a_yC = 1.0; break;
+    case VI_VR_v: a_v = 1.0; break;
+    case VI_VR_yC: a_yC = 1.0; break;
+    case VI_VR_k_contact: a_d = stick ? 0.0 : stiffness_rate(M, dlt); break;
+    case VI_VR_delta_c: a_d = johnson_memory; break;
+    case VI_VR_delta_f: a_d = johnson_memory ? 1.0 - memory_rates(M, dlt).delta_r : 0.0; break;
+    case VI_VR_Rbar: a_d = johnson_memory ? memory_rates(M, dlt).Rbar : 0.0; break;
+    case VI_VR_delta_p: a_d = lepp_flow; break;
+    case VI_VR_W_plastic: a_d = johnson_memory ? memory_rates(M, dlt).W_plastic : lepp_flow ? M->J.F_Y : 0.0; break;
+    default: break; /* calculated parameters: constant */
+    }
+    switch (known) { /* delta = yC(t) - y, yC = yC_in + ... */
+    case VI_VR_y: return -a_d;
+    case VI_VR_v: return a_v;
+    case VI_VR_yC_in: return a_d + a_yC;
+    case VI_VR_F_ext: return a_F;
+    default: return 0.0;
+    }
+}
