@@ -4,6 +4,8 @@ run_me(fmu_path, params, stop_time, ...) -> (result, messages): fmpy.simulate_fm
 fmi_type='ModelExchange' on an instance whose logger records (status, category, text), with logEvents
 on, so that every mode change is known with its exact time (vibroimpact.compare.fmu_events reads them).
 """
+import ctypes
+
 import numpy as np
 from fmpy import extract, read_model_description, simulate_fmu
 from fmpy.fmi2 import FMU2Model

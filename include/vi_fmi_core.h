@@ -20,6 +20,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "vi_format.h"
 #include "vi_fmu.h"
 
 typedef enum { VI_STATUS_OK, VI_STATUS_WARNING, VI_STATUS_DISCARD, VI_STATUS_ERROR, VI_STATUS_FATAL } vi_status;
@@ -76,6 +77,7 @@ typedef enum {
     VI_CALL_GET_EVENT_INDICATORS,
     VI_CALL_GET_STATES,
     VI_CALL_GET_NOMINALS,
+    VI_CALL_ENTER_STEP_MODE, /* Co-Simulation with Event Mode (FMI 3.0): back to stepping */
     VI_CALL_COUNT
 } vi_call;
 extern const unsigned vi_core_allowed[VI_CALL_COUNT];
@@ -95,6 +97,27 @@ typedef struct {
     /* Hand one finished message to the importer's logger (escape it as the version requires). The
      * text is printable ASCII, at most VI_CORE_MESSAGE_MAX bytes with its NUL. */
     void (*emit)(const vi_core *c, vi_status status, const char *category, const char *text);
+    /* Nonzero (FMI 3.0): Integer rows with an enumeration, and Enumeration rows, are accessed as
+     * VI_Enumeration (the face's Int64 calls), the other Integer rows as VI_Integer (Int32); zero
+     * (FMI 2.0): all of them as VI_Integer. */
+    int named_enumerations;
+    /* The names of the vi_type values as the face's API calls them (messages); NULL: the table's. */
+    const char *const *type_names;
+    /* Nonzero: time_vr is the value reference of the independent variable time, read as a Real
+     * (the model's time; in initialization mode the start time) and never set. */
+    int has_time;
+    unsigned time_vr;
+    /* Nonzero: derivative_vr_base + r is the value reference of the first time derivative of the Real
+     * input in row r (FMI 3.0 has no fmi2SetRealInputDerivatives: the derivatives are variables, read
+     * and written as Reals; setting an input's value resets its derivative to 0 as before). */
+    int has_input_derivatives;
+    unsigned derivative_vr_base;
+    /* Nonzero: Co-Simulation has Event Mode (FMI 3.0), so FMU states taken there may be restored. */
+    int cs_event_mode;
+    /* Nonzero: indicator_vr_base + i is the value reference of the model's event indicator i, read
+     * as a Real by a Model Exchange instance (FMI 3.0 lists event indicators as variables). */
+    int has_indicator_vrs;
+    unsigned indicator_vr_base;
 } vi_face;
 
 /* The importer's callbacks as the core keeps them: memory (calloc and free semantics) and an
@@ -120,6 +143,7 @@ struct vi_core {
     unsigned log_mask; /* bit per VI_CAT_* */
     int stop_time_defined;
     double stop_time;
+    unsigned face_options; /* the face's own settings of the instance (not in FMU states) */
     /* Model Exchange */
     double t_committed; /* the last event or completed integrator step: time never goes back before it */
     int event_passes;   /* passes in a row of the discrete-state iteration that asked for another one */
@@ -128,14 +152,13 @@ struct vi_core {
 /* ---- logging and the state machine (for the faces' own calls) ---- */
 /* Is the category enabled? */
 int vi_core_logs(const vi_core *c, int category);
-void vi_core_log(const vi_core *c, vi_status status, int category, const char *fmt, ...)
-    __attribute__((format(printf, 4, 5)));
+void vi_core_log(const vi_core *c, vi_status status, int category, const char *fmt, ...) VI_PRINTF_FORMAT(4, 5);
 /* The instance if `call` is allowed in its state (logs the call), else NULL (logs why). */
 vi_core *vi_core_enter(void *instance, vi_call call, const char *fn);
 /* A failed simulation call: log the model's reason, enter the error state, VI_STATUS_ERROR. */
 vi_status vi_core_fail(vi_core *c, const char *fn);
 /* A message for a call refused before anything changed (state unchanged): VI_STATUS_ERROR. */
-vi_status vi_core_refuse(const vi_core *c, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+vi_status vi_core_refuse(const vi_core *c, const char *fmt, ...) VI_PRINTF_FORMAT(2, 3);
 
 /* ---- life cycle ---- */
 /* Check the arguments, allocate the instance with cb (logging through face), initialize the model
@@ -159,8 +182,8 @@ typedef enum { VI_ELEM_DOUBLE, VI_ELEM_INT, VI_ELEM_INT64, VI_ELEM_BOOL, VI_ELEM
 /* Read nvr values of API type `api` (Real, Integer (enumerations too), Boolean, String). */
 vi_status vi_core_get(void *instance, const char *fn, const unsigned vr[], size_t nvr, vi_type api, void *values,
                       vi_elem elem);
-/* Write nvr values: all are checked (type, settable now, finite Real in its range, String length)
- * before any is stored. */
+/* Write nvr values: all are checked (type, settable now, finite Real in its range, integer in the
+ * range of the table's int, String length) before any is stored. */
 vi_status vi_core_set(void *instance, const char *fn, const unsigned vr[], size_t nvr, vi_type api,
                       const void *values, vi_elem elem);
 /* First derivatives of Real inputs (Co-Simulation): order 1 only, finite. */
@@ -177,6 +200,13 @@ vi_status vi_core_deserialize(void *instance, const char *fn, const unsigned cha
 
 /* ---- Co-Simulation ---- */
 vi_status vi_core_do_step(void *instance, const char *fn, double current_time, double step);
+/* vi_core_do_step that also ends at the first change of the model's mode inside the step (the
+ * model's advance_to_event hook; without it, as vi_core_do_step): VI_STATUS_OK with *event = 1 and
+ * vi_core_time() at the event, or *event = 0 when the step went to its end without one. */
+vi_status vi_core_do_step_to_event(void *instance, const char *fn, double current_time, double step, int *event);
+/* Co-Simulation with Event Mode (FMI 3.0): Event Mode -> Step Mode (vi_core_enter_event_mode, below,
+ * enters it from Step Mode). */
+vi_status vi_core_enter_step_mode(void *instance, const char *fn);
 /* The model's current time [s] (fmi2LastSuccessfulTime after a discarded step). */
 double vi_core_time(const vi_core *c);
 
@@ -188,6 +218,10 @@ double vi_core_time(const vi_core *c);
 /* At most this many passes of the discrete-state iteration in a row may ask for another one; then
  * the discrete states do not settle and the instance goes into the error state. */
 #define VI_MAX_EVENT_PASSES 100
+/* Event indicators a face may read one by one (indicator_vr_base). */
+#define VI_MAX_INDICATORS 64
+/* Model Exchange: continuous-time mode -> Event Mode; Co-Simulation with Event Mode (FMI 3.0): Step
+ * Mode -> Event Mode. */
 vi_status vi_core_enter_event_mode(void *instance, const char *fn);
 /* One pass (the model's event_update); *ev as the model filled it. When the model asks to terminate, its
  * reason is logged as a warning whatever is enabled. */

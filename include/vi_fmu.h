@@ -49,8 +49,8 @@ enum { VI_FMU_LOG_EVENTS, VI_FMU_LOG_SOLVER, VI_FMU_LOG_WARNING, VI_FMU_LOG_ERRO
 /* `running` of the restore hook. */
 enum { VI_FMU_RUNNING_CS = 1, VI_FMU_RUNNING_ME = 2 };
 
-/* Result of the advance hook. */
-enum { VI_FMU_ERROR = -1, VI_FMU_OK = 0, VI_FMU_DISCARD = 1 };
+/* Result of the advance hooks (VI_FMU_EVENT: advance_to_event only). */
+enum { VI_FMU_ERROR = -1, VI_FMU_OK = 0, VI_FMU_DISCARD = 1, VI_FMU_EVENT = 2 };
 
 /* What one pass of the discrete-state iteration (event_update hook) reports. The layer zeroes it
  * before the call. */
@@ -110,6 +110,11 @@ typedef struct {
      * earlier at a consistent state (time = the last successful time; the message says why).
      * VI_FMU_ERROR: failed. */
     int (*advance)(void *m, double t_end);
+    /* Optional (NULL: the model never stops at events; the FMI 3.0 face then never returns early).
+     * As advance, and it also ends at the first change of the model's mode inside the step (its
+     * events, as accurately as its solver locates them): VI_FMU_EVENT, time() is that instant, the
+     * new mode in force; the next advance goes on from there. */
+    int (*advance_to_event)(void *m, double t_end);
     /* Current time [s]. */
     double (*time)(const void *m);
     /* Optional: fmi2Terminate (e.g. log statistics). */

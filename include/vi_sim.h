@@ -21,8 +21,8 @@
 /* Longest path of the resources folder or a profile file. */
 #define VI_PATH_MAX 4096
 
-/* Results of vi_sim_advance (doc/model.md section 7.1). */
-enum { VI_SIM_OK = 0, VI_SIM_DISCARD = 1, VI_SIM_ERROR = -1 };
+/* Results of vi_sim_advance (doc/model.md section 7.1); VI_SIM_EVENT only from vi_sim_advance_until. */
+enum { VI_SIM_OK = 0, VI_SIM_DISCARD = 1, VI_SIM_ERROR = -1, VI_SIM_EVENT = 2 };
 
 /* Work bounds of one vi_sim_advance (one fmi2DoStep): internal solver steps and events. When either
  * is reached the advance ends with VI_SIM_DISCARD at the time reached (a consistent state). At about
@@ -42,6 +42,11 @@ enum { VI_SIM_OK = 0, VI_SIM_DISCARD = 1, VI_SIM_ERROR = -1 };
  * state is snapped onto the surface there. */
 #define VI_GRAZE_TOL 4.0
 #define VI_GRAZE_ULPS 256.0
+/* Early return (vi_sim_advance_until): a change of mode ends the advance only when it comes more than
+ * this many units of the time resolution DBL_EPSILON max(1 s, |t|) after the advance's start (the
+ * FMI layer takes steps of at least 16 such units); a change closer to the start is taken in the
+ * same advance, as one at its very instant. */
+#define VI_EARLY_RETURN_UNITS 1024.0
 /* A breakpoint of the platform motion (a kink of the rolling profile) closer than this many ulps of
  * the time is taken at once, without integrating (the solver cannot step that little). */
 #define VI_BREAKPOINT_ULPS 64.0
@@ -52,7 +57,8 @@ typedef struct {
     vi_inputs din;       /* their time derivatives (order 1); setting a value resets its derivative */
     int inputs_changed;  /* set by the setters; applied at the start of the next step */
     double t_start;
-    double tolerance;    /* from fmi2SetupExperiment, 0 when not defined (then par.rtol counts) */
+    double tolerance;    /* the importer's (fmi2SetupExperiment, fmi3EnterInitializationMode), 0 when not
+                            defined (then par.rtol counts) */
     int initialized;     /* vi_sim_initialize done: atol, model and state are those of a running simulation */
     vi_model M;
     double t, x[2];      /* time [s] and state (delta [m], v [m/s]); between events x is the solver's
@@ -106,6 +112,13 @@ int vi_sim_initialize(vi_sim *s);
  *                   names that time and the cause;
  *   VI_SIM_ERROR:   s->msg says why (t_end not beyond s->d.t, solver failure, non-finite state). */
 int vi_sim_advance(vi_sim *s, double t_end);
+/* vi_sim_advance, and with stop_at_mode_change nonzero it also ends at the first change of mode
+ * (contact, separation, yield, turning point, stick entry or exit; by an event or a kink of the
+ * profile) after the instant it starts (more than VI_EARLY_RETURN_UNITS units of time after it):
+ *   VI_SIM_EVENT:   s->d.t is the time of that change as the solver located it (t_end or earlier),
+ *                   the new mode is in force and the state there is consistent; the next advance
+ *                   continues from it as an uninterrupted one would. */
+int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change);
 /* Outputs and calculated parameters at the current time; computed at most once per state (lazy,
  * cached until the state changes through a vi_sim call). */
 void vi_sim_outputs(vi_sim *s, vi_outputs *out);

@@ -54,7 +54,8 @@ static int hex_digit(char ch)
 }
 
 /* The local path of a file URI (file:///p, file:/p or file://localhost/p), percent-decoded, in a
- * new block of the importer's memory; NULL when the URI is missing or names no local file. */
+ * new block of the importer's memory (on Windows /C:/p gives C:/p); NULL when the URI is missing or
+ * names no local file. */
 static char *resource_path(const fmi2CallbackFunctions *cb, const char *uri)
 {
     if (!uri || strncmp(uri, "file:", 5) != 0) return NULL;
@@ -76,6 +77,11 @@ static char *resource_path(const fmi2CallbackFunctions *cb, const char *uri)
         }
     }
     path[j] = '\0';
+#ifdef _WIN32
+    /* file:///C:/dir names the Windows path C:/dir */
+    char drive = (char)(path[1] | 0x20);
+    if (path[0] == '/' && drive >= 'a' && drive <= 'z' && path[2] == ':') memmove(path, path + 1, j);
+#endif
     return path;
 }
 

@@ -46,7 +46,7 @@ const unsigned vi_core_allowed[VI_CALL_COUNT] = {
     [VI_CALL_CANCEL_STEP] = VI_ST_ANY_BUT_FATAL,
     [VI_CALL_GET_STATUS] = VI_ST_STEP_COMPLETE | VI_ST_STEP_FAILED | VI_ST_TERMINATED,
     [VI_CALL_GET_LAST_STATUS] = VI_ST_STEP_COMPLETE | VI_ST_STEP_FAILED | VI_ST_TERMINATED | VI_ST_ERROR,
-    [VI_CALL_ENTER_EVENT_MODE] = VI_ST_EVENT | VI_ST_CONTINUOUS,
+    [VI_CALL_ENTER_EVENT_MODE] = VI_ST_EVENT | VI_ST_CONTINUOUS | VI_ST_STEP_COMPLETE,
     [VI_CALL_NEW_DISCRETE_STATES] = VI_ST_EVENT,
     [VI_CALL_ENTER_CONTINUOUS_MODE] = VI_ST_EVENT,
     [VI_CALL_COMPLETED_STEP] = VI_ST_CONTINUOUS,
@@ -56,6 +56,7 @@ const unsigned vi_core_allowed[VI_CALL_COUNT] = {
     [VI_CALL_GET_EVENT_INDICATORS] = ST_ME_READABLE,
     [VI_CALL_GET_STATES] = ST_ME_READABLE,
     [VI_CALL_GET_NOMINALS] = VI_ST_INSTANTIATED | VI_ST_EVENT | VI_ST_CONTINUOUS | VI_ST_TERMINATED | VI_ST_ERROR,
+    [VI_CALL_ENTER_STEP_MODE] = VI_ST_EVENT,
 };
 
 static const char *state_name(unsigned s)
@@ -341,13 +342,37 @@ static const vi_variable *lookup(vi_core *c, const char *fn, unsigned vr, vi_typ
         return NULL;
     }
     const vi_variable *v = &MODEL->variables[vr];
-    vi_type t = v->type == VI_Enumeration ? VI_Integer : v->type;
+    vi_type t = v->type;
+    if (t == VI_Integer || t == VI_Enumeration)
+        t = c->face->named_enumerations && strcmp(v->enumeration, "none") != 0 ? VI_Enumeration : VI_Integer;
     if (t != api) {
         static const char *const type_names[] = {"Real", "Integer", "Boolean", "Enumeration", "String"};
-        LOG_ERROR(c, "%s: value reference %u (%s) is of type %s", fn, vr, v->name, type_names[v->type]);
+        const char *type = c->face->type_names ? c->face->type_names[t] : type_names[v->type];
+        LOG_ERROR(c, "%s: value reference %u (%s) is of type %s", fn, vr, v->name, type);
         return NULL;
     }
     return v;
+}
+
+/* Is vr the independent variable time of the face? */
+static int is_time(const vi_core *c, unsigned vr) { return c->face->has_time && vr == c->face->time_vr; }
+
+/* Is vr an event indicator of the face (its index), else -1? */
+static int indicator_of(const vi_core *c, unsigned vr)
+{
+    if (!c->face->has_indicator_vrs || vr < c->face->indicator_vr_base) return -1;
+    unsigned i = vr - c->face->indicator_vr_base;
+    return i < (unsigned)MODEL->n_indicators ? (int)i : -1;
+}
+
+/* The Real input whose derivative has the value reference vr in the face, else NULL. */
+static const vi_variable *input_of_derivative(const vi_core *c, unsigned vr)
+{
+    if (!c->face->has_input_derivatives || vr < c->face->derivative_vr_base) return NULL;
+    unsigned row = vr - c->face->derivative_vr_base;
+    if (row >= (unsigned)MODEL->nvariables) return NULL;
+    const vi_variable *v = &MODEL->variables[row];
+    return v->group == VI_GROUP_INPUTS && v->type == VI_Real ? v : NULL;
 }
 
 /* Outputs and calculated parameters into c->outputs: computed from the current state (in
@@ -400,6 +425,28 @@ vi_status vi_core_get(void *instance, const char *fn, const unsigned vr[], size_
     if (nvr > 0 && (!vr || !values)) return vi_core_refuse(c, "%s: NULL array", fn);
     int have_out = 0;
     for (size_t i = 0; i < nvr; i++) {
+        if (is_time(c, vr[i]) && api == VI_Real) { /* in initialization mode: the start time (prepare) */
+            if (!have_out && current_outputs(c, fn) < 0) return VI_STATUS_ERROR;
+            have_out = 1;
+            elem_store(values, elem, i, MODEL->time(c->model), 0);
+            continue;
+        }
+        const vi_variable *in = api == VI_Real ? input_of_derivative(c, vr[i]) : NULL;
+        if (in) {
+            elem_store(values, elem, i, *derivative(c, in), 0);
+            continue;
+        }
+        int k = api == VI_Real ? indicator_of(c, vr[i]) : -1;
+        if (k >= 0) { /* the model's indicators at the current state (in initialization mode: the initial one) */
+            double z[VI_MAX_INDICATORS];
+            if (c->kind != VI_KIND_ME || MODEL->n_indicators > VI_MAX_INDICATORS)
+                return vi_core_refuse(c, "%s: value reference %u is an event indicator of Model Exchange", fn, vr[i]);
+            if (!have_out && current_outputs(c, fn) < 0) return VI_STATUS_ERROR;
+            have_out = 1;
+            MODEL->indicators(c->model, z);
+            elem_store(values, elem, i, z[k], 0);
+            continue;
+        }
         const vi_variable *v = lookup(c, fn, vr[i], api);
         if (!v) return VI_STATUS_ERROR;
         const void *p = storage(c, v);
@@ -477,8 +524,8 @@ static int settable(vi_core *c, const char *fn, const vi_variable *v)
     if (v->group == VI_GROUP_INPUTS) return 1;
     if (v->group == VI_GROUP_PARAMETERS && ((c->state & (VI_ST_INSTANTIATED | VI_ST_INIT)) || tunable(v))) return 1;
     if (v->group == VI_GROUP_PARAMETERS)
-        LOG_ERROR(c, "%s: %s is a fixed parameter: set it before fmi2ExitInitializationMode (or after fmi2Reset)", fn,
-                  v->name);
+        LOG_ERROR(c, "%s: %s is a fixed parameter: set it before the end of initialization mode (or after a reset)",
+                  fn, v->name);
     else
         LOG_ERROR(c, "%s: %s is an %s and cannot be set", fn, v->name, v->causality);
     return 0;
@@ -522,10 +569,23 @@ vi_status vi_core_set(void *instance, const char *fn, const unsigned vr[], size_
     ENTER(api == VI_Real ? VI_CALL_SET_REAL : VI_CALL_SET_DISCRETE);
     if (nvr > 0 && (!vr || !values)) return vi_core_refuse(c, "%s: NULL array", fn);
     for (size_t i = 0; i < nvr; i++) {
+        if (is_time(c, vr[i])) return vi_core_refuse(c, "%s: time is the independent variable: it cannot be set", fn);
+        if (indicator_of(c, vr[i]) >= 0)
+            return vi_core_refuse(c, "%s: value reference %u is an event indicator: it cannot be set", fn, vr[i]);
+        const vi_variable *in = api == VI_Real ? input_of_derivative(c, vr[i]) : NULL;
+        if (in && !isfinite(elem_real(values, elem, i)))
+            return vi_core_refuse(c, "%s: the derivative of %s must be finite", fn, in->name);
+        if (in) continue;
         const vi_variable *v = lookup(c, fn, vr[i], api);
         if (!v || !settable(c, fn, v) || !acceptable(c, fn, v, values, elem, i)) return VI_STATUS_ERROR;
     }
     for (size_t i = 0; i < nvr; i++) {
+        const vi_variable *in = api == VI_Real ? input_of_derivative(c, vr[i]) : NULL;
+        if (in) { /* in the order given: a value set after its derivative resets it */
+            *derivative(c, in) = elem_real(values, elem, i);
+            MODEL->changed(c->model);
+            continue;
+        }
         const vi_variable *v = &MODEL->variables[vr[i]];
         void *p = storage(c, v);
         if (api == VI_String) {
@@ -671,7 +731,9 @@ static int saved_running(const vi_core *c, const vi_saved_state *s)
 static unsigned kind_states(const vi_core *c)
 {
     unsigned common = VI_ST_INSTANTIATED | VI_ST_INIT | VI_ST_TERMINATED | VI_ST_ERROR;
-    return common | (c->kind == VI_KIND_ME ? VI_ST_EVENT | VI_ST_CONTINUOUS : VI_ST_STEP_COMPLETE | VI_ST_STEP_FAILED);
+    return common | (c->kind == VI_KIND_ME ? VI_ST_EVENT | VI_ST_CONTINUOUS
+                                           : VI_ST_STEP_COMPLETE | VI_ST_STEP_FAILED |
+                                                 (c->face->cs_event_mode ? VI_ST_EVENT : 0u));
 }
 
 /* Is s (aligned, at least a header) a state of this FMU that may be used? Logs the first reason
@@ -795,7 +857,7 @@ vi_status vi_core_deserialize(void *instance, const char *fn, const unsigned cha
 #define VI_TIME_MATCH_ULPS 1e3
 #define VI_MIN_STEP_ULPS 16.0
 
-vi_status vi_core_do_step(void *instance, const char *fn, double tc, double h)
+static vi_status do_step(void *instance, const char *fn, double tc, double h, int *event)
 {
     ENTER(VI_CALL_DO_STEP);
     double t = MODEL->time(c->model);
@@ -813,12 +875,19 @@ vi_status vi_core_do_step(void *instance, const char *fn, double tc, double h)
                               fn, h, t, VI_MIN_STEP_ULPS * unit, VI_MIN_STEP_ULPS);
     if (c->stop_time_defined && t_end > c->stop_time + VI_TIME_MATCH_ULPS * unit)
         return vi_core_refuse(c, "%s: the step to %.17g passes the stop time %.17g", fn, t_end, c->stop_time);
-    int rc = MODEL->advance(c->model, t_end);
+    int rc = event && MODEL->advance_to_event ? MODEL->advance_to_event(c->model, t_end) : MODEL->advance(c->model, t_end);
     if (rc < 0) return vi_core_fail(c, fn);
-    if (rc == 0 && MODEL->time(c->model) != t_end) { /* never OK for a step that did not happen */
-        LOG_ERROR(c, "%s: the model stopped at t = %.17g s instead of %.17g s", fn, MODEL->time(c->model), t_end);
+    double t_now = MODEL->time(c->model);
+    if ((rc == VI_FMU_OK && t_now != t_end) || (rc == VI_FMU_EVENT && !(event && t_now > t && t_now <= t_end))) {
+        /* never OK for a step that did not happen */
+        LOG_ERROR(c, "%s: the model stopped at t = %.17g s instead of %s %.17g s", fn, t_now,
+                  rc == VI_FMU_EVENT ? "after the start and at most" : "", t_end);
         c->state = VI_ST_ERROR;
         return VI_STATUS_ERROR;
+    }
+    if (rc == VI_FMU_EVENT) {
+        *event = 1;
+        return VI_STATUS_OK;
     }
     if (rc > 0) { /* stopped early at a consistent state: the last successful time tells where */
         vi_core_log(c, VI_STATUS_DISCARD, VI_CAT_DISCARD, "%s: %s", fn, MODEL->message(c->model));
@@ -826,6 +895,16 @@ vi_status vi_core_do_step(void *instance, const char *fn, double tc, double h)
         return VI_STATUS_DISCARD;
     }
     return VI_STATUS_OK;
+}
+
+vi_status vi_core_do_step(void *instance, const char *fn, double tc, double h) { return do_step(instance, fn, tc, h, NULL); }
+
+vi_status vi_core_do_step_to_event(void *instance, const char *fn, double tc, double h, int *event)
+{
+    int stopped = 0;
+    vi_status st = do_step(instance, fn, tc, h, &stopped);
+    if (event) *event = stopped;
+    return st;
 }
 
 /* ---- Model Exchange --------------------------------------------------------------------------- */
@@ -846,10 +925,24 @@ static int me_args(vi_core *c, const char *fn, const void *array, size_t n, size
 vi_status vi_core_enter_event_mode(void *instance, const char *fn)
 {
     ENTER(VI_CALL_ENTER_EVENT_MODE);
+    if (c->kind == VI_KIND_CS) { /* Co-Simulation with Event Mode (FMI 3.0): from Step Mode */
+        if (c->state != VI_ST_STEP_COMPLETE || !c->face->cs_event_mode)
+            return vi_core_refuse(c, "%s: not allowed in state '%s'", fn, state_name(c->state));
+        c->state = VI_ST_EVENT;
+        return VI_STATUS_OK;
+    }
     ME_ARGS(NULL, 0, 0, "");
     if (c->state == VI_ST_CONTINUOUS) c->event_passes = 0;
     c->state = VI_ST_EVENT;
     c->t_committed = MODEL->time(c->model);
+    return VI_STATUS_OK;
+}
+
+vi_status vi_core_enter_step_mode(void *instance, const char *fn)
+{
+    ENTER(VI_CALL_ENTER_STEP_MODE);
+    if (c->kind != VI_KIND_CS) return vi_core_refuse(c, "%s: only for Co-Simulation", fn);
+    c->state = VI_ST_STEP_COMPLETE;
     return VI_STATUS_OK;
 }
 

@@ -11,6 +11,9 @@
 _Static_assert((int)VI_FMU_LOG_EVENTS == (int)VI_LOG_EVENTS && (int)VI_FMU_LOG_SOLVER == (int)VI_LOG_SOLVER &&
                    (int)VI_FMU_LOG_WARNING == (int)VI_LOG_WARNING && (int)VI_FMU_LOG_ERROR == (int)VI_LOG_ERROR,
                "vi_sim logs with the layer's categories");
+_Static_assert((int)VI_FMU_OK == (int)VI_SIM_OK && (int)VI_FMU_DISCARD == (int)VI_SIM_DISCARD &&
+                   (int)VI_FMU_ERROR == (int)VI_SIM_ERROR && (int)VI_FMU_EVENT == (int)VI_SIM_EVENT,
+               "vi_sim's results are the layer's");
 
 static void init(void *m, vi_fmu_log_fn log, void *env)
 {
@@ -56,6 +59,7 @@ static int initialize(void *m)
 }
 
 static int advance(void *m, double t_end) { return vi_sim_advance(m, t_end); }
+static int advance_to_event(void *m, double t_end) { return vi_sim_advance_until(m, t_end, 1); }
 static double time_of(const void *m) { return ((const vi_sim *)m)->d.t; }
 
 static void terminate(void *m)
@@ -137,6 +141,7 @@ const vi_fmu_model vi_fmu_this_model = {
     .prepare = prepare,
     .initialize = initialize,
     .advance = advance,
+    .advance_to_event = advance_to_event,
     .time = time_of,
     .terminate = terminate,
     .state = state,

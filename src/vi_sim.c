@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "vi_check.h"
+#include "vi_format.h"
 
 _Static_assert((int)VI_Solver_bdf == (int)VI_METHOD_BDF && (int)VI_Solver_adams == (int)VI_METHOD_ADAMS &&
                    (int)VI_Solver_dop853 == (int)VI_METHOD_DOP853,
@@ -162,7 +163,8 @@ int vi_sim_prepare(vi_sim *s)
     /* The parameters lie in the ranges of the variable table (rtol among them); left to check: the
      * experiment's tolerance, and max_step between 0 and VI_MAX_STEP_MIN. */
     if (d->tolerance > 0.0 && !(d->tolerance >= VI_RTOL_MIN && d->tolerance <= VI_RTOL_MAX))
-        VI_FAIL(s->msg, sizeof s->msg, "relative tolerance (fmi2SetupExperiment) = %g: use a value in [%g, %g]",
+        VI_FAIL(s->msg, sizeof s->msg, "relative tolerance (the importer's: fmi2SetupExperiment, fmi3EnterInitializationMode) = %g: "
+                "use a value in [%g, %g]",
                 d->tolerance, VI_RTOL_MIN, VI_RTOL_MAX);
     if (!(p->max_step == 0.0 || p->max_step >= VI_MAX_STEP_MIN))
         VI_FAIL(s->msg, sizeof s->msg, "max_step = %g s: use 0 (no limit) or a step >= %g s", p->max_step,
@@ -327,7 +329,7 @@ int vi_sim_zeno_count(int count, double t_before, double t)
 }
 
 /* End the advance early (doc/model.md section 7.1): the state at d->t is consistent and usable. */
-static int discard(vi_sim *s, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static int discard(vi_sim *s, const char *fmt, ...) VI_PRINTF_FORMAT(2, 3);
 static int discard(vi_sim *s, const char *fmt, ...)
 {
     va_list ap;
@@ -373,7 +375,21 @@ static int apply_breakpoint(vi_sim *s)
     return vi_solver_reset(s->solver, d->t, d->x);
 }
 
-int vi_sim_advance(vi_sim *s, double t_end)
+/* Early return: does the advance end here, after an event or a profile kink that may have switched
+ * the mode from mode_before? Only when asked, the mode changed, and the time lies beyond the instant
+ * the advance started (more than VI_EARLY_RETURN_UNITS units of the time resolution after it): mode
+ * changes at that instant are taken in the same advance, so every early return makes a step an
+ * importer can take with its other FMUs, and events accumulating at one instant still meet the
+ * Zeno rule. */
+static int stop_here(const vi_sim *s, int stop_at_mode_change, int mode_before)
+{
+    double unit = DBL_EPSILON * fmax(1.0, fabs(s->d.t));
+    return stop_at_mode_change && s->d.M.mode != mode_before && s->d.t - s->d.step_t0 > VI_EARLY_RETURN_UNITS * unit;
+}
+
+int vi_sim_advance(vi_sim *s, double t_end) { return vi_sim_advance_until(s, t_end, 0); }
+
+int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change)
 {
     vi_sim_data *d = &s->d;
     if (!s->solver) {
@@ -395,7 +411,7 @@ int vi_sim_advance(vi_sim *s, double t_end)
         s->solver_stale = 0;
     }
     long steps_left = VI_MAX_STEPS_PER_ADVANCE, events = 0, kinks = 0;
-    int zeno = 0;
+    int zeno = 0, stopped = 0; /* stopped: at a mode change, asked for by stop_at_mode_change */
     int fired[VI_SOLVER_MAX_GUARDS];
     char why[400]; /* rolling: a non-periodic profile ends at `limit` */
     double limit = vi_model_rolling_limit(&d->M, why, sizeof why), target = fmin(t_end, limit);
@@ -403,6 +419,7 @@ int vi_sim_advance(vi_sim *s, double t_end)
      * distance |V| (t_end - t) rolled) */
     while (d->t < target) {
         long taken = 0;
+        int mode_before = d->M.mode;
         double t_before = d->t, bp = vi_model_next_breakpoint(&d->M, d->t), stop = fmin(target, bp);
         int rc = VI_SOLVER_REACHED;
         if ((stop == bp || kinks) && stop - d->t <= VI_BREAKPOINT_ULPS * DBL_EPSILON * fabs(stop)) {
@@ -417,6 +434,7 @@ int vi_sim_advance(vi_sim *s, double t_end)
                 kinks++;
                 if (apply_breakpoint(s) < 0) goto fail;
             }
+            if ((stopped = stop_here(s, stop_at_mode_change, mode_before))) break;
             if (d->t >= target) break;
             continue;
         }
@@ -437,6 +455,7 @@ int vi_sim_advance(vi_sim *s, double t_end)
             return discard(s, "work bound: %ld events in one step, stopped at t = %.17g s (mode %d); "
                               "continue from there or use smaller communication steps",
                            VI_MAX_EVENTS_PER_ADVANCE, d->t, d->M.mode);
+        if ((stopped = stop_here(s, stop_at_mode_change, mode_before))) break;
     }
     if (!isfinite(d->x[0]) || !isfinite(d->x[1])) {
         snprintf(s->msg, sizeof s->msg, "the state is not finite at t = %.17g s", d->t);
@@ -444,6 +463,7 @@ int vi_sim_advance(vi_sim *s, double t_end)
     }
     if (outputs_finite(s) < 0) return VI_SIM_ERROR;
     vi_sim_check_validity(s);
+    if (stopped) return VI_SIM_EVENT;
     if (t_end > limit) return discard(s, "%s", why); /* the end of the profile: nothing beyond it */
     d->t = t_end;
     return VI_SIM_OK;

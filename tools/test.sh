@@ -16,3 +16,7 @@ for solver in 1 3; do VI_SOLVER=$solver "$PY" -m pytest -q fmu-test -k "not libc
 cmake -S . -B build-asan -DVI_SANITIZE=ON -DVI_WERROR=ON -DVI_REQUIRE_TESTS=ON -DPython3_EXECUTABLE="$PY" >/dev/null
 cmake --build build-asan -j"$(nproc)" >/dev/null
 (cd build-asan && ctest --output-on-failure)
+
+# Cross-platform: the release FMUs (tools/release.sh: dist/fmi2 with linux64 and win64, the aarch64
+# libraries), the win64 DLLs under wine64 and the aarch64 libraries under qemu-user against linux64.
+PYTHON="$PY" ./tools/cross_test.sh

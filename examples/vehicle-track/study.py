@@ -18,7 +18,10 @@ Couplings compared (fmpy master, master.py):
             track's positions at both ends of the step (input derivative); the track gets the
             mean force of the step before
   Jacobi    every FMU with the outputs of the last communication point (libcosim's scheme)
-each handing the track the end-of-step force F or the step's mean force F_mean.
+each handing the track the end-of-step force F or the step's mean force F_mean; and on the FMI 3.0
+FMUs (master3.py), Gauss-Seidel contact -> track -> vehicle with the rail extrapolated (der(yC_in))
+and F_mean, without and with early return (the contact FMU stops at each contact loss and onset,
+the others step to that instant).
 Metrics (W: static wheel load, 66.2 kN):
   force error        max over the communication points of |F - F_ref| / W
   mean-force error   max over the steps of |F_mean - (impulse of F_ref over the step)/step| / W
@@ -34,6 +37,7 @@ import time
 import numpy as np
 
 import master
+import master3
 import parameters
 import reference
 import roughness
@@ -48,6 +52,8 @@ COUPLINGS = [  # label, scheme, order, rail motion, force handed to the track
     ("GS track first, F_mean", "gauss-seidel", ("vehicle", "track", "contact"), "ramp", "F_mean"),
     ("Jacobi, F", "jacobi", None, "hold", "F"),
     ("Jacobi, F_mean", "jacobi", None, "hold", "F_mean"),
+    ("FMI 3.0 contact first, F_mean", "fmi3", None, "ramp", "F_mean"),
+    ("FMI 3.0 early return, F_mean", "fmi3 early return", None, "ramp", "F_mean"),
 ]
 DIVERGED = 1.0  # a force error above the static wheel load: the coupling is unstable
 
@@ -86,14 +92,20 @@ def sweep(system, sol, steps, couplings, stop_time, profile, excitation, build):
         for h in steps:
             t0 = time.time()
             try:
-                r = master.run(h, stop_time, scheme, order or ("vehicle", "contact", "track"), force, rail,
-                               profile, excitation, build)
+                if scheme.startswith("fmi3"):
+                    r = master3.run(h, stop_time, force, rail, scheme == "fmi3 early return", profile, excitation,
+                                    build)
+                else:
+                    r = master.run(h, stop_time, scheme, order or ("vehicle", "contact", "track"), force, rail,
+                                   profile, excitation, build)
                 m = metrics(r, sol, system)
                 status = "ok" if np.isfinite(m["force_error"]) and m["force_error"] < DIVERGED else "diverged"
             except Exception as e:  # an unstable coupling can drive an FMU into an error
                 m, status = {}, f"failed: {str(e).splitlines()[0][:80]}"
                 r = None
             row = {"coupling": label, "step": h, "status": status, "wall_s": round(time.time() - t0, 2), **m}
+            if r is not None and "events" in r:
+                row["early_returns"] = len(r["events"])
             rows.append(row)
             print(" ".join(f"{k}={v:.3g}" if isinstance(v, float) else f"{k}={v}" for k, v in row.items()))
             if r is not None and h in (1e-5, 1e-4):
@@ -174,7 +186,8 @@ def plot_errors(rows, targets):
     metrics_ = [("force_error", "force error  max|F - F_ref| / W"),
                 ("mean_force_error", "mean-force error  max|F_mean - F_mean,ref| / W"),
                 ("energy_created_rel", "|energy created by the coupling| / energy dissipated\n(open: negative, the coupling dissipates)")]
-    styles = {"GS hold": "o-", "GS ramp": "s-", "GS track first": "d:", "Jacobi": "^--"}
+    styles = {"GS hold": "o-", "GS ramp": "s-", "GS track first": "d:", "Jacobi": "^--",
+              "FMI 3.0 contact first": "x-.", "FMI 3.0 early return": "+-."}
     for ax, (key, title) in zip(axes, metrics_):
         for label, *_ in COUPLINGS:
             pts = [(r["step"], r[key]) for r in rows

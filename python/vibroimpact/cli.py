@@ -14,6 +14,7 @@ COMMANDS = {
     "compare": ("compare", "main", "the FMU against the committed reference on every scenario (a table)"),
     "reference": ("reference.generate", "main", "regenerate the reference traces from the independent model"),
     "wplastic": ("wplastic", "main", "where the plastic work is negative after a Johnson yield (closed forms)"),
+    "fmi3": ("fmi3_report", "main", "the FMI 3.0 FMU's early returns on every scenario against the reference (a table)"),
     "path": (None, None, "print the path of the FMU the commands use (vibroimpact.fmu_path())"),
 }
 

@@ -1,0 +1,152 @@
+"""The FMI 3.0 build of the FMU and the helpers to drive it with fmpy: where it is, setting a value
+by its FMI 3.0 type, initializing an instance (through Event Mode when it uses it), a step that
+reports instead of raising, and a loop that follows the FMU's early returns to its events.
+
+The FMI 3.0 FMU is the same model as the FMI 2.0 one (doc/fmi3.md): Float64, Int32, Boolean,
+String variables and the options and `mode` as Enumerations (read and written as Int64); a
+Co-Simulation step may return early at a change of the model's mode.
+"""
+import ctypes
+
+from . import fmu as _fmu
+
+OK, WARNING, DISCARD, ERROR, FATAL = range(5)
+
+
+def fmu3_path(required=True):
+    """The FMI 3.0 VibroImpact.fmu: fmi3/VibroImpact.fmu beside the FMI 2.0 FMU of fmu_path() (in a
+    development checkout build/fmi3/, in an installed package vibroimpact/fmi3/)."""
+    path = _fmu.fmu_path(required=False).parent / "fmi3" / _fmu.NAME
+    if required and not path.is_file():
+        raise FileNotFoundError(f"{path} does not exist: build it (cmake -S . -B build && cmake --build build) "
+                                f"or install the package with pip install .")
+    return path
+
+
+# ---- values --------------------------------------------------------------------------------------------
+
+def set_value(slave, vr, value, kind=None):
+    """fmi3Set<kind> of one value on an fmpy FMU3Slave. kind: the FMI 3.0 model description's type
+    (Float64, Int32, Enumeration, Boolean, String); None: from the Python type of value (str String,
+    bool Boolean, int Int64 (the enumerations), anything else Float64)."""
+    kind = kind or {"Real": "Float64", "Integer": "Enumeration"}.get(_fmu.kind_of(value), _fmu.kind_of(value))
+    if kind == "Float64":
+        slave.setFloat64([vr], [float(value)])
+    elif kind == "Int32":
+        slave.setInt32([vr], [int(value)])
+    elif kind in ("Enumeration", "Int64"):
+        slave.setInt64([vr], [int(value)])
+    elif kind == "Boolean":
+        slave.setBoolean([vr], [bool(value)])
+    elif kind == "String":
+        slave.setString([vr], [str(value)])
+    else:
+        raise ValueError(f"no FMI 3.0 type {kind!r} in this FMU")
+
+
+def get_value(slave, vr, kind):
+    """fmi3Get<kind> of one value (kind as for set_value)."""
+    get = {"Float64": slave.getFloat64, "Int32": slave.getInt32, "Enumeration": slave.getInt64,
+           "Int64": slave.getInt64, "Boolean": slave.getBoolean, "String": slave.getString}[kind]
+    value = get([vr])[0]
+    return value.decode() if isinstance(value, bytes) else value
+
+
+def enumeration_value(model_description, name, item):
+    """The value of the item named `item` of the Enumeration variable `name`."""
+    v = next(v for v in model_description.modelVariables if v.name == name)
+    return int(next(i.value for i in v.declaredType.items if i.name == item))
+
+
+def initialize(slave, vr, values, kinds=None, tolerance=None, start_time=0.0, stop_time=None, event_mode=False):
+    """An instantiated FMU3Slave to Step Mode: fmi3EnterInitializationMode (tolerance, start and stop
+    time), the start values, fmi3ExitInitializationMode, and, for an instance that uses Event Mode
+    (event_mode=True), the event iteration and fmi3EnterStepMode. kinds: FMI 3.0 type by name."""
+    slave.enterInitializationMode(tolerance=tolerance, startTime=start_time, stopTime=stop_time)
+    for name, value in values.items():
+        set_value(slave, vr[name], value, (kinds or {}).get(name))
+    slave.exitInitializationMode()
+    if event_mode:
+        update_discrete_states(slave)
+        slave.enterStepMode()
+
+
+def update_discrete_states(slave):
+    """fmi3UpdateDiscreteStates until it asks for no more (the FMU's answer is at most one pass)."""
+    for _ in range(100):
+        if not slave.updateDiscreteStates()[0]:
+            return
+    raise RuntimeError("fmi3UpdateDiscreteStates asked for more than 100 passes")
+
+
+# ---- log messages --------------------------------------------------------------------------------------
+
+class Logged:
+    """An FMU3Slave of an extracted FMU whose logger appends (status, category, message) to
+    `messages`. instantiate(event_mode, early_return, logging) creates the instance."""
+
+    def __init__(self, md, unzipdir, name="instance", token=None):
+        from fmpy.fmi3 import FMU3Slave
+        self.messages = []
+        self.slave = FMU3Slave(guid=token or md.guid, unzipDirectory=unzipdir,
+                               modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
+
+    def _log(self, env, status, category, message):
+        self.messages.append((status, category.decode("utf-8", "replace"), message.decode("utf-8", "replace")))
+
+    def instantiate(self, event_mode=False, early_return=False, logging=False):
+        self.slave.instantiate(loggingOn=logging, eventModeUsed=event_mode, earlyReturnAllowed=early_return,
+                               logMessage=self._log)
+        return self.slave
+
+    def texts(self):
+        return [m for _, _, m in self.messages]
+
+    def text(self):
+        return "\n".join(self.texts())
+
+
+# ---- stepping ------------------------------------------------------------------------------------------
+
+def do_step(slave, t, h):
+    """fmi3DoStep from t over h without raising: (status, eventHandlingNeeded, terminateSimulation,
+    earlyReturn, lastSuccessfulTime)."""
+    from fmpy.fmi3 import fmi3Boolean, fmi3Float64
+    event, terminate, early, last = fmi3Boolean(), fmi3Boolean(), fmi3Boolean(), fmi3Float64()
+    fn = slave._functions["fmi3DoStep"]  # the raw function: fmpy's doStep raises on fmi3Discard
+    status = fn(slave.component, t, h, fmi3Boolean(True), ctypes.byref(event), ctypes.byref(terminate),
+                ctypes.byref(early), ctypes.byref(last))
+    return status, event.value, terminate.value, early.value, last.value
+
+
+def run_to_events(slave, t_start, t_end, step, sample=None, max_steps=10 ** 7):
+    """Step an initialized instance (created with earlyReturnAllowed) from t_start to t_end on the
+    grid t_start + k step, each step ending at the next grid point or earlier where the FMU returns
+    early (a grid point closer than 1e-9 step after an early return is skipped). Returns (event
+    times, samples): the lastSuccessfulTime of every step that ended at an event (early return, or
+    eventHandlingNeeded), and sample(t) after every step (None: no samples). When a step asks for
+    event handling (an instance with eventModeUsed) the loop passes through Event Mode there."""
+    events, samples, t, k = [], [], t_start, 0
+    for _ in range(max_steps):
+        if t >= t_end:
+            return events, samples
+        t_next = min(t_start + (k + 1) * step, t_end)
+        while t_next - t <= 1e-9 * step and t_next < t_end:  # bounded: the grid passes t
+            k += 1
+            t_next = min(t_start + (k + 1) * step, t_end)
+        status, handling, _, early, last = do_step(slave, t, t_next - t)
+        if status != OK:
+            raise RuntimeError(f"fmi3DoStep from t = {t!r} s returned status {status}")
+        if early or handling:
+            events.append(last)
+        if handling:
+            slave.enterEventMode()
+            update_discrete_states(slave)
+            slave.enterStepMode()
+        if early:
+            t = last
+        else:
+            t, k = t_next, k + 1
+        if sample is not None:
+            samples.append(sample(t))
+    raise RuntimeError(f"more than {max_steps} steps")

@@ -1,0 +1,72 @@
+"""The FMI 3.0 FMU's early return on every scenario, against the committed reference (doc/fmi3.md).
+
+    vibroimpact fmi3 [--step H] [--rtol R]       prints a Markdown table, one row per scenario
+
+Each scenario runs through the FMI 3.0 Co-Simulation interface (fmpy's FMU3Slave) at the
+reference's tolerance, on communication points every H seconds, three ways: plain steps; with
+earlyReturnAllowed (vibroimpact.fmi3.run_to_events: a step ends at the first change of mode, the
+next goes on from there); and with Event Mode too. The table gives the reference's mode changes
+within the scenario's predictable horizon, the early returns there, whether their sequence of
+(mode before, mode after) is the reference's, the largest |t_stop - t_ref|, whether Event Mode
+gave the same stops bit for bit, and the wall time of the whole run each way.
+"""
+import argparse
+import time
+
+from . import fmi3
+from .compare import EVENT_DT, SUMMARY, read_events
+from .reference.scenarios import SCENARIOS, STOP_TIME
+
+
+def run(md, unzipdir, name, step, rtol, early_return, event_mode):
+    """-> ([(t, mode before, mode after)] of the stops, wall time [s])."""
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    kinds = {v.name: v.type for v in md.modelVariables}
+    s = fmi3.Logged(md, unzipdir, name=name).instantiate(event_mode=event_mode, early_return=early_return)
+    t0 = time.perf_counter()
+    fmi3.initialize(s, vr, SCENARIOS[name].full, kinds=kinds, tolerance=rtol, stop_time=STOP_TIME,
+                    event_mode=event_mode)
+    mode = s.getInt64([vr["mode"]])[0]
+    stops = []
+    if early_return:
+        events, samples = fmi3.run_to_events(s, 0.0, STOP_TIME, step, sample=lambda t: (t, s.getInt64([vr["mode"]])[0]))
+        at = set(events)
+        for t, m in samples:
+            if t in at:
+                stops.append((t, mode, m))
+            mode = m
+    else:
+        n = round(STOP_TIME / step)
+        for k in range(n):
+            s.doStep(k * step, (k + 1) * step - k * step)
+    wall = time.perf_counter() - t0
+    s.terminate()
+    s.freeInstance()
+    return stops, wall
+
+
+def main(argv=None):
+    from fmpy import extract, read_model_description
+    ap = argparse.ArgumentParser(prog="vibroimpact fmi3", description=__doc__.splitlines()[0])
+    ap.add_argument("--step", type=float, default=1e-3, help="communication step [s] (default 1e-3)")
+    ap.add_argument("--rtol", type=float, default=1e-11, help="the tolerance given to fmi3EnterInitializationMode")
+    a = ap.parse_args(argv)
+    path = fmi3.fmu3_path()
+    md = read_model_description(str(path))
+    unzipdir = extract(str(path))
+    print(f"FMI 3.0 FMU {path}, rtol {a.rtol:g}, communication step {a.step:g} s\n")
+    print("| scenario | reference changes within the horizon | early returns there | same sequence | "
+          "max abs(t - t_ref) [s] | Event Mode: same stops | wall plain / early return / + Event Mode [s] |")
+    print("|---|---|---|---|---|---|---|")
+    for name in SCENARIOS:
+        h = SUMMARY[name]["horizon"]
+        ref = [e for e in read_events(name) if e[0] <= h - EVENT_DT]
+        _, wall_plain = run(md, unzipdir, name, a.step, a.rtol, False, False)
+        stops, wall_er = run(md, unzipdir, name, a.step, a.rtol, True, False)
+        stops_ev, wall_ev = run(md, unzipdir, name, a.step, a.rtol, True, True)
+        got = [e for e in stops if e[0] <= h - EVENT_DT]
+        same = [e[1:] for e in got] == [e[1:] for e in ref]
+        dt = max((abs(x[0] - y[0]) for x, y in zip(got, ref)), default=0.0)
+        print(f"| {name} | {len(ref)} | {len(got)} | {'yes' if same else 'NO'} | {dt:.1e} | "
+              f"{'yes' if stops_ev == stops else 'NO'} | {wall_plain:.2f} / {wall_er:.2f} / {wall_ev:.2f} |")
+    return 0

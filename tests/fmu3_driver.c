@@ -1,0 +1,348 @@
+/*
+ * fmu3_driver.c - drives the FMI 3.0 build of the FMU (build/fmi3/VibroImpact.so) through its fmi3*
+ * functions, as an importer would, for the memory checkers (as tests/fmu_driver.c does for the
+ * FMI 2.0 build): under AddressSanitizer + UndefinedBehaviorSanitizer (cmake -DVI_SANITIZE=ON)
+ * against the sanitized binary, else under valgrind memcheck. Any report fails the test.
+ *
+ *   fmu3_driver <path to the FMI 3.0 VibroImpact.so> <resources folder path>
+ *
+ * What it does: instantiate with and without early return and Event Mode; initialize with a
+ * tolerance; step with early returns through Event Mode; read every variable through its type and
+ * time; get, set, serialize and deserialize FMU states (also in Event Mode and a corrupted one);
+ * refused calls and bad arguments; a failed initialization; reset; many instances at once; free.
+ * FMI 3.0 has no memory callbacks: the FMU allocates with malloc, so leaks are the checkers' to find.
+ */
+#include <dlfcn.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fmi3Functions.h"
+#include "vi_variables.h"
+
+#define N_INSTANCES 16
+#define TIME_VR 2147483647u /* VI_FMI3_TIME_VR of cmake/vi_fmu.cmake */
+
+static int failures;
+
+static void logger(fmi3InstanceEnvironment env, fmi3Status status, fmi3String category, fmi3String message)
+{
+    (void)env, (void)status, (void)category, (void)message; /* errors are expected here */
+}
+
+/* The fmi3* functions of the loaded binary. */
+static struct {
+    fmi3InstantiateCoSimulationTYPE *instantiate;
+    fmi3InstantiateModelExchangeTYPE *instantiate_me;
+    fmi3FreeInstanceTYPE *free_instance;
+    fmi3EnterInitializationModeTYPE *enter_init;
+    fmi3ExitInitializationModeTYPE *exit_init;
+    fmi3EnterEventModeTYPE *enter_event;
+    fmi3UpdateDiscreteStatesTYPE *update;
+    fmi3EnterStepModeTYPE *enter_step;
+    fmi3TerminateTYPE *terminate;
+    fmi3ResetTYPE *reset;
+    fmi3GetFloat64TYPE *get_float64;
+    fmi3GetInt32TYPE *get_int32;
+    fmi3GetInt64TYPE *get_int64;
+    fmi3GetBooleanTYPE *get_boolean;
+    fmi3GetStringTYPE *get_string;
+    fmi3SetFloat64TYPE *set_float64;
+    fmi3SetInt64TYPE *set_int64;
+    fmi3SetStringTYPE *set_string;
+    fmi3DoStepTYPE *do_step;
+    fmi3GetFMUStateTYPE *get_state;
+    fmi3SetFMUStateTYPE *set_state;
+    fmi3FreeFMUStateTYPE *free_state;
+    fmi3SerializedFMUStateSizeTYPE *state_size;
+    fmi3SerializeFMUStateTYPE *serialize;
+    fmi3DeserializeFMUStateTYPE *deserialize;
+    fmi3SetDebugLoggingTYPE *debug_logging;
+} F;
+
+static void *lib;
+
+static void load(const char *path)
+{
+    lib = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+    if (!lib) {
+        fprintf(stderr, "fmu3_driver: %s\n", dlerror());
+        exit(2);
+    }
+#define SYM(field, name)                                                  \
+    do {                                                                  \
+        *(void **)&F.field = dlsym(lib, name);                            \
+        if (!F.field) {                                                   \
+            fprintf(stderr, "fmu3_driver: %s is not exported\n", name);   \
+            exit(2);                                                      \
+        }                                                                 \
+    } while (0)
+    SYM(instantiate, "fmi3InstantiateCoSimulation");
+    SYM(instantiate_me, "fmi3InstantiateModelExchange");
+    SYM(free_instance, "fmi3FreeInstance");
+    SYM(enter_init, "fmi3EnterInitializationMode");
+    SYM(exit_init, "fmi3ExitInitializationMode");
+    SYM(enter_event, "fmi3EnterEventMode");
+    SYM(update, "fmi3UpdateDiscreteStates");
+    SYM(enter_step, "fmi3EnterStepMode");
+    SYM(terminate, "fmi3Terminate");
+    SYM(reset, "fmi3Reset");
+    SYM(get_float64, "fmi3GetFloat64");
+    SYM(get_int32, "fmi3GetInt32");
+    SYM(get_int64, "fmi3GetInt64");
+    SYM(get_boolean, "fmi3GetBoolean");
+    SYM(get_string, "fmi3GetString");
+    SYM(set_float64, "fmi3SetFloat64");
+    SYM(set_int64, "fmi3SetInt64");
+    SYM(set_string, "fmi3SetString");
+    SYM(do_step, "fmi3DoStep");
+    SYM(get_state, "fmi3GetFMUState");
+    SYM(set_state, "fmi3SetFMUState");
+    SYM(free_state, "fmi3FreeFMUState");
+    SYM(state_size, "fmi3SerializedFMUStateSize");
+    SYM(serialize, "fmi3SerializeFMUState");
+    SYM(deserialize, "fmi3DeserializeFMUState");
+    SYM(debug_logging, "fmi3SetDebugLogging");
+#undef SYM
+}
+
+#define EXPECT(cond)                                                             \
+    do {                                                                         \
+        if (!(cond)) {                                                           \
+            fprintf(stderr, "fmu3_driver:%d: failed: %s\n", __LINE__, #cond);    \
+            failures++;                                                          \
+        }                                                                        \
+    } while (0)
+
+static fmi3Instance instantiate(const char *name, const char *resources, int event_mode, int early_return)
+{
+    fmi3Instance c = F.instantiate(name, VI_GUID, resources, fmi3False, fmi3False, event_mode, early_return, NULL, 0,
+                                   NULL, logger, NULL);
+    EXPECT(c != NULL);
+    return c;
+}
+
+/* Event Mode: one pass of the event iteration, then Step Mode. */
+static void event_iteration(fmi3Instance c)
+{
+    fmi3Boolean more = fmi3True, terminate, nominals, values, next_defined;
+    fmi3Float64 next;
+    EXPECT(F.update(c, &more, &terminate, &nominals, &values, &next_defined, &next) == fmi3OK && !more);
+    EXPECT(F.enter_step(c) == fmi3OK);
+}
+
+/* The law (an Enumeration, Int64), a and Y, a tolerance; initialized at t = 0 (in Event Mode when
+ * the instance uses it, left to Step Mode here). */
+static fmi3Status initialize(fmi3Instance c, int law, double a, double Y, int event_mode)
+{
+    const fmi3ValueReference vr[] = {VI_VR_a, VI_VR_Y}, law_vr = VI_VR_contact_model;
+    const fmi3Float64 v[] = {a, Y};
+    const fmi3Int64 law_v = law;
+    EXPECT(F.enter_init(c, fmi3True, 1e-7, 0.0, fmi3False, 0.0) == fmi3OK);
+    EXPECT(F.set_float64(c, vr, 2, v, 2) == fmi3OK);
+    if (F.set_int64(c, &law_vr, 1, &law_v, 1) != fmi3OK) return fmi3Error; /* not an item: refused at once */
+    fmi3Status st = F.exit_init(c);
+    if (st == fmi3OK && event_mode) event_iteration(c);
+    return st;
+}
+
+/* Every variable through its type once, and time. */
+static void read_all(fmi3Instance c)
+{
+    for (fmi3ValueReference vr = 0; vr < VI_NVARS; vr++) {
+        fmi3Float64 r;
+        fmi3Int32 i;
+        fmi3Int64 e;
+        fmi3Boolean b;
+        fmi3String s;
+        fmi3Status st = F.get_float64(c, &vr, 1, &r, 1);
+        if (st != fmi3OK) st = F.get_int32(c, &vr, 1, &i, 1);
+        if (st != fmi3OK) st = F.get_int64(c, &vr, 1, &e, 1);
+        if (st != fmi3OK) st = F.get_boolean(c, &vr, 1, &b, 1);
+        if (st != fmi3OK) st = F.get_string(c, &vr, 1, &s, 1);
+        EXPECT(st == fmi3OK);
+    }
+    const fmi3ValueReference time_vr = TIME_VR;
+    fmi3Float64 t;
+    EXPECT(F.get_float64(c, &time_vr, 1, &t, 1) == fmi3OK && isfinite(t));
+}
+
+/* Steps of h to t + n h; with early return, stops at the events (through Event Mode when used).
+ * Returns the number of early returns. */
+static int steps(fmi3Instance c, double *t, int n, double h)
+{
+    int early_returns = 0;
+    double end = *t + n * h;
+    for (int k = 0; k < 100 * n && *t < end; k++) {
+        fmi3Boolean handling, terminate, early;
+        fmi3Float64 last;
+        double step = fmin(h, end - *t);
+        EXPECT(F.do_step(c, *t, step, fmi3True, &handling, &terminate, &early, &last) == fmi3OK);
+        EXPECT(last > *t && last <= *t + step);
+        early_returns += early;
+        *t = early ? last : *t + step;
+        if (handling) {
+            EXPECT(F.enter_event(c) == fmi3OK);
+            event_iteration(c);
+        }
+    }
+    return early_returns;
+}
+
+/* FMU states: get, serialize, deserialize, set, a corrupted copy refused. */
+static void states(fmi3Instance c, double *t)
+{
+    fmi3FMUState s = NULL, back = NULL;
+    size_t n = 0;
+    EXPECT(F.get_state(c, &s) == fmi3OK);
+    EXPECT(F.get_state(c, &s) == fmi3OK); /* reuses the block */
+    EXPECT(F.state_size(c, s, &n) == fmi3OK && n > 0);
+    fmi3Byte *bytes = malloc(n);
+    EXPECT(F.serialize(c, s, bytes, n) == fmi3OK);
+    EXPECT(F.deserialize(c, bytes, n, &back) == fmi3OK);
+    EXPECT(F.deserialize(c, bytes, n, &back) == fmi3OK); /* into the existing block */
+    bytes[n / 2] ^= 0x10;
+    fmi3FMUState bad = NULL;
+    EXPECT(F.deserialize(c, bytes, n, &bad) == fmi3Error && bad == NULL);
+    EXPECT(F.deserialize(c, bytes, n - 1, &bad) == fmi3Error && bad == NULL);
+    free(bytes);
+    double t0 = *t;
+    steps(c, t, 20, 1e-4);
+    EXPECT(F.set_state(c, back) == fmi3OK);
+    *t = t0;
+    steps(c, t, 20, 1e-4);
+    EXPECT(F.free_state(c, &s) == fmi3OK && s == NULL);
+    EXPECT(F.free_state(c, &back) == fmi3OK && back == NULL);
+}
+
+/* Calls that must be refused, without harm. */
+static void refusals(fmi3Instance c, double t)
+{
+    const fmi3ValueReference unknown = 100000, m = VI_VR_m, file = VI_VR_profile_file, law = VI_VR_contact_model;
+    const fmi3ValueReference two[] = {VI_VR_m, VI_VR_P}, time_vr = TIME_VR;
+    fmi3Float64 r = 1.0, pair[2];
+    fmi3Int32 i32;
+    const fmi3Int64 huge = (fmi3Int64)1 << 40;
+    static char text[VI_STRING_SIZE + 8];
+    memset(text, 'x', sizeof text - 1);
+    fmi3String long_string = text;
+    fmi3Boolean handling, terminate, early, more, nominals, values, defined;
+    fmi3Float64 last, next;
+    EXPECT(F.get_float64(c, &unknown, 1, &r, 1) == fmi3Error);
+    EXPECT(F.get_float64(c, two, 2, pair, 1) == fmi3Error);    /* nValues */
+    EXPECT(F.set_float64(c, &m, 1, &r, 1) == fmi3Error);        /* fixed after initialization */
+    EXPECT(F.set_float64(c, &time_vr, 1, &r, 1) == fmi3Error);  /* the independent variable */
+    EXPECT(F.get_int32(c, &law, 1, &i32, 1) == fmi3Error);      /* an Enumeration: Int64 */
+    EXPECT(F.set_int64(c, &law, 1, &huge, 1) == fmi3Error);
+    EXPECT(F.set_string(c, &file, 1, &long_string, 1) == fmi3Error);
+    EXPECT(F.do_step(c, t, 5e-324, fmi3True, &handling, &terminate, &early, &last) == fmi3Error);
+    EXPECT(F.do_step(c, t + 1.0, 1e-4, fmi3True, &handling, &terminate, &early, &last) == fmi3Error);
+    EXPECT(F.do_step(c, t, 1e-4, fmi3True, NULL, &terminate, &early, &last) == fmi3Error);
+    EXPECT(F.update(c, &more, &terminate, &nominals, &values, &defined, &next) == fmi3Error); /* Step Mode */
+    EXPECT(F.enter_step(c) == fmi3Error);
+    EXPECT(F.set_state(c, NULL) == fmi3Error);
+    fmi3String categories[] = {"logEvents", "logNothing"};
+    EXPECT(F.debug_logging(c, fmi3True, 2, categories) == fmi3Error);
+    EXPECT(F.debug_logging(c, fmi3True, 1, categories) == fmi3OK);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc != 3) {
+        fprintf(stderr, "usage: fmu3_driver <VibroImpact.so of FMI 3.0> <resources folder>\n");
+        return 2;
+    }
+    load(argv[1]);
+    const char *resources = argv[2];
+
+    /* One instance through its whole life, twice (fmi3Reset in between), for each pair of options. */
+    for (int options = 0; options < 4; options++) {
+        int event_mode = options & 1, early_return = options >> 1 & 1;
+        fmi3Instance c = instantiate("driver", resources, event_mode, early_return);
+        for (int round = 0; round < 2; round++) {
+            EXPECT(initialize(c, VI_ContactModel_hertz, 1e-4, 6e8, event_mode) == fmi3OK);
+            double t = 0.0;
+            int stops = steps(c, &t, 50, 1e-4);
+            EXPECT(early_return ? stops > 0 : stops == 0);
+            read_all(c);
+            const fmi3ValueReference n_vr = VI_VR_n_impacts;
+            fmi3Int32 impacts = 0;
+            EXPECT(F.get_int32(c, &n_vr, 1, &impacts, 1) == fmi3OK && impacts > 0); /* events happened */
+            if (event_mode) { /* a state taken in Event Mode restores Event Mode */
+                fmi3FMUState in_event = NULL;
+                double t0 = t;
+                EXPECT(F.enter_event(c) == fmi3OK);
+                EXPECT(F.get_state(c, &in_event) == fmi3OK);
+                event_iteration(c);
+                steps(c, &t, 10, 1e-4);
+                EXPECT(F.set_state(c, in_event) == fmi3OK);
+                t = t0;
+                event_iteration(c);
+                EXPECT(F.free_state(c, &in_event) == fmi3OK);
+            }
+            states(c, &t);
+            refusals(c, t);
+            EXPECT(F.terminate(c) == fmi3OK);
+            EXPECT(F.reset(c) == fmi3OK);
+        }
+        F.free_instance(c);
+    }
+
+    /* A state taken before initialization, restored into a running instance; a failed initialization. */
+    fmi3Instance c = instantiate("driver", resources, 0, 1);
+    fmi3FMUState before = NULL;
+    EXPECT(F.get_state(c, &before) == fmi3OK);
+    EXPECT(initialize(c, VI_ContactModel_johnson, 1e-4, 2e8, 0) == fmi3OK);
+    double t = 0.0;
+    steps(c, &t, 30, 1e-4);
+    EXPECT(F.set_state(c, before) == fmi3OK);
+    EXPECT(initialize(c, VI_ContactModel_lepp, 1e-4, 6e8, 0) == fmi3OK);
+    t = 0.0;
+    steps(c, &t, 30, 1e-4);
+    read_all(c);
+    EXPECT(F.free_state(c, &before) == fmi3OK);
+    EXPECT(F.reset(c) == fmi3OK);
+    EXPECT(initialize(c, 7, 1e-4, 6e8, 0) == fmi3Error); /* contact_model = 7 refused */
+    fmi3Boolean handling, terminate, early;
+    fmi3Float64 last;
+    EXPECT(F.do_step(c, 0.0, 1e-4, fmi3True, &handling, &terminate, &early, &last) == fmi3Error);
+    EXPECT(F.reset(c) == fmi3OK);
+    const fmi3ValueReference m_vr = VI_VR_m;
+    const fmi3Float64 negative = -1.0;
+    EXPECT(F.enter_init(c, fmi3False, 0.0, 0.0, fmi3False, 0.0) == fmi3OK);
+    EXPECT(F.set_float64(c, &m_vr, 1, &negative, 1) == fmi3Error); /* outside its range */
+    EXPECT(F.exit_init(c) == fmi3OK);
+    EXPECT(F.reset(c) == fmi3OK);
+    F.free_instance(c);
+    F.free_instance(NULL);
+
+    /* Many instances at once, interleaved, each with its own law and options. */
+    fmi3Instance many[N_INSTANCES];
+    double times[N_INSTANCES];
+    char name[32];
+    for (int i = 0; i < N_INSTANCES; i++) {
+        snprintf(name, sizeof name, "instance %d", i);
+        many[i] = instantiate(name, i % 2 ? NULL : resources, 0, i % 2);
+        EXPECT(initialize(many[i], 1 + i % 3, 1e-4, 6e8, 0) == fmi3OK);
+        times[i] = 0.0;
+    }
+    for (int k = 0; k < 20; k++)
+        for (int i = 0; i < N_INSTANCES; i++) steps(many[i], &times[i], 1, 1e-4);
+    for (int i = 0; i < N_INSTANCES; i++) F.free_instance(many[i]);
+
+    /* Instantiation refused: no leak either. */
+    EXPECT(F.instantiate("bad", "{wrong}", resources, fmi3False, fmi3False, fmi3False, fmi3False, NULL, 0, NULL,
+                         logger, NULL) == NULL);
+    EXPECT(F.instantiate("", VI_GUID, resources, fmi3False, fmi3False, fmi3False, fmi3False, NULL, 0, NULL, logger,
+                         NULL) == NULL);
+    EXPECT(F.instantiate_me("me", "{wrong}", resources, fmi3False, fmi3False, NULL, logger) == NULL);
+    fmi3Instance me = F.instantiate_me("me", VI_GUID, resources, fmi3False, fmi3False, NULL, logger);
+    EXPECT(me != NULL); /* its calls are driven by fmu-test/test_fmi3.py; here: created and freed */
+    F.free_instance(me);
+
+    dlclose(lib);
+    if (failures) fprintf(stderr, "fmu3_driver: %d checks failed\n", failures);
+    else printf("fmu3_driver: all checks passed\n");
+    return failures ? 1 : 0;
+}
