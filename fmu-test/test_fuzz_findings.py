@@ -82,3 +82,42 @@ def test_no_nan_output_with_ok_after_a_failed_initialization(logged, vr, model_d
     assert re.fullmatch(r"fmi2GetReal: W_plastic = -?nan has no value in state 'error'", log.messages[-1][2]), log.messages
     assert s.getReal([vr["P"]]) == [1e300]  # a parameter reads as set
     s.freeInstance()
+
+
+def test_model_exchange_euler_importer_overshooting_yield_keeps_a_finite_memory(fmu_path):
+    """The harness's 'fmi2GetEventIndicators returned fmi2OK with element 0 = NaN': an explicit-Euler
+    importer (Johnson, a = 0.21 mm at 560 Hz, steps of 0.1 ms, then 1 ms) meets the events late; at
+    one the state lay far beyond the plastic mode's surface, and the memory written down there was
+    the unloading curve of that state's indentation, below yield: area ratio < 0, Rbar = NaN, and
+    every indicator NaN from then on with fmi2OK (a state taken then was refused when set back). The
+    memory is the largest indentation reached, never below yield: the indicators stay finite and a
+    state taken on the way is accepted back."""
+    from me_run import Me, MeInstance
+
+    inst = MeInstance(fmu_path)
+    inst.instantiate(categories=())
+    me = Me(inst)
+    me.start(dict(a=0.000213623046875))
+    saved = None
+    t, z = 0.0, me.indicators()
+    for k in range(32):
+        h = 1e-4 if k < 16 else 1e-3
+        x, dx = me.states(), me.derivatives()
+        t += h
+        me.fmu.setTime(t)
+        me.set_states([a + h * b for a, b in zip(x, dx)])
+        enter, _ = me.fmu.completedIntegratorStep()
+        z_new = me.indicators()
+        if enter or any((a > 0) != (b > 0) for a, b in zip(z, z_new)):
+            me.fmu.enterEventMode()
+            me.settle()
+            me.fmu.enterContinuousTimeMode()
+            z_new = me.indicators()
+        assert all(v == v for v in z_new), (k, t, z_new)
+        z = z_new
+        if k == 20:
+            saved = me.fmu.getFMUstate()
+    me.fmu.setFMUstate(saved)
+    assert all(v == v for v in me.indicators())
+    me.fmu.freeFMUstate(saved)
+    me.fmu.freeInstance()

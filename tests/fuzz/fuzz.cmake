@@ -18,7 +18,7 @@ set(VI_FUZZ_FMUS VibroImpact) # the FMUs the harness is built for: fuzz_<name>
 if(VI_FUZZ_HARNESS)
   find_package(Threads REQUIRED)
   foreach(fmu ${VI_FUZZ_FMUS})
-    add_executable(fuzz_${fmu} ${VI_FUZZ_DIR}/fuzz_main.c ${VI_FUZZ_DIR}/calls_fmi2.c
+    add_executable(fuzz_${fmu} ${VI_FUZZ_DIR}/fuzz_main.c ${VI_FUZZ_DIR}/calls_fmi2.c ${VI_FUZZ_DIR}/calls_fmi2me.c
                    $<TARGET_PROPERTY:${fmu},SOURCES>)
     target_include_directories(fuzz_${fmu} PRIVATE ${FMI2_HEADERS_DIR} ${VI_FUZZ_DIR} ${CMAKE_SOURCE_DIR}/include)
     target_link_libraries(fuzz_${fmu} PRIVATE ${fmu}_model Threads::Threads m)

@@ -134,6 +134,7 @@ typedef struct {
     void (*release)(fz_context *ctx, fz_slot *s); /* free what the slot holds at the end of an input */
 } fz_interface;
 
-extern const fz_interface fz_fmi2; /* calls_fmi2.c */
+extern const fz_interface fz_fmi2;   /* calls_fmi2.c */
+extern const fz_interface fz_fmi2me; /* calls_fmi2me.c */
 
 #endif

@@ -36,7 +36,7 @@
 #define FZ_RECENT 24         /* calls remembered for a finding's report */
 
 static fz_context ctx;
-static const fz_interface *const interfaces[] = {&fz_fmi2};
+static const fz_interface *const interfaces[] = {&fz_fmi2, &fz_fmi2me};
 static const fz_call *by_code[128];
 static int trace_on;
 
