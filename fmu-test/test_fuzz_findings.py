@@ -121,3 +121,50 @@ def test_model_exchange_euler_importer_overshooting_yield_keeps_a_finite_memory(
     assert all(v == v for v in me.indicators())
     me.fmu.freeFMUstate(saved)
     me.fmu.freeInstance()
+
+
+STEP_AFTER_HUGE_FORCE = r"""
+import sys, time
+from fmpy import extract, read_model_description
+from fmpy.fmi1 import FMICallException
+from vibroimpact.fmu import Logged
+fmu, solver = sys.argv[1], int(sys.argv[2])
+md = read_model_description(fmu)
+vr = {v.name: v.valueReference for v in md.modelVariables}
+log = Logged(md, extract(fmu))
+s = log.instantiate()
+s.setupExperiment()
+s.enterInitializationMode()
+s.setInteger([vr["solver"]], [solver])
+s.exitInitializationMode()
+s.doStep(0.0, 0.01)
+s.setReal([vr["F_ext"]], [1.7976931348623157e308])
+t0 = time.process_time()
+try:
+    s.doStep(0.01, 1.0)
+    status = "ok"
+except FMICallException as e:
+    status = "discard" if e.status == 2 else "error"
+print(status, time.process_time() - t0, log.messages[-1][2] if log.messages else "")
+"""
+
+
+@pytest.mark.parametrize("solver", [1, 2, 3], ids=["bdf", "adams", "dop853"])
+def test_a_step_under_a_force_beyond_what_can_be_integrated_fails_at_once(fmu_path, solver):
+    """The harness's watchdog ('fmi2DoStep used more than 30 s of CPU time'): under an input force of
+    1.8e308 N, CVODE's first step size came out 0, then NaN, and CVODE 6.4 went on evaluating the
+    right-hand side at t = NaN inside one call: minutes of CPU time in one fmi2DoStep (more than
+    100 s without the sanitizers). A time or derivative that is not finite now fails the right-hand
+    side, and CVODE the step after its limit of such failures: fmi2Error at once, naming where
+    (dop853 failed at once before)."""
+    import subprocess
+    import sys
+    try:
+        p = subprocess.run([sys.executable, "-c", STEP_AFTER_HUGE_FORCE, fmu_path, str(solver)], capture_output=True,
+                           text=True, timeout=60)
+    except subprocess.TimeoutExpired:
+        pytest.fail("fmi2DoStep did not return within 60 s")
+    assert p.returncode == 0, p.stderr
+    status, cpu, message = p.stdout.split(" ", 2)
+    assert status == "error" and float(cpu) < 5.0, p.stdout
+    assert "the solver failed near t = 0.01" in message, message
