@@ -16,7 +16,7 @@ tools/mutants-equivalent.txt are left out (no test can tell them apart from the 
 entry gives the reason).
 
 Which test executes which line comes from a coverage map, built once per revision of the
-repository (a hash of every tracked file) and cached in build/mutate/: a build with gcov
+repository (a hash of the files the tests depend on) and cached in build/mutate/: a build with gcov
 (--coverage -O0, build/mutate/cov) runs each ctest test alone (except the fuzz test) and then the
 FMU tests (pytest, fmu-test/) in one process, writing the gcov counters of every FMU binary loaded
 after each test (vi_coverage_flush, tests/coverage_flush.c) and reading them with gcov. The map
@@ -314,10 +314,17 @@ def tracked_files():
     return sorted(f for f in out.split("\0") if f and (ROOT / f).is_file() and not f.startswith(".venv/"))
 
 
+# Files that do not change what the tests execute or whether they pass, left out of the revision key.
+NOT_IN_KEY = ("doc/", "tests/fuzz/", "tools/mutate.py", "tools/mutants-equivalent.txt", "tools/fuzz.sh")
+
+
 def revision_key():
-    """A hash of every tracked (and untracked, not ignored) file: the revision the map is for."""
+    """A hash of the tracked (and untracked, not ignored) files the tests depend on: the revision the
+    map is for (documentation, the fuzz harness and this tool left out)."""
     h = hashlib.sha256()
     for f in tracked_files():
+        if f.startswith(NOT_IN_KEY) or (f.endswith(".md") and f != "README.md"):
+            continue
         h.update(f.encode() + b"\0" + (ROOT / f).read_bytes() + b"\0")
     return h.hexdigest()[:16]
 
