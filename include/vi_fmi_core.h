@@ -88,10 +88,14 @@ enum { VI_CAT_EVENTS, VI_CAT_SOLVER, VI_CAT_WARNING, VI_CAT_DISCARD, VI_CAT_ERRO
 
 typedef struct vi_core vi_core;
 
+/* The longest message text a face's emit gets, with its NUL (control characters written \\xNN). */
+#define VI_CORE_MESSAGE_MAX 4096
+
 /* What a face tells the core about itself. */
 typedef struct {
     const char *call_category; /* the name of the category VI_CAT_CALL, e.g. "logFmi2Call" */
-    /* Hand one finished message to the importer's logger (escape it as the version requires). */
+    /* Hand one finished message to the importer's logger (escape it as the version requires). The
+     * text is printable ASCII, at most VI_CORE_MESSAGE_MAX bytes with its NUL. */
     void (*emit)(const vi_core *c, vi_status status, const char *category, const char *text);
     /* Nonzero (FMI 3.0): Integer rows with an enumeration, and Enumeration rows, are accessed as
      * VI_Enumeration (the face's Int64 calls), the other Integer rows as VI_Integer (Int32); zero

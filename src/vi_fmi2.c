@@ -21,7 +21,7 @@ _Static_assert(sizeof(fmi2ValueReference) == sizeof(unsigned) && sizeof(fmi2Inte
 /* The FMI 2.0 logger takes the message as a printf format: '%' is escaped. */
 static void emit(const vi_core *c, vi_status status, const char *category, const char *text)
 {
-    char escaped[2048];
+    char escaped[2 * VI_CORE_MESSAGE_MAX];
     size_t j = 0;
     for (size_t i = 0; text[i] && j + 2 < sizeof escaped; i++) {
         if (text[i] == '%') escaped[j++] = '%';

@@ -86,12 +86,27 @@ static const char *category_name(const vi_core *c, int cat)
 
 int vi_core_logs(const vi_core *c, int cat) { return (c->log_mask >> cat & 1u) || (c->log_mask >> VI_CAT_ALL & 1u); }
 
+/* Hand a message to the face's emit, with every byte outside printable ASCII (a control character of
+ * an instance name or of a String value the importer gave) written \xNN. */
+static void emit_printable(const vi_core *c, vi_status status, const char *category, const char *text)
+{
+    char clean[VI_CORE_MESSAGE_MAX];
+    size_t j = 0;
+    for (size_t i = 0; text[i] && j + 4 < sizeof clean; i++) {
+        unsigned char ch = (unsigned char)text[i];
+        if (ch < 0x20 || ch > 0x7e) j += (size_t)snprintf(clean + j, sizeof clean - j, "\\x%02x", ch);
+        else clean[j++] = (char)ch;
+    }
+    clean[j] = '\0';
+    c->face->emit(c, status, category, clean);
+}
+
 static void vlog(const vi_core *c, vi_status status, int cat, const char *fmt, va_list ap)
 {
     if (!c->cb.logger || (status < VI_STATUS_DISCARD && !vi_core_logs(c, cat))) return;
     char text[1024];
     vsnprintf(text, sizeof text, fmt, ap);
-    c->face->emit(c, status, category_name(c, cat), text);
+    emit_printable(c, status, category_name(c, cat), text);
 }
 
 void vi_core_log(const vi_core *c, vi_status status, int cat, const char *fmt, ...)
@@ -446,6 +461,9 @@ vi_status vi_core_get(void *instance, const char *fn, const unsigned vr[], size_
             if (!outs && !(outs = current_outputs(c, fn, vr, nvr))) return VI_STATUS_ERROR;
             p = (const char *)outs + v->offset;
         }
+        if (api == VI_Real && !isfinite(*(const double *)p)) /* no value (after a failed initialization, say) */
+            return vi_core_refuse(c, "%s: %s = %g has no value in state '%s'", fn, v->name, *(const double *)p,
+                                  state_name(c->state));
         if (api == VI_Real) elem_store(values, elem, i, *(const double *)p, 0);
         else elem_store(values, elem, i, 0.0, *(const int *)p);
     }
@@ -950,7 +968,7 @@ vi_status vi_core_new_discrete_states(void *instance, const char *fn, vi_fmu_eve
     if (ev->terminate && c->cb.logger) { /* why the run ends: logged whatever is enabled */
         char text[1024];
         snprintf(text, sizeof text, "%s: terminateSimulation: %s", fn, MODEL->message(c->model));
-        c->face->emit(c, VI_STATUS_WARNING, category_name(c, VI_CAT_WARNING), text);
+        emit_printable(c, VI_STATUS_WARNING, category_name(c, VI_CAT_WARNING), text);
     }
     c->t_committed = MODEL->time(c->model);
     return VI_STATUS_OK;

@@ -246,9 +246,13 @@ static double johnson_load_stiffness(const vi_model *M, double d) { return vi_jo
 static double johnson_contact(const vi_model *M) { return is_johnson_fixed(M) && M->yielded ? M->U.delta_f : 0.0; }
 static double johnson_yield(const vi_model *M) { return M->J.delta_Y; }
 static double johnson_plastic_floor(const vi_model *M) { return M->moving ? M->J.delta_Y : M->U.delta_c; }
+/* The memory is the largest indentation reached, never below yield: a state an importer hands over
+ * may lie below it (a step that went far past the turning point), and the unloading curve of an
+ * indentation below delta_Y / 2 does not exist (area ratio < 0). */
 static void johnson_freeze(vi_model *M, double x[2])
 {
-    if (!M->moving) M->U = vi_johnson_unload_curve(&M->J, M->unloading, x[0]);
+    double dc = fmax(x[0], M->yielded ? fmax(M->U.delta_c, M->J.delta_Y) : M->J.delta_Y);
+    if (!M->moving) M->U = vi_johnson_unload_curve(&M->J, M->unloading, dc);
 }
 static int johnson_choose(vi_model *M, double x[2], const rates *q)
 {
@@ -366,7 +370,9 @@ static const law_fns laws[] = {
 };
 
 /* The row of M's law (set up, or checked to be one of the three). */
-static const law_fns *law(const vi_model *M) { return &laws[M->law]; }
+/* A model not set up yet (law 0: an instance before initialization, or a state restored from
+ * then) has no contact force and no memory: it is evaluated as Hertz with K = 0. */
+static const law_fns *law(const vi_model *M) { return &laws[M->law == 0 ? VI_ContactModel_hertz : M->law]; }
 
 /* Johnson with a moving contact point leaves the plastic mode when it falls back below delta_Y;
  * every other plastic motion ends at a turning point (delta' = 0). */

@@ -134,6 +134,28 @@ static void set_input_ramps(vi_model *M, const vi_sim_data *d, double t)
 static double rtol_of(const vi_sim_data *d) { return d->tolerance > 0.0 ? d->tolerance : d->par.rtol; }
 static void arm_guards_at_zero(vi_sim_data *d);
 
+/* Are the outputs and calculated parameters at the current state finite? -1 (s->msg, naming the
+ * first that is not) when the parameters and inputs lead to values beyond the range of double (a
+ * Johnson load of 1e300 N: the plastic work is inf - inf), which are refused rather than reported. */
+static int outputs_finite(vi_sim *s)
+{
+    vi_outputs out;
+    s->out_valid = 0;
+    vi_sim_outputs(s, &out);
+    for (int vr = 0; vr < VI_NVARS; vr++) {
+        const vi_variable *v = &vi_variable_table[vr];
+        double x;
+        if (v->group != VI_GROUP_OUTPUTS || v->type != VI_Real) continue;
+        memcpy(&x, (const char *)&out + v->offset, sizeof x);
+        if (!isfinite(x)) {
+            snprintf(s->msg, sizeof s->msg, "%s = %g at t = %.17g s: the parameters and inputs lead to values beyond the "
+                     "range of double", v->name, x, s->d.t);
+            return -1;
+        }
+    }
+    return 0;
+}
+
 int vi_sim_prepare(vi_sim *s)
 {
     vi_sim_data *d = &s->d;
@@ -158,7 +180,7 @@ int vi_sim_prepare(vi_sim *s)
     d->step_t0 = d->t;
     d->step_v0 = d->x[1];
     memset(d->guard_band, 0, sizeof d->guard_band);
-    return 0;
+    return outputs_finite(s);
 }
 
 /* (Re)create the solver with the tolerances stored in s->d: starting at the current state, or

@@ -69,12 +69,19 @@ static int check_ptr(const vi_solver *s, const void *p, const char *call)
     return VI_SOLVER_FAILED;
 }
 
-/* Callbacks: the serial vectors' data are read directly (NV_DATA_S), no operation-table call. */
+/* Callbacks: the serial vectors' data are read directly (NV_DATA_S), no operation-table call.
+ * A time or a derivative that is not finite is a recoverable failure of the right-hand side: CVODE
+ * retries with a smaller step and fails the step after its limit of such failures. (Taken as it
+ * was, a step size that had become NaN, under a force of 1e308 N, kept CVODE 6.4 in its step loop
+ * for minutes.) */
 static int rhs_cb(sunrealtype t, N_Vector x, N_Vector dx, void *ud)
 {
     const vi_solver *s = ud;
-    s->cfg.rhs(t, NV_DATA_S(x), NV_DATA_S(dx), s->cfg.user);
-    return 0;
+    double *d = NV_DATA_S(dx);
+    s->cfg.rhs(t, NV_DATA_S(x), d, s->cfg.user);
+    int finite = isfinite(t);
+    for (int i = 0; i < s->cfg.n; i++) finite &= isfinite(d[i]) != 0;
+    return finite ? 0 : 1;
 }
 
 static int guard_cb(sunrealtype t, N_Vector x, sunrealtype *g, void *ud)

@@ -2,38 +2,55 @@
 """Mutation testing of src/: do the tests notice single-point faults?
 
 Usage:
-    python3 tools/mutate.py [--sample N] [--seed S] [--files GLOB ...] [--timeout SEC] [--list]
-                            [--only ID ...]
+    python3 tools/mutate.py [--sample N] [--seed S] [--files GLOB ...] [--only NAME ...] [--list]
+                            [--json FILE] [--rebuild-coverage]
 
 Each mutant changes one place of one C file under src/ (operators, constants, a removed statement,
-a negated or forced condition, a changed return status). For each mutant the script copies the
-tracked files of the repository into a scratch checkout, applies the change, rebuilds (a build
-that fails counts as "stillborn" and is not scored), and runs the C tests (ctest) and the FMU
-tests (pytest -x, stopping at the first failure) with a time limit per mutant; a mutant whose run
-fails or times out is "killed", one whose run passes "survives". The score is
-killed / (killed + survived), with the mutants listed in tools/mutants-equivalent.txt left out
-(equivalent mutants: no test can tell them apart from the original; each entry gives the reason).
-A mutant is named `file:line:column:kind:old->new` (the names --only and the equivalents file use).
+a negated or forced condition, a changed return status). It is built in a scratch copy of the
+repository (build/mutate/scratch; a build that fails is "stillborn" and not scored) and run
+against the tests that execute the mutated line, and only those: a mutant is "killed" when one of
+them fails or the run exceeds its time limit (three times the tests' measured time plus 60 s), it
+"survives" when all of them pass, and it is "uncovered" (a survivor) when no test executes its
+line. The score is killed / (killed + survived + uncovered); mutants listed in
+tools/mutants-equivalent.txt are left out (no test can tell them apart from the original; each
+entry gives the reason).
 
-The mutants are enumerated deterministically; --sample N draws N of them with --seed (default 1),
-stratified by file, so a rerun with the same arguments tests the same mutants. --list prints the
-mutants without running them. The scratch checkout lives in a temporary directory and is removed.
+Which test executes which line comes from a coverage map, built once per revision of the
+repository (a hash of the files the tests depend on) and cached in build/mutate/: a build with gcov
+(--coverage -O0, build/mutate/cov) runs each ctest test alone (except the fuzz test) and then the
+FMU tests (pytest, fmu-test/) in one process, writing the gcov counters of every FMU binary loaded
+after each test (vi_coverage_flush, tests/coverage_flush.c) and reading them with gcov. The map
+also records each test's time and outcome; tests that fail on the unmutated code are never
+selected (they are listed).
+
+A mutant is named after its place in a way that survives edits elsewhere in the file:
+    <file>:<function>:<kind>:<old>-><new>:<k> | <the code of its line>
+(k counts the mutants of that kind and text on that line). --list prints the names with the line
+and column of today. The same names key tools/mutants-equivalent.txt: "<name>  # <reason>".
+
+Sampling: --sample N draws N mutants, stratified by file (every file of src/ gets its share), with
+--seed S; without --seed the seed is fresh and printed, so that a run can be repeated. Without
+--sample every mutant is run.
 """
 import argparse
+import ctypes
 import dataclasses
 import fnmatch
+import hashlib
+import json
 import os
 import pathlib
 import random
 import re
 import shutil
+import statistics
 import subprocess
 import sys
-import tempfile
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 EQUIVALENT = ROOT / "tools" / "mutants-equivalent.txt"
+CACHE = ROOT / "build" / "mutate"
 
 
 @dataclasses.dataclass
@@ -43,21 +60,32 @@ class Mutant:
     end: int
     new: str
     kind: str
-    line: int
+    line: int      # first and last line of the replaced text
+    last_line: int
+    col: int
     old: str
-    col: int       # column of the replaced text (1-based): several mutants of one kind may share a line
+    function: str  # the function the place is in
+    site: str      # the code of its line, comments removed, whitespace collapsed
+    k: int = 1     # among the mutants of this kind and text on the line
 
     @property
     def ident(self):
-        flat = lambda t: " ".join(t.split())  # noqa: E731
-        return f"{self.file}:{self.line}:{self.col}:{self.kind}:{flat(self.old)}->{flat(self.new)}"
+        return f"{self.file}:{self.function}:{self.kind}:{flat(self.old)}->{flat(self.new)}:{self.k} | {self.site}"
+
+    @property
+    def where(self):
+        return f"{self.file}:{self.line}:{self.col}"
+
+
+def flat(text):
+    return " ".join(text.split())
 
 
 # ---- finding mutation sites ------------------------------------------------------------------
 
-def mask(text):
-    """The text with comments, string and character literals and preprocessor lines blanked out
-    (same length), so that the patterns below only see code."""
+def mask(text, strings=True):
+    """The text with comments and preprocessor lines (and, with strings, string and character
+    literals) blanked out, same length, so that the patterns below only see code."""
     out = list(text)
     i, n = 0, len(text)
     at_line_start = True
@@ -96,8 +124,9 @@ def mask(text):
             j = i + 1
             while j < n and text[j] != c:
                 j += 2 if text[j] == "\\" else 1
-            for k in range(i, min(j + 1, n)):
-                out[k] = " "
+            if strings:
+                for k in range(i, min(j + 1, n)):
+                    out[k] = " "
             i = j + 1
             continue
         i += 1
@@ -118,41 +147,63 @@ def prev_code_char(masked, pos):
     return masked[j] if j >= 0 else ""
 
 
-def mutants_of(path):
-    rel = str(path.relative_to(ROOT))
-    text = path.read_text()
-    masked = mask(text)
-    found = []
-
-    def add(start, end, new, kind):
-        line, col = text.count("\n", 0, start) + 1, start - text.rfind("\n", 0, start)
-        found.append(Mutant(rel, start, end, new, kind, line, text[start:end], col))
-
-    # function bodies only: regions opened by a '{' at file scope that follows ')' (a definition)
-    inside = bytearray(len(masked) + 1)
-    d, in_fn = 0, False
+def function_bodies(masked):
+    """[(start, end, name)] of the function definitions: regions opened by a '{' at file scope that
+    follows ')', named by the identifier before the matching '('."""
+    bodies, d, start, name = [], 0, None, None
     for i, c in enumerate(masked):
         if c == "{":
-            if d == 0:
-                in_fn = prev_code_char(masked, i) == ")"
+            if d == 0 and prev_code_char(masked, i) == ")":
+                j = masked.rfind(")", 0, i)
+                depth, k = 0, j
+                while k >= 0:
+                    if masked[k] == ")":
+                        depth += 1
+                    elif masked[k] == "(":
+                        depth -= 1
+                        if depth == 0:
+                            break
+                    k -= 1
+                m = re.search(r"(\w+)\s*$", masked[:k])
+                start, name = i, m.group(1) if m else "?"
             d += 1
         elif c == "}":
             d -= 1
-            if d == 0:
-                in_fn = False
-        inside[i] = in_fn and d > 0
-    body = lambda pos: bool(inside[pos])  # noqa: E731
+            if d == 0 and start is not None:
+                bodies.append((start, i, name))
+                start = None
+    return bodies
+
+
+def mutants_of(path, text=None):
+    rel = str(path.relative_to(ROOT))
+    text = path.read_text() if text is None else text
+    masked = mask(text)
+    code = mask(text, strings=False)  # comments removed, strings kept: the site of a mutant
+    line_starts = [0] + [i + 1 for i, c in enumerate(text) if c == "\n"]
+    bodies = function_bodies(masked)
+    owner = [None] * (len(text) + 1)
+    for s, e, name in bodies:
+        for i in range(s + 1, e):
+            owner[i] = name
+    found = []
+
+    def add(start, end, new, kind):
+        if owner[start] is None:
+            return
+        line = text.count("\n", 0, start) + 1
+        last = text.count("\n", 0, end) + 1
+        ls = line_starts[line - 1]
+        le = text.find("\n", ls)
+        site = flat(code[ls:le if le >= 0 else len(text)])
+        found.append(Mutant(rel, start, end, new, kind, line, last, start - ls + 1, text[start:end], owner[start], site))
 
     for m in re.finditer(r"<=|>=|==|!=|(?<![<>-])[<>](?![<>=])", masked):
-        if body(m.start()):
-            add(m.start(), m.end(), RELATIONAL[m.group()], "relational")
+        add(m.start(), m.end(), RELATIONAL[m.group()], "relational")
     for m in re.finditer(r"&&|\|\|", masked):
-        if body(m.start()):
-            add(m.start(), m.end(), LOGICAL[m.group()], "logical")
+        add(m.start(), m.end(), LOGICAL[m.group()], "logical")
     for m in re.finditer(r"(?<![+\-*/=<>!&|])([+\-*/])(?![+\-*/=>])", masked):
         pos = m.start()
-        if not body(pos):
-            continue
         p = prev_code_char(masked, pos)
         if not (p.isalnum() or p in "_)]"):
             continue  # unary
@@ -160,8 +211,6 @@ def mutants_of(path):
             continue  # exponent of a number
         add(pos, pos + 1, ARITH[m.group()], "arithmetic")
     for m in NUMBER.finditer(masked):
-        if not body(m.start()):
-            continue
         lit = m.group()
         if re.fullmatch(r"\d+", lit):
             new = str(int(lit) + 1) if lit != "1" else "0"
@@ -169,8 +218,6 @@ def mutants_of(path):
             new = repr(float(lit) * 1.01) if float(lit) != 0.0 else "1e-3"
         add(m.start(), m.end(), new, "constant")
     for m in re.finditer(r"\bif\s*\(", masked):
-        if not body(m.start()):
-            continue
         open_ = m.end() - 1
         d, j = 0, open_
         while j < len(masked):
@@ -185,23 +232,27 @@ def mutants_of(path):
         add(open_ + 1, j, f"!({cond})", "negate-condition")
         add(open_ + 1, j, "0", "condition-false")
     for m in re.finditer(r"\b(fmi2OK|fmi2Error|fmi2Discard|fmi2Warning)\b", masked):
-        if body(m.start()) and re.search(r"return\s*$", masked[max(0, m.start() - 20):m.start()]):
+        if re.search(r"return\s*$", masked[max(0, m.start() - 20):m.start()]):
             add(m.start(), m.end(), STATUS[m.group()], "status")
     for m in re.finditer(r"\breturn\s+(-1|0)\s*;", masked):
-        if body(m.start()):
-            add(m.start(1), m.end(1), "0" if m.group(1) == "-1" else "-1", "status")
+        add(m.start(1), m.end(1), "0" if m.group(1) == "-1" else "-1", "status")
     # removed statements: a whole line that is one expression statement (assignment or call)
     pos = 0
     for line in masked.splitlines(keepends=True):
         s = line.strip()
-        if (body(pos) and s.endswith(";") and not s.startswith(("return", "break", "continue", "case", "default"))
+        if (s.endswith(";") and not s.startswith(("return", "break", "continue", "case", "default"))
                 and re.match(r"^[\w\->.\[\]*()]+\s*(\(|[+\-*/]?=)", s)
                 and not re.match(r"^(const\s+)?(unsigned\s+|signed\s+)?(int|long|double|float|char|size_t|"
                                  r"void|struct|vi_\w+|fmi2\w+|N_Vector|SUNContext|sunrealtype)\b", s)):
             start = pos + len(line) - len(line.lstrip())
-            end = pos + len(line.rstrip("\n"))
-            add(start, end, ";", "remove-statement")
+            add(start, pos + len(line.rstrip("\n")), ";", "remove-statement")
         pos += len(line)
+    found.sort(key=lambda m: (m.start, m.kind))
+    seen = {}
+    for m in found:
+        key = (m.line, m.kind, flat(m.old), flat(m.new))
+        seen[key] = seen.get(key, 0) + 1
+        m.k = seen[key]
     return found
 
 
@@ -215,23 +266,23 @@ def all_mutants(globs):
 
 
 def sample(mutants, n, seed):
+    """n mutants, every file getting a share proportional to its mutants (at least one)."""
     if n is None or n >= len(mutants):
         return mutants
     rng = random.Random(seed)
     by_file = {}
     for m in mutants:
         by_file.setdefault(m.file, []).append(m)
-    total = len(mutants)
     picked = []
     for f, ms in sorted(by_file.items()):
-        k = max(1, round(n * len(ms) / total))
+        k = max(1, round(n * len(ms) / len(mutants)))
         picked.extend(rng.sample(ms, min(k, len(ms))))
     rng.shuffle(picked)
     return sorted(picked[:n], key=lambda m: (m.file, m.start))
 
 
 def read_equivalent():
-    """Lines 'ident  # reason'. Returns {ident: reason}."""
+    """Lines '<name>  # reason'. Returns {name: reason}."""
     eq = {}
     if EQUIVALENT.exists():
         for line in EQUIVALENT.read_text().splitlines():
@@ -241,48 +292,218 @@ def read_equivalent():
     return eq
 
 
-# ---- running ---------------------------------------------------------------------------------
+# ---- running commands --------------------------------------------------------------------------
 
-def run(cmd, cwd, timeout, env=None):
+def run(cmd, cwd, timeout=None, env=None):
     try:
         r = subprocess.run(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=timeout,
-                           env=env, text=True)
+                           env=env, text=True, errors="replace")
         return r.returncode, r.stdout
     except subprocess.TimeoutExpired as e:
-        return "timeout", (e.stdout or "") if isinstance(e.stdout, str) else ""
+        out = e.stdout.decode(errors="replace") if isinstance(e.stdout, bytes) else (e.stdout or "")
+        return "timeout", out
 
 
-def prepare_scratch(scratch):
-    files = subprocess.run(["git", "ls-files"], cwd=ROOT, stdout=subprocess.PIPE, text=True, check=True).stdout.split()
+def python_exe():
+    return shutil.which(os.environ.get("PYTHON", "python3")) or sys.executable
+
+
+def tracked_files():
+    out = subprocess.run(["git", "ls-files", "-co", "--exclude-standard", "-z"], cwd=ROOT, stdout=subprocess.PIPE,
+                         check=True).stdout.decode()
+    return sorted(f for f in out.split("\0") if f and (ROOT / f).is_file() and not f.startswith(".venv/"))
+
+
+# Files that do not change what the tests execute or whether they pass, left out of the revision key.
+NOT_IN_KEY = ("doc/", "tests/fuzz/", "tools/mutate.py", "tools/mutants-equivalent.txt", "tools/fuzz.sh")
+
+
+def revision_key():
+    """A hash of the tracked (and untracked, not ignored) files the tests depend on: the revision the
+    map is for (documentation, the fuzz harness and this tool left out)."""
+    h = hashlib.sha256()
+    for f in tracked_files():
+        if f.startswith(NOT_IN_KEY) or (f.endswith(".md") and f != "README.md"):
+            continue
+        h.update(f.encode() + b"\0" + (ROOT / f).read_bytes() + b"\0")
+    return h.hexdigest()[:16]
+
+
+def configure_and_build(source, build, extra, label):
+    if not (build / "CMakeCache.txt").exists():
+        rc, out = run(["cmake", "-S", str(source), "-B", str(build),
+                       "-DVI_FUZZ=OFF", "-DVI_REQUIRE_TESTS=ON", f"-DPython3_EXECUTABLE={python_exe()}"] + extra,
+                      ROOT, 900)
+        if rc != 0:
+            sys.exit(f"configuring the {label} build failed:\n{out}")
+    rc, out = run(["cmake", "--build", str(build), "-j2"], ROOT, 1800)
+    if rc != 0:
+        sys.exit(f"the {label} build failed:\n{out}")
+
+
+# ---- the coverage map --------------------------------------------------------------------------
+
+COVERAGE_FLAGS = ["-DVI_COVERAGE=ON", "-DCMAKE_BUILD_TYPE=Debug", "-DCMAKE_C_FLAGS=--coverage -O0",
+                  "-DCMAKE_EXE_LINKER_FLAGS=--coverage", "-DCMAKE_SHARED_LINKER_FLAGS=--coverage"]
+
+
+def clear_counters(build):
+    for f in build.rglob("*.gcda"):
+        f.unlink()
+
+
+def collect(build):
+    """{file under src/: [lines executed]} from the gcov counters in build, which are then removed."""
+    files = [str(f) for f in build.rglob("*.gcda")]
+    lines = {}
+    if not files:
+        return lines
+    raw = subprocess.run(["gcov", "-j", "-t"] + files, cwd=build, stdout=subprocess.PIPE,
+                         stderr=subprocess.DEVNULL).stdout.decode(errors="replace")
+    dec, i = json.JSONDecoder(), 0
+    src = str(ROOT / "src") + os.sep
+    while True:
+        while i < len(raw) and raw[i].isspace():
+            i += 1
+        if i >= len(raw):
+            break
+        doc, i = dec.raw_decode(raw, i)
+        for f in doc["files"]:
+            path = f["file"] if os.path.isabs(f["file"]) else os.path.join(doc["current_working_directory"], f["file"])
+            path = os.path.normpath(path)
+            if path.startswith(src):
+                executed = {ln["line_number"] for ln in f["lines"] if ln["count"] > 0}
+                lines.setdefault(os.path.relpath(path, ROOT), set()).update(executed)
     for f in files:
+        os.unlink(f)
+    return {k: sorted(v) for k, v in lines.items()}
+
+
+def flush_loaded_binaries(known=set()):  # noqa: B006 (a cache of paths without the hook)
+    """Write and reset the gcov counters of every FMU binary loaded in this process."""
+    with open("/proc/self/maps") as f:
+        paths = {line.split(None, 5)[5].strip() for line in f if len(line.split(None, 5)) == 6}
+    for p in sorted(paths):
+        if not p.endswith(".so") or p in known or p.startswith(("/usr/", "/lib")):
+            continue
+        try:
+            ctypes.CDLL(p).vi_coverage_flush()
+        except (OSError, AttributeError):
+            known.add(p)
+
+
+def pytest_worker(build, out, args):
+    """The coverage run of the FMU tests, in this process (python tools/mutate.py _pytest ...): after
+    each test, the lines it executed (and its time and outcome) as one JSON line in `out`."""
+    import pytest
+
+    build = pathlib.Path(build)
+
+    class CoveragePlugin:
+        def __init__(self):
+            self.out, self.failed = open(out, "w"), False
+
+        def pytest_sessionstart(self, session):
+            flush_loaded_binaries()
+            clear_counters(build)
+
+        def pytest_runtest_logreport(self, report):
+            self.failed |= report.failed
+
+        @pytest.hookimpl(hookwrapper=True)
+        def pytest_runtest_protocol(self, item, nextitem):
+            self.failed, t0 = False, time.monotonic()
+            yield
+            flush_loaded_binaries()
+            entry = dict(test=item.nodeid, duration=time.monotonic() - t0, passed=not self.failed,
+                         lines=collect(build))
+            self.out.write(json.dumps(entry) + "\n")
+            self.out.flush()
+
+    os.environ["VI_BUILD_DIR"] = str(build)
+    return pytest.main(["-q", "-p", "no:cacheprovider"] + args, plugins=[CoveragePlugin()])
+
+
+def ctest_names(build):
+    rc, out = run(["ctest", "--test-dir", str(build), "-N"], ROOT, 120)
+    return [m.group(1) for m in re.finditer(r"Test\s+#\d+: (\S+)", out) if not m.group(1).startswith("fuzz")]
+
+
+def coverage_map(rebuild=False):
+    key = revision_key()
+    path = CACHE / f"coverage-{key}.json"
+    if path.exists() and not rebuild:
+        print(f"coverage map: {path.relative_to(ROOT)} (cached for this revision)", flush=True)
+        return dict(json.loads(path.read_text()), cached=True)
+    build = CACHE / "cov"
+    t0 = time.monotonic()
+    print(f"coverage map for revision {key}: building {build.relative_to(ROOT)} ...", flush=True)
+    configure_and_build(ROOT, build, COVERAGE_FLAGS, "coverage")
+    tests = {}
+    for name in ctest_names(build):
+        clear_counters(build)
+        t = time.monotonic()
+        rc, _ = run(["ctest", "--test-dir", str(build), "-R", f"^{re.escape(name)}$", "--timeout", "900"], ROOT, 1000)
+        tests[f"ctest:{name}"] = dict(duration=time.monotonic() - t, passed=rc == 0, lines=collect(build))
+        print(f"  ctest {name}: {tests[f'ctest:{name}']['duration']:.1f} s", flush=True)
+    clear_counters(build)
+    out = CACHE / "pytest-coverage.jsonl"
+    t = time.monotonic()
+    rc, text = run([python_exe(), str(pathlib.Path(__file__).resolve()), "_pytest", str(build), str(out), "fmu-test"],
+                   ROOT, 7200)
+    for line in out.read_text().splitlines():
+        e = json.loads(line)
+        tests[f"pytest:{e['test']}"] = dict(duration=e["duration"], passed=e["passed"], lines=e["lines"])
+    print(f"  pytest: {sum(1 for k in tests if k.startswith('pytest:'))} tests, {time.monotonic() - t:.0f} s", flush=True)
+    cmap = dict(revision=key, seconds=time.monotonic() - t0, tests=tests)
+    path.write_text(json.dumps(cmap))
+    print(f"coverage map: {len(tests)} tests in {cmap['seconds']:.0f} s -> {path.relative_to(ROOT)}", flush=True)
+    return cmap
+
+
+def line_index(cmap):
+    """{(file, line): [test names]} over the tests that pass on the unmutated code."""
+    index = {}
+    for name, t in cmap["tests"].items():
+        if not t["passed"]:
+            continue
+        for f, lines in t["lines"].items():
+            for ln in lines:
+                index.setdefault((f, ln), []).append(name)
+    return index
+
+
+# ---- mutant runs -------------------------------------------------------------------------------
+
+def sync_scratch(scratch):
+    """Make scratch a copy of the tracked files (copying only what differs)."""
+    for f in tracked_files():
         src, dst = ROOT / f, scratch / f
-        if src.is_file():
+        if not dst.exists() or dst.read_bytes() != src.read_bytes():
             dst.parent.mkdir(parents=True, exist_ok=True)
             shutil.copy2(src, dst)
-    python = shutil.which(os.environ.get("PYTHON", "python3"))
-    rc, out = run(["cmake", "-S", ".", "-B", "build", "-DVI_REQUIRE_TESTS=ON", f"-DPython3_EXECUTABLE={python}"],
-                  scratch, 600)
-    if rc != 0:
-        sys.exit("configure failed:\n" + out)
-    rc, out = run(["cmake", "--build", "build", "-j2"], scratch, 600)
-    if rc != 0:
-        sys.exit("the unmutated build failed:\n" + out)
 
 
-def test_commands(timeout):
-    python = os.environ.get("PYTHON", "python3")
-    return [["ctest", "--test-dir", "build", "--stop-on-failure", "--timeout", str(timeout)],
-            [python, "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider", "fmu-test"]]
-
-
-def run_tests(scratch, timeout):
-    """'passed', 'failed' or 'timeout' for the whole test run within `timeout` seconds."""
-    deadline = time.monotonic() + timeout
-    for cmd in test_commands(timeout):
+def run_selected(scratch, tests, durations, limit):
+    """'passed', 'failed' or 'timeout' for the selected tests (fastest first, stopping at the first
+    failure) within `limit` seconds."""
+    deadline = time.monotonic() + limit
+    ctests = [t[len("ctest:"):] for t in tests if t.startswith("ctest:")]
+    pytests = sorted((t[len("pytest:"):] for t in tests if t.startswith("pytest:")),
+                     key=lambda t: durations[f"pytest:{t}"])
+    cmds = []
+    if ctests:
+        cmds.append(["ctest", "--test-dir", "build", "--stop-on-failure", "-R",
+                     "^(" + "|".join(re.escape(t) for t in ctests) + ")$", "--timeout", str(int(limit) + 1)])
+    if pytests:
+        cmds.append([python_exe(), "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider"] + pytests)
+    env = dict(os.environ)
+    env.pop("VI_BUILD_DIR", None)
+    for cmd in cmds:
         left = deadline - time.monotonic()
         if left <= 0:
             return "timeout"
-        rc, _ = run(cmd, scratch, left)
+        rc, _ = run(cmd, scratch, left, env)
         if rc == "timeout":
             return "timeout"
         if rc != 0:
@@ -291,68 +512,105 @@ def run_tests(scratch, timeout):
 
 
 def main():
+    if len(sys.argv) > 1 and sys.argv[1] == "_pytest":
+        return pytest_worker(sys.argv[2], sys.argv[3], sys.argv[4:])
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--sample", type=int, default=None, help="number of mutants to draw (default: all)")
-    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--seed", type=int, default=None, help="seed of the sample (default: a fresh one, printed)")
     ap.add_argument("--files", nargs="+", default=["src/*"], help="globs of files under src/ to mutate")
-    ap.add_argument("--timeout", type=float, default=900, help="seconds per mutant for the whole test run")
-    ap.add_argument("--list", action="store_true", help="list the mutants and exit")
-    ap.add_argument("--only", nargs="+", help="run only the mutants with these identifiers")
+    ap.add_argument("--list", action="store_true", help="list the mutants (name, line and column) and exit")
+    ap.add_argument("--only", nargs="+", help="run only the mutants with these names (or file:line:col places)")
+    ap.add_argument("--json", help="write the results to this file")
+    ap.add_argument("--rebuild-coverage", action="store_true", help="build the coverage map even if one is cached")
     args = ap.parse_args()
 
+    seed = args.seed if args.seed is not None else int.from_bytes(os.urandom(4), "little")
     mutants = all_mutants(args.files)
     if args.only:
-        mutants = [m for m in mutants if m.ident in set(args.only)]
-    mutants = sample(mutants, args.sample, args.seed)
+        wanted = set(args.only)
+        mutants = [m for m in mutants if m.ident in wanted or m.where in wanted]
+    mutants = sample(mutants, args.sample, seed)
     equivalent = read_equivalent()
     if args.list:
         for m in mutants:
-            print(m.ident + ("   [equivalent]" if m.ident in equivalent else ""))
+            print(f"{m.where}  {m.ident}" + ("   [equivalent]" if m.ident in equivalent else ""))
         print(f"{len(mutants)} mutants")
         return 0
+    stale = [e for e in equivalent if e not in {m.ident for m in all_mutants(["src/*"])}]
+    if stale:
+        print(f"note: {len(stale)} entries of {EQUIVALENT.relative_to(ROOT)} name no mutant of today's src/:")
+        for e in stale:
+            print("  " + e)
+    command = f"python3 tools/mutate.py --seed {seed}" + (f" --sample {args.sample}" if args.sample else "") + \
+        ("" if args.files == ["src/*"] else " --files " + " ".join(args.files))
+    print(f"seed {seed}: {len(mutants)} mutants (repeat with: {command})", flush=True)
 
-    with tempfile.TemporaryDirectory(prefix="vi-mutate-") as tmp:
-        scratch = pathlib.Path(tmp)
-        print(f"scratch checkout {scratch}; building the original ...", flush=True)
-        prepare_scratch(scratch)
-        if run_tests(scratch, args.timeout) != "passed":
-            sys.exit("the tests fail on the unmutated code: fix that first")
-        results = {"killed": [], "survived": [], "stillborn": [], "equivalent": []}
+    t_start = time.monotonic()
+    CACHE.mkdir(parents=True, exist_ok=True)
+    cmap = coverage_map(args.rebuild_coverage)
+    failing = sorted(n for n, t in cmap["tests"].items() if not t["passed"])
+    if failing:
+        print(f"{len(failing)} tests fail on the unmutated code and are never selected: " + ", ".join(failing))
+    index = line_index(cmap)
+    durations = {n: t["duration"] for n, t in cmap["tests"].items()}
+
+    scratch = CACHE / "scratch"
+    print(f"scratch copy {scratch.relative_to(ROOT)}: building the original ...", flush=True)
+    sync_scratch(scratch)
+    configure_and_build(scratch, scratch / "build", [], "scratch")
+    t_mutants = time.monotonic()
+    results = []
+    for i, m in enumerate(mutants, 1):
         t0 = time.monotonic()
-        for i, m in enumerate(mutants, 1):
-            target = scratch / m.file
-            original = target.read_text()
-            target.write_text(original[:m.start] + m.new + original[m.end:])
-            try:
-                rc, _ = run(["cmake", "--build", "build", "-j2"], scratch, 600)
-                if rc != 0:
-                    verdict = "stillborn"
-                else:
-                    verdict = {"passed": "survived", "failed": "killed", "timeout": "killed"}[
-                        run_tests(scratch, args.timeout)]
-                    if verdict == "survived" and m.ident in equivalent:
-                        verdict = "equivalent"
-            finally:
-                target.write_text(original)
-                os.utime(target, None)
-            results[verdict].append(m)
-            print(f"[{i}/{len(mutants)} {time.monotonic() - t0:6.0f} s] {verdict:10s} {m.ident}", flush=True)
-        run(["cmake", "--build", "build", "-j2"], scratch, 600)
+        target = scratch / m.file
+        original = target.read_text()
+        target.write_text(original[:m.start] + m.new + original[m.end:])
+        tests = sorted({t for ln in range(m.line, m.last_line + 1) for t in index.get((m.file, ln), [])})
+        try:
+            rc, _ = run(["cmake", "--build", "build", "-j2"], scratch, 900)
+            if rc != 0:
+                verdict = "stillborn"
+            elif not tests:
+                verdict = "uncovered"
+            else:
+                limit = 3 * sum(durations[t] for t in tests) + 60
+                verdict = {"passed": "survived", "failed": "killed", "timeout": "killed"}[
+                    run_selected(scratch, tests, durations, limit)]
+            if verdict in ("survived", "uncovered") and m.ident in equivalent:
+                verdict = "equivalent"
+        finally:
+            target.write_text(original)
+            os.utime(target, None)
+        dt = time.monotonic() - t0
+        results.append(dict(name=m.ident, where=m.where, verdict=verdict, tests=len(tests), seconds=dt))
+        print(f"[{i}/{len(mutants)} {time.monotonic() - t_mutants:6.0f} s] {verdict:10s} {len(tests):3d} tests "
+              f"{dt:5.1f} s  {m.where}  {m.ident}", flush=True)
+    run(["cmake", "--build", "build", "-j2"], scratch, 900)
 
-    k, s = len(results["killed"]), len(results["survived"])
+    count = {v: [r for r in results if r["verdict"] == v]
+             for v in ("killed", "survived", "uncovered", "equivalent", "stillborn")}
+    k, s, u = len(count["killed"]), len(count["survived"]), len(count["uncovered"])
+    times = [r["seconds"] for r in results if r["verdict"] != "stillborn"]
     print()
-    print(f"mutants: {len(mutants)}; killed {k}, survived {s}, equivalent {len(results['equivalent'])}, "
-          f"stillborn (do not compile) {len(results['stillborn'])}")
-    if k + s:
-        print(f"mutation score: {100.0 * k / (k + s):.1f} % of non-equivalent mutants killed")
-    if results["survived"]:
-        print("\nsurvivors:")
-        for m in results["survived"]:
-            print("  " + m.ident)
-    if results["equivalent"]:
-        print("\nequivalent (tools/mutants-equivalent.txt):")
-        for m in results["equivalent"]:
-            print(f"  {m.ident}  # {equivalent[m.ident]}")
+    print(f"seed {seed}: {len(mutants)} mutants; killed {k}, survived {s}, uncovered {u}, "
+          f"equivalent {len(count['equivalent'])}, stillborn (do not compile) {len(count['stillborn'])}")
+    if k + s + u:
+        print(f"mutation score: {k} of {k + s + u} non-equivalent mutants killed, {100.0 * k / (k + s + u):.1f} %")
+    if times:
+        print(f"time per mutant: mean {statistics.mean(times):.1f} s, median {statistics.median(times):.1f} s; "
+              f"mutants {time.monotonic() - t_mutants:.0f} s, whole run {time.monotonic() - t_start:.0f} s "
+              f"(coverage map {'cached' if cmap.get('cached') else 'built in %.0f s' % cmap['seconds']})")
+    for v in ("survived", "uncovered"):
+        if count[v]:
+            print(f"\n{v}:")
+            for r in count[v]:
+                print(f"  {r['where']}  {r['name']}")
+    if count["equivalent"]:
+        print(f"\nequivalent ({EQUIVALENT.relative_to(ROOT)}):")
+        for r in count["equivalent"]:
+            print(f"  {r['name']}  # {equivalent[r['name']]}")
+    if args.json:
+        pathlib.Path(args.json).write_text(json.dumps(dict(seed=seed, command=command, results=results), indent=1))
     return 0
 
 

@@ -31,6 +31,7 @@ need_cargo() { CARGO_PKGS+=("$@"); }
 #   need_pip some-package
 #   need_cargo some-program=some-crate
 need_cargo fmi-sim=fmi-sim # the Rust FMI simulator: the second importer of the Model Exchange and FMI 3.0 tests
+need_apt clang libclang-rt-14-dev # clang with libFuzzer and the sanitizers: the fuzz harness (tests/fuzz)
 # ------------------------------------------------------------------------------------------------------
 
 # ---- apt ----------------------------------------------------------------------------------------------

@@ -1,0 +1,170 @@
+"""Regression tests of what the libFuzzer harness (tests/fuzz) found. Each names the harness's check
+it failed; the input that found it is in the seed corpus, tests/fuzz/corpus/VibroImpact/, so that
+the fuzz test runs it again too."""
+import re
+import unicodedata
+
+import pytest
+from fmpy.fmi1 import FMICallException
+
+from conftest import Logged, start
+
+
+def printable(text):
+    """No control characters (C0, DEL, C1): what the harness's logger accepts."""
+    return not any(unicodedata.category(ch) == "Cc" for ch in text)
+
+
+def test_control_characters_of_the_instance_name_and_strings_are_escaped_in_messages(model_description, unzipdir, vr):
+    """The harness's 'message ... has a byte that starts no printable character': the FMU copied the
+    instance name (fmi2Instantiate's call log) and String values (a profile_file that cannot be
+    read) into messages byte for byte, control characters and all (a terminal escape, a bell, a
+    newline that splits a log line). They are shown escaped, and the message still names them."""
+    log = Logged(model_description, unzipdir, name="a\x1b[2Jb\x07")
+    s = log.instantiate(logging=True)
+    s.setString([vr["profile_file"]], ["no\nsuch\x1bfile"])
+    with pytest.raises(FMICallException):
+        start(s, vr, dict(contact_model=1))
+    texts = [m for _, _, m in log.messages]
+    assert any("fmi2Instantiate" in m for m in texts) and any("profile_file" in m for m in texts), texts
+    bad = [m for m in texts if not printable(m)]
+    assert bad == [], bad
+    assert any("a\\x1b[2Jb\\x07" in m for m in texts), texts  # the name, escaped
+    assert any("no\\x0asuch\\x1bfile" in m for m in texts), texts
+    s.freeInstance()
+
+
+@pytest.mark.parametrize("when", ["initialization mode", "exit"])
+def test_outputs_beyond_the_range_of_double_are_refused_not_nan(logged, vr, when):
+    """The harness's 'fmi2GetReal gave NaN ... with fmi2OK': Johnson pre-loaded by P = 1e300 N starts
+    at delta = 2.5e288 m, where the work along the virgin curve and the energy given back on
+    unloading both overflow, and W_plastic = inf - inf = NaN was reported with fmi2OK (in
+    initialization mode and after it). Such a state cannot be represented: initialization is
+    refused, naming the output."""
+    log = logged()
+    s = log.instantiate()
+    s.setupExperiment()
+    s.enterInitializationMode()
+    s.setReal([vr["P"]], [1e300])
+    with pytest.raises(FMICallException):
+        if when == "exit":
+            s.exitInitializationMode()
+        else:
+            s.getReal([vr["W_plastic"]])
+    assert any(re.search(r"W_plastic = -?nan at t = 0 s", m) for st, _, m in log.messages if st == 3), log.messages
+    s.freeInstance()
+
+
+def test_no_nan_output_with_ok_after_a_failed_initialization(logged, vr, model_description):
+    """The harness's 'fmi2GetReal gave NaN ... with fmi2OK' again: after fmi2ExitInitializationMode
+    failed, the instance is in the error state, where values may still be read, and outputs computed
+    from the model that failed to initialize were NaN with fmi2OK (found as k_contact after a
+    refused Poisson's ratio, which is now refused when set; here W_plastic after the load of
+    1e300 N above). An output without a finite value is refused (fmi2Error naming it and the state);
+    the others read as before."""
+    log = logged()
+    s = log.instantiate()
+    s.setupExperiment()
+    s.enterInitializationMode()
+    s.setReal([vr["P"]], [1e300])
+    with pytest.raises(FMICallException):
+        s.exitInitializationMode()
+    for v in model_description.modelVariables:
+        if v.type != "Real":
+            continue
+        try:
+            x = s.getReal([v.valueReference])[0]
+        except FMICallException:
+            continue
+        assert x == x, f"{v.name} = NaN with fmi2OK"
+    with pytest.raises(FMICallException):
+        s.getReal([vr["W_plastic"]])
+    assert re.fullmatch(r"fmi2GetReal: W_plastic = -?nan has no value in state 'error'", log.messages[-1][2]), log.messages
+    assert s.getReal([vr["P"]]) == [1e300]  # a parameter reads as set
+    s.freeInstance()
+
+
+def test_model_exchange_euler_importer_overshooting_yield_keeps_a_finite_memory(fmu_path):
+    """The harness's 'fmi2GetEventIndicators returned fmi2OK with element 0 = NaN': an explicit-Euler
+    importer (Johnson, a = 0.21 mm at 560 Hz, steps of 0.1 ms, then 1 ms) meets the events late; at
+    one the state lay far beyond the plastic mode's surface, and the memory written down there was
+    the unloading curve of that state's indentation, below yield: area ratio < 0, Rbar = NaN, and
+    every indicator NaN from then on with fmi2OK (a state taken then was refused when set back). The
+    memory is the largest indentation reached, never below yield: the indicators stay finite and a
+    state taken on the way is accepted back."""
+    from vibroimpact.me import Me, MeInstance
+
+    inst = MeInstance(fmu_path)
+    inst.instantiate(categories=())
+    me = Me(inst)
+    me.start(dict(a=0.000213623046875))
+    saved = None
+    t, z = 0.0, me.indicators()
+    for k in range(32):
+        h = 1e-4 if k < 16 else 1e-3
+        x, dx = me.states(), me.derivatives()
+        t += h
+        me.fmu.setTime(t)
+        me.set_states([a + h * b for a, b in zip(x, dx)])
+        enter, _ = me.fmu.completedIntegratorStep()
+        z_new = me.indicators()
+        if enter or any((a > 0) != (b > 0) for a, b in zip(z, z_new)):
+            me.fmu.enterEventMode()
+            me.settle()
+            me.fmu.enterContinuousTimeMode()
+            z_new = me.indicators()
+        assert all(v == v for v in z_new), (k, t, z_new)
+        z = z_new
+        if k == 20:
+            saved = me.fmu.getFMUstate()
+    me.fmu.setFMUstate(saved)
+    assert all(v == v for v in me.indicators())
+    me.fmu.freeFMUstate(saved)
+    me.fmu.freeInstance()
+
+
+STEP_AFTER_HUGE_FORCE = r"""
+import sys, time
+from fmpy import extract, read_model_description
+from fmpy.fmi1 import FMICallException
+from vibroimpact.fmu import Logged
+fmu, solver = sys.argv[1], int(sys.argv[2])
+md = read_model_description(fmu)
+vr = {v.name: v.valueReference for v in md.modelVariables}
+log = Logged(md, extract(fmu))
+s = log.instantiate()
+s.setupExperiment()
+s.enterInitializationMode()
+s.setInteger([vr["solver"]], [solver])
+s.exitInitializationMode()
+s.doStep(0.0, 0.01)
+s.setReal([vr["F_ext"]], [1.7976931348623157e308])
+t0 = time.process_time()
+try:
+    s.doStep(0.01, 1.0)
+    status = "ok"
+except FMICallException as e:
+    status = "discard" if e.status == 2 else "error"
+print(status, time.process_time() - t0, log.messages[-1][2] if log.messages else "")
+"""
+
+
+@pytest.mark.parametrize("solver", [1, 2, 3], ids=["bdf", "adams", "dop853"])
+def test_a_step_under_a_force_beyond_what_can_be_integrated_fails_at_once(fmu_path, solver):
+    """The harness's watchdog ('fmi2DoStep used more than 30 s of CPU time'): under an input force of
+    1.8e308 N, CVODE's first step size came out 0, then NaN, and CVODE 6.4 went on evaluating the
+    right-hand side at t = NaN inside one call: minutes of CPU time in one fmi2DoStep (more than
+    100 s without the sanitizers). A time or derivative that is not finite now fails the right-hand
+    side, and CVODE the step after its limit of such failures: fmi2Error at once, naming where
+    (dop853 failed at once before)."""
+    import subprocess
+    import sys
+    try:
+        p = subprocess.run([sys.executable, "-c", STEP_AFTER_HUGE_FORCE, fmu_path, str(solver)], capture_output=True,
+                           text=True, timeout=60)
+    except subprocess.TimeoutExpired:
+        pytest.fail("fmi2DoStep did not return within 60 s")
+    assert p.returncode == 0, p.stderr
+    status, cpu, message = p.stdout.split(" ", 2)
+    assert status == "error" and float(cpu) < 5.0, p.stdout
+    assert "the solver failed near t = 0.01" in message, message

@@ -1,0 +1,140 @@
+/*
+ * fuzz.h - the libFuzzer harness of the FMU (tests/fuzz/README.md): what its parts share.
+ *
+ * An input is a sequence of calls. Each call starts with an opcode byte: bit 7 picks the instance
+ * slot (two slots), bits 0-6 the call kind (fz_call.code); the kind's own arguments follow, read
+ * with the fz_* readers below (an exhausted input reads as zeros). The kinds of one interface of
+ * the FMU (FMI 2.0 common and Co-Simulation: calls_fmi2.c) form one table; codes are fixed, so that
+ * the seed corpus keeps its meaning when kinds are added:
+ *     0-39    FMI 2.0, common functions and Co-Simulation (calls_fmi2.c)
+ *     40-59   FMI 2.0 Model Exchange
+ *     60-99   FMI 3.0
+ *     100-127 the harness itself (profile files; calls_fmi2.c)
+ * A code that no table has, or whose functions the FMU binary lacks, is skipped.
+ *
+ * Every FMU call goes through fz_begin/fz_end (the watchdog: a call running longer than a bound is
+ * a finding) and every message through the logger's checks (fuzz_main.c); a finding prints what
+ * happened and aborts, so that libFuzzer saves the input. VI_FUZZ_TRACE=1 prints every call.
+ */
+#ifndef VI_FUZZ_H
+#define VI_FUZZ_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "fmi2Functions.h"
+#include "vi_fmu.h"
+
+#define FZ_SLOTS 2          /* instances alive at once */
+#define FZ_STATES 3         /* FMU state handles per slot */
+#define FZ_BUFFERS 3        /* serialized states shared by the slots */
+#define FZ_MAX_CALLS 96     /* calls per input: bounds the work of one input */
+#define FZ_NAME_SIZE 6000   /* longest instance name the harness passes, + 1 */
+#define FZ_ARRAY 6          /* the most value references in one fmi2Get/fmi2Set */
+
+/* ---- reading the input ---- */
+typedef struct {
+    const uint8_t *p;
+    size_t n;
+} fz_reader;
+uint8_t fz_u8(fz_reader *r);
+uint16_t fz_u16(fz_reader *r);
+uint32_t fz_u32(fz_reader *r);
+double fz_raw_double(fz_reader *r);
+/* Up to n bytes of the input into out (fewer when it ends); returns how many. */
+size_t fz_bytes(fz_reader *r, uint8_t *out, size_t n);
+
+/* ---- values ---- */
+/* A Real: special values (0, -0, +-1, NaN, +-inf, extremes, subnormals), raw bits, or `typical`
+ * (a variable's start value; 1 when it is 0) scaled by a power of two and maybe negated. */
+double fz_real(fz_reader *r, double typical);
+/* An Integer: small values, extremes, raw bits, or an item of `enumeration` ("none": any item). */
+int fz_integer(fz_reader *r, const char *enumeration);
+int fz_boolean(fz_reader *r);
+/* A String (NULL possible): names of the profile files the harness writes, paths, long and
+ * unterminated-looking strings, control characters, format directives, raw bytes. Valid until the
+ * next call of fz_string with the same `which` (0..FZ_ARRAY-1). */
+const char *fz_string(fz_reader *r, int which);
+/* A value reference: mostly one of a variable of `type` (a vi_type; -1: any variable), sometimes
+ * one past the table or far beyond it. */
+fmi2ValueReference fz_vr(fz_reader *r, int type);
+/* The variable with value reference vr, or NULL. */
+const vi_variable *fz_variable(fmi2ValueReference vr);
+
+/* ---- the watchdog and findings ---- */
+void fz_begin(const char *call);
+void fz_end(void);
+/* A finding: print it (and the calls so far with VI_FUZZ_TRACE=1) and abort. */
+void fz_fail(const char *fmt, ...) __attribute__((format(printf, 1, 2), noreturn));
+void fz_trace(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+/* Is status one of the fmi2Status values? (A finding otherwise.) */
+fmi2Status fz_status(const char *call, fmi2Status s);
+
+/* ---- instances ---- */
+/* The FMI states of the Co-Simulation state machine, as bits (a mask: the states the instance may
+ * be in, after a call whose outcome leaves it open). */
+enum {
+    FZ_INSTANTIATED = 1 << 0,
+    FZ_INIT = 1 << 1,
+    FZ_STEP_COMPLETE = 1 << 2,
+    FZ_STEP_FAILED = 1 << 3,
+    FZ_TERMINATED = 1 << 4,
+    FZ_ERROR = 1 << 5,
+    FZ_ANY = (1 << 6) - 1,
+};
+
+typedef struct {
+    void *handle; /* fmi2FMUstate, NULL when free */
+    unsigned mask; /* the FMI states the instance may have been in when it was taken */
+    double t;     /* its communication time */
+} fz_saved;
+
+typedef struct fz_slot {
+    void *c;                   /* fmi2Component, NULL when the slot is empty */
+    int fmu_type;              /* fmi2CoSimulation or fmi2ModelExchange */
+    char name[FZ_NAME_SIZE];   /* the name it was instantiated with */
+    const char *expected_name; /* what the logger must be told (name, or "?" for a NULL name) */
+    unsigned mask;             /* FZ_* states it may be in (Co-Simulation) */
+    double t;                  /* the importer's communication time */
+    double start_time;         /* of fmi2SetupExperiment */
+    fz_saved saved[FZ_STATES];
+    int logging;               /* debug logging on (every category) */
+} fz_slot;
+
+typedef struct {
+    uint8_t *data;
+    size_t n;
+} fz_buffer;
+
+typedef struct {
+    fz_slot slot[FZ_SLOTS];
+    fz_buffer buffer[FZ_BUFFERS];
+    char resources[256]; /* a folder the harness writes profile files into */
+    char resources_uri[300];
+} fz_context;
+
+/* The callbacks every instance gets (componentEnvironment: its slot). */
+fmi2CallbackFunctions fz_callbacks(fz_slot *s);
+/* Set a slot's expected logger name before fmi2Instantiate. */
+void fz_expect_name(fz_slot *s, const char *name);
+
+/* ---- call kinds ---- */
+typedef struct {
+    uint8_t code;
+    const char *name;
+    /* Run the call on slot s (or both slots of ctx); read the arguments from r. */
+    void (*run)(fz_context *ctx, fz_slot *s, fz_reader *r);
+} fz_call;
+
+typedef struct {
+    const char *name;
+    int (*available)(void);   /* are the interface's functions in this binary? */
+    const fz_call *calls;
+    size_t ncalls;
+    void (*release)(fz_context *ctx, fz_slot *s); /* free what the slot holds at the end of an input */
+} fz_interface;
+
+extern const fz_interface fz_fmi2;   /* calls_fmi2.c */
+extern const fz_interface fz_fmi2me; /* calls_fmi2me.c */
+
+#endif
