@@ -39,6 +39,16 @@ def force_tolerance(system, rtol=RTOL):
     return ACCUMULATION * 1.5 * rtol * y / delta
 
 
+def dissipation_tolerance(system, sol, T, rtol=RTOL):
+    """The bound on |D - D_ref| / D_ref, D = int of sum c dv^2 over the dampers, from the force's: the
+    damper velocities answer the dynamic force F - W, so a force error e W moves them by e W / |F - W|
+    relative and D by twice that; e = force_tolerance, |F - W| its rms over the reference run. (The
+    master's D takes no part in step size control; its error follows the force's.)"""
+    t = np.linspace(0.0, T, 4001)
+    dynamic = float(np.sqrt(np.mean((sol.force(t) - system.W) ** 2)))
+    return 2.0 * force_tolerance(system, rtol) * system.W / dynamic
+
+
 def force_error(r, sol, system):
     return float(np.max(np.abs(r["contact.F"] - sol.force(r["t"]))) / system.W)
 
@@ -77,8 +87,8 @@ def test_me_plan_sets_inputs_before_the_outputs_that_depend_on_them():
 def test_me_run_matches_the_reference(rough):
     """The three FMUs in one solver (DOP853, rtol 1e-8) rolling over the roughness: the force within
     force_tolerance (2.2e-5 of the wheel load) (the co-simulation's recommended coupling: 0.29 % at
-    1e-5 s, test_vehicle_track.py), the impulse and the work dissipated in the dampers to rtol
-    (ten and a hundred times: they add up over the run)."""
+    1e-5 s, test_vehicle_track.py), the impulse to rtol (ten times: it adds up over the run) and the
+    work dissipated in the dampers within dissipation_tolerance (1.5e-4)."""
     path, T, system, sol = rough
     r = me_master.run(T, path, rtol=RTOL)
     assert r["time_events"] > 100  # the kinks of the rolling constraint over 27 ms of roughness
@@ -86,7 +96,7 @@ def test_me_run_matches_the_reference(rough):
     J_ref = sol.state(T)[reference.J, 0]
     assert abs(r["J"][-1] - J_ref) < 10 * RTOL * J_ref
     D_ref = sol.state(T)[reference.D, 0]
-    assert abs(r["D"][-1] - D_ref) < 100 * RTOL * D_ref
+    assert abs(r["D"][-1] - D_ref) < dissipation_tolerance(system, sol, T) * D_ref
 
 
 @needs_fmus
