@@ -123,6 +123,33 @@ def test_model_exchange_euler_importer_overshooting_yield_keeps_a_finite_memory(
     me.fmu.freeInstance()
 
 
+def test_model_exchange_arrays_after_a_failed_initialization_hold_no_nan_with_ok(fmu_path):
+    """The harness's 'fmi2GetDerivatives returned fmi2OK with element 0 = NaN': a platform amplitude
+    a = DBL_MAX makes fmi2ExitInitializationMode fail (v = NaN at t = 0 s); in the error state the
+    Model Exchange arrays may still be read, and the derivatives were NaN with fmi2OK. Each array
+    call now either refuses (fmi2Error naming the element and the state) or gives numbers only."""
+    from fmpy.fmi1 import FMICallException
+    from vibroimpact.me import Me, MeInstance
+
+    inst = MeInstance(fmu_path)
+    inst.instantiate(categories=())
+    me = Me(inst)
+    with pytest.raises(FMICallException):
+        me.start(dict(a=1.7976931348623157e308))
+    refused = []
+    for name in ("states", "derivatives", "indicators", "nominals"):
+        try:
+            values = getattr(me, name)()
+        except FMICallException:
+            refused.append(name)
+            continue
+        assert all(v == v for v in values), (name, values)
+    assert "derivatives" in refused, refused
+    assert any(re.fullmatch(r"fmi2GetDerivatives: derivative \d = -?nan has no value in state 'error'", m)
+               for m in inst.errors()), inst.errors()
+    me.fmu.freeInstance()
+
+
 STEP_AFTER_HUGE_FORCE = r"""
 import sys, time
 from fmpy import extract, read_model_description

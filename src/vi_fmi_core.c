@@ -923,6 +923,17 @@ static int me_args(vi_core *c, const char *fn, const void *array, size_t n, size
 #define ME_ARGS(array, n, expected, what) \
     if (!me_args(c, fn, array, n, expected, what)) return VI_STATUS_ERROR
 
+/* An array the model computed, handed out only when every element is a number (after a failed
+ * initialization, say, the state holds NaN: the call is refused as fmi2GetReal refuses such a value). */
+static vi_status finite_or_refuse(const vi_core *c, const char *fn, const double x[], size_t n, const char *what)
+{
+    for (size_t i = 0; i < n; i++)
+        if (isnan(x[i]))
+            return vi_core_refuse(c, "%s: %s %zu = %g has no value in state '%s'", fn, what, i, x[i],
+                                  state_name(c->state));
+    return VI_STATUS_OK;
+}
+
 vi_status vi_core_enter_event_mode(void *instance, const char *fn)
 {
     ENTER(VI_CALL_ENTER_EVENT_MODE);
@@ -1027,7 +1038,7 @@ vi_status vi_core_get_states(void *instance, const char *fn, double x[], size_t 
     ME_ARGS(x, n, (size_t)MODEL->n_states, "states");
     if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) return vi_core_refuse(c, "%s: %s", fn, MODEL->message(c->model));
     MODEL->get_states(c->model, x);
-    return VI_STATUS_OK;
+    return finite_or_refuse(c, fn, x, n, "state");
 }
 
 vi_status vi_core_get_derivatives(void *instance, const char *fn, double dx[], size_t n)
@@ -1035,7 +1046,7 @@ vi_status vi_core_get_derivatives(void *instance, const char *fn, double dx[], s
     ENTER(VI_CALL_GET_DERIVATIVES);
     ME_ARGS(dx, n, (size_t)MODEL->n_states, "derivatives");
     MODEL->derivatives(c->model, dx);
-    return VI_STATUS_OK;
+    return finite_or_refuse(c, fn, dx, n, "derivative");
 }
 
 vi_status vi_core_get_event_indicators(void *instance, const char *fn, double z[], size_t n)
@@ -1045,7 +1056,7 @@ vi_status vi_core_get_event_indicators(void *instance, const char *fn, double z[
     if (n == 0) return VI_STATUS_OK;
     if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) return vi_core_refuse(c, "%s: %s", fn, MODEL->message(c->model));
     MODEL->indicators(c->model, z);
-    return VI_STATUS_OK;
+    return finite_or_refuse(c, fn, z, n, "event indicator");
 }
 
 vi_status vi_core_get_nominals(void *instance, const char *fn, double nominal[], size_t n)
@@ -1053,7 +1064,7 @@ vi_status vi_core_get_nominals(void *instance, const char *fn, double nominal[],
     ENTER(VI_CALL_GET_NOMINALS);
     ME_ARGS(nominal, n, (size_t)MODEL->n_states, "nominals");
     MODEL->nominals(c->model, nominal);
-    return VI_STATUS_OK;
+    return finite_or_refuse(c, fn, nominal, n, "nominal");
 }
 
 /* Is vr a state of the model (its index in state order), or -1? */
