@@ -278,12 +278,14 @@ vi_status vi_core_exit_init(void *instance, const char *fn)
     ENTER(VI_CALL_EXIT_INIT);
     if (c->kind == VI_KIND_ME) {
         if (MODEL->me_initialize(c->model) < 0) return vi_core_fail(c, fn);
+        c->initialized = 1;
         c->state = VI_ST_EVENT; /* the importer runs the initial event iteration */
         c->t_committed = MODEL->time(c->model);
         c->event_passes = 0;
         return VI_STATUS_OK;
     }
     if (MODEL->initialize(c->model) < 0) return vi_core_fail(c, fn);
+    c->initialized = 1;
     c->state = VI_ST_STEP_COMPLETE;
     return VI_STATUS_OK;
 }
@@ -301,6 +303,7 @@ vi_status vi_core_reset(void *instance, const char *fn)
     ENTER(VI_CALL_RESET);
     MODEL->reset(c->model);
     c->stop_time_defined = 0;
+    c->initialized = 0;
     c->state = VI_ST_INSTANTIATED;
     return VI_STATUS_OK;
 }
@@ -376,10 +379,12 @@ static const vi_variable *input_of_derivative(const vi_core *c, unsigned vr)
 }
 
 /* Outputs and calculated parameters into c->outputs: computed from the current state (in
- * initialization mode from the initial state the current parameters give). */
+ * initialization mode, and in the error state of an initialization that failed, from the initial
+ * state the current parameters give: the model may never have been set up). */
 static int current_outputs(vi_core *c, const char *fn)
 {
-    if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) {
+    int unset = c->state == VI_ST_INIT || (c->state == VI_ST_ERROR && !c->initialized);
+    if (unset && MODEL->prepare(c->model) < 0) {
         LOG_ERROR(c, "%s: %s", fn, MODEL->message(c->model));
         return -1;
     }
@@ -791,6 +796,7 @@ vi_status vi_core_set_fmu_state(void *instance, const char *fn, const void *stat
     c->stop_time = s->stop_time;
     c->state = s->fmu_state;
     c->event_passes = 0;
+    c->initialized = saved_running(c, s) != 0;
     if (MODEL->restore && MODEL->restore(c->model, saved_running(c, s)) != 0) return vi_core_fail(c, fn);
     c->t_committed = MODEL->time(c->model);
     return VI_STATUS_OK;
