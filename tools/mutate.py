@@ -25,8 +25,8 @@ selected (they are listed).
 
 A mutant is named after its place in a way that survives edits elsewhere in the file:
     <file>:<function>:<kind>:<old>-><new>:<k> | <the code of its line>
-(k counts the mutants of that kind and text on that line). --list prints the names with the line
-and column of today. The same names key tools/mutants-equivalent.txt: "<name>  # <reason>".
+(k counts the mutants of that kind and text on lines of that code in that function, in order). --list
+prints the names with the line and column of today. The same names key tools/mutants-equivalent.txt: "<name>  # <reason>".
 
 Sampling: --sample N draws N mutants, stratified by file (every file of src/ gets its share), with
 --seed S; without --seed the seed is fresh and printed, so that a run can be repeated. Without
@@ -249,8 +249,8 @@ def mutants_of(path, text=None):
         pos += len(line)
     found.sort(key=lambda m: (m.start, m.kind))
     seen = {}
-    for m in found:
-        key = (m.line, m.kind, flat(m.old), flat(m.new))
+    for m in found:  # k: the same change on the same code in the same function (on one line, or on lines alike)
+        key = (m.function, m.site, m.kind, flat(m.old), flat(m.new))
         seen[key] = seen.get(key, 0) + 1
         m.k = seen[key]
     return found
