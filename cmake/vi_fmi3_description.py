@@ -177,8 +177,9 @@ def main():
         if nominal:
             return (f"{unit} (nominal {nominal})" if unit else f"nominal {nominal}"), unit, nominal
         return (unit, unit, None) if unit else None
-    float_types = sorted({float_type(v) for v in variables if v["type"] == "Real" and float_type(v)} |
-                         {(u, u, None) for u in rate_of.values()} | ({("s", "s", None)} if "s" in unit_names else set()))
+    float_types = sorted({float_type(v) for v in variables if v["type"] == "Real" and float_type(v)}
+                         | {(u, u, None) for u in rate_of.values()}
+                         | ({("s", "s", None)} if "s" in unit_names else set()))
     enum_desc = {s.get("name"): s.get("description") for s in md2.findall("TypeDefinitions/SimpleType")}
     if items or float_types:
         out.append("  <TypeDefinitions>")

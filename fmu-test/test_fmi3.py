@@ -33,7 +33,7 @@ import pytest
 from fmpy import extract, read_model_description
 from fmpy.fmi1 import FMICallException
 
-from conftest import BUILD, FMU
+from conftest import BUILD, FMU, with_solver
 from solvers import each_solver
 from vibroimpact import fmi3
 from vibroimpact.compare import EVENT_DT, INTEGERS, REALS, SCENARIOS, Runner, compare, fmu_events, read_events
@@ -285,7 +285,7 @@ def test_tolerance_acts_as_fmi2_setup_experiment(logged3, vr3, kinds3, logged, v
 
     def run3(tolerance):
         s = logged3().instantiate()
-        fmi3.initialize(s, vr3, dict(a=1e-4, contact_model=1), kinds=kinds3, tolerance=tolerance)
+        fmi3.initialize(s, vr3, with_solver(dict(a=1e-4, contact_model=1)), kinds=kinds3, tolerance=tolerance)
         for k in range(1, 101):
             s.doStep(1e-4 * (k - 1), 1e-4)
         y = s.getFloat64([vr3["y"], vr3["v"]])
@@ -337,7 +337,7 @@ def test_enumerations_by_item_name(md3, logged3, vr3, kinds3):
     assert set(r3["mode"]) == {items["free"], items["elastic"]}
 
 
-def test_input_derivatives_are_variables_and_act_as_in_fmi2(logged3, vr3, logged, vr):
+def test_input_derivatives_are_variables_and_act_as_in_fmi2(logged3, vr3, kinds3, logged, vr):
     """der(yC_in) set after yC_in moves the platform input on that slope over the step, as
     fmi2SetRealInputDerivatives does (bit for bit); setting yC_in again resets it to 0."""
     from conftest import start
@@ -348,7 +348,7 @@ def test_input_derivatives_are_variables_and_act_as_in_fmi2(logged3, vr3, logged
     s2 = logged().instantiate()
     start(s2, vr, dict(contact_model=1))
     s3 = logged3().instantiate()
-    fmi3.initialize(s3, vr3, dict(contact_model=1), kinds={"contact_model": "Enumeration"})
+    fmi3.initialize(s3, vr3, with_solver(dict(contact_model=1)), kinds=kinds3)
     y_in, h = 0.0, 1e-4
     for k in range(200):
         t = k * h
@@ -491,7 +491,7 @@ def test_model_exchange_calls(md3, dir3, vr3):
                                                ("LayerTest", "u", 0.5)])
 def test_companion_and_layer_models_match_their_fmi2_builds(name, signal, value):
     """The input steps at 5 ms; every output follows it in both builds alike, with or without early
-    return and Event Mode (the models have no events)."""
+    return and Event Mode (the models have no events), and in Model Exchange."""
     md = read_model_description(str(BUILD / f"{name}.fmu"))
     outputs = [v.name for v in md.modelVariables if v.causality == "output" and v.type == "Real"]
     steps = np.array([(0.0, 0.0), (0.005, value)], dtype=[("time", np.float64), (signal, np.float64)])
@@ -505,6 +505,11 @@ def test_companion_and_layer_models_match_their_fmi2_builds(name, signal, value)
     assert moved, "the input step moved no output"
     for k in outputs:  # fmpy records Event Mode's extra samples: compare at the common times
         assert np.array_equal(np.interp(r2["time"], r3e["time"], r3e[k]), r2[k]), k
+    if md.modelExchange:  # and their Model Exchange interfaces, integrated by fmpy's CVode
+        r2 = fmpy.simulate_fmu(str(BUILD / f"{name}.fmu"), fmi_type="ModelExchange", **kw)
+        r3 = fmpy.simulate_fmu(str(BUILD / "fmi3" / f"{name}.fmu"), fmi_type="ModelExchange", **kw)
+        for k in ["time"] + outputs:
+            assert np.array_equal(r3[k], r2[k]), k
 
 
 def test_layer_discard_and_failure_map_to_fmi3(tmp_path):

@@ -94,7 +94,7 @@ def test_model_exchange_euler_importer_overshooting_yield_keeps_a_finite_memory(
     every indicator NaN from then on with fmi2OK (a state taken then was refused when set back). The
     memory is the largest indentation reached, never below yield: the indicators stay finite and a
     state taken on the way is accepted back."""
-    from me_run import Me, MeInstance
+    from vibroimpact.me import Me, MeInstance
 
     inst = MeInstance(fmu_path)
     inst.instantiate(categories=())

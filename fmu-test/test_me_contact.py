@@ -9,7 +9,7 @@ from fmpy import simulate_fmu
 from fmpy.fmi1 import FMICallException
 
 from vibroimpact.reference.scenarios import SCENARIOS
-from me_run import Me, MeInstance, run_me
+from vibroimpact.me import Me, MeInstance, run_me
 
 
 @pytest.fixture
@@ -125,3 +125,20 @@ def test_input_jump_during_plastic_loading_acts_as_in_co_simulation(fmu_path, un
     assert len(cs_modes) == len(me_modes) == 1  # unloading after the jump
     assert np.abs(r["delta_c"] - dc).max() <= 1e-12
     assert np.abs(r["y"] - y).max() <= 1e-10
+
+
+def test_inputs_set_after_the_last_event_pass_act_in_continuous_time(me):
+    """A master sets the inputs again after the last pass of its event iteration (they follow other
+    FMUs' states): from fmi2EnterContinuousTimeMode on they act as continuous-time inputs do."""
+    inst, m = me()
+    m.start(params=dict(contact_model=1))
+    m.fmu.setTime(1e-4)
+    m.fmu.completedIntegratorStep()
+    m.fmu.enterEventMode()
+    m.settle()
+    d0 = m.real("delta")
+    m.set("yC_in", 1e-7)
+    m.fmu.enterContinuousTimeMode()
+    assert m.real("delta") == pytest.approx(d0 + 1e-7, abs=1e-18)
+    m.set("yC_in", 2e-7)  # and go on following the input in continuous time
+    assert m.real("delta") == pytest.approx(d0 + 2e-7, abs=1e-18)

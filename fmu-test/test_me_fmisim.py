@@ -11,8 +11,9 @@ import subprocess
 import numpy as np
 import pytest
 
-from vibroimpact.compare import SCENARIOS, fmu_events
-from me_run import run_me
+from vibroimpact.compare import fmu_events
+from vibroimpact.reference.scenarios import SCENARIOS
+from vibroimpact.me import run_me
 
 FMI_SIM = shutil.which("fmi-sim") or shutil.which(os.path.expanduser("~/.cargo/bin/fmi-sim"))
 

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 from vibroimpact.reference.scenarios import SCENARIOS
-from me_run import MeInstance
+from vibroimpact.me import MeInstance
 
 KNOWNS = ["y", "v", "yC_in", "F_ext"]
 FD_REL = 1e-4

@@ -12,7 +12,7 @@ from fmpy import extract, read_model_description, simulate_fmu
 from fmpy.fmi1 import FMICallException
 
 from conftest import BUILD
-from me_run import Me, MeInstance
+from vibroimpact.me import Me, MeInstance
 
 LAYER = BUILD / "LayerTest.fmu"
 

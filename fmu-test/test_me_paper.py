@@ -10,11 +10,11 @@ their maxima, and the same sequence of mode changes, each within EVENT_DT = 1 us
 import numpy as np
 import pytest
 
-from me_run import MeRunner
-from test_paper import F_REL, W_REL
 from vibroimpact.compare import EVENT_DT, compare
 from vibroimpact.reference.generate import EPS_Y
 from vibroimpact.reference.scenarios import SCENARIOS, STOP_TIME
+from vibroimpact.me import MeRunner
+from test_paper import F_REL, W_REL
 
 RTOL_ME = 1e-11  # the tolerance of the reference trace, as test_paper.py runs co-simulation
 

@@ -9,8 +9,9 @@ import pytest
 from fmpy import simulate_fmu
 
 from conftest import effective
-from me_run import run_me
+from vibroimpact.me import run_me
 from test_rolling import R1, ROUND, write
+
 from vibroimpact.reference import profile as profile_ref
 
 LAM, A = 0.05, 3e-4  # curvature 4.7/m > 1/R1: the body bridges every trough, yb has a kink there

@@ -1,11 +1,15 @@
 /*
- * vi_fmu.h - the generic FMI 2.0 Co-Simulation layer (src/vi_fmi2.c) and what a model gives it.
+ * vi_fmu.h - the generic FMI layer and what a model gives it.
  *
- * The layer implements every fmi2* function of a Co-Simulation FMU and knows no model: argument
- * and state-machine checks, value access through the model's variable table (vi_table.h),
- * logging with categories, the FMU state envelope and its serialization, the status functions,
- * and the fmi2DoStep checks (communication point, step size, stop time). It never integrates
- * anything itself: inside fmi2DoStep the model advances with its own solver.
+ * The layer (the core src/vi_fmi_core.c with one face per version of the standard: src/vi_fmi2.c,
+ * src/vi_fmi3.c) implements every function of a Co-Simulation and a Model Exchange FMU and knows no
+ * model: argument and state-machine checks, value access through the model's variable table
+ * (vi_table.h), logging with categories, the FMU state envelope and its serialization, the status
+ * functions, the fmi2DoStep checks (communication point, step size, stop time), and the Model
+ * Exchange calls (time, states, derivatives, event indicators, the event iteration, nominals,
+ * directional derivatives). It never integrates anything itself: in co-simulation the model
+ * advances with its own solver inside fmi2DoStep; in Model Exchange the importer's integrator does,
+ * through the Model Exchange hooks below (a model without them offers co-simulation only).
  *
  * To build an FMU of a model, a model author writes, in one folder:
  *   1. a table header and one .c with VI_TABLE_DEFINE (see vi_table.h): the variables;
@@ -31,7 +35,8 @@
  * (below); values are written into the model's structs only after all values of the call were
  * checked (type, settable now, finite Real, inside the table's range or an item of its enumeration,
  * String length), so the model sees only values inside their ranges; the model's `changed` hook is called
- * after an input (any time) or a tunable parameter (between steps) was set.
+ * after an input (any time but continuous-time mode) or a tunable parameter (between steps, in event
+ * mode) was set.
  */
 #ifndef VI_FMU_H
 #define VI_FMU_H
@@ -90,7 +95,9 @@ typedef struct {
     int (*set_resources)(void *m, const char *dir);
 
     /* ---- values ---- */
-    /* An input, or a tunable parameter between steps, was set: apply at the next step. */
+    /* An input, or a tunable parameter between steps, was set: apply at the next step (Model
+     * Exchange: set in event mode, apply in the event iteration; inputs set in continuous-time mode
+     * are not announced: the model reads them at every evaluation). */
     void (*changed)(void *m);
     /* Outputs and calculated parameters at the current time into *out (a vi_outputs). In
      * initialization mode the layer calls `prepare` first. */
@@ -174,6 +181,9 @@ typedef struct {
     /* The importer completed an integrator step at the current state: 1 to ask for an event now,
      * else 0. */
     int (*completed_step)(void *m);
+    /* Optional: continuous-time mode begins (fmi2EnterContinuousTimeMode); inputs set after the last
+     * pass of the event iteration act from now on as continuous-time inputs do. */
+    void (*enter_continuous)(void *m);
     /* Directional derivative at the current point: dunknown = J dknown, J the partial derivatives
      * of the unknowns (state derivatives and outputs, value references) with respect to the knowns
      * (states and inputs, value references). 0, or -1 naming the first pair it cannot give. */

@@ -67,6 +67,9 @@ void vi_me_nominals(const vi_me *e, double nominal[VI_ME_NSTATES]);
  * events accumulate at one instant (VI_ZENO_EVENTS state events each within VI_ZENO_ULPS of the one
  * before): terminate (s.msg says why). 0, or -1 (s.msg). */
 int vi_me_event_update(vi_me *e, vi_me_event *ev);
+/* Continuous-time mode begins: inputs set after the last event-iteration pass act from now on as
+ * continuous-time inputs do (at once; the event indicators flag a jump that contradicts the mode). */
+void vi_me_enter_continuous(vi_me *e);
 /* A completed step of the importer: re-arm guards that moved away, start the mean force anew.
  * 1 when an event is due now (a kink or the profile's end was stepped over), else 0. */
 int vi_me_completed_step(vi_me *e);

@@ -5,10 +5,10 @@
  * earlyReturnAllowed), the tolerance and times given to fmi3EnterInitializationMode, Event Mode in
  * Co-Simulation, the results of fmi3DoStep (early return at the model's events), the
  * independent variable `time`, the derivatives of the Real inputs as variables `der(<input>)`
- * (FMI 3.0 has no fmi3SetInputDerivatives), and the data types (Float64, Int32, Enumeration as Int64, Boolean,
- * String; the model has no other), and the event indicators of Model Exchange as variables
- * event_indicator_<i>. Model Exchange is the core's (vi_core_* ME calls on the model's ME hooks) for
- * a model that has them. The capabilities this face offers are listed in the FMI 3.0 model
+ * (FMI 3.0 has no fmi3SetInputDerivatives), the event indicators of Model Exchange as variables
+ * `event_indicator_<i>`, and the data types (Float64, Int32, Enumeration as Int64, Boolean, String;
+ * the model has no other). Model Exchange is the core's (vi_core_* ME calls on the model's ME
+ * hooks) for a model that has them. The capabilities this face offers are listed in the FMI 3.0 model
  * description (cmake/vi_fmi3_description.py).
  *
  * Co-Simulation states map onto the core's: Step Mode = step complete, Step Discarded = step
@@ -143,7 +143,10 @@ fmi3Status fmi3EnterInitializationMode(fmi3Instance instance, fmi3Boolean tolera
     return (fmi3Status)(st == VI_STATUS_OK ? vi_core_enter_init(instance, fn) : st);
 }
 
-static int uses_event_mode(fmi3Instance instance) { return (((vi_core *)instance)->face_options & OPT_EVENT_MODE) != 0; }
+static int uses_event_mode(fmi3Instance instance)
+{
+    return (((vi_core *)instance)->face_options & OPT_EVENT_MODE) != 0;
+}
 
 /* Co-Simulation with eventModeUsed: Event Mode after initialization, else Step Mode. */
 fmi3Status fmi3ExitInitializationMode(fmi3Instance instance)
@@ -439,7 +442,8 @@ fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discrete
         vi_status st = vi_core_new_discrete_states(instance, fn, &ev);
         if (st == VI_STATUS_OK) {
             *discreteStatesNeedUpdate = ev.another_pass, *terminateSimulation = ev.terminate;
-            *nominalsOfContinuousStatesChanged = ev.nominals_changed, *valuesOfContinuousStatesChanged = ev.states_changed;
+            *nominalsOfContinuousStatesChanged = ev.nominals_changed;
+            *valuesOfContinuousStatesChanged = ev.states_changed;
             *nextEventTimeDefined = ev.next_time_defined, *nextEventTime = ev.next_time_defined ? ev.next_time : 0.0;
         }
         return (fmi3Status)st;
@@ -555,12 +559,12 @@ fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoi
         return (fmi3Status)vi_core_refuse(c, "%s: NULL argument", fn);
     }
     int event = 0;
-    vi_status st = c->face_options & OPT_EARLY_RETURN
-                       ? vi_core_do_step_to_event(instance, fn, currentCommunicationPoint, communicationStepSize, &event)
-                       : vi_core_do_step(instance, fn, currentCommunicationPoint, communicationStepSize);
+    double tc = currentCommunicationPoint, h = communicationStepSize;
+    vi_status st = c->face_options & OPT_EARLY_RETURN ? vi_core_do_step_to_event(instance, fn, tc, h, &event)
+                                                      : vi_core_do_step(instance, fn, tc, h);
     double t = vi_core_time(c);
     *lastSuccessfulTime = t; /* after fmi3Discard: where the step stopped */
-    *earlyReturn = event && t < currentCommunicationPoint + communicationStepSize;
+    *earlyReturn = event && t < tc + h;
     *eventHandlingNeeded = event && uses_event_mode(instance);
     *terminateSimulation = false; /* the FMU never asks to end the simulation */
     return (fmi3Status)st;

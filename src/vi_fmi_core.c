@@ -881,7 +881,8 @@ static vi_status do_step(void *instance, const char *fn, double tc, double h, in
                               fn, h, t, VI_MIN_STEP_ULPS * unit, VI_MIN_STEP_ULPS);
     if (c->stop_time_defined && t_end > c->stop_time + VI_TIME_MATCH_ULPS * unit)
         return vi_core_refuse(c, "%s: the step to %.17g passes the stop time %.17g", fn, t_end, c->stop_time);
-    int rc = event && MODEL->advance_to_event ? MODEL->advance_to_event(c->model, t_end) : MODEL->advance(c->model, t_end);
+    int rc = event && MODEL->advance_to_event ? MODEL->advance_to_event(c->model, t_end)
+                                              : MODEL->advance(c->model, t_end);
     if (rc < 0) return vi_core_fail(c, fn);
     double t_now = MODEL->time(c->model);
     if ((rc == VI_FMU_OK && t_now != t_end) || (rc == VI_FMU_EVENT && !(event && t_now > t && t_now <= t_end))) {
@@ -981,6 +982,7 @@ vi_status vi_core_enter_continuous_mode(void *instance, const char *fn)
 {
     ENTER(VI_CALL_ENTER_CONTINUOUS_MODE);
     ME_ARGS(NULL, 0, 0, "");
+    if (MODEL->enter_continuous) MODEL->enter_continuous(c->model);
     c->state = VI_ST_CONTINUOUS;
     c->event_passes = 0;
     return VI_STATUS_OK;

@@ -108,6 +108,7 @@ static void derivatives(void *m, double dx[]) { vi_me_derivatives(m, dx); }
 static void indicators(void *m, double z[]) { vi_me_indicators(m, z); }
 static void nominals(const void *m, double nominal[]) { vi_me_nominals(m, nominal); }
 static int completed_step(void *m) { return vi_me_completed_step(m); }
+static void enter_continuous(void *m) { vi_me_enter_continuous(m); }
 
 static int event_update(void *m, vi_fmu_event *ev)
 {
@@ -162,5 +163,6 @@ const vi_fmu_model vi_fmu_this_model = {
     .nominals = nominals,
     .event_update = event_update,
     .completed_step = completed_step,
+    .enter_continuous = enter_continuous,
     .directional_derivative = directional_derivative,
 };

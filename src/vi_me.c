@@ -63,7 +63,11 @@ static void guard_noise(const vi_me *e, double ulps[VI_NGUARDS], double tol[VI_N
     }
 }
 
-/* Guards that start at zero (up to rounding) in a mode just entered are lifted by their noise. */
+/* Guards that start at zero (up to rounding) in a mode just entered are lifted by their noise and by
+ * the band the importer's steps may move them (VI_GRAZE_TOL times the change under a state error of
+ * the tolerance): a mode left tangentially (stick exit, where the rate of delta is zero) would
+ * otherwise see its guard cross back and forth within the integration error. A real crossing back is
+ * found at most the band late. */
 static void arm_guards_at_zero(vi_me *e)
 {
     vi_sim_data *d = &e->s.d;
@@ -72,7 +76,7 @@ static void arm_guards_at_zero(vi_me *e)
     guard_noise(e, ulps, tol);
     for (int i = 0; i < VI_NGUARDS; i++) {
         double noise = VI_GRAZE_ULPS * ulps[i] + DBL_MIN;
-        if (d->guard_band[i] == 0.0 && fabs(g[i]) <= noise) d->guard_band[i] = noise;
+        if (d->guard_band[i] == 0.0 && fabs(g[i]) <= noise) d->guard_band[i] = noise + VI_GRAZE_TOL * tol[i];
     }
 }
 
@@ -207,7 +211,7 @@ int vi_me_event_update(vi_me *e, vi_me_event *ev)
     d->step_t0 = t;
     d->step_v0 = d->x[1];
     vi_sim_check_validity(&e->s);
-    if (e->zeno >= VI_ZENO_EVENTS) {
+    if (fired >= 0 && e->zeno >= VI_ZENO_EVENTS) {
         snprintf(s->msg, sizeof s->msg, "events accumulate at t = %.17g s (Zeno): %d events each within %g ulps of time "
                  "of the one before, the last on guard %d of mode %d; the motion cannot go on", t, VI_ZENO_EVENTS,
                  VI_ZENO_ULPS, fired, before);
@@ -218,6 +222,12 @@ int vi_me_event_update(vi_me *e, vi_me_event *ev)
     if (isfinite(next) && next > t) ev->next_time_defined = 1, ev->next_time = next;
     s->out_valid = 0;
     return 0;
+}
+
+void vi_me_enter_continuous(vi_me *e)
+{
+    e->s.d.inputs_changed = 0;
+    sync(e);
 }
 
 int vi_me_completed_step(vi_me *e)
@@ -252,8 +262,15 @@ int vi_me_checkpoint(vi_me *e)
 {
     sync(e);
     if (e->active) {
-        double x[2] = {e->s.d.x[0], e->s.d.x[1]};
-        vi_model_freeze(&e->s.d.M, e->s.d.t, x); /* the memory of the current state (not the state) */
+        vi_sim_data *d = &e->s.d;
+        double x[2] = {d->x[0], d->x[1]};
+        vi_model_freeze(&d->M, d->t, x); /* the memory of the current state (not the state) */
+        /* the model's own solver does not run in Model Exchange: start it at the current point, so
+         * that its continuation (dop853) belongs to the state saved */
+        if (e->s.solver && vi_solver_reset(e->s.solver, d->t, d->x) < 0) {
+            snprintf(e->s.msg, sizeof e->s.msg, "could not restart the solver at t = %.17g s", d->t);
+            return -1;
+        }
     }
     return vi_sim_checkpoint(&e->s);
 }

@@ -361,7 +361,9 @@ static const law_fns laws[] = {
 };
 
 /* The row of M's law (set up, or checked to be one of the three). */
-static const law_fns *law(const vi_model *M) { return &laws[M->law]; }
+/* A model not set up yet (law 0: an instance before initialization, or a state restored from
+ * then) has no contact force and no memory: it is evaluated as Hertz with K = 0. */
+static const law_fns *law(const vi_model *M) { return &laws[M->law == 0 ? VI_ContactModel_hertz : M->law]; }
 
 /* Johnson with a moving contact point leaves the plastic mode when it falls back below delta_Y;
  * every other plastic motion ends at a turning point (delta' = 0). */

@@ -27,7 +27,8 @@
  * Checks (first form): instantiate; initialize a bouncing Hertz case and a yielding Johnson case;
  * step with events; read every variable; get, set, serialize and deserialize FMU states (also before
  * initialization and a corrupted one); refused calls and bad arguments; a failed initialization;
- * reset; many instances at once; free. With LayerTest (the generic layer's test model, which reads
+ * reset; many instances at once; Model Exchange for each law (forward Euler with its events, the
+ * Jacobian, FMU states, refused calls); free. With LayerTest (the generic layer's test model, which reads
  * its resources folder) also: resource URIs percent-decoded, missing, or not local. The importer's
  * memory functions count blocks, so that a block the FMU forgets is reported even without a leak
  * checker.
@@ -112,6 +113,18 @@ static struct {
     fmi2DeSerializeFMUstateTYPE *deserialize;
     fmi2GetRealStatusTYPE *real_status;
     fmi2SetDebugLoggingTYPE *debug_logging;
+    /* Model Exchange */
+    fmi2EnterEventModeTYPE *enter_event;
+    fmi2NewDiscreteStatesTYPE *new_discrete;
+    fmi2EnterContinuousTimeModeTYPE *enter_ct;
+    fmi2CompletedIntegratorStepTYPE *completed;
+    fmi2SetTimeTYPE *set_time;
+    fmi2SetContinuousStatesTYPE *set_states;
+    fmi2GetContinuousStatesTYPE *get_states;
+    fmi2GetDerivativesTYPE *get_derivatives;
+    fmi2GetEventIndicatorsTYPE *get_indicators;
+    fmi2GetNominalsOfContinuousStatesTYPE *get_nominals;
+    fmi2GetDirectionalDerivativeTYPE *directional;
 } F;
 
 /* The loaded binary: dlopen where there is one, LoadLibrary on Windows. */
@@ -198,6 +211,17 @@ static void load(const char *path)
     SYM(deserialize, "fmi2DeSerializeFMUstate");
     SYM(real_status, "fmi2GetRealStatus");
     SYM(debug_logging, "fmi2SetDebugLogging");
+    SYM(enter_event, "fmi2EnterEventMode");
+    SYM(new_discrete, "fmi2NewDiscreteStates");
+    SYM(enter_ct, "fmi2EnterContinuousTimeMode");
+    SYM(completed, "fmi2CompletedIntegratorStep");
+    SYM(set_time, "fmi2SetTime");
+    SYM(set_states, "fmi2SetContinuousStates");
+    SYM(get_states, "fmi2GetContinuousStates");
+    SYM(get_derivatives, "fmi2GetDerivatives");
+    SYM(get_indicators, "fmi2GetEventIndicators");
+    SYM(get_nominals, "fmi2GetNominalsOfContinuousStates");
+    SYM(directional, "fmi2GetDirectionalDerivative");
 #undef SYM
 }
 
@@ -301,6 +325,70 @@ static void refusals(fmi2Component c, double t)
 }
 
 /* LayerTest through the generic calls only, with resource URIs of every kind. */
+/* The event iteration of Model Exchange, then continuous-time mode again. */
+static void event_iteration(fmi2Component c)
+{
+    fmi2EventInfo info = {.newDiscreteStatesNeeded = fmi2True};
+    for (int k = 0; k < 20 && info.newDiscreteStatesNeeded && !info.terminateSimulation; k++)
+        EXPECT(F.new_discrete(c, &info) == fmi2OK);
+    EXPECT(F.enter_ct(c) == fmi2OK);
+}
+
+/* Model Exchange: each law under excitation integrated by forward Euler (the events at the end of the
+ * steps that cross), every variable read, the Jacobian, FMU states in continuous-time mode, refused
+ * calls. */
+static void model_exchange(const char *resources)
+{
+    for (int law = 1; law <= 3; law++) {
+        fmi2Component c = F.instantiate("me", fmi2ModelExchange, VI_GUID, resources, &callbacks, fmi2False, fmi2False);
+        EXPECT(c != NULL);
+        if (!c) continue;
+        EXPECT(initialize(c, law, 1e-4, 6e8) == fmi2OK);
+        event_iteration(c);
+        double x[2], dx[2], z[2], z_old[2], nominal[2], t = 0.0, h = 1e-7;
+        EXPECT(F.get_states(c, x, 2) == fmi2OK && F.get_nominals(c, nominal, 2) == fmi2OK);
+        EXPECT(F.get_indicators(c, z_old, 2) == fmi2OK);
+        int events = 0;
+        for (int k = 0; k < 30000; k++) { /* 3 ms */
+            EXPECT(F.get_derivatives(c, dx, 2) == fmi2OK);
+            t += h;
+            x[0] += h * dx[0], x[1] += h * dx[1];
+            EXPECT(F.set_time(c, t) == fmi2OK && F.set_states(c, x, 2) == fmi2OK);
+            EXPECT(F.get_indicators(c, z, 2) == fmi2OK);
+            fmi2Boolean enter = fmi2False, terminate = fmi2False;
+            EXPECT(F.completed(c, fmi2True, &enter, &terminate) == fmi2OK);
+            if ((z[0] > 0) != (z_old[0] > 0) || (z[1] > 0) != (z_old[1] > 0) || enter) {
+                EXPECT(F.enter_event(c) == fmi2OK);
+                event_iteration(c);
+                EXPECT(F.get_states(c, x, 2) == fmi2OK && F.get_indicators(c, z, 2) == fmi2OK);
+                events++;
+            }
+            z_old[0] = z[0], z_old[1] = z[1];
+        }
+        EXPECT(events > 0);
+        read_all(c);
+        const fmi2ValueReference unknown[] = {VI_VR_der_y, VI_VR_der_v, VI_VR_F}, known[] = {VI_VR_y};
+        const fmi2Real seed[] = {1.0};
+        fmi2Real j[3];
+        EXPECT(F.directional(c, unknown, 3, known, 1, seed, j) == fmi2OK);
+        fmi2FMUstate s = NULL, back = NULL;
+        size_t n = 0;
+        EXPECT(F.get_state(c, &s) == fmi2OK && F.state_size(c, s, &n) == fmi2OK);
+        fmi2Byte *bytes = malloc(n);
+        EXPECT(F.serialize(c, s, bytes, n) == fmi2OK && F.deserialize(c, bytes, n, &back) == fmi2OK);
+        free(bytes);
+        EXPECT(F.set_state(c, back) == fmi2OK);
+        EXPECT(F.free_state(c, &s) == fmi2OK && F.free_state(c, &back) == fmi2OK);
+        const double bad[2] = {NAN, 0.0};
+        fmi2EventInfo info;
+        EXPECT(F.set_states(c, bad, 2) == fmi2Error && F.set_states(c, x, 3) == fmi2Error);
+        EXPECT(F.new_discrete(c, &info) == fmi2Error && F.set_time(c, t - 1e-3) == fmi2Error);
+        EXPECT(F.do_step(c, t, 1e-4, fmi2True) == fmi2Error);
+        EXPECT(F.terminate(c) == fmi2OK);
+        F.free_instance(c);
+    }
+}
+
 static void layer_test(const char *path, const char *guid)
 {
     load(path);
@@ -391,6 +479,8 @@ static int check_binary(int argc, char **argv)
     /* Instantiation refused: no leak either. */
     EXPECT(F.instantiate("bad", fmi2CoSimulation, "{wrong}", resources, &callbacks, fmi2False, fmi2False) == NULL);
     EXPECT(F.instantiate("bad", (fmi2Type)7, VI_GUID, resources, &callbacks, fmi2False, fmi2False) == NULL);
+
+    model_exchange(resources);
 
     if (argc == 5) layer_test(argv[3], argv[4]);
 

@@ -1,4 +1,4 @@
-"""The vehicle-track example's study: co-simulation against the monolithic reference.
+"""The vehicle-track example's study: co-simulation and Model Exchange against the monolithic reference.
 
     python3 study.py [--build DIR] [--out results] [--quick] [--gallery]
 
@@ -8,6 +8,8 @@ Writes into --out (default examples/vehicle-track/results, not committed):
   errors.png        force error, mean-force error and energy created by the coupling against the step
   traces.png        contact force over a stretch of rail: reference and co-simulations
   libcosim.csv      libcosim against the fmpy master with the same (Jacobi) scheme
+  model_exchange.csv  the three FMUs as Model Exchange in one solver (me_master.py), one row per
+                    solver tolerance
   summary.md        the tables of examples/vehicle-track/README.md
 --gallery also writes smaller copies of the two figures to examples/vehicle-track/doc/.
 
@@ -21,13 +23,17 @@ Couplings compared (fmpy master, master.py):
 each handing the track the end-of-step force F or the step's mean force F_mean; and on the FMI 3.0
 FMUs (master3.py), Gauss-Seidel contact -> track -> vehicle with the rail extrapolated (der(yC_in))
 and F_mean, without and with early return (the contact FMU stops at each contact loss and onset,
-the others step to that instant).
+the others step to that instant). Against them: the three FMUs imported as Model Exchange and
+integrated together by one solver (me_master.py: solve_ivp, DOP853, no communication step; its
+metrics on a 1e-5 s output grid).
 Metrics (W: static wheel load, 66.2 kN):
   force error        max over the communication points of |F - F_ref| / W
   mean-force error   max over the steps of |F_mean - (impulse of F_ref over the step)/step| / W
   impulse error      (impulse handed to the track - reference impulse on the wheel) / reference, whole run
   energy created     energy the coupling put in at the two ports over the run [J] (master.py), and
                      that over the energy the dampers dissipated in the reference run
+  dissipation error  (work dissipated in the dampers over the run - reference) / reference
+  cpu_s              CPU time of the run (FMUs included: they run in this process)
 """
 import argparse
 import csv
@@ -38,6 +44,7 @@ import numpy as np
 
 import master
 import master3
+import me_master
 import parameters
 import reference
 import roughness
@@ -74,14 +81,33 @@ def metrics(r, sol, system):
         "impulse_error": float((np.sum(handed) * h - J_ref) / J_ref),
         "energy_created_J": float(r["E_coupling"][-1]),
         "energy_created_rel": float(r["E_coupling"][-1] / D_ref),
+        "dissipation_error": float((r["track.W_dissipated"][-1] + r["vehicle.W_dissipated"][-1] - D_ref) / D_ref),
     }
+
+
+ME_RTOLS = [1e-6, 1e-8, 1e-10]
+
+
+def me_sweep(system, sol, rtols, stop_time, profile, excitation, build):
+    rows, keep = [], {}
+    for rtol in rtols:
+        r = me_master.run(stop_time, profile, excitation, rtol=rtol, build=build)
+        row = {"coupling": "Model Exchange, one solver", "rtol": rtol, "status": "ok", "cpu_s": round(r["cpu_s"], 2),
+               "evaluations": r["evaluations"], "state_events": len(r["state_events"]),
+               "time_events": r["time_events"], "energy_created_J": 0.0, "energy_created_rel": 0.0,
+               **me_master.compare(r, sol, system)}
+        rows.append(row)
+        keep[rtol] = r
+        print(" ".join(f"{k}={v:.3g}" if isinstance(v, float) else f"{k}={v}" for k, v in row.items()))
+    return rows, keep
 
 
 def run_reference(profile, excitation, stop_time):
     system = reference.default_system(profile, stop_time, excitation)
-    t0 = time.time()
+    t0 = time.process_time()
     sol = reference.simulate(system, stop_time, rtol=1e-10)
-    print(f"reference: {time.time() - t0:.1f} s, {len(sol.events)} contact changes, "
+    system.cpu_s = time.process_time() - t0
+    print(f"reference: {system.cpu_s:.1f} s CPU, {len(sol.events)} contact changes, "
           f"energy balance {np.abs(sol.energy_residual(np.linspace(0, stop_time, 2001))).max():.1e} J")
     return system, sol
 
@@ -90,7 +116,7 @@ def sweep(system, sol, steps, couplings, stop_time, profile, excitation, build):
     rows, keep = [], {}
     for label, scheme, order, rail, force in couplings:
         for h in steps:
-            t0 = time.time()
+            t0, cpu0 = time.time(), time.process_time()
             try:
                 if scheme.startswith("fmi3"):
                     r = master3.run(h, stop_time, force, rail, scheme == "fmi3 early return", profile, excitation,
@@ -103,7 +129,8 @@ def sweep(system, sol, steps, couplings, stop_time, profile, excitation, build):
             except Exception as e:  # an unstable coupling can drive an FMU into an error
                 m, status = {}, f"failed: {str(e).splitlines()[0][:80]}"
                 r = None
-            row = {"coupling": label, "step": h, "status": status, "wall_s": round(time.time() - t0, 2), **m}
+            row = {"coupling": label, "step": h, "status": status, "wall_s": round(time.time() - t0, 2),
+                   "cpu_s": round(time.process_time() - cpu0, 2), **m}
             if r is not None and "events" in r:
                 row["early_returns"] = len(r["events"])
             rows.append(row)
@@ -139,7 +166,11 @@ def write_csv(path, rows):
         w.writerows(rows)
 
 
-def markdown(rows, lc, path):
+COMPARED = [("GS ramp, F_mean", 1e-6), ("GS ramp, F_mean", 1e-5), ("FMI 3.0 early return, F_mean", 1e-6),
+            ("FMI 3.0 early return, F_mean", 1e-5)]  # beside Model Exchange in its table
+
+
+def markdown(rows, lc, path, me_rows=(), reference_cpu_s=None):
     """The tables of the README (examples/vehicle-track/README.md), from the rows."""
     steps = sorted({r["step"] for r in rows})
     labels = list(dict.fromkeys(r["coupling"] for r in rows))
@@ -162,7 +193,29 @@ def markdown(rows, lc, path):
              table("mean_force_error", lambda v: f"{v:.2g}", "Mean-force error, max |F_mean - F_mean,ref| / W"),
              table("impulse_error", lambda v: f"{v:+.1e}", "Impulse error: impulse handed to the track over the run, relative"),
              table("energy_created_rel", lambda v: f"{v:+.1e}",
-                   "Energy created by the coupling over the run / energy dissipated in the reference")]
+                   "Energy created by the coupling over the run / energy dissipated in the reference"),
+             table("cpu_s", lambda v: f"{v:.1f}", "CPU time of the run [s]")]
+    if me_rows:
+        head = ("**Model Exchange: the three FMUs in one solver, against the co-simulation** (Model Exchange: "
+                "force on a 1e-5 s grid, mean force over its intervals)\n\n"
+                "| run | force error | mean-force error | impulse error | dissipated-energy error | "
+                "energy created / dissipated | CPU [s] |\n|---|---|---|---|---|---|---|\n")
+        lines = []
+        if reference_cpu_s is not None:
+            lines.append(f"| monolithic reference (DOP853, rtol 1e-10) | | | | | | {reference_cpu_s:.1f} |")
+        for r in me_rows:
+            lines.append(f"| Model Exchange, rtol {r['rtol']:g} ({r['evaluations']} evaluations, {r['time_events']} "
+                         f"time events, {r['state_events']} state events) | {r['force_error']:.2g} | "
+                         f"{r['mean_force_error']:.2g} | {r['impulse_error']:+.1e} | {r['dissipation_error']:+.1e} | "
+                         f"none | {r['cpu_s']:.1f} |")
+        for lab, h in COMPARED:
+            r = cell.get((lab, h))
+            if r is None or "force_error" not in r:
+                continue
+            lines.append(f"| {lab}, {h:g} s | {r['force_error']:.2g} | {r['mean_force_error']:.2g} | "
+                         f"{r['impulse_error']:+.1e} | {r['dissipation_error']:+.1e} | {r['energy_created_rel']:+.1e} "
+                         f"| {r['cpu_s']:.1f} |")
+        parts.append(head + "\n".join(lines) + "\n")
     if lc:
         parts.append("**libcosim against the fmpy master, both Jacobi** (largest differences over the run)\n\n"
                      "| step | force handed to the track | F [N] | y [m] | z_rail [m] | F_wheel [N] |\n"
@@ -172,13 +225,13 @@ def markdown(rows, lc, path):
     path.write_text("\n".join(parts))
 
 
-def plot(rows, keep, sol, system, targets, stop_time):
+def plot(rows, keep, sol, system, targets, stop_time, me_rows=()):
     """Draw the figures into each (folder, dpi) of targets."""
-    plot_errors(rows, targets)
+    plot_errors(rows, targets, me_rows)
     plot_traces(keep, sol, targets, stop_time)
 
 
-def plot_errors(rows, targets):
+def plot_errors(rows, targets, me_rows=()):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -201,11 +254,15 @@ def plot_errors(rows, targets):
                       mfc="none" if label.startswith("Jacobi") else color)
             if np.any(y < 0):
                 ax.loglog(x[y < 0], -y[y < 0], style[0], color=color, mfc="white")
+        for r, ls in zip(me_rows, (":", "--", "-.")):
+            if key != "energy_created_rel":  # Model Exchange creates none
+                ax.axhline(abs(r[key]), color="k", ls=ls, lw=0.8, label=f"Model Exchange, rtol {r['rtol']:g}")
         ax.set_xlabel("communication step [s]")
         ax.set_title(title, fontsize=10)
         ax.grid(True, which="both", alpha=0.3)
     axes[0].legend(fontsize=8)
-    fig.suptitle("Vehicle-track co-simulation against the monolithic reference (errors above 1: unstable)")
+    fig.suptitle("Vehicle-track co-simulation and Model Exchange against the monolithic reference "
+                 "(errors above 1: unstable)")
     fig.tight_layout()
     for folder, dpi in targets:
         fig.savefig(folder / "errors.png", dpi=dpi)
@@ -262,18 +319,20 @@ def main():
         profile = out / "profile.txt"
         roughness.write(profile, *roughness.profile(**parameters.ROUGHNESS))
     system, sol = run_reference(profile, a.excitation, stop)
+    me_rows, _ = me_sweep(system, sol, [1e-8] if a.quick else ME_RTOLS, stop, profile, a.excitation, a.build)
+    write_csv(out / "model_exchange.csv", me_rows)
     rows, keep = sweep(system, sol, steps, COUPLINGS, stop, profile, a.excitation, a.build)
     write_csv(out / "summary.csv", rows)
     # libcosim steps with the outputs of the last communication point (Jacobi): compare it with the
     # fmpy master on the same scheme where that is stable (2e-6 s) and where it is not (1e-5 s)
     lc = compare_libcosim([2e-6, 1e-5] if not a.quick else [1e-5], stop, profile, a.excitation, a.build)
     write_csv(out / "libcosim.csv", lc)
-    markdown(rows, lc, out / "summary.md")
+    markdown(rows, lc, out / "summary.md", me_rows, system.cpu_s)
     targets = [(out, 110)]
     if a.gallery:
         (HERE / "doc").mkdir(exist_ok=True)
         targets.append((HERE / "doc", 70))
-    plot(rows, keep, sol, system, targets, stop)
+    plot(rows, keep, sol, system, targets, stop, me_rows)
     print(f"written: {out}")
 
 

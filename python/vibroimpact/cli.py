@@ -12,6 +12,7 @@ COMMANDS = {
     "bench": ("bench", "main", "speed against accuracy of the FMU's solvers (doc/bench/)"),
     "bench-sweep": ("sweep.bench", "main", "wall time of a sweep with and without Dask"),
     "compare": ("compare", "main", "the FMU against the committed reference on every scenario (a table)"),
+    "me-cost": ("me", "main", "Model Exchange in fmpy against co-simulation: error and CPU time (doc/model-exchange.md)"),
     "reference": ("reference.generate", "main", "regenerate the reference traces from the independent model"),
     "wplastic": ("wplastic", "main", "where the plastic work is negative after a Johnson yield (closed forms)"),
     "fmi3": ("fmi3_report", "main", "the FMI 3.0 FMU's early returns on every scenario against the reference (a table)"),

@@ -103,6 +103,7 @@ void vt_me_derivatives(void *m, double dx[]);
 void vt_me_nominals(const void *m, double nominal[]);
 int vt_me_event_update(void *m, vi_fmu_event *ev);
 int vt_me_completed_step(void *m);
+void vt_me_enter_continuous(void *m);
 
 /* In the model's file, after its table (VI_TABLE_DEFINE) and its vt_model_def DEF whose block
  * type is DATA (with members par, in and din): the one model of this FMU binary, Co-Simulation and
@@ -163,6 +164,7 @@ int vt_me_completed_step(void *m);
         .nominals = vt_me_nominals,                                                                \
         .event_update = vt_me_event_update,                                                        \
         .completed_step = vt_me_completed_step,                                                    \
+        .enter_continuous = vt_me_enter_continuous,                                                \
     }
 
 #endif

@@ -51,10 +51,15 @@ void vt_me_nominals(const void *m, double nominal[])
 int vt_me_event_update(void *m, vi_fmu_event *ev)
 {
     (void)ev;
+    vt_me_enter_continuous(m);
+    return 0;
+}
+
+void vt_me_enter_continuous(void *m)
+{
     vt_core *c = core(m);
     c->inputs_changed = 0;
     c->t_in = c->t;
-    return 0;
 }
 
 int vt_me_completed_step(void *m)
