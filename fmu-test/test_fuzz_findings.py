@@ -1,6 +1,7 @@
 """Regression tests of what the libFuzzer harness (tests/fuzz) found. Each names the harness's check
 it failed; the input that found it is in the seed corpus, tests/fuzz/corpus/VibroImpact/, so that
 the fuzz test runs it again too."""
+import math
 import re
 import unicodedata
 
@@ -214,3 +215,31 @@ def test_outputs_after_an_initialization_that_failed_before_the_model_was_set_up
     assert "initialized" not in lines and len(lines) > 10, p.stdout
     for line in lines:
         assert "refused:" in line and "relative tolerance" in line and "use a value in [1e-14, 0.01]" in line, line
+
+
+def test_model_exchange_arrays_with_no_value_are_refused_after_a_failed_initialization(fmu_path):
+    """The harness's 'fmi2GetDerivatives returned fmi2OK with element 0 = NaN': a Model Exchange
+    instance (LEPP, a = F_ext = 1.8e308) whose fmi2ExitInitializationMode failed (v = NaN) still
+    answered fmi2GetContinuousStates and fmi2GetDerivatives in the error state, with NaN and fmi2OK.
+    An array with an element that is not finite is refused, naming it and the state."""
+    from vibroimpact.me import Me, MeInstance
+
+    inst = MeInstance(fmu_path)
+    inst.instantiate(categories=())
+    me = Me(inst)
+    me.fmu.setupExperiment()
+    me.fmu.enterInitializationMode()
+    for name, value in dict(contact_model=3, a=1.7976931348623157e308, F_ext=1.7976931348623157e308).items():
+        me.set(name, value)
+    with pytest.raises(FMICallException):
+        me.fmu.exitInitializationMode()
+    for name, call in (("states", "fmi2GetContinuousStates"), ("derivatives", "fmi2GetDerivatives"),
+                       ("indicators", "fmi2GetEventIndicators"), ("nominals", "fmi2GetNominalsOfContinuousStates")):
+        try:
+            values = getattr(me, name)()
+        except FMICallException:
+            assert re.match(rf"{call}: element \d = -?nan has no value in state 'error'", inst.messages[-1][2]), \
+                inst.messages[-1]
+            continue
+        assert all(math.isfinite(v) for v in values), (name, values)
+    me.fmu.freeInstance()

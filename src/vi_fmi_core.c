@@ -1027,13 +1027,23 @@ vi_status vi_core_set_states(void *instance, const char *fn, const double x[], s
     return VI_STATUS_OK;
 }
 
+/* A Model Exchange array the model filled: refused when an element is not finite (the error state of
+ * an initialization that failed, say), naming it; else VI_STATUS_OK. */
+static vi_status me_values(const vi_core *c, const char *fn, const double v[], size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        if (!isfinite(v[i]))
+            return vi_core_refuse(c, "%s: element %zu = %g has no value in state '%s'", fn, i, v[i], state_name(c->state));
+    return VI_STATUS_OK;
+}
+
 vi_status vi_core_get_states(void *instance, const char *fn, double x[], size_t n)
 {
     ENTER(VI_CALL_GET_STATES);
     ME_ARGS(x, n, (size_t)MODEL->n_states, "states");
     if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) return vi_core_refuse(c, "%s: %s", fn, MODEL->message(c->model));
     MODEL->get_states(c->model, x);
-    return VI_STATUS_OK;
+    return me_values(c, fn, x, n);
 }
 
 vi_status vi_core_get_derivatives(void *instance, const char *fn, double dx[], size_t n)
@@ -1041,7 +1051,7 @@ vi_status vi_core_get_derivatives(void *instance, const char *fn, double dx[], s
     ENTER(VI_CALL_GET_DERIVATIVES);
     ME_ARGS(dx, n, (size_t)MODEL->n_states, "derivatives");
     MODEL->derivatives(c->model, dx);
-    return VI_STATUS_OK;
+    return me_values(c, fn, dx, n);
 }
 
 vi_status vi_core_get_event_indicators(void *instance, const char *fn, double z[], size_t n)
@@ -1051,7 +1061,7 @@ vi_status vi_core_get_event_indicators(void *instance, const char *fn, double z[
     if (n == 0) return VI_STATUS_OK;
     if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) return vi_core_refuse(c, "%s: %s", fn, MODEL->message(c->model));
     MODEL->indicators(c->model, z);
-    return VI_STATUS_OK;
+    return me_values(c, fn, z, n);
 }
 
 vi_status vi_core_get_nominals(void *instance, const char *fn, double nominal[], size_t n)
@@ -1059,7 +1069,7 @@ vi_status vi_core_get_nominals(void *instance, const char *fn, double nominal[],
     ENTER(VI_CALL_GET_NOMINALS);
     ME_ARGS(nominal, n, (size_t)MODEL->n_states, "nominals");
     MODEL->nominals(c->model, nominal);
-    return VI_STATUS_OK;
+    return me_values(c, fn, nominal, n);
 }
 
 /* Is vr a state of the model (its index in state order), or -1? */
