@@ -278,12 +278,14 @@ vi_status vi_core_exit_init(void *instance, const char *fn)
     ENTER(VI_CALL_EXIT_INIT);
     if (c->kind == VI_KIND_ME) {
         if (MODEL->me_initialize(c->model) < 0) return vi_core_fail(c, fn);
+        c->initialized = 1;
         c->state = VI_ST_EVENT; /* the importer runs the initial event iteration */
         c->t_committed = MODEL->time(c->model);
         c->event_passes = 0;
         return VI_STATUS_OK;
     }
     if (MODEL->initialize(c->model) < 0) return vi_core_fail(c, fn);
+    c->initialized = 1;
     c->state = VI_ST_STEP_COMPLETE;
     return VI_STATUS_OK;
 }
@@ -301,6 +303,7 @@ vi_status vi_core_reset(void *instance, const char *fn)
     ENTER(VI_CALL_RESET);
     MODEL->reset(c->model);
     c->stop_time_defined = 0;
+    c->initialized = 0;
     c->state = VI_ST_INSTANTIATED;
     return VI_STATUS_OK;
 }
@@ -376,10 +379,12 @@ static const vi_variable *input_of_derivative(const vi_core *c, unsigned vr)
 }
 
 /* Outputs and calculated parameters into c->outputs: computed from the current state (in
- * initialization mode from the initial state the current parameters give). */
+ * initialization mode, and in the error state of an initialization that failed, from the initial
+ * state the current parameters give: the model may never have been set up). */
 static int current_outputs(vi_core *c, const char *fn)
 {
-    if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) {
+    int unset = c->state == VI_ST_INIT || (c->state == VI_ST_ERROR && !c->initialized);
+    if (unset && MODEL->prepare(c->model) < 0) {
         LOG_ERROR(c, "%s: %s", fn, MODEL->message(c->model));
         return -1;
     }
@@ -791,6 +796,7 @@ vi_status vi_core_set_fmu_state(void *instance, const char *fn, const void *stat
     c->stop_time = s->stop_time;
     c->state = s->fmu_state;
     c->event_passes = 0;
+    c->initialized = saved_running(c, s) != 0;
     if (MODEL->restore && MODEL->restore(c->model, saved_running(c, s)) != 0) return vi_core_fail(c, fn);
     c->t_committed = MODEL->time(c->model);
     return VI_STATUS_OK;
@@ -923,17 +929,6 @@ static int me_args(vi_core *c, const char *fn, const void *array, size_t n, size
 #define ME_ARGS(array, n, expected, what) \
     if (!me_args(c, fn, array, n, expected, what)) return VI_STATUS_ERROR
 
-/* An array the model computed, handed out only when every element is a number (after a failed
- * initialization, say, the state holds NaN: the call is refused as fmi2GetReal refuses such a value). */
-static vi_status finite_or_refuse(const vi_core *c, const char *fn, const double x[], size_t n, const char *what)
-{
-    for (size_t i = 0; i < n; i++)
-        if (isnan(x[i]))
-            return vi_core_refuse(c, "%s: %s %zu = %g has no value in state '%s'", fn, what, i, x[i],
-                                  state_name(c->state));
-    return VI_STATUS_OK;
-}
-
 vi_status vi_core_enter_event_mode(void *instance, const char *fn)
 {
     ENTER(VI_CALL_ENTER_EVENT_MODE);
@@ -1032,13 +1027,23 @@ vi_status vi_core_set_states(void *instance, const char *fn, const double x[], s
     return VI_STATUS_OK;
 }
 
+/* A Model Exchange array the model filled: refused when an element is not finite (the error state of
+ * an initialization that failed, say), naming it; else VI_STATUS_OK. */
+static vi_status me_values(const vi_core *c, const char *fn, const double v[], size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        if (!isfinite(v[i]))
+            return vi_core_refuse(c, "%s: element %zu = %g has no value in state '%s'", fn, i, v[i], state_name(c->state));
+    return VI_STATUS_OK;
+}
+
 vi_status vi_core_get_states(void *instance, const char *fn, double x[], size_t n)
 {
     ENTER(VI_CALL_GET_STATES);
     ME_ARGS(x, n, (size_t)MODEL->n_states, "states");
     if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) return vi_core_refuse(c, "%s: %s", fn, MODEL->message(c->model));
     MODEL->get_states(c->model, x);
-    return finite_or_refuse(c, fn, x, n, "state");
+    return me_values(c, fn, x, n);
 }
 
 vi_status vi_core_get_derivatives(void *instance, const char *fn, double dx[], size_t n)
@@ -1046,7 +1051,7 @@ vi_status vi_core_get_derivatives(void *instance, const char *fn, double dx[], s
     ENTER(VI_CALL_GET_DERIVATIVES);
     ME_ARGS(dx, n, (size_t)MODEL->n_states, "derivatives");
     MODEL->derivatives(c->model, dx);
-    return finite_or_refuse(c, fn, dx, n, "derivative");
+    return me_values(c, fn, dx, n);
 }
 
 vi_status vi_core_get_event_indicators(void *instance, const char *fn, double z[], size_t n)
@@ -1056,7 +1061,7 @@ vi_status vi_core_get_event_indicators(void *instance, const char *fn, double z[
     if (n == 0) return VI_STATUS_OK;
     if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) return vi_core_refuse(c, "%s: %s", fn, MODEL->message(c->model));
     MODEL->indicators(c->model, z);
-    return finite_or_refuse(c, fn, z, n, "event indicator");
+    return me_values(c, fn, z, n);
 }
 
 vi_status vi_core_get_nominals(void *instance, const char *fn, double nominal[], size_t n)
@@ -1064,7 +1069,7 @@ vi_status vi_core_get_nominals(void *instance, const char *fn, double nominal[],
     ENTER(VI_CALL_GET_NOMINALS);
     ME_ARGS(nominal, n, (size_t)MODEL->n_states, "nominals");
     MODEL->nominals(c->model, nominal);
-    return finite_or_refuse(c, fn, nominal, n, "nominal");
+    return me_values(c, fn, nominal, n);
 }
 
 /* Is vr a state of the model (its index in state order), or -1? */
