@@ -95,8 +95,10 @@ ExternalProject_Add(vi_fuzz_harness
   EXCLUDE_FROM_ALL OFF)
 
 # The ctest runs: the seed corpus (read only) plus a scratch corpus in the build tree, for
-# VI_FUZZ_SECONDS (or the target's own VI_FUZZ_SECONDS_<target>); findings go to
-# <build>/fuzz/findings/. tools/fuzz.sh runs longer campaigns.
+# VI_FUZZ_SECONDS (or the target's own VI_FUZZ_SECONDS_<target>), with the mutation seed
+# VI_FUZZ_SEED, so that every machine tries the same inputs first (a faster one goes further);
+# findings go to <build>/fuzz/findings/. tools/fuzz.sh runs longer campaigns with fresh seeds.
+set(VI_FUZZ_SEED 1 CACHE STRING "libFuzzer's -seed for the ctest fuzz runs (0: a fresh one each run)")
 foreach(target ${VI_FUZZ_TARGETS})
   set(seconds ${VI_FUZZ_SECONDS})
   if(DEFINED VI_FUZZ_SECONDS_${target})
@@ -104,7 +106,7 @@ foreach(target ${VI_FUZZ_TARGETS})
   endif()
   set(work ${CMAKE_BINARY_DIR}/fuzz/corpus-${target})
   file(MAKE_DIRECTORY ${work} ${CMAKE_BINARY_DIR}/fuzz/findings)
-  add_test(NAME fuzz_${target} COMMAND ${CMAKE_BINARY_DIR}/fuzz/fuzz_${target} -max_total_time=${seconds} -timeout=600
+  add_test(NAME fuzz_${target} COMMAND ${CMAKE_BINARY_DIR}/fuzz/fuzz_${target} -seed=${VI_FUZZ_SEED} -max_total_time=${seconds} -timeout=600
            -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix=${CMAKE_BINARY_DIR}/fuzz/findings/
            ${work} ${VI_FUZZ_DIR}/corpus/${target})
   math(EXPR fuzz_timeout "${seconds} + 600")
