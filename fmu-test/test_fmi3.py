@@ -23,6 +23,7 @@ import ctypes
 import json
 import math
 import os
+import pathlib
 import shutil
 import subprocess
 
@@ -574,3 +575,23 @@ def test_fmi_sim_returns_early_at_the_events(tmp_path, logged3, vr3):
     events, _ = fmi3.run_to_events(s, 0.0, 0.01, 1e-4)
     s.freeInstance()
     assert len(events) >= 8 and set(events) <= set(t)
+
+
+def test_scheduled_execution_is_refused_with_and_without_a_logger(dir3):
+    """fmi3InstantiateScheduledExecution gives no instance: the FMU offers Co-Simulation and Model
+    Exchange only. It says why through the logger it is given (an error naming the kinds offered), and
+    without a logger it returns NULL as well, calling nothing."""
+    so = next(pathlib.Path(dir3, "binaries").glob("*/VibroImpact.so"))
+    lib = ctypes.CDLL(str(so))
+    log_type = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_char_p)
+    f = lib.fmi3InstantiateScheduledExecution
+    f.restype = ctypes.c_void_p
+    f.argtypes = [ctypes.c_char_p, ctypes.c_char_p, ctypes.c_char_p, ctypes.c_bool, ctypes.c_bool, ctypes.c_void_p,
+                  log_type, ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p]
+    seen = []
+    logger = log_type(lambda env, status, category, message: seen.append((status, category, message)))
+    token = read_model_description(str(FMU3)).instantiationToken.encode()
+    assert f(b"se", token, None, False, False, None, logger, None, None, None) is None
+    assert seen == [(ERROR, b"logStatusError", b"fmi3InstantiateScheduledExecution: this FMU offers Co-Simulation only, "
+                                               b"not Scheduled Execution")], seen
+    assert f(b"se", token, None, False, False, None, log_type(), None, None, None) is None

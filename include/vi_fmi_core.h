@@ -146,6 +146,8 @@ struct vi_core {
     int stop_time_defined;
     double stop_time;
     unsigned face_options; /* the face's own settings of the instance (not in FMU states) */
+    int initialized;       /* initialization mode was left successfully (or a state taken after that was
+                              restored): the model's outputs are those of a state it set up */
     /* Model Exchange */
     double t_committed; /* the last event or completed integrator step: time never goes back before it */
     int event_passes;   /* passes in a row of the discrete-state iteration that asked for another one */

@@ -278,12 +278,14 @@ vi_status vi_core_exit_init(void *instance, const char *fn)
     ENTER(VI_CALL_EXIT_INIT);
     if (c->kind == VI_KIND_ME) {
         if (MODEL->me_initialize(c->model) < 0) return vi_core_fail(c, fn);
+        c->initialized = 1;
         c->state = VI_ST_EVENT; /* the importer runs the initial event iteration */
         c->t_committed = MODEL->time(c->model);
         c->event_passes = 0;
         return VI_STATUS_OK;
     }
     if (MODEL->initialize(c->model) < 0) return vi_core_fail(c, fn);
+    c->initialized = 1;
     c->state = VI_ST_STEP_COMPLETE;
     return VI_STATUS_OK;
 }
@@ -301,6 +303,7 @@ vi_status vi_core_reset(void *instance, const char *fn)
     ENTER(VI_CALL_RESET);
     MODEL->reset(c->model);
     c->stop_time_defined = 0;
+    c->initialized = 0;
     c->state = VI_ST_INSTANTIATED;
     return VI_STATUS_OK;
 }
@@ -376,11 +379,13 @@ static const vi_variable *input_of_derivative(const vi_core *c, unsigned vr)
 }
 
 /* Where the outputs and calculated parameters among vr[] are, computed from the current state (in
- * initialization mode from the initial state the current parameters give): the model's own, or
+ * initialization mode, and in the error state of an initialization that failed, from the initial
+ * state the current parameters give: the model may never have been set up): the model's own, or
  * c->outputs; NULL (logged) when preparing failed. */
 static inline const void *current_outputs(vi_core *c, const char *fn, const unsigned vr[], size_t nvr)
 {
-    if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) {
+    int unset = c->state == VI_ST_INIT || (c->state == VI_ST_ERROR && !c->initialized);
+    if (unset && MODEL->prepare(c->model) < 0) {
         LOG_ERROR(c, "%s: %s", fn, MODEL->message(c->model));
         return NULL;
     }
@@ -793,6 +798,7 @@ vi_status vi_core_set_fmu_state(void *instance, const char *fn, const void *stat
     c->stop_time = s->stop_time;
     c->state = s->fmu_state;
     c->event_passes = 0;
+    c->initialized = saved_running(c, s) != 0;
     if (MODEL->restore && MODEL->restore(c->model, saved_running(c, s)) != 0) return vi_core_fail(c, fn);
     c->t_committed = MODEL->time(c->model);
     return VI_STATUS_OK;
@@ -1023,13 +1029,23 @@ vi_status vi_core_set_states(void *instance, const char *fn, const double x[], s
     return VI_STATUS_OK;
 }
 
+/* A Model Exchange array the model filled: refused when an element is not finite (the error state of
+ * an initialization that failed, say), naming it; else VI_STATUS_OK. */
+static vi_status me_values(const vi_core *c, const char *fn, const double v[], size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        if (!isfinite(v[i]))
+            return vi_core_refuse(c, "%s: element %zu = %g has no value in state '%s'", fn, i, v[i], state_name(c->state));
+    return VI_STATUS_OK;
+}
+
 vi_status vi_core_get_states(void *instance, const char *fn, double x[], size_t n)
 {
     ENTER(VI_CALL_GET_STATES);
     ME_ARGS(x, n, (size_t)MODEL->n_states, "states");
     if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) return vi_core_refuse(c, "%s: %s", fn, MODEL->message(c->model));
     MODEL->get_states(c->model, x);
-    return VI_STATUS_OK;
+    return me_values(c, fn, x, n);
 }
 
 vi_status vi_core_get_derivatives(void *instance, const char *fn, double dx[], size_t n)
@@ -1037,7 +1053,7 @@ vi_status vi_core_get_derivatives(void *instance, const char *fn, double dx[], s
     ENTER(VI_CALL_GET_DERIVATIVES);
     ME_ARGS(dx, n, (size_t)MODEL->n_states, "derivatives");
     MODEL->derivatives(c->model, dx);
-    return VI_STATUS_OK;
+    return me_values(c, fn, dx, n);
 }
 
 vi_status vi_core_get_event_indicators(void *instance, const char *fn, double z[], size_t n)
@@ -1047,7 +1063,7 @@ vi_status vi_core_get_event_indicators(void *instance, const char *fn, double z[
     if (n == 0) return VI_STATUS_OK;
     if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) return vi_core_refuse(c, "%s: %s", fn, MODEL->message(c->model));
     MODEL->indicators(c->model, z);
-    return VI_STATUS_OK;
+    return me_values(c, fn, z, n);
 }
 
 vi_status vi_core_get_nominals(void *instance, const char *fn, double nominal[], size_t n)
@@ -1055,7 +1071,7 @@ vi_status vi_core_get_nominals(void *instance, const char *fn, double nominal[],
     ENTER(VI_CALL_GET_NOMINALS);
     ME_ARGS(nominal, n, (size_t)MODEL->n_states, "nominals");
     MODEL->nominals(c->model, nominal);
-    return VI_STATUS_OK;
+    return me_values(c, fn, nominal, n);
 }
 
 /* Is vr a state of the model (its index in state order), or -1? */

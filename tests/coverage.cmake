@@ -4,7 +4,7 @@
 # resets them, for runners that keep the FMU loaded between tests.
 option(VI_COVERAGE "Build for coverage measurement (tools/mutate.py)" OFF)
 if(VI_COVERAGE)
-  foreach(fmu VibroImpact LayerTest Track Vehicle)
+  foreach(fmu VibroImpact LayerTest Track Vehicle VibroImpact_fmi3 LayerTest_fmi3 Track_fmi3 Vehicle_fmi3)
     if(TARGET ${fmu})
       target_sources(${fmu} PRIVATE ${CMAKE_CURRENT_LIST_DIR}/coverage_flush.c)
     endif()

@@ -816,3 +816,24 @@ Test(rolling, platform_derivatives_follow_the_profile)
     cr_assert(fabs(ddyC - 9.0 * (-R * R / pow(R * R - d * d, 1.5))) <= 1e-9);
     vi_profile_free(prof);
 }
+
+/* Johnson with a moving contact point has no memory: free, elastic and plastic are its only modes,
+ * and the check refuses unloading and stick for it by that rule (naming the law and moving = 1),
+ * before any rule of those modes' surfaces. */
+Test(model_check, moving_contact_has_no_unloading_or_stick)
+{
+    vi_model M = setup(VI_ContactModel_johnson, 1, VI_Unloading_paper, 40000.0, 9.81, 0.0);
+    double x[2];
+    char msg[256];
+    vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
+    cr_assert(vi_model_check(&M, x, msg, sizeof msg) == 0, "%s", msg);
+    for (int mode = VI_Mode_unload; mode <= VI_Mode_stick; mode++) {
+        vi_model B = M;
+        B.mode = mode;
+        msg[0] = '\0';
+        cr_assert(vi_model_check(&B, x, msg, sizeof msg) < 0, "mode %d accepted", mode);
+        char expect[96];
+        snprintf(expect, sizeof expect, "mode = %d is impossible for contact_model johnson (moving 1", mode);
+        cr_assert(strstr(msg, expect) != NULL, "expected '%s' in: %s", expect, msg);
+    }
+}

@@ -1104,6 +1104,25 @@ Test(failures, nonfinite_dense_stage_is_reported)
     cr_assert_eq(s.sp[s.cur].dense_ready, 0);
 }
 
+static void positive_guard(double t, const double *x, double *g, void *u)
+{
+    (void)t, (void)u;
+    g[0] = 1.0 + x[0] * x[0]; /* never crosses: only the search's interior samples build the dense output */
+}
+
+/* The same NaN at the dense stage c = 0.1, met by the event search's interior guard samples (which
+ * build the dense output): the step fails as not finite and the state stays at its start. */
+Test(failures, nonfinite_dense_stage_fails_the_event_search)
+{
+    vi_ode_problem p = {.n = 1, .ng = 1, .rhs = nan_in_dense_stage, .guards = positive_guard, .rtol = 1e-6,
+                        .atol = {1e-6}, .h_fixed = 1.0, .guard_samples = 1};
+    vi_ode s;
+    double x0[1] = {1.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 2.0), VI_ODE_ERR_NONFINITE);
+    cr_assert(s.t == 0.0 && s.x[0] == 1.0, "t = %g, x = %g", s.t, s.x[0]);
+}
+
 Test(state, initial_step_of_a_nonlinear_problem)
 {
     /* y' = -2 t y^2 at t0 = 0.5, y0 = 0.8, rtol = 1e-6, atol = 1e-8: the formulas of HNW II.4 */

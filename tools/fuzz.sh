@@ -8,7 +8,7 @@
 #   tools/fuzz.sh minimize FILE     minimize one finding (FILE.min) and print its calls
 #   tools/fuzz.sh trace FILE        run one input and print every call, its arguments and status
 #   tools/fuzz.sh distill           replace the seed corpus by the smallest set of the seeds and the
-#                                   campaign corpus that covers the same code (keeps finding-* files)
+#                                   campaign corpus that covers the same code (keeps finding-*, crash-*)
 #
 # Environment: VI_BUILD_DIR (default build; configured by this script if needed), PYTHON (for the
 # configure step), VI_FUZZ_FMU (default VibroImpact), VI_FUZZ_CALL_SECONDS and VI_FUZZ_HANG_SECONDS
@@ -76,7 +76,7 @@ case $cmd in
     mkdir -p "$work"
     tmp=$(mktemp -d)
     "$BIN" -set_cover_merge=1 -use_counters=0 -use_cmp=0 "$tmp" "$SEEDS" "$work" >/dev/null 2>&1
-    find "$SEEDS" -type f ! -name 'finding-*' -delete
+    find "$SEEDS" -type f ! -name 'finding-*' ! -name 'crash-*' -delete
     cp "$tmp"/* "$SEEDS"/
     rm -rf "$tmp"
     echo "fuzz.sh: $SEEDS: $(ls "$SEEDS" | wc -l) files, $(du -sh --apparent-size "$SEEDS" | cut -f1)"

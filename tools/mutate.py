@@ -25,8 +25,8 @@ selected (they are listed).
 
 A mutant is named after its place in a way that survives edits elsewhere in the file:
     <file>:<function>:<kind>:<old>-><new>:<k> | <the code of its line>
-(k counts the mutants of that kind and text on that line). --list prints the names with the line
-and column of today. The same names key tools/mutants-equivalent.txt: "<name>  # <reason>".
+(k counts the mutants of that kind and text on lines of that code in that function, in order). --list
+prints the names with the line and column of today. The same names key tools/mutants-equivalent.txt: "<name>  # <reason>".
 
 Sampling: --sample N draws N mutants, stratified by file (every file of src/ gets its share), with
 --seed S; without --seed the seed is fresh and printed, so that a run can be repeated. Without
@@ -249,8 +249,8 @@ def mutants_of(path, text=None):
         pos += len(line)
     found.sort(key=lambda m: (m.start, m.kind))
     seen = {}
-    for m in found:
-        key = (m.line, m.kind, flat(m.old), flat(m.new))
+    for m in found:  # k: the same change on the same code in the same function (on one line, or on lines alike)
+        key = (m.function, m.site, m.kind, flat(m.old), flat(m.new))
         seen[key] = seen.get(key, 0) + 1
         m.k = seen[key]
     return found
@@ -420,7 +420,7 @@ def pytest_worker(build, out, args):
             self.out.write(json.dumps(entry) + "\n")
             self.out.flush()
 
-    os.environ["VI_BUILD_DIR"] = str(build)
+    os.environ["VI_FMU"] = str(build / "VibroImpact.fmu")  # the FMU the tests use (and its build folder)
     return pytest.main(["-q", "-p", "no:cacheprovider"] + args, plugins=[CoveragePlugin()])
 
 
@@ -454,7 +454,10 @@ def coverage_map(rebuild=False):
     for line in out.read_text().splitlines():
         e = json.loads(line)
         tests[f"pytest:{e['test']}"] = dict(duration=e["duration"], passed=e["passed"], lines=e["lines"])
-    print(f"  pytest: {sum(1 for k in tests if k.startswith('pytest:'))} tests, {time.monotonic() - t:.0f} s", flush=True)
+    py = [v for k, v in tests.items() if k.startswith("pytest:")]
+    print(f"  pytest: {len(py)} tests, {time.monotonic() - t:.0f} s", flush=True)
+    if not py or sum(1 for v in py if v["lines"]) < len(py) / 2:
+        sys.exit(f"the FMU tests executed no line of src/ in the coverage build (did they load another FMU?): {text[-2000:]}")
     cmap = dict(revision=key, seconds=time.monotonic() - t0, tests=tests)
     path.write_text(json.dumps(cmap))
     print(f"coverage map: {len(tests)} tests in {cmap['seconds']:.0f} s -> {path.relative_to(ROOT)}", flush=True)
@@ -498,7 +501,7 @@ def run_selected(scratch, tests, durations, limit):
     if pytests:
         cmds.append([python_exe(), "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider"] + pytests)
     env = dict(os.environ)
-    env.pop("VI_BUILD_DIR", None)
+    env.pop("VI_FMU", None)  # the tests take the scratch copy's build/VibroImpact.fmu
     for cmd in cmds:
         left = deadline - time.monotonic()
         if left <= 0:

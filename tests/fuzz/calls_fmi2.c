@@ -1,6 +1,6 @@
 /*
  * calls_fmi2.c - the call kinds of FMI 2.0 (common functions and Co-Simulation) for the harness
- * (fuzz.h), and the harness's own kind that writes profile files into the resources folder.
+ * (fuzz.h; codes 0-39).
  *
  * Besides the sanitizers, the watchdog and the logger's checks, each kind checks what the standard
  * and the FMU's documentation promise about its outcome, for Co-Simulation instances:
@@ -617,33 +617,6 @@ static void k_version(fz_context *ctx, fz_slot *s, fz_reader *r)
         fz_fail("fmi2GetVersion/fmi2GetTypesPlatform: '%s' '%s'", v ? v : "(null)", p ? p : "(null)");
 }
 
-/* ---- the harness's own: profile files in the resources folder (p0.txt, p1.txt) ---- */
-
-static void k_profile(fz_context *ctx, fz_slot *s, fz_reader *r)
-{
-    (void)s;
-    uint8_t k = fz_u8(r);
-    char path[512];
-    snprintf(path, sizeof path, "%s/p%d.txt", ctx->resources, k & 1);
-    FILE *f = fopen(path, "wb");
-    if (!f) fz_fail("cannot write %s", path);
-    if (k & 2) { /* raw bytes */
-        uint8_t raw[4096];
-        fwrite(raw, 1, fz_bytes(r, raw, fz_u16(r) % sizeof raw), f);
-    } else { /* rows x h: x from x0 by dx (maybe jittered), h = amplitude times a byte */
-        int rows = 1 + fz_u8(r) % 64;
-        double x = fz_real(r, 0.0), dx = fz_real(r, 0.01), amp = fz_real(r, 1e-3);
-        for (int i = 0; i < rows; i++) {
-            uint8_t b = fz_u8(r);
-            if (b == 255) fprintf(f, "# comment\n\n");
-            fprintf(f, "%.17g %.17g\n", x, amp * ((int8_t)b / 128.0));
-            x += k & 4 ? dx * (1.0 + (b & 7) / 8.0) : dx;
-        }
-        if (k & 8) fprintf(f, "%.17g %.17g", x, 0.0); /* no final newline */
-    }
-    fclose(f);
-}
-
 static const fz_call calls[] = {
     {0, "fmi2Instantiate", k_instantiate},
     {1, "fmi2FreeInstance", k_free},
@@ -672,7 +645,6 @@ static const fz_call calls[] = {
     {24, "fmi2CancelStep", k_cancel},
     {25, "fmi2Get*Status", k_status},
     {26, "fmi2GetVersion", k_version},
-    {100, "write a profile file", k_profile},
 };
 
 const fz_interface fz_fmi2 = {"FMI 2.0 Co-Simulation", fmi2_available, calls, sizeof calls / sizeof calls[0], release};

@@ -13,17 +13,30 @@
 #   the fmi2* functions directly and the sources stay those of the FMU.
 option(VI_FUZZ_HARNESS "Internal: this is the clang build of the libFuzzer harness" OFF)
 set(VI_FUZZ_DIR ${CMAKE_CURRENT_LIST_DIR})
-set(VI_FUZZ_FMUS VibroImpact) # the FMUs the harness is built for: fuzz_<name>
+# The FMU binaries the harness is built for, fuzz_<target>, and the call kinds each offers.
+set(VI_FUZZ_TARGETS VibroImpact VibroImpact_fmi3)
+set(VI_FUZZ_CALLS_VibroImpact calls_fmi2.c calls_fmi2me.c)
+set(VI_FUZZ_CALLS_VibroImpact_fmi3 calls_fmi3.c)
+set(VI_FUZZ_SECONDS_VibroImpact_fmi3 30) # the FMI 3.0 face is thin over the same core
 
 if(VI_FUZZ_HARNESS)
   find_package(Threads REQUIRED)
-  foreach(fmu ${VI_FUZZ_FMUS})
-    add_executable(fuzz_${fmu} ${VI_FUZZ_DIR}/fuzz_main.c ${VI_FUZZ_DIR}/calls_fmi2.c ${VI_FUZZ_DIR}/calls_fmi2me.c
-                   $<TARGET_PROPERTY:${fmu},SOURCES>)
-    target_include_directories(fuzz_${fmu} PRIVATE ${FMI2_HEADERS_DIR} ${VI_FUZZ_DIR} ${CMAKE_SOURCE_DIR}/include)
-    target_link_libraries(fuzz_${fmu} PRIVATE ${fmu}_model Threads::Threads m)
-    target_compile_options(fuzz_${fmu} PRIVATE ${VI_WARNINGS})
-    target_link_options(fuzz_${fmu} PRIVATE -fsanitize=fuzzer,address,undefined)
+  foreach(target ${VI_FUZZ_TARGETS})
+    if(NOT TARGET ${target})
+      continue()
+    endif()
+    set(calls "")
+    foreach(f ${VI_FUZZ_CALLS_${target}})
+      list(APPEND calls ${VI_FUZZ_DIR}/${f})
+    endforeach()
+    # the FMU binary's own sources, definitions and model objects, with the harness
+    add_executable(fuzz_${target} ${VI_FUZZ_DIR}/fuzz_main.c ${calls} $<TARGET_PROPERTY:${target},SOURCES>)
+    target_include_directories(fuzz_${target} PRIVATE ${FMI2_HEADERS_DIR} ${VI_FUZZ_DIR} ${CMAKE_SOURCE_DIR}/include)
+    target_compile_definitions(fuzz_${target} PRIVATE $<TARGET_PROPERTY:${target},COMPILE_DEFINITIONS>)
+    string(REGEX REPLACE "_fmi3$" "" fmu ${target}) # both binaries of an FMU link its model objects
+    target_link_libraries(fuzz_${target} PRIVATE ${fmu}_model Threads::Threads m)
+    target_compile_options(fuzz_${target} PRIVATE ${VI_WARNINGS})
+    target_link_options(fuzz_${target} PRIVATE -fsanitize=fuzzer,address,undefined)
   endforeach()
   return()
 endif()
@@ -64,8 +77,8 @@ message(STATUS "libFuzzer harness: ${VI_CLANG} -> ${CMAKE_BINARY_DIR}/fuzz")
 
 include(ExternalProject)
 set(fuzz_targets "")
-foreach(fmu ${VI_FUZZ_FMUS})
-  list(APPEND fuzz_targets --target fuzz_${fmu})
+foreach(target ${VI_FUZZ_TARGETS})
+  list(APPEND fuzz_targets --target fuzz_${target})
 endforeach()
 ExternalProject_Add(vi_fuzz_harness
   SOURCE_DIR ${CMAKE_SOURCE_DIR}
@@ -81,15 +94,22 @@ ExternalProject_Add(vi_fuzz_harness
   INSTALL_COMMAND ""
   EXCLUDE_FROM_ALL OFF)
 
-# The ctest run: the seed corpus (read only) plus a scratch corpus in the build tree, for
-# VI_FUZZ_SECONDS; findings go to <build>/fuzz/findings/. tools/fuzz.sh runs longer campaigns.
-foreach(fmu ${VI_FUZZ_FMUS})
-  set(work ${CMAKE_BINARY_DIR}/fuzz/corpus-${fmu})
+# The ctest runs: the seed corpus (read only) plus a scratch corpus in the build tree, for
+# VI_FUZZ_SECONDS (or the target's own VI_FUZZ_SECONDS_<target>), with the mutation seed
+# VI_FUZZ_SEED, so that every machine tries the same inputs first (a faster one goes further);
+# findings go to <build>/fuzz/findings/. tools/fuzz.sh runs longer campaigns with fresh seeds.
+set(VI_FUZZ_SEED 1 CACHE STRING "libFuzzer's -seed for the ctest fuzz runs (0: a fresh one each run)")
+foreach(target ${VI_FUZZ_TARGETS})
+  set(seconds ${VI_FUZZ_SECONDS})
+  if(DEFINED VI_FUZZ_SECONDS_${target})
+    set(seconds ${VI_FUZZ_SECONDS_${target}})
+  endif()
+  set(work ${CMAKE_BINARY_DIR}/fuzz/corpus-${target})
   file(MAKE_DIRECTORY ${work} ${CMAKE_BINARY_DIR}/fuzz/findings)
-  add_test(NAME fuzz_${fmu} COMMAND ${CMAKE_BINARY_DIR}/fuzz/fuzz_${fmu} -max_total_time=${VI_FUZZ_SECONDS} -timeout=600
+  add_test(NAME fuzz_${target} COMMAND ${CMAKE_BINARY_DIR}/fuzz/fuzz_${target} -seed=${VI_FUZZ_SEED} -max_total_time=${seconds} -timeout=600
            -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix=${CMAKE_BINARY_DIR}/fuzz/findings/
-           ${work} ${VI_FUZZ_DIR}/corpus/${fmu})
-  math(EXPR fuzz_timeout "${VI_FUZZ_SECONDS} + 600")
-  set_tests_properties(fuzz_${fmu} PROPERTIES TIMEOUT ${fuzz_timeout} LABELS fuzz
+           ${work} ${VI_FUZZ_DIR}/corpus/${target})
+  math(EXPR fuzz_timeout "${seconds} + 600")
+  set_tests_properties(fuzz_${target} PROPERTIES TIMEOUT ${fuzz_timeout} LABELS fuzz
     ENVIRONMENT "ASAN_OPTIONS=detect_leaks=1:abort_on_error=1;UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1")
 endforeach()

@@ -7,14 +7,18 @@
  * the FMU (FMI 2.0 common and Co-Simulation: calls_fmi2.c) form one table; codes are fixed, so that
  * the seed corpus keeps its meaning when kinds are added:
  *     0-39    FMI 2.0, common functions and Co-Simulation (calls_fmi2.c)
- *     40-59   FMI 2.0 Model Exchange
- *     60-99   FMI 3.0
- *     100-127 the harness itself (profile files; calls_fmi2.c)
+ *     40-59   FMI 2.0 Model Exchange (calls_fmi2me.c)
+ *     60-99   FMI 3.0 (calls_fmi3.c)
+ *     100-127 the harness itself (profile files; fuzz_main.c)
  * A code that no table has, or whose functions the FMU binary lacks, is skipped.
  *
  * Every FMU call goes through fz_begin/fz_end (the watchdog: a call running longer than a bound is
  * a finding) and every message through the logger's checks (fuzz_main.c); a finding prints what
  * happened and aborts, so that libFuzzer saves the input. VI_FUZZ_TRACE=1 prints every call.
+ *
+ * Each calls_<interface>.c defines one fz_interface (fz_fmi2, fz_fmi2me, fz_fmi3); fuzz_main.c lists
+ * them as weak references, so that a binary holds the interfaces its FMU binary offers (the FMI 2.0
+ * and the FMI 3.0 binary of an FMU are separate, tests/fuzz/fuzz.cmake).
  */
 #ifndef VI_FUZZ_H
 #define VI_FUZZ_H
@@ -117,6 +121,9 @@ typedef struct {
 fmi2CallbackFunctions fz_callbacks(fz_slot *s);
 /* Set a slot's expected logger name before fmi2Instantiate. */
 void fz_expect_name(fz_slot *s, const char *name);
+/* The checks of a log message for slot s (status, category, text; format: the message is a printf
+ * format, as in FMI 2.0, so that a '%' must be "%%"); a finding when one fails. */
+void fz_check_message(const fz_slot *s, int status, const char *category, const char *message, int format);
 
 /* ---- call kinds ---- */
 typedef struct {
@@ -134,7 +141,5 @@ typedef struct {
     void (*release)(fz_context *ctx, fz_slot *s); /* free what the slot holds at the end of an input */
 } fz_interface;
 
-extern const fz_interface fz_fmi2;   /* calls_fmi2.c */
-extern const fz_interface fz_fmi2me; /* calls_fmi2me.c */
 
 #endif

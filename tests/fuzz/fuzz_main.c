@@ -36,7 +36,6 @@
 #define FZ_RECENT 24         /* calls remembered for a finding's report */
 
 static fz_context ctx;
-static const fz_interface *const interfaces[] = {&fz_fmi2, &fz_fmi2me};
 static const fz_call *by_code[128];
 static int trace_on;
 
@@ -331,6 +330,23 @@ static void check_text(const char *what, const char *name, const char *text, siz
     }
 }
 
+void fz_check_message(const fz_slot *s, int status, const char *category, const char *message, int format)
+{
+    int known = 0;
+    for (int i = 0; i < FZ_SLOTS; i++) known |= s == &ctx.slot[i];
+    if (!known) fz_fail("logger: the instance environment %p is none the importer gave", (const void *)s);
+    const char *name = s->expected_name;
+    if ((unsigned)status > (unsigned)fmi2Pending) fz_fail("logger (%.80s): status %d is no status", name, status);
+    check_text("category", name, category, FZ_CATEGORY_MAX);
+    check_text("message", name, message, FZ_MESSAGE_MAX);
+    if (format)
+        for (const char *p = message; *p; p++) /* a format without arguments: only "%%" */
+            if (*p == '%' && *++p != '%')
+                fz_fail("logger (%.80s): a '%%' that is not \"%%%%\" in the message (a format): %.300s", name, message);
+    fz_trace("    log %d %s: %s", status, category, message);
+}
+
+/* FMI 2.0's logger: the message is a format, and the instance is named. */
 static void logger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status status, fmi2String category,
                    fmi2String message, ...)
 {
@@ -341,13 +357,7 @@ static void logger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status sta
     if (!name) fz_fail("logger: the instance name is NULL (instance '%.80s')", s->expected_name);
     if (strcmp(name, s->expected_name) != 0)
         fz_fail("logger: the message names instance '%.80s', the call was to '%.80s'", name, s->expected_name);
-    if ((unsigned)status > (unsigned)fmi2Pending) fz_fail("logger: status %d is no fmi2Status", (int)status);
-    check_text("category", name, category, FZ_CATEGORY_MAX);
-    check_text("message", name, message, FZ_MESSAGE_MAX);
-    for (const char *p = message; *p; p++) /* a format without arguments: only "%%" */
-        if (*p == '%' && *++p != '%')
-            fz_fail("logger (%.80s): a '%%' that is not \"%%%%\" in the message (a format): %.300s", name, message);
-    fz_trace("    log %d %s: %s", (int)status, category, message);
+    fz_check_message(s, (int)status, category, message, 1);
 }
 
 fmi2CallbackFunctions fz_callbacks(fz_slot *s)
@@ -356,6 +366,45 @@ fmi2CallbackFunctions fz_callbacks(fz_slot *s)
 }
 
 void fz_expect_name(fz_slot *s, const char *name) { s->expected_name = name ? name : "?"; }
+
+/* ---- the harness's own kinds (codes 100-127): profile files in the resources folder (p0.txt, p1.txt) */
+
+static void k_profile(fz_context *ctx, fz_slot *s, fz_reader *r)
+{
+    (void)s;
+    uint8_t k = fz_u8(r);
+    char path[512];
+    snprintf(path, sizeof path, "%s/p%d.txt", ctx->resources, k & 1);
+    FILE *f = fopen(path, "wb");
+    if (!f) fz_fail("cannot write %s", path);
+    if (k & 2) { /* raw bytes */
+        uint8_t raw[4096];
+        fwrite(raw, 1, fz_bytes(r, raw, fz_u16(r) % sizeof raw), f);
+    } else { /* rows x h: x from x0 by dx (maybe jittered), h = amplitude times a byte */
+        int rows = 1 + fz_u8(r) % 64;
+        double x = fz_real(r, 0.0), dx = fz_real(r, 0.01), amp = fz_real(r, 1e-3);
+        for (int i = 0; i < rows; i++) {
+            uint8_t b = fz_u8(r);
+            if (b == 255) fprintf(f, "# comment\n\n");
+            fprintf(f, "%.17g %.17g\n", x, amp * ((int8_t)b / 128.0));
+            x += k & 4 ? dx * (1.0 + (b & 7) / 8.0) : dx;
+        }
+        if (k & 8) fprintf(f, "%.17g %.17g", x, 0.0); /* no final newline */
+    }
+    fclose(f);
+}
+
+static int always(void) { return 1; }
+static void nothing(fz_context *c, fz_slot *s) { (void)c, (void)s; }
+static const fz_call harness_calls[] = {{100, "write a profile file", k_profile}};
+static const fz_interface fz_harness = {"the harness", always, harness_calls, 1, nothing};
+
+/* The interfaces linked into this binary (each calls_*.c defines one; weak: absent ones are NULL). */
+extern const fz_interface fz_fmi2 __attribute__((weak));
+extern const fz_interface fz_fmi2me __attribute__((weak));
+extern const fz_interface fz_fmi3 __attribute__((weak));
+static const fz_interface *const interfaces[] = {&fz_harness, &fz_fmi2, &fz_fmi2me, &fz_fmi3};
+#define N_INTERFACES (sizeof interfaces / sizeof interfaces[0])
 
 /* ---- set-up, the loop, the end ---------------------------------------------------------------- */
 
@@ -390,8 +439,9 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
     }
     snprintf(ctx.resources_uri, sizeof ctx.resources_uri, "file://%s", ctx.resources);
     atexit(remove_resources);
-    for (size_t k = 0; k < sizeof interfaces / sizeof interfaces[0]; k++) {
+    for (size_t k = 0; k < N_INTERFACES; k++) {
         const fz_interface *in = interfaces[k];
+        if (!in) continue;
         if (!in->available()) {
             fprintf(stderr, "==vi-fuzz== %s: not in this FMU binary, its calls are skipped\n", in->name);
             continue;
@@ -430,9 +480,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         fz_trace("[%d] slot %d: %s", k, op >> 7, call->name);
         call->run(&ctx, s, &r);
     }
-    for (size_t k = 0; k < sizeof interfaces / sizeof interfaces[0]; k++)
+    for (size_t k = 0; k < N_INTERFACES; k++)
         for (int i = 0; i < FZ_SLOTS; i++)
-            if (interfaces[k]->available()) interfaces[k]->release(&ctx, &ctx.slot[i]);
+            if (interfaces[k] && interfaces[k]->available()) interfaces[k]->release(&ctx, &ctx.slot[i]);
     for (int i = 0; i < FZ_BUFFERS; i++) {
         free(ctx.buffer[i].data);
         ctx.buffer[i] = (fz_buffer){NULL, 0};
