@@ -152,7 +152,7 @@ print(status, time.process_time() - t0, log.messages[-1][2] if log.messages else
 """
 
 
-@pytest.mark.parametrize("solver", [1, 2, 3], ids=["bdf", "adams", "dop853"])
+@pytest.mark.parametrize("solver", [1, 2, 3, 4], ids=["bdf", "adams", "dop853", "auto"])
 def test_a_step_under_a_force_beyond_what_can_be_integrated_fails_at_once(fmu_path, solver):
     """The harness's watchdog ('fmi2DoStep used more than 30 s of CPU time'): under an input force of
     1.8e308 N, CVODE's first step size came out 0, then NaN, and CVODE 6.4 went on evaluating the
