@@ -7,11 +7,12 @@
  *   - a call that uses more than VI_FUZZ_CALL_SECONDS of CPU time (default 30 s), or that has not
  *     returned after VI_FUZZ_HANG_SECONDS of wall time (default 300 s; a watchdog thread);
  *   - a log message that is not well formed: NULL, empty, longer than FZ_MESSAGE_MAX, with a byte
- *     that starts no printable character (UTF-8, no control characters), with a '%' that is not
- *     "%%" (the logger's message is a format), from an unknown componentEnvironment, or naming
- *     another instance than the one called;
- *   - a status outside fmi2Status, and the checks of calls_fmi2.c (fmi2OK where the standard's state
- *     machine or the variable's causality forbids the call, time after fmi2DoStep, ...);
+ *     that starts no printable character (UTF-8, no control characters), from an unknown
+ *     componentEnvironment; in FMI 2.0 also with a '%' that is not "%%" (the logger's message is a
+ *     format) or naming another instance than the one called;
+ *   - a status outside fmi2Status (fmi3Status), and the checks of calls_fmi2.c and calls_fmi3.c
+ *     (OK where the standard's state machine or the variable's causality forbids the call, time
+ *     after a step, ...);
  *   - blocks of the importer's memory still allocated after every instance was freed.
  */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime, nanosleep, mkdtemp, strnlen */
