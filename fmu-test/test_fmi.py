@@ -50,6 +50,49 @@ def test_null_callbacks_are_refused(logged):
     assert raw_instantiate(logged(), callbacks=False) is None
 
 
+def test_every_allocation_of_instantiation_is_checked(logged, vr):
+    """The importer's allocateMemory failing at its k-th call, for every k of fmi2Instantiate: no
+    instance and "out of memory" (the resource path's block: an instance without resources), and
+    every block that was given is given back."""
+    from fmpy import calloc, free
+    from fmpy.fmi2 import fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE
+    count = {"calls": 0, "fail": None, "live": set()}
+
+    def allocate(n, size):
+        count["calls"] += 1
+        if count["calls"] == count["fail"]:
+            return None
+        p = calloc(n, size)
+        count["live"].add(p)
+        return p
+
+    def release(p):
+        if p:
+            count["live"].remove(p)
+        free(p)
+
+    log = logged()
+    log.callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(allocate)
+    log.callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(release)
+    c = raw_instantiate(log)
+    n = count["calls"]
+    assert c and n >= 5  # the resource path, the instance, its name, the model, its outputs
+    log.slave.fmi2FreeInstance(c)
+    assert not count["live"]
+    for k in range(1, n + 1):
+        count.update(calls=0, fail=k)
+        del log.messages[:]
+        c = raw_instantiate(log)
+        if k == 1:  # the resource path: the instance is made without a resources folder
+            assert c and not log.messages
+            log.slave.component = c
+            start(log.slave, vr)
+            log.slave.fmi2FreeInstance(c)
+        else:
+            assert not c and [m for _, _, m in log.messages] == ["fmi2Instantiate: out of memory"], k
+        assert not count["live"], k
+
+
 def test_do_step_before_initialization(logged, vr):
     log = logged()
     s = log.instantiate()
@@ -141,6 +184,28 @@ def test_events_are_logged_by_category(logged, vr):
     n = s.getInteger([vr["n_impacts"]])[0]
     assert n > 0
     s.terminate()
+    s.freeInstance()
+
+
+def test_calls_are_logged_by_category(logged, vr):
+    """logFmi2Call names every call that is let in, in order, and nothing else; off, nothing."""
+    log = logged()
+    s = log.instantiate()
+    s.setDebugLogging(True, ["logFmi2Call"])
+    s.setupExperiment()
+    s.enterInitializationMode()
+    s.setReal([vr["a"]], [1e-4])
+    s.exitInitializationMode()
+    s.doStep(0.0, 1e-4)
+    s.getReal([vr["y"]])
+    assert log.messages == [(0, "logFmi2Call", fn) for fn in (
+        "fmi2SetupExperiment", "fmi2EnterInitializationMode", "fmi2SetReal", "fmi2ExitInitializationMode",
+        "fmi2DoStep", "fmi2GetReal")]
+    s.setDebugLogging(False, ["logFmi2Call"])
+    del log.messages[:]
+    s.doStep(1e-4, 1e-4)
+    s.getReal([vr["y"]])
+    assert log.messages == []
     s.freeInstance()
 
 
@@ -410,6 +475,34 @@ def test_terminated_state_restores_terminated(logged, vr):
     assert error_logged(log, "fmi2DoStep", "terminated")
     assert s.getReal(names) == at_end  # values stay readable: those of the terminated state, bit for bit
     s.freeInstance()
+
+
+def test_error_state_restores_error_with_the_values_of_the_failure(logged, vr):
+    """A state taken in the error state of a failed step (a force of 1.7e308 N) and set into a fresh
+    instance: the error state, and the values at the failure (not the initial state's)."""
+    log = logged()
+    s = log.instantiate()
+    start(s, vr, dict(contact_model=1, a=1e-4))
+    s.doStep(0.0, 5e-3)
+    s.setReal([vr["F_ext"]], [1.7e308])
+    with pytest.raises(FMICallException):
+        s.doStep(5e-3, 1e-3)
+    names = [vr[n] for n in ("y", "yC", "F")]
+    failed = s.getReal(names)
+    state = s.getFMUstate()
+    log2 = logged()
+    s2 = log2.instantiate()
+    start(s2, vr, dict(contact_model=1, a=1e-4))
+    initial = s2.getReal(names)
+    assert initial != failed  # the restore below must move it
+    s2.setFMUstate(state)
+    assert s2.getReal(names) == failed
+    with pytest.raises(FMICallException):
+        s2.doStep(6e-3, 1e-3)
+    assert error_logged(log2, "fmi2DoStep", "not allowed in state 'error'")
+    s.freeFMUstate(state)
+    s.freeInstance()
+    s2.freeInstance()
 
 
 # ---- steps that cannot advance time ----

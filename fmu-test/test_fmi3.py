@@ -408,6 +408,33 @@ def test_types_time_and_bad_values(logged3, vr3):
     s.freeInstance()
 
 
+def test_value_references_not_in_the_description_are_refused(md3, logged3, vr3):
+    """Around every block of value references the description uses (the table, time, der(u) and
+    the event indicators), each one it does not list is refused by fmi3GetFloat64 and fmi3SetFloat64
+    as unknown, and each Float64 it lists is read (the indicators in Model Exchange only)."""
+    log = logged3()
+    s = log.instantiate()
+    fmi3.initialize(s, vr3, {})
+    listed = {v.valueReference: v for v in md3.modelVariables}
+    der, ind = vr3["der(yC_in)"], md3.eventIndicators and md3.eventIndicators[0].variable.valueReference
+    candidates = set(range(0, max(r for r in listed if r < der) + 3)) | {vr3["time"] - 1, vr3["time"]}
+    candidates |= set(range(der - 1, der + len(listed) + 2))
+    candidates |= set(range(ind - 1, ind + 4)) if ind else set()
+    d = (ctypes.c_double * 1)(0.0)
+    for r in sorted(candidates):
+        one = (ctypes.c_uint * 1)(r)
+        if r in listed:
+            if listed[r].type == "Float64" and not listed[r].name.startswith("event_indicator_"):  # ME only
+                assert raw(s, "fmi3GetFloat64", one, 1, d, 1) == OK, listed[r].name
+            continue
+        del log.messages[:]
+        assert raw(s, "fmi3GetFloat64", one, 1, d, 1) == ERROR, r
+        assert raw(s, "fmi3SetFloat64", one, 1, d, 1) == ERROR, r
+        assert errors(log) == [f"fmi3GetFloat64: unknown value reference {r}",
+                               f"fmi3SetFloat64: unknown value reference {r}"], r
+    s.freeInstance()
+
+
 def test_other_functions_are_refused(logged3, vr3):
     log = logged3()
     s = log.instantiate()
@@ -483,6 +510,55 @@ def test_model_exchange_calls(md3, dir3, vr3):
     assert J3 != [0.0, 0.0]
     m2.freeInstance()
     m3.freeInstance()
+
+
+def test_model_exchange_event_update_and_directional_derivative_arguments(md3, dir3, vr3, tmp_path):
+    """fmi3UpdateDiscreteStates writes all six results: over a profile whose kinks are time events
+    (troughs at LAM/2 + k LAM, test_me_rolling), the next kink's time (x - x0)/V, and without one
+    no next event time. fmi3GetDirectionalDerivative refuses nSeed != nKnowns and
+    nSensitivity != nUnknowns, each alone."""
+    from fmpy.fmi3 import FMU3Model
+    from test_me_rolling import LAM, sharp_sinusoid
+    _, _, path = sharp_sinusoid(tmp_path)
+    V, x0 = 1.0, 0.05
+    msgs = []
+
+    def update(m):
+        flags, t = [ctypes.c_bool(True) for _ in range(5)], ctypes.c_double(-1.0)
+        assert raw(m, "fmi3UpdateDiscreteStates", *[ctypes.byref(b) for b in flags], ctypes.byref(t)) == OK
+        return [b.value for b in flags], t.value
+
+    for profile in (True, False):
+        m = FMU3Model(guid=md3.guid, unzipDirectory=dir3, modelIdentifier="VibroImpact", instanceName="me3")
+        m.instantiate(logMessage=lambda env, st, cat, text: msgs.append((st, text.decode())))
+        m.enterInitializationMode(tolerance=1e-8)
+        if profile:
+            m.setString([vr3["profile_file"]], [str(path)])
+            m.setFloat64([vr3["V"], vr3["x0"], vr3["a"]], [V, x0, 0.0])
+        m.exitInitializationMode()
+        flags, t = update(m)
+        if profile:
+            assert flags == [False, False, False, False, True]
+            assert t == pytest.approx((LAM / 2 + LAM - x0) / V, abs=1e-12)
+        else:
+            assert (flags, t) == ([False] * 5, 0.0)
+        m.enterContinuousTimeMode()
+        if profile:  # past the first kink without stopping: the next one
+            m.setTime(0.03)
+            m.enterEventMode()
+            assert update(m) == ([False, False, False, False, True],
+                                 pytest.approx((LAM / 2 + 2 * LAM - x0) / V, abs=1e-12))
+            m.enterContinuousTimeMode()
+        der, states = [u.variable.valueReference for u in md3.derivatives], [vr3["y"], vr3["v"]]
+        assert len(m.getDirectionalDerivative(der, states, [1.0, 0.0])) == 2
+        d, u, k = (ctypes.c_double * 2)(1.0, 0.0), (ctypes.c_uint * 2)(*der), (ctypes.c_uint * 2)(*states)
+        for n_seed, n_sens in ((1, 2), (2, 1)):
+            del msgs[:]
+            assert raw(m, "fmi3GetDirectionalDerivative", u, 2, k, 2, d, n_seed, d, n_sens) == ERROR
+            assert [text for st, text in msgs if st == ERROR] == [
+                f"fmi3GetDirectionalDerivative: nSeed = {n_seed} and nSensitivity = {n_sens} must equal nKnowns = 2 "
+                "and nUnknowns = 2 (every variable is a scalar)"]
+        m.freeInstance()
 
 
 # ---- the other models on the layer, built for FMI 3.0 --------------------------------------------------

@@ -276,6 +276,19 @@ def test_resource_uri_that_names_no_local_folder(layer_md, layer_dir, lvr, uri):
     s.freeInstance()
 
 
+def test_resource_uri_with_another_host_is_not_read_as_a_local_path(layer_md, layer_dir, lvr, tmp_path):
+    """file://host/p names p on another host: refused even when //host/p would be a local folder (on
+    POSIX "//tmp/x" is "/tmp/x"), where file:///host/p is read."""
+    shutil.copytree(pathlib.Path(layer_dir), tmp_path / "copy")
+    local = (tmp_path / "copy" / "resources").as_posix()
+    assert local.startswith("/") and not local.startswith("//")
+    for uri, value in ((f"file://{local}", 0.125), (f"file:/{local}", -1.0)):  # file:/// + p, file:// + p
+        _, s = raw_layer(layer_md, layer_dir, uri.encode())
+        start(s, lvr)
+        assert s.getReal([lvr["resource_value"]]) == [value], uri
+        s.freeInstance()
+
+
 def test_importer_out_of_memory_is_refused(layer_md, layer_dir, lvr):
     """The importer's allocateMemory may return NULL: every allocation is checked."""
     from fmpy import calloc

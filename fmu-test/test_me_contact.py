@@ -142,3 +142,40 @@ def test_inputs_set_after_the_last_event_pass_act_in_continuous_time(me):
     assert m.real("delta") == pytest.approx(d0 + 1e-7, abs=1e-18)
     m.set("yC_in", 2e-7)  # and go on following the input in continuous time
     assert m.real("delta") == pytest.approx(d0 + 2e-7, abs=1e-18)
+
+
+def test_state_from_before_initialization_gives_the_initial_states_again(me):
+    """A state taken when instantiated and set while integrating: in initialization mode the states
+    are those of the start the parameters give (as in a fresh instance), not the importer's last."""
+    inst, m = me()
+    before = m.fmu.getFMUstate()
+    m.fmu.setupExperiment()
+    m.fmu.enterInitializationMode()
+    initial = m.states()
+    m.fmu.exitInitializationMode()
+    m.settle()
+    m.fmu.enterContinuousTimeMode()
+    m.fmu.setTime(1e-3)
+    m.set_states([initial[0] / 3, 0.01])
+    assert m.states() == [initial[0] / 3, 0.01]
+    m.fmu.setFMUstate(before)
+    m.fmu.setupExperiment()
+    m.fmu.enterInitializationMode()
+    assert m.states() == initial and initial[0] < 0.0 and initial[1] == 0.0  # the static start
+    m.fmu.freeFMUstate(before)
+
+
+def test_initial_state_is_logged(fmu_path, unzipdir, model_description):
+    """logSolver at fmi2ExitInitializationMode in Model Exchange: the nominals the importer gets and
+    the initial mode and state, here a touching start moving up at v0 (delta = 0, free flight)."""
+    import re
+    inst = MeInstance(fmu_path, unzipdir, model_description)
+    inst.instantiate(categories=("logSolver",))
+    m = Me(inst)
+    m.start(params=dict(contact_model=1, init=2, v0=0.0125, a=0.0))
+    msg = next(t for _, cat, t in inst.messages if cat == "logSolver" and "initial mode" in t)
+    got = re.fullmatch(r"Model Exchange: the importer integrates y and v \(nominals (\S+) m, (\S+) m/s\); "
+                       r"initial mode (\d+), delta = (\S+) m, v = (\S+) m/s", msg).groups()
+    assert [float(x) for x in got[:2]] == pytest.approx(m.nominals(), rel=1e-5)
+    assert (int(got[2]), float(got[3]), float(got[4])) == (0, 0.0, 0.0125) == (m.integer("mode"), 0.0, m.states()[1])
+    inst.model.freeInstance()

@@ -172,6 +172,23 @@ def test_input_value_resets_its_derivative(running, vr):
 
 # ---- calculated parameters in initialization mode ----
 
+def test_output_derivatives_are_not_provided(logged, vr):
+    """maxOutputDerivativeOrder = 0: fmi2GetRealOutputDerivatives is refused with one message saying
+    so where the call is allowed, and with one saying the state where it is not."""
+    log = logged()
+    s = log.instantiate()
+    d, order = (ctypes.c_double * 1)(-1.0), (ctypes.c_int * 1)(1)
+    y = (ctypes.c_uint * 1)(vr["y"])
+    assert raw(s, "fmi2GetRealOutputDerivatives", y, 1, order, d) == ERROR  # instantiated: not allowed
+    assert errors(log) == ["fmi2GetRealOutputDerivatives: not allowed in state 'instantiated'"]
+    start(s, vr)
+    assert raw(s, "fmi2GetRealOutputDerivatives", y, 1, order, d) == ERROR
+    assert errors(log)[1:] == ["fmi2GetRealOutputDerivatives: not provided (maxOutputDerivativeOrder=0)"]
+    assert d[0] == -1.0
+    s.doStep(0.0, 1e-4)  # a refusal, not a failure
+    s.freeInstance()
+
+
 def test_calculated_parameters_in_initialization_mode(logged, vr):
     """Read between fmi2EnterInitializationMode and fmi2ExitInitializationMode: the closed forms of
     paper eqs. 1, 2, 5 (conftest.effective), not 0."""
@@ -212,12 +229,55 @@ def test_every_function_refuses_a_null_instance(running):
         "fmi2DoStep": (ctypes.c_double(0), ctypes.c_double(1e-4), 1), "fmi2CancelStep": (),
         "fmi2GetRealStatus": (fmi2LastSuccessfulTime, ctypes.byref(d)),
         "fmi2GetBooleanStatus": (fmi2Terminated, ctypes.byref(i)),
+        "fmi2GetStatus": (fmi2DoStepStatus, ctypes.byref(i)),
+        "fmi2GetIntegerStatus": (fmi2DoStepStatus, ctypes.byref(i)),
+        "fmi2GetStringStatus": (fmi2DoStepStatus, ctypes.byref(p)),
+        "fmi2SetRealInputDerivatives": (vr, 1, ctypes.byref(i), ctypes.byref(d)),
+        "fmi2GetRealOutputDerivatives": (vr, 1, ctypes.byref(i), ctypes.byref(d)),
+        "fmi2GetDirectionalDerivative": (vr, 1, vr, 1, ctypes.byref(d), ctypes.byref(d)),
+        "fmi2SerializedFMUstateSize": (None, ctypes.byref(p)), "fmi2SerializeFMUstate": (None, None, 0),
+        "fmi2DeSerializeFMUstate": (None, 0, ctypes.byref(p)),
     }
     for name, args in calls.items():
         fn = getattr(dll, name)
         fn.restype = ctypes.c_int
         assert fn(None, *args) == ERROR, name
     s.doStep(0.0, 1e-4)  # the real instance is untouched
+
+
+def test_null_arrays_are_refused(running, vr):
+    """Each array argument NULL with nvr = 1, the others valid: refused with "NULL array", nothing
+    read or written, the instance going on; with nvr = 0 NULL arrays are no error."""
+    log, s = running
+    d, i, p = ctypes.c_double(0.0), ctypes.c_int(1), ctypes.c_char_p(b"")
+    one = (ctypes.c_uint * 1)(vr["a"])
+    ref = {"Real": ((ctypes.c_uint * 1)(vr["a"]), ctypes.byref(d)),
+           "Integer": ((ctypes.c_uint * 1)(vr["n_impacts"]), ctypes.byref(i)),
+           "Boolean": ((ctypes.c_uint * 1)(vr["contact"]), ctypes.byref(i)),
+           "String": ((ctypes.c_uint * 1)(vr["profile_file"]), ctypes.byref(p))}
+    calls = []
+    for kind, (r, value) in ref.items():
+        calls += [(f"fmi2Get{kind}", (None, 1, value)), (f"fmi2Get{kind}", (r, 1, None))]
+    ins = {"Real": ((ctypes.c_uint * 1)(vr["yC_in"]), ctypes.byref(d)),
+           "Integer": ((ctypes.c_uint * 1)(vr["solver"]), ctypes.byref(i)),
+           "Boolean": ((ctypes.c_uint * 1)(vr["moving_contact"]), ctypes.byref(i)),
+           "String": ((ctypes.c_uint * 1)(vr["profile_file"]), ctypes.byref(p))}
+    for kind, (r, value) in ins.items():
+        calls += [(f"fmi2Set{kind}", (None, 1, value)), (f"fmi2Set{kind}", (r, 1, None))]
+    order = (ctypes.c_int * 1)(1)
+    calls += [("fmi2SetRealInputDerivatives", args) for args in
+              ((None, 1, order, ctypes.byref(d)), (one, 1, None, ctypes.byref(d)), (one, 1, order, None))]
+    for fn, args in calls:
+        del log.messages[:]
+        assert raw(s, fn, *args) == ERROR, (fn, args)
+        assert errors(log) == [f"{fn}: NULL array"], fn
+    for fn in ("fmi2GetReal", "fmi2SetReal", "fmi2GetInteger", "fmi2SetInteger", "fmi2GetBoolean", "fmi2SetBoolean",
+               "fmi2GetString", "fmi2SetString"):
+        assert raw(s, fn, None, 0, None) == OK, fn
+    assert raw(s, "fmi2SetRealInputDerivatives", None, 0, None, None) == OK
+    s.doStep(0.0, 1e-4)
+    a, f, yC = s.getReal([vr["a"], vr["f"], vr["yC"]])
+    assert (a, f) == (1e-4, 560.0) and yC == pytest.approx(a * (np.cos(2 * np.pi * f * 1e-4) - 1), rel=1e-12)
 
 
 def test_debug_logging_with_null_categories_is_refused(running):

@@ -67,6 +67,7 @@ class Mutant:
     function: str  # the function the place is in
     site: str      # the code of its line, comments removed, whitespace collapsed
     k: int = 1     # among the mutants of this kind and text on the line
+    stmt_line: int = 0  # the first line of the statement (or condition) the place is in
 
     @property
     def ident(self):
@@ -196,7 +197,11 @@ def mutants_of(path, text=None):
         ls = line_starts[line - 1]
         le = text.find("\n", ls)
         site = flat(code[ls:le if le >= 0 else len(text)])
-        found.append(Mutant(rel, start, end, new, kind, line, last, start - ls + 1, text[start:end], owner[start], site))
+        b = max(masked.rfind(ch, 0, start) for ch in ";{}") + 1
+        while b < start and masked[b].isspace():
+            b += 1
+        found.append(Mutant(rel, start, end, new, kind, line, last, start - ls + 1, text[start:end], owner[start], site,
+                            stmt_line=text.count("\n", 0, b) + 1))
 
     for m in re.finditer(r"<=|>=|==|!=|(?<![<>-])[<>](?![<>=])", masked):
         add(m.start(), m.end(), RELATIONAL[m.group()], "relational")
@@ -569,6 +574,8 @@ def main():
         original = target.read_text()
         target.write_text(original[:m.start] + m.new + original[m.end:])
         tests = sorted({t for ln in range(m.line, m.last_line + 1) for t in index.get((m.file, ln), [])})
+        if not tests:  # gcov counts a statement that spans lines on one of them: those before it too
+            tests = sorted({t for ln in range(m.stmt_line, m.line) for t in index.get((m.file, ln), [])})
         try:
             rc, _ = run(["cmake", "--build", "build", "-j2"], scratch, 900)
             if rc != 0:

@@ -15,8 +15,8 @@
  *     (fmi2LastSuccessfulTime), with fmi2Discard somewhere in [the time before, that end);
  *   - fmi2CancelStep never returns fmi2OK (fmi2DoStep is synchronous).
  * Serialized states may be corrupted before they are deserialized, and then sealed again with the
- * checksum the FMU documents (src/vi_fmi2.c: FNV-1a's round over 64-bit words in four lanes), so
- * that the field checks behind the checksum are reached as well.
+ * checksum the FMU documents (fz_corrupted, fuzz_main.c), so that the field checks behind the
+ * checksum are reached as well.
  */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime, nanosleep, mkdtemp, strnlen */
 #include <float.h>
@@ -121,6 +121,7 @@ static void k_instantiate(fz_context *ctx, fz_slot *s, fz_reader *r)
     fz_expect_name(s, name);
     fz_trace("    name '%.40s' type %d guid %s uri %.60s callbacks %d flags %d", name ? name : "(null)", (int)type,
              guid_arg ? guid_arg : "(null)", uri ? uri : "(null)", cb % 16, flags & 3);
+    s->version = 2;
     fz_begin("fmi2Instantiate");
     s->c = fmi2Instantiate(name, type, guid_arg, uri, cb % 16 == 2 ? NULL : &f, flags & 1, flags >> 1 & 1);
     fz_end();
@@ -321,10 +322,14 @@ static void k_get(fz_context *ctx, fz_slot *s, fz_reader *r)
 
 /* ---- FMU states ---- */
 
-static fz_saved *saved_of(fz_context *ctx, fz_reader *r)
+/* A state handle of slot s or of the other slot (when that holds no instance of another FMI version:
+ * an FMU state belongs to the FMU binary that made it). */
+static fz_saved *saved_of(fz_context *ctx, fz_slot *s, fz_reader *r)
 {
     uint8_t k = fz_u8(r);
-    return &ctx->slot[k >> 7].saved[k % FZ_STATES];
+    fz_slot *from = &ctx->slot[k >> 7];
+    if (from->c && from->version != s->version) from = s;
+    return &from->saved[k % FZ_STATES];
 }
 
 static void k_get_state(fz_context *ctx, fz_slot *s, fz_reader *r)
@@ -341,7 +346,7 @@ static void k_get_state(fz_context *ctx, fz_slot *s, fz_reader *r)
 
 static void k_set_state(fz_context *ctx, fz_slot *s, fz_reader *r)
 {
-    fz_saved *sv = saved_of(ctx, r); /* also one the other instance took */
+    fz_saved *sv = saved_of(ctx, s, r); /* also one the other instance took */
     fmi2Status st = CALL(fmi2SetFMUstate, s->c, sv->handle);
     if (st == fmi2OK && !sv->handle) fz_fail("fmi2SetFMUstate accepted a NULL state");
     outcome(s, "fmi2SetFMUstate", FZ_ANY, st, sv->mask);
@@ -377,85 +382,6 @@ static void k_serialize(fz_context *ctx, fz_slot *s, fz_reader *r)
     b->data = data, b->n = n;
 }
 
-/* The documented checksum of src/vi_fmi2.c, written again: header (48 bytes, the checksum at 40
- * taken as 0), then the model's block. */
-static uint64_t round_(uint64_t h, uint64_t w)
-{
-    h = (h ^ w) * 0x100000001b3u;
-    return h ^ (h >> 32);
-}
-
-static uint64_t words_hash(uint64_t h, const uint8_t *p, size_t n)
-{
-    uint64_t lane[4], w;
-    for (int k = 0; k < 4; k++) lane[k] = round_(h, (uint64_t)k);
-    size_t i = 0;
-    for (; i + 32 <= n; i += 32)
-        for (int k = 0; k < 4; k++) {
-            memcpy(&w, p + i + 8 * (size_t)k, 8);
-            lane[k] = round_(lane[k], w);
-        }
-    h = round_(lane[0], (uint64_t)n);
-    for (int k = 1; k < 4; k++) h = round_(h, lane[k]);
-    for (; i < n; i++) h = round_(h, p[i]);
-    return h;
-}
-
-enum { HEADER = 48, CHECKSUM_AT = 40 };
-
-static void reseal(uint8_t *p, size_t n)
-{
-    if (n < HEADER) return;
-    uint8_t head[HEADER];
-    memcpy(head, p, HEADER);
-    memset(head + CHECKSUM_AT, 0, 8);
-    uint64_t h = words_hash(words_hash(0xcbf29ce484222325u, head, HEADER), p + HEADER, n - HEADER);
-    memcpy(p + CHECKSUM_AT, &h, 8);
-}
-
-/* A copy of b altered by up to three edits (bit flips, bytes, doubles, truncation, extension),
- * maybe sealed again. */
-static uint8_t *corrupted(fz_reader *r, const fz_buffer *b, size_t *n)
-{
-    size_t cap = b->n + 256;
-    uint8_t *p = malloc(cap);
-    memcpy(p, b->data, b->n);
-    *n = b->n;
-    uint8_t edits = fz_u8(r);
-    for (int e = 0; e < edits % 4; e++) {
-        uint8_t kind = fz_u8(r);
-        uint16_t at = fz_u16(r);
-        switch (kind % 5) {
-        case 0: if (*n) p[at % *n] ^= (uint8_t)(1u << (kind >> 5)); break;
-        case 1: if (*n) p[at % *n] = fz_u8(r); break;
-        case 2:
-            if (*n >= 8) {
-                double x = fz_real(r, 1.0);
-                memcpy(p + ((at % (*n - 7)) & ~(size_t)7), &x, 8);
-            }
-            break;
-        case 3: *n = at % (*n + 1); break;
-        default: {
-            size_t k = fz_u8(r);
-            if (*n + k <= cap) memset(p + *n, kind, k), *n += k;
-        }
-        }
-    }
-    if (edits & 0x80) reseal(p, *n);
-    fz_trace("    %d edits, %zu bytes%s", edits % 4, *n, edits & 0x80 ? ", sealed again" : "");
-    return p;
-}
-
-/* The FMI state recorded in a (maybe altered) buffer's header: its fmu_state field, when that is one
- * of the layer's state bits (which the FZ_* bits follow); any state otherwise. */
-static unsigned recorded_mask(const uint8_t *p, size_t n)
-{
-    uint32_t m;
-    if (n < HEADER) return FZ_ANY;
-    memcpy(&m, p + 32, 4);
-    return m && !(m & (m - 1)) && m <= FZ_ERROR ? m : FZ_ANY;
-}
-
 static void deserialize(fz_slot *s, fz_reader *r, const uint8_t *data, size_t n)
 {
     uint8_t k = fz_u8(r);
@@ -468,7 +394,7 @@ static void deserialize(fz_slot *s, fz_reader *r, const uint8_t *data, size_t n)
     fmi2Status st = CALL(fmi2DeSerializeFMUstate, s->c, k == 255 ? NULL : (const fmi2Byte *)data, n, &sv->handle);
     if (st == fmi2OK) {
         if (!sv->handle) fz_fail("fmi2DeSerializeFMUstate returned fmi2OK and no state");
-        sv->mask = recorded_mask(data, n);
+        sv->mask = fz_recorded_mask(data, n);
         sv->t = NAN; /* unknown: fmi2GetRealStatus tells after fmi2SetFMUstate */
     } else if (sv->handle != before) {
         fz_fail("fmi2DeSerializeFMUstate failed and changed the handle");
@@ -480,7 +406,7 @@ static void k_deserialize(fz_context *ctx, fz_slot *s, fz_reader *r)
     fz_buffer *b = &ctx->buffer[fz_u8(r) % FZ_BUFFERS];
     if (!b->data) return;
     size_t n;
-    uint8_t *p = corrupted(r, b, &n);
+    uint8_t *p = fz_corrupted(r, b, &n);
     deserialize(s, r, p, n);
     free(p);
 }
@@ -491,7 +417,7 @@ static void k_deserialize_raw(fz_context *ctx, fz_slot *s, fz_reader *r)
     size_t want = fz_u16(r) % 8192;
     uint8_t *p = malloc(want ? want : 1);
     size_t n = fz_bytes(r, p, want);
-    if (fz_u8(r) & 1) reseal(p, n);
+    if (fz_u8(r) & 1) fz_reseal(p, n);
     deserialize(s, r, p, n);
     free(p);
 }
@@ -618,33 +544,33 @@ static void k_version(fz_context *ctx, fz_slot *s, fz_reader *r)
 }
 
 static const fz_call calls[] = {
-    {0, "fmi2Instantiate", k_instantiate},
-    {1, "fmi2FreeInstance", k_free},
-    {2, "fmi2SetDebugLogging", k_debug_logging},
-    {3, "fmi2SetupExperiment", k_setup},
-    {4, "fmi2EnterInitializationMode", k_enter_init},
-    {5, "fmi2ExitInitializationMode", k_exit_init},
-    {6, "fmi2Terminate", k_terminate},
-    {7, "fmi2Reset", k_reset},
-    {8, "fmi2SetReal", k_set_real},
-    {9, "fmi2SetInteger", k_set_integer},
-    {10, "fmi2SetBoolean", k_set_boolean},
-    {11, "fmi2SetString", k_set_string},
-    {12, "fmi2Get*", k_get},
-    {13, "fmi2GetFMUstate", k_get_state},
-    {14, "fmi2SetFMUstate", k_set_state},
-    {15, "fmi2FreeFMUstate", k_free_state},
-    {16, "fmi2SerializeFMUstate", k_serialize},
-    {17, "fmi2DeSerializeFMUstate (a serialized state, altered)", k_deserialize},
-    {18, "fmi2DeSerializeFMUstate (bytes of the input)", k_deserialize_raw},
-    {19, "fmi2GetDirectionalDerivative", k_directional},
-    {20, "fmi2SetRealInputDerivatives", k_input_derivatives},
-    {21, "fmi2GetRealOutputDerivatives", k_output_derivatives},
-    {22, "fmi2DoStep", k_do_step},
-    {23, "fmi2DoStep", k_do_step}, /* twice the weight: stepping is where the work is */
-    {24, "fmi2CancelStep", k_cancel},
-    {25, "fmi2Get*Status", k_status},
-    {26, "fmi2GetVersion", k_version},
+    {0, "fmi2Instantiate", k_instantiate, 1},
+    {1, "fmi2FreeInstance", k_free, 0},
+    {2, "fmi2SetDebugLogging", k_debug_logging, 0},
+    {3, "fmi2SetupExperiment", k_setup, 0},
+    {4, "fmi2EnterInitializationMode", k_enter_init, 0},
+    {5, "fmi2ExitInitializationMode", k_exit_init, 0},
+    {6, "fmi2Terminate", k_terminate, 0},
+    {7, "fmi2Reset", k_reset, 0},
+    {8, "fmi2SetReal", k_set_real, 0},
+    {9, "fmi2SetInteger", k_set_integer, 0},
+    {10, "fmi2SetBoolean", k_set_boolean, 0},
+    {11, "fmi2SetString", k_set_string, 0},
+    {12, "fmi2Get*", k_get, 0},
+    {13, "fmi2GetFMUstate", k_get_state, 0},
+    {14, "fmi2SetFMUstate", k_set_state, 0},
+    {15, "fmi2FreeFMUstate", k_free_state, 0},
+    {16, "fmi2SerializeFMUstate", k_serialize, 0},
+    {17, "fmi2DeSerializeFMUstate (a serialized state, altered)", k_deserialize, 0},
+    {18, "fmi2DeSerializeFMUstate (bytes of the input)", k_deserialize_raw, 0},
+    {19, "fmi2GetDirectionalDerivative", k_directional, 0},
+    {20, "fmi2SetRealInputDerivatives", k_input_derivatives, 0},
+    {21, "fmi2GetRealOutputDerivatives", k_output_derivatives, 0},
+    {22, "fmi2DoStep", k_do_step, 0},
+    {23, "fmi2DoStep", k_do_step, 0}, /* twice the weight: stepping is where the work is */
+    {24, "fmi2CancelStep", k_cancel, 0},
+    {25, "fmi2Get*Status", k_status, 0},
+    {26, "fmi2GetVersion", k_version, 0},
 };
 
-const fz_interface fz_fmi2 = {"FMI 2.0 Co-Simulation", fmi2_available, calls, sizeof calls / sizeof calls[0], release};
+const fz_interface fz_fmi2 = {"FMI 2.0 Co-Simulation", fmi2_available, calls, sizeof calls / sizeof calls[0], release, 2};

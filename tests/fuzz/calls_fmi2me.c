@@ -190,17 +190,17 @@ done:
 }
 
 static const fz_call calls[] = {
-    {40, "fmi2SetTime", k_set_time},
-    {41, "fmi2SetContinuousStates", k_set_states},
-    {42, "fmi2GetDerivatives/EventIndicators/ContinuousStates/Nominals", k_get_arrays},
-    {43, "fmi2EnterEventMode", k_enter_event},
-    {44, "fmi2NewDiscreteStates", k_new_discrete_states},
-    {45, "fmi2EnterContinuousTimeMode", k_enter_continuous},
-    {46, "fmi2CompletedIntegratorStep", k_completed_step},
-    {47, "an explicit-Euler step (Model Exchange)", k_euler},
-    {48, "an explicit-Euler step (Model Exchange)", k_euler},
+    {40, "fmi2SetTime", k_set_time, 0},
+    {41, "fmi2SetContinuousStates", k_set_states, 0},
+    {42, "fmi2GetDerivatives/EventIndicators/ContinuousStates/Nominals", k_get_arrays, 0},
+    {43, "fmi2EnterEventMode", k_enter_event, 0},
+    {44, "fmi2NewDiscreteStates", k_new_discrete_states, 0},
+    {45, "fmi2EnterContinuousTimeMode", k_enter_continuous, 0},
+    {46, "fmi2CompletedIntegratorStep", k_completed_step, 0},
+    {47, "an explicit-Euler step (Model Exchange)", k_euler, 0},
+    {48, "an explicit-Euler step (Model Exchange)", k_euler, 0},
 };
 
 static void release(fz_context *ctx, fz_slot *s) { (void)ctx, (void)s; } /* calls_fmi2.c frees the instance */
 
-const fz_interface fz_fmi2me = {"FMI 2.0 Model Exchange", me_available, calls, sizeof calls / sizeof calls[0], release};
+const fz_interface fz_fmi2me = {"FMI 2.0 Model Exchange", me_available, calls, sizeof calls / sizeof calls[0], release, 2};

@@ -14,8 +14,13 @@
 option(VI_FUZZ_HARNESS "Internal: this is the clang build of the libFuzzer harness" OFF)
 set(VI_FUZZ_DIR ${CMAKE_CURRENT_LIST_DIR})
 # The FMU binaries the harness is built for, fuzz_<target>, and the call kinds each offers.
+# fuzz_VibroImpact links the FMI 2.0 and the FMI 3.0 face (VI_FUZZ_ALSO_VibroImpact: the union of
+# both targets' sources, the core once; the fmi3* and fmi2* names do not clash), so that one input
+# drives instances of both versions and shares serialized FMU states between them;
+# fuzz_VibroImpact_fmi3 is the FMI 3.0 binary alone.
 set(VI_FUZZ_TARGETS VibroImpact VibroImpact_fmi3)
-set(VI_FUZZ_CALLS_VibroImpact calls_fmi2.c calls_fmi2me.c)
+set(VI_FUZZ_CALLS_VibroImpact calls_fmi2.c calls_fmi2me.c calls_fmi3.c)
+set(VI_FUZZ_ALSO_VibroImpact VibroImpact_fmi3)
 set(VI_FUZZ_CALLS_VibroImpact_fmi3 calls_fmi3.c)
 set(VI_FUZZ_SECONDS_VibroImpact_fmi3 30) # the FMI 3.0 face is thin over the same core
 
@@ -29,10 +34,19 @@ if(VI_FUZZ_HARNESS)
     foreach(f ${VI_FUZZ_CALLS_${target}})
       list(APPEND calls ${VI_FUZZ_DIR}/${f})
     endforeach()
-    # the FMU binary's own sources, definitions and model objects, with the harness
-    add_executable(fuzz_${target} ${VI_FUZZ_DIR}/fuzz_main.c ${calls} $<TARGET_PROPERTY:${target},SOURCES>)
+    # the FMU binary's own sources, definitions and model objects (and those of the targets it also
+    # links, each source once), with the harness
+    set(sources $<TARGET_PROPERTY:${target},SOURCES>)
+    set(definitions $<TARGET_PROPERTY:${target},COMPILE_DEFINITIONS>)
+    foreach(also ${VI_FUZZ_ALSO_${target}})
+      if(TARGET ${also})
+        string(APPEND sources ";$<TARGET_PROPERTY:${also},SOURCES>")
+        string(APPEND definitions ";$<TARGET_PROPERTY:${also},COMPILE_DEFINITIONS>")
+      endif()
+    endforeach()
+    add_executable(fuzz_${target} ${VI_FUZZ_DIR}/fuzz_main.c ${calls} "$<REMOVE_DUPLICATES:${sources}>")
     target_include_directories(fuzz_${target} PRIVATE ${FMI2_HEADERS_DIR} ${VI_FUZZ_DIR} ${CMAKE_SOURCE_DIR}/include)
-    target_compile_definitions(fuzz_${target} PRIVATE $<TARGET_PROPERTY:${target},COMPILE_DEFINITIONS>)
+    target_compile_definitions(fuzz_${target} PRIVATE "$<REMOVE_DUPLICATES:${definitions}>")
     string(REGEX REPLACE "_fmi3$" "" fmu ${target}) # both binaries of an FMU link its model objects
     target_link_libraries(fuzz_${target} PRIVATE ${fmu}_model Threads::Threads m)
     target_compile_options(fuzz_${target} PRIVATE ${VI_WARNINGS})

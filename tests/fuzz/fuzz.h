@@ -17,8 +17,10 @@
  * happened and aborts, so that libFuzzer saves the input. VI_FUZZ_TRACE=1 prints every call.
  *
  * Each calls_<interface>.c defines one fz_interface (fz_fmi2, fz_fmi2me, fz_fmi3); fuzz_main.c lists
- * them as weak references, so that a binary holds the interfaces its FMU binary offers (the FMI 2.0
- * and the FMI 3.0 binary of an FMU are separate, tests/fuzz/fuzz.cmake).
+ * them as weak references, so that a binary holds the interfaces linked into it (tests/fuzz/fuzz.cmake:
+ * fuzz_<FMU> links both faces, FMI 2.0 and FMI 3.0, fuzz_<FMU>_fmi3 the FMI 3.0 face only). A slot
+ * holds an instance of one FMI version; a call of another version's interface on it is skipped,
+ * except an instantiation, which first frees the instance through its own version's functions.
  */
 #ifndef VI_FUZZ_H
 #define VI_FUZZ_H
@@ -75,8 +77,11 @@ void fz_trace(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 fmi2Status fz_status(const char *call, fmi2Status s);
 
 /* ---- instances ---- */
-/* The FMI states of the Co-Simulation state machine, as bits (a mask: the states the instance may
- * be in, after a call whose outcome leaves it open). */
+/* The FMI states of the state machines, as bits (a mask: the states the instance may be in, after
+ * a call whose outcome leaves it open). The bits are those the FMU records in its FMU states
+ * (src/vi_fmi_core.c VI_ST_*). FMI 2.0 Co-Simulation has the first six (FZ_ANY); FMI 3.0 names
+ * step complete "Step Mode" and step failed "Step Discarded", and adds Event Mode (Co-Simulation with
+ * eventModeUsed, Model Exchange) and Continuous-Time Mode (Model Exchange): FZ_ANY3. */
 enum {
     FZ_INSTANTIATED = 1 << 0,
     FZ_INIT = 1 << 1,
@@ -85,6 +90,9 @@ enum {
     FZ_TERMINATED = 1 << 4,
     FZ_ERROR = 1 << 5,
     FZ_ANY = (1 << 6) - 1,
+    FZ_EVENT = 1 << 7,
+    FZ_CONTINUOUS = 1 << 8,
+    FZ_ANY3 = FZ_ANY | FZ_EVENT | FZ_CONTINUOUS,
 };
 
 typedef struct {
@@ -103,7 +111,11 @@ typedef struct fz_slot {
     double start_time;         /* of fmi2SetupExperiment */
     fz_saved saved[FZ_STATES];
     int logging;               /* debug logging on (every category) */
+    int version;               /* the FMI version of the functions that made c (2 or 3) */
+    unsigned options;          /* FMI 3.0 Co-Simulation: FZ_EVENT_MODE_USED | FZ_EARLY_RETURN_ALLOWED */
 } fz_slot;
+
+enum { FZ_EVENT_MODE_USED = 1u << 0, FZ_EARLY_RETURN_ALLOWED = 1u << 1 };
 
 typedef struct {
     uint8_t *data;
@@ -125,12 +137,24 @@ void fz_expect_name(fz_slot *s, const char *name);
  * format, as in FMI 2.0, so that a '%' must be "%%"); a finding when one fails. */
 void fz_check_message(const fz_slot *s, int status, const char *category, const char *message, int format);
 
+/* ---- serialized FMU states (both versions have one format, src/vi_fmi_core.c) ---- */
+/* Seal p (n bytes) again with the documented checksum (FNV-1a's round over 64-bit words in four
+ * lanes over the 48-byte header, its checksum at 40 taken as 0, then the model's block). */
+void fz_reseal(uint8_t *p, size_t n);
+/* A copy of b (malloc) altered by up to three edits read from r (bit flips, bytes, doubles,
+ * truncation, extension), maybe sealed again; *n: its length. */
+uint8_t *fz_corrupted(fz_reader *r, const fz_buffer *b, size_t *n);
+/* The FMI state a (maybe altered) serialized state records (its header's fmu_state field), when that
+ * is one of the FZ_ANY3 bits; FZ_ANY3 otherwise. */
+unsigned fz_recorded_mask(const uint8_t *p, size_t n);
+
 /* ---- call kinds ---- */
 typedef struct {
     uint8_t code;
     const char *name;
     /* Run the call on slot s (or both slots of ctx); read the arguments from r. */
     void (*run)(fz_context *ctx, fz_slot *s, fz_reader *r);
+    int instantiates; /* makes a new instance in the slot (frees the one there first) */
 } fz_call;
 
 typedef struct {
@@ -138,8 +162,8 @@ typedef struct {
     int (*available)(void);   /* are the interface's functions in this binary? */
     const fz_call *calls;
     size_t ncalls;
-    void (*release)(fz_context *ctx, fz_slot *s); /* free what the slot holds at the end of an input */
+    void (*release)(fz_context *ctx, fz_slot *s); /* free the slot's instance of this version, if any */
+    int fmi_version; /* of its functions (2 or 3); 0: the harness's own kinds, for any slot */
 } fz_interface;
-
 
 #endif

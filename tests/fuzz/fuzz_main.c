@@ -7,11 +7,12 @@
  *   - a call that uses more than VI_FUZZ_CALL_SECONDS of CPU time (default 30 s), or that has not
  *     returned after VI_FUZZ_HANG_SECONDS of wall time (default 300 s; a watchdog thread);
  *   - a log message that is not well formed: NULL, empty, longer than FZ_MESSAGE_MAX, with a byte
- *     that starts no printable character (UTF-8, no control characters), with a '%' that is not
- *     "%%" (the logger's message is a format), from an unknown componentEnvironment, or naming
- *     another instance than the one called;
- *   - a status outside fmi2Status, and the checks of calls_fmi2.c (fmi2OK where the standard's state
- *     machine or the variable's causality forbids the call, time after fmi2DoStep, ...);
+ *     that starts no printable character (UTF-8, no control characters), from an unknown
+ *     componentEnvironment; in FMI 2.0 also with a '%' that is not "%%" (the logger's message is a
+ *     format) or naming another instance than the one called;
+ *   - a status outside fmi2Status (fmi3Status), and the checks of calls_fmi2.c and calls_fmi3.c
+ *     (OK where the standard's state machine or the variable's causality forbids the call, time
+ *     after a step, ...);
  *   - blocks of the importer's memory still allocated after every instance was freed.
  */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime, nanosleep, mkdtemp, strnlen */
@@ -37,6 +38,7 @@
 
 static fz_context ctx;
 static const fz_call *by_code[128];
+static const fz_interface *owner[128]; /* the interface of each code */
 static int trace_on;
 
 /* ---- reading the input ------------------------------------------------------------------------ */
@@ -367,6 +369,83 @@ fmi2CallbackFunctions fz_callbacks(fz_slot *s)
 
 void fz_expect_name(fz_slot *s, const char *name) { s->expected_name = name ? name : "?"; }
 
+/* ---- serialized FMU states: the documented checksum (src/vi_fmi_core.c), written again ---------- */
+
+static uint64_t round_(uint64_t h, uint64_t w)
+{
+    h = (h ^ w) * 0x100000001b3u;
+    return h ^ (h >> 32);
+}
+
+static uint64_t words_hash(uint64_t h, const uint8_t *p, size_t n)
+{
+    uint64_t lane[4], w;
+    for (int k = 0; k < 4; k++) lane[k] = round_(h, (uint64_t)k);
+    size_t i = 0;
+    for (; i + 32 <= n; i += 32)
+        for (int k = 0; k < 4; k++) {
+            memcpy(&w, p + i + 8 * (size_t)k, 8);
+            lane[k] = round_(lane[k], w);
+        }
+    h = round_(lane[0], (uint64_t)n);
+    for (int k = 1; k < 4; k++) h = round_(h, lane[k]);
+    for (; i < n; i++) h = round_(h, p[i]);
+    return h;
+}
+
+/* The header: magic, version (4 bytes each), size, model (8 each), fmu_state at 24 (4), stop time
+ * defined (4), stop time (8), checksum at 40 (8). */
+enum { HEADER = 48, FMU_STATE_AT = 24, CHECKSUM_AT = 40 };
+
+void fz_reseal(uint8_t *p, size_t n)
+{
+    if (n < HEADER) return;
+    uint8_t head[HEADER];
+    memcpy(head, p, HEADER);
+    memset(head + CHECKSUM_AT, 0, 8);
+    uint64_t h = words_hash(words_hash(0xcbf29ce484222325u, head, HEADER), p + HEADER, n - HEADER);
+    memcpy(p + CHECKSUM_AT, &h, 8);
+}
+
+uint8_t *fz_corrupted(fz_reader *r, const fz_buffer *b, size_t *n)
+{
+    size_t cap = b->n + 256;
+    uint8_t *p = malloc(cap);
+    memcpy(p, b->data, b->n);
+    *n = b->n;
+    uint8_t edits = fz_u8(r);
+    for (int e = 0; e < edits % 4; e++) {
+        uint8_t kind = fz_u8(r);
+        uint16_t at = fz_u16(r);
+        switch (kind % 5) {
+        case 0: if (*n) p[at % *n] ^= (uint8_t)(1u << (kind >> 5)); break;
+        case 1: if (*n) p[at % *n] = fz_u8(r); break;
+        case 2:
+            if (*n >= 8) {
+                double x = fz_real(r, 1.0);
+                memcpy(p + ((at % (*n - 7)) & ~(size_t)7), &x, 8);
+            }
+            break;
+        case 3: *n = at % (*n + 1); break;
+        default: {
+            size_t k = fz_u8(r);
+            if (*n + k <= cap) memset(p + *n, kind, k), *n += k;
+        }
+        }
+    }
+    if (edits & 0x80) fz_reseal(p, *n);
+    fz_trace("    %d edits, %zu bytes%s", edits % 4, *n, edits & 0x80 ? ", sealed again" : "");
+    return p;
+}
+
+unsigned fz_recorded_mask(const uint8_t *p, size_t n)
+{
+    uint32_t m;
+    if (n < HEADER) return FZ_ANY3;
+    memcpy(&m, p + FMU_STATE_AT, 4);
+    return m && !(m & (m - 1)) && (m & FZ_ANY3) ? m : FZ_ANY3;
+}
+
 /* ---- the harness's own kinds (codes 100-127): profile files in the resources folder (p0.txt, p1.txt) */
 
 static void k_profile(fz_context *ctx, fz_slot *s, fz_reader *r)
@@ -396,8 +475,8 @@ static void k_profile(fz_context *ctx, fz_slot *s, fz_reader *r)
 
 static int always(void) { return 1; }
 static void nothing(fz_context *c, fz_slot *s) { (void)c, (void)s; }
-static const fz_call harness_calls[] = {{100, "write a profile file", k_profile}};
-static const fz_interface fz_harness = {"the harness", always, harness_calls, 1, nothing};
+static const fz_call harness_calls[] = {{100, "write a profile file", k_profile, 0}};
+static const fz_interface fz_harness = {"the harness", always, harness_calls, 1, nothing, 0};
 
 /* The interfaces linked into this binary (each calls_*.c defines one; weak: absent ones are NULL). */
 extern const fz_interface fz_fmi2 __attribute__((weak));
@@ -453,6 +532,7 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
                 exit(2);
             }
             by_code[c->code] = c;
+            owner[c->code] = in;
         }
     }
     pthread_t t;
@@ -461,6 +541,14 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
         exit(2);
     }
     return 0;
+}
+
+/* Free the slot's instance (and its FMU states) through the functions of its FMI version. */
+static void release_slot(fz_slot *s)
+{
+    for (size_t k = 0; k < N_INTERFACES; k++)
+        if (interfaces[k] && interfaces[k]->fmi_version == s->version && interfaces[k]->available())
+            interfaces[k]->release(&ctx, s);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
@@ -477,12 +565,19 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         const fz_call *call = by_code[op & 127];
         if (!call) continue;
         fz_slot *s = &ctx.slot[op >> 7];
+        int version = owner[op & 127]->fmi_version;
+        if (s->c && version && version != s->version) { /* an instance of the other FMI version */
+            if (!call->instantiates) {
+                fz_trace("[%d] slot %d: %s skipped: the slot holds an FMI %d.0 instance", k, op >> 7, call->name,
+                         s->version);
+                continue;
+            }
+            release_slot(s);
+        }
         fz_trace("[%d] slot %d: %s", k, op >> 7, call->name);
         call->run(&ctx, s, &r);
     }
-    for (size_t k = 0; k < N_INTERFACES; k++)
-        for (int i = 0; i < FZ_SLOTS; i++)
-            if (interfaces[k] && interfaces[k]->available()) interfaces[k]->release(&ctx, &ctx.slot[i]);
+    for (int i = 0; i < FZ_SLOTS; i++) release_slot(&ctx.slot[i]);
     for (int i = 0; i < FZ_BUFFERS; i++) {
         free(ctx.buffer[i].data);
         ctx.buffer[i] = (fz_buffer){NULL, 0};
