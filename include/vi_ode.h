@@ -205,7 +205,9 @@ int vi_ode_check(const vi_ode_problem *p, char *msg, size_t msg_size);
  * arms the guards (see RE-ARMING; hold: bit mask of guards that start unarmed), and sets the first
  * step size (h0 > 0: this; else Hairer's estimate; both limited by max_step; h_fixed when set).
  * There is no step yet (no dense output). Returns VI_ODE_OK, VI_ODE_ERR_ARGS (invalid problem, x0
- * or t0 not finite, h0 < 0) or VI_ODE_ERR_NONFINITE (f or g not finite at the start). */
+ * or t0 not finite, h0 < 0), VI_ODE_ERR_NONFINITE (f or g not finite at the start) or
+ * VI_ODE_ERR_HMIN (the first step size is not positive: f too large for the tolerances' scale);
+ * on any error *s is left as it was. */
 int vi_ode_init(vi_ode *s, const vi_ode_problem *p, double t0, const double *x0, double h0,
                 unsigned int hold);
 /* vi_ode_init that keeps (adds up) the statistics of s: for restarts after events or input jumps.

@@ -345,27 +345,30 @@ int vi_ode_init(vi_ode *s, const vi_ode_problem *p, double t0, const double *x0,
     if (!s || vi_ode_check(p, NULL, 0) != VI_ODE_OK || !x0 || !isfinite(t0) || !(h0 >= 0.0 && isfinite(h0)))
         return VI_ODE_ERR_ARGS;
     if (!finite_n(x0, p->n)) return VI_ODE_ERR_ARGS;
-    double x[VI_ODE_MAX_N];
+    /* f, g and the first step size first: when one of them fails, *s is left as it was */
+    double x[VI_ODE_MAX_N], f[VI_ODE_MAX_N] = {0}, g[VI_ODE_MAX_G] = {0};
+    vi_ode_stats st = {0};
     copy_n(x, x0, p->n); /* x0 may point into *s (e.g. s->ev_x) */
+    rhs(p, &st, t0, x, f);
+    if (!finite_n(f, p->n)) return VI_ODE_ERR_NONFINITE;
+    if (p->ng > 0 && !guards(p, &st, t0, x, g)) return VI_ODE_ERR_NONFINITE;
+    double h = p->h_fixed > 0.0 ? p->h_fixed : h0 > 0.0 ? h0 : initial_step(p, &st, t0, x, f);
+    if (p->h_fixed == 0.0 && p->max_step > 0.0 && h > p->max_step) h = p->max_step;
+    if (!(h > 0.0 && isfinite(h))) return VI_ODE_ERR_HMIN; /* Hairer's estimate when |f| overflows its scale */
     memset(s, 0, sizeof *s);
+    s->st = st;
     s->n = p->n;
     s->ng = p->ng;
     s->t = s->t_old = t0;
     copy_n(s->x, x, p->n);
     copy_n(s->x_old, x, p->n);
-    rhs(p, &s->st, t0, s->x, s->f);
-    if (!finite_n(s->f, p->n)) return VI_ODE_ERR_NONFINITE;
+    copy_n(s->f, f, p->n);
     if (p->ng > 0) {
-        if (!guards(p, &s->st, t0, s->x, s->g)) return VI_ODE_ERR_NONFINITE;
+        copy_n(s->g, g, p->ng);
         for (int i = 0; i < p->ng; i++)
             if (s->g[i] > p->arm_eps[i] && !(hold & (1u << i))) s->armed |= 1u << i;
     }
-    if (p->h_fixed > 0.0)
-        s->h = p->h_fixed;
-    else {
-        s->h = h0 > 0.0 ? h0 : initial_step(p, &s->st, t0, s->x, s->f);
-        if (p->max_step > 0.0 && s->h > p->max_step) s->h = p->max_step;
-    }
+    s->h = h;
     return VI_ODE_OK;
 }
 
@@ -374,6 +377,7 @@ int vi_ode_restart(vi_ode *s, const vi_ode_problem *p, double t0, const double *
     if (!s) return VI_ODE_ERR_ARGS;
     vi_ode_stats keep = s->st;
     int r = vi_ode_init(s, p, t0, x0, h0, hold);
+    if (r != VI_ODE_OK) return r; /* s is as it was, its statistics too */
     vi_ode_stats *st = &s->st;
     st->attempts += keep.attempts;
     st->accepted += keep.accepted;

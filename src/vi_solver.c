@@ -138,11 +138,16 @@ static int configure(vi_solver *s, double t0, const double *x0)
 
 /* ---- the one-step method ---------------------------------------------------------------------- */
 
+/* A failure of the one-step method at t (a failed call leaves the continuation as it was). */
+static int ode_fail_at(const vi_solver *s, int status, const char *call, double t)
+{
+    s->cfg.log(s->cfg.log_env, VI_LOG_ERROR, "%s failed at t = %.17g s: %s", call, t, vi_ode_status_text(status));
+    return VI_SOLVER_FAILED;
+}
+
 static int ode_fail(const vi_solver *s, int status, const char *call)
 {
-    s->cfg.log(s->cfg.log_env, VI_LOG_ERROR, "%s failed at t = %.17g s: %s", call, s->cfg.ode->t,
-               vi_ode_status_text(status));
-    return VI_SOLVER_FAILED;
+    return ode_fail_at(s, status, call, s->cfg.ode->t);
 }
 
 static int ode_setup(vi_solver *s)
@@ -376,7 +381,7 @@ int vi_solver_checkpoint(vi_solver *s, double t0, const double *x0)
 static int ode_restart(vi_solver *s, double t0, const double *x0)
 {
     int r = vi_ode_restart(s->cfg.ode, &s->ode_problem, t0, x0, 0.0, 0u);
-    return r < 0 ? ode_fail(s, r, "vi_ode_restart") : 0;
+    return r < 0 ? ode_fail_at(s, r, "vi_ode_restart", t0) : 0;
 }
 
 static void cvode_counters(const vi_solver *s, vi_solver_stats *st);

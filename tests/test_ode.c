@@ -829,8 +829,35 @@ Test(failures, reported_never_a_hang_and_the_state_is_kept)
     cr_assert_eq(vi_ode_step(&s, &p, 2.0), VI_ODE_OK);
     cr_assert_eq(vi_ode_step(&s, &p, 2.0), VI_ODE_ERR_NONFINITE);
     cr_assert(s.t == 0.3);
-    /* not finite at the start */
+    /* not finite at the start: refused, and the state is left as it was (a continuation that an FMU
+     * state may still copy), by a restart too */
+    vi_ode kept = s;
     cr_assert_eq(vi_ode_init(&s, &p, 0.7, x0, 0.0, 0u), VI_ODE_ERR_NONFINITE);
+    cr_assert(memcmp(&s, &kept, sizeof s) == 0, "a failed vi_ode_init changed the state");
+    cr_assert_eq(vi_ode_restart(&s, &p, 0.7, x0, 0.0, 0u), VI_ODE_ERR_NONFINITE);
+    cr_assert(memcmp(&s, &kept, sizeof s) == 0, "a failed vi_ode_restart changed the state");
+}
+
+/* A derivative too large for the tolerances' scale: Hairer's estimate of the first step comes out
+ * 0 (the norm of f overflows), which was kept as the continuation's step size (a state no step or
+ * FMU state check accepts). */
+static void huge_after(double t, const double *x, double *dx, void *u)
+{
+    (void)x, (void)u;
+    dx[0] = t >= 1.0 ? 1.7e305 : -1.0;
+}
+
+Test(failures, a_first_step_that_comes_out_zero_is_refused_and_the_state_is_kept)
+{
+    vi_ode_problem p = {.n = 1, .rhs = huge_after, .rtol = 1e-8, .atol = {1e-12}};
+    double x0[1] = {1.0};
+    vi_ode s;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 0.5), VI_ODE_OK);
+    vi_ode kept = s;
+    cr_assert_eq(vi_ode_restart(&s, &p, 1.0, x0, 0.0, 0u), VI_ODE_ERR_HMIN);
+    cr_assert(memcmp(&s, &kept, sizeof s) == 0, "a failed vi_ode_restart changed the state");
+    cr_assert(s.h > 0.0);
 }
 
 Test(failures, invalid_problems_and_calls)
