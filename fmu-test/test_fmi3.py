@@ -561,6 +561,55 @@ def test_model_exchange_event_update_and_directional_derivative_arguments(md3, d
         m.freeInstance()
 
 
+def test_null_result_pointers_are_refused_one_at_a_time(md3, dir3, logged3, vr3):
+    """fmi3DoStep, fmi3UpdateDiscreteStates, fmi3CompletedIntegratorStep and the Model Exchange
+    counts with each result pointer NULL alone: refused with "NULL argument", the others untouched,
+    the instance going on."""
+    from fmpy.fmi3 import FMU3Model
+
+    log = logged3()
+    s = log.instantiate()
+    fmi3.initialize(s, vr3, {})
+    msgs = []
+    for k in range(4):
+        flags, t = [ctypes.c_bool(True) for _ in range(3)], ctypes.c_double(-1.0)
+        ptrs = [ctypes.byref(f) for f in flags] + [ctypes.byref(t)]
+        ptrs[k] = None
+        del log.messages[:]
+        assert raw(s, "fmi3DoStep", 0.0, 1e-4, True, *ptrs) == ERROR, k
+        assert errors(log) == ["fmi3DoStep: NULL argument"], k
+        assert [f.value for f in flags] == [True] * 3 and t.value == -1.0
+    s.doStep(0.0, 1e-4)
+    s.freeInstance()
+    m = FMU3Model(guid=md3.guid, unzipDirectory=dir3, modelIdentifier="VibroImpact", instanceName="me3")
+    m.instantiate(logMessage=lambda env, st, cat, text: msgs.append((st, text.decode())))
+    m.enterInitializationMode()
+    m.exitInitializationMode()
+    for k in range(6):
+        flags, t = [ctypes.c_bool(True) for _ in range(5)], ctypes.c_double(-1.0)
+        ptrs = [ctypes.byref(f) for f in flags] + [ctypes.byref(t)]
+        ptrs[k] = None
+        del msgs[:]
+        assert raw(m, "fmi3UpdateDiscreteStates", *ptrs) == ERROR, k
+        assert [text for st, text in msgs if st == ERROR] == ["fmi3UpdateDiscreteStates: NULL argument"], k
+        assert [f.value for f in flags] == [True] * 5 and t.value == -1.0
+    fmi3.update_discrete_states(m)
+    m.enterContinuousTimeMode()
+    for k in range(2):
+        flags = [ctypes.c_bool(True) for _ in range(2)]
+        ptrs = [ctypes.byref(f) for f in flags]
+        ptrs[k] = None
+        del msgs[:]
+        assert raw(m, "fmi3CompletedIntegratorStep", True, *ptrs) == ERROR, k
+        assert [text for st, text in msgs if st == ERROR] == ["fmi3CompletedIntegratorStep: NULL argument"], k
+        assert [f.value for f in flags] == [True] * 2
+    for fn in ("fmi3GetNumberOfContinuousStates", "fmi3GetNumberOfEventIndicators"):
+        del msgs[:]
+        assert raw(m, fn, None) == ERROR and [text for st, text in msgs if st == ERROR] == [f"{fn}: NULL argument"]
+    assert m.completedIntegratorStep() == (False, False)
+    m.freeInstance()
+
+
 # ---- the other models on the layer, built for FMI 3.0 --------------------------------------------------
 
 @pytest.mark.parametrize("name,signal,value", [("Track", "F_contact", 5e4), ("Vehicle", "y_wheel", -1e-4),

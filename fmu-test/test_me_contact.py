@@ -179,3 +179,56 @@ def test_initial_state_is_logged(fmu_path, unzipdir, model_description):
     assert [float(x) for x in got[:2]] == pytest.approx(m.nominals(), rel=1e-5)
     assert (int(got[2]), float(got[3]), float(got[4])) == (0, 0.0, 0.0125) == (m.integer("mode"), 0.0, m.states()[1])
     inst.model.freeInstance()
+
+
+@pytest.mark.parametrize("inside", [True, False])
+def test_crossing_within_the_graze_band_is_put_onto_the_surface(me, inside):
+    """At t = 1e5 s one ulp of time moves the platform (560 Hz, 0.1 mm) by ~2e-12 m: an importer
+    cannot locate a crossing better. The band the event update takes as "on the surface" is
+    VI_GRAZE_TOL (4) times the change of the guard under a state error of the tolerance plus
+    VI_GRAZE_ULPS (256) times its change under one ulp of t and y (include/vi_sim.h); here the ulps
+    term dominates. A penetration of a quarter of that band is snapped onto the surface (delta = 0,
+    states changed); four times the band is taken as it is (elastic at that delta)."""
+    inst, m = me()
+    t0, a, f, rtol, v = 1e5, 1e-4, 560.0, 1e-8, 0.05
+    m.start(params=dict(contact_model=1, init=2, v0=v, a=a, f=f, rtol=rtol), start_time=t0)
+    t = t0 + 1e-3
+    m.fmu.setTime(t)
+    yC = m.real("yC")
+    assert yC == pytest.approx(a * (math.cos(2 * math.pi * f * (t - t0)) - 1), rel=1e-6)
+    m.set_states([yC + 1e-6, v])  # free flight, 1 um above: any band of the start is re-armed
+    assert m.fmu.completedIntegratorStep()[0] is False
+    speed = abs(a * 2 * math.pi * f * math.sin(2 * math.pi * f * (t - t0)))
+    tol = rtol * abs(yC) + rtol * m.nominals()[0]  # rtol |y| + atol, atol = rtol * nominal
+    ulps = speed * math.ulp(t) + math.ulp(yC)
+    assert 256 * ulps > 4 * 4 * tol
+    band = 4 * tol + 256 * ulps
+    pen = band / 4 if inside else 4 * band
+    m.set_states([yC - pen, -v])
+    assert m.indicators()[0] < 0.0
+    m.fmu.enterEventMode()
+    info = m.fmu.newDiscreteStates()
+    assert m.integer("mode") == 1
+    if inside:
+        assert (info[3], m.real("delta"), m.states()[0]) == (True, 0.0, yC)
+    else:
+        assert info[3] is False and m.real("delta") == pytest.approx(pen, rel=1e-6)
+
+
+def test_bands_of_a_mode_left_do_not_shift_the_next_modes_indicators(me):
+    """A touching start moving up: free flight with its contact guard at zero, lifted by a band (the
+    indicator is positive at delta = 0). A 1 um penetration set then is an impact; in the elastic
+    mode, away from both its surfaces, the indicators are its guards as they are: delta (Hertz has
+    no yield surface: the second is inactive, 1)."""
+    inst, m = me()
+    m.start(params=dict(contact_model=1, init=2, v0=0.05, a=0.0))
+    assert m.integer("mode") == 0 and m.real("delta") == 0.0
+    z = m.indicators()
+    assert 0.0 < z[0] < 1e-9 and z[1] == 1.0
+    m.fmu.setTime(1e-6)
+    m.set_states([m.states()[0] - 1e-6, -0.05])
+    m.fmu.enterEventMode()
+    m.settle()
+    delta = m.real("delta")
+    assert m.integer("mode") == 1 and delta == pytest.approx(1e-6, rel=1e-9)
+    assert m.indicators() == [delta, 1.0]

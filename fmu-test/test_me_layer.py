@@ -165,6 +165,41 @@ def test_non_finite_time_and_states_are_refused_and_change_nothing(me):
     m.fmu.completedIntegratorStep()
 
 
+def test_null_arguments_are_refused_and_change_nothing(me, layer_md):
+    """Each pointer argument of the Model Exchange calls NULL, alone: refused naming it, nothing
+    written; with arrays of length 0 where the model has states, the length is refused."""
+    inst, m = me()
+    m.start()
+    m.fmu.setTime(0.1)
+    m.set_states([0.5])
+    dll = ctypes.CDLL(m.fmu.dll._name)
+    b = ctypes.c_int(7)
+    nx, nz = layer_md.numberOfContinuousStates, layer_md.numberOfEventIndicators
+    calls = [("fmi2CompletedIntegratorStep", (1, None, ctypes.byref(b)), "NULL argument"),
+             ("fmi2CompletedIntegratorStep", (1, ctypes.byref(b), None), "NULL argument")]
+    for fn, n in (("fmi2GetDerivatives", nx), ("fmi2GetContinuousStates", nx), ("fmi2SetContinuousStates", nx),
+                  ("fmi2GetNominalsOfContinuousStates", nx), ("fmi2GetEventIndicators", nz)):
+        calls += [(fn, (None, ctypes.c_size_t(n)), "the array is NULL"),
+                  (fn, ((ctypes.c_double * 4)(), ctypes.c_size_t(0)), "0 ")]
+    for fn, args, words in calls:
+        f = getattr(dll, fn)
+        f.restype = ctypes.c_int
+        del inst.messages[:]
+        assert f(ctypes.c_void_p(m.fmu.component), *args) == 3, (fn, args)
+        assert inst.errors() and inst.errors()[0].startswith(f"{fn}: {words}"), (fn, inst.errors())
+    assert b.value == 7
+    assert m.states() == [0.5]
+    m.fmu.enterEventMode()
+    f = dll.fmi2NewDiscreteStates
+    f.restype = ctypes.c_int
+    del inst.messages[:]
+    assert f(ctypes.c_void_p(m.fmu.component), None) == 3
+    assert inst.errors() == ["fmi2NewDiscreteStates: fmi2EventInfo is NULL"]
+    m.settle()
+    m.fmu.enterContinuousTimeMode()
+    assert m.fmu.completedIntegratorStep() == (False, False)
+
+
 def test_time_goes_back_within_a_step_never_before_it(me):
     """An integrator evaluates at earlier times within its current step (root location), never before
     its last completed step or event."""

@@ -83,3 +83,19 @@ def test_fixed_parameters_stay_fixed(fmu):
     start(s, vr, FLYING)
     with pytest.raises(Exception):
         s.setReal([vr["m"]], [1.0])
+
+
+def test_the_excitation_starts_at_the_start_time(fmu):
+    """An experiment starting at t0 = 0.3721 s (208.4 periods of 560 Hz, not a whole number): the
+    platform starts at rest there, yC = a (cos 2 pi f (t - t0) - 1), not at the phase of t = 0."""
+    md, unzipdir, vr = fmu
+    s = Logged(md, unzipdir).instantiate()
+    a, f, t0, h = 1e-4, 560.0, 0.3721, 1e-4
+    start(s, vr, dict(FLYING, a=a, f=f), start_time=t0)
+    assert s.getReal([vr["yC"]]) == [0.0]
+    t = t0
+    for _ in range(5):
+        s.doStep(t, h)
+        t += h
+        assert s.getReal([vr["yC"]])[0] == pytest.approx(a * (np.cos(2 * np.pi * f * (t - t0)) - 1.0), abs=1e-15)
+    s.freeInstance()
