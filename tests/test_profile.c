@@ -347,7 +347,15 @@ Test(profile, out_of_memory_while_reading_is_refused)
     cr_assert(p == NULL && strstr(msg, "out of memory at line"), "%s", msg);
 }
 
-#if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__)
+#if defined(__SANITIZE_ADDRESS__)
+#define VI_TEST_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define VI_TEST_ASAN 1
+#endif
+#endif
+
+#if defined(__GLIBC__) && !defined(VI_TEST_ASAN)
 /* The test program's malloc (glibc: every other allocation function is libc's own) fails the
  * fail_countdown-th call from when it is set, once; 0: never. */
 extern void *__libc_malloc(size_t n);
@@ -363,7 +371,7 @@ void *malloc(size_t n)
  * periodic table too): NULL and "out of memory" each time, nothing held afterwards. */
 Test(profile, every_allocation_of_create_is_checked)
 {
-#if !defined(__GLIBC__) || defined(__SANITIZE_ADDRESS__)
+#if !defined(__GLIBC__) || defined(VI_TEST_ASAN)
     cr_skip_test("needs glibc's __libc_malloc, without AddressSanitizer");
 #else
     enum { N = 33 };
