@@ -191,10 +191,11 @@ def test_an_amplitude_tuned_beyond_R_star_warns_once_when_it_takes_effect(logged
     assert len(w) == 1 and "a = -0.5 m" in w[0], inst.messages
 
 
-@pytest.mark.parametrize("height, warn", [(0.4, False), (0.5, True)])
+@pytest.mark.parametrize("height, warn", [(0.4, False), (0.475, False), (0.5, True)])
 def test_profile_heights_spanning_more_than_R1_warn_once(logged, vr, tmp_path, height, warn):
     """A hill 100 m long rolled over by the wheel of R1 = 0.475 m: gentle slopes (the wheel can roll
-    over it), heights spanning 0.4 m (inside) or 0.5 m (more than R1)."""
+    over it), heights spanning 0.4 m (inside), exactly R1 (sin(pi/2) = 1: not more) or 0.5 m (more
+    than R1)."""
     table = tmp_path / "hill.txt"
     x = np.linspace(0.0, 100.0, 11)
     h = height * np.sin(np.pi * x / 100.0)

@@ -263,7 +263,7 @@ static const char *spoil(vi_model *M, double x[2], int which)
     switch (which) {
     case 0: x[0] = NAN; return "state";
     case 1: M->law = 4; return "contact law";
-    case 2: M->moving = 2; return "moving";
+    case 2: M->moving = 2; return "flag moving = 2 is not 0 or 1";
     case 3: M->unloading = 0; return "unloading";
     case 4: M->mode = 5; return "mode";
     case 5: M->m = -1.0; return "constant m";
@@ -291,6 +291,7 @@ static const char *spoil(vi_model *M, double x[2], int which)
     case 25: M->f_contact = NAN; return "f_contact";
     case 27: M->m = 0.0; return "constant m = 0 is not positive";
     case 28: M->K = 0.0; return "constant K = 0 is not positive"; /* before its consistency with E*, R* */
+    case 29: M->J.delta_Y *= 1.0 + 1e-6; return "delta_Y = "; /* F_Y = K delta_Y^1.5 off: before k_lin's check */
     default: return NULL;
     }
 }
@@ -318,6 +319,28 @@ Test(model_check, names_the_first_bad_field)
     char expect[128];
     snprintf(expect, sizeof expect, "(delta_c = %g, Rbar = %g)", ok.U.delta_c, ok.U.Rbar);
     cr_assert(vi_model_check(&M, x0, msg, sizeof msg) < 0 && strstr(msg, expect), "expected '%s' in: %s", expect, msg);
+}
+
+/* A model never set up (law = 0: the state of an instance before initialization) holds no discrete
+ * state: each of mode, yielded, n_impacts and delta_p set alone is refused. */
+Test(model_check, never_set_up_has_no_discrete_state)
+{
+    double x[2] = {0.0, 0.0};
+    char msg[256];
+    for (int k = 0; k < 5; k++) {
+        vi_model M;
+        memset(&M, 0, sizeof M);
+        if (k == 1) M.mode = VI_Mode_elastic;
+        if (k == 2) M.yielded = 1;
+        if (k == 3) M.n_impacts = 1;
+        if (k == 4) M.delta_p = 1e-9;
+        msg[0] = '\0';
+        if (k == 0)
+            cr_assert(vi_model_check(&M, x, msg, sizeof msg) == 0, "%s", msg);
+        else
+            cr_assert(vi_model_check(&M, x, msg, sizeof msg) < 0 && strstr(msg, "model not set up (law = 0)"),
+                      "field %d: %s", k, msg);
+    }
 }
 
 /* The tolerance on the guards: a state a rounding beyond its surface passes, 1e-5 of delta_Y does not. */

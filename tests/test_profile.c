@@ -248,13 +248,14 @@ Test(profile, kinks_are_two_point_contacts, .timeout = 60)
     }
 }
 
-Test(profile, periodic_profile_repeats)
+/* A periodic table starting at x0: its period is x_last - x_first = L wherever it starts. */
+static void periodic_profile_repeats_from(double x0)
 {
     enum { N = 65 };
     double x[N], h[N], L = 0.2;
     for (int i = 0; i < N; i++) {
-        x[i] = L * i / (N - 1);
-        h[i] = 5e-3 * cos(2.0 * 3.14159265358979323846 * x[i] / L); /* curvature 5e-3 (2 pi/L)^2 = 4.9/m > 1/R: bridged troughs */
+        x[i] = x0 + L * i / (N - 1);
+        h[i] = 5e-3 * cos(2.0 * 3.14159265358979323846 * (x[i] - x0) / L); /* curvature 5e-3 (2 pi/L)^2 = 4.9/m > 1/R: bridged troughs */
     }
     h[N - 1] = h[0];
     vi_profile *p = make(x, h, N, R, 1);
@@ -264,7 +265,7 @@ Test(profile, periodic_profile_repeats)
         for (int i = 0; i < N; i++)
             if (k == 0 || i > 0) x3[k * (N - 1) + i] = x[i] + k * L, h3[k * (N - 1) + i] = h[i];
     for (int k = 0; k <= 400; k++) {
-        double at = L * k / 400.0;
+        double at = x0 + L * k / 400.0;
         double expect = brute(x3, h3, 3 * N - 2, R, at + L);
         for (int shift = -3; shift <= 3; shift++)
             cr_assert(fabs(yb(p, at + shift * L) - expect) <= 1e-12, "x %g shift %d: %.17g vs %.17g", at, shift,
@@ -274,10 +275,10 @@ Test(profile, periodic_profile_repeats)
      * repeat with the period, found both ways from any position */
     size_t nk = vi_profile_kinks(p);
     cr_assert(nk >= 1 && nk < N);
-    double at = 0.5 * L - 1e-9, k0 = vi_profile_next_kink(p, at, 1);
-    cr_assert(fabs(k0 - 0.5 * L) < 1e-12, "%g", k0);
+    double at = x0 + 0.5 * L - 1e-9, k0 = vi_profile_next_kink(p, at, 1);
+    cr_assert(fabs(k0 - (x0 + 0.5 * L)) < 1e-12, "%g", k0);
     for (int k = 0; k <= 100; k++) {
-        at = -2.0 * L + 4.0 * L * k / 100.0;
+        at = x0 - 2.0 * L + 4.0 * L * k / 100.0;
         double up = vi_profile_next_kink(p, at, 1), down = vi_profile_next_kink(p, at, -1);
         cr_assert(up > at && down < at && up - down <= L + 1e-12);
         cr_assert(fabs(vi_profile_next_kink(p, at + L, 1) - (up + L)) < 1e-12);
@@ -287,10 +288,15 @@ Test(profile, periodic_profile_repeats)
         cr_assert(slope_jump(p, R, at, up, 400) <= 0.0, "x %g..%g: a slope jump of %g", at, up, slope_jump(p, R, at, up, 400));
         cr_assert(slope_jump(p, R, at, up + 0.01 * (up - at), 400) > 0.0, "x %g: the kink at %g is not seen", at, up);
     }
-    cr_assert(yb(p, 0.5 * L) - h[(N - 1) / 2] > 1e-4, "the trough is bridged: %g", yb(p, 0.5 * L) - h[(N - 1) / 2]);
-    cr_assert(yb(p, 0.0) == h[0], "the crest is followed");
+    cr_assert(yb(p, x0 + 0.5 * L) - h[(N - 1) / 2] > 1e-4, "the trough is bridged: %g", yb(p, x0 + 0.5 * L) - h[(N - 1) / 2]);
+    cr_assert(yb(p, x0) == h[0], "the crest is followed");
     vi_profile_free(p);
 }
+
+Test(profile, periodic_profile_repeats) { periodic_profile_repeats_from(0.0); }
+
+/* a table that starts at x0 = 0.37 m (1.85 periods: no whole number of them) */
+Test(profile, periodic_profile_repeats_from_its_first_row) { periodic_profile_repeats_from(0.37); }
 
 Test(profile, outside_the_table)
 {
@@ -363,7 +369,7 @@ Test(profile, files)
         {"0 0\n1 0\nabc 2\n", "line 3: expected two numbers"},
         {"0 0\n1\n", "line 2: expected two numbers"},
         {"0 0\n1 0 7\n", "line 2: expected two numbers"},
-        {"0 0\n2 0\n1 0\n", "line 3: x = 1 is not greater"},
+        {"0 0\n2 0\n1 0\n", "line 3: x = 1 is not greater than x = 2 before it"},
         {"0 0\n1 inf\n", "line 2: x = 1, h = inf are not finite"},
         {"# only\n0 0\n", "1 data rows"},
     };
@@ -451,6 +457,63 @@ Test(profile, out_of_memory_while_reading_is_refused)
     vi_profile *p = vi_profile_load(path, R, 0, msg, sizeof msg);
     remove(path);
     cr_assert(p == NULL && strstr(msg, "out of memory at line"), "%s", msg);
+}
+
+#if defined(__SANITIZE_ADDRESS__)
+#define VI_TEST_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define VI_TEST_ASAN 1
+#endif
+#endif
+
+#if defined(__GLIBC__) && !defined(VI_TEST_ASAN)
+/* The test program's malloc, calloc and realloc (glibc's own otherwise: none calls another through
+ * these names) fail the fail_countdown-th call among them from when it is set, once; 0: never. */
+extern void *__libc_malloc(size_t n);
+extern void *__libc_calloc(size_t n, size_t size);
+extern void *__libc_realloc(void *p, size_t n);
+static int fail_countdown;
+static int fail_now(void) { return fail_countdown > 0 && --fail_countdown == 0; }
+void *malloc(size_t n) { return fail_now() ? NULL : __libc_malloc(n); }
+void *calloc(size_t n, size_t size) { return fail_now() ? NULL : __libc_calloc(n, size); }
+void *realloc(void *p, size_t n) { return fail_now() ? NULL : __libc_realloc(p, n); }
+#endif
+
+/* vi_profile_create with its k-th allocation failing (malloc, calloc or realloc), for every k until
+ * it needs no more (a periodic table too): NULL and "out of memory" each time, nothing held afterwards. */
+Test(profile, every_allocation_of_create_is_checked)
+{
+#if !defined(__GLIBC__) || defined(VI_TEST_ASAN)
+    cr_skip_test("needs glibc's __libc_malloc, without AddressSanitizer");
+#else
+    enum { N = 33 };
+    double x[N], h[N];
+    for (int i = 0; i < N; i++) x[i] = 0.01 * i, h[i] = 5e-3 * cos(2.0 * 3.14159265358979323846 * x[i] / 0.32);
+    char msg[256];
+    for (int periodic = 0; periodic <= 1; periodic++) {
+        vi_profile_free(make(x, h, N, R, periodic)); /* the allocator's own first-use growth */
+        struct mallinfo2 before = mallinfo2();
+        int k = 1;
+        for (;; k++) {
+            msg[0] = '\0';
+            fail_countdown = k;
+            vi_profile *p = vi_profile_create(x, h, N, R, periodic, "table", msg, sizeof msg);
+            int failed = fail_countdown == 0;
+            fail_countdown = 0;
+            if (!failed) {
+                cr_assert(p != NULL, "%s", msg);
+                vi_profile_free(p);
+                break;
+            }
+            cr_assert(p == NULL && strstr(msg, "table: out of memory"), "malloc %d failing: %s", k, msg);
+        }
+        cr_assert(k > 5, "only %d allocations", k - 1);
+        struct mallinfo2 after = mallinfo2();
+        cr_assert(after.uordblks <= before.uordblks + 4096, "heap in use grew by %zu bytes",
+                  after.uordblks - before.uordblks);
+    }
+#endif
 }
 
 /* A long profile (1e5 samples at 1 mm): built in bounded time, evaluated by binary search. */
