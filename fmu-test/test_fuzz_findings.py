@@ -243,3 +243,46 @@ def test_model_exchange_arrays_with_no_value_are_refused_after_a_failed_initiali
             continue
         assert all(math.isfinite(v) for v in values), (name, values)
     me.fmu.freeInstance()
+
+
+PERIODIC_PROFILE_OF_SUBNORMAL_PERIOD = r"""
+import sys
+from fmpy import extract, read_model_description
+from fmpy.fmi1 import FMICallException
+from vibroimpact.fmu import Logged
+fmu, path = sys.argv[1], sys.argv[2]
+md = read_model_description(fmu)
+vr = {v.name: v.valueReference for v in md.modelVariables}
+log = Logged(md, extract(fmu))
+s = log.instantiate()
+s.setupExperiment()
+s.enterInitializationMode()
+s.setString([vr["profile_file"]], [path])
+s.setBoolean([vr["profile_periodic"]], [True])
+try:
+    s.exitInitializationMode()
+    print("initialized")
+except FMICallException:
+    print("refused:", log.messages[-1][2])
+"""
+
+
+def test_a_periodic_profile_whose_period_is_subnormal_is_refused_at_once(fmu_path, tmp_path):
+    """The harness's watchdog ('fmi2ExitInitializationMode has not returned after 300 s'): a profile
+    file the harness wrote, 43 rows 4.9e-324 m apart (subnormal abscissae, heights 0 or 4.9e-324 m),
+    read as periodic: the wheel of radius R1 = 0.475 m spans about 1e321 periods, and building the
+    rigid-constraint envelope over them did not end. Initialization is refused, naming the period and
+    R1, in well under a second."""
+    import subprocess
+    import sys
+    tiny = 4.9406564584124654e-324
+    rows = [f"{k * tiny!r} {(tiny if k % 3 else 0.0)!r}" for k in range(43)]
+    path = tmp_path / "p0.txt"
+    path.write_text("\n".join(rows) + "\n")
+    try:
+        p = subprocess.run([sys.executable, "-c", PERIODIC_PROFILE_OF_SUBNORMAL_PERIOD, fmu_path, str(path)],
+                           capture_output=True, text=True, timeout=60)
+    except subprocess.TimeoutExpired:
+        pytest.fail("fmi2ExitInitializationMode did not return within 60 s")
+    assert p.returncode == 0, p.stderr
+    assert re.search(r"refused: .*profile_file .*the period \S+ m is too short for R1 = 0\.475 m", p.stdout), p.stdout
