@@ -87,7 +87,14 @@ last = c_double()
 s.fmi2GetRealStatus(s.component, 2, byref(last))  # fmi2LastSuccessfulTime
 names = ["y", "F", "delta", "delta_f"]
 out = dict(zip(names, s.getReal([vr[n] for n in names])))
-print(json.dumps(dict(status=status, last=last.value, t=t, messages=[m for _, _, m in log.messages],
+messages = [m for _, _, m in log.messages]
+events = None
+if status != "error":  # the statistics of fmi2Terminate: the events of the whole run
+    s.setDebugLogging(True, ["logSolver"])
+    s.terminate()
+    stats = [m for _, _, m in log.messages[len(messages):] if "statistics" in m]
+    events = int(stats[0].split(" events")[0].rsplit(" ", 1)[-1]) if stats else None
+print(json.dumps(dict(status=status, last=last.value, t=t, messages=messages, events=events,
                       n_impacts=s.getInteger([vr["n_impacts"]])[0], mode=s.getInteger([vr["mode"]])[0], **out)))
 '''
 
@@ -102,16 +109,20 @@ def in_subprocess(params, steps, tolerance=None, timeout=60):
     return json.loads(r.stdout)
 
 
-WORK_BOUND = re.compile(r"fmi2DoStep: work bound: \d+ (internal steps|events) in one step, stopped at "
+WORK_BOUND = re.compile(r"fmi2DoStep: work bound: (\d+) (internal steps|events) in one step, stopped at "
                         r"t = (\S+) s \(mode \d\); continue from there or use smaller communication steps")
 
 
-def assert_work_bound(r):
+def assert_work_bound(r, kind=None):
     """The step's only message is the work bound's, at the time the FMU got to (fmi2LastSuccessfulTime);
-    not the Zeno rule's ('events accumulate ...')."""
+    not the Zeno rule's ('events accumulate ...'). A bound on events stops at the event it names: the
+    run (that one step) counts exactly that many (the solver statistics)."""
     assert len(r["messages"]) == 1, r["messages"]
     m = WORK_BOUND.fullmatch(r["messages"][0])
-    assert m and float(m.group(2)) == r["last"], (r["last"], r["messages"])
+    assert m and float(m.group(3)) == r["last"], (r["last"], r["messages"])
+    assert kind is None or m.group(2) == kind, r["messages"]
+    if m.group(2) == "events":
+        assert r["events"] == int(m.group(1)), (r["events"], r["messages"])
 
 
 @each_solver
@@ -145,6 +156,15 @@ def test_contact_at_tens_of_megahertz_is_not_chattering():
     assert long["status"] == "discard"
     assert_work_bound(long)
     assert 0.0 < long["last"] < 1e-2
+
+
+def test_work_bound_on_events_stops_at_the_event_it_names():
+    """The 30 MHz contact with the one-step method (long steps between events): a step of 10 ms meets
+    the bound on events before that on internal steps, after exactly the number of events it names."""
+    r = in_subprocess(dict(contact_model=1, m=1e-7, P=0.0, a=1e-11, f=3e7, solver=3), [1e-2])
+    assert r["status"] == "discard"
+    assert_work_bound(r, "events")
+    assert 0.0 < r["last"] < 1e-2
 
 
 @each_solver
