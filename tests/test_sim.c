@@ -182,6 +182,8 @@ Test(sim, data_check_names_bad_fields_of_the_one_step_continuation)
     CASE(d.ode.x[0] = NAN, "ode.x[0]");
     CASE(d.ode.f[1] = INFINITY, "ode.f[1]");
     CASE(d.ode.g[1] = NAN, "ode.g[1]");
+    CASE(d.ode.t_old = d.t + 1e-9, "does not span t"); /* the last step ends before the time */
+    CASE((d.ode.have_step = 0, d.ode.t = d.t + 1e-9), "a restart must be at t"); /* no step: at the time */
 #undef CASE
     vi_sim_free(&s);
 }
