@@ -85,7 +85,7 @@ except FMICallException as e:
     status = "discard" if e.status == 2 else "error"
 last = c_double()
 s.fmi2GetRealStatus(s.component, 2, byref(last))  # fmi2LastSuccessfulTime
-names = ["y", "F", "delta", "delta_f"]
+names = ["y", "v", "F", "delta", "delta_f"]
 out = dict(zip(names, s.getReal([vr[n] for n in names])))
 messages = [m for _, _, m in log.messages]
 events = None
@@ -156,6 +156,21 @@ def test_contact_at_tens_of_megahertz_is_not_chattering():
     assert long["status"] == "discard"
     assert_work_bound(long)
     assert 0.0 < long["last"] < 1e-2
+
+
+@each_solver
+def test_work_bound_on_internal_steps_stops_on_the_trajectory(solver):
+    """A mass thrown up at 100 m/s, no load but gravity, max_step = 1 us: one step of 2 s meets the
+    bound of 1e6 internal steps near 1 s; the state there is the closed form of the throw,
+    y = v0 t - g t^2/2, v = v0 - g t (relative 1e-9)."""
+    v0, g = 100.0, 9.81
+    r = in_subprocess(dict(contact_model=1, P=0.0, g=g, init=2, v0=v0, max_step=1e-6, solver=solver), [2.0])
+    assert r["status"] == "discard"
+    assert_work_bound(r, "internal steps")
+    t = r["last"]
+    assert 0.5 < t < 2.0
+    assert r["y"] == pytest.approx(v0 * t - 0.5 * g * t * t, rel=1e-9)
+    assert r["v"] == pytest.approx(v0 - g * t, rel=1e-9)
 
 
 def test_work_bound_on_events_stops_at_the_event_it_names():

@@ -489,7 +489,8 @@ def sync_scratch(scratch):
         src, dst = ROOT / f, scratch / f
         if not dst.exists() or dst.read_bytes() != src.read_bytes():
             dst.parent.mkdir(parents=True, exist_ok=True)
-            shutil.copy2(src, dst)
+            shutil.copy(src, dst)  # a new modification time: the copy's build must see the change (copy2 kept
+            # the original's, older than the objects a mutant run had just rebuilt, and make skipped it)
 
 
 def run_selected(scratch, tests, durations, limit):
