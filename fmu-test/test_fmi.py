@@ -50,6 +50,19 @@ def test_null_callbacks_are_refused(logged):
     assert raw_instantiate(logged(), callbacks=False) is None
 
 
+@pytest.mark.parametrize("missing", ["allocateMemory", "freeMemory"])
+def test_callbacks_without_one_memory_function_are_refused(logged, missing):
+    """allocateMemory and freeMemory are both required: with either one NULL (and a resource URI to
+    decode) fmi2Instantiate calls neither, logs why and returns NULL."""
+    from fmpy.fmi2 import fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE
+    log = logged()
+    null = {"allocateMemory": fmi2CallbackAllocateMemoryTYPE, "freeMemory": fmi2CallbackFreeMemoryTYPE}[missing]()
+    setattr(log.callbacks, missing, null)  # a NULL function pointer
+    assert raw_instantiate(log) is None
+    assert [m for _, _, m in log.messages] == [
+        "fmi2Instantiate: the callbacks allocateMemory and freeMemory are required"]
+
+
 def test_every_allocation_of_instantiation_is_checked(logged, vr):
     """The importer's allocateMemory failing at its k-th call, for every k of fmi2Instantiate: no
     instance and "out of memory" (the resource path's block: an instance without resources), and
