@@ -137,6 +137,28 @@ def test_setup_experiment_only_when_instantiated(logged, vr):
     s.freeInstance()
 
 
+@pytest.mark.parametrize("tolerance, start, stop", [
+    (0.0, 0.0, None), (1.0, 0.0, None), (-1e-6, 0.0, None), (float("nan"), 0.0, None),
+    (None, float("inf"), None), (None, float("nan"), None), (None, 1.0, 1.0 - 1e-12)])
+def test_setup_experiment_refuses_what_no_experiment_can_have(logged, vr, tolerance, start, stop):
+    """A tolerance outside (0, 1) (its ends included), a start time that is not finite, a stop time
+    before the start: refused by fmi2SetupExperiment itself, naming the three conditions and the
+    values; a valid call then sets the experiment (stop = start is valid)."""
+    log = logged()
+    s = log.instantiate()
+    args = (tolerance is not None, ctypes.c_double(tolerance or 0.0), ctypes.c_double(start), stop is not None,
+            ctypes.c_double(stop or 0.0))
+    assert raw(s, "fmi2SetupExperiment", *args) == ERROR
+    assert len(errors(log)) == 1 and errors(log)[0].startswith(
+        "fmi2SetupExperiment: need a finite start time, a tolerance in (0, 1) and stop time >= start time (got "
+        "start "), errors(log)
+    s.setupExperiment(tolerance=1e-6, startTime=1.0, stopTime=1.0)
+    s.enterInitializationMode()
+    s.exitInitializationMode()
+    assert s.getRealStatus(fmi2LastSuccessfulTime) == 1.0
+    s.freeInstance()
+
+
 def test_stop_time_is_enforced(logged, vr):
     log = logged()
     s = log.instantiate()
