@@ -222,6 +222,22 @@ def test_time_goes_back_within_a_step_never_before_it(me):
     m.fmu.setTime(0.25)
 
 
+def test_time_never_goes_back_before_the_start(me):
+    """Right after fmi2ExitInitializationMode (start time 1 s), before any event iteration, a time
+    before the start is refused as time going back, naming the start."""
+    inst, m = me()
+    m.fmu.setupExperiment(startTime=1.0)
+    m.fmu.enterInitializationMode()
+    m.fmu.exitInitializationMode()
+    with pytest.raises(FMICallException):
+        m.fmu.setTime(0.5)
+    assert inst.errors() == ["fmi2SetTime: t = 0.5 s lies before the last event or completed integrator step (1 s); "
+                             "time goes back only within the current step (restore an FMU state to go further)"]
+    m.settle()
+    m.fmu.enterContinuousTimeMode()
+    m.fmu.setTime(1.5)
+
+
 def test_fmu_state_in_event_and_continuous_time_mode(me):
     inst, m = me()
     m.start()
