@@ -251,12 +251,14 @@ def simulate(system, t_end, rtol=1e-8, max_steps=10 ** 7):
     """Integrate from the static start to t_end with DOP853. Every change of what carries the
     wheel ends a piece (there yb' jumps or yb'' jumps), and the integrator restarts there, so
     each piece is smooth. Contact loss and onset (delta through 0) are located on the dense
-    output (brentq) and the integrator restarts there too."""
+    output (brentq) and the integrator restarts there too, on the side the event leads to: at the
+    located time delta is zero to rounding and may still carry the old sign, which must not count
+    as the same crossing again."""
     x, t = system.static_state(), 0.0
     bounds = np.append(system.t_pieces[1:], t_end)
     bounds = bounds[bounds <= t_end]
     ts, interps, events = [t], [], []
-    piece, h = 0, None
+    piece, h, side = 0, None, None  # side: the sign of delta just after the last event (None: from the state)
     for _ in range(max_steps):  # bounded: every pass makes a step or starts a piece
         if t >= t_end:
             return Solution(system, ts, interps, events)
@@ -266,19 +268,22 @@ def simulate(system, t_end, rtol=1e-8, max_steps=10 ** 7):
         p = piece
         solver = DOP853(lambda tt, xx: system.rhs(tt, xx, p), t, x, t_bound, rtol=rtol, atol=rtol * SCALE,
                         first_step=None if h is None else min(h, t_bound - t))
-        g0 = system.delta(t, x, p)
+        g0 = system.delta(t, x, p) if side is None else side
+        side = None
         while solver.status == "running":  # bounded by max_steps through the outer loop's count
             msg = solver.step()
             if solver.status == "failed":
                 raise RuntimeError(f"reference: {msg} at t = {solver.t}")
             dense = solver.dense_output()
             g1 = system.delta(solver.t, solver.y, p)
-            if (g0 > 0.0) != (g1 > 0.0) and g0 != 0.0:
-                te = brentq(lambda tt: system.delta(tt, dense(tt), p), solver.t_old, solver.t, xtol=1e-16, rtol=1e-15)
+            g = lambda tt: system.delta(tt, dense(tt), p)  # noqa: E731
+            # a crossing the dense output brackets (right after an event, delta at it is rounding)
+            if (g0 > 0.0) != (g1 > 0.0) and g0 != 0.0 and (g(solver.t_old) > 0.0) != (g1 > 0.0):
+                te = brentq(g, solver.t_old, solver.t, xtol=1e-16, rtol=1e-15)
                 ts.append(te)
                 interps.append(dense)
                 events.append((te, "loss" if g0 > 0.0 else "onset"))
-                t, x = te, dense(te)
+                t, x, side = te, dense(te), -1.0 if g0 > 0.0 else 1.0
                 break
             ts.append(solver.t)
             interps.append(dense)
