@@ -292,6 +292,7 @@ static const char *spoil(vi_model *M, double x[2], int which)
     case 27: M->m = 0.0; return "constant m = 0 is not positive";
     case 28: M->K = 0.0; return "constant K = 0 is not positive"; /* before its consistency with E*, R* */
     case 29: M->J.delta_Y *= 1.0 + 1e-6; return "delta_Y = "; /* F_Y = K delta_Y^1.5 off: before k_lin's check */
+    case 30: M->delta_p = NAN; return "delta_p = nan is not finite";
     default: return NULL;
     }
 }
