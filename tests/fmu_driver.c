@@ -35,7 +35,7 @@
  *
  * Cases (run):
  *   fig4b-<solver>   Fig. 4b (Johnson, Y = 6e8 Pa, a = 0.1 mm, f = 560 Hz) for 20 ms at rtol 1e-10,
- *   fig5a-<solver>   a Fig. 5a-like run (Hertz, f = 100 Hz) for 0.1 s, solver bdf, adams or dop853:
+ *   fig5a-<solver>   a Fig. 5a-like run (Hertz, f = 100 Hz) for 0.1 s, solver bdf, adams, dop853 or auto:
  *                    y after every communication step of 1e-5 s, the impact count at the end
  *   fig4b_100ms-<solver>  Fig. 4b for the paper's 0.1 s (see scenarios[] below)
  *   fig4b-me, fig5a-me    the same runs through Model Exchange, this driver integrating (classical
@@ -580,8 +580,8 @@ static const scenario scenarios[] = {
     {"fig5a", VI_ContactModel_hertz, 1e-4, 100.0, 6e8, 0.1},
     {"fig4b_100ms", VI_ContactModel_johnson, 1e-4, 560.0, 6e8, 0.1},
 };
-static const char *const solver_names[] = {"bdf", "adams", "dop853"};
-static const int solver_values[] = {VI_Solver_bdf, VI_Solver_adams, VI_Solver_dop853};
+static const char *const solver_names[] = {"bdf", "adams", "dop853", "auto"};
+static const int solver_values[] = {VI_Solver_bdf, VI_Solver_adams, VI_Solver_dop853, VI_Solver_auto};
 #define N_SCENARIOS (sizeof scenarios / sizeof scenarios[0])
 #define N_SOLVERS (sizeof solver_values / sizeof solver_values[0])
 #define N_ME_SCENARIOS 2 /* fig4b and fig5a through Model Exchange too */
@@ -667,7 +667,7 @@ static void case_refusals(void)
         {"max_step = -1e-3", VI_VR_max_step, 0, -1e-3},
         {"contact_model = 7", VI_VR_contact_model, 1, 7},
         {"unloading = 0", VI_VR_unloading, 1, 0},
-        {"solver = 4", VI_VR_solver, 1, 4},
+        {"solver = 5", VI_VR_solver, 1, 5},
         {"init = 3", VI_VR_init, 1, 3},
     };
     char label[128];

@@ -21,7 +21,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD
 TOLERANCE=1e-7
-REPORTED_ONLY="fig4b_100ms-bdf fig4b_100ms-adams fig4b_100ms-dop853"
+REPORTED_ONLY="fig4b_100ms-bdf fig4b_100ms-adams fig4b_100ms-dop853 fig4b_100ms-auto"
 RUN_TIMEOUT=300 # s, per driver run
 BUILD=$ROOT/build/release
 OUT=$BUILD/cross-test
