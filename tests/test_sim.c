@@ -8,6 +8,7 @@
 
 #include <stdarg.h>
 #include <stdio.h>
+#include <unistd.h> /* getpid */
 static void quiet(void *env, int category, const char *fmt, ...) { (void)env; if (category != VI_LOG_ERROR) return; va_list ap; va_start(ap, fmt); vfprintf(stderr, fmt, ap); va_end(ap); fputc(10, stderr); }
 
 /* A simulation of the defaults with a = 0.1 mm, run to 1 ms. (The solver points into s->d: a vi_sim
@@ -442,4 +443,25 @@ Test(sim, a_restored_state_is_checked_for_every_cause_of_validity)
     cr_assert(warnings == 2 && (b.warned_validity & VI_INVALID_AMPLITUDE), "%d warnings, bits %d", warnings,
               b.warned_validity);
     vi_sim_free(&a), vi_sim_free(&b);
+}
+
+/* A profile needs a body of positive radius: with R1 = 0 (the variable table's range refuses it at
+ * the FMI level; vi_sim's callers may set it) the initialization fails naming R1, before the table
+ * is read. */
+Test(sim, a_profile_needs_a_positive_body_radius)
+{
+    char path[64];
+    snprintf(path, sizeof path, "/tmp/vi_test_sim_profile_%d.txt", (int)getpid());
+    FILE *f = fopen(path, "w");
+    cr_assert(f != NULL);
+    fputs("0 0\n1 0\n", f);
+    fclose(f);
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    snprintf(s.d.par.profile_file, sizeof s.d.par.profile_file, "%s", path);
+    s.d.par.V = 1.0, s.d.par.x0 = 0.5, s.d.par.R1 = 0.0, s.d.par.R2 = 0.1; /* R* from R2 alone */
+    int rc = vi_sim_initialize(&s);
+    remove(path);
+    cr_assert(rc < 0 && strstr(s.msg, "rolling needs a body radius R1 > 0 (R1 = 0 m)"), "%s", s.msg);
+    vi_sim_free(&s);
 }
