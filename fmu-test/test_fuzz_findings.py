@@ -126,19 +126,40 @@ def test_model_exchange_euler_importer_overshooting_yield_keeps_a_finite_memory(
     me.fmu.freeInstance()
 
 
-STEP_AFTER_HUGE_FORCE = r"""
+# Findings whose calls ran for minutes (or crashed) run in a child interpreter with a time limit:
+# ISOLATED's prologue makes the instance `s` of the FMU argv[1], with `md`, `vr`, `log` and the
+# further arguments `args`; each script goes on from there.
+ISOLATED = r"""
 import sys, time
 from fmpy import extract, read_model_description
 from fmpy.fmi1 import FMICallException
 from vibroimpact.fmu import Logged
-fmu, solver = sys.argv[1], int(sys.argv[2])
+fmu, args = sys.argv[1], sys.argv[2:]
 md = read_model_description(fmu)
 vr = {v.name: v.valueReference for v in md.modelVariables}
 log = Logged(md, extract(fmu))
 s = log.instantiate()
+"""
+
+
+def isolated(script, fmu_path, *args, what, seconds=60):
+    """Run ISOLATED + script in a child interpreter; its stdout. Fails the test, naming `what`, when
+    the child has not finished within `seconds` or exits with an error."""
+    import subprocess
+    import sys
+    try:
+        p = subprocess.run([sys.executable, "-c", ISOLATED + script, fmu_path, *map(str, args)],
+                           capture_output=True, text=True, timeout=seconds)
+    except subprocess.TimeoutExpired:
+        pytest.fail(f"{what} did not return within {seconds} s")
+    assert p.returncode == 0, (p.returncode, p.stderr[-2000:])
+    return p.stdout
+
+
+STEP_AFTER_HUGE_FORCE = r"""
 s.setupExperiment()
 s.enterInitializationMode()
-s.setInteger([vr["solver"]], [solver])
+s.setInteger([vr["solver"]], [int(args[0])])
 s.exitInitializationMode()
 s.doStep(0.0, 0.01)
 s.setReal([vr["F_ext"]], [1.7976931348623157e308])
@@ -160,28 +181,13 @@ def test_a_step_under_a_force_beyond_what_can_be_integrated_fails_at_once(fmu_pa
     100 s without the sanitizers). A time or derivative that is not finite now fails the right-hand
     side, and CVODE the step after its limit of such failures: fmi2Error at once, naming where
     (dop853 failed at once before)."""
-    import subprocess
-    import sys
-    try:
-        p = subprocess.run([sys.executable, "-c", STEP_AFTER_HUGE_FORCE, fmu_path, str(solver)], capture_output=True,
-                           text=True, timeout=60)
-    except subprocess.TimeoutExpired:
-        pytest.fail("fmi2DoStep did not return within 60 s")
-    assert p.returncode == 0, p.stderr
-    status, cpu, message = p.stdout.split(" ", 2)
-    assert status == "error" and float(cpu) < 5.0, p.stdout
+    out = isolated(STEP_AFTER_HUGE_FORCE, fmu_path, solver, what="fmi2DoStep")
+    status, cpu, message = out.split(" ", 2)
+    assert status == "error" and float(cpu) < 5.0, out
     assert "the solver failed near t = 0.01" in message, message
 
 
 OUTPUTS_AFTER_REFUSED_TOLERANCE = r"""
-import sys
-from fmpy import extract, read_model_description
-from fmpy.fmi1 import FMICallException
-from vibroimpact.fmu import Logged
-fmu = sys.argv[1]
-md = read_model_description(fmu)
-log = Logged(md, extract(fmu))
-s = log.instantiate()
 s.setupExperiment(tolerance=2.2250738585072014e-308)
 s.enterInitializationMode()
 try:
@@ -206,13 +212,9 @@ def test_outputs_after_an_initialization_that_failed_before_the_model_was_set_up
     of the importer. Outputs in the error state of an initialization that never succeeded are
     computed as in initialization mode, which fails again with the reason: every output read is
     refused, naming it."""
-    import subprocess
-    import sys
-    p = subprocess.run([sys.executable, "-c", OUTPUTS_AFTER_REFUSED_TOLERANCE, fmu_path], capture_output=True,
-                       text=True, timeout=60)
-    assert p.returncode == 0, (p.returncode, p.stderr[-2000:])
-    lines = p.stdout.splitlines()
-    assert "initialized" not in lines and len(lines) > 10, p.stdout
+    out = isolated(OUTPUTS_AFTER_REFUSED_TOLERANCE, fmu_path, what="fmi2GetReal in the error state")
+    lines = out.splitlines()
+    assert "initialized" not in lines and len(lines) > 10, out
     for line in lines:
         assert "refused:" in line and "relative tolerance" in line and "use a value in [1e-14, 0.01]" in line, line
 
@@ -246,18 +248,9 @@ def test_model_exchange_arrays_with_no_value_are_refused_after_a_failed_initiali
 
 
 PERIODIC_PROFILE_OF_SUBNORMAL_PERIOD = r"""
-import sys
-from fmpy import extract, read_model_description
-from fmpy.fmi1 import FMICallException
-from vibroimpact.fmu import Logged
-fmu, path = sys.argv[1], sys.argv[2]
-md = read_model_description(fmu)
-vr = {v.name: v.valueReference for v in md.modelVariables}
-log = Logged(md, extract(fmu))
-s = log.instantiate()
 s.setupExperiment()
 s.enterInitializationMode()
-s.setString([vr["profile_file"]], [path])
+s.setString([vr["profile_file"]], [args[0]])
 s.setBoolean([vr["profile_periodic"]], [True])
 try:
     s.exitInitializationMode()
@@ -273,16 +266,9 @@ def test_a_periodic_profile_whose_period_is_subnormal_is_refused_at_once(fmu_pat
     read as periodic: the wheel of radius R1 = 0.475 m spans about 1e321 periods, and building the
     rigid-constraint envelope over them did not end. Initialization is refused, naming the period and
     R1, in well under a second."""
-    import subprocess
-    import sys
     tiny = 4.9406564584124654e-324
     rows = [f"{k * tiny!r} {(tiny if k % 3 else 0.0)!r}" for k in range(43)]
     path = tmp_path / "p0.txt"
     path.write_text("\n".join(rows) + "\n")
-    try:
-        p = subprocess.run([sys.executable, "-c", PERIODIC_PROFILE_OF_SUBNORMAL_PERIOD, fmu_path, str(path)],
-                           capture_output=True, text=True, timeout=60)
-    except subprocess.TimeoutExpired:
-        pytest.fail("fmi2ExitInitializationMode did not return within 60 s")
-    assert p.returncode == 0, p.stderr
-    assert re.search(r"refused: .*profile_file .*the period \S+ m is too short for R1 = 0\.475 m", p.stdout), p.stdout
+    out = isolated(PERIODIC_PROFILE_OF_SUBNORMAL_PERIOD, fmu_path, path, what="fmi2ExitInitializationMode")
+    assert re.search(r"refused: .*profile_file .*the period \S+ m is too short for R1 = 0\.475 m", out), out
