@@ -418,6 +418,40 @@ Test(profile, numbers_are_read_as_strtod_reads_them, .timeout = 60)
     cr_assert(first_bad[0] == '\0', "%s", first_bad);
 }
 
+/* The ends of the exact conversion, as strtod reads them: mantissas of 15 to 21 digits (19 is the most
+ * the exact conversion takes; 20 and more overflow 64 bits) with decimal exponents from -30 to -nd
+ * (past -27 the conversion is strtod's; at -27 the exact quotient has 64 to 65 bits), written as
+ * "<digits>e<E>" and "<d>.<digits>e<E>", as x and as the height of a two-row flat profile. */
+Test(profile, long_mantissas_and_small_exponents_are_read_as_strtod_reads_them, .timeout = 60)
+{
+    srand(7);
+    char msg[512], text[256], num[2][64], first_bad[1024] = "";
+    int checked = 0;
+    for (int nd = 15; nd <= 21; nd++)
+        for (int E = -30; E <= -nd; E++)
+            for (int k = 0; k < 40; k++) {
+                for (int i = 0; i < 2; i++) {
+                    char digits[32];
+                    digits[0] = (char)('1' + rand() % 9);
+                    for (int d = 1; d < nd; d++) digits[d] = (char)('0' + rand() % 10);
+                    digits[nd] = '\0';
+                    const char *sign = rand() % 2 ? "-" : "";
+                    if (k % 2) snprintf(num[i], sizeof num[i], "%s%se%d", sign, digits, E - i);
+                    else snprintf(num[i], sizeof num[i], "%s%c.%se%d", sign, digits[0], digits + 1, E - i + nd - 1);
+                }
+                double X = strtod(num[0], NULL), H = strtod(num[1], NULL);
+                snprintf(text, sizeof text, "%s %s\n1e7 %s\n", num[0], num[1], num[1]);
+                vi_profile *p = vi_profile_load(write_file(text), R, 0, msg, sizeof msg);
+                checked++;
+                if (!first_bad[0] && (!p || vi_profile_x_first(p) != X || yb(p, 1.0) != H))
+                    snprintf(first_bad, sizeof first_bad, "%s: %s, read %.17g and %.17g", text, p ? "loaded" : msg,
+                             p ? vi_profile_x_first(p) : NAN, p ? yb(p, 1.0) : NAN);
+                vi_profile_free(p);
+            }
+    cr_assert(checked > 2000);
+    cr_assert(first_bad[0] == '\0', "%s", first_bad);
+}
+
 /* A periodic profile whose period is so short that the body spans more than VI_PROFILE_ROWS_MAX rows
  * of its copies is refused, naming the period. */
 Test(profile, periodic_period_too_short_for_the_body)
