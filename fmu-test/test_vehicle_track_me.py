@@ -11,10 +11,8 @@ from conftest import BUILD, FMU
 
 # the example's modules, importable through pytest.ini's pythonpath
 import me_master
-import parameters
 import reference
-import roughness
-from test_vehicle_track import needs_fmus
+from test_vehicle_track import needs_fmus, rough  # noqa: F401 (rough: the fixture, shared)
 
 # ---- the coupled system ------------------------------------------------------------------------------
 
@@ -47,17 +45,6 @@ def dissipation_tolerance(system, sol, T, rtol=RTOL):
 
 def force_error(r, sol, system):
     return float(np.max(np.abs(r["contact.F"] - sol.force(r["t"]))) / system.W)
-
-
-@pytest.fixture(scope="module")
-def rough(tmp_path_factory):
-    """The example's roughness in a file and the reference over the first 40 ms (the roughness
-    starts after 13 ms)."""
-    path = tmp_path_factory.mktemp("profile") / "profile.txt"
-    roughness.write(path, *roughness.profile(**parameters.ROUGHNESS))
-    T = 0.04
-    system = reference.default_system(str(path), T)
-    return path, T, system, reference.simulate(system, T, rtol=1e-10)
 
 
 @needs_fmus
