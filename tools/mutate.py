@@ -3,7 +3,7 @@
 
 Usage:
     python3 tools/mutate.py [--sample N] [--seed S] [--files GLOB ...] [--only NAME ...] [--list]
-                            [--json FILE] [--rebuild-coverage]
+                            [--jobs J] [--json FILE] [--rebuild-coverage]
 
 Each mutant changes one place of one C file under src/ (operators, constants, a removed statement,
 a negated or forced condition, a changed return status). It is built in a scratch copy of the
@@ -13,7 +13,8 @@ them fails or the run exceeds its time limit (three times the tests' measured ti
 "survives" when all of them pass, and it is "uncovered" (a survivor) when no test executes its
 line. The score is killed / (killed + survived + uncovered); mutants listed in
 tools/mutants-equivalent.txt are left out (no test can tell them apart from the original; each
-entry gives the reason).
+entry gives the reason). --jobs J (default: the number of cores) runs J mutants at once, each in
+its own scratch copy (build/mutate/scratch, scratch-1, ...).
 
 Which test executes which line comes from a coverage map, built once per revision of the
 repository (a hash of the files the tests depend on) and cached in build/mutate/: a build with gcov
@@ -33,6 +34,7 @@ Sampling: --sample N draws N mutants, stratified by file (every file of src/ get
 --sample every mutant is run.
 """
 import argparse
+import concurrent.futures
 import ctypes
 import dataclasses
 import fnmatch
@@ -40,12 +42,14 @@ import hashlib
 import json
 import os
 import pathlib
+import queue
 import random
 import re
 import shutil
 import statistics
 import subprocess
 import sys
+import threading
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -529,6 +533,8 @@ def main():
     ap.add_argument("--files", nargs="+", default=["src/*"], help="globs of files under src/ to mutate")
     ap.add_argument("--list", action="store_true", help="list the mutants (name, line and column) and exit")
     ap.add_argument("--only", nargs="+", help="run only the mutants with these names (or file:line:col places)")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                    help="mutants run at once, each in its own scratch copy (default: the number of cores)")
     ap.add_argument("--json", help="write the results to this file")
     ap.add_argument("--rebuild-coverage", action="store_true", help="build the coverage map even if one is cached")
     args = ap.parse_args()
@@ -563,40 +569,58 @@ def main():
     index = line_index(cmap)
     durations = {n: t["duration"] for n, t in cmap["tests"].items()}
 
-    scratch = CACHE / "scratch"
-    print(f"scratch copy {scratch.relative_to(ROOT)}: building the original ...", flush=True)
-    sync_scratch(scratch)
-    configure_and_build(scratch, scratch / "build", [], "scratch")
+    jobs = max(1, args.jobs)
+    scratches = [CACHE / ("scratch" if j == 0 else f"scratch-{j}") for j in range(jobs)]
+    for scratch in scratches:
+        print(f"scratch copy {scratch.relative_to(ROOT)}: building the original ...", flush=True)
+        sync_scratch(scratch)
+        configure_and_build(scratch, scratch / "build", [], "scratch")
+    make_jobs = f"-j{max(1, (os.cpu_count() or 1) // jobs)}"
     t_mutants = time.monotonic()
-    results = []
-    for i, m in enumerate(mutants, 1):
-        t0 = time.monotonic()
-        target = scratch / m.file
-        original = target.read_text()
-        target.write_text(original[:m.start] + m.new + original[m.end:])
-        tests = sorted({t for ln in range(m.line, m.last_line + 1) for t in index.get((m.file, ln), [])})
-        if not tests:  # gcov counts a statement that spans lines on one of them: those before it too
-            tests = sorted({t for ln in range(m.stmt_line, m.line) for t in index.get((m.file, ln), [])})
+    free = queue.Queue()
+    for scratch in scratches:
+        free.put(scratch)
+    printing = threading.Lock()
+    done = [0]
+
+    def run_mutant(m):
+        scratch = free.get()
         try:
-            rc, _ = run(["cmake", "--build", "build", "-j2"], scratch, 900)
-            if rc != 0:
-                verdict = "stillborn"
-            elif not tests:
-                verdict = "uncovered"
-            else:
-                limit = 3 * sum(durations[t] for t in tests) + 60
-                verdict = {"passed": "survived", "failed": "killed", "timeout": "killed"}[
-                    run_selected(scratch, tests, durations, limit)]
-            if verdict in ("survived", "uncovered") and m.ident in equivalent:
-                verdict = "equivalent"
+            t0 = time.monotonic()
+            target = scratch / m.file
+            original = target.read_text()
+            target.write_text(original[:m.start] + m.new + original[m.end:])
+            tests = sorted({t for ln in range(m.line, m.last_line + 1) for t in index.get((m.file, ln), [])})
+            if not tests:  # gcov counts a statement that spans lines on one of them: those before it too
+                tests = sorted({t for ln in range(m.stmt_line, m.line) for t in index.get((m.file, ln), [])})
+            try:
+                rc, _ = run(["cmake", "--build", "build", make_jobs], scratch, 900)
+                if rc != 0:
+                    verdict = "stillborn"
+                elif not tests:
+                    verdict = "uncovered"
+                else:
+                    limit = 3 * sum(durations[t] for t in tests) + 60
+                    verdict = {"passed": "survived", "failed": "killed", "timeout": "killed"}[
+                        run_selected(scratch, tests, durations, limit)]
+                if verdict in ("survived", "uncovered") and m.ident in equivalent:
+                    verdict = "equivalent"
+            finally:
+                target.write_text(original)
+                os.utime(target, None)
+            dt = time.monotonic() - t0
+            with printing:
+                done[0] += 1
+                print(f"[{done[0]}/{len(mutants)} {time.monotonic() - t_mutants:6.0f} s] {verdict:10s} {len(tests):3d} "
+                      f"tests {dt:5.1f} s  {m.where}  {m.ident}", flush=True)
+            return dict(name=m.ident, where=m.where, verdict=verdict, tests=len(tests), seconds=dt)
         finally:
-            target.write_text(original)
-            os.utime(target, None)
-        dt = time.monotonic() - t0
-        results.append(dict(name=m.ident, where=m.where, verdict=verdict, tests=len(tests), seconds=dt))
-        print(f"[{i}/{len(mutants)} {time.monotonic() - t_mutants:6.0f} s] {verdict:10s} {len(tests):3d} tests "
-              f"{dt:5.1f} s  {m.where}  {m.ident}", flush=True)
-    run(["cmake", "--build", "build", "-j2"], scratch, 900)
+            free.put(scratch)
+
+    with concurrent.futures.ThreadPoolExecutor(jobs) as pool:
+        results = list(pool.map(run_mutant, mutants))
+    for scratch in scratches:
+        run(["cmake", "--build", "build", make_jobs], scratch, 900)
 
     count = {v: [r for r in results if r["verdict"] == v]
              for v in ("killed", "survived", "uncovered", "equivalent", "stillborn")}
@@ -609,7 +633,7 @@ def main():
         print(f"mutation score: {k} of {k + s + u} non-equivalent mutants killed, {100.0 * k / (k + s + u):.1f} %")
     if times:
         print(f"time per mutant: mean {statistics.mean(times):.1f} s, median {statistics.median(times):.1f} s; "
-              f"mutants {time.monotonic() - t_mutants:.0f} s, whole run {time.monotonic() - t_start:.0f} s "
+              f"mutants {time.monotonic() - t_mutants:.0f} s ({jobs} at once), whole run {time.monotonic() - t_start:.0f} s "
               f"(coverage map {'cached' if cmap.get('cached') else 'built in %.0f s' % cmap['seconds']})")
     for v in ("survived", "uncovered"):
         if count[v]:
