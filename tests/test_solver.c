@@ -1152,3 +1152,167 @@ Test(solver, auto_restart_makes_a_pending_hand_over)
     cr_assert(r.sw.steps == 1);
     vi_solver_free(s);
 }
+
+/* ---- memory ------------------------------------------------------------------------------------- */
+
+#ifdef VI_TEST_WRAP
+/* Built with the linker's --wrap for the allocator and SUNDIALS's constructors (CMakeLists.txt): the
+ * solver's and SUNDIALS's (static) calls come here. live_blocks counts their blocks not yet freed;
+ * fail(name, k) makes the k-th next call of that name (0: the next) fail as on a lack of memory. */
+#include <cvode/cvode.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+void *__real_malloc(size_t size);
+void *__real_calloc(size_t count, size_t size);
+void *__real_realloc(void *p, size_t size);
+void __real_free(void *p);
+int __real_SUNContext_Create(void *comm, SUNContext *ctx);
+void *__real_CVodeCreate(int lmm, SUNContext ctx);
+N_Vector __real_N_VNew_Serial(sunindextype n, SUNContext ctx);
+int __real_N_VEnableFusedOps_Serial(N_Vector v, booleantype tf);
+SUNMatrix __real_SUNDenseMatrix(sunindextype m, sunindextype n, SUNContext ctx);
+SUNLinearSolver __real_SUNLinSol_Dense(N_Vector y, SUNMatrix a, SUNContext ctx);
+
+static long live_blocks;
+static const char *fail_name;
+static int fail_skip;
+
+static void fail(const char *name, int k) { fail_name = name, fail_skip = k; }
+
+static int failing(const char *name)
+{
+    if (!fail_name || strcmp(fail_name, name) != 0 || fail_skip-- > 0) return 0;
+    fail_name = NULL;
+    return 1;
+}
+
+void *__wrap_malloc(size_t size);
+void *__wrap_malloc(size_t size)
+{
+    void *p = failing("malloc") ? NULL : __real_malloc(size);
+    live_blocks += p != NULL;
+    return p;
+}
+void *__wrap_calloc(size_t count, size_t size);
+void *__wrap_calloc(size_t count, size_t size)
+{
+    void *p = failing("calloc") ? NULL : __real_calloc(count, size);
+    live_blocks += p != NULL;
+    return p;
+}
+void *__wrap_realloc(void *q, size_t size);
+void *__wrap_realloc(void *q, size_t size)
+{
+    void *p = __real_realloc(q, size);
+    live_blocks += !q && p;
+    return p;
+}
+void __wrap_free(void *p);
+void __wrap_free(void *p)
+{
+    live_blocks -= p != NULL;
+    __real_free(p);
+}
+int __wrap_SUNContext_Create(void *comm, SUNContext *ctx);
+int __wrap_SUNContext_Create(void *comm, SUNContext *ctx)
+{
+    return failing("SUNContext_Create") ? -1 : __real_SUNContext_Create(comm, ctx);
+}
+void *__wrap_CVodeCreate(int lmm, SUNContext ctx);
+void *__wrap_CVodeCreate(int lmm, SUNContext ctx) { return failing("CVodeCreate") ? NULL : __real_CVodeCreate(lmm, ctx); }
+N_Vector __wrap_N_VNew_Serial(sunindextype n, SUNContext ctx);
+N_Vector __wrap_N_VNew_Serial(sunindextype n, SUNContext ctx)
+{
+    return failing("N_VNew_Serial") ? NULL : __real_N_VNew_Serial(n, ctx);
+}
+int __wrap_N_VEnableFusedOps_Serial(N_Vector v, booleantype tf);
+int __wrap_N_VEnableFusedOps_Serial(N_Vector v, booleantype tf)
+{
+    return failing("N_VEnableFusedOps_Serial") ? -1 : __real_N_VEnableFusedOps_Serial(v, tf);
+}
+SUNMatrix __wrap_SUNDenseMatrix(sunindextype m, sunindextype n, SUNContext ctx);
+SUNMatrix __wrap_SUNDenseMatrix(sunindextype m, sunindextype n, SUNContext ctx)
+{
+    return failing("SUNDenseMatrix") ? NULL : __real_SUNDenseMatrix(m, n, ctx);
+}
+SUNLinearSolver __wrap_SUNLinSol_Dense(N_Vector y, SUNMatrix a, SUNContext ctx);
+SUNLinearSolver __wrap_SUNLinSol_Dense(N_Vector y, SUNMatrix a, SUNContext ctx)
+{
+    return failing("SUNLinSol_Dense") ? NULL : __real_SUNLinSol_Dense(y, a, ctx);
+}
+
+static void run_and_free(int method)
+{
+    rig r;
+    rig_osc(&r, method);
+    double x0[2] = {1.0, 0.0}, x[2], t = 0.0;
+    int fired[3];
+    long taken, before = live_blocks;
+    vi_solver *s = start(&r, 0.0, x0);
+    if (method != VI_METHOD_DOP853) cr_assert(live_blocks > before + 5, "the allocations are not counted");
+    cr_assert(vi_solver_advance(s, 0.5, 100000, &t, x, fired, &taken) == VI_SOLVER_REACHED);
+    cr_assert(vi_solver_reset(s, t, x) == 0);
+    cr_assert(vi_solver_advance(s, 1.0, 100000, &t, x, fired, &taken) == VI_SOLVER_REACHED);
+    vi_solver_free(s);
+}
+
+/* A solver of every method gives back every block it and SUNDIALS allocated (CVODE's memory,
+ * vectors, matrix, linear solver, context), and so does a creation that fails in a SUNDIALS call
+ * (whose flag's name SUNDIALS allocates). */
+Test(solver, every_allocation_is_given_back)
+{
+    vi_solver_free(NULL);
+    for (size_t m = 0; m < 4; m++) {
+        long before = live_blocks;
+        run_and_free(METHODS[m]);
+        cr_assert(live_blocks == before, "%s: %ld blocks left", vi_solver_method_name(METHODS[m]), live_blocks - before);
+    }
+    rig r;
+    rig_osc(&r, VI_METHOD_BDF);
+    r.cfg.rtol = -1.0; /* CVodeSVtolerances fails */
+    double x0[2] = {1.0, 0.0};
+    long before = live_blocks;
+    log_clear();
+    cr_assert(vi_solver_create(&r.cfg, 0.0, x0) == NULL);
+    cr_assert(strstr(log_text, "CV_ILL_INPUT") != NULL, "%s", log_text);
+    cr_assert(live_blocks == before, "failed creation: %ld blocks left", live_blocks - before);
+}
+
+/* A creation that runs out of memory at any allocation fails, says which call failed, and gives
+ * back what it had. */
+Test(solver, creation_out_of_memory_fails_cleanly_at_every_allocation)
+{
+    const struct { const char *call; int k; const char *want; } cases[] = {
+        {"calloc", 0, "out of memory creating the solver"},
+        {"SUNContext_Create", 0, "SUNDIALS call SUNContext_Create failed: "},
+        {"CVodeCreate", 0, "SUNDIALS call CVodeCreate returned NULL"},
+        {"N_VNew_Serial", 0, "SUNDIALS call N_VNew_Serial returned NULL"},
+        {"N_VNew_Serial", 1, "SUNDIALS call N_VNew_Serial returned NULL"},
+        {"N_VNew_Serial", 2, "SUNDIALS call N_VNew_Serial returned NULL"},
+        {"N_VEnableFusedOps_Serial", 0, "SUNDIALS call N_VEnableFusedOps_Serial failed: "},
+        {"N_VEnableFusedOps_Serial", 1, "SUNDIALS call N_VEnableFusedOps_Serial failed: "},
+        {"SUNDenseMatrix", 0, "SUNDIALS call SUNDenseMatrix returned NULL"},
+        {"SUNLinSol_Dense", 0, "SUNDIALS call SUNLinSol_Dense returned NULL"},
+    };
+    for (size_t m = 0; m < 4; m++)
+        for (size_t k = 0; k < sizeof cases / sizeof *cases; k++) {
+            if (METHODS[m] == VI_METHOD_DOP853 && k > 0) break; /* no CVODE */
+            rig r;
+            rig_osc(&r, METHODS[m]);
+            double x0[2] = {1.0, 0.0};
+            long before = live_blocks;
+            log_clear();
+            fail(cases[k].call, cases[k].k);
+            vi_solver *s = vi_solver_create(&r.cfg, 0.0, x0);
+            cr_assert(fail_name == NULL, "%s: %s not called", vi_solver_method_name(METHODS[m]), cases[k].call);
+            cr_assert(s == NULL, "%s: created without %s", vi_solver_method_name(METHODS[m]), cases[k].call);
+            cr_assert(log_errors == 1 && strstr(log_text, cases[k].want) != NULL, "%s, %s %d: %s",
+                      vi_solver_method_name(METHODS[m]), cases[k].call, cases[k].k, log_text);
+            cr_assert(live_blocks == before, "%s, %s: %ld blocks left", vi_solver_method_name(METHODS[m]), cases[k].call,
+                      live_blocks - before);
+        }
+}
+#endif
