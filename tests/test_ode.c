@@ -1030,6 +1030,38 @@ Test(state, initial_step_on_both_sides_of_the_1e_minus_5_thresholds)
     }
 }
 
+static void decay_then_nan(double t, const double *x, double *dx, void *u)
+{
+    dx[0] = t == 0.0 ? -*(const double *)u * x[0] : NAN;
+}
+
+Test(state, initial_step_is_h0_when_f_at_the_trial_point_is_not_finite)
+{
+    /* HNW II.4's difference quotient needs f(t0 + h0, x0 + h0 f0); when that is not finite the
+     * estimate stops at h0 = 0.01 d0/d1 (x' = -1000 x from 1, atol 1, rtol 1e-10: h0 = 1e-5; the
+     * full estimate with d2 ignored would be min(100 h0, (0.01/d1)^(1/8)) = 1e-3). */
+    double k = 1000.0;
+    vi_ode_problem p = {.n = 1, .rhs = decay_then_nan, .user = &k, .rtol = 1e-10, .atol = {1.0}};
+    vi_ode s;
+    double x0[1] = {1.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    double sc = 1.0 + 1e-10, d0 = 1.0 / sc, d1 = k * d0;
+    cr_assert(fabs(s.h - 0.01 * d0 / d1) <= 1e-15, "h = %.17g", s.h);
+    cr_assert(s.st.rhs_evals == 2);
+}
+
+/* A refusal with no message buffer (NULL, of any size, or a size of 0) writes nothing. */
+Test(failures, a_refusal_without_a_message_buffer_writes_nothing)
+{
+    vi_ode_problem p = {.n = 0, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6}};
+    cr_assert_eq(vi_ode_check(&p, NULL, 100), VI_ODE_ERR_ARGS);
+    char msg[8] = "unset";
+    cr_assert_eq(vi_ode_check(&p, msg, 0), VI_ODE_ERR_ARGS);
+    cr_assert_str_eq(msg, "unset");
+    cr_assert_eq(vi_ode_check(&p, msg, sizeof msg), VI_ODE_ERR_ARGS);
+    cr_assert_str_eq(msg, "n must ");
+}
+
 Test(state, step_size_control_rules)
 {
     problem pr = PROBLEMS[0];
