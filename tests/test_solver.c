@@ -1153,6 +1153,57 @@ Test(solver, auto_restart_makes_a_pending_hand_over)
     vi_solver_free(s);
 }
 
+/* A new auto solver starts with the one-step method and clears the caller's choice block. */
+Test(solver, auto_creation_clears_the_choice)
+{
+    rig r;
+    rig_osc(&r, VI_METHOD_AUTO);
+    r.sw = (vi_solver_auto){.bdf = 1, .pending = 1, .stiff = 3, .calm = 2, .steps = 4, .switches = 9};
+    double x0[2] = {1.0, 0.0};
+    vi_solver *s = start(&r, 0.0, x0);
+    cr_assert(r.sw.bdf == 0 && r.sw.pending == 0 && r.sw.stiff == 0 && r.sw.calm == 0 && r.sw.steps == 0 &&
+                  r.sw.switches == 0,
+              "bdf %d pending %d stiff %d calm %d steps %ld switches %ld", r.sw.bdf, r.sw.pending, r.sw.stiff, r.sw.calm,
+              r.sw.steps, r.sw.switches);
+    cr_assert(r.ode.t == 0.0 && r.ode.x[0] == 1.0 && !r.ode.have_step);
+    vi_solver_free(s);
+}
+
+static void nan_from_half(double t, const double *x, double *dx, void *u)
+{
+    (void)x;
+    dx[0] = t < 0.5 ? 1.0 : NAN;
+    if (*(const int *)u == 2) dx[1] = 0.0;
+}
+
+/* When the one-step method fails under auto, the failure is logged (not as an error) with the time
+ * it got to, and BDF takes over from there at once (and fails in turn, at the same place). */
+Test(solver, auto_hands_a_failure_of_the_one_step_method_to_bdf)
+{
+    rig r;
+    memset(&r, 0, sizeof r);
+    r.atol[0] = r.atol[1] = 1e-9;
+    r.cfg = (vi_solver_config){.n = 2, .rhs = nan_from_half, .jac = jac_set, .method = VI_METHOD_AUTO, .rtol = 1e-6,
+                               .atol = r.atol, .ode = &r.ode, .sw = &r.sw, .log = capture};
+    r.cfg.user = &r.cfg.n;
+    set_j(0.0, 0.0, 0.0, 0.0);
+    double x0[2] = {0.0, 0.0}, x[2], t = 0.0;
+    int fired[1];
+    long taken;
+    vi_solver *s = start(&r, 0.0, x0);
+    int rc = vi_solver_advance(s, 1.0, 300, &t, x, fired, &taken);
+    char want[300];
+    snprintf(want, sizeof want, "t = %.17g s: Dormand-Prince 8(5,3) failed (right-hand side or guards not finite)", r.ode.t);
+    cr_assert(r.ode.t > 0.49 && r.ode.t < 0.5, "%.17g", r.ode.t);
+    cr_assert(logged(VI_LOG_SOLVER, want), "%s\nwanted %s", log_text, want);
+    cr_assert(r.sw.bdf == 1 && r.sw.switches == 1, "bdf %d switches %ld", r.sw.bdf, r.sw.switches);
+    /* BDF starts an ulp before 0.5, where the derivative turns NaN, and fails there in turn */
+    cr_assert(rc == VI_SOLVER_FAILED, "rc %d", rc);
+    cr_assert(logged(VI_LOG_ERROR, "SUNDIALS call flag failed: CV_REPTD_RHSFUNC_ERR (-10)"), "%s", log_text);
+    cr_assert(strstr(log_text, "CVODE CVode: At t = 0.5 ") != NULL, "%s", log_text);
+    vi_solver_free(s);
+}
+
 /* ---- memory ------------------------------------------------------------------------------------- */
 
 #ifdef VI_TEST_WRAP
