@@ -1062,6 +1062,59 @@ Test(failures, a_refusal_without_a_message_buffer_writes_nothing)
     cr_assert_str_eq(msg, "n must ");
 }
 
+/* x' = 1 from 0 (x = t), one fixed step [0, 1]; the guard T - x^3 records where it is evaluated and
+ * its value there. */
+static double cubic_root_T;
+static double cubic_evals[VI_ODE_MAX_ROOT_ITERS + 8], cubic_values[VI_ODE_MAX_ROOT_ITERS + 8];
+static int n_cubic_evals;
+static void unit_rate(double t, const double *x, double *dx, void *u)
+{
+    (void)t, (void)x, (void)u;
+    dx[0] = 1.0;
+}
+static void cubic_guard(double t, const double *x, double *g, void *u)
+{
+    (void)u;
+    g[0] = cubic_root_T - x[0] * x[0] * x[0];
+    if (n_cubic_evals < (int)(sizeof cubic_evals / sizeof *cubic_evals))
+        cubic_evals[n_cubic_evals] = t, cubic_values[n_cubic_evals++] = g[0];
+}
+
+Test(events, root_search_halves_the_bracket_every_third_evaluation_and_bisects_within_two_tolerances)
+{
+    /* The rules of the root search (vi_ode.h, EVENTS), checked on the bracket the test rebuilds from
+     * the points the guard was evaluated at (g <= 0: the new right end, else the new left end): the
+     * width halves at least every third evaluation, and once it is within two tolerances (eps of the
+     * larger end) the next evaluation is its midpoint (which closes a bracket of 2 ulps). */
+    vi_ode_problem p = {.n = 1, .ng = 1, .rhs = unit_rate, .guards = cubic_guard, .rtol = 1e-8, .atol = {1e-9},
+                        .h_fixed = 1.0};
+    for (int k = 1; k < 200; k++) {
+        cubic_root_T = k / 200.0 + 1e-3 * sin(k);
+        vi_ode s;
+        double x0[1] = {0.0};
+        n_cubic_evals = 0;
+        cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+        cr_assert_eq(vi_ode_step(&s, &p, INFINITY), VI_ODE_EVENT);
+        cr_assert(n_cubic_evals == 2 + s.st.root_iters && cubic_evals[0] == 0.0 && cubic_evals[1] == 1.0);
+        double a = 0.0, b = 1.0, w[VI_ODE_MAX_ROOT_ITERS + 8];
+        for (int i = 2; i < n_cubic_evals; i++) {
+            double tm = cubic_evals[i], tol = DBL_EPSILON * fmax(fabs(a), fabs(b));
+            cr_assert(b - a > tol && tm > a && tm < b, "T %.17g, evaluation %d at %.17g outside (%.17g, %.17g)",
+                      cubic_root_T, i, tm, a, b);
+            if (b - a <= 2.0 * tol) {
+                cr_assert(tm == a + 0.5 * (b - a), "T %.17g: bracket [%.17g, %.17g] within two tolerances, evaluation %d at %.17g",
+                          cubic_root_T, a, b, i, tm);
+            }
+            if (cubic_values[i] <= 0.0) b = tm;
+            else a = tm;
+            w[i] = b - a;
+            if (i >= 4) cr_assert(w[i] <= 0.5 * (i == 4 ? 1.0 : w[i - 3]), "T %.17g: width %g after %d, %g three before",
+                                  cubic_root_T, w[i], i, i == 4 ? 1.0 : w[i - 3]);
+        }
+        cr_assert(s.ev_t == b && s.ev_t_lo == a && b - a <= DBL_EPSILON * b, "T %.17g", cubic_root_T);
+    }
+}
+
 Test(state, step_size_control_rules)
 {
     problem pr = PROBLEMS[0];
