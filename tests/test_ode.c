@@ -1115,6 +1115,89 @@ Test(events, root_search_halves_the_bracket_every_third_evaluation_and_bisects_w
     }
 }
 
+Test(events, root_search_points_are_the_illinois_method_with_its_bisections)
+{
+    /* Every evaluation point of the search, recomputed from the rules of vi_ode.h (EVENTS) on the
+     * values the guard returned: regula falsi on the weighted end values, the Illinois rule (an end
+     * kept twice in a row has its weight halved; an end that moves gets weight 1), a bisection when
+     * the last two evaluations did not halve the bracket, and the point kept a tolerance inside the
+     * bracket (its midpoint within two tolerances). */
+    vi_ode_problem p = {.n = 1, .ng = 1, .rhs = unit_rate, .guards = cubic_guard, .rtol = 1e-8, .atol = {1e-9},
+                        .h_fixed = 1.0};
+    long halvings = 0, bisections = 0;
+    for (int k = 1; k < 200; k++) {
+        cubic_root_T = k / 200.0 + 1e-3 * sin(k);
+        vi_ode s;
+        double x0[1] = {0.0};
+        n_cubic_evals = 0;
+        cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+        cr_assert_eq(vi_ode_step(&s, &p, INFINITY), VI_ODE_EVENT);
+        double a = 0.0, b = 1.0, ga = cubic_values[0], gb = cubic_values[1], wa = 1.0, wb = 1.0;
+        double w1 = INFINITY, w2 = INFINITY;
+        int side = 0;
+        for (int i = 2; i < n_cubic_evals; i++) {
+            double tol = fmax(DBL_EPSILON * fmax(fabs(a), fabs(b)), DBL_MIN), tm;
+            if (b - a > 0.5 * w2) {
+                tm = a + 0.5 * (b - a);
+                bisections++;
+            } else {
+                tm = a + (b - a) * (wa * ga / (wa * ga - wb * gb));
+            }
+            if (b - a <= 2.0 * tol) tm = a + 0.5 * (b - a);
+            else if (tm < a + tol) tm = a + tol;
+            else if (tm > b - tol) tm = b - tol;
+            cr_assert(cubic_evals[i] == tm, "T %.17g, evaluation %d at %.17g, expected %.17g", cubic_root_T, i,
+                      cubic_evals[i], tm);
+            w2 = w1, w1 = b - a;
+            if (cubic_values[i] <= 0.0) {
+                b = tm, gb = cubic_values[i], wb = 1.0;
+                if (side == -1) wa *= 0.5, halvings++;
+                side = -1;
+            } else {
+                a = tm, ga = cubic_values[i], wa = 1.0;
+                if (side == 1) wb *= 0.5, halvings++;
+                side = 1;
+            }
+        }
+    }
+    cr_assert(halvings > 100 && bisections > 50, "the cases use both rules: %ld halvings, %ld bisections", halvings,
+              bisections);
+}
+
+static double arm_t1;
+static void bump_guard(double t, const double *x, double *g, void *u)
+{
+    (void)x, (void)u;
+    g[0] = 0.5 - (t - arm_t1) * (t - arm_t1); /* 0.5 exactly at arm_t1, below elsewhere */
+}
+
+Test(events, a_guard_that_only_reaches_its_arming_threshold_stays_unarmed)
+{
+    /* arm_eps = 0.5: g = 0.5 - (t - t1)^2 touches 0.5 at t1 and falls below 0 after; with steps of 1
+     * from 0 the guard is evaluated exactly at t1 = 1 (a step end) or t1 = 0 (the start). Never above
+     * the threshold, it never arms and never fires; with arm_eps just below 0.5 it fires at t1 + sqrt(0.5). */
+    vi_ode_problem p = {.n = 1, .ng = 1, .rhs = unit_rate, .guards = bump_guard, .rtol = 1e-8, .atol = {1e-9},
+                        .h_fixed = 1.0, .arm_eps = {0.5}};
+    const double t1s[] = {1.0, 0.0};
+    for (int k = 0; k < 2; k++) {
+        arm_t1 = t1s[k];
+        for (int below = 0; below < 2; below++) {
+            p.arm_eps[0] = below ? nextafter(0.5, 0.0) : 0.5;
+            vi_ode s;
+            double x0[1] = {0.0};
+            cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+            int r = VI_ODE_OK;
+            for (int j = 0; j < 4 && r == VI_ODE_OK; j++) r = vi_ode_step(&s, &p, INFINITY);
+            if (!below) {
+                cr_assert(r == VI_ODE_OK && s.armed == 0u, "t1 = %g: armed at 0.5 exactly", arm_t1);
+            } else {
+                cr_assert(r == VI_ODE_EVENT && fabs(s.ev_t - arm_t1 - sqrt(0.5)) < 1e-12, "t1 = %g: r %d at %.17g", arm_t1,
+                          r, s.ev_t);
+            }
+        }
+    }
+}
+
 Test(state, step_size_control_rules)
 {
     problem pr = PROBLEMS[0];
