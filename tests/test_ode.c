@@ -1198,6 +1198,29 @@ Test(events, a_guard_that_only_reaches_its_arming_threshold_stays_unarmed)
     }
 }
 
+static long calls_until_nan;
+static void nan_on_one_call(double t, const double *x, double *dx, void *u)
+{
+    (void)t, (void)u;
+    dx[0] = --calls_until_nan == 0 ? NAN : -x[0];
+}
+
+Test(failures, a_step_whose_end_derivative_is_not_finite_is_rejected)
+{
+    /* x' = -x with h0 = 0.1 given: vi_ode_init calls f once; the first attempt evaluates stages 2..12
+     * (11 calls) and then f at its end, the 13th call, which returns NaN here. That attempt is
+     * rejected (as non-finite: h shrinks by 0.2) and the step taken with h = 0.02, f finite at its end. */
+    vi_ode_problem p = {.n = 1, .rhs = nan_on_one_call, .rtol = 1e-8, .atol = {1e-9}};
+    vi_ode s;
+    double x0[1] = {1.0};
+    calls_until_nan = 13;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.1, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, INFINITY), VI_ODE_OK);
+    cr_assert(s.st.rejected == 1 && s.st.accepted == 1, "rejected %ld", s.st.rejected);
+    cr_assert(s.t == 0.1 * 0.2 && isfinite(s.f[0]), "t %.17g f %g", s.t, s.f[0]);
+    cr_assert(fabs(s.x[0] - exp(-s.t)) < 1e-12 && s.f[0] == -s.x[0]);
+}
+
 Test(state, step_size_control_rules)
 {
     problem pr = PROBLEMS[0];
