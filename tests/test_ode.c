@@ -1066,7 +1066,7 @@ Test(failures, a_refusal_without_a_message_buffer_writes_nothing)
  * its value there. */
 static double cubic_root_T;
 static double cubic_evals[VI_ODE_MAX_ROOT_ITERS + 8], cubic_values[VI_ODE_MAX_ROOT_ITERS + 8];
-static int n_cubic_evals;
+static int n_cubic_evals, cubic_linear_in_t; /* 1: the guard is T - t (exactly 0 at a dyadic T) */
 static void unit_rate(double t, const double *x, double *dx, void *u)
 {
     (void)t, (void)x, (void)u;
@@ -1075,7 +1075,7 @@ static void unit_rate(double t, const double *x, double *dx, void *u)
 static void cubic_guard(double t, const double *x, double *g, void *u)
 {
     (void)u;
-    g[0] = cubic_root_T - x[0] * x[0] * x[0];
+    g[0] = cubic_linear_in_t ? cubic_root_T - t : cubic_root_T - x[0] * x[0] * x[0];
     if (n_cubic_evals < (int)(sizeof cubic_evals / sizeof *cubic_evals))
         cubic_evals[n_cubic_evals] = t, cubic_values[n_cubic_evals++] = g[0];
 }
@@ -1125,8 +1125,10 @@ Test(events, root_search_points_are_the_illinois_method_with_its_bisections)
     vi_ode_problem p = {.n = 1, .ng = 1, .rhs = unit_rate, .guards = cubic_guard, .rtol = 1e-8, .atol = {1e-9},
                         .h_fixed = 1.0};
     long halvings = 0, bisections = 0;
-    for (int k = 1; k < 200; k++) {
-        cubic_root_T = k / 200.0 + 1e-3 * sin(k);
+    for (int k = 1; k < 200 + 63; k++) {
+        /* T - x^3 with roots T^(1/3), then T - t with dyadic roots T = j/64 (an end value exactly 0) */
+        cubic_linear_in_t = k >= 200;
+        cubic_root_T = k < 200 ? k / 200.0 + 1e-3 * sin(k) : (k - 199) / 64.0;
         vi_ode s;
         double x0[1] = {0.0};
         n_cubic_evals = 0;
@@ -1160,6 +1162,7 @@ Test(events, root_search_points_are_the_illinois_method_with_its_bisections)
             }
         }
     }
+    cubic_linear_in_t = 0;
     cr_assert(halvings > 100 && bisections > 50, "the cases use both rules: %ld halvings, %ld bisections", halvings,
               bisections);
 }
@@ -1219,6 +1222,74 @@ Test(failures, a_step_whose_end_derivative_is_not_finite_is_rejected)
     cr_assert(s.st.rejected == 1 && s.st.accepted == 1, "rejected %ld", s.st.rejected);
     cr_assert(s.t == 0.1 * 0.2 && isfinite(s.f[0]), "t %.17g f %g", s.t, s.f[0]);
     cr_assert(fabs(s.x[0] - exp(-s.t)) < 1e-12 && s.f[0] == -s.x[0]);
+}
+
+Test(failures, each_refusal_of_a_problem_says_the_rule_and_the_value)
+{
+    /* One rule broken at a time, the message compared whole: the rule and the value given. */
+    const vi_ode_problem ok = {.n = 2, .ng = 1, .rhs = osc_u, .guards = guards, .rtol = 1e-6, .atol = {1e-6, 1e-6}};
+    char msg[128];
+    cr_assert_eq(vi_ode_check(NULL, msg, sizeof msg), VI_ODE_ERR_ARGS);
+    cr_assert_str_eq(msg, "no problem given (got 0)");
+    struct {
+        vi_ode_problem p;
+        const char *want;
+    } cases[] = {
+        {ok, "n must be in 1..VI_ODE_MAX_N (got 0)"},
+        {ok, "n must be in 1..VI_ODE_MAX_N (got 5)"},
+        {ok, "ng must be in 0..VI_ODE_MAX_G (got -1)"},
+        {ok, "ng must be in 0..VI_ODE_MAX_G (got 17)"},
+        {ok, "rhs is NULL (got 0)"},
+        {ok, "guards is NULL while ng > 0 (got 1)"},
+        {ok, "rtol must be in (0, 1) (got 0)"},
+        {ok, "rtol must be in (0, 1) (got 1)"},
+        {ok, "atol[i] must be finite and > 0 (got -2)"},
+        {ok, "atol[i] must be finite and > 0 (got inf)"},
+        {ok, "max_step must be finite and >= 0 (got -1)"},
+        {ok, "max_step must be finite and >= 0 (got inf)"},
+        {ok, "h_min must be finite and >= 0 (got -0.5)"},
+        {ok, "h_min must be finite and >= 0 (got nan)"},
+        {ok, "h_fixed must be finite and >= 0 (got -3)"},
+        {ok, "h_fixed must be finite and >= 0 (got inf)"},
+        {ok, "guard_samples must be in 0..VI_ODE_MAX_SAMPLES (got -1)"},
+        {ok, "guard_samples must be in 0..VI_ODE_MAX_SAMPLES (got 9)"},
+        {ok, "arm_eps[i] must be finite and >= 0 (got -0.25)"},
+        {ok, "arm_eps[i] must be finite and >= 0 (got inf)"},
+    };
+    int k = 0;
+    cases[k++].p.n = 0;
+    cases[k++].p.n = VI_ODE_MAX_N + 1;
+    cases[k++].p.ng = -1;
+    cases[k++].p.ng = VI_ODE_MAX_G + 1;
+    cases[k++].p.rhs = NULL;
+    cases[k++].p.guards = NULL;
+    cases[k++].p.rtol = 0.0;
+    cases[k++].p.rtol = 1.0;
+    cases[k++].p.atol[0] = -2.0;
+    cases[k++].p.atol[1] = INFINITY;
+    cases[k++].p.max_step = -1.0;
+    cases[k++].p.max_step = INFINITY;
+    cases[k++].p.h_min = -0.5;
+    cases[k++].p.h_min = NAN;
+    cases[k++].p.h_fixed = -3.0;
+    cases[k++].p.h_fixed = INFINITY;
+    cases[k++].p.guard_samples = -1;
+    cases[k++].p.guard_samples = VI_ODE_MAX_SAMPLES + 1;
+    cases[k++].p.arm_eps[0] = -0.25;
+    cases[k++].p.arm_eps[0] = INFINITY;
+    cr_assert(k == (int)(sizeof cases / sizeof *cases));
+    for (int i = 0; i < k; i++) {
+        msg[0] = 0;
+        cr_assert_eq(vi_ode_check(&cases[i].p, msg, sizeof msg), VI_ODE_ERR_ARGS, "%s", cases[i].want);
+        cr_assert_str_eq(msg, cases[i].want);
+    }
+    /* the ends of the rules */
+    vi_ode_problem e = ok;
+    e.n = 1, e.ng = 0, e.guards = NULL, e.rtol = 1e-300, e.guard_samples = VI_ODE_MAX_SAMPLES;
+    cr_assert_eq(vi_ode_check(&e, msg, sizeof msg), VI_ODE_OK, "%s", msg);
+    e = ok;
+    e.n = VI_ODE_MAX_N, e.atol[2] = e.atol[3] = 1e-300, e.ng = VI_ODE_MAX_G, e.rtol = nextafter(1.0, 0.0);
+    cr_assert_eq(vi_ode_check(&e, msg, sizeof msg), VI_ODE_OK, "%s", msg);
 }
 
 Test(state, step_size_control_rules)
