@@ -952,6 +952,21 @@ Test(state, statistics_count_the_work)
     cr_assert(s.st.accepted == 0 && s.h == 0.5, "init clears the statistics; h0 used");
 }
 
+Test(state, a_rejected_attempt_costs_eleven_evaluations)
+{
+    /* A first step of 0.5 given at rtol 1e-10 is rejected (and then some): f(t0) at the start, 12
+     * evaluations per accepted step, 11 per rejected attempt (f at its end is not evaluated). */
+    vi_ode_problem p = {.n = 2, .rhs = counted, .rtol = 1e-10, .atol = {1e-10, 1e-10}};
+    vi_ode s;
+    double x0[2] = {1.0, 0.0};
+    rhs_calls = 0;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.5, 0u), VI_ODE_OK);
+    for (int k = 0; k < 10; k++) cr_assert_eq(vi_ode_step(&s, &p, 1e3), VI_ODE_OK);
+    cr_assert(s.st.rejected > 0 && s.st.accepted == 10, "rejected %ld", s.st.rejected);
+    cr_assert_eq(s.st.rhs_evals, 1 + 12 * s.st.accepted + 11 * s.st.rejected);
+    cr_assert_eq(s.st.rhs_evals, rhs_calls);
+}
+
 Test(events, root_at_the_step_end_and_bracket_never_moved_right)
 {
     /* g = 1 before tau, -1 from tau on, tau = the step end: every probe lands left of the root */
