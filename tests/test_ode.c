@@ -1307,6 +1307,27 @@ Test(failures, each_refusal_of_a_problem_says_the_rule_and_the_value)
     cr_assert_eq(vi_ode_check(&e, msg, sizeof msg), VI_ODE_OK, "%s", msg);
 }
 
+Test(failures, a_retry_at_exactly_h_min_is_taken)
+{
+    /* The first attempt (h0 = 0.1 given) fails on a NaN stage and h shrinks by FAC_MIN = 0.2; the
+     * retry is made when h is not below h_min (h_min = 0.02 exactly: the step is taken) and refused
+     * when it is (h_min one ulp above: VI_ODE_ERR_NONFINITE, the state kept). */
+    for (int above = 0; above < 2; above++) {
+        vi_ode_problem p = {.n = 1, .rhs = nan_on_one_call, .rtol = 1e-8, .atol = {1e-9}};
+        p.h_min = above ? nextafter(0.1 * 0.2, 1.0) : 0.1 * 0.2;
+        vi_ode s;
+        double x0[1] = {1.0};
+        calls_until_nan = 2; /* the second stage of the first attempt */
+        cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.1, 0u), VI_ODE_OK);
+        int r = vi_ode_step(&s, &p, INFINITY);
+        if (above) {
+            cr_assert(r == VI_ODE_ERR_NONFINITE && s.t == 0.0 && s.st.rejected == 1, "r %d", r);
+        } else {
+            cr_assert(r == VI_ODE_OK && s.t == 0.1 * 0.2 && s.st.rejected == 1, "r %d t %.17g", r, s.t);
+        }
+    }
+}
+
 Test(state, step_size_control_rules)
 {
     problem pr = PROBLEMS[0];
