@@ -1307,6 +1307,26 @@ Test(failures, each_refusal_of_a_problem_says_the_rule_and_the_value)
     cr_assert_eq(vi_ode_check(&e, msg, sizeof msg), VI_ODE_OK, "%s", msg);
 }
 
+static void huge_rate(double t, const double *x, double *dx, void *u)
+{
+    (void)t, (void)x, (void)u;
+    dx[0] = 1e306;
+}
+
+Test(failures, a_step_that_overflows_the_state_is_rejected)
+{
+    /* x' = 1e306 from 0 with h0 = 1000 given: x(1000) and x(200) overflow (the error estimate, scaled
+     * by rtol |x1| = inf, comes out 0 and finite), so both attempts are rejected and the step is taken
+     * with h = 40, x = 4e307. */
+    vi_ode_problem p = {.n = 1, .rhs = huge_rate, .rtol = 1e-3, .atol = {1.0}};
+    vi_ode s;
+    double x0[1] = {0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 1000.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, INFINITY), VI_ODE_OK);
+    cr_assert(s.st.rejected == 2 && s.t == 1000.0 * 0.2 * 0.2, "rejected %ld, t %.17g", s.st.rejected, s.t);
+    cr_assert(isfinite(s.x[0]) && fabs(s.x[0] - 4e307) <= 1e-12 * 4e307, "x %g", s.x[0]);
+}
+
 Test(failures, a_retry_at_exactly_h_min_is_taken)
 {
     /* The first attempt (h0 = 0.1 given) fails on a NaN stage and h shrinks by FAC_MIN = 0.2; the
