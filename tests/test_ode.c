@@ -1327,6 +1327,27 @@ Test(failures, a_step_that_overflows_the_state_is_rejected)
     cr_assert(isfinite(s.x[0]) && fabs(s.x[0] - 4e307) <= 1e-12 * 4e307, "x %g", s.x[0]);
 }
 
+Test(state, max_step_bounds_fixed_steps_and_a_tightened_problem)
+{
+    /* max_step holds over h_fixed (0.3 fixed, 0.1 at most: steps of 0.1) and over a step size
+     * proposed under a looser problem (a state started without max_step, stepped with 0.05). */
+    vi_ode_problem p = {.n = 2, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6}, .h_fixed = 0.3, .max_step = 0.1};
+    vi_ode s;
+    double x0[2] = {1.0, 0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    for (int k = 0; k < 3; k++) {
+        cr_assert_eq(vi_ode_step(&s, &p, INFINITY), VI_ODE_OK);
+        cr_assert(s.t - s.t_old <= 0.1 && s.t - s.t_old >= 0.1 * (1 - 1e-15), "step %d: %.17g", k, s.t - s.t_old);
+    }
+    vi_ode_problem loose = {.n = 2, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6}};
+    cr_assert_eq(vi_ode_init(&s, &loose, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &loose, INFINITY), VI_ODE_OK);
+    cr_assert(s.h > 0.05, "proposed %g", s.h);
+    loose.max_step = 0.05;
+    cr_assert_eq(vi_ode_step(&s, &loose, INFINITY), VI_ODE_OK);
+    cr_assert(s.t - s.t_old <= 0.05, "step %.17g", s.t - s.t_old);
+}
+
 Test(failures, a_retry_at_exactly_h_min_is_taken)
 {
     /* The first attempt (h0 = 0.1 given) fails on a NaN stage and h shrinks by FAC_MIN = 0.2; the
