@@ -1182,6 +1182,27 @@ Test(events, root_search_points_are_the_illinois_method_with_its_bisections)
               bisections);
 }
 
+Test(state, a_restart_after_an_event_keeps_every_counter)
+{
+    /* One fixed step [0, 1] with an event located in it: every counter has moved; a restart adds its
+     * own work (f and the guards at the restart point) and keeps the rest. The proposed step of a
+     * fixed-step problem is h_fixed. */
+    vi_ode_problem p = {.n = 1, .ng = 1, .rhs = unit_rate, .guards = cubic_guard, .rtol = 1e-8, .atol = {1e-9},
+                        .h_fixed = 1.0};
+    cubic_linear_in_t = 0, cubic_root_T = 0.3;
+    vi_ode s;
+    double x0[1] = {0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, INFINITY), VI_ODE_EVENT);
+    cr_assert(s.h == 1.0, "proposed %.17g", s.h);
+    vi_ode_stats b = s.st;
+    cr_assert(b.attempts == 1 && b.accepted == 1 && b.root_iters > 0 && b.dense_builds == 1 && b.events == 1);
+    cr_assert_eq(vi_ode_restart(&s, &p, s.ev_t, s.ev_x, 0.0, 1u), VI_ODE_OK);
+    cr_assert(s.st.attempts == b.attempts && s.st.accepted == b.accepted && s.st.rejected == b.rejected &&
+              s.st.rhs_evals == b.rhs_evals + 1 && s.st.guard_evals == b.guard_evals + 1 &&
+              s.st.dense_builds == b.dense_builds && s.st.root_iters == b.root_iters && s.st.events == b.events);
+}
+
 static double arm_t1;
 static void bump_guard(double t, const double *x, double *g, void *u)
 {

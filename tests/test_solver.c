@@ -1026,6 +1026,7 @@ Test(solver, auto_spectral_radius_decides_each_step)
         {2, {0.5, 2.0, -45.25, -0.5}, 0}, /* +-9.5 i */
         {2, {0.5, 2.0, -47.65625, -0.5}, 1}, /* +-9.75 i */
         {2, {-9.6, 0.0, 0.0, -9.6}, 0},   /* a double eigenvalue: h rho = 4.8 */
+        {2, {-9.61, 0.0, 0.0, -9.59}, 1}, /* nearly double: rho = 9.61, not sqrt(det) = 9.59999 */
         {1, {-9.5, 100.0, 100.0, 100.0}, 0}, /* one state: only J[0] is its Jacobian */
         {1, {9.75, 0, 0, 0}, 1},
         {1, {-9.6, 0, 0, 0}, 0},
