@@ -1065,6 +1065,25 @@ Test(state, initial_step_is_h0_when_f_at_the_trial_point_is_not_finite)
     cr_assert(s.st.rhs_evals == 2);
 }
 
+static void one_until_half(double t, const double *x, double *dx, void *u)
+{
+    (void)x, (void)u;
+    dx[0] = t < 0.5 ? 1.0 : NAN;
+}
+
+Test(state, initial_step_trial_point_is_within_max_step)
+{
+    /* x' = 1 from 100, atol = rtol = 1e-14 (sc = 1.01e-12): d0 = 100/sc, d1 = 1/sc, so h0 = 0.01 d0/d1
+     * = 1, limited to max_step = 0.1 before f is tried at t0 + h0 (finite there; NaN from 0.5 on):
+     * d2 = 0, h = min(100 h0, (0.01/d1)^(1/8)) = (0.01 sc)^(1/8) = 0.0178, under max_step. */
+    vi_ode_problem p = {.n = 1, .rhs = one_until_half, .rtol = 1e-14, .atol = {1e-14}, .max_step = 0.1};
+    vi_ode s;
+    double x0[1] = {100.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    double sc = 1e-14 + 1e-14 * 100.0, expect = pow(0.01 * sc, 1.0 / 8.0);
+    cr_assert(fabs(s.h - expect) <= 1e-12 * expect, "h = %.17g, expected %.17g", s.h, expect);
+}
+
 /* A refusal with no message buffer (NULL, of any size, or a size of 0) writes nothing. */
 Test(failures, a_refusal_without_a_message_buffer_writes_nothing)
 {
