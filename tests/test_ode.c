@@ -1084,6 +1084,62 @@ Test(state, initial_step_trial_point_is_within_max_step)
     cr_assert(fabs(s.h - expect) <= 1e-12 * expect, "h = %.17g, expected %.17g", s.h, expect);
 }
 
+static void constant_rate(double t, const double *x, double *dx, void *u)
+{
+    (void)t, (void)x;
+    dx[0] = *(const double *)u;
+}
+
+Test(state, initial_step_on_both_sides_of_the_1e_minus_15_threshold)
+{
+    /* x' = c from 0, atol 1, rtol 1e-10 (sc = 1): d0 = 0, so h0 = 1e-6; dm = max(d1, d2) = c (f is
+     * constant: d2 = 0). Above 1e-15, h1 = (0.01/c)^(1/8) (about 42) and h = 100 h0 = 1e-4; at or
+     * below it, h1 = max(1e-6, 1e-3 h0) = 1e-6. */
+    const double cs[] = {1.005e-15, 1e-15, 0.995e-15};
+    const double want[] = {1e-4, 1e-6, 1e-6};
+    for (int i = 0; i < 3; i++) {
+        double c = cs[i];
+        vi_ode_problem p = {.n = 1, .rhs = constant_rate, .user = &c, .rtol = 1e-10, .atol = {1.0}};
+        vi_ode s;
+        double x0[1] = {0.0};
+        cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+        cr_assert(fabs(s.h - want[i]) <= 1e-15 * want[i], "c = %g: h = %.17g", c, s.h);
+    }
+}
+
+static void decay_one(double t, const double *x, double *dx, void *u)
+{
+    (void)t, (void)u;
+    dx[0] = -x[0];
+}
+
+Test(state, an_attempt_with_an_error_just_above_one_is_rejected)
+{
+    /* The error estimate of a step of size h from x = 1 of x' = -x, measured with fixed steps (which
+     * are accepted whatever their error and report it), is bisected to h with err in (1.002, 1.008);
+     * an adaptive step tried with that h is rejected and costs 11 evaluations. */
+    vi_ode_problem fx = {.n = 1, .rhs = decay_one, .rtol = 1e-6, .atol = {1e-6}, .h_fixed = 0.1};
+    vi_ode s;
+    double x0[1] = {1.0}, lo = 0.01, hi = 2.0, h = 0.0, err = 0.0;
+    for (int k = 0; k < 200; k++) {
+        h = 0.5 * (lo + hi);
+        fx.h_fixed = h;
+        cr_assert_eq(vi_ode_init(&s, &fx, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+        cr_assert_eq(vi_ode_step(&s, &fx, INFINITY), VI_ODE_OK);
+        err = s.err;
+        if (err > 1.002 && err < 1.008) break;
+        if (err <= 1.002) lo = h;
+        else hi = h;
+    }
+    cr_assert(err > 1.002 && err < 1.008, "err %.17g at h %.17g", err, h);
+    vi_ode_problem p = fx;
+    p.h_fixed = 0.0;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, h, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, INFINITY), VI_ODE_OK);
+    cr_assert(s.st.rejected == 1 && s.t < h && s.err <= 1.0, "rejected %ld, t %.17g of %.17g", s.st.rejected, s.t, h);
+    cr_assert(s.st.rhs_evals == 1 + 11 + 12 && s.f[0] == -s.x[0], "%ld evaluations", s.st.rhs_evals);
+}
+
 /* A refusal with no message buffer (NULL, of any size, or a size of 0) writes nothing. */
 Test(failures, a_refusal_without_a_message_buffer_writes_nothing)
 {
@@ -1100,7 +1156,8 @@ Test(failures, a_refusal_without_a_message_buffer_writes_nothing)
  * its value there. */
 static double cubic_root_T;
 static double cubic_evals[VI_ODE_MAX_ROOT_ITERS + 8], cubic_values[VI_ODE_MAX_ROOT_ITERS + 8];
-static int n_cubic_evals, cubic_linear_in_t; /* 1: the guard is T - t (exactly 0 at a dyadic T) */
+/* the guard: 0: T - x^3 (concave), 1: T - t (exactly 0 at a dyadic T), 2: (1 - x)^3 - (1 - T)^3 (convex) */
+static int n_cubic_evals, cubic_linear_in_t;
 static void unit_rate(double t, const double *x, double *dx, void *u)
 {
     (void)t, (void)x, (void)u;
@@ -1109,7 +1166,10 @@ static void unit_rate(double t, const double *x, double *dx, void *u)
 static void cubic_guard(double t, const double *x, double *g, void *u)
 {
     (void)u;
-    g[0] = cubic_linear_in_t ? cubic_root_T - t : cubic_root_T - x[0] * x[0] * x[0];
+    double y = 1.0 - x[0], yT = 1.0 - cubic_root_T;
+    g[0] = cubic_linear_in_t == 1 ? cubic_root_T - t
+         : cubic_linear_in_t == 2 ? y * y * y - yT * yT * yT
+                                  : cubic_root_T - x[0] * x[0] * x[0];
     if (n_cubic_evals < (int)(sizeof cubic_evals / sizeof *cubic_evals))
         cubic_evals[n_cubic_evals] = t, cubic_values[n_cubic_evals++] = g[0];
 }
@@ -1159,10 +1219,11 @@ Test(events, root_search_points_are_the_illinois_method_with_its_bisections)
     vi_ode_problem p = {.n = 1, .ng = 1, .rhs = unit_rate, .guards = cubic_guard, .rtol = 1e-8, .atol = {1e-9},
                         .h_fixed = 1.0};
     long halvings = 0, bisections = 0;
-    for (int k = 1; k < 200 + 63; k++) {
-        /* T - x^3 with roots T^(1/3), then T - t with dyadic roots T = j/64 (an end value exactly 0) */
-        cubic_linear_in_t = k >= 200;
-        cubic_root_T = k < 200 ? k / 200.0 + 1e-3 * sin(k) : (k - 199) / 64.0;
+    for (int k = 1; k < 200 + 63 + 99; k++) {
+        /* T - x^3 with roots T^(1/3) (regula falsi keeps its right end), then T - t with dyadic roots
+         * T = j/64 (an end value exactly 0), then the convex (1 - x)^3 - (1 - T)^3 (it keeps its left end) */
+        cubic_linear_in_t = k < 200 ? 0 : k < 263 ? 1 : 2;
+        cubic_root_T = k < 200 ? k / 200.0 + 1e-3 * sin(k) : k < 263 ? (k - 199) / 64.0 : (k - 262) / 100.0 + 1e-3 * sin(k);
         vi_ode s;
         double x0[1] = {0.0};
         n_cubic_evals = 0;
