@@ -761,6 +761,40 @@ Test(solver, resume_refuses_an_inconsistent_continuation)
     vi_solver_free(s);
 }
 
+/* A state taken at a communication point (checkpoint, then a byte copy of the continuation and the
+ * choice) and resumed in a new solver continues bit for bit like the original, for every method. */
+Test(solver, a_resumed_state_continues_bit_for_bit)
+{
+    for (size_t m = 0; m < 4; m++) {
+        rig ra, rb;
+        rig_osc(&ra, METHODS[m]);
+        double x0[2] = {1.0, 0.0}, xa[2], xb[2], ta = 0.0, tb;
+        int fired[3];
+        long taken;
+        vi_solver *a = start(&ra, 0.0, x0);
+        cr_assert(vi_solver_advance(a, 0.7, 100000, &ta, xa, fired, &taken) == VI_SOLVER_REACHED);
+        cr_assert(vi_solver_checkpoint(a, ta, xa) == 0);
+        rb = ra;
+        rb.cfg.ode = &rb.ode, rb.cfg.sw = &rb.sw, rb.cfg.atol = rb.atol;
+        log_clear();
+        vi_solver *b = vi_solver_resume(&rb.cfg, ta, xa);
+        cr_assert(b != NULL, "%s: %s", vi_solver_method_name(METHODS[m]), log_text);
+        tb = ta, xb[0] = xa[0], xb[1] = xa[1];
+        for (int k = 1; k <= 5; k++) {
+            double tout = 0.7 + 0.2 * k;
+            int rca = vi_solver_advance(a, tout, 100000, &ta, xa, fired, &taken);
+            int rcb = vi_solver_advance(b, tout, 100000, &tb, xb, fired, &taken);
+            cr_assert(rca == rcb && ta == tb && xa[0] == xb[0] && xa[1] == xb[1], "%s, k %d: %.17g vs %.17g",
+                      vi_solver_method_name(METHODS[m]), k, xa[0], xb[0]);
+            if (rca == VI_SOLVER_EVENT) {
+                cr_assert(vi_solver_reset(a, ta, xa) == 0 && vi_solver_reset(b, tb, xb) == 0);
+                k--;
+            }
+        }
+        vi_solver_free(a), vi_solver_free(b);
+    }
+}
+
 /* ---- statistics, restarts and checkpoints -------------------------------------------------------- */
 
 /* A stiff linear system (eigenvalues -1 and -1000) driven through its transient. */
