@@ -1140,6 +1140,26 @@ Test(state, an_attempt_with_an_error_just_above_one_is_rejected)
     cr_assert(s.st.rhs_evals == 1 + 11 + 12 && s.f[0] == -s.x[0], "%ld evaluations", s.st.rhs_evals);
 }
 
+static void rate_one(double t, const double *x, double *dx, void *u)
+{
+    (void)t, (void)x, (void)u;
+    dx[0] = 1.0;
+}
+
+Test(failures, a_state_whose_proposed_step_is_zero_is_refused)
+{
+    /* h = 0 is not a state vi_ode leaves: vi_ode_step refuses it as an invalid call (not as a step
+     * size underflow, which the step loop would report). */
+    vi_ode_problem p = {.n = 1, .rhs = rate_one, .rtol = 1e-8, .atol = {1e-9}};
+    vi_ode s;
+    double x0[1] = {0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    s.h = 0.0;
+    cr_assert_eq(vi_ode_step(&s, &p, INFINITY), VI_ODE_ERR_ARGS);
+    s.h = -1.0;
+    cr_assert_eq(vi_ode_step(&s, &p, INFINITY), VI_ODE_ERR_ARGS);
+}
+
 /* A refusal with no message buffer (NULL, of any size, or a size of 0) writes nothing. */
 Test(failures, a_refusal_without_a_message_buffer_writes_nothing)
 {
