@@ -952,6 +952,21 @@ Test(state, statistics_count_the_work)
     cr_assert(s.st.accepted == 0 && s.h == 0.5, "init clears the statistics; h0 used");
 }
 
+Test(state, a_rejected_attempt_costs_eleven_evaluations)
+{
+    /* A first step of 0.5 given at rtol 1e-10 is rejected (and then some): f(t0) at the start, 12
+     * evaluations per accepted step, 11 per rejected attempt (f at its end is not evaluated). */
+    vi_ode_problem p = {.n = 2, .rhs = counted, .rtol = 1e-10, .atol = {1e-10, 1e-10}};
+    vi_ode s;
+    double x0[2] = {1.0, 0.0};
+    rhs_calls = 0;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.5, 0u), VI_ODE_OK);
+    for (int k = 0; k < 10; k++) cr_assert_eq(vi_ode_step(&s, &p, 1e3), VI_ODE_OK);
+    cr_assert(s.st.rejected > 0 && s.st.accepted == 10, "rejected %ld", s.st.rejected);
+    cr_assert_eq(s.st.rhs_evals, 1 + 12 * s.st.accepted + 11 * s.st.rejected);
+    cr_assert_eq(s.st.rhs_evals, rhs_calls);
+}
+
 Test(events, root_at_the_step_end_and_bracket_never_moved_right)
 {
     /* g = 1 before tau, -1 from tau on, tau = the step end: every probe lands left of the root */
@@ -1027,6 +1042,451 @@ Test(state, initial_step_on_both_sides_of_the_1e_minus_5_thresholds)
         double x0[1] = {y0};
         cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
         cr_assert(fabs(s.h - expect) <= 1e-9 * expect, "case %d: h = %.17g, expected %.17g", i, s.h, expect);
+    }
+}
+
+static void decay_then_nan(double t, const double *x, double *dx, void *u)
+{
+    dx[0] = t == 0.0 ? -*(const double *)u * x[0] : NAN;
+}
+
+Test(state, initial_step_is_h0_when_f_at_the_trial_point_is_not_finite)
+{
+    /* HNW II.4's difference quotient needs f(t0 + h0, x0 + h0 f0); when that is not finite the
+     * estimate stops at h0 = 0.01 d0/d1 (x' = -1000 x from 1, atol 1, rtol 1e-10: h0 = 1e-5; the
+     * full estimate with d2 ignored would be min(100 h0, (0.01/d1)^(1/8)) = 1e-3). */
+    double k = 1000.0;
+    vi_ode_problem p = {.n = 1, .rhs = decay_then_nan, .user = &k, .rtol = 1e-10, .atol = {1.0}};
+    vi_ode s;
+    double x0[1] = {1.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    double sc = 1.0 + 1e-10, d0 = 1.0 / sc, d1 = k * d0;
+    cr_assert(fabs(s.h - 0.01 * d0 / d1) <= 1e-15, "h = %.17g", s.h);
+    cr_assert(s.st.rhs_evals == 2);
+}
+
+static void one_until_half(double t, const double *x, double *dx, void *u)
+{
+    (void)x, (void)u;
+    dx[0] = t < 0.5 ? 1.0 : NAN;
+}
+
+Test(state, initial_step_trial_point_is_within_max_step)
+{
+    /* x' = 1 from 100, atol = rtol = 1e-14 (sc = 1.01e-12): d0 = 100/sc, d1 = 1/sc, so h0 = 0.01 d0/d1
+     * = 1, limited to max_step = 0.1 before f is tried at t0 + h0 (finite there; NaN from 0.5 on):
+     * d2 = 0, h = min(100 h0, (0.01/d1)^(1/8)) = (0.01 sc)^(1/8) = 0.0178, under max_step. */
+    vi_ode_problem p = {.n = 1, .rhs = one_until_half, .rtol = 1e-14, .atol = {1e-14}, .max_step = 0.1};
+    vi_ode s;
+    double x0[1] = {100.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    double sc = 1e-14 + 1e-14 * 100.0, expect = pow(0.01 * sc, 1.0 / 8.0);
+    cr_assert(fabs(s.h - expect) <= 1e-12 * expect, "h = %.17g, expected %.17g", s.h, expect);
+}
+
+static void constant_rate(double t, const double *x, double *dx, void *u)
+{
+    (void)t, (void)x;
+    dx[0] = *(const double *)u;
+}
+
+Test(state, initial_step_on_both_sides_of_the_1e_minus_15_threshold)
+{
+    /* x' = c from 0, atol 1, rtol 1e-10 (sc = 1): d0 = 0, so h0 = 1e-6; dm = max(d1, d2) = c (f is
+     * constant: d2 = 0). Above 1e-15, h1 = (0.01/c)^(1/8) (about 42) and h = 100 h0 = 1e-4; at or
+     * below it, h1 = max(1e-6, 1e-3 h0) = 1e-6. */
+    const double cs[] = {1.005e-15, 1e-15, 0.995e-15};
+    const double want[] = {1e-4, 1e-6, 1e-6};
+    for (int i = 0; i < 3; i++) {
+        double c = cs[i];
+        vi_ode_problem p = {.n = 1, .rhs = constant_rate, .user = &c, .rtol = 1e-10, .atol = {1.0}};
+        vi_ode s;
+        double x0[1] = {0.0};
+        cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+        cr_assert(fabs(s.h - want[i]) <= 1e-15 * want[i], "c = %g: h = %.17g", c, s.h);
+    }
+}
+
+static void decay_one(double t, const double *x, double *dx, void *u)
+{
+    (void)t, (void)u;
+    dx[0] = -x[0];
+}
+
+Test(state, an_attempt_with_an_error_just_above_one_is_rejected)
+{
+    /* The error estimate of a step of size h from x = 1 of x' = -x, measured with fixed steps (which
+     * are accepted whatever their error and report it), is bisected to h with err in (1.002, 1.008);
+     * an adaptive step tried with that h is rejected and costs 11 evaluations. */
+    vi_ode_problem fx = {.n = 1, .rhs = decay_one, .rtol = 1e-6, .atol = {1e-6}, .h_fixed = 0.1};
+    vi_ode s;
+    double x0[1] = {1.0}, lo = 0.01, hi = 2.0, h = 0.0, err = 0.0;
+    for (int k = 0; k < 200; k++) {
+        h = 0.5 * (lo + hi);
+        fx.h_fixed = h;
+        cr_assert_eq(vi_ode_init(&s, &fx, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+        cr_assert_eq(vi_ode_step(&s, &fx, INFINITY), VI_ODE_OK);
+        err = s.err;
+        if (err > 1.002 && err < 1.008) break;
+        if (err <= 1.002) lo = h;
+        else hi = h;
+    }
+    cr_assert(err > 1.002 && err < 1.008, "err %.17g at h %.17g", err, h);
+    vi_ode_problem p = fx;
+    p.h_fixed = 0.0;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, h, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, INFINITY), VI_ODE_OK);
+    cr_assert(s.st.rejected == 1 && s.t < h && s.err <= 1.0, "rejected %ld, t %.17g of %.17g", s.st.rejected, s.t, h);
+    cr_assert(s.st.rhs_evals == 1 + 11 + 12 && s.f[0] == -s.x[0], "%ld evaluations", s.st.rhs_evals);
+}
+
+static void rate_one(double t, const double *x, double *dx, void *u)
+{
+    (void)t, (void)x, (void)u;
+    dx[0] = 1.0;
+}
+
+Test(failures, a_state_whose_proposed_step_is_zero_is_refused)
+{
+    /* h = 0 is not a state vi_ode leaves: vi_ode_step refuses it as an invalid call (not as a step
+     * size underflow, which the step loop would report). */
+    vi_ode_problem p = {.n = 1, .rhs = rate_one, .rtol = 1e-8, .atol = {1e-9}};
+    vi_ode s;
+    double x0[1] = {0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    s.h = 0.0;
+    cr_assert_eq(vi_ode_step(&s, &p, INFINITY), VI_ODE_ERR_ARGS);
+    s.h = -1.0;
+    cr_assert_eq(vi_ode_step(&s, &p, INFINITY), VI_ODE_ERR_ARGS);
+}
+
+/* A refusal with no message buffer (NULL, of any size, or a size of 0) writes nothing. */
+Test(failures, a_refusal_without_a_message_buffer_writes_nothing)
+{
+    vi_ode_problem p = {.n = 0, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6}};
+    cr_assert_eq(vi_ode_check(&p, NULL, 100), VI_ODE_ERR_ARGS);
+    char msg[8] = "unset";
+    cr_assert_eq(vi_ode_check(&p, msg, 0), VI_ODE_ERR_ARGS);
+    cr_assert_str_eq(msg, "unset");
+    cr_assert_eq(vi_ode_check(&p, msg, sizeof msg), VI_ODE_ERR_ARGS);
+    cr_assert_str_eq(msg, "n must ");
+}
+
+/* x' = 1 from 0 (x = t), one fixed step [0, 1]; the guard T - x^3 records where it is evaluated and
+ * its value there. */
+static double cubic_root_T;
+static double cubic_evals[VI_ODE_MAX_ROOT_ITERS + 8], cubic_values[VI_ODE_MAX_ROOT_ITERS + 8];
+/* the guard: 0: T - x^3 (concave), 1: T - t (exactly 0 at a dyadic T), 2: (1 - x)^3 - (1 - T)^3 (convex) */
+static int n_cubic_evals, cubic_linear_in_t;
+static void unit_rate(double t, const double *x, double *dx, void *u)
+{
+    (void)t, (void)x, (void)u;
+    dx[0] = 1.0;
+}
+static void cubic_guard(double t, const double *x, double *g, void *u)
+{
+    (void)u;
+    double y = 1.0 - x[0], yT = 1.0 - cubic_root_T;
+    g[0] = cubic_linear_in_t == 1 ? cubic_root_T - t
+         : cubic_linear_in_t == 2 ? y * y * y - yT * yT * yT
+                                  : cubic_root_T - x[0] * x[0] * x[0];
+    if (n_cubic_evals < (int)(sizeof cubic_evals / sizeof *cubic_evals))
+        cubic_evals[n_cubic_evals] = t, cubic_values[n_cubic_evals++] = g[0];
+}
+
+Test(events, root_search_halves_the_bracket_every_third_evaluation_and_bisects_within_two_tolerances)
+{
+    /* The rules of the root search (vi_ode.h, EVENTS), checked on the bracket the test rebuilds from
+     * the points the guard was evaluated at (g <= 0: the new right end, else the new left end): the
+     * width halves at least every third evaluation, and once it is within two tolerances (eps of the
+     * larger end) the next evaluation is its midpoint (which closes a bracket of 2 ulps). */
+    vi_ode_problem p = {.n = 1, .ng = 1, .rhs = unit_rate, .guards = cubic_guard, .rtol = 1e-8, .atol = {1e-9},
+                        .h_fixed = 1.0};
+    for (int k = 1; k < 200; k++) {
+        cubic_root_T = k / 200.0 + 1e-3 * sin(k);
+        vi_ode s;
+        double x0[1] = {0.0};
+        n_cubic_evals = 0;
+        cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+        cr_assert_eq(vi_ode_step(&s, &p, INFINITY), VI_ODE_EVENT);
+        cr_assert(n_cubic_evals == 2 + s.st.root_iters && cubic_evals[0] == 0.0 && cubic_evals[1] == 1.0);
+        double a = 0.0, b = 1.0, w[VI_ODE_MAX_ROOT_ITERS + 8];
+        for (int i = 2; i < n_cubic_evals; i++) {
+            double tm = cubic_evals[i], tol = DBL_EPSILON * fmax(fabs(a), fabs(b));
+            cr_assert(b - a > tol && tm > a && tm < b, "T %.17g, evaluation %d at %.17g outside (%.17g, %.17g)",
+                      cubic_root_T, i, tm, a, b);
+            if (b - a <= 2.0 * tol) {
+                cr_assert(tm == a + 0.5 * (b - a), "T %.17g: bracket [%.17g, %.17g] within two tolerances, evaluation %d at %.17g",
+                          cubic_root_T, a, b, i, tm);
+            }
+            if (cubic_values[i] <= 0.0) b = tm;
+            else a = tm;
+            w[i] = b - a;
+            if (i >= 4) cr_assert(w[i] <= 0.5 * (i == 4 ? 1.0 : w[i - 3]), "T %.17g: width %g after %d, %g three before",
+                                  cubic_root_T, w[i], i, i == 4 ? 1.0 : w[i - 3]);
+        }
+        cr_assert(s.ev_t == b && s.ev_t_lo == a && b - a <= DBL_EPSILON * b, "T %.17g", cubic_root_T);
+    }
+}
+
+Test(events, root_search_points_are_the_illinois_method_with_its_bisections)
+{
+    /* Every evaluation point of the search, recomputed from the rules of vi_ode.h (EVENTS) on the
+     * values the guard returned: regula falsi on the weighted end values, the Illinois rule (an end
+     * kept twice in a row has its weight halved; an end that moves gets weight 1), a bisection when
+     * the last two evaluations did not halve the bracket, and the point kept a tolerance inside the
+     * bracket (its midpoint within two tolerances). */
+    vi_ode_problem p = {.n = 1, .ng = 1, .rhs = unit_rate, .guards = cubic_guard, .rtol = 1e-8, .atol = {1e-9},
+                        .h_fixed = 1.0};
+    long halvings = 0, bisections = 0;
+    for (int k = 1; k < 200 + 63 + 99; k++) {
+        /* T - x^3 with roots T^(1/3) (regula falsi keeps its right end), then T - t with dyadic roots
+         * T = j/64 (an end value exactly 0), then the convex (1 - x)^3 - (1 - T)^3 (it keeps its left end) */
+        cubic_linear_in_t = k < 200 ? 0 : k < 263 ? 1 : 2;
+        cubic_root_T = k < 200 ? k / 200.0 + 1e-3 * sin(k) : k < 263 ? (k - 199) / 64.0 : (k - 262) / 100.0 + 1e-3 * sin(k);
+        vi_ode s;
+        double x0[1] = {0.0};
+        n_cubic_evals = 0;
+        cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+        cr_assert_eq(vi_ode_step(&s, &p, INFINITY), VI_ODE_EVENT);
+        double a = 0.0, b = 1.0, ga = cubic_values[0], gb = cubic_values[1], wa = 1.0, wb = 1.0;
+        double w1 = INFINITY, w2 = INFINITY;
+        int side = 0;
+        for (int i = 2; i < n_cubic_evals; i++) {
+            double tol = fmax(DBL_EPSILON * fmax(fabs(a), fabs(b)), DBL_MIN), tm;
+            if (b - a > 0.5 * w2) {
+                tm = a + 0.5 * (b - a);
+                bisections++;
+            } else {
+                tm = a + (b - a) * (wa * ga / (wa * ga - wb * gb));
+            }
+            if (b - a <= 2.0 * tol) tm = a + 0.5 * (b - a);
+            else if (tm < a + tol) tm = a + tol;
+            else if (tm > b - tol) tm = b - tol;
+            cr_assert(cubic_evals[i] == tm, "T %.17g, evaluation %d at %.17g, expected %.17g", cubic_root_T, i,
+                      cubic_evals[i], tm);
+            w2 = w1, w1 = b - a;
+            if (cubic_values[i] <= 0.0) {
+                b = tm, gb = cubic_values[i], wb = 1.0;
+                if (side == -1) wa *= 0.5, halvings++;
+                side = -1;
+            } else {
+                a = tm, ga = cubic_values[i], wa = 1.0;
+                if (side == 1) wb *= 0.5, halvings++;
+                side = 1;
+            }
+        }
+    }
+    cubic_linear_in_t = 0;
+    cr_assert(halvings > 100 && bisections > 50, "the cases use both rules: %ld halvings, %ld bisections", halvings,
+              bisections);
+}
+
+Test(state, a_restart_after_an_event_keeps_every_counter)
+{
+    /* One fixed step [0, 1] with an event located in it: every counter has moved; a restart adds its
+     * own work (f and the guards at the restart point) and keeps the rest. The proposed step of a
+     * fixed-step problem is h_fixed. */
+    vi_ode_problem p = {.n = 1, .ng = 1, .rhs = unit_rate, .guards = cubic_guard, .rtol = 1e-8, .atol = {1e-9},
+                        .h_fixed = 1.0};
+    cubic_linear_in_t = 0, cubic_root_T = 0.3;
+    vi_ode s;
+    double x0[1] = {0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, INFINITY), VI_ODE_EVENT);
+    cr_assert(s.h == 1.0, "proposed %.17g", s.h);
+    vi_ode_stats b = s.st;
+    cr_assert(b.attempts == 1 && b.accepted == 1 && b.root_iters > 0 && b.dense_builds == 1 && b.events == 1);
+    cr_assert_eq(vi_ode_restart(&s, &p, s.ev_t, s.ev_x, 0.0, 1u), VI_ODE_OK);
+    cr_assert(s.st.attempts == b.attempts && s.st.accepted == b.accepted && s.st.rejected == b.rejected &&
+              s.st.rhs_evals == b.rhs_evals + 1 && s.st.guard_evals == b.guard_evals + 1 &&
+              s.st.dense_builds == b.dense_builds && s.st.root_iters == b.root_iters && s.st.events == b.events);
+}
+
+static double arm_t1;
+static void bump_guard(double t, const double *x, double *g, void *u)
+{
+    (void)x, (void)u;
+    g[0] = 0.5 - (t - arm_t1) * (t - arm_t1); /* 0.5 exactly at arm_t1, below elsewhere */
+}
+
+Test(events, a_guard_that_only_reaches_its_arming_threshold_stays_unarmed)
+{
+    /* arm_eps = 0.5: g = 0.5 - (t - t1)^2 touches 0.5 at t1 and falls below 0 after; with steps of 1
+     * from 0 the guard is evaluated exactly at t1 = 1 (a step end) or t1 = 0 (the start). Never above
+     * the threshold, it never arms and never fires; with arm_eps just below 0.5 it fires at t1 + sqrt(0.5). */
+    vi_ode_problem p = {.n = 1, .ng = 1, .rhs = unit_rate, .guards = bump_guard, .rtol = 1e-8, .atol = {1e-9},
+                        .h_fixed = 1.0, .arm_eps = {0.5}};
+    const double t1s[] = {1.0, 0.0};
+    for (int k = 0; k < 2; k++) {
+        arm_t1 = t1s[k];
+        for (int below = 0; below < 2; below++) {
+            p.arm_eps[0] = below ? nextafter(0.5, 0.0) : 0.5;
+            vi_ode s;
+            double x0[1] = {0.0};
+            cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+            int r = VI_ODE_OK;
+            for (int j = 0; j < 4 && r == VI_ODE_OK; j++) r = vi_ode_step(&s, &p, INFINITY);
+            if (!below) {
+                cr_assert(r == VI_ODE_OK && s.armed == 0u, "t1 = %g: armed at 0.5 exactly", arm_t1);
+            } else {
+                cr_assert(r == VI_ODE_EVENT && fabs(s.ev_t - arm_t1 - sqrt(0.5)) < 1e-12, "t1 = %g: r %d at %.17g", arm_t1,
+                          r, s.ev_t);
+            }
+        }
+    }
+}
+
+static long calls_until_nan;
+static void nan_on_one_call(double t, const double *x, double *dx, void *u)
+{
+    (void)t, (void)u;
+    dx[0] = --calls_until_nan == 0 ? NAN : -x[0];
+}
+
+Test(failures, a_step_whose_end_derivative_is_not_finite_is_rejected)
+{
+    /* x' = -x with h0 = 0.1 given: vi_ode_init calls f once; the first attempt evaluates stages 2..12
+     * (11 calls) and then f at its end, the 13th call, which returns NaN here. That attempt is
+     * rejected (as non-finite: h shrinks by 0.2) and the step taken with h = 0.02, f finite at its end. */
+    vi_ode_problem p = {.n = 1, .rhs = nan_on_one_call, .rtol = 1e-8, .atol = {1e-9}};
+    vi_ode s;
+    double x0[1] = {1.0};
+    calls_until_nan = 13;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.1, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, INFINITY), VI_ODE_OK);
+    cr_assert(s.st.rejected == 1 && s.st.accepted == 1, "rejected %ld", s.st.rejected);
+    cr_assert(s.t == 0.1 * 0.2 && isfinite(s.f[0]), "t %.17g f %g", s.t, s.f[0]);
+    cr_assert(fabs(s.x[0] - exp(-s.t)) < 1e-12 && s.f[0] == -s.x[0]);
+}
+
+Test(failures, each_refusal_of_a_problem_says_the_rule_and_the_value)
+{
+    /* One rule broken at a time, the message compared whole: the rule and the value given. */
+    const vi_ode_problem ok = {.n = 2, .ng = 1, .rhs = osc_u, .guards = guards, .rtol = 1e-6, .atol = {1e-6, 1e-6}};
+    char msg[128];
+    cr_assert_eq(vi_ode_check(NULL, msg, sizeof msg), VI_ODE_ERR_ARGS);
+    cr_assert_str_eq(msg, "no problem given (got 0)");
+    struct {
+        vi_ode_problem p;
+        const char *want;
+    } cases[] = {
+        {ok, "n must be in 1..VI_ODE_MAX_N (got 0)"},
+        {ok, "n must be in 1..VI_ODE_MAX_N (got 5)"},
+        {ok, "ng must be in 0..VI_ODE_MAX_G (got -1)"},
+        {ok, "ng must be in 0..VI_ODE_MAX_G (got 17)"},
+        {ok, "rhs is NULL (got 0)"},
+        {ok, "guards is NULL while ng > 0 (got 1)"},
+        {ok, "rtol must be in (0, 1) (got 0)"},
+        {ok, "rtol must be in (0, 1) (got 1)"},
+        {ok, "atol[i] must be finite and > 0 (got -2)"},
+        {ok, "atol[i] must be finite and > 0 (got inf)"},
+        {ok, "max_step must be finite and >= 0 (got -1)"},
+        {ok, "max_step must be finite and >= 0 (got inf)"},
+        {ok, "h_min must be finite and >= 0 (got -0.5)"},
+        {ok, "h_min must be finite and >= 0 (got nan)"},
+        {ok, "h_fixed must be finite and >= 0 (got -3)"},
+        {ok, "h_fixed must be finite and >= 0 (got inf)"},
+        {ok, "guard_samples must be in 0..VI_ODE_MAX_SAMPLES (got -1)"},
+        {ok, "guard_samples must be in 0..VI_ODE_MAX_SAMPLES (got 9)"},
+        {ok, "arm_eps[i] must be finite and >= 0 (got -0.25)"},
+        {ok, "arm_eps[i] must be finite and >= 0 (got inf)"},
+    };
+    int k = 0;
+    cases[k++].p.n = 0;
+    cases[k++].p.n = VI_ODE_MAX_N + 1;
+    cases[k++].p.ng = -1;
+    cases[k++].p.ng = VI_ODE_MAX_G + 1;
+    cases[k++].p.rhs = NULL;
+    cases[k++].p.guards = NULL;
+    cases[k++].p.rtol = 0.0;
+    cases[k++].p.rtol = 1.0;
+    cases[k++].p.atol[0] = -2.0;
+    cases[k++].p.atol[1] = INFINITY;
+    cases[k++].p.max_step = -1.0;
+    cases[k++].p.max_step = INFINITY;
+    cases[k++].p.h_min = -0.5;
+    cases[k++].p.h_min = NAN;
+    cases[k++].p.h_fixed = -3.0;
+    cases[k++].p.h_fixed = INFINITY;
+    cases[k++].p.guard_samples = -1;
+    cases[k++].p.guard_samples = VI_ODE_MAX_SAMPLES + 1;
+    cases[k++].p.arm_eps[0] = -0.25;
+    cases[k++].p.arm_eps[0] = INFINITY;
+    cr_assert(k == (int)(sizeof cases / sizeof *cases));
+    for (int i = 0; i < k; i++) {
+        msg[0] = 0;
+        cr_assert_eq(vi_ode_check(&cases[i].p, msg, sizeof msg), VI_ODE_ERR_ARGS, "%s", cases[i].want);
+        cr_assert_str_eq(msg, cases[i].want);
+    }
+    /* the ends of the rules */
+    vi_ode_problem e = ok;
+    e.n = 1, e.ng = 0, e.guards = NULL, e.rtol = 1e-300, e.guard_samples = VI_ODE_MAX_SAMPLES;
+    cr_assert_eq(vi_ode_check(&e, msg, sizeof msg), VI_ODE_OK, "%s", msg);
+    e = ok;
+    e.n = VI_ODE_MAX_N, e.atol[2] = e.atol[3] = 1e-300, e.ng = VI_ODE_MAX_G, e.rtol = nextafter(1.0, 0.0);
+    cr_assert_eq(vi_ode_check(&e, msg, sizeof msg), VI_ODE_OK, "%s", msg);
+}
+
+static void huge_rate(double t, const double *x, double *dx, void *u)
+{
+    (void)t, (void)x, (void)u;
+    dx[0] = 1e306;
+}
+
+Test(failures, a_step_that_overflows_the_state_is_rejected)
+{
+    /* x' = 1e306 from 0 with h0 = 1000 given: x(1000) and x(200) overflow (the error estimate, scaled
+     * by rtol |x1| = inf, comes out 0 and finite), so both attempts are rejected and the step is taken
+     * with h = 40, x = 4e307. */
+    vi_ode_problem p = {.n = 1, .rhs = huge_rate, .rtol = 1e-3, .atol = {1.0}};
+    vi_ode s;
+    double x0[1] = {0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 1000.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, INFINITY), VI_ODE_OK);
+    cr_assert(s.st.rejected == 2 && s.t == 1000.0 * 0.2 * 0.2, "rejected %ld, t %.17g", s.st.rejected, s.t);
+    cr_assert(isfinite(s.x[0]) && fabs(s.x[0] - 4e307) <= 1e-12 * 4e307, "x %g", s.x[0]);
+}
+
+Test(state, max_step_bounds_fixed_steps_and_a_tightened_problem)
+{
+    /* max_step holds over h_fixed (0.3 fixed, 0.1 at most: steps of 0.1) and over a step size
+     * proposed under a looser problem (a state started without max_step, stepped with 0.05). */
+    vi_ode_problem p = {.n = 2, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6}, .h_fixed = 0.3, .max_step = 0.1};
+    vi_ode s;
+    double x0[2] = {1.0, 0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    for (int k = 0; k < 3; k++) {
+        cr_assert_eq(vi_ode_step(&s, &p, INFINITY), VI_ODE_OK);
+        cr_assert(s.t - s.t_old <= 0.1 && s.t - s.t_old >= 0.1 * (1 - 1e-15), "step %d: %.17g", k, s.t - s.t_old);
+    }
+    vi_ode_problem loose = {.n = 2, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6}};
+    cr_assert_eq(vi_ode_init(&s, &loose, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &loose, INFINITY), VI_ODE_OK);
+    cr_assert(s.h > 0.05, "proposed %g", s.h);
+    loose.max_step = 0.05;
+    cr_assert_eq(vi_ode_step(&s, &loose, INFINITY), VI_ODE_OK);
+    cr_assert(s.t - s.t_old <= 0.05, "step %.17g", s.t - s.t_old);
+}
+
+Test(failures, a_retry_at_exactly_h_min_is_taken)
+{
+    /* The first attempt (h0 = 0.1 given) fails on a NaN stage and h shrinks by FAC_MIN = 0.2; the
+     * retry is made when h is not below h_min (h_min = 0.02 exactly: the step is taken) and refused
+     * when it is (h_min one ulp above: VI_ODE_ERR_NONFINITE, the state kept). */
+    for (int above = 0; above < 2; above++) {
+        vi_ode_problem p = {.n = 1, .rhs = nan_on_one_call, .rtol = 1e-8, .atol = {1e-9}};
+        p.h_min = above ? nextafter(0.1 * 0.2, 1.0) : 0.1 * 0.2;
+        vi_ode s;
+        double x0[1] = {1.0};
+        calls_until_nan = 2; /* the second stage of the first attempt */
+        cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.1, 0u), VI_ODE_OK);
+        int r = vi_ode_step(&s, &p, INFINITY);
+        if (above) {
+            cr_assert(r == VI_ODE_ERR_NONFINITE && s.t == 0.0 && s.st.rejected == 1, "r %d", r);
+        } else {
+            cr_assert(r == VI_ODE_OK && s.t == 0.1 * 0.2 && s.st.rejected == 1, "r %d t %.17g", r, s.t);
+        }
     }
 }
 
