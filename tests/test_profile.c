@@ -248,6 +248,118 @@ Test(profile, kinks_are_two_point_contacts, .timeout = 60)
     }
 }
 
+/* A small random table for the tests below: n rows, spacing from 1 % to 3 R, heights spanning at most
+ * 0.4 r (no step the body cannot roll over); on a grid (x multiples of r/8, h of r/64: exact ties
+ * between pieces, equal flanks, flat runs) when grid is set; h[n-1] = h[0] when periodic. */
+static void small_table(double *x, double *h, size_t n, double r, int grid, int periodic)
+{
+    double dx = r * (0.01 + 3.0 * rand() / RAND_MAX), amp = 0.2 * r * rand() / RAND_MAX;
+    x[0] = grid ? 0.125 * r * (rand() % 9 - 4) : r * (2.0 * rand() / RAND_MAX - 1.0);
+    for (size_t i = 0; i < n; i++) {
+        if (i) x[i] = grid ? x[i - 1] + 0.125 * r * (1 + rand() % 12) : x[i - 1] + dx * (0.05 + 1.9 * rand() / RAND_MAX);
+        h[i] = grid ? r / 64.0 * (rand() % 13 - 6) : amp * (2.0 * rand() / RAND_MAX - 1.0);
+        if (i && rand() % 5 == 0) h[i] = h[i - 1]; /* a flat segment */
+    }
+    if (periodic) h[n - 1] = h[0];
+}
+
+/* Many small tables (2 to 8 rows, open and periodic, on a grid and not) against the definition: yb
+ * at the rows, just beside them and between them; yb' against the slopes where the body touches
+ * (within the two contacts' slopes at a kink) and against a central difference of yb, yb'' and yb'''
+ * against central differences of yb' and yb''; every kink reported a slope jump, and no slope jump
+ * between kinks; the largest |yb'| and the height span. */
+Test(profile, small_random_tables_match_the_definition, .timeout = 60)
+{
+    srand(31337);
+    enum { NMAX = 8, COPIES = 40 };
+    static double xu[COPIES * NMAX], hu[COPIES * NMAX];
+    int checked = 0;
+    for (int t = 0; t < 1200; t++) {
+        size_t n = 2 + (size_t)(rand() % (NMAX - 1));
+        int grid = t % 2, periodic = t % 3 == 2;
+        if (periodic && n < 3) n = 3;
+        double r = grid ? 1.0 : 0.05 + rand() % 100 / 100.0, x[NMAX], h[NMAX];
+        small_table(x, h, n, r, grid, periodic);
+        char msg[512];
+        vi_profile *p = vi_profile_create(x, h, n, r, periodic, "small", msg, sizeof msg);
+        cr_assert(p != NULL, "table %d: %s", t, msg);
+        /* the table the definition is evaluated on: a periodic one unrolled over the body's reach */
+        double L = x[n - 1] - x[0];
+        size_t nu = n;
+        if (periodic && L < 0.25 * r) { /* copies enough; the short periods have their own test */
+            vi_profile_free(p);
+            continue;
+        }
+        if (periodic) {
+            int reach = (int)ceil(r / L) + 1;
+            cr_assert(2 * reach + 1 <= COPIES, "table %d: period %g", t, L);
+            nu = 0;
+            for (int k = -reach; k <= reach; k++)
+                for (size_t i = (k == -reach ? 0 : 1); i < n; i++) xu[nu] = x[i] + k * L, hu[nu] = h[i], nu++;
+        } else {
+            memcpy(xu, x, n * sizeof *x), memcpy(hu, h, n * sizeof *h);
+        }
+        double hlo = h[0], hhi = h[0];
+        for (size_t i = 0; i < n; i++) hlo = fmin(hlo, h[i]), hhi = fmax(hhi, h[i]);
+        cr_assert(vi_profile_height_span(p) == hhi - hlo, "table %d: span %.17g", t, vi_profile_height_span(p));
+        cr_assert(vi_profile_periodic(p) == periodic && vi_profile_x_first(p) == x[0] && vi_profile_x_last(p) == x[n - 1]);
+        double tol = 1e-12 * r, smax = 0.0;
+        int pts = 64;
+        for (int k = 0; k <= pts + 3 * (int)n; k++) {
+            double at;
+            if (k <= pts) at = x[0] + L * k / pts;
+            else {
+                size_t i = (size_t)(k - pts - 1) / 3;
+                int side = (k - pts - 1) % 3;
+                at = x[i] + (side == 0 ? 0.0 : side == 1 ? -1e-3 * r : 1e-3 * r);
+                if (!periodic && (at < x[0] || at > x[n - 1])) continue;
+            }
+            double y[4], ref = brute(xu, hu, nu, r, at), lo, hi;
+            vi_profile_eval(p, at, y);
+            cr_assert(fabs(y[0] - ref) <= tol, "table %d (n %zu, r %g, %s) x %.17g: yb %.17g, by the definition %.17g", t,
+                      n, r, periodic ? "periodic" : "open", at, y[0], ref);
+            contact_slopes(xu, hu, nu, r, at, 1e-13 * r, &lo, &hi);
+            cr_assert(y[1] >= lo - 1e-9 && y[1] <= hi + 1e-9, "table %d x %.17g: yb' %.17g, contact slopes %.17g..%.17g", t,
+                      at, y[1], lo, hi);
+            /* on a vertex circle yb'' = -(1 + yb'^2)^(3/2)/r and yb''' = -3 yb' yb'' sqrt(1 + yb'^2)/r; on a tangent both 0 */
+            double c2 = -pow(1.0 + y[1] * y[1], 1.5) / r, c3 = -3.0 * y[1] * c2 * sqrt(1.0 + y[1] * y[1]) / r;
+            cr_assert((y[2] == 0.0 && y[3] == 0.0) ||
+                          (fabs(y[2] - c2) <= 1e-9 * fabs(c2) && fabs(y[3] - c3) <= 1e-9 * fabs(c2) * (1.0 + fabs(y[1])) / r),
+                      "table %d x %.17g: yb' %.17g, yb'' %.17g, yb''' %.17g", t, at, y[1], y[2], y[3]);
+            smax = fmax(smax, fabs(y[1]));
+            checked++;
+        }
+        /* the largest |yb'| is taken at a boundary of the pieces: at least the sampled one, and the
+         * samples 1/64 of the table apart come within the curvature allowance of it */
+        double S = vi_profile_max_slope(p);
+        cr_assert(S >= smax - 1e-12 && S <= smax + L / pts * pow(1.0 + S * S, 1.5) / r + 1e-12,
+                  "table %d: max slope %.17g, sampled %.17g", t, S, smax);
+        /* kinks (one period of a periodic table, from just before its first row): the slope jumps by
+         * more than VI_PROFILE_KINK_SLOPE at each, not between two; each finds the one before it */
+        double a = periodic ? x[0] - 1e-9 * L : x[0], prev = NAN, yl[4], yr[4];
+        size_t walked = 0;
+        for (double at = vi_profile_next_kink(p, a, 1); at < x[n - 1]; at = vi_profile_next_kink(p, at, 1)) {
+            double e = 1e-12 * (1.0 + fabs(at)); /* a periodic table's positions are reduced to some ulps */
+            vi_profile_eval(p, at - e, yl);
+            vi_profile_eval(p, at + e, yr);
+            cr_assert(fabs(yr[1] - yl[1]) > 0.5 * VI_PROFILE_KINK_SLOPE, "table %d: no slope jump at the kink %.17g (%g)", t, at,
+                      yr[1] - yl[1]);
+            cr_assert(slope_jump(p, r, a + 1e-12, at - 1e-12, 200) <= 0.0, "table %d: a slope jump in %.17g..%.17g", t, a, at);
+            double before = vi_profile_next_kink(p, at, -1);
+            if (walked) cr_assert(before == prev, "table %d: the kink before %.17g is %.17g, not %.17g", t, at, before, prev);
+            else if (!periodic) cr_assert(before == -INFINITY, "table %d: a kink %.17g before the first", t, before);
+            else cr_assert(before < at && before >= at - L * (1.0 + 1e-12), "table %d: %.17g before %.17g", t, before, at);
+            prev = at, a = at, walked++;
+            cr_assert(walked <= 2 * NMAX);
+        }
+        if (!walked) cr_assert(vi_profile_next_kink(p, a, -1) == -INFINITY && vi_profile_next_kink(p, a, 1) == INFINITY);
+        cr_assert(slope_jump(p, r, a + 1e-12, x[n - 1] - 1e-12, 200) <= 0.0, "table %d: a slope jump after %.17g", t, a);
+        cr_assert(walked == vi_profile_kinks(p), "table %d: %zu kinks walked, %zu counted", t, walked, vi_profile_kinks(p));
+        vi_profile_free(p);
+    }
+    cr_assert(checked > 50000);
+}
+
 /* A periodic table starting at x0: its period is x_last - x_first = L wherever it starts. */
 static void periodic_profile_repeats_from(double x0)
 {
