@@ -530,6 +530,125 @@ Test(profile, numbers_are_read_as_strtod_reads_them, .timeout = 60)
     cr_assert(first_bad[0] == '\0', "%s", first_bad);
 }
 
+/* A random decimal string (sign, leading zeros, up to 40 digits with or without a point, '.5' and '5.'
+ * forms, an exponent with e or E, its sign and leading zeros), a printed double (%.17g, %.*e, %a) or
+ * an exact binary midpoint printed in full. */
+static void random_number(char *out, size_t size)
+{
+    int form = rand() % 6;
+    if (form == 4) {
+        double v = ldexp(1.0 + rand() % 1000, -(rand() % 80)) * pow(10.0, -(rand() % 5));
+        int k = rand() % 3;
+        if (k == 0) snprintf(out, size, "%.17g", v);
+        else if (k == 1) snprintf(out, size, "%.*e", rand() % 25, v);
+        else snprintf(out, size, "%a", v);
+        return;
+    }
+    if (form == 5) {
+        snprintf(out, size, "%.60g", ldexp((double)(rand() % (1 << 30)) * (1 << 23) + 0.5, -40 - rand() % 40));
+        return;
+    }
+    char *o = out;
+    const char *sign = rand() % 3 == 0 ? "-" : rand() % 4 == 0 ? "+" : "";
+    o += sprintf(o, "%s", sign);
+    for (int z = rand() % 3 == 0 ? rand() % 4 : 0; z > 0; z--) *o++ = '0';
+    int nd = rand() % 4 == 0 ? 17 + rand() % 24 : 1 + rand() % 16, dot = rand() % (nd + 2) - 1; /* -1: no point */
+    int lead = rand() % 3 == 0 ? rand() % 6 : 0; /* zeros right after the point */
+    for (int d = 0; d <= nd; d++) {
+        if (d == dot) {
+            *o++ = '.';
+            for (int z = 0; z < lead; z++) *o++ = '0';
+        }
+        if (d < nd) *o++ = (char)('0' + (d == 0 && form != 3 ? 1 + rand() % 9 : rand() % 10));
+    }
+    int ints = dot < 0 ? nd : dot; /* digits before the point: the exponent keeps the value below 1 */
+    if (form <= 2 || ints > 0) {
+        int e = -ints - rand() % 12 - (form == 2 ? 20 : 0);
+        char ech = rand() % 2 ? 'e' : 'E';
+        if (e >= 0 && rand() % 2) o += sprintf(o, "%c+%0*d", ech, 1 + rand() % 3, e);
+        else if (e < 0) o += sprintf(o, "%c-%0*d", ech, 1 + rand() % 3, -e);
+        else o += sprintf(o, "%c%d", ech, e);
+    }
+    *o = '\0';
+    cr_assert((size_t)(o - out) < size);
+}
+
+/* Thousands of numbers of every form in one file, read as strtod reads them (the value to the bit):
+ * each is the height of a plateau 2 m wide (three rows), 10 m from the next, where yb is the height
+ * exactly; the rows' positions are written in other forms of the same integers (signs, leading
+ * zeros, a point, exponents, hexadecimal), the separators are blanks, tabs, commas and semicolons,
+ * with comments, blank lines and Windows line ends between. */
+Test(profile, numbers_of_every_form_are_read_as_strtod_reads_them)
+{
+    enum { K = 4000 };
+    static double want[K];
+    static char text[K * 3 * 120];
+    srand(777);
+    char *o = text, num[96];
+    const char *sep[] = {" ", "\t", ",", ";", " , ", "\t; ", "  "};
+    const char *end[] = {"\n", "\r\n", " \n", "\t\r\n"};
+    int k = 0;
+    while (k < K) {
+        random_number(num, sizeof num);
+        double v = strtod(num, NULL);
+        if (!(fabs(v) < 0.2)) continue;
+        want[k] = v;
+        for (int row = -1; row <= 1; row++) {
+            long xi = 10L * (k + 1) + row;
+            int f = rand() % 8;
+            if (f == 0) o += sprintf(o, "%ld", xi);
+            else if (f == 1) o += sprintf(o, "+%ld.", xi);
+            else if (f == 2) o += sprintf(o, "000%ld.000", xi);
+            else if (f == 3) o += sprintf(o, "%ld000e-3", xi);
+            else if (f == 4) o += sprintf(o, "%.6E", (double)xi);
+            else if (f == 5) o += sprintf(o, "0x%lx", xi);
+            else if (f == 6) o += sprintf(o, "0.%ldE%d", xi, xi < 10 ? 1 : xi < 100 ? 2 : xi < 1000 ? 3 : xi < 10000 ? 4 : 5);
+            else o += sprintf(o, "%ld.0e+0", xi);
+            o += sprintf(o, "%s%s%s", sep[rand() % 7], num, end[rand() % 4]);
+        }
+        if (rand() % 10 == 0) o += sprintf(o, rand() % 2 ? "# %s\n" : "\n  \t\n", num);
+        k++;
+    }
+    *o = '\0';
+    char msg[512];
+    vi_profile *p = vi_profile_load(write_file(text), R, 0, msg, sizeof msg);
+    cr_assert(p != NULL, "%s", msg);
+    cr_assert(vi_profile_x_first(p) == 9.0 && vi_profile_x_last(p) == 10.0 * K + 1.0);
+    for (k = 0; k < K; k++) {
+        double got = yb(p, 10.0 * (k + 1));
+        if (got != want[k]) {
+            /* the row of the number, for the message */
+            char *line = text;
+            for (int skip = 0; skip < 3 * k; skip++) line = strchr(line, '\n') + 1;
+            cr_assert(0, "number %d: read %.17g, strtod %.17g (%.80s)", k, got, want[k], line);
+        }
+    }
+    vi_profile_free(p);
+    remove(write_file(""));
+    /* exponents beyond the exact conversion's (strtod's), as the last or first x: 1e28 and more, and
+     * exponents of more digits than an int holds (2^32 + 1: infinite, refused; 2^32: a height of 0) */
+    struct { const char *text; double first, last; } big[] = {
+        {"0 0\n1e28 0\n", 0.0, 1e28},
+        {"0 0\n123456789012345678e30 0\n", 0.0, 123456789012345678e30},
+        {"-5.5E+40 0\n0 0\n", -5.5e40, 0.0},
+        {"0 0\n0.000000000000000000000000000000000000001e66 0\n", 0.0, 1e27},
+    };
+    for (size_t i = 0; i < sizeof big / sizeof big[0]; i++) {
+        p = vi_profile_load(write_file(big[i].text), R, 0, msg, sizeof msg);
+        cr_assert(p != NULL, "%s: %s", big[i].text, msg);
+        cr_assert(vi_profile_x_first(p) == big[i].first && vi_profile_x_last(p) == big[i].last, "%s: %.17g %.17g",
+                  big[i].text, vi_profile_x_first(p), vi_profile_x_last(p));
+        vi_profile_free(p);
+    }
+    cr_assert(vi_profile_load(write_file("0 0\n1e4294967297 0\n"), R, 0, msg, sizeof msg) == NULL);
+    cr_assert(strstr(msg, "line 2: x = inf, h = 0 are not finite"), "%s", msg);
+    p = vi_profile_load(write_file("0 1e-4294967296\n1 0\n"), R, 0, msg, sizeof msg);
+    cr_assert(p != NULL, "%s", msg);
+    cr_assert(yb(p, 0.0) == 0.0 && yb(p, 1.0) == 0.0);
+    vi_profile_free(p);
+    remove(write_file(""));
+}
+
 /* The ends of the exact conversion, as strtod reads them: mantissas of 15 to 21 digits (19 is the most
  * the exact conversion takes; 20 and more overflow 64 bits) with decimal exponents from -30 to -nd
  * (past -27 the conversion is strtod's; at -27 the exact quotient has 64 to 65 bits), written as
