@@ -410,6 +410,30 @@ Test(profile, periodic_profile_repeats) { periodic_profile_repeats_from(0.0); }
 /* a table that starts at x0 = 0.37 m (1.85 periods: no whole number of them) */
 Test(profile, periodic_profile_repeats_from_its_first_row) { periodic_profile_repeats_from(0.37); }
 
+/* A periodic V trough whose bottom is the seam (first and last row, slopes +-s): the body bridges it,
+ * yb = s |x - seam| + R (sqrt(1 + s^2) - 1) near it, and the kink is at the first row. There, and one
+ * period on, yb' is the right-hand slope +s. The table runs from -0.5 to 0.09: x_first + (x_last -
+ * x_first) rounds below x_last, so a position that wraps to exactly one period must still be taken as
+ * the first row. */
+Test(profile, periodic_seam_is_the_first_row)
+{
+    double x[] = {-0.5, -0.3, -0.11, 0.09}, h[] = {0.0, 0.01, 0.01, 0.0}, L = 0.09 - -0.5, y[4];
+    cr_assert(-0.5 + L < 0.09);
+    vi_profile *p = make(x, h, 4, R, 1);
+    double s = 0.01 / 0.2, lift = R * (sqrt(1.0 + s * s) - 1.0);
+    cr_assert(vi_profile_kinks(p) == 1 && vi_profile_next_kink(p, -0.5 - 1e-9, 1) == -0.5);
+    const double at[] = {-0.5, 0.09, -0.5 + L, -0.5 - L, -0.5 + 3.0 * L};
+    for (size_t i = 0; i < sizeof at / sizeof at[0]; i++) {
+        cr_assert(vi_profile_eval(p, at[i], y) == 0);
+        cr_assert(fabs(y[0] - lift) <= 1e-15 && fabs(y[1] - s) <= 1e-15, "x %.17g: yb %.17g, yb' %.17g", at[i], y[0], y[1]);
+    }
+    vi_profile_eval(p, -0.5 + 1e-3, y); /* the rising flank */
+    cr_assert(fabs(y[0] - (lift + 1e-3 * s)) <= 1e-15 && fabs(y[1] - s) <= 1e-15);
+    vi_profile_eval(p, 0.09 - 1e-3, y); /* the falling flank before the seam */
+    cr_assert(fabs(y[0] - (lift + 1e-3 * 0.01 / 0.2)) <= 1e-15 && fabs(y[1] + 0.01 / 0.2) <= 1e-15, "%.17g %.17g", y[0], y[1]);
+    vi_profile_free(p);
+}
+
 Test(profile, outside_the_table)
 {
     double x[] = {0.0, 1.0}, h[] = {0.0, 0.0}, y[4];
@@ -810,6 +834,11 @@ Test(profile, non_finite_rows_are_refused_naming_the_table_and_row)
     h[1] = 0.0;
     cr_assert(vi_profile_create(xi, h, 3, R, 0, NULL, msg, sizeof msg) == NULL);
     cr_assert(strncmp(msg, "profile, row 3:", 15) == 0 && strstr(msg, "are not finite"), "%s", msg);
+    double x1[] = {NAN, 0.5, 1.0}, h1[] = {0.0, 0.0, INFINITY}; /* the first row, and the last height */
+    cr_assert(vi_profile_create(x1, h, 3, R, 0, "table B", msg, sizeof msg) == NULL);
+    cr_assert(strstr(msg, "table B, row 1: x = nan, h = 0 are not finite"), "%s", msg);
+    cr_assert(vi_profile_create(x, h1, 3, R, 0, "table B", msg, sizeof msg) == NULL);
+    cr_assert(strstr(msg, "table B, row 3: x = 1, h = inf are not finite"), "%s", msg);
     vi_profile *p = vi_profile_create(x, h, 3, R, 0, "table A", msg, sizeof msg);
     cr_assert(p != NULL, "%s", msg);
     vi_profile_free(p);
