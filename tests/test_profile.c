@@ -410,28 +410,39 @@ Test(profile, periodic_profile_repeats) { periodic_profile_repeats_from(0.0); }
 /* a table that starts at x0 = 0.37 m (1.85 periods: no whole number of them) */
 Test(profile, periodic_profile_repeats_from_its_first_row) { periodic_profile_repeats_from(0.37); }
 
-/* A periodic V trough whose bottom is the seam (first and last row, slopes +-s): the body bridges it,
- * yb = s |x - seam| + R (sqrt(1 + s^2) - 1) near it, and the kink is at the first row. There, and one
- * period on, yb' is the right-hand slope +s. The table runs from -0.5 to 0.09: x_first + (x_last -
- * x_first) rounds below x_last, so a position that wraps to exactly one period must still be taken as
- * the first row. */
+/* A periodic V trough whose bottom is the seam (first and last row, flank slopes +-s): the body
+ * bridges it, yb = h_0 + s |x - seam| + r (sqrt(1 + s^2) - 1) near it, with the kink at the first row.
+ * There, and one period on, yb' is the right-hand slope +s. Two tables: from -0.5 to 0.09, where
+ * x_first + (x_last - x_first) rounds below x_last (a position that wraps to exactly one period must
+ * still be taken as the first row); and a trapezoid on a grid, where the flanks' tangents cross
+ * exactly at the seam (the crossing is found by bisection there: the closed form puts it a rounding
+ * below the bracket). */
 Test(profile, periodic_seam_is_the_first_row)
 {
-    double x[] = {-0.5, -0.3, -0.11, 0.09}, h[] = {0.0, 0.01, 0.01, 0.0}, L = 0.09 - -0.5, y[4];
-    cr_assert(-0.5 + L < 0.09);
-    vi_profile *p = make(x, h, 4, R, 1);
-    double s = 0.01 / 0.2, lift = R * (sqrt(1.0 + s * s) - 1.0);
-    cr_assert(vi_profile_kinks(p) == 1 && vi_profile_next_kink(p, -0.5 - 1e-9, 1) == -0.5);
-    const double at[] = {-0.5, 0.09, -0.5 + L, -0.5 - L, -0.5 + 3.0 * L};
-    for (size_t i = 0; i < sizeof at / sizeof at[0]; i++) {
-        cr_assert(vi_profile_eval(p, at[i], y) == 0);
-        cr_assert(fabs(y[0] - lift) <= 1e-15 && fabs(y[1] - s) <= 1e-15, "x %.17g: yb %.17g, yb' %.17g", at[i], y[0], y[1]);
+    struct { double x[4], h[4], r; } tables[] = {{{-0.5, -0.3, -0.11, 0.09}, {0.0, 0.01, 0.01, 0.0}, R},
+                                                 {{0.0, 1.0, 1.875, 2.875}, {0.0625, 0.09375, 0.09375, 0.0625}, 1.0}};
+    for (int k = 0; k < 2; k++) {
+        const double *x = tables[k].x, *h = tables[k].h, r = tables[k].r;
+        double lo = x[0], L = x[3] - x[0], s = (h[1] - h[0]) / (x[1] - x[0]), lift = r * (sqrt(1.0 + s * s) - 1.0), y[4];
+        if (k == 0) cr_assert(lo + L < x[3]);
+        vi_profile *p = make(x, h, 4, r, 1);
+        double kink = vi_profile_next_kink(p, lo - 1e-9, 1); /* at the first row (the second table: to the last bit) */
+        cr_assert(vi_profile_kinks(p) == 1 && (k == 0 ? kink == lo : fabs(kink - lo) <= DBL_MIN), "table %d: %.17g", k, kink);
+        const double at[] = {lo, x[3], lo + L, lo - L, lo + 3.0 * L};
+        for (size_t i = 0; i < sizeof at / sizeof at[0]; i++) {
+            cr_assert(vi_profile_eval(p, at[i], y) == 0);
+            /* the second table's kink lies a denormal after the first row: the slope there is either flank's */
+            cr_assert(fabs(y[0] - (h[0] + lift)) <= 1e-15 && fabs((k == 0 ? y[1] : fabs(y[1])) - s) <= 1e-15,
+                      "table %d x %.17g: yb %.17g, yb' %.17g", k, at[i], y[0], y[1]);
+        }
+        for (int i = -100; i <= 100; i++) { /* both flanks, 0.1 r either side of the seam */
+            double d = 1e-3 * r * i;
+            vi_profile_eval(p, lo + d, y);
+            cr_assert(fabs(y[0] - (h[0] + fabs(d) * s + lift)) <= 1e-15 && (i == 0 || fabs(y[1] - (d > 0 ? s : -s)) <= 1e-15),
+                      "table %d x %.17g: yb %.17g, yb' %.17g", k, lo + d, y[0], y[1]);
+        }
+        vi_profile_free(p);
     }
-    vi_profile_eval(p, -0.5 + 1e-3, y); /* the rising flank */
-    cr_assert(fabs(y[0] - (lift + 1e-3 * s)) <= 1e-15 && fabs(y[1] - s) <= 1e-15);
-    vi_profile_eval(p, 0.09 - 1e-3, y); /* the falling flank before the seam */
-    cr_assert(fabs(y[0] - (lift + 1e-3 * 0.01 / 0.2)) <= 1e-15 && fabs(y[1] + 0.01 / 0.2) <= 1e-15, "%.17g %.17g", y[0], y[1]);
-    vi_profile_free(p);
 }
 
 Test(profile, outside_the_table)
