@@ -336,7 +336,7 @@ Test(profile, small_random_tables_match_the_definition, .timeout = 60)
                   "table %d: max slope %.17g, sampled %.17g", t, S, smax);
         /* kinks (one period of a periodic table, from just before its first row): the slope jumps by
          * more than VI_PROFILE_KINK_SLOPE at each, not between two; each finds the one before it */
-        double a = periodic ? x[0] - 1e-9 * L : x[0], prev = NAN, yl[4], yr[4];
+        double a = periodic ? x[0] - 1e-9 * L : x[0], prev = NAN, yl[4], yr[4], first = NAN, first_before = NAN;
         size_t walked = 0;
         for (double at = vi_profile_next_kink(p, a, 1); at < x[n - 1]; at = vi_profile_next_kink(p, at, 1)) {
             double e = 1e-12 * (1.0 + fabs(at)); /* a periodic table's positions are reduced to some ulps */
@@ -348,13 +348,19 @@ Test(profile, small_random_tables_match_the_definition, .timeout = 60)
             double before = vi_profile_next_kink(p, at, -1);
             if (walked) cr_assert(before == prev, "table %d: the kink before %.17g is %.17g, not %.17g", t, at, before, prev);
             else if (!periodic) cr_assert(before == -INFINITY, "table %d: a kink %.17g before the first", t, before);
-            else cr_assert(before < at && before >= at - L * (1.0 + 1e-12), "table %d: %.17g before %.17g", t, before, at);
+            else first = at, first_before = before;
             prev = at, a = at, walked++;
             cr_assert(walked <= 2 * NMAX);
         }
         if (!walked) cr_assert(vi_profile_next_kink(p, a, -1) == -INFINITY && vi_profile_next_kink(p, a, 1) == INFINITY);
         cr_assert(slope_jump(p, r, a + 1e-12, x[n - 1] - 1e-12, 200) <= 0.0, "table %d: a slope jump after %.17g", t, a);
         cr_assert(walked == vi_profile_kinks(p), "table %d: %zu kinks walked, %zu counted", t, walked, vi_profile_kinks(p));
+        if (periodic && walked) { /* the kinks of the periods before and after */
+            double after = vi_profile_next_kink(p, prev, 1);
+            cr_assert(fabs(first_before - (prev - L)) <= 1e-12 * (1.0 + fabs(prev)) && fabs(after - (first + L)) <= 1e-12 * (1.0 + fabs(first)),
+                      "table %d: kinks %.17g .. %.17g, before the first %.17g, after the last %.17g", t, first, prev,
+                      first_before, after);
+        }
         vi_profile_free(p);
     }
     cr_assert(checked > 50000);
@@ -414,21 +420,25 @@ Test(profile, periodic_profile_repeats_from_its_first_row) { periodic_profile_re
  * bridges it, yb = h_0 + s |x - seam| + r (sqrt(1 + s^2) - 1) near it, with the kink at the first row.
  * There, and one period on, yb' is the right-hand slope +s. Two tables: from -0.5 to 0.09, where
  * x_first + (x_last - x_first) rounds below x_last (a position that wraps to exactly one period must
- * still be taken as the first row); and a trapezoid on a grid, where the flanks' tangents cross
- * exactly at the seam (the crossing is found by bisection there: the closed form puts it a rounding
- * below the bracket). */
+ * still be taken as the first row); and a trapezoid and a triangle on a grid, where the flanks'
+ * tangents cross exactly at the seam (at 0 and at -0.5: the crossing is found by bisection there,
+ * the closed form puts it a rounding outside the bracket). */
 Test(profile, periodic_seam_is_the_first_row)
 {
-    struct { double x[4], h[4], r; } tables[] = {{{-0.5, -0.3, -0.11, 0.09}, {0.0, 0.01, 0.01, 0.0}, R},
-                                                 {{0.0, 1.0, 1.875, 2.875}, {0.0625, 0.09375, 0.09375, 0.0625}, 1.0}};
-    for (int k = 0; k < 2; k++) {
+    struct { double x[4], h[4], r; size_t n; } tables[] = {
+        {{-0.5, -0.3, -0.11, 0.09}, {0.0, 0.01, 0.01, 0.0}, R, 4},
+        {{0.0, 1.0, 1.875, 2.875}, {0.0625, 0.09375, 0.09375, 0.0625}, 1.0, 4},
+        {{-0.5, 0.5, 1.5}, {-0.375, -0.078125, -0.375}, 1.0, 3}};
+    for (int k = 0; k < 3; k++) {
         const double *x = tables[k].x, *h = tables[k].h, r = tables[k].r;
-        double lo = x[0], L = x[3] - x[0], s = (h[1] - h[0]) / (x[1] - x[0]), lift = r * (sqrt(1.0 + s * s) - 1.0), y[4];
-        if (k == 0) cr_assert(lo + L < x[3]);
-        vi_profile *p = make(x, h, 4, r, 1);
-        double kink = vi_profile_next_kink(p, lo - 1e-9, 1); /* at the first row (the second table: to the last bit) */
-        cr_assert(vi_profile_kinks(p) == 1 && (k == 0 ? kink == lo : fabs(kink - lo) <= DBL_MIN), "table %d: %.17g", k, kink);
-        const double at[] = {lo, x[3], lo + L, lo - L, lo + 3.0 * L};
+        size_t n = tables[k].n;
+        double lo = x[0], L = x[n - 1] - x[0], s = (h[1] - h[0]) / (x[1] - x[0]), lift = r * (sqrt(1.0 + s * s) - 1.0), y[4];
+        if (k == 0) cr_assert(lo + L < x[n - 1]);
+        vi_profile *p = make(x, h, n, r, 1);
+        double kink = vi_profile_next_kink(p, lo - 1e-9, 1); /* at the first row (the others: to the last bit) */
+        cr_assert(vi_profile_kinks(p) == 1 && (k == 0 ? kink == lo : fabs(kink - lo) <= 2.0 * DBL_EPSILON * fabs(lo) + DBL_MIN),
+                  "table %d: %.17g", k, kink);
+        const double at[] = {lo, x[n - 1], lo + L, lo - L, lo + 3.0 * L};
         for (size_t i = 0; i < sizeof at / sizeof at[0]; i++) {
             cr_assert(vi_profile_eval(p, at[i], y) == 0);
             /* the second table's kink lies a denormal after the first row: the slope there is either flank's */
