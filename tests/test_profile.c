@@ -455,6 +455,50 @@ Test(profile, periodic_seam_is_the_first_row)
     }
 }
 
+/* vi_profile_next_kink takes a kink within 8 DBL_EPSILON (|x| + period) of x as the one at x (positions
+ * of other periods are rounded) and steps over it: at exactly that distance before (after) the kink it
+ * is skipped, one double further it is found. A V trough with its kink at 1, open, periodic, and
+ * periodic with a period of 1000 m (the window is then some thousand doubles wide); x not finite
+ * finds none. */
+Test(profile, a_kink_within_rounding_of_x_is_the_one_at_x)
+{
+    double x[] = {0.0, 1.0, 2.0, 1000.0}, h[] = {0.05, 0.0, 0.05, 0.05};
+    for (int c = 0; c < 3; c++) {
+        size_t n = c < 2 ? 3 : 4;
+        int periodic = c > 0;
+        vi_profile *p = make(x, h, n, R, periodic);
+        double P = periodic ? x[n - 1] : 0.0, k = vi_profile_next_kink(p, 0.5, 1);
+        cr_assert(fabs(k - 1.0) <= 1e-15 && vi_profile_kinks(p) == 1, "%.17g", k);
+        double after = periodic ? k + P : INFINITY, before = periodic ? k - P : -INFINITY;
+        int found_up = 0, found_down = 0;
+        double up = k - 8.0 * DBL_EPSILON * (fabs(k) + P), down = k + 8.0 * DBL_EPSILON * (fabs(k) + P);
+        for (int i = 0; i < 64; i++) up = nextafter(up, -INFINITY), down = nextafter(down, INFINITY);
+        for (int i = 0; i < 128; i++, up = nextafter(up, INFINITY), down = nextafter(down, -INFINITY)) {
+            if (up + 8.0 * DBL_EPSILON * (fabs(up) + P) == k) { /* the farthest x before k whose window reaches k */
+                double out = nextafter(up, -INFINITY);
+                if (out + 8.0 * DBL_EPSILON * (fabs(out) + P) < k) {
+                    found_up++;
+                    cr_assert(vi_profile_next_kink(p, up, 1) == after, "x %.17g: %.17g", up, vi_profile_next_kink(p, up, 1));
+                    cr_assert(vi_profile_next_kink(p, out, 1) == k, "x %.17g: %.17g", out, vi_profile_next_kink(p, out, 1));
+                }
+            }
+            if (down - 8.0 * DBL_EPSILON * (fabs(down) + P) == k) {
+                double out = nextafter(down, INFINITY);
+                if (out - 8.0 * DBL_EPSILON * (fabs(out) + P) > k) {
+                    found_down++;
+                    cr_assert(vi_profile_next_kink(p, down, -1) == before, "x %.17g: %.17g", down,
+                              vi_profile_next_kink(p, down, -1));
+                    cr_assert(vi_profile_next_kink(p, out, -1) == k, "x %.17g: %.17g", out, vi_profile_next_kink(p, out, -1));
+                }
+            }
+        }
+        cr_assert(found_up == 1 && found_down == 1, "table %d: %d %d", c, found_up, found_down);
+        cr_assert(vi_profile_next_kink(p, NAN, 1) == INFINITY && vi_profile_next_kink(p, NAN, -1) == -INFINITY);
+        cr_assert(vi_profile_next_kink(p, INFINITY, -1) == -INFINITY && vi_profile_next_kink(p, -INFINITY, 1) == INFINITY);
+        vi_profile_free(p);
+    }
+}
+
 Test(profile, outside_the_table)
 {
     double x[] = {0.0, 1.0}, h[] = {0.0, 0.0}, y[4];
