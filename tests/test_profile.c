@@ -531,6 +531,57 @@ Test(profile, bad_tables_are_refused)
     refused(x, h, 3, 0.0, 0, "R1");
 }
 
+/* Each rule of vi_profile_create alone, with the message naming the table, the rule and its values:
+ * too few rows, a radius that is not positive and finite, equal positions, a periodic table whose
+ * last height differs, a period too short for the body (R1/L + 1 periods each side of 2 rows), a wall
+ * as high as R1 climbed and descended (the vertex circle's edge, vertical, at the corner -+ R1) and a
+ * wall higher than R1 (yb steps at the corner - R1). */
+Test(profile, refusals_name_the_rule_and_its_values)
+{
+    double x[] = {0.0, 1.0, 2.0}, h[] = {0.0, 0.1, 0.0};
+    refused(x, h, 1, R, 0, "bad: 1 rows; a profile needs at least two (x [m], h [m])");
+    refused(x, h, 3, INFINITY, 0, "bad: the rolling radius R1 = inf m must be positive and finite");
+    refused(x, h, 3, NAN, 0, "bad: the rolling radius R1 = nan m must be positive and finite");
+    refused(x, h, 3, -1.0, 0, "bad: the rolling radius R1 = -1 m must be positive and finite");
+    double xe[] = {0.0, 1.0, 1.0};
+    refused(xe, h, 3, R, 0, "bad, row 3: x = 1 is not greater than x = 1 of the row before (x must increase)");
+    double hp[] = {0.0, 0.1, 0.2};
+    refused(x, hp, 3, R, 1, "bad: profile_periodic needs the last height to repeat the first (h = 0.20000000000000001 on row 3, 0 on row 1)");
+    double xs[] = {0.0, 0.5e-7, 1e-7}, hs[] = {0.0, 1e-9, 0.0};
+    refused(xs, hs, 3, R, 1, "bad: the period 1e-07 m is too short for R1 = 0.475 m: the body spans 9500002 periods of 2 rows, "
+                             "more than 10000000 rows in all");
+    double xw[] = {0.0, 1.0, 1.0 + 1e-9, 3.0}, hw[] = {0.0, 0.0, R, R}, xd[] = {0.0, 2.0, 2.0 + 1e-9, 3.0}, hd[] = {R, R, 0.0, 0.0};
+    refused(xw, hw, 4, R, 0, "bad: the profile is too steep for R1 = 0.475 m near x = 0.525 m: the body cannot roll over it");
+    refused(xd, hd, 4, R, 0, "bad: the profile is too steep for R1 = 0.475 m near x = 2.475 m: the body cannot roll over it");
+    double hw2[] = {0.0, 0.0, 1.5 * R, 1.5 * R};
+    refused(xw, hw2, 4, R, 0, "bad: a step of more than R1 = 0.475 m near x = 0.525 m: yb jumps by ");
+    /* just below: a wall of 0.9 R1 is climbed on the circle around its upper corner */
+    double hw3[] = {0.0, 0.0, 0.9 * R, 0.9 * R};
+    vi_profile *p = make(xw, hw3, 4, R, 0);
+    double d = -0.3, expect = 0.9 * R - d * d / (R + sqrt(R * R - d * d));
+    cr_assert(fabs(yb(p, 1.0 + 1e-9 + d) - expect) <= 1e-15, "%.17g vs %.17g", yb(p, 1.0 + 1e-9 + d), expect);
+    vi_profile_free(p);
+}
+
+/* Tables far above or below the datum (heights near +-1000 m, a sub-millimetre relief) are taken as
+ * they are: yb against the definition, the relief bridged as without the offset. */
+Test(profile, tables_far_from_the_datum)
+{
+    srand(11);
+    for (int t = 0; t < 200; t++) {
+        size_t n = 2 + (size_t)(rand() % 7);
+        double off = t % 2 ? 1000.0 : -1000.0, x[8], h[8];
+        small_table(x, h, n, R, t % 4 < 2, 0);
+        for (size_t i = 0; i < n; i++) h[i] += off;
+        vi_profile *p = make(x, h, n, R, 0);
+        for (int k = 0; k <= 40; k++) {
+            double at = x[0] + (x[n - 1] - x[0]) * k / 40.0, ref = brute(x, h, n, R, at);
+            cr_assert(fabs(yb(p, at) - ref) <= 1e-12 * (R + 1000.0), "table %d x %.17g: %.17g vs %.17g", t, at, yb(p, at), ref);
+        }
+        vi_profile_free(p);
+    }
+}
+
 static const char *write_file(const char *text)
 {
     static char path[64];
