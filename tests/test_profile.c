@@ -780,6 +780,20 @@ Test(profile, numbers_of_every_form_are_read_as_strtod_reads_them)
                   big[i].text, vi_profile_x_first(p), vi_profile_x_last(p));
         vi_profile_free(p);
     }
+    /* integers of 54 to 64 bits (and times 10^e), among them exact midpoints between two doubles with
+     * an even and an odd lower neighbour (ties to even), as the last x */
+    for (int i = 0; i < 200; i++) {
+        unsigned long long m = (1ull << 52) + ((unsigned long long)rand() << 20) + (unsigned long long)rand() % (1u << 20);
+        int j = rand() % 11, e = i % 4 == 0 ? rand() % 8 : 0;
+        unsigned long long w = i % 2 ? ((2 * m + 1) << j) : (m << 11) + (unsigned long long)rand();
+        char row[128];
+        snprintf(num, sizeof num, "%llue%d", w, e);
+        snprintf(row, sizeof row, "0 0\n%s 0\n", num);
+        p = vi_profile_load(write_file(row), R, 0, msg, sizeof msg);
+        cr_assert(p != NULL, "%s: %s", row, msg);
+        cr_assert(vi_profile_x_last(p) == strtod(num, NULL), "%s: %.17g, strtod %.17g", num, vi_profile_x_last(p), strtod(num, NULL));
+        vi_profile_free(p);
+    }
     cr_assert(vi_profile_load(write_file("0 0\n1e4294967297 0\n"), R, 0, msg, sizeof msg) == NULL);
     cr_assert(strstr(msg, "line 2: x = inf, h = 0 are not finite"), "%s", msg);
     p = vi_profile_load(write_file("0 1e-4294967296\n1 0\n"), R, 0, msg, sizeof msg);
