@@ -636,6 +636,27 @@ Test(profile, files)
     cr_assert(strstr(msg, "/nonexistent/profile.txt") && strstr(msg, "cannot open"), "%s", msg);
 }
 
+/* Lines that carry no row are skipped wherever they are: indented comments, blank lines of blanks,
+ * tabs and CRLF, a last line of blanks without a newline; a table refused by vi_profile_create is
+ * named by its file; a path that opens but cannot be read (a directory) is refused as a read error. */
+Test(profile, files_skip_blank_and_comment_lines_and_name_the_file)
+{
+    char msg[512];
+    vi_profile *p = vi_profile_load(write_file("  # x h\r\n\r\n0 0\n \t\r\n\t# more\n1 1e-4\n\n2 0\n   "), R, 0, msg, sizeof msg);
+    cr_assert(p != NULL, "%s", msg);
+    cr_assert(vi_profile_x_first(p) == 0.0 && vi_profile_x_last(p) == 2.0 && yb(p, 1.0) == 1e-4);
+    vi_profile_free(p);
+    const char *path = write_file("0 0\n1 0.1\n2 0.2\n");
+    cr_assert(vi_profile_load(path, R, 1, msg, sizeof msg) == NULL);
+    char expect[256];
+    snprintf(expect, sizeof expect, "profile_file '%s': profile_periodic needs the last height to repeat the first (h = "
+             "0.20000000000000001 on row 3, 0 on row 1)", path);
+    cr_assert(strcmp(msg, expect) == 0, "%s", msg);
+    remove(path);
+    cr_assert(vi_profile_load("/", R, 0, msg, sizeof msg) == NULL);
+    cr_assert(strcmp(msg, "profile_file '/': read error after line 0") == 0, "%s", msg);
+}
+
 /* Numbers are read as strtod reads them (the value to the bit, in the C locale): random decimals with
  * 1 to 21 digits, exponents from -35 to 35 and signs, the printed forms %.17g and %.18e, and exact
  * binary midpoints (ties) printed in full. Each goes into a two-row file "X H / 1e7 H": the first x
