@@ -793,6 +793,9 @@ Test(profile, numbers_of_every_form_are_read_as_strtod_reads_them)
         {"0 0\n123456789012345678e30 0\n", 0.0, 123456789012345678e30},
         {"-5.5E+40 0\n0 0\n", -5.5e40, 0.0},
         {"0 0\n0.000000000000000000000000000000000000001e66 0\n", 0.0, 1e27},
+        {"0 0\n3e23 0\n", 0.0, 3e23},
+        {"-7E+22 0\n0 0\n", -7e22, 0.0},
+        {"0 0\n4.1e22 0\n", 0.0, 4.1e22},
     };
     for (size_t i = 0; i < sizeof big / sizeof big[0]; i++) {
         p = vi_profile_load(write_file(big[i].text), R, 0, msg, sizeof msg);
@@ -803,12 +806,17 @@ Test(profile, numbers_of_every_form_are_read_as_strtod_reads_them)
     }
     /* integers of 54 to 64 bits (and times 10^e), among them exact midpoints between two doubles with
      * an even and an odd lower neighbour (ties to even), as the last x */
-    for (int i = 0; i < 200; i++) {
+    for (int i = 0; i < 300; i++) {
         unsigned long long m = (1ull << 52) + ((unsigned long long)rand() << 20) + (unsigned long long)rand() % (1u << 20);
         int j = rand() % 11, e = i % 4 == 0 ? rand() % 8 : 0;
         unsigned long long w = i % 2 ? ((2 * m + 1) << j) : (m << 11) + (unsigned long long)rand();
         char row[128];
-        snprintf(num, sizeof num, "%llue%d", w, e);
+        if (i % 6 == 5) /* midpoints with a decimal fraction: m + 1/2 (doubles 1 apart), m/2 + 1/4 or 3/4 (0.5 apart) */
+            snprintf(num, sizeof num, "%llu.5", m);
+        else if (i % 6 == 2)
+            snprintf(num, sizeof num, "%llu.%s", m >> 1, rand() % 2 ? "25" : "75");
+        else
+            snprintf(num, sizeof num, "%llue%d", w, e);
         snprintf(row, sizeof row, "0 0\n%s 0\n", num);
         p = vi_profile_load(write_file(row), R, 0, msg, sizeof msg);
         cr_assert(p != NULL, "%s: %s", row, msg);
