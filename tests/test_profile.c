@@ -638,8 +638,9 @@ Test(profile, files)
 
 /* Lines that carry no row are skipped wherever they are: indented comments, blank lines of blanks,
  * tabs and CRLF, a last line of blanks without a newline; a table refused by vi_profile_create is
- * named by its file; a path that opens but cannot be read (a directory) is refused as a read error. */
-Test(profile, files_skip_blank_and_comment_lines_and_name_the_file)
+ * named by its file; a number whose 'e' has no exponent digits ends before the 'e' (as strtod reads
+ * it), so its row is refused; a path that opens but cannot be read (a directory) is a read error. */
+Test(profile, files_skip_empty_lines_and_refuse_broken_rows)
 {
     char msg[512];
     vi_profile *p = vi_profile_load(write_file("  # x h\r\n\r\n0 0\n \t\r\n\t# more\n1 1e-4\n\n2 0\n   "), R, 0, msg, sizeof msg);
@@ -653,6 +654,13 @@ Test(profile, files_skip_blank_and_comment_lines_and_name_the_file)
              "0.20000000000000001 on row 3, 0 on row 1)", path);
     cr_assert(strcmp(msg, expect) == 0, "%s", msg);
     remove(path);
+    /* an 'e' without exponent digits ends the number before it (as strtod): the row is refused */
+    const char *no_exponent[] = {"0 0\n1e 2\n", "0 0\n1E+ 2\n", "0 0\n1 2e-\n", "0 0\n1.5ex 2\n"};
+    for (size_t i = 0; i < sizeof no_exponent / sizeof no_exponent[0]; i++) {
+        cr_assert(vi_profile_load(write_file(no_exponent[i]), R, 0, msg, sizeof msg) == NULL, "%s", no_exponent[i]);
+        cr_assert(strstr(msg, "line 2: expected two numbers x [m] and h [m]"), "%s", msg);
+    }
+    remove(write_file(""));
     cr_assert(vi_profile_load("/", R, 0, msg, sizeof msg) == NULL);
     cr_assert(strcmp(msg, "profile_file '/': read error after line 0") == 0, "%s", msg);
 }
@@ -756,7 +764,7 @@ Test(profile, numbers_of_every_form_are_read_as_strtod_reads_them)
         want[k] = v;
         for (int row = -1; row <= 1; row++) {
             long xi = 10L * (k + 1) + row;
-            int f = rand() % 8;
+            int f = rand() % 9;
             if (f == 0) o += sprintf(o, "%ld", xi);
             else if (f == 1) o += sprintf(o, "+%ld.", xi);
             else if (f == 2) o += sprintf(o, "000%ld.000", xi);
@@ -764,7 +772,8 @@ Test(profile, numbers_of_every_form_are_read_as_strtod_reads_them)
             else if (f == 4) o += sprintf(o, "%.6E", (double)xi);
             else if (f == 5) o += sprintf(o, "0x%lx", xi);
             else if (f == 6) o += sprintf(o, "0.%ldE%d", xi, xi < 10 ? 1 : xi < 100 ? 2 : xi < 1000 ? 3 : xi < 10000 ? 4 : 5);
-            else o += sprintf(o, "%ld.0e+0", xi);
+            else if (f == 7) o += sprintf(o, "%ld.0e+0", xi);
+            else o += sprintf(o, "0X%lX", xi);
             o += sprintf(o, "%s%s%s", sep[rand() % 7], num, end[rand() % 4]);
         }
         if (rand() % 10 == 0) o += sprintf(o, rand() % 2 ? "# %s\n" : "\n  \t\n", num);
