@@ -700,11 +700,19 @@ Test(profile, numbers_are_read_as_strtod_reads_them, .timeout = 60)
 }
 
 /* A random decimal string (sign, leading zeros, up to 40 digits with or without a point, '.5' and '5.'
- * forms, an exponent with e or E, its sign and leading zeros), a printed double (%.17g, %.*e, %a) or
- * an exact binary midpoint printed in full. */
+ * forms, an exponent with e or E, its sign and leading zeros; or some hundred zeros after the point
+ * and a positive exponent), a printed double (%.17g, %.*e, %a) or an exact binary midpoint printed in
+ * full. */
 static void random_number(char *out, size_t size)
 {
-    int form = rand() % 6;
+    int form = rand() % 7;
+    if (form == 6) { /* 90 to 119 zeros after the point and a positive exponent: a tiny value */
+        char *o = out + sprintf(out, "0.");
+        for (int z = 90 + rand() % 30; z > 0; z--) *o++ = '0';
+        o += sprintf(o, "%de%s%d", 1 + rand() % 999, rand() % 2 ? "+" : "", 1 + rand() % 40);
+        cr_assert((size_t)(o - out) < size);
+        return;
+    }
     if (form == 4) {
         double v = ldexp(1.0 + rand() % 1000, -(rand() % 80)) * pow(10.0, -(rand() % 5));
         int k = rand() % 3;
@@ -751,9 +759,9 @@ Test(profile, numbers_of_every_form_are_read_as_strtod_reads_them)
 {
     enum { K = 4000 };
     static double want[K];
-    static char text[K * 3 * 120];
+    static char text[K * 3 * 220];
     srand(777);
-    char *o = text, num[96];
+    char *o = text, num[192];
     const char *sep[] = {" ", "\t", ",", ";", " , ", "\t; ", "  "};
     const char *end[] = {"\n", "\r\n", " \n", "\t\r\n"};
     int k = 0;
@@ -819,7 +827,7 @@ Test(profile, numbers_of_every_form_are_read_as_strtod_reads_them)
         unsigned long long m = (1ull << 52) + ((unsigned long long)rand() << 20) + (unsigned long long)rand() % (1u << 20);
         int j = rand() % 11, e = i % 4 == 0 ? rand() % 8 : 0;
         unsigned long long w = i % 2 ? ((2 * m + 1) << j) : (m << 11) + (unsigned long long)rand();
-        char row[128];
+        char row[256];
         if (i % 6 == 5) /* midpoints with a decimal fraction: m + 1/2 (doubles 1 apart), m/2 + 1/4 or 3/4 (0.5 apart) */
             snprintf(num, sizeof num, "%llu.5", m);
         else if (i % 6 == 2)
