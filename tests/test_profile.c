@@ -992,6 +992,50 @@ Test(profile, every_allocation_of_create_is_checked)
 #endif
 }
 
+/* vi_profile_load with its k-th allocation failing, for every k until it needs no more (a file of 600
+ * rows: the row arrays grow twice): NULL and "out of memory" naming the file (the first allocation,
+ * fopen's: "cannot open"), or the profile when the allocation was the C library's own with a fallback (stdio's
+ * buffer); nothing held afterwards. */
+Test(profile, every_allocation_of_load_is_checked)
+{
+#if !defined(__GLIBC__) || defined(VI_TEST_ASAN)
+    cr_skip_test("needs glibc's __libc_malloc, without AddressSanitizer");
+#else
+    static char text[600 * 24];
+    char *o = text, msg[512];
+    for (int i = 0; i < 600; i++) o += sprintf(o, "%d %g\n", i, 1e-4 * (i % 7));
+    const char *path = write_file(text);
+    vi_profile_free(vi_profile_load(path, R, 0, msg, sizeof msg)); /* the allocator's own first-use growth */
+    struct mallinfo2 before = mallinfo2();
+    int k = 1, refused = 0;
+    for (;; k++) {
+        msg[0] = '\0';
+        fail_countdown = k;
+        vi_profile *p = vi_profile_load(path, R, 0, msg, sizeof msg);
+        int failed = fail_countdown == 0;
+        fail_countdown = 0;
+        if (!failed) {
+            cr_assert(p != NULL, "%s", msg);
+            cr_assert(vi_profile_x_last(p) == 599.0);
+            vi_profile_free(p);
+            break;
+        }
+        if (p) { /* a fallback of the C library */
+            cr_assert(vi_profile_x_last(p) == 599.0);
+            vi_profile_free(p);
+            continue;
+        }
+        refused++;
+        cr_assert(strstr(msg, path) && (strstr(msg, ": out of memory") || (k == 1 && strstr(msg, "cannot open"))),
+                  "malloc %d failing: %s", k, msg);
+    }
+    cr_assert(refused > 5, "only %d refusals in %d allocations", refused, k - 1);
+    struct mallinfo2 after = mallinfo2();
+    cr_assert(after.uordblks <= before.uordblks + 4096, "heap in use grew by %zu bytes", after.uordblks - before.uordblks);
+    remove(path);
+#endif
+}
+
 /* A long profile (1e5 samples at 1 mm): built in bounded time, evaluated by binary search. */
 Test(profile, long_profile, .timeout = 30)
 {
