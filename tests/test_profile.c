@@ -146,6 +146,29 @@ Test(profile, narrow_bump_is_swept_as_a_circle)
     vi_profile_free(p);
 }
 
+/* A deep trough between two peaks of different heights, narrower than the body: the body rests on
+ * both peaks, yb = max of the two vertex circles h_i - d^2/(R + sqrt(R^2 - d^2)) (the flanks fall
+ * away too steeply to touch), with one kink where the circles cross. */
+Test(profile, a_trough_bridged_between_two_peaks)
+{
+    const double dh[] = {-0.08, -0.05, -0.01, 0.0, 0.02, 0.06}, gap[] = {0.3, 0.5, 0.7};
+    for (int i = 0; i < 6; i++)
+        for (int j = 0; j < 3; j++) {
+            double L = gap[j], x[] = {0.0, 0.5 * L, L}, h[] = {0.1, -0.5, 0.1 + dh[i]};
+            vi_profile *p = make(x, h, 3, R, 0);
+            cr_assert(vi_profile_kinks(p) == 1, "dh %g gap %g: %zu kinks", dh[i], L, vi_profile_kinks(p));
+            for (int k = 0; k <= 200; k++) {
+                double at = L * k / 200.0, best = -INFINITY;
+                for (int v = 0; v < 3; v += 2) {
+                    double d = at - x[v];
+                    if (fabs(d) <= R) best = fmax(best, h[v] - d * d / (R + sqrt(R * R - d * d)));
+                }
+                cr_assert(fabs(yb(p, at) - best) <= 1e-15, "dh %g gap %g x %g: %.17g vs %.17g", dh[i], L, at, yb(p, at), best);
+            }
+            vi_profile_free(p);
+        }
+}
+
 /* Random rough profiles (steep and gentle, dense and sparse against R) against the brute force. */
 Test(profile, random_profiles_match_the_definition, .timeout = 60)
 {
