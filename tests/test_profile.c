@@ -998,8 +998,9 @@ static void every_allocation_fails_cleanly(const double *x, const double *h, siz
 #endif
 }
 
-/* Every allocation checked: a smooth table (open and periodic), and a rough one whose scratch stack
- * for the intervals beyond a piece's domain first takes a whole interval (not a cut one). */
+/* Every allocation checked: a smooth table (open and periodic), a rough one whose scratch stack for
+ * the intervals beyond a piece's domain first takes a whole interval (not a cut one), and one of 600
+ * rough rows whose interval stack outgrows its first capacity, also while intervals are put back. */
 Test(profile, every_allocation_of_create_is_checked)
 {
 #if !defined(__GLIBC__) || defined(VI_TEST_ASAN)
@@ -1012,6 +1013,10 @@ Test(profile, every_allocation_of_create_is_checked)
     every_allocation_fails_cleanly(x, h, N, R, 1);
     double xr[] = {0.0, 0.5, 1.0, 1.125}, hr[] = {-0.25, 0.1875, -0.078125, 0.375};
     every_allocation_fails_cleanly(xr, hr, 4, 1.0, 0);
+    static double xl[600], hl[600]; /* more intervals than the stack's first capacity: it grows while inserting */
+    srand(5);
+    for (int i = 0; i < 600; i++) xl[i] = 0.05 * i, hl[i] = 0.02 * rand() / RAND_MAX;
+    every_allocation_fails_cleanly(xl, hl, 600, R, 0);
 #endif
 }
 
