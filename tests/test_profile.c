@@ -481,17 +481,18 @@ Test(profile, periodic_seam_is_the_first_row)
 /* vi_profile_next_kink takes a kink within 8 DBL_EPSILON (|x| + period) of x as the one at x (positions
  * of other periods are rounded) and steps over it: at exactly that distance before (after) the kink it
  * is skipped, one double further it is found. A V trough with its kink at 1, open, periodic, and
- * periodic with a period of 1000 m (the window is then some thousand doubles wide); x not finite
- * finds none. */
+ * periodic with a period of 1000 m (the window is then some thousand doubles wide), and open with its
+ * kink at 1 mm; x not finite finds none. */
 Test(profile, a_kink_within_rounding_of_x_is_the_one_at_x)
 {
-    double x[] = {0.0, 1.0, 2.0, 1000.0}, h[] = {0.05, 0.0, 0.05, 0.05};
-    for (int c = 0; c < 3; c++) {
-        size_t n = c < 2 ? 3 : 4;
-        int periodic = c > 0;
-        vi_profile *p = make(x, h, n, R, periodic);
-        double P = periodic ? x[n - 1] : 0.0, k = vi_profile_next_kink(p, 0.5, 1);
-        cr_assert(fabs(k - 1.0) <= 1e-15 && vi_profile_kinks(p) == 1, "%.17g", k);
+    double x[] = {0.0, 1.0, 2.0, 1000.0}, h[] = {0.05, 0.0, 0.05, 0.05}, xs[] = {-0.999, 1e-3, 1.001};
+    for (int c = 0; c < 4; c++) {
+        size_t n = c == 2 ? 4 : 3;
+        int periodic = c == 1 || c == 2;
+        const double *xc = c == 3 ? xs : x; /* the last: open, the kink at 1 mm (its window some ulps wide) */
+        vi_profile *p = make(xc, h, n, R, periodic);
+        double P = periodic ? xc[n - 1] - xc[0] : 0.0, k = vi_profile_next_kink(p, xc[1] - 0.5, 1);
+        cr_assert(fabs(k - xc[1]) <= 1e-15 && vi_profile_kinks(p) == 1, "%.17g", k);
         double after = periodic ? k + P : INFINITY, before = periodic ? k - P : -INFINITY;
         int found_up = 0, found_down = 0;
         double up = k - 8.0 * DBL_EPSILON * (fabs(k) + P), down = k + 8.0 * DBL_EPSILON * (fabs(k) + P);
@@ -568,6 +569,8 @@ Test(profile, refusals_name_the_rule_and_its_values)
     refused(x, h, 3, -1.0, 0, "bad: the rolling radius R1 = -1 m must be positive and finite");
     double xe[] = {0.0, 1.0, 1.0};
     refused(xe, h, 3, R, 0, "bad, row 3: x = 1 is not greater than x = 1 of the row before (x must increase)");
+    double xu[] = {0.0, 2.0, 1.0};
+    refused(xu, h, 3, R, 0, "bad, row 3: x = 1 is not greater than x = 2 of the row before (x must increase)");
     double hp[] = {0.0, 0.1, 0.2};
     refused(x, hp, 3, R, 1, "bad: profile_periodic needs the last height to repeat the first (h = 0.20000000000000001 on row 3, 0 on row 1)");
     double xs[] = {0.0, 0.5e-7, 1e-7}, hs[] = {0.0, 1e-9, 0.0};
