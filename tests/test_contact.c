@@ -198,3 +198,62 @@ Test(johnson, unloading_energy_is_the_integral)
     vi_unload_curve U = vi_johnson_unload_curve(&J, VI_UNLOAD_PAPER, 4 * J.delta_Y);
     REL(vi_unload_energy(&U, U.delta_c), 0.4 * vi_unload_force(&U, U.delta_c) * U.delta_r, 1e-14);
 }
+
+/* Radii of any size count, however small or large: a 0.5 mm sphere on a plane, and a 2 km radius
+ * (curvature below 1e-3/m) with a plane. */
+Test(effective, radius_of_any_size)
+{
+    REL(vi_effective_radius(5e-4, 0.0), 5e-4, 1e-15);
+    REL(vi_effective_radius(0.0, 5e-4), 5e-4, 1e-15);
+    REL(vi_effective_radius(5e-4, 5e-4), 2.5e-4, 1e-15);
+    REL(vi_effective_radius(2000.0, 0.0), 2000.0, 1e-15);
+    REL(vi_effective_radius(0.0, 2000.0), 2000.0, 1e-15);
+}
+
+/* Without contact (delta <= 0) the Hertz force, stiffness and energy are 0; a load of 0.5 mN (or none)
+ * gives the closed-form indentation (F/K)^(2/3) (or 0), also a load so small that F/K is denormal. */
+Test(hertz, no_contact_and_small_loads)
+{
+    double K = 1.538e10;
+    for (double d = -1e-3; d <= 0.0; d += 5e-4) {
+        cr_assert(vi_hertz_force(K, d) == 0.0 && vi_hertz_stiffness(K, d) == 0.0 && vi_hertz_energy(K, d) == 0.0,
+                  "delta = %g: %g %g %g", d, vi_hertz_force(K, d), vi_hertz_stiffness(K, d), vi_hertz_energy(K, d));
+        cr_assert(vi_hertz_indentation(K, d) == 0.0);
+    }
+    REL(vi_hertz_indentation(K, 5e-4), pow(5e-4 / K, 2.0 / 3.0), 1e-14);
+    REL(vi_hertz_indentation(K, 1e-300), exp(2.0 / 3.0 * (log(1e-300) - log(K))), 1e-13); /* F/K below DBL_MIN */
+    REL(vi_hertz_indentation(1e10, 4.9e-324), exp(2.0 / 3.0 * (log(4.9e-324) - log(1e10))), 1e-12);
+}
+
+/* Above yield the loading stiffness is the derivative of eq. 3, 2 F_Y/delta_Y (1 + (ln k + 1)/(3 theta_Y)):
+ * against the closed form and a central difference of the load. Below yield, loads of 0.5 mN or none
+ * are inverted by the Hertz curve (delta_Y (F/F_Y)^(2/3), or 0). */
+Test(johnson, stiffness_above_yield_is_the_derivative_of_the_load)
+{
+    vi_johnson J = paper_johnson();
+    double ratios[] = {1.01, 1.7, 3.0, 12.0, 150.0};
+    for (int i = 0; i < 5; i++) {
+        double d = ratios[i] * J.delta_Y, k = 2.0 * ratios[i] - 1.0, e = 1e-6 * J.delta_Y;
+        REL(vi_johnson_load_stiffness(&J, d), 2.0 * J.F_Y / J.delta_Y * (1.0 + (log(k) + 1.0) / (3.0 * J.theta_Y)), 1e-13);
+        REL(vi_johnson_load_stiffness(&J, d), (vi_johnson_load(&J, d + e) - vi_johnson_load(&J, d - e)) / (2.0 * e), 1e-6);
+    }
+    REL(vi_johnson_load_indentation(&J, 5e-4), J.delta_Y * pow(5e-4 / J.F_Y, 2.0 / 3.0), 1e-14);
+    cr_assert(vi_johnson_load_indentation(&J, 0.0) == 0.0 && vi_johnson_load_indentation(&J, -1.0) == 0.0);
+}
+
+/* The unloading curve carries the indentation it starts from; its stiffness is 1.5 Kbar sqrt(delta -
+ * delta_f) (the derivative of the force), 0 below delta_f. */
+Test(johnson, unloading_curve_stiffness_and_start)
+{
+    vi_johnson J = paper_johnson();
+    for (int variant = VI_UNLOAD_PAPER; variant <= VI_UNLOAD_CONTINUOUS; variant++) {
+        double dc = 7.0 * J.delta_Y;
+        vi_unload_curve U = vi_johnson_unload_curve(&J, variant, dc);
+        cr_assert(U.delta_c == dc);
+        cr_assert(U.delta_f > 0.0);
+        double d = U.delta_f + 0.5 * U.delta_r, e = 1e-6 * U.delta_r;
+        REL(vi_unload_stiffness(&U, d), 1.5 * U.Kbar * sqrt(d - U.delta_f), 1e-14);
+        REL(vi_unload_stiffness(&U, d), (vi_unload_force(&U, d + e) - vi_unload_force(&U, d - e)) / (2.0 * e), 1e-8);
+        cr_assert(vi_unload_stiffness(&U, 0.5 * U.delta_f) == 0.0);
+    }
+}

@@ -146,6 +146,29 @@ Test(profile, narrow_bump_is_swept_as_a_circle)
     vi_profile_free(p);
 }
 
+/* A deep trough between two peaks of different heights, narrower than the body: the body rests on
+ * both peaks, yb = max of the two vertex circles h_i - d^2/(R + sqrt(R^2 - d^2)) (the flanks fall
+ * away too steeply to touch), with one kink where the circles cross. */
+Test(profile, a_trough_bridged_between_two_peaks)
+{
+    const double dh[] = {-0.08, -0.05, -0.01, 0.0, 0.02, 0.06}, gap[] = {0.3, 0.5, 0.7};
+    for (int i = 0; i < 6; i++)
+        for (int j = 0; j < 3; j++) {
+            double L = gap[j], x[] = {0.0, 0.5 * L, L}, h[] = {0.1, -0.5, 0.1 + dh[i]};
+            vi_profile *p = make(x, h, 3, R, 0);
+            cr_assert(vi_profile_kinks(p) == 1, "dh %g gap %g: %zu kinks", dh[i], L, vi_profile_kinks(p));
+            for (int k = 0; k <= 200; k++) {
+                double at = L * k / 200.0, best = -INFINITY;
+                for (int v = 0; v < 3; v += 2) {
+                    double d = at - x[v];
+                    if (fabs(d) <= R) best = fmax(best, h[v] - d * d / (R + sqrt(R * R - d * d)));
+                }
+                cr_assert(fabs(yb(p, at) - best) <= 1e-15, "dh %g gap %g x %g: %.17g vs %.17g", dh[i], L, at, yb(p, at), best);
+            }
+            vi_profile_free(p);
+        }
+}
+
 /* Random rough profiles (steep and gentle, dense and sparse against R) against the brute force. */
 Test(profile, random_profiles_match_the_definition, .timeout = 60)
 {
@@ -248,6 +271,124 @@ Test(profile, kinks_are_two_point_contacts, .timeout = 60)
     }
 }
 
+/* A small random table for the tests below: n rows, spacing from 1 % to 3 R, heights spanning at most
+ * 0.4 r (no step the body cannot roll over); on a grid (x multiples of r/8, h of r/64: exact ties
+ * between pieces, equal flanks, flat runs) when grid is set; h[n-1] = h[0] when periodic. */
+static void small_table(double *x, double *h, size_t n, double r, int grid, int periodic)
+{
+    double dx = r * (0.01 + 3.0 * rand() / RAND_MAX), amp = 0.2 * r * rand() / RAND_MAX;
+    x[0] = grid ? 0.125 * r * (rand() % 9 - 4) : r * (2.0 * rand() / RAND_MAX - 1.0);
+    for (size_t i = 0; i < n; i++) {
+        if (i) x[i] = grid ? x[i - 1] + 0.125 * r * (1 + rand() % 12) : x[i - 1] + dx * (0.05 + 1.9 * rand() / RAND_MAX);
+        h[i] = grid ? r / 64.0 * (rand() % 13 - 6) : amp * (2.0 * rand() / RAND_MAX - 1.0);
+        if (i && rand() % 5 == 0) h[i] = h[i - 1]; /* a flat segment */
+    }
+    if (periodic) h[n - 1] = h[0];
+}
+
+/* Many small tables (2 to 8 rows, open and periodic, on a grid and not) against the definition: yb
+ * at the rows, just beside them and between them; yb' against the slopes where the body touches
+ * (within the two contacts' slopes at a kink) and against a central difference of yb, yb'' and yb'''
+ * against central differences of yb' and yb''; every kink reported a slope jump, and no slope jump
+ * between kinks; the largest |yb'| and the height span. */
+Test(profile, small_random_tables_match_the_definition, .timeout = 60)
+{
+    srand(31337);
+    enum { NMAX = 8, COPIES = 40 };
+    static double xu[COPIES * NMAX], hu[COPIES * NMAX];
+    int checked = 0;
+    for (int t = 0; t < 1200; t++) {
+        size_t n = 2 + (size_t)(rand() % (NMAX - 1));
+        int grid = t % 2, periodic = t % 3 == 2;
+        if (periodic && n < 3) n = 3;
+        double r = grid ? 1.0 : 0.05 + rand() % 100 / 100.0, x[NMAX], h[NMAX];
+        small_table(x, h, n, r, grid, periodic);
+        char msg[512];
+        vi_profile *p = vi_profile_create(x, h, n, r, periodic, "small", msg, sizeof msg);
+        cr_assert(p != NULL, "table %d: %s", t, msg);
+        /* the table the definition is evaluated on: a periodic one unrolled over the body's reach */
+        double L = x[n - 1] - x[0];
+        size_t nu = n;
+        if (periodic && L < 0.25 * r) { /* copies enough; the short periods have their own test */
+            vi_profile_free(p);
+            continue;
+        }
+        if (periodic) {
+            int reach = (int)ceil(r / L) + 1;
+            cr_assert(2 * reach + 1 <= COPIES, "table %d: period %g", t, L);
+            nu = 0;
+            for (int k = -reach; k <= reach; k++)
+                for (size_t i = (k == -reach ? 0 : 1); i < n; i++) xu[nu] = x[i] + k * L, hu[nu] = h[i], nu++;
+        } else {
+            memcpy(xu, x, n * sizeof *x), memcpy(hu, h, n * sizeof *h);
+        }
+        double hlo = h[0], hhi = h[0];
+        for (size_t i = 0; i < n; i++) hlo = fmin(hlo, h[i]), hhi = fmax(hhi, h[i]);
+        cr_assert(vi_profile_height_span(p) == hhi - hlo, "table %d: span %.17g", t, vi_profile_height_span(p));
+        cr_assert(vi_profile_periodic(p) == periodic && vi_profile_x_first(p) == x[0] && vi_profile_x_last(p) == x[n - 1]);
+        double tol = 1e-12 * r, smax = 0.0;
+        int pts = 64;
+        for (int k = 0; k <= pts + 3 * (int)n; k++) {
+            double at;
+            if (k <= pts) at = x[0] + L * k / pts;
+            else {
+                size_t i = (size_t)(k - pts - 1) / 3;
+                int side = (k - pts - 1) % 3;
+                at = x[i] + (side == 0 ? 0.0 : side == 1 ? -1e-3 * r : 1e-3 * r);
+                if (!periodic && (at < x[0] || at > x[n - 1])) continue;
+            }
+            double y[4], ref = brute(xu, hu, nu, r, at), lo, hi;
+            vi_profile_eval(p, at, y);
+            cr_assert(fabs(y[0] - ref) <= tol, "table %d (n %zu, r %g, %s) x %.17g: yb %.17g, by the definition %.17g", t,
+                      n, r, periodic ? "periodic" : "open", at, y[0], ref);
+            contact_slopes(xu, hu, nu, r, at, 1e-13 * r, &lo, &hi);
+            cr_assert(y[1] >= lo - 1e-9 && y[1] <= hi + 1e-9, "table %d x %.17g: yb' %.17g, contact slopes %.17g..%.17g", t,
+                      at, y[1], lo, hi);
+            /* on a vertex circle yb'' = -(1 + yb'^2)^(3/2)/r and yb''' = -3 yb' yb'' sqrt(1 + yb'^2)/r; on a tangent both 0 */
+            double c2 = -pow(1.0 + y[1] * y[1], 1.5) / r, c3 = -3.0 * y[1] * c2 * sqrt(1.0 + y[1] * y[1]) / r;
+            cr_assert((y[2] == 0.0 && y[3] == 0.0) ||
+                          (fabs(y[2] - c2) <= 1e-9 * fabs(c2) && fabs(y[3] - c3) <= 1e-9 * fabs(c2) * (1.0 + fabs(y[1])) / r),
+                      "table %d x %.17g: yb' %.17g, yb'' %.17g, yb''' %.17g", t, at, y[1], y[2], y[3]);
+            smax = fmax(smax, fabs(y[1]));
+            checked++;
+        }
+        /* the largest |yb'| is taken at a boundary of the pieces: at least the sampled one, and the
+         * samples 1/64 of the table apart come within the curvature allowance of it */
+        double S = vi_profile_max_slope(p);
+        cr_assert(S >= smax - 1e-12 && S <= smax + L / pts * pow(1.0 + S * S, 1.5) / r + 1e-12,
+                  "table %d: max slope %.17g, sampled %.17g", t, S, smax);
+        /* kinks (one period of a periodic table, from just before its first row): the slope jumps by
+         * more than VI_PROFILE_KINK_SLOPE at each, not between two; each finds the one before it */
+        double a = periodic ? x[0] - 1e-9 * L : x[0], prev = NAN, yl[4], yr[4], first = NAN, first_before = NAN;
+        size_t walked = 0;
+        for (double at = vi_profile_next_kink(p, a, 1); at < x[n - 1]; at = vi_profile_next_kink(p, at, 1)) {
+            double e = 1e-12 * (1.0 + fabs(at)); /* a periodic table's positions are reduced to some ulps */
+            vi_profile_eval(p, at - e, yl);
+            vi_profile_eval(p, at + e, yr);
+            cr_assert(fabs(yr[1] - yl[1]) > 0.5 * VI_PROFILE_KINK_SLOPE, "table %d: no slope jump at the kink %.17g (%g)", t, at,
+                      yr[1] - yl[1]);
+            cr_assert(slope_jump(p, r, a + 1e-12, at - 1e-12, 200) <= 0.0, "table %d: a slope jump in %.17g..%.17g", t, a, at);
+            double before = vi_profile_next_kink(p, at, -1);
+            if (walked) cr_assert(before == prev, "table %d: the kink before %.17g is %.17g, not %.17g", t, at, before, prev);
+            else if (!periodic) cr_assert(before == -INFINITY, "table %d: a kink %.17g before the first", t, before);
+            else first = at, first_before = before;
+            prev = at, a = at, walked++;
+            cr_assert(walked <= 2 * NMAX);
+        }
+        if (!walked) cr_assert(vi_profile_next_kink(p, a, -1) == -INFINITY && vi_profile_next_kink(p, a, 1) == INFINITY);
+        cr_assert(slope_jump(p, r, a + 1e-12, x[n - 1] - 1e-12, 200) <= 0.0, "table %d: a slope jump after %.17g", t, a);
+        cr_assert(walked == vi_profile_kinks(p), "table %d: %zu kinks walked, %zu counted", t, walked, vi_profile_kinks(p));
+        if (periodic && walked) { /* the kinks of the periods before and after */
+            double after = vi_profile_next_kink(p, prev, 1);
+            cr_assert(fabs(first_before - (prev - L)) <= 1e-12 * (1.0 + fabs(prev)) && fabs(after - (first + L)) <= 1e-12 * (1.0 + fabs(first)),
+                      "table %d: kinks %.17g .. %.17g, before the first %.17g, after the last %.17g", t, first, prev,
+                      first_before, after);
+        }
+        vi_profile_free(p);
+    }
+    cr_assert(checked > 50000);
+}
+
 /* A periodic table starting at x0: its period is x_last - x_first = L wherever it starts. */
 static void periodic_profile_repeats_from(double x0)
 {
@@ -298,6 +439,90 @@ Test(profile, periodic_profile_repeats) { periodic_profile_repeats_from(0.0); }
 /* a table that starts at x0 = 0.37 m (1.85 periods: no whole number of them) */
 Test(profile, periodic_profile_repeats_from_its_first_row) { periodic_profile_repeats_from(0.37); }
 
+/* A periodic V trough whose bottom is the seam (first and last row, flank slopes +-s): the body
+ * bridges it, yb = h_0 + s |x - seam| + r (sqrt(1 + s^2) - 1) near it, with the kink at the first row.
+ * There, and one period on, yb' is the right-hand slope +s. Two tables: from -0.5 to 0.09, where
+ * x_first + (x_last - x_first) rounds below x_last (a position that wraps to exactly one period must
+ * still be taken as the first row); and a trapezoid and a triangle on a grid, where the flanks'
+ * tangents cross exactly at the seam (at 0 and at -0.5: the crossing is found by bisection there,
+ * the closed form puts it a rounding outside the bracket). */
+Test(profile, periodic_seam_is_the_first_row)
+{
+    struct { double x[4], h[4], r; size_t n; } tables[] = {
+        {{-0.5, -0.3, -0.11, 0.09}, {0.0, 0.01, 0.01, 0.0}, R, 4},
+        {{0.0, 1.0, 1.875, 2.875}, {0.0625, 0.09375, 0.09375, 0.0625}, 1.0, 4},
+        {{-0.5, 0.5, 1.5}, {-0.375, -0.078125, -0.375}, 1.0, 3}};
+    for (int k = 0; k < 3; k++) {
+        const double *x = tables[k].x, *h = tables[k].h, r = tables[k].r;
+        size_t n = tables[k].n;
+        double lo = x[0], L = x[n - 1] - x[0], s = (h[1] - h[0]) / (x[1] - x[0]), lift = r * (sqrt(1.0 + s * s) - 1.0), y[4];
+        if (k == 0) cr_assert(lo + L < x[n - 1]);
+        vi_profile *p = make(x, h, n, r, 1);
+        double kink = vi_profile_next_kink(p, lo - 1e-9, 1); /* at the first row (the others: to the last bit) */
+        cr_assert(vi_profile_kinks(p) == 1 && (k == 0 ? kink == lo : fabs(kink - lo) <= 2.0 * DBL_EPSILON * fabs(lo) + DBL_MIN),
+                  "table %d: %.17g", k, kink);
+        const double at[] = {lo, x[n - 1], lo + L, lo - L, lo + 3.0 * L};
+        for (size_t i = 0; i < sizeof at / sizeof at[0]; i++) {
+            cr_assert(vi_profile_eval(p, at[i], y) == 0);
+            /* the second table's kink lies a denormal after the first row: the slope there is either flank's */
+            cr_assert(fabs(y[0] - (h[0] + lift)) <= 1e-15 && fabs((k == 0 ? y[1] : fabs(y[1])) - s) <= 1e-15,
+                      "table %d x %.17g: yb %.17g, yb' %.17g", k, at[i], y[0], y[1]);
+        }
+        for (int i = -100; i <= 100; i++) { /* both flanks, 0.1 r either side of the seam */
+            double d = 1e-3 * r * i;
+            vi_profile_eval(p, lo + d, y);
+            cr_assert(fabs(y[0] - (h[0] + fabs(d) * s + lift)) <= 1e-15 && (i == 0 || fabs(y[1] - (d > 0 ? s : -s)) <= 1e-15),
+                      "table %d x %.17g: yb %.17g, yb' %.17g", k, lo + d, y[0], y[1]);
+        }
+        vi_profile_free(p);
+    }
+}
+
+/* vi_profile_next_kink takes a kink within 8 DBL_EPSILON (|x| + period) of x as the one at x (positions
+ * of other periods are rounded) and steps over it: at exactly that distance before (after) the kink it
+ * is skipped, one double further it is found. A V trough with its kink at 1, open, periodic, and
+ * periodic with a period of 1000 m (the window is then some thousand doubles wide), and open with its
+ * kink at 1 mm; x not finite finds none. */
+Test(profile, a_kink_within_rounding_of_x_is_the_one_at_x)
+{
+    double x[] = {0.0, 1.0, 2.0, 1000.0}, h[] = {0.05, 0.0, 0.05, 0.05}, xs[] = {-0.999, 1e-3, 1.001};
+    for (int c = 0; c < 4; c++) {
+        size_t n = c == 2 ? 4 : 3;
+        int periodic = c == 1 || c == 2;
+        const double *xc = c == 3 ? xs : x; /* the last: open, the kink at 1 mm (its window some ulps wide) */
+        vi_profile *p = make(xc, h, n, R, periodic);
+        double P = periodic ? xc[n - 1] - xc[0] : 0.0, k = vi_profile_next_kink(p, xc[1] - 0.5, 1);
+        cr_assert(fabs(k - xc[1]) <= 1e-15 && vi_profile_kinks(p) == 1, "%.17g", k);
+        double after = periodic ? k + P : INFINITY, before = periodic ? k - P : -INFINITY;
+        int found_up = 0, found_down = 0;
+        double up = k - 8.0 * DBL_EPSILON * (fabs(k) + P), down = k + 8.0 * DBL_EPSILON * (fabs(k) + P);
+        for (int i = 0; i < 64; i++) up = nextafter(up, -INFINITY), down = nextafter(down, INFINITY);
+        for (int i = 0; i < 128; i++, up = nextafter(up, INFINITY), down = nextafter(down, -INFINITY)) {
+            if (up + 8.0 * DBL_EPSILON * (fabs(up) + P) == k) { /* the farthest x before k whose window reaches k */
+                double out = nextafter(up, -INFINITY);
+                if (out + 8.0 * DBL_EPSILON * (fabs(out) + P) < k) {
+                    found_up++;
+                    cr_assert(vi_profile_next_kink(p, up, 1) == after, "x %.17g: %.17g", up, vi_profile_next_kink(p, up, 1));
+                    cr_assert(vi_profile_next_kink(p, out, 1) == k, "x %.17g: %.17g", out, vi_profile_next_kink(p, out, 1));
+                }
+            }
+            if (down - 8.0 * DBL_EPSILON * (fabs(down) + P) == k) {
+                double out = nextafter(down, INFINITY);
+                if (out - 8.0 * DBL_EPSILON * (fabs(out) + P) > k) {
+                    found_down++;
+                    cr_assert(vi_profile_next_kink(p, down, -1) == before, "x %.17g: %.17g", down,
+                              vi_profile_next_kink(p, down, -1));
+                    cr_assert(vi_profile_next_kink(p, out, -1) == k, "x %.17g: %.17g", out, vi_profile_next_kink(p, out, -1));
+                }
+            }
+        }
+        cr_assert(found_up == 1 && found_down == 1, "table %d: %d %d", c, found_up, found_down);
+        cr_assert(vi_profile_next_kink(p, NAN, 1) == INFINITY && vi_profile_next_kink(p, NAN, -1) == -INFINITY);
+        cr_assert(vi_profile_next_kink(p, INFINITY, -1) == -INFINITY && vi_profile_next_kink(p, -INFINITY, 1) == INFINITY);
+        vi_profile_free(p);
+    }
+}
+
 Test(profile, outside_the_table)
 {
     double x[] = {0.0, 1.0}, h[] = {0.0, 0.0}, y[4];
@@ -328,6 +553,59 @@ Test(profile, bad_tables_are_refused)
     double xs[] = {0.0, 1.0, 1.0 + 1e-9, 3.0}, hs[] = {0.0, 0.0, 2.0 * R, 2.0 * R}; /* a wall higher than R */
     refused(xs, hs, 4, R, 0, "cannot roll");
     refused(x, h, 3, 0.0, 0, "R1");
+}
+
+/* Each rule of vi_profile_create alone, with the message naming the table, the rule and its values:
+ * too few rows, a radius that is not positive and finite, equal positions, a periodic table whose
+ * last height differs, a period too short for the body (R1/L + 1 periods each side of 2 rows), a wall
+ * as high as R1 climbed and descended (the vertex circle's edge, vertical, at the corner -+ R1) and a
+ * wall higher than R1 (yb steps at the corner - R1). */
+Test(profile, refusals_name_the_rule_and_its_values)
+{
+    double x[] = {0.0, 1.0, 2.0}, h[] = {0.0, 0.1, 0.0};
+    refused(x, h, 1, R, 0, "bad: 1 rows; a profile needs at least two (x [m], h [m])");
+    refused(x, h, 3, INFINITY, 0, "bad: the rolling radius R1 = inf m must be positive and finite");
+    refused(x, h, 3, NAN, 0, "bad: the rolling radius R1 = nan m must be positive and finite");
+    refused(x, h, 3, -1.0, 0, "bad: the rolling radius R1 = -1 m must be positive and finite");
+    double xe[] = {0.0, 1.0, 1.0};
+    refused(xe, h, 3, R, 0, "bad, row 3: x = 1 is not greater than x = 1 of the row before (x must increase)");
+    double xu[] = {0.0, 2.0, 1.0};
+    refused(xu, h, 3, R, 0, "bad, row 3: x = 1 is not greater than x = 2 of the row before (x must increase)");
+    double hp[] = {0.0, 0.1, 0.2};
+    refused(x, hp, 3, R, 1, "bad: profile_periodic needs the last height to repeat the first (h = 0.20000000000000001 on row 3, 0 on row 1)");
+    double xs[] = {0.0, 0.5e-7, 1e-7}, hs[] = {0.0, 1e-9, 0.0};
+    refused(xs, hs, 3, R, 1, "bad: the period 1e-07 m is too short for R1 = 0.475 m: the body spans 9500002 periods of 2 rows, "
+                             "more than 10000000 rows in all");
+    double xw[] = {0.0, 1.0, 1.0 + 1e-9, 3.0}, hw[] = {0.0, 0.0, R, R}, xd[] = {0.0, 2.0, 2.0 + 1e-9, 3.0}, hd[] = {R, R, 0.0, 0.0};
+    refused(xw, hw, 4, R, 0, "bad: the profile is too steep for R1 = 0.475 m near x = 0.525 m: the body cannot roll over it");
+    refused(xd, hd, 4, R, 0, "bad: the profile is too steep for R1 = 0.475 m near x = 2.475 m: the body cannot roll over it");
+    double hw2[] = {0.0, 0.0, 1.5 * R, 1.5 * R};
+    refused(xw, hw2, 4, R, 0, "bad: a step of more than R1 = 0.475 m near x = 0.525 m: yb jumps by ");
+    /* just below: a wall of 0.9 R1 is climbed on the circle around its upper corner */
+    double hw3[] = {0.0, 0.0, 0.9 * R, 0.9 * R};
+    vi_profile *p = make(xw, hw3, 4, R, 0);
+    double d = -0.3, expect = 0.9 * R - d * d / (R + sqrt(R * R - d * d));
+    cr_assert(fabs(yb(p, 1.0 + 1e-9 + d) - expect) <= 1e-15, "%.17g vs %.17g", yb(p, 1.0 + 1e-9 + d), expect);
+    vi_profile_free(p);
+}
+
+/* Tables far above or below the datum (heights near +-1000 m, a sub-millimetre relief) are taken as
+ * they are: yb against the definition, the relief bridged as without the offset. */
+Test(profile, tables_far_from_the_datum)
+{
+    srand(11);
+    for (int t = 0; t < 200; t++) {
+        size_t n = 2 + (size_t)(rand() % 7);
+        double off = t % 2 ? 1000.0 : -1000.0, x[8], h[8];
+        small_table(x, h, n, R, t % 4 < 2, 0);
+        for (size_t i = 0; i < n; i++) h[i] += off;
+        vi_profile *p = make(x, h, n, R, 0);
+        for (int k = 0; k <= 40; k++) {
+            double at = x[0] + (x[n - 1] - x[0]) * k / 40.0, ref = brute(x, h, n, R, at);
+            cr_assert(fabs(yb(p, at) - ref) <= 1e-12 * (R + 1000.0), "table %d x %.17g: %.17g vs %.17g", t, at, yb(p, at), ref);
+        }
+        vi_profile_free(p);
+    }
 }
 
 static const char *write_file(const char *text)
@@ -384,6 +662,35 @@ Test(profile, files)
     cr_assert(strstr(msg, "/nonexistent/profile.txt") && strstr(msg, "cannot open"), "%s", msg);
 }
 
+/* Lines that carry no row are skipped wherever they are: indented comments, blank lines of blanks,
+ * tabs and CRLF, a last line of blanks without a newline; a table refused by vi_profile_create is
+ * named by its file; a number whose 'e' has no exponent digits ends before the 'e' (as strtod reads
+ * it), so its row is refused; a path that opens but cannot be read (a directory) is a read error. */
+Test(profile, files_skip_empty_lines_and_refuse_broken_rows)
+{
+    char msg[512];
+    vi_profile *p = vi_profile_load(write_file("  # x h\r\n\r\n0 0\n \t\r\n\t# more\n1 1e-4\n\n2 0\n   "), R, 0, msg, sizeof msg);
+    cr_assert(p != NULL, "%s", msg);
+    cr_assert(vi_profile_x_first(p) == 0.0 && vi_profile_x_last(p) == 2.0 && yb(p, 1.0) == 1e-4);
+    vi_profile_free(p);
+    const char *path = write_file("0 0\n1 0.1\n2 0.2\n");
+    cr_assert(vi_profile_load(path, R, 1, msg, sizeof msg) == NULL);
+    char expect[256];
+    snprintf(expect, sizeof expect, "profile_file '%s': profile_periodic needs the last height to repeat the first (h = "
+             "0.20000000000000001 on row 3, 0 on row 1)", path);
+    cr_assert(strcmp(msg, expect) == 0, "%s", msg);
+    remove(path);
+    /* an 'e' without exponent digits ends the number before it (as strtod): the row is refused */
+    const char *no_exponent[] = {"0 0\n1e 2\n", "0 0\n1E+ 2\n", "0 0\n1 2e-\n", "0 0\n1.5ex 2\n"};
+    for (size_t i = 0; i < sizeof no_exponent / sizeof no_exponent[0]; i++) {
+        cr_assert(vi_profile_load(write_file(no_exponent[i]), R, 0, msg, sizeof msg) == NULL, "%s", no_exponent[i]);
+        cr_assert(strstr(msg, "line 2: expected two numbers x [m] and h [m]"), "%s", msg);
+    }
+    remove(write_file(""));
+    cr_assert(vi_profile_load("/", R, 0, msg, sizeof msg) == NULL);
+    cr_assert(strcmp(msg, "profile_file '/': read error after line 0") == 0, "%s", msg);
+}
+
 /* Numbers are read as strtod reads them (the value to the bit, in the C locale): random decimals with
  * 1 to 21 digits, exponents from -35 to 35 and signs, the printed forms %.17g and %.18e, and exact
  * binary midpoints (ties) printed in full. Each goes into a two-row file "X H / 1e7 H": the first x
@@ -416,6 +723,156 @@ Test(profile, numbers_are_read_as_strtod_reads_them, .timeout = 60)
         vi_profile_free(p);
     }
     cr_assert(first_bad[0] == '\0', "%s", first_bad);
+}
+
+/* A random decimal string (sign, leading zeros, up to 40 digits with or without a point, '.5' and '5.'
+ * forms, an exponent with e or E, its sign and leading zeros; or some hundred zeros after the point
+ * and a positive exponent), a printed double (%.17g, %.*e, %a) or an exact binary midpoint printed in
+ * full. */
+static void random_number(char *out, size_t size)
+{
+    int form = rand() % 7;
+    if (form == 6) { /* 90 to 119 zeros after the point and a positive exponent: a tiny value */
+        char *o = out + sprintf(out, "0.");
+        for (int z = 90 + rand() % 30; z > 0; z--) *o++ = '0';
+        o += sprintf(o, "%de%s%d", 1 + rand() % 999, rand() % 2 ? "+" : "", 1 + rand() % 40);
+        cr_assert((size_t)(o - out) < size);
+        return;
+    }
+    if (form == 4) {
+        double v = ldexp(1.0 + rand() % 1000, -(rand() % 80)) * pow(10.0, -(rand() % 5));
+        int k = rand() % 3;
+        if (k == 0) snprintf(out, size, "%.17g", v);
+        else if (k == 1) snprintf(out, size, "%.*e", rand() % 25, v);
+        else snprintf(out, size, "%a", v);
+        return;
+    }
+    if (form == 5) {
+        snprintf(out, size, "%.60g", ldexp((double)(rand() % (1 << 30)) * (1 << 23) + 0.5, -40 - rand() % 40));
+        return;
+    }
+    char *o = out;
+    const char *sign = rand() % 3 == 0 ? "-" : rand() % 4 == 0 ? "+" : "";
+    o += sprintf(o, "%s", sign);
+    for (int z = rand() % 3 == 0 ? rand() % 4 : 0; z > 0; z--) *o++ = '0';
+    int nd = rand() % 4 == 0 ? 17 + rand() % 24 : 1 + rand() % 16, dot = rand() % (nd + 2) - 1; /* -1: no point */
+    int lead = rand() % 3 == 0 ? rand() % 6 : 0; /* zeros right after the point */
+    for (int d = 0; d <= nd; d++) {
+        if (d == dot) {
+            *o++ = '.';
+            for (int z = 0; z < lead; z++) *o++ = '0';
+        }
+        if (d < nd) *o++ = (char)('0' + (d == 0 && form != 3 ? 1 + rand() % 9 : rand() % 10));
+    }
+    int ints = dot < 0 ? nd : dot; /* digits before the point: the exponent keeps the value below 1 */
+    if (form <= 2 || ints > 0) {
+        int e = -ints - rand() % 12 - (form == 2 ? 20 : 0);
+        char ech = rand() % 2 ? 'e' : 'E';
+        if (e >= 0 && rand() % 2) o += sprintf(o, "%c+%0*d", ech, 1 + rand() % 3, e);
+        else if (e < 0) o += sprintf(o, "%c-%0*d", ech, 1 + rand() % 3, -e);
+        else o += sprintf(o, "%c%d", ech, e);
+    }
+    *o = '\0';
+    cr_assert((size_t)(o - out) < size);
+}
+
+/* Thousands of numbers of every form in one file, read as strtod reads them (the value to the bit):
+ * each is the height of a plateau 2 m wide (three rows), 10 m from the next, where yb is the height
+ * exactly; the rows' positions are written in other forms of the same integers (signs, leading
+ * zeros, a point, exponents, hexadecimal), the separators are blanks, tabs, commas and semicolons,
+ * with comments, blank lines and Windows line ends between. */
+Test(profile, numbers_of_every_form_are_read_as_strtod_reads_them)
+{
+    enum { K = 4000 };
+    static double want[K];
+    static char text[K * 3 * 220];
+    srand(777);
+    char *o = text, num[192];
+    const char *sep[] = {" ", "\t", ",", ";", " , ", "\t; ", "  "};
+    const char *end[] = {"\n", "\r\n", " \n", "\t\r\n"};
+    int k = 0;
+    while (k < K) {
+        random_number(num, sizeof num);
+        double v = strtod(num, NULL);
+        if (!(fabs(v) < 0.2)) continue;
+        want[k] = v;
+        for (int row = -1; row <= 1; row++) {
+            long xi = 10L * (k + 1) + row;
+            int f = rand() % 9;
+            if (f == 0) o += sprintf(o, "%ld", xi);
+            else if (f == 1) o += sprintf(o, "+%ld.", xi);
+            else if (f == 2) o += sprintf(o, "000%ld.000", xi);
+            else if (f == 3) o += sprintf(o, "%ld000e-3", xi);
+            else if (f == 4) o += sprintf(o, "%.6E", (double)xi);
+            else if (f == 5) o += sprintf(o, "0x%lx", xi);
+            else if (f == 6) o += sprintf(o, "0.%ldE%d", xi, xi < 10 ? 1 : xi < 100 ? 2 : xi < 1000 ? 3 : xi < 10000 ? 4 : 5);
+            else if (f == 7) o += sprintf(o, "%ld.0e+0", xi);
+            else o += sprintf(o, "0X%lX", xi);
+            o += sprintf(o, "%s%s%s", sep[rand() % 7], num, end[rand() % 4]);
+        }
+        if (rand() % 10 == 0) o += sprintf(o, rand() % 2 ? "# %s\n" : "\n  \t\n", num);
+        k++;
+    }
+    *o = '\0';
+    char msg[512];
+    vi_profile *p = vi_profile_load(write_file(text), R, 0, msg, sizeof msg);
+    cr_assert(p != NULL, "%s", msg);
+    cr_assert(vi_profile_x_first(p) == 9.0 && vi_profile_x_last(p) == 10.0 * K + 1.0);
+    for (k = 0; k < K; k++) {
+        double got = yb(p, 10.0 * (k + 1));
+        if (got != want[k]) {
+            /* the row of the number, for the message */
+            char *line = text;
+            for (int skip = 0; skip < 3 * k; skip++) line = strchr(line, '\n') + 1;
+            cr_assert(0, "number %d: read %.17g, strtod %.17g (%.80s)", k, got, want[k], line);
+        }
+    }
+    vi_profile_free(p);
+    remove(write_file(""));
+    /* exponents beyond the exact conversion's (strtod's), as the last or first x: 1e28 and more, and
+     * exponents of more digits than an int holds (2^32 + 1: infinite, refused; 2^32: a height of 0) */
+    struct { const char *text; double first, last; } big[] = {
+        {"0 0\n1e28 0\n", 0.0, 1e28},
+        {"0 0\n123456789012345678e30 0\n", 0.0, 123456789012345678e30},
+        {"-5.5E+40 0\n0 0\n", -5.5e40, 0.0},
+        {"0 0\n0.000000000000000000000000000000000000001e66 0\n", 0.0, 1e27},
+        {"0 0\n3e23 0\n", 0.0, 3e23},
+        {"-7E+22 0\n0 0\n", -7e22, 0.0},
+        {"0 0\n4.1e22 0\n", 0.0, 4.1e22},
+    };
+    for (size_t i = 0; i < sizeof big / sizeof big[0]; i++) {
+        p = vi_profile_load(write_file(big[i].text), R, 0, msg, sizeof msg);
+        cr_assert(p != NULL, "%s: %s", big[i].text, msg);
+        cr_assert(vi_profile_x_first(p) == big[i].first && vi_profile_x_last(p) == big[i].last, "%s: %.17g %.17g",
+                  big[i].text, vi_profile_x_first(p), vi_profile_x_last(p));
+        vi_profile_free(p);
+    }
+    /* integers of 54 to 64 bits (and times 10^e), among them exact midpoints between two doubles with
+     * an even and an odd lower neighbour (ties to even), as the last x */
+    for (int i = 0; i < 300; i++) {
+        unsigned long long m = (1ull << 52) + ((unsigned long long)rand() << 20) + (unsigned long long)rand() % (1u << 20);
+        int j = rand() % 11, e = i % 4 == 0 ? rand() % 8 : 0;
+        unsigned long long w = i % 2 ? ((2 * m + 1) << j) : (m << 11) + (unsigned long long)rand();
+        char row[256];
+        if (i % 6 == 5) /* midpoints with a decimal fraction: m + 1/2 (doubles 1 apart), m/2 + 1/4 or 3/4 (0.5 apart) */
+            snprintf(num, sizeof num, "%llu.5", m);
+        else if (i % 6 == 2)
+            snprintf(num, sizeof num, "%llu.%s", m >> 1, rand() % 2 ? "25" : "75");
+        else
+            snprintf(num, sizeof num, "%llue%d", w, e);
+        snprintf(row, sizeof row, "0 0\n%s 0\n", num);
+        p = vi_profile_load(write_file(row), R, 0, msg, sizeof msg);
+        cr_assert(p != NULL, "%s: %s", row, msg);
+        cr_assert(vi_profile_x_last(p) == strtod(num, NULL), "%s: %.17g, strtod %.17g", num, vi_profile_x_last(p), strtod(num, NULL));
+        vi_profile_free(p);
+    }
+    cr_assert(vi_profile_load(write_file("0 0\n1e4294967297 0\n"), R, 0, msg, sizeof msg) == NULL);
+    cr_assert(strstr(msg, "line 2: x = inf, h = 0 are not finite"), "%s", msg);
+    p = vi_profile_load(write_file("0 1e-4294967296\n1 0\n"), R, 0, msg, sizeof msg);
+    cr_assert(p != NULL, "%s", msg);
+    cr_assert(yb(p, 0.0) == 0.0 && yb(p, 1.0) == 0.0);
+    vi_profile_free(p);
+    remove(write_file(""));
 }
 
 /* The ends of the exact conversion, as strtod reads them: mantissas of 15 to 21 digits (19 is the most
@@ -515,7 +972,38 @@ void *realloc(void *p, size_t n) { return fail_now() ? NULL : __libc_realloc(p, 
 #endif
 
 /* vi_profile_create with its k-th allocation failing (malloc, calloc or realloc), for every k until
- * it needs no more (a periodic table too): NULL and "out of memory" each time, nothing held afterwards. */
+ * it needs no more: NULL and "out of memory" each time, nothing held afterwards. */
+static void every_allocation_fails_cleanly(const double *x, const double *h, size_t n, double r, int periodic)
+{
+#if defined(__GLIBC__) && !defined(VI_TEST_ASAN)
+    char msg[256];
+    vi_profile_free(make(x, h, n, r, periodic)); /* the allocator's own first-use growth */
+    struct mallinfo2 before = mallinfo2();
+    int k = 1;
+    for (;; k++) {
+        msg[0] = '\0';
+        fail_countdown = k;
+        vi_profile *p = vi_profile_create(x, h, n, r, periodic, "table", msg, sizeof msg);
+        int failed = fail_countdown == 0;
+        fail_countdown = 0;
+        if (!failed) {
+            cr_assert(p != NULL, "%s", msg);
+            vi_profile_free(p);
+            break;
+        }
+        cr_assert(p == NULL && strstr(msg, "table: out of memory"), "malloc %d failing: %s", k, msg);
+    }
+    cr_assert(k > 5, "only %d allocations", k - 1);
+    struct mallinfo2 after = mallinfo2();
+    cr_assert(after.uordblks <= before.uordblks + 4096, "heap in use grew by %zu bytes", after.uordblks - before.uordblks);
+#else
+    (void)x, (void)h, (void)n, (void)r, (void)periodic;
+#endif
+}
+
+/* Every allocation checked: a smooth table (open and periodic), a rough one whose scratch stack for
+ * the intervals beyond a piece's domain first takes a whole interval (not a cut one), and one of 600
+ * rough rows whose interval stack outgrows its first capacity, also while intervals are put back. */
 Test(profile, every_allocation_of_create_is_checked)
 {
 #if !defined(__GLIBC__) || defined(VI_TEST_ASAN)
@@ -524,29 +1012,58 @@ Test(profile, every_allocation_of_create_is_checked)
     enum { N = 33 };
     double x[N], h[N];
     for (int i = 0; i < N; i++) x[i] = 0.01 * i, h[i] = 5e-3 * cos(2.0 * 3.14159265358979323846 * x[i] / 0.32);
-    char msg[256];
-    for (int periodic = 0; periodic <= 1; periodic++) {
-        vi_profile_free(make(x, h, N, R, periodic)); /* the allocator's own first-use growth */
-        struct mallinfo2 before = mallinfo2();
-        int k = 1;
-        for (;; k++) {
-            msg[0] = '\0';
-            fail_countdown = k;
-            vi_profile *p = vi_profile_create(x, h, N, R, periodic, "table", msg, sizeof msg);
-            int failed = fail_countdown == 0;
-            fail_countdown = 0;
-            if (!failed) {
-                cr_assert(p != NULL, "%s", msg);
-                vi_profile_free(p);
-                break;
-            }
-            cr_assert(p == NULL && strstr(msg, "table: out of memory"), "malloc %d failing: %s", k, msg);
+    every_allocation_fails_cleanly(x, h, N, R, 0);
+    every_allocation_fails_cleanly(x, h, N, R, 1);
+    double xr[] = {0.0, 0.5, 1.0, 1.125}, hr[] = {-0.25, 0.1875, -0.078125, 0.375};
+    every_allocation_fails_cleanly(xr, hr, 4, 1.0, 0);
+    static double xl[600], hl[600]; /* more intervals than the stack's first capacity: it grows while inserting */
+    srand(5);
+    for (int i = 0; i < 600; i++) xl[i] = 0.05 * i, hl[i] = 0.02 * rand() / RAND_MAX;
+    every_allocation_fails_cleanly(xl, hl, 600, R, 0);
+#endif
+}
+
+/* vi_profile_load with its k-th allocation failing, for every k until it needs no more (a file of 600
+ * rows: the row arrays grow twice): NULL and "out of memory" naming the file (the first allocation,
+ * fopen's: "cannot open"), or the profile when the allocation was the C library's own with a fallback (stdio's
+ * buffer); nothing held afterwards. */
+Test(profile, every_allocation_of_load_is_checked)
+{
+#if !defined(__GLIBC__) || defined(VI_TEST_ASAN)
+    cr_skip_test("needs glibc's __libc_malloc, without AddressSanitizer");
+#else
+    static char text[600 * 24];
+    char *o = text, msg[512];
+    for (int i = 0; i < 600; i++) o += sprintf(o, "%d %g\n", i, 1e-4 * (i % 7));
+    const char *path = write_file(text);
+    vi_profile_free(vi_profile_load(path, R, 0, msg, sizeof msg)); /* the allocator's own first-use growth */
+    struct mallinfo2 before = mallinfo2();
+    int k = 1, refused = 0;
+    for (;; k++) {
+        msg[0] = '\0';
+        fail_countdown = k;
+        vi_profile *p = vi_profile_load(path, R, 0, msg, sizeof msg);
+        int failed = fail_countdown == 0;
+        fail_countdown = 0;
+        if (!failed) {
+            cr_assert(p != NULL, "%s", msg);
+            cr_assert(vi_profile_x_last(p) == 599.0);
+            vi_profile_free(p);
+            break;
         }
-        cr_assert(k > 5, "only %d allocations", k - 1);
-        struct mallinfo2 after = mallinfo2();
-        cr_assert(after.uordblks <= before.uordblks + 4096, "heap in use grew by %zu bytes",
-                  after.uordblks - before.uordblks);
+        if (p) { /* a fallback of the C library */
+            cr_assert(vi_profile_x_last(p) == 599.0);
+            vi_profile_free(p);
+            continue;
+        }
+        refused++;
+        cr_assert(strstr(msg, path) && (strstr(msg, ": out of memory") || (k == 1 && strstr(msg, "cannot open"))),
+                  "malloc %d failing: %s", k, msg);
     }
+    cr_assert(refused > 5, "only %d refusals in %d allocations", refused, k - 1);
+    struct mallinfo2 after = mallinfo2();
+    cr_assert(after.uordblks <= before.uordblks + 4096, "heap in use grew by %zu bytes", after.uordblks - before.uordblks);
+    remove(path);
 #endif
 }
 
@@ -579,6 +1096,11 @@ Test(profile, non_finite_rows_are_refused_naming_the_table_and_row)
     h[1] = 0.0;
     cr_assert(vi_profile_create(xi, h, 3, R, 0, NULL, msg, sizeof msg) == NULL);
     cr_assert(strncmp(msg, "profile, row 3:", 15) == 0 && strstr(msg, "are not finite"), "%s", msg);
+    double x1[] = {NAN, 0.5, 1.0}, h1[] = {0.0, 0.0, INFINITY}; /* the first row, and the last height */
+    cr_assert(vi_profile_create(x1, h, 3, R, 0, "table B", msg, sizeof msg) == NULL);
+    cr_assert(strstr(msg, "table B, row 1: x = nan, h = 0 are not finite"), "%s", msg);
+    cr_assert(vi_profile_create(x, h1, 3, R, 0, "table B", msg, sizeof msg) == NULL);
+    cr_assert(strstr(msg, "table B, row 3: x = 1, h = inf are not finite"), "%s", msg);
     vi_profile *p = vi_profile_create(x, h, 3, R, 0, "table A", msg, sizeof msg);
     cr_assert(p != NULL, "%s", msg);
     vi_profile_free(p);
