@@ -1,8 +1,13 @@
 /* Unit tests of the generic FMI layer's core (src/vi_fmi_core.c) with a stub model that has no
- * physics: the range check of the variable table at set time, and the logger handed to the model
- * with a category the layer does not know. */
+ * physics but every hook, each of which can be told to fail or to answer a given value: the
+ * life cycle and its argument checks, logging with categories, value access with its checks, the
+ * FMU-state envelope, the Co-Simulation step checks and the Model Exchange calls. Two faces: a
+ * plain one (FMI 2.0-like) and one with the FMI 3.0 extras (time, input derivatives and event
+ * indicators as value references, Co-Simulation Event Mode, named enumerations). */
 #include <criterion/criterion.h>
+#include <float.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -14,8 +19,17 @@
     X(u, Real, none, input, continuous, exact, 0.0, VI_NONE, VI_NONE, "", "an input")                      \
     X(k, Real, none, parameter, tunable, exact, 1.0, VI_ABOVE(0.0), VI_AT(10.0), "1/s", "a rate")        \
     X(n, Integer, none, parameter, fixed, exact, 3, VI_AT(1), VI_BELOW(8), "", "a count")                \
-    X(y, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "", "an output")
-#define VI_ENUMERATIONS(E)
+    X(y, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "", "an output")              \
+    X(p, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "", "state 0")                \
+    X(q, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "", "state 1")                \
+    X(der_p, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "", "derivative of p")    \
+    X(der_q, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "", "derivative of q")    \
+    X(b, Boolean, none, input, discrete, exact, 0, VI_NONE, VI_NONE, "", "a switch")                     \
+    X(label, String, none, parameter, fixed, exact, "abc", VI_NONE, VI_NONE, "", "a label")              \
+    X(w, Real, none, input, discrete, exact, 0.0, VI_NONE, VI_NONE, "", "a discrete input")               \
+    X(color, Integer, Color, parameter, tunable, exact, 2, VI_NONE, VI_NONE, "", "a choice")
+#define VI_ENUMERATIONS(E) E(Color, "a color")
+#define VI_ITEMS_Color(I) I(Color, red, 2) I(Color, blue, 5)
 VI_TABLE_DECLARE
 VI_TABLE_DEFINE
 
@@ -23,8 +37,10 @@ typedef struct {
     vi_parameters par;
     vi_inputs in, din;
     double t;
+    double x[2];
 } data;
 
+/* What the hooks answer: set by a test between calls (fail_*: the hook returns -1). */
 typedef struct {
     data d;
     vi_fmu_log_fn log;
@@ -33,19 +49,43 @@ typedef struct {
     int outputs_calls;       /* calls of outputs_of, and the value references of the last one */
     unsigned asked[8];
     size_t n_asked;
+    int fail_prepare, fail_init, fail_me_init, fail_event, fail_checkpoint, fail_restore, fail_dd;
+    int prepare_calls, changed_calls, terminate_calls, reset_calls, checkpoint_calls, restore_calls, continuous_calls;
+    int event_calls, release_calls;
+    int restored_running;    /* `running` of the last restore */
+    int nan_outputs;         /* y and the ME arrays get NaN */
+    int advance_rc;          /* what advance returns, and where it leaves time (NAN: at t_end) */
+    double advance_to;
+    vi_fmu_event ev;         /* what event_update fills in (fields it leaves alone: -1) */
+    int completed;           /* what completed_step answers */
+    double setup_start, setup_tol;
+    int setup_tol_defined, setup_calls;
 } stub;
+
+static int fail_resources; /* set_resources fails (global: it is called during instantiation) */
+static const char *resources_dir;
 
 static void init(void *m, vi_fmu_log_fn log, void *env)
 {
     stub *s = m;
     vi_parameters_default(&s->d.par);
     vi_inputs_default(&s->d.in);
+    memset(&s->d.din, 0, sizeof s->d.din);
+    s->d.x[0] = 0.5, s->d.x[1] = -0.25;
+    s->advance_to = NAN;
     s->log = log, s->env = env;
 }
-static void reset(void *m) { init(m, ((stub *)m)->log, ((stub *)m)->env); }
-static void release(void *m) { (void)m; }
-static void changed(void *m) { (void)m; }
-static void outputs(void *m, void *out) { ((vi_outputs *)out)->y = ((stub *)m)->d.par.k; }
+static void reset(void *m) { ((stub *)m)->reset_calls++, init(m, ((stub *)m)->log, ((stub *)m)->env); }
+static void release(void *m) { ((stub *)m)->release_calls++; }
+static int set_resources(void *m, const char *dir) { return (void)m, resources_dir = dir, fail_resources ? -1 : 0; }
+static void changed(void *m) { ((stub *)m)->changed_calls++; }
+static void outputs(void *m, void *out)
+{
+    stub *s = m;
+    vi_outputs *o = out;
+    o->y = s->nan_outputs ? NAN : s->d.par.k;
+    o->p = s->d.x[0], o->q = s->d.x[1], o->der_p = s->d.x[1], o->der_q = -s->d.par.k * s->d.x[0];
+}
 static const void *outputs_of(void *m, const unsigned vr[], size_t nvr)
 {
     stub *s = m;
@@ -55,44 +95,141 @@ static const void *outputs_of(void *m, const unsigned vr[], size_t nvr)
     outputs(m, &s->out);
     return &s->out;
 }
-static void setup_experiment(void *m, double t0, int td, double tol) { (void)td, (void)tol, ((stub *)m)->d.t = t0; }
-static int prepare(void *m) { return (void)m, 0; }
-static int advance(void *m, double t_end) { return ((stub *)m)->d.t = t_end, 0; }
+static void setup_experiment(void *m, double t0, int td, double tol)
+{
+    stub *s = m;
+    s->setup_calls++, s->setup_start = t0, s->setup_tol_defined = td, s->setup_tol = tol;
+    s->d.t = t0;
+}
+static int prepare(void *m) { stub *s = m; return s->prepare_calls++, s->fail_prepare ? -1 : 0; }
+static int initialize(void *m) { return ((stub *)m)->fail_init ? -1 : 0; }
+static int me_initialize(void *m) { return ((stub *)m)->fail_me_init ? -1 : 0; }
+static int advance(void *m, double t_end)
+{
+    stub *s = m;
+    s->d.t = isnan(s->advance_to) ? t_end : s->advance_to;
+    return s->advance_rc;
+}
+static int advance_to_event(void *m, double t_end) { return advance(m, t_end); }
 static double time_of(const void *m) { return ((const stub *)m)->d.t; }
+static void terminate(void *m) { ((stub *)m)->terminate_calls++; }
 static void *state(void *m) { return &((stub *)m)->d; }
-static const char *message(const void *m) { return (void)m, ""; }
+static int checkpoint(void *m) { stub *s = m; return s->checkpoint_calls++, s->fail_checkpoint ? -1 : 0; }
+static int restore(void *m, int running)
+{
+    stub *s = m;
+    s->restore_calls++, s->restored_running = running;
+    return s->fail_restore ? -1 : 0;
+}
+/* The model's own check of a saved block: x[0] = 666 is bad (with a reason), 777 bad without one. */
+static int state_check(const void *block, int running, char *msg, size_t n)
+{
+    (void)running;
+    const data *d = block;
+    if (d->x[0] == 777.0) return -1;
+    if (d->x[0] == 666.0) return snprintf(msg, n, "x[0] = 666 is bad"), -1;
+    return 0;
+}
+static const char *message(const void *m) { return (void)m, "the stub says no"; }
+static void set_time(void *m, double t) { ((stub *)m)->d.t = t; }
+static void get_states(void *m, double x[])
+{
+    stub *s = m;
+    x[0] = s->d.x[0], x[1] = s->nan_outputs ? NAN : s->d.x[1];
+}
+static void set_states(void *m, const double x[]) { ((stub *)m)->d.x[0] = x[0], ((stub *)m)->d.x[1] = x[1]; }
+static void derivatives(void *m, double dx[])
+{
+    stub *s = m;
+    dx[0] = s->d.x[1], dx[1] = s->nan_outputs ? NAN : -s->d.par.k * s->d.x[0];
+}
+static void indicators(void *m, double z[]) { stub *s = m; z[0] = s->nan_outputs ? NAN : s->d.x[0] - 1.0; }
+static void nominals(const void *m, double nominal[]) { (void)m, nominal[0] = 1.0, nominal[1] = 2.0; }
+static int event_update(void *m, vi_fmu_event *ev)
+{
+    stub *s = m;
+    s->event_calls++;
+    if (s->fail_event) return -1;
+    *ev = s->ev;
+    return 0;
+}
+static int completed_step(void *m) { return ((stub *)m)->completed; }
+static void enter_continuous(void *m) { ((stub *)m)->continuous_calls++; }
+/* J: d(der_p)/dq = 1, d(der_q)/dp = -k, dy/du = 2, every other partial 0. */
+static int directional_derivative(void *m, const unsigned unknown[], size_t nu, const unsigned known[], size_t nk,
+                                  const double dknown[], double dunknown[])
+{
+    stub *s = m;
+    if (s->fail_dd) return -1;
+    for (size_t i = 0; i < nu; i++) {
+        dunknown[i] = 0.0;
+        for (size_t j = 0; j < nk; j++) {
+            double J = unknown[i] == VI_VR_der_p && known[j] == VI_VR_q   ? 1.0
+                       : unknown[i] == VI_VR_der_q && known[j] == VI_VR_p ? -s->d.par.k
+                       : unknown[i] == VI_VR_y && known[j] == VI_VR_u     ? 2.0
+                                                                          : 0.0;
+            dunknown[i] += J * dknown[j];
+        }
+    }
+    return 0;
+}
+
+static const unsigned state_vrs[2] = {VI_VR_p, VI_VR_q}, derivative_vrs[2] = {VI_VR_der_p, VI_VR_der_q};
 
 const vi_fmu_model vi_fmu_this_model = {
-    VI_FMU_TABLE_FIELDS(stub, data), .init = init, .reset = reset, .release = release, .changed = changed,
-    .outputs = outputs, .outputs_of = outputs_of, .setup_experiment = setup_experiment, .prepare = prepare, .initialize = prepare,
-    .advance = advance, .time = time_of, .state = state, .message = message,
+    VI_FMU_TABLE_FIELDS(stub, data), .init = init, .reset = reset, .release = release, .set_resources = set_resources,
+    .changed = changed, .outputs = outputs, .outputs_of = outputs_of, .setup_experiment = setup_experiment,
+    .prepare = prepare, .initialize = initialize, .advance = advance, .advance_to_event = advance_to_event,
+    .time = time_of, .terminate = terminate, .state = state, .checkpoint = checkpoint, .restore = restore,
+    .state_check = state_check, .message = message, .n_states = 2, .n_indicators = 1, .state_vrs = state_vrs,
+    .derivative_vrs = derivative_vrs, .me_initialize = me_initialize, .set_time = set_time,
+    .get_states = get_states, .set_states = set_states, .derivatives = derivatives, .indicators = indicators,
+    .nominals = nominals, .event_update = event_update, .completed_step = completed_step,
+    .enter_continuous = enter_continuous, .directional_derivative = directional_derivative,
 };
 
-/* What the face saw last (the importer's logger environment points here). */
+/* What the face saw (the importer's logger environment points here): the last message and all. */
+#define LOG_KEEP 16
 typedef struct {
     int count;
     vi_status status;
-    char category[32], text[1024];
+    char category[32], text[1024], name[64];
+    vi_status all_status[LOG_KEEP];
+    char all[LOG_KEEP][1024];
 } record;
 
 static void emit(const vi_core *c, vi_status status, const char *category, const char *text)
 {
     record *r = c->cb.env;
+    if (r->count < LOG_KEEP) {
+        r->all_status[r->count] = status;
+        snprintf(r->all[r->count], sizeof r->all[0], "%s", text);
+    }
     r->count++;
     r->status = status;
     snprintf(r->category, sizeof r->category, "%s", category);
     snprintf(r->text, sizeof r->text, "%s", text);
+    snprintf(r->name, sizeof r->name, "%s", c->name);
 }
 static void any_logger(void) {}
 static const vi_face face = {.call_category = "logTestCall", .emit = emit};
+static const char *const face3_types[] = {"F64", "I32", "Bool", "Enum64", "Str"};
+#define TIME_VR 1000u
+#define DER_BASE 2000u
+#define IND_BASE 3000u
+static const vi_face face3 = {.call_category = "logTest3Call", .emit = emit, .named_enumerations = 1,
+                              .type_names = face3_types, .has_time = 1, .time_vr = TIME_VR,
+                              .has_input_derivatives = 1, .derivative_vr_base = DER_BASE, .cs_event_mode = 1,
+                              .has_indicator_vrs = 1, .indicator_vr_base = IND_BASE};
 
-static vi_core *make(record *r, int logging_on)
+static vi_core *make_with(const vi_face *f, record *r, vi_kind kind, int logging_on)
 {
     vi_callbacks cb = {.alloc = calloc, .free = free, .logger = any_logger, .env = r};
-    vi_core *c = vi_core_instantiate(&face, &cb, "instantiate", "core", VI_KIND_CS, VI_GUID, NULL, "", logging_on);
+    vi_core *c = vi_core_instantiate(f, &cb, "instantiate", "core", kind, VI_GUID, NULL, "", logging_on);
     cr_assert(c != NULL, "%s", r->text);
     return c;
 }
+static vi_core *make(record *r, int logging_on) { return make_with(&face, r, VI_KIND_CS, logging_on); }
 
 static double get_k(vi_core *c)
 {
@@ -101,6 +238,24 @@ static double get_k(vi_core *c)
     cr_assert(vi_core_get(c, "get", &vr, 1, VI_Real, &k, VI_ELEM_DOUBLE) == VI_STATUS_OK);
     return k;
 }
+
+/* The last message: status, and every one of the words in its text. */
+#define LAST_IS(r, st, ...)                                                                                  \
+    do {                                                                                                     \
+        cr_assert((r).status == (st), "status %d, expected %d: '%s'", (int)(r).status, (int)(st), (r).text);  \
+        const char *words_[] = {__VA_ARGS__};                                                                \
+        for (size_t w_ = 0; w_ < sizeof words_ / sizeof words_[0]; w_++)                                     \
+            cr_assert(strstr((r).text, words_[w_]), "'%s' lacks '%s'", (r).text, words_[w_]);               \
+    } while (0)
+/* A call refused with an error message naming all the words, the count of messages one up. */
+#define REFUSED(r, call, ...)                                                                                \
+    do {                                                                                                     \
+        int before_ = (r).count;                                                                             \
+        cr_assert((call) == VI_STATUS_ERROR, "%s: not refused", #call);                                      \
+        cr_assert((r).count == before_ + 1, "%s: %d messages", #call, (r).count - before_);                  \
+        LAST_IS(r, VI_STATUS_ERROR, __VA_ARGS__);                                                            \
+        cr_assert(strcmp((r).category, "logStatusError") == 0, "category %s", (r).category);                \
+    } while (0)
 
 Test(core, a_value_outside_the_range_is_refused_at_set_time_and_nothing_changes)
 {
@@ -171,5 +326,684 @@ Test(core, a_get_asks_the_model_for_the_outputs_it_reads)
     cr_assert(s->outputs_calls == 1 && s->n_asked == 3 && memcmp(s->asked, vr, sizeof vr) == 0, "%d calls, %zu vrs",
               s->outputs_calls, s->n_asked);
     cr_assert(v[0] == 1.0 && v[1] == 1.0 && v[2] == 1.0);
+    vi_core_free(c, "free");
+}
+
+/* ---- logging ---- */
+
+Test(core, the_model_logs_each_category_with_its_status_when_enabled_and_errors_always)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    stub *s = c->model;
+    static const struct {
+        int cat;
+        const char *name;
+        vi_status status;
+    } cats[] = {{VI_FMU_LOG_EVENTS, "logEvents", VI_STATUS_OK},
+                {VI_FMU_LOG_SOLVER, "logSolver", VI_STATUS_OK},
+                {VI_FMU_LOG_WARNING, "logStatusWarning", VI_STATUS_WARNING}};
+    for (int i = 0; i < 3; i++) {
+        r.count = 0;
+        s->log(s->env, cats[i].cat, "m%d", i);
+        cr_assert(r.count == 0, "%s logged while disabled", cats[i].name);
+        const char *one[] = {cats[i].name};
+        cr_assert(vi_core_set_debug_logging(c, "logging", 1, 1, one) == VI_STATUS_OK);
+        s->log(s->env, cats[i].cat, "m%d", i);
+        cr_assert(r.count == 1 && r.status == cats[i].status && strcmp(r.category, cats[i].name) == 0, "%s: %d %d %s",
+                  cats[i].name, r.count, (int)r.status, r.category);
+        char want[8];
+        snprintf(want, sizeof want, "m%d", i);
+        cr_assert(strcmp(r.text, want) == 0, "'%s'", r.text);
+        cr_assert(vi_core_set_debug_logging(c, "logging", 0, 1, one) == VI_STATUS_OK);
+        s->log(s->env, cats[i].cat, "again");
+        cr_assert(r.count == 1, "%s logged after it was disabled", cats[i].name);
+    }
+    r.count = 0;
+    s->log(s->env, VI_FMU_LOG_ERROR, "bad %s", "thing");
+    cr_assert(r.count == 1 && r.status == VI_STATUS_ERROR && strcmp(r.category, "logStatusError") == 0 &&
+              strcmp(r.text, "bad thing") == 0, "%d %s %s", r.count, r.category, r.text);
+    /* logAll enables every category */
+    const char *all[] = {"logAll"};
+    cr_assert(vi_core_set_debug_logging(c, "logging", 1, 1, all) == VI_STATUS_OK);
+    r.count = 0;
+    s->log(s->env, VI_FMU_LOG_EVENTS, "ev");
+    cr_assert(r.count == 1 && strcmp(r.category, "logEvents") == 0 && r.status == VI_STATUS_OK);
+    vi_core_free(c, "free");
+}
+
+Test(core, without_a_logger_nothing_is_emitted)
+{
+    record r = {0};
+    vi_callbacks cb = {.alloc = calloc, .free = free, .logger = NULL, .env = &r};
+    vi_core *c = vi_core_instantiate(&face, &cb, "instantiate", "core", VI_KIND_CS, VI_GUID, NULL, "", 1);
+    cr_assert(c != NULL);
+    stub *s = c->model;
+    s->log(s->env, VI_FMU_LOG_ERROR, "bad");
+    cr_assert(vi_core_exit_init(c, "exit") == VI_STATUS_ERROR);
+    vi_core_free(c, "free");
+    cr_assert(r.count == 0, "%d messages: %s", r.count, r.text);
+}
+
+Test(core, control_characters_are_written_as_hex_escapes)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    vi_core_log(c, VI_STATUS_ERROR, VI_CAT_ERROR, "a\x01 ~\x7f\x1f%c", 0xe9);
+    cr_assert(strcmp(r.text, "a\\x01 ~\\x7f\\x1f\\xe9") == 0, "'%s'", r.text);
+    vi_core_log(c, VI_STATUS_ERROR, VI_CAT_ERROR, "plain");
+    cr_assert(strcmp(r.text, "plain") == 0, "'%s'", r.text);
+    vi_core_free(c, "free");
+}
+
+Test(core, a_discard_is_logged_whatever_is_enabled_but_a_warning_only_when_enabled)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    vi_core_log(c, VI_STATUS_WARNING, VI_CAT_WARNING, "w");
+    cr_assert(r.count == 0);
+    vi_core_log(c, VI_STATUS_DISCARD, VI_CAT_DISCARD, "d");
+    cr_assert(r.count == 1 && r.status == VI_STATUS_DISCARD && strcmp(r.category, "logStatusDiscard") == 0);
+    vi_core_free(c, "free");
+}
+
+Test(core, calls_are_logged_in_the_call_category_only_when_it_or_logAll_is_enabled)
+{
+    record r = {0};
+    vi_core *c = make(&r, 1); /* every category */
+    cr_assert(r.count == 1 && r.status == VI_STATUS_OK && strcmp(r.category, "logTestCall") == 0 &&
+              strcmp(r.text, "instantiate: core") == 0, "%d '%s' '%s'", r.count, r.category, r.text);
+    cr_assert(c->log_mask == (1u << VI_CAT_COUNT) - 1u, "mask %#x", c->log_mask);
+    cr_assert(vi_core_enter_init(c, "enterInit") == VI_STATUS_OK);
+    cr_assert(r.count == 2 && strcmp(r.text, "enterInit") == 0 && strcmp(r.category, "logTestCall") == 0);
+    cr_assert(vi_core_set_debug_logging(c, "dbg", 0, 0, NULL) == VI_STATUS_OK && c->log_mask == 0u);
+    cr_assert(r.count == 3 && strcmp(r.text, "dbg") == 0); /* logged on entry, before the mask changed */
+    cr_assert(vi_core_exit_init(c, "exitInit") == VI_STATUS_OK);
+    cr_assert(r.count == 3, "a call logged with logging off: %s", r.text);
+    const char *calls[] = {"logTestCall"}, *all[] = {"logAll"};
+    cr_assert(vi_core_set_debug_logging(c, "dbg", 1, 1, calls) == VI_STATUS_OK && c->log_mask == 1u << VI_CAT_CALL);
+    cr_assert(vi_core_terminate(c, "term") == VI_STATUS_OK);
+    cr_assert(r.count == 4 && strcmp(r.text, "term") == 0, "%d %s", r.count, r.text);
+    cr_assert(vi_core_set_debug_logging(c, "dbg", 0, 1, calls) == VI_STATUS_OK && c->log_mask == 0u);
+    cr_assert(r.count == 5 && strcmp(r.text, "dbg") == 0);
+    cr_assert(vi_core_set_debug_logging(c, "dbg", 1, 1, all) == VI_STATUS_OK && c->log_mask == 1u << VI_CAT_ALL);
+    cr_assert(r.count == 5);
+    cr_assert(vi_core_reset(c, "rst") == VI_STATUS_OK);
+    cr_assert(r.count == 6 && strcmp(r.text, "rst") == 0 && strcmp(r.category, "logTestCall") == 0, "%d %s", r.count,
+              r.text);
+    vi_core_free(c, "freeInst");
+    cr_assert(r.count == 7 && strcmp(r.text, "freeInst") == 0, "%d %s", r.count, r.text);
+}
+
+Test(core, a_call_category_disabled_is_not_logged_at_instantiation_and_free)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    cr_assert(c->log_mask == 0u && r.count == 0);
+    vi_core_free(c, "free");
+    cr_assert(r.count == 0);
+}
+
+Test(core, each_log_category_name_sets_its_own_bit)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    const char *names[VI_CAT_COUNT] = {[VI_CAT_EVENTS] = "logEvents", [VI_CAT_SOLVER] = "logSolver",
+                                       [VI_CAT_WARNING] = "logStatusWarning", [VI_CAT_DISCARD] = "logStatusDiscard",
+                                       [VI_CAT_ERROR] = "logStatusError", [VI_CAT_CALL] = "logTestCall",
+                                       [VI_CAT_ALL] = "logAll"};
+    for (int k = 0; k < VI_CAT_COUNT; k++) {
+        c->log_mask = 0;
+        cr_assert(vi_core_set_debug_logging(c, "dbg", 1, 1, &names[k]) == VI_STATUS_OK, "%s", names[k]);
+        cr_assert(c->log_mask == 1u << k, "%s: mask %#x", names[k], c->log_mask);
+        c->log_mask = 0x7fu;
+        cr_assert(vi_core_set_debug_logging(c, "dbg", 0, 1, &names[k]) == VI_STATUS_OK);
+        cr_assert(c->log_mask == (0x7fu & ~(1u << k)), "%s off: mask %#x", names[k], c->log_mask);
+    }
+    c->log_mask = 0;
+    const char *two[] = {"logSolver", "logStatusError"};
+    cr_assert(vi_core_set_debug_logging(c, "dbg", 1, 2, two) == VI_STATUS_OK);
+    cr_assert(c->log_mask == ((1u << VI_CAT_SOLVER) | (1u << VI_CAT_ERROR)), "mask %#x", c->log_mask);
+    cr_assert(vi_core_set_debug_logging(c, "dbg", 1, 0, NULL) == VI_STATUS_OK && c->log_mask == 0x7fu);
+    vi_core_free(c, "free");
+}
+
+Test(core, debug_logging_refuses_null_and_unknown_categories_and_changes_nothing)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    REFUSED(r, vi_core_set_debug_logging(c, "dbg", 1, 1, NULL), "dbg: categories is NULL");
+    const char *bad[] = {"logEvents", "logNothing"}, *null[] = {NULL}, *near[] = {"logEvent"};
+    REFUSED(r, vi_core_set_debug_logging(c, "dbg", 1, 2, bad), "dbg: unknown log category 'logNothing'");
+    REFUSED(r, vi_core_set_debug_logging(c, "dbg", 1, 1, null), "dbg: unknown log category '(null)'");
+    REFUSED(r, vi_core_set_debug_logging(c, "dbg", 1, 1, near), "unknown log category 'logEvent'");
+    cr_assert(c->log_mask == 0u, "mask %#x", c->log_mask);
+    vi_core_free(c, "free");
+}
+
+Test(core, a_call_in_a_state_it_is_not_allowed_in_is_refused_naming_the_state)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    REFUSED(r, vi_core_exit_init(c, "exitInit"), "exitInit: not allowed in state 'instantiated'");
+    cr_assert(c->state == VI_ST_INSTANTIATED);
+    static const struct { unsigned st; const char *name; } names[] = {
+        {VI_ST_INIT, "initialization mode"}, {VI_ST_STEP_FAILED, "step failed"}, {VI_ST_TERMINATED, "terminated"},
+        {VI_ST_ERROR, "error"}, {VI_ST_EVENT, "event mode"}, {VI_ST_CONTINUOUS, "continuous-time mode"},
+        {VI_ST_FATAL, "fatal"}};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+        c->state = names[i].st;
+        char want[64];
+        snprintf(want, sizeof want, "not allowed in state '%s'", names[i].name);
+        REFUSED(r, vi_core_enter_init(c, "enterInit"), want);
+    }
+    c->state = VI_ST_STEP_COMPLETE;
+    REFUSED(r, vi_core_enter_init(c, "enterInit"), "state 'step complete'");
+    cr_assert(vi_core_enter_init(NULL, "enterInit") == VI_STATUS_ERROR);
+    vi_core_free(NULL, "free");
+    vi_core_free(c, "free");
+}
+
+/* ---- life cycle ---- */
+
+/* calloc and free that count, and fail the n-th allocation (0: none). */
+static int n_alloc, n_free, fail_at;
+static void *counting_alloc(size_t n, size_t size)
+{
+    if (++n_alloc == fail_at) return NULL;
+    return calloc(n, size);
+}
+static void counting_free(void *p)
+{
+    n_free++;
+    free(p);
+}
+
+static vi_core *instantiate_with(record *r, vi_callbacks cb, const char *name, vi_kind kind, const char *guid)
+{
+    cb.logger = any_logger, cb.env = r;
+    return vi_core_instantiate(&face, &cb, "inst", name, kind, guid, "/res", "file:///res", 0);
+}
+
+Test(core, instantiation_needs_both_memory_callbacks)
+{
+    record r = {0};
+    vi_callbacks no_alloc = {.free = free}, no_free = {.alloc = calloc};
+    cr_assert(instantiate_with(&r, no_alloc, "a", VI_KIND_CS, VI_GUID) == NULL);
+    LAST_IS(r, VI_STATUS_ERROR, "inst: the callbacks allocateMemory and freeMemory are required");
+    cr_assert(r.count == 1 && strcmp(r.name, "a") == 0, "%d %s", r.count, r.name);
+    cr_assert(instantiate_with(&r, no_free, "b", VI_KIND_CS, VI_GUID) == NULL);
+    cr_assert(r.count == 2 && strstr(r.text, "allocateMemory and freeMemory are required"));
+}
+
+Test(core, instantiation_needs_a_name_a_known_interface_and_the_guid)
+{
+    record r = {0};
+    vi_callbacks cb = {.alloc = calloc, .free = free};
+    cr_assert(instantiate_with(&r, cb, NULL, VI_KIND_CS, VI_GUID) == NULL);
+    LAST_IS(r, VI_STATUS_ERROR, "inst: instanceName must be a non-empty string");
+    cr_assert(strcmp(r.name, "?") == 0, "%s", r.name);
+    cr_assert(instantiate_with(&r, cb, "", VI_KIND_CS, VI_GUID) == NULL && r.count == 2);
+    LAST_IS(r, VI_STATUS_ERROR, "instanceName must be a non-empty string");
+    cr_assert(instantiate_with(&r, cb, "x", (vi_kind)7, VI_GUID) == NULL && r.count == 3);
+    LAST_IS(r, VI_STATUS_ERROR, "inst: CoreTest does not offer the interface type asked for (unknown type)");
+    cr_assert(instantiate_with(&r, cb, "x", VI_KIND_CS, NULL) == NULL && r.count == 4);
+    LAST_IS(r, VI_STATUS_ERROR, "inst: GUID '(null)' does not match this FMU's '{core-test}'");
+    cr_assert(instantiate_with(&r, cb, "x", VI_KIND_CS, "{core-test}x") == NULL && r.count == 5);
+    LAST_IS(r, VI_STATUS_ERROR, "GUID '{core-test}x' does not match");
+    vi_core *c = instantiate_with(&r, cb, "me", VI_KIND_ME, VI_GUID);
+    cr_assert(c != NULL && r.count == 5 && c->kind == VI_KIND_ME && c->state == VI_ST_INSTANTIATED, "%s", r.text);
+    cr_assert(strcmp(resources_dir, "/res") == 0);
+    vi_core_free(c, "free");
+}
+
+Test(core, every_allocation_of_instantiation_is_checked_and_nothing_leaks)
+{
+    record r = {0};
+    vi_callbacks cb = {.alloc = counting_alloc, .free = counting_free};
+    for (int k = 1; k <= 4; k++) {
+        n_alloc = n_free = 0, fail_at = k, r.count = 0;
+        cr_assert(instantiate_with(&r, cb, "x", VI_KIND_CS, VI_GUID) == NULL, "allocation %d", k);
+        cr_assert(r.count == 1, "allocation %d: %d messages", k, r.count);
+        LAST_IS(r, VI_STATUS_ERROR, "inst: out of memory");
+        cr_assert(n_alloc == 4 && n_free == 3, "allocation %d: %d allocated, %d freed", k, n_alloc, n_free);
+    }
+    n_alloc = n_free = 0, fail_at = 0;
+    vi_core *c = instantiate_with(&r, cb, "name", VI_KIND_CS, VI_GUID);
+    cr_assert(c != NULL && n_alloc == 4);
+    cr_assert(strcmp(c->name, "name") == 0 && c->face == &face && c->cb.alloc == counting_alloc);
+    stub *s = c->model;
+    cr_assert(s->env == c && s->d.par.k == 1.0 && c->outputs != NULL, "the model was not initialized");
+    vi_core_free(c, "free");
+    cr_assert(n_free == 4 && s != NULL, "%d freed", n_free);
+}
+
+Test(core, a_resources_failure_is_reported_and_frees_the_instance)
+{
+    record r = {0};
+    vi_callbacks cb = {.alloc = counting_alloc, .free = counting_free};
+    n_alloc = n_free = 0, fail_at = 0, fail_resources = 1;
+    vi_core *c = instantiate_with(&r, cb, "x", VI_KIND_CS, VI_GUID);
+    fail_resources = 0;
+    cr_assert(c == NULL && r.count == 1);
+    LAST_IS(r, VI_STATUS_ERROR, "inst: resources 'file:///res': the stub says no");
+    cr_assert(n_alloc == 4 && n_free == 4, "%d allocated, %d freed", n_alloc, n_free);
+}
+
+Test(core, free_releases_the_model_and_every_block)
+{
+    record r = {0};
+    vi_callbacks cb = {.alloc = counting_alloc, .free = counting_free};
+    n_alloc = n_free = 0, fail_at = 0;
+    vi_core *c = instantiate_with(&r, cb, "x", VI_KIND_CS, VI_GUID);
+    cr_assert(c);
+    vi_core_free(c, "free");
+    cr_assert(n_free == 4);
+}
+
+Test(core, setup_experiment_takes_a_tolerance_strictly_between_0_and_1)
+{
+    record r = {0};
+    const double bad[] = {0.0, 1.0, -1e-3, 2.0, NAN, INFINITY}, good[] = {5e-324, 0.5, 0x1.fffffffffffffp-1};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        vi_core *c = make(&r, 0);
+        REFUSED(r, vi_core_setup_experiment(c, "setup", 1, bad[i], 0.0, 0, 0.0), "setup: need a finite start time",
+                "a tolerance in (0, 1)");
+        stub *s = c->model;
+        cr_assert(s->setup_calls == 0);
+        vi_core_free(c, "free");
+    }
+    for (size_t i = 0; i < sizeof good / sizeof good[0]; i++) {
+        vi_core *c = make(&r, 0);
+        cr_assert(vi_core_setup_experiment(c, "setup", 1, good[i], 0.0, 0, 0.0) == VI_STATUS_OK, "%g", good[i]);
+        stub *s = c->model;
+        cr_assert(s->setup_calls == 1 && s->setup_tol_defined == 1 && s->setup_tol == good[i]);
+        vi_core_free(c, "free");
+    }
+    /* no tolerance given: its value does not matter */
+    vi_core *c = make(&r, 0);
+    cr_assert(vi_core_setup_experiment(c, "setup", 0, 0.0, 0.0, 0, 0.0) == VI_STATUS_OK);
+    cr_assert(((stub *)c->model)->setup_tol_defined == 0);
+    vi_core_free(c, "free");
+    c = make(&r, 0);
+    cr_assert(vi_core_setup_experiment(c, "setup", 7, 0.25, 0.0, 0, 0.0) == VI_STATUS_OK);
+    cr_assert(((stub *)c->model)->setup_tol_defined == 1, "tolerance_defined passed as %d",
+              ((stub *)c->model)->setup_tol_defined);
+    vi_core_free(c, "free");
+}
+
+Test(core, setup_experiment_needs_a_finite_start_and_a_stop_not_before_it)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    REFUSED(r, vi_core_setup_experiment(c, "setup", 0, 0.0, NAN, 0, 0.0), "start nan");
+    REFUSED(r, vi_core_setup_experiment(c, "setup", 0, 0.0, INFINITY, 0, 0.0), "start inf");
+    REFUSED(r, vi_core_setup_experiment(c, "setup", 1, 0.125, 2.0, 1, nextafter(2.0, 0.0)),
+            "(got start 2, tolerance 0.125, stop 2)");
+    REFUSED(r, vi_core_setup_experiment(c, "setup", 0, 0.0, 2.0, 1, NAN), "stop nan");
+    cr_assert(vi_core_setup_experiment(c, "setup", 0, 0.0, 2.0, 0, 1.0) == VI_STATUS_OK); /* no stop time */
+    cr_assert(c->stop_time_defined == 0);
+    cr_assert(vi_core_setup_experiment(c, "setup", 0, 0.0, 2.0, 5, 2.0) == VI_STATUS_OK);
+    stub *s = c->model;
+    cr_assert(c->stop_time_defined == 1 && c->stop_time == 2.0 && s->setup_start == 2.0 && s->d.t == 2.0);
+    vi_core_free(c, "free");
+}
+
+Test(core, initialization_of_each_interface_and_its_failures)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK && c->state == VI_ST_INIT && c->initialized == 0);
+    ((stub *)c->model)->fail_init = 1;
+    REFUSED(r, vi_core_exit_init(c, "exitInit"), "exitInit: the stub says no");
+    cr_assert(c->state == VI_ST_ERROR && c->initialized == 0);
+    vi_core_free(c, "free");
+
+    c = make(&r, 0);
+    ((stub *)c->model)->fail_me_init = 1; /* not the Co-Simulation hook */
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK && vi_core_exit_init(c, "exit") == VI_STATUS_OK);
+    cr_assert(c->state == VI_ST_STEP_COMPLETE && c->initialized == 1);
+    vi_core_free(c, "free");
+
+    c = make_with(&face, &r, VI_KIND_ME, 0);
+    ((stub *)c->model)->fail_me_init = 1;
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK);
+    REFUSED(r, vi_core_exit_init(c, "exitInit"), "exitInit: the stub says no");
+    cr_assert(c->state == VI_ST_ERROR && c->initialized == 0);
+    vi_core_free(c, "free");
+
+    c = make_with(&face, &r, VI_KIND_ME, 0);
+    ((stub *)c->model)->fail_init = 1; /* not the Model Exchange hook */
+    cr_assert(vi_core_setup_experiment(c, "setup", 0, 0.0, 3.0, 0, 0.0) == VI_STATUS_OK);
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK);
+    c->event_passes = 5, c->t_committed = -1.0;
+    cr_assert(vi_core_exit_init(c, "exit") == VI_STATUS_OK);
+    cr_assert(c->state == VI_ST_EVENT && c->initialized == 1 && c->event_passes == 0 && c->t_committed == 3.0,
+              "state %u, initialized %d, passes %d, t_committed %g", c->state, c->initialized, c->event_passes,
+              c->t_committed);
+    vi_core_free(c, "free");
+}
+
+Test(core, terminate_and_reset)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    stub *s = c->model;
+    cr_assert(vi_core_setup_experiment(c, "setup", 0, 0.0, 0.0, 1, 5.0) == VI_STATUS_OK);
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK && vi_core_exit_init(c, "exit") == VI_STATUS_OK);
+    cr_assert(vi_core_terminate(c, "term") == VI_STATUS_OK && c->state == VI_ST_TERMINATED && s->terminate_calls == 1);
+    s->d.par.k = 7.0;
+    cr_assert(vi_core_reset(c, "reset") == VI_STATUS_OK);
+    cr_assert(c->state == VI_ST_INSTANTIATED && c->stop_time_defined == 0 && c->initialized == 0 &&
+              s->reset_calls == 1 && s->d.par.k == 1.0);
+    vi_core_free(c, "free");
+    c = make(&r, 0);
+    s = c->model;
+    REFUSED(r, vi_core_terminate(c, "term"), "term: not allowed in state 'instantiated'");
+    cr_assert(s->terminate_calls == 0 && c->state == VI_ST_INSTANTIATED);
+    vi_core_free(c, "free");
+}
+
+/* ---- values ---- */
+
+Test(core, get_and_set_refuse_a_null_array_of_either_kind_but_not_an_empty_call)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK);
+    unsigned vr = VI_VR_k;
+    double v = 2.0;
+    REFUSED(r, vi_core_get(c, "get", NULL, 1, VI_Real, &v, VI_ELEM_DOUBLE), "get: NULL array");
+    REFUSED(r, vi_core_get(c, "get", &vr, 1, VI_Real, NULL, VI_ELEM_DOUBLE), "get: NULL array");
+    REFUSED(r, vi_core_set(c, "set", NULL, 1, VI_Real, &v, VI_ELEM_DOUBLE), "set: NULL array");
+    REFUSED(r, vi_core_set(c, "set", &vr, 1, VI_Real, NULL, VI_ELEM_DOUBLE), "set: NULL array");
+    cr_assert(vi_core_get(c, "get", NULL, 0, VI_Real, NULL, VI_ELEM_DOUBLE) == VI_STATUS_OK);
+    cr_assert(vi_core_set(c, "set", NULL, 0, VI_Real, NULL, VI_ELEM_DOUBLE) == VI_STATUS_OK);
+    cr_assert(get_k(c) == 1.0);
+    vi_core_free(c, "free");
+}
+
+Test(core, get_refuses_unknown_references_and_other_types_naming_the_type)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK);
+    unsigned vr = VI_NVARS;
+    double v;
+    int k;
+    REFUSED(r, vi_core_get(c, "get", &vr, 1, VI_Real, &v, VI_ELEM_DOUBLE), "get: unknown value reference 12");
+    vr = TIME_VR; /* the plain face has no time variable */
+    REFUSED(r, vi_core_get(c, "get", &vr, 1, VI_Real, &v, VI_ELEM_DOUBLE), "unknown value reference 1000");
+    vr = VI_VR_k;
+    REFUSED(r, vi_core_get(c, "get", &vr, 1, VI_Integer, &k, VI_ELEM_INT), "get: value reference 1 (k) is of type Real");
+    vr = VI_VR_b;
+    REFUSED(r, vi_core_get(c, "get", &vr, 1, VI_Real, &v, VI_ELEM_DOUBLE), "(b) is of type Boolean");
+    vr = VI_VR_n;
+    REFUSED(r, vi_core_get(c, "get", &vr, 1, VI_Real, &v, VI_ELEM_DOUBLE), "(n) is of type Integer");
+    vr = VI_VR_label;
+    REFUSED(r, vi_core_get(c, "get", &vr, 1, VI_Real, &v, VI_ELEM_DOUBLE), "(label) is of type String");
+    vr = VI_VR_color; /* an enumeration is read as an Integer by the plain face */
+    cr_assert(vi_core_get(c, "get", &vr, 1, VI_Integer, &k, VI_ELEM_INT) == VI_STATUS_OK && k == 2);
+    REFUSED(r, vi_core_get(c, "get", &vr, 1, VI_Real, &v, VI_ELEM_DOUBLE), "(color) is of type Integer");
+    vi_core_free(c, "free");
+
+    c = make_with(&face3, &r, VI_KIND_CS, 0);
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK);
+    REFUSED(r, vi_core_get(c, "get3", &vr, 1, VI_Integer, &k, VI_ELEM_INT), "get3: value reference 11 (color) is of type Enum64");
+    int64_t k64 = 0;
+    cr_assert(vi_core_get(c, "get3", &vr, 1, VI_Enumeration, &k64, VI_ELEM_INT64) == VI_STATUS_OK && k64 == 2);
+    vr = VI_VR_n;
+    REFUSED(r, vi_core_get(c, "get3", &vr, 1, VI_Enumeration, &k64, VI_ELEM_INT64), "(n) is of type I32");
+    vr = VI_VR_k;
+    REFUSED(r, vi_core_get(c, "get3", &vr, 1, VI_Boolean, &k, VI_ELEM_BOOL), "(k) is of type F64");
+    vi_core_free(c, "free");
+}
+
+Test(core, get_reads_each_type_into_its_element_kind)
+{
+    record r = {0};
+    vi_core *c = make_with(&face3, &r, VI_KIND_CS, 0);
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK);
+    stub *s = c->model;
+    s->d.in.b = 1, s->d.par.n = 6;
+    unsigned vb = VI_VR_b, vn = VI_VR_n, vl = VI_VR_label, vk = VI_VR_k;
+    bool b = false;
+    int bi = 0, n = 0;
+    const char *str = NULL;
+    cr_assert(vi_core_get(c, "get", &vb, 1, VI_Boolean, &b, VI_ELEM_BOOL) == VI_STATUS_OK && b == true);
+    cr_assert(vi_core_get(c, "get", &vb, 1, VI_Boolean, &bi, VI_ELEM_INT) == VI_STATUS_OK && bi == 1);
+    cr_assert(vi_core_get(c, "get", &vn, 1, VI_Integer, &n, VI_ELEM_INT) == VI_STATUS_OK && n == 6);
+    cr_assert(vi_core_get(c, "get", &vl, 1, VI_String, &str, VI_ELEM_STRING) == VI_STATUS_OK);
+    cr_assert(str == s->d.par.label && strcmp(str, "abc") == 0);
+    double two[2] = {0, 0};
+    unsigned vr2[2] = {VI_VR_k, VI_VR_u};
+    s->d.in.u = -3.5;
+    cr_assert(vi_core_get(c, "get", vr2, 2, VI_Real, two, VI_ELEM_DOUBLE) == VI_STATUS_OK);
+    cr_assert(two[0] == 1.0 && two[1] == -3.5);
+    (void)vk;
+    vi_core_free(c, "free");
+}
+
+Test(core, outputs_are_computed_from_the_initial_state_in_initialization_mode_and_after_a_failed_one)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    stub *s = c->model;
+    unsigned vy = VI_VR_y;
+    double y = 0;
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK);
+    cr_assert(vi_core_get(c, "get", &vy, 1, VI_Real, &y, VI_ELEM_DOUBLE) == VI_STATUS_OK && y == 1.0);
+    cr_assert(s->prepare_calls == 1);
+    get_k(c); /* a parameter: nothing prepared */
+    cr_assert(s->prepare_calls == 1);
+    s->fail_prepare = 1;
+    REFUSED(r, vi_core_get(c, "get", &vy, 1, VI_Real, &y, VI_ELEM_DOUBLE), "get: the stub says no");
+    s->fail_init = 1;
+    cr_assert(vi_core_exit_init(c, "exit") == VI_STATUS_ERROR && c->state == VI_ST_ERROR);
+    REFUSED(r, vi_core_get(c, "get", &vy, 1, VI_Real, &y, VI_ELEM_DOUBLE), "get: the stub says no");
+    cr_assert(s->prepare_calls == 3);
+    vi_core_free(c, "free");
+
+    c = make(&r, 0);
+    s = c->model;
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK && vi_core_exit_init(c, "exit") == VI_STATUS_OK);
+    s->fail_prepare = 1; /* running: no prepare */
+    cr_assert(vi_core_get(c, "get", &vy, 1, VI_Real, &y, VI_ELEM_DOUBLE) == VI_STATUS_OK && y == 1.0);
+    c->state = VI_ST_ERROR; /* the error state of an initialized instance */
+    cr_assert(vi_core_get(c, "get", &vy, 1, VI_Real, &y, VI_ELEM_DOUBLE) == VI_STATUS_OK && y == 1.0);
+    cr_assert(s->prepare_calls == 0);
+    s->nan_outputs = 1;
+    REFUSED(r, vi_core_get(c, "get", &vy, 1, VI_Real, &y, VI_ELEM_DOUBLE), "get: y = nan has no value in state 'error'");
+    vi_core_free(c, "free");
+}
+
+Test(core, the_face_variables_time_input_derivatives_and_indicators_are_read)
+{
+    record r = {0};
+    vi_core *c = make_with(&face3, &r, VI_KIND_ME, 0);
+    stub *s = c->model;
+    cr_assert(vi_core_setup_experiment(c, "setup", 0, 0.0, 1.5, 0, 0.0) == VI_STATUS_OK);
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK);
+    s->d.din.u = 0.75;
+    s->d.x[0] = 3.0;
+    unsigned vr[4] = {TIME_VR, DER_BASE + VI_VR_u, IND_BASE, VI_VR_y};
+    double v[4] = {0};
+    cr_assert(vi_core_get(c, "get", vr, 4, VI_Real, v, VI_ELEM_DOUBLE) == VI_STATUS_OK, "%s", r.text);
+    cr_assert(v[0] == 1.5 && v[1] == 0.75 && v[2] == 2.0 && v[3] == 1.0, "%g %g %g %g", v[0], v[1], v[2], v[3]);
+    cr_assert(s->prepare_calls == 1 && s->outputs_calls == 1, "prepared %d times, outputs %d", s->prepare_calls,
+              s->outputs_calls);
+    /* not the derivative of an input, beyond the indicators, between the bases, as another type */
+    const unsigned bad[] = {DER_BASE + VI_VR_k, DER_BASE + VI_NVARS, IND_BASE + 1, TIME_VR + 1, DER_BASE - 1};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        char want[64];
+        snprintf(want, sizeof want, "get: unknown value reference %u", bad[i]);
+        REFUSED(r, vi_core_get(c, "get", &bad[i], 1, VI_Real, v, VI_ELEM_DOUBLE), want);
+    }
+    int k;
+    REFUSED(r, vi_core_get(c, "get", &vr[0], 1, VI_Integer, &k, VI_ELEM_INT), "unknown value reference 1000");
+    s->fail_prepare = 1;
+    REFUSED(r, vi_core_get(c, "get", &vr[0], 1, VI_Real, v, VI_ELEM_DOUBLE), "get: the stub says no");
+    REFUSED(r, vi_core_get(c, "get", &vr[2], 1, VI_Real, v, VI_ELEM_DOUBLE), "get: the stub says no");
+    s->fail_prepare = 0;
+    /* the face's references are never set */
+    REFUSED(r, vi_core_set(c, "set", &vr[0], 1, VI_Real, v, VI_ELEM_DOUBLE), "set: time is the independent variable");
+    REFUSED(r, vi_core_set(c, "set", &vr[2], 1, VI_Real, v, VI_ELEM_DOUBLE),
+            "set: value reference 3000 is an event indicator: it cannot be set");
+    vi_core_free(c, "free");
+
+    c = make_with(&face3, &r, VI_KIND_CS, 0);
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK);
+    REFUSED(r, vi_core_get(c, "get", &vr[2], 1, VI_Real, v, VI_ELEM_DOUBLE),
+            "get: value reference 3000 is an event indicator of Model Exchange");
+    vi_core_free(c, "free");
+}
+
+Test(core, input_derivatives_set_as_variables_in_the_order_given)
+{
+    record r = {0};
+    vi_core *c = make_with(&face3, &r, VI_KIND_CS, 0);
+    stub *s = c->model;
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK && vi_core_exit_init(c, "exit") == VI_STATUS_OK);
+    unsigned vr[2] = {DER_BASE + VI_VR_u, VI_VR_u};
+    double v[2] = {4.0, 2.0};
+    cr_assert(vi_core_set(c, "set", vr, 2, VI_Real, v, VI_ELEM_DOUBLE) == VI_STATUS_OK);
+    cr_assert(s->d.in.u == 2.0 && s->d.din.u == 0.0, "a value set after its derivative resets it");
+    cr_assert(s->changed_calls == 2, "%d", s->changed_calls);
+    unsigned vr2[2] = {VI_VR_u, DER_BASE + VI_VR_u};
+    double v2[2] = {3.0, 5.0};
+    cr_assert(vi_core_set(c, "set", vr2, 2, VI_Real, v2, VI_ELEM_DOUBLE) == VI_STATUS_OK);
+    cr_assert(s->d.in.u == 3.0 && s->d.din.u == 5.0 && s->changed_calls == 4);
+    double bad[2] = {1.0, INFINITY};
+    REFUSED(r, vi_core_set(c, "set", vr2, 2, VI_Real, bad, VI_ELEM_DOUBLE), "set: the derivative of u must be finite");
+    cr_assert(s->d.in.u == 3.0 && s->d.din.u == 5.0 && s->changed_calls == 4);
+    unsigned vk = DER_BASE + VI_VR_k;
+    REFUSED(r, vi_core_set(c, "set", &vk, 1, VI_Real, v, VI_ELEM_DOUBLE), "set: unknown value reference 2001");
+    vi_core_free(c, "free");
+}
+
+Test(core, what_may_be_set_in_each_state)
+{
+    record r = {0};
+    vi_core *c = make_with(&face, &r, VI_KIND_ME, 0);
+    stub *s = c->model;
+    unsigned vk = VI_VR_k, vn = VI_VR_n, vu = VI_VR_u, vb = VI_VR_b, vy = VI_VR_y, vw = VI_VR_w, vl = VI_VR_label;
+    double x = 2.0;
+    int one = 1, four = 4;
+    /* instantiated and initialization mode: parameters and inputs, no change announced */
+    cr_assert(vi_core_set(c, "set", &vn, 1, VI_Integer, &four, VI_ELEM_INT) == VI_STATUS_OK && s->d.par.n == 4);
+    cr_assert(s->changed_calls == 0);
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK);
+    cr_assert(vi_core_set(c, "set", &vk, 1, VI_Real, &x, VI_ELEM_DOUBLE) == VI_STATUS_OK && s->d.par.k == 2.0);
+    cr_assert(s->changed_calls == 0, "a parameter set in initialization mode was announced");
+    cr_assert(vi_core_set(c, "set", &vu, 1, VI_Real, &x, VI_ELEM_DOUBLE) == VI_STATUS_OK && s->changed_calls == 1);
+    REFUSED(r, vi_core_set(c, "set", &vy, 1, VI_Real, &x, VI_ELEM_DOUBLE), "set: y is an output and cannot be set");
+    cr_assert(vi_core_exit_init(c, "exit") == VI_STATUS_OK && c->state == VI_ST_EVENT);
+    /* event mode: tunable parameters and inputs, announced; fixed ones not */
+    int five = 5;
+    REFUSED(r, vi_core_set(c, "set", &vn, 1, VI_Integer, &five, VI_ELEM_INT),
+            "set: n is a fixed parameter: set it before the end of initialization mode");
+    const char *lab = "new";
+    REFUSED(r, vi_core_set(c, "set", &vl, 1, VI_String, &lab, VI_ELEM_STRING), "set: label is a fixed parameter");
+    cr_assert(s->d.par.n == 4);
+    x = 3.0;
+    cr_assert(vi_core_set(c, "set", &vk, 1, VI_Real, &x, VI_ELEM_DOUBLE) == VI_STATUS_OK && s->d.par.k == 3.0);
+    cr_assert(s->changed_calls == 2, "%d", s->changed_calls);
+    cr_assert(vi_core_set(c, "set", &vb, 1, VI_Boolean, &one, VI_ELEM_INT) == VI_STATUS_OK && s->changed_calls == 3);
+    /* continuous-time mode: continuous inputs only, not announced, the derivative reset */
+    cr_assert(vi_core_enter_continuous_mode(c, "cont") == VI_STATUS_OK && c->state == VI_ST_CONTINUOUS);
+    s->d.din.u = 9.0;
+    cr_assert(vi_core_set(c, "set", &vu, 1, VI_Real, &x, VI_ELEM_DOUBLE) == VI_STATUS_OK && s->d.in.u == 3.0);
+    cr_assert(s->changed_calls == 3 && s->d.din.u == 0.0, "%d %g", s->changed_calls, s->d.din.u);
+    REFUSED(r, vi_core_set(c, "set", &vk, 1, VI_Real, &x, VI_ELEM_DOUBLE),
+            "set: k cannot be set in continuous-time mode (only continuous inputs can)");
+    REFUSED(r, vi_core_set(c, "set", &vw, 1, VI_Real, &x, VI_ELEM_DOUBLE), "set: w cannot be set in continuous-time");
+    vi_core_free(c, "free");
+
+    /* Co-Simulation: a tunable parameter between steps is announced */
+    c = make(&r, 0);
+    s = c->model;
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK && vi_core_exit_init(c, "exit") == VI_STATUS_OK);
+    int blue = 5;
+    unsigned vc = VI_VR_color;
+    cr_assert(vi_core_set(c, "set", &vc, 1, VI_Integer, &blue, VI_ELEM_INT) == VI_STATUS_OK && s->d.par.color == 5);
+    cr_assert(s->changed_calls == 1);
+    vi_core_free(c, "free");
+}
+
+Test(core, values_are_checked_before_any_is_stored)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    stub *s = c->model;
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK);
+    unsigned vr[2] = {VI_VR_u, VI_VR_k};
+    double nan2[2] = {1.0, NAN};
+    REFUSED(r, vi_core_set(c, "set", vr, 2, VI_Real, nan2, VI_ELEM_DOUBLE), "set: k must be finite");
+    cr_assert(s->d.in.u == 0.0);
+    /* Booleans: any nonzero value is stored as 1 */
+    unsigned vb = VI_VR_b;
+    int seven = 7, zero = 0;
+    cr_assert(vi_core_set(c, "set", &vb, 1, VI_Boolean, &seven, VI_ELEM_INT) == VI_STATUS_OK && s->d.in.b == 1);
+    cr_assert(vi_core_set(c, "set", &vb, 1, VI_Boolean, &zero, VI_ELEM_INT) == VI_STATUS_OK && s->d.in.b == 0);
+    /* enumerations: items only */
+    unsigned vc = VI_VR_color;
+    const int items_bad[] = {3, 0, -2, 6}, items_ok[] = {5, 2};
+    for (int i = 0; i < 4; i++)
+        REFUSED(r, vi_core_set(c, "set", &vc, 1, VI_Integer, &items_bad[i], VI_ELEM_INT),
+                "is not one of its items red=2, blue=5; nothing was set");
+    for (int i = 0; i < 2; i++)
+        cr_assert(vi_core_set(c, "set", &vc, 1, VI_Integer, &items_ok[i], VI_ELEM_INT) == VI_STATUS_OK &&
+                  s->d.par.color == items_ok[i]);
+    /* Strings: not NULL, at most VI_STRING_SIZE - 1 characters */
+    unsigned vl = VI_VR_label;
+    const char *null = NULL;
+    REFUSED(r, vi_core_set(c, "set", &vl, 1, VI_String, &null, VI_ELEM_STRING), "set: the value of label is NULL");
+    static char longest[VI_STRING_SIZE + 1];
+    memset(longest, 'a', VI_STRING_SIZE);
+    longest[VI_STRING_SIZE] = '\0';
+    const char *too_long = longest;
+    REFUSED(r, vi_core_set(c, "set", &vl, 1, VI_String, &too_long, VI_ELEM_STRING),
+            "set: the value of label is longer than 1023 characters");
+    cr_assert(strcmp(s->d.par.label, "abc") == 0);
+    longest[VI_STRING_SIZE - 1] = '\0';
+    cr_assert(vi_core_set(c, "set", &vl, 1, VI_String, &too_long, VI_ELEM_STRING) == VI_STATUS_OK);
+    cr_assert(strlen(s->d.par.label) == VI_STRING_SIZE - 1);
+    /* a value set from the instance's own string */
+    const char *own = s->d.par.label + 1000;
+    cr_assert(vi_core_set(c, "set", &vl, 1, VI_String, &own, VI_ELEM_STRING) == VI_STATUS_OK);
+    cr_assert(strlen(s->d.par.label) == 23);
+    /* 64-bit and C bool arrays */
+    int64_t n64 = 5;
+    unsigned vn = VI_VR_n;
+    cr_assert(vi_core_set(c, "set", &vn, 1, VI_Integer, &n64, VI_ELEM_INT64) == VI_STATUS_OK && s->d.par.n == 5);
+    bool t = true;
+    cr_assert(vi_core_set(c, "set", &vb, 1, VI_Boolean, &t, VI_ELEM_BOOL) == VI_STATUS_OK && s->d.in.b == 1);
+    vi_core_free(c, "free");
+}
+
+Test(core, input_derivatives_need_every_array_order_1_a_finite_value_and_an_input)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    stub *s = c->model;
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK && vi_core_exit_init(c, "exit") == VI_STATUS_OK);
+    unsigned vr = VI_VR_u;
+    int order = 1;
+    double v = 0.5;
+    REFUSED(r, vi_core_set_input_derivatives(c, "der", NULL, 1, &order, &v), "der: NULL array");
+    REFUSED(r, vi_core_set_input_derivatives(c, "der", &vr, 1, NULL, &v), "der: NULL array");
+    REFUSED(r, vi_core_set_input_derivatives(c, "der", &vr, 1, &order, NULL), "der: NULL array");
+    cr_assert(vi_core_set_input_derivatives(c, "der", NULL, 0, NULL, NULL) == VI_STATUS_OK);
+    int two = 2, zero = 0;
+    REFUSED(r, vi_core_set_input_derivatives(c, "der", &vr, 1, &two, &v), "der: u order 2 = 0.5: only finite first");
+    REFUSED(r, vi_core_set_input_derivatives(c, "der", &vr, 1, &zero, &v), "der: u order 0 = 0.5");
+    double inf = INFINITY;
+    REFUSED(r, vi_core_set_input_derivatives(c, "der", &vr, 1, &order, &inf), "der: u order 1 = inf");
+    unsigned vk = VI_VR_k, vx = 99;
+    REFUSED(r, vi_core_set_input_derivatives(c, "der", &vk, 1, &order, &v), "der: k order 1 = 0.5");
+    REFUSED(r, vi_core_set_input_derivatives(c, "der", &vx, 1, &order, &v), "der: unknown value reference 99");
+    cr_assert(s->d.din.u == 0.0 && s->changed_calls == 0);
+    cr_assert(vi_core_set_input_derivatives(c, "der", &vr, 1, &order, &v) == VI_STATUS_OK);
+    cr_assert(s->d.din.u == 0.5 && s->changed_calls == 1);
     vi_core_free(c, "free");
 }
