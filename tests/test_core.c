@@ -1007,3 +1007,348 @@ Test(core, input_derivatives_need_every_array_order_1_a_finite_value_and_an_inpu
     cr_assert(s->d.din.u == 0.5 && s->changed_calls == 1);
     vi_core_free(c, "free");
 }
+
+/* ---- FMU state ---- */
+
+/* The envelope's header as its format is documented (vi_fmi_core.c). */
+typedef struct {
+    uint32_t magic, version;
+    uint64_t size, model;
+    uint32_t fmu_state, stop_time_defined;
+    double stop_time;
+    uint64_t checksum;
+} header;
+#define SAVED_SIZE (sizeof(header) + sizeof(data))
+
+/* The documented hash, written again from its description: FNV-1a's xor-multiply round on 64-bit
+ * words, each followed by h ^= h >> 32, in four lanes started from h with the lane numbers, the
+ * lanes folded in after the word count, then the tail bytes one by one. */
+static uint64_t round64(uint64_t h, uint64_t w)
+{
+    h ^= w;
+    h *= UINT64_C(1099511628211);
+    return h ^ (h >> 32);
+}
+static uint64_t doc_hash(uint64_t h, const void *data_, size_t n)
+{
+    const unsigned char *p = data_;
+    uint64_t lane[4];
+    for (unsigned k = 0; k < 4; k++) lane[k] = round64(h, k);
+    size_t blocks = n / 32;
+    for (size_t b = 0; b < blocks; b++)
+        for (unsigned k = 0; k < 4; k++) {
+            uint64_t w;
+            memcpy(&w, p + 32 * b + 8 * k, 8);
+            lane[k] = round64(lane[k], w);
+        }
+    uint64_t out = round64(lane[0], n);
+    for (unsigned k = 1; k < 4; k++) out = round64(out, lane[k]);
+    for (size_t i = 32 * blocks; i < n; i++) out = round64(out, p[i]);
+    return out;
+}
+#define OFFSET_BASIS UINT64_C(14695981039346656037)
+static uint64_t doc_checksum(const void *saved)
+{
+    header h;
+    memcpy(&h, saved, sizeof h);
+    h.checksum = 0;
+    return doc_hash(doc_hash(OFFSET_BASIS, &h, sizeof h), (const char *)saved + sizeof h, sizeof(data));
+}
+/* Recompute the checksum after a test altered a header field. */
+static void reseal(void *saved) { ((header *)saved)->checksum = doc_checksum(saved); }
+
+Test(core, the_hash_of_the_state_envelope_is_the_documented_one)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    void *st = NULL;
+    cr_assert(vi_core_get_fmu_state(c, "get", &st) == VI_STATUS_OK && st);
+    header h;
+    memcpy(&h, st, sizeof h);
+    cr_assert(h.magic == 0x554d4956u && h.version == 4u && h.size == SAVED_SIZE, "%#x %u %llu", h.magic, h.version,
+              (unsigned long long)h.size);
+    cr_assert(h.model == doc_hash(OFFSET_BASIS, VI_GUID, strlen(VI_GUID)), "model id %#llx",
+              (unsigned long long)h.model);
+    cr_assert(h.fmu_state == VI_ST_INSTANTIATED && h.stop_time_defined == 0);
+    cr_assert(h.checksum == doc_checksum(st), "checksum %#llx, documented %#llx", (unsigned long long)h.checksum,
+              (unsigned long long)doc_checksum(st));
+    cr_assert(memcmp((char *)st + sizeof h, c->model, sizeof(data)) == 0, "the payload is the model's block");
+    size_t size = 0;
+    cr_assert(vi_core_fmu_state_size(c, "size", st, &size) == VI_STATUS_OK && size == SAVED_SIZE);
+    cr_assert(vi_core_free_fmu_state(c, "free", &st) == VI_STATUS_OK && st == NULL);
+    vi_core_free(c, "free");
+}
+
+Test(core, a_state_restores_the_model_block_the_fmi_state_and_the_stop_time)
+{
+    record r = {0};
+    vi_core *c = make_with(&face, &r, VI_KIND_ME, 0);
+    stub *s = c->model;
+    void *before = NULL, *after = NULL;
+    cr_assert(vi_core_get_fmu_state(c, "get", &before) == VI_STATUS_OK && s->checkpoint_calls == 0);
+    cr_assert(vi_core_setup_experiment(c, "setup", 0, 0.0, 2.0, 1, 9.0) == VI_STATUS_OK);
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK && vi_core_exit_init(c, "exit") == VI_STATUS_OK);
+    cr_assert(vi_core_get_fmu_state(c, "get", &after) == VI_STATUS_OK && s->checkpoint_calls == 1);
+    void *same = after;
+    cr_assert(vi_core_get_fmu_state(c, "get", &after) == VI_STATUS_OK && after == same, "a given state is reused");
+    /* back to the instantiated state: not running */
+    c->event_passes = 3;
+    cr_assert(vi_core_set_fmu_state(c, "set", before) == VI_STATUS_OK);
+    cr_assert(c->state == VI_ST_INSTANTIATED && c->stop_time_defined == 0 && c->initialized == 0 &&
+              c->event_passes == 0 && s->restored_running == 0 && s->d.t == 0.0 && c->t_committed == 0.0);
+    /* and to the running one (Model Exchange) */
+    cr_assert(vi_core_set_fmu_state(c, "set", after) == VI_STATUS_OK);
+    cr_assert(c->state == VI_ST_EVENT && c->stop_time_defined == 1 && c->stop_time == 9.0 && c->initialized == 1 &&
+              s->restored_running == VI_FMU_RUNNING_ME && s->d.t == 2.0 && c->t_committed == 2.0);
+    s->fail_restore = 1;
+    REFUSED(r, vi_core_set_fmu_state(c, "set", before), "set: the stub says no");
+    cr_assert(c->state == VI_ST_ERROR);
+    s->fail_restore = 0;
+    /* a state taken in the error state after initialization is a running one */
+    void *err = NULL;
+    cr_assert(vi_core_get_fmu_state(c, "get", &err) == VI_STATUS_OK && s->checkpoint_calls == 2);
+    cr_assert(vi_core_set_fmu_state(c, "set", err) == VI_STATUS_OK && s->restored_running == VI_FMU_RUNNING_ME &&
+              c->initialized == 1);
+    vi_core_free_fmu_state(c, "free", &before);
+    vi_core_free_fmu_state(c, "free", &after);
+    vi_core_free_fmu_state(c, "free", &err);
+    vi_core_free(c, "free");
+
+    c = make(&r, 0);
+    s = c->model;
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK);
+    void *init_st = NULL;
+    cr_assert(vi_core_get_fmu_state(c, "get", &init_st) == VI_STATUS_OK && s->checkpoint_calls == 0);
+    cr_assert(vi_core_exit_init(c, "exit") == VI_STATUS_OK);
+    s->fail_checkpoint = 1;
+    void *none = NULL;
+    REFUSED(r, vi_core_get_fmu_state(c, "get", &none), "get: the stub says no");
+    cr_assert(c->state == VI_ST_ERROR && none == NULL);
+    s->fail_checkpoint = 0;
+    cr_assert(vi_core_get_fmu_state(c, "get", &none) == VI_STATUS_OK);
+    cr_assert(vi_core_set_fmu_state(c, "set", none) == VI_STATUS_OK && s->restored_running == VI_FMU_RUNNING_CS);
+    cr_assert(vi_core_set_fmu_state(c, "set", init_st) == VI_STATUS_OK && c->state == VI_ST_INIT &&
+              s->restored_running == 0 && c->initialized == 0);
+    REFUSED(r, vi_core_get_fmu_state(c, "get", NULL), "get: FMUstate is NULL");
+    vi_core_free_fmu_state(c, "free", &none);
+    vi_core_free_fmu_state(c, "free", &init_st);
+    cr_assert(vi_core_free_fmu_state(c, "free", NULL) == VI_STATUS_OK);
+    cr_assert(vi_core_free_fmu_state(c, "free", &none) == VI_STATUS_OK && none == NULL);
+    vi_core_free(c, "free");
+}
+
+/* A saved state of c with one header field changed (resealed), refused with the given reason. */
+static void refused_state(record *r, vi_core *c, void (*alter)(void *), int seal, const char *why)
+{
+    void *st = NULL;
+    cr_assert(vi_core_get_fmu_state(c, "get", &st) == VI_STATUS_OK);
+    alter(st);
+    if (seal) reseal(st);
+    unsigned state = c->state;
+    char want[400];
+    snprintf(want, sizeof want, "set: invalid FMU state: %s", why);
+    REFUSED(*r, vi_core_set_fmu_state(c, "set", st), want);
+    cr_assert(c->state == state);
+    size_t size = 0;
+    snprintf(want, sizeof want, "size: invalid FMU state: %s", why);
+    REFUSED(*r, vi_core_fmu_state_size(c, "size", st, &size), want);
+    unsigned char bytes[SAVED_SIZE];
+    snprintf(want, sizeof want, "ser: invalid FMU state: %s", why);
+    REFUSED(*r, vi_core_serialize(c, "ser", st, bytes, sizeof bytes), want);
+    memcpy(bytes, st, sizeof bytes);
+    void *back = NULL;
+    snprintf(want, sizeof want, "des: invalid FMU state: %s", why);
+    REFUSED(*r, vi_core_deserialize(c, "des", bytes, sizeof bytes, &back), want);
+    cr_assert(back == NULL);
+    vi_core_free_fmu_state(c, "free", &st);
+}
+static void bad_magic(void *s) { ((header *)s)->magic ^= 1u; }
+static void bad_version(void *s) { ((header *)s)->version = 3u; }
+static void bad_model(void *s) { ((header *)s)->model ^= 1u; }
+static void bad_size(void *s) { ((header *)s)->size -= 8u; }
+static void bad_payload(void *s) { ((unsigned char *)s)[sizeof(header) + sizeof(data) - 1] ^= 1u; }
+static void no_state(void *s) { ((header *)s)->fmu_state = 0u; }
+static void two_states(void *s) { ((header *)s)->fmu_state = VI_ST_INIT | VI_ST_INSTANTIATED; }
+static void fatal_state(void *s) { ((header *)s)->fmu_state = VI_ST_FATAL; }
+static void beyond_state(void *s) { ((header *)s)->fmu_state = 1u << 9; }
+static void step_state(void *s) { ((header *)s)->fmu_state = VI_ST_STEP_COMPLETE; }
+static void failed_state(void *s) { ((header *)s)->fmu_state = VI_ST_STEP_FAILED; }
+static void event_state(void *s) { ((header *)s)->fmu_state = VI_ST_EVENT; }
+static void continuous_state(void *s) { ((header *)s)->fmu_state = VI_ST_CONTINUOUS; }
+static void stop_flag(void *s) { ((header *)s)->stop_time_defined = 2u; }
+static void stop_nan(void *s) { ((header *)s)->stop_time_defined = 1u, ((header *)s)->stop_time = NAN; }
+static void stop_inf(void *s) { ((header *)s)->stop_time_defined = 1u, ((header *)s)->stop_time = -INFINITY; }
+
+Test(core, every_part_of_a_state_is_checked_before_it_is_used)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK && vi_core_exit_init(c, "exit") == VI_STATUS_OK);
+    refused_state(&r, c, bad_magic, 0, "not an FMU state of this layer (magic number)");
+    refused_state(&r, c, bad_version, 0, "an FMU state of another layer version");
+    refused_state(&r, c, bad_model, 0, "an FMU state of another model (GUID)");
+    refused_state(&r, c, bad_payload, 0, "checksum mismatch: the state was altered");
+    refused_state(&r, c, no_state, 1, "field fmu_state = 0 is not an FMI state");
+    refused_state(&r, c, two_states, 1, "field fmu_state = 3 is not an FMI state");
+    refused_state(&r, c, fatal_state, 1, "field fmu_state = 64 is not an FMI state");
+    refused_state(&r, c, beyond_state, 1, "field fmu_state = 512 is not an FMI state");
+    refused_state(&r, c, event_state, 1, "taken in state 'event mode', which an instance of this interface never is in");
+    refused_state(&r, c, continuous_state, 1, "taken in state 'continuous-time mode', which");
+    refused_state(&r, c, stop_flag, 1, "field stop_time is not finite");
+    refused_state(&r, c, stop_nan, 1, "field stop_time is not finite");
+    refused_state(&r, c, stop_inf, 1, "field stop_time is not finite");
+    vi_core_free(c, "free");
+
+    c = make_with(&face, &r, VI_KIND_ME, 0);
+    refused_state(&r, c, step_state, 1, "taken in state 'step complete', which an instance of this interface never");
+    refused_state(&r, c, failed_state, 1, "taken in state 'step failed'");
+    vi_core_free(c, "free");
+
+    /* Co-Simulation with Event Mode: states taken there are fine */
+    c = make_with(&face3, &r, VI_KIND_CS, 0);
+    void *st = NULL;
+    cr_assert(vi_core_get_fmu_state(c, "get", &st) == VI_STATUS_OK);
+    event_state(st), reseal(st);
+    cr_assert(vi_core_set_fmu_state(c, "set", st) == VI_STATUS_OK && c->state == VI_ST_EVENT, "%s", r.text);
+    vi_core_free_fmu_state(c, "free", &st);
+    vi_core_free(c, "free");
+}
+
+Test(core, a_state_with_a_bad_size_is_refused)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    void *st = NULL;
+    cr_assert(vi_core_get_fmu_state(c, "get", &st) == VI_STATUS_OK);
+    bad_size(st), reseal(st);
+    char want[200];
+    snprintf(want, sizeof want, "set: invalid FMU state: size %zu bytes: a state of this build of CoreTest has %zu",
+             SAVED_SIZE - 8, SAVED_SIZE);
+    REFUSED(r, vi_core_set_fmu_state(c, "set", st), want);
+    vi_core_free_fmu_state(c, "free", &st);
+    cr_assert(vi_core_set_fmu_state(c, "set", NULL) == VI_STATUS_ERROR);
+    LAST_IS(r, VI_STATUS_ERROR, "set: invalid FMU state: the state is NULL");
+    size_t size = 0;
+    REFUSED(r, vi_core_fmu_state_size(c, "size", NULL, &size), "size: invalid FMU state: the state is NULL");
+    cr_assert(size == 0);
+    vi_core_free(c, "free");
+}
+
+/* A state whose model block was changed behind the setters' back: refused, naming the value. */
+static void refused_values(record *r, void (*alter)(stub *), const char *why)
+{
+    vi_core *c = make(r, 0);
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK && vi_core_exit_init(c, "exit") == VI_STATUS_OK);
+    stub *s = c->model;
+    alter(s);
+    void *st = NULL;
+    cr_assert(vi_core_get_fmu_state(c, "get", &st) == VI_STATUS_OK);
+    char want[300];
+    snprintf(want, sizeof want, "set: invalid FMU state: %s", why);
+    REFUSED(*r, vi_core_set_fmu_state(c, "set", st), want);
+    vi_core_free_fmu_state(c, "free", &st);
+    vi_core_free(c, "free");
+}
+static void k_nan(stub *s) { s->d.par.k = NAN; }
+static void k_zero(stub *s) { s->d.par.k = 0.0; }
+static void k_above(stub *s) { s->d.par.k = 10.5; }
+static void u_inf(stub *s) { s->d.in.u = INFINITY; }
+static void du_nan(stub *s) { s->d.din.u = NAN; }
+static void dw_inf(stub *s) { s->d.din.w = -INFINITY; }
+static void label_open(stub *s) { memset(s->d.par.label, 'z', VI_STRING_SIZE); }
+static void b_two(stub *s) { s->d.in.b = 2; }
+static void b_minus(stub *s) { s->d.in.b = -1; }
+static void n_eight(stub *s) { s->d.par.n = 8; }
+static void n_zero(stub *s) { s->d.par.n = 0; }
+static void color_three(stub *s) { s->d.par.color = 3; }
+static void model_bad(stub *s) { s->d.x[0] = 666.0; }
+static void model_mute(stub *s) { s->d.x[0] = 777.0; }
+
+Test(core, the_table_values_and_the_model_fields_of_a_state_are_checked)
+{
+    record r = {0};
+    refused_values(&r, k_nan, "k = nan is not finite");
+    refused_values(&r, k_zero, "k = 0 is outside its range 0 < k <= 10 (a rate)");
+    refused_values(&r, k_above, "k = 10.5 is outside its range");
+    refused_values(&r, u_inf, "u = inf is not finite");
+    refused_values(&r, du_nan, "the derivative of u = nan is not finite");
+    refused_values(&r, dw_inf, "the derivative of w = -inf is not finite");
+    refused_values(&r, label_open, "label is not a terminated string");
+    refused_values(&r, b_two, "b = 2 is not a Boolean");
+    refused_values(&r, b_minus, "b = -1 is not a Boolean");
+    refused_values(&r, n_eight, "n = 8 is outside its range 1 <= n < 8");
+    refused_values(&r, n_zero, "n = 0 is outside its range");
+    refused_values(&r, color_three, "color = 3 is not one of its items red=2, blue=5");
+    refused_values(&r, model_bad, "x[0] = 666 is bad");
+    refused_values(&r, model_mute, "invalid field");
+    /* values at their bounds are fine */
+    vi_core *c = make(&r, 0);
+    stub *s = c->model;
+    s->d.par.k = 10.0, s->d.par.n = 7, s->d.in.b = 1, s->d.par.color = 5;
+    void *st = NULL;
+    cr_assert(vi_core_get_fmu_state(c, "get", &st) == VI_STATUS_OK);
+    cr_assert(vi_core_set_fmu_state(c, "set", st) == VI_STATUS_OK, "%s", r.text);
+    s->d.par.n = 1;
+    cr_assert(vi_core_get_fmu_state(c, "get", &st) == VI_STATUS_OK);
+    cr_assert(vi_core_set_fmu_state(c, "set", st) == VI_STATUS_OK, "%s", r.text);
+    vi_core_free_fmu_state(c, "free", &st);
+    vi_core_free(c, "free");
+}
+
+Test(core, serialization_round_trip_and_its_size_checks)
+{
+    record r = {0};
+    vi_callbacks cb = {.alloc = counting_alloc, .free = counting_free, .logger = any_logger, .env = &r};
+    n_alloc = n_free = 0, fail_at = 0;
+    vi_core *c = vi_core_instantiate(&face, &cb, "inst", "x", VI_KIND_CS, VI_GUID, NULL, "", 0);
+    cr_assert(c);
+    stub *s = c->model;
+    s->d.par.k = 4.0;
+    void *st = NULL;
+    cr_assert(vi_core_get_fmu_state(c, "get", &st) == VI_STATUS_OK);
+    unsigned char bytes[SAVED_SIZE + 8];
+    char want[200];
+    snprintf(want, sizeof want, "ser: need a buffer of %zu bytes (got %zu)", SAVED_SIZE, SAVED_SIZE - 1);
+    REFUSED(r, vi_core_serialize(c, "ser", st, bytes, SAVED_SIZE - 1), want);
+    REFUSED(r, vi_core_serialize(c, "ser", st, NULL, SAVED_SIZE), "ser: need a buffer of");
+    cr_assert(vi_core_serialize(c, "ser", st, bytes, SAVED_SIZE) == VI_STATUS_OK);
+    cr_assert(memcmp(bytes, st, SAVED_SIZE) == 0);
+    cr_assert(vi_core_serialize(c, "ser", st, bytes, SAVED_SIZE + 8) == VI_STATUS_OK);
+    REFUSED(r, vi_core_fmu_state_size(c, "size", st, NULL), "size: size is NULL");
+    void *back = NULL;
+    REFUSED(r, vi_core_deserialize(c, "des", NULL, SAVED_SIZE, &back), "des: NULL argument");
+    REFUSED(r, vi_core_deserialize(c, "des", bytes, SAVED_SIZE, NULL), "des: NULL argument");
+    snprintf(want, sizeof want, "des: invalid FMU state: size %zu bytes: a state of this build of CoreTest has %zu",
+             SAVED_SIZE + 1, SAVED_SIZE);
+    REFUSED(r, vi_core_deserialize(c, "des", bytes, SAVED_SIZE + 1, &back), want);
+    snprintf(want, sizeof want, "des: invalid FMU state: size %zu bytes", sizeof(header) - 1);
+    REFUSED(r, vi_core_deserialize(c, "des", bytes, sizeof(header) - 1, &back), want);
+    int allocated = n_alloc, freed = n_free;
+    snprintf(want, sizeof want, "des: invalid FMU state: size %zu bytes", SAVED_SIZE - 1);
+    REFUSED(r, vi_core_deserialize(c, "des", bytes, SAVED_SIZE - 1, &back), want);
+    snprintf(want, sizeof want, "des: invalid FMU state: size %zu bytes", sizeof(header));
+    REFUSED(r, vi_core_deserialize(c, "des", bytes, sizeof(header), &back), want);
+    cr_assert(back == NULL && n_alloc - allocated == 2 && n_free - freed == 2, "a refused state leaked");
+    cr_assert(vi_core_deserialize(c, "des", bytes, SAVED_SIZE, &back) == VI_STATUS_OK && back != NULL);
+    cr_assert(memcmp(back, st, SAVED_SIZE) == 0);
+    /* into a state the importer has: overwritten in place */
+    s->d.par.k = 6.0;
+    void *other = NULL;
+    cr_assert(vi_core_get_fmu_state(c, "get", &other) == VI_STATUS_OK);
+    void *kept = other;
+    allocated = n_alloc, freed = n_free;
+    cr_assert(vi_core_deserialize(c, "des", bytes, SAVED_SIZE, &other) == VI_STATUS_OK && other == kept);
+    cr_assert(memcmp(other, st, SAVED_SIZE) == 0 && n_alloc - allocated == 1 && n_free - freed == 1);
+    cr_assert(vi_core_set_fmu_state(c, "set", other) == VI_STATUS_OK && s->d.par.k == 4.0);
+    fail_at = n_alloc + 1;
+    void *oom = NULL;
+    REFUSED(r, vi_core_deserialize(c, "des", bytes, SAVED_SIZE, &oom), "des: out of memory");
+    fail_at = n_alloc + 1;
+    REFUSED(r, vi_core_get_fmu_state(c, "get", &oom), "get: out of memory");
+    fail_at = 0;
+    vi_core_free_fmu_state(c, "free", &st);
+    vi_core_free_fmu_state(c, "free", &back);
+    vi_core_free_fmu_state(c, "free", &other);
+    vi_core_free(c, "free");
+    cr_assert(n_alloc - 2 == n_free, "%d allocated, %d freed", n_alloc, n_free);
+}
