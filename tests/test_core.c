@@ -1352,3 +1352,453 @@ Test(core, serialization_round_trip_and_its_size_checks)
     vi_core_free(c, "free");
     cr_assert(n_alloc - 2 == n_free, "%d allocated, %d freed", n_alloc, n_free);
 }
+
+/* ---- Co-Simulation steps ---- */
+
+static vi_core *running_cs(record *r, const vi_face *f, double start, int stop_defined, double stop)
+{
+    vi_core *c = make_with(f, r, VI_KIND_CS, 0);
+    cr_assert(vi_core_setup_experiment(c, "setup", 0, 0.0, start, stop_defined, stop) == VI_STATUS_OK, "%s", r->text);
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK && vi_core_exit_init(c, "exit") == VI_STATUS_OK);
+    return c;
+}
+
+Test(core, a_step_needs_a_finite_positive_size)
+{
+    record r = {0};
+    vi_core *c = running_cs(&r, &face, 0.0, 0, 0.0);
+    const double bad[] = {0.0, -1e-3, NAN, INFINITY};
+    for (int i = 0; i < 4; i++)
+        REFUSED(r, vi_core_do_step(c, "step", 0.0, bad[i]), "step: the communication step size must be finite and positive");
+    REFUSED(r, vi_core_do_step(c, "step", NAN, 1e-3), "step: the communication step size must be finite");
+    REFUSED(r, vi_core_do_step(c, "step", INFINITY, 1e-3), "(got 0.001)");
+    cr_assert(c->state == VI_ST_STEP_COMPLETE && ((stub *)c->model)->d.t == 0.0);
+    vi_core_free(c, "free");
+}
+
+Test(core, the_communication_point_may_differ_from_the_time_by_1000_units_of_its_resolution)
+{
+    record r = {0};
+    const double t0[] = {0.0, 0.5, 4.0, -4.0};
+    for (int i = 0; i < 4; i++) {
+        double unit = DBL_EPSILON * (fabs(t0[i]) > 1.0 ? fabs(t0[i]) : 1.0);
+        vi_core *c = running_cs(&r, &face, t0[i], 0, 0.0);
+        stub *s = c->model;
+        REFUSED(r, vi_core_do_step(c, "step", t0[i] + 1001 * unit, 1.0), "step: currentCommunicationPoint",
+                "does not match the FMU's time");
+        REFUSED(r, vi_core_do_step(c, "step", t0[i] - 1001 * unit, 1.0), "does not match");
+        cr_assert(s->d.t == t0[i]);
+        cr_assert(vi_core_do_step(c, "step", t0[i] + 1000 * unit, 1.0) == VI_STATUS_OK, "t0 %g: %s", t0[i], r.text);
+        cr_assert(s->d.t == t0[i] + 1000 * unit + 1.0);
+        vi_core_free(c, "free");
+        c = running_cs(&r, &face, t0[i], 0, 0.0);
+        cr_assert(vi_core_do_step(c, "step", t0[i] - 1000 * unit, 1.0) == VI_STATUS_OK, "t0 %g: %s", t0[i], r.text);
+        vi_core_free(c, "free");
+    }
+}
+
+Test(core, a_step_advances_time_by_at_least_16_units_of_its_resolution)
+{
+    record r = {0};
+    const double t0[] = {0.0, 0.5, 4.0, -4.0};
+    for (int i = 0; i < 4; i++) {
+        double unit = DBL_EPSILON * (fabs(t0[i]) > 1.0 ? fabs(t0[i]) : 1.0);
+        vi_core *c = running_cs(&r, &face, t0[i], 0, 0.0);
+        stub *s = c->model;
+        double h = 16 * unit;
+        /* refused: a step that ends 15 units after the time */
+        REFUSED(r, vi_core_do_step(c, "step", t0[i], 15 * unit), "step: a step of", "is too short to advance time",
+                "(16 units of the time resolution there); nothing was done");
+        cr_assert(s->d.t == t0[i]);
+        char want[120];
+        snprintf(want, sizeof want, "use at least %g s", h);
+        REFUSED(r, vi_core_do_step(c, "step", t0[i], nextafter(t0[i] + h, -INFINITY) - t0[i]), want);
+        cr_assert(vi_core_do_step(c, "step", t0[i], h) == VI_STATUS_OK, "t0 %g: %s", t0[i], r.text);
+        cr_assert(s->d.t == t0[i] + h);
+        vi_core_free(c, "free");
+    }
+    /* the communication point behind the time by 8 units: the step is counted from the time */
+    vi_core *c = running_cs(&r, &face, 0.0, 0, 0.0);
+    REFUSED(r, vi_core_do_step(c, "step", -8 * DBL_EPSILON, 23 * DBL_EPSILON), "is too short");
+    cr_assert(vi_core_do_step(c, "step", -8 * DBL_EPSILON, 24 * DBL_EPSILON) == VI_STATUS_OK, "%s", r.text);
+    vi_core_free(c, "free");
+}
+
+Test(core, a_step_may_pass_the_stop_time_by_1000_units_of_the_resolution)
+{
+    record r = {0};
+    const double stop[] = {1.0, 0.25};
+    for (int i = 0; i < 2; i++) {
+        vi_core *c = running_cs(&r, &face, 0.0, 1, stop[i]);
+        REFUSED(r, vi_core_do_step(c, "step", 0.0, stop[i] + 1001 * DBL_EPSILON), "step: the step to",
+                "passes the stop time");
+        cr_assert(vi_core_do_step(c, "step", 0.0, stop[i] + 1000 * DBL_EPSILON) == VI_STATUS_OK, "%s", r.text);
+        vi_core_free(c, "free");
+    }
+    /* with no stop time, any end */
+    vi_core *c = running_cs(&r, &face, 0.0, 0, 0.0);
+    c->stop_time = 0.5; /* not defined: ignored */
+    cr_assert(vi_core_do_step(c, "step", 0.0, 1.0) == VI_STATUS_OK);
+    vi_core_free(c, "free");
+}
+
+Test(core, what_the_model_answers_to_a_step)
+{
+    record r = {0};
+    vi_core *c = running_cs(&r, &face, 0.0, 0, 0.0);
+    stub *s = c->model;
+    s->advance_rc = VI_FMU_ERROR;
+    REFUSED(r, vi_core_do_step(c, "step", 0.0, 0.5), "step: the stub says no");
+    cr_assert(c->state == VI_ST_ERROR);
+    vi_core_free(c, "free");
+
+    /* a discard: stopped early, the message logged whatever is enabled */
+    c = running_cs(&r, &face, 0.0, 0, 0.0);
+    s = c->model;
+    s->advance_rc = VI_FMU_DISCARD, s->advance_to = 0.25;
+    int before = r.count;
+    cr_assert(vi_core_do_step(c, "step", 0.0, 0.5) == VI_STATUS_DISCARD);
+    cr_assert(r.count == before + 1 && strcmp(r.category, "logStatusDiscard") == 0);
+    LAST_IS(r, VI_STATUS_DISCARD, "step: the stub says no");
+    cr_assert(c->state == VI_ST_STEP_FAILED && vi_core_time(c) == 0.25);
+    vi_core_free(c, "free");
+
+    /* OK at another time than the end: an error of the model */
+    c = running_cs(&r, &face, 0.0, 0, 0.0);
+    s = c->model;
+    s->advance_to = 0.25;
+    REFUSED(r, vi_core_do_step(c, "step", 0.0, 0.5), "step: the model stopped at t = 0.25 s instead of  0.5 s");
+    cr_assert(c->state == VI_ST_ERROR);
+    vi_core_free(c, "free");
+
+    /* an event where none may be reported */
+    c = running_cs(&r, &face, 0.0, 0, 0.0);
+    s = c->model;
+    s->advance_rc = VI_FMU_EVENT, s->advance_to = 0.25;
+    REFUSED(r, vi_core_do_step(c, "step", 0.0, 0.5),
+            "step: the model stopped at t = 0.25 s instead of after the start and at most 0.5 s");
+    cr_assert(c->state == VI_ST_ERROR);
+    vi_core_free(c, "free");
+}
+
+Test(core, a_step_to_the_first_event_ends_inside_the_step)
+{
+    record r = {0};
+    const double at[] = {0.25, 0.5}, bad_at[] = {1.0, 0.5000000001, 0.75};
+    for (int i = 0; i < 2; i++) {
+        vi_core *c = running_cs(&r, &face3, 1.0, 0, 0.0);
+        stub *s = c->model;
+        s->advance_rc = VI_FMU_EVENT, s->advance_to = 1.0 + at[i];
+        int event = -1;
+        cr_assert(vi_core_do_step_to_event(c, "step", 1.0, 0.5, &event) == VI_STATUS_OK, "%s", r.text);
+        cr_assert(event == 1 && vi_core_time(c) == 1.0 + at[i] && c->state == VI_ST_STEP_COMPLETE);
+        vi_core_free(c, "free");
+    }
+    for (int i = 0; i < 3; i++) {
+        vi_core *c = running_cs(&r, &face3, 0.5, 0, 0.0);
+        stub *s = c->model;
+        s->advance_rc = VI_FMU_EVENT, s->advance_to = bad_at[i] == 0.5 ? 0.5 : bad_at[i] + 0.5;
+        int event = -1;
+        cr_assert(vi_core_do_step_to_event(c, "step", 0.5, 0.5, &event) == VI_STATUS_ERROR, "event at %g",
+                  s->advance_to);
+        LAST_IS(r, VI_STATUS_ERROR, "step: the model stopped at t =", "instead of after the start and at most 1 s");
+        cr_assert(event == 0 && c->state == VI_ST_ERROR);
+        vi_core_free(c, "free");
+    }
+    /* no event: to the end */
+    vi_core *c = running_cs(&r, &face3, 0.0, 0, 0.0);
+    int event = -1;
+    cr_assert(vi_core_do_step_to_event(c, "step", 0.0, 0.5, &event) == VI_STATUS_OK && event == 0);
+    cr_assert(vi_core_do_step_to_event(c, "step", 0.5, 0.5, NULL) == VI_STATUS_OK && vi_core_time(c) == 1.0);
+    vi_core_free(c, "free");
+}
+
+/* ---- Model Exchange ---- */
+
+static vi_core *me_in_event_mode(record *r, const vi_face *f, double start)
+{
+    vi_core *c = make_with(f, r, VI_KIND_ME, 0);
+    cr_assert(vi_core_setup_experiment(c, "setup", 0, 0.0, start, 0, 0.0) == VI_STATUS_OK);
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK && vi_core_exit_init(c, "exit") == VI_STATUS_OK);
+    cr_assert(c->state == VI_ST_EVENT);
+    return c;
+}
+
+Test(core, model_exchange_calls_on_a_co_simulation_instance_are_refused)
+{
+    record r = {0};
+    vi_core *c = running_cs(&r, &face3, 0.0, 0, 0.0);
+    double x[2];
+    vi_fmu_event ev;
+    int a, b;
+    c->state = VI_ST_EVENT;
+    REFUSED(r, vi_core_new_discrete_states(c, "nds", &ev), "nds: a Model Exchange function; this instance is a Co-Simulation one");
+    REFUSED(r, vi_core_enter_continuous_mode(c, "ecm"), "ecm: a Model Exchange function");
+    REFUSED(r, vi_core_set_time(c, "st", 0.0), "st: a Model Exchange function");
+    REFUSED(r, vi_core_get_derivatives(c, "gd", x, 2), "gd: a Model Exchange function");
+    REFUSED(r, vi_core_get_states(c, "gs", x, 2), "gs: a Model Exchange function");
+    REFUSED(r, vi_core_get_event_indicators(c, "gi", x, 1), "gi: a Model Exchange function");
+    REFUSED(r, vi_core_get_nominals(c, "gn", x, 2), "gn: a Model Exchange function");
+    cr_assert(vi_core_enter_step_mode(c, "esm") == VI_STATUS_OK && c->state == VI_ST_STEP_COMPLETE);
+    REFUSED(r, vi_core_set_states(c, "ss", x, 2), "ss: not allowed in state 'step complete'");
+    c->state = VI_ST_CONTINUOUS;
+    REFUSED(r, vi_core_completed_step(c, "cs", &a, &b), "cs: a Model Exchange function");
+    REFUSED(r, vi_core_set_states(c, "ss", x, 2), "ss: a Model Exchange function");
+    vi_core_free(c, "free");
+    c = me_in_event_mode(&r, &face3, 0.0);
+    REFUSED(r, vi_core_enter_step_mode(c, "esm"), "esm: only for Co-Simulation");
+    cr_assert(c->state == VI_ST_EVENT);
+    vi_core_free(c, "free");
+}
+
+Test(core, co_simulation_enters_event_mode_from_step_mode_only_with_a_face_that_has_it)
+{
+    record r = {0};
+    vi_core *c = running_cs(&r, &face, 0.0, 0, 0.0);
+    REFUSED(r, vi_core_enter_event_mode(c, "eem"), "eem: not allowed in state 'step complete'");
+    cr_assert(c->state == VI_ST_STEP_COMPLETE);
+    vi_core_free(c, "free");
+    c = running_cs(&r, &face3, 0.0, 0, 0.0);
+    cr_assert(vi_core_enter_event_mode(c, "eem") == VI_STATUS_OK && c->state == VI_ST_EVENT);
+    REFUSED(r, vi_core_enter_event_mode(c, "eem"), "eem: not allowed in state 'event mode'");
+    cr_assert(c->state == VI_ST_EVENT);
+    vi_core_free(c, "free");
+}
+
+Test(core, event_mode_keeps_the_pass_count_of_an_event_iteration_and_commits_the_time)
+{
+    record r = {0};
+    vi_core *c = me_in_event_mode(&r, &face, 0.0);
+    stub *s = c->model;
+    vi_fmu_event ev;
+    s->ev = (vi_fmu_event){.another_pass = 1};
+    for (int i = 1; i <= 3; i++) cr_assert(vi_core_new_discrete_states(c, "nds", &ev) == VI_STATUS_OK && c->event_passes == i);
+    cr_assert(vi_core_enter_event_mode(c, "eem") == VI_STATUS_OK && c->event_passes == 3,
+              "re-entering event mode during an event iteration restarted its count");
+    cr_assert(vi_core_enter_continuous_mode(c, "ecm") == VI_STATUS_OK && c->event_passes == 0 &&
+              c->state == VI_ST_CONTINUOUS && s->continuous_calls == 1);
+    cr_assert(vi_core_set_time(c, "st", 0.5) == VI_STATUS_OK);
+    c->event_passes = 4;
+    cr_assert(vi_core_enter_event_mode(c, "eem") == VI_STATUS_OK && c->event_passes == 0 && c->state == VI_ST_EVENT);
+    cr_assert(c->t_committed == 0.5);
+    REFUSED(r, vi_core_set_time(c, "st", 0.25), "st: t = 0.25 s lies before the last event or completed integrator step (0.5 s)");
+    vi_core_free(c, "free");
+}
+
+Test(core, the_event_iteration_stops_after_100_passes_in_a_row_asking_for_another)
+{
+    record r = {0};
+    vi_core *c = me_in_event_mode(&r, &face, 2.0);
+    stub *s = c->model;
+    vi_fmu_event ev;
+    s->ev = (vi_fmu_event){.another_pass = 1};
+    for (int i = 1; i < VI_MAX_EVENT_PASSES; i++)
+        cr_assert(vi_core_new_discrete_states(c, "nds", &ev) == VI_STATUS_OK, "pass %d", i);
+    cr_assert(c->event_passes == 99 && c->state == VI_ST_EVENT);
+    REFUSED(r, vi_core_new_discrete_states(c, "nds", &ev),
+            "nds: the discrete states do not settle at t = 2 s: 100 passes of the event iteration in a row");
+    cr_assert(c->state == VI_ST_ERROR);
+    vi_core_free(c, "free");
+    /* a pass that settles restarts the count */
+    c = me_in_event_mode(&r, &face, 2.0);
+    s = c->model;
+    s->ev = (vi_fmu_event){.another_pass = 1};
+    for (int i = 1; i < VI_MAX_EVENT_PASSES; i++) cr_assert(vi_core_new_discrete_states(c, "nds", &ev) == VI_STATUS_OK);
+    s->ev.another_pass = 0;
+    cr_assert(vi_core_new_discrete_states(c, "nds", &ev) == VI_STATUS_OK && c->event_passes == 0);
+    s->ev.another_pass = 1;
+    cr_assert(vi_core_new_discrete_states(c, "nds", &ev) == VI_STATUS_OK && c->event_passes == 1);
+    vi_core_free(c, "free");
+}
+
+Test(core, a_pass_of_the_event_iteration_reports_what_the_model_filled_in)
+{
+    record r = {0};
+    vi_core *c = me_in_event_mode(&r, &face, 1.0);
+    stub *s = c->model;
+    vi_fmu_event ev;
+    REFUSED(r, vi_core_new_discrete_states(c, "nds", NULL), "nds: fmi2EventInfo is NULL");
+    cr_assert(s->event_calls == 0);
+    s->ev = (vi_fmu_event){.states_changed = 1, .nominals_changed = 1, .next_time_defined = 1, .next_time = 1.5};
+    memset(&ev, 0xff, sizeof ev);
+    cr_assert(vi_core_new_discrete_states(c, "nds", &ev) == VI_STATUS_OK);
+    cr_assert(ev.another_pass == 0 && ev.terminate == 0 && ev.states_changed == 1 && ev.nominals_changed == 1 &&
+              ev.next_time_defined == 1 && ev.next_time == 1.5);
+    /* a time event not after now is none */
+    s->ev.next_time = 1.0;
+    cr_assert(vi_core_new_discrete_states(c, "nds", &ev) == VI_STATUS_OK && ev.next_time_defined == 0);
+    s->ev.next_time = 0.5;
+    cr_assert(vi_core_new_discrete_states(c, "nds", &ev) == VI_STATUS_OK && ev.next_time_defined == 0);
+    s->ev.next_time = nextafter(1.0, 2.0);
+    cr_assert(vi_core_new_discrete_states(c, "nds", &ev) == VI_STATUS_OK && ev.next_time_defined == 1);
+    /* the model asks to terminate: its reason is logged as a warning though warnings are off */
+    s->ev = (vi_fmu_event){.terminate = 1};
+    int before = r.count;
+    cr_assert(vi_core_new_discrete_states(c, "nds", &ev) == VI_STATUS_OK && ev.terminate == 1);
+    cr_assert(r.count == before + 1 && strcmp(r.category, "logStatusWarning") == 0);
+    LAST_IS(r, VI_STATUS_WARNING, "nds: terminateSimulation: the stub says no");
+    cr_assert(strcmp(r.text, "nds: terminateSimulation: the stub says no") == 0, "'%s'", r.text);
+    s->ev = (vi_fmu_event){0};
+    before = r.count;
+    cr_assert(vi_core_new_discrete_states(c, "nds", &ev) == VI_STATUS_OK && r.count == before);
+    /* the pass commits its time */
+    c->t_committed = 0.0;
+    cr_assert(vi_core_new_discrete_states(c, "nds", &ev) == VI_STATUS_OK && c->t_committed == 1.0);
+    s->fail_event = 1;
+    REFUSED(r, vi_core_new_discrete_states(c, "nds", &ev), "nds: the stub says no");
+    cr_assert(c->state == VI_ST_ERROR);
+    vi_core_free(c, "free");
+    /* without a logger, no terminate message */
+    vi_callbacks cb = {.alloc = calloc, .free = free, .logger = NULL, .env = &r};
+    c = vi_core_instantiate(&face, &cb, "inst", "x", VI_KIND_ME, VI_GUID, NULL, "", 0);
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK && vi_core_exit_init(c, "exit") == VI_STATUS_OK);
+    ((stub *)c->model)->ev = (vi_fmu_event){.terminate = 1};
+    before = r.count;
+    cr_assert(vi_core_new_discrete_states(c, "nds", &ev) == VI_STATUS_OK && r.count == before);
+    vi_core_free(c, "free");
+}
+
+Test(core, a_completed_integrator_step_commits_the_time_and_passes_the_models_request)
+{
+    record r = {0};
+    vi_core *c = me_in_event_mode(&r, &face, 0.0);
+    stub *s = c->model;
+    cr_assert(vi_core_enter_continuous_mode(c, "ecm") == VI_STATUS_OK);
+    int enter = -1, term = -1;
+    REFUSED(r, vi_core_completed_step(c, "cis", NULL, &term), "cis: NULL argument");
+    REFUSED(r, vi_core_completed_step(c, "cis", &enter, NULL), "cis: NULL argument");
+    cr_assert(vi_core_set_time(c, "st", 0.75) == VI_STATUS_OK);
+    s->completed = 1;
+    term = 5;
+    cr_assert(vi_core_completed_step(c, "cis", &enter, &term) == VI_STATUS_OK && enter == 1 && term == 0);
+    cr_assert(c->t_committed == 0.75);
+    s->completed = 0;
+    cr_assert(vi_core_completed_step(c, "cis", &enter, &term) == VI_STATUS_OK && enter == 0);
+    s->completed = 3;
+    cr_assert(vi_core_completed_step(c, "cis", &enter, &term) == VI_STATUS_OK && enter == 1);
+    vi_core_free(c, "free");
+}
+
+Test(core, time_goes_forward_in_continuous_time_mode_and_stays_in_event_mode)
+{
+    record r = {0};
+    vi_core *c = me_in_event_mode(&r, &face, 1.0);
+    stub *s = c->model;
+    REFUSED(r, vi_core_set_time(c, "st", NAN), "st: time nan is not finite");
+    REFUSED(r, vi_core_set_time(c, "st", INFINITY), "st: time inf is not finite");
+    REFUSED(r, vi_core_set_time(c, "st", 2.0), "st: t = 2 s in event mode, whose time is 1 s");
+    cr_assert(vi_core_set_time(c, "st", 1.0) == VI_STATUS_OK && s->d.t == 1.0);
+    cr_assert(vi_core_enter_continuous_mode(c, "ecm") == VI_STATUS_OK);
+    REFUSED(r, vi_core_set_time(c, "st", nextafter(1.0, 0.0)), "lies before the last event");
+    cr_assert(vi_core_set_time(c, "st", 1.0) == VI_STATUS_OK);
+    cr_assert(vi_core_set_time(c, "st", 3.0) == VI_STATUS_OK && s->d.t == 3.0);
+    cr_assert(vi_core_set_time(c, "st", 2.0) == VI_STATUS_OK && s->d.t == 2.0, "back within the step");
+    vi_core_free(c, "free");
+}
+
+Test(core, model_exchange_arrays_have_the_models_lengths_and_finite_values)
+{
+    record r = {0};
+    vi_core *c = me_in_event_mode(&r, &face, 0.0);
+    stub *s = c->model;
+    cr_assert(vi_core_enter_continuous_mode(c, "ecm") == VI_STATUS_OK);
+    double x[3] = {0, 0, 0};
+    REFUSED(r, vi_core_set_states(c, "ss", x, 1), "ss: 1 states given; CoreTest has 2");
+    REFUSED(r, vi_core_set_states(c, "ss", x, 3), "ss: 3 states given; CoreTest has 2");
+    REFUSED(r, vi_core_set_states(c, "ss", NULL, 2), "ss: the array is NULL");
+    REFUSED(r, vi_core_get_states(c, "gs", x, 1), "gs: 1 states given");
+    REFUSED(r, vi_core_get_derivatives(c, "gd", x, 3), "gd: 3 derivatives given; CoreTest has 2");
+    REFUSED(r, vi_core_get_derivatives(c, "gd", NULL, 2), "gd: the array is NULL");
+    REFUSED(r, vi_core_get_event_indicators(c, "gi", x, 2), "gi: 2 event indicators given; CoreTest has 1");
+    REFUSED(r, vi_core_get_event_indicators(c, "gi", x, 0), "gi: 0 event indicators given; CoreTest has 1");
+    REFUSED(r, vi_core_get_event_indicators(c, "gi", NULL, 1), "gi: the array is NULL");
+    REFUSED(r, vi_core_get_nominals(c, "gn", x, 1), "gn: 1 nominals given");
+    REFUSED(r, vi_core_get_nominals(c, "gn", NULL, 2), "gn: the array is NULL");
+    double bad[2] = {1.0, NAN};
+    REFUSED(r, vi_core_set_states(c, "ss", bad, 2), "ss: state 1 (q) = nan is not finite; nothing was set");
+    bad[0] = -INFINITY, bad[1] = 0.0;
+    REFUSED(r, vi_core_set_states(c, "ss", bad, 2), "ss: state 0 (p) = -inf is not finite");
+    cr_assert(s->d.x[0] == 0.5 && s->d.x[1] == -0.25);
+    double good[2] = {2.0, 3.0};
+    cr_assert(vi_core_set_states(c, "ss", good, 2) == VI_STATUS_OK && s->d.x[0] == 2.0 && s->d.x[1] == 3.0);
+    cr_assert(vi_core_get_states(c, "gs", x, 2) == VI_STATUS_OK && x[0] == 2.0 && x[1] == 3.0);
+    cr_assert(vi_core_get_derivatives(c, "gd", x, 2) == VI_STATUS_OK && x[0] == 3.0 && x[1] == -2.0);
+    cr_assert(vi_core_get_event_indicators(c, "gi", x, 1) == VI_STATUS_OK && x[0] == 1.0);
+    cr_assert(vi_core_get_nominals(c, "gn", x, 2) == VI_STATUS_OK && x[0] == 1.0 && x[1] == 2.0);
+    s->nan_outputs = 1;
+    REFUSED(r, vi_core_get_states(c, "gs", x, 2), "gs: element 1 = nan has no value in state 'continuous-time mode'");
+    REFUSED(r, vi_core_get_derivatives(c, "gd", x, 2), "gd: element 1 = nan has no value");
+    REFUSED(r, vi_core_get_event_indicators(c, "gi", x, 1), "gi: element 0 = nan has no value");
+    vi_core_free(c, "free");
+}
+
+Test(core, states_and_indicators_in_initialization_mode_come_from_the_prepared_model)
+{
+    record r = {0};
+    vi_core *c = make_with(&face, &r, VI_KIND_ME, 0);
+    stub *s = c->model;
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK);
+    double x[2];
+    cr_assert(vi_core_get_states(c, "gs", x, 2) == VI_STATUS_OK && s->prepare_calls == 1);
+    cr_assert(vi_core_get_event_indicators(c, "gi", x, 1) == VI_STATUS_OK && s->prepare_calls == 2);
+    s->fail_prepare = 1;
+    REFUSED(r, vi_core_get_states(c, "gs", x, 2), "gs: the stub says no");
+    REFUSED(r, vi_core_get_event_indicators(c, "gi", x, 1), "gi: the stub says no");
+    unsigned unk = VI_VR_der_p, kn = VI_VR_q;
+    double seed = 1.0, out = 0.0;
+    REFUSED(r, vi_core_directional_derivative(c, "dd", &unk, 1, &kn, 1, &seed, &out), "dd: the stub says no");
+    s->fail_prepare = 0;
+    cr_assert(vi_core_exit_init(c, "exit") == VI_STATUS_OK);
+    s->fail_prepare = 1; /* after initialization: not prepared again */
+    cr_assert(vi_core_get_states(c, "gs", x, 2) == VI_STATUS_OK);
+    cr_assert(vi_core_get_event_indicators(c, "gi", x, 1) == VI_STATUS_OK);
+    cr_assert(vi_core_directional_derivative(c, "dd", &unk, 1, &kn, 1, &seed, &out) == VI_STATUS_OK && out == 1.0);
+    cr_assert(s->prepare_calls == 5, "%d", s->prepare_calls);
+    vi_core_free(c, "free");
+}
+
+Test(core, directional_derivatives_check_every_array_and_reference)
+{
+    record r = {0};
+    vi_core *c = running_cs(&r, &face, 0.0, 0, 0.0);
+    unsigned unk[2] = {VI_VR_der_p, VI_VR_der_q}, kn[2] = {VI_VR_q, VI_VR_p};
+    double seed[2] = {1.0, 1.0}, out[2] = {0, 0};
+    REFUSED(r, vi_core_directional_derivative(c, "dd", unk, 2, kn, 2, seed, out),
+            "dd: not provided (providesDirectionalDerivative=false in Co-Simulation)");
+    vi_core_free(c, "free");
+    c = me_in_event_mode(&r, &face, 0.0);
+    stub *s = c->model;
+    s->d.par.k = 4.0;
+    REFUSED(r, vi_core_directional_derivative(c, "dd", NULL, 2, kn, 2, seed, out), "dd: NULL array");
+    REFUSED(r, vi_core_directional_derivative(c, "dd", unk, 2, kn, 2, seed, NULL), "dd: NULL array");
+    REFUSED(r, vi_core_directional_derivative(c, "dd", unk, 2, NULL, 2, seed, out), "dd: NULL array");
+    REFUSED(r, vi_core_directional_derivative(c, "dd", unk, 2, kn, 2, NULL, out), "dd: NULL array");
+    cr_assert(vi_core_directional_derivative(c, "dd", NULL, 0, NULL, 0, NULL, NULL) == VI_STATUS_OK);
+    cr_assert(vi_core_directional_derivative(c, "dd", unk, 2, NULL, 0, NULL, out) == VI_STATUS_OK);
+    cr_assert(out[0] == 0.0 && out[1] == 0.0);
+    cr_assert(vi_core_directional_derivative(c, "dd", NULL, 0, kn, 2, seed, NULL) == VI_STATUS_OK);
+    unsigned bad_unk[2] = {VI_VR_der_p, VI_VR_k}, bad_kn[2] = {VI_VR_q, VI_VR_y}, param[1] = {VI_VR_k};
+    REFUSED(r, vi_core_directional_derivative(c, "dd", bad_unk, 2, kn, 2, seed, out),
+            "dd: unknown k is neither a state derivative nor an output");
+    unsigned in_unk[1] = {VI_VR_u};
+    REFUSED(r, vi_core_directional_derivative(c, "dd", in_unk, 1, kn, 2, seed, out), "dd: unknown u is neither");
+    REFUSED(r, vi_core_directional_derivative(c, "dd", unk, 2, bad_kn, 2, seed, out),
+            "dd: known y is neither a state nor an input");
+    REFUSED(r, vi_core_directional_derivative(c, "dd", unk, 2, param, 1, seed, out), "dd: known k is neither");
+    unsigned beyond[1] = {VI_NVARS};
+    REFUSED(r, vi_core_directional_derivative(c, "dd", beyond, 1, kn, 2, seed, out), "dd: unknown value reference 12");
+    REFUSED(r, vi_core_directional_derivative(c, "dd", unk, 2, beyond, 1, seed, out), "dd: unknown value reference 12");
+    unsigned vb[1] = {VI_VR_b};
+    REFUSED(r, vi_core_directional_derivative(c, "dd", vb, 1, kn, 2, seed, out), "(b) is of type Boolean");
+    double nan_seed[2] = {1.0, NAN};
+    REFUSED(r, vi_core_directional_derivative(c, "dd", unk, 2, kn, 2, nan_seed, out), "dd: the seed of p is not finite");
+    /* J dknown: d(der_p)/dq = 1, d(der_q)/dp = -k; dy/du = 2 */
+    double seed2[2] = {3.0, 0.5};
+    cr_assert(vi_core_directional_derivative(c, "dd", unk, 2, kn, 2, seed2, out) == VI_STATUS_OK, "%s", r.text);
+    cr_assert(out[0] == 3.0 && out[1] == -2.0, "%g %g", out[0], out[1]);
+    unsigned vy = VI_VR_y, vu = VI_VR_u;
+    cr_assert(vi_core_directional_derivative(c, "dd", &vy, 1, &vu, 1, seed2, out) == VI_STATUS_OK && out[0] == 6.0);
+    s->fail_dd = 1;
+    REFUSED(r, vi_core_directional_derivative(c, "dd", unk, 2, kn, 2, seed2, out), "dd: the stub says no");
+    vi_core_free(c, "free");
+}
