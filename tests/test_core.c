@@ -1629,3 +1629,27 @@ Test(core, directional_derivatives_check_every_array_and_reference)
     REFUSED(r, vi_core_directional_derivative(c, "dd", unk, 2, kn, 2, seed2, out), "dd: the stub says no");
     vi_core_free(c, "free");
 }
+
+/* An importer whose allocateMemory does not zero the block (calloc semantics are required, but the
+ * layer does not rely on them): the instance and the model start zeroed all the same. */
+static void *dirty_alloc(size_t n, size_t size)
+{
+    void *p = malloc(n * size);
+    if (p) memset(p, 0xab, n * size);
+    return p;
+}
+
+Test(core, the_instance_and_the_model_start_zeroed_whatever_the_allocator_gives)
+{
+    record r = {0};
+    vi_callbacks cb = {.alloc = dirty_alloc, .free = free, .logger = any_logger, .env = &r};
+    vi_core *c = vi_core_instantiate(&face, &cb, "inst", "x", VI_KIND_ME, VI_GUID, NULL, "", 0);
+    cr_assert(c);
+    cr_assert(c->stop_time_defined == 0 && c->stop_time == 0.0 && c->face_options == 0u && c->initialized == 0 &&
+              c->t_committed == 0.0 && c->event_passes == 0, "the instance was not zeroed");
+    stub *s = c->model;
+    cr_assert(s->prepare_calls == 0 && s->fail_prepare == 0 && s->outputs_calls == 0 && s->d.t == 0.0 &&
+              s->completed == 0, "the model's block was not zeroed");
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK && vi_core_exit_init(c, "exit") == VI_STATUS_OK);
+    vi_core_free(c, "free");
+}
