@@ -1089,6 +1089,10 @@ static void n_eight(stub *s) { s->d.par.n = 8; }
 static void n_zero(stub *s) { s->d.par.n = 0; }
 static void color_three(stub *s) { s->d.par.color = 3; }
 static void model_bad(stub *s) { s->d.x[0] = 666.0; }
+/* two bad parts: the first (the table's values before the model's own check) is named */
+static void k_zero_model_bad(stub *s) { s->d.par.k = 0.0, s->d.x[0] = 666.0; }
+static void n_eight_model_bad(stub *s) { s->d.par.n = 8, s->d.x[0] = 666.0; }
+static void color_model_bad(stub *s) { s->d.par.color = 4, s->d.x[0] = 666.0; }
 static void model_mute(stub *s) { s->d.x[0] = 777.0; }
 
 Test(core, the_table_values_and_the_model_fields_of_a_state_are_checked)
@@ -1108,6 +1112,9 @@ Test(core, the_table_values_and_the_model_fields_of_a_state_are_checked)
     refused_values(&r, color_three, "color = 3 is not one of its items red=2, blue=5");
     refused_values(&r, model_bad, "x[0] = 666 is bad");
     refused_values(&r, model_mute, "invalid field");
+    refused_values(&r, k_zero_model_bad, "k = 0 is outside its range");
+    refused_values(&r, n_eight_model_bad, "n = 8 is outside its range");
+    refused_values(&r, color_model_bad, "color = 4 is not one of its items");
     /* values at their bounds are fine */
     vi_core *c = make(&r, 0);
     stub *s = c->model;
@@ -1651,5 +1658,26 @@ Test(core, the_instance_and_the_model_start_zeroed_whatever_the_allocator_gives)
     cr_assert(s->prepare_calls == 0 && s->fail_prepare == 0 && s->outputs_calls == 0 && s->d.t == 0.0 &&
               s->completed == 0, "the model's block was not zeroed");
     cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK && vi_core_exit_init(c, "exit") == VI_STATUS_OK);
+    vi_core_free(c, "free");
+}
+
+Test(core, setting_a_parameter_or_a_boolean_input_leaves_the_input_derivatives_alone)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    stub *s = c->model;
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK && vi_core_exit_init(c, "exit") == VI_STATUS_OK);
+    unsigned vu = VI_VR_u, vw = VI_VR_w, vk = VI_VR_k, vb = VI_VR_b, vc = VI_VR_color;
+    int order = 1, one = 1, blue = 5;
+    double du = 5.0, x = 2.0;
+    cr_assert(vi_core_set_input_derivatives(c, "der", &vu, 1, &order, &du) == VI_STATUS_OK);
+    cr_assert(vi_core_set_input_derivatives(c, "der", &vw, 1, &order, &du) == VI_STATUS_OK);
+    s->d.din.b = 7;
+    cr_assert(vi_core_set(c, "set", &vk, 1, VI_Real, &x, VI_ELEM_DOUBLE) == VI_STATUS_OK); /* k: the first parameter */
+    cr_assert(vi_core_set(c, "set", &vb, 1, VI_Boolean, &one, VI_ELEM_INT) == VI_STATUS_OK);
+    cr_assert(vi_core_set(c, "set", &vc, 1, VI_Integer, &blue, VI_ELEM_INT) == VI_STATUS_OK);
+    cr_assert(s->d.din.u == 5.0 && s->d.din.w == 5.0 && s->d.din.b == 7, "%g %g %d", s->d.din.u, s->d.din.w, s->d.din.b);
+    cr_assert(vi_core_set(c, "set", &vw, 1, VI_Real, &x, VI_ELEM_DOUBLE) == VI_STATUS_OK);
+    cr_assert(s->d.din.u == 5.0 && s->d.din.w == 0.0, "a Real input's own derivative is reset, no other");
     vi_core_free(c, "free");
 }
