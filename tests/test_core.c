@@ -1681,3 +1681,32 @@ Test(core, setting_a_parameter_or_a_boolean_input_leaves_the_input_derivatives_a
     cr_assert(s->d.din.u == 5.0 && s->d.din.w == 0.0, "a Real input's own derivative is reset, no other");
     vi_core_free(c, "free");
 }
+
+Test(core, a_long_message_is_cut_to_1023_characters)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    static char longer[1500];
+    memset(longer, 'm', sizeof longer - 1);
+    vi_core_log(c, VI_STATUS_ERROR, VI_CAT_ERROR, "%s", longer);
+    cr_assert(strlen(r.text) == 1023 && r.text[0] == 'm', "%zu", strlen(r.text));
+    vi_core_free(c, "free");
+}
+
+/* A refused value is printed in as few digits as read back as it: 1e23 (whose 16 digits are
+ * 9.999999999999999e+22) and the double after 10 (17 digits). */
+Test(core, a_refused_value_is_printed_in_the_fewest_digits_that_read_back_as_it)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    unsigned vk = VI_VR_k;
+    const double x[] = {1e23, nextafter(10.0, 11.0), -0.1};
+    const char *text[] = {"set: k = 1e+23 is outside its range 0 < k <= 10 (a rate); nothing was set",
+                          "set: k = 10.000000000000002 is outside", "set: k = -0.1 is outside"};
+    for (int i = 0; i < 3; i++) {
+        REFUSED(r, vi_core_set(c, "set", &vk, 1, VI_Real, &x[i], VI_ELEM_DOUBLE), text[i]);
+    }
+    cr_assert(strcmp(r.text, "set: k = -0.1 is outside its range 0 < k <= 10 (a rate); nothing was set") == 0, "%s",
+              r.text);
+    vi_core_free(c, "free");
+}
