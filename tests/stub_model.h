@@ -66,7 +66,7 @@ typedef struct {
 /* set_resources fails (global: it is called during instantiation), and the folder it was given last
  * (NULL: none). */
 static int fail_resources;
-static const char *resources_dir;
+static const char *resources_dir, *resources_block; /* a copy of the folder, and the block it came in */
 static char resources_copy[1024];
 
 static void init(void *m, vi_fmu_log_fn log, void *env)
@@ -85,6 +85,7 @@ static int set_resources(void *m, const char *dir)
 {
     (void)m;
     resources_dir = dir ? resources_copy : NULL;
+    resources_block = dir;
     if (dir) snprintf(resources_copy, sizeof resources_copy, "%s", dir);
     return fail_resources ? -1 : 0;
 }

@@ -42,11 +42,24 @@ static void logger3(fmi3InstanceEnvironment env, fmi3Status status, fmi3String c
     snprintf(b->text, sizeof b->text, "%s", message);
 }
 
+/* allocateMemory that counts, fails the fail_at-th call, and keeps the size of the last blocks */
 static int n_alloc, n_free, fail_at;
+static struct {
+    const void *p;
+    size_t size;
+} blocks[16];
 static void *alloc2(size_t n, size_t size)
 {
     if (++n_alloc == fail_at) return NULL;
-    return calloc(n, size);
+    void *p = calloc(n, size);
+    blocks[n_alloc % 16].p = p, blocks[n_alloc % 16].size = n * size;
+    return p;
+}
+static size_t block_size(const void *p)
+{
+    for (int i = 0; i < 16; i++)
+        if (blocks[i].p == p) return blocks[i].size;
+    return 0;
 }
 static void free2(void *p)
 {
@@ -114,6 +127,9 @@ static const char *folder_of(const char *uri)
     n_alloc = n_free = 0, fail_at = 0;
     fmi2Component c = inst2(&b, fmi2CoSimulation, uri);
     cr_assert(c, "%s: %s", uri, b.text);
+    if (resources_dir) /* the path fits its block */
+        cr_assert(strlen(resources_dir) + 1 <= block_size(resources_block), "%s: %zu bytes in a block of %zu", uri,
+                  strlen(resources_dir) + 1, block_size(resources_block));
     fmi2FreeInstance(c);
     cr_assert(n_alloc == n_free, "%s: %d blocks allocated, %d freed", uri, n_alloc, n_free);
     return resources_dir;
@@ -160,6 +176,7 @@ Test(fmi2, resource_uris_are_percent_decoded_with_either_case)
     FOLDER_IS("file:///x%`0%0`%@0%0@", "/x%`0%0`%@0%0@");
     FOLDER_IS("file:///%25%32", "/%2");
     FOLDER_IS("file:///%e9", "/\xe9");
+    FOLDER_IS("file:///%09%0A", "/\t\n");
 }
 
 Test(fmi2, instantiation_without_memory_for_the_resource_path_goes_on_without_resources)
