@@ -1575,6 +1575,10 @@ Test(core, states_and_indicators_in_initialization_mode_come_from_the_prepared_m
     double x[2];
     cr_assert(vi_core_get_states(c, "gs", x, 2) == VI_STATUS_OK && s->prepare_calls == 1);
     cr_assert(vi_core_get_event_indicators(c, "gi", x, 1) == VI_STATUS_OK && s->prepare_calls == 2);
+    unsigned dd_unk = VI_VR_der_q, dd_kn = VI_VR_p;
+    double dd_seed = 1.0, dd_out = 0.0;
+    cr_assert(vi_core_directional_derivative(c, "dd", &dd_unk, 1, &dd_kn, 1, &dd_seed, &dd_out) == VI_STATUS_OK);
+    cr_assert(dd_out == -1.0 && s->prepare_calls == 3, "%g, prepared %d times", dd_out, s->prepare_calls);
     s->fail_prepare = 1;
     REFUSED(r, vi_core_get_states(c, "gs", x, 2), "gs: the stub says no");
     REFUSED(r, vi_core_get_event_indicators(c, "gi", x, 1), "gi: the stub says no");
@@ -1587,7 +1591,7 @@ Test(core, states_and_indicators_in_initialization_mode_come_from_the_prepared_m
     cr_assert(vi_core_get_states(c, "gs", x, 2) == VI_STATUS_OK);
     cr_assert(vi_core_get_event_indicators(c, "gi", x, 1) == VI_STATUS_OK);
     cr_assert(vi_core_directional_derivative(c, "dd", &unk, 1, &kn, 1, &seed, &out) == VI_STATUS_OK && out == 1.0);
-    cr_assert(s->prepare_calls == 5, "%d", s->prepare_calls);
+    cr_assert(s->prepare_calls == 6, "%d", s->prepare_calls);
     vi_core_free(c, "free");
 }
 
