@@ -777,10 +777,19 @@ Test(core, values_are_checked_before_any_is_stored)
     const int items_bad[] = {3, 0, -2, 6}, items_ok[] = {5, 2};
     for (int i = 0; i < 4; i++)
         REFUSED(r, vi_core_set(c, "set", &vc, 1, VI_Integer, &items_bad[i], VI_ELEM_INT),
-                "is not one of its items red=2, blue=5; nothing was set");
+                "is not one of its items red=2, blue=5, white=2147483647, black=-2147483648; nothing was set");
     for (int i = 0; i < 2; i++)
         cr_assert(vi_core_set(c, "set", &vc, 1, VI_Integer, &items_ok[i], VI_ELEM_INT) == VI_STATUS_OK &&
                   s->d.par.color == items_ok[i]);
+    /* items at the ends of int; 64-bit values beyond them refused (not converted) */
+    const int64_t ends[] = {INT32_MAX, INT32_MIN}, beyond[] = {(int64_t)INT32_MAX + 1, (int64_t)INT32_MIN - 1,
+                                                               (int64_t)INT32_MAX + 2};
+    for (int i = 0; i < 2; i++)
+        cr_assert(vi_core_set(c, "set", &vc, 1, VI_Integer, &ends[i], VI_ELEM_INT64) == VI_STATUS_OK &&
+                  s->d.par.color == ends[i], "%lld", (long long)ends[i]);
+    REFUSED(r, vi_core_set(c, "set", &vc, 1, VI_Integer, &beyond[0], VI_ELEM_INT64), "set: color = 2147483648 is not one");
+    REFUSED(r, vi_core_set(c, "set", &vc, 1, VI_Integer, &beyond[1], VI_ELEM_INT64), "set: color = -2147483649 is not one");
+    REFUSED(r, vi_core_set(c, "set", &vc, 1, VI_Integer, &beyond[2], VI_ELEM_INT64), "set: color = 2147483649 is not one");
     /* Strings: not NULL, at most VI_STRING_SIZE - 1 characters */
     unsigned vl = VI_VR_label;
     const char *null = NULL;
@@ -1109,7 +1118,7 @@ Test(core, the_table_values_and_the_model_fields_of_a_state_are_checked)
     refused_values(&r, b_minus, "b = -1 is not a Boolean");
     refused_values(&r, n_eight, "n = 8 is outside its range 1 <= n < 8");
     refused_values(&r, n_zero, "n = 0 is outside its range");
-    refused_values(&r, color_three, "color = 3 is not one of its items red=2, blue=5");
+    refused_values(&r, color_three, "color = 3 is not one of its items red=2, blue=5, white=2147483647, black=-2147483648");
     refused_values(&r, model_bad, "x[0] = 666 is bad");
     refused_values(&r, model_mute, "invalid field");
     refused_values(&r, k_zero_model_bad, "k = 0 is outside its range");
