@@ -43,7 +43,7 @@ static void logger3(fmi3InstanceEnvironment env, fmi3Status status, fmi3String c
 }
 
 /* allocateMemory that counts, fails the fail_at-th call, and keeps the size of the last blocks */
-static int n_alloc, n_free, fail_at;
+static int n_alloc, n_free, fail_at, dirty; /* dirty: blocks filled with 0xab (no calloc semantics) */
 static struct {
     const void *p;
     size_t size;
@@ -52,6 +52,7 @@ static void *alloc2(size_t n, size_t size)
 {
     if (++n_alloc == fail_at) return NULL;
     void *p = calloc(n, size);
+    if (p && dirty) memset(p, 0xab, n * size);
     blocks[n_alloc % 16].p = p, blocks[n_alloc % 16].size = n * size;
     return p;
 }
@@ -177,6 +178,10 @@ Test(fmi2, resource_uris_are_percent_decoded_with_either_case)
     FOLDER_IS("file:///%25%32", "/%2");
     FOLDER_IS("file:///%e9", "/\xe9");
     FOLDER_IS("file:///%09%0A", "/\t\n");
+    dirty = 1; /* the path is terminated by the layer, not by a zeroed block */
+    FOLDER_IS("file:///tmp/a%41", "/tmp/aA");
+    FOLDER_IS("file://localhost/x", "/x");
+    dirty = 0;
 }
 
 Test(fmi2, instantiation_without_memory_for_the_resource_path_goes_on_without_resources)
