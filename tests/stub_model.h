@@ -185,15 +185,20 @@ static int directional_derivative(void *m, const unsigned unknown[], size_t nu, 
     return 0;
 }
 
-static const unsigned state_vrs[2] = {VI_VR_p, VI_VR_q}, derivative_vrs[2] = {VI_VR_der_p, VI_VR_der_q};
+/* The value references of the states and of their derivatives, each array followed by that of the
+ * parameter k: a loop that ran one element too far would take k for a state or a derivative. */
+static const struct {
+    unsigned vrs[2], after;
+} states_k = {{VI_VR_p, VI_VR_q}, VI_VR_k}, derivatives_k = {{VI_VR_der_p, VI_VR_der_q}, VI_VR_k};
+
 
 const vi_fmu_model vi_fmu_this_model = {
     VI_FMU_TABLE_FIELDS(stub, data), .init = init, .reset = reset, .release = release, .set_resources = set_resources,
     .changed = changed, .outputs = outputs, .outputs_of = outputs_of, .setup_experiment = setup_experiment,
     .prepare = prepare, .initialize = initialize, .advance = advance, .advance_to_event = advance_to_event,
     .time = time_of, .terminate = terminate, .state = state, .checkpoint = checkpoint, .restore = restore,
-    .state_check = state_check, .message = message, .n_states = 2, .n_indicators = 1, .state_vrs = state_vrs,
-    .derivative_vrs = derivative_vrs, .me_initialize = me_initialize, .set_time = set_time,
+    .state_check = state_check, .message = message, .n_states = 2, .n_indicators = 1, .state_vrs = states_k.vrs,
+    .derivative_vrs = derivatives_k.vrs, .me_initialize = me_initialize, .set_time = set_time,
     .get_states = get_states, .set_states = set_states, .derivatives = derivatives, .indicators = indicators,
     .nominals = nominals, .event_update = event_update, .completed_step = completed_step,
     .enter_continuous = enter_continuous, .directional_derivative = directional_derivative,

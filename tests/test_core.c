@@ -20,7 +20,7 @@
 typedef struct {
     int count;
     vi_status status;
-    char category[32], text[1024], name[64];
+    char category[32], text[VI_CORE_MESSAGE_MAX], name[64];
     vi_status all_status[LOG_KEEP];
     char all[LOG_KEEP][1024];
 } record;
