@@ -607,6 +607,12 @@ Test(core, get_reads_each_type_into_its_element_kind)
     s->d.in.u = -3.5;
     cr_assert(vi_core_get(c, "get", vr2, 2, VI_Real, two, VI_ELEM_DOUBLE) == VI_STATUS_OK);
     cr_assert(two[0] == 1.0 && two[1] == -3.5);
+    /* outputs after the first (their offsets in vi_outputs are not 0) */
+    unsigned outs[3] = {VI_VR_q, VI_VR_der_q, VI_VR_p};
+    double o[3] = {0, 0, 0};
+    s->d.par.k = 2.0;
+    cr_assert(vi_core_get(c, "get", outs, 3, VI_Real, o, VI_ELEM_DOUBLE) == VI_STATUS_OK);
+    cr_assert(o[0] == -0.25 && o[1] == -1.0 && o[2] == 0.5, "%g %g %g", o[0], o[1], o[2]);
     (void)vk;
     vi_core_free(c, "free");
 }
