@@ -80,7 +80,8 @@ static void init(void *m, vi_fmu_log_fn log, void *env)
     s->log = log, s->env = env;
 }
 static void reset(void *m) { ((stub *)m)->reset_calls++, init(m, ((stub *)m)->log, ((stub *)m)->env); }
-static void release(void *m) { ((stub *)m)->release_calls++; }
+static int releases; /* calls of release (global: the instance is freed right after) */
+static void release(void *m) { ((stub *)m)->release_calls++, releases++; }
 static int set_resources(void *m, const char *dir)
 {
     (void)m;

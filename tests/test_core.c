@@ -424,8 +424,9 @@ Test(core, free_releases_the_model_and_every_block)
     n_alloc = n_free = 0, fail_at = 0;
     vi_core *c = instantiate_with(&r, cb, "x", VI_KIND_CS, VI_GUID);
     cr_assert(c);
+    int before = releases;
     vi_core_free(c, "free");
-    cr_assert(n_free == 4);
+    cr_assert(n_free == 4 && releases == before + 1, "%d blocks freed, %d releases", n_free, releases - before);
 }
 
 Test(core, setup_experiment_takes_a_tolerance_strictly_between_0_and_1)
