@@ -759,6 +759,9 @@ Test(fmi3, do_step_results_with_and_without_early_return)
         REFUSED(b, fmi3DoStep(c, 0.0, 1.0, false, p[0], p[1], p[2], pl), "fmi3DoStep: NULL argument");
     }
     cr_assert(fmi3DoStep(NULL, 0.0, 1.0, false, &ehn, &term, &early, &last) == fmi3Error);
+    ((vi_core *)c)->state = VI_ST_STEP_FAILED; /* the state is checked before the arguments */
+    REFUSED(b, fmi3DoStep(c, 0.0, 1.0, false, NULL, &term, &early, &last), "fmi3DoStep: not allowed in state 'step failed'");
+    ((vi_core *)c)->state = VI_ST_STEP_COMPLETE;
     stub *s = ((vi_core *)c)->model;
     /* an event inside the step */
     s->advance_rc = VI_FMU_EVENT, s->advance_to = 0.25;
