@@ -124,7 +124,8 @@ static int advance(void *m, double t_end)
     s->d.t = isnan(s->advance_to) ? t_end : s->advance_to;
     return s->advance_rc;
 }
-static int advance_to_event(void *m, double t_end) { return advance(m, t_end); }
+static int to_event_calls; /* calls of advance_to_event */
+static int advance_to_event(void *m, double t_end) { return to_event_calls++, advance(m, t_end); }
 static double time_of(const void *m) { return ((const stub *)m)->d.t; }
 static void terminate(void *m) { ((stub *)m)->terminate_calls++; }
 static void *state(void *m) { return &((stub *)m)->d; }

@@ -1168,12 +1168,14 @@ Test(core, serialization_round_trip_and_its_size_checks)
     void *back = NULL;
     REFUSED(r, vi_core_deserialize(c, "des", NULL, SAVED_SIZE, &back), "des: NULL argument");
     REFUSED(r, vi_core_deserialize(c, "des", bytes, SAVED_SIZE, NULL), "des: NULL argument");
+    int allocated = n_alloc; /* sizes beyond the bounds: refused before anything is allocated or copied */
     snprintf(want, sizeof want, "des: invalid FMU state: size %zu bytes: a state of this build of CoreTest has %zu",
              SAVED_SIZE + 1, SAVED_SIZE);
     REFUSED(r, vi_core_deserialize(c, "des", bytes, SAVED_SIZE + 1, &back), want);
     snprintf(want, sizeof want, "des: invalid FMU state: size %zu bytes", sizeof(header) - 1);
     REFUSED(r, vi_core_deserialize(c, "des", bytes, sizeof(header) - 1, &back), want);
-    int allocated = n_alloc, freed = n_free;
+    cr_assert(n_alloc == allocated, "%d blocks allocated for a size beyond the bounds", n_alloc - allocated);
+    int freed = n_free;
     snprintf(want, sizeof want, "des: invalid FMU state: size %zu bytes", SAVED_SIZE - 1);
     REFUSED(r, vi_core_deserialize(c, "des", bytes, SAVED_SIZE - 1, &back), want);
     snprintf(want, sizeof want, "des: invalid FMU state: size %zu bytes", sizeof(header));
@@ -1245,6 +1247,19 @@ Test(core, the_communication_point_may_differ_from_the_time_by_1000_units_of_its
         cr_assert(vi_core_do_step(c, "step", t0[i] - 1000 * unit, 1.0) == VI_STATUS_OK, "t0 %g: %s", t0[i], r.text);
         vi_core_free(c, "free");
     }
+}
+
+/* Between 1 s and 1.01 s the resolution is |t| DBL_EPSILON, not DBL_EPSILON: at t = 1.005 s the
+ * point may differ by 1000 * 1.005 ulps of 1 s. */
+Test(core, the_time_resolution_grows_with_t_just_above_1_s)
+{
+    record r = {0};
+    vi_core *c = running_cs(&r, &face, 1.005, 0, 0.0);
+    cr_assert(vi_core_do_step(c, "step", 1.005 + 1003 * DBL_EPSILON, 1.0) == VI_STATUS_OK, "%s", r.text);
+    vi_core_free(c, "free");
+    c = running_cs(&r, &face, 1.005, 0, 0.0);
+    REFUSED(r, vi_core_do_step(c, "step", 1.005 + 1006 * DBL_EPSILON, 1.0), "does not match the FMU's time");
+    vi_core_free(c, "free");
 }
 
 Test(core, a_step_advances_time_by_at_least_16_units_of_its_resolution)
@@ -1355,11 +1370,14 @@ Test(core, a_step_to_the_first_event_ends_inside_the_step)
         cr_assert(event == 0 && c->state == VI_ST_ERROR);
         vi_core_free(c, "free");
     }
-    /* no event: to the end */
+    /* no event: to the end; a plain step never asks for events */
     vi_core *c = running_cs(&r, &face3, 0.0, 0, 0.0);
-    int event = -1;
+    int event = -1, calls = to_event_calls;
     cr_assert(vi_core_do_step_to_event(c, "step", 0.0, 0.5, &event) == VI_STATUS_OK && event == 0);
+    cr_assert(to_event_calls == calls + 1);
     cr_assert(vi_core_do_step_to_event(c, "step", 0.5, 0.5, NULL) == VI_STATUS_OK && vi_core_time(c) == 1.0);
+    cr_assert(vi_core_do_step(c, "step", 1.0, 0.5) == VI_STATUS_OK && to_event_calls == calls + 2, "%d",
+              to_event_calls - calls);
     vi_core_free(c, "free");
 }
 
