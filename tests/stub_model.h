@@ -29,8 +29,9 @@
     X(label, String, none, parameter, fixed, exact, "abc", VI_NONE, VI_NONE, "", "a label")              \
     X(w, Real, none, input, discrete, exact, 0.0, VI_NONE, VI_NONE, "", "a discrete input")               \
     X(color, Integer, Color, parameter, tunable, exact, 2, VI_NONE, VI_NONE, "", "a choice")
-#define VI_ENUMERATIONS(E) E(Color, "a color")
+#define VI_ENUMERATIONS(E) E(Color, "a color") E(Shape, "a shape (no variable: its items are no colors)")
 #define VI_ITEMS_Color(I) I(Color, red, 2) I(Color, blue, 5) I(Color, white, 2147483647) I(Color, black, -2147483647 - 1)
+#define VI_ITEMS_Shape(I) I(Shape, round, 1) I(Shape, square, 6)
 VI_TABLE_DECLARE
 VI_TABLE_DEFINE
 

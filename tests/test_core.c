@@ -335,10 +335,22 @@ Test(core, a_call_in_a_state_it_is_not_allowed_in_is_refused_naming_the_state)
 
 /* calloc and free that count, and fail the n-th allocation (0: none). */
 static int n_alloc, n_free, fail_at;
+static struct {
+    const void *p;
+    size_t size;
+} blocks[16]; /* the last blocks allocated and their sizes */
 static void *counting_alloc(size_t n, size_t size)
 {
     if (++n_alloc == fail_at) return NULL;
-    return calloc(n, size);
+    void *p = calloc(n, size);
+    blocks[n_alloc % 16].p = p, blocks[n_alloc % 16].size = n * size;
+    return p;
+}
+static size_t block_size(const void *p)
+{
+    for (int i = 0; i < 16; i++)
+        if (blocks[i].p == p) return blocks[i].size;
+    return 0;
 }
 static void counting_free(void *p)
 {
@@ -398,6 +410,10 @@ Test(core, every_allocation_of_instantiation_is_checked_and_nothing_leaks)
     n_alloc = n_free = 0, fail_at = 0;
     vi_core *c = instantiate_with(&r, cb, "name", VI_KIND_CS, VI_GUID);
     cr_assert(c != NULL && n_alloc == 4);
+    /* each block has the size of what it holds */
+    cr_assert(block_size(c) >= sizeof *c && block_size(c->name) >= 5 && block_size(c->model) >= sizeof(stub) &&
+              block_size(c->outputs) >= sizeof(vi_outputs), "%zu %zu %zu %zu", block_size(c), block_size(c->name),
+              block_size(c->model), block_size(c->outputs));
     cr_assert(strcmp(c->name, "name") == 0 && c->face == &face && c->cb.alloc == counting_alloc);
     stub *s = c->model;
     cr_assert(s->env == c && s->d.par.k == 1.0 && c->outputs != NULL, "the model was not initialized");
@@ -781,8 +797,8 @@ Test(core, values_are_checked_before_any_is_stored)
     cr_assert(vi_core_set(c, "set", &vb, 1, VI_Boolean, &zero, VI_ELEM_INT) == VI_STATUS_OK && s->d.in.b == 0);
     /* enumerations: items only */
     unsigned vc = VI_VR_color;
-    const int items_bad[] = {3, 0, -2, 6}, items_ok[] = {5, 2};
-    for (int i = 0; i < 4; i++)
+    const int items_bad[] = {3, 0, -2, 6, 1}, items_ok[] = {5, 2}; /* 1 and 6: items of another type */
+    for (int i = 0; i < 5; i++)
         REFUSED(r, vi_core_set(c, "set", &vc, 1, VI_Integer, &items_bad[i], VI_ELEM_INT),
                 "is not one of its items red=2, blue=5, white=2147483647, black=-2147483648; nothing was set");
     for (int i = 0; i < 2; i++)
