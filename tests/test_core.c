@@ -953,7 +953,7 @@ Test(core, a_state_restores_the_model_block_the_fmi_state_and_the_stop_time)
     /* back to the instantiated state: not running */
     c->event_passes = 3;
     cr_assert(vi_core_set_fmu_state(c, "set", before) == VI_STATUS_OK);
-    cr_assert(c->state == VI_ST_INSTANTIATED && c->stop_time_defined == 0 && c->initialized == 0 &&
+    cr_assert(c->state == VI_ST_INSTANTIATED && c->stop_time_defined == 0 && c->stop_time == 0.0 && c->initialized == 0 &&
               c->event_passes == 0 && s->restored_running == 0 && s->d.t == 0.0 && c->t_committed == 0.0);
     /* and to the running one (Model Exchange) */
     cr_assert(vi_core_set_fmu_state(c, "set", after) == VI_STATUS_OK);
@@ -1603,7 +1603,7 @@ Test(core, model_exchange_arrays_have_the_models_lengths_and_finite_values)
     bad[0] = -INFINITY, bad[1] = 0.0;
     REFUSED(r, vi_core_set_states(c, "ss", bad, 2), "ss: state 0 (p) = -inf is not finite");
     cr_assert(s->d.x[0] == 0.5 && s->d.x[1] == -0.25);
-    double good[2] = {2.0, 3.0};
+    double good[3] = {2.0, 3.0, NAN}; /* only the first n elements are read */
     cr_assert(vi_core_set_states(c, "ss", good, 2) == VI_STATUS_OK && s->d.x[0] == 2.0 && s->d.x[1] == 3.0);
     cr_assert(vi_core_get_states(c, "gs", x, 2) == VI_STATUS_OK && x[0] == 2.0 && x[1] == 3.0);
     cr_assert(vi_core_get_derivatives(c, "gd", x, 2) == VI_STATUS_OK && x[0] == 3.0 && x[1] == -2.0);
@@ -1662,6 +1662,10 @@ Test(core, directional_derivatives_check_every_array_and_reference)
     REFUSED(r, vi_core_directional_derivative(c, "dd", unk, 2, NULL, 2, seed, out), "dd: NULL array");
     REFUSED(r, vi_core_directional_derivative(c, "dd", unk, 2, kn, 2, NULL, out), "dd: NULL array");
     cr_assert(vi_core_directional_derivative(c, "dd", NULL, 0, NULL, 0, NULL, NULL) == VI_STATUS_OK);
+    REFUSED(r, vi_core_directional_derivative(c, "dd", unk, 1, NULL, 1, seed, out), "dd: NULL array");
+    REFUSED(r, vi_core_directional_derivative(c, "dd", unk, 1, kn, 1, NULL, out), "dd: NULL array");
+    REFUSED(r, vi_core_directional_derivative(c, "dd", NULL, 1, kn, 1, seed, out), "dd: NULL array");
+    REFUSED(r, vi_core_directional_derivative(c, "dd", unk, 1, kn, 1, seed, NULL), "dd: NULL array");
     cr_assert(vi_core_directional_derivative(c, "dd", unk, 2, NULL, 0, NULL, out) == VI_STATUS_OK);
     cr_assert(out[0] == 0.0 && out[1] == 0.0);
     cr_assert(vi_core_directional_derivative(c, "dd", NULL, 0, kn, 2, seed, NULL) == VI_STATUS_OK);
