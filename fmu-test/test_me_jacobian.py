@@ -140,3 +140,30 @@ def test_jacobian_matches_finite_differences_in_every_mode(name, fmu_path, unzip
     assert not inst.errors(), inst.errors()
     assert seen == set(CASES[name]), seen
     assert ("der_v", "y") in record and ("der_y", "v") in record and ("F", "yC_in") in record
+
+
+def test_directional_derivative_is_linear_in_the_seeds(fmu_path, unzipdir, model_description):
+    """Several knowns at once give the seeded sum of the single partials, whatever the seeds (a
+    small one, 1e-3, and 0 among them): J dknown, not a sample of the seeds."""
+    from fmpy.fmi2 import FMU2Model
+
+    md = model_description
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    fmu = FMU2Model(guid=md.guid, unzipDirectory=unzipdir, modelIdentifier=md.modelExchange.modelIdentifier,
+                    instanceName="seeds")
+    fmu.instantiate()
+    try:
+        fmu.setupExperiment(startTime=0.0)
+        fmu.enterInitializationMode()
+        fmu.exitInitializationMode()
+        unknown = [vr["der_y"], vr["der_v"]]
+        knowns = ["v", "y", "F_ext"]
+        single = {k: np.array(fmu.getDirectionalDerivative(unknown, [vr[k]], [1.0])) for k in knowns}
+        assert single["v"][0] == 1.0 and single["F_ext"][1] != 0.0  # der_y = v; F_ext drives der_v
+        for seeds in ([1e-3, 0.0, 2.5], [0.0, 1e-3, 1e-3], [-1e-3, 4.0, 0.0]):
+            got = np.array(fmu.getDirectionalDerivative(unknown, [vr[k] for k in knowns], seeds))
+            want = sum(s * single[k] for s, k in zip(seeds, knowns))
+            assert got == pytest.approx(want, rel=1e-12, abs=0.0), (seeds, got, want)
+    finally:
+        fmu.terminate()
+        fmu.freeInstance()
