@@ -5,16 +5,17 @@ Usage:
     python3 tools/mutate.py [--sample N] [--seed S] [--files GLOB ...] [--only NAME ...] [--list]
                             [--jobs J] [--json FILE] [--rebuild-coverage]
 
-Each mutant changes one place of one C file under src/ (operators, constants, a removed statement,
-a negated or forced condition, a changed return status). It is built in a scratch copy of the
-repository (build/mutate/scratch; a build that fails is "stillborn" and not scored) and run
-against the tests that execute the mutated line, and only those: a mutant is "killed" when one of
-them fails or the run exceeds its time limit (three times the tests' measured time plus 60 s), it
-"survives" when all of them pass, and it is "uncovered" (a survivor) when no test executes its
-line. The score is killed / (killed + survived + uncovered); mutants listed in
-tools/mutants-equivalent.txt are left out (no test can tell them apart from the original; each
-entry gives the reason). --jobs J (default: the number of cores) runs J mutants at once, each in
-its own scratch copy (build/mutate/scratch, scratch-1, ...).
+Each mutant changes one place of one C file under src/ (operators, constants, a removed statement, a
+negated or forced condition, a changed return status; code compiled for Windows only, under #ifdef
+_WIN32, is left out: the host build does not compile it, tools/cross_test.sh runs it under wine). It
+is built in a scratch copy of the repository (build/mutate/scratch; a build that fails is
+"stillborn" and not scored) and run against the tests that execute the mutated line, and only those:
+a mutant is "killed" when one of them fails or the run exceeds its time limit (three times the
+tests' measured time plus 60 s), it "survives" when all of them pass, and it is "uncovered" (a
+survivor) when no test executes its line. The score is killed / (killed + survived + uncovered);
+mutants listed in tools/mutants-equivalent.txt are left out (no test can tell them apart from the
+original; each entry gives the reason). --jobs J (default: the number of cores) runs J mutants at
+once, each in its own scratch copy (build/mutate/scratch, scratch-1, ...).
 
 Which test executes which line comes from a coverage map, built once per revision of the
 repository (a hash of the files the tests depend on) and cached in build/mutate/: a build with gcov
@@ -180,6 +181,31 @@ def function_bodies(masked):
     return bodies
 
 
+FOREIGN = re.compile(r"#\s*(ifdef\s+_WIN32|if\s+defined\s*\(?\s*_WIN32\b)")
+
+
+def foreign_regions(text):
+    """[(start, end)] of the code compiled for Windows only (#ifdef _WIN32 up to its #else or #endif):
+    the host build does not compile it, so a mutant there cannot change what the tests run."""
+    regions, stack, pos = [], [], 0
+    for line in text.splitlines(keepends=True):
+        s = line.strip()
+        if s.startswith("#"):
+            word = re.match(r"#\s*(\w+)", s)
+            word = word.group(1) if word else ""
+            if word.startswith("if"):
+                stack.append(pos + len(line) if FOREIGN.match(s) else None)
+            elif word in ("else", "elif", "endif") and stack:
+                if stack[-1] is not None:
+                    regions.append((stack[-1], pos))
+                if word == "endif":
+                    stack.pop()
+                else:
+                    stack[-1] = None
+        pos += len(line)
+    return regions
+
+
 def mutants_of(path, text=None):
     rel = str(path.relative_to(ROOT))
     text = path.read_text() if text is None else text
@@ -191,6 +217,9 @@ def mutants_of(path, text=None):
     for s, e, name in bodies:
         for i in range(s + 1, e):
             owner[i] = name
+    for s, e in foreign_regions(text):  # not compiled here: no mutants (tools/cross_test.sh runs that code)
+        for i in range(s, e):
+            owner[i] = None
     found = []
 
     def add(start, end, new, kind):
