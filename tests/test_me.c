@@ -262,3 +262,233 @@ Test(me_jacobian, partials_with_respect_to_parameters_are_zero)
     }
     finish(&e);
 }
+
+/* ---- the event iteration ----------------------------------------------------------------------- */
+
+static void hertz_on_a_raised_platform(vi_parameters *p) { hertz(p), p->init = VI_Init_touching, p->v0 = 0.01; }
+
+/* The platform at yC_in = 1.5 m (a = 0: it does not move), the mass at y, v, in `mode`. */
+static void at(vi_me *e, int mode, double y, double v)
+{
+    e->s.d.M.mode = mode;
+    double x[2] = {y, v};
+    vi_me_set_states(e, x);
+    e->s.d.guard_band[0] = e->s.d.guard_band[1] = 0.0;
+}
+
+static vi_me_event update(vi_me *e)
+{
+    vi_me_event ev;
+    memset(&ev, 0x55, sizeof ev); /* every field is written */
+    cr_assert(vi_me_event_update(e, &ev) == 0, "%s", e->s.msg);
+    return ev;
+}
+
+static void raised(vi_me *e)
+{
+    memset(e, 0, sizeof *e);
+    clear_log();
+    vi_sim_init(&e->s, capture, NULL);
+    hertz_on_a_raised_platform(&e->s.d.par);
+    e->s.d.in.yC_in = 1.5;
+    cr_assert(vi_me_initialize(e) == 0, "%s", e->s.msg);
+}
+
+Test(me_events, a_grazing_contact_is_snapped_and_its_guard_lifted_by_its_band)
+{
+    vi_me e;
+    raised(&e);
+    /* free flight moving up, 0.1 um into the platform: within the band of the contact guard
+     * (4 (rtol |y| + atol) = 6e-6 m): a located crossing, put onto the surface; the mass moves away,
+     * the mode stays free, and the guard is lifted by the band until it has moved away */
+    double y = 1.5 - 1e-7, v = 0.01, rtol = e.s.d.par.rtol;
+    at(&e, VI_Mode_free, y, v);
+    long events = e.s.d.n_events;
+    clear_log();
+    vi_me_event ev = update(&e);
+    cr_assert(e.s.d.M.mode == VI_Mode_free && e.s.d.n_events == events + 1, "mode %d, %ld events", e.s.d.M.mode, e.s.d.n_events);
+    cr_assert(ev.states_changed == 1 && ev.another_pass == 0 && ev.terminate == 0 && ev.next_time_defined == 0);
+    double x[2];
+    vi_me_get_states(&e, x);
+    cr_assert(x[0] == 1.5 && x[1] == v && e.s.d.x[0] == 0.0, "snapped to y = %.17g, delta = %g", x[0], e.s.d.x[0]);
+    /* band: 4 times the guard's change under rtol |y| + atol, 256 times its change under one ulp of
+     * y (2^-52 for y in [1, 2); the platform does not move and the guard does not depend on v) */
+    double band = 4.0 * (rtol * y + e.s.d.atol[0]) + 256.0 * 0x1p-52;
+    cr_assert(fabs(e.s.d.guard_band[0] - band) <= 1e-12 * band, "band %.17g, closed form %.17g", e.s.d.guard_band[0], band);
+    cr_assert(e.s.d.guard_band[1] == 0.0, "the inactive guard has no band: %g", e.s.d.guard_band[1]);
+    double z[2];
+    vi_me_indicators(&e, z);
+    cr_assert(z[0] == e.s.d.guard_band[0] && z[1] == 1.0, "indicators %g %g", z[0], z[1]);
+    cr_assert(e.s.d.step_t0 == e.s.d.t && e.s.d.step_v0 == v, "the mean force starts anew at the event");
+    char expected[256];
+    snprintf(expected, sizeof expected, "t = %.17g s: guard 0 of mode 0, mode 0 -> 0, delta = %.9g m, v = %.9g m/s", 0.0, 0.0, v);
+    cr_assert(strcmp(logged[VI_LOG_EVENTS], expected) == 0, "logged '%s'", logged[VI_LOG_EVENTS]);
+    /* an update within the band fires nothing: the guard is disarmed */
+    double xb[2] = {1.5 - 0.5 * band, v};
+    vi_me_set_states(&e, xb);
+    ev = update(&e);
+    cr_assert(e.s.d.n_events == events + 1 && ev.states_changed == 0, "a disarmed guard fired: %ld events", e.s.d.n_events);
+    /* a completed step re-arms it once it is above its band, not before */
+    cr_assert(vi_me_completed_step(&e) == 0);
+    cr_assert(e.s.d.guard_band[0] > 0.0, "re-armed within its band");
+    double xa[2] = {1.5 + 1.5 * band, v};
+    vi_me_set_states(&e, xa);
+    cr_assert(vi_me_completed_step(&e) == 0);
+    cr_assert(e.s.d.guard_band[0] == 0.0, "not re-armed above its band: %g", e.s.d.guard_band[0]);
+    finish(&e);
+}
+
+Test(me_events, a_grazing_turning_point_gets_the_band_of_the_velocity)
+{
+    /* Johnson loading plastically (P = 3e5 N: the load is above the force at 1.2 delta_Y), the rate
+     * of delta 1e-8 m/s below zero: within the band of the turning-point guard delta' = yC' - v; the
+     * holding force exceeds the load: it stays plastic, and the guard gets the band of v */
+    vi_me e;
+    memset(&e, 0, sizeof e);
+    vi_sim_init(&e.s, capture, NULL);
+    e.s.d.par.P = 3e5;
+    cr_assert(vi_me_initialize(&e) == 0, "%s", e.s.msg);
+    double dY = e.s.d.M.J.delta_Y, v = 1e-8, rtol = e.s.d.par.rtol;
+    put(&e, VI_Mode_plastic, 1.2 * dY, v, 0.0);
+    vi_me_event ev = update(&e);
+    cr_assert(e.s.d.M.mode == VI_Mode_plastic && e.s.d.x[1] == 0.0 && ev.states_changed == 1, "mode %d, v %g",
+              e.s.d.M.mode, e.s.d.x[1]);
+    double band = 4.0 * (rtol * v + e.s.d.atol[1]) + 256.0 * (nextafter(v, INFINITY) - v);
+    cr_assert(fabs(e.s.d.guard_band[0] - band) <= 1e-12 * band, "band %.17g, closed form %.17g", e.s.d.guard_band[0], band);
+    finish(&e);
+}
+
+Test(me_events, a_state_beyond_the_band_takes_the_mode_of_the_state_as_it_is)
+{
+    vi_me e;
+    raised(&e);
+    /* 10 um into the platform, moving down, beyond the band (6e-6 m): no located crossing but a state
+     * the importer stepped to: elastic at the state as it is, not snapped */
+    at(&e, VI_Mode_free, 1.5 - 1e-5, -0.01);
+    vi_me_event ev = update(&e);
+    cr_assert(e.s.d.M.mode == VI_Mode_elastic && e.s.d.M.n_impacts == 1, "mode %d", e.s.d.M.mode);
+    cr_assert(ev.states_changed == 0 && e.s.d.x[0] == 1.5 - (1.5 - 1e-5), "delta %.17g", e.s.d.x[0]);
+    cr_assert(e.s.d.guard_band[0] == 0.0 && e.s.d.guard_band[1] == 0.0, "a mode entered with its guards away from 0");
+    finish(&e);
+}
+
+Test(me_events, guards_are_armed_at_zero_up_to_their_rounding_noise_and_no_further)
+{
+    vi_me e;
+    raised(&e);
+    /* free flight 256 ulps of y above the platform: the contact guard equals its noise, 256 times its
+     * change under one ulp of y (2^-52): lifted; 257 ulps: not */
+    double rtol = e.s.d.par.rtol;
+    for (int k = 256; k <= 257; k++) {
+        double y = 1.5 + k * 0x1p-52;
+        at(&e, VI_Mode_free, y, 0.01);
+        vi_me_event ev = update(&e);
+        cr_assert(ev.states_changed == 0 && e.s.d.M.mode == VI_Mode_free);
+        double band = k == 256 ? 256.0 * 0x1p-52 + 4.0 * (rtol * y + e.s.d.atol[0]) : 0.0;
+        cr_assert(fabs(e.s.d.guard_band[0] - band) <= 1e-12 * band, "%d ulps: band %.17g, closed form %.17g", k,
+                  e.s.d.guard_band[0], band);
+        cr_assert(e.s.d.guard_band[1] == 0.0);
+    }
+    /* a guard already lifted keeps its band */
+    at(&e, VI_Mode_free, 1.5, 0.01);
+    e.s.d.guard_band[0] = 1e-9;
+    update(&e);
+    cr_assert(e.s.d.guard_band[0] == 1e-9, "band %g", e.s.d.guard_band[0]);
+    finish(&e);
+}
+
+static void preloaded_stick(vi_parameters *p) { p->P = 3e5; }
+
+Test(me_events, a_guard_exactly_at_zero_without_noise_is_lifted_by_the_least_normal_double)
+{
+    /* Johnson, paper unloading, P = 3e5 N: the static start is plastically pre-loaded and sticks with
+     * F_hold = W = F_load(delta_c) exactly (no excitation: the stick guards do not move with t, y or v) */
+    vi_me e;
+    start(&e, preloaded_stick);
+    cr_assert(e.s.d.M.mode == VI_Mode_stick);
+    double z[2], W = e.s.d.M.W0;
+    vi_me_indicators(&e, z);
+    cr_assert(vi_johnson_load(&e.s.d.M.J, e.s.d.M.U.delta_c) == W, "not exactly on the load surface");
+    cr_assert(z[0] == DBL_MIN, "load guard %g", z[0]);
+    double g1 = W - vi_unload_force(&e.s.d.M.U, e.s.d.M.U.delta_c);
+    cr_assert(z[1] == g1, "unload guard %.17g, closed form %.17g", z[1], g1);
+    finish(&e);
+}
+
+Test(me_events, an_input_jump_onto_the_contact_surface_is_an_event_of_the_new_mode)
+{
+    /* free flight moving down; the platform input jumps (set in event mode) to the mass: delta = 0
+     * exactly with delta' > 0: the mode becomes elastic, and its contact guard, at zero, fires in the
+     * same pass (the bands of the mode left do not apply) */
+    vi_me e;
+    raised(&e);
+    at(&e, VI_Mode_free, 1.5 + 1e-6, -0.01);
+    long events = e.s.d.n_events;
+    clear_log();
+    e.s.d.in.yC_in = 1.5 + 1e-6;
+    e.s.d.inputs_changed = 1;
+    e.s.d.guard_band[0] = 1.0; /* a band of free flight: not the elastic guard's */
+    vi_me_event ev = update(&e);
+    cr_assert(e.s.d.M.mode == VI_Mode_elastic && e.s.d.x[0] == 0.0, "mode %d, delta %g", e.s.d.M.mode, e.s.d.x[0]);
+    cr_assert(e.s.d.n_events == events + 1, "%ld events", e.s.d.n_events - events);
+    cr_assert(e.s.d.inputs_changed == 0 && ev.another_pass == 0 && ev.terminate == 0);
+    double x[2];
+    vi_me_get_states(&e, x);
+    cr_assert(x[0] == 1.5 + 1e-6 && x[1] == -0.01);
+    cr_assert(n_logged[VI_LOG_EVENTS] == 2, "%d event messages", n_logged[VI_LOG_EVENTS]);
+    char expected[256];
+    snprintf(expected, sizeof expected, "t = %.17g s: guard 0 of mode 1, mode 1 -> 1, delta = %.9g m, v = %.9g m/s", 0.0, 0.0, -0.01);
+    cr_assert(strcmp(logged[VI_LOG_EVENTS], expected) == 0, "logged '%s'", logged[VI_LOG_EVENTS]);
+    cr_assert(e.s.d.guard_band[0] > 0.0 && e.s.d.guard_band[0] < 1e-4, "the new mode's guard at 0 is armed afresh: %g",
+              e.s.d.guard_band[0]);
+    finish(&e);
+}
+
+Test(me_events, an_input_change_in_event_mode_is_logged_when_it_changes_the_mode)
+{
+    vi_me e;
+    raised(&e);
+    at(&e, VI_Mode_free, 1.5 + 1e-3, -0.01);
+    clear_log();
+    e.s.d.in.yC_in = 1.5 + 2e-3; /* into the mass: contact */
+    e.s.d.inputs_changed = 1;
+    update(&e);
+    cr_assert(e.s.d.M.mode == VI_Mode_elastic && e.s.d.M.yC_in.u == 1.5 + 2e-3 && e.s.d.M.yC_in.du == 0.0);
+    char expected[256];
+    snprintf(expected, sizeof expected, "t = %.17g s: input change, mode 0 -> 1", 0.0);
+    cr_assert(strcmp(logged[VI_LOG_EVENTS], expected) == 0, "logged '%s'", logged[VI_LOG_EVENTS]);
+    double x[2];
+    vi_me_get_states(&e, x);
+    cr_assert(x[0] == 1.5 + 1e-3 && fabs(e.s.d.x[0] - 1e-3) <= 1e-15, "the mass stays: y %.17g, delta %g", x[0], e.s.d.x[0]);
+    /* a force input that leaves the mode: nothing logged */
+    clear_log();
+    e.s.d.in.F_ext = 10.0;
+    e.s.d.inputs_changed = 1;
+    update(&e);
+    cr_assert(e.s.d.M.F_ext.u == 10.0 && e.s.d.M.F_ext.t == e.s.d.t && n_logged[VI_LOG_EVENTS] == 0, "logged '%s'",
+              logged[VI_LOG_EVENTS]);
+    finish(&e);
+}
+
+static void late_start(vi_parameters *p) { hertz(p), p->init = VI_Init_touching, p->v0 = 0.01; }
+
+Test(me_events, events_accumulating_at_one_instant_terminate_at_the_64th)
+{
+    vi_me e;
+    memset(&e, 0, sizeof e);
+    vi_sim_init(&e.s, capture, NULL);
+    late_start(&e.s.d.par);
+    e.s.d.t_start = 10.0; /* the count starts at the start time, not at 0 */
+    e.s.d.in.yC_in = 1.5;
+    cr_assert(vi_me_initialize(&e) == 0, "%s", e.s.msg);
+    for (int i = 1; i <= VI_ZENO_EVENTS; i++) {
+        at(&e, VI_Mode_free, 1.5 - 1e-5, -0.01); /* beyond the contact surface: an event each time */
+        vi_me_event ev = update(&e);
+        cr_assert(ev.terminate == (i == VI_ZENO_EVENTS), "event %d: terminate %d", i, ev.terminate);
+    }
+    char expected[512];
+    snprintf(expected, sizeof expected, "events accumulate at t = %.17g s (Zeno): %d events each within %g ulps of time "
+             "of the one before, the last on guard 0 of mode 0; the motion cannot go on", 10.0, VI_ZENO_EVENTS, VI_ZENO_ULPS);
+    cr_assert(strcmp(e.s.msg, expected) == 0, "message '%s'", e.s.msg);
+    finish(&e);
+}
