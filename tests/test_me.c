@@ -492,3 +492,191 @@ Test(me_events, events_accumulating_at_one_instant_terminate_at_the_64th)
     cr_assert(strcmp(e.s.msg, expected) == 0, "message '%s'", e.s.msg);
     finish(&e);
 }
+
+/* ---- initialization, states, inputs ------------------------------------------------------------- */
+
+static void hertz_raised_with_rates(vi_parameters *p) { hertz(p); }
+
+Test(me_states, initialization_logs_the_scales_and_the_initial_state_in_closed_form)
+{
+    vi_me e;
+    memset(&e, 0, sizeof e);
+    clear_log();
+    vi_sim_init(&e.s, capture, NULL);
+    hertz_raised_with_rates(&e.s.d.par);
+    e.s.d.in.yC_in = 0.25, e.s.d.in.F_ext = 100.0;
+    e.zeno = 50, e.s.d.guard_band[0] = e.s.d.guard_band[1] = 1.0; /* left from an earlier run */
+    cr_assert(vi_me_initialize(&e) == 0, "%s", e.s.msg);
+    const vi_model *M = &e.s.d.M;
+    /* Hertz at rest under W = P + m g - F_ext: delta = (W/K)^(2/3) = L, V = L sqrt(1.5 K sqrt(L)/m) */
+    double E = 1.0 / (2.0 * (1.0 - 0.09) / 2.1e11), K = 4.0 / 3.0 * E * sqrt(0.475);
+    double W = 40000.0 + 407.747 * 9.81 - 100.0, L = pow(W / K, 2.0 / 3.0), V = L * sqrt(1.5 * K * sqrt(L) / 407.747);
+    double nl, nv, delta, v;
+    int mode, n = 0;
+    const char *text = strstr(logged[VI_LOG_SOLVER], "Model Exchange");
+    cr_assert(text != NULL, "logged '%s'", logged[VI_LOG_SOLVER]);
+    cr_assert(sscanf(text, "Model Exchange: the importer integrates y and v (nominals %lg m, %lg m/s); initial mode %d, "
+                           "delta = %lg m, v = %lg m/s%n", &nl, &nv, &mode, &delta, &v, &n) == 5 && n > 0, "logged '%s'", text);
+    cr_assert(fabs(nl - L) <= 1e-5 * L && fabs(nv - V) <= 1e-5 * V, "nominals %g %g, closed form %g %g", nl, nv, L, V);
+    cr_assert(mode == VI_Mode_elastic && fabs(delta - L) <= 1e-8 * L && v == 0.0, "mode %d, delta %.9g, v %g", mode, delta, v);
+    double x[2], z[2], dx[2], nominal[2];
+    vi_me_get_states(&e, x);
+    cr_assert(fabs(x[0] - (0.25 - L)) <= 1e-15 && x[1] == 0.0, "y = %.17g, closed form %.17g", x[0], 0.25 - L);
+    vi_me_nominals(&e, nominal);
+    cr_assert(fabs(nominal[0] - L) <= 1e-12 * L && fabs(nominal[1] - V) <= 1e-12 * V, "nominals %g %g", nominal[0], nominal[1]);
+    vi_me_indicators(&e, z); /* the guards, no band */
+    cr_assert(z[0] == e.s.d.x[0] && z[1] == 1.0, "indicators %g %g", z[0], z[1]);
+    vi_me_derivatives(&e, dx);
+    cr_assert(dx[0] == 0.0 && fabs(dx[1]) <= 1e-9, "at rest: %g %g", dx[0], dx[1]);
+    cr_assert(M->F_ext.u == 100.0 && vi_me_outputs_of(&e, VI_OUT_ALL)->yC == 0.25);
+    /* the Zeno count starts afresh */
+    at(&e, VI_Mode_free, 0.25 - 1e-5, -0.01);
+    for (int i = 1; i < VI_ZENO_EVENTS; i++) {
+        at(&e, VI_Mode_free, 0.25 - 1e-5, -0.01);
+        cr_assert(update(&e).terminate == 0, "terminated at event %d", i);
+    }
+    finish(&e);
+}
+
+Test(me_states, inputs_are_held_at_their_values_from_the_initialization)
+{
+    /* input rates set before (as for co-simulation): Model Exchange passes values only */
+    vi_me e;
+    memset(&e, 0, sizeof e);
+    vi_sim_init(&e.s, capture, NULL);
+    hertz(&e.s.d.par);
+    e.s.d.in.yC_in = 0.25, e.s.d.in.F_ext = 100.0;
+    e.s.d.din.yC_in = 1.0, e.s.d.din.F_ext = 1e3;
+    cr_assert(vi_me_initialize(&e) == 0, "%s", e.s.msg);
+    const vi_model *M = &e.s.d.M;
+    double dx[2], dx1[2];
+    vi_me_derivatives(&e, dx);
+    vi_me_set_time(&e, 1e-3); /* 1 ms later neither the platform nor the force has moved */
+    vi_me_derivatives(&e, dx1);
+    cr_assert(M->yC_in.du == 0.0 && M->F_ext.du == 0.0 && dx1[0] == dx[0] && dx1[1] == dx[1], "the inputs moved");
+    cr_assert(M->yC_in.u == 0.25 && M->F_ext.u == 100.0 && vi_me_outputs_of(&e, VI_OUT_ALL)->yC == 0.25);
+    finish(&e);
+}
+
+Test(me_states, initialization_fails_with_the_simulation)
+{
+    vi_me e;
+    memset(&e, 0, sizeof e);
+    vi_sim_init(&e.s, capture, NULL);
+    e.s.d.par.R1 = 0.0; /* two planes */
+    cr_assert(vi_me_initialize(&e) == -1);
+    cr_assert(e.active == 0 && strstr(e.s.msg, "radius") != NULL, "%s", e.s.msg);
+    finish(&e);
+}
+
+Test(me_states, a_sync_without_a_change_of_input_leaves_the_model_as_it_is)
+{
+    vi_me e;
+    start(&e, johnson);
+    vi_model M0 = e.s.d.M;
+    vi_me_set_time(&e, 1e-3);
+    double dx[2];
+    vi_me_derivatives(&e, dx);
+    cr_assert(memcmp(&M0, &e.s.d.M, sizeof M0) == 0, "the model changed (input ramps restarted?)");
+    cr_assert(e.s.d.t == 1e-3);
+    finish(&e);
+}
+
+Test(me_states, continuous_inputs_act_at_once_each_alone)
+{
+    vi_me e;
+    start(&e, hertz);
+    double y = e.y, t = 2e-3;
+    vi_me_set_time(&e, t);
+    /* the force alone */
+    e.s.d.in.F_ext = 50.0;
+    const vi_outputs *out = vi_me_outputs_of(&e, VI_OUT_ALL);
+    cr_assert(e.s.d.M.F_ext.u == 50.0 && e.s.d.M.F_ext.du == 0.0 && e.s.d.M.F_ext.t == t, "F_ext ramp");
+    double F = out->F, W = e.s.d.M.W0 - 50.0;
+    cr_assert(fabs(out->der_v - (F - W) / e.s.d.M.m) <= 1e-12 * W / e.s.d.M.m, "der_v %g", out->der_v);
+    /* the platform alone: the mass stays, delta moves with the platform */
+    e.s.d.in.yC_in = 1e-6;
+    out = vi_me_outputs_of(&e, VI_OUT_ALL);
+    cr_assert(e.s.d.M.yC_in.u == 1e-6 && e.s.d.M.yC_in.du == 0.0 && e.s.d.M.yC_in.t == t && e.y == y);
+    cr_assert(out->delta == 1e-6 - y && out->yC == 1e-6, "delta %.17g, closed form %.17g", out->delta, 1e-6 - y);
+    /* a ramp restored from co-simulation (a rate, the same value): Model Exchange holds the value */
+    e.s.d.M.yC_in.du = 1.0;
+    vi_me_set_time(&e, t);
+    cr_assert(e.s.d.M.yC_in.du == 0.0 && e.s.d.M.yC_in.u == 1e-6, "yC_in ramp kept its rate");
+    e.s.d.M.F_ext.du = 1.0;
+    vi_me_set_time(&e, t);
+    cr_assert(e.s.d.M.F_ext.du == 0.0 && e.s.d.M.F_ext.u == 50.0, "F_ext ramp kept its rate");
+    finish(&e);
+}
+
+Test(me_states, a_continuous_input_change_writes_the_plastic_memory_down_at_the_state_before)
+{
+    /* Johnson loading plastically at 1.7 delta_Y (the memory still at the 1.2 delta_Y where it started
+     * to flow): the platform drops by 0.2 delta_Y; delta_c is the 1.7 delta_Y reached before */
+    vi_me e;
+    start(&e, johnson);
+    vi_model *M = &e.s.d.M;
+    double dY = M->J.delta_Y;
+    put(&e, VI_Mode_plastic, 1.7 * dY, -0.01, 0.0);
+    double d = e.s.d.x[0];
+    M->U = vi_johnson_unload_curve(&M->J, M->unloading, 1.2 * dY);
+    e.s.d.in.yC_in = -0.2 * dY;
+    vi_me_set_time(&e, 0.0);
+    cr_assert(M->U.delta_c == d, "delta_c %.17g, delta before %.17g", M->U.delta_c, d);
+    finish(&e);
+    /* LEPP flowing at 1.7 delta_Y: the permanent set is 0.7 delta_Y */
+    start(&e, lepp);
+    M = &e.s.d.M;
+    put(&e, VI_Mode_plastic, 1.7 * dY, -0.01, 0.0);
+    d = e.s.d.x[0];
+    M->delta_p = 0.0;
+    e.s.d.in.yC_in = -0.2 * dY;
+    vi_me_set_time(&e, 0.0);
+    cr_assert(M->delta_p == d - M->J.delta_Y, "delta_p %.17g, closed form %.17g", M->delta_p, d - M->J.delta_Y);
+    finish(&e);
+}
+
+Test(me_states, co_simulation_outputs_are_the_simulations_own)
+{
+    /* an instance not initialized for Model Exchange (co-simulation): reading outputs through the
+     * Model Exchange functions neither moves the state nor restarts the output cache */
+    vi_me e;
+    memset(&e, 0, sizeof e);
+    vi_sim_init(&e.s, capture, NULL);
+    hertz(&e.s.d.par);
+    cr_assert(vi_sim_initialize(&e.s) == 0, "%s", e.s.msg);
+    double d = e.s.d.x[0], x[2];
+    cr_assert(d > 0.0);
+    vi_me_get_states(&e, x); /* before: the initial state prepared, y = yC - delta */
+    cr_assert(x[0] == -d && x[1] == 0.0, "y %.17g", x[0]);
+    const vi_outputs *out = vi_me_outputs_of(&e, VI_OUT_STATE);
+    cr_assert(out->delta == d && e.s.d.x[0] == d, "delta %g", out->delta);
+    cr_assert(e.s.out_valid & VI_OUT_STATE);
+    vi_me_set_time(&e, 0.0);
+    cr_assert(e.s.out_valid & VI_OUT_STATE, "the cache was cleared");
+    finish(&e);
+}
+
+Test(me_states, states_set_are_those_read_and_the_outputs_follow)
+{
+    vi_me e;
+    start(&e, hertz);
+    const vi_outputs *out = vi_me_outputs_of(&e, VI_OUT_ALL);
+    double K = e.s.d.M.K, m = e.s.d.M.m, W = e.s.d.M.W0;
+    double x[2] = {-3e-5, -0.02}, r[2], dx[2];
+    vi_me_set_states(&e, x);
+    vi_me_get_states(&e, r);
+    cr_assert(r[0] == x[0] && r[1] == x[1], "states %g %g", r[0], r[1]);
+    out = vi_me_outputs_of(&e, VI_OUT_ALL); /* not the cached outputs of before */
+    cr_assert(out->delta == 3e-5 && out->v == -0.02 && out->y == -3e-5, "delta %g v %g", out->delta, out->v);
+    double F = K * 3e-5 * sqrt(3e-5);
+    cr_assert(fabs(out->F - F) <= 1e-12 * F, "F %g, closed form %g", out->F, F);
+    cr_assert(out->der_y == -0.02 && fabs(out->der_v - (F - W) / m) <= 1e-12 * W / m, "der %g %g", out->der_y, out->der_v);
+    vi_me_derivatives(&e, dx);
+    cr_assert(dx[0] == -0.02 && dx[1] == out->der_v, "derivatives %g %g", dx[0], dx[1]);
+    /* the derivatives group is recomputed after a change of state */
+    x[1] = 0.03;
+    vi_me_set_states(&e, x);
+    cr_assert(vi_me_outputs_of(&e, VI_OUT_DERIVATIVES)->der_y == 0.03);
+    finish(&e);
+}
