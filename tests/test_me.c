@@ -9,12 +9,14 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
+#include <unistd.h> /* getpid */
 
 #include "vi_me.h"
 
 /* The last message of each log category, formatted. */
 static char logged[8][1024];
 static int n_logged[8];
+static char history[4096]; /* every message of the events category, one per line */
 static void capture(void *env, int category, const char *fmt, ...)
 {
     (void)env;
@@ -24,8 +26,10 @@ static void capture(void *env, int category, const char *fmt, ...)
     vsnprintf(logged[category], sizeof logged[category], fmt, ap);
     va_end(ap);
     n_logged[category]++;
+    if (category == VI_LOG_EVENTS && strlen(history) + strlen(logged[category]) + 2 < sizeof history)
+        strcat(strcat(history, logged[category]), "\n");
 }
-static void clear_log(void) { memset(logged, 0, sizeof logged), memset(n_logged, 0, sizeof n_logged); }
+static void clear_log(void) { memset(logged, 0, sizeof logged), memset(n_logged, 0, sizeof n_logged), history[0] = 0; }
 
 typedef void (*setter)(vi_parameters *p);
 
@@ -678,5 +682,110 @@ Test(me_states, states_set_are_those_read_and_the_outputs_follow)
     x[1] = 0.03;
     vi_me_set_states(&e, x);
     cr_assert(vi_me_outputs_of(&e, VI_OUT_DERIVATIVES)->der_y == 0.03);
+    finish(&e);
+}
+
+/* ---- time events: kinks of a rolling profile and its end ----------------------------------------- */
+
+Test(me_events, kinks_and_the_end_of_the_profile_are_time_events)
+{
+    /* Hertz without load on a V-shaped profile rolled at 1 m/s from x = -0.01 m: the platform falls
+     * until the kink at x = 0 (t = 0.01 s), then rises into the mass; the table ends at x = 10 m */
+    char path[64];
+    snprintf(path, sizeof path, "/tmp/vi_test_me_profile_%d.txt", (int)getpid());
+    FILE *f = fopen(path, "w");
+    cr_assert(f != NULL);
+    fprintf(f, "-10 1e-3\n0 0\n10 1e-3\n");
+    fclose(f);
+    vi_me e;
+    memset(&e, 0, sizeof e);
+    clear_log();
+    vi_sim_init(&e.s, capture, NULL);
+    hertz(&e.s.d.par);
+    e.s.d.par.P = 0.0, e.s.d.par.g = 0.0;
+    snprintf(e.s.d.par.profile_file, sizeof e.s.d.par.profile_file, "%s", path);
+    e.s.d.par.V = 1.0, e.s.d.par.x0 = -0.01;
+    int rc = vi_me_initialize(&e);
+    remove(path);
+    cr_assert(rc == 0, "%s", e.s.msg);
+    const vi_model *M = &e.s.d.M;
+    char why[512];
+    double tk = vi_model_next_breakpoint(M, 0.0), end = vi_model_rolling_limit(M, why, sizeof why);
+    cr_assert(fabs(tk - 0.01) <= 1e-15 && fabs(end - 10.01) <= 1e-12, "kink at %.17g s, end at %.17g s", tk, end);
+    vi_me_event ev = update(&e);
+    cr_assert(ev.next_time_defined == 1 && ev.next_time == tk && ev.terminate == 0, "next time %d %.17g", ev.next_time_defined,
+              ev.next_time);
+    /* the mass follows the platform down to the kink (touching, at its velocity) */
+    double dyC, v = -1e-4;
+    vi_model_platform(M, tk, &dyC, NULL);
+    cr_assert(fabs(dyC + v) <= 1e-15, "platform velocity after the kink %g", dyC);
+    vi_me_set_time(&e, nextafter(tk, 0.0));
+    cr_assert(vi_me_completed_step(&e) == 0, "an event before the kink");
+    vi_me_set_time(&e, tk);
+    double x[2] = {vi_model_platform(M, tk, NULL, NULL), v};
+    vi_me_set_states(&e, x);
+    cr_assert(vi_me_completed_step(&e) == 1, "the kink was stepped onto: an event is due");
+    clear_log();
+    ev = update(&e);
+    cr_assert(M->mode == VI_Mode_elastic && ev.terminate == 0, "mode %d after the kink", M->mode);
+    char expected[128];
+    snprintf(expected, sizeof expected, "t = %.17g s: profile kink, mode 0 -> 1\n", tk);
+    cr_assert(strncmp(history, expected, strlen(expected)) == 0, "logged '%s'", history);
+    cr_assert(ev.next_time_defined == 1 && ev.next_time == end, "next time %d %.17g", ev.next_time_defined, ev.next_time);
+    cr_assert(vi_me_completed_step(&e) == 0, "the kink is behind");
+    /* the end of the table: an event due when stepped onto, and the run terminates there */
+    vi_me_set_time(&e, nextafter(end, 0.0));
+    cr_assert(vi_me_completed_step(&e) == 0, "an event before the end");
+    vi_me_set_time(&e, end);
+    cr_assert(vi_me_completed_step(&e) == 1, "the end was stepped onto: an event is due");
+    ev = update(&e);
+    cr_assert(ev.terminate == 1 && strstr(e.s.msg, "reaches the end of the profile") != NULL, "terminate %d: %s", ev.terminate,
+              e.s.msg);
+    cr_assert(ev.next_time_defined == 0 && ev.another_pass == 0 && ev.states_changed == 0);
+    finish(&e);
+}
+
+Test(me_states, checkpoint_and_restore_carry_the_state_y)
+{
+    vi_me e;
+    start(&e, johnson);
+    double dY = e.s.d.M.J.delta_Y;
+    put(&e, VI_Mode_plastic, 1.5 * dY, -0.01, 0.0);
+    vi_me_set_time(&e, 1e-3);
+    cr_assert(vi_me_checkpoint(&e) == 0, "%s", e.s.msg);
+    /* the memory of the current state is written down (delta_c = delta while loading) */
+    cr_assert(e.s.d.M.U.delta_c == 1.5 * dY || fabs(e.s.d.M.U.delta_c - e.s.d.x[0]) == 0.0, "delta_c %g", e.s.d.M.U.delta_c);
+    vi_sim_data saved = e.s.d;
+    double y = e.y;
+    double x[2] = {y + 1e-6, 0.02};
+    vi_me_set_states(&e, x);
+    e.zeno = 7;
+    e.s.d = saved;
+    cr_assert(vi_me_restore(&e, 1) == 0, "%s", e.s.msg);
+    cr_assert(e.active == 1 && e.zeno == 0 && e.y == y, "restored y %.17g, saved %.17g", e.y, y);
+    vi_me_get_states(&e, x);
+    cr_assert(x[0] == y && x[1] == -0.01);
+    /* a state from before initialization: not running, the states are the initial ones prepared */
+    cr_assert(vi_me_restore(&e, 0) == 0, "%s", e.s.msg);
+    cr_assert(e.active == 0);
+    finish(&e);
+}
+
+Test(me_states, nominals_are_one_before_initialization)
+{
+    vi_me e;
+    memset(&e, 0, sizeof e);
+    vi_sim_init(&e.s, capture, NULL);
+    double nominal[2];
+    vi_me_nominals(&e, nominal);
+    cr_assert(nominal[0] == 1.0 && nominal[1] == 1.0, "%g %g", nominal[0], nominal[1]);
+    cr_assert(vi_me_initialize(&e) == 0, "%s", e.s.msg);
+    /* the importer's tolerance wins over rtol: nominal = atol / tolerance */
+    e.s.d.tolerance = 1e-4;
+    vi_me_nominals(&e, nominal);
+    cr_assert(fabs(nominal[0] - e.s.d.atol[0] / 1e-4) <= 1e-15 * nominal[0], "%g", nominal[0]);
+    e.s.d.atol[1] = 0.0; /* no scale: 1 */
+    vi_me_nominals(&e, nominal);
+    cr_assert(nominal[1] == 1.0, "%g", nominal[1]);
     finish(&e);
 }
