@@ -789,3 +789,29 @@ Test(me_states, nominals_are_one_before_initialization)
     cr_assert(nominal[1] == 1.0, "%g", nominal[1]);
     finish(&e);
 }
+
+static void hertz_dop853(vi_parameters *p) { hertz(p), p->solver = VI_Solver_dop853; }
+
+Test(me_states, a_checkpoint_makes_the_saved_state_whole)
+{
+    /* dop853 keeps its continuation in the state: the model's own solver does not run in Model
+     * Exchange, so a checkpoint restarts it at the current point (the payload check passes then) */
+    vi_me e;
+    start(&e, hertz_dop853);
+    vi_me_set_time(&e, 1e-3);
+    char msg[512];
+    cr_assert(vi_sim_data_check(&e.s.d, msg, sizeof msg) < 0, "the continuation of t = 0 passes at t = 1 ms");
+    /* an input set in continuous time since the last call is taken before the copy */
+    e.s.d.in.yC_in = 1e-6;
+    double y = e.y;
+    cr_assert(vi_me_checkpoint(&e) == 0, "%s", e.s.msg);
+    cr_assert(vi_sim_data_check(&e.s.d, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(e.s.d.x[0] == 1e-6 - y, "delta %.17g, closed form %.17g", e.s.d.x[0], 1e-6 - y);
+    /* a state where the force overflows: the solver cannot start there */
+    double x[2] = {-1e200, 0.0};
+    vi_me_set_states(&e, x);
+    cr_assert(vi_me_checkpoint(&e) == -1);
+    snprintf(msg, sizeof msg, "could not restart the solver at t = %.17g s", 1e-3);
+    cr_assert(strcmp(e.s.msg, msg) == 0, "message '%s'", e.s.msg);
+    finish(&e);
+}
