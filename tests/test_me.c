@@ -815,3 +815,53 @@ Test(me_states, a_checkpoint_makes_the_saved_state_whole)
     cr_assert(strcmp(e.s.msg, msg) == 0, "message '%s'", e.s.msg);
     finish(&e);
 }
+
+Test(me_events, the_band_counts_one_ulp_of_y_upwards)
+{
+    /* LEPP touching its permanent set delta_p = 2^-14 m exactly (y = -2^-14: the platform at 0), moving
+     * in: the contact guard delta - delta_p is 0 and fires, the state stays elastic (grazing). One ulp of
+     * y upwards is 2^-67 (the next double towards 0), which moves delta to 2^-14 - 2^-67 exactly: the
+     * guard moves by 2^-67 (downwards delta would round back to 2^-14, a move of 0) */
+    vi_me e;
+    start(&e, lepp);
+    double d = 0x1p-14, rtol = e.s.d.par.rtol;
+    put(&e, VI_Mode_elastic, d, -0.01, d);
+    cr_assert(e.y == -d && e.s.d.x[0] == d && e.s.d.M.delta_p == d);
+    update(&e);
+    cr_assert(e.s.d.M.mode == VI_Mode_elastic);
+    double band = 4.0 * (rtol * d + e.s.d.atol[0]) + 256.0 * 0x1p-67;
+    cr_assert(fabs(e.s.d.guard_band[0] - band) <= 1e-11 * band, "band %.17g, closed form %.17g", e.s.d.guard_band[0], band);
+    finish(&e);
+}
+
+Test(me_events, the_band_counts_one_ulp_of_v_upwards)
+{
+    /* Johnson loading plastically on a slope rolled at 1 m/s: the platform velocity is -2^-7 m/s exactly
+     * (a straight profile, no excitation: it does not move with t). The mass at v = -2^-7: the turning-
+     * point guard yC' - v is 0 and fires; the holding force exceeds the load: it stays plastic. One ulp
+     * of v upwards is 2^-60 (towards 0): the guard moves by 2^-60 */
+    char path[64];
+    snprintf(path, sizeof path, "/tmp/vi_test_me_slope_%d.txt", (int)getpid());
+    FILE *f = fopen(path, "w");
+    cr_assert(f != NULL);
+    fprintf(f, "0 0\n8 -0.0625\n");
+    fclose(f);
+    vi_me e;
+    memset(&e, 0, sizeof e);
+    vi_sim_init(&e.s, capture, NULL);
+    e.s.d.par.P = 3e5;
+    snprintf(e.s.d.par.profile_file, sizeof e.s.d.par.profile_file, "%s", path);
+    e.s.d.par.V = 1.0, e.s.d.par.x0 = 1.0;
+    int rc = vi_me_initialize(&e);
+    remove(path);
+    cr_assert(rc == 0, "%s", e.s.msg);
+    double dyC, v = -0x1p-7, rtol = e.s.d.par.rtol;
+    vi_model_platform(&e.s.d.M, 0.0, &dyC, NULL);
+    cr_assert(dyC == v, "platform velocity %.17g", dyC);
+    put(&e, VI_Mode_plastic, 1.2 * e.s.d.M.J.delta_Y, v, 0.0);
+    update(&e);
+    cr_assert(e.s.d.M.mode == VI_Mode_plastic);
+    double band = 4.0 * (rtol * -v + e.s.d.atol[1]) + 256.0 * 0x1p-60;
+    cr_assert(fabs(e.s.d.guard_band[0] - band) <= 5e-11 * band, "band %.17g, closed form %.17g", e.s.d.guard_band[0], band);
+    finish(&e);
+}
