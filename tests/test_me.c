@@ -380,6 +380,12 @@ Test(me_events, guards_are_armed_at_zero_up_to_their_rounding_noise_and_no_furth
 {
     vi_me e;
     raised(&e);
+    /* the touching start moving up: free flight with the contact guard at 0, lifted by its noise and
+     * the band of the tolerance (those of Model Exchange, not the simulation's noise alone) */
+    double y0 = 1.5, band0 = 256.0 * 0x1p-52 + 4.0 * (e.s.d.par.rtol * y0 + e.s.d.atol[0]);
+    cr_assert(e.s.d.M.mode == VI_Mode_free && e.y == y0);
+    cr_assert(fabs(e.s.d.guard_band[0] - band0) <= 1e-12 * band0, "initial band %.17g, closed form %.17g",
+              e.s.d.guard_band[0], band0);
     /* free flight 256 ulps of y above the platform: the contact guard equals its noise, 256 times its
      * change under one ulp of y (2^-52): lifted; 257 ulps: not */
     double rtol = e.s.d.par.rtol;
