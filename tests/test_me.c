@@ -871,3 +871,38 @@ Test(me_events, the_band_counts_one_ulp_of_v_upwards)
     cr_assert(fabs(e.s.d.guard_band[0] - band) <= 5e-11 * band, "band %.17g, closed form %.17g", e.s.d.guard_band[0], band);
     finish(&e);
 }
+
+Test(me_states, a_completed_step_starts_the_mean_force_anew)
+{
+    vi_me e;
+    start(&e, hertz);
+    double x[2] = {e.y, 0.02};
+    vi_me_set_states(&e, x);
+    vi_me_set_time(&e, 1e-3);
+    double m = e.s.d.M.m, W = e.s.d.M.W0;
+    /* over the step from 0: F_mean = m (v - v0)/h + W with v0 = 0 */
+    double Fm = vi_me_outputs_of(&e, VI_OUT_MEAN)->F_mean;
+    cr_assert(fabs(Fm - (m * 0.02 / 1e-3 + W)) <= 1e-12 * W, "F_mean %.17g", Fm);
+    cr_assert(vi_me_completed_step(&e) == 0);
+    cr_assert(e.s.d.step_t0 == 1e-3 && e.s.d.step_v0 == 0.02, "step start %g %g", e.s.d.step_t0, e.s.d.step_v0);
+    vi_me_set_time(&e, 2e-3);
+    x[1] = 0.03;
+    vi_me_set_states(&e, x);
+    Fm = vi_me_outputs_of(&e, VI_OUT_MEAN)->F_mean;
+    cr_assert(fabs(Fm - (m * 0.01 / 1e-3 + W)) <= 1e-12 * W, "F_mean %.17g", Fm);
+    finish(&e);
+}
+
+Test(me_states, inputs_set_after_the_last_event_pass_act_when_continuous_time_begins)
+{
+    vi_me e;
+    start(&e, hertz);
+    double y = e.y;
+    e.s.d.in.yC_in = 2e-6;
+    e.s.d.inputs_changed = 1; /* set in event mode: they wait for the event iteration ... */
+    vi_me_set_time(&e, 0.0);
+    cr_assert(e.s.d.M.yC_in.u == 0.0, "taken in event mode");
+    vi_me_enter_continuous(&e); /* ... or act at once when continuous time begins */
+    cr_assert(e.s.d.inputs_changed == 0 && e.s.d.M.yC_in.u == 2e-6 && e.s.d.x[0] == 2e-6 - y, "delta %g", e.s.d.x[0]);
+    finish(&e);
+}
