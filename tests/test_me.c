@@ -906,3 +906,18 @@ Test(me_states, inputs_set_after_the_last_event_pass_act_when_continuous_time_be
     cr_assert(e.s.d.inputs_changed == 0 && e.s.d.M.yC_in.u == 2e-6 && e.s.d.x[0] == 2e-6 - y, "delta %g", e.s.d.x[0]);
     finish(&e);
 }
+
+Test(me_states, each_call_writes_its_arrays_and_nothing_beyond)
+{
+    vi_me e;
+    start(&e, hertz);
+    double a[VI_ME_NSTATES + 1], z[VI_ME_NINDICATORS + 1];
+    a[VI_ME_NSTATES] = z[VI_ME_NINDICATORS] = 12345.0;
+    vi_me_indicators(&e, z);
+    vi_me_nominals(&e, a);
+    cr_assert(z[VI_ME_NINDICATORS] == 12345.0 && a[VI_ME_NSTATES] == 12345.0, "written beyond the arrays");
+    vi_me_derivatives(&e, a);
+    vi_me_get_states(&e, a);
+    cr_assert(a[VI_ME_NSTATES] == 12345.0, "written beyond the states");
+    finish(&e);
+}
