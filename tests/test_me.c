@@ -500,6 +500,14 @@ Test(me_events, events_accumulating_at_one_instant_terminate_at_the_64th)
     snprintf(expected, sizeof expected, "events accumulate at t = %.17g s (Zeno): %d events each within %g ulps of time "
              "of the one before, the last on guard 0 of mode 0; the motion cannot go on", 10.0, VI_ZENO_EVENTS, VI_ZENO_ULPS);
     cr_assert(strcmp(e.s.msg, expected) == 0, "message '%s'", e.s.msg);
+    /* later, at t = 20 s: the first event there is far from the last one (t = 10 s) and counts 0, the
+     * next 64 count 1 ... 64 */
+    vi_me_set_time(&e, 20.0);
+    for (int i = 0; i <= VI_ZENO_EVENTS; i++) {
+        at(&e, VI_Mode_free, 1.5 - 1e-5, -0.01);
+        vi_me_event ev = update(&e);
+        cr_assert(ev.terminate == (i == VI_ZENO_EVENTS), "event %d at 20 s: terminate %d", i, ev.terminate);
+    }
     finish(&e);
 }
 
@@ -919,5 +927,33 @@ Test(me_states, each_call_writes_its_arrays_and_nothing_beyond)
     vi_me_derivatives(&e, a);
     vi_me_get_states(&e, a);
     cr_assert(a[VI_ME_NSTATES] == 12345.0, "written beyond the states");
+    finish(&e);
+}
+
+Test(me_events, an_input_set_in_continuous_time_is_taken_by_the_event_iteration)
+{
+    vi_me e;
+    raised(&e);
+    at(&e, VI_Mode_free, 1.5 + 1e-3, -0.01);
+    e.s.d.in.yC_in = 1.5 + 2e-3; /* into the mass, set in continuous time (no call since) */
+    vi_me_event ev = update(&e);
+    cr_assert(e.s.d.M.mode == VI_Mode_elastic && e.s.d.M.yC_in.u == 1.5 + 2e-3, "mode %d", e.s.d.M.mode);
+    cr_assert(ev.states_changed == 0 && fabs(e.s.d.x[0] - 1e-3) <= 1e-15, "delta %g", e.s.d.x[0]);
+    finish(&e);
+}
+
+Test(me_events, a_stick_guard_that_fires_exactly_at_zero_is_lifted_by_the_least_normal_double)
+{
+    /* the pre-loaded stick start with F_hold = F_load(delta_c) exactly (no excitation): with its band
+     * cleared the load guard fires at 0; the holding force does not exceed the load (no rate to break
+     * the tie): it stays in stick, the guard lifted by DBL_MIN (its noise and tolerance band are 0) */
+    vi_me e;
+    start(&e, preloaded_stick);
+    e.s.d.guard_band[0] = 0.0;
+    long events = e.s.d.n_events;
+    vi_me_event ev = update(&e);
+    cr_assert(e.s.d.M.mode == VI_Mode_stick && e.s.d.n_events == events + 1, "mode %d", e.s.d.M.mode);
+    cr_assert(e.s.d.guard_band[0] == DBL_MIN && ev.another_pass == 0, "band %g, another pass %d", e.s.d.guard_band[0],
+              ev.another_pass);
     finish(&e);
 }
