@@ -369,8 +369,11 @@ Test(me_events, a_state_beyond_the_band_takes_the_mode_of_the_state_as_it_is)
     /* 10 um into the platform, moving down, beyond the band (6e-6 m): no located crossing but a state
      * the importer stepped to: elastic at the state as it is, not snapped */
     at(&e, VI_Mode_free, 1.5 - 1e-5, -0.01);
+    cr_assert(vi_me_outputs_of(&e, VI_OUT_ALL)->mode == VI_Mode_free);
     vi_me_event ev = update(&e);
     cr_assert(e.s.d.M.mode == VI_Mode_elastic && e.s.d.M.n_impacts == 1, "mode %d", e.s.d.M.mode);
+    const vi_outputs *out = vi_me_outputs_of(&e, VI_OUT_STATE); /* not those read before the event */
+    cr_assert(out->mode == VI_Mode_elastic && out->n_impacts == 1 && out->contact == 1, "output mode %d", out->mode);
     cr_assert(ev.states_changed == 0 && e.s.d.x[0] == 1.5 - (1.5 - 1e-5), "delta %.17g", e.s.d.x[0]);
     cr_assert(e.s.d.guard_band[0] == 0.0 && e.s.d.guard_band[1] == 0.0, "a mode entered with its guards away from 0");
     finish(&e);
