@@ -339,6 +339,22 @@ Test(me_events, a_grazing_contact_is_snapped_and_its_guard_lifted_by_its_band)
     vi_me_set_states(&e, xa);
     cr_assert(vi_me_completed_step(&e) == 0);
     cr_assert(e.s.d.guard_band[0] == 0.0, "not re-armed above its band: %g", e.s.d.guard_band[0]);
+    /* exactly at its band it stays disarmed (1e-5 m above the platform: the guard is y - 1.5 exactly) */
+    double xe[2] = {1.5 + 1e-5, v};
+    vi_me_set_states(&e, xe);
+    double G = xe[0] - 1.5;
+    e.s.d.guard_band[0] = G;
+    cr_assert(vi_me_completed_step(&e) == 0);
+    cr_assert(e.s.d.guard_band[0] == G, "re-armed at its band");
+    e.s.d.guard_band[0] = nextafter(G, 0.0);
+    cr_assert(vi_me_completed_step(&e) == 0);
+    cr_assert(e.s.d.guard_band[0] == 0.0, "not re-armed an ulp above its band");
+    /* a platform input set in continuous time since the last call counts: it drops 1 mm away */
+    vi_me_set_states(&e, xb);
+    e.s.d.guard_band[0] = band;
+    e.s.d.in.yC_in = 1.5 - 1e-3;
+    cr_assert(vi_me_completed_step(&e) == 0);
+    cr_assert(e.s.d.guard_band[0] == 0.0, "not re-armed after the platform moved away: %g", e.s.d.guard_band[0]);
     finish(&e);
 }
 
@@ -768,10 +784,11 @@ Test(me_states, checkpoint_and_restore_carry_the_state_y)
     start(&e, johnson);
     double dY = e.s.d.M.J.delta_Y;
     put(&e, VI_Mode_plastic, 1.5 * dY, -0.01, 0.0);
+    e.s.d.M.U = vi_johnson_unload_curve(&e.s.d.M.J, e.s.d.M.unloading, 1.2 * dY); /* as where it started to flow */
     vi_me_set_time(&e, 1e-3);
     cr_assert(vi_me_checkpoint(&e) == 0, "%s", e.s.msg);
     /* the memory of the current state is written down (delta_c = delta while loading) */
-    cr_assert(e.s.d.M.U.delta_c == 1.5 * dY || fabs(e.s.d.M.U.delta_c - e.s.d.x[0]) == 0.0, "delta_c %g", e.s.d.M.U.delta_c);
+    cr_assert(e.s.d.M.U.delta_c == e.s.d.x[0], "delta_c %.17g, delta %.17g", e.s.d.M.U.delta_c, e.s.d.x[0]);
     vi_sim_data saved = e.s.d;
     double y = e.y;
     double x[2] = {y + 1e-6, 0.02};
@@ -830,6 +847,11 @@ Test(me_states, a_checkpoint_makes_the_saved_state_whole)
     cr_assert(vi_me_checkpoint(&e) == -1);
     snprintf(msg, sizeof msg, "could not restart the solver at t = %.17g s", 1e-3);
     cr_assert(strcmp(e.s.msg, msg) == 0, "message '%s'", e.s.msg);
+    /* a state naming a profile that cannot be loaded is refused; the instance stays as it was */
+    snprintf(e.s.d.par.profile_file, sizeof e.s.d.par.profile_file, "/nonexistent/vi_test_me_profile.txt");
+    e.s.d.par.V = 1.0;
+    cr_assert(vi_me_restore(&e, 0) == -1);
+    cr_assert(e.active == 1 && e.y == x[0], "the instance changed");
     finish(&e);
 }
 
