@@ -2,6 +2,8 @@
  * values from closed forms (static equilibrium) and from the mode definitions of model.md. */
 #include <criterion/criterion.h>
 #include <math.h>
+#include <stdarg.h>
+#include <stddef.h>
 #include <stdlib.h>
 
 #include <stdint.h>
@@ -860,4 +862,413 @@ Test(model_check, moving_contact_has_no_unloading_or_stick)
         snprintf(expect, sizeof expect, "mode = %d is impossible for contact_model johnson (moving 1", mode);
         cr_assert(strstr(msg, expect) != NULL, "expected '%s' in: %s", expect, msg);
     }
+}
+
+/* ---- vi_model_check, rule by rule: each rule broken alone, refused with its whole message ---------- */
+
+/* The check refuses (M, x) with exactly the message `fmt` (printf-formatted with the spoiled values). */
+static void refused_with(const vi_model *M, const double x[2], int surfaces, const char *fmt, ...)
+{
+    char expect[512], msg[512] = "";
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(expect, sizeof expect, fmt, ap);
+    va_end(ap);
+    int rc = surfaces ? vi_model_check(M, x, msg, sizeof msg) : vi_model_check_between_events(M, x, msg, sizeof msg);
+    cr_assert(rc == -1, "accepted (rc %d); expected: %s", rc, expect);
+    cr_assert(strcmp(msg, expect) == 0, "expected '%s', got '%s'", expect, msg);
+}
+
+static void accepted_as(const vi_model *M, const double x[2], const char *what)
+{
+    char msg[512] = "";
+    int rc = vi_model_check(M, x, msg, sizeof msg);
+    cr_assert(rc == 0, "%s: rc %d: %s", what, rc, msg);
+}
+
+/* Johnson with a fixed contact point after a yielding impact: unloading at delta between delta_f and
+ * delta_c (the state of yielded_model, for any unloading variant and parameters). */
+static vi_model unloading_model(const vi_parameters *p, double x[2])
+{
+    vi_model M = {0};
+    char msg[256];
+    cr_assert(vi_model_setup(&M, p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+    M.U = vi_johnson_unload_curve(&M.J, M.unloading, 3.0 * M.J.delta_Y);
+    M.yielded = 1;
+    M.mode = VI_Mode_unload;
+    x[0] = 0.5 * (M.U.delta_f + M.U.delta_c);
+    x[1] = 1.0;
+    accepted_as(&M, x, "unloading model");
+    return M;
+}
+
+static vi_model default_unloading_model(double x[2])
+{
+    vi_parameters p;
+    vi_parameters_default(&p);
+    return unloading_model(&p, x);
+}
+
+/* Each constant: not finite (every one of the 17, by name and value), and for those that must be
+ * positive, 0 (the bound itself) refused as not positive, before any consistency rule. */
+Test(model_check, every_constant_must_be_finite_and_the_positive_ones_positive)
+{
+    double x0[2];
+    vi_model ok = default_unloading_model(x0);
+    struct { const char *name; size_t offset; int positive; } c[] = {
+        {"m", offsetof(vi_model, m), 1},           {"W0", offsetof(vi_model, W0), 0},
+        {"K", offsetof(vi_model, K), 1},           {"E_star", offsetof(vi_model, J.E_star), 1},
+        {"R_star", offsetof(vi_model, J.R_star), 1}, {"theta_Y", offsetof(vi_model, J.theta_Y), 1},
+        {"F_Y", offsetof(vi_model, J.F_Y), 1},     {"delta_Y", offsetof(vi_model, J.delta_Y), 1},
+        {"k_lin", offsetof(vi_model, k_lin), 1},   {"a", offsetof(vi_model, a), 0},
+        {"omega", offsetof(vi_model, omega), 0},   {"t0", offsetof(vi_model, t0), 0},
+        {"phi0", offsetof(vi_model, phi0), 0},     {"t_phi", offsetof(vi_model, t_phi), 0},
+        {"V", offsetof(vi_model, V), 0},           {"x0", offsetof(vi_model, x0), 0},
+        {"f_contact", offsetof(vi_model, f_contact), 0}};
+    for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+        double bad[] = {NAN, INFINITY, -INFINITY};
+        for (int k = 0; k < 3; k++) {
+            vi_model M = ok;
+            memcpy((char *)&M + c[i].offset, &bad[k], sizeof bad[k]);
+            refused_with(&M, x0, 1, "model constant %s = %g is not finite", c[i].name, bad[k]);
+        }
+        vi_model M = ok;
+        double zero = 0.0;
+        memcpy((char *)&M + c[i].offset, &zero, sizeof zero);
+        if (c[i].positive)
+            refused_with(&M, x0, 1, "model constant %s = 0 is not positive", c[i].name);
+        else
+            accepted_as(&M, x0, c[i].name); /* 0 is a value of its own (no excitation, start at 0, ...) */
+    }
+    /* the free constants take either sign (omega and f_contact excepted: below) */
+    for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+        if (c[i].positive || strcmp(c[i].name, "omega") == 0 || strcmp(c[i].name, "f_contact") == 0) continue;
+        vi_model M = ok;
+        double negative = -1e-4;
+        memcpy((char *)&M + c[i].offset, &negative, sizeof negative);
+        accepted_as(&M, x0, c[i].name);
+    }
+    /* a mass and a yield angle far below 1 are masses and angles like any other */
+    vi_model M = ok;
+    M.m = 1e-4;
+    accepted_as(&M, x0, "m = 1e-4 kg");
+    M = ok;
+    M.J.theta_Y = 1e-4;
+    accepted_as(&M, x0, "theta_Y = 1e-4");
+    /* negative: omega and f_contact (0 and small values pass) */
+    M = ok;
+    M.omega = -1e-300;
+    refused_with(&M, x0, 1, "model constant omega = -1e-300 is negative");
+    M.omega = 1e-4;
+    accepted_as(&M, x0, "omega = 1e-4 rad/s");
+    M = ok;
+    M.f_contact = -1e-300;
+    refused_with(&M, x0, 1, "model constant f_contact = -1e-300 is negative");
+    M.f_contact = 1e-4;
+    accepted_as(&M, x0, "f_contact = 1e-4 Hz");
+    /* every non-positive value of a positive constant, not only 0 */
+    M = ok;
+    M.J.R_star = -0.2;
+    refused_with(&M, x0, 1, "model constant R_star = -0.2 is not positive");
+}
+
+/* K = 4/3 E* sqrt(R*), F_Y = K delta_Y^1.5 and k_lin = F_Y/delta_Y hold to 1e-9 relative: 2e-9 off is
+ * refused (naming the constant), 0.5e-9 off passes. */
+Test(model_check, constants_consistent_to_1e_9)
+{
+    double x0[2];
+    vi_model ok = default_unloading_model(x0);
+    vi_model M = ok;
+    M.K = ok.K * (1.0 + 2e-9);
+    refused_with(&M, x0, 1, "model constant K = %g does not match 4/3 E* sqrt(R*)", M.K);
+    M.K = ok.K * (1.0 + 0.5e-9);
+    accepted_as(&M, x0, "K 0.5e-9 off");
+    M = ok;
+    M.J.F_Y = ok.J.F_Y * (1.0 - 2e-9);
+    refused_with(&M, x0, 1, "model constant delta_Y = %g does not match F_Y = K delta_Y^1.5", M.J.delta_Y);
+    M.J.F_Y = ok.J.F_Y * (1.0 - 0.5e-9);
+    M.k_lin = M.J.F_Y / M.J.delta_Y;
+    accepted_as(&M, x0, "F_Y 0.5e-9 off");
+    M = ok;
+    M.k_lin = ok.k_lin * (1.0 + 2e-9);
+    refused_with(&M, x0, 1, "model constant k_lin = %g does not match F_Y/delta_Y", M.k_lin);
+    M.k_lin = ok.k_lin * (1.0 - 0.5e-9);
+    accepted_as(&M, x0, "k_lin 0.5e-9 off");
+}
+
+/* The bound of "to 1e-9 relative" itself: |k_lin - F_Y/delta_Y| = 1e-9 max(...) exactly passes. With
+ * delta_Y = 1 m, F_Y = 999999999 N and k_lin = 1e9 N/m the difference is 1 N/m and 1e-9 k_lin rounds to
+ * 1 exactly (a Hertz model built around these numbers: K = F_Y, R* = 1 m, E* = 3/4 K). */
+Test(model_check, consistency_bound_is_inclusive)
+{
+    vi_model M = {0};
+    M.law = VI_ContactModel_hertz, M.unloading = VI_UNLOAD_PAPER, M.m = 1.0;
+    M.J.R_star = 1.0, M.J.E_star = 0.75 * 999999999.0, M.J.theta_Y = 1.0;
+    M.J.delta_Y = 1.0, M.J.F_Y = 999999999.0, M.K = 999999999.0;
+    M.k_lin = 1e9;
+    double x[2] = {0.0, 0.0};
+    cr_assert(fabs(M.k_lin - M.J.F_Y / M.J.delta_Y) == 1e-9 * fmax(M.k_lin, M.J.F_Y / M.J.delta_Y));
+    accepted_as(&M, x, "k_lin exactly 1e-9 off");
+    M.k_lin = nextafter(1e9, INFINITY);
+    refused_with(&M, x, 1, "model constant k_lin = %g does not match F_Y/delta_Y", M.k_lin);
+}
+
+/* The input ramps: each of value, rate and time of yC_in and F_ext non-finite alone. */
+Test(model_check, input_ramps_must_be_finite)
+{
+    double x0[2];
+    vi_model ok = default_unloading_model(x0);
+    ok.yC_in = (vi_ramp){1e-3, -2e-3, 0.5};
+    ok.F_ext = (vi_ramp){7.0, 3.0, 0.25};
+    accepted_as(&ok, x0, "finite ramps");
+    const char *names[2] = {"yC_in", "F_ext"};
+    for (int r = 0; r < 2; r++)
+        for (int field = 0; field < 3; field++) {
+            vi_model M = ok;
+            vi_ramp *ramp = r ? &M.F_ext : &M.yC_in;
+            double *v = field == 0 ? &ramp->u : field == 1 ? &ramp->du : &ramp->t;
+            *v = field == 1 ? -INFINITY : NAN;
+            refused_with(&M, x0, 1, "model input ramp %s (%g, %g, %g) is not finite", names[r], ramp->u, ramp->du,
+                         ramp->t);
+        }
+}
+
+/* The state, the enumerations and the flags, each refused alone with its message. */
+Test(model_check, state_enumerations_and_flags)
+{
+    double x0[2];
+    vi_model ok = default_unloading_model(x0);
+    double x[2] = {x0[0], INFINITY};
+    refused_with(&ok, x, 1, "state (delta %g, v inf) is not finite", x0[0]);
+    x[0] = NAN, x[1] = 0.25;
+    refused_with(&ok, x, 1, "state (delta nan, v 0.25) is not finite");
+    int laws[] = {-1, 0x7fffffff, 4};
+    for (int i = 0; i < 3; i++) {
+        vi_model M = ok;
+        M.law = laws[i];
+        refused_with(&M, x0, 1, "contact law = %d is not hertz (1), johnson (2) or lepp (3)", laws[i]);
+    }
+    int flags[] = {-1, 2};
+    for (int i = 0; i < 2; i++) {
+        vi_model M = ok;
+        M.moving = flags[i];
+        refused_with(&M, x0, 1, "model flag moving = %d is not 0 or 1", flags[i]);
+        M = ok;
+        M.yielded = flags[i];
+        refused_with(&M, x0, 1, "model flag yielded = %d is not 0 or 1", flags[i]);
+    }
+    int unloading[] = {0, 3};
+    for (int i = 0; i < 2; i++) {
+        vi_model M = ok;
+        M.unloading = unloading[i];
+        refused_with(&M, x0, 1, "unloading = %d is not paper (1) or continuous (2)", unloading[i]);
+    }
+    int modes[] = {-1, 5};
+    for (int i = 0; i < 2; i++) {
+        vi_model M = ok;
+        M.mode = modes[i];
+        refused_with(&M, x0, 1, "mode = %d is not in 0..4", modes[i]);
+    }
+    vi_model M = ok;
+    M.n_impacts = -1;
+    refused_with(&M, x0, 1, "n_impacts = -1 is negative");
+    M.n_impacts = 0;
+    accepted_as(&M, x0, "no impact yet");
+}
+
+/* delta_p: finite for every law; LEPP's permanent set is >= 0 (0 and any positive set pass), the other
+ * laws have none. */
+Test(model_check, permanent_set_of_each_law)
+{
+    double x[2] = {0.0, 1.0};
+    vi_model L = setup(VI_ContactModel_lepp, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
+    L.mode = VI_Mode_free;
+    double sets[] = {0.0, 5e-4, 0.5};
+    for (int i = 0; i < 3; i++) {
+        L.delta_p = sets[i];
+        accepted_as(&L, x, "LEPP permanent set >= 0");
+    }
+    L.delta_p = -1e-9;
+    refused_with(&L, x, 1, "delta_p = -1e-09 is impossible for contact_model lepp");
+    L.delta_p = NAN;
+    refused_with(&L, x, 1, "delta_p = nan is not finite");
+    L.delta_p = INFINITY;
+    refused_with(&L, x, 1, "delta_p = inf is not finite");
+    int laws[] = {VI_ContactModel_hertz, VI_ContactModel_johnson};
+    const char *names[] = {"hertz", "johnson"};
+    for (int i = 0; i < 2; i++) {
+        vi_model M = setup(laws[i], 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
+        M.mode = VI_Mode_free;
+        accepted_as(&M, x, names[i]);
+        M.delta_p = 1e-6;
+        refused_with(&M, x, 1, "delta_p = 1e-06 is impossible for contact_model %s", names[i]);
+        M.delta_p = -1e-3;
+        refused_with(&M, x, 1, "delta_p = -0.001 is impossible for contact_model %s", names[i]);
+        M.delta_p = -INFINITY;
+        refused_with(&M, x, 1, "delta_p = -inf is not finite");
+    }
+}
+
+/* Without yield the unloading curve is all zero: each of its five values alone is refused (the
+ * message gives delta_c and Rbar); with yield it exists for Johnson with a fixed contact point only. */
+Test(model_check, unloading_curve_only_after_yield_and_only_for_fixed_johnson)
+{
+    double x[2] = {0.0, 1.0};
+    vi_model M0 = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
+    M0.mode = VI_Mode_free;
+    accepted_as(&M0, x, "virgin");
+    for (int i = 0; i < 5; i++) {
+        vi_model M = M0;
+        double *u[5] = {&M.U.delta_c, &M.U.Rbar, &M.U.delta_r, &M.U.delta_f, &M.U.Kbar};
+        *u[i] = 1e-5 * (i + 1);
+        refused_with(&M, x, 1, "unloading curve (delta_c = %g, Rbar = %g) present although yielded = 0", M.U.delta_c,
+                     M.U.Rbar);
+    }
+    double x0[2];
+    vi_model ok = default_unloading_model(x0);
+    vi_model M = ok;
+    M.law = VI_ContactModel_lepp;
+    refused_with(&M, x0, 1, "yielded = 1 is impossible for contact_model lepp (moving 0)");
+    M = ok;
+    M.law = VI_ContactModel_hertz;
+    refused_with(&M, x0, 1, "yielded = 1 is impossible for contact_model hertz (moving 0)");
+    M = ok;
+    M.moving = 1;
+    refused_with(&M, x0, 1, "yielded = 1 is impossible for contact_model johnson (moving 1)");
+}
+
+/* A yielded memory: every value finite (each alone, the message lists all five), delta_c >= delta_Y
+ * (to 1e-9: the bound passes, one ulp below does not), Rbar > 0, delta_f <= delta_c, and the curve the
+ * one of delta_c to 1e-9 (each value 2e-9 off refused, 0.5e-9 off passes). */
+Test(model_check, yielded_memory_rules)
+{
+    double x0[2];
+    for (int variant = VI_UNLOAD_PAPER; variant <= VI_UNLOAD_CONTINUOUS; variant++) {
+        vi_parameters p;
+        vi_parameters_default(&p);
+        p.unloading = variant;
+        vi_model ok = unloading_model(&p, x0);
+        const vi_unload_curve U = ok.U;
+        for (int i = 0; i < 5; i++) {
+            vi_model M = ok;
+            double *u[5] = {&M.U.delta_c, &M.U.Rbar, &M.U.delta_r, &M.U.delta_f, &M.U.Kbar};
+            *u[i] = i % 2 ? INFINITY : NAN;
+            refused_with(&M, x0, 1, "unloading curve: a value (delta_c %g, Rbar %g, delta_r %g, delta_f %g, Kbar %g) is "
+                         "not finite", M.U.delta_c, M.U.Rbar, M.U.delta_r, M.U.delta_f, M.U.Kbar);
+        }
+        /* delta_c at the bound delta_Y (1 - 1e-9), with its own curve */
+        vi_model M = ok;
+        double dc = ok.J.delta_Y * (1.0 - 1e-9);
+        M.U = vi_johnson_unload_curve(&M.J, variant, dc);
+        double xb[2] = {0.5 * (M.U.delta_f + dc), 1.0};
+        accepted_as(&M, xb, "delta_c at its lower bound");
+        M.U = vi_johnson_unload_curve(&M.J, variant, nextafter(dc, 0.0));
+        refused_with(&M, xb, 1, "delta_c = %g is below delta_Y = %g", M.U.delta_c, M.J.delta_Y);
+        /* Rbar */
+        double rbar[] = {0.0, -U.Rbar};
+        for (int i = 0; i < 2; i++) {
+            M = ok;
+            M.U.Rbar = rbar[i];
+            refused_with(&M, x0, 1, "Rbar = %g is not positive", rbar[i]);
+        }
+        /* delta_f: above delta_c by one ulp (the order rule), at delta_c (the curve rule) */
+        M = ok;
+        M.U.delta_f = nextafter(U.delta_c, INFINITY);
+        refused_with(&M, x0, 1, "delta_f = %g is above delta_c = %g", M.U.delta_f, U.delta_c);
+        M.U.delta_f = U.delta_c;
+        refused_with(&M, x0, 1, "delta_f = %g does not belong to delta_c (%g)", U.delta_c, U.delta_f);
+        /* the curve of delta_c, value by value */
+        M = ok;
+        M.U.Rbar = U.Rbar * (1.0 + 2e-9);
+        refused_with(&M, x0, 1, "Rbar = %g does not belong to delta_c (%g)", M.U.Rbar, U.Rbar);
+        M.U.Rbar = U.Rbar * (1.0 - 0.5e-9);
+        accepted_as(&M, x0, "Rbar 0.5e-9 off");
+        M = ok;
+        M.U.delta_r = U.delta_r * (1.0 - 2e-9);
+        refused_with(&M, x0, 1, "delta_r = %g does not belong to delta_c (%g)", M.U.delta_r, U.delta_r);
+        M.U.delta_r = U.delta_r * (1.0 + 0.5e-9);
+        accepted_as(&M, x0, "delta_r 0.5e-9 off");
+        M = ok;
+        M.U.delta_f = U.delta_f - 2e-9 * U.delta_c;
+        refused_with(&M, x0, 1, "delta_f = %g does not belong to delta_c (%g)", M.U.delta_f, U.delta_f);
+        M.U.delta_f = U.delta_f + 0.5e-9 * U.delta_c;
+        accepted_as(&M, x0, "delta_f 0.5e-9 delta_c off");
+        M = ok;
+        M.U.Kbar = U.Kbar * (1.0 + 2e-9);
+        refused_with(&M, x0, 1, "Kbar = %g does not belong to Rbar (%g)", M.U.Kbar, U.Kbar);
+        M.U.Kbar = U.Kbar * (1.0 - 0.5e-9);
+        accepted_as(&M, x0, "Kbar 0.5e-9 off");
+    }
+    /* a small body: Rbar far below 1 mm is a radius like any other */
+    vi_parameters p;
+    vi_parameters_default(&p);
+    p.R1 = 1e-4;
+    vi_model M = unloading_model(&p, x0);
+    cr_assert(M.U.Rbar < 1e-3, "Rbar %g", M.U.Rbar);
+}
+
+/* The mode against the state: each length guard of each mode a clear distance (0.5 delta_Y or more)
+ * beyond its surface, refused naming the mode, delta, the distance, the surface and the tolerance
+ * 1e-6 max(delta_Y, |delta|, delta_c); between events (Model Exchange) the same states pass. */
+Test(model_check, each_surface_of_each_mode)
+{
+    double x0[2];
+    vi_model Y = default_unloading_model(x0); /* Johnson, yielded, delta_c = 3 delta_Y */
+    const double dY = Y.J.delta_Y, dc = Y.U.delta_c, df = Y.U.delta_f;
+    cr_assert(df > 0.5 * dY, "delta_f %g", df);
+    vi_model H = setup(VI_ContactModel_hertz, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
+    vi_model J = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
+    vi_model Jm = setup(VI_ContactModel_johnson, 1, VI_Unloading_paper, 0.0, 0.0, 0.0);
+    vi_model L = setup(VI_ContactModel_lepp, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
+    L.delta_p = 2.0 * dY; /* the laws share delta_Y (same E*, R*, Y) */
+    cr_assert(H.J.delta_Y == dY && L.J.delta_Y == dY);
+    struct { vi_model *M; int mode; double d, beyond; int surface; } c[] = {
+        {&H, VI_Mode_free, 0.5 * dY, 0.5 * dY, 0},             /* free, in contact */
+        {&L, VI_Mode_elastic, 1.5 * dY, 0.5 * dY, 0},          /* LEPP elastic, off the permanent set */
+        {&J, VI_Mode_elastic, 2.5 * dY, 1.5 * dY, 1},          /* elastic beyond yield */
+        {&L, VI_Mode_elastic, 3.5 * dY, 0.5 * dY, 1},          /* LEPP elastic beyond delta_p + delta_Y */
+        {&Y, VI_Mode_plastic, 2.0 * dY, 1.0 * dY, 0},          /* plastic below delta_c */
+        {&Jm, VI_Mode_plastic, 0.5 * dY, 0.5 * dY, 0},         /* moving: plastic below delta_Y */
+        {&L, VI_Mode_plastic, 2.5 * dY, 0.5 * dY, 0},          /* LEPP plastic below delta_p + delta_Y */
+        {&Y, VI_Mode_unload, df - 0.5 * dY, 0.5 * dY, 0},      /* unloading beyond separation */
+        {&Y, VI_Mode_unload, dc + 0.5 * dY, 0.5 * dY, 1},      /* unloading beyond delta_c */
+        {&Y, VI_Mode_stick, dc - 0.5 * dY, 0.5 * dY, 0},       /* stick off delta_c, below */
+        {&Y, VI_Mode_stick, dc + 0.5 * dY, 0.5 * dY, 1},       /* stick off delta_c, above */
+    };
+    for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+        vi_model M = *c[i].M;
+        M.mode = c[i].mode;
+        double x[2] = {c[i].d, 0.125};
+        double tol = 1e-6 * fmax(fmax(dY, fabs(c[i].d)), fabs(M.U.delta_c));
+        char expect[512];
+        snprintf(expect, sizeof expect, "mode %d does not fit the state: delta = %.17g m lies %g m beyond its surface %d "
+                 "(tolerance %g m)", c[i].mode, c[i].d, c[i].beyond, c[i].surface, tol);
+        char msg[512] = "";
+        cr_assert(vi_model_check(&M, x, msg, sizeof msg) == -1, "case %zu accepted", i);
+        /* the distance is printed with %g: compare all but its last digits through the parts around it */
+        char head[256];
+        snprintf(head, sizeof head, "mode %d does not fit the state: delta = %.17g m lies ", c[i].mode, c[i].d);
+        char tail[128];
+        snprintf(tail, sizeof tail, " m beyond its surface %d (tolerance %g m)", c[i].surface, tol);
+        cr_assert(strncmp(msg, head, strlen(head)) == 0 && strstr(msg, tail) != NULL, "case %zu: expected '%s', got '%s'",
+                  i, expect, msg);
+        double printed = atof(msg + strlen(head));
+        cr_assert(fabs(printed - c[i].beyond) <= 1e-5 * c[i].beyond, "case %zu: distance %g vs %g", i, printed,
+                  c[i].beyond);
+        msg[0] = '\0';
+        cr_assert(vi_model_check_between_events(&M, x, msg, sizeof msg) == 0, "case %zu between events: %s", i, msg);
+    }
+}
+
+/* The tolerance of the length guards is inclusive: free Hertz at delta = 1e-6 delta_Y (exactly the
+ * tolerance below the contact surface) passes, one ulp deeper does not. */
+Test(model_check, guard_tolerance_bound_is_inclusive)
+{
+    vi_model M = setup(VI_ContactModel_hertz, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
+    M.mode = VI_Mode_free;
+    double tol = VI_CHECK_GUARD_TOL * M.J.delta_Y, x[2] = {tol, -1.0};
+    accepted_as(&M, x, "at the tolerance");
+    x[0] = nextafter(tol, INFINITY);
+    char msg[512] = "";
+    cr_assert(vi_model_check(&M, x, msg, sizeof msg) == -1 && strstr(msg, "mode 0 does not fit"), "%s", msg);
 }

@@ -4,6 +4,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "vi_format.h"
 #include "vi_sim.h"
 
 #include <stdarg.h>
@@ -464,4 +465,134 @@ Test(sim, a_profile_needs_a_positive_body_radius)
     remove(path);
     cr_assert(rc < 0 && strstr(s.msg, "rolling needs a body radius R1 > 0 (R1 = 0 m)"), "%s", s.msg);
     vi_sim_free(&s);
+}
+
+/* ---- the state-payload check, rule by rule ------------------------------------------------------ */
+
+/* The check refuses d with exactly the message fmt (printf-formatted with the spoiled values). */
+static void refused_as(const vi_sim_data *d, int surfaces, const char *fmt, ...) VI_PRINTF_FORMAT(3, 4);
+static void refused_as(const vi_sim_data *d, int surfaces, const char *fmt, ...)
+{
+    char expect[512], msg[512] = "";
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(expect, sizeof expect, fmt, ap);
+    va_end(ap);
+    int rc = surfaces ? vi_sim_data_check(d, msg, sizeof msg) : vi_sim_data_check_between_events(d, msg, sizeof msg);
+    cr_assert(rc == -1, "accepted (rc %d); expected: %s", rc, expect);
+    cr_assert(strcmp(msg, expect) == 0, "expected '%s', got '%s'", expect, msg);
+}
+
+static void passes(const vi_sim_data *d, int surfaces, const char *what)
+{
+    char msg[512] = "";
+    int rc = surfaces ? vi_sim_data_check(d, msg, sizeof msg) : vi_sim_data_check_between_events(d, msg, sizeof msg);
+    cr_assert(rc == 0, "%s: rc %d: %s", what, rc, msg);
+}
+
+/* Each rule of the payload broken alone (values at and just beyond its bounds), with its message;
+ * the values a rule allows, at its bounds, pass. */
+Test(sim, data_check_each_rule_alone_with_its_message)
+{
+    vi_sim s;
+    running(&s);
+    const vi_sim_data ok = s.d;
+    vi_sim_data d;
+    passes(&ok, 1, "running");
+    d = ok, d.inputs_changed = 1;
+    passes(&d, 1, "inputs changed");
+    d = ok, d.inputs_changed = 2;
+    refused_as(&d, 1, "inputs_changed = 2 is not 0 or 1");
+    d = ok, d.inputs_changed = -1;
+    refused_as(&d, 1, "inputs_changed = -1 is not 0 or 1");
+    d = ok, d.t_start = INFINITY;
+    refused_as(&d, 1, "t_start = inf is not finite");
+    d = ok, d.t_start = NAN;
+    refused_as(&d, 1, "t_start = nan is not finite");
+    double tolerances_in[] = {0.0, 1e-14, 1e-2}, tolerances_out[] = {nextafter(1e-14, 0.0), nextafter(1e-2, 1.0), -1e-3,
+                                                                      NAN};
+    for (int i = 0; i < 3; i++) {
+        d = ok, d.tolerance = tolerances_in[i];
+        passes(&d, 1, "tolerance in range");
+    }
+    for (int i = 0; i < 4; i++) {
+        d = ok, d.tolerance = tolerances_out[i];
+        refused_as(&d, 1, "tolerance = %g is neither 0 nor in [1e-14, 0.01]", tolerances_out[i]);
+    }
+    d = ok, d.t = NAN;
+    refused_as(&d, 1, "t = nan is not finite or before t_start = 0");
+    d = ok, d.t = -1e-300;
+    refused_as(&d, 1, "t = -1e-300 is not finite or before t_start = 0");
+    d = ok, d.t_start = d.step_t0 = d.t; /* at the start itself */
+    passes(&d, 1, "t = t_start");
+    d = ok, d.x[0] = NAN;
+    refused_as(&d, 1, "x[0] = nan is not finite");
+    d = ok, d.x[1] = -INFINITY;
+    refused_as(&d, 1, "x[1] = -inf is not finite");
+    for (int i = 0; i < 2; i++) {
+        double bad[] = {NAN, INFINITY, -1e-300};
+        for (int k = 0; k < 3; k++) {
+            d = ok, d.atol[i] = bad[k];
+            refused_as(&d, 1, "atol[%d] = %g is not finite and >= 0", i, bad[k]);
+        }
+        d = ok, d.atol[i] = 0.0;
+        passes(&d, 1, "atol = 0");
+    }
+    d = ok, d.n_events = -1;
+    refused_as(&d, 1, "n_events = -1 is negative");
+    d = ok, d.n_events = 0;
+    passes(&d, 1, "no events");
+    d = ok, d.initialized = 2;
+    refused_as(&d, 1, "initialized = 2 is not 0 or 1");
+    d = ok, d.initialized = -1;
+    refused_as(&d, 1, "initialized = -1 is not 0 or 1");
+    d = ok, d.step_t0 = NAN;
+    refused_as(&d, 1, "step_t0 = nan, step_v0 = %g: not finite or after t", ok.step_v0);
+    d = ok, d.step_t0 = nextafter(ok.t, INFINITY);
+    refused_as(&d, 1, "step_t0 = %g, step_v0 = %g: not finite or after t", d.step_t0, ok.step_v0);
+    d = ok, d.step_v0 = NAN;
+    refused_as(&d, 1, "step_t0 = %g, step_v0 = nan: not finite or after t", ok.step_t0);
+    d = ok, d.step_t0 = ok.t;
+    passes(&d, 1, "a step of zero length");
+    for (int i = 0; i < VI_NGUARDS; i++) {
+        double bad[] = {NAN, INFINITY, -1e-300};
+        for (int k = 0; k < 3; k++) {
+            d = ok, d.guard_band[i] = bad[k];
+            refused_as(&d, 1, "guard_band[%d] = %g is not finite and >= 0", i, bad[k]);
+        }
+        d = ok, d.guard_band[i] = 1e-12; /* a disarmed guard's band is tiny */
+        passes(&d, 1, "a small band");
+    }
+    /* the model's own check follows */
+    d = ok, d.M.mode = 9;
+    refused_as(&d, 1, "mode = 9 is not in 0..4");
+    vi_sim_free(&s);
+}
+
+/* The one-step continuation is checked only where it is in use: a co-simulation state of the one-step
+ * method (dop853, or auto while not on BDF); never for a CVODE method (BDF, Adams), never between
+ * events (Model Exchange), never before initialization. */
+Test(sim, data_check_looks_at_the_one_step_continuation_only_where_it_is_used)
+{
+    int solvers[] = {VI_Solver_bdf, VI_Solver_adams, VI_Solver_dop853};
+    for (int i = 0; i < 3; i++) {
+        vi_sim s;
+        vi_sim_init(&s, quiet, NULL);
+        s.d.par.solver = solvers[i];
+        s.d.par.a = 1e-4;
+        cr_assert(vi_sim_initialize(&s) == 0 && vi_sim_advance(&s, 1e-3) == VI_SIM_OK, "%s", s.msg);
+        vi_sim_data d = s.d;
+        d.ode.h = 0.0;
+        d.ode.t = NAN;
+        if (solvers[i] == VI_Solver_dop853) {
+            char msg[512] = "";
+            cr_assert(vi_sim_data_check(&d, msg, sizeof msg) == -1 && strstr(msg, "ode."), "%s", msg);
+        } else {
+            passes(&d, 1, "a CVODE state ignores the one-step continuation");
+        }
+        passes(&d, 0, "between events");
+        d.initialized = 0;
+        passes(&d, 1, "before initialization");
+        vi_sim_free(&s);
+    }
 }
