@@ -596,3 +596,81 @@ Test(sim, data_check_looks_at_the_one_step_continuation_only_where_it_is_used)
         vi_sim_free(&s);
     }
 }
+
+/* ---- what the log messages of the loop report ----------------------------------------------------- */
+
+static char logged[8][512];
+static int n_logged, log_category;
+static void capture(void *env, int category, const char *fmt, ...)
+{
+    (void)env;
+    if (category != log_category || n_logged >= 8) return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(logged[n_logged++], sizeof logged[0], fmt, ap);
+    va_end(ap);
+}
+
+/* A Hertz drop (P = g = 0, touching, moving in at 0.1 m/s) separates once, after the Hertz contact
+ * time t_c = 2 (delta_max/v0) sqrt(pi) Gamma(7/5)/Gamma(9/10), delta_max = (15 m v0^2/(16 E* sqrt(R*)))^(2/5),
+ * at delta = 0 (snapped onto the contact surface) and v = +v0 (elastic: the energy comes back). The
+ * event's log line says so, value by value; the solver line gives atol = rtol (delta_max, delta_max w). */
+Test(sim, event_and_solver_log_lines_report_the_values)
+{
+    vi_sim s;
+    n_logged = 0, log_category = VI_LOG_SOLVER;
+    vi_sim_init(&s, capture, NULL);
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = -0.1;
+    s.d.par.solver = VI_Solver_dop853;
+    s.d.par.rtol = 1e-10;
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    const vi_model *M = &s.d.M;
+    double v0 = 0.1, dmax = pow(15.0 * M->m * v0 * v0 / (16.0 * M->J.E_star * sqrt(M->J.R_star)), 0.4);
+    double w = sqrt(1.5 * M->K * sqrt(dmax) / M->m); /* the virgin stiffness at delta_max over m */
+    cr_assert(n_logged == 1, "%d solver lines", n_logged);
+    const char *name = vi_solver_method_name(VI_Solver_dop853), *rest = logged[0] + strlen(name);
+    double rtol, atol0, atol1, L, V;
+    cr_assert(strncmp(logged[0], name, strlen(name)) == 0, "%s", logged[0]);
+    cr_assert(sscanf(rest, ", rtol %lg, atol %lg m and %lg m/s (scales %lg m, %lg m/s)", &rtol, &atol0, &atol1, &L, &V) == 5,
+              "%s", logged[0]);
+    cr_assert(rtol == 1e-10, "%s", logged[0]);
+    cr_assert(fabs(L - dmax) <= 1e-5 * dmax && fabs(V - dmax * w) <= 1e-5 * dmax * w, "%s (%g m, %g m/s)", logged[0], dmax,
+              dmax * w);
+    cr_assert(fabs(atol0 - 1e-10 * dmax) <= 1e-5 * 1e-10 * dmax && fabs(atol1 - 1e-10 * dmax * w) <= 1e-5 * 1e-10 * dmax * w,
+              "%s", logged[0]);
+    n_logged = 0, log_category = VI_LOG_EVENTS;
+    cr_assert(vi_sim_advance(&s, 0.01) == VI_SIM_OK, "%s", s.msg); /* t_c = 2.2 ms */
+    cr_assert(n_logged == 1, "%d event lines, %ld events, mode %d, t %g", n_logged, s.d.n_events, s.d.M.mode, s.d.t);
+    double t, delta, v;
+    int guard, of_mode, from, to;
+    cr_assert(sscanf(logged[0], "t = %lg s: guard %d of mode %d, mode %d -> %d, delta = %lg m, v = %lg m/s", &t, &guard,
+                     &of_mode, &from, &to, &delta, &v) == 7, "%s", logged[0]);
+    double tc = 2.0 * dmax / v0 * sqrt(VI_PI) * tgamma(1.4) / tgamma(0.9);
+    cr_assert(fabs(t - tc) <= 1e-6 * tc, "%s: t_c = %.9g s", logged[0], tc);
+    cr_assert(guard == 0 && of_mode == VI_Mode_elastic && from == VI_Mode_elastic && to == VI_Mode_free, "%s", logged[0]);
+    cr_assert(delta == 0.0 && fabs(v - v0) <= 1e-7, "%s", logged[0]);
+    vi_sim_free(&s);
+}
+
+/* A solver failure names the time and the state it stopped at: a mass of 1e-10 kg flying free at
+ * 1 m/s, then pushed by F_ext = -1e300 N (an acceleration beyond the doubles). */
+Test(sim, solver_failure_message_gives_the_state)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.solver = VI_Solver_dop853;
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    s.d.par.m = 1e-10, s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = 1.0;
+    cr_assert(vi_sim_initialize(&s) == 0 && vi_sim_advance(&s, 1e-3) == VI_SIM_OK, "%s", s.msg);
+    cr_assert(fabs(s.d.x[0] + 1e-3) <= 1e-12 && s.d.x[1] == 1.0, "%g %g", s.d.x[0], s.d.x[1]);
+    s.d.in.F_ext = -1e300;
+    s.d.inputs_changed = 1;
+    cr_assert(vi_sim_advance(&s, 2e-3) == VI_SIM_ERROR, "%s", s.msg);
+    char expect[512];
+    snprintf(expect, sizeof expect, "the solver failed near t = %.17g s (mode 0, delta = %g m, v = %g m/s)", s.d.t,
+             s.d.x[0], s.d.x[1]);
+    cr_assert(strcmp(s.msg, expect) == 0, "expected '%s', got '%s'", expect, s.msg);
+    cr_assert(s.d.t >= 1e-3 && s.d.t < 2e-3 && s.d.x[0] < 0.0 && s.d.x[1] != s.d.x[0], "%s", s.msg);
+    vi_sim_free(&s);
+}
