@@ -1,6 +1,7 @@
 /* Unit tests of the simulation layer (vi_sim.h) that need no FMU: the state-payload check
  * (doc/model.md section 7.6) names the first bad field; a valid state passes. */
 #include <criterion/criterion.h>
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -672,5 +673,54 @@ Test(sim, solver_failure_message_gives_the_state)
              s.d.x[0], s.d.x[1]);
     cr_assert(strcmp(s.msg, expect) == 0, "expected '%s', got '%s'", expect, s.msg);
     cr_assert(s.d.t >= 1e-3 && s.d.t < 2e-3 && s.d.x[0] < 0.0 && s.d.x[1] != s.d.x[0], "%s", s.msg);
+    vi_sim_free(&s);
+}
+
+/* ---- guard bands across a change of mode ------------------------------------------------------ */
+
+/* The band of the free contact guard g = -delta armed at delta = 0 exactly: VI_GRAZE_ULPS times its
+ * change over one ulp of delta (the smallest subnormal), plus DBL_MIN. */
+static double band_at_contact(void) { return VI_GRAZE_ULPS * nextafter(0.0, 1.0) + DBL_MIN; }
+
+/* An event that changes the mode arms the new mode's guards afresh: a band the old mode's guard had
+ * (here set by hand on the contact guard of a Hertz drop) does not carry over to the free flight,
+ * whose contact guard starts at zero (delta snapped onto the surface) with the band of its rounding. */
+Test(sim, a_mode_change_at_an_event_arms_the_new_guards_afresh)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = -0.1;
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    cr_assert(s.d.M.mode == VI_Mode_elastic);
+    s.d.guard_band[0] = 1e-9; /* the separation comes 1e-9 m late: the band is part of the guard */
+    cr_assert(vi_sim_advance_until(&s, 0.01, 1) == VI_SIM_EVENT, "%s", s.msg);
+    cr_assert(s.d.M.mode == VI_Mode_free && s.d.x[0] == 0.0, "mode %d delta %g", s.d.M.mode, s.d.x[0]);
+    cr_assert(s.d.guard_band[0] == band_at_contact() && s.d.guard_band[1] == 0.0, "bands %g %g", s.d.guard_band[0],
+              s.d.guard_band[1]);
+    vi_sim_free(&s);
+}
+
+/* The same for an input change that changes the mode: a Hertz mass at rest under its load; the
+ * platform drops by exactly the static indentation (delta = 0) while F_ext = 2 W pulls the mass up:
+ * free, its contact guard at zero with the band of its rounding, not the band of 1 m left on the
+ * elastic mode's guard (which would hide every later contact). The mass is set at rest exactly, so
+ * that the force alone decides the mode (delta = 0, delta' = 0, F_hold = -W < 0: free). */
+Test(sim, a_mode_change_at_an_input_change_arms_the_new_guards_afresh)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    cr_assert(vi_sim_initialize(&s) == 0 && vi_sim_advance(&s, 1e-3) == VI_SIM_OK, "%s", s.msg);
+    cr_assert(s.d.M.mode == VI_Mode_elastic && s.d.x[0] > 0.0);
+    s.d.guard_band[0] = 1.0;
+    s.d.x[1] = 0.0; /* at rest exactly (the solver leaves a velocity of rounding size) */
+    s.d.in.yC_in = -s.d.x[0];
+    s.d.in.F_ext = 2.0 * s.d.M.W0;
+    s.d.inputs_changed = 1;
+    cr_assert(vi_sim_advance(&s, 1e-3 + 1e-6) == VI_SIM_OK, "%s", s.msg);
+    cr_assert(s.d.M.mode == VI_Mode_free && s.d.x[0] < 0.0, "mode %d delta %g", s.d.M.mode, s.d.x[0]);
+    cr_assert(s.d.guard_band[0] == band_at_contact() && s.d.guard_band[1] == 0.0, "bands %g %g", s.d.guard_band[0],
+              s.d.guard_band[1]);
     vi_sim_free(&s);
 }
