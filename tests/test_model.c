@@ -1272,3 +1272,25 @@ Test(model_check, guard_tolerance_bound_is_inclusive)
     char msg[512] = "";
     cr_assert(vi_model_check(&M, x, msg, sizeof msg) == -1 && strstr(msg, "mode 0 does not fit"), "%s", msg);
 }
+
+/* The breakpoint is the first time at which the rolling position lies on the piece after the kink:
+ * at the kink itself going forward (the piece to the right starts there), strictly beyond it going
+ * backward. Trough with its kink at x = 0; x0 = -+0.5 m, V = +-1 m/s: the kink is reached at t = 0.5 s,
+ * where x0 + V t is exactly 0. Forward: 0.5 s; backward: one ulp later (position -1e-16 m). */
+Test(rolling, breakpoint_lies_on_the_piece_after_the_kink)
+{
+    double x[] = {-10.0, 0.0, 10.0}, h[] = {1e-3, 0.0, 1e-3};
+    char msg[512];
+    vi_profile *prof = vi_profile_create(x, h, 3, 0.475, 0, "trough", msg, sizeof msg);
+    cr_assert(prof != NULL, "%s", msg);
+    vi_model M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
+    for (int dir = -1; dir <= 1; dir += 2) {
+        cr_assert(vi_model_set_rolling(&M, prof, dir, -0.5 * dir, msg, sizeof msg) == 0, "%s", msg);
+        cr_assert(vi_profile_next_kink(prof, -0.5 * dir, dir) == 0.0);
+        cr_assert(vi_model_rolling_position(&M, 0.5) == 0.0);
+        double tk = vi_model_next_breakpoint(&M, 0.0), expect = dir > 0 ? 0.5 : nextafter(0.5, 1.0);
+        cr_assert(tk == expect, "V = %d: breakpoint %.17g, expected %.17g", dir, tk, expect);
+        cr_assert(dir > 0 ? vi_model_rolling_position(&M, tk) == 0.0 : vi_model_rolling_position(&M, tk) < 0.0);
+    }
+    vi_profile_free(prof);
+}
