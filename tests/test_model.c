@@ -1294,3 +1294,53 @@ Test(rolling, breakpoint_lies_on_the_piece_after_the_kink)
     }
     vi_profile_free(prof);
 }
+
+/* Each ignored option alone gives its one warning (exact text), and the option where it is used gives
+ * none: moving_contact (Johnson uses it), continuous unloading (Johnson with a fixed contact point
+ * uses it), the printed yield formula (all but Hertz), v0 (a touching start), the rolling parameters
+ * V, x0, profile_periodic (each alone; with a profile_file they are used). Two at once are joined. */
+Test(model, each_ignored_option_warns_alone)
+{
+    const char *moving = "moving_contact = true is ignored: only the Johnson law has a moving contact point",
+               *unloading = "unloading = continuous is ignored: only Johnson with a fixed contact point unloads on eq. 4",
+               *printed = "yield_formula = printed is ignored by the Hertz law (it changes only the calculated F_Y, delta_Y)",
+               *v0 = "v0 is ignored by a static start (init = static)",
+               *rolling = "V, x0 and profile_periodic are ignored without a profile_file";
+    struct { int law, moving, unloading, formula, init; double v0, V, x0; int periodic; const char *file, *expect; } c[] = {
+        {VI_ContactModel_hertz, 1, 1, 1, 1, 0.0, 0.0, 0.0, 0, "", moving},
+        {VI_ContactModel_lepp, 1, 1, 1, 1, 0.0, 0.0, 0.0, 0, "", moving},
+        {VI_ContactModel_johnson, 1, 1, 1, 1, 0.0, 0.0, 0.0, 0, "", ""},
+        {VI_ContactModel_johnson, 0, 2, 1, 1, 0.0, 0.0, 0.0, 0, "", ""},
+        {VI_ContactModel_hertz, 0, 2, 1, 1, 0.0, 0.0, 0.0, 0, "", unloading},
+        {VI_ContactModel_lepp, 0, 2, 1, 1, 0.0, 0.0, 0.0, 0, "", unloading},
+        {VI_ContactModel_johnson, 1, 2, 1, 1, 0.0, 0.0, 0.0, 0, "", unloading},
+        {VI_ContactModel_hertz, 0, 1, 2, 1, 0.0, 0.0, 0.0, 0, "", printed},
+        {VI_ContactModel_lepp, 0, 1, 2, 1, 0.0, 0.0, 0.0, 0, "", ""},
+        {VI_ContactModel_johnson, 0, 1, 1, 1, 1e-4, 0.0, 0.0, 0, "", v0},
+        {VI_ContactModel_johnson, 0, 1, 1, 1, -2.0, 0.0, 0.0, 0, "", v0},
+        {VI_ContactModel_johnson, 0, 1, 1, 2, 1e-4, 0.0, 0.0, 0, "", ""},
+        {VI_ContactModel_johnson, 0, 1, 1, 1, 0.0, 1e-4, 0.0, 0, "", rolling},
+        {VI_ContactModel_johnson, 0, 1, 1, 1, 0.0, 0.0, 1e-4, 0, "", rolling},
+        {VI_ContactModel_johnson, 0, 1, 1, 1, 0.0, -5.0, -5.0, 0, "", rolling},
+        {VI_ContactModel_johnson, 0, 1, 1, 1, 0.0, 0.0, 0.0, 1, "", rolling},
+        {VI_ContactModel_johnson, 0, 1, 1, 1, 0.0, 1e-4, 1e-4, 1, "road.txt", ""},
+    };
+    for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+        vi_parameters p;
+        vi_parameters_default(&p);
+        p.contact_model = c[i].law, p.moving_contact = c[i].moving, p.unloading = c[i].unloading;
+        p.yield_formula = c[i].formula, p.init = c[i].init, p.v0 = c[i].v0, p.V = c[i].V, p.x0 = c[i].x0;
+        p.profile_periodic = c[i].periodic;
+        snprintf(p.profile_file, sizeof p.profile_file, "%s", c[i].file);
+        char msg[512];
+        memset(msg, 'x', sizeof msg);
+        int count = vi_model_option_warnings(&p, msg, sizeof msg);
+        cr_assert(count == (c[i].expect[0] != '\0') && strcmp(msg, c[i].expect) == 0, "case %zu: %d '%s'", i, count, msg);
+    }
+    vi_parameters p;
+    vi_parameters_default(&p);
+    p.contact_model = VI_ContactModel_hertz, p.yield_formula = VI_YieldFormula_printed, p.V = 1.0;
+    char msg[512], expect[512];
+    snprintf(expect, sizeof expect, "%s; %s", printed, rolling);
+    cr_assert(vi_model_option_warnings(&p, msg, sizeof msg) == 2 && strcmp(msg, expect) == 0, "%s", msg);
+}
