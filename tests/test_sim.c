@@ -724,3 +724,28 @@ Test(sim, a_mode_change_at_an_input_change_arms_the_new_guards_afresh)
               s.d.guard_band[1]);
     vi_sim_free(&s);
 }
+
+/* The importer's tolerance (0: none, par.rtol counts) lies in [1e-14, 0.01], both ends included; one
+ * ulp beyond either end is refused with the message naming the range. */
+Test(sim, experiment_tolerance_at_and_beyond_its_bounds)
+{
+    double in[] = {0.0, 1e-14, 1e-2}, out[] = {nextafter(1e-14, 0.0), nextafter(1e-2, 1.0), 5e-324};
+    for (int i = 0; i < 3; i++) {
+        vi_sim s;
+        vi_sim_init(&s, quiet, NULL);
+        s.d.tolerance = in[i];
+        cr_assert(vi_sim_prepare(&s) == 0, "tolerance %g: %s", in[i], s.msg);
+        vi_sim_free(&s);
+    }
+    for (int i = 0; i < 3; i++) {
+        vi_sim s;
+        vi_sim_init(&s, quiet, NULL);
+        s.d.tolerance = out[i];
+        cr_assert(vi_sim_prepare(&s) == -1, "tolerance %g accepted", out[i]);
+        char expect[256];
+        snprintf(expect, sizeof expect, "relative tolerance (the importer's: fmi2SetupExperiment, fmi3EnterInitializationMode) "
+                 "= %g: use a value in [1e-14, 0.01]", out[i]);
+        cr_assert(strcmp(s.msg, expect) == 0, "expected '%s', got '%s'", expect, s.msg);
+        vi_sim_free(&s);
+    }
+}
