@@ -1344,3 +1344,26 @@ Test(model, each_ignored_option_warns_alone)
     snprintf(expect, sizeof expect, "%s; %s", printed, rolling);
     cr_assert(vi_model_option_warnings(&p, msg, sizeof msg) == 2 && strcmp(msg, expect) == 0, "%s", msg);
 }
+
+/* The setup refuses parameters whose load or stiffness leave the doubles, naming E*, R*, F_Y, delta_Y:
+ * here only the load is infinite (P + m g = 1e308 + 1e300 kg 1e10 m/s^2), every stiffness is fine. A
+ * soft (E1 = E2 = 1e-6 Pa), weak (Y = 1e-10 Pa) material has stiffnesses and a yield force far below
+ * 1 and is accepted like any other. */
+Test(model, setup_refuses_an_infinite_load_and_accepts_tiny_stiffnesses)
+{
+    vi_parameters p;
+    vi_parameters_default(&p);
+    p.P = 1e308, p.m = 1e300, p.g = 1e10;
+    vi_model M = {0};
+    char msg[512], expect[512];
+    cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == -1);
+    cr_assert(isinf(M.W0) && isfinite(M.K) && M.K > 0.0 && isfinite(M.k_lin) && M.J.F_Y > 0.0);
+    snprintf(expect, sizeof expect, "the parameters give no finite positive contact stiffness or yield force (E* = %g Pa, "
+             "R* = %g m, F_Y = %g N, delta_Y = %g m)", M.J.E_star, M.J.R_star, M.J.F_Y, M.J.delta_Y);
+    cr_assert(strcmp(msg, expect) == 0, "expected '%s', got '%s'", expect, msg);
+    cr_assert(p.R2 == 0.0 && fabs(M.J.R_star - p.R1) <= 1e-15 * p.R1, "R* %g", M.J.R_star); /* against a plane: R* = R1 */
+    vi_parameters_default(&p);
+    p.E1 = p.E2 = 1e-6, p.Y = 1e-10;
+    cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(M.K < 1e-3 && M.J.F_Y < 1e-3 && M.k_lin < 1e-3, "K %g F_Y %g k_lin %g", M.K, M.J.F_Y, M.k_lin);
+}
