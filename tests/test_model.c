@@ -1367,3 +1367,53 @@ Test(model, setup_refuses_an_infinite_load_and_accepts_tiny_stiffnesses)
     cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
     cr_assert(M.K < 1e-3 && M.J.F_Y < 1e-3 && M.k_lin < 1e-3, "K %g F_Y %g k_lin %g", M.K, M.J.F_Y, M.k_lin);
 }
+
+/* The height of the attached profile at x = 5 m (trough of slope s0: about 5 s0). */
+static double profile_height_at_5(const vi_sim *s)
+{
+    double y[4];
+    cr_assert(s->d.M.profile == s->profile && s->profile != NULL);
+    vi_profile_eval(s->profile, 5.0, y);
+    return y[0];
+}
+
+/* The profile is read once and kept while file, R1 and periodicity stay those it was built for (a
+ * restore of such a state reads no file, even if the file changed meanwhile); a new R1 or periodicity
+ * reads the file again. Without a profile_file, or with one that cannot be read, there is none, and
+ * the simulation owns none (nor the name of one). */
+Test(rolling, profile_kept_for_the_same_file_radius_and_periodicity)
+{
+    vi_sim s;
+    rolling_sim(&s, 1e-4, 1.0, -0.01, 1e-8);
+    cr_assert(fabs(profile_height_at_5(&s) - 5e-4) <= 1e-6, "%g", profile_height_at_5(&s));
+    v_trough_file(2e-4); /* the file changes on disk */
+    cr_assert(vi_sim_restore(&s) == 0, "%s", s.msg);
+    cr_assert(fabs(profile_height_at_5(&s) - 5e-4) <= 1e-6, "reloaded: %g", profile_height_at_5(&s));
+    s.d.par.profile_periodic = 1; /* another periodicity: read again */
+    cr_assert(vi_sim_restore(&s) == 0, "%s", s.msg);
+    cr_assert(fabs(profile_height_at_5(&s) - 1e-3) <= 1e-6 && vi_profile_periodic(s.profile), "%g", profile_height_at_5(&s));
+    v_trough_file(3e-4);
+    s.d.par.profile_periodic = 2; /* periodic as well (any nonzero value): the same profile */
+    cr_assert(vi_sim_restore(&s) == 0, "%s", s.msg);
+    cr_assert(fabs(profile_height_at_5(&s) - 1e-3) <= 1e-6, "reloaded: %g", profile_height_at_5(&s));
+    s.d.par.R1 = 0.4; /* another radius: read again */
+    cr_assert(vi_sim_restore(&s) == 0, "%s", s.msg);
+    cr_assert(fabs(profile_height_at_5(&s) - 1.5e-3) <= 1e-6, "%g", profile_height_at_5(&s));
+    char file[sizeof s.d.par.profile_file];
+    memcpy(file, s.d.par.profile_file, sizeof file);
+    snprintf(s.d.par.profile_file, sizeof s.d.par.profile_file, "%.64s.missing", file); /* no such file: no profile */
+    cr_assert(vi_sim_restore(&s) == -1 && strstr(s.msg, ".missing"), "%s", s.msg);
+    cr_assert(s.profile == NULL && s.profile_key[0] == '\0');
+    memcpy(s.d.par.profile_file, file, sizeof file);
+    cr_assert(vi_sim_restore(&s) == 0, "%s", s.msg);
+    cr_assert(fabs(profile_height_at_5(&s) - 1.5e-3) <= 1e-6, "%g", profile_height_at_5(&s));
+    s.d.par.profile_file[0] = '\0'; /* none: the model rolls over nothing, the profile is released */
+    cr_assert(vi_sim_restore(&s) == 0, "%s", s.msg);
+    cr_assert(s.d.M.profile == NULL && s.profile == NULL && s.profile_key[0] == '\0');
+    snprintf(s.d.par.profile_file, sizeof s.d.par.profile_file, "%s", v_trough_file(1e-4)); /* and back */
+    cr_assert(vi_sim_restore(&s) == 0, "%s", s.msg);
+    cr_assert(fabs(profile_height_at_5(&s) - 5e-4) <= 1e-6, "%g", profile_height_at_5(&s));
+    vi_sim_free(&s);
+    cr_assert(s.profile == NULL);
+    remove(v_trough_file(1e-4));
+}
