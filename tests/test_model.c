@@ -1417,3 +1417,71 @@ Test(rolling, profile_kept_for_the_same_file_radius_and_periodicity)
     cr_assert(s.profile == NULL);
     remove(v_trough_file(1e-4));
 }
+
+/* The validity messages, value by value, and the bounds themselves: delta = 0.01 R* exactly, |a| = R*
+ * exactly and heights spanning exactly R1 are valid. The indentation is delta in contact, or the
+ * largest one delta_c when that is larger (unloading after yield), and 0 in free flight, whatever
+ * the radius; a velocity is no indentation. */
+Test(model, validity_messages_and_bounds)
+{
+    vi_parameters p;
+    vi_parameters_default(&p);
+    p.contact_model = VI_ContactModel_hertz;
+    p.R1 = 0.05; /* R* = 0.05 m: the limit 5e-4 m lies below 1e-3 m */
+    vi_model M = {0};
+    char msg[512], expect[512];
+    cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+    const double R = M.J.R_star, limit = 0.01 * R;
+    M.mode = VI_Mode_free;
+    double x[2] = {2.0 * limit, 1.0};
+    cr_assert(vi_model_validity(&M, 1e-4, 0.0, x, 0, msg, sizeof msg) == 0, "free: %s", msg);
+    cr_assert(!vi_model_indentation_invalid(&M, x));
+    M.mode = VI_Mode_elastic;
+    x[0] = 1e-5; /* in contact, moving at 1 m/s */
+    cr_assert(vi_model_validity(&M, 1e-4, 0.0, x, 0, msg, sizeof msg) == 0, "elastic: %s", msg);
+    cr_assert(!vi_model_indentation_invalid(&M, x));
+    x[0] = 0.1 * 0.1 * R;
+    cr_assert(vi_model_validity(&M, 1e-4, 0.0, x, 0, msg, sizeof msg) == 0, "at the limit: %s", msg);
+    cr_assert(!vi_model_indentation_invalid(&M, x));
+    x[0] = 2.0 * limit;
+    cr_assert(vi_model_indentation_invalid(&M, x));
+    cr_assert(vi_model_validity(&M, 1e-4, 0.25, x, 0, msg, sizeof msg) == VI_INVALID_INDENTATION);
+    snprintf(expect, sizeof expect, "t = 0.25 s: the indentation %g m exceeds 0.01 R* = %g m (contact radius sqrt(R* delta) "
+             "= %g m > 0.1 R*): the contact laws (paper eqs. 2-4) assume a contact radius small against R*, so the "
+             "results leave the model's range of validity", 2.0 * limit, limit, sqrt(2.0) * 0.1 * R);
+    cr_assert(strcmp(msg, expect) == 0, "expected '%s', got '%s'", expect, msg);
+    /* after yield: delta_c counts while unloading below it */
+    vi_model J = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
+    const double lj = 0.01 * J.J.R_star;
+    J.yielded = 1, J.mode = VI_Mode_unload;
+    J.U = vi_johnson_unload_curve(&J.J, VI_UNLOAD_PAPER, 1.5 * lj);
+    double xj[2] = {0.5 * lj, 0.0};
+    cr_assert(vi_model_indentation_invalid(&J, xj));
+    cr_assert(vi_model_validity(&J, 0.475, 1.0, xj, 0, msg, sizeof msg) == VI_INVALID_INDENTATION);
+    snprintf(expect, sizeof expect, "t = 1 s: the indentation %g m exceeds", 1.5 * lj);
+    cr_assert(strncmp(msg, expect, strlen(expect)) == 0, "expected '%s...', got '%s'", expect, msg);
+    /* the amplitude: |a| = R* is valid, either sign */
+    x[0] = 0.0;
+    M.a = R;
+    cr_assert(vi_model_validity(&M, 1e-4, 0.0, x, 0, msg, sizeof msg) == 0, "a = R*: %s", msg);
+    M.a = -2.0 * R;
+    cr_assert(vi_model_validity(&M, 1e-4, 3.0, x, 0, msg, sizeof msg) == VI_INVALID_AMPLITUDE);
+    snprintf(expect, sizeof expect, "t = 3 s: the excitation amplitude a = %g m exceeds R* = %g m: the contact laws (paper "
+             "eqs. 2-4) describe a local contact, with every displacement small against R*, so the results leave the "
+             "model's range of validity", -2.0 * R, R);
+    cr_assert(strcmp(msg, expect) == 0, "expected '%s', got '%s'", expect, msg);
+    /* the heights: spanning exactly R1 is valid */
+    M.a = 0.0;
+    const double xs[] = {0.0, 50.0, 100.0}, hs[] = {0.0, 0.475, 0.0};
+    vi_profile *prof = vi_profile_create(xs, hs, 3, 0.475, 0, "hill", msg, sizeof msg);
+    cr_assert(prof != NULL, "%s", msg);
+    cr_assert(vi_profile_height_span(prof) == 0.475);
+    cr_assert(vi_model_set_rolling(&M, prof, 1.0, 10.0, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(vi_model_validity(&M, 0.475, 0.0, x, 0, msg, sizeof msg) == 0, "span = R1: %s", msg);
+    cr_assert(vi_model_validity(&M, 0.25, 4.0, x, 0, msg, sizeof msg) == VI_INVALID_PROFILE);
+    snprintf(expect, sizeof expect, "t = 4 s: the heights of profile_file span 0.475 m, more than the rolling radius R1 = "
+             "0.25 m: rolling over a profile (paper Fig. 1b) assumes a roughness small against the wheel, so the results "
+             "leave the model's range of validity");
+    cr_assert(strcmp(msg, expect) == 0, "expected '%s', got '%s'", expect, msg);
+    vi_profile_free(prof);
+}
