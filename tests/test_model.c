@@ -1485,3 +1485,50 @@ Test(model, validity_messages_and_bounds)
     cr_assert(strcmp(msg, expect) == 0, "expected '%s', got '%s'", expect, msg);
     vi_profile_free(prof);
 }
+
+/* Rolling from a start time t0 = 2 s (position x0 at t0): the kink at x = 0 of the trough is reached
+ * at t0 + (0 - x0)/V, the end of the table at t0 + (x_end - x0)/V (closed forms: x0 = -+1 m, V = +-0.5
+ * m/s: 4 s and 24 s). Standing still (V = 0) there is no breakpoint; slow rolling (1 mm/s) has one. */
+Test(rolling, breakpoints_and_end_from_a_start_time_not_zero)
+{
+    double x[] = {-10.0, 0.0, 10.0}, h[] = {1e-3, 0.0, 1e-3};
+    char msg[512];
+    vi_profile *prof = vi_profile_create(x, h, 3, 0.475, 0, "trough", msg, sizeof msg);
+    cr_assert(prof != NULL, "%s", msg);
+    vi_parameters p;
+    vi_parameters_default(&p);
+    vi_model M = {0};
+    cr_assert(vi_model_setup(&M, &p, 2.0, msg, sizeof msg) == 0, "%s", msg);
+    for (int dir = -1; dir <= 1; dir += 2) {
+        cr_assert(vi_model_set_rolling(&M, prof, 0.5 * dir, -1.0 * dir, msg, sizeof msg) == 0, "%s", msg);
+        double tk = vi_model_next_breakpoint(&M, 2.0), expect = dir > 0 ? 4.0 : nextafter(4.0, 5.0);
+        cr_assert(tk == expect, "V = %g: breakpoint %.17g", 0.5 * dir, tk);
+        double end = vi_model_rolling_limit(&M, msg, sizeof msg);
+        cr_assert(fabs(end - 24.0) <= 1e-14 * 24.0, "V = %g: end %.17g", 0.5 * dir, end);
+        cr_assert(strstr(msg, dir > 0 ? "(x_last = 10 m)" : "(x_first = -10 m)"), "%s", msg);
+    }
+    cr_assert(vi_model_set_rolling(&M, prof, 0.0, -1.0, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(vi_model_next_breakpoint(&M, 2.0) == INFINITY);
+    cr_assert(vi_model_set_rolling(&M, prof, 1e-3, -1.0, msg, sizeof msg) == 0, "%s", msg);
+    double tk = vi_model_next_breakpoint(&M, 2.0);
+    cr_assert(fabs(tk - 1002.0) <= 1e-9, "%.17g", tk);
+    /* the start position: the ends of the table are on it, one ulp beyond is not (unless periodic) */
+    cr_assert(vi_model_set_rolling(&M, prof, 1.0, -10.0, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(vi_model_set_rolling(&M, prof, 1.0, 10.0, msg, sizeof msg) == 0, "%s", msg);
+    double beyond[] = {nextafter(-10.0, -11.0), nextafter(10.0, 11.0)};
+    for (int i = 0; i < 2; i++) {
+        M.x0 = 0.25;
+        cr_assert(vi_model_set_rolling(&M, prof, 1.0, beyond[i], msg, sizeof msg) == -1);
+        char expect[256];
+        snprintf(expect, sizeof expect, "x0 = %g m lies outside the profile [-10, 10] m (set profile_periodic to repeat it)",
+                 beyond[i]);
+        cr_assert(strcmp(msg, expect) == 0 && M.x0 == 0.25, "expected '%s', got '%s'", expect, msg);
+    }
+    vi_profile_free(prof);
+    prof = vi_profile_create(x, h, 3, 0.475, 1, "trough", msg, sizeof msg);
+    cr_assert(prof != NULL, "%s", msg);
+    cr_assert(vi_model_set_rolling(&M, prof, 1.0, 25.0, msg, sizeof msg) == 0 && M.x0 == 25.0 && M.V == 1.0, "%s", msg);
+    cr_assert(vi_model_set_rolling(&M, NULL, -2.0, 1e6, msg, sizeof msg) == 0 && M.profile == NULL && M.x0 == 1e6 &&
+              M.V == -2.0);
+    vi_profile_free(prof);
+}
