@@ -1,6 +1,7 @@
 /* Unit tests of the hybrid model (vi_model.h): initial states, mode choice, guards. Expected
  * values from closed forms (static equilibrium) and from the mode definitions of model.md. */
 #include <criterion/criterion.h>
+#include <float.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -1531,4 +1532,48 @@ Test(rolling, breakpoints_and_end_from_a_start_time_not_zero)
     cr_assert(vi_model_set_rolling(&M, NULL, -2.0, 1e6, msg, sizeof msg) == 0 && M.profile == NULL && M.x0 == 1e6 &&
               M.V == -2.0);
     vi_profile_free(prof);
+}
+
+static char kink_line[256];
+static void capture_events(void *env, int category, const char *fmt, ...)
+{
+    (void)env;
+    if (category != VI_LOG_EVENTS) return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(kink_line, sizeof kink_line, fmt, ap);
+    va_end(ap);
+}
+
+/* A mass without load riding the trough's slope at the platform's own velocity (free, delta = 0) is
+ * met by the platform at the kink (t = 10 ms: its velocity turns by 2 s0 V upward): the kink changes
+ * the mode to elastic, the loop stops there when asked, says so in the log, and arms the new mode's
+ * guards afresh (delta lies within rounding of 0: no band, or the band of its rounding), whatever band
+ * the free mode's guard had. */
+Test(rolling, a_kink_that_changes_the_mode)
+{
+    const double s0 = 1e-4, V = 1.0;
+    vi_sim s;
+    vi_sim_init(&s, capture_events, NULL);
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = -s0 * V;
+    snprintf(s.d.par.profile_file, sizeof s.d.par.profile_file, "%s", v_trough_file(s0));
+    s.d.par.V = V, s.d.par.x0 = -0.01;
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    double dyC;
+    vi_model_platform(&s.d.M, 0.0, &dyC, NULL);
+    cr_assert(s.d.M.mode == VI_Mode_free && dyC == -s0 * V, "mode %d, yC' = %.17g", s.d.M.mode, dyC);
+    s.d.guard_band[0] = 1.0;
+    kink_line[0] = '\0';
+    cr_assert(vi_sim_advance_until(&s, 0.02, 1) == VI_SIM_EVENT, "%s", s.msg);
+    cr_assert(s.d.M.mode == VI_Mode_elastic && fabs(s.d.t - 0.01) <= 1e-15 && fabs(s.d.x[0]) <= 1e-12,
+              "mode %d t %.17g delta %g", s.d.M.mode, s.d.t, s.d.x[0]);
+    double t;
+    int from, to;
+    cr_assert(sscanf(kink_line, "t = %lg s: profile kink, mode %d -> %d", &t, &from, &to) == 3 && t == s.d.t &&
+              from == VI_Mode_free && to == VI_Mode_elastic, "%s", kink_line);
+    cr_assert(s.d.guard_band[0] < 1e-300 && s.d.guard_band[1] == 0.0, "bands %g %g", s.d.guard_band[0],
+              s.d.guard_band[1]);
+    vi_sim_free(&s);
+    remove(v_trough_file(s0));
 }
