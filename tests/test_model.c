@@ -1577,3 +1577,82 @@ Test(rolling, a_kink_that_changes_the_mode)
     vi_sim_free(&s);
     remove(v_trough_file(s0));
 }
+
+/* The outputs of each law in its modes, group by group, against closed forms: the state as it is,
+ * the platform yC = yC_in + a (cos(w t) - 1) and y = yC - delta, the force of the mode, the memory
+ * (Johnson with a fixed contact point: the unloading curve of delta_c, or of delta while plastic, and
+ * W_plastic = the virgin curve's work to delta_c minus the unloading curve's energy; LEPP: delta_p, or
+ * delta - delta_Y while plastic, and W_plastic = F_Y delta_p; none otherwise: Rbar = R*), and the
+ * calculated parameters. */
+Test(model, outputs_of_each_law_and_mode)
+{
+    vi_model J = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 1e-4);
+    const double dY = J.J.delta_Y, t = 1.25e-4, w = J.omega;
+    J.yC_in = (vi_ramp){2e-5, 0.0, 0.0};
+    J.f_contact = 123.0;
+    J.n_impacts = 7;
+    const double yC = 2e-5 + 1e-4 * (cos(w * t) - 1.0);
+    /* Johnson, yielded, unloading at delta between delta_f and delta_c */
+    vi_model M = J;
+    M.yielded = 1, M.mode = VI_Mode_unload;
+    M.U = vi_johnson_unload_curve(&M.J, VI_UNLOAD_PAPER, 3.0 * dY);
+    double x[2] = {0.5 * (M.U.delta_f + M.U.delta_c), -0.5};
+    vi_outputs out;
+    memset(&out, 0, sizeof out);
+    vi_model_outputs(&M, t, x, VI_OUT_STATE | VI_OUT_PLATFORM | VI_OUT_FORCE | VI_OUT_MEMORY | VI_OUT_CALCULATED, &out);
+    cr_assert(out.delta == x[0] && out.v == -0.5 && out.contact == 1 && out.mode == VI_Mode_unload && out.n_impacts == 7);
+    cr_assert(fabs(out.yC - yC) <= 1e-18 && fabs(out.y - (yC - x[0])) <= 1e-18, "yC %.17g vs %.17g", out.yC, yC);
+    double Fu = M.U.Kbar * pow(x[0] - M.U.delta_f, 1.5);
+    cr_assert(fabs(out.F - Fu) <= 1e-12 * Fu, "F %g vs %g", out.F, Fu);
+    double W = vi_johnson_load_work(&M.J, 3.0 * dY) - vi_unload_energy(&M.U, 3.0 * dY);
+    cr_assert(out.delta_c == 3.0 * dY && out.delta_f == M.U.delta_f && out.Rbar == M.U.Rbar && out.delta_p == 0.0 &&
+              fabs(out.W_plastic - W) <= 1e-12 * W && W > 0.0, "memory %g %g %g %g", out.delta_c, out.delta_f, out.Rbar,
+              out.W_plastic);
+    cr_assert(out.E_star == M.J.E_star && out.R_star == M.J.R_star && out.F_Y == M.J.F_Y && out.delta_Y == dY &&
+              out.k_lin == M.k_lin && out.f_contact == 123.0);
+    /* plastic at 4 delta_Y: the memory is that of delta itself */
+    M.mode = VI_Mode_plastic;
+    x[0] = 4.0 * dY;
+    vi_model_outputs(&M, t, x, VI_OUT_FORCE | VI_OUT_MEMORY, &out);
+    vi_unload_curve U4 = vi_johnson_unload_curve(&M.J, VI_UNLOAD_PAPER, 4.0 * dY);
+    cr_assert(out.delta_c == 4.0 * dY && out.delta_f == U4.delta_f && out.Rbar == U4.Rbar, "%g %g", out.delta_c, out.Rbar);
+    cr_assert(fabs(out.F - vi_johnson_load(&M.J, 4.0 * dY)) <= 1e-12 * out.F);
+    /* stick: the holding force W + m yC'' (no load here: m yC'') */
+    M.mode = VI_Mode_stick;
+    x[0] = 3.0 * dY;
+    vi_model_outputs(&M, t, x, VI_OUT_FORCE, &out);
+    double hold = -M.m * 1e-4 * w * w * cos(w * t);
+    cr_assert(fabs(out.F - hold) <= 1e-12 * fabs(hold), "F %g vs %g", out.F, hold);
+    /* Johnson not yielded, and moving: no memory, Rbar = R*; free: no contact, no force */
+    vi_model V = J;
+    V.mode = VI_Mode_free;
+    double xf[2] = {-1e-3, 2.0};
+    out.delta_c = out.delta_f = out.delta_p = out.W_plastic = out.Rbar = -1.0;
+    vi_model_outputs(&V, t, xf, VI_OUT_STATE | VI_OUT_FORCE | VI_OUT_MEMORY, &out);
+    cr_assert(out.contact == 0 && out.mode == 0 && out.F == 0.0 && out.delta_c == 0.0 && out.delta_f == 0.0 &&
+              out.delta_p == 0.0 && out.W_plastic == 0.0 && out.Rbar == J.J.R_star);
+    vi_model Mv = setup(VI_ContactModel_johnson, 1, VI_Unloading_paper, 0.0, 0.0, 0.0);
+    Mv.mode = VI_Mode_plastic;
+    double xm[2] = {2.0 * dY, 0.0};
+    vi_model_outputs(&Mv, 0.0, xm, VI_OUT_MEMORY, &out);
+    cr_assert(out.delta_c == 0.0 && out.W_plastic == 0.0 && out.Rbar == Mv.J.R_star);
+    /* LEPP: elastic from the permanent set, plastic at F_Y with delta_p = delta - delta_Y */
+    vi_model L = setup(VI_ContactModel_lepp, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
+    L.delta_p = 0.5 * dY, L.mode = VI_Mode_elastic;
+    double xl[2] = {1.25 * dY, 0.0};
+    vi_model_outputs(&L, 0.0, xl, VI_OUT_FORCE | VI_OUT_MEMORY, &out);
+    cr_assert(fabs(out.F - L.k_lin * 0.75 * dY) <= 1e-12 * out.F && out.delta_p == 0.5 * dY &&
+              fabs(out.W_plastic - L.J.F_Y * 0.5 * dY) <= 1e-12 * out.W_plastic && out.delta_c == 0.0 &&
+              out.Rbar == L.J.R_star, "F %g W %g", out.F, out.W_plastic);
+    L.mode = VI_Mode_plastic;
+    xl[0] = 2.5 * dY;
+    vi_model_outputs(&L, 0.0, xl, VI_OUT_FORCE | VI_OUT_MEMORY, &out);
+    cr_assert(out.F == L.J.F_Y && fabs(out.delta_p - 1.5 * dY) <= 1e-15 * dY &&
+              fabs(out.W_plastic - L.J.F_Y * 1.5 * dY) <= 1e-12 * out.W_plastic, "F %g delta_p %g", out.F, out.delta_p);
+    /* Hertz: K delta^1.5 */
+    vi_model H = setup(VI_ContactModel_hertz, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
+    H.mode = VI_Mode_elastic;
+    double xh[2] = {3.0 * dY, 0.0};
+    vi_model_outputs(&H, 0.0, xh, VI_OUT_FORCE | VI_OUT_MEMORY, &out);
+    cr_assert(fabs(out.F - H.K * pow(3.0 * dY, 1.5)) <= 1e-12 * out.F && out.W_plastic == 0.0 && out.delta_p == 0.0);
+}
