@@ -3,6 +3,7 @@
 #include <criterion/criterion.h>
 #include <float.h>
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "vi_format.h"
@@ -754,4 +755,26 @@ Test(sim, experiment_tolerance_at_and_beyond_its_bounds)
         cr_assert(strcmp(s.msg, expect) == 0, "expected '%s', got '%s'", expect, s.msg);
         vi_sim_free(&s);
     }
+}
+
+/* Johnson pre-loaded by P = 1e300 N starts at an indentation where the plastic work is inf - inf: the
+ * initialization is refused naming that output and the start time (here 0.5 s); P = 1e30 N is fine. */
+Test(sim, initialization_refuses_outputs_beyond_the_doubles)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.P = 1e300;
+    s.d.t_start = 0.5;
+    cr_assert(vi_sim_prepare(&s) == -1, "accepted");
+    cr_assert(strncmp(s.msg, "W_plastic = ", 12) == 0 && isnan(atof(s.msg + 12)) &&
+              strstr(s.msg, " at t = 0.5 s: the parameters and inputs lead to values beyond the range of double") != NULL,
+              "%s", s.msg);
+    vi_sim_free(&s);
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.P = 1e30;
+    cr_assert(vi_sim_prepare(&s) == 0, "%s", s.msg);
+    vi_outputs out;
+    vi_sim_outputs(&s, &out);
+    cr_assert(isfinite(out.W_plastic) && out.W_plastic > 0.0, "W_plastic %g", out.W_plastic);
+    vi_sim_free(&s);
 }
