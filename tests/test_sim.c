@@ -778,3 +778,55 @@ Test(sim, initialization_refuses_outputs_beyond_the_doubles)
     cr_assert(isfinite(out.W_plastic) && out.W_plastic > 0.0, "W_plastic %g", out.W_plastic);
     vi_sim_free(&s);
 }
+
+/* F_mean is the impulse of the contact force over the last step divided by it: zero in free flight
+ * under gravity and a linearly growing pull F_ext (whose mean over the step is its midpoint value),
+ * and the force itself before any step. */
+Test(sim, mean_force_is_zero_in_free_flight_under_a_ramp)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    s.d.par.P = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = 10.0;
+    s.d.par.solver = VI_Solver_dop853, s.d.par.rtol = 1e-10; /* a polynomial motion: integrated to rounding */
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    vi_outputs out;
+    vi_sim_outputs(&s, &out);
+    cr_assert(out.F_mean == 0.0 && out.F == 0.0, "before any step: %g", out.F_mean);
+    cr_assert(vi_sim_advance(&s, 1e-3) == VI_SIM_OK, "%s", s.msg);
+    vi_sim_outputs(&s, &out);
+    double W = s.d.M.W0;
+    cr_assert(fabs(out.F_mean) <= 1e-9 * W, "gravity only: F_mean %g", out.F_mean);
+    s.d.in.F_ext = 100.0, s.d.din.F_ext = 2e4; /* 100 N growing at 20 kN/s */
+    s.d.inputs_changed = 1;
+    for (int k = 2; k <= 4; k++) {
+        cr_assert(vi_sim_advance(&s, 1e-3 * k) == VI_SIM_OK, "%s", s.msg);
+        s.out_valid = 0;
+        vi_sim_outputs(&s, &out);
+        cr_assert(s.d.M.mode == VI_Mode_free && fabs(out.F_mean) <= 1e-9 * W, "step %d: F_mean %g", k, out.F_mean);
+    }
+    vi_sim_free(&s);
+}
+
+/* k_contact is dF/ddelta of the mode: Hertz 1.5 K sqrt(delta); a sticking mass is held at delta_c
+ * between the branches and would unload on the unloading curve: 1.5 Kbar sqrt(delta_c - delta_f). */
+Test(sim, contact_stiffness_of_the_mode)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    double d = s.d.x[0], k = 1.5 * s.d.M.K * sqrt(d);
+    const vi_outputs *out = vi_sim_outputs_of(&s, VI_OUT_STIFFNESS);
+    cr_assert(s.d.M.mode == VI_Mode_elastic && fabs(out->k_contact - k) <= 1e-12 * k, "%g vs %g", out->k_contact, k);
+    vi_sim_free(&s);
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.yield_formula = VI_YieldFormula_printed; /* F_Y below the load: plastically pre-loaded, stick */
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    const vi_unload_curve *U = &s.d.M.U;
+    k = 1.5 * U->Kbar * sqrt(U->delta_c - U->delta_f);
+    out = vi_sim_outputs_of(&s, VI_OUT_STIFFNESS);
+    cr_assert(s.d.M.mode == VI_Mode_stick && fabs(out->k_contact - k) <= 1e-12 * k, "mode %d: %g vs %g", s.d.M.mode,
+              out->k_contact, k);
+    vi_sim_free(&s);
+}
