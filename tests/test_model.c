@@ -1656,3 +1656,59 @@ Test(model, outputs_of_each_law_and_mode)
     vi_model_outputs(&H, 0.0, xh, VI_OUT_FORCE | VI_OUT_MEMORY, &out);
     cr_assert(fabs(out.F - H.K * pow(3.0 * dY, 1.5)) <= 1e-12 * out.F && out.W_plastic == 0.0 && out.delta_p == 0.0);
 }
+
+/* The initial state starts from nothing, whatever the model held before (a re-initialization): no
+ * memory, no permanent set, no impacts, the mode chosen afresh. f_contact = sqrt(k/m)/(2 pi) with k the
+ * stiffness of small oscillations at the static load W (0 without a load pressing). */
+Test(model, initial_state_starts_from_nothing)
+{
+    int laws[] = {VI_ContactModel_hertz, VI_ContactModel_johnson, VI_ContactModel_lepp};
+    for (int i = 0; i < 3; i++) {
+        for (int init = VI_Init_static; init <= VI_Init_touching; init++) {
+            vi_model M = setup(laws[i], 0, VI_Unloading_paper, 40000.0, 9.81, 0.0);
+            M.mode = VI_Mode_stick, M.yielded = 1, M.delta_p = 1e-6, M.n_impacts = 5;
+            M.U = vi_johnson_unload_curve(&M.J, VI_UNLOAD_PAPER, 3.0 * M.J.delta_Y);
+            double x[2] = {1.0, 1.0};
+            vi_model_initial_state(&M, init, init == VI_Init_static ? 0.0 : 2.0, 0.0, x);
+            double W = M.W0, d = init == VI_Init_static ? (laws[i] == VI_ContactModel_lepp ? W / M.k_lin
+                                                                                          : pow(W / M.K, 2.0 / 3.0))
+                                                        : 0.0;
+            if (laws[i] == VI_ContactModel_johnson && init == VI_Init_static)
+                d = vi_johnson_load_indentation(&M.J, W); /* below yield here: the Hertz branch */
+            cr_assert(M.yielded == 0 && M.delta_p == 0.0 && M.n_impacts == 0 && M.U.delta_c == 0.0 && M.U.Rbar == 0.0 &&
+                      M.U.delta_r == 0.0 && M.U.delta_f == 0.0 && M.U.Kbar == 0.0, "law %d init %d", laws[i], init);
+            cr_assert(fabs(x[0] - d) <= 1e-12 * d, "law %d init %d: delta %.17g vs %.17g", laws[i], init, x[0], d);
+            cr_assert(init == VI_Init_static ? x[1] == 0.0 && M.mode == VI_Mode_elastic : x[1] == 2.0 && M.mode == VI_Mode_free,
+                      "law %d init %d: v %g mode %d", laws[i], init, x[1], M.mode);
+            double k = laws[i] == VI_ContactModel_lepp ? M.k_lin : 1.5 * M.K * sqrt(pow(W / M.K, 2.0 / 3.0));
+            double f = sqrt(k / M.m) / (2.0 * VI_PI);
+            cr_assert(fabs(M.f_contact - f) <= 1e-9 * f, "law %d: f_contact %.17g vs %.17g", laws[i], M.f_contact, f);
+        }
+        /* no load pressing (W = 0, and W < 0: pulled up): no static indentation, no resonance */
+        double loads[][2] = {{0.0, 0.0}, {-100.0, 0.0}};
+        for (int k = 0; k < 2; k++) {
+            vi_model M = setup(laws[i], 0, VI_Unloading_paper, loads[k][0], loads[k][1], 0.0);
+            double x[2];
+            vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
+            cr_assert(x[0] == 0.0 && M.f_contact == 0.0 && M.mode == VI_Mode_free, "law %d W %g: delta %g f %g mode %d", laws[i],
+                      M.W0, x[0], M.f_contact, M.mode);
+        }
+        /* a tiny load presses all the same */
+        vi_model M = setup(laws[i], 0, VI_Unloading_paper, 1e-4, 0.0, 0.0);
+        double x[2];
+        vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
+        cr_assert(x[0] > 0.0 && M.f_contact > 0.0, "law %d: delta %g f %g", laws[i], x[0], M.f_contact);
+    }
+    /* beyond yield (W = 1e7 N > F_Y): Johnson with a fixed contact point starts yielded; LEPP flows
+     * from the start (delta_Y, no memory); Johnson moving has none either */
+    vi_model J = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 1e7, 0.0, 0.0);
+    vi_model Jm = setup(VI_ContactModel_johnson, 1, VI_Unloading_paper, 1e7, 0.0, 0.0);
+    vi_model L = setup(VI_ContactModel_lepp, 0, VI_Unloading_paper, 1e7, 0.0, 0.0);
+    double x[2];
+    vi_model_initial_state(&J, VI_Init_static, 0.0, 0.0, x);
+    cr_assert(J.yielded == 1 && J.U.delta_c == x[0] && x[0] > J.J.delta_Y);
+    vi_model_initial_state(&Jm, VI_Init_static, 0.0, 0.0, x);
+    cr_assert(Jm.yielded == 0 && Jm.U.delta_c == 0.0 && x[0] > Jm.J.delta_Y);
+    vi_model_initial_state(&L, VI_Init_static, 0.0, 0.0, x);
+    cr_assert(L.yielded == 0 && L.U.delta_c == 0.0 && x[0] == L.J.delta_Y && L.delta_p == 0.0, "%g", x[0]);
+}
