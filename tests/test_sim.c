@@ -830,3 +830,38 @@ Test(sim, contact_stiffness_of_the_mode)
               out->k_contact, k);
     vi_sim_free(&s);
 }
+
+/* A restore replaces everything derived from the old state: the outputs read before are not served
+ * again; with the solver (co-simulation) the run goes on, without it (Model Exchange) there is none
+ * and the statistics are zero, as before any initialization. */
+Test(sim, restore_replaces_outputs_and_solver)
+{
+    vi_sim a, b;
+    running(&a);
+    running(&b);
+    cr_assert(vi_sim_advance(&b, 3e-3) == VI_SIM_OK, "%s", b.msg);
+    vi_outputs before, after, expect;
+    vi_sim_outputs(&b, &before);
+    vi_sim_outputs(&a, &expect);
+    cr_assert(before.y != expect.y && before.delta != expect.delta);
+    cr_assert(vi_sim_checkpoint(&a) == 0, "%s", a.msg);
+    b.d = a.d;
+    cr_assert(vi_sim_restore_without_solver(&b) == 0, "%s", b.msg);
+    vi_sim_outputs(&b, &after);
+    cr_assert(after.y == expect.y && after.delta == expect.delta && after.F == expect.F, "outputs of the old state");
+    vi_solver_stats st, zero;
+    memset(&zero, 0, sizeof zero);
+    vi_sim_statistics(&b, &st);
+    cr_assert(b.solver == NULL && memcmp(&st, &zero, sizeof st) == 0, "a solver after a restore without one");
+    cr_assert(vi_sim_restore(&b) == 0 && b.solver != NULL, "%s", b.msg);
+    cr_assert(vi_sim_advance(&a, 2e-3) == VI_SIM_OK && vi_sim_advance(&b, 2e-3) == VI_SIM_OK, "%s", b.msg);
+    cr_assert(a.d.x[0] == b.d.x[0] && a.d.x[1] == b.d.x[1], "the restored run differs");
+    vi_sim_statistics(&b, &st);
+    cr_assert(st.rhs_evals > 0);
+    vi_sim_free(&a), vi_sim_free(&b);
+    vi_sim_init(&a, quiet, NULL);
+    memset(&st, 0xff, sizeof st);
+    vi_sim_statistics(&a, &st);
+    cr_assert(memcmp(&st, &zero, sizeof st) == 0, "statistics before initialization");
+    cr_assert(vi_sim_checkpoint(&a) == 0, "%s", a.msg); /* nothing to keep yet */
+}
