@@ -1712,3 +1712,28 @@ Test(model, initial_state_starts_from_nothing)
     vi_model_initial_state(&L, VI_Init_static, 0.0, 0.0, x);
     cr_assert(L.yielded == 0 && L.U.delta_c == 0.0 && x[0] == L.J.delta_Y && L.delta_p == 0.0, "%g", x[0]);
 }
+
+/* Without load and speed the scales come from what the excitation moves: a w plus |V| times the
+ * profile's largest slope (a flat stretch between slopes 1e-4 at rest: 0 + 2 m/s 1e-4 = 2e-4 m/s,
+ * either direction of rolling; with a = 1e-6 m at 560 Hz as well, their sum); the length is the Hertz
+ * impact indentation at that speed. */
+Test(rolling, scales_from_the_rolling_speed)
+{
+    double x[] = {-10.0, 0.0, 1.0, 11.0}, h[] = {1e-3, 0.0, 0.0, 1e-3};
+    char msg[512];
+    vi_profile *prof = vi_profile_create(x, h, 4, 0.475, 0, "dip", msg, sizeof msg);
+    cr_assert(prof != NULL, "%s", msg);
+    cr_assert(fabs(vi_profile_max_slope(prof) - 1e-4) <= 1e-15, "%.17g", vi_profile_max_slope(prof));
+    for (int k = 0; k < 3; k++) {
+        double a = k == 2 ? 1e-6 : 0.0, V = k == 1 ? -2.0 : 2.0;
+        vi_model M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, a);
+        cr_assert(vi_model_set_rolling(&M, prof, V, 0.5, msg, sizeof msg) == 0, "%s", msg);
+        double s[2], L, Vs;
+        vi_model_initial_state(&M, VI_Init_touching, 0.0, 0.0, s);
+        vi_model_scales(&M, s, &L, &Vs);
+        double v = a * 2.0 * VI_PI * 560.0 + 2.0 * vi_profile_max_slope(prof);
+        double dv = pow(15.0 * M.m * v * v / (16.0 * M.J.E_star * sqrt(M.J.R_star)), 0.4);
+        cr_assert(fabs(L - dv) <= 1e-14 * dv, "case %d: L = %.17g vs %.17g", k, L, dv);
+    }
+    vi_profile_free(prof);
+}
