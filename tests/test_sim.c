@@ -865,3 +865,29 @@ Test(sim, restore_replaces_outputs_and_solver)
     cr_assert(memcmp(&st, &zero, sizeof st) == 0, "statistics before initialization");
     cr_assert(vi_sim_checkpoint(&a) == 0, "%s", a.msg); /* nothing to keep yet */
 }
+
+/* A disarmed guard (band > 0) is armed again (band 0) at the start of a step once it lies above its
+ * band, and only then: a mass flying off (contact guard 1 mm and growing, the other guard inactive at
+ * 1) with bands set by hand on one guard or the other. */
+Test(sim, a_guard_is_rearmed_once_above_its_band)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = 1.0;
+    cr_assert(vi_sim_initialize(&s) == 0 && vi_sim_advance(&s, 1e-3) == VI_SIM_OK, "%s", s.msg);
+    cr_assert(s.d.M.mode == VI_Mode_free && fabs(s.d.x[0] + 1e-3) <= 1e-12, "delta %g", s.d.x[0]);
+    struct { double band[2], after[2]; } c[] = {
+        {{1e-300, 0.0}, {0.0, 0.0}}, /* contact guard far above a tiny band: armed */
+        {{1.0, 0.0}, {1.0, 0.0}},    /* below its band of 1 m: stays disarmed */
+        {{0.0, 0.5}, {0.0, 0.0}},    /* the inactive guard (1) above its band: armed */
+        {{1.0, 0.5}, {1.0, 0.0}},    /* each guard on its own */
+    };
+    for (int i = 0; i < 4; i++) {
+        s.d.guard_band[0] = c[i].band[0], s.d.guard_band[1] = c[i].band[1];
+        cr_assert(vi_sim_advance(&s, s.d.t + 1e-4) == VI_SIM_OK, "%s", s.msg);
+        cr_assert(s.d.guard_band[0] == c[i].after[0] && s.d.guard_band[1] == c[i].after[1], "case %d: bands %g %g", i,
+                  s.d.guard_band[0], s.d.guard_band[1]);
+    }
+    vi_sim_free(&s);
+}
