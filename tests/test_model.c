@@ -1737,3 +1737,32 @@ Test(rolling, scales_from_the_rolling_speed)
     }
     vi_profile_free(prof);
 }
+
+/* At the end of a non-periodic profile the loop does not run; inputs that put delta beyond the
+ * doubles there (the platform thrown to +1.7e308 m, then to -1.7e308 m: delta = -inf) end the step in
+ * an error naming the time, not in a state reported as valid. */
+Test(rolling, a_state_beyond_the_doubles_at_the_end_of_the_profile_is_an_error)
+{
+    vi_sim s;
+    rolling_sim(&s, 1e-4, 1000.0, 9.0, 1e-6); /* the end at t = 1 ms */
+    char why[400];
+    double end = vi_model_rolling_limit(&s.d.M, why, sizeof why);
+    cr_assert(vi_sim_advance(&s, end) == VI_SIM_OK, "%s", s.msg);
+    s.d.in.yC_in = 1.7e308;
+    s.d.inputs_changed = 1;
+    cr_assert(vi_sim_advance(&s, end + 1e-6) == VI_SIM_DISCARD && s.d.t == end, "%s", s.msg);
+    s.d.in.yC_in = -1.7e308;
+    s.d.inputs_changed = 1;
+    int rc = vi_sim_advance(&s, end + 1e-6);
+    char expect[128];
+    snprintf(expect, sizeof expect, "the state is not finite at t = %.17g s", end);
+    cr_assert(rc == VI_SIM_ERROR && strcmp(s.msg, expect) == 0 && isinf(s.d.x[0]), "rc %d: %s", rc, s.msg);
+    vi_sim_free(&s);
+    rolling_sim(&s, 1e-4, 1000.0, 9.0, 1e-6); /* the velocity alone (set by hand: no input reaches it) */
+    cr_assert(vi_sim_advance(&s, end) == VI_SIM_OK, "%s", s.msg);
+    s.d.x[1] = NAN;
+    rc = vi_sim_advance(&s, end + 1e-6);
+    cr_assert(rc == VI_SIM_ERROR && strcmp(s.msg, expect) == 0, "rc %d: %s", rc, s.msg);
+    vi_sim_free(&s);
+    remove(v_trough_file(1e-4));
+}
