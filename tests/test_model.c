@@ -1766,3 +1766,25 @@ Test(rolling, a_state_beyond_the_doubles_at_the_end_of_the_profile_is_an_error)
     vi_sim_free(&s);
     remove(v_trough_file(1e-4));
 }
+
+/* A step that ends a few ulps before a kink: the next step starts within rounding of the kink, too
+ * close for the solver to step there; the kink is taken at once and the contact rings as usual (the
+ * ringing amplitude 2 s0 V / omega_c, linearised, as in kink_is_a_breakpoint_and_rings_the_contact). */
+Test(rolling, a_kink_within_rounding_of_the_step_start)
+{
+    const double s0 = 1e-4, V = 1.0;
+    vi_sim s;
+    rolling_sim(&s, s0, V, -0.01, 1e-10);
+    double tk = vi_model_next_breakpoint(&s.d.M, 0.0), ds = s.d.x[0], w = 2.0 * VI_PI * s.d.M.f_contact;
+    double t1 = nextafter(nextafter(nextafter(tk, 0.0), 0.0), 0.0);
+    cr_assert(vi_sim_advance(&s, t1) == VI_SIM_OK, "%s", s.msg);
+    double after = 0.0;
+    for (int k = 1; k <= 200; k++) {
+        cr_assert(vi_sim_advance(&s, tk + 5e-5 * k) == VI_SIM_OK, "k %d: %s", k, s.msg);
+        after = fmax(after, fabs(s.d.x[0] - ds));
+    }
+    double amp = 2.0 * s0 * V / w;
+    cr_assert(fabs(after - amp) <= 0.02 * amp, "ringing %g vs %g", after, amp);
+    vi_sim_free(&s);
+    remove(v_trough_file(s0));
+}
