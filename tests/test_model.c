@@ -1788,3 +1788,89 @@ Test(rolling, a_kink_within_rounding_of_the_step_start)
     vi_sim_free(&s);
     remove(v_trough_file(s0));
 }
+
+/* The guards of each mode against their closed forms (inactive ones at 1): free: contact - delta
+ * (Johnson after yield: delta_f; LEPP: delta_p); elastic: delta - contact and yield - delta (Hertz
+ * never yields); plastic: delta' = yC' - v, or delta - delta_Y for Johnson with a moving contact
+ * point; unloading: delta - delta_f, delta_c - delta; stick: F_load(delta_c) - F_hold and
+ * F_hold - F_unload(delta_c), with F_hold = W + m yC''. Platform: a = 0.1 mm at 560 Hz, t = 0.1 ms. */
+Test(model, guards_of_each_mode)
+{
+    const double t = 1e-4, P = 40000.0;
+    vi_model H = setup(VI_ContactModel_hertz, 0, VI_Unloading_paper, P, 0.0, 1e-4);
+    vi_model Y = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, P, 0.0, 1e-4);
+    vi_model Jm = setup(VI_ContactModel_johnson, 1, VI_Unloading_paper, P, 0.0, 1e-4);
+    vi_model L = setup(VI_ContactModel_lepp, 0, VI_Unloading_paper, P, 0.0, 1e-4);
+    const double dY = H.J.delta_Y, w = H.omega, dyC = -1e-4 * w * sin(w * t), ddyC = -1e-4 * w * w * cos(w * t);
+    Y.yielded = 1, Y.U = vi_johnson_unload_curve(&Y.J, VI_UNLOAD_PAPER, 3.0 * dY);
+    L.delta_p = 0.5 * dY;
+    const double d = 2.0 * dY, v = 0.3, df = Y.U.delta_f, dc = Y.U.delta_c;
+    const double F_hold = P + Y.m * ddyC;
+    struct { vi_model *M; int mode; double g0, g1; } c[] = {
+        {&H, VI_Mode_free, -d, 1.0},
+        {&Y, VI_Mode_free, df - d, 1.0},
+        {&L, VI_Mode_free, 0.5 * dY - d, 1.0},
+        {&H, VI_Mode_elastic, d, 1.0},
+        {&Jm, VI_Mode_elastic, d, dY - d},
+        {&L, VI_Mode_elastic, d - 0.5 * dY, 1.5 * dY - d},
+        {&Y, VI_Mode_plastic, dyC - v, 1.0},
+        {&L, VI_Mode_plastic, dyC - v, 1.0},
+        {&Jm, VI_Mode_plastic, d - dY, 1.0},
+        {&Y, VI_Mode_unload, d - df, dc - d},
+        {&Y, VI_Mode_stick, vi_johnson_load(&Y.J, dc) - F_hold, F_hold - vi_unload_force(&Y.U, dc)},
+    };
+    for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+        vi_model M = *c[i].M;
+        M.mode = c[i].mode;
+        double x[2] = {d, v}, g[VI_NGUARDS];
+        vi_model_guards(&M, t, x, g);
+        for (int k = 0; k < 2; k++) {
+            double e = k ? c[i].g1 : c[i].g0;
+            cr_assert(fabs(g[k] - e) <= 1e-12 * fmax(fabs(e), dY * 1e-3), "case %zu guard %d: %.17g vs %.17g", i, k, g[k],
+                      e);
+        }
+    }
+}
+
+/* The right-hand side: delta' = yC' - v and v' = (F - W(t))/m, W = P + m g - F_ext(t); sticking, the
+ * mass moves with the platform (delta' = 0, v' = yC''); the Jacobian's d v'/d delta is the mode's
+ * stiffness over m (0 free and sticking). */
+Test(model, right_hand_side_of_each_mode)
+{
+    const double t = 1e-4, P = 40000.0;
+    vi_model H = setup(VI_ContactModel_hertz, 0, VI_Unloading_paper, P, 9.81, 1e-4);
+    H.F_ext = (vi_ramp){100.0, 2e4, 0.0}; /* F_ext(t) = 100 N + 20 kN/s t */
+    const double dY = H.J.delta_Y, w = H.omega, m = H.m, dyC = -1e-4 * w * sin(w * t), ddyC = -1e-4 * w * w * cos(w * t);
+    const double W = P + m * 9.81 - (100.0 + 2e4 * t), d = 2.0 * dY, v = 0.3;
+    double x[2] = {d, v}, dx[2], j[4];
+    H.mode = VI_Mode_free;
+    vi_model_rhs(&H, t, x, dx);
+    vi_model_jacobian(&H, t, x, j);
+    cr_assert(fabs(dx[0] - (dyC - v)) <= 1e-15 && fabs(dx[1] + W / m) <= 1e-12 * W / m, "free: %g %g", dx[0], dx[1]);
+    cr_assert(j[0] == 0.0 && j[1] == -1.0 && j[2] == 0.0 && j[3] == 0.0);
+    H.mode = VI_Mode_elastic;
+    vi_model_rhs(&H, t, x, dx);
+    vi_model_jacobian(&H, t, x, j);
+    double F = H.K * pow(d, 1.5);
+    cr_assert(fabs(dx[0] - (dyC - v)) <= 1e-15 && fabs(dx[1] - (F - W) / m) <= 1e-12 * F / m, "elastic: %g", dx[1]);
+    cr_assert(j[1] == -1.0 && fabs(j[2] - 1.5 * H.K * sqrt(d) / m) <= 1e-12 * j[2], "jacobian %g", j[2]);
+    vi_model Y = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, P, 9.81, 1e-4);
+    Y.yielded = 1, Y.U = vi_johnson_unload_curve(&Y.J, VI_UNLOAD_PAPER, 3.0 * dY), Y.mode = VI_Mode_stick;
+    x[0] = Y.U.delta_c;
+    vi_model_rhs(&Y, t, x, dx);
+    vi_model_jacobian(&Y, t, x, j);
+    cr_assert(dx[0] == 0.0 && fabs(dx[1] - ddyC) <= 1e-12 * fabs(ddyC), "stick: %g %g", dx[0], dx[1]);
+    cr_assert(j[0] == 0.0 && j[1] == 0.0 && j[2] == 0.0 && j[3] == 0.0);
+    Y.mode = VI_Mode_unload;
+    x[0] = 0.5 * (Y.U.delta_f + Y.U.delta_c);
+    vi_model_jacobian(&Y, t, x, j);
+    double k = 1.5 * Y.U.Kbar * sqrt(x[0] - Y.U.delta_f);
+    cr_assert(j[1] == -1.0 && fabs(j[2] - k / m) <= 1e-12 * k / m, "unloading stiffness %g vs %g", j[2] * m, k);
+    vi_model L = setup(VI_ContactModel_lepp, 0, VI_Unloading_paper, P, 9.81, 1e-4);
+    L.mode = VI_Mode_plastic;
+    x[0] = 2.0 * dY;
+    vi_model_rhs(&L, t, x, dx);
+    vi_model_jacobian(&L, t, x, j);
+    double WL = P + m * 9.81;
+    cr_assert(fabs(dx[1] - (L.J.F_Y - WL) / m) <= 1e-12 * WL / m && j[2] == 0.0, "LEPP plastic: %g %g", dx[1], j[2]);
+}
