@@ -1711,6 +1711,14 @@ Test(model, initial_state_starts_from_nothing)
     cr_assert(Jm.yielded == 0 && Jm.U.delta_c == 0.0 && x[0] > Jm.J.delta_Y);
     vi_model_initial_state(&L, VI_Init_static, 0.0, 0.0, x);
     cr_assert(L.yielded == 0 && L.U.delta_c == 0.0 && x[0] == L.J.delta_Y && L.delta_p == 0.0, "%g", x[0]);
+    /* small oscillations there: on the unloading curve of the static indentation (fixed contact point),
+     * on the virgin curve (moving) */
+    double d = vi_johnson_load_indentation(&J.J, 1e7);
+    vi_unload_curve U = vi_johnson_unload_curve(&J.J, VI_UNLOAD_PAPER, d);
+    double k = 1.5 * U.Kbar * sqrt(d - U.delta_f), f = sqrt(k / J.m) / (2.0 * VI_PI);
+    cr_assert(fabs(J.f_contact - f) <= 1e-9 * f, "fixed: f_contact %.17g vs %.17g", J.f_contact, f);
+    k = vi_johnson_load_stiffness(&Jm.J, d), f = sqrt(k / Jm.m) / (2.0 * VI_PI);
+    cr_assert(fabs(Jm.f_contact - f) <= 1e-9 * f, "moving: f_contact %.17g vs %.17g", Jm.f_contact, f);
 }
 
 /* Without load and speed the scales come from what the excitation moves: a w plus |V| times the
