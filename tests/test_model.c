@@ -1882,3 +1882,43 @@ Test(model, right_hand_side_of_each_mode)
     double WL = P + m * 9.81;
     cr_assert(fabs(dx[1] - (L.J.F_Y - WL) / m) <= 1e-12 * WL / m && j[2] == 0.0, "LEPP plastic: %g %g", dx[1], j[2]);
 }
+
+/* An event puts the state exactly onto the surface of the guard that fired and chooses the mode from
+ * there (no platform motion, no load: the velocity decides; v < 0 moves into the platform). */
+Test(model, event_snaps_onto_the_fired_surface)
+{
+    vi_model H = setup(VI_ContactModel_hertz, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
+    vi_model J = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
+    vi_model Jm = setup(VI_ContactModel_johnson, 1, VI_Unloading_paper, 0.0, 0.0, 0.0);
+    vi_model L = setup(VI_ContactModel_lepp, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
+    vi_model Y = J;
+    const double dY = H.J.delta_Y;
+    L.delta_p = 0.5 * dY;
+    Y.yielded = 1, Y.U = vi_johnson_unload_curve(&Y.J, VI_UNLOAD_PAPER, 3.0 * dY);
+    const double df = Y.U.delta_f, dc = Y.U.delta_c;
+    struct { vi_model *M; int mode, fired; double d, v, snapped; int after; } c[] = {
+        {&H, VI_Mode_free, 0, 1e-12, -0.1, 0.0, VI_Mode_elastic},
+        {&H, VI_Mode_elastic, 0, -1e-12, 0.1, 0.0, VI_Mode_free},
+        {&L, VI_Mode_elastic, 0, 0.5 * dY - 1e-15, 0.1, 0.5 * dY, VI_Mode_free},
+        {&L, VI_Mode_elastic, 1, 1.5 * dY + 1e-15, -0.1, 1.5 * dY, VI_Mode_plastic},
+        {&J, VI_Mode_elastic, 1, dY * (1.0 + 1e-12), -0.1, dY, VI_Mode_plastic},
+        {&Jm, VI_Mode_plastic, 0, dY * (1.0 - 1e-12), 0.1, dY, VI_Mode_elastic},
+        {&Y, VI_Mode_unload, 0, df - 1e-15, 0.1, df, VI_Mode_free},
+        {&Y, VI_Mode_unload, 1, dc + 1e-15, -0.1, dc, VI_Mode_plastic},
+    };
+    for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+        vi_model M = *c[i].M;
+        M.mode = c[i].mode;
+        double x[2] = {c[i].d, c[i].v};
+        int mode = vi_model_event(&M, 0.0, x, c[i].fired);
+        cr_assert(x[0] == c[i].snapped && x[1] == c[i].v && mode == c[i].after && M.mode == mode,
+                  "case %zu: delta %.17g (surface %.17g), v %g, mode %d", i, x[0], c[i].snapped, x[1], mode);
+    }
+    /* the turning point of a plastic motion (fixed contact point): delta' = 0 (v = yC' = 0), the
+     * memory written down at delta, then unloading (no load holds it) */
+    vi_model M = Y;
+    M.mode = VI_Mode_plastic;
+    double x[2] = {4.0 * dY, 1e-9};
+    cr_assert(vi_model_event(&M, 0.0, x, 0) == VI_Mode_unload && x[1] == 0.0 && x[0] == 4.0 * dY && M.U.delta_c == 4.0 * dY,
+              "mode %d v %g delta_c %g", M.mode, x[1], M.U.delta_c);
+}
