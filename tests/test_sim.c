@@ -891,3 +891,49 @@ Test(sim, a_guard_is_rearmed_once_above_its_band)
     }
     vi_sim_free(&s);
 }
+
+/* An input set again to what its ramp already gives (the same value at this time and the same slope,
+ * and a and f unchanged) changes nothing and does not restart the solver; each of the six (yC_in, its
+ * slope, F_ext, its slope, a, f) changed alone restarts it once. A mass flying free (no load), a = 0.1
+ * mm at 100 Hz, yC_in ramping at 1 mm/s. */
+static void same_inputs_again(vi_sim *s)
+{
+    s->d.in.yC_in = vi_ramp_at(&s->d.M.yC_in, s->d.t), s->d.din.yC_in = s->d.M.yC_in.du;
+    s->d.in.F_ext = vi_ramp_at(&s->d.M.F_ext, s->d.t), s->d.din.F_ext = s->d.M.F_ext.du;
+    s->d.inputs_changed = 1;
+}
+
+Test(sim, only_a_changed_input_restarts_the_solver)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = 1.0;
+    s.d.par.a = 1e-4, s.d.par.f = 100.0;
+    s.d.din.yC_in = 1e-3;
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    double t = 0.0;
+    vi_solver_stats st;
+    cr_assert(vi_sim_advance(&s, t += 1e-3) == VI_SIM_OK, "%s", s.msg);
+    for (int k = 0; k < 6; k++) {
+        vi_sim_statistics(&s, &st);
+        long resets = st.resets;
+        same_inputs_again(&s);
+        cr_assert(vi_sim_advance(&s, t += 1e-3) == VI_SIM_OK, "%s", s.msg);
+        vi_sim_statistics(&s, &st);
+        cr_assert(st.resets == resets, "k %d: restarted for an unchanged input (%ld -> %ld)", k, resets, st.resets);
+        same_inputs_again(&s);
+        switch (k) {
+        case 0: s.d.in.yC_in += 1e-9; break;
+        case 1: s.d.din.yC_in = 2e-3; break;
+        case 2: s.d.in.F_ext = -1e-3; break;
+        case 3: s.d.din.F_ext = -1e-3; break;
+        case 4: s.d.par.a = 2e-4; break;
+        case 5: s.d.par.f = 101.0; break;
+        }
+        cr_assert(vi_sim_advance(&s, t += 1e-3) == VI_SIM_OK, "%s", s.msg);
+        vi_sim_statistics(&s, &st);
+        cr_assert(st.resets == resets + 1, "k %d: %ld -> %ld restarts", k, resets, st.resets);
+    }
+    vi_sim_free(&s);
+}
