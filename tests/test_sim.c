@@ -711,12 +711,12 @@ Test(sim, a_mode_change_at_an_event_arms_the_new_guards_afresh)
 /* The same for an input change that changes the mode: a Hertz mass at rest under its load; the
  * platform drops by exactly the static indentation (delta = 0) while F_ext = 2 W pulls the mass up:
  * free, its contact guard at zero with the band of its rounding, not the band of 1 m left on the
- * elastic mode's guard (which would hide every later contact). The mass is set at rest exactly, so
+ * elastic mode's guard (which would hide every later contact); the change is logged. The mass is set at rest exactly, so
  * that the force alone decides the mode (delta = 0, delta' = 0, F_hold = -W < 0: free). */
 Test(sim, a_mode_change_at_an_input_change_arms_the_new_guards_afresh)
 {
     vi_sim s;
-    vi_sim_init(&s, quiet, NULL);
+    vi_sim_init(&s, capture, NULL);
     s.d.par.contact_model = VI_ContactModel_hertz;
     cr_assert(vi_sim_initialize(&s) == 0 && vi_sim_advance(&s, 1e-3) == VI_SIM_OK, "%s", s.msg);
     cr_assert(s.d.M.mode == VI_Mode_elastic && s.d.x[0] > 0.0);
@@ -725,7 +725,10 @@ Test(sim, a_mode_change_at_an_input_change_arms_the_new_guards_afresh)
     s.d.in.yC_in = -s.d.x[0];
     s.d.in.F_ext = 2.0 * s.d.M.W0;
     s.d.inputs_changed = 1;
+    n_logged = 0, log_category = VI_LOG_EVENTS;
     cr_assert(vi_sim_advance(&s, 1e-3 + 1e-6) == VI_SIM_OK, "%s", s.msg);
+    cr_assert(n_logged == 1 && strcmp(logged[0], "t = 0.001 s: input change, mode 1 -> 0") == 0, "%d: %s", n_logged,
+              logged[0]);
     cr_assert(s.d.M.mode == VI_Mode_free && s.d.x[0] < 0.0, "mode %d delta %g", s.d.M.mode, s.d.x[0]);
     cr_assert(s.d.guard_band[0] == band_at_contact() && s.d.guard_band[1] == 0.0, "bands %g %g", s.d.guard_band[0],
               s.d.guard_band[1]);
