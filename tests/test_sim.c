@@ -940,3 +940,16 @@ Test(sim, only_a_changed_input_restarts_the_solver)
     }
     vi_sim_free(&s);
 }
+
+/* The Zeno rule's bound: an event VI_ZENO_ULPS ulps of time after the one before counts (the count
+ * grows by one), one ulp more does not (the count starts again); the ulp is that of the later time,
+ * negative times alike. */
+Test(sim, zeno_count_at_its_bound)
+{
+    double ulp = nextafter(1.0, 2.0) - 1.0; /* of times in [1, 2) */
+    cr_assert(vi_sim_zeno_count(5, 1.0, 1.0 + VI_ZENO_ULPS * ulp) == 6);
+    cr_assert(vi_sim_zeno_count(5, 1.0, 1.0 + (VI_ZENO_ULPS + 1.0) * ulp) == 0);
+    cr_assert(vi_sim_zeno_count(0, -1.5 - VI_ZENO_ULPS * ulp, -1.5) == 1);
+    cr_assert(vi_sim_zeno_count(0, -1.5 - (VI_ZENO_ULPS + 1.0) * ulp, -1.5) == 0);
+    cr_assert(vi_sim_zeno_count(63, 1.0, 1.0) == 64);
+}
