@@ -953,3 +953,19 @@ Test(sim, zeno_count_at_its_bound)
     cr_assert(vi_sim_zeno_count(0, -1.5 - (VI_ZENO_ULPS + 1.0) * ulp, -1.5) == 0);
     cr_assert(vi_sim_zeno_count(63, 1.0, 1.0) == 64);
 }
+
+/* A reset goes back to the defaults and frees the solver, keeping the resources folder and the logger;
+ * no folder (NULL) is the empty one. */
+Test(sim, reset_keeps_the_resources_folder)
+{
+    vi_sim s;
+    running(&s);
+    vi_sim_set_resources(&s, "/opt/fmu/resources");
+    s.d.par.m = 3.0;
+    vi_sim_reset(&s);
+    cr_assert(strcmp(s.resources, "/opt/fmu/resources") == 0, "'%s'", s.resources);
+    cr_assert(s.solver == NULL && s.d.par.m != 3.0 && s.d.initialized == 0 && s.log == quiet);
+    vi_sim_set_resources(&s, NULL);
+    cr_assert(s.resources[0] == '\0');
+    vi_sim_free(&s);
+}
