@@ -1922,3 +1922,47 @@ Test(model, event_snaps_onto_the_fired_surface)
     cr_assert(vi_model_event(&M, 0.0, x, 0) == VI_Mode_unload && x[1] == 0.0 && x[0] == 4.0 * dY && M.U.delta_c == 4.0 * dY,
               "mode %d v %g delta_c %g", M.mode, x[1], M.U.delta_c);
 }
+
+/* Johnson's mode choice (fixed contact point, no load, no platform motion: the velocity decides) and
+ * the memory it writes: below yield elastic; beyond it plastic, yielded, with the unloading curve of
+ * delta; pushed beyond delta_c, the curve of the new delta; between delta_f and delta_c unloading
+ * (moving in or out), below delta_f free; at a turning point on delta_c with the holding force between
+ * the branches stick for the paper's curve, never for the continuous one (no gap between them). */
+Test(model, johnson_mode_choice_and_memory)
+{
+    vi_model J = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
+    const double dY = J.J.delta_Y;
+    struct { int yielded; double d, v; int mode, yielded_after; double dc_after; } c[] = {
+        {0, 0.5, -0.1, VI_Mode_elastic, 0, 0.0},
+        {0, 0.5, 0.1, VI_Mode_elastic, 0, 0.0},
+        {0, 2.0, -0.1, VI_Mode_plastic, 1, 2.0},
+        {1, 4.0, -0.1, VI_Mode_plastic, 1, 4.0},
+        {1, 2.5, -0.1, VI_Mode_unload, 1, 3.0},
+        {1, 2.5, 0.1, VI_Mode_unload, 1, 3.0},
+        {1, 0.5, 0.1, VI_Mode_free, 1, 3.0},
+    };
+    for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+        vi_model M = J;
+        M.mode = VI_Mode_free;
+        if (c[i].yielded) M.yielded = 1, M.U = vi_johnson_unload_curve(&M.J, VI_UNLOAD_PAPER, 3.0 * dY);
+        double x[2] = {c[i].d * dY, c[i].v};
+        int mode = vi_model_resolve(&M, 0.0, x);
+        cr_assert(mode == c[i].mode && M.yielded == c[i].yielded_after && M.U.delta_c == c[i].dc_after * dY,
+                  "case %zu: mode %d yielded %d delta_c %g delta_Y", i, mode, M.yielded, M.U.delta_c / dY);
+        if (M.yielded) {
+            vi_unload_curve U = vi_johnson_unload_curve(&M.J, VI_UNLOAD_PAPER, M.U.delta_c);
+            cr_assert(M.U.Rbar == U.Rbar && M.U.delta_f == U.delta_f, "case %zu: not the curve of delta_c", i);
+        }
+    }
+    for (int variant = VI_UNLOAD_PAPER; variant <= VI_UNLOAD_CONTINUOUS; variant++) {
+        vi_model M = setup(VI_ContactModel_johnson, 0, variant, 0.0, 0.0, 0.0);
+        double dc = 3.0 * dY;
+        M.yielded = 1, M.U = vi_johnson_unload_curve(&M.J, variant, dc), M.mode = VI_Mode_plastic;
+        double Fl = vi_johnson_load(&M.J, dc), Fu = vi_unload_force(&M.U, dc);
+        M.F_ext = (vi_ramp){-(variant == VI_UNLOAD_PAPER ? 0.5 * (Fl + Fu) : 0.99 * Fl), 0.0, 0.0};
+        double x[2] = {dc, 0.0};
+        int expect = variant == VI_UNLOAD_PAPER ? VI_Mode_stick : VI_Mode_unload;
+        cr_assert(vi_model_resolve(&M, 0.0, x) == expect, "variant %d: mode %d (F_unload %g, F_load %g)", variant, M.mode,
+                  Fu, Fl);
+    }
+}
