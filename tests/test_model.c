@@ -1881,6 +1881,14 @@ Test(model, right_hand_side_of_each_mode)
     vi_model_jacobian(&L, t, x, j);
     double WL = P + m * 9.81;
     cr_assert(fabs(dx[1] - (L.J.F_Y - WL) / m) <= 1e-12 * WL / m && j[2] == 0.0, "LEPP plastic: %g %g", dx[1], j[2]);
+    /* LEPP elastic from its permanent set: no stiffness at delta_p itself (no force there), k_lin beyond */
+    L.mode = VI_Mode_elastic, L.delta_p = 0.5 * dY;
+    x[0] = 0.5 * dY;
+    vi_model_jacobian(&L, t, x, j);
+    cr_assert(j[2] == 0.0 && vi_model_force(&L, t, x) == 0.0, "at delta_p: %g", j[2]);
+    x[0] = nextafter(0.5 * dY, 1.0);
+    vi_model_jacobian(&L, t, x, j);
+    cr_assert(j[2] == L.k_lin / m, "beyond delta_p: %g", j[2]);
 }
 
 /* An event puts the state exactly onto the surface of the guard that fired and chooses the mode from
