@@ -1974,3 +1974,23 @@ Test(model, johnson_mode_choice_and_memory)
                   Fu, Fl);
     }
 }
+
+/* A stick guard that fired at the load limit leaves the tie to F_hold' = -F_ext' + m yC''' with yC''' =
+ * a w^3 sin(w t): against a rate of F_ext of half that jerk force the mass loads on (plastic), against
+ * one and a half times it stays (stick); the rate's magnitude, not its sign alone, decides. */
+Test(model, tie_at_the_load_limit_broken_by_the_jerk_against_the_load_rate)
+{
+    const double t = 1e-4;
+    for (int k = 0; k < 2; k++) {
+        vi_model M = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 1e-5);
+        const double w = M.omega, s = sin(w * t), c = cos(w * t), dc = 3.0 * M.J.delta_Y;
+        cr_assert(s > 0.3);
+        M.yielded = 1, M.U = vi_johnson_unload_curve(&M.J, VI_UNLOAD_PAPER, dc), M.mode = VI_Mode_stick;
+        M.W0 = vi_johnson_load(&M.J, dc) + M.m * 1e-5 * w * w * c; /* F_hold(t) = F_load(delta_c) */
+        double jerk = M.m * 1e-5 * w * w * w * s;
+        M.F_ext = (vi_ramp){0.0, (k ? 1.5 : 0.5) * jerk, t};
+        double x[2] = {dc, 0.0};
+        int mode = vi_model_event(&M, t, x, 0);
+        cr_assert(mode == (k ? VI_Mode_stick : VI_Mode_plastic), "F_ext' = %g m a w^3 sin: mode %d", k ? 1.5 : 0.5, mode);
+    }
+}
