@@ -969,3 +969,19 @@ Test(sim, reset_keeps_the_resources_folder)
     cr_assert(s.resources[0] == '\0');
     vi_sim_free(&s);
 }
+
+/* The outputs right after the initialization are those of the initial state (the check of their
+ * finiteness computes them all; none is left from before): a static Hertz start. */
+Test(sim, outputs_after_initialization_are_those_of_the_initial_state)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    vi_outputs out;
+    vi_sim_outputs(&s, &out);
+    double W = s.d.M.W0, d = pow(W / s.d.M.K, 2.0 / 3.0);
+    cr_assert(out.delta == s.d.x[0] && fabs(out.delta - d) <= 1e-12 * d && out.v == 0.0 && out.mode == VI_Mode_elastic &&
+              out.contact == 1 && fabs(out.F - W) <= 1e-12 * W, "delta %g v %g mode %d F %g", out.delta, out.v, out.mode, out.F);
+    vi_sim_free(&s);
+}
