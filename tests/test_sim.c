@@ -985,3 +985,24 @@ Test(sim, outputs_after_initialization_are_those_of_the_initial_state)
               out.contact == 1 && fabs(out.F - W) <= 1e-12 * W, "delta %g v %g mode %d F %g", out.delta, out.v, out.mode, out.F);
     vi_sim_free(&s);
 }
+
+/* A guard within rounding of zero (here delta = 1e-310 m in contact, far below the rounding noise of
+ * the contact guard) when an input changes gets the band of its rounding noise, VI_GRAZE_ULPS times its
+ * change over one ulp of delta (the smallest subnormal: no ulp of t or v moves it) plus DBL_MIN. */
+Test(sim, a_guard_within_rounding_of_zero_gets_the_band_of_its_noise)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = -0.1;
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    cr_assert(s.d.M.mode == VI_Mode_elastic && s.d.guard_band[0] == band_at_contact(), "band %g", s.d.guard_band[0]);
+    s.d.guard_band[0] = 0.0;
+    s.d.x[0] = 1e-310;
+    s.d.in.F_ext = 1.0;
+    s.d.inputs_changed = 1;
+    cr_assert(vi_sim_advance(&s, 1e-9) == VI_SIM_OK, "%s", s.msg);
+    cr_assert(s.d.M.mode == VI_Mode_elastic && s.d.guard_band[0] == band_at_contact() && s.d.guard_band[1] == 0.0,
+              "bands %g %g", s.d.guard_band[0], s.d.guard_band[1]);
+    vi_sim_free(&s);
+}
