@@ -988,7 +988,8 @@ Test(sim, outputs_after_initialization_are_those_of_the_initial_state)
 
 /* A guard within rounding of zero (here delta = 1e-310 m in contact, far below the rounding noise of
  * the contact guard) when an input changes gets the band of its rounding noise, VI_GRAZE_ULPS times its
- * change over one ulp of delta (the smallest subnormal: no ulp of t or v moves it) plus DBL_MIN. */
+ * change over one ulp of delta (the smallest subnormal: no ulp of t or v moves it) plus DBL_MIN; at
+ * exactly that noise too, one ulp above it not. */
 Test(sim, a_guard_within_rounding_of_zero_gets_the_band_of_its_noise)
 {
     vi_sim s;
@@ -1004,5 +1005,15 @@ Test(sim, a_guard_within_rounding_of_zero_gets_the_band_of_its_noise)
     cr_assert(vi_sim_advance(&s, 1e-9) == VI_SIM_OK, "%s", s.msg);
     cr_assert(s.d.M.mode == VI_Mode_elastic && s.d.guard_band[0] == band_at_contact() && s.d.guard_band[1] == 0.0,
               "bands %g %g", s.d.guard_band[0], s.d.guard_band[1]);
+    /* the bound: a guard exactly at its noise counts as zero, one ulp above it does not */
+    const double at[2] = {band_at_contact(), nextafter(band_at_contact(), 1.0)};
+    for (int k = 0; k < 2; k++) {
+        s.d.guard_band[0] = 0.0;
+        s.d.x[0] = at[k];
+        s.d.in.F_ext += 1.0;
+        s.d.inputs_changed = 1;
+        cr_assert(vi_sim_advance(&s, s.d.t + 1e-9) == VI_SIM_OK, "%s", s.msg);
+        cr_assert(s.d.guard_band[0] == (k ? 0.0 : band_at_contact()), "delta %g: band %g", at[k], s.d.guard_band[0]);
+    }
     vi_sim_free(&s);
 }
