@@ -1347,7 +1347,7 @@ Test(model, each_ignored_option_warns_alone)
 }
 
 /* The setup refuses parameters whose load or stiffness leave the doubles, naming E*, R*, F_Y, delta_Y:
- * here only the load is infinite (P + m g = 1e308 + 1e300 kg 1e10 m/s^2), every stiffness is fine. A
+ * an infinite load, a yield indentation beyond the doubles (k_lin = 0). First only the load is infinite (P + m g = 1e308 + 1e300 kg 1e10 m/s^2), every stiffness is fine. A
  * soft (E1 = E2 = 1e-6 Pa), weak (Y = 1e-10 Pa) material has stiffnesses and a yield force far below
  * 1 and is accepted like any other. */
 Test(model, setup_refuses_an_infinite_load_and_accepts_tiny_stiffnesses)
@@ -1363,6 +1363,16 @@ Test(model, setup_refuses_an_infinite_load_and_accepts_tiny_stiffnesses)
              "R* = %g m, F_Y = %g N, delta_Y = %g m)", M.J.E_star, M.J.R_star, M.J.F_Y, M.J.delta_Y);
     cr_assert(strcmp(msg, expect) == 0, "expected '%s', got '%s'", expect, msg);
     cr_assert(p.R2 == 0.0 && fabs(M.J.R_star - p.R1) <= 1e-15 * p.R1, "R* %g", M.J.R_star); /* against a plane: R* = R1 */
+    /* a yield force so far above the stiffness that delta_Y = (F_Y/K)^(2/3) overflows: k_lin = F_Y/delta_Y
+     * is 0 (E* = 1e-120 Pa, theta_Y Y = 1e-15 Pa: F_Y about 1e194 N, K about 1e-120) */
+    vi_parameters_default(&p);
+    p.E1 = p.E2 = 2e-120, p.nu1 = p.nu2 = 0.0, p.theta_Y = 1e-15, p.Y = 1.0;
+    cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == -1, "accepted: k_lin %g", M.k_lin);
+    cr_assert(isfinite(M.J.F_Y) && M.J.F_Y > 0.0 && M.K > 0.0 && isinf(M.J.delta_Y) && M.k_lin == 0.0, "F_Y %g K %g", M.J.F_Y,
+              M.K);
+    snprintf(expect, sizeof expect, "the parameters give no finite positive contact stiffness or yield force (E* = 1e-120 Pa, "
+             "R* = %g m, F_Y = %g N, delta_Y = inf m)", M.J.R_star, M.J.F_Y);
+    cr_assert(strcmp(msg, expect) == 0, "expected '%s', got '%s'", expect, msg);
     vi_parameters_default(&p);
     p.E1 = p.E2 = 1e-6, p.Y = 1e-10;
     cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
