@@ -1350,7 +1350,7 @@ Test(model, each_ignored_option_warns_alone)
  * an infinite load, a yield indentation beyond the doubles (k_lin = 0). First only the load is infinite (P + m g = 1e308 + 1e300 kg 1e10 m/s^2), every stiffness is fine. A
  * soft (E1 = E2 = 1e-6 Pa), weak (Y = 1e-10 Pa) material has stiffnesses and a yield force far below
  * 1 and is accepted like any other. */
-Test(model, setup_refuses_an_infinite_load_and_accepts_tiny_stiffnesses)
+Test(model, setup_refuses_values_beyond_the_doubles_and_accepts_tiny_stiffnesses)
 {
     vi_parameters p;
     vi_parameters_default(&p);
