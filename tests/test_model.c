@@ -2006,8 +2006,8 @@ Test(model, tie_at_the_load_limit_broken_by_the_jerk_against_the_load_rate)
 }
 
 /* Rolling, the jerk of the platform is V^3 yb''' (here on the circular ramp of a step, V = 3 m/s): a
- * tie at the load limit is broken by F_hold' = -F_ext' + m V^3 yb''' against a rate of F_ext of half
- * that jerk force (loads on if it is positive, stays otherwise). */
+ * tie at the load limit is broken by F_hold' = -F_ext' + m V^3 yb''' against a rate of F_ext of nine
+ * tenths of that jerk force (loads on if it is positive, stays otherwise). */
 Test(rolling, tie_at_the_load_limit_broken_by_the_profile_jerk)
 {
     double xs[] = {-1.0, 0.0, 1e-9, 1.0}, hs[] = {0.0, 0.0, 0.01, 0.01};
@@ -2022,7 +2022,7 @@ Test(rolling, tie_at_the_load_limit_broken_by_the_profile_jerk)
     cr_assert(fabs(b[3]) > 1.0, "yb''' = %g", b[3]);
     M.yielded = 1, M.U = vi_johnson_unload_curve(&M.J, VI_UNLOAD_PAPER, dc), M.mode = VI_Mode_stick;
     M.W0 = vi_johnson_load(&M.J, dc) - M.m * V * V * b[2]; /* F_hold(t) = F_load(delta_c) */
-    M.F_ext = (vi_ramp){0.0, 0.5 * M.m * V * V * V * b[3], t};
+    M.F_ext = (vi_ramp){0.0, 0.9 * M.m * V * V * V * b[3], t};
     double x[2] = {dc, 0.0};
     int mode = vi_model_event(&M, t, x, 0);
     cr_assert(mode == (b[3] > 0.0 ? VI_Mode_plastic : VI_Mode_stick), "yb''' = %g: mode %d", b[3], mode);
