@@ -1,9 +1,12 @@
 /* Unit tests of the simulation layer (vi_sim.h) that need no FMU: the state-payload check
  * (doc/model.md section 7.6) names the first bad field; a valid state passes. */
 #include <criterion/criterion.h>
+#include <float.h>
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
+#include "vi_format.h"
 #include "vi_sim.h"
 
 #include <stdarg.h>
@@ -447,7 +450,7 @@ Test(sim, a_restored_state_is_checked_for_every_cause_of_validity)
 
 /* A profile needs a body of positive radius: with R1 = 0 (the variable table's range refuses it at
  * the FMI level; vi_sim's callers may set it) the initialization fails naming R1, before the table
- * is read. */
+ * is read; any positive radius will do. */
 Test(sim, a_profile_needs_a_positive_body_radius)
 {
     char path[64];
@@ -461,7 +464,556 @@ Test(sim, a_profile_needs_a_positive_body_radius)
     snprintf(s.d.par.profile_file, sizeof s.d.par.profile_file, "%s", path);
     s.d.par.V = 1.0, s.d.par.x0 = 0.5, s.d.par.R1 = 0.0, s.d.par.R2 = 0.1; /* R* from R2 alone */
     int rc = vi_sim_initialize(&s);
-    remove(path);
     cr_assert(rc < 0 && strstr(s.msg, "rolling needs a body radius R1 > 0 (R1 = 0 m)"), "%s", s.msg);
+    vi_sim_free(&s);
+    vi_sim_init(&s, quiet, NULL); /* a small wheel (0.1 mm) rolls like any other */
+    snprintf(s.d.par.profile_file, sizeof s.d.par.profile_file, "%s", path);
+    s.d.par.V = 1.0, s.d.par.x0 = 0.5, s.d.par.R1 = 1e-4;
+    rc = vi_sim_initialize(&s);
+    remove(path);
+    cr_assert(rc == 0 && s.d.M.profile != NULL, "%s", s.msg);
+    vi_sim_free(&s);
+}
+
+/* ---- the state-payload check, rule by rule ------------------------------------------------------ */
+
+/* The check refuses d with exactly the message fmt (printf-formatted with the spoiled values). */
+static void refused_as(const vi_sim_data *d, int surfaces, const char *fmt, ...) VI_PRINTF_FORMAT(3, 4);
+static void refused_as(const vi_sim_data *d, int surfaces, const char *fmt, ...)
+{
+    char expect[512], msg[512] = "";
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(expect, sizeof expect, fmt, ap);
+    va_end(ap);
+    int rc = surfaces ? vi_sim_data_check(d, msg, sizeof msg) : vi_sim_data_check_between_events(d, msg, sizeof msg);
+    cr_assert(rc == -1, "accepted (rc %d); expected: %s", rc, expect);
+    cr_assert(strcmp(msg, expect) == 0, "expected '%s', got '%s'", expect, msg);
+}
+
+static void passes(const vi_sim_data *d, int surfaces, const char *what)
+{
+    char msg[512] = "";
+    int rc = surfaces ? vi_sim_data_check(d, msg, sizeof msg) : vi_sim_data_check_between_events(d, msg, sizeof msg);
+    cr_assert(rc == 0, "%s: rc %d: %s", what, rc, msg);
+}
+
+/* Each rule of the payload broken alone (values at and just beyond its bounds), with its message;
+ * the values a rule allows, at its bounds, pass. */
+Test(sim, data_check_each_rule_alone_with_its_message)
+{
+    vi_sim s;
+    running(&s);
+    const vi_sim_data ok = s.d;
+    vi_sim_data d;
+    passes(&ok, 1, "running");
+    d = ok, d.inputs_changed = 1;
+    passes(&d, 1, "inputs changed");
+    d = ok, d.inputs_changed = 2;
+    refused_as(&d, 1, "inputs_changed = 2 is not 0 or 1");
+    d = ok, d.inputs_changed = -1;
+    refused_as(&d, 1, "inputs_changed = -1 is not 0 or 1");
+    d = ok, d.t_start = INFINITY;
+    refused_as(&d, 1, "t_start = inf is not finite");
+    d = ok, d.t_start = NAN;
+    refused_as(&d, 1, "t_start = nan is not finite");
+    double tolerances_in[] = {0.0, 1e-14, 1e-2}, tolerances_out[] = {nextafter(1e-14, 0.0), nextafter(1e-2, 1.0), -1e-3,
+                                                                      NAN};
+    for (int i = 0; i < 3; i++) {
+        d = ok, d.tolerance = tolerances_in[i];
+        passes(&d, 1, "tolerance in range");
+    }
+    for (int i = 0; i < 4; i++) {
+        d = ok, d.tolerance = tolerances_out[i];
+        refused_as(&d, 1, "tolerance = %g is neither 0 nor in [1e-14, 0.01]", tolerances_out[i]);
+    }
+    d = ok, d.t = NAN;
+    refused_as(&d, 1, "t = nan is not finite or before t_start = 0");
+    d = ok, d.t = -1e-300;
+    refused_as(&d, 1, "t = -1e-300 is not finite or before t_start = 0");
+    d = ok, d.t_start = d.step_t0 = d.t; /* at the start itself */
+    passes(&d, 1, "t = t_start");
+    d = ok, d.x[0] = NAN;
+    refused_as(&d, 1, "x[0] = nan is not finite");
+    d = ok, d.x[1] = -INFINITY;
+    refused_as(&d, 1, "x[1] = -inf is not finite");
+    for (int i = 0; i < 2; i++) {
+        double bad[] = {NAN, INFINITY, -1e-300};
+        for (int k = 0; k < 3; k++) {
+            d = ok, d.atol[i] = bad[k];
+            refused_as(&d, 1, "atol[%d] = %g is not finite and >= 0", i, bad[k]);
+        }
+        d = ok, d.atol[i] = 0.0;
+        passes(&d, 1, "atol = 0");
+    }
+    d = ok, d.n_events = -1;
+    refused_as(&d, 1, "n_events = -1 is negative");
+    d = ok, d.n_events = 0;
+    passes(&d, 1, "no events");
+    d = ok, d.initialized = 2;
+    refused_as(&d, 1, "initialized = 2 is not 0 or 1");
+    d = ok, d.initialized = -1;
+    refused_as(&d, 1, "initialized = -1 is not 0 or 1");
+    d = ok, d.step_t0 = NAN;
+    refused_as(&d, 1, "step_t0 = nan, step_v0 = %g: not finite or after t", ok.step_v0);
+    d = ok, d.step_t0 = nextafter(ok.t, INFINITY);
+    refused_as(&d, 1, "step_t0 = %g, step_v0 = %g: not finite or after t", d.step_t0, ok.step_v0);
+    d = ok, d.step_v0 = NAN;
+    refused_as(&d, 1, "step_t0 = %g, step_v0 = nan: not finite or after t", ok.step_t0);
+    d = ok, d.step_t0 = ok.t;
+    passes(&d, 1, "a step of zero length");
+    for (int i = 0; i < VI_NGUARDS; i++) {
+        double bad[] = {NAN, INFINITY, -1e-300};
+        for (int k = 0; k < 3; k++) {
+            d = ok, d.guard_band[i] = bad[k];
+            refused_as(&d, 1, "guard_band[%d] = %g is not finite and >= 0", i, bad[k]);
+        }
+        d = ok, d.guard_band[i] = 1e-12; /* a disarmed guard's band is tiny */
+        passes(&d, 1, "a small band");
+    }
+    /* the model's own check follows */
+    d = ok, d.M.mode = 9;
+    refused_as(&d, 1, "mode = 9 is not in 0..4");
+    vi_sim_free(&s);
+}
+
+/* The one-step continuation is checked only where it is in use: a co-simulation state of the one-step
+ * method (dop853, or auto while not on BDF); never for a CVODE method (BDF, Adams), never between
+ * events (Model Exchange), never before initialization. */
+Test(sim, data_check_looks_at_the_one_step_continuation_only_where_it_is_used)
+{
+    int solvers[] = {VI_Solver_bdf, VI_Solver_adams, VI_Solver_dop853};
+    for (int i = 0; i < 3; i++) {
+        vi_sim s;
+        vi_sim_init(&s, quiet, NULL);
+        s.d.par.solver = solvers[i];
+        s.d.par.a = 1e-4;
+        cr_assert(vi_sim_initialize(&s) == 0 && vi_sim_advance(&s, 1e-3) == VI_SIM_OK, "%s", s.msg);
+        vi_sim_data d = s.d;
+        d.ode.h = 0.0;
+        d.ode.t = NAN;
+        if (solvers[i] == VI_Solver_dop853) {
+            char msg[512] = "";
+            cr_assert(vi_sim_data_check(&d, msg, sizeof msg) == -1 && strstr(msg, "ode."), "%s", msg);
+        } else {
+            passes(&d, 1, "a CVODE state ignores the one-step continuation");
+        }
+        passes(&d, 0, "between events");
+        d.initialized = 0;
+        passes(&d, 1, "before initialization");
+        vi_sim_free(&s);
+    }
+}
+
+/* ---- what the log messages of the loop report ----------------------------------------------------- */
+
+static char logged[8][512];
+static int n_logged, log_category;
+static void capture(void *env, int category, const char *fmt, ...)
+{
+    (void)env;
+    if (category != log_category || n_logged >= 8) return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(logged[n_logged++], sizeof logged[0], fmt, ap);
+    va_end(ap);
+}
+
+/* A Hertz drop (P = g = 0, touching, moving in at 0.1 m/s) separates once, after the Hertz contact
+ * time t_c = 2 (delta_max/v0) sqrt(pi) Gamma(7/5)/Gamma(9/10), delta_max = (15 m v0^2/(16 E* sqrt(R*)))^(2/5),
+ * at delta = 0 (snapped onto the contact surface) and v = +v0 (elastic: the energy comes back). The
+ * event's log line says so, value by value; the solver line gives atol = rtol (delta_max, delta_max w). */
+Test(sim, event_and_solver_log_lines_report_the_values)
+{
+    vi_sim s;
+    n_logged = 0, log_category = VI_LOG_SOLVER;
+    vi_sim_init(&s, capture, NULL);
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = -0.1;
+    s.d.par.solver = VI_Solver_dop853;
+    s.d.par.rtol = 1e-10;
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    const vi_model *M = &s.d.M;
+    double v0 = 0.1, dmax = pow(15.0 * M->m * v0 * v0 / (16.0 * M->J.E_star * sqrt(M->J.R_star)), 0.4);
+    double w = sqrt(1.5 * M->K * sqrt(dmax) / M->m); /* the virgin stiffness at delta_max over m */
+    cr_assert(n_logged == 1, "%d solver lines", n_logged);
+    const char *name = vi_solver_method_name(VI_Solver_dop853), *rest = logged[0] + strlen(name);
+    double rtol, atol0, atol1, L, V;
+    cr_assert(strncmp(logged[0], name, strlen(name)) == 0, "%s", logged[0]);
+    cr_assert(sscanf(rest, ", rtol %lg, atol %lg m and %lg m/s (scales %lg m, %lg m/s)", &rtol, &atol0, &atol1, &L, &V) == 5,
+              "%s", logged[0]);
+    cr_assert(rtol == 1e-10, "%s", logged[0]);
+    cr_assert(fabs(L - dmax) <= 1e-5 * dmax && fabs(V - dmax * w) <= 1e-5 * dmax * w, "%s (%g m, %g m/s)", logged[0], dmax,
+              dmax * w);
+    cr_assert(fabs(atol0 - 1e-10 * dmax) <= 1e-5 * 1e-10 * dmax && fabs(atol1 - 1e-10 * dmax * w) <= 1e-5 * 1e-10 * dmax * w,
+              "%s", logged[0]);
+    n_logged = 0, log_category = VI_LOG_EVENTS;
+    cr_assert(vi_sim_advance(&s, 0.01) == VI_SIM_OK, "%s", s.msg); /* t_c = 2.2 ms */
+    cr_assert(n_logged == 1, "%d event lines, %ld events, mode %d, t %g", n_logged, s.d.n_events, s.d.M.mode, s.d.t);
+    double t, delta, v;
+    int guard, of_mode, from, to;
+    cr_assert(sscanf(logged[0], "t = %lg s: guard %d of mode %d, mode %d -> %d, delta = %lg m, v = %lg m/s", &t, &guard,
+                     &of_mode, &from, &to, &delta, &v) == 7, "%s", logged[0]);
+    double tc = 2.0 * dmax / v0 * sqrt(VI_PI) * tgamma(1.4) / tgamma(0.9);
+    cr_assert(fabs(t - tc) <= 1e-6 * tc, "%s: t_c = %.9g s", logged[0], tc);
+    cr_assert(guard == 0 && of_mode == VI_Mode_elastic && from == VI_Mode_elastic && to == VI_Mode_free, "%s", logged[0]);
+    cr_assert(delta == 0.0 && fabs(v - v0) <= 1e-7, "%s", logged[0]);
+    vi_sim_free(&s);
+}
+
+/* A solver failure names the time and the state it stopped at: a mass of 1e-10 kg flying free at
+ * 1 m/s, then pushed by F_ext = -1e300 N (an acceleration beyond the doubles). */
+Test(sim, solver_failure_message_gives_the_state)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.solver = VI_Solver_dop853;
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    s.d.par.m = 1e-10, s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = 1.0;
+    cr_assert(vi_sim_initialize(&s) == 0 && vi_sim_advance(&s, 1e-3) == VI_SIM_OK, "%s", s.msg);
+    cr_assert(fabs(s.d.x[0] + 1e-3) <= 1e-12 && s.d.x[1] == 1.0, "%g %g", s.d.x[0], s.d.x[1]);
+    s.d.in.F_ext = -1e300;
+    s.d.inputs_changed = 1;
+    cr_assert(vi_sim_advance(&s, 2e-3) == VI_SIM_ERROR, "%s", s.msg);
+    char expect[512];
+    snprintf(expect, sizeof expect, "the solver failed near t = %.17g s (mode 0, delta = %g m, v = %g m/s)", s.d.t,
+             s.d.x[0], s.d.x[1]);
+    cr_assert(strcmp(s.msg, expect) == 0, "expected '%s', got '%s'", expect, s.msg);
+    cr_assert(s.d.t >= 1e-3 && s.d.t < 2e-3 && s.d.x[0] < 0.0 && s.d.x[1] != s.d.x[0], "%s", s.msg);
+    vi_sim_free(&s);
+}
+
+/* ---- guard bands across a change of mode ------------------------------------------------------ */
+
+/* The band of the free contact guard g = -delta armed at delta = 0 exactly: VI_GRAZE_ULPS times its
+ * change over one ulp of delta (the smallest subnormal), plus DBL_MIN. */
+static double band_at_contact(void) { return VI_GRAZE_ULPS * nextafter(0.0, 1.0) + DBL_MIN; }
+
+/* An event that changes the mode arms the new mode's guards afresh: a band the old mode's guard had
+ * (here set by hand on the contact guard of a Hertz drop) does not carry over to the free flight,
+ * whose contact guard starts at zero (delta snapped onto the surface) with the band of its rounding. */
+Test(sim, a_mode_change_at_an_event_arms_the_new_guards_afresh)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = -0.1;
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    cr_assert(s.d.M.mode == VI_Mode_elastic);
+    s.d.guard_band[0] = 1e-9; /* the separation comes 1e-9 m late: the band is part of the guard */
+    cr_assert(vi_sim_advance_until(&s, 0.01, 1) == VI_SIM_EVENT, "%s", s.msg);
+    cr_assert(s.d.M.mode == VI_Mode_free && s.d.x[0] == 0.0, "mode %d delta %g", s.d.M.mode, s.d.x[0]);
+    cr_assert(s.d.guard_band[0] == band_at_contact() && s.d.guard_band[1] == 0.0, "bands %g %g", s.d.guard_band[0],
+              s.d.guard_band[1]);
+    vi_sim_free(&s);
+}
+
+/* The same for an input change that changes the mode: a Hertz mass at rest under its load; the
+ * platform drops by exactly the static indentation (delta = 0) while F_ext = 2 W pulls the mass up:
+ * free, its contact guard at zero with the band of its rounding, not the band of 1 m left on the
+ * elastic mode's guard (which would hide every later contact); the change is logged. The mass is set at rest exactly, so
+ * that the force alone decides the mode (delta = 0, delta' = 0, F_hold = -W < 0: free). */
+Test(sim, a_mode_change_at_an_input_change_arms_the_new_guards_afresh)
+{
+    vi_sim s;
+    vi_sim_init(&s, capture, NULL);
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    cr_assert(vi_sim_initialize(&s) == 0 && vi_sim_advance(&s, 1e-3) == VI_SIM_OK, "%s", s.msg);
+    cr_assert(s.d.M.mode == VI_Mode_elastic && s.d.x[0] > 0.0);
+    s.d.guard_band[0] = 1.0;
+    s.d.x[1] = 0.0; /* at rest exactly (the solver leaves a velocity of rounding size) */
+    s.d.in.yC_in = -s.d.x[0];
+    s.d.in.F_ext = 2.0 * s.d.M.W0;
+    s.d.inputs_changed = 1;
+    n_logged = 0, log_category = VI_LOG_EVENTS;
+    cr_assert(vi_sim_advance(&s, 1e-3 + 1e-6) == VI_SIM_OK, "%s", s.msg);
+    cr_assert(n_logged == 1 && strcmp(logged[0], "t = 0.001 s: input change, mode 1 -> 0") == 0, "%d: %s", n_logged,
+              logged[0]);
+    cr_assert(s.d.M.mode == VI_Mode_free && s.d.x[0] < 0.0, "mode %d delta %g", s.d.M.mode, s.d.x[0]);
+    cr_assert(s.d.guard_band[0] == band_at_contact() && s.d.guard_band[1] == 0.0, "bands %g %g", s.d.guard_band[0],
+              s.d.guard_band[1]);
+    vi_sim_free(&s);
+}
+
+/* The importer's tolerance (0: none, par.rtol counts) lies in [1e-14, 0.01], both ends included; one
+ * ulp beyond either end is refused with the message naming the range. */
+Test(sim, experiment_tolerance_at_and_beyond_its_bounds)
+{
+    double in[] = {0.0, 1e-14, 1e-2}, out[] = {nextafter(1e-14, 0.0), nextafter(1e-2, 1.0), 5e-324};
+    for (int i = 0; i < 3; i++) {
+        vi_sim s;
+        vi_sim_init(&s, quiet, NULL);
+        s.d.tolerance = in[i];
+        cr_assert(vi_sim_prepare(&s) == 0, "tolerance %g: %s", in[i], s.msg);
+        vi_sim_free(&s);
+    }
+    for (int i = 0; i < 3; i++) {
+        vi_sim s;
+        vi_sim_init(&s, quiet, NULL);
+        s.d.tolerance = out[i];
+        cr_assert(vi_sim_prepare(&s) == -1, "tolerance %g accepted", out[i]);
+        char expect[256];
+        snprintf(expect, sizeof expect, "relative tolerance (the importer's: fmi2SetupExperiment, fmi3EnterInitializationMode) "
+                 "= %g: use a value in [1e-14, 0.01]", out[i]);
+        cr_assert(strcmp(s.msg, expect) == 0, "expected '%s', got '%s'", expect, s.msg);
+        vi_sim_free(&s);
+    }
+}
+
+/* Johnson pre-loaded by P = 1e300 N starts at an indentation where the plastic work is inf - inf: the
+ * initialization is refused naming that output and the start time (here 0.5 s); P = 1e30 N is fine. */
+Test(sim, initialization_refuses_outputs_beyond_the_doubles)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.P = 1e300;
+    s.d.t_start = 0.5;
+    cr_assert(vi_sim_prepare(&s) == -1, "accepted");
+    cr_assert(strncmp(s.msg, "W_plastic = ", 12) == 0 && isnan(atof(s.msg + 12)) &&
+              strstr(s.msg, " at t = 0.5 s: the parameters and inputs lead to values beyond the range of double") != NULL,
+              "%s", s.msg);
+    vi_sim_free(&s);
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.P = 1e30;
+    cr_assert(vi_sim_prepare(&s) == 0, "%s", s.msg);
+    vi_outputs out;
+    vi_sim_outputs(&s, &out);
+    cr_assert(isfinite(out.W_plastic) && out.W_plastic > 0.0, "W_plastic %g", out.W_plastic);
+    vi_sim_free(&s);
+}
+
+/* F_mean is the impulse of the contact force over the last step divided by it: zero in free flight
+ * under gravity and a linearly growing pull F_ext (whose mean over the step is its midpoint value),
+ * and the force itself before any step. */
+Test(sim, mean_force_is_zero_in_free_flight_under_a_ramp)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    s.d.par.P = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = 10.0;
+    s.d.par.solver = VI_Solver_dop853, s.d.par.rtol = 1e-10; /* a polynomial motion: integrated to rounding */
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    vi_outputs out;
+    vi_sim_outputs(&s, &out);
+    cr_assert(out.F_mean == 0.0 && out.F == 0.0, "before any step: %g", out.F_mean);
+    cr_assert(vi_sim_advance(&s, 1e-3) == VI_SIM_OK, "%s", s.msg);
+    vi_sim_outputs(&s, &out);
+    double W = s.d.M.W0;
+    cr_assert(fabs(out.F_mean) <= 1e-9 * W, "gravity only: F_mean %g", out.F_mean);
+    s.d.in.F_ext = 100.0, s.d.din.F_ext = 2e4; /* 100 N growing at 20 kN/s */
+    s.d.inputs_changed = 1;
+    for (int k = 2; k <= 4; k++) {
+        cr_assert(vi_sim_advance(&s, 1e-3 * k) == VI_SIM_OK, "%s", s.msg);
+        s.out_valid = 0;
+        vi_sim_outputs(&s, &out);
+        cr_assert(s.d.M.mode == VI_Mode_free && fabs(out.F_mean) <= 1e-9 * W, "step %d: F_mean %g", k, out.F_mean);
+    }
+    vi_sim_free(&s);
+}
+
+/* k_contact is dF/ddelta of the mode: Hertz 1.5 K sqrt(delta); a sticking mass is held at delta_c
+ * between the branches and would unload on the unloading curve: 1.5 Kbar sqrt(delta_c - delta_f). */
+Test(sim, contact_stiffness_of_the_mode)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    double d = s.d.x[0], k = 1.5 * s.d.M.K * sqrt(d);
+    const vi_outputs *out = vi_sim_outputs_of(&s, VI_OUT_STIFFNESS);
+    cr_assert(s.d.M.mode == VI_Mode_elastic && fabs(out->k_contact - k) <= 1e-12 * k, "%g vs %g", out->k_contact, k);
+    vi_sim_free(&s);
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.yield_formula = VI_YieldFormula_printed; /* F_Y below the load: plastically pre-loaded, stick */
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    const vi_unload_curve *U = &s.d.M.U;
+    k = 1.5 * U->Kbar * sqrt(U->delta_c - U->delta_f);
+    out = vi_sim_outputs_of(&s, VI_OUT_STIFFNESS);
+    cr_assert(s.d.M.mode == VI_Mode_stick && fabs(out->k_contact - k) <= 1e-12 * k, "mode %d: %g vs %g", s.d.M.mode,
+              out->k_contact, k);
+    vi_sim_free(&s);
+}
+
+/* A restore replaces everything derived from the old state: the outputs read before are not served
+ * again; with the solver (co-simulation) the run goes on, without it (Model Exchange) there is none
+ * and the statistics are zero, as before any initialization. */
+Test(sim, restore_replaces_outputs_and_solver)
+{
+    vi_sim a, b;
+    running(&a);
+    running(&b);
+    cr_assert(vi_sim_advance(&b, 3e-3) == VI_SIM_OK, "%s", b.msg);
+    vi_outputs before, after, expect;
+    vi_sim_outputs(&b, &before);
+    vi_sim_outputs(&a, &expect);
+    cr_assert(before.y != expect.y && before.delta != expect.delta);
+    cr_assert(vi_sim_checkpoint(&a) == 0, "%s", a.msg);
+    b.d = a.d;
+    cr_assert(vi_sim_restore_without_solver(&b) == 0, "%s", b.msg);
+    vi_sim_outputs(&b, &after);
+    cr_assert(after.y == expect.y && after.delta == expect.delta && after.F == expect.F, "outputs of the old state");
+    vi_solver_stats st, zero;
+    memset(&zero, 0, sizeof zero);
+    vi_sim_statistics(&b, &st);
+    cr_assert(b.solver == NULL && memcmp(&st, &zero, sizeof st) == 0, "a solver after a restore without one");
+    cr_assert(vi_sim_restore(&b) == 0 && b.solver != NULL, "%s", b.msg);
+    cr_assert(vi_sim_advance(&a, 2e-3) == VI_SIM_OK && vi_sim_advance(&b, 2e-3) == VI_SIM_OK, "%s", b.msg);
+    cr_assert(a.d.x[0] == b.d.x[0] && a.d.x[1] == b.d.x[1], "the restored run differs");
+    vi_sim_statistics(&b, &st);
+    cr_assert(st.rhs_evals > 0);
+    vi_sim_free(&a), vi_sim_free(&b);
+    vi_sim_init(&a, quiet, NULL);
+    memset(&st, 0xff, sizeof st);
+    vi_sim_statistics(&a, &st);
+    cr_assert(memcmp(&st, &zero, sizeof st) == 0, "statistics before initialization");
+    cr_assert(vi_sim_checkpoint(&a) == 0, "%s", a.msg); /* nothing to keep yet */
+}
+
+/* A disarmed guard (band > 0) is armed again (band 0) at the start of a step once it lies above its
+ * band, and only then: a mass flying off (contact guard 1 mm and growing, the other guard inactive at
+ * 1) with bands set by hand on one guard or the other. */
+Test(sim, a_guard_is_rearmed_once_above_its_band)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = 1.0;
+    cr_assert(vi_sim_initialize(&s) == 0 && vi_sim_advance(&s, 1e-3) == VI_SIM_OK, "%s", s.msg);
+    cr_assert(s.d.M.mode == VI_Mode_free && fabs(s.d.x[0] + 1e-3) <= 1e-12, "delta %g", s.d.x[0]);
+    struct { double band[2], after[2]; } c[] = {
+        {{1e-300, 0.0}, {0.0, 0.0}}, /* contact guard far above a tiny band: armed */
+        {{1.0, 0.0}, {1.0, 0.0}},    /* below its band of 1 m: stays disarmed */
+        {{0.0, 0.5}, {0.0, 0.0}},    /* the inactive guard (1) above its band: armed */
+        {{1.0, 0.5}, {1.0, 0.0}},    /* each guard on its own */
+    };
+    for (int i = 0; i < 4; i++) {
+        s.d.guard_band[0] = c[i].band[0], s.d.guard_band[1] = c[i].band[1];
+        cr_assert(vi_sim_advance(&s, s.d.t + 1e-4) == VI_SIM_OK, "%s", s.msg);
+        cr_assert(s.d.guard_band[0] == c[i].after[0] && s.d.guard_band[1] == c[i].after[1], "case %d: bands %g %g", i,
+                  s.d.guard_band[0], s.d.guard_band[1]);
+    }
+    vi_sim_free(&s);
+}
+
+/* An input set again to what its ramp already gives (the same value at this time and the same slope,
+ * and a and f unchanged) changes nothing and does not restart the solver; each of the six (yC_in, its
+ * slope, F_ext, its slope, a, f) changed alone restarts it once. A mass flying free (no load), a = 0.1
+ * mm at 100 Hz, yC_in ramping at 1 mm/s. */
+static void same_inputs_again(vi_sim *s)
+{
+    s->d.in.yC_in = vi_ramp_at(&s->d.M.yC_in, s->d.t), s->d.din.yC_in = s->d.M.yC_in.du;
+    s->d.in.F_ext = vi_ramp_at(&s->d.M.F_ext, s->d.t), s->d.din.F_ext = s->d.M.F_ext.du;
+    s->d.inputs_changed = 1;
+}
+
+Test(sim, only_a_changed_input_restarts_the_solver)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = 1.0;
+    s.d.par.a = 1e-4, s.d.par.f = 100.0;
+    s.d.din.yC_in = 1e-3;
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    double t = 0.0;
+    vi_solver_stats st;
+    cr_assert(vi_sim_advance(&s, t += 1e-3) == VI_SIM_OK, "%s", s.msg);
+    for (int k = 0; k < 6; k++) {
+        vi_sim_statistics(&s, &st);
+        long resets = st.resets;
+        same_inputs_again(&s);
+        cr_assert(vi_sim_advance(&s, t += 1e-3) == VI_SIM_OK, "%s", s.msg);
+        vi_sim_statistics(&s, &st);
+        cr_assert(st.resets == resets, "k %d: restarted for an unchanged input (%ld -> %ld)", k, resets, st.resets);
+        same_inputs_again(&s);
+        switch (k) {
+        case 0: s.d.in.yC_in += 1e-9; break;
+        case 1: s.d.din.yC_in = 2e-3; break;
+        case 2: s.d.in.F_ext = -1e-3; break;
+        case 3: s.d.din.F_ext = -1e-3; break;
+        case 4: s.d.par.a = 2e-4; break;
+        case 5: s.d.par.f = 101.0; break;
+        }
+        cr_assert(vi_sim_advance(&s, t += 1e-3) == VI_SIM_OK, "%s", s.msg);
+        vi_sim_statistics(&s, &st);
+        cr_assert(st.resets == resets + 1, "k %d: %ld -> %ld restarts", k, resets, st.resets);
+    }
+    vi_sim_free(&s);
+}
+
+/* The Zeno rule's bound: an event VI_ZENO_ULPS ulps of time after the one before counts (the count
+ * grows by one), one ulp more does not (the count starts again); the ulp is that of the later time,
+ * negative times alike. */
+Test(sim, zeno_count_at_its_bound)
+{
+    double ulp = nextafter(1.0, 2.0) - 1.0; /* of times in [1, 2) */
+    cr_assert(vi_sim_zeno_count(5, 1.0, 1.0 + VI_ZENO_ULPS * ulp) == 6);
+    cr_assert(vi_sim_zeno_count(5, 1.0, 1.0 + (VI_ZENO_ULPS + 1.0) * ulp) == 0);
+    cr_assert(vi_sim_zeno_count(0, -1.5 - VI_ZENO_ULPS * ulp, -1.5) == 1);
+    cr_assert(vi_sim_zeno_count(0, -1.5 - (VI_ZENO_ULPS + 1.0) * ulp, -1.5) == 0);
+    cr_assert(vi_sim_zeno_count(63, 1.0, 1.0) == 64);
+}
+
+/* A reset goes back to the defaults and frees the solver, keeping the resources folder and the logger;
+ * no folder (NULL) is the empty one. */
+Test(sim, reset_keeps_the_resources_folder)
+{
+    vi_sim s;
+    running(&s);
+    vi_sim_set_resources(&s, "/opt/fmu/resources");
+    s.d.par.m = 3.0;
+    vi_sim_reset(&s);
+    cr_assert(strcmp(s.resources, "/opt/fmu/resources") == 0, "'%s'", s.resources);
+    cr_assert(s.solver == NULL && s.d.par.m != 3.0 && s.d.initialized == 0 && s.log == quiet);
+    vi_sim_set_resources(&s, NULL);
+    cr_assert(s.resources[0] == '\0');
+    vi_sim_free(&s);
+}
+
+/* The outputs right after the initialization are those of the initial state (the check of their
+ * finiteness computes them all; none is left from before): a static Hertz start. */
+Test(sim, outputs_after_initialization_are_those_of_the_initial_state)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    vi_outputs out;
+    vi_sim_outputs(&s, &out);
+    double W = s.d.M.W0, d = pow(W / s.d.M.K, 2.0 / 3.0);
+    cr_assert(out.delta == s.d.x[0] && fabs(out.delta - d) <= 1e-12 * d && out.v == 0.0 && out.mode == VI_Mode_elastic &&
+              out.contact == 1 && fabs(out.F - W) <= 1e-12 * W, "delta %g v %g mode %d F %g", out.delta, out.v, out.mode, out.F);
+    vi_sim_free(&s);
+}
+
+/* A guard within rounding of zero (here delta = 1e-310 m in contact, far below the rounding noise of
+ * the contact guard) when an input changes gets the band of its rounding noise, VI_GRAZE_ULPS times its
+ * change over one ulp of delta (the smallest subnormal: no ulp of t or v moves it) plus DBL_MIN; at
+ * exactly that noise too, one ulp above it not. */
+Test(sim, a_guard_within_rounding_of_zero_gets_the_band_of_its_noise)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = -0.1;
+    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    cr_assert(s.d.M.mode == VI_Mode_elastic && s.d.guard_band[0] == band_at_contact(), "band %g", s.d.guard_band[0]);
+    s.d.guard_band[0] = 0.0;
+    s.d.x[0] = 1e-310;
+    s.d.in.F_ext = 1.0;
+    s.d.inputs_changed = 1;
+    cr_assert(vi_sim_advance(&s, 1e-9) == VI_SIM_OK, "%s", s.msg);
+    cr_assert(s.d.M.mode == VI_Mode_elastic && s.d.guard_band[0] == band_at_contact() && s.d.guard_band[1] == 0.0,
+              "bands %g %g", s.d.guard_band[0], s.d.guard_band[1]);
+    /* the bound: a guard exactly at its noise counts as zero, one ulp above it does not */
+    const double at[2] = {band_at_contact(), nextafter(band_at_contact(), 1.0)};
+    for (int k = 0; k < 2; k++) {
+        s.d.guard_band[0] = 0.0;
+        s.d.x[0] = at[k];
+        s.d.in.F_ext += 1.0;
+        s.d.inputs_changed = 1;
+        cr_assert(vi_sim_advance(&s, s.d.t + 1e-9) == VI_SIM_OK, "%s", s.msg);
+        cr_assert(s.d.guard_band[0] == (k ? 0.0 : band_at_contact()), "delta %g: band %g", at[k], s.d.guard_band[0]);
+    }
     vi_sim_free(&s);
 }
