@@ -580,7 +580,8 @@ def main():
             print(f"{m.where}  {m.ident}" + ("   [equivalent]" if m.ident in equivalent else ""))
         print(f"{len(mutants)} mutants")
         return 0
-    stale = [e for e in equivalent if e not in {m.ident for m in all_mutants(["src/*"])}]
+    names = {m.ident for m in all_mutants(["src/*"])}
+    stale = [e for e in equivalent if e not in names]
     if stale:
         print(f"note: {len(stale)} entries of {EQUIVALENT.relative_to(ROOT)} name no mutant of today's src/:")
         for e in stale:
