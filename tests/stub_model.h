@@ -10,6 +10,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "vi_fmu.h"
@@ -65,6 +66,35 @@ typedef struct {
     double setup_start, setup_tol;
     int setup_tol_defined, setup_calls;
 } stub;
+
+/* An allocator that counts: calloc and free that count the allocations asked for (n_alloc) and the
+ * blocks freed (n_free; free(NULL) is not counted), fail the fail_at-th allocation (0: none), fill
+ * each block with 0xab when dirty is set (an importer without calloc semantics), and keep the sizes
+ * of the last 16 blocks (block_size: 0 for a block it does not know). */
+static int n_alloc, n_free, fail_at, dirty;
+static struct {
+    const void *p;
+    size_t size;
+} blocks[16];
+static void *counting_alloc(size_t n, size_t size)
+{
+    if (++n_alloc == fail_at) return NULL;
+    void *p = calloc(n, size);
+    if (p && dirty) memset(p, 0xab, n * size);
+    blocks[n_alloc % 16].p = p, blocks[n_alloc % 16].size = n * size;
+    return p;
+}
+static size_t block_size(const void *p)
+{
+    for (int i = 0; i < 16; i++)
+        if (blocks[i].p == p) return blocks[i].size;
+    return 0;
+}
+static void counting_free(void *p)
+{
+    if (p) n_free++;
+    free(p);
+}
 
 /* set_resources fails (global: it is called during instantiation), and the folder it was given last
  * (NULL: none). */

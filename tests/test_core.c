@@ -333,31 +333,6 @@ Test(core, a_call_in_a_state_it_is_not_allowed_in_is_refused_naming_the_state)
 
 /* ---- life cycle ---- */
 
-/* calloc and free that count, and fail the n-th allocation (0: none). */
-static int n_alloc, n_free, fail_at;
-static struct {
-    const void *p;
-    size_t size;
-} blocks[16]; /* the last blocks allocated and their sizes */
-static void *counting_alloc(size_t n, size_t size)
-{
-    if (++n_alloc == fail_at) return NULL;
-    void *p = calloc(n, size);
-    blocks[n_alloc % 16].p = p, blocks[n_alloc % 16].size = n * size;
-    return p;
-}
-static size_t block_size(const void *p)
-{
-    for (int i = 0; i < 16; i++)
-        if (blocks[i].p == p) return blocks[i].size;
-    return 0;
-}
-static void counting_free(void *p)
-{
-    n_free++;
-    free(p);
-}
-
 static vi_core *instantiate_with(record *r, vi_callbacks cb, const char *name, vi_kind kind, const char *guid)
 {
     cb.logger = any_logger, cb.env = r;
@@ -1697,17 +1672,11 @@ Test(core, directional_derivatives_check_every_array_and_reference)
 
 /* An importer whose allocateMemory does not zero the block (calloc semantics are required, but the
  * layer does not rely on them): the instance and the model start zeroed all the same. */
-static void *dirty_alloc(size_t n, size_t size)
-{
-    void *p = malloc(n * size);
-    if (p) memset(p, 0xab, n * size);
-    return p;
-}
-
 Test(core, the_instance_and_the_model_start_zeroed_whatever_the_allocator_gives)
 {
     record r = {0};
-    vi_callbacks cb = {.alloc = dirty_alloc, .free = free, .logger = any_logger, .env = &r};
+    dirty = 1;
+    vi_callbacks cb = {.alloc = counting_alloc, .free = counting_free, .logger = any_logger, .env = &r};
     vi_core *c = vi_core_instantiate(&face, &cb, "inst", "x", VI_KIND_ME, VI_GUID, NULL, "", 0);
     cr_assert(c);
     cr_assert(c->stop_time_defined == 0 && c->stop_time == 0.0 && c->face_options == 0u && c->initialized == 0 &&

@@ -42,32 +42,6 @@ static void logger3(fmi3InstanceEnvironment env, fmi3Status status, fmi3String c
     snprintf(b->text, sizeof b->text, "%s", message);
 }
 
-/* allocateMemory that counts, fails the fail_at-th call, and keeps the size of the last blocks */
-static int n_alloc, n_free, fail_at, dirty; /* dirty: blocks filled with 0xab (no calloc semantics) */
-static struct {
-    const void *p;
-    size_t size;
-} blocks[16];
-static void *alloc2(size_t n, size_t size)
-{
-    if (++n_alloc == fail_at) return NULL;
-    void *p = calloc(n, size);
-    if (p && dirty) memset(p, 0xab, n * size);
-    blocks[n_alloc % 16].p = p, blocks[n_alloc % 16].size = n * size;
-    return p;
-}
-static size_t block_size(const void *p)
-{
-    for (int i = 0; i < 16; i++)
-        if (blocks[i].p == p) return blocks[i].size;
-    return 0;
-}
-static void free2(void *p)
-{
-    if (p) n_free++;
-    free(p);
-}
-
 #define SAYS(b, st, ...)                                                                                    \
     do {                                                                                                    \
         cr_assert((b).status == (st), "status %d, expected %d: '%s'", (b).status, (int)(st), (b).text);      \
@@ -88,7 +62,7 @@ static void free2(void *p)
 
 static fmi2CallbackFunctions callbacks(logbook *b)
 {
-    return (fmi2CallbackFunctions){.logger = logger2, .allocateMemory = alloc2, .freeMemory = free2,
+    return (fmi2CallbackFunctions){.logger = logger2, .allocateMemory = counting_alloc, .freeMemory = counting_free,
                                    .componentEnvironment = b};
 }
 static fmi2Component inst2(logbook *b, fmi2Type type, const char *uri)
