@@ -311,7 +311,10 @@ vi_profile *vi_profile_create(const double *x, const double *h, size_t n, double
             p->max_slope = fmax(p->max_slope, fabs(dr[0]));
         }
         if (!has_left || !has_right) continue;
-        if (fabs(yl - yr) > 1e3 * c.tol)
+        /* a step: the pieces differ at xr by more than their rounding there; besides the heights' (tol),
+         * the boundary xr is rounded to a few eps |xr|, which moves each piece by its slope times that */
+        double rounding = 1e3 * c.tol + 16.0 * DBL_EPSILON * fabs(xr) * (fabs(dl[0]) + fabs(dr[0]));
+        if (fabs(yl - yr) > rounding)
             FAIL("%s: a step of more than R1 = %g m near x = %g m: yb jumps by %g m there (the body cannot roll over it)",
                  name, R, xr, yr - yl);
         if (fabs(dr[0] - dl[0]) > VI_PROFILE_KINK_SLOPE && j < p->m) p->kinks[p->n_kinks++] = xr;

@@ -559,7 +559,7 @@ Test(profile, bad_tables_are_refused)
  * too few rows, a radius that is not positive and finite, equal positions, a periodic table whose
  * last height differs, a period too short for the body (R1/L + 1 periods each side of 2 rows), a wall
  * as high as R1 climbed and descended (the vertex circle's edge, vertical, at the corner -+ R1) and a
- * wall higher than R1 (yb steps at the corner - R1). */
+ * wall higher than R1 (the body would touch the wall with its front: yb vertical at the corner - R1). */
 Test(profile, refusals_name_the_rule_and_its_values)
 {
     double x[] = {0.0, 1.0, 2.0}, h[] = {0.0, 0.1, 0.0};
@@ -580,12 +580,20 @@ Test(profile, refusals_name_the_rule_and_its_values)
     refused(xw, hw, 4, R, 0, "bad: the profile is too steep for R1 = 0.475 m near x = 0.525 m: the body cannot roll over it");
     refused(xd, hd, 4, R, 0, "bad: the profile is too steep for R1 = 0.475 m near x = 2.475 m: the body cannot roll over it");
     double hw2[] = {0.0, 0.0, 1.5 * R, 1.5 * R};
-    refused(xw, hw2, 4, R, 0, "bad: a step of more than R1 = 0.475 m near x = 0.525 m: yb jumps by ");
+    refused(xw, hw2, 4, R, 0, "bad: the profile is too steep for R1 = 0.475 m near x = 0.525 m: the body cannot roll over it");
     /* just below: a wall of 0.9 R1 is climbed on the circle around its upper corner */
     double hw3[] = {0.0, 0.0, 0.9 * R, 0.9 * R};
     vi_profile *p = make(xw, hw3, 4, R, 0);
     double d = -0.3, expect = 0.9 * R - d * d / (R + sqrt(R * R - d * d));
     cr_assert(fabs(yb(p, 1.0 + 1e-9 + d) - expect) <= 1e-15, "%.17g vs %.17g", yb(p, 1.0 + 1e-9 + d), expect);
+    vi_profile_free(p);
+    /* a wall higher than R1 that is not vertical (1e-6 m wide, slope s = 7.1e5): the body touches its face
+     * and yb climbs the face's parallel, s (x - 1) + R1 (sqrt(1 + s^2) - 1), to within s times the
+     * rounding of x */
+    double xf[] = {0.0, 1.0, 1.0 + 1e-6, 3.0}, s = 1.5 * R / 1e-6, at = 1.0 - R + 0.9e-6;
+    p = make(xf, hw2, 4, R, 0);
+    expect = s * (at - 1.0) + R * (hypot(1.0, s) - 1.0);
+    cr_assert(expect > 0.1 && fabs(yb(p, at) - expect) <= 1e-9, "%.17g vs %.17g", yb(p, at), expect);
     vi_profile_free(p);
 }
 
@@ -606,6 +614,32 @@ Test(profile, tables_far_from_the_datum)
         }
         vi_profile_free(p);
     }
+}
+
+/* Tables far along the track (x near +-1e7 m and +-1e8 m, where a double resolves 2e-9 m and 1.5e-8 m)
+ * are taken: yb against the definition to the slope times that resolution; a wall higher than R1 is
+ * still a step there. */
+Test(profile, tables_far_along_the_track)
+{
+    srand(12);
+    for (int t = 0; t < 200; t++) {
+        size_t n = 2 + (size_t)(rand() % 7);
+        double off = (t % 2 ? 1.0 : -1.0) * (t % 4 < 2 ? 1e7 : 1e8), x[8], h[8];
+        small_table(x, h, n, R, t % 8 < 4, 0);
+        for (size_t i = 0; i < n; i++) x[i] += off;
+        vi_profile *p = make(x, h, n, R, 0);
+        for (int k = 0; k <= 40; k++) {
+            double at = x[0] + (x[n - 1] - x[0]) * k / 40.0, ref = brute(x, h, n, R, at), y[4];
+            vi_profile_eval(p, at, y);
+            double tol = 1e-12 * R + 8.0 * DBL_EPSILON * fabs(off) * (1.0 + fabs(y[1]));
+            cr_assert(fabs(y[0] - ref) <= tol, "table %d x %.17g: %.17g vs %.17g", t, at, y[0], ref);
+        }
+        vi_profile_free(p);
+    }
+    /* a wall one double wide there (1.86e-9 m): the steep segment's parallel is lost to rounding and yb
+     * jumps by the wall's height less R1 */
+    double xw[] = {1e7, 1e7 + 1.0, 1e7 + 1.0 + 1e-9, 1e7 + 3.0}, hw[] = {0.0, 0.0, 1.5 * R, 1.5 * R};
+    refused(xw, hw, 4, R, 0, "bad: a step of more than R1 = 0.475 m near x = 1e+07 m: yb jumps by 0.2375");
 }
 
 static const char *write_file(const char *text)
