@@ -347,6 +347,27 @@ Test(model_check, never_set_up_has_no_discrete_state)
     }
 }
 
+/* A model never set up (law 0: an instance before initialization, or a state restored from then) is
+ * evaluated as Hertz with K = 0: no force and no memory, in contact or not; the state as it is. */
+Test(model, never_set_up_is_hertz_without_stiffness)
+{
+    double x[2] = {1e-6, -0.5};
+    for (int mode = VI_Mode_free; mode <= VI_Mode_elastic; mode++) {
+        vi_model M;
+        memset(&M, 0, sizeof M);
+        M.mode = mode;
+        vi_outputs out;
+        memset(&out, 0xab, sizeof out);
+        vi_model_outputs(&M, 0.0, x, VI_OUT_STATE | VI_OUT_FORCE | VI_OUT_MEMORY, &out);
+        cr_assert(out.delta == 1e-6 && out.v == -0.5 && out.contact == (mode != VI_Mode_free) && out.mode == mode,
+                  "mode %d: state %g %g %d %d", mode, out.delta, out.v, out.contact, out.mode);
+        cr_assert(out.F == 0.0 && out.delta_c == 0.0 && out.delta_f == 0.0 && out.delta_p == 0.0 && out.Rbar == 0.0 &&
+                  out.W_plastic == 0.0, "mode %d: F %g, memory %g %g %g %g %g", mode, out.F, out.delta_c, out.delta_f,
+                  out.delta_p, out.Rbar, out.W_plastic);
+        cr_assert(vi_model_force(&M, 0.0, x) == 0.0);
+    }
+}
+
 /* The tolerance on the guards: a state a rounding beyond its surface passes, 1e-5 of delta_Y does not. */
 Test(model_check, guard_tolerance)
 {

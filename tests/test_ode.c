@@ -455,7 +455,7 @@ typedef struct {
     double t_min, t_max; /* range of the times the guards were evaluated at (set t_min = INFINITY) */
 } gctx;
 
-enum { G_X, G_MULTI, G_TWO_ROOTS, G_JUMP, G_FLAT, G_TINY, G_NAN };
+enum { G_X, G_MULTI, G_TWO_ROOTS, G_JUMP, G_FLAT, G_TINY, G_NAN, G_LOPSIDED };
 
 static void guards(double t, const double *x, double *g, void *u)
 {
@@ -470,6 +470,7 @@ static void guards(double t, const double *x, double *g, void *u)
     case G_FLAT: g[0] = pow(c->tau - t, 5); break;
     case G_TINY: g[0] = 1e-300 * (c->tau - t); break;
     case G_NAN: g[0] = fabs(t - c->tau) < 0.05 ? NAN : c->tau - t; break;
+    case G_LOPSIDED: g[0] = t < c->tau ? 1e300 : -1e-300; break;
     }
 }
 
@@ -646,6 +647,31 @@ Test(events, root_search_is_bounded_and_exact_for_hard_guards)
             cr_assert(s.st.root_iters <= 3 * 53, "kind %d: %ld iterations", kinds[k], s.st.root_iters);
         }
     }
+}
+
+/* A root the bracket cannot close on within VI_ODE_MAX_ROOT_ITERS guard evaluations: a jump from
+ * 1e300 to -1e-300 (the linear estimate lands beside the right end, so only the bisection of every
+ * third evaluation halves the bracket) at t = 1e-250 in the step [0, 1], about 880 halvings from eps of
+ * it. The step fails with VI_ODE_ERR_ROOT after exactly that many evaluations and leaves the state as
+ * it was; the same jump at 0.3 is found within eps. */
+Test(events, root_search_gives_up_after_its_bound)
+{
+    gctx c = {G_LOPSIDED, 1e-250, INFINITY, -INFINITY};
+    vi_ode_problem p = event_problem(&c, 1, 1.0, 1e-6); /* one step [0, 1] */
+    vi_ode s, before;
+    double x0[2] = {1.0, 0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    before = s;
+    cr_assert_eq(vi_ode_step(&s, &p, 1.0), VI_ODE_ERR_ROOT);
+    cr_assert(s.st.root_iters == VI_ODE_MAX_ROOT_ITERS, "%ld guard evaluations", s.st.root_iters);
+    s.st = before.st;
+    s.sp[1 - s.cur] = before.sp[1 - before.cur];
+    cr_assert(memcmp(&s, &before, sizeof s) == 0, "state unchanged by a failed step");
+    c.tau = 0.3;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 1.0), VI_ODE_EVENT);
+    cr_assert(s.ev_t >= 0.3 && s.ev_t - 0.3 <= DBL_EPSILON * 0.3 && s.st.root_iters <= 3 * 53, "%.17g after %ld",
+              s.ev_t, s.st.root_iters);
 }
 
 Test(events, nonfinite_guard_fails_and_leaves_the_state)

@@ -895,6 +895,22 @@ Test(sim, a_guard_is_rearmed_once_above_its_band)
     vi_sim_free(&s);
 }
 
+/* A step of a few ulps of time (32 ulps of t, within the 64 ulps that count as "at" a profile's kink)
+ * without a profile is integrated like any other: a mass flying off at 1 m/s moves by the step. */
+Test(sim, a_step_of_a_few_ulps_is_integrated)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = 1.0;
+    cr_assert(vi_sim_initialize(&s) == 0 && vi_sim_advance(&s, 1e-3) == VI_SIM_OK, "%s", s.msg);
+    double t0 = s.d.t, d0 = s.d.x[0], t1 = t0 + 32.0 * DBL_EPSILON * t0, ulp = DBL_EPSILON * fabs(d0);
+    cr_assert(t1 - t0 <= VI_BREAKPOINT_ULPS * DBL_EPSILON * t1);
+    cr_assert(vi_sim_advance(&s, t1) == VI_SIM_OK && s.d.t == t1, "%s", s.msg);
+    cr_assert(fabs(s.d.x[0] - (d0 - (t1 - t0))) <= 4.0 * ulp, "delta %.17g -> %.17g over %g s", d0, s.d.x[0], t1 - t0);
+    vi_sim_free(&s);
+}
+
 /* An input set again to what its ramp already gives (the same value at this time and the same slope,
  * and a and f unchanged) changes nothing and does not restart the solver; each of the six (yC_in, its
  * slope, F_ext, its slope, a, f) changed alone restarts it once. A mass flying free (no load), a = 0.1
