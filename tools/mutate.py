@@ -206,6 +206,41 @@ def foreign_regions(text):
     return regions
 
 
+def statement_start(masked, start):
+    """Where the statement (or condition) holding masked[start] begins: after the last ';', '{' or '}'
+    before it that is not a brace of an initializer ('= {', '{ {', ', {' and the '}' closing one)."""
+    i = start
+    while i > 0:  # bounded: i falls every pass
+        i -= 1
+        ch = masked[i]
+        if ch == ";":
+            break
+        if ch == "{":
+            j = i - 1
+            while j >= 0 and masked[j].isspace():
+                j -= 1
+            if j >= 0 and masked[j] in "=,{(":
+                continue  # an initializer's brace: the statement began before it
+            break
+        if ch == "}":
+            j = i + 1
+            while j < len(masked) and masked[j].isspace():
+                j += 1
+            if j < len(masked) and masked[j] in ",}":
+                depth = 1  # a nested initializer closed before start: back to its opening brace
+                while i > 0 and depth:
+                    i -= 1
+                    depth += (masked[i] == "}") - (masked[i] == "{")
+                continue
+            break
+    else:
+        i = -1
+    b = i + 1
+    while b < start and masked[b].isspace():
+        b += 1
+    return b
+
+
 def mutants_of(path, text=None):
     rel = str(path.relative_to(ROOT))
     text = path.read_text() if text is None else text
@@ -230,9 +265,7 @@ def mutants_of(path, text=None):
         ls = line_starts[line - 1]
         le = text.find("\n", ls)
         site = flat(code[ls:le if le >= 0 else len(text)])
-        b = max(masked.rfind(ch, 0, start) for ch in ";{}") + 1
-        while b < start and masked[b].isspace():
-            b += 1
+        b = statement_start(masked, start)
         found.append(Mutant(rel, start, end, new, kind, line, last, start - ls + 1, text[start:end], owner[start], site,
                             stmt_line=text.count("\n", 0, b) + 1))
 
