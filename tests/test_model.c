@@ -512,6 +512,13 @@ Test(model, scales_from_the_active_law)
     vi_model_scales(&M, x, &L, &V);
     double dv = pow(15.0 * M.m * 0.09 / (16.0 * M.J.E_star * sqrt(M.J.R_star)), 0.4);
     cr_assert(fabs(L - dv) <= 1e-14 * dv);
+    /* a LEPP drop (no load): the larger of delta_Y and the linear spring's impact indentation
+     * v sqrt(m / k_lin) (energy: m v^2 / 2 = k_lin d^2 / 2) */
+    M = setup(VI_ContactModel_lepp, 0, 1, 0.0, 0.0, 0.0);
+    vi_model_initial_state(&M, VI_Init_touching, -30.0, 0.0, x);
+    vi_model_scales(&M, x, &L, &V);
+    dv = 30.0 * sqrt(M.m / M.k_lin);
+    cr_assert(dv > M.J.delta_Y && fabs(L - dv) <= 1e-14 * dv, "L = %.17g, impact %.17g, delta_Y %g", L, dv, M.J.delta_Y);
     /* no load, no speed: the excitation's speed; nothing at all: 1e-6 R* */
     M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 1e-4);
     vi_model_initial_state(&M, VI_Init_touching, 0.0, 0.0, x);
@@ -532,6 +539,22 @@ Test(model, scales_from_the_active_law)
             vi_model_scales(&M, x, &L, &V);
             cr_assert(L > 0.0 && isfinite(L) && V > 0.0 && isfinite(V), "law %d W %g: %g %g", law, loads[i], L, V);
         }
+}
+
+/* LEPP: a state exactly on the yield surface (delta = delta_p + delta_Y) has not flowed: resolving it
+ * leaves delta_p and delta as they are, to the bit (recomputing delta_p = delta - delta_Y would round:
+ * here 1e-20 m beside delta_Y = 5.6e-5 m), in whichever mode the rates choose. */
+Test(model, lepp_on_its_yield_surface_keeps_its_permanent_set)
+{
+    for (int k = 0; k < 2; k++) {
+        vi_model M = setup(VI_ContactModel_lepp, 0, 1, k ? 40000.0 : 0.0, 0.0, 0.0);
+        M.delta_p = 1e-20;
+        double x[2] = {M.delta_p + M.J.delta_Y, k ? 0.0 : -1.0}, d = x[0];
+        cr_assert((d - M.J.delta_Y) != M.delta_p, "delta_p is recovered exactly: the test would not tell");
+        vi_model_resolve(&M, 0.0, x);
+        cr_assert(M.delta_p == 1e-20 && x[0] == d && M.mode != VI_Mode_free, "k %d: delta_p %.17g, delta %.17g, mode %d",
+                  k, M.delta_p, x[0], M.mode);
+    }
 }
 
 /* Ties (position, rate and force difference all zero) are broken by the next time
