@@ -674,6 +674,34 @@ Test(events, root_search_gives_up_after_its_bound)
               s.ev_t, s.st.root_iters);
 }
 
+/* The root search stops at the first bracket no wider than eps max(|a|, |b|), the bound included: a
+ * jump one ulp below 1 is bracketed by [1 - 2^-52, 1], exactly eps wide, and the event is at 1 (within
+ * 2 ulps, as vi_ode.h says), not searched to the ulp below. */
+Test(events, root_search_stops_at_a_bracket_of_exactly_its_tolerance)
+{
+    gctx c = {G_JUMP, 1.0 - 0x1p-53, INFINITY, -INFINITY};
+    vi_ode_problem p = event_problem(&c, 1, 2.0, 1e-6); /* one step [0, 2] */
+    vi_ode s;
+    double x0[2] = {1.0, 0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 2.0), VI_ODE_EVENT);
+    cr_assert(s.ev_t == 1.0 && s.ev_t_lo == 1.0 - 0x1p-52, "[%.17g, %.17g]", s.ev_t_lo, s.ev_t);
+}
+
+/* A proposed step shorter than 16 ulps of t (t + h might round to t) is raised to 16 eps |t|: from
+ * t = 1.03 with a first step of 1e-20 s, the step ends at 1.03 + 16 eps 1.03 (16.48 ulps of 1.03,
+ * rounded to 16). */
+Test(state, a_step_under_16_ulps_of_t_is_raised_to_16_eps_t)
+{
+    gctx c = {G_X, 0.0, INFINITY, -INFINITY};
+    vi_ode_problem p = event_problem(&c, 0, 0.0, 1e-6);
+    vi_ode s;
+    double x0[2] = {1.0, 0.0}, t0 = 1.03;
+    cr_assert_eq(vi_ode_init(&s, &p, t0, x0, 1e-20, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 2.0), VI_ODE_OK);
+    cr_assert(s.t == t0 + 16.0 * DBL_EPSILON * t0, "t = t0 + %.17g eps t0", (s.t - t0) / (DBL_EPSILON * t0));
+}
+
 Test(events, nonfinite_guard_fails_and_leaves_the_state)
 {
     gctx c = {G_NAN, 0.7, INFINITY, -INFINITY};
