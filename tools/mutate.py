@@ -47,6 +47,7 @@ import queue
 import random
 import re
 import shutil
+import signal
 import statistics
 import subprocess
 import sys
@@ -366,13 +367,17 @@ def read_equivalent():
 # ---- running commands --------------------------------------------------------------------------
 
 def run(cmd, cwd, timeout=None, env=None):
-    try:
-        r = subprocess.run(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=timeout,
-                           env=env, text=True, errors="replace")
-        return r.returncode, r.stdout
-    except subprocess.TimeoutExpired as e:
-        out = e.stdout.decode(errors="replace") if isinstance(e.stdout, bytes) else (e.stdout or "")
-        return "timeout", out
+    """(exit status or "timeout", output). The command runs in a process group of its own, killed
+    whole at the timeout: a test binary ctest or pytest started does not outlive a hung mutant."""
+    with subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=env, text=True,
+                          errors="replace", start_new_session=True) as p:
+        try:
+            out, _ = p.communicate(timeout=timeout)
+            return p.returncode, out
+        except subprocess.TimeoutExpired:
+            os.killpg(p.pid, signal.SIGKILL)
+            out, _ = p.communicate()
+            return "timeout", out
 
 
 def python_exe():
