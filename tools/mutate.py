@@ -12,7 +12,9 @@ is built in a scratch copy of the repository (build/mutate/scratch; a build that
 "stillborn" and not scored) and run against the tests that execute the mutated line, and only those:
 a mutant is "killed" when one of them fails or the run exceeds its time limit (three times the
 tests' measured time plus 60 s), it "survives" when all of them pass, and it is "uncovered" (a
-survivor) when no test executes its line. The score is killed / (killed + survived + uncovered);
+survivor) when no test executes its line (a continuation line takes the tests of its statement's
+first line, and a declaration, on which gcov counts no code, those of its function). The score is
+killed / (killed + survived + uncovered);
 mutants listed in tools/mutants-equivalent.txt are left out (no test can tell them apart from the
 original; each entry gives the reason). --jobs J (default: the number of cores) runs J mutants at
 once, each in its own scratch copy (build/mutate/scratch, scratch-1, ...).
@@ -74,6 +76,7 @@ class Mutant:
     site: str      # the code of its line, comments removed, whitespace collapsed
     k: int = 1     # among the mutants of this kind and text on the line
     stmt_line: int = 0  # the first line of the statement (or condition) the place is in
+    body: tuple = (0, 0)  # the first and last line of the function's body
 
     @property
     def ident(self):
@@ -207,6 +210,10 @@ def foreign_regions(text):
     return regions
 
 
+# A declaration without an initializer (an array's size, say): gcov counts no line of it.
+DECLARATION = re.compile(r"^(?:static |const )*[A-Za-z_]\w*(?: \*?[A-Za-z_]\w*(?:\[[^]=]*\])*,?)+;$")
+
+
 def statement_start(masked, start):
     """Where the statement (or condition) holding masked[start] begins: after the last ';', '{' or '}'
     before it that is not a brace of an initializer ('= {', '{ {', ', {' and the '}' closing one)."""
@@ -250,7 +257,9 @@ def mutants_of(path, text=None):
     line_starts = [0] + [i + 1 for i, c in enumerate(text) if c == "\n"]
     bodies = function_bodies(masked)
     owner = [None] * (len(text) + 1)
+    span = {}
     for s, e, name in bodies:
+        span[name] = (text.count("\n", 0, s) + 1, text.count("\n", 0, e) + 1)
         for i in range(s + 1, e):
             owner[i] = name
     for s, e in foreign_regions(text):  # not compiled here: no mutants (tools/cross_test.sh runs that code)
@@ -268,7 +277,7 @@ def mutants_of(path, text=None):
         site = flat(code[ls:le if le >= 0 else len(text)])
         b = statement_start(masked, start)
         found.append(Mutant(rel, start, end, new, kind, line, last, start - ls + 1, text[start:end], owner[start], site,
-                            stmt_line=text.count("\n", 0, b) + 1))
+                            stmt_line=text.count("\n", 0, b) + 1, body=span[owner[start]]))
 
     for m in re.finditer(r"<=|>=|==|!=|(?<![<>-])[<>](?![<>=])", masked):
         add(m.start(), m.end(), RELATIONAL[m.group()], "relational")
@@ -661,6 +670,8 @@ def main():
             tests = sorted({t for ln in range(m.line, m.last_line + 1) for t in index.get((m.file, ln), [])})
             if not tests:  # gcov counts a statement that spans lines on one of them: those before it too
                 tests = sorted({t for ln in range(m.stmt_line, m.line) for t in index.get((m.file, ln), [])})
+            if not tests and DECLARATION.match(m.site):  # no code of its own: the tests of its function
+                tests = sorted({t for ln in range(m.body[0], m.body[1] + 1) for t in index.get((m.file, ln), [])})
             try:
                 rc, _ = run(["cmake", "--build", "build", make_jobs], scratch, 900)
                 if rc != 0:
