@@ -571,8 +571,10 @@ Test(model, stick_band_ties_broken_by_the_rate_of_the_holding_force)
         {F_load, 0.0, VI_Mode_stick},     /* a tie in every derivative: stays */
         {F_unload, +1.0, VI_Mode_unload}, /* on the unload limit, the load falls: unloading starts */
         {F_unload, -1.0, VI_Mode_stick},  /* on the unload limit, the load grows: into the band */
+        {F_load, -1e-6, VI_Mode_plastic}, /* the same for rates of any size, however small */
+        {F_unload, +1e-6, VI_Mode_unload},
     };
-    for (int i = 0; i < 5; i++) {
+    for (int i = 0; i < 7; i++) {
         M.W0 = cases[i].P; /* g = 0, a = 0: F_hold = W = P at the ramp's time */
         M.F_ext = (vi_ramp){0.0, cases[i].dF_ext, 0.5};
         M.yielded = 1, M.U = U, M.mode = VI_Mode_stick;
