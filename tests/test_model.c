@@ -512,6 +512,12 @@ Test(model, scales_from_the_active_law)
     vi_model_scales(&M, x, &L, &V);
     double dv = pow(15.0 * M.m * 0.09 / (16.0 * M.J.E_star * sqrt(M.J.R_star)), 0.4);
     cr_assert(fabs(L - dv) <= 1e-14 * dv);
+    /* a drop however slow (1e-4 m/s): its own impact indentation, not a fallback */
+    M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
+    vi_model_initial_state(&M, VI_Init_touching, -1e-4, 0.0, x);
+    vi_model_scales(&M, x, &L, &V);
+    dv = pow(15.0 * M.m * 1e-8 / (16.0 * M.J.E_star * sqrt(M.J.R_star)), 0.4);
+    cr_assert(fabs(L - dv) <= 1e-14 * dv, "L = %g vs %g", L, dv);
     /* a LEPP drop (no load): the larger of delta_Y and the linear spring's impact indentation
      * v sqrt(m / k_lin) (energy: m v^2 / 2 = k_lin d^2 / 2) */
     M = setup(VI_ContactModel_lepp, 0, 1, 0.0, 0.0, 0.0);

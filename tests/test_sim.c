@@ -1002,6 +1002,23 @@ Test(sim, outputs_after_initialization_are_those_of_the_initial_state)
     vi_sim_free(&s);
 }
 
+/* Preparing again (as every read in initialization mode does, after parameters were set) drops the
+ * outputs computed before: the static force follows a load that changed in between. */
+Test(sim, preparing_again_drops_the_outputs_computed_before)
+{
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    s.d.par.contact_model = VI_ContactModel_hertz;
+    cr_assert(vi_sim_prepare(&s) == 0, "%s", s.msg);
+    double W = s.d.M.W0;
+    cr_assert(fabs(vi_sim_outputs_of(&s, VI_OUT_FORCE)->F - W) <= 1e-12 * W);
+    s.d.par.P *= 2.0;
+    cr_assert(vi_sim_prepare(&s) == 0, "%s", s.msg);
+    double W2 = s.d.M.W0, F2 = vi_sim_outputs_of(&s, VI_OUT_FORCE)->F;
+    cr_assert(W2 > 1.5 * W && fabs(F2 - W2) <= 1e-12 * W2, "F = %g after the load went from %g to %g", F2, W, W2);
+    vi_sim_free(&s);
+}
+
 /* A guard within rounding of zero (here delta = 1e-310 m in contact, far below the rounding noise of
  * the contact guard) when an input changes gets the band of its rounding noise, VI_GRAZE_ULPS times its
  * change over one ulp of delta (the smallest subnormal: no ulp of t or v moves it) plus DBL_MIN; at
