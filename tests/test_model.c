@@ -563,6 +563,23 @@ Test(model, lepp_on_its_yield_surface_keeps_its_permanent_set)
     }
 }
 
+/* LEPP: freezing a plastic state writes down delta_p = delta - delta_Y and puts delta exactly on the
+ * new yield surface delta_p + delta_Y (the sum may round away from the delta it came from). */
+Test(model, lepp_freeze_puts_delta_on_the_yield_surface)
+{
+    vi_model M = setup(VI_ContactModel_lepp, 0, 1, 0.0, 0.0, 0.0);
+    int differs = 0;
+    for (int k = 1; k <= 200; k++) {
+        double d = M.J.delta_Y * (1.0 + k / 7.0) + k * 1e-19, x[2] = {d, 0.0};
+        M.mode = VI_Mode_plastic, M.delta_p = 0.0;
+        vi_model_freeze(&M, 0.0, x);
+        cr_assert(M.delta_p == d - M.J.delta_Y && x[0] == M.delta_p + M.J.delta_Y && x[1] == 0.0, "k %d: %.17g %.17g",
+                  k, x[0], M.delta_p);
+        differs += x[0] != d;
+    }
+    cr_assert(differs > 0, "no delta rounded: the test would not tell");
+}
+
 /* Ties (position, rate and force difference all zero) are broken by the next time
  * derivative, F_hold' = -F_ext' + m yC'''. Exact ties built with P equal to a force of the band. */
 Test(model, stick_band_ties_broken_by_the_rate_of_the_holding_force)
