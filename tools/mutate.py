@@ -16,7 +16,9 @@ survivor) when no test executes its line (a continuation line takes the tests of
 first line, and a declaration, on which gcov counts no code, those of its function). The score is
 killed / (killed + survived + uncovered);
 mutants listed in tools/mutants-equivalent.txt are left out (no test can tell them apart from the
-original; each entry gives the reason). --jobs J (default: the number of cores) runs J mutants at
+original; each entry gives the reason), and so are those the compiler turns into the same object
+code as the original ("identical": every object file built from the mutated source is byte for byte
+the original's, so no test can tell them apart; trivial compiler equivalence). --jobs J (default: the number of cores) runs J mutants at
 once, each in its own scratch copy (build/mutate/scratch, scratch-1, ...).
 
 Which test executes which line comes from a coverage map, built once per revision of the
@@ -563,6 +565,12 @@ def line_index(cmap):
 
 # ---- mutant runs -------------------------------------------------------------------------------
 
+def objects_of(build, rel):
+    """The object files compiled from the source rel in a build tree (one per target compiling it)."""
+    name = pathlib.PurePath(rel).name + ".o"
+    return sorted(p for p in build.glob("**/" + name) if "CMakeFiles" in p.parts and p.as_posix().endswith("/" + rel + ".o"))
+
+
 def sync_scratch(scratch):
     """Make scratch a copy of the tracked files (copying only what differs)."""
     for f in tracked_files():
@@ -653,6 +661,11 @@ def main():
         sync_scratch(scratch)
         configure_and_build(scratch, scratch / "build", [], "scratch")
     make_jobs = f"-j{max(1, (os.cpu_count() or 1) // jobs)}"
+    # the object code of the original, per scratch copy and source (a mutant compiled to the same code
+    # is equivalent: "identical")
+    sources = sorted({m.file for m in mutants})
+    original_code = {scratch: {f: {p: p.read_bytes() for p in objects_of(scratch / "build", f)} for f in sources}
+                     for scratch in scratches}
     t_mutants = time.monotonic()
     free = queue.Queue()
     for scratch in scratches:
@@ -674,8 +687,12 @@ def main():
                 tests = sorted({t for ln in range(m.body[0], m.body[1] + 1) for t in index.get((m.file, ln), [])})
             try:
                 rc, _ = run(["cmake", "--build", "build", make_jobs], scratch, 900)
+                before = original_code[scratch][m.file]
                 if rc != 0:
                     verdict = "stillborn"
+                elif before and all(before.get(p) == p.read_bytes() and p.stat().st_mtime_ns >= target.stat().st_mtime_ns
+                                    for p in objects_of(scratch / "build", m.file)):
+                    verdict = "identical"  # every object of the source rebuilt from the mutant, byte for byte the original
                 elif not tests:
                     verdict = "uncovered"
                 else:
@@ -702,12 +719,13 @@ def main():
         run(["cmake", "--build", "build", make_jobs], scratch, 900)
 
     count = {v: [r for r in results if r["verdict"] == v]
-             for v in ("killed", "survived", "uncovered", "equivalent", "stillborn")}
+             for v in ("killed", "survived", "uncovered", "equivalent", "identical", "stillborn")}
     k, s, u = len(count["killed"]), len(count["survived"]), len(count["uncovered"])
-    times = [r["seconds"] for r in results if r["verdict"] != "stillborn"]
+    times = [r["seconds"] for r in results if r["verdict"] not in ("stillborn", "identical")]
     print()
     print(f"seed {seed}: {len(mutants)} mutants; killed {k}, survived {s}, uncovered {u}, "
-          f"equivalent {len(count['equivalent'])}, stillborn (do not compile) {len(count['stillborn'])}")
+          f"equivalent {len(count['equivalent'])}, identical object code {len(count['identical'])}, "
+          f"stillborn (do not compile) {len(count['stillborn'])}")
     if k + s + u:
         print(f"mutation score: {k} of {k + s + u} non-equivalent mutants killed, {100.0 * k / (k + s + u):.1f} %")
     if times:
@@ -719,6 +737,10 @@ def main():
             print(f"\n{v}:")
             for r in count[v]:
                 print(f"  {r['where']}  {r['name']}")
+    if count["identical"]:
+        print("\nidentical object code (equivalent: the compiler made the same code of it):")
+        for r in count["identical"]:
+            print(f"  {r['where']}  {r['name']}")
     if count["equivalent"]:
         print(f"\nequivalent ({EQUIVALENT.relative_to(ROOT)}):")
         for r in count["equivalent"]:
