@@ -144,7 +144,8 @@ def test_jacobian_matches_finite_differences_in_every_mode(name, fmu_path, unzip
 
 def test_directional_derivative_is_linear_in_the_seeds(fmu_path, unzipdir, model_description):
     """Several knowns at once give the seeded sum of the single partials, whatever the seeds (a
-    small one, 1e-3, and 0 among them): J dknown, not a sample of the seeds."""
+    small one, 1e-3, and 0 among them): J dknown, not a sample of the seeds; the result overwrites
+    what the importer's array held."""
     from fmpy.fmi2 import FMU2Model
 
     md = model_description
@@ -164,6 +165,12 @@ def test_directional_derivative_is_linear_in_the_seeds(fmu_path, unzipdir, model
             got = np.array(fmu.getDirectionalDerivative(unknown, [vr[k] for k in knowns], seeds))
             want = sum(s * single[k] for s, k in zip(seeds, knowns))
             assert got == pytest.approx(want, rel=1e-12, abs=0.0), (seeds, got, want)
+        # the importer's array may hold anything before the call: it is written, not added to
+        n = len(unknown)
+        out = (ctypes.c_double * n)(*([7.0] * n))
+        fmu.fmi2GetDirectionalDerivative(fmu.component, (ctypes.c_uint * n)(*unknown), n, (ctypes.c_uint * 1)(vr["v"]), 1,
+                                         (ctypes.c_double * 1)(1.0), out)
+        assert list(out) == list(single["v"]), (list(out), single["v"])
     finally:
         fmu.terminate()
         fmu.freeInstance()

@@ -794,6 +794,22 @@ static void rolling_sim(vi_sim *s, double s0, double V, double x0, double rtol)
     cr_assert(vi_sim_initialize(s) == 0, "%s", s->msg);
 }
 
+/* Rolling at V = 0 over a profile with a kink behind (and ahead of) the start: no breakpoint ever,
+ * the static state stays as it is (to rounding). */
+Test(rolling, no_breakpoint_at_zero_speed, .timeout = 10)
+{
+    for (int k = 0; k < 2; k++) {
+        vi_sim s;
+        rolling_sim(&s, 1e-4, 0.0, k ? -0.5 : 0.5, 1e-8);
+        cr_assert(vi_model_next_breakpoint(&s.d.M, s.d.t) == INFINITY);
+        double x0 = s.d.x[0];
+        cr_assert(vi_sim_advance(&s, 0.01) == VI_SIM_OK && s.d.t == 0.01, "%s", s.msg);
+        cr_assert(fabs(s.d.x[0] - x0) <= 1e-9 * x0 && fabs(s.d.x[1]) <= 1e-12 && s.d.n_events == 0,
+                  "delta %g -> %g, v %g, %ld events", x0, s.d.x[0], s.d.x[1], (long)s.d.n_events);
+        vi_sim_free(&s);
+    }
+}
+
 /* Static start on Hertz, rolled at V over the trough's kink: before it the mass rides the platform
  * down uniformly (delta stays static); the kink turns the platform velocity by 2 s0 V, and the
  * contact rings with amplitude 2 s0 V / omega_c (linearised, omega_c = 2 pi f_contact). The loop
