@@ -158,6 +158,8 @@ def list_html(items, book, page):
         tag = "ol" if ordered else "ul"
         while stack and indent < stack[-1][0]:
             out.append(f"</li></{stack.pop()[1]}>")
+        if stack and indent == stack[-1][0] and tag != stack[-1][1]:  # another kind of list starts
+            out.append(f"</li></{stack.pop()[1]}>")
         if not stack or indent > stack[-1][0]:
             out.append(f"<{tag}>")
             stack.append((indent, tag))
