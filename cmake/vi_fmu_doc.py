@@ -20,8 +20,8 @@ Markdown to HTML covers what the repository's pages use: headings, paragraphs, f
 code, lists (nested by indentation), pipe tables, inline code, **bold**, *italic*, links and images.
 A link to a page packed here becomes a link into this page (every heading gets an id: the page's
 name and GitHub's anchor of the heading); a link to anything else that is not packed (a source file,
-another page of the repository) becomes its plain text, so that every link resolves inside the FMU
-or is an absolute URL.
+another page of the repository) becomes its plain text (a file's name: its path in the repository),
+so that every link resolves inside the FMU or is an absolute URL.
 """
 import argparse
 import html
@@ -60,8 +60,9 @@ def slug(heading):
 class Book:
     """The pages packed into one HTML page: where each Markdown file's anchors go, and the images."""
 
-    def __init__(self, out_dir, files):
+    def __init__(self, out_dir, files, root=None):
         self.out_dir = out_dir
+        self.root = root   # the repository: a link to a file of it that is not packed names its path
         self.ids = {os.path.abspath(f): self.page_id(f) for f in files}
         self.titles = {}   # absolute path -> the page's title, for a link whose text is the file's name
         self.images = {}   # absolute source path -> path in documentation/
@@ -111,7 +112,11 @@ def inline(text, book, page):
     def link(m):
         href = book.link(page, m.group(2))
         path = os.path.abspath(os.path.join(os.path.dirname(page), m.group(2).partition("#")[0]))
-        text = book.titles.get(path, m.group(1)) if m.group(1) == os.path.basename(path) else m.group(1)
+        text = m.group(1)
+        if text == os.path.basename(path) and href:
+            text = book.titles.get(path, text)
+        elif text == os.path.basename(path) and book.root and path.startswith(os.path.join(book.root, "")):
+            text = os.path.relpath(path, book.root)
         label = restore(html.escape(text, quote=False))
         return keep(f'<a href="{html.escape(href)}">{label}</a>' if href else label)
 
@@ -350,7 +355,8 @@ def main():
     md = fmi3desc.ET.parse(args.xml).getroot()
     shutil.rmtree(args.out, ignore_errors=True)
     os.makedirs(args.out)
-    book = Book(args.out, ([args.intro] if args.intro else []) + args.page)
+    book = Book(args.out, ([args.intro] if args.intro else []) + args.page,
+                root=os.path.dirname(os.path.abspath(args.license)))  # the repository holds LICENSE
     sections = []
     pages = {page: open(page, encoding="utf-8").read().splitlines() for page in args.page}
     for page, lines in pages.items():

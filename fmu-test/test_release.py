@@ -216,11 +216,13 @@ def test_the_stamp_replaces_attributes_and_keeps_every_other_byte():
 
 def convert(tmp_path, markdown, **pages):
     doc = load("vi_fmu_doc")
-    page = tmp_path / "page.md"
+    page = tmp_path / "doc" / "page.md"
+    page.parent.mkdir(exist_ok=True)
     page.write_text(markdown)
     for other, text in pages.items():
-        (tmp_path / f"{other}.md").write_text(text)
-    book = doc.Book(str(tmp_path / "out"), [str(page)] + [str(tmp_path / f"{o}.md") for o in pages])
+        (page.parent / f"{other}.md").write_text(text)
+    book = doc.Book(str(tmp_path / "out"), [str(page)] + [str(page.parent / f"{o}.md") for o in pages],
+                    root=str(tmp_path))
     return doc.Converter(book, str(page), 1).convert(markdown.splitlines())
 
 
@@ -239,14 +241,16 @@ def test_markdown_blocks(tmp_path):
 
 
 def test_markdown_links_stay_inside(tmp_path):
-    """A link to a packed page goes to its anchor in this page; to anything else not packed, plain text."""
-    (tmp_path / "fig.png").write_bytes(PNG_MAGIC)
+    """A link to a packed page goes to its anchor in this page; to anything else not packed, plain text
+    (a file's name becomes its path in the repository)."""
+    (tmp_path / "doc" / "fig.png").parent.mkdir()
+    (tmp_path / "doc" / "fig.png").write_bytes(PNG_MAGIC)
     md = ("## A b\n## A b\n[x](#a-b) [other.md](other.md#c-d) [`src`](../src/x.c) [fmpy](https://fmpy.org) "
-          "![p](fig.png)\n")
+          "![p](fig.png) [numerics.md](numerics.md#solvers)\n")
     assert convert(tmp_path, md, other="# Other page\n## C d\n") == "\n".join([
         '<h3 id="page-a-b">A b</h3>', '<h3 id="page-a-b-1">A b</h3>',
         '<p><a href="#page-a-b">x</a> <a href="#other-c-d">other.md</a> <code>src</code> '
-        '<a href="https://fmpy.org">fmpy</a> <img src="images/fig.png" alt="p"></p>'])
+        '<a href="https://fmpy.org">fmpy</a> <img src="images/fig.png" alt="p"> doc/numerics.md</p>'])
     assert (tmp_path / "out" / "images" / "fig.png").read_bytes() == PNG_MAGIC
 
 
