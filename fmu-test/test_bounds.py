@@ -29,9 +29,10 @@ def accepted(logged, vr, params=None, tolerance=None):
     s.freeInstance()
 
 
-@pytest.mark.parametrize("rtol", [0.5, 0.011, 1e-15, 0.0])
+@pytest.mark.parametrize("rtol", [0.5, 0.011, 1e-15, -1e-9])
 def test_rtol_outside_its_range_is_refused(logged, vr, rtol):
-    refused(logged, vr, ["rtol", "1e-14", "0.01"], dict(rtol=rtol))
+    """rtol is 0 (the experiment's tolerance) or in [1e-14, 1e-2]."""
+    refused(logged, vr, ["rtol", "1e-14" if 0 < rtol < 1e-14 else "0", "0.01"], dict(rtol=rtol))
 
 
 @pytest.mark.parametrize("tol", [0.5, 1e-15])

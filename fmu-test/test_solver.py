@@ -79,3 +79,43 @@ def test_small_communication_steps_take_no_extra_internal_steps(logged, vr, solv
     steps_coarse, steps_fine = statistics(coarse)[0], statistics(fine)[0]
     assert steps_fine <= 1.05 * steps_coarse + 5, (steps_coarse, steps_fine)
     assert abs(yf[-1] - yc[-1]) < 1e-6 * 1e-4
+
+
+def solver_line(log):
+    lines = [m for _, cat, m in log.messages if cat == "logSolver" and ", rtol " in m]
+    assert len(lines) == 1, log.messages
+    return float(lines[0].split(", rtol ")[1].split(",")[0])
+
+
+@pytest.mark.parametrize("rtol, tolerance, runs_at, warns", [
+    (1e-10, 1e-4, 1e-10, True),    # PyFMI passes its default 1e-4: the user's rtol wins, with a word
+    (1e-10, 1e-10, 1e-10, False),  # the same: nothing to say
+    (1e-10, None, 1e-10, False),
+    (0.0, 1e-3, 1e-3, False),      # rtol left at 0: the experiment's tolerance
+    (0.0, None, 1e-6, False),      # neither: 1e-6, the declared default experiment's
+])
+def test_the_tolerance_rule(logged, vr, rtol, tolerance, runs_at, warns):
+    log = logged()
+    s = log.instantiate(logging=False)
+    s.setDebugLogging(True, ["logSolver"])
+    start(s, vr, dict(rtol=rtol, a=1e-4), tolerance=tolerance)
+    assert solver_line(log) == runs_at
+    said = [m for st, _, m in log.messages if st == 1 and "experiment's tolerance" in m]
+    assert len(said) == warns, log.messages
+    if warns:
+        assert said[0] == f"rtol = {rtol:g} is used, not the experiment's tolerance {tolerance:g} (set rtol = 0 to use " \
+                          f"the experiment's)"
+    assert s.getReal([vr["rtol"]])[0] == rtol  # reads back what was set
+
+
+def test_default_experiment_declares_the_tolerance_of_rtol_0(model_description):
+    assert float(model_description.defaultExperiment.tolerance) == 1e-6
+
+
+@pytest.mark.parametrize("rtol", [1e-15, 5e-324])
+def test_rtol_between_0_and_its_minimum_is_refused(logged, vr, rtol):
+    log = logged()
+    s = log.instantiate(logging=False)
+    with pytest.raises(Exception):
+        start(s, vr, dict(rtol=rtol))
+    assert any("rtol" in m and "use 0 (the experiment's tolerance)" in m for _, _, m in log.messages), log.messages

@@ -105,6 +105,9 @@ void vi_sim_free(vi_sim *s);
  * that loads for R1 > 0; then compute the derived parameters and the initial state (no solver).
  * 0, or -1 with the reason in s->msg. */
 int vi_sim_prepare(vi_sim *s);
+/* The relative tolerance the simulation runs at: rtol when set (> 0), else the experiment's tolerance
+ * when given, else VI_RTOL_DEFAULT (doc/model.md section 5). */
+double vi_sim_rtol(const vi_sim_data *d);
 /* vi_sim_prepare, then create the solver. 0 or -1 (s->msg). */
 int vi_sim_initialize(vi_sim *s);
 /* Log (category solver) the method, the tolerances and the scales of an initialized simulation. */

@@ -63,6 +63,7 @@
  * rounding of a double state. A maximum step is 0 (no limit) or at least VI_MAX_STEP_MIN. */
 #define VI_RTOL_MIN 1e-14
 #define VI_RTOL_MAX 1e-2
+#define VI_RTOL_DEFAULT 1e-6 /* without rtol and without the experiment's tolerance */
 #define VI_MAX_STEP_MIN 1e-12 /* s */
 
 /* Sizes this wrapper is made for: small dense systems. */

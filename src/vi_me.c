@@ -6,8 +6,6 @@
 #include <stdio.h>
 #include <string.h>
 
-static double rtol_of(const vi_sim_data *d) { return d->tolerance > 0.0 ? d->tolerance : d->par.rtol; }
-
 static double platform(const vi_model *M, double t) { return vi_model_platform(M, t, NULL, NULL); }
 
 /* The inputs the setters stored differ from those the model holds. */
@@ -59,7 +57,7 @@ static void guard_noise(const vi_me *e, double ulps[VI_NGUARDS], double tol[VI_N
 {
     const vi_sim_data *d = &e->s.d;
     const vi_model *M = &d->M;
-    double g0[VI_NGUARDS], g[VI_NGUARDS], rtol = rtol_of(d), t = d->t, y = e->y, v = d->x[1];
+    double g0[VI_NGUARDS], g[VI_NGUARDS], rtol = vi_sim_rtol(d), t = d->t, y = e->y, v = d->x[1];
     double x[2] = {platform(M, t) - y, v};
     vi_model_guards(M, t, x, g0);
     double t1 = nextafter(t, INFINITY), x1[2] = {platform(M, t1) - y, v};
@@ -191,7 +189,7 @@ void vi_me_indicators(vi_me *e, double z[VI_ME_NINDICATORS])
 void vi_me_nominals(const vi_me *e, double nominal[VI_ME_NSTATES])
 {
     const vi_sim_data *d = &e->s.d;
-    double rtol = rtol_of(d);
+    double rtol = vi_sim_rtol(d);
     for (int i = 0; i < 2; i++) nominal[i] = e->active && d->atol[i] > 0.0 ? d->atol[i] / rtol : 1.0;
 }
 

@@ -131,7 +131,11 @@ static void set_input_ramps(vi_model *M, const vi_sim_data *d, double t)
     M->F_ext = (vi_ramp){d->in.F_ext, d->din.F_ext, t};
 }
 
-static double rtol_of(const vi_sim_data *d) { return d->tolerance > 0.0 ? d->tolerance : d->par.rtol; }
+double vi_sim_rtol(const vi_sim_data *d)
+{
+    if (d->par.rtol > 0.0) return d->par.rtol;
+    return d->tolerance > 0.0 ? d->tolerance : VI_RTOL_DEFAULT;
+}
 static void arm_guards_at_zero(vi_sim_data *d);
 
 /* Are the outputs and calculated parameters at the current state finite? -1 (s->msg, naming the
@@ -167,6 +171,9 @@ int vi_sim_prepare(vi_sim *s)
         VI_FAIL(s->msg, sizeof s->msg, "relative tolerance (the importer's: fmi2SetupExperiment, fmi3EnterInitializationMode) = %g: "
                 "use a value in [%g, %g]",
                 d->tolerance, VI_RTOL_MIN, VI_RTOL_MAX);
+    if (!(p->rtol == 0.0 || p->rtol >= VI_RTOL_MIN))
+        VI_FAIL(s->msg, sizeof s->msg, "rtol = %g: use 0 (the experiment's tolerance) or a value in [%g, %g]", p->rtol,
+                VI_RTOL_MIN, VI_RTOL_MAX);
     if (!(p->max_step == 0.0 || p->max_step >= VI_MAX_STEP_MIN))
         VI_FAIL(s->msg, sizeof s->msg, "max_step = %g s: use 0 (no limit) or a step >= %g s", p->max_step,
                 VI_MAX_STEP_MIN);
@@ -191,7 +198,7 @@ static int create_solver(vi_sim *s, int resume)
     vi_solver_free(s->solver);
     vi_solver_config cfg = {
         .n = 2, .nguards = VI_NGUARDS, .rhs = sim_rhs, .guards = sim_guards, .jac = sim_jac, .user = d,
-        .method = d->par.solver, .rtol = rtol_of(d), .atol = d->atol, .max_step = d->par.max_step,
+        .method = d->par.solver, .rtol = vi_sim_rtol(d), .atol = d->atol, .max_step = d->par.max_step,
         .ode = &d->ode, .sw = &d->sw, .log = s->log, .log_env = s->log_env};
     s->solver = resume ? vi_solver_resume(&cfg, d->t, d->x) : vi_solver_create(&cfg, d->t, d->x);
     s->solver_stale = 0;
@@ -204,7 +211,7 @@ int vi_sim_initialize(vi_sim *s)
 {
     if (vi_sim_prepare(s) < 0) return -1;
     vi_sim_data *d = &s->d;
-    double L, V, rtol = rtol_of(d);
+    double L, V, rtol = vi_sim_rtol(d);
     vi_model_scales(&d->M, d->x, &L, &V);
     d->atol[0] = rtol * L;
     d->atol[1] = rtol * V;
@@ -215,6 +222,9 @@ int vi_sim_initialize(vi_sim *s)
     if (create_solver(s, 0) < 0) return -1;
     char text[400];
     if (vi_model_option_warnings(&d->par, text, sizeof text) > 0) s->log(s->log_env, VI_LOG_WARNING, "%s", text);
+    if (d->par.rtol > 0.0 && d->tolerance > 0.0 && d->par.rtol != d->tolerance)
+        s->log(s->log_env, VI_LOG_WARNING, "rtol = %g is used, not the experiment's tolerance %g (set rtol = 0 to use the "
+               "experiment's)", d->par.rtol, d->tolerance);
     vi_sim_check_validity(s);
     return 0;
 }
@@ -222,7 +232,7 @@ int vi_sim_initialize(vi_sim *s)
 void vi_sim_log_solver(const vi_sim *s)
 {
     const vi_sim_data *d = &s->d;
-    double rtol = rtol_of(d);
+    double rtol = vi_sim_rtol(d);
     s->log(s->log_env, VI_LOG_SOLVER, "%s, rtol %g, atol %g m and %g m/s (scales %g m, %g m/s)",
            vi_solver_method_name(d->par.solver), rtol, d->atol[0], d->atol[1], d->atol[0] / rtol, d->atol[1] / rtol);
 }
@@ -289,7 +299,7 @@ static void apply_inputs(vi_sim *s)
 static void guard_noise(const vi_sim_data *d, double ulps[VI_NGUARDS], double tol[VI_NGUARDS])
 {
     const vi_model *M = &d->M;
-    double g0[VI_NGUARDS], g[VI_NGUARDS], y[2] = {d->x[0], d->x[1]}, rtol = rtol_of(d);
+    double g0[VI_NGUARDS], g[VI_NGUARDS], y[2] = {d->x[0], d->x[1]}, rtol = vi_sim_rtol(d);
     vi_model_guards(M, d->t, y, g0);
     vi_model_guards(M, nextafter(d->t, INFINITY), y, g);
     for (int i = 0; i < VI_NGUARDS; i++) ulps[i] = fabs(g[i] - g0[i]), tol[i] = 0.0;

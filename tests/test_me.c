@@ -306,7 +306,7 @@ Test(me_events, a_grazing_contact_is_snapped_and_its_guard_lifted_by_its_band)
     /* free flight moving up, 0.1 um into the platform: within the band of the contact guard
      * (4 (rtol |y| + atol) = 6e-6 m): a located crossing, put onto the surface; the mass moves away,
      * the mode stays free, and the guard is lifted by the band until it has moved away */
-    double y = 1.5 - 1e-7, v = 0.02, rtol = e.s.d.par.rtol; /* (the start had v0 = 0.01) */
+    double y = 1.5 - 1e-7, v = 0.02, rtol = vi_sim_rtol(&e.s.d); /* (the start had v0 = 0.01) */
     at(&e, VI_Mode_free, y, v);
     long events = e.s.d.n_events;
     clear_log();
@@ -369,7 +369,7 @@ Test(me_events, a_grazing_turning_point_gets_the_band_of_the_velocity)
     vi_sim_init(&e.s, capture, NULL);
     e.s.d.par.P = 3e5;
     cr_assert(vi_me_initialize(&e) == 0, "%s", e.s.msg);
-    double dY = e.s.d.M.J.delta_Y, v = 1e-8, rtol = e.s.d.par.rtol;
+    double dY = e.s.d.M.J.delta_Y, v = 1e-8, rtol = vi_sim_rtol(&e.s.d);
     put(&e, VI_Mode_plastic, 1.2 * dY, v, 0.0);
     vi_me_event ev = update(&e);
     cr_assert(e.s.d.M.mode == VI_Mode_plastic && e.s.d.x[1] == 0.0 && ev.states_changed == 1, "mode %d, v %g",
@@ -402,13 +402,13 @@ Test(me_events, guards_are_armed_at_zero_up_to_their_rounding_noise_and_no_furth
     raised(&e);
     /* the touching start moving up: free flight with the contact guard at 0, lifted by its noise and
      * the band of the tolerance (those of Model Exchange, not the simulation's noise alone) */
-    double y0 = 1.5, band0 = 256.0 * 0x1p-52 + 4.0 * (e.s.d.par.rtol * y0 + e.s.d.atol[0]);
+    double y0 = 1.5, band0 = 256.0 * 0x1p-52 + 4.0 * (vi_sim_rtol(&e.s.d) * y0 + e.s.d.atol[0]);
     cr_assert(e.s.d.M.mode == VI_Mode_free && e.y == y0);
     cr_assert(fabs(e.s.d.guard_band[0] - band0) <= 1e-12 * band0, "initial band %.17g, closed form %.17g",
               e.s.d.guard_band[0], band0);
     /* free flight 256 ulps of y above the platform: the contact guard equals its noise, 256 times its
      * change under one ulp of y (2^-52): lifted; 257 ulps: not */
-    double rtol = e.s.d.par.rtol;
+    double rtol = vi_sim_rtol(&e.s.d);
     for (int k = 256; k <= 257; k++) {
         double y = 1.5 + k * 0x1p-52;
         at(&e, VI_Mode_free, y, 0.01);
@@ -868,7 +868,7 @@ Test(me_events, the_band_counts_one_ulp_of_y_upwards)
      * guard moves by 2^-67 (downwards delta would round back to 2^-14, a move of 0) */
     vi_me e;
     start(&e, lepp);
-    double d = 0x1p-14, rtol = e.s.d.par.rtol;
+    double d = 0x1p-14, rtol = vi_sim_rtol(&e.s.d);
     put(&e, VI_Mode_elastic, d, -0.01, d);
     cr_assert(e.y == -d && e.s.d.x[0] == d && e.s.d.M.delta_p == d);
     update(&e);
@@ -899,7 +899,7 @@ Test(me_events, the_band_counts_one_ulp_of_v_upwards)
     int rc = vi_me_initialize(&e);
     remove(path);
     cr_assert(rc == 0, "%s", e.s.msg);
-    double dyC, v = -0x1p-7, rtol = e.s.d.par.rtol;
+    double dyC, v = -0x1p-7, rtol = vi_sim_rtol(&e.s.d);
     vi_model_platform(&e.s.d.M, 0.0, &dyC, NULL);
     cr_assert(dyC == v, "platform velocity %.17g", dyC);
     put(&e, VI_Mode_plastic, 1.2 * e.s.d.M.J.delta_Y, v, 0.0);
