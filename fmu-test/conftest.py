@@ -1,5 +1,6 @@
 """Shared helpers for the FMU-level tests: the FMU of this checkout, the solver to run every test with,
 and the closed forms and FMU helpers of the vibroimpact package under the names the tests use."""
+import importlib
 import os
 import pathlib
 
@@ -44,6 +45,26 @@ def fmu_path():
     if not FMU.exists():
         pytest.fail(f"{FMU} is missing: build it with cmake -S . -B build && cmake --build build")
     return str(FMU)
+
+
+def require_module(name):
+    """The Python module `name` of pyproject.toml's test extra; a missing one fails the test with how to
+    install it (never a skip)."""
+    try:
+        return importlib.import_module(name)
+    except ImportError as e:
+        pytest.fail(f"{name} is not installed ({e}): tools/setup.sh installs it (pyproject.toml's test extra)")
+
+
+@pytest.fixture(scope="session")
+def companion_fmus():
+    """The vehicle-track example's Track.fmu and Vehicle.fmu, which every build of the tests makes next
+    to the FMU under test (CMakeLists.txt); missing ones fail the test."""
+    paths = [BUILD / "Track.fmu", BUILD / "Vehicle.fmu"]
+    missing = [str(p) for p in paths if not p.exists()]
+    if missing:
+        pytest.fail(f"{', '.join(missing)} missing: build with cmake -S . -B build && cmake --build build")
+    return paths
 
 
 @pytest.fixture(scope="session")
