@@ -5,6 +5,8 @@ import os
 import pathlib
 
 import fmpy
+import fmpy.fmi2
+import fmpy.simulation
 import pytest
 from fmpy import extract, read_model_description
 
@@ -38,6 +40,13 @@ def _simulate_with_solver(filename, *args, start_values=None, **kw):
 
 
 fmpy.simulate_fmu = _simulate_with_solver
+
+# fmpy.simulate_fmu and an instance made without callbacks allocate through fmpy's calloc and free,
+# the C library's own: here the process's, so that a preloaded AddressSanitizer checks those blocks too
+# (tools/test.sh's sanitized run; the same functions otherwise).
+fmpy.simulation.calloc, fmpy.simulation.free = _fmu.process_allocator()
+fmpy.fmi2.defaultCallbacks.allocateMemory = fmpy.fmi2.fmi2CallbackAllocateMemoryTYPE(fmpy.simulation.calloc)
+fmpy.fmi2.defaultCallbacks.freeMemory = fmpy.fmi2.fmi2CallbackFreeMemoryTYPE(fmpy.simulation.free)
 
 
 @pytest.fixture(scope="session")
