@@ -29,7 +29,7 @@ for lib in libasan.so libubsan.so; do
   SAN_RUNTIMES+=("$path")
 done
 SANITIZED_TESTS=(fmu-test/test_bounds.py fmu-test/test_extremes.py fmu-test/test_fuzz_findings.py fmu-test/test_status.py
-                 fmu-test/test_fmi.py fmu-test/test_rollback.py fmu-test/test_state.py
+                 fmu-test/test_fmi.py fmu-test/test_read_all.py fmu-test/test_rollback.py fmu-test/test_state.py
                  fmu-test/test_me_*.py fmu-test/test_fmi3*.py)
 LD_PRELOAD="$(IFS=:; echo "${SAN_RUNTIMES[*]}")" ASAN_OPTIONS=detect_leaks=0:halt_on_error=1 \
   UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 VI_FMU="$PWD/build-asan/VibroImpact.fmu" \
