@@ -1,9 +1,12 @@
 """Shared helpers for the FMU-level tests: the FMU of this checkout, the solver to run every test with,
 and the closed forms and FMU helpers of the vibroimpact package under the names the tests use."""
+import importlib
 import os
 import pathlib
 
 import fmpy
+import fmpy.fmi2
+import fmpy.simulation
 import pytest
 from fmpy import extract, read_model_description
 
@@ -50,12 +53,39 @@ def _simulate_with_solver(filename, *args, start_values=None, **kw):
 
 fmpy.simulate_fmu = _simulate_with_solver
 
+# fmpy.simulate_fmu and an instance made without callbacks allocate through fmpy's calloc and free,
+# the C library's own: here the process's, so that a preloaded AddressSanitizer checks those blocks too
+# (tools/test.sh's sanitized run; the same functions otherwise).
+fmpy.simulation.calloc, fmpy.simulation.free = _fmu.process_allocator()
+fmpy.fmi2.defaultCallbacks.allocateMemory = fmpy.fmi2.fmi2CallbackAllocateMemoryTYPE(fmpy.simulation.calloc)
+fmpy.fmi2.defaultCallbacks.freeMemory = fmpy.fmi2.fmi2CallbackFreeMemoryTYPE(fmpy.simulation.free)
+
 
 @pytest.fixture(scope="session")
 def fmu_path():
     if not FMU.exists():
         pytest.fail(f"{FMU} is missing: build it with cmake -S . -B build && cmake --build build")
     return str(FMU)
+
+
+def require_module(name):
+    """The Python module `name` of pyproject.toml's test extra; a missing one fails the test with how to
+    install it (never a skip)."""
+    try:
+        return importlib.import_module(name)
+    except ImportError as e:
+        pytest.fail(f"{name} is not installed ({e}): tools/setup.sh installs it (pyproject.toml's test extra)")
+
+
+@pytest.fixture(scope="session")
+def companion_fmus():
+    """The vehicle-track example's Track.fmu and Vehicle.fmu, which every build of the tests makes next
+    to the FMU under test (CMakeLists.txt); missing ones fail the test."""
+    paths = [BUILD / "Track.fmu", BUILD / "Vehicle.fmu"]
+    missing = [str(p) for p in paths if not p.exists()]
+    if missing:
+        pytest.fail(f"{', '.join(missing)} missing: build with cmake -S . -B build && cmake --build build")
+    return paths
 
 
 @pytest.fixture(scope="session")

@@ -7,7 +7,7 @@ import pytest
 from fmpy.fmi1 import FMICallException
 
 from conftest import start, with_solver
-from solvers import each_solver
+from solvers import SOLVERS, each_solver
 
 ERROR = 3
 
@@ -149,11 +149,14 @@ def test_thousands_of_regular_impacts_in_one_step():
 
 
 def test_contact_at_tens_of_megahertz_is_not_chattering():
-    """m = 1e-7 kg without load on a platform vibrating at 30 MHz: the mass leaves and hits the platform
-    every period. Small steps run; a long step ends at the work bound, not at the Zeno rule."""
+    """m = 1e-7 kg without load on a platform vibrating at 30 MHz: the platform's acceleration a (2 pi
+    f)^2 = 3.6e5 m/s^2 throws the mass off, and it hits the platform again, every period: 600 impacts
+    in 20 us, each with its onset and its separation only (Hertz), 2 events per impact. Small steps
+    run; a long step ends at the work bound, not at the Zeno rule."""
     p = dict(contact_model=1, m=1e-7, P=0.0, a=1e-11, f=3e7)
     small = in_subprocess(p, [1e-6] * 20)
-    assert small["status"] == "ok" and small["n_impacts"] > 100, small
+    assert small["status"] == "ok" and abs(small["n_impacts"] - 600) <= 1, small
+    assert small["events"] <= 2 * (small["n_impacts"] + 1), small
     long = in_subprocess(p, [1e-2])
     assert long["status"] == "discard"
     assert_work_bound(long)
@@ -184,26 +187,57 @@ def test_work_bound_on_events_stops_at_the_event_it_names():
     assert 0.0 < r["last"] < 1e-2
 
 
+# The runs below last 0.1 s in steps of 0.1 ms. Chattering is a pair of guards firing one after the other
+# again and again, microseconds or less apart, thousands of times; an impact's own events are few:
+# its onset, the changes of mode while in contact, its separation.
+RUN_S, RUN_STEPS = 0.1, [1e-4] * 1000
+
+
+def assert_events_per_contact(r, at_most):
+    """The run ended OK and its events (fmi2Terminate's count) number at most `at_most` per contact:
+    per impact (n_impacts) and for the contact the run may start in."""
+    assert r["status"] == "ok", r["messages"][-3:]
+    assert r["events"] is not None and r["events"] <= at_most * (r["n_impacts"] + 1), (r["events"], r["n_impacts"])
+
+
+GRAZING_CHATTERS = {(SOLVERS["dop853"], 1e-3), (SOLVERS["auto"], 1e-3)}
+
+
 @each_solver
 @pytest.mark.parametrize("tolerance", [None, 1e-3, 1e-8])
-def test_grazing_with_poissons_ratio_near_minus_one(tolerance, solver):
+def test_grazing_with_poissons_ratio_near_minus_one(tolerance, solver, request):
     """Fig. 4b with nu1 = nu2 = -0.999999: the mass grazes the permanent set (reaches it with a rate of
-    1e-5 of its speed); the same-mode event must not fire again and again ('chattering')."""
-    r = in_subprocess(dict(scenario="fig4b", nu1=-0.999999, nu2=-0.999999, solver=solver), [1e-4] * 1000, tolerance)
-    assert r["status"] == "ok", r["messages"][-3:]
+    1e-5 of its speed); no event may fire again and again ('chattering'). Johnson with a fixed
+    contact point: a contact has its onset, yield, the turning point (unloading or stick), the end of
+    stick, a reload past delta_c with its turning point, and the separation: at most 8 events per
+    contact (4.25 measured at most).
+    dop853 (alone or in auto) at rtol 1e-3 does chatter: after the end of stick the unloading mode's
+    reload guard fires within 5e-11 s, again and again (the state error at this tolerance decides the
+    direction the numerical solution takes from delta_c): 144 events per contact with dop853, 11 with auto."""
+    if (solver, tolerance) in GRAZING_CHATTERS:
+        request.applymarker(pytest.mark.xfail(strict=True, reason="dop853 at rtol 1e-3 chatters after stick"))
+    r = in_subprocess(dict(scenario="fig4b", nu1=-0.999999, nu2=-0.999999, solver=solver), RUN_STEPS, tolerance)
+    assert_events_per_contact(r, 8)
 
 
 @pytest.mark.parametrize("law", [1, 2, 3])
 @pytest.mark.parametrize("tolerance", [1e-2, 1e-6, 1e-10])
 def test_tangential_touch_of_a_floating_mass(law, tolerance):
     """No load, the mass at rest touching the platform, which swings down and comes back to touch it
-    tangentially (zero relative speed) once per period."""
-    p = dict(contact_model=law, init=2, v0=0.0, P=0.0, g=0.0, a=1e-4)
-    r = in_subprocess(p, [1e-4] * 1000, tolerance)
-    assert r["status"] == "ok", r["messages"][-3:]
+    tangentially (zero relative speed) once per period: at most one contact per period of the
+    excitation (f = 560 Hz: 56 in the run), and with no speed to yield, each contact has only its
+    onset and its separation: at most 2 events per contact (1.9 measured at most, and 29 contacts)."""
+    f = 560.0
+    p = dict(contact_model=law, init=2, v0=0.0, P=0.0, g=0.0, a=1e-4, f=f)
+    r = in_subprocess(p, RUN_STEPS, tolerance)
+    assert r["n_impacts"] <= f * RUN_S + 1, r["n_impacts"]
+    assert_events_per_contact(r, 2)
 
 
 @pytest.mark.parametrize("tolerance", [1e-2, 1e-3])
 def test_moving_contact_at_loose_tolerance(tolerance):
-    r = in_subprocess(dict(scenario="fig4c"), [1e-4] * 1000, tolerance)
-    assert r["status"] == "ok", r["messages"][-3:]
+    """Fig. 4c (Johnson, moving contact point: no memory) at loose tolerances: a contact has its onset,
+    yield, the return below yield and the separation, twice yield and return when the excitation
+    pushes again within one contact: at most 6 events per contact (3.75 measured at most)."""
+    r = in_subprocess(dict(scenario="fig4c"), RUN_STEPS, tolerance)
+    assert_events_per_contact(r, 6)

@@ -8,7 +8,7 @@ from fmpy import simulate_fmu
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import fmi2CoSimulation, fmi2LastSuccessfulTime, fmi2ModelExchange
 
-from conftest import SOLVER, effective, start, with_solver
+from conftest import SOLVER, effective, require_module, start, with_solver
 
 ERROR = 3
 
@@ -320,7 +320,7 @@ def test_libcosimpy_selects_the_hertz_law_and_agrees_with_fmpy(fmu_path, vr):
     """libcosim ignores FMI 2.0 Enumeration variables; the enumerated options are Integers, so a
     libcosim user selects the law by its value (contact law: hertz=1, ...). Y = 2e8 Pa makes Johnson
     yield where Hertz does not, so the selection shows in the result."""
-    pytest.importorskip("libcosimpy")
+    require_module("libcosimpy")
     from libcosimpy.CosimExecution import CosimExecution
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
     from libcosimpy.CosimObserver import CosimObserver

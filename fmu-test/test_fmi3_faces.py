@@ -216,16 +216,25 @@ def test_altered_truncated_and_foreign_states_are_refused(version, faces):
 
 @each_face
 def test_calls_in_the_wrong_state_are_refused_and_change_nothing(version, faces):
-    f = faces(version)
+    """Each call refused in a state it is not allowed in leaves the instance as it was: the values
+    read before and after are the same, and the run that follows is bit for bit that of an instance
+    that got no refused call."""
+    f, plain = faces(version), faces(version, name="plain")
     assert f.step(0.0, H) == ERROR and "not allowed in state 'instantiated'" in f.errors()[-1]
     assert f.raw("Terminate") == ERROR
     f.init(FIG4B)
+    plain.init(FIG4B)
+    np.testing.assert_array_equal(run(f, 0.0, 100), run(plain, 0.0, 100))
+    before = f.reals("y", "v", "F", "W_plastic")
     assert f.raw("EnterInitializationMode", *([] if version == 2 else [False, 0.0, 0.0, False, 0.0])) == ERROR
     assert f.raw("ExitInitializationMode") == ERROR
-    assert f.step(0.0, H) == OK
+    assert f.reals("y", "v", "F", "W_plastic") == before
+    np.testing.assert_array_equal(run(f, 100 * H, 100), run(plain, 100 * H, 100))
+    at_end = f.reals("y", "v", "F", "W_plastic")
     f.s.terminate()
-    assert f.step(H, H) == ERROR and "terminated" in f.errors()[-1]
+    assert f.step(200 * H, H) == ERROR and "terminated" in f.errors()[-1]
     assert f.raw("Terminate") == ERROR
+    assert f.reals("y", "v", "F", "W_plastic") == at_end
     f.s.reset()
     f.init(FIG4B)
     assert f.step(0.0, H) == OK

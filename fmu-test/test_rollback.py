@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from conftest import start
-from solvers import each_solver
+from solvers import SOLVERS, each_solver
 
 H = 1e-5          # communication step [s]
 T_SAVE = 0.01     # s
@@ -52,20 +52,33 @@ def test_set_state_continues_bit_for_bit(logged, vr, solver):
 
 
 @each_solver
-def test_state_taken_between_every_step_changes_nothing_in_repeat(logged, vr, solver):
-    """Saving the state at every step (a master ready to roll back) gives the same run every time."""
-    def taking_states():
+def test_state_taken_between_every_step_changes_nothing(logged, vr, solver):
+    """A master ready to roll back takes (and frees) the FMU state before every step; compared with a
+    master that takes none. dop853 (and auto, on dop853 in this non-stiff case) copies its whole
+    continuation: the runs are bit for bit equal. CVODE restarts at every state taken (doc/model.md
+    section 7.5): the runs differ by the solver's error only, the impacts come at the same steps and
+    y stays within 1e-3 of its swing (rtol 1e-6 per restart, amplified by the impacts: 3e-4 measured
+    over these 15 ms with five impacts); a state that lost the mode, the memory or the time would
+    differ at once."""
+    def steps(take_states):
         s = logged().instantiate()
         start(s, vr, fig4b(solver))
         out = []
         for k in range(1500):
-            state = s.getFMUstate()
-            s.freeFMUstate(state)
+            if take_states:
+                s.freeFMUstate(s.getFMUstate())
             s.doStep(k * H, H)
-            out.append(s.getReal([vr["y"], vr["F"]]))
+            out.append(s.getReal([vr[x] for x in NAMES]) + s.getInteger([vr["n_impacts"], vr["mode"]]))
         s.freeInstance()
         return np.array(out)
-    np.testing.assert_array_equal(taking_states(), taking_states())
+    taking, plain = steps(True), steps(False)
+    assert plain[-1, -2] > 0, "no impact in the run: the test would prove little"
+    if solver in (SOLVERS["bdf"], SOLVERS["adams"]):
+        np.testing.assert_array_equal(taking[:, -2], plain[:, -2])
+        y = NAMES.index("y")
+        assert np.max(np.abs(taking[:, y] - plain[:, y])) < 1e-3 * np.ptp(plain[:, y])
+    else:
+        np.testing.assert_array_equal(taking, plain)
 
 
 @each_solver

@@ -82,10 +82,20 @@ def test_status_functions_are_refused_before_initialization(logged):
     s.freeInstance()
 
 
-def test_free_instance_of_null_does_nothing(running):
-    _, s = running
-    s.fmi2FreeInstance(None)  # must not crash
-    s.doStep(0.0, 1e-4)  # and the real instance is untouched
+def test_free_instance_of_null_does_nothing(running, logged, vr):
+    """fmi2FreeInstance(NULL) returns without a crash and touches no instance: the running one steps
+    on bit for bit as one that saw no such call, and says nothing."""
+    log, s = running
+    other = logged(name="other").instantiate()
+    start(other, vr, dict(contact_model=1, a=1e-4))
+    s.fmi2FreeInstance(None)
+    names = [vr[n] for n in ("y", "v", "F", "delta")]
+    for k in range(50):
+        s.doStep(k * 1e-4, 1e-4)
+        other.doStep(k * 1e-4, 1e-4)
+        assert s.getReal(names) == other.getReal(names), k
+    assert log.messages == []
+    other.freeInstance()
 
 
 # ---- the state machine after failures ----

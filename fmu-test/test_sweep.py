@@ -257,9 +257,6 @@ def test_item_names_from_the_description_of_an_integer(tmp_path):
 
 
 # ---- continuation -------------------------------------------------------------------------------
-def f_is_tunable():
-    return FMU.exists() and spec.Interface(str(FMU)).variables["f"].tunable
-
 
 def test_continuation_continues_the_state(tmp_path):
     """A chain of two equal points is one run cut in two: the second point's statistics over its
@@ -313,12 +310,12 @@ def test_continuation_direction_orders_the_chain(tmp_path):
 
 
 @pytest.mark.timeout(150)
-@pytest.mark.skipif(not f_is_tunable(), reason="this FMU declares f fixed")
 def test_up_and_down_sweeps_jump_on_either_side_of_the_resonance(tmp_path):
     """Hertz, a = 5 um, continuation in the tunable f. Sweeping up, the mass stays on the platform
     until the growing response lifts it off below the contact resonance; sweeping down it stays on
     until above it. Without damping the bouncing then persists, so between the two jumps each
     direction keeps a branch the other does not reach: hysteresis around f_contact."""
+    assert spec.Interface(str(FMU)).variables["f"].tunable, "the continuation in f needs f tunable"
     fn, _ = linear_resonance_hz()
     args = ["--set", "contact_model=hertz", "--set", "a=5e-6", "--grid", "f=230:310:9", "--stop-time", "0.1",
             "--transient", "0.05"]

@@ -11,7 +11,7 @@ from fmpy import read_model_description, simulate_fmu
 from fmpy.validation import validate_fmu
 from scipy.linalg import expm
 
-from conftest import BUILD, FMU
+from conftest import BUILD, FMU, require_module
 
 # the example's modules, importable through pytest.ini's pythonpath
 import master
@@ -23,9 +23,8 @@ EXAMPLE = pathlib.Path(__file__).resolve().parent.parent / "examples" / "vehicle
 
 TRACK, VEHICLE = BUILD / "Track.fmu", BUILD / "Vehicle.fmu"
 P_T, P_V = parameters.TRACK, parameters.VEHICLE
-# The companion FMUs are built when the top-level CMakeLists.txt includes the example.
-BUILT = "examples/vehicle-track" in (EXAMPLE.parent.parent / "CMakeLists.txt").read_text()
-needs_fmus = pytest.mark.skipif(not BUILT, reason="examples/vehicle-track is not part of this build (CMakeLists.txt)")
+# The companion FMUs: every build of the tests makes them; missing ones fail (conftest.companion_fmus).
+needs_fmus = pytest.mark.usefixtures("companion_fmus")
 
 
 @pytest.fixture(scope="module", params=["Track", "Vehicle"])
@@ -242,10 +241,11 @@ def test_reference_energy_balance_and_convergence(harmonic_reference):
     assert np.max(np.abs(loose.force(t) - sol.force(t))) < 1e-5 * system.W
 
 
-def contact_has(*names):
+def assert_contact_has(*names):
+    """The contact FMU's variables the coupling uses (F_mean and rolling): this FMU always has them."""
     md = read_model_description(str(FMU))
     have = {v.name for v in md.modelVariables}
-    return all(n in have for n in names)
+    assert set(names) <= have, f"the contact FMU lacks {sorted(set(names) - have)}"
 
 
 @pytest.fixture(scope="module")
@@ -265,8 +265,7 @@ def test_coupled_run_matches_the_reference(rough):
     with its velocity, F_mean to the track) at 1e-5 s against the monolithic reference, rolling
     over the roughness: measured 0.29 % and 0.19 % of the wheel load; the end-of-step force F and
     a held rail give 20 % and more (examples/vehicle-track/README.md)."""
-    if not contact_has("F_mean", "profile_file", "V", "x0"):
-        pytest.skip("this contact FMU has no F_mean or no rolling")
+    assert_contact_has("F_mean", "profile_file", "V", "x0")
     path, T, system, sol = rough
     h = 1e-5
     r = master.run(h, T, "gauss-seidel", ("vehicle", "contact", "track"), "F_mean", "ramp", profile=path)
@@ -280,9 +279,8 @@ def test_coupled_run_matches_the_reference(rough):
 @needs_fmus
 def test_libcosim_and_the_fmpy_master_agree(rough):
     """libcosim from OspSystemStructure.xml and master.py with the same (Jacobi) scheme."""
-    pytest.importorskip("libcosimpy")
-    if not contact_has("F_mean", "profile_file", "V", "x0"):
-        pytest.skip("this contact FMU has no F_mean or no rolling")
+    require_module("libcosimpy")
+    assert_contact_has("F_mean", "profile_file", "V", "x0")
     import cosim
     path, _, system, _ = rough
     h, T = 5e-6, 0.03

@@ -83,7 +83,11 @@ if [ -n "$WINE" ]; then # the first start of a prefix takes a while and complain
   timeout "$RUN_TIMEOUT" "$WINE" wineboot --init >/dev/null 2>&1 || failed "wine64 cannot start (wineboot)"
 fi
 
-mapfile -t CASES < <("$NATIVE_DRIVER" cases)
+# the case list: a failing driver or an empty list fails the run (nothing would be compared)
+CASES=()
+if ! case_list=$("$NATIVE_DRIVER" cases); then failed "x86_64-linux: fmu_driver cases fails"
+elif [ -z "$case_list" ]; then failed "x86_64-linux: fmu_driver cases lists no case"
+else mapfile -t CASES <<<"$case_list"; fi
 for c in "${CASES[@]}"; do
   on x86_64-linux run "$(lib_on x86_64-linux VibroImpact)" "$c" >"$OUT/x86_64-linux/$c.txt" \
     || failed "x86_64-linux: case $c (the reference run) fails"

@@ -90,16 +90,32 @@ def variables(model_description):
 
 # ---- log messages --------------------------------------------------------------------------------------
 
+def process_allocator():
+    """(calloc, free) as the process resolves them, for an FMI 2.0 instance's memory callbacks: those
+    of the allocator loaded first, AddressSanitizer's when it is preloaded (LD_PRELOAD), so that it
+    checks the FMU's blocks. fmpy's own calloc and free are looked up in the C library itself, past a
+    preloaded allocator; on Windows they are the C runtime's."""
+    import ctypes
+    if os.name == "nt":
+        from fmpy import calloc, free
+        return calloc, free
+    process = ctypes.CDLL(None)
+    calloc, free = process.calloc, process.free
+    calloc.argtypes, calloc.restype = [ctypes.c_size_t, ctypes.c_size_t], ctypes.c_void_p
+    free.argtypes, free.restype = [ctypes.c_void_p], None
+    return calloc, free
+
+
 class MessageLog:
     """What an FMU instance logs: `callbacks` for FMU2Slave.instantiate, whose logger appends
     (status, category, message) to `messages` ('%%' unescaped). limit: keep at most that many;
     unique: skip a message text already kept."""
 
     def __init__(self, limit=None, unique=False):
-        from fmpy import calloc, free
         from fmpy.fmi2 import (fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE, fmi2CallbackFunctions,
                                fmi2CallbackLoggerTYPE)
         self.messages, self.limit, self.unique = [], limit, unique
+        calloc, free = process_allocator()
         cb = fmi2CallbackFunctions()
         cb.logger = fmi2CallbackLoggerTYPE(self._log)
         cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
