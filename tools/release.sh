@@ -143,7 +143,7 @@ configure_and_build() { # <target> <cmake arguments...>
   cmake -S "$ROOT" -B "$dir" -DCMAKE_BUILD_TYPE=Release -DVI_WERROR=ON -DPython3_EXECUTABLE="$PYTHON" \
     -DCMAKE_SHARED_LINKER_FLAGS=-s -DVI_FMU_SUNDIALS_SOURCES="$SUNDIALS_SRC" "$@" >"$log" 2>&1 \
     || { tail -n 30 "$log"; die "configure for $target failed ($log)"; }
-  cmake --build "$dir" -j"$JOBS" --target "${FMUS[@]}" fmu_driver LayerTest >>"$log" 2>&1 \
+  cmake --build "$dir" -j"$JOBS" --target "${FMUS[@]}" fmu_driver fmu3_driver LayerTest >>"$log" 2>&1 \
     || { tail -n 40 "$log"; die "build for $target failed ($log)"; }
   # the FMUs (where FMI 2.0 names the platform; and FMI 3.0 ones when the sources make them)
   local fmu_targets
