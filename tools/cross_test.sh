@@ -27,6 +27,8 @@
 #   mingw      the same sources built into a DLL by x86_64-w64-mingw32-gcc alone, under wine64: every
 #              case of fmu_driver against the shipped win64 DLL, within SOURCE_TOLERANCE
 # The macOS binaries cannot run here (tools/release.sh checks their headers, imports and exports).
+# The wheel (dist/*.whl): tools/wheel_test.py installs it into a fresh virtual environment with no
+# compiler on the PATH and runs the FMUs inside through fmpy and the `vibroimpact` command.
 # A missing wine64 or qemu-aarch64 fails the run (VI_WINE, VI_QEMU: use these programs instead).
 # Usage: tools/cross_test.sh  (PYTHON, JOBS as for tools/release.sh)
 set -euo pipefail
@@ -245,6 +247,17 @@ if [ -n "$WINE" ]; then
   fi
 fi
 # --- end FMI 3.0 binaries and source FMUs ---
+
+# --- the wheel ---
+wheels=("$ROOT"/dist/vibroimpact-*-py3-none-any.whl)
+if [ ${#wheels[@]} -ne 1 ] || ! [ -f "${wheels[0]}" ]; then
+  failed "dist/ holds ${#wheels[@]} vibroimpact wheels, not one"
+elif "$PYTHON" "$ROOT/tools/wheel_test.py" "${wheels[0]}" dist/fmi2/VibroImpact.fmu dist/fmi3/VibroImpact.fmu >"$OUT/wheel.txt" 2>&1; then
+  while read -r line; do report wheel "" "${line#wheel_test: }"; done <"$OUT/wheel.txt"
+else
+  failed "the wheel: $(tail -n 8 "$OUT/wheel.txt")"
+fi
+# --- end the wheel ---
 
 [ ${#summary[@]} -eq 0 ] || printf 'cross_test: %s\n' "${summary[@]}"
 if [ "$fail" -ne 0 ]; then

@@ -4,8 +4,11 @@
 #   dist/fmi3/*.fmu                                    x86_64-linux, x86_64-windows, aarch64-linux,
 #                                                      x86_64-darwin, aarch64-darwin
 #                                                      (when the sources build FMI 3.0 FMUs; else skipped)
-# each also a source FMU (sources/: cmake/vi_fmu_sources.py), and the aarch64 Linux libraries (FMI 2.0
-# names no platform for them) in build/release/aarch64-linux/.
+# each also a source FMU (sources/: cmake/vi_fmu_sources.py), the aarch64 Linux libraries (FMI 2.0
+# names no platform for them) in build/release/aarch64-linux/, and
+#   dist/vibroimpact-<version>-py3-none-any.whl        the Python package with the VibroImpact FMUs
+#                                                      above inside: installs with no compiler
+#                                                      (tools/release_wheel.py)
 #
 # One build (CMakeLists.txt, vi_add_fmu in cmake/vi_fmu.cmake; Release, warnings are errors, the FMU
 # binaries stripped) per target in build/release/<target>/:
@@ -322,6 +325,12 @@ if ls "$BUILD/$NATIVE"/fmi3/*.fmu >/dev/null 2>&1; then
   fmi3_note="x86_64-linux, x86_64-windows, aarch64-linux, x86_64-darwin, aarch64-darwin"
 fi
 
+# --- the wheel ---
+wheel_fmus=(vibroimpact/VibroImpact.fmu="$ROOT/dist/fmi2/VibroImpact.fmu") # where pip install . puts them
+if [ -f "$ROOT/dist/fmi3/VibroImpact.fmu" ]; then wheel_fmus+=(vibroimpact/fmi3/VibroImpact.fmu="$ROOT/dist/fmi3/VibroImpact.fmu"); fi
+WHEEL=$("$PYTHON" "$ROOT/tools/release_wheel.py" "$ROOT/dist" "${wheel_fmus[@]}") || die "the wheel was not built"
+# --- end the wheel ---
+
 # --- what was made -----------------------------------------------------------------------------------
 size() { stat -c %s "$1"; }
 echo "release: SUNDIALS $SUNDIALS_VERSION (Debian source $(basename "$SUNDIALS_SRC")) for ${CROSS_TARGETS[*]}: $CACHE"
@@ -344,4 +353,5 @@ for fmu in "${FMUS[@]}"; do
   done
 done
 echo "release: dist/fmi3: $fmi3_note"
+echo "release: ${WHEEL#"$ROOT"/} ($(size "$WHEEL") bytes): the Python package with dist/fmi2 and dist/fmi3 VibroImpact.fmu"
 echo "release: aarch64-linux libraries (no FMI 2.0 platform): build/release/aarch64-linux/{$(IFS=,; echo "${FMUS[*]}")}.so"
