@@ -95,7 +95,10 @@ def build_fmpy(unzipdir, md):
     from fmpy.build import build_platform_binary
     folder = fmpy.platform if md.fmiVersion.startswith("2") else fmpy.platform_tuple
     with tempfile.TemporaryDirectory() as build:
-        build_platform_binary(str(unzipdir), build_dir=build)
+        try:
+            build_platform_binary(str(unzipdir), build_dir=build)
+        except subprocess.CalledProcessError as e:
+            fail(f"fmpy's source build failed ({' '.join(e.cmd[:3])} ...: its messages above)")
     found = list((unzipdir / "binaries" / folder).glob(identifier(md) + ".*"))
     if len(found) != 1:
         fail(f"fmpy's build left {found} in binaries/{folder}")
