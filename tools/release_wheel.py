@@ -20,7 +20,7 @@ import zipfile
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 TIMEOUT = 600  # s, pip wheel
 TAG = "py3-none-any"
-FIXED_TIME = (1980, 1, 1, 0, 0, 0)  # the added files' time stamp: the same wheel from the same FMUs
+FIXED_TIME = (1980, 1, 1, 0, 0, 0)  # the added files' time stamp (zip's earliest), not the build's
 
 
 def fail(message):
