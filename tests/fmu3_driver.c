@@ -27,16 +27,13 @@
  *                    (classical Runge-Kutta, fixed step 1e-6 s, events at the end of a step where an
  *                    event indicator changes sign): y, the event and impact counts
  */
-#ifdef _WIN32
-#include <windows.h>
-#else
-#include <dlfcn.h>
-#endif
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#define DRIVER_NAME "fmu3_driver"
+#include "driver_common.h"
 #include "fmi3Functions.h"
 #include "vi_variables.h"
 
@@ -87,46 +84,6 @@ static struct {
     fmi3CompletedIntegratorStepTYPE *completed_step;
     fmi3EnterContinuousTimeModeTYPE *enter_continuous;
 } F;
-
-/* The loaded binary: dlopen where there is one, LoadLibrary on Windows. */
-#ifdef _WIN32
-static HMODULE lib;
-
-static void *lib_open(const char *path)
-{
-    char native[MAX_PATH];
-    if (snprintf(native, sizeof native, "%s", path) >= (int)sizeof native) return NULL;
-    for (char *p = native; *p; p++)
-        if (*p == '/') *p = '\\';
-    lib = LoadLibraryA(native);
-    if (!lib) fprintf(stderr, "fmu3_driver: cannot load %s (error %lu)\n", path, (unsigned long)GetLastError());
-    return lib;
-}
-
-static void *lib_symbol(const char *name)
-{
-    union {
-        FARPROC f;
-        void *p;
-    } u = {.f = GetProcAddress(lib, name)};
-    return u.p;
-}
-
-static void lib_close(void) { FreeLibrary(lib); }
-#else
-static void *lib;
-
-static void *lib_open(const char *path)
-{
-    lib = dlopen(path, RTLD_NOW | RTLD_LOCAL);
-    if (!lib) fprintf(stderr, "fmu3_driver: %s\n", dlerror());
-    return lib;
-}
-
-static void *lib_symbol(const char *name) { return dlsym(lib, name); }
-
-static void lib_close(void) { dlclose(lib); }
-#endif
 
 static void load(const char *path)
 {
@@ -317,30 +274,7 @@ static void refusals(fmi3Instance c, double t)
 
 /* ---- cases: records for comparison across platforms ------------------------------------------------ */
 
-#define RTOL_CASES 1e-10 /* relative tolerance of the cases */
-#define H_CASES 1e-5     /* s, the communication step (CS) and recording interval (ME) */
-#define ME_NX 2          /* continuous states: y, v */
-#define ME_NZ 2          /* event indicators */
-#define ME_H 1e-6        /* s, the fixed Runge-Kutta step of Model Exchange */
-#define EVENT_PASSES 100 /* bound of the fmi3UpdateDiscreteStates iteration */
 #define EARLY_PER_STEP 100 /* bound of the early returns inside one communication step */
-
-typedef struct {
-    const char *name;
-    int law;
-    double a, f, Y; /* m, Hz, Pa */
-    double t_stop;  /* s */
-} scenario;
-
-/* fmu_driver's fig4b and fig5a (tests/fmu_driver.c). */
-static const scenario scenarios[] = {
-    {"fig4b", VI_ContactModel_johnson, 1e-4, 560.0, 6e8, 0.02},
-    {"fig5a", VI_ContactModel_hertz, 1e-4, 100.0, 6e8, 0.1},
-};
-static const char *const solver_names[] = {"bdf", "adams", "dop853", "auto"};
-static const int solver_values[] = {VI_Solver_bdf, VI_Solver_adams, VI_Solver_dop853, VI_Solver_auto};
-#define N_SCENARIOS (sizeof scenarios / sizeof scenarios[0])
-#define N_SOLVERS (sizeof solver_values / sizeof solver_values[0])
 
 static void case_logger(fmi3InstanceEnvironment env, fmi3Status status, fmi3String category, fmi3String message)
 {
@@ -385,7 +319,7 @@ static int update_discrete(fmi3Instance c, long *passes)
 {
     fmi3Boolean more = fmi3True, terminate, nominals, values, next_defined;
     fmi3Float64 next;
-    for (int k = 0; k < EVENT_PASSES && more; k++, (*passes)++)
+    for (int k = 0; k < ME_EVENT_PASSES && more; k++, (*passes)++)
         if (F.update(c, &more, &terminate, &nominals, &values, &next_defined, &next) != fmi3OK) return -1;
     return more || terminate ? -1 : 0;
 }
@@ -436,8 +370,8 @@ static void case_cs(const scenario *sc, size_t solver)
     F.free_instance(c);
 }
 
-/* x' at (t, x) into dx; 0, or -1. */
-static int me_derivatives(fmi3Instance c, double t, const double *x, double *dx)
+/* x' at (t, x) into dx; 0, or -1 (derivatives_fn). */
+static int me_derivatives(void *c, double t, const double *x, double *dx)
 {
     return F.set_time(c, t) == fmi3OK && F.set_states(c, x, ME_NX) == fmi3OK &&
                    F.get_derivatives(c, dx, ME_NX) == fmi3OK
@@ -458,15 +392,8 @@ static int me_event(fmi3Instance c, double *x, double *z, long *passes)
  * event was handled, 0 when none, -1 on failure. */
 static int me_step(fmi3Instance c, double t, double t1, double *x, double *z, long *passes)
 {
-    double k1[ME_NX], k2[ME_NX], k3[ME_NX], k4[ME_NX], xs[ME_NX], z1[ME_NZ];
-    int rc = me_derivatives(c, t, x, k1);
-    for (int i = 0; i < ME_NX; i++) xs[i] = x[i] + 0.5 * ME_H * k1[i];
-    rc = rc < 0 ? rc : me_derivatives(c, t + 0.5 * ME_H, xs, k2);
-    for (int i = 0; i < ME_NX; i++) xs[i] = x[i] + 0.5 * ME_H * k2[i];
-    rc = rc < 0 ? rc : me_derivatives(c, t + 0.5 * ME_H, xs, k3);
-    for (int i = 0; i < ME_NX; i++) xs[i] = x[i] + ME_H * k3[i];
-    rc = rc < 0 ? rc : me_derivatives(c, t1, xs, k4);
-    for (int i = 0; i < ME_NX; i++) x[i] += ME_H / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+    double z1[ME_NZ];
+    int rc = rk4_step(me_derivatives, c, t, t1, x);
     fmi3Boolean enter = fmi3False, stop = fmi3False;
     if (rc < 0 || F.set_time(c, t1) != fmi3OK || F.set_states(c, x, ME_NX) != fmi3OK ||
         F.completed_step(c, fmi3True, &enter, &stop) != fmi3OK || F.get_indicators(c, z1, ME_NZ) != fmi3OK || stop)
@@ -510,9 +437,9 @@ static void case_me(const scenario *sc)
 
 static int list_cases(void)
 {
-    for (size_t i = 0; i < N_SCENARIOS; i++)
+    for (size_t i = 0; i < N_ME_SCENARIOS; i++)
         for (size_t s = 0; s < N_SOLVERS; s++) printf("cs-%s-%s\n", scenarios[i].name, solver_names[s]);
-    for (size_t i = 0; i < N_SCENARIOS; i++) printf("me-%s\n", scenarios[i].name);
+    for (size_t i = 0; i < N_ME_SCENARIOS; i++) printf("me-%s\n", scenarios[i].name);
     return 0;
 }
 
@@ -521,7 +448,7 @@ static int run_case(const char *path, const char *name)
     load(path);
     int found = 0;
     char full[64];
-    for (size_t i = 0; i < N_SCENARIOS && !found; i++) {
+    for (size_t i = 0; i < N_ME_SCENARIOS && !found; i++) {
         snprintf(full, sizeof full, "me-%s", scenarios[i].name);
         if (strcmp(name, full) == 0) case_me(&scenarios[i]), found = 1;
         for (size_t s = 0; s < N_SOLVERS && !found; s++) {

@@ -63,16 +63,18 @@ declare -A COMPANION_INPUT=([Track]=1e5 [Vehicle]=1e-3) # F_contact [N], y_wheel
 RESOURCES=$ROOT/tests/layer_fmu # holds value.txt, LayerTest's resource
 EXPECTED_RESOURCE=$(tr -d '[:space:]' <"$RESOURCES/value.txt")
 
-# on <target> <driver arguments...>: the target's driver under its emulator; paths as the target sees them
-on() {
-  local target=$1
-  shift
+# run_on <driver> <target> <driver arguments...>: the target's build of the driver (fmu_driver, or
+# fmu3_driver for FMI 3.0) under its emulator; paths as the target sees them
+run_on() {
+  local driver=$1 target=$2
+  shift 2
   case $target in
-    x86_64-linux) timeout "$RUN_TIMEOUT" "$NATIVE_DRIVER" "$@" ;;
-    x86_64-windows) timeout "$RUN_TIMEOUT" "$WINE" "$BUILD/x86_64-windows/fmu_driver.exe" "$@" ;;
-    aarch64-linux) timeout "$RUN_TIMEOUT" "$QEMU" -L /usr/aarch64-linux-gnu "$BUILD/aarch64-linux/fmu_driver" "$@" ;;
+    x86_64-linux) timeout "$RUN_TIMEOUT" "$BUILD/x86_64-linux/$driver" "$@" ;;
+    x86_64-windows) timeout "$RUN_TIMEOUT" "$WINE" "$BUILD/x86_64-windows/$driver.exe" "$@" ;;
+    aarch64-linux) timeout "$RUN_TIMEOUT" "$QEMU" -L /usr/aarch64-linux-gnu "$BUILD/aarch64-linux/$driver" "$@" ;;
   esac
 }
+on() { run_on fmu_driver "$@"; }
 path_on() { if [ "$1" = x86_64-windows ]; then echo "Z:$2"; else echo "$2"; fi; }
 # lib_on <target> <FMU name>: the binary the target's driver loads: from dist/fmi2/<name>.fmu where
 # FMI 2.0 has the platform (LayerTest is not released: from the build)
@@ -162,16 +164,7 @@ done
 
 # --- FMI 3.0 binaries and source FMUs ---
 NATIVE_DRIVER3=$BUILD/x86_64-linux/fmu3_driver
-# on3 <target> <fmu3_driver arguments...>: as on(), with the FMI 3.0 driver
-on3() {
-  local target=$1
-  shift
-  case $target in
-    x86_64-linux) timeout "$RUN_TIMEOUT" "$NATIVE_DRIVER3" "$@" ;;
-    x86_64-windows) timeout "$RUN_TIMEOUT" "$WINE" "$BUILD/x86_64-windows/fmu3_driver.exe" "$@" ;;
-    aarch64-linux) timeout "$RUN_TIMEOUT" "$QEMU" -L /usr/aarch64-linux-gnu "$BUILD/aarch64-linux/fmu3_driver" "$@" ;;
-  esac
-}
+on3() { run_on fmu3_driver "$@"; }
 # compare_runs <label> <reference record> <record> <tolerance> [<stderr of the run>]: into the summary
 compare_runs() {
   local label=$1 ref=$2 rec=$3 tol=$4 result
@@ -216,35 +209,26 @@ build_from_sources() { # <label> <tool arguments...>: the built library's path o
   if "$PYTHON" "$ROOT/tools/fmu_source_build.py" "$@" >"$log" 2>&1; then tail -n 1 "$log"
   else failed "the $label build from sources: $(tail -n 5 "$log")"; fi
 }
+# source_runs <label: how-version> <reference records> <runner: on or on3> <target> <library> <cases...>:
+# every case on the library built from sources, against the shipped binary's records
+source_runs() {
+  local label=$1 ref=$2 runner=$3 target=$4 lib=$5 dir="$SRC/$1/runs" c
+  shift 5
+  mkdir -p "$dir"
+  for c in "$@"; do
+    if "$runner" "$target" run "$(path_on "$target" "$lib")" "$c" >"$dir/$c.txt" 2>"$dir/$c.err"; then
+      compare_runs "source-${label%%-*} ${label#*-}-$c" "$ref/$c.txt" "$dir/$c.txt" "$SOURCE_TOLERANCE"
+    else failed "source-${label%%-*}: ${label#*-} case $c fails: $(tr -d '\r' <"$dir/$c.err" | tail -n 5)"; fi
+  done
+}
 lib=$(build_from_sources fmpy-fmi2 fmpy "$ROOT/dist/fmi2/VibroImpact.fmu" "$SRC/fmpy-fmi2")
-if [ -n "$lib" ]; then
-  mkdir -p "$SRC/fmpy-fmi2/runs"
-  for c in "${CASES[@]}"; do
-    if "$NATIVE_DRIVER" run "$lib" "$c" >"$SRC/fmpy-fmi2/runs/$c.txt" 2>"$SRC/fmpy-fmi2/runs/$c.err"; then
-      compare_runs "source-fmpy fmi2-$c" "$OUT/x86_64-linux/$c.txt" "$SRC/fmpy-fmi2/runs/$c.txt" "$SOURCE_TOLERANCE"
-    else failed "source-fmpy: case $c fails: $(tail -n 5 "$SRC/fmpy-fmi2/runs/$c.err")"; fi
-  done
-fi
+[ -z "$lib" ] || source_runs fmpy-fmi2 "$OUT/x86_64-linux" on x86_64-linux "$lib" "${CASES[@]}"
 lib=$(build_from_sources fmpy-fmi3 fmpy "$ROOT/dist/fmi3/VibroImpact.fmu" "$SRC/fmpy-fmi3")
-if [ -n "$lib" ]; then
-  mkdir -p "$SRC/fmpy-fmi3/runs"
-  for c in "${CASES3[@]}"; do
-    if "$NATIVE_DRIVER3" run "$lib" "$c" >"$SRC/fmpy-fmi3/runs/$c.txt" 2>"$SRC/fmpy-fmi3/runs/$c.err"; then
-      compare_runs "source-fmpy fmi3-$c" "$OUT/fmi3/x86_64-linux/$c.txt" "$SRC/fmpy-fmi3/runs/$c.txt" "$SOURCE_TOLERANCE"
-    else failed "source-fmpy: fmi3 case $c fails: $(tail -n 5 "$SRC/fmpy-fmi3/runs/$c.err")"; fi
-  done
-fi
+[ -z "$lib" ] || source_runs fmpy-fmi3 "$OUT/fmi3/x86_64-linux" on3 x86_64-linux "$lib" "${CASES3[@]}"
 if [ -n "$WINE" ]; then
   lib=$(build_from_sources mingw-fmi2 cc "$ROOT/dist/fmi2/VibroImpact.fmu" "$SRC/mingw-fmi2" --target x86_64-windows \
         -- x86_64-w64-mingw32-gcc-win32)
-  if [ -n "$lib" ]; then
-    mkdir -p "$SRC/mingw-fmi2/runs"
-    for c in "${CASES[@]}"; do
-      if on x86_64-windows run "$(path_on x86_64-windows "$lib")" "$c" >"$SRC/mingw-fmi2/runs/$c.txt" 2>"$SRC/mingw-fmi2/runs/$c.err"; then
-        compare_runs "source-mingw fmi2-$c" "$OUT/x86_64-windows/$c.txt" "$SRC/mingw-fmi2/runs/$c.txt" "$SOURCE_TOLERANCE"
-      else failed "source-mingw: case $c fails: $(tr -d '\r' <"$SRC/mingw-fmi2/runs/$c.err" | tail -n 5)"; fi
-    done
-  fi
+  [ -z "$lib" ] || source_runs mingw-fmi2 "$OUT/x86_64-windows" on x86_64-windows "$lib" "${CASES[@]}"
 fi
 # --- end FMI 3.0 binaries and source FMUs ---
 
