@@ -236,6 +236,7 @@ check_elf() { # <so> [<prefix>]: needs only libc and libm, exports only <prefix>
 check_macho() { # <dylib> <prefix> <arch>: loads only libSystem, exports only <prefix>* functions; ARM64: signed
   local lib=$1 prefix=$2 arch=$3 used exports
   [ -f "$lib" ] || die "$lib was not built"
+  command -v llvm-objdump >/dev/null && command -v llvm-nm >/dev/null || die "llvm-objdump or llvm-nm not found (Debian package llvm)"
   llvm-objdump --macho --private-header "$lib" | grep -q "MH_MAGIC_64 *$arch .* DYLIB" || die "$lib is no $arch Mach-O library"
   used=$(llvm-objdump --macho --dylibs-used "$lib" | sed -n 's/^\s*\(\S*\) (compatibility.*/\1/p' \
          | grep -vx "@rpath/$(basename "$lib")" | tr '\n' ' ')
