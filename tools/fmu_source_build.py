@@ -17,7 +17,6 @@ the folder being FMI 2.0's name of the platform (linux64, win64, darwin64) or FM
 Exits non-zero, with the compiler's messages, when the build fails.
 """
 import argparse
-import os
 import pathlib
 import shutil
 import subprocess
@@ -140,5 +139,4 @@ def main():
 
 
 if __name__ == "__main__":
-    os.environ.setdefault("PYTHONDONTWRITEBYTECODE", "1")
     main()

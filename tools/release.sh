@@ -192,16 +192,21 @@ EOF
       mv "$cached.partial" "$cached"
     fi
     cp -r "$cached/." "$out/"
+    DARWIN_USED+=("$key")
   done
   rm -f "$BUILD/darwin/$place"
   (cd "$out" && cmake -E tar cf "$BUILD/darwin/$place" --format=zip modelDescription.xml binaries)
 }
 rm -rf "$BUILD/darwin" "$BUILD/darwin.stage"
+DARWIN_USED=() # the cache entries of this run; the others (older sources) are deleted below
 for fmu in "${FMUS[@]}"; do
   darwin_fmu "$BUILD/x86_64-windows/$fmu.fmu" "$fmu.fmu" x86_64-darwin
   if [ -f "$BUILD/x86_64-windows/fmi3/$fmu.fmu" ]; then
     darwin_fmu "$BUILD/x86_64-windows/fmi3/$fmu.fmu" "fmi3/$fmu.fmu" "${DARWIN_TARGETS[@]}"
   fi
+done
+for entry in "$CACHE"/darwin/*; do
+  [[ " ${DARWIN_USED[*]} " == *" $(basename "$entry") "* ]] || rm -rf "$entry"
 done
 merge+=("$BUILD/darwin")
 # --- end macOS binaries ---
