@@ -239,7 +239,7 @@ check_elf() { # <so> [<prefix>]: needs only libc and libm, exports only <prefix>
 }
 # --- macOS binaries ---
 check_macho() { # <dylib> <prefix> <arch>: loads only libSystem, exports only <prefix>* functions; ARM64: signed
-  local lib=$1 prefix=$2 arch=$3 used exports
+  local lib=$1 prefix=$2 arch=$3 used exports minos
   [ -f "$lib" ] || die "$lib was not built"
   command -v llvm-objdump >/dev/null && command -v llvm-nm >/dev/null || die "llvm-objdump or llvm-nm not found (Debian package llvm)"
   llvm-objdump --macho --private-header "$lib" | grep -q "MH_MAGIC_64 *$arch .* DYLIB" || die "$lib is no $arch Mach-O library"
@@ -252,7 +252,8 @@ check_macho() { # <dylib> <prefix> <arch>: loads only libSystem, exports only <p
   if [ "$arch" = ARM64 ]; then
     llvm-objdump --macho --all-headers "$lib" | grep -q "cmd LC_CODE_SIGNATURE" || die "$lib is not signed (macOS on ARM loads only signed code)"
   fi
-  echo "loads ${used% }; exports $(wc -l <<<"$exports") $prefix* functions"
+  minos=$(llvm-objdump --macho --all-headers "$lib" | awk '$1 == "minos" { print $2; exit }')
+  echo "loads ${used% }; exports $(wc -l <<<"$exports") $prefix* functions; macOS $minos or later"
 }
 # --- end macOS binaries ---
 declare -A CHECKED
