@@ -43,10 +43,74 @@
 # The version is the CMake project's (PROJECT_VERSION); the generation date SOURCE_DATE_EPOCH's when it
 # is set (at build time, else at configure time), else the time the description is stamped.
 # -----------------------------------------------------------------------------------------------------------
+# --- source FMUs ---
+# VI_FMU_SUNDIALS_SOURCES (cache, SUNDIALS' source tree, tools/release.sh): each FMU packed here also
+# holds sources/, everything an importer needs to compile its binary with no SUNDIALS installed
+# (cmake/vi_fmu_sources.py: the model's C files, the layer, the CVODE sources it uses, a
+# configuration header for any platform), listed in <SourceFiles> of the FMI 2.0 model description
+# and in sources/buildDescription.xml for FMI 3.0.
+# --- end source FMUs ---
 set(VI_FMU_ROOT ${CMAKE_CURRENT_LIST_DIR}/..)
 include(${CMAKE_CURRENT_LIST_DIR}/vi_platform.cmake)
 set(VI_FMU_MERGE_BINARIES "" CACHE STRING
     "Build directories of other platforms whose FMU binaries the FMUs packed here also hold")
+# --- source FMUs ---
+set(VI_FMU_SUNDIALS_SOURCES "" CACHE PATH "SUNDIALS' source tree: the FMUs packed here also hold sources/")
+
+# vi_fmu_stage_sources(<name> <fmi version> <model XML> <out: model XML to pack> <out: sources folder>
+#                      <out: files the staging depends on> <C files...>): the custom command writing
+# <folder>/sources (and, FMI 2.0, the model description with <SourceFiles>); nothing without
+# VI_FMU_SUNDIALS_SOURCES. Uses ARG_INCLUDE_DIRS and ARG_LIBRARIES of vi_add_fmu().
+function(vi_fmu_stage_sources name version xml xml_out dir_out depends_out)
+  set(${xml_out} ${xml} PARENT_SCOPE)
+  set(${dir_out} "" PARENT_SCOPE)
+  set(${depends_out} "" PARENT_SCOPE)
+  if(NOT VI_FMU_SUNDIALS_SOURCES)
+    return()
+  endif()
+  set(c_files "")
+  foreach(f ${ARGN})
+    get_filename_component(f ${f} ABSOLUTE)
+    list(APPEND c_files ${f})
+  endforeach()
+  foreach(lib ${ARG_LIBRARIES}) # the libraries' own C files (vi_core, vt_solver)
+    if(TARGET ${lib})
+      get_target_property(lib_sources ${lib} SOURCES)
+      get_target_property(lib_dir ${lib} SOURCE_DIR)
+      foreach(f ${lib_sources})
+        get_filename_component(f ${f} ABSOLUTE BASE_DIR ${lib_dir})
+        list(APPEND c_files ${f})
+      endforeach()
+    endif()
+  endforeach()
+  set(include_dirs ${VI_FMU_ROOT}/include ${CMAKE_CURRENT_SOURCE_DIR} ${ARG_INCLUDE_DIRS})
+  set(headers "")
+  foreach(d ${include_dirs})
+    file(GLOB h ${d}/*.h)
+    list(APPEND headers ${h})
+  endforeach()
+  set(dir ${CMAKE_CURRENT_BINARY_DIR}/${name}_fmi${version}.sources)
+  set(script ${VI_FMU_ROOT}/cmake/vi_fmu_sources.py)
+  set(args --out ${dir}/sources --sundials ${VI_FMU_SUNDIALS_SOURCES} --fmi-headers ${FMI2_HEADERS_DIR}
+           --sources ${c_files} --include-dirs ${include_dirs})
+  if(version STREQUAL "2")
+    set(${xml_out} ${dir}/modelDescription.xml PARENT_SCOPE)
+    list(APPEND args --fmi2-xml ${xml} --fmi2-xml-out ${dir}/modelDescription.xml)
+    set(outputs ${dir}/modelDescription.xml)
+  else()
+    list(APPEND args --build-description ${name} --define VI_FMI3_TIME_VR=${VI_FMI3_TIME_VR}u
+                     VI_FMI3_DERIVATIVE_VR_BASE=${VI_FMI3_DERIVATIVE_VR_BASE}u
+                     VI_FMI3_INDICATOR_VR_BASE=${VI_FMI3_INDICATOR_VR_BASE}u)
+    set(outputs ${dir}/sources/buildDescription.xml)
+  endif()
+  add_custom_command(OUTPUT ${outputs}
+    COMMAND ${Python3_EXECUTABLE} ${script} ${args}
+    DEPENDS ${script} ${xml} ${c_files} ${headers}
+    COMMENT "Writing the sources/ of ${name}.fmu (FMI ${version}.0)")
+  set(${dir_out} ${dir}/sources PARENT_SCOPE)
+  set(${depends_out} ${outputs} PARENT_SCOPE)
+endfunction()
+# --- end source FMUs ---
 # Value references of every FMI 3.0 FMU that are no row of a table: the independent variable `time`,
 # and der(<input>) of the Real input in row r at VI_FMI3_DERIVATIVE_VR_BASE + r.
 set(VI_FMI3_TIME_VR 2147483647)
@@ -178,6 +242,14 @@ function(vi_add_fmu name)
 
     set(fmu ${out_dir}/${name}.fmu)
     set(stage ${CMAKE_CURRENT_BINARY_DIR}/${target}.stage)
+    # --- source FMUs ---
+    vi_fmu_stage_sources(${name} ${version} ${version_xml} version_xml sources_dir sources_depends
+                         ${ARG_SOURCES} ${face} ${VI_FMU_ROOT}/src/vi_fmi_core.c)
+    set(copy_sources "")
+    if(sources_dir)
+      set(copy_sources COMMAND ${CMAKE_COMMAND} -E copy_directory ${sources_dir} ${stage}/sources)
+    endif()
+    # --- end source FMUs ---
     set(merge_binaries "")
     set(merge_fmus "")
     file(RELATIVE_PATH fmu_in_build ${CMAKE_BINARY_DIR} ${fmu})
@@ -218,6 +290,9 @@ function(vi_add_fmu name)
       list(APPEND parts terminalsAndIcons)
     endif()
     # ---- end of documentation and icon ----------------------------------------------------------------------
+    if(sources_dir) # source FMUs
+      list(APPEND parts sources)
+    endif()
     add_custom_command(OUTPUT ${fmu}
       COMMAND ${CMAKE_COMMAND} -E rm -rf ${stage}
       COMMAND ${CMAKE_COMMAND} -E make_directory ${stage}/binaries/${platform} ${stage}/resources
@@ -226,9 +301,11 @@ function(vi_add_fmu name)
       ${merge_binaries}
       ${copy_resources}
       ${copy_docs}
+      ${copy_sources}
       COMMAND ${CMAKE_COMMAND} -E rm -f ${fmu}
       COMMAND ${CMAKE_COMMAND} -E chdir ${stage} ${CMAKE_COMMAND} -E tar cf ${fmu} --format=zip ${parts}
       DEPENDS ${target} ${version_xml} ${ARG_RESOURCES} ${merge_fmus} ${doc_inputs} ${icon} ${name}_dump_variables
+              ${sources_depends}
       COMMENT "Packing ${name}.fmu (FMI ${version}.0)")
     add_custom_target(${target}_fmu ALL DEPENDS ${fmu})
     add_dependencies(${target}_fmu ${name}_stamp)

@@ -9,8 +9,10 @@
 
 #if defined(__MINGW32__)
 #define VI_PRINTF_FORMAT(f, a) __attribute__((format(gnu_printf, f, a)))
-#else
+#elif defined(__GNUC__) || defined(__clang__)
 #define VI_PRINTF_FORMAT(f, a) __attribute__((format(printf, f, a)))
+#else
+#define VI_PRINTF_FORMAT(f, a) /* a compiler without the GNU attribute (MSVC) checks nothing */
 #endif
 
 #endif

@@ -5,19 +5,35 @@
  * against the sanitized binary, else under valgrind memcheck. Any report fails the test.
  *
  *   fmu3_driver <path to the FMI 3.0 VibroImpact.so> <resources folder path>
+ *   fmu3_driver run <FMI 3.0 VibroImpact binary> <case>
+ *       Prints the record of one case for comparison with another platform's binary (tools/cross_test.sh
+ *       compares them with `fmu_driver compare`); exits 1 when a check inside the case fails.
+ *   fmu3_driver cases
+ *       Lists the cases.
+ *
+ * Portable C like tests/fmu_driver.c: built for Windows and aarch64 Linux too (tools/release.sh).
  *
  * What it does: instantiate with and without early return and Event Mode; initialize with a
  * tolerance; step with early returns through Event Mode; read every variable through its type and
  * time; get, set, serialize and deserialize FMU states (also in Event Mode and a corrupted one);
  * refused calls and bad arguments; a failed initialization; reset; many instances at once; free.
  * FMI 3.0 has no memory callbacks: the FMU allocates with malloc, so leaks are the checkers' to find.
+ *
+ * Cases (run), each at rtol 1e-10 and recorded every 1e-5 s like fmu_driver's:
+ *   cs-fig4b-<solver>, cs-fig5a-<solver>   Co-Simulation with early return and Event Mode: y at every
+ *                    communication point, the time of every early return (its number as the
+ *                    abscissa), the counts of early returns and impacts
+ *   me-fig4b, me-fig5a   Model Exchange, this driver integrating as fmu_driver's fig4b-me and fig5a-me
+ *                    (classical Runge-Kutta, fixed step 1e-6 s, events at the end of a step where an
+ *                    event indicator changes sign): y, the event and impact counts
  */
-#include <dlfcn.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#define DRIVER_NAME "fmu3_driver"
+#include "driver_common.h"
 #include "fmi3Functions.h"
 #include "vi_variables.h"
 
@@ -59,20 +75,22 @@ static struct {
     fmi3SerializeFMUStateTYPE *serialize;
     fmi3DeserializeFMUStateTYPE *deserialize;
     fmi3SetDebugLoggingTYPE *debug_logging;
+    /* Model Exchange */
+    fmi3SetTimeTYPE *set_time;
+    fmi3SetContinuousStatesTYPE *set_states;
+    fmi3GetContinuousStatesTYPE *get_states;
+    fmi3GetContinuousStateDerivativesTYPE *get_derivatives;
+    fmi3GetEventIndicatorsTYPE *get_indicators;
+    fmi3CompletedIntegratorStepTYPE *completed_step;
+    fmi3EnterContinuousTimeModeTYPE *enter_continuous;
 } F;
-
-static void *lib;
 
 static void load(const char *path)
 {
-    lib = dlopen(path, RTLD_NOW | RTLD_LOCAL);
-    if (!lib) {
-        fprintf(stderr, "fmu3_driver: %s\n", dlerror());
-        exit(2);
-    }
+    if (!lib_open(path)) exit(2);
 #define SYM(field, name)                                                  \
     do {                                                                  \
-        *(void **)&F.field = dlsym(lib, name);                            \
+        *(void **)&F.field = lib_symbol(name);                            \
         if (!F.field) {                                                   \
             fprintf(stderr, "fmu3_driver: %s is not exported\n", name);   \
             exit(2);                                                      \
@@ -104,6 +122,13 @@ static void load(const char *path)
     SYM(serialize, "fmi3SerializeFMUState");
     SYM(deserialize, "fmi3DeserializeFMUState");
     SYM(debug_logging, "fmi3SetDebugLogging");
+    SYM(set_time, "fmi3SetTime");
+    SYM(set_states, "fmi3SetContinuousStates");
+    SYM(get_states, "fmi3GetContinuousStates");
+    SYM(get_derivatives, "fmi3GetContinuousStateDerivatives");
+    SYM(get_indicators, "fmi3GetEventIndicators");
+    SYM(completed_step, "fmi3CompletedIntegratorStep");
+    SYM(enter_continuous, "fmi3EnterContinuousTimeMode");
 #undef SYM
 }
 
@@ -247,10 +272,208 @@ static void refusals(fmi3Instance c, double t)
     EXPECT(F.debug_logging(c, fmi3True, 1, categories) == fmi3OK);
 }
 
+/* ---- cases: records for comparison across platforms ------------------------------------------------ */
+
+#define EARLY_PER_STEP 100 /* bound of the early returns inside one communication step */
+
+static void case_logger(fmi3InstanceEnvironment env, fmi3Status status, fmi3String category, fmi3String message)
+{
+    (void)env, (void)category;
+    if (status > fmi3Warning) fprintf(stderr, "fmu3_driver: FMU: %s\n", message);
+}
+
+/* The scenario's parameters set in Initialization Mode (tolerance RTOL_CASES); fmi3OK or the first
+ * failure. solver < 0: Model Exchange (no solver). */
+static fmi3Status setup_scenario(fmi3Instance c, const scenario *sc, int solver)
+{
+    const fmi3ValueReference real_vr[] = {VI_VR_a, VI_VR_f, VI_VR_Y};
+    const fmi3Float64 real_v[] = {sc->a, sc->f, sc->Y};
+    const fmi3ValueReference law_vr = VI_VR_contact_model, solver_vr = VI_VR_solver;
+    const fmi3Int64 law_v = sc->law, solver_v = solver;
+    fmi3Status st = F.enter_init(c, fmi3True, RTOL_CASES, 0.0, fmi3False, 0.0);
+    if (st == fmi3OK) st = F.set_float64(c, real_vr, 3, real_v, 3);
+    if (st == fmi3OK) st = F.set_int64(c, &law_vr, 1, &law_v, 1);
+    if (st == fmi3OK && solver >= 0) st = F.set_int64(c, &solver_vr, 1, &solver_v, 1);
+    if (st == fmi3OK) st = F.exit_init(c);
+    return st;
+}
+
+static double get_y(fmi3Instance c)
+{
+    const fmi3ValueReference vr = VI_VR_y;
+    fmi3Float64 y = NAN;
+    EXPECT(F.get_float64(c, &vr, 1, &y, 1) == fmi3OK);
+    return y;
+}
+
+static int get_impacts(fmi3Instance c)
+{
+    const fmi3ValueReference vr = VI_VR_n_impacts;
+    fmi3Int32 n = -1;
+    EXPECT(F.get_int32(c, &vr, 1, &n, 1) == fmi3OK);
+    return (int)n;
+}
+
+/* The event iteration of Event Mode; 0, or -1. */
+static int update_discrete(fmi3Instance c, long *passes)
+{
+    fmi3Boolean more = fmi3True, terminate, nominals, values, next_defined;
+    fmi3Float64 next;
+    for (int k = 0; k < ME_EVENT_PASSES && more; k++, (*passes)++)
+        if (F.update(c, &more, &terminate, &nominals, &values, &next_defined, &next) != fmi3OK) return -1;
+    return more || terminate ? -1 : 0;
+}
+
+/* One communication step of H_CASES from t, through every early return inside it (Event Mode at
+ * each); the times of the early returns printed. 0, or -1. */
+static int cs_step(fmi3Instance c, double t, long *early_returns, long *passes)
+{
+    const double end = t + H_CASES;
+    for (int k = 0; k < EARLY_PER_STEP && t < end; k++) {
+        fmi3Boolean handling, terminate, early;
+        fmi3Float64 last;
+        if (F.do_step(c, t, end - t, fmi3True, &handling, &terminate, &early, &last) != fmi3OK) return -1;
+        if (early) printf("~ t_early %ld %.17g\n", ++*early_returns, last);
+        t = early ? last : end;
+        if (handling && (F.enter_event(c) != fmi3OK || update_discrete(c, passes) < 0 || F.enter_step(c) != fmi3OK))
+            return -1;
+    }
+    return t < end ? -1 : 0;
+}
+
+static void case_cs(const scenario *sc, size_t solver)
+{
+    fmi3Instance c = F.instantiate("case", VI_GUID, NULL, fmi3False, fmi3False, fmi3True, fmi3True, NULL, 0, NULL,
+                                   case_logger, NULL);
+    EXPECT(c != NULL);
+    if (!c) return;
+    long passes = 0, early_returns = 0;
+    if (setup_scenario(c, sc, solver_values[solver]) != fmi3OK || update_discrete(c, &passes) < 0 ||
+        F.enter_step(c) != fmi3OK) {
+        fprintf(stderr, "fmu3_driver: %s did not initialize\n", sc->name);
+        failures++;
+        F.free_instance(c);
+        return;
+    }
+    const long n = lround(sc->t_stop / H_CASES);
+    printf("# %s, Co-Simulation with early return and Event Mode, solver %s, rtol %g, %ld steps of %g s\n",
+           sc->name, solver_names[solver], RTOL_CASES, n, H_CASES);
+    for (long k = 0; k < n; k++) {
+        if (cs_step(c, k * H_CASES, &early_returns, &passes) < 0) {
+            fprintf(stderr, "fmu3_driver: %s: step %ld failed\n", sc->name, k);
+            failures++;
+            break;
+        }
+        printf("~ y %.17g %.17g\n", (k + 1) * H_CASES, get_y(c));
+    }
+    printf("= %ld early returns, n_impacts %d\n", early_returns, get_impacts(c));
+    F.free_instance(c);
+}
+
+/* x' at (t, x) into dx; 0, or -1 (derivatives_fn). */
+static int me_derivatives(void *c, double t, const double *x, double *dx)
+{
+    return F.set_time(c, t) == fmi3OK && F.set_states(c, x, ME_NX) == fmi3OK &&
+                   F.get_derivatives(c, dx, ME_NX) == fmi3OK
+               ? 0
+               : -1;
+}
+
+/* Event Mode's iteration, then Continuous-Time Mode; the states and indicators after it. 0, or -1. */
+static int me_event(fmi3Instance c, double *x, double *z, long *passes)
+{
+    return update_discrete(c, passes) == 0 && F.enter_continuous(c) == fmi3OK &&
+                   F.get_states(c, x, ME_NX) == fmi3OK && F.get_indicators(c, z, ME_NZ) == fmi3OK
+               ? 0
+               : -1;
+}
+
+/* One classical Runge-Kutta step from t to t1 (ME_H apart), then the event check at t1; 1 when an
+ * event was handled, 0 when none, -1 on failure. */
+static int me_step(fmi3Instance c, double t, double t1, double *x, double *z, long *passes)
+{
+    double z1[ME_NZ];
+    int rc = rk4_step(me_derivatives, c, t, t1, x);
+    fmi3Boolean enter = fmi3False, stop = fmi3False;
+    if (rc < 0 || F.set_time(c, t1) != fmi3OK || F.set_states(c, x, ME_NX) != fmi3OK ||
+        F.completed_step(c, fmi3True, &enter, &stop) != fmi3OK || F.get_indicators(c, z1, ME_NZ) != fmi3OK || stop)
+        return -1;
+    int crossed = 0;
+    for (int i = 0; i < ME_NZ; i++) crossed |= (z[i] > 0.0) != (z1[i] > 0.0);
+    memcpy(z, z1, sizeof z1);
+    if (!crossed && !enter) return 0;
+    return F.enter_event(c) == fmi3OK && me_event(c, x, z, passes) == 0 ? 1 : -1;
+}
+
+static void case_me(const scenario *sc)
+{
+    fmi3Instance c = F.instantiate_me("me", VI_GUID, NULL, fmi3False, fmi3False, NULL, case_logger);
+    EXPECT(c != NULL);
+    if (!c) return;
+    double x[ME_NX], z[ME_NZ];
+    long events = 0, passes = 0;
+    if (setup_scenario(c, sc, -1) != fmi3OK || me_event(c, x, z, &passes) < 0) {
+        fprintf(stderr, "fmu3_driver: %s (Model Exchange) did not initialize\n", sc->name);
+        failures++;
+        F.free_instance(c);
+        return;
+    }
+    const long n = lround(sc->t_stop / ME_H), every = lround(H_CASES / ME_H);
+    printf("# %s, Model Exchange, classical Runge-Kutta, %ld steps of %g s: t y\n", sc->name, n, ME_H);
+    for (long k = 0; k < n; k++) {
+        int rc = me_step(c, k * ME_H, (k + 1) * ME_H, x, z, &passes);
+        if (rc < 0) {
+            fprintf(stderr, "fmu3_driver: %s (Model Exchange) stopped at t = %g\n", sc->name, (k + 1) * ME_H);
+            failures++;
+            break;
+        }
+        events += rc;
+        if ((k + 1) % every == 0) printf("~ y %.17g %.17g\n", (double)((k + 1) / every) * H_CASES, x[0]);
+    }
+    printf("= Model Exchange: %ld events, %ld passes of fmi3UpdateDiscreteStates, n_impacts %d\n", events, passes,
+           get_impacts(c));
+    F.free_instance(c);
+}
+
+static int list_cases(void)
+{
+    for (size_t i = 0; i < N_ME_SCENARIOS; i++)
+        for (size_t s = 0; s < N_SOLVERS; s++) printf("cs-%s-%s\n", scenarios[i].name, solver_names[s]);
+    for (size_t i = 0; i < N_ME_SCENARIOS; i++) printf("me-%s\n", scenarios[i].name);
+    return 0;
+}
+
+static int run_case(const char *path, const char *name)
+{
+    load(path);
+    int found = 0;
+    char full[64];
+    for (size_t i = 0; i < N_ME_SCENARIOS && !found; i++) {
+        snprintf(full, sizeof full, "me-%s", scenarios[i].name);
+        if (strcmp(name, full) == 0) case_me(&scenarios[i]), found = 1;
+        for (size_t s = 0; s < N_SOLVERS && !found; s++) {
+            snprintf(full, sizeof full, "cs-%s-%s", scenarios[i].name, solver_names[s]);
+            if (strcmp(name, full) == 0) case_cs(&scenarios[i], s), found = 1;
+        }
+    }
+    lib_close();
+    if (!found) {
+        fprintf(stderr, "fmu3_driver: no case '%s' (fmu3_driver cases lists them)\n", name);
+        return 2;
+    }
+    fflush(stdout);
+    if (failures) fprintf(stderr, "fmu3_driver: %s: %d checks failed\n", name, failures);
+    return failures ? 1 : 0;
+}
+
 int main(int argc, char **argv)
 {
+    if (argc == 2 && strcmp(argv[1], "cases") == 0) return list_cases();
+    if (argc == 4 && strcmp(argv[1], "run") == 0) return run_case(argv[2], argv[3]);
     if (argc != 3) {
-        fprintf(stderr, "usage: fmu3_driver <VibroImpact.so of FMI 3.0> <resources folder>\n");
+        fprintf(stderr, "usage: fmu3_driver <VibroImpact binary of FMI 3.0> <resources folder>\n"
+                        "       fmu3_driver run <VibroImpact binary of FMI 3.0> <case>\n"
+                        "       fmu3_driver cases\n");
         return 2;
     }
     load(argv[1]);
@@ -341,7 +564,7 @@ int main(int argc, char **argv)
     EXPECT(me != NULL); /* its calls are driven by fmu-test/test_fmi3.py; here: created and freed */
     F.free_instance(me);
 
-    dlclose(lib);
+    lib_close();
     if (failures) fprintf(stderr, "fmu3_driver: %d checks failed\n", failures);
     else printf("fmu3_driver: all checks passed\n");
     return failures ? 1 : 0;

@@ -47,17 +47,14 @@
  *                    fmi2Reset equals the first run bit for bit (checked here, in this binary); y of
  *                    the first run
  */
-#ifdef _WIN32
-#include <windows.h>
-#else
-#include <dlfcn.h>
-#endif
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#define DRIVER_NAME "fmu_driver"
+#include "driver_common.h"
 #include "fmi2Functions.h"
 #include "vi_variables.h"
 
@@ -126,54 +123,6 @@ static struct {
     fmi2GetNominalsOfContinuousStatesTYPE *get_nominals;
     fmi2GetDirectionalDerivativeTYPE *directional;
 } F;
-
-/* The loaded binary: dlopen where there is one, LoadLibrary on Windows. */
-#ifdef _WIN32
-static HMODULE lib;
-
-static int lib_open(const char *path)
-{
-    char native[MAX_PATH];
-    if (snprintf(native, sizeof native, "%s", path) >= (int)sizeof native) return 0;
-    for (char *p = native; *p; p++)
-        if (*p == '/') *p = '\\';
-    lib = LoadLibraryA(native);
-    if (!lib) fprintf(stderr, "fmu_driver: cannot load %s (error %lu)\n", path, (unsigned long)GetLastError());
-    return lib != NULL;
-}
-
-static void *lib_symbol(const char *name)
-{
-    union {
-        FARPROC f;
-        void *p;
-    } u = {.f = GetProcAddress(lib, name)};
-    return u.p;
-}
-
-static void lib_close(void)
-{
-    if (lib) FreeLibrary(lib);
-    lib = NULL;
-}
-#else
-static void *lib;
-
-static int lib_open(const char *path)
-{
-    lib = dlopen(path, RTLD_NOW | RTLD_LOCAL);
-    if (!lib) fprintf(stderr, "fmu_driver: %s\n", dlerror());
-    return lib != NULL;
-}
-
-static void *lib_symbol(const char *name) { return dlsym(lib, name); }
-
-static void lib_close(void)
-{
-    if (lib) dlclose(lib);
-    lib = NULL;
-}
-#endif
 
 static void load(const char *path)
 {
@@ -493,8 +442,6 @@ static int check_binary(int argc, char **argv)
 
 /* ---- records for comparing platforms ------------------------------------------------------------ */
 
-#define RTOL_CASES 1e-10     /* relative tolerance of the trajectory cases */
-#define H_CASES 1e-5         /* s, communication step of the trajectory cases */
 #define ROLLBACK_STEPS 1000  /* steps of 1e-5 s run from the state at 10 ms (to 20 ms: one more impact) */
 #define LOG_SIZE 4096        /* characters of the messages kept per call */
 #define LAYER_VR_resource_value 10 /* tests/layer_fmu/layer_variables.h: the row of resource_value */
@@ -563,28 +510,7 @@ static int get_integer_value(fmi2Component c, fmi2ValueReference vr)
     return (int)v;
 }
 
-/* The paper's scenarios (the parameters that differ from the model description's start values). */
-typedef struct {
-    const char *name;
-    int law;
-    double a, f, Y; /* m, Hz, Pa */
-    double t_stop;  /* s */
-} scenario;
-
-/* Fig. 4b bounces chaotically: a difference in the last bit (another C library's pow or cos, another
- * compiler's SUNDIALS) grows about tenfold every 5 ms, so platforms agree to 1e-7 of the range of y
- * for the first 20 ms (6 impacts, every mode) but not over the paper's 0.1 s (fig4b_100ms shows how
- * far they part). */
-static const scenario scenarios[] = {
-    {"fig4b", VI_ContactModel_johnson, 1e-4, 560.0, 6e8, 0.02},
-    {"fig5a", VI_ContactModel_hertz, 1e-4, 100.0, 6e8, 0.1},
-    {"fig4b_100ms", VI_ContactModel_johnson, 1e-4, 560.0, 6e8, 0.1},
-};
-static const char *const solver_names[] = {"bdf", "adams", "dop853", "auto"};
-static const int solver_values[] = {VI_Solver_bdf, VI_Solver_adams, VI_Solver_dop853, VI_Solver_auto};
-#define N_SCENARIOS (sizeof scenarios / sizeof scenarios[0])
-#define N_SOLVERS (sizeof solver_values / sizeof solver_values[0])
-#define N_ME_SCENARIOS 2 /* fig4b and fig5a through Model Exchange too */
+/* The scenarios, solvers and record settings: tests/driver_common.h. */
 
 /* Instantiate and initialize one scenario with one solver at RTOL_CASES; NULL on failure. */
 static fmi2Component start_scenario(const scenario *sc, int solver)
@@ -753,10 +679,6 @@ static void case_refusals(void)
 
 /* ---- Model Exchange: this driver as the importer's integrator ------------------------------------- */
 
-#define ME_NX 2        /* continuous states of VibroImpact: y, v (modelDescription.xml, Derivatives) */
-#define ME_NZ 2        /* its event indicators (numberOfEventIndicators) */
-#define ME_H 1e-6      /* s, the fixed step of the classical Runge-Kutta method below */
-#define ME_EVENT_PASSES 100 /* bound of the fmi2NewDiscreteStates iteration */
 
 static struct {
     fmi2SetTimeTYPE *set_time;
@@ -806,8 +728,8 @@ static int me_event_iteration(fmi2Component c, double *x, double *z, long *passe
     return 0;
 }
 
-/* x' at (t, x) into dx; 0, or -1. */
-static int me_derivatives(fmi2Component c, double t, const double *x, double *dx)
+/* x' at (t, x) into dx; 0, or -1 (derivatives_fn). */
+static int me_derivatives(void *c, double t, const double *x, double *dx)
 {
     return M.set_time(c, t) == fmi2OK && M.set_states(c, x, ME_NX) == fmi2OK &&
                    M.get_derivatives(c, dx, ME_NX) == fmi2OK
@@ -844,15 +766,8 @@ static void case_model_exchange(const scenario *sc)
     printf("# %s, Model Exchange, classical Runge-Kutta, %ld steps of %g s: t y\n", sc->name, n, ME_H);
     for (long k = 0; k < n; k++) {
         const double t = k * ME_H, t1 = (k + 1) * ME_H;
-        double k1[ME_NX], k2[ME_NX], k3[ME_NX], k4[ME_NX], xs[ME_NX], z1[ME_NZ];
-        int rc = me_derivatives(c, t, x, k1);
-        for (int i = 0; i < ME_NX; i++) xs[i] = x[i] + 0.5 * ME_H * k1[i];
-        rc = rc < 0 ? rc : me_derivatives(c, t + 0.5 * ME_H, xs, k2);
-        for (int i = 0; i < ME_NX; i++) xs[i] = x[i] + 0.5 * ME_H * k2[i];
-        rc = rc < 0 ? rc : me_derivatives(c, t + 0.5 * ME_H, xs, k3);
-        for (int i = 0; i < ME_NX; i++) xs[i] = x[i] + ME_H * k3[i];
-        rc = rc < 0 ? rc : me_derivatives(c, t1, xs, k4);
-        for (int i = 0; i < ME_NX; i++) x[i] += ME_H / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+        double z1[ME_NZ];
+        int rc = rk4_step(me_derivatives, c, t, t1, x);
         fmi2Boolean enter = fmi2False, stop = fmi2False;
         if (rc == 0 && M.set_time(c, t1) == fmi2OK && M.set_states(c, x, ME_NX) == fmi2OK &&
             M.completed_step(c, fmi2True, &enter, &stop) == fmi2OK && M.get_indicators(c, z1, ME_NZ) == fmi2OK) {

@@ -15,12 +15,27 @@
 #              fig4b_100ms is reported, not checked (chaotic bouncing: see tests/fmu_driver.c).
 #   Track, Vehicle  a run of each companion FMU (its first input set) gives the same record: every
 #              Real within TOLERANCE of its range
+#   fmi3 cases the FMI 3.0 binaries of dist/fmi3/VibroImpact.fmu through tests/fmu3_driver.c (built for
+#              each platform like fmu_driver): every case of `fmu3_driver cases` (Co-Simulation with
+#              early return and Event Mode, Model Exchange) gives the same record as x86_64-linux's
+#              binary, within TOLERANCE
+# Source FMUs (the sources/ of dist/fmi2/VibroImpact.fmu and dist/fmi3/VibroImpact.fmu alone, built by
+# tools/fmu_source_build.py):
+#   fmpy       fmpy's own source build on this machine: every case of fmu_driver (FMI 2.0) and of
+#              fmu3_driver (FMI 3.0) gives the record of the shipped x86_64 Linux binary within
+#              SOURCE_TOLERANCE (1e-12; the report says when bit for bit)
+#   mingw      the same sources built into a DLL by x86_64-w64-mingw32-gcc alone, under wine64: every
+#              case of fmu_driver against the shipped win64 DLL, within SOURCE_TOLERANCE
+# The macOS binaries cannot run here (tools/release.sh checks their headers, imports and exports).
+# The wheel (dist/*.whl): tools/wheel_test.py installs it into a fresh virtual environment with no
+# compiler on the PATH and runs the FMUs inside through fmpy and the `vibroimpact` command.
 # A missing wine64 or qemu-aarch64 fails the run (VI_WINE, VI_QEMU: use these programs instead).
 # Usage: tools/cross_test.sh  (PYTHON, JOBS as for tools/release.sh)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD
 TOLERANCE=1e-7
+SOURCE_TOLERANCE=1e-12 # a source build against the shipped binary of the same platform
 REPORTED_ONLY="fig4b_100ms-bdf fig4b_100ms-adams fig4b_100ms-dop853 fig4b_100ms-auto"
 RUN_TIMEOUT=300 # s, per driver run
 BUILD=$ROOT/build/release
@@ -48,16 +63,18 @@ declare -A COMPANION_INPUT=([Track]=1e5 [Vehicle]=1e-3) # F_contact [N], y_wheel
 RESOURCES=$ROOT/tests/layer_fmu # holds value.txt, LayerTest's resource
 EXPECTED_RESOURCE=$(tr -d '[:space:]' <"$RESOURCES/value.txt")
 
-# on <target> <driver arguments...>: the target's driver under its emulator; paths as the target sees them
-on() {
-  local target=$1
-  shift
+# run_on <driver> <target> <driver arguments...>: the target's build of the driver (fmu_driver, or
+# fmu3_driver for FMI 3.0) under its emulator; paths as the target sees them
+run_on() {
+  local driver=$1 target=$2
+  shift 2
   case $target in
-    x86_64-linux) timeout "$RUN_TIMEOUT" "$NATIVE_DRIVER" "$@" ;;
-    x86_64-windows) timeout "$RUN_TIMEOUT" "$WINE" "$BUILD/x86_64-windows/fmu_driver.exe" "$@" ;;
-    aarch64-linux) timeout "$RUN_TIMEOUT" "$QEMU" -L /usr/aarch64-linux-gnu "$BUILD/aarch64-linux/fmu_driver" "$@" ;;
+    x86_64-linux) timeout "$RUN_TIMEOUT" "$BUILD/x86_64-linux/$driver" "$@" ;;
+    x86_64-windows) timeout "$RUN_TIMEOUT" "$WINE" "$BUILD/x86_64-windows/$driver.exe" "$@" ;;
+    aarch64-linux) timeout "$RUN_TIMEOUT" "$QEMU" -L /usr/aarch64-linux-gnu "$BUILD/aarch64-linux/$driver" "$@" ;;
   esac
 }
+on() { run_on fmu_driver "$@"; }
 path_on() { if [ "$1" = x86_64-windows ]; then echo "Z:$2"; else echo "$2"; fi; }
 # lib_on <target> <FMU name>: the binary the target's driver loads: from dist/fmi2/<name>.fmu where
 # FMI 2.0 has the platform (LayerTest is not released: from the build)
@@ -148,6 +165,87 @@ for target in x86_64-windows aarch64-linux; do
     fi
   done
 done
+
+# --- FMI 3.0 binaries and source FMUs ---
+NATIVE_DRIVER3=$BUILD/x86_64-linux/fmu3_driver
+on3() { run_on fmu3_driver "$@"; }
+# compare_runs <label> <reference record> <record> <tolerance> [<stderr of the run>]: into the summary
+compare_runs() {
+  local label=$1 ref=$2 rec=$3 tol=$4 result
+  if result=$("$NATIVE_DRIVER" compare "$ref" "$rec" "$tol" 2>"$rec.compare"); then
+    report "${label% *}" "${label#* }" "$result"
+  else
+    failed "$label differs: $result $(head -n 5 "$rec.compare")"
+  fi
+}
+mkdir -p "$OUT/fmu3"
+(cd "$OUT/fmu3" && cmake -E tar xf "$ROOT/dist/fmi3/VibroImpact.fmu")
+mapfile -t CASES3 < <("$NATIVE_DRIVER3" cases)
+[ ${#CASES3[@]} -gt 0 ] || failed "fmu3_driver lists no cases"
+mkdir -p "$OUT/fmi3/x86_64-linux"
+for c in "${CASES3[@]}"; do
+  on3 x86_64-linux run "$OUT/fmu3/binaries/x86_64-linux/VibroImpact.so" "$c" >"$OUT/fmi3/x86_64-linux/$c.txt" \
+    || failed "fmi3 x86_64-linux: case $c (the reference run) fails"
+done
+for target in x86_64-windows aarch64-linux; do
+  [ "$target" = x86_64-windows ] && [ -z "$WINE" ] && continue
+  [ "$target" = aarch64-linux ] && [ -z "$QEMU" ] && continue
+  ext=so
+  [ "$target" = x86_64-windows ] && ext=dll
+  mkdir -p "$OUT/fmi3/$target"
+  for c in "${CASES3[@]}"; do
+    rec="$OUT/fmi3/$target/$c.txt"
+    if ! on3 "$target" run "$(path_on "$target" "$OUT/fmu3/binaries/$target/VibroImpact.$ext")" "$c" >"$rec" 2>"$rec.err"; then
+      failed "fmi3 $target: case $c fails: $(tr -d '\r' <"$rec.err" | tail -n 5)"
+    else
+      compare_runs "$target fmi3-$c" "$OUT/fmi3/x86_64-linux/$c.txt" "$rec" "$TOLERANCE"
+    fi
+  done
+done
+
+# source FMUs: fmpy's build here (FMI 2.0 and 3.0), mingw's under wine (FMI 2.0)
+SRC=$OUT/source
+rm -rf "$SRC"
+build_from_sources() { # <label> <tool arguments...>: the built library's path on stdout
+  local label=$1 log="$SRC/$1.log"
+  shift
+  mkdir -p "$SRC"
+  if "$PYTHON" "$ROOT/tools/fmu_source_build.py" "$@" >"$log" 2>&1; then tail -n 1 "$log"
+  else failed "the $label build from sources: $(tail -n 5 "$log")"; fi
+}
+# source_runs <label: how-version> <reference records> <runner: on or on3> <target> <library> <cases...>:
+# every case on the library built from sources, against the shipped binary's records
+source_runs() {
+  local label=$1 ref=$2 runner=$3 target=$4 lib=$5 dir="$SRC/$1/runs" c
+  shift 5
+  mkdir -p "$dir"
+  for c in "$@"; do
+    if "$runner" "$target" run "$(path_on "$target" "$lib")" "$c" >"$dir/$c.txt" 2>"$dir/$c.err"; then
+      compare_runs "source-${label%%-*} ${label#*-}-$c" "$ref/$c.txt" "$dir/$c.txt" "$SOURCE_TOLERANCE"
+    else failed "source-${label%%-*}: ${label#*-} case $c fails: $(tr -d '\r' <"$dir/$c.err" | tail -n 5)"; fi
+  done
+}
+lib=$(build_from_sources fmpy-fmi2 fmpy "$ROOT/dist/fmi2/VibroImpact.fmu" "$SRC/fmpy-fmi2")
+[ -z "$lib" ] || source_runs fmpy-fmi2 "$OUT/x86_64-linux" on x86_64-linux "$lib" "${CASES[@]}"
+lib=$(build_from_sources fmpy-fmi3 fmpy "$ROOT/dist/fmi3/VibroImpact.fmu" "$SRC/fmpy-fmi3")
+[ -z "$lib" ] || source_runs fmpy-fmi3 "$OUT/fmi3/x86_64-linux" on3 x86_64-linux "$lib" "${CASES3[@]}"
+if [ -n "$WINE" ]; then
+  lib=$(build_from_sources mingw-fmi2 cc "$ROOT/dist/fmi2/VibroImpact.fmu" "$SRC/mingw-fmi2" --target x86_64-windows \
+        -- x86_64-w64-mingw32-gcc-win32)
+  [ -z "$lib" ] || source_runs mingw-fmi2 "$OUT/x86_64-windows" on x86_64-windows "$lib" "${CASES[@]}"
+fi
+# --- end FMI 3.0 binaries and source FMUs ---
+
+# --- the wheel ---
+wheels=("$ROOT"/dist/vibroimpact-*-py3-none-any.whl)
+if [ ${#wheels[@]} -ne 1 ] || ! [ -f "${wheels[0]}" ]; then
+  failed "dist/ holds ${#wheels[@]} vibroimpact wheels, not one"
+elif "$PYTHON" "$ROOT/tools/wheel_test.py" "${wheels[0]}" dist/fmi2/VibroImpact.fmu dist/fmi3/VibroImpact.fmu >"$OUT/wheel.txt" 2>&1; then
+  while read -r line; do report wheel "" "${line#wheel_test: }"; done <"$OUT/wheel.txt"
+else
+  failed "the wheel: $(tail -n 8 "$OUT/wheel.txt")"
+fi
+# --- end the wheel ---
 
 [ ${#summary[@]} -eq 0 ] || printf 'cross_test: %s\n' "${summary[@]}"
 if [ "$fail" -ne 0 ]; then

@@ -1,9 +1,14 @@
 #!/usr/bin/env bash
 # The release FMUs, made on a Debian machine (x86_64):
-#   dist/fmi2/VibroImpact.fmu, Track.fmu, Vehicle.fmu   binaries/linux64 and binaries/win64
-#   dist/fmi3/*.fmu                                    x86_64-linux, x86_64-windows, aarch64-linux
+#   dist/fmi2/VibroImpact.fmu, Track.fmu, Vehicle.fmu   binaries/linux64, win64 and darwin64
+#   dist/fmi3/*.fmu                                    x86_64-linux, x86_64-windows, aarch64-linux,
+#                                                      x86_64-darwin, aarch64-darwin
 #                                                      (when the sources build FMI 3.0 FMUs; else skipped)
-# and the aarch64 Linux libraries (FMI 2.0 names no platform for them) in build/release/aarch64-linux/.
+# each also a source FMU (sources/: cmake/vi_fmu_sources.py), the aarch64 Linux libraries (FMI 2.0
+# names no platform for them) in build/release/aarch64-linux/, and
+#   dist/vibroimpact-<version>-py3-none-any.whl        the Python package with the VibroImpact FMUs
+#                                                      above inside: installs with no compiler
+#                                                      (tools/release_wheel.py)
 # Each FMU carries its documentation/ page, its licences (documentation/licenses/) and the release version
 # and date in its model description (SOURCE_DATE_EPOCH: below).
 #
@@ -14,10 +19,17 @@
 #   x86_64-linux    this machine; its FMUs also take the binaries of the others (VI_FMU_MERGE_BINARIES)
 # For each cross target CVODE is built from SUNDIALS' Debian source package (apt-get source sundials,
 # 6.4.1) as static libraries and kept in ${XDG_CACHE_HOME:-~/.cache}/vibroimpact/, so that the next run
-# is fast; the native build links Debian's libsundials-dev (the same 6.4.1).
+# is fast; the native build links Debian's libsundials-dev (the same 6.4.1). Every build packs the
+# same sources/ (-DVI_FMU_SUNDIALS_SOURCES=<the source package>).
+#   macOS           no CMake build: the binaries are compiled from the sources/ of the Windows build's
+#                   FMUs (tools/fmu_source_build.py) with zig cc (pip package ziglang) for x86_64 and
+#                   aarch64 macOS, kept in the same cache, and packed like another build's FMUs
+#                   (build/release/darwin/) for the merge
 # Checked before anything is copied to dist/: the DLLs import only KERNEL32.dll and msvcrt.dll and export
-# only fmi2* (fmi3*) functions; the Linux libraries need only libc and libm and export only those;
-# every FMU holds the binaries of its platforms and fmpy validates it.
+# only fmi2* (fmi3*) functions; the Linux libraries need only libc and libm and export only those; the
+# macOS libraries (llvm-objdump, llvm-nm) load only libSystem and export only those, the aarch64 ones
+# signed (ad hoc, as macOS requires on ARM); every FMU holds the binaries of its platforms and the
+# source files its model description lists, and fmpy validates it.
 #
 # Usage: tools/release.sh            (PYTHON: the interpreter, as for tools/setup.sh; JOBS: default nproc)
 # Installs what it needs (tools/setup.sh, then the cross compilers, wine64, qemu-user, dpkg-dev) and,
@@ -34,7 +46,12 @@ CROSS_TARGETS=(x86_64-windows aarch64-linux)
 NATIVE=x86_64-linux
 FMUS=(VibroImpact Track Vehicle) # LayerTest (the generic layer's test model) is not released
 CROSS_APT_PKGS=(gcc-mingw-w64-x86-64 binutils-mingw-w64-x86-64 wine64 gcc-aarch64-linux-gnu
-                binutils-aarch64-linux-gnu libc6-dev-arm64-cross qemu-user dpkg-dev xz-utils)
+                binutils-aarch64-linux-gnu libc6-dev-arm64-cross qemu-user dpkg-dev xz-utils llvm)
+# --- macOS binaries ---
+RELEASE_PIP_PKGS=(ziglang==0.13.0.post1) # zig cc: the macOS cross compiler
+DARWIN_TARGETS=(x86_64-darwin aarch64-darwin)
+declare -A ZIG_TARGET=([x86_64-darwin]=x86_64-macos [aarch64-darwin]=aarch64-macos)
+# --- end macOS binaries ---
 DEB_SOURCES=/etc/apt/sources.list.d/debian.sources
 
 die() { echo "release: $*" >&2; exit 1; }
@@ -62,6 +79,17 @@ if [ ${#missing[@]} -gt 0 ]; then
   $SUDO apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
+# --- macOS binaries ---
+missing=()
+for p in "${RELEASE_PIP_PKGS[@]}"; do
+  [ "$("$PYTHON" -c 'import importlib.metadata as m, sys; print(m.version(sys.argv[1]))' "${p%%==*}" 2>/dev/null)" = "${p#*==}" ] \
+    || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "release: pip install ${missing[*]}"
+  "$PYTHON" -m pip install --quiet --disable-pip-version-check "${missing[@]}"
+fi
+# --- end macOS binaries ---
 
 # --- SUNDIALS' Debian source package -----------------------------------------------------------------
 sundials_src() { ls -d "$CACHE"/src/sundials-"$SUNDIALS_VERSION"*/ 2>/dev/null | head -n 1; }
@@ -126,9 +154,9 @@ configure_and_build() { # <target> <cmake arguments...>
   shift
   mkdir -p "$BUILD"
   cmake -S "$ROOT" -B "$dir" -DCMAKE_BUILD_TYPE=Release -DVI_WERROR=ON -DPython3_EXECUTABLE="$PYTHON" \
-    -DCMAKE_SHARED_LINKER_FLAGS=-s "$@" >"$log" 2>&1 \
+    -DCMAKE_SHARED_LINKER_FLAGS=-s -DVI_FMU_SUNDIALS_SOURCES="$SUNDIALS_SRC" "$@" >"$log" 2>&1 \
     || { tail -n 30 "$log"; die "configure for $target failed ($log)"; }
-  cmake --build "$dir" -j"$JOBS" --target "${FMUS[@]}" fmu_driver LayerTest >>"$log" 2>&1 \
+  cmake --build "$dir" -j"$JOBS" --target "${FMUS[@]}" fmu_driver fmu3_driver LayerTest >>"$log" 2>&1 \
     || { tail -n 40 "$log"; die "build for $target failed ($log)"; }
   # the FMUs (where FMI 2.0 names the platform; and FMI 3.0 ones when the sources make them)
   local fmu_targets
@@ -147,6 +175,51 @@ for target in "${CROSS_TARGETS[@]}"; do
     -DSUNDIALS_DIR="$(sundials_prefix "$target")/lib/cmake/sundials"
   merge+=("$BUILD/$target")
 done
+# --- macOS binaries ---
+# darwin_fmu <FMU with sources/> <its place in a build> <targets...>: the FMU's binaries for the
+# targets, compiled from its sources/ alone (cached under a key of the sources, the compiler and the
+# tool), packed as build/release/darwin/<place> (modelDescription.xml and binaries/) for the merge
+darwin_fmu() {
+  local fmu=$1 place=$2 out="$BUILD/darwin.stage/$2" key target cached
+  shift 2
+  rm -rf "$out"
+  mkdir -p "$out" "$(dirname "$BUILD/darwin/$place")"
+  for target in "$@"; do
+    key=$({ "$PYTHON" - "$fmu" <<'EOF'
+import hashlib, sys, zipfile
+z = zipfile.ZipFile(sys.argv[1])
+for n in sorted(z.namelist()):
+    if n == "modelDescription.xml" or n.startswith("sources/"):
+        print(n, hashlib.sha256(z.read(n)).hexdigest())
+EOF
+      echo "$target ${RELEASE_PIP_PKGS[*]}"; cat "$ROOT/tools/fmu_source_build.py"; } | sha256sum | cut -c1-16)
+    cached="$CACHE/darwin/$key"
+    if ! [ -d "$cached" ]; then
+      echo "release: $(basename "$fmu") (FMI $([ "${place#fmi3/}" = "$place" ] && echo 2.0 || echo 3.0)) for $target from its sources (zig cc) into $cached"
+      rm -rf "$cached.partial"
+      "$PYTHON" "$ROOT/tools/fmu_source_build.py" cc "$fmu" "$cached.partial" --target "$target" \
+        -- "$PYTHON" -m ziglang cc -target "${ZIG_TARGET[$target]}" >/dev/null || die "the $target build of $fmu failed"
+      mv "$cached.partial" "$cached"
+    fi
+    cp -r "$cached/." "$out/"
+    DARWIN_USED+=("$key")
+  done
+  rm -f "$BUILD/darwin/$place"
+  (cd "$out" && cmake -E tar cf "$BUILD/darwin/$place" --format=zip modelDescription.xml binaries)
+}
+rm -rf "$BUILD/darwin" "$BUILD/darwin.stage"
+DARWIN_USED=() # the cache entries of this run; the others (older sources) are deleted below
+for fmu in "${FMUS[@]}"; do
+  darwin_fmu "$BUILD/x86_64-windows/$fmu.fmu" "$fmu.fmu" x86_64-darwin
+  if [ -f "$BUILD/x86_64-windows/fmi3/$fmu.fmu" ]; then
+    darwin_fmu "$BUILD/x86_64-windows/fmi3/$fmu.fmu" "fmi3/$fmu.fmu" "${DARWIN_TARGETS[@]}"
+  fi
+done
+for entry in "$CACHE"/darwin/*; do
+  [[ " ${DARWIN_USED[*]} " == *" $(basename "$entry") "* ]] || rm -rf "$entry"
+done
+merge+=("$BUILD/darwin")
+# --- end macOS binaries ---
 configure_and_build "$NATIVE" -DVI_FMU_MERGE_BINARIES="$(IFS=';'; echo "${merge[*]}")"
 
 # --- checks of every binary ------------------------------------------------------------------------
@@ -174,16 +247,38 @@ check_elf() { # <so> [<prefix>]: needs only libc and libm, exports only <prefix>
   if grep -qv "^$prefix" <<<"$exports"; then die "$so exports more than $prefix*: $(grep -v "^$prefix" <<<"$exports" | tr '\n' ' ')"; fi
   echo "needs ${needed% }; exports $(wc -l <<<"$exports") $prefix* functions"
 }
+# --- macOS binaries ---
+check_macho() { # <dylib> <prefix> <arch>: loads only libSystem, exports only <prefix>* functions; ARM64: signed
+  local lib=$1 prefix=$2 arch=$3 used exports minos
+  [ -f "$lib" ] || die "$lib was not built"
+  command -v llvm-objdump >/dev/null && command -v llvm-nm >/dev/null || die "llvm-objdump or llvm-nm not found (Debian package llvm)"
+  llvm-objdump --macho --private-header "$lib" | grep -q "MH_MAGIC_64 *$arch .* DYLIB" || die "$lib is no $arch Mach-O library"
+  used=$(llvm-objdump --macho --dylibs-used "$lib" | sed -n 's/^\s*\(\S*\) (compatibility.*/\1/p' \
+         | grep -vx "@rpath/$(basename "$lib")" | tr '\n' ' ')
+  [ "$used" = "/usr/lib/libSystem.B.dylib " ] || die "$lib loads $used(only /usr/lib/libSystem.B.dylib allowed)"
+  exports=$(llvm-nm -gU "$lib" | awk '{ print $3 }')
+  [ -n "$exports" ] || die "$lib exports nothing"
+  if grep -qv "^_$prefix" <<<"$exports"; then die "$lib exports more than $prefix*: $(grep -v "^_$prefix" <<<"$exports" | tr '\n' ' ')"; fi
+  if [ "$arch" = ARM64 ]; then
+    llvm-objdump --macho --all-headers "$lib" | grep -q "cmd LC_CODE_SIGNATURE" || die "$lib is not signed (macOS on ARM loads only signed code)"
+  fi
+  minos=$(llvm-objdump --macho --all-headers "$lib" | awk '$1 == "minos" { print $2; exit }')
+  echo "loads ${used% }; exports $(wc -l <<<"$exports") $prefix* functions; macOS $minos or later"
+}
+# --- end macOS binaries ---
 declare -A CHECKED
 for fmu in "${FMUS[@]}"; do
   CHECKED[$fmu.dll]=$(check_pe "$BUILD/x86_64-windows/$fmu.dll")
   CHECKED[$fmu.so]=$(check_elf "$BUILD/x86_64-linux/$fmu.so")
   CHECKED[$fmu.aarch64]=$(check_elf "$BUILD/aarch64-linux/$fmu.so")
   readelf -h "$BUILD/aarch64-linux/$fmu.so" | grep -q 'Machine:.*AArch64' || die "$fmu.so for aarch64-linux is not an AArch64 library"
+  CHECKED[$fmu.darwin64]=$(check_macho "$BUILD/darwin.stage/$fmu.fmu/binaries/darwin64/$fmu.dylib" fmi2 X86_64)
   if [ -f "$BUILD/$NATIVE/fmi3/$fmu.fmu" ]; then # the FMI 3.0 binaries, where the sources build them
     CHECKED[$fmu.fmi3.dll]=$(check_pe "$BUILD/x86_64-windows/fmi3/$fmu.dll" fmi3)
     CHECKED[$fmu.fmi3.so]=$(check_elf "$BUILD/x86_64-linux/fmi3/$fmu.so" fmi3)
     CHECKED[$fmu.fmi3.aarch64]=$(check_elf "$BUILD/aarch64-linux/fmi3/$fmu.so" fmi3)
+    CHECKED[$fmu.fmi3.x86_64-darwin]=$(check_macho "$BUILD/darwin.stage/fmi3/$fmu.fmu/binaries/x86_64-darwin/$fmu.dylib" fmi3 X86_64)
+    CHECKED[$fmu.fmi3.aarch64-darwin]=$(check_macho "$BUILD/darwin.stage/fmi3/$fmu.fmu/binaries/aarch64-darwin/$fmu.dylib" fmi3 ARM64)
   fi
 done
 
@@ -196,6 +291,18 @@ require_binaries() { # <fmu> <expected binaries/... paths>
   shift
   have=$(fmu_platforms "$fmu")
   [ "$have" = "$(printf '%s\n' "$@" | sort)" ] || die "$fmu holds $(echo "$have" | tr '\n' ' ')instead of $*"
+}
+require_sources() { # <fmu>: a source FMU: every file its model description lists (read by fmpy) is in sources/
+  "$PYTHON" - "$1" <<'EOF' || die "$1 is no source FMU"
+import sys, zipfile
+from fmpy import read_model_description
+names = zipfile.ZipFile(sys.argv[1]).namelist()
+configs = read_model_description(sys.argv[1]).buildConfigurations
+files = [f for c in configs for s in c.sourceFileSets for f in s.sourceFiles]
+missing = [f for f in files if "sources/" + f not in names]
+if not files or missing:
+    sys.exit(f"release: {sys.argv[1]}: " + ("no source files listed" if not files else "missing " + " ".join(missing)))
+EOF
 }
 validate() { # <fmu...>: fmpy's validation of the model description
   "$PYTHON" - "$@" <<'EOF' || die "fmpy does not validate the release FMUs"
@@ -215,7 +322,8 @@ rm -rf "$ROOT/dist/fmi2" "$ROOT/dist/fmi3"
 mkdir -p "$ROOT/dist/fmi2"
 for fmu in "${FMUS[@]}"; do
   src="$BUILD/$NATIVE/$fmu.fmu"
-  require_binaries "$src" "binaries/linux64/$fmu.so" "binaries/win64/$fmu.dll"
+  require_binaries "$src" "binaries/linux64/$fmu.so" "binaries/win64/$fmu.dll" "binaries/darwin64/$fmu.dylib"
+  require_sources "$src"
   cp "$src" "$ROOT/dist/fmi2/"
 done
 validate "$ROOT"/dist/fmi2/*.fmu
@@ -225,12 +333,20 @@ if ls "$BUILD/$NATIVE"/fmi3/*.fmu >/dev/null 2>&1; then
   for fmu in "${FMUS[@]}"; do
     src="$BUILD/$NATIVE/fmi3/$fmu.fmu"
     [ -f "$src" ] || die "$src missing (the FMI 3.0 build makes other FMUs than ${FMUS[*]})"
-    require_binaries "$src" "binaries/aarch64-linux/$fmu.so" "binaries/x86_64-linux/$fmu.so" "binaries/x86_64-windows/$fmu.dll"
+    require_binaries "$src" "binaries/aarch64-linux/$fmu.so" "binaries/x86_64-linux/$fmu.so" "binaries/x86_64-windows/$fmu.dll" \
+      "binaries/aarch64-darwin/$fmu.dylib" "binaries/x86_64-darwin/$fmu.dylib"
+    require_sources "$src"
     cp "$src" "$ROOT/dist/fmi3/"
   done
   validate "$ROOT"/dist/fmi3/*.fmu
-  fmi3_note="x86_64-linux, x86_64-windows, aarch64-linux"
+  fmi3_note="x86_64-linux, x86_64-windows, aarch64-linux, x86_64-darwin, aarch64-darwin"
 fi
+
+# --- the wheel ---
+wheel_fmus=(vibroimpact/VibroImpact.fmu="$ROOT/dist/fmi2/VibroImpact.fmu") # where pip install . puts them
+if [ -f "$ROOT/dist/fmi3/VibroImpact.fmu" ]; then wheel_fmus+=(vibroimpact/fmi3/VibroImpact.fmu="$ROOT/dist/fmi3/VibroImpact.fmu"); fi
+WHEEL=$("$PYTHON" "$ROOT/tools/release_wheel.py" "$ROOT/dist" "${wheel_fmus[@]}") || die "the wheel was not built"
+# --- end the wheel ---
 
 # --- what was made -----------------------------------------------------------------------------------
 size() { stat -c %s "$1"; }
@@ -244,10 +360,15 @@ for fmu in "${FMUS[@]}"; do
   printf '%-36s %10s  %s\n' "linux64/$fmu.so" "$(size "$BUILD/x86_64-linux/$fmu.so")" "${CHECKED[$fmu.so]}"
   printf '%-36s %10s  %s\n' "win64/$fmu.dll" "$(size "$BUILD/x86_64-windows/$fmu.dll")" "${CHECKED[$fmu.dll]}"
   printf '%-36s %10s  %s\n' "aarch64-linux/$fmu.so" "$(size "$BUILD/aarch64-linux/$fmu.so")" "${CHECKED[$fmu.aarch64]}"
+  printf '%-36s %10s  %s\n' "darwin64/$fmu.dylib" "$(size "$BUILD/darwin.stage/$fmu.fmu/binaries/darwin64/$fmu.dylib")" "${CHECKED[$fmu.darwin64]}"
   [ -n "${CHECKED[$fmu.fmi3.so]:-}" ] || continue
   printf '%-36s %10s  %s\n' "fmi3 x86_64-linux/$fmu.so" "$(size "$BUILD/x86_64-linux/fmi3/$fmu.so")" "${CHECKED[$fmu.fmi3.so]}"
   printf '%-36s %10s  %s\n' "fmi3 x86_64-windows/$fmu.dll" "$(size "$BUILD/x86_64-windows/fmi3/$fmu.dll")" "${CHECKED[$fmu.fmi3.dll]}"
   printf '%-36s %10s  %s\n' "fmi3 aarch64-linux/$fmu.so" "$(size "$BUILD/aarch64-linux/fmi3/$fmu.so")" "${CHECKED[$fmu.fmi3.aarch64]}"
+  for d in x86_64-darwin aarch64-darwin; do
+    printf '%-36s %10s  %s\n' "fmi3 $d/$fmu.dylib" "$(size "$BUILD/darwin.stage/fmi3/$fmu.fmu/binaries/$d/$fmu.dylib")" "${CHECKED[$fmu.fmi3.$d]}"
+  done
 done
 echo "release: dist/fmi3: $fmi3_note"
+echo "release: ${WHEEL#"$ROOT"/} ($(size "$WHEEL") bytes): the Python package with dist/fmi2 and dist/fmi3 VibroImpact.fmu"
 echo "release: aarch64-linux libraries (no FMI 2.0 platform): build/release/aarch64-linux/{$(IFS=,; echo "${FMUS[*]}")}.so"
