@@ -61,6 +61,7 @@ import time
 
 import numpy as np
 
+from .failure import out_dir
 from .fmu import NAME, build_dir
 from .reference.closed_forms import effective
 from .reference.scenarios import SCENARIOS
@@ -246,7 +247,7 @@ def main(argv=None):
 
 
 def run_suite(repeat, quick, outdir, build, only=None):
-    outdir.mkdir(parents=True, exist_ok=True)
+    out_dir(outdir)
     lines = []
 
     def out(text=""):

@@ -21,6 +21,7 @@ import time
 
 import numpy as np
 
+from .failure import out_dir as make_out_dir
 from .fmu import fmu_path
 from .sweep import engine, plots, spec
 
@@ -69,6 +70,8 @@ def main(argv=None):
     p.add_argument("--gallery", action="store_true", help=f"also write smaller copies of the figures to {GALLERY}/")
     p.add_argument("--quick", action="store_true", help="coarse grids and a coarser step")
     args = p.parse_args(argv)
+    if args.workers is not None and args.workers < 1:
+        p.error("--workers must be at least 1")
     fmu = str(fmu_path())
     out_dir = args.out
     interface = spec.Interface(fmu)
@@ -76,7 +79,7 @@ def main(argv=None):
         print("diagrams: skipped: this FMU declares f fixed, and the continuation sweeps change it on a "
               "running instance (f must be tunable)", file=sys.stderr)
         return
-    out_dir.mkdir(parents=True, exist_ok=True)
+    make_out_dir(out_dir)
     runs, t0 = {}, time.perf_counter()
     with engine.connect(workers=args.workers, scheduler=args.scheduler) as client:
         for amp, a, grid, grid_quick in AMPLITUDES:

@@ -21,6 +21,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from fmpy import simulate_fmu  # noqa: E402
 
+from .failure import out_dir  # noqa: E402
 from .fmu import fmu_path  # noqa: E402
 from .reference import profile as profile_ref  # noqa: E402
 
@@ -56,9 +57,8 @@ def main(argv=None):
     p.add_argument("--gallery", action="store_true",
                    help=f"also write a smaller copy of the figure to {GALLERY / 'rolling.png'}")
     args = p.parse_args(argv)
-    out = args.out
     fmu = str(fmu_path())
-    out.mkdir(parents=True, exist_ok=True)
+    out = out_dir(args.out)
     path = out / "corrugation.txt"
     x, h = corrugation(path)
     runs = {}
