@@ -302,7 +302,7 @@ def test_resume_refuses_a_folder_of_another_sweep(tmp_path):
     sweep(tmp_path / "one", "--set", "a=1e-5", "--grid", "f=100:200:2", "--stop-time", "0.005")
     code, err, _, _ = sweep(tmp_path / "one", "--set", "a=2e-5", "--grid", "f=100:200:2", "--stop-time", "0.005",
                             "--resume", check=False)
-    assert code == 2 and "--resume" in err and "set" in err, err
+    assert code == 2 and "--resume" in err and "other settings (set)" in err, err
 
 
 def test_options_that_cannot_run_are_refused_before_running(tmp_path):
