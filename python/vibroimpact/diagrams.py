@@ -6,7 +6,7 @@ Hertz and Johnson (Y = 6e8 Pa) contact with the paper's data (R* = 0.475 m, stee
 10 m g), excitation frequency swept up and down as continuation sweeps (each point starts from the
 previous point's final state, the frequency changed at phase 0), at the paper's amplitude
 a = 0.1 mm and at a = 5 um, where the jump sits at the contact resonance. Writes, under --out
-(default results/sweeps):
+(default results/diagrams):
   <law>_<amplitude>_<up|down>/   each sweep's sweep.csv, poincare.csv, sweep.json and PNGs (vibroimpact sweep's files)
   frequency_response.png         maximum/minimum force, largest separation, contact fraction against f
   bifurcation.png                the Poincare indentation (once per period after the transient) against f
@@ -25,7 +25,7 @@ from .failure import out_dir as make_out_dir
 from .fmu import fmu_path
 from .sweep import engine, plots, spec
 
-OUT = pathlib.Path("results", "sweeps")
+OUT = pathlib.Path("results", "diagrams")
 GALLERY = pathlib.Path("doc", "gallery")
 
 PAPER = ["R1=0.475", "R2=0", "E1=2.1e11", "E2=2.1e11", "nu1=0.3", "nu2=0.3", "P=40000", "m=407.747", "g=9.81",
