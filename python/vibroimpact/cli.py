@@ -9,8 +9,10 @@ from .failure import describe
 COMMANDS = {
     "paper": ("paper", "main", "simulate the paper's scenarios: CSV files and figures (results/)"),
     "rolling": ("rolling", "main", "the wheel rolling over a corrugated rail at three speeds (results/rolling/)"),
-    "sweep": ("sweep.command", "main", "parameter sweeps on Dask: statistics and Poincare samples per point"),
-    "diagrams": ("diagrams", "main", "frequency response and bifurcation diagrams, up and down sweeps (results/diagrams/)"),
+    "sweep": ("sweep.command", "main",
+              "parameter sweeps on Dask: statistics and Poincare samples per point (results/sweep/)"),
+    "diagrams": ("diagrams", "main",
+                 "frequency response and bifurcation diagrams, up and down sweeps (results/diagrams/)"),
     "bench": ("bench", "main", "speed against accuracy of the FMU's solvers (doc/bench/)"),
     "bench-sweep": ("sweep.bench", "main", "wall time of a sweep with and without Dask"),
     "compare": ("compare", "main", "the FMU against the committed reference on every scenario (a table)"),

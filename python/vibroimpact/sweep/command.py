@@ -137,7 +137,8 @@ def run(args, sweep, interface, output):
         plots.sweep_figures(args.out, sweep)
     failed, n = output.failures(), len(output.points)
     wall, ran = time.perf_counter() - t0, len(output.done) - before
-    print(f"sweep: {ran} points in {wall:.1f} s ({ran / wall:.1f}/s)" + (f", {before} kept from before" if before else "")
+    print(f"sweep: {ran} points in {wall:.1f} s ({ran / wall:.1f}/s)"
+          + (f", {before} kept from before" if before else "")
           + f", {len(failed)} failed -> {args.out}/sweep.csv, poincare.csv"
           + ("" if args.no_plots else ", response.png, bifurcation.png"))
     if failed and len(failed) == n:

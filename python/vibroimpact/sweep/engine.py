@@ -62,10 +62,10 @@ def _error_results(n, message):
 
 def package_zip(directory):
     """What the workers run as a zip that Client.upload_file puts on the scheduler's and workers'
-    path: the vibroimpact package with its helpers (fmu.py) and this subpackage, nothing else."""
+    path: the vibroimpact package with its helpers (fmu.py, failure.py) and this subpackage, nothing else."""
     path = os.path.join(directory, "vibroimpact.zip")
     with zipfile.ZipFile(path, "w") as z:
-        for f in (TOP / "__init__.py", TOP / "fmu.py", *sorted(SWEEP.glob("*.py"))):
+        for f in (TOP / "__init__.py", TOP / "fmu.py", TOP / "failure.py", *sorted(SWEEP.glob("*.py"))):
             z.write(f, f.relative_to(TOP.parent).as_posix())
     return path
 
