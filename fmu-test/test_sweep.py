@@ -292,10 +292,26 @@ def test_ctrl_c_keeps_the_finished_points_and_resume_runs_the_rest(tmp_path):
 
     resumed = subprocess.run([*cmd, "--resume"], capture_output=True, text=True, timeout=RUN_TIMEOUT_S)
     assert resumed.returncode == 0, resumed.stderr
-    assert f"sweep: {24 - len(kept)} points in" in resumed.stdout, resumed.stdout   # only the rest ran
+    assert f"sweep: {24 - len(kept)} point{'s' if len(kept) < 23 else ''} in" in resumed.stdout, resumed.stdout
     assert f"{len(kept)} kept from before" in resumed.stdout, resumed.stdout
     sweep(tmp_path / "whole", *INTERRUPTED, workers=1)
     same_files(tmp_path / "whole", out)
+
+
+def test_resume_runs_a_continuation_chain_with_a_missing_point_whole(tmp_path):
+    """A continuation point depends on the one before it on its chain: --resume with the last
+    point of one chain missing reruns that chain from its start, and the files come out as those
+    of the complete sweep."""
+    args = ["--set", "contact_model=hertz", "--set", "f=200", "--grid", "F_ext=0:2000:3", "--grid", "a=1e-6:2e-6:2",
+            "--stop-time", "0.01", "--sweep-direction", "up"]
+    sweep(tmp_path / "whole", *args)
+    cut = tmp_path / "cut"
+    sweep(cut, *args)
+    lines = (cut / "sweep.csv").read_text().splitlines(keepends=True)
+    (cut / "sweep.csv").write_text("".join(lines[:-1]))   # F_ext = 2000, a = 2e-6: the end of a chain
+    _, _, rows, _ = sweep(cut, *args, "--resume")
+    assert len(rows) == 6
+    same_files(tmp_path / "whole", cut)
 
 
 def test_resume_refuses_a_folder_of_another_sweep(tmp_path):

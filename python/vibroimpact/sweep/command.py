@@ -117,12 +117,17 @@ def main(argv=None):
 
 def run(args, sweep, interface, output):
     """The points not yet in `output` on Dask, each written as it finishes; the figures; the exit code."""
-    t0, before = time.perf_counter(), len(output.done)
+    t0, before, ran = time.perf_counter(), len(output.done), [0]
+
+    def finished(indices, results):
+        output.add(indices, results)
+        ran[0] += len(indices)
+
     try:
         if before < len(output.points):
             engine.run(sweep, interface, args.fmu, workers=args.workers, scheduler=args.scheduler,
                        progress=not args.no_progress, connect_timeout=args.connect_timeout, done=output.done,
-                       on_chain=output.add)
+                       on_chain=finished)
     except KeyboardInterrupt:
         output.finish()
         print(f"sweep: interrupted; {len(output.done)} of {len(output.points)} points are in {args.out}/sweep.csv "
@@ -136,9 +141,9 @@ def run(args, sweep, interface, output):
     if not args.no_plots:
         plots.sweep_figures(args.out, sweep)
     failed, n = output.failures(), len(output.points)
-    wall, ran = time.perf_counter() - t0, len(output.done) - before
-    print(f"sweep: {ran} points in {wall:.1f} s ({ran / wall:.1f}/s)"
-          + (f", {before} kept from before" if before else "")
+    wall, ran = time.perf_counter() - t0, ran[0]
+    print(f"sweep: {ran} point{'' if ran == 1 else 's'} in {wall:.1f} s ({ran / wall:.1f}/s)"
+          + (f", {len(output.done) - ran} kept from before" if before else "")
           + f", {len(failed)} failed -> {args.out}/sweep.csv, poincare.csv"
           + ("" if args.no_plots else ", response.png, bifurcation.png"))
     if failed and len(failed) == n:

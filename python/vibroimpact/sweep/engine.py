@@ -225,6 +225,8 @@ class Output:
                     if name == "sweep.csv" and i is not None and len(row) == len(header):
                         self.rows[i] = (row, [])
                     elif name == "poincare.csv" and i in self.rows:
+                        if row[len(self.names)] == "0":   # period 0: a point written again (a chain rerun)
+                            self.rows[i][1].clear()
                         self.rows[i][1].append(row)
 
     def add(self, indices, results):
