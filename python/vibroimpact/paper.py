@@ -165,5 +165,7 @@ def write_summary(out, rows):
 
 
 def read_run(path):
-    """A scenario's CSV file back as the named columns simulate() returns."""
-    return np.genfromtxt(path, delimiter=",", names=True)
+    """A scenario's CSV file back as {output name: column}, the columns simulate() returned."""
+    with open(path) as fh:
+        names = fh.readline().strip().split(",")
+    return dict(zip(names, np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2).T))

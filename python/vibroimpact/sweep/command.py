@@ -39,7 +39,7 @@ import time
 from ..failure import CommandError, out_dir
 from ..fmu import ENV, fmu_path
 from . import engine, plots, spec
-from .probe import label, probe
+from .probe import NotHere, label, probe
 
 
 def parse_args(argv):
@@ -103,9 +103,7 @@ def main(argv=None):
         interface = spec.Interface(args.fmu)
         sweep = build(args, interface)
         spec.check(sweep, interface)
-        for corner, reason in probe(sweep, interface, args.fmu):
-            print(f"sweep: the FMU refuses to initialize at {label(corner)} (those points will fail): {reason}",
-                  file=sys.stderr)
+        check_corners(sweep, interface, args.fmu)
         out_dir(args.out)
         output = engine.Output(args.out, sweep, argv=["vibroimpact", "sweep"] + list(argv),
                                fmu_sha256=engine.file_sha256(args.fmu), resume=args.resume)
@@ -113,6 +111,18 @@ def main(argv=None):
         print(f"sweep: {e}", file=sys.stderr)
         return 2
     return run(args, sweep, interface, output)
+
+
+def check_corners(sweep, interface, fmu):
+    """The probe: a SpecError when the FMU refuses every corner; a line for each corner it refuses."""
+    try:
+        refused = probe(sweep, interface, fmu)
+    except NotHere as e:
+        print(f"sweep: the FMU does not load here, so its workers alone check the values ({e})", file=sys.stderr)
+        return
+    for corner, reason in refused:
+        print(f"sweep: the FMU refuses to initialize at {label(corner)} (those points will fail): {reason}",
+              file=sys.stderr)
 
 
 def run(args, sweep, interface, output):

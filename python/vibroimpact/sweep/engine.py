@@ -84,8 +84,10 @@ def connect(workers=None, scheduler=None, connect_timeout=60.0):
             client.close()
             raise RuntimeError(f"no worker joined the scheduler {scheduler} within {connect_timeout} s") from None
     else:
+        # silence_logs CRITICAL: a task's error comes back through its future, and a worker whose
+        # heartbeat meets the scheduler closing (an interrupted sweep) would print a traceback of its own
         cluster = LocalCluster(n_workers=workers or os.cpu_count(), threads_per_worker=1, processes=True,
-                               dashboard_address=None, silence_logs=logging.ERROR)
+                               dashboard_address=None, silence_logs=logging.CRITICAL)
         client = Client(cluster)
     try:
         with tempfile.TemporaryDirectory() as tmp:

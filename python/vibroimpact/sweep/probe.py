@@ -20,9 +20,14 @@ def label(values):
     return ", ".join(f"{n}={x:g}" if isinstance(x, float) else f"{n}={x}" for n, x in values.items())
 
 
+class NotHere(Exception):
+    """The FMU's binary does not load in this process (an FMU for the workers' platform only)."""
+
+
 def probe(sweep, interface, fmu_path):
     """[(corner, the FMU's reason)] of the corners whose initialization fails. A SpecError with the
-    first reason when every corner fails: then every point would."""
+    first reason when every corner fails: then every point would. NotHere when the FMU cannot be
+    loaded here."""
     from fmpy import extract
     vrs = output_vrs(interface)
     fixed = _spec.value_entries(interface, sweep.fixed)
@@ -30,7 +35,10 @@ def probe(sweep, interface, fmu_path):
     failed = []
     with tempfile.TemporaryDirectory() as tmp:
         files = FMUFiles(extract(fmu_path, unzipdir=tmp), interface.guid, interface.model_identifier, vrs)
-        slave = files.slave()
+        try:
+            slave = files.slave()
+        except Exception as e:   # no binary for this platform, a library that does not load
+            raise NotHere(str(e)) from None
         try:
             for corner in corners:
                 inst = None
