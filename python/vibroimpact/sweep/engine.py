@@ -113,7 +113,8 @@ def run(sweep, interface, fmu_path, client=None, progress=True, done=(), on_chai
     with open(fmu_path, "rb") as fh:
         fmu_bytes = fh.read()
     plugin = FMUPlugin(fmu_bytes, interface.guid, interface.model_identifier, output_vrs(interface))
-    work = [c for c in _spec.chains(sweep, interface) if not set(c[0]) <= set(done)]
+    done = set(done)
+    work = [c for c in _spec.chains(sweep, interface) if not set(c[0]) <= done]
     points = sweep.points()
     timing = dict(stop_time=sweep.stop_time, step=sweep.step, transient=sweep.transient)
     topic = f"vi-sweep-progress-{uuid.uuid4().hex}" if sweep.direction else None
