@@ -63,6 +63,16 @@ def test_wplastic_refuses_a_yield_stress_that_is_not_positive(tmp_path):
         refused(vi("wplastic", "--Y", y, cwd=tmp_path), 2, "--Y", "> 0")
 
 
+@pytest.mark.parametrize("args, option", [(["me-cost", "--repeat", "0"], "--repeat"),
+                                          (["bench", "--repeat", "0"], "--repeat"),
+                                          (["bench-sweep", "--points", "0"], "--points"),
+                                          (["diagrams", "--workers", "0"], "--workers")])
+def test_counts_below_one_are_refused(tmp_path, args, option):
+    p = vi(*args, cwd=tmp_path)
+    refused(p, 2, option, "at least 1")
+    assert "| scenario" not in p.stdout
+
+
 @pytest.mark.parametrize("command", ["paper", "rolling", "diagrams", "sweep"])
 def test_out_naming_a_file_is_refused(tmp_path, command):
     (tmp_path / "taken").write_text("a file the user keeps\n")

@@ -236,6 +236,8 @@ def main(argv=None):
     p.add_argument("--only", type=lambda text: text.split(","), default=None, metavar="SECTION,...",
                    help="only these sections, printed, nothing written: " + ", ".join(ALONE))
     a = p.parse_args(argv)
+    if a.repeat < 1:
+        p.error("--repeat is at least 1")
     build = a.build or build_dir()
     missing = [str(build / f) for f in (NAME,) + PROGRAMS if not (build / f).is_file()]
     if missing:

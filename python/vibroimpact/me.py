@@ -247,6 +247,8 @@ def main(argv=None):
     p.add_argument("--rtols", nargs="+", type=float, default=list(COST_RTOLS))
     p.add_argument("--repeat", type=int, default=3, help="runs per case; the fastest counts (default 3)")
     a = p.parse_args(argv)
+    if a.repeat < 1:
+        p.error("--repeat is at least 1")
     for rtol in a.rtols:
         check_start({"rtol": rtol}, f"the FMU refuses --rtols {rtol:g}")
     print("| scenario | rtol | ME: max abs(y - y_ref) [m] | ME: CPU [s] | ME mode changes | CS: max abs(y - y_ref) [m] "
