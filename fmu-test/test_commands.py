@@ -57,6 +57,14 @@ def test_table_commands_say_why_the_fmu_refuses_an_option(tmp_path, args, words)
     assert "| scenario" not in p.stdout
 
 
+def test_a_simulation_the_fmu_refuses_says_why(fmu_path):
+    """paper and rolling run fmpy.simulate_fmu through vibroimpact.fmu.simulate, which keeps the log."""
+    from vibroimpact.failure import CommandError
+    from vibroimpact.fmu import simulate
+    with pytest.raises(CommandError, match=r"^the run: fmi2SetReal: m = -1 is outside its range m > 0"):
+        simulate("the run", fmu_path, start_values={"m": -1.0}, stop_time=0.01)
+
+
 # ---- options the command refuses ------------------------------------------------------------------
 def test_wplastic_refuses_a_yield_stress_that_is_not_positive(tmp_path):
     for y in ("-5", "0", "nan"):

@@ -108,6 +108,7 @@ class MessageLog:
         cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
         cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
         self.callbacks = cb   # referenced as long as the instance lives
+        self.logger = self._log   # the Python function, for fmpy.simulate_fmu(logger=...)
 
     def _log(self, env, name, status, category, message):
         text = message.decode("utf-8", "replace").replace("%%", "%")
@@ -122,6 +123,21 @@ class MessageLog:
 
     def text(self):
         return "\n".join(self.texts())
+
+
+def simulate(what, fmu, **options):
+    """fmpy.simulate_fmu(fmu, **options) with the FMU's log kept: when an FMI call fails, a
+    failure.CommandError saying `what` failed, in the FMU's words."""
+    import fmpy
+
+    from .failure import fmu_refused
+    log = MessageLog()
+    try:
+        return fmpy.simulate_fmu(str(fmu), logger=log.logger, **options)
+    except Exception as e:
+        if not log.messages:
+            raise
+        raise fmu_refused(what, e, log.texts()) from e
 
 
 def check_start(values, what, fmu=None, tolerance=None):

@@ -20,10 +20,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from fmpy import simulate_fmu  # noqa: E402
-
 from .failure import out_dir  # noqa: E402
-from .fmu import fmu_path  # noqa: E402
+from .fmu import fmu_path, simulate as simulate_logged  # noqa: E402
 from .reference.scenarios import SCENARIOS, STOP_TIME  # noqa: E402
 
 OUT = pathlib.Path("results")
@@ -37,8 +35,8 @@ SUMMARY = ["scenario", "n_impacts", "F_min_kN", "F_max_kN", "F_mean_kN", "contac
 
 
 def simulate(scenario):
-    return simulate_fmu(str(fmu_path()), start_values=scenario.full, stop_time=STOP_TIME, output_interval=INTERVAL,
-                        relative_tolerance=RTOL, output=OUTPUTS)
+    return simulate_logged(f"the FMU refuses the scenario '{scenario.title}'", fmu_path(), start_values=scenario.full,
+                           stop_time=STOP_TIME, output_interval=INTERVAL, relative_tolerance=RTOL, output=OUTPUTS)
 
 
 def summarize(name, r):

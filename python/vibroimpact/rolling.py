@@ -19,10 +19,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from fmpy import simulate_fmu  # noqa: E402
-
 from .failure import out_dir  # noqa: E402
-from .fmu import fmu_path  # noqa: E402
+from .fmu import fmu_path, simulate  # noqa: E402
 from .reference import profile as profile_ref  # noqa: E402
 
 OUT = pathlib.Path("results", "rolling")
@@ -64,10 +62,9 @@ def main(argv=None):
     runs = {}
     for name, f_pass in PASSING.items():
         V = f_pass * LAMBDA
-        runs[name] = (V, simulate_fmu(fmu, start_values=dict(contact_model=1, profile_file=str(path.resolve()), V=V,
-                                                             profile_periodic=True),
-                                      stop_time=STOP, output_interval=INTERVAL, relative_tolerance=1e-10,
-                                      output=OUTPUTS))
+        start = dict(contact_model=1, profile_file=str(path.resolve()), V=V, profile_periodic=True)
+        runs[name] = (V, simulate(f"the FMU refuses the rolling run {name} the resonance", fmu, start_values=start,
+                                  stop_time=STOP, output_interval=INTERVAL, relative_tolerance=1e-10, output=OUTPUTS))
     fig, axes = plt.subplots(len(runs) + 1, 2, figsize=(12, 3 * (len(runs) + 1)))
     s = np.linspace(0.0, 2 * LAMBDA, 801)
     ax = axes[0, 0]
