@@ -134,6 +134,17 @@ def test_paper_on_a_subset_updates_the_summary(tmp_path):
     assert (tmp_path / "out" / "overview.png").stat().st_size > 0
 
 
+@pytest.mark.timeout(200)
+def test_rolling_prints_its_figures_to_four_digits(tmp_path):
+    p = vi("rolling", "--out", "roll", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    cases = [line for line in p.stdout.splitlines() if line.startswith("case ")]
+    assert len(cases) == 3, p.stdout
+    for line in cases:
+        for number in re.findall(r"-?\d+\.\d+(?:e[-+]?\d+)?", line):
+            assert len(number.lstrip("-").split("e")[0].replace(".", "").lstrip("0")) <= 4, (number, line)
+
+
 # ---- names a user can find ------------------------------------------------------------------------
 def readme_commands():
     """{command: the row's text} of the README's command table (rows naming `vibroimpact ...`)."""

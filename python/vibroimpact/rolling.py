@@ -87,8 +87,8 @@ def main(argv=None):
         for ax in (a, b):
             ax.set_xlabel("t [ms]")
         rows.append(dict(case=name, V_m_s=V, passing_Hz=PASSING[name], n_impacts=int(r["n_impacts"][-1]),
-                         contact_fraction=float(np.mean(r["contact"])), F_min_kN=r["F"].min() / 1e3,
-                         F_max_kN=r["F"].max() / 1e3, y_p2p_mm=np.ptp(r["y"]) * 1e3))
+                         contact_fraction=float(np.mean(r["contact"])), F_min_kN=float(r["F"].min()) / 1e3,
+                         F_max_kN=float(r["F"].max()) / 1e3, y_p2p_mm=float(np.ptp(r["y"])) * 1e3))
     fig.tight_layout()
     fig.savefig(out / "rolling.png", dpi=110)
     if args.gallery:
