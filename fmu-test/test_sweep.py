@@ -216,6 +216,115 @@ def test_a_failed_point_stays_with_the_fmus_message(tmp_path):
             assert float(r["F_max"]) > 0 and r["message"] == ""
 
 
+@pytest.mark.parametrize("args, words", [
+    (["--set", "m=-1", "--grid", "f=100:200:3"], ["every corner", "m = -1 is outside its range m > 0"]),
+    (["--set", "nu1=0.7"], ["--set values", "nu1 = 0.7 is outside its range"]),
+    (["--grid", "m=-200:-100:3"], ["every corner", "m = -200 is outside its range m > 0"]),
+])
+def test_values_the_fmu_refuses_everywhere_stop_the_sweep_before_it_starts(tmp_path, args, words):
+    """The FMU's reason, at once: nothing is distributed and nothing is written."""
+    code, err, _, _ = sweep(tmp_path / "refused", *args, check=False)
+    assert code == 2 and "Traceback" not in err, err
+    assert all(w in err for w in words), err
+    assert not (tmp_path / "refused").exists()
+
+
+def test_a_corner_the_fmu_refuses_is_named_and_the_sweep_runs(tmp_path):
+    code, err, rows, _ = sweep(tmp_path / "corner", "--set", "a=1e-5", "--grid", "m=-100:400:2", "--stop-time", "0.005")
+    assert code == 0 and "m=-100" in err and "m = -100 is outside its range" in err, err
+    assert [r["status"] for r in rows] == ["error", "ok"]
+
+
+def test_an_fmi3_fmu_is_refused(tmp_path):
+    from vibroimpact.fmi3 import fmu3_path
+    fmu3 = fmu3_path(required=False)
+    if not fmu3.is_file():
+        pytest.fail(f"{fmu3} is missing: build it with cmake --build build")
+    p = subprocess.run([*SWEEP, "--fmu", str(fmu3), "--out", str(tmp_path / "x"), "--grid", "f=100:200:2"],
+                       capture_output=True, text=True, timeout=RUN_TIMEOUT_S)
+    assert p.returncode == 2 and "FMI 3.0" in p.stderr and "FMI 2.0" in p.stderr, p.stderr
+
+
+def test_every_point_failing_exits_nonzero_with_the_first_reason(tmp_path):
+    """The FMU accepts the start values but every run ends: a profile of 1 mm rolled over at 10 m/s
+    runs off its end after 0.1 ms."""
+    profile = tmp_path / "short.txt"
+    profile.write_text("0 0\n0.001 0\n")
+    out = tmp_path / "short"
+    code, err, _, _ = sweep(out, "--set", f"profile_file={profile}", "--set", "V=10", "--grid", "f=100:200:2",
+                            "--stop-time", "0.01", check=False)
+    assert code == 1 and "Traceback" not in err, err
+    last = err.strip().splitlines()[-1]
+    assert "every point failed" in last and "f=100" in last and "end of the profile" in last, err
+    with open(out / "sweep.csv", newline="") as fh:
+        assert [r["status"] for r in csv.DictReader(fh)] == ["error", "error"]
+
+
+INTERRUPTED = ["--set", "a=1e-4", "--grid", "f=100:600:24", "--stop-time", "0.3"]
+
+
+def data_rows(path):
+    return len(path.read_text().splitlines()) - 1 if path.is_file() else 0
+
+
+@pytest.mark.timeout(250)
+def test_ctrl_c_keeps_the_finished_points_and_resume_runs_the_rest(tmp_path):
+    """SIGINT to the whole process group, as a terminal's Ctrl-C sends it, once some points are in
+    sweep.csv: exit 130, one line saying what was kept, the finished points in grid order. --resume
+    then runs the rest: the files are those of an uninterrupted run, byte for byte."""
+    out = tmp_path / "cut"
+    cmd = [*SWEEP, "--fmu", str(FMU), "--out", str(out), "--no-progress", "--no-plots", "--workers", "1", *INTERRUPTED]
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    try:
+        end = time.monotonic() + RUN_TIMEOUT_S
+        while data_rows(out / "sweep.csv") < 3 and p.poll() is None and time.monotonic() < end:  # bounded
+            time.sleep(0.05)
+        os.killpg(p.pid, signal.SIGINT)
+        _, err = p.communicate(timeout=60)
+    finally:
+        if p.poll() is None:
+            os.killpg(p.pid, signal.SIGKILL)
+            p.wait(timeout=10)
+    assert p.returncode == 130 and "Traceback" not in err, err
+    assert "interrupted" in err and "--resume" in err, err
+    with open(out / "sweep.csv", newline="") as fh:
+        kept = list(csv.DictReader(fh))
+    grid = [repr(float(x)) for x in np.linspace(100, 600, 24)]
+    assert 3 <= len(kept) < 24 and all(r["status"] == "ok" for r in kept)
+    assert [r["f"] for r in kept] == [f for f in grid if f in {r["f"] for r in kept}]  # grid order
+    assert f"{len(kept)} of 24 points" in err, err
+
+    resumed = subprocess.run([*cmd, "--resume"], capture_output=True, text=True, timeout=RUN_TIMEOUT_S)
+    assert resumed.returncode == 0, resumed.stderr
+    assert f"sweep: {24 - len(kept)} point{'s' if len(kept) < 23 else ''} in" in resumed.stdout, resumed.stdout
+    assert f"{len(kept)} kept from before" in resumed.stdout, resumed.stdout
+    sweep(tmp_path / "whole", *INTERRUPTED, workers=1)
+    same_files(tmp_path / "whole", out)
+
+
+def test_resume_runs_a_continuation_chain_with_a_missing_point_whole(tmp_path):
+    """A continuation point depends on the one before it on its chain: --resume with the last
+    point of one chain missing reruns that chain from its start, and the files come out as those
+    of the complete sweep."""
+    args = ["--set", "contact_model=hertz", "--set", "f=200", "--grid", "F_ext=0:2000:3", "--grid", "a=1e-6:2e-6:2",
+            "--stop-time", "0.01", "--sweep-direction", "up"]
+    sweep(tmp_path / "whole", *args)
+    cut = tmp_path / "cut"
+    sweep(cut, *args)
+    lines = (cut / "sweep.csv").read_text().splitlines(keepends=True)
+    (cut / "sweep.csv").write_text("".join(lines[:-1]))   # F_ext = 2000, a = 2e-6: the end of a chain
+    _, _, rows, _ = sweep(cut, *args, "--resume")
+    assert len(rows) == 6
+    same_files(tmp_path / "whole", cut)
+
+
+def test_resume_refuses_a_folder_of_another_sweep(tmp_path):
+    sweep(tmp_path / "one", "--set", "a=1e-5", "--grid", "f=100:200:2", "--stop-time", "0.005")
+    code, err, _, _ = sweep(tmp_path / "one", "--set", "a=2e-5", "--grid", "f=100:200:2", "--stop-time", "0.005",
+                            "--resume", check=False)
+    assert code == 2 and "--resume" in err and "other settings (set)" in err, err
+
+
 def test_options_that_cannot_run_are_refused_before_running(tmp_path):
     for args, words in ((["--grid", "nosuch=1:2:2"], "unknown variable 'nosuch'"),
                         (["--set", "contact_model=plastic"], "neither an integer nor an item name"),

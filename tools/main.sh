@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Main job: install what is needed, build the FMU, simulate the paper's scenarios (results/), roll the
 # wheel over a corrugated rail (results/rolling/), and map the frequency response with up/down
-# continuation sweeps on Dask (results/sweeps/). Arguments go to `vibroimpact paper` (scenario names,
+# continuation sweeps on Dask (results/diagrams/). Arguments go to `vibroimpact paper` (scenario names,
 # --gallery); --gallery also refreshes the rolling figure in doc/gallery/.
 # Python: the interpreter tools/setup.sh chose ($PYTHON, or the virtual environment .venv/ made from it).
 set -euo pipefail

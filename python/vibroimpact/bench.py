@@ -61,6 +61,7 @@ import time
 
 import numpy as np
 
+from .failure import out_dir
 from .fmu import NAME, build_dir
 from .reference.closed_forms import effective
 from .reference.scenarios import SCENARIOS
@@ -235,6 +236,8 @@ def main(argv=None):
     p.add_argument("--only", type=lambda text: text.split(","), default=None, metavar="SECTION,...",
                    help="only these sections, printed, nothing written: " + ", ".join(ALONE))
     a = p.parse_args(argv)
+    if a.repeat < 1:
+        p.error("--repeat is at least 1")
     build = a.build or build_dir()
     missing = [str(build / f) for f in (NAME,) + PROGRAMS if not (build / f).is_file()]
     if missing:
@@ -246,7 +249,7 @@ def main(argv=None):
 
 
 def run_suite(repeat, quick, outdir, build, only=None):
-    outdir.mkdir(parents=True, exist_ok=True)
+    out_dir(outdir)
     lines = []
 
     def out(text=""):

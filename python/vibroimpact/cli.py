@@ -3,12 +3,16 @@ import argparse
 import importlib
 import sys
 
+from .failure import describe
+
 # name: (module, function, what it does)
 COMMANDS = {
     "paper": ("paper", "main", "simulate the paper's scenarios: CSV files and figures (results/)"),
     "rolling": ("rolling", "main", "the wheel rolling over a corrugated rail at three speeds (results/rolling/)"),
-    "sweep": ("sweep.command", "main", "parameter sweeps on Dask: statistics and Poincare samples per point"),
-    "diagrams": ("diagrams", "main", "frequency response and bifurcation diagrams, up and down sweeps (results/sweeps/)"),
+    "sweep": ("sweep.command", "main",
+              "parameter sweeps on Dask: statistics and Poincare samples per point (results/sweep/)"),
+    "diagrams": ("diagrams", "main",
+                 "frequency response and bifurcation diagrams, up and down sweeps (results/diagrams/)"),
     "bench": ("bench", "main", "speed against accuracy of the FMU's solvers (doc/bench/)"),
     "bench-sweep": ("sweep.bench", "main", "wall time of a sweep with and without Dask"),
     "compare": ("compare", "main", "the FMU against the committed reference on every scenario (a table)"),
@@ -27,8 +31,10 @@ def parser():
         description="VibroImpact: the FMU of dynamic unilateral elasto-plastic contact, its reference model, "
                     "sweeps, figures and benchmark.",
         epilog="commands:\n" + "\n".join(f"  {n:{width}}  {text}" for n, (_, _, text) in COMMANDS.items())
-        + "\n\n`vibroimpact COMMAND --help` describes each. The FMU: $VI_FMU when set, else the one installed in the "
-          "package (pip install .), else build/VibroImpact.fmu of the development checkout.")
+        + "\n\n`vibroimpact COMMAND --help` describes each. A command that cannot go on says why in one line "
+          "and exits non-zero; --debug (anywhere on the line) shows the traceback instead.\n"
+          "The FMU: $VI_FMU when set, else the one installed in the package (pip install .), "
+          "else build/VibroImpact.fmu of the development checkout.")
     p.add_argument("command", choices=list(COMMANDS), metavar="COMMAND", help="one of the commands below")
     p.add_argument("args", nargs=argparse.REMAINDER, help="the command's own options")
     return p
@@ -36,6 +42,8 @@ def parser():
 
 def main(argv=None):
     argv = sys.argv[1:] if argv is None else list(argv)
+    debug = "--debug" in argv
+    argv = [x for x in argv if x != "--debug"]   # no command has an option of that name
     if not argv:
         parser().print_help()
         return 2
@@ -52,12 +60,19 @@ def main(argv=None):
             print(f"vibroimpact: {e}", file=sys.stderr)
             return 1
         return 0
-    run = getattr(importlib.import_module(f"{__package__}.{module}"), function)
     try:
+        run = getattr(importlib.import_module(f"{__package__}.{module}"), function)
         return run(argv[1:]) or 0
-    except FileNotFoundError as e:   # no FMU: say how to get one, without a traceback
-        print(f"vibroimpact {a.command}: {e}", file=sys.stderr)
-        return 1
     except BrokenPipeError:          # the output's reader left (| head)
         sys.stderr.close()
+        return 1
+    except KeyboardInterrupt:
+        if debug:
+            raise
+        print(f"vibroimpact {a.command}: interrupted", file=sys.stderr)
+        return 130
+    except Exception as e:
+        if debug:
+            raise
+        print(f"vibroimpact {a.command}: {describe(e)}", file=sys.stderr)
         return 1

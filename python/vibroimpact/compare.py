@@ -13,7 +13,7 @@ import json
 
 import numpy as np
 
-from .fmu import Logged, fmu_path, initialize
+from .fmu import Logged, check_start, fmu_path, initialize
 from .reference.generate import DATA, RTOL_TRUE, horizon, transitions
 from .reference.scenarios import SCENARIOS
 
@@ -120,6 +120,10 @@ def parser():
 def main(argv=None):
     a = parser().parse_args(argv)
     rtol, solver = a.rtol, a.solver
+    first = next(iter(SCENARIOS))
+    check_start({**SCENARIOS[first].full, **({} if solver is None else {"solver": solver})},
+                f"the FMU refuses {first} at --rtol {rtol:g}" + ("" if solver is None else f", --solver {solver}"),
+                tolerance=rtol)
     runner = Runner()
     print(f"FMU at rtol {rtol:g} (solver {solver or 'default'}), reference at rtol {RTOL_TRUE:g}\n")
     print("| scenario | horizon [ms] | FMU within 0.1 um until [ms] | max abs(y - y_ref) [m] | max abs(F - F_ref)/max F "

@@ -6,7 +6,7 @@ Hertz and Johnson (Y = 6e8 Pa) contact with the paper's data (R* = 0.475 m, stee
 10 m g), excitation frequency swept up and down as continuation sweeps (each point starts from the
 previous point's final state, the frequency changed at phase 0), at the paper's amplitude
 a = 0.1 mm and at a = 5 um, where the jump sits at the contact resonance. Writes, under --out
-(default results/sweeps):
+(default results/diagrams):
   <law>_<amplitude>_<up|down>/   each sweep's sweep.csv, poincare.csv, sweep.json and PNGs (vibroimpact sweep's files)
   frequency_response.png         maximum/minimum force, largest separation, contact fraction against f
   bifurcation.png                the Poincare indentation (once per period after the transient) against f
@@ -21,10 +21,11 @@ import time
 
 import numpy as np
 
+from .failure import out_dir as make_out_dir
 from .fmu import fmu_path
 from .sweep import engine, plots, spec
 
-OUT = pathlib.Path("results", "sweeps")
+OUT = pathlib.Path("results", "diagrams")
 GALLERY = pathlib.Path("doc", "gallery")
 
 PAPER = ["R1=0.475", "R2=0", "E1=2.1e11", "E2=2.1e11", "nu1=0.3", "nu2=0.3", "P=40000", "m=407.747", "g=9.81",
@@ -69,6 +70,8 @@ def main(argv=None):
     p.add_argument("--gallery", action="store_true", help=f"also write smaller copies of the figures to {GALLERY}/")
     p.add_argument("--quick", action="store_true", help="coarse grids and a coarser step")
     args = p.parse_args(argv)
+    if args.workers is not None and args.workers < 1:
+        p.error("--workers must be at least 1")
     fmu = str(fmu_path())
     out_dir = args.out
     interface = spec.Interface(fmu)
@@ -76,7 +79,7 @@ def main(argv=None):
         print("diagrams: skipped: this FMU declares f fixed, and the continuation sweeps change it on a "
               "running instance (f must be tunable)", file=sys.stderr)
         return
-    out_dir.mkdir(parents=True, exist_ok=True)
+    make_out_dir(out_dir)
     runs, t0 = {}, time.perf_counter()
     with engine.connect(workers=args.workers, scheduler=args.scheduler) as client:
         for amp, a, grid, grid_quick in AMPLITUDES:

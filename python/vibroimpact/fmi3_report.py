@@ -11,21 +11,36 @@ within the scenario's predictable horizon, the early returns there, whether thei
 gave the same stops bit for bit, and the wall time of the whole run each way.
 """
 import argparse
+import math
 import time
 
 from . import fmi3
+from .failure import CommandError, fmu_refused
 from .compare import EVENT_DT, SUMMARY, read_events
 from .reference.scenarios import SCENARIOS, STOP_TIME
 
 
 def run(md, unzipdir, name, step, rtol, early_return, event_mode):
-    """-> ([(t, mode before, mode after)] of the stops, wall time [s])."""
+    """-> ([(t, mode before, mode after)] of the stops, wall time [s]); a CommandError with what the
+    FMU logged when an FMI call fails."""
+    log = fmi3.Logged(md, unzipdir, name=name)
+    try:
+        return _run(md, log, name, step, rtol, early_return, event_mode)
+    except Exception as e:
+        raise fmu_refused(f"the FMI 3.0 FMU on {name} at --rtol {rtol:g}", e, log.texts()) from e
+
+
+def _run(md, log, name, step, rtol, early_return, event_mode):
     vr = {v.name: v.valueReference for v in md.modelVariables}
     kinds = {v.name: v.type for v in md.modelVariables}
-    s = fmi3.Logged(md, unzipdir, name=name).instantiate(event_mode=event_mode, early_return=early_return)
+    s = log.instantiate(event_mode=event_mode, early_return=early_return)
     t0 = time.perf_counter()
     fmi3.initialize(s, vr, SCENARIOS[name].full, kinds=kinds, tolerance=rtol, stop_time=STOP_TIME,
                     event_mode=event_mode)
+    if step is None:   # only the initialization: the options are checked before the long work
+        s.terminate()
+        s.freeInstance()
+        return [], 0.0
     mode = s.getInt64([vr["mode"]])[0]
     stops = []
     if early_return:
@@ -51,9 +66,15 @@ def main(argv=None):
     ap.add_argument("--step", type=float, default=1e-3, help="communication step [s] (default 1e-3)")
     ap.add_argument("--rtol", type=float, default=1e-11, help="the tolerance given to fmi3EnterInitializationMode")
     a = ap.parse_args(argv)
+    if not (math.isfinite(a.step) and 0 < a.step <= STOP_TIME):
+        ap.error(f"--step is the communication step in s, in (0, {STOP_TIME:g}] (got {a.step:g})")
     path = fmi3.fmu3_path()
     md = read_model_description(str(path))
+    if md.fmiVersion != "3.0":
+        raise CommandError(f"{path} is an FMI {md.fmiVersion} FMU; this command runs the FMI 3.0 build "
+                           "(vibroimpact path --fmi3)")
     unzipdir = extract(str(path))
+    run(md, unzipdir, next(iter(SCENARIOS)), None, a.rtol, True, True)   # the FMU accepts --rtol
     print(f"FMI 3.0 FMU {path}, rtol {a.rtol:g}, communication step {a.step:g} s\n")
     print("| scenario | reference changes within the horizon | early returns there | same sequence | "
           "max abs(t - t_ref) [s] | Event Mode: same stops | wall plain / early return / + Event Mode [s] |")

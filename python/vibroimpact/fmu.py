@@ -30,6 +30,9 @@ def fmu_path(required=True):
         path = PACKAGE / NAME
     else:
         path = checkout_root() / "build" / NAME
+    if required and not path.is_file() and os.environ.get(ENV):
+        raise FileNotFoundError(f"{ENV} names {path}, which is not a file: point {ENV} at an FMU, or unset it "
+                                "to use the package's or the checkout's own")
     if required and not path.is_file():
         raise FileNotFoundError(f"{path} does not exist: build it (cmake -S . -B build && cmake --build build), "
                                 f"install the package with pip install ., or set {ENV} to an FMU")
@@ -121,6 +124,7 @@ class MessageLog:
         cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
         cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
         self.callbacks = cb   # referenced as long as the instance lives
+        self.logger = self._log   # the Python function, for fmpy.simulate_fmu(logger=...)
 
     def _log(self, env, name, status, category, message):
         text = message.decode("utf-8", "replace").replace("%%", "%")
@@ -135,6 +139,42 @@ class MessageLog:
 
     def text(self):
         return "\n".join(self.texts())
+
+
+def simulate(what, fmu, **options):
+    """fmpy.simulate_fmu(fmu, **options) with the FMU's log kept: when an FMI call fails, a
+    failure.CommandError saying `what` failed, in the FMU's words."""
+    import fmpy
+
+    from .failure import fmu_refused
+    log = MessageLog()
+    try:
+        return fmpy.simulate_fmu(str(fmu), logger=log.logger, **options)
+    except Exception as e:
+        if not log.messages:
+            raise
+        raise fmu_refused(what, e, log.texts()) from e
+
+
+def check_start(values, what, fmu=None, tolerance=None):
+    """One co-simulation instance of the FMU (default fmu_path()) initialized with these start values
+    (and tolerance), then freed: the check a command makes of its options before the long work. A
+    failure.CommandError saying `what` was refused, in the FMU's words, when it refuses them."""
+    from fmpy import extract, read_model_description
+
+    from .failure import fmu_refused
+    fmu = str(fmu or fmu_path())
+    md = read_model_description(fmu)
+    vr, kinds = variables(md)
+    log = Logged(md, extract(fmu), name="check")
+    try:
+        slave = log.instantiate()
+        try:
+            initialize(slave, vr, values, kinds, tolerance=tolerance)
+        finally:
+            slave.freeInstance()
+    except Exception as e:
+        raise fmu_refused(what, e, log.texts()) from e
 
 
 class Logged(MessageLog):

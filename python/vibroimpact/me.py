@@ -12,7 +12,7 @@ import ctypes
 import numpy as np
 
 from .compare import INTEGERS, REALS, fmu_events
-from .fmu import MessageLog, fmu_path, set_value
+from .fmu import MessageLog, check_start, fmu_path, set_value
 from .reference.scenarios import SCENARIOS
 
 
@@ -243,10 +243,15 @@ def main(argv=None):
     p = argparse.ArgumentParser(prog="vibroimpact me-cost", description="Model Exchange in fmpy (CVode) against the "
                                 "FMU's co-simulation on paper scenarios: error against the reference and CPU time "
                                 "(doc/model-exchange.md)")
-    p.add_argument("--scenarios", nargs="+", default=list(COST_SCENARIOS))
+    p.add_argument("--scenarios", nargs="+", default=list(COST_SCENARIOS), choices=list(SCENARIOS), metavar="NAME",
+                   help=f"default: {' '.join(COST_SCENARIOS)}; one of {', '.join(SCENARIOS)}")
     p.add_argument("--rtols", nargs="+", type=float, default=list(COST_RTOLS))
     p.add_argument("--repeat", type=int, default=3, help="runs per case; the fastest counts (default 3)")
     a = p.parse_args(argv)
+    if a.repeat < 1:
+        p.error("--repeat is at least 1")
+    for rtol in a.rtols:
+        check_start({"rtol": rtol}, f"the FMU refuses --rtols {rtol:g}")
     print("| scenario | rtol | ME: max abs(y - y_ref) [m] | ME: CPU [s] | ME mode changes | CS: max abs(y - y_ref) [m] "
           "| CS: CPU [s] | CPU ME / CS |")
     print("|---|---|---|---|---|---|---|---|")

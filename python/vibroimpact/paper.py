@@ -3,12 +3,16 @@ image (<out>/overview.png) and a table of figures (<out>/summary.csv); <out> is 
 
     vibroimpact paper [--out DIR] [--gallery] [scenario ...]   (default: every scenario of the table)
 
+A run of some scenarios updates their rows of <out>/summary.csv and keeps the others; the overview
+draws every scenario whose <out>/<scenario>.csv is there.
+
 The scenarios are the one table in vibroimpact/reference/scenarios.py; the FMU is
 vibroimpact.fmu_path(). Runs use rtol 1e-11 (not the FMU's default 1e-6): the bouncing scenarios
 are chaotic, and the tighter tolerance keeps the drawn trajectory on the reference's for longer
 (vibroimpact/reference/data/summary.json has each scenario's predictable horizon).
 """
 import argparse
+import csv
 import pathlib
 
 import matplotlib
@@ -16,9 +20,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from fmpy import simulate_fmu  # noqa: E402
-
-from .fmu import fmu_path  # noqa: E402
+from .failure import out_dir  # noqa: E402
+from .fmu import fmu_path, simulate as simulate_logged  # noqa: E402
 from .reference.scenarios import SCENARIOS, STOP_TIME  # noqa: E402
 
 OUT = pathlib.Path("results")
@@ -32,18 +35,19 @@ SUMMARY = ["scenario", "n_impacts", "F_min_kN", "F_max_kN", "F_mean_kN", "contac
 
 
 def simulate(scenario):
-    return simulate_fmu(str(fmu_path()), start_values=scenario.full, stop_time=STOP_TIME, output_interval=INTERVAL,
-                        relative_tolerance=RTOL, output=OUTPUTS)
+    return simulate_logged(f"the FMU refuses the scenario '{scenario.title}'", fmu_path(), start_values=scenario.full,
+                           stop_time=STOP_TIME, output_interval=INTERVAL, relative_tolerance=RTOL, output=OUTPUTS)
 
 
 def summarize(name, r):
-    return dict(scenario=name, n_impacts=int(r["n_impacts"][-1]), F_min_kN=r["F"].min() / 1e3,
-                F_max_kN=r["F"].max() / 1e3,
-                F_mean_kN=np.trapezoid(r["F"], r["time"]) / (r["time"][-1] - r["time"][0]) / 1e3,
+    """The figures of one run (Python numbers: fmpy's result keeps its own type through max() and the like)."""
+    return dict(scenario=name, n_impacts=int(r["n_impacts"][-1]), F_min_kN=float(r["F"].min()) / 1e3,
+                F_max_kN=float(r["F"].max()) / 1e3,
+                F_mean_kN=float(np.trapezoid(r["F"], r["time"])) / (r["time"][-1] - r["time"][0]) / 1e3,
                 contact_fraction=float(np.mean(r["contact"])), stick_fraction=float(np.mean(r["mode"] == 4)),
-                delta_max_um=r["delta"].max() * 1e6,
-                delta_p_um=r["delta_p"][-1] * 1e6, delta_f_um=r["delta_f"][-1] * 1e6,
-                W_plastic_J=r["W_plastic"][-1], y_p2p_mm=np.ptp(r["y"]) * 1e3)
+                delta_max_um=float(r["delta"].max()) * 1e6,
+                delta_p_um=float(r["delta_p"][-1]) * 1e6, delta_f_um=float(r["delta_f"][-1]) * 1e6,
+                W_plastic_J=float(r["W_plastic"][-1]), y_p2p_mm=float(np.ptp(r["y"])) * 1e3)
 
 
 def draw_positions(ax, r, lepp, lw=1.0):
@@ -115,10 +119,11 @@ def main(argv=None):
     a = p.parse_args(argv)
     unknown = [n for n in a.scenarios if n not in SCENARIOS]
     if unknown:
-        p.error(f"unknown scenario {', '.join(unknown)}")
-    names, gallery, out = a.scenarios or list(SCENARIOS), a.gallery, a.out
-    out.mkdir(parents=True, exist_ok=True)
-    runs, rows = {}, []
+        p.error(f"unknown scenario {', '.join(unknown)}; the scenarios are {', '.join(SCENARIOS)}")
+    names, gallery = a.scenarios or list(SCENARIOS), a.gallery
+    fmu_path()   # no FMU: say so before anything is written
+    out = out_dir(a.out)
+    rows = read_summary(out)
     for name in names:
         scenario = SCENARIOS[name]
         r = simulate(scenario)
@@ -126,14 +131,39 @@ def main(argv=None):
                    header=",".join(r.dtype.names), comments="", fmt="%.10g")
         s = summarize(name, r)
         plot(out, name, scenario, r, s, gallery)
-        runs[name] = (scenario, r)
-        rows.append(s)
+        rows[name] = {k: f"{s[k]:.6g}" if isinstance(s[k], float) else str(s[k]) for k in SUMMARY}
+        write_summary(out, rows)   # after each scenario: an interrupted run keeps what it finished
         print(f"{name}: {s['n_impacts']} impacts, max force {s['F_max_kN']:.1f} kN, mean force "
               f"{s['F_mean_kN']:.2f} kN, in contact {100 * s['contact_fraction']:.0f}% of the time, "
               f"W_plastic {s['W_plastic_J']:.4g} J -> {out / name}.csv, {out / name}.png")
-    overview(out, runs, gallery)
-    with open(out / "summary.csv", "w") as fh:
-        fh.write(",".join(SUMMARY) + "\n")
-        for s in rows:
-            fh.write(",".join(f"{s[k]:.6g}" if isinstance(s[k], float) else str(s[k]) for k in SUMMARY) + "\n")
+    overview(out, {n: (SCENARIOS[n], read_run(out / f"{n}.csv")) for n in SCENARIOS if (out / f"{n}.csv").is_file()},
+             gallery)
     print(f"overview -> {out / 'overview.png'}, figures -> {out / 'summary.csv'}")
+
+
+def read_summary(out):
+    """The rows of <out>/summary.csv by scenario (text as written), those of known scenarios only."""
+    path = out / "summary.csv"
+    if not path.is_file():
+        return {}
+    with open(path, newline="") as fh:
+        found = list(csv.DictReader(fh))
+    return {r["scenario"]: r for r in found if r.get("scenario") in SCENARIOS and set(SUMMARY) <= set(r)}
+
+
+def write_summary(out, rows):
+    """<out>/summary.csv: one row per scenario in `rows`, in the scenario table's order."""
+    tmp = out / "summary.csv.tmp"
+    with open(tmp, "w", newline="") as fh:
+        w = csv.writer(fh, lineterminator="\n")
+        w.writerow(SUMMARY)
+        for name in (n for n in SCENARIOS if n in rows):
+            w.writerow([rows[name][k] for k in SUMMARY])
+    tmp.replace(out / "summary.csv")
+
+
+def read_run(path):
+    """A scenario's CSV file back as {output name: column}, the columns simulate() returned."""
+    with open(path) as fh:
+        names = fh.readline().strip().split(",")
+    return dict(zip(names, np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2).T))

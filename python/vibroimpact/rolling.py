@@ -19,9 +19,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from fmpy import simulate_fmu  # noqa: E402
-
-from .fmu import fmu_path  # noqa: E402
+from .failure import out_dir  # noqa: E402
+from .fmu import fmu_path, simulate  # noqa: E402
 from .reference import profile as profile_ref  # noqa: E402
 
 OUT = pathlib.Path("results", "rolling")
@@ -56,18 +55,16 @@ def main(argv=None):
     p.add_argument("--gallery", action="store_true",
                    help=f"also write a smaller copy of the figure to {GALLERY / 'rolling.png'}")
     args = p.parse_args(argv)
-    out = args.out
     fmu = str(fmu_path())
-    out.mkdir(parents=True, exist_ok=True)
+    out = out_dir(args.out)
     path = out / "corrugation.txt"
     x, h = corrugation(path)
     runs = {}
     for name, f_pass in PASSING.items():
         V = f_pass * LAMBDA
-        runs[name] = (V, simulate_fmu(fmu, start_values=dict(contact_model=1, profile_file=str(path.resolve()), V=V,
-                                                             profile_periodic=True),
-                                      stop_time=STOP, output_interval=INTERVAL, relative_tolerance=1e-10,
-                                      output=OUTPUTS))
+        start = dict(contact_model=1, profile_file=str(path.resolve()), V=V, profile_periodic=True)
+        runs[name] = (V, simulate(f"the FMU refuses the rolling run {name} the resonance", fmu, start_values=start,
+                                  stop_time=STOP, output_interval=INTERVAL, relative_tolerance=1e-10, output=OUTPUTS))
     fig, axes = plt.subplots(len(runs) + 1, 2, figsize=(12, 3 * (len(runs) + 1)))
     s = np.linspace(0.0, 2 * LAMBDA, 801)
     ax = axes[0, 0]
@@ -90,8 +87,8 @@ def main(argv=None):
         for ax in (a, b):
             ax.set_xlabel("t [ms]")
         rows.append(dict(case=name, V_m_s=V, passing_Hz=PASSING[name], n_impacts=int(r["n_impacts"][-1]),
-                         contact_fraction=float(np.mean(r["contact"])), F_min_kN=r["F"].min() / 1e3,
-                         F_max_kN=r["F"].max() / 1e3, y_p2p_mm=np.ptp(r["y"]) * 1e3))
+                         contact_fraction=float(np.mean(r["contact"])), F_min_kN=float(r["F"].min()) / 1e3,
+                         F_max_kN=float(r["F"].max()) / 1e3, y_p2p_mm=float(np.ptp(r["y"])) * 1e3))
     fig.tight_layout()
     fig.savefig(out / "rolling.png", dpi=110)
     if args.gallery:

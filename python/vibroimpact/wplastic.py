@@ -7,6 +7,7 @@ most negative W_plastic (J and in units of F_Y delta_Y). The closed form
 (vibroimpact.reference.closed_forms) is the one fmu-test/test_laws.py checks the FMU against.
 """
 import argparse
+import math
 
 import numpy as np
 from scipy.optimize import brentq
@@ -19,6 +20,8 @@ def main(argv=None):
                                 epilog=__doc__.split("\n\n", 2)[2], formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--Y", type=float, default=6e8, help="yield stress [Pa] (default 6e8)")
     Y = p.parse_args(argv).Y
+    if not (math.isfinite(Y) and Y > 0):
+        p.error(f"--Y is the yield stress in Pa, a finite number > 0 (got {Y:g})")
     e = effective(dict(Y=Y))
     unit = e["F_Y"] * e["delta_Y"]
     print(f"Y = {Y:g} Pa: F_Y = {e['F_Y']:.6g} N, delta_Y = {e['delta_Y']:.6g} m, F_Y delta_Y = {unit:.6g} J")

@@ -44,9 +44,12 @@ def main(argv=None):
     p.add_argument("--stop-time", type=float, default=0.1, help="run length per point [s] (default 0.1)")
     p.add_argument("--step", type=float, default=1e-5, help="communication step [s] (default 1e-5)")
     args = p.parse_args(argv)
+    if args.points < 1 or args.repeat < 1:
+        p.error("--points and --repeat are at least 1")
     fmu = str(fmu_path())
     interface = spec.Interface(fmu)
     sweep = make_sweep(interface, args.points, args.stop_time, args.step)
+    spec.check(sweep, interface)
     cores = os.cpu_count()
     rows = []
     best, ref = min(baseline(fmu, sweep, interface) for _ in range(args.repeat))[0], None

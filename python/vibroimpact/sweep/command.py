@@ -16,17 +16,30 @@ final state on the same instance: the new value is set at the communication poin
 previous point ended (a whole number of excitation periods, so at phase 0). One chain per
 combination of the other grids; the chains run in parallel.
 
+Before anything goes to Dask, one FMU instance here is initialized with the --set values and each
+corner of the grid (each grid's first and last value): when the FMU refuses every corner, the sweep
+stops with the FMU's reason; a corner it refuses is named, and the sweep runs.
+
 Time grid and statistics: see vibroimpact/sweep/point.py (the step is shrunk to divide the excitation
 period; each point runs a whole number of periods covering --stop-time). Failed points stay in the
-CSV with status 'error' and the FMU's message. The exit code is 0 when the sweep ran, even when
-some points failed; 2 for options that cannot run.
+CSV with status 'error' and the FMU's message.
+
+Each point's rows are written as it finishes; at the end both files are put in grid order. Ctrl-C
+stops the sweep and keeps the finished points; --resume (same options, same FMU) runs only the
+points not yet in DIR/sweep.csv (a continuation chain runs whole unless all its points are there).
+
+Exit code: 0 when the sweep ran, even when some points failed; 1 when every point failed (the first
+reason is printed) or the cluster could not be reached; 2 for options that cannot run; 130 when
+interrupted.
 """
 import argparse
 import sys
 import time
 
+from ..failure import CommandError, out_dir
 from ..fmu import ENV, fmu_path
 from . import engine, plots, spec
+from .probe import NotHere, label, probe
 
 
 def parse_args(argv):
@@ -55,6 +68,8 @@ def parse_args(argv):
                    help="with --scheduler: how long to wait for the scheduler and its first worker (default 60 s)")
     p.add_argument("--sweep-direction", choices=["up", "down"], default=None,
                    help="continuation along the first grid variable, ascending (up) or descending (down)")
+    p.add_argument("--resume", action="store_true",
+                   help="keep the points an earlier, interrupted run of the same sweep wrote to DIR; run the rest")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--no-plots", action="store_true", help="write the CSV files only")
     args = p.parse_args(argv)
@@ -76,36 +91,74 @@ def build(args, interface):
 
 
 def main(argv=None):
-    args = parse_args(sys.argv[1:] if argv is None else argv)
+    argv = sys.argv[1:] if argv is None else argv
+    args = parse_args(argv)
     try:
         args.fmu = str(fmu_path() if args.fmu is None else args.fmu)
         open(args.fmu, "rb").close()
     except OSError as e:
         print(f"sweep: {e}", file=sys.stderr)
         return 2
-    interface = spec.Interface(args.fmu)
     try:
+        interface = spec.Interface(args.fmu)
         sweep = build(args, interface)
         spec.check(sweep, interface)
-    except spec.SpecError as e:
+        check_corners(sweep, interface, args.fmu)
+        out_dir(args.out)
+        output = engine.Output(args.out, sweep, argv=["vibroimpact", "sweep"] + list(argv),
+                               fmu_sha256=engine.file_sha256(args.fmu), resume=args.resume)
+    except (spec.SpecError, CommandError) as e:
         print(f"sweep: {e}", file=sys.stderr)
         return 2
-    t0 = time.perf_counter()
+    return run(args, sweep, interface, output)
+
+
+def check_corners(sweep, interface, fmu):
+    """The probe: a SpecError when the FMU refuses every corner; a line for each corner it refuses."""
     try:
-        rows = engine.run(sweep, interface, args.fmu, workers=args.workers, scheduler=args.scheduler,
-                          progress=not args.no_progress, connect_timeout=args.connect_timeout)
-    except spec.SpecError as e:
-        print(f"sweep: {e}", file=sys.stderr)
-        return 2
+        refused = probe(sweep, interface, fmu)
+    except NotHere as e:
+        print(f"sweep: the FMU does not load here, so its workers alone check the values ({e})", file=sys.stderr)
+        return
+    for corner, reason in refused:
+        print(f"sweep: the FMU refuses to initialize at {label(corner)} (those points will fail): {reason}",
+              file=sys.stderr)
+
+
+def run(args, sweep, interface, output):
+    """The points not yet in `output` on Dask, each written as it finishes; the figures; the exit code."""
+    t0, before, ran = time.perf_counter(), len(output.done), [0]
+
+    def finished(indices, results):
+        output.add(indices, results)
+        ran[0] += len(indices)
+
+    try:
+        if before < len(output.points):
+            engine.run(sweep, interface, args.fmu, workers=args.workers, scheduler=args.scheduler,
+                       progress=not args.no_progress, connect_timeout=args.connect_timeout, done=output.done,
+                       on_chain=finished)
+    except KeyboardInterrupt:
+        output.finish()
+        print(f"sweep: interrupted; {len(output.done)} of {len(output.points)} points are in {args.out}/sweep.csv "
+              "and poincare.csv: the same command with --resume runs the rest", file=sys.stderr)
+        return 130
     except (OSError, RuntimeError, TimeoutError) as e:  # no scheduler there, no worker joining, ...
+        output.finish()
         print(f"sweep: {e}", file=sys.stderr)
         return 1
-    engine.write(args.out, sweep, rows, argv=["vibroimpact", "sweep"] + (sys.argv[1:] if argv is None else argv))
+    output.finish()
     if not args.no_plots:
-        plots.sweep_figures(args.out, sweep, rows)
-    failed = sum(r["status"] != "ok" for _, r in rows)
-    wall = time.perf_counter() - t0
-    print(f"sweep: {len(rows)} points in {wall:.1f} s ({len(rows) / wall:.1f}/s), {failed} failed -> "
-          f"{args.out}/sweep.csv, poincare.csv"
+        plots.sweep_figures(args.out, sweep)
+    failed, n = output.failures(), len(output.points)
+    wall, ran = time.perf_counter() - t0, ran[0]
+    print(f"sweep: {ran} point{'' if ran == 1 else 's'} in {wall:.1f} s ({ran / wall:.1f}/s)"
+          + (f", {len(output.done) - ran} kept from before" if before else "")
+          + f", {len(failed)} failed -> {args.out}/sweep.csv, poincare.csv"
           + ("" if args.no_plots else ", response.png, bifurcation.png"))
+    if failed and len(failed) == n:
+        values, message = failed[0]
+        print(f"sweep: every point failed; the first{' (' + label(values) + ')' if values else ''}: {message}",
+              file=sys.stderr)
+        return 1
     return 0

@@ -3,11 +3,13 @@
 The code the workers run goes to the scheduler and the workers with Client.upload_file (package_zip),
 the FMU inside a worker plugin (worker.FMUPlugin), so a remote worker needs fmpy, numpy and
 distributed but neither this repository nor the installed package. One task per chain (see spec.chains): an independent point is a chain of one.
-Results come back as plain data and are put in grid order, so the files do not depend on which
-worker ran what or when.
+Each chain's rows are appended to the files as it finishes (Output), so an interrupted sweep keeps
+what it finished; when the sweep ends the files are rewritten in grid order, so they do not depend on
+which worker ran what or when.
 """
 import contextlib
 import csv
+import hashlib
 import json
 import logging
 import math
@@ -22,8 +24,9 @@ import zipfile
 from distributed import Client, LocalCluster, as_completed
 
 from . import spec as _spec
-from .point import OUTPUT_NAMES, STATS
-from .worker import FMUPlugin, chain_task
+from .point import STATS
+from .probe import output_vrs
+from .worker import FMUPlugin, chain_task, leave_ctrl_c_to_the_client
 
 SWEEP = pathlib.Path(__file__).resolve().parent
 TOP = SWEEP.parent   # the vibroimpact package
@@ -59,10 +62,10 @@ def _error_results(n, message):
 
 def package_zip(directory):
     """What the workers run as a zip that Client.upload_file puts on the scheduler's and workers'
-    path: the vibroimpact package with its helpers (fmu.py) and this subpackage, nothing else."""
+    path: the vibroimpact package with its helpers (fmu.py, failure.py) and this subpackage, nothing else."""
     path = os.path.join(directory, "vibroimpact.zip")
     with zipfile.ZipFile(path, "w") as z:
-        for f in (TOP / "__init__.py", TOP / "fmu.py", *sorted(SWEEP.glob("*.py"))):
+        for f in (TOP / "__init__.py", TOP / "fmu.py", TOP / "failure.py", *sorted(SWEEP.glob("*.py"))):
             z.write(f, f.relative_to(TOP.parent).as_posix())
     return path
 
@@ -81,12 +84,16 @@ def connect(workers=None, scheduler=None, connect_timeout=60.0):
             client.close()
             raise RuntimeError(f"no worker joined the scheduler {scheduler} within {connect_timeout} s") from None
     else:
+        # silence_logs CRITICAL: a task's error comes back through its future, and a worker whose
+        # heartbeat meets the scheduler closing (an interrupted sweep) would print a traceback of its own
         cluster = LocalCluster(n_workers=workers or os.cpu_count(), threads_per_worker=1, processes=True,
-                               dashboard_address=None, silence_logs=logging.ERROR)
+                               dashboard_address=None, silence_logs=logging.CRITICAL)
         client = Client(cluster)
     try:
         with tempfile.TemporaryDirectory() as tmp:
             client.upload_file(package_zip(tmp), load=True)
+        if cluster is not None:
+            client.run(leave_ctrl_c_to_the_client)
         yield client
     finally:
         client.close()
@@ -94,26 +101,25 @@ def connect(workers=None, scheduler=None, connect_timeout=60.0):
             cluster.close()
 
 
-def run(sweep, interface, fmu_path, client=None, progress=True, **connect_options):
-    """Run every point on `client` (or on connect(**connect_options)); return [(values, result)] in
-    grid order."""
+def run(sweep, interface, fmu_path, client=None, progress=True, done=(), on_chain=None, **connect_options):
+    """Run the points on `client` (or on connect(**connect_options)); return [(values, result)] in
+    grid order, result None for a point not run. done: indices of points finished before; a chain
+    all of whose points are done is not run (a continuation chain with one point left runs whole).
+    on_chain(indices, results) is called on this thread as each chain finishes."""
     if client is None:
         with connect(**connect_options) as c:
-            return run(sweep, interface, fmu_path, client=c, progress=progress)
+            return run(sweep, interface, fmu_path, client=c, progress=progress, done=done, on_chain=on_chain)
     _spec.check(sweep, interface)
     with open(fmu_path, "rb") as fh:
         fmu_bytes = fh.read()
-    missing = [n for n in OUTPUT_NAMES if n not in interface.variables]
-    if missing:
-        raise _spec.SpecError(f"the FMU lacks the variables the sweep reads: {', '.join(missing)}")
-    vrs = {n: interface.variables[n].vr for n in OUTPUT_NAMES}
-    plugin = FMUPlugin(fmu_bytes, interface.guid, interface.model_identifier, vrs)
-    work = _spec.chains(sweep, interface)
+    plugin = FMUPlugin(fmu_bytes, interface.guid, interface.model_identifier, output_vrs(interface))
+    done = set(done)
+    work = [c for c in _spec.chains(sweep, interface) if not set(c[0]) <= done]
     points = sweep.points()
     timing = dict(stop_time=sweep.stop_time, step=sweep.step, transient=sweep.transient)
     topic = f"vi-sweep-progress-{uuid.uuid4().hex}" if sweep.direction else None
     results = [None] * len(points)
-    bar = _Bar(len(points), progress)
+    bar = _Bar(sum(len(c[0]) for c in work), progress)
     counted = [0] * len(work)   # points of each chain the bar has shown
     lock = threading.Lock()     # the progress events arrive on the client's event loop thread
 
@@ -141,6 +147,8 @@ def run(sweep, interface, fmu_path, client=None, progress=True, **connect_option
                 out = _error_results(len(indices), f"worker task failed: {e!r}")
             for i, r in zip(indices, out):
                 results[i] = r
+            if on_chain is not None:
+                on_chain(indices, out)
             count(c, len(indices))
     finally:
         bar.close()
@@ -161,26 +169,118 @@ def _fmt(x):
 
 
 def write(out_dir, sweep, rows, argv=None):
-    """DIR/sweep.csv (one row per point), DIR/poincare.csv (one row per sample), DIR/sweep.json."""
-    os.makedirs(out_dir, exist_ok=True)
-    names = sweep.names
-    with open(os.path.join(out_dir, "sweep.csv"), "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(names + STATS + STATUS_COLUMNS)
-        for values, r in rows:
+    """DIR/sweep.csv (one row per point), DIR/poincare.csv (one row per sample), DIR/sweep.json of a
+    finished sweep's [(values, result)] in grid order."""
+    out = Output(out_dir, sweep, argv=argv)
+    out.add(range(len(rows)), [r for _, r in rows])
+    out.finish()
+
+
+class Output:
+    """DIR/sweep.csv and DIR/poincare.csv as the points finish, and DIR/sweep.json.
+
+    add() appends each point's rows and flushes (its Poincare rows first, so a row in sweep.csv means
+    its samples are there too); finish() rewrites both files in grid order. resume=True keeps the rows
+    of an earlier run of the same sweep (same settings and FMU, else a SpecError) in DIR; `done` holds
+    their point indices."""
+
+    def __init__(self, out_dir, sweep, argv=None, fmu_sha256=None, resume=False):
+        self.dir, self.names, self.points = out_dir, sweep.names, sweep.points()
+        self.argv = argv
+        self.settings = dict(set=sweep.fixed, grids=dict(sweep.grids), log_axes=list(sweep.log_axes),
+                             stop_time=sweep.stop_time, step=sweep.step, transient=sweep.transient,
+                             direction=sweep.direction, fmu_sha256=fmu_sha256)
+        self.rows = {}   # point index -> (sweep.csv row, [poincare.csv rows]), as text
+        os.makedirs(out_dir, exist_ok=True)
+        if resume:
+            self._resume()
+        self._rewrite()
+        self._write_meta(complete=False)
+        self._files = [open(self._path(n), "a", newline="") for n in ("sweep.csv", "poincare.csv")]
+        self._writers = [csv.writer(fh) for fh in self._files]
+
+    @property
+    def done(self):
+        return set(self.rows)
+
+    def _path(self, name):
+        return os.path.join(self.dir, name)
+
+    def _resume(self):
+        if not os.path.isfile(self._path("sweep.json")):
+            return   # nothing there yet: every point runs
+        with open(self._path("sweep.json")) as fh:
+            old = json.load(fh)
+        mine = json.loads(json.dumps(self.settings))
+        differ = [k for k in mine if old.get(k) != mine[k]]
+        if differ:
+            raise _spec.SpecError(f"--resume: {self.dir} holds a sweep with other settings ({', '.join(differ)}): "
+                                  "give the options it was started with, or another --out")
+        index = {tuple(v[n] for n in self.names): i for i, v in self.points}
+        for name, header in (("sweep.csv", self.names + STATS + STATUS_COLUMNS),
+                             ("poincare.csv", self.names + POINCARE_COLUMNS)):
+            with open(self._path(name), newline="") as fh:
+                reader = csv.reader(fh)
+                if next(reader, None) != header:
+                    raise _spec.SpecError(f"--resume: {self._path(name)} is not this sweep's file: use another --out")
+                for row in reader:   # bounded by the file
+                    i = index.get(tuple(float(x) for x in row[:len(self.names)]))
+                    if name == "sweep.csv" and i is not None and len(row) == len(header):
+                        self.rows[i] = (row, [])
+                    elif name == "poincare.csv" and i in self.rows:
+                        if row[len(self.names)] == "0":   # period 0: a point written again (a chain rerun)
+                            self.rows[i][1].clear()
+                        self.rows[i][1].append(row)
+
+    def add(self, indices, results):
+        sw, pc = self._writers
+        for i, r in zip(indices, results):
+            values = self.points[i][1]
+            keys = [_fmt(values[n]) for n in self.names]
             stats = [r[k] if not (k == "n_impacts" and r["status"] == "ok") else int(r[k]) for k in STATS]
-            w.writerow([_fmt(values[n]) for n in names] + [_fmt(x) for x in stats] + [r["status"], r["message"]])
-    with open(os.path.join(out_dir, "poincare.csv"), "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(names + POINCARE_COLUMNS)
-        for values, r in rows:
-            for k, (t, d, v) in enumerate(r["poincare"]):
-                w.writerow([_fmt(values[n]) for n in names] + [k, _fmt(t), _fmt(d), _fmt(v)])
-    meta = dict(command=argv, set=sweep.fixed, grids=dict(sweep.grids), log_axes=list(sweep.log_axes),
-                stop_time=sweep.stop_time, step=sweep.step, transient=sweep.transient, direction=sweep.direction,
-                points=len(rows), failed=sum(r["status"] != "ok" for _, r in rows))
-    with open(os.path.join(out_dir, "sweep.json"), "w") as fh:
-        json.dump(meta, fh, indent=1)
+            row = keys + [_fmt(x) for x in stats] + [r["status"], r["message"]]
+            samples = [keys + [k, _fmt(t), _fmt(d), _fmt(v)] for k, (t, d, v) in enumerate(r["poincare"])]
+            pc.writerows(samples)
+            self._files[1].flush()
+            sw.writerow(row)
+            self._files[0].flush()
+            self.rows[i] = (row, samples)
+
+    def failures(self):
+        """[(values, message)] of the finished points that failed, in grid order."""
+        return [(self.points[i][1], self.rows[i][0][-1]) for i in sorted(self.rows) if self.rows[i][0][-2] != "ok"]
+
+    def finish(self):
+        """Both files in grid order (each replaced at once) and sweep.json; True when every point is there."""
+        for fh in self._files:
+            fh.close()
+        self._rewrite()
+        complete = len(self.rows) == len(self.points)
+        self._write_meta(complete)
+        return complete
+
+    def _rewrite(self):
+        order = sorted(self.rows)
+        for name, header, rows in (("sweep.csv", self.names + STATS + STATUS_COLUMNS,
+                                    ([self.rows[i][0]] for i in order)),
+                                   ("poincare.csv", self.names + POINCARE_COLUMNS, (self.rows[i][1] for i in order))):
+            with open(self._path(name + ".tmp"), "w", newline="") as fh:
+                w = csv.writer(fh)
+                w.writerow(header)
+                for block in rows:
+                    w.writerows(block)
+            os.replace(self._path(name + ".tmp"), self._path(name))
+
+    def _write_meta(self, complete):
+        meta = dict(command=self.argv, **self.settings, points=len(self.points), finished=len(self.rows),
+                    failed=len(self.failures()), complete=complete)
+        with open(self._path("sweep.json"), "w") as fh:
+            json.dump(meta, fh, indent=1)
+
+
+def file_sha256(path):
+    with open(path, "rb") as fh:
+        return hashlib.sha256(fh.read()).hexdigest()
 
 
 def read(out_dir):

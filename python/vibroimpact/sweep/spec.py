@@ -12,6 +12,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from fmpy import read_model_description
 
+from ..failure import CommandError
+
 # The types a start value can have, as the worker sets them (fmi2SetReal/Integer/Boolean/String).
 REAL, INTEGER, BOOLEAN, STRING = "Real", "Integer", "Boolean", "String"
 _KIND = {"Real": REAL, "Integer": INTEGER, "Enumeration": INTEGER, "Boolean": BOOLEAN, "String": STRING}
@@ -22,7 +24,7 @@ _TRUE, _FALSE = {"true", "1", "yes", "on"}, {"false", "0", "no", "off"}
 _ITEM_PAIR = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)\s*=\s*(-?\d+)")
 
 
-class SpecError(ValueError):
+class SpecError(CommandError, ValueError):
     """A sweep option that cannot be run (unknown name, bad value, bad grid): said before any run."""
 
 
@@ -45,7 +47,14 @@ class Interface:
     """The FMU's variables by name, read from its modelDescription.xml."""
 
     def __init__(self, fmu_path):
-        md = read_model_description(fmu_path)
+        try:
+            md = read_model_description(fmu_path)
+        except Exception as e:   # not a zip, no modelDescription.xml, invalid XML
+            raise SpecError(f"{fmu_path} is not an FMU that can be read ({e})") from None
+        if md.fmiVersion != "2.0" or md.coSimulation is None:
+            raise SpecError(f"{fmu_path} is an FMI {md.fmiVersion} "
+                            f"{'Co-Simulation' if md.coSimulation else 'Model Exchange only'} FMU; the sweep runs "
+                            "FMI 2.0 Co-Simulation FMUs (vibroimpact path prints the FMI 2.0 VibroImpact.fmu)")
         self.guid = md.guid
         self.model_identifier = md.coSimulation.modelIdentifier
         self.variables = {}
@@ -198,6 +207,18 @@ def check(sweep, interface):
                 + (f" (tunable: {', '.join(tunable)})" if tunable else " (it has no tunable parameter)"))
 
 
+def value_entries(interface, values):
+    """{name: value} -> [(name, vr, kind, value)], the plain data a worker sets."""
+    return [(n, interface.variables[n].vr, interface.variables[n].kind, x) for n, x in values.items()]
+
+
+def corners(sweep):
+    """[{name: value}]: every combination of each grid's first and last value ([{}] without grids)."""
+    names = sweep.names
+    ends = [sorted({vals[0], vals[-1]}) for _, vals in sweep.grids]
+    return [dict(zip(names, c)) for c in itertools.product(*ends)]
+
+
 def chains(sweep, interface):
     """The work units: [(point indices, fixed start values, [per-point values])].
 
@@ -206,7 +227,7 @@ def chains(sweep, interface):
     for down). Values are (name, vr, kind, value) tuples, plain data for the workers.
     """
     def entries(values):
-        return [(n, interface.variables[n].vr, interface.variables[n].kind, x) for n, x in values.items()]
+        return value_entries(interface, values)
 
     points = sweep.points()
     fixed = entries(sweep.fixed)

@@ -8,6 +8,7 @@ and point.py import nothing from the package but vibroimpact.fmu, which imports 
 import hashlib
 import os
 import shutil
+import signal
 import uuid
 import zipfile
 
@@ -41,6 +42,12 @@ class FMUPlugin(WorkerPlugin):
     def teardown(self, worker):
         if self.dir:
             shutil.rmtree(self.dir, ignore_errors=True)
+
+
+def leave_ctrl_c_to_the_client():
+    """In a local cluster's worker process: ignore SIGINT. A terminal's Ctrl-C reaches every process of
+    its group; the client then stops the workers itself, and they print no traceback of their own."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 def chain_task(plugin_name, fixed, per_point, timing, topic, chain_id):

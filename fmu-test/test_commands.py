@@ -1,0 +1,171 @@
+"""The `vibroimpact` commands as a user meets them: an option that the command or the FMU refuses ends
+the command before its long work, with a non-zero exit and one line that names what was wrong (in the
+FMU's own words when the FMU refused it), never a traceback; `paper` run on some scenarios keeps the
+other scenarios' figures; the README's command table names every command and its output folder.
+(The sweep's own checks are in test_sweep.py.)"""
+import csv
+import os
+import re
+import subprocess
+import sys
+
+import pytest
+from conftest import ROOT
+
+from vibroimpact import cli, diagrams
+from vibroimpact.fmi3 import fmu3_path
+from vibroimpact.fmu import ENV
+from vibroimpact.reference.scenarios import SCENARIOS
+from vibroimpact.sweep import command as sweep_command
+
+VI = [sys.executable, "-m", "vibroimpact"]
+RUN_TIMEOUT_S = 100
+README = ROOT / "README.md"
+
+
+def vi(*args, cwd, env=None):
+    return subprocess.run([*VI, *args], capture_output=True, text=True, timeout=RUN_TIMEOUT_S, cwd=cwd,
+                          env=None if env is None else {**os.environ, **env})
+
+
+def refused(p, code, *words):
+    """Exit `code`, no traceback, and the last line of stderr holds every one of `words`."""
+    assert p.returncode == code, (p.returncode, p.stderr)
+    assert "Traceback" not in p.stderr, p.stderr
+    last = p.stderr.strip().splitlines()[-1] if p.stderr.strip() else ""
+    assert all(w in last for w in words), (words, p.stderr)
+    return last
+
+
+# ---- options the FMU refuses: its reason, before the long work ------------------------------------
+def test_fmi3_says_why_the_fmu_refuses_the_tolerance(tmp_path):
+    if not fmu3_path(required=False).is_file():
+        pytest.fail(f"{fmu3_path(required=False)} is missing: build it with cmake --build build")
+    p = vi("fmi3", "--rtol", "1", cwd=tmp_path)
+    refused(p, 1, "vibroimpact fmi3:", "--rtol 1", "fmi3EnterInitializationMode", "tolerance")
+    assert "| scenario" not in p.stdout   # stopped before the table
+
+
+@pytest.mark.parametrize("args, words", [
+    (["compare", "--rtol", "5"], ["--rtol 5", "fmi2SetupExperiment", "tolerance"]),
+    (["compare", "--solver", "9"], ["--solver 9", "solver = 9", "bdf=1"]),
+    (["me-cost", "--rtols", "7"], ["--rtols 7", "rtol = 7 is outside its range"]),
+])
+def test_table_commands_say_why_the_fmu_refuses_an_option(tmp_path, args, words):
+    p = vi(*args, cwd=tmp_path)
+    refused(p, 1, f"vibroimpact {args[0]}:", *words)
+    assert "| scenario" not in p.stdout
+
+
+def test_a_simulation_the_fmu_refuses_says_why(fmu_path):
+    """paper and rolling run fmpy.simulate_fmu through vibroimpact.fmu.simulate, which keeps the log."""
+    from vibroimpact.failure import CommandError
+    from vibroimpact.fmu import simulate
+    with pytest.raises(CommandError, match=r"^the run: fmi2SetReal: m = -1 is outside its range m > 0"):
+        simulate("the run", fmu_path, start_values={"m": -1.0}, stop_time=0.01)
+
+
+# ---- options the command refuses ------------------------------------------------------------------
+def test_wplastic_refuses_a_yield_stress_that_is_not_positive(tmp_path):
+    for y in ("-5", "0", "nan"):
+        refused(vi("wplastic", "--Y", y, cwd=tmp_path), 2, "--Y", "> 0")
+
+
+@pytest.mark.parametrize("args, option", [(["me-cost", "--repeat", "0"], "--repeat"),
+                                          (["bench", "--repeat", "0"], "--repeat"),
+                                          (["bench-sweep", "--points", "0"], "--points"),
+                                          (["diagrams", "--workers", "0"], "--workers")])
+def test_counts_below_one_are_refused(tmp_path, args, option):
+    p = vi(*args, cwd=tmp_path)
+    refused(p, 2, option, "at least 1")
+    assert "| scenario" not in p.stdout
+
+
+@pytest.mark.parametrize("command", ["paper", "rolling", "diagrams", "sweep"])
+def test_out_naming_a_file_is_refused(tmp_path, command):
+    (tmp_path / "taken").write_text("a file the user keeps\n")
+    p = vi(command, "--out", "taken", *(["--grid", "f=100:200:2"] if command == "sweep" else []), cwd=tmp_path)
+    refused(p, 2 if command == "sweep" else 1, "--out taken is a file")
+    assert (tmp_path / "taken").read_text() == "a file the user keeps\n"
+
+
+def test_a_missing_fmu_named_by_the_environment_is_said_so(tmp_path):
+    last = refused(vi("paper", "fig4a", cwd=tmp_path, env={ENV: "missing.fmu"}), 1, f"{ENV} names",
+                   str(tmp_path / "missing.fmu"))
+    assert f"set {ENV}" not in last   # it is set: the line says what to do instead
+
+
+def test_an_unknown_scenario_lists_the_scenarios(tmp_path):
+    refused(vi("paper", "fig4", cwd=tmp_path), 2, "unknown scenario fig4", *SCENARIOS)
+
+
+def test_debug_shows_the_traceback(tmp_path):
+    (tmp_path / "taken").write_text("")
+    p = vi("--debug", "paper", "--out", "taken", cwd=tmp_path)
+    assert p.returncode != 0 and "Traceback" in p.stderr and "CommandError" in p.stderr, p.stderr
+
+
+# ---- paper keeps the other scenarios' figures -----------------------------------------------------
+def read_summary(path):
+    with open(path, newline="") as fh:
+        return {r["scenario"]: r for r in csv.DictReader(fh)}
+
+
+@pytest.mark.timeout(200)
+def test_paper_on_a_subset_updates_the_summary(tmp_path):
+    """A run of one scenario, then of another: summary.csv has both rows, the first one as its own
+    run wrote it, in the scenario table's order; the overview is redrawn; the figures are written
+    to six significant digits."""
+    first, second = "stick", "fig4a"   # fig4a comes first in the table
+    assert list(SCENARIOS).index(second) < list(SCENARIOS).index(first)
+    assert vi("paper", "--out", "out", first, cwd=tmp_path).returncode == 0
+    alone = read_summary(tmp_path / "out" / "summary.csv")
+    assert list(alone) == [first]
+    p = vi("paper", "--out", "out", second, cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    both = read_summary(tmp_path / "out" / "summary.csv")
+    assert list(both) == [second, first]
+    assert both[first] == alone[first]
+    for row in both.values():
+        for key, text in row.items():
+            if key != "scenario":
+                digits = re.sub(r"e.*$", "", text.lstrip("-")).replace(".", "").lstrip("0")
+                assert len(digits) <= 6, (key, text)
+    assert (tmp_path / "out" / "overview.png").stat().st_size > 0
+
+
+@pytest.mark.timeout(200)
+def test_rolling_prints_its_figures_to_four_digits(tmp_path):
+    p = vi("rolling", "--out", "roll", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    cases = [line for line in p.stdout.splitlines() if line.startswith("case ")]
+    assert len(cases) == 3, p.stdout
+    for line in cases:
+        for number in re.findall(r"-?\d+\.\d+(?:e[-+]?\d+)?", line):
+            assert len(number.lstrip("-").split("e")[0].replace(".", "").lstrip("0")) <= 4, (number, line)
+
+
+# ---- names a user can find ------------------------------------------------------------------------
+def readme_commands():
+    """{command: the row's text} of the README's command table (rows naming `vibroimpact ...`)."""
+    rows = [line for line in README.read_text().splitlines() if line.startswith("| `vibroimpact")]
+    named = {}
+    for row in rows:
+        first = row.split("|")[1]
+        words = re.findall(r"`(?:vibroimpact )?([a-z0-9-]+)`", first)
+        for w in words:
+            named[w] = row
+    return named
+
+
+def test_the_readme_lists_every_command():
+    named = readme_commands()
+    missing = [c for c in cli.COMMANDS if c not in named]
+    assert not missing, f"README's command table lacks {missing}"
+
+
+def test_sweep_and_diagrams_write_to_folders_named_after_them():
+    sweep_out = sweep_command.parse_args([]).out
+    named = readme_commands()
+    assert sweep_out.rstrip("/").endswith("sweep") and str(diagrams.OUT).endswith("diagrams")
+    assert f"`{sweep_out}/`" in named["sweep"] and f"`{diagrams.OUT}/`" in named["diagrams"]
