@@ -32,6 +32,7 @@ need_cargo() { CARGO_PKGS+=("$@"); }
 #   need_cargo some-program=some-crate
 need_cargo fmi-sim=fmi-sim # the Rust FMI simulator: the second importer of the Model Exchange and FMI 3.0 tests
 need_apt clang libclang-rt-14-dev # clang with libFuzzer and the sanitizers: the fuzz harness (tests/fuzz)
+need_apt locales # the German locale the locale tests run in (tests/test_text.c, fmu-test/test_locale.py)
 # ------------------------------------------------------------------------------------------------------
 
 # ---- apt ----------------------------------------------------------------------------------------------
@@ -59,6 +60,13 @@ if [ ${#CARGO_PKGS[@]} -gt 0 ] && ! command -v cargo >/dev/null; then
   [ -z "$NEED_RUSTUP" ] || need_apt curl ca-certificates
 fi
 apt_install "${APT_PKGS[@]}"
+
+# ---- locales ------------------------------------------------------------------------------------------
+# de_DE.UTF-8 (decimal point ','), in which tests/test_text.c and fmu-test/test_locale.py run the FMU
+if ! locale -a 2>/dev/null | grep -qix 'de_DE\.utf-\?8'; then
+  echo "setup: localedef -i de_DE -f UTF-8 de_DE.UTF-8"
+  $SUDO localedef -i de_DE -f UTF-8 de_DE.UTF-8
+fi
 
 # ---- the interpreter ----------------------------------------------------------------------------------
 PYTHON=${PYTHON:-python3}
