@@ -13,8 +13,7 @@ _Static_assert(sizeof(size_t) == sizeof(ptrdiff_t), "%zd and %tu pass through as
 
 /* ---- reading: rounding ---------------------------------------------------------------------- */
 
-#define EXP2_MAX 1023  /* the exponents of the normal doubles: 2^-1022 .. 2^1023 */
-#define EXP2_MIN -1022
+#define EXP2_MIN -1022 /* the exponent of the smallest normal double */
 #define MANT_BITS 53
 /* Binary exponents beyond +-EXP2_CLAMP give infinity or zero for any 64-bit mantissa. */
 #define EXP2_CLAMP (1L << 20)
@@ -26,23 +25,21 @@ static int bits64(uint64_t q)
     return b;
 }
 
-/* (q + f) 2^e2 rounded to the nearest double, ties to even, where 0 <= f < 1 and f > 0 exactly when
- * sticky (then q has more than 54 bits); |e2| <= EXP2_CLAMP. In the subnormal range fewer than 53
- * bits are kept, so there is one rounding there too. */
+/* (q + f) 2^e2 rounded to the nearest double, ties to even, where 2^62 <= q < 2^64, 0 <= f < 1 and
+ * f > 0 exactly when sticky; |e2| <= EXP2_CLAMP. In the subnormal range fewer than 53 bits are kept,
+ * so that there too the value is rounded once. */
 static double round_bits(uint64_t q, int sticky, long e2)
 {
     int b = bits64(q);
-    if (!b) return 0.0;
     long lead = b - 1 + e2; /* 2^lead <= the value < 2^(lead + 1) */
-    if (lead > EXP2_MAX) return HUGE_VAL;
     long keep = lead >= EXP2_MIN ? MANT_BITS : lead - EXP2_MIN + MANT_BITS; /* bits of the result */
     if (keep < 0) return 0.0; /* below half the smallest subnormal */
-    int drop = b - (int)keep;
-    if (drop <= 0) return ldexp((double)q, (int)e2);
+    int drop = b - (int)keep; /* 10 to 64 */
     uint64_t m = drop == 64 ? 0 : q >> drop;
     uint64_t rest = drop == 64 ? q : q & ((UINT64_C(1) << drop) - 1), half = UINT64_C(1) << (drop - 1);
     if (rest > half || (rest == half && (sticky || (m & 1u)))) m++;
-    return ldexp((double)m, (int)(e2 + drop)); /* exact: m <= 2^53, 2^(e2 + drop) >= 2^-1074 */
+    /* exact (m <= 2^53, 2^(e2 + drop) >= 2^-1074) up to DBL_MAX; beyond, ldexp overflows to HUGE_VAL */
+    return ldexp((double)m, (int)(e2 + drop));
 }
 
 /* ---- reading: exact big-integer arithmetic ---------------------------------------------------- */
@@ -55,12 +52,13 @@ static double round_bits(uint64_t q, int sticky, long e2)
  * or zero (below 10^-325, less than 2^-1075, half the smallest subnormal). */
 #define EXP10_LEAD_MAX 309
 #define EXP10_LEAD_MIN -325
-/* The largest number exact() handles: D < 10^769 (2555 bits), or 5^(768 + 325) < 2^2538 shifted by
- * 63 bits (82 words). */
+/* The largest numbers exact() makes: D < 10^769 (2555 bits) shifted, or 5^(768 + 325) < 2^2538
+ * shifted by 63 bits: 2601 bits, 82 words written by the shift. No operation checks the size:
+ * tests/test_text.c reads the largest operands under AddressSanitizer (it fails with 81 words). */
 #define BIG_WORDS 84
 
 typedef struct {
-    uint32_t w[BIG_WORDS]; /* little-endian 32-bit words */
+    uint32_t w[BIG_WORDS]; /* little-endian 32-bit words, zero from w[n] on */
     int n;                 /* words in use; w[n - 1] != 0 */
 } big;
 
@@ -72,7 +70,7 @@ static void big_mul_add(big *a, uint32_t k, uint32_t add)
         a->w[i] = (uint32_t)carry;
         carry >>= 32;
     }
-    if (carry && a->n < BIG_WORDS) a->w[a->n++] = (uint32_t)carry;
+    if (carry) a->w[a->n++] = (uint32_t)carry;
 }
 
 static int big_bits(const big *a) { return a->n ? 32 * (a->n - 1) + bits64(a->w[a->n - 1]) : 0; }
@@ -80,8 +78,6 @@ static int big_bits(const big *a) { return a->n ? 32 * (a->n - 1) + bits64(a->w[
 static void big_shift_left(big *a, int s)
 {
     int words = s / 32, sh = s % 32, n = a->n + words + 1;
-    if (!a->n) return;
-    if (n > BIG_WORDS) n = BIG_WORDS; /* not reached: exact() keeps every operand below BIG_WORDS words */
     for (int i = n - 1; i >= words; i--) {
         uint64_t hi = i - words < a->n ? a->w[i - words] : 0, lo = i - words - 1 >= 0 ? a->w[i - words - 1] : 0;
         a->w[i] = (uint32_t)(((hi << 32 | lo) << sh) >> 32);
@@ -131,8 +127,8 @@ static void big_mul_pow5(big *a, int e)
  * division gives with the remainder deciding the rounding (sticky). */
 static double exact(const char *dig, int nd, int e10, int sticky_digit)
 {
-    big n = {{0}, 0}, m = {{1}, 1};
-    for (int i = 0; i < nd; i++) big_mul_add(&n, 10, (uint32_t)dig[i]);
+    big n = {{(uint32_t)dig[0]}, 1}, m = {{1}, 1};
+    for (int i = 1; i < nd; i++) big_mul_add(&n, 10, (uint32_t)dig[i]);
     if (sticky_digit) big_mul_add(&n, 10, 1), e10--;
     if (e10 >= 0) big_mul_pow5(&n, e10);
     else big_mul_pow5(&m, -e10);
@@ -319,9 +315,10 @@ static const char *hex_number(const char *c, double *v)
         const char *after = scan_exponent(c + 1, &p);
         if (after != c + 1) c = after;
     }
-    e2 += p;
+    int up = 64 - bits64(q); /* q shifted to 64 bits for round_bits */
+    e2 += p - up;
     if (e2 < -EXP2_CLAMP || e2 > EXP2_CLAMP) e2 = e2 < 0 ? -EXP2_CLAMP : EXP2_CLAMP;
-    *v = round_bits(q, sticky, (long)e2);
+    *v = q ? round_bits(q << up, sticky, (long)e2) : 0.0;
     return c;
 }
 

@@ -83,12 +83,43 @@ Test(text, numbers_of_every_form_read_as_python_float_reads_them)
         {"0x1.00000000000008p0", 0x1.0000000000000p+0},
         {"0x1.00000000000018p0", 0x1.0000000000002p+0},
         {"0x1.0000000000000800000000001p0", 0x1.0000000000001p+0},
+        {"0x0p5000", 0.0},
+        {"-0x0.000p-99", -0.0},
+        {"1e-325", 0.0},
+        {"3e-324", 0x0.0000000000001p-1022},
+        {"0x1p-1080", 0.0},
+        {"0x1.8p-1076", 0.0},
+        {"0x1.0000000000001p-1075", 0x0.0000000000001p-1022},
+        {"0x1.fffffffffffff7ffp1023", 0x1.fffffffffffffp+1023},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         char *end;
         double v = vi_strtod(cases[i].text, &end);
         cr_expect(same_bits(v, cases[i].value) && *end == '\0', "%s: read %a (%s left), want %a", cases[i].text, v, end,
                   cases[i].value);
+    }
+}
+
+/* The largest operands of the exact conversion (vi_text.c sizes its big integers for them without
+ * checking; under AddressSanitizer an overflow fails here): 800 significant digits, whose first 768
+ * are kept, at the smallest and the largest exponent that is not read as 0 or infinity at once, and
+ * just outside them; against strtod in the C locale. */
+Test(text, the_longest_numbers_at_the_ends_of_the_range)
+{
+    static char text[8][1200];
+    double want[8];
+    for (int i = 0; i < 8; i++) {
+        int lead = i < 4 ? -325 - i % 2 : 309 + i % 2; /* the exponent of the leading digit */
+        char *o = text[i] + sprintf(text[i], "%s", i % 4 >= 2 ? "-" : "");
+        for (int d = 0; d < 800; d++) *o++ = (char)('1' + (d * 7 + i) % 9);
+        sprintf(o, "e%d", lead - 799);
+        want[i] = strtod(text[i], NULL);
+    }
+    german();
+    for (int i = 0; i < 8; i++) {
+        char *end;
+        double v = vi_strtod(text[i], &end);
+        cr_expect(same_bits(v, want[i]) && *end == '\0', "%.30s...: read %a, strtod %a", text[i], v, want[i]);
     }
 }
 
