@@ -307,7 +307,6 @@ static const char *hex_number(const char *c, double *v)
         }
         if (kept < 16) q = q << 4 | (uint64_t)h, kept++, e2 -= 4 * frac;
         else sticky |= h != 0, e2 += 4 * !frac;
-        if (e2 < -EXP2_CLAMP || e2 > EXP2_CLAMP) e2 = e2 < 0 ? -EXP2_CLAMP : EXP2_CLAMP; /* past both ends */
     }
     if (!any) return NULL;
     long long p = 0;

@@ -4,6 +4,7 @@
  * and snprintf (glibc: correctly rounded, exact) run in the C locale before the switch. */
 #include <criterion/criterion.h>
 #include <float.h>
+#include <limits.h>
 #include <locale.h>
 #include <math.h>
 #include <stdint.h>
@@ -103,11 +104,19 @@ Test(text, numbers_of_every_form_read_as_python_float_reads_them)
 /* The largest operands of the exact conversion (vi_text.c sizes its big integers for them without
  * checking; under AddressSanitizer an overflow fails here): 800 significant digits, whose first 768
  * are kept, at the smallest and the largest exponent that is not read as 0 or infinity at once, and
- * just outside them; against strtod in the C locale. */
+ * just outside them; 800 zeros before the first significant digit, or after the last but one; against
+ * strtod in the C locale. */
 Test(text, the_longest_numbers_at_the_ends_of_the_range)
 {
-    static char text[8][1200];
-    double want[8];
+    static char text[11][1200];
+    double want[11];
+    char zeros[801];
+    memset(zeros, '0', 800);
+    zeros[800] = '\0';
+    snprintf(text[8], sizeof text[8], "0.%s15e800", zeros); /* 0.15 */
+    snprintf(text[9], sizeof text[9], "1.5%s1", zeros);     /* 1.5 and a digit past the 768 kept */
+    snprintf(text[10], sizeof text[10], "1%se-800", zeros); /* 1 */
+    for (int i = 8; i < 11; i++) want[i] = strtod(text[i], NULL);
     for (int i = 0; i < 8; i++) {
         int lead = i < 4 ? -325 - i % 2 : 309 + i % 2; /* the exponent of the leading digit */
         char *o = text[i] + sprintf(text[i], "%s", i % 4 >= 2 ? "-" : "");
@@ -116,7 +125,7 @@ Test(text, the_longest_numbers_at_the_ends_of_the_range)
         want[i] = strtod(text[i], NULL);
     }
     german();
-    for (int i = 0; i < 8; i++) {
+    for (int i = 0; i < 11; i++) {
         char *end;
         double v = vi_strtod(text[i], &end);
         cr_expect(same_bits(v, want[i]) && *end == '\0', "%.30s...: read %a, strtod %a", text[i], v, want[i]);
@@ -185,7 +194,10 @@ Test(text, the_forms_and_ends_of_strtod)
     static const char *const texts[] = {
         "", " ", "abc", ".", "-.", "+", "e5", ".e5", " \t\n\v\f\r12", "1e", "1e+", "1E-x", "1.5ex", "0x", "0x.p1",
         "0xg", "0x1p", "0x1.8P-", "inf", "-INF", "Infinity", "infinit", "nan", "-NaN", "nan(123_abc)", "nan(",
-        "nan(x y)", "1e4294967297", "1e-4294967296", "0x1p99999999999999999999", "1,5", "12 34", "0012.50e0003x",
+        "nan(x y)", "nanq)", "nan(0)", "nan(9)", "nan(a)", "nan(z)", "nan(A)", "nan(Z)", "nan(_)", "1e4294967297",
+        "1e-4294967296", "0x1p99999999999999999999", "0x1p4294967296", "0x1p-4294967296", "0x1p2147483648", "1,5",
+        "12 34", "0012.50e0003x", "0x000000000000000000001p0", "0x100000000000000000000p0", "0x1.00000000000008000p0",
+        "0x1.000000000000080001p0", "0XABCDEF.8P-3", "0xabcdef.8p-3",
         "1" /* followed by 400 zeros and an exponent, below */,
     };
     static char buf[sizeof texts / sizeof texts[0]][512];
@@ -266,8 +278,20 @@ Test(text, formatting_refuses_what_it_cannot_do)
     int count = 0;
     cr_assert(vi_snprintf(buf, sizeof buf, "a = %g%n", 0.5, &count) == -1 && strcmp(buf, "a = 0.5") == 0, "%s", buf);
     cr_assert(count == 0);
-    char fmt[8] = "%'d"; /* not a literal: the compiler checks no non-standard flag here */
-    cr_assert(vi_snprintf(buf, sizeof buf, fmt, 1000) == -1);
+    /* formats the compiler would warn of (not literals here): a non-standard flag, a format ending in
+     * '%', an unknown conversion, length modifiers a conversion does not take, wide characters,
+     * widths and precisions beyond an int */
+    static const char *const bad[] = {"%'d", "50%", "%k", "%Ld", "%hf", "%lc", "%hp", "%ls", "%99999999999d",
+                                      "%.99999999999d"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        char fmt[32];
+        snprintf(fmt, sizeof fmt, "%s", bad[i]);
+        cr_expect(vi_snprintf(buf, sizeof buf, fmt, 1000) == -1, "%s: %s", bad[i], buf);
+    }
+    volatile int int_min = INT_MIN; /* not known to the compiler: no warning of its width */
+    cr_assert(vi_snprintf(buf, sizeof buf, "%*d|", int_min, 5) == -1); /* -INT_MIN is no int */
+    cr_assert(vi_snprintf(buf, sizeof buf, "[%*d][%-*d][%.*d]", -3, 5, -3, 5, -2, 5) == 13 && strcmp(buf, "[5  ][5  ][5]") == 0,
+              "%s", buf);
     cr_assert(vi_snprintf(buf, sizeof buf, "b%.*f", VI_TEXT_FLOAT_MAX, 1.0) == -1 && strcmp(buf, "b") == 0);
     cr_assert(vi_snprintf(buf, sizeof buf, "%.*f", VI_TEXT_FLOAT_MAX - 3, 1.0) == VI_TEXT_FLOAT_MAX - 1);
 }
