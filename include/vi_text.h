@@ -17,14 +17,14 @@
  *     optional binary exponent (p|P)[+-]digits, rounded the same way;
  *   - inf, infinity, nan and nan(letters, digits, _), in any case: infinity and a quiet NaN;
  *   - anything else: no number, *end = s and 0 returned.
- * errno is left alone. Why not strtod_l or uselocale: neither is in C11 nor on every platform the FMU
- * is built for (mingw-w64 links its own stdio; macOS), and an FMU must not change the locale of the
- * importer's thread. The conversion (Clinger 1990, "How to read floating point numbers accurately"):
+ * A number out of range is not reported in errno: the value shows it. Why not strtod_l or
+ * uselocale: neither is in C11 nor on every platform the FMU is built for (mingw-w64 links its own
+ * stdio; macOS), and an FMU must not change the locale of the importer's thread. The conversion (Clinger 1990, "How to read floating point numbers accurately"):
  * numbers of up to 19 significant digits whose value and power of ten are exact in a double take one
  * rounded multiplication or division; with a 128-bit integer type, up to 19 digits and exponents
  * within +-27 are exact integer arithmetic; everything else is exact big-integer arithmetic on the
  * first 768 significant digits (a nonzero digit after them is marked: no midpoint between two doubles
- * has more than 767), at most 81 32-bit words, on the stack.
+ * has more than 767), at most 82 32-bit words, on the stack.
  *
  * vi_snprintf and vi_vsnprintf are snprintf and vsnprintf of C99 (the same return value: the length
  * of the whole output, the buffer holding what fits, terminated when size > 0), except that floating

@@ -250,6 +250,7 @@ Test(text, formatting_writes_what_the_c_locale_writes)
                (ptrdiff_t)-6, (ptrdiff_t)-7, (void *)0);
         format(out[i++], 256, "x = %.17g m, v = %g m/s at t = %.17g s", 0.1, -2.5e-7, 1e-3);
         format(out[i++], 256, "%.300f", 1e-3); /* a floating conversion of more than 256 characters: cut */
+        format(out[i++], 256, "[%25.3e][%9.9g][%.12g][%99.19f]", x, x, x, 0.1);
         format(out[i++], 256, "no conversion at all");
         cr_assert(i <= N);
         for (int k = 0; pass && k < i; k++) cr_expect(strcmp(got[k], want[k]) == 0, "'%s', want '%s'", got[k], want[k]);
