@@ -251,6 +251,8 @@ Test(text, formatting_writes_what_the_c_locale_writes)
         format(out[i++], 256, "x = %.17g m, v = %g m/s at t = %.17g s", 0.1, -2.5e-7, 1e-3);
         format(out[i++], 256, "%.300f", 1e-3); /* a floating conversion of more than 256 characters: cut */
         format(out[i++], 256, "[%25.3e][%9.9g][%.12g][%99.19f]", x, x, x, 0.1);
+        format(out[i++], 256, "%lu %llu %ju %zx %tu %lx", 4000000000ul, 18000000000000000000ull, (uintmax_t)7, (size_t)255,
+               (size_t)3, 0xfffffffful);
         format(out[i++], 256, "no conversion at all");
         cr_assert(i <= N);
         for (int k = 0; pass && k < i; k++) cr_expect(strcmp(got[k], want[k]) == 0, "'%s', want '%s'", got[k], want[k]);
@@ -265,6 +267,22 @@ Test(text, formatting_writes_what_the_c_locale_writes)
     int n_got = vi_snprintf(small_got, cut, "v = %.6f m/s", 1.5);
     cr_assert(n_got == n_want && strcmp(small_got, small_want) == 0, "%d '%s', want %d '%s'", n_got, small_got, n_want,
               small_want);
+    /* cut inside text, an integer and a string conversion: the same as the C library */
+    char cut_want[3][8], cut_got[3][8];
+    volatile size_t cut8 = sizeof cut_want[0];
+    memset(cut_want, 'x', sizeof cut_want);
+    memset(cut_got, 'x', sizeof cut_got);
+    int n_cut[3] = {c_format(cut_want[0], cut8, "abcdefghijkl"), c_format(cut_want[1], cut8, "%ld", 12345678901L),
+                    c_format(cut_want[2], cut8, "%s", "a string of 24 characters")};
+    int g_cut[3] = {vi_snprintf(cut_got[0], cut8, "abcdefghijkl"), vi_snprintf(cut_got[1], cut8, "%ld", 12345678901L),
+                    vi_snprintf(cut_got[2], cut8, "%s", "a string of 24 characters")};
+    for (int k = 0; k < 3; k++)
+        cr_expect(g_cut[k] == n_cut[k] && memcmp(cut_got[k], cut_want[k], 8) == 0, "%d: %d '%.8s'", k, g_cut[k], cut_got[k]);
+    strcpy(small_got, "old");
+    cr_assert(vi_snprintf(small_got, sizeof small_got, "%s", "") == 0 && small_got[0] == '\0');
+    strcpy(small_got, "old");
+    char empty[1] = "";
+    cr_assert(vi_snprintf(small_got, sizeof small_got, empty) == 0 && small_got[0] == '\0', "%s", small_got);
     small_got[0] = 'z';
     cr_assert(vi_snprintf(small_got, 0, "%g", 1.5) == 3 && small_got[0] == 'z');
     cr_assert(vi_snprintf(NULL, 0, "%s = %.1f", "m", 0.5) == 7);
@@ -282,7 +300,7 @@ Test(text, formatting_refuses_what_it_cannot_do)
     /* formats the compiler would warn of (not literals here): a non-standard flag, a format ending in
      * '%', an unknown conversion, length modifiers a conversion does not take, wide characters,
      * widths and precisions beyond an int */
-    static const char *const bad[] = {"%'d", "50%", "%k", "%Ld", "%hf", "%lc", "%hp", "%ls", "%99999999999d",
+    static const char *const bad[] = {"%'d", "50%", "%k", "%Ld", "%Lu", "%hf", "%lc", "%hp", "%ls", "%99999999999d",
                                       "%.99999999999d"};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         char fmt[32];
@@ -295,6 +313,7 @@ Test(text, formatting_refuses_what_it_cannot_do)
               "%s", buf);
     cr_assert(vi_snprintf(buf, sizeof buf, "b%.*f", VI_TEXT_FLOAT_MAX, 1.0) == -1 && strcmp(buf, "b") == 0);
     cr_assert(vi_snprintf(buf, sizeof buf, "%.*f", VI_TEXT_FLOAT_MAX - 3, 1.0) == VI_TEXT_FLOAT_MAX - 1);
+    cr_assert(vi_snprintf(buf, sizeof buf, "%.*f", VI_TEXT_FLOAT_MAX - 2, 1.0) == -1); /* one character too many */
 }
 
 /* A profile file read in de_DE holds what it holds in the C locale: numbers of more than 19 digits,
