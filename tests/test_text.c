@@ -16,16 +16,24 @@
 #include "vi_profile.h"
 #include "vi_text.h"
 
-/* Into de_DE.UTF-8, checking that the C library then reads and writes ',' (else the test would prove
- * nothing). */
+/* Into the locale `name` (de_DE.UTF-8 or ps_AF.UTF-8), checking that the C library then writes its
+ * decimal point `point` (else the test would prove nothing). */
+static void into(const char *name, const char *point)
+{
+    cr_assert(setlocale(LC_ALL, name) != NULL,
+              "the locale %s is missing: install Debian's package locales and generate it with "
+              "localedef -i %.5s -f UTF-8 %s (tools/setup.sh does both)", name, name, name);
+    char text[16], want[16];
+    snprintf(text, sizeof text, "%.1f", 1.5);
+    snprintf(want, sizeof want, "1%s5", point);
+    cr_assert(strcmp(text, want) == 0, "%s does not write '%s': %s", name, point, text);
+}
+
+/* de_DE.UTF-8: decimal point ',' (the C library also reads it: strtod("1,5") is 1.5 there). */
 static void german(void)
 {
-    cr_assert(setlocale(LC_ALL, "de_DE.UTF-8") != NULL,
-              "the locale de_DE.UTF-8 is missing: install Debian's package locales and generate it with "
-              "localedef -i de_DE -f UTF-8 de_DE.UTF-8 (tools/setup.sh does both)");
-    char text[16];
-    snprintf(text, sizeof text, "%.1f", 1.5);
-    cr_assert(strcmp(text, "1,5") == 0 && strtod("1,5", NULL) == 1.5, "de_DE.UTF-8 does not use ',': %s", text);
+    into("de_DE.UTF-8", ",");
+    cr_assert(strtod("1,5", NULL) == 1.5);
 }
 
 static int same_bits(double a, double b) { return memcmp(&a, &b, sizeof a) == 0; }
@@ -228,7 +236,7 @@ Test(text, the_forms_and_ends_of_strtod)
 /* vi_snprintf in de_DE writes what snprintf writes in the C locale: floating conversions with flags,
  * width, precision and '*' (negative too), long double, infinities and NaN, mixed with the other
  * conversions; and cut to a short buffer, with the same return value. */
-Test(text, formatting_writes_what_the_c_locale_writes)
+static void formatting_in(const char *name, const char *point)
 {
     enum { N = 24 };
     char want[N][256], got[N][256];
@@ -236,7 +244,7 @@ Test(text, formatting_writes_what_the_c_locale_writes)
     for (int pass = 0; pass < 2; pass++) {
         char(*out)[256] = pass ? got : want;
         int (*format)(char *, size_t, const char *, ...) = pass ? vi_snprintf : snprintf;
-        if (pass) german();
+        if (pass) into(name, point);
         int i = 0;
         format(out[i++], 256, "%g %e %f %E %G", x, x, x, tiny, tiny);
         format(out[i++], 256, "%.17g|%.0f|%#.0f|%#g|%.3e", tiny, 2.5, 2.5, 1.0, 0.5);
@@ -262,7 +270,7 @@ Test(text, formatting_writes_what_the_c_locale_writes)
     setlocale(LC_ALL, "C");
     int (*volatile c_format)(char *, size_t, const char *, ...) = snprintf; /* no warning of the cut wanted */
     int n_want = c_format(small_want, sizeof small_want, "v = %.6f m/s", 1.5);
-    german();
+    into(name, point);
     volatile size_t cut = sizeof small_got; /* not known to the compiler: no warning of the cut */
     int n_got = vi_snprintf(small_got, cut, "v = %.6f m/s", 1.5);
     cr_assert(n_got == n_want && strcmp(small_got, small_want) == 0, "%d '%s', want %d '%s'", n_got, small_got, n_want,
@@ -278,6 +286,10 @@ Test(text, formatting_writes_what_the_c_locale_writes)
                     vi_snprintf(cut_got[2], cut8, "%s", "a string of 24 characters")};
     for (int k = 0; k < 3; k++)
         cr_expect(g_cut[k] == n_cut[k] && memcmp(cut_got[k], cut_want[k], 8) == 0, "%d: %d '%.8s'", k, g_cut[k], cut_got[k]);
+    char guarded[16]; /* a conversion after text, cut: nothing written past the size given */
+    memset(guarded, 'x', sizeof guarded);
+    cr_expect(vi_snprintf(guarded, cut8, "ab%s", "a string of 24 characters") == 27 && strcmp(guarded, "aba str") == 0 &&
+              memcmp(guarded + 8, "xxxxxxxx", 8) == 0, "%.16s", guarded);
     strcpy(small_got, "old");
     cr_assert(vi_snprintf(small_got, sizeof small_got, "%s", "") == 0 && small_got[0] == '\0');
     strcpy(small_got, "old");
@@ -287,6 +299,12 @@ Test(text, formatting_writes_what_the_c_locale_writes)
     cr_assert(vi_snprintf(small_got, 0, "%g", 1.5) == 3 && small_got[0] == 'z');
     cr_assert(vi_snprintf(NULL, 0, "%s = %.1f", "m", 0.5) == 7);
 }
+
+Test(text, formatting_writes_what_the_c_locale_writes) { formatting_in("de_DE.UTF-8", ","); }
+
+/* ps_AF.UTF-8 writes U+066B, two bytes in UTF-8, as its decimal point: the text gets shorter by one
+ * byte with each replaced. */
+Test(text, formatting_with_a_decimal_point_of_two_bytes) { formatting_in("ps_AF.UTF-8", "\xd9\xab"); }
 
 /* Refused with -1 (the text before the conversion kept): %n, the non-standard ' flag, and a floating
  * conversion longer than VI_TEXT_FLOAT_MAX - 1 characters. */
@@ -300,7 +318,7 @@ Test(text, formatting_refuses_what_it_cannot_do)
     /* formats the compiler would warn of (not literals here): a non-standard flag, a format ending in
      * '%', an unknown conversion, length modifiers a conversion does not take, wide characters,
      * widths and precisions beyond an int */
-    static const char *const bad[] = {"%'d", "50%", "%k", "%Ld", "%Lu", "%hf", "%lc", "%hp", "%ls", "%99999999999d",
+    static const char *const bad[] = {"%'d", "50%", "%k", "%Ld", "ab%Ld", "%Lu", "%hf", "%lc", "%hp", "%ls", "%99999999999d",
                                       "%.99999999999d"};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         char fmt[32];
