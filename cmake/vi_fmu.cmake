@@ -149,7 +149,7 @@ function(vi_add_fmu name)
   add_library(${name}_model OBJECT ${ARG_SOURCES})
   target_include_directories(${name}_model PUBLIC ${VI_FMU_ROOT}/include ${CMAKE_CURRENT_SOURCE_DIR} ${ARG_INCLUDE_DIRS})
   target_compile_options(${name}_model PRIVATE ${VI_WARNINGS})
-  target_link_libraries(${name}_model PUBLIC ${ARG_LIBRARIES} m)
+  target_link_libraries(${name}_model PUBLIC ${ARG_LIBRARIES} vi_text m) # the layer formats with vi_text
   set_target_properties(${name}_model PROPERTIES C_VISIBILITY_PRESET hidden POSITION_INDEPENDENT_CODE ON)
 
   add_executable(${name}_dump_variables ${VI_FMU_ROOT}/tests/dump_variables.c)

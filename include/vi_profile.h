@@ -33,9 +33,10 @@
  * VI_PROFILE_ROWS_MAX rows of its copies, and a profile with a step higher than the body can roll
  * over (yb would jump). Lines that are empty or start with '#' are skipped. Every loop is bounded.
  *
- * File format: numbers are read as strtod reads them in the C locale (decimal point '.'; the common
- * decimal forms are converted without strtod, to the same double), separated by white space, a
- * comma or a semicolon.
+ * File format: two numbers a line, separated by blanks, a comma or a semicolon, read by vi_strtod
+ * (vi_text.h): as strtod reads them in the C locale, whatever the locale of the process (decimal
+ * point '.'): decimal numbers of any length rounded to the nearest double, hexadecimal ones (0x1.8p-3),
+ * and inf, infinity, nan, which are then refused as not finite, like a number beyond DBL_MAX.
  */
 #ifndef VI_PROFILE_H
 #define VI_PROFILE_H

@@ -64,6 +64,8 @@
 #include <stdio.h>
 #include <string.h> /* memcpy in VI_TABLE_DEFINE */
 
+#include "vi_text.h"
+
 /* The text of a macro's value, e.g. in a description: "at least " VI_STRING_OF(VI_MAX_STEP_MIN). */
 #define VI_STRING_OF_(x) #x
 #define VI_STRING_OF(x) VI_STRING_OF_(x)
@@ -121,13 +123,13 @@ static inline void vi_range_text(const vi_variable *v, char *text, size_t n)
 {
     char lo[48] = "", hi[48] = "";
     if (v->min.kind != VI_BOUND_NONE)
-        snprintf(lo, sizeof lo, "%.15g %s ", v->min.value, v->min.kind == VI_BOUND_EXCLUSIVE ? "<" : "<=");
+        vi_snprintf(lo, sizeof lo, "%.15g %s ", v->min.value, v->min.kind == VI_BOUND_EXCLUSIVE ? "<" : "<=");
     if (v->max.kind != VI_BOUND_NONE)
-        snprintf(hi, sizeof hi, " %s %.15g", v->max.kind == VI_BOUND_EXCLUSIVE ? "<" : "<=", v->max.value);
+        vi_snprintf(hi, sizeof hi, " %s %.15g", v->max.kind == VI_BOUND_EXCLUSIVE ? "<" : "<=", v->max.value);
     if (v->min.kind != VI_BOUND_NONE && v->max.kind == VI_BOUND_NONE) /* "m > 0" reads better than "0 < m" */
-        snprintf(text, n, "%s %s %.15g", v->name, v->min.kind == VI_BOUND_EXCLUSIVE ? ">" : ">=", v->min.value);
+        vi_snprintf(text, n, "%s %s %.15g", v->name, v->min.kind == VI_BOUND_EXCLUSIVE ? ">" : ">=", v->min.value);
     else if (v->min.kind != VI_BOUND_NONE || v->max.kind != VI_BOUND_NONE)
-        snprintf(text, n, "%s%s%s", lo, v->name, hi);
+        vi_snprintf(text, n, "%s%s%s", lo, v->name, hi);
     else if (n > 0)
         text[0] = '\0';
 }

@@ -94,7 +94,7 @@ static void emit_printable(const vi_core *c, vi_status status, const char *categ
     size_t j = 0;
     for (size_t i = 0; text[i] && j + 4 < sizeof clean; i++) {
         unsigned char ch = (unsigned char)text[i];
-        if (ch < 0x20 || ch > 0x7e) j += (size_t)snprintf(clean + j, sizeof clean - j, "\\x%02x", ch);
+        if (ch < 0x20 || ch > 0x7e) j += (size_t)vi_snprintf(clean + j, sizeof clean - j, "\\x%02x", ch);
         else clean[j++] = (char)ch;
     }
     clean[j] = '\0';
@@ -107,7 +107,7 @@ static void vlog(const vi_core *c, vi_status status, int cat, const char *fmt, v
 {
     if (!c->cb.logger || (status < VI_STATUS_WARNING && !vi_core_logs(c, cat))) return;
     char text[1024];
-    vsnprintf(text, sizeof text, fmt, ap);
+    vi_vsnprintf(text, sizeof text, fmt, ap);
     emit_printable(c, status, category_name(c, cat), text);
 }
 
@@ -497,8 +497,8 @@ static int enum_item(const char *type, int k)
 static void format_value(double x, char *text, size_t n)
 {
     for (int digits = 15; digits <= 17; digits++) {
-        snprintf(text, n, "%.*g", digits, x);
-        if (strtod(text, NULL) == x) return;
+        vi_snprintf(text, n, "%.*g", digits, x);
+        if (vi_strtod(text, NULL) == x) return;
     }
 }
 
@@ -514,7 +514,7 @@ static int check_range(const vi_variable *v, double x, char *msg, size_t n)
         for (int i = 0; i < MODEL->n_enum_items && used < sizeof range; i++) {
             const vi_enum_item *e = &MODEL->enum_items[i];
             if (strcmp(e->type, v->enumeration) != 0) continue;
-            int k = snprintf(range + used, sizeof range - used, "%s%s=%d", used ? ", " : "", e->name, e->value);
+            int k = vi_snprintf(range + used, sizeof range - used, "%s%s=%d", used ? ", " : "", e->name, e->value);
             used += k > 0 ? (size_t)k : 0;
         }
         VI_FAIL(msg, n, "%s = %.0f is not one of its items %s", v->name, x, range);
@@ -756,24 +756,24 @@ static unsigned kind_states(const vi_core *c)
 static int check_saved(vi_core *c, const char *fn, const vi_saved_state *s, size_t size)
 {
     char why[320] = "";
-    if (!s) snprintf(why, sizeof why, "the state is NULL");
-    else if (s->magic != VI_STATE_MAGIC) snprintf(why, sizeof why, "not an FMU state of this layer (magic number)");
-    else if (s->version != VI_STATE_VERSION) snprintf(why, sizeof why, "an FMU state of another layer version");
-    else if (s->model != model_id()) snprintf(why, sizeof why, "an FMU state of another model (GUID)");
+    if (!s) vi_snprintf(why, sizeof why, "the state is NULL");
+    else if (s->magic != VI_STATE_MAGIC) vi_snprintf(why, sizeof why, "not an FMU state of this layer (magic number)");
+    else if (s->version != VI_STATE_VERSION) vi_snprintf(why, sizeof why, "an FMU state of another layer version");
+    else if (s->model != model_id()) vi_snprintf(why, sizeof why, "an FMU state of another model (GUID)");
     else if (s->size != saved_size() || size != saved_size())
-        snprintf(why, sizeof why, "size %zu bytes: a state of this build of %s has %zu", size, MODEL->model_identifier,
-                 saved_size());
-    else if (s->checksum != checksum(s)) snprintf(why, sizeof why, "checksum mismatch: the state was altered");
+        vi_snprintf(why, sizeof why, "size %zu bytes: a state of this build of %s has %zu", size, MODEL->model_identifier,
+                    saved_size());
+    else if (s->checksum != checksum(s)) vi_snprintf(why, sizeof why, "checksum mismatch: the state was altered");
     else if (!(s->fmu_state & VI_ST_ANY_BUT_FATAL) || (s->fmu_state & (s->fmu_state - 1u)))
-        snprintf(why, sizeof why, "field fmu_state = %u is not an FMI state", (unsigned)s->fmu_state);
+        vi_snprintf(why, sizeof why, "field fmu_state = %u is not an FMI state", (unsigned)s->fmu_state);
     else if (!(s->fmu_state & kind_states(c)))
-        snprintf(why, sizeof why, "taken in state '%s', which an instance of this interface never is in",
-                 state_name(s->fmu_state));
+        vi_snprintf(why, sizeof why, "taken in state '%s', which an instance of this interface never is in",
+                    state_name(s->fmu_state));
     else if (s->stop_time_defined > 1u || (s->stop_time_defined && !isfinite(s->stop_time)))
-        snprintf(why, sizeof why, "field stop_time is not finite");
+        vi_snprintf(why, sizeof why, "field stop_time is not finite");
     else if (check_values(payload(s), why, sizeof why) < 0 ||
              (MODEL->state_check && MODEL->state_check(payload(s), saved_running(c, s), why, sizeof why) < 0)) {
-        if (!why[0]) snprintf(why, sizeof why, "invalid field");
+        if (!why[0]) vi_snprintf(why, sizeof why, "invalid field");
     }
     if (why[0]) LOG_ERROR(c, "%s: invalid FMU state: %s", fn, why);
     return why[0] == '\0';
@@ -981,7 +981,7 @@ vi_status vi_core_new_discrete_states(void *instance, const char *fn, vi_fmu_eve
     if (ev->next_time_defined && !(ev->next_time > MODEL->time(c->model))) ev->next_time_defined = 0;
     if (ev->terminate && c->cb.logger) { /* why the run ends: logged whatever is enabled */
         char text[1024];
-        snprintf(text, sizeof text, "%s: terminateSimulation: %s", fn, MODEL->message(c->model));
+        vi_snprintf(text, sizeof text, "%s: terminateSimulation: %s", fn, MODEL->message(c->model));
         emit_printable(c, VI_STATUS_WARNING, category_name(c, VI_CAT_WARNING), text);
         c->warned = 1;
     }

@@ -6,6 +6,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "vi_text.h"
+
 static double platform(const vi_model *M, double t) { return vi_model_platform(M, t, NULL, NULL); }
 
 /* The inputs the setters stored differ from those the model holds. */
@@ -263,9 +265,9 @@ int vi_me_event_update(vi_me *e, vi_me_event *ev)
     mark_step(e);
     vi_sim_check_validity(&e->s);
     if (fired >= 0 && e->zeno >= VI_ZENO_EVENTS) {
-        snprintf(s->msg, sizeof s->msg, "events accumulate at t = %.17g s (Zeno): %d events each within %g ulps of time "
-                 "of the one before, the last on guard %d of mode %d; the motion cannot go on", t, VI_ZENO_EVENTS,
-                 VI_ZENO_ULPS, fired, before);
+        vi_snprintf(s->msg, sizeof s->msg, "events accumulate at t = %.17g s (Zeno): %d events each within %g ulps of time "
+                    "of the one before, the last on guard %d of mode %d; the motion cannot go on", t, VI_ZENO_EVENTS,
+                    VI_ZENO_ULPS, fired, before);
         ev->terminate = 1;
     }
     char why[8];
@@ -326,7 +328,7 @@ int vi_me_checkpoint(vi_me *e)
         /* the model's own solver does not run in Model Exchange: start it at the current point, so
          * that its continuation (dop853) belongs to the state saved */
         if (e->s.solver && vi_solver_reset(e->s.solver, d->t, d->x) < 0) {
-            snprintf(e->s.msg, sizeof e->s.msg, "could not restart the solver at t = %.17g s", d->t);
+            vi_snprintf(e->s.msg, sizeof e->s.msg, "could not restart the solver at t = %.17g s", d->t);
             return -1;
         }
     }

@@ -65,8 +65,8 @@ int vi_model_set_rolling(vi_model *M, const vi_profile *profile, double V, doubl
 {
     if (profile && !vi_profile_periodic(profile) &&
         !(x0 >= vi_profile_x_first(profile) && x0 <= vi_profile_x_last(profile))) {
-        snprintf(msg, n, "x0 = %g m lies outside the profile [%g, %g] m (set profile_periodic to repeat it)", x0,
-                 vi_profile_x_first(profile), vi_profile_x_last(profile));
+        vi_snprintf(msg, n, "x0 = %g m lies outside the profile [%g, %g] m (set profile_periodic to repeat it)", x0,
+                    vi_profile_x_first(profile), vi_profile_x_last(profile));
         return -1;
     }
     M->profile = profile;
@@ -104,9 +104,9 @@ double vi_model_rolling_limit(const vi_model *M, char *msg, size_t n)
     if (!M->profile || vi_profile_periodic(M->profile) || M->V == 0.0) return INFINITY;
     double end = M->V > 0.0 ? vi_profile_x_last(M->profile) : vi_profile_x_first(M->profile);
     double t = M->t0 + (end - M->x0) / M->V;
-    snprintf(msg, n, "t = %.17g s: the rolling position x0 + V (t - t_start) = %.17g m reaches the end of the profile "
-             "(%s = %g m); the profile does not go on beyond it (set profile_periodic to repeat it)", t,
-             vi_model_rolling_position(M, t), M->V > 0.0 ? "x_last" : "x_first", end);
+    vi_snprintf(msg, n, "t = %.17g s: the rolling position x0 + V (t - t_start) = %.17g m reaches the end of the profile "
+                "(%s = %g m); the profile does not go on beyond it (set profile_periodic to repeat it)", t,
+                vi_model_rolling_position(M, t), M->V > 0.0 ? "x_last" : "x_first", end);
     return t;
 }
 
@@ -552,23 +552,23 @@ int vi_model_validity(const vi_model *M, double R1, double t, const double x[2],
 {
     double R = M->J.R_star, limit = VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * R, d = validity_indentation(M, x);
     if (!(skip & VI_INVALID_INDENTATION) && d > limit) {
-        snprintf(msg, n, "t = %.17g s: the indentation %g m exceeds %g R* = %g m (contact radius sqrt(R* delta) = %g m "
-                 "> %g R*): the contact laws (paper eqs. 2-4) assume a contact radius small against R*, so the "
-                 "results leave the model's range of validity", t, d, VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS, limit,
-                 sqrt(R * d), VI_VALIDITY_RADIUS);
+        vi_snprintf(msg, n, "t = %.17g s: the indentation %g m exceeds %g R* = %g m (contact radius sqrt(R* delta) = %g m "
+                    "> %g R*): the contact laws (paper eqs. 2-4) assume a contact radius small against R*, so the "
+                    "results leave the model's range of validity", t, d, VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS, limit,
+                    sqrt(R * d), VI_VALIDITY_RADIUS);
         return VI_INVALID_INDENTATION;
     }
     if (!(skip & VI_INVALID_AMPLITUDE) && fabs(M->a) > R) {
-        snprintf(msg, n, "t = %.17g s: the excitation amplitude a = %g m exceeds R* = %g m: the contact laws (paper "
-                 "eqs. 2-4) describe a local contact, with every displacement small against R*, so the results "
-                 "leave the model's range of validity", t, M->a, R);
+        vi_snprintf(msg, n, "t = %.17g s: the excitation amplitude a = %g m exceeds R* = %g m: the contact laws (paper "
+                    "eqs. 2-4) describe a local contact, with every displacement small against R*, so the results "
+                    "leave the model's range of validity", t, M->a, R);
         return VI_INVALID_AMPLITUDE;
     }
     double span = M->profile ? vi_profile_height_span(M->profile) : 0.0;
     if (!(skip & VI_INVALID_PROFILE) && span > R1) {
-        snprintf(msg, n, "t = %.17g s: the heights of profile_file span %g m, more than the rolling radius R1 = %g m: "
-                 "rolling over a profile (paper Fig. 1b) assumes a roughness small against the wheel, so the results "
-                 "leave the model's range of validity", t, span, R1);
+        vi_snprintf(msg, n, "t = %.17g s: the heights of profile_file span %g m, more than the rolling radius R1 = %g m: "
+                    "rolling over a profile (paper Fig. 1b) assumes a roughness small against the wheel, so the results "
+                    "leave the model's range of validity", t, span, R1);
         return VI_INVALID_PROFILE;
     }
     return 0;
@@ -581,7 +581,7 @@ int vi_model_option_warnings(const vi_parameters *p, char *msg, size_t n)
     msg[0] = '\0';
 #define OPTION(cond, text)                                                               \
     if (cond) {                                                                          \
-        int k = snprintf(msg + used, used < n ? n - used : 0, "%s" text, count ? "; " : ""); \
+        int k = vi_snprintf(msg + used, used < n ? n - used : 0, "%s" text, count ? "; " : ""); \
         used += k > 0 ? (size_t)k : 0;                                                   \
         count++;                                                                         \
     }

@@ -6,6 +6,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "vi_text.h"
+
 /* ---------------------------------------------------------------------------------------------
  * The coefficients of DOP853 (Hairer and Wanner; HNW I, 2nd ed., II.5 and II.6), 0-based stages:
  * 0..11 the step, 12 = f(t + h, x1) (the next step's first stage), 13..15 the dense output.
@@ -280,7 +282,7 @@ static void dense_eval(const span *sp, int n, double t, double *x, double *dx)
  * ------------------------------------------------------------------------------------------- */
 static int fail_msg(char *msg, size_t size, const char *text, double value)
 {
-    if (msg && size) snprintf(msg, size, "%s (got %g)", text, value);
+    if (msg && size) vi_snprintf(msg, size, "%s (got %g)", text, value);
     return VI_ODE_ERR_ARGS;
 }
 

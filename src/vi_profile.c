@@ -4,10 +4,11 @@
 #include <errno.h>
 #include <float.h>
 #include <math.h>
-#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "vi_text.h"
 
 /* A piece of the envelope. Circle: yb = py - d^2/(R + sqrt(R^2 - d^2)), d = x - px (the vertex at
  * px, height py). Line: yb = py + s (x - px) (value py at the start px of its domain). */
@@ -210,7 +211,7 @@ void vi_profile_free(vi_profile *p)
 
 #define FAIL(...)                                      \
     do {                                               \
-        snprintf(msg, msg_size, __VA_ARGS__);          \
+        vi_snprintf(msg, msg_size, __VA_ARGS__);       \
         goto fail;                                     \
     } while (0)
 
@@ -328,98 +329,6 @@ fail:
 
 /* ---- reading a file ------------------------------------------------------------------------- */
 
-#ifdef __SIZEOF_INT128__
-typedef unsigned __int128 u128;
-
-/* 5^k for k = 0 .. VI_PROFILE_EXP10_MAX (5^27 < 2^63) and the powers of ten exact in a double. */
-#define VI_PROFILE_EXP10_MAX 27
-static const uint64_t POW5[VI_PROFILE_EXP10_MAX + 1] = {
-    1u, 5u, 25u, 125u, 625u, 3125u, 15625u, 78125u, 390625u, 1953125u, 9765625u, 48828125u, 244140625u,
-    1220703125u, 6103515625u, 30517578125u, 152587890625u, 762939453125u, 3814697265625u, 19073486328125u,
-    95367431640625u, 476837158203125u, 2384185791015625u, 11920928955078125u, 59604644775390625u,
-    298023223876953125u, 1490116119384765625u, 7450580596923828125u};
-static const double POW10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
-                                 1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
-
-/* (q + a fraction that is nonzero when sticky) 2^e2, rounded to the nearest double (ties to even).
- * q has at most 53 bits when sticky is 0 and more than 53 otherwise. */
-static double round_u128(u128 q, int sticky, int e2)
-{
-    uint64_t hi = (uint64_t)(q >> 64);
-    int bits = hi ? 128 - __builtin_clzll(hi) : 64 - __builtin_clzll((uint64_t)q);
-    if (bits <= 53) return ldexp((double)(uint64_t)q, e2);
-    int drop = bits - 53;
-    uint64_t m = (uint64_t)(q >> drop);
-    u128 rest = q & (((u128)1 << drop) - 1), half = (u128)1 << (drop - 1);
-    if (rest > half || (rest == half && (sticky || (m & 1u)))) m++;
-    return ldexp((double)m, e2 + drop);
-}
-
-/* w 10^e correctly rounded, 0 < w < 2^64, |e| <= VI_PROFILE_EXP10_MAX: w 5^e 2^e is exact in 128 bits
- * for e >= 0; for e < 0 the quotient (w 2^sh) / 5^-e has 64 bits or more and its remainder decides
- * the rounding of a tie. */
-static double scaled(uint64_t w, int e)
-{
-    if (w < (1ull << 53) && e >= -22 && e <= 22) /* both exact: one rounding (Clinger's fast path) */
-        return e >= 0 ? (double)w * POW10[e] : (double)w / POW10[-e];
-    if (e >= 0) return round_u128((u128)w * POW5[e], 0, e);
-    int sh = 63 + __builtin_clzll(w); /* w 2^sh < 2^127 */
-    u128 n = (u128)w << sh, d = POW5[-e];
-    return round_u128(n / d, n % d != 0, -sh + e);
-}
-#endif
-
-/* The number at s as strtod reads it (*end after it; *end == s: none). The common decimal forms
- * [+-]digits[.digits][(e|E)[+-]digits] with at most 19 significant digits and a decimal exponent
- * within +-VI_PROFILE_EXP10_MAX are converted here, exactly as strtod rounds them (to nearest) but
- * faster and with '.' whatever the locale; everything else (more digits, other exponents,
- * hexadecimal, inf, nan, leading white space) is strtod's. */
-static double number(const char *s, char **end)
-{
-#ifdef __SIZEOF_INT128__
-    const char *c = s;
-    int neg = *c == '-', digits = 0, e10 = 0, seen = 0;
-    uint64_t w = 0;
-    if (*c == '+' || *c == '-') c++;
-    for (; *c == '0'; c++) seen = 1;
-    for (; *c >= '0' && *c <= '9'; c++, digits++) { /* bounded: 19 digits */
-        if (digits == 19) goto other;
-        w = 10 * w + (uint64_t)(*c - '0');
-        seen = 1;
-    }
-    if (*c == '.') {
-        c++;
-        if (!digits)
-            for (; *c == '0'; c++) e10--, seen = 1; /* bounded by the line */
-        for (; *c >= '0' && *c <= '9'; c++, digits++, e10--) { /* bounded: 19 digits */
-            if (digits == 19) goto other;
-            w = 10 * w + (uint64_t)(*c - '0');
-            seen = 1;
-        }
-    }
-    if (!seen || *c == 'x' || *c == 'X') goto other;
-    if (*c == 'e' || *c == 'E') {
-        const char *d = c + 1;
-        int eneg = *d == '-', ev = 0;
-        if (*d == '+' || *d == '-') d++;
-        if (*d >= '0' && *d <= '9') {
-            for (; *d >= '0' && *d <= '9'; d++) { /* bounded: the value stops it */
-                if (ev > 100000) goto other;
-                ev = 10 * ev + (*d - '0');
-            }
-            e10 += eneg ? -ev : ev;
-            c = d;
-        }
-    }
-    if (w && (e10 < -VI_PROFILE_EXP10_MAX || e10 > VI_PROFILE_EXP10_MAX)) goto other;
-    *end = (char *)c;
-    double v = w ? scaled(w, e10) : 0.0;
-    return neg ? -v : v;
-other:
-#endif
-    return strtod(s, end);
-}
-
 /* Parse "x h" (whitespace, comma or semicolon between); 1 for a data row, 0 to skip, -1 for a bad row. */
 static int parse_row(char *line, double *x, double *h)
 {
@@ -427,11 +336,11 @@ static int parse_row(char *line, double *x, double *h)
     while (*s == ' ' || *s == '\t') s++;
     if (*s == '\0' || *s == '\n' || *s == '\r' || *s == '#') return 0;
     char *end;
-    *x = number(s, &end);
+    *x = vi_strtod(s, &end);
     if (end == s) return -1;
     s = end;
     while (*s == ' ' || *s == '\t' || *s == ',' || *s == ';') s++;
-    *h = number(s, &end);
+    *h = vi_strtod(s, &end);
     if (end == s) return -1;
     s = end;
     while (*s == ' ' || *s == '\t' || *s == '\r' || *s == '\n') s++;
@@ -446,7 +355,7 @@ vi_profile *vi_profile_load(const char *path, double R, int periodic, char *msg,
 {
     FILE *f = fopen(path, "r");
     if (!f) {
-        snprintf(msg, msg_size, "profile_file '%s': cannot open it (%s)", path, strerror(errno));
+        vi_snprintf(msg, msg_size, "profile_file '%s': cannot open it (%s)", path, strerror(errno));
         return NULL;
     }
     double *x = NULL, *h = NULL;
@@ -497,7 +406,7 @@ vi_profile *vi_profile_load(const char *path, double R, int periodic, char *msg,
     if (ferror(f)) FAIL("profile_file '%s': read error after line %zu", path, line_no);
     if (n < 2) FAIL("profile_file '%s': %zu data rows; a profile needs at least two (x [m], h [m])", path, n);
     char name[VI_PROFILE_LINE_MAX + 32];
-    snprintf(name, sizeof name, "profile_file '%s'", path);
+    vi_snprintf(name, sizeof name, "profile_file '%s'", path);
     p = vi_profile_create(x, h, n, R, periodic, name, msg, msg_size);
 fail:
     fclose(f);

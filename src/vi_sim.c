@@ -45,7 +45,7 @@ void vi_sim_init(vi_sim *s, vi_log_fn log, void *log_env)
 
 void vi_sim_set_resources(vi_sim *s, const char *dir)
 {
-    snprintf(s->resources, sizeof s->resources, "%s", dir ? dir : "");
+    vi_snprintf(s->resources, sizeof s->resources, "%s", dir ? dir : "");
 }
 
 void vi_sim_reset(vi_sim *s)
@@ -72,14 +72,14 @@ static int profile_path(const vi_sim *s, const char *file, char *path, size_t n)
 {
     int k;
     if (file[0] != '/' && s->resources[0]) {
-        k = snprintf(path, n, "%s/%s", s->resources, file);
+        k = vi_snprintf(path, n, "%s/%s", s->resources, file);
         FILE *f = k > 0 && (size_t)k < n ? fopen(path, "r") : NULL;
         if (f) {
             fclose(f);
             return 0;
         }
     }
-    k = snprintf(path, n, "%s", file);
+    k = vi_snprintf(path, n, "%s", file);
     return k > 0 && (size_t)k < n ? 0 : -1;
 }
 
@@ -101,7 +101,7 @@ static int attach_profile(vi_sim *s)
         VI_FAIL(s->msg, sizeof s->msg, "profile_file '%.200s...': the path is too long", p->profile_file);
     if (!(p->R1 > 0.0))
         VI_FAIL(s->msg, sizeof s->msg, "profile_file: rolling needs a body radius R1 > 0 (R1 = %g m)", p->R1);
-    snprintf(key, sizeof key, "%s|%.17g|%d", path, p->R1, p->profile_periodic != 0);
+    vi_snprintf(key, sizeof key, "%s|%.17g|%d", path, p->R1, p->profile_periodic != 0);
     if (!s->profile || strcmp(key, s->profile_key) != 0) {
         vi_profile_free(s->profile);
         s->profile_key[0] = '\0';
@@ -152,8 +152,8 @@ static int outputs_finite(vi_sim *s)
         if (v->group != VI_GROUP_OUTPUTS || v->type != VI_Real) continue;
         memcpy(&x, (const char *)&out + v->offset, sizeof x);
         if (!isfinite(x)) {
-            snprintf(s->msg, sizeof s->msg, "%s = %g at t = %.17g s: the parameters and inputs lead to values beyond the "
-                     "range of double", v->name, x, s->d.t);
+            vi_snprintf(s->msg, sizeof s->msg, "%s = %g at t = %.17g s: the parameters and inputs lead to values beyond the "
+                        "range of double", v->name, x, s->d.t);
             return -1;
         }
     }
@@ -356,7 +356,7 @@ static int discard(vi_sim *s, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(s->msg, sizeof s->msg, fmt, ap);
+    vi_vsnprintf(s->msg, sizeof s->msg, fmt, ap);
     va_end(ap);
     return VI_SIM_DISCARD;
 }
@@ -415,12 +415,12 @@ int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change)
 {
     vi_sim_data *d = &s->d;
     if (!s->solver) {
-        snprintf(s->msg, sizeof s->msg, "the simulation is not initialized");
+        vi_snprintf(s->msg, sizeof s->msg, "the simulation is not initialized");
         return VI_SIM_ERROR;
     }
     if (!(t_end > d->t)) {
-        snprintf(s->msg, sizeof s->msg, "the step end %.17g s does not exceed the current time %.17g s in floating point",
-                 t_end, d->t);
+        vi_snprintf(s->msg, sizeof s->msg, "the step end %.17g s does not exceed the current time %.17g s in floating point",
+                    t_end, d->t);
         return VI_SIM_ERROR;
     }
     s->out_valid = 0;
@@ -482,7 +482,7 @@ int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change)
         if ((stopped = stop_here(s, stop_at_mode_change, mode_before))) break;
     }
     if (!isfinite(d->x[0]) || !isfinite(d->x[1])) {
-        snprintf(s->msg, sizeof s->msg, "the state is not finite at t = %.17g s", d->t);
+        vi_snprintf(s->msg, sizeof s->msg, "the state is not finite at t = %.17g s", d->t);
         return VI_SIM_ERROR;
     }
     /* at a communication point only the indentation can newly leave the range (a changes in
@@ -495,8 +495,8 @@ int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change)
     d->t = t_end;
     return VI_SIM_OK;
 fail:
-    snprintf(s->msg, sizeof s->msg, "the solver failed near t = %.17g s (mode %d, delta = %g m, v = %g m/s)", d->t,
-             d->M.mode, d->x[0], d->x[1]);
+    vi_snprintf(s->msg, sizeof s->msg, "the solver failed near t = %.17g s (mode %d, delta = %g m, v = %g m/s)", d->t,
+                d->M.mode, d->x[0], d->x[1]);
     return VI_SIM_ERROR;
 }
 

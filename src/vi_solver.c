@@ -248,7 +248,7 @@ static void hand_over(const vi_solver *s, double t)
 
 int vi_solver_auto_check(const vi_solver_auto *a, char *msg, size_t size)
 {
-#define AUTO_BAD(...) do { snprintf(msg, size, __VA_ARGS__); return -1; } while (0)
+#define AUTO_BAD(...) do { vi_snprintf(msg, size, __VA_ARGS__); return -1; } while (0)
     if (a->bdf != 0 && a->bdf != 1) AUTO_BAD("sw.bdf = %d is not 0 or 1", a->bdf);
     if (a->pending != 0 && a->pending != 1) AUTO_BAD("sw.pending = %d is not 0 or 1", a->pending);
     if (a->stiff < 0 || a->stiff > VI_AUTO_STIFF_STEPS) AUTO_BAD("sw.stiff = %d is not in [0, %d]", a->stiff, VI_AUTO_STIFF_STEPS);

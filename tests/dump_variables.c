@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "vi_fmu.h"
+#include "vi_text.h"
 
 int main(void)
 {
@@ -20,9 +21,9 @@ int main(void)
     for (int vr = 0; vr < m->nvariables; vr++) {
         const vi_variable *v = &m->variables[vr];
         char start[64], lo[64] = "", hi[64] = "";
-        snprintf(start, sizeof start, "%.17g", v->start);
-        if (v->min.kind != VI_BOUND_NONE) snprintf(lo, sizeof lo, "%.17g", vi_bound_inclusive(v->min, 0));
-        if (v->max.kind != VI_BOUND_NONE) snprintf(hi, sizeof hi, "%.17g", vi_bound_inclusive(v->max, 1));
+        vi_snprintf(start, sizeof start, "%.17g", v->start);
+        if (v->min.kind != VI_BOUND_NONE) vi_snprintf(lo, sizeof lo, "%.17g", vi_bound_inclusive(v->min, 0));
+        if (v->max.kind != VI_BOUND_NONE) vi_snprintf(hi, sizeof hi, "%.17g", vi_bound_inclusive(v->max, 1));
         printf("var\t%d\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s", vr, v->name, types[v->type], v->enumeration,
                v->causality, v->variability, v->initial, v->type == VI_String ? v->start_string : start, lo, hi,
                v->unit, v->description);

@@ -32,6 +32,7 @@ need_cargo() { CARGO_PKGS+=("$@"); }
 #   need_cargo some-program=some-crate
 need_cargo fmi-sim=fmi-sim # the Rust FMI simulator: the second importer of the Model Exchange and FMI 3.0 tests
 need_apt clang libclang-rt-14-dev # clang with libFuzzer and the sanitizers: the fuzz harness (tests/fuzz)
+need_apt locales # the locales the locale tests run in (tests/test_text.c, fmu-test/test_locale.py)
 # ------------------------------------------------------------------------------------------------------
 
 # ---- apt ----------------------------------------------------------------------------------------------
@@ -59,6 +60,16 @@ if [ ${#CARGO_PKGS[@]} -gt 0 ] && ! command -v cargo >/dev/null; then
   [ -z "$NEED_RUSTUP" ] || need_apt curl ca-certificates
 fi
 apt_install "${APT_PKGS[@]}"
+
+# ---- locales ------------------------------------------------------------------------------------------
+# de_DE.UTF-8 (decimal point ',') and ps_AF.UTF-8 (U+066B, two bytes), in which tests/test_text.c and
+# fmu-test/test_locale.py run
+for loc in de_DE ps_AF; do
+  if ! locale -a 2>/dev/null | grep -qix "$loc\.utf-\?8"; then
+    echo "setup: localedef -i $loc -f UTF-8 $loc.UTF-8"
+    $SUDO localedef -i "$loc" -f UTF-8 "$loc.UTF-8"
+  fi
+done
 
 # ---- the interpreter ----------------------------------------------------------------------------------
 PYTHON=${PYTHON:-python3}

@@ -56,7 +56,7 @@ static int set_resources(void *m, const char *dir)
     layer *L = m;
     char path[2048];
     L->resource_value = -1.0;
-    if (!dir || snprintf(path, sizeof path, "%s/value.txt", dir) >= (int)sizeof path) return 0;
+    if (!dir || vi_snprintf(path, sizeof path, "%s/value.txt", dir) >= (int)sizeof path) return 0;
     FILE *f = fopen(path, "r");
     if (!f) return 0;
     if (fscanf(f, "%lf", &L->resource_value) != 1) L->resource_value = -1.0;
@@ -121,7 +121,7 @@ static int advance(void *m, double t_end)
         d->inputs_changed = 0;
     }
     if (d->par.fail_at > d->t && d->par.fail_at < t_end) {
-        snprintf(L->msg, sizeof L->msg, "failed at fail_at = %g s", d->par.fail_at);
+        vi_snprintf(L->msg, sizeof L->msg, "failed at fail_at = %g s", d->par.fail_at);
         return VI_FMU_ERROR;
     }
     int stop = d->par.discard_at > d->t && d->par.discard_at < t_end;
@@ -130,7 +130,7 @@ static int advance(void *m, double t_end)
     d->t = t1;
     d->steps++;
     if (stop) {
-        snprintf(L->msg, sizeof L->msg, "stopped at t = %.17g s (discard_at)", d->t);
+        vi_snprintf(L->msg, sizeof L->msg, "stopped at t = %.17g s (discard_at)", d->t);
         return VI_FMU_DISCARD;
     }
     return VI_FMU_OK;

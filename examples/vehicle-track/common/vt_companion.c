@@ -129,7 +129,7 @@ int vt_advance(void *m, double t_end)
     }
     if (c->solver_stale) {
         if (vi_solver_reset(I->solver, c->t, c->x) < 0) {
-            snprintf(I->msg, sizeof I->msg, "the solver could not restart at t = %.17g s", c->t);
+            vi_snprintf(I->msg, sizeof I->msg, "the solver could not restart at t = %.17g s", c->t);
             return VI_FMU_ERROR;
         }
         c->solver_stale = 0;
@@ -141,7 +141,7 @@ int vt_advance(void *m, double t_end)
      * changed, so no step integrates with inputs it was not given. */
     int rc = vi_solver_advance(I->solver, t_end, VT_MAX_STEPS_PER_STEP, &t, x, fired, &taken);
     if (rc != VI_SOLVER_REACHED && rc != VI_SOLVER_LIMIT) {
-        snprintf(I->msg, sizeof I->msg, "the integration from t = %.17g s to %.17g s failed (see the log)", c->t, t_end);
+        vi_snprintf(I->msg, sizeof I->msg, "the integration from t = %.17g s to %.17g s failed (see the log)", c->t, t_end);
         c->solver_stale = 1; /* the state stays where the last step ended */
         return VI_FMU_ERROR;
     }
@@ -150,8 +150,8 @@ int vt_advance(void *m, double t_end)
     c->t = t;
     if (I->def->step_done) I->def->step_done(I->data, t0, x0);
     if (rc == VI_SOLVER_LIMIT) { /* a consistent point before t_end (doc/model.md section 7.1) */
-        snprintf(I->msg, sizeof I->msg, "work bound: %ld internal steps in one step, stopped at t = %.17g s",
-                 VT_MAX_STEPS_PER_STEP, t);
+        vi_snprintf(I->msg, sizeof I->msg, "work bound: %ld internal steps in one step, stopped at t = %.17g s",
+                    VT_MAX_STEPS_PER_STEP, t);
         return VI_FMU_DISCARD;
     }
     return VI_FMU_OK;
