@@ -65,6 +65,31 @@ def test_a_simulation_the_fmu_refuses_says_why(fmu_path):
         simulate("the run", fmu_path, start_values={"m": -1.0}, stop_time=0.01)
 
 
+def test_a_refused_simulation_leaves_fmpy_able_to_run_the_next(fmu_path):
+    """After vibroimpact.fmu.simulate failed (its log kept), an fmpy run with fmpy's default logger whose
+    FMU logs a warning (rtol against the importer's 1e-4) runs and prints it. fmpy's `logger=` option
+    installs a logger in a native proxy its later default instances share: used here, this run called
+    freed memory once the failed call's logger was gone (a segmentation fault). In a subprocess, so that
+    such a crash fails this test only."""
+    code = f"""
+from vibroimpact.fmu import simulate
+from fmpy import simulate_fmu
+try:
+    simulate("the run", {fmu_path!r}, start_values={{"m": -1.0}}, stop_time=0.01)
+except Exception as e:
+    print("refused:", e)
+import gc
+gc.collect()
+simulate_fmu({fmu_path!r}, start_values=dict(contact_model=1, a=1e-4, rtol=1e-10), relative_tolerance=1e-4,
+             stop_time=1e-3)
+print("done")
+"""
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=RUN_TIMEOUT_S)
+    assert p.returncode == 0, (p.returncode, p.stderr[-2000:])
+    assert "refused: the run: fmi2SetReal: m = -1" in p.stdout and p.stdout.rstrip().endswith("done"), p.stdout
+    assert "rtol = 1e-10 is used, not the experiment's tolerance 0.0001" in p.stdout, p.stdout
+
+
 # ---- options the command refuses ------------------------------------------------------------------
 def test_wplastic_refuses_a_yield_stress_that_is_not_positive(tmp_path):
     for y in ("-5", "0", "nan"):

@@ -90,6 +90,7 @@ def solver_line(log):
 @pytest.mark.parametrize("rtol, tolerance, runs_at, warns", [
     (1e-10, 1e-4, 1e-10, True),    # PyFMI passes its default 1e-4: the user's rtol wins, with a word
     (1e-10, 1e-10, 1e-10, False),  # the same: nothing to say
+    (1e-10, 1e-6, 1e-10, False),   # the declared default, as fmpy passes it unasked: nothing to say
     (1e-10, None, 1e-10, False),
     (0.0, 1e-3, 1e-3, False),      # rtol left at 0: the experiment's tolerance
     (0.0, None, 1e-6, False),      # neither: 1e-6, the declared default experiment's

@@ -222,7 +222,8 @@ int vi_sim_initialize(vi_sim *s)
     if (create_solver(s, 0) < 0) return -1;
     char text[400];
     if (vi_model_option_warnings(&d->par, text, sizeof text) > 0) s->log(s->log_env, VI_LOG_WARNING, "%s", text);
-    if (d->par.rtol > 0.0 && d->tolerance > 0.0 && d->par.rtol != d->tolerance)
+    /* an importer that passes the declared default experiment's tolerance most likely passes a default */
+    if (d->par.rtol > 0.0 && d->tolerance > 0.0 && d->tolerance != VI_RTOL_DEFAULT && d->par.rtol != d->tolerance)
         s->log(s->log_env, VI_LOG_WARNING, "rtol = %g is used, not the experiment's tolerance %g (set rtol = 0 to use the "
                "experiment's)", d->par.rtol, d->tolerance);
     vi_sim_check_validity(s);

@@ -124,7 +124,6 @@ class MessageLog:
         cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
         cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
         self.callbacks = cb   # referenced as long as the instance lives
-        self.logger = self._log   # the Python function, for fmpy.simulate_fmu(logger=...)
 
     def _log(self, env, name, status, category, message):
         text = message.decode("utf-8", "replace").replace("%%", "%")
@@ -142,18 +141,31 @@ class MessageLog:
 
 
 def simulate(what, fmu, **options):
-    """fmpy.simulate_fmu(fmu, **options) with the FMU's log kept: when an FMI call fails, a
-    failure.CommandError saying `what` failed, in the FMU's words."""
+    """fmpy.simulate_fmu(fmu, **options) (Co-Simulation) on an instance whose log is kept: when an FMI
+    call fails, a failure.CommandError saying `what` failed, in the FMU's words. The instance is made
+    here with a MessageLog's callbacks: fmpy's own `logger=` option installs the logger in a native
+    proxy that all of fmpy's later default instances share, so that once this call's logger is gone,
+    the next FMU that logs through fmpy's defaults would call freed memory."""
+    import shutil
+
     import fmpy
+    from fmpy import extract, read_model_description
 
     from .failure import fmu_refused
-    log = MessageLog()
+    fmu = str(fmu)
+    md = read_model_description(fmu)
+    unzipdir = extract(fmu)
+    log = Logged(md, unzipdir, name="simulate")
+    slave = log.instantiate()
     try:
-        return fmpy.simulate_fmu(str(fmu), logger=log.logger, **options)
+        return fmpy.simulate_fmu(fmu, fmu_instance=slave, model_description=md, **options)
     except Exception as e:
         if not log.messages:
             raise
         raise fmu_refused(what, e, log.texts()) from e
+    finally:
+        slave.freeInstance()
+        shutil.rmtree(unzipdir, ignore_errors=True)
 
 
 def check_start(values, what, fmu=None, tolerance=None):
