@@ -38,7 +38,7 @@
   X(nu2, Real, none, parameter, fixed, exact, 0.3, VI_ABOVE(-1.0), VI_AT(0.5), "", "Poisson's ratio of body 2") \
   X(Y, Real, none, parameter, fixed, exact, 6e8, VI_ABOVE(0.0), VI_NONE, "Pa", "uniaxial yield stress") \
   X(theta_Y, Real, none, parameter, fixed, exact, 1.1, VI_ABOVE(0.0), VI_NONE, "", "limiting mean pressure p_Y = theta_Y Y") \
-  X(contact_model, Integer, ContactModel, parameter, fixed, exact, 2, VI_NONE, VI_NONE, "", "contact law") \
+  X(contact_model, Integer, ContactModel, parameter, fixed, exact, 2, VI_NONE, VI_NONE, "", "contact law (lepp: linear elastic-perfectly plastic)") \
   X(moving_contact, Boolean, none, parameter, fixed, exact, 0, VI_NONE, VI_NONE, "", "Johnson with a moving contact point: virgin curve both ways") \
   X(unloading, Integer, Unloading, parameter, fixed, exact, 1, VI_NONE, VI_NONE, "", "Johnson unloading curve") \
   X(yield_formula, Integer, YieldFormula, parameter, fixed, exact, 1, VI_NONE, VI_NONE, "", "formula for the yield force F_Y") \
@@ -47,7 +47,7 @@
   X(a, Real, none, parameter, tunable, exact, 0.0, VI_NONE, VI_NONE, "m", "amplitude of the internal harmonic platform excitation (tunable: a change moves the platform)") \
   X(f, Real, none, parameter, tunable, exact, 560.0, VI_AT(0.0), VI_NONE, "Hz", "frequency of the internal harmonic platform excitation (tunable: the phase stays continuous)") \
   X(rtol, Real, none, parameter, fixed, exact, 0.0, VI_AT(0.0), VI_AT(VI_RTOL_MAX), "", "relative tolerance: 0 = the experiment's tolerance (fmi2SetupExperiment, fmi3EnterInitializationMode), " VI_STRING_OF(VI_RTOL_DEFAULT) " without one; else at least " VI_STRING_OF(VI_RTOL_MIN) ", used whatever the experiment's") \
-  X(solver, Integer, Solver, parameter, fixed, exact, 4, VI_NONE, VI_NONE, "", "integration method: CVODE BDF or Adams (linear multistep), Dormand-Prince 8(5,3) (explicit one-step, dense output), or auto (Dormand-Prince 8(5,3), CVODE BDF while the problem is stiff)") \
+  X(solver, Integer, Solver, parameter, fixed, exact, 4, VI_NONE, VI_NONE, "", "integration method (auto: Dormand-Prince 8(5,3), CVODE BDF while stiff; doc/model.md section 5)") \
   X(max_step, Real, none, parameter, fixed, exact, 0.0, VI_AT(0.0), VI_NONE, "s", "maximum internal step of the solver: 0 = none, else at least " VI_STRING_OF(VI_MAX_STEP_MIN) " s") \
   X(F, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N", "contact force") \
   X(delta, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m", "indentation yC - y") \
