@@ -45,7 +45,7 @@
 
 typedef struct vi_profile vi_profile;
 
-/* A slope jump of yb smaller than this is no kink (tangent switches rounded to the last bits). */
+/* A slope jump of yb of at most this is no kink (tangent switches rounded to the last bits). */
 #define VI_PROFILE_KINK_SLOPE 1e-9
 /* Longest line of a profile file, and the most rows it may have. */
 #define VI_PROFILE_LINE_MAX 4096

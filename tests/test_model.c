@@ -1280,6 +1280,24 @@ Test(model_check, yielded_memory_rules)
         refused_with(&M, x0, 1, "delta_f = %g does not belong to delta_c (%g)", M.U.delta_f, U.delta_f);
         M.U.delta_f = U.delta_f + 0.5e-9 * U.delta_c;
         accepted_as(&M, x0, "delta_f 0.5e-9 delta_c off");
+        /* delta_f exactly 1e-9 delta_c off passes and one ulp further does not: a delta_c near the model's
+         * whose 1e-9 delta_c is a double of 20 significant bits, a whole number of ulps of delta_f */
+        int e;
+        double frac = frexp(1e-9 * U.delta_c, &e), tol = 0.0;
+        for (int j = 0; j < 64 && tol == 0.0; j++) {
+            double want = ldexp(round(ldexp(frac, 20)) + j, e - 20), c = want / 1e-9;
+            for (int k = 0; k < 8 && 1e-9 * c != want; k++) c = nextafter(c, 1e-9 * c < want ? INFINITY : 0.0);
+            if (1e-9 * c == want) dc = c, tol = want;
+        }
+        cr_assert(tol > 0.0, "no delta_c with a short 1e-9 delta_c near %g", U.delta_c);
+        M = ok;
+        M.U = vi_johnson_unload_curve(&M.J, variant, dc);
+        double df = M.U.delta_f, xf[2] = {0.5 * (df + dc), 1.0};
+        M.U.delta_f = df + tol;
+        cr_assert(M.U.delta_f - df == tol, "delta_f %.17g + %.17g is not exact", df, tol);
+        accepted_as(&M, xf, "delta_f 1e-9 delta_c off");
+        M.U.delta_f = nextafter(df + tol, INFINITY);
+        refused_with(&M, xf, 1, "delta_f = %g does not belong to delta_c (%g)", M.U.delta_f, df);
         M = ok;
         M.U.Kbar = U.Kbar * (1.0 + 2e-9);
         refused_with(&M, x0, 1, "Kbar = %g does not belong to Rbar (%g)", M.U.Kbar, U.Kbar);

@@ -237,6 +237,23 @@ static void contact_slopes(const double *x, const double *h, size_t n, double r,
  * there by the difference of the slopes at the two contacts. Where the contact passes from a vertex
  * onto the next segment (a circle meeting a tangent) the slope is continuous: no kink. Every kink
  * reported is checked against the slopes at the contacts; sparse, rough profiles. */
+/* A slope jump of exactly VI_PROFILE_KINK_SLOPE is no kink, and twice that is one: a trough whose
+ * flanks have the slopes 0 and 1e-9 (the rolling body touches both, its path turns by the flanks'
+ * slopes) and one with 0 and 2e-9. */
+Test(profile, a_slope_jump_at_the_kink_threshold_is_no_kink)
+{
+    double x[] = {0.0, 1.0, 2.0}, h[] = {0.0, 0.0, VI_PROFILE_KINK_SLOPE}, y[4];
+    vi_profile *p = make(x, h, 3, R, 0);
+    vi_profile_eval(p, 1.9, y);
+    cr_assert(y[1] == VI_PROFILE_KINK_SLOPE, "yb' on the second flank %.17g", y[1]); /* the jump is the threshold */
+    cr_assert(vi_profile_kinks(p) == 0, "%zu kinks", vi_profile_kinks(p));
+    vi_profile_free(p);
+    h[2] = 2.0 * VI_PROFILE_KINK_SLOPE;
+    p = make(x, h, 3, R, 0);
+    cr_assert(vi_profile_kinks(p) == 1, "%zu kinks", vi_profile_kinks(p));
+    vi_profile_free(p);
+}
+
 Test(profile, kinks_are_two_point_contacts, .timeout = 60)
 {
     srand(99);
@@ -681,6 +698,7 @@ Test(profile, files)
         {"0 0\n1 0\nabc 2\n", "line 3: expected two numbers"},
         {"0 0\n1\n", "line 2: expected two numbers"},
         {"0 0\n1 0 7\n", "line 2: expected two numbers"},
+        {",0\n1 0\n", "line 1: expected two numbers"}, /* a separator where x should be */
         {"0 0\n2 0\n1 0\n", "line 3: x = 1 is not greater than x = 2 before it"},
         {"0 0\n1 inf\n", "line 2: x = 1, h = inf are not finite"},
         {"# only\n0 0\n", "1 data rows"},

@@ -1,5 +1,6 @@
 /* Unit tests of the simulation layer (vi_sim.h) that need no FMU: the state-payload check
  * (doc/model.md section 7.6) names the first bad field; a valid state passes. */
+#define _POSIX_C_SOURCE 200809L /* mkdtemp */
 #include <criterion/criterion.h>
 #include <float.h>
 #include <math.h>
@@ -471,6 +472,28 @@ Test(sim, a_profile_needs_a_positive_body_radius)
     s.d.par.V = 1.0, s.d.par.x0 = 0.5, s.d.par.R1 = 1e-4;
     rc = vi_sim_initialize(&s);
     remove(path);
+    cr_assert(rc == 0 && s.d.M.profile != NULL, "%s", s.msg);
+    vi_sim_free(&s);
+}
+
+/* A relative profile_file of one character, not in the resources folder, is read from the working
+ * directory (the shortest name is a name like any other). */
+Test(sim, a_one_character_profile_file_is_read_from_the_working_directory)
+{
+    char dir[] = "/tmp/vi_test_sim_XXXXXX";
+    cr_assert(mkdtemp(dir) != NULL && chdir(dir) == 0);
+    FILE *f = fopen("p", "w");
+    cr_assert(f != NULL);
+    fputs("0 0\n1 0\n", f);
+    fclose(f);
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    vi_sim_set_resources(&s, "/nonexistent/resources");
+    snprintf(s.d.par.profile_file, sizeof s.d.par.profile_file, "p");
+    s.d.par.V = 1.0, s.d.par.x0 = 0.5;
+    int rc = vi_sim_initialize(&s);
+    remove("p");
+    cr_assert(chdir("/") == 0 && rmdir(dir) == 0);
     cr_assert(rc == 0 && s.d.M.profile != NULL, "%s", s.msg);
     vi_sim_free(&s);
 }
