@@ -589,7 +589,7 @@ static void case_refusals(void)
         {"theta_Y = 0", VI_VR_theta_Y, 0, 0.0},
         {"R1 = 0 and R2 = 0", VI_VR_R1, 0, 0.0}, /* R2 starts at 0: two planes */
         {"f = -1", VI_VR_f, 0, -1.0},
-        {"rtol = 0", VI_VR_rtol, 0, 0.0},
+        {"rtol = 1e-15", VI_VR_rtol, 0, 1e-15}, /* 0 is the experiment's tolerance; (0, 1e-14) is refused */
         {"max_step = -1e-3", VI_VR_max_step, 0, -1e-3},
         {"contact_model = 7", VI_VR_contact_model, 1, 7},
         {"unloading = 0", VI_VR_unloading, 1, 0},
