@@ -225,6 +225,12 @@ fmi2Status fz_status(const char *call, fmi2Status s)
     return s;
 }
 
+void fz_finite(const char *call, const double *x, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        if (!isfinite(x[i])) fz_fail("%s returned OK with element %zu = %g", call, i, x[i]);
+}
+
 static double call_bound = 30.0, hang_bound = 300.0; /* seconds: CPU per call, wall before a hang */
 static _Atomic long long call_started_ns;            /* wall clock at fz_begin, 0 between calls */
 static const char *_Atomic current_call;
