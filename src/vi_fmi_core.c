@@ -614,6 +614,8 @@ vi_status vi_core_set_input_derivatives(void *instance, const char *fn, const un
                                         const int order[], const double values[])
 {
     ENTER(VI_CALL_SET_INPUT_DERIVATIVES);
+    if (c->kind != VI_KIND_CS)
+        return vi_core_refuse(c, "%s: a Co-Simulation function; this instance is a Model Exchange one", fn);
     if (nvr > 0 && (!vr || !order || !values)) return vi_core_refuse(c, "%s: NULL array", fn);
     for (size_t i = 0; i < nvr; i++) {
         const vi_variable *v = lookup(c, fn, vr[i], VI_Real);

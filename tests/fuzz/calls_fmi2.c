@@ -50,15 +50,18 @@ static fmi2Status ended(const char *call, fmi2Status st)
 }
 #define CALL(fn, ...) ended(#fn, (fz_begin(#fn), fn(__VA_ARGS__)))
 
+/* The states of mask m as text (two buffers in turn: a message may show two masks). */
 static const char *mask_text(unsigned m)
 {
-    static char text[160];
+    static char buffers[2][160];
+    static int turn;
+    char *text = buffers[turn ^= 1];
     static const char *const names[] = {"instantiated", "initialization", "stepComplete", "stepFailed", "terminated",
                                         "error", "", "Event Mode", "Continuous-Time Mode"};
     text[0] = '\0';
     for (int i = 0; i < 9; i++)
         if (m >> i & 1u && names[i][0])
-            snprintf(text + strlen(text), sizeof text - strlen(text), "%s%s", text[0] ? "|" : "", names[i]);
+            snprintf(text + strlen(text), sizeof buffers[0] - strlen(text), "%s%s", text[0] ? "|" : "", names[i]);
     return text[0] ? text : "none";
 }
 

@@ -81,14 +81,18 @@ static int fmi3_available(void) { return 1; }
 
 static int is_cs(const fz_slot *s) { return s->fmu_type == fmi2CoSimulation; }
 
+/* The states of mask m as text (two buffers in turn: a message may show two masks). */
 static const char *mask_text(unsigned m)
 {
-    static char text[160];
+    static char buffers[2][160];
+    static int turn;
+    char *text = buffers[turn ^= 1];
     static const char *const names[] = {"Instantiated", "Initialization Mode", "Step Mode", "Step Discarded",
                                         "Terminated", "error", "fatal", "Event Mode", "Continuous-Time Mode"};
     text[0] = '\0';
     for (int i = 0; i < 9; i++)
-        if (m >> i & 1u) snprintf(text + strlen(text), sizeof text - strlen(text), "%s%s", text[0] ? "|" : "", names[i]);
+        if (m >> i & 1u)
+            snprintf(text + strlen(text), sizeof buffers[0] - strlen(text), "%s%s", text[0] ? "|" : "", names[i]);
     return text[0] ? text : "none";
 }
 
