@@ -40,6 +40,7 @@ typedef struct {
     double y;   /* the state y [m] the importer integrates (v is s.d.x[1]) */
     int zeno;   /* consecutive events each within VI_ZENO_ULPS of the one before (vi_sim_zeno_count) */
     double t_event; /* time of the last state event */
+    int stale;      /* time or states set since the model last caught up with them */
 } vi_me;
 
 /* What one pass of the event iteration did. */

@@ -444,11 +444,12 @@ vi_status vi_core_get(void *instance, const char *fn, const unsigned vr[], size_
                 continue;
             }
             int k = indicator_of(c, vr[i]);
-            if (k >= 0) { /* the model's indicators at the current state (in initialization mode: the initial one) */
+            if (k >= 0) { /* the model's indicators at the current state (in initialization mode: the initial
+                           * one), in Co-Simulation too, where they are declared as well */
                 double z[VI_MAX_INDICATORS];
-                if (c->kind != VI_KIND_ME || MODEL->n_indicators > VI_MAX_INDICATORS)
-                    return vi_core_refuse(c, "%s: value reference %u is an event indicator of Model Exchange", fn,
-                                          vr[i]);
+                if (!MODEL->indicators || MODEL->n_indicators > VI_MAX_INDICATORS)
+                    return vi_core_refuse(c, "%s: value reference %u is an event indicator this model cannot evaluate",
+                                          fn, vr[i]);
                 if (!outs && !(outs = current_outputs(c, fn, vr, nvr))) return VI_STATUS_ERROR;
                 MODEL->indicators(c->model, z);
                 elem_store(values, elem, i, z[k], 0);

@@ -10,6 +10,14 @@ static double rtol_of(const vi_sim_data *d) { return d->tolerance > 0.0 ? d->tol
 
 static double platform(const vi_model *M, double t) { return vi_model_platform(M, t, NULL, NULL); }
 
+/* The inputs the setters stored differ from those the model holds. */
+static int inputs_moved(const vi_me *e)
+{
+    const vi_sim_data *d = &e->s.d;
+    const vi_model *M = &d->M;
+    return d->in.yC_in != M->yC_in.u || d->in.F_ext != M->F_ext.u || M->yC_in.du != 0.0 || M->F_ext.du != 0.0;
+}
+
 /* Inputs that changed since they were last taken act from now on (the memory is written down first at
  * the state before the change, as for an input change in co-simulation; the mass stays where it
  * is, so delta moves with the platform). The state itself is the importer's: x is a copy. */
@@ -17,22 +25,28 @@ static void take_inputs(vi_me *e, double x[2])
 {
     vi_sim_data *d = &e->s.d;
     vi_model *M = &d->M;
-    if (d->in.yC_in == M->yC_in.u && d->in.F_ext == M->F_ext.u && M->yC_in.du == 0.0 && M->F_ext.du == 0.0) return;
+    if (!inputs_moved(e)) return;
     vi_model_freeze(M, d->t, x);
     M->yC_in = (vi_ramp){d->in.yC_in, 0.0, d->t};
     M->F_ext = (vi_ramp){d->in.F_ext, 0.0, d->t};
     x[0] = platform(M, d->t) - e->y;
 }
 
-/* Bring the model in step with the importer's time, states and inputs: delta = yC(t) - y. Inputs set
- * in continuous-time mode act at once; inputs set in event mode (d->inputs_changed, from the layer's
- * `changed`) wait for the event iteration, which applies them as a jump. */
+/* Bring the model in step with the importer's time, states and inputs: delta = yC(t) - y. Setting the
+ * time or the states only marks the model stale, and the setters of inputs store them only, so the
+ * model catches up here, before anything is read: every answer is that of the last (t, y, v, inputs)
+ * whatever the order they were set in. Inputs set in continuous-time mode act at once; inputs set in
+ * event mode (d->inputs_changed, from the layer's `changed`) wait for the event iteration, which
+ * applies them as a jump. */
 static void sync(vi_me *e)
 {
     vi_sim_data *d = &e->s.d;
     if (!e->active) return; /* co-simulation: vi_sim keeps its outputs until its state changes */
+    int take = !d->inputs_changed && inputs_moved(e);
+    if (!e->stale && !take) return;
+    e->stale = 0;
     e->s.out_valid = 0;
-    if (!d->inputs_changed) {
+    if (take) {
         double x[2] = {platform(&d->M, d->t) - e->y, d->x[1]};
         take_inputs(e, x);
     }
@@ -92,6 +106,7 @@ int vi_me_initialize(vi_me *e)
     e->active = 1;
     e->zeno = 0;
     e->t_event = d->t;
+    e->stale = 1;
     sync(e);
     memset(d->guard_band, 0, sizeof d->guard_band);
     arm_guards_at_zero(e);
@@ -105,7 +120,7 @@ int vi_me_initialize(vi_me *e)
 void vi_me_set_time(vi_me *e, double t)
 {
     e->s.d.t = t;
-    sync(e);
+    e->stale = 1;
 }
 
 void vi_me_get_states(vi_me *e, double x[VI_ME_NSTATES])
@@ -119,11 +134,12 @@ void vi_me_set_states(vi_me *e, const double x[VI_ME_NSTATES])
 {
     e->y = x[0];
     e->s.d.x[1] = x[1];
-    sync(e);
+    e->stale = 1;
 }
 
 void vi_me_derivatives(vi_me *e, double dx[VI_ME_NSTATES])
 {
+    sync(e);
     const vi_sim_data *d = &e->s.d;
     double r[2];
     vi_model_rhs(&d->M, d->t, d->x, r);
@@ -133,6 +149,7 @@ void vi_me_derivatives(vi_me *e, double dx[VI_ME_NSTATES])
 
 void vi_me_indicators(vi_me *e, double z[VI_ME_NINDICATORS])
 {
+    sync(e);
     const vi_sim_data *d = &e->s.d;
     vi_model_guards(&d->M, d->t, d->x, z);
     for (int i = 0; i < VI_NGUARDS; i++) z[i] += d->guard_band[i];
@@ -286,6 +303,7 @@ int vi_me_restore(vi_me *e, int running)
     if ((running ? vi_sim_restore_without_solver(&e->s) : vi_sim_restore(&e->s)) < 0) return -1;
     e->active = running;
     e->zeno = 0;
+    e->stale = 1;
     if (e->active) e->y = platform(&e->s.d.M, e->s.d.t) - e->s.d.x[0];
     return 0;
 }

@@ -1,0 +1,143 @@
+"""Every variable a model description declares can be read, in every interface the FMU offers and in
+each state where the standard allows reading (initialization mode, between steps or in continuous time,
+in event mode, after termination): the importers that read all variables after initialization (the
+Reference FMUs' fmusim does) must be able to run every interface."""
+import ctypes
+import math
+
+import pytest
+from fmpy import extract, read_model_description
+from fmpy.fmi2 import FMU2Model, FMU2Slave
+from fmpy.fmi3 import FMU3Model, FMU3Slave
+
+from conftest import FMU
+from vibroimpact.fmi3 import fmu3_path, run_to_events
+
+PARAMS = dict(contact_model=2, a=1e-4)  # Johnson, shaken: contact, memory and events all in use
+
+
+def read_every_variable(fmu, md, version):
+    """Each declared variable read alone with the getter of its type: (name, value) of those read."""
+    values = []
+    for v in md.modelVariables:
+        if version == 2:
+            get = {"Real": fmu.getReal, "Integer": fmu.getInteger, "Enumeration": fmu.getInteger,
+                   "Boolean": fmu.getBoolean, "String": fmu.getString}[v.type]
+        else:
+            get = {"Float64": fmu.getFloat64, "Int32": fmu.getInt32, "Int64": fmu.getInt64,
+                   "Enumeration": fmu.getInt64, "Boolean": fmu.getBoolean, "String": fmu.getString}[v.type]
+        value = get([v.valueReference])[0]  # fmpy raises on any status but OK
+        if v.type in ("Real", "Float64"):
+            assert math.isfinite(value), (v.name, value)
+        values.append((v.name, value))
+    assert len(values) == len(md.modelVariables)
+    return values
+
+
+def set_params(fmu, md, version):
+    vr = {v.name: v for v in md.modelVariables}
+    for name, value in PARAMS.items():
+        v = vr[name]
+        if isinstance(value, int):
+            (fmu.setInteger if version == 2 else fmu.setInt64)([v.valueReference], [value])
+        else:
+            (fmu.setReal if version == 2 else fmu.setFloat64)([v.valueReference], [value])
+
+
+@pytest.fixture(scope="module")
+def fmus(tmp_path_factory):
+    out = {}
+    for version, path in ((2, str(FMU)), (3, str(fmu3_path()))):
+        out[version] = (read_model_description(path), extract(path, unzipdir=str(tmp_path_factory.mktemp(f"all{version}"))))
+    return out
+
+
+def test_fmi2_co_simulation_reads_all(fmus):
+    md, unzipdir = fmus[2]
+    s = FMU2Slave(guid=md.guid, unzipDirectory=unzipdir, modelIdentifier="VibroImpact")
+    s.instantiate()
+    s.setupExperiment(startTime=0.0)
+    s.enterInitializationMode()
+    set_params(s, md, 2)
+    read_every_variable(s, md, 2)
+    s.exitInitializationMode()
+    read_every_variable(s, md, 2)
+    for k in range(20):
+        s.doStep(k * 1e-4, 1e-4)
+    read_every_variable(s, md, 2)
+    s.terminate()
+    read_every_variable(s, md, 2)
+    s.freeInstance()
+
+
+def test_fmi2_model_exchange_reads_all(fmus):
+    md, unzipdir = fmus[2]
+    m = FMU2Model(guid=md.guid, unzipDirectory=unzipdir, modelIdentifier="VibroImpact")
+    m.instantiate()
+    m.setupExperiment(startTime=0.0)
+    m.enterInitializationMode()
+    set_params(m, md, 2)
+    read_every_variable(m, md, 2)
+    m.exitInitializationMode()
+    read_every_variable(m, md, 2)  # event mode
+    while True:
+        more, terminate = m.newDiscreteStates()[:2]
+        if not more or terminate:
+            break
+    m.enterContinuousTimeMode()
+    x = (ctypes.c_double * 2)()
+    m.getContinuousStates(x, 2)
+    m.setTime(1e-4)
+    m.setContinuousStates(x, 2)
+    read_every_variable(m, md, 2)
+    m.terminate()
+    read_every_variable(m, md, 2)
+    m.freeInstance()
+
+
+@pytest.mark.parametrize("event_mode", [False, True], ids=["step", "event-mode"])
+def test_fmi3_co_simulation_reads_all(fmus, event_mode):
+    """The event indicators (causality local, <EventIndicator>) included: in Co-Simulation they are the
+    guards of the current mode, as in Model Exchange."""
+    md, unzipdir = fmus[3]
+    s = FMU3Slave(guid=md.guid, unzipDirectory=unzipdir, modelIdentifier="VibroImpact")
+    s.instantiate(eventModeUsed=event_mode, earlyReturnAllowed=event_mode)
+    s.enterInitializationMode(startTime=0.0)
+    set_params(s, md, 3)
+    read_every_variable(s, md, 3)
+    s.exitInitializationMode()
+    if event_mode:
+        read_every_variable(s, md, 3)
+        while s.updateDiscreteStates()[0]:
+            pass
+        s.enterStepMode()
+    read_every_variable(s, md, 3)
+    events, _ = run_to_events(s, 0.0, 5e-3, 1e-4, sample=lambda t: read_every_variable(s, md, 3))
+    assert not event_mode or events  # early returns at contact events, read after each
+    values = dict(read_every_variable(s, md, 3))
+    assert values["event_indicator_0"] > 0.0  # inside the mode, as after any completed step
+    s.terminate()
+    read_every_variable(s, md, 3)
+    s.freeInstance()
+
+
+def test_fmi3_model_exchange_reads_all(fmus):
+    md, unzipdir = fmus[3]
+    m = FMU3Model(guid=md.guid, unzipDirectory=unzipdir, modelIdentifier="VibroImpact")
+    m.instantiate()
+    m.enterInitializationMode(startTime=0.0)
+    set_params(m, md, 3)
+    read_every_variable(m, md, 3)
+    m.exitInitializationMode()
+    read_every_variable(m, md, 3)
+    while m.updateDiscreteStates()[0]:
+        pass
+    m.enterContinuousTimeMode()
+    x = (ctypes.c_double * 2)()
+    m.getContinuousStates(x, 2)
+    m.setTime(1e-4)
+    m.setContinuousStates(x, 2)
+    read_every_variable(m, md, 3)
+    m.terminate()
+    read_every_variable(m, md, 3)
+    m.freeInstance()
