@@ -18,13 +18,17 @@
  *     `time` or event indicators; in Continuous-Time Mode only continuous Float64 inputs), for
  *     finite Float64 values and for Strings that are not NULL and fit;
  *   - no NaN from fmi3GetFloat64 with fmi3OK; fmi3GetString gives terminated strings;
- *   - fmi3DoStep: with fmi3OK and no early return, lastSuccessfulTime is currentCommunicationPoint +
- *     communicationStepSize exactly; earlyReturn only with earlyReturnAllowed and fmi3OK, and then
- *     lastSuccessfulTime lies after the step's start and before its end; eventHandlingNeeded only with
- *     eventModeUsed and earlyReturnAllowed; after fmi3Discard lastSuccessfulTime lies in the step;
- *     terminateSimulation never;
- *   - the numbers of states and event indicators are the model's; states, derivatives and
- *     indicators with fmi3OK are not NaN, nominals finite and positive;
+ *   - fmi3DoStep: a step accepted (fmi3OK or fmi3Warning) without early return ends at
+ *     currentCommunicationPoint + communicationStepSize exactly (lastSuccessfulTime); earlyReturn
+ *     only with earlyReturnAllowed and fmi3OK, and then lastSuccessfulTime lies in
+ *     (currentCommunicationPoint, currentCommunicationPoint + communicationStepSize];
+ *     eventHandlingNeeded only with eventModeUsed and earlyReturnAllowed; after fmi3Discard
+ *     lastSuccessfulTime lies in the step; terminateSimulation never;
+ *   - the numbers of states and event indicators are the model's; states, derivatives (also
+ *     directional ones) and indicators with fmi3OK are finite, nominals finite and positive; the
+ *     event iteration of Model Exchange settles within FZ_EVENT_PASS_BOUND passes;
+ *   - the call order in Continuous-Time Mode of Model Exchange does not matter (fz_call_order,
+ *     order.c);
  *   - the functions of what the FMU does not offer (Scheduled Execution, Configuration Mode, clocks,
  *     output and adjoint derivatives, the data types it has no variable of) never return fmi3OK for a
  *     value reference; the intermediate update callback is never called (providesIntermediateUpdate
