@@ -504,6 +504,15 @@ static void remove_resources(void)
     if (slowest > 0.0) fprintf(stderr, "==vi-fuzz== slowest call: %s, %.3f s of CPU time\n", slowest_call, slowest);
 }
 
+int fz_off(const char *name)
+{
+    const char *list = getenv("VI_FUZZ_OFF");
+    size_t n = strlen(name);
+    for (const char *p = list; p && (p = strstr(p, name)) != NULL; p += n)
+        if ((p == list || p[-1] == ',') && (p[n] == '\0' || p[n] == ',')) return 1;
+    return 0;
+}
+
 static double env_seconds(const char *name, double fallback)
 {
     const char *v = getenv(name);

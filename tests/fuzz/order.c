@@ -4,12 +4,15 @@
  *
  * FMI 2.0 (section 3.2.3) and FMI 3.0 let an importer in Continuous-Time Mode set the time, the
  * continuous states and the continuous inputs in any order before it asks for derivatives, event
- * indicators or outputs. So at one point of a run the harness takes an FMU state S and, each time
- * from S, makes the sets of order A (final values only) twice and those of order B once (another
- * order of the same final values, with up to FZ_DECOYS earlier sets of other values), and after each
- * asks the three getters (in an order of their own). Order A twice must give the same statuses and
- * bits (else restoring an FMU state is not exact, or an answer depends on something else); order B
- * must give those of order A. A set that is not fmi2OK/fmi3OK ends the check without a finding.
+ * indicators or outputs. So at one point of a run the harness takes an FMU state S, makes the sets
+ * of order A (final values only) and asks the three getters (in an order of their own); then, each
+ * time from S restored, order A again and order B (another order of the same final values, with up
+ * to FZ_DECOYS earlier sets of other values, and the getters in another order). Two properties:
+ *   - "call-order": order B gives the statuses and bits of order A, both from S restored;
+ *   - "restore": S restored gives back the continuous states read when it was taken, and order A
+ *     after the restore the statuses and bits it gave before.
+ * A set that is not fmi2OK/fmi3OK ends the check without a finding. VI_FUZZ_OFF (fuzz.h) can leave
+ * either property out.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -116,20 +119,21 @@ static int run(fz_slot *s, const fz_me_face *f, const variables *v, const action
 }
 
 /* The same statuses, and with OK the same bits, or a finding naming what differs. */
-static void compare(const fz_me_face *f, const variables *v, const answers *a, const answers *b, const char *what)
+static void compare(const fz_me_face *f, const variables *v, const answers *a, const answers *b, const char *what,
+                    const char *first)
 {
     static const char *const kinds[] = {"derivative", "event indicator", "output"};
     for (int g = 0; g < 3; g++) {
         size_t n = g == 0 ? v->nx : g == 1 ? v->nz : v->n_outputs;
         if (a->status[g] != b->status[g])
-            fz_fail("call order: %s: %s returned %d after order A and %d after %s", what, f->name[g], a->status[g],
-                    b->status[g], what);
+            fz_fail("%s: %s returned %d after %s and %d after %s", what, f->name[g], a->status[g], first, b->status[g],
+                    what);
         if (a->status[g] != 0) continue;
         for (size_t i = 0; i < n; i++)
             if (memcmp(&a->value[g][i], &b->value[g][i], sizeof(double)) != 0)
-                fz_fail("call order: %s: %s %zu%s%s is %.17g after order A and %.17g after %s (same time, states and "
-                        "inputs)", what, kinds[g], i, g == 2 ? ", vr " : "",
-                        g == 2 ? MODEL->variables[v->output_vr[i]].name : "", a->value[g][i], b->value[g][i], what);
+                fz_fail("%s: %s %zu%s%s is %.17g after %s and %.17g after %s (same time, states and inputs)", what,
+                        kinds[g], i, g == 2 ? ", vr " : "", g == 2 ? MODEL->variables[v->output_vr[i]].name : "",
+                        a->value[g][i], first, b->value[g][i], what);
     }
 }
 
@@ -169,6 +173,19 @@ static void make_orders(fz_reader *r, const variables *v, double t0, const doubl
             }
 }
 
+/* Restore S (taken at states x0): 0 when it was fmi2OK/fmi3OK; the states must then be x0's bits. */
+static int restore(fz_slot *s, const fz_me_face *f, const variables *v, void *saved, unsigned mask,
+                   const double *x0)
+{
+    if (f->restore(s, saved, mask) != 0) return -1;
+    double x[FZ_ME_MAX];
+    if (!fz_off("restore") && f->get_states(s, x, v->nx) == 0 && memcmp(x, x0, v->nx * sizeof *x) != 0)
+        for (size_t i = 0; i < v->nx; i++)
+            if (memcmp(&x[i], &x0[i], sizeof *x) != 0)
+                fz_fail("restore: the FMU state gives back state %zu = %.17g, taken at %.17g", i, x[i], x0[i]);
+    return 0;
+}
+
 static void getter_order(fz_reader *r, int g[3])
 {
     g[0] = 0, g[1] = 1, g[2] = 2;
@@ -182,8 +199,7 @@ void fz_call_order(fz_slot *s, fz_reader *r, const fz_me_face *f)
     if (!s->c || s->fmu_type != fmi2ModelExchange || !(s->mask & FZ_CONTINUOUS) || isnan(s->t) || v.nx == 0 ||
         v.nx > FZ_ME_MAX || v.nz > FZ_ME_MAX)
         return;
-    const char *off = getenv("VI_FUZZ_NO_CALL_ORDER");
-    if (off && strcmp(off, "0") != 0) return;
+    if (fz_off("call-order") && fz_off("restore")) return;
     double x0[FZ_ME_MAX], t0 = s->t;
     if (f->get_states(s, x0, v.nx) != 0) return;
     action a[FZ_ACTIONS], b[FZ_ACTIONS];
@@ -197,16 +213,16 @@ void fz_call_order(fz_slot *s, fz_reader *r, const fz_me_face *f)
     if (f->save(s, &saved) != 0) return;
     answers first, again, other;
     fz_trace("    order A, then from the saved state order A again and order B (%zu sets, %zu with decoys)", na, nb);
-    int done = run(s, f, &v, a, na, ga, &first) && f->restore(s, saved, mask) == 0 &&
-               run(s, f, &v, a, na, ga, &again) && f->restore(s, saved, mask) == 0 &&
+    int done = run(s, f, &v, a, na, ga, &first) && restore(s, f, &v, saved, mask, x0) == 0 &&
+               run(s, f, &v, a, na, ga, &again) && restore(s, f, &v, saved, mask, x0) == 0 &&
                run(s, f, &v, b, nb, gb, &other);
     if (done) {
-        compare(f, &v, &first, &again, "order A again from the restored FMU state");
-        compare(f, &v, &first, &other, "order B");
+        if (!fz_off("restore")) compare(f, &v, &first, &again, "restore: order A from the restored FMU state", "order A");
+        if (!fz_off("call-order")) compare(f, &v, &again, &other, "call order: order B", "order A (both from the FMU state)");
         for (size_t i = 0; i < na; i++)
             if (a[i].kind == SET_TIME) s->t = a[i].t;
     } else {
-        s->t = f->restore(s, saved, mask) == 0 ? t0 : NAN; /* NAN: unknown */
+        s->t = restore(s, f, &v, saved, mask, x0) == 0 ? t0 : NAN; /* NAN: unknown */
     }
     f->drop(s, &saved);
 }
