@@ -10,8 +10,9 @@ compiling), which prints the variable table, the one source of truth for the var
 come every variable (name, value reference, type, causality, variability, initial, start, min,
 max, unit, description), the Enumeration types with their items, the instantiationToken (the table's GUID)
 and the lists of ModelStructure. What the table does not hold comes from the model's FMI 2.0
-description, which the FMI 2.0 tests check against the same table: the model's name, description
-and version, the unit definitions, the default experiment, the log categories' descriptions, the
+description (as stamped with the release by cmake/vi_fmu_stamp.py), which the FMI 2.0 tests check
+against the same table: the model's name, description, version, generation date, copyright and
+licence, the unit definitions, the default experiment, the log categories' descriptions, the
 descriptions of enumeration types, the nominal values, Model Exchange (its capabilities, the state
 derivatives, the number of event indicators), and which variables each unknown depends on.
 
@@ -143,6 +144,7 @@ def main():
                 description=md2.get("description") and md2.get("description").replace("fmi2", "fmi3"),
                 version=md2.get("version"), author=md2.get("author"), copyright=md2.get("copyright"),
                 license=md2.get("license"), generationTool="VibroImpact cmake/vi_fmi3_description.py",
+                generationDateAndTime=md2.get("generationDateAndTime"),
                 instantiationToken=guid, variableNamingConvention=md2.get("variableNamingConvention"))
     out.append(f"<fmiModelDescription{attrs(**root)}>")
     me2 = md2.find("ModelExchange")

@@ -23,6 +23,18 @@ BUILD = _fmu.build_dir()
 SOLVER = int(os.environ["VI_SOLVER"]) if os.environ.get("VI_SOLVER") else None
 
 
+def _default_solver():
+    """The `solver` an FMU run gets when nothing sets it: the model description's start value."""
+    if not FMU.exists():
+        return None
+    return int(next(v.start for v in read_model_description(str(FMU)).modelVariables if v.name == "solver"))
+
+
+DEFAULT_SOLVER = _default_solver()
+# the solver of a run that sets none: VI_SOLVER's, else the FMU's default
+RUN_SOLVER = SOLVER if SOLVER is not None else DEFAULT_SOLVER
+
+
 def with_solver(params):
     return params if SOLVER is None or "solver" in (params or {}) else {**(params or {}), "solver": SOLVER}
 

@@ -87,14 +87,15 @@ last = c_double()
 s.fmi2GetRealStatus(s.component, 2, byref(last))  # fmi2LastSuccessfulTime
 names = ["y", "v", "F", "delta", "delta_f"]
 out = dict(zip(names, s.getReal([vr[n] for n in names])))
-messages = [m for _, _, m in log.messages]
+messages = [m for st, _, m in log.messages if st != 1]  # warnings (fmi2Warning, validity) apart
+warnings = [m for st, _, m in log.messages if st == 1]
 events = None
 if status != "error":  # the statistics of fmi2Terminate: the events of the whole run
     s.setDebugLogging(True, ["logSolver"])
     s.terminate()
     stats = [m for _, _, m in log.messages[len(messages):] if "statistics" in m]
     events = int(stats[0].split(" events")[0].rsplit(" ", 1)[-1]) if stats else None
-print(json.dumps(dict(status=status, last=last.value, t=t, messages=messages, events=events,
+print(json.dumps(dict(status=status, last=last.value, t=t, messages=messages, warnings=warnings, events=events,
                       n_impacts=s.getInteger([vr["n_impacts"]])[0], mode=s.getInteger([vr["mode"]])[0], **out)))
 '''
 

@@ -7,7 +7,7 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import SOLVER, effective, with_solver
+from conftest import RUN_SOLVER, effective, with_solver
 
 RUNNER = r"""
 import json, sys
@@ -110,7 +110,7 @@ def test_negligible_amplitude_keeps_the_static_state(fmu_path, law):
     # control holds it: rest to the tolerance (rtol 1e-6; the force 1.5 times the indentation's error,
     # with a factor 10 of global over local error, as in test_hertz). auto runs the explicit method until
     # its steps are held by that stability limit, then BDF.
-    tol = 1.5e-5 if SOLVER in (3, 4) else 16 * np.finfo(float).eps
+    tol = 1.5e-5 if RUN_SOLVER in (3, 4) else 16 * np.finfo(float).eps
     assert np.abs(r["F"] - W).max() <= tol * W
     assert np.abs(r["y"] - z["y"]).max() <= 1e-20
 

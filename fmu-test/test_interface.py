@@ -63,11 +63,22 @@ def test_xml_matches_c_table(model_description):
     check_xml_matches_c_table(model_description, "VibroImpact_dump_variables")
 
 
+# The attributes the build stamps into the root element (cmake/vi_fmu_stamp.py; fmu-test/test_release.py).
+RELEASE_ATTRIBUTES = r'\s+(?:version|generationDateAndTime|copyright|license)="[^"]*"'
+
+
 def test_xml_at_top_level_is_the_packed_one(fmu_path):
+    """The packed description is the hand-written one with the release stamped into its root element."""
+    import re
     import zipfile
     with zipfile.ZipFile(fmu_path) as z:
-        assert z.read("modelDescription.xml") == (ROOT / "modelDescription.xml").read_bytes()
+        packed = z.read("modelDescription.xml").decode("utf-8")
         assert "binaries/linux64/VibroImpact.so" in z.namelist()
+    written = (ROOT / "modelDescription.xml").read_text(encoding="utf-8")
+    root = re.search(r"<fmiModelDescription[^>]*>", packed)
+    unstamped = packed[:root.start()] + re.sub(RELEASE_ATTRIBUTES, "", root.group(0)) + packed[root.end():]
+    assert unstamped == written
+    assert len(re.findall(RELEASE_ATTRIBUTES, root.group(0))) == 4
 
 
 def test_fmpy_validate_finds_no_problem(fmu_path):

@@ -49,3 +49,26 @@ def test_each_input_jump_restarts_the_solver_once(logged, vr, solver, jumps):
     stats = [m for _, cat, m in inst.messages if cat == "logSolver" and "statistics" in m]
     assert len(stats) == 1 and statistic(stats[0], "events") == 0, inst.messages
     assert statistic(stats[0], "restarts") == jumps, stats[0]
+
+
+@pytest.mark.parametrize("solver", [1, 2, 3, 4])
+def test_model_exchange_logs_nothing_of_a_solver_it_does_not_use(solver):
+    """In Model Exchange the importer integrates: with logSolver on, neither the set-up nor the statistics
+    name one of the FMU's own methods; the statistics count the events handled (a shaken Hertz contact,
+    stepped to its first event and through it: one)."""
+    from vibroimpact.me import Me, MeInstance
+    inst = MeInstance()
+    inst.instantiate(categories=("logSolver",))
+    m = Me(inst)
+    m.start(dict(contact_model=1, a=1e-4, solver=solver))
+    t, event = m.euler_to(5e-3, 1e-6)  # until the contact is left: an event is due
+    assert event, t
+    m.fmu.enterEventMode()
+    m.settle()
+    inst.model.terminate()
+    texts = [t for _, cat, t in inst.messages if cat == "logSolver"]
+    inst.model.freeInstance()
+    assert not [t for t in texts if any(name in t for name in NAMES.values())], texts
+    stats = [t for t in texts if "statistics" in t]
+    assert len(stats) == 1 and stats[0].startswith("Model Exchange statistics: "), texts
+    assert statistic(stats[0], "events") == 1

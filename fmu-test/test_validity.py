@@ -1,6 +1,6 @@
 """The FMU says when a result leaves the model's range of validity (a contact radius
 sqrt(R* delta) above 0.1 R*, i.e. delta > 0.01 R*) and when options contradict each other, through
-the logger (fmi2Warning, category logStatusWarning), once per instance. Thresholds from closed forms:
+the logger (fmi2Warning, category logStatusWarning), once per instance, whatever the debug categories. Thresholds from closed forms:
 the Hertz static indentation (W/K)^(2/3) and the Hertz impact indentation
 (15 m v0^2/(16 E* sqrt(R*)))^(2/5)."""
 import numpy as np
@@ -71,8 +71,52 @@ def test_contradicting_options_warn(logged, vr, params, name):
     assert len(w) == 1 and name in w[0] and "ignored" in w[0], w
 
 
-def test_warnings_are_not_logged_when_the_category_is_off(logged, vr):
+def test_warnings_reach_the_logger_with_every_category_off(logged, vr):
+    """FMI: fmi2Warning means the logger was called and the user should see the message. With logging off
+    (fmpy's default) the warnings are still logged, and the call that logged them returns fmi2Warning."""
     inst = logged()
     s = inst.instantiate(logging=False)
-    start(s, vr, dict(contact_model=1, moving_contact=True, P=1e12))
-    assert warnings(inst) == []
+    s.setupExperiment(startTime=0.0)
+    s.enterInitializationMode()
+    s.setInteger([vr["contact_model"]], [1])
+    s.setBoolean([vr["moving_contact"]], [True])
+    s.setReal([vr["a"]], [1.0])  # larger than R* = 0.475 m
+    status = s._functions["fmi2ExitInitializationMode"](s.component)  # fmpy's wrapper hides a warning
+    assert status == WARNING
+    w = warnings(inst)
+    assert len(w) == 2 and "moving_contact" in w[0] and "exceeds R*" in w[1], w
+    assert raw_step(s, 0.0, 1e-5) == 0  # nothing new to say: fmi2OK
+
+
+def raw_step(s, t, h):
+    return s._functions["fmi2DoStep"](s.component, t, h, 1)
+
+
+def test_fmpy_default_run_shows_the_amplitude_warning(fmu_path, capfd):
+    """fmpy.simulate_fmu with its defaults (no debug logging) prints the warning of an amplitude larger
+    than R*, in FMI 2.0 Co-Simulation and Model Exchange."""
+    from fmpy import simulate_fmu
+    for kind in ("CoSimulation", "ModelExchange"):
+        simulate_fmu(fmu_path, fmi_type=kind, start_values={"a": 1.0}, stop_time=1e-3)
+        out = capfd.readouterr().out
+        assert "[WARNING]" in out and "a = 1 m exceeds R* = 0.475 m" in out, (kind, out)
+
+
+def test_debug_logging_enables_exactly_the_categories_named(logged, vr):
+    """fmi2SetDebugLogging(true, [c]) after (true, []) leaves only c on: no event messages afterwards."""
+    inst = logged()
+    s = inst.instantiate(logging=False)
+    s.setDebugLogging(True, [])  # all
+    s.setDebugLogging(True, ["logStatusWarning"])  # exactly this one
+    del inst.messages[:]  # the call itself was logged while every category was on
+    start(s, vr, dict(a=1e-4))
+    for k in range(100):
+        s.doStep(k * 1e-5, 1e-5)
+    assert not [m for status, cat, m in inst.messages if cat in ("logEvents", "logSolver", "logFmi2Call")]
+    inst2 = logged()
+    s2 = inst2.instantiate(logging=False)
+    s2.setDebugLogging(True, ["logEvents"])
+    start(s2, vr, dict(a=1e-4))
+    for k in range(100):
+        s2.doStep(k * 1e-5, 1e-5)
+    assert [m for status, cat, m in inst2.messages if cat == "logEvents"]  # the control: events do happen

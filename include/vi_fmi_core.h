@@ -143,6 +143,7 @@ struct vi_core {
     char *name;
     unsigned state; /* one VI_ST_* bit */
     unsigned log_mask; /* bit per VI_CAT_* */
+    int warned;        /* a warning reached the logger during the current call: it returns VI_STATUS_WARNING */
     int stop_time_defined;
     double stop_time;
     unsigned face_options; /* the face's own settings of the instance (not in FMU states) */

@@ -22,7 +22,10 @@
  * away; both come back to the plain guard at a completed step.
  *
  * The input yC_in is taken by its value only: the rate of delta that the turning point (Johnson,
- * LEPP) and stick guards use is yC' without the input's rate. With a moving input and a plastic
+ * LEPP) and stick guards use is yC' without the input's rate. At a state event the mode is chosen with
+ * the inputs' mean rates since the last completed step or event before the event's time (their values
+ * then and now), so that a contact left while the platform input moves away faster than the mass is
+ * left in one event. With a moving input and a plastic
  * law, prefer co-simulation with input derivatives, or move the platform through a, f and the
  * rolling profile, whose rates are known.
  */
@@ -41,6 +44,11 @@ typedef struct {
     int zeno;   /* consecutive events each within VI_ZENO_ULPS of the one before (vi_sim_zeno_count) */
     double t_event; /* time of the last state event */
     int stale;      /* time or states set since the model last caught up with them */
+    /* the last two times [s] a step was completed or an event handled, at different times, and the inputs
+     * then (yC_in [m], F_ext [N]), newest last */
+    struct {
+        double t, u[2];
+    } marks[2];
 } vi_me;
 
 /* What one pass of the event iteration did. */

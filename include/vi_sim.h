@@ -107,6 +107,8 @@ void vi_sim_free(vi_sim *s);
 int vi_sim_prepare(vi_sim *s);
 /* vi_sim_prepare, then create the solver. 0 or -1 (s->msg). */
 int vi_sim_initialize(vi_sim *s);
+/* Log (category solver) the method, the tolerances and the scales of an initialized simulation. */
+void vi_sim_log_solver(const vi_sim *s);
 /* Integrate from s->d.t to t_end > s->d.t, locating and applying every event (doc/model.md section 7.1):
  *   VI_SIM_OK:      s->d.t = t_end;
  *   VI_SIM_DISCARD: a work bound was reached or events accumulate at one instant (Zeno); s->d.t is

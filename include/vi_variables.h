@@ -47,7 +47,7 @@
   X(a, Real, none, parameter, tunable, exact, 0.0, VI_NONE, VI_NONE, "m", "amplitude of the internal harmonic platform excitation (tunable: a change moves the platform)") \
   X(f, Real, none, parameter, tunable, exact, 560.0, VI_AT(0.0), VI_NONE, "Hz", "frequency of the internal harmonic platform excitation (tunable: the phase stays continuous)") \
   X(rtol, Real, none, parameter, fixed, exact, 1e-6, VI_AT(VI_RTOL_MIN), VI_AT(VI_RTOL_MAX), "", "relative tolerance (a tolerance from fmi2SetupExperiment or fmi3EnterInitializationMode wins)") \
-  X(solver, Integer, Solver, parameter, fixed, exact, 2, VI_NONE, VI_NONE, "", "integration method: CVODE BDF or Adams (linear multistep), Dormand-Prince 8(5,3) (explicit one-step, dense output), or auto (Dormand-Prince 8(5,3), CVODE BDF while the problem is stiff)") \
+  X(solver, Integer, Solver, parameter, fixed, exact, 4, VI_NONE, VI_NONE, "", "integration method: CVODE BDF or Adams (linear multistep), Dormand-Prince 8(5,3) (explicit one-step, dense output), or auto (Dormand-Prince 8(5,3), CVODE BDF while the problem is stiff)") \
   X(max_step, Real, none, parameter, fixed, exact, 0.0, VI_AT(0.0), VI_NONE, "s", "maximum internal step of the solver: 0 = none, else at least " VI_STRING_OF(VI_MAX_STEP_MIN) " s") \
   X(F, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N", "contact force") \
   X(delta, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m", "indentation yC - y") \

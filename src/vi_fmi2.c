@@ -283,7 +283,7 @@ fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *fmi2eventInfo)
 {
     vi_fmu_event ev;
     vi_status st = vi_core_new_discrete_states(c, "fmi2NewDiscreteStates", fmi2eventInfo ? &ev : NULL);
-    if (st == VI_STATUS_OK) {
+    if (st <= VI_STATUS_WARNING) {
         fmi2eventInfo->newDiscreteStatesNeeded = ev.another_pass ? fmi2True : fmi2False;
         fmi2eventInfo->terminateSimulation = ev.terminate ? fmi2True : fmi2False;
         fmi2eventInfo->nominalsOfContinuousStatesChanged = ev.nominals_changed ? fmi2True : fmi2False;
@@ -306,7 +306,7 @@ fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean noSetFMUStat
     int enter = 0, terminate = 0;
     vi_status st = vi_core_completed_step(c, "fmi2CompletedIntegratorStep", enterEventMode && terminateSimulation
                                                                                  ? &enter : NULL, &terminate);
-    if (st == VI_STATUS_OK) {
+    if (st <= VI_STATUS_WARNING) {
         *enterEventMode = enter ? fmi2True : fmi2False;
         *terminateSimulation = terminate ? fmi2True : fmi2False;
     }

@@ -140,7 +140,9 @@ fmi3Status fmi3EnterInitializationMode(fmi3Instance instance, fmi3Boolean tolera
     const char *fn = "fmi3EnterInitializationMode";
     vi_status st = vi_core_setup_experiment(instance, fn, toleranceDefined, tolerance, startTime, stopTimeDefined,
                                             stopTime);
-    return (fmi3Status)(st == VI_STATUS_OK ? vi_core_enter_init(instance, fn) : st);
+    if (st > VI_STATUS_WARNING) return (fmi3Status)st;
+    vi_status entered = vi_core_enter_init(instance, fn);
+    return (fmi3Status)(entered > st ? entered : st);
 }
 
 static int uses_event_mode(fmi3Instance instance)
@@ -153,8 +155,9 @@ fmi3Status fmi3ExitInitializationMode(fmi3Instance instance)
 {
     const char *fn = "fmi3ExitInitializationMode";
     vi_status st = vi_core_exit_init(instance, fn);
-    if (st == VI_STATUS_OK && uses_event_mode(instance)) st = vi_core_enter_event_mode(instance, fn);
-    return (fmi3Status)st;
+    if (st > VI_STATUS_WARNING || !uses_event_mode(instance)) return (fmi3Status)st;
+    vi_status entered = vi_core_enter_event_mode(instance, fn);
+    return (fmi3Status)(entered > st ? entered : st);
 }
 
 fmi3Status fmi3EnterEventMode(fmi3Instance instance)
@@ -440,7 +443,7 @@ fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discrete
     if (c->kind == VI_KIND_ME) { /* one pass of the model's event iteration */
         vi_fmu_event ev;
         vi_status st = vi_core_new_discrete_states(instance, fn, &ev);
-        if (st == VI_STATUS_OK) {
+        if (st <= VI_STATUS_WARNING) {
             *discreteStatesNeedUpdate = ev.another_pass, *terminateSimulation = ev.terminate;
             *nominalsOfContinuousStatesChanged = ev.nominals_changed;
             *valuesOfContinuousStatesChanged = ev.states_changed;
@@ -471,7 +474,7 @@ fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance, fmi3Boolean noSetF
     int enter = 0, terminate = 0;
     vi_status st = vi_core_completed_step(instance, "fmi3CompletedIntegratorStep",
                                           enterEventMode && terminateSimulation ? &enter : NULL, &terminate);
-    if (st == VI_STATUS_OK) *enterEventMode = enter, *terminateSimulation = terminate;
+    if (st <= VI_STATUS_WARNING) *enterEventMode = enter, *terminateSimulation = terminate;
     return (fmi3Status)st;
 }
 

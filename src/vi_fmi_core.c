@@ -101,9 +101,11 @@ static void emit_printable(const vi_core *c, vi_status status, const char *categ
     c->face->emit(c, status, category, clean);
 }
 
+/* Warnings, discards and errors always reach the logger (FMI: the user is expected to see them); debug
+ * messages (status OK) only in the categories enabled. */
 static void vlog(const vi_core *c, vi_status status, int cat, const char *fmt, va_list ap)
 {
-    if (!c->cb.logger || (status < VI_STATUS_DISCARD && !vi_core_logs(c, cat))) return;
+    if (!c->cb.logger || (status < VI_STATUS_WARNING && !vi_core_logs(c, cat))) return;
     char text[1024];
     vsnprintf(text, sizeof text, fmt, ap);
     emit_printable(c, status, category_name(c, cat), text);
@@ -135,8 +137,9 @@ static void model_log(void *env, int category, const char *fmt, ...)
     static const vi_status status_of[] = {[VI_FMU_LOG_EVENTS] = VI_STATUS_OK, [VI_FMU_LOG_SOLVER] = VI_STATUS_OK,
                                           [VI_FMU_LOG_WARNING] = VI_STATUS_WARNING,
                                           [VI_FMU_LOG_ERROR] = VI_STATUS_ERROR};
-    const vi_core *c = env;
+    vi_core *c = env;
     int known = category >= 0 && category < (int)(sizeof cat_of / sizeof cat_of[0]);
+    if (known && status_of[category] == VI_STATUS_WARNING && c->cb.logger) c->warned = 1;
     if (!known) /* a model's mistake: its message still reaches the importer, as an error */
         vi_core_log(c, VI_STATUS_ERROR, VI_CAT_ERROR, "the model logged with the unknown category %d:", category);
     va_list ap;
@@ -154,8 +157,12 @@ vi_core *vi_core_enter(void *instance, vi_call call, const char *fn)
         return NULL;
     }
     if (vi_core_logs(c, VI_CAT_CALL)) vi_core_log(c, VI_STATUS_OK, VI_CAT_CALL, "%s", fn);
+    c->warned = 0;
     return c;
 }
+
+/* The status of a call that did what it was asked: VI_STATUS_WARNING when it logged a warning. */
+static vi_status done(const vi_core *c) { return c->warned ? VI_STATUS_WARNING : VI_STATUS_OK; }
 #define ENTER(call)                                  \
     vi_core *c = vi_core_enter(instance, call, fn);  \
     if (!c) return VI_STATUS_ERROR
@@ -182,8 +189,8 @@ vi_status vi_core_set_debug_logging(void *instance, const char *fn, int on, size
         mask |= 1u << k;
     }
     if (n == 0) mask = (1u << VI_CAT_COUNT) - 1u;
-    c->log_mask = on ? c->log_mask | mask : c->log_mask & ~mask;
-    return VI_STATUS_OK;
+    c->log_mask = on ? mask : c->log_mask & ~mask; /* on: exactly the categories named */
+    return done(c);
 }
 
 vi_core *vi_core_instantiate(const vi_face *face, const vi_callbacks *cb, const char *fn, const char *name,
@@ -263,14 +270,14 @@ vi_status vi_core_setup_experiment(void *instance, const char *fn, int tolerance
     MODEL->setup_experiment(c->model, start, tolerance_defined != 0, tolerance);
     c->stop_time_defined = stop_defined != 0;
     c->stop_time = stop;
-    return VI_STATUS_OK;
+    return done(c);
 }
 
 vi_status vi_core_enter_init(void *instance, const char *fn)
 {
     ENTER(VI_CALL_ENTER_INIT);
     c->state = VI_ST_INIT;
-    return VI_STATUS_OK;
+    return done(c);
 }
 
 vi_status vi_core_exit_init(void *instance, const char *fn)
@@ -282,12 +289,12 @@ vi_status vi_core_exit_init(void *instance, const char *fn)
         c->state = VI_ST_EVENT; /* the importer runs the initial event iteration */
         c->t_committed = MODEL->time(c->model);
         c->event_passes = 0;
-        return VI_STATUS_OK;
+        return done(c);
     }
     if (MODEL->initialize(c->model) < 0) return vi_core_fail(c, fn);
     c->initialized = 1;
     c->state = VI_ST_STEP_COMPLETE;
-    return VI_STATUS_OK;
+    return done(c);
 }
 
 vi_status vi_core_terminate(void *instance, const char *fn)
@@ -295,7 +302,7 @@ vi_status vi_core_terminate(void *instance, const char *fn)
     ENTER(VI_CALL_TERMINATE);
     if (MODEL->terminate) MODEL->terminate(c->model);
     c->state = VI_ST_TERMINATED;
-    return VI_STATUS_OK;
+    return done(c);
 }
 
 vi_status vi_core_reset(void *instance, const char *fn)
@@ -305,7 +312,7 @@ vi_status vi_core_reset(void *instance, const char *fn)
     c->stop_time_defined = 0;
     c->initialized = 0;
     c->state = VI_ST_INSTANTIATED;
-    return VI_STATUS_OK;
+    return done(c);
 }
 
 double vi_core_time(const vi_core *c) { return MODEL->time(c->model); }
@@ -473,7 +480,7 @@ vi_status vi_core_get(void *instance, const char *fn, const unsigned vr[], size_
         if (api == VI_Real) elem_store(values, elem, i, *(const double *)p, 0);
         else elem_store(values, elem, i, 0.0, *(const int *)p);
     }
-    return VI_STATUS_OK;
+    return done(c);
 }
 
 static int tunable(const vi_variable *v) { return strcmp(v->variability, "tunable") == 0; }
@@ -608,7 +615,7 @@ vi_status vi_core_set(void *instance, const char *fn, const unsigned vr[], size_
         }
         changed(c, v);
     }
-    return VI_STATUS_OK;
+    return done(c);
 }
 
 vi_status vi_core_set_input_derivatives(void *instance, const char *fn, const unsigned vr[], size_t nvr,
@@ -629,7 +636,7 @@ vi_status vi_core_set_input_derivatives(void *instance, const char *fn, const un
         *derivative(c, &MODEL->variables[vr[i]]) = values[i];
         MODEL->changed(c->model);
     }
-    return VI_STATUS_OK;
+    return done(c);
 }
 
 /* ---- FMU state -------------------------------------------------------------------------------- */
@@ -788,7 +795,7 @@ vi_status vi_core_get_fmu_state(void *instance, const char *fn, void **state)
     memcpy(payload(s), MODEL->state(c->model), MODEL->state_size);
     s->checksum = checksum(s);
     *state = s;
-    return VI_STATUS_OK;
+    return done(c);
 }
 
 vi_status vi_core_set_fmu_state(void *instance, const char *fn, const void *state)
@@ -804,7 +811,7 @@ vi_status vi_core_set_fmu_state(void *instance, const char *fn, const void *stat
     c->initialized = saved_running(c, s) != 0;
     if (MODEL->restore && MODEL->restore(c->model, saved_running(c, s)) != 0) return vi_core_fail(c, fn);
     c->t_committed = MODEL->time(c->model);
-    return VI_STATUS_OK;
+    return done(c);
 }
 
 vi_status vi_core_free_fmu_state(void *instance, const char *fn, void **state)
@@ -814,7 +821,7 @@ vi_status vi_core_free_fmu_state(void *instance, const char *fn, void **state)
         c->cb.free(*state);
         *state = NULL;
     }
-    return VI_STATUS_OK;
+    return done(c);
 }
 
 vi_status vi_core_fmu_state_size(void *instance, const char *fn, const void *state, size_t *size)
@@ -824,7 +831,7 @@ vi_status vi_core_fmu_state_size(void *instance, const char *fn, const void *sta
     const vi_saved_state *s = state;
     if (!check_saved(c, fn, s, s ? s->size : 0)) return VI_STATUS_ERROR;
     *size = saved_size();
-    return VI_STATUS_OK;
+    return done(c);
 }
 
 vi_status vi_core_serialize(void *instance, const char *fn, const void *state, unsigned char *bytes, size_t size)
@@ -835,7 +842,7 @@ vi_status vi_core_serialize(void *instance, const char *fn, const void *state, u
     const vi_saved_state *s = state;
     if (!check_saved(c, fn, s, s ? s->size : 0)) return VI_STATUS_ERROR;
     memcpy(bytes, state, saved_size());
-    return VI_STATUS_OK;
+    return done(c);
 }
 
 vi_status vi_core_deserialize(void *instance, const char *fn, const unsigned char *bytes, size_t size, void **state)
@@ -858,7 +865,7 @@ vi_status vi_core_deserialize(void *instance, const char *fn, const unsigned cha
     } else {
         *state = s;
     }
-    return VI_STATUS_OK;
+    return done(c);
 }
 
 /* ---- Co-Simulation ---------------------------------------------------------------------------- */
@@ -899,14 +906,14 @@ static vi_status do_step(void *instance, const char *fn, double tc, double h, in
     }
     if (rc == VI_FMU_EVENT) {
         *event = 1;
-        return VI_STATUS_OK;
+        return done(c);
     }
     if (rc > 0) { /* stopped early at a consistent state: the last successful time tells where */
         vi_core_log(c, VI_STATUS_DISCARD, VI_CAT_DISCARD, "%s: %s", fn, MODEL->message(c->model));
         c->state = VI_ST_STEP_FAILED;
         return VI_STATUS_DISCARD;
     }
-    return VI_STATUS_OK;
+    return done(c);
 }
 
 vi_status vi_core_do_step(void *instance, const char *fn, double tc, double h) { return do_step(instance, fn, tc, h, NULL); }
@@ -941,13 +948,13 @@ vi_status vi_core_enter_event_mode(void *instance, const char *fn)
         if (c->state != VI_ST_STEP_COMPLETE || !c->face->cs_event_mode)
             return vi_core_refuse(c, "%s: not allowed in state '%s'", fn, state_name(c->state));
         c->state = VI_ST_EVENT;
-        return VI_STATUS_OK;
+        return done(c);
     }
     ME_ARGS(NULL, 0, 0, "");
     if (c->state == VI_ST_CONTINUOUS) c->event_passes = 0;
     c->state = VI_ST_EVENT;
     c->t_committed = MODEL->time(c->model);
-    return VI_STATUS_OK;
+    return done(c);
 }
 
 vi_status vi_core_enter_step_mode(void *instance, const char *fn)
@@ -955,7 +962,7 @@ vi_status vi_core_enter_step_mode(void *instance, const char *fn)
     ENTER(VI_CALL_ENTER_STEP_MODE);
     if (c->kind != VI_KIND_CS) return vi_core_refuse(c, "%s: only for Co-Simulation", fn);
     c->state = VI_ST_STEP_COMPLETE;
-    return VI_STATUS_OK;
+    return done(c);
 }
 
 vi_status vi_core_new_discrete_states(void *instance, const char *fn, vi_fmu_event *ev)
@@ -978,9 +985,10 @@ vi_status vi_core_new_discrete_states(void *instance, const char *fn, vi_fmu_eve
         char text[1024];
         snprintf(text, sizeof text, "%s: terminateSimulation: %s", fn, MODEL->message(c->model));
         emit_printable(c, VI_STATUS_WARNING, category_name(c, VI_CAT_WARNING), text);
+        c->warned = 1;
     }
     c->t_committed = MODEL->time(c->model);
-    return VI_STATUS_OK;
+    return done(c);
 }
 
 vi_status vi_core_enter_continuous_mode(void *instance, const char *fn)
@@ -990,7 +998,7 @@ vi_status vi_core_enter_continuous_mode(void *instance, const char *fn)
     if (MODEL->enter_continuous) MODEL->enter_continuous(c->model);
     c->state = VI_ST_CONTINUOUS;
     c->event_passes = 0;
-    return VI_STATUS_OK;
+    return done(c);
 }
 
 vi_status vi_core_completed_step(void *instance, const char *fn, int *enter_event, int *terminate)
@@ -1001,7 +1009,7 @@ vi_status vi_core_completed_step(void *instance, const char *fn, int *enter_even
     *enter_event = MODEL->completed_step(c->model) != 0;
     *terminate = 0;
     c->t_committed = MODEL->time(c->model);
-    return VI_STATUS_OK;
+    return done(c);
 }
 
 vi_status vi_core_set_time(void *instance, const char *fn, double t)
@@ -1017,7 +1025,7 @@ vi_status vi_core_set_time(void *instance, const char *fn, double t)
         return vi_core_refuse(c, "%s: t = %.17g s in event mode, whose time is %.17g s: time moves in continuous-time "
                                  "mode only", fn, t, MODEL->time(c->model));
     MODEL->set_time(c->model, t);
-    return VI_STATUS_OK;
+    return done(c);
 }
 
 vi_status vi_core_set_states(void *instance, const char *fn, const double x[], size_t n)
@@ -1029,7 +1037,7 @@ vi_status vi_core_set_states(void *instance, const char *fn, const double x[], s
             return vi_core_refuse(c, "%s: state %zu (%s) = %g is not finite; nothing was set", fn, i,
                                   MODEL->variables[MODEL->state_vrs[i]].name, x[i]);
     MODEL->set_states(c->model, x);
-    return VI_STATUS_OK;
+    return done(c);
 }
 
 /* A Model Exchange array the model filled: refused when an element is not finite (the error state of
@@ -1039,7 +1047,7 @@ static vi_status me_values(const vi_core *c, const char *fn, const double v[], s
     for (size_t i = 0; i < n; i++)
         if (!isfinite(v[i]))
             return vi_core_refuse(c, "%s: element %zu = %g has no value in state '%s'", fn, i, v[i], state_name(c->state));
-    return VI_STATUS_OK;
+    return done(c);
 }
 
 vi_status vi_core_get_states(void *instance, const char *fn, double x[], size_t n)
@@ -1063,7 +1071,7 @@ vi_status vi_core_get_event_indicators(void *instance, const char *fn, double z[
 {
     ENTER(VI_CALL_GET_EVENT_INDICATORS);
     ME_ARGS(z, n, (size_t)MODEL->n_indicators, "event indicators");
-    if (n == 0) return VI_STATUS_OK;
+    if (n == 0) return done(c);
     if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) return vi_core_refuse(c, "%s: %s", fn, MODEL->message(c->model));
     MODEL->indicators(c->model, z);
     return me_values(c, fn, z, n);
@@ -1113,5 +1121,5 @@ vi_status vi_core_directional_derivative(void *instance, const char *fn, const u
     if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) return vi_core_refuse(c, "%s: %s", fn, MODEL->message(c->model));
     if (MODEL->directional_derivative(c->model, unknown, n_unknown, known, n_known, dknown, dunknown) < 0)
         return vi_core_refuse(c, "%s: %s", fn, MODEL->message(c->model));
-    return VI_STATUS_OK;
+    return done(c);
 }

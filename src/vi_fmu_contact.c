@@ -63,6 +63,7 @@ static int initialize(void *m)
 {
     vi_sim *s = m;
     if (vi_sim_initialize(s) < 0) return -1;
+    vi_sim_log_solver(s);
     s->log(s->log_env, VI_LOG_EVENTS, "initial mode %d, delta = %.9g m, v = %.9g m/s", s->d.M.mode, s->d.x[0],
            s->d.x[1]);
     return 0;
@@ -72,9 +73,14 @@ static int advance(void *m, double t_end) { return vi_sim_advance(m, t_end); }
 static int advance_to_event(void *m, double t_end) { return vi_sim_advance_until(m, t_end, 1); }
 static double time_of(const void *m) { return ((const vi_sim *)m)->d.t; }
 
+/* The statistics of the solver that ran; Model Exchange's solver is the importer's: its events only. */
 static void terminate(void *m)
 {
     const vi_sim *s = m;
+    if (((const vi_me *)m)->active) {
+        s->log(s->log_env, VI_LOG_SOLVER, "Model Exchange statistics: %ld events", s->d.n_events);
+        return;
+    }
     vi_solver_stats st;
     vi_sim_statistics(s, &st);
     s->log(s->log_env, VI_LOG_SOLVER,

@@ -94,6 +94,38 @@ static void arm_guards_at_zero(vi_me *e)
     }
 }
 
+/* A step completed or an event handled: the time and the inputs that mean input rates are taken from
+ * (a mark at the same time as the newest replaces it). */
+static void mark_step(vi_me *e)
+{
+    const vi_sim_data *d = &e->s.d;
+    if (d->t != e->marks[1].t) e->marks[0] = e->marks[1];
+    e->marks[1].t = d->t;
+    e->marks[1].u[0] = d->M.yC_in.u;
+    e->marks[1].u[1] = d->M.F_ext.u;
+}
+
+/* After a restore or at the start: both marks now (no rate until time has passed). */
+static void mark_start(vi_me *e)
+{
+    mark_step(e);
+    e->marks[0] = e->marks[1];
+}
+
+/* While a state event chooses the mode (rates = 1): the inputs ramp at their mean rates since the newest
+ * mark before the event's time (0 where none is), else (rates = 0) they hold their values, as always
+ * between events. Their values at t do not change. */
+static void input_rates(vi_me *e, int rates)
+{
+    vi_sim_data *d = &e->s.d;
+    vi_model *M = &d->M;
+    int k = e->marks[1].t < d->t ? 1 : 0;
+    double h = d->t - e->marks[k].t;
+    int ramp = rates && h > 0.0;
+    M->yC_in = (vi_ramp){M->yC_in.u, ramp ? (M->yC_in.u - e->marks[k].u[0]) / h : 0.0, d->t};
+    M->F_ext = (vi_ramp){M->F_ext.u, ramp ? (M->F_ext.u - e->marks[k].u[1]) / h : 0.0, d->t};
+}
+
 int vi_me_initialize(vi_me *e)
 {
     vi_sim *s = &e->s;
@@ -108,6 +140,7 @@ int vi_me_initialize(vi_me *e)
     e->t_event = d->t;
     e->stale = 1;
     sync(e);
+    mark_start(e);
     memset(d->guard_band, 0, sizeof d->guard_band);
     arm_guards_at_zero(e);
     double nominal[2];
@@ -202,12 +235,14 @@ int vi_me_event_update(vi_me *e, vi_me_event *ev)
     if (fired >= 0) {
         guard_noise(e, ulps, tol);
         double band = VI_GRAZE_TOL * tol[fired] + VI_GRAZE_ULPS * ulps[fired] + DBL_MIN;
+        input_rates(e, 1);
         if (fabs(g[fired]) <= band) { /* a located crossing: onto the surface */
             vi_model_event(M, t, x, fired);
         } else { /* a state beyond the surface: the mode of the state as it is */
             vi_model_freeze(M, t, x);
             vi_model_resolve(M, t, x);
         }
+        input_rates(e, 0);
         d->n_events++;
         e->zeno = vi_sim_zeno_count(e->zeno, e->t_event, t);
         e->t_event = t;
@@ -227,6 +262,7 @@ int vi_me_event_update(vi_me *e, vi_me_event *ev)
     for (int i = 0; i < VI_NGUARDS; i++) ev->another_pass |= g[i] + d->guard_band[i] < 0.0;
     d->step_t0 = t;
     d->step_v0 = d->x[1];
+    mark_step(e);
     vi_sim_check_validity(&e->s);
     if (fired >= 0 && e->zeno >= VI_ZENO_EVENTS) {
         snprintf(s->msg, sizeof s->msg, "events accumulate at t = %.17g s (Zeno): %d events each within %g ulps of time "
@@ -260,6 +296,7 @@ int vi_me_completed_step(vi_me *e)
         if (d->guard_band[i] > 0.0 && g[i] > d->guard_band[i]) d->guard_band[i] = 0.0; /* moved away: armed */
     d->step_t0 = d->t;
     d->step_v0 = d->x[1];
+    mark_step(e);
     vi_sim_check_validity(&e->s);
     return 0;
 }
@@ -305,6 +342,7 @@ int vi_me_restore(vi_me *e, int running)
     e->zeno = 0;
     e->stale = 1;
     if (e->active) e->y = platform(&e->s.d.M, e->s.d.t) - e->s.d.x[0];
+    mark_start(e); /* a state is taken between steps: one starts here */
     return 0;
 }
 

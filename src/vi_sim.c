@@ -216,9 +216,15 @@ int vi_sim_initialize(vi_sim *s)
     char text[400];
     if (vi_model_option_warnings(&d->par, text, sizeof text) > 0) s->log(s->log_env, VI_LOG_WARNING, "%s", text);
     vi_sim_check_validity(s);
-    s->log(s->log_env, VI_LOG_SOLVER, "%s, rtol %g, atol %g m and %g m/s (scales %g m, %g m/s)",
-           vi_solver_method_name(d->par.solver), rtol, d->atol[0], d->atol[1], L, V);
     return 0;
+}
+
+void vi_sim_log_solver(const vi_sim *s)
+{
+    const vi_sim_data *d = &s->d;
+    double rtol = rtol_of(d);
+    s->log(s->log_env, VI_LOG_SOLVER, "%s, rtol %g, atol %g m and %g m/s (scales %g m, %g m/s)",
+           vi_solver_method_name(d->par.solver), rtol, d->atol[0], d->atol[1], d->atol[0] / rtol, d->atol[1] / rtol);
 }
 
 int vi_sim_checkpoint(vi_sim *s)

@@ -55,6 +55,7 @@ typedef struct {
     unsigned asked[8];
     size_t n_asked;
     int fail_prepare, fail_init, fail_me_init, fail_event, fail_checkpoint, fail_restore, fail_dd;
+    int warn_in_init;        /* initialize logs a warning */
     int prepare_calls, changed_calls, terminate_calls, reset_calls, checkpoint_calls, restore_calls, continuous_calls;
     int event_calls, release_calls;
     int restored_running;    /* `running` of the last restore */
@@ -147,7 +148,12 @@ static void setup_experiment(void *m, double t0, int td, double tol)
     s->d.t = t0;
 }
 static int prepare(void *m) { stub *s = m; return s->prepare_calls++, s->fail_prepare ? -1 : 0; }
-static int initialize(void *m) { return ((stub *)m)->fail_init ? -1 : 0; }
+static int initialize(void *m)
+{
+    stub *s = m;
+    if (s->warn_in_init) s->log(s->env, VI_FMU_LOG_WARNING, "careful");
+    return s->fail_init ? -1 : 0;
+}
 static int me_initialize(void *m) { return ((stub *)m)->fail_me_init ? -1 : 0; }
 static int advance(void *m, double t_end)
 {

@@ -158,7 +158,7 @@ Test(core, a_get_asks_the_model_for_the_outputs_it_reads)
 
 /* ---- logging ---- */
 
-Test(core, the_model_logs_each_category_with_its_status_when_enabled_and_errors_always)
+Test(core, the_model_logs_each_category_with_its_status_when_enabled_and_warnings_and_errors_always)
 {
     record r = {0};
     vi_core *c = make(&r, 0);
@@ -171,9 +171,11 @@ Test(core, the_model_logs_each_category_with_its_status_when_enabled_and_errors_
                 {VI_FMU_LOG_SOLVER, "logSolver", VI_STATUS_OK},
                 {VI_FMU_LOG_WARNING, "logStatusWarning", VI_STATUS_WARNING}};
     for (int i = 0; i < 3; i++) {
+        int always = cats[i].status == VI_STATUS_WARNING; /* the user is expected to see a warning */
         r.count = 0;
         s->log(s->env, cats[i].cat, "m%d", i);
-        cr_assert(r.count == 0, "%s logged while disabled", cats[i].name);
+        cr_assert(r.count == always, "%s logged while disabled: %d", cats[i].name, r.count);
+        r.count = 0;
         const char *one[] = {cats[i].name};
         cr_assert(vi_core_set_debug_logging(c, "logging", 1, 1, one) == VI_STATUS_OK);
         s->log(s->env, cats[i].cat, "m%d", i);
@@ -184,7 +186,7 @@ Test(core, the_model_logs_each_category_with_its_status_when_enabled_and_errors_
         cr_assert(strcmp(r.text, want) == 0, "'%s'", r.text);
         cr_assert(vi_core_set_debug_logging(c, "logging", 0, 1, one) == VI_STATUS_OK);
         s->log(s->env, cats[i].cat, "again");
-        cr_assert(r.count == 1, "%s logged after it was disabled", cats[i].name);
+        cr_assert(r.count == 1 + always, "%s logged after it was disabled", cats[i].name);
     }
     r.count = 0;
     s->log(s->env, VI_FMU_LOG_ERROR, "bad %s", "thing");
@@ -223,14 +225,46 @@ Test(core, control_characters_are_written_as_hex_escapes)
     vi_core_free(c, "free");
 }
 
-Test(core, a_discard_is_logged_whatever_is_enabled_but_a_warning_only_when_enabled)
+Test(core, warnings_and_discards_are_logged_whatever_is_enabled_debug_messages_only_when_enabled)
 {
     record r = {0};
     vi_core *c = make(&r, 0);
-    vi_core_log(c, VI_STATUS_WARNING, VI_CAT_WARNING, "w");
+    vi_core_log(c, VI_STATUS_OK, VI_CAT_EVENTS, "e");
     cr_assert(r.count == 0);
+    vi_core_log(c, VI_STATUS_WARNING, VI_CAT_WARNING, "w");
+    cr_assert(r.count == 1 && r.status == VI_STATUS_WARNING && strcmp(r.category, "logStatusWarning") == 0);
     vi_core_log(c, VI_STATUS_DISCARD, VI_CAT_DISCARD, "d");
-    cr_assert(r.count == 1 && r.status == VI_STATUS_DISCARD && strcmp(r.category, "logStatusDiscard") == 0);
+    cr_assert(r.count == 2 && r.status == VI_STATUS_DISCARD && strcmp(r.category, "logStatusDiscard") == 0);
+    vi_core_free(c, "free");
+}
+
+Test(core, a_call_during_which_the_model_warned_returns_a_warning)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    stub *s = c->model;
+    s->warn_in_init = 1;
+    cr_assert(vi_core_enter_init(c, "enter") == VI_STATUS_OK);
+    cr_assert(vi_core_exit_init(c, "exit") == VI_STATUS_WARNING);
+    cr_assert(r.count == 1 && r.status == VI_STATUS_WARNING && strcmp(r.text, "careful") == 0, "%d '%s'", r.count, r.text);
+    const char *one[] = {"logEvents"};
+    cr_assert(vi_core_set_debug_logging(c, "logging", 1, 1, one) == VI_STATUS_OK, "the next call starts afresh");
+    vi_core_free(c, "free");
+}
+
+Test(core, debug_logging_on_enables_exactly_the_categories_named)
+{
+    record r = {0};
+    vi_core *c = make(&r, 0);
+    const char *events[] = {"logEvents"}, *solver[] = {"logSolver"};
+    cr_assert(vi_core_set_debug_logging(c, "logging", 1, 0, NULL) == VI_STATUS_OK); /* all */
+    cr_assert(vi_core_logs(c, VI_CAT_SOLVER) && vi_core_logs(c, VI_CAT_EVENTS));
+    cr_assert(vi_core_set_debug_logging(c, "logging", 1, 1, events) == VI_STATUS_OK);
+    cr_assert(vi_core_logs(c, VI_CAT_EVENTS) && !vi_core_logs(c, VI_CAT_SOLVER) && !vi_core_logs(c, VI_CAT_CALL));
+    cr_assert(vi_core_set_debug_logging(c, "logging", 1, 1, solver) == VI_STATUS_OK);
+    cr_assert(vi_core_logs(c, VI_CAT_SOLVER) && !vi_core_logs(c, VI_CAT_EVENTS));
+    cr_assert(vi_core_set_debug_logging(c, "logging", 0, 0, NULL) == VI_STATUS_OK);
+    cr_assert(!vi_core_logs(c, VI_CAT_SOLVER) && !vi_core_logs(c, VI_CAT_EVENTS));
     vi_core_free(c, "free");
 }
 
@@ -1496,7 +1530,7 @@ Test(core, a_pass_of_the_event_iteration_reports_what_the_model_filled_in)
     /* the model asks to terminate: its reason is logged as a warning though warnings are off */
     s->ev = (vi_fmu_event){.terminate = 1};
     int before = r.count;
-    cr_assert(vi_core_new_discrete_states(c, "nds", &ev) == VI_STATUS_OK && ev.terminate == 1);
+    cr_assert(vi_core_new_discrete_states(c, "nds", &ev) == VI_STATUS_WARNING && ev.terminate == 1);
     cr_assert(r.count == before + 1 && strcmp(r.category, "logStatusWarning") == 0);
     LAST_IS(r, VI_STATUS_WARNING, "nds: terminateSimulation: the stub says no");
     cr_assert(strcmp(r.text, "nds: terminateSimulation: the stub says no") == 0, "'%s'", r.text);

@@ -149,6 +149,7 @@ static void land_after_gap(double gap, changes *c, double *t0, double *t, int *m
     s.d.par.contact_model = VI_ContactModel_hertz;
     s.d.par.init = VI_Init_touching;
     s.d.par.v0 = 0.05;
+    s.d.par.solver = VI_Solver_adams; /* CVODE restarts at the restored state: the landing falls in the advance */
     cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
     cr_assert(vi_sim_advance(&s, 1e-4) == VI_SIM_OK && s.d.M.mode == VI_Mode_free, "%s", s.msg);
     s.d.x[0] = -gap;

@@ -622,7 +622,8 @@ static void capture(void *env, int category, const char *fmt, ...)
 /* A Hertz drop (P = g = 0, touching, moving in at 0.1 m/s) separates once, after the Hertz contact
  * time t_c = 2 (delta_max/v0) sqrt(pi) Gamma(7/5)/Gamma(9/10), delta_max = (15 m v0^2/(16 E* sqrt(R*)))^(2/5),
  * at delta = 0 (snapped onto the contact surface) and v = +v0 (elastic: the energy comes back). The
- * event's log line says so, value by value; the solver line gives atol = rtol (delta_max, delta_max w). */
+ * event's log line says so, value by value; the solver line (logged by the co-simulation driver after the
+ * set-up) gives atol = rtol (delta_max, delta_max w). */
 Test(sim, event_and_solver_log_lines_report_the_values)
 {
     vi_sim s;
@@ -633,6 +634,8 @@ Test(sim, event_and_solver_log_lines_report_the_values)
     s.d.par.solver = VI_Solver_dop853;
     s.d.par.rtol = 1e-10;
     cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    cr_assert(n_logged == 0, "the set-up logs nothing of a solver the driver may not use");
+    vi_sim_log_solver(&s);
     const vi_model *M = &s.d.M;
     double v0 = 0.1, dmax = pow(15.0 * M->m * v0 * v0 / (16.0 * M->J.E_star * sqrt(M->J.R_star)), 0.4);
     double w = sqrt(1.5 * M->K * sqrt(dmax) / M->m); /* the virgin stiffness at delta_max over m */

@@ -4,6 +4,8 @@
 #   dist/fmi3/*.fmu                                    x86_64-linux, x86_64-windows, aarch64-linux
 #                                                      (when the sources build FMI 3.0 FMUs; else skipped)
 # and the aarch64 Linux libraries (FMI 2.0 names no platform for them) in build/release/aarch64-linux/.
+# Each FMU carries its documentation/ page, its licences (documentation/licenses/) and the release version
+# and date in its model description (SOURCE_DATE_EPOCH: below).
 #
 # One build (CMakeLists.txt, vi_add_fmu in cmake/vi_fmu.cmake; Release, warnings are errors, the FMU
 # binaries stripped) per target in build/release/<target>/:
@@ -40,6 +42,14 @@ SUDO=""
 [ "$(id -u)" -ne 0 ] && SUDO=sudo
 
 [ "$(uname -m)" = x86_64 ] || die "the release is made on an x86_64 Debian machine (this is $(uname -m))"
+
+# --- the release's version and date (cmake/vi_fmu_stamp.py) -----------------------------------------------
+# Every build stamps the same generationDateAndTime into the model descriptions (the native FMUs take the
+# other builds' binaries only where their modelDescription.xml is the same file): SOURCE_DATE_EPOCH when
+# given, else the time of the last commit (a reproducible release), else now, fixed once for all builds.
+SOURCE_DATE_EPOCH=${SOURCE_DATE_EPOCH:-$(git -C "$ROOT" log -1 --format=%ct 2>/dev/null || date +%s)}
+export SOURCE_DATE_EPOCH
+# --- end of the release's version and date ---------------------------------------------------------------
 
 # --- what the builds need ---------------------------------------------------------------------------
 PYTHON=$(./tools/setup.sh) # the interpreter with fmpy (from $PYTHON, or the .venv/ setup makes)

@@ -1,4 +1,4 @@
-"""VibroImpact: an FMI 2.0 Co-Simulation FMU of dynamic unilateral elasto-plastic contact (Kowalska 2002),
+"""VibroImpact: an FMU (FMI 2.0 and 3.0) of dynamic unilateral elasto-plastic contact (Kowalska 2002),
 and the Python around it: the independent reference model, the sweeps on Dask, the figures and the
 benchmark, behind one command, `vibroimpact` (cli.py).
 

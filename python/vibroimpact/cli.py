@@ -42,10 +42,12 @@ def main(argv=None):
     a = parser().parse_args(argv[:1])   # the command's own options may look like ours (--help)
     module, function, _ = COMMANDS[a.command]
     if module is None:
+        from .fmi3 import fmu3_path
         from .fmu import fmu_path
-        argparse.ArgumentParser(prog="vibroimpact path", description=COMMANDS["path"][2]).parse_args(argv[1:])
+        ap = argparse.ArgumentParser(prog="vibroimpact path", description=COMMANDS["path"][2])
+        ap.add_argument("--fmi3", action="store_true", help="the FMI 3.0 FMU beside it (vibroimpact.fmi3.fmu3_path())")
         try:
-            print(fmu_path())
+            print(fmu3_path() if ap.parse_args(argv[1:]).fmi3 else fmu_path())
         except FileNotFoundError as e:
             print(f"vibroimpact: {e}", file=sys.stderr)
             return 1
