@@ -309,3 +309,27 @@ def test_co_simulation_functions_are_refused_on_a_model_exchange_instance(fmu_pa
     assert boolean_status(c, 3, ctypes.byref(done)) == 3 and done.value == -1  # fmi2Terminated
     assert "fmi2GetBooleanStatus" in inst.messages[-1][2] and "Model Exchange" in inst.messages[-1][2]
     me.fmu.freeInstance()
+
+
+def test_a_directional_derivative_that_overflows_is_refused(fmu_path):
+    """The harness's 'fmi2GetDirectionalDerivative returned OK with element 0 = inf': a seed of
+    1.8e308 along y times the slope of the acceleration (the contact stiffness over the mass)
+    overflowed, and the infinite derivative was returned with fmi2OK. A directional derivative that is not a finite number is refused, naming the unknown
+    and the known; a seed of 1 along the same direction still gives a finite, nonzero answer."""
+    from vibroimpact.me import Me, MeInstance
+
+    inst = MeInstance(fmu_path)
+    inst.instantiate(categories=())
+    me = Me(inst)
+    me.fmu.setupExperiment()
+    me.fmu.enterInitializationMode()
+    me.fmu.exitInitializationMode()
+    me.settle()
+    me.fmu.enterContinuousTimeMode()
+    unknown, known = [me.vr["der_v"]], [me.vr["y"]]
+    slope = me.fmu.getDirectionalDerivative(unknown, known, [1.0])[0]
+    assert math.isfinite(slope) and abs(slope) > 1.0, slope
+    with pytest.raises(FMICallException):
+        me.fmu.getDirectionalDerivative(unknown, known, [1.7976931348623157e308])
+    assert re.search(r"fmi2GetDirectionalDerivative: .*der_v.* not finite", inst.messages[-1][2]), inst.messages[-1]
+    me.fmu.freeInstance()
