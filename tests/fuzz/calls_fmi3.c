@@ -20,7 +20,7 @@
  *   - no NaN from fmi3GetFloat64 with fmi3OK; fmi3GetString gives terminated strings;
  *   - fmi3DoStep: a step accepted (fmi3OK or fmi3Warning) without early return ends at
  *     currentCommunicationPoint + communicationStepSize exactly (lastSuccessfulTime); earlyReturn
- *     only with earlyReturnAllowed and fmi3OK, and then lastSuccessfulTime lies in
+ *     only with earlyReturnAllowed and fmi3OK or fmi3Warning, and then lastSuccessfulTime lies in
  *     (currentCommunicationPoint, currentCommunicationPoint + communicationStepSize];
  *     eventHandlingNeeded only with eventModeUsed and earlyReturnAllowed; after fmi3Discard
  *     lastSuccessfulTime lies in the step; terminateSimulation never;
@@ -586,7 +586,7 @@ static fmi3Status do_step(fz_slot *s, double tc, double h, int no_set_prior, int
     if (!accepted && st != fmi3Discard) return st;
     if (nulls) fz_fail("fmi3DoStep returned %d with NULL output arguments", (int)st);
     if (terminate) fz_fail("fmi3DoStep set terminateSimulation; this FMU never asks to end");
-    if (early && (st != fmi3OK || !(s->options & FZ_EARLY_RETURN_ALLOWED)))
+    if (early && (!accepted || !(s->options & FZ_EARLY_RETURN_ALLOWED)))
         fz_fail("fmi3DoStep returned status %d with earlyReturn, earlyReturnAllowed %d", (int)st,
                 (s->options & FZ_EARLY_RETURN_ALLOWED) != 0);
     if (event && (s->options & (FZ_EVENT_MODE_USED | FZ_EARLY_RETURN_ALLOWED)) !=
@@ -642,7 +642,7 @@ static void k_master(fz_context *ctx, fz_slot *s, fz_reader *r)
         double next = 0.0;
         st = CALL(fmi3UpdateDiscreteStates, s->c, &need, &term, &nom, &val, &next_defined, &next);
         outcome(s, "fmi3UpdateDiscreteStates", FZ_EVENT, st, 0);
-        if (st == fmi3OK && (need || term))
+        if ((st == fmi3OK || st == fmi3Warning) && (need || term))
             fz_fail("fmi3UpdateDiscreteStates in Co-Simulation asked for another pass or to terminate");
         if (input & 1) { /* an input set in Event Mode takes effect in the next step */
             fmi3ValueReference vr = fz_vr(r, VI_Real);
