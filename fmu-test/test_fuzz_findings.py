@@ -272,3 +272,64 @@ def test_a_periodic_profile_whose_period_is_subnormal_is_refused_at_once(fmu_pat
     path.write_text("\n".join(rows) + "\n")
     out = isolated(PERIODIC_PROFILE_OF_SUBNORMAL_PERIOD, fmu_path, path, what="fmi2ExitInitializationMode")
     assert re.search(r"refused: .*profile_file .*the period \S+ m is too short for R1 = 0\.475 m", out), out
+
+
+def test_co_simulation_functions_are_refused_on_a_model_exchange_instance(fmu_path):
+    """The harness's 'fmi2SetRealInputDerivatives returned 0 for a Model Exchange instance ... FMI 2.0
+    allows it in none only': a Model Exchange instance accepted the Co-Simulation functions that
+    its state allowed (input derivatives in initialization mode, the status of the last step once
+    terminated). FMI 2.0's Model Exchange state machine (section 3.2.3) has none of them: each is
+    refused, naming the function and the interface."""
+    import ctypes
+
+    from vibroimpact.me import Me, MeInstance
+
+    inst = MeInstance(fmu_path)
+    inst.instantiate(categories=())
+    me = Me(inst)
+    dll, c = me.fmu.dll, me.fmu.component
+    set_derivatives, real_status, boolean_status = (dll.fmi2SetRealInputDerivatives, dll.fmi2GetRealStatus,
+                                                    dll.fmi2GetBooleanStatus)
+    set_derivatives.argtypes = [ctypes.c_void_p, ctypes.POINTER(ctypes.c_uint), ctypes.c_size_t,
+                                ctypes.POINTER(ctypes.c_int), ctypes.POINTER(ctypes.c_double)]
+    real_status.argtypes = [ctypes.c_void_p, ctypes.c_int, ctypes.POINTER(ctypes.c_double)]
+    boolean_status.argtypes = [ctypes.c_void_p, ctypes.c_int, ctypes.POINTER(ctypes.c_int)]
+    set_derivatives.restype = real_status.restype = boolean_status.restype = ctypes.c_int
+    vr, order, value = (ctypes.c_uint * 1)(me.vr["yC_in"]), (ctypes.c_int * 1)(1), (ctypes.c_double * 1)(1e-3)
+    me.fmu.setupExperiment()
+    me.fmu.enterInitializationMode()
+    for n in (0, 1):
+        assert set_derivatives(c, vr, n, order, value) == 3  # fmi2Error
+        assert "fmi2SetRealInputDerivatives" in inst.messages[-1][2] and "Model Exchange" in inst.messages[-1][2]
+    me.fmu.exitInitializationMode()
+    me.fmu.terminate()
+    time, done = ctypes.c_double(-1.0), ctypes.c_int(-1)
+    assert real_status(c, 2, ctypes.byref(time)) == 3 and time.value == -1.0  # fmi2LastSuccessfulTime
+    assert "fmi2GetRealStatus" in inst.messages[-1][2] and "Model Exchange" in inst.messages[-1][2]
+    assert boolean_status(c, 3, ctypes.byref(done)) == 3 and done.value == -1  # fmi2Terminated
+    assert "fmi2GetBooleanStatus" in inst.messages[-1][2] and "Model Exchange" in inst.messages[-1][2]
+    me.fmu.freeInstance()
+
+
+def test_a_directional_derivative_that_overflows_is_refused(fmu_path):
+    """The harness's 'fmi2GetDirectionalDerivative returned OK with element 0 = inf': a seed of
+    1.8e308 along y times the slope of the acceleration (the contact stiffness over the mass)
+    overflowed, and the infinite derivative was returned with fmi2OK. A directional derivative that is not a finite number is refused, naming the unknown
+    and the known; a seed of 1 along the same direction still gives a finite, nonzero answer."""
+    from vibroimpact.me import Me, MeInstance
+
+    inst = MeInstance(fmu_path)
+    inst.instantiate(categories=())
+    me = Me(inst)
+    me.fmu.setupExperiment()
+    me.fmu.enterInitializationMode()
+    me.fmu.exitInitializationMode()
+    me.settle()
+    me.fmu.enterContinuousTimeMode()
+    unknown, known = [me.vr["der_v"]], [me.vr["y"]]
+    slope = me.fmu.getDirectionalDerivative(unknown, known, [1.0])[0]
+    assert math.isfinite(slope) and abs(slope) > 1.0, slope
+    with pytest.raises(FMICallException):
+        me.fmu.getDirectionalDerivative(unknown, known, [1.7976931348623157e308])
+    assert re.search(r"fmi2GetDirectionalDerivative: .*der_v.* not finite", inst.messages[-1][2]), inst.messages[-1]
+    me.fmu.freeInstance()

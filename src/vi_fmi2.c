@@ -225,9 +225,20 @@ static fmi2Status no_status(vi_core *c, const char *fn, fmi2StatusKind kind, con
     return fmi2Discard;
 }
 
+/* The instance of a status query: a Co-Simulation one in a state that allows the query. */
+static vi_core *status_enter(fmi2Component comp, vi_call call, const char *fn)
+{
+    vi_core *c = vi_core_enter(comp, call, fn);
+    if (c && c->kind != VI_KIND_CS) {
+        vi_core_refuse(c, "%s: a Co-Simulation function; this instance is a Model Exchange one", fn);
+        return NULL;
+    }
+    return c;
+}
+
 #define STATUS_ENTER(call, name)                    \
     const char *fn = name;                          \
-    vi_core *c = vi_core_enter(comp, call, fn);     \
+    vi_core *c = status_enter(comp, call, fn);      \
     if (!c) return fmi2Error
 
 fmi2Status fmi2GetStatus(fmi2Component comp, const fmi2StatusKind s, fmi2Status *value)

@@ -622,6 +622,8 @@ vi_status vi_core_set_input_derivatives(void *instance, const char *fn, const un
                                         const int order[], const double values[])
 {
     ENTER(VI_CALL_SET_INPUT_DERIVATIVES);
+    if (c->kind != VI_KIND_CS)
+        return vi_core_refuse(c, "%s: a Co-Simulation function; this instance is a Model Exchange one", fn);
     if (nvr > 0 && (!vr || !order || !values)) return vi_core_refuse(c, "%s: NULL array", fn);
     for (size_t i = 0; i < nvr; i++) {
         const vi_variable *v = lookup(c, fn, vr[i], VI_Real);
@@ -1119,5 +1121,11 @@ vi_status vi_core_directional_derivative(void *instance, const char *fn, const u
     if (c->state == VI_ST_INIT && MODEL->prepare(c->model) < 0) return vi_core_refuse(c, "%s: %s", fn, MODEL->message(c->model));
     if (MODEL->directional_derivative(c->model, unknown, n_unknown, known, n_known, dknown, dunknown) < 0)
         return vi_core_refuse(c, "%s: %s", fn, MODEL->message(c->model));
+    for (size_t i = 0; i < n_unknown; i++) /* a large seed times a steep slope overflows */
+        if (!isfinite(dunknown[i]))
+            return vi_core_refuse(c, "%s: the derivative of %s along the seeds of %s%s is %g, not finite: scale the "
+                                     "seeds down", fn, MODEL->variables[unknown[i]].name,
+                                  n_known ? MODEL->variables[known[0]].name : "no known", n_known > 1 ? ", ..." : "",
+                                  dunknown[i]);
     return done(c);
 }

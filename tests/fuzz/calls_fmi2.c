@@ -3,16 +3,22 @@
  * (fuzz.h; codes 0-39).
  *
  * Besides the sanitizers, the watchdog and the logger's checks, each kind checks what the standard
- * and the FMU's documentation promise about its outcome, for Co-Simulation instances:
- *   - the state machine of FMI 2.0 Co-Simulation (section 4.2.4): a call that changes the state
- *     or sets values returns fmi2OK only in a state where it is allowed; the harness follows the
+ * and the FMU's documentation promise about its outcome:
+ *   - the state machines of FMI 2.0 Co-Simulation (section 4.2.4) and Model Exchange (section
+ *     3.2.3): a call returns fmi2OK only in a state where it is allowed for the instance's
+ *     interface (the Co-Simulation functions never for Model Exchange); the harness follows the
  *     states the instance may be in (after fmi2Error: the state before, or Error);
- *   - fmi2SetXXX returns fmi2OK only for variables that may be set then (inputs and tunable
- *     parameters after initialization; never outputs and calculated parameters), for finite
- *     Reals and for Strings that are not NULL and fit (VI_STRING_SIZE);
- *   - fmi2GetReal with fmi2OK gives no NaN; fmi2GetString gives terminated strings;
- *   - fmi2DoStep with fmi2OK ends at currentCommunicationPoint + communicationStepSize exactly
- *     (fmi2LastSuccessfulTime), with fmi2Discard somewhere in [the time before, that end);
+ *   - fmi2SetXXX returns fmi2OK only for variables that may be set then: inputs and parameters
+ *     before the end of initialization; inputs and tunable parameters in Co-Simulation's
+ *     stepComplete and Model Exchange's Event Mode; continuous Real inputs only in Continuous-Time
+ *     Mode; never outputs and calculated parameters; only finite Reals and Strings that are not
+ *     NULL and fit (VI_STRING_SIZE);
+ *   - fmi2GetReal with fmi2OK gives no NaN; fmi2GetString gives terminated strings; directional
+ *     and output derivatives with fmi2OK are finite; output derivatives are never fmi2OK (the FMU
+ *     declares maxOutputDerivativeOrder = 0);
+ *   - fmi2DoStep with fmi2OK or fmi2Warning (a step accepted) ends at currentCommunicationPoint +
+ *     communicationStepSize exactly (fmi2LastSuccessfulTime), with fmi2Discard somewhere in [the
+ *     time before, that end);
  *   - fmi2CancelStep never returns fmi2OK (fmi2DoStep is synchronous).
  * Serialized states may be corrupted before they are deserialized, and then sealed again with the
  * checksum the FMU documents (fz_corrupted, fuzz_main.c), so that the field checks behind the
@@ -29,8 +35,11 @@
 
 #define MODEL (&vi_fmu_this_model)
 
-#define CS_RUNNING (FZ_STEP_COMPLETE | FZ_STEP_FAILED | FZ_TERMINATED)
 #define CS_WRITABLE (FZ_INSTANTIATED | FZ_INIT | FZ_STEP_COMPLETE)
+#define ME_WRITABLE (FZ_INSTANTIATED | FZ_INIT | FZ_EVENT)
+/* fmi2GetXXX (values, directional derivatives): everywhere but Instantiated */
+#define CS_READABLE (FZ_INIT | FZ_STEP_COMPLETE | FZ_STEP_FAILED | FZ_TERMINATED | FZ_ERROR)
+#define ME_READABLE (FZ_INIT | FZ_EVENT | FZ_CONTINUOUS | FZ_TERMINATED | FZ_ERROR)
 
 /* Run an FMI function under the watchdog; a status outside fmi2Status is a finding. */
 static fmi2Status ended(const char *call, fmi2Status st)
@@ -41,32 +50,40 @@ static fmi2Status ended(const char *call, fmi2Status st)
 }
 #define CALL(fn, ...) ended(#fn, (fz_begin(#fn), fn(__VA_ARGS__)))
 
+/* The states of mask m as text (two buffers in turn: a message may show two masks). */
 static const char *mask_text(unsigned m)
 {
-    static char text[128];
-    static const char *const names[] = {"instantiated", "initialization", "stepComplete", "stepFailed",
-                                        "terminated", "error"};
+    static char buffers[2][160];
+    static int turn;
+    char *text = buffers[turn ^= 1];
+    static const char *const names[] = {"instantiated", "initialization", "stepComplete", "stepFailed", "terminated",
+                                        "error", "", "Event Mode", "Continuous-Time Mode"};
     text[0] = '\0';
-    for (int i = 0; i < 6; i++)
-        if (m >> i & 1u) snprintf(text + strlen(text), sizeof text - strlen(text), "%s%s", text[0] ? "|" : "", names[i]);
+    for (int i = 0; i < 9; i++)
+        if (m >> i & 1u && names[i][0])
+            snprintf(text + strlen(text), sizeof buffers[0] - strlen(text), "%s%s", text[0] ? "|" : "", names[i]);
     return text[0] ? text : "none";
 }
 
-/* The outcome of a call allowed in the states `allowed`: fmi2OK or fmi2Warning in none of the states
- * the instance may be in is a finding; then the instance is in `next` (0: unchanged). fmi2Error:
- * refused with the state unchanged, or the instance is in Error now. */
-static void outcome(fz_slot *s, const char *call, unsigned allowed, fmi2Status st, unsigned next)
+unsigned fz_by_type(const fz_slot *s, unsigned cs, unsigned me)
 {
-    if (s->fmu_type != fmi2CoSimulation) return;
+    return s->fmu_type == fmi2CoSimulation ? cs : s->fmu_type == fmi2ModelExchange ? me : 0u;
+}
+
+void fz_outcome2(fz_slot *s, const char *call, unsigned allowed, fmi2Status st, unsigned next)
+{
+    if (s->fmu_type != fmi2CoSimulation && s->fmu_type != fmi2ModelExchange) return; /* no instance was made */
     if (st == fmi2OK || st == fmi2Warning) {
         if (!(s->mask & allowed))
-            fz_fail("%s returned %d in state %s; FMI 2.0 allows it in %s only", call, (int)st, mask_text(s->mask),
+            fz_fail("%s returned %d for a %s instance in state %s; FMI 2.0 allows it in %s only", call, (int)st,
+                    s->fmu_type == fmi2CoSimulation ? "Co-Simulation" : "Model Exchange", mask_text(s->mask),
                     mask_text(allowed));
         s->mask = next ? next : s->mask & allowed;
     } else if (st == fmi2Error) {
         s->mask |= FZ_ERROR;
     }
 }
+#define outcome fz_outcome2
 
 /* ---- instances ---- */
 
@@ -170,46 +187,54 @@ static void k_enter_init(fz_context *ctx, fz_slot *s, fz_reader *r)
 static void k_exit_init(fz_context *ctx, fz_slot *s, fz_reader *r)
 {
     (void)ctx, (void)r;
-    outcome(s, "fmi2ExitInitializationMode", FZ_INIT, CALL(fmi2ExitInitializationMode, s->c), FZ_STEP_COMPLETE);
+    outcome(s, "fmi2ExitInitializationMode", FZ_INIT, CALL(fmi2ExitInitializationMode, s->c),
+            fz_by_type(s, FZ_STEP_COMPLETE, FZ_EVENT));
 }
 
 static void k_terminate(fz_context *ctx, fz_slot *s, fz_reader *r)
 {
     (void)ctx, (void)r;
-    outcome(s, "fmi2Terminate", FZ_STEP_COMPLETE | FZ_STEP_FAILED, CALL(fmi2Terminate, s->c), FZ_TERMINATED);
+    outcome(s, "fmi2Terminate", fz_by_type(s, FZ_STEP_COMPLETE | FZ_STEP_FAILED, FZ_EVENT | FZ_CONTINUOUS),
+            CALL(fmi2Terminate, s->c), FZ_TERMINATED);
 }
 
 static void k_reset(fz_context *ctx, fz_slot *s, fz_reader *r)
 {
     (void)ctx, (void)r;
     fmi2Status st = CALL(fmi2Reset, s->c);
-    outcome(s, "fmi2Reset", FZ_ANY, st, FZ_INSTANTIATED);
+    outcome(s, "fmi2Reset", FZ_ANY3, st, FZ_INSTANTIATED);
     if (st == fmi2OK) s->t = s->start_time = 0.0;
 }
 
 /* ---- values ---- */
 
-/* The states in which v may be set (FMI 2.0, 4.2.4 and the causality/variability rules); 0: never. */
-static unsigned settable_in(const vi_variable *v)
+/* The states in which v may be set through fmi2Set<type> (FMI 2.0: sections 3.2.3 and 4.2.4, and
+ * the causality/variability rules); 0: never. In Model Exchange's Continuous-Time Mode only
+ * continuous Real inputs. */
+static unsigned settable_in(const fz_slot *s, const vi_variable *v, int type)
 {
     if (!v) return 0;
-    if (strcmp(v->causality, "input") == 0) return CS_WRITABLE;
+    unsigned writable = fz_by_type(s, CS_WRITABLE, ME_WRITABLE);
+    if (strcmp(v->causality, "input") == 0)
+        return writable | (type == VI_Real && strcmp(v->variability, "continuous") == 0
+                               ? fz_by_type(s, 0u, FZ_CONTINUOUS) : 0u);
     if (strcmp(v->causality, "parameter") != 0) return 0;
-    return strcmp(v->variability, "tunable") == 0 ? CS_WRITABLE : FZ_INSTANTIATED | FZ_INIT;
+    return strcmp(v->variability, "tunable") == 0 ? writable : FZ_INSTANTIATED | FZ_INIT;
 }
 
 /* n value references of `type`, maybe a NULL array; returns the states in which all may be set. */
-static unsigned pick_vrs(fz_reader *r, int type, fmi2ValueReference vr[FZ_ARRAY], size_t *n, int *null_array)
+static unsigned pick_vrs(const fz_slot *s, fz_reader *r, int type, fmi2ValueReference vr[FZ_ARRAY], size_t *n,
+                         int *null_array)
 {
     uint8_t k = fz_u8(r);
     *n = k % FZ_ARRAY;
     *null_array = k >= 250 && *n > 0;
-    unsigned allowed = CS_WRITABLE;
+    unsigned allowed = fz_by_type(s, CS_WRITABLE, ME_WRITABLE | (type == VI_Real ? FZ_CONTINUOUS : 0u));
     for (size_t i = 0; i < *n; i++) {
         vr[i] = fz_vr(r, type);
         const vi_variable *v = fz_variable(vr[i]);
         int same = v && (type == VI_Integer ? v->type == VI_Integer || v->type == VI_Enumeration : (int)v->type == type);
-        allowed &= same ? settable_in(v) : 0;
+        allowed &= same ? settable_in(s, v, type) : 0;
     }
     return allowed;
 }
@@ -227,7 +252,7 @@ static void k_set_real(fz_context *ctx, fz_slot *s, fz_reader *r)
     fmi2Real x[FZ_ARRAY];
     size_t n;
     int null_array, finite = 1;
-    unsigned allowed = pick_vrs(r, VI_Real, vr, &n, &null_array);
+    unsigned allowed = pick_vrs(s, r, VI_Real, vr, &n, &null_array);
     for (size_t i = 0; i < n; i++) {
         x[i] = fz_real(r, typical(vr[i]));
         finite &= isfinite(x[i]) != 0;
@@ -245,7 +270,7 @@ static void k_set_integer(fz_context *ctx, fz_slot *s, fz_reader *r)
     fmi2Integer x[FZ_ARRAY];
     size_t n;
     int null_array;
-    unsigned allowed = pick_vrs(r, VI_Integer, vr, &n, &null_array);
+    unsigned allowed = pick_vrs(s, r, VI_Integer, vr, &n, &null_array);
     for (size_t i = 0; i < n; i++) {
         const vi_variable *v = fz_variable(vr[i]);
         x[i] = fz_integer(r, v ? v->enumeration : "none");
@@ -261,7 +286,7 @@ static void k_set_boolean(fz_context *ctx, fz_slot *s, fz_reader *r)
     fmi2Boolean x[FZ_ARRAY];
     size_t n;
     int null_array;
-    unsigned allowed = pick_vrs(r, VI_Boolean, vr, &n, &null_array);
+    unsigned allowed = pick_vrs(s, r, VI_Boolean, vr, &n, &null_array);
     for (size_t i = 0; i < n; i++) {
         x[i] = fz_boolean(r);
         fz_trace("    vr %u = %d", vr[i], x[i]);
@@ -276,7 +301,7 @@ static void k_set_string(fz_context *ctx, fz_slot *s, fz_reader *r)
     fmi2String x[FZ_ARRAY];
     size_t n;
     int null_array, fits = 1;
-    unsigned allowed = pick_vrs(r, VI_String, vr, &n, &null_array);
+    unsigned allowed = pick_vrs(s, r, VI_String, vr, &n, &null_array);
     for (size_t i = 0; i < n; i++) {
         x[i] = fz_string(r, (int)i);
         fits &= x[i] && strlen(x[i]) < VI_STRING_SIZE;
@@ -295,7 +320,7 @@ static void k_get(fz_context *ctx, fz_slot *s, fz_reader *r)
     fmi2ValueReference vr[FZ_ARRAY];
     size_t n;
     int null_array;
-    pick_vrs(r, types[which], vr, &n, &null_array);
+    pick_vrs(s, r, types[which], vr, &n, &null_array);
     const fmi2ValueReference *v = null_array ? NULL : vr;
     /* arrays of exactly n elements (heap), so that AddressSanitizer sees a write beyond them */
     void *out = malloc(n ? n * sizeof(double) : 1);
@@ -316,7 +341,7 @@ static void k_get(fz_context *ctx, fz_slot *s, fz_reader *r)
                 fz_fail("fmi2GetString gave NULL or an unterminated string for value reference %u", vr[i]);
         }
     }
-    (void)st;
+    outcome(s, "fmi2GetXXX", fz_by_type(s, CS_READABLE, ME_READABLE), st, 0);
     free(out);
 }
 
@@ -349,7 +374,7 @@ static void k_set_state(fz_context *ctx, fz_slot *s, fz_reader *r)
     fz_saved *sv = saved_of(ctx, s, r); /* also one the other instance took */
     fmi2Status st = CALL(fmi2SetFMUstate, s->c, sv->handle);
     if (st == fmi2OK && !sv->handle) fz_fail("fmi2SetFMUstate accepted a NULL state");
-    outcome(s, "fmi2SetFMUstate", FZ_ANY, st, sv->mask);
+    outcome(s, "fmi2SetFMUstate", FZ_ANY3, st, sv->mask);
     if (st == fmi2OK) s->t = sv->t;
 }
 
@@ -428,9 +453,14 @@ static void k_directional(fz_context *ctx, fz_slot *s, fz_reader *r)
 {
     (void)ctx;
     fmi2ValueReference u[2] = {fz_vr(r, VI_Real), fz_vr(r, VI_Real)}, k[2] = {fz_vr(r, VI_Real), fz_vr(r, VI_Real)};
-    fmi2Real dk[2] = {1.0, 0.0}, du[2];
     uint8_t n = fz_u8(r);
-    CALL(fmi2GetDirectionalDerivative, s->c, u, n % 3, k, n / 3 % 3, dk, du);
+    /* the first seed: 1, or from n / 9 (large, tiny, negative), so that a product may overflow */
+    static const double seeds[] = {1.0, 1.0, -1.0, 1e300, DBL_MAX, -DBL_MAX, 1e-300, DBL_TRUE_MIN};
+    fmi2Real dk[2] = {seeds[n / 9 % 8], 0.0}, du[2];
+    size_t nu = n % 3;
+    fmi2Status st = CALL(fmi2GetDirectionalDerivative, s->c, u, nu, k, n / 3 % 3, dk, du);
+    outcome(s, "fmi2GetDirectionalDerivative", fz_by_type(s, CS_READABLE, ME_READABLE), st, 0);
+    if (st == fmi2OK || st == fmi2Warning) fz_finite("fmi2GetDirectionalDerivative", du, nu);
 }
 
 static void k_input_derivatives(fz_context *ctx, fz_slot *s, fz_reader *r)
@@ -441,7 +471,7 @@ static void k_input_derivatives(fz_context *ctx, fz_slot *s, fz_reader *r)
     fmi2Real x[FZ_ARRAY];
     size_t n;
     int null_array, valid = 1;
-    unsigned allowed = pick_vrs(r, VI_Real, vr, &n, &null_array);
+    unsigned allowed = pick_vrs(s, r, VI_Real, vr, &n, &null_array);
     for (size_t i = 0; i < n; i++) {
         uint8_t o = fz_u8(r);
         order[i] = o % 8 < 6 ? 1 : o % 8 == 6 ? 2 : 0;
@@ -452,7 +482,7 @@ static void k_input_derivatives(fz_context *ctx, fz_slot *s, fz_reader *r)
     }
     fmi2Status st = CALL(fmi2SetRealInputDerivatives, s->c, null_array ? NULL : vr, n, order, x);
     if (st == fmi2OK && !valid) fz_fail("fmi2SetRealInputDerivatives accepted what it documents to refuse");
-    outcome(s, "fmi2SetRealInputDerivatives", allowed, st, 0);
+    outcome(s, "fmi2SetRealInputDerivatives", fz_by_type(s, allowed, 0u), st, 0);
 }
 
 static void k_output_derivatives(fz_context *ctx, fz_slot *s, fz_reader *r)
@@ -461,7 +491,11 @@ static void k_output_derivatives(fz_context *ctx, fz_slot *s, fz_reader *r)
     fmi2ValueReference vr[2] = {fz_vr(r, VI_Real), fz_vr(r, VI_Real)};
     fmi2Integer order[2] = {1, 2};
     fmi2Real x[2];
-    CALL(fmi2GetRealOutputDerivatives, s->c, vr, fz_u8(r) % 3, order, x);
+    size_t n = fz_u8(r) % 3;
+    fmi2Status st = CALL(fmi2GetRealOutputDerivatives, s->c, vr, n, order, x);
+    if (st != fmi2OK && st != fmi2Warning) return;
+    fz_finite("fmi2GetRealOutputDerivatives", x, n);
+    if (n > 0) fz_fail("fmi2GetRealOutputDerivatives returned fmi2OK; the FMU declares maxOutputDerivativeOrder = 0");
 }
 
 static double step_size(fz_reader *r)
@@ -485,18 +519,20 @@ static void k_do_step(fz_context *ctx, fz_slot *s, fz_reader *r)
     }
     fz_trace("    tc %.17g h %.17g", tc, h);
     fmi2Status st = CALL(fmi2DoStep, s->c, tc, h, k >> 7);
-    outcome(s, "fmi2DoStep", FZ_STEP_COMPLETE, st, st == fmi2OK ? FZ_STEP_COMPLETE : 0);
+    int accepted = st == fmi2OK || st == fmi2Warning;
+    outcome(s, "fmi2DoStep", fz_by_type(s, FZ_STEP_COMPLETE, 0u), st, accepted ? FZ_STEP_COMPLETE : 0);
     if (st == fmi2Discard) {
         if (s->fmu_type == fmi2CoSimulation && !(s->mask & FZ_STEP_COMPLETE))
             fz_fail("fmi2DoStep returned fmi2Discard in state %s", mask_text(s->mask));
         s->mask = FZ_STEP_FAILED;
     }
-    if (st != fmi2OK && st != fmi2Discard) return;
+    if (!accepted && st != fmi2Discard) return;
     fmi2Real last = NAN;
     if (CALL(fmi2GetRealStatus, s->c, fmi2LastSuccessfulTime, &last) != fmi2OK)
         fz_fail("fmi2GetRealStatus(fmi2LastSuccessfulTime) failed after fmi2DoStep returned %d", (int)st);
-    if (st == fmi2OK && last != tc + h)
-        fz_fail("fmi2DoStep returned fmi2OK, and the last successful time is %.17g, not %.17g + %.17g", last, tc, h);
+    if (accepted && last != tc + h)
+        fz_fail("fmi2DoStep returned %d (the step accepted), and the last successful time is %.17g, not the "
+                "communication point %.17g + %.17g", (int)st, last, tc, h);
     if (st == fmi2Discard && !(last >= (isnan(s->t) ? -INFINITY : fmin(s->t, tc) - 1e-9 * fabs(tc)) && last < tc + h))
         fz_fail("fmi2DoStep returned fmi2Discard, and the last successful time %.17g is not in [%.17g, %.17g)", last,
                 s->t, tc + h);
@@ -522,15 +558,18 @@ static void k_status(fz_context *ctx, fz_slot *s, fz_reader *r)
         fmi2Boolean b;
         fmi2String str;
     } v;
+    fmi2Status st;
     switch (k % 5) {
-    case 0: CALL(fmi2GetStatus, s->c, sk, null_value ? NULL : &v.st); break;
-    case 1: CALL(fmi2GetRealStatus, s->c, sk, null_value ? NULL : &v.x); break;
-    case 2: CALL(fmi2GetIntegerStatus, s->c, sk, null_value ? NULL : &v.i); break;
-    case 3: CALL(fmi2GetBooleanStatus, s->c, sk, null_value ? NULL : &v.b); break;
+    case 0: st = CALL(fmi2GetStatus, s->c, sk, null_value ? NULL : &v.st); break;
+    case 1: st = CALL(fmi2GetRealStatus, s->c, sk, null_value ? NULL : &v.x); break;
+    case 2: st = CALL(fmi2GetIntegerStatus, s->c, sk, null_value ? NULL : &v.i); break;
+    case 3: st = CALL(fmi2GetBooleanStatus, s->c, sk, null_value ? NULL : &v.b); break;
     default:
-        if (CALL(fmi2GetStringStatus, s->c, sk, null_value ? NULL : &v.str) == fmi2OK && !v.str)
-            fz_fail("fmi2GetStringStatus returned fmi2OK and NULL");
+        st = CALL(fmi2GetStringStatus, s->c, sk, null_value ? NULL : &v.str);
+        if (st == fmi2OK && !v.str) fz_fail("fmi2GetStringStatus returned fmi2OK and NULL");
     }
+    /* Co-Simulation functions: never for Model Exchange (the states of Co-Simulation are left open) */
+    outcome(s, "fmi2Get*Status", fz_by_type(s, FZ_ANY3, 0u), st, 0);
 }
 
 static void k_version(fz_context *ctx, fz_slot *s, fz_reader *r)

@@ -18,13 +18,17 @@
  *     `time` or event indicators; in Continuous-Time Mode only continuous Float64 inputs), for
  *     finite Float64 values and for Strings that are not NULL and fit;
  *   - no NaN from fmi3GetFloat64 with fmi3OK; fmi3GetString gives terminated strings;
- *   - fmi3DoStep: with fmi3OK and no early return, lastSuccessfulTime is currentCommunicationPoint +
- *     communicationStepSize exactly; earlyReturn only with earlyReturnAllowed and fmi3OK, and then
- *     lastSuccessfulTime lies after the step's start and before its end; eventHandlingNeeded only with
- *     eventModeUsed and earlyReturnAllowed; after fmi3Discard lastSuccessfulTime lies in the step;
- *     terminateSimulation never;
- *   - the numbers of states and event indicators are the model's; states, derivatives and
- *     indicators with fmi3OK are not NaN, nominals finite and positive;
+ *   - fmi3DoStep: a step accepted (fmi3OK or fmi3Warning) without early return ends at
+ *     currentCommunicationPoint + communicationStepSize exactly (lastSuccessfulTime); earlyReturn
+ *     only with earlyReturnAllowed and fmi3OK or fmi3Warning, and then lastSuccessfulTime lies in
+ *     (currentCommunicationPoint, currentCommunicationPoint + communicationStepSize];
+ *     eventHandlingNeeded only with eventModeUsed and earlyReturnAllowed; after fmi3Discard
+ *     lastSuccessfulTime lies in the step; terminateSimulation never;
+ *   - the numbers of states and event indicators are the model's; states, derivatives (also
+ *     directional ones) and indicators with fmi3OK are finite, nominals finite and positive; the
+ *     event iteration of Model Exchange settles within FZ_EVENT_PASS_BOUND passes;
+ *   - the call order in Continuous-Time Mode of Model Exchange does not matter (fz_call_order,
+ *     order.c);
  *   - the functions of what the FMU does not offer (Scheduled Execution, Configuration Mode, clocks,
  *     output and adjoint derivatives, the data types it has no variable of) never return fmi3OK for a
  *     value reference; the intermediate update callback is never called (providesIntermediateUpdate
@@ -45,7 +49,6 @@
 #include "fuzz.h"
 
 #define MODEL (&vi_fmu_this_model)
-#define FZ_EVENT_PASSES 64 /* fmi3UpdateDiscreteStates calls in one event before the harness gives up */
 
 static fmi3Status ended(const char *call, fmi3Status st)
 {
@@ -82,14 +85,18 @@ static int fmi3_available(void) { return 1; }
 
 static int is_cs(const fz_slot *s) { return s->fmu_type == fmi2CoSimulation; }
 
+/* The states of mask m as text (two buffers in turn: a message may show two masks). */
 static const char *mask_text(unsigned m)
 {
-    static char text[160];
+    static char buffers[2][160];
+    static int turn;
+    char *text = buffers[turn ^= 1];
     static const char *const names[] = {"Instantiated", "Initialization Mode", "Step Mode", "Step Discarded",
                                         "Terminated", "error", "fatal", "Event Mode", "Continuous-Time Mode"};
     text[0] = '\0';
     for (int i = 0; i < 9; i++)
-        if (m >> i & 1u) snprintf(text + strlen(text), sizeof text - strlen(text), "%s%s", text[0] ? "|" : "", names[i]);
+        if (m >> i & 1u)
+            snprintf(text + strlen(text), sizeof buffers[0] - strlen(text), "%s%s", text[0] ? "|" : "", names[i]);
     return text[0] ? text : "none";
 }
 
@@ -568,6 +575,7 @@ static fmi3Status do_step(fz_slot *s, double tc, double h, int no_set_prior, int
     double last = NAN;
     fz_trace("    tc %.17g h %.17g", tc, h);
     fmi3Status st = CALL(fmi3DoStep, s->c, tc, h, no_set_prior, nulls ? NULL : &event, &terminate, &early, &last);
+    int accepted = st == fmi3OK || st == fmi3Warning;
     outcome(s, "fmi3DoStep", cs_only(s, FZ_STEP_COMPLETE), st, FZ_STEP_COMPLETE);
     if (out) out[0] = event, out[1] = early;
     if (st == fmi3Discard) {
@@ -575,23 +583,22 @@ static fmi3Status do_step(fz_slot *s, double tc, double h, int no_set_prior, int
             fz_fail("fmi3DoStep returned fmi3Discard in state %s", mask_text(s->mask));
         s->mask = FZ_STEP_FAILED;
     }
-    if (st != fmi3OK && st != fmi3Discard) return st;
+    if (!accepted && st != fmi3Discard) return st;
     if (nulls) fz_fail("fmi3DoStep returned %d with NULL output arguments", (int)st);
     if (terminate) fz_fail("fmi3DoStep set terminateSimulation; this FMU never asks to end");
-    if (early && (st != fmi3OK || !(s->options & FZ_EARLY_RETURN_ALLOWED)))
+    if (early && (!accepted || !(s->options & FZ_EARLY_RETURN_ALLOWED)))
         fz_fail("fmi3DoStep returned status %d with earlyReturn, earlyReturnAllowed %d", (int)st,
                 (s->options & FZ_EARLY_RETURN_ALLOWED) != 0);
     if (event && (s->options & (FZ_EVENT_MODE_USED | FZ_EARLY_RETURN_ALLOWED)) !=
                      (FZ_EVENT_MODE_USED | FZ_EARLY_RETURN_ALLOWED))
         fz_fail("fmi3DoStep set eventHandlingNeeded for an instance with eventModeUsed %d, earlyReturnAllowed %d",
                 (s->options & FZ_EVENT_MODE_USED) != 0, (s->options & FZ_EARLY_RETURN_ALLOWED) != 0);
-    if (st == fmi3OK && !early && last != tc + h)
-        fz_fail("fmi3DoStep returned fmi3OK without early return, and lastSuccessfulTime is %.17g, not %.17g + %.17g",
-                last, tc, h);
+    if (accepted && !early && last != tc + h)
+        fz_fail("fmi3DoStep returned %d (the step accepted) without early return, and lastSuccessfulTime is %.17g, not "
+                "the communication point %.17g + %.17g", (int)st, last, tc, h);
+    if (early && !(last > tc && last <= tc + h))
+        fz_fail("fmi3DoStep returned early at lastSuccessfulTime %.17g, outside (%.17g, %.17g + %.17g]", last, tc, tc, h);
     double from = isnan(t) ? -INFINITY : fmin(t, tc) - 1e-9 * fabs(tc);
-    if (early && !(last > from && last > (isnan(t) ? -INFINITY : t) && last < tc + h))
-        fz_fail("fmi3DoStep returned early at lastSuccessfulTime %.17g, not after the step's start %.17g and before "
-                "its end %.17g", last, t, tc + h);
     if (st == fmi3Discard && !(last >= from && last < tc + h))
         fz_fail("fmi3DoStep returned fmi3Discard, and lastSuccessfulTime %.17g is not in [%.17g, %.17g)", last, t,
                 tc + h);
@@ -635,7 +642,7 @@ static void k_master(fz_context *ctx, fz_slot *s, fz_reader *r)
         double next = 0.0;
         st = CALL(fmi3UpdateDiscreteStates, s->c, &need, &term, &nom, &val, &next_defined, &next);
         outcome(s, "fmi3UpdateDiscreteStates", FZ_EVENT, st, 0);
-        if (st == fmi3OK && (need || term))
+        if ((st == fmi3OK || st == fmi3Warning) && (need || term))
             fz_fail("fmi3UpdateDiscreteStates in Co-Simulation asked for another pass or to terminate");
         if (input & 1) { /* an input set in Event Mode takes effect in the next step */
             fmi3ValueReference vr = fz_vr(r, VI_Real);
@@ -662,31 +669,37 @@ static size_t length(fz_reader *r, int n)
     return m > 0 ? (size_t)m : 0;
 }
 
-static void no_nan(const char *call, const double *x, size_t n, int positive)
+/* Every element finite (and positive: nominals), or a finding. */
+static void finite(const char *call, const double *x, size_t n, int positive)
 {
-    for (size_t i = 0; i < n; i++)
-        if (isnan(x[i]) || (positive && !(isfinite(x[i]) && x[i] > 0.0)))
-            fz_fail("%s returned fmi3OK with element %zu = %g", call, i, x[i]);
+    fz_finite(call, x, n);
+    for (size_t i = 0; positive && i < n; i++)
+        if (!(x[i] > 0.0)) fz_fail("%s returned fmi3OK with element %zu = %g, not positive", call, i, x[i]);
 }
 
-/* An array call of Model Exchange: never fmi3OK for Co-Simulation or with the wrong length. */
+/* An array call of Model Exchange: never fmi3OK or fmi3Warning for Co-Simulation or with the wrong length. */
 static void me_array(fz_slot *s, const char *call, fmi3Status st, const double *x, size_t n, size_t expected, int positive)
 {
-    if (st != fmi3OK) return;
-    if (is_cs(s)) fz_fail("%s returned fmi3OK for a Co-Simulation instance", call);
-    if (n != expected) fz_fail("%s returned fmi3OK for %zu elements; the model has %zu", call, n, expected);
-    no_nan(call, x, n, positive);
+    if (st != fmi3OK && st != fmi3Warning) return;
+    if (is_cs(s)) fz_fail("%s returned %d for a Co-Simulation instance", call, (int)st);
+    if (n != expected) fz_fail("%s returned %d for %zu elements; the model has %zu", call, (int)st, n, expected);
+    finite(call, x, n, positive);
 }
 
-/* The event iteration, bounded: fmi3UpdateDiscreteStates until no further pass is needed. */
+/* The event iteration: fmi3UpdateDiscreteStates until no further pass is needed, at most `passes`
+ * times. Passes in a row that return fmi3OK and ask for another: the FMU stops the run with an
+ * error at FZ_EVENT_PASS_BOUND of them, so one more is a finding. */
 static void event_iteration(fz_slot *s, int passes)
 {
-    for (int k = 0; k < passes; k++) {
+    for (int k = 0; k < passes && k <= FZ_EVENT_PASS_BOUND; k++) {
         fmi3Boolean need = false, term = false, nom = false, val = false, next_defined = false;
         double next = 0.0;
         fmi3Status st = CALL(fmi3UpdateDiscreteStates, s->c, &need, &term, &nom, &val, &next_defined, &next);
         outcome(s, "fmi3UpdateDiscreteStates", FZ_EVENT, st, 0);
-        if (st != fmi3OK || !need) return;
+        if (st != fmi3OK || !need || term) return;
+        if (k + 1 >= FZ_EVENT_PASS_BOUND)
+            fz_fail("the event iteration does not settle: %d passes of fmi3UpdateDiscreteStates in a row returned "
+                    "fmi3OK and asked for another (the FMU documents an error at %d)", k + 1, FZ_EVENT_PASS_BOUND);
     }
 }
 
@@ -713,7 +726,7 @@ static void k_me(fz_context *ctx, fz_slot *s, fz_reader *r)
         for (size_t i = 0; i < n; i++) x[i] = fz_u8(r) < 200 ? x[i] * (1.0 + (int8_t)fz_u8(r) / 1024.0) : fz_real(r, 1e-4);
         st = CALL(fmi3SetContinuousStates, s->c, x, n);
         outcome(s, "fmi3SetContinuousStates", me_only(s, FZ_CONTINUOUS), st, 0);
-        if (st == fmi3OK) no_nan("fmi3SetContinuousStates (its argument)", x, n, 0);
+        if (st == fmi3OK) finite("fmi3SetContinuousStates (its argument)", x, n, 0);
         break;
     case 2:
         st = CALL(fmi3GetContinuousStateDerivatives, s->c, x, n);
@@ -745,7 +758,11 @@ static void k_me(fz_context *ctx, fz_slot *s, fz_reader *r)
         outcome(s, "fmi3CompletedIntegratorStep", me_only(s, FZ_CONTINUOUS), st, 0);
         break;
     }
-    case 7: event_iteration(s, 1 + fz_u8(r) % 8); break;
+    case 7: {
+        uint8_t k = fz_u8(r);
+        event_iteration(s, k % 16 == 15 ? FZ_EVENT_PASS_BOUND : 1 + k % 8);
+        break;
+    }
     case 8: { /* explicit-Euler steps with the event handling of the standard */
         static const double hs[] = {1e-6, 1e-5, 1e-4, 1e-3};
         double h = hs[fz_u8(r) % 4], t = isnan(s->t) ? 0.0 : s->t, *dx = array(n);
@@ -762,7 +779,7 @@ static void k_me(fz_context *ctx, fz_slot *s, fz_reader *r)
             if (enter) {
                 st = CALL(fmi3EnterEventMode, s->c);
                 outcome(s, "fmi3EnterEventMode", me_only(s, FZ_EVENT | FZ_CONTINUOUS), st, FZ_EVENT);
-                event_iteration(s, FZ_EVENT_PASSES);
+                event_iteration(s, FZ_EVENT_PASS_BOUND);
                 st = CALL(fmi3EnterContinuousTimeMode, s->c);
                 outcome(s, "fmi3EnterContinuousTimeMode", me_only(s, FZ_EVENT), st, FZ_CONTINUOUS);
             }
@@ -780,7 +797,7 @@ static void k_me(fz_context *ctx, fz_slot *s, fz_reader *r)
             if (st == fmi3OK && (is_cs(s) || nseed != nk))
                 fz_fail("fmi3GetDirectionalDerivative returned fmi3OK (%s, nSeed %zu, nKnowns %zu)",
                         is_cs(s) ? "Co-Simulation" : "Model Exchange", nseed, nk);
-            if (st == fmi3OK) no_nan("fmi3GetDirectionalDerivative", sens, nu, 0);
+            if (st == fmi3OK || st == fmi3Warning) finite("fmi3GetDirectionalDerivative", sens, nu, 0);
         } else if (CALL(fmi3GetAdjointDerivative, s->c, u, m / 2 % 3, kn, m / 8 % 3, seed, m / 2 % 3, sens, m / 8 % 3) ==
                    fmi3OK) {
             fz_fail("fmi3GetAdjointDerivative returned fmi3OK; the FMU does not provide it");
@@ -790,41 +807,118 @@ static void k_me(fz_context *ctx, fz_slot *s, fz_reader *r)
     free(x);
 }
 
-/* One step of an explicit-Euler importer: x += h x', t += h, then the event handling the standard
- * describes when an indicator changed sign or the FMU asks for it (fmi3EnterEventMode, the event
- * iteration, fmi3EnterContinuousTimeMode). */
-static void k_euler(fz_context *ctx, fz_slot *s, fz_reader *r)
+/* ---- the call-order property (order.c) through the FMI 3.0 functions ---- */
+
+static int o_set_time(fz_slot *s, double t)
+{
+    fmi3Status st = CALL(fmi3SetTime, s->c, t);
+    outcome(s, "fmi3SetTime", me_only(s, FZ_EVENT | FZ_CONTINUOUS), st, 0);
+    if (st == fmi3OK) s->t = t;
+    return (int)st;
+}
+
+static int o_set_states(fz_slot *s, const double *x, size_t n)
+{
+    fmi3Status st = CALL(fmi3SetContinuousStates, s->c, x, n);
+    outcome(s, "fmi3SetContinuousStates", me_only(s, FZ_CONTINUOUS), st, 0);
+    return (int)st;
+}
+
+static int o_set_reals(fz_slot *s, const unsigned *vr, size_t n, const double *x)
+{
+    fmi3Status st = CALL(fmi3SetFloat64, s->c, vr, n, x, n);
+    outcome(s, "fmi3SetFloat64", set_allowed(s, vr, n, n, T_FLOAT64), st, 0);
+    return (int)st;
+}
+
+static int o_get_states(fz_slot *s, double *x, size_t n)
+{
+    fmi3Status st = CALL(fmi3GetContinuousStates, s->c, x, n);
+    me_array(s, "fmi3GetContinuousStates", st, x, n, (size_t)MODEL->n_states, 0);
+    return (int)st;
+}
+
+static int o_derivatives(fz_slot *s, double *dx, size_t n)
+{
+    fmi3Status st = CALL(fmi3GetContinuousStateDerivatives, s->c, dx, n);
+    me_array(s, "fmi3GetContinuousStateDerivatives", st, dx, n, (size_t)MODEL->n_states, 0);
+    return (int)st;
+}
+
+static int o_indicators(fz_slot *s, double *z, size_t n)
+{
+    fmi3Status st = CALL(fmi3GetEventIndicators, s->c, z, n);
+    me_array(s, "fmi3GetEventIndicators", st, z, n, (size_t)MODEL->n_indicators, 0);
+    return (int)st;
+}
+
+static int o_get_reals(fz_slot *s, const unsigned *vr, size_t n, double *x)
+{
+    fmi3Status st = CALL(fmi3GetFloat64, s->c, vr, n, x, n);
+    for (size_t i = 0; st == fmi3OK && i < n; i++)
+        if (isnan(x[i])) fz_fail("fmi3GetFloat64 gave NaN for value reference %u with fmi3OK", vr[i]);
+    return (int)st;
+}
+
+static int o_save(fz_slot *s, void **state)
+{
+    fmi3Status st = CALL(fmi3GetFMUState, s->c, state);
+    outcome(s, "fmi3GetFMUState", FZ_ANY3, st, 0);
+    if (st == fmi3OK && !*state) fz_fail("fmi3GetFMUState returned fmi3OK and no state");
+    return (int)st;
+}
+
+static int o_restore(fz_slot *s, void *state, unsigned mask)
+{
+    fmi3Status st = CALL(fmi3SetFMUState, s->c, state);
+    outcome(s, "fmi3SetFMUState", FZ_ANY3, st, mask);
+    return (int)st;
+}
+
+static void o_drop(fz_slot *s, void **state)
+{
+    if (CALL(fmi3FreeFMUState, s->c, state) == fmi3OK && *state) fz_fail("fmi3FreeFMUState left the handle set");
+}
+
+static const fz_me_face face = {
+    {"fmi3GetContinuousStateDerivatives", "fmi3GetEventIndicators", "fmi3GetFloat64"},
+    o_set_time, o_set_states, o_set_reals, o_get_states, o_derivatives, o_indicators, o_get_reals,
+    o_save, o_restore, o_drop,
+};
+
+static void k_call_order(fz_context *ctx, fz_slot *s, fz_reader *r)
 {
     (void)ctx;
+    fz_call_order(s, r, &face);
+}
+
+/* Steps of an explicit-Euler importer: x += h x', t += h, then the event handling the standard
+ * describes when an indicator changed sign or the FMU asks for it (fmi3EnterEventMode, the event
+ * iteration, fmi3EnterContinuousTimeMode). With_order: the call-order property is checked before
+ * the step a further byte names (none when it names none). */
+static void euler(fz_slot *s, fz_reader *r, int with_order)
+{
     static const double steps[] = {1e-7, 1e-6, 1e-5, 1e-4, 1e-3, 1e-2};
     double h = steps[fz_u8(r) % 6];
-    int steps_n = 1 + fz_u8(r) % 8;
+    int steps_n = 1 + fz_u8(r) % 8, order_at = with_order ? fz_u8(r) % 16 : -1;
     size_t nx = (size_t)MODEL->n_states, nz = (size_t)MODEL->n_indicators;
     double *x = array(nx), *dx = array(nx), *z0 = array(nz), *z1 = array(nz);
-    double t = isnan(s->t) ? 0.0 : s->t;
     fmi3Status st;
-    if (CALL(fmi3GetEventIndicators, s->c, z0, nz) != fmi3OK) goto done;
+    if (o_indicators(s, z0, nz) != fmi3OK) goto done;
     for (int k = 0; k < steps_n; k++) {
+        if (k == order_at) fz_call_order(s, r, &face);
+        double t = isnan(s->t) ? 0.0 : s->t;
         if (CALL(fmi3GetContinuousStates, s->c, x, nx) != fmi3OK) break;
-        st = CALL(fmi3GetContinuousStateDerivatives, s->c, dx, nx);
-        me_array(s, "fmi3GetContinuousStateDerivatives", st, dx, nx, nx, 0);
-        if (st != fmi3OK) break;
+        if (o_derivatives(s, dx, nx) != fmi3OK) break;
         for (size_t i = 0; i < nx; i++) x[i] += h * dx[i];
         t += h;
-        st = CALL(fmi3SetTime, s->c, t);
-        outcome(s, "fmi3SetTime", me_only(s, FZ_EVENT | FZ_CONTINUOUS), st, 0);
-        if (st != fmi3OK) break;
-        s->t = t;
-        st = CALL(fmi3SetContinuousStates, s->c, x, nx);
-        outcome(s, "fmi3SetContinuousStates", me_only(s, FZ_CONTINUOUS), st, 0);
-        if (st != fmi3OK) break;
+        if (o_set_time(s, t) != fmi3OK) break;
+        if (o_set_states(s, x, nx) != fmi3OK) break;
         fmi3Boolean enter = false, terminate = false;
         st = CALL(fmi3CompletedIntegratorStep, s->c, true, &enter, &terminate);
         outcome(s, "fmi3CompletedIntegratorStep", me_only(s, FZ_CONTINUOUS), st, 0);
         if (st != fmi3OK) break;
-        st = CALL(fmi3GetEventIndicators, s->c, z1, nz);
-        me_array(s, "fmi3GetEventIndicators", st, z1, nz, nz, 0);
-        if (st != fmi3OK) break;
+        if (o_indicators(s, z1, nz) != fmi3OK) break;
         int crossed = 0;
         for (size_t i = 0; i < nz; i++) crossed |= (z0[i] > 0.0) != (z1[i] > 0.0);
         if (enter || crossed) {
@@ -832,7 +926,7 @@ static void k_euler(fz_context *ctx, fz_slot *s, fz_reader *r)
             st = CALL(fmi3EnterEventMode, s->c);
             outcome(s, "fmi3EnterEventMode", me_only(s, FZ_EVENT | FZ_CONTINUOUS), st, FZ_EVENT);
             if (st != fmi3OK) break;
-            event_iteration(s, FZ_EVENT_PASSES);
+            event_iteration(s, FZ_EVENT_PASS_BOUND);
             st = CALL(fmi3EnterContinuousTimeMode, s->c);
             outcome(s, "fmi3EnterContinuousTimeMode", me_only(s, FZ_EVENT), st, FZ_CONTINUOUS);
             if (st != fmi3OK) break;
@@ -842,6 +936,18 @@ static void k_euler(fz_context *ctx, fz_slot *s, fz_reader *r)
     }
 done:
     free(x), free(dx), free(z0), free(z1);
+}
+
+static void k_euler(fz_context *ctx, fz_slot *s, fz_reader *r)
+{
+    (void)ctx;
+    euler(s, r, 0);
+}
+
+static void k_euler_order(fz_context *ctx, fz_slot *s, fz_reader *r)
+{
+    (void)ctx;
+    euler(s, r, 1);
 }
 
 /* ---- what the FMU does not offer, and the version ---- */
@@ -900,6 +1006,8 @@ static const fz_call calls[] = {
     {76, "fmi3 Co-Simulation master steps (early return, Event Mode)", k_master, 0},
     {77, "an explicit-Euler step (FMI 3.0 Model Exchange)", k_euler, 0},
     {78, "fmi3 functions the FMU does not provide; fmi3GetVersion", k_not_offered, 0},
+    {79, "the call order in Continuous-Time Mode (FMI 3.0 Model Exchange)", k_call_order, 0},
+    {80, "explicit-Euler steps with a call-order check (FMI 3.0 Model Exchange)", k_euler_order, 0},
 };
 
 const fz_interface fz_fmi3 = {"FMI 3.0", fmi3_available, calls, sizeof calls / sizeof calls[0], release, 3};

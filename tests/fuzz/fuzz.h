@@ -37,6 +37,9 @@
 #define FZ_MAX_CALLS 96     /* calls per input: bounds the work of one input */
 #define FZ_NAME_SIZE 6000   /* longest instance name the harness passes, + 1 */
 #define FZ_ARRAY 6          /* the most value references in one fmi2Get/fmi2Set */
+/* Passes of the Model Exchange event iteration in a row that ask for another before the FMU stops
+ * the run with an error (doc/model-exchange.md, "Events"): one more that returns OK is a finding. */
+#define FZ_EVENT_PASS_BOUND 100
 
 /* ---- reading the input ---- */
 typedef struct {
@@ -147,6 +150,46 @@ uint8_t *fz_corrupted(fz_reader *r, const fz_buffer *b, size_t *n);
 /* The FMI state a (maybe altered) serialized state records (its header's fmu_state field), when that
  * is one of the FZ_ANY3 bits; FZ_ANY3 otherwise. */
 unsigned fz_recorded_mask(const uint8_t *p, size_t n);
+
+/* ---- FMI 2.0 outcomes (calls_fmi2.c), shared with Model Exchange (calls_fmi2me.c) ---- */
+/* fmi2OK or fmi2Warning from a call allowed in the states `allowed` only, while the instance may be
+ * in none of them, is a finding; then the instance is in `next` (0: those of its states that allow
+ * the call). fmi2Error: refused with the state unchanged, or the instance is in Error now. */
+void fz_outcome2(fz_slot *s, const char *call, unsigned allowed, fmi2Status st, unsigned next);
+/* The mask of a call for the slot's interface: `cs` for Co-Simulation, `me` for Model Exchange. */
+unsigned fz_by_type(const fz_slot *s, unsigned cs, unsigned me);
+/* Is every element of x finite? Else a finding naming the call and the element. */
+void fz_finite(const char *call, const double *x, size_t n);
+
+/* ---- the Model Exchange call-order property (order.c) ----
+ * In Continuous-Time Mode an importer sets time, continuous states and continuous inputs in any
+ * order before it asks for derivatives, event indicators or outputs; two orders that end at the
+ * same (time, states, inputs) must give the same answers bit for bit. fz_call_order takes an FMU
+ * state, brings the instance to one point in order A (the final values only), then, from the
+ * restored state, in order A again (the same answers, or restoring the state is not exact) and in
+ * order B (other orders of the sets and of the getters, with earlier sets of other values, decoys,
+ * in between). Each interface gives its functions; each returns the call's status (0: OK) and
+ * checks its outcome against the state machine. order.c says what is compared. */
+typedef struct {
+    const char *name[3]; /* of the getters: derivatives, event indicators, Real outputs */
+    int (*set_time)(fz_slot *s, double t);
+    int (*set_states)(fz_slot *s, const double *x, size_t n);
+    int (*set_reals)(fz_slot *s, const unsigned *vr, size_t n, const double *x);
+    int (*get_states)(fz_slot *s, double *x, size_t n);
+    int (*derivatives)(fz_slot *s, double *dx, size_t n);
+    int (*indicators)(fz_slot *s, double *z, size_t n);
+    int (*get_reals)(fz_slot *s, const unsigned *vr, size_t n, double *x);
+    int (*save)(fz_slot *s, void **state);
+    int (*restore)(fz_slot *s, void *state, unsigned mask);
+    void (*drop)(fz_slot *s, void **state);
+} fz_me_face;
+/* The property at the slot's current point (skipped unless the instance may be in Continuous-Time
+ * Mode at a known time); reads its choices from r. */
+void fz_call_order(fz_slot *s, fz_reader *r, const fz_me_face *f);
+/* Is the property `name` left out? The environment variable VI_FUZZ_OFF lists the ones to leave
+ * out, comma-separated ("call-order", "restore": order.c), for a campaign while a known failure of
+ * one is being fixed. */
+int fz_off(const char *name);
 
 /* ---- call kinds ---- */
 typedef struct {

@@ -225,6 +225,12 @@ fmi2Status fz_status(const char *call, fmi2Status s)
     return s;
 }
 
+void fz_finite(const char *call, const double *x, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        if (!isfinite(x[i])) fz_fail("%s returned OK with element %zu = %g", call, i, x[i]);
+}
+
 static double call_bound = 30.0, hang_bound = 300.0; /* seconds: CPU per call, wall before a hang */
 static _Atomic long long call_started_ns;            /* wall clock at fz_begin, 0 between calls */
 static const char *_Atomic current_call;
@@ -496,6 +502,15 @@ static void remove_resources(void)
     }
     rmdir(ctx.resources);
     if (slowest > 0.0) fprintf(stderr, "==vi-fuzz== slowest call: %s, %.3f s of CPU time\n", slowest_call, slowest);
+}
+
+int fz_off(const char *name)
+{
+    const char *list = getenv("VI_FUZZ_OFF");
+    size_t n = strlen(name);
+    for (const char *p = list; p && (p = strstr(p, name)) != NULL; p += n)
+        if ((p == list || p[-1] == ',') && (p[n] == '\0' || p[n] == ',')) return 1;
+    return 0;
 }
 
 static double env_seconds(const char *name, double fallback)
