@@ -35,7 +35,8 @@ def record_line(name, data):
 def base_wheel(into):
     """pyproject.toml's wheel without the CMake build: the Python package alone."""
     command = [sys.executable, "-m", "pip", "wheel", "--quiet", "--no-deps", "--no-build-isolation",
-               "--disable-pip-version-check", "-C", "wheel.cmake=false", "-w", str(into), str(ROOT)]
+               "--disable-pip-version-check", "--config-settings", "wheel.cmake=false", "-w", str(into), str(ROOT)]
+    # (--config-settings, not -C: Debian 12's pip 23.0 knows only the long form)
     done = subprocess.run(command, capture_output=True, text=True, timeout=TIMEOUT)
     if done.returncode != 0:
         fail(f"pip wheel failed:\n{done.stdout}{done.stderr}")
