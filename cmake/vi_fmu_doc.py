@@ -30,8 +30,7 @@ import re
 import shutil
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import vi_fmi3_description as fmi3desc  # noqa: E402  (the dump's reader and the FMI 3.0 types)
+import vi_fmi3_description as fmi3desc  # beside this script (the dump's reader and the FMI 3.0 types)
 
 ENTRY = {"2": "_main.html", "3": "index.html"}
 LICENSES = "licenses"
