@@ -7,6 +7,7 @@ block that starts an importer (fmpy, fmi-sim), with the FMU located by vibroimpa
 `vibroimpact path` (never build/, which a pip install has not). The other commands of the pages
 are the repository's own tools (tools/*.sh, vibroimpact paper/sweep/bench, examples/vehicle-track/run.sh),
 which take minutes to hours and are run by tools/test.sh and tools/main.sh themselves."""
+import glob
 import json
 import os
 import pathlib
@@ -16,6 +17,7 @@ import subprocess
 import sys
 
 import pytest
+import doc_numbers
 from conftest import DEFAULT_SOLVER, RUN_SOLVER
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -261,3 +263,97 @@ def test_importer_command_runs(fmu_path, tmp_path, index):
     assert run.returncode == 0, f"{page}: {command}\n{run.stdout[-2000:]}\n{run.stderr[-2000:]}"
     for out in re.findall(r"(?:--output-file|-o) (\S+)", command):
         assert (tmp_path / out).stat().st_size > 0, f"{page}: {command} wrote no {out}"
+
+
+# ---- the numbers the code decides ---------------------------------------------------------------------
+
+@pytest.fixture(scope="session")
+def sources(fmu_path):
+    from conftest import BUILD
+    return doc_numbers.Sources(fmu_path, BUILD)
+
+
+def test_number_agreement_rule():
+    """A number agrees when the value rounds to it at the digits shown (the rule every fact below uses)."""
+    agrees = doc_numbers.agrees
+    assert agrees("267.19", 267.1923) and not agrees("267.19", 267.1849)
+    assert agrees("1,000,000", 1e6) and not agrees("1,000,000", 999999.0)
+    assert agrees("5.6e-5", 5.5635e-5) and not agrees("5.6e-5", 5.54e-5)
+    assert agrees("-1.37", -1.3655) and not agrees("-1.37", -1.3649)
+    assert agrees("six", 6) and not agrees("Eight", 7.0)
+    assert agrees("42", 41.74) and not agrees("41.7", 41.76)
+
+
+@pytest.mark.timeout(120)
+@pytest.mark.parametrize("fact", doc_numbers.FACTS, ids=lambda f: f"{f.page}:{f.phrase[:40]}")
+def test_page_number_is_what_the_code_gives(sources, fact):
+    found = doc_numbers.phrase_regex(fact.phrase).findall(doc_numbers.page_text(fact.page))
+    assert found, f"{fact.page} no longer says \"{fact.phrase}\": update the page or fmu-test/doc_numbers.py"
+    value = fact.source(sources)
+    wrong = [n for n in found if not doc_numbers.agrees(n, value)]
+    assert not wrong, f"{fact.page}: \"{fact.phrase}\" says {wrong[0]}, the code gives {value:.6g}"
+
+
+@pytest.mark.timeout(60)
+@pytest.mark.parametrize("fact", doc_numbers.TABLE_FACTS, ids=lambda f: f"{f.page}:{f.column}:{f.row}")
+def test_table_number_is_what_the_data_give(sources, fact):
+    cells = doc_numbers.table_cells(fact.page, fact.column, fact.row)
+    assert cells, f"{fact.page}: no table row '{fact.row}' with a column '{fact.column}'"
+    value = fact.source(sources)
+    for cell in cells:
+        m = re.fullmatch(doc_numbers.phrase_regex(fact.cell), cell)
+        assert m, f"{fact.page}: the cell '{cell}' (row {fact.row}, column {fact.column}) is not '{fact.cell}'"
+        assert doc_numbers.agrees(m.group("n"), value), \
+            f"{fact.page}: row {fact.row}, column '{fact.column}' says {m.group('n')}, the data give {value:.6g}"
+
+
+# ---- names the pages give ---------------------------------------------------------------------------------
+
+REPO_FOLDERS = ("src/", "include/", "tools/", "tests/", "fmu-test/", "cmake/", "python/", "examples/", "doc/")
+
+
+def named_paths():
+    """(page, path) of every file or folder of the repository the pages name in inline code: a token
+    starting with one of the repository's folders (patterns such as <scenario> or * are globbed)."""
+    found = set()
+    for page in pages():
+        text = re.sub(r"^```.*?^```", "", page.read_text(), flags=re.S | re.M)
+        for code in re.findall(r"`([^`\n]+)`", text):
+            for token in re.findall(r"(?<![\w/.$-])(?:" + "|".join(map(re.escape, REPO_FOLDERS)) + r")[\w./<>*{},-]*", code):
+                found.add((page.relative_to(ROOT).as_posix(), token.rstrip(".,")))
+    return sorted(found)
+
+
+def test_named_files_exist():
+    missing = []
+    for page, path in named_paths():
+        pattern = re.sub(r"<[^>]*>|\{[^}]*\}", "*", path)
+        if "results/" in path:  # what a command writes: not in the repository
+            continue
+        if not glob.glob(str(ROOT / pattern)):
+            missing.append(f"{page}: {path}")
+    assert len(named_paths()) > 50, "the rule sees too few paths: it checks nothing"
+    assert not missing, "the pages name files that do not exist:\n" + "\n".join(missing)
+
+
+def code_identifiers():
+    """Every identifier of the C and CMake code (also the tests, tools and package, for options and variables)."""
+    words = set()
+    for top in ("src", "include", "tests", "tools", "cmake", "python", "fmu-test", "examples"):
+        for p in (ROOT / top).rglob("*"):
+            if p.suffix in {".c", ".h", ".cmake", ".py", ".sh", ".txt"} and p.is_file():
+                words.update(re.findall(r"\w+", p.read_text(errors="replace")))
+    words.update(re.findall(r"\w+", (ROOT / "CMakeLists.txt").read_text()))
+    return words
+
+
+def test_named_c_names_exist():
+    """A function, constant or CMake option the pages name in inline code (vi_*, VI_*) exists in the code."""
+    known = code_identifiers()
+    named = {(page.relative_to(ROOT).as_posix(), m) for page in pages()
+             for code in re.findall(r"`([^`\n]+)`", page.read_text())
+             for m in re.findall(r"^(?:vi|VI)_\w*[A-Za-z0-9](?:_\*)?", code)}
+    assert len(named) > 20, "the rule sees too few names: it checks nothing"
+    exists = lambda n: any(k.startswith(n[:-1]) for k in known) if n.endswith("*") else n in known  # noqa: E731
+    gone = sorted(f"{page}: {name}" for page, name in named if not exists(name))
+    assert not gone, "the pages name functions or constants the code no longer has:\n" + "\n".join(gone)
