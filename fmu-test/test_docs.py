@@ -1,5 +1,7 @@
 """The documentation cannot go stale unnoticed: doc/testing.md names every test file and no other,
-every relative link of README.md and doc/ resolves (file and heading), the README stays a front
+every relative link of README.md and doc/ resolves (file and heading), every number that the code
+decides is what the code gives (doc_numbers.py lists them), every file and C name the pages give
+exists, doc/using.md's statement of which outputs follow an input is measured, the README stays a front
 door (at most 300 lines), the pages hold no pointers outside the repository and no lab notes, the
 README's fmpy example runs and finds the impact count of the independent reference, and every
 example of README.md and doc/ that runs the FMU runs: each ```python block, and each line of a ```sh
@@ -357,3 +359,97 @@ def test_named_c_names_exist():
     exists = lambda n: any(k.startswith(n[:-1]) for k in known) if n.endswith("*") else n in known  # noqa: E731
     gone = sorted(f"{page}: {name}" for page, name in named if not exists(name))
     assert not gone, "the pages name functions or constants the code no longer has:\n" + "\n".join(gone)
+
+
+# ---- what doc/using.md says about inputs, measured --------------------------------------------------------
+
+# Model Exchange states in which an input may move outputs: (parameters, inputs, time, states y, v or None for
+# the static start); the states are set and an event iteration chooses the mode, then time moves on 10 us.
+ME_STATES = {
+    "static start, Hertz": ({"contact_model": 1}, {}, 0.0, None),
+    "free flight": ({"contact_model": 1}, {}, 1e-3, (1e-4, 0.5)),
+    "Johnson, plastic loading": ({"contact_model": 2}, {}, 1e-6, (-1.2e-4, -1.0)),
+    "LEPP, plastic flow": ({"contact_model": 3}, {}, 1e-6, (-3e-4, -1.0)),
+    "Johnson, stick": ({"contact_model": 2}, {"F_ext": -1.3e5}, 1e-6, (-1.2e-4, 0.0)),
+}
+INPUT_STEPS = {"yC_in": 1e-9, "F_ext": 10.0}
+
+
+def read(instance, v):
+    get = {"Real": instance.getReal, "Integer": instance.getInteger, "Boolean": instance.getBoolean}[v.type]
+    return get([v.valueReference])[0]
+
+
+def outputs_moved(md, unzipdir, state, name, step):
+    """The outputs and state derivatives of a Model Exchange instance that change when the input `name`
+    changes by `step` at fixed time and states (plain fmpy calls)."""
+    from fmpy.fmi2 import FMU2Model, fmi2Real
+    params, inputs, t, x = state
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    m = FMU2Model(guid=md.guid, unzipDirectory=unzipdir, modelIdentifier=md.modelExchange.modelIdentifier,
+                  instanceName="doc")
+    m.instantiate()
+    try:
+        m.setupExperiment(startTime=0.0)
+        m.enterInitializationMode()
+        for k, v in params.items():
+            m.setInteger([vr[k]], [v])
+        m.exitInitializationMode()
+        m.newDiscreteStates()
+        m.enterContinuousTimeMode()
+        if x is not None:
+            for k, v in inputs.items():
+                m.setReal([vr[k]], [v])
+            m.setTime(t)
+            m.setContinuousStates((fmi2Real * 2)(*x), 2)
+            m.enterEventMode()
+            m.newDiscreteStates()
+            m.enterContinuousTimeMode()
+            m.setTime(t + 1e-5)
+        unknowns = [u.variable for u in md.outputs + md.derivatives]
+        before = [read(m, v) for v in unknowns]
+        m.setReal([vr[name]], [inputs.get(name, 0.0) + step])
+        return {v.name for v, b in zip(unknowns, before) if read(m, v) != b}
+    finally:
+        m.freeInstance()
+
+
+def using_md_inputs_table():
+    rows = [line for line in section(ROOT.joinpath("doc", "using.md").read_text(), "## Inputs") if line.startswith("| `")]
+    return {re.match(r"\| `(\w+)`", r).group(1): set(re.findall(r"`(\w+)`", r.split("|")[2])) for r in rows}
+
+
+@pytest.mark.timeout(60)
+def test_using_md_says_which_outputs_follow_an_input_in_model_exchange(model_description, unzipdir):
+    said = using_md_inputs_table()
+    assert set(said) == set(INPUT_STEPS), said
+    measured = {name: set() for name in INPUT_STEPS}
+    for state in ME_STATES.values():
+        for name, step in INPUT_STEPS.items():
+            measured[name] |= outputs_moved(model_description, unzipdir, state, name, step)
+    assert measured == said, f"doc/using.md, section Inputs, lists {said}; measured in Model Exchange: {measured}"
+
+
+@pytest.mark.timeout(60)
+def test_using_md_co_simulation_outputs_wait_for_the_step(model_description, logged, vr):
+    """No output changes when an input is set at a communication point; the next step feels it."""
+    from conftest import start
+    outputs = [u.variable for u in model_description.outputs]
+    get = read
+    for name, step in {"yC_in": 1e-6, "F_ext": 1e3}.items():
+        s = logged().instantiate()
+        start(s, vr, {"contact_model": 1, "a": 1e-4})
+        for k in range(20):
+            s.doStep(k * 1e-4, 1e-4)
+        before = [get(s, v) for v in outputs]
+        s.setReal([vr[name]], [step])
+        assert [get(s, v) for v in outputs] == before, name
+        s.doStep(20e-4, 1e-4)
+        after = [get(s, v) for v in outputs]
+        s.freeInstance()
+        s = logged().instantiate()
+        start(s, vr, {"contact_model": 1, "a": 1e-4})
+        for k in range(21):
+            s.doStep(k * 1e-4, 1e-4)
+        assert [get(s, v) for v in outputs] != after, f"setting {name} changed nothing in the next step"
+        s.freeInstance()
