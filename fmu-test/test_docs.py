@@ -453,3 +453,11 @@ def test_using_md_co_simulation_outputs_wait_for_the_step(model_description, log
             s.doStep(k * 1e-4, 1e-4)
         assert [get(s, v) for v in outputs] != after, f"setting {name} changed nothing in the next step"
         s.freeInstance()
+
+
+def test_using_md_names_every_log_category(model_description):
+    logging = "\n".join(section(ROOT.joinpath("doc", "using.md").read_text(), "## Logging"))
+    categories = [c.name for c in model_description.logCategories]
+    assert len(categories) >= 5, categories
+    missing = [c for c in categories if f"`{c}`" not in logging]
+    assert not missing, f"doc/using.md, section Logging, does not name the categories {missing}"
