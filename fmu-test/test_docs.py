@@ -461,3 +461,47 @@ def test_using_md_names_every_log_category(model_description):
     assert len(categories) >= 5, categories
     missing = [c for c in categories if f"`{c}`" not in logging]
     assert not missing, f"doc/using.md, section Logging, does not name the categories {missing}"
+
+
+# ---- commands and options the pages give ------------------------------------------------------------------
+
+COMMAND_USE = re.compile(r"(?<![\w/.])(vibroimpact|tools/mutate\.py)((?: +[a-z][a-z0-9-]*(?=[\s`)]|$))?)"
+                         r"((?: +[^\s`|#)\"']+)*)")
+
+
+def command_uses():
+    """{(program, command): {options}} of every use of `vibroimpact <command>` and tools/mutate.py in inline
+    code and sh blocks of the pages (python blocks hold the package's API, not its commands)."""
+    uses = {}
+    for page in pages():
+        text = page.read_text()
+        spans = re.findall(r"`([^`\n]+)`", re.sub(r"^```.*?^```", "", text, flags=re.S | re.M))
+        spans += [line for language, block in FENCE.findall(text) if language == "sh"
+                  for line in re.sub(r"\\\n\s*", " ", block).splitlines()]
+        for span in spans:
+            for program, command, rest in COMMAND_USE.findall(span.split(" #")[0]):
+                options = set(re.findall(r"(?<!\S)(--[A-Za-z][A-Za-z0-9-]*)", rest))
+                uses.setdefault((program, command.strip()), set()).update(options)
+    # doc/sweeps.md's table of the options of `vibroimpact sweep`
+    rows = [line for line in ROOT.joinpath("doc", "sweeps.md").read_text().splitlines() if line.startswith("| `--")]
+    uses.setdefault(("vibroimpact", "sweep"), set()).update(o for r in rows for o in re.findall(r"`(--[a-z-]+)", r))
+    return uses
+
+
+@pytest.mark.timeout(120)
+def test_named_commands_and_options_exist():
+    """Every `vibroimpact <command> --option` and `tools/mutate.py --option` the pages give exists: the
+    command's --help succeeds and names the option."""
+    uses = command_uses()
+    assert len(uses) > 10 and ("vibroimpact", "sweep") in uses, "the rule sees too few commands: it checks nothing"
+    bad = []
+    for (program, command), options in sorted(uses.items()):
+        argv = [sys.executable, "-m", "vibroimpact"] if program == "vibroimpact" else [sys.executable, str(ROOT / program)]
+        run = subprocess.run(argv + command.split() + ["--help"], capture_output=True, text=True, timeout=60,
+                             env=example_env())
+        if run.returncode != 0:
+            bad.append(f"{program} {command}: --help fails: {run.stderr.strip()[-300:]}")
+            continue
+        bad += [f"{program} {command} {o}: not in its --help" for o in sorted(options)
+                if not re.search(rf"(?<![\w-]){re.escape(o)}(?![\w-])", run.stdout)]
+    assert not bad, "the pages give commands or options that do not exist:\n" + "\n".join(bad)
