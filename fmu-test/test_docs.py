@@ -505,3 +505,40 @@ def test_named_commands_and_options_exist():
         bad += [f"{program} {command} {o}: not in its --help" for o in sorted(options)
                 if not re.search(rf"(?<![\w-]){re.escape(o)}(?![\w-])", run.stdout)]
     assert not bad, "the pages give commands or options that do not exist:\n" + "\n".join(bad)
+
+
+def declared_range(v):
+    """The range of a variable of the model description as doc/model.md's parameter table writes it."""
+    if v.type == "Integer":
+        return f"{v.min}-{v.max}" if v.min is not None else ""
+    lo, hi = (None if b is None else float(b) for b in (v.min, v.max))
+    known = {(None, None): "", (5e-324, None): "> 0", (0.0, None): ">= 0", (-0.9999999999999999, 0.5): "(-1, 0.5]"}
+    return known.get((lo, hi), f"[{v.min}, {v.max}]")
+
+
+def range_agrees(cell, v):
+    """The cell states the declared range; "0, or ..." is the declared >= 0 (or [0, max]) with a gap the
+    FMU refuses when the value is set or at initialization, where max must be the declared one."""
+    if cell.startswith("0, or "):
+        hi = re.search(r"(\S+)\]$", cell)
+        return float(v.min) == 0.0 and (v.max is None or bool(hi) and doc_numbers.agrees(hi.group(1), float(v.max)))
+    return cell.startswith(declared_range(v)) if declared_range(v) else cell == ""
+
+
+def test_model_md_ranges_are_the_declared_ones(model_description):
+    text = ROOT.joinpath("doc", "model.md").read_text()
+    rows = [line for line in section(text, "### Parameters") if line.startswith("| `")]
+    variables = {v.name: v for v in model_description.modelVariables}
+    checked, bad = 0, []
+    for row in rows:
+        cells = [c.strip() for c in row.strip().strip("|").split("|")]
+        names, cell = re.findall(r"`(\w+)`", cells[0]), cells[3]
+        named_in_cell = re.match(r"`(\w+)` (.*)", cell)
+        for name in names:
+            v = variables[name]
+            own = (named_in_cell.group(2) if named_in_cell.group(1) == name else "") if named_in_cell else cell
+            checked += 1
+            if not range_agrees(own, v):
+                bad.append(f"{name}: doc/model.md says '{own}', modelDescription.xml declares min={v.min} max={v.max}")
+    assert checked >= 20, "the rule sees too few parameters: it checks nothing"
+    assert not bad, "\n".join(bad)
