@@ -88,7 +88,8 @@ class Sources:
     def nominal(self, name):
         return float(next(v.nominal for v in self.md.modelVariables if v.name == name))
 
-    def _instance(self, cls, params):
+    def instance(self, cls, params):
+        """An instance of cls (FMU2Slave, FMU2Model) initialized with these parameters; -> (it, value references)."""
         vr = {v.name: v.valueReference for v in self.md.modelVariables}
         s = cls(guid=self.md.guid, unzipDirectory=self.unzipdir, modelIdentifier=self.md.coSimulation.modelIdentifier,
                 instanceName="doc")
@@ -103,7 +104,7 @@ class Sources:
     @functools.lru_cache(maxsize=None)
     def initial(self, name, **params):
         """A Real variable of a Co-Simulation instance right after initialization with these parameters."""
-        s, vr = self._instance(FMU2Slave, params)
+        s, vr = self.instance(FMU2Slave, params)
         try:
             return s.getReal([vr[name]])[0]
         finally:
@@ -113,7 +114,7 @@ class Sources:
     @functools.lru_cache(maxsize=None)
     def nominals(self, contact_model):
         """fmi2GetNominalsOfContinuousStates of a Model Exchange instance at the static start."""
-        m, _ = self._instance(FMU2Model, {"contact_model": contact_model})
+        m, _ = self.instance(FMU2Model, {"contact_model": contact_model})
         try:
             x = (fmi2Real * 2)()
             m.getNominalsOfContinuousStates(x, 2)

@@ -380,21 +380,13 @@ def read(instance, v):
     return get([v.valueReference])[0]
 
 
-def outputs_moved(md, unzipdir, state, name, step):
+def outputs_moved(sources, state, name, step):
     """The outputs and state derivatives of a Model Exchange instance that change when the input `name`
     changes by `step` at fixed time and states (plain fmpy calls)."""
     from fmpy.fmi2 import FMU2Model, fmi2Real
     params, inputs, t, x = state
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    m = FMU2Model(guid=md.guid, unzipDirectory=unzipdir, modelIdentifier=md.modelExchange.modelIdentifier,
-                  instanceName="doc")
-    m.instantiate()
+    m, vr = sources.instance(FMU2Model, params)
     try:
-        m.setupExperiment(startTime=0.0)
-        m.enterInitializationMode()
-        for k, v in params.items():
-            m.setInteger([vr[k]], [v])
-        m.exitInitializationMode()
         m.newDiscreteStates()
         m.enterContinuousTimeMode()
         if x is not None:
@@ -406,7 +398,7 @@ def outputs_moved(md, unzipdir, state, name, step):
             m.newDiscreteStates()
             m.enterContinuousTimeMode()
             m.setTime(t + 1e-5)
-        unknowns = [u.variable for u in md.outputs + md.derivatives]
+        unknowns = [u.variable for u in sources.md.outputs + sources.md.derivatives]
         before = [read(m, v) for v in unknowns]
         m.setReal([vr[name]], [inputs.get(name, 0.0) + step])
         return {v.name for v, b in zip(unknowns, before) if read(m, v) != b}
@@ -420,13 +412,13 @@ def using_md_inputs_table():
 
 
 @pytest.mark.timeout(60)
-def test_using_md_says_which_outputs_follow_an_input_in_model_exchange(model_description, unzipdir):
+def test_using_md_says_which_outputs_follow_an_input_in_model_exchange(sources):
     said = using_md_inputs_table()
     assert set(said) == set(INPUT_STEPS), said
     measured = {name: set() for name in INPUT_STEPS}
     for state in ME_STATES.values():
         for name, step in INPUT_STEPS.items():
-            measured[name] |= outputs_moved(model_description, unzipdir, state, name, step)
+            measured[name] |= outputs_moved(sources, state, name, step)
     assert measured == said, f"doc/using.md, section Inputs, lists {said}; measured in Model Exchange: {measured}"
 
 
