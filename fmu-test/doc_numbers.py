@@ -201,6 +201,16 @@ class Sources:
         assert m, f"vibroimpact wplastic {' '.join(args)} prints nothing matching {pattern}:\n{self.wplastic(*args)}"
         return float(m.group(1))
 
+    def state_bits(self):
+        """Bits of a serialized FMU state of a bouncing Hertz run after 2 ms (the FMU's default solver)."""
+        s, _ = self.instance(FMU2Slave, {"contact_model": 1, "a": 1e-4})
+        try:
+            for k in range(20):
+                s.doStep(k * 1e-4, 1e-4)
+            return 8 * len(s.serializeFMUstate(s.getFMUstate()))
+        finally:
+            s.freeInstance()
+
     def pytest_timeout(self):
         return float(re.search(r"^timeout = (\d+)", (ROOT / "pytest.ini").read_text(), re.M).group(1))
 
@@ -388,6 +398,8 @@ FACTS = [
     Fact("doc/testing.md", "(same sequence, within 1 us, all {n} scenarios)", lambda s: len(s.reference)),
     Fact("doc/testing.md", "ctest runs fuzz_VibroImpact for {n} s", lambda s: s.fuzz_seconds("VibroImpact")),
     Fact("doc/testing.md", "and fuzz_VibroImpact_fmi3 for {n} s", lambda s: s.fuzz_seconds("VibroImpact_fmi3")),
+    Fact("doc/testing.md", "All {n} single-bit flips of a serialized state (Hertz, bouncing, after 2 ms)",
+         lambda s: s.state_bits()),
     Fact("doc/testing.md", "`tools/mutants-equivalent.txt` holds {n} entries", lambda s: s.equivalents()),
     Fact("doc/testing.md", "(about {n} % of the mutants `tools/mutate.py --list` names)", lambda s: s.mutant_share()),
     Fact("doc/testing.md", "reset, {n} instances at once, and LayerTest's", lambda s: s.driver_define("fmu_driver.c", "N_INSTANCES")),
