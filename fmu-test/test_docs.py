@@ -534,3 +534,10 @@ def test_model_md_ranges_are_the_declared_ones(model_description):
                 bad.append(f"{name}: doc/model.md says '{own}', modelDescription.xml declares min={v.min} max={v.max}")
     assert checked >= 20, "the rule sees too few parameters: it checks nothing"
     assert not bad, "\n".join(bad)
+
+
+def test_wheel_names_carry_the_version():
+    """The release wheel the pages name is the one tools/release.sh makes: the CMake project's version."""
+    version = re.search(r"project\(VibroImpact VERSION ([0-9.]+)", ROOT.joinpath("CMakeLists.txt").read_text()).group(1)
+    named = {m for page in pages() for m in re.findall(r"vibroimpact-([0-9][0-9.]*[0-9])-py3", page.read_text())}
+    assert named and named == {version}, f"the pages name wheels of versions {named}; the project's is {version}"
