@@ -31,7 +31,9 @@ H_COMM = 1e-5
 BOUND = 1e-5
 RK4_STEPS = [1e-5, 5e-6, 2e-6, 1e-6, 5e-7, 2e-7, 1e-7, 5e-8, 2e-8, 1e-8, 5e-9, 2e-9]  # divide H_COMM
 RK4_CAP_S = 20.0  # skip RK4 steps whose run would take longer than this
-SPANS_S = [0.01, 0.03, 0.1, 0.3, 1.0]  # simulated times of the cost against simulated time
+STEPS_S = [1e-7, 1e-6, 1e-5, 1e-4, 1e-3]  # communication steps of the cost per step (fig4b)
+SPANS_S = [0.01, 0.03, 0.1, 0.3, 1.0]  # simulated times of the cost against simulated time (fig4b)
+FREQS_HZ = [500.0, 1000.0, 2000.0, 4000.0, 8000.0]  # excitations of the cost against impacts
 DPI = 90
 PROFILE_ROWS = [10 ** 4, 10 ** 5, 10 ** 6]
 PROFILE_TARGET_US = 0.3  # per row, and no slower than numpy.loadtxt reading the same file
@@ -201,42 +203,8 @@ def run_suite(repeat, quick, outdir, build, only=None):
             return
         results = {}
         for case, spec in CASES.items():
-            p, T = spec["params"], spec["t_stop"]
-            if case == "drop":
-                err = lambda s: drop_error(s, p)  # noqa: E731
-                ref_note = "closed form"
-            elif case == "stiff":
-                err = lambda s: stiff_error(s, p)  # noqa: E731
-                ref_note = ("the quasi-static closed form y = a (cos(2 pi f t) - 1) - delta_static (the Python "
-                            "reference and RK4, explicit methods held to 10 MHz steps, are left out)")
-            else:
-                _, ref = fmu.run({**p, "solver": 3}, T, 1e-14, 1)
-                _, ref2 = fmu.run({**p, "solver": 2}, T, 1e-13, 1)
-                _, ref3 = python_reference(p, T, 1e-12, 1)
-                err = lambda s, ref=ref: trace_error(s, ref)  # noqa: E731
-                ref_note = (f"dop853 at rtol 1e-14; adams at 1e-13 is {trace_error(ref2, ref):.1e} from it, the "
-                            f"Python reference at 1e-12 {trace_error(ref3, ref):.1e}")
-            res = dict(fmu={}, py={}, rk4={}, ref_note=ref_note)
-            for name, solver in SOLVERS.items():
-                for rtol in rtols:
-                    fig, s = fmu.run({**p, "solver": solver}, T, rtol, repeat)
-                    res["fmu"][name, rtol] = (fig["cpu_s"], err(s), fig["rhs"]) if fig else (None, None, None)
-            for rtol in rtols:
-                if case == "stiff":
-                    res["py"][rtol] = (None, None)
-                    continue
-                cpu, s = python_reference(p, T, rtol, max(1, repeat // 2))
-                res["py"][rtol] = (cpu, err(s))
-            for h in RK4_STEPS if case != "stiff" else []:
-                if T / h * 60e-9 > RK4_CAP_S:  # about 60 ns per RK4 step
-                    break
-                fig, s = rk4(build, p, T, h, 1, work)
-                res["rk4"][h] = (fig["cpu_s"], err(s))
-                if err(s) <= BOUND:
-                    break
-            res["rhs_ns"] = rhs_ns(build, p)
-            results[case] = res
-            report_case(out, case, spec, res, rtols)
+            results[case] = measure_case(fmu, work, case, spec, rtols, repeat)
+            report_case(out, case, spec, res=results[case], rtols=rtols)
         report_matched(out, results, rtols)
         report_auto(out, results)
         importer_share(out, fmu, results, repeat)
@@ -248,9 +216,54 @@ def run_suite(repeat, quick, outdir, build, only=None):
         profile_loading(out, fmu, work, repeat)
         plotting.save(plotting.work_precision_figure(results, rtols, CASES, SOLVERS, BOUND),
                       outdir / "work_precision.png", DPI)
-        plotting.save(plotting.cost_figure(results, SOLVERS, SPANS_S), outdir / "cost.png", DPI)
+        plotting.save(plotting.cost_figure(results, SOLVERS), outdir / "cost.png", DPI)
     (outdir / "bench.md").write_text("\n".join(lines) + "\n")
     print(f"\nwritten: {outdir / 'bench.md'} and the PNG plots in {outdir}")
+
+
+def case_error(fmu, case, spec):
+    """(error of a run's samples, what it is measured against) for one case of CASES."""
+    p, T = spec["params"], spec["t_stop"]
+    if case == "drop":
+        return (lambda s: drop_error(s, p)), "closed form"
+    if case == "stiff":
+        return (lambda s: stiff_error(s, p)), ("the quasi-static closed form y = a (cos(2 pi f t) - 1) - delta_static "
+                                               "(the Python reference and RK4, explicit methods held to 10 MHz steps, "
+                                               "are left out)")
+    _, ref = fmu.run({**p, "solver": 3}, T, 1e-14, 1)
+    _, ref2 = fmu.run({**p, "solver": 2}, T, 1e-13, 1)
+    _, ref3 = python_reference(p, T, 1e-12, 1)
+    return (lambda s: trace_error(s, ref)), (f"dop853 at rtol 1e-14; adams at 1e-13 is {trace_error(ref2, ref):.1e} "
+                                             f"from it, the Python reference at 1e-12 {trace_error(ref3, ref):.1e}")
+
+
+def measure_case(fmu, work, case, spec, rtols, repeat, rk4_steps=RK4_STEPS):
+    """Work-precision of one case: every solver and the Python reference at each rtol, RK4 from the
+    communication step down (rk4_steps) until it reaches BOUND; the cost of one rhs evaluation alone.
+    -> dict(fmu={(solver, rtol): (CPU [s], error, rhs evaluations)}, py={rtol: (CPU, error)},
+    rk4={h: (CPU, error)}, ref_note, rhs_ns)."""
+    p, T = spec["params"], spec["t_stop"]
+    err, ref_note = case_error(fmu, case, spec)
+    res = dict(fmu={}, py={}, rk4={}, ref_note=ref_note)
+    for name, solver in SOLVERS.items():
+        for rtol in rtols:
+            fig, s = fmu.run({**p, "solver": solver}, T, rtol, repeat)
+            res["fmu"][name, rtol] = (fig["cpu_s"], err(s), fig["rhs"]) if fig else (None, None, None)
+    for rtol in rtols:
+        if case == "stiff":
+            res["py"][rtol] = (None, None)
+            continue
+        cpu, s = python_reference(p, T, rtol, max(1, repeat // 2))
+        res["py"][rtol] = (cpu, err(s))
+    for h in rk4_steps if case != "stiff" else []:
+        if T / h * 60e-9 > RK4_CAP_S:  # about 60 ns per RK4 step
+            break
+        fig, s = rk4(fmu.build, p, T, h, 1, work)
+        res["rk4"][h] = (fig["cpu_s"], err(s))
+        if err(s) <= BOUND:
+            break
+    res["rhs_ns"] = rhs_ns(fmu.build, p)
+    return res
 
 
 def fmt(x, spec=".2f"):
@@ -434,9 +447,9 @@ def importer_share(out, fmu, results, repeat):
     out("")
 
 
-def per_step_cost(out, fmu, results, repeat):
-    out("### Cost per fmi2DoStep against the communication step (fig4b, 10 ms, y read after each step)\n")
-    steps = [1e-7, 1e-6, 1e-5, 1e-4, 1e-3]
+def per_step_cost(out, fmu, results, repeat, steps=STEPS_S, t_stop=0.01):
+    out(f"### Cost per fmi2DoStep against the communication step (fig4b, {1e3 * t_stop:g} ms, y read after each "
+        "step)\n")
     out("| solver | rtol | " + " | ".join(f"h = {h:g} s [us]" for h in steps) + " |")
     out("|---|---|" + "---|" * len(steps))
     p = CASES["fig4b"]["params"]
@@ -445,7 +458,7 @@ def per_step_cost(out, fmu, results, repeat):
         r = best_rtol(results, name)
         cells = []
         for h in steps:
-            fig, _ = fmu.run({**p, "solver": solver}, 0.01, r, repeat, h=h)
+            fig, _ = fmu.run({**p, "solver": solver}, t_stop, r, repeat, h=h)
             results["per_step"][name, h] = fig["step_us"]
             cells.append(f"{fig['step_us']:.3g}")
         out(f"| {name} | {r:.0e} | " + " | ".join(cells) + " |")
@@ -453,13 +466,12 @@ def per_step_cost(out, fmu, results, repeat):
         "interpolation, the step's bookkeeping and reading y.\n")
 
 
-def scaling(out, fmu, results, repeat):
+def scaling(out, fmu, results, repeat, spans=SPANS_S, freqs=FREQS_HZ):
     p = CASES["fig4b"]["params"]
-    spans = SPANS_S
     out("### Cost against simulated time (fig4b, matched rtol) [ms]\n")
     out("| solver | " + " | ".join(f"{T:g} s" for T in spans) + " | per simulated second |")
     out("|---|" + "---|" * (len(spans) + 1))
-    results["time"] = {}
+    results["time"], results["time_spans"] = {}, spans
     for name, solver in SOLVERS.items():
         r = best_rtol(results, name)
         cpus = []
@@ -470,7 +482,6 @@ def scaling(out, fmu, results, repeat):
         slope = np.polyfit(spans, cpus, 1)[0]
         out(f"| {name} | " + " | ".join(f"{1e3 * c:.1f}" for c in cpus) + f" | {1e3 * slope:.1f} |")
     out("")
-    freqs = [500.0, 1000.0, 2000.0, 4000.0, 8000.0]
     out("### Cost against the number of impacts (Hertz, a = 0.1 mm, 0.1 s, rtol 1e-8)\n")
     out("| solver | " + " | ".join(f"f = {f:g} Hz" for f in freqs) + " | per impact [us] |")
     out("|---|" + "---|" * (len(freqs) + 1))

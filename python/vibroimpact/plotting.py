@@ -297,7 +297,7 @@ def work_precision_figure(results, rtols, cases, solvers, bound):
     return fig
 
 
-def cost_figure(results, solvers, spans):
+def cost_figure(results, solvers):
     """Cost per step against the communication step, against simulated time, against impacts."""
     plt = pyplot()
     fig, axes = plt.subplots(1, 3, figsize=(16, 4.5))
@@ -305,7 +305,7 @@ def cost_figure(results, solvers, spans):
     for name in solvers:
         axes[0].loglog(steps, [results["per_step"][name, h] for h in steps], "o-", color=SOLVER_COLORS[name],
                        label=name)
-        axes[1].plot(spans, [1e3 * c for c in results["time"][name]], "o-", color=SOLVER_COLORS[name], label=name)
+        axes[1].plot(results["time_spans"], [1e3 * c for c in results["time"][name]], "o-", color=SOLVER_COLORS[name], label=name)
         pts = results["impacts"][name]
         axes[2].plot([a for a, _ in pts], [1e3 * c for _, c in pts], "o-", color=SOLVER_COLORS[name], label=name)
     axes[0].set(xlabel="communication step [s]", ylabel="CPU per fmi2DoStep [us]", title="fig4b, 10 ms")

@@ -7,10 +7,9 @@ start-up is timed apart. "Cores kept busy" is the workers' CPU time (time.proces
 worker, through Client.run) over the wall time: on a machine shared with other jobs it shows how
 much of the cluster the sweep actually got, and the wall times move by 10 % or more between runs.
 """
-import tempfile
 import time
 
-from . import engine, point, spec
+from . import engine, spec
 
 
 def make_sweep(interface, n, stop_time, step):
@@ -20,15 +19,10 @@ def make_sweep(interface, n, stop_time, step):
 
 
 def baseline(fmu, sweep, interface):
-    """The same chains, one after the other, in this process (no Dask)."""
-    from fmpy import extract
-    with tempfile.TemporaryDirectory() as tmp:
-        files = point.FMUFiles(extract(fmu, unzipdir=tmp), interface.guid, interface.model_identifier,
-                               {n: interface.variables[n].vr for n in point.OUTPUT_NAMES})
-        timing = dict(stop_time=sweep.stop_time, step=sweep.step, transient=sweep.transient)
-        t = time.perf_counter()
-        out = [r for _, fixed, per in spec.chains(sweep, interface) for r in point.run_chain(files, fixed, per, timing)]
-        return time.perf_counter() - t, out
+    """The same chains, one after the other, in this process (no Dask): (wall time [s], results)."""
+    t = time.perf_counter()
+    rows = engine.run_here(sweep, interface, fmu)
+    return time.perf_counter() - t, [r for _, r in rows]
 
 
 def on_cluster(client, fmu, sweep, interface, repeat):
