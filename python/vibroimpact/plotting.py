@@ -22,8 +22,12 @@ def pyplot():
 
 
 def wrap(text, width):
-    """text broken into lines of at most width characters (each line of it on its own)."""
-    return "\n".join(textwrap.fill(line, width) for line in text.split("\n"))
+    """text broken into lines of at most width characters, each line of it on its own and into lines of
+    about equal length (a title of 80 characters in two of 40 or so, not one of 60 and one of 20)."""
+    def balanced(line):
+        n = -(-len(line) // width)
+        return textwrap.fill(line, min(width, -(-len(line) // n) + 8)) if n > 1 else line
+    return "\n".join(balanced(line) for line in text.split("\n"))
 
 
 def figure_legend(fig, axes, loc="outside lower center", ncols=4, **style):
@@ -122,8 +126,8 @@ def rolling_figure(profile, runs, passing):
     fig = plt.figure(figsize=(12, 3 * (len(runs) + 1) + 0.5), layout="constrained")
     grid = fig.add_gridspec(len(runs) + 1, 2)
     ax = fig.add_subplot(grid[0, :])
-    ax.plot(1e3 * s, 1e6 * h, lw=0.8, color="0.5", label="h(x)")
-    ax.plot(1e3 * s, 1e6 * yb, lw=1.2, color="k", label="yb(x)")
+    ax.plot(1e3 * s, 1e6 * h, lw=0.8, color="0.5", label="corrugation h(x)")
+    ax.plot(1e3 * s, 1e6 * yb, lw=1.2, color="k", label="constraint yb(x)")
     ax.set_xlabel("position along the rail x [mm]")
     ax.set_ylabel(r"height [$\mu$m]")
     ax.legend(loc="center left", bbox_to_anchor=(1.0, 0.5), fontsize=8)
@@ -175,7 +179,13 @@ def groups(cols, names, x_name):
     """[(label, key)], one per combination of the grid variables other than x_name (key: name -> value)."""
     others = [n for n in names if n != x_name]
     keys = sorted(set(zip(*[cols[n] for n in others]))) if others else [()]
-    return [(", ".join(f"{n} = {v:g}" for n, v in zip(others, k)), dict(zip(others, k))) for k in keys]
+    return [(", ".join(f"{n} = {v:g}{unit_of(n)}" for n, v in zip(others, k)), dict(zip(others, k))) for k in keys]
+
+
+def unit_of(name):
+    """ ' <unit>' of a start value QUANTITIES knows (dimensionless and unknown ones: '')."""
+    unit = QUANTITIES.get(name, (None, "1"))[1]
+    return "" if unit == "1" else f" {unit}"
 
 
 def select(cols, key):
@@ -225,12 +235,12 @@ def draw_failed(ax, cols, x_name):
 
 
 def draw_bifurcation(ax, poincare, x_name, mask=None, label="", **style):
-    """Poincare indentation against the swept variable, in um (mm when it exceeds 10 mm)."""
+    """Poincare indentation against the swept variable, in um (mm when it exceeds 1 mm)."""
     mask = np.ones(len(poincare.get(x_name, [])), bool) if mask is None else mask
     if x_name not in poincare or not mask.any():
         return
     style = {"s": 2, "lw": 0, **style}
-    big = np.nanmax(np.abs(poincare["delta"])) > 1e-2
+    big = np.nanmax(np.abs(poincare["delta"])) > 1e-3
     scale, unit = (1e3, "mm") if big else (1e6, "$\\mu$m")
     ax.scatter(poincare[x_name][mask], poincare["delta"][mask] * scale, label=label, **style)
     ax.set_ylabel(f"indentation at phase 0 [{unit}]")
@@ -340,6 +350,14 @@ SOLVER_COLORS = dict(bdf="tab:blue", adams="tab:orange", dop853="tab:green", aut
 def loglog_points(ax, pts, style, **kw):
     """CPU [s] against error pairs as ms against error (errors of 0 drawn at 1e-16)."""
     ax.loglog([1e3 * c for c, _ in pts], [max(e, 1e-16) for _, e in pts], style, **kw)
+    no_minor_labels(ax)
+
+
+def no_minor_labels(ax):
+    """Log axes label their decades only (minor labels of a narrow range run into each other)."""
+    from matplotlib.ticker import NullFormatter
+    ax.xaxis.set_minor_formatter(NullFormatter())
+    ax.yaxis.set_minor_formatter(NullFormatter())
 
 
 def work_precision_figure(results, rtols, cases, solvers, bound):
@@ -377,9 +395,12 @@ def cost_figure(results, solvers):
                      label=name)
         pts = results["impacts"][name]
         axes[2].plot([a for a, _ in pts], [1e3 * c for _, c in pts], "o-", color=SOLVER_COLORS[name], label=name)
-    axes[0].set(xlabel="communication step [s]", ylabel="CPU time per fmi2DoStep [us]", title="fig4b")
-    axes[1].set(xlabel="simulated time [s]", ylabel="CPU time [ms]", title="fig4b, matched rtol")
-    axes[2].set(xlabel="number of impacts", ylabel="CPU time [ms]", title="Hertz, 0.1 s, rtol 1e-8")
+    no_minor_labels(axes[0])
+    axes[0].set(xlabel="communication step [s]", ylabel="CPU time per fmi2DoStep [us]",
+                title="Fig. 4b: the cost of a step against its length")
+    axes[1].set(xlabel="simulated time [s]", ylabel="CPU time [ms]", title="Fig. 4b at matched rtol: against the span")
+    axes[2].set(xlabel="number of impacts", ylabel="CPU time [ms]",
+                title="Hertz, a = 0.1 mm, 0.1 s, rtol 1e-8: against the impacts")
     for ax in axes:
         ax.grid(True, which="both", alpha=0.3)
     figure_legend(fig, axes, fontsize=9)
