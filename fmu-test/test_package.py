@@ -98,3 +98,20 @@ def test_every_command_is_a_module_of_the_command_layer_and_the_entry_point_is_i
     assert named == modules, (sorted(named ^ modules))
     scripts = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["scripts"]
     assert scripts == {"vibroimpact": "vibroimpact.cli:main"}
+
+
+def test_no_command_writes_into_doc_or_the_package_unless_told():
+    """Every command's default output folder is under results/ of the working folder (the gallery
+    copies of the figures go only where --gallery DIR names, and bench and reference write into doc/
+    and the package's data only when --out names them)."""
+    import importlib
+
+    from vibroimpact import cli
+    from vibroimpact.cli import sweep
+    defaults = {name: importlib.import_module(f"vibroimpact.cli.{module}").OUT
+                for name, (module, _) in cli.COMMANDS.items()
+                if hasattr(importlib.import_module(f"vibroimpact.cli.{module}"), "OUT")}
+    defaults["sweep"] = pathlib.Path(sweep.parse_args([]).out)
+    assert {"paper", "rolling", "sweep", "diagrams", "bench", "reference"} <= set(defaults), defaults
+    for name, out in defaults.items():
+        assert not out.is_absolute() and out.parts[0] == "results", (name, out)
