@@ -4,7 +4,8 @@ no legend sits on the data, and no panel is empty.
 
 The figures come from vibroimpact.plotting, the functions the commands save (paper: each scenario and
 the overview; rolling; sweep: response and bifurcation of a one-grid sweep with failed points, of
-doc/sweeps.md's product sweep and of a continuation; diagrams: response and bifurcation; bench:
+doc/sweeps.md's product sweep, of a continuation and of a sweep with more lines
+than a legend takes; diagrams: response and bifurcation; bench:
 work-precision and cost). The runs are the commands' own, shortened: the paper's scenarios whole (they
 take a fraction of a second each), rolling and the sweeps over a few hundredths of a second and a few
 points, the benchmark on two tolerances and short spans.
@@ -207,6 +208,8 @@ SWEEPS = {
     # doc/sweeps.md's product sweep, on a shorter f grid
     "product": (["contact_model=johnson", "Y=6e8"], ["a=1e-6:1e-4:2", "f=200:400:21"], dict(log=("a",))),
     "continuation": (["contact_model=hertz", "a=5e-6"], ["f=200:330:6"], dict(direction="up")),
+    # more lines than a legend takes: one colour scale
+    "many lines": (["contact_model=hertz"], ["a=1e-5:1e-4:11", "f=200:400:12"], dict(stop_time=0.01, transient=0.0)),
 }
 
 
