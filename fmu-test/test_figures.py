@@ -4,9 +4,8 @@ no legend sits on the data, and no panel is empty.
 
 The figures come from vibroimpact.plotting, the functions the commands save (paper: each scenario and
 the overview; rolling; sweep: response and bifurcation of a one-grid sweep with failed points, of
-doc/sweeps.md's product sweep, of a continuation and of a sweep with more lines
-than a legend takes; diagrams: response and bifurcation; bench:
-work-precision and cost). The runs are the commands' own, shortened: the paper's scenarios whole (they
+doc/sweeps.md's product sweep, of a continuation and of a sweep with more lines than a legend takes;
+diagrams: response and bifurcation; bench: work-precision and cost). The runs are the commands' own, shortened: the paper's scenarios whole (they
 take a fraction of a second each), rolling and the sweeps over a few hundredths of a second and a few
 points, the benchmark on two tolerances and short spans.
 
