@@ -12,15 +12,15 @@
  * through the Model Exchange hooks below (a model without them offers co-simulation only).
  *
  * To build an FMU of a model, a model author writes, in one folder:
- *   1. a table header and one .c with VI_TABLE_DEFINE (see vi_table.h): the variables;
- *   2. modelDescription.xml mirroring the table (value reference = row number), with
- *      modelIdentifier = the FMU's CMake name, guid = VI_GUID, and the layer's LogCategories:
- *      logEvents, logSolver, logStatusWarning, logStatusDiscard, logStatusError, logFmi2Call, logAll;
- *   3. the model file: the hooks below, and one definition
+ *   1. a table header and one .c with VI_TABLE_DEFINE (see vi_table.h): the variables, the model's
+ *      identity (VI_MODEL_IDENTIFIER = the FMU's CMake name, VI_GUID, VI_MODEL_DESCRIPTION), its
+ *      default experiment and whether it interpolates its inputs;
+ *   2. the model file: the hooks below, and one definition
  *          const vi_fmu_model vi_fmu_this_model = {VI_FMU_TABLE_FIELDS(...), .init = ..., ...};
- *   4. in CMake (cmake/vi_fmu.cmake):  vi_add_fmu(<Name> SOURCES <model .c files> XML <xml>
+ *   3. in CMake (cmake/vi_fmu.cmake):  vi_add_fmu(<Name> SOURCES <model .c files>
  *      [LIBRARIES <libs>] [INCLUDE_DIRS <dirs>] [RESOURCES <files>] [DOCUMENTATION <files>])
- *      which builds <Name>.so (exporting the fmi2* functions only) and packs build/<Name>.fmu.
+ *      which generates the model descriptions from the table (cmake/vi_model_description.py),
+ *      builds the binaries and packs build/<Name>.fmu (FMI 2.0) and build/fmi3/<Name>.fmu.
  *
  * The model's instance is one block of instance_size bytes, allocated zeroed by the layer with
  * the importer's allocateMemory and passed to every hook as `m`. Everything that an FMU state
@@ -68,13 +68,25 @@ typedef struct {
     double next_time;
 } vi_fmu_event;
 
+/* The default experiment the model descriptions declare (VI_DEFAULT_EXPERIMENT). */
 typedef struct {
-    /* ---- identity ---- */
-    const char *model_identifier, *guid;      /* as in modelDescription.xml */
+    double start_s, stop_s;
+    double tolerance; /* 0: none declared */
+    double step_s;    /* communication step size */
+} vi_fmu_experiment;
+
+typedef struct {
+    /* ---- identity (what the model descriptions are generated from, with the table) ---- */
+    const char *model_identifier, *guid;
+    const char *description;                  /* one sentence on what the model simulates */
+    vi_fmu_experiment default_experiment;
+    int can_interpolate_inputs;               /* the model uses the first derivatives of its Real inputs */
     const vi_variable *variables;             /* vi_variable_table */
     int nvariables;                           /* VI_NVARS */
     const vi_enum_item *enum_items;           /* vi_enum_items (for the table dump) */
     int n_enum_items;                         /* vi_enum_item_count */
+    const vi_enum_type *enum_types;           /* vi_enum_types (for the table dump) */
+    int n_enum_types;                         /* vi_enum_type_count */
     size_t instance_size;                     /* bytes of the model's instance */
     size_t state_size;                        /* bytes of the plain-data block of the `state` hook */
     size_t outputs_size;                      /* sizeof(vi_outputs) */
@@ -154,7 +166,7 @@ typedef struct {
     const char *(*message)(const void *m);
 
     /* ---- Model Exchange (optional: a model with n_states = 0 offers Co-Simulation only, and its
-     * modelDescription.xml has no <ModelExchange>; with n_states > 0 every hook below is required,
+     * generated model descriptions have no <ModelExchange>; with n_states > 0 every hook below is required,
      * but `indicators` when n_indicators = 0 and `directional_derivative`, whose absence the XML
      * declares with providesDirectionalDerivative="false").
      * The importer integrates x' = f(t, x, u); the model keeps its mode, memory and time. The layer
@@ -196,13 +208,16 @@ typedef struct {
                                   size_t n_known, const double dknown[], double dunknown[]);
 } vi_fmu_model;
 
-/* The fields of vi_fmu_model that follow from the model's table (VI_MODEL_IDENTIFIER, VI_GUID and
- * what VI_TABLE_DECLARE generates), its instance type, and its plain-data type, whose members par
+/* The fields of vi_fmu_model that follow from the model's table header (VI_MODEL_IDENTIFIER,
+ * VI_GUID, VI_MODEL_DESCRIPTION, VI_DEFAULT_EXPERIMENT, VI_CAN_INTERPOLATE_INPUTS and what
+ * VI_TABLE_DECLARE generates), its instance type, and its plain-data type, whose members par
  * (vi_parameters), in and din (vi_inputs) hold the values:
  *     const vi_fmu_model vi_fmu_this_model = {VI_FMU_TABLE_FIELDS(my_instance, my_data), .init = ..., ...}; */
 #define VI_FMU_TABLE_FIELDS(instance_type, data_type)                                                   \
-    .model_identifier = VI_MODEL_IDENTIFIER, .guid = VI_GUID, .variables = vi_variable_table,          \
-    .nvariables = VI_NVARS, .enum_items = vi_enum_items, .n_enum_items = VI_NENUM_ITEMS,                \
+    .model_identifier = VI_MODEL_IDENTIFIER, .guid = VI_GUID, .description = VI_MODEL_DESCRIPTION,     \
+    .default_experiment = VI_DEFAULT_EXPERIMENT, .can_interpolate_inputs = VI_CAN_INTERPOLATE_INPUTS,   \
+    .variables = vi_variable_table, .nvariables = VI_NVARS, .enum_items = vi_enum_items,                \
+    .n_enum_items = VI_NENUM_ITEMS, .enum_types = vi_enum_types, .n_enum_types = VI_NENUM_TYPES,        \
     .instance_size = sizeof(instance_type), .state_size = sizeof(data_type),                           \
     .outputs_size = sizeof(vi_outputs), .parameters_offset = offsetof(data_type, par),                 \
     .inputs_offset = offsetof(data_type, in), .input_derivatives_offset = offsetof(data_type, din)

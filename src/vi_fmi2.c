@@ -5,6 +5,7 @@
  * calling convention, the resource URI, the status queries.
  */
 #include <stdarg.h>
+#include <stdlib.h> /* calloc, free: an importer without memory functions */
 #include <string.h>
 
 #include "fmi2Functions.h"
@@ -54,9 +55,9 @@ static int hex_digit(char ch)
 }
 
 /* The local path of a file URI (file:///p, file:/p or file://localhost/p), percent-decoded, in a
- * new block of the importer's memory (on Windows /C:/p gives C:/p); NULL when the URI is missing or
- * names no local file. */
-static char *resource_path(const fmi2CallbackFunctions *cb, const char *uri)
+ * new block of cb's memory (on Windows /C:/p gives C:/p); NULL when the URI is missing or names no
+ * local file. */
+static char *resource_path(const vi_callbacks *cb, const char *uri)
 {
     if (!uri || strncmp(uri, "file:", 5) != 0) return NULL;
     const char *p = uri + 5;
@@ -64,7 +65,7 @@ static char *resource_path(const fmi2CallbackFunctions *cb, const char *uri)
     else if (strncmp(p, "//localhost/", 12) == 0) p += 11;
     else if (strncmp(p, "//", 2) == 0) return NULL; /* another host */
     if (*p != '/') return NULL;
-    char *path = cb->allocateMemory(strlen(p) + 1, 1);
+    char *path = cb->alloc(strlen(p) + 1, 1);
     if (!path) return NULL;
     size_t j = 0;
     for (size_t i = 0; p[i]; i++) {
@@ -93,11 +94,14 @@ fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2Str
     if (!functions || !functions->logger) return NULL; /* nobody to tell */
     vi_callbacks cb = {.alloc = functions->allocateMemory, .free = functions->freeMemory,
                        .logger = (vi_any_fn)functions->logger, .env = functions->componentEnvironment};
+    /* canNotUseMemoryManagementFunctions="true": an importer may leave the memory functions out; the
+     * instance then comes from the C library's, as everything else the FMU allocates. */
+    if (!cb.alloc || !cb.free) cb.alloc = calloc, cb.free = free;
     vi_kind kind = fmuType == fmi2ModelExchange ? VI_KIND_ME : fmuType == fmi2CoSimulation ? VI_KIND_CS : (vi_kind)-1;
-    char *dir = cb.alloc && cb.free ? resource_path(functions, fmuResourceLocation) : NULL;
+    char *dir = resource_path(&cb, fmuResourceLocation);
     vi_core *c = vi_core_instantiate(&face, &cb, "fmi2Instantiate", instanceName, kind, fmuGUID, dir,
                                      fmuResourceLocation, loggingOn);
-    if (dir) functions->freeMemory(dir);
+    if (dir) cb.free(dir);
     return c;
 }
 

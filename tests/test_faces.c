@@ -170,7 +170,7 @@ Test(fmi2, instantiation_without_memory_for_the_resource_path_goes_on_without_re
     cr_assert(n_alloc == n_free + 1, "%d %d", n_alloc, n_free); /* the one that failed */
 }
 
-Test(fmi2, instantiation_needs_the_callbacks_with_a_logger_and_both_memory_functions)
+Test(fmi2, instantiation_needs_the_callbacks_with_a_logger)
 {
     logbook b = {0};
     cr_assert(fmi2Instantiate("x", fmi2CoSimulation, VI_GUID, NULL, NULL, fmi2False, fmi2False) == NULL);
@@ -178,17 +178,25 @@ Test(fmi2, instantiation_needs_the_callbacks_with_a_logger_and_both_memory_funct
     cb.logger = NULL;
     cr_assert(fmi2Instantiate("x", fmi2CoSimulation, VI_GUID, NULL, &cb, fmi2False, fmi2False) == NULL);
     cr_assert(b.count == 0);
-    n_alloc = 0;
-    cb = callbacks(&b);
-    cb.freeMemory = NULL;
-    cr_assert(fmi2Instantiate("x", fmi2CoSimulation, VI_GUID, "file:///tmp", &cb, fmi2False, fmi2False) == NULL);
-    SAYS(b, fmi2Error, "fmi2Instantiate: the callbacks allocateMemory and freeMemory are required");
-    cr_assert(b.count == 1 && n_alloc == 0, "the resource path was allocated without freeMemory");
-    cb = callbacks(&b);
-    cb.allocateMemory = NULL;
-    cr_assert(fmi2Instantiate("x", fmi2CoSimulation, VI_GUID, "file:///tmp", &cb, fmi2False, fmi2False) == NULL);
-    cr_assert(b.count == 2);
-    SAYS(b, fmi2Error, "allocateMemory and freeMemory are required");
+}
+
+/* canNotUseMemoryManagementFunctions="true" (the model descriptions): the importer may leave out the
+ * memory functions, or one of them; the instance then uses the C library's for every block. */
+Test(fmi2, instantiation_without_memory_functions_uses_the_fmus_own)
+{
+    for (int missing = 0; missing < 3; missing++) {
+        logbook b = {0};
+        fmi2CallbackFunctions cb = callbacks(&b);
+        if (missing != 1) cb.allocateMemory = NULL;
+        if (missing != 2) cb.freeMemory = NULL;
+        n_alloc = n_free = 0;
+        fmi2Component c = fmi2Instantiate("x", fmi2CoSimulation, VI_GUID, "file:///tmp", &cb, fmi2False, fmi2False);
+        cr_assert(c != NULL, "missing %d: %s", missing, b.text);
+        cr_assert(fmi2SetupExperiment(c, fmi2False, 0.0, 0.0, fmi2False, 0.0) == fmi2OK);
+        cr_assert(fmi2EnterInitializationMode(c) == fmi2OK && fmi2ExitInitializationMode(c) == fmi2OK);
+        fmi2FreeInstance(c);
+        cr_assert(n_alloc == 0 && n_free == 0 && b.count == 0, "missing %d: %d %d", missing, n_alloc, n_free);
+    }
 }
 
 Test(fmi2, the_fmu_type_selects_the_interface)
