@@ -51,8 +51,12 @@
 # and in sources/buildDescription.xml for FMI 3.0.
 # --- end source FMUs ---
 set(VI_FMU_ROOT ${CMAKE_CURRENT_LIST_DIR}/..)
-# The generic FMI layer that every face builds on (include/vi_fmu.h): the files shared by both versions.
-set(VI_FMU_LAYER_SOURCES ${VI_FMU_ROOT}/src/vi_fmi_core.c)
+# The generic FMI layer that every face builds on (include/vi_fmu.h, include/vi_fmi_layer.h): the files
+# shared by both versions, one concern each.
+set(VI_FMU_LAYER_SOURCES
+    ${VI_FMU_ROOT}/src/vi_fmi_state_machine.c ${VI_FMU_ROOT}/src/vi_fmi_log.c ${VI_FMU_ROOT}/src/vi_fmi_instance.c
+    ${VI_FMU_ROOT}/src/vi_fmi_values.c ${VI_FMU_ROOT}/src/vi_fmi_fmu_state.c ${VI_FMU_ROOT}/src/vi_fmi_cosim.c
+    ${VI_FMU_ROOT}/src/vi_fmi_model_exchange.c)
 include(${CMAKE_CURRENT_LIST_DIR}/vi_platform.cmake)
 set(VI_FMU_MERGE_BINARIES "" CACHE STRING
     "Build directories of other platforms whose FMU binaries the FMUs packed here also hold")
@@ -75,7 +79,7 @@ function(vi_fmu_stage_sources name version xml xml_out dir_out depends_out)
     get_filename_component(f ${f} ABSOLUTE)
     list(APPEND c_files ${f})
   endforeach()
-  foreach(lib ${ARG_LIBRARIES} vi_text) # the libraries' own C files (vi_core, vt_solver; vi_text, the layer's)
+  foreach(lib ${ARG_LIBRARIES} vi_text) # the libraries' own C files (vi_simulator, vt_solver; vi_text, the layer's)
     if(TARGET ${lib})
       get_target_property(lib_sources ${lib} SOURCES)
       get_target_property(lib_dir ${lib} SOURCE_DIR)

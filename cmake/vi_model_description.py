@@ -55,7 +55,7 @@ MODEL_EXCHANGE_3 = dict(needsExecutionTool="false", canBeInstantiatedOnlyOncePer
                         canGetAndSetFMUState="true", canSerializeFMUState="true", providesAdjointDerivatives="false",
                         providesEvaluateDiscreteStates="false", needsCompletedIntegratorStep="true")
 
-# The layer's log categories (VI_CAT_* in include/vi_fmi_core.h, in that order); the call category is
+# The layer's log categories (VI_CAT_* in include/vi_fmi_layer.h, in that order); the call category is
 # named after the version.
 LOG_CATEGORIES = [
     ("logEvents", "every event of the model: changes of its mode, state and time events"),

@@ -1,6 +1,6 @@
 /*
  * stub_model.h - a model of the generic FMI layer (vi_fmu.h) with no physics, for the unit tests of
- * the layer (tests/test_core.c: the core; tests/test_faces.c: the FMI 2.0 and 3.0 faces on it). It has
+ * the layer (tests/test_fmi_layer.c: the layer; tests/test_faces.c: the FMI 2.0 and 3.0 faces on it). It has
  * every hook, Model Exchange too (2 states, 1 event indicator), each of which a test can tell to fail
  * or to answer a given value through the stub's fields; its one definition is in the test that
  * includes it.
