@@ -220,7 +220,7 @@ vi_status vi_fmi_do_step_to_event(void *instance, const char *fn, double current
 /* Co-Simulation with Event Mode (FMI 3.0): Event Mode -> Step Mode (vi_fmi_enter_event_mode, below,
  * enters it from Step Mode). */
 vi_status vi_fmi_enter_step_mode(void *instance, const char *fn);
-/* The model's current time [s] (fmi2LastSuccessfulTime after a discarded step). */
+/* The model's current time [s] (the last successful time after a discarded step). */
 double vi_fmi_time(const vi_fmi_instance *c);
 
 /* ---- Model Exchange ----

@@ -5,10 +5,10 @@
  * src/vi_fmi3.c) implements every function of a Co-Simulation and a Model Exchange FMU and knows no
  * model: argument and state-machine checks, value access through the model's variable table
  * (vi_table.h), logging with categories, the FMU state envelope and its serialization, the status
- * functions, the fmi2DoStep checks (communication point, step size, stop time), and the Model
+ * functions, the checks of a step (communication point, step size, stop time), and the Model
  * Exchange calls (time, states, derivatives, event indicators, the event iteration, nominals,
  * directional derivatives). It never integrates anything itself: in co-simulation the model
- * advances with its own solver inside fmi2DoStep; in Model Exchange the importer's integrator does,
+ * advances with its own solver inside fmi2DoStep or fmi3DoStep; in Model Exchange the importer's integrator does,
  * through the Model Exchange hooks below (a model without them offers co-simulation only).
  *
  * To build an FMU of a model, a model author writes, in one folder:
@@ -46,7 +46,7 @@
 #include "vi_table.h"
 
 /* How a model talks to the importer's logger: category VI_FMU_LOG_* and a printf format. Events
- * and solver messages are shown when their category is enabled, warnings as fmi2Warning, errors
+ * and solver messages are shown when their category is enabled, warnings with status Warning, errors
  * always. */
 typedef void (*vi_fmu_log_fn)(void *env, int category, const char *fmt, ...);
 enum { VI_FMU_LOG_EVENTS, VI_FMU_LOG_SOLVER, VI_FMU_LOG_WARNING, VI_FMU_LOG_ERROR };
@@ -97,7 +97,7 @@ typedef struct {
     /* ---- life cycle ---- */
     /* Zeroed memory -> defaults (start values of the table); keep log and env for messages. */
     void (*init)(void *m, vi_fmu_log_fn log, void *env);
-    /* Back to the defaults (fmi2Reset). */
+    /* Back to the defaults (fmi2Reset, fmi3Reset). */
     void (*reset)(void *m);
     /* Release what the model allocated (not m itself). */
     void (*release)(void *m);
@@ -121,14 +121,14 @@ typedef struct {
     const void *(*outputs_of)(void *m, const unsigned vr[], size_t nvr);
 
     /* ---- simulation ---- */
-    /* fmi2SetupExperiment: the arguments are checked (finite start, tolerance in (0, 1),
-     * stop >= start); tolerance_defined = 0 means none given. */
+    /* fmi2SetupExperiment, or the same arguments of fmi3EnterInitializationMode: they are checked
+     * (finite start, tolerance in (0, 1), stop >= start); tolerance_defined = 0 means none given. */
     void (*setup_experiment)(void *m, double start_time, int tolerance_defined, double tolerance);
     /* Check what the table's ranges cannot say about the parameters (the layer has refused values
      * outside their ranges) and compute calculated values and the initial state, so that outputs
      * can be read in initialization mode. 0 or -1. */
     int (*prepare)(void *m);
-    /* fmi2ExitInitializationMode: everything needed for stepping. 0 or -1. */
+    /* fmi2ExitInitializationMode, fmi3ExitInitializationMode: everything needed for stepping. 0 or -1. */
     int (*initialize)(void *m);
     /* Advance from the current time to t_end. VI_FMU_OK: time is t_end. VI_FMU_DISCARD: stopped
      * earlier at a consistent state (time = the last successful time; the message says why).
@@ -141,7 +141,7 @@ typedef struct {
     int (*advance_to_event)(void *m, double t_end);
     /* Current time [s]. */
     double (*time)(const void *m);
-    /* Optional: fmi2Terminate (e.g. log statistics). */
+    /* Optional: fmi2Terminate, fmi3Terminate (e.g. log statistics). */
     void (*terminate)(void *m);
 
     /* ---- FMU state ---- */
@@ -175,7 +175,7 @@ typedef struct {
     int n_indicators; /* event indicators (numberOfEventIndicators) */
     /* Value references of the states and of their derivatives (n_states each), in state order. */
     const unsigned *state_vrs, *derivative_vrs;
-    /* fmi2ExitInitializationMode of a Model Exchange instance: like `initialize`, for an importer's
+    /* The end of initialization mode of a Model Exchange instance: like `initialize`, for an importer's
      * integrator (the model's own solver is not used). 0 or -1. */
     int (*me_initialize)(void *m);
     /* The importer sets the time [s] (states keep their values, inputs theirs). */
@@ -198,7 +198,7 @@ typedef struct {
     /* The importer completed an integrator step at the current state: 1 to ask for an event now,
      * else 0. */
     int (*completed_step)(void *m);
-    /* Optional: continuous-time mode begins (fmi2EnterContinuousTimeMode); inputs set after the last
+    /* Optional: continuous-time mode begins (fmi2/fmi3EnterContinuousTimeMode); inputs set after the last
      * pass of the event iteration act from now on as continuous-time inputs do. */
     void (*enter_continuous)(void *m);
     /* Directional derivative at the current point: dunknown = J dknown, J the partial derivatives

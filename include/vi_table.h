@@ -187,7 +187,7 @@ static inline void vi_range_text(const vi_variable *v, char *text, size_t n)
         _Static_assert(sizeof(v) <= sizeof(lhs), "String start value longer than VI_STRING_SIZE"); \
         memcpy(lhs, v, sizeof(v));                                                                \
     }
-/* String outputs would need storage that outlives fmi2GetString: not supported. */
+/* String outputs would need storage that outlives the get call: not supported. */
 #define VI_NO_STRING_OUT_Real
 #define VI_NO_STRING_OUT_Integer
 #define VI_NO_STRING_OUT_Boolean

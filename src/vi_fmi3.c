@@ -1,15 +1,15 @@
 /*
  * vi_fmi3.c - the FMI 3.0 face of the generic layer: every fmi3* function, each a translation into
  * the layer (vi_fmi_layer.h), which does the checks, the state machine, value access, logging and
- * FMU states. What is FMI 3.0 only lives here (with the checks of arguments FMI 2.0 does not have): instantiation with its options (eventModeUsed,
- * earlyReturnAllowed), the tolerance and times given to fmi3EnterInitializationMode, Event Mode in
- * Co-Simulation, the results of fmi3DoStep (early return at the model's events), the
- * independent variable `time`, the derivatives of the Real inputs as variables `der(<input>)`
- * (FMI 3.0 has no fmi3SetInputDerivatives), the event indicators of Model Exchange as variables
- * `event_indicator_<i>`, and the data types (Float64, Int32, Enumeration as Int64, Boolean, String;
- * the model has no other). Model Exchange is the layer's (its Model Exchange calls on the model's
- * hooks) for a model that has them. The capabilities this face offers are listed in the FMI 3.0 model
- * description (cmake/vi_model_description.py).
+ * FMU states. What is FMI 3.0 only lives here, with the checks of arguments FMI 2.0 does not have:
+ * instantiation with its options (eventModeUsed, earlyReturnAllowed), the tolerance and times given
+ * to fmi3EnterInitializationMode, Event Mode in Co-Simulation, the results of fmi3DoStep (early
+ * return at the model's events), the independent variable `time`, the derivatives of the Real
+ * inputs as variables `der(<input>)` (FMI 3.0 has no fmi3SetInputDerivatives), the event indicators
+ * of Model Exchange as variables `event_indicator_<i>`, and the data types (Float64, Int32,
+ * Enumeration as Int64, Boolean, String; the model has no other). Model Exchange is the layer's
+ * (its Model Exchange calls on the model's hooks) for a model that has them. The capabilities this
+ * face offers are listed in the FMI 3.0 model description (cmake/vi_model_description.py).
  *
  * Co-Simulation states map onto the layer's: Step Mode = step complete, Step Discarded = step
  * failed, Event Mode = event.

@@ -20,7 +20,7 @@ static vi_status do_step(void *instance, const char *fn, double tc, double h, in
     double t = MODEL->time(c->model);
     double unit = DBL_EPSILON * (fabs(t) > 1.0 ? fabs(t) : 1.0); /* the resolution of time here, at least that at 1 s */
     double t_end = tc + h;
-    /* Refused arguments leave the instance as it was (fmi2Error from fmi2DoStep: "the step could
+    /* Refused arguments leave the instance as it was (Error from fmi2DoStep and fmi3DoStep: "the step could
      * not be carried out at all"; the master may try another step). */
     if (!isfinite(tc) || !isfinite(h) || !(h > 0.0))
         return vi_fmi_refuse(c, "%s: the communication step size must be finite and positive (got %g)", fn, h);

@@ -12,7 +12,8 @@
                      VI_ST_EVENT | VI_ST_CONTINUOUS)
 #define ST_ME_READABLE (VI_ST_INIT | VI_ST_EVENT | VI_ST_CONTINUOUS | VI_ST_TERMINATED | VI_ST_ERROR)
 
-/* In which FMI states each call is allowed (FMI 2.0, section 3.2.3 and 4.2.4 state machines). */
+/* In which FMI states each call is allowed: the state machines of FMI 2.0 (sections 3.2.3 and 4.2.4) and
+ * FMI 3.0 (which adds Event Mode to Co-Simulation). */
 const unsigned vi_fmi_allowed[VI_CALL_COUNT] = {
     [VI_CALL_SET_DEBUG_LOGGING] = VI_ST_ANY_BUT_FATAL,
     [VI_CALL_SETUP_EXPERIMENT] = VI_ST_INSTANTIATED,

@@ -223,19 +223,20 @@ void vi_profile_free(vi_profile *p)
 static int build(const context *c, const double *x, const double *h, size_t n, int periodic, double lo, double hi,
                  long kmin, long kmax, stack *st)
 {
-    double R = c->R, L = periodic ? hi - lo : 0.0;
-    size_t nv = periodic ? n - 1 : n, g = 0;
+    double R = c->R, period = periodic ? hi - lo : 0.0;
+    size_t n_vertices = periodic ? n - 1 : n, g = 0;
     stack tail = {0};
     int rc = 0;
     for (long k = kmin; k <= kmax && rc == 0; k++) { /* bounded: kmax - kmin + 1 copies of n rows */
-        double off = (double)k * L;
-        for (size_t j = 0; j < nv && rc == 0; j++, g += 2) {
-            piece q = {0, x[j] + off, h[j], 0.0};
-            rc = insert(c, st, &tail, &q, g, fmax(x[j] - R + off, lo), fmin(x[j] + R + off, hi));
+        double offset = (double)k * period;
+        for (size_t j = 0; j < n_vertices && rc == 0; j++, g += 2) {
+            piece circle = {0, x[j] + offset, h[j], 0.0};
+            rc = insert(c, st, &tail, &circle, g, fmax(x[j] - R + offset, lo), fmin(x[j] + R + offset, hi));
             if (rc < 0 || j + 1 >= n) break;
-            double s = (h[j + 1] - h[j]) / (x[j + 1] - x[j]), hyp = hypot(1.0, s), shift = R * (s / hyp);
-            piece t = {1, x[j] - shift + off, h[j] - R * (s * s / (hyp * (hyp + 1.0))), s}; /* h_j + R (1/hyp - 1) */
-            rc = insert(c, st, &tail, &t, g + 1, fmax(t.px, lo), fmin(x[j + 1] - shift + off, hi));
+            double slope = (h[j + 1] - h[j]) / (x[j + 1] - x[j]), hyp = hypot(1.0, slope), shift = R * (slope / hyp);
+            /* the tangent's height at its vertex: h_j + R (1/hyp - 1) */
+            piece tangent = {1, x[j] - shift + offset, h[j] - R * (slope * slope / (hyp * (hyp + 1.0))), slope};
+            rc = insert(c, st, &tail, &tangent, g + 1, fmax(tangent.px, lo), fmin(x[j + 1] - shift + offset, hi));
         }
     }
     free(tail.s);
