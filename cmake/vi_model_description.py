@@ -5,6 +5,7 @@ Run at build time by vi_add_fmu (cmake/vi_fmu.cmake), once per FMI version:
 
     python vi_model_description.py --fmi 2|3 --out OUT.xml [--time-vr VR --derivative-vr-base BASE
                                    --indicator-vr-base INDICATOR_BASE] --dump [EMULATOR...] DUMP
+    python vi_model_description.py --markdown --out PAGE.md --dump DUMP   (the documentation's table)
 
 DUMP is the model's <Name>_dump_variables (tests/dump_variables.c; run under EMULATOR when cross
 compiling), which prints the model's table header (its variables with their dependencies and nominal
@@ -15,6 +16,8 @@ description of the contact model is the repository's top-level modelDescription.
 fmu-test/test_interface.py compares with what the build packs; to write it again:
 
     python cmake/vi_model_description.py --fmi 2 --out modelDescription.xml --dump build/VibroImpact_dump_variables
+
+and the documentation's variable table of the contact model, doc/variables.md, the same way (--markdown).
 
 FMI 2.0: the variables in value-reference order (an enumerated Integer lists its items in its
 description and declares their range as min and max, since some importers ignore Enumerations);
@@ -97,7 +100,7 @@ def parse_dump(text, where):
     """The dump as a dict: guid, model, description, experiment, interpolates, me (n_states, n_indicators,
     directional), states [(state vr, derivative vr)], variables (dicts by row), enum_types, items."""
     t = dict(states=[], variables=[], enum_types={}, items={}, me=(0, 0, False), interpolates=False)
-    nominal, depends = {}, {}
+    nominal, depends, ranges = {}, {}, {}
     for line in text.splitlines():
         cols = line.split("\t")
         kind, rest = cols[0], cols[1:]
@@ -117,6 +120,8 @@ def parse_dump(text, where):
             t["variables"].append(parse_variable(rest))
         elif kind == "nominal":
             nominal[int(rest[0])] = rest[1]
+        elif kind == "range":
+            ranges[int(rest[0])] = rest[1]
         elif kind == "depends":
             depends[int(rest[0])] = rest[1].split()
         elif kind == "enumtype":
@@ -128,7 +133,7 @@ def parse_dump(text, where):
     for vr, v in enumerate(t["variables"]):
         if v["vr"] != vr:
             fail(f"{where}: value reference {v['vr']} in row {vr}")
-        v["nominal"], v["depends"] = nominal.get(vr), depends.get(vr, [])
+        v["nominal"], v["depends"], v["range"] = nominal.get(vr), depends.get(vr, []), ranges.get(vr, "")
     check_table(t, where)
     return t
 
@@ -422,9 +427,46 @@ def fmi3(t, args):
     return fmi3_header(t, args) + fmi3_variables(t, args) + fmi3_structure(t, args) + ["</fmiModelDescription>"]
 
 
+# ---- the documentation's variable table -----------------------------------------------------------------
+
+def cell(text):
+    return str(text).replace("|", "\\|")
+
+
+def markdown(t, command):
+    """The variables and the ModelStructure of the table as a Markdown page."""
+    out = [f"# The variables of {t['model']}", "",
+           "Generated from the model's variable table, as its model descriptions are, by", "", f"    {command}", "",
+           "(`fmu-test/test_interface.py` fails when this page is not what that command writes). The value",
+           "reference of a variable is its row; FMI 3.0 adds `time`, the inputs' derivatives `der(<input>)`",
+           "and the event indicators ([fmi3.md](fmi3.md)). What each variable does: [model.md](model.md),",
+           "section 5.", "",
+           "| value reference | name | type | causality | variability | start | range | unit | description |",
+           "|---|---|---|---|---|---|---|---|---|"]
+    for v in t["variables"]:
+        start = "" if v["initial"] != "exact" else (f'"{v["start"]}"' if v["type"] == "String" else
+                                                    ("true" if float(v["start"]) else "false") if v["type"] == "Boolean"
+                                                    else number(v["start"]))
+        cells = [v["vr"], f"`{v['name']}`", v["type"], v["causality"], v["variability"], start, v["range"], v["unit"],
+                 v["description"]]
+        out.append("| " + " | ".join(cell(c) for c in cells) + " |")
+    out += ["", "## Dependencies (ModelStructure)", "",
+            "In Model Exchange each output and state derivative moves at once with the inputs and continuous",
+            "states listed (in some mode of the model), and with no other (`fmu-test/test_feedthrough.py`",
+            "measures it); initially every unknown depends on every parameter and input. In Co-Simulation an",
+            "input set at a communication point acts from the next step on: no output changes before it.", "",
+            "| output or derivative | depends on |", "|---|---|"]
+    derivatives = {d for _, d in t["states"]}
+    for v in t["variables"]:
+        if v["causality"] == "output" or v["vr"] in derivatives:
+            out.append(f"| `{v['name']}` | " + (", ".join(f"`{d}`" for d in v["depends"]) or "nothing") + " |")
+    return out
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--fmi", required=True, choices=("2", "3"), help="the FMI version of the description")
+    ap.add_argument("--fmi", choices=("2", "3"), help="the FMI version of the description")
+    ap.add_argument("--markdown", action="store_true", help="write the documentation's variable table instead")
     ap.add_argument("--out", required=True, help="the modelDescription.xml to write")
     ap.add_argument("--time-vr", type=int, help="FMI 3.0: value reference of the independent variable time")
     ap.add_argument("--derivative-vr-base", type=int,
@@ -433,10 +475,16 @@ def main():
                     help="FMI 3.0: value reference of the first event indicator (indicator i: base + i)")
     ap.add_argument("--dump", required=True, nargs="+", help="the command that prints the table")
     args = ap.parse_args()
+    if (args.fmi is None) == (not args.markdown):
+        fail("give one of --fmi 2, --fmi 3 and --markdown")
     t = parse_dump(run_dump(args.dump), args.dump[-1])
     if args.fmi == "3" and None in (args.time_vr, args.derivative_vr_base, args.indicator_vr_base):
         fail("--fmi 3 needs --time-vr, --derivative-vr-base and --indicator-vr-base")
-    lines = fmi2(t) if args.fmi == "2" else fmi3(t, args)
+    if args.markdown:
+        lines = markdown(t, f"python cmake/vi_model_description.py --markdown --out {args.out} --dump "
+                            f"build/{t['model']}_dump_variables")
+    else:
+        lines = fmi2(t) if args.fmi == "2" else fmi3(t, args)
     with open(args.out, "w", encoding="utf-8") as f:
         f.write("\n".join(lines) + "\n")
 

@@ -3,6 +3,7 @@ truth) against that table, the checked-in descriptions against what the build pa
 the capability flags, and the binary's dependencies and exports."""
 import pathlib
 import subprocess
+import sys
 
 import pytest
 
@@ -89,6 +90,19 @@ def test_checked_in_description_is_the_packed_one(name):
     assert unstamped == written, (
         f"{place} is not what the build generates from the table: write it again with\n  python "
         f"cmake/vi_model_description.py --fmi 2 --out {place} --dump build/{name}_dump_variables")
+
+
+def test_doc_variables_md_is_the_generated_table(tmp_path):
+    """doc/variables.md, the documentation's variable table with the dependencies, is what the generator
+    writes from the table today."""
+    (tmp_path / "doc").mkdir()  # the same --out as the command the page names, in a folder of its own
+    subprocess.run([sys.executable, str(ROOT / "cmake" / "vi_model_description.py"), "--markdown", "--out",
+                    "doc/variables.md", "--dump", str(BUILD / "VibroImpact_dump_variables")], check=True, cwd=tmp_path,
+                   capture_output=True)
+    generated = (tmp_path / "doc" / "variables.md").read_text(encoding="utf-8")
+    assert (ROOT / "doc" / "variables.md").read_text(encoding="utf-8") == generated, (
+        "doc/variables.md is not what the build's table gives: write it again with\n  python "
+        "cmake/vi_model_description.py --markdown --out doc/variables.md --dump build/VibroImpact_dump_variables")
 
 
 def test_fmpy_validate_finds_no_problem(fmu_path):

@@ -12,6 +12,7 @@
  *       modelDescription.xml declares (vi_bound_inclusive), empty without a bound; the description of
  *       an Integer with enumeration items is followed by them, as modelDescription.xml gives it:
  *       "contact law: hertz=1, johnson=2")
+ *   range <vr> <the range as messages write it, e.g. "m > 0">   (the variables that have one)
  *   nominal <vr> <nominal>                 (the Reals that have one)
  *   depends <vr> <names separated by spaces>  (every output and local)
  *   enumtype <type> <description>
@@ -43,7 +44,7 @@ static void print_variable(const vi_fmu_model *m, int vr)
 {
     static const char *const types[] = {"Real", "Integer", "Boolean", "Enumeration", "String"};
     const vi_variable *v = &m->variables[vr];
-    char start[64], lo[64] = "", hi[64] = "", nominal[64];
+    char start[64], lo[64] = "", hi[64] = "", nominal[64], range[160];
     vi_snprintf(start, sizeof start, "%.17g", v->start);
     if (v->min.kind != VI_BOUND_NONE) vi_snprintf(lo, sizeof lo, "%.17g", vi_bound_inclusive(v->min, 0));
     if (v->max.kind != VI_BOUND_NONE) vi_snprintf(hi, sizeof hi, "%.17g", vi_bound_inclusive(v->max, 1));
@@ -57,6 +58,8 @@ static void print_variable(const vi_fmu_model *m, int vr)
         sep = ", ";
     }
     printf("\n");
+    vi_range_text(v, range, sizeof range);
+    if (range[0]) printf("range\t%d\t%s\n", vr, range);
     if (v->nominal != 0) {
         vi_snprintf(nominal, sizeof nominal, "%.17g", v->nominal);
         printf("nominal\t%d\t%s\n", vr, nominal);
