@@ -52,7 +52,7 @@ CO_SIMULATION_3 = dict(needsExecutionTool="false", canBeInstantiatedOnlyOncePerP
                        canGetAndSetFMUState="true", canSerializeFMUState="true", providesDirectionalDerivatives="false",
                        providesAdjointDerivatives="false", canHandleVariableCommunicationStepSize="true",
                        maxOutputDerivativeOrder="0", providesIntermediateUpdate="false",
-                       mightReturnEarlyFromDoStep="true", canReturnEarlyAfterIntermediateUpdate="false",
+                       canReturnEarlyAfterIntermediateUpdate="false",
                        hasEventMode="true", providesEvaluateDiscreteStates="false")
 MODEL_EXCHANGE_3 = dict(needsExecutionTool="false", canBeInstantiatedOnlyOncePerProcess="false",
                         canGetAndSetFMUState="true", canSerializeFMUState="true", providesAdjointDerivatives="false",
@@ -97,9 +97,10 @@ def parse_variable(cols):
 
 
 def parse_dump(text, where):
-    """The dump as a dict: guid, model, description, experiment, interpolates, me (n_states, n_indicators,
-    directional), states [(state vr, derivative vr)], variables (dicts by row), enum_types, items."""
-    t = dict(states=[], variables=[], enum_types={}, items={}, me=(0, 0, False), interpolates=False)
+    """The dump as a dict: guid, model, description, experiment, interpolates, early_return, me (n_states,
+    n_indicators, directional), states [(state vr, derivative vr)], variables (dicts by row), enum_types,
+    items."""
+    t = dict(states=[], variables=[], enum_types={}, items={}, me=(0, 0, False), interpolates=False, early_return=False)
     nominal, depends, ranges = {}, {}, {}
     for line in text.splitlines():
         cols = line.split("\t")
@@ -112,6 +113,8 @@ def parse_dump(text, where):
             t["experiment"] = dict(startTime=rest[0], stopTime=rest[1], tolerance=rest[2] or None, stepSize=rest[3])
         elif kind == "interpolates_inputs":
             t["interpolates"] = rest[0] == "1"
+        elif kind == "early_return":
+            t["early_return"] = rest[0] == "1"
         elif kind == "model_exchange":
             t["me"] = (int(rest[0]), int(rest[1]), rest[2] == "1")
         elif kind == "state":
@@ -342,7 +345,9 @@ def fmi3_header(t, args):
         me = dict(modelIdentifier=t["model"], **MODEL_EXCHANGE_3,
                   providesDirectionalDerivatives="true" if directional else "false")
         out.append(f"  <ModelExchange{attrs(**me)}/>")
-    out.append(f"  <CoSimulation{attrs(modelIdentifier=t['model'], **CO_SIMULATION_3)}/>")
+    cs = dict(modelIdentifier=t["model"], **CO_SIMULATION_3,
+              mightReturnEarlyFromDoStep="true" if t["early_return"] else "false")  # at the model's events
+    out.append(f"  <CoSimulation{attrs(**cs)}/>")
     units = units_used(t)
     out += unit_definitions(units + (["s"] if "s" not in units else []))
     reals = [v for v in t["variables"] if v["type"] == "Real"]

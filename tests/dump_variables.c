@@ -6,6 +6,7 @@
  *   experiment <start> <stop> <tolerance, empty: none> <step>
  *   interpolates_inputs <0|1>
  *   model_exchange <number of states> <number of event indicators> <directional derivatives 0|1>
+ *   early_return <0|1>   (the model can end a Co-Simulation step at its events: advance_to_event)
  *   state <value reference of the state> <value reference of its derivative>   (in state order)
  *   var <vr> <name> <type> <enumeration> <causality> <variability> <initial> <start> <min> <max> <unit> <description>
  *       (<start> of a String is the string itself; <min> and <max> are the inclusive bounds that
@@ -37,6 +38,7 @@ static void print_model(const vi_fmu_model *m)
     printf("experiment\t%s\t%s\t%s\t%s\n", start, stop, tolerance, step);
     printf("interpolates_inputs\t%d\n", m->can_interpolate_inputs ? 1 : 0);
     printf("model_exchange\t%d\t%d\t%d\n", m->n_states, m->n_indicators, m->directional_derivative != NULL);
+    printf("early_return\t%d\n", m->advance_to_event != NULL);
     for (int i = 0; i < m->n_states; i++) printf("state\t%u\t%u\n", m->state_vrs[i], m->derivative_vrs[i]);
 }
 
