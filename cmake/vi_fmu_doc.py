@@ -29,6 +29,7 @@ import os
 import re
 import shutil
 import sys
+import xml.etree.ElementTree as ET
 
 import vi_model_description as mdgen  # beside this script: the reader of the table dump
 
@@ -351,7 +352,7 @@ def main():
     for n in notices:
         if len(n) != 2 or not re.fullmatch(r"[\w.-]+", n[0]) or not os.path.isfile(n[1]):
             fail(f"--notice {'='.join(n)}: give NAME=FILE with an existing FILE")
-    md = mdgen.ET.parse(args.xml).getroot()
+    md = ET.parse(args.xml).getroot()
     shutil.rmtree(args.out, ignore_errors=True)
     os.makedirs(args.out)
     book = Book(args.out, ([args.intro] if args.intro else []) + args.page,

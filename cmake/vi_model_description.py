@@ -36,7 +36,6 @@ import argparse
 import re
 import subprocess
 import sys
-import xml.etree.ElementTree as ET  # noqa: F401 (cmake/vi_fmu_doc.py reads the XML through it)
 from xml.sax.saxutils import quoteattr
 
 # Every FMI 2.0 face: CVODE and the models allocate with malloc, so the importer's memory functions
