@@ -105,8 +105,15 @@ def test_doc_variables_md_is_the_generated_table(tmp_path):
         "cmake/vi_model_description.py --markdown --out doc/variables.md --dump build/VibroImpact_dump_variables")
 
 
-def test_fmpy_validate_finds_no_problem(fmu_path):
-    assert validate_fmu(fmu_path) == []
+@pytest.mark.parametrize("name", sorted(CHECKED_IN))
+def test_fmpy_validate_finds_no_problem(name):
+    """Every FMI 2.0 FMU of the build, its variable names and ModelStructure included."""
+    from fmpy import read_model_description
+    from fmpy.validation import validate_model_description
+    path = str(BUILD / f"{name}.fmu")
+    assert validate_fmu(path) == []
+    md = read_model_description(path, validate=True)
+    assert validate_model_description(md, validate_variable_names=True, validate_model_structure=True) == []
 
 
 def test_capabilities(model_description):
