@@ -27,7 +27,7 @@
   X(F_wheel, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N", 0, "y_wheel v_wheel z_body v_body", "force of the primary suspension on the wheel, up positive, static load -m_body g included (connect to the contact FMU's F_ext)") \
   X(z_body, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m", 0, "z_body", "sprung mass position, up positive, measured so that z_body = y_wheel when the spring carries the static load") \
   X(v_body, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s", 0, "v_body", "sprung mass velocity, up positive") \
-  X(E, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "J", 0, "y_wheel v_wheel z_body v_body", "stored energy: kinetic energy of the sprung mass, elastic energy of the spring about its static load, and the potential m_body g y_wheel") \
+  X(E, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "J", 0, "y_wheel z_body v_body", "stored energy: kinetic energy of the sprung mass, elastic energy of the spring about its static load, and the potential m_body g y_wheel") \
   X(W_dissipated, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "J", 0, "W_dissipated", "work dissipated in the suspension damper so far") \
   X(W_in, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "J", 0, "", "work done on the vehicle by the wheel motion so far: integral of -F_wheel v_wheel dt") \
   X(f_body, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "Hz", 0, "", "undamped natural frequency of the sprung mass on the suspension, wheel held") \
