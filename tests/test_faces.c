@@ -354,7 +354,7 @@ Test(fmi2, a_completed_integrator_step_writes_both_results_or_neither)
     fmi2FreeInstance(c);
 }
 
-Test(fmi2, each_function_reaches_the_core_under_its_own_name)
+Test(fmi2, each_model_exchange_and_state_function_reaches_the_layer_under_its_own_name)
 {
     logbook b = {0};
     fmi2Component c = events2(&b);
@@ -405,8 +405,14 @@ Test(fmi2, each_function_reaches_the_core_under_its_own_name)
     REFUSED(b, fmi2NewDiscreteStates(c, &(fmi2EventInfo){0}), "fmi2NewDiscreteStates: not allowed");
     REFUSED(b, fmi2EnterEventMode(c), "fmi2EnterEventMode: not allowed");
     fmi2FreeInstance(c);
+}
 
-    c = running2(&b);
+Test(fmi2, each_value_and_step_function_reaches_the_layer_under_its_own_name)
+{
+    logbook b = {0};
+    fmi2Component c = running2(&b);
+    fmi2ValueReference unk = VI_VR_der_p, kn = VI_VR_q;
+    fmi2Real seed = 2.0, out = 0.0;
     fmi2ValueReference vk = VI_VR_k, vn = VI_VR_n, vb = VI_VR_b, vl = VI_VR_label, vu = VI_VR_u;
     fmi2Real k = 0;
     fmi2Integer n = 0, bo = 0, order = 1;
