@@ -7,8 +7,6 @@
 #include <float.h>
 #include <math.h>
 
-/* ---- Co-Simulation ---------------------------------------------------------------------------- */
-
 /* A step's current communication point may differ from the FMU's time by this many units of the
  * time resolution (DBL_EPSILON max(1 s, |t|)); a step must advance time by at least VI_MIN_STEP_ULPS. */
 #define VI_TIME_MATCH_ULPS 1e3

@@ -8,8 +8,6 @@
 #include <math.h>
 #include <string.h>
 
-/* ---- FMU state -------------------------------------------------------------------------------- */
-
 /* An FMU state: this header, then MODEL->state_size bytes of the model's plain data. It is taken
  * and restored in every FMI state but fatal; restoring puts the instance into the FMI state the
  * state was taken in. Serialized, it is the same bytes (for the same build of the FMU). Before a

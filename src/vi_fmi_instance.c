@@ -7,8 +7,6 @@
 #include <math.h>
 #include <string.h>
 
-/* ---- life cycle ------------------------------------------------------------------------------- */
-
 vi_status vi_fmi_set_debug_logging(void *instance, const char *fn, int on, size_t n, const char *const categories[])
 {
     ENTER(VI_CALL_SET_DEBUG_LOGGING);

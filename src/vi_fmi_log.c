@@ -7,8 +7,6 @@
 #include <stdarg.h>
 #include <stdio.h>
 
-/* ---- logging ------------------------------------------------------------------------------------ */
-
 const char *vi_fmi_category_name(const vi_fmi_instance *c, int cat)
 {
     static const char *const names[VI_CAT_COUNT] = {

@@ -8,8 +8,6 @@
 #include <math.h>
 #include <string.h>
 
-/* ---- Model Exchange --------------------------------------------------------------------------- */
-
 /* A Model Exchange call on an instance of the other interface, or an array of the wrong length. */
 static int me_args(vi_fmi_instance *c, const char *fn, const void *array, size_t n, size_t expected, const char *what)
 {

@@ -4,10 +4,6 @@
  */
 #include "vi_fmi_layer_internal.h"
 
-#include <string.h>
-
-/* ---- the state machine ------------------------------------------------------------------------ */
-
 #define ST_READABLE (VI_ST_INIT | VI_ST_STEP_COMPLETE | VI_ST_STEP_FAILED | VI_ST_TERMINATED | VI_ST_ERROR | \
                      VI_ST_EVENT | VI_ST_CONTINUOUS)
 #define ST_ME_READABLE (VI_ST_INIT | VI_ST_EVENT | VI_ST_CONTINUOUS | VI_ST_TERMINATED | VI_ST_ERROR)

@@ -10,8 +10,6 @@
 #include <stdbool.h>
 #include <string.h>
 
-/* ---- values ----------------------------------------------------------------------------------- */
-
 /* The struct of a group inside a plain-data block of the model (NULL for outputs). */
 void *vi_fmi_group_in(const void *block, vi_group group)
 {
