@@ -236,7 +236,7 @@ def initial_unknowns(t):
 def fmi2_header(t):
     root = dict(fmiVersion="2.0", modelName=t["model"], guid=t["guid"], description=t["description"],
                 generationTool="VibroImpact cmake/vi_model_description.py", variableNamingConvention="structured",
-                numberOfEventIndicators=str(t["me"][1]))
+                numberOfEventIndicators=str(t["me"][1] if t["me"][0] else 0))  # Model Exchange only
     out = ['<?xml version="1.0" encoding="UTF-8"?>', GENERATED,
            "<!-- FMI's min and max are inclusive: an exclusive bound of the table is declared as the nearest",
            '     double inside it, so min="5e-324" (the smallest positive double) says "> 0" exactly. -->',
