@@ -50,17 +50,27 @@ def test_null_callbacks_are_refused(logged):
     assert raw_instantiate(logged(), callbacks=False) is None
 
 
-@pytest.mark.parametrize("missing", ["allocateMemory", "freeMemory"])
-def test_callbacks_without_one_memory_function_are_refused(logged, missing):
-    """allocateMemory and freeMemory are both required: with either one NULL (and a resource URI to
-    decode) fmi2Instantiate calls neither, logs why and returns NULL."""
+@pytest.mark.parametrize("missing", ["allocateMemory", "freeMemory", "both"])
+def test_callbacks_without_memory_functions_use_the_fmus_own(logged, missing):
+    """canNotUseMemoryManagementFunctions="true": with either memory function NULL (or both, and a
+    resource URI to decode) fmi2Instantiate still gives an instance, taking every block from the C
+    library, never from the importer's remaining function; it simulates and is freed."""
     from fmpy.fmi2 import fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE
     log = logged()
-    null = {"allocateMemory": fmi2CallbackAllocateMemoryTYPE, "freeMemory": fmi2CallbackFreeMemoryTYPE}[missing]()
-    setattr(log.callbacks, missing, null)  # a NULL function pointer
-    assert raw_instantiate(log) is None
-    assert [m for _, _, m in log.messages] == [
-        "fmi2Instantiate: the callbacks allocateMemory and freeMemory are required"]
+    calls = []
+    log.callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(lambda n, size: calls.append("alloc"))
+    log.callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(lambda p: calls.append("free"))
+    for name in (["allocateMemory", "freeMemory"] if missing == "both" else [missing]):
+        null = {"allocateMemory": fmi2CallbackAllocateMemoryTYPE, "freeMemory": fmi2CallbackFreeMemoryTYPE}[name]()
+        setattr(log.callbacks, name, null)  # a NULL function pointer
+    s = log.slave
+    c = raw_instantiate(log)
+    assert c is not None and log.messages == []
+    assert s.fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0) == 0
+    assert s.fmi2EnterInitializationMode(c) == 0 and s.fmi2ExitInitializationMode(c) == 0
+    assert s.fmi2DoStep(c, 0.0, 1e-4, 1) == 0
+    s.fmi2FreeInstance(c)
+    assert calls == []
 
 
 def test_every_allocation_of_instantiation_is_checked(logged, vr):
