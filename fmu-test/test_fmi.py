@@ -193,7 +193,7 @@ def test_events_are_logged_by_category(logged, vr):
     start(s, vr, dict(contact_model=1, a=1e-4))
     s.doStep(0.0, 0.02)
     cats = {c for _, c, _ in log.messages}
-    assert cats == {"logEvents"} and any("mode 1 -> 0" in m for _, _, m in log.messages)
+    assert cats == {"logEvents"} and any("mode=1->0" in m for _, _, m in log.messages)
     n = s.getInteger([vr["n_impacts"]])[0]
     assert n > 0
     s.terminate()

@@ -120,8 +120,8 @@ def test_input_jump_during_plastic_loading_acts_as_in_co_simulation(fmu_path, un
         y.append(s.getReal([vr["y"]])[0])
         dc.append(s.getReal([vr["delta_c"]])[0])
     s.freeInstance()
-    cs_modes = [m for m in log.text().splitlines() if "input change, mode 2 -> 3" in m]
-    me_modes = [m for _, _, m in inst.messages if "input change, mode 2 -> 3" in m]
+    cs_modes = [m for m in log.text().splitlines() if "kind=input mode=2->3" in m]
+    me_modes = [m for _, _, m in inst.messages if "kind=input mode=2->3" in m]
     assert len(cs_modes) == len(me_modes) == 1  # unloading after the jump
     assert np.abs(r["delta_c"] - dc).max() <= 1e-12
     assert np.abs(r["y"] - y).max() <= 1e-10
@@ -248,9 +248,9 @@ def test_contact_left_under_a_falling_input_is_one_event(fmu_path, unzipdir, mod
     r, inst = run_me(fmu_path, dict(contact_model=law), 3e-3, rtol=1e-8, input=signal,
                      unzipdir=unzipdir, md=model_description)
     assert not inst.errors()
-    events = [m for _, _, m in inst.messages if "guard" in m and "->" in m]
-    assert len(events) == 1 and "mode 1 -> 0" in events[0], events
-    t_sep = float(events[0].split("t = ")[1].split(" s")[0])
-    v_sep = float(events[0].split("v = ")[1].split(" m/s")[0])
+    events = [m for _, _, m in inst.messages if m.startswith("event ") and "kind=guard" in m]
+    assert len(events) == 1 and "mode=1->0" in events[0], events
+    fields = dict(word.split("=", 1) for word in events[0].split()[1:])
+    t_sep, v_sep = float(fields["t"]), float(fields["v"])
     assert 1e-3 < t_sep < 2e-3
     assert -1000.0 * (t_sep - 1e-3) < v_sep < 0.0

@@ -78,7 +78,7 @@ static void terminate(void *m)
 {
     const vi_sim *s = m;
     if (((const vi_me *)m)->active) {
-        s->log(s->log_env, VI_LOG_SOLVER, "Model Exchange statistics: %ld events", s->d.n_events);
+        s->log(s->log_env, VI_LOG_SOLVER, "Model Exchange statistics: %ld events", s->d.events.n_events);
         return;
     }
     vi_solver_stats st;
@@ -87,7 +87,7 @@ static void terminate(void *m)
            "%s statistics: %ld steps, %ld rhs evaluations, %ld Jacobian evaluations, %ld nonlinear iterations, "
            "%ld nonlinear failures, %ld error test failures, %ld guard evaluations, %ld restarts, %ld events",
            st.method ? st.method : "solver", st.steps, st.rhs_evals, st.jac_evals, st.nonlin_iters, st.nonlin_fails, st.err_test_fails, st.guard_evals,
-           st.resets, s->d.n_events);
+           st.resets, s->d.events.n_events);
 }
 
 static void *state(void *m) { return &((vi_sim *)m)->d; }

@@ -68,7 +68,7 @@ static void put(vi_me *e, int mode, double delta, double v, double dc)
     double x[2] = {vi_model_platform(M, e->s.d.t, NULL, NULL) - delta, v};
     vi_me_set_states(e, x);
     vi_me_outputs_of(e, 0); /* a read: the model catches up with the states set */
-    e->s.d.guard_band[0] = e->s.d.guard_band[1] = 0.0;
+    e->s.d.events.band[0] = e->s.d.events.band[1] = 0.0;
     e->s.d.step_t0 = e->s.d.t, e->s.d.step_v0 = v; /* a step starts here: F_mean is the force itself */
 }
 
@@ -103,21 +103,21 @@ static const int unknowns[] = {VI_VR_der_y, VI_VR_der_v, VI_VR_F, VI_VR_F_mean, 
 static void partials_match_differences(vi_me *e, const char *where)
 {
     vi_sim_data d0 = e->s.d;
-    double y0 = e->y, nominal[2];
+    double y0 = e->s.d.y_me, nominal[2];
     vi_me_nominals(e, nominal);
     double scale[] = {nominal[0], nominal[1], nominal[0], 1e4};
     for (int j = 0; j < 4; j++) {
         double h = 1e-5 * scale[j];
         for (size_t i = 0; i < sizeof unknowns / sizeof *unknowns; i++) {
             int u = unknowns[i];
-            e->s.d = d0, e->y = y0, e->s.out_valid = 0;
+            e->s.d = d0, e->s.d.y_me = y0, e->s.out_valid = 0;
             double J = vi_me_partial(e, u, knowns[j]), f0 = output(e, u);
             nudge(e, knowns[j], h);
             double fp = output(e, u);
-            e->s.d = d0, e->y = y0, e->s.out_valid = 0;
+            e->s.d = d0, e->s.d.y_me = y0, e->s.out_valid = 0;
             nudge(e, knowns[j], -h);
             double fm = output(e, u);
-            e->s.d = d0, e->y = y0, e->s.out_valid = 0;
+            e->s.d = d0, e->s.d.y_me = y0, e->s.out_valid = 0;
             double fd = (fp - fm) / (2.0 * h), tol = 1e-6 * (fabs(J) + fabs(fd)) + 1e-12 * fabs(f0) / scale[j];
             if (fd == 0.0) tol = 0.0; /* the output does not move: its partial is exactly zero */
             cr_assert(fabs(J - fd) <= tol, "%s (mode %d): d%s/d%s = %.10g, central difference %.10g", where,
@@ -278,7 +278,7 @@ static void at(vi_me *e, int mode, double y, double v)
     e->s.d.M.mode = mode;
     double x[2] = {y, v};
     vi_me_set_states(e, x);
-    e->s.d.guard_band[0] = e->s.d.guard_band[1] = 0.0;
+    e->s.d.events.band[0] = e->s.d.events.band[1] = 0.0;
 }
 
 static vi_me_event update(vi_me *e)
@@ -308,54 +308,55 @@ Test(me_events, a_grazing_contact_is_snapped_and_its_guard_lifted_by_its_band)
      * the mode stays free, and the guard is lifted by the band until it has moved away */
     double y = 1.5 - 1e-7, v = 0.02, rtol = vi_sim_rtol(&e.s.d); /* (the start had v0 = 0.01) */
     at(&e, VI_Mode_free, y, v);
-    long events = e.s.d.n_events;
+    long events = e.s.d.events.n_events;
     clear_log();
     vi_me_event ev = update(&e);
-    cr_assert(e.s.d.M.mode == VI_Mode_free && e.s.d.n_events == events + 1, "mode %d, %ld events", e.s.d.M.mode, e.s.d.n_events);
+    cr_assert(e.s.d.M.mode == VI_Mode_free && e.s.d.events.n_events == events + 1, "mode %d, %ld events", e.s.d.M.mode, e.s.d.events.n_events);
     cr_assert(ev.states_changed == 1 && ev.another_pass == 0 && ev.terminate == 0 && ev.next_time_defined == 0);
     double x[2];
     vi_me_get_states(&e, x);
     cr_assert(x[0] == 1.5 && x[1] == v && e.s.d.x[0] == 0.0, "snapped to y = %.17g, delta = %g", x[0], e.s.d.x[0]);
-    /* band: 4 times the guard's change under rtol |y| + atol, 256 times its change under one ulp of
-     * y (2^-52 for y in [1, 2); the platform does not move and the guard does not depend on v) */
-    double band = 4.0 * (rtol * y + e.s.d.atol[0]) + 256.0 * 0x1p-52;
-    cr_assert(fabs(e.s.d.guard_band[0] - band) <= 1e-12 * band, "band %.17g, closed form %.17g", e.s.d.guard_band[0], band);
-    cr_assert(e.s.d.guard_band[1] == 0.0, "the inactive guard has no band: %g", e.s.d.guard_band[1]);
+    /* band, at the state snapped onto the surface (y = 1.5): 4 times the guard's change under
+     * rtol |y| + atol, 256 times its change under one ulp of y (2^-52 for y in [1, 2); the platform
+     * does not move and the guard does not depend on v) */
+    double band = 4.0 * (rtol * x[0] + e.s.d.events.atol[0]) + 256.0 * 0x1p-52;
+    cr_assert(fabs(e.s.d.events.band[0] - band) <= 1e-12 * band, "band %.17g, closed form %.17g", e.s.d.events.band[0], band);
+    cr_assert(e.s.d.events.band[1] == 0.0, "the inactive guard has no band: %g", e.s.d.events.band[1]);
     double z[2];
     vi_me_indicators(&e, z);
-    cr_assert(z[0] == e.s.d.guard_band[0] && z[1] == 1.0, "indicators %g %g", z[0], z[1]);
+    cr_assert(z[0] == e.s.d.events.band[0] && z[1] == 1.0, "indicators %g %g", z[0], z[1]);
     cr_assert(e.s.d.step_t0 == e.s.d.t && e.s.d.step_v0 == v, "the mean force starts anew at the event");
     char expected[256];
-    snprintf(expected, sizeof expected, "t = %.17g s: guard 0 of mode 0, mode 0 -> 0, delta = %.9g m, v = %.9g m/s", 0.0, 0.0, v);
+    snprintf(expected, sizeof expected, "event t=%.17g kind=guard guard=0 mode=0->0 delta=%.9g v=%.9g", 0.0, 0.0, v);
     cr_assert(strcmp(logged[VI_LOG_EVENTS], expected) == 0, "logged '%s'", logged[VI_LOG_EVENTS]);
     /* an update within the band fires nothing: the guard is disarmed */
     double xb[2] = {1.5 - 0.5 * band, v};
     vi_me_set_states(&e, xb);
     ev = update(&e);
-    cr_assert(e.s.d.n_events == events + 1 && ev.states_changed == 0, "a disarmed guard fired: %ld events", e.s.d.n_events);
+    cr_assert(e.s.d.events.n_events == events + 1 && ev.states_changed == 0, "a disarmed guard fired: %ld events", e.s.d.events.n_events);
     /* a completed step re-arms it once it is above its band, not before */
     cr_assert(vi_me_completed_step(&e) == 0);
-    cr_assert(e.s.d.guard_band[0] > 0.0, "re-armed within its band");
+    cr_assert(e.s.d.events.band[0] > 0.0, "re-armed within its band");
     double xa[2] = {1.5 + 1.5 * band, v};
     vi_me_set_states(&e, xa);
     cr_assert(vi_me_completed_step(&e) == 0);
-    cr_assert(e.s.d.guard_band[0] == 0.0, "not re-armed above its band: %g", e.s.d.guard_band[0]);
+    cr_assert(e.s.d.events.band[0] == 0.0, "not re-armed above its band: %g", e.s.d.events.band[0]);
     /* exactly at its band it stays disarmed (1e-5 m above the platform: the guard is y - 1.5 exactly) */
     double xe[2] = {1.5 + 1e-5, v};
     vi_me_set_states(&e, xe);
     double G = xe[0] - 1.5;
-    e.s.d.guard_band[0] = G;
+    e.s.d.events.band[0] = G;
     cr_assert(vi_me_completed_step(&e) == 0);
-    cr_assert(e.s.d.guard_band[0] == G, "re-armed at its band");
-    e.s.d.guard_band[0] = nextafter(G, 0.0);
+    cr_assert(e.s.d.events.band[0] == G, "re-armed at its band");
+    e.s.d.events.band[0] = nextafter(G, 0.0);
     cr_assert(vi_me_completed_step(&e) == 0);
-    cr_assert(e.s.d.guard_band[0] == 0.0, "not re-armed an ulp above its band");
+    cr_assert(e.s.d.events.band[0] == 0.0, "not re-armed an ulp above its band");
     /* a platform input set in continuous time since the last call counts: it drops 1 mm away */
     vi_me_set_states(&e, xb);
-    e.s.d.guard_band[0] = band;
+    e.s.d.events.band[0] = band;
     e.s.d.in.yC_in = 1.5 - 1e-3;
     cr_assert(vi_me_completed_step(&e) == 0);
-    cr_assert(e.s.d.guard_band[0] == 0.0, "not re-armed after the platform moved away: %g", e.s.d.guard_band[0]);
+    cr_assert(e.s.d.events.band[0] == 0.0, "not re-armed after the platform moved away: %g", e.s.d.events.band[0]);
     finish(&e);
 }
 
@@ -363,7 +364,8 @@ Test(me_events, a_grazing_turning_point_gets_the_band_of_the_velocity)
 {
     /* Johnson loading plastically (P = 3e5 N: the load is above the force at 1.2 delta_Y), the rate
      * of delta 1e-8 m/s below zero: within the band of the turning-point guard delta' = yC' - v; the
-     * holding force exceeds the load: it stays plastic, and the guard gets the band of v */
+     * holding force exceeds the load: it stays plastic, v is snapped onto yC' = 0, and the guard gets
+     * the band of v there: 4 (rtol 0 + atol_v) + 256 ulp(0) */
     vi_me e;
     memset(&e, 0, sizeof e);
     vi_sim_init(&e.s, capture, NULL);
@@ -374,8 +376,8 @@ Test(me_events, a_grazing_turning_point_gets_the_band_of_the_velocity)
     vi_me_event ev = update(&e);
     cr_assert(e.s.d.M.mode == VI_Mode_plastic && e.s.d.x[1] == 0.0 && ev.states_changed == 1, "mode %d, v %g",
               e.s.d.M.mode, e.s.d.x[1]);
-    double band = 4.0 * (rtol * v + e.s.d.atol[1]) + 256.0 * (nextafter(v, INFINITY) - v);
-    cr_assert(fabs(e.s.d.guard_band[0] - band) <= 1e-12 * band, "band %.17g, closed form %.17g", e.s.d.guard_band[0], band);
+    double band = 4.0 * (rtol * 0.0 + e.s.d.events.atol[1]) + 256.0 * nextafter(0.0, INFINITY);
+    cr_assert(fabs(e.s.d.events.band[0] - band) <= 1e-12 * band, "band %.17g, closed form %.17g", e.s.d.events.band[0], band);
     finish(&e);
 }
 
@@ -392,7 +394,7 @@ Test(me_events, a_state_beyond_the_band_takes_the_mode_of_the_state_as_it_is)
     const vi_outputs *out = vi_me_outputs_of(&e, VI_OUT_STATE); /* not those read before the event */
     cr_assert(out->mode == VI_Mode_elastic && out->n_impacts == 1 && out->contact == 1, "output mode %d", out->mode);
     cr_assert(ev.states_changed == 0 && e.s.d.x[0] == 1.5 - (1.5 - 1e-5), "delta %.17g", e.s.d.x[0]);
-    cr_assert(e.s.d.guard_band[0] == 0.0 && e.s.d.guard_band[1] == 0.0, "a mode entered with its guards away from 0");
+    cr_assert(e.s.d.events.band[0] == 0.0 && e.s.d.events.band[1] == 0.0, "a mode entered with its guards away from 0");
     finish(&e);
 }
 
@@ -402,10 +404,10 @@ Test(me_events, guards_are_armed_at_zero_up_to_their_rounding_noise_and_no_furth
     raised(&e);
     /* the touching start moving up: free flight with the contact guard at 0, lifted by its noise and
      * the band of the tolerance (those of Model Exchange, not the simulation's noise alone) */
-    double y0 = 1.5, band0 = 256.0 * 0x1p-52 + 4.0 * (vi_sim_rtol(&e.s.d) * y0 + e.s.d.atol[0]);
-    cr_assert(e.s.d.M.mode == VI_Mode_free && e.y == y0);
-    cr_assert(fabs(e.s.d.guard_band[0] - band0) <= 1e-12 * band0, "initial band %.17g, closed form %.17g",
-              e.s.d.guard_band[0], band0);
+    double y0 = 1.5, band0 = 256.0 * 0x1p-52 + 4.0 * (vi_sim_rtol(&e.s.d) * y0 + e.s.d.events.atol[0]);
+    cr_assert(e.s.d.M.mode == VI_Mode_free && e.s.d.y_me == y0);
+    cr_assert(fabs(e.s.d.events.band[0] - band0) <= 1e-12 * band0, "initial band %.17g, closed form %.17g",
+              e.s.d.events.band[0], band0);
     /* free flight 256 ulps of y above the platform: the contact guard equals its noise, 256 times its
      * change under one ulp of y (2^-52): lifted; 257 ulps: not */
     double rtol = vi_sim_rtol(&e.s.d);
@@ -414,16 +416,16 @@ Test(me_events, guards_are_armed_at_zero_up_to_their_rounding_noise_and_no_furth
         at(&e, VI_Mode_free, y, 0.01);
         vi_me_event ev = update(&e);
         cr_assert(ev.states_changed == 0 && e.s.d.M.mode == VI_Mode_free);
-        double band = k == 256 ? 256.0 * 0x1p-52 + 4.0 * (rtol * y + e.s.d.atol[0]) : 0.0;
-        cr_assert(fabs(e.s.d.guard_band[0] - band) <= 1e-12 * band, "%d ulps: band %.17g, closed form %.17g", k,
-                  e.s.d.guard_band[0], band);
-        cr_assert(e.s.d.guard_band[1] == 0.0);
+        double band = k == 256 ? 256.0 * 0x1p-52 + 4.0 * (rtol * y + e.s.d.events.atol[0]) : 0.0;
+        cr_assert(fabs(e.s.d.events.band[0] - band) <= 1e-12 * band, "%d ulps: band %.17g, closed form %.17g", k,
+                  e.s.d.events.band[0], band);
+        cr_assert(e.s.d.events.band[1] == 0.0);
     }
     /* a guard already lifted keeps its band */
     at(&e, VI_Mode_free, 1.5, 0.01);
-    e.s.d.guard_band[0] = 1e-9;
+    e.s.d.events.band[0] = 1e-9;
     update(&e);
-    cr_assert(e.s.d.guard_band[0] == 1e-9, "band %g", e.s.d.guard_band[0]);
+    cr_assert(e.s.d.events.band[0] == 1e-9, "band %g", e.s.d.events.band[0]);
     finish(&e);
 }
 
@@ -448,29 +450,30 @@ Test(me_events, a_guard_exactly_at_zero_without_noise_is_lifted_by_the_least_nor
 Test(me_events, an_input_jump_onto_the_contact_surface_is_an_event_of_the_new_mode)
 {
     /* free flight moving down; the platform input jumps (set in event mode) to the mass: delta = 0
-     * exactly with delta' > 0: the mode becomes elastic, and its contact guard, at zero, fires in the
-     * same pass (the bands of the mode left do not apply) */
+     * exactly with delta' > 0: the mode becomes elastic, logged as an input event; its contact guard,
+     * at zero, is armed with a band of its own (the bands of the mode left do not apply), so no state
+     * event follows in the same pass */
     vi_me e;
     raised(&e);
     at(&e, VI_Mode_free, 1.5 + 1e-6, -0.01);
-    long events = e.s.d.n_events;
+    long events = e.s.d.events.n_events;
     clear_log();
     e.s.d.in.yC_in = 1.5 + 1e-6;
     e.s.d.inputs_changed = 1;
-    e.s.d.guard_band[0] = 1.0; /* a band of free flight: not the elastic guard's */
+    e.s.d.events.band[0] = 1.0; /* a band of free flight: not the elastic guard's */
     vi_me_event ev = update(&e);
     cr_assert(e.s.d.M.mode == VI_Mode_elastic && e.s.d.x[0] == 0.0, "mode %d, delta %g", e.s.d.M.mode, e.s.d.x[0]);
-    cr_assert(e.s.d.n_events == events + 1, "%ld events", e.s.d.n_events - events);
+    cr_assert(e.s.d.events.n_events == events, "%ld state events", e.s.d.events.n_events - events);
     cr_assert(e.s.d.inputs_changed == 0 && ev.another_pass == 0 && ev.terminate == 0);
     double x[2];
     vi_me_get_states(&e, x);
     cr_assert(x[0] == 1.5 + 1e-6 && x[1] == -0.01);
-    cr_assert(n_logged[VI_LOG_EVENTS] == 2, "%d event messages", n_logged[VI_LOG_EVENTS]);
+    cr_assert(n_logged[VI_LOG_EVENTS] == 1, "%d event messages", n_logged[VI_LOG_EVENTS]);
     char expected[256];
-    snprintf(expected, sizeof expected, "t = %.17g s: guard 0 of mode 1, mode 1 -> 1, delta = %.9g m, v = %.9g m/s", 0.0, 0.0, -0.01);
+    snprintf(expected, sizeof expected, "event t=%.17g kind=input mode=0->1", 0.0);
     cr_assert(strcmp(logged[VI_LOG_EVENTS], expected) == 0, "logged '%s'", logged[VI_LOG_EVENTS]);
-    cr_assert(e.s.d.guard_band[0] > 0.0 && e.s.d.guard_band[0] < 1e-4, "the new mode's guard at 0 is armed afresh: %g",
-              e.s.d.guard_band[0]);
+    cr_assert(e.s.d.events.band[0] > 0.0 && e.s.d.events.band[0] < 1e-4, "the new mode's guard at 0 is armed afresh: %g",
+              e.s.d.events.band[0]);
     finish(&e);
 }
 
@@ -485,7 +488,7 @@ Test(me_events, an_input_change_in_event_mode_is_logged_when_it_changes_the_mode
     update(&e);
     cr_assert(e.s.d.M.mode == VI_Mode_elastic && e.s.d.M.yC_in.u == 1.5 + 2e-3 && e.s.d.M.yC_in.du == 0.0);
     char expected[256];
-    snprintf(expected, sizeof expected, "t = %.17g s: input change, mode 0 -> 1", 0.0);
+    snprintf(expected, sizeof expected, "event t=%.17g kind=input mode=0->1", 0.0);
     cr_assert(strcmp(logged[VI_LOG_EVENTS], expected) == 0, "logged '%s'", logged[VI_LOG_EVENTS]);
     double x[2];
     vi_me_get_states(&e, x);
@@ -518,7 +521,7 @@ Test(me_events, events_accumulating_at_one_instant_terminate_at_the_64th)
     }
     char expected[512];
     snprintf(expected, sizeof expected, "events accumulate at t = %.17g s (Zeno): %d events each within %g ulps of time "
-             "of the one before, the last on guard 0 of mode 0; the motion cannot go on", 10.0, VI_ZENO_EVENTS, VI_ZENO_ULPS);
+             "of the one before, the last on guard 0 of mode 0; stopped there", 10.0, VI_ZENO_EVENTS, VI_ZENO_ULPS);
     cr_assert(strcmp(e.s.msg, expected) == 0, "message '%s'", e.s.msg);
     /* later, at t = 20 s: the first event there is far from the last one (t = 10 s) and counts 0, the
      * next 64 count 1 ... 64 */
@@ -543,7 +546,7 @@ Test(me_states, initialization_logs_the_scales_and_the_initial_state_in_closed_f
     vi_sim_init(&e.s, capture, NULL);
     hertz_raised_with_rates(&e.s.d.par);
     e.s.d.in.yC_in = 0.25, e.s.d.in.F_ext = 100.0;
-    e.zeno = 50, e.s.d.guard_band[0] = e.s.d.guard_band[1] = 1.0; /* left from an earlier run */
+    e.s.d.events.zeno = 50, e.s.d.events.band[0] = e.s.d.events.band[1] = 1.0; /* left from an earlier run */
     cr_assert(vi_me_initialize(&e) == 0, "%s", e.s.msg);
     const vi_model *M = &e.s.d.M;
     /* Hertz at rest under W = P + m g - F_ext: delta = (W/K)^(2/3) = L, V = L sqrt(1.5 K sqrt(L)/m) */
@@ -624,7 +627,7 @@ Test(me_states, continuous_inputs_act_at_once_each_alone)
 {
     vi_me e;
     start(&e, hertz);
-    double y = e.y, t = 2e-3;
+    double y = e.s.d.y_me, t = 2e-3;
     vi_me_set_time(&e, t);
     /* the force alone */
     e.s.d.in.F_ext = 50.0;
@@ -635,7 +638,7 @@ Test(me_states, continuous_inputs_act_at_once_each_alone)
     /* the platform alone: the mass stays, delta moves with the platform */
     e.s.d.in.yC_in = 1e-6;
     out = vi_me_outputs_of(&e, VI_OUT_ALL);
-    cr_assert(e.s.d.M.yC_in.u == 1e-6 && e.s.d.M.yC_in.du == 0.0 && e.s.d.M.yC_in.t == t && e.y == y);
+    cr_assert(e.s.d.M.yC_in.u == 1e-6 && e.s.d.M.yC_in.du == 0.0 && e.s.d.M.yC_in.t == t && e.s.d.y_me == y);
     cr_assert(out->delta == 1e-6 - y && out->yC == 1e-6, "delta %.17g, closed form %.17g", out->delta, 1e-6 - y);
     /* a ramp restored from co-simulation (a rate, the same value): Model Exchange holds the value */
     e.s.d.M.yC_in.du = 1.0;
@@ -767,7 +770,7 @@ Test(me_events, kinks_and_the_end_of_the_profile_are_time_events)
     ev = update(&e);
     cr_assert(M->mode == VI_Mode_elastic && ev.terminate == 0, "mode %d after the kink", M->mode);
     char expected[128];
-    snprintf(expected, sizeof expected, "t = %.17g s: profile kink, mode 0 -> 1\n", tk);
+    snprintf(expected, sizeof expected, "event t=%.17g kind=kink mode=0->1\n", tk);
     cr_assert(strncmp(history, expected, strlen(expected)) == 0, "logged '%s'", history);
     cr_assert(ev.next_time_defined == 1 && ev.next_time == end, "next time %d %.17g", ev.next_time_defined, ev.next_time);
     cr_assert(vi_me_completed_step(&e) == 0, "the kink is behind");
@@ -795,13 +798,13 @@ Test(me_states, checkpoint_and_restore_carry_the_state_y)
     /* the memory of the current state is written down (delta_c = delta while loading) */
     cr_assert(e.s.d.M.U.delta_c == e.s.d.x[0], "delta_c %.17g, delta %.17g", e.s.d.M.U.delta_c, e.s.d.x[0]);
     vi_sim_data saved = e.s.d;
-    double y = e.y;
+    double y = e.s.d.y_me;
     double x[2] = {y + 1e-6, 0.02};
     vi_me_set_states(&e, x);
-    e.zeno = 7;
+    e.s.d.events.zeno = 7;
     e.s.d = saved;
     cr_assert(vi_me_restore(&e, 1) == 0, "%s", e.s.msg);
-    cr_assert(e.active == 1 && e.zeno == 0 && e.y == y, "restored y %.17g, saved %.17g", e.y, y);
+    cr_assert(e.active == 1 && e.s.d.events.zeno == 0 && e.s.d.y_me == y, "restored y %.17g, saved %.17g", e.s.d.y_me, y);
     vi_me_get_states(&e, x);
     cr_assert(x[0] == y && x[1] == -0.01);
     /* a state from before initialization: not running, the states are the initial ones prepared */
@@ -818,12 +821,12 @@ Test(me_states, nominals_are_one_before_initialization)
     double nominal[2];
     vi_me_nominals(&e, nominal);
     cr_assert(nominal[0] == 1.0 && nominal[1] == 1.0, "%g %g", nominal[0], nominal[1]);
-    cr_assert(vi_me_initialize(&e) == 0, "%s", e.s.msg);
     /* the importer's tolerance wins over rtol: nominal = atol / tolerance */
     e.s.d.tolerance = 1e-4;
+    cr_assert(vi_me_initialize(&e) == 0, "%s", e.s.msg);
     vi_me_nominals(&e, nominal);
-    cr_assert(fabs(nominal[0] - e.s.d.atol[0] / 1e-4) <= 1e-15 * nominal[0], "%g", nominal[0]);
-    e.s.d.atol[1] = 0.0; /* no scale: 1 */
+    cr_assert(fabs(nominal[0] - e.s.d.events.atol[0] / 1e-4) <= 1e-15 * nominal[0], "%g", nominal[0]);
+    e.s.d.events.atol[1] = 0.0; /* no scale: 1 */
     vi_me_nominals(&e, nominal);
     cr_assert(nominal[1] == 1.0, "%g", nominal[1]);
     finish(&e);
@@ -842,7 +845,7 @@ Test(me_states, a_checkpoint_makes_the_saved_state_whole)
     cr_assert(vi_sim_data_check(&e.s.d, msg, sizeof msg) < 0, "the continuation of t = 0 passes at t = 1 ms");
     /* an input set in continuous time since the last call is taken before the copy */
     e.s.d.in.yC_in = 1e-6;
-    double y = e.y;
+    double y = e.s.d.y_me;
     cr_assert(vi_me_checkpoint(&e) == 0, "%s", e.s.msg);
     cr_assert(vi_sim_data_check(&e.s.d, msg, sizeof msg) == 0, "%s", msg);
     cr_assert(e.s.d.x[0] == 1e-6 - y, "delta %.17g, closed form %.17g", e.s.d.x[0], 1e-6 - y);
@@ -856,7 +859,7 @@ Test(me_states, a_checkpoint_makes_the_saved_state_whole)
     snprintf(e.s.d.par.profile_file, sizeof e.s.d.par.profile_file, "/nonexistent/vi_test_me_profile.txt");
     e.s.d.par.V = 1.0;
     cr_assert(vi_me_restore(&e, 0) == -1);
-    cr_assert(e.active == 1 && e.y == x[0], "the instance changed");
+    cr_assert(e.active == 1 && e.s.d.y_me == x[0], "the instance changed");
     finish(&e);
 }
 
@@ -870,11 +873,11 @@ Test(me_events, the_band_counts_one_ulp_of_y_upwards)
     start(&e, lepp);
     double d = 0x1p-14, rtol = vi_sim_rtol(&e.s.d);
     put(&e, VI_Mode_elastic, d, -0.01, d);
-    cr_assert(e.y == -d && e.s.d.x[0] == d && e.s.d.M.delta_p == d);
+    cr_assert(e.s.d.y_me == -d && e.s.d.x[0] == d && e.s.d.M.delta_p == d);
     update(&e);
     cr_assert(e.s.d.M.mode == VI_Mode_elastic);
-    double band = 4.0 * (rtol * d + e.s.d.atol[0]) + 256.0 * 0x1p-67;
-    cr_assert(fabs(e.s.d.guard_band[0] - band) <= 1e-11 * band, "band %.17g, closed form %.17g", e.s.d.guard_band[0], band);
+    double band = 4.0 * (rtol * d + e.s.d.events.atol[0]) + 256.0 * 0x1p-67;
+    cr_assert(fabs(e.s.d.events.band[0] - band) <= 1e-11 * band, "band %.17g, closed form %.17g", e.s.d.events.band[0], band);
     finish(&e);
 }
 
@@ -905,8 +908,8 @@ Test(me_events, the_band_counts_one_ulp_of_v_upwards)
     put(&e, VI_Mode_plastic, 1.2 * e.s.d.M.J.delta_Y, v, 0.0);
     update(&e);
     cr_assert(e.s.d.M.mode == VI_Mode_plastic);
-    double band = 4.0 * (rtol * -v + e.s.d.atol[1]) + 256.0 * 0x1p-60;
-    cr_assert(fabs(e.s.d.guard_band[0] - band) <= 5e-11 * band, "band %.17g, closed form %.17g", e.s.d.guard_band[0], band);
+    double band = 4.0 * (rtol * -v + e.s.d.events.atol[1]) + 256.0 * 0x1p-60;
+    cr_assert(fabs(e.s.d.events.band[0] - band) <= 5e-11 * band, "band %.17g, closed form %.17g", e.s.d.events.band[0], band);
     finish(&e);
 }
 
@@ -914,7 +917,7 @@ Test(me_states, a_completed_step_starts_the_mean_force_anew)
 {
     vi_me e;
     start(&e, hertz);
-    double x[2] = {e.y, 0.02};
+    double x[2] = {e.s.d.y_me, 0.02};
     vi_me_set_states(&e, x);
     vi_me_set_time(&e, 1e-3);
     double m = e.s.d.M.m, W = e.s.d.M.W0;
@@ -935,7 +938,7 @@ Test(me_states, inputs_set_after_the_last_event_pass_act_when_continuous_time_be
 {
     vi_me e;
     start(&e, hertz);
-    double y = e.y;
+    double y = e.s.d.y_me;
     e.s.d.in.yC_in = 2e-6;
     e.s.d.inputs_changed = 1; /* set in event mode: they wait for the event iteration ... */
     vi_me_set_time(&e, 0.0);
@@ -964,11 +967,11 @@ Test(me_events, a_stick_guard_that_fires_exactly_at_zero_is_lifted_by_the_least_
      * the tie): it stays in stick, the guard lifted by DBL_MIN (its noise and tolerance band are 0) */
     vi_me e;
     start(&e, preloaded_stick);
-    e.s.d.guard_band[0] = 0.0;
-    long events = e.s.d.n_events;
+    e.s.d.events.band[0] = 0.0;
+    long events = e.s.d.events.n_events;
     vi_me_event ev = update(&e);
-    cr_assert(e.s.d.M.mode == VI_Mode_stick && e.s.d.n_events == events + 1, "mode %d", e.s.d.M.mode);
-    cr_assert(e.s.d.guard_band[0] == DBL_MIN && ev.another_pass == 0, "band %g, another pass %d", e.s.d.guard_band[0],
+    cr_assert(e.s.d.M.mode == VI_Mode_stick && e.s.d.events.n_events == events + 1, "mode %d", e.s.d.M.mode);
+    cr_assert(e.s.d.events.band[0] == DBL_MIN && ev.another_pass == 0, "band %g, another pass %d", e.s.d.events.band[0],
               ev.another_pass);
     finish(&e);
 }

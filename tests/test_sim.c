@@ -56,15 +56,21 @@ Test(sim, data_check_names_the_first_bad_field)
     CASE(d.t = NAN, "t =");
     CASE(d.t = d.t_start - 1.0, "t =");
     CASE(d.t_start = INFINITY, "t_start");
-    CASE(d.atol[1] = -1.0, "atol[1]");
-    CASE(d.n_events = -1, "n_events");
+    CASE(d.events.atol[1] = -1.0, "atol[1]");
+    CASE(d.events.n_events = -1, "n_events");
     CASE(d.tolerance = 0.5, "tolerance");
     CASE(d.inputs_changed = 7, "inputs_changed");
     CASE(d.step_t0 = NAN, "step_t0");
     CASE(d.step_t0 = d.t + 1e-3, "step_t0");
     CASE(d.step_v0 = INFINITY, "step_v0");
-    CASE(d.guard_band[0] = -1e-9, "guard_band[0]");
-    CASE(d.guard_band[1] = NAN, "guard_band[1]");
+    CASE(d.events.band[0] = -1e-9, "guard band[0]");
+    CASE(d.events.band[1] = NAN, "guard band[1]");
+    CASE(d.y_me = NAN, "y_me");
+    CASE(d.events.rtol = 0.5, "rtol = 0.5 is neither 0 nor in");
+    CASE(d.events.rtol = 1e-3, "rtol = 0.001 is not the one of the settings");
+    CASE(d.events.t_count = d.t + 1e-3, "t_count");
+    CASE(d.events.zeno = VI_ZENO_EVENTS + 1, "zeno");
+    CASE(d.events.zeno = -1, "zeno");
 #undef CASE
     vi_sim_free(&s);
 }
@@ -94,16 +100,16 @@ Test(sim, zeno_rule_counts_accumulation_not_frequency)
     while (count < VI_ZENO_EVENTS && n < 1000) {
         t = fmin(t + gap, t_star);
         gap *= 0.5;
-        count = vi_sim_zeno_count(count, before, t);
+        count = vi_hybrid_zeno_count(count, before, t);
         before = t;
         n++;
     }
     cr_assert(count >= VI_ZENO_EVENTS, "not detected after %d events", n);
     cr_assert(fabs(t - t_star) < 1e-12, "detected at %.17g, not at the accumulation point", t);
     count = 0, t = 0.05;
-    for (int k = 0; k < 100000; k++, t += 1.0 / 3e7) count = vi_sim_zeno_count(count, t, t + 1.0 / 3e7);
+    for (int k = 0; k < 100000; k++, t += 1.0 / 3e7) count = vi_hybrid_zeno_count(count, t, t + 1.0 / 3e7);
     cr_assert(count == 0, "regular events counted as Zeno");
-    cr_assert(vi_sim_zeno_count(5, 0.05, 0.06) == 0, "a gap resets the count");
+    cr_assert(vi_hybrid_zeno_count(5, 0.05, 0.06) == 0, "a gap resets the count");
 }
 
 /* The event count starts at zero and counts what happens: a mass thrown clear (no load) meets
@@ -119,10 +125,10 @@ Test(sim, event_count_starts_at_zero_and_counts_the_separation)
         s.d.par.contact_model = VI_ContactModel_hertz;
         s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = v0[i];
         cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
-        cr_assert(s.d.n_events == 0, "%ld events at the start", s.d.n_events);
+        cr_assert(s.d.events.n_events == 0, "%ld events at the start", s.d.events.n_events);
         cr_assert(vi_sim_advance(&s, 0.01) == VI_SIM_OK, "%s", s.msg);
-        cr_assert(s.d.n_events == expect[i] && s.d.M.mode == VI_Mode_free, "v0 = %g: %ld events, mode %d", v0[i],
-                  s.d.n_events, s.d.M.mode);
+        cr_assert(s.d.events.n_events == expect[i] && s.d.M.mode == VI_Mode_free, "v0 = %g: %ld events, mode %d", v0[i],
+                  s.d.events.n_events, s.d.M.mode);
         vi_sim_free(&s);
     }
 }
@@ -544,6 +550,7 @@ Test(sim, data_check_each_rule_alone_with_its_message)
                                                                       NAN};
     for (int i = 0; i < 3; i++) {
         d = ok, d.tolerance = tolerances_in[i];
+        d.events.rtol = vi_sim_rtol(&d); /* the tolerance the simulation then runs at */
         passes(&d, 1, "tolerance in range");
     }
     for (int i = 0; i < 4; i++) {
@@ -563,15 +570,15 @@ Test(sim, data_check_each_rule_alone_with_its_message)
     for (int i = 0; i < 2; i++) {
         double bad[] = {NAN, INFINITY, -1e-300};
         for (int k = 0; k < 3; k++) {
-            d = ok, d.atol[i] = bad[k];
+            d = ok, d.events.atol[i] = bad[k];
             refused_as(&d, 1, "atol[%d] = %g is not finite and >= 0", i, bad[k]);
         }
-        d = ok, d.atol[i] = 0.0;
+        d = ok, d.events.atol[i] = 0.0;
         passes(&d, 1, "atol = 0");
     }
-    d = ok, d.n_events = -1;
+    d = ok, d.events.n_events = -1;
     refused_as(&d, 1, "n_events = -1 is negative");
-    d = ok, d.n_events = 0;
+    d = ok, d.events.n_events = 0;
     passes(&d, 1, "no events");
     d = ok, d.initialized = 2;
     refused_as(&d, 1, "initialized = 2 is not 0 or 1");
@@ -588,10 +595,10 @@ Test(sim, data_check_each_rule_alone_with_its_message)
     for (int i = 0; i < VI_NGUARDS; i++) {
         double bad[] = {NAN, INFINITY, -1e-300};
         for (int k = 0; k < 3; k++) {
-            d = ok, d.guard_band[i] = bad[k];
-            refused_as(&d, 1, "guard_band[%d] = %g is not finite and >= 0", i, bad[k]);
+            d = ok, d.events.band[i] = bad[k];
+            refused_as(&d, 1, "guard band[%d] = %g is not finite and >= 0", i, bad[k]);
         }
-        d = ok, d.guard_band[i] = 1e-12; /* a disarmed guard's band is tiny */
+        d = ok, d.events.band[i] = 1e-12; /* a disarmed guard's band is tiny */
         passes(&d, 1, "a small band");
     }
     /* the model's own check follows */
@@ -675,14 +682,14 @@ Test(sim, event_and_solver_log_lines_report_the_values)
               "%s", logged[0]);
     n_logged = 0, log_category = VI_LOG_EVENTS;
     cr_assert(vi_sim_advance(&s, 0.01) == VI_SIM_OK, "%s", s.msg); /* t_c = 2.2 ms */
-    cr_assert(n_logged == 1, "%d event lines, %ld events, mode %d, t %g", n_logged, s.d.n_events, s.d.M.mode, s.d.t);
+    cr_assert(n_logged == 1, "%d event lines, %ld events, mode %d, t %g", n_logged, s.d.events.n_events, s.d.M.mode, s.d.t);
     double t, delta, v;
-    int guard, of_mode, from, to;
-    cr_assert(sscanf(logged[0], "t = %lg s: guard %d of mode %d, mode %d -> %d, delta = %lg m, v = %lg m/s", &t, &guard,
-                     &of_mode, &from, &to, &delta, &v) == 7, "%s", logged[0]);
+    int guard, from, to, end = 0;
+    cr_assert(sscanf(logged[0], "event t=%lg kind=guard guard=%d mode=%d->%d delta=%lg v=%lg%n", &t, &guard, &from, &to,
+                     &delta, &v, &end) == 6 && logged[0][end] == '\0', "%s", logged[0]);
     double tc = 2.0 * dmax / v0 * sqrt(VI_PI) * tgamma(1.4) / tgamma(0.9);
     cr_assert(fabs(t - tc) <= 1e-6 * tc, "%s: t_c = %.9g s", logged[0], tc);
-    cr_assert(guard == 0 && of_mode == VI_Mode_elastic && from == VI_Mode_elastic && to == VI_Mode_free, "%s", logged[0]);
+    cr_assert(guard == 0 && from == VI_Mode_elastic && to == VI_Mode_free, "%s", logged[0]);
     cr_assert(delta == 0.0 && fabs(v - v0) <= 1e-7, "%s", logged[0]);
     vi_sim_free(&s);
 }
@@ -711,9 +718,13 @@ Test(sim, solver_failure_message_gives_the_state)
 
 /* ---- guard bands across a change of mode ------------------------------------------------------ */
 
-/* The band of the free contact guard g = -delta armed at delta = 0 exactly: VI_GRAZE_ULPS times its
- * change over one ulp of delta (the smallest subnormal), plus DBL_MIN. */
-static double band_at_contact(void) { return VI_GRAZE_ULPS * nextafter(0.0, 1.0) + DBL_MIN; }
+/* The band of a contact guard (+-delta) armed at delta = 0 (up to rounding): VI_GRAZE_TOL times its
+ * change under the state error atol of delta, VI_GRAZE_ULPS times its change over one ulp of delta
+ * (the smallest subnormal), plus DBL_MIN. */
+static double band_at_contact(const vi_sim *s)
+{
+    return VI_GRAZE_TOL * s->d.events.atol[0] + VI_GRAZE_ULPS * nextafter(0.0, 1.0) + DBL_MIN;
+}
 
 /* An event that changes the mode arms the new mode's guards afresh: a band the old mode's guard had
  * (here set by hand on the contact guard of a Hertz drop) does not carry over to the free flight,
@@ -726,11 +737,11 @@ Test(sim, a_mode_change_at_an_event_arms_the_new_guards_afresh)
     s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = -0.1;
     cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
     cr_assert(s.d.M.mode == VI_Mode_elastic);
-    s.d.guard_band[0] = 1e-9; /* the separation comes 1e-9 m late: the band is part of the guard */
+    s.d.events.band[0] = 1e-9; /* the separation comes 1e-9 m late: the band is part of the guard */
     cr_assert(vi_sim_advance_until(&s, 0.01, 1) == VI_SIM_EVENT, "%s", s.msg);
     cr_assert(s.d.M.mode == VI_Mode_free && s.d.x[0] == 0.0, "mode %d delta %g", s.d.M.mode, s.d.x[0]);
-    cr_assert(s.d.guard_band[0] == band_at_contact() && s.d.guard_band[1] == 0.0, "bands %g %g", s.d.guard_band[0],
-              s.d.guard_band[1]);
+    cr_assert(s.d.events.band[0] == band_at_contact(&s) && s.d.events.band[1] == 0.0, "bands %g %g", s.d.events.band[0],
+              s.d.events.band[1]);
     vi_sim_free(&s);
 }
 
@@ -746,18 +757,18 @@ Test(sim, a_mode_change_at_an_input_change_arms_the_new_guards_afresh)
     s.d.par.contact_model = VI_ContactModel_hertz;
     cr_assert(vi_sim_initialize(&s) == 0 && vi_sim_advance(&s, 1e-3) == VI_SIM_OK, "%s", s.msg);
     cr_assert(s.d.M.mode == VI_Mode_elastic && s.d.x[0] > 0.0);
-    s.d.guard_band[0] = 1.0;
+    s.d.events.band[0] = 1.0;
     s.d.x[1] = 0.0; /* at rest exactly (the solver leaves a velocity of rounding size) */
     s.d.in.yC_in = -s.d.x[0];
     s.d.in.F_ext = 2.0 * s.d.M.W0;
     s.d.inputs_changed = 1;
     n_logged = 0, log_category = VI_LOG_EVENTS;
     cr_assert(vi_sim_advance(&s, 1e-3 + 1e-6) == VI_SIM_OK, "%s", s.msg);
-    cr_assert(n_logged == 1 && strcmp(logged[0], "t = 0.001 s: input change, mode 1 -> 0") == 0, "%d: %s", n_logged,
+    cr_assert(n_logged == 1 && strcmp(logged[0], "event t=0.001 kind=input mode=1->0") == 0, "%d: %s", n_logged,
               logged[0]);
     cr_assert(s.d.M.mode == VI_Mode_free && s.d.x[0] < 0.0, "mode %d delta %g", s.d.M.mode, s.d.x[0]);
-    cr_assert(s.d.guard_band[0] == band_at_contact() && s.d.guard_band[1] == 0.0, "bands %g %g", s.d.guard_band[0],
-              s.d.guard_band[1]);
+    cr_assert(s.d.events.band[0] == band_at_contact(&s) && s.d.events.band[1] == 0.0, "bands %g %g", s.d.events.band[0],
+              s.d.events.band[1]);
     vi_sim_free(&s);
 }
 
@@ -919,10 +930,10 @@ Test(sim, a_guard_is_rearmed_once_above_its_band)
         {{1.0, 0.5}, {1.0, 0.0}},    /* each guard on its own */
     };
     for (int i = 0; i < 4; i++) {
-        s.d.guard_band[0] = c[i].band[0], s.d.guard_band[1] = c[i].band[1];
+        s.d.events.band[0] = c[i].band[0], s.d.events.band[1] = c[i].band[1];
         cr_assert(vi_sim_advance(&s, s.d.t + 1e-4) == VI_SIM_OK, "%s", s.msg);
-        cr_assert(s.d.guard_band[0] == c[i].after[0] && s.d.guard_band[1] == c[i].after[1], "case %d: bands %g %g", i,
-                  s.d.guard_band[0], s.d.guard_band[1]);
+        cr_assert(s.d.events.band[0] == c[i].after[0] && s.d.events.band[1] == c[i].after[1], "case %d: bands %g %g", i,
+                  s.d.events.band[0], s.d.events.band[1]);
     }
     vi_sim_free(&s);
 }
@@ -992,11 +1003,11 @@ Test(sim, only_a_changed_input_restarts_the_solver)
 Test(sim, zeno_count_at_its_bound)
 {
     double ulp = nextafter(1.0, 2.0) - 1.0; /* of times in [1, 2) */
-    cr_assert(vi_sim_zeno_count(5, 1.0, 1.0 + VI_ZENO_ULPS * ulp) == 6);
-    cr_assert(vi_sim_zeno_count(5, 1.0, 1.0 + (VI_ZENO_ULPS + 1.0) * ulp) == 0);
-    cr_assert(vi_sim_zeno_count(0, -1.5 - VI_ZENO_ULPS * ulp, -1.5) == 1);
-    cr_assert(vi_sim_zeno_count(0, -1.5 - (VI_ZENO_ULPS + 1.0) * ulp, -1.5) == 0);
-    cr_assert(vi_sim_zeno_count(63, 1.0, 1.0) == 64);
+    cr_assert(vi_hybrid_zeno_count(5, 1.0, 1.0 + VI_ZENO_ULPS * ulp) == 6);
+    cr_assert(vi_hybrid_zeno_count(5, 1.0, 1.0 + (VI_ZENO_ULPS + 1.0) * ulp) == 0);
+    cr_assert(vi_hybrid_zeno_count(0, -1.5 - VI_ZENO_ULPS * ulp, -1.5) == 1);
+    cr_assert(vi_hybrid_zeno_count(0, -1.5 - (VI_ZENO_ULPS + 1.0) * ulp, -1.5) == 0);
+    cr_assert(vi_hybrid_zeno_count(63, 1.0, 1.0) == 64);
 }
 
 /* A reset goes back to the defaults and frees the solver, keeping the resources folder and the logger;
@@ -1049,9 +1060,7 @@ Test(sim, preparing_again_drops_the_outputs_computed_before)
 }
 
 /* A guard within rounding of zero (here delta = 1e-310 m in contact, far below the rounding noise of
- * the contact guard) when an input changes gets the band of its rounding noise, VI_GRAZE_ULPS times its
- * change over one ulp of delta (the smallest subnormal: no ulp of t or v moves it) plus DBL_MIN; at
- * exactly that noise too, one ulp above it not. */
+ * the contact guard) when an input changes gets the band of a guard at zero (band_at_contact). */
 Test(sim, a_guard_within_rounding_of_zero_gets_the_band_of_its_noise)
 {
     vi_sim s;
@@ -1059,23 +1068,24 @@ Test(sim, a_guard_within_rounding_of_zero_gets_the_band_of_its_noise)
     s.d.par.contact_model = VI_ContactModel_hertz;
     s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = -0.1;
     cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
-    cr_assert(s.d.M.mode == VI_Mode_elastic && s.d.guard_band[0] == band_at_contact(), "band %g", s.d.guard_band[0]);
-    s.d.guard_band[0] = 0.0;
+    cr_assert(s.d.M.mode == VI_Mode_elastic && s.d.events.band[0] == band_at_contact(&s), "band %g", s.d.events.band[0]);
+    s.d.events.band[0] = 0.0;
     s.d.x[0] = 1e-310;
     s.d.in.F_ext = 1.0;
     s.d.inputs_changed = 1;
     cr_assert(vi_sim_advance(&s, 1e-9) == VI_SIM_OK, "%s", s.msg);
-    cr_assert(s.d.M.mode == VI_Mode_elastic && s.d.guard_band[0] == band_at_contact() && s.d.guard_band[1] == 0.0,
-              "bands %g %g", s.d.guard_band[0], s.d.guard_band[1]);
-    /* the bound: a guard exactly at its noise counts as zero, one ulp above it does not */
-    const double at[2] = {band_at_contact(), nextafter(band_at_contact(), 1.0)};
+    cr_assert(s.d.M.mode == VI_Mode_elastic && s.d.events.band[0] == band_at_contact(&s) && s.d.events.band[1] == 0.0,
+              "bands %g %g", s.d.events.band[0], s.d.events.band[1]);
+    /* the bound: a guard exactly at its rounding noise (VI_GRAZE_ULPS times its change over one ulp of
+     * delta, plus DBL_MIN) counts as zero, one ulp above it does not */
+    const double noise = VI_GRAZE_ULPS * nextafter(0.0, 1.0) + DBL_MIN, at[2] = {noise, nextafter(noise, 1.0)};
     for (int k = 0; k < 2; k++) {
-        s.d.guard_band[0] = 0.0;
+        s.d.events.band[0] = 0.0;
         s.d.x[0] = at[k];
         s.d.in.F_ext += 1.0;
         s.d.inputs_changed = 1;
         cr_assert(vi_sim_advance(&s, s.d.t + 1e-9) == VI_SIM_OK, "%s", s.msg);
-        cr_assert(s.d.guard_band[0] == (k ? 0.0 : band_at_contact()), "delta %g: band %g", at[k], s.d.guard_band[0]);
+        cr_assert(s.d.events.band[0] == (k ? 0.0 : band_at_contact(&s)), "delta %g: band %g", at[k], s.d.events.band[0]);
     }
     vi_sim_free(&s);
 }
