@@ -165,6 +165,26 @@ def test_state_from_before_initialization_gives_the_initial_states_again(me):
     m.fmu.freeFMUstate(before)
 
 
+def test_fmu_state_gives_back_the_states_bit_for_bit_far_from_the_platform(me):
+    """An FMU state taken in continuous-time mode gives back the importer's states to the bit, also
+    where the platform is far from the mass (yC = -1e6 m, y = 0.1 m: delta = yC - y carries 19 fewer
+    bits of y than y itself); a second state with other states set in between changes nothing."""
+    inst, m = me()
+    m.start(params=dict(contact_model=1, init=2, v0=0.0, a=0.0, yC_in=-1e6))
+    m.fmu.setTime(1e-4)
+    x = [0.1 + 2.0 ** -40, 1e-3 / 3.0]  # bits below the ulp of 1e6 (1.2e-10)
+    m.set_states(x)
+    m.fmu.enterEventMode()
+    m.settle()  # the state as it is: free flight
+    m.fmu.enterContinuousTimeMode()
+    assert m.integer("mode") == 0 and m.states() == x
+    saved = m.fmu.getFMUstate()
+    m.set_states([0.2, 0.0])
+    m.fmu.setFMUstate(saved)
+    assert m.states() == x  # exactly
+    m.fmu.freeFMUstate(saved)
+
+
 def test_initial_state_is_logged(fmu_path, unzipdir, model_description):
     """logSolver at fmi2ExitInitializationMode in Model Exchange: the nominals the importer gets and
     the initial mode and state, here a touching start moving up at v0 (delta = 0, free flight)."""
