@@ -91,9 +91,18 @@ const vi_outputs *vi_me_outputs_of(vi_me *e, unsigned groups);
 int vi_me_checkpoint(vi_me *e);
 int vi_me_restore(vi_me *e, int running);
 
-/* The partial derivative of the unknown with value reference `unknown` (der_y, der_v or an output)
- * with respect to the known `known` (the states y, v or the inputs yC_in, F_ext), at the current
- * point, analytic, in the current mode. */
-double vi_me_partial(vi_me *e, int unknown, int known);
+/* The partial derivatives of one unknown with respect to the knowns: the states y [m], v [m/s] and
+ * the inputs yC_in [m], F_ext [N]. */
+typedef struct {
+    double y, v, yC_in, F_ext;
+} vi_me_partials;
+/* The unknowns: the derivatives of the states and the outputs that move with the states and inputs
+ * (every other output and the calculated parameters have zero partials). */
+enum {
+    VI_ME_DER_Y, VI_ME_DER_V, VI_ME_F, VI_ME_F_MEAN, VI_ME_DELTA, VI_ME_Y, VI_ME_V, VI_ME_YC, VI_ME_K_CONTACT,
+    VI_ME_DELTA_C, VI_ME_DELTA_F, VI_ME_RBAR, VI_ME_DELTA_P, VI_ME_W_PLASTIC, VI_ME_N_UNKNOWNS
+};
+/* The Jacobian at the current point, analytic, in the current mode: J[unknown]. */
+void vi_me_jacobian(vi_me *e, vi_me_partials J[VI_ME_N_UNKNOWNS]);
 
 #endif

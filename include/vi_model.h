@@ -132,6 +132,16 @@ double vi_model_force(const vi_model *M, double t, const double x[2]);
 void vi_model_rhs(const vi_model *M, double t, const double x[2], double dx[2]);
 /* d(v')/d(delta): the only nonzero state derivative of the right-hand side besides d(delta')/dv = -1. */
 double vi_model_stiffness_over_mass(const vi_model *M, double t, const double x[2]);
+/* d(stiffness)/d(delta) [N/m^2]: the second derivative of the force in the current mode (0 where it
+ * is linear or constant, and in stick, whose stiffness is that at delta_c). */
+double vi_model_stiffness_rate(const vi_model *M, const double x[2]);
+/* The rates d/d(delta) [1, except W_plastic: N] of the memory outputs at x in the current mode:
+ * nonzero only while the memory tracks delta (Johnson loading plastically with a fixed contact
+ * point: delta_c = delta; LEPP flowing: delta_p = delta - delta_Y). */
+typedef struct {
+    double delta_c, delta_f, delta_p, Rbar, W_plastic;
+} vi_memory_rates;
+void vi_model_memory_rates(const vi_model *M, const double x[2], vi_memory_rates *r);
 /* Jacobian of vi_model_rhs, row major: d(delta', v')/d(delta, v). In stick both rows are zero
  * (delta' = 0, v' = yC''), so that a Newton iteration keeps delta exactly on delta_c. */
 void vi_model_jacobian(const vi_model *M, double t, const double x[2], double j[4]);

@@ -135,13 +135,50 @@ static int event_update(void *m, vi_fmu_event *ev)
     return 0;
 }
 
+/* The Jacobian's index sets in value references: the row of vi_me_jacobian of an unknown (-1: its
+ * partials are zero), and the column of a known. */
+static int jacobian_row(unsigned vr)
+{
+    switch (vr) {
+    case VI_VR_der_y: return VI_ME_DER_Y;
+    case VI_VR_der_v: return VI_ME_DER_V;
+    case VI_VR_F: return VI_ME_F;
+    case VI_VR_F_mean: return VI_ME_F_MEAN;
+    case VI_VR_delta: return VI_ME_DELTA;
+    case VI_VR_y: return VI_ME_Y;
+    case VI_VR_v: return VI_ME_V;
+    case VI_VR_yC: return VI_ME_YC;
+    case VI_VR_k_contact: return VI_ME_K_CONTACT;
+    case VI_VR_delta_c: return VI_ME_DELTA_C;
+    case VI_VR_delta_f: return VI_ME_DELTA_F;
+    case VI_VR_Rbar: return VI_ME_RBAR;
+    case VI_VR_delta_p: return VI_ME_DELTA_P;
+    case VI_VR_W_plastic: return VI_ME_W_PLASTIC;
+    default: return -1;
+    }
+}
+
+static double jacobian_entry(const vi_me_partials *row, unsigned known)
+{
+    switch (known) {
+    case VI_VR_y: return row->y;
+    case VI_VR_v: return row->v;
+    case VI_VR_yC_in: return row->yC_in;
+    case VI_VR_F_ext: return row->F_ext;
+    default: return 0.0;
+    }
+}
+
 static int directional_derivative(void *m, const unsigned unknown[], size_t n_unknown, const unsigned known[],
                                   size_t n_known, const double dknown[], double dunknown[])
 {
+    vi_me_partials J[VI_ME_N_UNKNOWNS];
+    vi_me_jacobian(m, J);
     for (size_t i = 0; i < n_unknown; i++) {
+        int row = jacobian_row(unknown[i]);
         dunknown[i] = 0.0;
-        for (size_t j = 0; j < n_known; j++)
-            if (dknown[j] != 0.0) dunknown[i] += vi_me_partial(m, (int)unknown[i], (int)known[j]) * dknown[j];
+        for (size_t j = 0; j < n_known && row >= 0; j++)
+            if (dknown[j] != 0.0) dunknown[i] += jacobian_entry(&J[row], known[j]) * dknown[j];
     }
     return 0;
 }

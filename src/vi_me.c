@@ -273,89 +273,36 @@ int vi_me_restore(vi_me *e, int running)
 
 /* ---- the Jacobian ---------------------------------------------------------------------------- */
 
-/* d(stiffness)/d(delta) [N/m^2], the second derivative of the force in the current mode (0 where the
- * force is linear or constant, and in stick, where the reported stiffness is that at delta_c). */
-static double stiffness_rate(const vi_model *M, double d)
+/* An unknown's partials with respect to delta, v, F_ext and yC (directly, not through delta), mapped
+ * onto the knowns: delta = yC(t) - y, yC = yC_in + ... */
+static vi_me_partials through_delta(double a_d, double a_v, double a_F, double a_yC)
 {
-    const vi_johnson *J = &M->J;
-    double s;
-    switch (M->mode) {
-    case VI_Mode_elastic:
-    case VI_Mode_plastic:
-        if (M->law == VI_ContactModel_lepp) return 0.0;
-        if (M->law == VI_ContactModel_hertz) return d > 0.0 ? 0.75 * M->K / sqrt(d) : 0.0;
-        if (d <= J->delta_Y) return (s = d / J->delta_Y) > 0.0 ? 0.75 * J->F_Y / (J->delta_Y * J->delta_Y * sqrt(s)) : 0.0;
-        /* eq. 3: F'' = 4 F_Y / (3 theta_Y k delta_Y^2), k = 2 delta/delta_Y - 1 */
-        return 4.0 * J->F_Y / (3.0 * J->theta_Y * (2.0 * d / J->delta_Y - 1.0) * J->delta_Y * J->delta_Y);
-    case VI_Mode_unload: return (s = d - M->U.delta_f) > 0.0 ? 0.75 * M->U.Kbar / sqrt(s) : 0.0;
-    default: return 0.0;
-    }
+    return (vi_me_partials){.y = -a_d, .v = a_v, .yC_in = a_d + a_yC, .F_ext = a_F};
 }
 
-/* Rates of the unloading curve's parameters with delta_c (Johnson, fixed contact point, while it
- * loads plastically and delta_c = delta): d/d(delta_c) of Rbar, delta_r, and the plastic work. */
-typedef struct {
-    double Rbar, delta_r, W_plastic;
-} unload_rates;
-
-static unload_rates memory_rates(const vi_model *M, double dc)
-{
-    const vi_johnson *J = &M->J;
-    vi_unload_curve U = vi_johnson_unload_curve(J, M->unloading, dc);
-    unload_rates r;
-    if (M->unloading == VI_UNLOAD_CONTINUOUS) { /* a_c^2 = R* (2 delta_c - delta_Y), F_c the load at delta_c */
-        double F = vi_johnson_load(J, dc), dF = vi_johnson_load_stiffness(J, dc);
-        double a = sqrt(J->R_star * (2.0 * dc - J->delta_Y)), da = J->R_star / a;
-        r.Rbar = 4.0 * J->E_star / 3.0 * (3.0 * a * a * da / F - a * a * a * dF / (F * F)); /* Rbar = 4 E* a^3/(3 F) */
-        r.delta_r = 3.0 / (4.0 * J->E_star) * (dF / a - F * da / (a * a));                 /* delta_r = 3 F/(4 E* a) */
-    } else { /* Rbar = R* sqrt(k_c), delta_r = delta_Y sqrt(k_c), k_c = 2 delta_c/delta_Y - 1 */
-        double sk = sqrt(2.0 * dc / J->delta_Y - 1.0);
-        r.Rbar = J->R_star / (J->delta_Y * sk);
-        r.delta_r = 1.0 / sk;
-    }
-    /* W = load work(delta_c) - 0.4 Kbar delta_r^2.5, Kbar = 4/3 E* sqrt(Rbar) */
-    double dK = 2.0 / 3.0 * J->E_star * r.Rbar / sqrt(U.Rbar), dr = U.delta_r;
-    r.W_plastic = vi_johnson_load(J, dc) - 0.4 * dK * dr * dr * sqrt(dr) - U.Kbar * dr * sqrt(dr) * r.delta_r;
-    return r;
-}
-
-double vi_me_partial(vi_me *e, int unknown, int known)
+void vi_me_jacobian(vi_me *e, vi_me_partials J[VI_ME_N_UNKNOWNS])
 {
     sync(e);
     const vi_sim_data *d = &e->s.d;
     const vi_model *M = &d->M;
-    double dlt = d->x[0], m = M->m, h = d->t - d->step_t0;
-    int stick = M->mode == VI_Mode_stick, plastic = M->mode == VI_Mode_plastic;
+    double m = M->m, h = d->t - d->step_t0;
+    int stick = M->mode == VI_Mode_stick;
     double k = stick ? 0.0 : m * vi_model_stiffness_over_mass(M, d->t, d->x); /* dF/ddelta */
-    int johnson_memory = plastic && M->law == VI_ContactModel_johnson && !M->moving;
-    int lepp_flow = plastic && M->law == VI_ContactModel_lepp;
-    /* The unknown's partials with respect to delta, v, F_ext, and yC (directly, not through delta). */
-    double a_d = 0.0, a_v = 0.0, a_F = 0.0, a_yC = 0.0;
-    switch (unknown) {
-    case VI_VR_der_y: a_v = 1.0; break;
-    case VI_VR_der_v: a_d = k / m, a_F = stick ? 0.0 : 1.0 / m; break; /* (F - W0 + F_ext)/m; stick: yC'' */
-    case VI_VR_F: a_d = k, a_F = stick ? -1.0 : 0.0; break;             /* stick: F_hold = W0 - F_ext + m yC'' */
-    case VI_VR_F_mean:
-        if (h > 0.0) a_v = m / h, a_F = -1.0; /* m (v - v0)/h + W0 - F_ext */
-        else a_d = k, a_F = stick ? -1.0 : 0.0;
-        break;
-    case VI_VR_delta: a_d = 1.0; break;
-    case VI_VR_y: a_d = -1.0, a_yC = 1.0; break;
-    case VI_VR_v: a_v = 1.0; break;
-    case VI_VR_yC: a_yC = 1.0; break;
-    case VI_VR_k_contact: a_d = stick ? 0.0 : stiffness_rate(M, dlt); break;
-    case VI_VR_delta_c: a_d = johnson_memory; break;
-    case VI_VR_delta_f: a_d = johnson_memory ? 1.0 - memory_rates(M, dlt).delta_r : 0.0; break;
-    case VI_VR_Rbar: a_d = johnson_memory ? memory_rates(M, dlt).Rbar : 0.0; break;
-    case VI_VR_delta_p: a_d = lepp_flow; break;
-    case VI_VR_W_plastic: a_d = johnson_memory ? memory_rates(M, dlt).W_plastic : lepp_flow ? M->J.F_Y : 0.0; break;
-    default: break; /* calculated parameters: constant */
-    }
-    switch (known) { /* delta = yC(t) - y, yC = yC_in + ... */
-    case VI_VR_y: return -a_d;
-    case VI_VR_v: return a_v;
-    case VI_VR_yC_in: return a_d + a_yC;
-    case VI_VR_F_ext: return a_F;
-    default: return 0.0;
-    }
+    vi_memory_rates mem;
+    vi_model_memory_rates(M, d->x, &mem);
+    J[VI_ME_DER_Y] = through_delta(0.0, 1.0, 0.0, 0.0);
+    J[VI_ME_DER_V] = through_delta(k / m, 0.0, stick ? 0.0 : 1.0 / m, 0.0); /* (F - W0 + F_ext)/m; stick: yC'' */
+    J[VI_ME_F] = through_delta(k, 0.0, stick ? -1.0 : 0.0, 0.0);             /* stick: F_hold = W0 - F_ext + m yC'' */
+    J[VI_ME_F_MEAN] = h > 0.0 ? through_delta(0.0, m / h, -1.0, 0.0)        /* m (v - v0)/h + W0 - F_ext */
+                              : J[VI_ME_F];
+    J[VI_ME_DELTA] = through_delta(1.0, 0.0, 0.0, 0.0);
+    J[VI_ME_Y] = through_delta(-1.0, 0.0, 0.0, 1.0);
+    J[VI_ME_V] = through_delta(0.0, 1.0, 0.0, 0.0);
+    J[VI_ME_YC] = through_delta(0.0, 0.0, 0.0, 1.0);
+    J[VI_ME_K_CONTACT] = through_delta(vi_model_stiffness_rate(M, d->x), 0.0, 0.0, 0.0);
+    J[VI_ME_DELTA_C] = through_delta(mem.delta_c, 0.0, 0.0, 0.0);
+    J[VI_ME_DELTA_F] = through_delta(mem.delta_f, 0.0, 0.0, 0.0);
+    J[VI_ME_RBAR] = through_delta(mem.Rbar, 0.0, 0.0, 0.0);
+    J[VI_ME_DELTA_P] = through_delta(mem.delta_p, 0.0, 0.0, 0.0);
+    J[VI_ME_W_PLASTIC] = through_delta(mem.W_plastic, 0.0, 0.0, 0.0);
 }

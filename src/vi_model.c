@@ -177,6 +177,11 @@ typedef struct {
     double (*elastic_stiffness)(const vi_model *M, double d);
     double (*plastic_force)(const vi_model *M, double d); /* NULL: the law never yields */
     double (*plastic_stiffness)(const vi_model *M, double d);
+    /* their rates d(stiffness)/d(delta) [N/m^2] (Model Exchange's Jacobian) */
+    double (*elastic_stiffness_rate)(const vi_model *M, double d);
+    double (*plastic_stiffness_rate)(const vi_model *M, double d);
+    /* the rates d/d(delta) of the memory outputs in the current mode at indentation d */
+    void (*memory_rates)(const vi_model *M, double d, vi_memory_rates *r);
     /* the indentation at which the bodies touch, and at which the elastic branch yields (INFINITY:
      * never) */
     double (*contact_surface)(const vi_model *M);
@@ -223,10 +228,17 @@ static double hertz_impact(const vi_model *M, double v)
 }
 static double zero_surface(const vi_model *M) { return (void)M, 0.0; }
 static void no_memory(const vi_model *M, double d, vi_outputs *out) { (void)M, (void)d, (void)out; }
+static double no_rate(const vi_model *M, double d) { return (void)M, (void)d, 0.0; }
+static void no_memory_rates(const vi_model *M, double d, vi_memory_rates *r)
+{
+    (void)M, (void)d;
+    *r = (vi_memory_rates){0.0, 0.0, 0.0, 0.0, 0.0};
+}
 
 /* Hertz (eq. 2): elastic only. */
 static double hertz_force(const vi_model *M, double d) { return vi_hertz_force(M->K, d); }
 static double hertz_stiffness(const vi_model *M, double d) { return vi_hertz_stiffness(M->K, d); }
+static double hertz_stiffness_rate(const vi_model *M, double d) { return vi_hertz_stiffness_rate(M->K, d); }
 static double hertz_no_yield(const vi_model *M) { return (void)M, INFINITY; }
 static int hertz_choose(vi_model *M, double x[2], const rates *q)
 {
@@ -243,6 +255,7 @@ static double hertz_static_stiffness(const vi_model *M, double W)
 /* Johnson (eqs. 3, 4): the virgin curve, with a fixed contact point the unloading memory U. */
 static double johnson_load(const vi_model *M, double d) { return vi_johnson_load(&M->J, d); }
 static double johnson_load_stiffness(const vi_model *M, double d) { return vi_johnson_load_stiffness(&M->J, d); }
+static double johnson_load_stiffness_rate(const vi_model *M, double d) { return vi_johnson_load_stiffness_rate(&M->J, d); }
 static double johnson_contact(const vi_model *M) { return is_johnson_fixed(M) && M->yielded ? M->U.delta_f : 0.0; }
 static double johnson_yield(const vi_model *M) { return M->J.delta_Y; }
 static double johnson_plastic_floor(const vi_model *M) { return M->moving ? M->J.delta_Y : M->U.delta_c; }
@@ -310,6 +323,23 @@ static void johnson_memory(const vi_model *M, double d, vi_outputs *out)
     /* dissipated = work along the virgin curve - energy the unloading curve gives back */
     out->W_plastic = vi_johnson_load_work(&M->J, U.delta_c) - vi_unload_energy(&U, U.delta_c);
 }
+/* While Johnson (fixed contact point) loads plastically, delta_c = d and the unloading curve moves
+ * with it: W_plastic = load work(delta_c) - 0.4 Kbar delta_r^2.5, Kbar = 4/3 E* sqrt(Rbar). */
+static void johnson_memory_rates(const vi_model *M, double d, vi_memory_rates *r)
+{
+    if (!is_johnson_fixed(M) || M->mode != VI_Mode_plastic) {
+        no_memory_rates(M, d, r);
+        return;
+    }
+    vi_unload_curve U = vi_johnson_unload_curve(&M->J, M->unloading, d);
+    vi_unload_rates u = vi_johnson_unload_rates(&M->J, M->unloading, d);
+    double dK = 2.0 / 3.0 * M->J.E_star * u.Rbar / sqrt(U.Rbar), dr = U.delta_r;
+    r->delta_c = 1.0;
+    r->delta_f = 1.0 - u.delta_r;
+    r->delta_p = 0.0;
+    r->Rbar = u.Rbar;
+    r->W_plastic = vi_johnson_load(&M->J, d) - 0.4 * dK * dr * dr * sqrt(dr) - U.Kbar * dr * sqrt(dr) * u.delta_r;
+}
 
 /* Linear elastic-perfectly plastic (paper Fig. 3): a spring k_lin from the permanent set delta_p,
  * flowing at F_Y. */
@@ -345,10 +375,17 @@ static void lepp_memory(const vi_model *M, double d, vi_outputs *out)
     out->delta_p = M->mode == VI_Mode_plastic ? d - M->J.delta_Y : M->delta_p;
     out->W_plastic = M->J.F_Y * out->delta_p;
 }
+/* While LEPP flows, delta_p = d - delta_Y and W_plastic = F_Y delta_p. */
+static void lepp_memory_rates(const vi_model *M, double d, vi_memory_rates *r)
+{
+    no_memory_rates(M, d, r);
+    if (M->mode == VI_Mode_plastic) r->delta_p = 1.0, r->W_plastic = M->J.F_Y;
+}
 
 static const law_fns laws[] = {
     [VI_ContactModel_hertz] = {
         .name = "hertz", .elastic_force = hertz_force, .elastic_stiffness = hertz_stiffness,
+        .elastic_stiffness_rate = hertz_stiffness_rate, .plastic_stiffness_rate = no_rate, .memory_rates = no_memory_rates,
         .contact_surface = zero_surface, .yield_surface = hertz_no_yield, .plastic_floor = hertz_no_yield,
         .choose = hertz_choose, .mode_allowed = hertz_modes, .static_indentation = hertz_static_indentation,
         .static_stiffness = hertz_static_stiffness, .virgin_stiffness = hertz_stiffness,
@@ -356,6 +393,8 @@ static const law_fns laws[] = {
     [VI_ContactModel_johnson] = {
         .name = "johnson", .elastic_force = johnson_load, .elastic_stiffness = johnson_load_stiffness,
         .plastic_force = johnson_load, .plastic_stiffness = johnson_load_stiffness, .contact_surface = johnson_contact,
+        .elastic_stiffness_rate = johnson_load_stiffness_rate, .plastic_stiffness_rate = johnson_load_stiffness_rate,
+        .memory_rates = johnson_memory_rates,
         .yield_surface = johnson_yield, .plastic_floor = johnson_plastic_floor, .freeze_plastic = johnson_freeze,
         .choose = johnson_choose, .mode_allowed = johnson_modes, .static_indentation = johnson_static_indentation,
         .static_stiffness = johnson_static_stiffness, .virgin_stiffness = johnson_load_stiffness,
@@ -363,6 +402,7 @@ static const law_fns laws[] = {
     [VI_ContactModel_lepp] = {
         .name = "lepp", .elastic_force = lepp_force, .elastic_stiffness = lepp_stiffness,
         .plastic_force = lepp_flow_force, .plastic_stiffness = lepp_flow_stiffness, .contact_surface = lepp_contact,
+        .elastic_stiffness_rate = no_rate, .plastic_stiffness_rate = no_rate, .memory_rates = lepp_memory_rates,
         .yield_surface = lepp_yield, .plastic_floor = lepp_yield, .freeze_plastic = lepp_flow_to,
         .choose = lepp_choose, .mode_allowed = lepp_modes, .static_indentation = lepp_static_indentation,
         .static_stiffness = lepp_static_stiffness, .virgin_stiffness = lepp_virgin_stiffness,
@@ -417,6 +457,18 @@ double vi_model_stiffness_over_mass(const vi_model *M, double t, const double x[
     }
     return k / M->m;
 }
+
+double vi_model_stiffness_rate(const vi_model *M, const double x[2])
+{
+    switch (M->mode) {
+    case VI_Mode_elastic: return law(M)->elastic_stiffness_rate(M, x[0]);
+    case VI_Mode_plastic: return law(M)->plastic_stiffness_rate(M, x[0]);
+    case VI_Mode_unload: return vi_unload_stiffness_rate(&M->U, x[0]);
+    default: return 0.0; /* free; stick, whose stiffness is that at delta_c */
+    }
+}
+
+void vi_model_memory_rates(const vi_model *M, const double x[2], vi_memory_rates *r) { law(M)->memory_rates(M, x[0], r); }
 
 void vi_model_jacobian(const vi_model *M, double t, const double x[2], double j[4])
 {

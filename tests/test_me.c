@@ -33,6 +33,24 @@ static void clear_log(void) { memset(logged, 0, sizeof logged), memset(n_logged,
 
 typedef void (*setter)(vi_parameters *p);
 
+/* The partial derivative of the unknown with value reference `unknown` with respect to the known
+ * `known` (the row and column of vi_me_jacobian, mapped here as the FMU adapter maps them). */
+static double vi_me_partial(vi_me *e, int unknown, int known)
+{
+    static const int rows[VI_NVARS] = {
+        [VI_VR_der_y] = VI_ME_DER_Y + 1, [VI_VR_der_v] = VI_ME_DER_V + 1, [VI_VR_F] = VI_ME_F + 1,
+        [VI_VR_F_mean] = VI_ME_F_MEAN + 1, [VI_VR_delta] = VI_ME_DELTA + 1, [VI_VR_y] = VI_ME_Y + 1,
+        [VI_VR_v] = VI_ME_V + 1, [VI_VR_yC] = VI_ME_YC + 1, [VI_VR_k_contact] = VI_ME_K_CONTACT + 1,
+        [VI_VR_delta_c] = VI_ME_DELTA_C + 1, [VI_VR_delta_f] = VI_ME_DELTA_F + 1, [VI_VR_Rbar] = VI_ME_RBAR + 1,
+        [VI_VR_delta_p] = VI_ME_DELTA_P + 1, [VI_VR_W_plastic] = VI_ME_W_PLASTIC + 1}; /* 0: none */
+    vi_me_partials J[VI_ME_N_UNKNOWNS];
+    vi_me_jacobian(e, J);
+    if (unknown < 0 || unknown >= VI_NVARS || rows[unknown] == 0) return 0.0;
+    const vi_me_partials *row = &J[rows[unknown] - 1];
+    return known == VI_VR_y ? row->y : known == VI_VR_v ? row->v : known == VI_VR_yC_in ? row->yC_in
+         : known == VI_VR_F_ext ? row->F_ext : 0.0;
+}
+
 /* A Model Exchange instance of the defaults changed by `set`, initialized. */
 static void start(vi_me *e, setter set)
 {
