@@ -45,9 +45,39 @@
 
 #include "vi_contact.h"
 #include "vi_profile.h"
-#include "vi_variables.h"
 
 #define VI_NGUARDS 2
+
+/* Contact laws, modes (doc/model.md section 3) and initial states; the FMU's enumerations
+ * ContactModel, Mode and Init have these values. */
+enum { VI_LAW_HERTZ = 1, VI_LAW_JOHNSON = 2, VI_LAW_LEPP = 3 };
+enum { VI_MODE_FREE = 0, VI_MODE_ELASTIC = 1, VI_MODE_PLASTIC = 2, VI_MODE_UNLOAD = 3, VI_MODE_STICK = 4 };
+enum { VI_INIT_STATIC = 1, VI_INIT_TOUCHING = 2 };
+
+/* The parameters the model is set up from. */
+typedef struct {
+    double m, P, g;             /* mass [kg], pressing load [N], gravity [m/s2] */
+    double R1, R2, E1, E2;      /* radii [m] (0: plane), Young's moduli [Pa] */
+    double nu1, nu2, Y, theta_Y; /* Poisson's ratios, yield stress [Pa], limiting mean pressure factor */
+    int law;                    /* VI_LAW_* */
+    int moving_contact;         /* Johnson with a moving contact point */
+    int unloading;              /* VI_UNLOAD_* */
+    int yield_formula;          /* VI_YIELD_* */
+    int init;                   /* VI_INIT_* */
+    double v0;                  /* initial velocity when touching [m/s] */
+    double a, f;                /* harmonic excitation: amplitude [m], frequency [Hz] */
+    int has_profile;            /* a profile is rolled over (vi_model_set_rolling) */
+    double V, x0;               /* rolling speed [m/s], position on the profile at the start [m] */
+    int profile_periodic;
+} vi_model_params;
+
+/* The model's outputs and calculated parameters (doc/model.md section 5). */
+typedef struct {
+    double F, delta, y, v, yC;  /* N, m, m, m/s, m */
+    int contact, mode, n_impacts;
+    double delta_c, delta_f, delta_p, Rbar, W_plastic; /* m, m, m, m, J */
+    double E_star, R_star, F_Y, delta_Y, k_lin, f_contact; /* Pa, m, N, m, N/m, Hz */
+} vi_model_values;
 
 /* An input over a communication step: value u + du (t - t). */
 typedef struct {
@@ -59,7 +89,7 @@ static inline double vi_ramp_at(const vi_ramp *r, double t) { return r->u + r->d
 
 typedef struct {
     /* constants, from the parameters (vi_model_setup) */
-    int law;       /* VI_ContactModel_* */
+    int law;       /* VI_LAW_* */
     int moving;    /* Johnson with a moving contact point */
     int unloading; /* VI_UNLOAD_PAPER or VI_UNLOAD_CONTINUOUS */
     double m, W0;  /* mass [kg], P + m g [N] */
@@ -79,7 +109,7 @@ typedef struct {
     vi_ramp yC_in, F_ext;
 
     /* discrete state */
-    int mode;          /* VI_Mode_* */
+    int mode;          /* VI_MODE_* */
     int yielded;       /* Johnson, fixed contact point: plastic memory exists */
     vi_unload_curve U; /* Johnson memory: delta_c, Rbar, delta_r, delta_f (valid when yielded) */
     double delta_p;    /* LEPP permanent set [m] (in mode 2 it is delta - delta_Y) */
@@ -90,7 +120,7 @@ typedef struct {
  * (finite, m > 0, -1 < nu <= 0.5, enumerations one of their items, ...: the FMI layer refuses any
  * other value when it is set); what the table cannot say is checked here: at least one radius > 0,
  * and a finite positive contact stiffness and yield force. Returns 0, or -1 with a message in msg. */
-int vi_model_setup(vi_model *M, const vi_parameters *p, double t0, char *msg, size_t msg_size);
+int vi_model_setup(vi_model *M, const vi_model_params *p, double t0, char *msg, size_t msg_size);
 
 /* The excitation's parameters changed at time t (tunable a and f, finite, f >= 0 as the variable
  * table says): the phase phi stays continuous (a new f turns on from phi(t) at the new rate); a new
@@ -201,7 +231,7 @@ int vi_model_indentation_invalid(const vi_model *M, const double x[2]);
  * unloading or the printed yield formula where the law does not use them, v0 with a static start,
  * the rolling parameters without a profile.
  * Returns how many there are; msg lists them (one warning at initialization). */
-int vi_model_option_warnings(const vi_parameters *p, char *msg, size_t n);
+int vi_model_option_warnings(const vi_model_params *p, char *msg, size_t n);
 
 /* Is M (with the state x) a model this code could have produced (doc/model.md section 7.6)? Checks, and names in
  * msg the first bad field of:
@@ -229,7 +259,7 @@ int vi_model_check(const vi_model *M, const double x[2], char *msg, size_t n);
 int vi_model_check_between_events(const vi_model *M, const double x[2], char *msg, size_t n);
 
 /* Derived parameters (E_star ... f_contact) and outputs at (t, x). */
-void vi_model_calculated(const vi_model *M, vi_outputs *out);
+void vi_model_calculated(const vi_model *M, vi_model_values *out);
 /* Groups of outputs computed together: a reader of y needs the platform position (a cosine), not the
  * force law or the plastic work (a logarithm). The simulation layer adds VI_OUT_MEAN (F_mean) and
  * VI_OUT_STIFFNESS (k_contact); Model Exchange VI_OUT_DERIVATIVES (der_y, der_v). */
@@ -244,10 +274,8 @@ enum {
     VI_OUT_DERIVATIVES = 1u << 7, /* der_y, der_v */
     VI_OUT_ALL = (1u << 8) - 1u
 };
-/* The group of each variable by value reference (0 when it is no output or calculated parameter). */
-extern const unsigned char vi_model_output_groups[VI_NVARS];
 /* The outputs of the groups VI_OUT_STATE ... VI_OUT_CALCULATED named in `groups` at (t, x) into *out;
  * the other fields of *out are left as they are. */
-void vi_model_outputs(const vi_model *M, double t, const double x[2], unsigned groups, vi_outputs *out);
+void vi_model_outputs(const vi_model *M, double t, const double x[2], unsigned groups, vi_model_values *out);
 
 #endif

@@ -82,6 +82,8 @@ typedef struct {
  * profile_file is looked up first (then the working directory). Kept across vi_sim_reset. */
 void vi_sim_set_resources(vi_sim *s, const char *dir);
 
+/* The model's parameters (vi_model.h) from the FMU's. */
+vi_model_params vi_sim_model_params(const vi_parameters *p);
 /* Defaults of the variable table; no solver yet. */
 void vi_sim_init(vi_sim *s, vi_log_fn log, void *log_env);
 /* Back to the defaults; frees the solver. */

@@ -40,11 +40,23 @@ static int set_resources(void *m, const char *dir)
 static void changed(void *m) { ((vi_sim *)m)->d.inputs_changed = 1; }
 static void outputs(void *m, void *out) { vi_me_outputs(m, out); }
 
+/* The group of outputs (VI_OUT_*) of each variable by value reference (0: no output or calculated
+ * parameter). */
+static const unsigned char output_groups[VI_NVARS] = {
+    [VI_VR_delta] = VI_OUT_STATE, [VI_VR_v] = VI_OUT_STATE, [VI_VR_contact] = VI_OUT_STATE,
+    [VI_VR_mode] = VI_OUT_STATE, [VI_VR_n_impacts] = VI_OUT_STATE, [VI_VR_yC] = VI_OUT_PLATFORM,
+    [VI_VR_y] = VI_OUT_PLATFORM, [VI_VR_F] = VI_OUT_FORCE, [VI_VR_delta_c] = VI_OUT_MEMORY,
+    [VI_VR_delta_f] = VI_OUT_MEMORY, [VI_VR_delta_p] = VI_OUT_MEMORY, [VI_VR_Rbar] = VI_OUT_MEMORY,
+    [VI_VR_W_plastic] = VI_OUT_MEMORY, [VI_VR_E_star] = VI_OUT_CALCULATED, [VI_VR_R_star] = VI_OUT_CALCULATED,
+    [VI_VR_F_Y] = VI_OUT_CALCULATED, [VI_VR_delta_Y] = VI_OUT_CALCULATED, [VI_VR_k_lin] = VI_OUT_CALCULATED,
+    [VI_VR_f_contact] = VI_OUT_CALCULATED, [VI_VR_F_mean] = VI_OUT_MEAN, [VI_VR_k_contact] = VI_OUT_STIFFNESS,
+    [VI_VR_der_y] = VI_OUT_DERIVATIVES, [VI_VR_der_v] = VI_OUT_DERIVATIVES};
+
 /* Only the groups of outputs the get call reads (reading y computes no force and no plastic work). */
 static const void *outputs_of(void *m, const unsigned vr[], size_t nvr)
 {
     unsigned groups = 0;
-    for (size_t i = 0; i < nvr; i++) groups |= vr[i] < VI_NVARS ? vi_model_output_groups[vr[i]] : 0u;
+    for (size_t i = 0; i < nvr; i++) groups |= vr[i] < VI_NVARS ? output_groups[vr[i]] : 0u;
     vi_me *e = m;
     if (!e->active && !(groups & VI_OUT_DERIVATIVES)) return vi_sim_outputs_of(&e->s, groups); /* co-simulation */
     return vi_me_outputs_of(e, groups);

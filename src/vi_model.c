@@ -6,26 +6,30 @@
 
 #include "vi_check.h"
 
-static int is_johnson_fixed(const vi_model *M) { return M->law == VI_ContactModel_johnson && !M->moving; }
+#if defined(VI_VARIABLES_H) || defined(VI_TABLE_H) || defined(VI_FMU_H) || defined(VI_SOLVER_H)
+#error "the model includes no FMI or solver header (its parameters: vi_model_params)"
+#endif
+
+static int is_johnson_fixed(const vi_model *M) { return M->law == VI_LAW_JOHNSON && !M->moving; }
 
 /* Net load pressing the mass down, W(t) = P + m g - F_ext(t) [N]. */
 static double net_load(const vi_model *M, double t) { return M->W0 - vi_ramp_at(&M->F_ext, t); }
 
-int vi_model_setup(vi_model *M, const vi_parameters *p, double t0, char *msg, size_t msg_size)
+int vi_model_setup(vi_model *M, const vi_model_params *p, double t0, char *msg, size_t msg_size)
 {
     if (!(p->R1 > 0.0 || p->R2 > 0.0))
         VI_FAIL(msg, msg_size, "R1 = R2 = 0: two planes have no point contact; give a radius");
 
-    M->law = p->contact_model;
+    M->law = p->law;
     M->moving = p->moving_contact != 0;
-    M->unloading = p->unloading == VI_Unloading_continuous ? VI_UNLOAD_CONTINUOUS : VI_UNLOAD_PAPER;
+    M->unloading = p->unloading == VI_UNLOAD_CONTINUOUS ? VI_UNLOAD_CONTINUOUS : VI_UNLOAD_PAPER;
     M->m = p->m;
     M->W0 = p->P + p->m * p->g;
     M->J.E_star = vi_effective_modulus(p->E1, p->nu1, p->E2, p->nu2);
     M->J.R_star = vi_effective_radius(p->R1, p->R2);
     M->J.theta_Y = p->theta_Y;
     M->K = vi_hertz_constant(M->J.E_star, M->J.R_star);
-    M->J.F_Y = vi_yield_force(p->yield_formula == VI_YieldFormula_printed ? VI_YIELD_PRINTED : VI_YIELD_TEXTBOOK,
+    M->J.F_Y = vi_yield_force(p->yield_formula == VI_YIELD_PRINTED ? VI_YIELD_PRINTED : VI_YIELD_TEXTBOOK,
                               p->theta_Y, p->Y, M->J.R_star, M->J.E_star);
     M->J.delta_Y = vi_hertz_indentation(M->K, M->J.F_Y);
     M->k_lin = M->J.F_Y / M->J.delta_Y;
@@ -203,7 +207,7 @@ typedef struct {
     double (*virgin_stiffness)(const vi_model *M, double d);
     double (*impact_indentation)(const vi_model *M, double v);
     /* the memory outputs (delta_c, delta_f, delta_p, Rbar, W_plastic) at indentation d */
-    void (*memory_outputs)(const vi_model *M, double d, vi_outputs *out);
+    void (*memory_outputs)(const vi_model *M, double d, vi_model_values *out);
     int permanent_set; /* the memory is the permanent set delta_p (else delta_p stays 0) */
 } law_fns;
 
@@ -227,7 +231,7 @@ static double hertz_impact(const vi_model *M, double v)
     return pow(15.0 * M->m * v * v / (16.0 * M->J.E_star * sqrt(M->J.R_star)), 0.4);
 }
 static double zero_surface(const vi_model *M) { return (void)M, 0.0; }
-static void no_memory(const vi_model *M, double d, vi_outputs *out) { (void)M, (void)d, (void)out; }
+static void no_memory(const vi_model *M, double d, vi_model_values *out) { (void)M, (void)d, (void)out; }
 static double no_rate(const vi_model *M, double d) { return (void)M, (void)d, 0.0; }
 static void no_memory_rates(const vi_model *M, double d, vi_memory_rates *r)
 {
@@ -243,9 +247,9 @@ static double hertz_no_yield(const vi_model *M) { return (void)M, INFINITY; }
 static int hertz_choose(vi_model *M, double x[2], const rates *q)
 {
     (void)M;
-    return ahead(x[0], q->r, q->F_hold, q->j) ? VI_Mode_elastic : VI_Mode_free;
+    return ahead(x[0], q->r, q->F_hold, q->j) ? VI_MODE_ELASTIC : VI_MODE_FREE;
 }
-static int hertz_modes(const vi_model *M, int mode) { return (void)M, mode == VI_Mode_free || mode == VI_Mode_elastic; }
+static int hertz_modes(const vi_model *M, int mode) { return (void)M, mode == VI_MODE_FREE || mode == VI_MODE_ELASTIC; }
 static double hertz_static_indentation(const vi_model *M, double W) { return vi_hertz_indentation(M->K, W); }
 static double hertz_static_stiffness(const vi_model *M, double W)
 {
@@ -270,11 +274,11 @@ static void johnson_freeze(vi_model *M, double x[2])
 static int johnson_choose(vi_model *M, double x[2], const rates *q)
 {
     double d = x[0], r = q->r, F_hold = q->F_hold, j = q->j;
-    int mode = VI_Mode_free;
+    int mode = VI_MODE_FREE;
     if (!M->yielded || M->moving) {
-        if (!ahead(d, r, F_hold, j)) return VI_Mode_free;
-        mode = ahead(d - M->J.delta_Y, r, F_hold - M->J.F_Y, j) ? VI_Mode_plastic : VI_Mode_elastic;
-        if (mode == VI_Mode_elastic || M->moving) return mode;
+        if (!ahead(d, r, F_hold, j)) return VI_MODE_FREE;
+        mode = ahead(d - M->J.delta_Y, r, F_hold - M->J.F_Y, j) ? VI_MODE_PLASTIC : VI_MODE_ELASTIC;
+        if (mode == VI_MODE_ELASTIC || M->moving) return mode;
         M->yielded = 1;
         M->U = vi_johnson_unload_curve(&M->J, M->unloading, d > M->J.delta_Y ? d : M->J.delta_Y);
     }
@@ -282,18 +286,18 @@ static int johnson_choose(vi_model *M, double x[2], const rates *q)
     double F_load = vi_johnson_load(&M->J, M->U.delta_c), F_unload = vi_unload_force(&M->U, d);
     double dF_load = q->snap == SNAP_LOAD ? 0.0 : F_hold - F_load;
     double dF_unload = q->snap == SNAP_UNLOAD ? 0.0 : F_hold - F_unload;
-    if (ahead(d - M->U.delta_c, r, dF_load, j)) return VI_Mode_plastic;
+    if (ahead(d - M->U.delta_c, r, dF_load, j)) return VI_MODE_PLASTIC;
     if (d == M->U.delta_c && r == 0.0 && ahead(0.0, 0.0, dF_unload, j) && M->unloading == VI_UNLOAD_PAPER)
-        return VI_Mode_stick; /* F_unload < F_hold <= F_load: neither branch is consistent */
-    if (ahead(d - M->U.delta_f, r, dF_unload, j)) return VI_Mode_unload;
+        return VI_MODE_STICK; /* F_unload < F_hold <= F_load: neither branch is consistent */
+    if (ahead(d - M->U.delta_f, r, dF_unload, j)) return VI_MODE_UNLOAD;
     return mode;
 }
 static int johnson_modes(const vi_model *M, int mode)
 {
-    if (M->moving) return mode >= VI_Mode_free && mode <= VI_Mode_plastic;
-    if (!M->yielded) return mode == VI_Mode_free || mode == VI_Mode_elastic;
-    return mode == VI_Mode_free || mode == VI_Mode_plastic || mode == VI_Mode_unload ||
-           (mode == VI_Mode_stick && M->unloading == VI_UNLOAD_PAPER);
+    if (M->moving) return mode >= VI_MODE_FREE && mode <= VI_MODE_PLASTIC;
+    if (!M->yielded) return mode == VI_MODE_FREE || mode == VI_MODE_ELASTIC;
+    return mode == VI_MODE_FREE || mode == VI_MODE_PLASTIC || mode == VI_MODE_UNLOAD ||
+           (mode == VI_MODE_STICK && M->unloading == VI_UNLOAD_PAPER);
 }
 /* Indentation at rest under W > 0 on the Johnson virgin curve, with F(d) >= W where rounding allows,
  * so that a pre-loaded start does not see a spurious push into the material. The inverse is
@@ -313,10 +317,10 @@ static double johnson_static_stiffness(const vi_model *M, double W)
     vi_unload_curve U = vi_johnson_unload_curve(&M->J, M->unloading, d); /* small oscillations unload */
     return vi_unload_stiffness(&U, d);
 }
-static void johnson_memory(const vi_model *M, double d, vi_outputs *out)
+static void johnson_memory(const vi_model *M, double d, vi_model_values *out)
 {
     if (!is_johnson_fixed(M) || !M->yielded) return;
-    vi_unload_curve U = M->mode == VI_Mode_plastic ? vi_johnson_unload_curve(&M->J, M->unloading, d) : M->U;
+    vi_unload_curve U = M->mode == VI_MODE_PLASTIC ? vi_johnson_unload_curve(&M->J, M->unloading, d) : M->U;
     out->delta_c = U.delta_c;
     out->delta_f = U.delta_f;
     out->Rbar = U.Rbar;
@@ -327,7 +331,7 @@ static void johnson_memory(const vi_model *M, double d, vi_outputs *out)
  * with it: W_plastic = load work(delta_c) - 0.4 Kbar delta_r^2.5, Kbar = 4/3 E* sqrt(Rbar). */
 static void johnson_memory_rates(const vi_model *M, double d, vi_memory_rates *r)
 {
-    if (!is_johnson_fixed(M) || M->mode != VI_Mode_plastic) {
+    if (!is_johnson_fixed(M) || M->mode != VI_MODE_PLASTIC) {
         no_memory_rates(M, d, r);
         return;
     }
@@ -358,11 +362,11 @@ static void lepp_flow_to(vi_model *M, double x[2])
 }
 static int lepp_choose(vi_model *M, double x[2], const rates *q)
 {
-    if (!ahead(x[0] - M->delta_p, q->r, q->F_hold, q->j)) return VI_Mode_free;
+    if (!ahead(x[0] - M->delta_p, q->r, q->F_hold, q->j)) return VI_MODE_FREE;
     if (x[0] > lepp_yield(M)) lepp_flow_to(M, x); /* pushed beyond yield: it flowed */
-    return ahead(x[0] - lepp_yield(M), q->r, q->F_hold - M->J.F_Y, q->j) ? VI_Mode_plastic : VI_Mode_elastic;
+    return ahead(x[0] - lepp_yield(M), q->r, q->F_hold - M->J.F_Y, q->j) ? VI_MODE_PLASTIC : VI_MODE_ELASTIC;
 }
-static int lepp_modes(const vi_model *M, int mode) { return (void)M, mode >= VI_Mode_free && mode <= VI_Mode_plastic; }
+static int lepp_modes(const vi_model *M, int mode) { return (void)M, mode >= VI_MODE_FREE && mode <= VI_MODE_PLASTIC; }
 static double lepp_static_indentation(const vi_model *M, double W)
 {
     return W <= M->J.F_Y ? W / M->k_lin : M->J.delta_Y; /* beyond F_Y: flows from the start */
@@ -370,27 +374,27 @@ static double lepp_static_indentation(const vi_model *M, double W)
 static double lepp_static_stiffness(const vi_model *M, double W) { return (void)W, M->k_lin; }
 static double lepp_virgin_stiffness(const vi_model *M, double d) { return (void)d, M->k_lin; }
 static double lepp_impact(const vi_model *M, double v) { return v * sqrt(M->m) / sqrt(M->k_lin); }
-static void lepp_memory(const vi_model *M, double d, vi_outputs *out)
+static void lepp_memory(const vi_model *M, double d, vi_model_values *out)
 {
-    out->delta_p = M->mode == VI_Mode_plastic ? d - M->J.delta_Y : M->delta_p;
+    out->delta_p = M->mode == VI_MODE_PLASTIC ? d - M->J.delta_Y : M->delta_p;
     out->W_plastic = M->J.F_Y * out->delta_p;
 }
 /* While LEPP flows, delta_p = d - delta_Y and W_plastic = F_Y delta_p. */
 static void lepp_memory_rates(const vi_model *M, double d, vi_memory_rates *r)
 {
     no_memory_rates(M, d, r);
-    if (M->mode == VI_Mode_plastic) r->delta_p = 1.0, r->W_plastic = M->J.F_Y;
+    if (M->mode == VI_MODE_PLASTIC) r->delta_p = 1.0, r->W_plastic = M->J.F_Y;
 }
 
 static const law_fns laws[] = {
-    [VI_ContactModel_hertz] = {
+    [VI_LAW_HERTZ] = {
         .name = "hertz", .elastic_force = hertz_force, .elastic_stiffness = hertz_stiffness,
         .elastic_stiffness_rate = hertz_stiffness_rate, .plastic_stiffness_rate = no_rate, .memory_rates = no_memory_rates,
         .contact_surface = zero_surface, .yield_surface = hertz_no_yield, .plastic_floor = hertz_no_yield,
         .choose = hertz_choose, .mode_allowed = hertz_modes, .static_indentation = hertz_static_indentation,
         .static_stiffness = hertz_static_stiffness, .virgin_stiffness = hertz_stiffness,
         .impact_indentation = hertz_impact, .memory_outputs = no_memory},
-    [VI_ContactModel_johnson] = {
+    [VI_LAW_JOHNSON] = {
         .name = "johnson", .elastic_force = johnson_load, .elastic_stiffness = johnson_load_stiffness,
         .plastic_force = johnson_load, .plastic_stiffness = johnson_load_stiffness, .contact_surface = johnson_contact,
         .elastic_stiffness_rate = johnson_load_stiffness_rate, .plastic_stiffness_rate = johnson_load_stiffness_rate,
@@ -399,7 +403,7 @@ static const law_fns laws[] = {
         .choose = johnson_choose, .mode_allowed = johnson_modes, .static_indentation = johnson_static_indentation,
         .static_stiffness = johnson_static_stiffness, .virgin_stiffness = johnson_load_stiffness,
         .impact_indentation = hertz_impact, .memory_outputs = johnson_memory},
-    [VI_ContactModel_lepp] = {
+    [VI_LAW_LEPP] = {
         .name = "lepp", .elastic_force = lepp_force, .elastic_stiffness = lepp_stiffness,
         .plastic_force = lepp_flow_force, .plastic_stiffness = lepp_flow_stiffness, .contact_surface = lepp_contact,
         .elastic_stiffness_rate = no_rate, .plastic_stiffness_rate = no_rate, .memory_rates = lepp_memory_rates,
@@ -412,11 +416,11 @@ static const law_fns laws[] = {
 /* The row of M's law (set up, or checked to be one of the three). */
 /* A model not set up yet (law 0: an instance before initialization, or a state restored from
  * then) has no contact force and no memory: it is evaluated as Hertz with K = 0. */
-static const law_fns *law(const vi_model *M) { return &laws[M->law == 0 ? VI_ContactModel_hertz : M->law]; }
+static const law_fns *law(const vi_model *M) { return &laws[M->law == 0 ? VI_LAW_HERTZ : M->law]; }
 
 /* Johnson with a moving contact point leaves the plastic mode when it falls back below delta_Y;
  * every other plastic motion ends at a turning point (delta' = 0). */
-static int plastic_ends_at_yield(const vi_model *M) { return M->law == VI_ContactModel_johnson && M->moving; }
+static int plastic_ends_at_yield(const vi_model *M) { return M->law == VI_LAW_JOHNSON && M->moving; }
 
 /* ---- force, right-hand side, guards, events ------------------------------------------------------ */
 
@@ -424,10 +428,10 @@ double vi_model_force(const vi_model *M, double t, const double x[2])
 {
     double d = x[0];
     switch (M->mode) {
-    case VI_Mode_elastic: return law(M)->elastic_force(M, d);
-    case VI_Mode_plastic: return law(M)->plastic_force(M, d);
-    case VI_Mode_unload: return vi_unload_force(&M->U, d);
-    case VI_Mode_stick: return hold_force(M, t);
+    case VI_MODE_ELASTIC: return law(M)->elastic_force(M, d);
+    case VI_MODE_PLASTIC: return law(M)->plastic_force(M, d);
+    case VI_MODE_UNLOAD: return vi_unload_force(&M->U, d);
+    case VI_MODE_STICK: return hold_force(M, t);
     default: return 0.0;
     }
 }
@@ -436,7 +440,7 @@ void vi_model_rhs(const vi_model *M, double t, const double x[2], double dx[2])
 {
     double dyC, ddyC;
     vi_model_platform(M, t, &dyC, &ddyC);
-    if (M->mode == VI_Mode_stick) { /* Filippov sliding on delta = delta_c: the mass moves with the platform */
+    if (M->mode == VI_MODE_STICK) { /* Filippov sliding on delta = delta_c: the mass moves with the platform */
         dx[0] = 0.0;
         dx[1] = ddyC;
         return;
@@ -450,9 +454,9 @@ double vi_model_stiffness_over_mass(const vi_model *M, double t, const double x[
     (void)t;
     double d = x[0], k = 0.0;
     switch (M->mode) {
-    case VI_Mode_elastic: k = law(M)->elastic_stiffness(M, d); break;
-    case VI_Mode_plastic: k = law(M)->plastic_stiffness(M, d); break;
-    case VI_Mode_unload: k = vi_unload_stiffness(&M->U, d); break;
+    case VI_MODE_ELASTIC: k = law(M)->elastic_stiffness(M, d); break;
+    case VI_MODE_PLASTIC: k = law(M)->plastic_stiffness(M, d); break;
+    case VI_MODE_UNLOAD: k = vi_unload_stiffness(&M->U, d); break;
     default: break;
     }
     return k / M->m;
@@ -461,9 +465,9 @@ double vi_model_stiffness_over_mass(const vi_model *M, double t, const double x[
 double vi_model_stiffness_rate(const vi_model *M, const double x[2])
 {
     switch (M->mode) {
-    case VI_Mode_elastic: return law(M)->elastic_stiffness_rate(M, x[0]);
-    case VI_Mode_plastic: return law(M)->plastic_stiffness_rate(M, x[0]);
-    case VI_Mode_unload: return vi_unload_stiffness_rate(&M->U, x[0]);
+    case VI_MODE_ELASTIC: return law(M)->elastic_stiffness_rate(M, x[0]);
+    case VI_MODE_PLASTIC: return law(M)->plastic_stiffness_rate(M, x[0]);
+    case VI_MODE_UNLOAD: return vi_unload_stiffness_rate(&M->U, x[0]);
     default: return 0.0; /* free; stick, whose stiffness is that at delta_c */
     }
 }
@@ -472,7 +476,7 @@ void vi_model_memory_rates(const vi_model *M, const double x[2], vi_memory_rates
 
 void vi_model_jacobian(const vi_model *M, double t, const double x[2], double j[4])
 {
-    int stick = M->mode == VI_Mode_stick;
+    int stick = M->mode == VI_MODE_STICK;
     j[0] = 0.0, j[1] = stick ? 0.0 : -1.0;
     j[2] = vi_model_stiffness_over_mass(M, t, x), j[3] = 0.0; /* 0 in stick */
 }
@@ -482,12 +486,12 @@ void vi_model_guards(const vi_model *M, double t, const double x[2], double g[VI
     double d = x[0], dyC, yield = law(M)->yield_surface(M);
     g[0] = g[1] = 1.0; /* inactive */
     switch (M->mode) {
-    case VI_Mode_free: g[0] = law(M)->contact_surface(M) - d; break;
-    case VI_Mode_elastic:
+    case VI_MODE_FREE: g[0] = law(M)->contact_surface(M) - d; break;
+    case VI_MODE_ELASTIC:
         g[0] = d - law(M)->contact_surface(M);
         if (isfinite(yield)) g[1] = yield - d;
         break;
-    case VI_Mode_plastic:
+    case VI_MODE_PLASTIC:
         if (plastic_ends_at_yield(M)) {
             g[0] = d - yield;
         } else {
@@ -495,11 +499,11 @@ void vi_model_guards(const vi_model *M, double t, const double x[2], double g[VI
             g[0] = dyC - x[1]; /* delta' */
         }
         break;
-    case VI_Mode_unload:
+    case VI_MODE_UNLOAD:
         g[0] = d - M->U.delta_f;
         g[1] = M->U.delta_c - d;
         break;
-    case VI_Mode_stick: {
+    case VI_MODE_STICK: {
         double F_hold = hold_force(M, t);
         g[0] = vi_johnson_load(&M->J, M->U.delta_c) - F_hold;
         g[1] = F_hold - vi_unload_force(&M->U, M->U.delta_c);
@@ -511,8 +515,8 @@ void vi_model_guards(const vi_model *M, double t, const double x[2], double g[VI
 
 void vi_model_freeze(vi_model *M, double t, double x[2])
 {
-    if (M->mode == VI_Mode_plastic && law(M)->freeze_plastic) law(M)->freeze_plastic(M, x);
-    else if (M->mode == VI_Mode_stick) vi_model_platform(M, t, &x[1], NULL);
+    if (M->mode == VI_MODE_PLASTIC && law(M)->freeze_plastic) law(M)->freeze_plastic(M, x);
+    else if (M->mode == VI_MODE_STICK) vi_model_platform(M, t, &x[1], NULL);
 }
 
 static int resolve(vi_model *M, double t, double x[2], int snap)
@@ -521,7 +525,7 @@ static int resolve(vi_model *M, double t, double x[2], int snap)
     vi_model_platform(M, t, &dyC, NULL);
     rates q = {.r = dyC - x[1], .F_hold = hold_force(M, t), .j = hold_force_rate(M, t), .snap = snap};
     int mode = law(M)->choose(M, x, &q);
-    if (M->mode == VI_Mode_free && mode != VI_Mode_free) M->n_impacts++;
+    if (M->mode == VI_MODE_FREE && mode != VI_MODE_FREE) M->n_impacts++;
     M->mode = mode;
     return mode;
 }
@@ -532,14 +536,14 @@ int vi_model_event(vi_model *M, double t, double x[2], int fired)
 {
     vi_model_freeze(M, t, x);
     switch (M->mode) {
-    case VI_Mode_free: x[0] = law(M)->contact_surface(M); break;
-    case VI_Mode_elastic: x[0] = fired == 0 ? law(M)->contact_surface(M) : law(M)->yield_surface(M); break;
-    case VI_Mode_plastic:
+    case VI_MODE_FREE: x[0] = law(M)->contact_surface(M); break;
+    case VI_MODE_ELASTIC: x[0] = fired == 0 ? law(M)->contact_surface(M) : law(M)->yield_surface(M); break;
+    case VI_MODE_PLASTIC:
         if (plastic_ends_at_yield(M)) x[0] = law(M)->yield_surface(M);
         else vi_model_platform(M, t, &x[1], NULL); /* turning point: delta' = 0 */
         break;
-    case VI_Mode_unload: x[0] = fired == 0 ? M->U.delta_f : M->U.delta_c; break;
-    case VI_Mode_stick: x[0] = M->U.delta_c; return resolve(M, t, x, fired == 0 ? SNAP_LOAD : SNAP_UNLOAD);
+    case VI_MODE_UNLOAD: x[0] = fired == 0 ? M->U.delta_f : M->U.delta_c; break;
+    case VI_MODE_STICK: x[0] = M->U.delta_c; return resolve(M, t, x, fired == 0 ? SNAP_LOAD : SNAP_UNLOAD);
     default: break;
     }
     return vi_model_resolve(M, t, x);
@@ -549,13 +553,13 @@ void vi_model_initial_state(vi_model *M, int init, double v0, double t0, double 
 {
     double W0 = net_load(M, t0);
     M->f_contact = sqrt(W0 > 0.0 ? law(M)->static_stiffness(M, W0) / M->m : 0.0) / (2.0 * VI_PI);
-    M->mode = VI_Mode_free;
+    M->mode = VI_MODE_FREE;
     M->yielded = 0;
     M->U = (vi_unload_curve){0};
     M->delta_p = 0.0;
     x[0] = 0.0;
     x[1] = v0;
-    if (init == VI_Init_static) {
+    if (init == VI_INIT_STATIC) {
         double d = W0 > 0.0 ? law(M)->static_indentation(M, W0) : 0.0;
         if (is_johnson_fixed(M) && d > M->J.delta_Y) { /* plastically pre-loaded */
             M->yielded = 1;
@@ -591,7 +595,7 @@ void vi_model_scales(const vi_model *M, const double x0[2], double *L, double *V
 /* The indentation the range of validity looks at: delta in contact, or the largest one delta_c. */
 static double validity_indentation(const vi_model *M, const double x[2])
 {
-    double d = M->mode == VI_Mode_free ? 0.0 : x[0], dc = M->yielded ? M->U.delta_c : 0.0;
+    double d = M->mode == VI_MODE_FREE ? 0.0 : x[0], dc = M->yielded ? M->U.delta_c : 0.0;
     return dc > d || d != d ? dc : d; /* fmax */
 }
 
@@ -626,9 +630,9 @@ int vi_model_validity(const vi_model *M, double R1, double t, const double x[2],
     return 0;
 }
 
-int vi_model_option_warnings(const vi_parameters *p, char *msg, size_t n)
+int vi_model_option_warnings(const vi_model_params *p, char *msg, size_t n)
 {
-    int count = 0, johnson = p->contact_model == VI_ContactModel_johnson;
+    int count = 0, johnson = p->law == VI_LAW_JOHNSON;
     size_t used = 0;
     msg[0] = '\0';
 #define OPTION(cond, text)                                                               \
@@ -638,12 +642,12 @@ int vi_model_option_warnings(const vi_parameters *p, char *msg, size_t n)
         count++;                                                                         \
     }
     OPTION(p->moving_contact && !johnson, "moving_contact = true is ignored: only the Johnson law has a moving contact point")
-    OPTION(p->unloading == VI_Unloading_continuous && !(johnson && !p->moving_contact),
+    OPTION(p->unloading == VI_UNLOAD_CONTINUOUS && !(johnson && !p->moving_contact),
            "unloading = continuous is ignored: only Johnson with a fixed contact point unloads on eq. 4")
-    OPTION(p->yield_formula == VI_YieldFormula_printed && p->contact_model == VI_ContactModel_hertz,
+    OPTION(p->yield_formula == VI_YIELD_PRINTED && p->law == VI_LAW_HERTZ,
            "yield_formula = printed is ignored by the Hertz law (it changes only the calculated F_Y, delta_Y)")
-    OPTION(p->v0 != 0.0 && p->init == VI_Init_static, "v0 is ignored by a static start (init = static)")
-    OPTION(!p->profile_file[0] && (p->V != 0.0 || p->x0 != 0.0 || p->profile_periodic),
+    OPTION(p->v0 != 0.0 && p->init == VI_INIT_STATIC, "v0 is ignored by a static start (init = static)")
+    OPTION(!p->has_profile && (p->V != 0.0 || p->x0 != 0.0 || p->profile_periodic),
            "V, x0 and profile_periodic are ignored without a profile_file")
 #undef OPTION
     return count;
@@ -737,10 +741,10 @@ static int check_mode(const vi_model *M, const double x[2], int surfaces, char *
     double d = x[0], tol = VI_CHECK_GUARD_TOL * fmax(fmax(M->J.delta_Y, fabs(d)), fabs(M->U.delta_c));
     double g[2] = {INFINITY, INFINITY};
     switch (mode) {
-    case VI_Mode_free: g[0] = L->contact_surface(M) - d; break;
-    case VI_Mode_elastic: g[0] = d - L->contact_surface(M), g[1] = L->yield_surface(M) - d; break;
-    case VI_Mode_plastic: g[0] = d - L->plastic_floor(M); break;
-    case VI_Mode_unload: g[0] = d - M->U.delta_f, g[1] = M->U.delta_c - d; break;
+    case VI_MODE_FREE: g[0] = L->contact_surface(M) - d; break;
+    case VI_MODE_ELASTIC: g[0] = d - L->contact_surface(M), g[1] = L->yield_surface(M) - d; break;
+    case VI_MODE_PLASTIC: g[0] = d - L->plastic_floor(M); break;
+    case VI_MODE_UNLOAD: g[0] = d - M->U.delta_f, g[1] = M->U.delta_c - d; break;
     default: g[0] = d - M->U.delta_c, g[1] = M->U.delta_c - d; break; /* stick: on delta_c */
     }
     for (int i = 0; i < 2; i++)
@@ -758,15 +762,15 @@ static int check(const vi_model *M, const double x[2], int surfaces, char *msg, 
             VI_FAIL(msg, n, "model not set up (law = 0) but with a discrete state (mode %d)", M->mode);
         return 0;
     }
-    if (M->law < VI_ContactModel_hertz || M->law > VI_ContactModel_lepp)
-        VI_FAIL(msg, n, "contact law = %d is not hertz (%d), johnson (%d) or lepp (%d)", M->law, VI_ContactModel_hertz,
-                VI_ContactModel_johnson, VI_ContactModel_lepp);
+    if (M->law < VI_LAW_HERTZ || M->law > VI_LAW_LEPP)
+        VI_FAIL(msg, n, "contact law = %d is not hertz (%d), johnson (%d) or lepp (%d)", M->law, VI_LAW_HERTZ,
+                VI_LAW_JOHNSON, VI_LAW_LEPP);
     if (M->moving != 0 && M->moving != 1) VI_FAIL(msg, n, "model flag moving = %d is not 0 or 1", M->moving);
     if (M->unloading != VI_UNLOAD_PAPER && M->unloading != VI_UNLOAD_CONTINUOUS)
         VI_FAIL(msg, n, "unloading = %d is not paper (%d) or continuous (%d)", M->unloading, VI_UNLOAD_PAPER,
                 VI_UNLOAD_CONTINUOUS);
-    if (M->mode < VI_Mode_free || M->mode > VI_Mode_stick)
-        VI_FAIL(msg, n, "mode = %d is not in %d..%d", M->mode, VI_Mode_free, VI_Mode_stick);
+    if (M->mode < VI_MODE_FREE || M->mode > VI_MODE_STICK)
+        VI_FAIL(msg, n, "mode = %d is not in %d..%d", M->mode, VI_MODE_FREE, VI_MODE_STICK);
     if (check_constants(M, msg, n) < 0 || check_memory(M, msg, n) < 0) return -1;
     return check_mode(M, x, surfaces, msg, n);
 }
@@ -777,7 +781,7 @@ int vi_model_check_between_events(const vi_model *M, const double x[2], char *ms
     return check(M, x, 0, msg, n);
 }
 
-void vi_model_calculated(const vi_model *M, vi_outputs *out)
+void vi_model_calculated(const vi_model *M, vi_model_values *out)
 {
     out->E_star = M->J.E_star;
     out->R_star = M->J.R_star;
@@ -787,23 +791,13 @@ void vi_model_calculated(const vi_model *M, vi_outputs *out)
     out->f_contact = M->f_contact;
 }
 
-const unsigned char vi_model_output_groups[VI_NVARS] = {
-    [VI_VR_delta] = VI_OUT_STATE, [VI_VR_v] = VI_OUT_STATE, [VI_VR_contact] = VI_OUT_STATE,
-    [VI_VR_mode] = VI_OUT_STATE, [VI_VR_n_impacts] = VI_OUT_STATE, [VI_VR_yC] = VI_OUT_PLATFORM,
-    [VI_VR_y] = VI_OUT_PLATFORM, [VI_VR_F] = VI_OUT_FORCE, [VI_VR_delta_c] = VI_OUT_MEMORY,
-    [VI_VR_delta_f] = VI_OUT_MEMORY, [VI_VR_delta_p] = VI_OUT_MEMORY, [VI_VR_Rbar] = VI_OUT_MEMORY,
-    [VI_VR_W_plastic] = VI_OUT_MEMORY, [VI_VR_E_star] = VI_OUT_CALCULATED, [VI_VR_R_star] = VI_OUT_CALCULATED,
-    [VI_VR_F_Y] = VI_OUT_CALCULATED, [VI_VR_delta_Y] = VI_OUT_CALCULATED, [VI_VR_k_lin] = VI_OUT_CALCULATED,
-    [VI_VR_f_contact] = VI_OUT_CALCULATED, [VI_VR_F_mean] = VI_OUT_MEAN, [VI_VR_k_contact] = VI_OUT_STIFFNESS,
-    [VI_VR_der_y] = VI_OUT_DERIVATIVES, [VI_VR_der_v] = VI_OUT_DERIVATIVES};
-
-void vi_model_outputs(const vi_model *M, double t, const double x[2], unsigned groups, vi_outputs *out)
+void vi_model_outputs(const vi_model *M, double t, const double x[2], unsigned groups, vi_model_values *out)
 {
     double d = x[0];
     if (groups & VI_OUT_STATE) {
         out->delta = d;
         out->v = x[1];
-        out->contact = M->mode != VI_Mode_free;
+        out->contact = M->mode != VI_MODE_FREE;
         out->mode = M->mode;
         out->n_impacts = (int)M->n_impacts;
     }

@@ -13,6 +13,27 @@
 _Static_assert((int)VI_Solver_bdf == (int)VI_METHOD_BDF && (int)VI_Solver_adams == (int)VI_METHOD_ADAMS &&
                    (int)VI_Solver_dop853 == (int)VI_METHOD_DOP853 && (int)VI_Solver_auto == (int)VI_METHOD_AUTO,
                "the solver enumeration is the solver layer's method number");
+_Static_assert((int)VI_ContactModel_hertz == (int)VI_LAW_HERTZ && (int)VI_ContactModel_johnson == (int)VI_LAW_JOHNSON &&
+                   (int)VI_ContactModel_lepp == (int)VI_LAW_LEPP && (int)VI_Init_static == (int)VI_INIT_STATIC &&
+                   (int)VI_Init_touching == (int)VI_INIT_TOUCHING && (int)VI_Unloading_paper == (int)VI_UNLOAD_PAPER &&
+                   (int)VI_Unloading_continuous == (int)VI_UNLOAD_CONTINUOUS &&
+                   (int)VI_YieldFormula_textbook == (int)VI_YIELD_TEXTBOOK &&
+                   (int)VI_YieldFormula_printed == (int)VI_YIELD_PRINTED,
+               "the enumerations of the variable table are the model's numbers");
+_Static_assert((int)VI_Mode_free == (int)VI_MODE_FREE && (int)VI_Mode_elastic == (int)VI_MODE_ELASTIC &&
+                   (int)VI_Mode_plastic == (int)VI_MODE_PLASTIC && (int)VI_Mode_unload == (int)VI_MODE_UNLOAD &&
+                   (int)VI_Mode_stick == (int)VI_MODE_STICK,
+               "the Mode enumeration is the model's mode");
+
+vi_model_params vi_sim_model_params(const vi_parameters *p)
+{
+    return (vi_model_params){
+        .m = p->m, .P = p->P, .g = p->g, .R1 = p->R1, .R2 = p->R2, .E1 = p->E1, .E2 = p->E2, .nu1 = p->nu1,
+        .nu2 = p->nu2, .Y = p->Y, .theta_Y = p->theta_Y, .law = p->contact_model, .moving_contact = p->moving_contact,
+        .unloading = p->unloading, .yield_formula = p->yield_formula, .init = p->init, .v0 = p->v0, .a = p->a,
+        .f = p->f, .has_profile = p->profile_file[0] != '\0', .V = p->V, .x0 = p->x0,
+        .profile_periodic = p->profile_periodic};
+}
 
 static void sim_rhs(double t, const double *x, double *dx, void *user)
 {
@@ -175,7 +196,8 @@ int vi_sim_prepare(vi_sim *s)
     if (!(p->max_step == 0.0 || p->max_step >= VI_MAX_STEP_MIN))
         VI_FAIL(s->msg, sizeof s->msg, "max_step = %g s: use 0 (no limit) or a step >= %g s", p->max_step,
                 VI_MAX_STEP_MIN);
-    if (vi_model_setup(&d->M, p, d->t_start, s->msg, sizeof s->msg) < 0) return -1;
+    vi_model_params model_params = vi_sim_model_params(p);
+    if (vi_model_setup(&d->M, &model_params, d->t_start, s->msg, sizeof s->msg) < 0) return -1;
     if (attach_profile(s) < 0) return -1;
     d->t = d->t_start;
     set_input_ramps(&d->M, d, d->t);
@@ -217,7 +239,8 @@ int vi_sim_initialize(vi_sim *s)
     memset(&d->sw, 0, sizeof d->sw);
     if (create_solver(s, 0) < 0) return -1;
     char text[400];
-    if (vi_model_option_warnings(&d->par, text, sizeof text) > 0) s->log(s->log_env, VI_LOG_WARNING, "%s", text);
+    vi_model_params model_params = vi_sim_model_params(&d->par);
+    if (vi_model_option_warnings(&model_params, text, sizeof text) > 0) s->log(s->log_env, VI_LOG_WARNING, "%s", text);
     /* an importer that passes the declared default experiment's tolerance most likely passes a default */
     if (d->par.rtol > 0.0 && d->tolerance > 0.0 && d->tolerance != VI_RTOL_DEFAULT && d->par.rtol != d->tolerance)
         s->log(s->log_env, VI_LOG_WARNING, "rtol = %g is used, not the experiment's tolerance %g (set rtol = 0 to use the "
@@ -440,12 +463,33 @@ static double mean_force(const vi_sim_data *d)
     return M->m * (d->x[1] - d->step_v0) / h + W_mean;
 }
 
+/* The model's values of the groups VI_OUT_STATE ... VI_OUT_CALCULATED into the FMU's outputs. */
+static void take_values(const vi_model_values *v, unsigned groups, vi_outputs *out)
+{
+    if (groups & VI_OUT_STATE) {
+        out->delta = v->delta, out->v = v->v, out->contact = v->contact, out->mode = v->mode;
+        out->n_impacts = v->n_impacts;
+    }
+    if (groups & VI_OUT_PLATFORM) out->yC = v->yC, out->y = v->y;
+    if (groups & VI_OUT_FORCE) out->F = v->F;
+    if (groups & VI_OUT_MEMORY) {
+        out->delta_c = v->delta_c, out->delta_f = v->delta_f, out->delta_p = v->delta_p, out->Rbar = v->Rbar;
+        out->W_plastic = v->W_plastic;
+    }
+    if (groups & VI_OUT_CALCULATED) {
+        out->E_star = v->E_star, out->R_star = v->R_star, out->F_Y = v->F_Y, out->delta_Y = v->delta_Y;
+        out->k_lin = v->k_lin, out->f_contact = v->f_contact;
+    }
+}
+
 const vi_outputs *vi_sim_outputs_of(vi_sim *s, unsigned groups)
 {
     unsigned need = groups & (VI_OUT_ALL & ~VI_OUT_DERIVATIVES) & ~s->out_valid;
     if (need) {
         const vi_sim_data *d = &s->d;
-        vi_model_outputs(&d->M, d->t, d->x, need, &s->out);
+        vi_model_values values;
+        vi_model_outputs(&d->M, d->t, d->x, need, &values);
+        take_values(&values, need, &s->out);
         if (need & VI_OUT_MEAN) s->out.F_mean = mean_force(d);
         if (need & VI_OUT_STIFFNESS) s->out.k_contact = contact_stiffness(&d->M, d->t, d->x);
         s->out_valid |= need;

@@ -15,6 +15,19 @@
 #include "vi_model.h"
 #include "vi_sim.h"
 
+/* The model set up from (and its option warnings of) the FMU's parameters, as the simulation does. */
+static int setup_from_table(vi_model *M, const vi_parameters *p, double t0, char *msg, size_t n)
+{
+    vi_model_params mp = vi_sim_model_params(p);
+    return vi_model_setup(M, &mp, t0, msg, n);
+}
+
+static int warnings_from_table(const vi_parameters *p, char *msg, size_t n)
+{
+    vi_model_params mp = vi_sim_model_params(p);
+    return vi_model_option_warnings(&mp, msg, n);
+}
+
 static vi_model setup(int law, int moving, int unloading, double P, double g, double a)
 {
     vi_parameters p;
@@ -27,7 +40,7 @@ static vi_model setup(int law, int moving, int unloading, double P, double g, do
     p.a = a;
     vi_model M = {0};
     char msg[256];
-    cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
     return M;
 }
 
@@ -39,10 +52,10 @@ Test(model, rejects_two_planes)
     vi_model M;
     char msg[256];
     p.R1 = p.R2 = 0;
-    cr_assert(vi_model_setup(&M, &p, 0, msg, sizeof msg) < 0);
+    cr_assert(setup_from_table(&M, &p, 0, msg, sizeof msg) < 0);
     cr_assert(strstr(msg, "R1 = R2 = 0") != NULL, "%s", msg);
     p.R2 = 1e-3;
-    cr_assert(vi_model_setup(&M, &p, 0, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(setup_from_table(&M, &p, 0, msg, sizeof msg) == 0, "%s", msg);
 }
 
 /* The variable table's ranges (include/vi_variables.h): the exclusive bounds are exactly the doubles
@@ -134,7 +147,7 @@ Test(model, plastically_preloaded_static_state)
     for (int variant = 1; variant <= 2; variant++) {
         vi_model M = {0};
         p.unloading = variant;
-        cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0);
+        cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0);
         cr_assert(M.J.F_Y < p.P + p.m * p.g);
         vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
         cr_assert(M.yielded && M.U.delta_c == x[0] && x[0] > M.J.delta_Y);
@@ -356,7 +369,7 @@ Test(model, never_set_up_is_hertz_without_stiffness)
         vi_model M;
         memset(&M, 0, sizeof M);
         M.mode = mode;
-        vi_outputs out;
+        vi_model_values out;
         memset(&out, 0xab, sizeof out);
         vi_model_outputs(&M, 0.0, x, VI_OUT_STATE | VI_OUT_FORCE | VI_OUT_MEMORY, &out);
         cr_assert(out.delta == 1e-6 && out.v == -0.5 && out.contact == (mode != VI_Mode_free) && out.mode == mode,
@@ -466,14 +479,14 @@ Test(model, static_state_with_extreme_parameters, .timeout = 20)
     vi_model M = {0};
     char msg[256];
     double x[2];
-    cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
     vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
     double W = p.P + p.m * p.g;
     cr_assert(fabs(vi_model_force(&M, 0.0, x) - W) <= 1e-12 * W);
     vi_parameters_default(&p);
     p.m = 5e-324;
     p.P = 0.0;
-    cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
     vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
     cr_assert(x[0] > 0.0 && M.mode == VI_Mode_elastic, "delta %g mode %d", x[0], M.mode);
 }
@@ -491,7 +504,7 @@ Test(model, scales_from_the_active_law)
         p.a = 1e-300;
         vi_model M = {0};
         char msg[256];
-        cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0);
+        cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0);
         vi_model_initial_state(&M, VI_Init_static, 1e-100, 0.0, x);
         vi_model_scales(&M, x, &L, &V);
         double dW = pow((p.P + p.m * p.g) / M.K, 2.0 / 3.0);
@@ -653,20 +666,20 @@ Test(model, validity_threshold)
     M.a = 0.0;
     vi_parameters p;
     vi_parameters_default(&p);
-    cr_assert(vi_model_option_warnings(&p, msg, sizeof msg) == 0 && msg[0] == '\0');
+    cr_assert(warnings_from_table(&p, msg, sizeof msg) == 0 && msg[0] == '\0');
     p.contact_model = VI_ContactModel_lepp, p.moving_contact = 1, p.unloading = 2, p.v0 = 1.0;
-    cr_assert(vi_model_option_warnings(&p, msg, sizeof msg) == 3, "%s", msg);
+    cr_assert(warnings_from_table(&p, msg, sizeof msg) == 3, "%s", msg);
     cr_assert(strstr(msg, "moving_contact") && strstr(msg, "unloading") && strstr(msg, "v0"), "%s", msg);
     char tiny[8]; /* truncated, never overrun */
-    cr_assert(vi_model_option_warnings(&p, tiny, sizeof tiny) == 3 && strlen(tiny) == 7);
+    cr_assert(warnings_from_table(&p, tiny, sizeof tiny) == 3 && strlen(tiny) == 7);
     /* the yield formula is ignored by Hertz only: every law with the default, Johnson and LEPP printed */
     int laws[] = {VI_ContactModel_hertz, VI_ContactModel_johnson, VI_ContactModel_lepp};
     for (int i = 0; i < 3; i++) {
         vi_parameters_default(&p);
         p.contact_model = laws[i];
-        cr_assert(vi_model_option_warnings(&p, msg, sizeof msg) == 0, "law %d: %s", laws[i], msg);
+        cr_assert(warnings_from_table(&p, msg, sizeof msg) == 0, "law %d: %s", laws[i], msg);
         p.yield_formula = VI_YieldFormula_printed;
-        cr_assert(vi_model_option_warnings(&p, msg, sizeof msg) == (laws[i] == VI_ContactModel_hertz), "%s", msg);
+        cr_assert(warnings_from_table(&p, msg, sizeof msg) == (laws[i] == VI_ContactModel_hertz), "%s", msg);
     }
 }
 
@@ -979,7 +992,7 @@ static vi_model unloading_model(const vi_parameters *p, double x[2])
 {
     vi_model M = {0};
     char msg[256];
-    cr_assert(vi_model_setup(&M, p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(setup_from_table(&M, p, 0.0, msg, sizeof msg) == 0, "%s", msg);
     M.U = vi_johnson_unload_curve(&M.J, M.unloading, 3.0 * M.J.delta_Y);
     M.yielded = 1;
     M.mode = VI_Mode_unload;
@@ -1439,7 +1452,7 @@ Test(model, each_ignored_option_warns_alone)
         snprintf(p.profile_file, sizeof p.profile_file, "%s", c[i].file);
         char msg[512];
         memset(msg, 'x', sizeof msg);
-        int count = vi_model_option_warnings(&p, msg, sizeof msg);
+        int count = warnings_from_table(&p, msg, sizeof msg);
         cr_assert(count == (c[i].expect[0] != '\0') && strcmp(msg, c[i].expect) == 0, "case %zu: %d '%s'", i, count, msg);
     }
     vi_parameters p;
@@ -1447,7 +1460,7 @@ Test(model, each_ignored_option_warns_alone)
     p.contact_model = VI_ContactModel_hertz, p.yield_formula = VI_YieldFormula_printed, p.V = 1.0;
     char msg[512], expect[512];
     snprintf(expect, sizeof expect, "%s; %s", printed, rolling);
-    cr_assert(vi_model_option_warnings(&p, msg, sizeof msg) == 2 && strcmp(msg, expect) == 0, "%s", msg);
+    cr_assert(warnings_from_table(&p, msg, sizeof msg) == 2 && strcmp(msg, expect) == 0, "%s", msg);
 }
 
 /* The setup refuses parameters whose load or stiffness leave the doubles, naming E*, R*, F_Y, delta_Y:
@@ -1461,7 +1474,7 @@ Test(model, setup_refuses_values_beyond_the_doubles_and_accepts_tiny_stiffnesses
     p.P = 1e308, p.m = 1e300, p.g = 1e10;
     vi_model M = {0};
     char msg[512], expect[512];
-    cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == -1);
+    cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == -1);
     cr_assert(isinf(M.W0) && isfinite(M.K) && M.K > 0.0 && isfinite(M.k_lin) && M.J.F_Y > 0.0);
     snprintf(expect, sizeof expect, "the parameters give no finite positive contact stiffness or yield force (E* = %g Pa, "
              "R* = %g m, F_Y = %g N, delta_Y = %g m)", M.J.E_star, M.J.R_star, M.J.F_Y, M.J.delta_Y);
@@ -1471,7 +1484,7 @@ Test(model, setup_refuses_values_beyond_the_doubles_and_accepts_tiny_stiffnesses
      * is 0 (E* = 1e-120 Pa, theta_Y Y = 1e-15 Pa: F_Y about 1e194 N, K about 1e-120) */
     vi_parameters_default(&p);
     p.E1 = p.E2 = 2e-120, p.nu1 = p.nu2 = 0.0, p.theta_Y = 1e-15, p.Y = 1.0;
-    cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == -1, "accepted: k_lin %g", M.k_lin);
+    cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == -1, "accepted: k_lin %g", M.k_lin);
     cr_assert(isfinite(M.J.F_Y) && M.J.F_Y > 0.0 && M.K > 0.0 && isinf(M.J.delta_Y) && M.k_lin == 0.0, "F_Y %g K %g", M.J.F_Y,
               M.K);
     snprintf(expect, sizeof expect, "the parameters give no finite positive contact stiffness or yield force (E* = 1e-120 Pa, "
@@ -1479,7 +1492,7 @@ Test(model, setup_refuses_values_beyond_the_doubles_and_accepts_tiny_stiffnesses
     cr_assert(strcmp(msg, expect) == 0, "expected '%s', got '%s'", expect, msg);
     vi_parameters_default(&p);
     p.E1 = p.E2 = 1e-6, p.Y = 1e-10;
-    cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
     cr_assert(M.K < 1e-3 && M.J.F_Y < 1e-3 && M.k_lin < 1e-3, "K %g F_Y %g k_lin %g", M.K, M.J.F_Y, M.k_lin);
 }
 
@@ -1545,7 +1558,7 @@ Test(model, validity_messages_and_bounds)
     p.R1 = 0.05; /* R* = 0.05 m: the limit 5e-4 m lies below 1e-3 m */
     vi_model M = {0};
     char msg[512], expect[512];
-    cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
     const double R = M.J.R_star, limit = 0.01 * R;
     M.mode = VI_Mode_free;
     double x[2] = {2.0 * limit, 1.0};
@@ -1613,7 +1626,7 @@ Test(rolling, breakpoints_and_end_from_a_start_time_not_zero)
     vi_parameters p;
     vi_parameters_default(&p);
     vi_model M = {0};
-    cr_assert(vi_model_setup(&M, &p, 2.0, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(setup_from_table(&M, &p, 2.0, msg, sizeof msg) == 0, "%s", msg);
     for (int dir = -1; dir <= 1; dir += 2) {
         cr_assert(vi_model_set_rolling(&M, prof, 0.5 * dir, -1.0 * dir, msg, sizeof msg) == 0, "%s", msg);
         double tk = vi_model_next_breakpoint(&M, 2.0), expect = dir > 0 ? 4.0 : nextafter(4.0, 5.0);
@@ -1711,7 +1724,7 @@ Test(model, outputs_of_each_law_and_mode)
     M.yielded = 1, M.mode = VI_Mode_unload;
     M.U = vi_johnson_unload_curve(&M.J, VI_UNLOAD_PAPER, 3.0 * dY);
     double x[2] = {0.5 * (M.U.delta_f + M.U.delta_c), -0.5};
-    vi_outputs out;
+    vi_model_values out;
     memset(&out, 0, sizeof out);
     vi_model_outputs(&M, t, x, VI_OUT_STATE | VI_OUT_PLATFORM | VI_OUT_FORCE | VI_OUT_MEMORY | VI_OUT_CALCULATED, &out);
     cr_assert(out.delta == x[0] && out.v == -0.5 && out.contact == 1 && out.mode == VI_Mode_unload && out.n_impacts == 7);
