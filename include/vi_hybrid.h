@@ -60,7 +60,7 @@ typedef struct {
     void *log_env;
 } vi_hybrid;
 
-void vi_hybrid_bind(vi_hybrid *h, vi_model *M, vi_hybrid_state *st, int integrates_y, vi_log_fn log, void *log_env);
+void vi_hybrid_bind(vi_hybrid *h, vi_model *model, vi_hybrid_state *st, int integrates_y, vi_log_fn log, void *log_env);
 /* A simulation starts at (t, x) with these tolerances: no event yet, guards at zero armed. */
 void vi_hybrid_start(vi_hybrid *h, double rtol, const double atol[2], double t, const double x[2]);
 /* The Zeno count starts afresh at t (Co-Simulation: each advance). */

@@ -102,7 +102,7 @@ enum {
     VI_ME_DER_Y, VI_ME_DER_V, VI_ME_F, VI_ME_F_MEAN, VI_ME_DELTA, VI_ME_Y, VI_ME_V, VI_ME_YC, VI_ME_K_CONTACT,
     VI_ME_DELTA_C, VI_ME_DELTA_F, VI_ME_RBAR, VI_ME_DELTA_P, VI_ME_W_PLASTIC, VI_ME_N_UNKNOWNS
 };
-/* The Jacobian at the current point, analytic, in the current mode: J[unknown]. */
-void vi_me_jacobian(vi_me *e, vi_me_partials J[VI_ME_N_UNKNOWNS]);
+/* The Jacobian at the current point, analytic, in the current mode: jac[unknown]. */
+void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS]);
 
 #endif

@@ -48,7 +48,7 @@ typedef struct {
     double tolerance;    /* the importer's (fmi2SetupExperiment, fmi3EnterInitializationMode), 0 when not
                             defined (then par.rtol counts) */
     int initialized;     /* vi_sim_initialize done: atol, model and state are those of a running simulation */
-    vi_model M;
+    vi_model model;
     double t, x[2];      /* time [s] and state (delta [m], v [m/s]); between events x is the solver's
                             interpolant at t, the solver itself may be ahead */
     double y_me;         /* Model Exchange: the mass position y [m] the importer integrates (delta =
@@ -56,12 +56,12 @@ typedef struct {
     vi_hybrid_state events;          /* the event engine's state: tolerances, guard bands, Zeno count */
     double step_t0, step_v0;         /* start of the last step and the velocity there (for F_mean) */
     vi_ode ode;                      /* solver = dop853 or auto: the one-step method's whole continuation */
-    vi_solver_auto sw;               /* solver = auto: which method runs, and its stiffness counts */
+    vi_solver_auto auto_choice;      /* solver = auto: which method runs, and its stiffness counts */
 } vi_sim_data;
 
 typedef struct {
     vi_sim_data d;
-    vi_hybrid engine;    /* the event engine over d.M and d.events */
+    vi_hybrid engine;    /* the event engine over d.model and d.events */
     vi_solver *solver;
     int solver_stale;    /* the state changed outside the solver: restart before the next advance */
     unsigned out_valid;  /* the groups of outputs (VI_OUT_*) out holds at the current d */
@@ -144,7 +144,7 @@ void vi_sim_check_validity(vi_sim *s);
  * in their ranges, items of their enumerations) before it calls this. 0 when valid, else -1 with the
  * first bad field named in msg. No pointer in d is followed (the model's profile pointer is not). */
 int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n);
-/* The same with vi_model_check_between_events and without the solver's continuation (ode, sw): the
+/* The same with vi_model_check_between_events and without the solver's continuation (ode, auto_choice): the
  * state of an outside integrator (Model Exchange). */
 int vi_sim_data_check_between_events(const vi_sim_data *d, char *msg, size_t n);
 

@@ -8,9 +8,9 @@
 #include "vi_check.h"
 #include "vi_format.h"
 
-void vi_hybrid_bind(vi_hybrid *h, vi_model *M, vi_hybrid_state *st, int integrates_y, vi_log_fn log, void *log_env)
+void vi_hybrid_bind(vi_hybrid *h, vi_model *model, vi_hybrid_state *st, int integrates_y, vi_log_fn log, void *log_env)
 {
-    *h = (vi_hybrid){.model = M, .st = st, .integrates_y = integrates_y, .log = log, .log_env = log_env};
+    *h = (vi_hybrid){.model = model, .st = st, .integrates_y = integrates_y, .log = log, .log_env = log_env};
 }
 
 void vi_hybrid_start(vi_hybrid *h, double rtol, const double atol[2], double t, const double x[2])
@@ -37,10 +37,10 @@ void vi_hybrid_guards(const vi_hybrid *h, double t, const double x[2], double g[
     for (int i = 0; i < VI_NGUARDS; i++) g[i] += h->st->band[i];
 }
 
-static void add_change(const vi_model *M, double t, const double x[2], const double g0[VI_NGUARDS], double acc[VI_NGUARDS])
+static void add_change(const vi_model *model, double t, const double x[2], const double g0[VI_NGUARDS], double acc[VI_NGUARDS])
 {
     double g[VI_NGUARDS];
-    vi_model_guards(M, t, x, g);
+    vi_model_guards(model, t, x, g);
     for (int i = 0; i < VI_NGUARDS; i++) acc[i] += fabs(g[i] - g0[i]);
 }
 
@@ -50,20 +50,20 @@ static void add_change(const vi_model *M, double t, const double x[2], const dou
  * changes move delta the other way. */
 static void guard_noise(const vi_hybrid *h, double t, const double x[2], double ulps[VI_NGUARDS], double tol[VI_NGUARDS])
 {
-    const vi_model *M = h->model;
+    const vi_model *model = h->model;
     const vi_hybrid_state *st = h->st;
     double g0[VI_NGUARDS], t1 = nextafter(t, INFINITY);
-    double q = h->integrates_y ? vi_model_platform(M, t, NULL, NULL) - x[0] : x[0], sign = h->integrates_y ? -1.0 : 1.0;
-    double moved = h->integrates_y ? vi_model_platform(M, t1, NULL, NULL) - vi_model_platform(M, t, NULL, NULL) : 0.0;
-    vi_model_guards(M, t, x, g0);
+    double q = h->integrates_y ? vi_model_platform(model, t, NULL, NULL) - x[0] : x[0], sign = h->integrates_y ? -1.0 : 1.0;
+    double moved = h->integrates_y ? vi_model_platform(model, t1, NULL, NULL) - vi_model_platform(model, t, NULL, NULL) : 0.0;
+    vi_model_guards(model, t, x, g0);
     for (int i = 0; i < VI_NGUARDS; i++) ulps[i] = tol[i] = 0.0;
-    add_change(M, t1, (const double[2]){x[0] + moved, x[1]}, g0, ulps);
+    add_change(model, t1, (const double[2]){x[0] + moved, x[1]}, g0, ulps);
     const double dq[2] = {nextafter(q, INFINITY) - q, st->rtol * fabs(q) + st->atol[0]};
     const double dv[2] = {nextafter(x[1], INFINITY) - x[1], st->rtol * fabs(x[1]) + st->atol[1]};
     for (int k = 0; k < 2; k++) {
         double *acc = k == 0 ? ulps : tol;
-        add_change(M, t, (const double[2]){x[0] + sign * dq[k], x[1]}, g0, acc);
-        add_change(M, t, (const double[2]){x[0], x[1] + dv[k]}, g0, acc);
+        add_change(model, t, (const double[2]){x[0] + sign * dq[k], x[1]}, g0, acc);
+        add_change(model, t, (const double[2]){x[0], x[1] + dv[k]}, g0, acc);
     }
 }
 
@@ -119,18 +119,18 @@ int vi_hybrid_due(const vi_hybrid *h, double t, const double x[2])
 
 int vi_hybrid_inputs_differ(const vi_hybrid *h, double t, vi_ramp yC_in, vi_ramp F_ext)
 {
-    const vi_model *M = h->model;
-    return vi_ramp_at(&yC_in, t) != vi_ramp_at(&M->yC_in, t) || yC_in.du != M->yC_in.du ||
-           vi_ramp_at(&F_ext, t) != vi_ramp_at(&M->F_ext, t) || F_ext.du != M->F_ext.du;
+    const vi_model *model = h->model;
+    return vi_ramp_at(&yC_in, t) != vi_ramp_at(&model->yC_in, t) || yC_in.du != model->yC_in.du ||
+           vi_ramp_at(&F_ext, t) != vi_ramp_at(&model->F_ext, t) || F_ext.du != model->F_ext.du;
 }
 
 void vi_hybrid_take_inputs(vi_hybrid *h, double t, double x[2], vi_ramp yC_in, vi_ramp F_ext)
 {
-    vi_model *M = h->model;
-    vi_model_freeze(M, t, x);
-    x[0] += vi_ramp_at(&yC_in, t) - vi_ramp_at(&M->yC_in, t); /* delta jumps with the platform */
-    M->yC_in = yC_in;
-    M->F_ext = F_ext;
+    vi_model *model = h->model;
+    vi_model_freeze(model, t, x);
+    x[0] += vi_ramp_at(&yC_in, t) - vi_ramp_at(&model->yC_in, t); /* delta jumps with the platform */
+    model->yC_in = yC_in;
+    model->F_ext = F_ext;
 }
 
 /* The mode changed from `from` (an input jump or a kink, kind): log it, reset the bands; then arm
@@ -146,12 +146,12 @@ static void mode_chosen(vi_hybrid *h, const char *kind, int from, double t, cons
 
 int vi_hybrid_input_jump(vi_hybrid *h, double t, double x[2], vi_ramp yC_in, vi_ramp F_ext, double a, double f)
 {
-    vi_model *M = h->model;
-    int from = M->mode;
-    if (!vi_hybrid_inputs_differ(h, t, yC_in, F_ext) && !vi_model_excitation_differs(M, a, f)) return 0;
+    vi_model *model = h->model;
+    int from = model->mode;
+    if (!vi_hybrid_inputs_differ(h, t, yC_in, F_ext) && !vi_model_excitation_differs(model, a, f)) return 0;
     vi_hybrid_take_inputs(h, t, x, yC_in, F_ext);
-    vi_model_set_excitation(M, t, x, a, f); /* a new a moves the platform (delta with it), the mass stays */
-    vi_model_resolve(M, t, x);
+    vi_model_set_excitation(model, t, x, a, f); /* a new a moves the platform (delta with it), the mass stays */
+    vi_model_resolve(model, t, x);
     mode_chosen(h, "input", from, t, x);
     return 1;
 }
@@ -166,35 +166,35 @@ void vi_hybrid_kink(vi_hybrid *h, double t, double x[2])
 /* ---- state events ----------------------------------------------------------------------------- */
 
 /* Choose the mode after guard `fired` reached zero, the inputs ramping at input_rates meanwhile. */
-static void choose(vi_model *M, double t, double x[2], int fired, int located, const double *input_rates)
+static void choose(vi_model *model, double t, double x[2], int fired, int located, const double *input_rates)
 {
-    vi_ramp yC_in = M->yC_in, F_ext = M->F_ext;
+    vi_ramp yC_in = model->yC_in, F_ext = model->F_ext;
     if (input_rates) {
-        M->yC_in = (vi_ramp){vi_ramp_at(&yC_in, t), input_rates[0], t};
-        M->F_ext = (vi_ramp){vi_ramp_at(&F_ext, t), input_rates[1], t};
+        model->yC_in = (vi_ramp){vi_ramp_at(&yC_in, t), input_rates[0], t};
+        model->F_ext = (vi_ramp){vi_ramp_at(&F_ext, t), input_rates[1], t};
     }
     if (located) {
-        vi_model_event(M, t, x, fired);
+        vi_model_event(model, t, x, fired);
     } else {
-        vi_model_freeze(M, t, x);
-        vi_model_resolve(M, t, x);
+        vi_model_freeze(model, t, x);
+        vi_model_resolve(model, t, x);
     }
-    M->yC_in = yC_in;
-    M->F_ext = F_ext;
+    model->yC_in = yC_in;
+    model->F_ext = F_ext;
 }
 
 int vi_hybrid_event(vi_hybrid *h, double t, double x[2], int fired, int located, const double *input_rates)
 {
-    vi_model *M = h->model;
+    vi_model *model = h->model;
     vi_hybrid_state *st = h->st;
-    int from = M->mode;
-    choose(M, t, x, fired, located, input_rates);
+    int from = model->mode;
+    choose(model, t, x, fired, located, input_rates);
     st->n_events++;
     st->zeno = vi_hybrid_zeno_count(st->zeno, st->t_count, t);
     st->t_count = t;
     h->log(h->log_env, VI_LOG_EVENTS, "event t=%.17g kind=guard guard=%d mode=%d->%d delta=%.9g v=%.9g", t, fired, from,
-           M->mode, x[0], x[1]);
-    if (M->mode != from) {
+           model->mode, x[0], x[1]);
+    if (model->mode != from) {
         memset(st->band, 0, sizeof st->band);
     } else {
         double ulps[VI_NGUARDS], tol[VI_NGUARDS];

@@ -8,7 +8,7 @@
 
 #include "vi_text.h"
 
-static double platform(const vi_model *M, double t) { return vi_model_platform(M, t, NULL, NULL); }
+static double platform(const vi_model *model, double t) { return vi_model_platform(model, t, NULL, NULL); }
 
 /* The inputs the setters stored, held from t on (Model Exchange passes values only). */
 static vi_ramp held(double u, double t) { return (vi_ramp){u, 0.0, t}; }
@@ -30,10 +30,10 @@ static void sync(vi_me *e)
     e->stale = 0;
     e->s.out_valid = 0;
     if (take) { /* x: a copy, the state is the importer's */
-        double x[2] = {platform(&d->M, d->t) - d->y_me, d->x[1]};
+        double x[2] = {platform(&d->model, d->t) - d->y_me, d->x[1]};
         vi_hybrid_take_inputs(&e->s.engine, d->t, x, yC_in, F_ext);
     }
-    d->x[0] = platform(&d->M, d->t) - d->y_me;
+    d->x[0] = platform(&d->model, d->t) - d->y_me;
 }
 
 /* A step completed or an event handled: the time and the inputs that mean input rates are taken from
@@ -43,8 +43,8 @@ static void mark_step(vi_me *e)
     const vi_sim_data *d = &e->s.d;
     if (d->t != e->marks[1].t) e->marks[0] = e->marks[1];
     e->marks[1].t = d->t;
-    e->marks[1].u[0] = d->M.yC_in.u;
-    e->marks[1].u[1] = d->M.F_ext.u;
+    e->marks[1].u[0] = d->model.yC_in.u;
+    e->marks[1].u[1] = d->model.F_ext.u;
 }
 
 /* After a restore or at the start: both marks now (no rate until time has passed). */
@@ -61,15 +61,15 @@ static void mean_input_rates(const vi_me *e, double rates[2])
     const vi_sim_data *d = &e->s.d;
     int k = e->marks[1].t < d->t ? 1 : 0;
     double h = d->t - e->marks[k].t;
-    rates[0] = h > 0.0 ? (d->M.yC_in.u - e->marks[k].u[0]) / h : 0.0;
-    rates[1] = h > 0.0 ? (d->M.F_ext.u - e->marks[k].u[1]) / h : 0.0;
+    rates[0] = h > 0.0 ? (d->model.yC_in.u - e->marks[k].u[0]) / h : 0.0;
+    rates[1] = h > 0.0 ? (d->model.F_ext.u - e->marks[k].u[1]) / h : 0.0;
 }
 
 /* Bind the event engine to the integrated position y (Model Exchange) and start the driver's own state. */
 static void start_driver(vi_me *e, int active)
 {
     vi_sim *s = &e->s;
-    vi_hybrid_bind(&s->engine, &s->d.M, &s->d.events, active, s->log, s->log_env);
+    vi_hybrid_bind(&s->engine, &s->d.model, &s->d.events, active, s->log, s->log_env);
     e->active = active;
     e->stale = 1;
 }
@@ -79,10 +79,10 @@ int vi_me_initialize(vi_me *e)
     vi_sim *s = &e->s;
     if (vi_sim_initialize(s) < 0) return -1;
     vi_sim_data *d = &s->d;
-    vi_model *M = &d->M;
-    M->yC_in = held(d->in.yC_in, d->t); /* Model Exchange passes values only */
-    M->F_ext = held(d->in.F_ext, d->t);
-    d->y_me = platform(M, d->t) - d->x[0];
+    vi_model *model = &d->model;
+    model->yC_in = held(d->in.yC_in, d->t); /* Model Exchange passes values only */
+    model->F_ext = held(d->in.F_ext, d->t);
+    d->y_me = platform(model, d->t) - d->x[0];
     start_driver(e, 1);
     sync(e);
     mark_start(e);
@@ -90,7 +90,7 @@ int vi_me_initialize(vi_me *e)
     double nominal[2];
     vi_me_nominals(e, nominal);
     s->log(s->log_env, VI_LOG_SOLVER, "Model Exchange: the importer integrates y and v (nominals %g m, %g m/s); "
-           "initial mode %d, delta = %.9g m, v = %.9g m/s", nominal[0], nominal[1], M->mode, d->x[0], d->x[1]);
+           "initial mode %d, delta = %.9g m, v = %.9g m/s", nominal[0], nominal[1], model->mode, d->x[0], d->x[1]);
     return 0;
 }
 
@@ -103,7 +103,7 @@ void vi_me_set_time(vi_me *e, double t)
 void vi_me_get_states(vi_me *e, double x[VI_ME_NSTATES])
 {
     const vi_sim_data *d = &e->s.d;
-    x[0] = e->active ? d->y_me : platform(&d->M, d->t) - d->x[0]; /* before: the initial state prepared */
+    x[0] = e->active ? d->y_me : platform(&d->model, d->t) - d->x[0]; /* before: the initial state prepared */
     x[1] = d->x[1];
 }
 
@@ -119,7 +119,7 @@ void vi_me_derivatives(vi_me *e, double dx[VI_ME_NSTATES])
     sync(e);
     const vi_sim_data *d = &e->s.d;
     double r[2];
-    vi_model_rhs(&d->M, d->t, d->x, r);
+    vi_model_rhs(&d->model, d->t, d->x, r);
     dx[0] = d->x[1];
     dx[1] = r[1];
 }
@@ -137,9 +137,9 @@ void vi_me_nominals(const vi_me *e, double nominal[VI_ME_NSTATES])
 }
 
 /* The end of a non-periodic profile at or before t: 1 with the reason in msg. */
-static int past_profile_end(const vi_model *M, double t, char *msg, size_t n)
+static int past_profile_end(const vi_model *model, double t, char *msg, size_t n)
 {
-    return t >= vi_model_rolling_limit(M, msg, n);
+    return t >= vi_model_rolling_limit(model, msg, n);
 }
 
 /* The time events of one pass, in x (a copy of the state): inputs and tunable a, f set in event mode
@@ -148,11 +148,11 @@ static void time_events(vi_me *e, double x[2])
 {
     vi_sim_data *d = &e->s.d;
     double t = d->t;
-    vi_ramp yC_in = d->inputs_changed ? held(d->in.yC_in, t) : d->M.yC_in;
-    vi_ramp F_ext = d->inputs_changed ? held(d->in.F_ext, t) : d->M.F_ext;
+    vi_ramp yC_in = d->inputs_changed ? held(d->in.yC_in, t) : d->model.yC_in;
+    vi_ramp F_ext = d->inputs_changed ? held(d->in.F_ext, t) : d->model.F_ext;
     d->inputs_changed = 0;
     vi_hybrid_input_jump(&e->s.engine, t, x, yC_in, F_ext, d->par.a, d->par.f);
-    if (vi_model_next_breakpoint(&d->M, d->step_t0) <= t) vi_hybrid_kink(&e->s.engine, t, x);
+    if (vi_model_next_breakpoint(&d->model, d->step_t0) <= t) vi_hybrid_kink(&e->s.engine, t, x);
 }
 
 /* The first guard at or below zero, as a state event (the mode chosen with the inputs' mean rates).
@@ -174,10 +174,10 @@ static void take_state(vi_me *e, const double x[2], vi_me_event *ev)
     vi_sim_data *d = &e->s.d;
     if (x[0] != d->x[0] || x[1] != d->x[1]) { /* snapped, frozen onto the platform, or a new a */
         ev->states_changed = 1;
-        d->y_me = platform(&d->M, d->t) - x[0];
+        d->y_me = platform(&d->model, d->t) - x[0];
         d->x[1] = x[1];
     }
-    d->x[0] = platform(&d->M, d->t) - d->y_me;
+    d->x[0] = platform(&d->model, d->t) - d->y_me;
 }
 
 int vi_me_event_update(vi_me *e, vi_me_event *ev)
@@ -187,12 +187,12 @@ int vi_me_event_update(vi_me *e, vi_me_event *ev)
     memset(ev, 0, sizeof *ev);
     sync(e);
     double t = d->t, x[2] = {d->x[0], d->x[1]};
-    if (past_profile_end(&d->M, t, s->msg, sizeof s->msg)) {
+    if (past_profile_end(&d->model, t, s->msg, sizeof s->msg)) {
         ev->terminate = 1;
         return 0;
     }
     time_events(e, x);
-    int from = d->M.mode, fired = state_event(e, x, &from);
+    int from = d->model.mode, fired = state_event(e, x, &from);
     take_state(e, x, ev);
     vi_hybrid_arm_at_zero(&s->engine, t, d->x); /* at the state as the importer holds it */
     ev->another_pass = vi_hybrid_due(&s->engine, t, d->x);
@@ -202,7 +202,7 @@ int vi_me_event_update(vi_me *e, vi_me_event *ev)
     vi_sim_check_validity(s);
     if (fired >= 0 && vi_hybrid_zeno(&s->engine, t, fired, from, s->msg, sizeof s->msg)) ev->terminate = 1;
     char why[8];
-    double next = fmin(vi_model_next_breakpoint(&d->M, t), vi_model_rolling_limit(&d->M, why, sizeof why));
+    double next = fmin(vi_model_next_breakpoint(&d->model, t), vi_model_rolling_limit(&d->model, why, sizeof why));
     if (isfinite(next) && next > t) ev->next_time_defined = 1, ev->next_time = next;
     s->out_valid = 0;
     return 0;
@@ -219,7 +219,7 @@ int vi_me_completed_step(vi_me *e)
     vi_sim_data *d = &e->s.d;
     char why[8];
     sync(e);
-    if (vi_model_next_breakpoint(&d->M, d->step_t0) <= d->t || past_profile_end(&d->M, d->t, why, sizeof why))
+    if (vi_model_next_breakpoint(&d->model, d->step_t0) <= d->t || past_profile_end(&d->model, d->t, why, sizeof why))
         return 1; /* a time event was stepped over: handle it here */
     vi_hybrid_rearm(&e->s.engine, d->t, d->x);
     d->step_t0 = d->t;
@@ -236,7 +236,7 @@ const vi_outputs *vi_me_outputs_of(vi_me *e, unsigned groups)
     const vi_outputs *out = vi_sim_outputs_of(s, groups);
     if ((groups & VI_OUT_DERIVATIVES) && !(s->out_valid & VI_OUT_DERIVATIVES)) {
         double r[2];
-        vi_model_rhs(&s->d.M, s->d.t, s->d.x, r);
+        vi_model_rhs(&s->d.model, s->d.t, s->d.x, r);
         s->out.der_y = s->d.x[1];
         s->out.der_v = r[1];
         s->out_valid |= VI_OUT_DERIVATIVES;
@@ -252,7 +252,7 @@ int vi_me_checkpoint(vi_me *e)
     if (e->active) {
         vi_sim_data *d = &e->s.d;
         double x[2] = {d->x[0], d->x[1]};
-        vi_model_freeze(&d->M, d->t, x); /* the memory of the current state (not the state) */
+        vi_model_freeze(&d->model, d->t, x); /* the memory of the current state (not the state) */
         /* the model's own solver does not run in Model Exchange: start it at the current point, so
          * that its continuation (dop853) belongs to the state saved */
         if (e->s.solver && vi_solver_reset(e->s.solver, d->t, d->x) < 0) {
@@ -280,29 +280,29 @@ static vi_me_partials through_delta(double a_d, double a_v, double a_F, double a
     return (vi_me_partials){.y = -a_d, .v = a_v, .yC_in = a_d + a_yC, .F_ext = a_F};
 }
 
-void vi_me_jacobian(vi_me *e, vi_me_partials J[VI_ME_N_UNKNOWNS])
+void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
 {
     sync(e);
     const vi_sim_data *d = &e->s.d;
-    const vi_model *M = &d->M;
-    double m = M->m, h = d->t - d->step_t0;
-    int stick = M->mode == VI_Mode_stick;
-    double k = stick ? 0.0 : m * vi_model_stiffness_over_mass(M, d->t, d->x); /* dF/ddelta */
+    const vi_model *model = &d->model;
+    double m = model->m, h = d->t - d->step_t0;
+    int stick = model->mode == VI_Mode_stick;
+    double k = stick ? 0.0 : m * vi_model_stiffness_over_mass(model, d->t, d->x); /* dF/ddelta */
     vi_memory_rates mem;
-    vi_model_memory_rates(M, d->x, &mem);
-    J[VI_ME_DER_Y] = through_delta(0.0, 1.0, 0.0, 0.0);
-    J[VI_ME_DER_V] = through_delta(k / m, 0.0, stick ? 0.0 : 1.0 / m, 0.0); /* (F - W0 + F_ext)/m; stick: yC'' */
-    J[VI_ME_F] = through_delta(k, 0.0, stick ? -1.0 : 0.0, 0.0);             /* stick: F_hold = W0 - F_ext + m yC'' */
-    J[VI_ME_F_MEAN] = h > 0.0 ? through_delta(0.0, m / h, -1.0, 0.0)        /* m (v - v0)/h + W0 - F_ext */
-                              : J[VI_ME_F];
-    J[VI_ME_DELTA] = through_delta(1.0, 0.0, 0.0, 0.0);
-    J[VI_ME_Y] = through_delta(-1.0, 0.0, 0.0, 1.0);
-    J[VI_ME_V] = through_delta(0.0, 1.0, 0.0, 0.0);
-    J[VI_ME_YC] = through_delta(0.0, 0.0, 0.0, 1.0);
-    J[VI_ME_K_CONTACT] = through_delta(vi_model_stiffness_rate(M, d->x), 0.0, 0.0, 0.0);
-    J[VI_ME_DELTA_C] = through_delta(mem.delta_c, 0.0, 0.0, 0.0);
-    J[VI_ME_DELTA_F] = through_delta(mem.delta_f, 0.0, 0.0, 0.0);
-    J[VI_ME_RBAR] = through_delta(mem.Rbar, 0.0, 0.0, 0.0);
-    J[VI_ME_DELTA_P] = through_delta(mem.delta_p, 0.0, 0.0, 0.0);
-    J[VI_ME_W_PLASTIC] = through_delta(mem.W_plastic, 0.0, 0.0, 0.0);
+    vi_model_memory_rates(model, d->x, &mem);
+    jac[VI_ME_DER_Y] = through_delta(0.0, 1.0, 0.0, 0.0);
+    jac[VI_ME_DER_V] = through_delta(k / m, 0.0, stick ? 0.0 : 1.0 / m, 0.0); /* (F - W0 + F_ext)/m; stick: yC'' */
+    jac[VI_ME_F] = through_delta(k, 0.0, stick ? -1.0 : 0.0, 0.0);             /* stick: F_hold = W0 - F_ext + m yC'' */
+    jac[VI_ME_F_MEAN] = h > 0.0 ? through_delta(0.0, m / h, -1.0, 0.0)        /* m (v - v0)/h + W0 - F_ext */
+                              : jac[VI_ME_F];
+    jac[VI_ME_DELTA] = through_delta(1.0, 0.0, 0.0, 0.0);
+    jac[VI_ME_Y] = through_delta(-1.0, 0.0, 0.0, 1.0);
+    jac[VI_ME_V] = through_delta(0.0, 1.0, 0.0, 0.0);
+    jac[VI_ME_YC] = through_delta(0.0, 0.0, 0.0, 1.0);
+    jac[VI_ME_K_CONTACT] = through_delta(vi_model_stiffness_rate(model, d->x), 0.0, 0.0, 0.0);
+    jac[VI_ME_DELTA_C] = through_delta(mem.delta_c, 0.0, 0.0, 0.0);
+    jac[VI_ME_DELTA_F] = through_delta(mem.delta_f, 0.0, 0.0, 0.0);
+    jac[VI_ME_RBAR] = through_delta(mem.Rbar, 0.0, 0.0, 0.0);
+    jac[VI_ME_DELTA_P] = through_delta(mem.delta_p, 0.0, 0.0, 0.0);
+    jac[VI_ME_W_PLASTIC] = through_delta(mem.W_plastic, 0.0, 0.0, 0.0);
 }

@@ -38,7 +38,7 @@ vi_model_params vi_sim_model_params(const vi_parameters *p)
 static void sim_rhs(double t, const double *x, double *dx, void *user)
 {
     const vi_sim *s = user;
-    vi_model_rhs(&s->d.M, t, x, dx);
+    vi_model_rhs(&s->d.model, t, x, dx);
 }
 
 static void sim_guards(double t, const double *x, double *g, void *user)
@@ -50,7 +50,7 @@ static void sim_guards(double t, const double *x, double *g, void *user)
 static void sim_jac(double t, const double *x, double *j, void *user)
 {
     const vi_sim *s = user;
-    vi_model_jacobian(&s->d.M, t, x, j);
+    vi_model_jacobian(&s->d.model, t, x, j);
 }
 
 void vi_sim_init(vi_sim *s, vi_log_fn log, void *log_env)
@@ -58,7 +58,7 @@ void vi_sim_init(vi_sim *s, vi_log_fn log, void *log_env)
     memset(s, 0, sizeof *s);
     s->log = log;
     s->log_env = log_env;
-    vi_hybrid_bind(&s->engine, &s->d.M, &s->d.events, 0, log, log_env);
+    vi_hybrid_bind(&s->engine, &s->d.model, &s->d.events, 0, log, log_env);
     vi_parameters_default(&s->d.par);
     vi_inputs_default(&s->d.in);
 }
@@ -109,12 +109,12 @@ static int profile_path(const vi_sim *s, const char *file, char *path, size_t n)
 static int attach_profile(vi_sim *s)
 {
     const vi_parameters *p = &s->d.par;
-    vi_model *M = &s->d.M;
+    vi_model *model = &s->d.model;
     if (!p->profile_file[0]) {
         vi_profile_free(s->profile);
         s->profile = NULL;
         s->profile_key[0] = '\0';
-        return vi_model_set_rolling(M, NULL, p->V, p->x0, s->msg, sizeof s->msg);
+        return vi_model_set_rolling(model, NULL, p->V, p->x0, s->msg, sizeof s->msg);
     }
     char path[VI_PATH_MAX], key[sizeof s->profile_key];
     if (profile_path(s, p->profile_file, path, sizeof path) < 0)
@@ -129,7 +129,7 @@ static int attach_profile(vi_sim *s)
         if (!s->profile) return -1;
         memcpy(s->profile_key, key, sizeof key);
     }
-    return vi_model_set_rolling(M, s->profile, p->V, p->x0, s->msg, sizeof s->msg);
+    return vi_model_set_rolling(model, s->profile, p->V, p->x0, s->msg, sizeof s->msg);
 }
 
 /* Warn once per instance and cause when the simulation leaves the model's range of validity
@@ -138,17 +138,17 @@ void vi_sim_check_validity(vi_sim *s)
 {
     char text[400];
     s->validity_unchecked = 0;
-    for (int cause; (cause = vi_model_validity(&s->d.M, s->d.par.R1, s->d.t, s->d.x, s->warned_validity, text,
+    for (int cause; (cause = vi_model_validity(&s->d.model, s->d.par.R1, s->d.t, s->d.x, s->warned_validity, text,
                                                sizeof text)) != 0;) { /* bounded: one more bit each time */
         s->warned_validity |= cause;
         s->log(s->log_env, VI_LOG_WARNING, "%s", text);
     }
 }
 
-static void set_input_ramps(vi_model *M, const vi_sim_data *d, double t)
+static void set_input_ramps(vi_model *model, const vi_sim_data *d, double t)
 {
-    M->yC_in = (vi_ramp){d->in.yC_in, d->din.yC_in, t};
-    M->F_ext = (vi_ramp){d->in.F_ext, d->din.F_ext, t};
+    model->yC_in = (vi_ramp){d->in.yC_in, d->din.yC_in, t};
+    model->F_ext = (vi_ramp){d->in.F_ext, d->din.F_ext, t};
 }
 
 double vi_sim_rtol(const vi_sim_data *d)
@@ -197,12 +197,12 @@ int vi_sim_prepare(vi_sim *s)
         VI_FAIL(s->msg, sizeof s->msg, "max_step = %g s: use 0 (no limit) or a step >= %g s", p->max_step,
                 VI_MAX_STEP_MIN);
     vi_model_params model_params = vi_sim_model_params(p);
-    if (vi_model_setup(&d->M, &model_params, d->t_start, s->msg, sizeof s->msg) < 0) return -1;
+    if (vi_model_setup(&d->model, &model_params, d->t_start, s->msg, sizeof s->msg) < 0) return -1;
     if (attach_profile(s) < 0) return -1;
     d->t = d->t_start;
-    set_input_ramps(&d->M, d, d->t);
+    set_input_ramps(&d->model, d, d->t);
     d->inputs_changed = 0;
-    vi_model_initial_state(&d->M, p->init, p->v0, d->t, d->x);
+    vi_model_initial_state(&d->model, p->init, p->v0, d->t, d->x);
     d->step_t0 = d->t;
     d->step_v0 = d->x[1];
     memset(&d->events, 0, sizeof d->events);
@@ -219,7 +219,7 @@ static int create_solver(vi_sim *s, int resume)
     vi_solver_config cfg = {
         .n = 2, .nguards = VI_NGUARDS, .rhs = sim_rhs, .guards = sim_guards, .jac = sim_jac, .user = s,
         .method = d->par.solver, .rtol = d->events.rtol, .atol = d->events.atol, .max_step = d->par.max_step,
-        .ode = &d->ode, .sw = &d->sw, .log = s->log, .log_env = s->log_env};
+        .ode = &d->ode, .sw = &d->auto_choice, .log = s->log, .log_env = s->log_env};
     s->solver = resume ? vi_solver_resume(&cfg, d->t, d->x) : vi_solver_create(&cfg, d->t, d->x);
     s->solver_stale = 0;
     if (!s->solver)
@@ -232,11 +232,11 @@ int vi_sim_initialize(vi_sim *s)
     if (vi_sim_prepare(s) < 0) return -1;
     vi_sim_data *d = &s->d;
     double L, V, rtol = vi_sim_rtol(d);
-    vi_model_scales(&d->M, d->x, &L, &V);
+    vi_model_scales(&d->model, d->x, &L, &V);
     vi_hybrid_start(&s->engine, rtol, (const double[2]){rtol * L, rtol * V}, d->t, d->x);
     d->initialized = 1;
     memset(&d->ode, 0, sizeof d->ode);
-    memset(&d->sw, 0, sizeof d->sw);
+    memset(&d->auto_choice, 0, sizeof d->auto_choice);
     if (create_solver(s, 0) < 0) return -1;
     char text[400];
     vi_model_params model_params = vi_sim_model_params(&d->par);
@@ -318,7 +318,7 @@ static int discard(vi_sim *s, const char *fmt, ...)
 static int stop_here(const vi_sim *s, int stop_at_mode_change, int mode_before)
 {
     double unit = DBL_EPSILON * fmax(1.0, fabs(s->d.t));
-    return stop_at_mode_change && s->d.M.mode != mode_before && s->d.t - s->d.step_t0 > VI_EARLY_RETURN_UNITS * unit;
+    return stop_at_mode_change && s->d.model.mode != mode_before && s->d.t - s->d.step_t0 > VI_EARLY_RETURN_UNITS * unit;
 }
 
 /* One advance in progress. */
@@ -336,7 +336,7 @@ static int solver_failed(vi_sim *s)
 {
     const vi_sim_data *d = &s->d;
     vi_snprintf(s->msg, sizeof s->msg, "the solver failed near t = %.17g s (mode %d, delta = %g m, v = %g m/s)", d->t,
-                d->M.mode, d->x[0], d->x[1]);
+                d->model.mode, d->x[0], d->x[1]);
     return VI_SIM_ERROR;
 }
 
@@ -376,7 +376,7 @@ static int state_event(vi_sim *s, advance_run *run, const int fired[])
     if (++run->events >= VI_MAX_EVENTS_PER_ADVANCE && d->t < run->t_end)
         return discard(s, "work bound: %ld events in one step, stopped at t = %.17g s (mode %d); "
                           "continue from there or use smaller communication steps",
-                       VI_MAX_EVENTS_PER_ADVANCE, d->t, d->M.mode);
+                       VI_MAX_EVENTS_PER_ADVANCE, d->t, d->model.mode);
     return PASS_MORE;
 }
 
@@ -384,8 +384,8 @@ static int state_event(vi_sim *s, advance_run *run, const int fired[])
 static int advance_pass(vi_sim *s, advance_run *run)
 {
     vi_sim_data *d = &s->d;
-    int mode_before = d->M.mode, rc = VI_SOLVER_REACHED, fired[VI_SOLVER_MAX_GUARDS];
-    double bp = d->M.profile ? vi_model_next_breakpoint(&d->M, d->t) : INFINITY;
+    int mode_before = d->model.mode, rc = VI_SOLVER_REACHED, fired[VI_SOLVER_MAX_GUARDS];
+    double bp = d->model.profile ? vi_model_next_breakpoint(&d->model, d->t) : INFINITY;
     double stop = bp < run->target ? bp : run->target;
     long taken = 0;
     if ((stop == bp || run->kinks) && stop - d->t <= VI_BREAKPOINT_ULPS * DBL_EPSILON * fabs(stop)) {
@@ -399,7 +399,7 @@ static int advance_pass(vi_sim *s, advance_run *run)
     if (rc == VI_SOLVER_LIMIT)
         return discard(s, "work bound: %ld internal steps in one step, stopped at t = %.17g s (mode %d); "
                           "continue from there or use smaller communication steps",
-                       VI_MAX_STEPS_PER_ADVANCE, d->t, d->M.mode);
+                       VI_MAX_STEPS_PER_ADVANCE, d->t, d->model.mode);
     int pass = PASS_MORE;
     if (rc == VI_SOLVER_REACHED && stop == bp) {
         run->kinks++;
@@ -421,7 +421,7 @@ int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change)
     if (begin_advance(s, t_end) != VI_SIM_OK) return VI_SIM_ERROR;
     advance_run run = {.t_end = t_end, .steps_left = VI_MAX_STEPS_PER_ADVANCE,
                        .stop_at_mode_change = stop_at_mode_change};
-    run.limit = d->M.profile ? vi_model_rolling_limit(&d->M, run.why, sizeof run.why) : INFINITY;
+    run.limit = d->model.profile ? vi_model_rolling_limit(&d->model, run.why, sizeof run.why) : INFINITY;
     run.target = run.limit < t_end ? run.limit : t_end;
     int pass = PASS_MORE;
     /* bounded: every pass is an event (bounded below) or a kink of the profile (finitely many in the
@@ -433,7 +433,7 @@ int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change)
     /* at a communication point only the indentation can newly leave the range (a changes in
      * apply_inputs, which checks; the profile is fixed), unless a state was restored since */
     if (s->validity_unchecked ||
-        (!(s->warned_validity & VI_INVALID_INDENTATION) && vi_model_indentation_invalid(&d->M, d->x)))
+        (!(s->warned_validity & VI_INVALID_INDENTATION) && vi_model_indentation_invalid(&d->model, d->x)))
         vi_sim_check_validity(s);
     if (pass == PASS_STOPPED) return VI_SIM_EVENT;
     if (t_end > run.limit) return discard(s, "%s", run.why); /* the end of the profile: nothing beyond it */
@@ -445,10 +445,10 @@ int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change)
 
 /* Tangent contact stiffness dF/ddelta [N/m] (0 out of contact). A sticking mass is held at delta_c
  * between the two branches; small unloading would follow the unloading curve, so its stiffness. */
-static double contact_stiffness(const vi_model *M, double t, const double x[2])
+static double contact_stiffness(const vi_model *model, double t, const double x[2])
 {
-    if (M->mode == VI_Mode_stick) return vi_unload_stiffness(&M->U, M->U.delta_c);
-    return M->m * vi_model_stiffness_over_mass(M, t, x);
+    if (model->mode == VI_Mode_stick) return vi_unload_stiffness(&model->unload, model->unload.delta_c);
+    return model->m * vi_model_stiffness_over_mass(model, t, x);
 }
 
 /* The contact force averaged over the last step [t0, t]: the impulse over the step divided by it,
@@ -456,11 +456,11 @@ static double contact_stiffness(const vi_model *M, double t, const double x[2])
  * its mean is its midpoint value). Before any step: the force itself. */
 static double mean_force(const vi_sim_data *d)
 {
-    const vi_model *M = &d->M;
+    const vi_model *model = &d->model;
     double h = d->t - d->step_t0;
-    if (!(h > 0.0)) return vi_model_force(M, d->t, d->x);
-    double W_mean = M->W0 - vi_ramp_at(&M->F_ext, d->step_t0 + 0.5 * h);
-    return M->m * (d->x[1] - d->step_v0) / h + W_mean;
+    if (!(h > 0.0)) return vi_model_force(model, d->t, d->x);
+    double W_mean = model->W0 - vi_ramp_at(&model->F_ext, d->step_t0 + 0.5 * h);
+    return model->m * (d->x[1] - d->step_v0) / h + W_mean;
 }
 
 /* The model's values of the groups VI_OUT_STATE ... VI_OUT_CALCULATED into the FMU's outputs. */
@@ -488,10 +488,10 @@ const vi_outputs *vi_sim_outputs_of(vi_sim *s, unsigned groups)
     if (need) {
         const vi_sim_data *d = &s->d;
         vi_model_values values;
-        vi_model_outputs(&d->M, d->t, d->x, need, &values);
+        vi_model_outputs(&d->model, d->t, d->x, need, &values);
         take_values(&values, need, &s->out);
         if (need & VI_OUT_MEAN) s->out.F_mean = mean_force(d);
-        if (need & VI_OUT_STIFFNESS) s->out.k_contact = contact_stiffness(&d->M, d->t, d->x);
+        if (need & VI_OUT_STIFFNESS) s->out.k_contact = contact_stiffness(&d->model, d->t, d->x);
         s->out_valid |= need;
     }
     return &s->out;
@@ -522,10 +522,10 @@ static int data_check(const vi_sim_data *d, int surfaces, char *msg, size_t n)
         VI_FAIL(msg, n, "rtol = %g is not the one of the settings, %g", d->events.rtol, vi_sim_rtol(d));
     /* the solver's continuation (co-simulation; Model Exchange states, between events, have none in use) */
     int solver = d->initialized && surfaces;
-    if (solver && d->par.solver == VI_Solver_auto && vi_solver_auto_check(&d->sw, msg, n) < 0) return -1;
-    int one_step = d->par.solver == VI_Solver_dop853 || (d->par.solver == VI_Solver_auto && !d->sw.bdf);
+    if (solver && d->par.solver == VI_Solver_auto && vi_solver_auto_check(&d->auto_choice, msg, n) < 0) return -1;
+    int one_step = d->par.solver == VI_Solver_dop853 || (d->par.solver == VI_Solver_auto && !d->auto_choice.bdf);
     if (solver && one_step && vi_solver_ode_check(&d->ode, 2, VI_NGUARDS, d->t, msg, n) < 0) return -1;
-    return surfaces ? vi_model_check(&d->M, d->x, msg, n) : vi_model_check_between_events(&d->M, d->x, msg, n);
+    return surfaces ? vi_model_check(&d->model, d->x, msg, n) : vi_model_check_between_events(&d->model, d->x, msg, n);
 }
 
 int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n) { return data_check(d, 1, msg, n); }

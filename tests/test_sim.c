@@ -127,8 +127,8 @@ Test(sim, event_count_starts_at_zero_and_counts_the_separation)
         cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
         cr_assert(s.d.events.n_events == 0, "%ld events at the start", s.d.events.n_events);
         cr_assert(vi_sim_advance(&s, 0.01) == VI_SIM_OK, "%s", s.msg);
-        cr_assert(s.d.events.n_events == expect[i] && s.d.M.mode == VI_Mode_free, "v0 = %g: %ld events, mode %d", v0[i],
-                  s.d.events.n_events, s.d.M.mode);
+        cr_assert(s.d.events.n_events == expect[i] && s.d.model.mode == VI_Mode_free, "v0 = %g: %ld events, mode %d", v0[i],
+                  s.d.events.n_events, s.d.model.mode);
         vi_sim_free(&s);
     }
 }
@@ -258,7 +258,7 @@ Test(sim, auto_hands_a_stiff_contact_to_bdf)
     vi_solver_stats st;
     vi_sim_statistics(&s, &st);
     cr_assert(worst < 1e-10, "y departs from yC - delta_static by %g m", worst);
-    cr_assert(st.switches == 1 && s.d.sw.bdf == 1, "%ld hand-overs, bdf %d", st.switches, s.d.sw.bdf);
+    cr_assert(st.switches == 1 && s.d.auto_choice.bdf == 1, "%ld hand-overs, bdf %d", st.switches, s.d.auto_choice.bdf);
     cr_assert(st.rhs_evals < 5000, "%ld rhs evaluations", st.rhs_evals);
     vi_sim_free(&s);
 }
@@ -280,7 +280,7 @@ Test(sim, auto_hands_back_when_the_mass_flies_free)
     cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
     double W = 1e-3, m = 1e-7, delta_static = s.d.x[0];
     cr_assert(vi_sim_advance(&s, 1e-3) == VI_SIM_OK, "%s", s.msg);
-    cr_assert(s.d.sw.bdf == 1, "not handed to BDF in contact");
+    cr_assert(s.d.auto_choice.bdf == 1, "not handed to BDF in contact");
     vi_outputs out;
     vi_sim_outputs(&s, &out);
     double y1 = out.y;
@@ -297,8 +297,8 @@ Test(sim, auto_hands_back_when_the_mass_flies_free)
     }
     vi_solver_stats st;
     vi_sim_statistics(&s, &st);
-    cr_assert(s.d.M.mode == VI_Mode_free && s.d.sw.bdf == 0 && st.switches == 2, "mode %d, bdf %d, %ld hand-overs",
-              s.d.M.mode, s.d.sw.bdf, st.switches);
+    cr_assert(s.d.model.mode == VI_Mode_free && s.d.auto_choice.bdf == 0 && st.switches == 2, "mode %d, bdf %d, %ld hand-overs",
+              s.d.model.mode, s.d.auto_choice.bdf, st.switches);
     vi_sim_free(&s);
 }
 
@@ -313,7 +313,7 @@ Test(sim, auto_restored_state_continues_bit_for_bit)
         vi_sim a, b;
         light_mass(&a, VI_Solver_auto);
         cr_assert(vi_sim_advance(&a, taken_at[i]) == VI_SIM_OK, "%s", a.msg);
-        cr_assert(a.d.sw.bdf == i, "state %d taken with bdf = %d", i, a.d.sw.bdf);
+        cr_assert(a.d.auto_choice.bdf == i, "state %d taken with bdf = %d", i, a.d.auto_choice.bdf);
         cr_assert(vi_sim_checkpoint(&a) == 0, "%s", a.msg);
         vi_sim_init(&b, quiet, NULL);
         b.d = a.d;
@@ -324,7 +324,7 @@ Test(sim, auto_restored_state_continues_bit_for_bit)
             cr_assert(memcmp(a.d.x, b.d.x, sizeof a.d.x) == 0, "state %d, t = %g: %.17g %.17g vs %.17g %.17g", i, t,
                       a.d.x[0], a.d.x[1], b.d.x[0], b.d.x[1]);
         }
-        cr_assert(memcmp(&a.d.sw, &b.d.sw, sizeof a.d.sw) == 0 && a.d.sw.switches == 1);
+        cr_assert(memcmp(&a.d.auto_choice, &b.d.auto_choice, sizeof a.d.auto_choice) == 0 && a.d.auto_choice.switches == 1);
         vi_sim_free(&a), vi_sim_free(&b);
     }
 }
@@ -335,18 +335,18 @@ Test(sim, data_check_names_bad_fields_of_the_auto_choice)
 {
     vi_sim s;
     light_mass(&s, VI_Solver_auto);
-    cr_assert(vi_sim_advance(&s, 1e-3) == VI_SIM_OK && s.d.sw.bdf == 1, "%s", s.msg);
+    cr_assert(vi_sim_advance(&s, 1e-3) == VI_SIM_OK && s.d.auto_choice.bdf == 1, "%s", s.msg);
     char msg[256];
     cr_assert(vi_sim_data_check(&s.d, msg, sizeof msg) == 0, "%s", msg);
     vi_sim_data d;
 #define CASE(stmt, field) d = s.d, stmt, refused(&d, field)
-    CASE(d.sw.bdf = 2, "sw.bdf");
-    CASE(d.sw.pending = -1, "sw.pending");
-    CASE(d.sw.stiff = VI_AUTO_STIFF_STEPS + 1, "sw.stiff");
-    CASE(d.sw.calm = -1, "sw.calm");
-    CASE(d.sw.steps = -1, "sw.steps");
-    CASE(d.sw.switches = -1, "sw.switches");
-    CASE((d.sw.bdf = 0, d.ode.t = NAN), "ode.t");
+    CASE(d.auto_choice.bdf = 2, "sw.bdf");
+    CASE(d.auto_choice.pending = -1, "sw.pending");
+    CASE(d.auto_choice.stiff = VI_AUTO_STIFF_STEPS + 1, "sw.stiff");
+    CASE(d.auto_choice.calm = -1, "sw.calm");
+    CASE(d.auto_choice.steps = -1, "sw.steps");
+    CASE(d.auto_choice.switches = -1, "sw.switches");
+    CASE((d.auto_choice.bdf = 0, d.ode.t = NAN), "ode.t");
 #undef CASE
     d = s.d;
     d.ode.t = NAN;
@@ -478,7 +478,7 @@ Test(sim, a_profile_needs_a_positive_body_radius)
     s.d.par.V = 1.0, s.d.par.x0 = 0.5, s.d.par.R1 = 1e-4;
     rc = vi_sim_initialize(&s);
     remove(path);
-    cr_assert(rc == 0 && s.d.M.profile != NULL, "%s", s.msg);
+    cr_assert(rc == 0 && s.d.model.profile != NULL, "%s", s.msg);
     vi_sim_free(&s);
 }
 
@@ -500,7 +500,7 @@ Test(sim, a_one_character_profile_file_is_read_from_the_working_directory)
     int rc = vi_sim_initialize(&s);
     remove("p");
     cr_assert(chdir("/") == 0 && rmdir(dir) == 0);
-    cr_assert(rc == 0 && s.d.M.profile != NULL, "%s", s.msg);
+    cr_assert(rc == 0 && s.d.model.profile != NULL, "%s", s.msg);
     vi_sim_free(&s);
 }
 
@@ -602,7 +602,7 @@ Test(sim, data_check_each_rule_alone_with_its_message)
         passes(&d, 1, "a small band");
     }
     /* the model's own check follows */
-    d = ok, d.M.mode = 9;
+    d = ok, d.model.mode = 9;
     refused_as(&d, 1, "mode = 9 is not in 0..4");
     vi_sim_free(&s);
 }
@@ -666,8 +666,8 @@ Test(sim, event_and_solver_log_lines_report_the_values)
     cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
     cr_assert(n_logged == 0, "the set-up logs nothing of a solver the driver may not use");
     vi_sim_log_solver(&s);
-    const vi_model *M = &s.d.M;
-    double v0 = 0.1, dmax = pow(15.0 * M->m * v0 * v0 / (16.0 * M->J.E_star * sqrt(M->J.R_star)), 0.4);
+    const vi_model *M = &s.d.model;
+    double v0 = 0.1, dmax = pow(15.0 * M->m * v0 * v0 / (16.0 * M->johnson.E_star * sqrt(M->johnson.R_star)), 0.4);
     double w = sqrt(1.5 * M->K * sqrt(dmax) / M->m); /* the virgin stiffness at delta_max over m */
     cr_assert(n_logged == 1, "%d solver lines", n_logged);
     const char *name = vi_solver_method_name(VI_Solver_dop853), *rest = logged[0] + strlen(name);
@@ -682,7 +682,7 @@ Test(sim, event_and_solver_log_lines_report_the_values)
               "%s", logged[0]);
     n_logged = 0, log_category = VI_LOG_EVENTS;
     cr_assert(vi_sim_advance(&s, 0.01) == VI_SIM_OK, "%s", s.msg); /* t_c = 2.2 ms */
-    cr_assert(n_logged == 1, "%d event lines, %ld events, mode %d, t %g", n_logged, s.d.events.n_events, s.d.M.mode, s.d.t);
+    cr_assert(n_logged == 1, "%d event lines, %ld events, mode %d, t %g", n_logged, s.d.events.n_events, s.d.model.mode, s.d.t);
     double t, delta, v;
     int guard, from, to, end = 0;
     cr_assert(sscanf(logged[0], "event t=%lg kind=guard guard=%d mode=%d->%d delta=%lg v=%lg%n", &t, &guard, &from, &to,
@@ -736,10 +736,10 @@ Test(sim, a_mode_change_at_an_event_arms_the_new_guards_afresh)
     s.d.par.contact_model = VI_ContactModel_hertz;
     s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = -0.1;
     cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
-    cr_assert(s.d.M.mode == VI_Mode_elastic);
+    cr_assert(s.d.model.mode == VI_Mode_elastic);
     s.d.events.band[0] = 1e-9; /* the separation comes 1e-9 m late: the band is part of the guard */
     cr_assert(vi_sim_advance_until(&s, 0.01, 1) == VI_SIM_EVENT, "%s", s.msg);
-    cr_assert(s.d.M.mode == VI_Mode_free && s.d.x[0] == 0.0, "mode %d delta %g", s.d.M.mode, s.d.x[0]);
+    cr_assert(s.d.model.mode == VI_Mode_free && s.d.x[0] == 0.0, "mode %d delta %g", s.d.model.mode, s.d.x[0]);
     cr_assert(s.d.events.band[0] == band_at_contact(&s) && s.d.events.band[1] == 0.0, "bands %g %g", s.d.events.band[0],
               s.d.events.band[1]);
     vi_sim_free(&s);
@@ -756,17 +756,17 @@ Test(sim, a_mode_change_at_an_input_change_arms_the_new_guards_afresh)
     vi_sim_init(&s, capture, NULL);
     s.d.par.contact_model = VI_ContactModel_hertz;
     cr_assert(vi_sim_initialize(&s) == 0 && vi_sim_advance(&s, 1e-3) == VI_SIM_OK, "%s", s.msg);
-    cr_assert(s.d.M.mode == VI_Mode_elastic && s.d.x[0] > 0.0);
+    cr_assert(s.d.model.mode == VI_Mode_elastic && s.d.x[0] > 0.0);
     s.d.events.band[0] = 1.0;
     s.d.x[1] = 0.0; /* at rest exactly (the solver leaves a velocity of rounding size) */
     s.d.in.yC_in = -s.d.x[0];
-    s.d.in.F_ext = 2.0 * s.d.M.W0;
+    s.d.in.F_ext = 2.0 * s.d.model.W0;
     s.d.inputs_changed = 1;
     n_logged = 0, log_category = VI_LOG_EVENTS;
     cr_assert(vi_sim_advance(&s, 1e-3 + 1e-6) == VI_SIM_OK, "%s", s.msg);
     cr_assert(n_logged == 1 && strcmp(logged[0], "event t=0.001 kind=input mode=1->0") == 0, "%d: %s", n_logged,
               logged[0]);
-    cr_assert(s.d.M.mode == VI_Mode_free && s.d.x[0] < 0.0, "mode %d delta %g", s.d.M.mode, s.d.x[0]);
+    cr_assert(s.d.model.mode == VI_Mode_free && s.d.x[0] < 0.0, "mode %d delta %g", s.d.model.mode, s.d.x[0]);
     cr_assert(s.d.events.band[0] == band_at_contact(&s) && s.d.events.band[1] == 0.0, "bands %g %g", s.d.events.band[0],
               s.d.events.band[1]);
     vi_sim_free(&s);
@@ -835,7 +835,7 @@ Test(sim, mean_force_is_zero_in_free_flight_under_a_ramp)
     cr_assert(out.F_mean == 0.0 && out.F == 0.0, "before any step: %g", out.F_mean);
     cr_assert(vi_sim_advance(&s, 1e-3) == VI_SIM_OK, "%s", s.msg);
     vi_sim_outputs(&s, &out);
-    double W = s.d.M.W0;
+    double W = s.d.model.W0;
     cr_assert(fabs(out.F_mean) <= 1e-9 * W, "gravity only: F_mean %g", out.F_mean);
     s.d.in.F_ext = 100.0, s.d.din.F_ext = 2e4; /* 100 N growing at 20 kN/s */
     s.d.inputs_changed = 1;
@@ -843,7 +843,7 @@ Test(sim, mean_force_is_zero_in_free_flight_under_a_ramp)
         cr_assert(vi_sim_advance(&s, 1e-3 * k) == VI_SIM_OK, "%s", s.msg);
         s.out_valid = 0;
         vi_sim_outputs(&s, &out);
-        cr_assert(s.d.M.mode == VI_Mode_free && fabs(out.F_mean) <= 1e-9 * W, "step %d: F_mean %g", k, out.F_mean);
+        cr_assert(s.d.model.mode == VI_Mode_free && fabs(out.F_mean) <= 1e-9 * W, "step %d: F_mean %g", k, out.F_mean);
     }
     vi_sim_free(&s);
 }
@@ -856,17 +856,17 @@ Test(sim, contact_stiffness_of_the_mode)
     vi_sim_init(&s, quiet, NULL);
     s.d.par.contact_model = VI_ContactModel_hertz;
     cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
-    double d = s.d.x[0], k = 1.5 * s.d.M.K * sqrt(d);
+    double d = s.d.x[0], k = 1.5 * s.d.model.K * sqrt(d);
     const vi_outputs *out = vi_sim_outputs_of(&s, VI_OUT_STIFFNESS);
-    cr_assert(s.d.M.mode == VI_Mode_elastic && fabs(out->k_contact - k) <= 1e-12 * k, "%g vs %g", out->k_contact, k);
+    cr_assert(s.d.model.mode == VI_Mode_elastic && fabs(out->k_contact - k) <= 1e-12 * k, "%g vs %g", out->k_contact, k);
     vi_sim_free(&s);
     vi_sim_init(&s, quiet, NULL);
     s.d.par.yield_formula = VI_YieldFormula_printed; /* F_Y below the load: plastically pre-loaded, stick */
     cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
-    const vi_unload_curve *U = &s.d.M.U;
+    const vi_unload_curve *U = &s.d.model.unload;
     k = 1.5 * U->Kbar * sqrt(U->delta_c - U->delta_f);
     out = vi_sim_outputs_of(&s, VI_OUT_STIFFNESS);
-    cr_assert(s.d.M.mode == VI_Mode_stick && fabs(out->k_contact - k) <= 1e-12 * k, "mode %d: %g vs %g", s.d.M.mode,
+    cr_assert(s.d.model.mode == VI_Mode_stick && fabs(out->k_contact - k) <= 1e-12 * k, "mode %d: %g vs %g", s.d.model.mode,
               out->k_contact, k);
     vi_sim_free(&s);
 }
@@ -913,7 +913,7 @@ static void flying_off(vi_sim *s)
     s->d.par.contact_model = VI_ContactModel_hertz;
     s->d.par.P = 0.0, s->d.par.g = 0.0, s->d.par.init = VI_Init_touching, s->d.par.v0 = 1.0;
     cr_assert(vi_sim_initialize(s) == 0 && vi_sim_advance(s, 1e-3) == VI_SIM_OK, "%s", s->msg);
-    cr_assert(s->d.M.mode == VI_Mode_free && fabs(s->d.x[0] + 1e-3) <= 1e-12, "delta %g", s->d.x[0]);
+    cr_assert(s->d.model.mode == VI_Mode_free && fabs(s->d.x[0] + 1e-3) <= 1e-12, "delta %g", s->d.x[0]);
 }
 
 /* A disarmed guard (band > 0) is armed again (band 0) at the start of a step once it lies above its
@@ -957,8 +957,8 @@ Test(sim, a_step_of_a_few_ulps_is_integrated)
  * mm at 100 Hz, yC_in ramping at 1 mm/s. */
 static void same_inputs_again(vi_sim *s)
 {
-    s->d.in.yC_in = vi_ramp_at(&s->d.M.yC_in, s->d.t), s->d.din.yC_in = s->d.M.yC_in.du;
-    s->d.in.F_ext = vi_ramp_at(&s->d.M.F_ext, s->d.t), s->d.din.F_ext = s->d.M.F_ext.du;
+    s->d.in.yC_in = vi_ramp_at(&s->d.model.yC_in, s->d.t), s->d.din.yC_in = s->d.model.yC_in.du;
+    s->d.in.F_ext = vi_ramp_at(&s->d.model.F_ext, s->d.t), s->d.din.F_ext = s->d.model.F_ext.du;
     s->d.inputs_changed = 1;
 }
 
@@ -1036,7 +1036,7 @@ Test(sim, outputs_after_initialization_are_those_of_the_initial_state)
     cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
     vi_outputs out;
     vi_sim_outputs(&s, &out);
-    double W = s.d.M.W0, d = pow(W / s.d.M.K, 2.0 / 3.0);
+    double W = s.d.model.W0, d = pow(W / s.d.model.K, 2.0 / 3.0);
     cr_assert(out.delta == s.d.x[0] && fabs(out.delta - d) <= 1e-12 * d && out.v == 0.0 && out.mode == VI_Mode_elastic &&
               out.contact == 1 && fabs(out.F - W) <= 1e-12 * W, "delta %g v %g mode %d F %g", out.delta, out.v, out.mode, out.F);
     vi_sim_free(&s);
@@ -1050,11 +1050,11 @@ Test(sim, preparing_again_drops_the_outputs_computed_before)
     vi_sim_init(&s, quiet, NULL);
     s.d.par.contact_model = VI_ContactModel_hertz;
     cr_assert(vi_sim_prepare(&s) == 0, "%s", s.msg);
-    double W = s.d.M.W0;
+    double W = s.d.model.W0;
     cr_assert(fabs(vi_sim_outputs_of(&s, VI_OUT_FORCE)->F - W) <= 1e-12 * W);
     s.d.par.P *= 2.0;
     cr_assert(vi_sim_prepare(&s) == 0, "%s", s.msg);
-    double W2 = s.d.M.W0, F2 = vi_sim_outputs_of(&s, VI_OUT_FORCE)->F;
+    double W2 = s.d.model.W0, F2 = vi_sim_outputs_of(&s, VI_OUT_FORCE)->F;
     cr_assert(W2 > 1.5 * W && fabs(F2 - W2) <= 1e-12 * W2, "F = %g after the load went from %g to %g", F2, W, W2);
     vi_sim_free(&s);
 }
@@ -1068,13 +1068,13 @@ Test(sim, a_guard_within_rounding_of_zero_gets_the_band_of_its_noise)
     s.d.par.contact_model = VI_ContactModel_hertz;
     s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = -0.1;
     cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
-    cr_assert(s.d.M.mode == VI_Mode_elastic && s.d.events.band[0] == band_at_contact(&s), "band %g", s.d.events.band[0]);
+    cr_assert(s.d.model.mode == VI_Mode_elastic && s.d.events.band[0] == band_at_contact(&s), "band %g", s.d.events.band[0]);
     s.d.events.band[0] = 0.0;
     s.d.x[0] = 1e-310;
     s.d.in.F_ext = 1.0;
     s.d.inputs_changed = 1;
     cr_assert(vi_sim_advance(&s, 1e-9) == VI_SIM_OK, "%s", s.msg);
-    cr_assert(s.d.M.mode == VI_Mode_elastic && s.d.events.band[0] == band_at_contact(&s) && s.d.events.band[1] == 0.0,
+    cr_assert(s.d.model.mode == VI_Mode_elastic && s.d.events.band[0] == band_at_contact(&s) && s.d.events.band[1] == 0.0,
               "bands %g %g", s.d.events.band[0], s.d.events.band[1]);
     /* the bound: a guard exactly at its rounding noise (VI_GRAZE_ULPS times its change over one ulp of
      * delta, plus DBL_MIN) counts as zero, one ulp above it does not */
