@@ -64,12 +64,28 @@ void vi_hybrid_bind(vi_hybrid *h, vi_model *model, vi_hybrid_state *st, int inte
 /* A simulation starts at (t, x) with these tolerances: no event yet, guards at zero armed. */
 void vi_hybrid_start(vi_hybrid *h, double rtol, const double atol[2], double t, const double x[2]);
 /* The Zeno count starts afresh at t (Co-Simulation: each advance). */
-void vi_hybrid_count_from(vi_hybrid *h, double t);
+static inline void vi_hybrid_count_from(vi_hybrid *h, double t)
+{
+    h->st->zeno = 0;
+    h->st->t_count = t;
+}
 
-/* The guards as the integrator sees them: the model's, each disarmed one shifted up by its band. */
-void vi_hybrid_guards(const vi_hybrid *h, double t, const double x[2], double g[VI_NGUARDS]);
-/* Disarmed guards that have moved above their band are armed again. */
-void vi_hybrid_rearm(vi_hybrid *h, double t, const double x[2]);
+/* The guards as the integrator sees them: the model's, each disarmed one shifted up by its band
+ * (inline: the integrators evaluate it at every step). */
+static inline void vi_hybrid_guards(const vi_hybrid *h, double t, const double x[2], double g[VI_NGUARDS])
+{
+    vi_model_guards(h->model, t, x, g);
+    for (int i = 0; i < VI_NGUARDS; i++) g[i] += h->st->band[i];
+}
+/* Disarmed guards that have moved above their band are armed again (inline: the drivers ask at every
+ * step, and most steps have no band). */
+void vi_hybrid_rearm_banded(vi_hybrid *h, double t, const double x[2]);
+static inline void vi_hybrid_rearm(vi_hybrid *h, double t, const double x[2])
+{
+    int any = 0;
+    for (int i = 0; i < VI_NGUARDS; i++) any |= h->st->band[i] > 0.0;
+    if (any) vi_hybrid_rearm_banded(h, t, x);
+}
 /* Guards at zero up to rounding, not disarmed, get their band (see above). */
 void vi_hybrid_arm_at_zero(vi_hybrid *h, double t, const double x[2]);
 
@@ -80,8 +96,14 @@ int vi_hybrid_fired(const vi_hybrid *h, double t, const double x[2], int *locate
 /* Is a guard (as the integrator sees it) strictly below zero at (t, x)? */
 int vi_hybrid_due(const vi_hybrid *h, double t, const double x[2]);
 
-/* Do these inputs (ramps) differ from those the model runs, in their values at t or their rates? */
-int vi_hybrid_inputs_differ(const vi_hybrid *h, double t, vi_ramp yC_in, vi_ramp F_ext);
+/* Do these inputs (ramps) differ from those the model runs, in their values at t or their rates?
+ * (inline: Model Exchange asks at every evaluation) */
+static inline int vi_hybrid_inputs_differ(const vi_hybrid *h, double t, vi_ramp yC_in, vi_ramp F_ext)
+{
+    const vi_model *model = h->model;
+    return yC_in.du != model->yC_in.du || F_ext.du != model->F_ext.du ||
+           vi_ramp_at(&yC_in, t) != vi_ramp_at(&model->yC_in, t) || vi_ramp_at(&F_ext, t) != vi_ramp_at(&model->F_ext, t);
+}
 /* The inputs act from t on without a choice of mode (a continuous-time input): the memory is written
  * down at the state before, then delta jumps with the platform (the mass does not move). */
 void vi_hybrid_take_inputs(vi_hybrid *h, double t, double x[2], vi_ramp yC_in, vi_ramp F_ext);
@@ -96,7 +118,8 @@ void vi_hybrid_kink(vi_hybrid *h, double t, double x[2]);
  * (vi_model_event); else choose the mode of the state as it is (freeze, vi_model_resolve). While the
  * mode is chosen the inputs ramp at input_rates (yC_in [m/s], F_ext [N/s]; NULL: as they are), then
  * they hold their values again. Counts and logs the event; a change of mode resets the bands,
- * grazing disarms the guard that fired; guards at zero are then armed. Returns the mode before. */
+ * grazing disarms the guard that fired. Returns the mode before. The driver then arms the guards at
+ * zero (vi_hybrid_arm_at_zero) at the state as its integrator holds it. */
 int vi_hybrid_event(vi_hybrid *h, double t, double x[2], int fired, int located, const double *input_rates);
 /* After a state event at t on guard `fired` of mode `from`: do events accumulate (the Zeno rule)?
  * Then 1, with the message in msg naming the time, the guard and its mode. */

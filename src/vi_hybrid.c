@@ -25,18 +25,6 @@ void vi_hybrid_start(vi_hybrid *h, double rtol, const double atol[2], double t, 
     vi_hybrid_arm_at_zero(h, t, x);
 }
 
-void vi_hybrid_count_from(vi_hybrid *h, double t)
-{
-    h->st->zeno = 0;
-    h->st->t_count = t;
-}
-
-void vi_hybrid_guards(const vi_hybrid *h, double t, const double x[2], double g[VI_NGUARDS])
-{
-    vi_model_guards(h->model, t, x, g);
-    for (int i = 0; i < VI_NGUARDS; i++) g[i] += h->st->band[i];
-}
-
 static void add_change(const vi_model *model, double t, const double x[2], const double g0[VI_NGUARDS], double acc[VI_NGUARDS])
 {
     double g[VI_NGUARDS];
@@ -52,9 +40,11 @@ static void guard_noise(const vi_hybrid *h, double t, const double x[2], double 
 {
     const vi_model *model = h->model;
     const vi_hybrid_state *st = h->st;
-    double g0[VI_NGUARDS], t1 = nextafter(t, INFINITY);
-    double q = h->integrates_y ? vi_model_platform(model, t, NULL, NULL) - x[0] : x[0], sign = h->integrates_y ? -1.0 : 1.0;
-    double moved = h->integrates_y ? vi_model_platform(model, t1, NULL, NULL) - vi_model_platform(model, t, NULL, NULL) : 0.0;
+    double g0[VI_NGUARDS], t1 = nextafter(t, INFINITY), q = x[0], sign = 1.0, moved = 0.0;
+    if (h->integrates_y) { /* y = yC(t) - delta; fixed y: delta moves with the platform over the ulp of t */
+        double yC = vi_model_platform(model, t, NULL, NULL);
+        q = yC - x[0], sign = -1.0, moved = vi_model_platform(model, t1, NULL, NULL) - yC;
+    }
     vi_model_guards(model, t, x, g0);
     for (int i = 0; i < VI_NGUARDS; i++) ulps[i] = tol[i] = 0.0;
     add_change(model, t1, (const double[2]){x[0] + moved, x[1]}, g0, ulps);
@@ -73,12 +63,9 @@ static double band_of(const double ulps[VI_NGUARDS], const double tol[VI_NGUARDS
     return VI_GRAZE_TOL * tol[i] + VI_GRAZE_ULPS * ulps[i] + DBL_MIN;
 }
 
-void vi_hybrid_rearm(vi_hybrid *h, double t, const double x[2])
+void vi_hybrid_rearm_banded(vi_hybrid *h, double t, const double x[2])
 {
     double *band = h->st->band, g[VI_NGUARDS];
-    int any = 0;
-    for (int i = 0; i < VI_NGUARDS; i++) any |= band[i] > 0.0;
-    if (!any) return;
     vi_model_guards(h->model, t, x, g);
     for (int i = 0; i < VI_NGUARDS; i++)
         if (band[i] > 0.0 && g[i] > band[i]) band[i] = 0.0;
@@ -116,13 +103,6 @@ int vi_hybrid_due(const vi_hybrid *h, double t, const double x[2])
 }
 
 /* ---- inputs and kinks ------------------------------------------------------------------------- */
-
-int vi_hybrid_inputs_differ(const vi_hybrid *h, double t, vi_ramp yC_in, vi_ramp F_ext)
-{
-    const vi_model *model = h->model;
-    return vi_ramp_at(&yC_in, t) != vi_ramp_at(&model->yC_in, t) || yC_in.du != model->yC_in.du ||
-           vi_ramp_at(&F_ext, t) != vi_ramp_at(&model->F_ext, t) || F_ext.du != model->F_ext.du;
-}
 
 void vi_hybrid_take_inputs(vi_hybrid *h, double t, double x[2], vi_ramp yC_in, vi_ramp F_ext)
 {
@@ -202,7 +182,6 @@ int vi_hybrid_event(vi_hybrid *h, double t, double x[2], int fired, int located,
         guard_noise(h, t, x, ulps, tol);
         st->band[fired] = band_of(ulps, tol, fired); /* grazing: disarmed */
     }
-    vi_hybrid_arm_at_zero(h, t, x);
     return from;
 }
 

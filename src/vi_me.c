@@ -148,10 +148,12 @@ static void time_events(vi_me *e, double x[2])
 {
     vi_sim_data *d = &e->s.d;
     double t = d->t;
-    vi_ramp yC_in = d->inputs_changed ? held(d->in.yC_in, t) : d->model.yC_in;
-    vi_ramp F_ext = d->inputs_changed ? held(d->in.F_ext, t) : d->model.F_ext;
-    d->inputs_changed = 0;
-    vi_hybrid_input_jump(&e->s.engine, t, x, yC_in, F_ext, d->par.a, d->par.f);
+    if (d->inputs_changed || vi_model_excitation_differs(&d->model, d->par.a, d->par.f)) {
+        vi_ramp yC_in = d->inputs_changed ? held(d->in.yC_in, t) : d->model.yC_in;
+        vi_ramp F_ext = d->inputs_changed ? held(d->in.F_ext, t) : d->model.F_ext;
+        d->inputs_changed = 0;
+        vi_hybrid_input_jump(&e->s.engine, t, x, yC_in, F_ext, d->par.a, d->par.f);
+    }
     if (vi_model_next_breakpoint(&d->model, d->step_t0) <= t) vi_hybrid_kink(&e->s.engine, t, x);
 }
 

@@ -323,10 +323,9 @@ static int stop_here(const vi_sim *s, int stop_at_mode_change, int mode_before)
 
 /* One advance in progress. */
 typedef struct {
-    double t_end, limit, target; /* the step's end, the end of a non-periodic profile (why), the nearer */
+    double t_end, limit, target; /* the step's end, the end of a non-periodic profile, the nearer */
     long steps_left, events, kinks;
     int stop_at_mode_change;
-    char why[400];
 } advance_run;
 
 /* How a pass of the loop ended, besides the VI_SIM_* results that end the advance. */
@@ -370,6 +369,7 @@ static int state_event(vi_sim *s, advance_run *run, const int fired[])
     int g = 0;
     while (g < VI_NGUARDS - 1 && fired[g] == 0) g++;
     int from = vi_hybrid_event(&s->engine, d->t, d->x, g, 1, NULL);
+    vi_hybrid_arm_at_zero(&s->engine, d->t, d->x);
     vi_sim_check_validity(s);
     if (vi_solver_reset(s->solver, d->t, d->x) < 0) return solver_failed(s);
     if (vi_hybrid_zeno(&s->engine, d->t, g, from, s->msg, sizeof s->msg)) return VI_SIM_DISCARD;
@@ -419,9 +419,9 @@ int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change)
 {
     vi_sim_data *d = &s->d;
     if (begin_advance(s, t_end) != VI_SIM_OK) return VI_SIM_ERROR;
-    advance_run run = {.t_end = t_end, .steps_left = VI_MAX_STEPS_PER_ADVANCE,
-                       .stop_at_mode_change = stop_at_mode_change};
-    run.limit = d->model.profile ? vi_model_rolling_limit(&d->model, run.why, sizeof run.why) : INFINITY;
+    char why[400]; /* written only where a profile ends */
+    advance_run run = {.t_end = t_end, .steps_left = VI_MAX_STEPS_PER_ADVANCE, .stop_at_mode_change = stop_at_mode_change};
+    run.limit = d->model.profile ? vi_model_rolling_limit(&d->model, why, sizeof why) : INFINITY;
     run.target = run.limit < t_end ? run.limit : t_end;
     int pass = PASS_MORE;
     /* bounded: every pass is an event (bounded below) or a kink of the profile (finitely many in the
@@ -436,7 +436,7 @@ int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change)
         (!(s->warned_validity & VI_INVALID_INDENTATION) && vi_model_indentation_invalid(&d->model, d->x)))
         vi_sim_check_validity(s);
     if (pass == PASS_STOPPED) return VI_SIM_EVENT;
-    if (t_end > run.limit) return discard(s, "%s", run.why); /* the end of the profile: nothing beyond it */
+    if (t_end > run.limit) return discard(s, "%s", why); /* the end of the profile: nothing beyond it */
     d->t = t_end;
     return VI_SIM_OK;
 }
