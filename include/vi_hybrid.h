@@ -22,6 +22,7 @@
  *
  * The event log (category VI_LOG_EVENTS) has one line per event, key=value pairs separated by
  * single spaces (doc/model.md, "The event log"):
+ *   event t=<s> kind=start mode=<m> delta=<m> v=<m/s>
  *   event t=<s> kind=guard guard=<g> mode=<a>-><b> delta=<m> v=<m/s>
  *   event t=<s> kind=input mode=<a>-><b>
  *   event t=<s> kind=kink mode=<a>-><b>
@@ -63,6 +64,8 @@ typedef struct {
 void vi_hybrid_bind(vi_hybrid *h, vi_model *model, vi_hybrid_state *st, int integrates_y, vi_log_fn log, void *log_env);
 /* A simulation starts at (t, x) with these tolerances: no event yet, guards at zero armed. */
 void vi_hybrid_start(vi_hybrid *h, double rtol, const double atol[2], double t, const double x[2]);
+/* Log the initial mode and state (t, x) (kind=start). */
+void vi_hybrid_log_start(const vi_hybrid *h, double t, const double x[2]);
 /* The Zeno count starts afresh at t (Co-Simulation: each advance). */
 static inline void vi_hybrid_count_from(vi_hybrid *h, double t)
 {

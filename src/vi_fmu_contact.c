@@ -83,8 +83,7 @@ static int initialize(void *m)
     vi_sim *s = sim_of(m);
     if (vi_sim_initialize(s) < 0) return -1;
     vi_sim_log_solver(s);
-    s->log(s->log_env, VI_LOG_EVENTS, "initial mode %d, delta = %.9g m, v = %.9g m/s", s->d.model.mode, s->d.x[0],
-           s->d.x[1]);
+    vi_hybrid_log_start(&s->engine, s->d.t, s->d.x);
     return 0;
 }
 

@@ -71,6 +71,11 @@ void vi_hybrid_rearm_banded(vi_hybrid *h, double t, const double x[2])
         if (band[i] > 0.0 && g[i] > band[i]) band[i] = 0.0;
 }
 
+void vi_hybrid_log_start(const vi_hybrid *h, double t, const double x[2])
+{
+    h->log(h->log_env, VI_LOG_EVENTS, "event t=%.17g kind=start mode=%d delta=%.9g v=%.9g", t, h->model->mode, x[0], x[1]);
+}
+
 void vi_hybrid_arm_at_zero(vi_hybrid *h, double t, const double x[2])
 {
     double g[VI_NGUARDS], ulps[VI_NGUARDS], tol[VI_NGUARDS];
