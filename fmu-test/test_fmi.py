@@ -203,7 +203,7 @@ def test_events_are_logged_by_category(logged, vr):
     start(s, vr, dict(contact_model=1, a=1e-4))
     s.doStep(0.0, 0.02)
     cats = {c for _, c, _ in log.messages}
-    assert cats == {"logEvents"} and any("mode 1 -> 0" in m for _, _, m in log.messages)
+    assert cats == {"logEvents"} and any("mode=1->0" in m for _, _, m in log.messages)
     n = s.getInteger([vr["n_impacts"]])[0]
     assert n > 0
     s.terminate()
@@ -576,9 +576,9 @@ def test_initial_state_is_logged(logged, vr):
     s.setDebugLogging(True, ["logEvents"])
     start(s, vr, dict(contact_model=1))
     e = effective({})
-    msg = next(m for _, cat, m in log.messages if cat == "logEvents" and m.startswith("initial mode"))
+    msg = next(m for _, cat, m in log.messages if cat == "logEvents" and m.startswith("event ") and "kind=start" in m)
     import re
-    mode, delta, v = re.fullmatch(r"initial mode (\d+), delta = (\S+) m, v = (\S+) m/s", msg).groups()
+    mode, delta, v = re.fullmatch(r"event t=0 kind=start mode=(\d+) delta=(\S+) v=(\S+)", msg).groups()
     assert (int(mode), float(v)) == (1, 0.0)
     assert float(delta) == pytest.approx((e["W"] / e["K"]) ** (2 / 3), rel=1e-8)
     s.freeInstance()
