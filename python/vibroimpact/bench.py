@@ -183,8 +183,37 @@ ALONE = {"profile": lambda out, fmu, work, repeat: profile_loading(out, fmu, wor
          "floor": lambda out, fmu, work, repeat: per_call_floor(out, fmu, {"fig4b": {"matched": {}}}, repeat)}
 
 
-def run_suite(repeat, quick, outdir, build, only=None):
-    if not only:
+AGAINST_RTOLS = (1e-6, 1e-10)  # the tolerances of the comparison of two builds
+
+
+def against(out, fmu, other, repeat, rtols=AGAINST_RTOLS):
+    """CPU of this build's FMU against another build's (other: an Fmu), every case and solver at the
+    given rtols, the two runs alternated so that both see the same machine; prints the ratios
+    this/other and their geometric mean. -> {(case, solver, rtol): ratio}."""
+    ratios = {}
+    out("## This build against another\n")
+    out(f"`{fmu.path}` against `{other.path}`: CPU per run, minimum of {repeat} alternated runs of each.\n")
+    out("| case | solver | rtol | this [ms] | other [ms] | this / other |")
+    out("|---|---|---|---|---|---|")
+    for case, spec in CASES.items():
+        for name, solver in SOLVERS.items():
+            for rtol in rtols:
+                best = [float("inf"), float("inf")]
+                for _ in range(repeat):
+                    for k, f in enumerate((fmu, other)):
+                        fig, _ = f.run({**spec["params"], "solver": solver}, spec["t_stop"], rtol, 1)
+                        best[k] = min(best[k], fig["cpu_s"] if fig else float("nan"))
+                ratios[case, name, rtol] = best[0] / best[1]
+                out(f"| {case} | {name} | {rtol:.0e} | {1e3 * best[0]:.3f} | {1e3 * best[1]:.3f} | "
+                    f"{ratios[case, name, rtol]:.3f} |")
+    finite = [r for r in ratios.values() if np.isfinite(r) and r > 0]
+    mean = float(np.exp(np.mean(np.log(finite)))) if finite else float("nan")
+    out(f"\nGeometric mean of this / other over {len(finite)} runs: {mean:.3f}\n")
+    return ratios
+
+
+def run_suite(repeat, quick, outdir, build, only=None, other_build=None):
+    if not only and not other_build:
         out_dir(outdir)
     lines = []
 
@@ -197,6 +226,10 @@ def run_suite(repeat, quick, outdir, build, only=None):
         work = pathlib.Path(tmp)
         fmu = Fmu(work, build)
         out(f"Machine: {os.cpu_count()} cores; CPU times are the minimum of {repeat} runs.\n")
+        if other_build:
+            (work / "other").mkdir()
+            against(out, fmu, Fmu(work / "other", other_build), repeat)
+            return
         if only:
             for name in only:
                 ALONE[name](out, fmu, work, repeat)

@@ -1,12 +1,16 @@
 """Speed against accuracy: the benchmark suite of the FMU's solvers (figures, not a test).
 
     vibroimpact bench [--repeat N] [--quick] [--out DIR] [--build DIR] [--only SECTION,...]
+    vibroimpact bench --against OTHER_BUILD [--repeat N] [--build DIR]
 
 Prints Markdown tables and writes DIR/bench.md and the PNG plots (DIR: results/bench by default; the
 documentation's are made with --out doc/bench). It runs on Linux with the GNU C library, and needs a
 CMake build folder (default: the folder of vibroimpact.fmu_path(), build/ in a checkout) with the FMU
 and the programs vi_bench_driver, vi_bench_rk4 and vi_bench_profile (tools/bench_*.c, which use dlopen
 and glibc's mallinfo2).
+--against compares two builds (this one and, say, the previous commit's): every case below with every
+solver at rtol 1e-6 and 1e-10, runs of the two FMUs alternated, the ratios of their CPU times and
+their geometric mean printed; nothing is written.
 --only runs just the named sections that stand alone (profile; floor, at rtol 1e-10) and prints
 them, writing nothing.
 
@@ -76,6 +80,10 @@ def main(argv=None):
                    help="the CMake build folder (default: the folder of vibroimpact.fmu_path())")
     p.add_argument("--only", type=lambda text: text.split(","), default=None, metavar="SECTION,...",
                    help="only these sections, printed, nothing written: " + ", ".join(ALONE))
+    p.add_argument("--against", type=pathlib.Path, default=None, metavar="DIR",
+                   help="only compare: CPU of every case and solver at rtol 1e-6 and 1e-10 against the FMU of "
+                        "another build folder (for example the previous commit's), alternated runs, ratios printed, "
+                        "nothing written")
     a = p.parse_args(argv)
     if a.repeat < 1:
         p.error("--repeat is at least 1")
@@ -87,6 +95,10 @@ def main(argv=None):
     if missing:
         p.error(f"missing {', '.join(missing)}: build them with cmake -S . -B build && cmake --build build "
                 "in a checkout, or name the build folder with --build")
+    if a.against:
+        missing = [str(a.against / f) for f in (NAME, "vi_bench_driver") if not (a.against / f).is_file()]
+        if missing:
+            p.error(f"--against: missing {', '.join(missing)}")
     if a.only and set(a.only) - set(ALONE):
         p.error(f"--only: unknown section {sorted(set(a.only) - set(ALONE))}; known: {', '.join(ALONE)}")
-    run_suite(a.repeat, a.quick, a.out, build, a.only)
+    run_suite(a.repeat, a.quick, a.out, build, a.only, a.against)
