@@ -4,9 +4,11 @@ Reference numbers: Hertz impact (Johnson, Contact Mechanics, 1985, ch. 11), Hunt
 relation, the damped oscillator, Thornton (1997)."""
 import math
 
+import numpy as np
 import pytest
 
 from vibroimpact.reference import laws as L
+from vibroimpact.reference import model as M
 
 # steel sphere R = 10 mm on a steel half-space (Johnson's Hertz case): E* [Pa], R* [m], m [kg], K [N/m^1.5]
 E_STAR, R_STAR, MASS = 115.4e9, 0.01, 0.03288
@@ -142,3 +144,60 @@ def test_thornton_restitution_closed_form():
     for V, e in ((0.5, 0.826), (1.0, 0.707), (3.0, 0.543)):
         assert L.thornton_restitution(VY / V) == pytest.approx(e, abs=1.5e-3)
     assert L.thornton_restitution(1.0) == pytest.approx(1.0, abs=1e-15)
+
+
+# ---- the hybrid reference model (vibroimpact.reference.model) with the new laws ----------------------
+
+def model_drop(law, v, **params):
+    """The reference model's one impact at v [m/s] with no load (init touching): (rebound speed / v, result)."""
+    p = dict(contact_model=law, init=M.TOUCHING, P=0.0, g=0.0, v0=-v, **params)
+    r = M.simulate(p, t_end=0.01, rtol=1e-11)
+    assert r.mode[-1] == M.FREE and r.n_impacts_total == 0
+    return r.v[-1] / v, r
+
+
+@pytest.mark.timeout(120)
+@pytest.mark.parametrize("law, formula", [(M.HERTZ_DAMPED, L.EXACT), (M.LINEAR, L.EXACT)])
+def test_model_exact_restitution(law, formula):
+    """exact damping and the linear spring-dashpot rebound at e_restitution, whatever the speed."""
+    for e in (0.2, 0.6, 0.95):
+        for v in (0.01, 1.0, 3.0):
+            ratio, r = model_drop(law, v, e_restitution=e, damping_formula=formula)
+            assert ratio == pytest.approx(e, abs=1e-8)
+            assert r.events[-1][3] == "release"  # the force vanished while the bodies overlapped
+
+
+@pytest.mark.timeout(120)
+@pytest.mark.parametrize("formula", sorted(L.FORMULAS))
+def test_model_published_forms(formula):
+    """The published forms rebound at Hunt and Crossley's closed relation, and part at delta = 0."""
+    for e in (0.3, 0.9):
+        ratio, r = model_drop(M.HERTZ_DAMPED, 0.5, e_restitution=e, damping_formula=formula)
+        assert ratio == pytest.approx(L.hc_restitution_closed_form(L.chi(formula, e)), abs=1e-8)
+        assert r.events[-1][3] == "separation"
+
+
+@pytest.mark.timeout(120)
+def test_model_thornton_restitution():
+    """Thornton in the hybrid model (paper's sphere, Y = 6e8 Pa) against his closed form, 1.01 to 30 V_Y."""
+    d = M.derived({})
+    m = M.DEFAULTS["m"]
+    VY = math.sqrt(0.8 * d["F_Y"] * d["delta_Y"] / m)
+    for k in (1.01, 2.0, 30.0):
+        ratio, r = model_drop(M.THORNTON, k * VY)
+        assert ratio == pytest.approx(L.thornton_restitution(1 / k), abs=1e-7)
+        assert abs(r.energy_residual()).max() < 1e-7 * 0.5 * m * (k * VY) ** 2
+
+
+@pytest.mark.timeout(120)
+@pytest.mark.parametrize("law, formula", [(M.HERTZ_DAMPED, L.EXACT), (M.HERTZ_DAMPED, L.FLORES), (M.LINEAR, L.EXACT)])
+def test_model_damped_laws_dissipate(law, formula):
+    """The paper's harmonic excitation (Fig. 4b's a, f): the damped laws only dissipate: the energy
+    balance without the damping work (kinetic + stored + work of the load - work of the platform) never
+    grows."""
+    p = dict(contact_model=law, damping_formula=formula, e_restitution=0.6, a=1e-4, f=560.0)
+    r = M.simulate(p, t_end=0.02, rtol=1e-10)
+    assert r.n_impacts_total >= 5
+    res = r.energy_residual()
+    scale = 0.5 * p["a"] ** 2 * (2 * math.pi * p["f"]) ** 2 * M.DEFAULTS["m"]
+    assert np.diff(res).max() < 1e-6 * scale and res[-1] < -0.1 * scale
