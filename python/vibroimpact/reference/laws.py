@@ -266,3 +266,21 @@ def hertz_impact_closed_form(m, K, V):
     # t_c = 2 delta_max/V int_0^1 (1 - x^2.5)^(-1/2) dx, the integral = 2/5 B(2/5, 1/2)
     shape = 0.4 * math.gamma(0.4) * math.gamma(0.5) / math.gamma(0.9)
     return d, K * d ** 1.5, 2 * shape * d / V
+
+
+def restitution_table(targets=(0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9)):
+    """Rows (e, Hunt-Crossley, Lankarani-Nikravesh, Flores, Tsuji alpha, linear zeta): the restitution each
+    published form really gives when asked for e (by integration), and the exact forms' constants."""
+    return [(e, *(hc_restitution(f, e) for f in sorted(FORMULAS)), tsuji_alpha(e), linear_zeta(e)) for e in targets]
+
+
+def main():
+    """python -m vibroimpact.reference.laws: the table of restitutions doc/model.md quotes."""
+    print("| e_restitution | hunt_crossley | lankarani_nikravesh | flores | exact: alpha | linear: zeta |")
+    print("|---|---|---|---|---|---|")
+    for row in restitution_table():
+        print("| {:.1f} | {:.4f} | {:.4f} | {:.4f} | {:.6f} | {:.6f} |".format(*row))
+
+
+if __name__ == "__main__":
+    main()
