@@ -12,11 +12,12 @@ import sys
 import pytest
 from conftest import ROOT
 
-from vibroimpact import cli, diagrams
+from vibroimpact import cli
+from vibroimpact.cli import diagrams
+from vibroimpact.cli import sweep as sweep_command
 from vibroimpact.fmi3 import fmu3_path
 from vibroimpact.fmu import ENV
 from vibroimpact.reference.scenarios import SCENARIOS
-from vibroimpact.sweep import command as sweep_command
 
 VI = [sys.executable, "-m", "vibroimpact"]
 RUN_TIMEOUT_S = 100

@@ -2,7 +2,8 @@
 # Main job: install what is needed, build the FMU, simulate the paper's scenarios (results/), roll the
 # wheel over a corrugated rail (results/rolling/), and map the frequency response with up/down
 # continuation sweeps on Dask (results/diagrams/). Arguments go to `vibroimpact paper` (scenario names,
-# --gallery); --gallery also refreshes the rolling figure in doc/gallery/.
+# --gallery DIR); --gallery DIR also gives the rolling and diagrams figures' copies to DIR (the
+# documentation's: ./tools/main.sh --gallery doc/gallery).
 # Python: the interpreter tools/setup.sh chose ($PYTHON, or the virtual environment .venv/ made from it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -11,6 +12,9 @@ cmake -S . -B build -DPython3_EXECUTABLE="$PY" >/dev/null
 cmake --build build -j"$(nproc)" >/dev/null
 "$PY" -m vibroimpact paper "$@"
 gallery=()
-for a in "$@"; do [ "$a" != --gallery ] || gallery=(--gallery); done
+args=("$@")
+for i in "${!args[@]}"; do
+  [ "${args[$i]}" != --gallery ] || gallery=(--gallery "${args[$((i + 1))]:-}")
+done
 "$PY" -m vibroimpact rolling "${gallery[@]}"
-"$PY" -m vibroimpact diagrams
+"$PY" -m vibroimpact diagrams "${gallery[@]}"

@@ -1,4 +1,4 @@
-"""python -m vibroimpact: the command `vibroimpact` (cli.py)."""
+"""python -m vibroimpact: the command `vibroimpact` (vibroimpact.cli)."""
 import sys
 
 from .cli import main

@@ -1,58 +1,10 @@
-"""Speed against accuracy: the benchmark suite of the FMU's solvers (figures, not a test).
+"""Speed against accuracy: the measurements of `vibroimpact bench` (the command: vibroimpact.cli.bench,
+whose help says what each section runs). run_suite runs them and writes the report and the plots
+into the folder it is given.
 
-    vibroimpact bench [--repeat N] [--quick] [--out DIR] [--build DIR] [--only SECTION,...]
-
-Prints Markdown tables and writes DIR/bench.md and the PNG plots (DIR: doc/bench by default). It
-needs a CMake build folder (default: the folder of vibroimpact.fmu_path(), build/ in a checkout)
-with the FMU and the programs vi_bench_driver, vi_bench_rk4 and vi_bench_profile (tools/bench_*.c).
---only runs just the named sections that stand alone (profile; floor, at rtol 1e-10) and prints
-them, writing nothing.
-
-What it runs (the FMU binary through tools/bench_driver.c, dlopen'ed from C with no Python in the
-loop, unless said otherwise; CPU times are the minimum of N runs, default 5, because other
-processes disturb single runs; instruction counts would be steadier but do not compare with Python):
-
-1. Work-precision, every solver (bdf, adams, dop853, auto), rtol 1e-3 ... 1e-12 in half decades, on
-     fig4b   Johnson, Y = 6e8 Pa, bouncing and plastic (paper Fig. 4b), 40 ms;
-     fig5a   Hertz, 100 Hz, sustained contact (paper Fig. 5a), 0.1 s;
-     drop    Hertz drop P = g = 0, v0 = -0.1 m/s, one impact, 3 ms: closed form (energy
-             1/2 m v^2 + 2/5 K delta^2.5 conserved, so the peak indentation is
-             (15 m v0^2 / (16 E* sqrt(R*)))^(2/5), and restitution 1);
-     stiff   m = 1e-7 kg at rest under the default load, a = 0.1 mm at 560 Hz, 10 ms: the contact
-             rings at about 10 MHz and the mass follows the platform, y = a (cos(2 pi f t) - 1) -
-             delta_static (closed form, error / 2a), where the explicit method is held by stability,
-   communication step 1e-5 s, y read after every step (a run taking more than BUDGET_S of CPU is
-   not repeated). The error of fig4b and fig5a is the largest
-   |y - y_ref| over the communication points divided by the range of y_ref, y_ref from dop853 at
-   rtol 1e-14 (checked against adams at 1e-13 and the Python reference at 1e-12: the table prints
-   their distance). The error of the drop is the larger of the relative energy error over the run
-   and |restitution - 1|.
-   In the same run (not on the stiff case): the Python reference (vibroimpact.reference.model,
-   SciPy DOP853 with event location) at its own tolerances, and a fixed-step RK4 without event location
-   (tools/bench_rk4.c: guards looked at only at step ends) from the communication step down, until
-   it reaches the accuracy or its run would take more than RK4_CAP_S.
-2. Matched accuracy: per solver the loosest rtol from which on (for it and every tighter rtol) the
-   error stays within 1e-5 (fig4b: of the motion range; the error is not monotone in rtol on a
-   chaotic trace), its CPU time, the Python reference's at its own such rtol, and the ratio; the
-   RK4 step that reaches the same accuracy (if any does below the cost cap); the limit: the rhs
-   evaluations the run needed times the cost of one rhs evaluation alone, and the ratio to it;
-   then auto against the fastest other solver (target AUTO_TARGET).
-3. The importer's share: the matched runs again through fmpy (FMU2Slave, doStep and getReal in
-   Python), against the C driver.
-4. The per-call floor: fig4b at matched rtol in communication steps of FLOOR_H (nearly every step
-   inside the last internal step): fmi2DoStep alone, with y read, with every Real output read
-   (targets FLOOR_TARGET_NS), and, when valgrind is installed, the instructions per call by part
-   (callgrind). Then the cost per fmi2DoStep at communication steps 1e-7 ... 1e-3 s (fig4b, 10 ms).
-5. Cost against simulated time (fig4b at matched rtol, 10 ms ... 1 s) and against the number of
-   impacts (Hertz, a = 0.1 mm, f = 500 ... 8000 Hz, one impact per period, 0.1 s).
-6. Memory per instance (heap after initialization) and the cost of taking an FMU state before
-   every step (a master ready to roll back), with the error that follows from it (CVODE restarts at
-   every checkpoint; the one-step method carries its continuation).
-7. The work bound: fig4b in one fmi2DoStep of 1e6 s, CPU until fmi2Discard and where it stopped.
-8. Loading a rolling profile of 1e4 ... 1e6 rows (vi_profile_load: reading and the envelope; the FMU's
-   initialization with it) against numpy.loadtxt reading the same file, per row, with the memory.
+It needs a CMake build folder with the FMU and the programs vi_bench_driver, vi_bench_rk4 and
+vi_bench_profile (tools/bench_*.c), which build on Linux with the GNU C library (dlopen, mallinfo2).
 """
-import argparse
 import os
 import pathlib
 import subprocess
@@ -61,8 +13,9 @@ import time
 
 import numpy as np
 
+from . import plotting
 from .failure import out_dir
-from .fmu import NAME, build_dir
+from .fmu import NAME
 from .reference.closed_forms import effective
 from .reference.scenarios import SCENARIOS
 
@@ -78,6 +31,10 @@ H_COMM = 1e-5
 BOUND = 1e-5
 RK4_STEPS = [1e-5, 5e-6, 2e-6, 1e-6, 5e-7, 2e-7, 1e-7, 5e-8, 2e-8, 1e-8, 5e-9, 2e-9]  # divide H_COMM
 RK4_CAP_S = 20.0  # skip RK4 steps whose run would take longer than this
+STEPS_S = [1e-7, 1e-6, 1e-5, 1e-4, 1e-3]  # communication steps of the cost per step (fig4b)
+SPANS_S = [0.01, 0.03, 0.1, 0.3, 1.0]  # simulated times of the cost against simulated time (fig4b)
+FREQS_HZ = [500.0, 1000.0, 2000.0, 4000.0, 8000.0]  # excitations of the cost against impacts
+DPI = 90
 PROFILE_ROWS = [10 ** 4, 10 ** 5, 10 ** 6]
 PROFILE_TARGET_US = 0.3  # per row, and no slower than numpy.loadtxt reading the same file
 CASES = {
@@ -99,7 +56,9 @@ class Fmu:
         self.path = build / NAME
         self.md = read_model_description(str(self.path))
         self.unzip = extract(str(self.path), unzipdir=str(workdir / "fmu"))
-        self.so = str(pathlib.Path(self.unzip) / "binaries" / "linux64" / "VibroImpact.so")
+        from fmpy import platform, sharedLibraryExtension
+        self.so = str(pathlib.Path(self.unzip) / "binaries" / platform
+                      / (self.md.coSimulation.modelIdentifier + sharedLibraryExtension))
         self.vars = {v.name: v for v in self.md.modelVariables}
         self.vrs = ",".join(str(self.vars[n].valueReference) for n in ("y", "v", "F", "delta", "mode", "n_impacts"))
         self.work = workdir
@@ -224,32 +183,9 @@ ALONE = {"profile": lambda out, fmu, work, repeat: profile_loading(out, fmu, wor
          "floor": lambda out, fmu, work, repeat: per_call_floor(out, fmu, {"fig4b": {"matched": {}}}, repeat)}
 
 
-def main(argv=None):
-    p = argparse.ArgumentParser(prog="vibroimpact bench", description=__doc__.split("\n\n")[0],
-                                epilog=__doc__.split("\n\n", 1)[1], formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--repeat", type=int, default=5, metavar="N", help="runs per figure; the fastest counts (default 5)")
-    p.add_argument("--quick", action="store_true", help="every other tolerance only")
-    p.add_argument("--out", type=pathlib.Path, default=pathlib.Path("doc", "bench"), metavar="DIR",
-                   help="output folder (default doc/bench)")
-    p.add_argument("--build", type=pathlib.Path, default=None, metavar="DIR",
-                   help="the CMake build folder (default: the folder of vibroimpact.fmu_path())")
-    p.add_argument("--only", type=lambda text: text.split(","), default=None, metavar="SECTION,...",
-                   help="only these sections, printed, nothing written: " + ", ".join(ALONE))
-    a = p.parse_args(argv)
-    if a.repeat < 1:
-        p.error("--repeat is at least 1")
-    build = a.build or build_dir()
-    missing = [str(build / f) for f in (NAME,) + PROGRAMS if not (build / f).is_file()]
-    if missing:
-        p.error(f"missing {', '.join(missing)}: build them with cmake -S . -B build && cmake --build build "
-                "in a checkout, or name the build folder with --build")
-    if a.only and set(a.only) - set(ALONE):
-        p.error(f"--only: unknown section {sorted(set(a.only) - set(ALONE))}; known: {', '.join(ALONE)}")
-    run_suite(a.repeat, a.quick, a.out, build, a.only)
-
-
 def run_suite(repeat, quick, outdir, build, only=None):
-    out_dir(outdir)
+    if not only:
+        out_dir(outdir)
     lines = []
 
     def out(text=""):
@@ -267,42 +203,8 @@ def run_suite(repeat, quick, outdir, build, only=None):
             return
         results = {}
         for case, spec in CASES.items():
-            p, T = spec["params"], spec["t_stop"]
-            if case == "drop":
-                err = lambda s: drop_error(s, p)  # noqa: E731
-                ref_note = "closed form"
-            elif case == "stiff":
-                err = lambda s: stiff_error(s, p)  # noqa: E731
-                ref_note = ("the quasi-static closed form y = a (cos(2 pi f t) - 1) - delta_static (the Python "
-                            "reference and RK4, explicit methods held to 10 MHz steps, are left out)")
-            else:
-                _, ref = fmu.run({**p, "solver": 3}, T, 1e-14, 1)
-                _, ref2 = fmu.run({**p, "solver": 2}, T, 1e-13, 1)
-                _, ref3 = python_reference(p, T, 1e-12, 1)
-                err = lambda s, ref=ref: trace_error(s, ref)  # noqa: E731
-                ref_note = (f"dop853 at rtol 1e-14; adams at 1e-13 is {trace_error(ref2, ref):.1e} from it, the "
-                            f"Python reference at 1e-12 {trace_error(ref3, ref):.1e}")
-            res = dict(fmu={}, py={}, rk4={}, ref_note=ref_note)
-            for name, solver in SOLVERS.items():
-                for rtol in rtols:
-                    fig, s = fmu.run({**p, "solver": solver}, T, rtol, repeat)
-                    res["fmu"][name, rtol] = (fig["cpu_s"], err(s), fig["rhs"]) if fig else (None, None, None)
-            for rtol in rtols:
-                if case == "stiff":
-                    res["py"][rtol] = (None, None)
-                    continue
-                cpu, s = python_reference(p, T, rtol, max(1, repeat // 2))
-                res["py"][rtol] = (cpu, err(s))
-            for h in RK4_STEPS if case != "stiff" else []:
-                if T / h * 60e-9 > RK4_CAP_S:  # about 60 ns per RK4 step
-                    break
-                fig, s = rk4(build, p, T, h, 1, work)
-                res["rk4"][h] = (fig["cpu_s"], err(s))
-                if err(s) <= BOUND:
-                    break
-            res["rhs_ns"] = rhs_ns(build, p)
-            results[case] = res
-            report_case(out, case, spec, res, rtols)
+            results[case] = measure_case(fmu, work, case, spec, rtols, repeat)
+            report_case(out, case, spec, res=results[case], rtols=rtols)
         report_matched(out, results, rtols)
         report_auto(out, results)
         importer_share(out, fmu, results, repeat)
@@ -312,9 +214,56 @@ def run_suite(repeat, quick, outdir, build, only=None):
         memory_and_checkpoints(out, fmu, results, repeat)
         work_bound(out, fmu)
         profile_loading(out, fmu, work, repeat)
-        plots(results, rtols, outdir)
+        plotting.save(plotting.work_precision_figure(results, rtols, CASES, SOLVERS, BOUND),
+                      outdir / "work_precision.png", DPI)
+        plotting.save(plotting.cost_figure(results, SOLVERS), outdir / "cost.png", DPI)
     (outdir / "bench.md").write_text("\n".join(lines) + "\n")
     print(f"\nwritten: {outdir / 'bench.md'} and the PNG plots in {outdir}")
+
+
+def case_error(fmu, case, spec):
+    """(error of a run's samples, what it is measured against) for one case of CASES."""
+    p, T = spec["params"], spec["t_stop"]
+    if case == "drop":
+        return (lambda s: drop_error(s, p)), "closed form"
+    if case == "stiff":
+        return (lambda s: stiff_error(s, p)), ("the quasi-static closed form y = a (cos(2 pi f t) - 1) - delta_static "
+                                               "(the Python reference and RK4, explicit methods held to 10 MHz steps, "
+                                               "are left out)")
+    _, ref = fmu.run({**p, "solver": 3}, T, 1e-14, 1)
+    _, ref2 = fmu.run({**p, "solver": 2}, T, 1e-13, 1)
+    _, ref3 = python_reference(p, T, 1e-12, 1)
+    return (lambda s: trace_error(s, ref)), (f"dop853 at rtol 1e-14; adams at 1e-13 is {trace_error(ref2, ref):.1e} "
+                                             f"from it, the Python reference at 1e-12 {trace_error(ref3, ref):.1e}")
+
+
+def measure_case(fmu, work, case, spec, rtols, repeat, rk4_steps=RK4_STEPS):
+    """Work-precision of one case: every solver and the Python reference at each rtol, RK4 from the
+    communication step down (rk4_steps) until it reaches BOUND; the cost of one rhs evaluation alone.
+    -> dict(fmu={(solver, rtol): (CPU [s], error, rhs evaluations)}, py={rtol: (CPU, error)},
+    rk4={h: (CPU, error)}, ref_note, rhs_ns)."""
+    p, T = spec["params"], spec["t_stop"]
+    err, ref_note = case_error(fmu, case, spec)
+    res = dict(fmu={}, py={}, rk4={}, ref_note=ref_note)
+    for name, solver in SOLVERS.items():
+        for rtol in rtols:
+            fig, s = fmu.run({**p, "solver": solver}, T, rtol, repeat)
+            res["fmu"][name, rtol] = (fig["cpu_s"], err(s), fig["rhs"]) if fig else (None, None, None)
+    for rtol in rtols:
+        if case == "stiff":
+            res["py"][rtol] = (None, None)
+            continue
+        cpu, s = python_reference(p, T, rtol, max(1, repeat // 2))
+        res["py"][rtol] = (cpu, err(s))
+    for h in rk4_steps if case != "stiff" else []:
+        if T / h * 60e-9 > RK4_CAP_S:  # about 60 ns per RK4 step
+            break
+        fig, s = rk4(fmu.build, p, T, h, 1, work)
+        res["rk4"][h] = (fig["cpu_s"], err(s))
+        if err(s) <= BOUND:
+            break
+    res["rhs_ns"] = rhs_ns(fmu.build, p)
+    return res
 
 
 def fmt(x, spec=".2f"):
@@ -498,9 +447,9 @@ def importer_share(out, fmu, results, repeat):
     out("")
 
 
-def per_step_cost(out, fmu, results, repeat):
-    out("### Cost per fmi2DoStep against the communication step (fig4b, 10 ms, y read after each step)\n")
-    steps = [1e-7, 1e-6, 1e-5, 1e-4, 1e-3]
+def per_step_cost(out, fmu, results, repeat, steps=STEPS_S, t_stop=0.01):
+    out(f"### Cost per fmi2DoStep against the communication step (fig4b, {1e3 * t_stop:g} ms, y read after each "
+        "step)\n")
     out("| solver | rtol | " + " | ".join(f"h = {h:g} s [us]" for h in steps) + " |")
     out("|---|---|" + "---|" * len(steps))
     p = CASES["fig4b"]["params"]
@@ -509,7 +458,7 @@ def per_step_cost(out, fmu, results, repeat):
         r = best_rtol(results, name)
         cells = []
         for h in steps:
-            fig, _ = fmu.run({**p, "solver": solver}, 0.01, r, repeat, h=h)
+            fig, _ = fmu.run({**p, "solver": solver}, t_stop, r, repeat, h=h)
             results["per_step"][name, h] = fig["step_us"]
             cells.append(f"{fig['step_us']:.3g}")
         out(f"| {name} | {r:.0e} | " + " | ".join(cells) + " |")
@@ -517,13 +466,12 @@ def per_step_cost(out, fmu, results, repeat):
         "interpolation, the step's bookkeeping and reading y.\n")
 
 
-def scaling(out, fmu, results, repeat):
+def scaling(out, fmu, results, repeat, spans=SPANS_S, freqs=FREQS_HZ):
     p = CASES["fig4b"]["params"]
-    spans = [0.01, 0.03, 0.1, 0.3, 1.0]
     out("### Cost against simulated time (fig4b, matched rtol) [ms]\n")
     out("| solver | " + " | ".join(f"{T:g} s" for T in spans) + " | per simulated second |")
     out("|---|" + "---|" * (len(spans) + 1))
-    results["time"] = {}
+    results["time"], results["time_spans"] = {}, spans
     for name, solver in SOLVERS.items():
         r = best_rtol(results, name)
         cpus = []
@@ -534,7 +482,6 @@ def scaling(out, fmu, results, repeat):
         slope = np.polyfit(spans, cpus, 1)[0]
         out(f"| {name} | " + " | ".join(f"{1e3 * c:.1f}" for c in cpus) + f" | {1e3 * slope:.1f} |")
     out("")
-    freqs = [500.0, 1000.0, 2000.0, 4000.0, 8000.0]
     out("### Cost against the number of impacts (Hertz, a = 0.1 mm, 0.1 s, rtol 1e-8)\n")
     out("| solver | " + " | ".join(f"f = {f:g} Hz" for f in freqs) + " | per impact [us] |")
     out("|---|" + "---|" * (len(freqs) + 1))
@@ -625,51 +572,3 @@ def work_bound(out, fmu):
         fig, _ = fmu.run({**p, "solver": solver}, 1e6, 1e-6, 1, h=1e6)
         out(f"| {name} | {fig['cpu_s']:.2f} | {fig['discard_at']:.6g} |")
     out("")
-
-
-def plots(results, rtols, outdir):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    colors = dict(bdf="tab:blue", adams="tab:orange", dop853="tab:green", auto="tab:purple")
-    fig, axes = plt.subplots(1, len(CASES), figsize=(5.5 * len(CASES), 5))
-    for ax, (case, res) in zip(axes, (c for c in results.items() if c[0] in CASES)):
-        for name in SOLVERS:
-            pts = [(res["fmu"][name, r][0], res["fmu"][name, r][1]) for r in rtols if res["fmu"][name, r][0]]
-            ax.loglog([1e3 * c for c, _ in pts], [max(e, 1e-16) for _, e in pts], "o-", color=colors[name],
-                      label=f"FMU {name}")
-        pts = [res["py"][r] for r in rtols if res["py"][r][0] is not None]
-        if pts:
-            ax.loglog([1e3 * c for c, _ in pts], [max(e, 1e-16) for _, e in pts], "s--", color="k",
-                      label="Python reference (SciPy DOP853)")
-        if res["rk4"]:
-            pts = list(res["rk4"].values())
-            ax.loglog([1e3 * c for c, _ in pts], [max(e, 1e-16) for _, e in pts], "x:", color="tab:red",
-                      label="RK4, no event location")
-        ax.axhline(BOUND, color="gray", lw=0.8)
-        ax.set_title(CASES[case]["title"], fontsize=10)
-        ax.set_xlabel("CPU [ms]")
-        ax.set_ylabel("error" + (" (energy, restitution)" if case == "drop" else " / range of y"))
-        ax.grid(True, which="both", alpha=0.3)
-    axes[0].legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(outdir / "work_precision.png", dpi=90)
-    plt.close(fig)
-
-    fig, axes = plt.subplots(1, 3, figsize=(16, 4.5))
-    steps = sorted({h for (_, h) in results["per_step"]})
-    for name in SOLVERS:
-        axes[0].loglog(steps, [results["per_step"][name, h] for h in steps], "o-", color=colors[name], label=name)
-        axes[1].plot([0.01, 0.03, 0.1, 0.3, 1.0], [1e3 * c for c in results["time"][name]], "o-", color=colors[name],
-                     label=name)
-        pts = results["impacts"][name]
-        axes[2].plot([a for a, _ in pts], [1e3 * c for _, c in pts], "o-", color=colors[name], label=name)
-    axes[0].set(xlabel="communication step [s]", ylabel="CPU per fmi2DoStep [us]", title="fig4b, 10 ms")
-    axes[1].set(xlabel="simulated time [s]", ylabel="CPU [ms]", title="fig4b, matched rtol")
-    axes[2].set(xlabel="impacts", ylabel="CPU [ms]", title="Hertz, 0.1 s, rtol 1e-8")
-    for ax in axes:
-        ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(outdir / "cost.png", dpi=90)
-    plt.close(fig)

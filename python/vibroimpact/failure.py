@@ -1,6 +1,6 @@
 """How the commands fail: one line that names what was wrong and what to do, never a traceback.
 
-A command raises CommandError with that line; the command line (cli.py) prints it after the command's
+A command raises CommandError with that line; the command line (vibroimpact.cli) prints it after the command's
 name and exits 1 (`vibroimpact --debug COMMAND` shows the traceback instead). fmu_refused turns a
 failed FMI call into that line with what the FMU logged.
 """

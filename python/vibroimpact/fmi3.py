@@ -1,6 +1,6 @@
-"""The FMI 3.0 build of the FMU and the helpers to drive it with fmpy: where it is, setting a value
-by its FMI 3.0 type, initializing an instance (through Event Mode when it uses it), a step that
-reports instead of raising, and a loop that follows the FMU's early returns to its events.
+"""What only FMI 3.0 has, on the FMU access of vibroimpact.fmu: initializing an instance (through
+Event Mode when it uses it), a step that reports instead of raising, and a loop that follows the
+FMU's early returns to its events. fmu3_path and set_value (either version) come from vibroimpact.fmu.
 
 The FMI 3.0 FMU is the same model as the FMI 2.0 one (doc/fmi3.md): Float64, Int32, Boolean,
 String variables and the options and `mode` as Enumerations (read and written as Int64); a
@@ -8,48 +8,12 @@ Co-Simulation step may return early at a change of the model's mode.
 """
 import ctypes
 
-from . import fmu as _fmu
+from .fmu import Messages, fmu3_path, set_value, set_values
+
+__all__ = ["OK", "WARNING", "DISCARD", "ERROR", "FATAL", "Logged", "do_step", "enumeration_value", "fmu3_path",
+           "initialize", "run_to_events", "set_value", "update_discrete_states"]
 
 OK, WARNING, DISCARD, ERROR, FATAL = range(5)
-
-
-def fmu3_path(required=True):
-    """The FMI 3.0 VibroImpact.fmu: fmi3/VibroImpact.fmu beside the FMI 2.0 FMU of fmu_path() (in a
-    development checkout build/fmi3/, in an installed package vibroimpact/fmi3/)."""
-    path = _fmu.fmu_path(required=False).parent / "fmi3" / _fmu.NAME
-    if required and not path.is_file():
-        raise FileNotFoundError(f"{path} does not exist: build it (cmake -S . -B build && cmake --build build) "
-                                f"or install the package with pip install .")
-    return path
-
-
-# ---- values --------------------------------------------------------------------------------------------
-
-def set_value(slave, vr, value, kind=None):
-    """fmi3Set<kind> of one value on an fmpy FMU3Slave. kind: the FMI 3.0 model description's type
-    (Float64, Int32, Enumeration, Boolean, String); None: from the Python type of value (str String,
-    bool Boolean, int Int64 (the enumerations), anything else Float64)."""
-    kind = kind or {"Real": "Float64", "Integer": "Enumeration"}.get(_fmu.kind_of(value), _fmu.kind_of(value))
-    if kind == "Float64":
-        slave.setFloat64([vr], [float(value)])
-    elif kind == "Int32":
-        slave.setInt32([vr], [int(value)])
-    elif kind in ("Enumeration", "Int64"):
-        slave.setInt64([vr], [int(value)])
-    elif kind == "Boolean":
-        slave.setBoolean([vr], [bool(value)])
-    elif kind == "String":
-        slave.setString([vr], [str(value)])
-    else:
-        raise ValueError(f"no FMI 3.0 type {kind!r} in this FMU")
-
-
-def get_value(slave, vr, kind):
-    """fmi3Get<kind> of one value (kind as for set_value)."""
-    get = {"Float64": slave.getFloat64, "Int32": slave.getInt32, "Enumeration": slave.getInt64,
-           "Int64": slave.getInt64, "Boolean": slave.getBoolean, "String": slave.getString}[kind]
-    value = get([vr])[0]
-    return value.decode() if isinstance(value, bytes) else value
 
 
 def enumeration_value(model_description, name, item):
@@ -63,8 +27,7 @@ def initialize(slave, vr, values, kinds=None, tolerance=None, start_time=0.0, st
     time), the start values, fmi3ExitInitializationMode, and, for an instance that uses Event Mode
     (event_mode=True), the event iteration and fmi3EnterStepMode. kinds: FMI 3.0 type by name."""
     slave.enterInitializationMode(tolerance=tolerance, startTime=start_time, stopTime=stop_time)
-    for name, value in values.items():
-        set_value(slave, vr[name], value, (kinds or {}).get(name))
+    set_values(slave, vr, values, kinds)
     slave.exitInitializationMode()
     if event_mode:
         update_discrete_states(slave)
@@ -79,31 +42,23 @@ def update_discrete_states(slave):
     raise RuntimeError("fmi3UpdateDiscreteStates asked for more than 100 passes")
 
 
-# ---- log messages --------------------------------------------------------------------------------------
-
-class Logged:
-    """An FMU3Slave of an extracted FMU whose logger appends (status, category, message) to
-    `messages`. instantiate(event_mode, early_return, logging) creates the instance."""
+class Logged(Messages):
+    """An FMU3Slave of an extracted FMU whose logger keeps what it logs in `messages`.
+    instantiate(event_mode, early_return, logging) creates the instance."""
 
     def __init__(self, md, unzipdir, name="instance", token=None):
         from fmpy.fmi3 import FMU3Slave
-        self.messages = []
+        super().__init__()
         self.slave = FMU3Slave(guid=token or md.guid, unzipDirectory=unzipdir,
                                modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
 
     def _log(self, env, status, category, message):
-        self.messages.append((status, category.decode("utf-8", "replace"), message.decode("utf-8", "replace")))
+        self.keep(status, category, message.decode("utf-8", "replace"))
 
     def instantiate(self, event_mode=False, early_return=False, logging=False):
         self.slave.instantiate(loggingOn=logging, eventModeUsed=event_mode, earlyReturnAllowed=early_return,
                                logMessage=self._log)
         return self.slave
-
-    def texts(self):
-        return [m for _, _, m in self.messages]
-
-    def text(self):
-        return "\n".join(self.texts())
 
 
 # ---- stepping ------------------------------------------------------------------------------------------

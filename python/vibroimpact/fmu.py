@@ -1,5 +1,7 @@
-"""The helpers every script needs: where the FMU is, setting a value by its type, initializing an
-instance, and collecting what the FMU logs.
+"""Access to the FMU, FMI 2.0 and 3.0: where each build is, setting a value by its type (either
+version), initializing an FMI 2.0 instance, and collecting what an instance logs. What only FMI 3.0
+has (its initialization through Event Mode, steps that return early) is in vibroimpact.fmi3, built
+on these.
 
 fmpy is imported inside the functions that need it: the sweep's Dask scheduler imports this module
 to read the task graph and needs nothing beyond the standard library.
@@ -39,6 +41,16 @@ def fmu_path(required=True):
     return path
 
 
+def fmu3_path(required=True):
+    """The FMI 3.0 VibroImpact.fmu: fmi3/VibroImpact.fmu beside the FMI 2.0 FMU of fmu_path() (in a
+    development checkout build/fmi3/, in an installed package vibroimpact/fmi3/)."""
+    path = fmu_path(required=False).parent / "fmi3" / NAME
+    if required and not path.is_file():
+        raise FileNotFoundError(f"{path} does not exist: build it (cmake -S . -B build && cmake --build build) "
+                                f"or install the package with pip install .")
+    return path
+
+
 def build_dir():
     """The folder of fmu_path(): in a development checkout the CMake build folder, which also holds
     the other targets (Track.fmu, Vehicle.fmu, LayerTest.fmu, the table dumps, the benchmark programs)."""
@@ -58,20 +70,33 @@ def kind_of(value):
     return "Real"
 
 
-def set_value(slave, vr, value, kind=None):
-    """fmi2Set<kind> of one value on an fmpy FMU2Slave. kind: the model description's type (Real,
-    Integer, Enumeration, Boolean, String); None: from the Python type of value (kind_of)."""
+# the setter of each model-description type, by FMI version (an enumeration is an Integer in FMI 2.0, an
+# Int64 in FMI 3.0)
+SETTERS = {2: {"Real": ("setReal", float), "Integer": ("setInteger", int), "Enumeration": ("setInteger", int),
+               "Boolean": ("setBoolean", bool), "String": ("setString", str)},
+           3: {"Float64": ("setFloat64", float), "Int32": ("setInt32", int), "Int64": ("setInt64", int),
+               "Enumeration": ("setInt64", int), "Boolean": ("setBoolean", bool), "String": ("setString", str)}}
+FMI3_KIND = {"Real": "Float64", "Integer": "Enumeration"}  # kind_of's names as FMI 3.0 types
+
+
+def set_value(instance, vr, value, kind=None):
+    """fmi2Set<kind> or fmi3Set<kind> of one value on an fmpy instance (FMI 2.0 or 3.0). kind: the
+    model description's type; None: from the Python type of value (kind_of; an int is an Integer in
+    FMI 2.0 and an Enumeration, set as Int64, in FMI 3.0)."""
+    version = 3 if hasattr(instance, "setFloat64") else 2
     kind = kind or kind_of(value)
-    if kind == "Real":
-        slave.setReal([vr], [float(value)])
-    elif kind in ("Integer", "Enumeration"):
-        slave.setInteger([vr], [int(value)])
-    elif kind == "Boolean":
-        slave.setBoolean([vr], [bool(value)])
-    elif kind == "String":
-        slave.setString([vr], [str(value)])
-    else:
-        raise ValueError(f"no FMI 2.0 type {kind!r}")
+    kind = FMI3_KIND.get(kind, kind) if version == 3 else kind
+    if kind not in SETTERS[version]:
+        raise ValueError(f"no FMI {version}.0 type {kind!r} in this FMU")
+    method, convert = SETTERS[version][kind]
+    getattr(instance, method)([vr], [convert(value)])
+
+
+def set_values(instance, vr, values, kinds=None):
+    """set_value of every start value: vr value reference by name, kinds FMI type by name (missing
+    names: from the Python type of the value)."""
+    for name, value in values.items():
+        set_value(instance, vr[name], value, (kinds or {}).get(name))
 
 
 def initialize(slave, vr, values, kinds=None, tolerance=None, start_time=0.0, stop_time=None):
@@ -80,8 +105,7 @@ def initialize(slave, vr, values, kinds=None, tolerance=None, start_time=0.0, st
     (missing names: from the Python type of the value)."""
     slave.setupExperiment(tolerance=tolerance, startTime=start_time, stopTime=stop_time)
     slave.enterInitializationMode()
-    for name, value in values.items():
-        set_value(slave, vr[name], value, (kinds or {}).get(name))
+    set_values(slave, vr, values, kinds)
     slave.exitInitializationMode()
 
 
@@ -109,24 +133,15 @@ def process_allocator():
     return calloc, free
 
 
-class MessageLog:
-    """What an FMU instance logs: `callbacks` for FMU2Slave.instantiate, whose logger appends
-    (status, category, message) to `messages` ('%%' unescaped). limit: keep at most that many;
-    unique: skip a message text already kept."""
+class Messages:
+    """What an FMU instance logged: `messages`, a list of (status, category, text). limit: keep at
+    most that many; unique: skip a text already kept."""
 
     def __init__(self, limit=None, unique=False):
-        from fmpy.fmi2 import (fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE, fmi2CallbackFunctions,
-                               fmi2CallbackLoggerTYPE)
         self.messages, self.limit, self.unique = [], limit, unique
-        calloc, free = process_allocator()
-        cb = fmi2CallbackFunctions()
-        cb.logger = fmi2CallbackLoggerTYPE(self._log)
-        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-        self.callbacks = cb   # referenced as long as the instance lives
 
-    def _log(self, env, name, status, category, message):
-        text = message.decode("utf-8", "replace").replace("%%", "%")
+    def keep(self, status, category, text):
+        """Keep one message: category as bytes (the C string), text as str."""
         if self.limit is not None and len(self.messages) >= self.limit:
             return
         if self.unique and any(m == text for _, _, m in self.messages):
@@ -138,6 +153,25 @@ class MessageLog:
 
     def text(self):
         return "\n".join(self.texts())
+
+
+class MessageLog(Messages):
+    """Messages of an FMI 2.0 instance: `callbacks` for FMU2Slave/FMU2Model.instantiate, whose logger
+    keeps what the instance logs (its message is a format string: '%%' unescaped)."""
+
+    def __init__(self, limit=None, unique=False):
+        from fmpy.fmi2 import (fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE, fmi2CallbackFunctions,
+                               fmi2CallbackLoggerTYPE)
+        super().__init__(limit, unique)
+        calloc, free = process_allocator()
+        cb = fmi2CallbackFunctions()
+        cb.logger = fmi2CallbackLoggerTYPE(self._log)
+        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        self.callbacks = cb   # referenced as long as the instance lives
+
+    def _log(self, env, name, status, category, message):
+        self.keep(status, category, message.decode("utf-8", "replace").replace("%%", "%"))
 
 
 def simulate(what, fmu, **options):

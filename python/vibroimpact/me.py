@@ -12,7 +12,7 @@ import ctypes
 import numpy as np
 
 from .compare import INTEGERS, REALS, fmu_events
-from .fmu import MessageLog, check_start, fmu_path, set_value
+from .fmu import MessageLog, fmu_path, set_value
 from .reference.scenarios import SCENARIOS
 
 
@@ -236,29 +236,3 @@ def call_cost(n=20000, fmu=None):
         best = min(best, (time.process_time() - start) / n)
     m.fmu.freeInstance()
     return best
-
-
-def main(argv=None):
-    import argparse
-    p = argparse.ArgumentParser(prog="vibroimpact me-cost", description="Model Exchange in fmpy (CVode) against the "
-                                "FMU's co-simulation on paper scenarios: error against the reference and CPU time "
-                                "(doc/model-exchange.md)")
-    p.add_argument("--scenarios", nargs="+", default=list(COST_SCENARIOS), choices=list(SCENARIOS), metavar="NAME",
-                   help=f"default: {' '.join(COST_SCENARIOS)}; one of {', '.join(SCENARIOS)}")
-    p.add_argument("--rtols", nargs="+", type=float, default=list(COST_RTOLS))
-    p.add_argument("--repeat", type=int, default=3, help="runs per case; the fastest counts (default 3)")
-    a = p.parse_args(argv)
-    if a.repeat < 1:
-        p.error("--repeat is at least 1")
-    for rtol in a.rtols:
-        check_start({"rtol": rtol}, f"the FMU refuses --rtols {rtol:g}")
-    print("| scenario | rtol | ME: max abs(y - y_ref) [m] | ME: CPU [s] | ME mode changes | CS: max abs(y - y_ref) [m] "
-          "| CS: CPU [s] | CPU ME / CS |")
-    print("|---|---|---|---|---|---|---|---|")
-    rows = cost(a.scenarios, a.rtols, repeat=a.repeat)
-    for i in range(0, len(rows), 2):
-        (name, _, rtol, e_me, c_me, same), (_, _, _, e_cs, c_cs, _) = rows[i], rows[i + 1]
-        print(f"| {name} | {rtol:g} | {e_me:.1e} | {c_me:.3f} | {same} | {e_cs:.1e} | {c_cs:.3f} | {c_me / c_cs:.1f} |")
-    print(f"\none derivative evaluation through fmpy (fmi2SetTime, fmi2SetContinuousStates, fmi2GetDerivatives from "
-          f"Python): {1e6 * call_cost():.1f} us")
-    return 0

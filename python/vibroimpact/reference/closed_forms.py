@@ -3,23 +3,15 @@ C code: effective properties, the yield limit, Johnson's virgin curve and unload
 plastic work after a maximum indentation. The tests compare the FMU with them."""
 import numpy as np
 
-# the FMU's default parameters (modelDescription.xml start values)
-DEFAULTS = dict(m=407.747, P=40000.0, g=9.81, R1=0.475, R2=0.0, E1=2.1e11, E2=2.1e11, nu1=0.3, nu2=0.3,
-                Y=6e8, theta_Y=1.1)
+from .model import DEFAULTS, derived   # the FMU's default parameters; eqs. 1, 2, 5
 
 
 def effective(p):
-    """Eq. 1 and 5 (textbook yield formula) for the parameters p over DEFAULTS: E_star, R_star, K
-    (Hertz stiffness), F_Y, delta_Y, k_lin = F_Y / delta_Y, W = P + m g, m, theta_Y."""
-    q = {**DEFAULTS, **p}
-    curv = sum(1 / r for r in (q["R1"], q["R2"]) if r > 0)
-    R = 1 / curv
-    E = 1 / ((1 - q["nu1"] ** 2) / q["E1"] + (1 - q["nu2"] ** 2) / q["E2"])
-    K = 4 / 3 * E * np.sqrt(R)
-    FY = np.pi * (3 * np.pi / 4) ** 2 * (q["theta_Y"] * q["Y"]) ** 3 * R ** 2 / E ** 2
-    dY = (FY / K) ** (2 / 3)
-    return dict(E_star=E, R_star=R, K=K, F_Y=FY, delta_Y=dY, k_lin=FY / dY, W=q["P"] + q["m"] * q["g"], m=q["m"],
-                theta_Y=q["theta_Y"])
+    """The model's derived constants (eqs. 1 and 5) for the parameters p over DEFAULTS (names the
+    reference model does not know, such as the FMU's solver settings, are left out): E_star, R_star,
+    K (Hertz stiffness), F_Y, delta_Y, k_lin = F_Y / delta_Y, and W = P + m g, m, theta_Y."""
+    q = {**DEFAULTS, **{k: v for k, v in p.items() if k in DEFAULTS}}
+    return dict(derived(q), W=q["P"] + q["m"] * q["g"], m=q["m"], theta_Y=q["theta_Y"])
 
 
 def load(e, d):
@@ -50,3 +42,17 @@ def w_plastic_closed_form(e, dc, variant):
         0.5 * (k * k - 1) + (0.5 * k * k * np.log(k) - 0.25 * (k * k - 1)) / th3)
     Rbar, dr = unload_curve(e, dc, variant)
     return W_load, W_load - 0.4 * 4 / 3 * e["E_star"] * np.sqrt(Rbar) * dr ** 2.5
+
+
+def negative_w_plastic(Y, variant, points=20001):
+    """Where W_plastic < 0 after a Johnson yield at yield stress Y [Pa] (other parameters the defaults):
+    (r_zero, r_min, W_min [J]): W_plastic < 0 for delta_c < r_zero delta_Y, most negative, W_min, at
+    delta_c = r_min delta_Y (on a grid of `points` values of delta_c in (delta_Y, r_zero delta_Y])."""
+    from scipy.optimize import brentq
+    e = effective(dict(Y=Y))
+    wp = lambda r: w_plastic_closed_form(e, r * e["delta_Y"], variant)[1]  # noqa: E731
+    r_zero = brentq(wp, 1.0 + 1e-9 if variant == 1 else 1.5, 50.0, xtol=1e-12)
+    grid = np.linspace(1.0 + 1e-6, r_zero, points)
+    w = np.array([wp(r) for r in grid])
+    i = int(np.argmin(w))
+    return r_zero, float(grid[i]), float(w[i])

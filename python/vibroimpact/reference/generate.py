@@ -1,20 +1,17 @@
-"""Regenerate the committed reference traces and event tables from the independent reference model
-(model.py), and find each scenario's predictable horizon.
-
-    vibroimpact reference [scenario ...] [--out DIR]     (default: every scenario, into DATA)
+"""The reference traces and event tables from the independent reference model (model.py), and each
+scenario's predictable horizon; `vibroimpact reference` writes them (the committed ones are in DATA).
 
 For every scenario of scenarios.py the reference runs twice over [0, STOP_TIME]: at RTOL_TRUE (the
 reference trace) and at RTOL_LOOSE. The predictable horizon is the first sample time at which the
 two runs' mass positions differ by more than EPS_Y; it is how far a trajectory computed with a
 relative error of about RTOL_LOOSE can be trusted to EPS_Y (the bouncing cases are chaotic: an error
-grows by orders of magnitude over each long flight). Written to DATA (vibroimpact/reference/data/):
+grows by orders of magnitude over each long flight). Committed in DATA (vibroimpact/reference/data/):
   <name>.trace.csv.gz   time [s], y [m], v [m/s], F [N], mode, W_plastic [J] every SAMPLE s
                         (the whole run: the test uses it up to the horizon)
   <name>.events.csv     time [s], mode before, mode after, kind: every mode change of the RTOL_TRUE run
   summary.json          per scenario: tolerances, horizon, counts, the largest energy-balance
                         residual [J] of the RTOL_TRUE run, run times
 """
-import argparse
 import gzip
 import json
 import pathlib
@@ -89,22 +86,10 @@ def generate(name, out=DATA):
     return info
 
 
-def parser():
-    p = argparse.ArgumentParser(prog="vibroimpact reference", description=__doc__.split("\n\n")[0],
-                                epilog=__doc__.split("\n\n", 2)[2], formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("scenarios", nargs="*", metavar="scenario", help=f"default: all ({', '.join(SCENARIOS)})")
-    p.add_argument("--out", type=pathlib.Path, default=DATA, metavar="DIR", help=f"output folder (default {DATA})")
-    return p
-
-
-def main(argv=None):
-    a = parser().parse_args(argv)
-    unknown = [n for n in a.scenarios if n not in SCENARIOS]
-    if unknown:
-        parser().error(f"unknown scenario {', '.join(unknown)}")
-    a.out.mkdir(parents=True, exist_ok=True)
-    path = a.out / "summary.json"
+def update(names, out):
+    """generate() each of names into the folder out, and its entries of out/summary.json (the others kept)."""
+    path = out / "summary.json"
     summary = json.loads(path.read_text()) if path.exists() else {}
-    for name in a.scenarios or list(SCENARIOS):
-        summary[name] = generate(name, a.out)
+    for name in names:
+        summary[name] = generate(name, out)
     path.write_text(json.dumps({k: summary[k] for k in SCENARIOS if k in summary}, indent=1) + "\n")

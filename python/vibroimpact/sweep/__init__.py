@@ -1,4 +1,4 @@
-"""Parameter sweeps of the VibroImpact FMU on Dask (`vibroimpact sweep`).
+"""Parameter sweeps of the VibroImpact FMU on Dask (the command: vibroimpact.cli.sweep).
 
 spec     the FMU's interface, the --set/--grid options, the grid product and the chains (client side)
 probe    one instance initialized at the grid's corners before anything is distributed (client side)
@@ -6,7 +6,6 @@ point    one chain of points on one FMU instance, statistics on the fly, Poincar
 worker   the plugin that brings the FMU to a worker, and the task that runs one chain
 engine   Dask: local cluster or scheduler, the code and the FMU shipped to the workers, progress, CSV files
          written as the points finish (Output: resume, grid order at the end)
-plots    the PNGs of one sweep, and the response / bifurcation drawings the diagrams reuse
-command  the command line (vibroimpact sweep)
-bench    wall time of a sweep with and without Dask (vibroimpact bench-sweep)
+bench    a sweep with and without Dask, timed (vibroimpact bench-sweep)
+The figures of a sweep are vibroimpact.plotting's.
 """

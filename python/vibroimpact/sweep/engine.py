@@ -161,6 +161,25 @@ def run(sweep, interface, fmu_path, client=None, progress=True, done=(), on_chai
     return [(values, results[i]) for i, values in points]
 
 
+def run_here(sweep, interface, fmu_path):
+    """The same points as run(), one chain after the other in this process (no Dask): [(values,
+    result)] in grid order. For small sweeps and the benchmark's baseline."""
+    from fmpy import extract
+
+    from .point import OUTPUT_NAMES, FMUFiles, run_chain
+    _spec.check(sweep, interface)
+    timing = dict(stop_time=sweep.stop_time, step=sweep.step, transient=sweep.transient)
+    points = sweep.points()
+    results = [None] * len(points)
+    with tempfile.TemporaryDirectory() as tmp:
+        files = FMUFiles(extract(fmu_path, unzipdir=tmp), interface.guid, interface.model_identifier,
+                         {n: interface.variables[n].vr for n in OUTPUT_NAMES})
+        for indices, fixed, per_point in _spec.chains(sweep, interface):
+            for i, r in zip(indices, run_chain(files, fixed, per_point, timing)):
+                results[i] = r
+    return [(values, results[i]) for i, values in points]
+
+
 # ---- files ----------------------------------------------------------------------------------------
 def _fmt(x):
     if isinstance(x, float):

@@ -33,13 +33,17 @@ reason is printed) or the cluster could not be reached; 2 for options that canno
 interrupted.
 """
 import argparse
+import os
 import sys
 import time
 
+from .. import plotting
 from ..failure import CommandError, out_dir
 from ..fmu import ENV, fmu_path
-from . import engine, plots, spec
-from .probe import NotHere, label, probe
+from ..sweep import engine, spec
+from ..sweep.probe import NotHere, label, probe
+
+DPI = 110
 
 
 def parse_args(argv):
@@ -149,7 +153,7 @@ def run(args, sweep, interface, output):
         return 1
     output.finish()
     if not args.no_plots:
-        plots.sweep_figures(args.out, sweep)
+        write_figures(args.out, sweep)
     failed, n = output.failures(), len(output.points)
     wall, ran = time.perf_counter() - t0, ran[0]
     print(f"sweep: {ran} point{'' if ran == 1 else 's'} in {wall:.1f} s ({ran / wall:.1f}/s)"
@@ -162,3 +166,13 @@ def run(args, sweep, interface, output):
               file=sys.stderr)
         return 1
     return 0
+
+
+def write_figures(out_dir, sweep):
+    """DIR/response.png and DIR/bifurcation.png of one sweep, read back from its CSV files."""
+    if not sweep.grids:
+        return []
+    cols, poincare = engine.read(out_dir)
+    return [plotting.save(plotting.response_figure(sweep, cols), os.path.join(out_dir, "response.png"), DPI),
+            plotting.save(plotting.bifurcation_figure(sweep, cols, poincare), os.path.join(out_dir, "bifurcation.png"),
+                          DPI)]

@@ -9,10 +9,7 @@ most negative W_plastic (J and in units of F_Y delta_Y). The closed form
 import argparse
 import math
 
-import numpy as np
-from scipy.optimize import brentq
-
-from .reference.closed_forms import effective, w_plastic_closed_form
+from ..reference.closed_forms import effective, negative_w_plastic
 
 
 def main(argv=None):
@@ -26,10 +23,6 @@ def main(argv=None):
     unit = e["F_Y"] * e["delta_Y"]
     print(f"Y = {Y:g} Pa: F_Y = {e['F_Y']:.6g} N, delta_Y = {e['delta_Y']:.6g} m, F_Y delta_Y = {unit:.6g} J")
     for variant, name in ((1, "paper"), (2, "continuous")):
-        wp = lambda r: w_plastic_closed_form(e, r * e["delta_Y"], variant)[1]  # noqa: E731
-        r_zero = brentq(wp, 1.0 + 1e-9 if variant == 1 else 1.5, 50.0, xtol=1e-12)
-        grid = np.linspace(1.0 + 1e-6, r_zero, 20001)
-        w = np.array([wp(r) for r in grid])
-        i = int(np.argmin(w))
-        print(f"{name:10s}: W_plastic < 0 for delta_c < {r_zero:.4f} delta_Y; most negative {w[i]:.4g} J "
-              f"= {w[i] / unit:.4f} F_Y delta_Y at delta_c = {grid[i]:.3f} delta_Y")
+        r_zero, r_min, w_min = negative_w_plastic(Y, variant)
+        print(f"{name:10s}: W_plastic < 0 for delta_c < {r_zero:.4f} delta_Y; most negative {w_min:.4g} J "
+              f"= {w_min / unit:.4f} F_Y delta_Y at delta_c = {r_min:.3f} delta_Y")

@@ -12,63 +12,24 @@ gave the same stops bit for bit, and the wall time of the whole run each way.
 """
 import argparse
 import math
-import time
 
-from . import fmi3
-from .failure import CommandError, fmu_refused
-from .compare import EVENT_DT, SUMMARY, read_events
-from .reference.scenarios import SCENARIOS, STOP_TIME
+from fmpy import extract, read_model_description
 
-
-def run(md, unzipdir, name, step, rtol, early_return, event_mode):
-    """-> ([(t, mode before, mode after)] of the stops, wall time [s]); a CommandError with what the
-    FMU logged when an FMI call fails."""
-    log = fmi3.Logged(md, unzipdir, name=name)
-    try:
-        return _run(md, log, name, step, rtol, early_return, event_mode)
-    except Exception as e:
-        raise fmu_refused(f"the FMI 3.0 FMU on {name} at --rtol {rtol:g}", e, log.texts()) from e
-
-
-def _run(md, log, name, step, rtol, early_return, event_mode):
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    kinds = {v.name: v.type for v in md.modelVariables}
-    s = log.instantiate(event_mode=event_mode, early_return=early_return)
-    t0 = time.perf_counter()
-    fmi3.initialize(s, vr, SCENARIOS[name].full, kinds=kinds, tolerance=rtol, stop_time=STOP_TIME,
-                    event_mode=event_mode)
-    if step is None:   # only the initialization: the options are checked before the long work
-        s.terminate()
-        s.freeInstance()
-        return [], 0.0
-    mode = s.getInt64([vr["mode"]])[0]
-    stops = []
-    if early_return:
-        events, samples = fmi3.run_to_events(s, 0.0, STOP_TIME, step, sample=lambda t: (t, s.getInt64([vr["mode"]])[0]))
-        at = set(events)
-        for t, m in samples:
-            if t in at:
-                stops.append((t, mode, m))
-            mode = m
-    else:
-        n = round(STOP_TIME / step)
-        for k in range(n):
-            s.doStep(k * step, (k + 1) * step - k * step)
-    wall = time.perf_counter() - t0
-    s.terminate()
-    s.freeInstance()
-    return stops, wall
+from ..compare import EVENT_DT, SUMMARY, read_events
+from ..early_return import run
+from ..failure import CommandError
+from ..fmu import fmu3_path
+from ..reference.scenarios import SCENARIOS, STOP_TIME
 
 
 def main(argv=None):
-    from fmpy import extract, read_model_description
     ap = argparse.ArgumentParser(prog="vibroimpact fmi3", description=__doc__.splitlines()[0])
     ap.add_argument("--step", type=float, default=1e-3, help="communication step [s] (default 1e-3)")
     ap.add_argument("--rtol", type=float, default=1e-11, help="the tolerance given to fmi3EnterInitializationMode")
     a = ap.parse_args(argv)
     if not (math.isfinite(a.step) and 0 < a.step <= STOP_TIME):
         ap.error(f"--step is the communication step in s, in (0, {STOP_TIME:g}] (got {a.step:g})")
-    path = fmi3.fmu3_path()
+    path = fmu3_path()
     md = read_model_description(str(path))
     if md.fmiVersion != "3.0":
         raise CommandError(f"{path} is an FMI {md.fmiVersion} FMU; this command runs the FMI 3.0 build "
