@@ -1,32 +1,32 @@
-# vi_add_fmu(<Name> SOURCES <model .c files...> XML <modelDescription.xml>
+# vi_add_fmu(<Name> SOURCES <model .c files...>
 #            [FMI_VERSIONS <2 and/or 3> (default 2)]
 #            [LIBRARIES <libraries...>] [INCLUDE_DIRS <dirs...> (the calling folder is one already)]
 #            [RESOURCES <files...>] [OUTPUT_DIRECTORY <dir>]
 #            [DOC_INTRO <README.md>] [DOCUMENTATION <pages.md...>] [DOCUMENTATION_FMI3 <pages.md...>]
 #            [LICENSES <NAME=file>...] [ICON <png>])
 #
-# Builds Co-Simulation FMUs of one model on the generic layer (include/vi_fmu.h), one per FMI version,
-# all from the same compiled model (<Name>_model):
-#   FMI 2.0 (the XML given, hand-written and tested against the model's table, stamped with the release by
-#   cmake/vi_fmu_stamp.py: version, generationDateAndTime, copyright, license):
+# Builds Co-Simulation and Model Exchange FMUs of one model on the generic layer (include/vi_fmu.h), one
+# per FMI version, all from the same compiled model (<Name>_model). Both model descriptions are
+# generated from the model's variable table (cmake/vi_model_description.py reading <Name>_dump_variables)
+# and stamped with the release (cmake/vi_fmu_stamp.py: version, generationDateAndTime, copyright, license):
+#   FMI 2.0:
 #     <Name>               the shared library <Name>.so (.dll on Windows): the model + the layer
-#                          (src/vi_fmi_core.c and the FMI 2.0 face src/vi_fmi2.c), exporting the fmi2*
-#                          functions only (static libraries linked in stay hidden); it must match
-#                          modelIdentifier="<Name>" in the XML
+#                          (VI_FMU_LAYER_SOURCES and the FMI 2.0 face src/vi_fmi2.c), exporting the fmi2*
+#                          functions only (static libraries linked in stay hidden); VI_MODEL_IDENTIFIER
+#                          of the table must be <Name>
 #     <Name>_fmu (ALL)     packs <OUTPUT_DIRECTORY>/<Name>.fmu (default: the top build directory):
 #                          modelDescription.xml, binaries/<VI_FMI2_PLATFORM>/<Name>.so, resources/,
 #                          documentation/_main.html, model.png (ICON) (no FMU where FMI 2.0 names no
 #                          platform: aarch64 Linux)
-#   FMI 3.0 (the model description generated from the table and the stamped FMI 2.0 XML by
-#   cmake/vi_fmi3_description.py):
+#   FMI 3.0:
 #     <Name>_fmi3          the shared library <OUTPUT_DIRECTORY>/fmi3/<Name>.so: the model + the layer
-#                          (src/vi_fmi_core.c and the FMI 3.0 face src/vi_fmi3.c), exporting the fmi3*
+#                          (VI_FMU_LAYER_SOURCES and the FMI 3.0 face src/vi_fmi3.c), exporting the fmi3*
 #                          functions only
 #     <Name>_fmi3_fmu (ALL) packs <OUTPUT_DIRECTORY>/fmi3/<Name>.fmu: modelDescription.xml,
 #                          binaries/<VI_FMI3_PLATFORM>/<Name>.so, resources/, documentation/index.html,
 #                          terminalsAndIcons/icon.png (ICON)
-#   <Name>_dump_variables  prints the model's variable table (tests/dump_variables.c), for the test that
-#                          compares the table with the XML and for the FMI 3.0 description
+#   <Name>_dump_variables  prints the model's variable table (tests/dump_variables.c): the source of the
+#                          model descriptions, of the documentation's variable table and of the tests
 # The model's sources must define `const vi_fmu_model vi_fmu_this_model` and its table (vi_table.h).
 #
 # The platform comes from cmake/vi_platform.cmake (the build machine or a cross toolchain file).
@@ -51,6 +51,12 @@
 # and in sources/buildDescription.xml for FMI 3.0.
 # --- end source FMUs ---
 set(VI_FMU_ROOT ${CMAKE_CURRENT_LIST_DIR}/..)
+# The generic FMI layer that every face builds on (include/vi_fmu.h, include/vi_fmi_layer.h): the files
+# shared by both versions, one concern each.
+set(VI_FMU_LAYER_SOURCES
+    ${VI_FMU_ROOT}/src/vi_fmi_state_machine.c ${VI_FMU_ROOT}/src/vi_fmi_log.c ${VI_FMU_ROOT}/src/vi_fmi_instance.c
+    ${VI_FMU_ROOT}/src/vi_fmi_values.c ${VI_FMU_ROOT}/src/vi_fmi_fmu_state.c ${VI_FMU_ROOT}/src/vi_fmi_cosim.c
+    ${VI_FMU_ROOT}/src/vi_fmi_model_exchange.c)
 include(${CMAKE_CURRENT_LIST_DIR}/vi_platform.cmake)
 set(VI_FMU_MERGE_BINARIES "" CACHE STRING
     "Build directories of other platforms whose FMU binaries the FMUs packed here also hold")
@@ -73,7 +79,7 @@ function(vi_fmu_stage_sources name version xml xml_out dir_out depends_out)
     get_filename_component(f ${f} ABSOLUTE)
     list(APPEND c_files ${f})
   endforeach()
-  foreach(lib ${ARG_LIBRARIES} vi_text) # the libraries' own C files (vi_core, vt_solver; vi_text, the layer's)
+  foreach(lib ${ARG_LIBRARIES} vi_text) # the libraries' own C files (vi_simulator, vt_solver; vi_text, the layer's)
     if(TARGET ${lib})
       get_target_property(lib_sources ${lib} SOURCES)
       get_target_property(lib_dir ${lib} SOURCE_DIR)
@@ -131,12 +137,38 @@ if(NOT stamp_old STREQUAL stamp_text)
 endif()
 # ---- end of the release stamp -----------------------------------------------------------------------------
 
+# vi_fmu_description(<name> <fmi version> <out: the stamped modelDescription.xml>): the custom commands
+# that generate the model description of that version from <name>_dump_variables
+# (cmake/vi_model_description.py, <folder>/<name>_fmi<version>/generated.xml) and stamp it with the
+# release (cmake/vi_fmu_stamp.py, <folder>/<name>_fmi<version>/modelDescription.xml).
+function(vi_fmu_description name version xml_out)
+  set(dir ${CMAKE_CURRENT_BINARY_DIR}/${name}_fmi${version})
+  set(generator ${VI_FMU_ROOT}/cmake/vi_model_description.py)
+  set(stamper ${VI_FMU_ROOT}/cmake/vi_fmu_stamp.py)
+  set(fmi3_args "")
+  if(version STREQUAL "3")
+    set(fmi3_args --time-vr ${VI_FMI3_TIME_VR} --derivative-vr-base ${VI_FMI3_DERIVATIVE_VR_BASE}
+                  --indicator-vr-base ${VI_FMI3_INDICATOR_VR_BASE})
+  elseif(NOT version STREQUAL "2")
+    message(FATAL_ERROR "vi_add_fmu(${name}): FMI_VERSIONS ${version}: use 2 and/or 3")
+  endif()
+  add_custom_command(OUTPUT ${dir}/modelDescription.xml
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${dir}
+    COMMAND ${Python3_EXECUTABLE} ${generator} --fmi ${version} ${fmi3_args} --out ${dir}/generated.xml
+            --dump ${CMAKE_CROSSCOMPILING_EMULATOR} $<TARGET_FILE:${name}_dump_variables>
+    COMMAND ${Python3_EXECUTABLE} ${stamper} --xml ${dir}/generated.xml --version ${PROJECT_VERSION}
+            --source-date-epoch=$ENV{SOURCE_DATE_EPOCH} --license ${VI_FMU_ROOT}/LICENSE --out ${dir}/modelDescription.xml
+    DEPENDS ${generator} ${stamper} ${name}_dump_variables ${VI_FMU_ROOT}/LICENSE ${VI_FMU_RELEASE_STAMP}
+    COMMENT "Generating the FMI ${version}.0 modelDescription.xml of ${name} (version ${PROJECT_VERSION})")
+  set(${xml_out} ${dir}/modelDescription.xml PARENT_SCOPE)
+endfunction()
+
 function(vi_add_fmu name)
-  cmake_parse_arguments(ARG "" "XML;OUTPUT_DIRECTORY;DOC_INTRO;ICON"
+  cmake_parse_arguments(ARG "" "OUTPUT_DIRECTORY;DOC_INTRO;ICON"
                         "SOURCES;LIBRARIES;INCLUDE_DIRS;RESOURCES;FMI_VERSIONS;DOCUMENTATION;DOCUMENTATION_FMI3;LICENSES"
                         ${ARGN})
-  if(NOT ARG_SOURCES OR NOT ARG_XML)
-    message(FATAL_ERROR "vi_add_fmu(${name}): SOURCES and XML are required")
+  if(NOT ARG_SOURCES)
+    message(FATAL_ERROR "vi_add_fmu(${name}): SOURCES are required")
   endif()
   if(NOT ARG_OUTPUT_DIRECTORY)
     set(ARG_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR})
@@ -144,7 +176,6 @@ function(vi_add_fmu name)
   if(NOT ARG_FMI_VERSIONS)
     set(ARG_FMI_VERSIONS 2)
   endif()
-  get_filename_component(xml_written ${ARG_XML} ABSOLUTE)
 
   # The model without the FMI layer: shared by the FMU binaries and the table dump.
   add_library(${name}_model OBJECT ${ARG_SOURCES})
@@ -158,19 +189,12 @@ function(vi_add_fmu name)
   target_link_libraries(${name}_dump_variables PRIVATE ${name}_model)
   set_target_properties(${name}_dump_variables PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${ARG_OUTPUT_DIRECTORY})
 
-  # ---- version, documentation, licences, icon ----------------------------------------------------------
-  # The hand-written FMI 2.0 description stamped with the release; the FMI 3.0 one is generated from it.
-  set(xml ${CMAKE_CURRENT_BINARY_DIR}/${name}_fmi2/modelDescription.xml)
-  set(stamper ${VI_FMU_ROOT}/cmake/vi_fmu_stamp.py)
-  add_custom_command(OUTPUT ${xml}
-    COMMAND ${CMAKE_COMMAND} -E make_directory ${CMAKE_CURRENT_BINARY_DIR}/${name}_fmi2
-    COMMAND ${Python3_EXECUTABLE} ${stamper} --xml ${xml_written} --version ${PROJECT_VERSION}
-            --source-date-epoch=$ENV{SOURCE_DATE_EPOCH} --license ${VI_FMU_ROOT}/LICENSE --out ${xml}
-    DEPENDS ${stamper} ${xml_written} ${VI_FMU_ROOT}/LICENSE ${VI_FMU_RELEASE_STAMP}
-    COMMENT "Stamping the FMI 2.0 modelDescription.xml of ${name} with version ${PROJECT_VERSION}")
-  add_custom_target(${name}_stamp DEPENDS ${xml}) # one rule for the file the FMUs of both versions read
+  # ---- the model descriptions, generated from the table and stamped with the release ------------------
+  foreach(version ${ARG_FMI_VERSIONS})
+    vi_fmu_description(${name} ${version} xml_${version})
+  endforeach()
   set(doc_args --license ${VI_FMU_ROOT}/LICENSE)
-  set(doc_inputs ${VI_FMU_ROOT}/cmake/vi_fmu_doc.py ${VI_FMU_ROOT}/cmake/vi_fmi3_description.py ${VI_FMU_ROOT}/LICENSE)
+  set(doc_inputs ${VI_FMU_ROOT}/cmake/vi_fmu_doc.py ${VI_FMU_ROOT}/cmake/vi_model_description.py ${VI_FMU_ROOT}/LICENSE)
   foreach(notice ${ARG_LICENSES})
     string(REGEX REPLACE "^[^=]*=" "" notice_file "${notice}")
     list(APPEND doc_args --notice ${notice})
@@ -202,7 +226,7 @@ function(vi_add_fmu name)
       set(face ${VI_FMU_ROOT}/src/vi_fmi2.c)
       set(platform ${VI_FMI2_PLATFORM})
       set(out_dir ${ARG_OUTPUT_DIRECTORY})
-      set(version_xml ${xml})
+      set(version_xml ${xml_2})
       set(version_pages ${doc_DOCUMENTATION})
       set(defs "")
     elseif(version STREQUAL "3")
@@ -210,24 +234,15 @@ function(vi_add_fmu name)
       set(face ${VI_FMU_ROOT}/src/vi_fmi3.c)
       set(platform ${VI_FMI3_PLATFORM})
       set(out_dir ${ARG_OUTPUT_DIRECTORY}/fmi3)
-      set(version_xml ${CMAKE_CURRENT_BINARY_DIR}/${name}_fmi3/modelDescription.xml)
+      set(version_xml ${xml_3})
       set(defs VI_FMI3_TIME_VR=${VI_FMI3_TIME_VR}u VI_FMI3_DERIVATIVE_VR_BASE=${VI_FMI3_DERIVATIVE_VR_BASE}u
                VI_FMI3_INDICATOR_VR_BASE=${VI_FMI3_INDICATOR_VR_BASE}u)
-      set(generator ${VI_FMU_ROOT}/cmake/vi_fmi3_description.py)
       set(version_pages ${doc_DOCUMENTATION} ${doc_DOCUMENTATION_FMI3})
-      add_custom_command(OUTPUT ${version_xml}
-        COMMAND ${CMAKE_COMMAND} -E make_directory ${CMAKE_CURRENT_BINARY_DIR}/${name}_fmi3
-        COMMAND ${Python3_EXECUTABLE} ${generator} --fmi2 ${xml} --time-vr ${VI_FMI3_TIME_VR}
-                --derivative-vr-base ${VI_FMI3_DERIVATIVE_VR_BASE} --indicator-vr-base ${VI_FMI3_INDICATOR_VR_BASE}
-                --out ${version_xml}
-                --dump ${CMAKE_CROSSCOMPILING_EMULATOR} $<TARGET_FILE:${name}_dump_variables>
-        DEPENDS ${generator} ${xml} ${name}_dump_variables
-        COMMENT "Generating the FMI 3.0 modelDescription.xml of ${name}")
     else()
       message(FATAL_ERROR "vi_add_fmu(${name}): FMI_VERSIONS ${version}: use 2 and/or 3")
     endif()
 
-    add_library(${target} SHARED ${face} ${VI_FMU_ROOT}/src/vi_fmi_core.c)
+    add_library(${target} SHARED ${face} ${VI_FMU_LAYER_SOURCES})
     target_include_directories(${target} PRIVATE ${FMI2_HEADERS_DIR} ${VI_FMU_ROOT}/include)
     target_compile_definitions(${target} PRIVATE ${defs})
     target_compile_options(${target} PRIVATE ${VI_WARNINGS})
@@ -245,7 +260,7 @@ function(vi_add_fmu name)
     set(stage ${CMAKE_CURRENT_BINARY_DIR}/${target}.stage)
     # --- source FMUs ---
     vi_fmu_stage_sources(${name} ${version} ${version_xml} version_xml sources_dir sources_depends
-                         ${ARG_SOURCES} ${face} ${VI_FMU_ROOT}/src/vi_fmi_core.c)
+                         ${ARG_SOURCES} ${face} ${VI_FMU_LAYER_SOURCES})
     set(copy_sources "")
     if(sources_dir)
       set(copy_sources COMMAND ${CMAKE_COMMAND} -E copy_directory ${sources_dir} ${stage}/sources)
@@ -309,6 +324,5 @@ function(vi_add_fmu name)
               ${sources_depends}
       COMMENT "Packing ${name}.fmu (FMI ${version}.0)")
     add_custom_target(${target}_fmu ALL DEPENDS ${fmu})
-    add_dependencies(${target}_fmu ${name}_stamp)
   endforeach()
 endfunction()

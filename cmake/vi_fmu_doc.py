@@ -29,8 +29,9 @@ import os
 import re
 import shutil
 import sys
+import xml.etree.ElementTree as ET
 
-import vi_fmi3_description as fmi3desc  # beside this script (the dump's reader and the FMI 3.0 types)
+import vi_model_description as mdgen  # beside this script: the reader of the table dump
 
 ENTRY = {"2": "_main.html", "3": "index.html"}
 LICENSES = "licenses"
@@ -269,14 +270,14 @@ def intro_lines(path):
 
 def variable_table(dump, fmi):
     """The variables of the dump as an HTML table, with the types of the FMI version."""
-    _, variables, items = fmi3desc.read_table(dump)
+    _, variables, items = mdgen.read_table(dump)
     types3 = {"Real": "Float64", "Integer": "Int32", "Boolean": "Boolean", "String": "String"}
     rows = []
     for v in variables:
         kind = v["type"] if fmi == "2" else ("Enumeration" if v["enum"] != "none" else types3[v["type"]])
-        bounds = [fmi3desc.number(b) if b else "" for b in (v["min"], v["max"])]
+        bounds = [mdgen.number(b) if b else "" for b in (v["min"], v["max"])]
         start = "" if v["initial"] == "calculated" else (v["start"] if v["type"] == "String" else
-                                                         fmi3desc.number(v["start"]))
+                                                         mdgen.number(v["start"]))
         cells = [f"<code>{html.escape(v['name'])}</code>", str(v["vr"]), kind, v["causality"], v["variability"],
                  html.escape(start), html.escape(bounds[0]), html.escape(bounds[1]), html.escape(v["unit"]),
                  html.escape(v["description"])]
@@ -351,7 +352,7 @@ def main():
     for n in notices:
         if len(n) != 2 or not re.fullmatch(r"[\w.-]+", n[0]) or not os.path.isfile(n[1]):
             fail(f"--notice {'='.join(n)}: give NAME=FILE with an existing FILE")
-    md = fmi3desc.ET.parse(args.xml).getroot()
+    md = ET.parse(args.xml).getroot()
     shutil.rmtree(args.out, ignore_errors=True)
     os.makedirs(args.out)
     book = Book(args.out, ([args.intro] if args.intro else []) + args.page,

@@ -1,4 +1,4 @@
-"""Stamp a hand-written FMI 2.0 modelDescription.xml with the release: version, generation date, copyright
+"""Stamp a generated modelDescription.xml (FMI 2.0 or 3.0) with the release: version, generation date, copyright
 and licence. Run at build time by vi_add_fmu (cmake/vi_fmu.cmake):
 
     python vi_fmu_stamp.py --xml modelDescription.xml --version VERSION --license LICENSE --out OUT.xml
@@ -7,11 +7,10 @@ VERSION is the CMake project's version (project(... VERSION) in CMakeLists.txt, 
 too). generationDateAndTime is SOURCE_DATE_EPOCH (seconds since 1970, UTC; reproducible builds): the
 environment variable when it is set, else --source-date-epoch (its value when CMake configured the
 build) when that is not empty, else the current time. copyright is the "Copyright" line of LICENSE, and
-license names LICENSE's title (its first line) and where the FMU holds the licences. The FMI 3.0
-description (cmake/vi_fmi3_description.py) copies all four from the stamped file.
+license names LICENSE's title (its first line) and where the FMU holds the licences.
 
 The root element's attributes of those names are replaced or added; every other byte of the file stays
-as written (comments included), so that the stamped file differs from the hand-written one in the root
+as generated (comments included), so that the stamped file differs from the generated one in the root
 element's start tag only.
 """
 import argparse
@@ -64,7 +63,7 @@ def stamp(text, values):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--xml", required=True, help="the hand-written FMI 2.0 modelDescription.xml")
+    ap.add_argument("--xml", required=True, help="the generated modelDescription.xml")
     ap.add_argument("--version", required=True, help="the release version (CMake's PROJECT_VERSION)")
     ap.add_argument("--license", required=True, help="the repository's LICENSE")
     ap.add_argument("--out", required=True, help="the stamped modelDescription.xml to write")

@@ -50,17 +50,27 @@ def test_null_callbacks_are_refused(logged):
     assert raw_instantiate(logged(), callbacks=False) is None
 
 
-@pytest.mark.parametrize("missing", ["allocateMemory", "freeMemory"])
-def test_callbacks_without_one_memory_function_are_refused(logged, missing):
-    """allocateMemory and freeMemory are both required: with either one NULL (and a resource URI to
-    decode) fmi2Instantiate calls neither, logs why and returns NULL."""
+@pytest.mark.parametrize("missing", ["allocateMemory", "freeMemory", "both"])
+def test_callbacks_without_memory_functions_use_the_fmus_own(logged, missing):
+    """canNotUseMemoryManagementFunctions="true": with either memory function NULL (or both, and a
+    resource URI to decode) fmi2Instantiate still gives an instance, taking every block from the C
+    library, never from the importer's remaining function; it simulates and is freed."""
     from fmpy.fmi2 import fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE
     log = logged()
-    null = {"allocateMemory": fmi2CallbackAllocateMemoryTYPE, "freeMemory": fmi2CallbackFreeMemoryTYPE}[missing]()
-    setattr(log.callbacks, missing, null)  # a NULL function pointer
-    assert raw_instantiate(log) is None
-    assert [m for _, _, m in log.messages] == [
-        "fmi2Instantiate: the callbacks allocateMemory and freeMemory are required"]
+    calls = []
+    log.callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(lambda n, size: calls.append("alloc"))
+    log.callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(lambda p: calls.append("free"))
+    for name in (["allocateMemory", "freeMemory"] if missing == "both" else [missing]):
+        null = {"allocateMemory": fmi2CallbackAllocateMemoryTYPE, "freeMemory": fmi2CallbackFreeMemoryTYPE}[name]()
+        setattr(log.callbacks, name, null)  # a NULL function pointer
+    s = log.slave
+    c = raw_instantiate(log)
+    assert c is not None and log.messages == []
+    assert s.fmi2SetupExperiment(c, 0, 0.0, 0.0, 0, 0.0) == 0
+    assert s.fmi2EnterInitializationMode(c) == 0 and s.fmi2ExitInitializationMode(c) == 0
+    assert s.fmi2DoStep(c, 0.0, 1e-4, 1) == 0
+    s.fmi2FreeInstance(c)
+    assert calls == []
 
 
 def test_every_allocation_of_instantiation_is_checked(logged, vr):
@@ -193,7 +203,7 @@ def test_events_are_logged_by_category(logged, vr):
     start(s, vr, dict(contact_model=1, a=1e-4))
     s.doStep(0.0, 0.02)
     cats = {c for _, c, _ in log.messages}
-    assert cats == {"logEvents"} and any("mode 1 -> 0" in m for _, _, m in log.messages)
+    assert cats == {"logEvents"} and any("mode=1->0" in m for _, _, m in log.messages)
     n = s.getInteger([vr["n_impacts"]])[0]
     assert n > 0
     s.terminate()
@@ -566,9 +576,9 @@ def test_initial_state_is_logged(logged, vr):
     s.setDebugLogging(True, ["logEvents"])
     start(s, vr, dict(contact_model=1))
     e = effective({})
-    msg = next(m for _, cat, m in log.messages if cat == "logEvents" and m.startswith("initial mode"))
+    msg = next(m for _, cat, m in log.messages if cat == "logEvents" and m.startswith("event ") and "kind=start" in m)
     import re
-    mode, delta, v = re.fullmatch(r"initial mode (\d+), delta = (\S+) m, v = (\S+) m/s", msg).groups()
+    mode, delta, v = re.fullmatch(r"event t=0 kind=start mode=(\d+) delta=(\S+) v=(\S+)", msg).groups()
     assert (int(mode), float(v)) == (1, 0.0)
     assert float(delta) == pytest.approx((e["W"] / e["K"]) ** (2 / 3), rel=1e-8)
     s.freeInstance()

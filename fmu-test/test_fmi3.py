@@ -717,6 +717,6 @@ def test_scheduled_execution_is_refused_with_and_without_a_logger(dir3):
     logger = log_type(lambda env, status, category, message: seen.append((status, category, message)))
     token = read_model_description(str(FMU3)).instantiationToken.encode()
     assert f(b"se", token, None, False, False, None, logger, None, None, None) is None
-    assert seen == [(ERROR, b"logStatusError", b"fmi3InstantiateScheduledExecution: this FMU offers Co-Simulation only, "
-                                               b"not Scheduled Execution")], seen
+    assert seen == [(ERROR, b"logStatusError", b"fmi3InstantiateScheduledExecution: this FMU offers Co-Simulation and "
+                                               b"Model Exchange, not Scheduled Execution")], seen
     assert f(b"se", token, None, False, False, None, log_type(), None, None, None) is None

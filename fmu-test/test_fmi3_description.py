@@ -1,8 +1,10 @@
-"""The FMI 3.0 model descriptions (generated at build time by cmake/vi_fmi3_description.py from each
-model's variable table and FMI 2.0 description): fmpy validates them, and they say what the FMI 2.0
+"""The FMI 3.0 model descriptions (generated at build time by cmake/vi_model_description.py from each
+model's variable table, as the FMI 2.0 ones are): fmpy validates them, and they say what the FMI 2.0
 descriptions say, variable by variable, translated into FMI 3.0 (types, Enumeration items, units,
 start values, bounds, ModelStructure, categories), for the contact FMU, the layer's test model and
 the vehicle-track example's companions."""
+import datetime
+import os
 import re
 import shutil
 import subprocess
@@ -16,7 +18,7 @@ from fmpy.validation import validate_fmu, validate_model_description
 
 from conftest import BUILD, ROOT
 
-GENERATOR = ROOT / "cmake" / "vi_fmi3_description.py"
+GENERATOR = ROOT / "cmake" / "vi_model_description.py"
 TIME_VR = 2147483647  # VI_FMI3_TIME_VR in cmake/vi_fmu.cmake
 DER_BASE = 1073741824  # VI_FMI3_DERIVATIVE_VR_BASE
 INDICATOR_BASE = 1610612736  # VI_FMI3_INDICATOR_VR_BASE
@@ -66,14 +68,17 @@ def test_identity_capabilities_and_experiment(pair):
         assert xml3.get("providesDirectionalDerivatives") == str(me2.providesDirectionalDerivative).lower()
         assert xml3.get("needsCompletedIntegratorStep") == str(me2.needsCompletedIntegratorStep).lower()
     cs = md3.coSimulation
-    assert cs.mightReturnEarlyFromDoStep and cs.hasEventMode and cs.canGetAndSetFMUstate and cs.canSerializeFMUstate
+    assert cs.hasEventMode and cs.canGetAndSetFMUstate and cs.canSerializeFMUstate
+    # only the contact model ends a step at its events (advance_to_event); the others never return early
+    assert cs.mightReturnEarlyFromDoStep == (name == "VibroImpact")
     assert cs.canHandleVariableCommunicationStepSize and not cs.providesIntermediateUpdate
     assert not cs.providesDirectionalDerivative and cs.maxOutputDerivativeOrder == 0
     for a in ("startTime", "stopTime", "stepSize", "tolerance"):
         assert getattr(md3.defaultExperiment, a) == getattr(md2.defaultExperiment, a), a
     assert [c.name for c in md3.logCategories] == [c.name.replace("logFmi2Call", "logFmi3Call")
                                                    for c in md2.logCategories]
-    assert {u.name for u in md3.unitDefinitions} == {u.name for u in md2.unitDefinitions}
+    # FMI 3.0 also declares s, the unit of the independent variable time
+    assert {u.name for u in md3.unitDefinitions} == {u.name for u in md2.unitDefinitions} | {"s"}
 
 
 def test_the_independent_variable_is_time(pair):
@@ -155,28 +160,46 @@ def test_model_structure_as_in_fmi2(pair):
         assert (u.variable.causality, u.variable.variability, u.variable.type) == ("local", "continuous", "Float64")
 
 
-def test_the_generator_refuses_an_fmi2_description_that_disagrees_with_the_table(tmp_path):
-    """The table is the source of truth: an FMI 2.0 description that lost a variable (or names
-    another GUID) stops the build instead of giving an FMI 3.0 description of something else."""
-    dump = BUILD / "VibroImpact_dump_variables"
-    xml = MODELS["VibroImpact"].read_text()
-    cases = {"a variable missing": re.sub(r'<!-- 3 -->.*?</ScalarVariable>', "", xml, flags=re.S),
-             "another guid": xml.replace('guid="{5b7e', 'guid="{0b7e')}
+def generate(tmp_path, version, dump_text):
+    """Run the generator on a dump given as text (printed by cat); the completed process."""
+    dump = tmp_path / "dump.txt"
+    dump.write_text(dump_text)
+    fmi3 = ["--time-vr", str(TIME_VR), "--derivative-vr-base", str(DER_BASE), "--indicator-vr-base", str(INDICATOR_BASE)]
+    return subprocess.run([sys.executable, str(GENERATOR), "--fmi", version, *(fmi3 if version == "3" else []),
+                           "--out", str(tmp_path / "out.xml"), "--dump", "cat", str(dump)], capture_output=True, text=True)
+
+
+def test_the_generator_refuses_a_table_it_cannot_describe(tmp_path):
+    """The table is the one source: a dependency on something that is no input or state, on a name that
+    is no variable, or a dependency of a parameter, and a unit without base units stop the build with
+    a message naming the variable, instead of giving a description of something else."""
+    dump = subprocess.run([str(BUILD / "VibroImpact_dump_variables")], check=True, capture_output=True,
+                          text=True).stdout
+    vr = {line.split("\t")[2]: line.split("\t")[1] for line in dump.splitlines() if line.startswith("var\t")}
+    cases = {"F": dump.replace(f"depends\t{vr['F']}\tyC_in F_ext y\n", f"depends\t{vr['F']}\tyC_in m y\n"),
+             "delta": dump.replace(f"depends\t{vr['delta']}\tyC_in y\n", f"depends\t{vr['delta']}\tyC_in z\n"),
+             "m": dump.replace("\nenumtype", f"\ndepends\t{vr['m']}\ty\nenumtype", 1),
+             "W_plastic": dump.replace('\tJ\tplastic work', '\tfurlong\tplastic work')}
     for what, text in cases.items():
-        bad = tmp_path / "md2.xml"
-        bad.write_text(text)
-        run = subprocess.run([sys.executable, str(GENERATOR), "--fmi2", str(bad), "--time-vr", str(TIME_VR),
-                              "--derivative-vr-base", str(DER_BASE), "--indicator-vr-base", str(INDICATOR_BASE), "--out", str(tmp_path / "out.xml"),
-                              "--dump", str(dump)], capture_output=True, text=True)
-        assert run.returncode != 0, what
-        assert "vi_fmi3_description.py:" in run.stderr, (what, run.stderr)
-    stamped = tmp_path / "stamped.xml"  # the FMI 3.0 description is generated from the stamped FMI 2.0 one
-    with zipfile.ZipFile(BUILD / "VibroImpact.fmu") as z:
-        stamped.write_bytes(z.read("modelDescription.xml"))
-    good = subprocess.run([sys.executable, str(GENERATOR), "--fmi2", str(stamped), "--time-vr",
-                           str(TIME_VR), "--derivative-vr-base", str(DER_BASE), "--indicator-vr-base", str(INDICATOR_BASE), "--out", str(tmp_path / "out.xml"),
-                           "--dump", str(dump)], capture_output=True)
-    assert good.returncode == 0
+        assert text != dump, what
+        for version in ("2", "3"):
+            run = generate(tmp_path, version, text)
+            assert run.returncode != 0, what
+            assert run.stderr.startswith(f"vi_model_description.py: {what}:"), (what, run.stderr)
+
+
+@pytest.mark.parametrize("version", ["2", "3"])
+def test_the_packed_description_is_the_generated_one_stamped(tmp_path, version):
+    dump = subprocess.run([str(BUILD / "VibroImpact_dump_variables")], check=True, capture_output=True,
+                          text=True).stdout
+    assert generate(tmp_path, version, dump).returncode == 0
+    stamped = tmp_path / "stamped.xml"
     packed = tmp_path / "packed"
-    shutil.unpack_archive(str(fmu3("VibroImpact")), str(packed), "zip")
-    assert (packed / "modelDescription.xml").read_text() == (tmp_path / "out.xml").read_text()
+    shutil.unpack_archive(str(fmu3("VibroImpact") if version == "3" else BUILD / "VibroImpact.fmu"), str(packed), "zip")
+    root = ET.parse(packed / "modelDescription.xml").getroot()
+    epoch = int(datetime.datetime.strptime(root.get("generationDateAndTime"), "%Y-%m-%dT%H:%M:%S%z").timestamp())
+    stamp = [sys.executable, str(ROOT / "cmake" / "vi_fmu_stamp.py"), "--xml", str(tmp_path / "out.xml"),
+             "--version", root.get("version"), "--license", str(ROOT / "LICENSE"), "--out", str(stamped),
+             f"--source-date-epoch={epoch}"]
+    subprocess.run(stamp, check=True, env={"PATH": os.environ["PATH"]})  # no SOURCE_DATE_EPOCH of the caller
+    assert (packed / "modelDescription.xml").read_text() == stamped.read_text()

@@ -1,7 +1,9 @@
-"""The FMU's interface: modelDescription.xml against the C variable table (the one source of truth),
-fmpy's validator, and the binary's dependencies and exports."""
+"""The FMU's interface: modelDescription.xml (generated from the C variable table, the one source of
+truth) against that table, the checked-in descriptions against what the build packs, fmpy's validator,
+the capability flags, and the binary's dependencies and exports."""
 import pathlib
 import subprocess
+import sys
 
 import pytest
 
@@ -65,31 +67,65 @@ def test_xml_matches_c_table(model_description):
 
 # The attributes the build stamps into the root element (cmake/vi_fmu_stamp.py; fmu-test/test_release.py).
 RELEASE_ATTRIBUTES = r'\s+(?:version|generationDateAndTime|copyright|license)="[^"]*"'
+# The checked-in FMI 2.0 descriptions, where users and scripts read them: the generator's output.
+CHECKED_IN = {"VibroImpact": "modelDescription.xml", "LayerTest": "tests/layer_fmu/modelDescription.xml",
+              "Track": "examples/vehicle-track/track/modelDescription.xml",
+              "Vehicle": "examples/vehicle-track/vehicle/modelDescription.xml"}
 
 
-def test_xml_at_top_level_is_the_packed_one(fmu_path):
-    """The packed description is the hand-written one with the release stamped into its root element."""
+@pytest.mark.parametrize("name", sorted(CHECKED_IN))
+def test_checked_in_description_is_the_packed_one(name):
+    """The packed description is the generated one with the release stamped into its root element; the
+    checked-in file is the generated one as it is."""
     import re
     import zipfile
-    with zipfile.ZipFile(fmu_path) as z:
+    place = CHECKED_IN[name]
+    with zipfile.ZipFile(BUILD / f"{name}.fmu") as z:
         packed = z.read("modelDescription.xml").decode("utf-8")
-        assert "binaries/linux64/VibroImpact.so" in z.namelist()
-    written = (ROOT / "modelDescription.xml").read_text(encoding="utf-8")
+        assert f"binaries/linux64/{name}.so" in z.namelist()
     root = re.search(r"<fmiModelDescription[^>]*>", packed)
     unstamped = packed[:root.start()] + re.sub(RELEASE_ATTRIBUTES, "", root.group(0)) + packed[root.end():]
-    assert unstamped == written
     assert len(re.findall(RELEASE_ATTRIBUTES, root.group(0))) == 4
+    written = (ROOT / place).read_text(encoding="utf-8")
+    assert unstamped == written, (
+        f"{place} is not what the build generates from the table: write it again with\n  python "
+        f"cmake/vi_model_description.py --fmi 2 --out {place} --dump build/{name}_dump_variables")
 
 
-def test_fmpy_validate_finds_no_problem(fmu_path):
-    assert validate_fmu(fmu_path) == []
+def test_doc_variables_md_is_the_generated_table(tmp_path):
+    """doc/variables.md, the documentation's variable table with the dependencies, is what the generator
+    writes from the table today."""
+    (tmp_path / "doc").mkdir()  # the same --out as the command the page names, in a folder of its own
+    subprocess.run([sys.executable, str(ROOT / "cmake" / "vi_model_description.py"), "--markdown", "--out",
+                    "doc/variables.md", "--dump", str(BUILD / "VibroImpact_dump_variables")], check=True, cwd=tmp_path,
+                   capture_output=True)
+    generated = (tmp_path / "doc" / "variables.md").read_text(encoding="utf-8")
+    assert (ROOT / "doc" / "variables.md").read_text(encoding="utf-8") == generated, (
+        "doc/variables.md is not what the build's table gives: write it again with\n  python "
+        "cmake/vi_model_description.py --markdown --out doc/variables.md --dump build/VibroImpact_dump_variables")
+
+
+@pytest.mark.parametrize("name", sorted(CHECKED_IN))
+def test_fmpy_validate_finds_no_problem(name):
+    """Every FMI 2.0 FMU of the build, its variable names and ModelStructure included."""
+    from fmpy import read_model_description
+    from fmpy.validation import validate_model_description
+    path = str(BUILD / f"{name}.fmu")
+    assert validate_fmu(path) == []
+    md = read_model_description(path, validate=True)
+    assert validate_model_description(md, validate_variable_names=True, validate_model_structure=True) == []
 
 
 def test_capabilities(model_description):
-    cs = model_description.coSimulation
-    assert cs.modelIdentifier == "VibroImpact"
+    cs, me = model_description.coSimulation, model_description.modelExchange
+    assert cs.modelIdentifier == me.modelIdentifier == "VibroImpact"
     assert cs.canHandleVariableCommunicationStepSize and cs.canInterpolateInputs
-    assert cs.canGetAndSetFMUstate and cs.canSerializeFMUstate
+    assert cs.canGetAndSetFMUstate and cs.canSerializeFMUstate and me.canGetAndSetFMUstate and me.canSerializeFMUstate
+    # CVODE and the model allocate with malloc: the importer's memory functions are not the only ones used
+    assert cs.canNotUseMemoryManagementFunctions and me.canNotUseMemoryManagementFunctions
+    assert me.providesDirectionalDerivative and not cs.providesDirectionalDerivative
+    assert not me.completedIntegratorStepNotNeeded and cs.maxOutputDerivativeOrder == 0
+    assert not cs.canRunAsynchronuously and not cs.canBeInstantiatedOnlyOncePerProcess
     # the tolerance of rtol = 0; an rtol the user sets wins over whatever an importer passes (test_solver)
     assert float(model_description.defaultExperiment.tolerance) == 1e-6
 

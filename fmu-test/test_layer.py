@@ -106,6 +106,18 @@ def test_input_value_resets_its_derivative_and_a_derivative_alone_is_applied(lay
     assert x_of(s, lvr) == pytest.approx(ref(x2, 4.0, -3.0, 0.5), rel=1e-12)
 
 
+def test_der_x_is_the_derivative_with_the_input_in_force(layer, lvr):
+    """der_x = -k x + u(t), with u(t) the input on the step's ramp: at the end of a step along
+    u = 1 + 2 t, u = 2 (not the ramp's start value 1)."""
+    _, s = layer()
+    start(s, lvr, k=2.0)
+    s.setReal([lvr["u"]], [1.0])
+    s.setRealInputDerivatives([lvr["u"]], [1], [2.0])
+    s.doStep(0.0, 0.5)
+    x = x_of(s, lvr)
+    assert s.getReal([lvr["der_x"]])[0] == pytest.approx(-2.0 * x + 2.0, rel=1e-12)
+
+
 def test_string_parameter_start_value_and_length(layer, lvr):
     _, s = layer()
     s.setupExperiment(startTime=0.0)

@@ -125,8 +125,8 @@ def test_the_fmu_does_the_same_in_de_DE_as_in_the_c_locale(fmu_path, tmp_path):
                    "x0 = 1.5 m lies outside the profile", "m = -0.5 is outside its range", "f = -2.5e-07", "rtol = 0.025"):
         assert expect in text, text
     assert len(c["forms"]["values"]) == 20 and c["forms"]["values"][0] != "FMICallException", c["forms"]
-    assert any("delta = 5.56347498e-05 m" in m for m in c["fig5a"]["messages"]), c["fig5a"]["messages"]
-    assert sum(m.startswith("t = 0.0") for m in c["fig5c"]["messages"]) > 10, c["fig5c"]["messages"]
+    assert any("kind=start mode=1 delta=5.56347498e-05 " in m for m in c["fig5a"]["messages"]), c["fig5a"]["messages"]
+    assert sum(m.startswith("event t=0.0") for m in c["fig5c"]["messages"]) > 10, c["fig5c"]["messages"]
     differ = {case: next(([a, b] for a, b in zip(de[case]["messages"], c[case]["messages"]) if a != b),
                          "the values or the count of messages")
               for case in c if de[case] != c[case]}

@@ -120,8 +120,8 @@ def test_input_jump_during_plastic_loading_acts_as_in_co_simulation(fmu_path, un
         y.append(s.getReal([vr["y"]])[0])
         dc.append(s.getReal([vr["delta_c"]])[0])
     s.freeInstance()
-    cs_modes = [m for m in log.text().splitlines() if "input change, mode 2 -> 3" in m]
-    me_modes = [m for _, _, m in inst.messages if "input change, mode 2 -> 3" in m]
+    cs_modes = [m for m in log.text().splitlines() if "kind=input mode=2->3" in m]
+    me_modes = [m for _, _, m in inst.messages if "kind=input mode=2->3" in m]
     assert len(cs_modes) == len(me_modes) == 1  # unloading after the jump
     assert np.abs(r["delta_c"] - dc).max() <= 1e-12
     assert np.abs(r["y"] - y).max() <= 1e-10
@@ -163,6 +163,26 @@ def test_state_from_before_initialization_gives_the_initial_states_again(me):
     m.fmu.enterInitializationMode()
     assert m.states() == initial and initial[0] < 0.0 and initial[1] == 0.0  # the static start
     m.fmu.freeFMUstate(before)
+
+
+def test_fmu_state_gives_back_the_states_bit_for_bit_far_from_the_platform(me):
+    """An FMU state taken in continuous-time mode gives back the importer's states to the bit, also
+    where the platform is far from the mass (yC = -1e6 m, y = 0.1 m: delta = yC - y carries 19 fewer
+    bits of y than y itself); a second state with other states set in between changes nothing."""
+    inst, m = me()
+    m.start(params=dict(contact_model=1, init=2, v0=0.0, a=0.0, yC_in=-1e6))
+    m.fmu.setTime(1e-4)
+    x = [0.1 + 2.0 ** -40, 1e-3 / 3.0]  # bits below the ulp of 1e6 (1.2e-10)
+    m.set_states(x)
+    m.fmu.enterEventMode()
+    m.settle()  # the state as it is: free flight
+    m.fmu.enterContinuousTimeMode()
+    assert m.integer("mode") == 0 and m.states() == x
+    saved = m.fmu.getFMUstate()
+    m.set_states([0.2, 0.0])
+    m.fmu.setFMUstate(saved)
+    assert m.states() == x  # exactly
+    m.fmu.freeFMUstate(saved)
 
 
 def test_initial_state_is_logged(fmu_path, unzipdir, model_description):
@@ -248,9 +268,9 @@ def test_contact_left_under_a_falling_input_is_one_event(fmu_path, unzipdir, mod
     r, inst = run_me(fmu_path, dict(contact_model=law), 3e-3, rtol=1e-8, input=signal,
                      unzipdir=unzipdir, md=model_description)
     assert not inst.errors()
-    events = [m for _, _, m in inst.messages if "guard" in m and "->" in m]
-    assert len(events) == 1 and "mode 1 -> 0" in events[0], events
-    t_sep = float(events[0].split("t = ")[1].split(" s")[0])
-    v_sep = float(events[0].split("v = ")[1].split(" m/s")[0])
+    events = [m for _, _, m in inst.messages if m.startswith("event ") and "kind=guard" in m]
+    assert len(events) == 1 and "mode=1->0" in events[0], events
+    fields = dict(word.split("=", 1) for word in events[0].split()[1:])
+    t_sep, v_sep = float(fields["t"]), float(fields["v"])
     assert 1e-3 < t_sep < 2e-3
     assert -1000.0 * (t_sep - 1e-3) < v_sep < 0.0

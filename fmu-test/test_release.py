@@ -44,8 +44,8 @@ def fmu(name, version):
 def load(script):
     """A build script of cmake/ as a module; the scripts beside it that it imports come first (as
     sys.modules entries: run as a script, its own folder is on the path)."""
-    if script == "vi_fmu_doc" and "vi_fmi3_description" not in sys.modules:
-        sys.modules["vi_fmi3_description"] = load("vi_fmi3_description")
+    if script == "vi_fmu_doc" and "vi_model_description" not in sys.modules:
+        sys.modules["vi_model_description"] = load("vi_model_description")
     spec = importlib.util.spec_from_file_location(script, ROOT / "cmake" / f"{script}.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)

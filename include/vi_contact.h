@@ -37,6 +37,8 @@ double vi_hertz_force(double K, double delta);
 double vi_hertz_stiffness(double K, double delta);
 double vi_hertz_energy(double K, double delta);
 double vi_hertz_indentation(double K, double F);
+/* d(stiffness)/d(delta) = F'' [N/m^2]: 3/4 K delta^(-1/2) (0 for delta <= 0). */
+double vi_hertz_stiffness_rate(double K, double delta);
 
 /* The virgin (first-loading) curve of Johnson's model: Hertz up to delta_Y, eq. (3) beyond. */
 typedef struct {
@@ -48,6 +50,7 @@ double vi_johnson_load(const vi_johnson *J, double delta);           /* F [N] */
 double vi_johnson_load_stiffness(const vi_johnson *J, double delta); /* dF/ddelta [N/m] */
 double vi_johnson_load_work(const vi_johnson *J, double delta);      /* integral of F from 0 [J] */
 double vi_johnson_load_indentation(const vi_johnson *J, double F);   /* inverse of vi_johnson_load */
+double vi_johnson_load_stiffness_rate(const vi_johnson *J, double delta); /* d2F/ddelta2 [N/m^2] */
 
 /* The elastic unloading/reloading curve (4) after a maximum indentation delta_c >= delta_Y. */
 enum { VI_UNLOAD_PAPER = 1, VI_UNLOAD_CONTINUOUS = 2 };
@@ -66,5 +69,11 @@ vi_unload_curve vi_johnson_unload_curve(const vi_johnson *J, int variant, double
 double vi_unload_force(const vi_unload_curve *U, double delta);
 double vi_unload_stiffness(const vi_unload_curve *U, double delta);
 double vi_unload_energy(const vi_unload_curve *U, double delta); /* elastic energy stored at delta [J] */
+double vi_unload_stiffness_rate(const vi_unload_curve *U, double delta); /* d2F/ddelta2 [N/m^2] */
+/* How the unloading curve moves with delta_c: d/d(delta_c) of Rbar [1] and of delta_r [1]. */
+typedef struct {
+    double Rbar, delta_r;
+} vi_unload_rates;
+vi_unload_rates vi_johnson_unload_rates(const vi_johnson *J, int variant, double delta_c);
 
 #endif

@@ -1,26 +1,26 @@
 /*
  * vi_fmu.h - the generic FMI layer and what a model gives it.
  *
- * The layer (the core src/vi_fmi_core.c with one face per version of the standard: src/vi_fmi2.c,
+ * The layer (src/vi_fmi_*.c, include/vi_fmi_layer.h, with one face per version of the standard: src/vi_fmi2.c,
  * src/vi_fmi3.c) implements every function of a Co-Simulation and a Model Exchange FMU and knows no
  * model: argument and state-machine checks, value access through the model's variable table
  * (vi_table.h), logging with categories, the FMU state envelope and its serialization, the status
- * functions, the fmi2DoStep checks (communication point, step size, stop time), and the Model
+ * functions, the checks of a step (communication point, step size, stop time), and the Model
  * Exchange calls (time, states, derivatives, event indicators, the event iteration, nominals,
  * directional derivatives). It never integrates anything itself: in co-simulation the model
- * advances with its own solver inside fmi2DoStep; in Model Exchange the importer's integrator does,
+ * advances with its own solver inside fmi2DoStep or fmi3DoStep; in Model Exchange the importer's integrator does,
  * through the Model Exchange hooks below (a model without them offers co-simulation only).
  *
  * To build an FMU of a model, a model author writes, in one folder:
- *   1. a table header and one .c with VI_TABLE_DEFINE (see vi_table.h): the variables;
- *   2. modelDescription.xml mirroring the table (value reference = row number), with
- *      modelIdentifier = the FMU's CMake name, guid = VI_GUID, and the layer's LogCategories:
- *      logEvents, logSolver, logStatusWarning, logStatusDiscard, logStatusError, logFmi2Call, logAll;
- *   3. the model file: the hooks below, and one definition
+ *   1. a table header and one .c with VI_TABLE_DEFINE (see vi_table.h): the variables, the model's
+ *      identity (VI_MODEL_IDENTIFIER = the FMU's CMake name, VI_GUID, VI_MODEL_DESCRIPTION), its
+ *      default experiment and whether it interpolates its inputs;
+ *   2. the model file: the hooks below, and one definition
  *          const vi_fmu_model vi_fmu_this_model = {VI_FMU_TABLE_FIELDS(...), .init = ..., ...};
- *   4. in CMake (cmake/vi_fmu.cmake):  vi_add_fmu(<Name> SOURCES <model .c files> XML <xml>
+ *   3. in CMake (cmake/vi_fmu.cmake):  vi_add_fmu(<Name> SOURCES <model .c files>
  *      [LIBRARIES <libs>] [INCLUDE_DIRS <dirs>] [RESOURCES <files>] [DOCUMENTATION <files>])
- *      which builds <Name>.so (exporting the fmi2* functions only) and packs build/<Name>.fmu.
+ *      which generates the model descriptions from the table (cmake/vi_model_description.py),
+ *      builds the binaries and packs build/<Name>.fmu (FMI 2.0) and build/fmi3/<Name>.fmu.
  *
  * The model's instance is one block of instance_size bytes, allocated zeroed by the layer with
  * the importer's allocateMemory and passed to every hook as `m`. Everything that an FMU state
@@ -46,7 +46,7 @@
 #include "vi_table.h"
 
 /* How a model talks to the importer's logger: category VI_FMU_LOG_* and a printf format. Events
- * and solver messages are shown when their category is enabled, warnings as fmi2Warning, errors
+ * and solver messages are shown when their category is enabled, warnings with status Warning, errors
  * always. */
 typedef void (*vi_fmu_log_fn)(void *env, int category, const char *fmt, ...);
 enum { VI_FMU_LOG_EVENTS, VI_FMU_LOG_SOLVER, VI_FMU_LOG_WARNING, VI_FMU_LOG_ERROR };
@@ -68,13 +68,25 @@ typedef struct {
     double next_time;
 } vi_fmu_event;
 
+/* The default experiment the model descriptions declare (VI_DEFAULT_EXPERIMENT). */
 typedef struct {
-    /* ---- identity ---- */
-    const char *model_identifier, *guid;      /* as in modelDescription.xml */
+    double start_s, stop_s;
+    double tolerance; /* 0: none declared */
+    double step_s;    /* communication step size */
+} vi_fmu_experiment;
+
+typedef struct {
+    /* ---- identity (what the model descriptions are generated from, with the table) ---- */
+    const char *model_identifier, *guid;
+    const char *description;                  /* one sentence on what the model simulates */
+    vi_fmu_experiment default_experiment;
+    int can_interpolate_inputs;               /* the model uses the first derivatives of its Real inputs */
     const vi_variable *variables;             /* vi_variable_table */
     int nvariables;                           /* VI_NVARS */
     const vi_enum_item *enum_items;           /* vi_enum_items (for the table dump) */
     int n_enum_items;                         /* vi_enum_item_count */
+    const vi_enum_type *enum_types;           /* vi_enum_types (for the table dump) */
+    int n_enum_types;                         /* vi_enum_type_count */
     size_t instance_size;                     /* bytes of the model's instance */
     size_t state_size;                        /* bytes of the plain-data block of the `state` hook */
     size_t outputs_size;                      /* sizeof(vi_outputs) */
@@ -85,7 +97,7 @@ typedef struct {
     /* ---- life cycle ---- */
     /* Zeroed memory -> defaults (start values of the table); keep log and env for messages. */
     void (*init)(void *m, vi_fmu_log_fn log, void *env);
-    /* Back to the defaults (fmi2Reset). */
+    /* Back to the defaults (fmi2Reset, fmi3Reset). */
     void (*reset)(void *m);
     /* Release what the model allocated (not m itself). */
     void (*release)(void *m);
@@ -109,14 +121,14 @@ typedef struct {
     const void *(*outputs_of)(void *m, const unsigned vr[], size_t nvr);
 
     /* ---- simulation ---- */
-    /* fmi2SetupExperiment: the arguments are checked (finite start, tolerance in (0, 1),
-     * stop >= start); tolerance_defined = 0 means none given. */
+    /* fmi2SetupExperiment, or the same arguments of fmi3EnterInitializationMode: they are checked
+     * (finite start, tolerance in (0, 1), stop >= start); tolerance_defined = 0 means none given. */
     void (*setup_experiment)(void *m, double start_time, int tolerance_defined, double tolerance);
     /* Check what the table's ranges cannot say about the parameters (the layer has refused values
      * outside their ranges) and compute calculated values and the initial state, so that outputs
      * can be read in initialization mode. 0 or -1. */
     int (*prepare)(void *m);
-    /* fmi2ExitInitializationMode: everything needed for stepping. 0 or -1. */
+    /* fmi2ExitInitializationMode, fmi3ExitInitializationMode: everything needed for stepping. 0 or -1. */
     int (*initialize)(void *m);
     /* Advance from the current time to t_end. VI_FMU_OK: time is t_end. VI_FMU_DISCARD: stopped
      * earlier at a consistent state (time = the last successful time; the message says why).
@@ -129,7 +141,7 @@ typedef struct {
     int (*advance_to_event)(void *m, double t_end);
     /* Current time [s]. */
     double (*time)(const void *m);
-    /* Optional: fmi2Terminate (e.g. log statistics). */
+    /* Optional: fmi2Terminate, fmi3Terminate (e.g. log statistics). */
     void (*terminate)(void *m);
 
     /* ---- FMU state ---- */
@@ -154,7 +166,7 @@ typedef struct {
     const char *(*message)(const void *m);
 
     /* ---- Model Exchange (optional: a model with n_states = 0 offers Co-Simulation only, and its
-     * modelDescription.xml has no <ModelExchange>; with n_states > 0 every hook below is required,
+     * generated model descriptions have no <ModelExchange>; with n_states > 0 every hook below is required,
      * but `indicators` when n_indicators = 0 and `directional_derivative`, whose absence the XML
      * declares with providesDirectionalDerivative="false").
      * The importer integrates x' = f(t, x, u); the model keeps its mode, memory and time. The layer
@@ -163,7 +175,7 @@ typedef struct {
     int n_indicators; /* event indicators (numberOfEventIndicators) */
     /* Value references of the states and of their derivatives (n_states each), in state order. */
     const unsigned *state_vrs, *derivative_vrs;
-    /* fmi2ExitInitializationMode of a Model Exchange instance: like `initialize`, for an importer's
+    /* The end of initialization mode of a Model Exchange instance: like `initialize`, for an importer's
      * integrator (the model's own solver is not used). 0 or -1. */
     int (*me_initialize)(void *m);
     /* The importer sets the time [s] (states keep their values, inputs theirs). */
@@ -186,7 +198,7 @@ typedef struct {
     /* The importer completed an integrator step at the current state: 1 to ask for an event now,
      * else 0. */
     int (*completed_step)(void *m);
-    /* Optional: continuous-time mode begins (fmi2EnterContinuousTimeMode); inputs set after the last
+    /* Optional: continuous-time mode begins (fmi2/fmi3EnterContinuousTimeMode); inputs set after the last
      * pass of the event iteration act from now on as continuous-time inputs do. */
     void (*enter_continuous)(void *m);
     /* Directional derivative at the current point: dunknown = J dknown, J the partial derivatives
@@ -196,13 +208,16 @@ typedef struct {
                                   size_t n_known, const double dknown[], double dunknown[]);
 } vi_fmu_model;
 
-/* The fields of vi_fmu_model that follow from the model's table (VI_MODEL_IDENTIFIER, VI_GUID and
- * what VI_TABLE_DECLARE generates), its instance type, and its plain-data type, whose members par
+/* The fields of vi_fmu_model that follow from the model's table header (VI_MODEL_IDENTIFIER,
+ * VI_GUID, VI_MODEL_DESCRIPTION, VI_DEFAULT_EXPERIMENT, VI_CAN_INTERPOLATE_INPUTS and what
+ * VI_TABLE_DECLARE generates), its instance type, and its plain-data type, whose members par
  * (vi_parameters), in and din (vi_inputs) hold the values:
  *     const vi_fmu_model vi_fmu_this_model = {VI_FMU_TABLE_FIELDS(my_instance, my_data), .init = ..., ...}; */
 #define VI_FMU_TABLE_FIELDS(instance_type, data_type)                                                   \
-    .model_identifier = VI_MODEL_IDENTIFIER, .guid = VI_GUID, .variables = vi_variable_table,          \
-    .nvariables = VI_NVARS, .enum_items = vi_enum_items, .n_enum_items = VI_NENUM_ITEMS,                \
+    .model_identifier = VI_MODEL_IDENTIFIER, .guid = VI_GUID, .description = VI_MODEL_DESCRIPTION,     \
+    .default_experiment = VI_DEFAULT_EXPERIMENT, .can_interpolate_inputs = VI_CAN_INTERPOLATE_INPUTS,   \
+    .variables = vi_variable_table, .nvariables = VI_NVARS, .enum_items = vi_enum_items,                \
+    .n_enum_items = VI_NENUM_ITEMS, .enum_types = vi_enum_types, .n_enum_types = VI_NENUM_TYPES,        \
     .instance_size = sizeof(instance_type), .state_size = sizeof(data_type),                           \
     .outputs_size = sizeof(vi_outputs), .parameters_offset = offsetof(data_type, par),                 \
     .inputs_offset = offsetof(data_type, in), .input_derivatives_offset = offsetof(data_type, din)

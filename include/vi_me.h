@@ -18,8 +18,8 @@
  * Event indicators: the VI_NGUARDS guards of the current mode (vi_model.h: contact, separation,
  * yield, Johnson turning point, stick entry and exit, LEPP flow start and end), each > 0 inside the
  * mode; a guard that starts at zero after an event is lifted by its rounding noise and a guard that
- * fired without a change of mode (grazing) by its band (vi_sim.h, VI_GRAZE_*), until it has moved
- * away; both come back to the plain guard at a completed step.
+ * fired without a change of mode (grazing) by its band (vi_hybrid.h, the event engine both drivers
+ * share), until it has moved away; both come back to the plain guard at a completed step.
  *
  * The input yC_in is taken by its value only: the rate of delta that the turning point (Johnson,
  * LEPP) and stick guards use is yC' without the input's rate. At a state event the mode is chosen with
@@ -37,13 +37,11 @@
 #define VI_ME_NSTATES 2
 #define VI_ME_NINDICATORS VI_NGUARDS
 
+/* The Model Exchange driver over a simulation; the states are s.d.y_me and s.d.x[1] (v). */
 typedef struct {
     vi_sim s;   /* first member: a vi_me is a vi_sim */
     int active; /* initialized for Model Exchange */
-    double y;   /* the state y [m] the importer integrates (v is s.d.x[1]) */
-    int zeno;   /* consecutive events each within VI_ZENO_ULPS of the one before (vi_sim_zeno_count) */
-    double t_event; /* time of the last state event */
-    int stale;      /* time or states set since the model last caught up with them */
+    int stale;  /* time or states set since the model last caught up with them */
     /* the last two times [s] a step was completed or an event handled, at different times, and the inputs
      * then (yC_in [m], F_ext [N]), newest last */
     struct {
@@ -93,9 +91,18 @@ const vi_outputs *vi_me_outputs_of(vi_me *e, unsigned groups);
 int vi_me_checkpoint(vi_me *e);
 int vi_me_restore(vi_me *e, int running);
 
-/* The partial derivative of the unknown with value reference `unknown` (der_y, der_v or an output)
- * with respect to the known `known` (the states y, v or the inputs yC_in, F_ext), at the current
- * point, analytic, in the current mode. */
-double vi_me_partial(vi_me *e, int unknown, int known);
+/* The partial derivatives of one unknown with respect to the knowns: the states y [m], v [m/s] and
+ * the inputs yC_in [m], F_ext [N]. */
+typedef struct {
+    double y, v, yC_in, F_ext;
+} vi_me_partials;
+/* The unknowns: the derivatives of the states and the outputs that move with the states and inputs
+ * (every other output and the calculated parameters have zero partials). */
+enum {
+    VI_ME_DER_Y, VI_ME_DER_V, VI_ME_F, VI_ME_F_MEAN, VI_ME_DELTA, VI_ME_Y, VI_ME_V, VI_ME_YC, VI_ME_K_CONTACT,
+    VI_ME_DELTA_C, VI_ME_DELTA_F, VI_ME_RBAR, VI_ME_DELTA_P, VI_ME_W_PLASTIC, VI_ME_N_UNKNOWNS
+};
+/* The Jacobian at the current point, analytic, in the current mode: jac[unknown]. */
+void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS]);
 
 #endif

@@ -45,9 +45,39 @@
 
 #include "vi_contact.h"
 #include "vi_profile.h"
-#include "vi_variables.h"
 
 #define VI_NGUARDS 2
+
+/* Contact laws, modes (doc/model.md section 3) and initial states; the FMU's enumerations
+ * ContactModel, Mode and Init have these values. */
+enum { VI_LAW_HERTZ = 1, VI_LAW_JOHNSON = 2, VI_LAW_LEPP = 3 };
+enum { VI_MODE_FREE = 0, VI_MODE_ELASTIC = 1, VI_MODE_PLASTIC = 2, VI_MODE_UNLOAD = 3, VI_MODE_STICK = 4 };
+enum { VI_INIT_STATIC = 1, VI_INIT_TOUCHING = 2 };
+
+/* The parameters the model is set up from. */
+typedef struct {
+    double m, P, g;             /* mass [kg], pressing load [N], gravity [m/s2] */
+    double R1, R2, E1, E2;      /* radii [m] (0: plane), Young's moduli [Pa] */
+    double nu1, nu2, Y, theta_Y; /* Poisson's ratios, yield stress [Pa], limiting mean pressure factor */
+    int law;                    /* VI_LAW_* */
+    int moving_contact;         /* Johnson with a moving contact point */
+    int unloading;              /* VI_UNLOAD_* */
+    int yield_formula;          /* VI_YIELD_* */
+    int init;                   /* VI_INIT_* */
+    double v0;                  /* initial velocity when touching [m/s] */
+    double a, f;                /* harmonic excitation: amplitude [m], frequency [Hz] */
+    int has_profile;            /* a profile is rolled over (vi_model_set_rolling) */
+    double V, x0;               /* rolling speed [m/s], position on the profile at the start [m] */
+    int profile_periodic;
+} vi_model_params;
+
+/* The model's outputs and calculated parameters (doc/model.md section 5). */
+typedef struct {
+    double F, delta, y, v, yC;  /* N, m, m, m/s, m */
+    int contact, mode, n_impacts;
+    double delta_c, delta_f, delta_p, Rbar, W_plastic; /* m, m, m, m, J */
+    double E_star, R_star, F_Y, delta_Y, k_lin, f_contact; /* Pa, m, N, m, N/m, Hz */
+} vi_model_values;
 
 /* An input over a communication step: value u + du (t - t). */
 typedef struct {
@@ -59,12 +89,12 @@ static inline double vi_ramp_at(const vi_ramp *r, double t) { return r->u + r->d
 
 typedef struct {
     /* constants, from the parameters (vi_model_setup) */
-    int law;       /* VI_ContactModel_* */
+    int law;       /* VI_LAW_* */
     int moving;    /* Johnson with a moving contact point */
     int unloading; /* VI_UNLOAD_PAPER or VI_UNLOAD_CONTINUOUS */
     double m, W0;  /* mass [kg], P + m g [N] */
     double K;      /* Hertz constant [N/m^1.5] */
-    vi_johnson J;  /* E*, R*, theta_Y, F_Y, delta_Y */
+    vi_johnson johnson;  /* E*, R*, theta_Y, F_Y, delta_Y */
     double k_lin;  /* F_Y/delta_Y [N/m] */
     double a, omega, t0; /* harmonic excitation: amplitude [m], 2 pi f [rad/s]; start time [s] */
     double phi0, t_phi;  /* phase reference: phi(t) = phi0 + omega (t - t_phi) [rad, s] (state: tunable f) */
@@ -79,9 +109,9 @@ typedef struct {
     vi_ramp yC_in, F_ext;
 
     /* discrete state */
-    int mode;          /* VI_Mode_* */
+    int mode;          /* VI_MODE_* */
     int yielded;       /* Johnson, fixed contact point: plastic memory exists */
-    vi_unload_curve U; /* Johnson memory: delta_c, Rbar, delta_r, delta_f (valid when yielded) */
+    vi_unload_curve unload; /* Johnson memory: delta_c, Rbar, delta_r, delta_f (valid when yielded) */
     double delta_p;    /* LEPP permanent set [m] (in mode 2 it is delta - delta_Y) */
     long n_impacts;
 } vi_model;
@@ -90,64 +120,74 @@ typedef struct {
  * (finite, m > 0, -1 < nu <= 0.5, enumerations one of their items, ...: the FMI layer refuses any
  * other value when it is set); what the table cannot say is checked here: at least one radius > 0,
  * and a finite positive contact stiffness and yield force. Returns 0, or -1 with a message in msg. */
-int vi_model_setup(vi_model *M, const vi_parameters *p, double t0, char *msg, size_t msg_size);
+int vi_model_setup(vi_model *model, const vi_model_params *p, double t0, char *msg, size_t msg_size);
 
 /* The excitation's parameters changed at time t (tunable a and f, finite, f >= 0 as the variable
  * table says): the phase phi stays continuous (a new f turns on from phi(t) at the new rate); a new
  * a moves the platform by (a_new - a)(cos(phi(t)) - 1), and delta jumps with it while the mass does
  * not move, as for a jump of yC_in. Call between vi_model_freeze and vi_model_resolve (the rate of
  * delta changes). */
-void vi_model_set_excitation(vi_model *M, double t, double x[2], double a, double f);
+void vi_model_set_excitation(vi_model *model, double t, double x[2], double a, double f);
 /* Do (a, f) differ from the excitation the model runs? */
-int vi_model_excitation_differs(const vi_model *M, double a, double f);
+int vi_model_excitation_differs(const vi_model *model, double a, double f);
 /* The excitation's phase phi(t) [rad]. */
-double vi_model_phase(const vi_model *M, double t);
+double vi_model_phase(const vi_model *model, double t);
 
 /* Roll over profile (NULL: none) at speed V [m/s] from position x0 [m] at t0 (both finite). Returns 0,
  * or -1 with a message when x0 lies outside a non-periodic profile. */
-int vi_model_set_rolling(vi_model *M, const vi_profile *profile, double V, double x0, char *msg, size_t n);
+int vi_model_set_rolling(vi_model *model, const vi_profile *profile, double V, double x0, char *msg, size_t n);
 /* Position on the profile at time t [m]. */
-double vi_model_rolling_position(const vi_model *M, double t);
+double vi_model_rolling_position(const vi_model *model, double t);
 /* The first time after t at which the platform velocity jumps (the rolling position
  * passes a kink of yb); INFINITY if none. The time is rounded so that the position there is past the
  * kink, so that yC' there is the value after the jump. */
-double vi_model_next_breakpoint(const vi_model *M, double t);
+double vi_model_next_breakpoint(const vi_model *model, double t);
 /* At a breakpoint (time t): the rate of delta jumped with the platform velocity; choose the mode
  * afresh (freeze, then resolve). Returns the mode. */
-int vi_model_breakpoint(vi_model *M, double t, double x[2]);
+int vi_model_breakpoint(vi_model *model, double t, double x[2]);
 /* The last time a non-periodic profile covers (the rolling position reaches its end); INFINITY
  * without a profile, with a periodic one, or with V = 0. When it is finite, msg says why the motion
  * cannot go past it. */
-double vi_model_rolling_limit(const vi_model *M, char *msg, size_t n);
+double vi_model_rolling_limit(const vi_model *model, char *msg, size_t n);
 
 /* Platform position yC(t) [m]; its first and second derivatives when the pointers are not NULL. */
-double vi_model_platform(const vi_model *M, double t, double *dyC, double *ddyC);
+double vi_model_platform(const vi_model *model, double t, double *dyC, double *ddyC);
 
 /* Initial state at time t0 (parameters init, v0) on the virgin curve; sets the mode and f_contact,
  * the linearised resonance at the static load W(t0) (unloading stiffness when pre-loaded plastically). */
-void vi_model_initial_state(vi_model *M, int init, double v0, double t0, double x[2]);
+void vi_model_initial_state(vi_model *model, int init, double v0, double t0, double x[2]);
 
 /* Contact force [N] in the current mode. */
-double vi_model_force(const vi_model *M, double t, const double x[2]);
-void vi_model_rhs(const vi_model *M, double t, const double x[2], double dx[2]);
+double vi_model_force(const vi_model *model, double t, const double x[2]);
+void vi_model_rhs(const vi_model *model, double t, const double x[2], double dx[2]);
 /* d(v')/d(delta): the only nonzero state derivative of the right-hand side besides d(delta')/dv = -1. */
-double vi_model_stiffness_over_mass(const vi_model *M, double t, const double x[2]);
+double vi_model_stiffness_over_mass(const vi_model *model, double t, const double x[2]);
+/* d(stiffness)/d(delta) [N/m^2]: the second derivative of the force in the current mode (0 where it
+ * is linear or constant, and in stick, whose stiffness is that at delta_c). */
+double vi_model_stiffness_rate(const vi_model *model, const double x[2]);
+/* The rates d/d(delta) [1, except W_plastic: N] of the memory outputs at x in the current mode:
+ * nonzero only while the memory tracks delta (Johnson loading plastically with a fixed contact
+ * point: delta_c = delta; LEPP flowing: delta_p = delta - delta_Y). */
+typedef struct {
+    double delta_c, delta_f, delta_p, Rbar, W_plastic;
+} vi_memory_rates;
+void vi_model_memory_rates(const vi_model *model, const double x[2], vi_memory_rates *r);
 /* Jacobian of vi_model_rhs, row major: d(delta', v')/d(delta, v). In stick both rows are zero
  * (delta' = 0, v' = yC''), so that a Newton iteration keeps delta exactly on delta_c. */
-void vi_model_jacobian(const vi_model *M, double t, const double x[2], double j[4]);
-void vi_model_guards(const vi_model *M, double t, const double x[2], double g[VI_NGUARDS]);
+void vi_model_jacobian(const vi_model *model, double t, const double x[2], double j[4]);
+void vi_model_guards(const vi_model *model, double t, const double x[2], double g[VI_NGUARDS]);
 
 /* Write down the memory that tracks the state (delta_c while Johnson loads plastically, delta_p
  * while LEPP flows) and put a sticking mass exactly on the platform's velocity. Call it before the
  * state is changed from outside (an input jump) and before vi_model_resolve. */
-void vi_model_freeze(vi_model *M, double t, double x[2]);
+void vi_model_freeze(vi_model *model, double t, double x[2]);
 /* Apply the event: guard `fired` of the current mode reached zero at time t. Freezes, snaps x onto
  * the surface, and chooses the next mode. Returns the new mode. */
-int vi_model_event(vi_model *M, double t, double x[2], int fired);
+int vi_model_event(vi_model *model, double t, double x[2], int fired);
 /* Choose the mode consistent with (delta, rate, acceleration) at an arbitrary state, e.g. after an
  * input jump (freeze first); updates the memory if the state lies beyond it and counts a contact
  * onset. Returns the new mode. */
-int vi_model_resolve(vi_model *M, double t, double x[2]);
+int vi_model_resolve(vi_model *model, double t, double x[2]);
 
 /* Length L [m] and velocity V [m/s] scales of the active law in this scene, for the absolute
  * tolerances (rtol L, rtol V), from the initial state x0 at t0. L is the largest indentation the
@@ -163,7 +203,7 @@ int vi_model_resolve(vi_model *M, double t, double x[2]);
  * are then resolved to rtol L (tighten rtol for them). V = L sqrt(k(L)/m), k the law's virgin
  * stiffness at L (computed without overflow for tiny m). Both are finite and > 0. */
 #define VI_SCALE_FALLBACK 1e-6
-void vi_model_scales(const vi_model *M, const double x0[2], double *L, double *V);
+void vi_model_scales(const vi_model *model, const double x0[2], double *L, double *V);
 
 /* Range of validity. The contact laws (eqs. 2-4) describe the local contact of bodies whose radii
  * are large against the contact and against every displacement of the problem (half-space, small
@@ -182,18 +222,18 @@ void vi_model_scales(const vi_model *M, const double x0[2], double *L, double *V
  * (logStatusWarning). */
 #define VI_VALIDITY_RADIUS 0.1
 enum { VI_INVALID_INDENTATION = 1, VI_INVALID_AMPLITUDE = 2, VI_INVALID_PROFILE = 4 };
-int vi_model_validity(const vi_model *M, double R1, double t, const double x[2], int skip, char *msg, size_t n);
+int vi_model_validity(const vi_model *model, double R1, double t, const double x[2], int skip, char *msg, size_t n);
 /* The one cause that depends on the state alone: is the indentation beyond its limit at x? (The
  * other two change only with a and the profile.) */
-int vi_model_indentation_invalid(const vi_model *M, const double x[2]);
+int vi_model_indentation_invalid(const vi_model *model, const double x[2]);
 
 /* Options that contradict each other or are ignored: moving_contact, continuous
  * unloading or the printed yield formula where the law does not use them, v0 with a static start,
  * the rolling parameters without a profile.
  * Returns how many there are; msg lists them (one warning at initialization). */
-int vi_model_option_warnings(const vi_parameters *p, char *msg, size_t n);
+int vi_model_option_warnings(const vi_model_params *p, char *msg, size_t n);
 
-/* Is M (with the state x) a model this code could have produced (doc/model.md section 7.6)? Checks, and names in
+/* Is model (with the state x) a model this code could have produced (doc/model.md section 7.6)? Checks, and names in
  * msg the first bad field of:
  *  - enumerations and flags: law, moving, unloading, mode (allowed for the law), yielded;
  *  - constants: finite, m, K, E*, R*, theta_Y, F_Y, delta_Y, k_lin > 0, omega >= 0, and consistent with
@@ -211,15 +251,15 @@ int vi_model_option_warnings(const vi_parameters *p, char *msg, size_t n);
  *    solver's root location and flags a mode that does not belong to the state. The guards in
  *    velocity and force (turning point, stick limits) need the time and are not checked here.
  * A model never set up (law 0, as vi_sim_init leaves it) is valid when its discrete state is zero.
- * Returns 0, or -1 with the message. Touches nothing (pointers in M are not followed). */
+ * Returns 0, or -1 with the message. Touches nothing (pointers in model are not followed). */
 #define VI_CHECK_GUARD_TOL 1e-6
-int vi_model_check(const vi_model *M, const double x[2], char *msg, size_t n);
+int vi_model_check(const vi_model *model, const double x[2], char *msg, size_t n);
 /* vi_model_check without the mode against the state: a state an outside integrator may hold (Model
  * Exchange), which lies beyond its mode's surfaces between a crossing and the event that follows. */
-int vi_model_check_between_events(const vi_model *M, const double x[2], char *msg, size_t n);
+int vi_model_check_between_events(const vi_model *model, const double x[2], char *msg, size_t n);
 
 /* Derived parameters (E_star ... f_contact) and outputs at (t, x). */
-void vi_model_calculated(const vi_model *M, vi_outputs *out);
+void vi_model_calculated(const vi_model *model, vi_model_values *out);
 /* Groups of outputs computed together: a reader of y needs the platform position (a cosine), not the
  * force law or the plastic work (a logarithm). The simulation layer adds VI_OUT_MEAN (F_mean) and
  * VI_OUT_STIFFNESS (k_contact); Model Exchange VI_OUT_DERIVATIVES (der_y, der_v). */
@@ -234,10 +274,8 @@ enum {
     VI_OUT_DERIVATIVES = 1u << 7, /* der_y, der_v */
     VI_OUT_ALL = (1u << 8) - 1u
 };
-/* The group of each variable by value reference (0 when it is no output or calculated parameter). */
-extern const unsigned char vi_model_output_groups[VI_NVARS];
 /* The outputs of the groups VI_OUT_STATE ... VI_OUT_CALCULATED named in `groups` at (t, x) into *out;
  * the other fields of *out are left as they are. */
-void vi_model_outputs(const vi_model *M, double t, const double x[2], unsigned groups, vi_outputs *out);
+void vi_model_outputs(const vi_model *model, double t, const double x[2], unsigned groups, vi_model_values *out);
 
 #endif

@@ -14,6 +14,7 @@
 #ifndef VI_SIM_H
 #define VI_SIM_H
 
+#include "vi_hybrid.h"
 #include "vi_model.h"
 #include "vi_solver.h"
 #include "vi_variables.h"
@@ -29,19 +30,6 @@ enum { VI_SIM_OK = 0, VI_SIM_DISCARD = 1, VI_SIM_ERROR = -1, VI_SIM_EVENT = 2 };
  * 1 us per step the step bound is about a second of CPU. */
 #define VI_MAX_STEPS_PER_ADVANCE 1000000L
 #define VI_MAX_EVENTS_PER_ADVANCE 100000L
-/* Zeno: VI_ZENO_EVENTS consecutive events, each within VI_ZENO_ULPS units in the last place of t
- * after the one before, are events accumulating at one instant; the advance ends there with
- * VI_SIM_DISCARD. (Regular events, however many, are a matter of the work bounds.) */
-#define VI_ZENO_EVENTS 64
-#define VI_ZENO_ULPS 1024.0
-/* Re-arming: after an event that leaves the mode unchanged (grazing), the guard that fired sits at
- * zero, and integration error or rounding alone could take it below zero again and again. It is
- * shifted up by a band until it has moved above that band: VI_GRAZE_TOL times its change under a
- * state error of the tolerance (rtol |x| + atol per state) plus VI_GRAZE_ULPS times its change under
- * one ulp of t and of each state. A real crossing is still found, at most the band late, and the
- * state is snapped onto the surface there. */
-#define VI_GRAZE_TOL 4.0
-#define VI_GRAZE_ULPS 256.0
 /* Early return (vi_sim_advance_until): a change of mode ends the advance only when it comes more than
  * this many units of the time resolution DBL_EPSILON max(1 s, |t|) after the advance's start (the
  * FMI layer takes steps of at least 16 such units); a change closer to the start is taken in the
@@ -60,19 +48,20 @@ typedef struct {
     double tolerance;    /* the importer's (fmi2SetupExperiment, fmi3EnterInitializationMode), 0 when not
                             defined (then par.rtol counts) */
     int initialized;     /* vi_sim_initialize done: atol, model and state are those of a running simulation */
-    vi_model M;
+    vi_model model;
     double t, x[2];      /* time [s] and state (delta [m], v [m/s]); between events x is the solver's
                             interpolant at t, the solver itself may be ahead */
-    double atol[2];      /* absolute tolerances, from the problem's scales at initialization */
-    long n_events;
+    double y_me;         /* Model Exchange: the mass position y [m] the importer integrates (delta =
+                            yC(t) - y), kept as given so that a restored state gives it back bit for bit */
+    vi_hybrid_state events;          /* the event engine's state: tolerances, guard bands, Zeno count */
     double step_t0, step_v0;         /* start of the last step and the velocity there (for F_mean) */
-    double guard_band[VI_NGUARDS];   /* > 0: the guard is disarmed and shifted up by this (re-arming) */
     vi_ode ode;                      /* solver = dop853 or auto: the one-step method's whole continuation */
-    vi_solver_auto sw;               /* solver = auto: which method runs, and its stiffness counts */
+    vi_solver_auto auto_choice;      /* solver = auto: which method runs, and its stiffness counts */
 } vi_sim_data;
 
 typedef struct {
     vi_sim_data d;
+    vi_hybrid engine;    /* the event engine over d.model and d.events */
     vi_solver *solver;
     int solver_stale;    /* the state changed outside the solver: restart before the next advance */
     unsigned out_valid;  /* the groups of outputs (VI_OUT_*) out holds at the current d */
@@ -93,6 +82,8 @@ typedef struct {
  * profile_file is looked up first (then the working directory). Kept across vi_sim_reset. */
 void vi_sim_set_resources(vi_sim *s, const char *dir);
 
+/* The model's parameters (vi_model.h) from the FMU's. */
+vi_model_params vi_sim_model_params(const vi_parameters *p);
 /* Defaults of the variable table; no solver yet. */
 void vi_sim_init(vi_sim *s, vi_log_fn log, void *log_env);
 /* Back to the defaults; frees the solver. */
@@ -145,9 +136,6 @@ void vi_sim_statistics(const vi_sim *s, vi_solver_stats *st);
 /* Warn (once per cause and instance) when the contact leaves the model's range of validity at the
  * current state (vi_model_validity). */
 void vi_sim_check_validity(vi_sim *s);
-/* The loop's Zeno rule: the count of consecutive events each within VI_ZENO_ULPS ulps of time of the
- * point before (t_before: the previous event or the step's start), after one more event at t. */
-int vi_sim_zeno_count(int count, double t_before, double t);
 
 /* Is d a state this FMU could have produced (doc/model.md section 7.6)? Checks every field of
  * vi_sim_data that the simulation layer owns (finite times and state, the tolerances, counters >= 0,
@@ -156,7 +144,7 @@ int vi_sim_zeno_count(int count, double t_before, double t);
  * in their ranges, items of their enumerations) before it calls this. 0 when valid, else -1 with the
  * first bad field named in msg. No pointer in d is followed (the model's profile pointer is not). */
 int vi_sim_data_check(const vi_sim_data *d, char *msg, size_t n);
-/* The same with vi_model_check_between_events and without the solver's continuation (ode, sw): the
+/* The same with vi_model_check_between_events and without the solver's continuation (ode, auto_choice): the
  * state of an outside integrator (Model Exchange). */
 int vi_sim_data_check_between_events(const vi_sim_data *d, char *msg, size_t n);
 

@@ -1,18 +1,23 @@
 /*
- * vi_table.h - the variable-table machinery shared by every model built on the generic FMI 2.0
+ * vi_table.h - the variable-table machinery shared by every model built on the generic FMI
  * layer (vi_fmu.h). A model states its FMU variables once, as rows of an X-macro table; the
  * compiler generates from the rows the C structs that hold the values, the value-reference
- * constants, the start values and the descriptor array the layer uses for fmi2Get/fmi2Set.
+ * constants, the start values and the descriptor array the layer uses to get and set values.
  *
  * How a model uses it (see include/vi_variables.h for the contact model):
  *
  *   // <model>_variables.h
  *   #include "vi_table.h"
- *   #define VI_GUID "{...}"                      // the guid of the model's modelDescription.xml
+ *   #define VI_GUID "{...}"                      // instantiation token of the model descriptions
+ *   #define VI_MODEL_IDENTIFIER "Name"           // the FMU's CMake name (vi_add_fmu)
+ *   #define VI_MODEL_DESCRIPTION "..."           // the model descriptions' description
+ *   #define VI_DEFAULT_EXPERIMENT {.start_s = 0.0, .stop_s = 1.0, .tolerance = 0.0, .step_s = 0.01}
+ *                                                // tolerance 0: none declared
+ *   #define VI_CAN_INTERPOLATE_INPUTS 1          // the model uses the Real inputs' derivatives
  *   #define VI_VARIABLES(X) \
- *     X(u, Real, none, input, continuous, exact, 0.0, VI_NONE, VI_NONE, "N", "force in") \
- *     X(k, Real, none, parameter, fixed, exact, 1e6, VI_ABOVE(0.0), VI_NONE, "N/m", "stiffness") \
- *     X(x, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m", "position")
+ *     X(u, Real, none, input, continuous, exact, 0.0, VI_NONE, VI_NONE, "N", 0, "", "force in") \
+ *     X(k, Real, none, parameter, fixed, exact, 1e6, VI_ABOVE(0.0), VI_NONE, "N/m", 0, "", "stiffness") \
+ *     X(x, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m", 1e-3, "x", "position")
  *   #define VI_ENUMERATIONS(E)                   // none (or E(Type, "description") ...)
  *   VI_TABLE_DECLARE
  *
@@ -20,7 +25,11 @@
  *   #include "<model>_variables.h"
  *   VI_TABLE_DEFINE
  *
- * Columns: X(name, type, enum, causality, variability, initial, start, min, max, unit, description)
+ * Both model descriptions (FMI 2.0 and 3.0, ModelStructure included) are generated from the table
+ * at build time (cmake/vi_model_description.py, through the model's <Name>_dump_variables).
+ *
+ * Columns: X(name, type, enum, causality, variability, initial, start, min, max, unit, nominal, depends,
+ *            description)
  *   name        the FMU variable name and the C field name
  *   type        Real | Integer | Boolean | Enumeration (read and written as Integer) | String
  *               (String: parameters and inputs only, stored as char[VI_STRING_SIZE] inside the
@@ -41,9 +50,14 @@
  *                                VI_ABOVE(0.0) the smallest positive double), which is exactly the
  *                                same set of doubles.
  *               The range of an enumerated Integer (enum column) is its items: write VI_NONE. The
- *               generic FMI layer refuses a value outside the range in fmi2SetReal/fmi2SetInteger,
+ *               generic FMI layer refuses a value outside the range in its set calls,
  *               naming the variable and the range; the model sees only values inside it.
  *   unit        unit symbol as declared in modelDescription.xml, "" for none
+ *   nominal     the nominal magnitude of a Real (> 0), 0 for none
+ *   depends     outputs and state derivatives: the inputs and continuous states (by name, separated by
+ *               spaces) whose change moves the value at once in Model Exchange, in any mode (the
+ *               model descriptions' ModelStructure; fmu-test/test_feedthrough.py measures it); ""
+ *               for none and for every other causality
  * The value reference of a variable is its row number (0, 1, 2, ...): append new rows at the end,
  * so that the value references users already rely on stay valid.
  *
@@ -53,7 +67,7 @@
  *   VI_VR_<name>, VI_NVARS                 value references
  *   VI_NENUM_ITEMS                         number of enumeration items in all
  *   VI_<Type>_<item>                       enumeration item values
- *   vi_variable_table[VI_NVARS], vi_enum_items[], vi_enum_item_count
+ *   vi_variable_table[VI_NVARS], vi_enum_items[], vi_enum_item_count, vi_enum_types[], vi_enum_type_count
  *   vi_parameters_default(), vi_inputs_default()   fill a struct with the start values
  */
 #ifndef VI_TABLE_H
@@ -97,12 +111,16 @@ typedef struct {
     double start;              /* meaningful when initial is exact (0 for String) */
     const char *start_string;  /* the start value of a String, else NULL */
     vi_bound min, max;         /* valid range (VI_BOUND_NONE for enumerations: their items) */
-    const char *unit, *description;
+    const char *unit;
+    double nominal;            /* > 0, or 0 for none */
+    const char *depends;       /* names of the inputs and states an output or derivative depends on */
+    const char *description;
     vi_group group;            /* the struct that holds the value ... */
     size_t offset;             /* ... and where in it */
 } vi_variable;
 
 typedef struct { const char *type, *name; int value; } vi_enum_item;
+typedef struct { const char *name, *description; } vi_enum_type;
 
 /* The inclusive bound equal to b as a set of doubles: the min (upper = 0) or max (upper = 1)
  * modelDescription.xml declares; -INFINITY or INFINITY without a bound. */
@@ -169,7 +187,7 @@ static inline void vi_range_text(const vi_variable *v, char *text, size_t n)
         _Static_assert(sizeof(v) <= sizeof(lhs), "String start value longer than VI_STRING_SIZE"); \
         memcpy(lhs, v, sizeof(v));                                                                \
     }
-/* String outputs would need storage that outlives fmi2GetString: not supported. */
+/* String outputs would need storage that outlives the get call: not supported. */
 #define VI_NO_STRING_OUT_Real
 #define VI_NO_STRING_OUT_Integer
 #define VI_NO_STRING_OUT_Boolean
@@ -207,11 +225,13 @@ static inline void vi_range_text(const vi_variable *v, char *text, size_t n)
 #define VI_OFFSET_OF_(caus, name)                                                                   \
     VI_IF_PAR_##caus(offsetof(vi_parameters, name)) VI_IF_IN_##caus(offsetof(vi_inputs, name))      \
         VI_IF_OUT_##caus(offsetof(vi_outputs, name))
-#define VI_ROW_(name, type, en, caus, var, init, start, lo, hi, unit, desc)                          \
+#define VI_ROW_(name, type, en, caus, var, init, start, lo, hi, unit, nominal, depends, desc)         \
     {#name, VI_##type, #en, #caus, #var, #init, VI_START_NUM_##type(start), VI_START_STR_##type(start), lo, hi,  \
-     unit, desc, VI_GROUP_OF_(caus), VI_OFFSET_OF_(caus, name)},
+     unit, nominal, depends, desc, VI_GROUP_OF_(caus), VI_OFFSET_OF_(caus, name)},
 #define VI_ITEM_ROW_(T, n, v) {#T, #n, v},
 #define VI_TYPE_ITEMS_(T, d) VI_ITEMS_##T(VI_ITEM_ROW_)
+#define VI_TYPE_ROW_(T, d) {#T, d},
+#define VI_TYPE_INDEX_(T, d) VI_TYPE_INDEX_##T,
 #define VI_DEFAULT_PAR_(name, type, en, caus, var, init, start, ...) VI_IF_PAR_##caus(VI_ASSIGN_##type(p->name, start))
 #define VI_DEFAULT_IN_(name, type, en, caus, var, init, start, ...) VI_IF_IN_##caus(VI_ASSIGN_##type(in->name, start))
 #define VI_CHECK_OUT_(name, type, en, caus, ...) VI_IF_OUT_##caus(VI_NO_STRING_OUT_##type)
@@ -223,6 +243,7 @@ static inline void vi_range_text(const vi_variable *v, char *text, size_t n)
 #define VI_TABLE_DECLARE                                                                            \
     enum { VI_ENUMERATIONS(VI_ENUM_ITEMS_) VI_ENUM_END_ };                                          \
     enum { VI_ENUMERATIONS(VI_ENUM_INDICES_) VI_NENUM_ITEMS };                                      \
+    enum { VI_ENUMERATIONS(VI_TYPE_INDEX_) VI_NENUM_TYPES };                                        \
     enum { VI_VARIABLES(VI_VR_) VI_NVARS };                                                         \
     typedef struct { VI_VARIABLES(VI_FIELD_PAR_) char vi_end_; } vi_parameters;                    \
     typedef struct { VI_VARIABLES(VI_FIELD_IN_) char vi_end_; } vi_inputs;                         \
@@ -232,6 +253,9 @@ static inline void vi_range_text(const vi_variable *v, char *text, size_t n)
     /* All enumeration items, grouped by type; vi_enum_item_count entries. */                       \
     extern const vi_enum_item vi_enum_items[];                                                      \
     extern const int vi_enum_item_count;                                                            \
+    /* The enumeration types with their descriptions; vi_enum_type_count entries. */                \
+    extern const vi_enum_type vi_enum_types[];                                                      \
+    extern const int vi_enum_type_count;                                                            \
     /* Fill the structs with the start values of the table. */                                      \
     void vi_parameters_default(vi_parameters *p);                                                   \
     void vi_inputs_default(vi_inputs *in);
@@ -242,6 +266,8 @@ static inline void vi_range_text(const vi_variable *v, char *text, size_t n)
     const vi_variable vi_variable_table[VI_NVARS] = {VI_VARIABLES(VI_ROW_)};                        \
     const vi_enum_item vi_enum_items[] = {VI_ENUMERATIONS(VI_TYPE_ITEMS_){NULL, NULL, 0}};          \
     const int vi_enum_item_count = VI_NENUM_ITEMS;                                                  \
+    const vi_enum_type vi_enum_types[] = {VI_ENUMERATIONS(VI_TYPE_ROW_){NULL, NULL}};               \
+    const int vi_enum_type_count = VI_NENUM_TYPES;                                                  \
     void vi_parameters_default(vi_parameters *p) { VI_VARIABLES(VI_DEFAULT_PAR_) (void)p; }         \
     void vi_inputs_default(vi_inputs *in) { VI_VARIABLES(VI_DEFAULT_IN_)(void) in; }
 

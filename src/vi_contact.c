@@ -116,3 +116,34 @@ vi_unload_curve vi_johnson_unload_curve(const vi_johnson *J, int variant, double
 double vi_unload_force(const vi_unload_curve *U, double delta) { return vi_hertz_force(U->Kbar, delta - U->delta_f); }
 double vi_unload_stiffness(const vi_unload_curve *U, double delta) { return vi_hertz_stiffness(U->Kbar, delta - U->delta_f); }
 double vi_unload_energy(const vi_unload_curve *U, double delta) { return vi_hertz_energy(U->Kbar, delta - U->delta_f); }
+
+double vi_hertz_stiffness_rate(double K, double delta) { return delta > 0.0 ? 0.75 * K / sqrt(delta) : 0.0; }
+
+double vi_johnson_load_stiffness_rate(const vi_johnson *J, double delta)
+{
+    double s = delta / J->delta_Y;
+    if (delta <= J->delta_Y) return s > 0.0 ? 0.75 * J->F_Y / (J->delta_Y * J->delta_Y * sqrt(s)) : 0.0;
+    /* eq. 3: F'' = 4 F_Y / (3 theta_Y k delta_Y^2), k = 2 delta/delta_Y - 1 */
+    return 4.0 * J->F_Y / (3.0 * J->theta_Y * (2.0 * s - 1.0) * J->delta_Y * J->delta_Y);
+}
+
+double vi_unload_stiffness_rate(const vi_unload_curve *U, double delta)
+{
+    return vi_hertz_stiffness_rate(U->Kbar, delta - U->delta_f);
+}
+
+vi_unload_rates vi_johnson_unload_rates(const vi_johnson *J, int variant, double delta_c)
+{
+    vi_unload_rates r;
+    if (variant == VI_UNLOAD_CONTINUOUS) { /* a_c^2 = R* (2 delta_c - delta_Y), F_c the load at delta_c */
+        double F = vi_johnson_load(J, delta_c), dF = vi_johnson_load_stiffness(J, delta_c);
+        double a = sqrt(J->R_star * (2.0 * delta_c - J->delta_Y)), da = J->R_star / a;
+        r.Rbar = 4.0 * J->E_star / 3.0 * (3.0 * a * a * da / F - a * a * a * dF / (F * F)); /* Rbar = 4 E* a^3/(3 F) */
+        r.delta_r = 3.0 / (4.0 * J->E_star) * (dF / a - F * da / (a * a));                 /* delta_r = 3 F/(4 E* a) */
+    } else { /* Rbar = R* sqrt(k_c), delta_r = delta_Y sqrt(k_c), k_c = 2 delta_c/delta_Y - 1 */
+        double sk = sqrt(area_ratio(J, delta_c));
+        r.Rbar = J->R_star / (J->delta_Y * sk);
+        r.delta_r = 1.0 / sk;
+    }
+    return r;
+}

@@ -1,17 +1,17 @@
 /*
  * vi_fmi3.c - the FMI 3.0 face of the generic layer: every fmi3* function, each a translation into
- * the shared core (vi_fmi_core.h), which does the checks, the state machine, value access, logging
- * and FMU states. What is FMI 3.0 only lives here: instantiation with its options (eventModeUsed,
- * earlyReturnAllowed), the tolerance and times given to fmi3EnterInitializationMode, Event Mode in
- * Co-Simulation, the results of fmi3DoStep (early return at the model's events), the
- * independent variable `time`, the derivatives of the Real inputs as variables `der(<input>)`
- * (FMI 3.0 has no fmi3SetInputDerivatives), the event indicators of Model Exchange as variables
- * `event_indicator_<i>`, and the data types (Float64, Int32, Enumeration as Int64, Boolean, String;
- * the model has no other). Model Exchange is the core's (vi_core_* ME calls on the model's ME
- * hooks) for a model that has them. The capabilities this face offers are listed in the FMI 3.0 model
- * description (cmake/vi_fmi3_description.py).
+ * the layer (vi_fmi_layer.h), which does the checks, the state machine, value access, logging and
+ * FMU states. What is FMI 3.0 only lives here, with the checks of arguments FMI 2.0 does not have:
+ * instantiation with its options (eventModeUsed, earlyReturnAllowed), the tolerance and times given
+ * to fmi3EnterInitializationMode, Event Mode in Co-Simulation, the results of fmi3DoStep (early
+ * return at the model's events), the independent variable `time`, the derivatives of the Real
+ * inputs as variables `der(<input>)` (FMI 3.0 has no fmi3SetInputDerivatives), the event indicators
+ * of Model Exchange as variables `event_indicator_<i>`, and the data types (Float64, Int32,
+ * Enumeration as Int64, Boolean, String; the model has no other). Model Exchange is the layer's
+ * (its Model Exchange calls on the model's hooks) for a model that has them. The capabilities this
+ * face offers are listed in the FMI 3.0 model description (cmake/vi_model_description.py).
  *
- * Co-Simulation states map onto the core's: Step Mode = step complete, Step Discarded = step
+ * Co-Simulation states map onto the layer's: Step Mode = step complete, Step Discarded = step
  * failed, Event Mode = event.
  *
  * fmi3DoStep: with earlyReturnAllowed, it returns at the first change of the model's mode inside
@@ -25,7 +25,7 @@
 #include <string.h>
 
 #include "fmi3Functions.h"
-#include "vi_fmi_core.h"
+#include "vi_fmi_layer.h"
 
 #if !defined(VI_FMI3_TIME_VR) || !defined(VI_FMI3_DERIVATIVE_VR_BASE) || !defined(VI_FMI3_INDICATOR_VR_BASE)
 #error "VI_FMI3_TIME_VR, VI_FMI3_DERIVATIVE_VR_BASE and VI_FMI3_INDICATOR_VR_BASE come from cmake/vi_fmu.cmake"
@@ -34,17 +34,17 @@
 _Static_assert((int)VI_STATUS_OK == (int)fmi3OK && (int)VI_STATUS_WARNING == (int)fmi3Warning &&
                    (int)VI_STATUS_DISCARD == (int)fmi3Discard && (int)VI_STATUS_ERROR == (int)fmi3Error &&
                    (int)VI_STATUS_FATAL == (int)fmi3Fatal,
-               "the core's status codes are fmi3Status");
+               "the layer's status codes are fmi3Status");
 _Static_assert(sizeof(fmi3ValueReference) == sizeof(unsigned) && sizeof(fmi3Int32) == sizeof(int) &&
                    sizeof(fmi3Int64) == sizeof(int64_t) && sizeof(fmi3Float64) == sizeof(double) &&
                    sizeof(fmi3Boolean) == sizeof(bool),
-               "fmi3 arrays are read as the core's element types");
+               "fmi3 arrays are read as the layer's element types");
 
 /* face_options of an instance: its fmi3InstantiateCoSimulation arguments. */
 enum { OPT_EVENT_MODE = 1u << 0, OPT_EARLY_RETURN = 1u << 1 };
 
 /* The FMI 3.0 logger takes the message as it is (no format). */
-static void emit(const vi_core *c, vi_status status, const char *category, const char *text)
+static void emit(const vi_fmi_instance *c, vi_status status, const char *category, const char *text)
 {
     fmi3LogMessageCallback logger = (fmi3LogMessageCallback)c->cb.logger;
     logger(c->cb.env, (fmi3Status)status, category, text);
@@ -62,9 +62,7 @@ static const vi_face face = {.call_category = "logFmi3Call", .emit = emit, .name
 /* A function this FMU does not provide: refused (after the state check of `call`). */
 static fmi3Status not_provided(fmi3Instance instance, vi_call call, const char *fn, const char *why)
 {
-    vi_core *c = vi_core_enter(instance, call, fn);
-    if (!c) return fmi3Error;
-    return (fmi3Status)vi_core_refuse(c, "%s: not provided (%s)", fn, why);
+    return (fmi3Status)vi_fmi_refuse_call(instance, call, fn, "%s: not provided (%s)", fn, why);
 }
 
 /* ---- common functions --------------------------------------------------------------------- */
@@ -74,7 +72,7 @@ const char *fmi3GetVersion(void) { return fmi3Version; }
 fmi3Status fmi3SetDebugLogging(fmi3Instance instance, fmi3Boolean loggingOn, size_t nCategories,
                                const fmi3String categories[])
 {
-    return (fmi3Status)vi_core_set_debug_logging(instance, "fmi3SetDebugLogging", loggingOn, nCategories, categories);
+    return (fmi3Status)vi_fmi_set_debug_logging(instance, "fmi3SetDebugLogging", loggingOn, nCategories, categories);
 }
 
 static fmi3Instance instantiate(const char *fn, vi_kind kind, fmi3String instanceName, fmi3String instantiationToken,
@@ -82,7 +80,7 @@ static fmi3Instance instantiate(const char *fn, vi_kind kind, fmi3String instanc
                                 fmi3LogMessageCallback logMessage, unsigned options)
 {
     vi_callbacks cb = {.alloc = calloc, .free = free, .logger = (vi_any_fn)logMessage, .env = env};
-    vi_core *c = vi_core_instantiate(&face, &cb, fn, instanceName, kind, instantiationToken,
+    vi_fmi_instance *c = vi_fmi_instantiate(&face, &cb, fn, instanceName, kind, instantiationToken,
                                      resourcePath && *resourcePath ? resourcePath : NULL, resourcePath, loggingOn);
     if (c) c->face_options = options;
     return c;
@@ -124,55 +122,58 @@ fmi3Instance fmi3InstantiateScheduledExecution(fmi3String instanceName, fmi3Stri
 {
     (void)instantiationToken, (void)resourcePath, (void)visible, (void)loggingOn, (void)clockUpdate,
         (void)lockPreemption, (void)unlockPreemption;
+    (void)instanceName;
     if (logMessage)
         logMessage(instanceEnvironment, fmi3Error, "logStatusError",
-                   "fmi3InstantiateScheduledExecution: this FMU offers Co-Simulation only, not Scheduled Execution");
-    (void)instanceName;
+                   vi_fmu_this_model.n_states > 0
+                       ? "fmi3InstantiateScheduledExecution: this FMU offers Co-Simulation and Model Exchange, not "
+                         "Scheduled Execution"
+                       : "fmi3InstantiateScheduledExecution: this FMU offers Co-Simulation only, not Scheduled "
+                         "Execution");
     return NULL;
 }
 
-void fmi3FreeInstance(fmi3Instance instance) { vi_core_free(instance, "fmi3FreeInstance"); }
+void fmi3FreeInstance(fmi3Instance instance) { vi_fmi_free(instance, "fmi3FreeInstance"); }
 
 /* The tolerance, start and stop time are those of FMI 2.0's fmi2SetupExperiment. */
 fmi3Status fmi3EnterInitializationMode(fmi3Instance instance, fmi3Boolean toleranceDefined, fmi3Float64 tolerance,
                                        fmi3Float64 startTime, fmi3Boolean stopTimeDefined, fmi3Float64 stopTime)
 {
     const char *fn = "fmi3EnterInitializationMode";
-    vi_status st = vi_core_setup_experiment(instance, fn, toleranceDefined, tolerance, startTime, stopTimeDefined,
+    vi_status st = vi_fmi_setup_experiment(instance, fn, toleranceDefined, tolerance, startTime, stopTimeDefined,
                                             stopTime);
     if (st > VI_STATUS_WARNING) return (fmi3Status)st;
-    vi_status entered = vi_core_enter_init(instance, fn);
+    vi_status entered = vi_fmi_enter_init(instance, fn);
     return (fmi3Status)(entered > st ? entered : st);
 }
 
 static int uses_event_mode(fmi3Instance instance)
 {
-    return (((vi_core *)instance)->face_options & OPT_EVENT_MODE) != 0;
+    return (((vi_fmi_instance *)instance)->face_options & OPT_EVENT_MODE) != 0;
 }
 
 /* Co-Simulation with eventModeUsed: Event Mode after initialization, else Step Mode. */
 fmi3Status fmi3ExitInitializationMode(fmi3Instance instance)
 {
     const char *fn = "fmi3ExitInitializationMode";
-    vi_status st = vi_core_exit_init(instance, fn);
+    vi_status st = vi_fmi_exit_init(instance, fn);
     if (st > VI_STATUS_WARNING || !uses_event_mode(instance)) return (fmi3Status)st;
-    vi_status entered = vi_core_enter_event_mode(instance, fn);
+    vi_status entered = vi_fmi_enter_event_mode(instance, fn);
     return (fmi3Status)(entered > st ? entered : st);
 }
 
 fmi3Status fmi3EnterEventMode(fmi3Instance instance)
 {
     const char *fn = "fmi3EnterEventMode";
-    vi_core *c = instance;
-    if (c && c->kind == VI_KIND_CS && !uses_event_mode(instance)) {
-        if (!vi_core_enter(instance, VI_CALL_ENTER_EVENT_MODE, fn)) return fmi3Error;
-        return (fmi3Status)vi_core_refuse(c, "%s: the instance was created with eventModeUsed = false", fn);
-    }
-    return (fmi3Status)vi_core_enter_event_mode(instance, fn);
+    const vi_fmi_instance *c = instance;
+    if (c && c->kind == VI_KIND_CS && !uses_event_mode(instance))
+        return (fmi3Status)vi_fmi_refuse_call(instance, VI_CALL_ENTER_EVENT_MODE, fn,
+                                              "%s: the instance was created with eventModeUsed = false", fn);
+    return (fmi3Status)vi_fmi_enter_event_mode(instance, fn);
 }
 
-fmi3Status fmi3Terminate(fmi3Instance instance) { return (fmi3Status)vi_core_terminate(instance, "fmi3Terminate"); }
-fmi3Status fmi3Reset(fmi3Instance instance) { return (fmi3Status)vi_core_reset(instance, "fmi3Reset"); }
+fmi3Status fmi3Terminate(fmi3Instance instance) { return (fmi3Status)vi_fmi_terminate(instance, "fmi3Terminate"); }
+fmi3Status fmi3Reset(fmi3Instance instance) { return (fmi3Status)vi_fmi_reset(instance, "fmi3Reset"); }
 
 /* ---- variables ---------------------------------------------------------------------------- */
 
@@ -180,9 +181,8 @@ fmi3Status fmi3Reset(fmi3Instance instance) { return (fmi3Status)vi_core_reset(i
 static int scalars(fmi3Instance instance, vi_call call, const char *fn, size_t nvr, size_t nValues)
 {
     if (nValues == nvr) return 1;
-    vi_core *c = vi_core_enter(instance, call, fn);
-    if (c) vi_core_refuse(c, "%s: nValues = %zu must equal nValueReferences = %zu (every variable is a scalar)", fn,
-                          nValues, nvr);
+    vi_fmi_refuse_call(instance, call, fn, "%s: nValues = %zu must equal nValueReferences = %zu (every variable is a "
+                                           "scalar)", fn, nValues, nvr);
     return 0;
 }
 
@@ -191,13 +191,13 @@ static int scalars(fmi3Instance instance, vi_call call, const char *fn, size_t n
                             size_t nValues)                                                                        \
     {                                                                                                              \
         if (!scalars(instance, VI_CALL_GET, "fmi3Get" #Api, nvr, nValues)) return fmi3Error;                       \
-        return (fmi3Status)vi_core_get(instance, "fmi3Get" #Api, vr, nvr, api_type, values, elem);                  \
+        return (fmi3Status)vi_fmi_get(instance, "fmi3Get" #Api, vr, nvr, api_type, values, elem);                  \
     }                                                                                                              \
     fmi3Status fmi3Set##Api(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr, const ctype values[], \
                             size_t nValues)                                                                        \
     {                                                                                                              \
         if (!scalars(instance, set_call, "fmi3Set" #Api, nvr, nValues)) return fmi3Error;                          \
-        return (fmi3Status)vi_core_set(instance, "fmi3Set" #Api, vr, nvr, api_type, values, elem);                  \
+        return (fmi3Status)vi_fmi_set(instance, "fmi3Set" #Api, vr, nvr, api_type, values, elem);                  \
     }
 DEFINE_GET_SET(Float64, fmi3Float64, VI_Real, VI_ELEM_DOUBLE, VI_CALL_SET_REAL)
 DEFINE_GET_SET(Int32, fmi3Int32, VI_Integer, VI_ELEM_INT, VI_CALL_SET_DISCRETE)
@@ -209,11 +209,9 @@ DEFINE_GET_SET(String, fmi3String, VI_String, VI_ELEM_STRING, VI_CALL_SET_DISCRE
 static fmi3Status no_such_type(fmi3Instance instance, vi_call call, const char *fn, const char *type,
                                const fmi3ValueReference vr[], size_t nvr)
 {
-    vi_core *c = vi_core_enter(instance, call, fn);
-    if (!c) return fmi3Error;
-    if (nvr == 0) return fmi3OK;
-    return (fmi3Status)vi_core_refuse(c, "%s: value reference %u is not a %s variable: this FMU has none", fn,
-                                      vr ? vr[0] : 0u, type);
+    if (nvr == 0) return vi_fmi_enter(instance, call, fn) ? fmi3OK : fmi3Error;
+    return (fmi3Status)vi_fmi_refuse_call(instance, call, fn, "%s: value reference %u is not a %s variable: this FMU "
+                                                               "has none", fn, vr ? vr[0] : 0u, type);
 }
 
 #define DEFINE_NO_TYPE(Api, ctype)                                                                                 \
@@ -286,33 +284,33 @@ fmi3Status fmi3GetVariableDependencies(fmi3Instance instance, fmi3ValueReference
 
 fmi3Status fmi3GetFMUState(fmi3Instance instance, fmi3FMUState *FMUState)
 {
-    return (fmi3Status)vi_core_get_fmu_state(instance, "fmi3GetFMUState", FMUState);
+    return (fmi3Status)vi_fmi_get_fmu_state(instance, "fmi3GetFMUState", FMUState);
 }
 
 fmi3Status fmi3SetFMUState(fmi3Instance instance, fmi3FMUState FMUState)
 {
-    return (fmi3Status)vi_core_set_fmu_state(instance, "fmi3SetFMUState", FMUState);
+    return (fmi3Status)vi_fmi_set_fmu_state(instance, "fmi3SetFMUState", FMUState);
 }
 
 fmi3Status fmi3FreeFMUState(fmi3Instance instance, fmi3FMUState *FMUState)
 {
-    return (fmi3Status)vi_core_free_fmu_state(instance, "fmi3FreeFMUState", FMUState);
+    return (fmi3Status)vi_fmi_free_fmu_state(instance, "fmi3FreeFMUState", FMUState);
 }
 
 fmi3Status fmi3SerializedFMUStateSize(fmi3Instance instance, fmi3FMUState FMUState, size_t *size)
 {
-    return (fmi3Status)vi_core_fmu_state_size(instance, "fmi3SerializedFMUStateSize", FMUState, size);
+    return (fmi3Status)vi_fmi_fmu_state_size(instance, "fmi3SerializedFMUStateSize", FMUState, size);
 }
 
 fmi3Status fmi3SerializeFMUState(fmi3Instance instance, fmi3FMUState FMUState, fmi3Byte serializedState[], size_t size)
 {
-    return (fmi3Status)vi_core_serialize(instance, "fmi3SerializeFMUState", FMUState, serializedState, size);
+    return (fmi3Status)vi_fmi_serialize(instance, "fmi3SerializeFMUState", FMUState, serializedState, size);
 }
 
 fmi3Status fmi3DeserializeFMUState(fmi3Instance instance, const fmi3Byte serializedState[], size_t size,
                                    fmi3FMUState *FMUState)
 {
-    return (fmi3Status)vi_core_deserialize(instance, "fmi3DeserializeFMUState", serializedState, size, FMUState);
+    return (fmi3Status)vi_fmi_deserialize(instance, "fmi3DeserializeFMUState", serializedState, size, FMUState);
 }
 
 /* ---- derivatives, configuration, clocks: not provided ------------------------------------- */
@@ -322,14 +320,12 @@ fmi3Status fmi3GetDirectionalDerivative(fmi3Instance instance, const fmi3ValueRe
                                         size_t nSeed, fmi3Float64 sensitivity[], size_t nSensitivity)
 {
     const char *fn = "fmi3GetDirectionalDerivative";
-    if (nSeed != nKnowns || nSensitivity != nUnknowns) { /* every variable is a scalar */
-        vi_core *c = vi_core_enter(instance, VI_CALL_DIRECTIONAL_DERIVATIVE, fn);
-        if (!c) return fmi3Error;
-        return (fmi3Status)vi_core_refuse(c, "%s: nSeed = %zu and nSensitivity = %zu must equal nKnowns = %zu and "
-                                             "nUnknowns = %zu (every variable is a scalar)",
-                                          fn, nSeed, nSensitivity, nKnowns, nUnknowns);
-    }
-    return (fmi3Status)vi_core_directional_derivative(instance, fn, unknowns, nUnknowns, knowns, nKnowns, seed,
+    if (nSeed != nKnowns || nSensitivity != nUnknowns) /* every variable is a scalar */
+        return (fmi3Status)vi_fmi_refuse_call(instance, VI_CALL_DIRECTIONAL_DERIVATIVE, fn,
+                                              "%s: nSeed = %zu and nSensitivity = %zu must equal nKnowns = %zu and "
+                                              "nUnknowns = %zu (every variable is a scalar)",
+                                              fn, nSeed, nSensitivity, nKnowns, nUnknowns);
+    return (fmi3Status)vi_fmi_directional_derivative(instance, fn, unknowns, nUnknowns, knowns, nKnowns, seed,
                                                       sensitivity);
 }
 
@@ -435,14 +431,14 @@ fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discrete
                                     fmi3Float64 *nextEventTime)
 {
     const char *fn = "fmi3UpdateDiscreteStates";
-    vi_core *c = vi_core_enter(instance, VI_CALL_NEW_DISCRETE_STATES, fn);
-    if (!c) return fmi3Error;
     if (!discreteStatesNeedUpdate || !terminateSimulation || !nominalsOfContinuousStatesChanged ||
         !valuesOfContinuousStatesChanged || !nextEventTimeDefined || !nextEventTime)
-        return (fmi3Status)vi_core_refuse(c, "%s: NULL argument", fn);
+        return (fmi3Status)vi_fmi_refuse_call(instance, VI_CALL_NEW_DISCRETE_STATES, fn, "%s: NULL argument", fn);
+    vi_fmi_instance *c = vi_fmi_enter(instance, VI_CALL_NEW_DISCRETE_STATES, fn);
+    if (!c) return fmi3Error;
     if (c->kind == VI_KIND_ME) { /* one pass of the model's event iteration */
         vi_fmu_event ev;
-        vi_status st = vi_core_new_discrete_states(instance, fn, &ev);
+        vi_status st = vi_fmi_new_discrete_states(instance, fn, &ev);
         if (st <= VI_STATUS_WARNING) {
             *discreteStatesNeedUpdate = ev.another_pass, *terminateSimulation = ev.terminate;
             *nominalsOfContinuousStatesChanged = ev.nominals_changed;
@@ -464,7 +460,7 @@ fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discrete
 
 fmi3Status fmi3EnterContinuousTimeMode(fmi3Instance instance)
 {
-    return (fmi3Status)vi_core_enter_continuous_mode(instance, "fmi3EnterContinuousTimeMode");
+    return (fmi3Status)vi_fmi_enter_continuous_mode(instance, "fmi3EnterContinuousTimeMode");
 }
 
 fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance, fmi3Boolean noSetFMUStatePriorToCurrentPoint,
@@ -472,7 +468,7 @@ fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance, fmi3Boolean noSetF
 {
     (void)noSetFMUStatePriorToCurrentPoint; /* nothing is kept for earlier points */
     int enter = 0, terminate = 0;
-    vi_status st = vi_core_completed_step(instance, "fmi3CompletedIntegratorStep",
+    vi_status st = vi_fmi_completed_step(instance, "fmi3CompletedIntegratorStep",
                                           enterEventMode && terminateSimulation ? &enter : NULL, &terminate);
     if (st <= VI_STATUS_WARNING) *enterEventMode = enter, *terminateSimulation = terminate;
     return (fmi3Status)st;
@@ -480,65 +476,55 @@ fmi3Status fmi3CompletedIntegratorStep(fmi3Instance instance, fmi3Boolean noSetF
 
 fmi3Status fmi3SetTime(fmi3Instance instance, fmi3Float64 time)
 {
-    return (fmi3Status)vi_core_set_time(instance, "fmi3SetTime", time);
+    return (fmi3Status)vi_fmi_set_time(instance, "fmi3SetTime", time);
 }
 
 fmi3Status fmi3SetContinuousStates(fmi3Instance instance, const fmi3Float64 continuousStates[],
                                    size_t nContinuousStates)
 {
-    return (fmi3Status)vi_core_set_states(instance, "fmi3SetContinuousStates", continuousStates, nContinuousStates);
+    return (fmi3Status)vi_fmi_set_states(instance, "fmi3SetContinuousStates", continuousStates, nContinuousStates);
 }
 
 fmi3Status fmi3GetContinuousStateDerivatives(fmi3Instance instance, fmi3Float64 derivatives[],
                                              size_t nContinuousStates)
 {
-    return (fmi3Status)vi_core_get_derivatives(instance, "fmi3GetContinuousStateDerivatives", derivatives,
+    return (fmi3Status)vi_fmi_get_derivatives(instance, "fmi3GetContinuousStateDerivatives", derivatives,
                                                nContinuousStates);
 }
 
 fmi3Status fmi3GetEventIndicators(fmi3Instance instance, fmi3Float64 eventIndicators[], size_t nEventIndicators)
 {
-    return (fmi3Status)vi_core_get_event_indicators(instance, "fmi3GetEventIndicators", eventIndicators,
+    return (fmi3Status)vi_fmi_get_event_indicators(instance, "fmi3GetEventIndicators", eventIndicators,
                                                     nEventIndicators);
 }
 
 fmi3Status fmi3GetContinuousStates(fmi3Instance instance, fmi3Float64 continuousStates[], size_t nContinuousStates)
 {
-    return (fmi3Status)vi_core_get_states(instance, "fmi3GetContinuousStates", continuousStates, nContinuousStates);
+    return (fmi3Status)vi_fmi_get_states(instance, "fmi3GetContinuousStates", continuousStates, nContinuousStates);
 }
 
 fmi3Status fmi3GetNominalsOfContinuousStates(fmi3Instance instance, fmi3Float64 nominals[], size_t nContinuousStates)
 {
-    return (fmi3Status)vi_core_get_nominals(instance, "fmi3GetNominalsOfContinuousStates", nominals, nContinuousStates);
-}
-
-/* The numbers of the model (as the model description's ContinuousStateDerivative and EventIndicator
- * elements count them); Model Exchange instances only. */
-static fmi3Status me_count(fmi3Instance instance, const char *fn, size_t *count, int value)
-{
-    vi_core *c = vi_core_enter(instance, VI_CALL_GET_STATES, fn);
-    if (!c) return fmi3Error;
-    if (c->kind != VI_KIND_ME) return (fmi3Status)vi_core_refuse(c, "%s: a Model Exchange function", fn);
-    if (!count) return (fmi3Status)vi_core_refuse(c, "%s: NULL argument", fn);
-    *count = (size_t)value;
-    return fmi3OK;
+    return (fmi3Status)vi_fmi_get_nominals(instance, "fmi3GetNominalsOfContinuousStates", nominals, nContinuousStates);
 }
 
 fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance instance, size_t *nEventIndicators)
 {
-    return me_count(instance, "fmi3GetNumberOfEventIndicators", nEventIndicators, vi_fmu_this_model.n_indicators);
+    return (fmi3Status)vi_fmi_me_count(instance, "fmi3GetNumberOfEventIndicators", VI_COUNT_INDICATORS,
+                                       nEventIndicators);
 }
 
 fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance instance, size_t *nContinuousStates)
 {
-    return me_count(instance, "fmi3GetNumberOfContinuousStates", nContinuousStates, vi_fmu_this_model.n_states);
+    return (fmi3Status)vi_fmi_me_count(instance, "fmi3GetNumberOfContinuousStates", VI_COUNT_STATES,
+                                       nContinuousStates);
 }
 
 /* ---- Co-Simulation -------------------------------------------------------------------------- */
 
 fmi3Status fmi3EnterStepMode(fmi3Instance instance)
 {
-    return (fmi3Status)vi_core_enter_step_mode(instance, "fmi3EnterStepMode");
+    return (fmi3Status)vi_fmi_enter_step_mode(instance, "fmi3EnterStepMode");
 }
 
 fmi3Status fmi3GetOutputDerivatives(fmi3Instance instance, const fmi3ValueReference vr[], size_t nvr,
@@ -555,17 +541,15 @@ fmi3Status fmi3DoStep(fmi3Instance instance, fmi3Float64 currentCommunicationPoi
 {
     (void)noSetFMUStatePriorToCurrentPoint;
     const char *fn = "fmi3DoStep";
-    vi_core *c = instance;
+    const vi_fmi_instance *c = instance;
     if (!c) return fmi3Error;
-    if (!eventHandlingNeeded || !terminateSimulation || !earlyReturn || !lastSuccessfulTime) {
-        if (!vi_core_enter(instance, VI_CALL_DO_STEP, fn)) return fmi3Error;
-        return (fmi3Status)vi_core_refuse(c, "%s: NULL argument", fn);
-    }
+    if (!eventHandlingNeeded || !terminateSimulation || !earlyReturn || !lastSuccessfulTime)
+        return (fmi3Status)vi_fmi_refuse_call(instance, VI_CALL_DO_STEP, fn, "%s: NULL argument", fn);
     int event = 0;
     double tc = currentCommunicationPoint, h = communicationStepSize;
-    vi_status st = c->face_options & OPT_EARLY_RETURN ? vi_core_do_step_to_event(instance, fn, tc, h, &event)
-                                                      : vi_core_do_step(instance, fn, tc, h);
-    double t = vi_core_time(c);
+    vi_status st = c->face_options & OPT_EARLY_RETURN ? vi_fmi_do_step_to_event(instance, fn, tc, h, &event)
+                                                      : vi_fmi_do_step(instance, fn, tc, h);
+    double t = vi_fmi_time(c);
     *lastSuccessfulTime = t; /* after fmi3Discard: where the step stopped */
     *earlyReturn = event && t < tc + h;
     *eventHandlingNeeded = event && uses_event_mode(instance);

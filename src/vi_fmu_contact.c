@@ -15,70 +15,89 @@ _Static_assert((int)VI_FMU_OK == (int)VI_SIM_OK && (int)VI_FMU_DISCARD == (int)V
                    (int)VI_FMU_ERROR == (int)VI_SIM_ERROR && (int)VI_FMU_EVENT == (int)VI_SIM_EVENT,
                "vi_sim's results are the layer's");
 
+/* One instance of the FMU, in Co-Simulation or in Model Exchange: the Model Exchange driver's data
+ * (vi_me) around the simulation (vi_me.s, which runs Co-Simulation with its own solver); `active`
+ * says whether Model Exchange runs. */
+typedef vi_me contact_instance;
+
 static void init(void *m, vi_fmu_log_fn log, void *env)
 {
-    vi_me *e = m;
-    vi_sim_init(&e->s, log, env);
-    e->active = 0;
+    contact_instance *inst = m;
+    vi_sim_init(&inst->s, log, env);
+    inst->active = 0;
 }
 
 static void reset(void *m)
 {
-    vi_me *e = m;
-    vi_sim_reset(&e->s);
-    e->active = 0;
+    contact_instance *inst = m;
+    vi_sim_reset(&inst->s);
+    inst->active = 0;
 }
 
-static void release(void *m) { vi_sim_free(m); }
+static vi_sim *sim_of(void *m) { return &((contact_instance *)m)->s; }
+
+static void release(void *m) { vi_sim_free(sim_of(m)); }
 
 static int set_resources(void *m, const char *dir)
 {
-    vi_sim_set_resources(m, dir);
+    vi_sim_set_resources(sim_of(m), dir);
     return 0;
 }
 
-static void changed(void *m) { ((vi_sim *)m)->d.inputs_changed = 1; }
+static void changed(void *m) { sim_of(m)->d.inputs_changed = 1; }
 static void outputs(void *m, void *out) { vi_me_outputs(m, out); }
+
+/* The group of outputs (VI_OUT_*) of each variable by value reference (0: no output or calculated
+ * parameter). */
+static const unsigned char output_groups[VI_NVARS] = {
+    [VI_VR_delta] = VI_OUT_STATE, [VI_VR_v] = VI_OUT_STATE, [VI_VR_contact] = VI_OUT_STATE,
+    [VI_VR_mode] = VI_OUT_STATE, [VI_VR_n_impacts] = VI_OUT_STATE, [VI_VR_yC] = VI_OUT_PLATFORM,
+    [VI_VR_y] = VI_OUT_PLATFORM, [VI_VR_F] = VI_OUT_FORCE, [VI_VR_delta_c] = VI_OUT_MEMORY,
+    [VI_VR_delta_f] = VI_OUT_MEMORY, [VI_VR_delta_p] = VI_OUT_MEMORY, [VI_VR_Rbar] = VI_OUT_MEMORY,
+    [VI_VR_W_plastic] = VI_OUT_MEMORY, [VI_VR_E_star] = VI_OUT_CALCULATED, [VI_VR_R_star] = VI_OUT_CALCULATED,
+    [VI_VR_F_Y] = VI_OUT_CALCULATED, [VI_VR_delta_Y] = VI_OUT_CALCULATED, [VI_VR_k_lin] = VI_OUT_CALCULATED,
+    [VI_VR_f_contact] = VI_OUT_CALCULATED, [VI_VR_F_mean] = VI_OUT_MEAN, [VI_VR_k_contact] = VI_OUT_STIFFNESS,
+    [VI_VR_der_y] = VI_OUT_DERIVATIVES, [VI_VR_der_v] = VI_OUT_DERIVATIVES};
 
 /* Only the groups of outputs the get call reads (reading y computes no force and no plastic work). */
 static const void *outputs_of(void *m, const unsigned vr[], size_t nvr)
 {
     unsigned groups = 0;
-    for (size_t i = 0; i < nvr; i++) groups |= vr[i] < VI_NVARS ? vi_model_output_groups[vr[i]] : 0u;
-    vi_me *e = m;
-    if (!e->active && !(groups & VI_OUT_DERIVATIVES)) return vi_sim_outputs_of(&e->s, groups); /* co-simulation */
-    return vi_me_outputs_of(e, groups);
+    for (size_t i = 0; i < nvr; i++) groups |= vr[i] < VI_NVARS ? output_groups[vr[i]] : 0u;
+    contact_instance *inst = m;
+    if (!inst->active && !(groups & VI_OUT_DERIVATIVES)) return vi_sim_outputs_of(&inst->s, groups); /* co-simulation */
+    return vi_me_outputs_of(inst, groups);
 }
 
 static void setup_experiment(void *m, double start_time, int tolerance_defined, double tolerance)
 {
-    vi_sim_data *d = &((vi_sim *)m)->d;
+    vi_sim_data *d = &sim_of(m)->d;
     d->t_start = start_time;
     d->tolerance = tolerance_defined ? tolerance : 0.0;
 }
 
-static int prepare(void *m) { return vi_sim_prepare(m); }
+static int prepare(void *m) { return vi_sim_prepare(sim_of(m)); }
 
 static int initialize(void *m)
 {
-    vi_sim *s = m;
+    vi_sim *s = sim_of(m);
     if (vi_sim_initialize(s) < 0) return -1;
     vi_sim_log_solver(s);
-    s->log(s->log_env, VI_LOG_EVENTS, "initial mode %d, delta = %.9g m, v = %.9g m/s", s->d.M.mode, s->d.x[0],
-           s->d.x[1]);
+    vi_hybrid_log_start(&s->engine, s->d.t, s->d.x);
     return 0;
 }
 
-static int advance(void *m, double t_end) { return vi_sim_advance(m, t_end); }
-static int advance_to_event(void *m, double t_end) { return vi_sim_advance_until(m, t_end, 1); }
-static double time_of(const void *m) { return ((const vi_sim *)m)->d.t; }
+static int advance(void *m, double t_end) { return vi_sim_advance(sim_of(m), t_end); }
+static int advance_to_event(void *m, double t_end) { return vi_sim_advance_until(sim_of(m), t_end, 1); }
+static double time_of(const void *m) { return ((const contact_instance *)m)->s.d.t; }
 
 /* The statistics of the solver that ran; Model Exchange's solver is the importer's: its events only. */
 static void terminate(void *m)
 {
-    const vi_sim *s = m;
-    if (((const vi_me *)m)->active) {
-        s->log(s->log_env, VI_LOG_SOLVER, "Model Exchange statistics: %ld events", s->d.n_events);
+    const contact_instance *inst = m;
+    const vi_sim *s = &inst->s;
+    if (inst->active) {
+        s->log(s->log_env, VI_LOG_SOLVER, "Model Exchange statistics: %ld events", s->d.events.n_events);
         return;
     }
     vi_solver_stats st;
@@ -87,16 +106,16 @@ static void terminate(void *m)
            "%s statistics: %ld steps, %ld rhs evaluations, %ld Jacobian evaluations, %ld nonlinear iterations, "
            "%ld nonlinear failures, %ld error test failures, %ld guard evaluations, %ld restarts, %ld events",
            st.method ? st.method : "solver", st.steps, st.rhs_evals, st.jac_evals, st.nonlin_iters, st.nonlin_fails, st.err_test_fails, st.guard_evals,
-           st.resets, s->d.n_events);
+           st.resets, s->d.events.n_events);
 }
 
-static void *state(void *m) { return &((vi_sim *)m)->d; }
+static void *state(void *m) { return &sim_of(m)->d; }
 
 /* A state saved before initialization needs no solver: fmi2ExitInitializationMode creates one. */
 static int restore(void *m, int running)
 {
-    if (!running) return ((vi_me *)m)->active = 0;
-    return running == VI_FMU_RUNNING_ME ? vi_me_restore(m, 1) : vi_sim_restore(m);
+    if (!running) return ((contact_instance *)m)->active = 0;
+    return running == VI_FMU_RUNNING_ME ? vi_me_restore(m, 1) : vi_sim_restore(sim_of(m));
 }
 
 /* A state taken from a running instance is its complete continuation (doc/model.md section 7.5). */
@@ -109,7 +128,7 @@ static int state_check(const void *state, int running, char *msg, size_t n)
     return running ? vi_sim_data_check(state, msg, n) : 0;
 }
 
-static const char *message(const void *m) { return ((const vi_sim *)m)->msg; }
+static const char *message(const void *m) { return ((const contact_instance *)m)->s.msg; }
 
 /* ---- Model Exchange ---- */
 
@@ -135,19 +154,56 @@ static int event_update(void *m, vi_fmu_event *ev)
     return 0;
 }
 
+/* The Jacobian's index sets in value references: the row of vi_me_jacobian of an unknown (-1: its
+ * partials are zero), and the column of a known. */
+static int jacobian_row(unsigned vr)
+{
+    switch (vr) {
+    case VI_VR_der_y: return VI_ME_DER_Y;
+    case VI_VR_der_v: return VI_ME_DER_V;
+    case VI_VR_F: return VI_ME_F;
+    case VI_VR_F_mean: return VI_ME_F_MEAN;
+    case VI_VR_delta: return VI_ME_DELTA;
+    case VI_VR_y: return VI_ME_Y;
+    case VI_VR_v: return VI_ME_V;
+    case VI_VR_yC: return VI_ME_YC;
+    case VI_VR_k_contact: return VI_ME_K_CONTACT;
+    case VI_VR_delta_c: return VI_ME_DELTA_C;
+    case VI_VR_delta_f: return VI_ME_DELTA_F;
+    case VI_VR_Rbar: return VI_ME_RBAR;
+    case VI_VR_delta_p: return VI_ME_DELTA_P;
+    case VI_VR_W_plastic: return VI_ME_W_PLASTIC;
+    default: return -1;
+    }
+}
+
+static double jacobian_entry(const vi_me_partials *row, unsigned known)
+{
+    switch (known) {
+    case VI_VR_y: return row->y;
+    case VI_VR_v: return row->v;
+    case VI_VR_yC_in: return row->yC_in;
+    case VI_VR_F_ext: return row->F_ext;
+    default: return 0.0;
+    }
+}
+
 static int directional_derivative(void *m, const unsigned unknown[], size_t n_unknown, const unsigned known[],
                                   size_t n_known, const double dknown[], double dunknown[])
 {
+    vi_me_partials jac[VI_ME_N_UNKNOWNS];
+    vi_me_jacobian(m, jac);
     for (size_t i = 0; i < n_unknown; i++) {
+        int row = jacobian_row(unknown[i]);
         dunknown[i] = 0.0;
-        for (size_t j = 0; j < n_known; j++)
-            if (dknown[j] != 0.0) dunknown[i] += vi_me_partial(m, (int)unknown[i], (int)known[j]) * dknown[j];
+        for (size_t j = 0; j < n_known && row >= 0; j++)
+            if (dknown[j] != 0.0) dunknown[i] += jacobian_entry(&jac[row], known[j]) * dknown[j];
     }
     return 0;
 }
 
 const vi_fmu_model vi_fmu_this_model = {
-    VI_FMU_TABLE_FIELDS(vi_me, vi_sim_data),
+    VI_FMU_TABLE_FIELDS(contact_instance, vi_sim_data),
     .init = init,
     .reset = reset,
     .release = release,

@@ -8,90 +8,32 @@
 
 #include "vi_text.h"
 
-static double platform(const vi_model *M, double t) { return vi_model_platform(M, t, NULL, NULL); }
+static double platform(const vi_model *model, double t) { return vi_model_platform(model, t, NULL, NULL); }
 
-/* The inputs the setters stored differ from those the model holds. */
-static int inputs_moved(const vi_me *e)
-{
-    const vi_sim_data *d = &e->s.d;
-    const vi_model *M = &d->M;
-    return d->in.yC_in != M->yC_in.u || d->in.F_ext != M->F_ext.u || M->yC_in.du != 0.0 || M->F_ext.du != 0.0;
-}
-
-/* Inputs that changed since they were last taken act from now on (the memory is written down first at
- * the state before the change, as for an input change in co-simulation; the mass stays where it
- * is, so delta moves with the platform). The state itself is the importer's: x is a copy. */
-static void take_inputs(vi_me *e, double x[2])
-{
-    vi_sim_data *d = &e->s.d;
-    vi_model *M = &d->M;
-    if (!inputs_moved(e)) return;
-    vi_model_freeze(M, d->t, x);
-    M->yC_in = (vi_ramp){d->in.yC_in, 0.0, d->t};
-    M->F_ext = (vi_ramp){d->in.F_ext, 0.0, d->t};
-    x[0] = platform(M, d->t) - e->y;
-}
+/* The inputs the setters stored, held from t on (Model Exchange passes values only). */
+static vi_ramp held(double u, double t) { return (vi_ramp){u, 0.0, t}; }
 
 /* Bring the model in step with the importer's time, states and inputs: delta = yC(t) - y. Setting the
  * time or the states only marks the model stale, and the setters of inputs store them only, so the
  * model catches up here, before anything is read: every answer is that of the last (t, y, v, inputs)
- * whatever the order they were set in. Inputs set in continuous-time mode act at once; inputs set in
+ * whatever the order they were set in. Inputs set in continuous-time mode act at once (the memory is
+ * written down first at the state before the change; the mass stays where it is); inputs set in
  * event mode (d->inputs_changed, from the layer's `changed`) wait for the event iteration, which
  * applies them as a jump. */
 static void sync(vi_me *e)
 {
     vi_sim_data *d = &e->s.d;
     if (!e->active) return; /* co-simulation: vi_sim keeps its outputs until its state changes */
-    int take = !d->inputs_changed && inputs_moved(e);
+    vi_ramp yC_in = held(d->in.yC_in, d->t), F_ext = held(d->in.F_ext, d->t);
+    int take = !d->inputs_changed && vi_hybrid_inputs_differ(&e->s.engine, d->t, yC_in, F_ext);
     if (!e->stale && !take) return;
     e->stale = 0;
     e->s.out_valid = 0;
-    if (take) {
-        double x[2] = {platform(&d->M, d->t) - e->y, d->x[1]};
-        take_inputs(e, x);
+    if (take) { /* x: a copy, the state is the importer's */
+        double x[2] = {platform(&d->model, d->t) - d->y_me, d->x[1]};
+        vi_hybrid_take_inputs(&e->s.engine, d->t, x, yC_in, F_ext);
     }
-    d->x[0] = platform(&d->M, d->t) - e->y;
-}
-
-/* How much each guard moves under rounding (one ulp of t with y fixed, of y and of v: ulps[i]) and
- * under a state error of the tolerance (rtol |y| + atol in y, the same in v: tol[i]). */
-static void guard_noise(const vi_me *e, double ulps[VI_NGUARDS], double tol[VI_NGUARDS])
-{
-    const vi_sim_data *d = &e->s.d;
-    const vi_model *M = &d->M;
-    double g0[VI_NGUARDS], g[VI_NGUARDS], rtol = vi_sim_rtol(d), t = d->t, y = e->y, v = d->x[1];
-    double x[2] = {platform(M, t) - y, v};
-    vi_model_guards(M, t, x, g0);
-    double t1 = nextafter(t, INFINITY), x1[2] = {platform(M, t1) - y, v};
-    vi_model_guards(M, t1, x1, g);
-    for (int i = 0; i < VI_NGUARDS; i++) ulps[i] = fabs(g[i] - g0[i]), tol[i] = 0.0;
-    const double dy[2] = {nextafter(y, INFINITY) - y, rtol * fabs(y) + d->atol[0]};
-    const double dv[2] = {nextafter(v, INFINITY) - v, rtol * fabs(v) + d->atol[1]};
-    for (int k = 0; k < 2; k++) {
-        double *acc = k == 0 ? ulps : tol;
-        double xy[2] = {x[0] - dy[k], v}, xv[2] = {x[0], v + dv[k]};
-        vi_model_guards(M, t, xy, g);
-        for (int i = 0; i < VI_NGUARDS; i++) acc[i] += fabs(g[i] - g0[i]);
-        vi_model_guards(M, t, xv, g);
-        for (int i = 0; i < VI_NGUARDS; i++) acc[i] += fabs(g[i] - g0[i]);
-    }
-}
-
-/* Guards that start at zero (up to rounding) in a mode just entered are lifted by their noise and by
- * the band the importer's steps may move them (VI_GRAZE_TOL times the change under a state error of
- * the tolerance): a mode left tangentially (stick exit, where the rate of delta is zero) would
- * otherwise see its guard cross back and forth within the integration error. A real crossing back is
- * found at most the band late. */
-static void arm_guards_at_zero(vi_me *e)
-{
-    vi_sim_data *d = &e->s.d;
-    double g[VI_NGUARDS], ulps[VI_NGUARDS], tol[VI_NGUARDS];
-    vi_model_guards(&d->M, d->t, d->x, g);
-    guard_noise(e, ulps, tol);
-    for (int i = 0; i < VI_NGUARDS; i++) {
-        double noise = VI_GRAZE_ULPS * ulps[i] + DBL_MIN;
-        if (d->guard_band[i] == 0.0 && fabs(g[i]) <= noise) d->guard_band[i] = noise + VI_GRAZE_TOL * tol[i];
-    }
+    d->x[0] = platform(&d->model, d->t) - d->y_me;
 }
 
 /* A step completed or an event handled: the time and the inputs that mean input rates are taken from
@@ -101,8 +43,8 @@ static void mark_step(vi_me *e)
     const vi_sim_data *d = &e->s.d;
     if (d->t != e->marks[1].t) e->marks[0] = e->marks[1];
     e->marks[1].t = d->t;
-    e->marks[1].u[0] = d->M.yC_in.u;
-    e->marks[1].u[1] = d->M.F_ext.u;
+    e->marks[1].u[0] = d->model.yC_in.u;
+    e->marks[1].u[1] = d->model.F_ext.u;
 }
 
 /* After a restore or at the start: both marks now (no rate until time has passed). */
@@ -112,18 +54,24 @@ static void mark_start(vi_me *e)
     e->marks[0] = e->marks[1];
 }
 
-/* While a state event chooses the mode (rates = 1): the inputs ramp at their mean rates since the newest
- * mark before the event's time (0 where none is), else (rates = 0) they hold their values, as always
- * between events. Their values at t do not change. */
-static void input_rates(vi_me *e, int rates)
+/* The inputs' mean rates (yC_in [m/s], F_ext [N/s]) since the newest mark before now, 0 where none is:
+ * the rates a state event chooses the mode with. */
+static void mean_input_rates(const vi_me *e, double rates[2])
 {
-    vi_sim_data *d = &e->s.d;
-    vi_model *M = &d->M;
+    const vi_sim_data *d = &e->s.d;
     int k = e->marks[1].t < d->t ? 1 : 0;
     double h = d->t - e->marks[k].t;
-    int ramp = rates && h > 0.0;
-    M->yC_in = (vi_ramp){M->yC_in.u, ramp ? (M->yC_in.u - e->marks[k].u[0]) / h : 0.0, d->t};
-    M->F_ext = (vi_ramp){M->F_ext.u, ramp ? (M->F_ext.u - e->marks[k].u[1]) / h : 0.0, d->t};
+    rates[0] = h > 0.0 ? (d->model.yC_in.u - e->marks[k].u[0]) / h : 0.0;
+    rates[1] = h > 0.0 ? (d->model.F_ext.u - e->marks[k].u[1]) / h : 0.0;
+}
+
+/* Bind the event engine to the integrated position y (Model Exchange) and start the driver's own state. */
+static void start_driver(vi_me *e, int active)
+{
+    vi_sim *s = &e->s;
+    vi_hybrid_bind(&s->engine, &s->d.model, &s->d.events, active, s->log, s->log_env);
+    e->active = active;
+    e->stale = 1;
 }
 
 int vi_me_initialize(vi_me *e)
@@ -131,22 +79,18 @@ int vi_me_initialize(vi_me *e)
     vi_sim *s = &e->s;
     if (vi_sim_initialize(s) < 0) return -1;
     vi_sim_data *d = &s->d;
-    vi_model *M = &d->M;
-    M->yC_in = (vi_ramp){d->in.yC_in, 0.0, d->t}; /* Model Exchange passes values only */
-    M->F_ext = (vi_ramp){d->in.F_ext, 0.0, d->t};
-    e->y = platform(M, d->t) - d->x[0];
-    e->active = 1;
-    e->zeno = 0;
-    e->t_event = d->t;
-    e->stale = 1;
+    vi_model *model = &d->model;
+    model->yC_in = held(d->in.yC_in, d->t); /* Model Exchange passes values only */
+    model->F_ext = held(d->in.F_ext, d->t);
+    d->y_me = platform(model, d->t) - d->x[0];
+    start_driver(e, 1);
     sync(e);
     mark_start(e);
-    memset(d->guard_band, 0, sizeof d->guard_band);
-    arm_guards_at_zero(e);
+    vi_hybrid_start(&s->engine, d->events.rtol, d->events.atol, d->t, d->x);
     double nominal[2];
     vi_me_nominals(e, nominal);
     s->log(s->log_env, VI_LOG_SOLVER, "Model Exchange: the importer integrates y and v (nominals %g m, %g m/s); "
-           "initial mode %d, delta = %.9g m, v = %.9g m/s", nominal[0], nominal[1], M->mode, d->x[0], d->x[1]);
+           "initial mode %d, delta = %.9g m, v = %.9g m/s", nominal[0], nominal[1], model->mode, d->x[0], d->x[1]);
     return 0;
 }
 
@@ -159,13 +103,13 @@ void vi_me_set_time(vi_me *e, double t)
 void vi_me_get_states(vi_me *e, double x[VI_ME_NSTATES])
 {
     const vi_sim_data *d = &e->s.d;
-    x[0] = e->active ? e->y : platform(&d->M, d->t) - d->x[0]; /* before: the initial state prepared */
+    x[0] = e->active ? d->y_me : platform(&d->model, d->t) - d->x[0]; /* before: the initial state prepared */
     x[1] = d->x[1];
 }
 
 void vi_me_set_states(vi_me *e, const double x[VI_ME_NSTATES])
 {
-    e->y = x[0];
+    e->s.d.y_me = x[0];
     e->s.d.x[1] = x[1];
     e->stale = 1;
 }
@@ -175,7 +119,7 @@ void vi_me_derivatives(vi_me *e, double dx[VI_ME_NSTATES])
     sync(e);
     const vi_sim_data *d = &e->s.d;
     double r[2];
-    vi_model_rhs(&d->M, d->t, d->x, r);
+    vi_model_rhs(&d->model, d->t, d->x, r);
     dx[0] = d->x[1];
     dx[1] = r[1];
 }
@@ -183,95 +127,84 @@ void vi_me_derivatives(vi_me *e, double dx[VI_ME_NSTATES])
 void vi_me_indicators(vi_me *e, double z[VI_ME_NINDICATORS])
 {
     sync(e);
-    const vi_sim_data *d = &e->s.d;
-    vi_model_guards(&d->M, d->t, d->x, z);
-    for (int i = 0; i < VI_NGUARDS; i++) z[i] += d->guard_band[i];
+    vi_hybrid_guards(&e->s.engine, e->s.d.t, e->s.d.x, z);
 }
 
 void vi_me_nominals(const vi_me *e, double nominal[VI_ME_NSTATES])
 {
-    const vi_sim_data *d = &e->s.d;
-    double rtol = vi_sim_rtol(d);
-    for (int i = 0; i < 2; i++) nominal[i] = e->active && d->atol[i] > 0.0 ? d->atol[i] / rtol : 1.0;
+    const vi_hybrid_state *h = &e->s.d.events;
+    for (int i = 0; i < 2; i++) nominal[i] = e->active && h->atol[i] > 0.0 ? h->atol[i] / h->rtol : 1.0;
 }
 
 /* The end of a non-periodic profile at or before t: 1 with the reason in msg. */
-static int past_profile_end(const vi_model *M, double t, char *msg, size_t n)
+static int past_profile_end(const vi_model *model, double t, char *msg, size_t n)
 {
-    return t >= vi_model_rolling_limit(M, msg, n);
+    return t >= vi_model_rolling_limit(model, msg, n);
+}
+
+/* The time events of one pass, in x (a copy of the state): inputs and tunable a, f set in event mode
+ * (an input jump), and a kink of the profile passed since the last step. */
+static void time_events(vi_me *e, double x[2])
+{
+    vi_sim_data *d = &e->s.d;
+    double t = d->t;
+    if (d->inputs_changed || vi_model_excitation_differs(&d->model, d->par.a, d->par.f)) {
+        vi_ramp yC_in = d->inputs_changed ? held(d->in.yC_in, t) : d->model.yC_in;
+        vi_ramp F_ext = d->inputs_changed ? held(d->in.F_ext, t) : d->model.F_ext;
+        d->inputs_changed = 0;
+        vi_hybrid_input_jump(&e->s.engine, t, x, yC_in, F_ext, d->par.a, d->par.f);
+    }
+    if (vi_model_next_breakpoint(&d->model, d->step_t0) <= t) vi_hybrid_kink(&e->s.engine, t, x);
+}
+
+/* The first guard at or below zero, as a state event (the mode chosen with the inputs' mean rates).
+ * Returns the guard, or -1 when none fired; *from: the mode it belonged to. */
+static int state_event(vi_me *e, double x[2], int *from)
+{
+    vi_sim_data *d = &e->s.d;
+    int located, fired = vi_hybrid_fired(&e->s.engine, d->t, x, &located);
+    if (fired < 0) return -1;
+    double rates[2];
+    mean_input_rates(e, rates);
+    *from = vi_hybrid_event(&e->s.engine, d->t, x, fired, located, rates);
+    return fired;
+}
+
+/* Take x (the state after the pass) as the importer's: y moves only when x moved. */
+static void take_state(vi_me *e, const double x[2], vi_me_event *ev)
+{
+    vi_sim_data *d = &e->s.d;
+    if (x[0] != d->x[0] || x[1] != d->x[1]) { /* snapped, frozen onto the platform, or a new a */
+        ev->states_changed = 1;
+        d->y_me = platform(&d->model, d->t) - x[0];
+        d->x[1] = x[1];
+    }
+    d->x[0] = platform(&d->model, d->t) - d->y_me;
 }
 
 int vi_me_event_update(vi_me *e, vi_me_event *ev)
 {
     vi_sim *s = &e->s;
     vi_sim_data *d = &s->d;
-    vi_model *M = &d->M;
     memset(ev, 0, sizeof *ev);
     sync(e);
-    double t = d->t, x[2] = {d->x[0], d->x[1]}, g[VI_NGUARDS], ulps[VI_NGUARDS], tol[VI_NGUARDS];
-    int from = M->mode;
-    if (past_profile_end(M, t, s->msg, sizeof s->msg)) {
+    double t = d->t, x[2] = {d->x[0], d->x[1]};
+    if (past_profile_end(&d->model, t, s->msg, sizeof s->msg)) {
         ev->terminate = 1;
         return 0;
     }
-    if (d->inputs_changed || vi_model_excitation_differs(M, d->par.a, d->par.f)) { /* set in event mode */
-        d->inputs_changed = 0;
-        vi_model_freeze(M, t, x); /* the memory of the state before the jump */
-        take_inputs(e, x);
-        /* a new a moves the platform (delta with it), the mass stays */
-        vi_model_set_excitation(M, t, x, d->par.a, d->par.f);
-        if (vi_model_resolve(M, t, x) != from)
-            s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: input change, mode %d -> %d", t, from, M->mode);
-    }
-    if (vi_model_next_breakpoint(M, d->step_t0) <= t) { /* a kink of the profile: the platform's rate jumped */
-        int before = M->mode;
-        if (vi_model_breakpoint(M, t, x) != before)
-            s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: profile kink, mode %d -> %d", t, before, M->mode);
-    }
-    int fired = -1, before = M->mode;
-    vi_model_guards(M, t, x, g);
-    for (int i = 0; i < VI_NGUARDS && fired < 0; i++)
-        if (g[i] + (M->mode == from ? d->guard_band[i] : 0.0) <= 0.0) fired = i;
-    if (fired >= 0) {
-        guard_noise(e, ulps, tol);
-        double band = VI_GRAZE_TOL * tol[fired] + VI_GRAZE_ULPS * ulps[fired] + DBL_MIN;
-        input_rates(e, 1);
-        if (fabs(g[fired]) <= band) { /* a located crossing: onto the surface */
-            vi_model_event(M, t, x, fired);
-        } else { /* a state beyond the surface: the mode of the state as it is */
-            vi_model_freeze(M, t, x);
-            vi_model_resolve(M, t, x);
-        }
-        input_rates(e, 0);
-        d->n_events++;
-        e->zeno = vi_sim_zeno_count(e->zeno, e->t_event, t);
-        e->t_event = t;
-        s->log(s->log_env, VI_LOG_EVENTS, "t = %.17g s: guard %d of mode %d, mode %d -> %d, delta = %.9g m, "
-               "v = %.9g m/s", t, fired, before, before, M->mode, x[0], x[1]);
-        if (M->mode == before && M->mode == from) d->guard_band[fired] = band; /* grazing: disarmed */
-    }
-    if (x[0] != d->x[0] || x[1] != d->x[1]) { /* snapped, frozen onto the platform, or a new a */
-        ev->states_changed = 1;
-        e->y = platform(M, t) - x[0];
-        d->x[1] = x[1];
-    }
-    d->x[0] = platform(M, t) - e->y;
-    if (M->mode != from) memset(d->guard_band, 0, sizeof d->guard_band);
-    arm_guards_at_zero(e);
-    vi_model_guards(M, t, d->x, g);
-    for (int i = 0; i < VI_NGUARDS; i++) ev->another_pass |= g[i] + d->guard_band[i] < 0.0;
+    time_events(e, x);
+    int from = d->model.mode, fired = state_event(e, x, &from);
+    take_state(e, x, ev);
+    vi_hybrid_arm_at_zero(&s->engine, t, d->x); /* at the state as the importer holds it */
+    ev->another_pass = vi_hybrid_due(&s->engine, t, d->x);
     d->step_t0 = t;
     d->step_v0 = d->x[1];
     mark_step(e);
-    vi_sim_check_validity(&e->s);
-    if (fired >= 0 && e->zeno >= VI_ZENO_EVENTS) {
-        vi_snprintf(s->msg, sizeof s->msg, "events accumulate at t = %.17g s (Zeno): %d events each within %g ulps of time "
-                    "of the one before, the last on guard %d of mode %d; the motion cannot go on", t, VI_ZENO_EVENTS,
-                    VI_ZENO_ULPS, fired, before);
-        ev->terminate = 1;
-    }
+    vi_sim_check_validity(s);
+    if (fired >= 0 && vi_hybrid_zeno(&s->engine, t, fired, from, s->msg, sizeof s->msg)) ev->terminate = 1;
     char why[8];
-    double next = fmin(vi_model_next_breakpoint(M, t), vi_model_rolling_limit(M, why, sizeof why));
+    double next = fmin(vi_model_next_breakpoint(&d->model, t), vi_model_rolling_limit(&d->model, why, sizeof why));
     if (isfinite(next) && next > t) ev->next_time_defined = 1, ev->next_time = next;
     s->out_valid = 0;
     return 0;
@@ -288,12 +221,9 @@ int vi_me_completed_step(vi_me *e)
     vi_sim_data *d = &e->s.d;
     char why[8];
     sync(e);
-    if (vi_model_next_breakpoint(&d->M, d->step_t0) <= d->t || past_profile_end(&d->M, d->t, why, sizeof why))
+    if (vi_model_next_breakpoint(&d->model, d->step_t0) <= d->t || past_profile_end(&d->model, d->t, why, sizeof why))
         return 1; /* a time event was stepped over: handle it here */
-    double g[VI_NGUARDS];
-    vi_model_guards(&d->M, d->t, d->x, g);
-    for (int i = 0; i < VI_NGUARDS; i++)
-        if (d->guard_band[i] > 0.0 && g[i] > d->guard_band[i]) d->guard_band[i] = 0.0; /* moved away: armed */
+    vi_hybrid_rearm(&e->s.engine, d->t, d->x);
     d->step_t0 = d->t;
     d->step_v0 = d->x[1];
     mark_step(e);
@@ -308,7 +238,7 @@ const vi_outputs *vi_me_outputs_of(vi_me *e, unsigned groups)
     const vi_outputs *out = vi_sim_outputs_of(s, groups);
     if ((groups & VI_OUT_DERIVATIVES) && !(s->out_valid & VI_OUT_DERIVATIVES)) {
         double r[2];
-        vi_model_rhs(&s->d.M, s->d.t, s->d.x, r);
+        vi_model_rhs(&s->d.model, s->d.t, s->d.x, r);
         s->out.der_y = s->d.x[1];
         s->out.der_v = r[1];
         s->out_valid |= VI_OUT_DERIVATIVES;
@@ -324,7 +254,7 @@ int vi_me_checkpoint(vi_me *e)
     if (e->active) {
         vi_sim_data *d = &e->s.d;
         double x[2] = {d->x[0], d->x[1]};
-        vi_model_freeze(&d->M, d->t, x); /* the memory of the current state (not the state) */
+        vi_model_freeze(&d->model, d->t, x); /* the memory of the current state (not the state) */
         /* the model's own solver does not run in Model Exchange: start it at the current point, so
          * that its continuation (dop853) belongs to the state saved */
         if (e->s.solver && vi_solver_reset(e->s.solver, d->t, d->x) < 0) {
@@ -338,99 +268,43 @@ int vi_me_checkpoint(vi_me *e)
 int vi_me_restore(vi_me *e, int running)
 {
     if ((running ? vi_sim_restore_without_solver(&e->s) : vi_sim_restore(&e->s)) < 0) return -1;
-    e->active = running;
-    e->zeno = 0;
-    e->stale = 1;
-    if (e->active) e->y = platform(&e->s.d.M, e->s.d.t) - e->s.d.x[0];
+    start_driver(e, running);
     mark_start(e); /* a state is taken between steps: one starts here */
     return 0;
 }
 
 /* ---- the Jacobian ---------------------------------------------------------------------------- */
 
-/* d(stiffness)/d(delta) [N/m^2], the second derivative of the force in the current mode (0 where the
- * force is linear or constant, and in stick, where the reported stiffness is that at delta_c). */
-static double stiffness_rate(const vi_model *M, double d)
+/* An unknown's partials with respect to delta, v, F_ext and yC (directly, not through delta), mapped
+ * onto the knowns: delta = yC(t) - y, yC = yC_in + ... */
+static vi_me_partials through_delta(double a_d, double a_v, double a_F, double a_yC)
 {
-    const vi_johnson *J = &M->J;
-    double s;
-    switch (M->mode) {
-    case VI_Mode_elastic:
-    case VI_Mode_plastic:
-        if (M->law == VI_ContactModel_lepp) return 0.0;
-        if (M->law == VI_ContactModel_hertz) return d > 0.0 ? 0.75 * M->K / sqrt(d) : 0.0;
-        if (d <= J->delta_Y) return (s = d / J->delta_Y) > 0.0 ? 0.75 * J->F_Y / (J->delta_Y * J->delta_Y * sqrt(s)) : 0.0;
-        /* eq. 3: F'' = 4 F_Y / (3 theta_Y k delta_Y^2), k = 2 delta/delta_Y - 1 */
-        return 4.0 * J->F_Y / (3.0 * J->theta_Y * (2.0 * d / J->delta_Y - 1.0) * J->delta_Y * J->delta_Y);
-    case VI_Mode_unload: return (s = d - M->U.delta_f) > 0.0 ? 0.75 * M->U.Kbar / sqrt(s) : 0.0;
-    default: return 0.0;
-    }
+    return (vi_me_partials){.y = -a_d, .v = a_v, .yC_in = a_d + a_yC, .F_ext = a_F};
 }
 
-/* Rates of the unloading curve's parameters with delta_c (Johnson, fixed contact point, while it
- * loads plastically and delta_c = delta): d/d(delta_c) of Rbar, delta_r, and the plastic work. */
-typedef struct {
-    double Rbar, delta_r, W_plastic;
-} unload_rates;
-
-static unload_rates memory_rates(const vi_model *M, double dc)
-{
-    const vi_johnson *J = &M->J;
-    vi_unload_curve U = vi_johnson_unload_curve(J, M->unloading, dc);
-    unload_rates r;
-    if (M->unloading == VI_UNLOAD_CONTINUOUS) { /* a_c^2 = R* (2 delta_c - delta_Y), F_c the load at delta_c */
-        double F = vi_johnson_load(J, dc), dF = vi_johnson_load_stiffness(J, dc);
-        double a = sqrt(J->R_star * (2.0 * dc - J->delta_Y)), da = J->R_star / a;
-        r.Rbar = 4.0 * J->E_star / 3.0 * (3.0 * a * a * da / F - a * a * a * dF / (F * F)); /* Rbar = 4 E* a^3/(3 F) */
-        r.delta_r = 3.0 / (4.0 * J->E_star) * (dF / a - F * da / (a * a));                 /* delta_r = 3 F/(4 E* a) */
-    } else { /* Rbar = R* sqrt(k_c), delta_r = delta_Y sqrt(k_c), k_c = 2 delta_c/delta_Y - 1 */
-        double sk = sqrt(2.0 * dc / J->delta_Y - 1.0);
-        r.Rbar = J->R_star / (J->delta_Y * sk);
-        r.delta_r = 1.0 / sk;
-    }
-    /* W = load work(delta_c) - 0.4 Kbar delta_r^2.5, Kbar = 4/3 E* sqrt(Rbar) */
-    double dK = 2.0 / 3.0 * J->E_star * r.Rbar / sqrt(U.Rbar), dr = U.delta_r;
-    r.W_plastic = vi_johnson_load(J, dc) - 0.4 * dK * dr * dr * sqrt(dr) - U.Kbar * dr * sqrt(dr) * r.delta_r;
-    return r;
-}
-
-double vi_me_partial(vi_me *e, int unknown, int known)
+void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
 {
     sync(e);
     const vi_sim_data *d = &e->s.d;
-    const vi_model *M = &d->M;
-    double dlt = d->x[0], m = M->m, h = d->t - d->step_t0;
-    int stick = M->mode == VI_Mode_stick, plastic = M->mode == VI_Mode_plastic;
-    double k = stick ? 0.0 : m * vi_model_stiffness_over_mass(M, d->t, d->x); /* dF/ddelta */
-    int johnson_memory = plastic && M->law == VI_ContactModel_johnson && !M->moving;
-    int lepp_flow = plastic && M->law == VI_ContactModel_lepp;
-    /* The unknown's partials with respect to delta, v, F_ext, and yC (directly, not through delta). */
-    double a_d = 0.0, a_v = 0.0, a_F = 0.0, a_yC = 0.0;
-    switch (unknown) {
-    case VI_VR_der_y: a_v = 1.0; break;
-    case VI_VR_der_v: a_d = k / m, a_F = stick ? 0.0 : 1.0 / m; break; /* (F - W0 + F_ext)/m; stick: yC'' */
-    case VI_VR_F: a_d = k, a_F = stick ? -1.0 : 0.0; break;             /* stick: F_hold = W0 - F_ext + m yC'' */
-    case VI_VR_F_mean:
-        if (h > 0.0) a_v = m / h, a_F = -1.0; /* m (v - v0)/h + W0 - F_ext */
-        else a_d = k, a_F = stick ? -1.0 : 0.0;
-        break;
-    case VI_VR_delta: a_d = 1.0; break;
-    case VI_VR_y: a_d = -1.0, a_yC = 1.0; break;
-    case VI_VR_v: a_v = 1.0; break;
-    case VI_VR_yC: a_yC = 1.0; break;
-    case VI_VR_k_contact: a_d = stick ? 0.0 : stiffness_rate(M, dlt); break;
-    case VI_VR_delta_c: a_d = johnson_memory; break;
-    case VI_VR_delta_f: a_d = johnson_memory ? 1.0 - memory_rates(M, dlt).delta_r : 0.0; break;
-    case VI_VR_Rbar: a_d = johnson_memory ? memory_rates(M, dlt).Rbar : 0.0; break;
-    case VI_VR_delta_p: a_d = lepp_flow; break;
-    case VI_VR_W_plastic: a_d = johnson_memory ? memory_rates(M, dlt).W_plastic : lepp_flow ? M->J.F_Y : 0.0; break;
-    default: break; /* calculated parameters: constant */
-    }
-    switch (known) { /* delta = yC(t) - y, yC = yC_in + ... */
-    case VI_VR_y: return -a_d;
-    case VI_VR_v: return a_v;
-    case VI_VR_yC_in: return a_d + a_yC;
-    case VI_VR_F_ext: return a_F;
-    default: return 0.0;
-    }
+    const vi_model *model = &d->model;
+    double m = model->m, h = d->t - d->step_t0;
+    int stick = model->mode == VI_Mode_stick;
+    double k = stick ? 0.0 : m * vi_model_stiffness_over_mass(model, d->t, d->x); /* dF/ddelta */
+    vi_memory_rates mem;
+    vi_model_memory_rates(model, d->x, &mem);
+    jac[VI_ME_DER_Y] = through_delta(0.0, 1.0, 0.0, 0.0);
+    jac[VI_ME_DER_V] = through_delta(k / m, 0.0, stick ? 0.0 : 1.0 / m, 0.0); /* (F - W0 + F_ext)/m; stick: yC'' */
+    jac[VI_ME_F] = through_delta(k, 0.0, stick ? -1.0 : 0.0, 0.0);             /* stick: F_hold = W0 - F_ext + m yC'' */
+    jac[VI_ME_F_MEAN] = h > 0.0 ? through_delta(0.0, m / h, -1.0, 0.0)        /* m (v - v0)/h + W0 - F_ext */
+                              : jac[VI_ME_F];
+    jac[VI_ME_DELTA] = through_delta(1.0, 0.0, 0.0, 0.0);
+    jac[VI_ME_Y] = through_delta(-1.0, 0.0, 0.0, 1.0);
+    jac[VI_ME_V] = through_delta(0.0, 1.0, 0.0, 0.0);
+    jac[VI_ME_YC] = through_delta(0.0, 0.0, 0.0, 1.0);
+    jac[VI_ME_K_CONTACT] = through_delta(vi_model_stiffness_rate(model, d->x), 0.0, 0.0, 0.0);
+    jac[VI_ME_DELTA_C] = through_delta(mem.delta_c, 0.0, 0.0, 0.0);
+    jac[VI_ME_DELTA_F] = through_delta(mem.delta_f, 0.0, 0.0, 0.0);
+    jac[VI_ME_RBAR] = through_delta(mem.Rbar, 0.0, 0.0, 0.0);
+    jac[VI_ME_DELTA_P] = through_delta(mem.delta_p, 0.0, 0.0, 0.0);
+    jac[VI_ME_W_PLASTIC] = through_delta(mem.W_plastic, 0.0, 0.0, 0.0);
 }

@@ -6,62 +6,66 @@
 
 #include "vi_check.h"
 
-static int is_johnson_fixed(const vi_model *M) { return M->law == VI_ContactModel_johnson && !M->moving; }
+#if defined(VI_VARIABLES_H) || defined(VI_TABLE_H) || defined(VI_FMU_H) || defined(VI_SOLVER_H)
+#error "the model includes no FMI or solver header (its parameters: vi_model_params)"
+#endif
+
+static int is_johnson_fixed(const vi_model *model) { return model->law == VI_LAW_JOHNSON && !model->moving; }
 
 /* Net load pressing the mass down, W(t) = P + m g - F_ext(t) [N]. */
-static double net_load(const vi_model *M, double t) { return M->W0 - vi_ramp_at(&M->F_ext, t); }
+static double net_load(const vi_model *model, double t) { return model->W0 - vi_ramp_at(&model->F_ext, t); }
 
-int vi_model_setup(vi_model *M, const vi_parameters *p, double t0, char *msg, size_t msg_size)
+int vi_model_setup(vi_model *model, const vi_model_params *p, double t0, char *msg, size_t msg_size)
 {
     if (!(p->R1 > 0.0 || p->R2 > 0.0))
         VI_FAIL(msg, msg_size, "R1 = R2 = 0: two planes have no point contact; give a radius");
 
-    M->law = p->contact_model;
-    M->moving = p->moving_contact != 0;
-    M->unloading = p->unloading == VI_Unloading_continuous ? VI_UNLOAD_CONTINUOUS : VI_UNLOAD_PAPER;
-    M->m = p->m;
-    M->W0 = p->P + p->m * p->g;
-    M->J.E_star = vi_effective_modulus(p->E1, p->nu1, p->E2, p->nu2);
-    M->J.R_star = vi_effective_radius(p->R1, p->R2);
-    M->J.theta_Y = p->theta_Y;
-    M->K = vi_hertz_constant(M->J.E_star, M->J.R_star);
-    M->J.F_Y = vi_yield_force(p->yield_formula == VI_YieldFormula_printed ? VI_YIELD_PRINTED : VI_YIELD_TEXTBOOK,
-                              p->theta_Y, p->Y, M->J.R_star, M->J.E_star);
-    M->J.delta_Y = vi_hertz_indentation(M->K, M->J.F_Y);
-    M->k_lin = M->J.F_Y / M->J.delta_Y;
-    M->a = p->a;
-    M->omega = 2.0 * VI_PI * p->f;
-    M->t0 = t0;
-    M->phi0 = 0.0;
-    M->t_phi = t0;
-    M->profile = NULL;
-    M->V = M->x0 = 0.0;
-    if (!(isfinite(M->W0) && isfinite(M->K) && M->K > 0.0 && isfinite(M->J.F_Y) && M->J.F_Y > 0.0 &&
-          M->J.delta_Y > 0.0 && isfinite(M->k_lin) && M->k_lin > 0.0))
+    model->law = p->law;
+    model->moving = p->moving_contact != 0;
+    model->unloading = p->unloading == VI_UNLOAD_CONTINUOUS ? VI_UNLOAD_CONTINUOUS : VI_UNLOAD_PAPER;
+    model->m = p->m;
+    model->W0 = p->P + p->m * p->g;
+    model->johnson.E_star = vi_effective_modulus(p->E1, p->nu1, p->E2, p->nu2);
+    model->johnson.R_star = vi_effective_radius(p->R1, p->R2);
+    model->johnson.theta_Y = p->theta_Y;
+    model->K = vi_hertz_constant(model->johnson.E_star, model->johnson.R_star);
+    model->johnson.F_Y = vi_yield_force(p->yield_formula == VI_YIELD_PRINTED ? VI_YIELD_PRINTED : VI_YIELD_TEXTBOOK,
+                              p->theta_Y, p->Y, model->johnson.R_star, model->johnson.E_star);
+    model->johnson.delta_Y = vi_hertz_indentation(model->K, model->johnson.F_Y);
+    model->k_lin = model->johnson.F_Y / model->johnson.delta_Y;
+    model->a = p->a;
+    model->omega = 2.0 * VI_PI * p->f;
+    model->t0 = t0;
+    model->phi0 = 0.0;
+    model->t_phi = t0;
+    model->profile = NULL;
+    model->V = model->x0 = 0.0;
+    if (!(isfinite(model->W0) && isfinite(model->K) && model->K > 0.0 && isfinite(model->johnson.F_Y) && model->johnson.F_Y > 0.0 &&
+          model->johnson.delta_Y > 0.0 && isfinite(model->k_lin) && model->k_lin > 0.0))
         VI_FAIL(msg, msg_size, "the parameters give no finite positive contact stiffness or yield force (E* = %g Pa, "
-                "R* = %g m, F_Y = %g N, delta_Y = %g m)", M->J.E_star, M->J.R_star, M->J.F_Y, M->J.delta_Y);
+                "R* = %g m, F_Y = %g N, delta_Y = %g m)", model->johnson.E_star, model->johnson.R_star, model->johnson.F_Y, model->johnson.delta_Y);
     return 0;
 }
 
-double vi_model_phase(const vi_model *M, double t) { return M->phi0 + M->omega * (t - M->t_phi); }
+double vi_model_phase(const vi_model *model, double t) { return model->phi0 + model->omega * (t - model->t_phi); }
 
-int vi_model_excitation_differs(const vi_model *M, double a, double f) { return a != M->a || 2.0 * VI_PI * f != M->omega; }
+int vi_model_excitation_differs(const vi_model *model, double a, double f) { return a != model->a || 2.0 * VI_PI * f != model->omega; }
 
-void vi_model_set_excitation(vi_model *M, double t, double x[2], double a, double f)
+void vi_model_set_excitation(vi_model *model, double t, double x[2], double a, double f)
 {
-    double ph = vi_model_phase(M, t), c = cos(ph);
-    x[0] += (a - M->a) * (c - 1.0); /* the platform moves, the mass does not */
-    M->a = a;
-    M->phi0 = fmod(ph, 2.0 * VI_PI);
-    M->t_phi = t;
-    M->omega = 2.0 * VI_PI * f;
+    double ph = vi_model_phase(model, t), c = cos(ph);
+    x[0] += (a - model->a) * (c - 1.0); /* the platform moves, the mass does not */
+    model->a = a;
+    model->phi0 = fmod(ph, 2.0 * VI_PI);
+    model->t_phi = t;
+    model->omega = 2.0 * VI_PI * f;
 }
 
 /* ---- rolling over a profile ------------------------------------------------------------------ */
 
-double vi_model_rolling_position(const vi_model *M, double t) { return M->x0 + M->V * (t - M->t0); }
+double vi_model_rolling_position(const vi_model *model, double t) { return model->x0 + model->V * (t - model->t0); }
 
-int vi_model_set_rolling(vi_model *M, const vi_profile *profile, double V, double x0, char *msg, size_t n)
+int vi_model_set_rolling(vi_model *model, const vi_profile *profile, double V, double x0, char *msg, size_t n)
 {
     if (profile && !vi_profile_periodic(profile) &&
         !(x0 >= vi_profile_x_first(profile) && x0 <= vi_profile_x_last(profile))) {
@@ -69,95 +73,95 @@ int vi_model_set_rolling(vi_model *M, const vi_profile *profile, double V, doubl
                     vi_profile_x_first(profile), vi_profile_x_last(profile));
         return -1;
     }
-    M->profile = profile;
-    M->V = V;
-    M->x0 = x0;
+    model->profile = profile;
+    model->V = V;
+    model->x0 = x0;
     return 0;
 }
 
 /* At most this many ulp steps round a breakpoint time past its kink (a few suffice). */
 #define VI_BREAKPOINT_NUDGES 64
 
-double vi_model_next_breakpoint(const vi_model *M, double t)
+double vi_model_next_breakpoint(const vi_model *model, double t)
 {
-    if (!M->profile || M->V == 0.0) return INFINITY;
-    int dir = M->V > 0.0 ? 1 : -1;
-    double xk = vi_profile_next_kink(M->profile, vi_model_rolling_position(M, t), dir);
+    if (!model->profile || model->V == 0.0) return INFINITY;
+    int dir = model->V > 0.0 ? 1 : -1;
+    double xk = vi_profile_next_kink(model->profile, vi_model_rolling_position(model, t), dir);
     if (!isfinite(xk)) return INFINITY;
-    double tk = M->t0 + (xk - M->x0) / M->V;
+    double tk = model->t0 + (xk - model->x0) / model->V;
     for (int i = 0; i < VI_BREAKPOINT_NUDGES; i++) { /* position past the kink: the piece after it */
-        double pos = vi_model_rolling_position(M, tk);
+        double pos = vi_model_rolling_position(model, tk);
         if (dir > 0 ? pos >= xk : pos < xk) break;
         tk = nextafter(tk, INFINITY);
     }
     return tk > t ? tk : nextafter(t, INFINITY);
 }
 
-int vi_model_breakpoint(vi_model *M, double t, double x[2])
+int vi_model_breakpoint(vi_model *model, double t, double x[2])
 {
-    vi_model_freeze(M, t, x);
-    return vi_model_resolve(M, t, x);
+    vi_model_freeze(model, t, x);
+    return vi_model_resolve(model, t, x);
 }
 
-double vi_model_rolling_limit(const vi_model *M, char *msg, size_t n)
+double vi_model_rolling_limit(const vi_model *model, char *msg, size_t n)
 {
-    if (!M->profile || vi_profile_periodic(M->profile) || M->V == 0.0) return INFINITY;
-    double end = M->V > 0.0 ? vi_profile_x_last(M->profile) : vi_profile_x_first(M->profile);
-    double t = M->t0 + (end - M->x0) / M->V;
+    if (!model->profile || vi_profile_periodic(model->profile) || model->V == 0.0) return INFINITY;
+    double end = model->V > 0.0 ? vi_profile_x_last(model->profile) : vi_profile_x_first(model->profile);
+    double t = model->t0 + (end - model->x0) / model->V;
     vi_snprintf(msg, n, "t = %.17g s: the rolling position x0 + V (t - t_start) = %.17g m reaches the end of the profile "
                 "(%s = %g m); the profile does not go on beyond it (set profile_periodic to repeat it)", t,
-                vi_model_rolling_position(M, t), M->V > 0.0 ? "x_last" : "x_first", end);
+                vi_model_rolling_position(model, t), model->V > 0.0 ? "x_last" : "x_first", end);
     return t;
 }
 
 /* Platform position and its first three time derivatives at t: y[0..3] = yC, yC', yC'', yC'''. */
-static void platform(const vi_model *M, double t, double y[4])
+static void platform(const vi_model *model, double t, double y[4])
 {
-    double ph = vi_model_phase(M, t), c = cos(ph), s = sin(ph), aw = M->a * M->omega;
-    y[0] = vi_ramp_at(&M->yC_in, t) + M->a * (c - 1.0);
-    y[1] = M->yC_in.du - aw * s;
-    y[2] = -aw * M->omega * c;
-    y[3] = aw * M->omega * M->omega * s;
-    if (M->profile) { /* yb(x0 + V (t - t0)): d/dt = V d/dx */
-        double b[4], V = M->V;
-        vi_profile_eval(M->profile, vi_model_rolling_position(M, t), b);
+    double ph = vi_model_phase(model, t), c = cos(ph), s = sin(ph), aw = model->a * model->omega;
+    y[0] = vi_ramp_at(&model->yC_in, t) + model->a * (c - 1.0);
+    y[1] = model->yC_in.du - aw * s;
+    y[2] = -aw * model->omega * c;
+    y[3] = aw * model->omega * model->omega * s;
+    if (model->profile) { /* yb(x0 + V (t - t0)): d/dt = V d/dx */
+        double b[4], V = model->V;
+        vi_profile_eval(model->profile, vi_model_rolling_position(model, t), b);
         y[0] += b[0], y[1] += V * b[1], y[2] += V * V * b[2], y[3] += V * V * V * b[3];
     }
 }
 
-double vi_model_platform(const vi_model *M, double t, double *dyC, double *ddyC)
+double vi_model_platform(const vi_model *model, double t, double *dyC, double *ddyC)
 {
     if (!dyC && !ddyC) { /* the position only: no sine, no derivatives of the profile */
-        double yC = vi_ramp_at(&M->yC_in, t) + M->a * (cos(vi_model_phase(M, t)) - 1.0);
-        if (M->profile) {
+        double yC = vi_ramp_at(&model->yC_in, t) + model->a * (cos(vi_model_phase(model, t)) - 1.0);
+        if (model->profile) {
             double b[4];
-            vi_profile_eval(M->profile, vi_model_rolling_position(M, t), b);
+            vi_profile_eval(model->profile, vi_model_rolling_position(model, t), b);
             yC += b[0];
         }
         return yC;
     }
     double y[4];
-    platform(M, t, y);
+    platform(model, t, y);
     if (dyC) *dyC = y[1];
     if (ddyC) *ddyC = y[2];
     return y[0];
 }
 
 /* Force holding a sticking mass on the platform: F_hold = W(t) + m yC''(t). */
-static double hold_force(const vi_model *M, double t)
+static double hold_force(const vi_model *model, double t)
 {
     double y[4];
-    platform(M, t, y);
-    return net_load(M, t) + M->m * y[2];
+    platform(model, t, y);
+    return net_load(model, t) + model->m * y[2];
 }
 
 /* Its rate F_hold' = W' + m yC''' = -F_ext' + m yC''' [N/s]: with delta' = 0 it is m delta''' plus
  * the force law's rate, so it breaks a tie of F_hold with a fixed force (next time derivative). */
-static double hold_force_rate(const vi_model *M, double t)
+static double hold_force_rate(const vi_model *model, double t)
 {
     double y[4];
-    platform(M, t, y);
-    return -M->F_ext.du + M->m * y[3];
+    platform(model, t, y);
+    return -model->F_ext.du + model->m * y[3];
 }
 
 /* ---- the contact laws as the automaton uses them: one row of functions per law ---------------- */
@@ -173,36 +177,41 @@ typedef struct {
 typedef struct {
     const char *name;
     /* force [N] and stiffness dF/ddelta [N/m] in the elastic and the plastic mode at indentation d */
-    double (*elastic_force)(const vi_model *M, double d);
-    double (*elastic_stiffness)(const vi_model *M, double d);
-    double (*plastic_force)(const vi_model *M, double d); /* NULL: the law never yields */
-    double (*plastic_stiffness)(const vi_model *M, double d);
+    double (*elastic_force)(const vi_model *model, double d);
+    double (*elastic_stiffness)(const vi_model *model, double d);
+    double (*plastic_force)(const vi_model *model, double d); /* NULL: the law never yields */
+    double (*plastic_stiffness)(const vi_model *model, double d);
+    /* their rates d(stiffness)/d(delta) [N/m^2] (Model Exchange's Jacobian) */
+    double (*elastic_stiffness_rate)(const vi_model *model, double d);
+    double (*plastic_stiffness_rate)(const vi_model *model, double d);
+    /* the rates d/d(delta) of the memory outputs in the current mode at indentation d */
+    void (*memory_rates)(const vi_model *model, double d, vi_memory_rates *r);
     /* the indentation at which the bodies touch, and at which the elastic branch yields (INFINITY:
      * never) */
-    double (*contact_surface)(const vi_model *M);
-    double (*yield_surface)(const vi_model *M);
+    double (*contact_surface)(const vi_model *model);
+    double (*yield_surface)(const vi_model *model);
     /* the lowest indentation the plastic mode may have (vi_model_check) */
-    double (*plastic_floor)(const vi_model *M);
+    double (*plastic_floor)(const vi_model *model);
     /* write down the memory a plastic motion leaves at x (mode plastic; may round x onto a surface);
      * NULL: nothing to write down */
-    void (*freeze_plastic)(vi_model *M, double x[2]);
+    void (*freeze_plastic)(vi_model *model, double x[2]);
     /* the mode consistent with x and the rates (vi_model_resolve); may update the memory */
-    int (*choose)(vi_model *M, double x[2], const rates *q);
+    int (*choose)(vi_model *model, double x[2], const rates *q);
     /* may the law (with its flags and memory) be in this mode? */
-    int (*mode_allowed)(const vi_model *M, int mode);
+    int (*mode_allowed)(const vi_model *model, int mode);
     /* at rest under the load W > 0: indentation on the virgin curve, and the stiffness of small
      * oscillations there */
-    double (*static_indentation)(const vi_model *M, double W);
-    double (*static_stiffness)(const vi_model *M, double W);
+    double (*static_indentation)(const vi_model *model, double W);
+    double (*static_stiffness)(const vi_model *model, double W);
     /* the virgin curve's stiffness at d > 0, and the impact indentation at approach speed v > 0 */
-    double (*virgin_stiffness)(const vi_model *M, double d);
-    double (*impact_indentation)(const vi_model *M, double v);
+    double (*virgin_stiffness)(const vi_model *model, double d);
+    double (*impact_indentation)(const vi_model *model, double v);
     /* the memory outputs (delta_c, delta_f, delta_p, Rbar, W_plastic) at indentation d */
-    void (*memory_outputs)(const vi_model *M, double d, vi_outputs *out);
+    void (*memory_outputs)(const vi_model *model, double d, vi_model_values *out);
     int permanent_set; /* the memory is the permanent set delta_p (else delta_p stays 0) */
 } law_fns;
 
-static const law_fns *law(const vi_model *M);
+static const law_fns *law(const vi_model *model);
 
 /* The sign of the first nonzero of (position, rate, acceleration, jerk) relative to a surface is
  * positive. With delta' = 0 the acceleration of delta is (F_hold - F)/m and its jerk F_hold'/m (F
@@ -217,340 +226,387 @@ static int ahead(double pos, double rate, double acc, double jerk)
 enum { SNAP_NONE = -1, SNAP_LOAD = 0, SNAP_UNLOAD = 1 };
 
 /* Hertz and Johnson share the impact indentation (15 m v^2/(16 E* sqrt(R*)))^(2/5). */
-static double hertz_impact(const vi_model *M, double v)
+static double hertz_impact(const vi_model *model, double v)
 {
-    return pow(15.0 * M->m * v * v / (16.0 * M->J.E_star * sqrt(M->J.R_star)), 0.4);
+    return pow(15.0 * model->m * v * v / (16.0 * model->johnson.E_star * sqrt(model->johnson.R_star)), 0.4);
 }
-static double zero_surface(const vi_model *M) { return (void)M, 0.0; }
-static void no_memory(const vi_model *M, double d, vi_outputs *out) { (void)M, (void)d, (void)out; }
+static double zero_surface(const vi_model *model) { return (void)model, 0.0; }
+static void no_memory(const vi_model *model, double d, vi_model_values *out) { (void)model, (void)d, (void)out; }
+static double no_rate(const vi_model *model, double d) { return (void)model, (void)d, 0.0; }
+static void no_memory_rates(const vi_model *model, double d, vi_memory_rates *r)
+{
+    (void)model, (void)d;
+    *r = (vi_memory_rates){0.0, 0.0, 0.0, 0.0, 0.0};
+}
 
 /* Hertz (eq. 2): elastic only. */
-static double hertz_force(const vi_model *M, double d) { return vi_hertz_force(M->K, d); }
-static double hertz_stiffness(const vi_model *M, double d) { return vi_hertz_stiffness(M->K, d); }
-static double hertz_no_yield(const vi_model *M) { return (void)M, INFINITY; }
-static int hertz_choose(vi_model *M, double x[2], const rates *q)
+static double hertz_force(const vi_model *model, double d) { return vi_hertz_force(model->K, d); }
+static double hertz_stiffness(const vi_model *model, double d) { return vi_hertz_stiffness(model->K, d); }
+static double hertz_stiffness_rate(const vi_model *model, double d) { return vi_hertz_stiffness_rate(model->K, d); }
+static double hertz_no_yield(const vi_model *model) { return (void)model, INFINITY; }
+static int hertz_choose(vi_model *model, double x[2], const rates *q)
 {
-    (void)M;
-    return ahead(x[0], q->r, q->F_hold, q->j) ? VI_Mode_elastic : VI_Mode_free;
+    (void)model;
+    return ahead(x[0], q->r, q->F_hold, q->j) ? VI_MODE_ELASTIC : VI_MODE_FREE;
 }
-static int hertz_modes(const vi_model *M, int mode) { return (void)M, mode == VI_Mode_free || mode == VI_Mode_elastic; }
-static double hertz_static_indentation(const vi_model *M, double W) { return vi_hertz_indentation(M->K, W); }
-static double hertz_static_stiffness(const vi_model *M, double W)
+static int hertz_modes(const vi_model *model, int mode) { return (void)model, mode == VI_MODE_FREE || mode == VI_MODE_ELASTIC; }
+static double hertz_static_indentation(const vi_model *model, double W) { return vi_hertz_indentation(model->K, W); }
+static double hertz_static_stiffness(const vi_model *model, double W)
 {
-    return vi_hertz_stiffness(M->K, vi_hertz_indentation(M->K, W));
+    return vi_hertz_stiffness(model->K, vi_hertz_indentation(model->K, W));
 }
 
 /* Johnson (eqs. 3, 4): the virgin curve, with a fixed contact point the unloading memory U. */
-static double johnson_load(const vi_model *M, double d) { return vi_johnson_load(&M->J, d); }
-static double johnson_load_stiffness(const vi_model *M, double d) { return vi_johnson_load_stiffness(&M->J, d); }
-static double johnson_contact(const vi_model *M) { return is_johnson_fixed(M) && M->yielded ? M->U.delta_f : 0.0; }
-static double johnson_yield(const vi_model *M) { return M->J.delta_Y; }
-static double johnson_plastic_floor(const vi_model *M) { return M->moving ? M->J.delta_Y : M->U.delta_c; }
+static double johnson_load(const vi_model *model, double d) { return vi_johnson_load(&model->johnson, d); }
+static double johnson_load_stiffness(const vi_model *model, double d) { return vi_johnson_load_stiffness(&model->johnson, d); }
+static double johnson_load_stiffness_rate(const vi_model *model, double d) { return vi_johnson_load_stiffness_rate(&model->johnson, d); }
+static double johnson_contact(const vi_model *model) { return is_johnson_fixed(model) && model->yielded ? model->unload.delta_f : 0.0; }
+static double johnson_yield(const vi_model *model) { return model->johnson.delta_Y; }
+static double johnson_plastic_floor(const vi_model *model) { return model->moving ? model->johnson.delta_Y : model->unload.delta_c; }
 /* The memory is the largest indentation reached, never below yield: a state an importer hands over
  * may lie below it (a step that went far past the turning point), and the unloading curve of an
  * indentation below delta_Y / 2 does not exist (area ratio < 0). */
-static void johnson_freeze(vi_model *M, double x[2])
+static void johnson_freeze(vi_model *model, double x[2])
 {
-    double dc = fmax(x[0], M->yielded ? fmax(M->U.delta_c, M->J.delta_Y) : M->J.delta_Y);
-    if (!M->moving) M->U = vi_johnson_unload_curve(&M->J, M->unloading, dc);
+    double dc = fmax(x[0], model->yielded ? fmax(model->unload.delta_c, model->johnson.delta_Y) : model->johnson.delta_Y);
+    if (!model->moving) model->unload = vi_johnson_unload_curve(&model->johnson, model->unloading, dc);
 }
-static int johnson_choose(vi_model *M, double x[2], const rates *q)
+static int johnson_choose(vi_model *model, double x[2], const rates *q)
 {
     double d = x[0], r = q->r, F_hold = q->F_hold, j = q->j;
-    int mode = VI_Mode_free;
-    if (!M->yielded || M->moving) {
-        if (!ahead(d, r, F_hold, j)) return VI_Mode_free;
-        mode = ahead(d - M->J.delta_Y, r, F_hold - M->J.F_Y, j) ? VI_Mode_plastic : VI_Mode_elastic;
-        if (mode == VI_Mode_elastic || M->moving) return mode;
-        M->yielded = 1;
-        M->U = vi_johnson_unload_curve(&M->J, M->unloading, d > M->J.delta_Y ? d : M->J.delta_Y);
+    int mode = VI_MODE_FREE;
+    if (!model->yielded || model->moving) {
+        if (!ahead(d, r, F_hold, j)) return VI_MODE_FREE;
+        mode = ahead(d - model->johnson.delta_Y, r, F_hold - model->johnson.F_Y, j) ? VI_MODE_PLASTIC : VI_MODE_ELASTIC;
+        if (mode == VI_MODE_ELASTIC || model->moving) return mode;
+        model->yielded = 1;
+        model->unload = vi_johnson_unload_curve(&model->johnson, model->unloading, d > model->johnson.delta_Y ? d : model->johnson.delta_Y);
     }
-    if (d > M->U.delta_c) M->U = vi_johnson_unload_curve(&M->J, M->unloading, d); /* pushed deeper */
-    double F_load = vi_johnson_load(&M->J, M->U.delta_c), F_unload = vi_unload_force(&M->U, d);
+    if (d > model->unload.delta_c) model->unload = vi_johnson_unload_curve(&model->johnson, model->unloading, d); /* pushed deeper */
+    double F_load = vi_johnson_load(&model->johnson, model->unload.delta_c), F_unload = vi_unload_force(&model->unload, d);
     double dF_load = q->snap == SNAP_LOAD ? 0.0 : F_hold - F_load;
     double dF_unload = q->snap == SNAP_UNLOAD ? 0.0 : F_hold - F_unload;
-    if (ahead(d - M->U.delta_c, r, dF_load, j)) return VI_Mode_plastic;
-    if (d == M->U.delta_c && r == 0.0 && ahead(0.0, 0.0, dF_unload, j) && M->unloading == VI_UNLOAD_PAPER)
-        return VI_Mode_stick; /* F_unload < F_hold <= F_load: neither branch is consistent */
-    if (ahead(d - M->U.delta_f, r, dF_unload, j)) return VI_Mode_unload;
+    if (ahead(d - model->unload.delta_c, r, dF_load, j)) return VI_MODE_PLASTIC;
+    if (d == model->unload.delta_c && r == 0.0 && ahead(0.0, 0.0, dF_unload, j) && model->unloading == VI_UNLOAD_PAPER)
+        return VI_MODE_STICK; /* F_unload < F_hold <= F_load: neither branch is consistent */
+    if (ahead(d - model->unload.delta_f, r, dF_unload, j)) return VI_MODE_UNLOAD;
     return mode;
 }
-static int johnson_modes(const vi_model *M, int mode)
+static int johnson_modes(const vi_model *model, int mode)
 {
-    if (M->moving) return mode >= VI_Mode_free && mode <= VI_Mode_plastic;
-    if (!M->yielded) return mode == VI_Mode_free || mode == VI_Mode_elastic;
-    return mode == VI_Mode_free || mode == VI_Mode_plastic || mode == VI_Mode_unload ||
-           (mode == VI_Mode_stick && M->unloading == VI_UNLOAD_PAPER);
+    if (model->moving) return mode >= VI_MODE_FREE && mode <= VI_MODE_PLASTIC;
+    if (!model->yielded) return mode == VI_MODE_FREE || mode == VI_MODE_ELASTIC;
+    return mode == VI_MODE_FREE || mode == VI_MODE_PLASTIC || mode == VI_MODE_UNLOAD ||
+           (mode == VI_MODE_STICK && model->unloading == VI_UNLOAD_PAPER);
 }
 /* Indentation at rest under W > 0 on the Johnson virgin curve, with F(d) >= W where rounding allows,
  * so that a pre-loaded start does not see a spurious push into the material. The inverse is
  * accurate to a few ulps; at most VI_STATIC_NUDGES steps of 1, 2, 4, ... ulps close the gap. When F
  * cannot reach W (its value is denormal: loads below about 1e-300 N), d stays within 2^16 ulps. */
 #define VI_STATIC_NUDGES 16
-static double johnson_static_indentation(const vi_model *M, double W)
+static double johnson_static_indentation(const vi_model *model, double W)
 {
-    double d = vi_johnson_load_indentation(&M->J, W), step = nextafter(d, INFINITY) - d;
-    for (int i = 0; i < VI_STATIC_NUDGES && vi_johnson_load(&M->J, d) < W; i++, step *= 2.0) d += step;
+    double d = vi_johnson_load_indentation(&model->johnson, W), step = nextafter(d, INFINITY) - d;
+    for (int i = 0; i < VI_STATIC_NUDGES && vi_johnson_load(&model->johnson, d) < W; i++, step *= 2.0) d += step;
     return d;
 }
-static double johnson_static_stiffness(const vi_model *M, double W)
+static double johnson_static_stiffness(const vi_model *model, double W)
 {
-    double d = vi_johnson_load_indentation(&M->J, W);
-    if (M->moving || d <= M->J.delta_Y) return vi_johnson_load_stiffness(&M->J, d);
-    vi_unload_curve U = vi_johnson_unload_curve(&M->J, M->unloading, d); /* small oscillations unload */
+    double d = vi_johnson_load_indentation(&model->johnson, W);
+    if (model->moving || d <= model->johnson.delta_Y) return vi_johnson_load_stiffness(&model->johnson, d);
+    vi_unload_curve U = vi_johnson_unload_curve(&model->johnson, model->unloading, d); /* small oscillations unload */
     return vi_unload_stiffness(&U, d);
 }
-static void johnson_memory(const vi_model *M, double d, vi_outputs *out)
+static void johnson_memory(const vi_model *model, double d, vi_model_values *out)
 {
-    if (!is_johnson_fixed(M) || !M->yielded) return;
-    vi_unload_curve U = M->mode == VI_Mode_plastic ? vi_johnson_unload_curve(&M->J, M->unloading, d) : M->U;
+    if (!is_johnson_fixed(model) || !model->yielded) return;
+    vi_unload_curve U = model->mode == VI_MODE_PLASTIC ? vi_johnson_unload_curve(&model->johnson, model->unloading, d) : model->unload;
     out->delta_c = U.delta_c;
     out->delta_f = U.delta_f;
     out->Rbar = U.Rbar;
     /* dissipated = work along the virgin curve - energy the unloading curve gives back */
-    out->W_plastic = vi_johnson_load_work(&M->J, U.delta_c) - vi_unload_energy(&U, U.delta_c);
+    out->W_plastic = vi_johnson_load_work(&model->johnson, U.delta_c) - vi_unload_energy(&U, U.delta_c);
+}
+/* While Johnson (fixed contact point) loads plastically, delta_c = d and the unloading curve moves
+ * with it: W_plastic = load work(delta_c) - 0.4 Kbar delta_r^2.5, Kbar = 4/3 E* sqrt(Rbar). */
+static void johnson_memory_rates(const vi_model *model, double d, vi_memory_rates *r)
+{
+    if (!is_johnson_fixed(model) || model->mode != VI_MODE_PLASTIC) {
+        no_memory_rates(model, d, r);
+        return;
+    }
+    vi_unload_curve U = vi_johnson_unload_curve(&model->johnson, model->unloading, d);
+    vi_unload_rates u = vi_johnson_unload_rates(&model->johnson, model->unloading, d);
+    double dK = 2.0 / 3.0 * model->johnson.E_star * u.Rbar / sqrt(U.Rbar), dr = U.delta_r;
+    r->delta_c = 1.0;
+    r->delta_f = 1.0 - u.delta_r;
+    r->delta_p = 0.0;
+    r->Rbar = u.Rbar;
+    r->W_plastic = vi_johnson_load(&model->johnson, d) - 0.4 * dK * dr * dr * sqrt(dr) - U.Kbar * dr * sqrt(dr) * u.delta_r;
 }
 
 /* Linear elastic-perfectly plastic (paper Fig. 3): a spring k_lin from the permanent set delta_p,
  * flowing at F_Y. */
-static double lepp_force(const vi_model *M, double d) { return d > M->delta_p ? M->k_lin * (d - M->delta_p) : 0.0; }
-static double lepp_stiffness(const vi_model *M, double d) { return d > M->delta_p ? M->k_lin : 0.0; }
-static double lepp_flow_force(const vi_model *M, double d) { return (void)d, M->J.F_Y; }
-static double lepp_flow_stiffness(const vi_model *M, double d) { return (void)M, (void)d, 0.0; }
-static double lepp_contact(const vi_model *M) { return M->delta_p; }
-static double lepp_yield(const vi_model *M) { return M->delta_p + M->J.delta_Y; }
+static double lepp_force(const vi_model *model, double d) { return d > model->delta_p ? model->k_lin * (d - model->delta_p) : 0.0; }
+static double lepp_stiffness(const vi_model *model, double d) { return d > model->delta_p ? model->k_lin : 0.0; }
+static double lepp_flow_force(const vi_model *model, double d) { return (void)d, model->johnson.F_Y; }
+static double lepp_flow_stiffness(const vi_model *model, double d) { return (void)model, (void)d, 0.0; }
+static double lepp_contact(const vi_model *model) { return model->delta_p; }
+static double lepp_yield(const vi_model *model) { return model->delta_p + model->johnson.delta_Y; }
 /* Plastic flow to x[0]: the permanent set follows, delta_p = delta - delta_Y; x[0] is then rounded
  * onto the yield surface so that its guard is exactly zero, never an ulp below. */
-static void lepp_flow_to(vi_model *M, double x[2])
+static void lepp_flow_to(vi_model *model, double x[2])
 {
-    M->delta_p = x[0] - M->J.delta_Y;
-    x[0] = lepp_yield(M);
+    model->delta_p = x[0] - model->johnson.delta_Y;
+    x[0] = lepp_yield(model);
 }
-static int lepp_choose(vi_model *M, double x[2], const rates *q)
+static int lepp_choose(vi_model *model, double x[2], const rates *q)
 {
-    if (!ahead(x[0] - M->delta_p, q->r, q->F_hold, q->j)) return VI_Mode_free;
-    if (x[0] > lepp_yield(M)) lepp_flow_to(M, x); /* pushed beyond yield: it flowed */
-    return ahead(x[0] - lepp_yield(M), q->r, q->F_hold - M->J.F_Y, q->j) ? VI_Mode_plastic : VI_Mode_elastic;
+    if (!ahead(x[0] - model->delta_p, q->r, q->F_hold, q->j)) return VI_MODE_FREE;
+    if (x[0] > lepp_yield(model)) lepp_flow_to(model, x); /* pushed beyond yield: it flowed */
+    return ahead(x[0] - lepp_yield(model), q->r, q->F_hold - model->johnson.F_Y, q->j) ? VI_MODE_PLASTIC : VI_MODE_ELASTIC;
 }
-static int lepp_modes(const vi_model *M, int mode) { return (void)M, mode >= VI_Mode_free && mode <= VI_Mode_plastic; }
-static double lepp_static_indentation(const vi_model *M, double W)
+static int lepp_modes(const vi_model *model, int mode) { return (void)model, mode >= VI_MODE_FREE && mode <= VI_MODE_PLASTIC; }
+static double lepp_static_indentation(const vi_model *model, double W)
 {
-    return W <= M->J.F_Y ? W / M->k_lin : M->J.delta_Y; /* beyond F_Y: flows from the start */
+    return W <= model->johnson.F_Y ? W / model->k_lin : model->johnson.delta_Y; /* beyond F_Y: flows from the start */
 }
-static double lepp_static_stiffness(const vi_model *M, double W) { return (void)W, M->k_lin; }
-static double lepp_virgin_stiffness(const vi_model *M, double d) { return (void)d, M->k_lin; }
-static double lepp_impact(const vi_model *M, double v) { return v * sqrt(M->m) / sqrt(M->k_lin); }
-static void lepp_memory(const vi_model *M, double d, vi_outputs *out)
+static double lepp_static_stiffness(const vi_model *model, double W) { return (void)W, model->k_lin; }
+static double lepp_virgin_stiffness(const vi_model *model, double d) { return (void)d, model->k_lin; }
+static double lepp_impact(const vi_model *model, double v) { return v * sqrt(model->m) / sqrt(model->k_lin); }
+static void lepp_memory(const vi_model *model, double d, vi_model_values *out)
 {
-    out->delta_p = M->mode == VI_Mode_plastic ? d - M->J.delta_Y : M->delta_p;
-    out->W_plastic = M->J.F_Y * out->delta_p;
+    out->delta_p = model->mode == VI_MODE_PLASTIC ? d - model->johnson.delta_Y : model->delta_p;
+    out->W_plastic = model->johnson.F_Y * out->delta_p;
+}
+/* While LEPP flows, delta_p = d - delta_Y and W_plastic = F_Y delta_p. */
+static void lepp_memory_rates(const vi_model *model, double d, vi_memory_rates *r)
+{
+    no_memory_rates(model, d, r);
+    if (model->mode == VI_MODE_PLASTIC) r->delta_p = 1.0, r->W_plastic = model->johnson.F_Y;
 }
 
 static const law_fns laws[] = {
-    [VI_ContactModel_hertz] = {
+    [VI_LAW_HERTZ] = {
         .name = "hertz", .elastic_force = hertz_force, .elastic_stiffness = hertz_stiffness,
+        .elastic_stiffness_rate = hertz_stiffness_rate, .plastic_stiffness_rate = no_rate, .memory_rates = no_memory_rates,
         .contact_surface = zero_surface, .yield_surface = hertz_no_yield, .plastic_floor = hertz_no_yield,
         .choose = hertz_choose, .mode_allowed = hertz_modes, .static_indentation = hertz_static_indentation,
         .static_stiffness = hertz_static_stiffness, .virgin_stiffness = hertz_stiffness,
         .impact_indentation = hertz_impact, .memory_outputs = no_memory},
-    [VI_ContactModel_johnson] = {
+    [VI_LAW_JOHNSON] = {
         .name = "johnson", .elastic_force = johnson_load, .elastic_stiffness = johnson_load_stiffness,
         .plastic_force = johnson_load, .plastic_stiffness = johnson_load_stiffness, .contact_surface = johnson_contact,
+        .elastic_stiffness_rate = johnson_load_stiffness_rate, .plastic_stiffness_rate = johnson_load_stiffness_rate,
+        .memory_rates = johnson_memory_rates,
         .yield_surface = johnson_yield, .plastic_floor = johnson_plastic_floor, .freeze_plastic = johnson_freeze,
         .choose = johnson_choose, .mode_allowed = johnson_modes, .static_indentation = johnson_static_indentation,
         .static_stiffness = johnson_static_stiffness, .virgin_stiffness = johnson_load_stiffness,
         .impact_indentation = hertz_impact, .memory_outputs = johnson_memory},
-    [VI_ContactModel_lepp] = {
+    [VI_LAW_LEPP] = {
         .name = "lepp", .elastic_force = lepp_force, .elastic_stiffness = lepp_stiffness,
         .plastic_force = lepp_flow_force, .plastic_stiffness = lepp_flow_stiffness, .contact_surface = lepp_contact,
+        .elastic_stiffness_rate = no_rate, .plastic_stiffness_rate = no_rate, .memory_rates = lepp_memory_rates,
         .yield_surface = lepp_yield, .plastic_floor = lepp_yield, .freeze_plastic = lepp_flow_to,
         .choose = lepp_choose, .mode_allowed = lepp_modes, .static_indentation = lepp_static_indentation,
         .static_stiffness = lepp_static_stiffness, .virgin_stiffness = lepp_virgin_stiffness,
         .impact_indentation = lepp_impact, .memory_outputs = lepp_memory, .permanent_set = 1},
 };
 
-/* The row of M's law (set up, or checked to be one of the three). */
+/* The row of model's law (set up, or checked to be one of the three). */
 /* A model not set up yet (law 0: an instance before initialization, or a state restored from
  * then) has no contact force and no memory: it is evaluated as Hertz with K = 0. */
-static const law_fns *law(const vi_model *M) { return &laws[M->law == 0 ? VI_ContactModel_hertz : M->law]; }
+static const law_fns *law(const vi_model *model) { return &laws[model->law == 0 ? VI_LAW_HERTZ : model->law]; }
 
 /* Johnson with a moving contact point leaves the plastic mode when it falls back below delta_Y;
  * every other plastic motion ends at a turning point (delta' = 0). */
-static int plastic_ends_at_yield(const vi_model *M) { return M->law == VI_ContactModel_johnson && M->moving; }
+static int plastic_ends_at_yield(const vi_model *model) { return model->law == VI_LAW_JOHNSON && model->moving; }
 
 /* ---- force, right-hand side, guards, events ------------------------------------------------------ */
 
-double vi_model_force(const vi_model *M, double t, const double x[2])
+double vi_model_force(const vi_model *model, double t, const double x[2])
 {
     double d = x[0];
-    switch (M->mode) {
-    case VI_Mode_elastic: return law(M)->elastic_force(M, d);
-    case VI_Mode_plastic: return law(M)->plastic_force(M, d);
-    case VI_Mode_unload: return vi_unload_force(&M->U, d);
-    case VI_Mode_stick: return hold_force(M, t);
+    switch (model->mode) {
+    case VI_MODE_ELASTIC: return law(model)->elastic_force(model, d);
+    case VI_MODE_PLASTIC: return law(model)->plastic_force(model, d);
+    case VI_MODE_UNLOAD: return vi_unload_force(&model->unload, d);
+    case VI_MODE_STICK: return hold_force(model, t);
     default: return 0.0;
     }
 }
 
-void vi_model_rhs(const vi_model *M, double t, const double x[2], double dx[2])
+void vi_model_rhs(const vi_model *model, double t, const double x[2], double dx[2])
 {
     double dyC, ddyC;
-    vi_model_platform(M, t, &dyC, &ddyC);
-    if (M->mode == VI_Mode_stick) { /* Filippov sliding on delta = delta_c: the mass moves with the platform */
+    vi_model_platform(model, t, &dyC, &ddyC);
+    if (model->mode == VI_MODE_STICK) { /* Filippov sliding on delta = delta_c: the mass moves with the platform */
         dx[0] = 0.0;
         dx[1] = ddyC;
         return;
     }
     dx[0] = dyC - x[1];
-    dx[1] = (vi_model_force(M, t, x) - net_load(M, t)) / M->m;
+    dx[1] = (vi_model_force(model, t, x) - net_load(model, t)) / model->m;
 }
 
-double vi_model_stiffness_over_mass(const vi_model *M, double t, const double x[2])
+double vi_model_stiffness_over_mass(const vi_model *model, double t, const double x[2])
 {
     (void)t;
     double d = x[0], k = 0.0;
-    switch (M->mode) {
-    case VI_Mode_elastic: k = law(M)->elastic_stiffness(M, d); break;
-    case VI_Mode_plastic: k = law(M)->plastic_stiffness(M, d); break;
-    case VI_Mode_unload: k = vi_unload_stiffness(&M->U, d); break;
+    switch (model->mode) {
+    case VI_MODE_ELASTIC: k = law(model)->elastic_stiffness(model, d); break;
+    case VI_MODE_PLASTIC: k = law(model)->plastic_stiffness(model, d); break;
+    case VI_MODE_UNLOAD: k = vi_unload_stiffness(&model->unload, d); break;
     default: break;
     }
-    return k / M->m;
+    return k / model->m;
 }
 
-void vi_model_jacobian(const vi_model *M, double t, const double x[2], double j[4])
+double vi_model_stiffness_rate(const vi_model *model, const double x[2])
 {
-    int stick = M->mode == VI_Mode_stick;
+    switch (model->mode) {
+    case VI_MODE_ELASTIC: return law(model)->elastic_stiffness_rate(model, x[0]);
+    case VI_MODE_PLASTIC: return law(model)->plastic_stiffness_rate(model, x[0]);
+    case VI_MODE_UNLOAD: return vi_unload_stiffness_rate(&model->unload, x[0]);
+    default: return 0.0; /* free; stick, whose stiffness is that at delta_c */
+    }
+}
+
+void vi_model_memory_rates(const vi_model *model, const double x[2], vi_memory_rates *r) { law(model)->memory_rates(model, x[0], r); }
+
+void vi_model_jacobian(const vi_model *model, double t, const double x[2], double j[4])
+{
+    int stick = model->mode == VI_MODE_STICK;
     j[0] = 0.0, j[1] = stick ? 0.0 : -1.0;
-    j[2] = vi_model_stiffness_over_mass(M, t, x), j[3] = 0.0; /* 0 in stick */
+    j[2] = vi_model_stiffness_over_mass(model, t, x), j[3] = 0.0; /* 0 in stick */
 }
 
-void vi_model_guards(const vi_model *M, double t, const double x[2], double g[VI_NGUARDS])
+void vi_model_guards(const vi_model *model, double t, const double x[2], double g[VI_NGUARDS])
 {
-    double d = x[0], dyC, yield = law(M)->yield_surface(M);
+    double d = x[0], dyC, yield = law(model)->yield_surface(model);
     g[0] = g[1] = 1.0; /* inactive */
-    switch (M->mode) {
-    case VI_Mode_free: g[0] = law(M)->contact_surface(M) - d; break;
-    case VI_Mode_elastic:
-        g[0] = d - law(M)->contact_surface(M);
+    switch (model->mode) {
+    case VI_MODE_FREE: g[0] = law(model)->contact_surface(model) - d; break;
+    case VI_MODE_ELASTIC:
+        g[0] = d - law(model)->contact_surface(model);
         if (isfinite(yield)) g[1] = yield - d;
         break;
-    case VI_Mode_plastic:
-        if (plastic_ends_at_yield(M)) {
+    case VI_MODE_PLASTIC:
+        if (plastic_ends_at_yield(model)) {
             g[0] = d - yield;
         } else {
-            vi_model_platform(M, t, &dyC, NULL);
+            vi_model_platform(model, t, &dyC, NULL);
             g[0] = dyC - x[1]; /* delta' */
         }
         break;
-    case VI_Mode_unload:
-        g[0] = d - M->U.delta_f;
-        g[1] = M->U.delta_c - d;
+    case VI_MODE_UNLOAD:
+        g[0] = d - model->unload.delta_f;
+        g[1] = model->unload.delta_c - d;
         break;
-    case VI_Mode_stick: {
-        double F_hold = hold_force(M, t);
-        g[0] = vi_johnson_load(&M->J, M->U.delta_c) - F_hold;
-        g[1] = F_hold - vi_unload_force(&M->U, M->U.delta_c);
+    case VI_MODE_STICK: {
+        double F_hold = hold_force(model, t);
+        g[0] = vi_johnson_load(&model->johnson, model->unload.delta_c) - F_hold;
+        g[1] = F_hold - vi_unload_force(&model->unload, model->unload.delta_c);
         break;
     }
     default: break;
     }
 }
 
-void vi_model_freeze(vi_model *M, double t, double x[2])
+void vi_model_freeze(vi_model *model, double t, double x[2])
 {
-    if (M->mode == VI_Mode_plastic && law(M)->freeze_plastic) law(M)->freeze_plastic(M, x);
-    else if (M->mode == VI_Mode_stick) vi_model_platform(M, t, &x[1], NULL);
+    if (model->mode == VI_MODE_PLASTIC && law(model)->freeze_plastic) law(model)->freeze_plastic(model, x);
+    else if (model->mode == VI_MODE_STICK) vi_model_platform(model, t, &x[1], NULL);
 }
 
-static int resolve(vi_model *M, double t, double x[2], int snap)
+static int resolve(vi_model *model, double t, double x[2], int snap)
 {
     double dyC;
-    vi_model_platform(M, t, &dyC, NULL);
-    rates q = {.r = dyC - x[1], .F_hold = hold_force(M, t), .j = hold_force_rate(M, t), .snap = snap};
-    int mode = law(M)->choose(M, x, &q);
-    if (M->mode == VI_Mode_free && mode != VI_Mode_free) M->n_impacts++;
-    M->mode = mode;
+    vi_model_platform(model, t, &dyC, NULL);
+    rates q = {.r = dyC - x[1], .F_hold = hold_force(model, t), .j = hold_force_rate(model, t), .snap = snap};
+    int mode = law(model)->choose(model, x, &q);
+    if (model->mode == VI_MODE_FREE && mode != VI_MODE_FREE) model->n_impacts++;
+    model->mode = mode;
     return mode;
 }
 
-int vi_model_resolve(vi_model *M, double t, double x[2]) { return resolve(M, t, x, SNAP_NONE); }
+int vi_model_resolve(vi_model *model, double t, double x[2]) { return resolve(model, t, x, SNAP_NONE); }
 
-int vi_model_event(vi_model *M, double t, double x[2], int fired)
+int vi_model_event(vi_model *model, double t, double x[2], int fired)
 {
-    vi_model_freeze(M, t, x);
-    switch (M->mode) {
-    case VI_Mode_free: x[0] = law(M)->contact_surface(M); break;
-    case VI_Mode_elastic: x[0] = fired == 0 ? law(M)->contact_surface(M) : law(M)->yield_surface(M); break;
-    case VI_Mode_plastic:
-        if (plastic_ends_at_yield(M)) x[0] = law(M)->yield_surface(M);
-        else vi_model_platform(M, t, &x[1], NULL); /* turning point: delta' = 0 */
+    vi_model_freeze(model, t, x);
+    switch (model->mode) {
+    case VI_MODE_FREE: x[0] = law(model)->contact_surface(model); break;
+    case VI_MODE_ELASTIC: x[0] = fired == 0 ? law(model)->contact_surface(model) : law(model)->yield_surface(model); break;
+    case VI_MODE_PLASTIC:
+        if (plastic_ends_at_yield(model)) x[0] = law(model)->yield_surface(model);
+        else vi_model_platform(model, t, &x[1], NULL); /* turning point: delta' = 0 */
         break;
-    case VI_Mode_unload: x[0] = fired == 0 ? M->U.delta_f : M->U.delta_c; break;
-    case VI_Mode_stick: x[0] = M->U.delta_c; return resolve(M, t, x, fired == 0 ? SNAP_LOAD : SNAP_UNLOAD);
+    case VI_MODE_UNLOAD: x[0] = fired == 0 ? model->unload.delta_f : model->unload.delta_c; break;
+    case VI_MODE_STICK: x[0] = model->unload.delta_c; return resolve(model, t, x, fired == 0 ? SNAP_LOAD : SNAP_UNLOAD);
     default: break;
     }
-    return vi_model_resolve(M, t, x);
+    return vi_model_resolve(model, t, x);
 }
 
-void vi_model_initial_state(vi_model *M, int init, double v0, double t0, double x[2])
+void vi_model_initial_state(vi_model *model, int init, double v0, double t0, double x[2])
 {
-    double W0 = net_load(M, t0);
-    M->f_contact = sqrt(W0 > 0.0 ? law(M)->static_stiffness(M, W0) / M->m : 0.0) / (2.0 * VI_PI);
-    M->mode = VI_Mode_free;
-    M->yielded = 0;
-    M->U = (vi_unload_curve){0};
-    M->delta_p = 0.0;
+    double W0 = net_load(model, t0);
+    model->f_contact = sqrt(W0 > 0.0 ? law(model)->static_stiffness(model, W0) / model->m : 0.0) / (2.0 * VI_PI);
+    model->mode = VI_MODE_FREE;
+    model->yielded = 0;
+    model->unload = (vi_unload_curve){0};
+    model->delta_p = 0.0;
     x[0] = 0.0;
     x[1] = v0;
-    if (init == VI_Init_static) {
-        double d = W0 > 0.0 ? law(M)->static_indentation(M, W0) : 0.0;
-        if (is_johnson_fixed(M) && d > M->J.delta_Y) { /* plastically pre-loaded */
-            M->yielded = 1;
-            M->U = vi_johnson_unload_curve(&M->J, M->unloading, d);
+    if (init == VI_INIT_STATIC) {
+        double d = W0 > 0.0 ? law(model)->static_indentation(model, W0) : 0.0;
+        if (is_johnson_fixed(model) && d > model->johnson.delta_Y) { /* plastically pre-loaded */
+            model->yielded = 1;
+            model->unload = vi_johnson_unload_curve(&model->johnson, model->unloading, d);
         }
         x[0] = d;
-        vi_model_platform(M, t0, &x[1], NULL);
+        vi_model_platform(model, t0, &x[1], NULL);
     }
-    vi_model_resolve(M, t0, x);
-    M->n_impacts = 0;
+    vi_model_resolve(model, t0, x);
+    model->n_impacts = 0;
 }
 
-void vi_model_scales(const vi_model *M, const double x0[2], double *L, double *V)
+void vi_model_scales(const vi_model *model, const double x0[2], double *L, double *V)
 {
-    double W = net_load(M, M->t0), dyC, l = 0.0;
-    vi_model_platform(M, M->t0, &dyC, NULL);
-    if (W > 0.0) l = fmax(l, law(M)->static_indentation(M, W));
-    if (isfinite(law(M)->yield_surface(M))) l = fmax(l, M->J.delta_Y);
+    double W = net_load(model, model->t0), dyC, l = 0.0;
+    vi_model_platform(model, model->t0, &dyC, NULL);
+    if (W > 0.0) l = fmax(l, law(model)->static_indentation(model, W));
+    if (isfinite(law(model)->yield_surface(model))) l = fmax(l, model->johnson.delta_Y);
     double v = fabs(dyC - x0[1]);
     if (!(l > 0.0 || v > 0.0)) /* only the excitation moves anything: harmonic and rolling */
-        v = fabs(M->a) * M->omega + (M->profile ? fabs(M->V) * vi_profile_max_slope(M->profile) : 0.0);
+        v = fabs(model->a) * model->omega + (model->profile ? fabs(model->V) * vi_profile_max_slope(model->profile) : 0.0);
     if (v > 0.0 && isfinite(v)) {
-        double dv = law(M)->impact_indentation(M, v);
+        double dv = law(model)->impact_indentation(model, v);
         if (isfinite(dv)) l = fmax(l, dv);
     }
-    if (!(l > 0.0)) l = VI_SCALE_FALLBACK * M->J.R_star;
+    if (!(l > 0.0)) l = VI_SCALE_FALLBACK * model->johnson.R_star;
     *L = l;
-    *V = l * (sqrt(law(M)->virgin_stiffness(M, l)) / sqrt(M->m));
+    *V = l * (sqrt(law(model)->virgin_stiffness(model, l)) / sqrt(model->m));
 }
 
 /* ---- validity ------------------------------------------------------------------------------ */
 
 /* The indentation the range of validity looks at: delta in contact, or the largest one delta_c. */
-static double validity_indentation(const vi_model *M, const double x[2])
+static double validity_indentation(const vi_model *model, const double x[2])
 {
-    double d = M->mode == VI_Mode_free ? 0.0 : x[0], dc = M->yielded ? M->U.delta_c : 0.0;
+    double d = model->mode == VI_MODE_FREE ? 0.0 : x[0], dc = model->yielded ? model->unload.delta_c : 0.0;
     return dc > d || d != d ? dc : d; /* fmax */
 }
 
-int vi_model_indentation_invalid(const vi_model *M, const double x[2])
+int vi_model_indentation_invalid(const vi_model *model, const double x[2])
 {
-    return validity_indentation(M, x) > VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * M->J.R_star;
+    return validity_indentation(model, x) > VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * model->johnson.R_star;
 }
 
-int vi_model_validity(const vi_model *M, double R1, double t, const double x[2], int skip, char *msg, size_t n)
+int vi_model_validity(const vi_model *model, double R1, double t, const double x[2], int skip, char *msg, size_t n)
 {
-    double R = M->J.R_star, limit = VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * R, d = validity_indentation(M, x);
+    double R = model->johnson.R_star, limit = VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * R, d = validity_indentation(model, x);
     if (!(skip & VI_INVALID_INDENTATION) && d > limit) {
         vi_snprintf(msg, n, "t = %.17g s: the indentation %g m exceeds %g R* = %g m (contact radius sqrt(R* delta) = %g m "
                     "> %g R*): the contact laws (paper eqs. 2-4) assume a contact radius small against R*, so the "
@@ -558,13 +614,13 @@ int vi_model_validity(const vi_model *M, double R1, double t, const double x[2],
                     sqrt(R * d), VI_VALIDITY_RADIUS);
         return VI_INVALID_INDENTATION;
     }
-    if (!(skip & VI_INVALID_AMPLITUDE) && fabs(M->a) > R) {
+    if (!(skip & VI_INVALID_AMPLITUDE) && fabs(model->a) > R) {
         vi_snprintf(msg, n, "t = %.17g s: the excitation amplitude a = %g m exceeds R* = %g m: the contact laws (paper "
                     "eqs. 2-4) describe a local contact, with every displacement small against R*, so the results "
-                    "leave the model's range of validity", t, M->a, R);
+                    "leave the model's range of validity", t, model->a, R);
         return VI_INVALID_AMPLITUDE;
     }
-    double span = M->profile ? vi_profile_height_span(M->profile) : 0.0;
+    double span = model->profile ? vi_profile_height_span(model->profile) : 0.0;
     if (!(skip & VI_INVALID_PROFILE) && span > R1) {
         vi_snprintf(msg, n, "t = %.17g s: the heights of profile_file span %g m, more than the rolling radius R1 = %g m: "
                     "rolling over a profile (paper Fig. 1b) assumes a roughness small against the wheel, so the results "
@@ -574,9 +630,9 @@ int vi_model_validity(const vi_model *M, double R1, double t, const double x[2],
     return 0;
 }
 
-int vi_model_option_warnings(const vi_parameters *p, char *msg, size_t n)
+int vi_model_option_warnings(const vi_model_params *p, char *msg, size_t n)
 {
-    int count = 0, johnson = p->contact_model == VI_ContactModel_johnson;
+    int count = 0, johnson = p->law == VI_LAW_JOHNSON;
     size_t used = 0;
     msg[0] = '\0';
 #define OPTION(cond, text)                                                               \
@@ -586,12 +642,12 @@ int vi_model_option_warnings(const vi_parameters *p, char *msg, size_t n)
         count++;                                                                         \
     }
     OPTION(p->moving_contact && !johnson, "moving_contact = true is ignored: only the Johnson law has a moving contact point")
-    OPTION(p->unloading == VI_Unloading_continuous && !(johnson && !p->moving_contact),
+    OPTION(p->unloading == VI_UNLOAD_CONTINUOUS && !(johnson && !p->moving_contact),
            "unloading = continuous is ignored: only Johnson with a fixed contact point unloads on eq. 4")
-    OPTION(p->yield_formula == VI_YieldFormula_printed && p->contact_model == VI_ContactModel_hertz,
+    OPTION(p->yield_formula == VI_YIELD_PRINTED && p->law == VI_LAW_HERTZ,
            "yield_formula = printed is ignored by the Hertz law (it changes only the calculated F_Y, delta_Y)")
-    OPTION(p->v0 != 0.0 && p->init == VI_Init_static, "v0 is ignored by a static start (init = static)")
-    OPTION(!p->profile_file[0] && (p->V != 0.0 || p->x0 != 0.0 || p->profile_periodic),
+    OPTION(p->v0 != 0.0 && p->init == VI_INIT_STATIC, "v0 is ignored by a static start (init = static)")
+    OPTION(!p->has_profile && (p->V != 0.0 || p->x0 != 0.0 || p->profile_periodic),
            "V, x0 and profile_periodic are ignored without a profile_file")
 #undef OPTION
     return count;
@@ -605,30 +661,30 @@ static int close_rel(double a, double b, double rel) { return fabs(a - b) <= rel
 
 #define CONSISTENCY_TOL 1e-9
 
-static int check_constants(const vi_model *M, char *msg, size_t n)
+static int check_constants(const vi_model *model, char *msg, size_t n)
 {
     const struct { const char *name; double value; int positive; } c[] = {
-        {"m", M->m, 1},           {"W0", M->W0, 0},         {"K", M->K, 1},
-        {"E_star", M->J.E_star, 1}, {"R_star", M->J.R_star, 1}, {"theta_Y", M->J.theta_Y, 1},
-        {"F_Y", M->J.F_Y, 1},     {"delta_Y", M->J.delta_Y, 1}, {"k_lin", M->k_lin, 1},
-        {"a", M->a, 0},           {"omega", M->omega, 0},   {"t0", M->t0, 0},
-        {"phi0", M->phi0, 0},     {"t_phi", M->t_phi, 0},   {"V", M->V, 0},
-        {"x0", M->x0, 0},
-        {"f_contact", M->f_contact, 0}};
+        {"m", model->m, 1},           {"W0", model->W0, 0},         {"K", model->K, 1},
+        {"E_star", model->johnson.E_star, 1}, {"R_star", model->johnson.R_star, 1}, {"theta_Y", model->johnson.theta_Y, 1},
+        {"F_Y", model->johnson.F_Y, 1},     {"delta_Y", model->johnson.delta_Y, 1}, {"k_lin", model->k_lin, 1},
+        {"a", model->a, 0},           {"omega", model->omega, 0},   {"t0", model->t0, 0},
+        {"phi0", model->phi0, 0},     {"t_phi", model->t_phi, 0},   {"V", model->V, 0},
+        {"x0", model->x0, 0},
+        {"f_contact", model->f_contact, 0}};
     for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
         if (!isfinite(c[i].value)) VI_FAIL(msg, n, "model constant %s = %g is not finite", c[i].name, c[i].value);
         if (c[i].positive && !(c[i].value > 0.0))
             VI_FAIL(msg, n, "model constant %s = %g is not positive", c[i].name, c[i].value);
     }
-    if (M->omega < 0.0) VI_FAIL(msg, n, "model constant omega = %g is negative", M->omega);
-    if (M->f_contact < 0.0) VI_FAIL(msg, n, "model constant f_contact = %g is negative", M->f_contact);
-    if (!close_rel(M->K, vi_hertz_constant(M->J.E_star, M->J.R_star), CONSISTENCY_TOL))
-        VI_FAIL(msg, n, "model constant K = %g does not match 4/3 E* sqrt(R*)", M->K);
-    if (!close_rel(M->J.F_Y, vi_hertz_force(M->K, M->J.delta_Y), CONSISTENCY_TOL))
-        VI_FAIL(msg, n, "model constant delta_Y = %g does not match F_Y = K delta_Y^1.5", M->J.delta_Y);
-    if (!close_rel(M->k_lin, M->J.F_Y / M->J.delta_Y, CONSISTENCY_TOL))
-        VI_FAIL(msg, n, "model constant k_lin = %g does not match F_Y/delta_Y", M->k_lin);
-    const vi_ramp *r[2] = {&M->yC_in, &M->F_ext};
+    if (model->omega < 0.0) VI_FAIL(msg, n, "model constant omega = %g is negative", model->omega);
+    if (model->f_contact < 0.0) VI_FAIL(msg, n, "model constant f_contact = %g is negative", model->f_contact);
+    if (!close_rel(model->K, vi_hertz_constant(model->johnson.E_star, model->johnson.R_star), CONSISTENCY_TOL))
+        VI_FAIL(msg, n, "model constant K = %g does not match 4/3 E* sqrt(R*)", model->K);
+    if (!close_rel(model->johnson.F_Y, vi_hertz_force(model->K, model->johnson.delta_Y), CONSISTENCY_TOL))
+        VI_FAIL(msg, n, "model constant delta_Y = %g does not match F_Y = K delta_Y^1.5", model->johnson.delta_Y);
+    if (!close_rel(model->k_lin, model->johnson.F_Y / model->johnson.delta_Y, CONSISTENCY_TOL))
+        VI_FAIL(msg, n, "model constant k_lin = %g does not match F_Y/delta_Y", model->k_lin);
+    const vi_ramp *r[2] = {&model->yC_in, &model->F_ext};
     const char *rn[2] = {"yC_in", "F_ext"};
     for (int i = 0; i < 2; i++)
         if (!isfinite(r[i]->u) || !isfinite(r[i]->du) || !isfinite(r[i]->t))
@@ -636,32 +692,32 @@ static int check_constants(const vi_model *M, char *msg, size_t n)
     return 0;
 }
 
-static int check_memory(const vi_model *M, char *msg, size_t n)
+static int check_memory(const vi_model *model, char *msg, size_t n)
 {
-    if (M->yielded != 0 && M->yielded != 1) VI_FAIL(msg, n, "model flag yielded = %d is not 0 or 1", M->yielded);
-    if (M->n_impacts < 0) VI_FAIL(msg, n, "n_impacts = %ld is negative", M->n_impacts);
-    if (!isfinite(M->delta_p)) VI_FAIL(msg, n, "delta_p = %g is not finite", M->delta_p);
-    if (law(M)->permanent_set ? M->delta_p < 0.0 : M->delta_p != 0.0)
-        VI_FAIL(msg, n, "delta_p = %g is impossible for contact_model %s", M->delta_p, law(M)->name);
-    const vi_unload_curve *U = &M->U;
+    if (model->yielded != 0 && model->yielded != 1) VI_FAIL(msg, n, "model flag yielded = %d is not 0 or 1", model->yielded);
+    if (model->n_impacts < 0) VI_FAIL(msg, n, "n_impacts = %ld is negative", model->n_impacts);
+    if (!isfinite(model->delta_p)) VI_FAIL(msg, n, "delta_p = %g is not finite", model->delta_p);
+    if (law(model)->permanent_set ? model->delta_p < 0.0 : model->delta_p != 0.0)
+        VI_FAIL(msg, n, "delta_p = %g is impossible for contact_model %s", model->delta_p, law(model)->name);
+    const vi_unload_curve *U = &model->unload;
     const double u[5] = {U->delta_c, U->Rbar, U->delta_r, U->delta_f, U->Kbar};
-    if (!M->yielded) {
+    if (!model->yielded) {
         for (int i = 0; i < 5; i++)
             if (u[i] != 0.0)
                 VI_FAIL(msg, n, "unloading curve (delta_c = %g, Rbar = %g) present although yielded = 0", u[0], u[1]);
         return 0;
     }
-    if (!is_johnson_fixed(M))
-        VI_FAIL(msg, n, "yielded = 1 is impossible for contact_model %s (moving %d)", law(M)->name, M->moving);
+    if (!is_johnson_fixed(model))
+        VI_FAIL(msg, n, "yielded = 1 is impossible for contact_model %s (moving %d)", law(model)->name, model->moving);
     for (int i = 0; i < 5; i++)
         if (!isfinite(u[i]))
             VI_FAIL(msg, n, "unloading curve: a value (delta_c %g, Rbar %g, delta_r %g, delta_f %g, Kbar %g) is not "
                     "finite", u[0], u[1], u[2], u[3], u[4]);
-    if (!(U->delta_c >= M->J.delta_Y * (1.0 - CONSISTENCY_TOL)))
-        VI_FAIL(msg, n, "delta_c = %g is below delta_Y = %g", U->delta_c, M->J.delta_Y);
+    if (!(U->delta_c >= model->johnson.delta_Y * (1.0 - CONSISTENCY_TOL)))
+        VI_FAIL(msg, n, "delta_c = %g is below delta_Y = %g", U->delta_c, model->johnson.delta_Y);
     if (!(U->Rbar > 0.0)) VI_FAIL(msg, n, "Rbar = %g is not positive", U->Rbar);
     if (!(U->delta_f <= U->delta_c)) VI_FAIL(msg, n, "delta_f = %g is above delta_c = %g", U->delta_f, U->delta_c);
-    vi_unload_curve E = vi_johnson_unload_curve(&M->J, M->unloading, U->delta_c);
+    vi_unload_curve E = vi_johnson_unload_curve(&model->johnson, model->unloading, U->delta_c);
     if (!close_rel(U->Rbar, E.Rbar, CONSISTENCY_TOL))
         VI_FAIL(msg, n, "Rbar = %g does not belong to delta_c (%g)", U->Rbar, E.Rbar);
     if (!close_rel(U->delta_r, E.delta_r, CONSISTENCY_TOL))
@@ -674,22 +730,22 @@ static int check_memory(const vi_model *M, char *msg, size_t n)
 }
 
 /* The mode is allowed for the law and the memory, and (surfaces) no time-free guard is clearly negative. */
-static int check_mode(const vi_model *M, const double x[2], int surfaces, char *msg, size_t n)
+static int check_mode(const vi_model *model, const double x[2], int surfaces, char *msg, size_t n)
 {
-    const law_fns *L = law(M);
-    int mode = M->mode;
-    if (!L->mode_allowed(M, mode))
+    const law_fns *L = law(model);
+    int mode = model->mode;
+    if (!L->mode_allowed(model, mode))
         VI_FAIL(msg, n, "mode = %d is impossible for contact_model %s (moving %d, unloading %d, yielded %d)", mode,
-                L->name, M->moving, M->unloading, M->yielded);
+                L->name, model->moving, model->unloading, model->yielded);
     if (!surfaces) return 0;
-    double d = x[0], tol = VI_CHECK_GUARD_TOL * fmax(fmax(M->J.delta_Y, fabs(d)), fabs(M->U.delta_c));
+    double d = x[0], tol = VI_CHECK_GUARD_TOL * fmax(fmax(model->johnson.delta_Y, fabs(d)), fabs(model->unload.delta_c));
     double g[2] = {INFINITY, INFINITY};
     switch (mode) {
-    case VI_Mode_free: g[0] = L->contact_surface(M) - d; break;
-    case VI_Mode_elastic: g[0] = d - L->contact_surface(M), g[1] = L->yield_surface(M) - d; break;
-    case VI_Mode_plastic: g[0] = d - L->plastic_floor(M); break;
-    case VI_Mode_unload: g[0] = d - M->U.delta_f, g[1] = M->U.delta_c - d; break;
-    default: g[0] = d - M->U.delta_c, g[1] = M->U.delta_c - d; break; /* stick: on delta_c */
+    case VI_MODE_FREE: g[0] = L->contact_surface(model) - d; break;
+    case VI_MODE_ELASTIC: g[0] = d - L->contact_surface(model), g[1] = L->yield_surface(model) - d; break;
+    case VI_MODE_PLASTIC: g[0] = d - L->plastic_floor(model); break;
+    case VI_MODE_UNLOAD: g[0] = d - model->unload.delta_f, g[1] = model->unload.delta_c - d; break;
+    default: g[0] = d - model->unload.delta_c, g[1] = model->unload.delta_c - d; break; /* stick: on delta_c */
     }
     for (int i = 0; i < 2; i++)
         if (g[i] < -tol)
@@ -698,71 +754,61 @@ static int check_mode(const vi_model *M, const double x[2], int surfaces, char *
     return 0;
 }
 
-static int check(const vi_model *M, const double x[2], int surfaces, char *msg, size_t n)
+static int check(const vi_model *model, const double x[2], int surfaces, char *msg, size_t n)
 {
     if (!isfinite(x[0]) || !isfinite(x[1])) VI_FAIL(msg, n, "state (delta %g, v %g) is not finite", x[0], x[1]);
-    if (M->law == 0) { /* never set up */
-        if (M->mode != 0 || M->yielded != 0 || M->n_impacts != 0 || M->delta_p != 0.0)
-            VI_FAIL(msg, n, "model not set up (law = 0) but with a discrete state (mode %d)", M->mode);
+    if (model->law == 0) { /* never set up */
+        if (model->mode != 0 || model->yielded != 0 || model->n_impacts != 0 || model->delta_p != 0.0)
+            VI_FAIL(msg, n, "model not set up (law = 0) but with a discrete state (mode %d)", model->mode);
         return 0;
     }
-    if (M->law < VI_ContactModel_hertz || M->law > VI_ContactModel_lepp)
-        VI_FAIL(msg, n, "contact law = %d is not hertz (%d), johnson (%d) or lepp (%d)", M->law, VI_ContactModel_hertz,
-                VI_ContactModel_johnson, VI_ContactModel_lepp);
-    if (M->moving != 0 && M->moving != 1) VI_FAIL(msg, n, "model flag moving = %d is not 0 or 1", M->moving);
-    if (M->unloading != VI_UNLOAD_PAPER && M->unloading != VI_UNLOAD_CONTINUOUS)
-        VI_FAIL(msg, n, "unloading = %d is not paper (%d) or continuous (%d)", M->unloading, VI_UNLOAD_PAPER,
+    if (model->law < VI_LAW_HERTZ || model->law > VI_LAW_LEPP)
+        VI_FAIL(msg, n, "contact law = %d is not hertz (%d), johnson (%d) or lepp (%d)", model->law, VI_LAW_HERTZ,
+                VI_LAW_JOHNSON, VI_LAW_LEPP);
+    if (model->moving != 0 && model->moving != 1) VI_FAIL(msg, n, "model flag moving = %d is not 0 or 1", model->moving);
+    if (model->unloading != VI_UNLOAD_PAPER && model->unloading != VI_UNLOAD_CONTINUOUS)
+        VI_FAIL(msg, n, "unloading = %d is not paper (%d) or continuous (%d)", model->unloading, VI_UNLOAD_PAPER,
                 VI_UNLOAD_CONTINUOUS);
-    if (M->mode < VI_Mode_free || M->mode > VI_Mode_stick)
-        VI_FAIL(msg, n, "mode = %d is not in %d..%d", M->mode, VI_Mode_free, VI_Mode_stick);
-    if (check_constants(M, msg, n) < 0 || check_memory(M, msg, n) < 0) return -1;
-    return check_mode(M, x, surfaces, msg, n);
+    if (model->mode < VI_MODE_FREE || model->mode > VI_MODE_STICK)
+        VI_FAIL(msg, n, "mode = %d is not in %d..%d", model->mode, VI_MODE_FREE, VI_MODE_STICK);
+    if (check_constants(model, msg, n) < 0 || check_memory(model, msg, n) < 0) return -1;
+    return check_mode(model, x, surfaces, msg, n);
 }
 
-int vi_model_check(const vi_model *M, const double x[2], char *msg, size_t n) { return check(M, x, 1, msg, n); }
-int vi_model_check_between_events(const vi_model *M, const double x[2], char *msg, size_t n)
+int vi_model_check(const vi_model *model, const double x[2], char *msg, size_t n) { return check(model, x, 1, msg, n); }
+int vi_model_check_between_events(const vi_model *model, const double x[2], char *msg, size_t n)
 {
-    return check(M, x, 0, msg, n);
+    return check(model, x, 0, msg, n);
 }
 
-void vi_model_calculated(const vi_model *M, vi_outputs *out)
+void vi_model_calculated(const vi_model *model, vi_model_values *out)
 {
-    out->E_star = M->J.E_star;
-    out->R_star = M->J.R_star;
-    out->F_Y = M->J.F_Y;
-    out->delta_Y = M->J.delta_Y;
-    out->k_lin = M->k_lin;
-    out->f_contact = M->f_contact;
+    out->E_star = model->johnson.E_star;
+    out->R_star = model->johnson.R_star;
+    out->F_Y = model->johnson.F_Y;
+    out->delta_Y = model->johnson.delta_Y;
+    out->k_lin = model->k_lin;
+    out->f_contact = model->f_contact;
 }
 
-const unsigned char vi_model_output_groups[VI_NVARS] = {
-    [VI_VR_delta] = VI_OUT_STATE, [VI_VR_v] = VI_OUT_STATE, [VI_VR_contact] = VI_OUT_STATE,
-    [VI_VR_mode] = VI_OUT_STATE, [VI_VR_n_impacts] = VI_OUT_STATE, [VI_VR_yC] = VI_OUT_PLATFORM,
-    [VI_VR_y] = VI_OUT_PLATFORM, [VI_VR_F] = VI_OUT_FORCE, [VI_VR_delta_c] = VI_OUT_MEMORY,
-    [VI_VR_delta_f] = VI_OUT_MEMORY, [VI_VR_delta_p] = VI_OUT_MEMORY, [VI_VR_Rbar] = VI_OUT_MEMORY,
-    [VI_VR_W_plastic] = VI_OUT_MEMORY, [VI_VR_E_star] = VI_OUT_CALCULATED, [VI_VR_R_star] = VI_OUT_CALCULATED,
-    [VI_VR_F_Y] = VI_OUT_CALCULATED, [VI_VR_delta_Y] = VI_OUT_CALCULATED, [VI_VR_k_lin] = VI_OUT_CALCULATED,
-    [VI_VR_f_contact] = VI_OUT_CALCULATED, [VI_VR_F_mean] = VI_OUT_MEAN, [VI_VR_k_contact] = VI_OUT_STIFFNESS,
-    [VI_VR_der_y] = VI_OUT_DERIVATIVES, [VI_VR_der_v] = VI_OUT_DERIVATIVES};
-
-void vi_model_outputs(const vi_model *M, double t, const double x[2], unsigned groups, vi_outputs *out)
+void vi_model_outputs(const vi_model *model, double t, const double x[2], unsigned groups, vi_model_values *out)
 {
     double d = x[0];
     if (groups & VI_OUT_STATE) {
         out->delta = d;
         out->v = x[1];
-        out->contact = M->mode != VI_Mode_free;
-        out->mode = M->mode;
-        out->n_impacts = (int)M->n_impacts;
+        out->contact = model->mode != VI_MODE_FREE;
+        out->mode = model->mode;
+        out->n_impacts = (int)model->n_impacts;
     }
     if (groups & VI_OUT_PLATFORM) {
-        out->yC = vi_model_platform(M, t, NULL, NULL);
+        out->yC = vi_model_platform(model, t, NULL, NULL);
         out->y = out->yC - d;
     }
-    if (groups & VI_OUT_FORCE) out->F = vi_model_force(M, t, x);
-    if (groups & VI_OUT_CALCULATED) vi_model_calculated(M, out);
+    if (groups & VI_OUT_FORCE) out->F = vi_model_force(model, t, x);
+    if (groups & VI_OUT_CALCULATED) vi_model_calculated(model, out);
     if (!(groups & VI_OUT_MEMORY)) return;
     out->delta_c = out->delta_f = out->delta_p = out->W_plastic = 0.0;
-    out->Rbar = M->J.R_star;
-    law(M)->memory_outputs(M, d, out);
+    out->Rbar = model->johnson.R_star;
+    law(model)->memory_outputs(model, d, out);
 }

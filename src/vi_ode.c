@@ -405,6 +405,37 @@ static unsigned int nonpositive(const double *g, int ng, unsigned int set)
     return m;
 }
 
+/* The time to probe next in the bracket [a, b] (tol: 1 or 2 ulps of it) of the guards in cand, with
+ * values ga at a and gb at b: the Illinois estimate (weights wa, wb) of the guard that crosses first
+ * by linear estimate (ties: lowest index), or the midpoint when two iterations did not halve the
+ * bracket (w2: its width then); at least tol inside it. */
+static double probe_time(double a, double b, double tol, double w2, double wa, double wb, const double *ga,
+                         const double *gb, int ng, unsigned int cand)
+{
+    int best = -1;
+    double frac = 2.0;
+    for (int i = 0; i < ng; i++) {
+        if (!(cand & (1u << i)) || gb[i] > 0.0) continue;
+        double f = ga[i] / (ga[i] - gb[i]);
+        if (f < frac) frac = f, best = i;
+    }
+    double tm;
+    if (b - a > 0.5 * w2)
+        tm = a + 0.5 * (b - a);
+    else {
+        double fa = wa * ga[best], fb = wb * gb[best];
+        tm = a + (b - a) * (fa / (fa - fb));
+    }
+    /* an estimate at an end probes just beside it, which closes the bracket when the root is there */
+    if (b - a <= 2.0 * tol)
+        tm = a + 0.5 * (b - a);
+    else if (tm < a + tol)
+        tm = a + tol;
+    else if (tm > b - tol)
+        tm = b - tol;
+    return tm;
+}
+
 /* Find the first root in [a, b] of the guards in cand (all > 0 at a, at least one <= 0 at b).
  * On success ev_t = b, ev_t_lo = a of the final bracket, ev_fired, ev_x. */
 static int root_search(vi_ode *s, span *sp, const vi_ode_problem *p, double a, double b, const double *g_a,
@@ -417,35 +448,11 @@ static int root_search(vi_ode *s, span *sp, const vi_ode_problem *p, double a, d
     double wa = 1.0, wb = 1.0;               /* Illinois weights of the two ends */
     int side = 0;                            /* -1: b moved last time, +1: a moved last time */
     double w1 = INFINITY, w2 = INFINITY;     /* bracket widths one and two iterations ago */
-    int iter = 0;
-    for (;;) {
+    for (int iter = 0;; iter++) {
         double tol = fmax(DBL_EPSILON * fmax(fabs(a), fabs(b)), DBL_MIN); /* 1 or 2 ulps */
         if (b - a <= tol) break;
         if (iter >= VI_ODE_MAX_ROOT_ITERS) return VI_ODE_ERR_ROOT;
-        iter++;
-        /* The guard that crosses first by linear estimate (ties: lowest index). */
-        int best = -1;
-        double frac = 2.0;
-        for (int i = 0; i < ng; i++) {
-            if (!(cand & (1u << i)) || gb[i] > 0.0) continue;
-            double f = ga[i] / (ga[i] - gb[i]);
-            if (f < frac) frac = f, best = i;
-        }
-        double tm;
-        if (b - a > 0.5 * w2) /* two iterations did not halve the bracket: bisect */
-            tm = a + 0.5 * (b - a);
-        else {
-            double fa = wa * ga[best], fb = wb * gb[best];
-            tm = a + (b - a) * (fa / (fa - fb));
-        }
-        /* at least tol (1 or 2 ulps) inside: an estimate at an end probes just beside it, which
-         * closes the bracket when the root is there */
-        if (b - a <= 2.0 * tol)
-            tm = a + 0.5 * (b - a);
-        else if (tm < a + tol)
-            tm = a + tol;
-        else if (tm > b - tol)
-            tm = b - tol;
+        double tm = probe_time(a, b, tol, w2, wa, wb, ga, gb, ng, cand);
         w2 = w1;
         w1 = b - a;
         dense_eval(sp, n, tm, xm, NULL);
@@ -511,104 +518,135 @@ static int event_search(vi_ode *s, span *sp, const vi_ode_problem *p, const doub
 /* ---------------------------------------------------------------------------------------------
  * The step
  * ------------------------------------------------------------------------------------------- */
-int vi_ode_step(vi_ode *s, const vi_ode_problem *p, double t_stop)
+
+/* The bounds of a step from s->t: *h_lim the largest (max_step, else none), *h_min the shortest (16
+ * ulps of t, or the problem's h_min when larger). */
+static void step_bounds(const vi_ode *s, const vi_ode_problem *p, double *h_lim, double *h_min)
 {
-    if (!s || !p || s->n != p->n || s->ng != p->ng || s->n > VI_ODE_MAX_N || s->event_pending ||
-        !(t_stop > s->t) || !(s->h > 0.0) || (s->cur != 0 && s->cur != 1))
-        return VI_ODE_ERR_ARGS;
-    int n = p->n;
-    int fixed = p->h_fixed > 0.0;
-    double h_lim = p->max_step > 0.0 ? p->max_step : INFINITY;
-    double h_min = 16.0 * DBL_EPSILON * fabs(s->t);
-    if (p->h_min > h_min) h_min = p->h_min;
-    double h_prop = s->h;
-    span *sp = &s->sp[1 - s->cur]; /* the new step is built here; committed by flipping cur */
+    *h_lim = p->max_step > 0.0 ? p->max_step : INFINITY;
+    *h_min = 16.0 * DBL_EPSILON * fabs(s->t);
+    if (p->h_min > *h_min) *h_min = p->h_min;
+}
+
+/* The span the new step is built in (committed by flipping s->cur), starting at the current point. */
+static span *begin_span(vi_ode *s, int n)
+{
+    span *sp = &s->sp[1 - s->cur];
     sp->t0 = s->t;
     sp->dense_ready = 0;
     copy_n(sp->x0, s->x, n);
     copy_n(sp->k[0], s->f, n);
+    return sp;
+}
 
-    int rejections = 0, nonfinite = 0;
-    double h = fixed ? p->h_fixed : s->h, err = 0.0;
-    for (;;) {
+/* The end t1 of a step of size *h from s->t, with *h made the exact span t1 - t: stretched to t_stop
+ * when that lies within STRETCH h (*clipped = 1), else kept within h_lim. */
+static double step_end(const vi_ode *s, double t_stop, double h_lim, double *h, int *clipped)
+{
+    double t1;
+    *clipped = 0;
+    if (t_stop - s->t <= STRETCH * *h && t_stop - s->t <= h_lim) {
+        *h = t_stop - s->t;
+        t1 = t_stop;
+        *clipped = 1;
+    } else {
+        t1 = s->t + *h;
+        if (t1 - s->t > h_lim) t1 = nextafter(t1, -INFINITY); /* max_step holds exactly */
+        *h = t1 - s->t; /* exact: the step really spans [t, t1], so t does not drift by roundings */
+    }
+    return t1;
+}
+
+/* The error of an attempt, ||e5||^2 / sqrt(||e5||^2 + 0.01 ||e3||^2) in RMS norms scaled by the
+ * tolerances at the larger of |x| at both ends. */
+static double attempt_error(const vi_ode *s, const vi_ode_problem *p, const span *sp, const double *e5,
+                            const double *e3)
+{
+    int n = p->n;
+    double n5 = 0.0, n3 = 0.0;
+    for (int c = 0; c < n; c++) {
+        double ax = fabs(s->x[c]), ax1 = fabs(sp->x1[c]);
+        double isc = 1.0 / (p->atol[c] + p->rtol * (ax > ax1 ? ax : ax1));
+        double r5 = e5[c] * isc, r3 = e3[c] * isc;
+        n5 += r5 * r5;
+        n3 += r3 * r3;
+    }
+    double den = n5 + 0.01 * n3;
+    return den > 0.0 ? n5 / sqrt(den * n) : 0.0;
+}
+
+/* The step size proposed after a step of size h accepted with error err (HNW II.4). */
+static double next_step_size(const vi_ode *s, const vi_ode_problem *p, double h, double err, int rejections,
+                             int clipped, double h_lim)
+{
+    if (p->h_fixed > 0.0) return p->h_fixed;
+    double fac = err > 0.0 ? SAFETY * inv_root8(err) : FAC_MAX;
+    fac = fac > FAC_MAX ? FAC_MAX : fac < FAC_MIN ? FAC_MIN : fac;
+    if (rejections > 0 && fac > 1.0) fac = 1.0;
+    double h_prop = h * fac;
+    /* a step shortened to reach t_stop says little about the step size */
+    if (clipped && rejections == 0 && h_prop < s->h) h_prop = s->h;
+    if (h_prop > h_lim) h_prop = h_lim;
+    return h_prop;
+}
+
+/* What an attempted step left: accepted or not, and what the step after it is to be. */
+typedef struct {
+    double err, h_next; /* the accepted step's error and the step size proposed after it */
+    int rejections;     /* attempts rejected before it */
+} step_result;
+
+/* Attempt steps from s->t, shrinking after each rejection, until one is accepted into sp (sp->t1,
+ * sp->x1, its last stage the derivative at t1): VI_ODE_OK with *r filled, or an error status. */
+static int accepted_step(vi_ode *s, const vi_ode_problem *p, span *sp, double t_stop, step_result *r)
+{
+    int n = p->n, fixed = p->h_fixed > 0.0;
+    double h_lim, h_min;
+    step_bounds(s, p, &h_lim, &h_min);
+    double h = fixed ? p->h_fixed : s->h;
+    for (r->rejections = 0;;) {
         if (h > h_lim) h = h_lim;
         /* a step under 16 ulps of t does not resolve time (t + h may round to t): the shortest is h_min */
         if (!fixed && h < h_min && h_min <= h_lim) h = h_min;
-        double t1;
-        int clipped = 0;
-        if (t_stop - s->t <= STRETCH * h && t_stop - s->t <= h_lim) {
-            h = t_stop - s->t;
-            t1 = t_stop;
-            clipped = 1;
-        } else {
-            t1 = s->t + h;
-            if (t1 - s->t > h_lim) t1 = nextafter(t1, -INFINITY); /* max_step holds exactly */
-            h = t1 - s->t; /* exact: the step really spans [t, t1], so t does not drift by roundings */
-        }
+        int clipped;
+        double t1 = step_end(s, t_stop, h_lim, &h, &clipped);
         if (!(h > 0.0)) return VI_ODE_ERR_HMIN; /* fixed or max_step below the rounding of t */
         s->st.attempts++;
-        double e5[VI_ODE_MAX_N], e3[VI_ODE_MAX_N], n5 = 0.0, n3 = 0.0;
+        double e5[VI_ODE_MAX_N], e3[VI_ODE_MAX_N];
         if (LANES(n) == 2)
             attempt_2(p, &s->st, sp, h, e5, e3);
         else
             attempt_max(p, &s->st, sp, h, e5, e3);
-        for (int c = 0; c < n; c++) {
-            double ax = fabs(s->x[c]), ax1 = fabs(sp->x1[c]);
-            double isc = 1.0 / (p->atol[c] + p->rtol * (ax > ax1 ? ax : ax1));
-            double r5 = e5[c] * isc, r3 = e3[c] * isc;
-            n5 += r5 * r5;
-            n3 += r3 * r3;
-        }
-        /* err = ||e5||^2 / sqrt(||e5||^2 + 0.01 ||e3||^2) in RMS norms */
-        double den = n5 + 0.01 * n3;
-        err = den > 0.0 ? n5 / sqrt(den * n) : 0.0;
-        int bad = !isfinite(err) || !finite_n(sp->x1, n);
-        if (!bad && (fixed || err <= 1.0)) {
+        r->err = attempt_error(s, p, sp, e5, e3);
+        int bad = !isfinite(r->err) || !finite_n(sp->x1, n);
+        if (!bad && (fixed || r->err <= 1.0)) {
             rhs(p, &s->st, t1, sp->x1, sp->k[S_END]);
             bad = !finite_n(sp->k[S_END], n);
         }
-        if (!bad && (fixed || err <= 1.0)) { /* accepted */
+        if (!bad && (fixed || r->err <= 1.0)) { /* accepted */
             sp->t1 = t1;
-            if (fixed)
-                h_prop = p->h_fixed;
-            else {
-                double fac = err > 0.0 ? SAFETY * inv_root8(err) : FAC_MAX;
-                fac = fac > FAC_MAX ? FAC_MAX : fac < FAC_MIN ? FAC_MIN : fac;
-                if (rejections > 0 && fac > 1.0) fac = 1.0;
-                h_prop = h * fac;
-                /* a step shortened to reach t_stop says little about the step size */
-                if (clipped && rejections == 0 && h_prop < s->h) h_prop = s->h;
-                if (h_prop > h_lim) h_prop = h_lim;
-            }
-            break;
+            r->h_next = next_step_size(s, p, h, r->err, r->rejections, clipped, h_lim);
+            return VI_ODE_OK;
         }
-        /* rejected */
         s->st.rejected++;
-        nonfinite = bad;
         if (fixed) return VI_ODE_ERR_NONFINITE;
-        double fac = bad ? FAC_MIN : SAFETY * inv_root8(err);
+        double fac = bad ? FAC_MIN : SAFETY * inv_root8(r->err);
         h *= fac < FAC_MIN ? FAC_MIN : fac;
-        if (++rejections >= VI_ODE_MAX_REJECTS) return nonfinite ? VI_ODE_ERR_NONFINITE : VI_ODE_ERR_REJECTS;
-        if (h < h_min) return nonfinite ? VI_ODE_ERR_NONFINITE : VI_ODE_ERR_HMIN;
+        if (++r->rejections >= VI_ODE_MAX_REJECTS) return bad ? VI_ODE_ERR_NONFINITE : VI_ODE_ERR_REJECTS;
+        if (h < h_min) return bad ? VI_ODE_ERR_NONFINITE : VI_ODE_ERR_HMIN;
     }
+}
 
-    /* Guards at the new point, then the event search; the state changes only when all succeeded. */
-    double g_end[VI_ODE_MAX_G];
-    unsigned int armed = s->armed;
-    int status = VI_ODE_OK;
-    if (p->ng > 0) {
-        if (!guards(p, &s->st, sp->t1, sp->x1, g_end)) return VI_ODE_ERR_NONFINITE;
-        status = event_search(s, sp, p, g_end, &armed);
-        if (status < 0) return status;
-        copy_n(s->g, g_end, p->ng);
-    }
+/* Make the step in sp the current point (status: VI_ODE_OK, or VI_ODE_EVENT with an event pending). */
+static void commit_step(vi_ode *s, const span *sp, int n, const step_result *r, unsigned int armed, int status)
+{
     s->cur = 1 - s->cur;
     s->have_step = 1;
     s->armed = armed;
     s->st.accepted++;
-    s->err = err;
-    s->h = h_prop;
-    s->rejected_last = rejections;
+    s->err = r->err;
+    s->h = r->h_next;
+    s->rejected_last = r->rejections;
     s->t_old = sp->t0;
     s->t = sp->t1;
     copy_n(s->x_old, sp->x0, n);
@@ -618,6 +656,27 @@ int vi_ode_step(vi_ode *s, const vi_ode_problem *p, double t_stop)
         s->event_pending = 1;
         s->st.events++;
     }
+}
+
+int vi_ode_step(vi_ode *s, const vi_ode_problem *p, double t_stop)
+{
+    if (!s || !p || s->n != p->n || s->ng != p->ng || s->n > VI_ODE_MAX_N || s->event_pending ||
+        !(t_stop > s->t) || !(s->h > 0.0) || (s->cur != 0 && s->cur != 1))
+        return VI_ODE_ERR_ARGS;
+    span *sp = begin_span(s, p->n);
+    step_result r;
+    int status = accepted_step(s, p, sp, t_stop, &r);
+    if (status != VI_ODE_OK) return status;
+    /* Guards at the new point, then the event search; the state changes only when all succeeded. */
+    double g_end[VI_ODE_MAX_G];
+    unsigned int armed = s->armed;
+    if (p->ng > 0) {
+        if (!guards(p, &s->st, sp->t1, sp->x1, g_end)) return VI_ODE_ERR_NONFINITE;
+        status = event_search(s, sp, p, g_end, &armed);
+        if (status < 0) return status;
+        copy_n(s->g, g_end, p->ng);
+    }
+    commit_step(s, sp, p->n, &r, armed, status);
     return status;
 }
 

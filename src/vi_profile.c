@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "vi_check.h"
 #include "vi_text.h"
 
 /* A piece of the envelope. Circle: yb = py - d^2/(R + sqrt(R^2 - d^2)), d = x - px (the vertex at
@@ -222,78 +223,90 @@ void vi_profile_free(vi_profile *p)
 static int build(const context *c, const double *x, const double *h, size_t n, int periodic, double lo, double hi,
                  long kmin, long kmax, stack *st)
 {
-    double R = c->R, L = periodic ? hi - lo : 0.0;
-    size_t nv = periodic ? n - 1 : n, g = 0;
+    double R = c->R, period = periodic ? hi - lo : 0.0;
+    size_t n_vertices = periodic ? n - 1 : n, g = 0;
     stack tail = {0};
     int rc = 0;
     for (long k = kmin; k <= kmax && rc == 0; k++) { /* bounded: kmax - kmin + 1 copies of n rows */
-        double off = (double)k * L;
-        for (size_t j = 0; j < nv && rc == 0; j++, g += 2) {
-            piece q = {0, x[j] + off, h[j], 0.0};
-            rc = insert(c, st, &tail, &q, g, fmax(x[j] - R + off, lo), fmin(x[j] + R + off, hi));
+        double offset = (double)k * period;
+        for (size_t j = 0; j < n_vertices && rc == 0; j++, g += 2) {
+            piece circle = {0, x[j] + offset, h[j], 0.0};
+            rc = insert(c, st, &tail, &circle, g, fmax(x[j] - R + offset, lo), fmin(x[j] + R + offset, hi));
             if (rc < 0 || j + 1 >= n) break;
-            double s = (h[j + 1] - h[j]) / (x[j + 1] - x[j]), hyp = hypot(1.0, s), shift = R * (s / hyp);
-            piece t = {1, x[j] - shift + off, h[j] - R * (s * s / (hyp * (hyp + 1.0))), s}; /* h_j + R (1/hyp - 1) */
-            rc = insert(c, st, &tail, &t, g + 1, fmax(t.px, lo), fmin(x[j + 1] - shift + off, hi));
+            double slope = (h[j + 1] - h[j]) / (x[j + 1] - x[j]), hyp = hypot(1.0, slope), shift = R * (slope / hyp);
+            /* the tangent's height at its vertex: h_j + R (1/hyp - 1) */
+            piece tangent = {1, x[j] - shift + offset, h[j] - R * (slope * slope / (hyp * (hyp + 1.0))), slope};
+            rc = insert(c, st, &tail, &tangent, g + 1, fmax(tangent.px, lo), fmin(x[j + 1] - shift + offset, hi));
         }
     }
     free(tail.s);
     return rc;
 }
 
-vi_profile *vi_profile_create(const double *x, const double *h, size_t n, double R, int periodic, const char *name,
-                              char *msg, size_t msg_size)
+/* The rows as a profile needs them: at least two, finite, x increasing, a periodic one ending at
+ * its first height; and R positive. 0, or -1 with the reason in msg. */
+static int check_rows(const double *x, const double *h, size_t n, double R, int periodic, const char *name, char *msg,
+                      size_t msg_size)
 {
-    vi_profile *p = NULL;
-    stack env = {0};
-    if (!name) name = "profile";
-    if (n < 2) FAIL("%s: %zu rows; a profile needs at least two (x [m], h [m])", name, n);
-    if (!(R > 0.0 && isfinite(R))) FAIL("%s: the rolling radius R1 = %g m must be positive and finite", name, R);
+    if (n < 2) VI_FAIL(msg, msg_size, "%s: %zu rows; a profile needs at least two (x [m], h [m])", name, n);
+    if (!(R > 0.0 && isfinite(R)))
+        VI_FAIL(msg, msg_size, "%s: the rolling radius R1 = %g m must be positive and finite", name, R);
     for (size_t i = 0; i < n; i++) {
-        if (!isfinite(x[i]) || !isfinite(h[i])) FAIL("%s, row %zu: x = %g, h = %g are not finite", name, i + 1, x[i], h[i]);
+        if (!isfinite(x[i]) || !isfinite(h[i]))
+            VI_FAIL(msg, msg_size, "%s, row %zu: x = %g, h = %g are not finite", name, i + 1, x[i], h[i]);
         if (i && !(x[i] > x[i - 1]))
-            FAIL("%s, row %zu: x = %.17g is not greater than x = %.17g of the row before (x must increase)", name, i + 1,
-                 x[i], x[i - 1]);
+            VI_FAIL(msg, msg_size, "%s, row %zu: x = %.17g is not greater than x = %.17g of the row before (x must "
+                                   "increase)", name, i + 1, x[i], x[i - 1]);
     }
     if (periodic && h[n - 1] != h[0])
-        FAIL("%s: profile_periodic needs the last height to repeat the first (h = %.17g on row %zu, %.17g on row 1)",
-             name, h[n - 1], n, h[0]);
-    p = calloc(1, sizeof *p);
-    if (!p) FAIL("%s: out of memory", name);
-    p->R = R, p->lo = x[0], p->hi = x[n - 1], p->periodic = periodic != 0;
-    p->period = periodic ? p->hi - p->lo : 0.0;
-    long kmin = 0, kmax = 0;
-    if (p->periodic) { /* the copies whose vertices lie within R of [lo, hi], and one more each side */
-        double reach = ceil(R / p->period) + 1.0;
-        if (reach * 2.0 * (double)(n - 1) > VI_PROFILE_ROWS_MAX)
-            FAIL("%s: the period %g m is too short for R1 = %g m: the body spans %.0f periods of %zu rows, more than "
-                 "%d rows in all", name, p->period, R, 2.0 * reach, n - 1, VI_PROFILE_ROWS_MAX);
-        kmin = -(long)reach, kmax = (long)reach;
-    }
-    double hmax = 0.0, hlo = h[0], hhi = h[0];
-    for (size_t i = 0; i < n; i++) hmax = fmax(hmax, fabs(h[i])), hlo = fmin(hlo, h[i]), hhi = fmax(hhi, h[i]);
-    p->h_span = hhi - hlo;
-    context c = {R, 64.0 * DBL_EPSILON * (R + hmax)};
-    if (build(&c, x, h, n, p->periodic, p->lo, p->hi, kmin, kmax, &env) < 0) FAIL("%s: out of memory", name);
+        VI_FAIL(msg, msg_size, "%s: profile_periodic needs the last height to repeat the first (h = %.17g on row %zu, "
+                               "%.17g on row 1)", name, h[n - 1], n, h[0]);
+    return 0;
+}
 
-    /* the envelope covers [lo, hi] without gaps (every point lies under a vertex circle or a tangent) */
-    if (!env.n || env.s[0].x0 != p->lo || env.s[env.n - 1].x1 != p->hi)
-        FAIL("%s: internal error: the envelope covers [%g, %g] instead of [%g, %g]", name, env.n ? env.s[0].x0 : NAN,
-             env.n ? env.s[env.n - 1].x1 : NAN, p->lo, p->hi);
-    p->m = env.n;
+/* The copies of a periodic profile the envelope is built from, k = *kmin..*kmax (0..0 when it is
+ * not periodic): those whose vertices lie within R of [lo, hi], and one more each side. 0, or -1. */
+static int periodic_copies(const vi_profile *p, size_t n, const char *name, long *kmin, long *kmax, char *msg,
+                           size_t msg_size)
+{
+    *kmin = 0, *kmax = 0;
+    if (!p->periodic) return 0;
+    double reach = ceil(p->R / p->period) + 1.0;
+    if (reach * 2.0 * (double)(n - 1) > VI_PROFILE_ROWS_MAX)
+        VI_FAIL(msg, msg_size, "%s: the period %g m is too short for R1 = %g m: the body spans %.0f periods of %zu "
+                               "rows, more than %d rows in all", name, p->period, p->R, 2.0 * reach, n - 1,
+                VI_PROFILE_ROWS_MAX);
+    *kmin = -(long)reach, *kmax = (long)reach;
+    return 0;
+}
+
+/* The envelope's pieces and their boundaries into p (it must cover [lo, hi] without gaps). 0, or -1. */
+static int take_envelope(vi_profile *p, const stack *env, const char *name, char *msg, size_t msg_size)
+{
+    if (!env->n || env->s[0].x0 != p->lo || env->s[env->n - 1].x1 != p->hi)
+        VI_FAIL(msg, msg_size, "%s: internal error: the envelope covers [%g, %g] instead of [%g, %g]", name,
+                env->n ? env->s[0].x0 : NAN, env->n ? env->s[env->n - 1].x1 : NAN, p->lo, p->hi);
+    p->m = env->n;
     p->xb = malloc((p->m + 1) * sizeof *p->xb);
     p->pieces = malloc(p->m * sizeof *p->pieces);
     p->kinks = malloc((p->m + 1) * sizeof *p->kinks);
-    if (!p->xb || !p->pieces || !p->kinks) FAIL("%s: out of memory", name);
+    if (!p->xb || !p->pieces || !p->kinks) VI_FAIL(msg, msg_size, "%s: out of memory", name);
     for (size_t j = 0; j < p->m; j++) {
-        if (j && env.s[j].x0 != env.s[j - 1].x1) FAIL("%s: internal error: a gap in the envelope at x = %g", name, env.s[j - 1].x1);
-        p->xb[j] = env.s[j].x0;
-        p->pieces[j] = env.s[j].q;
+        if (j && env->s[j].x0 != env->s[j - 1].x1)
+            VI_FAIL(msg, msg_size, "%s: internal error: a gap in the envelope at x = %g", name, env->s[j - 1].x1);
+        p->xb[j] = env->s[j].x0;
+        p->pieces[j] = env->s[j].q;
     }
-    free(env.s);
-    env.s = NULL;
     p->xb[p->m] = p->hi;
-    /* continuity, slopes and kinks at the boundaries (a periodic profile also at the seam) */
+    return 0;
+}
+
+/* Continuity, slopes and kinks at the boundaries of the pieces (a periodic profile also at the seam):
+ * max_slope and the kinks into p; -1 where the body cannot roll over the profile (too steep, a step).
+ * tol: the rounding of the heights. */
+static int check_boundaries(vi_profile *p, double tol, const char *name, char *msg, size_t msg_size)
+{
+    double R = p->R;
     for (size_t j = 0; j <= p->m; j++) {
         double dl[3], dr[3], yl = NAN, yr = NAN; /* set before use (has_left, has_right); gcc -fsanitize cannot tell */
         int has_left = j > 0 || p->periodic, has_right = j < p->m || p->periodic;
@@ -302,24 +315,51 @@ vi_profile *vi_profile_create(const double *x, const double *h, size_t n, double
         if (has_left) {
             yl = piece_eval(&p->pieces[jl], R, xl, dl);
             if (!isfinite(yl) || !isfinite(dl[0]))
-                FAIL("%s: the profile is too steep for R1 = %g m near x = %g m: the body cannot roll over it", name, R, xl);
+                VI_FAIL(msg, msg_size, "%s: the profile is too steep for R1 = %g m near x = %g m: the body cannot roll "
+                                       "over it", name, R, xl);
             p->max_slope = fmax(p->max_slope, fabs(dl[0]));
         }
         if (has_right) {
             yr = piece_eval(&p->pieces[jr], R, xr, dr);
             if (!isfinite(yr) || !isfinite(dr[0]))
-                FAIL("%s: the profile is too steep for R1 = %g m near x = %g m: the body cannot roll over it", name, R, xr);
+                VI_FAIL(msg, msg_size, "%s: the profile is too steep for R1 = %g m near x = %g m: the body cannot roll "
+                                       "over it", name, R, xr);
             p->max_slope = fmax(p->max_slope, fabs(dr[0]));
         }
         if (!has_left || !has_right) continue;
         /* a step: the pieces differ at xr by more than their rounding there; besides the heights' (tol),
          * the boundary xr is rounded to a few eps |xr|, which moves each piece by its slope times that */
-        double rounding = 1e3 * c.tol + 16.0 * DBL_EPSILON * fabs(xr) * (fabs(dl[0]) + fabs(dr[0]));
+        double rounding = 1e3 * tol + 16.0 * DBL_EPSILON * fabs(xr) * (fabs(dl[0]) + fabs(dr[0]));
         if (fabs(yl - yr) > rounding)
-            FAIL("%s: a step of more than R1 = %g m near x = %g m: yb jumps by %g m there (the body cannot roll over it)",
-                 name, R, xr, yr - yl);
+            VI_FAIL(msg, msg_size, "%s: a step of more than R1 = %g m near x = %g m: yb jumps by %g m there (the body "
+                                   "cannot roll over it)", name, R, xr, yr - yl);
         if (fabs(dr[0] - dl[0]) > VI_PROFILE_KINK_SLOPE && j < p->m) p->kinks[p->n_kinks++] = xr;
     }
+    return 0;
+}
+
+vi_profile *vi_profile_create(const double *x, const double *h, size_t n, double R, int periodic, const char *name,
+                              char *msg, size_t msg_size)
+{
+    vi_profile *p = NULL;
+    stack env = {0};
+    if (!name) name = "profile";
+    if (check_rows(x, h, n, R, periodic, name, msg, msg_size) < 0) return NULL;
+    p = calloc(1, sizeof *p);
+    if (!p) FAIL("%s: out of memory", name);
+    p->R = R, p->lo = x[0], p->hi = x[n - 1], p->periodic = periodic != 0;
+    p->period = periodic ? p->hi - p->lo : 0.0;
+    long kmin, kmax;
+    if (periodic_copies(p, n, name, &kmin, &kmax, msg, msg_size) < 0) goto fail;
+    double hmax = 0.0, hlo = h[0], hhi = h[0];
+    for (size_t i = 0; i < n; i++) hmax = fmax(hmax, fabs(h[i])), hlo = fmin(hlo, h[i]), hhi = fmax(hhi, h[i]);
+    p->h_span = hhi - hlo;
+    context c = {R, 64.0 * DBL_EPSILON * (R + hmax)};
+    if (build(&c, x, h, n, p->periodic, p->lo, p->hi, kmin, kmax, &env) < 0) FAIL("%s: out of memory", name);
+    if (take_envelope(p, &env, name, msg, msg_size) < 0) goto fail;
+    free(env.s);
+    env.s = NULL;
+    if (check_boundaries(p, c.tol, name, msg, msg_size) < 0) goto fail;
     return p;
 fail:
     free(env.s);
@@ -351,6 +391,35 @@ static int parse_row(char *line, double *x, double *h)
 #define VI_PROFILE_BLOCK (1 << 16)
 _Static_assert(VI_PROFILE_BLOCK >= 2 * VI_PROFILE_LINE_MAX, "a block holds the longest line");
 
+/* The rows read so far (x [m], h [m]). */
+typedef struct {
+    double *x, *h;
+    size_t n, cap;
+} rows;
+
+/* Append the row of line line_no of file path after checking it (finite, x increasing, at most
+ * VI_PROFILE_ROWS_MAX rows). 0, or -1 with the reason in msg. */
+static int add_row(rows *r, double xv, double hv, const char *path, size_t line_no, char *msg, size_t msg_size)
+{
+    if (!isfinite(xv) || !isfinite(hv))
+        VI_FAIL(msg, msg_size, "profile_file '%s', line %zu: x = %g, h = %g are not finite", path, line_no, xv, hv);
+    if (r->n && !(xv > r->x[r->n - 1]))
+        VI_FAIL(msg, msg_size, "profile_file '%s', line %zu: x = %.17g is not greater than x = %.17g before it (x "
+                               "must increase)", path, line_no, xv, r->x[r->n - 1]);
+    if (r->n == VI_PROFILE_ROWS_MAX)
+        VI_FAIL(msg, msg_size, "profile_file '%s', line %zu: more than %d rows", path, line_no, VI_PROFILE_ROWS_MAX);
+    if (r->n == r->cap) {
+        r->cap = r->cap ? 2 * r->cap : 256;
+        double *nx = realloc(r->x, r->cap * sizeof *nx), *nh = nx ? realloc(r->h, r->cap * sizeof *nh) : NULL;
+        if (nx) r->x = nx;
+        if (nh) r->h = nh;
+        if (!nx || !nh) VI_FAIL(msg, msg_size, "profile_file '%s': out of memory at line %zu", path, line_no);
+    }
+    r->x[r->n] = xv, r->h[r->n] = hv;
+    r->n++;
+    return 0;
+}
+
 vi_profile *vi_profile_load(const char *path, double R, int periodic, char *msg, size_t msg_size)
 {
     FILE *f = fopen(path, "r");
@@ -358,8 +427,8 @@ vi_profile *vi_profile_load(const char *path, double R, int periodic, char *msg,
         vi_snprintf(msg, msg_size, "profile_file '%s': cannot open it (%s)", path, strerror(errno));
         return NULL;
     }
-    double *x = NULL, *h = NULL;
-    size_t n = 0, cap = 0, line_no = 0, have = 0, pos = 0; /* buf[pos, have): read, not parsed yet */
+    rows r = {0};
+    size_t line_no = 0, have = 0, pos = 0; /* buf[pos, have): read, not parsed yet */
     int eof = 0;
     vi_profile *p = NULL;
     char *buf = malloc(VI_PROFILE_BLOCK + 1);
@@ -387,30 +456,16 @@ vi_profile *vi_profile_load(const char *path, double R, int periodic, char *msg,
         int rc = parse_row(line, &xv, &hv);
         if (rc == 0) continue;
         if (rc < 0) FAIL("profile_file '%s', line %zu: expected two numbers x [m] and h [m]", path, line_no);
-        if (!isfinite(xv) || !isfinite(hv))
-            FAIL("profile_file '%s', line %zu: x = %g, h = %g are not finite", path, line_no, xv, hv);
-        if (n && !(xv > x[n - 1]))
-            FAIL("profile_file '%s', line %zu: x = %.17g is not greater than x = %.17g before it (x must increase)", path,
-                 line_no, xv, x[n - 1]);
-        if (n == VI_PROFILE_ROWS_MAX) FAIL("profile_file '%s', line %zu: more than %d rows", path, line_no, VI_PROFILE_ROWS_MAX);
-        if (n == cap) {
-            cap = cap ? 2 * cap : 256;
-            double *nx = realloc(x, cap * sizeof *nx), *nh = nx ? realloc(h, cap * sizeof *nh) : NULL;
-            if (nx) x = nx;
-            if (nh) h = nh;
-            if (!nx || !nh) FAIL("profile_file '%s': out of memory at line %zu", path, line_no);
-        }
-        x[n] = xv, h[n] = hv;
-        n++;
+        if (add_row(&r, xv, hv, path, line_no, msg, msg_size) < 0) goto fail;
     }
     if (ferror(f)) FAIL("profile_file '%s': read error after line %zu", path, line_no);
-    if (n < 2) FAIL("profile_file '%s': %zu data rows; a profile needs at least two (x [m], h [m])", path, n);
+    if (r.n < 2) FAIL("profile_file '%s': %zu data rows; a profile needs at least two (x [m], h [m])", path, r.n);
     char name[VI_PROFILE_LINE_MAX + 32];
     vi_snprintf(name, sizeof name, "profile_file '%s'", path);
-    p = vi_profile_create(x, h, n, R, periodic, name, msg, msg_size);
+    p = vi_profile_create(r.x, r.h, r.n, R, periodic, name, msg, msg_size);
 fail:
     fclose(f);
-    free(buf), free(x), free(h);
+    free(buf), free(r.x), free(r.h);
     return p;
 }
 

@@ -20,6 +20,7 @@
 
 #include "vi_model.h"
 #include "vi_ode.h"
+#include "vi_sim.h"
 
 static double now(void)
 {
@@ -99,7 +100,8 @@ static double model_run(const vi_parameters *par, double rtol, int samples, doub
 {
     vi_model M;
     char msg[256];
-    if (vi_model_setup(&M, par, 0.0, msg, sizeof msg) < 0) {
+    vi_model_params mp = vi_sim_model_params(par);
+    if (vi_model_setup(&M, &mp, 0.0, msg, sizeof msg) < 0) {
         fprintf(stderr, "model: %s\n", msg);
         exit(1);
     }

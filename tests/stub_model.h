@@ -1,6 +1,6 @@
 /*
  * stub_model.h - a model of the generic FMI layer (vi_fmu.h) with no physics, for the unit tests of
- * the layer (tests/test_core.c: the core; tests/test_faces.c: the FMI 2.0 and 3.0 faces on it). It has
+ * the layer (tests/test_fmi_layer.c: the layer; tests/test_faces.c: the FMI 2.0 and 3.0 faces on it). It has
  * every hook, Model Exchange too (2 states, 1 event indicator), each of which a test can tell to fail
  * or to answer a given value through the stub's fields; its one definition is in the test that
  * includes it.
@@ -17,19 +17,22 @@
 
 #define VI_GUID "{core-test}"
 #define VI_MODEL_IDENTIFIER "CoreTest"
+#define VI_MODEL_DESCRIPTION "a stub model for the layer's unit tests"
+#define VI_DEFAULT_EXPERIMENT {.start_s = 0.0, .stop_s = 1.0, .tolerance = 0.0, .step_s = 0.1}
+#define VI_CAN_INTERPOLATE_INPUTS 1
 #define VI_VARIABLES(X)                                                                                     \
-    X(u, Real, none, input, continuous, exact, 0.0, VI_NONE, VI_NONE, "", "an input")                      \
-    X(k, Real, none, parameter, tunable, exact, 1.0, VI_ABOVE(0.0), VI_AT(10.0), "1/s", "a rate")        \
-    X(n, Integer, none, parameter, fixed, exact, 3, VI_AT(1), VI_BELOW(8), "", "a count")                \
-    X(y, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "", "an output")              \
-    X(p, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "", "state 0")                \
-    X(q, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "", "state 1")                \
-    X(der_p, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "", "derivative of p")    \
-    X(der_q, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "", "derivative of q")    \
-    X(b, Boolean, none, input, discrete, exact, 0, VI_NONE, VI_NONE, "", "a switch")                     \
-    X(label, String, none, parameter, fixed, exact, "abc", VI_NONE, VI_NONE, "", "a label")              \
-    X(w, Real, none, input, discrete, exact, 0.0, VI_NONE, VI_NONE, "", "a discrete input")               \
-    X(color, Integer, Color, parameter, tunable, exact, 2, VI_NONE, VI_NONE, "", "a choice")
+    X(u, Real, none, input, continuous, exact, 0.0, VI_NONE, VI_NONE, "", 0, "", "an input")                      \
+    X(k, Real, none, parameter, tunable, exact, 1.0, VI_ABOVE(0.0), VI_AT(10.0), "1/s", 0, "", "a rate")        \
+    X(n, Integer, none, parameter, fixed, exact, 3, VI_AT(1), VI_BELOW(8), "", 0, "", "a count")                \
+    X(y, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "", 0, "", "an output")              \
+    X(p, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "", 0, "", "state 0")                \
+    X(q, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "", 0, "", "state 1")                \
+    X(der_p, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "", 0, "", "derivative of p")    \
+    X(der_q, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "", 0, "", "derivative of q")    \
+    X(b, Boolean, none, input, discrete, exact, 0, VI_NONE, VI_NONE, "", 0, "", "a switch")                     \
+    X(label, String, none, parameter, fixed, exact, "abc", VI_NONE, VI_NONE, "", 0, "", "a label")              \
+    X(w, Real, none, input, discrete, exact, 0.0, VI_NONE, VI_NONE, "", 0, "", "a discrete input")               \
+    X(color, Integer, Color, parameter, tunable, exact, 2, VI_NONE, VI_NONE, "", 0, "", "a choice")
 #define VI_ENUMERATIONS(E) E(Color, "a color") E(Shape, "a shape (no variable: its items are no colors)")
 #define VI_ITEMS_Color(I) I(Color, red, 2) I(Color, blue, 5) I(Color, white, 2147483647) I(Color, black, -2147483647 - 1)
 #define VI_ITEMS_Shape(I) I(Shape, round, 1) I(Shape, square, 6)

@@ -13,7 +13,7 @@
 
 #define MAX_CHANGES 256
 
-/* The mode changes an advance logs ("t = ... s: guard g of mode a, mode a -> b"). */
+/* The mode changes an advance logs ("event t=... kind=guard guard=g mode=a->b ..."). */
 typedef struct {
     int n;
     double t[MAX_CHANGES];
@@ -30,8 +30,8 @@ static void collect(void *env, int category, const char *fmt, ...)
     va_end(ap);
     if (category == VI_LOG_ERROR) fprintf(stderr, "%s\n", text);
     double t;
-    int g, m, a, b;
-    if (category == VI_LOG_EVENTS && sscanf(text, "t = %lg s: guard %d of mode %d, mode %d -> %d", &t, &g, &m, &a, &b) == 5 &&
+    int g, a, b;
+    if (category == VI_LOG_EVENTS && sscanf(text, "event t=%lg kind=guard guard=%d mode=%d->%d", &t, &g, &a, &b) == 4 &&
         a != b && c->n < MAX_CHANGES) {
         c->t[c->n] = t, c->from[c->n] = a, c->to[c->n] = b;
         c->n++;
@@ -64,7 +64,7 @@ Test(early_return, stops_at_every_mode_change_where_the_uninterrupted_run_change
         int stops = 0;
         for (int pass = 0; s.d.t < T_END && pass < 2 * MAX_CHANGES; pass++) {
             double t0 = s.d.t;
-            int mode0 = s.d.M.mode, n0 = c.n;
+            int mode0 = s.d.model.mode, n0 = c.n;
             int rc = vi_sim_advance_until(&s, T_END, 1);
             cr_assert(rc == VI_SIM_OK || rc == VI_SIM_EVENT, "solver %d: rc %d: %s", solvers[k], rc, s.msg);
             cr_assert(s.d.t > t0, "solver %d: no progress from t = %.17g s", solvers[k], t0);
@@ -75,9 +75,9 @@ Test(early_return, stops_at_every_mode_change_where_the_uninterrupted_run_change
             }
             /* exactly one mode change, and the advance ended at it with the new mode in force */
             cr_assert(c.n == n0 + 1, "solver %d: %d mode changes in one early-return advance", solvers[k], c.n - n0);
-            cr_assert(c.from[n0] == mode0 && c.to[n0] == s.d.M.mode && c.t[n0] == s.d.t,
+            cr_assert(c.from[n0] == mode0 && c.to[n0] == s.d.model.mode && c.t[n0] == s.d.t,
                       "solver %d: stopped at t = %.17g s in mode %d, the change was %d -> %d at %.17g s", solvers[k],
-                      s.d.t, s.d.M.mode, c.from[n0], c.to[n0], c.t[n0]);
+                      s.d.t, s.d.model.mode, c.from[n0], c.to[n0], c.t[n0]);
             stops++;
         }
         cr_assert(s.d.t == T_END, "solver %d: did not reach the end (t = %.17g s)", solvers[k], s.d.t);
@@ -106,7 +106,7 @@ Test(early_return, without_the_flag_the_advance_is_the_plain_one)
     for (int i = 1; i <= 30; i++) {
         cr_assert(vi_sim_advance(&a, 1e-3 * i) == VI_SIM_OK, "%s", a.msg);
         cr_assert(vi_sim_advance_until(&b, 1e-3 * i, 0) == VI_SIM_OK, "%s", b.msg);
-        cr_assert(a.d.t == b.d.t && a.d.x[0] == b.d.x[0] && a.d.x[1] == b.d.x[1] && a.d.M.mode == b.d.M.mode);
+        cr_assert(a.d.t == b.d.t && a.d.x[0] == b.d.x[0] && a.d.x[1] == b.d.x[1] && a.d.model.mode == b.d.model.mode);
     }
     cr_assert(ca.n == cb.n && ca.n >= 20);
     vi_sim_free(&a);
@@ -124,7 +124,7 @@ Test(early_return, a_mode_change_by_an_input_at_the_start_is_not_a_stop)
     vi_sim_init(&s, collect, &c);
     s.d.par.contact_model = VI_ContactModel_hertz;
     cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
-    cr_assert(vi_sim_advance_until(&s, 1e-3, 1) == VI_SIM_OK && s.d.M.mode == VI_Mode_elastic, "%s", s.msg);
+    cr_assert(vi_sim_advance_until(&s, 1e-3, 1) == VI_SIM_OK && s.d.model.mode == VI_Mode_elastic, "%s", s.msg);
     s.d.in.yC_in = -1e-3;
     s.d.inputs_changed = 1;
     int rc = vi_sim_advance_until(&s, 0.1, 1);
@@ -133,14 +133,15 @@ Test(early_return, a_mode_change_by_an_input_at_the_start_is_not_a_stop)
     double fall = sqrt(2e-3 / (40000.0 / 407.747 + 9.81));
     cr_assert(fabs(s.d.t - 1e-3 - fall) < 0.05 * fall, "stopped at t = %.17g s; the landing is at %.6g s", s.d.t,
               1e-3 + fall);
-    cr_assert(s.d.M.mode == VI_Mode_elastic && c.n == 1 && c.from[0] == VI_Mode_free, "mode %d after the landing",
-              s.d.M.mode);
+    cr_assert(s.d.model.mode == VI_Mode_elastic && c.n == 1 && c.from[0] == VI_Mode_free, "mode %d after the landing",
+              s.d.model.mode);
     vi_sim_free(&s);
 }
 
 /* Hertz, thrown up from a touching start; at t = 1e-4 s the flight is replaced (as a restored state
- * would) by one that is `gap` above the platform coming down at 0.05 m/s. The first early-return
- * advance from there: its mode changes and where it stopped. */
+ * would) by one that is `gap` above the platform coming down at 0.05 m/s, its contact guard armed
+ * (no band left from the start). The first early-return advance from there: its mode changes and
+ * where it stopped. */
 static void land_after_gap(double gap, changes *c, double *t0, double *t, int *mode)
 {
     vi_sim s;
@@ -151,15 +152,16 @@ static void land_after_gap(double gap, changes *c, double *t0, double *t, int *m
     s.d.par.v0 = 0.05;
     s.d.par.solver = VI_Solver_adams; /* CVODE restarts at the restored state: the landing falls in the advance */
     cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
-    cr_assert(vi_sim_advance(&s, 1e-4) == VI_SIM_OK && s.d.M.mode == VI_Mode_free, "%s", s.msg);
+    cr_assert(vi_sim_advance(&s, 1e-4) == VI_SIM_OK && s.d.model.mode == VI_Mode_free, "%s", s.msg);
     s.d.x[0] = -gap;
     s.d.x[1] = -0.05;
+    s.d.events.band[0] = 0.0;
     cr_assert(vi_sim_restore(&s) == 0, "%s", s.msg);
     memset(c, 0, sizeof *c);
     *t0 = s.d.t;
     cr_assert(vi_sim_advance_until(&s, 0.1, 1) == VI_SIM_EVENT, "%s", s.msg);
     *t = s.d.t;
-    *mode = s.d.M.mode;
+    *mode = s.d.model.mode;
     vi_sim_free(&s);
 }
 
@@ -199,11 +201,11 @@ Test(early_return, stops_at_a_kink_of_the_profile_that_changes_the_mode)
     snprintf(s.d.par.profile_file, sizeof s.d.par.profile_file, "%s", path);
     s.d.par.V = 1.0, s.d.par.x0 = -0.01;
     cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
-    cr_assert(s.d.M.mode == VI_Mode_free);
+    cr_assert(s.d.model.mode == VI_Mode_free);
     int rc = vi_sim_advance_until(&s, 0.1, 1);
     remove(path);
     cr_assert(rc == VI_SIM_EVENT, "rc %d: %s", rc, s.msg);
-    cr_assert(fabs(s.d.t - 0.01) <= 1e-12 && s.d.M.mode == VI_Mode_elastic && c.n == 0,
-              "stopped at t = %.17g s in mode %d after %d event mode changes", s.d.t, s.d.M.mode, c.n);
+    cr_assert(fabs(s.d.t - 0.01) <= 1e-12 && s.d.model.mode == VI_Mode_elastic && c.n == 0,
+              "stopped at t = %.17g s in mode %d after %d event mode changes", s.d.t, s.d.model.mode, c.n);
     vi_sim_free(&s);
 }

@@ -1,5 +1,5 @@
 /* Unit tests of the FMI 2.0 and 3.0 faces of the generic layer (src/vi_fmi2.c, src/vi_fmi3.c) on the
- * core with the stub model of tests/stub_model.h: what each face adds to the core (the logger's
+ * layer with the stub model of tests/stub_model.h: what each face adds to the layer (the logger's
  * calling convention, the resource URI, instantiation's arguments, the status queries, the results
  * the importer reads back, the size arguments of FMI 3.0, the functions not provided). */
 #include <criterion/criterion.h>
@@ -12,7 +12,7 @@
 
 #include "fmi2Functions.h"
 #include "fmi3Functions.h"
-#include "vi_fmi_core.h"
+#include "vi_fmi_layer.h"
 
 #include "stub_model.h"
 
@@ -170,7 +170,7 @@ Test(fmi2, instantiation_without_memory_for_the_resource_path_goes_on_without_re
     cr_assert(n_alloc == n_free + 1, "%d %d", n_alloc, n_free); /* the one that failed */
 }
 
-Test(fmi2, instantiation_needs_the_callbacks_with_a_logger_and_both_memory_functions)
+Test(fmi2, instantiation_needs_the_callbacks_with_a_logger)
 {
     logbook b = {0};
     cr_assert(fmi2Instantiate("x", fmi2CoSimulation, VI_GUID, NULL, NULL, fmi2False, fmi2False) == NULL);
@@ -178,27 +178,35 @@ Test(fmi2, instantiation_needs_the_callbacks_with_a_logger_and_both_memory_funct
     cb.logger = NULL;
     cr_assert(fmi2Instantiate("x", fmi2CoSimulation, VI_GUID, NULL, &cb, fmi2False, fmi2False) == NULL);
     cr_assert(b.count == 0);
-    n_alloc = 0;
-    cb = callbacks(&b);
-    cb.freeMemory = NULL;
-    cr_assert(fmi2Instantiate("x", fmi2CoSimulation, VI_GUID, "file:///tmp", &cb, fmi2False, fmi2False) == NULL);
-    SAYS(b, fmi2Error, "fmi2Instantiate: the callbacks allocateMemory and freeMemory are required");
-    cr_assert(b.count == 1 && n_alloc == 0, "the resource path was allocated without freeMemory");
-    cb = callbacks(&b);
-    cb.allocateMemory = NULL;
-    cr_assert(fmi2Instantiate("x", fmi2CoSimulation, VI_GUID, "file:///tmp", &cb, fmi2False, fmi2False) == NULL);
-    cr_assert(b.count == 2);
-    SAYS(b, fmi2Error, "allocateMemory and freeMemory are required");
+}
+
+/* canNotUseMemoryManagementFunctions="true" (the model descriptions): the importer may leave out the
+ * memory functions, or one of them; the instance then uses the C library's for every block. */
+Test(fmi2, instantiation_without_memory_functions_uses_the_fmus_own)
+{
+    for (int missing = 0; missing < 3; missing++) {
+        logbook b = {0};
+        fmi2CallbackFunctions cb = callbacks(&b);
+        if (missing != 1) cb.allocateMemory = NULL;
+        if (missing != 2) cb.freeMemory = NULL;
+        n_alloc = n_free = 0;
+        fmi2Component c = fmi2Instantiate("x", fmi2CoSimulation, VI_GUID, "file:///tmp", &cb, fmi2False, fmi2False);
+        cr_assert(c != NULL, "missing %d: %s", missing, b.text);
+        cr_assert(fmi2SetupExperiment(c, fmi2False, 0.0, 0.0, fmi2False, 0.0) == fmi2OK);
+        cr_assert(fmi2EnterInitializationMode(c) == fmi2OK && fmi2ExitInitializationMode(c) == fmi2OK);
+        fmi2FreeInstance(c);
+        cr_assert(n_alloc == 0 && n_free == 0 && b.count == 0, "missing %d: %d %d", missing, n_alloc, n_free);
+    }
 }
 
 Test(fmi2, the_fmu_type_selects_the_interface)
 {
     logbook b = {0};
     fmi2Component c = inst2(&b, fmi2ModelExchange, NULL);
-    cr_assert(c && ((vi_core *)c)->kind == VI_KIND_ME);
+    cr_assert(c && ((vi_fmi_instance *)c)->kind == VI_KIND_ME);
     fmi2FreeInstance(c);
     c = inst2(&b, fmi2CoSimulation, NULL);
-    cr_assert(c && ((vi_core *)c)->kind == VI_KIND_CS);
+    cr_assert(c && ((vi_fmi_instance *)c)->kind == VI_KIND_CS);
     fmi2FreeInstance(c);
     cr_assert(inst2(&b, (fmi2Type)2, NULL) == NULL);
     SAYS(b, fmi2Error, "fmi2Instantiate: CoreTest does not offer the interface type asked for (unknown type)");
@@ -225,7 +233,7 @@ Test(fmi2, status_queries_answer_the_last_successful_time_and_terminated_only)
     REFUSED(b, fmi2GetRealStatus(c, fmi2LastSuccessfulTime, &t), "fmi2GetRealStatus: not allowed");
     fmi2FreeInstance(c);
     c = running2(&b);
-    stub *s = ((vi_core *)c)->model;
+    stub *s = ((vi_fmi_instance *)c)->model;
     s->advance_rc = VI_FMU_DISCARD, s->advance_to = 0.125;
     cr_assert(fmi2DoStep(c, 0.0, 0.5, fmi2True) == fmi2Discard);
     cr_assert(fmi2GetRealStatus(c, fmi2LastSuccessfulTime, &t) == fmi2OK && t == 0.125);
@@ -251,7 +259,7 @@ Test(fmi2, status_queries_answer_the_last_successful_time_and_terminated_only)
     REFUSED(b, fmi2GetIntegerStatus(c, fmi2PendingStatus, NULL), "fmi2GetIntegerStatus: value is NULL");
     REFUSED(b, fmi2GetStringStatus(c, fmi2PendingStatus, NULL), "fmi2GetStringStatus: value is NULL");
     /* in the error state: the last status queries only */
-    ((vi_core *)c)->state = VI_ST_ERROR;
+    ((vi_fmi_instance *)c)->state = VI_ST_ERROR;
     cr_assert(fmi2GetRealStatus(c, fmi2LastSuccessfulTime, &t) == fmi2OK);
     cr_assert(fmi2GetBooleanStatus(c, fmi2Terminated, &term) == fmi2OK);
     REFUSED(b, fmi2GetStatus(c, fmi2DoStepStatus, &st), "fmi2GetStatus: not allowed in state 'error'");
@@ -272,7 +280,7 @@ Test(fmi2, output_derivatives_and_cancel_step_are_not_provided)
     REFUSED(b, fmi2GetRealOutputDerivatives(c, &vr, 1, &order, &v),
             "fmi2GetRealOutputDerivatives: not provided (maxOutputDerivativeOrder=0)");
     REFUSED(b, fmi2CancelStep(c), "fmi2CancelStep: fmi2DoStep is synchronous; there is nothing to cancel");
-    cr_assert(((vi_core *)c)->state == VI_ST_STEP_COMPLETE);
+    cr_assert(((vi_fmi_instance *)c)->state == VI_ST_STEP_COMPLETE);
     cr_assert(fmi2GetRealOutputDerivatives(NULL, &vr, 1, &order, &v) == fmi2Error);
     cr_assert(fmi2CancelStep(NULL) == fmi2Error);
     fmi2FreeInstance(c);
@@ -294,7 +302,7 @@ Test(fmi2, the_event_info_carries_each_field_of_the_pass)
 {
     logbook b = {0};
     fmi2Component c = events2(&b);
-    stub *s = ((vi_core *)c)->model;
+    stub *s = ((vi_fmi_instance *)c)->model;
     REFUSED(b, fmi2NewDiscreteStates(c, NULL), "fmi2NewDiscreteStates: fmi2EventInfo is NULL");
     static const vi_fmu_event cases[] = {
         {.another_pass = 1}, {.terminate = 1}, {.nominals_changed = 1}, {.states_changed = 1},
@@ -326,7 +334,7 @@ Test(fmi2, a_completed_integrator_step_writes_both_results_or_neither)
 {
     logbook b = {0};
     fmi2Component c = events2(&b);
-    stub *s = ((vi_core *)c)->model;
+    stub *s = ((vi_fmi_instance *)c)->model;
     cr_assert(fmi2EnterContinuousTimeMode(c) == fmi2OK);
     fmi2Boolean enter = 7, term = 7;
     REFUSED(b, fmi2CompletedIntegratorStep(c, fmi2True, NULL, &term), "fmi2CompletedIntegratorStep: NULL argument");
@@ -339,14 +347,14 @@ Test(fmi2, a_completed_integrator_step_writes_both_results_or_neither)
     term = 7;
     cr_assert(fmi2CompletedIntegratorStep(c, fmi2True, &enter, &term) == fmi2OK && enter == fmi2False &&
               term == fmi2False);
-    ((vi_core *)c)->state = VI_ST_EVENT;
+    ((vi_fmi_instance *)c)->state = VI_ST_EVENT;
     enter = term = 7;
     REFUSED(b, fmi2CompletedIntegratorStep(c, fmi2True, &enter, &term), "not allowed in state 'event mode'");
     cr_assert(enter == 7 && term == 7);
     fmi2FreeInstance(c);
 }
 
-Test(fmi2, each_function_reaches_the_core_under_its_own_name)
+Test(fmi2, each_model_exchange_and_state_function_reaches_the_layer_under_its_own_name)
 {
     logbook b = {0};
     fmi2Component c = events2(&b);
@@ -388,17 +396,23 @@ Test(fmi2, each_function_reaches_the_core_under_its_own_name)
     cr_assert(fmi2FreeFMUstate(c, &back) == fmi2OK && back == NULL);
     cr_assert(fmi2FreeFMUstate(c, &st) == fmi2OK);
     free(bytes);
-    cr_assert(fmi2Terminate(c) == fmi2OK && ((vi_core *)c)->state == VI_ST_TERMINATED);
+    cr_assert(fmi2Terminate(c) == fmi2OK && ((vi_fmi_instance *)c)->state == VI_ST_TERMINATED);
     REFUSED(b, fmi2Terminate(c), "fmi2Terminate: not allowed in state 'terminated'");
-    cr_assert(fmi2Reset(c) == fmi2OK && ((vi_core *)c)->state == VI_ST_INSTANTIATED);
+    cr_assert(fmi2Reset(c) == fmi2OK && ((vi_fmi_instance *)c)->state == VI_ST_INSTANTIATED);
     REFUSED(b, fmi2ExitInitializationMode(c), "fmi2ExitInitializationMode: not allowed");
     REFUSED(b, fmi2SetupExperiment(c, fmi2True, 0.0, 0.0, fmi2False, 0.0), "fmi2SetupExperiment: need a finite start");
     REFUSED(b, fmi2DoStep(c, 0.0, 1.0, fmi2True), "fmi2DoStep: not allowed");
     REFUSED(b, fmi2NewDiscreteStates(c, &(fmi2EventInfo){0}), "fmi2NewDiscreteStates: not allowed");
     REFUSED(b, fmi2EnterEventMode(c), "fmi2EnterEventMode: not allowed");
     fmi2FreeInstance(c);
+}
 
-    c = running2(&b);
+Test(fmi2, each_value_and_step_function_reaches_the_layer_under_its_own_name)
+{
+    logbook b = {0};
+    fmi2Component c = running2(&b);
+    fmi2ValueReference unk = VI_VR_der_p, kn = VI_VR_q;
+    fmi2Real seed = 2.0, out = 0.0;
     fmi2ValueReference vk = VI_VR_k, vn = VI_VR_n, vb = VI_VR_b, vl = VI_VR_label, vu = VI_VR_u;
     fmi2Real k = 0;
     fmi2Integer n = 0, bo = 0, order = 1;
@@ -460,20 +474,20 @@ Test(fmi3, the_logger_gets_the_message_as_it_is_and_instantiation_its_arguments)
                                                  logger3, NULL);
     cr_assert(c && b.count == 1 && strcmp(b.text, "fmi3InstantiateCoSimulation: three") == 0 &&
               strcmp(b.category, "logFmi3Call") == 0, "%d '%s'", b.count, b.text);
-    cr_assert(((vi_core *)c)->face_options == 0u && resources_dir == NULL);
+    cr_assert(((vi_fmi_instance *)c)->face_options == 0u && resources_dir == NULL);
     fmi3String cats[] = {"100%"};
     cr_assert(fmi3SetDebugLogging(c, true, 1, cats) == fmi3Error);
     cr_assert(strcmp(b.text, "fmi3SetDebugLogging: unknown log category '100%'") == 0, "'%s'", b.text);
     fmi3FreeInstance(c);
     cr_assert(strcmp(b.text, "fmi3FreeInstance") == 0);
     c = fmi3InstantiateCoSimulation("three", VI_GUID, "/res/", false, false, true, false, NULL, 0, &b, logger3, NULL);
-    cr_assert(c && ((vi_core *)c)->face_options == 1u && resources_dir && strcmp(resources_dir, "/res/") == 0);
+    cr_assert(c && ((vi_fmi_instance *)c)->face_options == 1u && resources_dir && strcmp(resources_dir, "/res/") == 0);
     fmi3FreeInstance(c);
     c = fmi3InstantiateCoSimulation("three", VI_GUID, NULL, false, false, false, true, NULL, 0, &b, logger3, NULL);
-    cr_assert(c && ((vi_core *)c)->face_options == 2u && resources_dir == NULL);
+    cr_assert(c && ((vi_fmi_instance *)c)->face_options == 2u && resources_dir == NULL);
     fmi3FreeInstance(c);
     c = fmi3InstantiateModelExchange("three", VI_GUID, "/r", false, false, &b, logger3);
-    cr_assert(c && ((vi_core *)c)->kind == VI_KIND_ME && ((vi_core *)c)->face_options == 0u &&
+    cr_assert(c && ((vi_fmi_instance *)c)->kind == VI_KIND_ME && ((vi_fmi_instance *)c)->face_options == 0u &&
               strcmp(resources_dir, "/r") == 0);
     fmi3FreeInstance(c);
     int before = b.count;
@@ -483,7 +497,8 @@ Test(fmi3, the_logger_gets_the_message_as_it_is_and_instantiation_its_arguments)
     SAYS(b, fmi3Error, "fmi3InstantiateCoSimulation: GUID '{other}' does not match");
     cr_assert(fmi3InstantiateScheduledExecution("s", VI_GUID, NULL, false, false, &b, logger3, NULL, NULL, NULL) == NULL);
     cr_assert(b.count == before + 2 && strcmp(b.category, "logStatusError") == 0);
-    SAYS(b, fmi3Error, "fmi3InstantiateScheduledExecution: this FMU offers Co-Simulation only");
+    SAYS(b, fmi3Error, "fmi3InstantiateScheduledExecution: this FMU offers Co-Simulation and Model Exchange, "
+                              "not Scheduled Execution");
     cr_assert(fmi3InstantiateScheduledExecution("s", VI_GUID, NULL, false, false, &b, NULL, NULL, NULL, NULL) == NULL);
     cr_assert(strcmp(fmi3GetVersion(), "3.0") == 0);
 }
@@ -493,34 +508,34 @@ Test(fmi3, initialization_mode_is_entered_only_with_valid_settings_and_left_into
     logbook b = {0};
     fmi3Instance c = cs3(&b, false, false);
     REFUSED(b, fmi3EnterInitializationMode(c, true, 1.0, 0.0, false, 0.0), "fmi3EnterInitializationMode: need a finite");
-    cr_assert(((vi_core *)c)->state == VI_ST_INSTANTIATED);
+    cr_assert(((vi_fmi_instance *)c)->state == VI_ST_INSTANTIATED);
     cr_assert(fmi3EnterInitializationMode(c, true, 0.5, 2.0, true, 3.0) == fmi3OK);
-    cr_assert(((vi_core *)c)->state == VI_ST_INIT && ((vi_core *)c)->stop_time == 3.0);
+    cr_assert(((vi_fmi_instance *)c)->state == VI_ST_INIT && ((vi_fmi_instance *)c)->stop_time == 3.0);
     REFUSED(b, fmi3EnterInitializationMode(c, false, 0.0, 0.0, false, 0.0),
             "fmi3EnterInitializationMode: not allowed in state 'initialization mode'");
-    cr_assert(fmi3ExitInitializationMode(c) == fmi3OK && ((vi_core *)c)->state == VI_ST_STEP_COMPLETE);
+    cr_assert(fmi3ExitInitializationMode(c) == fmi3OK && ((vi_fmi_instance *)c)->state == VI_ST_STEP_COMPLETE);
     REFUSED(b, fmi3EnterEventMode(c), "fmi3EnterEventMode: the instance was created with eventModeUsed = false");
-    cr_assert(((vi_core *)c)->state == VI_ST_STEP_COMPLETE);
+    cr_assert(((vi_fmi_instance *)c)->state == VI_ST_STEP_COMPLETE);
     REFUSED(b, fmi3ExitInitializationMode(c), "fmi3ExitInitializationMode: not allowed in state 'step complete'");
     fmi3FreeInstance(c);
     c = cs3(&b, false, false);
     REFUSED(b, fmi3EnterEventMode(c), "fmi3EnterEventMode: not allowed in state 'instantiated'");
     fmi3FreeInstance(c);
     c = running3(&b, true, false);
-    cr_assert(((vi_core *)c)->state == VI_ST_EVENT);
+    cr_assert(((vi_fmi_instance *)c)->state == VI_ST_EVENT);
     REFUSED(b, fmi3EnterEventMode(c), "fmi3EnterEventMode: not allowed in state 'event mode'");
-    cr_assert(fmi3EnterStepMode(c) == fmi3OK && ((vi_core *)c)->state == VI_ST_STEP_COMPLETE);
-    cr_assert(fmi3EnterEventMode(c) == fmi3OK && ((vi_core *)c)->state == VI_ST_EVENT);
+    cr_assert(fmi3EnterStepMode(c) == fmi3OK && ((vi_fmi_instance *)c)->state == VI_ST_STEP_COMPLETE);
+    cr_assert(fmi3EnterEventMode(c) == fmi3OK && ((vi_fmi_instance *)c)->state == VI_ST_EVENT);
     fmi3FreeInstance(c);
     c = cs3(&b, true, false);
-    stub *s = ((vi_core *)c)->model;
+    stub *s = ((vi_fmi_instance *)c)->model;
     s->fail_init = 1;
     cr_assert(fmi3EnterInitializationMode(c, false, 0.0, 0.0, false, 0.0) == fmi3OK);
     REFUSED(b, fmi3ExitInitializationMode(c), "fmi3ExitInitializationMode: the stub says no");
-    cr_assert(((vi_core *)c)->state == VI_ST_ERROR);
+    cr_assert(((vi_fmi_instance *)c)->state == VI_ST_ERROR);
     fmi3FreeInstance(c);
     c = me3(&b);
-    cr_assert(((vi_core *)c)->state == VI_ST_EVENT);
+    cr_assert(((vi_fmi_instance *)c)->state == VI_ST_EVENT);
     cr_assert(fmi3EnterContinuousTimeMode(c) == fmi3OK && fmi3EnterEventMode(c) == fmi3OK);
     fmi3FreeInstance(c);
     cr_assert(fmi3EnterEventMode(NULL) == fmi3Error && fmi3ExitInitializationMode(NULL) == fmi3Error);
@@ -567,7 +582,7 @@ Test(fmi3, every_variable_is_a_scalar)
     fmi3FreeInstance(c);
     c = cs3(&b, false, false);
     REFUSED(b, fmi3GetFloat64(c, &vk, 1, k, 2), "fmi3GetFloat64: not allowed in state 'instantiated'");
-    ((vi_core *)c)->state = VI_ST_STEP_FAILED;
+    ((vi_fmi_instance *)c)->state = VI_ST_STEP_FAILED;
     REFUSED(b, fmi3SetInt32(c, &vn, 1, n, 2), "fmi3SetInt32: not allowed in state 'step failed'");
     REFUSED(b, fmi3SetFloat64(c, &vk, 1, k, 2), "fmi3SetFloat64: not allowed in state 'step failed'");
     fmi3FreeInstance(c);
@@ -627,7 +642,7 @@ Test(fmi3, update_discrete_states_checks_each_result_pointer_and_fills_every_res
 {
     logbook b = {0};
     fmi3Instance c = me3(&b);
-    stub *s = ((vi_core *)c)->model;
+    stub *s = ((vi_fmi_instance *)c)->model;
     bool r[5];
     double next = -1.0;
     for (int k = 0; k < 6; k++) {
@@ -665,7 +680,7 @@ Test(fmi3, update_discrete_states_checks_each_result_pointer_and_fills_every_res
     next = -1.0;
     cr_assert(fmi3UpdateDiscreteStates(c, &r[0], &r[1], &r[2], &r[3], &r[4], &next) == fmi3OK);
     cr_assert(!r[0] && !r[1] && !r[2] && !r[3] && !r[4] && next == 0.0);
-    cr_assert(((stub *)((vi_core *)c)->model)->event_calls == 0);
+    cr_assert(((stub *)((vi_fmi_instance *)c)->model)->event_calls == 0);
     cr_assert(fmi3EnterStepMode(c) == fmi3OK);
     REFUSED(b, fmi3UpdateDiscreteStates(c, &r[0], &r[1], &r[2], &r[3], &r[4], &next),
             "fmi3UpdateDiscreteStates: not allowed in state 'step complete'");
@@ -680,7 +695,7 @@ Test(fmi3, a_completed_integrator_step_and_the_model_exchange_counts)
 {
     logbook b = {0};
     fmi3Instance c = me3(&b);
-    stub *s = ((vi_core *)c)->model;
+    stub *s = ((vi_fmi_instance *)c)->model;
     size_t n = 0;
     cr_assert(fmi3GetNumberOfContinuousStates(c, &n) == fmi3OK && n == 2);
     cr_assert(fmi3GetNumberOfEventIndicators(c, &n) == fmi3OK && n == 1);
@@ -735,10 +750,10 @@ Test(fmi3, do_step_results_with_and_without_early_return)
         REFUSED(b, fmi3DoStep(c, 0.0, 1.0, false, p[0], p[1], p[2], pl), "fmi3DoStep: NULL argument");
     }
     cr_assert(fmi3DoStep(NULL, 0.0, 1.0, false, &ehn, &term, &early, &last) == fmi3Error);
-    ((vi_core *)c)->state = VI_ST_STEP_FAILED; /* the state is checked before the arguments */
+    ((vi_fmi_instance *)c)->state = VI_ST_STEP_FAILED; /* the state is checked before the arguments */
     REFUSED(b, fmi3DoStep(c, 0.0, 1.0, false, NULL, &term, &early, &last), "fmi3DoStep: not allowed in state 'step failed'");
-    ((vi_core *)c)->state = VI_ST_STEP_COMPLETE;
-    stub *s = ((vi_core *)c)->model;
+    ((vi_fmi_instance *)c)->state = VI_ST_STEP_COMPLETE;
+    stub *s = ((vi_fmi_instance *)c)->model;
     /* an event inside the step */
     s->advance_rc = VI_FMU_EVENT, s->advance_to = 0.25;
     cr_assert(fmi3DoStep(c, 0.0, 1.0, false, &ehn, &term, &early, &last) == fmi3OK, "%s", b.text);
@@ -760,7 +775,7 @@ Test(fmi3, do_step_results_with_and_without_early_return)
 
     /* early return without event mode: no event handling asked for */
     c = running3(&b, false, true);
-    s = ((vi_core *)c)->model;
+    s = ((vi_fmi_instance *)c)->model;
     s->advance_rc = VI_FMU_EVENT, s->advance_to = 0.5;
     cr_assert(fmi3DoStep(c, 0.0, 1.0, false, &ehn, &term, &early, &last) == fmi3OK);
     cr_assert(!ehn && early && last == 0.5);
@@ -769,7 +784,7 @@ Test(fmi3, do_step_results_with_and_without_early_return)
     /* without early return the step goes to its end through advance: an event there is the model's error */
     c = running3(&b, true, false);
     cr_assert(fmi3EnterStepMode(c) == fmi3OK);
-    s = ((vi_core *)c)->model;
+    s = ((vi_fmi_instance *)c)->model;
     cr_assert(fmi3DoStep(c, 0.0, 1.0, false, &ehn, &term, &early, &last) == fmi3OK && !ehn && !early && last == 1.0);
     s->advance_rc = VI_FMU_EVENT, s->advance_to = 1.5;
     REFUSED(b, fmi3DoStep(c, 1.0, 1.0, false, &ehn, &term, &early, &last), "fmi3DoStep: the model stopped at t = 1.5 s");
@@ -802,9 +817,9 @@ Test(fmi3, functions_not_provided_are_refused_after_the_state_check)
     REFUSED(b, fmi3GetOutputDerivatives(c, &vr, 1, &order, &d, 1), "fmi3GetOutputDerivatives: not provided (maxOutputDerivativeOrder = 0)");
     cr_assert(fmi3Terminate(c) == fmi3OK);
     REFUSED(b, fmi3GetOutputDerivatives(c, &vr, 1, &order, &d, 1), "fmi3GetOutputDerivatives: not provided");
-    ((vi_core *)c)->state = VI_ST_FATAL;
+    ((vi_fmi_instance *)c)->state = VI_ST_FATAL;
     REFUSED(b, fmi3EnterConfigurationMode(c), "fmi3EnterConfigurationMode: not allowed in state 'fatal'");
-    ((vi_core *)c)->state = VI_ST_TERMINATED;
+    ((vi_fmi_instance *)c)->state = VI_ST_TERMINATED;
     cr_assert(fmi3Reset(c) == fmi3OK);
     REFUSED(b, fmi3GetOutputDerivatives(c, &vr, 1, &order, &d, 1), "fmi3GetOutputDerivatives: not allowed in state 'instantiated'");
     fmi3FreeInstance(c);

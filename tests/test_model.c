@@ -15,6 +15,19 @@
 #include "vi_model.h"
 #include "vi_sim.h"
 
+/* The model set up from (and its option warnings of) the FMU's parameters, as the simulation does. */
+static int setup_from_table(vi_model *M, const vi_parameters *p, double t0, char *msg, size_t n)
+{
+    vi_model_params mp = vi_sim_model_params(p);
+    return vi_model_setup(M, &mp, t0, msg, n);
+}
+
+static int warnings_from_table(const vi_parameters *p, char *msg, size_t n)
+{
+    vi_model_params mp = vi_sim_model_params(p);
+    return vi_model_option_warnings(&mp, msg, n);
+}
+
 static vi_model setup(int law, int moving, int unloading, double P, double g, double a)
 {
     vi_parameters p;
@@ -27,7 +40,7 @@ static vi_model setup(int law, int moving, int unloading, double P, double g, do
     p.a = a;
     vi_model M = {0};
     char msg[256];
-    cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
     return M;
 }
 
@@ -39,10 +52,10 @@ Test(model, rejects_two_planes)
     vi_model M;
     char msg[256];
     p.R1 = p.R2 = 0;
-    cr_assert(vi_model_setup(&M, &p, 0, msg, sizeof msg) < 0);
+    cr_assert(setup_from_table(&M, &p, 0, msg, sizeof msg) < 0);
     cr_assert(strstr(msg, "R1 = R2 = 0") != NULL, "%s", msg);
     p.R2 = 1e-3;
-    cr_assert(vi_model_setup(&M, &p, 0, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(setup_from_table(&M, &p, 0, msg, sizeof msg) == 0, "%s", msg);
 }
 
 /* The variable table's ranges (include/vi_variables.h): the exclusive bounds are exactly the doubles
@@ -134,10 +147,10 @@ Test(model, plastically_preloaded_static_state)
     for (int variant = 1; variant <= 2; variant++) {
         vi_model M = {0};
         p.unloading = variant;
-        cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0);
-        cr_assert(M.J.F_Y < p.P + p.m * p.g);
+        cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0);
+        cr_assert(M.johnson.F_Y < p.P + p.m * p.g);
         vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
-        cr_assert(M.yielded && M.U.delta_c == x[0] && x[0] > M.J.delta_Y);
+        cr_assert(M.yielded && M.unload.delta_c == x[0] && x[0] > M.johnson.delta_Y);
         /* paper: the unloading force F_Y k_c is below the load: stick; continuous: on the unloading curve */
         cr_assert(M.mode == (variant == 1 ? VI_Mode_stick : VI_Mode_unload), "variant %d: mode %d", variant, M.mode);
         cr_assert(fabs(vi_model_force(&M, 0.0, x) - (p.P + p.m * p.g)) <= 1e-9 * p.P);
@@ -147,14 +160,14 @@ Test(model, plastically_preloaded_static_state)
 Test(model, turning_point_chooses_plastic_stick_or_unload)
 {
     vi_model M = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
-    double dc = 3.0 * M.J.delta_Y;
-    vi_unload_curve U = vi_johnson_unload_curve(&M.J, VI_UNLOAD_PAPER, dc);
-    double Fl = vi_johnson_load(&M.J, dc), Fu = vi_unload_force(&U, dc);
+    double dc = 3.0 * M.johnson.delta_Y;
+    vi_unload_curve U = vi_johnson_unload_curve(&M.johnson, VI_UNLOAD_PAPER, dc);
+    double Fl = vi_johnson_load(&M.johnson, dc), Fu = vi_unload_force(&U, dc);
     struct { double F_hold; int mode; } cases[] = {
         {1.01 * Fl, VI_Mode_plastic}, {0.5 * (Fl + Fu), VI_Mode_stick}, {0.99 * Fu, VI_Mode_unload}};
     for (int i = 0; i < 3; i++) {
         M.yielded = 1;
-        M.U = U;
+        M.unload = U;
         M.mode = VI_Mode_plastic;
         M.F_ext = (vi_ramp){-cases[i].F_hold, 0.0, 0.0}; /* W = P + m g - F_ext = F_hold (a = 0) */
         double x[2] = {dc, 0.0};
@@ -176,7 +189,7 @@ Test(model, resolved_mode_has_nonnegative_guards)
                 for (int k = 0; k < 2000; k++) {
                     double t = 1e-5 * k;
                     vi_model_freeze(&M, t, x); /* then jump, as an input change does */
-                    x[0] = M.J.delta_Y * (8.0 * rand() / RAND_MAX - 1.0);
+                    x[0] = M.johnson.delta_Y * (8.0 * rand() / RAND_MAX - 1.0);
                     x[1] = 0.2 * (2.0 * rand() / RAND_MAX - 1.0);
                     long n = M.n_impacts;
                     int from = M.mode, mode = vi_model_resolve(&M, t, x);
@@ -212,13 +225,13 @@ Test(model_check, accepts_every_state_of_real_runs)
         s.d.par.a = 1e-4;
         s.d.par.f = cases[c].Y < 3e8 ? 100.0 : 560.0;
         char msg[256];
-        cr_assert(vi_model_check(&s.d.M, s.d.x, msg, sizeof msg) == 0, "never set up: %s", msg);
+        cr_assert(vi_model_check(&s.d.model, s.d.x, msg, sizeof msg) == 0, "never set up: %s", msg);
         cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
         int modes = 0;
         for (int k = 1; k <= 300; k++) {
             cr_assert(vi_sim_advance(&s, 1e-4 * k) == 0, "%s", s.msg);
-            modes |= 1 << s.d.M.mode;
-            cr_assert(vi_model_check(&s.d.M, s.d.x, msg, sizeof msg) == 0, "case %zu t = %g: %s", c, s.d.t, msg);
+            modes |= 1 << s.d.model.mode;
+            cr_assert(vi_model_check(&s.d.model, s.d.x, msg, sizeof msg) == 0, "case %zu t = %g: %s", c, s.d.t, msg);
         }
         cr_assert(modes & 1 << VI_Mode_elastic || modes & 1 << VI_Mode_unload || modes & 1 << VI_Mode_stick);
         vi_sim_free(&s);
@@ -238,7 +251,7 @@ Test(model_check, accepts_resolved_random_states)
             for (int k = 0; k < 2000; k++) {
                 double t = 1e-5 * k;
                 vi_model_freeze(&M, t, x);
-                x[0] = M.J.delta_Y * (8.0 * rand() / RAND_MAX - 1.0);
+                x[0] = M.johnson.delta_Y * (8.0 * rand() / RAND_MAX - 1.0);
                 x[1] = 0.2 * (2.0 * rand() / RAND_MAX - 1.0);
                 vi_model_resolve(&M, t, x);
                 cr_assert(vi_model_check(&M, x, msg, sizeof msg) == 0, "law %d: %s", law, msg);
@@ -253,7 +266,7 @@ static vi_model yielded_model(double x[2])
     vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
     M.mode = VI_Mode_plastic;
     M.yielded = 1;
-    x[0] = 3.0 * M.J.delta_Y;
+    x[0] = 3.0 * M.johnson.delta_Y;
     x[1] = 1.0; /* moving away: unloads */
     vi_model_freeze(&M, 0.0, x);
     cr_assert(vi_model_resolve(&M, 0.0, x) == VI_Mode_unload);
@@ -271,30 +284,30 @@ static const char *spoil(vi_model *M, double x[2], int which)
     case 4: M->mode = 5; return "mode";
     case 5: M->m = -1.0; return "constant m";
     case 6: M->K *= 1.0 + 1e-6; return "K";
-    case 7: M->J.delta_Y = INFINITY; return "delta_Y";
+    case 7: M->johnson.delta_Y = INFINITY; return "delta_Y";
     case 8: M->k_lin *= 2.0; return "k_lin";
     case 9: M->omega = -1.0; return "omega";
     case 10: M->yC_in.du = NAN; return "yC_in";
     case 11: M->yielded = 3; return "yielded";
     case 12: M->n_impacts = -1; return "n_impacts";
     case 13: M->delta_p = 1e-6; return "delta_p";
-    case 14: M->U.Rbar *= 1.001; return "Rbar";
-    case 15: M->U.delta_f = M->U.delta_c * 1.5; return "delta_f";
-    case 16: M->U.delta_c = 0.5 * M->J.delta_Y; return "delta_c";
-    case 17: M->U.Kbar = NAN; return "finite";
+    case 14: M->unload.Rbar *= 1.001; return "Rbar";
+    case 15: M->unload.delta_f = M->unload.delta_c * 1.5; return "delta_f";
+    case 16: M->unload.delta_c = 0.5 * M->johnson.delta_Y; return "delta_c";
+    case 17: M->unload.Kbar = NAN; return "finite";
     case 18: M->yielded = 0; return "yielded = 0";      /* memory left behind */
     case 19: M->mode = VI_Mode_elastic; return "mode = 1"; /* virgin branch after yield */
     case 20: M->mode = VI_Mode_free; return "mode 0 does not fit"; /* in contact at delta > delta_f */
-    case 21: x[0] = M->U.delta_c * 1.01; return "mode 3 does not fit"; /* beyond delta_c while unloading */
+    case 21: x[0] = M->unload.delta_c * 1.01; return "mode 3 does not fit"; /* beyond delta_c while unloading */
     case 22: M->mode = VI_Mode_stick; return "mode 4 does not fit"; /* stick off delta_c */
-    case 23: M->unloading = VI_UNLOAD_CONTINUOUS; M->U = vi_johnson_unload_curve(&M->J, 2, M->U.delta_c);
-             M->mode = VI_Mode_stick; x[0] = M->U.delta_c; return "mode = 4"; /* stick needs paper unloading */
+    case 23: M->unloading = VI_UNLOAD_CONTINUOUS; M->unload = vi_johnson_unload_curve(&M->johnson, 2, M->unload.delta_c);
+             M->mode = VI_Mode_stick; x[0] = M->unload.delta_c; return "mode = 4"; /* stick needs paper unloading */
     case 24: M->law = VI_ContactModel_hertz; return "yielded = 1 is impossible";
-    case 26: M->yielded = 0; M->U = (vi_unload_curve){0}; return "mode = 3"; /* unloading without memory */
+    case 26: M->yielded = 0; M->unload = (vi_unload_curve){0}; return "mode = 3"; /* unloading without memory */
     case 25: M->f_contact = NAN; return "f_contact";
     case 27: M->m = 0.0; return "constant m = 0 is not positive";
     case 28: M->K = 0.0; return "constant K = 0 is not positive"; /* before its consistency with E*, R* */
-    case 29: M->J.delta_Y *= 1.0 + 1e-6; return "delta_Y = "; /* F_Y = K delta_Y^1.5 off: before k_lin's check */
+    case 29: M->johnson.delta_Y *= 1.0 + 1e-6; return "delta_Y = "; /* F_Y = K delta_Y^1.5 off: before k_lin's check */
     case 30: M->delta_p = NAN; return "delta_p = nan is not finite";
     default: return NULL;
     }
@@ -306,7 +319,7 @@ Test(model_check, names_the_first_bad_field)
     char msg[256];
     vi_model ok = yielded_model(x0);
     cr_assert(vi_model_check(&ok, x0, msg, sizeof msg) == 0, "%s", msg);
-    x0[0] = 0.5 * (ok.U.delta_c + ok.U.delta_f); /* inside the unloading branch */
+    x0[0] = 0.5 * (ok.unload.delta_c + ok.unload.delta_f); /* inside the unloading branch */
     cr_assert(vi_model_check(&ok, x0, msg, sizeof msg) == 0, "%s", msg);
     for (int k = 0;; k++) {
         vi_model M = ok;
@@ -321,7 +334,7 @@ Test(model_check, names_the_first_bad_field)
     vi_model M = ok;
     M.yielded = 0;
     char expect[128];
-    snprintf(expect, sizeof expect, "(delta_c = %g, Rbar = %g)", ok.U.delta_c, ok.U.Rbar);
+    snprintf(expect, sizeof expect, "(delta_c = %g, Rbar = %g)", ok.unload.delta_c, ok.unload.Rbar);
     cr_assert(vi_model_check(&M, x0, msg, sizeof msg) < 0 && strstr(msg, expect), "expected '%s' in: %s", expect, msg);
 }
 
@@ -356,7 +369,7 @@ Test(model, never_set_up_is_hertz_without_stiffness)
         vi_model M;
         memset(&M, 0, sizeof M);
         M.mode = mode;
-        vi_outputs out;
+        vi_model_values out;
         memset(&out, 0xab, sizeof out);
         vi_model_outputs(&M, 0.0, x, VI_OUT_STATE | VI_OUT_FORCE | VI_OUT_MEMORY, &out);
         cr_assert(out.delta == 1e-6 && out.v == -0.5 && out.contact == (mode != VI_Mode_free) && out.mode == mode,
@@ -376,12 +389,12 @@ Test(model_check, guard_tolerance)
     char msg[256];
     vi_model_initial_state(&M, VI_Init_touching, 0.0, 0.0, x);
     M.mode = VI_Mode_free;
-    x[0] = 1e-9 * M.J.delta_Y; /* penetrating by a rounding error while free */
+    x[0] = 1e-9 * M.johnson.delta_Y; /* penetrating by a rounding error while free */
     cr_assert(vi_model_check(&M, x, msg, sizeof msg) == 0, "%s", msg);
-    x[0] = 1e-5 * M.J.delta_Y;
+    x[0] = 1e-5 * M.johnson.delta_Y;
     cr_assert(vi_model_check(&M, x, msg, sizeof msg) < 0);
     M.mode = VI_Mode_elastic; /* in contact at -1e-5 delta_Y: separated */
-    x[0] = -1e-5 * M.J.delta_Y;
+    x[0] = -1e-5 * M.johnson.delta_Y;
     cr_assert(vi_model_check(&M, x, msg, sizeof msg) < 0);
 }
 
@@ -398,12 +411,12 @@ Test(model, stick_keeps_delta_exactly_on_delta_c)
     int sticking = 0, touching = 0;
     for (int k = 1; k <= 500; k++) {
         cr_assert(vi_sim_advance(&s, 1e-4 * k) == 0, "%s", s.msg);
-        const vi_model *M = &s.d.M;
+        const vi_model *M = &s.d.model;
         double t = s.d.t, *x = s.d.x, j[4], fd[4];
         vi_model_jacobian(M, t, x, j);
         /* the right-hand side's own derivatives, by central differences of relative step 1e-6 */
         for (int c = 0; c < 2; c++) {
-            double h = 1e-6 * fmax(fabs(x[c]), c == 0 ? M->J.delta_Y : 1e-3), xp[2] = {x[0], x[1]},
+            double h = 1e-6 * fmax(fabs(x[c]), c == 0 ? M->johnson.delta_Y : 1e-3), xp[2] = {x[0], x[1]},
                    xm[2] = {x[0], x[1]}, fp[2], fm[2];
             xp[c] += h, xm[c] -= h;
             vi_model_rhs(M, t, xp, fp);
@@ -424,7 +437,7 @@ Test(model, stick_keeps_delta_exactly_on_delta_c)
         /* stick: delta' = 0 and v' = yC'' do not depend on the state, so the Jacobian is zero */
         for (int i = 0; i < 4; i++)
             cr_assert(j[i] == 0.0 && fd[i] == 0.0, "t = %g: J[%d] = %g, difference %g", t, i, j[i], fd[i]);
-        cr_assert(x[0] == M->U.delta_c, "t = %g: delta - delta_c = %g", t, x[0] - M->U.delta_c);
+        cr_assert(x[0] == M->unload.delta_c, "t = %g: delta - delta_c = %g", t, x[0] - M->unload.delta_c);
     }
     cr_assert(sticking > 50 && touching > 50, "%d samples in stick, %d in other contact modes", sticking, touching);
     vi_sim_free(&s);
@@ -441,16 +454,16 @@ Test(model, static_state_at_extreme_loads, .timeout = 20)
             double W = loads[i], x[2];
             vi_model M = setup(law, 0, VI_Unloading_paper, W, 0.0, 0.0);
             vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
-            if (law == VI_ContactModel_lepp && W < M.J.F_Y) /* linear: W/k_lin, 0 where that underflows */
+            if (law == VI_ContactModel_lepp && W < M.johnson.F_Y) /* linear: W/k_lin, 0 where that underflows */
                 cr_assert(x[0] == W / M.k_lin, "law %d W %g: delta = %g", law, W, x[0]);
             else
                 cr_assert(x[0] > 0.0 && isfinite(x[0]), "law %d W %g: delta = %g", law, W, x[0]);
             cr_assert(M.mode != VI_Mode_free, "law %d W %g: mode %d", law, W, M.mode);
-            if (W < M.J.F_Y && law != VI_ContactModel_lepp) {
+            if (W < M.johnson.F_Y && law != VI_ContactModel_lepp) {
                 double expect = exp(2.0 / 3.0 * (log(W) - log(M.K)));
                 cr_assert(fabs(x[0] - expect) <= 1e-13 * expect, "law %d W %g: %.17g vs %.17g", law, W, x[0], expect);
             }
-            if (W >= 1e-290 && !(law == VI_ContactModel_lepp && W > M.J.F_Y)) { /* the load is carried (LEPP beyond F_Y flows) */
+            if (W >= 1e-290 && !(law == VI_ContactModel_lepp && W > M.johnson.F_Y)) { /* the load is carried (LEPP beyond F_Y flows) */
                 double F = vi_model_force(&M, 0.0, x);
                 cr_assert(fabs(F - W) <= 1e-12 * W, "law %d W %g: F = %.17g", law, W, F);
             }
@@ -466,14 +479,14 @@ Test(model, static_state_with_extreme_parameters, .timeout = 20)
     vi_model M = {0};
     char msg[256];
     double x[2];
-    cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
     vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
     double W = p.P + p.m * p.g;
     cr_assert(fabs(vi_model_force(&M, 0.0, x) - W) <= 1e-12 * W);
     vi_parameters_default(&p);
     p.m = 5e-324;
     p.P = 0.0;
-    cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
     vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
     cr_assert(x[0] > 0.0 && M.mode == VI_Mode_elastic, "delta %g mode %d", x[0], M.mode);
 }
@@ -491,7 +504,7 @@ Test(model, scales_from_the_active_law)
         p.a = 1e-300;
         vi_model M = {0};
         char msg[256];
-        cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0);
+        cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0);
         vi_model_initial_state(&M, VI_Init_static, 1e-100, 0.0, x);
         vi_model_scales(&M, x, &L, &V);
         double dW = pow((p.P + p.m * p.g) / M.K, 2.0 / 3.0);
@@ -504,19 +517,19 @@ Test(model, scales_from_the_active_law)
         vi_model M = setup(law, 0, 1, 40000.0, 9.81, 1e-300);
         vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
         vi_model_scales(&M, x, &L, &V);
-        cr_assert(L == fmax(M.J.delta_Y, x[0]), "law %d: L = %g", law, L);
+        cr_assert(L == fmax(M.johnson.delta_Y, x[0]), "law %d: L = %g", law, L);
     }
     /* a drop (no load): the impact indentation at v0; Hertz closed form */
     vi_model M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
     vi_model_initial_state(&M, VI_Init_touching, -0.3, 0.0, x);
     vi_model_scales(&M, x, &L, &V);
-    double dv = pow(15.0 * M.m * 0.09 / (16.0 * M.J.E_star * sqrt(M.J.R_star)), 0.4);
+    double dv = pow(15.0 * M.m * 0.09 / (16.0 * M.johnson.E_star * sqrt(M.johnson.R_star)), 0.4);
     cr_assert(fabs(L - dv) <= 1e-14 * dv);
     /* a drop however slow (1e-4 m/s): its own impact indentation, not a fallback */
     M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
     vi_model_initial_state(&M, VI_Init_touching, -1e-4, 0.0, x);
     vi_model_scales(&M, x, &L, &V);
-    dv = pow(15.0 * M.m * 1e-8 / (16.0 * M.J.E_star * sqrt(M.J.R_star)), 0.4);
+    dv = pow(15.0 * M.m * 1e-8 / (16.0 * M.johnson.E_star * sqrt(M.johnson.R_star)), 0.4);
     cr_assert(fabs(L - dv) <= 1e-14 * dv, "L = %g vs %g", L, dv);
     /* a LEPP drop (no load): the larger of delta_Y and the linear spring's impact indentation
      * v sqrt(m / k_lin) (energy: m v^2 / 2 = k_lin d^2 / 2) */
@@ -524,18 +537,18 @@ Test(model, scales_from_the_active_law)
     vi_model_initial_state(&M, VI_Init_touching, -30.0, 0.0, x);
     vi_model_scales(&M, x, &L, &V);
     dv = 30.0 * sqrt(M.m / M.k_lin);
-    cr_assert(dv > M.J.delta_Y && fabs(L - dv) <= 1e-14 * dv, "L = %.17g, impact %.17g, delta_Y %g", L, dv, M.J.delta_Y);
+    cr_assert(dv > M.johnson.delta_Y && fabs(L - dv) <= 1e-14 * dv, "L = %.17g, impact %.17g, delta_Y %g", L, dv, M.johnson.delta_Y);
     /* no load, no speed: the excitation's speed; nothing at all: 1e-6 R* */
     M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 1e-4);
     vi_model_initial_state(&M, VI_Init_touching, 0.0, 0.0, x);
     vi_model_scales(&M, x, &L, &V);
     double va = 1e-4 * 2.0 * VI_PI * 560.0;
-    dv = pow(15.0 * M.m * va * va / (16.0 * M.J.E_star * sqrt(M.J.R_star)), 0.4);
+    dv = pow(15.0 * M.m * va * va / (16.0 * M.johnson.E_star * sqrt(M.johnson.R_star)), 0.4);
     cr_assert(fabs(L - dv) <= 1e-14 * dv);
     M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
     vi_model_initial_state(&M, VI_Init_touching, 0.0, 0.0, x);
     vi_model_scales(&M, x, &L, &V);
-    cr_assert(L == VI_SCALE_FALLBACK * M.J.R_star && V > 0.0);
+    cr_assert(L == VI_SCALE_FALLBACK * M.johnson.R_star && V > 0.0);
     /* extremes: finite and positive */
     double loads[] = {1e-200, 4.9e-323, 1e100};
     for (int i = 0; i < 3; i++)
@@ -555,8 +568,8 @@ Test(model, lepp_on_its_yield_surface_keeps_its_permanent_set)
     for (int k = 0; k < 2; k++) {
         vi_model M = setup(VI_ContactModel_lepp, 0, 1, k ? 40000.0 : 0.0, 0.0, 0.0);
         M.delta_p = 1e-20;
-        double x[2] = {M.delta_p + M.J.delta_Y, k ? 0.0 : -1.0}, d = x[0];
-        cr_assert((d - M.J.delta_Y) != M.delta_p, "delta_p is recovered exactly: the test would not tell");
+        double x[2] = {M.delta_p + M.johnson.delta_Y, k ? 0.0 : -1.0}, d = x[0];
+        cr_assert((d - M.johnson.delta_Y) != M.delta_p, "delta_p is recovered exactly: the test would not tell");
         vi_model_resolve(&M, 0.0, x);
         cr_assert(M.delta_p == 1e-20 && x[0] == d && M.mode != VI_Mode_free, "k %d: delta_p %.17g, delta %.17g, mode %d",
                   k, M.delta_p, x[0], M.mode);
@@ -570,10 +583,10 @@ Test(model, lepp_freeze_puts_delta_on_the_yield_surface)
     vi_model M = setup(VI_ContactModel_lepp, 0, 1, 0.0, 0.0, 0.0);
     int differs = 0;
     for (int k = 1; k <= 200; k++) {
-        double d = M.J.delta_Y * (1.0 + k / 7.0) + k * 1e-19, x[2] = {d, 0.0};
+        double d = M.johnson.delta_Y * (1.0 + k / 7.0) + k * 1e-19, x[2] = {d, 0.0};
         M.mode = VI_Mode_plastic, M.delta_p = 0.0;
         vi_model_freeze(&M, 0.0, x);
-        cr_assert(M.delta_p == d - M.J.delta_Y && x[0] == M.delta_p + M.J.delta_Y && x[1] == 0.0, "k %d: %.17g %.17g",
+        cr_assert(M.delta_p == d - M.johnson.delta_Y && x[0] == M.delta_p + M.johnson.delta_Y && x[1] == 0.0, "k %d: %.17g %.17g",
                   k, x[0], M.delta_p);
         differs += x[0] != d;
     }
@@ -585,9 +598,9 @@ Test(model, lepp_freeze_puts_delta_on_the_yield_surface)
 Test(model, stick_band_ties_broken_by_the_rate_of_the_holding_force)
 {
     vi_model M = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
-    double dc = 3.0 * M.J.delta_Y;
-    vi_unload_curve U = vi_johnson_unload_curve(&M.J, VI_UNLOAD_PAPER, dc);
-    double F_load = vi_johnson_load(&M.J, dc), F_unload = vi_unload_force(&U, dc);
+    double dc = 3.0 * M.johnson.delta_Y;
+    vi_unload_curve U = vi_johnson_unload_curve(&M.johnson, VI_UNLOAD_PAPER, dc);
+    double F_load = vi_johnson_load(&M.johnson, dc), F_unload = vi_unload_force(&U, dc);
     struct { double P, dF_ext; int mode; } cases[] = {
         {F_load, -1.0, VI_Mode_plastic},  /* on the load limit, the load grows: loading resumes */
         {F_load, +1.0, VI_Mode_stick},    /* on the load limit, the load falls: into the band */
@@ -600,7 +613,7 @@ Test(model, stick_band_ties_broken_by_the_rate_of_the_holding_force)
     for (int i = 0; i < 7; i++) {
         M.W0 = cases[i].P; /* g = 0, a = 0: F_hold = W = P at the ramp's time */
         M.F_ext = (vi_ramp){0.0, cases[i].dF_ext, 0.5};
-        M.yielded = 1, M.U = U, M.mode = VI_Mode_stick;
+        M.yielded = 1, M.unload = U, M.mode = VI_Mode_stick;
         double x[2] = {dc, 0.0};
         cr_assert(vi_model_resolve(&M, 0.5, x) == cases[i].mode, "case %d: mode %d", i, M.mode);
     }
@@ -612,13 +625,13 @@ Test(model, stick_band_ties_broken_by_the_rate_of_the_holding_force)
 Test(model, fired_stick_guard_counts_as_on_its_surface)
 {
     vi_model M = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 1e-5);
-    double dc = 3.0 * M.J.delta_Y;
-    vi_unload_curve U = vi_johnson_unload_curve(&M.J, VI_UNLOAD_PAPER, dc);
-    M.W0 = vi_johnson_load(&M.J, dc);
+    double dc = 3.0 * M.johnson.delta_Y;
+    vi_unload_curve U = vi_johnson_unload_curve(&M.johnson, VI_UNLOAD_PAPER, dc);
+    M.W0 = vi_johnson_load(&M.johnson, dc);
     double w = M.omega, tq = 0.25 * 2.0 * VI_PI / w;
     for (int k = -3; k <= 3; k++) {
         double t = tq + k * 1e-16; /* the root as a solver locates it, on either side */
-        M.yielded = 1, M.U = U, M.mode = VI_Mode_stick;
+        M.yielded = 1, M.unload = U, M.mode = VI_Mode_stick;
         double x[2] = {dc, 0.0}, g[VI_NGUARDS];
         vi_model_freeze(&M, t, x);
         vi_model_guards(&M, t, x, g);
@@ -632,7 +645,7 @@ Test(model, fired_stick_guard_counts_as_on_its_surface)
 Test(model, validity_threshold)
 {
     vi_model M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
-    double x[2] = {0.0, 0.0}, limit = 0.01 * M.J.R_star, R1 = 0.475;
+    double x[2] = {0.0, 0.0}, limit = 0.01 * M.johnson.R_star, R1 = 0.475;
     char msg[400];
     M.mode = VI_Mode_elastic;
     x[0] = limit * (1.0 - 1e-12);
@@ -644,29 +657,29 @@ Test(model, validity_threshold)
     M.mode = VI_Mode_free; /* apart: no contact radius */
     cr_assert(vi_model_validity(&M, R1, 0.0, x, 0, msg, sizeof msg) == 0);
     /* the amplitude against R* (= R1 = 0.475 m here, R2 = 0), either sign */
-    M.a = -M.J.R_star;
+    M.a = -M.johnson.R_star;
     cr_assert(vi_model_validity(&M, R1, 0.0, x, 0, msg, sizeof msg) == 0);
-    M.a = nextafter(-M.J.R_star, -INFINITY);
+    M.a = nextafter(-M.johnson.R_star, -INFINITY);
     cr_assert(vi_model_validity(&M, R1, 2.0, x, 0, msg, sizeof msg) == VI_INVALID_AMPLITUDE);
     cr_assert(strstr(msg, "t = 2 s") && strstr(msg, "a = -0.475 m") && strstr(msg, "R* = 0.475 m"), "%s", msg);
     cr_assert(vi_model_validity(&M, R1, 2.0, x, VI_INVALID_AMPLITUDE, msg, sizeof msg) == 0);
     M.a = 0.0;
     vi_parameters p;
     vi_parameters_default(&p);
-    cr_assert(vi_model_option_warnings(&p, msg, sizeof msg) == 0 && msg[0] == '\0');
+    cr_assert(warnings_from_table(&p, msg, sizeof msg) == 0 && msg[0] == '\0');
     p.contact_model = VI_ContactModel_lepp, p.moving_contact = 1, p.unloading = 2, p.v0 = 1.0;
-    cr_assert(vi_model_option_warnings(&p, msg, sizeof msg) == 3, "%s", msg);
+    cr_assert(warnings_from_table(&p, msg, sizeof msg) == 3, "%s", msg);
     cr_assert(strstr(msg, "moving_contact") && strstr(msg, "unloading") && strstr(msg, "v0"), "%s", msg);
     char tiny[8]; /* truncated, never overrun */
-    cr_assert(vi_model_option_warnings(&p, tiny, sizeof tiny) == 3 && strlen(tiny) == 7);
+    cr_assert(warnings_from_table(&p, tiny, sizeof tiny) == 3 && strlen(tiny) == 7);
     /* the yield formula is ignored by Hertz only: every law with the default, Johnson and LEPP printed */
     int laws[] = {VI_ContactModel_hertz, VI_ContactModel_johnson, VI_ContactModel_lepp};
     for (int i = 0; i < 3; i++) {
         vi_parameters_default(&p);
         p.contact_model = laws[i];
-        cr_assert(vi_model_option_warnings(&p, msg, sizeof msg) == 0, "law %d: %s", laws[i], msg);
+        cr_assert(warnings_from_table(&p, msg, sizeof msg) == 0, "law %d: %s", laws[i], msg);
         p.yield_formula = VI_YieldFormula_printed;
-        cr_assert(vi_model_option_warnings(&p, msg, sizeof msg) == (laws[i] == VI_ContactModel_hertz), "%s", msg);
+        cr_assert(warnings_from_table(&p, msg, sizeof msg) == (laws[i] == VI_ContactModel_hertz), "%s", msg);
     }
 }
 
@@ -708,19 +721,19 @@ Test(excitation, frequency_change_keeps_phase_and_position_continuous)
     flying(&s, 1e-4, 100.0);
     double t1 = 0.0123, t2 = 0.02;
     cr_assert(vi_sim_advance(&s, t1) == 0, "%s", s.msg);
-    double y_before = vi_model_platform(&s.d.M, t1, NULL, NULL), v_mass = s.d.x[1], y_mass = y_before - s.d.x[0];
+    double y_before = vi_model_platform(&s.d.model, t1, NULL, NULL), v_mass = s.d.x[1], y_mass = y_before - s.d.x[0];
     s.d.par.f = 250.0;
     s.d.inputs_changed = 1;
     cr_assert(vi_sim_advance(&s, t2) == 0, "%s", s.msg);
     double ph1 = 2.0 * VI_PI * 100.0 * t1; /* closed form: the phase at t1, then 250 Hz */
-    cr_assert(fabs(vi_model_phase(&s.d.M, t1) - fmod(ph1, 2.0 * VI_PI)) < 1e-14);
-    cr_assert(fabs(vi_model_platform(&s.d.M, t1, NULL, NULL) - y_before) <= 1e-18, "yC jumped");
+    cr_assert(fabs(vi_model_phase(&s.d.model, t1) - fmod(ph1, 2.0 * VI_PI)) < 1e-14);
+    cr_assert(fabs(vi_model_platform(&s.d.model, t1, NULL, NULL) - y_before) <= 1e-18, "yC jumped");
     double expect = 1e-4 * (cos(ph1 + 2.0 * VI_PI * 250.0 * (t2 - t1)) - 1.0);
-    cr_assert(fabs(vi_model_platform(&s.d.M, t2, NULL, NULL) - expect) <= 1e-17, "%g vs %g",
-              vi_model_platform(&s.d.M, t2, NULL, NULL), expect);
+    cr_assert(fabs(vi_model_platform(&s.d.model, t2, NULL, NULL) - expect) <= 1e-17, "%g vs %g",
+              vi_model_platform(&s.d.model, t2, NULL, NULL), expect);
     /* free flight: the mass never felt the change (y = y1 + v1 (t - t1), no load) */
-    double y2 = vi_model_platform(&s.d.M, t2, NULL, NULL) - s.d.x[0];
-    cr_assert(s.d.M.mode == VI_Mode_free && s.d.x[1] == v_mass, "the mass got a kick");
+    double y2 = vi_model_platform(&s.d.model, t2, NULL, NULL) - s.d.x[0];
+    cr_assert(s.d.model.mode == VI_Mode_free && s.d.x[1] == v_mass, "the mass got a kick");
     cr_assert(fabs(y2 - (y_mass + v_mass * (t2 - t1))) <= 1e-6 * y2, "%.17g", y2);
     vi_sim_free(&s);
 }
@@ -731,7 +744,7 @@ Test(excitation, amplitude_change_moves_the_platform_not_the_mass)
     flying(&s, 1e-4, 100.0);
     double t1 = 0.0031;
     cr_assert(vi_sim_advance(&s, t1) == 0, "%s", s.msg);
-    double d_before = s.d.x[0], y_mass = vi_model_platform(&s.d.M, t1, NULL, NULL) - d_before;
+    double d_before = s.d.x[0], y_mass = vi_model_platform(&s.d.model, t1, NULL, NULL) - d_before;
     s.d.par.a = 3e-4;
     s.d.inputs_changed = 1;
     cr_assert(vi_sim_advance(&s, t1 + 1e-3) == 0, "%s", s.msg);
@@ -740,10 +753,10 @@ Test(excitation, amplitude_change_moves_the_platform_not_the_mass)
     vi_sim r;
     flying(&r, 1e-4, 100.0);
     cr_assert(vi_sim_advance(&r, t1) == 0);
-    vi_model_set_excitation(&r.d.M, t1, r.d.x, 3e-4, 100.0); /* at t1 itself, as the loop does next step */
+    vi_model_set_excitation(&r.d.model, t1, r.d.x, 3e-4, 100.0); /* at t1 itself, as the loop does next step */
     cr_assert(fabs(r.d.x[0] - (d_before + 2e-4 * (c - 1.0))) <= 1e-18, "delta jumps by da (cos - 1)");
-    cr_assert(fabs(vi_model_platform(&r.d.M, t1, NULL, NULL) - r.d.x[0] - y_mass) <= 1e-18, "the mass moved");
-    cr_assert(fabs(vi_model_platform(&r.d.M, t1, NULL, NULL) - 3e-4 * (c - 1.0)) <= 1e-18);
+    cr_assert(fabs(vi_model_platform(&r.d.model, t1, NULL, NULL) - r.d.x[0] - y_mass) <= 1e-18, "the mass moved");
+    cr_assert(fabs(vi_model_platform(&r.d.model, t1, NULL, NULL) - 3e-4 * (c - 1.0)) <= 1e-18);
     vi_sim_free(&s);
     vi_sim_free(&r);
 }
@@ -761,7 +774,7 @@ Test(excitation, sweep_up_and_down_follows_the_accumulated_phase)
         cr_assert(vi_sim_advance(&s, t + h) == 0, "%s", s.msg);
         phase += 2.0 * VI_PI * f * h;
         t += h;
-        double expect = 1e-4 * (cos(phase) - 1.0), dyC, yC = vi_model_platform(&s.d.M, t, &dyC, NULL);
+        double expect = 1e-4 * (cos(phase) - 1.0), dyC, yC = vi_model_platform(&s.d.model, t, &dyC, NULL);
         cr_assert(fabs(yC - expect) <= 1e-13 * 1e-4, "k %d: %g vs %g (%g)", k, yC, expect, yC - expect);
         cr_assert(fabs(dyC + 1e-4 * 2.0 * VI_PI * f * sin(phase)) <= 1e-12, "k %d: velocity", k);
     }
@@ -802,11 +815,11 @@ Test(rolling, no_breakpoint_at_zero_speed, .timeout = 10)
     for (int k = 0; k < 2; k++) {
         vi_sim s;
         rolling_sim(&s, 1e-4, 0.0, k ? -0.5 : 0.5, 1e-8);
-        cr_assert(vi_model_next_breakpoint(&s.d.M, s.d.t) == INFINITY);
+        cr_assert(vi_model_next_breakpoint(&s.d.model, s.d.t) == INFINITY);
         double x0 = s.d.x[0];
         cr_assert(vi_sim_advance(&s, 0.01) == VI_SIM_OK && s.d.t == 0.01, "%s", s.msg);
-        cr_assert(fabs(s.d.x[0] - x0) <= 1e-9 * x0 && fabs(s.d.x[1]) <= 1e-12 && s.d.n_events == 0,
-                  "delta %g -> %g, v %g, %ld events", x0, s.d.x[0], s.d.x[1], (long)s.d.n_events);
+        cr_assert(fabs(s.d.x[0] - x0) <= 1e-9 * x0 && fabs(s.d.x[1]) <= 1e-12 && s.d.events.n_events == 0,
+                  "delta %g -> %g, v %g, %ld events", x0, s.d.x[0], s.d.x[1], (long)s.d.events.n_events);
         vi_sim_free(&s);
     }
 }
@@ -821,15 +834,15 @@ Test(rolling, kink_is_a_breakpoint_and_rings_the_contact)
         double s0 = 1e-4, V = 1.0 * dir, x0 = -0.01 * dir, tk = 0.01; /* the kink at x = 0, t = 10 ms */
         vi_sim s;
         rolling_sim(&s, s0, V, x0, 1e-10);
-        double ds = s.d.x[0], w = 2.0 * VI_PI * s.d.M.f_contact;
+        double ds = s.d.x[0], w = 2.0 * VI_PI * s.d.model.f_contact;
         cr_assert(fabs(s.d.x[1] - (-s0 * V * dir)) <= 1e-18, "v0 %g", s.d.x[1]); /* yC' = -s0 |V| before the kink */
-        double bp = vi_model_next_breakpoint(&s.d.M, 0.0);
-        double xk = vi_profile_next_kink(s.d.M.profile, -dir, dir), pos = vi_model_rolling_position(&s.d.M, bp);
+        double bp = vi_model_next_breakpoint(&s.d.model, 0.0);
+        double xk = vi_profile_next_kink(s.d.model.profile, -dir, dir), pos = vi_model_rolling_position(&s.d.model, bp);
         cr_assert(fabs(xk) < 1e-14 && fabs(bp - tk) <= 1e-14 && (dir > 0 ? pos >= xk : pos < xk),
                   "breakpoint %.17g: position %g, kink %g", bp, pos, xk);
         double L, Vs;
-        vi_model_scales(&s.d.M, s.d.x, &L, &Vs);
-        s.d.atol[0] = 1e-10 * L, s.d.atol[1] = 1e-10 * Vs;
+        vi_model_scales(&s.d.model, s.d.x, &L, &Vs);
+        s.d.events.atol[0] = 1e-10 * L, s.d.events.atol[1] = 1e-10 * Vs;
         s.d.initialized = 1; /* set up by hand: the solver starts from this state */
         cr_assert(vi_sim_restore(&s) == 0, "%s", s.msg);
         double before = 0.0, after = 0.0;
@@ -859,9 +872,9 @@ Test(rolling, the_profile_ends)
     /* a step that ends exactly where the profile ends is complete: x_last is on the profile */
     rolling_sim(&s, 1e-4, 1000.0, 9.0, 1e-6);
     char why[400];
-    double end = vi_model_rolling_limit(&s.d.M, why, sizeof why);
+    double end = vi_model_rolling_limit(&s.d.model, why, sizeof why);
     cr_assert(vi_sim_advance(&s, end) == VI_SIM_OK, "%s", s.msg);
-    cr_assert(s.d.t == end && vi_model_rolling_position(&s.d.M, s.d.t) == 10.0);
+    cr_assert(s.d.t == end && vi_model_rolling_position(&s.d.model, s.d.t) == 10.0);
     cr_assert(vi_sim_advance(&s, end + 1e-6) == VI_SIM_DISCARD && s.d.t == end);
     vi_sim_free(&s);
     vi_sim_init(&s, log_nothing, NULL); /* x0 outside the table */
@@ -903,11 +916,11 @@ Test(rolling, restore_reattaches_the_profile)
     cr_assert(vi_sim_advance(&a, 5e-3) == 0);
     cr_assert(vi_sim_checkpoint(&a) == 0);
     b.d = a.d;
-    b.d.M.profile = (const vi_profile *)(uintptr_t)0x1; /* garbage: must not be followed */
+    b.d.model.profile = (const vi_profile *)(uintptr_t)0x1; /* garbage: must not be followed */
     char msg[256];
     cr_assert(vi_sim_data_check(&b.d, msg, sizeof msg) == 0, "%s", msg);
     cr_assert(vi_sim_restore(&b) == 0, "%s", b.msg);
-    cr_assert(b.d.M.profile == b.profile && b.profile != a.profile);
+    cr_assert(b.d.model.profile == b.profile && b.profile != a.profile);
     cr_assert(vi_sim_advance(&a, 0.02) == 0 && vi_sim_advance(&b, 0.02) == 0);
     cr_assert(a.d.x[0] == b.d.x[0] && a.d.x[1] == b.d.x[1], "restored run differs");
     vi_sim_free(&a), vi_sim_free(&b);
@@ -979,11 +992,11 @@ static vi_model unloading_model(const vi_parameters *p, double x[2])
 {
     vi_model M = {0};
     char msg[256];
-    cr_assert(vi_model_setup(&M, p, 0.0, msg, sizeof msg) == 0, "%s", msg);
-    M.U = vi_johnson_unload_curve(&M.J, M.unloading, 3.0 * M.J.delta_Y);
+    cr_assert(setup_from_table(&M, p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+    M.unload = vi_johnson_unload_curve(&M.johnson, M.unloading, 3.0 * M.johnson.delta_Y);
     M.yielded = 1;
     M.mode = VI_Mode_unload;
-    x[0] = 0.5 * (M.U.delta_f + M.U.delta_c);
+    x[0] = 0.5 * (M.unload.delta_f + M.unload.delta_c);
     x[1] = 1.0;
     accepted_as(&M, x, "unloading model");
     return M;
@@ -1004,9 +1017,9 @@ Test(model_check, every_constant_must_be_finite_and_the_positive_ones_positive)
     vi_model ok = default_unloading_model(x0);
     struct { const char *name; size_t offset; int positive; } c[] = {
         {"m", offsetof(vi_model, m), 1},           {"W0", offsetof(vi_model, W0), 0},
-        {"K", offsetof(vi_model, K), 1},           {"E_star", offsetof(vi_model, J.E_star), 1},
-        {"R_star", offsetof(vi_model, J.R_star), 1}, {"theta_Y", offsetof(vi_model, J.theta_Y), 1},
-        {"F_Y", offsetof(vi_model, J.F_Y), 1},     {"delta_Y", offsetof(vi_model, J.delta_Y), 1},
+        {"K", offsetof(vi_model, K), 1},           {"E_star", offsetof(vi_model, johnson.E_star), 1},
+        {"R_star", offsetof(vi_model, johnson.R_star), 1}, {"theta_Y", offsetof(vi_model, johnson.theta_Y), 1},
+        {"F_Y", offsetof(vi_model, johnson.F_Y), 1},     {"delta_Y", offsetof(vi_model, johnson.delta_Y), 1},
         {"k_lin", offsetof(vi_model, k_lin), 1},   {"a", offsetof(vi_model, a), 0},
         {"omega", offsetof(vi_model, omega), 0},   {"t0", offsetof(vi_model, t0), 0},
         {"phi0", offsetof(vi_model, phi0), 0},     {"t_phi", offsetof(vi_model, t_phi), 0},
@@ -1040,7 +1053,7 @@ Test(model_check, every_constant_must_be_finite_and_the_positive_ones_positive)
     M.m = 1e-4;
     accepted_as(&M, x0, "m = 1e-4 kg");
     M = ok;
-    M.J.theta_Y = 1e-4;
+    M.johnson.theta_Y = 1e-4;
     accepted_as(&M, x0, "theta_Y = 1e-4");
     /* negative: omega and f_contact (0 and small values pass) */
     M = ok;
@@ -1055,7 +1068,7 @@ Test(model_check, every_constant_must_be_finite_and_the_positive_ones_positive)
     accepted_as(&M, x0, "f_contact = 1e-4 Hz");
     /* every non-positive value of a positive constant, not only 0 */
     M = ok;
-    M.J.R_star = -0.2;
+    M.johnson.R_star = -0.2;
     refused_with(&M, x0, 1, "model constant R_star = -0.2 is not positive");
 }
 
@@ -1071,10 +1084,10 @@ Test(model_check, constants_consistent_to_1e_9)
     M.K = ok.K * (1.0 + 0.5e-9);
     accepted_as(&M, x0, "K 0.5e-9 off");
     M = ok;
-    M.J.F_Y = ok.J.F_Y * (1.0 - 2e-9);
-    refused_with(&M, x0, 1, "model constant delta_Y = %g does not match F_Y = K delta_Y^1.5", M.J.delta_Y);
-    M.J.F_Y = ok.J.F_Y * (1.0 - 0.5e-9);
-    M.k_lin = M.J.F_Y / M.J.delta_Y;
+    M.johnson.F_Y = ok.johnson.F_Y * (1.0 - 2e-9);
+    refused_with(&M, x0, 1, "model constant delta_Y = %g does not match F_Y = K delta_Y^1.5", M.johnson.delta_Y);
+    M.johnson.F_Y = ok.johnson.F_Y * (1.0 - 0.5e-9);
+    M.k_lin = M.johnson.F_Y / M.johnson.delta_Y;
     accepted_as(&M, x0, "F_Y 0.5e-9 off");
     M = ok;
     M.k_lin = ok.k_lin * (1.0 + 2e-9);
@@ -1090,11 +1103,11 @@ Test(model_check, consistency_bound_is_inclusive)
 {
     vi_model M = {0};
     M.law = VI_ContactModel_hertz, M.unloading = VI_UNLOAD_PAPER, M.m = 1.0;
-    M.J.R_star = 1.0, M.J.E_star = 0.75 * 999999999.0, M.J.theta_Y = 1.0;
-    M.J.delta_Y = 1.0, M.J.F_Y = 999999999.0, M.K = 999999999.0;
+    M.johnson.R_star = 1.0, M.johnson.E_star = 0.75 * 999999999.0, M.johnson.theta_Y = 1.0;
+    M.johnson.delta_Y = 1.0, M.johnson.F_Y = 999999999.0, M.K = 999999999.0;
     M.k_lin = 1e9;
     double x[2] = {0.0, 0.0};
-    cr_assert(fabs(M.k_lin - M.J.F_Y / M.J.delta_Y) == 1e-9 * fmax(M.k_lin, M.J.F_Y / M.J.delta_Y));
+    cr_assert(fabs(M.k_lin - M.johnson.F_Y / M.johnson.delta_Y) == 1e-9 * fmax(M.k_lin, M.johnson.F_Y / M.johnson.delta_Y));
     accepted_as(&M, x, "k_lin exactly 1e-9 off");
     M.k_lin = nextafter(1e9, INFINITY);
     refused_with(&M, x, 1, "model constant k_lin = %g does not match F_Y/delta_Y", M.k_lin);
@@ -1206,10 +1219,10 @@ Test(model_check, unloading_curve_only_after_yield_and_only_for_fixed_johnson)
     accepted_as(&M0, x, "virgin");
     for (int i = 0; i < 5; i++) {
         vi_model M = M0;
-        double *u[5] = {&M.U.delta_c, &M.U.Rbar, &M.U.delta_r, &M.U.delta_f, &M.U.Kbar};
+        double *u[5] = {&M.unload.delta_c, &M.unload.Rbar, &M.unload.delta_r, &M.unload.delta_f, &M.unload.Kbar};
         *u[i] = 1e-5 * (i + 1);
-        refused_with(&M, x, 1, "unloading curve (delta_c = %g, Rbar = %g) present although yielded = 0", M.U.delta_c,
-                     M.U.Rbar);
+        refused_with(&M, x, 1, "unloading curve (delta_c = %g, Rbar = %g) present although yielded = 0", M.unload.delta_c,
+                     M.unload.Rbar);
     }
     double x0[2];
     vi_model ok = default_unloading_model(x0);
@@ -1235,50 +1248,50 @@ Test(model_check, yielded_memory_rules)
         vi_parameters_default(&p);
         p.unloading = variant;
         vi_model ok = unloading_model(&p, x0);
-        const vi_unload_curve U = ok.U;
+        const vi_unload_curve U = ok.unload;
         for (int i = 0; i < 5; i++) {
             vi_model M = ok;
-            double *u[5] = {&M.U.delta_c, &M.U.Rbar, &M.U.delta_r, &M.U.delta_f, &M.U.Kbar};
+            double *u[5] = {&M.unload.delta_c, &M.unload.Rbar, &M.unload.delta_r, &M.unload.delta_f, &M.unload.Kbar};
             *u[i] = i % 2 ? INFINITY : NAN;
             refused_with(&M, x0, 1, "unloading curve: a value (delta_c %g, Rbar %g, delta_r %g, delta_f %g, Kbar %g) is "
-                         "not finite", M.U.delta_c, M.U.Rbar, M.U.delta_r, M.U.delta_f, M.U.Kbar);
+                         "not finite", M.unload.delta_c, M.unload.Rbar, M.unload.delta_r, M.unload.delta_f, M.unload.Kbar);
         }
         /* delta_c at the bound delta_Y (1 - 1e-9), with its own curve */
         vi_model M = ok;
-        double dc = ok.J.delta_Y * (1.0 - 1e-9);
-        M.U = vi_johnson_unload_curve(&M.J, variant, dc);
-        double xb[2] = {0.5 * (M.U.delta_f + dc), 1.0};
+        double dc = ok.johnson.delta_Y * (1.0 - 1e-9);
+        M.unload = vi_johnson_unload_curve(&M.johnson, variant, dc);
+        double xb[2] = {0.5 * (M.unload.delta_f + dc), 1.0};
         accepted_as(&M, xb, "delta_c at its lower bound");
-        M.U = vi_johnson_unload_curve(&M.J, variant, nextafter(dc, 0.0));
-        refused_with(&M, xb, 1, "delta_c = %g is below delta_Y = %g", M.U.delta_c, M.J.delta_Y);
+        M.unload = vi_johnson_unload_curve(&M.johnson, variant, nextafter(dc, 0.0));
+        refused_with(&M, xb, 1, "delta_c = %g is below delta_Y = %g", M.unload.delta_c, M.johnson.delta_Y);
         /* Rbar */
         double rbar[] = {0.0, -U.Rbar};
         for (int i = 0; i < 2; i++) {
             M = ok;
-            M.U.Rbar = rbar[i];
+            M.unload.Rbar = rbar[i];
             refused_with(&M, x0, 1, "Rbar = %g is not positive", rbar[i]);
         }
         /* delta_f: above delta_c by one ulp (the order rule), at delta_c (the curve rule) */
         M = ok;
-        M.U.delta_f = nextafter(U.delta_c, INFINITY);
-        refused_with(&M, x0, 1, "delta_f = %g is above delta_c = %g", M.U.delta_f, U.delta_c);
-        M.U.delta_f = U.delta_c;
+        M.unload.delta_f = nextafter(U.delta_c, INFINITY);
+        refused_with(&M, x0, 1, "delta_f = %g is above delta_c = %g", M.unload.delta_f, U.delta_c);
+        M.unload.delta_f = U.delta_c;
         refused_with(&M, x0, 1, "delta_f = %g does not belong to delta_c (%g)", U.delta_c, U.delta_f);
         /* the curve of delta_c, value by value */
         M = ok;
-        M.U.Rbar = U.Rbar * (1.0 + 2e-9);
-        refused_with(&M, x0, 1, "Rbar = %g does not belong to delta_c (%g)", M.U.Rbar, U.Rbar);
-        M.U.Rbar = U.Rbar * (1.0 - 0.5e-9);
+        M.unload.Rbar = U.Rbar * (1.0 + 2e-9);
+        refused_with(&M, x0, 1, "Rbar = %g does not belong to delta_c (%g)", M.unload.Rbar, U.Rbar);
+        M.unload.Rbar = U.Rbar * (1.0 - 0.5e-9);
         accepted_as(&M, x0, "Rbar 0.5e-9 off");
         M = ok;
-        M.U.delta_r = U.delta_r * (1.0 - 2e-9);
-        refused_with(&M, x0, 1, "delta_r = %g does not belong to delta_c (%g)", M.U.delta_r, U.delta_r);
-        M.U.delta_r = U.delta_r * (1.0 + 0.5e-9);
+        M.unload.delta_r = U.delta_r * (1.0 - 2e-9);
+        refused_with(&M, x0, 1, "delta_r = %g does not belong to delta_c (%g)", M.unload.delta_r, U.delta_r);
+        M.unload.delta_r = U.delta_r * (1.0 + 0.5e-9);
         accepted_as(&M, x0, "delta_r 0.5e-9 off");
         M = ok;
-        M.U.delta_f = U.delta_f - 2e-9 * U.delta_c;
-        refused_with(&M, x0, 1, "delta_f = %g does not belong to delta_c (%g)", M.U.delta_f, U.delta_f);
-        M.U.delta_f = U.delta_f + 0.5e-9 * U.delta_c;
+        M.unload.delta_f = U.delta_f - 2e-9 * U.delta_c;
+        refused_with(&M, x0, 1, "delta_f = %g does not belong to delta_c (%g)", M.unload.delta_f, U.delta_f);
+        M.unload.delta_f = U.delta_f + 0.5e-9 * U.delta_c;
         accepted_as(&M, x0, "delta_f 0.5e-9 delta_c off");
         /* delta_f exactly 1e-9 delta_c off passes and one ulp further does not: a delta_c near the model's
          * whose 1e-9 delta_c is a double of 20 significant bits, a whole number of ulps of delta_f */
@@ -1291,17 +1304,17 @@ Test(model_check, yielded_memory_rules)
         }
         cr_assert(tol > 0.0, "no delta_c with a short 1e-9 delta_c near %g", U.delta_c);
         M = ok;
-        M.U = vi_johnson_unload_curve(&M.J, variant, dc);
-        double df = M.U.delta_f, xf[2] = {0.5 * (df + dc), 1.0};
-        M.U.delta_f = df + tol;
-        cr_assert(M.U.delta_f - df == tol, "delta_f %.17g + %.17g is not exact", df, tol);
+        M.unload = vi_johnson_unload_curve(&M.johnson, variant, dc);
+        double df = M.unload.delta_f, xf[2] = {0.5 * (df + dc), 1.0};
+        M.unload.delta_f = df + tol;
+        cr_assert(M.unload.delta_f - df == tol, "delta_f %.17g + %.17g is not exact", df, tol);
         accepted_as(&M, xf, "delta_f 1e-9 delta_c off");
-        M.U.delta_f = nextafter(df + tol, INFINITY);
-        refused_with(&M, xf, 1, "delta_f = %g does not belong to delta_c (%g)", M.U.delta_f, df);
+        M.unload.delta_f = nextafter(df + tol, INFINITY);
+        refused_with(&M, xf, 1, "delta_f = %g does not belong to delta_c (%g)", M.unload.delta_f, df);
         M = ok;
-        M.U.Kbar = U.Kbar * (1.0 + 2e-9);
-        refused_with(&M, x0, 1, "Kbar = %g does not belong to Rbar (%g)", M.U.Kbar, U.Kbar);
-        M.U.Kbar = U.Kbar * (1.0 - 0.5e-9);
+        M.unload.Kbar = U.Kbar * (1.0 + 2e-9);
+        refused_with(&M, x0, 1, "Kbar = %g does not belong to Rbar (%g)", M.unload.Kbar, U.Kbar);
+        M.unload.Kbar = U.Kbar * (1.0 - 0.5e-9);
         accepted_as(&M, x0, "Kbar 0.5e-9 off");
     }
     /* a small body: Rbar far below 1 mm is a radius like any other */
@@ -1309,7 +1322,7 @@ Test(model_check, yielded_memory_rules)
     vi_parameters_default(&p);
     p.R1 = 1e-4;
     vi_model M = unloading_model(&p, x0);
-    cr_assert(M.U.Rbar < 1e-3, "Rbar %g", M.U.Rbar);
+    cr_assert(M.unload.Rbar < 1e-3, "Rbar %g", M.unload.Rbar);
 }
 
 /* The mode against the state: each length guard of each mode a clear distance (0.5 delta_Y or more)
@@ -1319,14 +1332,14 @@ Test(model_check, each_surface_of_each_mode)
 {
     double x0[2];
     vi_model Y = default_unloading_model(x0); /* Johnson, yielded, delta_c = 3 delta_Y */
-    const double dY = Y.J.delta_Y, dc = Y.U.delta_c, df = Y.U.delta_f;
+    const double dY = Y.johnson.delta_Y, dc = Y.unload.delta_c, df = Y.unload.delta_f;
     cr_assert(df > 0.5 * dY, "delta_f %g", df);
     vi_model H = setup(VI_ContactModel_hertz, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
     vi_model J = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
     vi_model Jm = setup(VI_ContactModel_johnson, 1, VI_Unloading_paper, 0.0, 0.0, 0.0);
     vi_model L = setup(VI_ContactModel_lepp, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
     L.delta_p = 2.0 * dY; /* the laws share delta_Y (same E*, R*, Y) */
-    cr_assert(H.J.delta_Y == dY && L.J.delta_Y == dY);
+    cr_assert(H.johnson.delta_Y == dY && L.johnson.delta_Y == dY);
     struct { vi_model *M; int mode; double d, beyond; int surface; } c[] = {
         {&H, VI_Mode_free, 0.5 * dY, 0.5 * dY, 0},             /* free, in contact */
         {&L, VI_Mode_elastic, 1.5 * dY, 0.5 * dY, 0},          /* LEPP elastic, off the permanent set */
@@ -1344,7 +1357,7 @@ Test(model_check, each_surface_of_each_mode)
         vi_model M = *c[i].M;
         M.mode = c[i].mode;
         double x[2] = {c[i].d, 0.125};
-        double tol = 1e-6 * fmax(fmax(dY, fabs(c[i].d)), fabs(M.U.delta_c));
+        double tol = 1e-6 * fmax(fmax(dY, fabs(c[i].d)), fabs(M.unload.delta_c));
         char expect[512];
         snprintf(expect, sizeof expect, "mode %d does not fit the state: delta = %.17g m lies %g m beyond its surface %d "
                  "(tolerance %g m)", c[i].mode, c[i].d, c[i].beyond, c[i].surface, tol);
@@ -1371,7 +1384,7 @@ Test(model_check, guard_tolerance_bound_is_inclusive)
 {
     vi_model M = setup(VI_ContactModel_hertz, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
     M.mode = VI_Mode_free;
-    double tol = VI_CHECK_GUARD_TOL * M.J.delta_Y, x[2] = {tol, -1.0};
+    double tol = VI_CHECK_GUARD_TOL * M.johnson.delta_Y, x[2] = {tol, -1.0};
     accepted_as(&M, x, "at the tolerance");
     x[0] = nextafter(tol, INFINITY);
     char msg[512] = "";
@@ -1439,7 +1452,7 @@ Test(model, each_ignored_option_warns_alone)
         snprintf(p.profile_file, sizeof p.profile_file, "%s", c[i].file);
         char msg[512];
         memset(msg, 'x', sizeof msg);
-        int count = vi_model_option_warnings(&p, msg, sizeof msg);
+        int count = warnings_from_table(&p, msg, sizeof msg);
         cr_assert(count == (c[i].expect[0] != '\0') && strcmp(msg, c[i].expect) == 0, "case %zu: %d '%s'", i, count, msg);
     }
     vi_parameters p;
@@ -1447,7 +1460,7 @@ Test(model, each_ignored_option_warns_alone)
     p.contact_model = VI_ContactModel_hertz, p.yield_formula = VI_YieldFormula_printed, p.V = 1.0;
     char msg[512], expect[512];
     snprintf(expect, sizeof expect, "%s; %s", printed, rolling);
-    cr_assert(vi_model_option_warnings(&p, msg, sizeof msg) == 2 && strcmp(msg, expect) == 0, "%s", msg);
+    cr_assert(warnings_from_table(&p, msg, sizeof msg) == 2 && strcmp(msg, expect) == 0, "%s", msg);
 }
 
 /* The setup refuses parameters whose load or stiffness leave the doubles, naming E*, R*, F_Y, delta_Y:
@@ -1461,33 +1474,33 @@ Test(model, setup_refuses_values_beyond_the_doubles_and_accepts_tiny_stiffnesses
     p.P = 1e308, p.m = 1e300, p.g = 1e10;
     vi_model M = {0};
     char msg[512], expect[512];
-    cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == -1);
-    cr_assert(isinf(M.W0) && isfinite(M.K) && M.K > 0.0 && isfinite(M.k_lin) && M.J.F_Y > 0.0);
+    cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == -1);
+    cr_assert(isinf(M.W0) && isfinite(M.K) && M.K > 0.0 && isfinite(M.k_lin) && M.johnson.F_Y > 0.0);
     snprintf(expect, sizeof expect, "the parameters give no finite positive contact stiffness or yield force (E* = %g Pa, "
-             "R* = %g m, F_Y = %g N, delta_Y = %g m)", M.J.E_star, M.J.R_star, M.J.F_Y, M.J.delta_Y);
+             "R* = %g m, F_Y = %g N, delta_Y = %g m)", M.johnson.E_star, M.johnson.R_star, M.johnson.F_Y, M.johnson.delta_Y);
     cr_assert(strcmp(msg, expect) == 0, "expected '%s', got '%s'", expect, msg);
-    cr_assert(p.R2 == 0.0 && fabs(M.J.R_star - p.R1) <= 1e-15 * p.R1, "R* %g", M.J.R_star); /* against a plane: R* = R1 */
+    cr_assert(p.R2 == 0.0 && fabs(M.johnson.R_star - p.R1) <= 1e-15 * p.R1, "R* %g", M.johnson.R_star); /* against a plane: R* = R1 */
     /* a yield force so far above the stiffness that delta_Y = (F_Y/K)^(2/3) overflows: k_lin = F_Y/delta_Y
      * is 0 (E* = 1e-120 Pa, theta_Y Y = 1e-15 Pa: F_Y about 1e194 N, K about 1e-120) */
     vi_parameters_default(&p);
     p.E1 = p.E2 = 2e-120, p.nu1 = p.nu2 = 0.0, p.theta_Y = 1e-15, p.Y = 1.0;
-    cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == -1, "accepted: k_lin %g", M.k_lin);
-    cr_assert(isfinite(M.J.F_Y) && M.J.F_Y > 0.0 && M.K > 0.0 && isinf(M.J.delta_Y) && M.k_lin == 0.0, "F_Y %g K %g", M.J.F_Y,
+    cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == -1, "accepted: k_lin %g", M.k_lin);
+    cr_assert(isfinite(M.johnson.F_Y) && M.johnson.F_Y > 0.0 && M.K > 0.0 && isinf(M.johnson.delta_Y) && M.k_lin == 0.0, "F_Y %g K %g", M.johnson.F_Y,
               M.K);
     snprintf(expect, sizeof expect, "the parameters give no finite positive contact stiffness or yield force (E* = 1e-120 Pa, "
-             "R* = %g m, F_Y = %g N, delta_Y = inf m)", M.J.R_star, M.J.F_Y);
+             "R* = %g m, F_Y = %g N, delta_Y = inf m)", M.johnson.R_star, M.johnson.F_Y);
     cr_assert(strcmp(msg, expect) == 0, "expected '%s', got '%s'", expect, msg);
     vi_parameters_default(&p);
     p.E1 = p.E2 = 1e-6, p.Y = 1e-10;
-    cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
-    cr_assert(M.K < 1e-3 && M.J.F_Y < 1e-3 && M.k_lin < 1e-3, "K %g F_Y %g k_lin %g", M.K, M.J.F_Y, M.k_lin);
+    cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(M.K < 1e-3 && M.johnson.F_Y < 1e-3 && M.k_lin < 1e-3, "K %g F_Y %g k_lin %g", M.K, M.johnson.F_Y, M.k_lin);
 }
 
 /* The height of the attached profile at x = 5 m (trough of slope s0: about 5 s0). */
 static double profile_height_at_5(const vi_sim *s)
 {
     double y[4];
-    cr_assert(s->d.M.profile == s->profile && s->profile != NULL);
+    cr_assert(s->d.model.profile == s->profile && s->profile != NULL);
     vi_profile_eval(s->profile, 5.0, y);
     return y[0];
 }
@@ -1524,7 +1537,7 @@ Test(rolling, profile_kept_for_the_same_file_radius_and_periodicity)
     cr_assert(fabs(profile_height_at_5(&s) - 1.5e-3) <= 1e-6, "%g", profile_height_at_5(&s));
     s.d.par.profile_file[0] = '\0'; /* none: the model rolls over nothing, the profile is released */
     cr_assert(vi_sim_restore(&s) == 0, "%s", s.msg);
-    cr_assert(s.d.M.profile == NULL && s.profile == NULL && s.profile_key[0] == '\0');
+    cr_assert(s.d.model.profile == NULL && s.profile == NULL && s.profile_key[0] == '\0');
     snprintf(s.d.par.profile_file, sizeof s.d.par.profile_file, "%s", v_trough_file(1e-4)); /* and back */
     cr_assert(vi_sim_restore(&s) == 0, "%s", s.msg);
     cr_assert(fabs(profile_height_at_5(&s) - 5e-4) <= 1e-6, "%g", profile_height_at_5(&s));
@@ -1545,8 +1558,8 @@ Test(model, validity_messages_and_bounds)
     p.R1 = 0.05; /* R* = 0.05 m: the limit 5e-4 m lies below 1e-3 m */
     vi_model M = {0};
     char msg[512], expect[512];
-    cr_assert(vi_model_setup(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
-    const double R = M.J.R_star, limit = 0.01 * R;
+    cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+    const double R = M.johnson.R_star, limit = 0.01 * R;
     M.mode = VI_Mode_free;
     double x[2] = {2.0 * limit, 1.0};
     cr_assert(vi_model_validity(&M, 1e-4, 0.0, x, 0, msg, sizeof msg) == 0, "free: %s", msg);
@@ -1567,9 +1580,9 @@ Test(model, validity_messages_and_bounds)
     cr_assert(strcmp(msg, expect) == 0, "expected '%s', got '%s'", expect, msg);
     /* after yield: delta_c counts while unloading below it */
     vi_model J = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
-    const double lj = 0.01 * J.J.R_star;
+    const double lj = 0.01 * J.johnson.R_star;
     J.yielded = 1, J.mode = VI_Mode_unload;
-    J.U = vi_johnson_unload_curve(&J.J, VI_UNLOAD_PAPER, 1.5 * lj);
+    J.unload = vi_johnson_unload_curve(&J.johnson, VI_UNLOAD_PAPER, 1.5 * lj);
     double xj[2] = {0.5 * lj, 0.0};
     cr_assert(vi_model_indentation_invalid(&J, xj));
     cr_assert(vi_model_validity(&J, 0.475, 1.0, xj, 0, msg, sizeof msg) == VI_INVALID_INDENTATION);
@@ -1613,7 +1626,7 @@ Test(rolling, breakpoints_and_end_from_a_start_time_not_zero)
     vi_parameters p;
     vi_parameters_default(&p);
     vi_model M = {0};
-    cr_assert(vi_model_setup(&M, &p, 2.0, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(setup_from_table(&M, &p, 2.0, msg, sizeof msg) == 0, "%s", msg);
     for (int dir = -1; dir <= 1; dir += 2) {
         cr_assert(vi_model_set_rolling(&M, prof, 0.5 * dir, -1.0 * dir, msg, sizeof msg) == 0, "%s", msg);
         double tk = vi_model_next_breakpoint(&M, 2.0), expect = dir > 0 ? 4.0 : nextafter(4.0, 5.0);
@@ -1675,19 +1688,19 @@ Test(rolling, a_kink_that_changes_the_mode)
     s.d.par.V = V, s.d.par.x0 = -0.01;
     cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
     double dyC;
-    vi_model_platform(&s.d.M, 0.0, &dyC, NULL);
-    cr_assert(s.d.M.mode == VI_Mode_free && dyC == -s0 * V, "mode %d, yC' = %.17g", s.d.M.mode, dyC);
-    s.d.guard_band[0] = 1.0;
+    vi_model_platform(&s.d.model, 0.0, &dyC, NULL);
+    cr_assert(s.d.model.mode == VI_Mode_free && dyC == -s0 * V, "mode %d, yC' = %.17g", s.d.model.mode, dyC);
+    s.d.events.band[0] = 1.0;
     kink_line[0] = '\0';
     cr_assert(vi_sim_advance_until(&s, 0.02, 1) == VI_SIM_EVENT, "%s", s.msg);
-    cr_assert(s.d.M.mode == VI_Mode_elastic && fabs(s.d.t - 0.01) <= 1e-15 && fabs(s.d.x[0]) <= 1e-12,
-              "mode %d t %.17g delta %g", s.d.M.mode, s.d.t, s.d.x[0]);
+    cr_assert(s.d.model.mode == VI_Mode_elastic && fabs(s.d.t - 0.01) <= 1e-15 && fabs(s.d.x[0]) <= 1e-12,
+              "mode %d t %.17g delta %g", s.d.model.mode, s.d.t, s.d.x[0]);
     double t;
     int from, to;
-    cr_assert(sscanf(kink_line, "t = %lg s: profile kink, mode %d -> %d", &t, &from, &to) == 3 && t == s.d.t &&
+    cr_assert(sscanf(kink_line, "event t=%lg kind=kink mode=%d->%d", &t, &from, &to) == 3 && t == s.d.t &&
               from == VI_Mode_free && to == VI_Mode_elastic, "%s", kink_line);
-    cr_assert(s.d.guard_band[0] < 1e-300 && s.d.guard_band[1] == 0.0, "bands %g %g", s.d.guard_band[0],
-              s.d.guard_band[1]);
+    cr_assert(s.d.events.band[0] < 1e-300 && s.d.events.band[1] == 0.0, "bands %g %g", s.d.events.band[0],
+              s.d.events.band[1]);
     vi_sim_free(&s);
     remove(v_trough_file(s0));
 }
@@ -1701,7 +1714,7 @@ Test(rolling, a_kink_that_changes_the_mode)
 Test(model, outputs_of_each_law_and_mode)
 {
     vi_model J = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 1e-4);
-    const double dY = J.J.delta_Y, t = 1.25e-4, w = J.omega;
+    const double dY = J.johnson.delta_Y, t = 1.25e-4, w = J.omega;
     J.yC_in = (vi_ramp){2e-5, 0.0, 0.0};
     J.f_contact = 123.0;
     J.n_impacts = 7;
@@ -1709,28 +1722,28 @@ Test(model, outputs_of_each_law_and_mode)
     /* Johnson, yielded, unloading at delta between delta_f and delta_c */
     vi_model M = J;
     M.yielded = 1, M.mode = VI_Mode_unload;
-    M.U = vi_johnson_unload_curve(&M.J, VI_UNLOAD_PAPER, 3.0 * dY);
-    double x[2] = {0.5 * (M.U.delta_f + M.U.delta_c), -0.5};
-    vi_outputs out;
+    M.unload = vi_johnson_unload_curve(&M.johnson, VI_UNLOAD_PAPER, 3.0 * dY);
+    double x[2] = {0.5 * (M.unload.delta_f + M.unload.delta_c), -0.5};
+    vi_model_values out;
     memset(&out, 0, sizeof out);
     vi_model_outputs(&M, t, x, VI_OUT_STATE | VI_OUT_PLATFORM | VI_OUT_FORCE | VI_OUT_MEMORY | VI_OUT_CALCULATED, &out);
     cr_assert(out.delta == x[0] && out.v == -0.5 && out.contact == 1 && out.mode == VI_Mode_unload && out.n_impacts == 7);
     cr_assert(fabs(out.yC - yC) <= 1e-18 && fabs(out.y - (yC - x[0])) <= 1e-18, "yC %.17g vs %.17g", out.yC, yC);
-    double Fu = M.U.Kbar * pow(x[0] - M.U.delta_f, 1.5);
+    double Fu = M.unload.Kbar * pow(x[0] - M.unload.delta_f, 1.5);
     cr_assert(fabs(out.F - Fu) <= 1e-12 * Fu, "F %g vs %g", out.F, Fu);
-    double W = vi_johnson_load_work(&M.J, 3.0 * dY) - vi_unload_energy(&M.U, 3.0 * dY);
-    cr_assert(out.delta_c == 3.0 * dY && out.delta_f == M.U.delta_f && out.Rbar == M.U.Rbar && out.delta_p == 0.0 &&
+    double W = vi_johnson_load_work(&M.johnson, 3.0 * dY) - vi_unload_energy(&M.unload, 3.0 * dY);
+    cr_assert(out.delta_c == 3.0 * dY && out.delta_f == M.unload.delta_f && out.Rbar == M.unload.Rbar && out.delta_p == 0.0 &&
               fabs(out.W_plastic - W) <= 1e-12 * W && W > 0.0, "memory %g %g %g %g", out.delta_c, out.delta_f, out.Rbar,
               out.W_plastic);
-    cr_assert(out.E_star == M.J.E_star && out.R_star == M.J.R_star && out.F_Y == M.J.F_Y && out.delta_Y == dY &&
+    cr_assert(out.E_star == M.johnson.E_star && out.R_star == M.johnson.R_star && out.F_Y == M.johnson.F_Y && out.delta_Y == dY &&
               out.k_lin == M.k_lin && out.f_contact == 123.0);
     /* plastic at 4 delta_Y: the memory is that of delta itself */
     M.mode = VI_Mode_plastic;
     x[0] = 4.0 * dY;
     vi_model_outputs(&M, t, x, VI_OUT_FORCE | VI_OUT_MEMORY, &out);
-    vi_unload_curve U4 = vi_johnson_unload_curve(&M.J, VI_UNLOAD_PAPER, 4.0 * dY);
+    vi_unload_curve U4 = vi_johnson_unload_curve(&M.johnson, VI_UNLOAD_PAPER, 4.0 * dY);
     cr_assert(out.delta_c == 4.0 * dY && out.delta_f == U4.delta_f && out.Rbar == U4.Rbar, "%g %g", out.delta_c, out.Rbar);
-    cr_assert(fabs(out.F - vi_johnson_load(&M.J, 4.0 * dY)) <= 1e-12 * out.F);
+    cr_assert(fabs(out.F - vi_johnson_load(&M.johnson, 4.0 * dY)) <= 1e-12 * out.F);
     /* stick: the holding force W + m yC'' (no load here: m yC'') */
     M.mode = VI_Mode_stick;
     x[0] = 3.0 * dY;
@@ -1744,25 +1757,25 @@ Test(model, outputs_of_each_law_and_mode)
     out.delta_c = out.delta_f = out.delta_p = out.W_plastic = out.Rbar = -1.0;
     vi_model_outputs(&V, t, xf, VI_OUT_STATE | VI_OUT_FORCE | VI_OUT_MEMORY, &out);
     cr_assert(out.contact == 0 && out.mode == 0 && out.F == 0.0 && out.delta_c == 0.0 && out.delta_f == 0.0 &&
-              out.delta_p == 0.0 && out.W_plastic == 0.0 && out.Rbar == J.J.R_star);
+              out.delta_p == 0.0 && out.W_plastic == 0.0 && out.Rbar == J.johnson.R_star);
     vi_model Mv = setup(VI_ContactModel_johnson, 1, VI_Unloading_paper, 0.0, 0.0, 0.0);
     Mv.mode = VI_Mode_plastic;
     double xm[2] = {2.0 * dY, 0.0};
     vi_model_outputs(&Mv, 0.0, xm, VI_OUT_MEMORY, &out);
-    cr_assert(out.delta_c == 0.0 && out.W_plastic == 0.0 && out.Rbar == Mv.J.R_star);
+    cr_assert(out.delta_c == 0.0 && out.W_plastic == 0.0 && out.Rbar == Mv.johnson.R_star);
     /* LEPP: elastic from the permanent set, plastic at F_Y with delta_p = delta - delta_Y */
     vi_model L = setup(VI_ContactModel_lepp, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
     L.delta_p = 0.5 * dY, L.mode = VI_Mode_elastic;
     double xl[2] = {1.25 * dY, 0.0};
     vi_model_outputs(&L, 0.0, xl, VI_OUT_FORCE | VI_OUT_MEMORY, &out);
     cr_assert(fabs(out.F - L.k_lin * 0.75 * dY) <= 1e-12 * out.F && out.delta_p == 0.5 * dY &&
-              fabs(out.W_plastic - L.J.F_Y * 0.5 * dY) <= 1e-12 * out.W_plastic && out.delta_c == 0.0 &&
-              out.Rbar == L.J.R_star, "F %g W %g", out.F, out.W_plastic);
+              fabs(out.W_plastic - L.johnson.F_Y * 0.5 * dY) <= 1e-12 * out.W_plastic && out.delta_c == 0.0 &&
+              out.Rbar == L.johnson.R_star, "F %g W %g", out.F, out.W_plastic);
     L.mode = VI_Mode_plastic;
     xl[0] = 2.5 * dY;
     vi_model_outputs(&L, 0.0, xl, VI_OUT_FORCE | VI_OUT_MEMORY, &out);
-    cr_assert(out.F == L.J.F_Y && fabs(out.delta_p - 1.5 * dY) <= 1e-15 * dY &&
-              fabs(out.W_plastic - L.J.F_Y * 1.5 * dY) <= 1e-12 * out.W_plastic, "F %g delta_p %g", out.F, out.delta_p);
+    cr_assert(out.F == L.johnson.F_Y && fabs(out.delta_p - 1.5 * dY) <= 1e-15 * dY &&
+              fabs(out.W_plastic - L.johnson.F_Y * 1.5 * dY) <= 1e-12 * out.W_plastic, "F %g delta_p %g", out.F, out.delta_p);
     /* Hertz: K delta^1.5 */
     vi_model H = setup(VI_ContactModel_hertz, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
     H.mode = VI_Mode_elastic;
@@ -1781,16 +1794,16 @@ Test(model, initial_state_starts_from_nothing)
         for (int init = VI_Init_static; init <= VI_Init_touching; init++) {
             vi_model M = setup(laws[i], 0, VI_Unloading_paper, 40000.0, 9.81, 0.0);
             M.mode = VI_Mode_stick, M.yielded = 1, M.delta_p = 1e-6, M.n_impacts = 5;
-            M.U = vi_johnson_unload_curve(&M.J, VI_UNLOAD_PAPER, 3.0 * M.J.delta_Y);
+            M.unload = vi_johnson_unload_curve(&M.johnson, VI_UNLOAD_PAPER, 3.0 * M.johnson.delta_Y);
             double x[2] = {1.0, 1.0};
             vi_model_initial_state(&M, init, init == VI_Init_static ? 0.0 : 2.0, 0.0, x);
             double W = M.W0, d = init == VI_Init_static ? (laws[i] == VI_ContactModel_lepp ? W / M.k_lin
                                                                                           : pow(W / M.K, 2.0 / 3.0))
                                                         : 0.0;
             if (laws[i] == VI_ContactModel_johnson && init == VI_Init_static)
-                d = vi_johnson_load_indentation(&M.J, W); /* below yield here: the Hertz branch */
-            cr_assert(M.yielded == 0 && M.delta_p == 0.0 && M.n_impacts == 0 && M.U.delta_c == 0.0 && M.U.Rbar == 0.0 &&
-                      M.U.delta_r == 0.0 && M.U.delta_f == 0.0 && M.U.Kbar == 0.0, "law %d init %d", laws[i], init);
+                d = vi_johnson_load_indentation(&M.johnson, W); /* below yield here: the Hertz branch */
+            cr_assert(M.yielded == 0 && M.delta_p == 0.0 && M.n_impacts == 0 && M.unload.delta_c == 0.0 && M.unload.Rbar == 0.0 &&
+                      M.unload.delta_r == 0.0 && M.unload.delta_f == 0.0 && M.unload.Kbar == 0.0, "law %d init %d", laws[i], init);
             cr_assert(fabs(x[0] - d) <= 1e-12 * d, "law %d init %d: delta %.17g vs %.17g", laws[i], init, x[0], d);
             cr_assert(init == VI_Init_static ? x[1] == 0.0 && M.mode == VI_Mode_elastic : x[1] == 2.0 && M.mode == VI_Mode_free,
                       "law %d init %d: v %g mode %d", laws[i], init, x[1], M.mode);
@@ -1820,18 +1833,18 @@ Test(model, initial_state_starts_from_nothing)
     vi_model L = setup(VI_ContactModel_lepp, 0, VI_Unloading_paper, 1e7, 0.0, 0.0);
     double x[2];
     vi_model_initial_state(&J, VI_Init_static, 0.0, 0.0, x);
-    cr_assert(J.yielded == 1 && J.U.delta_c == x[0] && x[0] > J.J.delta_Y);
+    cr_assert(J.yielded == 1 && J.unload.delta_c == x[0] && x[0] > J.johnson.delta_Y);
     vi_model_initial_state(&Jm, VI_Init_static, 0.0, 0.0, x);
-    cr_assert(Jm.yielded == 0 && Jm.U.delta_c == 0.0 && x[0] > Jm.J.delta_Y);
+    cr_assert(Jm.yielded == 0 && Jm.unload.delta_c == 0.0 && x[0] > Jm.johnson.delta_Y);
     vi_model_initial_state(&L, VI_Init_static, 0.0, 0.0, x);
-    cr_assert(L.yielded == 0 && L.U.delta_c == 0.0 && x[0] == L.J.delta_Y && L.delta_p == 0.0, "%g", x[0]);
+    cr_assert(L.yielded == 0 && L.unload.delta_c == 0.0 && x[0] == L.johnson.delta_Y && L.delta_p == 0.0, "%g", x[0]);
     /* small oscillations there: on the unloading curve of the static indentation (fixed contact point),
      * on the virgin curve (moving) */
-    double d = vi_johnson_load_indentation(&J.J, 1e7);
-    vi_unload_curve U = vi_johnson_unload_curve(&J.J, VI_UNLOAD_PAPER, d);
+    double d = vi_johnson_load_indentation(&J.johnson, 1e7);
+    vi_unload_curve U = vi_johnson_unload_curve(&J.johnson, VI_UNLOAD_PAPER, d);
     double k = 1.5 * U.Kbar * sqrt(d - U.delta_f), f = sqrt(k / J.m) / (2.0 * VI_PI);
     cr_assert(fabs(J.f_contact - f) <= 1e-9 * f, "fixed: f_contact %.17g vs %.17g", J.f_contact, f);
-    k = vi_johnson_load_stiffness(&Jm.J, d), f = sqrt(k / Jm.m) / (2.0 * VI_PI);
+    k = vi_johnson_load_stiffness(&Jm.johnson, d), f = sqrt(k / Jm.m) / (2.0 * VI_PI);
     cr_assert(fabs(Jm.f_contact - f) <= 1e-9 * f, "moving: f_contact %.17g vs %.17g", Jm.f_contact, f);
 }
 
@@ -1854,7 +1867,7 @@ Test(rolling, scales_from_the_rolling_speed)
         vi_model_initial_state(&M, VI_Init_touching, 0.0, 0.0, s);
         vi_model_scales(&M, s, &L, &Vs);
         double v = a * 2.0 * VI_PI * 560.0 + 2.0 * vi_profile_max_slope(prof);
-        double dv = pow(15.0 * M.m * v * v / (16.0 * M.J.E_star * sqrt(M.J.R_star)), 0.4);
+        double dv = pow(15.0 * M.m * v * v / (16.0 * M.johnson.E_star * sqrt(M.johnson.R_star)), 0.4);
         cr_assert(fabs(L - dv) <= 1e-14 * dv, "case %d: L = %.17g vs %.17g", k, L, dv);
     }
     vi_profile_free(prof);
@@ -1868,7 +1881,7 @@ Test(rolling, a_state_beyond_the_doubles_at_the_end_of_the_profile_is_an_error)
     vi_sim s;
     rolling_sim(&s, 1e-4, 1000.0, 9.0, 1e-6); /* the end at t = 1 ms */
     char why[400];
-    double end = vi_model_rolling_limit(&s.d.M, why, sizeof why);
+    double end = vi_model_rolling_limit(&s.d.model, why, sizeof why);
     cr_assert(vi_sim_advance(&s, end) == VI_SIM_OK, "%s", s.msg);
     s.d.in.yC_in = 1.7e308;
     s.d.inputs_changed = 1;
@@ -1897,7 +1910,7 @@ Test(rolling, a_kink_within_rounding_of_the_step_start)
     const double s0 = 1e-4, V = 1.0;
     vi_sim s;
     rolling_sim(&s, s0, V, -0.01, 1e-10);
-    double tk = vi_model_next_breakpoint(&s.d.M, 0.0), ds = s.d.x[0], w = 2.0 * VI_PI * s.d.M.f_contact;
+    double tk = vi_model_next_breakpoint(&s.d.model, 0.0), ds = s.d.x[0], w = 2.0 * VI_PI * s.d.model.f_contact;
     double t1 = nextafter(nextafter(nextafter(tk, 0.0), 0.0), 0.0);
     cr_assert(vi_sim_advance(&s, t1) == VI_SIM_OK, "%s", s.msg);
     double after = 0.0;
@@ -1923,10 +1936,10 @@ Test(model, guards_of_each_mode)
     vi_model Y = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, P, 0.0, 1e-4);
     vi_model Jm = setup(VI_ContactModel_johnson, 1, VI_Unloading_paper, P, 0.0, 1e-4);
     vi_model L = setup(VI_ContactModel_lepp, 0, VI_Unloading_paper, P, 0.0, 1e-4);
-    const double dY = H.J.delta_Y, w = H.omega, dyC = -1e-4 * w * sin(w * t), ddyC = -1e-4 * w * w * cos(w * t);
-    Y.yielded = 1, Y.U = vi_johnson_unload_curve(&Y.J, VI_UNLOAD_PAPER, 3.0 * dY);
+    const double dY = H.johnson.delta_Y, w = H.omega, dyC = -1e-4 * w * sin(w * t), ddyC = -1e-4 * w * w * cos(w * t);
+    Y.yielded = 1, Y.unload = vi_johnson_unload_curve(&Y.johnson, VI_UNLOAD_PAPER, 3.0 * dY);
     L.delta_p = 0.5 * dY;
-    const double d = 2.0 * dY, v = 0.3, df = Y.U.delta_f, dc = Y.U.delta_c;
+    const double d = 2.0 * dY, v = 0.3, df = Y.unload.delta_f, dc = Y.unload.delta_c;
     const double F_hold = P + Y.m * ddyC;
     struct { vi_model *M; int mode; double g0, g1; } c[] = {
         {&H, VI_Mode_free, -d, 1.0},
@@ -1939,7 +1952,7 @@ Test(model, guards_of_each_mode)
         {&L, VI_Mode_plastic, dyC - v, 1.0},
         {&Jm, VI_Mode_plastic, d - dY, 1.0},
         {&Y, VI_Mode_unload, d - df, dc - d},
-        {&Y, VI_Mode_stick, vi_johnson_load(&Y.J, dc) - F_hold, F_hold - vi_unload_force(&Y.U, dc)},
+        {&Y, VI_Mode_stick, vi_johnson_load(&Y.johnson, dc) - F_hold, F_hold - vi_unload_force(&Y.unload, dc)},
     };
     for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
         vi_model M = *c[i].M;
@@ -1962,7 +1975,7 @@ Test(model, right_hand_side_of_each_mode)
     const double t = 1e-4, P = 40000.0;
     vi_model H = setup(VI_ContactModel_hertz, 0, VI_Unloading_paper, P, 9.81, 1e-4);
     H.F_ext = (vi_ramp){100.0, 2e4, 0.0}; /* F_ext(t) = 100 N + 20 kN/s t */
-    const double dY = H.J.delta_Y, w = H.omega, m = H.m, dyC = -1e-4 * w * sin(w * t), ddyC = -1e-4 * w * w * cos(w * t);
+    const double dY = H.johnson.delta_Y, w = H.omega, m = H.m, dyC = -1e-4 * w * sin(w * t), ddyC = -1e-4 * w * w * cos(w * t);
     const double W = P + m * 9.81 - (100.0 + 2e4 * t), d = 2.0 * dY, v = 0.3;
     double x[2] = {d, v}, dx[2], j[4];
     H.mode = VI_Mode_free;
@@ -1977,16 +1990,16 @@ Test(model, right_hand_side_of_each_mode)
     cr_assert(fabs(dx[0] - (dyC - v)) <= 1e-15 && fabs(dx[1] - (F - W) / m) <= 1e-12 * F / m, "elastic: %g", dx[1]);
     cr_assert(j[1] == -1.0 && fabs(j[2] - 1.5 * H.K * sqrt(d) / m) <= 1e-12 * j[2], "jacobian %g", j[2]);
     vi_model Y = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, P, 9.81, 1e-4);
-    Y.yielded = 1, Y.U = vi_johnson_unload_curve(&Y.J, VI_UNLOAD_PAPER, 3.0 * dY), Y.mode = VI_Mode_stick;
-    x[0] = Y.U.delta_c;
+    Y.yielded = 1, Y.unload = vi_johnson_unload_curve(&Y.johnson, VI_UNLOAD_PAPER, 3.0 * dY), Y.mode = VI_Mode_stick;
+    x[0] = Y.unload.delta_c;
     vi_model_rhs(&Y, t, x, dx);
     vi_model_jacobian(&Y, t, x, j);
     cr_assert(dx[0] == 0.0 && fabs(dx[1] - ddyC) <= 1e-12 * fabs(ddyC), "stick: %g %g", dx[0], dx[1]);
     cr_assert(j[0] == 0.0 && j[1] == 0.0 && j[2] == 0.0 && j[3] == 0.0);
     Y.mode = VI_Mode_unload;
-    x[0] = 0.5 * (Y.U.delta_f + Y.U.delta_c);
+    x[0] = 0.5 * (Y.unload.delta_f + Y.unload.delta_c);
     vi_model_jacobian(&Y, t, x, j);
-    double k = 1.5 * Y.U.Kbar * sqrt(x[0] - Y.U.delta_f);
+    double k = 1.5 * Y.unload.Kbar * sqrt(x[0] - Y.unload.delta_f);
     cr_assert(j[1] == -1.0 && fabs(j[2] - k / m) <= 1e-12 * k / m, "unloading stiffness %g vs %g", j[2] * m, k);
     vi_model L = setup(VI_ContactModel_lepp, 0, VI_Unloading_paper, P, 9.81, 1e-4);
     L.mode = VI_Mode_plastic;
@@ -1994,7 +2007,7 @@ Test(model, right_hand_side_of_each_mode)
     vi_model_rhs(&L, t, x, dx);
     vi_model_jacobian(&L, t, x, j);
     double WL = P + m * 9.81;
-    cr_assert(fabs(dx[1] - (L.J.F_Y - WL) / m) <= 1e-12 * WL / m && j[2] == 0.0, "LEPP plastic: %g %g", dx[1], j[2]);
+    cr_assert(fabs(dx[1] - (L.johnson.F_Y - WL) / m) <= 1e-12 * WL / m && j[2] == 0.0, "LEPP plastic: %g %g", dx[1], j[2]);
     /* LEPP elastic from its permanent set: no stiffness at delta_p itself (no force there), k_lin beyond */
     L.mode = VI_Mode_elastic, L.delta_p = 0.5 * dY;
     x[0] = 0.5 * dY;
@@ -2014,10 +2027,10 @@ Test(model, event_snaps_onto_the_fired_surface)
     vi_model Jm = setup(VI_ContactModel_johnson, 1, VI_Unloading_paper, 0.0, 0.0, 0.0);
     vi_model L = setup(VI_ContactModel_lepp, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
     vi_model Y = J;
-    const double dY = H.J.delta_Y;
+    const double dY = H.johnson.delta_Y;
     L.delta_p = 0.5 * dY;
-    Y.yielded = 1, Y.U = vi_johnson_unload_curve(&Y.J, VI_UNLOAD_PAPER, 3.0 * dY);
-    const double df = Y.U.delta_f, dc = Y.U.delta_c;
+    Y.yielded = 1, Y.unload = vi_johnson_unload_curve(&Y.johnson, VI_UNLOAD_PAPER, 3.0 * dY);
+    const double df = Y.unload.delta_f, dc = Y.unload.delta_c;
     struct { vi_model *M; int mode, fired; double d, v, snapped; int after; } c[] = {
         {&H, VI_Mode_free, 0, 1e-12, -0.1, 0.0, VI_Mode_elastic},
         {&H, VI_Mode_elastic, 0, -1e-12, 0.1, 0.0, VI_Mode_free},
@@ -2041,8 +2054,8 @@ Test(model, event_snaps_onto_the_fired_surface)
     vi_model M = Y;
     M.mode = VI_Mode_plastic;
     double x[2] = {4.0 * dY, 1e-9};
-    cr_assert(vi_model_event(&M, 0.0, x, 0) == VI_Mode_unload && x[1] == 0.0 && x[0] == 4.0 * dY && M.U.delta_c == 4.0 * dY,
-              "mode %d v %g delta_c %g", M.mode, x[1], M.U.delta_c);
+    cr_assert(vi_model_event(&M, 0.0, x, 0) == VI_Mode_unload && x[1] == 0.0 && x[0] == 4.0 * dY && M.unload.delta_c == 4.0 * dY,
+              "mode %d v %g delta_c %g", M.mode, x[1], M.unload.delta_c);
 }
 
 /* Johnson's mode choice (fixed contact point, no load, no platform motion: the velocity decides) and
@@ -2053,7 +2066,7 @@ Test(model, event_snaps_onto_the_fired_surface)
 Test(model, johnson_mode_choice_and_memory)
 {
     vi_model J = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
-    const double dY = J.J.delta_Y;
+    const double dY = J.johnson.delta_Y;
     struct { int yielded; double d, v; int mode, yielded_after; double dc_after; } c[] = {
         {0, 0.5, -0.1, VI_Mode_elastic, 0, 0.0},
         {0, 0.5, 0.1, VI_Mode_elastic, 0, 0.0},
@@ -2066,21 +2079,21 @@ Test(model, johnson_mode_choice_and_memory)
     for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
         vi_model M = J;
         M.mode = VI_Mode_free;
-        if (c[i].yielded) M.yielded = 1, M.U = vi_johnson_unload_curve(&M.J, VI_UNLOAD_PAPER, 3.0 * dY);
+        if (c[i].yielded) M.yielded = 1, M.unload = vi_johnson_unload_curve(&M.johnson, VI_UNLOAD_PAPER, 3.0 * dY);
         double x[2] = {c[i].d * dY, c[i].v};
         int mode = vi_model_resolve(&M, 0.0, x);
-        cr_assert(mode == c[i].mode && M.yielded == c[i].yielded_after && M.U.delta_c == c[i].dc_after * dY,
-                  "case %zu: mode %d yielded %d delta_c %g delta_Y", i, mode, M.yielded, M.U.delta_c / dY);
+        cr_assert(mode == c[i].mode && M.yielded == c[i].yielded_after && M.unload.delta_c == c[i].dc_after * dY,
+                  "case %zu: mode %d yielded %d delta_c %g delta_Y", i, mode, M.yielded, M.unload.delta_c / dY);
         if (M.yielded) {
-            vi_unload_curve U = vi_johnson_unload_curve(&M.J, VI_UNLOAD_PAPER, M.U.delta_c);
-            cr_assert(M.U.Rbar == U.Rbar && M.U.delta_f == U.delta_f, "case %zu: not the curve of delta_c", i);
+            vi_unload_curve U = vi_johnson_unload_curve(&M.johnson, VI_UNLOAD_PAPER, M.unload.delta_c);
+            cr_assert(M.unload.Rbar == U.Rbar && M.unload.delta_f == U.delta_f, "case %zu: not the curve of delta_c", i);
         }
     }
     for (int variant = VI_UNLOAD_PAPER; variant <= VI_UNLOAD_CONTINUOUS; variant++) {
         vi_model M = setup(VI_ContactModel_johnson, 0, variant, 0.0, 0.0, 0.0);
         double dc = 3.0 * dY;
-        M.yielded = 1, M.U = vi_johnson_unload_curve(&M.J, variant, dc), M.mode = VI_Mode_plastic;
-        double Fl = vi_johnson_load(&M.J, dc), Fu = vi_unload_force(&M.U, dc);
+        M.yielded = 1, M.unload = vi_johnson_unload_curve(&M.johnson, variant, dc), M.mode = VI_Mode_plastic;
+        double Fl = vi_johnson_load(&M.johnson, dc), Fu = vi_unload_force(&M.unload, dc);
         M.F_ext = (vi_ramp){-(variant == VI_UNLOAD_PAPER ? 0.5 * (Fl + Fu) : 0.99 * Fl), 0.0, 0.0};
         double x[2] = {dc, 0.0};
         int expect = variant == VI_UNLOAD_PAPER ? VI_Mode_stick : VI_Mode_unload;
@@ -2097,10 +2110,10 @@ Test(model, tie_at_the_load_limit_broken_by_the_jerk_against_the_load_rate)
     const double t = 1e-4;
     for (int k = 0; k < 2; k++) {
         vi_model M = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 1e-5);
-        const double w = M.omega, s = sin(w * t), c = cos(w * t), dc = 3.0 * M.J.delta_Y;
+        const double w = M.omega, s = sin(w * t), c = cos(w * t), dc = 3.0 * M.johnson.delta_Y;
         cr_assert(s > 0.3);
-        M.yielded = 1, M.U = vi_johnson_unload_curve(&M.J, VI_UNLOAD_PAPER, dc), M.mode = VI_Mode_stick;
-        M.W0 = vi_johnson_load(&M.J, dc) + M.m * 1e-5 * w * w * c; /* F_hold(t) = F_load(delta_c) */
+        M.yielded = 1, M.unload = vi_johnson_unload_curve(&M.johnson, VI_UNLOAD_PAPER, dc), M.mode = VI_Mode_stick;
+        M.W0 = vi_johnson_load(&M.johnson, dc) + M.m * 1e-5 * w * w * c; /* F_hold(t) = F_load(delta_c) */
         double jerk = M.m * 1e-5 * w * w * w * s;
         M.F_ext = (vi_ramp){0.0, (k ? 1.5 : 0.5) * jerk, t};
         double x[2] = {dc, 0.0};
@@ -2120,12 +2133,12 @@ Test(rolling, tie_at_the_load_limit_broken_by_the_profile_jerk)
     cr_assert(prof != NULL, "%s", msg);
     vi_model M = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
     cr_assert(vi_model_set_rolling(&M, prof, 3.0, -0.05, msg, sizeof msg) == 0, "%s", msg);
-    const double t = 0.004, V = 3.0, dc = 3.0 * M.J.delta_Y;
+    const double t = 0.004, V = 3.0, dc = 3.0 * M.johnson.delta_Y;
     double b[4];
     vi_profile_eval(prof, vi_model_rolling_position(&M, t), b);
     cr_assert(fabs(b[3]) > 1.0, "yb''' = %g", b[3]);
-    M.yielded = 1, M.U = vi_johnson_unload_curve(&M.J, VI_UNLOAD_PAPER, dc), M.mode = VI_Mode_stick;
-    M.W0 = vi_johnson_load(&M.J, dc) - M.m * V * V * b[2]; /* F_hold(t) = F_load(delta_c) */
+    M.yielded = 1, M.unload = vi_johnson_unload_curve(&M.johnson, VI_UNLOAD_PAPER, dc), M.mode = VI_Mode_stick;
+    M.W0 = vi_johnson_load(&M.johnson, dc) - M.m * V * V * b[2]; /* F_hold(t) = F_load(delta_c) */
     M.F_ext = (vi_ramp){0.0, 0.9 * M.m * V * V * V * b[3], t};
     double x[2] = {dc, 0.0};
     int mode = vi_model_event(&M, t, x, 0);

@@ -1416,7 +1416,8 @@ Test(failures, a_step_whose_end_derivative_is_not_finite_is_rejected)
 
 Test(failures, each_refusal_of_a_problem_says_the_rule_and_the_value)
 {
-    /* One rule broken at a time, the message compared whole: the rule and the value given. */
+    /* One rule broken at a time, the message compared whole: the rule and the value given (longer than
+     * 60 lines for its table: twenty refusals, a row each, and the change that makes each). */
     const vi_ode_problem ok = {.n = 2, .ng = 1, .rhs = osc_u, .guards = guards, .rtol = 1e-6, .atol = {1e-6, 1e-6}};
     char msg[128];
     cr_assert_eq(vi_ode_check(NULL, msg, sizeof msg), VI_ODE_ERR_ARGS);

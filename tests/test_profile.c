@@ -303,6 +303,95 @@ static void small_table(double *x, double *h, size_t n, double r, int grid, int 
     if (periodic) h[n - 1] = h[0];
 }
 
+enum { SMALL_NMAX = 8, SMALL_COPIES = 40 };
+
+/* The table the definition is evaluated on into xu, hu (*nu rows): a periodic one unrolled over the
+ * body's reach r, an open one as it is. */
+static void unrolled(const double *x, const double *h, size_t n, double r, int periodic, double *xu, double *hu,
+                     size_t *nu, int t)
+{
+    double L = x[n - 1] - x[0];
+    if (!periodic) {
+        memcpy(xu, x, n * sizeof *x), memcpy(hu, h, n * sizeof *h);
+        *nu = n;
+        return;
+    }
+    int reach = (int)ceil(r / L) + 1;
+    cr_assert(2 * reach + 1 <= SMALL_COPIES, "table %d: period %g", t, L);
+    *nu = 0;
+    for (int k = -reach; k <= reach; k++)
+        for (size_t i = (k == -reach ? 0 : 1); i < n; i++) xu[*nu] = x[i] + k * L, hu[*nu] = h[i], (*nu)++;
+}
+
+/* yb at SMALL_POINTS + 1 points across the table and at and beside every row against the definition,
+ * yb' within the contacts' slopes, yb'' and yb''' against a vertex circle's (or 0 on a tangent); the
+ * points checked are counted in *checked. Returns the largest |yb'| sampled. */
+enum { SMALL_POINTS = 64 };
+static double check_samples(const vi_profile *p, const double *x, size_t n, double r, int periodic, const double *xu,
+                            const double *hu, size_t nu, int t, int *checked)
+{
+    double L = x[n - 1] - x[0], tol = 1e-12 * r, smax = 0.0;
+    int pts = SMALL_POINTS;
+    for (int k = 0; k <= pts + 3 * (int)n; k++) {
+        double at;
+        if (k <= pts) at = x[0] + L * k / pts;
+        else {
+            size_t i = (size_t)(k - pts - 1) / 3;
+            int side = (k - pts - 1) % 3;
+            at = x[i] + (side == 0 ? 0.0 : side == 1 ? -1e-3 * r : 1e-3 * r);
+            if (!periodic && (at < x[0] || at > x[n - 1])) continue;
+        }
+        double y[4], ref = brute(xu, hu, nu, r, at), lo, hi;
+        vi_profile_eval(p, at, y);
+        cr_assert(fabs(y[0] - ref) <= tol, "table %d (n %zu, r %g, %s) x %.17g: yb %.17g, by the definition %.17g", t,
+                  n, r, periodic ? "periodic" : "open", at, y[0], ref);
+        contact_slopes(xu, hu, nu, r, at, 1e-13 * r, &lo, &hi);
+        cr_assert(y[1] >= lo - 1e-9 && y[1] <= hi + 1e-9, "table %d x %.17g: yb' %.17g, contact slopes %.17g..%.17g", t,
+                  at, y[1], lo, hi);
+        /* on a vertex circle yb'' = -(1 + yb'^2)^(3/2)/r and yb''' = -3 yb' yb'' sqrt(1 + yb'^2)/r; on a tangent both 0 */
+        double c2 = -pow(1.0 + y[1] * y[1], 1.5) / r, c3 = -3.0 * y[1] * c2 * sqrt(1.0 + y[1] * y[1]) / r;
+        cr_assert((y[2] == 0.0 && y[3] == 0.0) ||
+                      (fabs(y[2] - c2) <= 1e-9 * fabs(c2) && fabs(y[3] - c3) <= 1e-9 * fabs(c2) * (1.0 + fabs(y[1])) / r),
+                  "table %d x %.17g: yb' %.17g, yb'' %.17g, yb''' %.17g", t, at, y[1], y[2], y[3]);
+        smax = fmax(smax, fabs(y[1]));
+        (*checked)++;
+    }
+    return smax;
+}
+
+/* Kinks (one period of a periodic table, from just before its first row): the slope jumps by more
+ * than VI_PROFILE_KINK_SLOPE at each, not between two; each finds the one before it; a periodic
+ * table's kinks repeat one period before and after. */
+static void check_kinks(const vi_profile *p, const double *x, size_t n, double r, int periodic, int t)
+{
+    double L = x[n - 1] - x[0];
+    double a = periodic ? x[0] - 1e-9 * L : x[0], prev = NAN, yl[4], yr[4], first = NAN, first_before = NAN;
+    size_t walked = 0;
+    for (double at = vi_profile_next_kink(p, a, 1); at < x[n - 1]; at = vi_profile_next_kink(p, at, 1)) {
+        double e = 1e-12 * (1.0 + fabs(at)); /* a periodic table's positions are reduced to some ulps */
+        vi_profile_eval(p, at - e, yl);
+        vi_profile_eval(p, at + e, yr);
+        cr_assert(fabs(yr[1] - yl[1]) > 0.5 * VI_PROFILE_KINK_SLOPE, "table %d: no slope jump at the kink %.17g (%g)", t, at,
+                  yr[1] - yl[1]);
+        cr_assert(slope_jump(p, r, a + 1e-12, at - 1e-12, 200) <= 0.0, "table %d: a slope jump in %.17g..%.17g", t, a, at);
+        double before = vi_profile_next_kink(p, at, -1);
+        if (walked) cr_assert(before == prev, "table %d: the kink before %.17g is %.17g, not %.17g", t, at, before, prev);
+        else if (!periodic) cr_assert(before == -INFINITY, "table %d: a kink %.17g before the first", t, before);
+        else first = at, first_before = before;
+        prev = at, a = at, walked++;
+        cr_assert(walked <= 2 * SMALL_NMAX);
+    }
+    if (!walked) cr_assert(vi_profile_next_kink(p, a, -1) == -INFINITY && vi_profile_next_kink(p, a, 1) == INFINITY);
+    cr_assert(slope_jump(p, r, a + 1e-12, x[n - 1] - 1e-12, 200) <= 0.0, "table %d: a slope jump after %.17g", t, a);
+    cr_assert(walked == vi_profile_kinks(p), "table %d: %zu kinks walked, %zu counted", t, walked, vi_profile_kinks(p));
+    if (periodic && walked) { /* the kinks of the periods before and after */
+        double after = vi_profile_next_kink(p, prev, 1);
+        cr_assert(fabs(first_before - (prev - L)) <= 1e-12 * (1.0 + fabs(prev)) && fabs(after - (first + L)) <= 1e-12 * (1.0 + fabs(first)),
+                  "table %d: kinks %.17g .. %.17g, before the first %.17g, after the last %.17g", t, first, prev,
+                  first_before, after);
+    }
+}
+
 /* Many small tables (2 to 8 rows, open and periodic, on a grid and not) against the definition: yb
  * at the rows, just beside them and between them; yb' against the slopes where the body touches
  * (within the two contacts' slopes at a kink) and against a central difference of yb, yb'' and yb'''
@@ -311,96 +400,35 @@ static void small_table(double *x, double *h, size_t n, double r, int grid, int 
 Test(profile, small_random_tables_match_the_definition, .timeout = 60)
 {
     srand(31337);
-    enum { NMAX = 8, COPIES = 40 };
-    static double xu[COPIES * NMAX], hu[COPIES * NMAX];
+    static double xu[SMALL_COPIES * SMALL_NMAX], hu[SMALL_COPIES * SMALL_NMAX];
     int checked = 0;
     for (int t = 0; t < 1200; t++) {
-        size_t n = 2 + (size_t)(rand() % (NMAX - 1));
+        size_t n = 2 + (size_t)(rand() % (SMALL_NMAX - 1));
         int grid = t % 2, periodic = t % 3 == 2;
         if (periodic && n < 3) n = 3;
-        double r = grid ? 1.0 : 0.05 + rand() % 100 / 100.0, x[NMAX], h[NMAX];
+        double r = grid ? 1.0 : 0.05 + rand() % 100 / 100.0, x[SMALL_NMAX], h[SMALL_NMAX];
         small_table(x, h, n, r, grid, periodic);
         char msg[512];
         vi_profile *p = vi_profile_create(x, h, n, r, periodic, "small", msg, sizeof msg);
         cr_assert(p != NULL, "table %d: %s", t, msg);
-        /* the table the definition is evaluated on: a periodic one unrolled over the body's reach */
         double L = x[n - 1] - x[0];
-        size_t nu = n;
         if (periodic && L < 0.25 * r) { /* copies enough; the short periods have their own test */
             vi_profile_free(p);
             continue;
         }
-        if (periodic) {
-            int reach = (int)ceil(r / L) + 1;
-            cr_assert(2 * reach + 1 <= COPIES, "table %d: period %g", t, L);
-            nu = 0;
-            for (int k = -reach; k <= reach; k++)
-                for (size_t i = (k == -reach ? 0 : 1); i < n; i++) xu[nu] = x[i] + k * L, hu[nu] = h[i], nu++;
-        } else {
-            memcpy(xu, x, n * sizeof *x), memcpy(hu, h, n * sizeof *h);
-        }
+        size_t nu;
+        unrolled(x, h, n, r, periodic, xu, hu, &nu, t);
         double hlo = h[0], hhi = h[0];
         for (size_t i = 0; i < n; i++) hlo = fmin(hlo, h[i]), hhi = fmax(hhi, h[i]);
         cr_assert(vi_profile_height_span(p) == hhi - hlo, "table %d: span %.17g", t, vi_profile_height_span(p));
         cr_assert(vi_profile_periodic(p) == periodic && vi_profile_x_first(p) == x[0] && vi_profile_x_last(p) == x[n - 1]);
-        double tol = 1e-12 * r, smax = 0.0;
-        int pts = 64;
-        for (int k = 0; k <= pts + 3 * (int)n; k++) {
-            double at;
-            if (k <= pts) at = x[0] + L * k / pts;
-            else {
-                size_t i = (size_t)(k - pts - 1) / 3;
-                int side = (k - pts - 1) % 3;
-                at = x[i] + (side == 0 ? 0.0 : side == 1 ? -1e-3 * r : 1e-3 * r);
-                if (!periodic && (at < x[0] || at > x[n - 1])) continue;
-            }
-            double y[4], ref = brute(xu, hu, nu, r, at), lo, hi;
-            vi_profile_eval(p, at, y);
-            cr_assert(fabs(y[0] - ref) <= tol, "table %d (n %zu, r %g, %s) x %.17g: yb %.17g, by the definition %.17g", t,
-                      n, r, periodic ? "periodic" : "open", at, y[0], ref);
-            contact_slopes(xu, hu, nu, r, at, 1e-13 * r, &lo, &hi);
-            cr_assert(y[1] >= lo - 1e-9 && y[1] <= hi + 1e-9, "table %d x %.17g: yb' %.17g, contact slopes %.17g..%.17g", t,
-                      at, y[1], lo, hi);
-            /* on a vertex circle yb'' = -(1 + yb'^2)^(3/2)/r and yb''' = -3 yb' yb'' sqrt(1 + yb'^2)/r; on a tangent both 0 */
-            double c2 = -pow(1.0 + y[1] * y[1], 1.5) / r, c3 = -3.0 * y[1] * c2 * sqrt(1.0 + y[1] * y[1]) / r;
-            cr_assert((y[2] == 0.0 && y[3] == 0.0) ||
-                          (fabs(y[2] - c2) <= 1e-9 * fabs(c2) && fabs(y[3] - c3) <= 1e-9 * fabs(c2) * (1.0 + fabs(y[1])) / r),
-                      "table %d x %.17g: yb' %.17g, yb'' %.17g, yb''' %.17g", t, at, y[1], y[2], y[3]);
-            smax = fmax(smax, fabs(y[1]));
-            checked++;
-        }
+        double smax = check_samples(p, x, n, r, periodic, xu, hu, nu, t, &checked);
         /* the largest |yb'| is taken at a boundary of the pieces: at least the sampled one, and the
-         * samples 1/64 of the table apart come within the curvature allowance of it */
+         * samples 1/SMALL_POINTS of the table apart come within the curvature allowance of it */
         double S = vi_profile_max_slope(p);
-        cr_assert(S >= smax - 1e-12 && S <= smax + L / pts * pow(1.0 + S * S, 1.5) / r + 1e-12,
+        cr_assert(S >= smax - 1e-12 && S <= smax + L / SMALL_POINTS * pow(1.0 + S * S, 1.5) / r + 1e-12,
                   "table %d: max slope %.17g, sampled %.17g", t, S, smax);
-        /* kinks (one period of a periodic table, from just before its first row): the slope jumps by
-         * more than VI_PROFILE_KINK_SLOPE at each, not between two; each finds the one before it */
-        double a = periodic ? x[0] - 1e-9 * L : x[0], prev = NAN, yl[4], yr[4], first = NAN, first_before = NAN;
-        size_t walked = 0;
-        for (double at = vi_profile_next_kink(p, a, 1); at < x[n - 1]; at = vi_profile_next_kink(p, at, 1)) {
-            double e = 1e-12 * (1.0 + fabs(at)); /* a periodic table's positions are reduced to some ulps */
-            vi_profile_eval(p, at - e, yl);
-            vi_profile_eval(p, at + e, yr);
-            cr_assert(fabs(yr[1] - yl[1]) > 0.5 * VI_PROFILE_KINK_SLOPE, "table %d: no slope jump at the kink %.17g (%g)", t, at,
-                      yr[1] - yl[1]);
-            cr_assert(slope_jump(p, r, a + 1e-12, at - 1e-12, 200) <= 0.0, "table %d: a slope jump in %.17g..%.17g", t, a, at);
-            double before = vi_profile_next_kink(p, at, -1);
-            if (walked) cr_assert(before == prev, "table %d: the kink before %.17g is %.17g, not %.17g", t, at, before, prev);
-            else if (!periodic) cr_assert(before == -INFINITY, "table %d: a kink %.17g before the first", t, before);
-            else first = at, first_before = before;
-            prev = at, a = at, walked++;
-            cr_assert(walked <= 2 * NMAX);
-        }
-        if (!walked) cr_assert(vi_profile_next_kink(p, a, -1) == -INFINITY && vi_profile_next_kink(p, a, 1) == INFINITY);
-        cr_assert(slope_jump(p, r, a + 1e-12, x[n - 1] - 1e-12, 200) <= 0.0, "table %d: a slope jump after %.17g", t, a);
-        cr_assert(walked == vi_profile_kinks(p), "table %d: %zu kinks walked, %zu counted", t, walked, vi_profile_kinks(p));
-        if (periodic && walked) { /* the kinks of the periods before and after */
-            double after = vi_profile_next_kink(p, prev, 1);
-            cr_assert(fabs(first_before - (prev - L)) <= 1e-12 * (1.0 + fabs(prev)) && fabs(after - (first + L)) <= 1e-12 * (1.0 + fabs(first)),
-                      "table %d: kinks %.17g .. %.17g, before the first %.17g, after the last %.17g", t, first, prev,
-                      first_before, after);
-        }
+        check_kinks(p, x, n, r, periodic, t);
         vi_profile_free(p);
     }
     cr_assert(checked > 50000);
@@ -881,8 +909,14 @@ Test(profile, numbers_of_every_form_are_read_as_strtod_reads_them)
     }
     vi_profile_free(p);
     remove(write_file(""));
-    /* exponents beyond the exact conversion's (strtod's), as the last or first x: 1e28 and more, and
-     * exponents of more digits than an int holds (2^32 + 1: infinite, refused; 2^32: a height of 0) */
+}
+
+/* Exponents beyond the exact conversion's (strtod's), as the last or first x: 1e28 and more, and
+ * exponents of more digits than an int holds (2^32 + 1: infinite, refused; 2^32: a height of 0). */
+Test(profile, exponents_beyond_the_exact_conversion_are_read_as_strtod_reads_them)
+{
+    char msg[512];
+    vi_profile *p;
     struct { const char *text; double first, last; } big[] = {
         {"0 0\n1e28 0\n", 0.0, 1e28},
         {"0 0\n123456789012345678e30 0\n", 0.0, 123456789012345678e30},
@@ -899,8 +933,22 @@ Test(profile, numbers_of_every_form_are_read_as_strtod_reads_them)
                   big[i].text, vi_profile_x_first(p), vi_profile_x_last(p));
         vi_profile_free(p);
     }
-    /* integers of 54 to 64 bits (and times 10^e), among them exact midpoints between two doubles with
-     * an even and an odd lower neighbour (ties to even), as the last x */
+    cr_assert(vi_profile_load(write_file("0 0\n1e4294967297 0\n"), R, 0, msg, sizeof msg) == NULL);
+    cr_assert(strstr(msg, "line 2: x = inf, h = 0 are not finite"), "%s", msg);
+    p = vi_profile_load(write_file("0 1e-4294967296\n1 0\n"), R, 0, msg, sizeof msg);
+    cr_assert(p != NULL, "%s", msg);
+    cr_assert(yb(p, 0.0) == 0.0 && yb(p, 1.0) == 0.0);
+    vi_profile_free(p);
+    remove(write_file(""));
+}
+
+/* Integers of 54 to 64 bits (and times 10^e), among them exact midpoints between two doubles with an
+ * even and an odd lower neighbour (ties to even), as the last x: read as strtod reads them. */
+Test(profile, integers_of_54_to_64_bits_and_midpoints_are_read_as_strtod_reads_them)
+{
+    srand(778);
+    char msg[512], num[192];
+    vi_profile *p;
     for (int i = 0; i < 300; i++) {
         unsigned long long m = (1ull << 52) + ((unsigned long long)rand() << 20) + (unsigned long long)rand() % (1u << 20);
         int j = rand() % 11, e = i % 4 == 0 ? rand() % 8 : 0;
@@ -918,12 +966,6 @@ Test(profile, numbers_of_every_form_are_read_as_strtod_reads_them)
         cr_assert(vi_profile_x_last(p) == strtod(num, NULL), "%s: %.17g, strtod %.17g", num, vi_profile_x_last(p), strtod(num, NULL));
         vi_profile_free(p);
     }
-    cr_assert(vi_profile_load(write_file("0 0\n1e4294967297 0\n"), R, 0, msg, sizeof msg) == NULL);
-    cr_assert(strstr(msg, "line 2: x = inf, h = 0 are not finite"), "%s", msg);
-    p = vi_profile_load(write_file("0 1e-4294967296\n1 0\n"), R, 0, msg, sizeof msg);
-    cr_assert(p != NULL, "%s", msg);
-    cr_assert(yb(p, 0.0) == 0.0 && yb(p, 1.0) == 0.0);
-    vi_profile_free(p);
     remove(write_file(""));
 }
 

@@ -22,7 +22,7 @@
 #include <time.h>
 
 #include "vi_model.h"
-#include "vi_variables.h"
+#include "vi_sim.h"
 
 static double cpu_now(void)
 {
@@ -68,7 +68,8 @@ static int rhs_cost(long n, const vi_parameters *par)
     static int modes[NS];
     vi_model M = {0};
     char msg[256];
-    if (vi_model_setup(&M, par, 0.0, msg, sizeof msg) < 0) {
+    vi_model_params mp = vi_sim_model_params(par);
+    if (vi_model_setup(&M, &mp, 0.0, msg, sizeof msg) < 0) {
         fprintf(stderr, "%s\n", msg);
         return 1;
     }
@@ -131,7 +132,8 @@ int main(int argc, char **argv)
         double c0 = cpu_now(), x[2];
         vi_model M = {0};
         char msg[256];
-        if (vi_model_setup(&M, &par, 0.0, msg, sizeof msg) < 0) {
+        vi_model_params mp = vi_sim_model_params(&par);
+        if (vi_model_setup(&M, &mp, 0.0, msg, sizeof msg) < 0) {
             fprintf(stderr, "%s\n", msg);
             return 1;
         }

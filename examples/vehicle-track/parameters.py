@@ -1,7 +1,7 @@
 """The vehicle-track example's parameters, in one place.
 
 The track's and the vehicle's values are the start values of their FMUs (track/ and vehicle/
-modelDescription.xml, which mirror their C variable tables); they are read from there, so the
+modelDescription.xml, generated from their C variable tables); they are read from there, so the
 reference, the masters and the FMUs cannot disagree. Sources:
 
 - Track, one support of a ballasted track (Math. Probl. Eng. 2017, article 5872419, "Study on

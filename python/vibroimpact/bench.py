@@ -355,7 +355,7 @@ def report_auto(out, results):
 # one of whose name fragments it contains.
 FLOOR_PARTS = [
     ("the importer's loop (the C driver)", ["main"]),
-    ("the FMI layer: state machine, argument and time checks, value access", ["fmi2", "vi_core_"]),
+    ("the FMI layer: state machine, argument and time checks, value access", ["fmi2", "vi_fmi_"]),
     ("the solver: the interpolant of its last internal step", [
         "vi_solver", "ode_advance", "cvode_advance", "vi_ode", "dense_", "CVode", "N_V", "Vaxpy", "Vscale", "cv"]),
     ("the simulation loop: inputs, restarts, kinks, events, range of validity", [

@@ -35,15 +35,18 @@ def read_events(name):
 
 
 def fmu_events(messages):
-    """(t, before, after) of every mode change the FMU logged:
-    "t = <t> s: guard <g> of mode <a>, mode <a> -> <b>, ..." (events that keep the mode are skipped)."""
+    """(t, before, after) of every mode change at a state event the FMU logged, from the event log's
+    lines "event t=<t> kind=guard guard=<g> mode=<a>-><b> ..." (doc/model.md, "The event log");
+    events that keep the mode are skipped."""
     out = []
     for _, category, text in messages:
-        if category == "logEvents" and " s: guard " in text:
-            t = float(text.split("t = ")[1].split(" s:")[0])
-            before, after = (int(x) for x in text.split(", mode ")[1].split(",")[0].split(" -> "))
+        if category != "logEvents" or not text.startswith("event "):
+            continue
+        fields = dict(word.split("=", 1) for word in text.split()[1:])
+        if fields["kind"] == "guard":
+            before, after = (int(x) for x in fields["mode"].split("->"))
             if before != after:
-                out.append((t, before, after))
+                out.append((float(fields["t"]), before, after))
     return out
 
 

@@ -305,7 +305,7 @@ static int of_type(const vi_variable *v, int t)
     }
 }
 
-/* The states in which vr may be set through the call of type t (the FMU's rules, src/vi_fmi_core.c
+/* The states in which vr may be set through the call of type t (the FMU's rules, src/vi_fmi_values.c
  * settable and doc/fmi3.md); 0: never. */
 static unsigned settable_in(const fz_slot *s, fmi3ValueReference vr, int t)
 {

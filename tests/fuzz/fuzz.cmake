@@ -125,6 +125,5 @@ foreach(target ${VI_FUZZ_TARGETS})
            ${work} ${VI_FUZZ_DIR}/corpus/${target})
   math(EXPR fuzz_timeout "${seconds} + 600")
   set_tests_properties(fuzz_${target} PROPERTIES TIMEOUT ${fuzz_timeout} LABELS fuzz
-    # the restore property's finding (doc/testing.md, "Findings") is open: left out until it is fixed
-    ENVIRONMENT "ASAN_OPTIONS=detect_leaks=1:abort_on_error=1;UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1;VI_FUZZ_OFF=restore")
+    ENVIRONMENT "ASAN_OPTIONS=detect_leaks=1:abort_on_error=1;UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1")
 endforeach()

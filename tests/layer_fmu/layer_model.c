@@ -20,6 +20,7 @@ typedef struct {
     double k_initial;
     double checkpoint_time; /* written by the checkpoint hook */
     /* Model Exchange */
+    int model_exchange; /* initialized for an importer's integrator: the input acts as it is set */
     long events;
     int above;      /* x > x_event at the last event */
     int time_event; /* the time event at t_event happened */
@@ -77,7 +78,10 @@ static void outputs(void *m, void *out)
     o->k_initial = L->d.k_initial;
     o->checkpoint_time = L->d.checkpoint_time;
     o->events = (int)L->d.events;
-    o->der_x = -L->d.k * L->d.x + L->d.u;
+    /* the input in force now: as set (Model Exchange), or on the step's ramp (Co-Simulation) */
+    const layer_data *d = &L->d;
+    double u = d->model_exchange ? d->in.u : d->u + d->du * (d->t - d->t_u);
+    o->der_x = -d->k * d->x + u;
 }
 
 static void setup_experiment(void *m, double start_time, int tolerance_defined, double tolerance)
@@ -103,6 +107,12 @@ static int prepare(void *m)
 }
 
 static int initialize(void *m) { return prepare(m); }
+
+static int me_initialize(void *m)
+{
+    ((layer *)m)->d.model_exchange = 1;
+    return prepare(m);
+}
 
 /* x' = -k x + u + du (t - t_u) from (t0, x0) to t1, exactly. */
 static double solve(const layer_data *d, double t0, double x0, double t1)
@@ -142,6 +152,8 @@ static int state_check(const void *state, int running, char *msg, size_t n)
     if (!isfinite(d->t_start)) VI_FAIL(msg, n, "t_start = %g is not finite", d->t_start);
     if (d->inputs_changed != 0 && d->inputs_changed != 1)
         VI_FAIL(msg, n, "inputs_changed = %d is not 0 or 1", d->inputs_changed);
+    if (d->model_exchange != 0 && d->model_exchange != 1)
+        VI_FAIL(msg, n, "model_exchange = %d is not 0 or 1", d->model_exchange);
     if (!running) return 0; /* the rest is computed at initialization */
     if (!(isfinite(d->t) && d->t >= d->t_start)) VI_FAIL(msg, n, "t = %g is not finite or before t_start", d->t);
     if (!isfinite(d->x)) VI_FAIL(msg, n, "x = %g is not finite", d->x);
@@ -253,7 +265,7 @@ const vi_fmu_model vi_fmu_this_model = {
     .n_indicators = 1,
     .state_vrs = state_vrs,
     .derivative_vrs = derivative_vrs,
-    .me_initialize = prepare,
+    .me_initialize = me_initialize,
     .set_time = set_time,
     .get_states = get_states,
     .set_states = set_states,

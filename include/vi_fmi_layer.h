@@ -1,21 +1,25 @@
 /*
- * vi_fmi_core.h - what every FMI face of the generic layer shares (src/vi_fmi_core.c).
+ * vi_fmi_layer.h - the generic FMI layer as its faces see it: what every version of the standard
+ * shares, in src/vi_fmi_*.c, one concern a file: the state machine (vi_fmi_state_machine.c, a table
+ * of the FMI states in which each call is allowed), logging with categories (vi_fmi_log.c), the
+ * instance life cycle (vi_fmi_instance.c), value access through the model's variable table with
+ * its checks (vi_fmi_values.c), the checked FMU-state envelope with its checksum and serialization
+ * (vi_fmi_fmu_state.c), the Co-Simulation step (vi_fmi_cosim.c) and the Model Exchange calls
+ * (vi_fmi_model_exchange.c), all reaching the model through its hooks (vi_fmu.h).
  *
- * A face (src/vi_fmi2.c for FMI 2.0) is a thin translation of one version of the standard's C API
- * into the calls below; the core holds everything that does not depend on the version: the
- * instance life cycle, the state machine (a table of the FMI states in which each call is allowed),
- * value access through the model's variable table (vi_table.h) with its checks, logging with
- * categories, the checked FMU-state envelope with its checksum and serialization, and the
- * simulation calls that reach the model's hooks (vi_fmu.h). No check, checksum or state format is
- * written in a face.
+ * A face (src/vi_fmi2.c, src/vi_fmi3.c) is a thin translation of one version's C API into the calls
+ * below. It writes no state machine, checksum or state format, and checks only what exists in its
+ * version alone (FMI 2.0: the status queries; FMI 3.0: nValues, nSeed and nSensitivity, the result
+ * pointers of fmi3DoStep and fmi3UpdateDiscreteStates, Event Mode asked for at instantiation),
+ * refusing through vi_fmi_refuse_call; every other check is the layer's.
  *
- * Conventions: every core call that takes an instance takes the name of the standard's function
+ * Conventions: every layer call that takes an instance takes the name of the standard's function
  * it serves (`fn`, used in every message) and returns a vi_status, whose values are those of
  * fmi2Status and fmi3Status (OK, Warning, Discard, Error, Fatal), so that a face returns it cast.
  * A NULL instance gives VI_STATUS_ERROR without a message (nobody to tell).
  */
-#ifndef VI_FMI_CORE_H
-#define VI_FMI_CORE_H
+#ifndef VI_FMI_LAYER_H
+#define VI_FMI_LAYER_H
 
 #include <stddef.h>
 #include <stdint.h>
@@ -48,7 +52,7 @@ enum {
 /* After initialization (an FMU state taken there is restored with a running model). */
 #define VI_ST_RUNNING (VI_ST_STEP_COMPLETE | VI_ST_STEP_FAILED | VI_ST_TERMINATED | VI_ST_EVENT | VI_ST_CONTINUOUS)
 
-/* The calls of the state machine; vi_core_allowed[call] is the set of states it is allowed in. */
+/* The calls of the state machine; vi_fmi_allowed[call] is the set of states it is allowed in. */
 typedef enum {
     VI_CALL_SET_DEBUG_LOGGING,
     VI_CALL_SETUP_EXPERIMENT,
@@ -80,23 +84,23 @@ typedef enum {
     VI_CALL_ENTER_STEP_MODE, /* Co-Simulation with Event Mode (FMI 3.0): back to stepping */
     VI_CALL_COUNT
 } vi_call;
-extern const unsigned vi_core_allowed[VI_CALL_COUNT];
+extern const unsigned vi_fmi_allowed[VI_CALL_COUNT];
 
 /* Log categories (as listed in every modelDescription.xml); the call category is named by the
  * face (logFmi2Call). Discards and errors are logged whatever is enabled. */
 enum { VI_CAT_EVENTS, VI_CAT_SOLVER, VI_CAT_WARNING, VI_CAT_DISCARD, VI_CAT_ERROR, VI_CAT_CALL, VI_CAT_ALL, VI_CAT_COUNT };
 
-typedef struct vi_core vi_core;
+typedef struct vi_fmi_instance vi_fmi_instance;
 
 /* The longest message text a face's emit gets, with its NUL (control characters written \\xNN). */
-#define VI_CORE_MESSAGE_MAX 4096
+#define VI_FMI_MESSAGE_MAX 4096
 
-/* What a face tells the core about itself. */
+/* What a face tells the layer about itself. */
 typedef struct {
     const char *call_category; /* the name of the category VI_CAT_CALL, e.g. "logFmi2Call" */
     /* Hand one finished message to the importer's logger (escape it as the version requires). The
-     * text is printable ASCII, at most VI_CORE_MESSAGE_MAX bytes with its NUL. */
-    void (*emit)(const vi_core *c, vi_status status, const char *category, const char *text);
+     * text is printable ASCII, at most VI_FMI_MESSAGE_MAX bytes with its NUL. */
+    void (*emit)(const vi_fmi_instance *c, vi_status status, const char *category, const char *text);
     /* Nonzero (FMI 3.0): Integer rows with an enumeration, and Enumeration rows, are accessed as
      * VI_Enumeration (the face's Int64 calls), the other Integer rows as VI_Integer (Int32); zero
      * (FMI 2.0): all of them as VI_Integer. */
@@ -105,7 +109,7 @@ typedef struct {
     const char *const *type_names;
     /* Nonzero: time_vr is the value reference of the independent variable time, read as a Real
      * (the model's time; in initialization mode the start time) and never set. This one and the
-     * derivative and indicator references below lie beyond the table's rows (vi_core_get looks for
+     * derivative and indicator references below lie beyond the table's rows (vi_fmi_get looks for
      * them only there). */
     int has_time;
     unsigned time_vr;
@@ -122,7 +126,7 @@ typedef struct {
     unsigned indicator_vr_base;
 } vi_face;
 
-/* The importer's callbacks as the core keeps them: memory (calloc and free semantics) and an
+/* The importer's callbacks as the layer keeps them: memory (calloc and free semantics) and an
  * opaque logger with its environment, called only by the face's emit. */
 typedef void (*vi_any_fn)(void);
 typedef struct {
@@ -134,7 +138,7 @@ typedef struct {
 
 /* The instance. Faces read it (their emit, their status queries) but change it only through the
  * calls below. */
-struct vi_core {
+struct vi_fmi_instance {
     const vi_face *face;
     vi_callbacks cb;
     vi_kind kind;
@@ -156,64 +160,68 @@ struct vi_core {
 
 /* ---- logging and the state machine (for the faces' own calls) ---- */
 /* Is the category enabled? */
-int vi_core_logs(const vi_core *c, int category);
-void vi_core_log(const vi_core *c, vi_status status, int category, const char *fmt, ...) VI_PRINTF_FORMAT(4, 5);
+int vi_fmi_logs(const vi_fmi_instance *c, int category);
+void vi_fmi_log(const vi_fmi_instance *c, vi_status status, int category, const char *fmt, ...) VI_PRINTF_FORMAT(4, 5);
 /* The instance if `call` is allowed in its state (logs the call), else NULL (logs why). */
-vi_core *vi_core_enter(void *instance, vi_call call, const char *fn);
+vi_fmi_instance *vi_fmi_enter(void *instance, vi_call call, const char *fn);
 /* A failed simulation call: log the model's reason, enter the error state, VI_STATUS_ERROR. */
-vi_status vi_core_fail(vi_core *c, const char *fn);
+vi_status vi_fmi_fail(vi_fmi_instance *c, const char *fn);
 /* A message for a call refused before anything changed (state unchanged): VI_STATUS_ERROR. */
-vi_status vi_core_refuse(const vi_core *c, const char *fmt, ...) VI_PRINTF_FORMAT(2, 3);
+vi_status vi_fmi_refuse(const vi_fmi_instance *c, const char *fmt, ...) VI_PRINTF_FORMAT(2, 3);
+/* A call of the face refused for one of its own arguments: the state machine's check of `call`
+ * first (its message when the call is not allowed now), then the message: VI_STATUS_ERROR. */
+vi_status vi_fmi_refuse_call(void *instance, vi_call call, const char *fn, const char *fmt, ...)
+    VI_PRINTF_FORMAT(4, 5);
 
 /* ---- life cycle ---- */
 /* Check the arguments, allocate the instance with cb (logging through face), initialize the model
  * and hand it its resources folder (a local path or NULL). NULL (logged) on any failure. */
-vi_core *vi_core_instantiate(const vi_face *face, const vi_callbacks *cb, const char *fn, const char *name,
+vi_fmi_instance *vi_fmi_instantiate(const vi_face *face, const vi_callbacks *cb, const char *fn, const char *name,
                              vi_kind kind, const char *guid, const char *resource_dir, const char *resource_label,
                              int logging_on);
-void vi_core_free(vi_core *c, const char *fn);
-vi_status vi_core_set_debug_logging(void *instance, const char *fn, int on, size_t n, const char *const categories[]);
-vi_status vi_core_setup_experiment(void *instance, const char *fn, int tolerance_defined, double tolerance,
+void vi_fmi_free(vi_fmi_instance *c, const char *fn);
+vi_status vi_fmi_set_debug_logging(void *instance, const char *fn, int on, size_t n, const char *const categories[]);
+vi_status vi_fmi_setup_experiment(void *instance, const char *fn, int tolerance_defined, double tolerance,
                                    double start, int stop_defined, double stop);
-vi_status vi_core_enter_init(void *instance, const char *fn);
-vi_status vi_core_exit_init(void *instance, const char *fn);
-vi_status vi_core_terminate(void *instance, const char *fn);
-vi_status vi_core_reset(void *instance, const char *fn);
+vi_status vi_fmi_enter_init(void *instance, const char *fn);
+vi_status vi_fmi_exit_init(void *instance, const char *fn);
+vi_status vi_fmi_terminate(void *instance, const char *fn);
+vi_status vi_fmi_reset(void *instance, const char *fn);
 
 /* ---- values ---- */
 /* How a face's array holds values: double, int (fmi2Integer, fmi2Boolean, int32), int64, C bool,
  * const char *. */
 typedef enum { VI_ELEM_DOUBLE, VI_ELEM_INT, VI_ELEM_INT64, VI_ELEM_BOOL, VI_ELEM_STRING } vi_elem;
 /* Read nvr values of API type `api` (Real, Integer (enumerations too), Boolean, String). */
-vi_status vi_core_get(void *instance, const char *fn, const unsigned vr[], size_t nvr, vi_type api, void *values,
+vi_status vi_fmi_get(void *instance, const char *fn, const unsigned vr[], size_t nvr, vi_type api, void *values,
                       vi_elem elem);
 /* Write nvr values: all are checked (type, settable now, finite Real in its range, integer in the
  * range of the table's int, String length) before any is stored. */
-vi_status vi_core_set(void *instance, const char *fn, const unsigned vr[], size_t nvr, vi_type api,
+vi_status vi_fmi_set(void *instance, const char *fn, const unsigned vr[], size_t nvr, vi_type api,
                       const void *values, vi_elem elem);
 /* First derivatives of Real inputs (Co-Simulation): order 1 only, finite. */
-vi_status vi_core_set_input_derivatives(void *instance, const char *fn, const unsigned vr[], size_t nvr,
+vi_status vi_fmi_set_input_derivatives(void *instance, const char *fn, const unsigned vr[], size_t nvr,
                                         const int order[], const double values[]);
 
 /* ---- FMU state ---- */
-vi_status vi_core_get_fmu_state(void *instance, const char *fn, void **state);
-vi_status vi_core_set_fmu_state(void *instance, const char *fn, const void *state);
-vi_status vi_core_free_fmu_state(void *instance, const char *fn, void **state);
-vi_status vi_core_fmu_state_size(void *instance, const char *fn, const void *state, size_t *size);
-vi_status vi_core_serialize(void *instance, const char *fn, const void *state, unsigned char *bytes, size_t size);
-vi_status vi_core_deserialize(void *instance, const char *fn, const unsigned char *bytes, size_t size, void **state);
+vi_status vi_fmi_get_fmu_state(void *instance, const char *fn, void **state);
+vi_status vi_fmi_set_fmu_state(void *instance, const char *fn, const void *state);
+vi_status vi_fmi_free_fmu_state(void *instance, const char *fn, void **state);
+vi_status vi_fmi_fmu_state_size(void *instance, const char *fn, const void *state, size_t *size);
+vi_status vi_fmi_serialize(void *instance, const char *fn, const void *state, unsigned char *bytes, size_t size);
+vi_status vi_fmi_deserialize(void *instance, const char *fn, const unsigned char *bytes, size_t size, void **state);
 
 /* ---- Co-Simulation ---- */
-vi_status vi_core_do_step(void *instance, const char *fn, double current_time, double step);
-/* vi_core_do_step that also ends at the first change of the model's mode inside the step (the
- * model's advance_to_event hook; without it, as vi_core_do_step): VI_STATUS_OK with *event = 1 and
- * vi_core_time() at the event, or *event = 0 when the step went to its end without one. */
-vi_status vi_core_do_step_to_event(void *instance, const char *fn, double current_time, double step, int *event);
-/* Co-Simulation with Event Mode (FMI 3.0): Event Mode -> Step Mode (vi_core_enter_event_mode, below,
+vi_status vi_fmi_do_step(void *instance, const char *fn, double current_time, double step);
+/* vi_fmi_do_step that also ends at the first change of the model's mode inside the step (the
+ * model's advance_to_event hook; without it, as vi_fmi_do_step): VI_STATUS_OK with *event = 1 and
+ * vi_fmi_time() at the event, or *event = 0 when the step went to its end without one. */
+vi_status vi_fmi_do_step_to_event(void *instance, const char *fn, double current_time, double step, int *event);
+/* Co-Simulation with Event Mode (FMI 3.0): Event Mode -> Step Mode (vi_fmi_enter_event_mode, below,
  * enters it from Step Mode). */
-vi_status vi_core_enter_step_mode(void *instance, const char *fn);
-/* The model's current time [s] (fmi2LastSuccessfulTime after a discarded step). */
-double vi_core_time(const vi_core *c);
+vi_status vi_fmi_enter_step_mode(void *instance, const char *fn);
+/* The model's current time [s] (the last successful time after a discarded step). */
+double vi_fmi_time(const vi_fmi_instance *c);
 
 /* ---- Model Exchange ----
  * Time may go back within the current integrator step (root location, interpolation), never before
@@ -227,22 +235,26 @@ double vi_core_time(const vi_core *c);
 #define VI_MAX_INDICATORS 64
 /* Model Exchange: continuous-time mode -> Event Mode; Co-Simulation with Event Mode (FMI 3.0): Step
  * Mode -> Event Mode. */
-vi_status vi_core_enter_event_mode(void *instance, const char *fn);
+vi_status vi_fmi_enter_event_mode(void *instance, const char *fn);
 /* One pass (the model's event_update); *ev as the model filled it. When the model asks to terminate, its
  * reason is logged as a warning whatever is enabled. */
-vi_status vi_core_new_discrete_states(void *instance, const char *fn, vi_fmu_event *ev);
-vi_status vi_core_enter_continuous_mode(void *instance, const char *fn);
+vi_status vi_fmi_new_discrete_states(void *instance, const char *fn, vi_fmu_event *ev);
+vi_status vi_fmi_enter_continuous_mode(void *instance, const char *fn);
 /* *enter_event: the model asks for an event now; *terminate: always 0 (the model asks at events). */
-vi_status vi_core_completed_step(void *instance, const char *fn, int *enter_event, int *terminate);
-vi_status vi_core_set_time(void *instance, const char *fn, double t);
-vi_status vi_core_set_states(void *instance, const char *fn, const double x[], size_t n);
-vi_status vi_core_get_states(void *instance, const char *fn, double x[], size_t n);
-vi_status vi_core_get_derivatives(void *instance, const char *fn, double dx[], size_t n);
-vi_status vi_core_get_event_indicators(void *instance, const char *fn, double z[], size_t n);
-vi_status vi_core_get_nominals(void *instance, const char *fn, double nominal[], size_t n);
+vi_status vi_fmi_completed_step(void *instance, const char *fn, int *enter_event, int *terminate);
+vi_status vi_fmi_set_time(void *instance, const char *fn, double t);
+vi_status vi_fmi_set_states(void *instance, const char *fn, const double x[], size_t n);
+vi_status vi_fmi_get_states(void *instance, const char *fn, double x[], size_t n);
+vi_status vi_fmi_get_derivatives(void *instance, const char *fn, double dx[], size_t n);
+vi_status vi_fmi_get_event_indicators(void *instance, const char *fn, double z[], size_t n);
+vi_status vi_fmi_get_nominals(void *instance, const char *fn, double nominal[], size_t n);
+/* The model's number of continuous states (VI_COUNT_STATES) or event indicators (VI_COUNT_INDICATORS)
+ * into *count: Model Exchange instances only. */
+enum { VI_COUNT_STATES, VI_COUNT_INDICATORS };
+vi_status vi_fmi_me_count(void *instance, const char *fn, int which, size_t *count);
 /* Model Exchange only (the Co-Simulation interface declares none): unknowns are state derivatives
  * and outputs, knowns are states and inputs. */
-vi_status vi_core_directional_derivative(void *instance, const char *fn, const unsigned unknown[], size_t n_unknown,
+vi_status vi_fmi_directional_derivative(void *instance, const char *fn, const unsigned unknown[], size_t n_unknown,
                                          const unsigned known[], size_t n_known, const double dknown[],
                                          double dunknown[]);
 
