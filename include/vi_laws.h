@@ -39,6 +39,14 @@ typedef struct {
     double dF_ddelta; /* N/m */
     double dF_drate;  /* N s/m */
 } vi_law_force;
+/* The second partials of a force: of dF/ddelta with respect to delta [N/m^2] and to the rate [N s/m^2]. */
+typedef struct {
+    double d2F_ddelta2, d2F_ddelta_drate;
+} vi_law_curvature;
+/* A guard with the sign of the unclamped force, and its partials (units of g per m and per m/s). */
+typedef struct {
+    double g, dg_ddelta, dg_drate;
+} vi_law_guard;
 
 /* The restitution of the dimensionless Tsuji impact, by a fixed-step integration (about 1e-12 accurate). */
 double vi_tsuji_restitution(double alpha);
@@ -61,9 +69,10 @@ typedef struct {
 int vi_damped_hertz_setup(vi_damped_hertz *D, int formula, double e, double K, double m);
 /* Force and partials at (delta, rate); V_i [m/s] the approach speed at the onset (published forms). */
 vi_law_force vi_damped_hertz_force(const vi_damped_hertz *D, double delta, double rate, double V_i);
+vi_law_curvature vi_damped_hertz_curvature(const vi_damped_hertz *D, double delta, double rate, double V_i);
 /* Has the sign of f for delta > 0 and stays finite as delta -> 0 (exact: K delta^(5/4) + alpha_c rate
  * [N/m^(1/4)]; published forms: 1 + chi rate/V_i [1]; undamped: 1). */
-double vi_damped_hertz_guard(const vi_damped_hertz *D, double delta, double rate, double V_i);
+vi_law_guard vi_damped_hertz_guard(const vi_damped_hertz *D, double delta, double rate, double V_i);
 
 /* The clamped linear spring-dashpot's restitution for a damping ratio zeta >= 0, its contact time
  * times omega = sqrt(k/m), and the inverse: zeta with restitution e in (0, 1] to 1e-14 (0 on success,
@@ -80,7 +89,7 @@ typedef struct {
 /* 0 on success; -1 when e is outside (0, 1], k or m not > 0 (L untouched). */
 int vi_linear_setup(vi_linear_law *L, double k, double m, double e);
 vi_law_force vi_linear_force(const vi_linear_law *L, double delta, double rate);
-double vi_linear_guard(const vi_linear_law *L, double delta, double rate); /* f [N] */
+vi_law_guard vi_linear_guard(const vi_linear_law *L, double delta, double rate); /* f [N] */
 
 /* Thornton's law on the yield limit and elastic constants of J (E_star, R_star, F_Y, delta_Y; theta_Y is
  * not used): the virgin curve, its stiffness, its work from 0, its inverse, and the unloading curve after
@@ -90,6 +99,11 @@ double vi_thornton_load(const vi_johnson *J, double delta);
 double vi_thornton_load_stiffness(const vi_johnson *J, double delta);
 double vi_thornton_load_work(const vi_johnson *J, double delta);
 double vi_thornton_load_indentation(const vi_johnson *J, double F);
+double vi_thornton_load_stiffness_rate(const vi_johnson *J, double delta); /* d2F/ddelta2 [N/m^2] */
+/* Above yield a_p^2 = R* delta_c (it follows from the equations above), so Rbar = 4 E* (R* delta_c)^1.5/(3 F_c)
+ * and delta_r = R* delta_c/Rbar. */
 vi_unload_curve vi_thornton_unload_curve(const vi_johnson *J, double delta_c);
+/* d/d(delta_c) of Rbar and delta_r (vi_contact.h). */
+vi_unload_rates vi_thornton_unload_rates(const vi_johnson *J, double delta_c);
 
 #endif

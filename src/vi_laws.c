@@ -243,13 +243,31 @@ vi_law_force vi_damped_hertz_force(const vi_damped_hertz *D, double delta, doubl
     return out;
 }
 
-double vi_damped_hertz_guard(const vi_damped_hertz *D, double delta, double rate, double V_i)
+vi_law_curvature vi_damped_hertz_curvature(const vi_damped_hertz *D, double delta, double rate, double V_i)
+{
+    vi_law_curvature out = {0.0, 0.0};
+    if (!(vi_damped_hertz_force(D, delta, rate, V_i).F > 0.0)) return out;
+    double sq = sqrt(delta);
+    if (D->formula == VI_DAMP_EXACT) {
+        double q = sqrt(sq) / delta; /* delta^(-3/4) */
+        out.d2F_ddelta2 = 0.75 * D->K / sq - 0.1875 * D->alpha_c * rate * q / delta;
+        out.d2F_ddelta_drate = 0.25 * D->alpha_c * q;
+    } else {
+        double b = damping_per_speed(D, V_i);
+        out.d2F_ddelta2 = 0.75 * D->K / sq * (1.0 + b * rate);
+        out.d2F_ddelta_drate = 1.5 * D->K * sq * b;
+    }
+    return out;
+}
+
+vi_law_guard vi_damped_hertz_guard(const vi_damped_hertz *D, double delta, double rate, double V_i)
 {
     if (D->formula == VI_DAMP_EXACT) {
-        double d = delta > 0.0 ? delta : 0.0;
-        return D->K * d * sqrt(sqrt(d)) + D->alpha_c * rate;
+        double d = delta > 0.0 ? delta : 0.0, q = sqrt(sqrt(d));
+        return (vi_law_guard){D->K * d * q + D->alpha_c * rate, 1.25 * D->K * q, D->alpha_c};
     }
-    return 1.0 + damping_per_speed(D, V_i) * rate;
+    double b = damping_per_speed(D, V_i);
+    return (vi_law_guard){1.0 + b * rate, 0.0, b};
 }
 
 /* ---- linear spring-dashpot ----------------------------------------------------------------------- */
@@ -319,7 +337,10 @@ vi_law_force vi_linear_force(const vi_linear_law *L, double delta, double rate)
     return out;
 }
 
-double vi_linear_guard(const vi_linear_law *L, double delta, double rate) { return L->k * delta + L->c * rate; }
+vi_law_guard vi_linear_guard(const vi_linear_law *L, double delta, double rate)
+{
+    return (vi_law_guard){L->k * delta + L->c * rate, L->k, L->c};
+}
 
 /* ---- Thornton ------------------------------------------------------------------------------------- */
 
@@ -361,6 +382,11 @@ double vi_thornton_load_indentation(const vi_johnson *J, double F)
     return J->delta_Y + (F - J->F_Y) / thornton_slope(J);
 }
 
+double vi_thornton_load_stiffness_rate(const vi_johnson *J, double delta)
+{
+    return delta <= J->delta_Y && delta > 0.0 ? 0.75 * J->F_Y / (J->delta_Y * sqrt(delta * J->delta_Y)) : 0.0;
+}
+
 vi_unload_curve vi_thornton_unload_curve(const vi_johnson *J, double delta_c)
 {
     vi_unload_curve U;
@@ -369,13 +395,23 @@ vi_unload_curve vi_thornton_unload_curve(const vi_johnson *J, double delta_c)
         U.Rbar = J->R_star;
         U.delta_r = delta_c;
     } else {
-        /* a_p^2 = (2 F_c + F_Y)/(2 pi p_Y) with 2 pi p_Y = 3 F_Y/(R* delta_Y) */
-        double F_c = vi_thornton_load(J, delta_c);
-        double ap2 = (2.0 * F_c + J->F_Y) * J->R_star * J->delta_Y / (3.0 * J->F_Y);
+        /* a_p^2 = (2 F_c + F_Y)/(2 pi p_Y) with 2 pi p_Y = 3 F_Y/(R* delta_Y) and F_c on the line: R* delta_c */
+        double F_c = vi_thornton_load(J, delta_c), ap2 = J->R_star * delta_c;
         U.Rbar = 4.0 * J->E_star * ap2 * sqrt(ap2) / (3.0 * F_c);
-        U.delta_r = vi_hertz_indentation(vi_hertz_constant(J->E_star, U.Rbar), F_c);
+        U.delta_r = ap2 / U.Rbar; /* Hertz: a^2 = Rbar delta_r */
     }
     U.delta_f = delta_c - U.delta_r;
     U.Kbar = vi_hertz_constant(J->E_star, U.Rbar);
     return U;
+}
+
+vi_unload_rates vi_thornton_unload_rates(const vi_johnson *J, double delta_c)
+{
+    if (delta_c <= J->delta_Y) return (vi_unload_rates){0.0, 1.0};
+    vi_unload_curve U = vi_thornton_unload_curve(J, delta_c);
+    double s = thornton_slope(J) / vi_thornton_load(J, delta_c); /* dF_c/F_c per m */
+    vi_unload_rates r;
+    r.Rbar = U.Rbar * (1.5 / delta_c - s);
+    r.delta_r = U.delta_r * (s - 0.5 / delta_c);
+    return r;
 }

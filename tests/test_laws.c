@@ -93,7 +93,7 @@ Test(damped_hertz, published_forms_chi_and_partials)
         /* a contact that started at rest is undamped: Hertz */
         vi_law_force h = vi_damped_hertz_force(&D, delta, -0.2, 0.0);
         REL(h.F, vi_hertz_force(K, delta), 1e-15);
-        cr_assert(h.dF_drate == 0.0 && vi_damped_hertz_guard(&D, delta, -5.0, 0.0) > 0.0);
+        cr_assert(h.dF_drate == 0.0 && vi_damped_hertz_guard(&D, delta, -5.0, 0.0).g > 0.0);
     }
 }
 
@@ -107,12 +107,12 @@ Test(damped_hertz, clamped_at_zero_where_the_guard_falls_through_zero)
         /* the rate at which f = 0: exact K delta^1.5 + alpha_c delta^(1/4) r = 0; Flores 1 + chi r/V_i = 0 */
         double V_i = 1.0;
         double r0 = i == 0 ? -K * pow(delta, 1.25) / D[0].alpha_c : -V_i / D[1].chi;
-        ABS(vi_damped_hertz_guard(&D[i], delta, r0, V_i), 0.0, 1e-9 * fabs(vi_damped_hertz_guard(&D[i], delta, 0.0, V_i)));
+        ABS(vi_damped_hertz_guard(&D[i], delta, r0, V_i).g, 0.0, 1e-9 * fabs(vi_damped_hertz_guard(&D[i], delta, 0.0, V_i).g));
         vi_law_force below = vi_damped_hertz_force(&D[i], delta, 1.01 * r0, V_i);
         cr_assert(below.F == 0.0 && below.dF_ddelta == 0.0 && below.dF_drate == 0.0);
-        cr_assert(vi_damped_hertz_guard(&D[i], delta, 1.01 * r0, V_i) < 0.0);
+        cr_assert(vi_damped_hertz_guard(&D[i], delta, 1.01 * r0, V_i).g < 0.0);
         cr_assert(vi_damped_hertz_force(&D[i], delta, 0.99 * r0, V_i).F > 0.0);
-        cr_assert(vi_damped_hertz_guard(&D[i], delta, 0.99 * r0, V_i) > 0.0);
+        cr_assert(vi_damped_hertz_guard(&D[i], delta, 0.99 * r0, V_i).g > 0.0);
         vi_law_force apart = vi_damped_hertz_force(&D[i], -1e-9, 1.0, V_i);
         cr_assert(apart.F == 0.0 && apart.dF_ddelta == 0.0 && apart.dF_drate == 0.0);
     }
@@ -180,7 +180,7 @@ Test(linear, zeta_inverts_and_setup_gives_c)
     cr_assert(f.dF_ddelta == k && f.dF_drate == L.c);
     double r0 = -k * 1e-4 / L.c;
     cr_assert(vi_linear_force(&L, 1e-4, 1.001 * r0).F == 0.0 && vi_linear_force(&L, 1e-4, 1.001 * r0).dF_drate == 0.0);
-    cr_assert(vi_linear_guard(&L, 1e-4, 1.001 * r0) < 0.0 && vi_linear_guard(&L, 1e-4, 0.999 * r0) > 0.0);
+    cr_assert(vi_linear_guard(&L, 1e-4, 1.001 * r0).g < 0.0 && vi_linear_guard(&L, 1e-4, 0.999 * r0).g > 0.0);
     cr_assert(vi_linear_force(&L, -1e-6, 1.0).F == 0.0);
 }
 
@@ -266,5 +266,43 @@ Test(thornton, restitution_closed_form)
         vi_unload_curve U = vi_thornton_unload_curve(&J, dc);
         double e = sqrt(vi_unload_energy(&U, dc) / W), r = sqrt(0.4 * J.F_Y * J.delta_Y / W);
         REL(e, thornton_e(r), 1e-12);
+    }
+}
+
+Test(damped_hertz, second_partials_and_guard_partials)
+{
+    double K = 2e10, delta = 2e-5, V_i = 0.8;
+    for (int formula = VI_DAMP_EXACT; formula <= VI_DAMP_FLORES; formula++) {
+        vi_damped_hertz D;
+        cr_assert(vi_damped_hertz_setup(&D, formula, 0.7, K, 1.0) == 0);
+        for (double rate = -0.1; rate < 0.5; rate += 0.4) {
+            double hd = 1e-6 * delta, hr = 1e-6;
+            vi_law_curvature c = vi_damped_hertz_curvature(&D, delta, rate, V_i);
+            REL(c.d2F_ddelta2, (vi_damped_hertz_force(&D, delta + hd, rate, V_i).dF_ddelta -
+                                vi_damped_hertz_force(&D, delta - hd, rate, V_i).dF_ddelta) / (2 * hd), 1e-6);
+            REL(c.d2F_ddelta_drate, (vi_damped_hertz_force(&D, delta, rate + hr, V_i).dF_ddelta -
+                                     vi_damped_hertz_force(&D, delta, rate - hr, V_i).dF_ddelta) / (2 * hr), 1e-6);
+            vi_law_guard g = vi_damped_hertz_guard(&D, delta, rate, V_i);
+            double gd = (vi_damped_hertz_guard(&D, delta + hd, rate, V_i).g - vi_damped_hertz_guard(&D, delta - hd, rate, V_i).g) / (2 * hd);
+            double gr = (vi_damped_hertz_guard(&D, delta, rate + hr, V_i).g - vi_damped_hertz_guard(&D, delta, rate - hr, V_i).g) / (2 * hr);
+            ABS(g.dg_ddelta, gd, 1e-6 * fabs(gd) + 1e-12);
+            ABS(g.dg_drate, gr, 1e-6 * fabs(gr) + 1e-12);
+        }
+    }
+}
+
+Test(thornton, stiffness_rate_and_unload_rates)
+{
+    vi_johnson J = steel();
+    for (double s = 0.3; s < 40; s *= 2.3) {
+        double d = s * J.delta_Y, h = 1e-6 * d;
+        ABS(vi_thornton_load_stiffness_rate(&J, d),
+            (vi_thornton_load_stiffness(&J, d + h) - vi_thornton_load_stiffness(&J, d - h)) / (2 * h),
+            1e-6 * J.F_Y / (J.delta_Y * J.delta_Y));
+        if (s < 1.0) continue;
+        vi_unload_rates r = vi_thornton_unload_rates(&J, d);
+        vi_unload_curve a = vi_thornton_unload_curve(&J, d + h), b = vi_thornton_unload_curve(&J, d - h);
+        REL(r.Rbar, (a.Rbar - b.Rbar) / (2 * h), 1e-6);
+        REL(r.delta_r, (a.delta_r - b.delta_r) / (2 * h), 1e-6);
     }
 }
