@@ -44,13 +44,14 @@
 #include <stddef.h>
 
 #include "vi_contact.h"
+#include "vi_laws.h"
 #include "vi_profile.h"
 
 #define VI_NGUARDS 2
 
 /* Contact laws, modes (doc/model.md section 3) and initial states; the FMU's enumerations
  * ContactModel, Mode and Init have these values. */
-enum { VI_LAW_HERTZ = 1, VI_LAW_JOHNSON = 2, VI_LAW_LEPP = 3 };
+enum { VI_LAW_HERTZ = 1, VI_LAW_JOHNSON = 2, VI_LAW_LEPP = 3, VI_LAW_HERTZ_DAMPED = 4, VI_LAW_LINEAR = 5, VI_LAW_THORNTON = 6 };
 enum { VI_MODE_FREE = 0, VI_MODE_ELASTIC = 1, VI_MODE_PLASTIC = 2, VI_MODE_UNLOAD = 3, VI_MODE_STICK = 4 };
 enum { VI_INIT_STATIC = 1, VI_INIT_TOUCHING = 2 };
 
@@ -69,6 +70,9 @@ typedef struct {
     int has_profile;            /* a profile is rolled over (vi_model_set_rolling) */
     double V, x0;               /* rolling speed [m/s], position on the profile at the start [m] */
     int profile_periodic;
+    double e_restitution;       /* damped Hertz, linear: restitution of an isolated impact, (0, 1] */
+    int damping_formula;        /* damped Hertz: VI_DAMP_* (vi_laws.h) */
+    double k_spring;            /* linear: spring stiffness [N/m] */
 } vi_model_params;
 
 /* The model's outputs and calculated parameters (doc/model.md section 5). */
@@ -104,6 +108,8 @@ typedef struct {
      * trusted from a saved state; the simulation attaches its own after setup and after every
      * restore (vi_model_set_rolling). NULL: no profile, yb = 0. */
     const vi_profile *profile;
+    vi_damped_hertz damped;  /* damped Hertz: K, alpha sqrt(m K) or chi */
+    vi_linear_law linear;    /* linear spring-dashpot: k, c */
 
     /* inputs */
     vi_ramp yC_in, F_ext;
@@ -113,6 +119,8 @@ typedef struct {
     int yielded;       /* Johnson, fixed contact point: plastic memory exists */
     vi_unload_curve unload; /* Johnson memory: delta_c, Rbar, delta_r, delta_f (valid when yielded) */
     double delta_p;    /* LEPP permanent set [m] (in mode 2 it is delta - delta_Y) */
+    double V_i;        /* damped Hertz, published forms: approach speed at the onset of this contact [m/s]
+                        * (0: a contact present at a static start, undamped until it ends) */
     long n_impacts;
 } vi_model;
 
@@ -164,7 +172,10 @@ void vi_model_rhs(const vi_model *model, double t, const double x[2], double dx[
 double vi_model_stiffness_over_mass(const vi_model *model, double t, const double x[2]);
 /* d(stiffness)/d(delta) [N/m^2]: the second derivative of the force in the current mode (0 where it
  * is linear or constant, and in stick, whose stiffness is that at delta_c). */
-double vi_model_stiffness_rate(const vi_model *model, const double x[2]);
+double vi_model_stiffness_rate(const vi_model *model, double t, const double x[2], double *per_rate);
+/* dF/d(delta') [N s/m] of a law that damps (damped Hertz, linear spring-dashpot) in contact; else 0.
+ * per_rate above: d(stiffness)/d(delta') [N s/m^2] for those laws, else 0. */
+double vi_model_damping(const vi_model *model, double t, const double x[2]);
 /* The rates d/d(delta) [1, except W_plastic: N] of the memory outputs at x in the current mode:
  * nonzero only while the memory tracks delta (Johnson loading plastically with a fixed contact
  * point: delta_c = delta; LEPP flowing: delta_p = delta - delta_Y). */
