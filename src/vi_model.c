@@ -622,9 +622,9 @@ void vi_model_guards(const vi_model *model, double t, const double x[2], double 
     double d = x[0], dyC, yield = law(model)->yield_surface(model);
     g[0] = g[1] = 1.0; /* inactive */
     switch (model->mode) {
-    case VI_MODE_FREE:
+    case VI_MODE_FREE: /* damped laws: contact where delta > 0 and the force guard > 0 both hold */
         g[0] = law(model)->contact_surface(model) - d;
-        if (law(model)->force_guard) g[1] = fmax(-d, -law(model)->force_guard(model, d, indentation_rate(model, t, x)).g);
+        if (law(model)->force_guard) g[0] = fmax(-d, -law(model)->force_guard(model, d, indentation_rate(model, t, x)).g);
         break;
     case VI_MODE_ELASTIC:
         g[0] = d - law(model)->contact_surface(model);
@@ -672,9 +672,13 @@ static int resolve(vi_model *model, double t, double x[2], int snap)
 
 int vi_model_resolve(vi_model *model, double t, double x[2]) { return resolve(model, t, x, SNAP_NONE); }
 
-/* The force guard of a damped law fired: in contact, the force fell through 0 while delta > 0, and the
- * rate is put onto the guard's surface (g is linear in it); free, the force rose again (delta > 0: the
- * state stays) or delta reached 0 with it (snapped onto 0: a new contact). */
+/* At most this many ulp steps of v put the force guard on the side of the mode chosen (one or two do). */
+#define VI_GUARD_NUDGES 64
+
+/* A damped law's event: free, delta reached 0 (snapped onto 0: a new contact) or the force guard rose
+ * again while delta > 0 (the state stays); in contact, the force guard fell through 0 while delta > 0:
+ * the rate is put onto the guard's surface (g is linear in it), then on the side of the mode chosen,
+ * so that the new mode starts with its guards >= 0. */
 static int damped_event(vi_model *model, double t, double x[2])
 {
     const law_fns *L = law(model);
@@ -684,14 +688,20 @@ static int damped_event(vi_model *model, double t, double x[2])
     }
     vi_law_guard g = L->force_guard(model, x[0], indentation_rate(model, t, x));
     if (g.dg_drate > 0.0) x[1] += g.g / g.dg_drate; /* r = yC' - v: a larger v lowers g */
-    return resolve(model, t, x, SNAP_RELEASE);
+    int mode = resolve(model, t, x, SNAP_RELEASE);
+    for (int i = 0; i < VI_GUARD_NUDGES; i++) {
+        double gv = L->force_guard(model, x[0], indentation_rate(model, t, x)).g;
+        if (mode == VI_MODE_ELASTIC ? gv >= 0.0 : gv <= 0.0) break;
+        x[1] = nextafter(x[1], mode == VI_MODE_ELASTIC ? -INFINITY : INFINITY);
+    }
+    return mode;
 }
 
 int vi_model_event(vi_model *model, double t, double x[2], int fired)
 {
     vi_model_freeze(model, t, x);
     const law_fns *L = law(model);
-    if (L->force_guard && fired == 1) return damped_event(model, t, x);
+    if (L->force_guard && (model->mode == VI_MODE_FREE || fired == 1)) return damped_event(model, t, x);
     switch (model->mode) {
     case VI_MODE_FREE: x[0] = L->contact_surface(model); break;
     case VI_MODE_ELASTIC: x[0] = fired == 0 ? L->contact_surface(model) : L->yield_surface(model); break;
