@@ -193,3 +193,31 @@ def test_state_saved_inside_a_damped_contact(fmu_path, unzipdir, model_descripti
     finally:
         fmu.terminate()
         fmu.freeInstance()
+
+
+def _warnings(logged, vr, params):
+    from conftest import start
+    inst = logged()
+    s = inst.instantiate(logging=False)
+    s.setDebugLogging(True, ["logStatusWarning"])
+    start(s, vr, params)
+    s.doStep(0.0, 1e-5)
+    return [m for status, cat, m in inst.messages if status == 1 and cat == "logStatusWarning"]
+
+
+@pytest.mark.parametrize("formula, e, warn", [(2, 0.3, 0.5813), (3, 0.3, 0.6842), (4, 0.3, 0.2562), (4, 0.9, None),
+                                              (1, 0.3, None)])
+def test_published_form_outside_its_range_warns(logged, vr, formula, e, warn):
+    """A published form whose restitution misses e_restitution by more than 0.01 says what it gives
+    (the reference's values); exact damping and Flores at 0.9 (0.8939) do not warn."""
+    w = _warnings(logged, vr, dict(STEEL, contact_model=HERTZ_DAMPED, damping_formula=formula, e_restitution=e, v0=-1.0))
+    named = [m for m in w if "gives an isolated impact the restitution" in m]
+    if warn is None:
+        assert named == [], w
+    else:
+        assert len(named) == 1 and f"restitution {warn:.4f}, not e_restitution = {e:g}" in named[0], w
+
+
+def test_damping_formula_of_another_law_warns(logged, vr):
+    w = _warnings(logged, vr, dict(contact_model=1, damping_formula=2))
+    assert len(w) == 1 and "damping_formula is ignored" in w[0], w

@@ -57,6 +57,10 @@ int vi_tsuji_alpha(double e, double *alpha);
  * any other formula. */
 double vi_damping_chi(int formula, double e);
 
+/* The restitution the published form with factor chi > 0 really gives (at every speed): the root e_a of
+ * Hunt and Crossley's energy relation chi (1 + e_a) = ln((1 + chi)/(1 - chi e_a)); 1 for chi <= 0. */
+double vi_damping_restitution(double chi);
+
 /* A damped Hertz contact, set up once from its parameters. */
 typedef struct {
     int formula;    /* VI_DAMP_* */

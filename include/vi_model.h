@@ -239,8 +239,9 @@ int vi_model_validity(const vi_model *model, double R1, double t, const double x
 int vi_model_indentation_invalid(const vi_model *model, const double x[2]);
 
 /* Options that contradict each other or are ignored: moving_contact, continuous
- * unloading or the printed yield formula where the law does not use them, v0 with a static start,
- * the rolling parameters without a profile.
+ * unloading, the printed yield formula or damping_formula where the law does not use them, v0 with a
+ * static start, the rolling parameters without a profile; and a published damping form whose
+ * restitution misses e_restitution by more than 0.01 (it names the restitution it gives).
  * Returns how many there are; msg lists them (one warning at initialization). */
 int vi_model_option_warnings(const vi_model_params *p, char *msg, size_t n);
 

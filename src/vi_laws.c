@@ -207,6 +207,24 @@ double vi_damping_chi(int formula, double e)
     }
 }
 
+/* chi (1 + e_a) - ln((1 + chi)/(1 - chi e_a)): positive at e_a = 0, falling to -infinity at 1/chi */
+static double hunt_crossley_residual(double ea, const void *ctx)
+{
+    double chi = *(const double *)ctx;
+    return chi * (1.0 + ea) - log((1.0 + chi) / (1.0 - chi * ea));
+}
+
+#define VI_RESTITUTION_TOL 1e-15
+
+double vi_damping_restitution(double chi)
+{
+    if (!(chi > 0.0)) return 1.0;
+    double hi = fmin(1.0, 1.0 / chi);
+    if (hunt_crossley_residual(hi, &chi) >= 0.0) hi = nextafter(hi, 0.0); /* e_a = 1/chi: the logarithm's pole */
+    if (hunt_crossley_residual(hi, &chi) >= 0.0) return hi;
+    return root_bracketed(hunt_crossley_residual, &chi, 0.0, hi, VI_RESTITUTION_TOL);
+}
+
 int vi_damped_hertz_setup(vi_damped_hertz *D, int formula, double e, double K, double m)
 {
     if (!(e > 0.0 && e <= 1.0) || formula < VI_DAMP_EXACT || formula > VI_DAMP_FLORES) return -1;

@@ -798,6 +798,9 @@ int vi_model_validity(const vi_model *model, double R1, double t, const double x
     return 0;
 }
 
+/* A published damping form whose restitution misses e_restitution by more than this is named in a warning. */
+#define VI_PUBLISHED_E_TOL 0.01
+
 int vi_model_option_warnings(const vi_model_params *p, char *msg, size_t n)
 {
     int count = 0, johnson = p->law == VI_LAW_JOHNSON;
@@ -812,8 +815,22 @@ int vi_model_option_warnings(const vi_model_params *p, char *msg, size_t n)
     OPTION(p->moving_contact && !johnson, "moving_contact = true is ignored: only the Johnson law has a moving contact point")
     OPTION(p->unloading == VI_UNLOAD_CONTINUOUS && !(johnson && !p->moving_contact),
            "unloading = continuous is ignored: only Johnson with a fixed contact point unloads on eq. 4")
-    OPTION(p->yield_formula == VI_YIELD_PRINTED && p->law == VI_LAW_HERTZ,
-           "yield_formula = printed is ignored by the Hertz law (it changes only the calculated F_Y, delta_Y)")
+    OPTION(p->yield_formula == VI_YIELD_PRINTED &&
+               (p->law == VI_LAW_HERTZ || p->law == VI_LAW_HERTZ_DAMPED || p->law == VI_LAW_LINEAR),
+           "yield_formula = printed is ignored by the laws without yield (it changes only the calculated F_Y, delta_Y)")
+    OPTION(p->damping_formula != VI_DAMP_EXACT && p->law != VI_LAW_HERTZ_DAMPED,
+           "damping_formula is ignored: only contact_model = hertz_damped damps by a formula")
+    if (p->law == VI_LAW_HERTZ_DAMPED && p->damping_formula != VI_DAMP_EXACT) {
+        double ea = vi_damping_restitution(vi_damping_chi(p->damping_formula, p->e_restitution));
+        if (fabs(ea - p->e_restitution) > VI_PUBLISHED_E_TOL) {
+            int k = vi_snprintf(msg + used, used < n ? n - used : 0, "%sdamping_formula = %d gives an isolated impact "
+                                "the restitution %.4f, not e_restitution = %g (its formula holds near e = 1; "
+                                "damping_formula = exact gives e_restitution at every speed)", count ? "; " : "",
+                                p->damping_formula, ea, p->e_restitution);
+            used += k > 0 ? (size_t)k : 0;
+            count++;
+        }
+    }
     OPTION(p->v0 != 0.0 && p->init == VI_INIT_STATIC, "v0 is ignored by a static start (init = static)")
     OPTION(!p->has_profile && (p->V != 0.0 || p->x0 != 0.0 || p->profile_periodic),
            "V, x0 and profile_periodic are ignored without a profile_file")

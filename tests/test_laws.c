@@ -306,3 +306,16 @@ Test(thornton, stiffness_rate_and_unload_rates)
         REL(r.delta_r, (a.delta_r - b.delta_r) / (2 * h), 1e-6);
     }
 }
+
+Test(damped_hertz, restitution_of_the_published_forms)
+{
+    /* the Python reference's integration of F = K delta^1.5 (1 + chi delta'/V_i) (python -m
+     * vibroimpact.reference.laws): e = 0.3 -> 0.5813, 0.6842, 0.2562; e = 0.9 -> 0.9090, 0.9132, 0.8939 */
+    const double e[2] = {0.3, 0.9}, expected[2][3] = {{0.5813, 0.6842, 0.2562}, {0.9090, 0.9132, 0.8939}};
+    for (int i = 0; i < 2; i++)
+        for (int f = 0; f < 3; f++)
+            ABS(vi_damping_restitution(vi_damping_chi(VI_DAMP_HUNT_CROSSLEY + f, e[i])), expected[i][f], 5e-5);
+    cr_assert(vi_damping_restitution(0.0) == 1.0);
+    double r = vi_damping_restitution(1e3); /* heavy damping: e_a -> 0 */
+    cr_assert(r >= 0.0 && r < 1e-2);
+}
