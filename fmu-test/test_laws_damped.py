@@ -221,3 +221,43 @@ def test_published_form_outside_its_range_warns(logged, vr, formula, e, warn):
 def test_damping_formula_of_another_law_warns(logged, vr):
     w = _warnings(logged, vr, dict(contact_model=1, damping_formula=2))
     assert len(w) == 1 and "damping_formula is ignored" in w[0], w
+
+
+# the paper's harmonic excitation (Fig. 4b: a = 0.1 mm, f = 560 Hz) with each new law, and the modes each reaches
+JACOBIAN_CASES = {"exact": (dict(contact_model=HERTZ_DAMPED, damping_formula=1), [0, 1]),
+                  # a touching start: the first contact has an impact speed (a static one is undamped)
+                  "hunt_crossley": (dict(contact_model=HERTZ_DAMPED, damping_formula=2, init=2, v0=-0.1), [0, 1]),
+                  "linear": (dict(contact_model=LINEAR), [0, 1]),
+                  "thornton": (dict(contact_model=THORNTON), [0, 1, 2, 3])}
+
+
+@pytest.mark.timeout(300)
+@pytest.mark.parametrize("case", JACOBIAN_CASES)
+def test_jacobian_of_the_new_laws(case, fmu_path, unzipdir, model_description):
+    """fmi2GetDirectionalDerivative against finite differences in every mode the law reaches (the check of
+    test_me_jacobian.py); the damped laws' force depends on v, and that partial is declared."""
+    from fmpy import simulate_fmu
+    from test_me_jacobian import Probe, check_point, declared, unknowns
+    from vibroimpact.me import MeInstance
+    params, modes = JACOBIAN_CASES[case]
+    md = model_description
+    names, deps = unknowns(md), declared(md)
+    inst = MeInstance(fmu_path, unzipdir, md)
+    fmu = inst.instantiate(categories=())
+    probe, seen, record = Probe(inst), set(), set()
+
+    def step_finished(time, recorder):
+        mode = fmu.getInteger([inst.vr["mode"]])[0]
+        if mode not in seen and time > 0.0 and check_point(probe, md, names, deps, record):
+            seen.add(mode)
+        return len(seen) < len(modes)
+
+    simulate_fmu(str(fmu_path), fmi_type="ModelExchange", solver="CVode", stop_time=0.02, relative_tolerance=1e-9,
+                 start_values=dict(params, a=1e-4, f=560.0, e_restitution=0.6), output_interval=1e-5, fmu_instance=fmu,
+                 model_description=md, step_finished=step_finished, output=["y"])
+    fmu.freeInstance()
+    assert not inst.errors(), inst.errors()
+    assert seen == set(modes), seen
+    assert ("der_v", "y") in record
+    if case != "thornton":
+        assert ("der_v", "v") in record and ("F", "v") in record
