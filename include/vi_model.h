@@ -15,16 +15,20 @@
  *            vi_model_next_breakpoint gives the time, and the loop restarts there (vi_model_breakpoint).
  * Inputs are ramps over a communication step: u(t) = u + du (t - t_u) (du = 0: zero-order hold).
  *
- * Modes (output `mode`): 0 free, 1 elastic on the virgin curve (Hertz, Johnson below delta_Y,
- * LEPP spring), 2 plastic (Johnson virgin loading beyond delta_Y; LEPP flow at F_Y; with a moving
- * contact point: above delta_Y either way), 3 elastic unload/reload (Johnson, eq. 4), 4 stick
- * (Johnson paper unloading: Filippov sliding at a turning point, F = F_hold = W + m yC'').
+ * Modes (output `mode`): 0 free, 1 elastic on the virgin curve (Hertz, Johnson and Thornton below
+ * delta_Y, LEPP spring, the damped laws), 2 plastic (Johnson and Thornton virgin loading beyond
+ * delta_Y; LEPP flow at F_Y; with a moving contact point: above delta_Y either way), 3 elastic
+ * unload/reload (Johnson eq. 4, Thornton), 4 stick (Johnson paper unloading: Filippov sliding at a
+ * turning point, F = F_hold = W + m yC''). The damped laws (hertz_damped, linear; vi_laws.h) have
+ * modes 0 and 1 only, with a force that depends on delta' as well.
  *
  * Each mode has up to VI_NGUARDS guard functions g >= 0; the mode is left when a guard falls
  * through zero (CVODE root direction -1 for all):
  *   0: g0 = s - delta                  contact (s = 0, delta_f or delta_p)
+ *      g0 = max(-delta, -g)            contact of a damped law (g: vi_*_guard, the sign of its force)
  *   1: g0 = delta - s                  separation
  *      g1 = delta_Y - delta            yield (Johnson), delta_p + delta_Y - delta (LEPP)
+ *      g1 = g                          release of a damped law: its force reaches 0 while delta > 0
  *   2: g0 = delta'                     turning point (Johnson, LEPP)
  *      g0 = delta - delta_Y            back below yield (Johnson, moving contact point)
  *   3: g0 = delta - delta_f            separation

@@ -23,7 +23,7 @@
 
 #define VI_GUID "{5b7e0c3a-2f1d-4e8b-9a61-7c4d2e9f1a03}"
 #define VI_MODEL_IDENTIFIER "VibroImpact"
-#define VI_MODEL_DESCRIPTION "Mass pressed onto a vibrating platform through a Hertz, Johnson elastic-plastic or linear elastic-perfectly plastic contact; Co-Simulation (its own solvers with event location inside the step) and Model Exchange (states y, v; the guards of the mode as event indicators)"
+#define VI_MODEL_DESCRIPTION "Mass pressed onto a vibrating platform through a Hertz, Johnson elastic-plastic, linear elastic-perfectly plastic, Thornton elastic-perfectly plastic, damped Hertz or linear spring-dashpot contact; Co-Simulation (its own solvers with event location inside the step) and Model Exchange (states y, v; the guards of the mode as event indicators)"
 #define VI_DEFAULT_EXPERIMENT {.start_s = 0.0, .stop_s = 0.1, .tolerance = 1e-6, .step_s = 1e-4}
 #define VI_CAN_INTERPOLATE_INPUTS 1
 
