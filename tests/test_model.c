@@ -1421,7 +1421,7 @@ Test(model, each_ignored_option_warns_alone)
 {
     const char *moving = "moving_contact = true is ignored: only the Johnson law has a moving contact point",
                *unloading = "unloading = continuous is ignored: only Johnson with a fixed contact point unloads on eq. 4",
-               *printed = "yield_formula = printed is ignored by the Hertz law (it changes only the calculated F_Y, delta_Y)",
+               *printed = "yield_formula = printed is ignored by the laws without yield (it changes only the calculated F_Y, delta_Y)",
                *v0 = "v0 is ignored by a static start (init = static)",
                *rolling = "V, x0 and profile_periodic are ignored without a profile_file";
     struct { int law, moving, unloading, formula, init; double v0, V, x0; int periodic; const char *file, *expect; } c[] = {
