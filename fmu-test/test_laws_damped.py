@@ -261,3 +261,20 @@ def test_jacobian_of_the_new_laws(case, fmu_path, unzipdir, model_description):
     assert ("der_v", "y") in record
     if case != "thornton":
         assert ("der_v", "v") in record and ("F", "v") in record
+
+
+@pytest.mark.timeout(300)
+@each_solver
+@pytest.mark.parametrize("formula", [1, 2, 4])
+def test_bounce_under_gravity_against_the_reference_model(fmu_path, solver, formula):
+    """The sphere leaves the plane at 0.5 m/s and lands under gravity: that landing is a new contact,
+    damped with its own approach speed (V_i); the FMU follows the independent reference model
+    (vibroimpact.reference.model) to 1e-7 m/s."""
+    from vibroimpact.reference import model as M
+    p = dict(STEEL, contact_model=HERTZ_DAMPED, damping_formula=formula, e_restitution=0.6, v0=0.5, g=9.81)
+    r = simulate_fmu(fmu_path, start_values=dict(p, rtol=1e-10, solver=solver), stop_time=0.15, output_interval=1e-3,
+                     output=["v", "n_impacts"])
+    ref = M.simulate(p, t_end=0.15, rtol=1e-11, t_eval=r["time"])
+    assert r["n_impacts"][-1] == ref.n_impacts_total == 1
+    assert r["v"][-1] == pytest.approx(ref.v[-1], abs=1e-7)
+    assert -r["v"][-1] < 0.5  # it lost energy

@@ -413,9 +413,18 @@ static double spring_static_indentation(const vi_model *model, double W) { retur
 static double spring_static_stiffness(const vi_model *model, double W) { return (void)W, model->linear.k; }
 static double spring_virgin_stiffness(const vi_model *model, double d) { return (void)d, model->linear.k; }
 static double spring_impact(const vi_model *model, double v) { return v * sqrt(model->m) / sqrt(model->linear.k); }
+/* Leaving the free mode where the force guard g is well inside its positive side (more than half the
+ * size of its terms; at a resumed contact it is about 0) is a new contact, through delta = 0. */
+#define VI_ONSET_GUARD_FRACTION 0.5
+static int new_contact(const vi_model *model, double d, double r)
+{
+    vi_law_guard g = law(model)->force_guard(model, d, r);
+    return d <= 0.0 || g.g > VI_ONSET_GUARD_FRACTION * (fabs(g.g - g.dg_drate * r) + fabs(g.dg_drate * r));
+}
+
 /* In contact while delta > 0 and the unclamped force is positive: the side of delta = 0, then that of
- * the guard g (with F = 0 on its surface, delta'' = F_hold/m: g' = g_d r + g_r F_hold/m). A contact that
- * begins at delta = 0 is a new one: its approach speed is V_i. */
+ * the guard g (with F = 0 on its surface, delta'' = F_hold/m: g' = g_d r + g_r F_hold/m). A new contact
+ * takes its approach speed as V_i. */
 static int damped_choose(vi_model *model, double x[2], const rates *q)
 {
     double d = x[0], r = q->r;
@@ -423,7 +432,7 @@ static int damped_choose(vi_model *model, double x[2], const rates *q)
     vi_law_guard g = law(model)->force_guard(model, d, r);
     double g0 = q->snap == SNAP_RELEASE ? 0.0 : g.g;
     if (!ahead(g0, g.dg_ddelta * r + g.dg_drate * q->F_hold / model->m, 0.0, 0.0)) return VI_MODE_FREE;
-    if (model->mode == VI_MODE_FREE && d <= 0.0) model->V_i = r > 0.0 ? r : 0.0;
+    if (model->mode == VI_MODE_FREE && new_contact(model, d, r)) model->V_i = r > 0.0 ? r : 0.0;
     return VI_MODE_ELASTIC;
 }
 
@@ -683,7 +692,7 @@ static int damped_event(vi_model *model, double t, double x[2])
 {
     const law_fns *L = law(model);
     if (model->mode == VI_MODE_FREE) {
-        if (x[0] <= 0.0) x[0] = 0.0;
+        if (new_contact(model, x[0], indentation_rate(model, t, x))) x[0] = 0.0; /* onto delta = 0 */
         return vi_model_resolve(model, t, x);
     }
     vi_law_guard g = L->force_guard(model, x[0], indentation_rate(model, t, x));
