@@ -278,3 +278,22 @@ def test_bounce_under_gravity_against_the_reference_model(fmu_path, solver, form
     assert r["n_impacts"][-1] == ref.n_impacts_total == 1
     assert r["v"][-1] == pytest.approx(ref.v[-1], abs=1e-7)
     assert -r["v"][-1] < 0.5  # it lost energy
+
+
+@pytest.mark.timeout(300)
+@each_solver
+@pytest.mark.parametrize("law, params", [(HERTZ_DAMPED, dict(damping_formula=1)), (HERTZ_DAMPED, dict(damping_formula=2)),
+                                         (LINEAR, {}), (THORNTON, {})],
+                         ids=["exact", "hunt_crossley", "linear", "thornton"])
+def test_paper_excitation_against_the_reference_model(fmu_path, solver, law, params):
+    """The paper's Fig. 4b excitation (a = 0.1 mm, f = 560 Hz, Y = 600 MPa) with each new law, 20 ms
+    (11 impacts), against the independent reference model: the same impacts, y to 1e-9 m, F to 1e-5
+    of its peak."""
+    from vibroimpact.reference import model as M
+    p = dict(contact_model=law, Y=6e8, a=1e-4, f=560.0, e_restitution=0.6, **params)
+    r = simulate_fmu(fmu_path, start_values=dict(p, rtol=1e-10, solver=solver), stop_time=0.02, output_interval=1e-5,
+                     output=["y", "F", "n_impacts"])
+    ref = M.simulate(p, t_end=0.02, rtol=1e-11, t_eval=r["time"])
+    assert list(r["n_impacts"]) == list(ref.n_impacts) and ref.n_impacts_total >= 10
+    assert abs(r["y"] - ref.y).max() < 1e-9
+    assert abs(r["F"] - ref.F).max() < 1e-5 * abs(ref.F).max()
