@@ -92,16 +92,22 @@ def tsuji_restitution(alpha):
     return tsuji_impact(alpha)[0]
 
 
-def tsuji_alpha(e):
-    """The alpha that gives the restitution e in (0, 1] (bracketed root search on tsuji_restitution)."""
+def _invert(restitution, e, xtol, rtol):
+    """The damping d >= 0 with restitution(d) = e in (0, 1], restitution decreasing from 1 at d = 0: a
+    bracket doubled from 1, then brentq."""
     if not 0 < e <= 1:
         raise ValueError(f"e = {e} is outside (0, 1]")
     if e == 1:
         return 0.0
     hi = 1.0
-    while tsuji_restitution(hi) > e:
+    while restitution(hi) > e:
         hi *= 2
-    return brentq(lambda a: tsuji_restitution(a) - e, 0.0, hi, xtol=1e-14, rtol=1e-13)
+    return brentq(lambda d: restitution(d) - e, 0.0, hi, xtol=xtol, rtol=rtol)
+
+
+def tsuji_alpha(e):
+    """The alpha that gives the restitution e in (0, 1] (bracketed root search on tsuji_restitution)."""
+    return _invert(tsuji_restitution, e, 1e-14, 1e-13)
 
 
 def tsuji_alpha_linearised(e):
@@ -169,14 +175,7 @@ def linear_restitution(zeta):
 
 def linear_zeta(e):
     """The damping ratio whose clamped restitution is e in (0, 1]."""
-    if not 0 < e <= 1:
-        raise ValueError(f"e = {e} is outside (0, 1]")
-    if e == 1:
-        return 0.0
-    hi = 1.0
-    while linear_restitution(hi) > e:
-        hi *= 2
-    return brentq(lambda z: linear_restitution(z) - e, 0.0, hi, xtol=1e-15, rtol=1e-14)
+    return _invert(linear_restitution, e, 1e-15, 1e-14)
 
 
 def linear_impact(zeta):
