@@ -56,36 +56,9 @@ def chi(formula, e):
     raise ValueError(f"damping_formula {formula} has no chi")
 
 
-def _impact(accel, force_zero, x_start=0.0):
-    """One dimensionless impact x'' = accel(x, v) from x = 0, v = 1 until the force is 0 again while
-    rebounding (force_zero(x, v) falls through 0) or x returns to 0. Returns (e, tau_contact, x_max,
-    peak of -accel)."""
-    def rhs(_t, y):
-        return [y[1], accel(max(y[0], 0.0), y[1])]
-
-    def sep(_t, y):
-        return force_zero(max(y[0], 0.0), y[1]) if y[1] < 0 else 1.0
-    sep.terminal, sep.direction = True, -1
-
-    def back(_t, y):
-        return y[0]
-    back.terminal, back.direction = True, -1
-    sol = solve_ivp(rhs, (0.0, IMPACT_TAU_MAX), [x_start, 1.0], method="DOP853", rtol=IMPACT_RTOL,
-                    atol=IMPACT_ATOL, events=(sep, back), dense_output=True)
-    if sol.status != 1:
-        raise RuntimeError("the impact did not end within IMPACT_TAU_MAX")
-    hits = [(ev[0], ye[0]) for ev, ye in zip(sol.t_events, sol.y_events) if len(ev)]
-    t_end, y_end = min(hits, key=lambda h: h[0])
-    ts = np.linspace(0.0, t_end, 4001)
-    xs, vs = sol.sol(ts)
-    peak = max(-accel(max(x, 0.0), v) for x, v in zip(xs, vs))
-    return -y_end[1], t_end, float(np.max(xs)), peak
-
-
 def tsuji_impact(alpha):
     """(e, tau_contact, x_max, f_max) of the dimensionless Tsuji impact x'' = -x^1.5 - alpha x^(1/4) x'."""
-    return _impact(lambda x, v: -x ** 1.5 - alpha * x ** 0.25 * v,
-                   lambda x, v: x ** 1.25 + alpha * v)
+    return drop(lambda x, v: x ** 1.5 + alpha * x ** 0.25 * v, 1.0, 1.0, 1.0)
 
 
 def tsuji_restitution(alpha):
@@ -119,7 +92,7 @@ def tsuji_alpha_linearised(e):
 
 def hc_impact(chi_):
     """(e, tau_contact, x_max, f_max) of the dimensionless impact x'' = -x^1.5 (1 + chi x')."""
-    return _impact(lambda x, v: -x ** 1.5 * (1 + chi_ * v), lambda x, v: 1 + chi_ * v)
+    return drop(lambda x, v: x ** 1.5 * (1 + chi_ * v), 1.0, 1.0, 1.0)
 
 
 def hc_restitution(formula, e):
@@ -141,7 +114,9 @@ def hc_restitution_closed_form(chi_):
 
 def drop(force, m, V, d_scale):
     """(e, contact time, delta_max, F_max) of a mass m [kg] hitting a fixed surface at V [m/s] under the
-    law force(delta, ddelta) [N] (clamped at 0 here), d_scale [m] the indentation scale for atol."""
+    law force(delta, ddelta) [N] (clamped at 0 here), d_scale [m] the indentation scale for atol; it ends
+    where the force falls through 0 while rebounding or delta returns to 0. With m = V = d_scale = 1 it
+    is the dimensionless impact of the laws above."""
     t_scale = d_scale / V
 
     def rhs(_t, y):
@@ -156,6 +131,8 @@ def drop(force, m, V, d_scale):
     back.terminal, back.direction = True, -1
     sol = solve_ivp(rhs, (0.0, IMPACT_TAU_MAX * t_scale), [0.0, V], method="DOP853", rtol=IMPACT_RTOL,
                     atol=[IMPACT_ATOL * d_scale, IMPACT_ATOL * V], events=(sep, back), dense_output=True)
+    if sol.status != 1:
+        raise RuntimeError("the impact did not end within IMPACT_TAU_MAX contact time scales")
     hits = [(ev[0], ye[0]) for ev, ye in zip(sol.t_events, sol.y_events) if len(ev)]
     t_end, y_end = min(hits, key=lambda h: h[0])
     xs, vs = sol.sol(np.linspace(0.0, t_end, 4001))
@@ -180,7 +157,7 @@ def linear_zeta(e):
 
 def linear_impact(zeta):
     """(e, tau_contact) of x'' = -x - 2 zeta x' (time in 1/omega) by integration, for the closed form's check."""
-    e, t, _, _ = _impact(lambda x, v: -x - 2 * zeta * v, lambda x, v: x + 2 * zeta * v)
+    e, t, _, _ = drop(lambda x, v: x + 2 * zeta * v, 1.0, 1.0, 1.0)
     return e, t
 
 
