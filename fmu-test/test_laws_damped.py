@@ -163,18 +163,20 @@ def test_refusals(fmu_path, unzipdir, model_description):
 
 
 @pytest.mark.timeout(120)
+@each_solver
 @pytest.mark.parametrize("formula", [1, 2])
-def test_state_saved_inside_a_damped_contact(fmu_path, unzipdir, model_description, formula):
+def test_state_saved_inside_a_damped_contact(fmu_path, unzipdir, model_description, solver, formula):
     """An FMU state taken during the contact (V_i, the onset's speed, is part of it) continues bit for
-    bit like the run that saved it."""
+    bit like the run that saved it, with every solver."""
     vr = {v.name: v.valueReference for v in model_description.modelVariables}
     fmu = FMU2Slave(guid=model_description.guid, unzipDirectory=unzipdir,
                     modelIdentifier=model_description.coSimulation.modelIdentifier, instanceName="state")
     fmu.instantiate()
     try:
-        p = dict(STEEL, contact_model=HERTZ_DAMPED, damping_formula=formula, v0=-1.0, e_restitution=0.5, rtol=1e-10)
+        p = dict(STEEL, contact_model=HERTZ_DAMPED, damping_formula=formula, v0=-1.0, e_restitution=0.5, rtol=1e-10,
+                 solver=solver)
         for name, value in p.items():
-            if name in ("contact_model", "damping_formula", "init"):
+            if name in ("contact_model", "damping_formula", "init", "solver"):
                 fmu.setInteger([vr[name]], [int(value)])
             else:
                 fmu.setReal([vr[name]], [float(value)])
