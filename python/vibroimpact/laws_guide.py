@@ -37,6 +37,9 @@ PAPER = dict(Y=6e8, a=1e-4, f=560.0)
 STOP = {"drop": 2e-3, "fig4b": 0.05, "rolling": 0.05}  # s
 INTERVAL = 1e-6  # s, output interval of the drops (contact times of tens of us)
 RTOL = 1e-8
+# the communication (Co-Simulation) and output (Model Exchange) interval of the timed runs [s]; fmpy's
+# CVode takes at most 500 steps per output interval
+TIMED_INTERVAL = 1e-5
 COLUMNS = ["scene", "variant", "F_max_N", "restitution", "W_dissipated_J", "y_pp_um", "events", "cpu_cs_s_per_s",
            "cpu_me_s_per_s", "events_per_s"]
 
@@ -102,14 +105,14 @@ def _cs_run(fmu_dir, md, params, stop):
     slave = Logged(md, fmu_dir, name="cpu").instantiate()
     try:
         simulate_fmu(fmu_dir, fmu_instance=slave, model_description=md, start_values=params, stop_time=stop,
-                     relative_tolerance=RTOL, output=["y"], output_interval=stop / 100)
+                     relative_tolerance=RTOL, output=["y"], output_interval=TIMED_INTERVAL)
     finally:
         slave.freeInstance()
 
 
 def _me_run(fmu, fmu_dir, md, params, stop):
     from .me import run_me
-    run_me(fmu, params, stop, rtol=RTOL, output=("y",), output_interval=stop / 100, unzipdir=fmu_dir, md=md)
+    run_me(fmu, params, stop, rtol=RTOL, output=("y",), output_interval=TIMED_INTERVAL, unzipdir=fmu_dir, md=md)
 
 
 def measure(scene, variant, params, stop, V, fmu, md, unzipdir, repeat=1):
