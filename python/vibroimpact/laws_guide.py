@@ -200,6 +200,6 @@ def figure(rows):
         if r["scene"] == "fig4b" and r["scene"] in base:
             b.scatter(r["cpu_cs_s_per_s"], r["F_max_N"] / base["fig4b"], label=r["variant"])
             b.annotate(r["variant"], (r["cpu_cs_s_per_s"], r["F_max_N"] / base["fig4b"]), fontsize=7)
-    b.set(xscale="log", xlabel="CPU per simulated second, Co-Simulation [s/s]", ylabel="peak force / hertz's",
+    b.set(xlabel="CPU per simulated second, Co-Simulation [s/s]", ylabel="peak force / hertz's",
           title="paper's harmonic excitation (Fig. 4b)")
     return fig
