@@ -40,7 +40,7 @@
  *   finite) BDF takes over at its last point at once. A hand-over waits
  *   until the running method is asked for a step beyond its last one, or happens at a restart
  *   (vi_solver_reset, after an event). Events are located by whichever method runs.
- *   Which method runs and the counts are plain data the caller owns (cfg->sw, inside the FMU
+ *   Which method runs and the counts are plain data the caller owns (cfg->auto_choice, inside the FMU
  *   state), next to the one-step method's continuation (cfg->ode): a checkpoint costs nothing while
  *   the one-step method runs and restarts BDF (as for CVODE alone) while BDF runs, so a restored
  *   copy continues bit for bit like the original.
@@ -118,7 +118,7 @@ typedef struct {
     const double *atol; /* n absolute tolerances */
     double max_step;    /* 0: none */
     vi_ode *ode;        /* VI_METHOD_DOP853, AUTO: the continuation, owned by the caller (plain data) */
-    vi_solver_auto *sw; /* VI_METHOD_AUTO: which method runs, owned by the caller (plain data) */
+    vi_solver_auto *auto_choice; /* VI_METHOD_AUTO: which method runs, owned by the caller (plain data) */
     vi_log_fn log;
     void *log_env;
 } vi_solver_config;
@@ -137,7 +137,7 @@ typedef struct vi_solver vi_solver;
 vi_solver *vi_solver_create(const vi_solver_config *cfg, double t0, const double *x0);
 /* As vi_solver_create, but continuing a saved state: the one-step method continues from *cfg->ode as
  * it is (checked); CVODE starts at (t0, x0) as after vi_solver_checkpoint; AUTO continues with the
- * method *cfg->sw names. */
+ * method *cfg->auto_choice names. */
 vi_solver *vi_solver_resume(const vi_solver_config *cfg, double t0, const double *x0);
 /* Make (t0, x0), the caller's current point, a point from which vi_solver_resume continues exactly as
  * this solver will: CVODE (and AUTO while BDF runs) restarts there; the one-step method has nothing

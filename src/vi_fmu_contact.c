@@ -1,7 +1,8 @@
 /*
  * vi_fmu_contact.c - the contact model as a model of the generic FMI layer (vi_fmu.h): Co-Simulation
- * on vi_sim (its own solver), Model Exchange on vi_me (the importer's). Everything FMI-specific
- * lives in the layer (src/vi_fmi_core.c, src/vi_fmi2.c); this file only maps the layer's hooks.
+ * on vi_sim (its own solver), Model Exchange on vi_me (the importer's). The FMI calls and their
+ * checks live in the layer (src/vi_fmi_*.c and the faces vi_fmi2.c, vi_fmi3.c); this file maps the
+ * layer's hooks and value references onto the simulation and the model.
  */
 #include <stddef.h>
 

@@ -226,7 +226,7 @@ static int create_solver(vi_sim *s, int resume)
     vi_solver_config cfg = {
         .n = 2, .nguards = VI_NGUARDS, .rhs = sim_rhs, .guards = sim_guards, .jac = sim_jac, .user = s,
         .method = d->par.solver, .rtol = d->events.rtol, .atol = d->events.atol, .max_step = d->par.max_step,
-        .ode = &d->ode, .sw = &d->auto_choice, .log = s->log, .log_env = s->log_env};
+        .ode = &d->ode, .auto_choice = &d->auto_choice, .log = s->log, .log_env = s->log_env};
     s->solver = resume ? vi_solver_resume(&cfg, d->t, d->x) : vi_solver_create(&cfg, d->t, d->x);
     s->solver_stale = 0;
     if (!s->solver)

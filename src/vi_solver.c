@@ -207,7 +207,7 @@ static double spectral_radius(const vi_solver *s, double t, const double *x)
 /* After an accepted step of the one-step method: was it held by stability? */
 static void test_one_step(const vi_solver *s, const vi_ode *o)
 {
-    vi_solver_auto *a = s->cfg.sw;
+    vi_solver_auto *a = s->cfg.auto_choice;
     double h_rho = (o->t - o->t_old) * spectral_radius(s, o->t, o->x);
     if (h_rho > VI_AUTO_STIFF_HRHO) {
         a->calm = 0;
@@ -220,7 +220,7 @@ static void test_one_step(const vi_solver *s, const vi_ode *o)
 /* After a step of BDF (x at its end): does its step resolve the fastest motion? */
 static int test_bdf(vi_solver *s, const double *x)
 {
-    vi_solver_auto *a = s->cfg.sw;
+    vi_solver_auto *a = s->cfg.auto_choice;
     if (a->steps < VI_AUTO_BDF_MIN_STEPS) a->steps++;
     if (a->steps < VI_AUTO_BDF_MIN_STEPS) return 0;
     double h;
@@ -233,7 +233,7 @@ static int test_bdf(vi_solver *s, const double *x)
 /* Flip AUTO to the other method (it starts at t). */
 static void hand_over(const vi_solver *s, double t)
 {
-    vi_solver_auto *a = s->cfg.sw;
+    vi_solver_auto *a = s->cfg.auto_choice;
     a->bdf = !a->bdf;
     a->pending = a->stiff = a->calm = 0;
     a->steps = 0;
@@ -249,12 +249,12 @@ static void hand_over(const vi_solver *s, double t)
 int vi_solver_auto_check(const vi_solver_auto *a, char *msg, size_t size)
 {
 #define AUTO_BAD(...) do { vi_snprintf(msg, size, __VA_ARGS__); return -1; } while (0)
-    if (a->bdf != 0 && a->bdf != 1) AUTO_BAD("sw.bdf = %d is not 0 or 1", a->bdf);
-    if (a->pending != 0 && a->pending != 1) AUTO_BAD("sw.pending = %d is not 0 or 1", a->pending);
-    if (a->stiff < 0 || a->stiff > VI_AUTO_STIFF_STEPS) AUTO_BAD("sw.stiff = %d is not in [0, %d]", a->stiff, VI_AUTO_STIFF_STEPS);
-    if (a->calm < 0 || a->calm > VI_AUTO_CALM_STEPS) AUTO_BAD("sw.calm = %d is not in [0, %d]", a->calm, VI_AUTO_CALM_STEPS);
-    if (a->steps < 0 || a->steps > VI_AUTO_BDF_MIN_STEPS) AUTO_BAD("sw.steps = %ld is not in [0, %d]", a->steps, VI_AUTO_BDF_MIN_STEPS);
-    if (a->switches < 0) AUTO_BAD("sw.switches = %ld is negative", a->switches);
+    if (a->bdf != 0 && a->bdf != 1) AUTO_BAD("auto_choice.bdf = %d is not 0 or 1", a->bdf);
+    if (a->pending != 0 && a->pending != 1) AUTO_BAD("auto_choice.pending = %d is not 0 or 1", a->pending);
+    if (a->stiff < 0 || a->stiff > VI_AUTO_STIFF_STEPS) AUTO_BAD("auto_choice.stiff = %d is not in [0, %d]", a->stiff, VI_AUTO_STIFF_STEPS);
+    if (a->calm < 0 || a->calm > VI_AUTO_CALM_STEPS) AUTO_BAD("auto_choice.calm = %d is not in [0, %d]", a->calm, VI_AUTO_CALM_STEPS);
+    if (a->steps < 0 || a->steps > VI_AUTO_BDF_MIN_STEPS) AUTO_BAD("auto_choice.steps = %ld is not in [0, %d]", a->steps, VI_AUTO_BDF_MIN_STEPS);
+    if (a->switches < 0) AUTO_BAD("auto_choice.switches = %ld is negative", a->switches);
     return 0;
 #undef AUTO_BAD
 }
@@ -282,12 +282,12 @@ static int ode_advance(vi_solver *s, double tout, long max_steps, double *t, dou
             memcpy(x, o->x, sizeof(double) * (size_t)n);
             return VI_SOLVER_LIMIT;
         }
-        if (s->cfg.method == VI_METHOD_AUTO && s->cfg.sw->pending) return HANDOVER;
+        if (s->cfg.method == VI_METHOD_AUTO && s->cfg.auto_choice->pending) return HANDOVER;
         int r = vi_ode_step(o, p, INFINITY);
         if (r < 0 && s->cfg.method == VI_METHOD_AUTO) { /* the state is as before the step: BDF tries from there */
             s->cfg.log(s->cfg.log_env, VI_LOG_SOLVER, "t = %.17g s: Dormand-Prince 8(5,3) failed (%s)", o->t,
                        vi_ode_status_text(r));
-            s->cfg.sw->pending = 1;
+            s->cfg.auto_choice->pending = 1;
             return HANDOVER;
         }
         if (r < 0) return ode_fail(s, r, "vi_ode_step");
@@ -298,24 +298,57 @@ static int ode_advance(vi_solver *s, double tout, long max_steps, double *t, dou
 
 /* ---- creation, common to both ----------------------------------------------------------------- */
 
-static vi_solver *create(const vi_solver_config *cfg, double t0, const double *x0, int resume)
+/* 0 when cfg is within the limits and names a method with what it needs, else -1 with a message. */
+static int check_config(const vi_solver_config *cfg)
 {
     if (cfg->n < 1 || cfg->n > VI_SOLVER_MAX_N || cfg->n > VI_ODE_MAX_N || cfg->nguards < 0 ||
         cfg->nguards > VI_SOLVER_MAX_GUARDS || cfg->nguards > VI_ODE_MAX_G) {
         cfg->log(cfg->log_env, VI_LOG_ERROR, "vi_solver_create: %d states and %d guards exceed the limits %d and %d",
                  cfg->n, cfg->nguards, VI_SOLVER_MAX_N, VI_SOLVER_MAX_GUARDS);
-        return NULL;
+        return -1;
     }
     if (cfg->method != VI_METHOD_BDF && cfg->method != VI_METHOD_ADAMS && cfg->method != VI_METHOD_DOP853 &&
         cfg->method != VI_METHOD_AUTO) {
         cfg->log(cfg->log_env, VI_LOG_ERROR, "vi_solver_create: unknown method %d", cfg->method);
-        return NULL;
+        return -1;
     }
-    if (cfg->method == VI_METHOD_AUTO && (cfg->n > 2 || !cfg->jac || !cfg->sw)) {
+    if (cfg->method == VI_METHOD_AUTO && (cfg->n > 2 || !cfg->jac || !cfg->auto_choice)) {
         cfg->log(cfg->log_env, VI_LOG_ERROR, "vi_solver_create: auto needs at most 2 states, a Jacobian and its "
-                 "choice (cfg->sw); got %d states%s%s", cfg->n, cfg->jac ? "" : ", no Jacobian", cfg->sw ? "" : ", no sw");
-        return NULL;
+                 "choice (cfg->auto_choice); got %d states%s%s", cfg->n, cfg->jac ? "" : ", no Jacobian",
+                 cfg->auto_choice ? "" : ", no auto_choice");
+        return -1;
     }
+    return 0;
+}
+
+/* CVODE's context, integrator, vectors and dense linear solver; 0 or -1 with a message. */
+static int create_cvode(vi_solver *s)
+{
+    const vi_solver_config *cfg = &s->cfg;
+    if (check_flag(s, SUNContext_Create(NULL, &s->ctx), "SUNContext_Create") < 0) return -1;
+    s->cvode = CVodeCreate(cfg->method == VI_METHOD_ADAMS ? CV_ADAMS : CV_BDF, s->ctx); /* AUTO: BDF */
+    if (check_ptr(s, s->cvode, "CVodeCreate") < 0) return -1;
+    s->x = N_VNew_Serial(cfg->n, s->ctx);
+    if (check_ptr(s, s->x, "N_VNew_Serial") < 0) return -1;
+    /* the fused vector operations (one loop for a linear combination, as CVodeGetDky's interpolation
+     * into dky needs) for x, the vectors CVODE clones from it, and dky: a communication point inside
+     * the last internal step costs a third of the unfused sequence of vector calls */
+    if (check_flag(s, N_VEnableFusedOps_Serial(s->x, SUNTRUE), "N_VEnableFusedOps_Serial") < 0) return -1;
+    s->atol = N_VNew_Serial(cfg->n, s->ctx);
+    if (check_ptr(s, s->atol, "N_VNew_Serial") < 0) return -1;
+    s->dky = N_VNew_Serial(cfg->n, s->ctx);
+    if (check_ptr(s, s->dky, "N_VNew_Serial") < 0) return -1;
+    if (check_flag(s, N_VEnableFusedOps_Serial(s->dky, SUNTRUE), "N_VEnableFusedOps_Serial") < 0) return -1;
+    s->A = SUNDenseMatrix(cfg->n, cfg->n, s->ctx);
+    if (check_ptr(s, s->A, "SUNDenseMatrix") < 0) return -1;
+    s->LS = SUNLinSol_Dense(s->x, s->A, s->ctx);
+    if (check_ptr(s, s->LS, "SUNLinSol_Dense") < 0) return -1;
+    return 0;
+}
+
+static vi_solver *create(const vi_solver_config *cfg, double t0, const double *x0, int resume)
+{
+    if (check_config(cfg) < 0) return NULL;
     vi_solver *s = calloc(1, sizeof *s);
     if (!s) {
         cfg->log(cfg->log_env, VI_LOG_ERROR, "out of memory creating the solver");
@@ -330,29 +363,12 @@ static vi_solver *create(const vi_solver_config *cfg, double t0, const double *x
         s->ode_resets = 0;
         return s;
     }
-    if (check_flag(s, SUNContext_Create(NULL, &s->ctx), "SUNContext_Create") < 0) goto fail;
-    s->cvode = CVodeCreate(cfg->method == VI_METHOD_ADAMS ? CV_ADAMS : CV_BDF, s->ctx); /* AUTO: BDF */
-    if (check_ptr(s, s->cvode, "CVodeCreate") < 0) goto fail;
-    s->x = N_VNew_Serial(cfg->n, s->ctx);
-    if (check_ptr(s, s->x, "N_VNew_Serial") < 0) goto fail;
-    /* the fused vector operations (one loop for a linear combination, as CVodeGetDky's interpolation
-     * into dky needs) for x, the vectors CVODE clones from it, and dky: a communication point inside
-     * the last internal step costs a third of the unfused sequence of vector calls */
-    if (check_flag(s, N_VEnableFusedOps_Serial(s->x, SUNTRUE), "N_VEnableFusedOps_Serial") < 0) goto fail;
-    s->atol = N_VNew_Serial(cfg->n, s->ctx);
-    if (check_ptr(s, s->atol, "N_VNew_Serial") < 0) goto fail;
-    s->dky = N_VNew_Serial(cfg->n, s->ctx);
-    if (check_ptr(s, s->dky, "N_VNew_Serial") < 0) goto fail;
-    if (check_flag(s, N_VEnableFusedOps_Serial(s->dky, SUNTRUE), "N_VEnableFusedOps_Serial") < 0) goto fail;
-    s->A = SUNDenseMatrix(cfg->n, cfg->n, s->ctx);
-    if (check_ptr(s, s->A, "SUNDenseMatrix") < 0) goto fail;
-    s->LS = SUNLinSol_Dense(s->x, s->A, s->ctx);
-    if (check_ptr(s, s->LS, "SUNLinSol_Dense") < 0) goto fail;
+    if (create_cvode(s) < 0) goto fail;
     if (configure(s, t0, x0) < 0) goto fail;
     if (cfg->method == VI_METHOD_AUTO) { /* the one-step method first; resumed: the method the choice names */
         if (ode_setup(s) < 0) goto fail;
-        if (!resume) *cfg->sw = (vi_solver_auto){0};
-        if (resume ? !cfg->sw->bdf && !ode_valid(s, t0) : vi_solver_reset(s, t0, x0) < 0) goto fail;
+        if (!resume) *cfg->auto_choice = (vi_solver_auto){0};
+        if (resume ? !cfg->auto_choice->bdf && !ode_valid(s, t0) : vi_solver_reset(s, t0, x0) < 0) goto fail;
         s->ode_resets = 0;
     }
     return s;
@@ -373,7 +389,7 @@ vi_solver *vi_solver_resume(const vi_solver_config *cfg, double t0, const double
 
 int vi_solver_checkpoint(vi_solver *s, double t0, const double *x0)
 {
-    int one_step = s->cfg.method == VI_METHOD_DOP853 || (s->cfg.method == VI_METHOD_AUTO && !s->cfg.sw->bdf);
+    int one_step = s->cfg.method == VI_METHOD_DOP853 || (s->cfg.method == VI_METHOD_AUTO && !s->cfg.auto_choice->bdf);
     return one_step ? 0 : vi_solver_reset(s, t0, x0);
 }
 
@@ -394,13 +410,13 @@ static int cvode_restart(vi_solver *s, double t0, const double *x0)
     s->fresh = 1;
     s->t0 = s->tn = t0;
     s->root_pending = 0;
-    if (s->cfg.method == VI_METHOD_AUTO) s->cfg.sw->steps = 0, s->cfg.sw->calm = 0;
+    if (s->cfg.method == VI_METHOD_AUTO) s->cfg.auto_choice->steps = 0, s->cfg.auto_choice->calm = 0;
     return 0;
 }
 
 int vi_solver_reset(vi_solver *s, double t0, const double *x0)
 {
-    vi_solver_auto *a = s->cfg.method == VI_METHOD_AUTO ? s->cfg.sw : NULL;
+    vi_solver_auto *a = s->cfg.method == VI_METHOD_AUTO ? s->cfg.auto_choice : NULL;
     if (a && a->pending) hand_over(s, t0);
     if (s->cfg.method == VI_METHOD_DOP853 || (a && !a->bdf)) {
         s->ode_resets++;
@@ -443,7 +459,7 @@ static int cvode_advance(vi_solver *s, double tout, long max_steps, double *t, d
             memcpy(x, NV_DATA_S(s->x), bytes);
             return VI_SOLVER_LIMIT;
         }
-        if (s->cfg.method == VI_METHOD_AUTO && s->cfg.sw->pending) return HANDOVER; /* s->x holds x(tn) */
+        if (s->cfg.method == VI_METHOD_AUTO && s->cfg.auto_choice->pending) return HANDOVER; /* s->x holds x(tn) */
         sunrealtype tret;
         int flag = CVode(s->cvode, tout, s->x, &tret, CV_ONE_STEP);
         CHECK(flag);
@@ -468,14 +484,14 @@ int vi_solver_advance(vi_solver *s, double tout, long max_steps, double *t, doub
     /* AUTO: bounded, a hand-over is asked for only after steps taken since the one before (at most
      * max_steps of them) */
     for (long pass = 0; pass <= max_steps + 1; pass++) {
-        int r = s->cfg.sw->bdf ? cvode_advance(s, tout, max_steps, t, x, fired, taken)
+        int r = s->cfg.auto_choice->bdf ? cvode_advance(s, tout, max_steps, t, x, fired, taken)
                                : ode_advance(s, tout, max_steps, t, x, fired, taken);
         if (r != HANDOVER) return r;
         const vi_ode *o = s->cfg.ode;
-        double t0 = s->cfg.sw->bdf ? s->tn : o->t, x0[VI_SOLVER_MAX_N];
-        memcpy(x0, s->cfg.sw->bdf ? NV_DATA_S(s->x) : o->x, sizeof(double) * (size_t)s->cfg.n);
+        double t0 = s->cfg.auto_choice->bdf ? s->tn : o->t, x0[VI_SOLVER_MAX_N];
+        memcpy(x0, s->cfg.auto_choice->bdf ? NV_DATA_S(s->x) : o->x, sizeof(double) * (size_t)s->cfg.n);
         hand_over(s, t0);
-        if ((s->cfg.sw->bdf ? cvode_restart(s, t0, x0) : ode_restart(s, t0, x0)) < 0) return VI_SOLVER_FAILED;
+        if ((s->cfg.auto_choice->bdf ? cvode_restart(s, t0, x0) : ode_restart(s, t0, x0)) < 0) return VI_SOLVER_FAILED;
     }
     return VI_SOLVER_FAILED;
 }
@@ -519,7 +535,7 @@ void vi_solver_statistics(const vi_solver *s, vi_solver_stats *st)
         st->guard_evals += o->guard_evals;
         st->resets += s->ode_resets;
     }
-    if (s->cfg.method == VI_METHOD_AUTO) st->switches = s->cfg.sw->switches;
+    if (s->cfg.method == VI_METHOD_AUTO) st->switches = s->cfg.auto_choice->switches;
     st->method = vi_solver_method_name(s->cfg.method);
 }
 

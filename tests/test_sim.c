@@ -340,12 +340,12 @@ Test(sim, data_check_names_bad_fields_of_the_auto_choice)
     cr_assert(vi_sim_data_check(&s.d, msg, sizeof msg) == 0, "%s", msg);
     vi_sim_data d;
 #define CASE(stmt, field) d = s.d, stmt, refused(&d, field)
-    CASE(d.auto_choice.bdf = 2, "sw.bdf");
-    CASE(d.auto_choice.pending = -1, "sw.pending");
-    CASE(d.auto_choice.stiff = VI_AUTO_STIFF_STEPS + 1, "sw.stiff");
-    CASE(d.auto_choice.calm = -1, "sw.calm");
-    CASE(d.auto_choice.steps = -1, "sw.steps");
-    CASE(d.auto_choice.switches = -1, "sw.switches");
+    CASE(d.auto_choice.bdf = 2, "auto_choice.bdf");
+    CASE(d.auto_choice.pending = -1, "auto_choice.pending");
+    CASE(d.auto_choice.stiff = VI_AUTO_STIFF_STEPS + 1, "auto_choice.stiff");
+    CASE(d.auto_choice.calm = -1, "auto_choice.calm");
+    CASE(d.auto_choice.steps = -1, "auto_choice.steps");
+    CASE(d.auto_choice.switches = -1, "auto_choice.switches");
     CASE((d.auto_choice.bdf = 0, d.ode.t = NAN), "ode.t");
 #undef CASE
     d = s.d;
@@ -367,7 +367,7 @@ Test(solver, auto_needs_two_states_a_jacobian_and_its_choice)
     vi_solver_auto sw;
     double atol[3] = {1e-9, 1e-9, 1e-9}, x0[3] = {0.0, 0.0, 0.0};
     vi_solver_config ok = {.n = 2, .rhs = nan_after_half, .jac = jac_2, .method = VI_METHOD_AUTO, .rtol = 1e-6,
-                           .atol = atol, .ode = &ode, .sw = &sw, .log = quiet};
+                           .atol = atol, .ode = &ode, .auto_choice = &sw, .log = quiet};
     vi_solver *s = vi_solver_create(&ok, 0.0, x0);
     cr_assert(s != NULL);
     vi_solver_free(s);
@@ -376,7 +376,7 @@ Test(solver, auto_needs_two_states_a_jacobian_and_its_choice)
     cr_assert(vi_solver_create(&bad, 0.0, x0) == NULL);
     bad = ok, bad.jac = NULL;
     cr_assert(vi_solver_create(&bad, 0.0, x0) == NULL);
-    bad = ok, bad.sw = NULL;
+    bad = ok, bad.auto_choice = NULL;
     cr_assert(vi_solver_create(&bad, 0.0, x0) == NULL);
 }
 

@@ -123,7 +123,7 @@ static void rig_osc(rig *r, int method)
     memset(r, 0, sizeof *r);
     for (int i = 0; i < VI_SOLVER_MAX_N; i++) r->atol[i] = 1e-12;
     r->cfg = (vi_solver_config){.n = 2, .nguards = 3, .rhs = osc, .guards = osc_guards, .jac = osc_jac,
-                                .method = method, .rtol = 1e-10, .atol = r->atol, .ode = &r->ode, .sw = &r->sw,
+                                .method = method, .rtol = 1e-10, .atol = r->atol, .ode = &r->ode, .auto_choice = &r->sw,
                                 .log = capture};
 }
 
@@ -211,20 +211,20 @@ Test(solver, auto_refusals_name_what_is_missing)
     const struct { int n, jac, sw; const char *want; } cases[] = {
         {3, 1, 1, "got 3 states"},
         {2, 0, 1, "got 2 states, no Jacobian"},
-        {2, 1, 0, "got 2 states, no sw"},
-        {3, 0, 0, "got 3 states, no Jacobian, no sw"},
+        {2, 1, 0, "got 2 states, no auto_choice"},
+        {3, 0, 0, "got 3 states, no Jacobian, no auto_choice"},
     };
     for (size_t k = 0; k < sizeof cases / sizeof *cases; k++) {
         rig r;
         rig_osc(&r, VI_METHOD_AUTO);
         r.cfg.n = cases[k].n;
         if (!cases[k].jac) r.cfg.jac = NULL;
-        if (!cases[k].sw) r.cfg.sw = NULL;
+        if (!cases[k].sw) r.cfg.auto_choice = NULL;
         double x0[3] = {1.0, 0.0, 0.0};
         log_clear();
         cr_assert(vi_solver_create(&r.cfg, 0.0, x0) == NULL, "case %zu accepted", k);
         char want[200];
-        snprintf(want, sizeof want, "vi_solver_create: auto needs at most 2 states, a Jacobian and its choice (cfg->sw); %s",
+        snprintf(want, sizeof want, "vi_solver_create: auto needs at most 2 states, a Jacobian and its choice (cfg->auto_choice); %s",
                  cases[k].want);
         cr_assert(logged(VI_LOG_ERROR, want), "%s", log_text);
     }
@@ -714,17 +714,17 @@ Test(solver, the_auto_choice_check_takes_its_ranges_and_names_each_bad_field)
         cr_assert(vi_solver_auto_check(&a, msg, sizeof msg) == -1, "accepted: %s", #stmt);            \
         cr_assert_str_eq(msg, text);                                                                   \
     } while (0)
-    BAD(a.bdf = 2, "sw.bdf = 2 is not 0 or 1");
-    BAD(a.bdf = -1, "sw.bdf = -1 is not 0 or 1");
-    BAD(a.pending = 2, "sw.pending = 2 is not 0 or 1");
-    BAD(a.pending = -1, "sw.pending = -1 is not 0 or 1");
-    BAD(a.stiff = -1, "sw.stiff = -1 is not in [0, 8]");
-    BAD(a.stiff = 9, "sw.stiff = 9 is not in [0, 8]");
-    BAD(a.calm = -1, "sw.calm = -1 is not in [0, 6]");
-    BAD(a.calm = 7, "sw.calm = 7 is not in [0, 6]");
-    BAD(a.steps = -1, "sw.steps = -1 is not in [0, 10]");
-    BAD(a.steps = 11, "sw.steps = 11 is not in [0, 10]");
-    BAD(a.switches = -1, "sw.switches = -1 is negative");
+    BAD(a.bdf = 2, "auto_choice.bdf = 2 is not 0 or 1");
+    BAD(a.bdf = -1, "auto_choice.bdf = -1 is not 0 or 1");
+    BAD(a.pending = 2, "auto_choice.pending = 2 is not 0 or 1");
+    BAD(a.pending = -1, "auto_choice.pending = -1 is not 0 or 1");
+    BAD(a.stiff = -1, "auto_choice.stiff = -1 is not in [0, 8]");
+    BAD(a.stiff = 9, "auto_choice.stiff = 9 is not in [0, 8]");
+    BAD(a.calm = -1, "auto_choice.calm = -1 is not in [0, 6]");
+    BAD(a.calm = 7, "auto_choice.calm = 7 is not in [0, 6]");
+    BAD(a.steps = -1, "auto_choice.steps = -1 is not in [0, 10]");
+    BAD(a.steps = 11, "auto_choice.steps = 11 is not in [0, 10]");
+    BAD(a.switches = -1, "auto_choice.switches = -1 is negative");
 #undef BAD
 }
 
@@ -777,7 +777,7 @@ Test(solver, a_resumed_state_continues_bit_for_bit)
         cr_assert(vi_solver_advance(a, 0.7, 100000, &ta, xa, fired, &taken) == VI_SOLVER_REACHED);
         cr_assert(vi_solver_checkpoint(a, ta, xa) == 0);
         rb = ra;
-        rb.cfg.ode = &rb.ode, rb.cfg.sw = &rb.sw, rb.cfg.atol = rb.atol;
+        rb.cfg.ode = &rb.ode, rb.cfg.auto_choice = &rb.sw, rb.cfg.atol = rb.atol;
         log_clear();
         vi_solver *b = vi_solver_resume(&rb.cfg, ta, xa);
         cr_assert(b != NULL, "%s: %s", vi_solver_method_name(METHODS[m]), log_text);
@@ -843,7 +843,7 @@ Test(solver, cvode_statistics_add_up_over_restarts)
             ra.cfg.rhs = vdp, ra.cfg.nguards = 1, ra.cfg.guards = never, ra.cfg.jac = with_jac ? vdp_jac : NULL;
             ra.cfg.rtol = 1e-6, ra.atol[0] = ra.atol[1] = 1e-8;
             rb = ra;
-            rb.cfg.ode = &rb.ode, rb.cfg.sw = &rb.sw, rb.cfg.atol = rb.atol;
+            rb.cfg.ode = &rb.ode, rb.cfg.auto_choice = &rb.sw, rb.cfg.atol = rb.atol;
             double x0[2] = {2.0, 0.0}, x[2], t = 0.0, xb[2], tb = 1000.0;
             int fired[1];
             long taken, sum = 0;
@@ -1027,7 +1027,7 @@ static vi_solver *auto_rig(rig *r, int n)
     for (int i = 0; i < VI_SOLVER_MAX_N; i++) r->atol[i] = 1e3;
     r->cfg = (vi_solver_config){.n = n, .nguards = 0, .rhs = lin, .guards = never, .jac = jac_set,
                                 .method = VI_METHOD_AUTO, .rtol = 1e-3, .atol = r->atol, .max_step = 0.5,
-                                .ode = &r->ode, .sw = &r->sw, .log = capture};
+                                .ode = &r->ode, .auto_choice = &r->sw, .log = capture};
     r->cfg.user = &r->cfg.n;
     K = 0.0;
     set_j(0.0, 0.0, 0.0, 0.0);
@@ -1239,7 +1239,7 @@ Test(solver, auto_hands_a_failure_of_the_one_step_method_to_bdf)
     memset(&r, 0, sizeof r);
     r.atol[0] = r.atol[1] = 1e-9;
     r.cfg = (vi_solver_config){.n = 2, .rhs = nan_from_half, .jac = jac_set, .method = VI_METHOD_AUTO, .rtol = 1e-6,
-                               .atol = r.atol, .ode = &r.ode, .sw = &r.sw, .log = capture};
+                               .atol = r.atol, .ode = &r.ode, .auto_choice = &r.sw, .log = capture};
     r.cfg.user = &r.cfg.n;
     set_j(0.0, 0.0, 0.0, 0.0);
     double x0[2] = {0.0, 0.0}, x[2], t = 0.0;
