@@ -299,3 +299,44 @@ def test_paper_excitation_against_the_reference_model(fmu_path, solver, law, par
     assert list(r["n_impacts"]) == list(ref.n_impacts) and ref.n_impacts_total >= 10
     assert abs(r["y"] - ref.y).max() < 1e-9
     assert abs(r["F"] - ref.F).max() < 1e-5 * abs(ref.F).max()
+
+
+@pytest.mark.timeout(120)
+@pytest.mark.parametrize("law, params", [(LINEAR, dict(k_spring=K_SPRING)), (HERTZ_DAMPED, dict(damping_formula=1))],
+                         ids=["linear", "exact"])
+def test_state_saved_in_free_flight_after_a_release(fmu_path, unzipdir, model_description, law, params):
+    """After a release the mass is free while the bodies still overlap (delta > 0): an FMU state taken
+    there is accepted, serialized or not, and continues bit for bit."""
+    vr = {v.name: v.valueReference for v in model_description.modelVariables}
+    fmu = FMU2Slave(guid=model_description.guid, unzipDirectory=unzipdir,
+                    modelIdentifier=model_description.coSimulation.modelIdentifier, instanceName="free")
+    fmu.instantiate()
+    try:
+        p = dict(STEEL, contact_model=law, v0=-1.0, e_restitution=0.3, rtol=1e-10, **params)
+        for name, value in p.items():
+            if name in ("contact_model", "damping_formula", "init"):
+                fmu.setInteger([vr[name]], [int(value)])
+            else:
+                fmu.setReal([vr[name]], [float(value)])
+        fmu.setupExperiment(startTime=0.0)
+        fmu.enterInitializationMode()
+        fmu.exitInitializationMode()
+        t, h = 0.0, 1e-6
+        while not (fmu.getInteger([vr["mode"]])[0] == 0 and fmu.getReal([vr["delta"]])[0] > 0.0):
+            assert t < 1e-3, "no release within 1 ms"
+            fmu.doStep(t, h)
+            t += h
+        state = fmu.getFMUstate()
+        blob = fmu.serializeFMUstate(state)
+        fmu.doStep(t, 1e-3)
+        first = fmu.getReal([vr["v"], vr["y"]])
+        fmu.setFMUstate(state)
+        fmu.doStep(t, 1e-3)
+        assert fmu.getReal([vr["v"], vr["y"]]) == first
+        fmu.setFMUstate(fmu.deSerializeFMUstate(blob))
+        fmu.doStep(t, 1e-3)
+        assert fmu.getReal([vr["v"], vr["y"]]) == first
+        assert first[0] == pytest.approx(0.3, abs=1e-6)
+    finally:
+        fmu.terminate()
+        fmu.freeInstance()

@@ -941,7 +941,9 @@ static int check_mode(const vi_model *model, const double x[2], int surfaces, ch
     double d = x[0], tol = VI_CHECK_GUARD_TOL * fmax(fmax(model->johnson.delta_Y, fabs(d)), fabs(model->unload.delta_c));
     double g[2] = {INFINITY, INFINITY};
     switch (mode) {
-    case VI_MODE_FREE: g[0] = L->contact_surface(model) - d; break;
+    case VI_MODE_FREE: /* a damped law is free at delta > 0 after a release: its guard needs the rate */
+        if (!L->force_guard) g[0] = L->contact_surface(model) - d;
+        break;
     case VI_MODE_ELASTIC: g[0] = d - L->contact_surface(model), g[1] = L->yield_surface(model) - d; break;
     case VI_MODE_PLASTIC: g[0] = d - L->plastic_floor(model); break;
     case VI_MODE_UNLOAD: g[0] = d - model->unload.delta_f, g[1] = model->unload.delta_c - d; break;
