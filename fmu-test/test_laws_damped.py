@@ -162,6 +162,21 @@ def test_refusals(fmu_path, unzipdir, model_description):
         fmu.freeInstance()
 
 
+INTEGERS = ("contact_model", "damping_formula", "init", "solver")
+
+
+def initialized(fmu, vr, params):
+    """Set the parameters of an instantiated FMU2Slave and leave initialization mode."""
+    for name, value in params.items():
+        if name in INTEGERS:
+            fmu.setInteger([vr[name]], [int(value)])
+        else:
+            fmu.setReal([vr[name]], [float(value)])
+    fmu.setupExperiment(startTime=0.0)
+    fmu.enterInitializationMode()
+    fmu.exitInitializationMode()
+
+
 @pytest.mark.timeout(120)
 @each_solver
 @pytest.mark.parametrize("formula", [1, 2])
@@ -173,16 +188,8 @@ def test_state_saved_inside_a_damped_contact(fmu_path, unzipdir, model_descripti
                     modelIdentifier=model_description.coSimulation.modelIdentifier, instanceName="state")
     fmu.instantiate()
     try:
-        p = dict(STEEL, contact_model=HERTZ_DAMPED, damping_formula=formula, v0=-1.0, e_restitution=0.5, rtol=1e-10,
-                 solver=solver)
-        for name, value in p.items():
-            if name in ("contact_model", "damping_formula", "init", "solver"):
-                fmu.setInteger([vr[name]], [int(value)])
-            else:
-                fmu.setReal([vr[name]], [float(value)])
-        fmu.setupExperiment(startTime=0.0)
-        fmu.enterInitializationMode()
-        fmu.exitInitializationMode()
+        initialized(fmu, vr, dict(STEEL, contact_model=HERTZ_DAMPED, damping_formula=formula, v0=-1.0,
+                                  e_restitution=0.5, rtol=1e-10, solver=solver))
         fmu.doStep(0.0, 2e-5)
         assert fmu.getReal([vr["F"]])[0] > 0.0  # inside the contact
         state = fmu.serializeFMUstate(fmu.getFMUstate())
@@ -312,15 +319,7 @@ def test_state_saved_in_free_flight_after_a_release(fmu_path, unzipdir, model_de
                     modelIdentifier=model_description.coSimulation.modelIdentifier, instanceName="free")
     fmu.instantiate()
     try:
-        p = dict(STEEL, contact_model=law, v0=-1.0, e_restitution=0.3, rtol=1e-10, **params)
-        for name, value in p.items():
-            if name in ("contact_model", "damping_formula", "init"):
-                fmu.setInteger([vr[name]], [int(value)])
-            else:
-                fmu.setReal([vr[name]], [float(value)])
-        fmu.setupExperiment(startTime=0.0)
-        fmu.enterInitializationMode()
-        fmu.exitInitializationMode()
+        initialized(fmu, vr, dict(STEEL, contact_model=law, v0=-1.0, e_restitution=0.3, rtol=1e-10, **params))
         t, h = 0.0, 1e-6
         while not (fmu.getInteger([vr["mode"]])[0] == 0 and fmu.getReal([vr["delta"]])[0] > 0.0):
             assert t < 1e-3, "no release within 1 ms"
