@@ -504,7 +504,8 @@ def declared_range(v):
     if v.type == "Integer":
         return f"{v.min}-{v.max}" if v.min is not None else ""
     lo, hi = (None if b is None else float(b) for b in (v.min, v.max))
-    known = {(None, None): "", (5e-324, None): "> 0", (0.0, None): ">= 0", (-0.9999999999999999, 0.5): "(-1, 0.5]"}
+    known = {(None, None): "", (5e-324, None): "> 0", (0.0, None): ">= 0", (-0.9999999999999999, 0.5): "(-1, 0.5]",
+             (5e-324, 1.0): "(0, 1]"}
     return known.get((lo, hi), f"[{v.min}, {v.max}]")
 
 

@@ -37,14 +37,15 @@ def test_every_parameter_with_a_valid_range_declares_it(model_description):
         return (None if v.min is None else float(v.min), None if v.max is None else float(v.max))
 
     tiny = math.nextafter(0.0, 1.0)
-    for name in ("m", "E1", "E2", "Y", "theta_Y"):
+    for name in ("m", "E1", "E2", "Y", "theta_Y", "k_spring"):
         assert bounds(name) == (tiny, None), name
     for name in ("R1", "R2", "f", "max_step"):
         assert bounds(name) == (0.0, None), name
     assert bounds("rtol") == (0.0, 1e-2)
     for name in ("nu1", "nu2"):
         assert bounds(name) == (math.nextafter(-1.0, 0.0), 0.5), name
-    assert bounds("contact_model") == (1, 3) and bounds("solver") == (1, 4) and bounds("init") == (1, 2)
+    assert bounds("contact_model") == (1, 6) and bounds("solver") == (1, 4) and bounds("init") == (1, 2)
+    assert bounds("e_restitution") == (tiny, 1.0) and bounds("damping_formula") == (1, 4)
     for name in ("P", "g", "v0", "a", "V", "x0", "yC_in", "F_ext"):
         assert bounds(name) == (None, None), name
     for v in ranged(model_description):  # the start values lie inside

@@ -15,16 +15,20 @@
  *            vi_model_next_breakpoint gives the time, and the loop restarts there (vi_model_breakpoint).
  * Inputs are ramps over a communication step: u(t) = u + du (t - t_u) (du = 0: zero-order hold).
  *
- * Modes (output `mode`): 0 free, 1 elastic on the virgin curve (Hertz, Johnson below delta_Y,
- * LEPP spring), 2 plastic (Johnson virgin loading beyond delta_Y; LEPP flow at F_Y; with a moving
- * contact point: above delta_Y either way), 3 elastic unload/reload (Johnson, eq. 4), 4 stick
- * (Johnson paper unloading: Filippov sliding at a turning point, F = F_hold = W + m yC'').
+ * Modes (output `mode`): 0 free, 1 elastic on the virgin curve (Hertz, Johnson and Thornton below
+ * delta_Y, LEPP spring, the damped laws), 2 plastic (Johnson and Thornton virgin loading beyond
+ * delta_Y; LEPP flow at F_Y; with a moving contact point: above delta_Y either way), 3 elastic
+ * unload/reload (Johnson eq. 4, Thornton), 4 stick (Johnson paper unloading: Filippov sliding at a
+ * turning point, F = F_hold = W + m yC''). The damped laws (hertz_damped, linear; vi_laws.h) have
+ * modes 0 and 1 only, with a force that depends on delta' as well.
  *
  * Each mode has up to VI_NGUARDS guard functions g >= 0; the mode is left when a guard falls
  * through zero (CVODE root direction -1 for all):
  *   0: g0 = s - delta                  contact (s = 0, delta_f or delta_p)
+ *      g0 = max(-delta, -g)            contact of a damped law (g: vi_*_guard, the sign of its force)
  *   1: g0 = delta - s                  separation
  *      g1 = delta_Y - delta            yield (Johnson), delta_p + delta_Y - delta (LEPP)
+ *      g1 = g                          release of a damped law: its force reaches 0 while delta > 0
  *   2: g0 = delta'                     turning point (Johnson, LEPP)
  *      g0 = delta - delta_Y            back below yield (Johnson, moving contact point)
  *   3: g0 = delta - delta_f            separation
@@ -44,13 +48,14 @@
 #include <stddef.h>
 
 #include "vi_contact.h"
+#include "vi_laws.h"
 #include "vi_profile.h"
 
 #define VI_NGUARDS 2
 
 /* Contact laws, modes (doc/model.md section 3) and initial states; the FMU's enumerations
  * ContactModel, Mode and Init have these values. */
-enum { VI_LAW_HERTZ = 1, VI_LAW_JOHNSON = 2, VI_LAW_LEPP = 3 };
+enum { VI_LAW_HERTZ = 1, VI_LAW_JOHNSON = 2, VI_LAW_LEPP = 3, VI_LAW_HERTZ_DAMPED = 4, VI_LAW_LINEAR = 5, VI_LAW_THORNTON = 6 };
 enum { VI_MODE_FREE = 0, VI_MODE_ELASTIC = 1, VI_MODE_PLASTIC = 2, VI_MODE_UNLOAD = 3, VI_MODE_STICK = 4 };
 enum { VI_INIT_STATIC = 1, VI_INIT_TOUCHING = 2 };
 
@@ -69,6 +74,9 @@ typedef struct {
     int has_profile;            /* a profile is rolled over (vi_model_set_rolling) */
     double V, x0;               /* rolling speed [m/s], position on the profile at the start [m] */
     int profile_periodic;
+    double e_restitution;       /* damped Hertz, linear: restitution of an isolated impact, (0, 1] */
+    int damping_formula;        /* damped Hertz: VI_DAMP_* (vi_laws.h) */
+    double k_spring;            /* linear: spring stiffness [N/m] */
 } vi_model_params;
 
 /* The model's outputs and calculated parameters (doc/model.md section 5). */
@@ -104,6 +112,8 @@ typedef struct {
      * trusted from a saved state; the simulation attaches its own after setup and after every
      * restore (vi_model_set_rolling). NULL: no profile, yb = 0. */
     const vi_profile *profile;
+    vi_damped_hertz damped;  /* damped Hertz: K, alpha sqrt(m K) or chi */
+    vi_linear_law linear;    /* linear spring-dashpot: k, c */
 
     /* inputs */
     vi_ramp yC_in, F_ext;
@@ -113,6 +123,8 @@ typedef struct {
     int yielded;       /* Johnson, fixed contact point: plastic memory exists */
     vi_unload_curve unload; /* Johnson memory: delta_c, Rbar, delta_r, delta_f (valid when yielded) */
     double delta_p;    /* LEPP permanent set [m] (in mode 2 it is delta - delta_Y) */
+    double V_i;        /* damped Hertz, published forms: approach speed at the onset of this contact [m/s]
+                        * (0: a contact present at a static start, undamped until it ends) */
     long n_impacts;
 } vi_model;
 
@@ -164,7 +176,10 @@ void vi_model_rhs(const vi_model *model, double t, const double x[2], double dx[
 double vi_model_stiffness_over_mass(const vi_model *model, double t, const double x[2]);
 /* d(stiffness)/d(delta) [N/m^2]: the second derivative of the force in the current mode (0 where it
  * is linear or constant, and in stick, whose stiffness is that at delta_c). */
-double vi_model_stiffness_rate(const vi_model *model, const double x[2]);
+double vi_model_stiffness_rate(const vi_model *model, double t, const double x[2], double *per_rate);
+/* dF/d(delta') [N s/m] of a law that damps (damped Hertz, linear spring-dashpot) in contact; else 0.
+ * per_rate above: d(stiffness)/d(delta') [N s/m^2] for those laws, else 0. */
+double vi_model_damping(const vi_model *model, double t, const double x[2]);
 /* The rates d/d(delta) [1, except W_plastic: N] of the memory outputs at x in the current mode:
  * nonzero only while the memory tracks delta (Johnson loading plastically with a fixed contact
  * point: delta_c = delta; LEPP flowing: delta_p = delta - delta_Y). */
@@ -228,8 +243,9 @@ int vi_model_validity(const vi_model *model, double R1, double t, const double x
 int vi_model_indentation_invalid(const vi_model *model, const double x[2]);
 
 /* Options that contradict each other or are ignored: moving_contact, continuous
- * unloading or the printed yield formula where the law does not use them, v0 with a static start,
- * the rolling parameters without a profile.
+ * unloading, the printed yield formula or damping_formula where the law does not use them, v0 with a
+ * static start, the rolling parameters without a profile; and a published damping form whose
+ * restitution misses e_restitution by more than 0.01 (it names the restitution it gives).
  * Returns how many there are; msg lists them (one warning at initialization). */
 int vi_model_option_warnings(const vi_model_params *p, char *msg, size_t n);
 

@@ -23,7 +23,7 @@
 
 #define VI_GUID "{5b7e0c3a-2f1d-4e8b-9a61-7c4d2e9f1a03}"
 #define VI_MODEL_IDENTIFIER "VibroImpact"
-#define VI_MODEL_DESCRIPTION "Mass pressed onto a vibrating platform through a Hertz, Johnson elastic-plastic or linear elastic-perfectly plastic contact; Co-Simulation (its own solvers with event location inside the step) and Model Exchange (states y, v; the guards of the mode as event indicators)"
+#define VI_MODEL_DESCRIPTION "Mass pressed onto a vibrating platform through a Hertz, Johnson elastic-plastic, linear elastic-perfectly plastic, Thornton elastic-perfectly plastic, damped Hertz or linear spring-dashpot contact; Co-Simulation (its own solvers with event location inside the step) and Model Exchange (states y, v; the guards of the mode as event indicators)"
 #define VI_DEFAULT_EXPERIMENT {.start_s = 0.0, .stop_s = 0.1, .tolerance = 1e-6, .step_s = 1e-4}
 #define VI_CAN_INTERPOLATE_INPUTS 1
 
@@ -41,7 +41,7 @@
   X(nu2, Real, none, parameter, fixed, exact, 0.3, VI_ABOVE(-1.0), VI_AT(0.5), "", 0, "", "Poisson's ratio of body 2") \
   X(Y, Real, none, parameter, fixed, exact, 6e8, VI_ABOVE(0.0), VI_NONE, "Pa", 0, "", "uniaxial yield stress") \
   X(theta_Y, Real, none, parameter, fixed, exact, 1.1, VI_ABOVE(0.0), VI_NONE, "", 0, "", "limiting mean pressure p_Y = theta_Y Y") \
-  X(contact_model, Integer, ContactModel, parameter, fixed, exact, 2, VI_NONE, VI_NONE, "", 0, "", "contact law (lepp: linear elastic-perfectly plastic)") \
+  X(contact_model, Integer, ContactModel, parameter, fixed, exact, 2, VI_NONE, VI_NONE, "", 0, "", "contact law (lepp: linear elastic-perfectly plastic; hertz_damped, linear: with damping; thornton: elastic-perfectly plastic sphere)") \
   X(moving_contact, Boolean, none, parameter, fixed, exact, 0, VI_NONE, VI_NONE, "", 0, "", "Johnson with a moving contact point: virgin curve both ways") \
   X(unloading, Integer, Unloading, parameter, fixed, exact, 1, VI_NONE, VI_NONE, "", 0, "", "Johnson unloading curve") \
   X(yield_formula, Integer, YieldFormula, parameter, fixed, exact, 1, VI_NONE, VI_NONE, "", 0, "", "formula for the yield force F_Y") \
@@ -52,7 +52,7 @@
   X(rtol, Real, none, parameter, fixed, exact, 0.0, VI_AT(0.0), VI_AT(VI_RTOL_MAX), "", 0, "", "relative tolerance: 0 = the experiment's tolerance (fmi2SetupExperiment, fmi3EnterInitializationMode), " VI_STRING_OF(VI_RTOL_DEFAULT) " without one; else at least " VI_STRING_OF(VI_RTOL_MIN) ", used whatever the experiment's") \
   X(solver, Integer, Solver, parameter, fixed, exact, 4, VI_NONE, VI_NONE, "", 0, "", "integration method (auto: Dormand-Prince 8(5,3), CVODE BDF while stiff; doc/model.md section 5)") \
   X(max_step, Real, none, parameter, fixed, exact, 0.0, VI_AT(0.0), VI_NONE, "s", 0, "", "maximum internal step of the solver: 0 = none, else at least " VI_STRING_OF(VI_MAX_STEP_MIN) " s") \
-  X(F, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N", 0, "yC_in F_ext y", "contact force") \
+  X(F, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N", 0, "yC_in F_ext y v", "contact force") \
   X(delta, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m", 0, "yC_in y", "indentation yC - y") \
   X(y, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m", 1e-5, "y", "mass position") \
   X(v, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s", 0.1, "v", "mass velocity") \
@@ -72,24 +72,31 @@
   X(k_lin, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "N/m", 0, "", "stiffness of the linear elastic-perfectly plastic model, F_Y/delta_Y") \
   X(f_contact, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "Hz", 0, "", "linearised contact resonance at the static load") \
   X(F_mean, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N", 0, "yC_in F_ext y v", "contact force averaged over the last communication step: its impulse divided by the step") \
-  X(k_contact, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N/m", 0, "yC_in y", "tangent contact stiffness dF/ddelta at the current state, 0 out of contact") \
+  X(k_contact, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N/m", 0, "yC_in y v", "tangent contact stiffness dF/ddelta at the current state, 0 out of contact") \
   X(profile_file, String, none, parameter, fixed, exact, "", VI_NONE, VI_NONE, "", 0, "", "profile rolled over (Fig. 1b): two-column text table x [m], h [m]; relative paths: FMU resources, then working directory; empty = none") \
   X(V, Real, none, parameter, fixed, exact, 0.0, VI_NONE, VI_NONE, "m/s", 0, "", "rolling speed over the profile: yC = yC_in + a (cos(2 pi f t) - 1) + yb(x0 + V t)") \
   X(x0, Real, none, parameter, fixed, exact, 0.0, VI_NONE, VI_NONE, "m", 0, "", "position on the profile at the start time") \
   X(profile_periodic, Boolean, none, parameter, fixed, exact, 0, VI_NONE, VI_NONE, "", 0, "", "repeat the profile beyond its ends (its last height must equal the first); false: the run stops at its end") \
   X(der_y, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s", 0, "v", "time derivative of y (Model Exchange: the derivative of the state y)") \
-  X(der_v, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s2", 0, "yC_in F_ext y", "time derivative of v, the acceleration of the mass (Model Exchange: the derivative of the state v)")
+  X(der_v, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s2", 0, "yC_in F_ext y v", "time derivative of v, the acceleration of the mass (Model Exchange: the derivative of the state v)") \
+  X(e_restitution, Real, none, parameter, fixed, exact, 0.8, VI_ABOVE(0.0), VI_AT(1.0), "", 0, "", "coefficient of restitution of an isolated impact (hertz_damped, linear)") \
+  X(damping_formula, Integer, DampingFormula, parameter, fixed, exact, 1, VI_NONE, VI_NONE, "", 0, "", "damping of hertz_damped (exact: the restitution is e_restitution at every impact speed)") \
+  X(k_spring, Real, none, parameter, fixed, exact, 1.2e9, VI_ABOVE(0.0), VI_NONE, "N/m", 0, "", "spring stiffness of the linear spring-dashpot (contact_model = linear)")
 
 /* Enumeration types: E(type, description); items in VI_ITEMS_<type>(I) as I(type, name, value).
  * Items are matched by name in the model through the constants VI_<type>_<name>. */
 #define VI_ENUMERATIONS(E) \
   E(ContactModel, "contact law") \
+  E(DampingFormula, "damping of the damped Hertz law") \
   E(Unloading, "Johnson unloading curve") \
   E(YieldFormula, "yield force formula") \
   E(Init, "initial state") \
   E(Solver, "integration method") \
   E(Mode, "mode of the hybrid automaton")
-#define VI_ITEMS_ContactModel(I) I(ContactModel, hertz, 1) I(ContactModel, johnson, 2) I(ContactModel, lepp, 3)
+#define VI_ITEMS_ContactModel(I) I(ContactModel, hertz, 1) I(ContactModel, johnson, 2) I(ContactModel, lepp, 3) \
+  I(ContactModel, hertz_damped, 4) I(ContactModel, linear, 5) I(ContactModel, thornton, 6)
+#define VI_ITEMS_DampingFormula(I) I(DampingFormula, exact, 1) I(DampingFormula, hunt_crossley, 2) \
+  I(DampingFormula, lankarani_nikravesh, 3) I(DampingFormula, flores, 4)
 #define VI_ITEMS_Unloading(I) I(Unloading, paper, 1) I(Unloading, continuous, 2)
 #define VI_ITEMS_YieldFormula(I) I(YieldFormula, textbook, 1) I(YieldFormula, printed, 2)
 #define VI_ITEMS_Init(I) I(Init, static, 1) I(Init, touching, 2)

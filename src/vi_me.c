@@ -290,18 +290,20 @@ void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
     double m = model->m, h = d->t - d->step_t0;
     int stick = model->mode == VI_Mode_stick;
     double k = stick ? 0.0 : m * vi_model_stiffness_over_mass(model, d->t, d->x); /* dF/ddelta */
+    double c = vi_model_damping(model, d->t, d->x), k_per_rate;                 /* dF/ddelta' (delta' = yC' - v) */
+    double k_rate = vi_model_stiffness_rate(model, d->t, d->x, &k_per_rate);
     vi_memory_rates mem;
     vi_model_memory_rates(model, d->x, &mem);
     jac[VI_ME_DER_Y] = through_delta(0.0, 1.0, 0.0, 0.0);
-    jac[VI_ME_DER_V] = through_delta(k / m, 0.0, stick ? 0.0 : 1.0 / m, 0.0); /* (F - W0 + F_ext)/m; stick: yC'' */
-    jac[VI_ME_F] = through_delta(k, 0.0, stick ? -1.0 : 0.0, 0.0);             /* stick: F_hold = W0 - F_ext + m yC'' */
+    jac[VI_ME_DER_V] = through_delta(k / m, -c / m, stick ? 0.0 : 1.0 / m, 0.0); /* (F - W0 + F_ext)/m; stick: yC'' */
+    jac[VI_ME_F] = through_delta(k, -c, stick ? -1.0 : 0.0, 0.0);                /* stick: F_hold = W0 - F_ext + m yC'' */
     jac[VI_ME_F_MEAN] = h > 0.0 ? through_delta(0.0, m / h, -1.0, 0.0)        /* m (v - v0)/h + W0 - F_ext */
                               : jac[VI_ME_F];
     jac[VI_ME_DELTA] = through_delta(1.0, 0.0, 0.0, 0.0);
     jac[VI_ME_Y] = through_delta(-1.0, 0.0, 0.0, 1.0);
     jac[VI_ME_V] = through_delta(0.0, 1.0, 0.0, 0.0);
     jac[VI_ME_YC] = through_delta(0.0, 0.0, 0.0, 1.0);
-    jac[VI_ME_K_CONTACT] = through_delta(vi_model_stiffness_rate(model, d->x), 0.0, 0.0, 0.0);
+    jac[VI_ME_K_CONTACT] = through_delta(k_rate, -k_per_rate, 0.0, 0.0);
     jac[VI_ME_DELTA_C] = through_delta(mem.delta_c, 0.0, 0.0, 0.0);
     jac[VI_ME_DELTA_F] = through_delta(mem.delta_f, 0.0, 0.0, 0.0);
     jac[VI_ME_RBAR] = through_delta(mem.Rbar, 0.0, 0.0, 0.0);

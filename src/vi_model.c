@@ -10,10 +10,30 @@
 #error "the model includes no FMI or solver header (its parameters: vi_model_params)"
 #endif
 
-static int is_johnson_fixed(const vi_model *model) { return model->law == VI_LAW_JOHNSON && !model->moving; }
+/* Laws whose plastic memory is an unloading curve after the largest indentation (Johnson with a fixed
+ * contact point, Thornton). */
+static int is_johnson_fixed(const vi_model *model)
+{
+    return (model->law == VI_LAW_JOHNSON && !model->moving) || model->law == VI_LAW_THORNTON;
+}
 
 /* Net load pressing the mass down, W(t) = P + m g - F_ext(t) [N]. */
 static double net_load(const vi_model *model, double t) { return model->W0 - vi_ramp_at(&model->F_ext, t); }
+
+/* The damped Hertz and linear laws' constants; zero for the other laws. */
+static int setup_damping(vi_model *model, const vi_model_params *p, char *msg, size_t n)
+{
+    model->damped = (vi_damped_hertz){0, 0.0, 0.0, 0.0};
+    model->linear = (vi_linear_law){0.0, 0.0};
+    if (model->law == VI_LAW_HERTZ_DAMPED &&
+        vi_damped_hertz_setup(&model->damped, p->damping_formula, p->e_restitution, model->K, model->m) < 0)
+        VI_FAIL(msg, n, "e_restitution = %g: no damping gives this restitution with damping_formula = %d (the exact "
+                "damping reaches restitutions in [1e-9, 1])", p->e_restitution, p->damping_formula);
+    if (model->law == VI_LAW_LINEAR && vi_linear_setup(&model->linear, p->k_spring, model->m, p->e_restitution) < 0)
+        VI_FAIL(msg, n, "contact_model = linear needs k_spring > 0 N/m and e_restitution in (0, 1] (k_spring = %g, "
+                "e_restitution = %g)", p->k_spring, p->e_restitution);
+    return 0;
+}
 
 int vi_model_setup(vi_model *model, const vi_model_params *p, double t0, char *msg, size_t msg_size)
 {
@@ -21,7 +41,7 @@ int vi_model_setup(vi_model *model, const vi_model_params *p, double t0, char *m
         VI_FAIL(msg, msg_size, "R1 = R2 = 0: two planes have no point contact; give a radius");
 
     model->law = p->law;
-    model->moving = p->moving_contact != 0;
+    model->moving = p->moving_contact != 0 && p->law == VI_LAW_JOHNSON; /* only Johnson has a moving contact point */
     model->unloading = p->unloading == VI_UNLOAD_CONTINUOUS ? VI_UNLOAD_CONTINUOUS : VI_UNLOAD_PAPER;
     model->m = p->m;
     model->W0 = p->P + p->m * p->g;
@@ -40,6 +60,7 @@ int vi_model_setup(vi_model *model, const vi_model_params *p, double t0, char *m
     model->t_phi = t0;
     model->profile = NULL;
     model->V = model->x0 = 0.0;
+    if (setup_damping(model, p, msg, msg_size) < 0) return -1;
     if (!(isfinite(model->W0) && isfinite(model->K) && model->K > 0.0 && isfinite(model->johnson.F_Y) && model->johnson.F_Y > 0.0 &&
           model->johnson.delta_Y > 0.0 && isfinite(model->k_lin) && model->k_lin > 0.0))
         VI_FAIL(msg, msg_size, "the parameters give no finite positive contact stiffness or yield force (E* = %g Pa, "
@@ -209,6 +230,21 @@ typedef struct {
     /* the memory outputs (delta_c, delta_f, delta_p, Rbar, W_plastic) at indentation d */
     void (*memory_outputs)(const vi_model *model, double d, vi_model_values *out);
     int permanent_set; /* the memory is the permanent set delta_p (else delta_p stays 0) */
+    /* Laws with an unloading curve (Johnson fixed, Thornton): the virgin curve's inverse and work, the
+     * unloading curve after delta_c and its rates with delta_c; may_stick: the unloading curve can lie
+     * below the loading force at delta_c (stick possible) */
+    double (*virgin_indentation)(const vi_model *model, double F);
+    double (*virgin_work)(const vi_model *model, double d);
+    vi_unload_curve (*unload_curve)(const vi_model *model, double delta_c);
+    vi_unload_rates (*unload_rates)(const vi_model *model, double delta_c);
+    int may_stick;
+    /* Laws whose force depends on the rate r = delta' (damped Hertz, linear), NULL otherwise: force and
+     * partials in mode elastic, second partials, and the guard with the sign of the unclamped force
+     * (mode elastic is left where it falls through 0, mode free entered again where it rises while
+     * delta > 0) */
+    vi_law_force (*rate_force)(const vi_model *model, double d, double r);
+    vi_law_curvature (*rate_curvature)(const vi_model *model, double d, double r);
+    vi_law_guard (*force_guard)(const vi_model *model, double d, double r);
 } law_fns;
 
 static const law_fns *law(const vi_model *model);
@@ -223,7 +259,7 @@ static int ahead(double pos, double rate, double acc, double jerk)
 
 /* Which stick guard an event put exactly on its surface: its force difference counts as 0, so that
  * the next derivative decides (the guard's value at the located root is only nearly 0). */
-enum { SNAP_NONE = -1, SNAP_LOAD = 0, SNAP_UNLOAD = 1 };
+enum { SNAP_NONE = -1, SNAP_LOAD = 0, SNAP_UNLOAD = 1, SNAP_RELEASE = 2 /* the damped laws' force guard */ };
 
 /* Hertz and Johnson share the impact indentation (15 m v^2/(16 E* sqrt(R*)))^(2/5). */
 static double hertz_impact(const vi_model *model, double v)
@@ -269,7 +305,7 @@ static double johnson_plastic_floor(const vi_model *model) { return model->movin
 static void johnson_freeze(vi_model *model, double x[2])
 {
     double dc = fmax(x[0], model->yielded ? fmax(model->unload.delta_c, model->johnson.delta_Y) : model->johnson.delta_Y);
-    if (!model->moving) model->unload = vi_johnson_unload_curve(&model->johnson, model->unloading, dc);
+    if (is_johnson_fixed(model)) model->unload = law(model)->unload_curve(model, dc);
 }
 static int johnson_choose(vi_model *model, double x[2], const rates *q)
 {
@@ -280,24 +316,25 @@ static int johnson_choose(vi_model *model, double x[2], const rates *q)
         mode = ahead(d - model->johnson.delta_Y, r, F_hold - model->johnson.F_Y, j) ? VI_MODE_PLASTIC : VI_MODE_ELASTIC;
         if (mode == VI_MODE_ELASTIC || model->moving) return mode;
         model->yielded = 1;
-        model->unload = vi_johnson_unload_curve(&model->johnson, model->unloading, d > model->johnson.delta_Y ? d : model->johnson.delta_Y);
+        model->unload = law(model)->unload_curve(model, d > model->johnson.delta_Y ? d : model->johnson.delta_Y);
     }
-    if (d > model->unload.delta_c) model->unload = vi_johnson_unload_curve(&model->johnson, model->unloading, d); /* pushed deeper */
-    double F_load = vi_johnson_load(&model->johnson, model->unload.delta_c), F_unload = vi_unload_force(&model->unload, d);
+    if (d > model->unload.delta_c) model->unload = law(model)->unload_curve(model, d); /* pushed deeper */
+    double F_load = law(model)->plastic_force(model, model->unload.delta_c), F_unload = vi_unload_force(&model->unload, d);
     double dF_load = q->snap == SNAP_LOAD ? 0.0 : F_hold - F_load;
     double dF_unload = q->snap == SNAP_UNLOAD ? 0.0 : F_hold - F_unload;
     if (ahead(d - model->unload.delta_c, r, dF_load, j)) return VI_MODE_PLASTIC;
-    if (d == model->unload.delta_c && r == 0.0 && ahead(0.0, 0.0, dF_unload, j) && model->unloading == VI_UNLOAD_PAPER)
+    if (d == model->unload.delta_c && r == 0.0 && ahead(0.0, 0.0, dF_unload, j) && law(model)->may_stick &&
+        model->unloading == VI_UNLOAD_PAPER)
         return VI_MODE_STICK; /* F_unload < F_hold <= F_load: neither branch is consistent */
     if (ahead(d - model->unload.delta_f, r, dF_unload, j)) return VI_MODE_UNLOAD;
     return mode;
 }
 static int johnson_modes(const vi_model *model, int mode)
 {
-    if (model->moving) return mode >= VI_MODE_FREE && mode <= VI_MODE_PLASTIC;
+    if (!is_johnson_fixed(model)) return mode >= VI_MODE_FREE && mode <= VI_MODE_PLASTIC;
     if (!model->yielded) return mode == VI_MODE_FREE || mode == VI_MODE_ELASTIC;
     return mode == VI_MODE_FREE || mode == VI_MODE_PLASTIC || mode == VI_MODE_UNLOAD ||
-           (mode == VI_MODE_STICK && model->unloading == VI_UNLOAD_PAPER);
+           (mode == VI_MODE_STICK && law(model)->may_stick && model->unloading == VI_UNLOAD_PAPER);
 }
 /* Indentation at rest under W > 0 on the Johnson virgin curve, with F(d) >= W where rounding allows,
  * so that a pre-loaded start does not see a spurious push into the material. The inverse is
@@ -306,26 +343,28 @@ static int johnson_modes(const vi_model *model, int mode)
 #define VI_STATIC_NUDGES 16
 static double johnson_static_indentation(const vi_model *model, double W)
 {
-    double d = vi_johnson_load_indentation(&model->johnson, W), step = nextafter(d, INFINITY) - d;
-    for (int i = 0; i < VI_STATIC_NUDGES && vi_johnson_load(&model->johnson, d) < W; i++, step *= 2.0) d += step;
+    const law_fns *L = law(model);
+    double d = L->virgin_indentation(model, W), step = nextafter(d, INFINITY) - d;
+    for (int i = 0; i < VI_STATIC_NUDGES && L->plastic_force(model, d) < W; i++, step *= 2.0) d += step;
     return d;
 }
 static double johnson_static_stiffness(const vi_model *model, double W)
 {
-    double d = vi_johnson_load_indentation(&model->johnson, W);
-    if (model->moving || d <= model->johnson.delta_Y) return vi_johnson_load_stiffness(&model->johnson, d);
-    vi_unload_curve U = vi_johnson_unload_curve(&model->johnson, model->unloading, d); /* small oscillations unload */
+    const law_fns *L = law(model);
+    double d = L->virgin_indentation(model, W);
+    if (!is_johnson_fixed(model) || d <= model->johnson.delta_Y) return L->plastic_stiffness(model, d);
+    vi_unload_curve U = L->unload_curve(model, d); /* small oscillations unload */
     return vi_unload_stiffness(&U, d);
 }
 static void johnson_memory(const vi_model *model, double d, vi_model_values *out)
 {
     if (!is_johnson_fixed(model) || !model->yielded) return;
-    vi_unload_curve U = model->mode == VI_MODE_PLASTIC ? vi_johnson_unload_curve(&model->johnson, model->unloading, d) : model->unload;
+    vi_unload_curve U = model->mode == VI_MODE_PLASTIC ? law(model)->unload_curve(model, d) : model->unload;
     out->delta_c = U.delta_c;
     out->delta_f = U.delta_f;
     out->Rbar = U.Rbar;
     /* dissipated = work along the virgin curve - energy the unloading curve gives back */
-    out->W_plastic = vi_johnson_load_work(&model->johnson, U.delta_c) - vi_unload_energy(&U, U.delta_c);
+    out->W_plastic = law(model)->virgin_work(model, U.delta_c) - vi_unload_energy(&U, U.delta_c);
 }
 /* While Johnson (fixed contact point) loads plastically, delta_c = d and the unloading curve moves
  * with it: W_plastic = load work(delta_c) - 0.4 Kbar delta_r^2.5, Kbar = 4/3 E* sqrt(Rbar). */
@@ -335,14 +374,66 @@ static void johnson_memory_rates(const vi_model *model, double d, vi_memory_rate
         no_memory_rates(model, d, r);
         return;
     }
-    vi_unload_curve U = vi_johnson_unload_curve(&model->johnson, model->unloading, d);
-    vi_unload_rates u = vi_johnson_unload_rates(&model->johnson, model->unloading, d);
+    vi_unload_curve U = law(model)->unload_curve(model, d);
+    vi_unload_rates u = law(model)->unload_rates(model, d);
     double dK = 2.0 / 3.0 * model->johnson.E_star * u.Rbar / sqrt(U.Rbar), dr = U.delta_r;
     r->delta_c = 1.0;
     r->delta_f = 1.0 - u.delta_r;
     r->delta_p = 0.0;
     r->Rbar = u.Rbar;
-    r->W_plastic = vi_johnson_load(&model->johnson, d) - 0.4 * dK * dr * dr * sqrt(dr) - U.Kbar * dr * sqrt(dr) * u.delta_r;
+    r->W_plastic = law(model)->plastic_force(model, d) - 0.4 * dK * dr * dr * sqrt(dr) - U.Kbar * dr * sqrt(dr) * u.delta_r;
+}
+
+static double johnson_indentation(const vi_model *model, double F) { return vi_johnson_load_indentation(&model->johnson, F); }
+static double johnson_work(const vi_model *model, double d) { return vi_johnson_load_work(&model->johnson, d); }
+static vi_unload_curve johnson_unload(const vi_model *model, double dc) { return vi_johnson_unload_curve(&model->johnson, model->unloading, dc); }
+static vi_unload_rates johnson_unload_rates(const vi_model *model, double dc) { return vi_johnson_unload_rates(&model->johnson, model->unloading, dc); }
+
+/* Thornton (vi_laws.h): Johnson's automaton with Thornton's virgin and unloading curves; the unloading
+ * curve meets the loading force at delta_c, so there is no stick. */
+static double thornton_load(const vi_model *model, double d) { return vi_thornton_load(&model->johnson, d); }
+static double thornton_load_stiffness(const vi_model *model, double d) { return vi_thornton_load_stiffness(&model->johnson, d); }
+static double thornton_load_stiffness_rate(const vi_model *model, double d) { return vi_thornton_load_stiffness_rate(&model->johnson, d); }
+static double thornton_indentation(const vi_model *model, double F) { return vi_thornton_load_indentation(&model->johnson, F); }
+static double thornton_work(const vi_model *model, double d) { return vi_thornton_load_work(&model->johnson, d); }
+static vi_unload_curve thornton_unload(const vi_model *model, double dc) { return vi_thornton_unload_curve(&model->johnson, dc); }
+static vi_unload_rates thornton_unload_rates(const vi_model *model, double dc) { return vi_thornton_unload_rates(&model->johnson, dc); }
+
+/* Damped Hertz and the linear spring-dashpot (vi_laws.h): modes free and elastic, the force a function
+ * of delta and its rate; the rate-free part (the spring) serves the static state and the scales. */
+static vi_law_force damped_force(const vi_model *model, double d, double r) { return vi_damped_hertz_force(&model->damped, d, r, model->V_i); }
+static vi_law_curvature damped_curvature(const vi_model *model, double d, double r) { return vi_damped_hertz_curvature(&model->damped, d, r, model->V_i); }
+static vi_law_guard damped_guard(const vi_model *model, double d, double r) { return vi_damped_hertz_guard(&model->damped, d, r, model->V_i); }
+static vi_law_force linear_force(const vi_model *model, double d, double r) { return vi_linear_force(&model->linear, d, r); }
+static vi_law_curvature linear_curvature(const vi_model *model, double d, double r) { return (void)model, (void)d, (void)r, (vi_law_curvature){0.0, 0.0}; }
+static vi_law_guard linear_guard(const vi_model *model, double d, double r) { return vi_linear_guard(&model->linear, d, r); }
+static double spring_force(const vi_model *model, double d) { return d > 0.0 ? model->linear.k * d : 0.0; }
+static double spring_stiffness(const vi_model *model, double d) { return d > 0.0 ? model->linear.k : 0.0; }
+static double spring_static_indentation(const vi_model *model, double W) { return W / model->linear.k; }
+static double spring_static_stiffness(const vi_model *model, double W) { return (void)W, model->linear.k; }
+static double spring_virgin_stiffness(const vi_model *model, double d) { return (void)d, model->linear.k; }
+static double spring_impact(const vi_model *model, double v) { return v * sqrt(model->m) / sqrt(model->linear.k); }
+/* Leaving the free mode where the force guard g is well inside its positive side (more than half the
+ * size of its terms; at a resumed contact it is about 0) is a new contact, through delta = 0. */
+#define VI_ONSET_GUARD_FRACTION 0.5
+static int new_contact(const vi_model *model, double d, double r)
+{
+    vi_law_guard g = law(model)->force_guard(model, d, r);
+    return d <= 0.0 || g.g > VI_ONSET_GUARD_FRACTION * (fabs(g.g - g.dg_drate * r) + fabs(g.dg_drate * r));
+}
+
+/* In contact while delta > 0 and the unclamped force is positive: the side of delta = 0, then that of
+ * the guard g (with F = 0 on its surface, delta'' = F_hold/m: g' = g_d r + g_r F_hold/m). A new contact
+ * takes its approach speed as V_i. */
+static int damped_choose(vi_model *model, double x[2], const rates *q)
+{
+    double d = x[0], r = q->r;
+    if (!ahead(d, r, q->F_hold, q->j)) return VI_MODE_FREE;
+    vi_law_guard g = law(model)->force_guard(model, d, r);
+    double g0 = q->snap == SNAP_RELEASE ? 0.0 : g.g;
+    if (!ahead(g0, g.dg_ddelta * r + g.dg_drate * q->F_hold / model->m, 0.0, 0.0)) return VI_MODE_FREE;
+    if (model->mode == VI_MODE_FREE && new_contact(model, d, r)) model->V_i = r > 0.0 ? r : 0.0;
+    return VI_MODE_ELASTIC;
 }
 
 /* Linear elastic-perfectly plastic (paper Fig. 3): a spring k_lin from the permanent set delta_p,
@@ -402,7 +493,8 @@ static const law_fns laws[] = {
         .yield_surface = johnson_yield, .plastic_floor = johnson_plastic_floor, .freeze_plastic = johnson_freeze,
         .choose = johnson_choose, .mode_allowed = johnson_modes, .static_indentation = johnson_static_indentation,
         .static_stiffness = johnson_static_stiffness, .virgin_stiffness = johnson_load_stiffness,
-        .impact_indentation = hertz_impact, .memory_outputs = johnson_memory},
+        .impact_indentation = hertz_impact, .memory_outputs = johnson_memory, .virgin_indentation = johnson_indentation,
+        .virgin_work = johnson_work, .unload_curve = johnson_unload, .unload_rates = johnson_unload_rates, .may_stick = 1},
     [VI_LAW_LEPP] = {
         .name = "lepp", .elastic_force = lepp_force, .elastic_stiffness = lepp_stiffness,
         .plastic_force = lepp_flow_force, .plastic_stiffness = lepp_flow_stiffness, .contact_surface = lepp_contact,
@@ -411,6 +503,32 @@ static const law_fns laws[] = {
         .choose = lepp_choose, .mode_allowed = lepp_modes, .static_indentation = lepp_static_indentation,
         .static_stiffness = lepp_static_stiffness, .virgin_stiffness = lepp_virgin_stiffness,
         .impact_indentation = lepp_impact, .memory_outputs = lepp_memory, .permanent_set = 1},
+    [VI_LAW_HERTZ_DAMPED] = {
+        .name = "hertz_damped", .elastic_force = hertz_force, .elastic_stiffness = hertz_stiffness,
+        .elastic_stiffness_rate = hertz_stiffness_rate, .plastic_stiffness_rate = no_rate, .memory_rates = no_memory_rates,
+        .contact_surface = zero_surface, .yield_surface = hertz_no_yield, .plastic_floor = hertz_no_yield,
+        .choose = damped_choose, .mode_allowed = hertz_modes, .static_indentation = hertz_static_indentation,
+        .static_stiffness = hertz_static_stiffness, .virgin_stiffness = hertz_stiffness,
+        .impact_indentation = hertz_impact, .memory_outputs = no_memory, .rate_force = damped_force,
+        .rate_curvature = damped_curvature, .force_guard = damped_guard},
+    [VI_LAW_LINEAR] = {
+        .name = "linear", .elastic_force = spring_force, .elastic_stiffness = spring_stiffness,
+        .elastic_stiffness_rate = no_rate, .plastic_stiffness_rate = no_rate, .memory_rates = no_memory_rates,
+        .contact_surface = zero_surface, .yield_surface = hertz_no_yield, .plastic_floor = hertz_no_yield,
+        .choose = damped_choose, .mode_allowed = hertz_modes, .static_indentation = spring_static_indentation,
+        .static_stiffness = spring_static_stiffness, .virgin_stiffness = spring_virgin_stiffness,
+        .impact_indentation = spring_impact, .memory_outputs = no_memory, .rate_force = linear_force,
+        .rate_curvature = linear_curvature, .force_guard = linear_guard},
+    [VI_LAW_THORNTON] = {
+        .name = "thornton", .elastic_force = thornton_load, .elastic_stiffness = thornton_load_stiffness,
+        .plastic_force = thornton_load, .plastic_stiffness = thornton_load_stiffness, .contact_surface = johnson_contact,
+        .elastic_stiffness_rate = thornton_load_stiffness_rate, .plastic_stiffness_rate = thornton_load_stiffness_rate,
+        .memory_rates = johnson_memory_rates,
+        .yield_surface = johnson_yield, .plastic_floor = johnson_plastic_floor, .freeze_plastic = johnson_freeze,
+        .choose = johnson_choose, .mode_allowed = johnson_modes, .static_indentation = johnson_static_indentation,
+        .static_stiffness = johnson_static_stiffness, .virgin_stiffness = thornton_load_stiffness,
+        .impact_indentation = hertz_impact, .memory_outputs = johnson_memory, .virgin_indentation = thornton_indentation,
+        .virgin_work = thornton_work, .unload_curve = thornton_unload, .unload_rates = thornton_unload_rates},
 };
 
 /* The row of model's law (set up, or checked to be one of the three). */
@@ -424,9 +542,26 @@ static int plastic_ends_at_yield(const vi_model *model) { return model->law == V
 
 /* ---- force, right-hand side, guards, events ------------------------------------------------------ */
 
+/* The rate r = delta' = yC'(t) - v. */
+static double indentation_rate(const vi_model *model, double t, const double x[2])
+{
+    double dyC;
+    vi_model_platform(model, t, &dyC, NULL);
+    return dyC - x[1];
+}
+
+/* Force and partials of a rate-dependent law in mode elastic at (t, x); all zero in any other case. */
+static vi_law_force rate_force(const vi_model *model, double t, const double x[2])
+{
+    const law_fns *L = law(model);
+    if (model->mode != VI_MODE_ELASTIC || !L->rate_force) return (vi_law_force){0.0, 0.0, 0.0};
+    return L->rate_force(model, x[0], indentation_rate(model, t, x));
+}
+
 double vi_model_force(const vi_model *model, double t, const double x[2])
 {
     double d = x[0];
+    if (law(model)->rate_force) return rate_force(model, t, x).F;
     switch (model->mode) {
     case VI_MODE_ELASTIC: return law(model)->elastic_force(model, d);
     case VI_MODE_PLASTIC: return law(model)->plastic_force(model, d);
@@ -451,7 +586,7 @@ void vi_model_rhs(const vi_model *model, double t, const double x[2], double dx[
 
 double vi_model_stiffness_over_mass(const vi_model *model, double t, const double x[2])
 {
-    (void)t;
+    if (law(model)->rate_force) return rate_force(model, t, x).dF_ddelta / model->m;
     double d = x[0], k = 0.0;
     switch (model->mode) {
     case VI_MODE_ELASTIC: k = law(model)->elastic_stiffness(model, d); break;
@@ -462,8 +597,17 @@ double vi_model_stiffness_over_mass(const vi_model *model, double t, const doubl
     return k / model->m;
 }
 
-double vi_model_stiffness_rate(const vi_model *model, const double x[2])
+double vi_model_damping(const vi_model *model, double t, const double x[2]) { return rate_force(model, t, x).dF_drate; }
+
+double vi_model_stiffness_rate(const vi_model *model, double t, const double x[2], double *per_rate)
 {
+    *per_rate = 0.0;
+    if (law(model)->rate_force) {
+        if (model->mode != VI_MODE_ELASTIC) return 0.0;
+        vi_law_curvature c = law(model)->rate_curvature(model, x[0], indentation_rate(model, t, x));
+        *per_rate = c.d2F_ddelta_drate;
+        return c.d2F_ddelta2;
+    }
     switch (model->mode) {
     case VI_MODE_ELASTIC: return law(model)->elastic_stiffness_rate(model, x[0]);
     case VI_MODE_PLASTIC: return law(model)->plastic_stiffness_rate(model, x[0]);
@@ -478,7 +622,8 @@ void vi_model_jacobian(const vi_model *model, double t, const double x[2], doubl
 {
     int stick = model->mode == VI_MODE_STICK;
     j[0] = 0.0, j[1] = stick ? 0.0 : -1.0;
-    j[2] = vi_model_stiffness_over_mass(model, t, x), j[3] = 0.0; /* 0 in stick */
+    j[2] = vi_model_stiffness_over_mass(model, t, x); /* 0 in stick */
+    j[3] = -vi_model_damping(model, t, x) / model->m; /* d(delta')/dv = -1 */
 }
 
 void vi_model_guards(const vi_model *model, double t, const double x[2], double g[VI_NGUARDS])
@@ -486,10 +631,14 @@ void vi_model_guards(const vi_model *model, double t, const double x[2], double 
     double d = x[0], dyC, yield = law(model)->yield_surface(model);
     g[0] = g[1] = 1.0; /* inactive */
     switch (model->mode) {
-    case VI_MODE_FREE: g[0] = law(model)->contact_surface(model) - d; break;
+    case VI_MODE_FREE: /* damped laws: contact where delta > 0 and the force guard > 0 both hold */
+        g[0] = law(model)->contact_surface(model) - d;
+        if (law(model)->force_guard) g[0] = fmax(-d, -law(model)->force_guard(model, d, indentation_rate(model, t, x)).g);
+        break;
     case VI_MODE_ELASTIC:
         g[0] = d - law(model)->contact_surface(model);
         if (isfinite(yield)) g[1] = yield - d;
+        if (law(model)->force_guard) g[1] = law(model)->force_guard(model, d, indentation_rate(model, t, x)).g;
         break;
     case VI_MODE_PLASTIC:
         if (plastic_ends_at_yield(model)) {
@@ -532,12 +681,39 @@ static int resolve(vi_model *model, double t, double x[2], int snap)
 
 int vi_model_resolve(vi_model *model, double t, double x[2]) { return resolve(model, t, x, SNAP_NONE); }
 
+/* At most this many ulp steps of v put the force guard on the side of the mode chosen (one or two do). */
+#define VI_GUARD_NUDGES 64
+
+/* A damped law's event: free, delta reached 0 (snapped onto 0: a new contact) or the force guard rose
+ * again while delta > 0 (the state stays); in contact, the force guard fell through 0 while delta > 0:
+ * the rate is put onto the guard's surface (g is linear in it), then on the side of the mode chosen,
+ * so that the new mode starts with its guards >= 0. */
+static int damped_event(vi_model *model, double t, double x[2])
+{
+    const law_fns *L = law(model);
+    if (model->mode == VI_MODE_FREE) {
+        if (new_contact(model, x[0], indentation_rate(model, t, x))) x[0] = 0.0; /* onto delta = 0 */
+        return vi_model_resolve(model, t, x);
+    }
+    vi_law_guard g = L->force_guard(model, x[0], indentation_rate(model, t, x));
+    if (g.dg_drate > 0.0) x[1] += g.g / g.dg_drate; /* r = yC' - v: a larger v lowers g */
+    int mode = resolve(model, t, x, SNAP_RELEASE);
+    for (int i = 0; i < VI_GUARD_NUDGES; i++) {
+        double gv = L->force_guard(model, x[0], indentation_rate(model, t, x)).g;
+        if (mode == VI_MODE_ELASTIC ? gv >= 0.0 : gv <= 0.0) break;
+        x[1] = nextafter(x[1], mode == VI_MODE_ELASTIC ? -INFINITY : INFINITY);
+    }
+    return mode;
+}
+
 int vi_model_event(vi_model *model, double t, double x[2], int fired)
 {
     vi_model_freeze(model, t, x);
+    const law_fns *L = law(model);
+    if (L->force_guard && (model->mode == VI_MODE_FREE || fired == 1)) return damped_event(model, t, x);
     switch (model->mode) {
-    case VI_MODE_FREE: x[0] = law(model)->contact_surface(model); break;
-    case VI_MODE_ELASTIC: x[0] = fired == 0 ? law(model)->contact_surface(model) : law(model)->yield_surface(model); break;
+    case VI_MODE_FREE: x[0] = L->contact_surface(model); break;
+    case VI_MODE_ELASTIC: x[0] = fired == 0 ? L->contact_surface(model) : L->yield_surface(model); break;
     case VI_MODE_PLASTIC:
         if (plastic_ends_at_yield(model)) x[0] = law(model)->yield_surface(model);
         else vi_model_platform(model, t, &x[1], NULL); /* turning point: delta' = 0 */
@@ -557,13 +733,14 @@ void vi_model_initial_state(vi_model *model, int init, double v0, double t0, dou
     model->yielded = 0;
     model->unload = (vi_unload_curve){0};
     model->delta_p = 0.0;
+    model->V_i = 0.0;
     x[0] = 0.0;
     x[1] = v0;
     if (init == VI_INIT_STATIC) {
         double d = W0 > 0.0 ? law(model)->static_indentation(model, W0) : 0.0;
         if (is_johnson_fixed(model) && d > model->johnson.delta_Y) { /* plastically pre-loaded */
             model->yielded = 1;
-            model->unload = vi_johnson_unload_curve(&model->johnson, model->unloading, d);
+            model->unload = law(model)->unload_curve(model, d);
         }
         x[0] = d;
         vi_model_platform(model, t0, &x[1], NULL);
@@ -630,6 +807,9 @@ int vi_model_validity(const vi_model *model, double R1, double t, const double x
     return 0;
 }
 
+/* A published damping form whose restitution misses e_restitution by more than this is named in a warning. */
+#define VI_PUBLISHED_E_TOL 0.01
+
 int vi_model_option_warnings(const vi_model_params *p, char *msg, size_t n)
 {
     int count = 0, johnson = p->law == VI_LAW_JOHNSON;
@@ -644,8 +824,22 @@ int vi_model_option_warnings(const vi_model_params *p, char *msg, size_t n)
     OPTION(p->moving_contact && !johnson, "moving_contact = true is ignored: only the Johnson law has a moving contact point")
     OPTION(p->unloading == VI_UNLOAD_CONTINUOUS && !(johnson && !p->moving_contact),
            "unloading = continuous is ignored: only Johnson with a fixed contact point unloads on eq. 4")
-    OPTION(p->yield_formula == VI_YIELD_PRINTED && p->law == VI_LAW_HERTZ,
-           "yield_formula = printed is ignored by the Hertz law (it changes only the calculated F_Y, delta_Y)")
+    OPTION(p->yield_formula == VI_YIELD_PRINTED &&
+               (p->law == VI_LAW_HERTZ || p->law == VI_LAW_HERTZ_DAMPED || p->law == VI_LAW_LINEAR),
+           "yield_formula = printed is ignored by the laws without yield (it changes only the calculated F_Y, delta_Y)")
+    OPTION(p->damping_formula != VI_DAMP_EXACT && p->law != VI_LAW_HERTZ_DAMPED,
+           "damping_formula is ignored: only contact_model = hertz_damped damps by a formula")
+    if (p->law == VI_LAW_HERTZ_DAMPED && p->damping_formula != VI_DAMP_EXACT) {
+        double ea = vi_damping_restitution(vi_damping_chi(p->damping_formula, p->e_restitution));
+        if (fabs(ea - p->e_restitution) > VI_PUBLISHED_E_TOL) {
+            int k = vi_snprintf(msg + used, used < n ? n - used : 0, "%sdamping_formula = %d gives an isolated impact "
+                                "the restitution %.4f, not e_restitution = %g (its formula holds near e = 1; "
+                                "damping_formula = exact gives e_restitution at every speed)", count ? "; " : "",
+                                p->damping_formula, ea, p->e_restitution);
+            used += k > 0 ? (size_t)k : 0;
+            count++;
+        }
+    }
     OPTION(p->v0 != 0.0 && p->init == VI_INIT_STATIC, "v0 is ignored by a static start (init = static)")
     OPTION(!p->has_profile && (p->V != 0.0 || p->x0 != 0.0 || p->profile_periodic),
            "V, x0 and profile_periodic are ignored without a profile_file")
@@ -697,6 +891,12 @@ static int check_memory(const vi_model *model, char *msg, size_t n)
     if (model->yielded != 0 && model->yielded != 1) VI_FAIL(msg, n, "model flag yielded = %d is not 0 or 1", model->yielded);
     if (model->n_impacts < 0) VI_FAIL(msg, n, "n_impacts = %ld is negative", model->n_impacts);
     if (!isfinite(model->delta_p)) VI_FAIL(msg, n, "delta_p = %g is not finite", model->delta_p);
+    if (!(model->V_i >= 0.0 && isfinite(model->V_i))) VI_FAIL(msg, n, "V_i = %g is not finite and >= 0", model->V_i);
+    const double dc[5] = {model->damped.alpha_c, model->damped.chi, model->damped.K, model->linear.k, model->linear.c};
+    for (int i = 0; i < 5; i++)
+        if (!(dc[i] >= 0.0 && isfinite(dc[i])))
+            VI_FAIL(msg, n, "a damping constant (alpha_c %g, chi %g, K %g, k %g, c %g) is not finite and >= 0", dc[0], dc[1],
+                    dc[2], dc[3], dc[4]);
     if (law(model)->permanent_set ? model->delta_p < 0.0 : model->delta_p != 0.0)
         VI_FAIL(msg, n, "delta_p = %g is impossible for contact_model %s", model->delta_p, law(model)->name);
     const vi_unload_curve *U = &model->unload;
@@ -717,7 +917,7 @@ static int check_memory(const vi_model *model, char *msg, size_t n)
         VI_FAIL(msg, n, "delta_c = %g is below delta_Y = %g", U->delta_c, model->johnson.delta_Y);
     if (!(U->Rbar > 0.0)) VI_FAIL(msg, n, "Rbar = %g is not positive", U->Rbar);
     if (!(U->delta_f <= U->delta_c)) VI_FAIL(msg, n, "delta_f = %g is above delta_c = %g", U->delta_f, U->delta_c);
-    vi_unload_curve E = vi_johnson_unload_curve(&model->johnson, model->unloading, U->delta_c);
+    vi_unload_curve E = law(model)->unload_curve(model, U->delta_c);
     if (!close_rel(U->Rbar, E.Rbar, CONSISTENCY_TOL))
         VI_FAIL(msg, n, "Rbar = %g does not belong to delta_c (%g)", U->Rbar, E.Rbar);
     if (!close_rel(U->delta_r, E.delta_r, CONSISTENCY_TOL))
@@ -741,7 +941,9 @@ static int check_mode(const vi_model *model, const double x[2], int surfaces, ch
     double d = x[0], tol = VI_CHECK_GUARD_TOL * fmax(fmax(model->johnson.delta_Y, fabs(d)), fabs(model->unload.delta_c));
     double g[2] = {INFINITY, INFINITY};
     switch (mode) {
-    case VI_MODE_FREE: g[0] = L->contact_surface(model) - d; break;
+    case VI_MODE_FREE: /* a damped law is free at delta > 0 after a release: its guard needs the rate */
+        if (!L->force_guard) g[0] = L->contact_surface(model) - d;
+        break;
     case VI_MODE_ELASTIC: g[0] = d - L->contact_surface(model), g[1] = L->yield_surface(model) - d; break;
     case VI_MODE_PLASTIC: g[0] = d - L->plastic_floor(model); break;
     case VI_MODE_UNLOAD: g[0] = d - model->unload.delta_f, g[1] = model->unload.delta_c - d; break;
@@ -762,9 +964,9 @@ static int check(const vi_model *model, const double x[2], int surfaces, char *m
             VI_FAIL(msg, n, "model not set up (law = 0) but with a discrete state (mode %d)", model->mode);
         return 0;
     }
-    if (model->law < VI_LAW_HERTZ || model->law > VI_LAW_LEPP)
-        VI_FAIL(msg, n, "contact law = %d is not hertz (%d), johnson (%d) or lepp (%d)", model->law, VI_LAW_HERTZ,
-                VI_LAW_JOHNSON, VI_LAW_LEPP);
+    if (model->law < VI_LAW_HERTZ || model->law > VI_LAW_THORNTON)
+        VI_FAIL(msg, n, "contact law = %d is not one of %d (hertz) ... %d (thornton)", model->law, VI_LAW_HERTZ,
+                VI_LAW_THORNTON);
     if (model->moving != 0 && model->moving != 1) VI_FAIL(msg, n, "model flag moving = %d is not 0 or 1", model->moving);
     if (model->unloading != VI_UNLOAD_PAPER && model->unloading != VI_UNLOAD_CONTINUOUS)
         VI_FAIL(msg, n, "unloading = %d is not paper (%d) or continuous (%d)", model->unloading, VI_UNLOAD_PAPER,

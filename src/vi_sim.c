@@ -14,7 +14,13 @@ _Static_assert((int)VI_Solver_bdf == (int)VI_METHOD_BDF && (int)VI_Solver_adams 
                    (int)VI_Solver_dop853 == (int)VI_METHOD_DOP853 && (int)VI_Solver_auto == (int)VI_METHOD_AUTO,
                "the solver enumeration is the solver layer's method number");
 _Static_assert((int)VI_ContactModel_hertz == (int)VI_LAW_HERTZ && (int)VI_ContactModel_johnson == (int)VI_LAW_JOHNSON &&
-                   (int)VI_ContactModel_lepp == (int)VI_LAW_LEPP && (int)VI_Init_static == (int)VI_INIT_STATIC &&
+                   (int)VI_ContactModel_lepp == (int)VI_LAW_LEPP &&
+                   (int)VI_ContactModel_hertz_damped == (int)VI_LAW_HERTZ_DAMPED &&
+                   (int)VI_ContactModel_linear == (int)VI_LAW_LINEAR && (int)VI_ContactModel_thornton == (int)VI_LAW_THORNTON &&
+                   (int)VI_DampingFormula_exact == (int)VI_DAMP_EXACT &&
+                   (int)VI_DampingFormula_hunt_crossley == (int)VI_DAMP_HUNT_CROSSLEY &&
+                   (int)VI_DampingFormula_lankarani_nikravesh == (int)VI_DAMP_LANKARANI_NIKRAVESH &&
+                   (int)VI_DampingFormula_flores == (int)VI_DAMP_FLORES && (int)VI_Init_static == (int)VI_INIT_STATIC &&
                    (int)VI_Init_touching == (int)VI_INIT_TOUCHING && (int)VI_Unloading_paper == (int)VI_UNLOAD_PAPER &&
                    (int)VI_Unloading_continuous == (int)VI_UNLOAD_CONTINUOUS &&
                    (int)VI_YieldFormula_textbook == (int)VI_YIELD_TEXTBOOK &&
@@ -32,7 +38,8 @@ vi_model_params vi_sim_model_params(const vi_parameters *p)
         .nu2 = p->nu2, .Y = p->Y, .theta_Y = p->theta_Y, .law = p->contact_model, .moving_contact = p->moving_contact,
         .unloading = p->unloading, .yield_formula = p->yield_formula, .init = p->init, .v0 = p->v0, .a = p->a,
         .f = p->f, .has_profile = p->profile_file[0] != '\0', .V = p->V, .x0 = p->x0,
-        .profile_periodic = p->profile_periodic};
+        .profile_periodic = p->profile_periodic, .e_restitution = p->e_restitution,
+        .damping_formula = p->damping_formula, .k_spring = p->k_spring};
 }
 
 static void sim_rhs(double t, const double *x, double *dx, void *user)

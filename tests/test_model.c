@@ -278,7 +278,7 @@ static const char *spoil(vi_model *M, double x[2], int which)
 {
     switch (which) {
     case 0: x[0] = NAN; return "state";
-    case 1: M->law = 4; return "contact law";
+    case 1: M->law = 7; return "contact law";
     case 2: M->moving = 2; return "flag moving = 2 is not 0 or 1";
     case 3: M->unloading = 0; return "unloading";
     case 4: M->mode = 5; return "mode";
@@ -1142,11 +1142,11 @@ Test(model_check, state_enumerations_and_flags)
     refused_with(&ok, x, 1, "state (delta %g, v inf) is not finite", x0[0]);
     x[0] = NAN, x[1] = 0.25;
     refused_with(&ok, x, 1, "state (delta nan, v 0.25) is not finite");
-    int laws[] = {-1, 0x7fffffff, 4};
+    int laws[] = {-1, 0x7fffffff, 7};
     for (int i = 0; i < 3; i++) {
         vi_model M = ok;
         M.law = laws[i];
-        refused_with(&M, x0, 1, "contact law = %d is not hertz (1), johnson (2) or lepp (3)", laws[i]);
+        refused_with(&M, x0, 1, "contact law = %d is not one of 1 (hertz) ... 6 (thornton)", laws[i]);
     }
     int flags[] = {-1, 2};
     for (int i = 0; i < 2; i++) {
@@ -1421,7 +1421,7 @@ Test(model, each_ignored_option_warns_alone)
 {
     const char *moving = "moving_contact = true is ignored: only the Johnson law has a moving contact point",
                *unloading = "unloading = continuous is ignored: only Johnson with a fixed contact point unloads on eq. 4",
-               *printed = "yield_formula = printed is ignored by the Hertz law (it changes only the calculated F_Y, delta_Y)",
+               *printed = "yield_formula = printed is ignored by the laws without yield (it changes only the calculated F_Y, delta_Y)",
                *v0 = "v0 is ignored by a static start (init = static)",
                *rolling = "V, x0 and profile_periodic are ignored without a profile_file";
     struct { int law, moving, unloading, formula, init; double v0, V, x0; int periodic; const char *file, *expect; } c[] = {

@@ -53,6 +53,18 @@ LEPP (linear elastic - perfectly plastic, paper Fig. 3):
     F = k_lin (delta - delta_p) for delta_p < delta <= delta_p + delta_Y (mode 1)
     F = F_Y, delta_p = delta - delta_Y while delta grows at F = F_Y (mode 2).
 
+Thornton (contact_model 6): Johnson's fixed-contact-point automaton with
+    Thornton's virgin curve (Hertz, then F_Y + 1.5 F_Y/delta_Y (delta -
+    delta_Y)) and his unloading curve (laws.py); force continuous at delta_c.
+Damped Hertz (4) and the linear spring-dashpot (5): F = max(0, f(delta,
+    delta')), f of laws.py (modes 0 and 1 only). Contact while delta > 0 and
+    f > 0: mode 1 is left when delta falls through 0 ("separation") or the
+    guard g (the sign of f, laws.py) does ("release": the rate is snapped
+    onto g = 0); mode 0 when delta rises through 0 ("contact": a new contact,
+    V_i = delta') or g rises through 0 while delta > 0 ("resume", V_i kept).
+    A contact present at a static start has V_i = 0 (undamped published
+    forms until it ends); init touching has V_i = yC'(0) - v0.
+
 Stick (Filippov sliding, paper unloading): at delta = delta_c with
 delta' = 0, F_hold = W + m yC''(t). If F_unload(delta_c) <= F_hold <=
 F_load(delta_c) neither branch is consistent; the mass moves with the
@@ -136,8 +148,10 @@ import numpy as np
 from scipy.integrate import OdeSolution, solve_ivp
 from scipy.optimize import brentq
 
+from . import laws
+
 # Enumeration codes (FMU interface).
-HERTZ, JOHNSON, LEPP = 1, 2, 3
+HERTZ, JOHNSON, LEPP, HERTZ_DAMPED, LINEAR, THORNTON = 1, 2, 3, 4, 5, 6
 PAPER, CONTINUOUS = 1, 2
 TEXTBOOK, PRINTED = 1, 2
 STATIC, TOUCHING = 1, 2
@@ -152,6 +166,8 @@ DEFAULTS = dict(
     Y=6e8, theta_Y=1.1,                      # Pa, 1
     contact_model=JOHNSON, moving_contact=False, unloading=PAPER,
     yield_formula=TEXTBOOK, init=STATIC,
+    e_restitution=0.8, damping_formula=laws.EXACT,  # 1; damped Hertz and linear
+    k_spring=1.2e9,                          # N/m, linear
     v0=0.0,                                  # m/s
     a=0.0, f=560.0,                          # m, Hz
     F_ext=0.0, yC_in=0.0,                    # N, m
@@ -232,6 +248,8 @@ class Memory:
     delta_p: float = 0.0       # LEPP permanent set
     delta_yield: float = 0.0   # LEPP yield surface delta_p + delta_Y (stored
     #                            exactly so that snapping is exact)
+    V_i: float = 0.0           # damped Hertz, published forms: approach speed
+    #                            at the onset of this contact (m/s)
 
 
 # --------------------------------------------------------------------------
@@ -255,8 +273,15 @@ class Model:
             self.law = "moving" if p["moving_contact"] else "johnson"
         elif p["contact_model"] == LEPP:
             self.law = "lepp"
+        elif p["contact_model"] in (HERTZ_DAMPED, LINEAR):
+            self.law = "damped"
+            self._setup_damping(p)
+        elif p["contact_model"] == THORNTON:
+            self.law = "thornton"
         else:
-            raise ValueError("contact_model must be 1, 2 or 3")
+            raise ValueError("contact_model must be 1 ... 6")
+        # laws with a fixed-contact-point plastic memory (delta_c, unloading curve)
+        self.fixed_plastic = self.law in ("johnson", "thornton")
         if p["unloading"] not in (PAPER, CONTINUOUS):
             raise ValueError("unloading must be 1 (paper) or 2 (continuous)")
         self.continuous = p["unloading"] == CONTINUOUS
@@ -292,9 +317,11 @@ class Model:
 
     # ---- force laws -----------------------------------------------------
     def F_virgin(self, delta: float) -> float:
-        """Virgin loading curve: Hertz (eq. 2) then Johnson (eq. 3)."""
+        """Virgin loading curve: Hertz (eq. 2) then Johnson (eq. 3), or Thornton's line."""
         if delta <= self.delta_Y:
             return self.K * max(delta, 0.0) ** 1.5
+        if self.law == "thornton":
+            return self.F_johnson_load(delta)
         k = 2.0 * delta / self.delta_Y - 1.0
         return self.F_Y * k * (1.0 + math.log(k) / (3.0 * self.theta))
 
@@ -302,8 +329,11 @@ class Model:
         """Eq. (3) continued analytically below delta_Y (down to delta_Y/2).
 
         Used as the vector field of mode 2 so that a step overshooting the
-        surface delta = delta_Y sees a smooth right-hand side.
+        surface delta = delta_Y sees a smooth right-hand side. Thornton: the
+        line F_Y + pi p_Y R* (delta - delta_Y), pi p_Y R* = 1.5 F_Y/delta_Y.
         """
+        if self.law == "thornton":
+            return self.F_Y * (1.0 + 1.5 * (delta / self.delta_Y - 1.0))
         k = max(2.0 * delta / self.delta_Y - 1.0, 1e-300)
         return self.F_Y * k * (1.0 + math.log(k) / (3.0 * self.theta))
 
@@ -311,6 +341,9 @@ class Model:
         """Work along the virgin curve from 0 to delta (J), closed form."""
         if delta <= self.delta_Y:
             return 0.4 * self.K * max(delta, 0.0) ** 2.5
+        if self.law == "thornton":
+            x = delta - self.delta_Y
+            return 0.4 * self.F_Y * self.delta_Y + self.F_Y * x + 0.75 * self.F_Y / self.delta_Y * x * x
         k = 2.0 * delta / self.delta_Y - 1.0
         k2 = k * k
         integral = 0.5 * (k2 - 1.0) + (0.5 * k2 * math.log(k) - 0.25 * (k2 - 1.0)) \
@@ -320,7 +353,13 @@ class Model:
     def johnson_memory(self, delta_c: float) -> Memory:
         """Unloading-curve constants (eq. 4) for a maximum indentation delta_c."""
         F_load_c = self.F_virgin(delta_c)
-        if self.continuous:
+        if self.law == "thornton":
+            # Thornton 1997: Hertzian unloading with a_p^2 = (2 F_c + F_Y)/(2 pi p_Y), p_Y the maximum
+            # Hertz pressure at yield, 2 pi p_Y = 3 F_Y/(R* delta_Y)
+            ap2 = (2 * F_load_c + self.F_Y) * self.R_star * self.delta_Y / (3 * self.F_Y)
+            Rbar = 4.0 * self.E_star * ap2 ** 1.5 / (3.0 * F_load_c)
+            delta_r = (3.0 * F_load_c / (4.0 * self.E_star * math.sqrt(Rbar))) ** (2.0 / 3.0)
+        elif self.continuous:
             a_c = math.sqrt(self.R_star * (2.0 * delta_c - self.delta_Y))
             Rbar = 4.0 * self.E_star * a_c ** 3 / (3.0 * F_load_c)
             delta_r = 3.0 * F_load_c / (4.0 * self.E_star * a_c)
@@ -342,34 +381,79 @@ class Model:
 
     def contact_surface(self, mem: Memory) -> float:
         """Indentation at which contact starts / ends (m)."""
-        if self.law == "johnson" and mem.yielded:
+        if self.fixed_plastic and mem.yielded:
             return mem.delta_f
         if self.law == "lepp":
             return mem.delta_p
         return 0.0
 
     def force_fn(self, mode: int, mem: Memory):
-        """Contact force as a function of (t, delta) in ``mode`` (N)."""
+        """Contact force as a function of (t, delta, v) in ``mode`` (N)."""
         if mode == FREE:
-            return lambda t, d: 0.0
+            return lambda t, d, v: 0.0
         if mode == STICK:
-            return lambda t, d: self.F_hold(t)
+            return lambda t, d, v: self.F_hold(t)
+        if self.law == "damped":            # unclamped (smooth at separation)
+            f, yC1 = self.damped_fn(mem), self.yC1
+            return lambda t, d, v: f(d, yC1(t) - v)
         if self.law == "hertz":
             K = self.K
-            return lambda t, d: K * d ** 1.5 if d > 0.0 else 0.0
+            return lambda t, d, v: K * d ** 1.5 if d > 0.0 else 0.0
         if self.law == "lepp":
             if mode == PLASTIC:
                 F_Y = self.F_Y
-                return lambda t, d: F_Y
-            k, dp = self.k_lin, mem.delta_p    # continued linearly below
-            return lambda t, d: k * (d - dp)   # delta_p (smooth at separation)
+                return lambda t, d, v: F_Y
+            k, dp = self.k_lin, mem.delta_p      # continued linearly below
+            return lambda t, d, v: k * (d - dp)  # delta_p (smooth at separation)
         if mode == UNLOAD:
             Kbar, df = mem.Kbar, mem.delta_f
-            return lambda t, d: Kbar * (d - df) ** 1.5 if d > df else 0.0
+            return lambda t, d, v: Kbar * (d - df) ** 1.5 if d > df else 0.0
         if mode == ELASTIC:
             K = self.K
-            return lambda t, d: K * d ** 1.5 if d > 0.0 else 0.0
-        return lambda t, d: self.F_johnson_load(d)
+            return lambda t, d, v: K * d ** 1.5 if d > 0.0 else 0.0
+        return lambda t, d, v: self.F_johnson_load(d)
+
+    # ---- damped Hertz and the linear spring-dashpot (reference/laws.py) --
+    def _setup_damping(self, p: dict) -> None:
+        e, formula = float(p["e_restitution"]), int(p["damping_formula"])
+        if not 0.0 < e <= 1.0:
+            raise ValueError("e_restitution must lie in (0, 1]")
+        self.linear = p["contact_model"] == LINEAR
+        if self.linear:
+            if not p["k_spring"] > 0:
+                raise ValueError("k_spring must be > 0")
+            self.k_spring = float(p["k_spring"])
+            self.c_damp = 2 * laws.linear_zeta(e) * math.sqrt(self.m * self.k_spring)
+            return
+        self.formula = formula
+        if formula == laws.EXACT:
+            self.alpha_c = laws.tsuji_alpha(e) * math.sqrt(self.m * self.K)
+        else:
+            self.chi = laws.chi(formula, e)
+
+    def damped_fn(self, mem: Memory):
+        """f(delta, rate): the unclamped force (N) at indentation delta and rate d(delta)/dt."""
+        if self.linear:
+            k, c = self.k_spring, self.c_damp
+            return lambda d, r: k * d + c * r
+        K = self.K
+        if self.formula == laws.EXACT:
+            a = self.alpha_c
+            return lambda d, r: K * max(d, 0.0) ** 1.5 + a * max(d, 0.0) ** 0.25 * r
+        b = self.chi / mem.V_i if mem.V_i > 0.0 else 0.0   # undamped after a start at rest
+        return lambda d, r: K * max(d, 0.0) ** 1.5 * (1.0 + b * r)
+
+    def damped_guard(self, mem: Memory):
+        """(g, dg/d delta, dg/d rate): g has the sign of the unclamped force for delta > 0 and is
+        finite at delta = 0 (f/delta^(1/4) for Tsuji's form, f/(K delta^1.5) for the published forms)."""
+        if self.linear:
+            k, c = self.k_spring, self.c_damp
+            return lambda d, r: (k * d + c * r, k, c)
+        if self.formula == laws.EXACT:
+            K, a = self.K, self.alpha_c
+            return lambda d, r: (K * max(d, 0.0) ** 1.25 + a * r, 1.25 * K * max(d, 0.0) ** 0.25, a)
+        b = self.chi / mem.V_i if mem.V_i > 0.0 else 0.0
+        return lambda d, r: (1.0 + b * r, 0.0, b)
 
     # ---- energies -------------------------------------------------------
     def stored_and_plastic(self, mode: int, mem: Memory, delta: float):
@@ -378,9 +462,11 @@ class Model:
         U: stored elastic energy (J); W_plastic: plastic work so far (J).
         """
         R, dY, in_contact = self.R_star, self.delta_Y, mode != FREE
-        if self.law == "hertz":
+        if self.law == "hertz" or (self.law == "damped" and not self.linear):
             U = 0.4 * self.K * max(delta, 0.0) ** 2.5 if in_contact else 0.0
             return U, 0.0, 0.0, 0.0, 0.0, R
+        if self.law == "damped":    # linear spring
+            return (0.5 * self.k_spring * delta * delta if in_contact else 0.0), 0.0, 0.0, 0.0, 0.0, R
         if self.law == "moving":            # path-independent virgin curve
             U = self.W_virgin(delta) if in_contact else 0.0
             return U, 0.0, 0.0, 0.0, 0.0, R
@@ -391,7 +477,7 @@ class Model:
             F = self.k_lin * max(delta - mem.delta_p, 0.0) if in_contact else 0.0
             return (F * F / (2 * self.k_lin), self.F_Y * mem.delta_p,
                     0.0, 0.0, mem.delta_p, R)
-        # Johnson, fixed contact point
+        # Johnson and Thornton, fixed contact point
         if mode == PLASTIC:
             mem = self.johnson_memory(delta)        # live: delta_c = delta
         if not mem.yielded:
@@ -418,7 +504,7 @@ class Model:
 
         def f(t, y):
             u = yC1(t)
-            Fc = F(t, y[0])
+            Fc = max(F(t, y[0], y[1]), 0.0)
             return (u - y[1], (Fc - W) / m, Fc * u)
         return f
 
@@ -426,6 +512,15 @@ class Model:
     def surfaces(self, mode: int, mem: Memory):
         """List of (g(t, y), direction, kind) active in ``mode``."""
         s_c = self.contact_surface(mem)
+        if self.law == "damped":
+            # in contact while delta > 0 and the unclamped force > 0 (its guard g > 0): a new contact
+            # when delta rises through 0, a resumed one when g does while delta > 0
+            g, yC1 = self.damped_guard(mem), self.yC1
+            if mode == FREE:
+                return [(lambda t, y: y[0], +1, "contact"),
+                        (lambda t, y: max(-y[0], -g(y[0], yC1(t) - y[1])[0]), -1, "resume")]
+            return [(lambda t, y: y[0], -1, "separation"),
+                    (lambda t, y: g(y[0], yC1(t) - y[1])[0], -1, "release")]
         if mode == FREE:
             return [(lambda t, y: y[0] - s_c, +1, "contact")]
         if mode == STICK:
@@ -456,7 +551,15 @@ class Model:
 
     def snap(self, kind: str, t: float, delta: float, v: float, mem: Memory):
         """Put the state exactly on the surface ``kind`` and update memory."""
-        if kind in ("contact", "separation"):
+        if kind == "release":
+            # the force through 0 while the bodies overlap: the rate onto g = 0 (g is linear in it)
+            g, _, g_r = self.damped_guard(mem)(delta, self.yC1(t) - v)
+            v += g / g_r
+        elif kind == "resume":
+            pass
+        elif kind == "contact" and self.law == "damped":   # a new contact: its approach speed
+            delta, mem = 0.0, Memory(V_i=max(self.yC1(t) - v, 0.0))
+        elif kind in ("contact", "separation"):
             delta = self.contact_surface(mem)
         elif kind in ("yield", "unyield"):
             delta = mem.delta_yield if self.law == "lepp" else self.delta_Y
@@ -464,7 +567,7 @@ class Model:
             delta = mem.delta_c
         elif kind == "turn":
             v = self.yC1(t)
-            if self.law == "johnson":
+            if self.fixed_plastic:
                 mem = self.johnson_memory(delta)
             elif self.law == "lepp":
                 mem = self.lepp_memory(delta)
@@ -489,13 +592,19 @@ class Model:
                                      (acc(F), self.tol_acc), jerk)
         if side(self.contact_surface(mem), 0.0) <= 0:
             return FREE
+        if self.law == "damped":
+            # the sign of g, then of its rate with F = 0 on the surface g = 0; g within 1e-9 of the
+            # size of its terms counts as 0
+            g, g_d, g_r = self.damped_guard(mem)(delta, r)
+            tol_g = 1e-9 * (abs(g - g_r * r) + abs(g_r * r))
+            return ELASTIC if lex_sign((g, tol_g), (g_d * r + g_r * acc(0.0), 0.0)) > 0 else FREE
         if self.law == "hertz":
             return ELASTIC
         if self.law == "lepp":
             return PLASTIC if side(mem.delta_yield, self.F_Y) > 0 else ELASTIC
         if self.law == "moving" or not mem.yielded:
             return PLASTIC if side(self.delta_Y, self.F_Y) > 0 else ELASTIC
-        # Johnson with memory: unloading curve below delta_c, virgin above
+        # Johnson and Thornton with memory: unloading curve below delta_c, virgin above
         if delta != mem.delta_c:
             return PLASTIC if delta > mem.delta_c else UNLOAD
         if r != 0.0:
@@ -513,12 +622,17 @@ class Model:
         mem = self.initial_memory()
         v_platform = self.yC1(0.0)
         if self.p["init"] == TOUCHING:
+            if self.law == "damped":   # an impact at the start: its approach speed
+                mem = Memory(V_i=max(v_platform - float(self.p["v0"]), 0.0))
             return 0.0, float(self.p["v0"]), mem
         if self.p["init"] != STATIC:
             raise ValueError("init must be 1 (static) or 2 (touching)")
         W = self.W
         if W <= 0.0:
             return 0.0, v_platform, mem
+        if self.law == "damped":   # at rest: the springs carry W (a contact at rest: V_i = 0)
+            d0 = W / self.k_spring if self.linear else (W / self.K) ** (2.0 / 3.0)
+            return d0, v_platform, mem
         if self.law == "lepp":
             if W > self.F_Y:
                 raise ValueError("LEPP: no static equilibrium for W > F_Y "
@@ -532,7 +646,7 @@ class Model:
             hi *= 2.0
         delta0 = brentq(lambda d: self.F_virgin(d) - W, self.delta_Y, hi,
                         xtol=1e-16, rtol=4 * np.finfo(float).eps)
-        if self.law == "johnson":
+        if self.fixed_plastic:
             mem = self.johnson_memory(delta0)    # plastically pre-loaded
         return delta0, v_platform, mem
 
@@ -666,29 +780,39 @@ def _wrap_event(g, direction: int, t0: float, y0: np.ndarray):
     return event
 
 
-def _hertz_stiffness(model: Model, mode: int, mem: Memory):
-    """Kc of a force law F = Kc (delta - s)^1.5 at the contact surface s of
-    ``mode`` (None if the law is smooth there, e.g. the LEPP spring)."""
-    if model.law == "lepp" or mode not in (ELASTIC, UNLOAD):
+def _hertz_stiffness(model: Model, mode: int, mem: Memory, rate: float = 0.0):
+    """(Kc, p) of a force law F ~ Kc (delta - s)^p at the contact surface s of
+    ``mode`` entered or left at the rate |d(delta)/dt| = rate (None if the law
+    is smooth there, e.g. the LEPP spring and the linear spring-dashpot):
+    Hertz p = 1.5; the published damped forms Kc = K (1 + chi); Tsuji's form
+    F ~ alpha_c rate delta^(1/4), p = 1/4."""
+    if model.law in ("lepp",) or mode not in (ELASTIC, UNLOAD):
         return None
-    return mem.Kbar if mode == UNLOAD else model.K
+    if model.law == "damped":
+        if model.linear:
+            return None
+        if model.formula == laws.EXACT:
+            return (model.alpha_c * abs(rate), 0.25) if rate != 0.0 else None
+        return model.K * (1.0 + model.chi), 1.5
+    return (mem.Kbar if mode == UNLOAD else model.K), 1.5
 
 
-def _singular_step(model: Model, Kc: float, rate: float, atol: np.ndarray):
-    """Step (s) over which the non-smooth part of a Hertz contact is < atol.
+def _singular_step(model: Model, law, rate: float, atol: np.ndarray):
+    """Step (s) over which the non-smooth part of a Hertz-type contact is < atol.
 
-    Entering or leaving F = Kc (delta - s)^1.5 at a rate |delta'| = r, the
-    solution carries the terms (Kc/m) r^1.5 |t - t_s|^3.5 in delta and
-    (Kc/m) r^1.5 |t - t_s|^2.5 in v that are not smooth at the surface time
-    t_s; a polynomial step of length h containing t_s misses them by about
-    their size, so h = min over (delta, v) of (atol m / (Kc r^1.5))^(1/p)
-    with p = 3.5, 2.5.
+    Entering or leaving F = Kc (delta - s)^p (law = (Kc, p)) at a rate
+    |delta'| = r, the solution carries the terms (Kc/m) r^p |t - t_s|^(p+2)
+    in delta and (Kc/m) r^p |t - t_s|^(p+1) in v that are not smooth at the
+    surface time t_s; a polynomial step of length h containing t_s misses them
+    by about their size, so h = min over (delta, v) of
+    (atol m / (Kc r^p))^(1/(p+2)), (...)^(1/(p+1)).
     """
+    Kc, p = law
     r = abs(rate)
-    if r == 0.0:
+    if r == 0.0 or Kc == 0.0:
         return np.inf
-    c = model.m / (Kc * r ** 1.5)
-    return min((atol[0] * c) ** (1 / 3.5), (atol[1] * c) ** (1 / 2.5))
+    c = model.m / (Kc * r ** p)
+    return min((atol[0] * c) ** (1 / (p + 2)), (atol[1] * c) ** (1 / (p + 1)))
 
 
 def _solve(model, mode, mem, t0, y0, t_end, rtol, atol, max_step, first_step):
@@ -723,10 +847,10 @@ def _integrate_segment(model: Model, mode: int, mem: Memory, t0: float,
       until it is shorter than twice the ``_singular_step``.
     Returns (segment, event kind or None, state at the end).
     """
-    Kc = _hertz_stiffness(model, mode, mem)
+    r0 = model.yC1(t0) - y0[1]
+    Kc = _hertz_stiffness(model, mode, mem, r0)
     h1 = None
     if Kc is not None and y0[0] == model.contact_surface(mem):
-        r0 = model.yC1(t0) - y0[1]
         if r0 > 0.0:
             h1 = _singular_step(model, Kc, r0, atol)
     sol, kind = _solve(model, mode, mem, t0, y0, t_end, rtol, atol,
@@ -832,8 +956,8 @@ def _sample(model: Model, segments, events, impact_times, t_eval, t_end) -> Resu
         F = model.force_fn(seg.mode, seg.mem)
         out["delta"][sel], out["v"][sel], out["W_platform"][sel] = ys
         mode_out[sel] = seg.mode
-        for j, tj, dj in zip(sel, ts, ys[0]):
-            out["F"][j] = max(F(tj, dj), 0.0) if seg.mode != STICK else F(tj, dj)
+        for j, tj, dj, vj in zip(sel, ts, ys[0], ys[1]):
+            out["F"][j] = max(F(tj, dj, vj), 0.0) if seg.mode != STICK else F(tj, dj, vj)
             (out["U"][j], out["W_plastic"][j], out["delta_c"][j],
              out["delta_f"][j], out["delta_p"][j], out["Rbar"][j]) = \
                 model.stored_and_plastic(seg.mode, seg.mem, dj)

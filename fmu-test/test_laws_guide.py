@@ -1,0 +1,59 @@
+"""The guide to the laws (vibroimpact laws, doc/choosing.md): its drop rows against closed forms and the
+independent reference, and the page's table cells that do not depend on the machine (peak force,
+restitution, events of the 1 m/s drop) against a rerun of the command's code."""
+import math
+import pathlib
+import subprocess
+import sys
+
+import pytest
+
+from vibroimpact import laws_guide as G
+from vibroimpact.reference import laws as L
+from vibroimpact.reference.closed_forms import effective
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+
+
+@pytest.fixture(scope="module")
+def drop_rows(tmp_path_factory, fmu_path):
+    rows = G.run(tmp_path_factory.mktemp("laws"), fmu_path, only_scenes=["drop_1"], repeat=1)
+    return {r["variant"]: r for r in rows}
+
+
+@pytest.mark.timeout(300)
+def test_drop_rows_against_closed_forms(drop_rows):
+    """1 m/s: hertz rebounds at 1 with Johnson's peak force 1750 N; exact damping and linear at 0.6;
+    Hunt-Crossley at its closed relation; Thornton at his closed form (r = V_Y/V)."""
+    assert drop_rows["hertz"]["restitution"] == pytest.approx(1.0, abs=1e-6)
+    assert drop_rows["hertz"]["F_max_N"] == pytest.approx(1750.0, rel=1e-3)
+    for v in ("hertz_damped", "linear"):
+        assert drop_rows[v]["restitution"] == pytest.approx(G.E_DAMPED, abs=1e-6)
+        assert drop_rows[v]["W_dissipated_J"] == pytest.approx(0.5 * G.SPHERE["m"] * (1 - G.E_DAMPED ** 2), rel=1e-5)
+    expected = L.hc_restitution_closed_form(L.chi(L.HUNT_CROSSLEY, G.E_DAMPED))
+    assert drop_rows["hunt_crossley"]["restitution"] == pytest.approx(expected, abs=1e-6)
+    e = effective(G.SPHERE)
+    VY = math.sqrt(0.8 * e["F_Y"] * e["delta_Y"] / G.SPHERE["m"])
+    assert drop_rows["thornton"]["restitution"] == pytest.approx(L.thornton_restitution(VY), abs=1e-5)
+    assert all(r["events"] >= 1 and r["cpu_cs_s_per_s"] > 0 for r in drop_rows.values())
+
+
+def test_choosing_md_quotes_the_command(drop_rows):
+    """doc/choosing.md's rows of the 1 m/s drop have the peak force, restitution, dissipated work and
+    event count a rerun gives (the CPU columns depend on the machine and are not compared)."""
+    page = {}
+    for line in (ROOT / "doc" / "choosing.md").read_text().splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) == 10 and cells[0] == "drop_1":
+            page[cells[1]] = cells[2:7]
+    rerun = {}
+    for line in G.markdown(list(drop_rows.values())).splitlines()[2:]:
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        rerun[cells[1]] = cells[2:7]
+    assert page == rerun
+
+
+def test_the_command_is_registered():
+    r = subprocess.run([sys.executable, "-m", "vibroimpact", "laws", "--help"], capture_output=True, text=True,
+                       timeout=60)
+    assert r.returncode == 0 and "doc/choosing.md" in r.stdout

@@ -1,0 +1,44 @@
+"""What each contact law and option changes in a scene and what it costs: the table and figure of
+doc/choosing.md.
+
+    vibroimpact laws [--out DIR] [--scenes NAME ...] [--repeat N] [--gallery DIR]
+        ->  DIR/{laws.csv, laws.md, laws.png, corrugation.txt}
+
+--gallery DIR also writes a smaller copy of the figure there (the documentation's: --gallery doc/gallery).
+Scenes: drop_0.1, drop_1, drop_3 (a steel sphere dropped on a steel plane), fig4b (the paper's harmonic
+excitation), rolling (the paper's wheel over a corrugated rail near resonance); every variant of
+vibroimpact.laws_guide.VARIANTS in each. CPU times are the smallest of --repeat runs (process time, this
+machine: compare them with each other, not with another machine's).
+"""
+import argparse
+import pathlib
+
+from .. import laws_guide, plotting
+from ..failure import out_dir
+from ..fmu import fmu_path
+
+OUT = pathlib.Path("results", "laws")
+DPI, GALLERY_DPI = 110, 70
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(prog="vibroimpact laws", description=__doc__.split("\n\n")[0],
+                                epilog=__doc__.split("\n\n", 1)[1], formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--out", type=pathlib.Path, default=OUT, metavar="DIR", help=f"output folder (default {OUT})")
+    p.add_argument("--scenes", nargs="+", default=None, metavar="NAME", help="only these scenes (default: all)")
+    p.add_argument("--repeat", type=int, default=3, metavar="N", help="runs per CPU time, the smallest counts (default 3)")
+    p.add_argument("--gallery", type=pathlib.Path, default=None, metavar="DIR",
+                   help="also write a smaller copy of the figure to DIR/laws.png (the documentation's: doc/gallery)")
+    args = p.parse_args(argv)
+    fmu = fmu_path()
+    out = out_dir(args.out)
+    gallery = args.gallery and out_dir(args.gallery, "--gallery")
+    rows = laws_guide.run(out, fmu, only_scenes=args.scenes, repeat=max(args.repeat, 1))
+    laws_guide.write_csv(out / "laws.csv", rows)
+    table = laws_guide.markdown(rows)
+    (out / "laws.md").write_text(table)
+    fig = laws_guide.figure(rows)
+    if gallery:
+        fig.savefig(gallery / "laws.png", dpi=GALLERY_DPI)
+    plotting.save(fig, out / "laws.png", DPI)
+    print(table)

@@ -1,0 +1,205 @@
+"""What each contact law and option changes in a scene, and what it costs (doc/choosing.md).
+
+The same scenes run with each law and each option that can be switched off, through the FMU:
+    drop_<V>   a steel sphere (R = 10 mm, 32.88 g) dropped at V = 0.1, 1, 3 m/s on a steel plane, no load
+    fig4b      the paper's harmonic excitation (a = 0.1 mm, f = 560 Hz, the paper's wheel, Y = 600 MPa)
+    rolling    the paper's wheel rolling over a corrugated rail (lambda = 50 mm, 0.1 mm) near resonance
+and each run gives what it changes (peak force, restitution, dissipated work, response amplitude, event
+count) and what it costs (CPU per simulated second in Co-Simulation and Model Exchange, events per
+simulated second). The variants: hertz (elastic), johnson (plasticity, fixed contact point, the paper's
+unloading with stick), johnson_continuous (no stick), johnson_moving (moving contact point), lepp,
+thornton, hertz_damped (exact damping, e = 0.6), hunt_crossley (e = 0.6), linear (e = 0.6).
+"""
+import math
+import time
+
+import numpy as np
+
+from . import rolling
+from .fmu import Logged, fmu_path
+
+E_DAMPED = 0.6  # the damped variants' e_restitution
+VARIANTS = {
+    "hertz": dict(contact_model=1),
+    "johnson": dict(contact_model=2),
+    "johnson_continuous": dict(contact_model=2, unloading=2),
+    "johnson_moving": dict(contact_model=2, moving_contact=True),
+    "lepp": dict(contact_model=3),
+    "thornton": dict(contact_model=6),
+    "hertz_damped": dict(contact_model=4, damping_formula=1, e_restitution=E_DAMPED),
+    "hunt_crossley": dict(contact_model=4, damping_formula=2, e_restitution=E_DAMPED),
+    "linear": dict(contact_model=5, e_restitution=E_DAMPED),
+}
+# the steel sphere of Johnson's Hertz case on a steel plane (the FMU's E, nu), Y = 1 GPa
+SPHERE = dict(R1=0.01, R2=0.0, m=0.03288, Y=1e9, P=0.0, g=0.0, init=2)
+DROP_SPEEDS = (0.1, 1.0, 3.0)  # m/s
+PAPER = dict(Y=6e8, a=1e-4, f=560.0)
+STOP = {"drop": 2e-3, "fig4b": 0.05, "rolling": 0.05}  # s
+INTERVAL = 1e-6  # s, output interval of the drops (contact times of tens of us)
+RTOL = 1e-8
+# the communication (Co-Simulation) and output (Model Exchange) interval of the timed runs [s]; fmpy's
+# CVode takes at most 500 steps per output interval
+TIMED_INTERVAL = 1e-5
+COLUMNS = ["scene", "variant", "F_max_N", "restitution", "W_dissipated_J", "y_pp_um", "events", "cpu_cs_s_per_s",
+           "cpu_me_s_per_s", "events_per_s"]
+
+
+def hertz_constant(R, E=2.1e11, nu=0.3):
+    """K = 4/3 E* sqrt(R*) of two equal materials on a plane."""
+    return 4 / 3 * E / (2 * (1 - nu * nu)) * math.sqrt(R)
+
+
+def k_spring_for(scene):
+    """The linear variant's spring: the Hertz secant stiffness F_max/delta_max of the sphere's 1 m/s impact for
+    the drops (the closed form, delta_max = (5 m V^2/(4 K))^(2/5)); the FMU's default (about the Hertz tangent
+    stiffness of the paper's static load) for the paper's wheel."""
+    if not scene.startswith("drop"):
+        return 1.2e9
+    K = hertz_constant(SPHERE["R1"])
+    d = (1.25 * SPHERE["m"] / K) ** 0.4
+    return K * math.sqrt(d)
+
+
+def scenes(profile):
+    """scene -> (FMU parameters, stop time [s], impact speed [m/s] or None); profile: the corrugation file."""
+    out = {f"drop_{V:g}": (dict(SPHERE, v0=-V), STOP["drop"], V) for V in DROP_SPEEDS}
+    out["fig4b"] = (dict(PAPER), STOP["fig4b"], None)
+    out["rolling"] = (dict(contact_model=1, profile_file=str(profile), V=rolling.PASSING["near"] * rolling.LAMBDA,
+                           profile_periodic=True, Y=6e8), STOP["rolling"], None)
+    return out
+
+
+def _events(fmu, md, unzipdir, params, stop):
+    """The result of one Co-Simulation run with its event log on, and the number of events it logged."""
+    from fmpy import simulate_fmu
+    log = Logged(md, unzipdir, name="events")
+    slave = log.instantiate(logging=True)
+    slave.setDebugLogging(True, ["logEvents"])
+    try:
+        r = simulate_fmu(fmu, fmu_instance=slave, model_description=md, start_values=params, stop_time=stop,
+                         output_interval=INTERVAL if stop <= STOP["drop"] else 1e-5, relative_tolerance=RTOL,
+                         output=["v", "y", "F", "W_plastic", "contact"])
+    finally:
+        slave.freeInstance()
+    return r, sum(1 for _, _, m in log.messages if m.startswith("event t="))
+
+
+def _cpu(run, repeat):
+    """The smallest process time of `repeat` calls of run() [s]; NaN when the run fails (its reason is
+    printed: an importer's integrator that gives up is a result of the table too)."""
+    best = math.inf
+    for _ in range(repeat):
+        t0 = time.process_time()
+        try:
+            run()
+        except Exception as e:  # noqa: BLE001 (any failure of the importer or the FMU)
+            print(f"  failed: {str(e).splitlines()[0][:160]}")
+            return math.nan
+        best = min(best, time.process_time() - t0)
+    return best
+
+
+def _cs_run(fmu_dir, md, params, stop):
+    """One Co-Simulation run of the extracted FMU without logging, for its CPU time."""
+    from fmpy import simulate_fmu
+    slave = Logged(md, fmu_dir, name="cpu").instantiate()
+    try:
+        simulate_fmu(fmu_dir, fmu_instance=slave, model_description=md, start_values=params, stop_time=stop,
+                     relative_tolerance=RTOL, output=["y"], output_interval=TIMED_INTERVAL)
+    finally:
+        slave.freeInstance()
+
+
+def _me_run(fmu, fmu_dir, md, params, stop):
+    from .me import run_me
+    run_me(fmu, params, stop, rtol=RTOL, output=("y",), output_interval=TIMED_INTERVAL, unzipdir=fmu_dir, md=md)
+
+
+def measure(scene, variant, params, stop, V, fmu, md, unzipdir, repeat=1):
+    """One table row: what the variant gives in the scene and what it costs."""
+    print(f"{scene}: {variant}")
+    p = dict(params, **VARIANTS[variant])
+    if variant == "linear":
+        p["k_spring"] = k_spring_for(scene)
+    r, events = _events(fmu, md, unzipdir, p, stop)
+    cs = _cpu(lambda: _cs_run(unzipdir, md, p, stop), repeat)
+    me = _cpu(lambda: _me_run(fmu, unzipdir, md, p, stop), repeat)
+    half = r["time"] >= stop / 2
+    row = dict(scene=scene, variant=variant, F_max_N=float(r["F"].max()), events=events,
+               cpu_cs_s_per_s=cs / stop, cpu_me_s_per_s=me / stop, events_per_s=events / stop,
+               y_pp_um=float(np.ptp(r["y"][half])) * 1e6, restitution=math.nan, W_dissipated_J=float(r["W_plastic"][-1]))
+    if V is not None:  # a drop: the rebound speed and the kinetic energy lost (damping included)
+        row["y_pp_um"] = math.nan
+        row["restitution"] = float(r["v"][-1]) / V
+        row["W_dissipated_J"] = 0.5 * p["m"] * (V * V - float(r["v"][-1]) ** 2)
+    elif variant in ("hertz_damped", "hunt_crossley", "linear"):
+        row["W_dissipated_J"] = math.nan  # the damping's work is no output
+    return row
+
+
+def run(out_dir, fmu=None, only_scenes=None, variants=None, repeat=1):
+    """Every scene with every variant (or the ones named): the rows of the table."""
+    import shutil
+
+    from fmpy import extract, read_model_description
+    fmu = str(fmu or fmu_path())
+    md = read_model_description(fmu)
+    unzipdir = extract(fmu)
+    profile = out_dir / "corrugation.txt"
+    rolling.corrugation(profile)
+    rows = []
+    try:
+        for scene, (params, stop, V) in scenes(profile.resolve()).items():
+            if only_scenes and scene not in only_scenes:
+                continue
+            for variant in variants or VARIANTS:
+                rows.append(measure(scene, variant, params, stop, V, fmu, md, unzipdir, repeat))
+    finally:
+        shutil.rmtree(unzipdir, ignore_errors=True)
+    return rows
+
+
+def write_csv(path, rows):
+    with open(path, "w") as f:
+        f.write(",".join(COLUMNS) + "\n")
+        for r in rows:
+            f.write(",".join(str(r[c]) if isinstance(r[c], str) else f"{r[c]:.6g}" for c in COLUMNS) + "\n")
+
+
+def markdown(rows):
+    """The table doc/choosing.md quotes."""
+    head = ["scene", "variant", "F_max [N]", "restitution", "dissipated [J]", "y p-p [um]", "events",
+            "CPU CS [s/s]", "CPU ME [s/s]", "events/s"]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for r in rows:
+        cells = [r["scene"], r["variant"], f"{r['F_max_N']:.4g}", _num(r["restitution"], "{:.4f}"),
+                 _num(r["W_dissipated_J"], "{:.3g}"), _num(r["y_pp_um"], "{:.3g}"), str(r["events"]),
+                 f"{r['cpu_cs_s_per_s']:.2g}", f"{r['cpu_me_s_per_s']:.2g}", f"{r['events_per_s']:.3g}"]
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def _num(x, fmt):
+    return "" if x != x else fmt.format(x)
+
+
+def figure(rows):
+    """Left: the drops' restitution against the impact speed per variant; right: CPU per simulated second
+    in Co-Simulation against the peak force change from hertz, scene fig4b."""
+    from .plotting import pyplot
+    plt = pyplot()
+    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.2), layout="constrained")
+    for variant in VARIANTS:
+        pts = [(float(r["scene"][5:]), r["restitution"]) for r in rows if r["variant"] == variant and r["scene"].startswith("drop")]
+        if pts:
+            a.plot(*zip(*sorted(pts)), marker="o", label=variant)
+    a.set(xscale="log", xlabel="impact speed [m/s]", ylabel="restitution", title="drop of a steel sphere")
+    a.legend(fontsize=7)
+    base = {r["scene"]: r["F_max_N"] for r in rows if r["variant"] == "hertz"}
+    for r in rows:
+        if r["scene"] == "fig4b" and r["scene"] in base:
+            b.scatter(r["cpu_cs_s_per_s"], r["F_max_N"] / base["fig4b"], label=r["variant"])
+            b.annotate(r["variant"], (r["cpu_cs_s_per_s"], r["F_max_N"] / base["fig4b"]), fontsize=7)
+    b.set(xlabel="CPU per simulated second, Co-Simulation [s/s]", ylabel="peak force / hertz's",
+          title="paper's harmonic excitation (Fig. 4b)")
+    return fig
