@@ -6,6 +6,7 @@ import pathlib
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 from vibroimpact import laws_guide as G
@@ -57,3 +58,49 @@ def test_the_command_is_registered():
     r = subprocess.run([sys.executable, "-m", "vibroimpact", "laws", "--help"], capture_output=True, text=True,
                        timeout=60)
     assert r.returncode == 0 and "doc/choosing.md" in r.stdout
+
+
+@pytest.fixture(scope="module")
+def vt_rows(tmp_path_factory, fmu_path, companion_fmus):
+    out = tmp_path_factory.mktemp("laws_vt")
+    rows = G.run(out, fmu_path, only_scenes=["vehicle_track"], variants=["hertz", "thornton"], repeat=1)
+    return {r["variant"]: r for r in rows}, out / "roughness.txt"
+
+
+@pytest.mark.timeout(300)
+def test_vehicle_track_rows_against_the_monolithic_reference(vt_rows):
+    """The vehicle-track scene with hertz, the example's recommended co-simulation, against the example's
+    independent monolithic reference (SciPy, from the equations) over the same stretch of rail: peak force
+    to 1 % of the static wheel load W (the example measures 0.36 % W at this communication step), the
+    wheel's peak-to-peak motion over the second half to 0.5 um; thornton dissipates plastic work; both
+    ran in Co-Simulation and Model Exchange."""
+    import reference
+    rows, rough = vt_rows
+    stop = G.STOP["vehicle_track"]
+    system = reference.System(wheel={"x0": G.VT_X0}, profile=reference.Profile.from_file(rough, reference.parameters.WHEEL["R1"]),
+                              t_end=stop)
+    sol = reference.simulate(system, stop, rtol=1e-10)
+    t = np.linspace(0.0, stop, int(round(stop / G.TIMED_INTERVAL)) + 1)
+    assert rows["hertz"]["F_max_N"] == pytest.approx(float(sol.force(t).max()), abs=0.01 * system.W)
+    y = sol.state(t[t >= stop / 2])[reference.YW]
+    assert rows["hertz"]["y_pp_um"] == pytest.approx(float(np.ptp(y)) * 1e6, abs=0.5)
+    assert rows["hertz"]["W_dissipated_J"] == 0.0
+    assert rows["thornton"]["W_dissipated_J"] > 0.0
+    for r in rows.values():
+        assert r["events"] >= 1 and r["cpu_cs_s_per_s"] > 0 and r["cpu_me_s_per_s"] > 0
+
+
+def test_choosing_md_quotes_the_vehicle_track_rows(vt_rows):
+    """doc/choosing.md's vehicle-track rows of hertz and thornton have the peak force, dissipated work,
+    response and event count a rerun gives."""
+    rows, _ = vt_rows
+    page = {}
+    for line in (ROOT / "doc" / "choosing.md").read_text().splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) == 10 and cells[0] == "vehicle_track" and cells[1] in rows:
+            page[cells[1]] = cells[2:7]
+    rerun = {}
+    for line in G.markdown(list(rows.values())).splitlines()[2:]:
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        rerun[cells[1]] = cells[2:7]
+    assert page == rerun

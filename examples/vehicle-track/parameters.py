@@ -25,6 +25,8 @@ reference, the masters and the FMUs cannot disagree. Sources:
 import pathlib
 import xml.etree.ElementTree as ET
 
+from vibroimpact.vehicle_track import parameters as P
+
 HERE = pathlib.Path(__file__).resolve().parent
 
 
@@ -41,20 +43,6 @@ def fmu_defaults(folder):
 TRACK = fmu_defaults("track")
 VEHICLE = fmu_defaults("vehicle")
 
-# The contact FMU (build/VibroImpact.fmu) as the wheel-rail contact: its mass is the wheel.
-WHEEL = {
-    "m": 1000.0,          # kg, half a 2 t wheelset
-    "P": 0.0,             # N: the load comes from the vehicle FMU through F_ext, and gravity
-    "g": VEHICLE["g"],
-    "R1": 0.46, "R2": 0.0,
-    "E1": 2.1e11, "E2": 2.1e11, "nu1": 0.3, "nu2": 0.3,
-    "contact_model": 1,   # hertz
-    "init": 1,            # static
-    "V": 30.0,            # m/s rolling speed (108 km/h)
-    "x0": 0.6,            # m: start on the flat first metre of the profile
-}
-
-# The roughness profile (roughness.py): ISO 3095 limit + 15 dB, seeded.
-ROUGHNESS = {"level_db": 15.0, "seed": 1, "length": 6.0, "dx": 1e-3}
-
-STOP_TIME = 0.15  # s: 4.5 m of rail at 30 m/s
+# The wheel (the contact FMU's mass), the roughness and the run's length: the vibroimpact package's, which
+# runs the example's masters (vibroimpact.vehicle_track).
+WHEEL, ROUGHNESS, STOP_TIME = P.WHEEL, P.ROUGHNESS, P.STOP_TIME

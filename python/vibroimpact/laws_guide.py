@@ -4,6 +4,9 @@ The same scenes run with each law and each option that can be switched off, thro
     drop_<V>   a steel sphere (R = 10 mm, 32.88 g) dropped at V = 0.1, 1, 3 m/s on a steel plane, no load
     fig4b      the paper's harmonic excitation (a = 0.1 mm, f = 560 Hz, the paper's wheel, Y = 600 MPa)
     rolling    the paper's wheel rolling over a corrugated rail (lambda = 50 mm, 0.1 mm) near resonance
+    vehicle_track  the vehicle-track example (vibroimpact.vehicle_track): the contact FMU as the wheel-rail
+               contact between a vehicle FMU and a track FMU, 30 m/s over a rough rail (ISO 3095 + 15 dB),
+               in the example's recommended co-simulation and its Model Exchange master
 and each run gives what it changes (peak force, restitution, dissipated work, response amplitude, event
 count) and what it costs (CPU per simulated second in Co-Simulation and Model Exchange, events per
 simulated second). The variants: hertz (elastic), johnson (plasticity, fixed contact point, the paper's
@@ -11,12 +14,17 @@ unloading with stick), johnson_continuous (no stick), johnson_moving (moving con
 thornton, hertz_damped (exact damping, e = 0.6), hunt_crossley (e = 0.6), linear (e = 0.6).
 """
 import math
+import pathlib
 import time
 
 import numpy as np
 
 from . import rolling
-from .fmu import Logged, fmu_path
+from .fmu import Logged, MessageLog, fmu_path
+from .vehicle_track import master as vt_master
+from .vehicle_track import me_master as vt_me
+from .vehicle_track import parameters as vt_parameters
+from .vehicle_track import roughness
 
 E_DAMPED = 0.6  # the damped variants' e_restitution
 VARIANTS = {
@@ -34,7 +42,9 @@ VARIANTS = {
 SPHERE = dict(R1=0.01, R2=0.0, m=0.03288, Y=1e9, P=0.0, g=0.0, init=2)
 DROP_SPEEDS = (0.1, 1.0, 3.0)  # m/s
 PAPER = dict(Y=6e8, a=1e-4, f=560.0)
-STOP = {"drop": 2e-3, "fig4b": 0.05, "rolling": 0.05}  # s
+STOP = {"drop": 2e-3, "fig4b": 0.05, "rolling": 0.05, "vehicle_track": 0.03}  # s
+# the vehicle-track run starts where the roughness fades in (roughness.taper), 0.9 m before its end
+VT_X0 = 1.0  # m
 INTERVAL = 1e-6  # s, output interval of the drops (contact times of tens of us)
 RTOL = 1e-8
 # the communication (Co-Simulation) and output (Model Exchange) interval of the timed runs [s]; fmpy's
@@ -60,12 +70,15 @@ def k_spring_for(scene):
     return K * math.sqrt(d)
 
 
-def scenes(profile):
-    """scene -> (FMU parameters, stop time [s], impact speed [m/s] or None); profile: the corrugation file."""
+def scenes(profile, rough=None):
+    """scene -> (FMU parameters, stop time [s], impact speed [m/s] or None); profile: the corrugation file;
+    rough: the vehicle-track example's roughness file (None: no vehicle-track scene)."""
     out = {f"drop_{V:g}": (dict(SPHERE, v0=-V), STOP["drop"], V) for V in DROP_SPEEDS}
     out["fig4b"] = (dict(PAPER), STOP["fig4b"], None)
     out["rolling"] = (dict(contact_model=1, profile_file=str(profile), V=rolling.PASSING["near"] * rolling.LAMBDA,
                            profile_periodic=True, Y=6e8), STOP["rolling"], None)
+    if rough is not None:
+        out["vehicle_track"] = (dict(profile_file=str(rough), x0=VT_X0), STOP["vehicle_track"], None)
     return out
 
 
@@ -115,15 +128,52 @@ def _me_run(fmu, fmu_dir, md, params, stop):
     run_me(fmu, params, stop, rtol=RTOL, output=("y",), output_interval=TIMED_INTERVAL, unzipdir=fmu_dir, md=md)
 
 
+def _vt_cs(fmu, params, stop, **options):
+    """The vehicle-track example's recommended co-simulation (Gauss-Seidel vehicle, contact, track; the rail
+    extrapolated with its velocity; F_mean to the track) with the contact FMU's start values `params` (the
+    law and the roughness file); the companion FMUs beside `fmu`."""
+    build = pathlib.Path(fmu).parent
+    vt_parameters.companion_fmus(build)
+    profile = params["profile_file"]
+    contact = {k: v for k, v in params.items() if k != "profile_file"}
+    return vt_master.run(TIMED_INTERVAL, stop, "gauss-seidel", ("vehicle", "contact", "track"), "F_mean", "ramp",
+                         profile, build=build, rtol=RTOL, contact=contact, **options)
+
+
+def _vt_events(fmu, params, stop):
+    """One co-simulation of the vehicle-track example with the contact FMU's event log on: its record in
+    the names of a contact FMU's result (time, F, y, W_plastic) and the number of events logged."""
+    log = MessageLog()
+    rec = _vt_cs(fmu, params, stop, contact_log=log, record=("W_plastic",))
+    r = {"time": rec["t"], "F": rec["contact.F"], "y": rec["contact.y"], "W_plastic": rec["contact.W_plastic"]}
+    return r, sum(1 for _, _, m in log.messages if m.startswith("event t="))
+
+
+def _vt_cs_run(fmu, params, stop):
+    _vt_cs(fmu, params, stop)
+
+
+def _vt_me_run(fmu, params, stop):
+    """The vehicle-track example's three FMUs as Model Exchange in one solver (DOP853, the table's rtol)."""
+    build = pathlib.Path(fmu).parent
+    contact = {k: v for k, v in params.items() if k != "profile_file"}
+    vt_me.run(stop, params["profile_file"], rtol=RTOL, build=build, dt_out=TIMED_INTERVAL, contact=contact)
+
+
 def measure(scene, variant, params, stop, V, fmu, md, unzipdir, repeat=1):
     """One table row: what the variant gives in the scene and what it costs."""
     print(f"{scene}: {variant}")
     p = dict(params, **VARIANTS[variant])
     if variant == "linear":
         p["k_spring"] = k_spring_for(scene)
-    r, events = _events(fmu, md, unzipdir, p, stop)
-    cs = _cpu(lambda: _cs_run(unzipdir, md, p, stop), repeat)
-    me = _cpu(lambda: _me_run(fmu, unzipdir, md, p, stop), repeat)
+    if scene == "vehicle_track":
+        r, events = _vt_events(fmu, p, stop)
+        cs = _cpu(lambda: _vt_cs_run(fmu, p, stop), repeat)
+        me = _cpu(lambda: _vt_me_run(fmu, p, stop), repeat)
+    else:
+        r, events = _events(fmu, md, unzipdir, p, stop)
+        cs = _cpu(lambda: _cs_run(unzipdir, md, p, stop), repeat)
+        me = _cpu(lambda: _me_run(fmu, unzipdir, md, p, stop), repeat)
     half = r["time"] >= stop / 2
     row = dict(scene=scene, variant=variant, F_max_N=float(r["F"].max()), events=events,
                cpu_cs_s_per_s=cs / stop, cpu_me_s_per_s=me / stop, events_per_s=events / stop,
@@ -138,7 +188,8 @@ def measure(scene, variant, params, stop, V, fmu, md, unzipdir, repeat=1):
 
 
 def run(out_dir, fmu=None, only_scenes=None, variants=None, repeat=1):
-    """Every scene with every variant (or the ones named): the rows of the table."""
+    """Every scene with every variant (or the ones named): the rows of the table. The vehicle-track scene
+    needs the example's companion FMUs beside the FMU (a checkout's build/)."""
     import shutil
 
     from fmpy import extract, read_model_description
@@ -147,9 +198,15 @@ def run(out_dir, fmu=None, only_scenes=None, variants=None, repeat=1):
     unzipdir = extract(fmu)
     profile = out_dir / "corrugation.txt"
     rolling.corrugation(profile)
+    rough = None
+    if not only_scenes or "vehicle_track" in only_scenes:
+        vt_parameters.companion_fmus(pathlib.Path(fmu).parent)
+        rough = out_dir / "roughness.txt"
+        roughness.write(rough, *roughness.profile(**vt_parameters.ROUGHNESS))
+        rough = rough.resolve()
     rows = []
     try:
-        for scene, (params, stop, V) in scenes(profile.resolve()).items():
+        for scene, (params, stop, V) in scenes(profile.resolve(), rough).items():
             if only_scenes and scene not in only_scenes:
                 continue
             for variant in variants or VARIANTS:
@@ -174,7 +231,7 @@ def markdown(rows):
     for r in rows:
         cells = [r["scene"], r["variant"], f"{r['F_max_N']:.4g}", _num(r["restitution"], "{:.4f}"),
                  _num(r["W_dissipated_J"], "{:.3g}"), _num(r["y_pp_um"], "{:.3g}"), str(r["events"]),
-                 f"{r['cpu_cs_s_per_s']:.2g}", f"{r['cpu_me_s_per_s']:.2g}", f"{r['events_per_s']:.3g}"]
+                 _cpu_cell(r["cpu_cs_s_per_s"]), _cpu_cell(r["cpu_me_s_per_s"]), f"{r['events_per_s']:.3g}"]
         lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
 
@@ -183,23 +240,33 @@ def _num(x, fmt):
     return "" if x != x else fmt.format(x)
 
 
+def _cpu_cell(x):
+    """A CPU time; NaN is a run that failed (the command printed why)."""
+    return "failed" if x != x else f"{x:.2g}"
+
+
 def figure(rows):
-    """Left: the drops' restitution against the impact speed per variant; right: CPU per simulated second
-    in Co-Simulation against the peak force change from hertz, scene fig4b."""
+    """Left: the drops' restitution against the impact speed per variant; then, for the paper's harmonic
+    excitation (fig4b) and the vehicle-track example, the peak force relative to hertz's against the CPU
+    per simulated second in Co-Simulation."""
     from .plotting import pyplot
     plt = pyplot()
-    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.2), layout="constrained")
+    costs = [s for s in ("fig4b", "vehicle_track") if any(r["scene"] == s for r in rows)]
+    fig, axes = plt.subplots(1, 1 + len(costs), figsize=(5.5 * (1 + len(costs)), 4.2), layout="constrained")
+    axes = np.atleast_1d(axes)
+    a = axes[0]
     for variant in VARIANTS:
         pts = [(float(r["scene"][5:]), r["restitution"]) for r in rows if r["variant"] == variant and r["scene"].startswith("drop")]
         if pts:
             a.plot(*zip(*sorted(pts)), marker="o", label=variant)
     a.set(xscale="log", xlabel="impact speed [m/s]", ylabel="restitution", title="drop of a steel sphere")
     a.legend(fontsize=7)
-    base = {r["scene"]: r["F_max_N"] for r in rows if r["variant"] == "hertz"}
-    for r in rows:
-        if r["scene"] == "fig4b" and r["scene"] in base:
-            b.scatter(r["cpu_cs_s_per_s"], r["F_max_N"] / base["fig4b"], label=r["variant"])
-            b.annotate(r["variant"], (r["cpu_cs_s_per_s"], r["F_max_N"] / base["fig4b"]), fontsize=7)
-    b.set(xlabel="CPU per simulated second, Co-Simulation [s/s]", ylabel="peak force / hertz's",
-          title="paper's harmonic excitation (Fig. 4b)")
+    titles = {"fig4b": "paper's harmonic excitation (Fig. 4b)", "vehicle_track": "vehicle-track example"}
+    for b, scene in zip(axes[1:], costs):
+        base = [r["F_max_N"] for r in rows if r["scene"] == scene and r["variant"] == "hertz"]
+        for r in rows:
+            if r["scene"] == scene and base:
+                b.scatter(r["cpu_cs_s_per_s"], r["F_max_N"] / base[0], label=r["variant"])
+                b.annotate(r["variant"], (r["cpu_cs_s_per_s"], r["F_max_N"] / base[0]), fontsize=7)
+        b.set(xlabel="CPU per simulated second, Co-Simulation [s/s]", ylabel="peak force / hertz's", title=titles[scene])
     return fig

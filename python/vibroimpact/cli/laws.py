@@ -2,12 +2,14 @@
 doc/choosing.md.
 
     vibroimpact laws [--out DIR] [--scenes NAME ...] [--repeat N] [--gallery DIR]
-        ->  DIR/{laws.csv, laws.md, laws.png, corrugation.txt}
+        ->  DIR/{laws.csv, laws.md, laws.png, corrugation.txt, roughness.txt}
 
 --gallery DIR also writes a smaller copy of the figure there (the documentation's: --gallery doc/gallery).
 Scenes: drop_0.1, drop_1, drop_3 (a steel sphere dropped on a steel plane), fig4b (the paper's harmonic
-excitation), rolling (the paper's wheel over a corrugated rail near resonance); every variant of
-vibroimpact.laws_guide.VARIANTS in each. CPU times are the smallest of --repeat runs (process time, this
+excitation), rolling (the paper's wheel over a corrugated rail near resonance), vehicle_track (the
+vehicle-track example: needs its Track.fmu and Vehicle.fmu beside the FMU, as a checkout's build/ has
+them); every variant of vibroimpact.laws_guide.VARIANTS in each. A CPU time "failed" is a run whose
+integrator gave up (the command prints why). CPU times are the smallest of --repeat runs (process time, this
 machine: compare them with each other, not with another machine's).
 """
 import argparse
