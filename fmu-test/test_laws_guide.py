@@ -72,7 +72,7 @@ def test_vehicle_track_rows_against_the_monolithic_reference(vt_rows):
     """The vehicle-track scene with hertz, the example's recommended co-simulation, against the example's
     independent monolithic reference (SciPy, from the equations) over the same stretch of rail: peak force
     to 1 % of the static wheel load W (the example measures 0.36 % W at this communication step), the
-    wheel's peak-to-peak motion over the second half to 0.5 um; johnson dissipates plastic work; both
+    wheel's peak-to-peak motion over the second half to 0.1 um; johnson dissipates plastic work; both
     ran in Co-Simulation and Model Exchange."""
     import reference
     rows, rough = vt_rows
@@ -103,4 +103,4 @@ def test_choosing_md_quotes_the_vehicle_track_rows(vt_rows):
     for line in G.markdown(list(rows.values())).splitlines()[2:]:
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
         rerun[cells[1]] = cells[2:7]
-    assert page == rerun
+    assert set(rerun) == {"hertz", "johnson"} and page == rerun
