@@ -51,7 +51,15 @@ def test_choosing_md_quotes_the_command(drop_rows):
     for line in G.markdown(list(drop_rows.values())).splitlines()[2:]:
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
         rerun[cells[1]] = cells[2:7]
-    assert page == rerun
+    assert page.keys() == rerun.keys()
+    # the work an elastic law "dissipates" is the solver's error: equal within 1e-5 of the impact's
+    # kinetic energy, whichever solver runs; the other cells as printed
+    noise_J = 1e-5 * 0.5 * G.SPHERE["m"] * 1.0 ** 2
+    for variant, cells in page.items():
+        other = rerun[variant]
+        assert cells[:2] + cells[3:] == other[:2] + other[3:], variant
+        if cells[2] or other[2]:
+            assert float(cells[2]) == pytest.approx(float(other[2]), rel=1e-3, abs=noise_J), variant
 
 
 def test_the_command_is_registered():
