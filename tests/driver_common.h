@@ -87,6 +87,10 @@ static const scenario scenarios[] = {
     {"fig4b", VI_ContactModel_johnson, 1e-4, 560.0, 6e8, 0.02},
     {"fig5a", VI_ContactModel_hertz, 1e-4, 100.0, 6e8, 0.1},
     {"fig4b_100ms", VI_ContactModel_johnson, 1e-4, 560.0, 6e8, 0.1},
+    /* the laws beyond the paper's, under Fig. 4b's excitation (their other parameters at their defaults) */
+    {"fig4b_thornton", VI_ContactModel_thornton, 1e-4, 560.0, 6e8, 0.02},
+    {"fig4b_hertz_damped", VI_ContactModel_hertz_damped, 1e-4, 560.0, 6e8, 0.02},
+    {"fig4b_linear", VI_ContactModel_linear, 1e-4, 560.0, 6e8, 0.02},
 };
 static const char *const solver_names[] = {"bdf", "adams", "dop853", "auto"};
 static const int solver_values[] = {VI_Solver_bdf, VI_Solver_adams, VI_Solver_dop853, VI_Solver_auto};

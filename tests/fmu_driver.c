@@ -38,6 +38,9 @@
  *   fig5a-<solver>   a Fig. 5a-like run (Hertz, f = 100 Hz) for 0.1 s, solver bdf, adams, dop853 or auto:
  *                    y after every communication step of 1e-5 s, the impact count at the end
  *   fig4b_100ms-<solver>  Fig. 4b for the paper's 0.1 s (see scenarios[] below)
+ *   fig4b_thornton-<solver>, fig4b_hertz_damped-<solver>, fig4b_linear-<solver>
+ *                    Fig. 4b's excitation for 20 ms with Thornton's law, damped Hertz and the linear
+ *                    spring-dashpot
  *   fig4b-me, fig5a-me    the same runs through Model Exchange, this driver integrating (classical
  *                    Runge-Kutta, fixed step 1e-6 s, events at the end of the step where an event
  *                    indicator changes sign): y every 1e-5 s, the event and impact counts
