@@ -26,7 +26,7 @@ import numpy as np
 from fmpy import extract, read_model_description
 from fmpy.fmi3 import FMU3Slave
 
-import master
+from vibroimpact.vehicle_track import master
 import parameters
 from vibroimpact import fmi3
 
@@ -90,106 +90,84 @@ class Slave3:
         shutil.rmtree(self.dir, ignore_errors=True)
 
 
+class EarlyReturnCoupling:
+    """run()'s communication steps: contact, track, vehicle, in sub-steps that end where the contact
+    FMU returns early, with the energy bookkeeping of master.PortEnergy; c, t_out, v_out: the newest
+    outputs."""
+
+    def __init__(self, C, T, V, ports, energy, force, ramp, max_substeps):
+        self.C, self.T, self.V, self.p, self.energy = C, T, V, ports, energy
+        self.force, self.ramp, self.max_substeps = force, ramp, max_substeps
+        self.c, self.t_out, self.v_out = ports.get_c(), ports.get_t(), ports.get_v()
+        self.events, self.substeps = [], 0
+
+    def substep(self, t, h):
+        """One sub-step from t, at most h long. Returns the time reached (None: t + h, no early
+        return) and the impulses of the contact's force and of the force handed to the track."""
+        self.substeps += 1
+        if self.substeps > self.max_substeps:
+            raise RuntimeError(f"more than {self.max_substeps} sub-steps")
+        before, t_out, v_out = self.c, self.t_out, self.v_out
+        value, slope = t_out["z_rail"], (t_out["v_rail"] if self.ramp else 0.0)
+        F_ext = v_out["F_wheel"]
+        self.p.set_c([value, slope, F_ext])
+        t_end, early = self.C.step(t, h)
+        dt = t_end - t
+        self.c = self.p.get_c()
+        if early:
+            self.events.append(t_end)
+        self.energy.contact(before, self.c, value, slope, F_ext, dt)
+        handed = self.c[self.force]
+        self.p.set_t([handed])
+        self.T.step(t, dt)
+        self.t_out = self.p.get_t()
+        self.energy.track(t_out["W_in"], self.t_out["W_in"])
+        self.p.set_v([self.c["y"], self.c["v"]])
+        after_set = self.p.get_v()
+        self.V.step(t, dt)
+        self.v_out = self.p.get_v()
+        self.energy.vehicle(v_out["E"], after_set, self.v_out)
+        return (t_end if early else None), self.c["F_mean"] * dt, handed * dt
+
+    def step(self, t, t_next, step):
+        """From t to t_next. Returns the time reached and the impulses [N s] of the contact's force
+        and of the force handed to the track."""
+        impulse_c = impulse_handed = 0.0
+        while t_next - t > 1e-9 * step:  # bounded by max_substeps; a rest shorter than that joins the next step
+            t_early, j_c, j_handed = self.substep(t, t_next - t)
+            t = t_next if t_early is None else t_early
+            impulse_c += j_c
+            impulse_handed += j_handed
+        return t, impulse_c, impulse_handed
+
+
 def run(step, stop_time=parameters.STOP_TIME, force="F_mean", rail_motion="ramp", early_return=True, profile=None,
         excitation=None, build=None, rtol=1e-8, max_substeps=10 ** 7):
     """Co-simulate (module docstring). Returns a dict of arrays on the grid t_n = n step as master.run,
     and 'events': the times where the contact FMU returned early."""
     build = pathlib.Path(build or master.build_dir()) / "fmi3"
-    n_steps = int(round(stop_time / step))
-    if abs(n_steps * step - stop_time) > 1e-9 * stop_time:
-        raise ValueError(f"stop_time {stop_time} is not a multiple of the step {step}")
-    sv_c = master.contact_start_values(profile, excitation)
-    sv_c["rtol"] = rtol
+    n_steps = master.steps_of(step, stop_time)
+    sv_c = dict(master.contact_start_values(profile, excitation), rtol=rtol)
     slaves = {}
     try:
         C = slaves["contact"] = Slave3(build / "VibroImpact.fmu", "contact", sv_c, early_return)
         T = slaves["track"] = Slave3(build / "Track.fmu", "track", {"rtol": rtol})
         V = slaves["vehicle"] = Slave3(build / "Vehicle.fmu", "vehicle", {"rtol": rtol})
-        c_out = [n for n in master.CONTACT_OUT if C.has(n)]
-        get_c, get_t, get_v = C.getter(c_out), T.getter(master.TRACK_OUT), V.getter(master.VEHICLE_OUT)
-        get_k = C.getter(["E_star", "R_star"])
-        set_c = C.setter(["yC_in", "der(yC_in)", "F_ext"])  # the derivative after its value
-        set_t, set_v = T.setter(["F_contact"]), V.setter(["y_wheel", "v_wheel"])
-        ramp = rail_motion == "ramp"
-
-        # initialization: pass the outputs along the chain until they agree (as master.run)
-        t_out = {"z_rail": 0.0}
-        for _ in range(3):
-            set_c([t_out["z_rail"], 0.0, get_v()["F_wheel"]])
-            set_t([get_c()["F"]])
-            t_out = get_t()
-            set_c([t_out["z_rail"], 0.0, get_v()["F_wheel"]])
-            c = get_c()
-            set_v([c["y"], c["v"]])
+        ports = master.Ports(C, T, V, [n for n in master.CONTACT_OUT if C.has(n)],
+                             ["yC_in", "der(yC_in)", "F_ext"])  # the derivative after its value
+        ports.settle(lambda z_rail, F_wheel: [z_rail, 0.0, F_wheel])
         for s in slaves.values():
             s.start()
-        kk = get_k()
-        K = 4.0 / 3.0 * kk["E_star"] * np.sqrt(kk["R_star"])
-
-        def U(delta):
-            return 0.4 * K * max(delta, 0.0) ** 2.5
-
-        c, t_out, v_out = get_c(), get_t(), get_v()
-        rec = {k: np.empty(n_steps + 1) for k in
-               [f"contact.{n}" for n in c] + [f"track.{n}" for n in t_out] + [f"vehicle.{n}" for n in v_out]
-               + ["F_to_track", "E_coupling", "E_rail_port", "E_susp_port"]}
-
-        def record(i, mean, handed, e_rail, e_susp):
-            for k2, v2 in c.items():
-                rec[f"contact.{k2}"][i] = v2
-            rec["contact.F_mean"][i] = mean
-            for k2, v2 in t_out.items():
-                rec[f"track.{k2}"][i] = v2
-            for k2, v2 in v_out.items():
-                rec[f"vehicle.{k2}"][i] = v2
-            rec["F_to_track"][i] = handed
-            rec["E_rail_port"][i], rec["E_susp_port"][i] = e_rail, e_susp
-            rec["E_coupling"][i] = e_rail + e_susp
-
-        e_rail = e_susp = 0.0
-        platform_end = t_out["z_rail"]  # where the contact's platform input path ended
-        record(0, c["F_mean"], c[force], 0.0, 0.0)
-        events, t, substeps = [], 0.0, 0
+        K = ports.hertz_constant()
+        energy = master.PortEnergy(K, ports.get_t()["z_rail"])
+        cpl = EarlyReturnCoupling(C, T, V, ports, energy, force, rail_motion == "ramp", max_substeps)
+        rec = master.Record(n_steps, cpl.c, cpl.t_out, cpl.v_out)
+        rec.put(0, cpl.c, cpl.t_out, cpl.v_out, cpl.c[force], energy)
+        t = 0.0
         for n in range(n_steps):  # bounded: every sub-step ends at an event or at t_{n+1}
-            t_next = (n + 1) * step
-            impulse_c = impulse_handed = 0.0
-            while t_next - t > 1e-9 * step:  # a rest shorter than that joins the next step
-                substeps += 1
-                if substeps > max_substeps:
-                    raise RuntimeError(f"more than {max_substeps} sub-steps")
-                value, slope = t_out["z_rail"], (t_out["v_rail"] if ramp else 0.0)
-                F_ext, y0 = v_out["F_wheel"], c["y"]
-                e_rail += U(c["delta"] + value - platform_end) - U(c["delta"])
-                set_c([value, slope, F_ext])
-                t_end, early = C.step(t, t_next - t)
-                dt = t_end - t
-                c = get_c()
-                if early:
-                    events.append(t_end)
-                e_rail += slope * c["F_mean"] * dt
-                e_susp += F_ext * (c["y"] - y0)
-                platform_end = value + slope * dt
-                impulse_c += c["F_mean"] * dt
-                handed = c[force]
-                set_t([handed])
-                w0 = t_out["W_in"]
-                T.step(t, dt)
-                t_out = get_t()
-                e_rail += t_out["W_in"] - w0
-                impulse_handed += handed * dt
-                E_before = v_out["E"]
-                set_v([c["y"], c["v"]])
-                after_set = get_v()
-                e_susp += after_set["E"] - E_before
-                V.step(t, dt)
-                v_out = get_v()
-                e_susp += v_out["W_in"] - after_set["W_in"]
-                t = t_end if early else t_next
-            record(n + 1, impulse_c / step, impulse_handed / step, e_rail, e_susp)
-        rec["t"] = np.arange(n_steps + 1) * step
-        rec["K"] = K
-        rec["events"] = np.array(events)
-        return rec
+            t, impulse_c, impulse_handed = cpl.step(t, (n + 1) * step, step)
+            rec.put(n + 1, cpl.c, cpl.t_out, cpl.v_out, impulse_handed / step, energy, F_mean=impulse_c / step)
+        return rec.result(step, K, events=np.array(cpl.events))
     finally:
         for s in slaves.values():
             s.free()

@@ -132,129 +132,203 @@ def build_dir():
     return vifmu.build_dir()
 
 
+class Ports:
+    """The three FMUs' ports: getters of the outputs (get_c, get_t, get_v; get_k: the contact's
+    E_star and R_star) and setters of the inputs (set_c takes contact_inputs in that order, set_t
+    F_contact, set_v y_wheel and v_wheel). C, T, V: objects with getter(names) and setter(names), as
+    Slave."""
+
+    def __init__(self, C, T, V, contact_outputs, contact_inputs):
+        self.get_c, self.get_t, self.get_v = C.getter(contact_outputs), T.getter(TRACK_OUT), V.getter(VEHICLE_OUT)
+        self.get_k = C.getter(["E_star", "R_star"])
+        self.set_c = C.setter(contact_inputs)
+        self.set_t, self.set_v = T.setter(["F_contact"]), V.setter(["y_wheel", "v_wheel"])
+
+    def settle(self, contact_values):
+        """Initialization mode: pass the outputs along the chain vehicle -> contact -> track ->
+        contact -> vehicle three times, until they agree. contact_values(z_rail, F_wheel): the values
+        set_c takes."""
+        z_rail = 0.0
+        for _ in range(3):
+            self.set_c(contact_values(z_rail, self.get_v()["F_wheel"]))
+            self.set_t([self.get_c()["F"]])  # at the static start F_mean is F
+            z_rail = self.get_t()["z_rail"]
+            self.set_c(contact_values(z_rail, self.get_v()["F_wheel"]))
+            c = self.get_c()
+            self.set_v([c["y"], c["v"]])
+
+    def hertz_constant(self):
+        """K [N/m^1.5] of the contact FMU: 4/3 E_star sqrt(R_star)."""
+        k = self.get_k()
+        return 4.0 / 3.0 * k["E_star"] * np.sqrt(k["R_star"])
+
+
+class PortEnergy:
+    """The work the coupling creates at the two ports (the module docstring), summed as the FMUs
+    step: e_rail at the rail, e_susp at the suspension [J]."""
+
+    def __init__(self, K, z_rail):
+        self.K = K
+        self.e_rail = self.e_susp = 0.0
+        self.platform_end = z_rail  # where the contact's platform input path ended
+
+    def hertz(self, delta):
+        """The Hertz energy 2/5 K delta^2.5 [J]."""
+        return 0.4 * self.K * max(delta, 0.0) ** 2.5
+
+    def contact(self, before, after, z_rail, slope, F_ext, dt):
+        """The contact FMU stepped over dt from the outputs `before` to `after`, its platform input
+        starting at z_rail with the slope given, under F_ext."""
+        self.e_rail += self.hertz(before["delta"] + z_rail - self.platform_end) - self.hertz(before["delta"])
+        self.e_rail += slope * after["F_mean"] * dt
+        self.e_susp += F_ext * (after["y"] - before["y"])
+        self.platform_end = z_rail + slope * dt
+
+    def track(self, W_in_before, W_in_after):
+        self.e_rail += W_in_after - W_in_before
+
+    def vehicle(self, E_before, after_set, after_step):
+        """The vehicle's energy jumped from E_before when the wheel position it holds was replaced
+        (outputs after_set), then it stepped (outputs after_step)."""
+        self.e_susp += after_set["E"] - E_before
+        self.e_susp += after_step["W_in"] - after_set["W_in"]
+
+
+class Record:
+    """The arrays run() returns, on the grid t_n = n step: the FMUs' outputs ('contact.F', ...), the
+    force handed to the track ('F_to_track') and the energy the coupling created ('E_coupling', the
+    sum of 'E_rail_port' and 'E_susp_port')."""
+
+    def __init__(self, n_steps, c, t_out, v_out):
+        names = [f"contact.{n}" for n in c] + [f"track.{n}" for n in t_out] + [f"vehicle.{n}" for n in v_out]
+        self.rec = {k: np.empty(n_steps + 1) for k in names + ["F_to_track", "E_coupling", "E_rail_port", "E_susp_port"]}
+
+    def put(self, i, c, t_out, v_out, handed, energy, F_mean=None):
+        """Row i; F_mean: the contact's mean force over the step when not its own output's."""
+        for prefix, outs in (("contact", c), ("track", t_out), ("vehicle", v_out)):
+            for k, v in outs.items():
+                self.rec[f"{prefix}.{k}"][i] = v
+        if F_mean is not None:
+            self.rec["contact.F_mean"][i] = F_mean
+        self.rec["F_to_track"][i] = handed
+        self.rec["E_rail_port"][i], self.rec["E_susp_port"][i] = energy.e_rail, energy.e_susp
+        self.rec["E_coupling"][i] = energy.e_rail + energy.e_susp
+
+    def result(self, step, K, **more):
+        rows = len(self.rec["F_to_track"])
+        return dict(self.rec, t=np.arange(rows) * step, K=K, **more)
+
+
+def steps_of(step, stop_time, max_steps=10 ** 7):
+    """The number of communication steps of size step to stop_time (a multiple of it)."""
+    n_steps = int(round(stop_time / step))
+    if n_steps > max_steps or abs(n_steps * step - stop_time) > 1e-9 * stop_time:
+        raise ValueError(f"stop_time {stop_time} is not a multiple of the step {step} (or too many steps)")
+    return n_steps
+
+
+def with_mean(c):
+    """Contact outputs with F_mean (F where the FMU has none)."""
+    if "F_mean" not in c:
+        c["F_mean"] = c["F"]
+    return c
+
+
+class Coupling:
+    """run()'s communication steps over the three FMUs (Slave), with the energy bookkeeping; c,
+    t_out, v_out: the newest outputs, handed: the force last handed to the track."""
+
+    def __init__(self, slaves, ports, energy, force, ramp):
+        self.C, self.T, self.V = slaves["contact"], slaves["track"], slaves["vehicle"]
+        self.p, self.energy, self.force, self.ramp = ports, energy, force, ramp
+        self.c, self.t_out, self.v_out = with_mean(ports.get_c()), ports.get_t(), ports.get_v()
+        self.handed = self.c[force]
+
+    def contact(self, t, step, old, track, vehicle, track_stepped):
+        """Step the contact FMU with the track's and the vehicle's outputs given; track_stepped:
+        the track's are those of t + step already."""
+        if self.ramp and track_stepped:  # interpolate
+            value, slope = old["track"]["z_rail"], (track["z_rail"] - old["track"]["z_rail"]) / step
+        elif self.ramp:                  # extrapolate with the rail velocity
+            value, slope = track["z_rail"], track["v_rail"]
+        else:
+            value, slope = track["z_rail"], 0.0
+        F_ext = vehicle["F_wheel"]
+        self.p.set_c([value, F_ext], [slope, 0.0] if self.ramp else None)
+        self.C.fmu.doStep(t, step)
+        self.c = with_mean(self.p.get_c())
+        self.energy.contact(old["contact"], self.c, value, slope, F_ext, step)
+        return self.c
+
+    def track(self, t, step, contact):
+        self.handed = contact[self.force]
+        self.p.set_t([self.handed])
+        w0 = self.t_out["W_in"]
+        self.T.fmu.doStep(t, step)
+        self.t_out = self.p.get_t()
+        self.energy.track(w0, self.t_out["W_in"])
+        return self.t_out
+
+    def vehicle(self, t, step, contact):
+        E_before = self.p.get_v()["E"]
+        self.p.set_v([contact["y"], contact["v"]])
+        after_set = self.p.get_v()
+        self.V.fmu.doStep(t, step)
+        self.v_out = self.p.get_v()
+        self.energy.vehicle(E_before, after_set, self.v_out)
+        return self.v_out
+
+    def step(self, t, step, seq, gauss_seidel):
+        """The FMUs step from t in the order seq, each with the newest outputs of the ones before it
+        (gauss_seidel) or all with those of t (Jacobi)."""
+        old = {"contact": self.c, "track": self.t_out, "vehicle": self.v_out}
+        new = {}
+
+        def latest(name):
+            return new[name] if gauss_seidel and name in new else old[name]
+        for name in seq:
+            if name == "contact":
+                new[name] = self.contact(t, step, old, latest("track"), latest("vehicle"), "track" in new)
+            elif name == "track":
+                new[name] = self.track(t, step, latest("contact"))
+            else:
+                new[name] = self.vehicle(t, step, latest("contact"))
+
+
 def run(step, stop_time=parameters.STOP_TIME, scheme="gauss-seidel", order=("vehicle", "contact", "track"),
         force="F_mean", rail_motion="hold", profile=None, excitation=None, build=None, rtol=1e-8,
         max_steps=10 ** 7, contact=None, contact_log=None, record=()):
     """Co-simulate with a fixed communication step. Returns a dict of arrays on the grid
     t_n = n step (n = 0 .. N): contact outputs, track and vehicle outputs, the force handed to the
-    track, and the cumulative energy the coupling created ('E_coupling'). contact: start values of
-    the contact FMU that replace the example's (contact_start_values); contact_log: a
-    vibroimpact.MessageLog that keeps the contact FMU's log, its events included; record: more of the
-    contact FMU's outputs to record (beside CONTACT_OUT)."""
+    track, and the cumulative energy the coupling created ('E_coupling'); Record says which. contact:
+    start values of the contact FMU that replace the example's (contact_start_values); contact_log:
+    a vibroimpact.MessageLog that keeps the contact FMU's log, its events included; record: more of
+    the contact FMU's outputs to record (beside CONTACT_OUT)."""
     build = pathlib.Path(build or build_dir())
-    n_steps = int(round(stop_time / step))
-    if n_steps > max_steps or abs(n_steps * step - stop_time) > 1e-9 * stop_time:
-        raise ValueError(f"stop_time {stop_time} is not a multiple of the step {step} (or too many steps)")
-    sv_c = contact_start_values(profile, excitation, contact)
-    sv_c["rtol"] = rtol
+    n_steps = steps_of(step, stop_time, max_steps)
+    sv_c = dict(contact_start_values(profile, excitation, contact), rtol=rtol)
     slaves = {}
     try:
         C = slaves["contact"] = Slave(build / "VibroImpact.fmu", "contact", sv_c, log=contact_log)
-        T = slaves["track"] = Slave(build / "Track.fmu", "track", {"rtol": rtol})
-        V = slaves["vehicle"] = Slave(build / "Vehicle.fmu", "vehicle", {"rtol": rtol})
+        slaves["track"] = Slave(build / "Track.fmu", "track", {"rtol": rtol})
+        slaves["vehicle"] = Slave(build / "Vehicle.fmu", "vehicle", {"rtol": rtol})
         if force == "F_mean" and not C.has("F_mean"):
             raise RuntimeError("this VibroImpact.fmu has no output F_mean")
-        c_out = [n for n in CONTACT_OUT + list(record) if C.has(n)]
-        get_c, get_t, get_v = C.getter(c_out), T.getter(TRACK_OUT), V.getter(VEHICLE_OUT)
-        get_k = C.getter(["E_star", "R_star"])
-        set_c = C.setter(["yC_in", "F_ext"])
-        set_t, set_v = T.setter(["F_contact"]), V.setter(["y_wheel", "v_wheel"])
-        ramp = rail_motion == "ramp"
-
-        # initialization: pass the outputs along the chain until they agree
-        for _ in range(3):
-            set_c([0.0 if _ == 0 else t_out["z_rail"], get_v()["F_wheel"]])
-            c = get_c()
-            set_t([c["F"]])  # at the static start F_mean is F
-            t_out = get_t()
-            set_c([t_out["z_rail"], get_v()["F_wheel"]])
-            c = get_c()
-            set_v([c["y"], c["v"]])
+        ports = Ports(C, slaves["track"], slaves["vehicle"], [n for n in CONTACT_OUT + list(record) if C.has(n)],
+                      ["yC_in", "F_ext"])
+        ports.settle(lambda z_rail, F_wheel: [z_rail, F_wheel])
         for s in slaves.values():
             s.start()
-        kk = get_k()
-        K = 4.0 / 3.0 * kk["E_star"] * np.sqrt(kk["R_star"])
-
-        def U(delta):
-            return 0.4 * K * max(delta, 0.0) ** 2.5
-
-        c, t_out, v_out = get_c(), get_t(), get_v()
-        if "F_mean" not in c:
-            c["F_mean"] = c["F"]
-        rec = {k: np.empty(n_steps + 1) for k in
-               [f"contact.{n}" for n in c] + [f"track.{n}" for n in t_out] + [f"vehicle.{n}" for n in v_out]
-               + ["F_to_track", "E_coupling", "E_rail_port", "E_susp_port"]}
-
-        def record(i, handed, e_rail, e_susp):
-            for k2, v2 in c.items():
-                rec[f"contact.{k2}"][i] = v2
-            for k2, v2 in t_out.items():
-                rec[f"track.{k2}"][i] = v2
-            for k2, v2 in v_out.items():
-                rec[f"vehicle.{k2}"][i] = v2
-            rec["F_to_track"][i] = handed
-            rec["E_rail_port"][i], rec["E_susp_port"][i] = e_rail, e_susp
-            rec["E_coupling"][i] = e_rail + e_susp
-
-        e_rail = e_susp = 0.0
-        platform_end = t_out["z_rail"]  # where the contact's platform input path ended
-        record(0, c[force], 0.0, 0.0)
+        K = ports.hertz_constant()
+        energy = PortEnergy(K, ports.get_t()["z_rail"])
+        cpl = Coupling(slaves, ports, energy, force, rail_motion == "ramp")
+        rec = Record(n_steps, cpl.c, cpl.t_out, cpl.v_out)
+        rec.put(0, cpl.c, cpl.t_out, cpl.v_out, cpl.handed, energy)
         seq = list(order) if scheme == "gauss-seidel" else ["vehicle", "contact", "track"]
         for n in range(n_steps):  # bounded
-            t = n * step
-            old_c, old_t, old_v = c, t_out, v_out
-            new = {}
-
-            def latest(name):
-                if scheme == "gauss-seidel" and name in new:
-                    return new[name]
-                return {"contact": old_c, "track": old_t, "vehicle": old_v}[name]
-
-            handed = None
-            for name in seq:
-                if name == "contact":
-                    tr, ve = latest("track"), latest("vehicle")
-                    if ramp and "track" in new:     # track already at t_{n+1}: interpolate
-                        value, slope = old_t["z_rail"], (tr["z_rail"] - old_t["z_rail"]) / step
-                    elif ramp:                      # extrapolate with the rail velocity
-                        value, slope = tr["z_rail"], tr["v_rail"]
-                    else:
-                        value, slope = tr["z_rail"], 0.0
-                    F_ext = ve["F_wheel"]
-                    e_rail += U(old_c["delta"] + value - platform_end) - U(old_c["delta"])
-                    set_c([value, F_ext], [slope, 0.0] if ramp else None)
-                    y0 = old_c["y"]
-                    C.fmu.doStep(t, step)
-                    c = get_c()
-                    if "F_mean" not in c:
-                        c["F_mean"] = c["F"]
-                    new["contact"] = c
-                    e_rail += slope * c["F_mean"] * step
-                    e_susp += F_ext * (c["y"] - y0)
-                    platform_end = value + slope * step
-                elif name == "track":
-                    handed = latest("contact")[force]
-                    set_t([handed])
-                    w0 = old_t["W_in"]
-                    T.fmu.doStep(t, step)
-                    t_out = get_t()
-                    new["track"] = t_out
-                    e_rail += t_out["W_in"] - w0
-                else:
-                    cc = latest("contact")
-                    E_before = get_v()["E"]
-                    set_v([cc["y"], cc["v"]])
-                    e_susp += get_v()["E"] - E_before
-                    w0 = get_v()["W_in"]
-                    V.fmu.doStep(t, step)
-                    v_out = get_v()
-                    new["vehicle"] = v_out
-                    e_susp += v_out["W_in"] - w0
-            record(n + 1, handed, e_rail, e_susp)
-        rec["t"] = np.arange(n_steps + 1) * step
-        rec["K"] = K
-        return rec
+            cpl.step(n * step, step, seq, scheme == "gauss-seidel")
+            rec.put(n + 1, cpl.c, cpl.t_out, cpl.v_out, cpl.handed, energy)
+        return rec.result(step, K)
     finally:
         for s in slaves.values():
             s.free()
-

@@ -274,6 +274,94 @@ def past_crossing(dense, t_event, z_before, coupled, k, t_limit, max_tries=64):
     raise RuntimeError(f"indicator {k} does not change sign within {max_tries} tries after t = {t_event!r} s")
 
 
+class Recording:
+    """run()'s record: the recorded outputs (RECORDED) and the master's integrals on the grid
+    t = n dt_out, from the integrator's dense output. The integrals restart from zero in each
+    interval (rtol acts on what the interval adds, not on the total): offset keeps what the earlier
+    intervals added."""
+
+    def __init__(self, sys_, stop_time, dt_out):
+        self.sys = sys_
+        self.grid = np.arange(int(round(stop_time / dt_out)) + 1) * dt_out
+        self.grid[-1] = stop_time
+        self.rec = {f"{n}.{o}": np.full(len(self.grid), np.nan) for n, outs in RECORDED.items() for o in outs}
+        self.rec.update({q: np.full(len(self.grid), np.nan) for q in QUADRATURES})
+        self.getters = {f"{n}.{o}": sys_.fmus[n].getter(o) for n, outs in RECORDED.items() for o in outs}
+        self.offset = np.zeros(len(QUADRATURES))
+        self.n = 0  # rows recorded
+
+    def put(self, t, X):
+        self.sys.load(t, X)
+        for key, get in self.getters.items():
+            self.rec[key][self.n] = get()
+        for j, q in enumerate(QUADRATURES):
+            self.rec[q][self.n] = self.offset[j] + X[self.sys.nq + j]
+        self.n += 1
+
+    def restart_integrals(self, X):
+        """At the start of an interval: the integrals in X go to the offset, X's restart from zero."""
+        self.offset += X[self.sys.nq:]
+        X[self.sys.nq:] = 0.0
+
+    def upto(self, dense, t_new, X_new):
+        """The grid points up to t_new, from the dense output (X_new at t_new itself)."""
+        grid = self.grid
+        while self.n < len(grid) and grid[self.n] <= t_new:
+            self.put(grid[self.n], dense(grid[self.n]) if grid[self.n] < t_new else X_new)
+
+
+def start(build, sv_c, rtol, connections, sort, fmus):
+    """The three FMUs instantiated into fmus (a dict, so that the caller frees them), brought to their
+    common static start and into continuous-time mode. Returns the Coupled system."""
+    fmus["contact"] = MeFmu(build / "VibroImpact.fmu", "contact", sv_c, rtol)
+    fmus["track"] = MeFmu(build / "Track.fmu", "track", {}, rtol)
+    fmus["vehicle"] = MeFmu(build / "Vehicle.fmu", "vehicle", {}, rtol)
+    sys_ = Coupled(fmus, connections, sort)
+    # initialization mode: every FMU takes its static state under its inputs; pass the outputs
+    # along the connections until they agree (the chain is three deep)
+    for _ in range(3):
+        sys_.propagate()
+    for f in fmus.values():
+        f.fmu.exitInitializationMode()
+        f.running = True
+    sys_.event_iteration(initial=True)
+    return sys_
+
+
+def interval(sys_, t, X, t_end, h, method, rtol, atol, events):
+    """Integrate from t to t_end or to the first state event. Returns the time and state reached
+    (just past the crossing at a state event), whether one ended it, the dense output, and the
+    step size to start the next interval with."""
+    z0 = sys_.indicators(t, X).copy()
+    sol = solve_ivp(sys_.rhs, (t, t_end), X, method=method, rtol=rtol, atol=atol, events=events,
+                    dense_output=True, first_step=None if h is None else min(h, t_end - t))
+    if sol.status < 0:
+        raise RuntimeError(f"solve_ivp at t = {t} s: {sol.message}")
+    state_event = sol.status == 1
+    if state_event:  # a terminal state event: the earliest indicator that crossed
+        k = min((te[0], k) for k, te in enumerate(sol.t_events) if len(te))[1]
+        t_new, X_new = past_crossing(sol.sol, sol.t_events[k][0], z0[k], sys_, k, t_end)
+    else:
+        t_new, X_new = t_end, sol.y[:, -1]
+    steps = np.diff(sol.sol.ts)
+    return t_new, X_new, state_event, sol.sol, float(steps[-2:].max()) if len(steps) else h
+
+
+def complete_step(sys_, t, X, event_due):
+    """The step is complete at (t, X): fmi2CompletedIntegratorStep for every FMU, then the event
+    iteration when an event is due (event_due) or an FMU asks for one. Moves the FMUs' states in X
+    when the iteration changed them."""
+    sys_.load(t, X)
+    asked = False
+    for f in sys_.list:
+        enter, terminate = f.fmu.completedIntegratorStep()
+        if terminate:
+            raise RuntimeError(f"{f.name} asks to terminate at t = {t} s: {f.log.text()[-500:]}")
+        asked |= enter
+    if (event_due or asked) and sys_.event_iteration():
+        X[:sys_.nq] = sys_.states()
+
+
 def run(stop_time=parameters.STOP_TIME, profile=None, excitation=None, rtol=1e-8, method="DOP853", build=None,
         dt_out=1e-5, span=SPAN, connections=CONNECTIONS, sort=True, max_intervals=10 ** 6, contact=None):
     """Integrate the coupled system from the static start to stop_time. Returns a dict of arrays on
@@ -287,85 +375,32 @@ def run(stop_time=parameters.STOP_TIME, profile=None, excitation=None, rtol=1e-8
     sv_c = master.contact_start_values(profile, excitation, contact)
     fmus = {}
     try:
-        fmus["contact"] = MeFmu(build / "VibroImpact.fmu", "contact", sv_c, rtol)
-        fmus["track"] = MeFmu(build / "Track.fmu", "track", {}, rtol)
-        fmus["vehicle"] = MeFmu(build / "Vehicle.fmu", "vehicle", {}, rtol)
-        sys_ = Coupled(fmus, connections, sort)
-        # initialization mode: every FMU takes its static state under its inputs; pass the outputs
-        # along the connections until they agree (the chain is three deep)
-        for _ in range(3):
-            sys_.propagate()
-        for f in fmus.values():
-            f.fmu.exitInitializationMode()
-            f.running = True
-        sys_.event_iteration(initial=True)
+        sys_ = start(build, sv_c, rtol, connections, sort, fmus)
         X = np.concatenate([sys_.states(), np.zeros(len(QUADRATURES))])
-        atol = rtol * sys_.nominals()
-        events = sys_.event_functions()
-        grid = np.arange(int(round(stop_time / dt_out)) + 1) * dt_out
-        grid[-1] = stop_time
-        rec = {f"{n}.{o}": np.full(len(grid), np.nan) for n, outs in RECORDED.items() for o in outs}
-        rec.update({q: np.full(len(grid), np.nan) for q in QUADRATURES})
-        getters = {f"{n}.{o}": fmus[n].getter(o) for n, outs in RECORDED.items() for o in outs}
-        offset = np.zeros(len(QUADRATURES))
-
-        def record(i, t, Xi):
-            sys_.load(t, Xi)
-            for key, get in getters.items():
-                rec[key][i] = get()
-            for j, q in enumerate(QUADRATURES):
-                rec[q][i] = offset[j] + Xi[sys_.nq + j]
-
-        record(0, 0.0, X)
-        t, h, n_time, n_rec, state_events = 0.0, None, 0, 1, []
+        atol, events = rtol * sys_.nominals(), sys_.event_functions()
+        rec = Recording(sys_, stop_time, dt_out)
+        rec.put(0.0, X)
+        t, h, n_time, state_events = 0.0, None, 0, []
         for intervals in range(1, max_intervals + 1):  # bounded
             if t >= stop_time:
                 break
             t_next = min(f.next_event for f in sys_.list)
-            t_end = min(stop_time, t_next, t + span)
-            z0 = sys_.indicators(t, X).copy()
-            offset += X[sys_.nq:]  # the integrals restart from zero in each interval (rtol acts on what
-            X[sys_.nq:] = 0.0      # the interval adds, not on the total)
-            sol = solve_ivp(sys_.rhs, (t, t_end), X, method=method, rtol=rtol, atol=atol, events=events,
-                            dense_output=True, first_step=None if h is None else min(h, t_end - t))
-            if sol.status < 0:
-                raise RuntimeError(f"solve_ivp at t = {t} s: {sol.message}")
-            state_event = sol.status == 1
-            if state_event:  # a terminal state event: the earliest indicator that crossed
-                k = min((te[0], k) for k, te in enumerate(sol.t_events) if len(te))[1]
-                t_new, X_new = past_crossing(sol.sol, sol.t_events[k][0], z0[k], sys_, k, t_end)
+            rec.restart_integrals(X)
+            t_new, X_new, state_event, dense, h = interval(sys_, t, X, min(stop_time, t_next, t + span), h,
+                                                           method, rtol, atol, events)
+            if state_event:
                 state_events.append(t_new)
-            else:
-                t_new, X_new = t_end, sol.y[:, -1]
-            steps = np.diff(sol.sol.ts)
-            h = float(steps[-2:].max()) if len(steps) else h
-            while n_rec < len(grid) and grid[n_rec] <= t_new:  # the dense output on the grid
-                record(n_rec, grid[n_rec], sol.sol(grid[n_rec]) if grid[n_rec] < t_new else X_new)
-                n_rec += 1
+            rec.upto(dense, t_new, X_new)
             t, X = t_new, np.array(X_new)
-            # the step is complete here; then the events due
-            sys_.load(t, X)
-            asked = False
-            for f in sys_.list:
-                enter, terminate = f.fmu.completedIntegratorStep()
-                if terminate:
-                    raise RuntimeError(f"{f.name} asks to terminate at t = {t} s: {f.log.text()[-500:]}")
-                asked |= enter
-            time_event = t >= t_next
-            n_time += time_event
-            if state_event or time_event or asked:
-                if sys_.event_iteration():
-                    X[:sys_.nq] = sys_.states()
+            n_time += t >= t_next
+            complete_step(sys_, t, X, state_event or t >= t_next)
         else:
             raise RuntimeError(f"more than {max_intervals} integration intervals")
-        rec["t"] = grid
-        rec.update(evaluations=sys_.evaluations, state_events=np.array(state_events), time_events=n_time,
-                   n_time_events=n_time, intervals=intervals, cpu_s=time.process_time() - cpu0)
-        return rec
+        return dict(rec.rec, t=rec.grid, evaluations=sys_.evaluations, state_events=np.array(state_events),
+                    time_events=n_time, n_time_events=n_time, intervals=intervals, cpu_s=time.process_time() - cpu0)
     except Exception as e:
         logs = "; ".join(f"{n}: {f.log.text()[-300:]}" for n, f in fmus.items() if f.log.messages)
         raise RuntimeError(f"{e}" + (f" (FMU log: {logs})" if logs else "")) from e
     finally:
         for f in fmus.values():
             f.free()
-
