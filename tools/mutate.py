@@ -59,6 +59,7 @@ import ctypes
 import dataclasses
 import fnmatch
 import hashlib
+import itertools
 import json
 import os
 import pathlib
@@ -266,40 +267,12 @@ def statement_start(masked, start):
     return b
 
 
-def mutants_of(path, text=None):
-    rel = str(path.relative_to(ROOT))
-    text = path.read_text() if text is None else text
-    masked = mask(text)
-    code = mask(text, strings=False)  # comments removed, strings kept: the site of a mutant
-    line_starts = [0] + [i + 1 for i, c in enumerate(text) if c == "\n"]
-    bodies = function_bodies(masked)
-    owner = [None] * (len(text) + 1)
-    span = {}
-    for s, e, name in bodies:
-        span[name] = (text.count("\n", 0, s) + 1, text.count("\n", 0, e) + 1)
-        for i in range(s + 1, e):
-            owner[i] = name
-    for s, e in foreign_regions(text):  # not compiled here: no mutants (tools/cross_test.sh runs that code)
-        for i in range(s, e):
-            owner[i] = None
-    found = []
-
-    def add(start, end, new, kind):
-        if owner[start] is None:
-            return
-        line = text.count("\n", 0, start) + 1
-        last = text.count("\n", 0, end) + 1
-        ls = line_starts[line - 1]
-        le = text.find("\n", ls)
-        site = flat(code[ls:le if le >= 0 else len(text)])
-        b = statement_start(masked, start)
-        found.append(Mutant(rel, start, end, new, kind, line, last, start - ls + 1, text[start:end], owner[start], site,
-                            stmt_line=text.count("\n", 0, b) + 1, body=span[owner[start]]))
-
+def operator_sites(masked, text):
+    """(start, end, new, kind) of the operator, constant, condition and status mutants of a masked source."""
     for m in re.finditer(r"<=|>=|==|!=|(?<![<>-])[<>](?![<>=])", masked):
-        add(m.start(), m.end(), RELATIONAL[m.group()], "relational")
+        yield m.start(), m.end(), RELATIONAL[m.group()], "relational"
     for m in re.finditer(r"&&|\|\|", masked):
-        add(m.start(), m.end(), LOGICAL[m.group()], "logical")
+        yield m.start(), m.end(), LOGICAL[m.group()], "logical"
     for m in re.finditer(r"(?<![+\-*/=<>!&|])([+\-*/])(?![+\-*/=>])", masked):
         pos = m.start()
         p = prev_code_char(masked, pos)
@@ -307,14 +280,24 @@ def mutants_of(path, text=None):
             continue  # unary
         if m.group() in "+-" and re.search(r"\d[eE]$", masked[max(0, pos - 30):pos]):
             continue  # exponent of a number
-        add(pos, pos + 1, ARITH[m.group()], "arithmetic")
+        yield pos, pos + 1, ARITH[m.group()], "arithmetic"
     for m in NUMBER.finditer(masked):
         lit = m.group()
         if re.fullmatch(r"\d+", lit):
             new = str(int(lit) + 1) if lit != "1" else "0"
         else:
             new = repr(float(lit) * 1.01) if float(lit) != 0.0 else "1e-3"
-        add(m.start(), m.end(), new, "constant")
+        yield m.start(), m.end(), new, "constant"
+    yield from condition_sites(masked, text)
+    for m in re.finditer(r"\b(fmi2OK|fmi2Error|fmi2Discard|fmi2Warning)\b", masked):
+        if re.search(r"return\s*$", masked[max(0, m.start() - 20):m.start()]):
+            yield m.start(), m.end(), STATUS[m.group()], "status"
+    for m in re.finditer(r"\breturn\s+(-1|0)\s*;", masked):
+        yield m.start(1), m.end(1), "0" if m.group(1) == "-1" else "-1", "status"
+
+
+def condition_sites(masked, text):
+    """The condition of every if: negated, and forced false."""
     for m in re.finditer(r"\bif\s*\(", masked):
         open_ = m.end() - 1
         d, j = 0, open_
@@ -327,14 +310,12 @@ def mutants_of(path, text=None):
                     break
             j += 1
         cond = text[open_ + 1:j]
-        add(open_ + 1, j, f"!({cond})", "negate-condition")
-        add(open_ + 1, j, "0", "condition-false")
-    for m in re.finditer(r"\b(fmi2OK|fmi2Error|fmi2Discard|fmi2Warning)\b", masked):
-        if re.search(r"return\s*$", masked[max(0, m.start() - 20):m.start()]):
-            add(m.start(), m.end(), STATUS[m.group()], "status")
-    for m in re.finditer(r"\breturn\s+(-1|0)\s*;", masked):
-        add(m.start(1), m.end(1), "0" if m.group(1) == "-1" else "-1", "status")
-    # removed statements: a whole line that is one expression statement (assignment or call)
+        yield open_ + 1, j, f"!({cond})", "negate-condition"
+        yield open_ + 1, j, "0", "condition-false"
+
+
+def removed_statement_sites(masked):
+    """A whole line that is one expression statement (assignment or call), removed."""
     pos = 0
     for line in masked.splitlines(keepends=True):
         s = line.strip()
@@ -343,8 +324,44 @@ def mutants_of(path, text=None):
                 and not re.match(r"^(const\s+)?(unsigned\s+|signed\s+)?(int|long|double|float|char|size_t|"
                                  r"void|struct|vi_\w+|fmi2\w+|N_Vector|SUNContext|sunrealtype)\b", s)):
             start = pos + len(line) - len(line.lstrip())
-            add(start, pos + len(line.rstrip("\n")), ";", "remove-statement")
+            yield start, pos + len(line.rstrip("\n")), ";", "remove-statement"
         pos += len(line)
+
+
+def owners(text, masked):
+    """The function each character of text belongs to (None outside functions and in code compiled for
+    another platform only, which tools/cross_test.sh runs), and each function's first and last line."""
+    owner = [None] * (len(text) + 1)
+    span = {}
+    for s, e, name in function_bodies(masked):
+        span[name] = (text.count("\n", 0, s) + 1, text.count("\n", 0, e) + 1)
+        for i in range(s + 1, e):
+            owner[i] = name
+    for s, e in foreign_regions(text):  # not compiled here: no mutants
+        for i in range(s, e):
+            owner[i] = None
+    return owner, span
+
+
+def mutants_of(path, text=None):
+    rel = str(path.relative_to(ROOT))
+    text = path.read_text() if text is None else text
+    masked = mask(text)
+    code = mask(text, strings=False)  # comments removed, strings kept: the site of a mutant
+    line_starts = [0] + [i + 1 for i, c in enumerate(text) if c == "\n"]
+    owner, span = owners(text, masked)
+    found = []
+    for start, end, new, kind in itertools.chain(operator_sites(masked, text), removed_statement_sites(masked)):
+        if owner[start] is None:
+            continue
+        line = text.count("\n", 0, start) + 1
+        last = text.count("\n", 0, end) + 1
+        ls = line_starts[line - 1]
+        le = text.find("\n", ls)
+        site = flat(code[ls:le if le >= 0 else len(text)])
+        b = statement_start(masked, start)
+        found.append(Mutant(rel, start, end, new, kind, line, last, start - ls + 1, text[start:end], owner[start], site,
+                            stmt_line=text.count("\n", 0, b) + 1, body=span[owner[start]]))
     found.sort(key=lambda m: (m.start, m.kind))
     seen = {}
     for m in found:  # k: the same change on the same code in the same function (on one line, or on lines alike)
@@ -509,7 +526,8 @@ def pytest_worker(build, out, args):
     module- or session-scoped fixture it uses (run once, in the first test that asks for it, and
     cached), what its module executed when it was imported (collection), and the lines of every test
     that uses the same module- or class-scoped fixture (such a fixture may hand out a cache that the
-    first test to ask fills: test_paper.py's `compared`)."""
+    first test to ask fills: test_paper.py's `compared`). Longer than a screen: the plugin's hooks share
+    their state in one class, defined here where pytest is imported."""
     import pytest
 
     build = pathlib.Path(build)
@@ -727,9 +745,7 @@ def sanitized_names(ctests, build):
     return sorted(n for n in names if n in have)
 
 
-def main():
-    if len(sys.argv) > 1 and sys.argv[1] == "_pytest":
-        return pytest_worker(sys.argv[2], sys.argv[3], sys.argv[4:])
+def parse_args():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--sample", type=int, default=None, help="number of mutants to draw (default: all)")
     ap.add_argument("--seed", type=int, default=None, help="seed of the sample (default: a fresh one, printed)")
@@ -744,28 +760,181 @@ def main():
                     help="replay the mutants listed as equivalent (with --files, --only, --sample: some of them) "
                          "under every condition of the test command: the FMU tests with every solver, the C tests "
                          "also in the sanitized build; exit status 1 when a test kills one")
-    args = ap.parse_args()
+    return ap.parse_args()
 
-    seed = args.seed if args.seed is not None else int.from_bytes(os.urandom(4), "little")
+
+def select(args, equivalent, seed):
+    """The mutants the arguments ask for."""
     mutants = all_mutants(args.files)
-    equivalent = read_equivalent()
     if args.equivalents:
         mutants = [m for m in mutants if m.ident in equivalent]
     if args.only:
         wanted = set(args.only)
         mutants = [m for m in mutants if m.ident in wanted or m.where in wanted]
-    mutants = sample(mutants, args.sample, seed)
-    if args.list:
-        for m in mutants:
-            print(f"{m.where}  {m.ident}" + ("   [equivalent]" if m.ident in equivalent else ""))
-        print(f"{len(mutants)} mutants")
-        return 0
+    return sample(mutants, args.sample, seed)
+
+
+def stale_entries(equivalent):
+    """Entries of the equivalents list that name no mutant of today's src/ (printed)."""
     names = {m.ident for m in all_mutants(["src/*"])}
     stale = [e for e in equivalent if e not in names]
     if stale:
         print(f"note: {len(stale)} entries of {EQUIVALENT.relative_to(ROOT)} name no mutant of today's src/:")
         for e in stale:
             print("  " + e)
+    return stale
+
+
+class Runner:
+    """Runs mutants, each in a free scratch copy of the repository (one per job), against the tests the
+    coverage map selects for its line; prints a line per mutant as it ends."""
+
+    def __init__(self, cmap, jobs, sources, n_mutants, equivalent, replay):
+        self.index = line_index(cmap)
+        self.durations = {n: t["duration"] for n, t in cmap["tests"].items()}
+        self.ran = {s: set(ids) for s, ids in by_solver(cmap["tests"]).items()}  # the FMU tests run with each solver
+        self.equivalent, self.replay, self.n_mutants = equivalent, replay, n_mutants
+        self.scratches = [CACHE / ("scratch" if j == 0 else f"scratch-{j}") for j in range(jobs)]
+        for scratch in self.scratches:
+            print(f"scratch copy {scratch.relative_to(ROOT)}: building the original ...", flush=True)
+            sync_scratch(scratch)
+            configure_and_build(scratch, scratch / "build", [], "scratch")
+        self.make_jobs = f"-j{max(1, (os.cpu_count() or 1) // jobs)}"
+        # the object code of the original, per scratch copy and source (a mutant compiled to the same code
+        # is equivalent: "identical")
+        self.original_code = {scratch: {f: {p: p.read_bytes() for p in objects_of(scratch / "build", f)}
+                                        for f in sources} for scratch in self.scratches}
+        self.t0 = time.monotonic()
+        self.free = queue.Queue()
+        for scratch in self.scratches:
+            self.free.put(scratch)
+        self.printing = threading.Lock()
+        self.done = 0
+
+    def tests_of(self, m):
+        """The tests that execute the mutant's line (or its statement's, or its function's)."""
+        index = self.index
+        tests = sorted({t for ln in range(m.line, m.last_line + 1) for t in index.get((m.file, ln), [])})
+        if not tests:  # gcov counts a statement that spans lines on one of them: those before it too
+            tests = sorted({t for ln in range(m.stmt_line, m.line) for t in index.get((m.file, ln), [])})
+        if not tests and DECLARATION.match(m.site):  # no code of its own: the tests of its function
+            tests = sorted({t for ln in range(m.body[0], m.body[1] + 1) for t in index.get((m.file, ln), [])})
+        return tests if self.replay else prune_solvers(tests, self.ran)
+
+    def verdict(self, m, scratch, target, tests):
+        """The mutant, in place in scratch, built and run: its verdict and how it was reached."""
+        rc, _ = run(["cmake", "--build", "build", self.make_jobs], scratch, 900)
+        before = self.original_code[scratch][m.file]
+        how = ""
+        if rc != 0:
+            verdict = "stillborn"
+        elif before and all(before.get(p) == p.read_bytes() and p.stat().st_mtime_ns >= target.stat().st_mtime_ns
+                            for p in objects_of(scratch / "build", m.file)):
+            verdict = "identical"  # every object of the source rebuilt from the mutant, byte for byte the original
+        elif not tests:
+            verdict = "uncovered"
+        else:
+            limit = 3 * sum(self.durations[t] for t in tests) + 60
+            verdict = {"passed": "survived", "failed": "killed", "timeout": "killed"}[
+                run_selected(scratch, tests, self.durations, limit)]
+        ctests = [t[len("ctest:"):] for t in tests if t.startswith("ctest:")]
+        if verdict == "survived" and ctests and (self.replay or ARRAY_OR_LOOP.search(m.site)):
+            verdict, how = self.sanitized_run(scratch, ctests), " (sanitized build)"
+        if verdict in ("survived", "uncovered") and m.ident in self.equivalent:
+            verdict = "equivalent"
+        return verdict, how
+
+    def run_mutant(self, m):
+        scratch = self.free.get()
+        try:
+            t0 = time.monotonic()
+            target = scratch / m.file
+            original = target.read_text()
+            target.write_text(original[:m.start] + m.new + original[m.end:])
+            tests = self.tests_of(m)
+            try:
+                verdict, how = self.verdict(m, scratch, target, tests)
+            finally:
+                target.write_text(original)
+                os.utime(target, None)
+            dt = time.monotonic() - t0
+            with self.printing:
+                self.done += 1
+                print(f"[{self.done}/{self.n_mutants} {time.monotonic() - self.t0:6.0f} s] {verdict:10s} {len(tests):3d} "
+                      f"tests {dt:5.1f} s  {m.where}  {m.ident}{how if verdict == 'killed' else ''}", flush=True)
+            return dict(name=m.ident, where=m.where, verdict=verdict, tests=len(tests), seconds=dt,
+                        sanitized=bool(how) and verdict == "killed")
+        finally:
+            self.free.put(scratch)
+
+    def sanitized_run(self, scratch, ctests):
+        """'killed' or 'survived': the mutant (in place in scratch) built with the sanitizers, as the test
+        command's build-asan, and its selected C tests run there (the build is made once per scratch copy
+        and then rebuilt for each mutant that needs it)."""
+        configure_and_build(scratch, scratch / "build-san", SANITIZE_FLAGS, "sanitized")
+        names = sanitized_names(ctests, scratch / "build-san")
+        limit = 10 * sum(self.durations[f"ctest:{t}"] for t in ctests) + 120
+        rc = run_selected(scratch, [f"ctest:{n}" for n in names], self.durations, limit, build="build-san")
+        return "survived" if rc == "passed" else "killed"
+
+    def run_all(self, mutants, jobs):
+        with concurrent.futures.ThreadPoolExecutor(jobs) as pool:
+            results = list(pool.map(self.run_mutant, mutants))
+        for scratch in self.scratches:  # the scratch copies back at the original
+            run(["cmake", "--build", "build", self.make_jobs], scratch, 900)
+        return results
+
+
+def print_names(title, rows, fmt):
+    if rows:
+        print(title)
+        for r in rows:
+            print(fmt(r))
+
+
+def report(results, seed, n_mutants, equivalent, timing):
+    """The score and the mutants by verdict. Returns the listed equivalents a test killed."""
+    count = {v: [r for r in results if r["verdict"] == v]
+             for v in ("killed", "survived", "uncovered", "equivalent", "identical", "stillborn")}
+    k, s, u = len(count["killed"]), len(count["survived"]), len(count["uncovered"])
+    times = [r["seconds"] for r in results if r["verdict"] not in ("stillborn", "identical")]
+    print()
+    print(f"seed {seed}: {n_mutants} mutants; killed {k}, survived {s}, uncovered {u}, "
+          f"equivalent {len(count['equivalent'])}, identical object code {len(count['identical'])}, "
+          f"stillborn (do not compile) {len(count['stillborn'])}")
+    if k + s + u:
+        print(f"mutation score: {k} of {k + s + u} non-equivalent mutants killed, {100.0 * k / (k + s + u):.1f} %")
+    if times:
+        print(f"time per mutant: mean {statistics.mean(times):.1f} s, median {statistics.median(times):.1f} s; {timing}")
+
+    def where(r):
+        return f"  {r['where']}  {r['name']}"
+    for v in ("survived", "uncovered"):
+        print_names(f"\n{v}:", count[v], where)
+    print_names("\nidentical object code (equivalent: the compiler made the same code of it):", count["identical"], where)
+    print_names(f"\nequivalent ({EQUIVALENT.relative_to(ROOT)}):", count["equivalent"],
+                lambda r: f"  {r['name']}  # {equivalent[r['name']]}")
+    print_names("\nkilled in the sanitized build only:", [r for r in count["killed"] if r["sanitized"]], where)
+    listed_killed = [r for r in count["killed"] if r["name"] in equivalent]
+    print_names(f"\nlisted in {EQUIVALENT.relative_to(ROOT)}, but killed by a test (not equivalent: write down why, "
+                "then take the entry out):", listed_killed,
+                lambda r: where(r) + ("  [sanitized build]" if r["sanitized"] else ""))
+    return listed_killed
+
+
+def main():
+    if len(sys.argv) > 1 and sys.argv[1] == "_pytest":
+        return pytest_worker(sys.argv[2], sys.argv[3], sys.argv[4:])
+    args = parse_args()
+    seed = args.seed if args.seed is not None else int.from_bytes(os.urandom(4), "little")
+    equivalent = read_equivalent()
+    mutants = select(args, equivalent, seed)
+    if args.list:
+        for m in mutants:
+            print(f"{m.where}  {m.ident}" + ("   [equivalent]" if m.ident in equivalent else ""))
+        print(f"{len(mutants)} mutants")
+        return 0
+    stale = stale_entries(equivalent)
     command = f"python3 tools/mutate.py --seed {seed}" + (" --equivalents" if args.equivalents else "") + \
         (f" --sample {args.sample}" if args.sample else "") + \
         ("" if args.files == ["src/*"] else " --files " + " ".join(args.files))
@@ -777,129 +946,12 @@ def main():
     failing = sorted(n for n, t in cmap["tests"].items() if not t["passed"])
     if failing:
         print(f"{len(failing)} tests fail on the unmutated code and are never selected: " + ", ".join(failing))
-    index = line_index(cmap)
-    durations = {n: t["duration"] for n, t in cmap["tests"].items()}
-    ran = {s: set(ids) for s, ids in by_solver(cmap["tests"]).items()}  # the FMU tests run with each solver
-
     jobs = max(1, args.jobs)
-    scratches = [CACHE / ("scratch" if j == 0 else f"scratch-{j}") for j in range(jobs)]
-    for scratch in scratches:
-        print(f"scratch copy {scratch.relative_to(ROOT)}: building the original ...", flush=True)
-        sync_scratch(scratch)
-        configure_and_build(scratch, scratch / "build", [], "scratch")
-    make_jobs = f"-j{max(1, (os.cpu_count() or 1) // jobs)}"
-    # the object code of the original, per scratch copy and source (a mutant compiled to the same code
-    # is equivalent: "identical")
-    sources = sorted({m.file for m in mutants})
-    original_code = {scratch: {f: {p: p.read_bytes() for p in objects_of(scratch / "build", f)} for f in sources}
-                     for scratch in scratches}
-    t_mutants = time.monotonic()
-    free = queue.Queue()
-    for scratch in scratches:
-        free.put(scratch)
-    printing = threading.Lock()
-    done = [0]
-
-    def run_mutant(m):
-        scratch = free.get()
-        try:
-            t0 = time.monotonic()
-            target = scratch / m.file
-            original = target.read_text()
-            target.write_text(original[:m.start] + m.new + original[m.end:])
-            tests = sorted({t for ln in range(m.line, m.last_line + 1) for t in index.get((m.file, ln), [])})
-            if not tests:  # gcov counts a statement that spans lines on one of them: those before it too
-                tests = sorted({t for ln in range(m.stmt_line, m.line) for t in index.get((m.file, ln), [])})
-            if not tests and DECLARATION.match(m.site):  # no code of its own: the tests of its function
-                tests = sorted({t for ln in range(m.body[0], m.body[1] + 1) for t in index.get((m.file, ln), [])})
-            if not args.equivalents:
-                tests = prune_solvers(tests, ran)
-            how = ""
-            try:
-                rc, _ = run(["cmake", "--build", "build", make_jobs], scratch, 900)
-                before = original_code[scratch][m.file]
-                if rc != 0:
-                    verdict = "stillborn"
-                elif before and all(before.get(p) == p.read_bytes() and p.stat().st_mtime_ns >= target.stat().st_mtime_ns
-                                    for p in objects_of(scratch / "build", m.file)):
-                    verdict = "identical"  # every object of the source rebuilt from the mutant, byte for byte the original
-                elif not tests:
-                    verdict = "uncovered"
-                else:
-                    limit = 3 * sum(durations[t] for t in tests) + 60
-                    verdict = {"passed": "survived", "failed": "killed", "timeout": "killed"}[
-                        run_selected(scratch, tests, durations, limit)]
-                ctests = [t[len("ctest:"):] for t in tests if t.startswith("ctest:")]
-                if verdict == "survived" and ctests and (args.equivalents or ARRAY_OR_LOOP.search(m.site)):
-                    verdict, how = sanitized_run(scratch, ctests, durations), " (sanitized build)"
-                if verdict in ("survived", "uncovered") and m.ident in equivalent:
-                    verdict = "equivalent"
-            finally:
-                target.write_text(original)
-                os.utime(target, None)
-            dt = time.monotonic() - t0
-            with printing:
-                done[0] += 1
-                print(f"[{done[0]}/{len(mutants)} {time.monotonic() - t_mutants:6.0f} s] {verdict:10s} {len(tests):3d} "
-                      f"tests {dt:5.1f} s  {m.where}  {m.ident}{how if verdict == 'killed' else ''}", flush=True)
-            return dict(name=m.ident, where=m.where, verdict=verdict, tests=len(tests), seconds=dt,
-                        sanitized=bool(how) and verdict == "killed")
-        finally:
-            free.put(scratch)
-
-    def sanitized_run(scratch, ctests, durations):
-        """'killed' or 'survived': the mutant (in place in scratch) built with the sanitizers, as the test
-        command's build-asan, and its selected C tests run there (the build is made once per scratch copy
-        and then rebuilt for each mutant that needs it)."""
-        configure_and_build(scratch, scratch / "build-san", SANITIZE_FLAGS, "sanitized")
-        names = sanitized_names(ctests, scratch / "build-san")
-        limit = 10 * sum(durations[f"ctest:{t}"] for t in ctests) + 120
-        rc = run_selected(scratch, [f"ctest:{n}" for n in names], durations, limit, build="build-san")
-        return "survived" if rc == "passed" else "killed"
-
-    with concurrent.futures.ThreadPoolExecutor(jobs) as pool:
-        results = list(pool.map(run_mutant, mutants))
-    for scratch in scratches:
-        run(["cmake", "--build", "build", make_jobs], scratch, 900)
-
-    count = {v: [r for r in results if r["verdict"] == v]
-             for v in ("killed", "survived", "uncovered", "equivalent", "identical", "stillborn")}
-    k, s, u = len(count["killed"]), len(count["survived"]), len(count["uncovered"])
-    times = [r["seconds"] for r in results if r["verdict"] not in ("stillborn", "identical")]
-    print()
-    print(f"seed {seed}: {len(mutants)} mutants; killed {k}, survived {s}, uncovered {u}, "
-          f"equivalent {len(count['equivalent'])}, identical object code {len(count['identical'])}, "
-          f"stillborn (do not compile) {len(count['stillborn'])}")
-    if k + s + u:
-        print(f"mutation score: {k} of {k + s + u} non-equivalent mutants killed, {100.0 * k / (k + s + u):.1f} %")
-    if times:
-        print(f"time per mutant: mean {statistics.mean(times):.1f} s, median {statistics.median(times):.1f} s; "
-              f"mutants {time.monotonic() - t_mutants:.0f} s ({jobs} at once), whole run {time.monotonic() - t_start:.0f} s "
+    runner = Runner(cmap, jobs, sorted({m.file for m in mutants}), len(mutants), equivalent, args.equivalents)
+    results = runner.run_all(mutants, jobs)
+    timing = (f"mutants {time.monotonic() - runner.t0:.0f} s ({jobs} at once), whole run {time.monotonic() - t_start:.0f} s "
               f"(coverage map {'cached' if cmap.get('cached') else 'built in %.0f s' % cmap['seconds']})")
-    for v in ("survived", "uncovered"):
-        if count[v]:
-            print(f"\n{v}:")
-            for r in count[v]:
-                print(f"  {r['where']}  {r['name']}")
-    if count["identical"]:
-        print("\nidentical object code (equivalent: the compiler made the same code of it):")
-        for r in count["identical"]:
-            print(f"  {r['where']}  {r['name']}")
-    if count["equivalent"]:
-        print(f"\nequivalent ({EQUIVALENT.relative_to(ROOT)}):")
-        for r in count["equivalent"]:
-            print(f"  {r['name']}  # {equivalent[r['name']]}")
-    if count["killed"] and any(r["sanitized"] for r in count["killed"]):
-        print("\nkilled in the sanitized build only:")
-        for r in count["killed"]:
-            if r["sanitized"]:
-                print(f"  {r['where']}  {r['name']}")
-    listed_killed = [r for r in count["killed"] if r["name"] in equivalent]
-    if listed_killed:
-        print(f"\nlisted in {EQUIVALENT.relative_to(ROOT)}, but killed by a test (not equivalent: write down why, "
-              "then take the entry out):")
-        for r in listed_killed:
-            print(f"  {r['where']}  {r['name']}" + ("  [sanitized build]" if r["sanitized"] else ""))
+    listed_killed = report(results, seed, len(mutants), equivalent, timing)
     if args.json:
         pathlib.Path(args.json).write_text(json.dumps(dict(seed=seed, command=command, results=results), indent=1))
     return 1 if args.equivalents and (listed_killed or stale) else 0
