@@ -124,3 +124,29 @@ def test_contact_stiffness_is_the_slope_of_the_law(logged, vr, name, solver):
         assert kc == pytest.approx(expected, rel=1e-9, abs=1e-300), (k, mode)
     assert seen >= EXPECTED_MODES[name], seen
     s.freeInstance()
+
+
+@each_solver
+def test_reading_the_derivatives_in_co_simulation_changes_nothing(logged, vr, solver):
+    """der_y and der_v are outputs of a Co-Simulation instance too. Reading them after every step, with
+    both inputs given as ramps (their derivatives set), leaves the run bit for bit what it is without
+    the reads; der_y is v, der_v the mass's acceleration (F - P + F_ext)/m - g, both at the step's end."""
+    params = {**SCENARIOS["fig5a"].full, "solver": solver}
+    reading, plain = instance(logged, vr, params), instance(logged, vr, params)
+    names = ("y", "v", "F", "delta", "F_mean")
+    m, P, g = (params[n] for n in ("m", "P", "g"))
+    rows = {id(reading): [], id(plain): []}
+    for k in range(200):
+        for s in (reading, plain):
+            s.setReal([vr["yC_in"], vr["F_ext"]], [1e-3 * k * 1e-5, 50.0 * k * 1e-5])
+            s.setRealInputDerivatives([vr["yC_in"], vr["F_ext"]], [1, 1], [1e-3, 50.0])
+            s.doStep(k * 1e-5, 1e-5)
+            rows[id(s)].append(get(s, vr, *names))
+        der_y, der_v = get(reading, vr, "der_y", "der_v")
+        v, F = rows[id(reading)][-1][1:3]
+        assert der_y == v
+        F_ext = 50.0 * (k + 1) * 1e-5
+        assert der_v == pytest.approx((F - P + F_ext) / m - g, rel=1e-12, abs=1e-9)
+    assert rows[id(reading)] == rows[id(plain)]
+    for s in (reading, plain):
+        s.freeInstance()

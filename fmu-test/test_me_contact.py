@@ -274,3 +274,43 @@ def test_contact_left_under_a_falling_input_is_one_event(fmu_path, unzipdir, mod
     t_sep, v_sep = float(fields["t"]), float(fields["v"])
     assert 1e-3 < t_sep < 2e-3
     assert -1000.0 * (t_sep - 1e-3) < v_sep < 0.0
+
+
+def test_no_input_rate_before_the_start(me):
+    """The inputs have no rate before the experiment starts: an instance started at t = 1 s with the
+    platform input at -0.01 m, whose importer then puts the mass onto the platform's surface (delta =
+    0, at rest) at that same instant and asks for an event, keeps the contact (the load presses the
+    mass in). A rate counted from yC_in = 0 at t = 0 would have the platform falling at 0.01 m/s,
+    away from the mass, and end the contact."""
+    inst, m = me()
+    m.start(params=dict(contact_model=1, yC_in=-0.01), start_time=1.0)
+    assert m.integer("mode") == 1
+    yc = -0.01 - m.real("delta")
+    m.set("yC_in", yc)
+    m.set_states([yc, 0.0])
+    assert m.real("delta") == 0.0 and m.indicators()[0] == 0.0
+    m.fmu.enterEventMode()
+    m.settle()
+    assert m.integer("mode") == 1
+    assert not [msg for _, _, msg in inst.messages if "mode=1->0" in msg]
+def test_first_step_rate_counts_from_the_inputs_at_the_start(me):
+    """The mean input rate a state event chooses the mode with runs from the inputs at the start: the
+    platform set 1 cm high at the start (yC_in = 0.01 m) falls 5 um in the importer's first step of
+    0.1 ms, a mean rate of -0.05 m/s, while the mass moves at -0.01 m/s: it stays behind, and the
+    contact found at delta = 0 ends there (one event, mode 1 -> 0). Counted from yC_in = 0 at t = 0
+    instead, the platform would seem to rise at 100 m/s and keep the contact."""
+    inst, m = me()
+    m.start(params=dict(contact_model=1, yC_in=0.01))
+    assert m.integer("mode") == 1
+    t1, yc1 = 1e-4, 0.01 - 5e-6
+    m.fmu.setTime(t1)
+    m.set_states([yc1, -0.01])  # on the platform's new position: delta = 0
+    m.set("yC_in", yc1)
+    assert m.real("delta") == 0.0
+    enter, terminate = m.fmu.completedIntegratorStep()
+    assert not terminate
+    m.fmu.enterEventMode()
+    m.settle()
+    events = [msg for _, _, msg in inst.messages if msg.startswith("event ") and "kind=guard" in msg]
+    assert len(events) == 1 and "mode=1->0" in events[0], events
+    assert m.integer("mode") == 0
