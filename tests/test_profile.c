@@ -3,6 +3,7 @@
  * evaluation of the definition written here: the maximum over the vertices and, segment by
  * segment, a golden-section search of the concave h(s) + sqrt(R^2 - (x - s)^2) (no envelope). */
 #include <criterion/criterion.h>
+#include <errno.h>
 #include <float.h>
 #include <malloc.h> /* mallinfo2 */
 #include <math.h>
@@ -10,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "vi_profile.h"
@@ -1216,4 +1218,38 @@ Test(profile, create_and_free_hold_no_memory)
     struct mallinfo2 after = mallinfo2();
     cr_assert(after.uordblks <= before.uordblks + 65536, "heap in use grew by %zu bytes",
               after.uordblks - before.uordblks);
+}
+
+/* A file is named by its whole path in the messages of the table's checks, up to the longest path
+ * a file can be opened by: here 4070 characters (directories of 200), with a buffer that holds them. */
+Test(profile, a_long_path_is_named_whole)
+{
+    enum { PATH_LEN = 4070 };
+    static char path[PATH_LEN + 1], msg[2 * PATH_LEN];
+    int k = snprintf(path, sizeof path, "/tmp/vi_profile_long_%d", (int)getpid());
+    cr_assert(mkdir(path, 0700) == 0);
+    int depth = 0;
+    while (k + 1 + 200 + 12 < PATH_LEN) { /* room for a directory and the file's name */
+        path[k++] = '/';
+        memset(path + k, 'd', 200);
+        k += 200;
+        path[k] = '\0';
+        cr_assert(mkdir(path, 0700) == 0, "%s", strerror(errno));
+        depth++;
+    }
+    k += snprintf(path + k, sizeof path - (size_t)k, "/%0*d.txt", PATH_LEN - k - 5, 0);
+    cr_assert(k == PATH_LEN, "%d", k);
+    FILE *f = fopen(path, "w");
+    cr_assert(f != NULL, "%s", strerror(errno));
+    fputs("0 0\n1 0.1\n2 0.2\n", f);
+    fclose(f);
+    vi_profile *p = vi_profile_load(path, R, 1, msg, sizeof msg); /* periodic: the last height must repeat */
+    const char *at = strstr(msg, path);
+    int named = at != NULL && strncmp(at + PATH_LEN, "': profile_periodic needs", 25) == 0;
+    remove(path);
+    for (; depth >= 0; depth--) { /* the directories, innermost first */
+        *strrchr(path, '/') = '\0';
+        rmdir(path);
+    }
+    cr_assert(p == NULL && named, "%.80s...", msg);
 }
