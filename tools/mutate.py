@@ -58,6 +58,7 @@ import concurrent.futures
 import ctypes
 import dataclasses
 import fnmatch
+import functools
 import hashlib
 import itertools
 import json
@@ -230,6 +231,19 @@ def foreign_regions(text):
 
 # A declaration without an initializer (an array's size, say): gcov counts no line of it.
 DECLARATION = re.compile(r"^(?:static |const )*[A-Za-z_]\w*(?: \*?[A-Za-z_]\w*(?:\[[^]=]*\])*,?)+;$")
+# A variable of static storage in a function: its initializer is data, on which gcov counts no code.
+STATIC_DATA = re.compile(r"^\s*static\b[^(]*=")
+
+
+@functools.lru_cache(maxsize=None)
+def source_lines(rel):
+    return (ROOT / rel).read_text().splitlines()
+
+
+def source_line(rel, line):
+    """Line `line` (from 1) of the source file rel, as the repository holds it."""
+    lines = source_lines(rel)
+    return lines[line - 1] if 0 < line <= len(lines) else ""
 
 
 def statement_start(masked, start):
@@ -703,9 +717,10 @@ def sync_scratch(scratch):
 
 
 def run_selected(scratch, tests, durations, limit, build="build"):
-    """'passed', 'failed' or 'timeout' for the selected tests (fastest first, stopping at the first
-    failure) within `limit` seconds: the ctest tests in the scratch copy's build folder `build`, the
-    FMU tests with the solver they were selected for (VI_SOLVER, as tools/test.sh runs them)."""
+    """('passed', ''), ('failed', what failed) or ('timeout', where) for the selected tests (fastest
+    first, stopping at the first failure) within `limit` seconds: the ctest tests in the scratch copy's
+    build folder `build`, the FMU tests with the solver they were selected for (VI_SOLVER, as
+    tools/test.sh runs them)."""
     deadline = time.monotonic() + limit
     ctests = [t[len("ctest:"):] for t in tests if t.startswith("ctest:")]
     env = dict(os.environ)
@@ -721,14 +736,17 @@ def run_selected(scratch, tests, durations, limit, build="build"):
                      dict(env, VI_SOLVER=solver) if solver else env))
     for cmd, cmd_env in cmds:
         left = deadline - time.monotonic()
+        where = "ctest" if cmd[0] == "ctest" else f"pytest (VI_SOLVER={cmd_env.get('VI_SOLVER', 'default')})"
         if left <= 0:
-            return "timeout"
-        rc, _ = run(cmd, scratch, left, cmd_env)
+            return "timeout", f"{limit:.0f} s were over before {where}"
+        rc, out = run(cmd, scratch, left, cmd_env)
         if rc == "timeout":
-            return "timeout"
+            return "timeout", f"{where} past the limit of {limit:.0f} s"
         if rc != 0:
-            return "failed"
-    return "passed"
+            failed = [ln.strip() for ln in out.splitlines() if ln.startswith("FAILED ") or "***" in ln
+                      or re.match(r"\s*\d+ - \S+ \(", ln)]
+            return "failed", f"{where}: " + ("; ".join(failed[:3]) or out.strip().splitlines()[-1:][0][:300])
+    return "passed", ""
 
 
 # The test command's sanitized build (tools/test.sh: build-asan, its ctest tests): an out-of-bounds
@@ -817,7 +835,8 @@ class Runner:
         tests = sorted({t for ln in range(m.line, m.last_line + 1) for t in index.get((m.file, ln), [])})
         if not tests:  # gcov counts a statement that spans lines on one of them: those before it too
             tests = sorted({t for ln in range(m.stmt_line, m.line) for t in index.get((m.file, ln), [])})
-        if not tests and DECLARATION.match(m.site):  # no code of its own: the tests of its function
+        if not tests and (DECLARATION.match(m.site) or STATIC_DATA.match(source_line(m.file, m.stmt_line))):
+            # no code of its own (a declaration, or a static table's initializer): the tests of its function
             tests = sorted({t for ln in range(m.body[0], m.body[1] + 1) for t in index.get((m.file, ln), [])})
         return tests if self.replay else prune_solvers(tests, self.ran)
 
@@ -825,7 +844,7 @@ class Runner:
         """The mutant, in place in scratch, built and run: its verdict and how it was reached."""
         rc, _ = run(["cmake", "--build", "build", self.make_jobs], scratch, 900)
         before = self.original_code[scratch][m.file]
-        how = ""
+        how = why = ""
         if rc != 0:
             verdict = "stillborn"
         elif before and all(before.get(p) == p.read_bytes() and p.stat().st_mtime_ns >= target.stat().st_mtime_ns
@@ -835,14 +854,14 @@ class Runner:
             verdict = "uncovered"
         else:
             limit = 3 * sum(self.durations[t] for t in tests) + 60
-            verdict = {"passed": "survived", "failed": "killed", "timeout": "killed"}[
-                run_selected(scratch, tests, self.durations, limit)]
+            outcome, why = run_selected(scratch, tests, self.durations, limit)
+            verdict = {"passed": "survived", "failed": "killed", "timeout": "killed"}[outcome]
         ctests = [t[len("ctest:"):] for t in tests if t.startswith("ctest:")]
         if verdict == "survived" and ctests and (self.replay or ARRAY_OR_LOOP.search(m.site)):
-            verdict, how = self.sanitized_run(scratch, ctests), " (sanitized build)"
+            (verdict, why), how = self.sanitized_run(scratch, ctests), " (sanitized build)"
         if verdict in ("survived", "uncovered") and m.ident in self.equivalent:
             verdict = "equivalent"
-        return verdict, how
+        return verdict, how, why
 
     def run_mutant(self, m):
         scratch = self.free.get()
@@ -853,7 +872,7 @@ class Runner:
             target.write_text(original[:m.start] + m.new + original[m.end:])
             tests = self.tests_of(m)
             try:
-                verdict, how = self.verdict(m, scratch, target, tests)
+                verdict, how, why = self.verdict(m, scratch, target, tests)
             finally:
                 target.write_text(original)
                 os.utime(target, None)
@@ -863,19 +882,19 @@ class Runner:
                 print(f"[{self.done}/{self.n_mutants} {time.monotonic() - self.t0:6.0f} s] {verdict:10s} {len(tests):3d} "
                       f"tests {dt:5.1f} s  {m.where}  {m.ident}{how if verdict == 'killed' else ''}", flush=True)
             return dict(name=m.ident, where=m.where, verdict=verdict, tests=len(tests), seconds=dt,
-                        sanitized=bool(how) and verdict == "killed")
+                        sanitized=bool(how) and verdict == "killed", killed_by=why if verdict == "killed" else "")
         finally:
             self.free.put(scratch)
 
     def sanitized_run(self, scratch, ctests):
-        """'killed' or 'survived': the mutant (in place in scratch) built with the sanitizers, as the test
-        command's build-asan, and its selected C tests run there (the build is made once per scratch copy
-        and then rebuilt for each mutant that needs it)."""
+        """('killed' or 'survived', what failed): the mutant (in place in scratch) built with the
+        sanitizers, as the test command's build-asan, and its selected C tests run there (the build is
+        made once per scratch copy and then rebuilt for each mutant that needs it)."""
         configure_and_build(scratch, scratch / "build-san", SANITIZE_FLAGS, "sanitized")
         names = sanitized_names(ctests, scratch / "build-san")
         limit = 10 * sum(self.durations[f"ctest:{t}"] for t in ctests) + 120
-        rc = run_selected(scratch, [f"ctest:{n}" for n in names], self.durations, limit, build="build-san")
-        return "survived" if rc == "passed" else "killed"
+        outcome, why = run_selected(scratch, [f"ctest:{n}" for n in names], self.durations, limit, build="build-san")
+        return ("survived" if outcome == "passed" else "killed"), why
 
     def run_all(self, mutants, jobs):
         with concurrent.futures.ThreadPoolExecutor(jobs) as pool:
@@ -918,7 +937,7 @@ def report(results, seed, n_mutants, equivalent, timing):
     listed_killed = [r for r in count["killed"] if r["name"] in equivalent]
     print_names(f"\nlisted in {EQUIVALENT.relative_to(ROOT)}, but killed by a test (not equivalent: write down why, "
                 "then take the entry out):", listed_killed,
-                lambda r: where(r) + ("  [sanitized build]" if r["sanitized"] else ""))
+                lambda r: where(r) + ("  [sanitized build]" if r["sanitized"] else "") + f"\n      by {r['killed_by']}")
     return listed_killed
 
 
