@@ -441,3 +441,35 @@ def test_up_and_down_sweeps_jump_on_either_side_of_the_resonance(tmp_path):
     assert below.any() and above.any()
     assert np.all(cu[below] == 1) and np.all(cd[below] < 1)
     assert np.all(cd[above] == 1) and np.all(cu[above] < 1)
+
+
+class _InterruptAfterFlush:
+    """A file whose flush() writes, then raises KeyboardInterrupt: Ctrl-C the instant a row is on disk."""
+
+    def __init__(self, fh):
+        self.fh = fh
+
+    def __getattr__(self, name):
+        return getattr(self.fh, name)
+
+    def flush(self):
+        self.fh.flush()
+        raise KeyboardInterrupt
+
+
+def test_a_row_on_disk_when_ctrl_c_comes_is_kept(tmp_path):
+    """Ctrl-C may come the instant a point's row reached sweep.csv: the files the interrupted sweep
+    leaves still hold that row (finish() rewrites them from what the sweep holds)."""
+    from vibroimpact.sweep import engine
+    sw = spec.Sweep(fixed={}, grids=[("f", [100.0, 200.0])], stop_time=0.01, step=1e-5)
+    out = engine.Output(str(tmp_path), sw)
+    result = dict(status="ok", message="", poincare=[], **{k: 1.0 for k in engine.STATS})
+    out.add([0], [result])
+    out._files[0] = _InterruptAfterFlush(out._files[0])
+    with pytest.raises(KeyboardInterrupt):
+        out.add([1], [result])
+    out._files[0] = out._files[0].fh
+    out.finish()
+    with open(tmp_path / "sweep.csv", newline="") as fh:
+        kept = [row["f"] for row in csv.DictReader(fh)]
+    assert kept == ["100.0", "200.0"]

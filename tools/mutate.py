@@ -10,16 +10,17 @@ negated or forced condition, a changed return status; code compiled for Windows 
 _WIN32, is left out: the host build does not compile it, tools/cross_test.sh runs it under wine). It
 is built in a scratch copy of the repository (build/mutate/scratch; a build that fails is
 "stillborn" and not scored) and run against the tests that execute the mutated line, and only those:
-a mutant is "killed" when one of them fails or the run exceeds its time limit (three times the
-tests' measured time plus 60 s), it "survives" when all of them pass, and it is "uncovered" (a
-survivor) when no test executes its line (a continuation line takes the tests of its statement's
-first line, and a declaration, on which gcov counts no code, those of its function). The tests run
-as tools/test.sh runs them: the FMU tests with the default solver and, when the solver choice reaches
-the mutated line (the FMU tests that execute it differ between solvers), also with each VI_SOLVER
-value of tools/test.sh's loop, each with the tests that execute the line under that solver; a
-survivor in array or loop code (its line has '[', 'for (' or 'while (') is built again with the
-sanitizers (-DVI_SANITIZE=ON, as tools/test.sh's build-asan; build-san in the scratch copy) and its
-C tests run there, where an access out of bounds fails them. The score is
+a mutant is "killed" when one of them fails, and again when rerun, or the run exceeds its time limit
+(three times the tests' measured time plus 60 s), it "survives" when all of them pass, and it is
+"uncovered" (a survivor) when no test executes its line (a continuation line takes the tests of its
+statement's first line, and a declaration or a static table's initializer, on which gcov counts no
+code, those of its function). The tests run as tools/test.sh runs them: the FMU tests with the
+default solver and, when the solver choice reaches the mutated line (the FMU tests that execute it
+differ between solvers), also with each VI_SOLVER value of tools/test.sh's loop, each with the tests
+that execute the line under that solver; a survivor in array or loop code (its line has '[', 'for ('
+or 'while (') is built again with the sanitizers (-DVI_SANITIZE=ON, as tools/test.sh's build-asan;
+build-san in the scratch copy) and its C tests run there, where an access out of bounds fails them.
+The score is
 killed / (killed + survived + uncovered);
 mutants listed in tools/mutants-equivalent.txt are left out (no test can tell them apart from the
 original; each entry gives the reason), and so are those the compiler turns into the same object
@@ -716,11 +717,29 @@ def sync_scratch(scratch):
             # the original's, older than the objects a mutant run had just rebuilt, and make skipped it)
 
 
+def failed_tests(cmd, out):
+    """The tests a failed ctest or pytest command names as failed (pytest's node ids, ctest's names)."""
+    if cmd[0] == "ctest":
+        return re.findall(r"^\s*\d+ - (\S+) \(", out, re.M)
+    return [m.group(1) for m in re.finditer(r"^FAILED (.+?)(?: - .*)?$", out, re.M)]
+
+
+def rerun_of(cmd, names):
+    """cmd narrowed to the tests `names`."""
+    if cmd[0] == "ctest":
+        i = cmd.index("-R")
+        return cmd[:i + 1] + ["^(" + "|".join(re.escape(n) for n in names) + ")$"] + cmd[i + 2:]
+    first_id = next(i for i, a in enumerate(cmd) if "::" in a or a.startswith("fmu-test/"))
+    return cmd[:first_id] + names
+
+
 def run_selected(scratch, tests, durations, limit, build="build"):
     """('passed', ''), ('failed', what failed) or ('timeout', where) for the selected tests (fastest
     first, stopping at the first failure) within `limit` seconds: the ctest tests in the scratch copy's
     build folder `build`, the FMU tests with the solver they were selected for (VI_SOLVER, as
-    tools/test.sh runs them)."""
+    tools/test.sh runs them). A failure counts when it repeats: the failed tests are run again alone,
+    and if they pass, the whole command once more (a test that fails only now and then, or only under
+    the load of the other scratch copies, kills no mutant)."""
     deadline = time.monotonic() + limit
     ctests = [t[len("ctest:"):] for t in tests if t.startswith("ctest:")]
     env = dict(os.environ)
@@ -735,18 +754,33 @@ def run_selected(scratch, tests, durations, limit, build="build"):
         cmds.append(([python_exe(), "-m", "pytest", "-x", "-q", "-p", "no:cacheprovider"] + ids,
                      dict(env, VI_SOLVER=solver) if solver else env))
     for cmd, cmd_env in cmds:
-        left = deadline - time.monotonic()
         where = "ctest" if cmd[0] == "ctest" else f"pytest (VI_SOLVER={cmd_env.get('VI_SOLVER', 'default')})"
-        if left <= 0:
-            return "timeout", f"{limit:.0f} s were over before {where}"
-        rc, out = run(cmd, scratch, left, cmd_env)
-        if rc == "timeout":
-            return "timeout", f"{where} past the limit of {limit:.0f} s"
-        if rc != 0:
-            failed = [ln.strip() for ln in out.splitlines() if ln.startswith("FAILED ") or "***" in ln
-                      or re.match(r"\s*\d+ - \S+ \(", ln)]
-            return "failed", f"{where}: " + ("; ".join(failed[:3]) or out.strip().splitlines()[-1:][0][:300])
+        outcome, why = run_confirmed(cmd, cmd_env, scratch, deadline, limit)
+        if outcome != "passed":
+            return outcome, f"{where}: {why}"
     return "passed", ""
+
+
+def run_confirmed(cmd, env, scratch, deadline, limit):
+    """One command of run_selected, a failure confirmed as it says: (outcome, what failed)."""
+    for attempt in ("first", "whole again"):  # bounded: a failure not repeated gets one more whole run
+        left = deadline - time.monotonic()
+        if left <= 0:
+            return "timeout", f"the limit of {limit:.0f} s was over before it ran"
+        rc, out = run(cmd, scratch, left, env)
+        if rc == "timeout":
+            return "timeout", f"past the limit of {limit:.0f} s"
+        if rc == 0:
+            return "passed", ""
+        names = failed_tests(cmd, out)
+        why = "; ".join(names[:3]) or (out.strip().splitlines() or ["(no output)"])[-1][:300]
+        if not names or attempt != "first":
+            return "failed", why
+        left = deadline - time.monotonic()
+        rc2, _ = run(rerun_of(cmd, names), scratch, max(left, 1.0), env) if left > 0 else ("timeout", "")
+        if rc2 != 0:
+            return ("timeout" if rc2 == "timeout" else "failed"), why
+    return "failed", why
 
 
 # The test command's sanitized build (tools/test.sh: build-asan, its ctest tests): an out-of-bounds

@@ -198,8 +198,9 @@ def write(out_dir, sweep, rows, argv=None):
 class Output:
     """DIR/sweep.csv and DIR/poincare.csv as the points finish, and DIR/sweep.json.
 
-    add() appends each point's rows and flushes (its Poincare rows first, so a row in sweep.csv means
-    its samples are there too); finish() rewrites both files in grid order. resume=True keeps the rows
+    add() takes each point's rows, then appends and flushes them (its Poincare rows first, so a row in
+    sweep.csv means its samples are there too); finish() rewrites both files in grid order from the
+    rows taken, so that a row once on disk stays whenever an interruption comes. resume=True keeps the rows
     of an earlier run of the same sweep (same settings and FMU, else a SpecError) in DIR; `done` holds
     their point indices."""
 
@@ -259,11 +260,11 @@ class Output:
             stats = [r[k] if not (k == "n_impacts" and r["status"] == "ok") else int(r[k]) for k in STATS]
             row = keys + [_fmt(x) for x in stats] + [r["status"], r["message"]]
             samples = [keys + [k, _fmt(t), _fmt(d), _fmt(v)] for k, (t, d, v) in enumerate(r["poincare"])]
+            self.rows[i] = (row, samples)  # first: a row on disk is one finish() rewrites, whenever Ctrl-C comes
             pc.writerows(samples)
             self._files[1].flush()
             sw.writerow(row)
             self._files[0].flush()
-            self.rows[i] = (row, samples)
 
     def failures(self):
         """[(values, message)] of the finished points that failed, in grid order."""
