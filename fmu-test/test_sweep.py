@@ -274,7 +274,10 @@ def test_ctrl_c_keeps_the_finished_points_and_resume_runs_the_rest(tmp_path):
     then runs the rest: the files are those of an uninterrupted run, byte for byte."""
     out = tmp_path / "cut"
     cmd = [*SWEEP, "--fmu", str(FMU), "--out", str(out), "--no-progress", "--no-plots", "--workers", "1", *INTERRUPTED]
-    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    # a terminal's process has SIGINT's default action, whatever this one inherited (a test command
+    # started in the background of a script runs with SIGINT ignored, and so would the sweep)
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
+                         preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         end = time.monotonic() + RUN_TIMEOUT_S
         while data_rows(out / "sweep.csv") < 3 and p.poll() is None and time.monotonic() < end:  # bounded
