@@ -293,6 +293,8 @@ def test_no_input_rate_before_the_start(me):
     m.settle()
     assert m.integer("mode") == 1
     assert not [msg for _, _, msg in inst.messages if "mode=1->0" in msg]
+
+
 def test_first_step_rate_counts_from_the_inputs_at_the_start(me):
     """The mean input rate a state event chooses the mode with runs from the inputs at the start: the
     platform set 1 cm high at the start (yC_in = 0.01 m) falls 5 um in the importer's first step of
