@@ -635,9 +635,12 @@ def coverage_map(rebuild=False):
     for solver, select in [("", [])] + [(s, ["-k", test_solvers()[1]]) for s in test_solvers()[0]]:
         clear_counters(build)
         out = CACHE / f"pytest-coverage{solver}.jsonl"
+        out.unlink(missing_ok=True)  # a run that writes nothing must not leave an older run's tests behind
         t = time.monotonic()
         rc, text = run([python_exe(), str(pathlib.Path(__file__).resolve()), "_pytest", str(build), str(out), "fmu-test"]
                        + select, ROOT, 7200, dict(os.environ, VI_SOLVER=solver))
+        if rc not in (0, 1) or not out.exists():  # pytest: 0 all passed, 1 some failed, others: no test run
+            sys.exit(f"the FMU tests did not run in the coverage build (exit status {rc}): {text[-2000:]}")
         prefix = f"pytest@{solver}:" if solver else "pytest:"
         for line in out.read_text().splitlines():
             e = json.loads(line)
