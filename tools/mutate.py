@@ -765,25 +765,28 @@ def run_selected(scratch, tests, durations, limit, build="build"):
 
 
 def run_confirmed(cmd, env, scratch, deadline, limit):
-    """One command of run_selected, a failure confirmed as it says: (outcome, what failed)."""
-    for attempt in ("first", "whole again"):  # bounded: a failure not repeated gets one more whole run
+    """One command of run_selected, a failure confirmed as it says: (outcome, what failed). The tests
+    that failed run again alone; when they pass alone, one more whole run decides."""
+    def within(c):
         left = deadline - time.monotonic()
         if left <= 0:
             return "timeout", f"the limit of {limit:.0f} s was over before it ran"
-        rc, out = run(cmd, scratch, left, env)
-        if rc == "timeout":
-            return "timeout", f"past the limit of {limit:.0f} s"
-        if rc == 0:
-            return "passed", ""
+        rc, out = run(c, scratch, left, env)
+        return ("timeout", f"past the limit of {limit:.0f} s") if rc == "timeout" else (rc, out)
+
+    def outcome(rc, out):
+        if rc in ("timeout", 0):
+            return ("passed", "", []) if rc == 0 else ("timeout", out, [])
         names = failed_tests(cmd, out)
-        why = "; ".join(names[:3]) or (out.strip().splitlines() or ["(no output)"])[-1][:300]
-        if not names or attempt != "first":
-            return "failed", why
-        left = deadline - time.monotonic()
-        rc2, _ = run(rerun_of(cmd, names), scratch, max(left, 1.0), env) if left > 0 else ("timeout", "")
-        if rc2 != 0:
-            return ("timeout" if rc2 == "timeout" else "failed"), why
-    return "failed", why
+        return "failed", "; ".join(names[:3]) or (out.strip().splitlines() or ["(no output)"])[-1][:300], names
+
+    result, why, names = outcome(*within(cmd))
+    if result != "failed" or not names:
+        return result, why
+    alone, _ = within(rerun_of(cmd, names))
+    if alone != 0:
+        return ("timeout" if alone == "timeout" else "failed"), why
+    return outcome(*within(cmd))[:2]
 
 
 # The test command's sanitized build (tools/test.sh: build-asan, its ctest tests): an out-of-bounds
