@@ -90,15 +90,14 @@ class Slave3:
         shutil.rmtree(self.dir, ignore_errors=True)
 
 
-class EarlyReturnCoupling:
+class EarlyReturnCoupling(master.Coupling):
     """run()'s communication steps: contact, track, vehicle, in sub-steps that end where the contact
-    FMU returns early, with the energy bookkeeping of master.PortEnergy; c, t_out, v_out: the newest
-    outputs."""
+    FMU returns early; the track's and the vehicle's halves and the energy bookkeeping are
+    master.Coupling's."""
 
-    def __init__(self, C, T, V, ports, energy, force, ramp, max_substeps):
-        self.C, self.T, self.V, self.p, self.energy = C, T, V, ports, energy
-        self.force, self.ramp, self.max_substeps = force, ramp, max_substeps
-        self.c, self.t_out, self.v_out = ports.get_c(), ports.get_t(), ports.get_v()
+    def __init__(self, slaves, ports, energy, force, ramp, max_substeps):
+        super().__init__(slaves, ports, energy, force, ramp)
+        self.max_substeps = max_substeps
         self.events, self.substeps = [], 0
 
     def substep(self, t, h):
@@ -107,27 +106,19 @@ class EarlyReturnCoupling:
         self.substeps += 1
         if self.substeps > self.max_substeps:
             raise RuntimeError(f"more than {self.max_substeps} sub-steps")
-        before, t_out, v_out = self.c, self.t_out, self.v_out
-        value, slope = t_out["z_rail"], (t_out["v_rail"] if self.ramp else 0.0)
-        F_ext = v_out["F_wheel"]
+        before = self.c
+        value, slope = self.t_out["z_rail"], (self.t_out["v_rail"] if self.ramp else 0.0)
+        F_ext = self.v_out["F_wheel"]
         self.p.set_c([value, slope, F_ext])
         t_end, early = self.C.step(t, h)
         dt = t_end - t
-        self.c = self.p.get_c()
+        self.c = master.with_mean(self.p.get_c())
         if early:
             self.events.append(t_end)
         self.energy.contact(before, self.c, value, slope, F_ext, dt)
-        handed = self.c[self.force]
-        self.p.set_t([handed])
-        self.T.step(t, dt)
-        self.t_out = self.p.get_t()
-        self.energy.track(t_out["W_in"], self.t_out["W_in"])
-        self.p.set_v([self.c["y"], self.c["v"]])
-        after_set = self.p.get_v()
-        self.V.step(t, dt)
-        self.v_out = self.p.get_v()
-        self.energy.vehicle(v_out["E"], after_set, self.v_out)
-        return (t_end if early else None), self.c["F_mean"] * dt, handed * dt
+        self.track(t, dt, self.c)
+        self.vehicle(t, dt, self.c)
+        return (t_end if early else None), self.c["F_mean"] * dt, self.handed * dt
 
     def step(self, t, t_next, step):
         """From t to t_next. Returns the time reached and the impulses [N s] of the contact's force
@@ -160,7 +151,7 @@ def run(step, stop_time=parameters.STOP_TIME, force="F_mean", rail_motion="ramp"
             s.start()
         K = ports.hertz_constant()
         energy = master.PortEnergy(K, ports.get_t()["z_rail"])
-        cpl = EarlyReturnCoupling(C, T, V, ports, energy, force, rail_motion == "ramp", max_substeps)
+        cpl = EarlyReturnCoupling(slaves, ports, energy, force, rail_motion == "ramp", max_substeps)
         rec = master.Record(n_steps, cpl.c, cpl.t_out, cpl.v_out)
         rec.put(0, cpl.c, cpl.t_out, cpl.v_out, cpl.c[force], energy)
         t = 0.0

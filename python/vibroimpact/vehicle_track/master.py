@@ -77,6 +77,10 @@ class Slave:
     def has(self, name):
         return name in self.vr
 
+    def step(self, t, h):
+        """fmi2DoStep from t over h."""
+        self.fmu.doStep(t, h)
+
     def set_start(self, name, value):
         vifmu.set_value(self.fmu, self.vr[name], value, self.types[name])
 
@@ -255,7 +259,7 @@ class Coupling:
             value, slope = track["z_rail"], 0.0
         F_ext = vehicle["F_wheel"]
         self.p.set_c([value, F_ext], [slope, 0.0] if self.ramp else None)
-        self.C.fmu.doStep(t, step)
+        self.C.step(t, step)
         self.c = with_mean(self.p.get_c())
         self.energy.contact(old["contact"], self.c, value, slope, F_ext, step)
         return self.c
@@ -264,7 +268,7 @@ class Coupling:
         self.handed = contact[self.force]
         self.p.set_t([self.handed])
         w0 = self.t_out["W_in"]
-        self.T.fmu.doStep(t, step)
+        self.T.step(t, step)
         self.t_out = self.p.get_t()
         self.energy.track(w0, self.t_out["W_in"])
         return self.t_out
@@ -273,7 +277,7 @@ class Coupling:
         E_before = self.p.get_v()["E"]
         self.p.set_v([contact["y"], contact["v"]])
         after_set = self.p.get_v()
-        self.V.fmu.doStep(t, step)
+        self.V.step(t, step)
         self.v_out = self.p.get_v()
         self.energy.vehicle(E_before, after_set, self.v_out)
         return self.v_out
