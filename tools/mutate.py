@@ -17,8 +17,8 @@ statement's first line, and a declaration or a static table's initializer, on wh
 code, those of its function). The tests run as tools/test.sh runs them: the FMU tests with the
 default solver and, when the solver choice reaches the mutated line (the FMU tests that execute it
 differ between solvers), also with each VI_SOLVER value of tools/test.sh's loop, each with the tests
-that execute the line under that solver; a survivor in array or loop code (its line has '[', 'for ('
-or 'while (') is built again with the sanitizers (-DVI_SANITIZE=ON, as tools/test.sh's build-asan;
+that execute the line under that solver; a survivor in array or loop code (its function has '[',
+'for (' or 'while (': a bound test may guard an index on another line) is built again with the sanitizers (-DVI_SANITIZE=ON, as tools/test.sh's build-asan;
 build-san in the scratch copy) and its C tests run there, where an access out of bounds fails them.
 The score is
 killed / (killed + survived + uncovered);
@@ -795,6 +795,13 @@ SANITIZE_FLAGS = ["-DVI_SANITIZE=ON"]
 ARRAY_OR_LOOP = re.compile(r"\[|\b(for|while)\s*\(")
 
 
+def in_array_or_loop_code(m):
+    """Does the mutant's function index an array or loop? (A bound test may guard an index on
+    another line of it.)"""
+    lines = source_lines(m.file)[m.body[0] - 1:m.body[1]]
+    return bool(ARRAY_OR_LOOP.search(mask("\n".join(lines), strings=False)))
+
+
 def sanitized_names(ctests, build):
     """The selected ctest tests as the sanitized build names them (its memory check of the FMU driver
     is *_sanitized where the plain build's is *_valgrind), among the tests it has."""
@@ -897,7 +904,7 @@ class Runner:
             outcome, why = run_selected(scratch, tests, self.durations, limit)
             verdict = {"passed": "survived", "failed": "killed", "timeout": "killed"}[outcome]
         ctests = [t[len("ctest:"):] for t in tests if t.startswith("ctest:")]
-        if verdict == "survived" and ctests and (self.replay or ARRAY_OR_LOOP.search(m.site)):
+        if verdict == "survived" and ctests and (self.replay or in_array_or_loop_code(m)):
             (verdict, why), how = self.sanitized_run(scratch, ctests), " (sanitized build)"
         if verdict in ("survived", "uncovered") and m.ident in self.equivalent:
             verdict = "equivalent"
