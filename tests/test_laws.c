@@ -28,6 +28,17 @@ Test(tsuji, restitution_matches_the_independent_integration)
     for (size_t i = 0; i < N_TSUJI; i++) ABS(vi_tsuji_restitution(tsuji_table[i][1]), tsuji_table[i][0], 1e-12);
 }
 
+/* (alpha, e) from the Python reference's tsuji_restitution, at alphas whose separation falls within the
+ * first thousandth of a step of the rebound phase: the located root is near the step's start */
+static const double tsuji_early_root[][2] = {{0.58226408105695104, 0.4940129830664174},
+                                             {0.71298435460243237, 0.4323441581340238}};
+
+Test(tsuji, restitution_located_at_the_start_of_a_rebound_step)
+{
+    for (size_t i = 0; i < sizeof tsuji_early_root / sizeof tsuji_early_root[0]; i++)
+        ABS(vi_tsuji_restitution(tsuji_early_root[i][0]), tsuji_early_root[i][1], 1e-12);
+}
+
 Test(tsuji, alpha_inverts_to_1e_12)
 {
     for (size_t i = 0; i < N_TSUJI; i++) {
