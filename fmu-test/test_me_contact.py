@@ -316,3 +316,33 @@ def test_first_step_rate_counts_from_the_inputs_at_the_start(me):
     events = [msg for _, _, msg in inst.messages if msg.startswith("event ") and "kind=guard" in msg]
     assert len(events) == 1 and "mode=1->0" in events[0], events
     assert m.integer("mode") == 0
+
+
+def test_an_event_without_a_change_keeps_the_step_rate(me):
+    """An event iteration at the end of a step that changes nothing leaves the input rate of that step
+    in place: as in the test above, the platform falls at a mean -0.05 m/s over the first step of
+    0.1 ms, but the importer first completes the step with the mass 0.1 um inside the platform and
+    iterates an event there (nothing fires), then sets the mass onto the surface at the same instant
+    (delta = 0, moving at -0.01 m/s) and iterates again: the contact ends (one event, mode 1 -> 0).
+    With the rate taken from the first iteration's instant instead, the platform would seem at rest
+    and keep the mass."""
+    inst, m = me()
+    m.start(params=dict(contact_model=1, yC_in=0.01))
+    assert m.integer("mode") == 1
+    t1, yc1 = 1e-4, 0.01 - 5e-6
+    m.fmu.setTime(t1)
+    m.set("yC_in", yc1)
+    m.set_states([yc1 - 1e-7, -0.01])  # delta = 0.1 um: no guard at zero
+    enter, terminate = m.fmu.completedIntegratorStep()
+    assert not terminate
+    m.fmu.enterEventMode()
+    m.settle()
+    assert m.integer("mode") == 1 and not [msg for _, _, msg in inst.messages if "kind=guard" in msg]
+    m.fmu.enterContinuousTimeMode()
+    m.set_states([yc1, -0.01])  # on the surface: delta = 0
+    assert m.real("delta") == 0.0
+    m.fmu.enterEventMode()
+    m.settle()
+    events = [msg for _, _, msg in inst.messages if msg.startswith("event ") and "kind=guard" in msg]
+    assert len(events) == 1 and "mode=1->0" in events[0], events
+    assert m.integer("mode") == 0
