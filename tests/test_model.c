@@ -2058,6 +2058,34 @@ Test(model, event_snaps_onto_the_fired_surface)
               "mode %d v %g delta_c %g", M.mode, x[1], M.unload.delta_c);
 }
 
+/* A damped law's force guard fired in contact (delta > 0, g = K delta^(5/4) + alpha_c r < 0, r = yC' - v;
+ * no load): the event puts the rate onto the guard's surface, r = -K delta^(5/4)/alpha_c (vi_laws.h), and
+ * the mass leaves, however weak the damping (e close to 1: alpha_c, the guard's slope in r, below 1e-3). */
+Test(model, damped_event_puts_the_rate_onto_the_force_guard)
+{
+    const double es[] = {0.5, 0.99999999};
+    for (size_t i = 0; i < sizeof es / sizeof es[0]; i++) {
+        vi_parameters p;
+        vi_parameters_default(&p);
+        p.contact_model = VI_ContactModel_hertz_damped;
+        p.damping_formula = VI_DAMP_EXACT;
+        p.e_restitution = es[i];
+        p.P = p.g = p.a = 0.0; /* no load, no platform motion: the rate alone decides */
+        p.m = 0.01;             /* a 10 g ball on steel */
+        vi_model M = {0};
+        char msg[256];
+        cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+        const double K = M.damped.K, ac = M.damped.alpha_c, d = 1e-12, q = sqrt(sqrt(d));
+        if (i == 1) cr_assert(ac < 1e-3, "alpha_c = %g", ac);
+        M.mode = VI_Mode_elastic;
+        double x[2] = {d, 2.0 * K * d * q / ac}; /* r = -v: g = -K d q < 0 */
+        cr_assert(vi_model_event(&M, 0.0, x, 1) == VI_Mode_free && x[0] == d, "e = %.9g: mode %d", es[i], M.mode);
+        const double r = -x[1], r_surface = -K * d * q / ac;
+        cr_assert(fabs(r - r_surface) <= 1e-12 * fabs(r_surface), "e = %.9g: r = %.17g, on the surface %.17g", es[i], r,
+                  r_surface);
+    }
+}
+
 /* Johnson's mode choice (fixed contact point, no load, no platform motion: the velocity decides) and
  * the memory it writes: below yield elastic; beyond it plastic, yielded, with the unloading curve of
  * delta; pushed beyond delta_c, the curve of the new delta; between delta_f and delta_c unloading
