@@ -2059,11 +2059,12 @@ Test(model, event_snaps_onto_the_fired_surface)
 }
 
 /* A damped law's force guard fired in contact (delta > 0, g = K delta^(5/4) + alpha_c r < 0, r = yC' - v;
- * no load): the event puts the rate onto the guard's surface, r = -K delta^(5/4)/alpha_c (vi_laws.h), and
- * the mass leaves, however weak the damping (e close to 1: alpha_c, the guard's slope in r, below 1e-3). */
+ * no load): the event puts the rate onto the guard's surface, r = -K delta^(5/4)/alpha_c (vi_laws.h),
+ * then an ulp or two onto its free side, and the mass leaves, however weak the damping (e close to 1:
+ * alpha_c, the guard's slope in r, below 1e-3). */
 Test(model, damped_event_puts_the_rate_onto_the_force_guard)
 {
-    const double es[] = {0.5, 0.99999999};
+    const double es[] = {0.5, 0.99999999}, ds[] = {1e-12, 3.3e-9, 1e-6}, past[] = {2.0, 1.0 + 1e-9};
     for (size_t i = 0; i < sizeof es / sizeof es[0]; i++) {
         vi_parameters p;
         vi_parameters_default(&p);
@@ -2072,17 +2073,21 @@ Test(model, damped_event_puts_the_rate_onto_the_force_guard)
         p.e_restitution = es[i];
         p.P = p.g = p.a = 0.0; /* no load, no platform motion: the rate alone decides */
         p.m = 0.01;             /* a 10 g ball on steel */
-        vi_model M = {0};
+        vi_model M0 = {0};
         char msg[256];
-        cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
-        const double K = M.damped.K, ac = M.damped.alpha_c, d = 1e-12, q = sqrt(sqrt(d));
+        cr_assert(setup_from_table(&M0, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+        const double K = M0.damped.K, ac = M0.damped.alpha_c;
         if (i == 1) cr_assert(ac < 1e-3, "alpha_c = %g", ac);
-        M.mode = VI_Mode_elastic;
-        double x[2] = {d, 2.0 * K * d * q / ac}; /* r = -v: g = -K d q < 0 */
-        cr_assert(vi_model_event(&M, 0.0, x, 1) == VI_Mode_free && x[0] == d, "e = %.9g: mode %d", es[i], M.mode);
-        const double r = -x[1], r_surface = -K * d * q / ac;
-        cr_assert(fabs(r - r_surface) <= 1e-12 * fabs(r_surface), "e = %.9g: r = %.17g, on the surface %.17g", es[i], r,
-                  r_surface);
+        for (size_t j = 0; j < sizeof ds / sizeof ds[0] * 2; j++) {
+            vi_model M = M0;
+            M.mode = VI_Mode_elastic;
+            const double d = ds[j / 2], r_surface = -K * d * sqrt(sqrt(d)) / ac;
+            double x[2] = {d, -past[j % 2] * r_surface}; /* r = -v beyond the surface: g < 0 */
+            cr_assert(vi_model_event(&M, 0.0, x, 1) == VI_Mode_free && x[0] == d, "e = %.9g: mode %d", es[i], M.mode);
+            const double ulp = nextafter(fabs(r_surface), INFINITY) - fabs(r_surface);
+            cr_assert(fabs(-x[1] - r_surface) <= 4.0 * ulp, "e = %.9g, delta = %g: r = %.17g, on the surface %.17g",
+                      es[i], d, -x[1], r_surface);
+        }
     }
 }
 
