@@ -157,6 +157,28 @@ Test(model, plastically_preloaded_static_state)
     }
 }
 
+/* Loaded exactly to yield (W = F_Y, so delta = delta_Y: F_Y = K delta_Y^1.5): the material has not
+ * yielded; no unloading curve is written down (paper eq. 4 holds up to delta_Y). */
+Test(model, static_state_loaded_exactly_to_yield_has_not_yielded)
+{
+    vi_parameters p;
+    vi_parameters_default(&p);
+    p.g = 0.0;
+    char msg[256];
+    double x[2];
+    for (int variant = 1; variant <= 2; variant++) {
+        vi_model M = {0};
+        p.unloading = variant;
+        cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+        p.P = M.johnson.F_Y;
+        cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+        vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
+        cr_assert(x[0] == M.johnson.delta_Y, "variant %d: delta %.17g, delta_Y %.17g", variant, x[0], M.johnson.delta_Y);
+        cr_assert(!M.yielded && M.unload.delta_c == 0.0 && M.mode == VI_Mode_elastic, "variant %d: yielded %d, mode %d",
+                  variant, M.yielded, M.mode);
+    }
+}
+
 Test(model, turning_point_chooses_plastic_stick_or_unload)
 {
     vi_model M = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
