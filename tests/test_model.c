@@ -541,6 +541,14 @@ Test(model, scales_from_the_active_law)
         vi_model_scales(&M, x, &L, &V);
         cr_assert(L == fmax(M.johnson.delta_Y, x[0]), "law %d: L = %g", law, L);
     }
+    /* a load however light (1e-4 N, at rest): its own static indentation, not a fallback */
+    {
+        vi_model M = setup(VI_ContactModel_hertz, 0, 1, 1e-4, 0.0, 0.0);
+        vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
+        vi_model_scales(&M, x, &L, &V);
+        double dW = pow(1e-4 / M.K, 2.0 / 3.0);
+        cr_assert(fabs(L - dW) <= 1e-14 * dW, "L = %g vs %g", L, dW);
+    }
     /* a drop (no load): the impact indentation at v0; Hertz closed form */
     vi_model M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
     vi_model_initial_state(&M, VI_Init_touching, -0.3, 0.0, x);
