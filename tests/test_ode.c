@@ -718,6 +718,22 @@ Test(events, nonfinite_guard_fails_and_leaves_the_state)
     cr_assert(memcmp(&s, &before, sizeof s) == 0, "state unchanged by a failed step");
 }
 
+/* With h_fixed the proposed size s.h is h_fixed after every step (the error control is off, even where
+ * it would propose a longer step: here 100 steps of 1e-4 on a problem solved to 1e-6) */
+Test(order, a_fixed_step_proposes_its_own_size)
+{
+    problem pr = PROBLEMS[0];
+    vi_ode_problem p = make(&pr, 1e-6, 1e-6);
+    p.h_fixed = 1e-4;
+    vi_ode s;
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, pr.x0, 0.0, 0u), VI_ODE_OK);
+    cr_assert(s.h == p.h_fixed, "first proposal %g", s.h);
+    for (int k = 0; k < 100; k++) {
+        cr_assert_eq(vi_ode_step(&s, &p, pr.T), VI_ODE_OK);
+        cr_assert(s.h == p.h_fixed, "step %d: proposal %g", k, s.h);
+    }
+}
+
 Test(order, time_does_not_drift_over_many_steps)
 {
     /* 10^4 fixed steps: t + h is rounded each step; the step must span exactly [t, fl(t + h)] or the
