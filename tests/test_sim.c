@@ -504,6 +504,29 @@ Test(sim, a_one_character_profile_file_is_read_from_the_working_directory)
     vi_sim_free(&s);
 }
 
+/* A resources folder of one character, the root (file:///), is looked in like any other: a relative
+ * profile_file "tmp/<dir>/p" is the file /tmp/<dir>/p, whatever the working directory. */
+Test(sim, a_root_resources_folder_is_looked_in)
+{
+    char dir[] = "/tmp/vi_test_sim_XXXXXX", path[64];
+    cr_assert(mkdtemp(dir) != NULL && chdir(dir) == 0); /* no tmp/ here */
+    snprintf(path, sizeof path, "%s/p", dir);
+    FILE *f = fopen(path, "w");
+    cr_assert(f != NULL);
+    fputs("0 0\n1 0\n", f);
+    fclose(f);
+    vi_sim s;
+    vi_sim_init(&s, quiet, NULL);
+    vi_sim_set_resources(&s, "/");
+    snprintf(s.d.par.profile_file, sizeof s.d.par.profile_file, "%s", path + 1);
+    s.d.par.V = 1.0, s.d.par.x0 = 0.5;
+    int rc = vi_sim_initialize(&s);
+    remove(path);
+    cr_assert(chdir("/") == 0 && rmdir(dir) == 0);
+    cr_assert(rc == 0 && s.d.model.profile != NULL, "%s", s.msg);
+    vi_sim_free(&s);
+}
+
 /* ---- the state-payload check, rule by rule ------------------------------------------------------ */
 
 /* The check refuses d with exactly the message fmt (printf-formatted with the spoiled values). */
