@@ -317,9 +317,9 @@ Test(text, formatting_refuses_what_it_cannot_do)
     cr_assert(count == 0);
     /* formats the compiler would warn of (not literals here): a non-standard flag, a format ending in
      * '%', an unknown conversion, length modifiers a conversion does not take, wide characters,
-     * widths and precisions beyond an int */
+     * widths and precisions beyond an int (also after a conversion that went well) */
     static const char *const bad[] = {"%'d", "50%", "%k", "%Ld", "ab%Ld", "%Lu", "%hf", "%lc", "%hp", "%ls", "%99999999999d",
-                                      "%.99999999999d"};
+                                      "%.99999999999d", "%d%99999999999d", "%d%.99999999999d"};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         char fmt[32];
         snprintf(fmt, sizeof fmt, "%s", bad[i]);
