@@ -455,6 +455,15 @@ Test(sim, a_restored_state_is_checked_for_every_cause_of_validity)
     vi_sim_free(&a), vi_sim_free(&b);
 }
 
+/* A profile file of two points at height 0. */
+static void write_flat_profile(const char *path)
+{
+    FILE *f = fopen(path, "w");
+    cr_assert(f != NULL, "%s", path);
+    fputs("0 0\n1 0\n", f);
+    fclose(f);
+}
+
 /* A profile needs a body of positive radius: with R1 = 0 (the variable table's range refuses it at
  * the FMI level; vi_sim's callers may set it) the initialization fails naming R1, before the table
  * is read; any positive radius will do. */
@@ -462,10 +471,7 @@ Test(sim, a_profile_needs_a_positive_body_radius)
 {
     char path[64];
     snprintf(path, sizeof path, "/tmp/vi_test_sim_profile_%d.txt", (int)getpid());
-    FILE *f = fopen(path, "w");
-    cr_assert(f != NULL);
-    fputs("0 0\n1 0\n", f);
-    fclose(f);
+    write_flat_profile(path);
     vi_sim s;
     vi_sim_init(&s, quiet, NULL);
     snprintf(s.d.par.profile_file, sizeof s.d.par.profile_file, "%s", path);
@@ -488,10 +494,7 @@ Test(sim, a_one_character_profile_file_is_read_from_the_working_directory)
 {
     char dir[] = "/tmp/vi_test_sim_XXXXXX";
     cr_assert(mkdtemp(dir) != NULL && chdir(dir) == 0);
-    FILE *f = fopen("p", "w");
-    cr_assert(f != NULL);
-    fputs("0 0\n1 0\n", f);
-    fclose(f);
+    write_flat_profile("p");
     vi_sim s;
     vi_sim_init(&s, quiet, NULL);
     vi_sim_set_resources(&s, "/nonexistent/resources");
@@ -511,10 +514,7 @@ Test(sim, a_root_resources_folder_is_looked_in)
     char dir[] = "/tmp/vi_test_sim_XXXXXX", path[64];
     cr_assert(mkdtemp(dir) != NULL && chdir(dir) == 0); /* no tmp/ here */
     snprintf(path, sizeof path, "%s/p", dir);
-    FILE *f = fopen(path, "w");
-    cr_assert(f != NULL);
-    fputs("0 0\n1 0\n", f);
-    fclose(f);
+    write_flat_profile(path);
     vi_sim s;
     vi_sim_init(&s, quiet, NULL);
     vi_sim_set_resources(&s, "/");
