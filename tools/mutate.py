@@ -18,8 +18,9 @@ code, those of its function). The tests run as tools/test.sh runs them: the FMU 
 default solver and, when the solver choice reaches the mutated line (the FMU tests that execute it
 differ between solvers), also with each VI_SOLVER value of tools/test.sh's loop, each with the tests
 that execute the line under that solver; a survivor in array or loop code (its function has '[',
-'for (' or 'while (': a bound test may guard an index on another line) is built again with the sanitizers (-DVI_SANITIZE=ON, as tools/test.sh's build-asan;
-build-san in the scratch copy) and its C tests run there, where an access out of bounds fails them.
+'for (' or 'while (': a bound test may guard an index on another line) is built again with the
+sanitizers (-DVI_SANITIZE=ON, as tools/test.sh's build-asan; build-san in the scratch copy) and its
+C tests run there, where an access out of bounds fails them.
 The score is
 killed / (killed + survived + uncovered);
 mutants listed in tools/mutants-equivalent.txt are left out (no test can tell them apart from the
