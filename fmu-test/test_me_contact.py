@@ -27,6 +27,11 @@ def me(fmu_path, unzipdir, model_description):
         f.freeInstance()
 
 
+def guard_events(inst):
+    """The state events the instance logged (logEvents), in order."""
+    return [msg for _, _, msg in inst.messages if msg.startswith("event ") and "kind=guard" in msg]
+
+
 def test_penetration_set_during_free_flight_is_caught_by_the_indicators(me):
     """The mass leaves the platform (touching start, moving up); the importer then sets a position
     1 um inside the platform. The free mode's contact indicator turns negative at once (an importer
@@ -268,7 +273,7 @@ def test_contact_left_under_a_falling_input_is_one_event(fmu_path, unzipdir, mod
     r, inst = run_me(fmu_path, dict(contact_model=law), 3e-3, rtol=1e-8, input=signal,
                      unzipdir=unzipdir, md=model_description)
     assert not inst.errors()
-    events = [m for _, _, m in inst.messages if m.startswith("event ") and "kind=guard" in m]
+    events = guard_events(inst)
     assert len(events) == 1 and "mode=1->0" in events[0], events
     fields = dict(word.split("=", 1) for word in events[0].split()[1:])
     t_sep, v_sep = float(fields["t"]), float(fields["v"])
@@ -313,7 +318,7 @@ def test_first_step_rate_counts_from_the_inputs_at_the_start(me):
     assert not terminate
     m.fmu.enterEventMode()
     m.settle()
-    events = [msg for _, _, msg in inst.messages if msg.startswith("event ") and "kind=guard" in msg]
+    events = guard_events(inst)
     assert len(events) == 1 and "mode=1->0" in events[0], events
     assert m.integer("mode") == 0
 
@@ -337,12 +342,12 @@ def test_an_event_without_a_change_keeps_the_step_rate(me):
     assert not terminate
     m.fmu.enterEventMode()
     m.settle()
-    assert m.integer("mode") == 1 and not [msg for _, _, msg in inst.messages if "kind=guard" in msg]
+    assert m.integer("mode") == 1 and not guard_events(inst)
     m.fmu.enterContinuousTimeMode()
     m.set_states([yc1, -0.01])  # on the surface: delta = 0
     assert m.real("delta") == 0.0
     m.fmu.enterEventMode()
     m.settle()
-    events = [msg for _, _, msg in inst.messages if msg.startswith("event ") and "kind=guard" in msg]
+    events = guard_events(inst)
     assert len(events) == 1 and "mode=1->0" in events[0], events
     assert m.integer("mode") == 0

@@ -248,9 +248,10 @@ static const struct {
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Woverride-init" /* .variables: the rows above instead of the table's */
 const vi_fmu_model vi_fmu_this_model = {
-    VI_FMU_TABLE_FIELDS(stub, data), .variables = stub_rows.rows, .init = init, .reset = reset, .release = release, .set_resources = set_resources,
-    .changed = changed, .outputs = outputs, .outputs_of = outputs_of, .setup_experiment = setup_experiment,
-    .prepare = prepare, .initialize = initialize, .advance = advance, .advance_to_event = advance_to_event,
+    VI_FMU_TABLE_FIELDS(stub, data), .variables = stub_rows.rows, .init = init, .reset = reset, .release = release,
+    .set_resources = set_resources, .changed = changed, .outputs = outputs, .outputs_of = outputs_of,
+    .setup_experiment = setup_experiment, .prepare = prepare, .initialize = initialize, .advance = advance,
+    .advance_to_event = advance_to_event,
     .time = time_of, .terminate = terminate, .state = state, .checkpoint = checkpoint, .restore = restore,
     .state_check = state_check, .message = message, .n_states = 2, .n_indicators = 1, .state_vrs = states_k.vrs,
     .derivative_vrs = derivatives_k.vrs, .me_initialize = me_initialize, .set_time = set_time,
