@@ -212,11 +212,14 @@ typedef struct {
  * VI_GUID, VI_MODEL_DESCRIPTION, VI_DEFAULT_EXPERIMENT, VI_CAN_INTERPOLATE_INPUTS and what
  * VI_TABLE_DECLARE generates), its instance type, and its plain-data type, whose members par
  * (vi_parameters), in and din (vi_inputs) hold the values:
- *     const vi_fmu_model vi_fmu_this_model = {VI_FMU_TABLE_FIELDS(my_instance, my_data), .init = ..., ...}; */
+ *     const vi_fmu_model vi_fmu_this_model = {VI_FMU_TABLE_FIELDS(my_instance, my_data), .init = ..., ...};
+ * VI_FMU_ROWS_FIELDS takes the VI_NVARS rows from another array (a test's, with rows after them). */
 #define VI_FMU_TABLE_FIELDS(instance_type, data_type)                                                   \
+    VI_FMU_ROWS_FIELDS(instance_type, data_type, vi_variable_table)
+#define VI_FMU_ROWS_FIELDS(instance_type, data_type, rows)                                              \
     .model_identifier = VI_MODEL_IDENTIFIER, .guid = VI_GUID, .description = VI_MODEL_DESCRIPTION,     \
     .default_experiment = VI_DEFAULT_EXPERIMENT, .can_interpolate_inputs = VI_CAN_INTERPOLATE_INPUTS,   \
-    .variables = vi_variable_table, .nvariables = VI_NVARS, .enum_items = vi_enum_items,                \
+    .variables = (rows), .nvariables = VI_NVARS, .enum_items = vi_enum_items,                          \
     .n_enum_items = VI_NENUM_ITEMS, .enum_types = vi_enum_types, .n_enum_types = VI_NENUM_TYPES,        \
     .instance_size = sizeof(instance_type), .state_size = sizeof(data_type),                           \
     .outputs_size = sizeof(vi_outputs), .parameters_offset = offsetof(data_type, par),                 \

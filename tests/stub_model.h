@@ -235,7 +235,6 @@ static const struct {
     unsigned vrs[2], after;
 } states_k = {{VI_VR_p, VI_VR_q}, VI_VR_k}, derivatives_k = {{VI_VR_der_p, VI_VR_der_q}, VI_VR_k};
 
-
 /* The layer reads the stub's rows from here: the table, then a row past it that looks like a Real input
  * (u's storage), so that a read beyond nvariables shows as a variable that should not be there
  * (out-of-bounds reads of the table itself land past AddressSanitizer's red zone). */
@@ -245,10 +244,8 @@ static const struct {
 } stub_rows = {{VI_VARIABLES(VI_ROW_)},
                VI_ROW_(u, Real, none, input, continuous, exact, 0.0, VI_NONE, VI_NONE, "", 0, "", "not a variable")};
 
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Woverride-init" /* .variables: the rows above instead of the table's */
 const vi_fmu_model vi_fmu_this_model = {
-    VI_FMU_TABLE_FIELDS(stub, data), .variables = stub_rows.rows, .init = init, .reset = reset, .release = release,
+    VI_FMU_ROWS_FIELDS(stub, data, stub_rows.rows), .init = init, .reset = reset, .release = release,
     .set_resources = set_resources, .changed = changed, .outputs = outputs, .outputs_of = outputs_of,
     .setup_experiment = setup_experiment, .prepare = prepare, .initialize = initialize, .advance = advance,
     .advance_to_event = advance_to_event,
@@ -259,6 +256,5 @@ const vi_fmu_model vi_fmu_this_model = {
     .nominals = nominals, .event_update = event_update, .completed_step = completed_step,
     .enter_continuous = enter_continuous, .directional_derivative = directional_derivative,
 };
-#pragma GCC diagnostic pop
 
 #endif
