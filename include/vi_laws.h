@@ -48,7 +48,8 @@ typedef struct {
     double g, dg_ddelta, dg_drate;
 } vi_law_guard;
 
-/* The restitution of the dimensionless Tsuji impact, by a fixed-step integration (about 1e-12 accurate). */
+/* The restitution of the dimensionless Tsuji impact, by a fixed-step integration (about 1e-12 accurate);
+ * NaN for alpha above 1e8 (e = 1.25e-16), where the fixed steps are no longer stable, or NaN. */
 double vi_tsuji_restitution(double alpha);
 /* alpha with vi_tsuji_restitution(alpha) = e to 1e-12, for e in (0, 1]. 0 on success; -1 when e is
  * outside (0, 1] or not finite (alpha untouched). */

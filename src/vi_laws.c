@@ -60,6 +60,7 @@ static double bracket_up(vi_root_fn fn, const void *ctx, double hi)
 #define VI_TSUJI_SWITCH 0.5
 #define VI_TSUJI_REBOUND_STEPS 1000
 #define VI_TSUJI_LOCATE_TOL 1e-15             /* the separation's position within a step, in steps */
+#define VI_TSUJI_ALPHA_MAX 1e8                /* e = 1.25e-16; from about 1.6e8 on the steps are unstable */
 
 typedef struct {
     double x, v; /* dimensionless indentation and its rate d/dtau */
@@ -150,6 +151,7 @@ static double tsuji_rebound(double alpha, tsuji_state start)
 
 double vi_tsuji_restitution(double alpha)
 {
+    if (!(alpha <= VI_TSUJI_ALPHA_MAX)) return NAN;
     if (!(alpha > 0.0)) return 1.0;
     const double h = VI_TSUJI_SIGMA_MAX / VI_TSUJI_STEPS;
     tsuji_state s = {0.0, 1.0};
@@ -175,8 +177,9 @@ static double tsuji_residual(double alpha, const void *ctx)
 }
 
 /* alpha is found to VI_TSUJI_ALPHA_TOL (relative; |d ln e/d ln alpha| <= 2 keeps e within twice it), and
- * the result is accepted when its restitution is e to VI_TSUJI_E_RTOL (relative): below e = 1e-9 the
- * impact gets too short for the fixed steps, and the search fails there. */
+ * the result is accepted when its restitution is e to VI_TSUJI_E_RTOL (relative). The doubling search
+ * for an upper bound stops at the first alpha past VI_TSUJI_ALPHA_MAX (NaN): e below e(2^26) = 2.8e-16 is
+ * refused. */
 #define VI_TSUJI_ALPHA_TOL 1e-14
 #define VI_TSUJI_E_RTOL 1e-10
 

@@ -39,6 +39,21 @@ Test(tsuji, restitution_located_at_the_start_of_a_rebound_step)
         ABS(vi_tsuji_restitution(tsuji_early_root[i][0]), tsuji_early_root[i][1], 1e-12);
 }
 
+/* The Python reference's tsuji_restitution(1e8) and tsuji_alpha(1e-15) (at this end the fixed steps' error,
+ * 1e-23 absolute, is 1e-7 of e); beyond alpha = 1e8 the steps are not stable (at 2e8 they gave 4e23) and the
+ * restitution is NaN, which the search for alpha refuses. */
+Test(tsuji, restitution_up_to_alpha_1e8_then_nan)
+{
+    REL(vi_tsuji_restitution(1e8), 1.2500000000010567e-16, 1e-6);
+    const double beyond[] = {1.0000001e8, 2e8, 1e12, INFINITY, NAN};
+    for (size_t i = 0; i < sizeof beyond / sizeof beyond[0]; i++)
+        cr_assert(isnan(vi_tsuji_restitution(beyond[i])), "alpha = %g", beyond[i]);
+    double alpha = 42.0;
+    cr_assert(vi_tsuji_alpha(1e-15, &alpha) == 0);
+    REL(alpha, 35355339.05932617, 1e-7);
+    cr_assert(vi_tsuji_alpha(2e-16, &alpha) == -1);
+}
+
 Test(tsuji, alpha_inverts_to_1e_12)
 {
     for (size_t i = 0; i < N_TSUJI; i++) {
