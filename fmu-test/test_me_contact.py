@@ -170,6 +170,28 @@ def test_state_from_before_initialization_gives_the_initial_states_again(me):
     m.fmu.freeFMUstate(before)
 
 
+def test_reset_gives_the_initial_states_again(me):
+    """After a run, fmi2Reset: in the next initialization mode the states, indicators and outputs are
+    those of a fresh instance (the start the parameters give), not the last run's."""
+    names = ("y", "v", "F", "delta", "yC")
+
+    def initial(m):
+        m.fmu.setupExperiment()
+        m.fmu.enterInitializationMode()
+        return m.states(), m.indicators(), [m.real(n) for n in names]
+
+    _, fresh = me()
+    expected = initial(fresh)
+    inst, m = me()
+    m.start()
+    m.fmu.setTime(1e-3)
+    m.set_states([expected[0][0] / 3, 0.01])
+    m.fmu.enterEventMode()
+    m.settle()
+    m.fmu.reset()
+    assert initial(m) == expected and expected[0][0] < 0.0  # the static start, below the platform
+
+
 def test_fmu_state_gives_back_the_states_bit_for_bit_far_from_the_platform(me):
     """An FMU state taken in continuous-time mode gives back the importer's states to the bit, also
     where the platform is far from the mass (yC = -1e6 m, y = 0.1 m: delta = yC - y carries 19 fewer
