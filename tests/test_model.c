@@ -2121,6 +2121,39 @@ Test(model, damped_event_puts_the_rate_onto_the_force_guard)
     }
 }
 
+/* A damped law's free mode left at delta > 0 (no load, no platform motion, r = -v): where the force
+ * guard g = K delta^(5/4) + alpha_c r has just risen through 0 (g = 1e-9 of its terms), the contact
+ * resumes: delta is kept and so is the approach speed V_i of the impact before; where g is all of
+ * its terms (r > 0, moving in) the contact is new and takes r as V_i, also where g is far below 1. */
+Test(model, damped_contact_resumed_keeps_delta_and_the_approach_speed)
+{
+    vi_parameters p;
+    vi_parameters_default(&p);
+    p.contact_model = VI_ContactModel_hertz_damped;
+    p.damping_formula = VI_DAMP_EXACT;
+    p.e_restitution = 0.5;
+    p.P = p.g = p.a = 0.0;
+    p.m = 0.01;
+    vi_model M0 = {0};
+    char msg[256];
+    cr_assert(setup_from_table(&M0, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+    const double K = M0.damped.K, ac = M0.damped.alpha_c, ds[] = {1e-12, 3.3e-9, 1e-6};
+    for (size_t j = 0; j < sizeof ds / sizeof ds[0]; j++) {
+        const double d = ds[j], r_surface = -K * d * sqrt(sqrt(d)) / ac;
+        vi_model M = M0;
+        M.mode = VI_Mode_free, M.V_i = 0.3;
+        double x[2] = {d, -r_surface * (1.0 - 1e-9)}; /* r = -v just inside the contact side: g > 0 */
+        cr_assert(vi_model_event(&M, 0.0, x, 1) == VI_Mode_elastic && x[0] == d && M.V_i == 0.3,
+                  "delta = %g: mode %d, delta %g, V_i %g", d, M.mode, x[0], M.V_i);
+        M = M0;
+        M.mode = VI_Mode_free, M.V_i = 0.3;
+        const double r_in = 1e-3 / ac, g = K * d * sqrt(sqrt(d)) + 1e-3; /* moving in slowly */
+        double in[2] = {d, -r_in};
+        cr_assert(vi_model_resolve(&M, 0.0, in) == VI_Mode_elastic && M.V_i == r_in,
+                  "delta = %g, g = %g: mode %d, V_i %g (r = %g)", d, g, M.mode, M.V_i, r_in);
+    }
+}
+
 /* Johnson's mode choice (fixed contact point, no load, no platform motion: the velocity decides) and
  * the memory it writes: below yield elastic; beyond it plastic, yielded, with the unloading curve of
  * delta; pushed beyond delta_c, the curve of the new delta; between delta_f and delta_c unloading
