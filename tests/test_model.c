@@ -136,6 +136,18 @@ Test(model, touching_state_mode_from_rate_and_acceleration)
     cr_assert(M.n_impacts == 0);
 }
 
+/* A damped law's start touching: moving in is a new contact that takes its rate as the approach speed
+ * V_i; a start prepared again (the importer changed v0 in initialization mode) begins with none. */
+Test(model, touching_state_of_a_damped_law_takes_its_approach_speed_anew)
+{
+    double x[2];
+    vi_model M = setup(VI_ContactModel_hertz_damped, 0, 1, 0.0, 0.0, 0.0);
+    vi_model_initial_state(&M, VI_Init_touching, -0.1, 0.0, x);
+    cr_assert(M.mode == VI_Mode_elastic && M.V_i == 0.1, "mode %d, V_i %g", M.mode, M.V_i);
+    vi_model_initial_state(&M, VI_Init_touching, 0.1, 0.0, x);
+    cr_assert(M.mode == VI_Mode_free && M.V_i == 0.0, "mode %d, V_i %g", M.mode, M.V_i);
+}
+
 Test(model, plastically_preloaded_static_state)
 {
     /* printed yield formula, Y = 6e8: F_Y = 27 kN < W = 44 kN */
