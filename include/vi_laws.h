@@ -49,7 +49,7 @@ typedef struct {
 } vi_law_guard;
 
 /* The restitution of the dimensionless Tsuji impact, by a fixed-step integration (about 1e-12 accurate);
- * NaN for alpha above 1e8 (e = 1.25e-16), where the fixed steps are no longer stable, or NaN. */
+ * NaN for alpha above 1e8 (e = 1.25e-16), where the fixed steps are no longer stable, and for a NaN alpha. */
 double vi_tsuji_restitution(double alpha);
 /* alpha with vi_tsuji_restitution(alpha) = e to 1e-12, for e in (0, 1]. 0 on success; -1 when e is
  * outside (0, 1] or not finite (alpha untouched). */

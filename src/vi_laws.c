@@ -178,8 +178,8 @@ static double tsuji_residual(double alpha, const void *ctx)
 
 /* alpha is found to VI_TSUJI_ALPHA_TOL (relative; |d ln e/d ln alpha| <= 2 keeps e within twice it), and
  * the result is accepted when its restitution is e to VI_TSUJI_E_RTOL (relative). The doubling search
- * for an upper bound stops at the first alpha past VI_TSUJI_ALPHA_MAX (NaN): e below e(2^26) = 2.8e-16 is
- * refused. */
+ * for an upper bound finds none past VI_TSUJI_ALPHA_MAX (the restitution is NaN there): e below
+ * e(2^26) = 2.8e-16 is refused. */
 #define VI_TSUJI_ALPHA_TOL 1e-14
 #define VI_TSUJI_E_RTOL 1e-10
 
