@@ -15,10 +15,10 @@
 # Environment: VI_BUILD_DIR (default build; configured by this script if needed), PYTHON (for the
 # configure step), VI_FUZZ_FMU (default VibroImpact), VI_FUZZ_CALL_SECONDS and VI_FUZZ_HANG_SECONDS
 # (the watchdog's bounds, tests/fuzz/fuzz_main.c: CPU time and wall time of one call; raise the wall
-# time for a run that shares its cores at a low priority, where a call waits for the CPU), VI_FUZZ_SEED (libFuzzer's -seed; default a fresh
-# one, printed, so that a run can be repeated), VI_FUZZ_OFF (properties to leave out,
-# comma-separated: call-order, restore; tests/fuzz/order.c). One fuzzing process: the machine's other
-# cores stay free.
+# time for a run that shares its cores at a low priority, where a call waits for the CPU),
+# VI_FUZZ_SEED (libFuzzer's -seed; default a fresh one, printed, so that a run can be repeated),
+# VI_FUZZ_OFF (properties to leave out, comma-separated: call-order, restore; tests/fuzz/order.c).
+# One fuzzing process: the machine's other cores stay free.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$(pwd)
