@@ -182,7 +182,7 @@ def test_reset_gives_the_initial_states_again(me):
 
     _, fresh = me()
     expected = initial(fresh)
-    inst, m = me()
+    _, m = me()
     m.start()
     m.fmu.setTime(1e-3)
     m.set_states([expected[0][0] / 3, 0.01])

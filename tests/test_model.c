@@ -2100,6 +2100,23 @@ Test(model, event_snaps_onto_the_fired_surface)
               "mode %d v %g delta_c %g", M.mode, x[1], M.unload.delta_c);
 }
 
+/* Hertz with Tsuji's exact damping of restitution e, a 10 g ball on steel, no load and no platform
+ * motion (the rate alone decides). */
+static vi_model damped_ball(double e)
+{
+    vi_parameters p;
+    vi_parameters_default(&p);
+    p.contact_model = VI_ContactModel_hertz_damped;
+    p.damping_formula = VI_DAMP_EXACT;
+    p.e_restitution = e;
+    p.P = p.g = p.a = 0.0;
+    p.m = 0.01;
+    vi_model M = {0};
+    char msg[256];
+    cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+    return M;
+}
+
 /* A damped law's force guard fired in contact (delta > 0, g = K delta^(5/4) + alpha_c r < 0, r = yC' - v;
  * no load): the event puts the rate onto the guard's surface, r = -K delta^(5/4)/alpha_c (vi_laws.h),
  * then an ulp or two onto its free side, and the mass leaves, however weak the damping (e close to 1:
@@ -2108,16 +2125,7 @@ Test(model, damped_event_puts_the_rate_onto_the_force_guard)
 {
     const double es[] = {0.5, 0.99999999}, ds[] = {1e-12, 3.3e-9, 1e-6}, past[] = {2.0, 1.0 + 1e-9};
     for (size_t i = 0; i < sizeof es / sizeof es[0]; i++) {
-        vi_parameters p;
-        vi_parameters_default(&p);
-        p.contact_model = VI_ContactModel_hertz_damped;
-        p.damping_formula = VI_DAMP_EXACT;
-        p.e_restitution = es[i];
-        p.P = p.g = p.a = 0.0; /* no load, no platform motion: the rate alone decides */
-        p.m = 0.01;             /* a 10 g ball on steel */
-        vi_model M0 = {0};
-        char msg[256];
-        cr_assert(setup_from_table(&M0, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+        const vi_model M0 = damped_ball(es[i]);
         const double K = M0.damped.K, ac = M0.damped.alpha_c;
         if (i == 1) cr_assert(ac < 1e-3, "alpha_c = %g", ac);
         for (size_t j = 0; j < sizeof ds / sizeof ds[0] * 2; j++) {
@@ -2139,16 +2147,7 @@ Test(model, damped_event_puts_the_rate_onto_the_force_guard)
  * its terms (r > 0, moving in) the contact is new and takes r as V_i, also where g is far below 1. */
 Test(model, damped_contact_resumed_keeps_delta_and_the_approach_speed)
 {
-    vi_parameters p;
-    vi_parameters_default(&p);
-    p.contact_model = VI_ContactModel_hertz_damped;
-    p.damping_formula = VI_DAMP_EXACT;
-    p.e_restitution = 0.5;
-    p.P = p.g = p.a = 0.0;
-    p.m = 0.01;
-    vi_model M0 = {0};
-    char msg[256];
-    cr_assert(setup_from_table(&M0, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+    const vi_model M0 = damped_ball(0.5);
     const double K = M0.damped.K, ac = M0.damped.alpha_c, ds[] = {1e-12, 3.3e-9, 1e-6};
     for (size_t j = 0; j < sizeof ds / sizeof ds[0]; j++) {
         const double d = ds[j], r_surface = -K * d * sqrt(sqrt(d)) / ac;
