@@ -133,7 +133,8 @@ enum { VI_SOLVER_REACHED = 0, VI_SOLVER_EVENT = 1, VI_SOLVER_LIMIT = 2, VI_SOLVE
 
 typedef struct vi_solver vi_solver;
 
-/* NULL on failure (logged). Copies the configuration; cfg->atol must hold n values. Starts at (t0, x0). */
+/* NULL on failure (logged). Copies the configuration; cfg->atol must hold n values while it runs (the
+ * tolerances are copied into the integrators). Starts at (t0, x0). */
 vi_solver *vi_solver_create(const vi_solver_config *cfg, double t0, const double *x0);
 /* As vi_solver_create, but continuing a saved state: the one-step method continues from *cfg->ode as
  * it is (checked); CVODE starts at (t0, x0) as after vi_solver_checkpoint; AUTO continues with the

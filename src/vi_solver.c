@@ -17,8 +17,7 @@
 #include "vi_check.h"
 
 struct vi_solver {
-    vi_solver_config cfg;
-    double atol_copy[VI_SOLVER_MAX_N];
+    vi_solver_config cfg; /* cfg.atol: the caller's, read only while the solver is created */
     /* the one-step method: the problem (the continuation is *cfg.ode) */
     vi_ode_problem ode_problem;
     long ode_resets;
@@ -355,8 +354,6 @@ static vi_solver *create(const vi_solver_config *cfg, double t0, const double *x
         return NULL;
     }
     s->cfg = *cfg;
-    memcpy(s->atol_copy, cfg->atol, sizeof(double) * (size_t)cfg->n);
-    s->cfg.atol = s->atol_copy;
     if (cfg->method == VI_METHOD_DOP853) {
         if (ode_setup(s) < 0) goto fail;
         if (resume ? !ode_valid(s, t0) : vi_solver_reset(s, t0, x0) < 0) goto fail;

@@ -999,6 +999,31 @@ Test(solver, a_checkpoint_restarts_cvode_only)
     }
 }
 
+/* vi_solver_create copies the configuration: the caller's atol array may change (or go) after it,
+ * and a restart still takes the tolerances given at creation. Two solvers, one whose caller's array
+ * is set to 1 m after creation, restarted and advanced alike, end at the same state bit for bit. */
+Test(solver, a_restart_keeps_the_tolerances_given_at_creation)
+{
+    for (size_t m = 0; m < 4; m++) {
+        rig r, kept;
+        rig_osc(&r, METHODS[m]);
+        rig_osc(&kept, METHODS[m]);
+        double x0[2] = {1.0, 0.0}, x[2][2], t[2] = {0.0, 0.0};
+        int fired[3];
+        long taken;
+        vi_solver *s[2] = {start(&r, 0.0, x0), start(&kept, 0.0, x0)};
+        for (int i = 0; i < VI_SOLVER_MAX_N; i++) r.atol[i] = 1.0;
+        for (int k = 0; k < 2; k++) {
+            cr_assert(vi_solver_reset(s[k], 0.0, x0) == 0);
+            cr_assert(vi_solver_advance(s[k], 1.5, 100000, &t[k], x[k], fired, &taken) == VI_SOLVER_REACHED);
+            vi_solver_free(s[k]);
+        }
+        cr_assert(t[0] == t[1] && x[0][0] == x[1][0] && x[0][1] == x[1][1],
+                  "%s: (%.17g, %.17g) after the caller's atol changed, (%.17g, %.17g) without",
+                  vi_solver_method_name(METHODS[m]), x[0][0], x[0][1], x[1][0], x[1][1]);
+    }
+}
+
 /* ---- auto ----------------------------------------------------------------------------------------- */
 
 /* x0' = 1, x1' = -k (x1 - 1) from (1, 1): x0 = 1 + t, x1 = 1, both exact for either method. The
