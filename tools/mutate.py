@@ -425,16 +425,48 @@ def read_equivalent():
 
 # ---- running commands --------------------------------------------------------------------------
 
+def descendants(pid):
+    """pid and every process below it (from /proc), parents before children."""
+    children = {}
+    for stat in pathlib.Path("/proc").glob("[0-9]*/stat"):
+        try:
+            ppid = int(stat.read_text().rsplit(")", 1)[1].split()[1])
+        except (OSError, IndexError, ValueError):
+            continue  # ended meanwhile
+        children.setdefault(ppid, []).append(int(stat.parent.name))
+    tree = [pid]
+    for p in tree:  # bounded: each process is added once, as the child of its one parent
+        tree.extend(children.get(p, []))
+    return tree
+
+
+def kill_tree(pid):
+    """SIGKILL pid's process group and every process below pid, in whatever group or session: ctest
+    starts each test in a process group of its own, which a kill of the command's group does not
+    reach. The tree is stopped first, so that none of it forks or loses its parent while it is
+    collected again."""
+    for sig in (signal.SIGSTOP, signal.SIGKILL):
+        for p in descendants(pid):
+            try:
+                os.kill(p, sig)
+            except ProcessLookupError:
+                pass
+    try:
+        os.killpg(pid, signal.SIGKILL)
+    except ProcessLookupError:
+        pass
+
+
 def run(cmd, cwd, timeout=None, env=None):
-    """(exit status or "timeout", output). The command runs in a process group of its own, killed
-    whole at the timeout: a test binary ctest or pytest started does not outlive a hung mutant."""
+    """(exit status or "timeout", output). At the timeout the command and every process it started
+    are killed: a test binary ctest or pytest started does not outlive a hung mutant."""
     with subprocess.Popen(cmd, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, env=env, text=True,
                           errors="replace", start_new_session=True) as p:
         try:
             out, _ = p.communicate(timeout=timeout)
             return p.returncode, out
         except subprocess.TimeoutExpired:
-            os.killpg(p.pid, signal.SIGKILL)
+            kill_tree(p.pid)
             out, _ = p.communicate()
             return "timeout", out
 
