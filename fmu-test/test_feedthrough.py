@@ -21,9 +21,11 @@ from vibroimpact.reference.scenarios import SCENARIOS
 STEP_REL = 1e-3
 # scenario -> modes it reaches within 0.02 s (as in test_me_jacobian.py: all five modes, every law)
 CASES = {"fig5c": [0, 1], "fig4b": [0, 1, 2, 3], "stick": [2, 3, 4], "continuous": [0, 1, 2, 3], "fig4c": [0, 1, 2],
-         "fig6a": [0, 1, 2], "damped": [0, 1]}
-# cases that are no scenario of the table: the damped Hertz law (its force depends on v) under Fig. 4b's excitation
-EXTRA = {"damped": dict(contact_model=4, e_restitution=0.6, Y=6e8, a=1e-4, f=560.0)}
+         "fig6a": [0, 1, 2], "damped": [0, 1], "damped_velocity": [0, 1]}
+# cases that are no scenario of the table: the damped Hertz law (its force depends on v) under Fig. 4b's excitation,
+# and with the platform's rate taken from vC_in (the force then depends on it)
+EXTRA = {"damped": dict(contact_model=4, e_restitution=0.6, Y=6e8, a=1e-4, f=560.0),
+         "damped_velocity": dict(contact_model=4, e_restitution=0.6, Y=6e8, a=1e-4, f=560.0, velocity_input=True)}
 
 
 def unknowns(md):
@@ -93,7 +95,7 @@ def test_model_structure_is_the_measured_feedthrough(fmu_path, unzipdir, model_d
         fmu = FMU2Model(guid=md.guid, unzipDirectory=unzipdir, modelIdentifier=md.modelExchange.modelIdentifier,
                         instanceName=name)
         fmu.instantiate()
-        point, seen = Point(fmu, md, {"yC_in": 1e-5, "F_ext": 1e4}), set()
+        point, seen = Point(fmu, md, {"yC_in": 1e-5, "F_ext": 1e4, "vC_in": 0.1}), set()
 
         def step_finished(time, recorder):
             mode = point.read(["mode"])["mode"]

@@ -174,14 +174,15 @@ def check_model_structure(md):
 
 def test_model_structure_declares_the_model_exchange_dependencies(model_description):
     """The force follows the indentation yC - y at once: in Model Exchange F depends directly on the input
-    yC_in and the state y, and on v through the damped laws' rate; the discrete outputs depend on nothing continuous (the Jacobian test in
+    yC_in and the state y, and on v through the damped laws' rate, and on the platform's velocity vC_in there
+    when velocity_input is true; the discrete outputs depend on nothing continuous (the Jacobian test in
     test_me_jacobian.py checks every declared pair against the FMU's partial derivatives)."""
     check_model_structure(model_description)
     deps = {u.variable.name: sorted(d.name for d in u.dependencies) for u in model_description.outputs}
-    assert deps["F"] == ["F_ext", "v", "y", "yC_in"] and deps["y"] == ["y"] and deps["v"] == ["v"]
+    assert deps["F"] == ["F_ext", "v", "vC_in", "y", "yC_in"] and deps["y"] == ["y"] and deps["v"] == ["v"]
     assert deps["mode"] == deps["contact"] == deps["n_impacts"] == []
     der = {u.variable.name: sorted(d.name for d in u.dependencies) for u in model_description.derivatives}
-    assert der == {"der_y": ["v"], "der_v": ["F_ext", "v", "y", "yC_in"]}
+    assert der == {"der_y": ["v"], "der_v": ["F_ext", "v", "vC_in", "y", "yC_in"]}
 
 
 def read_all(s, md, variables):

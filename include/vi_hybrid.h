@@ -107,9 +107,6 @@ static inline int vi_hybrid_inputs_differ(const vi_hybrid *h, double t, vi_ramp 
     return yC_in.du != model->yC_in.du || F_ext.du != model->F_ext.du ||
            vi_ramp_at(&yC_in, t) != vi_ramp_at(&model->yC_in, t) || vi_ramp_at(&F_ext, t) != vi_ramp_at(&model->F_ext, t);
 }
-/* The inputs act from t on without a choice of mode (a continuous-time input): the memory is written
- * down at the state before, then delta jumps with the platform (the mass does not move). */
-void vi_hybrid_take_inputs(vi_hybrid *h, double t, double x[2], vi_ramp yC_in, vi_ramp F_ext);
 /* An input jump at t (inputs and the tunable excitation): when they differ from what the model runs,
  * take them, move the platform with a new a, choose the mode afresh, log a change of mode, reset and
  * arm the bands, and return 1; else 0 (the same signal: nothing happens). */
@@ -118,12 +115,12 @@ int vi_hybrid_input_jump(vi_hybrid *h, double t, double x[2], vi_ramp yC_in, vi_
  * change, reset and arm the bands. */
 void vi_hybrid_kink(vi_hybrid *h, double t, double x[2]);
 /* A state event at t: guard `fired` of the current mode reached zero. located: snap onto its surface
- * (vi_model_event); else choose the mode of the state as it is (freeze, vi_model_resolve). While the
- * mode is chosen the inputs ramp at input_rates (yC_in [m/s], F_ext [N/s]; NULL: as they are), then
- * they hold their values again. Counts and logs the event; a change of mode resets the bands,
+ * (vi_model_event); else choose the mode of the state as it is (freeze, vi_model_resolve). The mode
+ * is chosen with the inputs' ramps the guards see (one notion of the platform's rate: a guard cannot
+ * fire again at the same instant because the choice saw another rate). Counts and logs the event; a change of mode resets the bands,
  * grazing disarms the guard that fired. Returns the mode before. The driver then arms the guards at
  * zero (vi_hybrid_arm_at_zero) at the state as its integrator holds it. */
-int vi_hybrid_event(vi_hybrid *h, double t, double x[2], int fired, int located, const double *input_rates);
+int vi_hybrid_event(vi_hybrid *h, double t, double x[2], int fired, int located);
 /* After a state event at t on guard `fired` of mode `from`: do events accumulate (the Zeno rule)?
  * Then 1, with the message in msg naming the time, the guard and its mode. */
 int vi_hybrid_zeno(const vi_hybrid *h, double t, int fired, int from, char *msg, size_t n);

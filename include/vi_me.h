@@ -42,11 +42,7 @@ typedef struct {
     vi_sim s;   /* first member: a vi_me is a vi_sim */
     int active; /* initialized for Model Exchange */
     int stale;  /* time or states set since the model last caught up with them */
-    /* the last two times [s] a step was completed or an event handled, at different times, and the inputs
-     * then (yC_in [m], F_ext [N]), newest last */
-    struct {
-        double t, u[2];
-    } marks[2];
+    int warned_rate; /* the estimated rate of yC_in was warned of (once per instance) */
 } vi_me;
 
 /* What one pass of the event iteration did. */
@@ -92,9 +88,9 @@ int vi_me_checkpoint(vi_me *e);
 int vi_me_restore(vi_me *e, int running);
 
 /* The partial derivatives of one unknown with respect to the knowns: the states y [m], v [m/s] and
- * the inputs yC_in [m], F_ext [N]. */
+ * the inputs yC_in [m], F_ext [N], vC_in [m/s] (nonzero only with velocity_input). */
 typedef struct {
-    double y, v, yC_in, F_ext;
+    double y, v, yC_in, F_ext, vC_in;
 } vi_me_partials;
 /* The unknowns: the derivatives of the states and the outputs that move with the states and inputs
  * (every other output and the calculated parameters have zero partials). */

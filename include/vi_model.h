@@ -169,6 +169,10 @@ double vi_model_platform(const vi_model *model, double t, double *dyC, double *d
  * the linearised resonance at the static load W(t0) (unloading stiffness when pre-loaded plastically). */
 void vi_model_initial_state(vi_model *model, int init, double v0, double t0, double x[2]);
 
+/* Does the law need the platform's rate beyond the tie-breaks of a mode choice (a rate guard: the
+ * turning point of a plastic motion, stick; a force that depends on delta')? Hertz and Johnson with a
+ * moving contact point do not. */
+int vi_model_uses_rate(const vi_model *model);
 /* Contact force [N] in the current mode. */
 double vi_model_force(const vi_model *model, double t, const double x[2]);
 void vi_model_rhs(const vi_model *model, double t, const double x[2], double dx[2]);

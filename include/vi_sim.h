@@ -55,6 +55,9 @@ typedef struct {
                             yC(t) - y), kept as given so that a restored state gives it back bit for bit */
     vi_hybrid_state events;          /* the event engine's state: tolerances, guard bands, Zeno count */
     double step_t0, step_v0;         /* start of the last step and the velocity there (for F_mean) */
+    double step_u0;                  /* Model Exchange: yC_in [m] at step_t0 */
+    double yC_in_rate;               /* Model Exchange without velocity_input: the rate of yC_in [m/s] the
+                                        model runs, estimated at completed steps (vi_me.h) */
     vi_ode ode;                      /* solver = dop853 or auto: the one-step method's whole continuation */
     vi_solver_auto auto_choice;      /* solver = auto: which method runs, and its stiffness counts */
 } vi_sim_data;
@@ -96,6 +99,12 @@ void vi_sim_free(vi_sim *s);
  * that loads for R1 > 0; then compute the derived parameters and the initial state (no solver).
  * 0, or -1 with the reason in s->msg. */
 int vi_sim_prepare(vi_sim *s);
+/* The inputs from t on, as ramps (doc/model.md section 5): each input's value as last set, at the rate
+ * the importer gave as its derivative (Co-Simulation; 0 when none was given, and always in Model
+ * Exchange); with velocity_input, yC_in at the rate vC_in instead, so that the platform's rate is the
+ * importer's wherever the model needs it (damping, rate guards, mode choice, static start) and, in
+ * Co-Simulation, yC_in is carried through the step at that rate. */
+void vi_sim_input_ramps(const vi_sim_data *d, double t, vi_ramp *yC_in, vi_ramp *F_ext);
 /* The relative tolerance the simulation runs at: rtol when set (> 0), else the experiment's tolerance
  * when given, else VI_RTOL_DEFAULT (doc/model.md section 5). */
 double vi_sim_rtol(const vi_sim_data *d);

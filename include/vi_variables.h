@@ -52,7 +52,7 @@
   X(rtol, Real, none, parameter, fixed, exact, 0.0, VI_AT(0.0), VI_AT(VI_RTOL_MAX), "", 0, "", "relative tolerance: 0 = the experiment's tolerance (fmi2SetupExperiment, fmi3EnterInitializationMode), " VI_STRING_OF(VI_RTOL_DEFAULT) " without one; else at least " VI_STRING_OF(VI_RTOL_MIN) ", used whatever the experiment's") \
   X(solver, Integer, Solver, parameter, fixed, exact, 4, VI_NONE, VI_NONE, "", 0, "", "integration method (auto: Dormand-Prince 8(5,3), CVODE BDF while stiff; doc/model.md section 5)") \
   X(max_step, Real, none, parameter, fixed, exact, 0.0, VI_AT(0.0), VI_NONE, "s", 0, "", "maximum internal step of the solver: 0 = none, else at least " VI_STRING_OF(VI_MAX_STEP_MIN) " s") \
-  X(F, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N", 0, "yC_in F_ext y v", "contact force") \
+  X(F, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N", 0, "yC_in F_ext y v vC_in", "contact force") \
   X(delta, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m", 0, "yC_in y", "indentation yC - y") \
   X(y, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m", 1e-5, "y", "mass position") \
   X(v, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s", 0.1, "v", "mass velocity") \
@@ -72,16 +72,18 @@
   X(k_lin, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "N/m", 0, "", "stiffness of the linear elastic-perfectly plastic model, F_Y/delta_Y") \
   X(f_contact, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "Hz", 0, "", "linearised contact resonance at the static load") \
   X(F_mean, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N", 0, "yC_in F_ext y v", "contact force averaged over the last communication step: its impulse divided by the step") \
-  X(k_contact, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N/m", 0, "yC_in y v", "tangent contact stiffness dF/ddelta at the current state, 0 out of contact") \
+  X(k_contact, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N/m", 0, "yC_in y v vC_in", "tangent contact stiffness dF/ddelta at the current state, 0 out of contact") \
   X(profile_file, String, none, parameter, fixed, exact, "", VI_NONE, VI_NONE, "", 0, "", "profile rolled over (Fig. 1b): two-column text table x [m], h [m]; relative paths: FMU resources, then working directory; empty = none") \
   X(V, Real, none, parameter, fixed, exact, 0.0, VI_NONE, VI_NONE, "m/s", 0, "", "rolling speed over the profile: yC = yC_in + a (cos(2 pi f t) - 1) + yb(x0 + V t)") \
   X(x0, Real, none, parameter, fixed, exact, 0.0, VI_NONE, VI_NONE, "m", 0, "", "position on the profile at the start time") \
   X(profile_periodic, Boolean, none, parameter, fixed, exact, 0, VI_NONE, VI_NONE, "", 0, "", "repeat the profile beyond its ends (its last height must equal the first); false: the run stops at its end") \
   X(der_y, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s", 0, "v", "time derivative of y (Model Exchange: the derivative of the state y)") \
-  X(der_v, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s2", 0, "yC_in F_ext y v", "time derivative of v, the acceleration of the mass (Model Exchange: the derivative of the state v)") \
+  X(der_v, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s2", 0, "yC_in F_ext y v vC_in", "time derivative of v, the acceleration of the mass (Model Exchange: the derivative of the state v)") \
   X(e_restitution, Real, none, parameter, fixed, exact, 0.8, VI_ABOVE(0.0), VI_AT(1.0), "", 0, "", "coefficient of restitution of an isolated impact (hertz_damped, linear)") \
   X(damping_formula, Integer, DampingFormula, parameter, fixed, exact, 1, VI_NONE, VI_NONE, "", 0, "", "damping of hertz_damped (exact: the restitution is e_restitution at every impact speed)") \
-  X(k_spring, Real, none, parameter, fixed, exact, 1.2e9, VI_ABOVE(0.0), VI_NONE, "N/m", 0, "", "spring stiffness of the linear spring-dashpot (contact_model = linear)")
+  X(k_spring, Real, none, parameter, fixed, exact, 1.2e9, VI_ABOVE(0.0), VI_NONE, "N/m", 0, "", "spring stiffness of the linear spring-dashpot (contact_model = linear)") \
+  X(vC_in, Real, none, input, continuous, exact, 0.0, VI_NONE, VI_NONE, "m/s", 0, "", "platform velocity input, the rate of yC_in: used wherever the FMU needs the platform's rate when velocity_input is true") \
+  X(velocity_input, Boolean, none, parameter, fixed, exact, 0, VI_NONE, VI_NONE, "", 0, "", "take the rate of yC_in from vC_in (coupled masters hold the rail's velocity); false: from yC_in's derivative in Co-Simulation, none in Model Exchange")
 
 /* Enumeration types: E(type, description); items in VI_ITEMS_<type>(I) as I(type, name, value).
  * Items are matched by name in the model through the constants VI_<type>_<name>. */

@@ -185,6 +185,7 @@ static double jacobian_entry(const vi_me_partials *row, unsigned known)
     case VI_VR_v: return row->v;
     case VI_VR_yC_in: return row->yC_in;
     case VI_VR_F_ext: return row->F_ext;
+    case VI_VR_vC_in: return row->vC_in;
     default: return 0.0;
     }
 }

@@ -109,7 +109,9 @@ int vi_hybrid_due(const vi_hybrid *h, double t, const double x[2])
 
 /* ---- inputs and kinks ------------------------------------------------------------------------- */
 
-void vi_hybrid_take_inputs(vi_hybrid *h, double t, double x[2], vi_ramp yC_in, vi_ramp F_ext)
+/* The inputs act from t on: the memory is written down at the state before, then delta jumps with the
+ * platform (the mass does not move). */
+static void take_inputs(vi_hybrid *h, double t, double x[2], vi_ramp yC_in, vi_ramp F_ext)
 {
     vi_model *model = h->model;
     vi_model_freeze(model, t, x);
@@ -134,7 +136,7 @@ int vi_hybrid_input_jump(vi_hybrid *h, double t, double x[2], vi_ramp yC_in, vi_
     vi_model *model = h->model;
     int from = model->mode;
     if (!vi_hybrid_inputs_differ(h, t, yC_in, F_ext) && !vi_model_excitation_differs(model, a, f)) return 0;
-    vi_hybrid_take_inputs(h, t, x, yC_in, F_ext);
+    take_inputs(h, t, x, yC_in, F_ext);
     vi_model_set_excitation(model, t, x, a, f); /* a new a moves the platform (delta with it), the mass stays */
     vi_model_resolve(model, t, x);
     mode_chosen(h, "input", from, t, x);
@@ -150,30 +152,23 @@ void vi_hybrid_kink(vi_hybrid *h, double t, double x[2])
 
 /* ---- state events ----------------------------------------------------------------------------- */
 
-/* Choose the mode after guard `fired` reached zero, the inputs ramping at input_rates meanwhile. */
-static void choose(vi_model *model, double t, double x[2], int fired, int located, const double *input_rates)
+/* Choose the mode after guard `fired` reached zero, with the rates the guards see. */
+static void choose(vi_model *model, double t, double x[2], int fired, int located)
 {
-    vi_ramp yC_in = model->yC_in, F_ext = model->F_ext;
-    if (input_rates) {
-        model->yC_in = (vi_ramp){vi_ramp_at(&yC_in, t), input_rates[0], t};
-        model->F_ext = (vi_ramp){vi_ramp_at(&F_ext, t), input_rates[1], t};
-    }
     if (located) {
         vi_model_event(model, t, x, fired);
     } else {
         vi_model_freeze(model, t, x);
         vi_model_resolve(model, t, x);
     }
-    model->yC_in = yC_in;
-    model->F_ext = F_ext;
 }
 
-int vi_hybrid_event(vi_hybrid *h, double t, double x[2], int fired, int located, const double *input_rates)
+int vi_hybrid_event(vi_hybrid *h, double t, double x[2], int fired, int located)
 {
     vi_model *model = h->model;
     vi_hybrid_state *st = h->st;
     int from = model->mode;
-    choose(model, t, x, fired, located, input_rates);
+    choose(model, t, x, fired, located);
     st->n_events++;
     st->zeno = vi_hybrid_zeno_count(st->zeno, st->t_count, t);
     st->t_count = t;

@@ -10,59 +10,47 @@
 
 static double platform(const vi_model *model, double t) { return vi_model_platform(model, t, NULL, NULL); }
 
-/* The inputs the setters stored, held from t on (Model Exchange passes values only). */
-static vi_ramp held(double u, double t) { return (vi_ramp){u, 0.0, t}; }
+/* The inputs from t on: their values (Model Exchange passes no derivatives: F_ext is held); yC_in at
+ * the rate vC_in with velocity_input (vi_sim_input_ramps), else at the rate estimated at the last
+ * completed step. */
+static void input_ramps(const vi_sim_data *d, double t, vi_ramp *yC_in, vi_ramp *F_ext)
+{
+    vi_sim_input_ramps(d, t, yC_in, F_ext);
+    if (!d->par.velocity_input) yC_in->du = d->yC_in_rate;
+    F_ext->du = 0.0;
+}
 
 /* Bring the model in step with the importer's time, states and inputs: delta = yC(t) - y. Setting the
  * time or the states only marks the model stale, and the setters of inputs store them only, so the
  * model catches up here, before anything is read: every answer is that of the last (t, y, v, inputs)
- * whatever the order they were set in. Inputs set in continuous-time mode act at once (the memory is
- * written down first at the state before the change; the mass stays where it is); inputs set in
- * event mode (d->inputs_changed, from the layer's `changed`) wait for the event iteration, which
- * applies them as a jump. */
+ * whatever the order they were set in. Inputs set in continuous-time mode act at once, as the
+ * continuous functions of time FMI makes them: the mass stays where it is, and nothing is written
+ * down (the integrator evaluates at trial points it may reject; the memory is written down at
+ * completed steps and events); inputs set in event mode (d->inputs_changed, from the layer's
+ * `changed`) wait for the event iteration, which applies them as a jump. */
 static void sync(vi_me *e)
 {
     vi_sim_data *d = &e->s.d;
     if (!e->active) return; /* co-simulation: vi_sim keeps its outputs until its state changes */
-    vi_ramp yC_in = held(d->in.yC_in, d->t), F_ext = held(d->in.F_ext, d->t);
+    vi_ramp yC_in, F_ext;
+    input_ramps(d, d->t, &yC_in, &F_ext);
     int take = !d->inputs_changed && vi_hybrid_inputs_differ(&e->s.engine, d->t, yC_in, F_ext);
     if (!e->stale && !take) return;
     e->stale = 0;
     e->s.out_valid = 0;
-    if (take) { /* x: a copy, the state is the importer's */
-        double x[2] = {platform(&d->model, d->t) - d->y_me, d->x[1]};
-        vi_hybrid_take_inputs(&e->s.engine, d->t, x, yC_in, F_ext);
+    if (take) {
+        d->model.yC_in = yC_in;
+        d->model.F_ext = F_ext;
     }
     d->x[0] = platform(&d->model, d->t) - d->y_me;
 }
 
-/* A step completed or an event handled: the time and the inputs that mean input rates are taken from
- * (a mark at the same time as the newest replaces it). */
-static void mark_step(vi_me *e)
+/* A step completed or an event handled at the current time: the next step starts here. */
+static void mark_step(vi_sim_data *d)
 {
-    const vi_sim_data *d = &e->s.d;
-    if (d->t != e->marks[1].t) e->marks[0] = e->marks[1];
-    e->marks[1].t = d->t;
-    e->marks[1].u[0] = d->model.yC_in.u;
-    e->marks[1].u[1] = d->model.F_ext.u;
-}
-
-/* After a restore or at the start: both marks now (no rate until time has passed). */
-static void mark_start(vi_me *e)
-{
-    mark_step(e);
-    e->marks[0] = e->marks[1];
-}
-
-/* The inputs' mean rates (yC_in [m/s], F_ext [N/s]) since the newest mark before now, 0 where none is:
- * the rates a state event chooses the mode with. */
-static void mean_input_rates(const vi_me *e, double rates[2])
-{
-    const vi_sim_data *d = &e->s.d;
-    int k = e->marks[1].t < d->t ? 1 : 0;
-    double h = d->t - e->marks[k].t;
-    rates[0] = h > 0.0 ? (d->model.yC_in.u - e->marks[k].u[0]) / h : 0.0;
-    rates[1] = h > 0.0 ? (d->model.F_ext.u - e->marks[k].u[1]) / h : 0.0;
+    d->step_t0 = d->t;
+    d->step_v0 = d->x[1];
+    d->step_u0 = d->model.yC_in.u;
 }
 
 /* Bind the event engine to the integrated position y (Model Exchange) and start the driver's own state. */
@@ -80,12 +68,13 @@ int vi_me_initialize(vi_me *e)
     if (vi_sim_initialize(s) < 0) return -1;
     vi_sim_data *d = &s->d;
     vi_model *model = &d->model;
-    model->yC_in = held(d->in.yC_in, d->t); /* Model Exchange passes values only */
-    model->F_ext = held(d->in.F_ext, d->t);
+    d->yC_in_rate = 0.0;
+    input_ramps(d, d->t, &model->yC_in, &model->F_ext);
+    mark_step(d);
+    e->warned_rate = 0;
     d->y_me = platform(model, d->t) - d->x[0];
     start_driver(e, 1);
     sync(e);
-    mark_start(e);
     vi_hybrid_start(&s->engine, d->events.rtol, d->events.atol, d->t, d->x);
     double nominal[2];
     vi_me_nominals(e, nominal);
@@ -149,24 +138,22 @@ static void time_events(vi_me *e, double x[2])
     vi_sim_data *d = &e->s.d;
     double t = d->t;
     if (d->inputs_changed || vi_model_excitation_differs(&d->model, d->par.a, d->par.f)) {
-        vi_ramp yC_in = d->inputs_changed ? held(d->in.yC_in, t) : d->model.yC_in;
-        vi_ramp F_ext = d->inputs_changed ? held(d->in.F_ext, t) : d->model.F_ext;
+        vi_ramp yC_in = d->model.yC_in, F_ext = d->model.F_ext;
+        if (d->inputs_changed) input_ramps(d, t, &yC_in, &F_ext);
         d->inputs_changed = 0;
         vi_hybrid_input_jump(&e->s.engine, t, x, yC_in, F_ext, d->par.a, d->par.f);
     }
     if (vi_model_next_breakpoint(&d->model, d->step_t0) <= t) vi_hybrid_kink(&e->s.engine, t, x);
 }
 
-/* The first guard at or below zero, as a state event (the mode chosen with the inputs' mean rates).
- * Returns the guard, or -1 when none fired; *from: the mode it belonged to. */
+/* The first guard at or below zero, as a state event. Returns the guard, or -1 when none fired; *from:
+ * the mode it belonged to. */
 static int state_event(vi_me *e, double x[2], int *from)
 {
     vi_sim_data *d = &e->s.d;
     int located, fired = vi_hybrid_fired(&e->s.engine, d->t, x, &located);
     if (fired < 0) return -1;
-    double rates[2];
-    mean_input_rates(e, rates);
-    *from = vi_hybrid_event(&e->s.engine, d->t, x, fired, located, rates);
+    *from = vi_hybrid_event(&e->s.engine, d->t, x, fired, located);
     return fired;
 }
 
@@ -198,9 +185,7 @@ int vi_me_event_update(vi_me *e, vi_me_event *ev)
     take_state(e, x, ev);
     vi_hybrid_arm_at_zero(&s->engine, t, d->x); /* at the state as the importer holds it */
     ev->another_pass = vi_hybrid_due(&s->engine, t, d->x);
-    d->step_t0 = t;
-    d->step_v0 = d->x[1];
-    mark_step(e);
+    mark_step(d);
     vi_sim_check_validity(s);
     if (fired >= 0 && vi_hybrid_zeno(&s->engine, t, fired, from, s->msg, sizeof s->msg)) ev->terminate = 1;
     char why[8];
@@ -216,6 +201,38 @@ void vi_me_enter_continuous(vi_me *e)
     sync(e);
 }
 
+/* The rate of yC_in over the step that just completed becomes the rate the model runs until the next
+ * completed step (without velocity_input): one notion of the platform's rate for the event indicators
+ * and the mode choices. Its first change while the law needs the rate is warned of once. */
+static void estimate_rate(vi_me *e)
+{
+    vi_sim_data *d = &e->s.d;
+    double h = d->t - d->step_t0;
+    if (d->par.velocity_input || !(h > 0.0)) return;
+    d->yC_in_rate = (d->model.yC_in.u - d->step_u0) / h;
+    if (d->yC_in_rate != 0.0 && !e->warned_rate && vi_model_uses_rate(&d->model)) {
+        e->warned_rate = 1;
+        e->s.log(e->s.log_env, VI_LOG_WARNING, "t = %.17g s: yC_in moves (%g m/s) and velocity_input = false: Model "
+                 "Exchange passes no input derivatives, so the platform's rate is estimated from yC_in's change over "
+                 "each completed step, and turning points, damping and mode choices lag by a step; set velocity_input "
+                 "= true and connect the platform's velocity to vC_in for exact results", d->t, d->yC_in_rate);
+    }
+    sync(e); /* the new rate acts from now on (a continuous-time input) */
+}
+
+/* While the platform's rate is an estimate (yC_in moves, velocity_input = false), a plastic motion may
+ * go on past its turning point for up to a step: its memory is written down at each completed step,
+ * so that delta_c and the permanent set never decrease (the memory outputs are never below what was
+ * written down). With a known rate the motion stays plastic only while delta grows. x: a copy (the
+ * state is the importer's). */
+static void write_down(vi_me *e)
+{
+    vi_sim_data *d = &e->s.d;
+    if (d->model.mode != VI_MODE_PLASTIC || d->par.velocity_input || d->yC_in_rate == 0.0) return;
+    double x[2] = {d->x[0], d->x[1]};
+    vi_model_freeze(&d->model, d->t, x);
+}
+
 int vi_me_completed_step(vi_me *e)
 {
     vi_sim_data *d = &e->s.d;
@@ -223,10 +240,11 @@ int vi_me_completed_step(vi_me *e)
     sync(e);
     if (vi_model_next_breakpoint(&d->model, d->step_t0) <= d->t || past_profile_end(&d->model, d->t, why, sizeof why))
         return 1; /* a time event was stepped over: handle it here */
+    estimate_rate(e);
+    write_down(e);
+    if (vi_hybrid_due(&e->s.engine, d->t, d->x)) return 1; /* the new rate put a guard below zero */
     vi_hybrid_rearm(&e->s.engine, d->t, d->x);
-    d->step_t0 = d->t;
-    d->step_v0 = d->x[1];
-    mark_step(e);
+    mark_step(d);
     vi_sim_check_validity(&e->s);
     return 0;
 }
@@ -251,10 +269,8 @@ void vi_me_outputs(vi_me *e, vi_outputs *out) { *out = *vi_me_outputs_of(e, VI_O
 int vi_me_checkpoint(vi_me *e)
 {
     sync(e);
-    if (e->active) {
+    if (e->active) { /* the memory stays as written down: a saved state changes nothing that follows */
         vi_sim_data *d = &e->s.d;
-        double x[2] = {d->x[0], d->x[1]};
-        vi_model_freeze(&d->model, d->t, x); /* the memory of the current state (not the state) */
         /* the model's own solver does not run in Model Exchange: start it at the current point, so
          * that its continuation (dop853) belongs to the state saved */
         if (e->s.solver && vi_solver_reset(e->s.solver, d->t, d->x) < 0) {
@@ -269,17 +285,16 @@ int vi_me_restore(vi_me *e, int running)
 {
     if ((running ? vi_sim_restore_without_solver(&e->s) : vi_sim_restore(&e->s)) < 0) return -1;
     start_driver(e, running);
-    mark_start(e); /* a state is taken between steps: one starts here */
     return 0;
 }
 
 /* ---- the Jacobian ---------------------------------------------------------------------------- */
 
 /* An unknown's partials with respect to delta, v, F_ext and yC (directly, not through delta), mapped
- * onto the knowns: delta = yC(t) - y, yC = yC_in + ... */
+ * onto the knowns: delta = yC(t) - y, yC = yC_in + ... (vC_in: set by the caller) */
 static vi_me_partials through_delta(double a_d, double a_v, double a_F, double a_yC)
 {
-    return (vi_me_partials){.y = -a_d, .v = a_v, .yC_in = a_d + a_yC, .F_ext = a_F};
+    return (vi_me_partials){.y = -a_d, .v = a_v, .yC_in = a_d + a_yC, .F_ext = a_F, .vC_in = 0.0};
 }
 
 void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
@@ -309,4 +324,10 @@ void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
     jac[VI_ME_RBAR] = through_delta(mem.Rbar, 0.0, 0.0, 0.0);
     jac[VI_ME_DELTA_P] = through_delta(mem.delta_p, 0.0, 0.0, 0.0);
     jac[VI_ME_W_PLASTIC] = through_delta(mem.W_plastic, 0.0, 0.0, 0.0);
+    if (d->par.velocity_input) { /* vC_in is the platform's rate in delta' = yC' - v: the partials of -v */
+        jac[VI_ME_DER_V].vC_in = c / m;
+        jac[VI_ME_F].vC_in = c;
+        if (h <= 0.0) jac[VI_ME_F_MEAN].vC_in = c;
+        jac[VI_ME_K_CONTACT].vC_in = k_per_rate;
+    }
 }

@@ -359,18 +359,20 @@ static double johnson_static_stiffness(const vi_model *model, double W)
 static void johnson_memory(const vi_model *model, double d, vi_model_values *out)
 {
     if (!is_johnson_fixed(model) || !model->yielded) return;
-    vi_unload_curve U = model->mode == VI_MODE_PLASTIC ? law(model)->unload_curve(model, d) : model->unload;
+    vi_unload_curve U = model->unload; /* while loading plastically: the curve of the deepest point so far */
+    if (model->mode == VI_MODE_PLASTIC && d > U.delta_c) U = law(model)->unload_curve(model, d);
     out->delta_c = U.delta_c;
     out->delta_f = U.delta_f;
     out->Rbar = U.Rbar;
     /* dissipated = work along the virgin curve - energy the unloading curve gives back */
     out->W_plastic = law(model)->virgin_work(model, U.delta_c) - vi_unload_energy(&U, U.delta_c);
 }
-/* While Johnson (fixed contact point) loads plastically, delta_c = d and the unloading curve moves
- * with it: W_plastic = load work(delta_c) - 0.4 Kbar delta_r^2.5, Kbar = 4/3 E* sqrt(Rbar). */
+/* While Johnson (fixed contact point) loads plastically beyond the memory written down, delta_c = d and
+ * the unloading curve moves with it: W_plastic = load work(delta_c) - 0.4 Kbar delta_r^2.5, Kbar =
+ * 4/3 E* sqrt(Rbar). */
 static void johnson_memory_rates(const vi_model *model, double d, vi_memory_rates *r)
 {
-    if (!is_johnson_fixed(model) || model->mode != VI_MODE_PLASTIC) {
+    if (!is_johnson_fixed(model) || model->mode != VI_MODE_PLASTIC || d < model->unload.delta_c) {
         no_memory_rates(model, d, r);
         return;
     }
@@ -445,9 +447,12 @@ static double lepp_flow_stiffness(const vi_model *model, double d) { return (voi
 static double lepp_contact(const vi_model *model) { return model->delta_p; }
 static double lepp_yield(const vi_model *model) { return model->delta_p + model->johnson.delta_Y; }
 /* Plastic flow to x[0]: the permanent set follows, delta_p = delta - delta_Y; x[0] is then rounded
- * onto the yield surface so that its guard is exactly zero, never an ulp below. */
+ * onto the yield surface so that its guard is exactly zero, never an ulp below. The permanent set
+ * never decreases: a state below the yield surface (an importer's step past the turning point) leaves
+ * it and x as they are. */
 static void lepp_flow_to(vi_model *model, double x[2])
 {
+    if (!(x[0] - model->johnson.delta_Y >= model->delta_p)) return;
     model->delta_p = x[0] - model->johnson.delta_Y;
     x[0] = lepp_yield(model);
 }
@@ -467,14 +472,15 @@ static double lepp_virgin_stiffness(const vi_model *model, double d) { return (v
 static double lepp_impact(const vi_model *model, double v) { return v * sqrt(model->m) / sqrt(model->k_lin); }
 static void lepp_memory(const vi_model *model, double d, vi_model_values *out)
 {
-    out->delta_p = model->mode == VI_MODE_PLASTIC ? d - model->johnson.delta_Y : model->delta_p;
+    out->delta_p = model->mode == VI_MODE_PLASTIC ? fmax(d - model->johnson.delta_Y, model->delta_p) : model->delta_p;
     out->W_plastic = model->johnson.F_Y * out->delta_p;
 }
-/* While LEPP flows, delta_p = d - delta_Y and W_plastic = F_Y delta_p. */
+/* While LEPP flows beyond the set written down, delta_p = d - delta_Y and W_plastic = F_Y delta_p. */
 static void lepp_memory_rates(const vi_model *model, double d, vi_memory_rates *r)
 {
     no_memory_rates(model, d, r);
-    if (model->mode == VI_MODE_PLASTIC) r->delta_p = 1.0, r->W_plastic = model->johnson.F_Y;
+    if (model->mode == VI_MODE_PLASTIC && d - model->johnson.delta_Y >= model->delta_p)
+        r->delta_p = 1.0, r->W_plastic = model->johnson.F_Y;
 }
 
 static const law_fns laws[] = {
@@ -541,6 +547,8 @@ static const law_fns *law(const vi_model *model) { return &laws[model->law == 0 
 static int plastic_ends_at_yield(const vi_model *model) { return model->law == VI_LAW_JOHNSON && model->moving; }
 
 /* ---- force, right-hand side, guards, events ------------------------------------------------------ */
+
+int vi_model_uses_rate(const vi_model *model) { return model->law != VI_LAW_HERTZ && !plastic_ends_at_yield(model); }
 
 /* The rate r = delta' = yC'(t) - v. */
 static double indentation_rate(const vi_model *model, double t, const double x[2])

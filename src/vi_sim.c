@@ -152,10 +152,15 @@ void vi_sim_check_validity(vi_sim *s)
     }
 }
 
+void vi_sim_input_ramps(const vi_sim_data *d, double t, vi_ramp *yC_in, vi_ramp *F_ext)
+{
+    *yC_in = (vi_ramp){d->in.yC_in, d->par.velocity_input ? d->in.vC_in : d->din.yC_in, t};
+    *F_ext = (vi_ramp){d->in.F_ext, d->din.F_ext, t};
+}
+
 static void set_input_ramps(vi_model *model, const vi_sim_data *d, double t)
 {
-    model->yC_in = (vi_ramp){d->in.yC_in, d->din.yC_in, t};
-    model->F_ext = (vi_ramp){d->in.F_ext, d->din.F_ext, t};
+    vi_sim_input_ramps(d, t, &model->yC_in, &model->F_ext);
 }
 
 double vi_sim_rtol(const vi_sim_data *d)
@@ -296,7 +301,8 @@ static void apply_inputs(vi_sim *s)
 {
     vi_sim_data *d = &s->d;
     double t = d->t;
-    vi_ramp yC_in = {d->in.yC_in, d->din.yC_in, t}, F_ext = {d->in.F_ext, d->din.F_ext, t};
+    vi_ramp yC_in, F_ext;
+    vi_sim_input_ramps(d, t, &yC_in, &F_ext);
     d->inputs_changed = 0;
     if (!vi_hybrid_input_jump(&s->engine, t, d->x, yC_in, F_ext, d->par.a, d->par.f)) return;
     s->solver_stale = 1;
@@ -375,7 +381,7 @@ static int state_event(vi_sim *s, advance_run *run, const int fired[])
     vi_sim_data *d = &s->d;
     int g = 0;
     while (g < VI_NGUARDS - 1 && fired[g] == 0) g++;
-    int from = vi_hybrid_event(&s->engine, d->t, d->x, g, 1, NULL);
+    int from = vi_hybrid_event(&s->engine, d->t, d->x, g, 1);
     vi_hybrid_arm_at_zero(&s->engine, d->t, d->x);
     vi_sim_check_validity(s);
     if (vi_solver_reset(s->solver, d->t, d->x) < 0) return solver_failed(s);
@@ -524,6 +530,8 @@ static int data_check(const vi_sim_data *d, int surfaces, char *msg, size_t n)
     if (d->initialized != 0 && d->initialized != 1) VI_FAIL(msg, n, "initialized = %d is not 0 or 1", d->initialized);
     if (!isfinite(d->step_t0) || d->step_t0 > d->t || !isfinite(d->step_v0))
         VI_FAIL(msg, n, "step_t0 = %g, step_v0 = %g: not finite or after t", d->step_t0, d->step_v0);
+    if (!isfinite(d->step_u0) || !isfinite(d->yC_in_rate))
+        VI_FAIL(msg, n, "step_u0 = %g, yC_in_rate = %g: not finite", d->step_u0, d->yC_in_rate);
     if (vi_hybrid_check(&d->events, d->t, msg, n) < 0) return -1;
     if (d->initialized && d->events.rtol != vi_sim_rtol(d))
         VI_FAIL(msg, n, "rtol = %g is not the one of the settings, %g", d->events.rtol, vi_sim_rtol(d));

@@ -93,7 +93,7 @@ Test(hybrid, a_state_event_is_one_line_of_key_value_pairs)
     double x[2];
     touching(&model, &st, &h, 0, 1.5, x);
     x[0] = 1e-12, x[1] = -0.02; /* a located contact, coming down */
-    int from = vi_hybrid_event(&h, 2e-3, x, 0, 1, NULL);
+    int from = vi_hybrid_event(&h, 2e-3, x, 0, 1);
     double t, delta, v;
     int guard, a, b, end = 0;
     cr_assert(from == VI_MODE_FREE && model.mode == VI_MODE_ELASTIC && x[0] == 0.0 && st.n_events == 1);
@@ -112,7 +112,7 @@ Test(hybrid, events_accumulating_at_one_instant_stop_at_the_64th)
     touching(&model, &st, &h, 0, 1.5, x);
     for (int i = 1; i <= VI_ZENO_EVENTS; i++) {
         model.mode = VI_MODE_FREE, x[0] = 1e-12, x[1] = -0.02;
-        int from = vi_hybrid_event(&h, 0.0, x, 0, 1, NULL);
+        int from = vi_hybrid_event(&h, 0.0, x, 0, 1);
         cr_assert(vi_hybrid_zeno(&h, 0.0, 0, from, msg, sizeof msg) == (i == VI_ZENO_EVENTS), "event %d", i);
     }
     char expect[256];

@@ -71,8 +71,11 @@ static void lepp(vi_parameters *p) { p->contact_model = VI_ContactModel_lepp; }
 
 
 /* Put the instance into `mode` at indentation delta and velocity v (y = yC - delta), with the memory
- * that mode implies: Johnson plastic (fixed contact point) tracks delta_c = delta; unload and stick
- * hold delta_c = dc; LEPP plastic has delta_p = delta - delta_Y, LEPP elastic the permanent set dc. */
+ * that mode implies: Johnson plastic (fixed contact point) tracks delta_c = delta beyond the memory
+ * written down (at PLASTIC_WRITTEN delta: the outputs are smooth around delta); unload and stick hold
+ * delta_c = dc; LEPP plastic has delta_p = delta - delta_Y beyond the set written down (PLASTIC_WRITTEN
+ * delta - delta_Y), LEPP elastic the permanent set dc. */
+#define PLASTIC_WRITTEN 0.999
 static void put(vi_me *e, int mode, double delta, double v, double dc)
 {
     vi_model *M = &e->s.d.model;
@@ -80,9 +83,10 @@ static void put(vi_me *e, int mode, double delta, double v, double dc)
     if (M->law == VI_ContactModel_johnson && !M->moving) {
         int plastic = mode == VI_Mode_plastic;
         M->yielded = plastic || mode == VI_Mode_unload || mode == VI_Mode_stick;
-        M->unload = M->yielded ? vi_johnson_unload_curve(&M->johnson, M->unloading, plastic ? delta : dc) : (vi_unload_curve){0};
+        double written = plastic ? PLASTIC_WRITTEN * delta : dc;
+        M->unload = M->yielded ? vi_johnson_unload_curve(&M->johnson, M->unloading, written) : (vi_unload_curve){0};
     }
-    if (M->law == VI_ContactModel_lepp) M->delta_p = mode == VI_Mode_plastic ? delta - M->johnson.delta_Y : dc;
+    if (M->law == VI_ContactModel_lepp) M->delta_p = mode == VI_Mode_plastic ? PLASTIC_WRITTEN * delta - M->johnson.delta_Y : dc;
     double x[2] = {vi_model_platform(M, e->s.d.t, NULL, NULL) - delta, v};
     vi_me_set_states(e, x);
     vi_me_outputs_of(e, 0); /* a read: the model catches up with the states set */
@@ -670,33 +674,39 @@ Test(me_states, continuous_inputs_act_at_once_each_alone)
     finish(&e);
 }
 
-Test(me_states, a_continuous_input_change_writes_the_plastic_memory_down_at_the_state_before)
+/* A plastic motion at 1.7 delta_Y of `law` (memory written down at 1.2 delta_Y where it started to
+ * flow): an evaluation at a trial point deeper in (the platform 0.2 delta_Y up) writes nothing down; a
+ * completed step at 1.7 delta_Y does, and then the platform dropping by 0.2 delta_Y (in continuous time)
+ * leaves the memory outputs where they were: they never decrease. */
+static void memory_is_written_at_completed_steps(setter law)
 {
-    /* Johnson loading plastically at 1.7 delta_Y (the memory still at the 1.2 delta_Y where it started
-     * to flow): the platform drops by 0.2 delta_Y; delta_c is the 1.7 delta_Y reached before */
     vi_me e;
-    start(&e, johnson);
+    start(&e, law);
     vi_model *M = &e.s.d.model;
-    double dY = M->johnson.delta_Y;
-    put(&e, VI_Mode_plastic, 1.7 * dY, -0.01, 0.0);
-    double d = e.s.d.x[0];
-    M->unload = vi_johnson_unload_curve(&M->johnson, M->unloading, 1.2 * dY);
-    e.s.d.in.yC_in = -0.2 * dY;
-    vi_me_set_time(&e, 0.0);
-    vi_me_outputs_of(&e, 0); /* the next read takes the new input */
-    cr_assert(M->unload.delta_c == d, "delta_c %.17g, delta before %.17g", M->unload.delta_c, d);
-    finish(&e);
-    /* LEPP flowing at 1.7 delta_Y: the permanent set is 0.7 delta_Y */
-    start(&e, lepp);
-    M = &e.s.d.model;
-    put(&e, VI_Mode_plastic, 1.7 * dY, -0.01, 0.0);
+    int johnson_law = M->law == VI_ContactModel_johnson;
+    double dY = M->johnson.delta_Y, d = 1.7 * dY;
+    put(&e, VI_Mode_plastic, d, -0.01, 0.0);
     d = e.s.d.x[0];
-    M->delta_p = 0.0;
+    if (johnson_law) M->unload = vi_johnson_unload_curve(&M->johnson, M->unloading, 1.2 * dY);
+    else M->delta_p = 0.2 * dY;
+    e.s.d.in.yC_in = 0.2 * dY; /* a trial point */
+    vi_me_outputs_of(&e, 0);
+    cr_assert(johnson_law ? M->unload.delta_c == 1.2 * dY : M->delta_p == 0.2 * dY, "a trial point wrote the memory down");
+    e.s.d.in.yC_in = 0.0;
+    cr_assert(vi_me_completed_step(&e) == 0);
+    cr_assert(johnson_law ? M->unload.delta_c == d : M->delta_p == d - dY, "the completed step at %.17g wrote nothing", d);
+    const vi_outputs *out = vi_me_outputs_of(&e, VI_OUT_ALL);
+    double dc = out->delta_c, dp = out->delta_p, W = out->W_plastic;
     e.s.d.in.yC_in = -0.2 * dY;
-    vi_me_set_time(&e, 0.0);
-    vi_me_outputs_of(&e, 0); /* the next read takes the new input */
-    cr_assert(M->delta_p == d - M->johnson.delta_Y, "delta_p %.17g, closed form %.17g", M->delta_p, d - M->johnson.delta_Y);
+    out = vi_me_outputs_of(&e, VI_OUT_ALL);
+    cr_assert(out->delta_c == dc && out->delta_p == dp && out->W_plastic == W, "the memory outputs moved back");
     finish(&e);
+}
+
+Test(me_states, the_plastic_memory_is_written_down_at_completed_steps_and_never_decreases)
+{
+    memory_is_written_at_completed_steps(johnson);
+    memory_is_written_at_completed_steps(lepp);
 }
 
 Test(me_states, co_simulation_outputs_are_the_simulations_own)
