@@ -268,14 +268,15 @@ def run_with_inputs(inst, params, inputs, stop_time, rtol, output, output_interv
     for _ in range(max_intervals):  # bounded
         if t >= stop_time:
             return rec.result()
-        t_end = min(stop_time, t_event, inputs.next_jump(t), rec.next_point(t))
+        t_start, t_end = t, min(stop_time, t_event, inputs.next_jump(t), rec.next_point(t))
         t, x, state_event, dense, h = interval(system, t, x, t_end, h, method, rtol, atol, events)
+        h = h if h and h > 0 else None  # an interval of a few ulps: solve_ivp chooses the next first step
         rec.upto(system, dense, t, x)
         system.load(t, x)
         enter, terminate = system.f.completedIntegratorStep()
         if terminate:
             raise RuntimeError(f"the FMU asks to terminate at t = {t!r} s")
-        if state_event or enter or t >= t_end and t_end < stop_time:
+        if state_event or enter or t >= min(t_event, inputs.next_jump(t_start)):
             if record_events:
                 rec.put(t)
             t_event = system.event_iteration(t)
