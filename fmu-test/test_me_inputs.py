@@ -108,6 +108,33 @@ def test_hertz_on_a_moving_platform_follows_the_input(fmu_path, internal, kind):
     assert len(fmu_events(inst.messages)) >= changes
 
 
+def fmpys_driver(fmu_path, model_description, rtol):
+    """fmpy's own Model Exchange run of the table at rtol: its result."""
+    inst = MeInstance(fmu_path, md=model_description)
+    model = inst.instantiate(categories=())
+    try:
+        return simulate_fmu(fmu_path, fmi_type="ModelExchange", stop_time=STOP, relative_tolerance=rtol,
+                            start_values=dict(FIG5C, a=0.0, rtol=rtol), output=["y"], output_interval=1e-5,
+                            fmu_instance=model, model_description=model_description, input=table())
+    finally:
+        model.freeInstance()
+
+
+def test_fmpys_driver_is_off_or_gives_up_as_coupling_md_says(fmu_path, model_description, internal):
+    """doc/coupling.md's numbers for the same case through fmpy's driver: 4.5 um off the internal
+    excitation at rtol = 1e-6 (the package's runner: within 1e-8 m there), and at 1e-10 its CVode stops
+    within the first 0.1 ms ("mxstep steps taken before reaching tout")."""
+    r = fmpys_driver(fmu_path, model_description, 1e-6)
+    error = np.abs(np.interp(internal["time"], r["time"], r["y"]) - internal["y"]).max()
+    assert 4e-6 < error < 5e-6, error
+    with pytest.raises(RuntimeError, match="mxstep") as failure:
+        fmpys_driver(fmu_path, model_description, 1e-10)
+    assert float(re.search(r"At t = (\S+),", str(failure.value)).group(1)) < 1e-4
+    own, _ = run_me(fmu_path, dict(FIG5C, a=0.0), STOP, rtol=1e-6, output=("y",), output_interval=1e-5,
+                    input=table())
+    assert np.abs(np.interp(internal["time"], own["time"], own["y"]) - internal["y"]).max() < 1e-8
+
+
 def test_a_time_given_twice_in_a_table_is_a_jump(model_description):
     """fmpy's table convention: a time given twice is a jump; values before it are the first row's,
     values at and after it the second's; linear in between; held beyond the ends."""
