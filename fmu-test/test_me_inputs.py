@@ -160,3 +160,22 @@ def test_a_fixed_step_importer_sets_the_inputs_before_every_evaluation(fmu_path,
         assert m.real("yC") == pytest.approx(y_c(t), abs=1e-18)
     finally:
         m.fmu.freeInstance()
+
+
+def test_a_run_the_fmu_ends_raises_with_its_reason_and_events_are_recorded(fmu_path, tmp_path):
+    """The wheel rolls off the end of a non-periodic table at t = 0.04 s (x0 = 0.02 m, V = 2 m/s, last
+    x = 0.1 m) under a constant F_ext given as an input: the FMU asks to terminate there, and the runner
+    raises with the FMU's reason instead of returning a result that stops short. With record_events
+    (Fig. 5c's wheel on the moving platform), rows before and after each contact loss and onset."""
+    from test_rolling import write
+    x = np.linspace(0.0, 0.1, 11)
+    path = write(tmp_path / "short.txt", x, np.zeros_like(x))
+    p = dict(profile_file=path, V=2.0, x0=0.02, contact_model=1)
+    with pytest.raises(RuntimeError, match=r"asks to terminate at t = 0\.04.*x_last = 0\.1 m"):
+        run_me(fmu_path, p, 0.1, rtol=1e-8, output=("y",), output_interval=1e-3, input={"F_ext": lambda t: 0.0})
+    r, inst = run_me(fmu_path, dict(FIG5C, a=0.0), 5e-3, rtol=1e-8, output=("y", "mode"), output_interval=1e-3,
+                     record_events=True, input={"yC_in": y_c})
+    events = [e[0] for e in fmu_events(inst.messages) if e[0] > 0.0]
+    off_grid = r["time"][np.abs(r["time"] - np.round(r["time"] / 1e-3) * 1e-3) > 1e-12]
+    assert len(events) >= 2 and len(off_grid) == 2 * len(events), (events, off_grid)
+    assert np.allclose(off_grid[::2], events, rtol=0, atol=1e-15) and np.all(np.diff(r["time"]) >= 0)

@@ -22,7 +22,7 @@ import math
 import numpy as np
 
 from .compare import INTEGERS, REALS, fmu_events
-from .fmu import MessageLog, fmu_path, set_value
+from .fmu import MessageLog, fmu_path, set_value, set_values
 from .reference.scenarios import SCENARIOS
 
 
@@ -133,14 +133,13 @@ class InputDriven:
 
     def __init__(self, inst, inputs):
         f = inst.model
-        self.f, self.inputs, self.md = f, inputs, inst.md
+        self.inst, self.f, self.inputs, self.md = inst, f, inputs, inst.md
         self.nx, self.nz = self.md.numberOfContinuousStates, self.md.numberOfEventIndicators
         self._vr = (ctypes.c_uint * len(inputs.names))(*[inst.vr[n] for n in inputs.names])
         self._u = (ctypes.c_double * len(inputs.names))()
         self._x, self._dx = (ctypes.c_double * self.nx)(), (ctypes.c_double * self.nx)()
         self._z = (ctypes.c_double * max(self.nz, 1))()
         self._z_key, self._z_value = None, None
-        self.evaluations = 0
 
     def set_inputs(self, t, after=False):
         self._u[:] = self.inputs.values(t, after)
@@ -153,7 +152,6 @@ class InputDriven:
         self.f.fmi2SetContinuousStates(self.f.component, self._x, self.nx)
 
     def rhs(self, t, x):
-        self.evaluations += 1
         self.load(t, x)
         self.f.fmi2GetDerivatives(self.f.component, self._dx, self.nx)
         return np.array(self._dx)
@@ -174,6 +172,10 @@ class InputDriven:
             return g
         return [make(k) for k in range(self.nz)]
 
+    def reason(self):
+        """The FMU's last message (why it asks to terminate)."""
+        return self.inst.texts()[-1] if self.inst.messages else "no message logged"
+
     def states(self):
         self.f.getContinuousStates(self._x, self.nx)
         return np.array(self._x)
@@ -192,7 +194,7 @@ class InputDriven:
         for _ in range(max_passes):  # bounded
             needed, terminate, _nominals, _changed, defined, t_next = self.f.newDiscreteStates()
             if terminate:
-                raise RuntimeError(f"the FMU asks to terminate at t = {t!r} s")
+                raise RuntimeError(f"the FMU asks to terminate at t = {t!r} s: {self.reason()}")
             if not needed:
                 break
         else:
@@ -225,6 +227,11 @@ class Recorder:
     def put(self, t):
         self.rows.append((t, *(get([vr])[0] for get, vr in self.getters)))
 
+    def at_event(self, t):
+        """Before and after an event at t (the FMU's state as it is): a row when events are recorded."""
+        if self.events:
+            self.put(t)
+
     def upto(self, system, dense, t_new, x_new):
         """The grid points up to t_new (the state there from the dense output; x_new at t_new)."""
         while self.n < len(self.grid) and self.grid[self.n] <= t_new:
@@ -239,11 +246,10 @@ class Recorder:
 
 def _initialize(system, params, rtol):
     """Instantiated -> continuous-time mode at t = 0 with the start values and the inputs at 0."""
-    from .fmu import set_values
-    f, inst_types = system.f, {v.name: v.type for v in system.md.modelVariables}
+    f, kinds = system.f, {v.name: v.type for v in system.md.modelVariables}
     f.setupExperiment(tolerance=rtol, startTime=0.0)
     f.enterInitializationMode()
-    set_values(f, {v.name: v.valueReference for v in system.md.modelVariables}, params, inst_types)
+    set_values(f, system.inst.vr, params, kinds)
     system.set_inputs(0.0, after=True)
     f.exitInitializationMode()
     return system.event_iteration(0.0, initial=True)
@@ -275,14 +281,12 @@ def run_with_inputs(inst, params, inputs, stop_time, rtol, output, output_interv
         system.load(t, x)
         enter, terminate = system.f.completedIntegratorStep()
         if terminate:
-            raise RuntimeError(f"the FMU asks to terminate at t = {t!r} s")
+            raise RuntimeError(f"the FMU asks to terminate at t = {t!r} s: {system.reason()}")
         if state_event or enter or t >= min(t_event, inputs.next_jump(t_start)):
-            if record_events:
-                rec.put(t)
+            rec.at_event(t)
             t_event = system.event_iteration(t)
             x = system.states()
-            if record_events:
-                rec.put(t)
+            rec.at_event(t)
     raise RuntimeError(f"more than {max_intervals} integration intervals")
 
 
