@@ -109,8 +109,8 @@ static const char *resources_dir, *resources_block; /* a copy of the folder, and
 static char resources_copy[1024];
 
 /* A note of the hook `what` when warn_notes is set. */
-#define NOTE(s, what) ((s)->warn_notes ? (void)((s)->notes++, (s)->log((s)->env, VI_FMU_LOG_WARNING, "note: %s", what)) \
-                                       : (void)0)
+#define NOTE(s, what) \
+    ((s)->warn_notes ? (void)((s)->notes++, (s)->log((s)->env, VI_FMU_LOG_WARNING, "note: %s", what)) : (void)0)
 
 static void init(void *m, vi_fmu_log_fn log, void *env)
 {
@@ -178,7 +178,11 @@ static int advance_to_event(void *m, double t_end) { return to_event_calls++, ad
 static double time_of(const void *m) { return ((const stub *)m)->d.t; }
 static void terminate(void *m) { ((stub *)m)->terminate_calls++, NOTE((stub *)m, "terminate"); }
 static void *state(void *m) { return &((stub *)m)->d; }
-static int checkpoint(void *m) { stub *s = m; return NOTE(s, "checkpoint"), s->checkpoint_calls++, s->fail_checkpoint ? -1 : 0; }
+static int checkpoint(void *m)
+{
+    stub *s = m;
+    return NOTE(s, "checkpoint"), s->checkpoint_calls++, s->fail_checkpoint ? -1 : 0;
+}
 static int restore(void *m, int running)
 {
     stub *s = m;
@@ -213,7 +217,12 @@ static void derivatives(void *m, double dx[])
     dx[0] = s->d.x[1], dx[1] = s->nan_outputs ? NAN : -s->d.par.k * s->d.x[0];
     NOTE(s, "derivatives");
 }
-static void indicators(void *m, double z[]) { stub *s = m; z[0] = s->nan_outputs ? NAN : s->d.x[0] - 1.0, NOTE(s, "indicators"); }
+static void indicators(void *m, double z[])
+{
+    stub *s = m;
+    z[0] = s->nan_outputs ? NAN : s->d.x[0] - 1.0;
+    NOTE(s, "indicators");
+}
 static void nominals(const void *m, double nominal[]) { (void)m, nominal[0] = 1.0, nominal[1] = 2.0; }
 static int event_update(void *m, vi_fmu_event *ev)
 {
