@@ -72,8 +72,9 @@ def test_contradicting_options_warn(logged, vr, params, name):
 
 
 def test_warnings_reach_the_logger_with_every_category_off(logged, vr):
-    """FMI: fmi2Warning means the logger was called and the user should see the message. With logging off
-    (fmpy's default) the warnings are still logged, and the call that logged them returns fmi2Warning."""
+    """The user should see a warning: with logging off (fmpy's default) the warnings are still logged, with
+    status fmi2Warning. They are notes the run goes on through, so the call that logged them returns fmi2OK
+    (fmusim and PyFMI stop a run at any other status)."""
     inst = logged()
     s = inst.instantiate(logging=False)
     s.setupExperiment(startTime=0.0)
@@ -82,10 +83,10 @@ def test_warnings_reach_the_logger_with_every_category_off(logged, vr):
     s.setBoolean([vr["moving_contact"]], [True])
     s.setReal([vr["a"]], [1.0])  # larger than R* = 0.475 m
     status = s._functions["fmi2ExitInitializationMode"](s.component)  # fmpy's wrapper hides a warning
-    assert status == WARNING
+    assert status == 0  # fmi2OK
     w = warnings(inst)
     assert len(w) == 2 and "moving_contact" in w[0] and "exceeds R*" in w[1], w
-    assert raw_step(s, 0.0, 1e-5) == 0  # nothing new to say: fmi2OK
+    assert raw_step(s, 0.0, 1e-5) == 0
 
 
 def raw_step(s, t, h):

@@ -16,7 +16,10 @@
  * Conventions: every layer call that takes an instance takes the name of the standard's function
  * it serves (`fn`, used in every message) and returns a vi_status, whose values are those of
  * fmi2Status and fmi3Status (OK, Warning, Discard, Error, Fatal), so that a face returns it cast.
- * A NULL instance gives VI_STATUS_ERROR without a message (nobody to tell).
+ * A NULL instance gives VI_STATUS_ERROR without a message (nobody to tell). The status says whether the
+ * result is right, the log says what happened: a call that did what it was asked returns OK even when
+ * it logged notes with status Warning; Warning, Discard and Error are for results that are not right
+ * (a run asked to terminate, a step not completed, a call refused or failed).
  */
 #ifndef VI_FMI_LAYER_H
 #define VI_FMI_LAYER_H
@@ -87,7 +90,7 @@ typedef enum {
 extern const unsigned vi_fmi_allowed[VI_CALL_COUNT];
 
 /* Log categories (as listed in every modelDescription.xml); the call category is named by the
- * face (logFmi2Call). Discards and errors are logged whatever is enabled. */
+ * face (logFmi2Call). Warnings, discards and errors are logged whatever is enabled. */
 enum { VI_CAT_EVENTS, VI_CAT_SOLVER, VI_CAT_WARNING, VI_CAT_DISCARD, VI_CAT_ERROR, VI_CAT_CALL, VI_CAT_ALL, VI_CAT_COUNT };
 
 typedef struct vi_fmi_instance vi_fmi_instance;
@@ -147,7 +150,8 @@ struct vi_fmi_instance {
     char *name;
     unsigned state; /* one VI_ST_* bit */
     unsigned log_mask; /* bit per VI_CAT_* */
-    int warned;        /* a warning reached the logger during the current call: it returns VI_STATUS_WARNING */
+    int result_warning; /* the current call's result is not all that was asked: it returns VI_STATUS_WARNING
+                           (the model's warnings are notes: logged with status Warning, the call returns OK) */
     int stop_time_defined;
     double stop_time;
     unsigned face_options; /* the face's own settings of the instance (not in FMU states) */
@@ -237,7 +241,8 @@ double vi_fmi_time(const vi_fmi_instance *c);
  * Mode -> Event Mode. */
 vi_status vi_fmi_enter_event_mode(void *instance, const char *fn);
 /* One pass (the model's event_update); *ev as the model filled it. When the model asks to terminate, its
- * reason is logged as a warning whatever is enabled. */
+ * reason is logged as a warning whatever is enabled and the call returns VI_STATUS_WARNING (the run ends
+ * before the time asked for). */
 vi_status vi_fmi_new_discrete_states(void *instance, const char *fn, vi_fmu_event *ev);
 vi_status vi_fmi_enter_continuous_mode(void *instance, const char *fn);
 /* *enter_event: the model asks for an event now; *terminate: always 0 (the model asks at events). */

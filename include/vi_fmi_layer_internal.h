@@ -13,8 +13,14 @@
 
 #define LOG_ERROR(c, ...) vi_fmi_log(c, VI_STATUS_ERROR, VI_CAT_ERROR, __VA_ARGS__)
 
-/* The status of a call that did what it was asked: VI_STATUS_WARNING when it logged a warning. */
-static inline vi_status done(const vi_fmi_instance *c) { return c->warned ? VI_STATUS_WARNING : VI_STATUS_OK; }
+/* The status of a call that did what it was asked: VI_STATUS_OK, whatever notes it logged (a message of
+ * status Warning the computation went on through does not make its result wrong); VI_STATUS_WARNING only
+ * when the call flagged its result as not all that was asked (vi_fmi_warn_result). */
+static inline vi_status done(const vi_fmi_instance *c) { return c->result_warning ? VI_STATUS_WARNING : VI_STATUS_OK; }
+
+/* Log a warning about the current call's result (it is not all that was asked, e.g. the model asks to
+ * terminate) whatever is enabled: the call then returns VI_STATUS_WARNING through done(). */
+void vi_fmi_warn_result(vi_fmi_instance *c, const char *fmt, ...) VI_PRINTF_FORMAT(2, 3);
 
 /* The first statement of a layer call on `instance` named `fn`: c, or VI_STATUS_ERROR when the call
  * is not allowed in the instance's state (vi_fmi_enter logged why). */

@@ -46,8 +46,9 @@
 #include "vi_table.h"
 
 /* How a model talks to the importer's logger: category VI_FMU_LOG_* and a printf format. Events
- * and solver messages are shown when their category is enabled, warnings with status Warning, errors
- * always. */
+ * and solver messages are shown when their category is enabled; warnings always, with status Warning,
+ * as notes the computation goes on through (the call that logged one still returns OK: a result that
+ * is not right is a hook's return value, not a message); errors always. */
 typedef void (*vi_fmu_log_fn)(void *env, int category, const char *fmt, ...);
 enum { VI_FMU_LOG_EVENTS, VI_FMU_LOG_SOLVER, VI_FMU_LOG_WARNING, VI_FMU_LOG_ERROR };
 

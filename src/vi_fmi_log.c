@@ -70,7 +70,20 @@ vi_status vi_fmi_refuse_call(void *instance, vi_call call, const char *fn, const
     return VI_STATUS_ERROR;
 }
 
-/* Logger handed to the model: its categories mapped onto the layer's. */
+void vi_fmi_warn_result(vi_fmi_instance *c, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vlog(c, VI_STATUS_WARNING, VI_CAT_WARNING, fmt, ap);
+    va_end(ap);
+    c->result_warning = 1;
+}
+
+/* Logger handed to the model: its categories mapped onto the layer's. A warning of the model is a note
+ * the computation goes on through (validity, tolerance, an option ignored, a solver's remark): logged
+ * with status Warning whatever is enabled, so that every importer shows it, while the call returns OK
+ * (importers such as fmusim and PyFMI stop a run at any status but OK). A result that is not right is
+ * the hook's return value (an error, a discarded step, a request to terminate), never a message. */
 void vi_fmi_model_log(void *env, int category, const char *fmt, ...)
 {
     static const int cat_of[] = {[VI_FMU_LOG_EVENTS] = VI_CAT_EVENTS, [VI_FMU_LOG_SOLVER] = VI_CAT_SOLVER,
@@ -78,9 +91,8 @@ void vi_fmi_model_log(void *env, int category, const char *fmt, ...)
     static const vi_status status_of[] = {[VI_FMU_LOG_EVENTS] = VI_STATUS_OK, [VI_FMU_LOG_SOLVER] = VI_STATUS_OK,
                                           [VI_FMU_LOG_WARNING] = VI_STATUS_WARNING,
                                           [VI_FMU_LOG_ERROR] = VI_STATUS_ERROR};
-    vi_fmi_instance *c = env;
+    const vi_fmi_instance *c = env;
     int known = category >= 0 && category < (int)(sizeof cat_of / sizeof cat_of[0]);
-    if (known && status_of[category] == VI_STATUS_WARNING && c->cb.logger) c->warned = 1;
     if (!known) /* a model's mistake: its message still reaches the importer, as an error */
         vi_fmi_log(c, VI_STATUS_ERROR, VI_CAT_ERROR, "the model logged with the unknown category %d:", category);
     va_list ap;

@@ -61,12 +61,8 @@ vi_status vi_fmi_new_discrete_states(void *instance, const char *fn, vi_fmu_even
         return VI_STATUS_ERROR;
     }
     if (ev->next_time_defined && !(ev->next_time > MODEL->time(c->model))) ev->next_time_defined = 0;
-    if (ev->terminate && c->cb.logger) { /* why the run ends: logged whatever is enabled */
-        char text[1024];
-        vi_snprintf(text, sizeof text, "%s: terminateSimulation: %s", fn, MODEL->message(c->model));
-        vi_fmi_emit(c, VI_STATUS_WARNING, vi_fmi_category_name(c, VI_CAT_WARNING), text);
-        c->warned = 1;
-    }
+    /* the run ends before the time asked for: why, logged whatever is enabled, and a Warning status */
+    if (ev->terminate) vi_fmi_warn_result(c, "%s: terminateSimulation: %s", fn, MODEL->message(c->model));
     c->t_committed = MODEL->time(c->model);
     return done(c);
 }

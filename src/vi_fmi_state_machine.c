@@ -66,7 +66,7 @@ vi_fmi_instance *vi_fmi_enter(void *instance, vi_call call, const char *fn)
         return NULL;
     }
     if (vi_fmi_logs(c, VI_CAT_CALL)) vi_fmi_log(c, VI_STATUS_OK, VI_CAT_CALL, "%s", fn);
-    c->warned = 0;
+    c->result_warning = 0;
     return c;
 }
 

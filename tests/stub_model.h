@@ -58,7 +58,9 @@ typedef struct {
     unsigned asked[8];
     size_t n_asked;
     int fail_prepare, fail_init, fail_me_init, fail_event, fail_checkpoint, fail_restore, fail_dd;
-    int warn_in_init;        /* initialize logs a warning */
+    int warn_notes;          /* every hook below marked NOTE logs a warning (a note the computation goes on
+                                through) and counts it in notes */
+    int notes;
     int prepare_calls, changed_calls, terminate_calls, reset_calls, checkpoint_calls, restore_calls, continuous_calls;
     int event_calls, release_calls;
     int restored_running;    /* `running` of the last restore */
@@ -106,6 +108,10 @@ static int fail_resources;
 static const char *resources_dir, *resources_block; /* a copy of the folder, and the block it came in */
 static char resources_copy[1024];
 
+/* A note of the hook `what` when warn_notes is set. */
+#define NOTE(s, what) \
+    ((s)->warn_notes ? (void)((s)->notes++, (s)->log((s)->env, VI_FMU_LOG_WARNING, "note: %s", what)) : (void)0)
+
 static void init(void *m, vi_fmu_log_fn log, void *env)
 {
     stub *s = m;
@@ -127,7 +133,7 @@ static int set_resources(void *m, const char *dir)
     if (dir) snprintf(resources_copy, sizeof resources_copy, "%s", dir);
     return fail_resources ? -1 : 0;
 }
-static void changed(void *m) { ((stub *)m)->changed_calls++; }
+static void changed(void *m) { ((stub *)m)->changed_calls++, NOTE((stub *)m, "changed"); }
 static void outputs(void *m, void *out)
 {
     stub *s = m;
@@ -139,6 +145,7 @@ static const void *outputs_of(void *m, const unsigned vr[], size_t nvr)
 {
     stub *s = m;
     s->outputs_calls++;
+    NOTE(s, "outputs_of");
     s->n_asked = nvr < 8 ? nvr : 8;
     memcpy(s->asked, vr, s->n_asked * sizeof *vr);
     outputs(m, &s->out);
@@ -148,32 +155,39 @@ static void setup_experiment(void *m, double t0, int td, double tol)
 {
     stub *s = m;
     s->setup_calls++, s->setup_start = t0, s->setup_tol_defined = td, s->setup_tol = tol;
+    NOTE(s, "setup_experiment");
     s->d.t = t0;
 }
-static int prepare(void *m) { stub *s = m; return s->prepare_calls++, s->fail_prepare ? -1 : 0; }
+static int prepare(void *m) { stub *s = m; return NOTE(s, "prepare"), s->prepare_calls++, s->fail_prepare ? -1 : 0; }
 static int initialize(void *m)
 {
     stub *s = m;
-    if (s->warn_in_init) s->log(s->env, VI_FMU_LOG_WARNING, "careful");
+    NOTE(s, "initialize");
     return s->fail_init ? -1 : 0;
 }
-static int me_initialize(void *m) { return ((stub *)m)->fail_me_init ? -1 : 0; }
+static int me_initialize(void *m) { return NOTE((stub *)m, "me_initialize"), ((stub *)m)->fail_me_init ? -1 : 0; }
 static int advance(void *m, double t_end)
 {
     stub *s = m;
     s->d.t = isnan(s->advance_to) ? t_end : s->advance_to;
+    NOTE(s, "advance");
     return s->advance_rc;
 }
 static int to_event_calls; /* calls of advance_to_event */
 static int advance_to_event(void *m, double t_end) { return to_event_calls++, advance(m, t_end); }
 static double time_of(const void *m) { return ((const stub *)m)->d.t; }
-static void terminate(void *m) { ((stub *)m)->terminate_calls++; }
+static void terminate(void *m) { ((stub *)m)->terminate_calls++, NOTE((stub *)m, "terminate"); }
 static void *state(void *m) { return &((stub *)m)->d; }
-static int checkpoint(void *m) { stub *s = m; return s->checkpoint_calls++, s->fail_checkpoint ? -1 : 0; }
+static int checkpoint(void *m)
+{
+    stub *s = m;
+    return NOTE(s, "checkpoint"), s->checkpoint_calls++, s->fail_checkpoint ? -1 : 0;
+}
 static int restore(void *m, int running)
 {
     stub *s = m;
     s->restore_calls++, s->restored_running = running;
+    NOTE(s, "restore");
     return s->fail_restore ? -1 : 0;
 }
 /* The model's own check of a saved block: x[0] = 666 is bad (with a reason), 777 bad without one. */
@@ -186,35 +200,47 @@ static int state_check(const void *block, int running, char *msg, size_t n)
     return 0;
 }
 static const char *message(const void *m) { return (void)m, "the stub says no"; }
-static void set_time(void *m, double t) { ((stub *)m)->d.t = t; }
+static void set_time(void *m, double t) { ((stub *)m)->d.t = t, NOTE((stub *)m, "set_time"); }
 static void get_states(void *m, double x[])
 {
     stub *s = m;
     x[0] = s->d.x[0], x[1] = s->nan_outputs ? NAN : s->d.x[1];
 }
-static void set_states(void *m, const double x[]) { ((stub *)m)->d.x[0] = x[0], ((stub *)m)->d.x[1] = x[1]; }
+static void set_states(void *m, const double x[])
+{
+    ((stub *)m)->d.x[0] = x[0], ((stub *)m)->d.x[1] = x[1];
+    NOTE((stub *)m, "set_states");
+}
 static void derivatives(void *m, double dx[])
 {
     stub *s = m;
     dx[0] = s->d.x[1], dx[1] = s->nan_outputs ? NAN : -s->d.par.k * s->d.x[0];
+    NOTE(s, "derivatives");
 }
-static void indicators(void *m, double z[]) { stub *s = m; z[0] = s->nan_outputs ? NAN : s->d.x[0] - 1.0; }
+static void indicators(void *m, double z[])
+{
+    stub *s = m;
+    z[0] = s->nan_outputs ? NAN : s->d.x[0] - 1.0;
+    NOTE(s, "indicators");
+}
 static void nominals(const void *m, double nominal[]) { (void)m, nominal[0] = 1.0, nominal[1] = 2.0; }
 static int event_update(void *m, vi_fmu_event *ev)
 {
     stub *s = m;
     s->event_calls++;
+    NOTE(s, "event_update");
     if (s->fail_event) return -1;
     *ev = s->ev;
     return 0;
 }
-static int completed_step(void *m) { return ((stub *)m)->completed; }
-static void enter_continuous(void *m) { ((stub *)m)->continuous_calls++; }
+static int completed_step(void *m) { return NOTE((stub *)m, "completed_step"), ((stub *)m)->completed; }
+static void enter_continuous(void *m) { ((stub *)m)->continuous_calls++, NOTE((stub *)m, "enter_continuous"); }
 /* J: d(der_p)/dq = 1, d(der_q)/dp = -k, dy/du = 2, every other partial 0. */
 static int directional_derivative(void *m, const unsigned unknown[], size_t nu, const unsigned known[], size_t nk,
                                   const double dknown[], double dunknown[])
 {
     stub *s = m;
+    NOTE(s, "directional_derivative");
     if (s->fail_dd) return -1;
     for (size_t i = 0; i < nu; i++) {
         dunknown[i] = 0.0;

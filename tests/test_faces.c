@@ -441,6 +441,49 @@ Test(fmi2, each_value_and_step_function_reaches_the_layer_under_its_own_name)
     cr_assert(strcmp(fmi2GetTypesPlatform(), "default") == 0 && strcmp(fmi2GetVersion(), "2.0") == 0);
 }
 
+/* `call` returns OK (fmi2OK and fmi3OK are 0) though the model logged a note in it, which the importer got
+ * with status Warning (fmi2Warning and fmi3Warning are 1) in logStatusWarning. */
+#define NOTED_OK(b, s, call)                                                                                 \
+    do {                                                                                                     \
+        int notes_ = (s)->notes;                                                                            \
+        int st_ = (int)(call);                                                                              \
+        cr_assert(st_ == 0 && (s)->notes > notes_, "%s: status %d, %d notes", #call, st_, (s)->notes - notes_); \
+        SAYS(b, 1, "note: ");                                                                               \
+        cr_assert(strcmp((b).category, "logStatusWarning") == 0, "%s: %s", #call, (b).category);              \
+    } while (0)
+
+/* A warning of the model (a note the computation goes on through) reaches the logger as fmi2Warning while
+ * the call returns fmi2OK: importers such as fmusim and PyFMI stop a run at any other status. */
+Test(fmi2, a_note_of_the_model_is_logged_as_a_warning_and_the_call_returns_ok)
+{
+    logbook b = {0};
+    fmi2Component c = inst2(&b, fmi2CoSimulation, NULL);
+    stub *s = ((vi_fmi_instance *)c)->model;
+    s->warn_notes = 1;
+    NOTED_OK(b, s, fmi2SetupExperiment(c, fmi2True, 1e-6, 0.0, fmi2False, 0.0));
+    cr_assert(fmi2EnterInitializationMode(c) == fmi2OK);
+    NOTED_OK(b, s, fmi2ExitInitializationMode(c));
+    NOTED_OK(b, s, fmi2DoStep(c, 0.0, 0.5, fmi2True));
+    NOTED_OK(b, s, fmi2Terminate(c));
+    fmi2FreeInstance(c);
+    c = inst2(&b, fmi2ModelExchange, NULL);
+    s = ((vi_fmi_instance *)c)->model;
+    s->warn_notes = 1;
+    cr_assert(fmi2EnterInitializationMode(c) == fmi2OK);
+    NOTED_OK(b, s, fmi2ExitInitializationMode(c));
+    fmi2EventInfo info;
+    NOTED_OK(b, s, fmi2NewDiscreteStates(c, &info));
+    cr_assert(!info.terminateSimulation);
+    NOTED_OK(b, s, fmi2EnterContinuousTimeMode(c));
+    double dx[2], z[1];
+    NOTED_OK(b, s, fmi2GetDerivatives(c, dx, 2));
+    NOTED_OK(b, s, fmi2GetEventIndicators(c, z, 1));
+    fmi2Boolean enter = fmi2True, term = fmi2True;
+    NOTED_OK(b, s, fmi2CompletedIntegratorStep(c, fmi2True, &enter, &term));
+    cr_assert(!enter && !term);
+    fmi2FreeInstance(c);
+}
+
 /* ---- FMI 3.0 ---- */
 
 #define TIME3 VI_FMI3_TIME_VR
@@ -539,6 +582,44 @@ Test(fmi3, initialization_mode_is_entered_only_with_valid_settings_and_left_into
     cr_assert(fmi3EnterContinuousTimeMode(c) == fmi3OK && fmi3EnterEventMode(c) == fmi3OK);
     fmi3FreeInstance(c);
     cr_assert(fmi3EnterEventMode(NULL) == fmi3Error && fmi3ExitInitializationMode(NULL) == fmi3Error);
+}
+
+/* As in FMI 2.0: a note of the model is logged as fmi3Warning, the call returns fmi3OK, also where the face
+ * makes one call of two of the layer's (initialization mode entered with the experiment's settings, left
+ * into Event Mode). */
+Test(fmi3, a_note_of_the_model_is_logged_as_a_warning_and_the_call_returns_ok)
+{
+    logbook b = {0};
+    fmi3Instance c = cs3(&b, true, true);
+    stub *s = ((vi_fmi_instance *)c)->model;
+    s->warn_notes = 1;
+    NOTED_OK(b, s, fmi3EnterInitializationMode(c, true, 1e-6, 0.0, false, 0.0));
+    NOTED_OK(b, s, fmi3ExitInitializationMode(c));
+    cr_assert(fmi3EnterStepMode(c) == fmi3OK);
+    bool ehn, term, early;
+    double last;
+    NOTED_OK(b, s, fmi3DoStep(c, 0.0, 0.5, true, &ehn, &term, &early, &last));
+    cr_assert(!early && last == 0.5);
+    NOTED_OK(b, s, fmi3Terminate(c));
+    fmi3FreeInstance(c);
+    c = fmi3InstantiateModelExchange("three", VI_GUID, NULL, false, false, &b, logger3);
+    s = ((vi_fmi_instance *)c)->model;
+    s->warn_notes = 1;
+    NOTED_OK(b, s, fmi3EnterInitializationMode(c, false, 0.0, 0.0, false, 0.0));
+    NOTED_OK(b, s, fmi3ExitInitializationMode(c));
+    bool need, nominals, values, next_defined;
+    double next;
+    NOTED_OK(b, s, fmi3UpdateDiscreteStates(c, &need, &term, &nominals, &values, &next_defined, &next));
+    cr_assert(!term);
+    NOTED_OK(b, s, fmi3EnterContinuousTimeMode(c));
+    double dx[2], z[1];
+    NOTED_OK(b, s, fmi3GetContinuousStateDerivatives(c, dx, 2));
+    NOTED_OK(b, s, fmi3GetEventIndicators(c, z, 1));
+    bool enter = true;
+    term = true;
+    NOTED_OK(b, s, fmi3CompletedIntegratorStep(c, true, &enter, &term));
+    cr_assert(!enter && !term);
+    fmi3FreeInstance(c);
 }
 
 Test(fmi3, every_variable_is_a_scalar)

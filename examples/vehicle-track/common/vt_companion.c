@@ -59,6 +59,26 @@ void vt_setup_experiment(void *m, double start_time, int tolerance_defined, doub
     c->tolerance = tolerance_defined ? tolerance : 0.0;
 }
 
+/* The rtol parameter is 0 (the experiment's tolerance) or in [VI_RTOL_MIN, VI_RTOL_MAX] (the table's
+ * range says [0, VI_RTOL_MAX]). 0 or -1 with a message. */
+static int check_rtol(const vt_model_def *def, const void *data, char *msg, size_t n)
+{
+    double r = def->rtol(data);
+    if (r != 0.0 && !(r >= VI_RTOL_MIN && r <= VI_RTOL_MAX))
+        VI_FAIL(msg, n, "rtol = %g: use 0 (the experiment's tolerance) or a value in [%g, %g]", r, VI_RTOL_MIN,
+                VI_RTOL_MAX);
+    return 0;
+}
+
+/* The relative tolerance the instance runs at, the contact FMU's rule (doc/model.md section 5, "The
+ * tolerance rule"): the rtol parameter when set (> 0), else the experiment's tolerance when given, else
+ * VI_RTOL_DEFAULT (the default experiment's declared tolerance). */
+static double run_rtol(const vt_instance *I)
+{
+    double r = I->def->rtol(I->data), tolerance = core_c(I)->tolerance;
+    return r > 0.0 ? r : tolerance > 0.0 ? tolerance : VI_RTOL_DEFAULT;
+}
+
 int vt_prepare(void *m)
 {
     vt_instance *I = m;
@@ -66,6 +86,7 @@ int vt_prepare(void *m)
     if (c->tolerance > 0.0 && !(c->tolerance >= VI_RTOL_MIN && c->tolerance <= VI_RTOL_MAX))
         VI_FAIL(I->msg, sizeof I->msg, "relative tolerance (fmi2SetupExperiment) = %g: use a value in [%g, %g]",
                 c->tolerance, VI_RTOL_MIN, VI_RTOL_MAX);
+    if (check_rtol(I->def, I->data, I->msg, sizeof I->msg) < 0) return -1;
     if (I->def->check && I->def->check(I->data, I->msg, sizeof I->msg) < 0) return -1;
     c->t = c->t_in = c->t_start;
     c->inputs_changed = 0;
@@ -93,7 +114,7 @@ static int create_solver(vt_instance *I)
 {
     const vt_model_def *def = I->def;
     const vt_core *c = core_c(I);
-    double rtol = c->tolerance > 0.0 ? c->tolerance : def->rtol(I->data);
+    double rtol = run_rtol(I);
     double atol[VT_MAX_STATES];
     def->scales(I->data, atol);
     for (int i = 0; i < def->n; i++) atol[i] *= rtol;
@@ -115,6 +136,12 @@ int vt_initialize(void *m)
     if (vt_prepare(m) < 0) return -1;
     if (create_solver(I) < 0) return -1;
     core(I)->solver_stale = 0;
+    /* a note, as the contact FMU's: an importer that passes the declared default most likely passes a default */
+    double r = I->def->rtol(I->data), tolerance = core(I)->tolerance;
+    if (r > 0.0 && tolerance > 0.0 && tolerance != VI_RTOL_DEFAULT && r != tolerance)
+        I->log(I->env, VI_FMU_LOG_WARNING,
+               "rtol = %g is used, not the experiment's tolerance %g (set rtol = 0 to use the experiment's)", r,
+               tolerance);
     return 0;
 }
 
@@ -193,6 +220,7 @@ int vt_state_check(const void *state, int running, const vt_model_def *def, char
     const vt_core *c = state;
     if (c->tolerance != 0.0 && !(c->tolerance >= VI_RTOL_MIN && c->tolerance <= VI_RTOL_MAX))
         VI_FAIL(msg, n, "tolerance = %g is neither 0 nor in [%g, %g]", c->tolerance, VI_RTOL_MIN, VI_RTOL_MAX);
+    if (check_rtol(def, state, msg, n) < 0) return -1;
     if (def->check && def->check(state, msg, n) < 0) return -1;
     if (!running) return 0; /* before initialization only the settings matter */
     if (!isfinite(c->t) || !isfinite(c->t_in) || !isfinite(c->t_start) || c->t_in > c->t)

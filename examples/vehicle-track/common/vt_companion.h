@@ -28,7 +28,7 @@
  * starts with it: typedef struct { vt_core core; vi_parameters par; vi_inputs in, din; ... }. */
 typedef struct {
     double t_start;        /* s, from fmi2SetupExperiment */
-    double tolerance;      /* from fmi2SetupExperiment, 0 = none (the model's rtol counts) */
+    double tolerance;      /* from fmi2SetupExperiment, 0 = none */
     double t;              /* s, current time */
     double t_in;           /* s, when the inputs were last set (they are held from then on) */
     int inputs_changed;    /* an input was set since the last step */
@@ -46,7 +46,8 @@ typedef struct {
     int (*check)(const void *data, char *msg, size_t n);
     /* The initial state (core.x) from the parameters and the inputs at core.t. */
     void (*start)(void *data);
-    /* The relative tolerance the parameters ask for (the experiment's tolerance wins). */
+    /* The rtol parameter: 0 = the experiment's tolerance (VI_RTOL_DEFAULT without one); set, it wins
+     * over the experiment's (the contact FMU's rule, doc/model.md section 5). */
     double (*rtol)(const void *data);
     /* Absolute tolerance of each state divided by the relative tolerance (the model's own scales). */
     void (*scales)(const void *data, double *scale);

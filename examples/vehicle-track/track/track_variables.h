@@ -7,13 +7,13 @@
 #ifndef TRACK_VARIABLES_H
 #define TRACK_VARIABLES_H
 
-#include "vi_solver.h" /* VI_RTOL_MIN, VI_RTOL_MAX, VI_MAX_STEP_MIN */
+#include "vi_solver.h" /* VI_RTOL_MIN, VI_RTOL_MAX, VI_RTOL_DEFAULT, VI_MAX_STEP_MIN */
 #include "vi_table.h"
 
 #define VI_GUID "{bd12441e-8795-46b4-b963-d52197ebec94}"
 #define VI_MODEL_IDENTIFIER "Track"
 #define VI_MODEL_DESCRIPTION "Discretely supported rail, lumped at one support: rail mass on pad stiffness and damping, sleeper mass on ballast stiffness and damping; loaded by the wheel-rail contact force"
-#define VI_DEFAULT_EXPERIMENT {.start_s = 0.0, .stop_s = 0.1, .tolerance = 0.0, .step_s = 1e-5}
+#define VI_DEFAULT_EXPERIMENT {.start_s = 0.0, .stop_s = 0.1, .tolerance = VI_RTOL_DEFAULT, .step_s = 1e-5}
 #define VI_CAN_INTERPOLATE_INPUTS 0
 
 #define VI_VARIABLES(X) \
@@ -24,7 +24,7 @@
   X(m_sleeper, Real, none, parameter, fixed, exact, 170.0, VI_ABOVE(0.0), VI_NONE, "kg", 0, "", "mass of half a sleeper") \
   X(k_ballast, Real, none, parameter, fixed, exact, 20000000.0, VI_ABOVE(0.0), VI_NONE, "N/m", 0, "", "ballast stiffness under half a sleeper") \
   X(c_ballast, Real, none, parameter, fixed, exact, 58310.0, VI_AT(0.0), VI_NONE, "N.s/m", 0, "", "ballast damping (loss factor 1 at the sleeper-on-ballast frequency)") \
-  X(rtol, Real, none, parameter, fixed, exact, 1e-8, VI_AT(VI_RTOL_MIN), VI_AT(VI_RTOL_MAX), "", 0, "", "relative tolerance of the integrator (a tolerance from fmi2SetupExperiment wins)") \
+  X(rtol, Real, none, parameter, fixed, exact, 0.0, VI_AT(0.0), VI_AT(VI_RTOL_MAX), "", 0, "", "relative tolerance: 0 = the experiment's tolerance (fmi2SetupExperiment, fmi3EnterInitializationMode), " VI_STRING_OF(VI_RTOL_DEFAULT) " without one; else at least " VI_STRING_OF(VI_RTOL_MIN) ", used whatever the experiment's") \
   X(z_rail, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m", 0, "z_rail", "rail displacement, up positive (connect to the contact FMU's yC_in)") \
   X(v_rail, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s", 0, "v_rail", "rail velocity, up positive") \
   X(z_sleeper, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m", 0, "z_sleeper", "sleeper displacement, up positive") \

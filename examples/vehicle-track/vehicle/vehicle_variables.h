@@ -7,13 +7,13 @@
 #ifndef VEHICLE_VARIABLES_H
 #define VEHICLE_VARIABLES_H
 
-#include "vi_solver.h" /* VI_RTOL_MIN, VI_RTOL_MAX, VI_MAX_STEP_MIN */
+#include "vi_solver.h" /* VI_RTOL_MIN, VI_RTOL_MAX, VI_RTOL_DEFAULT, VI_MAX_STEP_MIN */
 #include "vi_table.h"
 
 #define VI_GUID "{b6ec21ce-4df2-4930-9fdf-88f4cb1b9483}"
 #define VI_MODEL_IDENTIFIER "Vehicle"
 #define VI_MODEL_DESCRIPTION "Sprung mass on the primary suspension above one wheel; takes the wheel's position and velocity, gives the suspension force on the wheel"
-#define VI_DEFAULT_EXPERIMENT {.start_s = 0.0, .stop_s = 0.1, .tolerance = 0.0, .step_s = 1e-5}
+#define VI_DEFAULT_EXPERIMENT {.start_s = 0.0, .stop_s = 0.1, .tolerance = VI_RTOL_DEFAULT, .step_s = 1e-5}
 #define VI_CAN_INTERPOLATE_INPUTS 0
 
 #define VI_VARIABLES(X) \
@@ -23,7 +23,7 @@
   X(k_susp, Real, none, parameter, fixed, exact, 800000.0, VI_ABOVE(0.0), VI_NONE, "N/m", 0, "", "primary suspension stiffness at one wheel") \
   X(c_susp, Real, none, parameter, fixed, exact, 20000.0, VI_AT(0.0), VI_NONE, "N.s/m", 0, "", "primary suspension damping at one wheel") \
   X(g, Real, none, parameter, fixed, exact, 9.81, VI_AT(0.0), VI_NONE, "m/s2", 0, "", "gravity") \
-  X(rtol, Real, none, parameter, fixed, exact, 1e-8, VI_AT(VI_RTOL_MIN), VI_AT(VI_RTOL_MAX), "", 0, "", "relative tolerance of the integrator (a tolerance from fmi2SetupExperiment wins)") \
+  X(rtol, Real, none, parameter, fixed, exact, 0.0, VI_AT(0.0), VI_AT(VI_RTOL_MAX), "", 0, "", "relative tolerance: 0 = the experiment's tolerance (fmi2SetupExperiment, fmi3EnterInitializationMode), " VI_STRING_OF(VI_RTOL_DEFAULT) " without one; else at least " VI_STRING_OF(VI_RTOL_MIN) ", used whatever the experiment's") \
   X(F_wheel, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N", 0, "y_wheel v_wheel z_body v_body", "force of the primary suspension on the wheel, up positive, static load -m_body g included (connect to the contact FMU's F_ext)") \
   X(z_body, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m", 0, "z_body", "sprung mass position, up positive, measured so that z_body = y_wheel when the spring carries the static load") \
   X(v_body, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m/s", 0, "v_body", "sprung mass velocity, up positive") \
