@@ -149,6 +149,7 @@ class Importer:
                 self.x = self._states()
                 solver = DOP853(self.derivatives, self.t, self.x, t_end, rtol=self.rtol, atol=atol, max_step=self.max_step)
             if record:
+                self._at(self.t, self.x)  # the integrator's last evaluation may lie ahead
                 record(self, self.t)
             z0 = self.indicators(self.t, self.x)
         raise Stopped(f"more than {MAX_STEPS} steps before t = {t_end}")

@@ -285,14 +285,12 @@ def test_bands_of_a_mode_left_do_not_shift_the_next_modes_indicators(me):
 def test_contact_left_under_a_falling_input_is_one_event(fmu_path, unzipdir, model_description, law):
     """The platform input yC_in drops at 1000 m/s^2 from t = 1 ms (a dipped joint), faster than the
     load can pull the mass after it (P/m + g = 108 m/s^2): the contact is left while the mass still
-    moves down. Model Exchange passes the input's values only; the separation is one located event,
-    mode 1 -> 0, where the platform falls faster than the mass (yC_in' < v < 0), not a same-mode event
-    followed by a second one picoseconds later."""
-    t = np.linspace(0.0, 3e-3, 3001)
-    yc = np.where(t < 1e-3, 0.0, -500.0 * (t - 1e-3) ** 2)
-    signal = np.array(list(zip(t, yc, 0.0 * t)), dtype=[("time", np.float64), ("yC_in", np.float64),
-                                                         ("F_ext", np.float64)])
-    r, inst = run_me(fmu_path, dict(contact_model=law), 3e-3, rtol=1e-8, input=signal,
+    moves down. With the platform's velocity passed (velocity_input, vC_in) the separation is one located
+    event, mode 1 -> 0, where the platform falls faster than the mass (yC_in' < v < 0), not a same-mode
+    event followed by a second one picoseconds later."""
+    inputs = {"yC_in": lambda t: 0.0 if t < 1e-3 else -500.0 * (t - 1e-3) ** 2,
+              "vC_in": lambda t: 0.0 if t < 1e-3 else -1000.0 * (t - 1e-3)}
+    r, inst = run_me(fmu_path, dict(contact_model=law, velocity_input=True), 3e-3, rtol=1e-8, input=inputs,
                      unzipdir=unzipdir, md=model_description)
     assert not inst.errors()
     events = guard_events(inst)

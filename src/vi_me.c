@@ -50,7 +50,7 @@ static void mark_step(vi_sim_data *d)
 {
     d->step_t0 = d->t;
     d->step_v0 = d->x[1];
-    d->step_u0 = d->model.yC_in.u;
+    d->step_u0 = vi_ramp_at(&d->model.yC_in, d->t);
 }
 
 /* Bind the event engine to the integrated position y (Model Exchange) and start the driver's own state. */
@@ -209,7 +209,7 @@ static void estimate_rate(vi_me *e)
     vi_sim_data *d = &e->s.d;
     double h = d->t - d->step_t0;
     if (d->par.velocity_input || !(h > 0.0)) return;
-    d->yC_in_rate = (d->model.yC_in.u - d->step_u0) / h;
+    d->yC_in_rate = (vi_ramp_at(&d->model.yC_in, d->t) - d->step_u0) / h;
     if (d->yC_in_rate != 0.0 && !e->warned_rate && vi_model_uses_rate(&d->model)) {
         e->warned_rate = 1;
         e->s.log(e->s.log_env, VI_LOG_WARNING, "t = %.17g s: yC_in moves (%g m/s) and velocity_input = false: Model "
