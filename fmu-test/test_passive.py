@@ -32,11 +32,11 @@ def turning_point(e, v0, variant):
     return dc, w_plastic_closed_form(e, dc, variant)
 
 
-@pytest.mark.parametrize("ratio", [1.01, 1.1, 1.36, 1.92, 3.0, 4.9, 5.2, 10.0, 30.0, 100.0])
+@pytest.mark.parametrize("ratio", [1.01, 1.1, 1.36, 1.92, 3.0, 5.0, 7.9, 8.0, 10.0, 30.0, 100.0])
 def test_continuous_unloading_rebounds_at_most_as_fast_as_it_came(fmu_path, ratio):
     """e <= 1 from 1.01 to 100 v_Y (it was 1.154 at 1.92 v_Y): 1 to the integration's accuracy while the
-    curve gives back the whole loading work (delta_c below 4.61 delta_Y, impacts below about 5.1 v_Y),
-    then sqrt(1 - W_plastic/W) of the closed form."""
+    curve gives back the whole loading work (delta_c below 4.61 delta_Y, impacts below 7.95 v_Y), then
+    sqrt(1 - W_plastic/W) of the closed form (0.9667 at 10 v_Y, 0.6592 at 100 v_Y)."""
     e = effective(NO_LOAD)
     v0 = -ratio * yield_speed(e)
     dc, (W, Wp) = turning_point(e, v0, CONTINUOUS)

@@ -18,8 +18,6 @@
 #ifndef VI_CONTACT_H
 #define VI_CONTACT_H
 
-#include <float.h>
-
 #define VI_PI 3.14159265358979323846
 
 /* (1) R* from two radii; a radius of 0 is a plane. Both 0 gives 0 (no curvature: invalid). */
@@ -69,14 +67,15 @@ typedef struct {
  * continuous: the Hertz curve through the turning point (force continuous, F_c = vi_johnson_load(delta_c))
  *             with contact radius a:  Rbar = 4 E* a^3/(3 F_c), delta_r = 3 F_c/(4 E* a), and
  *               a = max(a_c, a_W),  a_c^2 = R* (2 delta_c - delta_Y)       (eq. 3's contact area)
- *                                   a_W = (1 + VI_PASSIVE_MARGIN) 3 F_c^2/(10 E* W_c)
- *             with W_c = vi_johnson_load_work(delta_c). The energy the curve returns is
- *             2/5 F_c delta_r = 3 F_c^2/(10 E* a) <= W_c/(1 + VI_PASSIVE_MARGIN): no load-unload cycle returns
- *             more than it took (passive), W_plastic = W_c - 2/5 F_c delta_r >= 0. Where a_c >= a_W (at
- *             theta_Y = 1.1: delta_c >= 4.6100 delta_Y) it is the force- and radius-continuous curve;
- *             below, eq. 3 (stiffer than Hertz above delta_Y) would make that curve return more than
- *             the loading took, and the larger radius a_W returns the loading work (restitution 1). */
-#define VI_PASSIVE_MARGIN (64.0 * DBL_EPSILON) /* rounding of the energies: returned <= taken in floating point */
+ *                                   a_W = (1 + VI_PASSIVE_ULPS DBL_EPSILON) 3 F_c^2/(10 E* W_c)
+ *             with W_c = vi_johnson_load_work(delta_c). The curve returns the energy
+ *             2/5 F_c delta_r = 3 F_c^2/(10 E* a) <= W_c/(1 + VI_PASSIVE_ULPS DBL_EPSILON): no
+ *             load-unload cycle returns more than it took (passive), W_plastic = W_c - 2/5 F_c delta_r
+ *             >= 0. Where a_c >= a_W (at theta_Y = 1.1: delta_c >= 4.6100 delta_Y) it is the force- and
+ *             radius-continuous curve; below, eq. 3 (stiffer than Hertz above delta_Y) would make that
+ *             curve return more than the loading took, and the larger radius a_W returns the loading
+ *             work (restitution 1). */
+#define VI_PASSIVE_ULPS 64 /* the margin of a_W in units of rounding: returned <= taken in floating point too */
 vi_unload_curve vi_johnson_unload_curve(const vi_johnson *J, int variant, double delta_c);
 double vi_unload_force(const vi_unload_curve *U, double delta);
 double vi_unload_stiffness(const vi_unload_curve *U, double delta);

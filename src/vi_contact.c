@@ -97,13 +97,13 @@ double vi_johnson_load_indentation(const vi_johnson *J, double F)
 
 /* The contact radius a [m] of the continuous unloading curve after delta_c, and da/d(delta_c) [1] when
  * da is not NULL (vi_contact.h): eq. 3's area, a_c^2 = R* (2 delta_c - delta_Y), or the passive bound
- * a_W = (1 + VI_PASSIVE_MARGIN) 3 F_c^2/(10 E* W_c) where it is larger (W_c the virgin work to delta_c,
+ * a_W = (1 + VI_PASSIVE_ULPS DBL_EPSILON) 3 F_c^2/(10 E* W_c) where it is larger (W_c the virgin work to delta_c,
  * dW_c/d(delta_c) = F_c, so d ln a_W = 2 F_c'/F_c - F_c/W_c). */
 static double continuous_radius(const vi_johnson *J, double delta_c, double F_c, double *da)
 {
     double W_c = vi_johnson_load_work(J, delta_c);
     double a_c = sqrt(J->R_star * (2.0 * delta_c - J->delta_Y));
-    double a_W = (1.0 + VI_PASSIVE_MARGIN) * 0.3 * F_c * F_c / (J->E_star * W_c);
+    double a_W = (1.0 + VI_PASSIVE_ULPS * DBL_EPSILON) * 0.3 * F_c * F_c / (J->E_star * W_c);
     if (a_W > a_c) {
         if (da) *da = a_W * (2.0 * vi_johnson_load_stiffness(J, delta_c) / F_c - F_c / W_c);
         return a_W;

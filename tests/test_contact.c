@@ -1,4 +1,5 @@
-/* Unit tests of the contact laws (vi_contact.h; the passivity property test covers vi_laws.h too). Expected values come from closed forms, from the
+/* Unit tests of the contact laws (vi_contact.h; the passivity property test covers vi_laws.h too).
+ * Expected values come from closed forms, from the
  * paper's data, or from a Hertz reference case computed independently from Hertz's impact formulas
  * (Johnson, Contact Mechanics, 1985, chapter 11: delta_max = (15 m v^2/(16 E* sqrt(R*)))^(2/5),
  * F_max = K delta_max^(3/2)): a steel sphere R = 10 mm (32.88 g) on a steel half-space, E* = 115.4 GPa,

@@ -70,3 +70,42 @@ def negative_w_plastic(Y, variant, points=20001):
     w = np.array([wp(r) for r in grid])
     i = int(np.argmin(w))
     return r_zero, float(grid[i]), float(w[i])
+
+
+def restitution_peak(Y, variant, points=4001):
+    """The largest restitution of an impact without load after a Johnson yield at yield stress Y [Pa]:
+    (e_max, v/v_Y there), e = sqrt(1 - W_plastic/W_c) with W_c = 1/2 m v^2 the virgin work to delta_c and
+    1/2 m v_Y^2 = 2/5 F_Y delta_Y; from a grid of delta_c in (delta_Y, 60 delta_Y], refined about its best."""
+    from scipy.optimize import minimize_scalar
+    e = effective(dict(Y=Y))
+
+    def restitution(r):
+        W, Wp = w_plastic_closed_form(e, r * e["delta_Y"], variant)
+        return float(np.sqrt(1 - Wp / W))
+
+    grid = np.linspace(1.0 + 1e-9, 60.0, points)
+    i = int(np.argmax([restitution(r) for r in grid]))
+    lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, points - 1)]
+    r = minimize_scalar(lambda r: -restitution(r), bounds=(lo, hi), method="bounded", options=dict(xatol=1e-12)).x
+    return restitution(r), impact_speed(Y, r)
+
+
+def impact_speed(Y, r):
+    """v/v_Y of the impact without load that turns at delta_c = r delta_Y (1/2 m v_Y^2 = 2/5 F_Y delta_Y)."""
+    e = effective(dict(Y=Y))
+    return float(np.sqrt(virgin_work(e, r * e["delta_Y"]) / (0.4 * e["F_Y"] * e["delta_Y"])))
+
+
+def negative_permanent_set(Y):
+    """(r1, r2): continuous unloading's permanent set delta_f is negative for r1 < delta_c/delta_Y < r2 at
+    yield stress Y [Pa] (the curve pushes at negative indentation there)."""
+    from scipy.optimize import brentq
+    e = effective(dict(Y=Y))
+    f = lambda r: r - unload_curve(e, r * e["delta_Y"], 2)[1] / e["delta_Y"]  # noqa: E731
+    grid = np.linspace(1.0 + 1e-6, 60.0, 6001)
+    sign = np.sign([f(r) for r in grid])
+    where = np.nonzero(sign[1:] != sign[:-1])[0]
+    if len(where) < 2:
+        return None
+    return (brentq(f, grid[where[0]], grid[where[0] + 1], xtol=1e-12),
+            brentq(f, grid[where[-1]], grid[where[-1] + 1], xtol=1e-12))
