@@ -226,7 +226,7 @@ void vi_model_scales(const vi_model *model, const double x0[2], double *L, doubl
 
 /* Range of validity. The contact laws (eqs. 2-4) describe the local contact of bodies whose radii
  * are large against the contact and against every displacement of the problem (half-space, small
- * slopes). Three ways to leave that range, each a bit of the result:
+ * slopes). Four causes, each a bit of the result (the last is a law that makes energy):
  *   VI_INVALID_INDENTATION  the Hertz contact radius sqrt(R* delta) exceeds VI_VALIDITY_RADIUS R*,
  *                           i.e. the indentation delta (or the largest one, delta_c) exceeds
  *                           VI_VALIDITY_RADIUS^2 R*;
@@ -234,16 +234,18 @@ void vi_model_scales(const vi_model *model, const double x0[2], double *L, doubl
  *                           the radius of curvature of the contact (above the contact resonance the
  *                           indentation swings by about a, a hundred times the first limit);
  *   VI_INVALID_PROFILE      the profile's heights span more than the rolling radius R1 (paper
- *                           Fig. 1b: a wheel rolling over a roughness small against it).
+ *                           Fig. 1b: a wheel rolling over a roughness small against it);
+ *   VI_INVALID_ENERGY       Johnson's paper unloading (as printed) returns more energy than the
+ *                           loading to delta_c took (W_plastic < 0: delta_c < 1.2527 delta_Y).
  * Returns the bit of the first cause that is not in `skip`, with a message naming the time, the
  * value and the limit; 0 when there is none. The simulation checks at initialization, at events,
  * at communication points and after a change of a, and warns once per cause and instance
  * (logStatusWarning). */
 #define VI_VALIDITY_RADIUS 0.1
-enum { VI_INVALID_INDENTATION = 1, VI_INVALID_AMPLITUDE = 2, VI_INVALID_PROFILE = 4 };
+enum { VI_INVALID_INDENTATION = 1, VI_INVALID_AMPLITUDE = 2, VI_INVALID_PROFILE = 4, VI_INVALID_ENERGY = 8 };
 int vi_model_validity(const vi_model *model, double R1, double t, const double x[2], int skip, char *msg, size_t n);
 /* The one cause that depends on the state alone: is the indentation beyond its limit at x? (The
- * other two change only with a and the profile.) */
+ * others change only with a, the profile and the plastic memory, which changes at events.) */
 int vi_model_indentation_invalid(const vi_model *model, const double x[2]);
 
 /* Options that contradict each other or are ignored: moving_contact, continuous

@@ -390,6 +390,24 @@ static double johnson_indentation(const vi_model *model, double F) { return vi_j
 static double johnson_work(const vi_model *model, double d) { return vi_johnson_load_work(&model->johnson, d); }
 static vi_unload_curve johnson_unload(const vi_model *model, double dc) { return vi_johnson_unload_curve(&model->johnson, model->unloading, dc); }
 static vi_unload_rates johnson_unload_rates(const vi_model *model, double dc) { return vi_johnson_unload_rates(&model->johnson, model->unloading, dc); }
+/* Paper unloading as printed returns more energy than the loading took after a small plastic excursion
+ * (eq. 3 is stiffer than Hertz above delta_Y; W_plastic < 0 for delta_c < 1.2527 delta_Y at theta_Y = 1.1).
+ * Returns 1, with the values in msg, when the unloading curve in memory does (not while delta_c moves). */
+static int johnson_makes_energy(const vi_model *model, double t, char *msg, size_t n)
+{
+    if (model->law != VI_LAW_JOHNSON || model->moving || model->unloading != VI_UNLOAD_PAPER || !model->yielded ||
+        model->mode == VI_MODE_PLASTIC)
+        return 0;
+    const vi_unload_curve *U = &model->unload;
+    double taken = vi_johnson_load_work(&model->johnson, U->delta_c), returned = vi_unload_energy(U, U->delta_c);
+    if (!(returned > taken)) return 0;
+    vi_snprintf(msg, n, "t = %.17g s: unloading = paper returns more energy than the contact took: loading to "
+                "delta_c = %g m (%.5g delta_Y) took %g J, its unloading curve (eq. 4 as printed) gives back %g J "
+                "(W_plastic = %g J), a rebound faster than the impact, as below 1.2527 delta_Y; unloading = "
+                "continuous does not", t, U->delta_c, U->delta_c / model->johnson.delta_Y, taken, returned,
+                taken - returned);
+    return 1;
+}
 
 /* Thornton (vi_laws.h): Johnson's automaton with Thornton's virgin and unloading curves; the unloading
  * curve meets the loading force at delta_c, so there is no stick. */
@@ -805,6 +823,7 @@ int vi_model_validity(const vi_model *model, double R1, double t, const double x
                     "leave the model's range of validity", t, model->a, R);
         return VI_INVALID_AMPLITUDE;
     }
+    if (!(skip & VI_INVALID_ENERGY) && johnson_makes_energy(model, t, msg, n)) return VI_INVALID_ENERGY;
     double span = model->profile ? vi_profile_height_span(model->profile) : 0.0;
     if (!(skip & VI_INVALID_PROFILE) && span > R1) {
         vi_snprintf(msg, n, "t = %.17g s: the heights of profile_file span %g m, more than the rolling radius R1 = %g m: "

@@ -181,7 +181,9 @@ Test(me_jacobian, partials_of_johnson_in_every_mode)
         double dY = e.s.d.model.johnson.delta_Y;
         put(&e, VI_Mode_elastic, 0.6 * dY, -0.01, 0.0);
         partials_match_differences_now_and_later(&e, "johnson elastic");
-        put(&e, VI_Mode_plastic, 1.7 * dY, -0.01, 0.0);
+        /* continuous unloading returns the whole loading work below 4.61 delta_Y: W_plastic is 0 to rounding
+         * there and its difference quotient noise (test_contact.c checks the curve's rates on both sides) */
+        put(&e, VI_Mode_plastic, (l == 0 ? 1.7 : 5.0) * dY, -0.01, 0.0);
         partials_match_differences_now_and_later(&e, "johnson plastic");
         put(&e, VI_Mode_unload, 1.6 * dY, 0.01, 1.8 * dY);
         partials_match_differences_now_and_later(&e, "johnson unload");
