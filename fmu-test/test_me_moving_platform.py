@@ -146,3 +146,16 @@ def test_harmonic_input_without_its_velocity_keeps_the_memory_invariants(fmu_pat
     assert np.all(np.diff(dc) >= 0.0) and np.all(np.diff(dp) >= 0.0) and np.all(dp >= 0.0)
     if variant in PASSIVE:
         assert np.all(np.diff(work) >= 0.0)
+
+
+@pytest.mark.timeout(300)
+@pytest.mark.parametrize("variant", ["johnson", "lepp", "thornton", "hertz_damped", "linear"])
+def test_fmi3_model_exchange_takes_the_velocity_as_fmi2_does(fmu_path, variant):
+    """The FMI 3.0 FMU's Model Exchange with vC_in (fmi3SetFloat64 before every evaluation) agrees with the
+    FMI 2.0 FMU's Co-Simulation of the internal excitation, as the FMI 2.0 Model Exchange does."""
+    from vibroimpact.fmu import fmu3_path
+    p, a = VARIANTS[variant], 3e-4
+    me = me_run(str(fmu3_path()), dict(p, velocity_input=True), harmonic(a), 5e-3)
+    cs = cosim(fmu_path, dict(p, a=a, f=F_HZ), 5e-3)
+    for name, scale in (("y", a), ("v", a * W), ("delta_c", a), ("delta_p", a)):
+        assert me.real(name) == pytest.approx(cs[name], abs=1e-7 * scale), name

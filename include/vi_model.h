@@ -195,6 +195,9 @@ void vi_model_memory_rates(const vi_model *model, const double x[2], vi_memory_r
  * (delta' = 0, v' = yC''), so that a Newton iteration keeps delta exactly on delta_c. */
 void vi_model_jacobian(const vi_model *model, double t, const double x[2], double j[4]);
 void vi_model_guards(const vi_model *model, double t, const double x[2], double g[VI_NGUARDS]);
+/* What guard `guard` of `mode` watches, in words ("separation", "the turning point", ...; "none" for a
+ * guard the mode does not use). */
+const char *vi_model_guard_name(const vi_model *model, int mode, int guard);
 
 /* Write down the memory that tracks the state (delta_c while Johnson loads plastically, delta_p
  * while LEPP flows) and put a sticking mass exactly on the platform's velocity. Call it before the

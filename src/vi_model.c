@@ -688,6 +688,22 @@ void vi_model_guards(const vi_model *model, double t, const double x[2], double 
     }
 }
 
+const char *vi_model_guard_name(const vi_model *model, int mode, int guard)
+{
+    int damped = law(model)->force_guard != NULL, yields = isfinite(law(model)->yield_surface(model));
+    switch (mode * VI_NGUARDS + guard) {
+    case VI_MODE_FREE * VI_NGUARDS: return "contact";
+    case VI_MODE_ELASTIC * VI_NGUARDS: return "separation";
+    case VI_MODE_ELASTIC * VI_NGUARDS + 1: return damped ? "release (the damped force reaches 0)" : yields ? "yield" : "none";
+    case VI_MODE_PLASTIC * VI_NGUARDS: return plastic_ends_at_yield(model) ? "back below yield" : "the turning point (delta' = 0)";
+    case VI_MODE_UNLOAD * VI_NGUARDS: return "separation";
+    case VI_MODE_UNLOAD * VI_NGUARDS + 1: return "reloading to delta_c";
+    case VI_MODE_STICK * VI_NGUARDS: return "the end of stick (plastic loading)";
+    case VI_MODE_STICK * VI_NGUARDS + 1: return "the end of stick (unloading)";
+    default: return "none";
+    }
+}
+
 void vi_model_freeze(vi_model *model, double t, double x[2])
 {
     if (model->mode == VI_MODE_PLASTIC && law(model)->freeze_plastic) law(model)->freeze_plastic(model, x);
