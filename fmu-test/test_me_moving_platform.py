@@ -128,8 +128,10 @@ def test_rail_pushing_up_without_its_velocity_runs_on_an_estimate(fmu_path, vari
     cs = cosim(fmu_path, p, 2e-3, inputs={"yC_in": lambda t: s * t}, derivative=lambda t: s)
     notes = [m for _, _, m in me.messages.messages if "velocity_input" in m]
     assert len(notes) == (0 if variant in ("hertz", "johnson_moving") else 1), notes
+    # a damping force on the rate: over the first step the estimate is still 0 (measured: 1.2e-3 of y)
+    rel = 5e-3 if variant in ("hertz_damped", "linear") else 1e-6
     for name in ("y", "delta_c", "delta_p", "W_plastic"):
-        assert me.real(name) == pytest.approx(cs[name], rel=1e-6, abs=1e-9 * s * 2e-3), name
+        assert me.real(name) == pytest.approx(cs[name], rel=rel, abs=1e-9 * s * 2e-3), name
 
 
 @pytest.mark.timeout(300)

@@ -12,8 +12,8 @@
  * delta in the simulation's state (d->x[0]) in step with y.
  *
  * The plastic memory needs no state of its own: while it changes (Johnson loading beyond delta_Y,
- * LEPP flow) it equals delta (delta_c = delta, delta_p = delta - delta_Y), and it is written down
- * when that mode is left (vi_model_freeze).
+ * LEPP flow) it equals delta (delta_c = delta, delta_p = delta - delta_Y) beyond what was written
+ * down, and it is written down when that mode is left (vi_model_freeze).
  *
  * Event indicators: the VI_NGUARDS guards of the current mode (vi_model.h: contact, separation,
  * yield, Johnson turning point, stick entry and exit, LEPP flow start and end), each > 0 inside the
@@ -21,13 +21,13 @@
  * fired without a change of mode (grazing) by its band (vi_hybrid.h, the event engine both drivers
  * share), until it has moved away; both come back to the plain guard at a completed step.
  *
- * The input yC_in is taken by its value only: the rate of delta that the turning point (Johnson,
- * LEPP) and stick guards use is yC' without the input's rate. At a state event the mode is chosen with
- * the inputs' mean rates since the last completed step or event before the event's time (their values
- * then and now), so that a contact left while the platform input moves away faster than the mass is
- * left in one event. With a moving input and a plastic
- * law, prefer co-simulation with input derivatives, or move the platform through a, f and the
- * rolling profile, whose rates are known.
+ * The platform's rate. Model Exchange passes input values only, yet the rate of delta (the turning
+ * points, stick, the damping, every choice of mode) needs the rate of yC_in. With velocity_input it is
+ * the input vC_in. Without, it is estimated at each completed step from yC_in's change over that step
+ * (vi_sim_data.yC_in_rate) and used, until the next completed step, by the event indicators and the mode
+ * choices alike (one notion: a guard cannot fire again at once because the choice saw another rate);
+ * a new estimate that puts a guard below zero asks for an event. While it is an estimate, the plastic
+ * memory is written down at completed steps. F_ext is held at its value.
  */
 #ifndef VI_ME_H
 #define VI_ME_H

@@ -199,7 +199,10 @@ void vi_model_guards(const vi_model *model, double t, const double x[2], double 
  * guard the mode does not use). */
 const char *vi_model_guard_name(const vi_model *model, int mode, int guard);
 
-/* Write down the memory that tracks the state (delta_c while Johnson loads plastically, delta_p
+/* The memory outputs never fall below the memory written down: while loading plastically delta_c is
+ * max(delta, delta_c written), the LEPP set max(delta - delta_Y, delta_p written) (an importer's state may
+ * lie past a turning point it has not located yet).
+ * Write down the memory that tracks the state (delta_c while Johnson loads plastically, delta_p
  * while LEPP flows) and put a sticking mass exactly on the platform's velocity. Call it before the
  * state is changed from outside (an input jump) and before vi_model_resolve. */
 void vi_model_freeze(vi_model *model, double t, double x[2]);

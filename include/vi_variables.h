@@ -71,7 +71,7 @@
   X(delta_Y, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "m", 0, "", "yield indentation") \
   X(k_lin, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "N/m", 0, "", "stiffness of the linear elastic-perfectly plastic model, F_Y/delta_Y") \
   X(f_contact, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "Hz", 0, "", "linearised contact resonance at the static load") \
-  X(F_mean, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N", 0, "yC_in F_ext y v", "contact force averaged over the last communication step: its impulse divided by the step") \
+  X(F_mean, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N", 0, "yC_in F_ext y v vC_in", "contact force averaged over the last communication step: its impulse divided by the step") \
   X(k_contact, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N/m", 0, "yC_in y v vC_in", "tangent contact stiffness dF/ddelta at the current state, 0 out of contact") \
   X(profile_file, String, none, parameter, fixed, exact, "", VI_NONE, VI_NONE, "", 0, "", "profile rolled over (Fig. 1b): two-column text table x [m], h [m]; relative paths: FMU resources, then working directory; empty = none") \
   X(V, Real, none, parameter, fixed, exact, 0.0, VI_NONE, VI_NONE, "m/s", 0, "", "rolling speed over the profile: yC = yC_in + a (cos(2 pi f t) - 1) + yb(x0 + V t)") \
