@@ -7,8 +7,10 @@
 # only). Defines:
 #   vi_cvode               an interface library: the static integrator library (with SUNDIALS' core),
 #                          VI_SUNDIALS_CVODES=1 when it is CVODES
-#   VI_SUNDIALS_CARRIED    what the binaries carry, e.g. "SUNDIALS 6.4.1 CVODE": the FMUs' model
-#                          descriptions say it (generationTool)
+#   VI_SUNDIALS_CARRIED    what the binaries carry, e.g. "SUNDIALS 6.4.1 CVODE"
+#   VI_FMU_GENERATION_TOOL the generationTool of the model descriptions of the FMUs that carry it
+#                          (vi_add_fmu's GENERATION_TOOL): "VibroImpact <version> with SUNDIALS 6.4.1
+#                          CVODE linked statically"
 #   VI_SUNDIALS_LICENSE    the copyright and licence of that SUNDIALS, which its BSD-3-Clause licence
 #                          asks binaries to carry in their documentation (documentation/licenses/
 #                          SUNDIALS.txt of each FMU): Debian's copyright file of libsundials-dev for
@@ -33,6 +35,7 @@ endif()
 string(TOUPPER ${vi_integrator} vi_integrator_name)
 set(VI_SUNDIALS_CARRIED "SUNDIALS ${SUNDIALS_VERSION} ${vi_integrator_name}")
 message(STATUS "${VI_SUNDIALS_CARRIED} (static): ${SUNDIALS_DIR}")
+set(VI_FMU_GENERATION_TOOL "VibroImpact ${PROJECT_VERSION} with ${VI_SUNDIALS_CARRIED} linked statically")
 
 add_library(vi_cvode INTERFACE)
 target_link_libraries(vi_cvode INTERFACE SUNDIALS::${vi_integrator}_static)
