@@ -1,6 +1,6 @@
-/* vi_solver.c - the solver interface (vi_solver.h): SUNDIALS CVODE (BDF, Adams; 6.4 or 7.x, vi_sundials.h), the built-in
- * one-step method (vi_ode.h, Dormand-Prince 8(5,3)), and AUTO switching between the one-step method
- * and BDF. */
+/* vi_solver.c - the solver interface (vi_solver.h): SUNDIALS CVODE (BDF, Adams; SUNDIALS 6.4 or 7.x:
+ * vi_sundials.h), the built-in one-step method (vi_ode.h, Dormand-Prince 8(5,3)), and AUTO switching
+ * between the one-step method and BDF. */
 #include "vi_solver.h"
 
 #include <float.h>
@@ -160,8 +160,9 @@ static SUNErrCode flush_cb(SUNLogger logger, SUNLogLevel level, void *ud)
 }
 #endif
 
-/* SUNDIALS 7: CVODE's errors to err_cb, its warnings to log_cb (7.8 on); before 7.8 the context has
- * no logger, whose only outputs are files (stdout by default), and CVODE's warnings are dropped. */
+/* SUNDIALS 7: CVODE's errors to err_cb, its warnings to log_cb (7.8 on). Before 7.8 a logger's only
+ * outputs are files (CVODE's warnings go to stdout): the context has none, and CVODE's warnings are
+ * dropped (a SUNDIALS logging at debug level, 4, needs one: its own, as it is). */
 static int route_messages(vi_solver *s)
 {
     CHECK(SUNContext_ClearErrHandlers(s->ctx));
@@ -170,7 +171,7 @@ static int route_messages(vi_solver *s)
     SUNLogger logger = NULL;
     CHECK(SUNContext_GetLogger(s->ctx, &logger));
     if (logger) CHECK(SUNLogger_SetQueueAndFlushMsgFns(logger, log_cb, flush_cb, s));
-#else
+#elif SUNDIALS_LOGGING_LEVEL < 4
     CHECK(SUNContext_SetLogger(s->ctx, NULL));
 #endif
     return 0;

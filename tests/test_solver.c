@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "vi_solver.h"
+#include "vi_sundials.h"
 
 #define PI 3.14159265358979323846
 
@@ -284,7 +285,8 @@ Test(solver, a_failing_sundials_call_is_logged_with_its_name_and_flag)
 
 /* CVODE's warnings reach the log as warnings, and nothing is printed: at t = 1e15 s, where a double
  * resolves 0.125 s, CVODE's first steps on the oscillator are below that (t + h = t). SUNDIALS 7's
- * logger prints CVODE's warnings on stdout unless they are taken from it. */
+ * logger prints CVODE's warnings on stdout unless they are taken from it, which 7.0 to 7.7 cannot:
+ * there they are dropped (vi_sundials.h). */
 Test(solver, a_cvode_warning_is_logged_and_nothing_is_printed)
 {
     for (size_t m = 0; m < 2; m++) {
@@ -307,7 +309,8 @@ Test(solver, a_cvode_warning_is_logged_and_nothing_is_printed)
         long printed = fseek(out, 0, SEEK_END) == 0 ? ftell(out) : -1;
         fclose(out);
         cr_assert(printed == 0, "%s: %ld bytes printed on stdout", vi_solver_method_name(CVODE_METHODS[m]), printed);
-        cr_assert(cvode_said(VI_LOG_WARNING, "are such that t + h = t on the next step"), "%s", log_text);
+        int relayed = VI_SUNDIALS_7 && !VI_SUNLOGGER_CALLBACKS ? 0 : 1;
+        cr_assert(cvode_said(VI_LOG_WARNING, "are such that t + h = t on the next step") == relayed, "%s", log_text);
         vi_solver_free(s);
     }
 }
@@ -1338,8 +1341,6 @@ Test(solver, auto_hands_a_failure_of_the_one_step_method_to_bdf)
 /* Built with the linker's --wrap for the allocator and SUNDIALS's constructors (CMakeLists.txt): the
  * solver's and SUNDIALS's (static) calls come here. live_blocks counts their blocks not yet freed;
  * fail(name, k) makes the k-th next call of that name (0: the next) fail as on a lack of memory. */
-#include "vi_sundials.h"
-
 void *__real_malloc(size_t size);
 void *__real_calloc(size_t count, size_t size);
 void *__real_realloc(void *p, size_t size);
