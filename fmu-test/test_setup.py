@@ -42,6 +42,10 @@ def test_the_test_setup_adds_what_the_tests_use():
     assert test["cargo"] == ["fmi-sim=fmi-sim@0.7.0"] and set(test["locales"]) == {"de_DE", "ps_AF"}
     # the release's needs are the tests' too (tools/cross_test.sh runs tools/release.sh)
     assert set(listed("--release")["apt"]) <= set(test["apt"])
+    # the vehicle-track example adds its second master only
+    example = listed("--example")
+    assert example["apt"] == main["apt"] and set(example["pip"]) - set(main["pip"]) == {"libcosimpy"}
+    assert example["cargo"] == []
 
 
 def fresh_machine(tmp_path):

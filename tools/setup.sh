@@ -2,13 +2,14 @@
 # Install what VibroImpact needs on a Debian machine, for one purpose; idempotent, quiet when all is there.
 #
 #   PY=$(./tools/setup.sh)            the main job (tools/main.sh): compiler, CMake, SUNDIALS, the Python side
+#   PY=$(./tools/setup.sh --example)  also libcosimpy, the second master of examples/vehicle-track/run.sh
 #   PY=$(./tools/setup.sh --release)  also what tools/release.sh needs: the cross compilers, wine64, qemu-user,
 #                                     dpkg-dev, llvm, zig (pip package ziglang)
 #   PY=$(./tools/setup.sh --test)     also what the tests need (tools/test.sh, tools/cross_test.sh): the release's,
 #                                     Criterion, valgrind, clang with libFuzzer and the sanitizers, the locales,
 #                                     pytest and libcosimpy, fmi-sim (Rust)
-#   ./tools/setup.sh [--release|--test] --list     print what that purpose installs, install nothing
-#   ./tools/setup.sh [--release|--test] --dry-run  check as usual, say what would be installed, install nothing
+#   ./tools/setup.sh [--example|--release|--test] --list     print what that purpose installs, install nothing
+#   ./tools/setup.sh [--example|--release|--test] --dry-run  check as usual, say what would be installed
 #
 # The interpreter to run everything with is the one line on stdout (all messages go to stderr):
 # $PYTHON (default python3). When it refuses pip installs (Debian's own python3 is externally managed,
@@ -30,11 +31,12 @@ export PATH="$PATH:$HOME/.cargo/bin" # cargo installs its programs there
 PURPOSE=main LIST="" DRY=""
 for arg in "$@"; do
   case $arg in
+    --example) [ "$PURPOSE" = test ] || PURPOSE=example ;;
     --release) [ "$PURPOSE" = test ] || PURPOSE=release ;;
     --test) PURPOSE=test ;;
     --list) LIST=1 ;;
     --dry-run) DRY=1 ;;
-    *) echo "setup: unknown option $arg (use --release, --test, --list, --dry-run)"; exit 2 ;;
+    *) echo "setup: unknown option $arg (use --example, --release, --test, --list, --dry-run)"; exit 2 ;;
   esac
 done
 
@@ -54,6 +56,9 @@ need_pip() { PIP_PKGS+=("$@"); }
 need_cargo() { CARGO_PKGS+=("$@"); }
 need_program() { PROGRAMS[$1]=$2; } # <program> <the package that installs it>
 
+if [ "$PURPOSE" = example ]; then
+  need_pip libcosimpy # the vehicle-track example's second master (libcosim); the tests' extra has it
+fi
 if [ "$PURPOSE" = release ] || [ "$PURPOSE" = test ]; then
   # tools/release.sh: the win64 and aarch64 cross builds, wine64 and qemu-user to run them
   # (tools/cross_test.sh), SUNDIALS' source package (apt-get source: dpkg-dev, xz-utils), llvm-objdump
@@ -96,6 +101,7 @@ fi
 # say why: the purpose of what is installed
 case $PURPOSE in
   main) FOR="" ;;
+  example) FOR=" (for the example)" ;;
   release) FOR=" (for the release)" ;;
   test) FOR=" (for the tests)" ;;
 esac
