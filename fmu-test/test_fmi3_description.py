@@ -200,6 +200,6 @@ def test_the_packed_description_is_the_generated_one_stamped(tmp_path, version):
     epoch = int(datetime.datetime.strptime(root.get("generationDateAndTime"), "%Y-%m-%dT%H:%M:%S%z").timestamp())
     stamp = [sys.executable, str(ROOT / "cmake" / "vi_fmu_stamp.py"), "--xml", str(tmp_path / "out.xml"),
              "--version", root.get("version"), "--license", str(ROOT / "LICENSE"), "--out", str(stamped),
-             f"--source-date-epoch={epoch}"]
+             f"--source-date-epoch={epoch}", f"--generation-tool={root.get('generationTool')}"]
     subprocess.run(stamp, check=True, env={"PATH": os.environ["PATH"]})  # no SOURCE_DATE_EPOCH of the caller
     assert (packed / "modelDescription.xml").read_text() == stamped.read_text()

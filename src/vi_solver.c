@@ -1,20 +1,16 @@
-/* vi_solver.c - the solver interface (vi_solver.h): SUNDIALS CVODE 6.4 (BDF, Adams), the built-in
- * one-step method (vi_ode.h, Dormand-Prince 8(5,3)), and AUTO switching between the one-step method
- * and BDF. */
+/* vi_solver.c - the solver interface (vi_solver.h): SUNDIALS CVODE (BDF, Adams; SUNDIALS 6.4 or 7.x:
+ * vi_sundials.h), the built-in one-step method (vi_ode.h, Dormand-Prince 8(5,3)), and AUTO switching
+ * between the one-step method and BDF. */
 #include "vi_solver.h"
 
-#include <cvode/cvode.h>
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
-#include <nvector/nvector_serial.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_dense.h>
-#include <sunmatrix/sunmatrix_dense.h>
 
 #include "vi_check.h"
+#include "vi_sundials.h"
 
 struct vi_solver {
     vi_solver_config cfg; /* cfg.atol: the caller's, read only while the solver is created */
@@ -35,6 +31,26 @@ struct vi_solver {
     int rootsfound[VI_SOLVER_MAX_GUARDS]; /* ... for these guards; not reported yet */
     vi_solver_stats before_reset; /* CVodeReInit zeroes CVODE's counters: the sums before it */
 };
+
+#if defined(SUNDIALS_ENABLE_PYTHON)
+/* A SUNDIALS built for its Python module (the sundials4py wheel's static libraries) calls, when it
+ * frees an object, a function of that module to free the Python callbacks the object holds. Nothing
+ * here attaches Python callbacks (the pointer it passes is NULL): these free nothing. */
+void SUNContextFunctionTable_Destroy(void *ptr);
+void SUNLoggerFunctionTable_Destroy(void *ptr);
+void SUNLinearSolverFunctionTable_Destroy(void *ptr);
+void SUNNonlinearSolverFunctionTable_Destroy(void *ptr);
+void SUNDomEigEstimatorFunctionTable_Destroy(void *ptr);
+void SUNStepperFunctionTable_Destroy(void *ptr);
+void cvode_user_supplied_fn_table_destroy(void *ptr);
+void SUNContextFunctionTable_Destroy(void *ptr) { (void)ptr; }
+void SUNLoggerFunctionTable_Destroy(void *ptr) { (void)ptr; }
+void SUNLinearSolverFunctionTable_Destroy(void *ptr) { (void)ptr; }
+void SUNNonlinearSolverFunctionTable_Destroy(void *ptr) { (void)ptr; }
+void SUNDomEigEstimatorFunctionTable_Destroy(void *ptr) { (void)ptr; }
+void SUNStepperFunctionTable_Destroy(void *ptr) { (void)ptr; }
+void cvode_user_supplied_fn_table_destroy(void *ptr) { (void)ptr; }
+#endif
 
 /* Returned by the methods' advance loops under AUTO: the other method takes over here. */
 enum { HANDOVER = 100 };
@@ -103,20 +119,79 @@ static int jac_cb(sunrealtype t, N_Vector x, N_Vector fx, SUNMatrix J, void *ud,
     return 0;
 }
 
-/* CVODE's own messages. The work limit is not an error here: vi_solver_advance reports it. */
-static void err_cb(int code, const char *module, const char *function, char *msg, void *ud)
+/* CVODE's own messages: an error for a negative code, else a warning. The work limit is not an error
+ * here: vi_solver_advance reports it. */
+static void relay(const vi_solver *s, int code, const char *module, const char *function, const char *msg)
 {
-    const vi_solver *s = ud;
     if (code == CV_TOO_MUCH_WORK) return;
     s->cfg.log(s->cfg.log_env, code < 0 ? VI_LOG_ERROR : VI_LOG_WARNING, "%s %s: %s", module, function, msg);
 }
+
+#if VI_SUNDIALS_7
+/* SUNDIALS 7 names no module: CVODE for CVODE's functions (CVode*, and cv* inside), SUNDIALS for the
+ * shared ones. */
+static const char *module_of(const char *function)
+{
+    return function && (strncmp(function, "CVode", 5) == 0 || strncmp(function, "cv", 2) == 0) ? "CVODE" : "SUNDIALS";
+}
+
+/* The context's error handler (the only one: SUNDIALS' own, which prints to stderr, is removed). */
+static void err_cb(int line, const char *function, const char *file, const char *msg, SUNErrCode code, void *ud,
+                   SUNContext ctx)
+{
+    (void)line, (void)file, (void)ctx;
+    relay(ud, code, module_of(function), function ? function : "?", msg ? msg : SUNGetErrMsg(code));
+}
+
+#if VI_SUNLOGGER_CALLBACKS
+/* The logger's messages: CVODE's warnings (the errors come through err_cb; nothing is printed). */
+static SUNErrCode log_cb(SUNLogger logger, SUNLogLevel level, const char *prefix, int rank, const char *scope,
+                         const char *label, const char *payload, void *ud)
+{
+    (void)logger, (void)prefix, (void)rank, (void)scope;
+    if (level == SUN_LOGLEVEL_WARNING && payload) relay(ud, CV_WARNING, module_of(label), label ? label : "?", payload);
+    return SUN_SUCCESS;
+}
+
+static SUNErrCode flush_cb(SUNLogger logger, SUNLogLevel level, void *ud)
+{
+    (void)logger, (void)level, (void)ud;
+    return SUN_SUCCESS;
+}
+#endif
+
+/* SUNDIALS 7: CVODE's errors to err_cb, its warnings to log_cb (7.8 on). Before 7.8 a logger's only
+ * outputs are files (CVODE's warnings go to stdout): the context has none, and CVODE's warnings are
+ * dropped (a SUNDIALS logging at debug level, 4, needs one: its own, as it is). */
+static int route_messages(vi_solver *s)
+{
+    CHECK(SUNContext_ClearErrHandlers(s->ctx));
+    CHECK(SUNContext_PushErrHandler(s->ctx, err_cb, s));
+#if VI_SUNLOGGER_CALLBACKS
+    SUNLogger logger = NULL;
+    CHECK(SUNContext_GetLogger(s->ctx, &logger));
+    if (logger) CHECK(SUNLogger_SetQueueAndFlushMsgFns(logger, log_cb, flush_cb, s));
+#elif SUNDIALS_LOGGING_LEVEL < 4
+    CHECK(SUNContext_SetLogger(s->ctx, NULL));
+#endif
+    return 0;
+}
+#else
+/* SUNDIALS 6: the integrator's handler takes CVODE's errors and warnings. */
+static void err_cb(int code, const char *module, const char *function, char *msg, void *ud)
+{
+    relay(ud, code, module, function, msg);
+}
+#endif
 
 static int configure(vi_solver *s, double t0, const double *x0)
 {
     const vi_solver_config *c = &s->cfg;
     memcpy(NV_DATA_S(s->x), x0, sizeof(double) * (size_t)c->n);
     memcpy(NV_DATA_S(s->atol), c->atol, sizeof(double) * (size_t)c->n);
+#if !VI_SUNDIALS_7
     CHECK(CVodeSetErrHandlerFn(s->cvode, err_cb, s));
+#endif
     CHECK(CVodeInit(s->cvode, rhs_cb, t0, s->x));
     CHECK(CVodeSetUserData(s->cvode, s));
     CHECK(CVodeSVtolerances(s->cvode, c->rtol, s->atol));
@@ -324,7 +399,10 @@ static int check_config(const vi_solver_config *cfg)
 static int create_cvode(vi_solver *s)
 {
     const vi_solver_config *cfg = &s->cfg;
-    if (check_flag(s, SUNContext_Create(NULL, &s->ctx), "SUNContext_Create") < 0) return -1;
+    if (check_flag(s, SUNContext_Create(VI_SUN_COMM_NULL, &s->ctx), "SUNContext_Create") < 0) return -1;
+#if VI_SUNDIALS_7
+    if (route_messages(s) < 0) return -1;
+#endif
     s->cvode = CVodeCreate(cfg->method == VI_METHOD_ADAMS ? CV_ADAMS : CV_BDF, s->ctx); /* AUTO: BDF */
     if (check_ptr(s, s->cvode, "CVodeCreate") < 0) return -1;
     s->x = N_VNew_Serial(cfg->n, s->ctx);
