@@ -138,16 +138,23 @@ def test_rail_pushing_up_without_its_velocity_runs_on_an_estimate(fmu_path, vari
 @pytest.mark.parametrize("a", [1e-4, 3e-4])
 @pytest.mark.parametrize("variant", sorted(VARIANTS))
 def test_harmonic_input_without_its_velocity_keeps_the_memory_invariants(fmu_path, variant, a):
-    """10 ms of the harmonic yC_in alone: the run reaches its end, and at every completed step the plastic
-    memory has not gone back: delta_c and delta_p never decrease, delta_p is never negative, and the plastic
-    work of the passive laws never decreases."""
+    """5 ms of the harmonic yC_in alone: the run reaches its end, at every completed step the plastic memory
+    has not gone back (delta_c and delta_p never decrease, delta_p is never negative, the plastic work of the
+    passive laws never decreases), and the run is near the internal excitation's in Co-Simulation: the
+    estimate lags by a step (measured: y within 1.4 % of a, W_plastic within 6e-4, delta_c within 1.3e-4)."""
     seen = []
-    me_run(fmu_path, VARIANTS[variant], {"yC_in": harmonic(a)["yC_in"]}, 1e-2,
-           record=lambda imp, t: seen.append([imp.real(n) for n in ("delta_c", "delta_p", "W_plastic")]))
+    p = VARIANTS[variant]
+    me = me_run(fmu_path, p, {"yC_in": harmonic(a)["yC_in"]}, 5e-3,
+                record=lambda imp, t: seen.append([imp.real(n) for n in ("delta_c", "delta_p", "W_plastic")]))
     dc, dp, work = np.array(seen).T
     assert np.all(np.diff(dc) >= 0.0) and np.all(np.diff(dp) >= 0.0) and np.all(dp >= 0.0)
     if variant in PASSIVE:
         assert np.all(np.diff(work) >= 0.0)
+    cs = cosim(fmu_path, dict(p, a=a, f=F_HZ), 5e-3)
+    assert me.real("y") == pytest.approx(cs["y"], abs=0.05 * a)
+    assert me.real("W_plastic") == pytest.approx(cs["W_plastic"], rel=1e-2, abs=1e-9)
+    for name in ("delta_c", "delta_p"):
+        assert me.real(name) == pytest.approx(cs[name], rel=1e-3), name
 
 
 @pytest.mark.timeout(300)
