@@ -221,10 +221,10 @@ def test_initial_state_is_logged(fmu_path, unzipdir, model_description):
     m = Me(inst)
     m.start(params=dict(contact_model=1, init=2, v0=0.0125, a=0.0))
     msg = next(t for _, cat, t in inst.messages if cat == "logSolver" and "initial mode" in t)
-    got = re.fullmatch(r"Model Exchange: the importer integrates y and v \(nominals (\S+) m, (\S+) m/s\); "
-                       r"initial mode (\d+), delta = (\S+) m, v = (\S+) m/s", msg).groups()
-    assert [float(x) for x in got[:2]] == pytest.approx(m.nominals(), rel=1e-5)
-    assert (int(got[2]), float(got[3]), float(got[4])) == (0, 0.0, 0.0125) == (m.integer("mode"), 0.0, m.states()[1])
+    got = re.fullmatch(r"Model Exchange: the importer integrates y, v and W_damping \(nominals (\S+) m, (\S+) m/s, "
+                       r"(\S+) J\); initial mode (\d+), delta = (\S+) m, v = (\S+) m/s", msg).groups()
+    assert [float(x) for x in got[:3]] == pytest.approx(m.nominals(), rel=1e-5)
+    assert (int(got[3]), float(got[4]), float(got[5])) == (0, 0.0, 0.0125) == (m.integer("mode"), 0.0, m.states()[1])
     inst.model.freeInstance()
 
 

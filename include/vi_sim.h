@@ -55,9 +55,19 @@ typedef struct {
                             yC(t) - y), kept as given so that a restored state gives it back bit for bit */
     vi_hybrid_state events;          /* the event engine's state: tolerances, guard bands, Zeno count */
     double step_t0, step_v0;         /* start of the last step and the velocity there (for F_mean) */
+    double W_damping, F_peak;        /* the damping's work [J] (vi_model_damping_power; Model Exchange: the
+                                        importer's third state); the largest force [N] since step_t0
+                                        (Model Exchange: F at step_t0) */
     vi_ode ode;                      /* solver = dop853 or auto: the one-step method's whole continuation */
     vi_solver_auto auto_choice;      /* solver = auto: which method runs, and its stiffness counts */
 } vi_sim_data;
+
+/* The force F [N] and its rate g [N/s] at a point (t, x) of the solution in a mode: where the last piece
+ * of the solution ended (vi_sim.c, the largest force). Not part of an FMU state. */
+typedef struct {
+    double t, x[2], F, g;
+    int mode;
+} vi_peak_point;
 
 typedef struct {
     vi_sim_data d;
@@ -68,6 +78,7 @@ typedef struct {
     vi_outputs out;
     vi_log_fn log;
     void *log_env;
+    vi_peak_point peak_end; /* where the last piece ended, or the model last changed (the largest force) */
     int warned_validity; /* VI_INVALID_* bits: the causes warned of (once each; not part of the FMU state) */
     int validity_unchecked; /* a state was restored: check every cause at the next communication point */
     /* Rolling: the profile the model points to (owned here, outside the FMU state), the file it came

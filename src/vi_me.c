@@ -87,10 +87,11 @@ int vi_me_initialize(vi_me *e)
     sync(e);
     mark_start(e);
     vi_hybrid_start(&s->engine, d->events.rtol, d->events.atol, d->t, d->x);
-    double nominal[2];
+    double nominal[VI_ME_NSTATES];
     vi_me_nominals(e, nominal);
-    s->log(s->log_env, VI_LOG_SOLVER, "Model Exchange: the importer integrates y and v (nominals %g m, %g m/s); "
-           "initial mode %d, delta = %.9g m, v = %.9g m/s", nominal[0], nominal[1], model->mode, d->x[0], d->x[1]);
+    s->log(s->log_env, VI_LOG_SOLVER, "Model Exchange: the importer integrates y, v and W_damping (nominals %g m, %g m/s, "
+           "%g J); initial mode %d, delta = %.9g m, v = %.9g m/s", nominal[0], nominal[1], nominal[2], model->mode, d->x[0],
+           d->x[1]);
     return 0;
 }
 
@@ -105,12 +106,14 @@ void vi_me_get_states(vi_me *e, double x[VI_ME_NSTATES])
     const vi_sim_data *d = &e->s.d;
     x[0] = e->active ? d->y_me : platform(&d->model, d->t) - d->x[0]; /* before: the initial state prepared */
     x[1] = d->x[1];
+    x[2] = d->W_damping;
 }
 
 void vi_me_set_states(vi_me *e, const double x[VI_ME_NSTATES])
 {
     e->s.d.y_me = x[0];
     e->s.d.x[1] = x[1];
+    e->s.d.W_damping = x[2];
     e->stale = 1;
 }
 
@@ -122,6 +125,7 @@ void vi_me_derivatives(vi_me *e, double dx[VI_ME_NSTATES])
     vi_model_rhs(&d->model, d->t, d->x, r);
     dx[0] = d->x[1];
     dx[1] = r[1];
+    dx[2] = vi_model_damping_power(&d->model, d->t, d->x).P;
 }
 
 void vi_me_indicators(vi_me *e, double z[VI_ME_NINDICATORS])
@@ -134,6 +138,7 @@ void vi_me_nominals(const vi_me *e, double nominal[VI_ME_NSTATES])
 {
     const vi_hybrid_state *h = &e->s.d.events;
     for (int i = 0; i < 2; i++) nominal[i] = e->active && h->atol[i] > 0.0 ? h->atol[i] / h->rtol : 1.0;
+    nominal[2] = e->active && h->atol[1] > 0.0 ? e->s.d.model.m * nominal[1] * nominal[1] : 1.0; /* m V^2 [J] */
 }
 
 /* The end of a non-periodic profile at or before t: 1 with the reason in msg. */
@@ -200,6 +205,7 @@ int vi_me_event_update(vi_me *e, vi_me_event *ev)
     ev->another_pass = vi_hybrid_due(&s->engine, t, d->x);
     d->step_t0 = t;
     d->step_v0 = d->x[1];
+    d->F_peak = vi_model_force(&d->model, t, d->x);
     mark_step(e);
     vi_sim_check_validity(s);
     if (fired >= 0 && vi_hybrid_zeno(&s->engine, t, fired, from, s->msg, sizeof s->msg)) ev->terminate = 1;
@@ -226,6 +232,7 @@ int vi_me_completed_step(vi_me *e)
     vi_hybrid_rearm(&e->s.engine, d->t, d->x);
     d->step_t0 = d->t;
     d->step_v0 = d->x[1];
+    d->F_peak = vi_model_force(&d->model, d->t, d->x);
     mark_step(e);
     vi_sim_check_validity(&e->s);
     return 0;
@@ -241,6 +248,7 @@ const vi_outputs *vi_me_outputs_of(vi_me *e, unsigned groups)
         vi_model_rhs(&s->d.model, s->d.t, s->d.x, r);
         s->out.der_y = s->d.x[1];
         s->out.der_v = r[1];
+        s->out.der_W_damping = vi_model_damping_power(&s->d.model, s->d.t, s->d.x).P;
         s->out_valid |= VI_OUT_DERIVATIVES;
     }
     return out;
@@ -282,6 +290,21 @@ static vi_me_partials through_delta(double a_d, double a_v, double a_F, double a
     return (vi_me_partials){.y = -a_d, .v = a_v, .yC_in = a_d + a_yC, .F_ext = a_F};
 }
 
+/* The rows of the energy outputs and of the damping's power: W_dissipated = W_plastic + W_damping (the
+ * state's column is the layer's), E_contact, and F_peak, which moves with F while F is the larger. */
+static void energy_rows(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
+{
+    const vi_sim_data *d = &e->s.d;
+    double dE;
+    vi_model_contact_energy(&d->model, d->x, &dE);
+    vi_model_power P = vi_model_damping_power(&d->model, d->t, d->x);
+    jac[VI_ME_DER_W] = through_delta(P.dP_ddelta, -P.dP_drate, 0.0, 0.0); /* delta' = yC' - v */
+    jac[VI_ME_W_DISSIPATED] = jac[VI_ME_W_PLASTIC];
+    jac[VI_ME_E_CONTACT] = through_delta(dE, 0.0, 0.0, 0.0);
+    int peak_is_F = vi_model_force(&d->model, d->t, d->x) >= d->F_peak;
+    jac[VI_ME_F_PEAK] = peak_is_F ? jac[VI_ME_F] : through_delta(0.0, 0.0, 0.0, 0.0);
+}
+
 void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
 {
     sync(e);
@@ -309,4 +332,5 @@ void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
     jac[VI_ME_RBAR] = through_delta(mem.Rbar, 0.0, 0.0, 0.0);
     jac[VI_ME_DELTA_P] = through_delta(mem.delta_p, 0.0, 0.0, 0.0);
     jac[VI_ME_W_PLASTIC] = through_delta(mem.W_plastic, 0.0, 0.0, 0.0);
+    energy_rows(e, jac);
 }
