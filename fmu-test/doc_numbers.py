@@ -116,8 +116,8 @@ class Sources:
         """fmi2GetNominalsOfContinuousStates of a Model Exchange instance at the static start."""
         m, _ = self.instance(FMU2Model, {"contact_model": contact_model})
         try:
-            x = (fmi2Real * 2)()
-            m.getNominalsOfContinuousStates(x, 2)
+            x = (fmi2Real * 3)()
+            m.getNominalsOfContinuousStates(x, 3)
             return list(x)
         finally:
             m.freeInstance()

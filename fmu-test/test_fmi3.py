@@ -481,7 +481,7 @@ def test_model_exchange_calls(md3, dir3, vr3):
     m3.exitInitializationMode()
     fmi3.update_discrete_states(m3)
     m3.enterContinuousTimeMode()
-    assert m3.getNumberOfContinuousStates() == len(md3.derivatives) == 2
+    assert m3.getNumberOfContinuousStates() == len(md3.derivatives) == 3
     assert m3.getNumberOfEventIndicators() == len(md3.eventIndicators) == 2
     m3.setTime(1e-4)
     z = (ctypes.c_double * 2)()

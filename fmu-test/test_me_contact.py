@@ -70,7 +70,7 @@ def test_nominals_are_the_problem_scales(me):
     its absolute tolerances (doc/model.md), so rtol x nominal is a sensible atol for an importer."""
     inst, m = me()
     m.start(params=dict(contact_model=1))
-    L, V = m.nominals()
+    L, V, _ = m.nominals()
     d_static = m.real("delta")
     assert L == pytest.approx(d_static, rel=1e-6)  # Hertz, static start: the static indentation
     k = 1.5 * 4.0 / 3.0 * m.real("E_star") * math.sqrt(m.real("R_star")) * math.sqrt(L)

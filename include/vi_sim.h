@@ -63,10 +63,11 @@ typedef struct {
 } vi_sim_data;
 
 /* The force F [N] and its rate g [N/s] at a point (t, x) of the solution in a mode: where the last piece
- * of the solution ended (vi_sim.c, the largest force). Not part of an FMU state. */
+ * of the solution ended (vi_sim.c, the largest force); valid until the model changes otherwise than by
+ * integration. Not part of an FMU state. */
 typedef struct {
     double t, x[2], F, g;
-    int mode;
+    int mode, valid;
 } vi_peak_point;
 
 typedef struct {

@@ -130,8 +130,15 @@ static int peak_inside(vi_sim *s, const vi_solver_piece *p, double Fa, double ga
 static void peak_point(vi_sim *s, double t, const double x[2], const double dx[2])
 {
     vi_peak_point *e = &s->peak_end;
-    e->t = t, e->x[0] = x[0], e->x[1] = x[1], e->mode = s->d.model.mode;
+    e->t = t, e->x[0] = x[0], e->x[1] = x[1], e->mode = s->d.model.mode, e->valid = 1;
     e->g = vi_model_force_rate(&s->d.model, t, x, dx, &e->F);
+}
+
+/* Is the end point the point (t, x) in the current mode? */
+static int at_peak_end(const vi_sim *s, double t, const double x[2])
+{
+    const vi_peak_point *e = &s->peak_end;
+    return e->valid && e->t == t && e->x[0] == x[0] && e->x[1] == x[1] && e->mode == s->d.model.mode;
 }
 
 /* The largest force over a piece: at its ends, and inside where its rate changes sign from + to - (one
@@ -142,8 +149,7 @@ static int piece_peak(vi_sim *s, const vi_solver_piece *p)
     vi_sim_data *d = &s->d;
     vi_peak_point *e = &s->peak_end;
     if (d->model.mode == VI_MODE_FREE) return 0; /* F = 0 */
-    if (!(e->t == p->ta && e->x[0] == p->xa[0] && e->x[1] == p->xa[1] && e->mode == d->model.mode))
-        peak_point(s, p->ta, p->xa, NULL);
+    if (!at_peak_end(s, p->ta, p->xa)) peak_point(s, p->ta, p->xa, NULL);
     double Fa = e->F, ga = e->g;
     peak_point(s, p->tb, p->xb, p->dxb);
     double F_max = fmax(Fa, e->F);
@@ -152,11 +158,11 @@ static int piece_peak(vi_sim *s, const vi_solver_piece *p)
     return 0;
 }
 
-/* The model changed at the current point (an event, an input, a kink, a restart): its force raises
- * F_peak, and the next piece starts from it. */
-static void peak_restart(vi_sim *s)
+/* The model changed at the current point (an event, an input, a kink; changed: a restored state, a step's
+ * start after inputs were set): its force raises F_peak, and the next piece starts from it. */
+static void peak_restart(vi_sim *s, int changed)
 {
-    peak_point(s, s->d.t, s->d.x, NULL);
+    if (changed || !at_peak_end(s, s->d.t, s->d.x)) peak_point(s, s->d.t, s->d.x, NULL);
     s->d.F_peak = fmax(s->d.F_peak, s->peak_end.F);
 }
 
@@ -386,6 +392,7 @@ int vi_sim_checkpoint(vi_sim *s)
 static int restore(vi_sim *s, int with_solver)
 {
     s->out_valid = 0;
+    s->peak_end.valid = 0;
     s->validity_unchecked = 1;
     if (!s->d.initialized || !with_solver) { /* before initialization (no solver until then), or Model Exchange */
         vi_solver_free(s->solver);
@@ -469,10 +476,11 @@ static int begin_advance(vi_sim *s, double t_end)
     d->step_t0 = d->t;
     d->step_v0 = d->x[1];
     vi_hybrid_count_from(&s->engine, d->t);
+    int changed = d->inputs_changed || s->solver_stale;
     if (d->inputs_changed) apply_inputs(s);
     vi_hybrid_rearm(&s->engine, d->t, d->x);
     d->F_peak = 0.0; /* the force now and the step's pieces raise it */
-    peak_restart(s);
+    peak_restart(s, changed);
     if (s->solver_stale) {
         if (vi_solver_reset(s->solver, d->t, d->x) < 0) return solver_failed(s);
         s->solver_stale = 0;
@@ -488,7 +496,7 @@ static int state_event(vi_sim *s, advance_run *run, const int fired[])
     int g = 0;
     while (g < VI_NGUARDS - 1 && fired[g] == 0) g++;
     int from = vi_hybrid_event(&s->engine, d->t, d->x, g, 1, NULL);
-    peak_restart(s);
+    peak_restart(s, 1);
     vi_hybrid_arm_at_zero(&s->engine, d->t, d->x);
     vi_sim_check_validity(s);
     if (vi_solver_reset(s->solver, d->t, d->x) < 0) return solver_failed(s);
@@ -524,7 +532,7 @@ static int advance_pass(vi_sim *s, advance_run *run)
     if (rc == VI_SOLVER_REACHED && stop == bp) {
         run->kinks++;
         vi_hybrid_kink(&s->engine, d->t, d->x); /* the rate of delta jumped: the solver restarts */
-        peak_restart(s);
+        peak_restart(s, 1);
         if (vi_solver_reset(s->solver, d->t, d->x) < 0) return solver_failed(s);
     } else if (rc != VI_SOLVER_REACHED) {
         pass = state_event(s, run, fired);

@@ -270,16 +270,17 @@ static void pieces_from(vi_solver *s, double t0, const double *x0)
     memcpy(s->xq, x0, sizeof(double) * (size_t)s->cfg.n);
 }
 
-/* Hand over the piece [tq, tb] of the current step (of_ode: the one-step method's), where x(tb) = xb. */
-static int cover(vi_solver *s, int of_ode, double tb, const double *xb)
+/* Hand over the piece [tq, tb] of the current step (of_ode: the one-step method's), where x(tb) = xb and
+ * x'(tb) = dxb (NULL: the one-step method's f at the end of its step, else the interpolant's). */
+static int cover(vi_solver *s, int of_ode, double tb, const double *xb, const double *dxb)
 {
     if (!(tb > s->tq)) return 0;
     if (s->cfg.piece) {
-        double dxb[VI_SOLVER_MAX_N], xt[VI_SOLVER_MAX_N];
+        double dx[VI_SOLVER_MAX_N], xt[VI_SOLVER_MAX_N];
         s->piece_of_ode = of_ode;
-        vi_solver_piece p = {.ta = s->tq, .tb = tb, .xa = s->xq, .xb = xb, .dxb = dxb, .solver = s};
-        if (of_ode && tb == s->cfg.ode->t) memcpy(dxb, s->cfg.ode->f, sizeof(double) * (size_t)s->cfg.n);
-        else if (vi_solver_piece_at(&p, tb, xt, dxb) < 0) return VI_SOLVER_FAILED;
+        vi_solver_piece p = {.ta = s->tq, .tb = tb, .xa = s->xq, .xb = xb, .dxb = dxb ? dxb : dx, .solver = s};
+        if (!dxb && of_ode && tb == s->cfg.ode->t) memcpy(dx, s->cfg.ode->f, sizeof(double) * (size_t)s->cfg.n);
+        else if (!dxb && vi_solver_piece_at(&p, tb, xt, dx) < 0) return VI_SOLVER_FAILED;
         if (s->cfg.piece(&p, s->cfg.user) < 0) return VI_SOLVER_FAILED;
     }
     pieces_from(s, tb, xb);
@@ -322,15 +323,16 @@ static int ode_advance(vi_solver *s, double tout, long max_steps, double *t, dou
             *t = o->ev_t;
             memcpy(x, o->ev_x, sizeof(double) * (size_t)n);
             for (int i = 0; i < s->cfg.nguards; i++) fired[i] = (o->ev_fired >> i) & 1u;
-            return cover(s, 1, *t, x) < 0 ? VI_SOLVER_FAILED : VI_SOLVER_EVENT;
+            return cover(s, 1, *t, x, NULL) < 0 ? VI_SOLVER_FAILED : VI_SOLVER_EVENT;
         }
-        if (tout <= o->t) { /* inside the last step: its interpolant */
-            int r = o->have_step ? vi_ode_dense(o, p, tout, x, NULL) : VI_ODE_ERR_ARGS;
+        if (tout <= o->t) { /* inside the last step: its interpolant (and its derivative for the piece) */
+            double dx[VI_SOLVER_MAX_N], *pdx = s->cfg.piece ? dx : NULL;
+            int r = o->have_step ? vi_ode_dense(o, p, tout, x, pdx) : VI_ODE_ERR_ARGS;
             if (r < 0) return ode_fail(s, r, "vi_ode_dense");
             *t = tout;
-            return cover(s, 1, tout, x) < 0 ? VI_SOLVER_FAILED : VI_SOLVER_REACHED;
+            return cover(s, 1, tout, x, pdx) < 0 ? VI_SOLVER_FAILED : VI_SOLVER_REACHED;
         }
-        if (cover(s, 1, o->t, o->x) < 0) return VI_SOLVER_FAILED; /* the rest of the step, before it is left */
+        if (cover(s, 1, o->t, o->x, NULL) < 0) return VI_SOLVER_FAILED; /* the rest of the step, before it is left */
         if (*taken >= max_steps) {
             *t = o->t;
             memcpy(x, o->x, sizeof(double) * (size_t)n);
@@ -493,7 +495,7 @@ static int cvode_advance(vi_solver *s, double tout, long max_steps, double *t, d
          * The solver stays at t0 and the next call integrates from there. */
         memcpy(x, NV_DATA_S(s->x), bytes);
         *t = tout;
-        return cover(s, 0, tout, x) < 0 ? VI_SOLVER_FAILED : VI_SOLVER_REACHED;
+        return cover(s, 0, tout, x, NULL) < 0 ? VI_SOLVER_FAILED : VI_SOLVER_REACHED;
     }
     for (;;) { /* bounded: every pass takes a step, at most max_steps */
         if (s->root_pending && s->troot <= tout) {
@@ -501,16 +503,16 @@ static int cvode_advance(vi_solver *s, double tout, long max_steps, double *t, d
             *t = s->troot;
             memcpy(x, s->xroot, bytes);
             memcpy(fired, s->rootsfound, sizeof(int) * (size_t)s->cfg.nguards);
-            return cover(s, 0, *t, x) < 0 ? VI_SOLVER_FAILED : VI_SOLVER_EVENT;
+            return cover(s, 0, *t, x, NULL) < 0 ? VI_SOLVER_FAILED : VI_SOLVER_EVENT;
         }
         if (!s->fresh && tout <= s->tn) {
             CHECK(CVodeGetDky(s->cvode, tout, 0, s->dky));
             memcpy(x, NV_DATA_S(s->dky), bytes);
             *t = tout;
-            return cover(s, 0, tout, x) < 0 ? VI_SOLVER_FAILED : VI_SOLVER_REACHED;
+            return cover(s, 0, tout, x, NULL) < 0 ? VI_SOLVER_FAILED : VI_SOLVER_REACHED;
         }
         /* the rest of the last step, before it is left (s->x holds x(tn): no root is pending here) */
-        if (!s->fresh && cover(s, 0, s->tn, NV_DATA_S(s->x)) < 0) return VI_SOLVER_FAILED;
+        if (!s->fresh && cover(s, 0, s->tn, NV_DATA_S(s->x), NULL) < 0) return VI_SOLVER_FAILED;
         if (*taken >= max_steps) { /* s->x holds x(tn): no root is pending in a completed step */
             *t = s->tn;
             memcpy(x, NV_DATA_S(s->x), bytes);

@@ -224,15 +224,15 @@ def call_cost(n=20000, fmu=None):
     inst.instantiate(categories=())
     m = Me(inst)
     m.start(params=dict(contact_model=1))
-    x = (ctypes.c_double * 2)(*m.states())
-    dx = (ctypes.c_double * 2)()
+    x = (ctypes.c_double * m.nx)(*m.states())
+    dx = (ctypes.c_double * m.nx)()
     best = float("inf")
     for _ in range(3):
         start = time.process_time()
         for k in range(n):
             m.fmu.setTime(1e-9 * (k & 7))
-            m.fmu.setContinuousStates(x, 2)
-            m.fmu.getDerivatives(dx, 2)
+            m.fmu.setContinuousStates(x, m.nx)
+            m.fmu.getDerivatives(dx, m.nx)
         best = min(best, (time.process_time() - start) / n)
     m.fmu.freeInstance()
     return best
