@@ -35,8 +35,9 @@
 #include "vi_sim.h"
 
 /* The third state, W_damping [J]: the damping's work, W_damping' = vi_model_damping_power (0 for laws that
- * do not damp), so that W_dissipated = W_plastic + W_damping. F_peak is the larger of F at the last
- * completed step or event and F now (the inside of the importer's steps is not seen). */
+ * do not damp), so that W_dissipated = W_plastic + W_damping. F_peak is F: the FMU does not see inside
+ * the importer's steps (only its trial points, some of them rejected), and the importer reads F at every
+ * point it needs. */
 #define VI_ME_NSTATES 3
 #define VI_ME_NINDICATORS VI_NGUARDS
 

@@ -57,7 +57,7 @@ typedef struct {
     double step_t0, step_v0;         /* start of the last step and the velocity there (for F_mean) */
     double W_damping, F_peak;        /* the damping's work [J] (vi_model_damping_power; Model Exchange: the
                                         importer's third state); the largest force [N] since step_t0
-                                        (Model Exchange: F at step_t0) */
+                                        (Co-Simulation) */
     vi_ode ode;                      /* solver = dop853 or auto: the one-step method's whole continuation */
     vi_solver_auto auto_choice;      /* solver = auto: which method runs, and its stiffness counts */
 } vi_sim_data;

@@ -84,7 +84,7 @@
   X(k_spring, Real, none, parameter, fixed, exact, 1.2e9, VI_ABOVE(0.0), VI_NONE, "N/m", 0, "", "spring stiffness of the linear spring-dashpot (contact_model = linear)") \
   X(W_dissipated, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "J", 0, "yC_in y W_damping", "everything the contact has dissipated so far: W_plastic plus W_damping (kinetic energy + E_contact + W_dissipated = work of the platform, F_ext, P and gravity)") \
   X(E_contact, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "J", 0, "yC_in y", "elastic energy stored in the contact now: the work of the current branch's force from its contact surface to delta") \
-  X(F_peak, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N", 0, "yC_in F_ext y v", "largest contact force since the last communication point (Co-Simulation: over the whole step, events and the inside of the solver's steps included; Model Exchange: the larger of F at the last completed step or event and F now)") \
+  X(F_peak, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N", 0, "yC_in F_ext y v", "largest contact force since the last communication point (Co-Simulation: over the whole step, events and the inside of the solver's steps included; Model Exchange: F)") \
   X(W_damping, Real, none, local, continuous, exact, 0.0, VI_NONE, VI_NONE, "J", 1.0, "", "work of the damping of hertz_damped and linear: the power of the force beyond its spring part, (F - F_spring(delta)) delta' (Model Exchange: a continuous state)") \
   X(der_W_damping, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "W", 0, "yC_in y v", "time derivative of W_damping, the damping's power (Model Exchange: the derivative of the state W_damping)")
 

@@ -205,7 +205,6 @@ int vi_me_event_update(vi_me *e, vi_me_event *ev)
     ev->another_pass = vi_hybrid_due(&s->engine, t, d->x);
     d->step_t0 = t;
     d->step_v0 = d->x[1];
-    d->F_peak = vi_model_force(&d->model, t, d->x);
     mark_step(e);
     vi_sim_check_validity(s);
     if (fired >= 0 && vi_hybrid_zeno(&s->engine, t, fired, from, s->msg, sizeof s->msg)) ev->terminate = 1;
@@ -232,7 +231,6 @@ int vi_me_completed_step(vi_me *e)
     vi_hybrid_rearm(&e->s.engine, d->t, d->x);
     d->step_t0 = d->t;
     d->step_v0 = d->x[1];
-    d->F_peak = vi_model_force(&d->model, d->t, d->x);
     mark_step(e);
     vi_sim_check_validity(&e->s);
     return 0;
@@ -243,6 +241,7 @@ const vi_outputs *vi_me_outputs_of(vi_me *e, unsigned groups)
     vi_sim *s = &e->s;
     sync(e);
     const vi_outputs *out = vi_sim_outputs_of(s, groups);
+    if (e->active && (groups & VI_OUT_FORCE)) s->out.F_peak = s->out.F; /* the importer's steps are not seen */
     if ((groups & VI_OUT_DERIVATIVES) && !(s->out_valid & VI_OUT_DERIVATIVES)) {
         double r[2];
         vi_model_rhs(&s->d.model, s->d.t, s->d.x, r);
@@ -291,7 +290,7 @@ static vi_me_partials through_delta(double a_d, double a_v, double a_F, double a
 }
 
 /* The rows of the energy outputs and of the damping's power: W_dissipated = W_plastic + W_damping (the
- * state's column is the layer's), E_contact, and F_peak, which moves with F while F is the larger. */
+ * state's column is the layer's), E_contact, and F_peak = F. */
 static void energy_rows(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
 {
     const vi_sim_data *d = &e->s.d;
@@ -301,8 +300,7 @@ static void energy_rows(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
     jac[VI_ME_DER_W] = through_delta(P.dP_ddelta, -P.dP_drate, 0.0, 0.0); /* delta' = yC' - v */
     jac[VI_ME_W_DISSIPATED] = jac[VI_ME_W_PLASTIC];
     jac[VI_ME_E_CONTACT] = through_delta(dE, 0.0, 0.0, 0.0);
-    int peak_is_F = vi_model_force(&d->model, d->t, d->x) >= d->F_peak;
-    jac[VI_ME_F_PEAK] = peak_is_F ? jac[VI_ME_F] : through_delta(0.0, 0.0, 0.0, 0.0);
+    jac[VI_ME_F_PEAK] = jac[VI_ME_F];
 }
 
 void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])

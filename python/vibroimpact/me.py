@@ -135,6 +135,10 @@ class Me:
         return self._array(self.fmu.getContinuousStates, self.nx)
 
     def set_states(self, x, n=None):
+        """Sets the states x; fewer values than states set the first ones, the others keep theirs (the
+        contact FMU's y and v, its W_damping unchanged). n: the count passed instead of len(x)."""
+        if n is None and len(x) < self.nx:
+            x = list(x) + self.states()[len(x):]
         self.fmu.setContinuousStates((ctypes.c_double * max(len(x), 1))(*x), len(x) if n is None else n)
 
     def derivatives(self):
