@@ -210,6 +210,9 @@ typedef struct {
     double P, dP_ddelta, dP_drate;
 } vi_model_power;
 vi_model_power vi_model_damping_power(const vi_model *model, double t, const double x[2]);
+/* The power the bodies put into the contact at (t, x) [W]: F delta', the rate of E_contact + W_plastic +
+ * W_damping. */
+double vi_model_contact_power(const vi_model *model, double t, const double x[2]);
 /* Does the law damp (hertz_damped, linear: W_damping grows)? */
 int vi_model_damps(const vi_model *model);
 /* dF/dt along the motion at (t, x) [N/s]: stiffness times delta' (and, for the damped laws, dF/d(delta')

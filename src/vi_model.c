@@ -666,6 +666,14 @@ double vi_model_contact_energy(const vi_model *model, const double x[2], double 
     return E;
 }
 
+double vi_model_contact_power(const vi_model *model, double t, const double x[2])
+{
+    if (model->mode == VI_MODE_FREE) return 0.0;
+    double r = indentation_rate(model, t, x);
+    if (law(model)->rate_force) return model->mode == VI_MODE_ELASTIC ? law(model)->rate_force(model, x[0], r).F * r : 0.0;
+    return vi_model_force(model, t, x) * r;
+}
+
 int vi_model_damps(const vi_model *model) { return law(model)->rate_force != NULL; }
 
 vi_model_power vi_model_damping_power(const vi_model *model, double t, const double x[2])

@@ -68,18 +68,20 @@ static const double gauss_t[8] = {0.019855071751231912, 0.10166676129318664, 0.2
 static const double gauss_w[8] = {0.050614268145188532, 0.11119051722668721, 0.15685332293894344, 0.18134189168918083,
                                   0.18134189168918083, 0.15685332293894344, 0.11119051722668721, 0.050614268145188532};
 
-/* The damping's work over a piece of the solution (a damped law; its power is 0 while the bodies are apart). */
+/* The damping's work over a piece of the solution (a damped law): the work of the force, integral of F
+ * delta' dt (Gauss-Legendre on the interpolant; 0 when free), less the change of the spring part's energy
+ * E_contact (closed form: no quadrature over the kink of F_spring where delta crosses 0). */
 static int piece_damping(vi_sim *s, const vi_solver_piece *p)
 {
     vi_sim_data *d = &s->d;
-    if (d->model.mode == VI_MODE_FREE && !(p->xa[0] > 0.0) && !(p->xb[0] > 0.0)) return 0;
+    const vi_model *model = &d->model;
     double h = p->tb - p->ta, sum = 0.0, x[2];
-    for (int i = 0; i < 8; i++) {
+    for (int i = 0; i < 8 && model->mode != VI_MODE_FREE; i++) {
         double t = p->ta + h * gauss_t[i];
         if (vi_solver_piece_at(p, t, x, NULL) < 0) return -1;
-        sum += gauss_w[i] * vi_model_damping_power(&d->model, t, x).P;
+        sum += gauss_w[i] * vi_model_contact_power(model, t, x);
     }
-    d->W_damping += h * sum;
+    d->W_damping += h * sum - (vi_model_contact_energy(model, p->xb, NULL) - vi_model_contact_energy(model, p->xa, NULL));
     return 0;
 }
 
