@@ -106,3 +106,25 @@ def table(variants=None, scenes=None, interfaces=None, **options):
                 errors.append(scene_balance(r, params))
             rows.append((variant, scene, errors))
     return rows
+
+
+def vehicle_track_balance(variant, step=1e-5, stop=0.02, v0=-0.5, build=None):
+    """The contact FMU's balance in the vehicle-track example (vibroimpact.vehicle_track.master.run):
+    the wheel (the contact FMU's mass) set onto the rail at v0 with the vehicle on it, Gauss-Seidel
+    vehicle, track, contact, the rail's displacement handed as a straight line from its value at the
+    step's start to that at its end (the track has stepped: no jump), the vehicle's force held. Over
+    step k the platform does s_k F_mean h (s_k the line's slope), the load (F_ext - m g) (y_k+1 - y_k)."""
+    from .vehicle_track import master
+    r = master.run(step, stop, order=("vehicle", "track", "contact"), rail_motion="ramp", build=build,
+                   rtol=1e-9, contact=dict(VARIANTS[variant], init=2, v0=v0),
+                   record=("E_contact", "W_dissipated"))
+    m, g = master.parameters.WHEEL["m"], master.parameters.WHEEL["g"]
+    slope = np.diff(r["track.z_rail"]) / step
+    F_ext = r["vehicle.F_wheel"][1:]  # the vehicle steps first: its new force acts over the contact's step
+    dy = np.diff(r["contact.y"])
+    platform = slope * r["contact.F_mean"][1:] * step
+    load_ = (F_ext - m * g) * dy
+    work = np.concatenate([[0.0], np.cumsum(platform + load_)])
+    c = {"v": r["contact.v"], "E_contact": r["contact.E_contact"], "W_dissipated": r["contact.W_dissipated"]}
+    exchanged = float(np.sum(np.abs(platform) + np.abs(load_)))
+    return balance_error(c, m, work, 0.0, exchanged), r
