@@ -270,17 +270,34 @@ static void pieces_from(vi_solver *s, double t0, const double *x0)
     memcpy(s->xq, x0, sizeof(double) * (size_t)s->cfg.n);
 }
 
+/* x'(t) on the piece p: the one-step method's f at the end of its step, else the interpolant's (CVODE: its
+ * derivative alone). */
+static int piece_derivative(vi_solver *s, const vi_solver_piece *p, double t, double *dx)
+{
+    size_t bytes = sizeof(double) * (size_t)s->cfg.n;
+    if (s->piece_of_ode && t == s->cfg.ode->t) {
+        memcpy(dx, s->cfg.ode->f, bytes);
+        return 0;
+    }
+    if (!s->piece_of_ode && !s->fresh) {
+        CHECK(CVodeGetDky(s->cvode, t, 1, s->dky));
+        memcpy(dx, NV_DATA_S(s->dky), bytes);
+        return 0;
+    }
+    double x[VI_SOLVER_MAX_N];
+    return vi_solver_piece_at(p, t, x, dx);
+}
+
 /* Hand over the piece [tq, tb] of the current step (of_ode: the one-step method's), where x(tb) = xb and
- * x'(tb) = dxb (NULL: the one-step method's f at the end of its step, else the interpolant's). */
+ * x'(tb) = dxb (NULL: piece_derivative). */
 static int cover(vi_solver *s, int of_ode, double tb, const double *xb, const double *dxb)
 {
     if (!(tb > s->tq)) return 0;
     if (s->cfg.piece) {
-        double dx[VI_SOLVER_MAX_N], xt[VI_SOLVER_MAX_N];
+        double dx[VI_SOLVER_MAX_N];
         s->piece_of_ode = of_ode;
         vi_solver_piece p = {.ta = s->tq, .tb = tb, .xa = s->xq, .xb = xb, .dxb = dxb ? dxb : dx, .solver = s};
-        if (!dxb && of_ode && tb == s->cfg.ode->t) memcpy(dx, s->cfg.ode->f, sizeof(double) * (size_t)s->cfg.n);
-        else if (!dxb && vi_solver_piece_at(&p, tb, xt, dx) < 0) return VI_SOLVER_FAILED;
+        if (!dxb && piece_derivative(s, &p, tb, dx) < 0) return VI_SOLVER_FAILED;
         if (s->cfg.piece(&p, s->cfg.user) < 0) return VI_SOLVER_FAILED;
     }
     pieces_from(s, tb, xb);
