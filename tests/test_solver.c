@@ -1482,6 +1482,16 @@ static int record_piece(const vi_solver_piece *p, void *u)
     return 0;
 }
 
+/* The oscillator from (1, 0) at t = 0 with the piece recorder, which refuses piece fail_at (-1: none). */
+static vi_solver *start_pieces(rig *r, int method, int fail_at)
+{
+    rig_osc(r, method);
+    r->cfg.piece = record_piece;
+    memset(&pieces, 0, sizeof pieces);
+    pieces.fail_at = fail_at;
+    return start(r, 0.0, (const double[2]){1.0, 0.0});
+}
+
 /* The oscillator to t = 3 through communication points 0.37 apart, the events at pi/2 and 2 pi/3 restarting it:
  * the pieces follow each other without gap from 0 to 3 (the event's time ends one and starts the
  * next), their interpolant is the solution (its derivative to 1e-4: CVODE's polynomial differentiated is off
@@ -1490,15 +1500,11 @@ Test(solver, pieces_cover_every_advance_without_gap_with_the_interpolant)
 {
     for (size_t m = 0; m < 4; m++) {
         rig r;
-        rig_osc(&r, METHODS[m]);
-        r.cfg.piece = record_piece;
-        memset(&pieces, 0, sizeof pieces);
-        pieces.fail_at = -1;
-        double x0[2] = {1.0, 0.0}, x[2], t = 0.0, tout = 0.0, t_event = NAN;
+        vi_solver *s = start_pieces(&r, METHODS[m], -1);
+        double x[2], t = 0.0, tout = 0.0, t_event = NAN;
         int fired[3];
         long taken;
         const char *name = vi_solver_method_name(METHODS[m]);
-        vi_solver *s = start(&r, 0.0, x0);
         for (int k = 0; k < 100 && t < 3.0; k++) {
             tout = fmin(3.0, tout + (t >= tout ? 0.37 : 0.0));
             int rc = vi_solver_advance(s, tout, 100000, &t, x, fired, &taken);
@@ -1529,14 +1535,10 @@ Test(solver, a_refused_piece_fails_the_advance)
 {
     for (size_t m = 0; m < 4; m++) {
         rig r;
-        rig_osc(&r, METHODS[m]);
-        r.cfg.piece = record_piece;
-        memset(&pieces, 0, sizeof pieces);
-        pieces.fail_at = 2;
-        double x0[2] = {1.0, 0.0}, x[2], t = 0.0;
+        vi_solver *s = start_pieces(&r, METHODS[m], 2);
+        double x[2], t = 0.0;
         int fired[3];
         long taken;
-        vi_solver *s = start(&r, 0.0, x0);
         int rc = VI_SOLVER_REACHED;
         for (int k = 1; k <= 10 && rc == VI_SOLVER_REACHED; k++)
             rc = vi_solver_advance(s, 0.1 * k, 100000, &t, x, fired, &taken);

@@ -22,21 +22,13 @@ import math
 
 import numpy as np
 
+from . import laws_guide
 from .fmu import fmu3_path, fmu_path
+from .laws_guide import E_DAMPED
 
-VARIANTS = {
-    "hertz": dict(contact_model=1),
-    "johnson": dict(contact_model=2),
-    "johnson_continuous": dict(contact_model=2, unloading=2),
-    "johnson_moving": dict(contact_model=2, moving_contact=True),
-    "lepp": dict(contact_model=3),
-    "thornton": dict(contact_model=6),
-    "hertz_damped": dict(contact_model=4, damping_formula=1, e_restitution=0.5),
-    "hunt_crossley": dict(contact_model=4, damping_formula=2, e_restitution=0.5),
-    "lankarani_nikravesh": dict(contact_model=4, damping_formula=3, e_restitution=0.5),
-    "flores": dict(contact_model=4, damping_formula=4, e_restitution=0.5),
-    "linear": dict(contact_model=5, e_restitution=0.5),
-}
+# the variants of the guide to the laws (vibroimpact.laws_guide), with the damped Hertz forms not there
+VARIANTS = dict(laws_guide.VARIANTS, lankarani_nikravesh=dict(contact_model=4, damping_formula=3, e_restitution=E_DAMPED),
+                flores=dict(contact_model=4, damping_formula=4, e_restitution=E_DAMPED))
 SCENES = {
     "drop": dict(init=2, v0=-1.0),
     "fig4b": dict(a=1e-4, f=560.0),
