@@ -3,8 +3,10 @@
  * an ODE with events for Model Exchange. Nothing here knows FMI; src/vi_fmu_contact.c maps the FMI
  * layer's hooks onto these functions.
  *
- * States (the importer integrates them):  y [m], the mass position, and v [m/s], its velocity:
+ * States (the importer integrates them):  y [m], the mass position, v [m/s], its velocity, and W_damping
+ * [J], the damping's work (VI_ME_NSTATES below):
  *     y' = v,      v' = (F(delta, mode, memory) - W(t)) / m        (in stick: v' = yC''(t))
+ *     W_damping' = (F - F_spring(delta)) delta'                    (vi_model_damping_power)
  * with delta = yC(t) - y (vi_model.h: the platform yC includes the input yC_in, the harmonic
  * excitation and the rolling profile). The position y, not the indentation, is the state, so that
  * the derivatives need the input yC_in only through its value (Model Exchange passes no input
