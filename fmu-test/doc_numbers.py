@@ -116,8 +116,8 @@ class Sources:
         """fmi2GetNominalsOfContinuousStates of a Model Exchange instance at the static start."""
         m, _ = self.instance(FMU2Model, {"contact_model": contact_model})
         try:
-            x = (fmi2Real * 2)()
-            m.getNominalsOfContinuousStates(x, 2)
+            x = (fmi2Real * 3)()
+            m.getNominalsOfContinuousStates(x, 3)
             return list(x)
         finally:
             m.freeInstance()
@@ -247,6 +247,15 @@ def F_Y(**params):
     return lambda s: s.initial("F_Y", **params)
 
 
+def released(e, law="exact"):
+    """The percentage of an isolated impact's energy a damped law's spring part holds at its release, from
+    the independent reference (vibroimpact.reference.laws)."""
+    def source(_sources):
+        from vibroimpact.reference.laws import released_fraction
+        return 100.0 * released_fraction(law, e)
+    return source
+
+
 def f_contact(**params):
     return lambda s: s.initial("f_contact", **params)
 
@@ -282,6 +291,14 @@ FACTS = [
     Fact("doc/model.md", "spectral radius above {n}, BDF takes over", define("VI_AUTO_STIFF_HRHO")),
     Fact("doc/model.md", "spectral radius below {n} for 6 steps", define("VI_AUTO_NONSTIFF_HRHO")),
     Fact("doc/model.md", "spectral radius below 1 for {n} steps", define("VI_AUTO_CALM_STEPS")),
+    Fact("doc/model.md", "in an isolated impact {n} % of the impact energy", released(0.5)),
+    Fact("doc/model.md", "energy at `e_restitution = 0.5`, {n} % at 0.3", released(0.3)),
+    Fact("doc/model.md", "% at 0.3, {n} % at 0.7", released(0.7)),
+    Fact("doc/model.md", "% at 0.7, {n} % at 0.9", released(0.9)),
+    Fact("doc/model.md", "while the overlap falls to 0 ({n} % at `e = 0.5`)", released(0.5, "linear")),
+    Fact("doc/model.md", "by Gauss-Legendre quadrature with {n} nodes", define("VI_GAUSS_NODES")),
+    Fact("doc/model.md", "than 1e-7 of the step (at most {n} evaluations)", define("VI_PEAK_ITERS")),
+    Fact("doc/model.md", "estimate moves by less than {n} of the step", define("VI_PEAK_MOVE")),
     # doc/numerics.md
     Fact("doc/numerics.md", "(slope {n} against 1.5 in units of `F_Y/delta_Y`)", johnson_slope_above_yield),
     Fact("doc/numerics.md", "held above a band of {n} times its tolerance-sized noise", define("VI_GRAZE_TOL")),
@@ -338,8 +355,9 @@ FACTS = [
     Fact("doc/model-exchange.md", "(the static indentation) and {n} m/s for Hertz", lambda s: s.nominals(1)[1]),
     Fact("doc/model-exchange.md", "{n} m (`delta_Y`) and 0.16 m/s for Johnson", lambda s: s.nominals(2)[0]),
     Fact("doc/model-exchange.md", "(`delta_Y`) and {n} m/s for Johnson", lambda s: s.nominals(2)[1]),
-    Fact("doc/model-exchange.md", "`modelDescription.xml` declares {n} m and 0.1 m/s", lambda s: s.nominal("y")),
-    Fact("doc/model-exchange.md", "declares 1e-5 m and {n} m/s", lambda s: s.nominal("v")),
+    Fact("doc/model-exchange.md", "`modelDescription.xml` declares {n} m, 0.1 m/s and 1 J", lambda s: s.nominal("y")),
+    Fact("doc/model-exchange.md", "declares 1e-5 m, {n} m/s and 1 J", lambda s: s.nominal("v")),
+    Fact("doc/model-exchange.md", "declares 1e-5 m, 0.1 m/s and {n} J", lambda s: s.nominal("W_damping")),
     Fact("doc/model-exchange.md", "event indicators | {n}: the guards of the current mode",
          lambda s: s.md.numberOfEventIndicators),
     Fact("doc/model-exchange.md", "still below zero; {n} such passes in a row", define("VI_MAX_EVENT_PASSES")),

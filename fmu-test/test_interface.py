@@ -184,7 +184,9 @@ def test_model_structure_declares_the_model_exchange_dependencies(model_descript
     assert deps["F"] == ["F_ext", "v", "vC_in", "y", "yC_in"] and deps["y"] == ["y"] and deps["v"] == ["v"]
     assert deps["mode"] == deps["contact"] == deps["n_impacts"] == []
     der = {u.variable.name: sorted(d.name for d in u.dependencies) for u in model_description.derivatives}
-    assert der == {"der_y": ["v"], "der_v": ["F_ext", "v", "vC_in", "y", "yC_in"]}
+    assert der == {"der_y": ["v"], "der_v": ["F_ext", "v", "vC_in", "y", "yC_in"], "der_W_damping": ["v", "vC_in", "y", "yC_in"]}
+    assert deps["F_peak"] == deps["F"] and deps["E_contact"] == ["y", "yC_in"]
+    assert deps["W_dissipated"] == ["W_damping", "y", "yC_in"]
 
 
 def read_all(s, md, variables):

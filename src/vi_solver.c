@@ -30,6 +30,9 @@ struct vi_solver {
     double troot, xroot[VI_SOLVER_MAX_N];
     int rootsfound[VI_SOLVER_MAX_GUARDS]; /* ... for these guards; not reported yet */
     vi_solver_stats before_reset; /* CVodeReInit zeroes CVODE's counters: the sums before it */
+    /* the pieces (vi_solver.h, PIECES): the solution is handed over up to tq, where it is xq */
+    double tq, xq[VI_SOLVER_MAX_N];
+    int piece_of_ode;             /* the piece being handed over is the one-step method's */
 };
 
 #if defined(SUNDIALS_ENABLE_PYTHON)
@@ -333,6 +336,75 @@ int vi_solver_auto_check(const vi_solver_auto *a, char *msg, size_t size)
 #undef AUTO_BAD
 }
 
+/* ---- the pieces ---------------------------------------------------------------------------------- */
+
+/* The pieces start anew at (t0, x0): a (re)start, a resumed state. */
+static void pieces_from(vi_solver *s, double t0, const double *x0)
+{
+    s->tq = t0;
+    memcpy(s->xq, x0, sizeof(double) * (size_t)s->cfg.n);
+}
+
+/* x'(t) on the piece p: the one-step method's f at the end of its step, else the interpolant's (CVODE: its
+ * derivative alone). */
+static int piece_derivative(vi_solver *s, const vi_solver_piece *p, double t, double *dx)
+{
+    size_t bytes = sizeof(double) * (size_t)s->cfg.n;
+    if (s->piece_of_ode && t == s->cfg.ode->t) {
+        memcpy(dx, s->cfg.ode->f, bytes);
+        return 0;
+    }
+    if (!s->piece_of_ode && !s->fresh) {
+        CHECK(CVodeGetDky(s->cvode, t, 1, s->dky));
+        memcpy(dx, NV_DATA_S(s->dky), bytes);
+        return 0;
+    }
+    double x[VI_SOLVER_MAX_N];
+    return vi_solver_piece_at(p, t, x, dx);
+}
+
+/* Hand over the piece [tq, tb] of the current step (of_ode: the one-step method's), where x(tb) = xb and
+ * x'(tb) = dxb (NULL: piece_derivative). */
+static int cover(vi_solver *s, int of_ode, double tb, const double *xb, const double *dxb)
+{
+    if (!(tb > s->tq)) return 0;
+    if (s->cfg.piece) {
+        double dx[VI_SOLVER_MAX_N];
+        s->piece_of_ode = of_ode;
+        vi_solver_piece p = {.ta = s->tq, .tb = tb, .xa = s->xq, .xb = xb, .dxb = dxb ? dxb : dx, .solver = s};
+        if (!dxb && piece_derivative(s, &p, tb, dx) < 0) return VI_SOLVER_FAILED;
+        if (s->cfg.piece(&p, s->cfg.user) < 0) return VI_SOLVER_FAILED;
+    }
+    pieces_from(s, tb, xb);
+    return 0;
+}
+
+int vi_solver_piece_at(const vi_solver_piece *piece, double t, double *x, double *dx)
+{
+    vi_solver *s = piece->solver;
+    size_t bytes = sizeof(double) * (size_t)s->cfg.n;
+    if (!dx && (t == piece->ta || t == piece->tb)) {
+        memcpy(x, t == piece->ta ? piece->xa : piece->xb, bytes);
+        return 0;
+    }
+    if (s->piece_of_ode) {
+        int r = vi_ode_dense(s->cfg.ode, &s->ode_problem, t, x, dx);
+        return r < 0 ? ode_fail_at(s, r, "vi_ode_dense", t) : 0;
+    }
+    if (s->fresh) { /* no step yet: a piece of a few ulps of time at the start point, x' from the rhs */
+        memcpy(x, piece->xa, bytes);
+        if (dx) s->cfg.rhs(t, x, dx, s->cfg.user);
+        return 0;
+    }
+    CHECK(CVodeGetDky(s->cvode, t, 0, s->dky));
+    memcpy(x, NV_DATA_S(s->dky), bytes);
+    if (dx) {
+        CHECK(CVodeGetDky(s->cvode, t, 1, s->dky));
+        memcpy(dx, NV_DATA_S(s->dky), bytes);
+    }
+    return 0;
+}
+
 static int ode_advance(vi_solver *s, double tout, long max_steps, double *t, double *x, int *fired, long *taken)
 {
     vi_ode *o = s->cfg.ode;
@@ -343,14 +415,16 @@ static int ode_advance(vi_solver *s, double tout, long max_steps, double *t, dou
             *t = o->ev_t;
             memcpy(x, o->ev_x, sizeof(double) * (size_t)n);
             for (int i = 0; i < s->cfg.nguards; i++) fired[i] = (o->ev_fired >> i) & 1u;
-            return VI_SOLVER_EVENT;
+            return cover(s, 1, *t, x, NULL) < 0 ? VI_SOLVER_FAILED : VI_SOLVER_EVENT;
         }
-        if (tout <= o->t) { /* inside the last step: its interpolant */
-            int r = o->have_step ? vi_ode_dense(o, p, tout, x, NULL) : VI_ODE_ERR_ARGS;
+        if (tout <= o->t) { /* inside the last step: its interpolant (and its derivative for the piece) */
+            double dx[VI_SOLVER_MAX_N], *pdx = s->cfg.piece ? dx : NULL;
+            int r = o->have_step ? vi_ode_dense(o, p, tout, x, pdx) : VI_ODE_ERR_ARGS;
             if (r < 0) return ode_fail(s, r, "vi_ode_dense");
             *t = tout;
-            return VI_SOLVER_REACHED;
+            return cover(s, 1, tout, x, pdx) < 0 ? VI_SOLVER_FAILED : VI_SOLVER_REACHED;
         }
+        if (cover(s, 1, o->t, o->x, NULL) < 0) return VI_SOLVER_FAILED; /* the rest of the step, before it is left */
         if (*taken >= max_steps) {
             *t = o->t;
             memcpy(x, o->x, sizeof(double) * (size_t)n);
@@ -432,6 +506,7 @@ static vi_solver *create(const vi_solver_config *cfg, double t0, const double *x
         return NULL;
     }
     s->cfg = *cfg;
+    pieces_from(s, t0, x0);
     if (cfg->method == VI_METHOD_DOP853) {
         if (ode_setup(s) < 0) goto fail;
         if (resume ? !ode_valid(s, t0) : vi_solver_reset(s, t0, x0) < 0) goto fail;
@@ -471,6 +546,7 @@ int vi_solver_checkpoint(vi_solver *s, double t0, const double *x0)
 /* Restart the one-step method, or CVODE, at (t0, x0). */
 static int ode_restart(vi_solver *s, double t0, const double *x0)
 {
+    pieces_from(s, t0, x0);
     int r = vi_ode_restart(s->cfg.ode, &s->ode_problem, t0, x0, 0.0, 0u);
     return r < 0 ? ode_fail_at(s, r, "vi_ode_restart", t0) : 0;
 }
@@ -479,6 +555,7 @@ static void cvode_counters(const vi_solver *s, vi_solver_stats *st);
 
 static int cvode_restart(vi_solver *s, double t0, const double *x0)
 {
+    pieces_from(s, t0, x0);
     memcpy(NV_DATA_S(s->x), x0, sizeof(double) * (size_t)s->cfg.n);
     cvode_counters(s, &s->before_reset);
     CHECK(CVodeReInit(s->cvode, t0, s->x));
@@ -513,7 +590,7 @@ static int cvode_advance(vi_solver *s, double tout, long max_steps, double *t, d
          * The solver stays at t0 and the next call integrates from there. */
         memcpy(x, NV_DATA_S(s->x), bytes);
         *t = tout;
-        return VI_SOLVER_REACHED;
+        return cover(s, 0, tout, x, NULL) < 0 ? VI_SOLVER_FAILED : VI_SOLVER_REACHED;
     }
     for (;;) { /* bounded: every pass takes a step, at most max_steps */
         if (s->root_pending && s->troot <= tout) {
@@ -521,14 +598,16 @@ static int cvode_advance(vi_solver *s, double tout, long max_steps, double *t, d
             *t = s->troot;
             memcpy(x, s->xroot, bytes);
             memcpy(fired, s->rootsfound, sizeof(int) * (size_t)s->cfg.nguards);
-            return VI_SOLVER_EVENT;
+            return cover(s, 0, *t, x, NULL) < 0 ? VI_SOLVER_FAILED : VI_SOLVER_EVENT;
         }
         if (!s->fresh && tout <= s->tn) {
             CHECK(CVodeGetDky(s->cvode, tout, 0, s->dky));
             memcpy(x, NV_DATA_S(s->dky), bytes);
             *t = tout;
-            return VI_SOLVER_REACHED;
+            return cover(s, 0, tout, x, NULL) < 0 ? VI_SOLVER_FAILED : VI_SOLVER_REACHED;
         }
+        /* the rest of the last step, before it is left (s->x holds x(tn): no root is pending here) */
+        if (!s->fresh && cover(s, 0, s->tn, NV_DATA_S(s->x), NULL) < 0) return VI_SOLVER_FAILED;
         if (*taken >= max_steps) { /* s->x holds x(tn): no root is pending in a completed step */
             *t = s->tn;
             memcpy(x, NV_DATA_S(s->x), bytes);

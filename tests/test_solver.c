@@ -1492,3 +1492,103 @@ Test(solver, creation_out_of_memory_fails_cleanly_at_every_allocation)
         }
 }
 #endif
+
+/* ---- pieces (vi_solver.h, PIECES) ----------------------------------------------------------------- */
+
+/* What the piece callback saw: the pieces' ends, the largest error of the interpolant and of its
+ * derivative against the oscillator's closed form at three inside points and at the end, and the
+ * integral of x0^2 (Gauss-Legendre, 4 nodes, on each piece). */
+static struct {
+    int n, fail_at;
+    double ta[4096], tb[4096], err, derr, integral;
+} pieces;
+
+static int record_piece(const vi_solver_piece *p, void *u)
+{
+    (void)u;
+    static const double gt[4] = {0.069431844202973714, 0.33000947820757187, 0.66999052179242813, 0.93056815579702623};
+    static const double gw[4] = {0.17392742256872679, 0.32607257743127321, 0.32607257743127321, 0.17392742256872679};
+    if (pieces.n == pieces.fail_at) return -1;
+    cr_assert(pieces.n < 4096 && p->tb > p->ta, "piece %d: [%.17g, %.17g]", pieces.n, p->ta, p->tb);
+    pieces.ta[pieces.n] = p->ta, pieces.tb[pieces.n] = p->tb;
+    pieces.n++;
+    double x[2], dx[2], y[2];
+    for (int i = 0; i < 4; i++) {
+        double t = p->ta + gt[i] * (p->tb - p->ta);
+        cr_assert(vi_solver_piece_at(p, t, x, dx) == 0 && vi_solver_piece_at(p, t, y, NULL) == 0);
+        cr_assert(x[0] == y[0] && x[1] == y[1], "the derivative changes the value");
+        pieces.err = fmax(pieces.err, fmax(fabs(x[0] - cos(t)), fabs(x[1] + sin(t))));
+        pieces.derr = fmax(pieces.derr, fmax(fabs(dx[0] + sin(t)), fabs(dx[1] + cos(t))));
+        pieces.integral += (p->tb - p->ta) * gw[i] * x[0] * x[0];
+    }
+    cr_assert(vi_solver_piece_at(p, p->ta, x, NULL) == 0 && x[0] == p->xa[0] && x[1] == p->xa[1]);
+    cr_assert(vi_solver_piece_at(p, p->tb, x, NULL) == 0 && x[0] == p->xb[0] && x[1] == p->xb[1]);
+    pieces.derr = fmax(pieces.derr, fmax(fabs(p->dxb[0] + sin(p->tb)), fabs(p->dxb[1] + cos(p->tb))));
+    return 0;
+}
+
+/* The oscillator from (1, 0) at t = 0 with the piece recorder, which refuses piece fail_at (-1: none). */
+static vi_solver *start_pieces(rig *r, int method, int fail_at)
+{
+    rig_osc(r, method);
+    r->cfg.piece = record_piece;
+    memset(&pieces, 0, sizeof pieces);
+    pieces.fail_at = fail_at;
+    return start(r, 0.0, (const double[2]){1.0, 0.0});
+}
+
+/* The oscillator to t = 3 through communication points 0.37 apart, the events at pi/2 and 2 pi/3 restarting it:
+ * the pieces follow each other without gap from 0 to 3 (the event's time ends one and starts the
+ * next), their interpolant is the solution (its derivative to 1e-4: CVODE's polynomial differentiated is off
+ * by 6e-6 here), and the integral of cos^2 over them is t/2 + sin(2 t)/4. */
+Test(solver, pieces_cover_every_advance_without_gap_with_the_interpolant)
+{
+    for (size_t m = 0; m < 4; m++) {
+        rig r;
+        vi_solver *s = start_pieces(&r, METHODS[m], -1);
+        double x[2], t = 0.0, tout = 0.0, t_event = NAN;
+        int fired[3];
+        long taken;
+        const char *name = vi_solver_method_name(METHODS[m]);
+        for (int k = 0; k < 100 && t < 3.0; k++) {
+            tout = fmin(3.0, tout + (t >= tout ? 0.37 : 0.0));
+            int rc = vi_solver_advance(s, tout, 100000, &t, x, fired, &taken);
+            cr_assert(rc == VI_SOLVER_REACHED || rc == VI_SOLVER_EVENT, "%s: rc %d", name, rc);
+            cr_assert(pieces.tb[pieces.n - 1] == t, "%s: the last piece ends at %.17g, not at %.17g", name,
+                      pieces.tb[pieces.n - 1], t);
+            if (rc == VI_SOLVER_EVENT) {
+                t_event = isnan(t_event) ? t : t_event; /* pi/2, then 2 pi/3 */
+                cr_assert(vi_solver_reset(s, t, x) == 0);
+            }
+        }
+        cr_assert(fabs(t_event - PI / 2) < 1e-8, "%s: event at %.17g", name, t_event);
+        cr_assert(pieces.ta[0] == 0.0 && pieces.n > 8, "%s: %d pieces", name, pieces.n);
+        for (int i = 1; i < pieces.n; i++)
+            cr_assert(pieces.ta[i] == pieces.tb[i - 1], "%s: piece %d starts at %.17g, the one before ends at %.17g", name,
+                      i, pieces.ta[i], pieces.tb[i - 1]);
+        cr_assert(pieces.err < 1e-8 && pieces.derr < 1e-4, "%s: interpolant off by %g, its derivative by %g", name,
+                  pieces.err, pieces.derr);
+        double exact = 1.5 + sin(6.0) / 4.0;
+        cr_assert(fabs(pieces.integral - exact) < 1e-8, "%s: integral %.17g, closed form %.17g", name, pieces.integral,
+                  exact);
+        vi_solver_free(s);
+    }
+}
+
+/* A piece the caller refuses fails the advance, with every method. */
+Test(solver, a_refused_piece_fails_the_advance)
+{
+    for (size_t m = 0; m < 4; m++) {
+        rig r;
+        vi_solver *s = start_pieces(&r, METHODS[m], 2);
+        double x[2], t = 0.0;
+        int fired[3];
+        long taken;
+        int rc = VI_SOLVER_REACHED;
+        for (int k = 1; k <= 10 && rc == VI_SOLVER_REACHED; k++)
+            rc = vi_solver_advance(s, 0.1 * k, 100000, &t, x, fired, &taken);
+        cr_assert(rc == VI_SOLVER_FAILED && pieces.n == 2, "%s: rc %d after %d pieces", vi_solver_method_name(METHODS[m]),
+                  rc, pieces.n);
+        vi_solver_free(s);
+    }
+}
