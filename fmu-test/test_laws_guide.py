@@ -112,3 +112,12 @@ def test_choosing_md_quotes_the_vehicle_track_rows(vt_rows):
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
         rerun[cells[1]] = cells[2:7]
     assert set(rerun) == {"hertz", "johnson"} and page == rerun
+
+
+def test_choosing_md_quotes_the_vehicle_track_agreement(vt_rows):
+    """doc/choosing.md's table of the vehicle-track Model Exchange master against its co-simulation has
+    the rerun's rows of hertz and johnson (laws_guide.vt_agreement)."""
+    rows, _ = vt_rows
+    rerun = {line for line in G.agreement_markdown(list(rows.values())).splitlines()[2:]}
+    page = set((ROOT / "doc" / "choosing.md").read_text().splitlines())
+    assert len(rerun) == 2 and rerun <= page, rerun

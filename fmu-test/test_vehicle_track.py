@@ -277,15 +277,32 @@ def test_coupled_run_matches_the_reference(rough):
 
 
 @needs_fmus
-def test_libcosim_and_the_fmpy_master_agree(rough):
-    """libcosim from OspSystemStructure.xml and master.py with the same (Jacobi) scheme."""
+@pytest.mark.parametrize("order", [("vehicle", "contact", "track"), ("vehicle", "track", "contact")])
+def test_the_rail_velocity_as_vc_in_or_as_the_derivative_gives_the_same_numbers(rough, order):
+    """rail_motion "ramp" (vC_in with velocity_input) and "derivative" (the derivative of yC_in) move the
+    contact FMU's platform on the same straight line, extrapolated (contact first) or interpolated
+    (track first), and give it the same rate: the same numbers, bit for bit, and the same energy
+    bookkeeping (doc/model.md: vC_in carries yC_in through the step)."""
+    path, _, _, _ = rough
+    h, T = 1e-5, 0.02
+    r = {m: master.run(h, T, "gauss-seidel", order, "F_mean", m, profile=path) for m in ("ramp", "derivative", "hold")}
+    for key in ("contact.F", "contact.F_mean", "contact.y", "track.z_rail", "E_coupling"):
+        assert np.array_equal(r["ramp"][key], r["derivative"][key]), key
+    assert not np.array_equal(r["ramp"]["contact.F"], r["hold"]["contact.F"])
+
+
+@needs_fmus
+@pytest.mark.parametrize("rail_motion", ["ramp", "hold"])
+def test_libcosim_and_the_fmpy_master_agree(rough, rail_motion):
+    """libcosim from OspSystemStructure.xml (the rail's velocity in vC_in, or without: "hold") and
+    master.py with the same (Jacobi) scheme and rail motion."""
     require_module("libcosimpy")
-    assert_contact_has("F_mean", "profile_file", "V", "x0")
+    assert_contact_has("F_mean", "profile_file", "V", "x0", "vC_in")
     import cosim
     path, _, system, _ = rough
     h, T = 5e-6, 0.03
-    rc = cosim.run(h, T, "F_mean", profile=path)
-    rm = master.run(h, T, "jacobi", force="F_mean", profile=path)
+    rc = cosim.run(h, T, "F_mean", profile=path, rail_motion=rail_motion)
+    rm = master.run(h, T, "jacobi", force="F_mean", rail_motion=rail_motion, profile=path)
     # The same scheme on the same FMUs: the importers differ only in how values travel (rounding), and
     # a multistep solver's step sequence reacts to that at its tolerance (rtol 1e-6), far below the
     # coupling error (about 1 % of W at this step): agreement to a tenth of the tolerance.
@@ -312,6 +329,7 @@ def test_osp_file_agrees_with_parameters_and_the_master():
     assert float(values[("contact", "F_ext")]) == pytest.approx(-P_V["m_body"] * P_V["g"], rel=1e-12)
     assert float(values[("track", "F_contact")]) == pytest.approx(system.W, rel=1e-12)
     assert float(values[("vehicle", "y_wheel")]) == pytest.approx(x[reference.YW], rel=1e-12)
+    assert values[("contact", "velocity_input")] == "true"  # the rail's velocity in vC_in (connected below)
     cons = [tuple(x for v in c.iterfind("o:Variable", ns) for x in (v.get("simulator"), v.get("name")))
             for c in root.iterfind("o:Connections/o:VariableConnection", ns)]
     assert sorted(cons) == sorted(master.CONNECTIONS)

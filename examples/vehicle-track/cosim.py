@@ -2,9 +2,12 @@
 
 libcosim's fixed-step algorithm steps every FMU with the outputs of the last communication point
 (a Jacobi scheme); master.py with scheme="jacobi" does the same and gives the same numbers (the
-test compares them). run() renders a copy of OspSystemStructure.xml for one run (the step, the
-FMUs of a build folder, the profile as an absolute path, F or F_mean to the track), loads it
-with CosimExecution.from_osp_config_file, steps it and records the same signals as master.run.
+test compares them). The file connects the rail velocity to the contact FMU's vC_in with
+velocity_input = true (master.py's rail_motion "ramp": libcosim sets no input derivatives);
+rail_motion="hold" renders it without (the rail held over each step). run() renders a copy of
+OspSystemStructure.xml for one run (the step, the FMUs of a build folder, the profile as an
+absolute path, F or F_mean to the track, the rail motion), loads it with
+CosimExecution.from_osp_config_file, steps it and records the same signals as master.run.
 """
 import pathlib
 import tempfile
@@ -25,8 +28,11 @@ def _q(tag):
     return f"{{{NS}}}{tag}"
 
 
-def render(path, step, build, profile=None, excitation=None, force="F_mean"):
-    """Write the system structure of one run to `path`."""
+def render(path, step, build, profile=None, excitation=None, force="F_mean", rail_motion="ramp"):
+    """Write the system structure of one run to `path`. rail_motion: "ramp" (the file's: vC_in
+    connected, velocity_input = true) or "hold" (neither)."""
+    if rail_motion not in ("ramp", "hold"):
+        raise ValueError(f"rail_motion = {rail_motion!r}: libcosim runs 'ramp' or 'hold'")
     ET.register_namespace("", NS)
     tree = ET.parse(OSP)
     root = tree.getroot()
@@ -43,14 +49,19 @@ def render(path, step, build, profile=None, excitation=None, force="F_mean"):
                 v.find(_q("String")).set("value", str(pathlib.Path(profile).resolve()))
             elif name in ("profile_file", "V", "x0") and not profile:
                 iv.remove(v)
+            elif name == "velocity_input" and rail_motion == "hold":
+                v.find(_q("Boolean")).set("value", "false")
         if excitation:
             for name, value in zip(("a", "f"), excitation):
                 e = ET.SubElement(iv, _q("InitialValue"), variable=name)
                 ET.SubElement(e, _q("Real"), value=repr(float(value)))
-    for con in root.iter(_q("VariableConnection")):
-        src = con.findall(_q("Variable"))[0]
+    connections = root.find(_q("Connections"))
+    for con in list(connections):
+        src, dst = con.findall(_q("Variable"))
         if src.get("simulator") == "contact" and src.get("name") == "F_mean":
             src.set("name", force)
+        if dst.get("name") == "vC_in" and rail_motion == "hold":
+            connections.remove(con)
     tree.write(path, xml_declaration=True, encoding="UTF-8")
 
 
@@ -60,7 +71,8 @@ def quiet():
     log_output_level(CosimLogLevel.ERROR)
 
 
-def run(step, stop_time=parameters.STOP_TIME, force="F_mean", profile=None, excitation=None, build=None):
+def run(step, stop_time=parameters.STOP_TIME, force="F_mean", profile=None, excitation=None, build=None,
+        rail_motion="ramp"):
     """Co-simulate on libcosim; the same record as master.run (without the energy bookkeeping)."""
     from libcosimpy.CosimExecution import CosimExecution
     from libcosimpy.CosimObserver import CosimObserver
@@ -69,7 +81,7 @@ def run(step, stop_time=parameters.STOP_TIME, force="F_mean", profile=None, exci
     n_steps = int(round(stop_time / step))
     with tempfile.TemporaryDirectory(prefix="vt_osp_") as d:
         path = pathlib.Path(d) / "OspSystemStructure.xml"
-        render(path, step, build, profile, excitation, force)
+        render(path, step, build, profile, excitation, force, rail_motion)
         ex = CosimExecution.from_osp_config_file(str(path))
         obs = CosimObserver.create_last_value()
         ex.add_observer(obs)

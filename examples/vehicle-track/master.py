@@ -3,13 +3,13 @@ is vibroimpact.vehicle_track.master (the package's `vibroimpact laws` runs it to
 importable from here.
 
     python3 master.py [--step H] [--stop-time T] [--scheme gauss-seidel|jacobi] [--order a,b,c]
-                      [--force F|F_mean] [--rail-motion hold|ramp] [--profile FILE] [--excitation A F]
+                      [--force F|F_mean] [--rail-motion hold|ramp|derivative] [--profile FILE] [--excitation A F]
 """
 import argparse
 import time
 
-from vibroimpact.vehicle_track.master import (CONNECTIONS, CONTACT_OUT, TRACK_OUT, VEHICLE_OUT,  # noqa: F401
-                                              Slave, build_dir, contact_start_values, run)
+from vibroimpact.vehicle_track.master import (CONNECTIONS, CONTACT_IN, CONTACT_OUT, RAIL_MOTIONS,  # noqa: F401
+                                              TRACK_OUT, VEHICLE_OUT, Slave, build_dir, contact_start_values, run)
 
 import parameters
 
@@ -21,7 +21,9 @@ def main():
     ap.add_argument("--scheme", choices=["gauss-seidel", "jacobi"], default="gauss-seidel")
     ap.add_argument("--order", default="vehicle,contact,track")
     ap.add_argument("--force", choices=["F", "F_mean"], default="F_mean")
-    ap.add_argument("--rail-motion", choices=["hold", "ramp"], default="hold")
+    ap.add_argument("--rail-motion", choices=RAIL_MOTIONS, default="hold",
+                    help="the rail within a step: held, on a line at v_rail through vC_in (ramp, velocity_input) "
+                         "or through the derivative of yC_in (derivative)")
     ap.add_argument("--profile")
     ap.add_argument("--excitation", type=float, nargs=2, metavar=("A", "F"))
     a = ap.parse_args()

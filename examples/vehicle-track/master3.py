@@ -4,9 +4,11 @@ instant, and the run goes on from there.
 
 Gauss-Seidel contact -> track -> vehicle on the communication points t_n = n step:
 - the contact FMU steps first, from t to the next point, its rail input extrapolated with the rail
-  velocity (der(yC_in) = v_rail, the FMI 3.0 form of fmi2SetRealInputDerivatives; rail_motion
-  "hold" sets none) and the suspension force of t held; with early return (earlyReturnAllowed) it
-  stops at the first change of its mode inside the step, at the time it located;
+  velocity and the suspension force of t held; with early return (earlyReturnAllowed) it stops at
+  the first change of its mode inside the step, at the time it located. rail_motion as in
+  master.py: "ramp" passes the rail velocity as vC_in with velocity_input = true (the FMU carries
+  yC_in at vC_in and takes the platform's rate from it), "derivative" as der(yC_in) (the FMI 3.0
+  form of fmi2SetRealInputDerivatives), "hold" neither;
 - the track then steps to the same instant with the contact's force over that sub-step (F_mean:
   its impulse divided by the sub-step, or F), and the vehicle with the wheel's y and v there;
 - the next sub-step starts at that instant and ends at the next communication point (or earlier,
@@ -95,8 +97,8 @@ class EarlyReturnCoupling(master.Coupling):
     FMU returns early; the track's and the vehicle's halves and the energy bookkeeping are
     master.Coupling's."""
 
-    def __init__(self, slaves, ports, energy, force, ramp, max_substeps):
-        super().__init__(slaves, ports, energy, force, ramp)
+    def __init__(self, slaves, ports, energy, force, rail_motion, max_substeps):
+        super().__init__(slaves, ports, energy, force, rail_motion)
         self.max_substeps = max_substeps
         self.events, self.substeps = [], 0
 
@@ -107,9 +109,9 @@ class EarlyReturnCoupling(master.Coupling):
         if self.substeps > self.max_substeps:
             raise RuntimeError(f"more than {self.max_substeps} sub-steps")
         before = self.c
-        value, slope = self.t_out["z_rail"], (self.t_out["v_rail"] if self.ramp else 0.0)
+        value, slope = self.rail(h, None, self.t_out, False)
         F_ext = self.v_out["F_wheel"]
-        self.p.set_c([value, slope, F_ext])
+        self.p.set_c([value, slope if self.rail_motion == "derivative" else 0.0, slope, F_ext])
         t_end, early = self.C.step(t, h)
         dt = t_end - t
         self.c = master.with_mean(self.p.get_c())
@@ -136,22 +138,25 @@ def run(step, stop_time=parameters.STOP_TIME, force="F_mean", rail_motion="ramp"
         excitation=None, build=None, rtol=1e-8, max_substeps=10 ** 7):
     """Co-simulate (module docstring). Returns a dict of arrays on the grid t_n = n step as master.run,
     and 'events': the times where the contact FMU returned early."""
+    if rail_motion not in master.RAIL_MOTIONS:
+        raise ValueError(f"rail_motion = {rail_motion!r}: one of {', '.join(master.RAIL_MOTIONS)}")
     build = pathlib.Path(build or master.build_dir()) / "fmi3"
     n_steps = master.steps_of(step, stop_time)
-    sv_c = dict(master.contact_start_values(profile, excitation), rtol=rtol)
+    velocity = rail_motion == "ramp"
+    sv_c = dict(master.contact_start_values(profile, excitation), rtol=rtol, velocity_input=velocity)
     slaves = {}
     try:
         C = slaves["contact"] = Slave3(build / "VibroImpact.fmu", "contact", sv_c, early_return)
         T = slaves["track"] = Slave3(build / "Track.fmu", "track", {"rtol": rtol})
         V = slaves["vehicle"] = Slave3(build / "Vehicle.fmu", "vehicle", {"rtol": rtol})
         ports = master.Ports(C, T, V, [n for n in master.CONTACT_OUT if C.has(n)],
-                             ["yC_in", "der(yC_in)", "F_ext"])  # the derivative after its value
-        ports.settle(lambda z_rail, F_wheel: [z_rail, 0.0, F_wheel])
+                             ["yC_in", "der(yC_in)", "vC_in", "F_ext"])  # the derivative after its value
+        ports.settle(lambda track, F_wheel: [track["z_rail"], 0.0, track["v_rail"] if velocity else 0.0, F_wheel])
         for s in slaves.values():
             s.start()
         K = ports.hertz_constant()
         energy = master.PortEnergy(K, ports.get_t()["z_rail"])
-        cpl = EarlyReturnCoupling(slaves, ports, energy, force, rail_motion == "ramp", max_substeps)
+        cpl = EarlyReturnCoupling(slaves, ports, energy, force, rail_motion, max_substeps)
         rec = master.Record(n_steps, cpl.c, cpl.t_out, cpl.v_out)
         rec.put(0, cpl.c, cpl.t_out, cpl.v_out, cpl.c[force], energy)
         t = 0.0
@@ -171,7 +176,7 @@ def main():
     ap.add_argument("--step", type=float, default=1e-5)
     ap.add_argument("--stop-time", type=float, default=parameters.STOP_TIME)
     ap.add_argument("--force", choices=["F", "F_mean"], default="F_mean")
-    ap.add_argument("--rail-motion", choices=["hold", "ramp"], default="ramp")
+    ap.add_argument("--rail-motion", choices=master.RAIL_MOTIONS, default="ramp")
     ap.add_argument("--no-early-return", action="store_true")
     ap.add_argument("--profile")
     ap.add_argument("--excitation", type=float, nargs=2, metavar=("A", "F"))

@@ -15,11 +15,15 @@ Writes into --out (default examples/vehicle-track/results, not committed):
 
 Couplings compared (fmpy master, master.py):
   GS hold   Gauss-Seidel vehicle -> contact -> track, the rail position held over the step
-  GS ramp   the same, the contact FMU extrapolating the rail with its velocity (input derivative)
+  GS ramp   the same, the contact FMU extrapolating the rail with its velocity (v_rail -> vC_in,
+            velocity_input = true; the derivative of yC_in gives the same numbers)
   GS track first   vehicle -> track -> contact, the contact FMU interpolating the rail between the
-            track's positions at both ends of the step (input derivative); the track gets the
+            track's positions at both ends of the step (their slope in vC_in); the track gets the
             mean force of the step before
-  Jacobi    every FMU with the outputs of the last communication point (libcosim's scheme)
+  Jacobi    every FMU with the outputs of the last communication point (libcosim's scheme), the
+            rail held
+  Jacobi ramp  the same with the rail extrapolated with its velocity (vC_in): libcosim with
+            OspSystemStructure.xml as it is
 each handing the track the end-of-step force F or the step's mean force F_mean; and on the FMI 3.0
 FMUs (master3.py), Gauss-Seidel contact -> track -> vehicle with the rail extrapolated (der(yC_in))
 and F_mean, without and with early return (the contact FMU stops at each contact loss and onset,
@@ -59,6 +63,8 @@ COUPLINGS = [  # label, scheme, order, rail motion, force handed to the track
     ("GS track first, F_mean", "gauss-seidel", ("vehicle", "track", "contact"), "ramp", "F_mean"),
     ("Jacobi, F", "jacobi", None, "hold", "F"),
     ("Jacobi, F_mean", "jacobi", None, "hold", "F_mean"),
+    ("Jacobi ramp, F", "jacobi", None, "ramp", "F"),
+    ("Jacobi ramp, F_mean", "jacobi", None, "ramp", "F_mean"),
     ("FMI 3.0 contact first, F_mean", "fmi3", None, "ramp", "F_mean"),
     ("FMI 3.0 early return, F_mean", "fmi3 early return", None, "ramp", "F_mean"),
 ]
@@ -146,7 +152,7 @@ def compare_libcosim(steps, stop_time, profile, excitation, build):
     for h in steps:
         for force in ("F", "F_mean"):
             rc = cosim.run(h, stop_time, force, profile, excitation, build)
-            rm = master.run(h, stop_time, "jacobi", ("vehicle", "contact", "track"), force, "hold", profile,
+            rm = master.run(h, stop_time, "jacobi", ("vehicle", "contact", "track"), force, "ramp", profile,
                             excitation, build)
             d = {k: float(np.nanmax(np.abs(rc[k][1:] - rm[k][1:]))) for k in rc if k != "t"}
             rows.append({"step": h, "force": force, "max_abs_diff_F_N": d["contact.F"],
@@ -217,7 +223,8 @@ def markdown(rows, lc, path, me_rows=(), reference_cpu_s=None):
                          f"| {r['cpu_s']:.1f} |")
         parts.append(head + "\n".join(lines) + "\n")
     if lc:
-        parts.append("**libcosim against the fmpy master, both Jacobi** (largest differences over the run)\n\n"
+        parts.append("**libcosim against the fmpy master, both Jacobi with the rail's velocity in vC_in** (largest "
+                     "differences over the run)\n\n"
                      "| step | force handed to the track | F [N] | y [m] | z_rail [m] | F_wheel [N] |\n"
                      "|---|---|---|---|---|---|\n" +
                      "".join(f"| {r['step']:g} s | {r['force']} | {r['max_abs_diff_F_N']:.1e} | {r['max_abs_diff_y_m']:.1e} "
@@ -239,7 +246,7 @@ def plot_errors(rows, targets, me_rows=()):
     metrics_ = [("force_error", "force error  max|F - F_ref| / W"),
                 ("mean_force_error", "mean-force error  max|F_mean - F_mean,ref| / W"),
                 ("energy_created_rel", "|energy created by the coupling| / energy dissipated\n(open: negative, the coupling dissipates)")]
-    styles = {"GS hold": "o-", "GS ramp": "s-", "GS track first": "d:", "Jacobi": "^--",
+    styles = {"GS hold": "o-", "GS ramp": "s-", "GS track first": "d:", "Jacobi": "^--", "Jacobi ramp": "v--",
               "FMI 3.0 contact first": "x-.", "FMI 3.0 early return": "+-."}
     for ax, (key, title) in zip(axes, metrics_):
         for label, *_ in COUPLINGS:
@@ -323,8 +330,9 @@ def main():
     write_csv(out / "model_exchange.csv", me_rows)
     rows, keep = sweep(system, sol, steps, COUPLINGS, stop, profile, a.excitation, a.build)
     write_csv(out / "summary.csv", rows)
-    # libcosim steps with the outputs of the last communication point (Jacobi): compare it with the
-    # fmpy master on the same scheme where that is stable (2e-6 s) and where it is not (1e-5 s)
+    # libcosim steps with the outputs of the last communication point (Jacobi), the rail extrapolated
+    # with its velocity (vC_in): compare it with the fmpy master on the same scheme where that is stable
+    # (2e-6 s) and where it is not (1e-5 s, F_mean)
     lc = compare_libcosim([2e-6, 1e-5] if not a.quick else [1e-5], stop, profile, a.excitation, a.build)
     write_csv(out / "libcosim.csv", lc)
     markdown(rows, lc, out / "summary.md", me_rows, system.cpu_s)

@@ -9,7 +9,8 @@ The same scenes run with each law and each option that can be switched off, thro
                in the example's recommended co-simulation and its Model Exchange master
 and each run gives what it changes (peak force, restitution, dissipated work, response amplitude, event
 count) and what it costs (CPU per simulated second in Co-Simulation and Model Exchange, events per
-simulated second). The variants: hertz (elastic), johnson (plasticity, fixed contact point, the paper's
+simulated second); in the vehicle-track scene also how far its co-simulation is from its Model Exchange
+master at small steps (vt_agreement). The variants: hertz (elastic), johnson (plasticity, fixed contact point, the paper's
 unloading with stick), johnson_continuous (no stick), johnson_moving (moving contact point), lepp,
 thornton, hertz_damped (exact damping, e = 0.6), hunt_crossley (e = 0.6), linear (e = 0.6).
 """
@@ -52,6 +53,10 @@ RTOL = 1e-8
 TIMED_INTERVAL = 1e-5
 COLUMNS = ["scene", "variant", "F_max_N", "restitution", "W_dissipated_J", "y_pp_um", "events", "cpu_cs_s_per_s",
            "cpu_me_s_per_s", "events_per_s"]
+# the vehicle-track scene's co-simulation steps compared with its Model Exchange master [s], and the
+# intervals its mean force is compared over [s]
+AGREEMENT_STEPS = (2e-6, 1e-6)
+AGREEMENT_MEAN = 1e-5
 
 
 def hertz_constant(R, E=2.1e11, nu=0.3):
@@ -128,15 +133,16 @@ def _me_run(fmu, fmu_dir, md, params, stop):
     run_me(fmu, params, stop, rtol=RTOL, output=("y",), output_interval=TIMED_INTERVAL, unzipdir=fmu_dir, md=md)
 
 
-def _vt_cs(fmu, params, stop, **options):
+def _vt_cs(fmu, params, stop, step=TIMED_INTERVAL, **options):
     """The vehicle-track example's recommended co-simulation (Gauss-Seidel vehicle, contact, track; the rail
-    extrapolated with its velocity; F_mean to the track) with the contact FMU's start values `params` (the
-    law and the roughness file); the companion FMUs beside `fmu`."""
+    extrapolated with its velocity, in vC_in; F_mean to the track) with the contact FMU's start values
+    `params` (the law and the roughness file), communication step `step` [s]; the companion FMUs beside
+    `fmu`."""
     build = pathlib.Path(fmu).parent
     vt_parameters.companion_fmus(build)
     profile = params["profile_file"]
     contact = {k: v for k, v in params.items() if k != "profile_file"}
-    return vt_master.run(TIMED_INTERVAL, stop, "gauss-seidel", ("vehicle", "contact", "track"), "F_mean", "ramp",
+    return vt_master.run(step, stop, "gauss-seidel", ("vehicle", "contact", "track"), "F_mean", "ramp",
                          profile, build=build, rtol=RTOL, contact=contact, **options)
 
 
@@ -160,6 +166,25 @@ def _vt_me_run(fmu, params, stop):
     vt_me.run(stop, params["profile_file"], rtol=RTOL, build=build, dt_out=TIMED_INTERVAL, contact=contact)
 
 
+def vt_agreement(fmu, params, stop):
+    """The vehicle-track scene's Model Exchange master (the table's rtol) against its co-simulation at each
+    step of AGREEMENT_STEPS: {'me_vs_cs_<step>': max over intervals of AGREEMENT_MEAN of |mean force,
+    co-simulation - Model Exchange| / W}, W the static wheel load (the force at the static start). Both
+    mean forces are impulses over the interval, so a force that jumps (Johnson's paper unloading at a
+    turning point) weighs by how long it lasts, not by where a grid point falls."""
+    build = pathlib.Path(fmu).parent
+    contact = {k: v for k, v in params.items() if k != "profile_file"}
+    me = vt_me.run(stop, params["profile_file"], rtol=RTOL, build=build, dt_out=AGREEMENT_MEAN, contact=contact)
+    me_mean = np.diff(me["J"]) / AGREEMENT_MEAN
+    W = float(me["contact.F"][0])
+    out = {}
+    for h in AGREEMENT_STEPS:
+        k = int(round(AGREEMENT_MEAN / h))
+        cs_mean = _vt_cs(fmu, params, stop, step=h)["contact.F_mean"][1:].reshape(-1, k).mean(axis=1)
+        out[f"me_vs_cs_{h:g}"] = float(np.max(np.abs(cs_mean - me_mean))) / W
+    return out
+
+
 def measure(scene, variant, params, stop, V, fmu, md, unzipdir, repeat=1):
     """One table row: what the variant gives in the scene and what it costs."""
     print(f"{scene}: {variant}")
@@ -170,7 +195,9 @@ def measure(scene, variant, params, stop, V, fmu, md, unzipdir, repeat=1):
         r, events = _vt_events(fmu, p, stop)
         cs = _cpu(lambda: _vt_cs_run(fmu, p, stop), repeat)
         me = _cpu(lambda: _vt_me_run(fmu, p, stop), repeat)
+        agreement = {} if math.isnan(me) else vt_agreement(fmu, p, stop)  # NaN: the master failed (printed)
     else:
+        agreement = {}
         r, events = _events(fmu, md, unzipdir, p, stop)
         cs = _cpu(lambda: _cs_run(unzipdir, md, p, stop), repeat)
         me = _cpu(lambda: _me_run(fmu, unzipdir, md, p, stop), repeat)
@@ -184,6 +211,7 @@ def measure(scene, variant, params, stop, V, fmu, md, unzipdir, repeat=1):
         row["W_dissipated_J"] = 0.5 * p["m"] * (V * V - float(r["v"][-1]) ** 2)
     elif variant in ("hertz_damped", "hunt_crossley", "linear"):
         row["W_dissipated_J"] = math.nan  # the damping's work is no output
+    row.update(agreement)
     return row
 
 
@@ -233,6 +261,19 @@ def markdown(rows):
                  _num(r["W_dissipated_J"], "{:.3g}"), _num(r["y_pp_um"], "{:.3g}"), str(r["events"]),
                  _cpu_cell(r["cpu_cs_s_per_s"]), _cpu_cell(r["cpu_me_s_per_s"]), f"{r['events_per_s']:.3g}"]
         lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
+def agreement_markdown(rows):
+    """The vehicle-track scene's Model Exchange master against its co-simulation (vt_agreement), a row per
+    variant; empty when no row has it."""
+    keys = [f"me_vs_cs_{h:g}" for h in AGREEMENT_STEPS]
+    have = [r for r in rows if all(k in r for k in keys)]
+    if not have:
+        return ""
+    head = ["variant"] + [f"step {h:g} s" for h in AGREEMENT_STEPS]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    lines += ["| " + " | ".join([r["variant"]] + [f"{r[k]:.2g}" for k in keys]) + " |" for r in have]
     return "\n".join(lines) + "\n"
 
 

@@ -7,11 +7,27 @@ Three FMUs: the contact FMU (VibroImpact.fmu: the wheel and the wheel-rail conta
     Vehicle.F_wheel    -> VibroImpact.F_ext      suspension force on the wheel
     VibroImpact.y, v   -> Vehicle.y_wheel, v_wheel
     Track.z_rail       -> VibroImpact.yC_in      rail displacement under the wheel
+    Track.v_rail       -> VibroImpact.vC_in      rail velocity (rail_motion "ramp": velocity_input = true)
     VibroImpact.F_mean -> Track.F_contact        (or F) the rail receives its negative
 
 Schemes: Gauss-Seidel (the FMUs step one after the other within a communication step, each with
 the newest outputs of the ones before it, in the order given) or Jacobi (all step with the
 outputs of the last communication point, as libcosim's fixed-step algorithm does).
+
+Rail motion (RAIL_MOTIONS: how the contact FMU sees the rail within a communication step):
+    hold        yC_in held at the rail position the contact FMU is given, no rate: within the step
+                the contact sees a rail at rest (velocity_input = false, no input derivative).
+    ramp        the rail on a straight line at its velocity, given as the input vC_in with
+                velocity_input = true: the FMU carries yC_in at vC_in through the step and takes the
+                platform's rate from it wherever it needs it (damping, turning points, stick, mode
+                choices). With the contact before the track the line starts at the rail position of
+                the last communication point with the track's v_rail there (an extrapolation); with
+                the track first, it joins the track's positions at both ends of the step (an
+                interpolation: vC_in is the slope between them). The example's recommended coupling.
+    derivative  the same straight line as the derivative of yC_in (fmi2SetRealInputDerivatives,
+                order 1), velocity_input = false: for a master that sets input derivatives but does
+                not connect vC_in. In Co-Simulation the FMU takes the platform's rate from the
+                derivative then, so this gives the numbers of "ramp".
 
 Initialization: every FMU starts in static equilibrium under its inputs at the end of
 initialization, so the master passes the outputs around in initialization mode until they
@@ -42,8 +58,11 @@ CONNECTIONS = [
     ("contact", "y", "vehicle", "y_wheel"),
     ("contact", "v", "vehicle", "v_wheel"),
     ("track", "z_rail", "contact", "yC_in"),
+    ("track", "v_rail", "contact", "vC_in"),      # rail_motion "ramp"
     ("contact", "F_mean", "track", "F_contact"),  # or F
 ]
+RAIL_MOTIONS = ("hold", "ramp", "derivative")
+CONTACT_IN = ["yC_in", "F_ext", "vC_in"]
 CONTACT_OUT = ["F", "F_mean", "y", "v", "yC", "delta"]
 TRACK_OUT = ["z_rail", "v_rail", "E", "W_in", "W_dissipated"]
 VEHICLE_OUT = ["F_wheel", "z_body", "v_body", "E", "W_in", "W_dissipated"]
@@ -101,6 +120,8 @@ class Slave:
         fmu, n = self.fmu, len(names)
 
         def set_(values, derivatives=None):
+            """The values, then (derivatives given) their first derivatives: setting a value clears
+            its derivative."""
             buf[:] = values
             fmu.fmi2SetReal(fmu.component, vr, n, buf)
             if derivatives is not None:
@@ -150,14 +171,14 @@ class Ports:
 
     def settle(self, contact_values):
         """Initialization mode: pass the outputs along the chain vehicle -> contact -> track ->
-        contact -> vehicle three times, until they agree. contact_values(z_rail, F_wheel): the values
-        set_c takes."""
-        z_rail = 0.0
+        contact -> vehicle three times, until they agree. contact_values(track, F_wheel): the values
+        set_c takes, from the track's outputs (a dict: z_rail, v_rail) and the suspension force."""
+        track = {"z_rail": 0.0, "v_rail": 0.0}
         for _ in range(3):
-            self.set_c(contact_values(z_rail, self.get_v()["F_wheel"]))
+            self.set_c(contact_values(track, self.get_v()["F_wheel"]))
             self.set_t([self.get_c()["F"]])  # at the static start F_mean is F
-            z_rail = self.get_t()["z_rail"]
-            self.set_c(contact_values(z_rail, self.get_v()["F_wheel"]))
+            track = self.get_t()
+            self.set_c(contact_values(track, self.get_v()["F_wheel"]))
             c = self.get_c()
             self.set_v([c["y"], c["v"]])
 
@@ -242,23 +263,30 @@ class Coupling:
     """run()'s communication steps over the three FMUs (Slave), with the energy bookkeeping; c,
     t_out, v_out: the newest outputs, handed: the force last handed to the track."""
 
-    def __init__(self, slaves, ports, energy, force, ramp):
+    def __init__(self, slaves, ports, energy, force, rail_motion):
+        """rail_motion: one of RAIL_MOTIONS (the module docstring); the contact FMU's inputs in
+        ports.set_c are CONTACT_IN."""
         self.C, self.T, self.V = slaves["contact"], slaves["track"], slaves["vehicle"]
-        self.p, self.energy, self.force, self.ramp = ports, energy, force, ramp
+        self.p, self.energy, self.force, self.rail_motion = ports, energy, force, rail_motion
         self.c, self.t_out, self.v_out = with_mean(ports.get_c()), ports.get_t(), ports.get_v()
         self.handed = self.c[force]
+
+    def rail(self, step, old, track, track_stepped):
+        """The rail's path over the step the contact FMU is given: (its position at t [m], its slope
+        [m/s]); track_stepped: the track's outputs are those of t + step already."""
+        if self.rail_motion == "hold":
+            return track["z_rail"], 0.0
+        if track_stepped:  # interpolate between the track's positions at both ends of the step
+            return old["track"]["z_rail"], (track["z_rail"] - old["track"]["z_rail"]) / step
+        return track["z_rail"], track["v_rail"]  # extrapolate with the rail velocity
 
     def contact(self, t, step, old, track, vehicle, track_stepped):
         """Step the contact FMU with the track's and the vehicle's outputs given; track_stepped:
         the track's are those of t + step already."""
-        if self.ramp and track_stepped:  # interpolate
-            value, slope = old["track"]["z_rail"], (track["z_rail"] - old["track"]["z_rail"]) / step
-        elif self.ramp:                  # extrapolate with the rail velocity
-            value, slope = track["z_rail"], track["v_rail"]
-        else:
-            value, slope = track["z_rail"], 0.0
+        value, slope = self.rail(step, old, track, track_stepped)
         F_ext = vehicle["F_wheel"]
-        self.p.set_c([value, F_ext], [slope, 0.0] if self.ramp else None)
+        # vC_in is the slope ("ramp": the FMU's platform rate; otherwise not read)
+        self.p.set_c([value, F_ext, slope], [slope, 0.0, 0.0] if self.rail_motion == "derivative" else None)
         self.C.step(t, step)
         self.c = with_mean(self.p.get_c())
         self.energy.contact(old["contact"], self.c, value, slope, F_ext, step)
@@ -308,9 +336,12 @@ def run(step, stop_time=parameters.STOP_TIME, scheme="gauss-seidel", order=("veh
     start values of the contact FMU that replace the example's (contact_start_values); contact_log:
     a vibroimpact.MessageLog that keeps the contact FMU's log, its events included; record: more of
     the contact FMU's outputs to record (beside CONTACT_OUT)."""
+    if rail_motion not in RAIL_MOTIONS:
+        raise ValueError(f"rail_motion = {rail_motion!r}: one of {', '.join(RAIL_MOTIONS)}")
     build = pathlib.Path(build or build_dir())
     n_steps = steps_of(step, stop_time, max_steps)
-    sv_c = dict(contact_start_values(profile, excitation, contact), rtol=rtol)
+    velocity = rail_motion == "ramp"
+    sv_c = dict(contact_start_values(profile, excitation, contact), rtol=rtol, velocity_input=velocity)
     slaves = {}
     try:
         C = slaves["contact"] = Slave(build / "VibroImpact.fmu", "contact", sv_c, log=contact_log)
@@ -319,13 +350,13 @@ def run(step, stop_time=parameters.STOP_TIME, scheme="gauss-seidel", order=("veh
         if force == "F_mean" and not C.has("F_mean"):
             raise RuntimeError("this VibroImpact.fmu has no output F_mean")
         ports = Ports(C, slaves["track"], slaves["vehicle"], [n for n in CONTACT_OUT + list(record) if C.has(n)],
-                      ["yC_in", "F_ext"])
-        ports.settle(lambda z_rail, F_wheel: [z_rail, F_wheel])
+                      CONTACT_IN)
+        ports.settle(lambda track, F_wheel: [track["z_rail"], F_wheel, track["v_rail"] if velocity else 0.0])
         for s in slaves.values():
             s.start()
         K = ports.hertz_constant()
         energy = PortEnergy(K, ports.get_t()["z_rail"])
-        cpl = Coupling(slaves, ports, energy, force, rail_motion == "ramp")
+        cpl = Coupling(slaves, ports, energy, force, rail_motion)
         rec = Record(n_steps, cpl.c, cpl.t_out, cpl.v_out)
         rec.put(0, cpl.c, cpl.t_out, cpl.v_out, cpl.handed, energy)
         seq = list(order) if scheme == "gauss-seidel" else ["vehicle", "contact", "track"]

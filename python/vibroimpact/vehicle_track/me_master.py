@@ -17,10 +17,14 @@ read only after the inputs it depends on are set. For this system the order is
     contact y, v     -> vehicle y_wheel, v_wheel
     vehicle F_wheel  -> contact F_ext        (F_wheel depends on y_wheel, v_wheel at once)
     track z_rail     -> contact yC_in
-    contact F        -> track F_contact      (in Model Exchange F depends on yC_in at once)
+    track v_rail     -> contact vC_in        (v_rail is a state of the track)
+    contact F        -> track F_contact      (in Model Exchange F depends on yC_in and vC_in at once)
 
-The track receives the contact force itself: with one solver there is no step to average over. Both
-sides of every port see the same values at the same time, so the couplings create no energy.
+The contact FMU gets the rail's velocity as well as its position (velocity_input = true, set when
+vC_in is connected): Model Exchange passes values only, and the rate of yC_in is what its damping,
+turning points and mode choices need (doc/model-exchange.md, "The platform's rate"). The track
+receives the contact force itself: with one solver there is no step to average over. Both sides of
+every port see the same values at the same time, so the couplings create no energy.
 
 Events: the contact FMU's event indicators are solve_ivp's terminal events, and the FMUs' next time
 event (a kink of the rolling constraint) ends the integration interval, as does SPAN. At the end of
@@ -51,6 +55,7 @@ CONNECTIONS = [
     ("contact", "y", "vehicle", "y_wheel"),
     ("contact", "v", "vehicle", "v_wheel"),
     ("track", "z_rail", "contact", "yC_in"),
+    ("track", "v_rail", "contact", "vC_in"),
     ("contact", "F", "track", "F_contact"),
 ]
 FMUS = ("contact", "track", "vehicle")   # the order of the stacked states
@@ -369,10 +374,12 @@ def run(stop_time=parameters.STOP_TIME, profile=None, excitation=None, rtol=1e-8
     (RECORDED), the master's integrals 'J' and 'D', the times of the state events ('state_events'),
     counts ('evaluations', 'time_events', 'intervals') and 'cpu_s', the CPU time of the run (the
     FMUs included: they run in this process). contact: start values of the contact FMU that replace
-    the example's (master.contact_start_values)."""
+    the example's (master.contact_start_values); velocity_input is true when the connections pass
+    vC_in, unless contact sets it."""
     build = pathlib.Path(build or master.build_dir())
     cpu0 = time.process_time()
     sv_c = master.contact_start_values(profile, excitation, contact)
+    sv_c.setdefault("velocity_input", any(c[2:] == ("contact", "vC_in") for c in connections))
     fmus = {}
     try:
         sys_ = start(build, sv_c, rtol, connections, sort, fmus)
