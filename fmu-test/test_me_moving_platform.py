@@ -18,22 +18,14 @@ import numpy as np
 import pytest
 from fmpy import extract, read_model_description
 from fmpy.fmi2 import FMU2Slave
+from vibroimpact import laws_guide
 
 from me_importer import Importer
 
-VARIANTS = {
-    "hertz": dict(contact_model=1),
-    "johnson": dict(contact_model=2),
-    "johnson_continuous": dict(contact_model=2, unloading=2),
-    "johnson_moving": dict(contact_model=2, moving_contact=True),
-    "lepp": dict(contact_model=3),
-    "thornton": dict(contact_model=6),
-    "hertz_damped": dict(contact_model=4, e_restitution=0.6),
-    "hunt_crossley": dict(contact_model=4, e_restitution=0.9, damping_formula=2),
-    "lankarani_nikravesh": dict(contact_model=4, e_restitution=0.9, damping_formula=3),
-    "flores": dict(contact_model=4, e_restitution=0.9, damping_formula=4),
-    "linear": dict(contact_model=5, e_restitution=0.6),
-}
+# the guide's variants (doc/choosing.md) and the damping formulas it leaves out
+VARIANTS = dict(laws_guide.VARIANTS,
+                lankarani_nikravesh=dict(contact_model=4, damping_formula=3, e_restitution=laws_guide.E_DAMPED),
+                flores=dict(contact_model=4, damping_formula=4, e_restitution=laws_guide.E_DAMPED))
 F_HZ = 560.0
 W = 2.0 * math.pi * F_HZ
 RTOL = 1e-10

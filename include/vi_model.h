@@ -219,6 +219,9 @@ vi_model_power vi_model_damping_power(const vi_model *model, double t, const dou
 double vi_model_contact_power(const vi_model *model, double t, const double x[2]);
 /* Does the law damp (hertz_damped, linear: W_damping grows)? */
 int vi_model_damps(const vi_model *model);
+/* Does its damping's power grow as (t - t_onset)^(1/4) from a contact's onset (Tsuji's delta^(1/4)
+ * delta'^2: hertz_damped, exact)? */
+int vi_model_damping_root_at_onset(const vi_model *model);
 /* dF/dt along the motion at (t, x) [N/s]: stiffness times delta' (and, for the damped laws, dF/d(delta')
  * times delta''); in stick the rate of F_hold; 0 when free. Zero where F has an extremum in time. dx: the
  * motion's x' = (delta', v') at (t, x) (a solver's interpolant), NULL: from the right-hand side. The

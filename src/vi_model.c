@@ -716,6 +716,11 @@ double vi_model_contact_power(const vi_model *model, double t, const double x[2]
 
 int vi_model_damps(const vi_model *model) { return law(model)->rate_force != NULL; }
 
+int vi_model_damping_root_at_onset(const vi_model *model)
+{
+    return model->law == VI_LAW_HERTZ_DAMPED && model->damped.formula == VI_DAMP_EXACT;
+}
+
 vi_model_power vi_model_damping_power(const vi_model *model, double t, const double x[2])
 {
     const law_fns *L = law(model);

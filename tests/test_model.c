@@ -2304,7 +2304,9 @@ Test(energy, contact_energy_is_the_work_of_the_branch_force)
         vi_model M = in_mode(c[i].law, c[i].moving, c[i].unloading, c[i].mode, c[i].dc, c[i].dp);
         double x[2] = {c[i].d, 0.0}, k, h = 1e-6 * dY;
         double E = vi_model_contact_energy(&M, x, &k);
-        if (!isnan(c[i].closed)) cr_assert(fabs(E - c[i].closed) <= 1e-12 * fabs(c[i].closed), "case %zu: %.17g, closed form %.17g", i, E, c[i].closed);
+        if (!isnan(c[i].closed))
+            cr_assert(fabs(E - c[i].closed) <= 1e-12 * fabs(c[i].closed), "case %zu: %.17g, closed form %.17g", i, E,
+                      c[i].closed);
         double xp[2] = {c[i].d + h, 0.0}, xm[2] = {c[i].d - h, 0.0};
         double fd = (vi_model_contact_energy(&M, xp, NULL) - vi_model_contact_energy(&M, xm, NULL)) / (2.0 * h);
         cr_assert(fabs(k - fd) <= 1e-6 * (fabs(k) + FY), "case %zu: rate %.17g, difference %.17g", i, k, fd);

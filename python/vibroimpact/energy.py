@@ -27,7 +27,8 @@ from .fmu import fmu3_path, fmu_path
 from .laws_guide import E_DAMPED
 
 # the variants of the guide to the laws (vibroimpact.laws_guide), with the damped Hertz forms not there
-VARIANTS = dict(laws_guide.VARIANTS, lankarani_nikravesh=dict(contact_model=4, damping_formula=3, e_restitution=E_DAMPED),
+VARIANTS = dict(laws_guide.VARIANTS,
+                lankarani_nikravesh=dict(contact_model=4, damping_formula=3, e_restitution=E_DAMPED),
                 flores=dict(contact_model=4, damping_formula=4, e_restitution=E_DAMPED))
 SCENES = {
     "drop": dict(init=2, v0=-1.0),

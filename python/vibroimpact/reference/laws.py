@@ -295,7 +295,8 @@ def main():
     print("| e_restitution | exact: released | linear: released |")
     print("|---|---|---|")
     for e in (0.3, 0.5, 0.7, 0.9):
-        print(f"| {e:.1f} | {100 * released_fraction('exact', e):.2f} % | {100 * released_fraction('linear', e):.2f} % |")
+        exact, linear = (100 * released_fraction(law, e) for law in ("exact", "linear"))
+        print(f"| {e:.1f} | {exact:.2f} % | {linear:.2f} % |")
 
 
 if __name__ == "__main__":
