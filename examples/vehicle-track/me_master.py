@@ -3,7 +3,7 @@ three FMUs imported as Model Exchange and integrated together by one solver. The
 vibroimpact.vehicle_track.me_master (the package's `vibroimpact laws` runs it too); its names are
 importable from here, with compare(), the errors of a run against the reference.
 
-    python3 me_master.py [--stop-time T] [--rtol R ...] [--method DOP853] [--profile FILE]
+    python3 me_master.py [--stop-time T] [--rtol R ...] [--method DOP853] [--profile FILE] [--no-rail-velocity]
 """
 import argparse
 import pathlib
@@ -45,16 +45,19 @@ def main():
     ap.add_argument("--rtol", type=float, nargs="+", default=[1e-8], help="the solver's relative tolerances")
     ap.add_argument("--method", default="DOP853", help="solve_ivp's method (DOP853, RK45, Radau, BDF, LSODA)")
     ap.add_argument("--profile", help="profile file (x, h); default: the example's roughness")
+    ap.add_argument("--no-rail-velocity", action="store_true",
+                    help="leave v_rail -> vC_in out (velocity_input = false: the contact FMU estimates the rail's rate)")
     a = ap.parse_args()
+    connections = [c for c in CONNECTIONS if not (a.no_rail_velocity and c[3] == "vC_in")]
     with tempfile.TemporaryDirectory(prefix="vt_me_") as tmp:
         profile = a.profile
         if not profile:
             profile = pathlib.Path(tmp) / "profile.txt"
             roughness.write(profile, *roughness.profile(**parameters.ROUGHNESS))
-        compare_runs(profile, a.stop_time, a.rtol, a.method)
+        compare_runs(profile, a.stop_time, a.rtol, a.method, connections)
 
 
-def compare_runs(profile, stop_time, rtols, method):
+def compare_runs(profile, stop_time, rtols, method, connections=CONNECTIONS):
     """The reference and a Model Exchange run per tolerance, printed."""
     system = reference.default_system(profile, stop_time)
     cpu0 = time.process_time()
@@ -62,7 +65,7 @@ def compare_runs(profile, stop_time, rtols, method):
     print(f"reference: {time.process_time() - cpu0:.1f} s CPU, contact changes at "
           f"{', '.join(f'{t:.9f}' for t, _ in sol.events) or 'none'} s")
     for rtol in rtols:
-        r = run(stop_time, profile, rtol=rtol, method=method)
+        r = run(stop_time, profile, rtol=rtol, method=method, connections=connections)
         m = compare(r, sol, system)
         print(f"Model Exchange, {method}, rtol {rtol:g}: {r['cpu_s']:.1f} s CPU, {r['evaluations']} evaluations, "
               f"{r['time_events']} time events, state events at "
