@@ -29,9 +29,9 @@ VARIANTS = dict(laws_guide.VARIANTS,
 F_HZ = 560.0
 W = 2.0 * math.pi * F_HZ
 RTOL = 1e-10
-# Laws whose plastic work is a dissipation that cannot decrease (Johnson's paper and continuous unloadings
-# give back more than they took at low speeds: doc/model.md section 2).
-PASSIVE = ("lepp", "thornton")
+# Laws whose plastic work is a dissipation that cannot decrease (Johnson's paper unloading gives back more
+# than it took at low speeds: doc/model.md section 2).
+PASSIVE = ("lepp", "thornton", "johnson_continuous")
 
 
 def harmonic(a):
@@ -140,8 +140,8 @@ def test_harmonic_input_without_its_velocity_keeps_the_memory_invariants(fmu_pat
                 record=lambda imp, t: seen.append([imp.real(n) for n in ("delta_c", "delta_p", "W_plastic")]))
     dc, dp, work = np.array(seen).T
     assert np.all(np.diff(dc) >= 0.0) and np.all(np.diff(dp) >= 0.0) and np.all(dp >= 0.0)
-    if variant in PASSIVE:
-        assert np.all(np.diff(work) >= 0.0)
+    if variant in PASSIVE:  # continuous unloading's work is 0 to rounding (1e-13 J) below 4.61 delta_Y
+        assert np.all(np.diff(work) >= -1e-9 * max(1.0, work.max()))
     cs = cosim(fmu_path, dict(p, a=a, f=F_HZ), 5e-3)
     assert me.real("y") == pytest.approx(cs["y"], abs=0.05 * a)
     assert me.real("W_plastic") == pytest.approx(cs["W_plastic"], rel=1e-2, abs=1e-9)
