@@ -1,6 +1,7 @@
 """The vehicle-track example in Model Exchange (examples/vehicle-track/me_master.py): the three FMUs
-integrated together by one solver (SciPy's solve_ivp) against the monolithic reference. (The
-companion FMUs' Model Exchange interface alone: test_me_vehicle_track.py.)"""
+integrated together by one solver (SciPy's solve_ivp) against the monolithic reference, and with each
+law of the guide to the laws against the co-simulation. (The companion FMUs' Model Exchange interface
+alone: test_me_vehicle_track.py.)"""
 from types import SimpleNamespace
 
 import numpy as np
