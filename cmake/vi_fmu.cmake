@@ -3,12 +3,13 @@
 #            [LIBRARIES <libraries...>] [INCLUDE_DIRS <dirs...> (the calling folder is one already)]
 #            [RESOURCES <files...>] [OUTPUT_DIRECTORY <dir>]
 #            [DOC_INTRO <README.md>] [DOCUMENTATION <pages.md...>] [DOCUMENTATION_FMI3 <pages.md...>]
-#            [LICENSES <NAME=file>...] [ICON <png>])
+#            [LICENSES <NAME=file>...] [ICON <png>] [GENERATION_TOOL <text>])
 #
 # Builds Co-Simulation and Model Exchange FMUs of one model on the generic layer (include/vi_fmu.h), one
 # per FMI version, all from the same compiled model (<Name>_model). Both model descriptions are
 # generated from the model's variable table (cmake/vi_model_description.py reading <Name>_dump_variables)
-# and stamped with the release (cmake/vi_fmu_stamp.py: version, generationDateAndTime, copyright, license):
+# and stamped with the release (cmake/vi_fmu_stamp.py: version, generationDateAndTime, copyright, license;
+# generationTool when GENERATION_TOOL is given, e.g. what the binaries carry):
 #   FMI 2.0:
 #     <Name>               the shared library <Name>.so (.dll on Windows): the model + the layer
 #                          (VI_FMU_LAYER_SOURCES and the FMI 2.0 face src/vi_fmi2.c), exporting the fmi2*
@@ -137,12 +138,25 @@ if(NOT stamp_old STREQUAL stamp_text)
 endif()
 # ---- end of the release stamp -----------------------------------------------------------------------------
 
-# vi_fmu_description(<name> <fmi version> <out: the stamped modelDescription.xml>): the custom commands
-# that generate the model description of that version from <name>_dump_variables
+# vi_fmu_description(<name> <fmi version> <out: the stamped modelDescription.xml> [<generationTool>]): the
+# custom commands that generate the model description of that version from <name>_dump_variables
 # (cmake/vi_model_description.py, <folder>/<name>_fmi<version>/generated.xml) and stamp it with the
 # release (cmake/vi_fmu_stamp.py, <folder>/<name>_fmi<version>/modelDescription.xml).
 function(vi_fmu_description name version xml_out)
   set(dir ${CMAKE_CURRENT_BINARY_DIR}/${name}_fmi${version})
+  set(tool_args "")
+  if(ARGN)
+    set(tool_args "--generation-tool=${ARGN}")
+  endif()
+  # a file that changes when the text does, so that the description is stamped again
+  set(tool_file ${dir}/generation_tool.txt)
+  set(tool_old "none")
+  if(EXISTS ${tool_file})
+    file(READ ${tool_file} tool_old)
+  endif()
+  if(NOT tool_old STREQUAL "${ARGN}")
+    file(WRITE ${tool_file} "${ARGN}")
+  endif()
   set(generator ${VI_FMU_ROOT}/cmake/vi_model_description.py)
   set(stamper ${VI_FMU_ROOT}/cmake/vi_fmu_stamp.py)
   set(fmi3_args "")
@@ -158,13 +172,14 @@ function(vi_fmu_description name version xml_out)
             --dump ${CMAKE_CROSSCOMPILING_EMULATOR} $<TARGET_FILE:${name}_dump_variables>
     COMMAND ${Python3_EXECUTABLE} ${stamper} --xml ${dir}/generated.xml --version ${PROJECT_VERSION}
             --source-date-epoch=$ENV{SOURCE_DATE_EPOCH} --license ${VI_FMU_ROOT}/LICENSE --out ${dir}/modelDescription.xml
-    DEPENDS ${generator} ${stamper} ${name}_dump_variables ${VI_FMU_ROOT}/LICENSE ${VI_FMU_RELEASE_STAMP}
+            ${tool_args}
+    DEPENDS ${generator} ${stamper} ${name}_dump_variables ${VI_FMU_ROOT}/LICENSE ${VI_FMU_RELEASE_STAMP} ${tool_file}
     COMMENT "Generating the FMI ${version}.0 modelDescription.xml of ${name} (version ${PROJECT_VERSION})")
   set(${xml_out} ${dir}/modelDescription.xml PARENT_SCOPE)
 endfunction()
 
 function(vi_add_fmu name)
-  cmake_parse_arguments(ARG "" "OUTPUT_DIRECTORY;DOC_INTRO;ICON"
+  cmake_parse_arguments(ARG "" "OUTPUT_DIRECTORY;DOC_INTRO;ICON;GENERATION_TOOL"
                         "SOURCES;LIBRARIES;INCLUDE_DIRS;RESOURCES;FMI_VERSIONS;DOCUMENTATION;DOCUMENTATION_FMI3;LICENSES"
                         ${ARGN})
   if(NOT ARG_SOURCES)
@@ -191,7 +206,7 @@ function(vi_add_fmu name)
 
   # ---- the model descriptions, generated from the table and stamped with the release ------------------
   foreach(version ${ARG_FMI_VERSIONS})
-    vi_fmu_description(${name} ${version} xml_${version})
+    vi_fmu_description(${name} ${version} xml_${version} ${ARG_GENERATION_TOOL})
   endforeach()
   set(doc_args --license ${VI_FMU_ROOT}/LICENSE)
   set(doc_inputs ${VI_FMU_ROOT}/cmake/vi_fmu_doc.py ${VI_FMU_ROOT}/cmake/vi_model_description.py ${VI_FMU_ROOT}/LICENSE)

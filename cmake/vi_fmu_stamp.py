@@ -2,12 +2,15 @@
 and licence. Run at build time by vi_add_fmu (cmake/vi_fmu.cmake):
 
     python vi_fmu_stamp.py --xml modelDescription.xml --version VERSION --license LICENSE --out OUT.xml
+                           [--generation-tool TEXT]
 
 VERSION is the CMake project's version (project(... VERSION) in CMakeLists.txt, which pyproject.toml reads
 too). generationDateAndTime is SOURCE_DATE_EPOCH (seconds since 1970, UTC; reproducible builds): the
 environment variable when it is set, else --source-date-epoch (its value when CMake configured the
 build) when that is not empty, else the current time. copyright is the "Copyright" line of LICENSE, and
-license names LICENSE's title (its first line) and where the FMU holds the licences.
+license names LICENSE's title (its first line) and where the FMU holds the licences. --generation-tool
+replaces generationTool, to say what the binaries were built with (vi_add_fmu's GENERATION_TOOL: the
+SUNDIALS they carry).
 
 The root element's attributes of those names are replaced or added; every other byte of the file stays
 as generated (comments included), so that the stamped file differs from the generated one in the root
@@ -68,6 +71,7 @@ def main():
     ap.add_argument("--license", required=True, help="the repository's LICENSE")
     ap.add_argument("--out", required=True, help="the stamped modelDescription.xml to write")
     ap.add_argument("--source-date-epoch", default="", help="SOURCE_DATE_EPOCH when the environment has none")
+    ap.add_argument("--generation-tool", default="", help="the generationTool attribute (empty: the generator's)")
     args = ap.parse_args()
     with open(args.xml, encoding="utf-8") as f:
         text = f.read()
@@ -75,6 +79,8 @@ def main():
         holder, licence = license_attributes(f.read())
     values = dict(version=args.version, generationDateAndTime=generation_date(os.environ.get("SOURCE_DATE_EPOCH") or args.source_date_epoch),
                   copyright=holder, license=licence)
+    if args.generation_tool:
+        values["generationTool"] = args.generation_tool
     out = stamp(text, values)
     root = ET.fromstring(out.encode("utf-8"))
     if root.tag != "fmiModelDescription" or any(root.get(k) != v for k, v in values.items()):

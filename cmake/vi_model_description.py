@@ -380,7 +380,7 @@ def fmi3_variable(v, derivative_of):
         a["declaredType"] = float_type(v)[0]
     if element == "Float64" and v["vr"] in derivative_of:
         a["derivative"] = derivative_of[v["vr"]]
-    given = v["initial"] == "exact" and v["causality"] in ("parameter", "input")
+    given = v["initial"] == "exact" and v["causality"] in ("parameter", "input", "local")
     if element == "String":
         start = f"<Start{attrs(value=v['start'])}/>" if given else ""
         return f"    <String{attrs(**a)}>{start}</String>" if start else f"    <String{attrs(**a)}/>"

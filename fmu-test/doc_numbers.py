@@ -116,8 +116,8 @@ class Sources:
         """fmi2GetNominalsOfContinuousStates of a Model Exchange instance at the static start."""
         m, _ = self.instance(FMU2Model, {"contact_model": contact_model})
         try:
-            x = (fmi2Real * 2)()
-            m.getNominalsOfContinuousStates(x, 2)
+            x = (fmi2Real * 3)()
+            m.getNominalsOfContinuousStates(x, 3)
             return list(x)
         finally:
             m.freeInstance()
@@ -247,6 +247,15 @@ def F_Y(**params):
     return lambda s: s.initial("F_Y", **params)
 
 
+def released(e, law="exact"):
+    """The percentage of an isolated impact's energy a damped law's spring part holds at its release, from
+    the independent reference (vibroimpact.reference.laws)."""
+    def source(_sources):
+        from vibroimpact.reference.laws import released_fraction
+        return 100.0 * released_fraction(law, e)
+    return source
+
+
 def f_contact(**params):
     return lambda s: s.initial("f_contact", **params)
 
@@ -282,22 +291,55 @@ FACTS = [
     Fact("doc/model.md", "spectral radius above {n}, BDF takes over", define("VI_AUTO_STIFF_HRHO")),
     Fact("doc/model.md", "spectral radius below {n} for 6 steps", define("VI_AUTO_NONSTIFF_HRHO")),
     Fact("doc/model.md", "spectral radius below 1 for {n} steps", define("VI_AUTO_CALM_STEPS")),
+    Fact("doc/model.md", "in an isolated impact {n} % of the impact energy", released(0.5)),
+    Fact("doc/model.md", "energy at `e_restitution = 0.5`, {n} % at 0.3", released(0.3)),
+    Fact("doc/model.md", "% at 0.3, {n} % at 0.7", released(0.7)),
+    Fact("doc/model.md", "% at 0.7, {n} % at 0.9", released(0.9)),
+    Fact("doc/model.md", "while the overlap falls to 0 ({n} % at `e = 0.5`)", released(0.5, "linear")),
+    Fact("doc/model.md", "by Gauss-Legendre quadrature with {n} nodes", define("VI_GAUSS_NODES")),
+    Fact("doc/model.md", "than 1e-7 of the step (at most {n} evaluations)", define("VI_PEAK_ITERS")),
+    Fact("doc/model.md", "estimate moves by less than {n} of the step", define("VI_PEAK_MOVE")),
     # doc/numerics.md
     Fact("doc/numerics.md", "(slope {n} against 1.5 in units of `F_Y/delta_Y`)", johnson_slope_above_yield),
     Fact("doc/numerics.md", "held above a band of {n} times its tolerance-sized noise", define("VI_GRAZE_TOL")),
     Fact("doc/numerics.md", "{n} consecutive events, each within 1024 units", define("VI_ZENO_EVENTS")),
     Fact("doc/numerics.md", "consecutive events, each within {n} units in the last place", define("VI_ZENO_ULPS")),
-    Fact("doc/numerics.md", "`W_plastic < 0` for `delta_c < {n} delta_Y`, at worst `-0.0133",
-         wplastic(r"paper\s*: W_plastic < 0 for delta_c < ([0-9.]+) delta_Y")),
-    Fact("doc/numerics.md", "at worst `{n} F_Y delta_Y` (`-0.098 J`", wplastic(r"paper\s*:.*= (-[0-9.]+) F_Y delta_Y")),
-    Fact("doc/numerics.md", "(`{n} J` with the data of Fig. 4b", wplastic(r"paper\s*:.*most negative (-[0-9.]+) J")),
+    Fact("doc/numerics.md", "paper unloading: `W_plastic < 0` for `delta_c < {n} delta_Y`",
+         wplastic(r"paper: W_plastic < 0 for delta_c < ([0-9.]+) delta_Y")),
+    Fact("doc/numerics.md", "(impacts below {n} times the yield speed", wplastic(r"paper: .*impacts below ([0-9.]+) v_Y")),
+    Fact("doc/numerics.md", "at worst `{n} F_Y delta_Y` (`-0.09751 J`", wplastic(r"paper: .*= (-[0-9.]+) F_Y delta_Y")),
+    Fact("doc/numerics.md", "(`{n} J` with the data of Fig. 4b", wplastic(r"paper: .*most negative (-[0-9.]+) J")),
     Fact("doc/numerics.md", "with the data of Fig. 4b, at `delta_c = {n} delta_Y`)",
-         wplastic(r"paper\s*:.*at delta_c = ([0-9.]+) delta_Y")),
-    Fact("doc/numerics.md", "continuous unloading: `W_plastic < 0` for `delta_c < {n} delta_Y`",
-         wplastic(r"continuous: W_plastic < 0 for delta_c < ([0-9.]+) delta_Y")),
-    Fact("doc/numerics.md", "at worst `{n} F_Y delta_Y` (`-10 J`", wplastic(r"continuous:.*= (-[0-9.]+) F_Y delta_Y")),
-    Fact("doc/numerics.md", "(`{n} J` with Fig. 4b's data", wplastic(r"continuous:.*most negative (-[0-9.]+) J")),
-    Fact("doc/numerics.md", "`{n} J` at `Y = 2e9 Pa`", wplastic(r"continuous:.*most negative (-[0-9.]+) J", "--Y", "2e9")),
+         wplastic(r"paper: .*at delta_c = ([0-9.]+) delta_Y")),
+    Fact("doc/numerics.md", "at `delta_c = 1.129 delta_Y`); restitution up to {n};",
+         wplastic(r"paper: .*restitution up to ([0-9.]+)")),
+    Fact("doc/numerics.md", "`W_plastic < 0` for `delta_c < {n} delta_Y`, at worst `-1.3655",
+         wplastic(r"radius-continuous: W_plastic < 0 for delta_c < ([0-9.]+) delta_Y")),
+    Fact("doc/numerics.md", "at worst `{n} F_Y delta_Y` (`-10.01 J`", wplastic(r"radius-continuous: .*= (-[0-9.]+) F_Y delta_Y")),
+    Fact("doc/numerics.md", "(`{n} J` with Fig. 4b's data", wplastic(r"radius-continuous: .*most negative (-[0-9.]+) J")),
+    Fact("doc/numerics.md", "`{n} J` at `Y = 2e9 Pa`",
+         wplastic(r"radius-continuous: .*most negative (-[0-9.]+) J", "--Y", "2e9")),
+    Fact("doc/numerics.md", "restitution up to {n}. Continuous unloading", wplastic(r"radius-continuous: .*restitution up to ([0-9.]+)")),
+    Fact("doc/model.md", "gives back more than the loading took for `delta_c < {n} delta_Y`",
+         wplastic(r"radius-continuous: W_plastic < 0 for delta_c < ([0-9.]+) delta_Y")),
+    Fact("doc/model.md", "`delta_c < 4.6100 delta_Y`: up to `{n} F_Y delta_Y` more",
+         lambda s: -s.wplastic_number((), r"radius-continuous: .*= (-[0-9.]+) F_Y delta_Y")),
+    Fact("doc/model.md", "a rebound up to {n} times", wplastic(r"radius-continuous: .*restitution up to ([0-9.]+)")),
+    Fact("doc/model.md", "faster than the impact (at {n} times the yield speed", wplastic(r"radius-continuous: .*\(at ([0-9.]+) v_Y\)")),
+    Fact("doc/model.md", "(`a_c >= a_W`: `delta_c >= {n} delta_Y`",
+         wplastic(r"radius-continuous: W_plastic < 0 for delta_c < ([0-9.]+) delta_Y")),
+    Fact("doc/model.md", "impacts above {n} `v_Y`) the unloading", wplastic(r"radius-continuous: .*impacts below ([0-9.]+) v_Y")),
+    Fact("doc/model.md", "(`a_W` is taken {n} units of rounding larger", define("VI_PASSIVE_ULPS")),
+    Fact("doc/model.md", "negative for `{n} < delta_c/delta_Y < 4.990`", wplastic(r"continuous: .*delta_f < 0 for ([0-9.]+) <")),
+    Fact("doc/model.md", "< delta_c/delta_Y < {n}`", wplastic(r"continuous: .*< delta_c/delta_Y < ([0-9.]+)")),
+    Fact("doc/model.md", "(`theta_Y = 1.1`; impacts of {n} to 8.76 `v_Y`)", wplastic(r"continuous: .*\(impacts ([0-9.]+) to")),
+    Fact("doc/model.md", "impacts of 6.67 to {n} `v_Y`)", wplastic(r"continuous: .*\(impacts [0-9.]+ to ([0-9.]+) v_Y")),
+    Fact("doc/model.md", "a turning point below `delta_c = {n} delta_Y`",
+         wplastic(r"paper: W_plastic < 0 for delta_c < ([0-9.]+) delta_Y")),
+    Fact("doc/model.md", "(impacts below {n} `v_Y`)", wplastic(r"paper: .*impacts below ([0-9.]+) v_Y")),
+    Fact("doc/model.md", "restitution up to {n} and a negative", wplastic(r"paper: .*restitution up to ([0-9.]+)")),
+    Fact("doc/model.md", "loading to `delta_c` took (`delta_c < {n} delta_Y`, section 2)",
+         wplastic(r"paper: W_plastic < 0 for delta_c < ([0-9.]+) delta_Y")),
     # doc/using.md
     Fact("doc/using.md", "String parameters (up to {n} bytes)", define("VI_STRING_SIZE", offset=-1)),
     Fact("doc/using.md", "a String longer than {n} bytes", define("VI_STRING_SIZE", offset=-1)),
@@ -313,8 +355,9 @@ FACTS = [
     Fact("doc/model-exchange.md", "(the static indentation) and {n} m/s for Hertz", lambda s: s.nominals(1)[1]),
     Fact("doc/model-exchange.md", "{n} m (`delta_Y`) and 0.16 m/s for Johnson", lambda s: s.nominals(2)[0]),
     Fact("doc/model-exchange.md", "(`delta_Y`) and {n} m/s for Johnson", lambda s: s.nominals(2)[1]),
-    Fact("doc/model-exchange.md", "`modelDescription.xml` declares {n} m and 0.1 m/s", lambda s: s.nominal("y")),
-    Fact("doc/model-exchange.md", "declares 1e-5 m and {n} m/s", lambda s: s.nominal("v")),
+    Fact("doc/model-exchange.md", "`modelDescription.xml` declares {n} m, 0.1 m/s and 1 J", lambda s: s.nominal("y")),
+    Fact("doc/model-exchange.md", "declares 1e-5 m, {n} m/s and 1 J", lambda s: s.nominal("v")),
+    Fact("doc/model-exchange.md", "declares 1e-5 m, 0.1 m/s and {n} J", lambda s: s.nominal("W_damping")),
     Fact("doc/model-exchange.md", "event indicators | {n}: the guards of the current mode",
          lambda s: s.md.numberOfEventIndicators),
     Fact("doc/model-exchange.md", "still below zero; {n} such passes in a row", define("VI_MAX_EVENT_PASSES")),

@@ -363,14 +363,15 @@ def test_named_c_names_exist():
 
 # ---- what doc/using.md says about inputs, measured --------------------------------------------------------
 
-# Model Exchange states in which an input may move outputs: (parameters, inputs, time, states y, v or None for
-# the static start); the states are set and an event iteration chooses the mode, then time moves on 10 us.
+# Model Exchange states in which an input may move outputs: (parameters, inputs, time, states y, v, W_damping or
+# None for the static start); the states are set and an event iteration chooses the mode, then time moves on 10 us.
 ME_STATES = {
     "static start, Hertz": ({"contact_model": 1}, {}, 0.0, None),
-    "free flight": ({"contact_model": 1}, {}, 1e-3, (1e-4, 0.5)),
-    "Johnson, plastic loading": ({"contact_model": 2}, {}, 1e-6, (-1.2e-4, -1.0)),
-    "LEPP, plastic flow": ({"contact_model": 3}, {}, 1e-6, (-3e-4, -1.0)),
-    "Johnson, stick": ({"contact_model": 2}, {"F_ext": -1.3e5}, 1e-6, (-1.2e-4, 0.0)),
+    "free flight": ({"contact_model": 1}, {}, 1e-3, (1e-4, 0.5, 0.0)),
+    "Johnson, plastic loading": ({"contact_model": 2}, {}, 1e-6, (-1.2e-4, -1.0, 0.0)),
+    "LEPP, plastic flow": ({"contact_model": 3}, {}, 1e-6, (-3e-4, -1.0, 0.0)),
+    "Johnson, stick": ({"contact_model": 2}, {"F_ext": -1.3e5}, 1e-6, (-1.2e-4, 0.0, 0.0)),
+    "damped Hertz, contact": ({"contact_model": 4}, {}, 1e-6, (-1e-4, -0.1, 0.0)),
 }
 INPUT_STEPS = {"yC_in": 1e-9, "F_ext": 10.0}
 
@@ -393,7 +394,7 @@ def outputs_moved(sources, state, name, step):
             for k, v in inputs.items():
                 m.setReal([vr[k]], [v])
             m.setTime(t)
-            m.setContinuousStates((fmi2Real * 2)(*x), 2)
+            m.setContinuousStates((fmi2Real * len(x))(*x), len(x))
             m.enterEventMode()
             m.newDiscreteStates()
             m.enterContinuousTimeMode()

@@ -53,8 +53,10 @@ def test_johnson_restitution(fmu_path, variant, ratio):
     assert r["Rbar"][-1] == pytest.approx(Rbar, rel=1e-6)
     assert abs(r["v"][-1] / -v0 - np.sqrt(W_unload / W_load)) < 1e-6
     assert r["W_plastic"][-1] == pytest.approx(W_load - W_unload, rel=1e-5, abs=1e-9 * W_load)
-    if ratio < 1.36:  # eq. 3 is stiffer than Hertz above delta_Y: the rebound gains energy (model.md)
-        assert 1.0 < r["v"][-1] / -v0 < (1.012 if variant == 1 else 1.15)
+    if variant == 1 and ratio < 1.36:  # eq. 3 is stiffer than Hertz above delta_Y: the rebound gains energy
+        assert 1.0 < r["v"][-1] / -v0 < 1.012
+    if variant == 2:  # passive: the whole loading work back at most (model.md)
+        assert r["v"][-1] / -v0 <= 1 + 1e-7
 
 
 def stored_energy(e, r, law):
@@ -141,24 +143,25 @@ def test_platform_offset_changes_nothing(fmu_path, law):
 
 @pytest.mark.parametrize("variant, dc_over_dY, negative", [
     (1, 1.1, True), (1, 1.2, True), (1, 1.4, False), (1, 3.0, False),
-    (2, 1.5, True), (2, 3.0, True), (2, 4.5, True), (2, 5.0, False)])
+    (2, 1.5, False), (2, 3.0, False), (2, 4.5, False), (2, 5.0, False)])
 def test_negative_plastic_work_is_energy_the_law_returns(fmu_path, variant, dc_over_dY, negative):
-    """W_plastic < 0 after yield is not a bug: eq. 3 is stiffer than Hertz above delta_Y, and the
-    unloading curve (eq. 4) of a slightly plastic impact returns more energy than the loading took:
-    paper unloading for delta_c < 1.2527 delta_Y, continuous unloading for delta_c < 4.61 delta_Y
-    (where delta_f < 0 as well). Check, on an impact reaching delta_c (P = g = 0, so the impact
-    energy 1/2 m v0^2 is the loading work): the sign predicted by the closed forms, W_plastic equal
-    to loading work minus returned energy, and the energy balance that makes it consistent: the
-    rebound carries 1/2 m v0^2 - W_plastic, more than it came with."""
+    """W_plastic < 0 after yield is the law as printed: eq. 3 is stiffer than Hertz above delta_Y, and the
+    paper's unloading curve (eq. 4) of a slightly plastic impact returns more energy than the loading took,
+    for delta_c < 1.2527 delta_Y. Continuous unloading gives back at most the loading work (W_plastic = 0
+    up to 4.61 delta_Y, where the radius-continuous curve would return more; delta_f < 0 from 4.0 to 4.99
+    delta_Y). Check, on an impact reaching delta_c (P = g = 0, so the impact energy 1/2 m v0^2 is the
+    loading work): the sign predicted by the closed forms, W_plastic equal to loading work minus returned
+    energy, and the energy balance that makes it consistent: the rebound carries 1/2 m v0^2 - W_plastic."""
     e = effective(dict(P=0.0, g=0.0))
     dc = dc_over_dY * e["delta_Y"]
     W_load, Wp = w_plastic_closed_form(e, dc, variant)
-    assert (Wp < 0) == negative
+    assert (Wp < -1e-9 * W_load) == negative
     v0 = -np.sqrt(2 * W_load / e["m"])
     r = impact(fmu_path, dict(contact_model=JOHNSON, unloading=variant), v0, stop=0.01)
     assert r["mode"][-1] == 0
     assert r["delta_c"][-1] == pytest.approx(dc, rel=1e-6)
     assert r["W_plastic"][-1] == pytest.approx(Wp, rel=1e-5, abs=1e-7 * W_load)
     assert 0.5 * e["m"] * r["v"][-1] ** 2 == pytest.approx(W_load - Wp, rel=1e-7)
-    if variant == 2 and negative:
-        assert r["delta_f"][-1] < 0
+    if variant == 2:
+        assert r["W_plastic"][-1] >= -1e-9 * W_load
+        assert (r["delta_f"][-1] < 0) == (4.0 < dc_over_dY < 4.99)

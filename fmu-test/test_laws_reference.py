@@ -100,6 +100,24 @@ def test_linear_closed_form_matches_integration(zeta):
     assert L.linear_contact_time(zeta) == pytest.approx(tau, rel=1e-10)
 
 
+@pytest.mark.parametrize("e", [0.3, 0.5, 0.9])
+def test_released_energy_at_the_force_zero(e):
+    """The spring part's energy where the force reaches 0 while the bodies overlap: Tsuji's by integrating
+    the impact to that point, 0.8 x_r^2.5, where the force K x^1.5 + alpha x^(1/4) x' is 0 and the rate is
+    the restitution's; the linear law's in closed form, 4 zeta^2 e^2, and by integrating its impact to
+    the same point. The two laws lose the same fraction at the same restitution (to 1e-9 here)."""
+    x, v = L.tsuji_release(L.tsuji_alpha(e))
+    a = L.tsuji_alpha(e)
+    assert x > 0 and x ** 1.5 + a * x ** 0.25 * v == pytest.approx(0.0, abs=1e-9) and -v == pytest.approx(e, rel=1e-9)
+    zeta = L.linear_zeta(e)
+    _, t_c = L.linear_impact(zeta)
+    w = math.sqrt(1.0 - zeta ** 2) if zeta < 1 else None
+    if w is not None:  # x(t) = exp(-zeta t) sin(w t)/w for the unit impact, released at t_c
+        x_lin = math.exp(-zeta * t_c) * math.sin(w * t_c) / w
+        assert x_lin ** 2 == pytest.approx(L.released_fraction("linear", e), rel=1e-9)
+    assert L.released_fraction("exact", e) == pytest.approx(L.released_fraction("linear", e), rel=1e-9)
+
+
 @pytest.mark.timeout(60)
 def test_linear_zeta_inverts_and_separates_before_delta_zero():
     """zeta(e) is exact to 1e-13; for zeta > 0 the force reaches 0 while the bodies still overlap."""

@@ -16,6 +16,8 @@ from fmpy.fmi3 import FMU3Model
 from conftest import FMU, DEFAULTS, effective, with_solver
 from vibroimpact.fmi3 import fmu3_path
 
+NX = 3  # continuous states: y, v, W_damping
+
 OUTPUTS = ("F", "delta", "y", "v", "yC", "F_mean", "k_contact")
 READS = ("derivatives", "indicators", "outputs", "partials")
 # Hertz, the mass pressed onto the platform (static start), then moved to another point of the contact
@@ -72,21 +74,22 @@ class Instance:
         self.fmu.setTime(t)
 
     def set_states(self, x):
-        self.fmu.setContinuousStates((ctypes.c_double * 2)(*x), 2)
+        x = list(x) + [0.0] * (NX - len(x))  # W_damping: 0 unless given
+        self.fmu.setContinuousStates((ctypes.c_double * NX)(*x), NX)
 
     def set_inputs(self, yC_in, F_ext):
         vrs = [self.vr["yC_in"], self.vr["F_ext"]]
         (self.fmu.setReal if self.version == 2 else self.fmu.setFloat64)(vrs, [yC_in, F_ext])
 
     def states(self):
-        x = (ctypes.c_double * 2)()
-        self.fmu.getContinuousStates(x, 2)
+        x = (ctypes.c_double * NX)()
+        self.fmu.getContinuousStates(x, NX)
         return list(x)
 
     def read(self, what):
         if what == "derivatives":
-            dx = (ctypes.c_double * 2)()
-            (self.fmu.getDerivatives if self.version == 2 else self.fmu.getContinuousStateDerivatives)(dx, 2)
+            dx = (ctypes.c_double * NX)()
+            (self.fmu.getDerivatives if self.version == 2 else self.fmu.getContinuousStateDerivatives)(dx, NX)
             return list(dx)
         if what == "indicators":
             z = (ctypes.c_double * self.nz)()

@@ -43,7 +43,7 @@ def test_penetration_set_during_free_flight_is_caught_by_the_indicators(me):
     z0 = m.indicators()
     assert min(z0) > 0.0
     m.fmu.setTime(1e-4)
-    y, v = m.states()
+    y, v = m.states()[:2]
     yC = m.real("yC")
     m.set_states([yC - 1e-6, v])
     assert m.real("F") == 0.0 and m.indicators()[0] < 0.0  # flagged, not hidden
@@ -70,7 +70,7 @@ def test_nominals_are_the_problem_scales(me):
     its absolute tolerances (doc/model.md), so rtol x nominal is a sensible atol for an importer."""
     inst, m = me()
     m.start(params=dict(contact_model=1))
-    L, V = m.nominals()
+    L, V, _ = m.nominals()
     d_static = m.real("delta")
     assert L == pytest.approx(d_static, rel=1e-6)  # Hertz, static start: the static indentation
     k = 1.5 * 4.0 / 3.0 * m.real("E_star") * math.sqrt(m.real("R_star")) * math.sqrt(L)
@@ -162,7 +162,7 @@ def test_state_from_before_initialization_gives_the_initial_states_again(me):
     m.fmu.enterContinuousTimeMode()
     m.fmu.setTime(1e-3)
     m.set_states([initial[0] / 3, 0.01])
-    assert m.states() == [initial[0] / 3, 0.01]
+    assert m.states()[:2] == [initial[0] / 3, 0.01]
     m.fmu.setFMUstate(before)
     m.fmu.setupExperiment()
     m.fmu.enterInitializationMode()
@@ -199,14 +199,14 @@ def test_fmu_state_gives_back_the_states_bit_for_bit_far_from_the_platform(me):
     inst, m = me()
     m.start(params=dict(contact_model=1, init=2, v0=0.0, a=0.0, yC_in=-1e6))
     m.fmu.setTime(1e-4)
-    x = [0.1 + 2.0 ** -40, 1e-3 / 3.0]  # bits below the ulp of 1e6 (1.2e-10)
+    x = [0.1 + 2.0 ** -40, 1e-3 / 3.0, 1.0 / 3.0]  # bits below the ulp of 1e6 (1.2e-10); W_damping
     m.set_states(x)
     m.fmu.enterEventMode()
     m.settle()  # the state as it is: free flight
     m.fmu.enterContinuousTimeMode()
     assert m.integer("mode") == 0 and m.states() == x
     saved = m.fmu.getFMUstate()
-    m.set_states([0.2, 0.0])
+    m.set_states([0.2, 0.0, 0.0])
     m.fmu.setFMUstate(saved)
     assert m.states() == x  # exactly
     m.fmu.freeFMUstate(saved)
@@ -221,10 +221,10 @@ def test_initial_state_is_logged(fmu_path, unzipdir, model_description):
     m = Me(inst)
     m.start(params=dict(contact_model=1, init=2, v0=0.0125, a=0.0))
     msg = next(t for _, cat, t in inst.messages if cat == "logSolver" and "initial mode" in t)
-    got = re.fullmatch(r"Model Exchange: the importer integrates y and v \(nominals (\S+) m, (\S+) m/s\); "
-                       r"initial mode (\d+), delta = (\S+) m, v = (\S+) m/s", msg).groups()
-    assert [float(x) for x in got[:2]] == pytest.approx(m.nominals(), rel=1e-5)
-    assert (int(got[2]), float(got[3]), float(got[4])) == (0, 0.0, 0.0125) == (m.integer("mode"), 0.0, m.states()[1])
+    got = re.fullmatch(r"Model Exchange: the importer integrates y, v and W_damping \(nominals (\S+) m, (\S+) m/s, "
+                       r"(\S+) J\); initial mode (\d+), delta = (\S+) m, v = (\S+) m/s", msg).groups()
+    assert [float(x) for x in got[:3]] == pytest.approx(m.nominals(), rel=1e-5)
+    assert (int(got[3]), float(got[4]), float(got[5])) == (0, 0.0, 0.0125) == (m.integer("mode"), 0.0, m.states()[1])
     inst.model.freeInstance()
 
 
@@ -285,14 +285,12 @@ def test_bands_of_a_mode_left_do_not_shift_the_next_modes_indicators(me):
 def test_contact_left_under_a_falling_input_is_one_event(fmu_path, unzipdir, model_description, law):
     """The platform input yC_in drops at 1000 m/s^2 from t = 1 ms (a dipped joint), faster than the
     load can pull the mass after it (P/m + g = 108 m/s^2): the contact is left while the mass still
-    moves down. Model Exchange passes the input's values only; the separation is one located event,
-    mode 1 -> 0, where the platform falls faster than the mass (yC_in' < v < 0), not a same-mode event
-    followed by a second one picoseconds later."""
-    t = np.linspace(0.0, 3e-3, 3001)
-    yc = np.where(t < 1e-3, 0.0, -500.0 * (t - 1e-3) ** 2)
-    signal = np.array(list(zip(t, yc, 0.0 * t)), dtype=[("time", np.float64), ("yC_in", np.float64),
-                                                         ("F_ext", np.float64)])
-    r, inst = run_me(fmu_path, dict(contact_model=law), 3e-3, rtol=1e-8, input=signal,
+    moves down. With the platform's velocity passed (velocity_input, vC_in) the separation is one located
+    event, mode 1 -> 0, where the platform falls faster than the mass (yC_in' < v < 0), not a same-mode
+    event followed by a second one picoseconds later."""
+    inputs = {"yC_in": lambda t: 0.0 if t < 1e-3 else -500.0 * (t - 1e-3) ** 2,
+              "vC_in": lambda t: 0.0 if t < 1e-3 else -1000.0 * (t - 1e-3)}
+    r, inst = run_me(fmu_path, dict(contact_model=law, velocity_input=True), 3e-3, rtol=1e-8, input=inputs,
                      unzipdir=unzipdir, md=model_description)
     assert not inst.errors()
     events = guard_events(inst)

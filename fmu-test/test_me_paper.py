@@ -5,7 +5,7 @@ solver='CVode', at relative tolerance RTOL_ME; its absolute tolerances are RTOL_
 nominals, the problem's length and velocity scales), and locates the events on the FMU's event
 indicators. The criteria are those of test_paper.py for co-simulation, within each scenario's
 predictable horizon: |y - y_ref| <= EPS_Y = 0.1 um, the force to 1e-3 and the plastic work to 1e-4 of
-their maxima, and the same sequence of mode changes, each within EVENT_DT = 1 us of the reference's.
+their maxima (3e-4 for `continuous`, test_paper.py says why), and the same sequence of mode changes, each within EVENT_DT = 1 us of the reference's.
 """
 import numpy as np
 import pytest
@@ -14,7 +14,7 @@ from vibroimpact.compare import EVENT_DT, compare
 from vibroimpact.reference.generate import EPS_Y
 from vibroimpact.reference.scenarios import SCENARIOS, STOP_TIME
 from vibroimpact.me import MeRunner
-from test_paper import F_REL, W_REL
+from test_paper import F_REL, W_REL, W_REL_OF
 
 RTOL_ME = 1e-11  # the tolerance of the reference trace, as test_paper.py runs co-simulation
 
@@ -37,7 +37,7 @@ def test_me_trajectory_within_horizon(name, compared_me):
     assert (c["ref"]["time"] <= c["horizon"]).sum() > 100, "a horizon too short to compare"
     assert c["dy"] <= EPS_Y
     assert c["dF_rel"] <= F_REL
-    assert c["dW_rel"] <= W_REL
+    assert c["dW_rel"] <= W_REL_OF.get(name, W_REL)
 
 
 @pytest.mark.parametrize("name", SCENARIOS)

@@ -14,7 +14,9 @@ within EPS_Y of each other) the FMU must follow the reference trace:
     of a reference mode change are left out, since the force may jump there and event times are
     only required to agree to EVENT_DT;
   - plastic work: |W_plastic - W_ref| <= 1e-4 max|W_ref| (the same 0.1 um on a 100-um indentation
-    changes the work by about 1e-3 of it);
+    changes the work by about 1e-3 of it); 3e-4 for `continuous`, whose W_plastic within the horizon
+    (0.35 and 0.81 J) is the small difference of about 190 J of loading work and returned energy, just
+    past 4.61 delta_Y where it starts from 0 at 1.7e5 N: 0.1 um moves it by 3e-3 of its maximum;
   - the sequence of mode changes: the same (before, after) pairs, each at the same time within
     EVENT_DT = 1 us (an EPS_Y position error at a crossing speed of 0.1 m/s).
 Beyond the horizon a bouncing trajectory is one of many equally valid ones, so the whole run is
@@ -32,6 +34,7 @@ from vibroimpact.reference.scenarios import SCENARIOS, STOP_TIME
 
 F_REL = 1e-3
 W_REL = 1e-4
+W_REL_OF = {"continuous": 3e-4}
 
 
 @pytest.fixture(scope="module")
@@ -72,7 +75,7 @@ def test_trajectory_within_horizon(name, solver, compared):
     assert (c["ref"]["time"] <= c["horizon"]).sum() > 100, "a horizon too short to compare"
     assert c["dy"] <= EPS_Y
     assert c["dF_rel"] <= F_REL
-    assert c["dW_rel"] <= W_REL
+    assert c["dW_rel"] <= W_REL_OF.get(name, W_REL)
 
 
 @each_solver

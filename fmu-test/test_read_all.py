@@ -116,10 +116,11 @@ def test_model_exchange_reads_all(fmus, version):
         if not more:
             break
     m.enterContinuousTimeMode()
-    x = (ctypes.c_double * 2)()
-    m.getContinuousStates(x, 2)
+    n = len(md.derivatives)
+    x = (ctypes.c_double * n)()
+    m.getContinuousStates(x, n)
     m.setTime(1e-4)
-    m.setContinuousStates(x, 2)
+    m.setContinuousStates(x, n)
     read_every_variable(m, md, version)
     m.terminate()
     read_every_variable(m, md, version)

@@ -9,7 +9,7 @@
  *                             1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2
  *   (2) Hertz                 F = K delta^(3/2),  K = 4/3 E* sqrt(R*)
  *   (3) Johnson loading       F = F_Y k [1 + ln(k)/(3 theta_Y)],  k = 2 delta/delta_Y - 1  (delta > delta_Y)
- *   (4) Johnson unloading     F = 4/3 E* sqrt(Rbar) (delta - delta_f)^(3/2)
+ *   (4) Johnson unloading     F = 4/3 E* sqrt(Rbar) (delta - delta_f)^(3/2)  (Rbar, delta_f below)
  *   (5) yield force           F_Y = c (3 pi/4)^2 (theta_Y Y)^3 R*^2 / E*^2,
  *                             c = pi (textbook: mean Hertz pressure theta_Y Y at yield) or 1 (as printed)
  *       yield indentation     delta_Y = (F_Y/K)^(2/3)
@@ -62,9 +62,20 @@ typedef struct {
     double Kbar;     /* 4/3 E* sqrt(Rbar) [N/m^1.5] */
 } vi_unload_curve;
 
-/* paper:      Rbar = R* sqrt(k_c), delta_r = delta_Y sqrt(k_c), k_c = 2 delta_c/delta_Y - 1
- * continuous: F_c = vi_johnson_load(delta_c), a_c^2 = R* (2 delta_c - delta_Y),
- *             Rbar = 4 E* a_c^3/(3 F_c), delta_r = 3 F_c/(4 E* a_c)   (force and radius continuous) */
+/* paper:      Rbar = R* sqrt(k_c), delta_r = delta_Y sqrt(k_c), k_c = 2 delta_c/delta_Y - 1 (as printed;
+ *             returns more energy than the loading took for delta_c < 1.2527 delta_Y at theta_Y = 1.1)
+ * continuous: the Hertz curve through the turning point (force continuous, F_c = vi_johnson_load(delta_c))
+ *             with contact radius a:  Rbar = 4 E* a^3/(3 F_c), delta_r = 3 F_c/(4 E* a), and
+ *               a = max(a_c, a_W),  a_c^2 = R* (2 delta_c - delta_Y)       (eq. 3's contact area)
+ *                                   a_W = (1 + VI_PASSIVE_ULPS DBL_EPSILON) 3 F_c^2/(10 E* W_c)
+ *             with W_c = vi_johnson_load_work(delta_c). The curve returns the energy
+ *             2/5 F_c delta_r = 3 F_c^2/(10 E* a) <= W_c/(1 + VI_PASSIVE_ULPS DBL_EPSILON): no
+ *             load-unload cycle returns more than it took (passive), W_plastic = W_c - 2/5 F_c delta_r
+ *             >= 0. Where a_c >= a_W (at theta_Y = 1.1: delta_c >= 4.6100 delta_Y) it is the force- and
+ *             radius-continuous curve; below, eq. 3 (stiffer than Hertz above delta_Y) would make that
+ *             curve return more than the loading took, and the larger radius a_W returns the loading
+ *             work (restitution 1). */
+#define VI_PASSIVE_ULPS 64 /* the margin of a_W in units of rounding: returned <= taken in floating point too */
 vi_unload_curve vi_johnson_unload_curve(const vi_johnson *J, int variant, double delta_c);
 double vi_unload_force(const vi_unload_curve *U, double delta);
 double vi_unload_stiffness(const vi_unload_curve *U, double delta);

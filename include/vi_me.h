@@ -3,8 +3,10 @@
  * an ODE with events for Model Exchange. Nothing here knows FMI; src/vi_fmu_contact.c maps the FMI
  * layer's hooks onto these functions.
  *
- * States (the importer integrates them):  y [m], the mass position, and v [m/s], its velocity:
+ * States (the importer integrates them):  y [m], the mass position, v [m/s], its velocity, and W_damping
+ * [J], the damping's work (VI_ME_NSTATES below):
  *     y' = v,      v' = (F(delta, mode, memory) - W(t)) / m        (in stick: v' = yC''(t))
+ *     W_damping' = (F - F_spring(delta)) delta'                    (vi_model_damping_power)
  * with delta = yC(t) - y (vi_model.h: the platform yC includes the input yC_in, the harmonic
  * excitation and the rolling profile). The position y, not the indentation, is the state, so that
  * the derivatives need the input yC_in only through its value (Model Exchange passes no input
@@ -12,8 +14,8 @@
  * delta in the simulation's state (d->x[0]) in step with y.
  *
  * The plastic memory needs no state of its own: while it changes (Johnson loading beyond delta_Y,
- * LEPP flow) it equals delta (delta_c = delta, delta_p = delta - delta_Y), and it is written down
- * when that mode is left (vi_model_freeze).
+ * LEPP flow) it equals delta (delta_c = delta, delta_p = delta - delta_Y) beyond what was written
+ * down, and it is written down when that mode is left (vi_model_freeze).
  *
  * Event indicators: the VI_NGUARDS guards of the current mode (vi_model.h: contact, separation,
  * yield, Johnson turning point, stick entry and exit, LEPP flow start and end), each > 0 inside the
@@ -21,23 +23,27 @@
  * fired without a change of mode (grazing) by its band (vi_hybrid.h, the event engine both drivers
  * share), until it has moved away; both come back to the plain guard at a completed step.
  *
- * The input yC_in is taken by its value only: the rate of delta that the turning point (Johnson,
- * LEPP) and stick guards use is yC' without the input's rate. At a state event the mode is chosen with
- * the inputs' mean rates since the last completed step or event before the event's time (their values
- * then and now), so that a contact left while the platform input moves away faster than the mass is
- * left in one event. With a moving input and a plastic
- * law, prefer co-simulation with input derivatives, or move the platform through a, f and the
- * rolling profile, whose rates are known.
+ * The platform's rate. Model Exchange passes input values only, yet the rate of delta (the turning
+ * points, stick, the damping, every choice of mode) needs the rate of yC_in. With velocity_input it is
+ * the input vC_in. Without, it is estimated at each completed step from yC_in's change over that step
+ * (vi_sim_data.yC_in_rate) and used, until the next completed step, by the event indicators and the mode
+ * choices alike (one notion: a guard cannot fire again at once because the choice saw another rate);
+ * a new estimate that puts a guard below zero asks for an event. While it is an estimate, the plastic
+ * memory is written down at completed steps. F_ext is held at its value.
  */
 #ifndef VI_ME_H
 #define VI_ME_H
 
 #include "vi_sim.h"
 
-#define VI_ME_NSTATES 2
+/* The third state, W_damping [J]: the damping's work, W_damping' = vi_model_damping_power (0 for laws that
+ * do not damp), so that W_dissipated = W_plastic + W_damping. F_peak is F: the FMU does not see inside
+ * the importer's steps (only its trial points, some of them rejected), and the importer reads F at every
+ * point it needs. */
+#define VI_ME_NSTATES 3
 #define VI_ME_NINDICATORS VI_NGUARDS
 
-/* The Model Exchange driver over a simulation; the states are s.d.y_me and s.d.x[1] (v). */
+/* The Model Exchange driver over a simulation; the states are s.d.y_me, s.d.x[1] (v) and s.d.W_damping. */
 typedef struct {
     vi_sim s;   /* first member: a vi_me is a vi_sim */
     int active; /* initialized for Model Exchange */
@@ -54,7 +60,7 @@ typedef struct {
 /* vi_sim_initialize (the initial state), then Model Exchange: 0 or -1 (s.msg). */
 int vi_me_initialize(vi_me *e);
 void vi_me_set_time(vi_me *e, double t);
-/* x = (y, v). */
+/* x = (y, v, W_damping). */
 void vi_me_get_states(vi_me *e, double x[VI_ME_NSTATES]);
 void vi_me_set_states(vi_me *e, const double x[VI_ME_NSTATES]);
 void vi_me_derivatives(vi_me *e, double dx[VI_ME_NSTATES]);
@@ -96,7 +102,9 @@ typedef struct {
  * (every other output and the calculated parameters have zero partials). */
 enum {
     VI_ME_DER_Y, VI_ME_DER_V, VI_ME_F, VI_ME_F_MEAN, VI_ME_DELTA, VI_ME_Y, VI_ME_V, VI_ME_YC, VI_ME_K_CONTACT,
-    VI_ME_DELTA_C, VI_ME_DELTA_F, VI_ME_RBAR, VI_ME_DELTA_P, VI_ME_W_PLASTIC, VI_ME_N_UNKNOWNS
+    VI_ME_DELTA_C, VI_ME_DELTA_F, VI_ME_RBAR, VI_ME_DELTA_P, VI_ME_W_PLASTIC,
+    VI_ME_DER_W, VI_ME_W_DISSIPATED, VI_ME_E_CONTACT, VI_ME_F_PEAK, /* W_dissipated: its W_damping column is 1 */
+    VI_ME_N_UNKNOWNS
 };
 /* The Jacobian at the current point, analytic, in the current mode: jac[unknown]. */
 void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS]);

@@ -84,6 +84,7 @@ typedef struct {
     double F, delta, y, v, yC;  /* N, m, m, m/s, m */
     int contact, mode, n_impacts;
     double delta_c, delta_f, delta_p, Rbar, W_plastic; /* m, m, m, m, J */
+    double E_contact;           /* J (vi_model_contact_energy) */
     double E_star, R_star, F_Y, delta_Y, k_lin, f_contact; /* Pa, m, N, m, N/m, Hz */
 } vi_model_values;
 
@@ -191,12 +192,54 @@ typedef struct {
     double delta_c, delta_f, delta_p, Rbar, W_plastic;
 } vi_memory_rates;
 void vi_model_memory_rates(const vi_model *model, const double x[2], vi_memory_rates *r);
+/* ENERGY. Along a motion, 1/2 m v^2 + E_contact + W_plastic + W_damping = the work of the platform,
+ * integral of F yC' dt, plus the work of the net load, -integral of W(t) v dt: the power F delta' the
+ * bodies put into the contact is the rate of E_contact + W_plastic + W_damping.
+ * The elastic energy the contact holds at x in the current mode [J]: the work of the current branch's
+ * force from its contact surface to delta (free: 0; elastic: the virgin curve's work, Hertz 0.4 K
+ * delta^2.5 (Johnson and Thornton below delta_Y), LEPP 0.5 k_lin (delta - delta_p)^2; plastic: the
+ * unloading curve of delta_c = delta, 0.4 Kbar delta_r^2.5 (moving contact point: the virgin curve's
+ * work), LEPP 0.5 F_Y delta_Y; unload and stick: the unloading curve's, 0.4 Kbar (delta - delta_f)^2.5
+ * at delta or delta_c). The damped laws (hertz_damped, linear) hold the energy of their spring part,
+ * F_spring = K delta^1.5 or k_spring delta, 0.4 K delta^2.5 or 0.5 k_spring delta^2, while the bodies
+ * overlap (delta > 0), in either mode: after a release (the force reached 0 at delta > 0) the spring
+ * still holds its energy, and gives it to the damping while delta falls to 0, or keeps it when the
+ * contact resumes. per_delta (when not NULL): d(E_contact)/d(delta) [N] in the current mode. */
+double vi_model_contact_energy(const vi_model *model, const double x[2], double *per_delta);
+/* The damping's power of a damped law at (t, x) [W], the rate of W_damping: the power of the force
+ * beyond its spring part, P = (F - F_spring(delta)) delta' (elastic: F_damping delta' >= 0; free at
+ * delta > 0, after a release: -F_spring delta' >= 0, delta falling); 0 for the other laws; with its
+ * partials d/d(delta) [N/s] and d/d(delta') [N]. */
+typedef struct {
+    double P, dP_ddelta, dP_drate;
+} vi_model_power;
+vi_model_power vi_model_damping_power(const vi_model *model, double t, const double x[2]);
+/* The power the bodies put into the contact at (t, x) [W]: F delta', the rate of E_contact + W_plastic +
+ * W_damping. */
+double vi_model_contact_power(const vi_model *model, double t, const double x[2]);
+/* Does the law damp (hertz_damped, linear: W_damping grows)? */
+int vi_model_damps(const vi_model *model);
+/* Does its damping's power grow as (t - t_onset)^(1/4) from a contact's onset (Tsuji's delta^(1/4)
+ * delta'^2: hertz_damped, exact)? */
+int vi_model_damping_root_at_onset(const vi_model *model);
+/* dF/dt along the motion at (t, x) [N/s]: stiffness times delta' (and, for the damped laws, dF/d(delta')
+ * times delta''); in stick the rate of F_hold; 0 when free. Zero where F has an extremum in time. dx: the
+ * motion's x' = (delta', v') at (t, x) (a solver's interpolant), NULL: from the right-hand side. The
+ * force itself (vi_model_force) into *F, from the same evaluation of the law. */
+double vi_model_force_rate(const vi_model *model, double t, const double x[2], const double dx[2], double *F);
+
 /* Jacobian of vi_model_rhs, row major: d(delta', v')/d(delta, v). In stick both rows are zero
  * (delta' = 0, v' = yC''), so that a Newton iteration keeps delta exactly on delta_c. */
 void vi_model_jacobian(const vi_model *model, double t, const double x[2], double j[4]);
 void vi_model_guards(const vi_model *model, double t, const double x[2], double g[VI_NGUARDS]);
+/* What guard `guard` of `mode` watches, in words ("separation", "the turning point", ...; "none" for a
+ * guard the mode does not use). */
+const char *vi_model_guard_name(const vi_model *model, int mode, int guard);
 
-/* Write down the memory that tracks the state (delta_c while Johnson loads plastically, delta_p
+/* The memory outputs never fall below the memory written down: while loading plastically delta_c is
+ * max(delta, delta_c written), the LEPP set max(delta - delta_Y, delta_p written) (an importer's state may
+ * lie past a turning point it has not located yet).
+ * Write down the memory that tracks the state (delta_c while Johnson loads plastically, delta_p
  * while LEPP flows) and put a sticking mass exactly on the platform's velocity. Call it before the
  * state is changed from outside (an input jump) and before vi_model_resolve. */
 void vi_model_freeze(vi_model *model, double t, double x[2]);
@@ -226,7 +269,7 @@ void vi_model_scales(const vi_model *model, const double x0[2], double *L, doubl
 
 /* Range of validity. The contact laws (eqs. 2-4) describe the local contact of bodies whose radii
  * are large against the contact and against every displacement of the problem (half-space, small
- * slopes). Three ways to leave that range, each a bit of the result:
+ * slopes). Four causes, each a bit of the result (the last is a law that makes energy):
  *   VI_INVALID_INDENTATION  the Hertz contact radius sqrt(R* delta) exceeds VI_VALIDITY_RADIUS R*,
  *                           i.e. the indentation delta (or the largest one, delta_c) exceeds
  *                           VI_VALIDITY_RADIUS^2 R*;
@@ -234,16 +277,18 @@ void vi_model_scales(const vi_model *model, const double x0[2], double *L, doubl
  *                           the radius of curvature of the contact (above the contact resonance the
  *                           indentation swings by about a, a hundred times the first limit);
  *   VI_INVALID_PROFILE      the profile's heights span more than the rolling radius R1 (paper
- *                           Fig. 1b: a wheel rolling over a roughness small against it).
+ *                           Fig. 1b: a wheel rolling over a roughness small against it);
+ *   VI_INVALID_ENERGY       Johnson's paper unloading (as printed) returns more energy than the
+ *                           loading to delta_c took (W_plastic < 0: delta_c < 1.2527 delta_Y).
  * Returns the bit of the first cause that is not in `skip`, with a message naming the time, the
  * value and the limit; 0 when there is none. The simulation checks at initialization, at events,
  * at communication points and after a change of a, and warns once per cause and instance
  * (logStatusWarning). */
 #define VI_VALIDITY_RADIUS 0.1
-enum { VI_INVALID_INDENTATION = 1, VI_INVALID_AMPLITUDE = 2, VI_INVALID_PROFILE = 4 };
+enum { VI_INVALID_INDENTATION = 1, VI_INVALID_AMPLITUDE = 2, VI_INVALID_PROFILE = 4, VI_INVALID_ENERGY = 8 };
 int vi_model_validity(const vi_model *model, double R1, double t, const double x[2], int skip, char *msg, size_t n);
 /* The one cause that depends on the state alone: is the indentation beyond its limit at x? (The
- * other two change only with a and the profile.) */
+ * others change only with a, the profile and the plastic memory, which changes at events.) */
 int vi_model_indentation_invalid(const vi_model *model, const double x[2]);
 
 /* Options that contradict each other or are ignored: moving_contact, continuous
@@ -286,8 +331,8 @@ void vi_model_calculated(const vi_model *model, vi_model_values *out);
 enum {
     VI_OUT_STATE = 1u << 0,       /* delta, v, contact, mode, n_impacts: the state as it is */
     VI_OUT_PLATFORM = 1u << 1,    /* yC and y = yC - delta */
-    VI_OUT_FORCE = 1u << 2,       /* F */
-    VI_OUT_MEMORY = 1u << 3,      /* delta_c, delta_f, delta_p, Rbar, W_plastic */
+    VI_OUT_FORCE = 1u << 2,       /* F (+ F_peak) */
+    VI_OUT_MEMORY = 1u << 3,      /* delta_c, delta_f, delta_p, Rbar, W_plastic, E_contact (+ W_dissipated) */
     VI_OUT_CALCULATED = 1u << 4,  /* E_star, R_star, F_Y, delta_Y, k_lin, f_contact */
     VI_OUT_MEAN = 1u << 5,        /* F_mean */
     VI_OUT_STIFFNESS = 1u << 6,   /* k_contact */

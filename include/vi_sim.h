@@ -58,9 +58,20 @@ typedef struct {
     double step_u0;                  /* Model Exchange: yC_in [m] at step_t0 */
     double yC_in_rate;               /* Model Exchange without velocity_input: the rate of yC_in [m/s] the
                                         model runs, estimated at completed steps (vi_me.h) */
+    double W_damping, F_peak;        /* the damping's work [J] (vi_model_damping_power; Model Exchange: the
+                                        importer's third state); the largest force [N] since step_t0
+                                        (Co-Simulation) */
     vi_ode ode;                      /* solver = dop853 or auto: the one-step method's whole continuation */
     vi_solver_auto auto_choice;      /* solver = auto: which method runs, and its stiffness counts */
 } vi_sim_data;
+
+/* The force F [N] and its rate g [N/s] at a point (t, x) of the solution in a mode: where the last piece
+ * of the solution ended (vi_sim.c, the largest force); valid until the model changes otherwise than by
+ * integration. Not part of an FMU state. */
+typedef struct {
+    double t, x[2], F, g;
+    int mode, valid;
+} vi_peak_point;
 
 typedef struct {
     vi_sim_data d;
@@ -71,6 +82,7 @@ typedef struct {
     vi_outputs out;
     vi_log_fn log;
     void *log_env;
+    vi_peak_point peak_end; /* where the last piece ended, or the model last changed (the largest force) */
     int warned_validity; /* VI_INVALID_* bits: the causes warned of (once each; not part of the FMU state) */
     int validity_unchecked; /* a state was restored: check every cause at the next communication point */
     /* Rolling: the profile the model points to (owned here, outside the FMU state), the file it came

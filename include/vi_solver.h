@@ -77,6 +77,25 @@ typedef void (*vi_rhs_fn)(double t, const double *x, double *dx, void *user);
 typedef void (*vi_guard_fn)(double t, const double *x, double *g, void *user);
 typedef void (*vi_jac_fn)(double t, const double *x, double *jac_row_major, void *user);
 
+/* PIECES (for the caller's quadratures and extrema along the solution). With cfg->piece set, every
+ * vi_solver_advance hands the caller the solution it passed as consecutive pieces [ta, tb]: from the
+ * last (re)start, or the point the last advance returned, up to the point this advance returns (tout,
+ * the event, the last step). A piece lies inside one internal step, so no event and no restart lies
+ * inside it, and x(t) there is the step's interpolant (vi_solver_piece_at): the one-step method's
+ * dense output (order 7), CVODE's interpolating polynomial (CVodeGetDky). A piece is handed over
+ * before the solver leaves its step: the call of cfg->piece is the only time its interior can be
+ * read. The pieces do not change the steps taken (the dense output is built when it is first read,
+ * and building it changes nothing). cfg->piece returns 0, or -1 to fail the advance. */
+typedef struct vi_solver vi_solver;
+typedef struct {
+    double ta, tb;         /* the piece [s] */
+    const double *xa, *xb; /* the solution at its ends */
+    const double *dxb;     /* x'(tb): the interpolant's derivative (at the end of a step of the one-step
+                              method, the right-hand side there) */
+    vi_solver *solver;     /* the solver that made it (for vi_solver_piece_at) */
+} vi_solver_piece;
+typedef int (*vi_piece_fn)(const vi_solver_piece *piece, void *user);
+
 /* Integration methods (the values of the FMU's `solver` enumeration). */
 enum { VI_METHOD_BDF = 1, VI_METHOD_ADAMS = 2, VI_METHOD_DOP853 = 3, VI_METHOD_AUTO = 4 };
 /* Its name for messages: "CVODE BDF", "CVODE Adams", "Dormand-Prince 8(5,3)", "auto"; "unknown method" else. */
@@ -119,6 +138,7 @@ typedef struct {
     double max_step;    /* 0: none */
     vi_ode *ode;        /* VI_METHOD_DOP853, AUTO: the continuation, owned by the caller (plain data) */
     vi_solver_auto *auto_choice; /* VI_METHOD_AUTO: which method runs, owned by the caller (plain data) */
+    vi_piece_fn piece;  /* NULL, or called for every piece of the solution passed (PIECES above) */
     vi_log_fn log;
     void *log_env;
 } vi_solver_config;
@@ -131,7 +151,9 @@ typedef struct {
 
 enum { VI_SOLVER_REACHED = 0, VI_SOLVER_EVENT = 1, VI_SOLVER_LIMIT = 2, VI_SOLVER_FAILED = -1 };
 
-typedef struct vi_solver vi_solver;
+/* x(t) (n values) on a piece handed to cfg->piece, for ta <= t <= tb (its ends exactly: xa, xb), and
+ * when dx != NULL the interpolant's derivative x'(t). 0, or VI_SOLVER_FAILED (logged). */
+int vi_solver_piece_at(const vi_solver_piece *piece, double t, double *x, double *dx);
 
 /* NULL on failure (logged). Copies the configuration; cfg->atol must hold n values while it runs (the
  * tolerances are copied into the integrators). Starts at (t0, x0). */

@@ -71,7 +71,7 @@
   X(delta_Y, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "m", 0, "", "yield indentation") \
   X(k_lin, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "N/m", 0, "", "stiffness of the linear elastic-perfectly plastic model, F_Y/delta_Y") \
   X(f_contact, Real, none, calculatedParameter, fixed, calculated, 0.0, VI_NONE, VI_NONE, "Hz", 0, "", "linearised contact resonance at the static load") \
-  X(F_mean, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N", 0, "yC_in F_ext y v", "contact force averaged over the last communication step: its impulse divided by the step") \
+  X(F_mean, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N", 0, "yC_in F_ext y v vC_in", "contact force averaged over the last communication step: its impulse divided by the step") \
   X(k_contact, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N/m", 0, "yC_in y v vC_in", "tangent contact stiffness dF/ddelta at the current state, 0 out of contact") \
   X(profile_file, String, none, parameter, fixed, exact, "", VI_NONE, VI_NONE, "", 0, "", "profile rolled over (Fig. 1b): two-column text table x [m], h [m]; relative paths: FMU resources, then working directory; empty = none") \
   X(V, Real, none, parameter, fixed, exact, 0.0, VI_NONE, VI_NONE, "m/s", 0, "", "rolling speed over the profile: yC = yC_in + a (cos(2 pi f t) - 1) + yb(x0 + V t)") \
@@ -83,7 +83,12 @@
   X(damping_formula, Integer, DampingFormula, parameter, fixed, exact, 1, VI_NONE, VI_NONE, "", 0, "", "damping of hertz_damped (exact: the restitution is e_restitution at every impact speed)") \
   X(k_spring, Real, none, parameter, fixed, exact, 1.2e9, VI_ABOVE(0.0), VI_NONE, "N/m", 0, "", "spring stiffness of the linear spring-dashpot (contact_model = linear)") \
   X(vC_in, Real, none, input, continuous, exact, 0.0, VI_NONE, VI_NONE, "m/s", 0, "", "platform velocity input, the rate of yC_in: used wherever the FMU needs the platform's rate when velocity_input is true") \
-  X(velocity_input, Boolean, none, parameter, fixed, exact, 0, VI_NONE, VI_NONE, "", 0, "", "take the rate of yC_in from vC_in (coupled masters hold the rail's velocity); false: from yC_in's derivative in Co-Simulation, none in Model Exchange")
+  X(velocity_input, Boolean, none, parameter, fixed, exact, 0, VI_NONE, VI_NONE, "", 0, "", "take the rate of yC_in from vC_in (coupled masters hold the rail's velocity); false: from yC_in's derivative in Co-Simulation, none in Model Exchange") \
+  X(W_dissipated, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "J", 0, "yC_in y W_damping", "everything the contact has dissipated so far: W_plastic plus W_damping (kinetic energy + E_contact + W_dissipated = work of the platform, F_ext, P and gravity)") \
+  X(E_contact, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "J", 0, "yC_in y", "elastic energy stored in the contact now: the work of the current branch's force from its contact surface to delta") \
+  X(F_peak, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N", 0, "yC_in F_ext y v vC_in", "largest contact force since the last communication point (Co-Simulation: over the whole step, events and the inside of the solver's steps included; Model Exchange: F)") \
+  X(W_damping, Real, none, local, continuous, exact, 0.0, VI_NONE, VI_NONE, "J", 1.0, "", "work of the damping of hertz_damped and linear: the power of the force beyond its spring part, (F - F_spring(delta)) delta' (Model Exchange: a continuous state)") \
+  X(der_W_damping, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "W", 0, "yC_in y v vC_in", "time derivative of W_damping, the damping's power (Model Exchange: the derivative of the state W_damping)")
 
 /* Enumeration types: E(type, description); items in VI_ITEMS_<type>(I) as I(type, name, value).
  * Items are matched by name in the model through the constants VI_<type>_<name>. */

@@ -3,6 +3,7 @@
 
 #include <float.h>
 #include <math.h>
+#include <stddef.h>
 
 double vi_effective_radius(double R1, double R2)
 {
@@ -94,15 +95,31 @@ double vi_johnson_load_indentation(const vi_johnson *J, double F)
     return 0.5 * J->delta_Y * (k + 1.0);
 }
 
+/* The contact radius a [m] of the continuous unloading curve after delta_c, and da/d(delta_c) [1] when
+ * da is not NULL (vi_contact.h): eq. 3's area, a_c^2 = R* (2 delta_c - delta_Y), or the passive bound
+ * a_W = (1 + VI_PASSIVE_ULPS DBL_EPSILON) 3 F_c^2/(10 E* W_c) where it is larger (W_c the virgin work to delta_c,
+ * dW_c/d(delta_c) = F_c, so d ln a_W = 2 F_c'/F_c - F_c/W_c). */
+static double continuous_radius(const vi_johnson *J, double delta_c, double F_c, double *da)
+{
+    double W_c = vi_johnson_load_work(J, delta_c);
+    double a_c = sqrt(J->R_star * (2.0 * delta_c - J->delta_Y));
+    double a_W = (1.0 + VI_PASSIVE_ULPS * DBL_EPSILON) * 0.3 * F_c * F_c / (J->E_star * W_c);
+    if (a_W > a_c) {
+        if (da) *da = a_W * (2.0 * vi_johnson_load_stiffness(J, delta_c) / F_c - F_c / W_c);
+        return a_W;
+    }
+    if (da) *da = J->R_star / a_c;
+    return a_c;
+}
+
 vi_unload_curve vi_johnson_unload_curve(const vi_johnson *J, int variant, double delta_c)
 {
     vi_unload_curve U;
     U.delta_c = delta_c;
-    if (variant == VI_UNLOAD_CONTINUOUS) {
-        double F_c = vi_johnson_load(J, delta_c);
-        double a_c = sqrt(J->R_star * (2.0 * delta_c - J->delta_Y));
-        U.Rbar = 4.0 * J->E_star * a_c * a_c * a_c / (3.0 * F_c);
-        U.delta_r = 3.0 * F_c / (4.0 * J->E_star * a_c);
+    if (variant == VI_UNLOAD_CONTINUOUS) { /* the Hertz curve of radius a through (delta_c, F_c) */
+        double F_c = vi_johnson_load(J, delta_c), a = continuous_radius(J, delta_c, F_c, NULL);
+        U.Rbar = 4.0 * J->E_star * a * a * a / (3.0 * F_c);
+        U.delta_r = 3.0 * F_c / (4.0 * J->E_star * a);
     } else {
         double sk = sqrt(area_ratio(J, delta_c));
         U.Rbar = J->R_star * sk;
@@ -135,9 +152,9 @@ double vi_unload_stiffness_rate(const vi_unload_curve *U, double delta)
 vi_unload_rates vi_johnson_unload_rates(const vi_johnson *J, int variant, double delta_c)
 {
     vi_unload_rates r;
-    if (variant == VI_UNLOAD_CONTINUOUS) { /* a_c^2 = R* (2 delta_c - delta_Y), F_c the load at delta_c */
-        double F = vi_johnson_load(J, delta_c), dF = vi_johnson_load_stiffness(J, delta_c);
-        double a = sqrt(J->R_star * (2.0 * delta_c - J->delta_Y)), da = J->R_star / a;
+    if (variant == VI_UNLOAD_CONTINUOUS) { /* a from continuous_radius, F_c the load at delta_c */
+        double F = vi_johnson_load(J, delta_c), dF = vi_johnson_load_stiffness(J, delta_c), da;
+        double a = continuous_radius(J, delta_c, F, &da);
         r.Rbar = 4.0 * J->E_star / 3.0 * (3.0 * a * a * da / F - a * a * a * dF / (F * F)); /* Rbar = 4 E* a^3/(3 F) */
         r.delta_r = 3.0 / (4.0 * J->E_star) * (dF / a - F * da / (a * a));                 /* delta_r = 3 F/(4 E* a) */
     } else { /* Rbar = R* sqrt(k_c), delta_r = delta_Y sqrt(k_c), k_c = 2 delta_c/delta_Y - 1 */

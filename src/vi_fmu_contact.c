@@ -58,7 +58,9 @@ static const unsigned char output_groups[VI_NVARS] = {
     [VI_VR_W_plastic] = VI_OUT_MEMORY, [VI_VR_E_star] = VI_OUT_CALCULATED, [VI_VR_R_star] = VI_OUT_CALCULATED,
     [VI_VR_F_Y] = VI_OUT_CALCULATED, [VI_VR_delta_Y] = VI_OUT_CALCULATED, [VI_VR_k_lin] = VI_OUT_CALCULATED,
     [VI_VR_f_contact] = VI_OUT_CALCULATED, [VI_VR_F_mean] = VI_OUT_MEAN, [VI_VR_k_contact] = VI_OUT_STIFFNESS,
-    [VI_VR_der_y] = VI_OUT_DERIVATIVES, [VI_VR_der_v] = VI_OUT_DERIVATIVES};
+    [VI_VR_der_y] = VI_OUT_DERIVATIVES, [VI_VR_der_v] = VI_OUT_DERIVATIVES,
+    [VI_VR_W_dissipated] = VI_OUT_MEMORY, [VI_VR_E_contact] = VI_OUT_MEMORY, [VI_VR_F_peak] = VI_OUT_FORCE,
+    [VI_VR_W_damping] = VI_OUT_MEMORY, [VI_VR_der_W_damping] = VI_OUT_DERIVATIVES};
 
 /* Only the groups of outputs the get call reads (reading y computes no force and no plastic work). */
 static const void *outputs_of(void *m, const unsigned vr[], size_t nvr)
@@ -133,8 +135,8 @@ static const char *message(const void *m) { return ((const contact_instance *)m)
 
 /* ---- Model Exchange ---- */
 
-static const unsigned state_vrs[VI_ME_NSTATES] = {VI_VR_y, VI_VR_v};
-static const unsigned derivative_vrs[VI_ME_NSTATES] = {VI_VR_der_y, VI_VR_der_v};
+static const unsigned state_vrs[VI_ME_NSTATES] = {VI_VR_y, VI_VR_v, VI_VR_W_damping};
+static const unsigned derivative_vrs[VI_ME_NSTATES] = {VI_VR_der_y, VI_VR_der_v, VI_VR_der_W_damping};
 
 static int me_initialize(void *m) { return vi_me_initialize(m); }
 static void set_time(void *m, double t) { vi_me_set_time(m, t); }
@@ -174,6 +176,10 @@ static int jacobian_row(unsigned vr)
     case VI_VR_Rbar: return VI_ME_RBAR;
     case VI_VR_delta_p: return VI_ME_DELTA_P;
     case VI_VR_W_plastic: return VI_ME_W_PLASTIC;
+    case VI_VR_der_W_damping: return VI_ME_DER_W;
+    case VI_VR_W_dissipated: return VI_ME_W_DISSIPATED;
+    case VI_VR_E_contact: return VI_ME_E_CONTACT;
+    case VI_VR_F_peak: return VI_ME_F_PEAK;
     default: return -1;
     }
 }
@@ -190,6 +196,13 @@ static double jacobian_entry(const vi_me_partials *row, unsigned known)
     }
 }
 
+/* The partial of an unknown with respect to the state W_damping: 1 for W_dissipated (= W_plastic +
+ * W_damping), W_damping itself and nothing else. */
+static double damping_column(unsigned unknown)
+{
+    return unknown == VI_VR_W_dissipated || unknown == VI_VR_W_damping ? 1.0 : 0.0;
+}
+
 static int directional_derivative(void *m, const unsigned unknown[], size_t n_unknown, const unsigned known[],
                                   size_t n_known, const double dknown[], double dunknown[])
 {
@@ -200,6 +213,8 @@ static int directional_derivative(void *m, const unsigned unknown[], size_t n_un
         dunknown[i] = 0.0;
         for (size_t j = 0; j < n_known && row >= 0; j++)
             if (dknown[j] != 0.0) dunknown[i] += jacobian_entry(&jac[row], known[j]) * dknown[j];
+        for (size_t j = 0; j < n_known; j++)
+            if (known[j] == VI_VR_W_damping && dknown[j] != 0.0) dunknown[i] += damping_column(unknown[i]) * dknown[j];
     }
     return 0;
 }

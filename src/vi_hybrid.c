@@ -195,7 +195,10 @@ int vi_hybrid_zeno(const vi_hybrid *h, double t, int fired, int from, char *msg,
 {
     if (h->st->zeno < VI_ZENO_EVENTS) return 0;
     vi_snprintf(msg, n, "events accumulate at t = %.17g s (Zeno): %d events each within %g ulps of time of the one "
-                "before, the last on guard %d of mode %d; stopped there", t, VI_ZENO_EVENTS, VI_ZENO_ULPS, fired, from);
+                "before, the last on guard %d of mode %d (%s); stopped there. Each mode chosen was left again at once: "
+                "the motion the guards see leaves it. Where the platform moves through yC_in, pass its velocity "
+                "(velocity_input = true, vC_in); else tighten rtol", t, VI_ZENO_EVENTS, VI_ZENO_ULPS, fired, from,
+                vi_model_guard_name(h->model, from, fired));
     return 1;
 }
 

@@ -50,7 +50,7 @@ static void mark_step(vi_sim_data *d)
 {
     d->step_t0 = d->t;
     d->step_v0 = d->x[1];
-    d->step_u0 = d->model.yC_in.u;
+    d->step_u0 = vi_ramp_at(&d->model.yC_in, d->t);
 }
 
 /* Bind the event engine to the integrated position y (Model Exchange) and start the driver's own state. */
@@ -76,10 +76,11 @@ int vi_me_initialize(vi_me *e)
     start_driver(e, 1);
     sync(e);
     vi_hybrid_start(&s->engine, d->events.rtol, d->events.atol, d->t, d->x);
-    double nominal[2];
+    double nominal[VI_ME_NSTATES];
     vi_me_nominals(e, nominal);
-    s->log(s->log_env, VI_LOG_SOLVER, "Model Exchange: the importer integrates y and v (nominals %g m, %g m/s); "
-           "initial mode %d, delta = %.9g m, v = %.9g m/s", nominal[0], nominal[1], model->mode, d->x[0], d->x[1]);
+    s->log(s->log_env, VI_LOG_SOLVER, "Model Exchange: the importer integrates y, v and W_damping (nominals %g m, %g m/s, "
+           "%g J); initial mode %d, delta = %.9g m, v = %.9g m/s", nominal[0], nominal[1], nominal[2], model->mode, d->x[0],
+           d->x[1]);
     return 0;
 }
 
@@ -94,12 +95,14 @@ void vi_me_get_states(vi_me *e, double x[VI_ME_NSTATES])
     const vi_sim_data *d = &e->s.d;
     x[0] = e->active ? d->y_me : platform(&d->model, d->t) - d->x[0]; /* before: the initial state prepared */
     x[1] = d->x[1];
+    x[2] = d->W_damping;
 }
 
 void vi_me_set_states(vi_me *e, const double x[VI_ME_NSTATES])
 {
     e->s.d.y_me = x[0];
     e->s.d.x[1] = x[1];
+    e->s.d.W_damping = x[2];
     e->stale = 1;
 }
 
@@ -111,6 +114,7 @@ void vi_me_derivatives(vi_me *e, double dx[VI_ME_NSTATES])
     vi_model_rhs(&d->model, d->t, d->x, r);
     dx[0] = d->x[1];
     dx[1] = r[1];
+    dx[2] = vi_model_damping_power(&d->model, d->t, d->x).P;
 }
 
 void vi_me_indicators(vi_me *e, double z[VI_ME_NINDICATORS])
@@ -123,6 +127,7 @@ void vi_me_nominals(const vi_me *e, double nominal[VI_ME_NSTATES])
 {
     const vi_hybrid_state *h = &e->s.d.events;
     for (int i = 0; i < 2; i++) nominal[i] = e->active && h->atol[i] > 0.0 ? h->atol[i] / h->rtol : 1.0;
+    nominal[2] = e->active && h->atol[1] > 0.0 ? e->s.d.model.m * nominal[1] * nominal[1] : 1.0; /* m V^2 [J] */
 }
 
 /* The end of a non-periodic profile at or before t: 1 with the reason in msg. */
@@ -209,7 +214,7 @@ static void estimate_rate(vi_me *e)
     vi_sim_data *d = &e->s.d;
     double h = d->t - d->step_t0;
     if (d->par.velocity_input || !(h > 0.0)) return;
-    d->yC_in_rate = (d->model.yC_in.u - d->step_u0) / h;
+    d->yC_in_rate = (vi_ramp_at(&d->model.yC_in, d->t) - d->step_u0) / h;
     if (d->yC_in_rate != 0.0 && !e->warned_rate && vi_model_uses_rate(&d->model)) {
         e->warned_rate = 1;
         e->s.log(e->s.log_env, VI_LOG_WARNING, "t = %.17g s: yC_in moves (%g m/s) and velocity_input = false: Model "
@@ -254,11 +259,13 @@ const vi_outputs *vi_me_outputs_of(vi_me *e, unsigned groups)
     vi_sim *s = &e->s;
     sync(e);
     const vi_outputs *out = vi_sim_outputs_of(s, groups);
+    if (e->active && (groups & VI_OUT_FORCE)) s->out.F_peak = s->out.F; /* the importer's steps are not seen */
     if ((groups & VI_OUT_DERIVATIVES) && !(s->out_valid & VI_OUT_DERIVATIVES)) {
         double r[2];
         vi_model_rhs(&s->d.model, s->d.t, s->d.x, r);
         s->out.der_y = s->d.x[1];
         s->out.der_v = r[1];
+        s->out.der_W_damping = vi_model_damping_power(&s->d.model, s->d.t, s->d.x).P;
         s->out_valid |= VI_OUT_DERIVATIVES;
     }
     return out;
@@ -297,6 +304,21 @@ static vi_me_partials through_delta(double a_d, double a_v, double a_F, double a
     return (vi_me_partials){.y = -a_d, .v = a_v, .yC_in = a_d + a_yC, .F_ext = a_F, .vC_in = 0.0};
 }
 
+/* The rows of the energy outputs and of the damping's power: W_dissipated = W_plastic + W_damping (the
+ * state's column is the layer's), E_contact, and F_peak = F. */
+static void energy_rows(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
+{
+    const vi_sim_data *d = &e->s.d;
+    double dE;
+    vi_model_contact_energy(&d->model, d->x, &dE);
+    vi_model_power P = vi_model_damping_power(&d->model, d->t, d->x);
+    jac[VI_ME_DER_W] = through_delta(P.dP_ddelta, -P.dP_drate, 0.0, 0.0); /* delta' = yC' - v */
+    if (d->par.velocity_input) jac[VI_ME_DER_W].vC_in = P.dP_drate;
+    jac[VI_ME_W_DISSIPATED] = jac[VI_ME_W_PLASTIC];
+    jac[VI_ME_E_CONTACT] = through_delta(dE, 0.0, 0.0, 0.0);
+    jac[VI_ME_F_PEAK] = jac[VI_ME_F];
+}
+
 void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
 {
     sync(e);
@@ -330,4 +352,5 @@ void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
         if (h <= 0.0) jac[VI_ME_F_MEAN].vC_in = c;
         jac[VI_ME_K_CONTACT].vC_in = k_per_rate;
     }
+    energy_rows(e, jac);
 }

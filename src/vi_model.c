@@ -229,6 +229,9 @@ typedef struct {
     double (*impact_indentation)(const vi_model *model, double v);
     /* the memory outputs (delta_c, delta_f, delta_p, Rbar, W_plastic) at indentation d */
     void (*memory_outputs)(const vi_model *model, double d, vi_model_values *out);
+    /* the elastic energy [J] held at indentation d in the elastic and the plastic mode (vi_model_contact_energy) */
+    double (*elastic_energy)(const vi_model *model, double d);
+    double (*plastic_energy)(const vi_model *model, double d);
     int permanent_set; /* the memory is the permanent set delta_p (else delta_p stays 0) */
     /* Laws with an unloading curve (Johnson fixed, Thornton): the virgin curve's inverse and work, the
      * unloading curve after delta_c and its rates with delta_c; may_stick: the unloading curve can lie
@@ -280,6 +283,7 @@ static double hertz_force(const vi_model *model, double d) { return vi_hertz_for
 static double hertz_stiffness(const vi_model *model, double d) { return vi_hertz_stiffness(model->K, d); }
 static double hertz_stiffness_rate(const vi_model *model, double d) { return vi_hertz_stiffness_rate(model->K, d); }
 static double hertz_no_yield(const vi_model *model) { return (void)model, INFINITY; }
+static double hertz_energy(const vi_model *model, double d) { return vi_hertz_energy(model->K, d); }
 static int hertz_choose(vi_model *model, double x[2], const rates *q)
 {
     (void)model;
@@ -386,10 +390,37 @@ static void johnson_memory_rates(const vi_model *model, double d, vi_memory_rate
     r->W_plastic = law(model)->plastic_force(model, d) - 0.4 * dK * dr * dr * sqrt(dr) - U.Kbar * dr * sqrt(dr) * u.delta_r;
 }
 
+/* The energy held while loading on the virgin curve beyond delta_Y: the unloading curve of delta_c = d
+ * gives it back (with a moving contact point the virgin curve itself does). */
+static double johnson_plastic_energy(const vi_model *model, double d)
+{
+    if (!is_johnson_fixed(model)) return law(model)->virgin_work(model, d);
+    vi_unload_curve U = law(model)->unload_curve(model, d);
+    return vi_unload_energy(&U, d);
+}
+
 static double johnson_indentation(const vi_model *model, double F) { return vi_johnson_load_indentation(&model->johnson, F); }
 static double johnson_work(const vi_model *model, double d) { return vi_johnson_load_work(&model->johnson, d); }
 static vi_unload_curve johnson_unload(const vi_model *model, double dc) { return vi_johnson_unload_curve(&model->johnson, model->unloading, dc); }
 static vi_unload_rates johnson_unload_rates(const vi_model *model, double dc) { return vi_johnson_unload_rates(&model->johnson, model->unloading, dc); }
+/* Paper unloading as printed returns more energy than the loading took after a small plastic excursion
+ * (eq. 3 is stiffer than Hertz above delta_Y; W_plastic < 0 for delta_c < 1.2527 delta_Y at theta_Y = 1.1).
+ * Returns 1, with the values in msg, when the unloading curve in memory does (not while delta_c moves). */
+static int johnson_makes_energy(const vi_model *model, double t, char *msg, size_t n)
+{
+    if (model->law != VI_LAW_JOHNSON || model->moving || model->unloading != VI_UNLOAD_PAPER || !model->yielded ||
+        model->mode == VI_MODE_PLASTIC)
+        return 0;
+    const vi_unload_curve *U = &model->unload;
+    double taken = vi_johnson_load_work(&model->johnson, U->delta_c), returned = vi_unload_energy(U, U->delta_c);
+    if (!(returned > taken)) return 0;
+    vi_snprintf(msg, n, "t = %.17g s: unloading = paper returns more energy than the contact took: loading to "
+                "delta_c = %g m (%.5g delta_Y) took %g J, its unloading curve (eq. 4 as printed) gives back %g J "
+                "(W_plastic = %g J), a rebound faster than the impact, as below 1.2527 delta_Y; unloading = "
+                "continuous does not", t, U->delta_c, U->delta_c / model->johnson.delta_Y, taken, returned,
+                taken - returned);
+    return 1;
+}
 
 /* Thornton (vi_laws.h): Johnson's automaton with Thornton's virgin and unloading curves; the unloading
  * curve meets the loading force at delta_c, so there is no stick. */
@@ -415,6 +446,7 @@ static double spring_static_indentation(const vi_model *model, double W) { retur
 static double spring_static_stiffness(const vi_model *model, double W) { return (void)W, model->linear.k; }
 static double spring_virgin_stiffness(const vi_model *model, double d) { return (void)d, model->linear.k; }
 static double spring_impact(const vi_model *model, double v) { return v * sqrt(model->m) / sqrt(model->linear.k); }
+static double spring_energy(const vi_model *model, double d) { return d > 0.0 ? 0.5 * model->linear.k * d * d : 0.0; }
 /* Leaving the free mode where the force guard g is well inside its positive side (more than half the
  * size of its terms; at a resumed contact it is about 0) is a new contact, through delta = 0. */
 #define VI_ONSET_GUARD_FRACTION 0.5
@@ -463,6 +495,12 @@ static int lepp_choose(vi_model *model, double x[2], const rates *q)
     return ahead(x[0] - lepp_yield(model), q->r, q->F_hold - model->johnson.F_Y, q->j) ? VI_MODE_PLASTIC : VI_MODE_ELASTIC;
 }
 static int lepp_modes(const vi_model *model, int mode) { return (void)model, mode >= VI_MODE_FREE && mode <= VI_MODE_PLASTIC; }
+static double lepp_energy(const vi_model *model, double d)
+{
+    double s = d - model->delta_p;
+    return s > 0.0 ? 0.5 * model->k_lin * s * s : 0.0;
+}
+static double lepp_flow_energy(const vi_model *model, double d) { return (void)d, 0.5 * model->johnson.F_Y * model->johnson.delta_Y; }
 static double lepp_static_indentation(const vi_model *model, double W)
 {
     return W <= model->johnson.F_Y ? W / model->k_lin : model->johnson.delta_Y; /* beyond F_Y: flows from the start */
@@ -479,7 +517,7 @@ static void lepp_memory(const vi_model *model, double d, vi_model_values *out)
 static void lepp_memory_rates(const vi_model *model, double d, vi_memory_rates *r)
 {
     no_memory_rates(model, d, r);
-    if (model->mode == VI_MODE_PLASTIC && d - model->johnson.delta_Y >= model->delta_p)
+    if (model->mode == VI_MODE_PLASTIC && d >= lepp_yield(model))
         r->delta_p = 1.0, r->W_plastic = model->johnson.F_Y;
 }
 
@@ -490,7 +528,7 @@ static const law_fns laws[] = {
         .contact_surface = zero_surface, .yield_surface = hertz_no_yield, .plastic_floor = hertz_no_yield,
         .choose = hertz_choose, .mode_allowed = hertz_modes, .static_indentation = hertz_static_indentation,
         .static_stiffness = hertz_static_stiffness, .virgin_stiffness = hertz_stiffness,
-        .impact_indentation = hertz_impact, .memory_outputs = no_memory},
+        .impact_indentation = hertz_impact, .memory_outputs = no_memory, .elastic_energy = hertz_energy},
     [VI_LAW_JOHNSON] = {
         .name = "johnson", .elastic_force = johnson_load, .elastic_stiffness = johnson_load_stiffness,
         .plastic_force = johnson_load, .plastic_stiffness = johnson_load_stiffness, .contact_surface = johnson_contact,
@@ -500,7 +538,8 @@ static const law_fns laws[] = {
         .choose = johnson_choose, .mode_allowed = johnson_modes, .static_indentation = johnson_static_indentation,
         .static_stiffness = johnson_static_stiffness, .virgin_stiffness = johnson_load_stiffness,
         .impact_indentation = hertz_impact, .memory_outputs = johnson_memory, .virgin_indentation = johnson_indentation,
-        .virgin_work = johnson_work, .unload_curve = johnson_unload, .unload_rates = johnson_unload_rates, .may_stick = 1},
+        .virgin_work = johnson_work, .unload_curve = johnson_unload, .unload_rates = johnson_unload_rates, .may_stick = 1,
+        .elastic_energy = johnson_work, .plastic_energy = johnson_plastic_energy},
     [VI_LAW_LEPP] = {
         .name = "lepp", .elastic_force = lepp_force, .elastic_stiffness = lepp_stiffness,
         .plastic_force = lepp_flow_force, .plastic_stiffness = lepp_flow_stiffness, .contact_surface = lepp_contact,
@@ -508,7 +547,8 @@ static const law_fns laws[] = {
         .yield_surface = lepp_yield, .plastic_floor = lepp_yield, .freeze_plastic = lepp_flow_to,
         .choose = lepp_choose, .mode_allowed = lepp_modes, .static_indentation = lepp_static_indentation,
         .static_stiffness = lepp_static_stiffness, .virgin_stiffness = lepp_virgin_stiffness,
-        .impact_indentation = lepp_impact, .memory_outputs = lepp_memory, .permanent_set = 1},
+        .impact_indentation = lepp_impact, .memory_outputs = lepp_memory, .permanent_set = 1,
+        .elastic_energy = lepp_energy, .plastic_energy = lepp_flow_energy},
     [VI_LAW_HERTZ_DAMPED] = {
         .name = "hertz_damped", .elastic_force = hertz_force, .elastic_stiffness = hertz_stiffness,
         .elastic_stiffness_rate = hertz_stiffness_rate, .plastic_stiffness_rate = no_rate, .memory_rates = no_memory_rates,
@@ -516,7 +556,7 @@ static const law_fns laws[] = {
         .choose = damped_choose, .mode_allowed = hertz_modes, .static_indentation = hertz_static_indentation,
         .static_stiffness = hertz_static_stiffness, .virgin_stiffness = hertz_stiffness,
         .impact_indentation = hertz_impact, .memory_outputs = no_memory, .rate_force = damped_force,
-        .rate_curvature = damped_curvature, .force_guard = damped_guard},
+        .rate_curvature = damped_curvature, .force_guard = damped_guard, .elastic_energy = hertz_energy},
     [VI_LAW_LINEAR] = {
         .name = "linear", .elastic_force = spring_force, .elastic_stiffness = spring_stiffness,
         .elastic_stiffness_rate = no_rate, .plastic_stiffness_rate = no_rate, .memory_rates = no_memory_rates,
@@ -524,7 +564,7 @@ static const law_fns laws[] = {
         .choose = damped_choose, .mode_allowed = hertz_modes, .static_indentation = spring_static_indentation,
         .static_stiffness = spring_static_stiffness, .virgin_stiffness = spring_virgin_stiffness,
         .impact_indentation = spring_impact, .memory_outputs = no_memory, .rate_force = linear_force,
-        .rate_curvature = linear_curvature, .force_guard = linear_guard},
+        .rate_curvature = linear_curvature, .force_guard = linear_guard, .elastic_energy = spring_energy},
     [VI_LAW_THORNTON] = {
         .name = "thornton", .elastic_force = thornton_load, .elastic_stiffness = thornton_load_stiffness,
         .plastic_force = thornton_load, .plastic_stiffness = thornton_load_stiffness, .contact_surface = johnson_contact,
@@ -534,7 +574,8 @@ static const law_fns laws[] = {
         .choose = johnson_choose, .mode_allowed = johnson_modes, .static_indentation = johnson_static_indentation,
         .static_stiffness = johnson_static_stiffness, .virgin_stiffness = thornton_load_stiffness,
         .impact_indentation = hertz_impact, .memory_outputs = johnson_memory, .virgin_indentation = thornton_indentation,
-        .virgin_work = thornton_work, .unload_curve = thornton_unload, .unload_rates = thornton_unload_rates},
+        .virgin_work = thornton_work, .unload_curve = thornton_unload, .unload_rates = thornton_unload_rates,
+        .elastic_energy = thornton_work, .plastic_energy = johnson_plastic_energy},
 };
 
 /* The row of model's law (set up, or checked to be one of the three). */
@@ -626,6 +667,92 @@ double vi_model_stiffness_rate(const vi_model *model, double t, const double x[2
 
 void vi_model_memory_rates(const vi_model *model, const double x[2], vi_memory_rates *r) { law(model)->memory_rates(model, x[0], r); }
 
+/* ---- energy (vi_model.h, ENERGY) --------------------------------------------------------------------- */
+
+/* A plastic state below the memory written down (Model Exchange: an importer's state past a turning
+ * point it has not located yet): delta below delta_c (Johnson and Thornton with a fixed contact point)
+ * or below the LEPP yield surface. */
+static int below_written(const vi_model *model, double d)
+{
+    if (is_johnson_fixed(model)) return model->yielded && d < model->unload.delta_c;
+    return law(model)->permanent_set && d < lepp_yield(model);
+}
+
+double vi_model_contact_energy(const vi_model *model, const double x[2], double *per_delta)
+{
+    const law_fns *L = law(model);
+    double d = x[0], E = 0.0, k = 0.0;
+    vi_memory_rates r;
+    if (L->rate_force) { /* the spring part, while the bodies overlap */
+        E = L->elastic_energy(model, d), k = L->elastic_force(model, d);
+    } else {
+        switch (model->mode) {
+        case VI_MODE_ELASTIC: E = L->elastic_energy(model, d), k = L->elastic_force(model, d); break;
+        case VI_MODE_PLASTIC:
+            if (below_written(model, d)) { /* past a turning point not located yet: as unloading from the memory */
+                E = L->elastic_energy(model, d), k = L->elastic_force(model, d);
+                if (is_johnson_fixed(model)) E = vi_unload_energy(&model->unload, d), k = vi_unload_force(&model->unload, d);
+                break;
+            }
+            E = L->plastic_energy(model, d);
+            if (per_delta) L->memory_rates(model, d, &r), k = L->plastic_force(model, d) - r.W_plastic;
+            break;
+        case VI_MODE_UNLOAD: E = vi_unload_energy(&model->unload, d), k = vi_unload_force(&model->unload, d); break;
+        case VI_MODE_STICK: E = vi_unload_energy(&model->unload, model->unload.delta_c); break;
+        default: break;
+        }
+    }
+    if (per_delta) *per_delta = k;
+    return E;
+}
+
+double vi_model_contact_power(const vi_model *model, double t, const double x[2])
+{
+    if (model->mode == VI_MODE_FREE) return 0.0;
+    double r = indentation_rate(model, t, x);
+    if (law(model)->rate_force) return model->mode == VI_MODE_ELASTIC ? law(model)->rate_force(model, x[0], r).F * r : 0.0;
+    return vi_model_force(model, t, x) * r;
+}
+
+int vi_model_damps(const vi_model *model) { return law(model)->rate_force != NULL; }
+
+int vi_model_damping_root_at_onset(const vi_model *model)
+{
+    return model->law == VI_LAW_HERTZ_DAMPED && model->damped.formula == VI_DAMP_EXACT;
+}
+
+vi_model_power vi_model_damping_power(const vi_model *model, double t, const double x[2])
+{
+    const law_fns *L = law(model);
+    if (!L->rate_force) return (vi_model_power){0.0, 0.0, 0.0};
+    double d = x[0], r = indentation_rate(model, t, x), Fs = L->elastic_force(model, d), ks = L->elastic_stiffness(model, d);
+    vi_law_force F = rate_force(model, t, x); /* 0 when free */
+    return (vi_model_power){(F.F - Fs) * r, (F.dF_ddelta - ks) * r, F.dF_drate * r + F.F - Fs};
+}
+
+double vi_model_force_rate(const vi_model *model, double t, const double x[2], const double dx[2], double *F)
+{
+    const law_fns *L = law(model);
+    double d = x[0], k = 0.0;
+    *F = 0.0;
+    if (model->mode == VI_MODE_FREE) return 0.0;
+    if (model->mode == VI_MODE_STICK) return *F = hold_force(model, t), hold_force_rate(model, t);
+    if (L->rate_force) { /* dF/dt = F_delta r + F_r r', r' = yC'' - v' */
+        double y[4];
+        platform(model, t, y);
+        double r = y[1] - x[1];
+        vi_law_force f = L->rate_force(model, d, r);
+        *F = f.F;
+        return f.dF_ddelta * r + f.dF_drate * (y[2] - (dx ? dx[1] : (f.F - net_load(model, t)) / model->m));
+    }
+    switch (model->mode) {
+    case VI_MODE_ELASTIC: *F = L->elastic_force(model, d), k = L->elastic_stiffness(model, d); break;
+    case VI_MODE_PLASTIC: *F = L->plastic_force(model, d), k = L->plastic_stiffness(model, d); break;
+    default: *F = vi_unload_force(&model->unload, d), k = vi_unload_stiffness(&model->unload, d); break;
+    }
+    return k * (dx ? dx[0] : indentation_rate(model, t, x));
+}
+
 void vi_model_jacobian(const vi_model *model, double t, const double x[2], double j[4])
 {
     int stick = model->mode == VI_MODE_STICK;
@@ -667,6 +794,22 @@ void vi_model_guards(const vi_model *model, double t, const double x[2], double 
         break;
     }
     default: break;
+    }
+}
+
+const char *vi_model_guard_name(const vi_model *model, int mode, int guard)
+{
+    int damped = law(model)->force_guard != NULL, yields = isfinite(law(model)->yield_surface(model));
+    switch (mode * VI_NGUARDS + guard) {
+    case VI_MODE_FREE * VI_NGUARDS: return "contact";
+    case VI_MODE_ELASTIC * VI_NGUARDS: return "separation";
+    case VI_MODE_ELASTIC * VI_NGUARDS + 1: return damped ? "release (the damped force reaches 0)" : yields ? "yield" : "none";
+    case VI_MODE_PLASTIC * VI_NGUARDS: return plastic_ends_at_yield(model) ? "back below yield" : "the turning point (delta' = 0)";
+    case VI_MODE_UNLOAD * VI_NGUARDS: return "separation";
+    case VI_MODE_UNLOAD * VI_NGUARDS + 1: return "reloading to delta_c";
+    case VI_MODE_STICK * VI_NGUARDS: return "the end of stick (plastic loading)";
+    case VI_MODE_STICK * VI_NGUARDS + 1: return "the end of stick (unloading)";
+    default: return "none";
     }
 }
 
@@ -805,6 +948,7 @@ int vi_model_validity(const vi_model *model, double R1, double t, const double x
                     "leave the model's range of validity", t, model->a, R);
         return VI_INVALID_AMPLITUDE;
     }
+    if (!(skip & VI_INVALID_ENERGY) && johnson_makes_energy(model, t, msg, n)) return VI_INVALID_ENERGY;
     double span = model->profile ? vi_profile_height_span(model->profile) : 0.0;
     if (!(skip & VI_INVALID_PROFILE) && span > R1) {
         vi_snprintf(msg, n, "t = %.17g s: the heights of profile_file span %g m, more than the rolling radius R1 = %g m: "
@@ -1021,4 +1165,5 @@ void vi_model_outputs(const vi_model *model, double t, const double x[2], unsign
     out->delta_c = out->delta_f = out->delta_p = out->W_plastic = 0.0;
     out->Rbar = model->johnson.R_star;
     law(model)->memory_outputs(model, d, out);
+    out->E_contact = vi_model_contact_energy(model, x, NULL);
 }

@@ -1,20 +1,16 @@
-/* vi_solver.c - the solver interface (vi_solver.h): SUNDIALS CVODE 6.4 (BDF, Adams), the built-in
- * one-step method (vi_ode.h, Dormand-Prince 8(5,3)), and AUTO switching between the one-step method
- * and BDF. */
+/* vi_solver.c - the solver interface (vi_solver.h): SUNDIALS CVODE (BDF, Adams; SUNDIALS 6.4 or 7.x:
+ * vi_sundials.h), the built-in one-step method (vi_ode.h, Dormand-Prince 8(5,3)), and AUTO switching
+ * between the one-step method and BDF. */
 #include "vi_solver.h"
 
-#include <cvode/cvode.h>
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
-#include <nvector/nvector_serial.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_dense.h>
-#include <sunmatrix/sunmatrix_dense.h>
 
 #include "vi_check.h"
+#include "vi_sundials.h"
 
 struct vi_solver {
     vi_solver_config cfg; /* cfg.atol: the caller's, read only while the solver is created */
@@ -34,7 +30,30 @@ struct vi_solver {
     double troot, xroot[VI_SOLVER_MAX_N];
     int rootsfound[VI_SOLVER_MAX_GUARDS]; /* ... for these guards; not reported yet */
     vi_solver_stats before_reset; /* CVodeReInit zeroes CVODE's counters: the sums before it */
+    /* the pieces (vi_solver.h, PIECES): the solution is handed over up to tq, where it is xq */
+    double tq, xq[VI_SOLVER_MAX_N];
+    int piece_of_ode;             /* the piece being handed over is the one-step method's */
 };
+
+#if defined(SUNDIALS_ENABLE_PYTHON)
+/* A SUNDIALS built for its Python module (the sundials4py wheel's static libraries) calls, when it
+ * frees an object, a function of that module to free the Python callbacks the object holds. Nothing
+ * here attaches Python callbacks (the pointer it passes is NULL): these free nothing. */
+void SUNContextFunctionTable_Destroy(void *ptr);
+void SUNLoggerFunctionTable_Destroy(void *ptr);
+void SUNLinearSolverFunctionTable_Destroy(void *ptr);
+void SUNNonlinearSolverFunctionTable_Destroy(void *ptr);
+void SUNDomEigEstimatorFunctionTable_Destroy(void *ptr);
+void SUNStepperFunctionTable_Destroy(void *ptr);
+void cvode_user_supplied_fn_table_destroy(void *ptr);
+void SUNContextFunctionTable_Destroy(void *ptr) { (void)ptr; }
+void SUNLoggerFunctionTable_Destroy(void *ptr) { (void)ptr; }
+void SUNLinearSolverFunctionTable_Destroy(void *ptr) { (void)ptr; }
+void SUNNonlinearSolverFunctionTable_Destroy(void *ptr) { (void)ptr; }
+void SUNDomEigEstimatorFunctionTable_Destroy(void *ptr) { (void)ptr; }
+void SUNStepperFunctionTable_Destroy(void *ptr) { (void)ptr; }
+void cvode_user_supplied_fn_table_destroy(void *ptr) { (void)ptr; }
+#endif
 
 /* Returned by the methods' advance loops under AUTO: the other method takes over here. */
 enum { HANDOVER = 100 };
@@ -103,20 +122,79 @@ static int jac_cb(sunrealtype t, N_Vector x, N_Vector fx, SUNMatrix J, void *ud,
     return 0;
 }
 
-/* CVODE's own messages. The work limit is not an error here: vi_solver_advance reports it. */
-static void err_cb(int code, const char *module, const char *function, char *msg, void *ud)
+/* CVODE's own messages: an error for a negative code, else a warning. The work limit is not an error
+ * here: vi_solver_advance reports it. */
+static void relay(const vi_solver *s, int code, const char *module, const char *function, const char *msg)
 {
-    const vi_solver *s = ud;
     if (code == CV_TOO_MUCH_WORK) return;
     s->cfg.log(s->cfg.log_env, code < 0 ? VI_LOG_ERROR : VI_LOG_WARNING, "%s %s: %s", module, function, msg);
 }
+
+#if VI_SUNDIALS_7
+/* SUNDIALS 7 names no module: CVODE for CVODE's functions (CVode*, and cv* inside), SUNDIALS for the
+ * shared ones. */
+static const char *module_of(const char *function)
+{
+    return function && (strncmp(function, "CVode", 5) == 0 || strncmp(function, "cv", 2) == 0) ? "CVODE" : "SUNDIALS";
+}
+
+/* The context's error handler (the only one: SUNDIALS' own, which prints to stderr, is removed). */
+static void err_cb(int line, const char *function, const char *file, const char *msg, SUNErrCode code, void *ud,
+                   SUNContext ctx)
+{
+    (void)line, (void)file, (void)ctx;
+    relay(ud, code, module_of(function), function ? function : "?", msg ? msg : SUNGetErrMsg(code));
+}
+
+#if VI_SUNLOGGER_CALLBACKS
+/* The logger's messages: CVODE's warnings (the errors come through err_cb; nothing is printed). */
+static SUNErrCode log_cb(SUNLogger logger, SUNLogLevel level, const char *prefix, int rank, const char *scope,
+                         const char *label, const char *payload, void *ud)
+{
+    (void)logger, (void)prefix, (void)rank, (void)scope;
+    if (level == SUN_LOGLEVEL_WARNING && payload) relay(ud, CV_WARNING, module_of(label), label ? label : "?", payload);
+    return SUN_SUCCESS;
+}
+
+static SUNErrCode flush_cb(SUNLogger logger, SUNLogLevel level, void *ud)
+{
+    (void)logger, (void)level, (void)ud;
+    return SUN_SUCCESS;
+}
+#endif
+
+/* SUNDIALS 7: CVODE's errors to err_cb, its warnings to log_cb (7.8 on). Before 7.8 a logger's only
+ * outputs are files (CVODE's warnings go to stdout): the context has none, and CVODE's warnings are
+ * dropped (a SUNDIALS logging at debug level, 4, needs one: its own, as it is). */
+static int route_messages(vi_solver *s)
+{
+    CHECK(SUNContext_ClearErrHandlers(s->ctx));
+    CHECK(SUNContext_PushErrHandler(s->ctx, err_cb, s));
+#if VI_SUNLOGGER_CALLBACKS
+    SUNLogger logger = NULL;
+    CHECK(SUNContext_GetLogger(s->ctx, &logger));
+    if (logger) CHECK(SUNLogger_SetQueueAndFlushMsgFns(logger, log_cb, flush_cb, s));
+#elif SUNDIALS_LOGGING_LEVEL < 4
+    CHECK(SUNContext_SetLogger(s->ctx, NULL));
+#endif
+    return 0;
+}
+#else
+/* SUNDIALS 6: the integrator's handler takes CVODE's errors and warnings. */
+static void err_cb(int code, const char *module, const char *function, char *msg, void *ud)
+{
+    relay(ud, code, module, function, msg);
+}
+#endif
 
 static int configure(vi_solver *s, double t0, const double *x0)
 {
     const vi_solver_config *c = &s->cfg;
     memcpy(NV_DATA_S(s->x), x0, sizeof(double) * (size_t)c->n);
     memcpy(NV_DATA_S(s->atol), c->atol, sizeof(double) * (size_t)c->n);
+#if !VI_SUNDIALS_7
     CHECK(CVodeSetErrHandlerFn(s->cvode, err_cb, s));
+#endif
     CHECK(CVodeInit(s->cvode, rhs_cb, t0, s->x));
     CHECK(CVodeSetUserData(s->cvode, s));
     CHECK(CVodeSVtolerances(s->cvode, c->rtol, s->atol));
@@ -258,6 +336,75 @@ int vi_solver_auto_check(const vi_solver_auto *a, char *msg, size_t size)
 #undef AUTO_BAD
 }
 
+/* ---- the pieces ---------------------------------------------------------------------------------- */
+
+/* The pieces start anew at (t0, x0): a (re)start, a resumed state. */
+static void pieces_from(vi_solver *s, double t0, const double *x0)
+{
+    s->tq = t0;
+    memcpy(s->xq, x0, sizeof(double) * (size_t)s->cfg.n);
+}
+
+/* x'(t) on the piece p: the one-step method's f at the end of its step, else the interpolant's (CVODE: its
+ * derivative alone). */
+static int piece_derivative(vi_solver *s, const vi_solver_piece *p, double t, double *dx)
+{
+    size_t bytes = sizeof(double) * (size_t)s->cfg.n;
+    if (s->piece_of_ode && t == s->cfg.ode->t) {
+        memcpy(dx, s->cfg.ode->f, bytes);
+        return 0;
+    }
+    if (!s->piece_of_ode && !s->fresh) {
+        CHECK(CVodeGetDky(s->cvode, t, 1, s->dky));
+        memcpy(dx, NV_DATA_S(s->dky), bytes);
+        return 0;
+    }
+    double x[VI_SOLVER_MAX_N];
+    return vi_solver_piece_at(p, t, x, dx);
+}
+
+/* Hand over the piece [tq, tb] of the current step (of_ode: the one-step method's), where x(tb) = xb and
+ * x'(tb) = dxb (NULL: piece_derivative). */
+static int cover(vi_solver *s, int of_ode, double tb, const double *xb, const double *dxb)
+{
+    if (!(tb > s->tq)) return 0;
+    if (s->cfg.piece) {
+        double dx[VI_SOLVER_MAX_N];
+        s->piece_of_ode = of_ode;
+        vi_solver_piece p = {.ta = s->tq, .tb = tb, .xa = s->xq, .xb = xb, .dxb = dxb ? dxb : dx, .solver = s};
+        if (!dxb && piece_derivative(s, &p, tb, dx) < 0) return VI_SOLVER_FAILED;
+        if (s->cfg.piece(&p, s->cfg.user) < 0) return VI_SOLVER_FAILED;
+    }
+    pieces_from(s, tb, xb);
+    return 0;
+}
+
+int vi_solver_piece_at(const vi_solver_piece *piece, double t, double *x, double *dx)
+{
+    vi_solver *s = piece->solver;
+    size_t bytes = sizeof(double) * (size_t)s->cfg.n;
+    if (!dx && (t == piece->ta || t == piece->tb)) {
+        memcpy(x, t == piece->ta ? piece->xa : piece->xb, bytes);
+        return 0;
+    }
+    if (s->piece_of_ode) {
+        int r = vi_ode_dense(s->cfg.ode, &s->ode_problem, t, x, dx);
+        return r < 0 ? ode_fail_at(s, r, "vi_ode_dense", t) : 0;
+    }
+    if (s->fresh) { /* no step yet: a piece of a few ulps of time at the start point, x' from the rhs */
+        memcpy(x, piece->xa, bytes);
+        if (dx) s->cfg.rhs(t, x, dx, s->cfg.user);
+        return 0;
+    }
+    CHECK(CVodeGetDky(s->cvode, t, 0, s->dky));
+    memcpy(x, NV_DATA_S(s->dky), bytes);
+    if (dx) {
+        CHECK(CVodeGetDky(s->cvode, t, 1, s->dky));
+        memcpy(dx, NV_DATA_S(s->dky), bytes);
+    }
+    return 0;
+}
+
 static int ode_advance(vi_solver *s, double tout, long max_steps, double *t, double *x, int *fired, long *taken)
 {
     vi_ode *o = s->cfg.ode;
@@ -268,14 +415,16 @@ static int ode_advance(vi_solver *s, double tout, long max_steps, double *t, dou
             *t = o->ev_t;
             memcpy(x, o->ev_x, sizeof(double) * (size_t)n);
             for (int i = 0; i < s->cfg.nguards; i++) fired[i] = (o->ev_fired >> i) & 1u;
-            return VI_SOLVER_EVENT;
+            return cover(s, 1, *t, x, NULL) < 0 ? VI_SOLVER_FAILED : VI_SOLVER_EVENT;
         }
-        if (tout <= o->t) { /* inside the last step: its interpolant */
-            int r = o->have_step ? vi_ode_dense(o, p, tout, x, NULL) : VI_ODE_ERR_ARGS;
+        if (tout <= o->t) { /* inside the last step: its interpolant (and its derivative for the piece) */
+            double dx[VI_SOLVER_MAX_N], *pdx = s->cfg.piece ? dx : NULL;
+            int r = o->have_step ? vi_ode_dense(o, p, tout, x, pdx) : VI_ODE_ERR_ARGS;
             if (r < 0) return ode_fail(s, r, "vi_ode_dense");
             *t = tout;
-            return VI_SOLVER_REACHED;
+            return cover(s, 1, tout, x, pdx) < 0 ? VI_SOLVER_FAILED : VI_SOLVER_REACHED;
         }
+        if (cover(s, 1, o->t, o->x, NULL) < 0) return VI_SOLVER_FAILED; /* the rest of the step, before it is left */
         if (*taken >= max_steps) {
             *t = o->t;
             memcpy(x, o->x, sizeof(double) * (size_t)n);
@@ -324,7 +473,10 @@ static int check_config(const vi_solver_config *cfg)
 static int create_cvode(vi_solver *s)
 {
     const vi_solver_config *cfg = &s->cfg;
-    if (check_flag(s, SUNContext_Create(NULL, &s->ctx), "SUNContext_Create") < 0) return -1;
+    if (check_flag(s, SUNContext_Create(VI_SUN_COMM_NULL, &s->ctx), "SUNContext_Create") < 0) return -1;
+#if VI_SUNDIALS_7
+    if (route_messages(s) < 0) return -1;
+#endif
     s->cvode = CVodeCreate(cfg->method == VI_METHOD_ADAMS ? CV_ADAMS : CV_BDF, s->ctx); /* AUTO: BDF */
     if (check_ptr(s, s->cvode, "CVodeCreate") < 0) return -1;
     s->x = N_VNew_Serial(cfg->n, s->ctx);
@@ -354,6 +506,7 @@ static vi_solver *create(const vi_solver_config *cfg, double t0, const double *x
         return NULL;
     }
     s->cfg = *cfg;
+    pieces_from(s, t0, x0);
     if (cfg->method == VI_METHOD_DOP853) {
         if (ode_setup(s) < 0) goto fail;
         if (resume ? !ode_valid(s, t0) : vi_solver_reset(s, t0, x0) < 0) goto fail;
@@ -393,6 +546,7 @@ int vi_solver_checkpoint(vi_solver *s, double t0, const double *x0)
 /* Restart the one-step method, or CVODE, at (t0, x0). */
 static int ode_restart(vi_solver *s, double t0, const double *x0)
 {
+    pieces_from(s, t0, x0);
     int r = vi_ode_restart(s->cfg.ode, &s->ode_problem, t0, x0, 0.0, 0u);
     return r < 0 ? ode_fail_at(s, r, "vi_ode_restart", t0) : 0;
 }
@@ -401,6 +555,7 @@ static void cvode_counters(const vi_solver *s, vi_solver_stats *st);
 
 static int cvode_restart(vi_solver *s, double t0, const double *x0)
 {
+    pieces_from(s, t0, x0);
     memcpy(NV_DATA_S(s->x), x0, sizeof(double) * (size_t)s->cfg.n);
     cvode_counters(s, &s->before_reset);
     CHECK(CVodeReInit(s->cvode, t0, s->x));
@@ -435,7 +590,7 @@ static int cvode_advance(vi_solver *s, double tout, long max_steps, double *t, d
          * The solver stays at t0 and the next call integrates from there. */
         memcpy(x, NV_DATA_S(s->x), bytes);
         *t = tout;
-        return VI_SOLVER_REACHED;
+        return cover(s, 0, tout, x, NULL) < 0 ? VI_SOLVER_FAILED : VI_SOLVER_REACHED;
     }
     for (;;) { /* bounded: every pass takes a step, at most max_steps */
         if (s->root_pending && s->troot <= tout) {
@@ -443,14 +598,16 @@ static int cvode_advance(vi_solver *s, double tout, long max_steps, double *t, d
             *t = s->troot;
             memcpy(x, s->xroot, bytes);
             memcpy(fired, s->rootsfound, sizeof(int) * (size_t)s->cfg.nguards);
-            return VI_SOLVER_EVENT;
+            return cover(s, 0, *t, x, NULL) < 0 ? VI_SOLVER_FAILED : VI_SOLVER_EVENT;
         }
         if (!s->fresh && tout <= s->tn) {
             CHECK(CVodeGetDky(s->cvode, tout, 0, s->dky));
             memcpy(x, NV_DATA_S(s->dky), bytes);
             *t = tout;
-            return VI_SOLVER_REACHED;
+            return cover(s, 0, tout, x, NULL) < 0 ? VI_SOLVER_FAILED : VI_SOLVER_REACHED;
         }
+        /* the rest of the last step, before it is left (s->x holds x(tn): no root is pending here) */
+        if (!s->fresh && cover(s, 0, s->tn, NV_DATA_S(s->x), NULL) < 0) return VI_SOLVER_FAILED;
         if (*taken >= max_steps) { /* s->x holds x(tn): no root is pending in a completed step */
             *t = s->tn;
             memcpy(x, NV_DATA_S(s->x), bytes);

@@ -297,22 +297,22 @@ static void model_exchange(const char *resources)
         if (!c) continue;
         EXPECT(initialize(c, law, 1e-4, 6e8) == fmi2OK);
         event_iteration(c);
-        double x[2], dx[2], z[2], z_old[2], nominal[2], t = 0.0, h = 1e-7;
-        EXPECT(F.get_states(c, x, 2) == fmi2OK && F.get_nominals(c, nominal, 2) == fmi2OK);
+        double x[ME_NX], dx[ME_NX], z[2], z_old[2], nominal[ME_NX], t = 0.0, h = 1e-7;
+        EXPECT(F.get_states(c, x, ME_NX) == fmi2OK && F.get_nominals(c, nominal, ME_NX) == fmi2OK);
         EXPECT(F.get_indicators(c, z_old, 2) == fmi2OK);
         int events = 0;
         for (int k = 0; k < 30000; k++) { /* 3 ms */
-            EXPECT(F.get_derivatives(c, dx, 2) == fmi2OK);
+            EXPECT(F.get_derivatives(c, dx, ME_NX) == fmi2OK);
             t += h;
-            x[0] += h * dx[0], x[1] += h * dx[1];
-            EXPECT(F.set_time(c, t) == fmi2OK && F.set_states(c, x, 2) == fmi2OK);
+            for (int i = 0; i < ME_NX; i++) x[i] += h * dx[i];
+            EXPECT(F.set_time(c, t) == fmi2OK && F.set_states(c, x, ME_NX) == fmi2OK);
             EXPECT(F.get_indicators(c, z, 2) == fmi2OK);
             fmi2Boolean enter = fmi2False, terminate = fmi2False;
             EXPECT(F.completed(c, fmi2True, &enter, &terminate) == fmi2OK);
             if ((z[0] > 0) != (z_old[0] > 0) || (z[1] > 0) != (z_old[1] > 0) || enter) {
                 EXPECT(F.enter_event(c) == fmi2OK);
                 event_iteration(c);
-                EXPECT(F.get_states(c, x, 2) == fmi2OK && F.get_indicators(c, z, 2) == fmi2OK);
+                EXPECT(F.get_states(c, x, ME_NX) == fmi2OK && F.get_indicators(c, z, 2) == fmi2OK);
                 events++;
             }
             z_old[0] = z[0], z_old[1] = z[1];
@@ -331,9 +331,9 @@ static void model_exchange(const char *resources)
         free(bytes);
         EXPECT(F.set_state(c, back) == fmi2OK);
         EXPECT(F.free_state(c, &s) == fmi2OK && F.free_state(c, &back) == fmi2OK);
-        const double bad[2] = {NAN, 0.0};
+        const double bad[ME_NX] = {NAN, 0.0, 0.0};
         fmi2EventInfo info;
-        EXPECT(F.set_states(c, bad, 2) == fmi2Error && F.set_states(c, x, 3) == fmi2Error);
+        EXPECT(F.set_states(c, bad, ME_NX) == fmi2Error && F.set_states(c, x, ME_NX + 1) == fmi2Error);
         EXPECT(F.new_discrete(c, &info) == fmi2Error && F.set_time(c, t - 1e-3) == fmi2Error);
         EXPECT(F.do_step(c, t, 1e-4, fmi2True) == fmi2Error);
         EXPECT(F.terminate(c) == fmi2OK);

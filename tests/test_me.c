@@ -87,7 +87,7 @@ static void put(vi_me *e, int mode, double delta, double v, double dc)
         M->unload = M->yielded ? vi_johnson_unload_curve(&M->johnson, M->unloading, written) : (vi_unload_curve){0};
     }
     if (M->law == VI_ContactModel_lepp) M->delta_p = mode == VI_Mode_plastic ? PLASTIC_WRITTEN * delta - M->johnson.delta_Y : dc;
-    double x[2] = {vi_model_platform(M, e->s.d.t, NULL, NULL) - delta, v};
+    double x[VI_ME_NSTATES] = {vi_model_platform(M, e->s.d.t, NULL, NULL) - delta, v};
     vi_me_set_states(e, x);
     vi_me_outputs_of(e, 0); /* a read: the model catches up with the states set */
     e->s.d.events.band[0] = e->s.d.events.band[1] = 0.0;
@@ -105,7 +105,7 @@ static double output(vi_me *e, int vr)
 /* Change one known (the state y or v, the input yC_in or F_ext, set in continuous time) by h. */
 static void nudge(vi_me *e, int known, double h)
 {
-    double x[2];
+    double x[VI_ME_NSTATES];
     vi_me_get_states(e, x);
     switch (known) {
     case VI_VR_y: x[0] += h; vi_me_set_states(e, x); break;
@@ -125,7 +125,7 @@ static const int unknowns[] = {VI_VR_der_y, VI_VR_der_v, VI_VR_F, VI_VR_F_mean, 
 static void partials_match_differences(vi_me *e, const char *where)
 {
     vi_sim_data d0 = e->s.d;
-    double y0 = e->s.d.y_me, nominal[2];
+    double y0 = e->s.d.y_me, nominal[VI_ME_NSTATES];
     vi_me_nominals(e, nominal);
     double scale[] = {nominal[0], nominal[1], nominal[0], 1e4};
     for (int j = 0; j < 4; j++) {
@@ -181,7 +181,9 @@ Test(me_jacobian, partials_of_johnson_in_every_mode)
         double dY = e.s.d.model.johnson.delta_Y;
         put(&e, VI_Mode_elastic, 0.6 * dY, -0.01, 0.0);
         partials_match_differences_now_and_later(&e, "johnson elastic");
-        put(&e, VI_Mode_plastic, 1.7 * dY, -0.01, 0.0);
+        /* continuous unloading returns the whole loading work below 4.61 delta_Y: W_plastic is 0 to rounding
+         * there and its difference quotient noise (test_contact.c checks the curve's rates on both sides) */
+        put(&e, VI_Mode_plastic, (l == 0 ? 1.7 : 5.0) * dY, -0.01, 0.0);
         partials_match_differences_now_and_later(&e, "johnson plastic");
         put(&e, VI_Mode_unload, 1.6 * dY, 0.01, 1.8 * dY);
         partials_match_differences_now_and_later(&e, "johnson unload");
@@ -298,7 +300,7 @@ static void hertz_on_a_raised_platform(vi_parameters *p) { hertz(p), p->init = V
 static void at(vi_me *e, int mode, double y, double v)
 {
     e->s.d.model.mode = mode;
-    double x[2] = {y, v};
+    double x[VI_ME_NSTATES] = {y, v};
     vi_me_set_states(e, x);
     e->s.d.events.band[0] = e->s.d.events.band[1] = 0.0;
 }
@@ -335,7 +337,7 @@ Test(me_events, a_grazing_contact_is_snapped_and_its_guard_lifted_by_its_band)
     vi_me_event ev = update(&e);
     cr_assert(e.s.d.model.mode == VI_Mode_free && e.s.d.events.n_events == events + 1, "mode %d, %ld events", e.s.d.model.mode, e.s.d.events.n_events);
     cr_assert(ev.states_changed == 1 && ev.another_pass == 0 && ev.terminate == 0 && ev.next_time_defined == 0);
-    double x[2];
+    double x[VI_ME_NSTATES];
     vi_me_get_states(&e, x);
     cr_assert(x[0] == 1.5 && x[1] == v && e.s.d.x[0] == 0.0, "snapped to y = %.17g, delta = %g", x[0], e.s.d.x[0]);
     /* band, at the state snapped onto the surface (y = 1.5): 4 times the guard's change under
@@ -352,19 +354,19 @@ Test(me_events, a_grazing_contact_is_snapped_and_its_guard_lifted_by_its_band)
     snprintf(expected, sizeof expected, "event t=%.17g kind=guard guard=0 mode=0->0 delta=%.9g v=%.9g", 0.0, 0.0, v);
     cr_assert(strcmp(logged[VI_LOG_EVENTS], expected) == 0, "logged '%s'", logged[VI_LOG_EVENTS]);
     /* an update within the band fires nothing: the guard is disarmed */
-    double xb[2] = {1.5 - 0.5 * band, v};
+    double xb[VI_ME_NSTATES] = {1.5 - 0.5 * band, v};
     vi_me_set_states(&e, xb);
     ev = update(&e);
     cr_assert(e.s.d.events.n_events == events + 1 && ev.states_changed == 0, "a disarmed guard fired: %ld events", e.s.d.events.n_events);
     /* a completed step re-arms it once it is above its band, not before */
     cr_assert(vi_me_completed_step(&e) == 0);
     cr_assert(e.s.d.events.band[0] > 0.0, "re-armed within its band");
-    double xa[2] = {1.5 + 1.5 * band, v};
+    double xa[VI_ME_NSTATES] = {1.5 + 1.5 * band, v};
     vi_me_set_states(&e, xa);
     cr_assert(vi_me_completed_step(&e) == 0);
     cr_assert(e.s.d.events.band[0] == 0.0, "not re-armed above its band: %g", e.s.d.events.band[0]);
     /* exactly at its band it stays disarmed (1e-5 m above the platform: the guard is y - 1.5 exactly) */
-    double xe[2] = {1.5 + 1e-5, v};
+    double xe[VI_ME_NSTATES] = {1.5 + 1e-5, v};
     vi_me_set_states(&e, xe);
     double G = xe[0] - 1.5;
     e.s.d.events.band[0] = G;
@@ -487,7 +489,7 @@ Test(me_events, an_input_jump_onto_the_contact_surface_is_an_event_of_the_new_mo
     cr_assert(e.s.d.model.mode == VI_Mode_elastic && e.s.d.x[0] == 0.0, "mode %d, delta %g", e.s.d.model.mode, e.s.d.x[0]);
     cr_assert(e.s.d.events.n_events == events, "%ld state events", e.s.d.events.n_events - events);
     cr_assert(e.s.d.inputs_changed == 0 && ev.another_pass == 0 && ev.terminate == 0);
-    double x[2];
+    double x[VI_ME_NSTATES];
     vi_me_get_states(&e, x);
     cr_assert(x[0] == 1.5 + 1e-6 && x[1] == -0.01);
     cr_assert(n_logged[VI_LOG_EVENTS] == 1, "%d event messages", n_logged[VI_LOG_EVENTS]);
@@ -512,7 +514,7 @@ Test(me_events, an_input_change_in_event_mode_is_logged_when_it_changes_the_mode
     char expected[256];
     snprintf(expected, sizeof expected, "event t=%.17g kind=input mode=0->1", 0.0);
     cr_assert(strcmp(logged[VI_LOG_EVENTS], expected) == 0, "logged '%s'", logged[VI_LOG_EVENTS]);
-    double x[2];
+    double x[VI_ME_NSTATES];
     vi_me_get_states(&e, x);
     cr_assert(x[0] == 1.5 + 1e-3 && fabs(e.s.d.x[0] - 1e-3) <= 1e-15, "the mass stays: y %.17g, delta %g", x[0], e.s.d.x[0]);
     /* a force input that leaves the mode: nothing logged */
@@ -543,7 +545,9 @@ Test(me_events, events_accumulating_at_one_instant_terminate_at_the_64th)
     }
     char expected[512];
     snprintf(expected, sizeof expected, "events accumulate at t = %.17g s (Zeno): %d events each within %g ulps of time "
-             "of the one before, the last on guard 0 of mode 0; stopped there", 10.0, VI_ZENO_EVENTS, VI_ZENO_ULPS);
+             "of the one before, the last on guard 0 of mode 0 (contact); stopped there. Each mode chosen was left again "
+             "at once: the motion the guards see leaves it. Where the platform moves through yC_in, pass its velocity "
+             "(velocity_input = true, vC_in); else tighten rtol", 10.0, VI_ZENO_EVENTS, VI_ZENO_ULPS);
     cr_assert(strcmp(e.s.msg, expected) == 0, "message '%s'", e.s.msg);
     /* later, at t = 20 s: the first event there is far from the last one (t = 10 s) and counts 0, the
      * next 64 count 1 ... 64 */
@@ -574,15 +578,17 @@ Test(me_states, initialization_logs_the_scales_and_the_initial_state_in_closed_f
     /* Hertz at rest under W = P + m g - F_ext: delta = (W/K)^(2/3) = L, V = L sqrt(1.5 K sqrt(L)/m) */
     double E = 1.0 / (2.0 * (1.0 - 0.09) / 2.1e11), K = 4.0 / 3.0 * E * sqrt(0.475);
     double W = 40000.0 + 407.747 * 9.81 - 100.0, L = pow(W / K, 2.0 / 3.0), V = L * sqrt(1.5 * K * sqrt(L) / 407.747);
-    double nl, nv, delta, v;
+    double nl, nv, nw, delta, v;
     int mode, n = 0;
     const char *text = strstr(logged[VI_LOG_SOLVER], "Model Exchange");
     cr_assert(text != NULL, "logged '%s'", logged[VI_LOG_SOLVER]);
-    cr_assert(sscanf(text, "Model Exchange: the importer integrates y and v (nominals %lg m, %lg m/s); initial mode %d, "
-                           "delta = %lg m, v = %lg m/s%n", &nl, &nv, &mode, &delta, &v, &n) == 5 && n > 0, "logged '%s'", text);
+    cr_assert(sscanf(text, "Model Exchange: the importer integrates y, v and W_damping (nominals %lg m, %lg m/s, %lg J); "
+                           "initial mode %d, delta = %lg m, v = %lg m/s%n", &nl, &nv, &nw, &mode, &delta, &v, &n) == 6 && n > 0,
+              "logged '%s'", text);
     cr_assert(fabs(nl - L) <= 1e-5 * L && fabs(nv - V) <= 1e-5 * V, "nominals %g %g, closed form %g %g", nl, nv, L, V);
+    cr_assert(fabs(nw - 407.747 * V * V) <= 1e-5 * nw, "nominal %g, closed form m V^2 = %g", nw, 407.747 * V * V);
     cr_assert(mode == VI_Mode_elastic && fabs(delta - L) <= 1e-8 * L && v == 0.0, "mode %d, delta %.9g, v %g", mode, delta, v);
-    double x[2], z[2], dx[2], nominal[2];
+    double x[VI_ME_NSTATES], z[2], dx[VI_ME_NSTATES], nominal[VI_ME_NSTATES];
     vi_me_get_states(&e, x);
     cr_assert(fabs(x[0] - (0.25 - L)) <= 1e-15 && x[1] == 0.0, "y = %.17g, closed form %.17g", x[0], 0.25 - L);
     vi_me_nominals(&e, nominal);
@@ -612,7 +618,7 @@ Test(me_states, inputs_are_held_at_their_values_from_the_initialization)
     e.s.d.din.yC_in = 1.0, e.s.d.din.F_ext = 1e3;
     cr_assert(vi_me_initialize(&e) == 0, "%s", e.s.msg);
     const vi_model *M = &e.s.d.model;
-    double dx[2], dx1[2];
+    double dx[VI_ME_NSTATES], dx1[VI_ME_NSTATES];
     vi_me_derivatives(&e, dx);
     vi_me_set_time(&e, 1e-3); /* 1 ms later neither the platform nor the force has moved */
     vi_me_derivatives(&e, dx1);
@@ -638,7 +644,7 @@ Test(me_states, a_sync_without_a_change_of_input_leaves_the_model_as_it_is)
     start(&e, johnson);
     vi_model M0 = e.s.d.model;
     vi_me_set_time(&e, 1e-3);
-    double dx[2];
+    double dx[VI_ME_NSTATES];
     vi_me_derivatives(&e, dx);
     cr_assert(memcmp(&M0, &e.s.d.model, sizeof M0) == 0, "the model changed (input ramps restarted?)");
     cr_assert(e.s.d.t == 1e-3);
@@ -675,9 +681,10 @@ Test(me_states, continuous_inputs_act_at_once_each_alone)
 }
 
 /* A plastic motion at 1.7 delta_Y of `law` (memory written down at 1.2 delta_Y where it started to
- * flow): an evaluation at a trial point deeper in (the platform 0.2 delta_Y up) writes nothing down; a
- * completed step at 1.7 delta_Y does, and then the platform dropping by 0.2 delta_Y (in continuous time)
- * leaves the memory outputs where they were: they never decrease. */
+ * flow), the platform moved through yC_in without its velocity: an evaluation at a trial point 1 us on
+ * (the platform 0.2 delta_Y up) writes nothing down; a completed step there (the rate of yC_in is then an
+ * estimate) does, and then the platform dropping back (in continuous time) leaves the memory outputs
+ * where they were: they never decrease. */
 static void memory_is_written_at_completed_steps(setter law)
 {
     vi_me e;
@@ -690,14 +697,15 @@ static void memory_is_written_at_completed_steps(setter law)
     if (johnson_law) M->unload = vi_johnson_unload_curve(&M->johnson, M->unloading, 1.2 * dY);
     else M->delta_p = 0.2 * dY;
     e.s.d.in.yC_in = 0.2 * dY; /* a trial point */
-    vi_me_outputs_of(&e, 0);
+    vi_me_set_time(&e, 1e-6);
+    d = vi_me_outputs_of(&e, VI_OUT_ALL)->delta;
     cr_assert(johnson_law ? M->unload.delta_c == 1.2 * dY : M->delta_p == 0.2 * dY, "a trial point wrote the memory down");
-    e.s.d.in.yC_in = 0.0;
     cr_assert(vi_me_completed_step(&e) == 0);
     cr_assert(johnson_law ? M->unload.delta_c == d : M->delta_p == d - dY, "the completed step at %.17g wrote nothing", d);
     const vi_outputs *out = vi_me_outputs_of(&e, VI_OUT_ALL);
     double dc = out->delta_c, dp = out->delta_p, W = out->W_plastic;
     e.s.d.in.yC_in = -0.2 * dY;
+    vi_me_set_time(&e, 2e-6);
     out = vi_me_outputs_of(&e, VI_OUT_ALL);
     cr_assert(out->delta_c == dc && out->delta_p == dp && out->W_plastic == W, "the memory outputs moved back");
     finish(&e);
@@ -718,7 +726,7 @@ Test(me_states, co_simulation_outputs_are_the_simulations_own)
     vi_sim_init(&e.s, capture, NULL);
     hertz(&e.s.d.par);
     cr_assert(vi_sim_initialize(&e.s) == 0, "%s", e.s.msg);
-    double d = e.s.d.x[0], x[2];
+    double d = e.s.d.x[0], x[VI_ME_NSTATES];
     cr_assert(d > 0.0);
     vi_me_get_states(&e, x); /* before: the initial state prepared, y = yC - delta */
     cr_assert(x[0] == -d && x[1] == 0.0, "y %.17g", x[0]);
@@ -736,7 +744,7 @@ Test(me_states, states_set_are_those_read_and_the_outputs_follow)
     start(&e, hertz);
     const vi_outputs *out = vi_me_outputs_of(&e, VI_OUT_ALL);
     double K = e.s.d.model.K, m = e.s.d.model.m, W = e.s.d.model.W0;
-    double x[2] = {-3e-5, -0.02}, r[2], dx[2];
+    double x[VI_ME_NSTATES] = {-3e-5, -0.02}, r[VI_ME_NSTATES], dx[VI_ME_NSTATES];
     vi_me_set_states(&e, x);
     vi_me_get_states(&e, r);
     cr_assert(r[0] == x[0] && r[1] == x[1], "states %g %g", r[0], r[1]);
@@ -791,7 +799,7 @@ Test(me_events, kinks_and_the_end_of_the_profile_are_time_events)
     vi_me_set_time(&e, nextafter(tk, 0.0));
     cr_assert(vi_me_completed_step(&e) == 0, "an event before the kink");
     vi_me_set_time(&e, tk);
-    double x[2] = {vi_model_platform(M, tk, NULL, NULL), v};
+    double x[VI_ME_NSTATES] = {vi_model_platform(M, tk, NULL, NULL), v};
     vi_me_set_states(&e, x);
     cr_assert(vi_me_completed_step(&e) == 1, "the kink was stepped onto: an event is due");
     clear_log();
@@ -823,11 +831,13 @@ Test(me_states, checkpoint_and_restore_carry_the_state_y)
     e.s.d.model.unload = vi_johnson_unload_curve(&e.s.d.model.johnson, e.s.d.model.unloading, 1.2 * dY); /* as where it started to flow */
     vi_me_set_time(&e, 1e-3);
     cr_assert(vi_me_checkpoint(&e) == 0, "%s", e.s.msg);
-    /* the memory of the current state is written down (delta_c = delta while loading) */
-    cr_assert(e.s.d.model.unload.delta_c == e.s.d.x[0], "delta_c %.17g, delta %.17g", e.s.d.model.unload.delta_c, e.s.d.x[0]);
+    /* taking a state changes nothing that follows: the memory stays where it was written down, and the
+     * output delta_c is the indentation reached (delta_c = delta while loading) */
+    cr_assert(e.s.d.model.unload.delta_c == 1.2 * dY, "delta_c %.17g written down at %.17g", e.s.d.model.unload.delta_c, 1.2 * dY);
+    cr_assert(vi_me_outputs_of(&e, VI_OUT_ALL)->delta_c == e.s.d.x[0]);
     vi_sim_data saved = e.s.d;
     double y = e.s.d.y_me;
-    double x[2] = {y + 1e-6, 0.02};
+    double x[VI_ME_NSTATES] = {y + 1e-6, 0.02};
     vi_me_set_states(&e, x);
     e.s.d.events.zeno = 7;
     e.s.d = saved;
@@ -846,7 +856,7 @@ Test(me_states, nominals_are_one_before_initialization)
     vi_me e;
     memset(&e, 0, sizeof e);
     vi_sim_init(&e.s, capture, NULL);
-    double nominal[2];
+    double nominal[VI_ME_NSTATES];
     vi_me_nominals(&e, nominal);
     cr_assert(nominal[0] == 1.0 && nominal[1] == 1.0, "%g %g", nominal[0], nominal[1]);
     /* the importer's tolerance wins over rtol: nominal = atol / tolerance */
@@ -878,7 +888,7 @@ Test(me_states, a_checkpoint_makes_the_saved_state_whole)
     cr_assert(vi_sim_data_check(&e.s.d, msg, sizeof msg) == 0, "%s", msg);
     cr_assert(e.s.d.x[0] == 1e-6 - y, "delta %.17g, closed form %.17g", e.s.d.x[0], 1e-6 - y);
     /* a state where the force overflows: the solver cannot start there */
-    double x[2] = {-1e200, 0.0};
+    double x[VI_ME_NSTATES] = {-1e200, 0.0};
     vi_me_set_states(&e, x);
     cr_assert(vi_me_checkpoint(&e) == -1);
     snprintf(msg, sizeof msg, "could not restart the solver at t = %.17g s", 1e-3);
@@ -945,7 +955,7 @@ Test(me_states, a_completed_step_starts_the_mean_force_anew)
 {
     vi_me e;
     start(&e, hertz);
-    double x[2] = {e.s.d.y_me, 0.02};
+    double x[VI_ME_NSTATES] = {e.s.d.y_me, 0.02};
     vi_me_set_states(&e, x);
     vi_me_set_time(&e, 1e-3);
     double m = e.s.d.model.m, W = e.s.d.model.W0;

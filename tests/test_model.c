@@ -2252,3 +2252,157 @@ Test(rolling, tie_at_the_load_limit_broken_by_the_profile_jerk)
     cr_assert(mode == (b[3] > 0.0 ? VI_Mode_plastic : VI_Mode_stick), "yb''' = %g: mode %d", b[3], mode);
     vi_profile_free(prof);
 }
+
+/* ---- energy (vi_model.h, ENERGY) ---------------------------------------------------------------- */
+
+/* A model of the law in the mode given at x = (d, r): yielded with delta_c = dc where the mode needs
+ * the Johnson or Thornton memory (plastic, unload, stick); the permanent set dp for LEPP. */
+static vi_model in_mode(int law, int moving, int unloading, int mode, double dc, double dp)
+{
+    vi_model M = setup(law, moving, unloading, 0.0, 0.0, 0.0);
+    M.mode = mode;
+    M.delta_p = law == VI_ContactModel_lepp ? dp : 0.0;
+    if ((law == VI_ContactModel_johnson && !moving) || law == VI_ContactModel_thornton) {
+        int memory = mode == VI_Mode_plastic || mode == VI_Mode_unload || mode == VI_Mode_stick;
+        M.yielded = memory;
+        if (memory)
+            M.unload = law == VI_ContactModel_thornton ? vi_thornton_unload_curve(&M.johnson, dc)
+                                                       : vi_johnson_unload_curve(&M.johnson, unloading, dc);
+    }
+    return M;
+}
+
+/* E_contact in closed form for each law and mode, its rate d/d(delta) against a central difference
+ * (the memory following delta where the mode moves it, as in plastic loading), and that rate equal
+ * to the force wherever the force is the branch's own (elastic, unload): the work of that force. In
+ * plastic loading E_contact + W_plastic is the virgin curve's work (its energy is what the unloading
+ * curve of delta_c = delta gives back). The plastic cases load beyond the memory written down a little
+ * before (at 2.99 delta_Y), so that the central differences stay on the loading side. */
+Test(energy, contact_energy_is_the_work_of_the_branch_force)
+{
+    vi_model H = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
+    double dY = H.johnson.delta_Y, FY = H.johnson.F_Y, K = H.K;
+    struct { int law, moving, unloading, mode; double d, dc, dp, closed; } c[] = {
+        {VI_ContactModel_hertz, 0, 1, VI_Mode_elastic, 2.0 * dY, 0, 0, 0.4 * K * pow(2.0 * dY, 2.5)},
+        {VI_ContactModel_hertz, 0, 1, VI_Mode_free, -dY, 0, 0, 0.0},
+        {VI_ContactModel_johnson, 0, 1, VI_Mode_elastic, 0.5 * dY, 0, 0, 0.4 * K * pow(0.5 * dY, 2.5)},
+        {VI_ContactModel_johnson, 0, 1, VI_Mode_plastic, 3.0 * dY, 2.99 * dY, 0, NAN},
+        {VI_ContactModel_johnson, 0, 2, VI_Mode_plastic, 3.0 * dY, 2.99 * dY, 0, NAN},
+        {VI_ContactModel_johnson, 0, 1, VI_Mode_unload, 2.5 * dY, 3.0 * dY, 0, NAN},
+        {VI_ContactModel_johnson, 0, 1, VI_Mode_stick, 3.0 * dY, 3.0 * dY, 0, NAN},
+        {VI_ContactModel_johnson, 1, 1, VI_Mode_plastic, 3.0 * dY, 0, 0, NAN},
+        {VI_ContactModel_thornton, 0, 1, VI_Mode_plastic, 3.0 * dY, 2.99 * dY, 0, NAN},
+        {VI_ContactModel_thornton, 0, 1, VI_Mode_unload, 2.5 * dY, 3.0 * dY, 0, NAN},
+        {VI_ContactModel_lepp, 0, 1, VI_Mode_elastic, 1.5 * dY, 0, dY, 0.5 * FY / dY * 0.25 * dY * dY},
+        {VI_ContactModel_lepp, 0, 1, VI_Mode_plastic, 3.0 * dY, 0, 1.99 * dY, 0.5 * FY * dY},
+        {VI_ContactModel_hertz_damped, 0, 1, VI_Mode_elastic, 2.0 * dY, 0, 0, 0.4 * K * pow(2.0 * dY, 2.5)},
+        {VI_ContactModel_hertz_damped, 0, 1, VI_Mode_free, 2.0 * dY, 0, 0, 0.4 * K * pow(2.0 * dY, 2.5)},
+        {VI_ContactModel_linear, 0, 1, VI_Mode_free, 2.0 * dY, 0, 0, 0.5 * 1.2e9 * 4.0 * dY * dY},
+        {VI_ContactModel_linear, 0, 1, VI_Mode_free, -dY, 0, 0, 0.0},
+    };
+    for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+        vi_model M = in_mode(c[i].law, c[i].moving, c[i].unloading, c[i].mode, c[i].dc, c[i].dp);
+        double x[2] = {c[i].d, 0.0}, k, h = 1e-6 * dY;
+        double E = vi_model_contact_energy(&M, x, &k);
+        if (!isnan(c[i].closed))
+            cr_assert(fabs(E - c[i].closed) <= 1e-12 * fabs(c[i].closed), "case %zu: %.17g, closed form %.17g", i, E,
+                      c[i].closed);
+        double xp[2] = {c[i].d + h, 0.0}, xm[2] = {c[i].d - h, 0.0};
+        double fd = (vi_model_contact_energy(&M, xp, NULL) - vi_model_contact_energy(&M, xm, NULL)) / (2.0 * h);
+        cr_assert(fabs(k - fd) <= 1e-6 * (fabs(k) + FY), "case %zu: rate %.17g, difference %.17g", i, k, fd);
+        if (c[i].mode == VI_Mode_elastic || c[i].mode == VI_Mode_unload || (c[i].moving && c[i].mode == VI_Mode_plastic))
+            cr_assert(fabs(k - vi_model_force(&M, 0.0, x)) <= 1e-12 * fabs(k), "case %zu: the rate is not the force", i);
+        if (c[i].mode == VI_Mode_plastic && !c[i].moving && c[i].law != VI_ContactModel_lepp) {
+            vi_model_values out;
+            vi_model_outputs(&M, 0.0, x, VI_OUT_MEMORY, &out);
+            double work = c[i].law == VI_ContactModel_thornton ? vi_thornton_load_work(&M.johnson, c[i].d)
+                                                                : vi_johnson_load_work(&M.johnson, c[i].d);
+            cr_assert(fabs(out.E_contact + out.W_plastic - work) <= 1e-12 * work, "case %zu: %.17g + %.17g != %.17g", i,
+                      out.E_contact, out.W_plastic, work);
+            cr_assert(out.E_contact == E);
+        }
+    }
+}
+
+/* The damping's power: (F - F_spring) delta' with F = max(0, f); Tsuji's form gives alpha sqrt(m K)
+ * delta^(1/4) delta'^2, the linear law c delta'^2, both >= 0; free at delta > 0 (after a release)
+ * -F_spring delta' (delta falls: >= 0); 0 apart and for every law without damping. Its partials against
+ * central differences. */
+Test(energy, damping_power_is_the_force_beyond_the_spring_times_the_rate)
+{
+    vi_model Md = setup(VI_ContactModel_hertz_damped, 0, 1, 0.0, 0.0, 0.0);
+    vi_model Ml = setup(VI_ContactModel_linear, 0, 1, 0.0, 0.0, 0.0);
+    double d = 2e-5, r[2] = {0.3, -0.2};
+    for (int k = 0; k < 2; k++) {
+        double x[2] = {d, -r[k]}; /* yC' = 0: delta' = -v */
+        Md.mode = Ml.mode = VI_Mode_elastic;
+        vi_model_power Pd = vi_model_damping_power(&Md, 0.0, x), Pl = vi_model_damping_power(&Ml, 0.0, x);
+        double want_d = Md.damped.alpha_c * pow(d, 0.25) * r[k] * r[k], want_l = Ml.linear.c * r[k] * r[k];
+        if (vi_damped_hertz_force(&Md.damped, d, r[k], 0.0).F > 0.0)
+            cr_assert(fabs(Pd.P - want_d) <= 1e-12 * want_d, "Tsuji %.17g, closed form %.17g", Pd.P, want_d);
+        if (vi_linear_force(&Ml.linear, d, r[k]).F > 0.0)
+            cr_assert(fabs(Pl.P - want_l) <= 1e-12 * want_l, "linear %.17g, closed form %.17g", Pl.P, want_l);
+        const vi_model *models[2] = {&Md, &Ml};
+        for (int j = 0; j < 2; j++) {
+            const vi_model *M = models[j];
+            vi_model_power P = vi_model_damping_power(M, 0.0, x);
+            double hd = 1e-7 * d, hr = 1e-7;
+            double xp[2] = {d + hd, x[1]}, xm[2] = {d - hd, x[1]}, vp[2] = {d, x[1] - hr}, vm[2] = {d, x[1] + hr};
+            double fd_d = (vi_model_damping_power(M, 0.0, xp).P - vi_model_damping_power(M, 0.0, xm).P) / (2.0 * hd);
+            double fd_r = (vi_model_damping_power(M, 0.0, vp).P - vi_model_damping_power(M, 0.0, vm).P) / (2.0 * hr);
+            cr_assert(P.P >= 0.0, "law %d rate %g: power %g", j, r[k], P.P);
+            cr_assert(fabs(P.dP_ddelta - fd_d) <= 1e-5 * (fabs(fd_d) + fabs(P.P) / d), "law %d: %g %g", j, P.dP_ddelta, fd_d);
+            cr_assert(fabs(P.dP_drate - fd_r) <= 1e-5 * (fabs(fd_r) + fabs(P.P) / fabs(r[k])), "law %d: %g %g", j,
+                      P.dP_drate, fd_r);
+        }
+    }
+    double away[2] = {d, 0.2}; /* free, still overlapping, delta falling at 0.2 m/s */
+    Md.mode = Ml.mode = VI_Mode_free;
+    double Fs = Md.K * pow(d, 1.5);
+    cr_assert(fabs(vi_model_damping_power(&Md, 0.0, away).P - 0.2 * Fs) <= 1e-12 * 0.2 * Fs);
+    cr_assert(fabs(vi_model_damping_power(&Ml, 0.0, away).P - 0.2 * Ml.linear.k * d) <= 1e-12 * 0.2 * Ml.linear.k * d);
+    double apart[2] = {-d, 0.2};
+    cr_assert(vi_model_damping_power(&Md, 0.0, apart).P == 0.0 && vi_model_damping_power(&Ml, 0.0, apart).P == 0.0);
+    cr_assert(vi_model_damps(&Md) && vi_model_damps(&Ml));
+    for (int law = VI_ContactModel_hertz; law <= VI_ContactModel_thornton; law++) {
+        if (law == VI_ContactModel_hertz_damped || law == VI_ContactModel_linear) continue;
+        vi_model M = setup(law, 0, 1, 0.0, 0.0, 0.0);
+        M.mode = VI_Mode_elastic;
+        double x[2] = {d, -0.3};
+        cr_assert(!vi_model_damps(&M) && vi_model_damping_power(&M, 0.0, x).P == 0.0, "law %d", law);
+    }
+}
+
+/* dF/dt along the motion against a central difference in time along x' (vi_model_rhs), in each mode of
+ * each kind of law, under the harmonic excitation and a ramp of F_ext; the force it gives is
+ * vi_model_force's. With x' from an interpolant (dx) the same within the difference's error. */
+Test(energy, force_rate_is_the_time_derivative_of_the_force)
+{
+    vi_model H = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
+    double dY = H.johnson.delta_Y;
+    struct { int law, unloading, mode; double d, dc, v; } c[] = {
+        {VI_ContactModel_hertz, 1, VI_Mode_elastic, 2.0 * dY, 0, -0.1},
+        {VI_ContactModel_johnson, 1, VI_Mode_plastic, 3.0 * dY, 3.0 * dY, -0.1},
+        {VI_ContactModel_johnson, 1, VI_Mode_unload, 2.5 * dY, 3.0 * dY, 0.1},
+        {VI_ContactModel_johnson, 1, VI_Mode_stick, 3.0 * dY, 3.0 * dY, 0.0},
+        {VI_ContactModel_thornton, 1, VI_Mode_plastic, 3.0 * dY, 3.0 * dY, -0.1},
+        {VI_ContactModel_lepp, 1, VI_Mode_elastic, 0.5 * dY, 0, 0.1},
+        {VI_ContactModel_hertz_damped, 1, VI_Mode_elastic, 2.0 * dY, 0, -0.1},
+        {VI_ContactModel_linear, 1, VI_Mode_elastic, 2.0 * dY, 0, 0.05},
+        {VI_ContactModel_hertz, 1, VI_Mode_free, -dY, 0, 0.1},
+    };
+    for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+        vi_model M = in_mode(c[i].law, 0, c[i].unloading, c[i].mode, c[i].dc, 0.0);
+        M.a = 1e-5, M.omega = 2.0 * VI_PI * 560.0;
+        M.F_ext = (vi_ramp){-1e3, 2e6, 0.0};
+        double t = 1e-4, x[2] = {c[i].d, c[i].v}, dx[2], F, h = 1e-9;
+        vi_model_rhs(&M, t, x, dx);
+        double g = vi_model_force_rate(&M, t, x, NULL, &F), g_dx = vi_model_force_rate(&M, t, x, dx, &F);
+        double xp[2] = {x[0] + h * dx[0], x[1] + h * dx[1]}, xm[2] = {x[0] - h * dx[0], x[1] - h * dx[1]};
+        double fd = (vi_model_force(&M, t + h, xp) - vi_model_force(&M, t - h, xm)) / (2.0 * h);
+        double scale = fabs(fd) + 1e-6 * H.johnson.F_Y / 1e-3;
+        cr_assert(F == vi_model_force(&M, t, x), "case %zu: F %.17g, %.17g", i, F, vi_model_force(&M, t, x));
+        cr_assert(fabs(g - fd) <= 1e-5 * scale, "case %zu: rate %.17g, difference %.17g", i, g, fd);
+        cr_assert(fabs(g_dx - g) <= 1e-9 * scale, "case %zu: with x' given %.17g, %.17g", i, g_dx, g);
+    }
+}

@@ -63,6 +63,8 @@ Test(sim, data_check_names_the_first_bad_field)
     CASE(d.step_t0 = NAN, "step_t0");
     CASE(d.step_t0 = d.t + 1e-3, "step_t0");
     CASE(d.step_v0 = INFINITY, "step_v0");
+    CASE(d.W_damping = NAN, "W_damping");
+    CASE(d.F_peak = -1.0, "F_peak");
     CASE(d.events.band[0] = -1e-9, "guard band[0]");
     CASE(d.events.band[1] = NAN, "guard band[1]");
     CASE(d.y_me = NAN, "y_me");
@@ -615,6 +617,15 @@ Test(sim, data_check_each_rule_alone_with_its_message)
     refused_as(&d, 1, "step_t0 = %g, step_v0 = nan: not finite or after t", ok.step_t0);
     d = ok, d.step_t0 = ok.t;
     passes(&d, 1, "a step of zero length");
+    const double bad_peak[] = {NAN, INFINITY, -5e-324};
+    for (int k = 0; k < 3; k++) {
+        d = ok, d.F_peak = bad_peak[k];
+        refused_as(&d, 1, "W_damping = %g, F_peak = %g: not finite, or F_peak < 0", ok.W_damping, bad_peak[k]);
+        d = ok, d.W_damping = k == 2 ? NAN : bad_peak[k];
+        refused_as(&d, 1, "W_damping = %g, F_peak = %g: not finite, or F_peak < 0", d.W_damping, ok.F_peak);
+    }
+    d = ok, d.F_peak = 0.0, d.W_damping = -1.0; /* Model Exchange: the importer's state, of any sign */
+    passes(&d, 1, "no force yet, a negative damping work");
     for (int i = 0; i < VI_NGUARDS; i++) {
         double bad[] = {NAN, INFINITY, -1e-300};
         for (int k = 0; k < 3; k++) {

@@ -32,9 +32,9 @@
 # source files its model description lists, and fmpy validates it.
 #
 # Usage: tools/release.sh            (PYTHON: the interpreter, as for tools/setup.sh; JOBS: default nproc)
-# Installs what it needs (tools/setup.sh, then the cross compilers, wine64, qemu-user, dpkg-dev) and,
-# the first time, lists source packages for the Debian archive entry of
-# /etc/apt/sources.list.d/debian.sources (Types: deb deb-src).
+# Installs what it needs (tools/setup.sh --release: the main job's installs, then the cross compilers,
+# wine64, qemu-user, dpkg-dev, llvm, zig) and, the first time, lists source packages for the Debian
+# archive entry of /etc/apt/sources.list.d/debian.sources (Types: deb deb-src).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD
@@ -45,10 +45,7 @@ BUILD=$ROOT/build/release
 CROSS_TARGETS=(x86_64-windows aarch64-linux)
 NATIVE=x86_64-linux
 FMUS=(VibroImpact Track Vehicle) # LayerTest (the generic layer's test model) is not released
-CROSS_APT_PKGS=(gcc-mingw-w64-x86-64 binutils-mingw-w64-x86-64 wine64 gcc-aarch64-linux-gnu
-                binutils-aarch64-linux-gnu libc6-dev-arm64-cross qemu-user dpkg-dev xz-utils llvm)
-# --- macOS binaries ---
-RELEASE_PIP_PKGS=(ziglang==0.13.0.post1) # zig cc: the macOS cross compiler
+# --- macOS binaries (zig cc, the pip package ziglang that tools/setup.sh --release installs) ---
 DARWIN_TARGETS=(x86_64-darwin aarch64-darwin)
 declare -A ZIG_TARGET=([x86_64-darwin]=x86_64-macos [aarch64-darwin]=aarch64-macos)
 # --- end macOS binaries ---
@@ -68,27 +65,11 @@ SOURCE_DATE_EPOCH=${SOURCE_DATE_EPOCH:-$(git -C "$ROOT" log -1 --format=%ct 2>/d
 export SOURCE_DATE_EPOCH
 # --- end of the release's version and date ---------------------------------------------------------------
 
-# --- what the builds need ---------------------------------------------------------------------------
-PYTHON=$(./tools/setup.sh) # the interpreter with fmpy (from $PYTHON, or the .venv/ setup makes)
-missing=()
-for p in "${CROSS_APT_PKGS[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  echo "release: apt-get install ${missing[*]}"
-  $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+# --- what the builds need: tools/setup.sh --release ----------------------------------------------------
+PYTHON=$(./tools/setup.sh --release) # the interpreter with fmpy (from $PYTHON, or the .venv/ setup makes)
 # --- macOS binaries ---
-missing=()
-for p in "${RELEASE_PIP_PKGS[@]}"; do
-  [ "$("$PYTHON" -c 'import importlib.metadata as m, sys; print(m.version(sys.argv[1]))' "${p%%==*}" 2>/dev/null)" = "${p#*==}" ] \
-    || missing+=("$p")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  echo "release: pip install ${missing[*]}"
-  "$PYTHON" -m pip install --quiet --disable-pip-version-check "${missing[@]}"
-fi
+# zig's version, in the cache key of the macOS binaries
+RELEASE_PIP_PKGS=("ziglang==$("$PYTHON" -c 'import importlib.metadata as m; print(m.version("ziglang"))')")
 # --- end macOS binaries ---
 
 # --- SUNDIALS' Debian source package -----------------------------------------------------------------

@@ -1,16 +1,21 @@
 #!/usr/bin/env bash
-# Every test: install what is needed, build (warnings are errors), C unit tests and the valgrind memcheck
-# of the FMU binary (ctest), FMU tests (pytest), then the C tests, the FMU driver and part of the FMU
-# tests again built with AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/). Any failure or
-# memory report fails the run.
+# Every test: install what is needed (tools/setup.sh --test: the main job's installs, then what the tests
+# add, each install said so), build (warnings are errors), C unit tests and the valgrind memcheck of the
+# FMU binary (ctest), the FMU built again against SUNDIALS 7.9 (tools/sundials7.sh, build/sundials7/),
+# FMU tests (pytest), then the C tests, the FMU driver and part of the FMU tests again built with
+# AddressSanitizer + UndefinedBehaviorSanitizer (build-asan/). Any failure or memory report fails the run.
 # Python: the interpreter tools/setup.sh chose ($PYTHON, or the virtual environment .venv/ made from it).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-PY=$(./tools/setup.sh)
+PY=$(./tools/setup.sh --test)
 export PATH="$PATH:$HOME/.cargo/bin"
-cmake -S . -B build -DVI_WERROR=ON -DVI_REQUIRE_TESTS=ON -DPython3_EXECUTABLE="$PY" >/dev/null
+# everything, also where tools/main.sh configured the FMUs alone (VI_FMU_ONLY)
+cmake -S . -B build -DVI_FMU_ONLY=OFF -DVI_WERROR=ON -DVI_REQUIRE_TESTS=ON -DPython3_EXECUTABLE="$PY" >/dev/null
 cmake --build build -j"$(nproc)" >/dev/null
 (cd build && ctest --output-on-failure)
+# SUNDIALS 7.9 (the sundials4py wheel, cached outside the clone): the FMUs, the solver tests and the memory
+# check of both FMU binaries; fmu-test/test_sundials.py compares them with build/'s
+PYTHON="$PY" ./tools/sundials7.sh
 "$PY" -m pytest -q fmu-test
 # the whole FMU suite again with the other solvers (bdf, adams, dop853; the default is auto); libcosim uses
 # the FMU's default

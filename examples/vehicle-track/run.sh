@@ -7,8 +7,8 @@
 set -euo pipefail
 HERE="$(cd "$(dirname "$0")" && pwd)"
 ROOT="$(cd "$HERE/../.." && pwd)"
-PY=$("$ROOT/tools/setup.sh")
-cmake -S "$ROOT" -B "$ROOT/build" -DPython3_EXECUTABLE="$PY" >/dev/null
+PY=$("$ROOT/tools/setup.sh" --example) # the main job's installs and libcosimpy
+cmake -S "$ROOT" -B "$ROOT/build" -DVI_FMU_ONLY=OFF -DPython3_EXECUTABLE="$PY" >/dev/null
 cmake --build "$ROOT/build" -j"$(nproc)" >/dev/null
 cd "$HERE"
 "$PY" study.py --build "$ROOT/build" --out "$HERE/results" "$@"

@@ -22,7 +22,8 @@ COMMANDS = {
     "me-cost": ("me_cost", "Model Exchange in fmpy against co-simulation: error and CPU time (doc/model-exchange.md)"),
     "reference": ("reference", "recompute the reference traces from the independent model (results/reference/)"),
     "laws": ("laws", "what each contact law and option changes and costs, scene by scene (results/laws/)"),
-    "wplastic": ("wplastic", "where the plastic work is negative after a Johnson yield (closed forms)"),
+    "wplastic": ("wplastic", "where Johnson's unloading curves return more than the loading took (closed forms)"),
+    "energy": ("energy", "the energy balance of every contact law in every interface (doc/model.md)"),
     "fmi3": ("fmi3", "the FMI 3.0 FMU's early returns on every scenario against the reference (a table)"),
     "path": ("path", "print the path of the FMU the commands use (vibroimpact.fmu_path())"),
 }

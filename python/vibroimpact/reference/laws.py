@@ -161,6 +161,40 @@ def linear_impact(zeta):
     return e, t
 
 
+def tsuji_release(alpha):
+    """(x_r, v_r) where the force of the dimensionless Tsuji impact falls to 0 while x > 0 (the release): the
+    overlap and the rate there. The spring part then holds 2/5 x_r^2.5 of the impact energy 1/2."""
+    def rhs(_t, y):
+        return [y[1], -max(y[0] ** 1.5 + alpha * y[0] ** 0.25 * y[1], 0.0) if y[0] > 0 else 0.0]
+
+    def release(_t, y):
+        return y[0] ** 1.5 + alpha * y[0] ** 0.25 * y[1] if y[0] > 0 and y[1] < 0 else 1.0
+    release.terminal, release.direction = True, -1
+    sol = solve_ivp(rhs, (0.0, IMPACT_TAU_MAX), [0.0, 1.0], method="DOP853", rtol=IMPACT_RTOL, atol=IMPACT_ATOL,
+                    events=release)
+    if sol.status != 1:
+        raise RuntimeError("the Tsuji impact did not release within IMPACT_TAU_MAX")
+    x, v = sol.y_events[0][0]
+    return x, v
+
+
+def released_fraction(law, e):
+    """The fraction of the impact energy 1/2 m V^2 the spring part of a damped law still holds when its
+    force reaches 0 before the bodies part (the release), for the restitution e in (0, 1]: lost while the
+    overlap falls to 0. law "exact" (Tsuji's form): 0.8 x_r^2.5 from tsuji_release; "linear": at the
+    release x + 2 zeta x' = 0 with x' = -e (time in 1/omega, lengths in V/omega), so x_r = 2 zeta e and the
+    spring holds x_r^2 = 4 zeta^2 e^2."""
+    if e == 1.0:
+        return 0.0
+    if law == "exact":
+        x, _ = tsuji_release(tsuji_alpha(e))
+        return 0.8 * x ** 2.5
+    if law == "linear":
+        z = linear_zeta(e)
+        return 4.0 * z * z * e * e
+    raise ValueError(f"law {law!r}: 'exact' or 'linear'")
+
+
 def linear_contact_time(zeta):
     """Closed-form contact time omega t_c of the clamped linear spring-dashpot."""
     if zeta < 1:
@@ -251,11 +285,18 @@ def restitution_table(targets=(0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9)):
 
 
 def main():
-    """python -m vibroimpact.reference.laws: the table of restitutions doc/model.md quotes."""
+    """python -m vibroimpact.reference.laws: the tables of restitutions and released energies doc/model.md
+    quotes."""
     print("| e_restitution | hunt_crossley | lankarani_nikravesh | flores | exact: alpha | linear: zeta |")
     print("|---|---|---|---|---|---|")
     for row in restitution_table():
         print("| {:.1f} | {:.4f} | {:.4f} | {:.4f} | {:.6f} | {:.6f} |".format(*row))
+    print()
+    print("| e_restitution | exact: released | linear: released |")
+    print("|---|---|---|")
+    for e in (0.3, 0.5, 0.7, 0.9):
+        exact, linear = (100 * released_fraction(law, e) for law in ("exact", "linear"))
+        print(f"| {e:.1f} | {exact:.2f} % | {linear:.2f} % |")
 
 
 if __name__ == "__main__":

@@ -43,7 +43,10 @@ Johnson unloading/reloading, eq. (4), after a maximum indentation delta_c:
                 delta_r = delta_Y sqrt(k_c),  delta_f = delta_c - delta_r
                 (so F_unload(delta_c) = F_Y k_c < F_load(delta_c))
     continuous: F_c = F_load(delta_c), a_c^2 = R* (2 delta_c - delta_Y),
-                Rbar = 4 E* a_c^3 / (3 F_c), delta_r = 3 F_c / (4 E* a_c)
+                delta_r = min(3 F_c / (4 E* a_c), 5/2 W_virgin(delta_c) / F_c),
+                Rbar from F_c = 4/3 E* sqrt(Rbar) delta_r^1.5 (force continuous; the
+                curve returns 2/5 F_c delta_r <= W_virgin(delta_c): passive; with
+                the first term, Rbar = 4 E* a_c^3 / (3 F_c): radius continuous too)
     Reloading to delta_c continues on the virgin curve (mode 2) and raises
     delta_c; separation when delta < delta_f (free flight, mode 0), re-contact
     at delta = delta_f on the unloading curve (mode 3).
@@ -360,9 +363,11 @@ class Model:
             Rbar = 4.0 * self.E_star * ap2 ** 1.5 / (3.0 * F_load_c)
             delta_r = (3.0 * F_load_c / (4.0 * self.E_star * math.sqrt(Rbar))) ** (2.0 / 3.0)
         elif self.continuous:
+            # the Hertz curve through (delta_c, F_c) whose returned energy 2/5 F_c delta_r is the smaller
+            # of the radius-continuous curve's and the virgin work: passive
             a_c = math.sqrt(self.R_star * (2.0 * delta_c - self.delta_Y))
-            Rbar = 4.0 * self.E_star * a_c ** 3 / (3.0 * F_load_c)
-            delta_r = 3.0 * F_load_c / (4.0 * self.E_star * a_c)
+            delta_r = min(3.0 * F_load_c / (4.0 * self.E_star * a_c), 2.5 * self.W_virgin(delta_c) / F_load_c)
+            Rbar = (3.0 * F_load_c / (4.0 * self.E_star)) ** 2 / delta_r ** 3
         else:
             k_c = 2.0 * delta_c / self.delta_Y - 1.0
             Rbar = self.R_star * math.sqrt(k_c)

@@ -92,7 +92,7 @@ SCENARIOS["stick"] = Scenario(
     dict(contact_model=JOHNSON, Y=2e8, f=100.0), supplementary=True)
 SCENARIOS["continuous"] = Scenario(
     "Beyond the paper: Johnson, continuous unloading, Y = 6e8 Pa",
-    "not in the paper: unloading = continuous (force and contact radius continuous at delta_c)",
+    "not in the paper: unloading = continuous (force continuous at delta_c, passive)",
     dict(contact_model=JOHNSON, Y=6e8, unloading=2), supplementary=True)
 SCENARIOS["printed"] = Scenario(
     "Beyond the paper: Johnson, printed yield formula (F_Y < P + m g: pre-loaded start)",

@@ -3,7 +3,7 @@ Vehicle.fmu) imported as Model Exchange and integrated together by one solver, S
 (examples/vehicle-track/me_master.py runs it against the example's monolithic reference).
 
 A short master over fmpy's Model Exchange API (FMU2Model). It stacks the FMUs' continuous states
-(contact: y, v; track: z_rail, v_rail, z_sleeper, v_sleeper; vehicle: z_body, v_body, W_dissipated)
+(contact: y, v, W_damping; track: z_rail, v_rail, z_sleeper, v_sleeper; vehicle: z_body, v_body, W_dissipated)
 and two integrals of its own for the bookkeeping: the impulse J of the contact force (the mean force
 over any interval) and the work D dissipated in the three dampers (from the FMUs' velocities and
 the dampers' start values in the companion FMUs). The integrals ride along without error control of their own: the
