@@ -46,7 +46,8 @@ def main():
     ap.add_argument("--method", default="DOP853", help="solve_ivp's method (DOP853, RK45, Radau, BDF, LSODA)")
     ap.add_argument("--profile", help="profile file (x, h); default: the example's roughness")
     ap.add_argument("--no-rail-velocity", action="store_true",
-                    help="leave v_rail -> vC_in out (velocity_input = false: the contact FMU estimates the rail's rate)")
+                    help="leave v_rail -> vC_in out (velocity_input = false: the contact FMU estimates the "
+                         "rail's rate)")
     a = ap.parse_args()
     connections = [c for c in CONNECTIONS if not (a.no_rail_velocity and c[3] == "vC_in")]
     with tempfile.TemporaryDirectory(prefix="vt_me_") as tmp:

@@ -10,9 +10,9 @@ The same scenes run with each law and each option that can be switched off, thro
 and each run gives what it changes (peak force, restitution, dissipated work, response amplitude, event
 count) and what it costs (CPU per simulated second in Co-Simulation and Model Exchange, events per
 simulated second); in the vehicle-track scene also how far its co-simulation is from its Model Exchange
-master at small steps (vt_agreement). The variants: hertz (elastic), johnson (plasticity, fixed contact point, the paper's
-unloading with stick), johnson_continuous (no stick), johnson_moving (moving contact point), lepp,
-thornton, hertz_damped (exact damping, e = 0.6), hunt_crossley (e = 0.6), linear (e = 0.6).
+master at small steps (vt_agreement). The variants: hertz (elastic), johnson (plasticity, fixed contact
+point, the paper's unloading with stick), johnson_continuous (no stick), johnson_moving (moving contact
+point), lepp, thornton, hertz_damped (exact damping, e = 0.6), hunt_crossley (e = 0.6), linear (e = 0.6).
 """
 import math
 import pathlib

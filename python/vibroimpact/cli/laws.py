@@ -10,8 +10,8 @@ excitation), rolling (the paper's wheel over a corrugated rail near resonance), 
 vehicle-track example: needs its Track.fmu and Vehicle.fmu beside the FMU, as a checkout's build/ has
 them); every variant of vibroimpact.laws_guide.VARIANTS in each. A CPU time "failed" is a run whose
 integrator gave up (the command prints why). For vehicle_track a second table gives how far the
-co-simulation at small steps is from the Model Exchange master, per variant. CPU times are the smallest of --repeat runs (process time, this
-machine: compare them with each other, not with another machine's).
+co-simulation at small steps is from the Model Exchange master, per variant. CPU times are the smallest
+of --repeat runs (process time, this machine: compare them with each other, not with another machine's).
 """
 import argparse
 import pathlib
@@ -41,8 +41,8 @@ def main(argv=None):
     table = laws_guide.markdown(rows)
     agreement = laws_guide.agreement_markdown(rows)
     if agreement:
-        table += ("\nvehicle_track: the Model Exchange master against the co-simulation, max |F_mean,CS - F_mean,ME| / W "
-                  f"over {laws_guide.AGREEMENT_MEAN:g} s\n\n" + agreement)
+        table += ("\nvehicle_track: the Model Exchange master against the co-simulation, "
+                  f"max |F_mean,CS - F_mean,ME| / W over {laws_guide.AGREEMENT_MEAN:g} s\n\n" + agreement)
     (out / "laws.md").write_text(table)
     fig = laws_guide.figure(rows)
     if gallery:
