@@ -251,6 +251,7 @@ typedef struct {
 } law_fns;
 
 static const law_fns *law(const vi_model *model);
+static int below_written(const vi_model *model, double d);
 
 /* The sign of the first nonzero of (position, rate, acceleration, jerk) relative to a surface is
  * positive. With delta' = 0 the acceleration of delta is (F_hold - F)/m and its jerk F_hold'/m (F
@@ -376,7 +377,7 @@ static void johnson_memory(const vi_model *model, double d, vi_model_values *out
  * 4/3 E* sqrt(Rbar). */
 static void johnson_memory_rates(const vi_model *model, double d, vi_memory_rates *r)
 {
-    if (!is_johnson_fixed(model) || model->mode != VI_MODE_PLASTIC || d < model->unload.delta_c) {
+    if (!is_johnson_fixed(model) || model->mode != VI_MODE_PLASTIC || below_written(model, d)) {
         no_memory_rates(model, d, r);
         return;
     }
@@ -517,7 +518,7 @@ static void lepp_memory(const vi_model *model, double d, vi_model_values *out)
 static void lepp_memory_rates(const vi_model *model, double d, vi_memory_rates *r)
 {
     no_memory_rates(model, d, r);
-    if (model->mode == VI_MODE_PLASTIC && d >= lepp_yield(model))
+    if (model->mode == VI_MODE_PLASTIC && !below_written(model, d))
         r->delta_p = 1.0, r->W_plastic = model->johnson.F_Y;
 }
 
