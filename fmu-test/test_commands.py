@@ -195,3 +195,75 @@ def test_sweep_and_diagrams_write_to_folders_named_after_them():
     named = readme_commands()
     assert sweep_out.rstrip("/").endswith("sweep") and str(diagrams.OUT).endswith("diagrams")
     assert f"`{sweep_out}/`" in named["sweep"] and f"`{diagrams.OUT}/`" in named["diagrams"]
+
+
+# ---- a command that fails leaves the results it would replace -------------------------------------
+LAWS_FILES = ("laws.csv", "laws.md", "laws.png")
+
+
+def test_an_unknown_laws_scene_is_refused_before_anything_is_written(tmp_path):
+    """A finished laws.csv, laws.md and laws.png stay as they were: exit 2, the unknown name and the
+    known ones on the last line."""
+    from vibroimpact.laws_guide import SCENES
+    out = tmp_path / "laws"
+    out.mkdir()
+    for name in LAWS_FILES:
+        (out / name).write_text(f"finished {name}\n")
+    refused(vi("laws", "--out", "laws", "--scenes", "fig4b", "nosuch", cwd=tmp_path), 2, "unknown scene nosuch",
+            *SCENES)
+    assert sorted(p.name for p in out.iterdir()) == sorted(LAWS_FILES)
+    for name in LAWS_FILES:
+        assert (out / name).read_text() == f"finished {name}\n"
+
+
+def test_the_laws_scene_names_are_the_scenes_it_runs(tmp_path):
+    from vibroimpact import laws_guide
+    assert list(laws_guide.scenes(tmp_path / "c.txt", tmp_path / "r.txt")) == list(laws_guide.SCENES)
+    with pytest.raises(ValueError, match="unknown scene or variant nosuch: the scenes are drop_0.1"):
+        laws_guide.run(tmp_path, only_scenes=["nosuch"])
+    assert not list(tmp_path.iterdir())
+
+
+def test_a_file_whose_writing_fails_keeps_what_it_held(tmp_path):
+    """files.replacing: an exception (Ctrl-C included) while writing leaves the old file and no
+    temporary one; a complete write replaces it."""
+    from vibroimpact import files
+    path = tmp_path / "table.csv"
+    path.write_text("finished\n")
+    for failure in (RuntimeError("the run failed"), KeyboardInterrupt()):
+        with pytest.raises(type(failure)):
+            with files.replacing(path) as fh:
+                fh.write("half a ro")
+                raise failure
+        assert path.read_text() == "finished\n" and sorted(tmp_path.iterdir()) == [path]
+    files.write_text(path, "new\n")
+    assert path.read_text() == "new\n" and sorted(tmp_path.iterdir()) == [path]
+
+
+def test_a_table_whose_writing_fails_keeps_what_it_held(tmp_path):
+    """laws.csv written with a row that cannot be written (a column missing) after good ones: the
+    finished file stays; matplotlib's figures draw before they open their file, the tables did not."""
+    from vibroimpact import laws_guide
+    path = tmp_path / "laws.csv"
+    path.write_text("finished\n")
+    good = dict.fromkeys(laws_guide.COLUMNS, 1.0)
+    with pytest.raises(KeyError):
+        laws_guide.write_csv(path, [good, {"scene": "drop_1"}])
+    assert path.read_text() == "finished\n" and sorted(tmp_path.iterdir()) == [path]
+
+
+def test_laws_interrupted_while_it_measures_keeps_the_old_results(tmp_path, monkeypatch):
+    """Ctrl-C during the runs: exit 130, the finished files as they were."""
+    from vibroimpact import laws_guide
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+    monkeypatch.setattr(laws_guide, "measure", interrupted)
+    monkeypatch.chdir(tmp_path)
+    out = tmp_path / "laws"
+    out.mkdir()
+    for name in LAWS_FILES:
+        (out / name).write_text(f"finished {name}\n")
+    assert cli.main(["laws", "--out", "laws", "--scenes", "drop_1"]) == 130
+    for name in LAWS_FILES:
+        assert (out / name).read_text() == f"finished {name}\n"

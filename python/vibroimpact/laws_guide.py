@@ -21,6 +21,7 @@ import time
 import numpy as np
 
 from . import rolling
+from .files import replacing
 from .fmu import Logged, MessageLog, fmu_path
 from .vehicle_track import master as vt_master
 from .vehicle_track import me_master as vt_me
@@ -42,6 +43,7 @@ VARIANTS = {
 # the steel sphere of Johnson's Hertz case on a steel plane (the FMU's E, nu), Y = 1 GPa
 SPHERE = dict(R1=0.01, R2=0.0, m=0.03288, Y=1e9, P=0.0, g=0.0, init=2)
 DROP_SPEEDS = (0.1, 1.0, 3.0)  # m/s
+SCENES = tuple(f"drop_{V:g}" for V in DROP_SPEEDS) + ("fig4b", "rolling", "vehicle_track")  # scenes()' names
 PAPER = dict(Y=6e8, a=1e-4, f=560.0)
 STOP = {"drop": 2e-3, "fig4b": 0.05, "rolling": 0.05, "vehicle_track": 0.03}  # s
 # the vehicle-track run starts where the roughness fades in (roughness.taper), 0.9 m before its end
@@ -217,10 +219,15 @@ def measure(scene, variant, params, stop, V, fmu, md, unzipdir, repeat=1):
 
 def run(out_dir, fmu=None, only_scenes=None, variants=None, repeat=1):
     """Every scene with every variant (or the ones named): the rows of the table. The vehicle-track scene
-    needs the example's companion FMUs beside the FMU (a checkout's build/)."""
+    needs the example's companion FMUs beside the FMU (a checkout's build/). A ValueError naming them
+    for names that are not in SCENES or VARIANTS, before anything is written."""
     import shutil
 
     from fmpy import extract, read_model_description
+    unknown = unknown_names(only_scenes or (), SCENES) + unknown_names(variants or (), VARIANTS)
+    if unknown:
+        raise ValueError(f"unknown scene or variant {', '.join(unknown)}: the scenes are {', '.join(SCENES)}; "
+                         f"the variants {', '.join(VARIANTS)}")
     fmu = str(fmu or fmu_path())
     md = read_model_description(fmu)
     unzipdir = extract(fmu)
@@ -244,8 +251,13 @@ def run(out_dir, fmu=None, only_scenes=None, variants=None, repeat=1):
     return rows
 
 
+def unknown_names(names, known):
+    """The names that are not in known, in the order given."""
+    return [n for n in names if n not in known]
+
+
 def write_csv(path, rows):
-    with open(path, "w") as f:
+    with replacing(path) as f:
         f.write(",".join(COLUMNS) + "\n")
         for r in rows:
             f.write(",".join(str(r[c]) if isinstance(r[c], str) else f"{r[c]:.6g}" for c in COLUMNS) + "\n")

@@ -9,6 +9,7 @@ import csv
 
 import numpy as np
 
+from .files import replacing
 from .fmu import fmu_path, simulate as simulate_logged
 from .reference.scenarios import SCENARIOS, STOP_TIME
 
@@ -45,8 +46,9 @@ def summary_row(s):
 
 def write_run(path, r):
     """A run's outputs as a CSV file, one column per output (read_run reads it back)."""
-    np.savetxt(path, np.column_stack([r[c] for c in r.dtype.names]), delimiter=",", header=",".join(r.dtype.names),
-               comments="", fmt="%.10g")
+    with replacing(path) as fh:
+        np.savetxt(fh, np.column_stack([r[c] for c in r.dtype.names]), delimiter=",", header=",".join(r.dtype.names),
+                   comments="", fmt="%.10g")
 
 
 def read_run(path):
@@ -68,10 +70,8 @@ def read_summary(out):
 
 def write_summary(out, rows):
     """<out>/summary.csv: one row per scenario in `rows`, in the scenario table's order."""
-    tmp = out / "summary.csv.tmp"
-    with open(tmp, "w", newline="") as fh:
+    with replacing(out / "summary.csv", newline="") as fh:
         w = csv.writer(fh, lineterminator="\n")
         w.writerow(SUMMARY)
         for name in (n for n in SCENARIOS if n in rows):
             w.writerow([rows[name][k] for k in SUMMARY])
-    tmp.replace(out / "summary.csv")

@@ -41,8 +41,10 @@ def figure_legend(fig, axes, loc="outside lower center", ncols=4, **style):
 
 
 def save(fig, path, dpi):
-    """Write fig to path (the folder must exist) and close it."""
-    fig.savefig(path, dpi=dpi)
+    """Write fig to path (the folder must exist; the file replaced only once complete: files.save_figure)
+    and close it."""
+    from .files import save_figure
+    save_figure(fig, path, dpi)
     pyplot().close(fig)
     return path
 

@@ -9,6 +9,7 @@ import csv
 
 import numpy as np
 
+from .files import replacing
 from .fmu import fmu_path, simulate
 from .reference import profile as profile_ref
 
@@ -28,7 +29,7 @@ def corrugation(path):
     x = np.linspace(0.0, LAMBDA, SAMPLES + 1)
     h = AMPLITUDE * np.cos(2 * np.pi * x / LAMBDA)
     h[-1] = h[0]
-    with open(path, "w") as f:
+    with replacing(path) as f:
         f.write(f"# corrugation: lambda = {LAMBDA} m, amplitude {AMPLITUDE} m; x [m]  h [m]\n")
         for a, b in zip(x, h):
             f.write(f"{float(a)!r} {float(b)!r}\n")
@@ -69,14 +70,14 @@ def harmonics(x, h):
 
 
 def write_rows(path, table):
-    with open(path, "w", newline="") as f:
+    with replacing(path, newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(table[0]))
         w.writeheader()
         w.writerows(table)
 
 
 def write_harmonics(path, amp):
-    with open(path, "w", newline="") as f:
+    with replacing(path, newline="") as f:
         w = csv.writer(f)
         w.writerow(["order", "amplitude_um", "relative_to_first"])
         for k, a in enumerate(amp, start=1):

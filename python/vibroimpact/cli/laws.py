@@ -18,6 +18,7 @@ import pathlib
 
 from .. import laws_guide, plotting
 from ..failure import out_dir
+from ..files import save_figure, write_text
 from ..fmu import fmu_path
 
 OUT = pathlib.Path("results", "laws")
@@ -33,19 +34,25 @@ def main(argv=None):
     p.add_argument("--gallery", type=pathlib.Path, default=None, metavar="DIR",
                    help="also write a smaller copy of the figure to DIR/laws.png (the documentation's: doc/gallery)")
     args = p.parse_args(argv)
-    fmu = fmu_path()
+    unknown = laws_guide.unknown_names(args.scenes or (), laws_guide.SCENES)
+    if unknown:
+        p.error(f"unknown scene {', '.join(unknown)}; the scenes are {', '.join(laws_guide.SCENES)}")
+    if args.repeat < 1:
+        p.error("--repeat is at least 1")
+    fmu = fmu_path()   # no FMU: say so before anything is written
     out = out_dir(args.out)
     gallery = args.gallery and out_dir(args.gallery, "--gallery")
-    rows = laws_guide.run(out, fmu, only_scenes=args.scenes, repeat=max(args.repeat, 1))
-    laws_guide.write_csv(out / "laws.csv", rows)
+    rows = laws_guide.run(out, fmu, only_scenes=args.scenes, repeat=args.repeat)
     table = laws_guide.markdown(rows)
     agreement = laws_guide.agreement_markdown(rows)
     if agreement:
         table += ("\nvehicle_track: the Model Exchange master against the co-simulation, "
                   f"max |F_mean,CS - F_mean,ME| / W over {laws_guide.AGREEMENT_MEAN:g} s\n\n" + agreement)
-    (out / "laws.md").write_text(table)
     fig = laws_guide.figure(rows)
+    # every result made before the first is written; each file replaced only once complete
+    laws_guide.write_csv(out / "laws.csv", rows)
+    write_text(out / "laws.md", table)
     if gallery:
-        fig.savefig(gallery / "laws.png", dpi=GALLERY_DPI)
+        save_figure(fig, gallery / "laws.png", GALLERY_DPI)
     plotting.save(fig, out / "laws.png", DPI)
     print(table)

@@ -17,6 +17,7 @@ import pathlib
 
 from .. import paper, plotting
 from ..failure import out_dir
+from ..files import save_figure
 from ..fmu import fmu_path
 from ..reference.scenarios import SCENARIOS
 
@@ -27,7 +28,7 @@ GALLERY_SCALE = 0.6  # the gallery copies' resolution against the figures'
 
 def save(fig, out, filename, dpi, gallery):
     if gallery:
-        fig.savefig(gallery / filename, dpi=GALLERY_SCALE * dpi)
+        save_figure(fig, gallery / filename, GALLERY_SCALE * dpi)
     plotting.save(fig, out / filename, dpi)
 
 

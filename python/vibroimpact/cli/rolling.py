@@ -14,6 +14,7 @@ import pathlib
 
 from .. import plotting, rolling
 from ..failure import out_dir
+from ..files import save_figure
 from ..fmu import fmu_path
 
 OUT = pathlib.Path("results", "rolling")
@@ -34,7 +35,7 @@ def main(argv=None):
     runs = rolling.run(out / "corrugation.txt", fmu)
     fig = plotting.rolling_figure((*rolling.constraint(x, h), rolling.R1), runs, rolling.PASSING)
     if gallery:
-        fig.savefig(gallery / "rolling.png", dpi=GALLERY_DPI)
+        save_figure(fig, gallery / "rolling.png", GALLERY_DPI)
     plotting.save(fig, out / "rolling.png", DPI)
     table = rolling.rows(runs)
     rolling.write_rows(out / "rolling.csv", table)
