@@ -154,10 +154,52 @@ def test_paper_on_a_subset_updates_the_summary(tmp_path):
     assert both[first] == alone[first]
     for row in both.values():
         for key, text in row.items():
-            if key != "scenario":
+            if key not in ("scenario", "warnings"):
                 digits = re.sub(r"e.*$", "", text.lstrip("-")).replace(".", "").lstrip("0")
                 assert len(digits) <= 6, (key, text)
     assert (tmp_path / "out" / "overview.png").stat().st_size > 0
+
+
+@pytest.mark.timeout(200)
+def test_paper_relays_the_fmus_warnings_once_per_scenario_and_records_them(tmp_path):
+    """Fig. 6a's indentation (about 10 mm) takes the contact radius beyond 0.1 R*: the FMU logs a
+    warning that the results leave the model's range of validity. paper prints it on stderr once, after
+    the scenario's name, and keeps it in the scenario's row of summary.csv; fig5a (2 um of indentation
+    at most) has none."""
+    p = vi("paper", "--out", "out", "fig5a", "fig6a", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    lines = [line for line in p.stderr.splitlines() if "warning" in line]
+    assert len(lines) == 1, p.stderr
+    assert lines[0].startswith("vibroimpact paper: fig6a: warning: ") and "range of validity" in lines[0], lines
+    rows = read_summary(tmp_path / "out" / "summary.csv")
+    assert 9000 < float(rows["fig6a"]["delta_max_um"]) < 11000   # the indentation the warning is about
+    assert lines[0].endswith(rows["fig6a"]["warnings"]) and "exceeds 0.01 R*" in rows["fig6a"]["warnings"]
+    assert rows["fig5a"]["warnings"] == ""
+    assert "fig6a: " in p.stdout and "1 FMU warning" in p.stdout, p.stdout
+
+
+@pytest.mark.timeout(200)
+def test_compare_relays_the_fmus_warnings_as_paper_does(tmp_path):
+    """The commands that run the FMU pass its warnings on through vibroimpact.fmu.Relay: compare on
+    every scenario names fig6a's indentation once, as paper does."""
+    p = vi("compare", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    lines = [line for line in p.stderr.splitlines() if line.startswith("vibroimpact compare: fig6a: warning: ")]
+    assert len(lines) == 1 and "range of validity" in lines[0], p.stderr
+
+
+def test_a_relay_prints_each_warning_once_per_run():
+    import io
+
+    from vibroimpact.fmu import Relay
+    out = io.StringIO()
+    relay = Relay("cmd", out)
+    relay("a", ["w1", "w2"])
+    relay("a", ["w1"])
+    relay("b", ["w1"])
+    assert out.getvalue() == "vibroimpact cmd: a: warning: w1\nvibroimpact cmd: a: warning: w2\n" \
+                             "vibroimpact cmd: b: warning: w1\n"
+    assert relay.of("a") == ["w1", "w2"] and relay.of("c") == []
 
 
 @pytest.mark.timeout(200)

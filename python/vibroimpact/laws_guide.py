@@ -90,7 +90,7 @@ def scenes(profile, rough=None):
 
 
 def _events(fmu, md, unzipdir, params, stop):
-    """The result of one Co-Simulation run with its event log on, and the number of events it logged."""
+    """The result of one Co-Simulation run with its event log on, and its log (a fmu.MessageLog)."""
     from fmpy import simulate_fmu
     log = Logged(md, unzipdir, name="events")
     slave = log.instantiate(logging=True)
@@ -101,7 +101,12 @@ def _events(fmu, md, unzipdir, params, stop):
                          output=["v", "y", "F", "W_plastic", "contact"])
     finally:
         slave.freeInstance()
-    return r, sum(1 for _, _, m in log.messages if m.startswith("event t="))
+    return r, log
+
+
+def _count_events(log):
+    """The number of events an instance's event log (logEvents) holds."""
+    return sum(1 for _, _, m in log.messages if m.startswith("event t="))
 
 
 def _cpu(run, repeat):
@@ -150,11 +155,11 @@ def _vt_cs(fmu, params, stop, step=TIMED_INTERVAL, **options):
 
 def _vt_events(fmu, params, stop):
     """One co-simulation of the vehicle-track example with the contact FMU's event log on: its record in
-    the names of a contact FMU's result (time, F, y, W_plastic) and the number of events logged."""
+    the names of a contact FMU's result (time, F, y, W_plastic) and the contact FMU's log."""
     log = MessageLog()
     rec = _vt_cs(fmu, params, stop, contact_log=log, record=("W_plastic",))
     r = {"time": rec["t"], "F": rec["contact.F"], "y": rec["contact.y"], "W_plastic": rec["contact.W_plastic"]}
-    return r, sum(1 for _, _, m in log.messages if m.startswith("event t="))
+    return r, log
 
 
 def _vt_cs_run(fmu, params, stop):
@@ -187,22 +192,26 @@ def vt_agreement(fmu, params, stop):
     return out
 
 
-def measure(scene, variant, params, stop, V, fmu, md, unzipdir, repeat=1):
-    """One table row: what the variant gives in the scene and what it costs."""
+def measure(scene, variant, params, stop, V, fmu, md, unzipdir, repeat=1, warned=None):
+    """One table row: what the variant gives in the scene and what it costs. warned: called with
+    ('SCENE VARIANT', the FMU's warnings) when the FMU logged any in the run measured (a fmu.Relay)."""
     print(f"{scene}: {variant}")
     p = dict(params, **VARIANTS[variant])
     if variant == "linear":
         p["k_spring"] = k_spring_for(scene)
     if scene == "vehicle_track":
-        r, events = _vt_events(fmu, p, stop)
+        r, log = _vt_events(fmu, p, stop)
         cs = _cpu(lambda: _vt_cs_run(fmu, p, stop), repeat)
         me = _cpu(lambda: _vt_me_run(fmu, p, stop), repeat)
         agreement = {} if math.isnan(me) else vt_agreement(fmu, p, stop)  # NaN: the master failed (printed)
     else:
         agreement = {}
-        r, events = _events(fmu, md, unzipdir, p, stop)
+        r, log = _events(fmu, md, unzipdir, p, stop)
         cs = _cpu(lambda: _cs_run(unzipdir, md, p, stop), repeat)
         me = _cpu(lambda: _me_run(fmu, unzipdir, md, p, stop), repeat)
+    if warned is not None and log.warnings():
+        warned(f"{scene} {variant}", log.warnings())
+    events = _count_events(log)
     half = r["time"] >= stop / 2
     row = dict(scene=scene, variant=variant, F_max_N=float(r["F"].max()), events=events,
                cpu_cs_s_per_s=cs / stop, cpu_me_s_per_s=me / stop, events_per_s=events / stop,
@@ -217,8 +226,9 @@ def measure(scene, variant, params, stop, V, fmu, md, unzipdir, repeat=1):
     return row
 
 
-def run(out_dir, fmu=None, only_scenes=None, variants=None, repeat=1):
-    """Every scene with every variant (or the ones named): the rows of the table. The vehicle-track scene
+def run(out_dir, fmu=None, only_scenes=None, variants=None, repeat=1, warned=None):
+    """Every scene with every variant (or the ones named): the rows of the table; warned: as measure's.
+    The vehicle-track scene
     needs the example's companion FMUs beside the FMU (a checkout's build/). A ValueError naming them
     for names that are not in SCENES or VARIANTS, before anything is written."""
     import shutil
@@ -245,7 +255,7 @@ def run(out_dir, fmu=None, only_scenes=None, variants=None, repeat=1):
             if only_scenes and scene not in only_scenes:
                 continue
             for variant in variants or VARIANTS:
-                rows.append(measure(scene, variant, params, stop, V, fmu, md, unzipdir, repeat))
+                rows.append(measure(scene, variant, params, stop, V, fmu, md, unzipdir, repeat, warned))
     finally:
         shutil.rmtree(unzipdir, ignore_errors=True)
     return rows

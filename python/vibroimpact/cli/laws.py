@@ -19,7 +19,7 @@ import pathlib
 from .. import laws_guide, plotting
 from ..failure import out_dir
 from ..files import save_figure, write_text
-from ..fmu import fmu_path
+from ..fmu import Relay, fmu_path
 
 OUT = pathlib.Path("results", "laws")
 DPI, GALLERY_DPI = 110, 70
@@ -42,12 +42,16 @@ def main(argv=None):
     fmu = fmu_path()   # no FMU: say so before anything is written
     out = out_dir(args.out)
     gallery = args.gallery and out_dir(args.gallery, "--gallery")
-    rows = laws_guide.run(out, fmu, only_scenes=args.scenes, repeat=args.repeat)
+    relay = Relay("laws")
+    rows = laws_guide.run(out, fmu, only_scenes=args.scenes, repeat=args.repeat, warned=relay)
     table = laws_guide.markdown(rows)
     agreement = laws_guide.agreement_markdown(rows)
     if agreement:
         table += ("\nvehicle_track: the Model Exchange master against the co-simulation, "
                   f"max |F_mean,CS - F_mean,ME| / W over {laws_guide.AGREEMENT_MEAN:g} s\n\n" + agreement)
+    if relay.by_run:
+        table += "\nThe FMU's warnings (also printed as they came):\n\n" + "".join(
+            f"- {run}: {text}\n" for run, texts in relay.by_run.items() for text in texts)
     fig = laws_guide.figure(rows)
     # every result made before the first is written; each file replaced only once complete
     laws_guide.write_csv(out / "laws.csv", rows)

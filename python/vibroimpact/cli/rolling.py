@@ -15,7 +15,7 @@ import pathlib
 from .. import plotting, rolling
 from ..failure import out_dir
 from ..files import save_figure
-from ..fmu import fmu_path
+from ..fmu import Relay, fmu_path
 
 OUT = pathlib.Path("results", "rolling")
 DPI, GALLERY_DPI = 110, 60
@@ -32,15 +32,17 @@ def main(argv=None):
     out = out_dir(args.out)
     gallery = args.gallery and out_dir(args.gallery, "--gallery")
     x, h = rolling.corrugation(out / "corrugation.txt")
-    runs = rolling.run(out / "corrugation.txt", fmu)
+    relay = Relay("rolling")
+    runs = rolling.run(out / "corrugation.txt", fmu, warned=relay)
     fig = plotting.rolling_figure((*rolling.constraint(x, h), rolling.R1), runs, rolling.PASSING)
     if gallery:
         save_figure(fig, gallery / "rolling.png", GALLERY_DPI)
     plotting.save(fig, out / "rolling.png", DPI)
-    table = rolling.rows(runs)
+    table = rolling.rows(runs, relay.by_run)
     rolling.write_rows(out / "rolling.csv", table)
     amp = rolling.harmonics(x, h)
     rolling.write_harmonics(out / "constraint_harmonics.csv", amp)
     print("harmonics of yb [um]: " + ", ".join(f"{k}: {a * 1e6:.3g}" for k, a in enumerate(amp, start=1)))
-    for row in table:
-        print(", ".join(f"{k} {v:.4g}" if isinstance(v, float) else f"{k} {v}" for k, v in row.items()))
+    for row in table:   # the warnings were printed as they came
+        print(", ".join(f"{k} {v:.4g}" if isinstance(v, float) else f"{k} {v}" for k, v in row.items()
+                        if k != "warnings"))
