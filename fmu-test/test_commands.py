@@ -309,3 +309,21 @@ def test_laws_interrupted_while_it_measures_keeps_the_old_results(tmp_path, monk
     assert cli.main(["laws", "--out", "laws", "--scenes", "drop_1"]) == 130
     for name in LAWS_FILES:
         assert (out / name).read_text() == f"finished {name}\n"
+
+
+def test_a_sweep_interrupted_before_its_first_point_keeps_the_finished_sweep(tmp_path, monkeypatch):
+    """sweep writes each point as it finishes (for --resume); a new sweep in the folder of a finished
+    one that is interrupted, or fails, before its first point leaves that sweep's files as they were."""
+    from vibroimpact.sweep import engine
+    out = tmp_path / "sw"
+    out.mkdir()
+    finished = {name: f"finished {name}\n" for name in ("sweep.csv", "poincare.csv", "sweep.json")}
+    for name, text in finished.items():
+        (out / name).write_text(text)
+    monkeypatch.chdir(tmp_path)
+    for failure, code in ((KeyboardInterrupt(), 130), (OSError("no scheduler there"), 1)):
+        def run(*args, **kwargs):
+            raise failure
+        monkeypatch.setattr(engine, "run", run)
+        assert cli.main(["sweep", "--out", "sw", "--grid", "f=100:200:2", "--no-plots"]) == code
+        assert {p.name: p.read_text() for p in out.iterdir()} == finished

@@ -12,6 +12,9 @@ them); every variant of vibroimpact.laws_guide.VARIANTS in each. A CPU time "fai
 integrator gave up (the command prints why). For vehicle_track a second table gives how far the
 co-simulation at small steps is from the Model Exchange master, per variant. CPU times are the smallest
 of --repeat runs (process time, this machine: compare them with each other, not with another machine's).
+A warning the FMU logs in a run is printed to stderr once per scene and variant and listed in laws.md. An
+unknown scene is refused before anything is written, and a run that fails or is interrupted leaves the
+files of an earlier run as they were.
 """
 import argparse
 import pathlib

@@ -6,6 +6,8 @@ frequency V/lambda lies below, near and above the contact resonance.
         ->  DIR/{corrugation.txt, rolling.png, rolling.csv, constraint_harmonics.csv}
 
 --gallery DIR also writes a smaller copy of the figure there (the documentation's: --gallery doc/gallery).
+A warning the FMU logs in a case's run is printed to stderr once, after the case's name, and kept in
+rolling.csv's column warnings.
 The FMU is vibroimpact.fmu_path(); the constraint drawn beside it comes from the independent
 reference (vibroimpact.reference.profile).
 """
