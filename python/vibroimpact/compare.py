@@ -86,7 +86,7 @@ def compare(name, runner, rtol=RTOL_FMU, solver=None, warned=None):
     """Figures of the FMU against the reference for one scenario (all over the horizon unless said);
     warned: as Runner.run's."""
     ref, info = read_trace(name), SUMMARY[name]
-    fmu, events = runner.run(name, ref["time"], rtol, solver, warned)
+    fmu, events = runner.run(name, ref["time"], rtol, solver, **({} if warned is None else {"warned": warned}))
     t, h = ref["time"], info["horizon"]
     within = t <= h
     err_y = np.abs(fmu["y"] - ref["y"])
