@@ -179,13 +179,18 @@ def test_paper_relays_the_fmus_warnings_once_per_scenario_and_records_them(tmp_p
 
 
 @pytest.mark.timeout(200)
-def test_compare_relays_the_fmus_warnings_as_paper_does(tmp_path):
-    """The commands that run the FMU pass its warnings on through vibroimpact.fmu.Relay: compare on
-    every scenario names fig6a's indentation once, as paper does."""
-    p = vi("compare", cwd=tmp_path)
+@pytest.mark.parametrize("args, runs", [(["compare"], ["fig6a"]),
+                                        (["me-cost", "--scenarios", "fig6a", "--rtols", "1e-6", "--repeat", "2"],
+                                         ["fig6a ME", "fig6a CS"])])
+def test_other_commands_relay_the_fmus_warnings_as_paper_does(tmp_path, args, runs):
+    """The commands that run the FMU pass its warnings on through vibroimpact.fmu.Relay: fig6a's
+    indentation named once per run (me-cost: its Model Exchange and its Co-Simulation run, however
+    often it repeats them), as paper does."""
+    p = vi(*args, cwd=tmp_path)
     assert p.returncode == 0, p.stderr
-    lines = [line for line in p.stderr.splitlines() if line.startswith("vibroimpact compare: fig6a: warning: ")]
-    assert len(lines) == 1 and "range of validity" in lines[0], p.stderr
+    for run in runs:
+        lines = [line for line in p.stderr.splitlines() if line.startswith(f"vibroimpact {args[0]}: {run}: warning: ")]
+        assert len(lines) == 1 and "range of validity" in lines[0], p.stderr
 
 
 def test_a_relay_prints_each_warning_once_per_run():
