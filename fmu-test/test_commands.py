@@ -181,11 +181,13 @@ def test_paper_relays_the_fmus_warnings_once_per_scenario_and_records_them(tmp_p
 @pytest.mark.timeout(200)
 @pytest.mark.parametrize("args, runs", [(["compare"], ["fig6a"]),
                                         (["me-cost", "--scenarios", "fig6a", "--rtols", "1e-6", "--repeat", "2"],
-                                         ["fig6a ME", "fig6a CS"])])
+                                         ["fig6a ME", "fig6a CS"]),
+                                        (["energy", "--variants", "lepp"],
+                                         [f"lepp drop {i} FMI {v}.0" for i in ("CS", "ME") for v in (2, 3)])])
 def test_other_commands_relay_the_fmus_warnings_as_paper_does(tmp_path, args, runs):
     """The commands that run the FMU pass its warnings on through vibroimpact.fmu.Relay: fig6a's
-    indentation named once per run (me-cost: its Model Exchange and its Co-Simulation run, however
-    often it repeats them), as paper does."""
+    indentation (energy: the drop's under LEPP) named once per run (me-cost: its Model Exchange and its
+    Co-Simulation run, however often it repeats them; energy: each interface), as paper does."""
     p = vi(*args, cwd=tmp_path)
     assert p.returncode == 0, p.stderr
     for run in runs:

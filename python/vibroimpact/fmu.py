@@ -204,6 +204,28 @@ class MessageLog(Messages):
         self.keep(status, category, message.decode("utf-8", "replace").replace("%%", "%"))
 
 
+def logged_instance(md, unzipdir, interface="CoSimulation", name="instance"):
+    """(instance, log) for fmpy.simulate_fmu(fmu_instance=instance): an fmpy instance of the extracted
+    FMU (FMI 2.0 or 3.0, `interface` CoSimulation or ModelExchange), instantiated with a logger that
+    keeps what it logs in log (Messages; its warnings for a Relay). The caller frees the instance."""
+    cs = interface == "CoSimulation"
+    identifier = (md.coSimulation if cs else md.modelExchange).modelIdentifier
+    if md.fmiVersion == "2.0":
+        from fmpy.fmi2 import FMU2Model, FMU2Slave
+        log = MessageLog()
+        instance = (FMU2Slave if cs else FMU2Model)(guid=md.guid, unzipDirectory=unzipdir,
+                                                     modelIdentifier=identifier, instanceName=name)
+        instance.instantiate(callbacks=log.callbacks)
+        return instance, log
+    from fmpy.fmi3 import FMU3Model, FMU3Slave
+    log = Messages()
+    instance = (FMU3Slave if cs else FMU3Model)(guid=md.guid, unzipDirectory=unzipdir, modelIdentifier=identifier,
+                                                instanceName=name)
+    instance.instantiate(logMessage=lambda env, status, category, text: log.keep(status, category,
+                                                                                  text.decode("utf-8", "replace")))
+    return instance, log
+
+
 def simulate(what, fmu, warned=None, **options):
     """fmpy.simulate_fmu(fmu, **options) (Co-Simulation) on an instance whose log is kept: when an FMI
     call fails, a failure.CommandError saying `what` failed, in the FMU's words. warned: called with
