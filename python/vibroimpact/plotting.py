@@ -397,6 +397,8 @@ def diagrams_bifurcation_figure(runs, fc, panels):
 # ---- the benchmark (vibroimpact bench) -----------------------------------------------------------------
 
 SOLVER_COLORS = dict(bdf="tab:blue", adams="tab:orange", dop853="tab:green", auto="tab:purple")
+# a marker and line per solver: auto runs one of the others, and its curve then lies on that one's
+SOLVER_STYLES = dict(bdf="o-", adams="s--", dop853="^-.", auto="x:")
 
 
 def loglog_points(ax, pts, style, **kw):
@@ -420,7 +422,7 @@ def work_precision_figure(results, rtols, cases, solvers, bound):
     for ax, (case, res) in zip(axes, (c for c in results.items() if c[0] in cases)):
         for name in solvers:
             pts = [(res["fmu"][name, r][0], res["fmu"][name, r][1]) for r in rtols if res["fmu"][name, r][0]]
-            loglog_points(ax, pts, "o-", color=SOLVER_COLORS[name], label=f"FMU {name}")
+            loglog_points(ax, pts, SOLVER_STYLES[name], color=SOLVER_COLORS[name], label=f"FMU {name}")
         pts = [res["py"][r] for r in rtols if res["py"][r][0] is not None]
         if pts:
             loglog_points(ax, pts, "s--", color="k", label="Python reference (SciPy DOP853)")
@@ -441,12 +443,11 @@ def cost_figure(results, solvers):
     fig, axes = plt.subplots(1, 3, figsize=(16, 5), layout="constrained")
     steps = sorted({h for (_, h) in results["per_step"]})
     for name in solvers:
-        axes[0].loglog(steps, [results["per_step"][name, h] for h in steps], "o-", color=SOLVER_COLORS[name],
-                       label=name)
-        axes[1].plot(results["time_spans"], [1e3 * c for c in results["time"][name]], "o-", color=SOLVER_COLORS[name],
-                     label=name)
+        style = dict(color=SOLVER_COLORS[name], label=name)
+        axes[0].loglog(steps, [results["per_step"][name, h] for h in steps], SOLVER_STYLES[name], **style)
+        axes[1].plot(results["time_spans"], [1e3 * c for c in results["time"][name]], SOLVER_STYLES[name], **style)
         pts = results["impacts"][name]
-        axes[2].plot([a for a, _ in pts], [1e3 * c for _, c in pts], "o-", color=SOLVER_COLORS[name], label=name)
+        axes[2].plot([a for a, _ in pts], [1e3 * c for _, c in pts], SOLVER_STYLES[name], **style)
     no_minor_labels(axes[0])
     axes[0].set(xlabel="communication step [s]", ylabel="CPU time per fmi2DoStep [us]",
                 title="Fig. 4b: the cost of a step against its length")
