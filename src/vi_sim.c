@@ -267,11 +267,16 @@ static int attach_profile(vi_sim *s)
  * (vi_model_validity). */
 void vi_sim_check_validity(vi_sim *s)
 {
-    char text[400];
+    char text[600];
     s->validity_unchecked = 0;
     for (int cause; (cause = vi_model_validity(&s->d.model, s->d.par.R1, s->d.t, s->d.x, s->warned_validity, text,
                                                sizeof text)) != 0;) { /* bounded: one more bit each time */
         s->warned_validity |= cause;
+        s->log(s->log_env, VI_LOG_WARNING, "%s", text);
+    }
+    double F_max = fmax(s->d.F_peak, vi_model_force(&s->d.model, s->d.t, s->d.x)); /* the step's so far, and now */
+    if (!(s->warned_validity & VI_INVALID_FORCE) && vi_model_force_validity(&s->d.model, F_max, s->d.t, text, sizeof text)) {
+        s->warned_validity |= VI_INVALID_FORCE;
         s->log(s->log_env, VI_LOG_WARNING, "%s", text);
     }
 }
@@ -578,7 +583,8 @@ int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change)
     /* at a communication point only the indentation can newly leave the range (a changes in
      * apply_inputs, which checks; the profile is fixed), unless a state was restored since */
     if (s->validity_unchecked ||
-        (!(s->warned_validity & VI_INVALID_INDENTATION) && vi_model_indentation_invalid(&d->model, d->x)))
+        (!(s->warned_validity & VI_INVALID_INDENTATION) && vi_model_indentation_invalid(&d->model, d->x)) ||
+        (!(s->warned_validity & VI_INVALID_FORCE) && d->F_peak > vi_model_force_limit(&d->model)))
         vi_sim_check_validity(s);
     if (pass == PASS_STOPPED) return VI_SIM_EVENT;
     if (t_end > run.limit) return discard(s, "%s", why); /* the end of the profile: nothing beyond it */
