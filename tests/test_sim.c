@@ -745,7 +745,8 @@ Test(sim, solver_failure_message_gives_the_state)
     char expect[512];
     snprintf(expect, sizeof expect, "the solver failed near t = %.17g s (mode 0, delta = %g m, v = %g m/s)", s.d.t,
              s.d.x[0], s.d.x[1]);
-    cr_assert(strcmp(s.msg, expect) == 0, "expected '%s', got '%s'", expect, s.msg);
+    cr_assert(strncmp(s.msg, expect, strlen(expect)) == 0 && strstr(s.msg, "; the contact's time scale sqrt(m/k) = "),
+              "expected '%s' and the time scale, got '%s'", expect, s.msg);
     cr_assert(s.d.t >= 1e-3 && s.d.t < 2e-3 && s.d.x[0] < 0.0 && s.d.x[1] != s.d.x[0], "%s", s.msg);
     vi_sim_free(&s);
 }
@@ -1121,5 +1122,65 @@ Test(sim, a_guard_within_rounding_of_zero_gets_the_band_of_its_noise)
         cr_assert(vi_sim_advance(&s, s.d.t + 1e-9) == VI_SIM_OK, "%s", s.msg);
         cr_assert(s.d.events.band[0] == (k ? 0.0 : band_at_contact(&s)), "delta %g: band %g", at[k], s.d.events.band[0]);
     }
+    vi_sim_free(&s);
+}
+
+/* ---- the solver's warnings: relayed once a kind, counted exactly ----------------------------------- */
+
+static char relayed[16][1024];
+static int n_relayed;
+static void keep_warnings(void *env, int category, const char *fmt, ...)
+{
+    (void)env;
+    if (category != VI_LOG_WARNING || n_relayed >= 16) return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(relayed[n_relayed++], sizeof relayed[0], fmt, ap);
+    va_end(ap);
+}
+
+#define KIND_A "CVODE CVode: Internal t = %.17g and h = %g are such that t + h = t on the next step."
+
+/* 1005 warnings of one kind (numbers of every form: 1, 1.0000000000000002, 1e-18, -3.5E+07), 3 of a
+ * second, one each of two more (four kinds are remembered), 3 of three further kinds: the first of
+ * each remembered kind is relayed with the contact's time scale, the report gives 1004 and 2 more
+ * and 3 of other kinds, a report with nothing new says nothing, and a kind seen before is only
+ * counted in the next. */
+Test(sim, solver_warnings_are_relayed_once_a_kind_and_counted_exactly)
+{
+    vi_sim s;
+    n_relayed = 0;
+    vi_sim_init(&s, keep_warnings, NULL);
+    cr_assert(vi_sim_initialize(&s) == 0 && n_relayed == 0, "%s", s.msg);
+    for (int i = 0; i < 1000; i++) vi_sim_solver_log(&s, VI_LOG_WARNING, KIND_A, 1.0 + i * DBL_EPSILON, i * 1e-18);
+    vi_sim_solver_log(&s, VI_LOG_WARNING, "%s", "The above warning has been issued 10 times.");
+    vi_sim_solver_log(&s, VI_LOG_WARNING, KIND_A, -3.5e7, -3.5e7);
+    vi_sim_solver_log(&s, VI_LOG_WARNING, "%s", "The above warning has been issued 11 times.");
+    vi_sim_solver_log(&s, VI_LOG_WARNING, "%s", "The above warning has been issued 12 times.");
+    for (int i = 0; i < 4; i++) vi_sim_solver_log(&s, VI_LOG_WARNING, KIND_A, 2.0, 5e-300);
+    vi_sim_solver_log(&s, VI_LOG_WARNING, "%s", "kind C");
+    vi_sim_solver_log(&s, VI_LOG_WARNING, "%s", "kind D at t = 1");
+    for (int i = 0; i < 3; i++) vi_sim_solver_log(&s, VI_LOG_WARNING, "kind %c", 'E' + i);
+    cr_assert(n_relayed == 4, "%d relayed", n_relayed);
+    cr_assert(strncmp(relayed[0], "CVODE CVode: Internal t = 1 and h = 0 are such that t + h = t on the next step. (the "
+                      "contact's time scale sqrt(m/k) = ", 106) == 0, "%s", relayed[0]);
+    cr_assert(strstr(relayed[0], "further warnings like this one are counted, not repeated)"), "%s", relayed[0]);
+    cr_assert(strncmp(relayed[1], "The above warning has been issued 10 times. (", 45) == 0, "%s", relayed[1]);
+    cr_assert(strncmp(relayed[2], "kind C (", 8) == 0 && strncmp(relayed[3], "kind D at t = 1 (", 17) == 0, "%s", relayed[3]);
+    vi_sim_report_warnings(&s);
+    cr_assert(n_relayed == 7, "%d", n_relayed);
+    cr_assert(strcmp(relayed[4], "1004 more solver warnings like \"CVODE CVode: Internal t = 1 and h = 0 are such that "
+                     "t + h = t on the next step.\" by t = 0 s (counted, not relayed)") == 0, "%s", relayed[4]);
+    cr_assert(strcmp(relayed[5], "2 more solver warnings like \"The above warning has been issued 10 times.\" by t = 0 s "
+                     "(counted, not relayed)") == 0, "%s", relayed[5]);
+    cr_assert(strcmp(relayed[6], "3 more solver warnings of other kinds by t = 0 s (counted, not relayed)") == 0, "%s",
+              relayed[6]);
+    vi_sim_report_warnings(&s);
+    cr_assert(n_relayed == 7, "a second report repeats: %s", relayed[7]);
+    vi_sim_solver_log(&s, VI_LOG_WARNING, "%s", "kind D at t = 2.5e-3");
+    cr_assert(n_relayed == 7, "a kind seen before relayed again: %s", relayed[7]);
+    cr_assert(vi_sim_advance(&s, 1e-4) == VI_SIM_OK, "%s", s.msg); /* every advance ends with a report */
+    cr_assert(n_relayed == 8 && strncmp(relayed[7], "1 more solver warnings like \"kind D at t = 1\" by t = 0.0001 s", 60) == 0,
+              "%d: %s", n_relayed, relayed[7]);
     vi_sim_free(&s);
 }
