@@ -671,12 +671,12 @@ Test(sim, data_check_looks_at_the_one_step_continuation_only_where_it_is_used)
 
 /* ---- what the log messages of the loop report ----------------------------------------------------- */
 
-static char logged[8][512];
+static char logged[16][1024];
 static int n_logged, log_category;
 static void capture(void *env, int category, const char *fmt, ...)
 {
     (void)env;
-    if (category != log_category || n_logged >= 8) return;
+    if (category != log_category || n_logged >= 16) return;
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(logged[n_logged++], sizeof logged[0], fmt, ap);
@@ -1127,18 +1127,6 @@ Test(sim, a_guard_within_rounding_of_zero_gets_the_band_of_its_noise)
 
 /* ---- the solver's warnings: relayed once a kind, counted exactly ----------------------------------- */
 
-static char relayed[16][1024];
-static int n_relayed;
-static void keep_warnings(void *env, int category, const char *fmt, ...)
-{
-    (void)env;
-    if (category != VI_LOG_WARNING || n_relayed >= 16) return;
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(relayed[n_relayed++], sizeof relayed[0], fmt, ap);
-    va_end(ap);
-}
-
 #define KIND_A "CVODE CVode: Internal t = %.17g and h = %g are such that t + h = t on the next step."
 
 /* 1005 warnings of one kind (numbers of every form: 1, 1.0000000000000002, 1e-18, -3.5E+07), 3 of a
@@ -1149,9 +1137,9 @@ static void keep_warnings(void *env, int category, const char *fmt, ...)
 Test(sim, solver_warnings_are_relayed_once_a_kind_and_counted_exactly)
 {
     vi_sim s;
-    n_relayed = 0;
-    vi_sim_init(&s, keep_warnings, NULL);
-    cr_assert(vi_sim_initialize(&s) == 0 && n_relayed == 0, "%s", s.msg);
+    n_logged = 0, log_category = VI_LOG_WARNING;
+    vi_sim_init(&s, capture, NULL);
+    cr_assert(vi_sim_initialize(&s) == 0 && n_logged == 0, "%s", s.msg);
     for (int i = 0; i < 1000; i++) vi_sim_solver_log(&s, VI_LOG_WARNING, KIND_A, 1.0 + i * DBL_EPSILON, i * 1e-18);
     vi_sim_solver_log(&s, VI_LOG_WARNING, "%s", "The above warning has been issued 10 times.");
     vi_sim_solver_log(&s, VI_LOG_WARNING, KIND_A, -3.5e7, -3.5e7);
@@ -1161,26 +1149,26 @@ Test(sim, solver_warnings_are_relayed_once_a_kind_and_counted_exactly)
     vi_sim_solver_log(&s, VI_LOG_WARNING, "%s", "kind C");
     vi_sim_solver_log(&s, VI_LOG_WARNING, "%s", "kind D at t = 1");
     for (int i = 0; i < 3; i++) vi_sim_solver_log(&s, VI_LOG_WARNING, "kind %c", 'E' + i);
-    cr_assert(n_relayed == 4, "%d relayed", n_relayed);
-    cr_assert(strncmp(relayed[0], "CVODE CVode: Internal t = 1 and h = 0 are such that t + h = t on the next step. (the "
-                      "contact's time scale sqrt(m/k) = ", 106) == 0, "%s", relayed[0]);
-    cr_assert(strstr(relayed[0], "further warnings like this one are counted, not repeated)"), "%s", relayed[0]);
-    cr_assert(strncmp(relayed[1], "The above warning has been issued 10 times. (", 45) == 0, "%s", relayed[1]);
-    cr_assert(strncmp(relayed[2], "kind C (", 8) == 0 && strncmp(relayed[3], "kind D at t = 1 (", 17) == 0, "%s", relayed[3]);
+    cr_assert(n_logged == 4, "%d relayed", n_logged);
+    cr_assert(strncmp(logged[0], "CVODE CVode: Internal t = 1 and h = 0 are such that t + h = t on the next step. (the "
+                      "contact's time scale sqrt(m/k) = ", 106) == 0, "%s", logged[0]);
+    cr_assert(strstr(logged[0], "further warnings like this one are counted, not repeated)"), "%s", logged[0]);
+    cr_assert(strncmp(logged[1], "The above warning has been issued 10 times. (", 45) == 0, "%s", logged[1]);
+    cr_assert(strncmp(logged[2], "kind C (", 8) == 0 && strncmp(logged[3], "kind D at t = 1 (", 17) == 0, "%s", logged[3]);
     vi_sim_report_warnings(&s);
-    cr_assert(n_relayed == 7, "%d", n_relayed);
-    cr_assert(strcmp(relayed[4], "1004 more solver warnings like \"CVODE CVode: Internal t = 1 and h = 0 are such that "
-                     "t + h = t on the next step.\" by t = 0 s (counted, not relayed)") == 0, "%s", relayed[4]);
-    cr_assert(strcmp(relayed[5], "2 more solver warnings like \"The above warning has been issued 10 times.\" by t = 0 s "
-                     "(counted, not relayed)") == 0, "%s", relayed[5]);
-    cr_assert(strcmp(relayed[6], "3 more solver warnings of other kinds by t = 0 s (counted, not relayed)") == 0, "%s",
-              relayed[6]);
+    cr_assert(n_logged == 7, "%d", n_logged);
+    cr_assert(strcmp(logged[4], "1004 more solver warnings like \"CVODE CVode: Internal t = 1 and h = 0 are such that "
+                     "t + h = t on the next step.\" by t = 0 s (counted, not relayed)") == 0, "%s", logged[4]);
+    cr_assert(strcmp(logged[5], "2 more solver warnings like \"The above warning has been issued 10 times.\" by t = 0 s "
+                     "(counted, not relayed)") == 0, "%s", logged[5]);
+    cr_assert(strcmp(logged[6], "3 more solver warnings of other kinds by t = 0 s (counted, not relayed)") == 0, "%s",
+              logged[6]);
     vi_sim_report_warnings(&s);
-    cr_assert(n_relayed == 7, "a second report repeats: %s", relayed[7]);
+    cr_assert(n_logged == 7, "a second report repeats: %s", logged[7]);
     vi_sim_solver_log(&s, VI_LOG_WARNING, "%s", "kind D at t = 2.5e-3");
-    cr_assert(n_relayed == 7, "a kind seen before relayed again: %s", relayed[7]);
+    cr_assert(n_logged == 7, "a kind seen before relayed again: %s", logged[7]);
     cr_assert(vi_sim_advance(&s, 1e-4) == VI_SIM_OK, "%s", s.msg); /* every advance ends with a report */
-    cr_assert(n_relayed == 8 && strncmp(relayed[7], "1 more solver warnings like \"kind D at t = 1\" by t = 0.0001 s", 60) == 0,
-              "%d: %s", n_relayed, relayed[7]);
+    cr_assert(n_logged == 8 && strncmp(logged[7], "1 more solver warnings like \"kind D at t = 1\" by t = 0.0001 s", 60) == 0,
+              "%d: %s", n_logged, logged[7]);
     vi_sim_free(&s);
 }
