@@ -150,7 +150,7 @@ def test_an_explicit_method_at_its_work_bound_names_the_mass(logged, vr):
     start(s, vr, dict(m=1e-100, a=1e-4, solver=3))
     assert s._functions["fmi2DoStep"](s.component, 0.0, 1e-4, 1) == 2
     message = inst.messages[-1][2]
-    m = re.search(r"sqrt\(m/k\) = (\S+) s \(m = 1e-100 kg, k = (\S+) N/m the law's stiffness at the indentation", message)
+    m = re.search(r"sqrt\(m/k\) = (\S+) s \(m = 1e-100 kg, k = (\S+) N/m, the law's stiffness at the indentation", message)
     assert m and float(m.group(1)) == pytest.approx(math.sqrt(1e-100 / float(m.group(2))), rel=2e-3), message
     assert "times shorter than the communication step 0.0001 s" in message and ": raise m or soften the contact" \
         in message, message

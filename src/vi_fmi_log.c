@@ -37,7 +37,7 @@ void vi_fmi_emit(const vi_fmi_instance *c, vi_status status, const char *categor
 static void vlog(const vi_fmi_instance *c, vi_status status, int cat, const char *fmt, va_list ap)
 {
     if (!c->cb.logger || (status < VI_STATUS_WARNING && !vi_fmi_logs(c, cat))) return;
-    char text[VI_FMI_MESSAGE_MAX];
+    char text[1024];
     vi_vsnprintf(text, sizeof text, fmt, ap);
     vi_fmi_emit(c, status, vi_fmi_category_name(c, cat), text);
 }

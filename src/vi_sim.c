@@ -477,7 +477,7 @@ static double time_scale(const vi_sim *s, double *k_out, char *note, size_t n)
     if (model->law == VI_LAW_LINEAR)
         vi_snprintf(note, n, "sqrt(m/k) = %.3g s (m = %g kg, k = k_spring = %g N/m)", T, model->m, k);
     else
-        vi_snprintf(note, n, "sqrt(m/k) = %.3g s (m = %g kg, k = %.3g N/m the law's stiffness %s %.3g m, from E* = %g Pa "
+        vi_snprintf(note, n, "sqrt(m/k) = %.3g s (m = %g kg, k = %.3g N/m, the law's stiffness %s %.3g m, from E* = %g Pa "
                     "and R* = %g m)", T, model->m, k, where, at, J->E_star, J->R_star);
     *k_out = k;
     return T;
@@ -524,8 +524,8 @@ static int time_scale_check(vi_sim *s)
     double k, T = time_scale(s, &k, note, sizeof note), rate = 1.0 / T;
     if (isfinite(rate * rate)) return 0;
     VI_FAIL(s->msg, sizeof s->msg, "m = %g kg is too small for the contact: its time scale %s makes the rate k/m = "
-            "1/T^2 overflow double; use m >= %.3g kg with this contact, a mass that small never integrates in "
-            "double precision", s->d.model.m, note, k / DBL_MAX * 2.0);
+            "1/T^2 overflow double; use m >= %.3g kg with this contact: the motion of a "
+            "smaller mass cannot be integrated in double precision", s->d.model.m, note, k / DBL_MAX * 2.0);
 }
 
 /* Is the text at p a number (a digit, or a sign or point before one)? */
@@ -585,11 +585,13 @@ void vi_sim_solver_log(void *env, int category, const char *fmt, ...)
         return;
     }
     memcpy(r->kind[r->kinds++], kind, sizeof kind);
-    char note[300];
+    char note[300], units[160] = "";
     double k, T = time_scale(s, &k, note, sizeof note), unit = DBL_EPSILON * fabs(s->d.t);
-    s->log(s->log_env, VI_LOG_WARNING, "%s (the contact's time scale %s is %.3g units of the time resolution at t = %.17g s%s; "
-           "further warnings like this one are counted, not repeated)", text, note, T / unit, s->d.t,
-           T < VI_RESOLVED_UNITS * unit ? ", too few for the solver's steps: the likely cause" : "");
+    if (unit > 0.0)
+        vi_snprintf(units, sizeof units, " is %.3g units of the time resolution at t = %.17g s%s", T / unit, s->d.t,
+                    T < VI_RESOLVED_UNITS * unit ? ", too few for the solver's steps: the likely cause" : "");
+    s->log(s->log_env, VI_LOG_WARNING, "%s (the contact's time scale %s%s; further warnings like this one are counted, "
+           "not repeated)", text, note, units);
 }
 
 void vi_sim_report_warnings(vi_sim *s)
