@@ -203,7 +203,6 @@ def test_the_force_warning_is_the_same_in_every_interface(capfd, fmu, kind):
     out = [line for line in capfd.readouterr().out.splitlines() if "contact force reached" in line]
     assert len(out) == 1, (fmu, kind, out)
     assert out[0].endswith(f"t = 0 s: the contact force reached {e['W']:g} N = 1000 F_Y (F_Y = {e['F_Y']:g} N), "
-                           "beyond F_p = 650 F_Y = " + f"{650 * e['F_Y']:g} N, the paper's limit of Johnson's "
-                           "elastic-plastic loading (eq. 3 holds for F_Y < F < F_p, plastic flow contained by elastic "
-                           "material; beyond it the flow is fully plastic, for which the paper proposes contact_model "
-                           "= lepp), so the results leave the model's range of validity"), out[0]
+                           "beyond F_p = 650 F_Y: Johnson's loading curve (paper eq. 3) holds for F_Y < F < F_p, a "
+                           "plastic zone contained by elastic material (beyond, full plastic flow: contact_model = "
+                           "lepp), so the results leave the model's range of validity"), out[0]

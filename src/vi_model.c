@@ -975,13 +975,12 @@ int vi_model_force_validity(const vi_model *model, double F_max, double t, char 
     double F_Y = model->johnson.F_Y, limit = vi_model_force_limit(model);
     if (!(F_max > limit)) return 0;
     if (model->law == VI_LAW_JOHNSON)
-        vi_snprintf(msg, n, "t = %.17g s: the contact force reached %g N = %.4g F_Y (F_Y = %g N), beyond F_p = %g F_Y "
-                    "= %g N, the paper's limit of Johnson's elastic-plastic loading (eq. 3 holds for F_Y < F < F_p, "
-                    "plastic flow contained by elastic material; beyond it the flow is fully plastic, for which the "
-                    "paper proposes contact_model = lepp), so the results leave the model's range of validity",
-                    t, F_max, F_max / F_Y, F_Y, VI_JOHNSON_FP, limit);
+        vi_snprintf(msg, n, "t = %.17g s: the contact force reached %g N = %.4g F_Y (F_Y = %g N), beyond F_p = %g F_Y: "
+                    "Johnson's loading curve (paper eq. 3) holds for F_Y < F < F_p, a plastic zone contained by elastic "
+                    "material (beyond, full plastic flow: contact_model = lepp), so the results leave the model's range "
+                    "of validity", t, F_max, F_max / F_Y, F_Y, VI_JOHNSON_FP);
     else
-        vi_snprintf(msg, n, "t = %.17g s: the contact force reached %g N = %.4g F_Y (F_Y = %g N, from Y): Hertz's law "
+        vi_snprintf(msg, n, "t = %.17g s: the contact force reached %g N = %.4g F_Y (F_Y = %g N): Hertz's law "
                     "(paper eq. 2) assumes purely elastic strains, which end at F_Y (contact_model = johnson or "
                     "thornton follow the yield), so the results leave the model's range of validity",
                     t, F_max, F_max / F_Y, F_Y);

@@ -267,7 +267,7 @@ static int attach_profile(vi_sim *s)
  * (vi_model_validity). */
 void vi_sim_check_validity(vi_sim *s)
 {
-    char text[600];
+    char text[400];
     s->validity_unchecked = 0;
     for (int cause; (cause = vi_model_validity(&s->d.model, s->d.par.R1, s->d.t, s->d.x, s->warned_validity, text,
                                                sizeof text)) != 0;) { /* bounded: one more bit each time */
@@ -738,20 +738,18 @@ static int advance_pass(vi_sim *s, advance_run *run)
 
 int vi_sim_advance(vi_sim *s, double t_end) { return vi_sim_advance_until(s, t_end, 0); }
 
-static int advance_until(vi_sim *s, double t_end, int stop_at_mode_change);
-
-int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change)
+/* The end of an advance with result rc: the solver's warnings counted in it reported. */
+static int reported(vi_sim *s, int rc)
 {
-    s->advance_end = t_end;
-    int rc = advance_until(s, t_end, stop_at_mode_change);
     vi_sim_report_warnings(s);
     return rc;
 }
 
-static int advance_until(vi_sim *s, double t_end, int stop_at_mode_change)
+int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change)
 {
     vi_sim_data *d = &s->d;
-    if (begin_advance(s, t_end) != VI_SIM_OK) return VI_SIM_ERROR;
+    s->advance_end = t_end;
+    if (begin_advance(s, t_end) != VI_SIM_OK) return reported(s, VI_SIM_ERROR);
     char why[400]; /* written only where a profile ends */
     advance_run run = {.t_end = t_end, .steps_left = VI_MAX_STEPS_PER_ADVANCE, .stop_at_mode_change = stop_at_mode_change};
     run.limit = d->model.profile ? vi_model_rolling_limit(&d->model, why, sizeof why) : INFINITY;
@@ -760,7 +758,8 @@ static int advance_until(vi_sim *s, double t_end, int stop_at_mode_change)
     /* bounded: every pass is an event (bounded below) or a kink of the profile (finitely many in the
      * distance |V| (t_end - t) rolled) */
     while (pass == PASS_MORE && d->t < run.target) pass = advance_pass(s, &run);
-    if (pass != PASS_MORE && pass != PASS_END && pass != PASS_STOPPED) return pass;
+    if (pass != PASS_MORE && pass != PASS_END && pass != PASS_STOPPED) return reported(s, pass);
+    vi_sim_report_warnings(s);
     if (!isfinite(d->x[0]) || !isfinite(d->x[1]))
         VI_FAIL(s->msg, sizeof s->msg, "the state is not finite at t = %.17g s", d->t);
     /* at a communication point only the indentation can newly leave the range (a changes in
