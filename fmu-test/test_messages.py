@@ -11,6 +11,7 @@ import sys
 import pytest
 from fmpy import extract, read_model_description, simulate_fmu
 from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import fmi2LastSuccessfulTime
 
 from conftest import BUILD, start
 from solvers import each_solver
@@ -144,7 +145,8 @@ def test_a_flood_of_solver_warnings_is_counted_not_repeated(logged, vr, fmi3_par
 
 def test_an_explicit_method_at_its_work_bound_names_the_mass(logged, vr):
     """m = 1e-100 kg shaken under dop853: the work bound's message names m, the stiffness and the time
-    scale (sqrt(m/k) with the k it names), and says to raise m."""
+    scale (sqrt(m/k) with the k it names), the mean internal step (the time reached over the 1e6 steps)
+    and says to raise m."""
     inst = logged()
     s = inst.instantiate()
     start(s, vr, dict(m=1e-100, a=1e-4, solver=3))
@@ -154,6 +156,9 @@ def test_an_explicit_method_at_its_work_bound_names_the_mass(logged, vr):
     assert m and float(m.group(1)) == pytest.approx(math.sqrt(1e-100 / float(m.group(2))), rel=2e-3), message
     assert "times shorter than the communication step 0.0001 s" in message and ": raise m or soften the contact" \
         in message, message
+    mean = float(re.search(r"its internal steps averaged (\S+) s", message).group(1))
+    last = s.getRealStatus(fmi2LastSuccessfulTime)
+    assert mean == pytest.approx(last / 1e6, rel=2e-3), (message, last)
 
 
 def smallest_mass(message):

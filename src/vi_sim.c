@@ -718,7 +718,8 @@ static int advance_pass(vi_sim *s, advance_run *run)
     if (rc == VI_SOLVER_FAILED) return solver_failed(s);
     if (rc == VI_SOLVER_LIMIT) {
         discard(s, "work bound: %ld internal steps in one step, stopped at t = %.17g s (mode %d); continue from there "
-                   "or use smaller communication steps", VI_MAX_STEPS_PER_ADVANCE, d->t, d->model.mode);
+                   "or use smaller communication steps; its internal steps averaged %.3g s", VI_MAX_STEPS_PER_ADVANCE,
+                d->t, d->model.mode, (d->t - d->step_t0) / (double)VI_MAX_STEPS_PER_ADVANCE);
         append_cause(s, run->t_end - d->step_t0);
         return VI_SIM_DISCARD;
     }
