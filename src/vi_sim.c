@@ -528,22 +528,25 @@ static int time_scale_check(vi_sim *s)
             "smaller mass cannot be integrated in double precision", s->d.model.m, note, k / DBL_MAX * 2.0);
 }
 
-/* Is the text at p a number (a digit, or a sign or point before one)? */
+static int is_digit(char c) { return c >= '0' && c <= '9'; }
+
+/* Is the text at p a number (a digit, or a sign or point before one)? (Reads past p[0] only when it is
+ * not the terminator.) */
 static int number_at(const char *p)
 {
-    int digit1 = p[1] >= '0' && p[1] <= '9';
-    return (p[0] >= '0' && p[0] <= '9') || ((p[0] == '-' || p[0] == '+' || p[0] == '.') && digit1);
+    return is_digit(p[0]) || ((p[0] == '-' || p[0] == '+' || p[0] == '.') && is_digit(p[1]));
 }
 
 /* The text after the number at p: [+-] digits and points, an exponent. */
 static const char *skip_number(const char *p)
 {
     if (*p == '-' || *p == '+') p++;
-    while ((*p >= '0' && *p <= '9') || *p == '.') p++;
+    while (is_digit(*p) || *p == '.') p++;
+    if (*p != 'e' && *p != 'E') return p;
     const char *e = p + 1 + (p[1] == '-' || p[1] == '+');
-    if ((*p == 'e' || *p == 'E') && *e >= '0' && *e <= '9')
-        for (p = e; *p >= '0' && *p <= '9';) p++;
-    return p;
+    if (!is_digit(*e)) return p;
+    while (is_digit(*e)) e++;
+    return e;
 }
 
 /* Are two texts of at most VI_RELAY_KIND_MAX bytes the same but for their numbers? */
