@@ -369,9 +369,14 @@ static int create_solver(vi_sim *s, int resume)
         .ode = &d->ode, .auto_choice = &d->auto_choice, .piece = sim_piece, .log = vi_sim_solver_log, .log_env = s};
     s->solver = resume ? vi_solver_resume(&cfg, d->t, d->x) : vi_solver_create(&cfg, d->t, d->x);
     s->solver_stale = 0;
-    if (!s->solver) {
-        vi_snprintf(s->msg, sizeof s->msg, "could not create the solver at t = %.17g s", d->t);
+    if (!s->solver) { /* the configuration is valid: the first step failed, a rate beyond the doubles */
+        const vi_model *model = &d->model;
+        vi_snprintf(s->msg, sizeof s->msg, "could not create the solver at t = %.17g s: no first step from the initial "
+                    "state (the load's acceleration (P + m g - F_ext)/m = %g m/s2)", d->t,
+                    (model->W0 - vi_ramp_at(&model->F_ext, d->t)) / model->m);
         append_cause(s, 0.0);
+        size_t used = strlen(s->msg);
+        vi_snprintf(s->msg + used, sizeof s->msg - used, "; raise m, or lower P or the contact's stiffness");
         return -1;
     }
     return 0;

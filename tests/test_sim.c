@@ -169,7 +169,9 @@ Test(sim, a_solver_that_cannot_start_fails_the_initialization)
     s.d.par.contact_model = VI_ContactModel_hertz;
     s.d.par.P = 1e300, s.d.par.m = 1e-10, s.d.par.init = VI_Init_touching, s.d.par.v0 = 1.0;
     cr_assert(vi_sim_initialize(&s) < 0, "initialized");
-    cr_assert(strstr(s.msg, "could not create the solver"), "%s", s.msg);
+    cr_assert(strstr(s.msg, "could not create the solver at t = 0 s: no first step from the initial state (the load's "
+                            "acceleration (P + m g - F_ext)/m = inf m/s2); the contact's time scale sqrt(m/k) = "), "%s", s.msg);
+    cr_assert(strstr(s.msg, "; raise m, or lower P or the contact's stiffness"), "%s", s.msg);
     vi_sim_free(&s);
 }
 
