@@ -705,7 +705,7 @@ def coverage_map(rebuild=False):
         rc, _ = run(["ctest", "--test-dir", str(build), "-R", f"^{re.escape(name)}$", "--timeout", "900"], ROOT, 1000)
         tests[f"ctest:{name}"] = dict(duration=time.monotonic() - t, passed=rc == 0, lines=collect(build))
         print(f"  ctest {name}: {tests[f'ctest:{name}']['duration']:.1f} s", flush=True)
-    for solver, select in [("", [])] + [(s, ["-k", test_solvers()[1]]) for s in test_solvers()[0]]:
+    for solver, select in [("", [])] + [(s, test_solvers()[1]) for s in test_solvers()[0]]:
         clear_counters(build)
         out = CACHE / f"pytest-coverage{solver}.jsonl"
         out.unlink(missing_ok=True)  # a run that writes nothing must not leave an older run's tests behind
@@ -731,14 +731,14 @@ def coverage_map(rebuild=False):
 
 
 def test_solvers():
-    """([VI_SOLVER values], -k expression): the solvers tools/test.sh runs the FMU tests with besides the
-    default, and the tests it selects for them, read from its loop."""
+    """([VI_SOLVER values], [pytest's selecting options]): the solvers tools/test.sh runs the FMU tests with
+    besides the default, and the tests it selects for them (-m or -k and its expression), read from its loop."""
     text = (ROOT / "tools" / "test.sh").read_text()
-    m = re.search(r'for solver in ([\d ]+); do VI_SOLVER=\$solver [^\n]*pytest[^\n]*-k "([^"]*)"', text)
+    m = re.search(r'for solver in ([\d ]+); do VI_SOLVER=\$solver [^\n]*pytest[^\n]*(-[mk]) "([^"]*)"', text)
     if not m:
-        sys.exit("tools/test.sh: no loop 'for solver in ...; do VI_SOLVER=$solver ... pytest ... -k \"...\"' found: "
+        sys.exit("tools/test.sh: no loop 'for solver in ...; do VI_SOLVER=$solver ... pytest ... -m \"...\"' found: "
                  "mutate.py runs the FMU tests with the solvers of that loop (update test_solvers())")
-    return m.group(1).split(), m.group(2)
+    return m.group(1).split(), [m.group(2), m.group(3)]
 
 
 def by_solver(tests):
