@@ -199,3 +199,24 @@ def test_a_test_stopped_at_its_own_time_limit_is_a_timeout(tmp_path):
     outcome, why = mutate.run_confirmed(base + [str(tmp_path / "test_hang.py") + "::test_fails"], None, tmp_path,
                                         time.monotonic() + limit, limit)
     assert outcome == "failed", why
+
+
+# ---- the tests VI_SOLVER reaches (fmu-test/conftest.py), as tools/test.sh's loop and mutate.py select them ----
+
+def test_the_solver_loop_runs_the_tests_the_solver_choice_reaches(tmp_path):
+    """--solver-tests-out lists the tests that start a run without a solver of their own (test_me_call_order's
+    instances take VI_SOLVER's) and not those whose runs take the FMU's default whatever VI_SOLVER says
+    (test_read_all's); --solver-tests-from runs only the listed ones; mutate.py's coverage passes read the
+    same selection from tools/test.sh's loop."""
+    files = ["fmu-test/test_read_all.py", "fmu-test/test_me_call_order.py"]
+    listed = tmp_path / "solver-tests.json"
+    r = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", *files, "--solver-tests-out",
+                        str(listed)], cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stdout[-2000:]
+    ids = json.loads(listed.read_text())
+    assert len(ids) == 66 and all(i.startswith("fmu-test/test_me_call_order.py::") for i in ids), ids
+    r = subprocess.run([sys.executable, "-m", "pytest", "--collect-only", "-q", "-p", "no:cacheprovider", *files,
+                        "--solver-tests-from", str(listed)], cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert "66/71 tests collected (5 deselected)" in r.stdout, r.stdout[-2000:]
+    solvers, select = load_mutate().test_solvers()
+    assert solvers == ["1", "2", "3"] and select[:3] == ["-m", "not libcosim", "--solver-tests-from"]

@@ -705,7 +705,8 @@ def coverage_map(rebuild=False):
         rc, _ = run(["ctest", "--test-dir", str(build), "-R", f"^{re.escape(name)}$", "--timeout", "900"], ROOT, 1000)
         tests[f"ctest:{name}"] = dict(duration=time.monotonic() - t, passed=rc == 0, lines=collect(build))
         print(f"  ctest {name}: {tests[f'ctest:{name}']['duration']:.1f} s", flush=True)
-    for solver, select in [("", [])] + [(s, test_solvers()[1]) for s in test_solvers()[0]]:
+    default = ["--solver-tests-out", str(CACHE / "solver-tests.json")]  # read by the passes of the other solvers
+    for solver, select in [("", default)] + [(s, test_solvers()[1]) for s in test_solvers()[0]]:
         clear_counters(build)
         out = CACHE / f"pytest-coverage{solver}.jsonl"
         out.unlink(missing_ok=True)  # a run that writes nothing must not leave an older run's tests behind
@@ -734,11 +735,14 @@ def test_solvers():
     """([VI_SOLVER values], [pytest's selecting options]): the solvers tools/test.sh runs the FMU tests with
     besides the default, and the tests it selects for them (-m or -k and its expression), read from its loop."""
     text = (ROOT / "tools" / "test.sh").read_text()
-    m = re.search(r'for solver in ([\d ]+); do VI_SOLVER=\$solver [^\n]*pytest[^\n]*(-[mk]) "([^"]*)"', text)
+    m = re.search(r'for solver in ([\d ]+); do\s+VI_SOLVER=\$solver [^\n]*pytest[^\n]*(-[mk]) "([^"]*)"([^\n]*)', text)
     if not m:
         sys.exit("tools/test.sh: no loop 'for solver in ...; do VI_SOLVER=$solver ... pytest ... -m \"...\"' found: "
                  "mutate.py runs the FMU tests with the solvers of that loop (update test_solvers())")
-    return m.group(1).split(), [m.group(2), m.group(3)]
+    select = [m.group(2), m.group(3)]
+    if "--solver-tests-from" in m.group(4):  # only the tests VI_SOLVER reaches, as the default pass wrote them
+        select += ["--solver-tests-from", str(CACHE / "solver-tests.json")]
+    return m.group(1).split(), select
 
 
 def by_solver(tests):
