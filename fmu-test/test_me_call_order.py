@@ -86,6 +86,16 @@ class Instance:
         vrs = [self.vr["yC_in"], self.vr["F_ext"]]
         (self.fmu.setReal if self.version == 2 else self.fmu.setFloat64)(vrs, [yC_in, F_ext])
 
+    def apply(self, calls, t, x, u):
+        """The calls of `calls` ("time", "states", "inputs") in that order, to the point t, x, u."""
+        for call in calls:
+            if call == "time":
+                self.set_time(t)
+            elif call == "states":
+                self.set_states(x)
+            else:
+                self.set_inputs(*u)
+
     def states(self):
         x = (ctypes.c_double * NX)()
         self.fmu.getContinuousStates(x, NX)
@@ -174,13 +184,7 @@ def test_every_order_of_setting_gives_the_fresh_instance_answer(fmu, order, firs
     t1, x1, u1 = point()
     a.read("derivatives")  # evaluated once at the old point, so that a stale value would be at hand
     a.read("outputs")
-    for call in order:
-        if call == "time":
-            a.set_time(t1)
-        elif call == "states":
-            a.set_states(x1)
-        else:
-            a.set_inputs(*u1)
+    a.apply(order, t1, x1, u1)
     reads = (first,) + tuple(r for r in READS if r != first)
     got = {r: a.read(r) for r in reads}
     a.free()
@@ -234,15 +238,7 @@ def test_a_call_left_out_changes_every_read(fmu, left_out):
     a = Instance(version, md, unzipdir, HERTZ, (0.0, 0.0))
     t1, x1, u1 = point()
     a.read("derivatives")
-    for call in ("time", "states", "inputs"):
-        if call == left_out:
-            continue
-        if call == "time":
-            a.set_time(t1)
-        elif call == "states":
-            a.set_states(x1)
-        else:
-            a.set_inputs(*u1)
+    a.apply([c for c in ("time", "states", "inputs") if c != left_out], t1, x1, u1)
     got = {r: a.read(r) for r in READS}
     a.free()
     want = fresh_reads(fmu, READS)
