@@ -1119,6 +1119,10 @@ def main():
     timing = (f"mutants {time.monotonic() - runner.t0:.0f} s ({jobs} at once), whole run {time.monotonic() - t_start:.0f} s "
               f"(coverage map {'cached' if cmap.get('cached') else 'built in %.0f s' % cmap['seconds']})")
     listed_killed = report(results, seed, len(mutants), equivalent, timing)
+    if stale:  # again at the end of a long run, with the killed entries
+        print(f"\n{len(stale)} stale entries of {EQUIVALENT.relative_to(ROOT)} (they name no mutant of today's src/):")
+        for e in stale:
+            print("  " + e)
     if args.json:
         counts = {v: sum(r["verdict"] == v for r in results) for v in VERDICTS}
         pathlib.Path(args.json).write_text(json.dumps(dict(
