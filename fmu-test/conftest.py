@@ -87,7 +87,8 @@ def pytest_addoption(parser):
 @pytest.hookimpl(hookwrapper=True)
 def pytest_runtest_protocol(item, nextitem):
     _RUNNING[0] = item.nodeid
-    if any(name in vars(getattr(item, "module", None) or os) for name in ("SOLVER", "RUN_SOLVER")):
+    module = getattr(item, "module", None)
+    if module is not None and ("SOLVER" in vars(module) or "RUN_SOLVER" in vars(module)):
         _SOLVER_TESTS.add(item.nodeid)  # the module reads the solver under test itself
     yield
     _RUNNING[0] = None
