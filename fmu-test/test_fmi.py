@@ -326,6 +326,7 @@ def test_input_interpolation_equals_internal_excitation(logged, vr):
     assert np.max(np.abs(zoh - ref)) > 5 * np.max(np.abs(lin - ref))
 
 
+@pytest.mark.libcosim
 def test_libcosimpy_selects_the_hertz_law_and_agrees_with_fmpy(fmu_path, vr):
     """libcosim ignores FMI 2.0 Enumeration variables; the enumerated options are Integers, so a
     libcosim user selects the law by its value (contact law: hertz=1, ...). Y = 2e8 Pa makes Johnson
