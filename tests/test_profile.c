@@ -598,7 +598,7 @@ Test(profile, bad_tables_are_refused)
     double hp[] = {0.0, 0.1, 0.2};
     refused(x, hp, 3, R, 1, "last height");
     double xs[] = {0.0, 1.0, 1.0 + 1e-9, 3.0}, hs[] = {0.0, 0.0, 2.0 * R, 2.0 * R}; /* a wall higher than R */
-    refused(xs, hs, 4, R, 0, "cannot roll");
+    refused(xs, hs, 4, R, 0, "too steep");
     refused(x, h, 3, 0.0, 0, "R1");
 }
 
@@ -624,10 +624,17 @@ Test(profile, refusals_name_the_rule_and_its_values)
     refused(xs, hs, 3, R, 1, "bad: the period 1e-07 m is too short for R1 = 0.475 m: the body spans 9500002 periods of 2 rows, "
                              "more than 10000000 rows in all");
     double xw[] = {0.0, 1.0, 1.0 + 1e-9, 3.0}, hw[] = {0.0, 0.0, R, R}, xd[] = {0.0, 2.0, 2.0 + 1e-9, 3.0}, hd[] = {R, R, 0.0, 0.0};
-    refused(xw, hw, 4, R, 0, "bad: the profile is too steep for R1 = 0.475 m near x = 0.525 m: the body cannot roll over it");
-    refused(xd, hd, 4, R, 0, "bad: the profile is too steep for R1 = 0.475 m near x = 2.475 m: the body cannot roll over it");
+    /* the wall's slope s = R1/1e-9: the body leaves it R1/(2 s^2) = 1.05e-18 m before its corner, below the spacing
+     * of doubles at 0.525 (2^-53) and 2.475 (2^-51), so the circle meets it vertically; the limit sqrt(R1/(2 spacing)) */
+    refused(xw, hw, 4, R, 0, "bad: rows 2 and 3 (x = 1 and 1.0000000010000001 m) make a slope of 4.75e+08, too steep for "
+                             "R1 = 0.475 m near x = 0.525 m: the body leaves that segment 1.1e-18 m before its end, less than "
+                             "the spacing of doubles there (1.1e-16 m), and yb is vertical; slopes up to about 4.63e+07 "
+                             "(sqrt(R1/(2 spacing))) can be rolled over there");
+    refused(xd, hd, 4, R, 0, "bad: rows 2 and 3 (x = 2 and 2.0000000010000001 m) make a slope of -4.75e+08, too steep for "
+                             "R1 = 0.475 m near x = 2.475 m: the body leaves that segment 1.1e-18 m before its end, less than "
+                             "the spacing of doubles there (4.4e-16 m), and yb is vertical; slopes up to about 2.31e+07");
     double hw2[] = {0.0, 0.0, 1.5 * R, 1.5 * R};
-    refused(xw, hw2, 4, R, 0, "bad: the profile is too steep for R1 = 0.475 m near x = 0.525 m: the body cannot roll over it");
+    refused(xw, hw2, 4, R, 0, "bad: rows 2 and 3 (x = 1 and 1.0000000010000001 m) make a slope of 7.125e+08, too steep");
     /* just below: a wall of 0.9 R1 is climbed on the circle around its upper corner */
     double hw3[] = {0.0, 0.0, 0.9 * R, 0.9 * R};
     vi_profile *p = make(xw, hw3, 4, R, 0);
@@ -703,7 +710,7 @@ static const char *write_file(const char *text)
 Test(profile, files)
 {
     char msg[512];
-    const char *path = write_file("# x [m], h [m]\n\n0 0\n0.5, 1e-4\n1.0;0\n  1.5\t2e-4  \n");
+    const char *path = write_file("# x [m], h [m]\n\n0 0\n0.5; 1e-4\n1.0;0\n  1.5\t2e-4  \n");
     vi_profile *p = vi_profile_load(path, R, 0, msg, sizeof msg);
     cr_assert(p != NULL, "%s", msg);
     cr_assert(vi_profile_x_last(p) == 1.5 && yb(p, 0.5) == 1e-4);
@@ -725,13 +732,13 @@ Test(profile, files)
         vi_profile_free(p);
     }
     struct { const char *text, *expect; } bad[] = {
-        {"0 0\n1 0\nabc 2\n", "line 3: expected two numbers"},
-        {"0 0\n1\n", "line 2: expected two numbers"},
-        {"0 0\n1 0 7\n", "line 2: expected two numbers"},
-        {",0\n1 0\n", "line 1: expected two numbers"}, /* a separator where x should be */
-        {"0 0\n2 0\n1 0\n", "line 3: x = 1 is not greater than x = 2 before it"},
-        {"0 0\n1 inf\n", "line 2: x = 1, h = inf are not finite"},
-        {"# only\n0 0\n", "1 data rows"},
+        {"0 0\n1 0\nabc 2\n", "line 3: expected two numbers x [m] and h [m], found 2 fields 'abc' '2' (separator: blanks): 'abc' is not a number;"},
+        {"0 0\n1\n", "line 2: expected two numbers x [m] and h [m], found 1 field '1' (separator: none): a second number is missing;"},
+        {"0 0\n1 0 7\n", "line 2: expected two numbers x [m] and h [m], found 3 fields '1' '0' '7' (separator: blanks): more than two numbers;"},
+        {",0\n1 0\n", "line 1: expected two numbers x [m] and h [m], found 1 field ',0' (separator: none): a comma is neither"},
+        {"0 0\n2 0\n1 0\n", "line 3: x = 1 is not greater than x = 2 on line 2 (x must increase)"},
+        {"0 0\n1 inf\n", "line 2: x = 1, h = inf: h is not finite"},
+        {"# only\n0 0\n", "one data row (line 2); a profile needs at least two rows x [m] h [m]"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         path = write_file(bad[i].text);
@@ -861,7 +868,7 @@ static void random_number(char *out, size_t size)
 /* Thousands of numbers of every form in one file, read as strtod reads them (the value to the bit):
  * each is the height of a plateau 2 m wide (three rows), 10 m from the next, where yb is the height
  * exactly; the rows' positions are written in other forms of the same integers (signs, leading
- * zeros, a point, exponents, hexadecimal), the separators are blanks, tabs, commas and semicolons,
+ * zeros, a point, exponents, hexadecimal), the separators are blanks, tabs and semicolons,
  * with comments, blank lines and Windows line ends between. */
 Test(profile, numbers_of_every_form_are_read_as_strtod_reads_them)
 {
@@ -870,7 +877,7 @@ Test(profile, numbers_of_every_form_are_read_as_strtod_reads_them)
     static char text[K * 3 * 220];
     srand(777);
     char *o = text, num[192];
-    const char *sep[] = {" ", "\t", ",", ";", " , ", "\t; ", "  "};
+    const char *sep[] = {" ", "\t", ";", " ;", " ; ", "\t; ", "  "};
     const char *end[] = {"\n", "\r\n", " \n", "\t\r\n"};
     int k = 0;
     while (k < K) {
@@ -936,7 +943,7 @@ Test(profile, exponents_beyond_the_exact_conversion_are_read_as_strtod_reads_the
         vi_profile_free(p);
     }
     cr_assert(vi_profile_load(write_file("0 0\n1e4294967297 0\n"), R, 0, msg, sizeof msg) == NULL);
-    cr_assert(strstr(msg, "line 2: x = inf, h = 0 are not finite"), "%s", msg);
+    cr_assert(strstr(msg, "line 2: x = inf, h = 0: x is not finite"), "%s", msg);
     p = vi_profile_load(write_file("0 1e-4294967296\n1 0\n"), R, 0, msg, sizeof msg);
     cr_assert(p != NULL, "%s", msg);
     cr_assert(yb(p, 0.0) == 0.0 && yb(p, 1.0) == 0.0);
