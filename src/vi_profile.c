@@ -452,6 +452,7 @@ static int parse_row(const char *line, const char *end, double *x, double *h)
 enum { SHOW_FIELDS = 3, SHOW_CHARS = 24 };
 typedef struct {
     size_t fields, numbers, semicolons, not_number; /* not_number: the first field that is no number, 1-based (0: none) */
+    size_t words; /* fields starting with a letter */
     int blanks, tabs, comma, nul, hash;
     const char *text[SHOW_FIELDS];
     size_t len[SHOW_FIELDS];
@@ -475,6 +476,7 @@ static void view_row(const char *line, const char *end, row_view *v)
         if (after == f || after != s) {
             if (!v->not_number) v->not_number = v->fields + 1;
             v->hash |= *f == '#';
+            v->words += (*f >= 'a' && *f <= 'z') || (*f >= 'A' && *f <= 'Z');
         } else {
             v->numbers++;
         }
@@ -518,7 +520,7 @@ static void refuse_row(const char *line, const char *end, const char *path, size
         quote(q, sizeof q, v.text[v.not_number <= SHOW_FIELDS ? v.not_number - 1 : 0],
               v.not_number <= SHOW_FIELDS ? v.len[v.not_number - 1] : 0);
         vi_snprintf(why, sizeof why, "%s%s is not a number%s", v.not_number <= SHOW_FIELDS ? "" : "a field after ",
-                    v.not_number <= SHOW_FIELDS ? q : "them", v.numbers ? "" : " (a header? start it with #)");
+                    v.not_number <= SHOW_FIELDS ? q : "them", v.words == v.fields ? " (a header? start it with #)" : "");
     } else if (v.semicolons > 1) vi_snprintf(why, sizeof why, "more than one semicolon");
     else vi_snprintf(why, sizeof why, v.fields < 2 ? "a second number is missing" : "more than two numbers");
     vi_snprintf(msg, msg_size, "profile_file '%s', line %zu: expected two numbers x [m] and h [m], found %zu field%s %s%s "

@@ -1260,3 +1260,161 @@ Test(profile, a_long_path_is_named_whole)
     }
     cr_assert(p == NULL && named, "%.80s...", msg);
 }
+
+/* A file is refused with what its bad line holds: the fields (quoted, cut after 24 characters), the
+ * separator seen and the rule broken, then how to write a row. A comma is neither a separator nor a
+ * decimal point: a one-column file of decimal commas is not read as two columns, German decimals
+ * and a header row are named as what they are. */
+static void file_refused(const char *text, const char *expect)
+{
+    char msg[1024] = "";
+    const char *path = write_file(text);
+    vi_profile *p = vi_profile_load(path, R, 0, msg, sizeof msg);
+    cr_assert(p == NULL, "accepted: %s", text);
+    char want[1024];
+    snprintf(want, sizeof want, "profile_file '%s'%s", path, expect);
+    cr_assert(strncmp(msg, want, strlen(want)) == 0, "expected\n  %s\nin\n  %s", want, msg);
+    remove(path);
+}
+
+#define HOW "; write x and h in the C syntax with '.' decimals (0.5, -1.2e-3) separated by blanks, a tab or one " \
+            "semicolon; lines starting with # are comments"
+
+Test(profile, rows_that_are_not_two_numbers_are_refused_saying_what_they_hold)
+{
+    file_refused("0,5\n1,5\n2,5\n", ", line 1: expected two numbers x [m] and h [m], found 1 field '0,5' (separator: "
+                                    "none): a comma is neither a separator nor a decimal point" HOW);
+    file_refused("x h\n0 0\n1 0\n", ", line 1: expected two numbers x [m] and h [m], found 2 fields 'x' 'h' (separator: "
+                                    "blanks): 'x' is not a number (a header? start it with #)" HOW);
+    file_refused("# x;h\n0;0\n1,5;2,5\n", ", line 3: expected two numbers x [m] and h [m], found 2 fields '1,5' '2,5' "
+                                          "(separator: a semicolon): a comma is neither a separator nor a decimal point");
+    file_refused("0 0\n0.5, 1e-4\n", ", line 2: expected two numbers x [m] and h [m], found 2 fields '0.5,' '1e-4' "
+                                     "(separator: blanks): a comma is neither");
+    file_refused("0 0\n1 0 # end\n", ", line 2: expected two numbers x [m] and h [m], found 4 fields '1' '0' '#' ... "
+                                     "(separator: blanks): a comment (#) must start its line" HOW);
+    file_refused("0 0\n1-2\n", ", line 2: expected two numbers x [m] and h [m], found 1 field '1-2' (separator: none): "
+                               "'1-2' is not a number" HOW);
+    file_refused("0 0\n1;;2\n", ", line 2: expected two numbers x [m] and h [m], found 2 fields '1' '2' (separator: "
+                                "several semicolons): more than one semicolon" HOW);
+    file_refused("0 0\n\t1\t \n", ", line 2: expected two numbers x [m] and h [m], found 1 field '1' (separator: blanks "
+                                  "and tabs): a second number is missing" HOW);
+    file_refused("0 0\n0.123456789012345678901234567890 x\n",
+                 ", line 2: expected two numbers x [m] and h [m], found 2 fields '0.1234567890123456789012...' 'x' "
+                 "(separator: blanks): 'x' is not a number" HOW);
+    file_refused("0 0\n1 2\xC3\xBC\r\n", ", line 2: expected two numbers x [m] and h [m], found 2 fields '1' '2\\xC3\\xBC' "
+                                         "(separator: blanks): '2\\xC3\\xBC' is not a number" HOW);
+    /* a NUL byte inside a line (the text is written by hand: write_file stops at it) */
+    const char *path = write_file("");
+    FILE *f = fopen(path, "wb");
+    fwrite("0 0\n1 0\0 junk\n", 1, 14, f);
+    fclose(f);
+    char msg[1024];
+    cr_assert(vi_profile_load(path, R, 0, msg, sizeof msg) == NULL);
+    cr_assert(strstr(msg, "line 2: expected two numbers x [m] and h [m], found 3 fields '1' '0\\x00' 'junk' (separator: "
+                          "blanks): it holds a NUL byte (a binary or UTF-16 file?)"), "%s", msg);
+    /* a byte-order mark of UTF-16 */
+    file_refused("\xFF\xFE" "0 0\n", ", line 1: the file starts with a UTF-16 or UTF-32 byte-order mark; save it as UTF-8 "
+                                     "or ASCII text");
+}
+
+/* A UTF-8 byte-order mark (EF BB BF, as some editors write) before the first row or comment is skipped. */
+Test(profile, a_utf8_byte_order_mark_is_skipped)
+{
+    char msg[512];
+    const char *texts[] = {"\xEF\xBB\xBF" "0 0\n1 1e-4\n2 0\n", "\xEF\xBB\xBF# x h\r\n0 0\r\n1 1e-4\r\n2 0\r\n"};
+    for (size_t i = 0; i < 2; i++) {
+        vi_profile *p = vi_profile_load(write_file(texts[i]), R, 0, msg, sizeof msg);
+        cr_assert(p != NULL, "%s", msg);
+        cr_assert(vi_profile_x_first(p) == 0.0 && vi_profile_x_last(p) == 2.0 && yb(p, 1.0) == 1e-4);
+        vi_profile_free(p);
+    }
+    /* only on the first line: the mark inside the file is no number */
+    file_refused("0 0\n\xEF\xBB\xBF" "1 0\n", ", line 2: expected two numbers x [m] and h [m], found 2 fields "
+                                             "'\\xEF\\xBB\\xBF1' '0'");
+}
+
+/* Too few rows each have their message: an empty file, a file of blank lines and comments (a BOM
+ * alone is blank), one data row (named by its line). */
+Test(profile, empty_files_and_files_without_two_rows_are_refused)
+{
+    file_refused("", ": the file is empty; a profile needs at least two rows x [m] h [m]");
+    file_refused("# x h\n\n   \n", ": no data rows, its 3 lines are blank or comments; a profile needs at least two "
+                                  "rows x [m] h [m]");
+    file_refused("\xEF\xBB\xBF", ": no data rows, its 1 line is blank or comments");
+    file_refused("# x h\n\n5 0\n# end\n", ": one data row (line 3); a profile needs at least two rows x [m] h [m]");
+}
+
+/* A value that is not finite names which one; an x that does not increase names the line of the row
+ * before it (comments between counted). */
+Test(profile, non_finite_values_and_x_not_increasing_name_their_lines)
+{
+    file_refused("0 0\nnan 1\n", ", line 2: x = nan, h = 1: x is not finite (a number beyond 1.8e308, inf or nan)");
+    file_refused("0 0\n1 -1e400\n", ", line 2: x = 1, h = -inf: h is not finite");
+    file_refused("0 0\ninf NaN\n", ", line 2: x = inf, h = nan: x and h are not finite");
+    file_refused("0 0\n# a comment\n2 0\n\n2 1\n", ", line 5: x = 2 is not greater than x = 2 on line 3 (x must increase)");
+}
+
+/* One row more than VI_PROFILE_ROWS_MAX is refused at that row's line (the table is read up to it). */
+Test(profile, more_rows_than_the_cap_are_refused, .timeout = 120)
+{
+    char path[64], msg[512];
+    snprintf(path, sizeof path, "/tmp/vi_profile_cap_%d.txt", (int)getpid());
+    FILE *f = fopen(path, "w");
+    cr_assert(f != NULL);
+    fputs("# one row more than the cap\n", f);
+    for (long i = 0; i <= VI_PROFILE_ROWS_MAX; i++) fprintf(f, "%ld 0\n", i);
+    fclose(f);
+    vi_profile *p = vi_profile_load(path, R, 0, msg, sizeof msg);
+    remove(path);
+    cr_assert(p == NULL);
+    char want[256];
+    snprintf(want, sizeof want, "profile_file '%s', line %d: more than %d rows, the most a profile may have", path,
+             VI_PROFILE_ROWS_MAX + 2, VI_PROFILE_ROWS_MAX);
+    cr_assert(strcmp(msg, want) == 0, "%s", msg);
+}
+
+/* A periodic table whose last vertex x_n-1 + k L differs after rounding from the next copy's first,
+ * x_0 + (k + 1) L: the envelope's domains still chain (it was refused as "a gap in the envelope"),
+ * and yb near the seam agrees with the definition on the unrolled table to the slope times the
+ * spacing of doubles there. */
+Test(profile, a_periodic_seam_rounded_apart_leaves_no_gap)
+{
+    double x[] = {-0.10166743402446966, -0.10158941869246281, 15.589183792583125, 28.067565743214107, 28.067587137412833};
+    double h[] = {0.9832667256627543, 2.1718357294666744, 1.2396848249433958, 0.48296507517013931, 0.9832667256627543};
+    double r = 1.9346202038855385e-07, L = x[4] - x[0], xu[16], hu[16];
+    size_t nu = 0;
+    for (int k = -1; k <= 1; k++) /* one copy each side: R1 is far shorter than a segment */
+        for (size_t i = (k == -1 ? 0 : 1); i < 5; i++) xu[nu] = x[i] + k * L, hu[nu] = h[i], nu++;
+    vi_profile *p = make(x, h, 5, r, 1);
+    for (int k = 0; k <= 400; k++) { /* 4 R1 on each side of the seam, and across the first wall */
+        double at = k <= 200 ? x[4] - 4.0 * r + 8.0 * r * k / 200.0 : x[0] - 4.0 * r + 12.0 * r * (k - 200) / 200.0;
+        double y[4], ref = brute(xu, hu, nu, r, at);
+        vi_profile_eval(p, at, y);
+        /* a position is reduced into [x_0, x_4]: rounded to the spacing there, times the slope */
+        double tol = 1e-12 * r + 8.0 * DBL_EPSILON * fabs(x[4]) * (1.0 + fabs(y[1]));
+        cr_assert(fabs(y[0] - ref) <= tol, "x %.17g: yb %.17g, by the definition %.17g (tol %g)", at, y[0], ref, tol);
+    }
+    vi_profile_free(p);
+}
+
+/* A periodic table with a wall steeper than doubles resolve at its position: the body leaves the wall
+ * R1/(hyp (hyp + |s|)) = 1.0e-15 m before its top, less than the spacing of doubles at x = 16.48
+ * (2^-48 = 3.6e-15 m), so the envelope in doubles is vertical there. It is refused naming the rows,
+ * the slope (1.1749 m over 48.7 um) and the slope doubles resolve there, sqrt(R1/(2 spacing)),
+ * not as an internal error. */
+Test(profile, a_wall_steeper_than_doubles_resolve_is_refused_naming_its_rows)
+{
+    double x[] = {-0.46331928351137353, 16.478735101136888, 16.478783788505101};
+    double h[] = {3.3603288399901734, 2.1854535280021321, 3.3603288399901734};
+    double r = 1.217226034797203e-06, s = (h[2] - h[1]) / (x[2] - x[1]), spacing = ldexp(1.0, -48);
+    char expect[512];
+    snprintf(expect, sizeof expect, "bad: rows 2 and 3 (x = 16.478735101136888 and 16.478783788505101 m) make a slope of "
+             "%.6g, too steep for R1 = 1.21723e-06 m near x = 16.4788 m: the body leaves that segment %.2g m before its "
+             "end, less than the spacing of doubles there (%.2g m), and yb is vertical; slopes up to about %.3g",
+             s, r / (2.0 * s * s), spacing, sqrt(r / (2.0 * spacing)));
+    refused(x, h, 3, r, 1, expect);
+    /* 8 times the radius: 8e-15 m, above the spacing and the rounding of x, and it is rolled over */
+    vi_profile *p = make(x, h, 3, 8.0 * r, 1);
+    cr_assert(fabs(vi_profile_max_slope(p) - s) <= 1e-6 * s, "max slope %.17g, the wall's %.17g", vi_profile_max_slope(p), s);
+    vi_profile_free(p);
+}
