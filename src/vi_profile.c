@@ -522,6 +522,7 @@ static void refuse_row(const char *line, const char *end, const char *path, size
         vi_snprintf(why, sizeof why, "%s%s is not a number%s", v.not_number <= SHOW_FIELDS ? "" : "a field after ",
                     v.not_number <= SHOW_FIELDS ? q : "them", v.words == v.fields ? " (a header? start it with #)" : "");
     } else if (v.semicolons > 1) vi_snprintf(why, sizeof why, "more than one semicolon");
+    else if (v.fields == 2) vi_snprintf(why, sizeof why, "the semicolon does not stand between the numbers");
     else vi_snprintf(why, sizeof why, v.fields < 2 ? "a second number is missing" : "more than two numbers");
     vi_snprintf(msg, msg_size, "profile_file '%s', line %zu: expected two numbers x [m] and h [m], found %zu field%s %s%s "
                                "(separator: %s): %s; write x and h in the C syntax with '.' decimals (0.5, -1.2e-3) "

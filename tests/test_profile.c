@@ -1296,6 +1296,8 @@ Test(profile, rows_that_are_not_two_numbers_are_refused_saying_what_they_hold)
                                "'1-2' is not a number" HOW);
     file_refused("0 0\n1;;2\n", ", line 2: expected two numbers x [m] and h [m], found 2 fields '1' '2' (separator: "
                                 "several semicolons): more than one semicolon" HOW);
+    file_refused("0 0\n1 2;\n", ", line 2: expected two numbers x [m] and h [m], found 2 fields '1' '2' (separator: a "
+                                "semicolon): the semicolon does not stand between the numbers" HOW);
     file_refused("0 0\n\t1\t \n", ", line 2: expected two numbers x [m] and h [m], found 1 field '1' (separator: blanks "
                                   "and tabs): a second number is missing" HOW);
     file_refused("0 0\n0.123456789012345678901234567890 x\n",
