@@ -49,6 +49,7 @@
 #define VI_PROFILE_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 typedef struct vi_profile vi_profile;
 
@@ -64,6 +65,10 @@ vi_profile *vi_profile_create(const double *x, const double *h, size_t n, double
 /* From a two-column text file at path. NULL on failure with the reason (file and line) in msg. */
 vi_profile *vi_profile_load(const char *path, double R, int periodic, char *msg, size_t msg_size);
 void vi_profile_free(vi_profile *p);
+/* fopen(path, "r") of a path in UTF-8 (FMI's strings are UTF-8): on Windows, whose C library's fopen
+ * takes the ANSI code page, through _wfopen of the path converted to UTF-16 (a path that is not
+ * UTF-8 goes to fopen as it is). */
+FILE *vi_profile_fopen(const char *path);
 
 /* yb(x) and its derivatives: y[0] = yb [m], y[1] = yb', y[2] = yb'' [1/m], y[3] = yb''' [1/m^2]
  * (right-hand values at an interval boundary). 0, or -1 when x lies outside a non-periodic profile

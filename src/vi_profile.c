@@ -11,6 +11,11 @@
 #include "vi_check.h"
 #include "vi_text.h"
 
+#ifdef _WIN32
+#define WIN32_LEAN_AND_MEAN
+#include <windows.h>
+#endif
+
 /* A piece of the envelope. Circle: yb = py - d^2/(R + sqrt(R^2 - d^2)), d = x - px (the vertex at
  * px, height py). Line: yb = py + s (x - px) (value py at the start px of its domain). */
 typedef struct {
@@ -590,9 +595,24 @@ static int byte_order_mark(const char *line, size_t len, const char *path, char 
     return 0;
 }
 
+FILE *vi_profile_fopen(const char *path)
+{
+#ifdef _WIN32
+    int n = MultiByteToWideChar(CP_UTF8, MB_ERR_INVALID_CHARS, path, -1, NULL, 0);
+    wchar_t *wide = n > 0 ? malloc((size_t)n * sizeof *wide) : NULL;
+    if (wide && MultiByteToWideChar(CP_UTF8, MB_ERR_INVALID_CHARS, path, -1, wide, n) == n) {
+        FILE *f = _wfopen(wide, L"r");
+        free(wide);
+        return f;
+    }
+    free(wide);
+#endif
+    return fopen(path, "r");
+}
+
 vi_profile *vi_profile_load(const char *path, double R, int periodic, char *msg, size_t msg_size)
 {
-    FILE *f = fopen(path, "r");
+    FILE *f = vi_profile_fopen(path);
     if (!f) {
         vi_snprintf(msg, msg_size, "profile_file '%s': cannot open it (%s)", path, strerror(errno));
         return NULL;
