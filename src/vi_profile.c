@@ -335,18 +335,17 @@ static int too_steep(const vi_profile *p, const table *t, const piece *q, int st
                      char *msg, size_t msg_size)
 {
     size_t rows = p->periodic ? t->n - 1 : t->n, i = 0; /* the row of q's vertex (in its period) */
-    double at = p->periodic ? fmod(q->px - p->lo, p->period) + p->lo : q->px;
-    if (p->periodic && at < p->lo) at += p->period;
+    double at = p->periodic ? q->px - floor((q->px - p->lo) / p->period) * p->period : q->px;
     for (size_t k = 1; k < t->n; k++) /* bounded by the rows: the nearest vertex */
         if (fabs(t->x[k] - at) < fabs(t->x[i] - at)) i = k;
-    if (p->periodic && i == t->n - 1) i = 0;
-    int has = starts ? (i > 0 || p->periodic) : (i + 1 < t->n);
-    double spacing = nextafter(fabs(xb), INFINITY) - fabs(xb);
-    if (!has)
-        VI_FAIL(msg, msg_size, "%s: the profile is too steep for R1 = %g m near x = %g m: yb is vertical there", name,
-                p->R, xb);
-    size_t a = starts ? (i > 0 ? i - 1 : rows - 1) : i, b = a + 1;
+    i %= rows; /* a periodic table's last row is its first */
+    /* the segment into the vertex or out of it (an open table's end vertex has none beyond the end,
+     * but its circle is cut at the end, where it is not vertical) */
+    size_t a = starts ? (i > 0 ? i - 1 : rows - 1) : i;
+    if (a + 1 >= t->n) a = t->n - 2;
+    size_t b = a + 1;
     double s = (t->h[b] - t->h[a]) / (t->x[b] - t->x[a]), hyp = hypot(1.0, s), before = p->R / (hyp * (hyp + fabs(s)));
+    double spacing = nextafter(fabs(xb), INFINITY) - fabs(xb);
     VI_FAIL(msg, msg_size, "%s: rows %zu and %zu (x = %.17g and %.17g m) make a slope of %.6g, too steep for R1 = %g m "
                            "near x = %g m: the body leaves that segment %.2g m before its end, less than the spacing "
                            "of doubles there (%.2g m), and yb is vertical; slopes up to about %.3g (sqrt(R1/(2 spacing))) "
@@ -376,9 +375,11 @@ static int check_boundaries(vi_profile *p, const table *t, double tol, const cha
             p->max_slope = fmax(p->max_slope, fabs(dr[0]));
         }
         if (!has_left || !has_right) continue;
-        /* a step: the pieces differ at xr by more than their rounding there; besides the heights' (tol),
-         * the boundary xr is rounded to a few eps |xr|, which moves each piece by its slope times that */
-        double rounding = 1e3 * tol + 16.0 * DBL_EPSILON * fabs(xr) * (fabs(dl[0]) + fabs(dr[0]));
+        /* a step: the pieces differ at the boundary by more than their rounding there; besides the
+         * heights' (tol), the boundary is rounded to a few eps of its position (at the seam of a
+         * periodic profile xl = x_last, xr = x_first, one period apart), which moves each piece by its
+         * slope times that */
+        double rounding = 1e3 * tol + 16.0 * DBL_EPSILON * fmax(fabs(xl), fabs(xr)) * (fabs(dl[0]) + fabs(dr[0]));
         if (fabs(yl - yr) > rounding)
             VI_FAIL(msg, msg_size, "%s: a step of more than R1 = %g m near x = %g m: yb jumps by %g m there (the body "
                                    "cannot roll over it)", name, R, xr, yr - yl);

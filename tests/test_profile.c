@@ -1294,6 +1294,10 @@ Test(profile, rows_that_are_not_two_numbers_are_refused_saying_what_they_hold)
                                      "(separator: blanks): a comment (#) must start its line" HOW);
     file_refused("0 0\n1-2\n", ", line 2: expected two numbers x [m] and h [m], found 1 field '1-2' (separator: none): "
                                "'1-2' is not a number" HOW);
+    file_refused("0 0\n1\t2\t3\n", ", line 2: expected two numbers x [m] and h [m], found 3 fields '1' '2' '3' (separator: "
+                                   "a tab): more than two numbers" HOW);
+    file_refused("0 0\n1 2 3 4 x\n", ", line 2: expected two numbers x [m] and h [m], found 5 fields '1' '2' '3' ... "
+                                     "(separator: blanks): a field after them is not a number" HOW);
     file_refused("0 0\n1;;2\n", ", line 2: expected two numbers x [m] and h [m], found 2 fields '1' '2' (separator: "
                                 "several semicolons): more than one semicolon" HOW);
     file_refused("0 0\n1 2;\n", ", line 2: expected two numbers x [m] and h [m], found 2 fields '1' '2' (separator: a "
@@ -1418,5 +1422,29 @@ Test(profile, a_wall_steeper_than_doubles_resolve_is_refused_naming_its_rows)
     /* 8 times the radius: 8e-15 m, above the spacing and the rounding of x, and it is rolled over */
     vi_profile *p = make(x, h, 3, 8.0 * r, 1);
     cr_assert(fabs(vi_profile_max_slope(p) - s) <= 1e-6 * s, "max slope %.17g, the wall's %.17g", vi_profile_max_slope(p), s);
+    vi_profile_free(p);
+}
+
+/* A periodic table ending with a wall 0.35 m high and 4.6 um wide (slope -76770): at the seam the
+ * wall's parallel is reached from x_last = 26.7 m on the left and from x_first = -0.0022 m on the
+ * right, positions whose rounding differs by the spacing of doubles at 26.7 m (3.6e-15 m), times the
+ * slope: 2e-10 m. That is the seam's rounding, no step (it was refused as one: the allowance took the
+ * rounding at x_first); yb near the seam against the definition to the slope times that spacing. */
+Test(profile, the_seam_of_a_periodic_table_is_rounded_at_its_last_row)
+{
+    double x[] = {-0.0022442443306763863, 6.6918654128405564, 23.857625585914416, 26.721692322158113, 26.721696926646633};
+    double h[] = {0.089119036257788081, 2.5992689847942763, 1.9958331286887794, 0.44260680370154182, 0.089119036257788081};
+    double r = 1.9593007941540804e-05, L = x[4] - x[0], xu[16], hu[16];
+    size_t nu = 0;
+    for (int k = -1; k <= 1; k++)
+        for (size_t i = (k == -1 ? 0 : 1); i < 5; i++) xu[nu] = x[i] + k * L, hu[nu] = h[i], nu++;
+    vi_profile *p = make(x, h, 5, r, 1);
+    for (int k = 0; k <= 400; k++) { /* 2 R1 on each side of either end */
+        double at = k <= 200 ? x[0] - 2.0 * r + 4.0 * r * k / 200.0 : x[4] - 2.0 * r + 4.0 * r * (k - 200) / 200.0;
+        double y[4], ref = brute(xu, hu, nu, r, at);
+        vi_profile_eval(p, at, y);
+        double tol = 1e-12 * r + 8.0 * DBL_EPSILON * fabs(x[4]) * (1.0 + fabs(y[1]));
+        cr_assert(fabs(y[0] - ref) <= tol, "x %.17g: yb %.17g, by the definition %.17g (tol %g)", at, y[0], ref, tol);
+    }
     vi_profile_free(p);
 }
