@@ -327,7 +327,7 @@ typedef struct {
     size_t n;
 } table;
 
-/* Why yb is vertical (not finite) at xb on vertex circle q, which starts there (left = 0: it ends
+/* Why yb is vertical (not finite) at xb on vertex circle q, which starts there (starts = 0: it ends
  * there): the segment into q's vertex (out of it) is so steep that the body leaves it R (1 -
  * |s|/sqrt(1 + s^2)) = R/(hyp (hyp + |s|)) before the vertex, closer than the spacing of doubles at
  * xb, and the circle meets it at the edge of its domain, where it is vertical. Into msg; -1. */
@@ -572,7 +572,7 @@ static int add_row(rows *r, double xv, double hv, const char *path, size_t line_
     return 0;
 }
 
-/* Fewer than two rows: the file empty, without data rows, or with one. -1 with the reason in msg. */
+/* Fewer than two rows: the file empty, without data rows, or with one. The reason into msg; -1. */
 static int too_few_rows(const rows *r, const char *path, size_t lines, char *msg, size_t msg_size)
 {
     if (!lines) VI_FAIL(msg, msg_size, "profile_file '%s': the file is empty; a profile needs at least two rows "
@@ -658,7 +658,10 @@ vi_profile *vi_profile_load(const char *path, double R, int periodic, char *msg,
         if (add_row(&r, xv, hv, path, line_no, msg, msg_size) < 0) goto fail;
     }
     if (ferror(f)) FAIL("profile_file '%s': read error after line %zu", path, line_no);
-    if (r.n < 2 && too_few_rows(&r, path, line_no, msg, msg_size) < 0) goto fail;
+    if (r.n < 2) {
+        too_few_rows(&r, path, line_no, msg, msg_size);
+        goto fail;
+    }
     char name[VI_PROFILE_LINE_MAX + 32];
     vi_snprintf(name, sizeof name, "profile_file '%s'", path);
     p = vi_profile_create(r.x, r.h, r.n, R, periodic, name, msg, msg_size);

@@ -728,7 +728,7 @@ Test(profile, files)
         msg[0] = '\0';
         p = vi_profile_load(write_file(text), R, 0, msg, sizeof msg);
         cr_assert((p != NULL) == !extra, "a line of %d characters: %s", len, msg);
-        if (extra) cr_assert(strstr(msg, "line 2: longer than"), "%s", msg);
+        if (extra) cr_assert(strstr(msg, "line 2: longer than 4094 characters"), "%s", msg);
         vi_profile_free(p);
     }
     struct { const char *text, *expect; } bad[] = {
