@@ -455,7 +455,9 @@ static int parse_row(const char *line, const char *end, double *x, double *h)
 }
 
 /* What a line that is not a data row holds, for the message. */
-enum { SHOW_FIELDS = 3, SHOW_CHARS = 24 };
+enum { SHOW_FIELDS = 3, SHOW_CHARS = 24, QUOTED_MAX = 128 };
+/* a quoted field: the quotes, SHOW_CHARS bytes of 4 characters at most (\xNN), "..." and the '\0' */
+_Static_assert(QUOTED_MAX >= 2 + 4 * SHOW_CHARS + 3 + 1, "a quoted field fits");
 typedef struct {
     size_t fields, numbers, semicolons, not_number; /* not_number: the first field that is no number, 1-based (0: none) */
     size_t words; /* fields starting with a letter */
@@ -496,7 +498,7 @@ static void quote(char *out, size_t size, const char *text, size_t len)
 {
     size_t k = 0;
     out[k++] = '\'';
-    for (size_t i = 0; i < len && i < SHOW_CHARS && k + 6 < size; i++) {
+    for (size_t i = 0; i < len && i < SHOW_CHARS; i++) {
         unsigned char ch = (unsigned char)text[i];
         if (ch >= 0x20 && ch < 0x7f) out[k++] = (char)ch;
         else k += (size_t)vi_snprintf(out + k, size - k, "\\x%02X", (unsigned)ch);
@@ -510,7 +512,7 @@ static void refuse_row(const char *line, const char *end, const char *path, size
 {
     row_view v;
     view_row(line, end, &v);
-    char shown[SHOW_FIELDS * (SHOW_CHARS * 4 + 8)] = "", q[SHOW_CHARS * 4 + 8];
+    char shown[SHOW_FIELDS * QUOTED_MAX] = "", q[QUOTED_MAX];
     for (size_t i = 0; i < v.fields && i < SHOW_FIELDS; i++) {
         quote(q, sizeof q, v.text[i], v.len[i]);
         size_t used = strlen(shown);

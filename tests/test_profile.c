@@ -1309,6 +1309,13 @@ Test(profile, rows_that_are_not_two_numbers_are_refused_saying_what_they_hold)
                  "(separator: blanks): 'x' is not a number" HOW);
     file_refused("0 0\n1 2\xC3\xBC\r\n", ", line 2: expected two numbers x [m] and h [m], found 2 fields '1' '2\\xC3\\xBC' "
                                          "(separator: blanks): '2\\xC3\\xBC' is not a number" HOW);
+    /* a field of 30 bytes outside printable ASCII: 24 of them shown, each as \xNN */
+    char ctl[64] = "0 0\n1 ", want[256] = ", line 2: expected two numbers x [m] and h [m], found 2 fields '1' '";
+    memset(ctl + 6, 0x01, 30);
+    strcat(ctl, "\n");
+    for (int i = 0; i < 24; i++) strcat(want, "\\x01");
+    strcat(want, "...' (separator: blanks)");
+    file_refused(ctl, want);
     /* a NUL byte inside a line (the text is written by hand: write_file stops at it) */
     const char *path = write_file("");
     FILE *f = fopen(path, "wb");
@@ -1318,9 +1325,14 @@ Test(profile, rows_that_are_not_two_numbers_are_refused_saying_what_they_hold)
     cr_assert(vi_profile_load(path, R, 0, msg, sizeof msg) == NULL);
     cr_assert(strstr(msg, "line 2: expected two numbers x [m] and h [m], found 3 fields '1' '0\\x00' 'junk' (separator: "
                           "blanks): it holds a NUL byte (a binary or UTF-16 file?)"), "%s", msg);
-    /* a byte-order mark of UTF-16 */
+    /* byte-order marks of UTF-16 (little- and big-endian); a first line merely holding such bytes is no mark */
     file_refused("\xFF\xFE" "0 0\n", ", line 1: the file starts with a UTF-16 or UTF-32 byte-order mark; save it as UTF-8 "
                                      "or ASCII text");
+    file_refused("\xFE\xFF" "0 0\n", ", line 1: the file starts with a UTF-16 or UTF-32 byte-order mark");
+    file_refused("0\xFE 0\n1 0\n", ", line 1: expected two numbers x [m] and h [m], found 2 fields '0\\xFE' '0'");
+    file_refused("\xFF" "0 0\n1 0\n", ", line 1: expected two numbers x [m] and h [m], found 2 fields '\\xFF0' '0'");
+    file_refused("\xFE" "0 0\n1 0\n", ", line 1: expected two numbers x [m] and h [m], found 2 fields '\\xFE0' '0'");
+    file_refused("0\xFF 0\n1 0\n", ", line 1: expected two numbers x [m] and h [m], found 2 fields '0\\xFF' '0'");
 }
 
 /* A UTF-8 byte-order mark (EF BB BF, as some editors write) before the first row or comment is skipped. */
@@ -1419,6 +1431,10 @@ Test(profile, a_wall_steeper_than_doubles_resolve_is_refused_naming_its_rows)
              "end, less than the spacing of doubles there (%.2g m), and yb is vertical; slopes up to about %.3g",
              s, r / (2.0 * s * s), spacing, sqrt(r / (2.0 * spacing)));
     refused(x, h, 3, r, 1, expect);
+    /* the mirror image, one period on: the wall falls from the first row (the vertex at the seam, x = 16 m) */
+    double xm[] = {16.0, 16.000048687368214, 32.942102687368212};
+    refused(xm, h, 3, r, 1, "bad: rows 1 and 2 (x = 16 and 16.000048687368214 m) make a slope of -24131, too steep for "
+                            "R1 = 1.21723e-06 m near x = 16 m");
     /* 8 times the radius: 8e-15 m, above the spacing and the rounding of x, and it is rolled over */
     vi_profile *p = make(x, h, 3, 8.0 * r, 1);
     cr_assert(fabs(vi_profile_max_slope(p) - s) <= 1e-6 * s, "max slope %.17g, the wall's %.17g", vi_profile_max_slope(p), s);
