@@ -327,6 +327,12 @@ typedef struct {
     size_t n;
 } table;
 
+/* |a - b| [m], for a periodic profile to the nearest copy of a. */
+static double distance(const vi_profile *p, double a, double b)
+{
+    return p->periodic ? fabs(remainder(a - b, p->period)) : fabs(a - b);
+}
+
 /* Why yb is vertical (not finite) at xb on vertex circle q, which starts there (starts = 0: it ends
  * there): the segment into q's vertex (out of it) is so steep that the body leaves it R (1 -
  * |s|/sqrt(1 + s^2)) = R/(hyp (hyp + |s|)) before the vertex, closer than the spacing of doubles at
@@ -334,11 +340,9 @@ typedef struct {
 static int too_steep(const vi_profile *p, const table *t, const piece *q, int starts, double xb, const char *name,
                      char *msg, size_t msg_size)
 {
-    size_t rows = p->periodic ? t->n - 1 : t->n, i = 0; /* the row of q's vertex (in its period) */
-    double at = p->periodic ? q->px - floor((q->px - p->lo) / p->period) * p->period : q->px;
-    for (size_t k = 1; k < t->n; k++) /* bounded by the rows: the nearest vertex */
-        if (fabs(t->x[k] - at) < fabs(t->x[i] - at)) i = k;
-    i %= rows; /* a periodic table's last row is its first */
+    size_t rows = p->periodic ? t->n - 1 : t->n, i = 0; /* the row of q's vertex (a periodic table's last is its first) */
+    for (size_t k = 1; k < rows; k++) /* bounded by the rows: the nearest vertex, in any period */
+        if (distance(p, t->x[k], q->px) < distance(p, t->x[i], q->px)) i = k;
     /* the segment into the vertex or out of it (an open table's end vertex has none beyond the end,
      * but its circle is cut at the end, where it is not vertical) */
     size_t a = starts ? (i > 0 ? i - 1 : rows - 1) : i;

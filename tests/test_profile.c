@@ -1298,6 +1298,8 @@ Test(profile, rows_that_are_not_two_numbers_are_refused_saying_what_they_hold)
                                    "a tab): more than two numbers" HOW);
     file_refused("0 0\n1 2 3 4 x\n", ", line 2: expected two numbers x [m] and h [m], found 5 fields '1' '2' '3' ... "
                                      "(separator: blanks): a field after them is not a number" HOW);
+    file_refused("0 0\n1 2 x\n", ", line 2: expected two numbers x [m] and h [m], found 3 fields '1' '2' 'x' (separator: "
+                                 "blanks): 'x' is not a number" HOW);
     file_refused("0 0\n1;;2\n", ", line 2: expected two numbers x [m] and h [m], found 2 fields '1' '2' (separator: "
                                 "several semicolons): more than one semicolon" HOW);
     file_refused("0 0\n1 2;\n", ", line 2: expected two numbers x [m] and h [m], found 2 fields '1' '2' (separator: a "
@@ -1462,5 +1464,33 @@ Test(profile, the_seam_of_a_periodic_table_is_rounded_at_its_last_row)
         double tol = 1e-12 * r + 8.0 * DBL_EPSILON * fabs(x[4]) * (1.0 + fabs(y[1]));
         cr_assert(fabs(y[0] - ref) <= tol, "x %.17g: yb %.17g, by the definition %.17g (tol %g)", at, y[0], ref, tol);
     }
+    vi_profile_free(p);
+}
+
+/* A periodic table whose wall (slope 17026) rises to the seam with R1 = 1.95e-8 m: the body leaves
+ * it R1/(2 s^2) = 3.4e-17 m before its top, more than the spacing of doubles at 0.153 m (2.8e-17 m),
+ * so it is rolled over (it was refused as too steep: the last vertex of each copy, x_last + k L, and
+ * the first of the next, x_first + (k + 1) L, were rounded apart by more than that). yb around the
+ * seam against the definition, and the largest slope is the wall's, to the rounding of the corner. */
+Test(profile, a_steep_wall_at_the_seam_that_doubles_resolve_is_rolled_over)
+{
+    double x[] = {-0.5347939573856042, 0.15301676567318712, 0.1530861505024072};
+    double h[] = {2.5300901092263359, 1.3487220724805826, 2.5300901092263359};
+    double r = 1.9527121758799592e-08, L = x[2] - x[0], s = (h[2] - h[1]) / (x[2] - x[1]), xu[8], hu[8];
+    size_t nu = 0;
+    for (int k = -1; k <= 1; k++)
+        for (size_t i = (k == -1 ? 0 : 1); i < 3; i++) xu[nu] = x[i] + k * L, hu[nu] = h[i], nu++;
+    vi_profile *p = make(x, h, 3, r, 1);
+    for (int k = 0; k <= 400; k++) { /* 4 R1 each side of the seam and of the wall's foot */
+        double at = k <= 200 ? x[2] - 4.0 * r + 8.0 * r * k / 200.0 : x[1] - 4.0 * r + 8.0 * r * (k - 200) / 200.0;
+        double y[4], ref = brute(xu, hu, nu, r, at);
+        vi_profile_eval(p, at, y);
+        double tol = 1e-12 * r + 8.0 * DBL_EPSILON * fabs(x[0]) * (1.0 + fabs(y[1]));
+        cr_assert(fabs(y[0] - ref) <= tol, "x %.17g: yb %.17g, by the definition %.17g (tol %g)", at, y[0], ref, tol);
+    }
+    /* on the wall's parallel the slope is s; where the corner's circle takes over, its slope is s
+     * to the rounding of that boundary, which moves R1 + u by the spacing: more there, by 4e-4 */
+    cr_assert(vi_profile_max_slope(p) >= s && vi_profile_max_slope(p) <= 1.01 * s, "max slope %.17g, the wall's %.17g",
+              vi_profile_max_slope(p), s);
     vi_profile_free(p);
 }
