@@ -463,34 +463,34 @@ enum { SHOW_FIELDS = 3, SHOW_CHARS = 24, QUOTED_MAX = 128 };
 /* a quoted field: the quotes, SHOW_CHARS bytes of 4 characters at most (\xNN), "..." and the '\0' */
 _Static_assert(QUOTED_MAX >= 2 + 4 * SHOW_CHARS + 3 + 1, "a quoted field fits");
 typedef struct {
-    size_t fields, numbers, semicolons, not_number; /* not_number: the first field that is no number, 1-based (0: none) */
+    size_t fields, semicolons, not_number; /* not_number: the first field that is no number, 1-based (0: none) */
     size_t words; /* fields starting with a letter */
     int blanks, tabs, comma, nul, hash;
     const char *text[SHOW_FIELDS];
     size_t len[SHOW_FIELDS];
 } row_view;
 
+/* s (before end) ends a field: a blank, a tab, a ';', or the '\r' that ends a CRLF line. */
+static int field_end(const char *s, const char *end) { return s == end || is_blank(*s) || *s == ';' || at_end(s, end); }
+
 /* Fields of [line, end): the text between blanks, tabs and semicolons. */
 static void view_row(const char *line, const char *end, row_view *v)
 {
     memset(v, 0, sizeof *v);
-    if (end > line && end[-1] == '\r') end--;
     for (const char *s = line; s < end;) { /* bounded by the line: every pass moves s */
-        if (is_blank(*s) || *s == ';') {
+        if (field_end(s, end)) {
             v->blanks |= *s == ' ', v->tabs |= *s == '\t', v->semicolons += *s == ';';
             s++;
             continue;
         }
         const char *f = s;
-        while (s < end && !is_blank(*s) && *s != ';') v->comma |= *s == ',', v->nul |= *s == '\0', s++;
+        while (!field_end(s, end)) v->comma |= *s == ',', v->nul |= *s == '\0', s++; /* bounded by end */
         char *after;
         vi_strtod(f, &after);
         if (after == f || after != s) {
             if (!v->not_number) v->not_number = v->fields + 1;
             v->hash |= *f == '#';
             v->words += (*f >= 'a' && *f <= 'z') || (*f >= 'A' && *f <= 'Z');
-        } else {
-            v->numbers++;
         }
         if (v->fields < SHOW_FIELDS) v->text[v->fields] = f, v->len[v->fields] = (size_t)(s - f);
         v->fields++;
@@ -520,7 +520,7 @@ static void refuse_row(const char *line, const char *end, const char *path, size
     for (size_t i = 0; i < v.fields && i < SHOW_FIELDS; i++) {
         quote(q, sizeof q, v.text[i], v.len[i]);
         size_t used = strlen(shown);
-        vi_snprintf(shown + used, sizeof shown - used, "%s%s", i ? " " : "", q);
+        vi_snprintf(shown + used, sizeof shown - used, " %s", q);
     }
     const char *sep = v.semicolons ? (v.semicolons > 1 ? "several semicolons" : "a semicolon")
                       : v.blanks && v.tabs ? "blanks and tabs" : v.blanks ? "blanks" : v.tabs ? "a tab" : "none";
@@ -535,8 +535,9 @@ static void refuse_row(const char *line, const char *end, const char *path, size
                     v.not_number <= SHOW_FIELDS ? q : "them", v.words == v.fields ? " (a header? start it with #)" : "");
     } else if (v.semicolons > 1) vi_snprintf(why, sizeof why, "more than one semicolon");
     else if (v.fields == 2) vi_snprintf(why, sizeof why, "the semicolon does not stand between the numbers");
-    else vi_snprintf(why, sizeof why, v.fields < 2 ? "a second number is missing" : "more than two numbers");
-    vi_snprintf(msg, msg_size, "profile_file '%s', line %zu: expected two numbers x [m] and h [m], found %zu field%s %s%s "
+    else vi_snprintf(why, sizeof why, "%s", !v.fields ? "no number" : v.fields == 1 ? "a second number is missing"
+                                                                         : "more than two numbers");
+    vi_snprintf(msg, msg_size, "profile_file '%s', line %zu: expected two numbers x [m] and h [m], found %zu field%s%s%s "
                                "(separator: %s): %s; write x and h in the C syntax with '.' decimals (0.5, -1.2e-3) "
                                "separated by blanks, a tab or one semicolon; lines starting with # are comments",
                 path, line_no, v.fields, v.fields == 1 ? "" : "s", shown, v.fields > SHOW_FIELDS ? " ..." : "", sep, why);
