@@ -1302,6 +1302,8 @@ Test(profile, rows_that_are_not_two_numbers_are_refused_saying_what_they_hold)
                                  "blanks): 'x' is not a number" HOW);
     file_refused("0 0\n ; \r\n", ", line 2: expected two numbers x [m] and h [m], found 0 fields (separator: a "
                                  "semicolon): no number" HOW);
+    file_refused(";0\n1 0\n", ", line 1: expected two numbers x [m] and h [m], found 1 field '0' (separator: a semicolon): "
+                               "a second number is missing" HOW);
     file_refused("0 0\n1;;2\n", ", line 2: expected two numbers x [m] and h [m], found 2 fields '1' '2' (separator: "
                                 "several semicolons): more than one semicolon" HOW);
     file_refused("0 0\n1 2;\n", ", line 2: expected two numbers x [m] and h [m], found 2 fields '1' '2' (separator: a "
