@@ -1401,23 +1401,33 @@ Test(profile, more_rows_than_the_cap_are_refused, .timeout = 120)
  * x_0 + (k + 1) L: the envelope's domains still chain (it was refused as "a gap in the envelope"),
  * and yb near the seam agrees with the definition on the unrolled table to the slope times the
  * spacing of doubles there. */
+/* A periodic table of n <= 5 rows whose segments are all longer than r: p's yb at 201 points across
+ * [c - w, c + w] for each of the nc centres c against the definition on the table unrolled one copy
+ * each side, to the slope times the spacing of doubles at the table's far end (a position is reduced
+ * into [x_first, x_last], rounded there). */
+static void periodic_matches_the_definition(const vi_profile *p, const double *x, const double *h, size_t n, double r,
+                                            const double *centres, int nc, double w)
+{
+    double L = x[n - 1] - x[0], far = fmax(fabs(x[0]), fabs(x[n - 1])), xu[16], hu[16];
+    size_t nu = 0;
+    for (int k = -1; k <= 1; k++)
+        for (size_t i = (k == -1 ? 0 : 1); i < n; i++) xu[nu] = x[i] + k * L, hu[nu] = h[i], nu++;
+    for (int c = 0; c < nc; c++)
+        for (int k = 0; k <= 200; k++) {
+            double at = centres[c] - w + 2.0 * w * k / 200.0, y[4], ref = brute(xu, hu, nu, r, at);
+            vi_profile_eval(p, at, y);
+            double tol = 1e-12 * r + 8.0 * DBL_EPSILON * far * (1.0 + fabs(y[1]));
+            cr_assert(fabs(y[0] - ref) <= tol, "x %.17g: yb %.17g, by the definition %.17g (tol %g)", at, y[0], ref, tol);
+        }
+}
+
 Test(profile, a_periodic_seam_rounded_apart_leaves_no_gap)
 {
     double x[] = {-0.10166743402446966, -0.10158941869246281, 15.589183792583125, 28.067565743214107, 28.067587137412833};
     double h[] = {0.9832667256627543, 2.1718357294666744, 1.2396848249433958, 0.48296507517013931, 0.9832667256627543};
-    double r = 1.9346202038855385e-07, L = x[4] - x[0], xu[16], hu[16];
-    size_t nu = 0;
-    for (int k = -1; k <= 1; k++) /* one copy each side: R1 is far shorter than a segment */
-        for (size_t i = (k == -1 ? 0 : 1); i < 5; i++) xu[nu] = x[i] + k * L, hu[nu] = h[i], nu++;
+    double r = 1.9346202038855385e-07, centres[] = {x[4], x[0] + 2.0 * r};
     vi_profile *p = make(x, h, 5, r, 1);
-    for (int k = 0; k <= 400; k++) { /* 4 R1 on each side of the seam, and across the first wall */
-        double at = k <= 200 ? x[4] - 4.0 * r + 8.0 * r * k / 200.0 : x[0] - 4.0 * r + 12.0 * r * (k - 200) / 200.0;
-        double y[4], ref = brute(xu, hu, nu, r, at);
-        vi_profile_eval(p, at, y);
-        /* a position is reduced into [x_0, x_4]: rounded to the spacing there, times the slope */
-        double tol = 1e-12 * r + 8.0 * DBL_EPSILON * fabs(x[4]) * (1.0 + fabs(y[1]));
-        cr_assert(fabs(y[0] - ref) <= tol, "x %.17g: yb %.17g, by the definition %.17g (tol %g)", at, y[0], ref, tol);
-    }
+    periodic_matches_the_definition(p, x, h, 5, r, centres, 2, 4.0 * r); /* the seam, and across the first wall */
     vi_profile_free(p);
 }
 
@@ -1456,18 +1466,9 @@ Test(profile, the_seam_of_a_periodic_table_is_rounded_at_its_last_row)
 {
     double x[] = {-0.0022442443306763863, 6.6918654128405564, 23.857625585914416, 26.721692322158113, 26.721696926646633};
     double h[] = {0.089119036257788081, 2.5992689847942763, 1.9958331286887794, 0.44260680370154182, 0.089119036257788081};
-    double r = 1.9593007941540804e-05, L = x[4] - x[0], xu[16], hu[16];
-    size_t nu = 0;
-    for (int k = -1; k <= 1; k++)
-        for (size_t i = (k == -1 ? 0 : 1); i < 5; i++) xu[nu] = x[i] + k * L, hu[nu] = h[i], nu++;
+    double r = 1.9593007941540804e-05, centres[] = {x[0], x[4]};
     vi_profile *p = make(x, h, 5, r, 1);
-    for (int k = 0; k <= 400; k++) { /* 2 R1 on each side of either end */
-        double at = k <= 200 ? x[0] - 2.0 * r + 4.0 * r * k / 200.0 : x[4] - 2.0 * r + 4.0 * r * (k - 200) / 200.0;
-        double y[4], ref = brute(xu, hu, nu, r, at);
-        vi_profile_eval(p, at, y);
-        double tol = 1e-12 * r + 8.0 * DBL_EPSILON * fabs(x[4]) * (1.0 + fabs(y[1]));
-        cr_assert(fabs(y[0] - ref) <= tol, "x %.17g: yb %.17g, by the definition %.17g (tol %g)", at, y[0], ref, tol);
-    }
+    periodic_matches_the_definition(p, x, h, 5, r, centres, 2, 2.0 * r);
     vi_profile_free(p);
 }
 
@@ -1480,18 +1481,9 @@ Test(profile, a_steep_wall_at_the_seam_that_doubles_resolve_is_rolled_over)
 {
     double x[] = {-0.5347939573856042, 0.15301676567318712, 0.1530861505024072};
     double h[] = {2.5300901092263359, 1.3487220724805826, 2.5300901092263359};
-    double r = 1.9527121758799592e-08, L = x[2] - x[0], s = (h[2] - h[1]) / (x[2] - x[1]), xu[8], hu[8];
-    size_t nu = 0;
-    for (int k = -1; k <= 1; k++)
-        for (size_t i = (k == -1 ? 0 : 1); i < 3; i++) xu[nu] = x[i] + k * L, hu[nu] = h[i], nu++;
+    double r = 1.9527121758799592e-08, s = (h[2] - h[1]) / (x[2] - x[1]), centres[] = {x[2], x[1]};
     vi_profile *p = make(x, h, 3, r, 1);
-    for (int k = 0; k <= 400; k++) { /* 4 R1 each side of the seam and of the wall's foot */
-        double at = k <= 200 ? x[2] - 4.0 * r + 8.0 * r * k / 200.0 : x[1] - 4.0 * r + 8.0 * r * (k - 200) / 200.0;
-        double y[4], ref = brute(xu, hu, nu, r, at);
-        vi_profile_eval(p, at, y);
-        double tol = 1e-12 * r + 8.0 * DBL_EPSILON * fabs(x[0]) * (1.0 + fabs(y[1]));
-        cr_assert(fabs(y[0] - ref) <= tol, "x %.17g: yb %.17g, by the definition %.17g (tol %g)", at, y[0], ref, tol);
-    }
+    periodic_matches_the_definition(p, x, h, 3, r, centres, 2, 4.0 * r); /* the seam and the wall's foot */
     /* on the wall's parallel the slope is s; where the corner's circle takes over, its slope is s
      * to the rounding of that boundary, which moves R1 + u by the spacing: more there, by 4e-4 */
     cr_assert(vi_profile_max_slope(p) >= s && vi_profile_max_slope(p) <= 1.01 * s, "max slope %.17g, the wall's %.17g",
