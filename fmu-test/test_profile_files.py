@@ -95,16 +95,16 @@ def refused(face, tmp_path, params, *expect):
     return text
 
 
-HOW = ("write x and h in the C syntax with '.' decimals (0.5, -1.2e-3) separated by blanks, a tab or one semicolon; "
+HOW = ("write x and h in the C syntax with '.' decimals (0.5, -1.2e-3) separated by blanks, a tab, one comma or one semicolon; "
        "lines starting with # are comments")
 
 BAD = {
     "decimal commas": ("0,5\n1,5\n2,5\n", ", line 1: expected two numbers x [m] and h [m], found 1 field '0,5' (separator: "
-                       "none): a comma is neither a separator nor a decimal point; " + HOW),
+                       "none): a comma is no decimal point, and '0,5' could be 0.5 or the columns 0 and 5; " + HOW),
     "header": ("x h\n0 0\n1 0\n", ", line 1: expected two numbers x [m] and h [m], found 2 fields 'x' 'h' (separator: "
                "blanks): 'x' is not a number (a header? start it with #); " + HOW),
     "German decimals": ("# x;h\n0;0\n1,5;2,5\n", ", line 3: expected two numbers x [m] and h [m], found 2 fields '1,5' "
-                        "'2,5' (separator: a semicolon): a comma is neither a separator nor a decimal point"),
+                        "'2,5' (separator: a semicolon): a comma is no decimal point"),
     "empty": ("", ": the file is empty; a profile needs at least two rows x [m] h [m]"),
     "comments only": ("# x h\n\n# nothing\n", ": no data rows, its 3 lines are blank or comments"),
     "x not increasing": ("0 0\n2 0\n\n1 0\n", ", line 4: x = 1 is not greater than x = 2 on line 2 (x must increase)"),

@@ -37,8 +37,9 @@
  * its corner than the spacing of doubles there: the rows, the slope and the limit are named). Every
  * loop is bounded.
  *
- * File format: two numbers a line, separated by blanks or tabs with at most one ';' among them; a
- * '\r' may end a line; a comma is neither a separator nor a decimal point (never guessed). Lines
+ * File format: two numbers a line, separated by blanks or tabs with at most one ';' or ',' among them;
+ * a '\r' may end a line; a line that would read as one number with a decimal comma ("0,5") is refused
+ * (never guessed). Lines
  * that are empty, blank or start with '#' after blanks are skipped; a UTF-8 byte-order mark before
  * the first line is skipped, a UTF-16 or UTF-32 one refused. Numbers are read by vi_strtod
  * (vi_text.h): as strtod reads them in the C locale, whatever the locale of the process (decimal

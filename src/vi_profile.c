@@ -425,10 +425,11 @@ fail:
 /* ---- reading a file -------------------------------------------------------------------------
  *
  * A data line is "x h": two numbers in the C syntax (vi_strtod) separated by blanks or tabs, with at
- * most one ';' among them, blanks and tabs before and after, and a '\r' at its end (CRLF files). A
- * line that is empty, holds blanks only or starts with '#' after blanks is skipped. A comma is
- * neither a separator nor a decimal point: "0,5" could be the decimal 0.5 or the two columns 0 and
- * 5, and the reader does not guess. */
+ * most one ';' or ',' among them, blanks and tabs before and after, and a '\r' at its end (CRLF files).
+ * A line that is empty, holds blanks only or starts with '#' after blanks is skipped. A line that
+ * would be one number with a decimal comma ("0,5", "-12,75e-3": digits, the comma, digits and an
+ * exponent, nothing between) is refused: it could be the decimal 0.5 or the two columns 0 and 5, and
+ * the reader does not guess. */
 
 static int is_blank(char ch) { return ch == ' ' || ch == '\t'; }
 
@@ -441,20 +442,47 @@ static const char *skip_blanks(const char *s)
 /* s is at the end of the line [line, end), or at a '\r' that ends it. */
 static int at_end(const char *s, const char *end) { return s == end || (*s == '\r' && s + 1 == end); }
 
+static int is_digit(char ch) { return ch >= '0' && ch <= '9'; }
+
+/* [s, end) is one or more digits; the end of them. */
+static const char *digits(const char *s, const char *end)
+{
+    const char *d = s;
+    while (d < end && is_digit(*d)) d++; /* bounded by end */
+    return d > s ? d : NULL;
+}
+
+/* [x, comma) and (comma, h_end) read together as one number with a decimal comma: [+-]digits,digits
+ * with an optional exponent [eE][+-]digits. */
+static int decimal_comma(const char *x, const char *comma, const char *h_end)
+{
+    if (*x == '+' || *x == '-') x++;
+    if (digits(x, comma) != comma) return 0;
+    const char *d = digits(comma + 1, h_end);
+    if (!d || d == h_end) return d == h_end;
+    if (*d != 'e' && *d != 'E') return 0;
+    d++;
+    if (d < h_end && (*d == '+' || *d == '-')) d++;
+    return digits(d, h_end) == h_end;
+}
+
 /* A line [line, end) (*end = '\0'): 1 for a data row (into *x, *h), 0 for a line to skip, -1 for any
  * other (a NUL byte inside the line stops the parse before end: -1). */
 static int parse_row(const char *line, const char *end, double *x, double *h)
 {
-    const char *s = skip_blanks(line);
+    const char *s = skip_blanks(line), *x_text = s;
     if (*s == '#' || at_end(s, end)) return 0;
     char *after;
     *x = vi_strtod(s, &after);
     if (after == s) return -1;
+    const char *x_end = after;
     s = skip_blanks(after);
-    if (*s == ';') s = skip_blanks(s + 1);
+    const char *sep = s;
+    if (*s == ';' || *s == ',') s = skip_blanks(s + 1);
     if (s == after) return -1; /* no separator */
     *h = vi_strtod(s, &after);
     if (after == s) return -1;
+    if (*sep == ',' && sep == x_end && s == sep + 1 && decimal_comma(x_text, sep, after)) return -1;
     return at_end(skip_blanks(after), end) ? 1 : -1;
 }
 
@@ -526,7 +554,8 @@ static void refuse_row(const char *line, const char *end, const char *path, size
                       : v.blanks && v.tabs ? "blanks and tabs" : v.blanks ? "blanks" : v.tabs ? "a tab" : "none";
     char why[160];
     if (v.nul) vi_snprintf(why, sizeof why, "it holds a NUL byte (a binary or UTF-16 file?)");
-    else if (v.comma) vi_snprintf(why, sizeof why, "a comma is neither a separator nor a decimal point");
+    else if (v.comma) vi_snprintf(why, sizeof why, "a comma is no decimal point, and '0,5' could be 0.5 or the columns 0 "
+                                                   "and 5");
     else if (v.hash) vi_snprintf(why, sizeof why, "a comment (#) must start its line");
     else if (v.not_number) {
         quote(q, sizeof q, v.text[v.not_number <= SHOW_FIELDS ? v.not_number - 1 : 0],
@@ -539,7 +568,7 @@ static void refuse_row(const char *line, const char *end, const char *path, size
                                                                          : "more than two numbers");
     vi_snprintf(msg, msg_size, "profile_file '%s', line %zu: expected two numbers x [m] and h [m], found %zu field%s%s%s "
                                "(separator: %s): %s; write x and h in the C syntax with '.' decimals (0.5, -1.2e-3) "
-                               "separated by blanks, a tab or one semicolon; lines starting with # are comments",
+                               "separated by blanks, a tab, one comma or one semicolon; lines starting with # are comments",
                 path, line_no, v.fields, v.fields == 1 ? "" : "s", shown, v.fields > SHOW_FIELDS ? " ..." : "", sep, why);
 }
 

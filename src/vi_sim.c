@@ -224,7 +224,7 @@ static int profile_path(const vi_sim *s, const char *file, char *path, size_t n)
     int k;
     if (file[0] != '/' && s->resources[0]) {
         k = vi_snprintf(path, n, "%s/%s", s->resources, file);
-        FILE *f = k > 0 && (size_t)k < n ? fopen(path, "r") : NULL;
+        FILE *f = k > 0 && (size_t)k < n ? vi_profile_fopen(path) : NULL;
         if (f) {
             fclose(f);
             return 0;

@@ -735,7 +735,7 @@ Test(profile, files)
         {"0 0\n1 0\nabc 2\n", "line 3: expected two numbers x [m] and h [m], found 2 fields 'abc' '2' (separator: blanks): 'abc' is not a number;"},
         {"0 0\n1\n", "line 2: expected two numbers x [m] and h [m], found 1 field '1' (separator: none): a second number is missing;"},
         {"0 0\n1 0 7\n", "line 2: expected two numbers x [m] and h [m], found 3 fields '1' '0' '7' (separator: blanks): more than two numbers;"},
-        {",0\n1 0\n", "line 1: expected two numbers x [m] and h [m], found 1 field ',0' (separator: none): a comma is neither"},
+        {",0\n1 0\n", "line 1: expected two numbers x [m] and h [m], found 1 field ',0' (separator: none): a comma is no decimal point"},
         {"0 0\n2 0\n1 0\n", "line 3: x = 1 is not greater than x = 2 on line 2 (x must increase)"},
         {"0 0\n1 inf\n", "line 2: x = 1, h = inf: h is not finite"},
         {"# only\n0 0\n", "one data row (line 2); a profile needs at least two rows x [m] h [m]"},
@@ -1262,9 +1262,9 @@ Test(profile, a_long_path_is_named_whole)
 }
 
 /* A file is refused with what its bad line holds: the fields (quoted, cut after 24 characters), the
- * separator seen and the rule broken, then how to write a row. A comma is neither a separator nor a
- * decimal point: a one-column file of decimal commas is not read as two columns, German decimals
- * and a header row are named as what they are. */
+ * separator seen and the rule broken, then how to write a row. A comma is no decimal point: a
+ * one-column file of decimal commas is not read as two columns, German decimals and a header row are
+ * named as what they are. */
 static void file_refused(const char *text, const char *expect)
 {
     char msg[1024] = "";
@@ -1277,19 +1277,20 @@ static void file_refused(const char *text, const char *expect)
     remove(path);
 }
 
-#define HOW "; write x and h in the C syntax with '.' decimals (0.5, -1.2e-3) separated by blanks, a tab or one " \
-            "semicolon; lines starting with # are comments"
+#define HOW "; write x and h in the C syntax with '.' decimals (0.5, -1.2e-3) separated by blanks, a tab, one " \
+            "comma or one semicolon; lines starting with # are comments"
 
 Test(profile, rows_that_are_not_two_numbers_are_refused_saying_what_they_hold)
 {
     file_refused("0,5\n1,5\n2,5\n", ", line 1: expected two numbers x [m] and h [m], found 1 field '0,5' (separator: "
-                                    "none): a comma is neither a separator nor a decimal point" HOW);
+                                    "none): a comma is no decimal point, and '0,5' could be 0.5 or the columns 0 and 5" HOW);
     file_refused("x h\n0 0\n1 0\n", ", line 1: expected two numbers x [m] and h [m], found 2 fields 'x' 'h' (separator: "
                                     "blanks): 'x' is not a number (a header? start it with #)" HOW);
     file_refused("# x;h\n0;0\n1,5;2,5\n", ", line 3: expected two numbers x [m] and h [m], found 2 fields '1,5' '2,5' "
-                                          "(separator: a semicolon): a comma is neither a separator nor a decimal point");
-    file_refused("0 0\n0.5, 1e-4\n", ", line 2: expected two numbers x [m] and h [m], found 2 fields '0.5,' '1e-4' "
-                                     "(separator: blanks): a comma is neither");
+                                          "(separator: a semicolon): a comma is no decimal point");
+    file_refused("0 0\n-12,75e-3\n", ", line 2: expected two numbers x [m] and h [m], found 1 field '-12,75e-3' "
+                                     "(separator: none): a comma is no decimal point");
+    file_refused("0 0\n1.5,2,5\n", ", line 2: expected two numbers x [m] and h [m], found 1 field '1.5,2,5' ");
     file_refused("0 0\n1 0 # end\n", ", line 2: expected two numbers x [m] and h [m], found 4 fields '1' '0' '#' ... "
                                      "(separator: blanks): a comment (#) must start its line" HOW);
     file_refused("0 0\n1-2\n", ", line 2: expected two numbers x [m] and h [m], found 1 field '1-2' (separator: none): "
@@ -1355,6 +1356,40 @@ Test(profile, a_utf8_byte_order_mark_is_skipped)
     /* only on the first line: the mark inside the file is no number */
     file_refused("0 0\n\xEF\xBB\xBF" "1 0\n", ", line 2: expected two numbers x [m] and h [m], found 2 fields "
                                              "'\\xEF\\xBB\\xBF1' '0'");
+}
+
+/* A comma separates x and h as a semicolon does (CSV files), with blanks around it or none, unless the
+ * line would read as one number with a decimal comma (digits, the comma, digits and an exponent, nothing
+ * between): the rows read as the same table written with blanks. */
+Test(profile, a_comma_separates_unless_the_line_is_one_number_with_a_decimal_comma)
+{
+    char msg[512];
+    const char *same[][2] = {
+        {"0.5,1e-4\n1.0,0\n1.5,2e-4\n", "0.5 1e-4\n1.0 0\n1.5 2e-4\n"},
+        {"0, 1e-4\n1 ,0\n2 , 2e-4\n", "0 1e-4\n1 0\n2 2e-4\n"},
+        {"0,0.001\n1,-2e-4\n2,0x1p-12\n", "0 0.001\n1 -2e-4\n2 0x1p-12\n"},
+        {"1e-3,5\n2e-3,5\r\n", "1e-3 5\n2e-3 5\n"},
+    };
+    for (size_t i = 0; i < sizeof same / sizeof same[0]; i++) {
+        vi_profile *p = vi_profile_load(write_file(same[i][0]), R, 0, msg, sizeof msg);
+        cr_assert(p != NULL, "case %zu: %s", i, msg);
+        vi_profile *q = vi_profile_load(write_file(same[i][1]), R, 0, msg, sizeof msg);
+        cr_assert(q != NULL, "case %zu: %s", i, msg);
+        cr_assert(vi_profile_x_first(p) == vi_profile_x_first(q) && vi_profile_x_last(p) == vi_profile_x_last(q));
+        double lo = vi_profile_x_first(q), hi = vi_profile_x_last(q);
+        for (int k = 0; k <= 20; k++) {
+            double x = lo + (hi - lo) * k / 20.0;
+            cr_assert(yb(p, x) == yb(q, x), "case %zu at x = %g", i, x);
+        }
+        vi_profile_free(p);
+        vi_profile_free(q);
+    }
+    const char *one_number[] = {"0 0\n0,5\n", "0 0\n12,75\n", "0 0\n-1,5e-3\n", "0 0\n+3,25E+2\n", "0 0\n1,5\r\n"};
+    for (size_t i = 0; i < sizeof one_number / sizeof one_number[0]; i++) {
+        msg[0] = '\0';
+        cr_assert(vi_profile_load(write_file(one_number[i]), R, 0, msg, sizeof msg) == NULL, "accepted: %s", one_number[i]);
+        cr_assert(strstr(msg, "line 2: ") && strstr(msg, "a comma is no decimal point"), "%s", msg);
+    }
 }
 
 /* Too few rows each have their message: an empty file, a file of blank lines and comments (a BOM
