@@ -46,7 +46,7 @@ done
 SANITIZED_TESTS=(fmu-test/test_bounds.py fmu-test/test_extremes.py fmu-test/test_fuzz_findings.py fmu-test/test_status.py
                  fmu-test/test_fmi.py fmu-test/test_read_all.py fmu-test/test_rollback.py fmu-test/test_state.py
                  fmu-test/test_me_*.py fmu-test/test_fmi3*.py fmu-test/test_bad_inputs.py fmu-test/test_rolling.py
-                 fmu-test/test_validity.py fmu-test/test_messages.py)
+                 fmu-test/test_profile_files.py fmu-test/test_validity.py fmu-test/test_messages.py)
 LD_PRELOAD="$(IFS=:; echo "${SAN_RUNTIMES[*]}")" ASAN_OPTIONS=detect_leaks=0:halt_on_error=1 \
   UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 VI_FMU="$PWD/build-asan/VibroImpact.fmu" \
   "$PY" -m pytest -q --capture=sys --locale de_DE.UTF-8 "${SANITIZED_TESTS[@]}"
