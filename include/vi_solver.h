@@ -112,6 +112,12 @@ const char *vi_solver_method_name(int method);
 #define VI_AUTO_NONSTIFF_HRHO 1.0
 #define VI_AUTO_BDF_MIN_STEPS 10
 
+/* The one-step method's steps are at most VI_SOLVER_STABLE_HRHO / rho, rho the spectral radius of the
+ * Jacobian at the step's start (vi_ode.h, STEPS): 0.9 times the nearest point of the boundary of
+ * DOP853's stability domain (5.96), where |R(h lambda)| <= 0.72 on the imaginary axis. Above
+ * VI_AUTO_STIFF_HRHO, so that AUTO counts the steps this bound holds as stiff. */
+#define VI_SOLVER_STABLE_HRHO 5.4
+
 /* Interior guard samples per step of the one-step method (see vi_ode.h, EVENTS): a guard that dips
  * below zero and back within one step is seen when it is below zero at a sample. */
 #define VI_SOLVER_GUARD_SAMPLES 2

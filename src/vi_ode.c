@@ -302,6 +302,10 @@ int vi_ode_check(const vi_ode_problem *p, char *msg, size_t size)
     if (!(p->h_min >= 0.0 && isfinite(p->h_min))) return fail_msg(msg, size, "h_min must be finite and >= 0", p->h_min);
     if (!(p->h_fixed >= 0.0 && isfinite(p->h_fixed)))
         return fail_msg(msg, size, "h_fixed must be finite and >= 0", p->h_fixed);
+    if (!(p->h_rho_max >= 0.0 && isfinite(p->h_rho_max)))
+        return fail_msg(msg, size, "h_rho_max must be finite and >= 0", p->h_rho_max);
+    if (p->h_rho_max > 0.0 && !p->spectral_radius)
+        return fail_msg(msg, size, "spectral_radius is NULL while h_rho_max > 0", p->h_rho_max);
     if (p->guard_samples < 0 || p->guard_samples > VI_ODE_MAX_SAMPLES)
         return fail_msg(msg, size, "guard_samples must be in 0..VI_ODE_MAX_SAMPLES", p->guard_samples);
     for (int i = 0; i < p->ng; i++)
@@ -519,13 +523,20 @@ static int event_search(vi_ode *s, span *sp, const vi_ode_problem *p, const doub
  * The step
  * ------------------------------------------------------------------------------------------- */
 
-/* The bounds of a step from s->t: *h_lim the largest (max_step, else none), *h_min the shortest (16
- * ulps of t, or the problem's h_min when larger). */
+/* The bounds of a step from s->t: *h_lim the largest (max_step and the stability bound h_rho_max /
+ * rho(t, x), else none), *h_min the shortest (16 ulps of t, or the problem's h_min when larger); the
+ * stability bound is never below *h_min (no step resolves time below it) and applies nowhere rho is
+ * 0 or not a number. */
 static void step_bounds(const vi_ode *s, const vi_ode_problem *p, double *h_lim, double *h_min)
 {
     *h_lim = p->max_step > 0.0 ? p->max_step : INFINITY;
     *h_min = 16.0 * DBL_EPSILON * fabs(s->t);
     if (p->h_min > *h_min) *h_min = p->h_min;
+    if (p->h_rho_max > 0.0 && p->h_fixed == 0.0) {
+        double rho = p->spectral_radius(s->t, s->x, p->rho_env);
+        double h_stable = rho > 0.0 ? fmax(p->h_rho_max / rho, *h_min) : INFINITY; /* rho = inf: h_min */
+        if (h_stable < *h_lim) *h_lim = h_stable;
+    }
 }
 
 /* The span the new step is built in (committed by flipping s->cur), starting at the current point. */
