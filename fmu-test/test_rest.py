@@ -82,3 +82,23 @@ def test_a_mass_at_rest_stays_at_rest(logged, vr, solver, law):
                     bad.append(f"{params}: |v| up to {v_max:.3g} m/s (bound {v_bound:.3g}), energy grew by "
                                f"{dH:.3g} J (bound {H_bound:.3g}), {impacts} impacts")
     assert not bad, f"{len(bad)} of {len(MASSES) * len(RADII) * len(LOADS)} rests not kept:\n" + "\n".join(bad)
+
+
+def test_auto_hands_a_stiff_rest_to_bdf(logged, vr):
+    """The issue's case, Johnson at rest with R1 = 1 km and m = 1e-5 kg under `auto`: the explicit
+    method's steps are held at its stability bound h rho = 5.4 from the first one (rho = 2 pi f_contact
+    at rest), so that after VI_AUTO_STIFF_STEPS = 8 of them, at t = 8 x 5.4/rho (1.1e-6 s), BDF takes
+    over, and the mass stays at rest."""
+    log = logged()
+    slave = log.instantiate(logging=True)
+    slave.setDebugLogging(True, ["logSolver"])
+    params = {"contact_model": LAWS["johnson"], "m": 1e-5, "R1": 1000.0, "P": 40e3, "solver": 4}
+    try:
+        first, W0, v_max, dH, impacts = rest_run(slave, vr, params)
+    finally:
+        slave.terminate()
+        slave.freeInstance()
+    handovers = [float(m.split(" s:")[0][4:]) for m in log.texts() if "CVODE BDF takes over" in m]
+    expected = 8 * 5.4 / (2 * math.pi * first["f_contact"])
+    assert len(handovers) == 1 and handovers[0] == pytest.approx(expected, rel=1e-9), (handovers, expected)
+    assert impacts == 0 and v_max < 1e-12, (v_max, impacts)
