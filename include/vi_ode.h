@@ -70,7 +70,10 @@
  *   is near 0 however far h rho lies beyond the stability domain, and the rounding-sized
  *   deviations grow by |R(h lambda)| per step until they reach the tolerance, in one step when h
  *   rho is large (a contact at rest whose absolute tolerances are large: motion from rest). A bound
- *   inside the stability domain keeps the deviations from growing, so a rest stays at rest.
+ *   inside the stability domain keeps the deviations from growing, so a rest stays at rest. At an
+ *   exact rest (f = 0 at the step's start) a step is first tried without the bound: when all its
+ *   stages come out exactly 0 it is exact (there is no deviation to grow) and taken; otherwise it
+ *   counts as rejected and the step is retried within the bound.
  *   Cost: 12 rhs evaluations per accepted step (11 per rejected attempt), 3 more for the dense
  *   output of a step when it is used (built lazily, once per step, on the first vi_ode_dense call
  *   or event search that needs it; deterministic, so it does not matter when), 1 guard evaluation

@@ -1844,3 +1844,17 @@ Test(stability, steps_bounded_by_h_rho_max_keep_a_rest_at_rest)
     cr_assert(amp <= 1e-12 * (1.0 + 1e-3), "bounded: the amplitude grew to %g", amp);
     cr_assert(h_rho <= 5.4 * (1.0 + 1e-12), "h rho %g", h_rho);
 }
+
+Test(stability, an_exact_rest_is_not_held_to_the_bound)
+{
+    /* Started exactly at rest every stage is 0: the steps grow as the error estimate allows (factor 5
+     * per step), the state stays exact, and no step is rejected. */
+    vi_ode_problem p = {.n = 2, .rhs = rest_osc, .rtol = 1e-6, .atol = {1e-3, 1e-3 * REST_W},
+                        .spectral_radius = rest_rho, .h_rho_max = 5.4};
+    vi_ode s;
+    double x0[2] = {1.0, 0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    for (int k = 0; k < 100 && s.t < 1.0; k++) cr_assert_eq(vi_ode_step(&s, &p, 1.0), VI_ODE_OK);
+    cr_assert(s.t == 1.0 && s.x[0] == 1.0 && s.x[1] == 0.0, "t %g, x %.17g %.17g", s.t, s.x[0], s.x[1]);
+    cr_assert(s.st.accepted < 40 && s.st.rejected == 0, "%ld steps, %ld rejected", s.st.accepted, s.st.rejected);
+}
