@@ -72,8 +72,9 @@
  *   rho is large (a contact at rest whose absolute tolerances are large: motion from rest). A bound
  *   inside the stability domain keeps the deviations from growing, so a rest stays at rest. At an
  *   exact rest (f = 0 at the step's start) a step is first tried without the bound: when all its
- *   stages come out exactly 0 it is exact (there is no deviation to grow) and taken; otherwise it
- *   counts as rejected and the step is retried within the bound.
+ *   stages come out exactly 0 it is exact (there is no deviation to grow) and taken; otherwise the
+ *   step is retried within the bound (the trial counts in st.rejected, not in the step-size
+ *   control).
  *   Cost: 12 rhs evaluations per accepted step (11 per rejected attempt), 3 more for the dense
  *   output of a step when it is used (built lazily, once per step, on the first vi_ode_dense call
  *   or event search that needs it; deterministic, so it does not matter when), 1 guard evaluation

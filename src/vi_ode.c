@@ -646,7 +646,7 @@ static int accepted_step(vi_ode *s, const vi_ode_problem *p, span *sp, double t_
             attempt_max(p, &s->st, sp, h, e5, e3);
         if (at_rest && !stages_zero(sp, S_STEP, n)) { /* not a rest after all: again within the bound */
             at_rest = 0, h_lim = h_stable;
-            s->st.rejected++, r->rejections++;
+            s->st.rejected++; /* a trial: the step-size control goes on as if it had not been */
             continue;
         }
         r->err = attempt_error(s, p, sp, e5, e3);
