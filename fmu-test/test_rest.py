@@ -1,6 +1,6 @@
 """A mass at rest stays at rest: with no excitation (`a = 0`, constant inputs) the static start of every
-law, over masses of 1e-7 to 10 kg, radii of 1 mm to 1 km and loads of 1 N and 40 kN, is kept for 2 ms by
-every solver, and no solver feeds energy into the undriven run.
+law, over masses of 1e-7 to 10 kg, radii of 1 mm to 1 km and loads P of 0 (gravity alone), 1 N and 40 kN,
+is kept for 2 ms by every solver, and no solver feeds energy into the undriven run.
 
 The bounds come from the rest's own scales, not from the FMU's absolute tolerances: the tangent contact
 stiffness at the start k = m (2 pi f_contact)^2, the deflection l = W0/k of the load W0 = P + m g on it,
@@ -27,7 +27,7 @@ from solvers import each_solver
 LAWS = {"hertz": 1, "johnson": 2, "lepp": 3, "hertz_damped": 4, "linear": 5, "thornton": 6}
 MASSES = [1e-7, 1e-5, 1e-3, 0.1, 10.0]  # kg
 RADII = [1e-3, 0.475, 1000.0]  # m
-LOADS = [1.0, 40e3]  # N
+LOADS = [0.0, 1.0, 40e3]  # N (0: gravity alone)
 RTOL = 1e-6
 T_END, STEPS = 2e-3, 20  # s; communication points where the bounds are checked
 EPS = np.finfo(float).eps
