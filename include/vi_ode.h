@@ -64,8 +64,8 @@
  *   The first step size: h0 > 0 given to vi_ode_init/vi_ode_restart, else Hairer's estimate (HNW
  *   II.4, one extra rhs evaluation); both limited by max_step.
  *   Stability: with p->h_rho_max > 0 every step (the first included) is also at most
- *   h_rho_max / rho, rho = p->spectral_radius(t, x) at its start (no bound where rho is 0 or not
- *   finite; never below the shortest step, 16 eps |t|). The error estimate alone does not keep an
+ *   h_rho_max / rho, rho = p->spectral_radius(t, x) at its start (no bound where rho is 0 or NaN;
+ *   never below the shortest step, 16 eps |t| or h_min). The error estimate alone does not keep an
  *   explicit method stable: at an equilibrium the solution does not move, every step's estimate
  *   is near 0 however far h rho lies beyond the stability domain, and the rounding-sized
  *   deviations grow by |R(h lambda)| per step until they reach the tolerance, in one step when h
