@@ -1,6 +1,8 @@
 """Shared helpers for the FMU-level tests: the FMU of this checkout, the solver to run every test with,
 and the closed forms and FMU helpers of the vibroimpact package under the names the tests use."""
 import importlib
+import json
+import locale
 import os
 import pathlib
 
@@ -38,7 +40,17 @@ DEFAULT_SOLVER = _default_solver()
 RUN_SOLVER = SOLVER if SOLVER is not None else DEFAULT_SOLVER
 
 
+# The tests VI_SOLVER reaches: those that start a run without a solver of their own (with_solver below, also
+# through fmpy.simulate_fmu) and those of modules that read SOLVER or RUN_SOLVER themselves. The default pass
+# writes their node ids with --solver-tests-out FILE; tools/test.sh's VI_SOLVER loop runs only those
+# (--solver-tests-from FILE): in every other test the solver is the test's own or the FMU's default, and the
+# default pass ran it already.
+_SOLVER_TESTS, _RUNNING = set(), [None]
+
+
 def with_solver(params):
+    if "solver" not in (params or {}) and _RUNNING[0]:
+        _SOLVER_TESTS.add(_RUNNING[0])
     return params if SOLVER is None or "solver" in (params or {}) else {**(params or {}), "solver": SOLVER}
 
 
@@ -59,6 +71,61 @@ fmpy.simulate_fmu = _simulate_with_solver
 fmpy.simulation.calloc, fmpy.simulation.free = _fmu.process_allocator()
 fmpy.fmi2.defaultCallbacks.allocateMemory = fmpy.fmi2.fmi2CallbackAllocateMemoryTYPE(fmpy.simulation.calloc)
 fmpy.fmi2.defaultCallbacks.freeMemory = fmpy.fmi2.fmi2CallbackFreeMemoryTYPE(fmpy.simulation.free)
+
+
+# --locale NAME runs the tests in that locale: set for the whole process (LC_ALL) before any FMU is loaded,
+# as an importer in a German modelling tool would (tools/test.sh runs its sanitized part in de_DE.UTF-8).
+def pytest_addoption(parser):
+    parser.addoption("--locale", default=None, metavar="NAME",
+                     help="set LC_ALL to NAME before any FMU is loaded (e.g. de_DE.UTF-8: decimal point ',')")
+    parser.addoption("--solver-tests-out", default=None, metavar="FILE",
+                     help="write the node ids of the tests VI_SOLVER reaches (JSON) to FILE")
+    parser.addoption("--solver-tests-from", default=None, metavar="FILE",
+                     help="run only the tests FILE names (written by --solver-tests-out)")
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item, nextitem):
+    _RUNNING[0] = item.nodeid
+    module = getattr(item, "module", None)
+    if module is not None and ("SOLVER" in vars(module) or "RUN_SOLVER" in vars(module)):
+        _SOLVER_TESTS.add(item.nodeid)  # the module reads the solver under test itself
+    yield
+    _RUNNING[0] = None
+
+
+def pytest_collection_modifyitems(config, items):
+    path = config.getoption("--solver-tests-from", default=None)
+    if not path:
+        return
+    try:
+        wanted = set(json.loads(pathlib.Path(path).read_text()))
+    except (OSError, ValueError) as e:
+        raise pytest.UsageError(f"--solver-tests-from {path}: {e} (write it with a run given --solver-tests-out)")
+    keep = [i for i in items if i.nodeid in wanted]
+    config.hook.pytest_deselected(items=[i for i in items if i.nodeid not in wanted])
+    items[:] = keep
+
+
+def pytest_sessionfinish(session):
+    path = session.config.getoption("--solver-tests-out", default=None)
+    if path:
+        pathlib.Path(path).write_text(json.dumps(sorted(_SOLVER_TESTS), indent=0))
+
+
+def pytest_configure(config):
+    name = config.getoption("--locale", default=None)
+    if name:
+        try:
+            locale.setlocale(locale.LC_ALL, name)
+        except locale.Error:
+            raise pytest.UsageError(f"--locale {name}: the locale is missing (Debian: the package locales, then "
+                                    f"localedef -i {name.split('.')[0]} -f UTF-8 {name}; tools/setup.sh --test does both)")
+
+
+def pytest_report_header(config):
+    if config.getoption("--locale", default=None):
+        return f"locale: {locale.setlocale(locale.LC_NUMERIC)} (decimal point '{locale.localeconv()['decimal_point']}')"
 
 
 @pytest.fixture(scope="session")

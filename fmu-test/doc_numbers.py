@@ -276,7 +276,7 @@ PAPER_Y = {"Y": 6e8}
 FACTS = [
     # README.md
     Fact("README.md", "motion is predictable for its first {n} ms only", horizon_ms("fig4b")),
-    Fact("README.md", "ASan + UBSan, also under the FMU tests), {n} s of fuzzing",
+    Fact("README.md", "German locale), {n} s of fuzzing",
          lambda s: s.fuzz_seconds("VibroImpact") + s.fuzz_seconds("VibroImpact_fmi3")),
     # doc/model.md
     Fact("doc/model.md", "(about {n} times the contact resonance", lambda s: 560.0 / s.initial("f_contact", g=0.0)),

@@ -112,7 +112,8 @@ def in_subprocess(params, steps, tolerance=None, timeout=60):
 
 
 WORK_BOUND = re.compile(r"fmi2DoStep: work bound: (\d+) (internal steps|events) in one step, stopped at "
-                        r"t = (\S+) s \(mode \d\); continue from there or use smaller communication steps")
+                        r"t = (\S+) s \(mode \d\); continue from there or use smaller communication steps"
+                        r"(?:; its internal steps averaged \S+ s)?; the contact's time scale sqrt\(m/k\) = .*")
 
 
 def assert_work_bound(r, kind=None):

@@ -154,10 +154,59 @@ def test_paper_on_a_subset_updates_the_summary(tmp_path):
     assert both[first] == alone[first]
     for row in both.values():
         for key, text in row.items():
-            if key != "scenario":
+            if key not in ("scenario", "warnings"):
                 digits = re.sub(r"e.*$", "", text.lstrip("-")).replace(".", "").lstrip("0")
                 assert len(digits) <= 6, (key, text)
     assert (tmp_path / "out" / "overview.png").stat().st_size > 0
+
+
+@pytest.mark.timeout(200)
+def test_paper_relays_the_fmus_warnings_once_per_scenario_and_records_them(tmp_path):
+    """Fig. 6a's indentation (about 10 mm) takes the contact radius beyond 0.1 R*: the FMU logs a
+    warning that the results leave the model's range of validity. paper prints it on stderr once, after
+    the scenario's name, and keeps it in the scenario's row of summary.csv; fig5a (2 um of indentation
+    at most) has none."""
+    p = vi("paper", "--out", "out", "fig5a", "fig6a", cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    lines = [line for line in p.stderr.splitlines() if "warning" in line]
+    assert len(lines) == 1, p.stderr
+    assert lines[0].startswith("vibroimpact paper: fig6a: warning: ") and "range of validity" in lines[0], lines
+    rows = read_summary(tmp_path / "out" / "summary.csv")
+    assert 9000 < float(rows["fig6a"]["delta_max_um"]) < 11000   # the indentation the warning is about
+    assert lines[0].endswith(rows["fig6a"]["warnings"]) and "exceeds 0.01 R*" in rows["fig6a"]["warnings"]
+    assert rows["fig5a"]["warnings"] == ""
+    assert "fig6a: " in p.stdout and "1 FMU warning" in p.stdout, p.stdout
+
+
+@pytest.mark.timeout(200)
+@pytest.mark.parametrize("args, runs", [(["compare"], ["fig6a"]),
+                                        (["me-cost", "--scenarios", "fig6a", "--rtols", "1e-6", "--repeat", "2"],
+                                         ["fig6a ME", "fig6a CS"]),
+                                        (["energy", "--variants", "lepp"],
+                                         [f"lepp drop {i} FMI {v}.0" for i in ("CS", "ME") for v in (2, 3)])])
+def test_other_commands_relay_the_fmus_warnings_as_paper_does(tmp_path, args, runs):
+    """The commands that run the FMU pass its warnings on through vibroimpact.fmu.Relay: fig6a's
+    indentation (energy: the drop's under LEPP) named once per run (me-cost: its Model Exchange and its
+    Co-Simulation run, however often it repeats them; energy: each interface), as paper does."""
+    p = vi(*args, cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    for run in runs:
+        lines = [line for line in p.stderr.splitlines() if line.startswith(f"vibroimpact {args[0]}: {run}: warning: ")]
+        assert len(lines) == 1 and "range of validity" in lines[0], p.stderr
+
+
+def test_a_relay_prints_each_warning_once_per_run():
+    import io
+
+    from vibroimpact.fmu import Relay
+    out = io.StringIO()
+    relay = Relay("cmd", out)
+    relay("a", ["w1", "w2"])
+    relay("a", ["w1"])
+    relay("b", ["w1"])
+    assert out.getvalue() == "vibroimpact cmd: a: warning: w1\nvibroimpact cmd: a: warning: w2\n" \
+                             "vibroimpact cmd: b: warning: w1\n"
+    assert relay.of("a") == ["w1", "w2"] and relay.of("c") == []
 
 
 @pytest.mark.timeout(200)
@@ -195,3 +244,93 @@ def test_sweep_and_diagrams_write_to_folders_named_after_them():
     named = readme_commands()
     assert sweep_out.rstrip("/").endswith("sweep") and str(diagrams.OUT).endswith("diagrams")
     assert f"`{sweep_out}/`" in named["sweep"] and f"`{diagrams.OUT}/`" in named["diagrams"]
+
+
+# ---- a command that fails leaves the results it would replace -------------------------------------
+LAWS_FILES = ("laws.csv", "laws.md", "laws.png")
+
+
+def test_an_unknown_laws_scene_is_refused_before_anything_is_written(tmp_path):
+    """A finished laws.csv, laws.md and laws.png stay as they were: exit 2, the unknown name and the
+    known ones on the last line."""
+    from vibroimpact.laws_guide import SCENES
+    out = tmp_path / "laws"
+    out.mkdir()
+    for name in LAWS_FILES:
+        (out / name).write_text(f"finished {name}\n")
+    refused(vi("laws", "--out", "laws", "--scenes", "fig4b", "nosuch", cwd=tmp_path), 2, "unknown scene nosuch",
+            *SCENES)
+    assert sorted(p.name for p in out.iterdir()) == sorted(LAWS_FILES)
+    for name in LAWS_FILES:
+        assert (out / name).read_text() == f"finished {name}\n"
+
+
+def test_the_laws_scene_names_are_the_scenes_it_runs(tmp_path):
+    from vibroimpact import laws_guide
+    assert list(laws_guide.scenes(tmp_path / "c.txt", tmp_path / "r.txt")) == list(laws_guide.SCENES)
+    with pytest.raises(ValueError, match="unknown scene or variant nosuch: the scenes are drop_0.1"):
+        laws_guide.run(tmp_path, only_scenes=["nosuch"])
+    assert not list(tmp_path.iterdir())
+
+
+def test_a_file_whose_writing_fails_keeps_what_it_held(tmp_path):
+    """files.replacing: an exception (Ctrl-C included) while writing leaves the old file and no
+    temporary one; a complete write replaces it."""
+    from vibroimpact import files
+    path = tmp_path / "table.csv"
+    path.write_text("finished\n")
+    for failure in (RuntimeError("the run failed"), KeyboardInterrupt()):
+        with pytest.raises(type(failure)):
+            with files.replacing(path) as fh:
+                fh.write("half a ro")
+                raise failure
+        assert path.read_text() == "finished\n" and sorted(tmp_path.iterdir()) == [path]
+    files.write_text(path, "new\n")
+    assert path.read_text() == "new\n" and sorted(tmp_path.iterdir()) == [path]
+
+
+def test_a_table_whose_writing_fails_keeps_what_it_held(tmp_path):
+    """laws.csv written with a row that cannot be written (a column missing) after good ones: the
+    finished file stays; matplotlib's figures draw before they open their file, the tables did not."""
+    from vibroimpact import laws_guide
+    path = tmp_path / "laws.csv"
+    path.write_text("finished\n")
+    good = dict.fromkeys(laws_guide.COLUMNS, 1.0)
+    with pytest.raises(KeyError):
+        laws_guide.write_csv(path, [good, {"scene": "drop_1"}])
+    assert path.read_text() == "finished\n" and sorted(tmp_path.iterdir()) == [path]
+
+
+def test_laws_interrupted_while_it_measures_keeps_the_old_results(tmp_path, monkeypatch):
+    """Ctrl-C during the runs: exit 130, the finished files as they were."""
+    from vibroimpact import laws_guide
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+    monkeypatch.setattr(laws_guide, "measure", interrupted)
+    monkeypatch.chdir(tmp_path)
+    out = tmp_path / "laws"
+    out.mkdir()
+    for name in LAWS_FILES:
+        (out / name).write_text(f"finished {name}\n")
+    assert cli.main(["laws", "--out", "laws", "--scenes", "drop_1"]) == 130
+    for name in LAWS_FILES:
+        assert (out / name).read_text() == f"finished {name}\n"
+
+
+def test_a_sweep_interrupted_before_its_first_point_keeps_the_finished_sweep(tmp_path, monkeypatch):
+    """sweep writes each point as it finishes (for --resume); a new sweep in the folder of a finished
+    one that is interrupted, or fails, before its first point leaves that sweep's files as they were."""
+    from vibroimpact.sweep import engine
+    out = tmp_path / "sw"
+    out.mkdir()
+    finished = {name: f"finished {name}\n" for name in ("sweep.csv", "poincare.csv", "sweep.json")}
+    for name, text in finished.items():
+        (out / name).write_text(text)
+    monkeypatch.chdir(tmp_path)
+    for failure, code in ((KeyboardInterrupt(), 130), (OSError("no scheduler there"), 1)):
+        def run(*args, **kwargs):
+            raise failure
+        monkeypatch.setattr(engine, "run", run)
+        assert cli.main(["sweep", "--out", "sw", "--grid", "f=100:200:2", "--no-plots"]) == code
+        assert {p.name: p.read_text() for p in out.iterdir()} == finished

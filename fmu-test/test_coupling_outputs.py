@@ -30,7 +30,8 @@ def test_static_contact_mean_force_is_the_load(logged, vr, law, solver):
     static state ring up to its tolerance: rtol 1e-10 keeps that below the bound.)"""
     s = instance(logged, vr, dict(contact_model=law, solver=solver, F_ext=-500.0), tolerance=1e-10)
     W = effective({})["W"] + 500.0  # P + m g - F_ext
-    assert get(s, vr, "F_mean")[0] == pytest.approx(W, rel=1e-12)  # before any step: the force itself
+    # before any step: the force itself, to rounding (1.6e-16 measured)
+    assert get(s, vr, "F_mean")[0] == pytest.approx(W, rel=1e-14)
     t = 0.0
     for h in (1e-7, 1e-5, 1e-3, 0.1):
         s.doStep(t, h)
@@ -121,7 +122,8 @@ def test_contact_stiffness_is_the_slope_of_the_law(logged, vr, name, solver):
             expected = hertz_k(Kbar, (dc if mode == 4 else d) - df)
         else:  # LEPP: the spring, or perfectly plastic flow
             expected = e["k_lin"] if mode == 1 else 0.0
-        assert kc == pytest.approx(expected, rel=1e-9, abs=1e-300), (k, mode)
+        # the same formula at the same state: rounding only (1.8e-15 measured over 32000 samples, every solver)
+        assert kc == pytest.approx(expected, rel=1e-13, abs=1e-300), (k, mode)
     assert seen >= EXPECTED_MODES[name], seen
     s.freeInstance()
 
@@ -146,7 +148,8 @@ def test_reading_the_derivatives_in_co_simulation_changes_nothing(logged, vr, so
         v, F = rows[id(reading)][-1][1:3]
         assert der_y == v
         F_ext = 50.0 * (k + 1) * 1e-5
-        assert der_v == pytest.approx((F - P + F_ext) / m - g, rel=1e-12, abs=1e-9)
+        # rounding only: 1.4e-14 m/s^2 measured (der_v near 0 at rest: an absolute floor)
+        assert der_v == pytest.approx((F - P + F_ext) / m - g, rel=1e-12, abs=1e-12)
     assert rows[id(reading)] == rows[id(plain)]
     for s in (reading, plain):
         s.freeInstance()

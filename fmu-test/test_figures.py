@@ -5,9 +5,10 @@ no legend sits on the data, and no panel is empty.
 The figures come from vibroimpact.plotting, the functions the commands save (paper: each scenario and
 the overview; rolling; sweep: response and bifurcation of a one-grid sweep with failed points, of
 doc/sweeps.md's product sweep, of a continuation and of a sweep with more lines than a legend takes;
-diagrams: response and bifurcation; bench: work-precision and cost). The runs are the commands' own, shortened: the paper's scenarios whole (they
-take a fraction of a second each), rolling and the sweeps over a few hundredths of a second and a few
-points, the benchmark on two tolerances and short spans.
+diagrams: response and bifurcation; bench: work-precision and cost; laws: the drops and Fig. 4b). The
+runs are the commands' own, shortened: the paper's scenarios whole (they take a fraction of a second
+each), rolling and the sweeps over a few hundredths of a second and a few points, the benchmark on two
+tolerances and short spans, laws without its rolling and vehicle-track scenes and one run per CPU time.
 
 What is checked, after fig.canvas.draw():
   overlap   the window extents of the suptitle, axes titles, axis labels, visible tick labels (an
@@ -19,6 +20,18 @@ What is checked, after fig.canvas.draw():
   legends   no vertex of a line and no scatter point of any axes lies inside a legend's box
   explained a line or scatter given a label is named in a legend (else it is a mark nobody explains)
   panels    every axes is visible and draws something
+  hidden    no curve the legend names lies under another: a labelled line whose every vertex is within
+            HIDDEN_PX of the same vertex of another line of its axes, with the same marker and line style,
+            shows only as the line on top (a colour the reader looks for and cannot find); the same for
+            labelled scatter sets. Curves that are equal are one curve, labelled with every name.
+  spread    an axis does not exaggerate a spread. A cost axis (its label names CPU, cost or wall time)
+            on a linear scale starts at zero: costs are compared as ratios, and an axis from 0.47 to
+            0.6 draws a 25 % difference as five times. Any other linear axis whose data have one sign
+            and whose view leaves out zero spans at least SPREAD of its largest value: a range far
+            narrower than the values' own scale draws differences of a few per cent as the full height.
+            (Log axes show ratios as they are and are exempt.)
+The scenario figures also say what the run did: the title's impacts and plastic loadings are the run's
+(n_impacts; phases of mode 2), and every mode the run passes through is shaded where it holds.
 """
 import re
 import tempfile
@@ -26,13 +39,17 @@ import tempfile
 import numpy as np
 import pytest
 from conftest import FMU
+from matplotlib.collections import PathCollection
 
-from vibroimpact import bench, diagrams, paper, plotting, rolling
+from vibroimpact import bench, diagrams, laws_guide, paper, plotting, rolling
 from vibroimpact.reference.scenarios import SCENARIOS
 from vibroimpact.sweep import engine, spec
 
 OVERLAP_PX = 1.0   # texts may touch
 INSIDE_PX = 1.0
+HIDDEN_PX = 1.0    # closer than a pixel: drawn on top of each other
+SPREAD = 0.1       # an axis away from zero spans at least this fraction of its largest value
+COST = re.compile(r"\bCPU\b|\bcost\b|\bwall\b", re.IGNORECASE)
 RUN_TIMEOUT_S = 120
 
 
@@ -157,11 +174,56 @@ def panel_problems(fig):
     return problems
 
 
+def labelled(artists):
+    return [a for a in artists if a.get_visible() and a.get_label() and not a.get_label().startswith("_")]
+
+
+def covered(a, b):
+    """True when every point of a (n x 2 display coordinates) is within HIDDEN_PX of the same point of b."""
+    return a.shape == b.shape and len(a) > 0 and bool(np.all(np.hypot(*(a - b).T) <= HIDDEN_PX))
+
+
+def hidden_problems(fig):
+    problems = []
+    for i, ax in enumerate(fig.axes):
+        lines = [(ln, ln.get_transform().transform(ln.get_xydata()), (ln.get_marker(), ln.get_linestyle()))
+                 for ln in labelled(ax.lines)]
+        sets = [(c, c.get_offset_transform().transform(c.get_offsets()),
+                 (tuple(p.vertices.round(6).tobytes() for p in c.get_paths()), tuple(c.get_sizes())))
+                for c in labelled(ax.collections) if isinstance(c, PathCollection)]
+        for group in (lines, sets):
+            for k, (a, pa, sa) in enumerate(group):
+                for b, pb, sb in group[k + 1:]:
+                    if sa == sb and covered(pa, pb):
+                        problems.append(f"axes {i} '{ax.get_title()[:50]}': {a.get_label()!r} lies hidden under "
+                                        f"{b.get_label()!r} (same points, same style)")
+    return problems
+
+
+def spread_problems(fig):
+    problems = []
+    for i, ax in enumerate(fig.axes):
+        if not (ax.get_visible() and ax.axison):
+            continue
+        data = ax.dataLim
+        for which, scale, (lo, hi), (d0, d1), label in (
+                ("x", ax.get_xscale(), sorted(ax.get_xlim()), (data.x0, data.x1), ax.get_xlabel()),
+                ("y", ax.get_yscale(), sorted(ax.get_ylim()), (data.y0, data.y1), ax.get_ylabel())):
+            if scale != "linear" or not (np.isfinite(d0) and np.isfinite(d1)):
+                continue
+            where = f"axes {i} '{ax.get_title()[:50]}': the {which} axis {label!r}"
+            if COST.search(label) and lo > 0:
+                problems.append(f"{where} is a cost axis from {lo:.3g}, not from zero")
+            elif (d0 >= 0 and lo > 0 or d1 <= 0 and hi < 0) and hi - lo < SPREAD * max(abs(lo), abs(hi)):
+                problems.append(f"{where} spans {lo:.3g} to {hi:.3g}: less than {SPREAD:g} of its values' scale")
+    return problems
+
+
 def problems(fig):
     fig.canvas.draw()
     renderer = fig.canvas.get_renderer()
     return (text_problems(fig, renderer) + label_problems(fig) + legend_problems(fig) + explained_problems(fig)
-            + panel_problems(fig))
+            + panel_problems(fig) + hidden_problems(fig) + spread_problems(fig))
 
 
 def check(fig):
@@ -251,12 +313,53 @@ def bench_results(tmp_path_factory):
     return results, rtols
 
 
+@pytest.fixture(scope="module")
+def laws_rows(tmp_path_factory):
+    """The laws command's rows of the drops and of Fig. 4b (its figure's first two panels)."""
+    scenes = [s for s in laws_guide.SCENES if s.startswith("drop") or s == "fig4b"]
+    return laws_guide.run(tmp_path_factory.mktemp("laws"), FMU, only_scenes=scenes, repeat=1)
+
+
 # ---- the figures -----------------------------------------------------------------------------------------
 
 @pytest.mark.timeout(RUN_TIMEOUT_S)
 @pytest.mark.parametrize("name", list(SCENARIOS))
 def test_a_scenario_figure_reads_well(paper_runs, name):
     check(plotting.scenario_figure(*paper_runs[name]))
+
+
+@pytest.mark.timeout(RUN_TIMEOUT_S)
+@pytest.mark.parametrize("name", list(SCENARIOS))
+def test_a_scenario_figure_says_what_the_run_did(paper_runs, name):
+    """The title's counts are the run's: 'N impacts' the final n_impacts (contact onsets), 'M plastic
+    loadings' the phases of mode 2 counted here; every mode of the run is shaded by an artist named
+    'mode K: ...' whose spans hold every sample in that mode (and none of another)."""
+    scenario, r, s = paper_runs[name]
+    fig = plotting.scenario_figure(scenario, r, s)
+    try:
+        fig.canvas.draw()
+        title = fig._suptitle.get_text().replace("\n", " ")
+        mode = np.asarray(r["mode"]).astype(int)
+        plastic = int(mode[0] == 2) + int(np.count_nonzero((mode[1:] == 2) & (mode[:-1] != 2)))
+        assert f"{int(r['n_impacts'][-1])} impacts" in title, title
+        assert f"{plastic} plastic loadings" in title, title
+        ax = fig.axes[0]
+        shaded = {c.get_label().split(":")[0]: c for c in ax.collections if c.get_label().startswith("mode ")}
+        assert sorted(shaded) == [f"mode {k}" for k in sorted(set(mode))], (sorted(shaded), sorted(set(mode)))
+        t = 1e3 * np.asarray(r["time"][:-1])
+        for k in set(mode):
+            spans = [(p.vertices[:, 0].min(), p.vertices[:, 0].max()) for p in shaded[f"mode {k}"].get_paths()]
+            inside = np.zeros(len(t), bool)
+            for a, b in spans:
+                inside |= (t >= a) & (t < b)
+            assert np.array_equal(inside, mode[:-1] == k), (k, int(np.sum(inside != (mode[:-1] == k))))
+    finally:
+        plotting.pyplot().close(fig)
+
+
+@pytest.mark.timeout(RUN_TIMEOUT_S)
+def test_the_laws_figure_reads_well(laws_rows):
+    check(laws_guide.figure(laws_rows))
 
 
 @pytest.mark.timeout(RUN_TIMEOUT_S)
@@ -312,6 +415,32 @@ def test_the_cost_plot_reads_well(bench_results):
 
 
 # ---- the checks themselves can fail ----------------------------------------------------------------------
+
+def test_the_checks_see_hidden_curves_cost_axes_off_zero_and_narrow_spreads():
+    plt = plotting.pyplot()
+    fig, (a, b, c) = plt.subplots(1, 3, figsize=(12, 3), layout="constrained")
+    x = np.array([0.1, 1.0, 3.0])
+    a.plot(x, [1.0, 1.0, 1.0], "o-", label="under")
+    a.plot(x, [1.0, 1.0, 1.0 + 1e-6], "o-", label="over")
+    a.plot(x, [0.5, 0.5, 0.5], "o-", label="alike")
+    a.plot(x, [0.5, 0.5, 0.5], "s--", label="styled apart")
+    a.scatter([1.0], [0.2], label="point under")
+    a.scatter([1.0], [0.2], label="point over")
+    a.legend(loc="upper left", bbox_to_anchor=(1, 1))
+    a.set(xlabel="speed [m/s]", ylabel="restitution")
+    b.scatter([0.47, 0.6], [1.0, 4.0])
+    b.set(xlabel="CPU per simulated second [s/s]", ylabel="peak force / hertz's")
+    c.plot([0, 1], [100.0, 101.0])
+    c.set(xlabel="time [s]", ylabel="temperature [K]")
+    found = problems(fig)
+    plt.close(fig)
+    text = "\n".join(found)
+    assert "'under' lies hidden under 'over'" in text and "'point under' lies hidden under 'point over'" in text
+    assert "'alike'" not in text, text   # a marker and a line style apart: both seen
+    assert "'CPU per simulated second [s/s]' is a cost axis from" in text, text
+    assert "'temperature [K]' spans" in text, text
+    assert "peak force" not in text and "'speed [m/s]'" not in text, text
+
 
 def test_the_checks_see_overlaps_bare_units_covering_legends_unexplained_marks_and_empty_panels():
     plt = plotting.pyplot()

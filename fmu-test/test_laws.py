@@ -125,7 +125,8 @@ def test_moving_contact_is_conservative_and_single_valued(fmu_path):
                      stop_time=0.05, output_interval=1e-5, output=["delta", "F", "W_plastic", "mode", "n_impacts"])
     assert np.all(r["W_plastic"] == 0.0)
     assert r["delta"].max() > 2 * e["delta_Y"]  # it did go plastic
-    assert np.allclose(r["F"], load(e, r["delta"]), rtol=1e-12, atol=1e-9 * e["F_Y"])
+    # the law at the logged delta: rounding only (1.9e-9 N of forces up to 1e5 N measured, every solver)
+    assert np.allclose(r["F"], load(e, r["delta"]), rtol=1e-12, atol=1e-12 * e["F_Y"])
     assert set(np.unique(r["mode"])) <= {0, 1, 2}
 
 
@@ -138,7 +139,7 @@ def test_platform_offset_changes_nothing(fmu_path, law):
     for name in out[:-1]:
         scale = np.max(np.abs(r0[name])) or 1.0
         assert np.max(np.abs(r1[name] - r0[name])) <= 1e-9 * scale, name
-    assert np.allclose(r1["y"] - 1.0, r0["y"], rtol=0, atol=1e-12)
+    assert np.allclose(r1["y"] - 1.0, r0["y"], rtol=0, atol=1e-14)  # y near 1 m: 1.7e-16 (its rounding) measured
 
 
 @pytest.mark.parametrize("variant, dc_over_dY, negative", [

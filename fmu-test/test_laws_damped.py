@@ -75,7 +75,8 @@ def test_thornton_restitution_closed_form(fmu_path, solver):
     VY, e = thornton_yield_speed()
     for k in (1.01, 1.5, 4.0, 30.0):
         ratio, r = drop(fmu_path, THORNTON, k * VY, solver)
-        assert ratio == pytest.approx(L.thornton_restitution(1 / k), abs=1e-5), k
+        # rtol 1e-10: within 1.3e-8 of the closed form with every solver (measured, the worst of the 16 runs)
+        assert ratio == pytest.approx(L.thornton_restitution(1 / k), abs=2e-7), k
         # work 1/2 m V^2 = 2/5 F_Y dY + F_Y x + 3/4 F_Y/dY x^2, x = delta* - delta_Y
         F, dY, W = e["F_Y"], e["delta_Y"], 0.5 * STEEL["m"] * (k * VY) ** 2
         x = (-F + math.sqrt(F * F + 3 * F / dY * (W - 0.4 * F * dY))) / (1.5 * F / dY)
@@ -104,7 +105,9 @@ def test_contact_time_and_peak_force(fmu_path):
     t_c = tau * d0 / V
     p = dict(STEEL, contact_model=HERTZ_DAMPED, v0=-V, rtol=1e-10, e_restitution=e)
     r = simulate_fmu(fmu_path, start_values=p, stop_time=1.2 * t_c, output_interval=t_c / 4000, output=["F"])
-    assert r["F"].max() == pytest.approx(f_max * ek["K"] * d0 ** 1.5, rel=1e-4)
+    # the largest sample on the grid of t_c/4000 lies below the peak by up to 0.75 (pi/8000)^2 = 1.2e-7 of it
+    # (F ~ sin^1.5 near the top); measured 4.8e-9 with the worst solver (bdf) at rtol 1e-10
+    assert r["F"].max() == pytest.approx(f_max * ek["K"] * d0 ** 1.5, rel=1e-6)
 
 
 @pytest.mark.timeout(300)
@@ -124,7 +127,9 @@ def test_model_exchange_drop(fmu_path, law, params):
             expected = L.hc_restitution_closed_form(L.chi(params["damping_formula"], 0.6))
         else:
             expected = 0.6
-        assert r["v"][-1] / V == pytest.approx(expected, abs=1e-5), V
+        # fmpy's CVode at rtol 1e-10 integrates here: within 1.5e-8 of the closed forms (measured); 1e-6
+        # leaves room for another fmpy's CVode
+        assert r["v"][-1] / V == pytest.approx(expected, abs=1e-6), V
 
 
 def test_fmi3_lists_the_new_items():
@@ -335,7 +340,7 @@ def test_state_saved_in_free_flight_after_a_release(fmu_path, unzipdir, model_de
         fmu.setFMUstate(fmu.deSerializeFMUstate(blob))
         fmu.doStep(t, 1e-3)
         assert fmu.getReal([vr["v"], vr["y"]]) == first
-        assert first[0] == pytest.approx(0.3, abs=1e-6)
+        assert first[0] == pytest.approx(0.3, abs=1e-8)  # rtol 1e-10: 6.8e-10 off e (measured, every solver)
     finally:
         fmu.terminate()
         fmu.freeInstance()

@@ -3,7 +3,8 @@
 An importer may run with LC_NUMERIC set (a German modelling tool: de_DE, decimal point ','). Each run
 here is a subprocess (this file run as a program) that sets its locale with
 locale.setlocale(locale.LC_ALL, ...) before it loads the FMU, then runs the profile tests' cases
-(numbers of every form in profile files, refused files, the ends of a table), values out of their
+(numbers of every form in profile files, refused files with what their lines hold, a byte-order mark,
+a wall too steep for doubles, the ends of a table), values out of their
 ranges, and two paper scenarios (Fig. 5a in contact, Fig. 5c with impacts, its events logged), printing every output value as a hexadecimal float and every message the FMU logged. The
 run in de_DE.UTF-8 must print exactly what the run in the C locale prints: the same results to the
 bit and the same messages, with '.' as the decimal point.
@@ -23,20 +24,25 @@ MISSING = (f"the locale {GERMAN} is missing: install Debian's package locales an
 # Profile files: numbers of every form the reader takes (more than 19 digits, exponents beyond +-27,
 # 1.5e-30, hexadecimal, signs, "5." and ".5", separators) and what it refuses.
 PROFILES = {
-    "forms": "# x [m]  h [m]\n0 1.5e-30\n0.012345678901234567890123, 2.5e-5\n0x1.999999999999ap-4; -1.5E-6\n"
+    "forms": "# x [m]  h [m]\n0 1.5e-30\n0.012345678901234567890123\t2.5e-5\n0x1.999999999999ap-4; -1.5E-6\n"
              "+.25 0.000000000000000000000000000000000000000000001e40\n0.5 3e-5\n1. 0\n",
     "decreasing": "0 0\n1 0\n0.5 0\n",
     "nan": "0 0\n1 nan\n",
     "one_row": "0 0\n",
     "letters": "0 0\n1 x\n",
     "step": "0 0\n0.1 0\n0.1000001 0.6\n0.2 0.6\n",
+    "decimal_commas": "0,5\n1,5\n2,5\n",
+    "header": "x h\n0 0\n1 0\n",
+    "bom": "\ufeff# x h\n0 0\n0.5 1e-5\n1 0\n",
 }
+# the periodic wall too steep for doubles at R1 = 1.217226034797203e-06 m (its message prints numbers)
+STEEP = "-0.46331928351137353 3.3603288399901734\n16.478735101136888 2.1854535280021321\n16.478783788505101 3.3603288399901734\n"
 
 
 def run_profile(slave_of, tmp, name, params, steps, h):
     """Messages and yC at each step of a rolling run over profile `name` (refusals end it)."""
     path = tmp / f"{name}.txt"
-    path.write_text(PROFILES[name])
+    path.write_text(PROFILES[name] if name in PROFILES else STEEP, encoding="utf-8")
     inst, slave, vr = slave_of()
     values = []
     try:
@@ -100,6 +106,8 @@ def worker(locale_name, fmu, tmp):
     rolling = dict(V=1.0, x0=0.0, contact_model=1)
     out = {name: run_profile(slave_of, tmp, name, rolling, 20, 0.045) for name in PROFILES}
     out["x0_outside"] = run_profile(slave_of, tmp, "forms", dict(rolling, x0=1.5), 1, 0.1)
+    out["steep"] = run_profile(slave_of, tmp, "steep", dict(rolling, R1=1.217226034797203e-06, profile_periodic=True),
+                               1, 0.1)
     out["fig5a"] = run_scenario(slave_of, "fig5a", 100, 1e-3)
     out["fig5c"] = run_scenario(slave_of, "fig5c", 100, 1e-3)
     out["out_of_range"] = run_out_of_range(slave_of)
@@ -121,10 +129,12 @@ def test_the_fmu_does_the_same_in_de_DE_as_in_the_c_locale(fmu_path, tmp_path):
     de = run_in(GERMAN, fmu_path, tmp_path / "de")
     # the cases do what they are for: numbers with a decimal point in the messages, values read
     text = "\n".join(m for case in c.values() for m in case["messages"])
-    for expect in ("line 3: x = 0.5 is not greater than x = 1 before it", "nu1 = 0.75 is outside its range",
+    for expect in ("line 3: x = 0.5 is not greater than x = 1 on line 2", "found 1 field '0,5' (separator: none)",
+                   "'x' is not a number (a header? start it with #)", "make a slope of 24131, too steep for R1 = 1.21723e-06 m", "nu1 = 0.75 is outside its range",
                    "x0 = 1.5 m lies outside the profile", "m = -0.5 is outside its range", "f = -2.5e-07", "rtol = 0.025"):
         assert expect in text, text
     assert len(c["forms"]["values"]) == 20 and c["forms"]["values"][0] != "FMICallException", c["forms"]
+    assert len(c["bom"]["values"]) == 20 and c["bom"]["values"][0] != "FMICallException", c["bom"]
     assert any("kind=start mode=1 delta=5.56347498e-05 " in m for m in c["fig5a"]["messages"]), c["fig5a"]["messages"]
     assert sum(m.startswith("event t=0.0") for m in c["fig5c"]["messages"]) > 10, c["fig5c"]["messages"]
     differ = {case: next(([a, b] for a, b in zip(de[case]["messages"], c[case]["messages"]) if a != b),

@@ -2,7 +2,10 @@
 continuous states and the inputs in any order before it asks for derivatives, event indicators, outputs
 or directional derivatives (FMI 2.0 section 3.2.3, FMI 3.0 section 3.2.2). Whatever the order, each
 answer must be the one a fresh instance gives at the same (time, states, inputs): compared bit for bit,
-with the reading itself done in each order too, in FMI 2.0 and FMI 3.0."""
+with the reading itself done in each order too, in FMI 2.0 and FMI 3.0. The point is chosen so that every
+read depends on each of the three: Hertz under the internal excitation, the mass in contact and moving,
+so that a time, a state or an input left unapplied changes every answer (the negative control
+test_a_call_left_out_changes_every_read)."""
 import ctypes
 import itertools
 import math
@@ -20,8 +23,10 @@ NX = 3  # continuous states: y, v, W_damping
 
 OUTPUTS = ("F", "delta", "y", "v", "yC", "F_mean", "k_contact")
 READS = ("derivatives", "indicators", "outputs", "partials")
-# Hertz, the mass pressed onto the platform (static start), then moved to another point of the contact
-HERTZ = dict(contact_model=1)
+# Hertz, the mass pressed onto the platform (static start), then moved to another point of the contact; the
+# platform shaken (yC = a (cos 2 pi f t - 1)), so that the contact at the new point depends on the time
+A = 1e-5                                       # [m], a fifth of the static indentation (5.5e-5 m)
+HERTZ = dict(contact_model=1, a=A)
 T1, DY1, V1 = 1.3e-3, -2e-7, 0.011            # the new point: time [s], y - y0 [m], v [m/s]
 YC_IN1, F_EXT1 = 3e-7, 1000.0                  # the new inputs [m], [N]
 
@@ -80,6 +85,16 @@ class Instance:
     def set_inputs(self, yC_in, F_ext):
         vrs = [self.vr["yC_in"], self.vr["F_ext"]]
         (self.fmu.setReal if self.version == 2 else self.fmu.setFloat64)(vrs, [yC_in, F_ext])
+
+    def apply(self, calls, t, x, u):
+        """The calls of `calls` ("time", "states", "inputs") in that order, to the point t, x, u."""
+        for call in calls:
+            if call == "time":
+                self.set_time(t)
+            elif call == "states":
+                self.set_states(x)
+            else:
+                self.set_inputs(*u)
 
     def states(self):
         x = (ctypes.c_double * NX)()
@@ -140,7 +155,7 @@ def fresh_reads(fmu, reads):
 
 def test_the_point_is_an_elastic_contact_with_the_closed_form_force(fmu):
     """The reference point itself: Hertz, elastic, der(v) = (K delta^1.5 - P - m g + F_ext) / m, with delta
-    the static indentation under P + m g - F_ext plus the mass's move down."""
+    the static indentation under P + m g - F_ext plus the mass's move down and the platform's move at T1."""
     version, md, unzipdir = fmu
     b = Instance(version, md, unzipdir, HERTZ, (YC_IN1, F_EXT1))
     y0 = b.states()[0]
@@ -149,7 +164,9 @@ def test_the_point_is_an_elastic_contact_with_the_closed_form_force(fmu):
     delta0 = ((W - F_EXT1) / e["K"]) ** (2.0 / 3.0)  # the static start: at rest under W - F_ext
     b.set_time(T1)
     b.set_states([y0 + DY1, V1])
-    delta = delta0 - DY1  # the mass moved by DY1, the platform stays at yC_in
+    yC = A * (math.cos(2 * math.pi * DEFAULTS["f"] * T1) - 1)  # the platform's move from its start
+    delta = delta0 - DY1 + yC  # the mass moved by DY1, the platform by yC (from yC_in)
+    assert delta > 0 and abs(yC) > 0.1 * delta0  # in contact, and the time matters
     F = e["K"] * delta ** 1.5
     dv = b.read("derivatives")[1]
     assert dv == pytest.approx((F - W + F_EXT1) / DEFAULTS["m"], rel=1e-6)
@@ -167,13 +184,7 @@ def test_every_order_of_setting_gives_the_fresh_instance_answer(fmu, order, firs
     t1, x1, u1 = point()
     a.read("derivatives")  # evaluated once at the old point, so that a stale value would be at hand
     a.read("outputs")
-    for call in order:
-        if call == "time":
-            a.set_time(t1)
-        elif call == "states":
-            a.set_states(x1)
-        else:
-            a.set_inputs(*u1)
+    a.apply(order, t1, x1, u1)
     reads = (first,) + tuple(r for r in READS if r != first)
     got = {r: a.read(r) for r in reads}
     a.free()
@@ -216,3 +227,24 @@ def test_reads_repeated_in_any_order_agree(fmu):
             assert np.array_equal(a.read(r), first[r]), (perm, r)
     assert all(math.isfinite(v) for r in READS for v in first[r])
     a.free()
+
+
+@pytest.mark.parametrize("left_out", ("time", "states", "inputs"))
+def test_a_call_left_out_changes_every_read(fmu, left_out):
+    """The negative control of the tests above: an importer that reads before it has set the time (or
+    the states, or the inputs) gets other derivatives, indicators, outputs and partials than the fresh
+    instance at the point, so a call the FMU applied late or not at all would fail them."""
+    version, md, unzipdir = fmu
+    a = Instance(version, md, unzipdir, HERTZ, (0.0, 0.0))
+    t1, x1, u1 = point()
+    a.read("derivatives")
+    a.apply([c for c in ("time", "states", "inputs") if c != left_out], t1, x1, u1)
+    got = {r: a.read(r) for r in READS}
+    a.free()
+    want = fresh_reads(fmu, READS)
+    for r in READS:
+        assert not np.array_equal(got[r], want[r]), (left_out, r, got[r])
+    if left_out == "time":  # every output under test moves with the time (F_mean too)
+        outputs = dict(zip(OUTPUTS, got["outputs"]))
+        fresh = dict(zip(OUTPUTS, want["outputs"]))
+        assert [n for n in OUTPUTS if outputs[n] == fresh[n]] == ["y", "v"]  # the states, which were set

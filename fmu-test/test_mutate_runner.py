@@ -1,7 +1,12 @@
-"""tools/mutate.py's way of running a command: a command past its time limit is killed with every
-process it started, also those in a session of their own (as ctest starts each test)."""
+"""tools/mutate.py: its way of running a command (a command past its time limit is killed with every
+process it started, also those in a session of their own, as ctest starts each test); its coverage map
+(a test that reads work a fixture of any scope cached gets that work's lines); its verdicts (a timeout
+is its own verdict, outside the score)."""
 import importlib.util
+import json
 import pathlib
+import subprocess
+import sys
 import time
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -44,3 +49,174 @@ def test_a_command_past_its_limit_leaves_no_process_behind(tmp_path):
 def test_a_command_within_its_limit_gives_its_status_and_output(tmp_path):
     status, out = load_mutate().run(["bash", "-c", "echo done; exit 3"], tmp_path, timeout=60)
     assert (status, out) == (3, "done\n")
+
+
+# ---- the coverage map: tests that share cached work ------------------------------------------------
+
+# A stand-in for the FMU's lines: work() "executes" a line of src/fake.c that the plugin's flushed() reads.
+SHARED_TESTS = '''
+import functools
+import pytest
+
+EXECUTED = []
+
+
+def work(line):
+    EXECUTED.append(line)
+    return line
+
+
+class Facts:
+    """Facts computed on first use and cached, as fmu-test/doc_numbers.py's Sources."""
+    @functools.cached_property
+    def first(self):
+        return work(1)
+
+    @functools.lru_cache(maxsize=None)
+    def fact(self, n):
+        return work(n)
+
+
+@pytest.fixture(scope="session")
+def facts():
+    return Facts()
+
+
+@pytest.fixture(scope="session")
+def path():
+    work(50)  # the fixture's own setup: shared with every test that uses it
+    return "/a/path"
+
+
+@pytest.fixture(scope="module")
+def table():
+    return {}
+
+
+def test_a(facts):
+    assert facts.first == 1 and facts.fact(10) == 10
+
+
+def test_b(facts):
+    assert facts.first == 1 and facts.fact(10) == 10  # both cached: test_a did the work
+
+
+def test_c(path):
+    work(60)
+
+
+def test_d(path):
+    pass
+
+
+def test_e(table):
+    table.setdefault("x", work(70))
+
+
+def test_f(table):
+    assert table["x"] == 70
+'''
+
+RUN_PLUGIN = '''
+import json, sys
+sys.path.insert(0, sys.argv[1])
+import importlib.util
+spec = importlib.util.spec_from_file_location("mutate_tool", sys.argv[2])
+mutate = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(mutate)
+import pytest
+
+
+def flushed():
+    import test_shared
+    lines = {"src/fake.c": sorted(set(test_shared.EXECUTED))} if test_shared.EXECUTED else {}
+    test_shared.EXECUTED.clear()
+    return lines
+
+
+sys.exit(pytest.main(["-q", "-p", "no:cacheprovider", "-p", "no:randomly", "--rootdir", sys.argv[1], sys.argv[1]],
+                     plugins=[mutate.coverage_plugin(flushed, sys.argv[3])]))
+'''
+
+
+def test_tests_that_read_a_cache_of_any_fixture_scope_get_its_lines(tmp_path):
+    """A test that reads a fact a session-scoped fixture cached (computed in the test that asked first)
+    is selected by the fact's lines, as one that reads a module-scoped fixture's cache is; a session
+    fixture whose value no test changes (a path) shares its setup only, not its users' lines."""
+    (tmp_path / "tests").mkdir()
+    (tmp_path / "tests" / "test_shared.py").write_text(SHARED_TESTS)
+    (tmp_path / "tests" / "pytest.ini").write_text("[pytest]\n")
+    out = tmp_path / "map.jsonl"
+    r = subprocess.run([sys.executable, "-c", RUN_PLUGIN, str(tmp_path / "tests"), str(ROOT / "tools" / "mutate.py"),
+                        str(out)], capture_output=True, text=True, timeout=100, cwd=tmp_path)
+    assert r.returncode == 0, r.stdout + r.stderr
+    lines = {}
+    for row in out.read_text().splitlines():
+        e = json.loads(row)
+        lines[e["test"].split("::")[1]] = set(e["lines"].get("src/fake.c", []))
+    assert lines["test_a"] == {1, 10}
+    assert lines["test_b"] == {1, 10}  # before: set(), never selected by a mutant of the fact's lines
+    assert lines["test_e"] == lines["test_f"] == {70}
+    assert lines["test_c"] == {50, 60} and lines["test_d"] == {50}
+
+
+# ---- verdicts: a timeout is no kill ------------------------------------------------------------------
+
+def test_a_timeout_is_its_own_verdict_counted_and_listed_apart(tmp_path, monkeypatch, capsys):
+    mutate = load_mutate()
+    mutant = type("M", (), dict(file="src/x.c", ident="src/x.c:f:op:+->-:1 | a + b", where="src/x.c:3:5",
+                                body=(1, 2)))()
+    runner = object.__new__(mutate.Runner)
+    runner.original_code = {tmp_path: {"src/x.c": {}}}
+    runner.durations, runner.equivalent, runner.replay, runner.make_jobs = {"pytest:t": 1.0}, {}, False, "-j1"
+    monkeypatch.setattr(mutate, "run", lambda *a, **k: (0, ""))  # the build of the mutant
+    monkeypatch.setattr(mutate, "run_selected", lambda *a, **k: ("timeout", "pytest: past the limit of 63 s"))
+    verdict, _, why = runner.verdict(mutant, tmp_path, tmp_path / "src/x.c", ["pytest:t"])
+    assert verdict == "timeout" and "past the limit" in why  # before: "killed"
+
+    base = dict(where="src/x.c:3:5", tests=1, seconds=1.0, sanitized=False, killed_by="", timed_out="")
+    results = [dict(base, name="k", verdict="killed", killed_by="t"), dict(base, name="s", verdict="survived"),
+               dict(base, name="slow", verdict="timeout", timed_out="pytest: past the limit of 63 s"),
+               dict(base, name="listed", verdict="timeout", timed_out="pytest: t - past its time limit")]
+    listed = mutate.report(results, 1, 4, {"listed": "a reason"}, "")
+    text = capsys.readouterr().out
+    assert "killed 1, survived 1, uncovered 0, timeout 2" in text
+    assert "1 of 2 non-equivalent mutants killed, 50.0 %" in text  # the timeouts are outside the score
+    assert "timeout (a test ran past its time limit" in text and "slow" in text.split("timeout (")[1]
+    assert [r["name"] for r in listed] == ["listed"]  # a listed equivalent that timed out is not shown equivalent
+
+
+def test_a_test_stopped_at_its_own_time_limit_is_a_timeout(tmp_path):
+    """pytest.ini's timeout stops a hung test as a failure: mutate.py reads it as a timeout."""
+    mutate = load_mutate()
+    (tmp_path / "test_hang.py").write_text("import time\n\ndef test_hangs():\n    time.sleep(30)\n\n"
+                                           "def test_fails():\n    assert False\n")
+    base = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--timeout", "1", "--rootdir", str(tmp_path)]
+    limit = 60
+    outcome, why = mutate.run_confirmed(base + [str(tmp_path / "test_hang.py") + "::test_hangs"], None, tmp_path,
+                                        time.monotonic() + limit, limit)
+    assert outcome == "timeout", why
+    outcome, why = mutate.run_confirmed(base + [str(tmp_path / "test_hang.py") + "::test_fails"], None, tmp_path,
+                                        time.monotonic() + limit, limit)
+    assert outcome == "failed", why
+
+
+# ---- the tests VI_SOLVER reaches (fmu-test/conftest.py), as tools/test.sh's loop and mutate.py select them ----
+
+def test_the_solver_loop_runs_the_tests_the_solver_choice_reaches(tmp_path):
+    """--solver-tests-out lists the tests that start a run without a solver of their own (test_me_call_order's
+    instances take VI_SOLVER's) and not those whose runs take the FMU's default whatever VI_SOLVER says
+    (test_read_all's); --solver-tests-from runs only the listed ones; mutate.py's coverage passes read the
+    same selection from tools/test.sh's loop."""
+    files = ["fmu-test/test_read_all.py", "fmu-test/test_me_call_order.py"]
+    listed = tmp_path / "solver-tests.json"
+    r = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", *files, "--solver-tests-out",
+                        str(listed)], cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stdout[-2000:]
+    ids = json.loads(listed.read_text())
+    assert len(ids) == 66 and all(i.startswith("fmu-test/test_me_call_order.py::") for i in ids), ids
+    r = subprocess.run([sys.executable, "-m", "pytest", "--collect-only", "-q", "-p", "no:cacheprovider", *files,
+                        "--solver-tests-from", str(listed)], cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert "66/71 tests collected (5 deselected)" in r.stdout, r.stdout[-2000:]
+    solvers, select = load_mutate().test_solvers()
+    assert solvers == ["1", "2", "3"] and select[:3] == ["-m", "not libcosim", "--solver-tests-from"]

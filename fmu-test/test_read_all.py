@@ -16,21 +16,42 @@ from vibroimpact.fmi3 import fmu3_path, run_to_events
 PARAMS = dict(contact_model=2, a=1e-4)  # Johnson, shaken: contact, memory and events all in use
 
 
+def getters(fmu, version):
+    if version == 2:
+        return {"Real": fmu.getReal, "Integer": fmu.getInteger, "Enumeration": fmu.getInteger,
+                "Boolean": fmu.getBoolean, "String": fmu.getString}
+    return {"Float64": fmu.getFloat64, "Int32": fmu.getInt32, "Int64": fmu.getInt64,
+            "Enumeration": fmu.getInt64, "Boolean": fmu.getBoolean, "String": fmu.getString}
+
+
+def declared(v):
+    """The start value a model description declares, as the getter of its type returns it."""
+    if v.type in ("Real", "Float64"):
+        return float(v.start)
+    if v.type == "Boolean":
+        return v.start in ("true", "1")
+    if v.type == "String":
+        return v.start
+    return int(v.start)
+
+
 def read_every_variable(fmu, md, version):
-    """Each declared variable read alone with the getter of its type: (name, value) of those read."""
-    values = []
+    """Each declared variable read alone with the getter of its type (fmpy raises on any status but OK):
+    {name: value}. Checked: every Real finite; each the same as when all variables of its type are read
+    in one call, as fmusim reads them (a value that depended on the other references asked for, or on
+    a read before, would differ); every parameter what was set (PARAMS) or else its declared start."""
+    get = getters(fmu, version)
+    values = {v.name: get[v.type]([v.valueReference])[0] for v in md.modelVariables}
     for v in md.modelVariables:
-        if version == 2:
-            get = {"Real": fmu.getReal, "Integer": fmu.getInteger, "Enumeration": fmu.getInteger,
-                   "Boolean": fmu.getBoolean, "String": fmu.getString}[v.type]
-        else:
-            get = {"Float64": fmu.getFloat64, "Int32": fmu.getInt32, "Int64": fmu.getInt64,
-                   "Enumeration": fmu.getInt64, "Boolean": fmu.getBoolean, "String": fmu.getString}[v.type]
-        value = get([v.valueReference])[0]  # fmpy raises on any status but OK
         if v.type in ("Real", "Float64"):
-            assert math.isfinite(value), (v.name, value)
-        values.append((v.name, value))
-    assert len(values) == len(md.modelVariables)
+            assert math.isfinite(values[v.name]), (v.name, values[v.name])
+    for kind in {v.type for v in md.modelVariables}:
+        of_kind = [v for v in md.modelVariables if v.type == kind]
+        together = get[kind]([v.valueReference for v in of_kind])
+        assert {v.name: values[v.name] for v in of_kind} == dict(zip([v.name for v in of_kind], together)), kind
+    parameters = {v.name: PARAMS.get(v.name, declared(v)) for v in md.modelVariables if v.causality == "parameter"}
+    text = {n: x.decode() if isinstance(x, bytes) else x for n, x in values.items()}  # fmpy's FMI 2.0 Strings: bytes
+    assert parameters and {n: text[n] for n in parameters} == parameters
     return values
 
 
@@ -89,7 +110,7 @@ def test_fmi3_co_simulation_reads_all(fmus, event_mode):
     read_every_variable(s, md, 3)
     events, _ = run_to_events(s, 0.0, 5e-3, 1e-4, sample=lambda t: read_every_variable(s, md, 3))
     assert not event_mode or events  # early returns at contact events, read after each
-    values = dict(read_every_variable(s, md, 3))
+    values = read_every_variable(s, md, 3)
     assert values["event_indicator_0"] > 0.0  # inside the mode, as after any completed step
     s.terminate()
     read_every_variable(s, md, 3)

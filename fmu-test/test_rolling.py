@@ -162,7 +162,7 @@ def test_corrugation_dynamics_against_the_linearised_closed_form(fmu, tmp_path):
     (None, "cannot open"),
     ("0 0\n1 0\n0.5 0\n", "line 3"),
     ("0 0\n1 nan\n", "line 2"),
-    ("0 0\n", "1 data rows"),
+    ("0 0\n", "one data row (line 1)"),
     ("0 0\n1 x\n", "line 2"),
 ])
 def test_bad_files_are_refused_at_initialization(fmu, tmp_path, text, expect):

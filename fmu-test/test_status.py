@@ -26,7 +26,7 @@ def raw(s, fn, *args):
 def running(logged, vr):
     log = logged()
     s = log.instantiate()
-    start(s, vr, dict(contact_model=1, a=1e-4))
+    start(s, vr, dict(contact_model=1, a=1e-4, Y=1e9))  # Y: the force stays below F_Y (no validity note)
     yield log, s
     s.freeInstance()
 
@@ -87,7 +87,7 @@ def test_free_instance_of_null_does_nothing(running, logged, vr):
     on bit for bit as one that saw no such call, and says nothing."""
     log, s = running
     other = logged(name="other").instantiate()
-    start(other, vr, dict(contact_model=1, a=1e-4))
+    start(other, vr, dict(contact_model=1, a=1e-4, Y=1e9))
     s.fmi2FreeInstance(None)
     names = [vr[n] for n in ("y", "v", "F", "delta")]
     for k in range(50):

@@ -292,6 +292,7 @@ def test_the_rail_velocity_as_vc_in_or_as_the_derivative_gives_the_same_numbers(
 
 
 @needs_fmus
+@pytest.mark.libcosim
 @pytest.mark.parametrize("rail_motion", ["ramp", "hold"])
 def test_libcosim_and_the_fmpy_master_agree(rough, rail_motion):
     """libcosim from OspSystemStructure.xml (the rail's velocity in vC_in, or without: "hold") and

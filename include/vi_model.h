@@ -285,11 +285,21 @@ void vi_model_scales(const vi_model *model, const double x0[2], double *L, doubl
  * at communication points and after a change of a, and warns once per cause and instance
  * (logStatusWarning). */
 #define VI_VALIDITY_RADIUS 0.1
-enum { VI_INVALID_INDENTATION = 1, VI_INVALID_AMPLITUDE = 2, VI_INVALID_PROFILE = 4, VI_INVALID_ENERGY = 8 };
+enum { VI_INVALID_INDENTATION = 1, VI_INVALID_AMPLITUDE = 2, VI_INVALID_PROFILE = 4, VI_INVALID_ENERGY = 8,
+       VI_INVALID_FORCE = 16 };
 int vi_model_validity(const vi_model *model, double R1, double t, const double x[2], int skip, char *msg, size_t n);
 /* The one cause that depends on the state alone: is the indentation beyond its limit at x? (The
  * others change only with a, the profile and the plastic memory, which changes at events.) */
 int vi_model_indentation_invalid(const vi_model *model, const double x[2]);
+/* The force limits the paper states (section 2), VI_INVALID_FORCE: Hertz's law (eq. 2, hertz and
+ * hertz_damped) holds while the strains are purely elastic, F <= F_Y; Johnson's elastic-plastic
+ * loading (eq. 3) for F_Y < F < F_p, F_p about VI_JOHNSON_FP F_Y (contained plastic flow; beyond it
+ * the flow is fully plastic). vi_model_force_limit: the law's limit [N] (INFINITY: none);
+ * vi_model_force_validity: VI_INVALID_FORCE with a message naming the time, the largest force F_max
+ * [N] and the limit when F_max exceeds it, else 0. */
+#define VI_JOHNSON_FP 650.0
+double vi_model_force_limit(const vi_model *model);
+int vi_model_force_validity(const vi_model *model, double F_max, double t, char *msg, size_t n);
 
 /* Options that contradict each other or are ignored: moving_contact, continuous
  * unloading, the printed yield formula or damping_formula where the law does not use them, v0 with a

@@ -28,12 +28,19 @@
  * the table is one period, L = x_last - x_first, and its last height must equal the first.
  *
  * Refused (with a message naming the file and line, or the position): a file that cannot be read,
- * a line that is not two finite numbers, x not strictly increasing, fewer than two rows, a periodic
+ * a line that is not two numbers (the message quotes the fields found, names the separator seen and
+ * the rule broken), a value that is not finite, x not strictly increasing (naming the line before),
+ * an empty file, a file without data rows, one row, more than VI_PROFILE_ROWS_MAX rows, a periodic
  * table whose ends differ, a periodic table whose period is so short that the body spans more than
- * VI_PROFILE_ROWS_MAX rows of its copies, and a profile with a step higher than the body can roll
- * over (yb would jump). Lines that are empty or start with '#' are skipped. Every loop is bounded.
+ * VI_PROFILE_ROWS_MAX rows of its copies, a profile with a step higher than the body can roll over
+ * (yb would jump), and a wall so steep that yb is vertical in doubles (the body leaves it closer to
+ * its corner than the spacing of doubles there: the rows, the slope and the limit are named). Every
+ * loop is bounded.
  *
- * File format: two numbers a line, separated by blanks, a comma or a semicolon, read by vi_strtod
+ * File format: two numbers a line, separated by blanks or tabs with at most one ';' among them; a
+ * '\r' may end a line; a comma is neither a separator nor a decimal point (never guessed). Lines
+ * that are empty, blank or start with '#' after blanks are skipped; a UTF-8 byte-order mark before
+ * the first line is skipped, a UTF-16 or UTF-32 one refused. Numbers are read by vi_strtod
  * (vi_text.h): as strtod reads them in the C locale, whatever the locale of the process (decimal
  * point '.'): decimal numbers of any length rounded to the nearest double, hexadecimal ones (0x1.8p-3),
  * and inf, infinity, nan, which are then refused as not finite, like a number beyond DBL_MAX.
@@ -42,6 +49,7 @@
 #define VI_PROFILE_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 typedef struct vi_profile vi_profile;
 
@@ -57,6 +65,10 @@ vi_profile *vi_profile_create(const double *x, const double *h, size_t n, double
 /* From a two-column text file at path. NULL on failure with the reason (file and line) in msg. */
 vi_profile *vi_profile_load(const char *path, double R, int periodic, char *msg, size_t msg_size);
 void vi_profile_free(vi_profile *p);
+/* fopen(path, "r") of a path in UTF-8 (FMI's strings are UTF-8): on Windows, whose C library's fopen
+ * takes the ANSI code page, through _wfopen of the path converted to UTF-16 (a path that is not
+ * UTF-8 goes to fopen as it is). */
+FILE *vi_profile_fopen(const char *path);
 
 /* yb(x) and its derivatives: y[0] = yb [m], y[1] = yb', y[2] = yb'' [1/m], y[3] = yb''' [1/m^2]
  * (right-hand values at an interval boundary). 0, or -1 when x lies outside a non-periodic profile

@@ -14,6 +14,7 @@
 #ifndef VI_SIM_H
 #define VI_SIM_H
 
+#include "vi_format.h"
 #include "vi_hybrid.h"
 #include "vi_model.h"
 #include "vi_solver.h"
@@ -73,6 +74,19 @@ typedef struct {
     int mode, valid;
 } vi_peak_point;
 
+/* The solver's warnings as relayed to the importer (vi_sim_solver_log): counted by kind, a kind being a
+ * text with its numbers left out. The first warning of each kind is relayed, with the contact's time
+ * scale; the others are counted and reported once, at the end of the advance (vi_sim_report_warnings).
+ * Not part of the FMU state. */
+#define VI_RELAY_KINDS 4      /* kinds remembered; warnings of further kinds are counted together */
+#define VI_RELAY_KIND_MAX 160 /* the bytes of a warning that make its kind */
+typedef struct {
+    char kind[VI_RELAY_KINDS][VI_RELAY_KIND_MAX]; /* the first warning of each kind (truncated) */
+    long repeats[VI_RELAY_KINDS]; /* warnings of each kind since the last report, not relayed */
+    long others;                  /* warnings of further kinds since the last report */
+    int kinds;                    /* kinds seen in this run */
+} vi_relay;
+
 typedef struct {
     vi_sim_data d;
     vi_hybrid engine;    /* the event engine over d.model and d.events */
@@ -90,7 +104,9 @@ typedef struct {
     vi_profile *profile;
     char profile_key[VI_PATH_MAX + 64];
     char resources[VI_PATH_MAX];
-    char msg[512];       /* last error message */
+    vi_relay relay;      /* the solver's warnings relayed and counted */
+    double advance_end;  /* the end of the advance in progress [s] (the failure messages') */
+    char msg[1024];      /* last error message */
 } vi_sim;
 
 /* The FMU's resources folder (a path, not a URI; NULL or "" for none), where a relative
@@ -157,6 +173,12 @@ void vi_sim_statistics(const vi_sim *s, vi_solver_stats *st);
 /* Warn (once per cause and instance) when the contact leaves the model's range of validity at the
  * current state (vi_model_validity). */
 void vi_sim_check_validity(vi_sim *s);
+/* The logger the solver gets (a vi_log_fn; env is the vi_sim): its warnings relayed, counted by kind
+ * (vi_relay), everything else passed on. */
+void vi_sim_solver_log(void *env, int category, const char *fmt, ...) VI_PRINTF_FORMAT(3, 4);
+/* Report the warnings counted since the last report, one message per kind (and one for the further
+ * kinds): how many, up to the current time. Every advance ends with it. */
+void vi_sim_report_warnings(vi_sim *s);
 
 /* Is d a state this FMU could have produced (doc/model.md section 7.6)? Checks every field of
  * vi_sim_data that the simulation layer owns (finite times and state, the tolerances, counters >= 0,

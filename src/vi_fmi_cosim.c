@@ -20,7 +20,9 @@ static vi_status do_step(void *instance, const char *fn, double tc, double h, in
     double t_end = tc + h;
     /* Refused arguments leave the instance as it was (Error from fmi2DoStep and fmi3DoStep: "the step could
      * not be carried out at all"; the master may try another step). */
-    if (!isfinite(tc) || !isfinite(h) || !(h > 0.0))
+    if (!isfinite(tc))
+        return vi_fmi_refuse(c, "%s: currentCommunicationPoint %g is not finite", fn, tc);
+    if (!isfinite(h) || !(h > 0.0))
         return vi_fmi_refuse(c, "%s: the communication step size must be finite and positive (got %g)", fn, h);
     if (fabs(tc - t) > VI_TIME_MATCH_ULPS * unit)
         return vi_fmi_refuse(c, "%s: currentCommunicationPoint %.17g does not match the FMU's time %.17g", fn, tc, t);

@@ -960,6 +960,33 @@ int vi_model_validity(const vi_model *model, double R1, double t, const double x
     return 0;
 }
 
+double vi_model_force_limit(const vi_model *model)
+{
+    switch (model->law) {
+    case VI_LAW_HERTZ:
+    case VI_LAW_HERTZ_DAMPED: return model->johnson.F_Y;
+    case VI_LAW_JOHNSON: return VI_JOHNSON_FP * model->johnson.F_Y;
+    default: return INFINITY;
+    }
+}
+
+int vi_model_force_validity(const vi_model *model, double F_max, double t, char *msg, size_t n)
+{
+    double F_Y = model->johnson.F_Y, limit = vi_model_force_limit(model);
+    if (!(F_max > limit)) return 0;
+    if (model->law == VI_LAW_JOHNSON)
+        vi_snprintf(msg, n, "t = %.17g s: the contact force reached %g N = %.4g F_Y (F_Y = %g N), beyond F_p = %g F_Y: "
+                    "Johnson's loading curve (paper eq. 3) holds for F_Y < F < F_p, a plastic zone contained by elastic "
+                    "material (beyond, full plastic flow: contact_model = lepp), so the results leave the model's range "
+                    "of validity", t, F_max, F_max / F_Y, F_Y, VI_JOHNSON_FP);
+    else
+        vi_snprintf(msg, n, "t = %.17g s: the contact force reached %g N = %.4g F_Y (F_Y = %g N): Hertz's law "
+                    "(paper eq. 2) assumes purely elastic strains, which end at F_Y (contact_model = johnson or "
+                    "thornton follow the yield), so the results leave the model's range of validity",
+                    t, F_max, F_max / F_Y, F_Y);
+    return VI_INVALID_FORCE;
+}
+
 /* A published damping form whose restitution misses e_restitution by more than this is named in a warning. */
 #define VI_PUBLISHED_E_TOL 0.01
 

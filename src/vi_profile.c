@@ -11,6 +11,11 @@
 #include "vi_check.h"
 #include "vi_text.h"
 
+#ifdef _WIN32
+#define WIN32_LEAN_AND_MEAN
+#include <windows.h>
+#endif
+
 /* A piece of the envelope. Circle: yb = py - d^2/(R + sqrt(R^2 - d^2)), d = x - px (the vertex at
  * px, height py). Line: yb = py + s (x - px) (value py at the start px of its domain). */
 typedef struct {
@@ -216,10 +221,24 @@ void vi_profile_free(vi_profile *p)
         goto fail;                                     \
     } while (0)
 
+/* Vertex j of copy k of the table: x_j + k L. A periodic table's last vertex is the first of the next
+ * copy, and it is computed as that one (x_0 + (k + 1) L): the tangent of the last segment then ends
+ * where the next copy's first vertex circle starts, or after it, to the bit (in exact arithmetic
+ * x_n-1 + k L = x_0 + (k + 1) L, but not after rounding). */
+static double vertex_x(const double *x, size_t n, int periodic, double period, size_t j, long k)
+{
+    if (periodic && j == n - 1) return x[0] + (double)(k + 1) * period;
+    return x[j] + (double)k * period;
+}
+
 /* The envelope on [lo, hi] of the vertex circles (domain |x - x_i| <= R) and the segment tangents
  * (where the tangent point lies on the segment), taken in the order of the profile. A periodic
  * profile is unrolled: the copies of the table one period apart, from the last vertex more than R
- * before lo to the first more than R after hi (copies kmin .. kmax). 0, or -1 when out of memory. */
+ * before lo to the first more than R after hi (copies kmin .. kmax). The domains chain without a
+ * gap: with v_j the vertex and shift = R s/sqrt(1 + s^2) (|shift| <= R), circle j's domain starts at
+ * v_j - R <= v_j - shift_j-1, where tangent j-1's ends, and tangent j's starts at v_j - shift_j <=
+ * v_j + R, where circle j's ends; both sides are rounded from the same v_j, and rounding keeps the
+ * order. 0, or -1 when out of memory. */
 static int build(const context *c, const double *x, const double *h, size_t n, int periodic, double lo, double hi,
                  long kmin, long kmax, stack *st)
 {
@@ -228,15 +247,16 @@ static int build(const context *c, const double *x, const double *h, size_t n, i
     stack tail = {0};
     int rc = 0;
     for (long k = kmin; k <= kmax && rc == 0; k++) { /* bounded: kmax - kmin + 1 copies of n rows */
-        double offset = (double)k * period;
         for (size_t j = 0; j < n_vertices && rc == 0; j++, g += 2) {
-            piece circle = {0, x[j] + offset, h[j], 0.0};
-            rc = insert(c, st, &tail, &circle, g, fmax(x[j] - R + offset, lo), fmin(x[j] + R + offset, hi));
+            double v = vertex_x(x, n, periodic, period, j, k);
+            piece circle = {0, v, h[j], 0.0};
+            rc = insert(c, st, &tail, &circle, g, fmax(v - R, lo), fmin(v + R, hi));
             if (rc < 0 || j + 1 >= n) break;
             double slope = (h[j + 1] - h[j]) / (x[j + 1] - x[j]), hyp = hypot(1.0, slope), shift = R * (slope / hyp);
+            double next = vertex_x(x, n, periodic, period, j + 1, k);
             /* the tangent's height at its vertex: h_j + R (1/hyp - 1) */
-            piece tangent = {1, x[j] - shift + offset, h[j] - R * (slope * slope / (hyp * (hyp + 1.0))), slope};
-            rc = insert(c, st, &tail, &tangent, g + 1, fmax(tangent.px, lo), fmin(x[j + 1] - shift + offset, hi));
+            piece tangent = {1, v - shift, h[j] - R * (slope * slope / (hyp * (hyp + 1.0))), slope};
+            rc = insert(c, st, &tail, &tangent, g + 1, fmax(tangent.px, lo), fmin(next - shift, hi));
         }
     }
     free(tail.s);
@@ -301,10 +321,46 @@ static int take_envelope(vi_profile *p, const stack *env, const char *name, char
     return 0;
 }
 
+/* The table a profile is built from, for the messages. */
+typedef struct {
+    const double *x, *h;
+    size_t n;
+} table;
+
+/* |a - b| [m], for a periodic profile to the nearest copy of a. */
+static double distance(const vi_profile *p, double a, double b)
+{
+    return p->periodic ? fabs(remainder(a - b, p->period)) : fabs(a - b);
+}
+
+/* Why yb is vertical (not finite) at xb on vertex circle q, which starts there (starts = 0: it ends
+ * there): the segment into q's vertex (out of it) is so steep that the body leaves it R (1 -
+ * |s|/sqrt(1 + s^2)) = R/(hyp (hyp + |s|)) before the vertex, closer than the spacing of doubles at
+ * xb, and the circle meets it at the edge of its domain, where it is vertical. Into msg; -1. */
+static int too_steep(const vi_profile *p, const table *t, const piece *q, int starts, double xb, const char *name,
+                     char *msg, size_t msg_size)
+{
+    size_t rows = p->periodic ? t->n - 1 : t->n, i = 0; /* the row of q's vertex (a periodic table's last is its first) */
+    for (size_t k = 1; k < rows; k++) /* bounded by the rows: the nearest vertex, in any period */
+        if (distance(p, t->x[k], q->px) < distance(p, t->x[i], q->px)) i = k;
+    /* the segment into the vertex or out of it (an open table's end vertex has none beyond the end,
+     * but its circle is cut at the end, where it is not vertical) */
+    size_t a = starts ? (i > 0 ? i - 1 : rows - 1) : i;
+    if (a + 1 >= t->n) a = t->n - 2;
+    size_t b = a + 1;
+    double s = (t->h[b] - t->h[a]) / (t->x[b] - t->x[a]), hyp = hypot(1.0, s), before = p->R / (hyp * (hyp + fabs(s)));
+    double spacing = nextafter(fabs(xb), INFINITY) - fabs(xb);
+    VI_FAIL(msg, msg_size, "%s: rows %zu and %zu (x = %.17g and %.17g m) make a slope of %.6g, too steep for R1 = %g m "
+                           "near x = %g m: the body leaves that segment %.2g m before its end, less than the spacing "
+                           "of doubles there (%.2g m), and yb is vertical; slopes up to about %.3g (sqrt(R1/(2 spacing))) "
+                           "can be rolled over there", name, a + 1, b + 1, t->x[a], t->x[b], s, p->R, xb, before,
+            spacing, sqrt(p->R / (2.0 * spacing)));
+}
+
 /* Continuity, slopes and kinks at the boundaries of the pieces (a periodic profile also at the seam):
  * max_slope and the kinks into p; -1 where the body cannot roll over the profile (too steep, a step).
  * tol: the rounding of the heights. */
-static int check_boundaries(vi_profile *p, double tol, const char *name, char *msg, size_t msg_size)
+static int check_boundaries(vi_profile *p, const table *t, double tol, const char *name, char *msg, size_t msg_size)
 {
     double R = p->R;
     for (size_t j = 0; j <= p->m; j++) {
@@ -314,22 +370,20 @@ static int check_boundaries(vi_profile *p, double tol, const char *name, char *m
         double xl = j > 0 ? p->xb[j] : p->hi, xr = j < p->m ? p->xb[j] : p->lo;
         if (has_left) {
             yl = piece_eval(&p->pieces[jl], R, xl, dl);
-            if (!isfinite(yl) || !isfinite(dl[0]))
-                VI_FAIL(msg, msg_size, "%s: the profile is too steep for R1 = %g m near x = %g m: the body cannot roll "
-                                       "over it", name, R, xl);
+            if (!isfinite(yl) || !isfinite(dl[0])) return too_steep(p, t, &p->pieces[jl], 0, xl, name, msg, msg_size);
             p->max_slope = fmax(p->max_slope, fabs(dl[0]));
         }
         if (has_right) {
             yr = piece_eval(&p->pieces[jr], R, xr, dr);
-            if (!isfinite(yr) || !isfinite(dr[0]))
-                VI_FAIL(msg, msg_size, "%s: the profile is too steep for R1 = %g m near x = %g m: the body cannot roll "
-                                       "over it", name, R, xr);
+            if (!isfinite(yr) || !isfinite(dr[0])) return too_steep(p, t, &p->pieces[jr], 1, xr, name, msg, msg_size);
             p->max_slope = fmax(p->max_slope, fabs(dr[0]));
         }
         if (!has_left || !has_right) continue;
-        /* a step: the pieces differ at xr by more than their rounding there; besides the heights' (tol),
-         * the boundary xr is rounded to a few eps |xr|, which moves each piece by its slope times that */
-        double rounding = 1e3 * tol + 16.0 * DBL_EPSILON * fabs(xr) * (fabs(dl[0]) + fabs(dr[0]));
+        /* a step: the pieces differ at the boundary by more than their rounding there; besides the
+         * heights' (tol), the boundary is rounded to a few eps of its position (at the seam of a
+         * periodic profile xl = x_last, xr = x_first, one period apart), which moves each piece by its
+         * slope times that */
+        double rounding = 1e3 * tol + 16.0 * DBL_EPSILON * fmax(fabs(xl), fabs(xr)) * (fabs(dl[0]) + fabs(dr[0]));
         if (fabs(yl - yr) > rounding)
             VI_FAIL(msg, msg_size, "%s: a step of more than R1 = %g m near x = %g m: yb jumps by %g m there (the body "
                                    "cannot roll over it)", name, R, xr, yr - yl);
@@ -359,7 +413,8 @@ vi_profile *vi_profile_create(const double *x, const double *h, size_t n, double
     if (take_envelope(p, &env, name, msg, msg_size) < 0) goto fail;
     free(env.s);
     env.s = NULL;
-    if (check_boundaries(p, c.tol, name, msg, msg_size) < 0) goto fail;
+    table t = {x, h, n};
+    if (check_boundaries(p, &t, c.tol, name, msg, msg_size) < 0) goto fail;
     return p;
 fail:
     free(env.s);
@@ -367,34 +422,135 @@ fail:
     return NULL;
 }
 
-/* ---- reading a file ------------------------------------------------------------------------- */
+/* ---- reading a file -------------------------------------------------------------------------
+ *
+ * A data line is "x h": two numbers in the C syntax (vi_strtod) separated by blanks or tabs, with at
+ * most one ';' among them, blanks and tabs before and after, and a '\r' at its end (CRLF files). A
+ * line that is empty, holds blanks only or starts with '#' after blanks is skipped. A comma is
+ * neither a separator nor a decimal point: "0,5" could be the decimal 0.5 or the two columns 0 and
+ * 5, and the reader does not guess. */
 
-/* Parse "x h" (whitespace, comma or semicolon between); 1 for a data row, 0 to skip, -1 for a bad row. */
-static int parse_row(char *line, double *x, double *h)
+static int is_blank(char ch) { return ch == ' ' || ch == '\t'; }
+
+static const char *skip_blanks(const char *s)
 {
-    char *s = line;
-    while (*s == ' ' || *s == '\t') s++;
-    if (*s == '\0' || *s == '\n' || *s == '\r' || *s == '#') return 0;
-    char *end;
-    *x = vi_strtod(s, &end);
-    if (end == s) return -1;
-    s = end;
-    while (*s == ' ' || *s == '\t' || *s == ',' || *s == ';') s++;
-    *h = vi_strtod(s, &end);
-    if (end == s) return -1;
-    s = end;
-    while (*s == ' ' || *s == '\t' || *s == '\r' || *s == '\n') s++;
-    return *s == '\0' ? 1 : -1;
+    while (is_blank(*s)) s++; /* bounded by the line's terminating '\0' */
+    return s;
+}
+
+/* s is at the end of the line [line, end), or at a '\r' that ends it. */
+static int at_end(const char *s, const char *end) { return s == end || (*s == '\r' && s + 1 == end); }
+
+/* A line [line, end) (*end = '\0'): 1 for a data row (into *x, *h), 0 for a line to skip, -1 for any
+ * other (a NUL byte inside the line stops the parse before end: -1). */
+static int parse_row(const char *line, const char *end, double *x, double *h)
+{
+    const char *s = skip_blanks(line);
+    if (*s == '#' || at_end(s, end)) return 0;
+    char *after;
+    *x = vi_strtod(s, &after);
+    if (after == s) return -1;
+    s = skip_blanks(after);
+    if (*s == ';') s = skip_blanks(s + 1);
+    if (s == after) return -1; /* no separator */
+    *h = vi_strtod(s, &after);
+    if (after == s) return -1;
+    return at_end(skip_blanks(after), end) ? 1 : -1;
+}
+
+/* What a line that is not a data row holds, for the message. */
+enum { SHOW_FIELDS = 3, SHOW_CHARS = 24, QUOTED_MAX = 128 };
+/* a quoted field: the quotes, SHOW_CHARS bytes of 4 characters at most (\xNN), "..." and the '\0' */
+_Static_assert(QUOTED_MAX >= 2 + 4 * SHOW_CHARS + 3 + 1, "a quoted field fits");
+typedef struct {
+    size_t fields, semicolons, not_number; /* not_number: the first field that is no number, 1-based (0: none) */
+    size_t words; /* fields starting with a letter */
+    int blanks, tabs, comma, nul, hash;
+    const char *text[SHOW_FIELDS];
+    size_t len[SHOW_FIELDS];
+} row_view;
+
+/* s (before end) ends a field: a blank, a tab, a ';', or the '\r' that ends a CRLF line. */
+static int field_end(const char *s, const char *end) { return s == end || is_blank(*s) || *s == ';' || at_end(s, end); }
+
+/* Fields of [line, end): the text between blanks, tabs and semicolons. */
+static void view_row(const char *line, const char *end, row_view *v)
+{
+    memset(v, 0, sizeof *v);
+    for (const char *s = line; s < end;) { /* bounded by the line: every pass moves s */
+        if (field_end(s, end)) {
+            v->blanks |= *s == ' ', v->tabs |= *s == '\t', v->semicolons += *s == ';';
+            s++;
+            continue;
+        }
+        const char *f = s;
+        while (!field_end(s, end)) v->comma |= *s == ',', v->nul |= *s == '\0', s++; /* bounded by end */
+        char *after;
+        vi_strtod(f, &after);
+        if (after == f || after != s) {
+            if (!v->not_number) v->not_number = v->fields + 1;
+            v->hash |= *f == '#';
+            v->words += (*f >= 'a' && *f <= 'z') || (*f >= 'A' && *f <= 'Z');
+        }
+        if (v->fields < SHOW_FIELDS) v->text[v->fields] = f, v->len[v->fields] = (size_t)(s - f);
+        v->fields++;
+    }
+}
+
+/* Field text quoted, cut after SHOW_CHARS characters, bytes outside printable ASCII as \xNN. */
+static void quote(char *out, size_t size, const char *text, size_t len)
+{
+    size_t k = 0;
+    out[k++] = '\'';
+    for (size_t i = 0; i < len && i < SHOW_CHARS; i++) {
+        unsigned char ch = (unsigned char)text[i];
+        if (ch >= 0x20 && ch < 0x7f) out[k++] = (char)ch;
+        else k += (size_t)vi_snprintf(out + k, size - k, "\\x%02X", (unsigned)ch);
+    }
+    vi_snprintf(out + k, size - k, "%s'", len > SHOW_CHARS ? "..." : "");
+}
+
+/* The message for line line_no of path, which is no data row: the fields found, the separators seen,
+ * what is wrong and how to write a row. */
+static void refuse_row(const char *line, const char *end, const char *path, size_t line_no, char *msg, size_t msg_size)
+{
+    row_view v;
+    view_row(line, end, &v);
+    char shown[SHOW_FIELDS * QUOTED_MAX] = "", q[QUOTED_MAX];
+    for (size_t i = 0; i < v.fields && i < SHOW_FIELDS; i++) {
+        quote(q, sizeof q, v.text[i], v.len[i]);
+        size_t used = strlen(shown);
+        vi_snprintf(shown + used, sizeof shown - used, " %s", q);
+    }
+    const char *sep = v.semicolons ? (v.semicolons > 1 ? "several semicolons" : "a semicolon")
+                      : v.blanks && v.tabs ? "blanks and tabs" : v.blanks ? "blanks" : v.tabs ? "a tab" : "none";
+    char why[160];
+    if (v.nul) vi_snprintf(why, sizeof why, "it holds a NUL byte (a binary or UTF-16 file?)");
+    else if (v.comma) vi_snprintf(why, sizeof why, "a comma is neither a separator nor a decimal point");
+    else if (v.hash) vi_snprintf(why, sizeof why, "a comment (#) must start its line");
+    else if (v.not_number) {
+        quote(q, sizeof q, v.text[v.not_number <= SHOW_FIELDS ? v.not_number - 1 : 0],
+              v.not_number <= SHOW_FIELDS ? v.len[v.not_number - 1] : 0);
+        vi_snprintf(why, sizeof why, "%s%s is not a number%s", v.not_number <= SHOW_FIELDS ? "" : "a field after ",
+                    v.not_number <= SHOW_FIELDS ? q : "them", v.words == v.fields ? " (a header? start it with #)" : "");
+    } else if (v.semicolons > 1) vi_snprintf(why, sizeof why, "more than one semicolon");
+    else if (v.fields == 2) vi_snprintf(why, sizeof why, "the semicolon does not stand between the numbers");
+    else vi_snprintf(why, sizeof why, "%s", !v.fields ? "no number" : v.fields == 1 ? "a second number is missing"
+                                                                         : "more than two numbers");
+    vi_snprintf(msg, msg_size, "profile_file '%s', line %zu: expected two numbers x [m] and h [m], found %zu field%s%s%s "
+                               "(separator: %s): %s; write x and h in the C syntax with '.' decimals (0.5, -1.2e-3) "
+                               "separated by blanks, a tab or one semicolon; lines starting with # are comments",
+                path, line_no, v.fields, v.fields == 1 ? "" : "s", shown, v.fields > SHOW_FIELDS ? " ..." : "", sep, why);
 }
 
 /* The file is read in blocks of VI_PROFILE_BLOCK bytes (more than two lines of the longest kind). */
 #define VI_PROFILE_BLOCK (1 << 16)
 _Static_assert(VI_PROFILE_BLOCK >= 2 * VI_PROFILE_LINE_MAX, "a block holds the longest line");
 
-/* The rows read so far (x [m], h [m]). */
+/* The rows read so far (x [m], h [m]) and the line of the last. */
 typedef struct {
     double *x, *h;
-    size_t n, cap;
+    size_t n, cap, last_line;
 } rows;
 
 /* Append the row of line line_no of file path after checking it (finite, x increasing, at most
@@ -402,12 +558,15 @@ typedef struct {
 static int add_row(rows *r, double xv, double hv, const char *path, size_t line_no, char *msg, size_t msg_size)
 {
     if (!isfinite(xv) || !isfinite(hv))
-        VI_FAIL(msg, msg_size, "profile_file '%s', line %zu: x = %g, h = %g are not finite", path, line_no, xv, hv);
+        VI_FAIL(msg, msg_size, "profile_file '%s', line %zu: x = %g, h = %g: %s not finite (a number beyond "
+                               "1.8e308, inf or nan)", path, line_no, xv, hv,
+                isfinite(xv) ? "h is" : isfinite(hv) ? "x is" : "x and h are");
     if (r->n && !(xv > r->x[r->n - 1]))
-        VI_FAIL(msg, msg_size, "profile_file '%s', line %zu: x = %.17g is not greater than x = %.17g before it (x "
-                               "must increase)", path, line_no, xv, r->x[r->n - 1]);
+        VI_FAIL(msg, msg_size, "profile_file '%s', line %zu: x = %.17g is not greater than x = %.17g on line %zu (x "
+                               "must increase)", path, line_no, xv, r->x[r->n - 1], r->last_line);
     if (r->n == VI_PROFILE_ROWS_MAX)
-        VI_FAIL(msg, msg_size, "profile_file '%s', line %zu: more than %d rows", path, line_no, VI_PROFILE_ROWS_MAX);
+        VI_FAIL(msg, msg_size, "profile_file '%s', line %zu: more than %d rows, the most a profile may have", path,
+                line_no, VI_PROFILE_ROWS_MAX);
     if (r->n == r->cap) {
         r->cap = r->cap ? 2 * r->cap : 256;
         double *nx = realloc(r->x, r->cap * sizeof *nx), *nh = nx ? realloc(r->h, r->cap * sizeof *nh) : NULL;
@@ -416,13 +575,52 @@ static int add_row(rows *r, double xv, double hv, const char *path, size_t line_
         if (!nx || !nh) VI_FAIL(msg, msg_size, "profile_file '%s': out of memory at line %zu", path, line_no);
     }
     r->x[r->n] = xv, r->h[r->n] = hv;
-    r->n++;
+    r->n++, r->last_line = line_no;
     return 0;
+}
+
+/* Fewer than two rows: the file empty, without data rows, or with one. The reason into msg; -1. */
+static int too_few_rows(const rows *r, const char *path, size_t lines, char *msg, size_t msg_size)
+{
+    if (!lines) VI_FAIL(msg, msg_size, "profile_file '%s': the file is empty; a profile needs at least two rows "
+                                       "x [m] h [m]", path);
+    if (!r->n)
+        VI_FAIL(msg, msg_size, "profile_file '%s': no data rows, its %zu line%s blank or comments; a profile needs "
+                               "at least two rows x [m] h [m]", path, lines, lines == 1 ? " is" : "s are");
+    VI_FAIL(msg, msg_size, "profile_file '%s': one data row (line %zu); a profile needs at least two rows x [m] h [m]",
+            path, r->last_line);
+}
+
+/* A byte-order mark at the start of the first line: UTF-8's is skipped (its length), UTF-16's and
+ * UTF-32's refused (-1, the reason in msg); 0 for none. */
+static int byte_order_mark(const char *line, size_t len, const char *path, char *msg, size_t msg_size)
+{
+    const unsigned char *u = (const unsigned char *)line;
+    if (len >= 3 && u[0] == 0xEF && u[1] == 0xBB && u[2] == 0xBF) return 3;
+    if (len >= 2 && ((u[0] == 0xFF && u[1] == 0xFE) || (u[0] == 0xFE && u[1] == 0xFF)))
+        VI_FAIL(msg, msg_size, "profile_file '%s', line 1: the file starts with a UTF-16 or UTF-32 byte-order mark; "
+                               "save it as UTF-8 or ASCII text", path);
+    return 0;
+}
+
+FILE *vi_profile_fopen(const char *path)
+{
+#ifdef _WIN32
+    int n = MultiByteToWideChar(CP_UTF8, MB_ERR_INVALID_CHARS, path, -1, NULL, 0);
+    wchar_t *wide = n > 0 ? malloc((size_t)n * sizeof *wide) : NULL;
+    if (wide && MultiByteToWideChar(CP_UTF8, MB_ERR_INVALID_CHARS, path, -1, wide, n) == n) {
+        FILE *f = _wfopen(wide, L"r");
+        free(wide);
+        return f;
+    }
+    free(wide);
+#endif
+    return fopen(path, "r");
 }
 
 vi_profile *vi_profile_load(const char *path, double R, int periodic, char *msg, size_t msg_size)
 {
-    FILE *f = fopen(path, "r");
+    FILE *f = vi_profile_fopen(path);
     if (!f) {
         vi_snprintf(msg, msg_size, "profile_file '%s': cannot open it (%s)", path, strerror(errno));
         return NULL;
@@ -452,14 +650,25 @@ vi_profile *vi_profile_load(const char *path, double R, int periodic, char *msg,
             FAIL("profile_file '%s', line %zu: longer than %d characters", path, line_no, VI_PROFILE_LINE_MAX - 2);
         *nl = '\0';
         pos = (size_t)(nl - buf) + (nl < buf + have);
+        if (line_no == 1) {
+            int bom = byte_order_mark(line, (size_t)(nl - line), path, msg, msg_size);
+            if (bom < 0) goto fail;
+            line += bom;
+        }
         double xv, hv;
-        int rc = parse_row(line, &xv, &hv);
+        int rc = parse_row(line, nl, &xv, &hv);
         if (rc == 0) continue;
-        if (rc < 0) FAIL("profile_file '%s', line %zu: expected two numbers x [m] and h [m]", path, line_no);
+        if (rc < 0) {
+            refuse_row(line, nl, path, line_no, msg, msg_size);
+            goto fail;
+        }
         if (add_row(&r, xv, hv, path, line_no, msg, msg_size) < 0) goto fail;
     }
     if (ferror(f)) FAIL("profile_file '%s': read error after line %zu", path, line_no);
-    if (r.n < 2) FAIL("profile_file '%s': %zu data rows; a profile needs at least two (x [m], h [m])", path, r.n);
+    if (r.n < 2) {
+        too_few_rows(&r, path, line_no, msg, msg_size);
+        goto fail;
+    }
     char name[VI_PROFILE_LINE_MAX + 32];
     vi_snprintf(name, sizeof name, "profile_file '%s'", path);
     p = vi_profile_create(r.x, r.h, r.n, R, periodic, name, msg, msg_size);

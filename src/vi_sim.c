@@ -274,6 +274,11 @@ void vi_sim_check_validity(vi_sim *s)
         s->warned_validity |= cause;
         s->log(s->log_env, VI_LOG_WARNING, "%s", text);
     }
+    double F_max = fmax(s->d.F_peak, vi_model_force(&s->d.model, s->d.t, s->d.x)); /* the step's so far, and now */
+    if (!(s->warned_validity & VI_INVALID_FORCE) && vi_model_force_validity(&s->d.model, F_max, s->d.t, text, sizeof text)) {
+        s->warned_validity |= VI_INVALID_FORCE;
+        s->log(s->log_env, VI_LOG_WARNING, "%s", text);
+    }
 }
 
 void vi_sim_input_ramps(const vi_sim_data *d, double t, vi_ramp *yC_in, vi_ramp *F_ext)
@@ -315,6 +320,9 @@ static int outputs_finite(vi_sim *s)
     return 0;
 }
 
+static int time_scale_check(vi_sim *s);
+static void append_cause(vi_sim *s, double h_comm);
+
 int vi_sim_prepare(vi_sim *s)
 {
     vi_sim_data *d = &s->d;
@@ -345,6 +353,7 @@ int vi_sim_prepare(vi_sim *s)
     d->F_peak = vi_model_force(&d->model, d->t, d->x);
     memset(&d->events, 0, sizeof d->events);
     d->events.t_count = d->t;
+    if (time_scale_check(s) < 0) return -1;
     return outputs_finite(s);
 }
 
@@ -357,11 +366,19 @@ static int create_solver(vi_sim *s, int resume)
     vi_solver_config cfg = {
         .n = 2, .nguards = VI_NGUARDS, .rhs = sim_rhs, .guards = sim_guards, .jac = sim_jac, .user = s,
         .method = d->par.solver, .rtol = d->events.rtol, .atol = d->events.atol, .max_step = d->par.max_step,
-        .ode = &d->ode, .auto_choice = &d->auto_choice, .piece = sim_piece, .log = s->log, .log_env = s->log_env};
+        .ode = &d->ode, .auto_choice = &d->auto_choice, .piece = sim_piece, .log = vi_sim_solver_log, .log_env = s};
     s->solver = resume ? vi_solver_resume(&cfg, d->t, d->x) : vi_solver_create(&cfg, d->t, d->x);
     s->solver_stale = 0;
-    if (!s->solver)
-        VI_FAIL(s->msg, sizeof s->msg, "could not create the solver");
+    if (!s->solver) { /* the configuration is valid: the first step failed, a rate beyond the doubles */
+        const vi_model *model = &d->model;
+        vi_snprintf(s->msg, sizeof s->msg, "could not create the solver at t = %.17g s: no first step from the initial "
+                    "state (the load's acceleration (P + m g - F_ext)/m = %g m/s2)", d->t,
+                    (model->W0 - vi_ramp_at(&model->F_ext, d->t)) / model->m);
+        append_cause(s, 0.0);
+        size_t used = strlen(s->msg);
+        vi_snprintf(s->msg + used, sizeof s->msg - used, "; raise m, or lower P or the contact's stiffness");
+        return -1;
+    }
     return 0;
 }
 
@@ -384,6 +401,7 @@ int vi_sim_initialize(vi_sim *s)
         s->log(s->log_env, VI_LOG_WARNING, "rtol = %g is used, not the experiment's tolerance %g (set rtol = 0 to use the "
                "experiment's)", d->par.rtol, d->tolerance);
     vi_sim_check_validity(s);
+    vi_sim_report_warnings(s); /* of the solver's creation */
     return 0;
 }
 
@@ -436,6 +454,169 @@ static void apply_inputs(vi_sim *s)
     vi_sim_check_validity(s); /* a new amplitude */
 }
 
+/* ---- messages: what the contact's time scale says of a failure; the solver's warnings ------------ */
+
+static double contact_stiffness(const vi_model *model, double t, const double x[2]);
+
+/* A time scale shorter than this many units of the time resolution DBL_EPSILON |t| cannot be resolved
+ * by steps at t (a contact needs many steps, each at least a unit). */
+#define VI_RESOLVED_UNITS 1e3
+
+/* The contact's time scale T = sqrt(m/k) [s] at the current state, k the tangent stiffness there (out
+ * of contact: the law's at the indentation scale of vi_model_scales), with m, k and what sets k in
+ * `note`; *k_out = k [N/m]. */
+static double time_scale(const vi_sim *s, double *k_out, char *note, size_t n)
+{
+    const vi_model *model = &s->d.model;
+    double k = model->mode == VI_MODE_FREE ? 0.0 : contact_stiffness(model, s->d.t, s->d.x), at = s->d.x[0], T;
+    const char *where = "at the indentation";
+    if (k > 0.0 && isfinite(k)) {
+        T = sqrt(model->m) / sqrt(k);
+    } else {
+        double L, V;
+        vi_model_scales(model, s->d.x, &L, &V);
+        T = L / V, at = L, where = "at the indentation scale";
+        k = sqrt(model->m) * (V / L), k *= k; /* m (V/L)^2 without overflow for a tiny m */
+    }
+    const vi_johnson *J = &model->johnson;
+    if (model->law == VI_LAW_LINEAR)
+        vi_snprintf(note, n, "sqrt(m/k) = %.3g s (m = %g kg, k = k_spring = %g N/m)", T, model->m, k);
+    else
+        vi_snprintf(note, n, "sqrt(m/k) = %.3g s (m = %g kg, k = %.3g N/m, the law's stiffness %s %.3g m, from E* = %g Pa "
+                    "and R* = %g m)", T, model->m, k, where, at, J->E_star, J->R_star);
+    *k_out = k;
+    return T;
+}
+
+/* What to change: raise m or soften the contact. */
+static const char *remedy(const vi_model *model)
+{
+    return model->law == VI_LAW_LINEAR ? "raise m or lower k_spring" : "raise m or soften the contact (E1, E2, R1, R2)";
+}
+
+/* Append to s->msg what the contact's time scale says: whether it is too short for the time resolution
+ * at t, or for the work bound over a communication step of h_comm [s] (0: none known), and what to
+ * change. Every failure message ends with it. */
+static void append_cause(vi_sim *s, double h_comm)
+{
+    char note[300];
+    double k, T = time_scale(s, &k, note, sizeof note), t = s->d.t, unit = DBL_EPSILON * fabs(t);
+    int unresolved = T < VI_RESOLVED_UNITS * unit, too_many = h_comm > (double)VI_MAX_STEPS_PER_ADVANCE * T;
+    int late = T < VI_RESOLVED_UNITS * DBL_EPSILON * fabs(s->d.t_start); /* the start time alone is too late */
+    size_t used = strlen(s->msg);
+    used += (size_t)vi_snprintf(s->msg + used, sizeof s->msg - used, "; the contact's time scale %s", note);
+    if (used < sizeof s->msg && unresolved)
+        used += (size_t)vi_snprintf(s->msg + used, sizeof s->msg - used, " is only %.3g units of the time resolution "
+                                    "%.3g s at t = %.17g s, too short for the solver's steps there", T / unit, unit, t);
+    if (used < sizeof s->msg && too_many)
+        used += (size_t)vi_snprintf(s->msg + used, sizeof s->msg - used, "%s %.3g times shorter than the communication "
+                                    "step %g s, more than the %ld internal steps one step may take",
+                                    unresolved ? " and" : " is", h_comm / T, h_comm, VI_MAX_STEPS_PER_ADVANCE);
+    char shorter[80] = "";
+    if (too_many)
+        vi_snprintf(shorter, sizeof shorter, ", or use communication steps below %.3g s", (double)VI_MAX_STEPS_PER_ADVANCE * T);
+    if (used < sizeof s->msg && (unresolved || too_many))
+        vi_snprintf(s->msg + used, sizeof s->msg - used, ": %s%s%s", remedy(&s->d.model),
+                    late ? ", or start the run nearer t = 0" : "", shorter);
+}
+
+/* Refuse at initialization what double precision cannot integrate: a contact whose rate k/m = 1/T^2
+ * overflows (the Jacobian's entry, the contact frequency f_contact), naming m and the smallest mass
+ * with that stiffness. */
+static int time_scale_check(vi_sim *s)
+{
+    char note[300];
+    double k, T = time_scale(s, &k, note, sizeof note), rate = 1.0 / T;
+    if (isfinite(rate * rate)) return 0;
+    VI_FAIL(s->msg, sizeof s->msg, "m = %g kg is too small for the contact: its time scale %s makes the rate k/m = "
+            "1/T^2 overflow double; use m >= %.3g kg with this contact: the motion of a "
+            "smaller mass cannot be integrated in double precision", s->d.model.m, note, k / DBL_MAX * 2.0);
+}
+
+static int is_digit(char c) { return c >= '0' && c <= '9'; }
+
+/* Is the text at p a number (a digit, or a sign or point before one)? (Reads past p[0] only when it is
+ * not the terminator.) */
+static int number_at(const char *p)
+{
+    return is_digit(p[0]) || ((p[0] == '-' || p[0] == '+' || p[0] == '.') && is_digit(p[1]));
+}
+
+/* The text after the number at p: [+-] digits and points, an exponent. */
+static const char *skip_number(const char *p)
+{
+    if (*p == '-' || *p == '+') p++;
+    while (is_digit(*p) || *p == '.') p++;
+    if (*p != 'e' && *p != 'E') return p;
+    const char *e = p + 1 + (p[1] == '-' || p[1] == '+');
+    if (!is_digit(*e)) return p;
+    while (is_digit(*e)) e++;
+    return e;
+}
+
+/* Are two texts of at most VI_RELAY_KIND_MAX bytes the same but for their numbers? */
+static int same_kind(const char *a, const char *b)
+{
+    for (int i = 0; i < VI_RELAY_KIND_MAX; i++) { /* bounded: each pass moves both by a byte or a number */
+        if (number_at(a) && number_at(b)) {
+            a = skip_number(a), b = skip_number(b);
+            continue;
+        }
+        if (*a != *b) return 0;
+        if (!*a) return 1;
+        a++, b++;
+    }
+    return 1;
+}
+
+void vi_sim_solver_log(void *env, int category, const char *fmt, ...)
+{
+    vi_sim *s = env;
+    char text[600], kind[VI_RELAY_KIND_MAX];
+    va_list ap;
+    va_start(ap, fmt);
+    vi_vsnprintf(text, sizeof text, fmt, ap);
+    va_end(ap);
+    if (category != VI_LOG_WARNING) {
+        s->log(s->log_env, category, "%s", text);
+        return;
+    }
+    vi_relay *r = &s->relay;
+    vi_snprintf(kind, sizeof kind, "%s", text);
+    for (int i = 0; i < r->kinds; i++)
+        if (same_kind(r->kind[i], kind)) {
+            r->repeats[i]++;
+            return;
+        }
+    if (r->kinds == VI_RELAY_KINDS) {
+        r->others++;
+        return;
+    }
+    memcpy(r->kind[r->kinds++], kind, sizeof kind);
+    char note[300], units[160] = "";
+    double k, T = time_scale(s, &k, note, sizeof note), unit = DBL_EPSILON * fabs(s->d.t);
+    if (unit > 0.0)
+        vi_snprintf(units, sizeof units, " is %.3g units of the time resolution at t = %.17g s%s", T / unit, s->d.t,
+                    T < VI_RESOLVED_UNITS * unit ? ", too few for the solver's steps: the likely cause" : "");
+    s->log(s->log_env, VI_LOG_WARNING, "%s (the contact's time scale %s%s; further warnings like this one are counted, "
+           "not repeated)", text, note, units);
+}
+
+void vi_sim_report_warnings(vi_sim *s)
+{
+    vi_relay *r = &s->relay;
+    for (int i = 0; i < r->kinds; i++)
+        if (r->repeats[i] > 0) {
+            s->log(s->log_env, VI_LOG_WARNING, "%ld more solver warnings like \"%s\" by t = %.17g s (counted, not relayed)",
+                   r->repeats[i], r->kind[i], s->d.t);
+            r->repeats[i] = 0;
+        }
+    if (r->others > 0)
+        s->log(s->log_env, VI_LOG_WARNING, "%ld more solver warnings of other kinds by t = %.17g s (counted, not relayed)",
+               r->others, s->d.t);
+    r->others = 0;
+}
+
 /* ---- the loop ------------------------------------------------------------------------------- */
 
 /* End the advance early (doc/model.md section 7.1): the state at d->t is consistent and usable. */
@@ -476,6 +657,7 @@ static int solver_failed(vi_sim *s)
     const vi_sim_data *d = &s->d;
     vi_snprintf(s->msg, sizeof s->msg, "the solver failed near t = %.17g s (mode %d, delta = %g m, v = %g m/s)", d->t,
                 d->model.mode, d->x[0], d->x[1]);
+    append_cause(s, s->advance_end - d->step_t0);
     return VI_SIM_ERROR;
 }
 
@@ -517,10 +699,12 @@ static int state_event(vi_sim *s, advance_run *run, const int fired[])
     vi_sim_check_validity(s);
     if (vi_solver_reset(s->solver, d->t, d->x) < 0) return solver_failed(s);
     if (vi_hybrid_zeno(&s->engine, d->t, g, from, s->msg, sizeof s->msg)) return VI_SIM_DISCARD;
-    if (++run->events >= VI_MAX_EVENTS_PER_ADVANCE && d->t < run->t_end)
-        return discard(s, "work bound: %ld events in one step, stopped at t = %.17g s (mode %d); "
-                          "continue from there or use smaller communication steps",
-                       VI_MAX_EVENTS_PER_ADVANCE, d->t, d->model.mode);
+    if (++run->events >= VI_MAX_EVENTS_PER_ADVANCE && d->t < run->t_end) {
+        discard(s, "work bound: %ld events in one step, stopped at t = %.17g s (mode %d); continue from there or use "
+                   "smaller communication steps", VI_MAX_EVENTS_PER_ADVANCE, d->t, d->model.mode);
+        append_cause(s, run->t_end - d->step_t0);
+        return VI_SIM_DISCARD;
+    }
     return PASS_MORE;
 }
 
@@ -540,10 +724,13 @@ static int advance_pass(vi_sim *s, advance_run *run)
     }
     run->steps_left -= taken;
     if (rc == VI_SOLVER_FAILED) return solver_failed(s);
-    if (rc == VI_SOLVER_LIMIT)
-        return discard(s, "work bound: %ld internal steps in one step, stopped at t = %.17g s (mode %d); "
-                          "continue from there or use smaller communication steps",
-                       VI_MAX_STEPS_PER_ADVANCE, d->t, d->model.mode);
+    if (rc == VI_SOLVER_LIMIT) {
+        discard(s, "work bound: %ld internal steps in one step, stopped at t = %.17g s (mode %d); continue from there "
+                   "or use smaller communication steps; its internal steps averaged %.3g s", VI_MAX_STEPS_PER_ADVANCE,
+                d->t, d->model.mode, (d->t - d->step_t0) / (double)VI_MAX_STEPS_PER_ADVANCE);
+        append_cause(s, run->t_end - d->step_t0);
+        return VI_SIM_DISCARD;
+    }
     int pass = PASS_MORE;
     if (rc == VI_SOLVER_REACHED && stop == bp) {
         run->kinks++;
@@ -560,10 +747,18 @@ static int advance_pass(vi_sim *s, advance_run *run)
 
 int vi_sim_advance(vi_sim *s, double t_end) { return vi_sim_advance_until(s, t_end, 0); }
 
+/* The end of an advance with result rc: the solver's warnings counted in it reported. */
+static int reported(vi_sim *s, int rc)
+{
+    vi_sim_report_warnings(s);
+    return rc;
+}
+
 int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change)
 {
     vi_sim_data *d = &s->d;
-    if (begin_advance(s, t_end) != VI_SIM_OK) return VI_SIM_ERROR;
+    s->advance_end = t_end;
+    if (begin_advance(s, t_end) != VI_SIM_OK) return reported(s, VI_SIM_ERROR);
     char why[400]; /* written only where a profile ends */
     advance_run run = {.t_end = t_end, .steps_left = VI_MAX_STEPS_PER_ADVANCE, .stop_at_mode_change = stop_at_mode_change};
     run.limit = d->model.profile ? vi_model_rolling_limit(&d->model, why, sizeof why) : INFINITY;
@@ -572,13 +767,15 @@ int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change)
     /* bounded: every pass is an event (bounded below) or a kink of the profile (finitely many in the
      * distance |V| (t_end - t) rolled) */
     while (pass == PASS_MORE && d->t < run.target) pass = advance_pass(s, &run);
-    if (pass != PASS_MORE && pass != PASS_END && pass != PASS_STOPPED) return pass;
+    if (pass != PASS_MORE && pass != PASS_END && pass != PASS_STOPPED) return reported(s, pass);
+    vi_sim_report_warnings(s);
     if (!isfinite(d->x[0]) || !isfinite(d->x[1]))
         VI_FAIL(s->msg, sizeof s->msg, "the state is not finite at t = %.17g s", d->t);
     /* at a communication point only the indentation can newly leave the range (a changes in
      * apply_inputs, which checks; the profile is fixed), unless a state was restored since */
     if (s->validity_unchecked ||
-        (!(s->warned_validity & VI_INVALID_INDENTATION) && vi_model_indentation_invalid(&d->model, d->x)))
+        (!(s->warned_validity & VI_INVALID_INDENTATION) && vi_model_indentation_invalid(&d->model, d->x)) ||
+        (!(s->warned_validity & VI_INVALID_FORCE) && d->F_peak > vi_model_force_limit(&d->model)))
         vi_sim_check_validity(s);
     if (pass == PASS_STOPPED) return VI_SIM_EVENT;
     if (t_end > run.limit) return discard(s, "%s", why); /* the end of the profile: nothing beyond it */

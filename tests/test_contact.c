@@ -6,6 +6,7 @@
  * K = 1.538e10 N/m^1.5; v = 0.1 m/s: delta_max = 3.721 um, F_max = 110.4 N; p0 = 1.6 GPa at yield:
  * delta_Y = 4.744 um, F_Y = 159.0 N. */
 #include <criterion/criterion.h>
+#include <float.h>
 #include <math.h>
 
 #include "vi_contact.h"
@@ -153,6 +154,36 @@ Test(johnson, indentation_inverts_the_load)
     double Fs[] = {0.3 * J.F_Y, J.F_Y, 1.0001 * J.F_Y, 2.5 * J.F_Y, 40 * J.F_Y, 600 * J.F_Y};
     for (unsigned i = 0; i < sizeof Fs / sizeof Fs[0]; i++)
         REL(vi_johnson_load(&J, vi_johnson_load_indentation(&J, Fs[i])), Fs[i], 1e-13);
+}
+
+/* Above yield the indentation solves k (1 + ln k/(3 theta_Y)) = F/F_Y, delta = delta_Y (k + 1)/2, by
+ * Newton from k = F/F_Y stopped at the first step of at most 4 ulps of k (vi_contact.c). The
+ * iteration written here from that description gives the same doubles over 20000 random loads and
+ * theta_Y (an iteration that goes on after converging moves the result by rounding: 17 % of these
+ * differ by 1 or 2 ulps), and both stay within 2 eps of the root, bracketed by bisection in long
+ * double. */
+Test(johnson, indentation_is_newton_stopped_at_four_ulps)
+{
+    srand(4242);
+    for (int i = 0; i < 20000; i++) {
+        double th = 0.5 + 2.5 * rand() / RAND_MAX, w = pow(10.0, 5.0 * rand() / RAND_MAX);
+        vi_johnson J = {.theta_Y = th, .F_Y = 2.0, .delta_Y = 3.0};
+        double th3 = 3.0 * th, k = w;
+        for (int it = 0; it < 100; it++) {
+            double step = (k * (1.0 + log(k) / th3) - w) / (1.0 + (log(k) + 1.0) / th3);
+            k -= step;
+            if (fabs(step) <= 4.0 * DBL_EPSILON * k) break;
+        }
+        double got = vi_johnson_load_indentation(&J, w * J.F_Y), want = 0.5 * J.delta_Y * (k + 1.0);
+        cr_assert(got == want, "w %.17g theta_Y %.17g: %.17g, the iteration stopped at 4 ulps %.17g", w, th, got, want);
+        long double lo = 1.0L, hi = w; /* the left side is increasing: bisection to the last bit */
+        for (int it = 0; it < 200 && hi - lo > 0.0L; it++) {
+            long double mid = 0.5L * (lo + hi);
+            if (mid * (1.0L + logl(mid) / (3.0L * th)) < w) lo = mid;
+            else hi = mid;
+        }
+        cr_assert(fabsl((long double)k - lo) <= 2.0L * DBL_EPSILON * lo, "w %.17g: k %.17g, root %.20Lg", w, k, lo);
+    }
 }
 
 Test(johnson, paper_unloading_drop_at_turning_point)

@@ -1656,6 +1656,39 @@ Test(model, validity_messages_and_bounds)
     vi_profile_free(prof);
 }
 
+/* The force limits of the paper (section 2): F_Y for Hertz and damped Hertz, 650 F_Y for Johnson (fixed or
+ * moving contact point), none for the others; at the limit valid, one ulp above it named with its ratio;
+ * the longest message (17 digits of t, the widest numbers) fits the simulation's 400-byte buffer. */
+Test(model, force_limits_of_the_paper)
+{
+    const int laws[] = {VI_ContactModel_hertz, VI_ContactModel_hertz_damped, VI_ContactModel_johnson,
+                        VI_ContactModel_johnson, VI_ContactModel_lepp, VI_ContactModel_linear, VI_ContactModel_thornton};
+    const double ratio[] = {1.0, 1.0, 650.0, 650.0, INFINITY, INFINITY, INFINITY};
+    for (int i = 0; i < 7; i++) {
+        vi_model M = setup(laws[i], i == 3, VI_Unloading_paper, 40000.0, 9.81, 0.0);
+        double F_Y = M.johnson.F_Y, limit = vi_model_force_limit(&M);
+        char msg[512], expect[128];
+        cr_assert(limit == ratio[i] * F_Y, "law %d: %g", laws[i], limit);
+        cr_assert(vi_model_force_validity(&M, limit, 1.0, msg, sizeof msg) == 0, "law %d at the limit: %s", laws[i], msg);
+        if (!isfinite(limit)) {
+            cr_assert(vi_model_force_validity(&M, 1e308, 1.0, msg, sizeof msg) == 0, "law %d: %s", laws[i], msg);
+            continue;
+        }
+        double F = nextafter(limit, INFINITY);
+        cr_assert(vi_model_force_validity(&M, F, 0.25, msg, sizeof msg) == VI_INVALID_FORCE, "law %d", laws[i]);
+        snprintf(expect, sizeof expect, "t = 0.25 s: the contact force reached %g N = %.4g F_Y (F_Y = %g N)", F, F / F_Y, F_Y);
+        cr_assert(strncmp(msg, expect, strlen(expect)) == 0, "expected '%s...', got '%s'", expect, msg);
+        cr_assert(strstr(msg, ratio[i] > 1.0 ? "beyond F_p = 650 F_Y: Johnson's loading curve (paper eq. 3)"
+                                             : "Hertz's law (paper eq. 2) assumes purely elastic strains"), "%s", msg);
+        int n = vi_model_force_validity(&M, -1.2345678901234567e-300, 0.0, msg, sizeof msg);
+        cr_assert(n == 0, "a negative force is no excess");
+        M.johnson.F_Y = -1.2345678901234567e-300; /* the widest %g and %.4g numbers */
+        cr_assert(vi_model_force_validity(&M, 1.2345678901234567e+300, 0.0010207383440245387, msg, sizeof msg) ==
+                  VI_INVALID_FORCE);
+        cr_assert(strlen(msg) < 400, "%zu bytes: %s", strlen(msg), msg);
+    }
+}
+
 /* Rolling from a start time t0 = 2 s (position x0 at t0): the kink at x = 0 of the trough is reached
  * at t0 + (0 - x0)/V, the end of the table at t0 + (x_end - x0)/V (closed forms: x0 = -+1 m, V = +-0.5
  * m/s: 4 s and 24 s). Standing still (V = 0) there is no breakpoint; slow rolling (1 mm/s) has one. */

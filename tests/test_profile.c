@@ -598,7 +598,7 @@ Test(profile, bad_tables_are_refused)
     double hp[] = {0.0, 0.1, 0.2};
     refused(x, hp, 3, R, 1, "last height");
     double xs[] = {0.0, 1.0, 1.0 + 1e-9, 3.0}, hs[] = {0.0, 0.0, 2.0 * R, 2.0 * R}; /* a wall higher than R */
-    refused(xs, hs, 4, R, 0, "cannot roll");
+    refused(xs, hs, 4, R, 0, "too steep");
     refused(x, h, 3, 0.0, 0, "R1");
 }
 
@@ -624,10 +624,17 @@ Test(profile, refusals_name_the_rule_and_its_values)
     refused(xs, hs, 3, R, 1, "bad: the period 1e-07 m is too short for R1 = 0.475 m: the body spans 9500002 periods of 2 rows, "
                              "more than 10000000 rows in all");
     double xw[] = {0.0, 1.0, 1.0 + 1e-9, 3.0}, hw[] = {0.0, 0.0, R, R}, xd[] = {0.0, 2.0, 2.0 + 1e-9, 3.0}, hd[] = {R, R, 0.0, 0.0};
-    refused(xw, hw, 4, R, 0, "bad: the profile is too steep for R1 = 0.475 m near x = 0.525 m: the body cannot roll over it");
-    refused(xd, hd, 4, R, 0, "bad: the profile is too steep for R1 = 0.475 m near x = 2.475 m: the body cannot roll over it");
+    /* the wall's slope s = R1/1e-9: the body leaves it R1/(2 s^2) = 1.05e-18 m before its corner, below the spacing
+     * of doubles at 0.525 (2^-53) and 2.475 (2^-51), so the circle meets it vertically; the limit sqrt(R1/(2 spacing)) */
+    refused(xw, hw, 4, R, 0, "bad: rows 2 and 3 (x = 1 and 1.0000000010000001 m) make a slope of 4.75e+08, too steep for "
+                             "R1 = 0.475 m near x = 0.525 m: the body leaves that segment 1.1e-18 m before its end, less than "
+                             "the spacing of doubles there (1.1e-16 m), and yb is vertical; slopes up to about 4.63e+07 "
+                             "(sqrt(R1/(2 spacing))) can be rolled over there");
+    refused(xd, hd, 4, R, 0, "bad: rows 2 and 3 (x = 2 and 2.0000000010000001 m) make a slope of -4.75e+08, too steep for "
+                             "R1 = 0.475 m near x = 2.475 m: the body leaves that segment 1.1e-18 m before its end, less than "
+                             "the spacing of doubles there (4.4e-16 m), and yb is vertical; slopes up to about 2.31e+07");
     double hw2[] = {0.0, 0.0, 1.5 * R, 1.5 * R};
-    refused(xw, hw2, 4, R, 0, "bad: the profile is too steep for R1 = 0.475 m near x = 0.525 m: the body cannot roll over it");
+    refused(xw, hw2, 4, R, 0, "bad: rows 2 and 3 (x = 1 and 1.0000000010000001 m) make a slope of 7.125e+08, too steep");
     /* just below: a wall of 0.9 R1 is climbed on the circle around its upper corner */
     double hw3[] = {0.0, 0.0, 0.9 * R, 0.9 * R};
     vi_profile *p = make(xw, hw3, 4, R, 0);
@@ -703,7 +710,7 @@ static const char *write_file(const char *text)
 Test(profile, files)
 {
     char msg[512];
-    const char *path = write_file("# x [m], h [m]\n\n0 0\n0.5, 1e-4\n1.0;0\n  1.5\t2e-4  \n");
+    const char *path = write_file("# x [m], h [m]\n\n0 0\n0.5; 1e-4\n1.0;0\n  1.5\t2e-4  \n");
     vi_profile *p = vi_profile_load(path, R, 0, msg, sizeof msg);
     cr_assert(p != NULL, "%s", msg);
     cr_assert(vi_profile_x_last(p) == 1.5 && yb(p, 0.5) == 1e-4);
@@ -721,17 +728,17 @@ Test(profile, files)
         msg[0] = '\0';
         p = vi_profile_load(write_file(text), R, 0, msg, sizeof msg);
         cr_assert((p != NULL) == !extra, "a line of %d characters: %s", len, msg);
-        if (extra) cr_assert(strstr(msg, "line 2: longer than"), "%s", msg);
+        if (extra) cr_assert(strstr(msg, "line 2: longer than 4094 characters"), "%s", msg);
         vi_profile_free(p);
     }
     struct { const char *text, *expect; } bad[] = {
-        {"0 0\n1 0\nabc 2\n", "line 3: expected two numbers"},
-        {"0 0\n1\n", "line 2: expected two numbers"},
-        {"0 0\n1 0 7\n", "line 2: expected two numbers"},
-        {",0\n1 0\n", "line 1: expected two numbers"}, /* a separator where x should be */
-        {"0 0\n2 0\n1 0\n", "line 3: x = 1 is not greater than x = 2 before it"},
-        {"0 0\n1 inf\n", "line 2: x = 1, h = inf are not finite"},
-        {"# only\n0 0\n", "1 data rows"},
+        {"0 0\n1 0\nabc 2\n", "line 3: expected two numbers x [m] and h [m], found 2 fields 'abc' '2' (separator: blanks): 'abc' is not a number;"},
+        {"0 0\n1\n", "line 2: expected two numbers x [m] and h [m], found 1 field '1' (separator: none): a second number is missing;"},
+        {"0 0\n1 0 7\n", "line 2: expected two numbers x [m] and h [m], found 3 fields '1' '0' '7' (separator: blanks): more than two numbers;"},
+        {",0\n1 0\n", "line 1: expected two numbers x [m] and h [m], found 1 field ',0' (separator: none): a comma is neither"},
+        {"0 0\n2 0\n1 0\n", "line 3: x = 1 is not greater than x = 2 on line 2 (x must increase)"},
+        {"0 0\n1 inf\n", "line 2: x = 1, h = inf: h is not finite"},
+        {"# only\n0 0\n", "one data row (line 2); a profile needs at least two rows x [m] h [m]"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         path = write_file(bad[i].text);
@@ -861,7 +868,7 @@ static void random_number(char *out, size_t size)
 /* Thousands of numbers of every form in one file, read as strtod reads them (the value to the bit):
  * each is the height of a plateau 2 m wide (three rows), 10 m from the next, where yb is the height
  * exactly; the rows' positions are written in other forms of the same integers (signs, leading
- * zeros, a point, exponents, hexadecimal), the separators are blanks, tabs, commas and semicolons,
+ * zeros, a point, exponents, hexadecimal), the separators are blanks, tabs and semicolons,
  * with comments, blank lines and Windows line ends between. */
 Test(profile, numbers_of_every_form_are_read_as_strtod_reads_them)
 {
@@ -870,7 +877,7 @@ Test(profile, numbers_of_every_form_are_read_as_strtod_reads_them)
     static char text[K * 3 * 220];
     srand(777);
     char *o = text, num[192];
-    const char *sep[] = {" ", "\t", ",", ";", " , ", "\t; ", "  "};
+    const char *sep[] = {" ", "\t", ";", " ;", " ; ", "\t; ", "  "};
     const char *end[] = {"\n", "\r\n", " \n", "\t\r\n"};
     int k = 0;
     while (k < K) {
@@ -936,7 +943,7 @@ Test(profile, exponents_beyond_the_exact_conversion_are_read_as_strtod_reads_the
         vi_profile_free(p);
     }
     cr_assert(vi_profile_load(write_file("0 0\n1e4294967297 0\n"), R, 0, msg, sizeof msg) == NULL);
-    cr_assert(strstr(msg, "line 2: x = inf, h = 0 are not finite"), "%s", msg);
+    cr_assert(strstr(msg, "line 2: x = inf, h = 0: x is not finite"), "%s", msg);
     p = vi_profile_load(write_file("0 1e-4294967296\n1 0\n"), R, 0, msg, sizeof msg);
     cr_assert(p != NULL, "%s", msg);
     cr_assert(yb(p, 0.0) == 0.0 && yb(p, 1.0) == 0.0);
@@ -1252,4 +1259,234 @@ Test(profile, a_long_path_is_named_whole)
         rmdir(path);
     }
     cr_assert(p == NULL && named, "%.80s...", msg);
+}
+
+/* A file is refused with what its bad line holds: the fields (quoted, cut after 24 characters), the
+ * separator seen and the rule broken, then how to write a row. A comma is neither a separator nor a
+ * decimal point: a one-column file of decimal commas is not read as two columns, German decimals
+ * and a header row are named as what they are. */
+static void file_refused(const char *text, const char *expect)
+{
+    char msg[1024] = "";
+    const char *path = write_file(text);
+    vi_profile *p = vi_profile_load(path, R, 0, msg, sizeof msg);
+    cr_assert(p == NULL, "accepted: %s", text);
+    char want[1024];
+    snprintf(want, sizeof want, "profile_file '%s'%s", path, expect);
+    cr_assert(strncmp(msg, want, strlen(want)) == 0, "expected\n  %s\nin\n  %s", want, msg);
+    remove(path);
+}
+
+#define HOW "; write x and h in the C syntax with '.' decimals (0.5, -1.2e-3) separated by blanks, a tab or one " \
+            "semicolon; lines starting with # are comments"
+
+Test(profile, rows_that_are_not_two_numbers_are_refused_saying_what_they_hold)
+{
+    file_refused("0,5\n1,5\n2,5\n", ", line 1: expected two numbers x [m] and h [m], found 1 field '0,5' (separator: "
+                                    "none): a comma is neither a separator nor a decimal point" HOW);
+    file_refused("x h\n0 0\n1 0\n", ", line 1: expected two numbers x [m] and h [m], found 2 fields 'x' 'h' (separator: "
+                                    "blanks): 'x' is not a number (a header? start it with #)" HOW);
+    file_refused("# x;h\n0;0\n1,5;2,5\n", ", line 3: expected two numbers x [m] and h [m], found 2 fields '1,5' '2,5' "
+                                          "(separator: a semicolon): a comma is neither a separator nor a decimal point");
+    file_refused("0 0\n0.5, 1e-4\n", ", line 2: expected two numbers x [m] and h [m], found 2 fields '0.5,' '1e-4' "
+                                     "(separator: blanks): a comma is neither");
+    file_refused("0 0\n1 0 # end\n", ", line 2: expected two numbers x [m] and h [m], found 4 fields '1' '0' '#' ... "
+                                     "(separator: blanks): a comment (#) must start its line" HOW);
+    file_refused("0 0\n1-2\n", ", line 2: expected two numbers x [m] and h [m], found 1 field '1-2' (separator: none): "
+                               "'1-2' is not a number" HOW);
+    file_refused("0 0\n1\t2\t3\n", ", line 2: expected two numbers x [m] and h [m], found 3 fields '1' '2' '3' (separator: "
+                                   "a tab): more than two numbers" HOW);
+    file_refused("0 0\n1 2 3 4 x\n", ", line 2: expected two numbers x [m] and h [m], found 5 fields '1' '2' '3' ... "
+                                     "(separator: blanks): a field after them is not a number" HOW);
+    file_refused("0 0\n1 2 x\n", ", line 2: expected two numbers x [m] and h [m], found 3 fields '1' '2' 'x' (separator: "
+                                 "blanks): 'x' is not a number" HOW);
+    file_refused("0 0\n ; \r\n", ", line 2: expected two numbers x [m] and h [m], found 0 fields (separator: a "
+                                 "semicolon): no number" HOW);
+    file_refused(";0\n1 0\n", ", line 1: expected two numbers x [m] and h [m], found 1 field '0' (separator: a semicolon): "
+                               "a second number is missing" HOW);
+    file_refused("0 0\n1;;2\n", ", line 2: expected two numbers x [m] and h [m], found 2 fields '1' '2' (separator: "
+                                "several semicolons): more than one semicolon" HOW);
+    file_refused("0 0\n1 2;\n", ", line 2: expected two numbers x [m] and h [m], found 2 fields '1' '2' (separator: a "
+                                "semicolon): the semicolon does not stand between the numbers" HOW);
+    file_refused("0 0\n\t1\t \n", ", line 2: expected two numbers x [m] and h [m], found 1 field '1' (separator: blanks "
+                                  "and tabs): a second number is missing" HOW);
+    file_refused("0 0\n0.123456789012345678901234567890 x\n",
+                 ", line 2: expected two numbers x [m] and h [m], found 2 fields '0.1234567890123456789012...' 'x' "
+                 "(separator: blanks): 'x' is not a number" HOW);
+    file_refused("0 0\n1 2\xC3\xBC\r\n", ", line 2: expected two numbers x [m] and h [m], found 2 fields '1' '2\\xC3\\xBC' "
+                                         "(separator: blanks): '2\\xC3\\xBC' is not a number" HOW);
+    /* a field of 30 bytes outside printable ASCII: 24 of them shown, each as \xNN */
+    char ctl[64] = "0 0\n1 ", want[256] = ", line 2: expected two numbers x [m] and h [m], found 2 fields '1' '";
+    memset(ctl + 6, 0x01, 30);
+    strcat(ctl, "\n");
+    for (int i = 0; i < 24; i++) strcat(want, "\\x01");
+    strcat(want, "...' (separator: blanks)");
+    file_refused(ctl, want);
+    /* a NUL byte inside a line (the text is written by hand: write_file stops at it) */
+    const char *path = write_file("");
+    FILE *f = fopen(path, "wb");
+    fwrite("0 0\n1 0\0 junk\n", 1, 14, f);
+    fclose(f);
+    char msg[1024];
+    cr_assert(vi_profile_load(path, R, 0, msg, sizeof msg) == NULL);
+    cr_assert(strstr(msg, "line 2: expected two numbers x [m] and h [m], found 3 fields '1' '0\\x00' 'junk' (separator: "
+                          "blanks): it holds a NUL byte (a binary or UTF-16 file?)"), "%s", msg);
+    /* byte-order marks of UTF-16 (little- and big-endian); a first line merely holding such bytes is no mark */
+    file_refused("\xFF\xFE" "0 0\n", ", line 1: the file starts with a UTF-16 or UTF-32 byte-order mark; save it as UTF-8 "
+                                     "or ASCII text");
+    file_refused("\xFE\xFF" "0 0\n", ", line 1: the file starts with a UTF-16 or UTF-32 byte-order mark");
+    file_refused("0\xFE 0\n1 0\n", ", line 1: expected two numbers x [m] and h [m], found 2 fields '0\\xFE' '0'");
+    file_refused("\xFF" "0 0\n1 0\n", ", line 1: expected two numbers x [m] and h [m], found 2 fields '\\xFF0' '0'");
+    file_refused("\xFE" "0 0\n1 0\n", ", line 1: expected two numbers x [m] and h [m], found 2 fields '\\xFE0' '0'");
+    file_refused("0\xFF 0\n1 0\n", ", line 1: expected two numbers x [m] and h [m], found 2 fields '0\\xFF' '0'");
+}
+
+/* A UTF-8 byte-order mark (EF BB BF, as some editors write) before the first row or comment is skipped. */
+Test(profile, a_utf8_byte_order_mark_is_skipped)
+{
+    char msg[512];
+    const char *texts[] = {"\xEF\xBB\xBF" "0 0\n1 1e-4\n2 0\n", "\xEF\xBB\xBF# x h\r\n0 0\r\n1 1e-4\r\n2 0\r\n"};
+    for (size_t i = 0; i < 2; i++) {
+        vi_profile *p = vi_profile_load(write_file(texts[i]), R, 0, msg, sizeof msg);
+        cr_assert(p != NULL, "%s", msg);
+        cr_assert(vi_profile_x_first(p) == 0.0 && vi_profile_x_last(p) == 2.0 && yb(p, 1.0) == 1e-4);
+        vi_profile_free(p);
+    }
+    /* only on the first line: the mark inside the file is no number */
+    file_refused("0 0\n\xEF\xBB\xBF" "1 0\n", ", line 2: expected two numbers x [m] and h [m], found 2 fields "
+                                             "'\\xEF\\xBB\\xBF1' '0'");
+}
+
+/* Too few rows each have their message: an empty file, a file of blank lines and comments (a BOM
+ * alone is blank), one data row (named by its line). */
+Test(profile, empty_files_and_files_without_two_rows_are_refused)
+{
+    file_refused("", ": the file is empty; a profile needs at least two rows x [m] h [m]");
+    file_refused("# x h\n\n   \n", ": no data rows, its 3 lines are blank or comments; a profile needs at least two "
+                                  "rows x [m] h [m]");
+    file_refused("\xEF\xBB\xBF", ": no data rows, its 1 line is blank or comments");
+    file_refused("# x h\n\n5 0\n# end\n", ": one data row (line 3); a profile needs at least two rows x [m] h [m]");
+}
+
+/* A value that is not finite names which one; an x that does not increase names the line of the row
+ * before it (comments between counted). */
+Test(profile, non_finite_values_and_x_not_increasing_name_their_lines)
+{
+    file_refused("0 0\nnan 1\n", ", line 2: x = nan, h = 1: x is not finite (a number beyond 1.8e308, inf or nan)");
+    file_refused("0 0\n1 -1e400\n", ", line 2: x = 1, h = -inf: h is not finite");
+    file_refused("0 0\ninf NaN\n", ", line 2: x = inf, h = nan: x and h are not finite");
+    file_refused("0 0\n# a comment\n2 0\n\n2 1\n", ", line 5: x = 2 is not greater than x = 2 on line 3 (x must increase)");
+}
+
+/* One row more than VI_PROFILE_ROWS_MAX is refused at that row's line (the table is read up to it). */
+Test(profile, more_rows_than_the_cap_are_refused, .timeout = 120)
+{
+    char path[64], msg[512];
+    snprintf(path, sizeof path, "/tmp/vi_profile_cap_%d.txt", (int)getpid());
+    FILE *f = fopen(path, "w");
+    cr_assert(f != NULL);
+    fputs("# one row more than the cap\n", f);
+    for (long i = 0; i <= VI_PROFILE_ROWS_MAX; i++) fprintf(f, "%ld 0\n", i);
+    fclose(f);
+    vi_profile *p = vi_profile_load(path, R, 0, msg, sizeof msg);
+    remove(path);
+    cr_assert(p == NULL);
+    char want[256];
+    snprintf(want, sizeof want, "profile_file '%s', line %d: more than %d rows, the most a profile may have", path,
+             VI_PROFILE_ROWS_MAX + 2, VI_PROFILE_ROWS_MAX);
+    cr_assert(strcmp(msg, want) == 0, "%s", msg);
+}
+
+/* A periodic table whose last vertex x_n-1 + k L differs after rounding from the next copy's first,
+ * x_0 + (k + 1) L: the envelope's domains still chain (it was refused as "a gap in the envelope"),
+ * and yb near the seam agrees with the definition on the unrolled table to the slope times the
+ * spacing of doubles there. */
+/* A periodic table of n <= 5 rows whose segments are all longer than r: p's yb at 201 points across
+ * [c - w, c + w] for each of the nc centres c against the definition on the table unrolled one copy
+ * each side, to the slope times the spacing of doubles at the table's far end (a position is reduced
+ * into [x_first, x_last], rounded there). */
+static void periodic_matches_the_definition(const vi_profile *p, const double *x, const double *h, size_t n, double r,
+                                            const double *centres, int nc, double w)
+{
+    double L = x[n - 1] - x[0], far = fmax(fabs(x[0]), fabs(x[n - 1])), xu[16], hu[16];
+    size_t nu = 0;
+    for (int k = -1; k <= 1; k++)
+        for (size_t i = (k == -1 ? 0 : 1); i < n; i++) xu[nu] = x[i] + k * L, hu[nu] = h[i], nu++;
+    for (int c = 0; c < nc; c++)
+        for (int k = 0; k <= 200; k++) {
+            double at = centres[c] - w + 2.0 * w * k / 200.0, y[4], ref = brute(xu, hu, nu, r, at);
+            vi_profile_eval(p, at, y);
+            double tol = 1e-12 * r + 8.0 * DBL_EPSILON * far * (1.0 + fabs(y[1]));
+            cr_assert(fabs(y[0] - ref) <= tol, "x %.17g: yb %.17g, by the definition %.17g (tol %g)", at, y[0], ref, tol);
+        }
+}
+
+Test(profile, a_periodic_seam_rounded_apart_leaves_no_gap)
+{
+    double x[] = {-0.10166743402446966, -0.10158941869246281, 15.589183792583125, 28.067565743214107, 28.067587137412833};
+    double h[] = {0.9832667256627543, 2.1718357294666744, 1.2396848249433958, 0.48296507517013931, 0.9832667256627543};
+    double r = 1.9346202038855385e-07, centres[] = {x[4], x[0] + 2.0 * r};
+    vi_profile *p = make(x, h, 5, r, 1);
+    periodic_matches_the_definition(p, x, h, 5, r, centres, 2, 4.0 * r); /* the seam, and across the first wall */
+    vi_profile_free(p);
+}
+
+/* A periodic table with a wall steeper than doubles resolve at its position: the body leaves the wall
+ * R1/(hyp (hyp + |s|)) = 1.0e-15 m before its top, less than the spacing of doubles at x = 16.48
+ * (2^-48 = 3.6e-15 m), so the envelope in doubles is vertical there. It is refused naming the rows,
+ * the slope (1.1749 m over 48.7 um) and the slope doubles resolve there, sqrt(R1/(2 spacing)),
+ * not as an internal error. */
+Test(profile, a_wall_steeper_than_doubles_resolve_is_refused_naming_its_rows)
+{
+    double x[] = {-0.46331928351137353, 16.478735101136888, 16.478783788505101};
+    double h[] = {3.3603288399901734, 2.1854535280021321, 3.3603288399901734};
+    double r = 1.217226034797203e-06, s = (h[2] - h[1]) / (x[2] - x[1]), spacing = ldexp(1.0, -48);
+    char expect[512];
+    snprintf(expect, sizeof expect, "bad: rows 2 and 3 (x = 16.478735101136888 and 16.478783788505101 m) make a slope of "
+             "%.6g, too steep for R1 = 1.21723e-06 m near x = 16.4788 m: the body leaves that segment %.2g m before its "
+             "end, less than the spacing of doubles there (%.2g m), and yb is vertical; slopes up to about %.3g",
+             s, r / (2.0 * s * s), spacing, sqrt(r / (2.0 * spacing)));
+    refused(x, h, 3, r, 1, expect);
+    /* the mirror image, one period on: the wall falls from the first row (the vertex at the seam, x = 16 m) */
+    double xm[] = {16.0, 16.000048687368214, 32.942102687368212};
+    refused(xm, h, 3, r, 1, "bad: rows 1 and 2 (x = 16 and 16.000048687368214 m) make a slope of -24131, too steep for "
+                            "R1 = 1.21723e-06 m near x = 16 m");
+    /* 8 times the radius: 8e-15 m, above the spacing and the rounding of x, and it is rolled over */
+    vi_profile *p = make(x, h, 3, 8.0 * r, 1);
+    cr_assert(fabs(vi_profile_max_slope(p) - s) <= 1e-6 * s, "max slope %.17g, the wall's %.17g", vi_profile_max_slope(p), s);
+    vi_profile_free(p);
+}
+
+/* A periodic table ending with a wall 0.35 m high and 4.6 um wide (slope -76770): at the seam the
+ * wall's parallel is reached from x_last = 26.7 m on the left and from x_first = -0.0022 m on the
+ * right, positions whose rounding differs by the spacing of doubles at 26.7 m (3.6e-15 m), times the
+ * slope: 2e-10 m. That is the seam's rounding, no step (it was refused as one: the allowance took the
+ * rounding at x_first); yb near the seam against the definition to the slope times that spacing. */
+Test(profile, the_seam_of_a_periodic_table_is_rounded_at_its_last_row)
+{
+    double x[] = {-0.0022442443306763863, 6.6918654128405564, 23.857625585914416, 26.721692322158113, 26.721696926646633};
+    double h[] = {0.089119036257788081, 2.5992689847942763, 1.9958331286887794, 0.44260680370154182, 0.089119036257788081};
+    double r = 1.9593007941540804e-05, centres[] = {x[0], x[4]};
+    vi_profile *p = make(x, h, 5, r, 1);
+    periodic_matches_the_definition(p, x, h, 5, r, centres, 2, 2.0 * r);
+    vi_profile_free(p);
+}
+
+/* A periodic table whose wall (slope 17026) rises to the seam with R1 = 1.95e-8 m: the body leaves
+ * it R1/(2 s^2) = 3.4e-17 m before its top, more than the spacing of doubles at 0.153 m (2.8e-17 m),
+ * so it is rolled over (it was refused as too steep: the last vertex of each copy, x_last + k L, and
+ * the first of the next, x_first + (k + 1) L, were rounded apart by more than that). yb around the
+ * seam against the definition, and the largest slope is the wall's, to the rounding of the corner. */
+Test(profile, a_steep_wall_at_the_seam_that_doubles_resolve_is_rolled_over)
+{
+    double x[] = {-0.5347939573856042, 0.15301676567318712, 0.1530861505024072};
+    double h[] = {2.5300901092263359, 1.3487220724805826, 2.5300901092263359};
+    double r = 1.9527121758799592e-08, s = (h[2] - h[1]) / (x[2] - x[1]), centres[] = {x[2], x[1]};
+    vi_profile *p = make(x, h, 3, r, 1);
+    periodic_matches_the_definition(p, x, h, 3, r, centres, 2, 4.0 * r); /* the seam and the wall's foot */
+    /* on the wall's parallel the slope is s; where the corner's circle takes over, its slope is s
+     * to the rounding of that boundary, which moves R1 + u by the spacing: more there, by 4e-4 */
+    cr_assert(vi_profile_max_slope(p) >= s && vi_profile_max_slope(p) <= 1.01 * s, "max slope %.17g, the wall's %.17g",
+              vi_profile_max_slope(p), s);
+    vi_profile_free(p);
 }

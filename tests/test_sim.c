@@ -169,7 +169,9 @@ Test(sim, a_solver_that_cannot_start_fails_the_initialization)
     s.d.par.contact_model = VI_ContactModel_hertz;
     s.d.par.P = 1e300, s.d.par.m = 1e-10, s.d.par.init = VI_Init_touching, s.d.par.v0 = 1.0;
     cr_assert(vi_sim_initialize(&s) < 0, "initialized");
-    cr_assert(strstr(s.msg, "could not create the solver"), "%s", s.msg);
+    cr_assert(strstr(s.msg, "could not create the solver at t = 0 s: no first step from the initial state (the load's "
+                            "acceleration (P + m g - F_ext)/m = inf m/s2); the contact's time scale sqrt(m/k) = "), "%s", s.msg);
+    cr_assert(strstr(s.msg, "; raise m, or lower P or the contact's stiffness"), "%s", s.msg);
     vi_sim_free(&s);
 }
 
@@ -671,12 +673,12 @@ Test(sim, data_check_looks_at_the_one_step_continuation_only_where_it_is_used)
 
 /* ---- what the log messages of the loop report ----------------------------------------------------- */
 
-static char logged[8][512];
+static char logged[16][1024];
 static int n_logged, log_category;
 static void capture(void *env, int category, const char *fmt, ...)
 {
     (void)env;
-    if (category != log_category || n_logged >= 8) return;
+    if (category != log_category || n_logged >= 16) return;
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(logged[n_logged++], sizeof logged[0], fmt, ap);
@@ -745,7 +747,8 @@ Test(sim, solver_failure_message_gives_the_state)
     char expect[512];
     snprintf(expect, sizeof expect, "the solver failed near t = %.17g s (mode 0, delta = %g m, v = %g m/s)", s.d.t,
              s.d.x[0], s.d.x[1]);
-    cr_assert(strcmp(s.msg, expect) == 0, "expected '%s', got '%s'", expect, s.msg);
+    cr_assert(strncmp(s.msg, expect, strlen(expect)) == 0 && strstr(s.msg, "; the contact's time scale sqrt(m/k) = "),
+              "expected '%s' and the time scale, got '%s'", expect, s.msg);
     cr_assert(s.d.t >= 1e-3 && s.d.t < 2e-3 && s.d.x[0] < 0.0 && s.d.x[1] != s.d.x[0], "%s", s.msg);
     vi_sim_free(&s);
 }
@@ -1121,5 +1124,55 @@ Test(sim, a_guard_within_rounding_of_zero_gets_the_band_of_its_noise)
         cr_assert(vi_sim_advance(&s, s.d.t + 1e-9) == VI_SIM_OK, "%s", s.msg);
         cr_assert(s.d.events.band[0] == (k ? 0.0 : band_at_contact(&s)), "delta %g: band %g", at[k], s.d.events.band[0]);
     }
+    vi_sim_free(&s);
+}
+
+/* ---- the solver's warnings: relayed once a kind, counted exactly ----------------------------------- */
+
+#define KIND_A "CVODE CVode: Internal t = %.17g and h = %g are such that t + h = t on the next step."
+
+/* 1005 warnings of one kind (numbers of every form: 1, 1.0000000000000002, 1e-18, -3.5E+07), 3 of a
+ * second, one each of two more (four kinds are remembered), 5 of further kinds (two ending in a cut
+ * number): the first of each remembered kind is relayed with the contact's time scale, the report
+ * gives 1004 and 2 more and 5 of other kinds, a report with nothing new says nothing, and a kind seen before is only
+ * counted in the next. */
+Test(sim, solver_warnings_are_relayed_once_a_kind_and_counted_exactly)
+{
+    vi_sim s;
+    n_logged = 0, log_category = VI_LOG_WARNING;
+    vi_sim_init(&s, capture, NULL);
+    cr_assert(vi_sim_initialize(&s) == 0 && n_logged == 0, "%s", s.msg);
+    for (int i = 0; i < 1000; i++) vi_sim_solver_log(&s, VI_LOG_WARNING, KIND_A, 1.0 + i * DBL_EPSILON, i * 1e-18);
+    vi_sim_solver_log(&s, VI_LOG_WARNING, "%s", "The above warning has been issued 10 times.");
+    vi_sim_solver_log(&s, VI_LOG_WARNING, KIND_A, -3.5e7, -3.5e7);
+    vi_sim_solver_log(&s, VI_LOG_WARNING, "%s", "The above warning has been issued 11 times.");
+    vi_sim_solver_log(&s, VI_LOG_WARNING, "%s", "The above warning has been issued 12 times.");
+    for (int i = 0; i < 4; i++) vi_sim_solver_log(&s, VI_LOG_WARNING, KIND_A, 2.0, 5e-300);
+    vi_sim_solver_log(&s, VI_LOG_WARNING, "%s", "kind C");
+    vi_sim_solver_log(&s, VI_LOG_WARNING, "%s", "kind D at t = 1");
+    for (int i = 0; i < 3; i++) vi_sim_solver_log(&s, VI_LOG_WARNING, "kind %c", 'E' + i);
+    vi_sim_solver_log(&s, VI_LOG_WARNING, "%s", "kind D at t = 1e"); /* numbers cut at the end: other kinds */
+    vi_sim_solver_log(&s, VI_LOG_WARNING, "%s", "kind D at t = -");
+    cr_assert(n_logged == 4, "%d relayed", n_logged);
+    cr_assert(strncmp(logged[0], "CVODE CVode: Internal t = 1 and h = 0 are such that t + h = t on the next step. (the "
+                      "contact's time scale sqrt(m/k) = ", 106) == 0, "%s", logged[0]);
+    cr_assert(strstr(logged[0], "further warnings like this one are counted, not repeated)"), "%s", logged[0]);
+    cr_assert(strncmp(logged[1], "The above warning has been issued 10 times. (", 45) == 0, "%s", logged[1]);
+    cr_assert(strncmp(logged[2], "kind C (", 8) == 0 && strncmp(logged[3], "kind D at t = 1 (", 17) == 0, "%s", logged[3]);
+    vi_sim_report_warnings(&s);
+    cr_assert(n_logged == 7, "%d", n_logged);
+    cr_assert(strcmp(logged[4], "1004 more solver warnings like \"CVODE CVode: Internal t = 1 and h = 0 are such that "
+                     "t + h = t on the next step.\" by t = 0 s (counted, not relayed)") == 0, "%s", logged[4]);
+    cr_assert(strcmp(logged[5], "2 more solver warnings like \"The above warning has been issued 10 times.\" by t = 0 s "
+                     "(counted, not relayed)") == 0, "%s", logged[5]);
+    cr_assert(strcmp(logged[6], "5 more solver warnings of other kinds by t = 0 s (counted, not relayed)") == 0, "%s",
+              logged[6]);
+    vi_sim_report_warnings(&s);
+    cr_assert(n_logged == 7, "a second report repeats: %s", logged[7]);
+    vi_sim_solver_log(&s, VI_LOG_WARNING, "%s", "kind D at t = 2.5e-3");
+    cr_assert(n_logged == 7, "a kind seen before relayed again: %s", logged[7]);
+    cr_assert(vi_sim_advance(&s, 1e-4) == VI_SIM_OK, "%s", s.msg); /* every advance ends with a report */
+    cr_assert(n_logged == 8 && strncmp(logged[7], "1 more solver warnings like \"kind D at t = 1\" by t = 0.0001 s", 60) == 0,
+              "%d: %s", n_logged, logged[7]);
     vi_sim_free(&s);
 }

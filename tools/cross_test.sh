@@ -31,8 +31,13 @@
 # The wheel (dist/*.whl): tools/wheel_test.py installs it into a fresh virtual environment with no
 # compiler on the PATH and runs the FMUs inside through fmpy and the `vibroimpact` command.
 # A missing wine64 or qemu-aarch64 fails the run (VI_WINE, VI_QEMU: use these programs instead).
+# Any failing part fails the run: every failure goes through failed(), which also writes it to a file, so
+# that one inside a command substitution or a pipe (a subshell, whose variables are lost) still counts;
+# inherit_errexit makes a failing command inside $(...) end that subshell. fmu-test/test_cross_test.py runs
+# this script on stand-ins with each part failing.
 # Usage: tools/cross_test.sh  (PYTHON, JOBS as for tools/release.sh)
 set -euo pipefail
+shopt -s inherit_errexit
 cd "$(dirname "$0")/.."
 ROOT=$PWD
 TOLERANCE=1e-7
@@ -44,8 +49,9 @@ OUT=$BUILD/cross-test
 
 ./tools/release.sh
 
-fail=0
-failed() { echo "cross_test: FAILED: $*" >&2; fail=1; }
+FAILURES=$(mktemp)
+trap 'rm -f "$FAILURES"' EXIT
+failed() { echo "cross_test: FAILED: $*" >&2; echo "$*" >>"$FAILURES"; }
 
 WINE=${VI_WINE-$(command -v wine64 || command -v wine || { [ -x /usr/lib/wine/wine64 ] && echo /usr/lib/wine/wine64; } || true)}
 QEMU=${VI_QEMU-$(command -v qemu-aarch64 || command -v qemu-aarch64-static || true)}
@@ -58,6 +64,7 @@ export WINEPREFIX=$BUILD/wine WINEDEBUG=-all WINEDLLOVERRIDES="mscoree,mshtml="
 NATIVE_DRIVER=$BUILD/x86_64-linux/fmu_driver
 guid() { grep -o '{[^}]*}' "$1" | head -n 1; }
 GUID=$(guid tests/layer_fmu/layer_variables.h)
+[ -n "$GUID" ] || failed "no GUID in tests/layer_fmu/layer_variables.h"
 declare -A COMPANION_GUID=([Track]=$(guid examples/vehicle-track/track/track_variables.h)
                            [Vehicle]=$(guid examples/vehicle-track/vehicle/vehicle_variables.h))
 declare -A COMPANION_INPUT=([Track]=1e5 [Vehicle]=1e-3) # F_contact [N], y_wheel [m]
@@ -136,8 +143,10 @@ for target in x86_64-windows aarch64-linux; do
   [ "$target" = x86_64-windows ] && uris+=("file:///z:$RESOURCES" "file:///Z%3A$RESOURCES" "file://$RESOURCES")
   n_ok=0
   for uri in "${uris[@]}"; do
-    got=$(on "$target" layer "$(lib_on "$target" LayerTest)" "$GUID" "$uri" 2>&1 | tr -d '\r') || true
-    if [ "$got" = "$EXPECTED_RESOURCE" ]; then n_ok=$((n_ok + 1)); else failed "$target: LayerTest read '$got' from $uri (expected $EXPECTED_RESOURCE)"; fi
+    status=0
+    got=$(on "$target" layer "$(lib_on "$target" LayerTest)" "$GUID" "$uri" 2>&1 | tr -d '\r') || status=$?
+    if [ "$status" -eq 0 ] && [ "$got" = "$EXPECTED_RESOURCE" ]; then n_ok=$((n_ok + 1))
+    else failed "$target: LayerTest read '$got' from $uri (expected $EXPECTED_RESOURCE; exit status $status)"; fi
   done
   report "$target" resources "LayerTest read $EXPECTED_RESOURCE through $n_ok of ${#uris[@]} resource URIs"
   # cases against this machine's records
@@ -181,8 +190,10 @@ compare_runs() {
 }
 mkdir -p "$OUT/fmu3"
 (cd "$OUT/fmu3" && cmake -E tar xf "$ROOT/dist/fmi3/VibroImpact.fmu")
-mapfile -t CASES3 < <("$NATIVE_DRIVER3" cases)
-[ ${#CASES3[@]} -gt 0 ] || failed "fmu3_driver lists no cases"
+CASES3=()
+if ! case_list=$("$NATIVE_DRIVER3" cases); then failed "x86_64-linux: fmu3_driver cases fails"
+elif [ -z "$case_list" ]; then failed "x86_64-linux: fmu3_driver cases lists no case"
+else mapfile -t CASES3 <<<"$case_list"; fi
 mkdir -p "$OUT/fmi3/x86_64-linux"
 for c in "${CASES3[@]}"; do
   on3 x86_64-linux run "$OUT/fmu3/binaries/x86_64-linux/VibroImpact.so" "$c" >"$OUT/fmi3/x86_64-linux/$c.txt" \
@@ -207,12 +218,12 @@ done
 # source FMUs: fmpy's build here (FMI 2.0 and 3.0), mingw's under wine (FMI 2.0)
 SRC=$OUT/source
 rm -rf "$SRC"
-build_from_sources() { # <label> <tool arguments...>: the built library's path on stdout
+build_from_sources() { # <label> <tool arguments...>: the built library's path on stdout (run in $(...))
   local label=$1 log="$SRC/$1.log"
   shift
   mkdir -p "$SRC"
   if "$PYTHON" "$ROOT/tools/fmu_source_build.py" "$@" >"$log" 2>&1; then tail -n 1 "$log"
-  else failed "the $label build from sources: $(tail -n 5 "$log")"; fi
+  else failed "the $label build from sources: $(tail -n 5 "$log")"; return 1; fi
 }
 # source_runs <label: how-version> <reference records> <runner: on or on3> <target> <library> <cases...>:
 # every case on the library built from sources, against the shipped binary's records
@@ -226,14 +237,15 @@ source_runs() {
     else failed "source-${label%%-*}: ${label#*-} case $c fails: $(tr -d '\r' <"$dir/$c.err" | tail -n 5)"; fi
   done
 }
-lib=$(build_from_sources fmpy-fmi2 fmpy "$ROOT/dist/fmi2/VibroImpact.fmu" "$SRC/fmpy-fmi2")
-[ -z "$lib" ] || source_runs fmpy-fmi2 "$OUT/x86_64-linux" on x86_64-linux "$lib" "${CASES[@]}"
-lib=$(build_from_sources fmpy-fmi3 fmpy "$ROOT/dist/fmi3/VibroImpact.fmu" "$SRC/fmpy-fmi3")
-[ -z "$lib" ] || source_runs fmpy-fmi3 "$OUT/fmi3/x86_64-linux" on3 x86_64-linux "$lib" "${CASES3[@]}"
-if [ -n "$WINE" ]; then
-  lib=$(build_from_sources mingw-fmi2 cc "$ROOT/dist/fmi2/VibroImpact.fmu" "$SRC/mingw-fmi2" --target x86_64-windows \
-        -- x86_64-w64-mingw32-gcc-win32)
-  [ -z "$lib" ] || source_runs mingw-fmi2 "$OUT/x86_64-windows" on x86_64-windows "$lib" "${CASES[@]}"
+if lib=$(build_from_sources fmpy-fmi2 fmpy "$ROOT/dist/fmi2/VibroImpact.fmu" "$SRC/fmpy-fmi2"); then
+  source_runs fmpy-fmi2 "$OUT/x86_64-linux" on x86_64-linux "$lib" "${CASES[@]}"
+fi
+if lib=$(build_from_sources fmpy-fmi3 fmpy "$ROOT/dist/fmi3/VibroImpact.fmu" "$SRC/fmpy-fmi3"); then
+  source_runs fmpy-fmi3 "$OUT/fmi3/x86_64-linux" on3 x86_64-linux "$lib" "${CASES3[@]}"
+fi
+if [ -n "$WINE" ] && lib=$(build_from_sources mingw-fmi2 cc "$ROOT/dist/fmi2/VibroImpact.fmu" "$SRC/mingw-fmi2" \
+                             --target x86_64-windows -- x86_64-w64-mingw32-gcc-win32); then
+  source_runs mingw-fmi2 "$OUT/x86_64-windows" on x86_64-windows "$lib" "${CASES[@]}"
 fi
 # --- end FMI 3.0 binaries and source FMUs ---
 
@@ -249,8 +261,8 @@ fi
 # --- end the wheel ---
 
 [ ${#summary[@]} -eq 0 ] || printf 'cross_test: %s\n' "${summary[@]}"
-if [ "$fail" -ne 0 ]; then
-  echo "cross_test: FAILED (records in ${OUT#"$ROOT"/})" >&2
+if [ -s "$FAILURES" ]; then
+  echo "cross_test: FAILED: $(wc -l <"$FAILURES") failures (records in ${OUT#"$ROOT"/})" >&2
   exit 1
 fi
 echo "cross_test: all passed (records in ${OUT#"$ROOT"/})"

@@ -10,8 +10,10 @@ negated or forced condition, a changed return status; code compiled for Windows 
 _WIN32, is left out: the host build does not compile it, tools/cross_test.sh runs it under wine). It
 is built in a scratch copy of the repository (build/mutate/scratch; a build that fails is
 "stillborn" and not scored) and run against the tests that execute the mutated line, and only those:
-a mutant is "killed" when one of them fails, and again when rerun, or the run exceeds its time limit
-(three times the tests' measured time plus 60 s), it "survives" when all of them pass, and it is
+a mutant is "killed" when one of them fails, and again when rerun; it is a "timeout" when the run
+exceeds its time limit (three times the tests' measured time plus 60 s) or the only failures are tests
+stopped at their own limit (pytest.ini's timeout, ctest's TIMEOUT): a hang is no failure, so a timeout
+is counted, listed (with --json: its own verdict and count) and left out of the score; it "survives" when all of them pass, and it is
 "uncovered" (a survivor) when no test executes its line (a continuation line takes the tests of its
 statement's first line, and a declaration or a static table's initializer, on which gcov counts no
 code, those of its function). The tests run as tools/test.sh runs them: the FMU tests with the
@@ -46,8 +48,9 @@ prints the names with the line and column of today. The same names key tools/mut
 
 --equivalents replays the mutants listed in tools/mutants-equivalent.txt under every condition of the
 test command (the FMU tests that execute the line with every solver, the C tests also in the
-sanitized build) and lists those a test kills, and the stale entries; its exit status is 1 then (a
-step of a release: doc/testing.md). A locale is a condition only through the tests that set it
+sanitized build) and lists those a test kills or that time out, and the stale entries (names no
+mutant of today's src/ has); its exit status is 1 then, and --json holds both lists (a step of a
+release: doc/testing.md, "Equivalent mutants", says when it last ran and what it found). A locale is a condition only through the tests that set it
 themselves: the environment's does not reach the code (a test run with LC_ALL=de_DE.utf8 still has
 LC_NUMERIC "C" in a Criterion test and in pytest, which set no numeric locale).
 
@@ -510,7 +513,7 @@ def configure_and_build(source, build, extra, label):
 
 # ---- the coverage map --------------------------------------------------------------------------
 
-MAP_FORMAT = "v2"  # the FMU tests per solver, with their shared fixtures' and imports' lines
+MAP_FORMAT = "v3"  # the FMU tests per solver, with their shared fixtures', caches' and imports' lines
 COVERAGE_FLAGS = ["-DVI_COVERAGE=ON", "-DCMAKE_BUILD_TYPE=Debug", "-DCMAKE_C_FLAGS=--coverage -O0",
                   "-DCMAKE_EXE_LINKER_FLAGS=--coverage", "-DCMAKE_SHARED_LINKER_FLAGS=--coverage"]
 
@@ -566,16 +569,23 @@ def merge_lines(into, lines):
     return into
 
 
+def fingerprint(value):
+    """What a test changes when it fills a cache a fixture handed out: the sizes of a container, of an
+    object's attributes (functools.cached_property) and of its class's functools.lru_cache methods."""
+    sizes = []
+    if isinstance(value, (dict, list, set)):
+        sizes.append(len(value))
+    if hasattr(value, "__dict__") and not isinstance(value, type):
+        sizes.append(len(vars(value)))
+        for name in dir(type(value)):
+            info = getattr(getattr(type(value), name, None), "cache_info", None)
+            if callable(info):
+                sizes.append(info().currsize)
+    return tuple(sizes)
+
+
 def pytest_worker(build, out, args):
-    """The coverage run of the FMU tests, in this process (python tools/mutate.py _pytest ...): after
-    each test, the lines it executed (and its time and outcome) as one JSON line in `out`. A test is
-    also given the lines of the work it shares with others, so that a mutant there selects every test
-    that reads the shared result, not only the one that happened to do the work: the setup of every
-    module- or session-scoped fixture it uses (run once, in the first test that asks for it, and
-    cached), what its module executed when it was imported (collection), and the lines of every test
-    that uses the same module- or class-scoped fixture (such a fixture may hand out a cache that the
-    first test to ask fills: test_paper.py's `compared`). Longer than a screen: the plugin's hooks share
-    their state in one class, defined here where pytest is imported."""
+    """The coverage run of the FMU tests, in this process (python tools/mutate.py _pytest ...)."""
     import pytest
 
     build = pathlib.Path(build)
@@ -584,14 +594,34 @@ def pytest_worker(build, out, args):
         flush_loaded_binaries()
         return collect(build)
 
+    os.environ["VI_FMU"] = str(build / "VibroImpact.fmu")  # the FMU the tests use (and its build folder)
+    return pytest.main(["-q", "-p", "no:cacheprovider"] + args,
+                       plugins=[coverage_plugin(flushed, out, lambda: clear_counters(build))])
+
+
+def coverage_plugin(flushed, out, clear=lambda: None):
+    """The pytest plugin of the coverage run: after each test, the lines it executed (and its time and
+    outcome) as one JSON line in `out`; flushed() gives the lines executed since it was last called. A
+    test is also given the lines of the work it shares with others, so that a mutant there selects
+    every test that reads the shared result, not only the one that happened to do the work: the setup
+    of every fixture of a wider scope than the function it uses (run once, in the first test that asks
+    for it, and cached), what its module executed when it was imported (collection), and the lines of
+    every test that uses the same cache: a module- or class-scoped fixture (it may hand out a cache
+    that the first test to ask fills: test_paper.py's `compared`), and a fixture of any scope (session,
+    package) whose value a test changed (fingerprint(): test_docs.py's `sources`, whose facts the
+    first test to ask computes through the FMU). Longer than a screen: the plugin's hooks share their
+    state in one class, defined here where pytest is imported."""
+    import pytest
+
     class CoveragePlugin:
         def __init__(self):
             self.failed, self.entries = False, []
             self.own, self.shared, self.module = {}, {}, {}  # this test's lines; by fixture; by module file
+            self.caches, self.last = set(), {}  # the fixtures whose value a test changed; their last fingerprints
 
         def pytest_sessionstart(self, session):
-            flush_loaded_binaries()
-            clear_counters(build)
+            flushed()
+            clear()
 
         @pytest.hookimpl(hookwrapper=True)
         def pytest_make_collect_report(self, collector):
@@ -610,37 +640,47 @@ def pytest_worker(build, out, args):
             merge_lines(self.own, flushed())
             yield
             merge_lines(self.shared.setdefault(id(fixturedef), {}), flushed())
+            self.last.update(self.values([fixturedef]))
 
         def pytest_runtest_logreport(self, report):
             self.failed |= report.failed
 
+        @staticmethod
+        def values(defs):
+            """{fixture: fingerprint of its value} of the fixtures set up."""
+            return {id(fd): fingerprint(fd.cached_result[0]) for fd in defs if getattr(fd, "cached_result", None)}
+
         @pytest.hookimpl(hookwrapper=True)
         def pytest_runtest_protocol(self, item, nextitem):
             self.failed, self.own, t0 = False, {}, time.monotonic()
-            yield
-            lines = merge_lines(self.own, flushed())
             info = getattr(item, "_fixtureinfo", None)
-            defs = [fd for fds in (info.name2fixturedefs.values() if info else ()) for fd in fds]
+            defs = [fd for fds in (info.name2fixturedefs.values() if info else ()) for fd in fds if fd.scope != "function"]
+            yield
+            now = self.values(defs)  # a value this test changed since its setup or the last test: a cache
+            self.caches |= {k for k, v in now.items() if self.last.get(k, v) != v}
+            self.last.update(now)
+            lines = merge_lines(self.own, flushed())
             for fd in defs:
                 merge_lines(lines, self.shared.get(id(fd), {}))
             merge_lines(lines, self.module.get(str(getattr(item, "path", "")), {}))
-            groups = {id(fd) for fd in defs if fd.scope in ("module", "class")}
+            always = {id(fd) for fd in defs if fd.scope in ("module", "class")}
             self.entries.append((dict(test=item.nodeid, duration=time.monotonic() - t0, passed=not self.failed),
-                                 lines, groups))
+                                 lines, {id(fd) for fd in defs}, always))
 
         def pytest_sessionfinish(self, session):
             group_lines = {}
-            for _, lines, groups in self.entries:
+            grouped = [(entry, lines, {g for g in groups if g in always or g in self.caches})
+                       for entry, lines, groups, always in self.entries]
+            for _, lines, groups in grouped:
                 for g in groups:
                     merge_lines(group_lines.setdefault(g, {}), lines)
             with open(out, "w") as f:
-                for entry, lines, groups in self.entries:
+                for entry, lines, groups in grouped:
                     for g in groups:
                         merge_lines(lines, group_lines[g])
                     f.write(json.dumps(dict(entry, lines={k: sorted(v) for k, v in lines.items()})) + "\n")
 
-    os.environ["VI_FMU"] = str(build / "VibroImpact.fmu")  # the FMU the tests use (and its build folder)
-    return pytest.main(["-q", "-p", "no:cacheprovider"] + args, plugins=[CoveragePlugin()])
+    return CoveragePlugin()
 
 
 def ctest_names(build):
@@ -665,7 +705,8 @@ def coverage_map(rebuild=False):
         rc, _ = run(["ctest", "--test-dir", str(build), "-R", f"^{re.escape(name)}$", "--timeout", "900"], ROOT, 1000)
         tests[f"ctest:{name}"] = dict(duration=time.monotonic() - t, passed=rc == 0, lines=collect(build))
         print(f"  ctest {name}: {tests[f'ctest:{name}']['duration']:.1f} s", flush=True)
-    for solver, select in [("", [])] + [(s, ["-k", test_solvers()[1]]) for s in test_solvers()[0]]:
+    default = ["--solver-tests-out", str(CACHE / "solver-tests.json")]  # read by the passes of the other solvers
+    for solver, select in [("", default)] + [(s, test_solvers()[1]) for s in test_solvers()[0]]:
         clear_counters(build)
         out = CACHE / f"pytest-coverage{solver}.jsonl"
         out.unlink(missing_ok=True)  # a run that writes nothing must not leave an older run's tests behind
@@ -691,14 +732,17 @@ def coverage_map(rebuild=False):
 
 
 def test_solvers():
-    """([VI_SOLVER values], -k expression): the solvers tools/test.sh runs the FMU tests with besides the
-    default, and the tests it selects for them, read from its loop."""
+    """([VI_SOLVER values], [pytest's selecting options]): the solvers tools/test.sh runs the FMU tests with
+    besides the default, and the tests it selects for them (-m or -k and its expression), read from its loop."""
     text = (ROOT / "tools" / "test.sh").read_text()
-    m = re.search(r'for solver in ([\d ]+); do VI_SOLVER=\$solver [^\n]*pytest[^\n]*-k "([^"]*)"', text)
+    m = re.search(r'for solver in ([\d ]+); do\s+VI_SOLVER=\$solver [^\n]*pytest[^\n]*(-[mk]) "([^"]*)"([^\n]*)', text)
     if not m:
-        sys.exit("tools/test.sh: no loop 'for solver in ...; do VI_SOLVER=$solver ... pytest ... -k \"...\"' found: "
+        sys.exit("tools/test.sh: no loop 'for solver in ...; do VI_SOLVER=$solver ... pytest ... -m \"...\"' found: "
                  "mutate.py runs the FMU tests with the solvers of that loop (update test_solvers())")
-    return m.group(1).split(), m.group(2)
+    select = [m.group(2), m.group(3)]
+    if "--solver-tests-from" in m.group(4):  # only the tests VI_SOLVER reaches, as the default pass wrote them
+        select += ["--solver-tests-from", str(CACHE / "solver-tests.json")]
+    return m.group(1).split(), select
 
 
 def by_solver(tests):
@@ -760,6 +804,14 @@ def failed_tests(cmd, out):
     return [m.group(1) for m in re.finditer(r"^FAILED (.+?)(?: - .*)?$", out, re.M)]
 
 
+def timed_out_tests(cmd, out):
+    """The tests a failed command names as stopped at their own time limit (ctest's TIMEOUT, pytest.ini's
+    timeout): a test that hangs has not failed."""
+    if cmd[0] == "ctest":
+        return re.findall(r"^\s*\d+ - (\S+) \(Timeout\)", out, re.M)
+    return [m.group(1) for m in re.finditer(r"^FAILED (.+?) - Failed: Timeout\b", out, re.M)]
+
+
 def rerun_of(cmd, names):
     """cmd narrowed to the tests `names`."""
     if cmd[0] == "ctest":
@@ -770,7 +822,8 @@ def rerun_of(cmd, names):
 
 
 def run_selected(scratch, tests, durations, limit, build="build"):
-    """('passed', ''), ('failed', what failed) or ('timeout', where) for the selected tests (fastest
+    """('passed', ''), ('failed', what failed) or ('timeout', where: the command's limit or a test's own) for
+    the selected tests (fastest
     first, stopping at the first failure) within `limit` seconds: the ctest tests in the scratch copy's
     build folder `build`, the FMU tests with the solver they were selected for (VI_SOLVER, as
     tools/test.sh runs them). A failure counts when it repeats: the failed tests are run again alone,
@@ -811,7 +864,10 @@ def run_confirmed(cmd, env, scratch, deadline, limit):
         if rc in ("timeout", 0):
             return ("passed", "", []) if rc == 0 else ("timeout", out, [])
         names = failed_tests(cmd, out)
-        return "failed", "; ".join(names[:3]) or (out.strip().splitlines() or ["(no output)"])[-1][:300], names
+        why = "; ".join(names[:3]) or (out.strip().splitlines() or ["(no output)"])[-1][:300]
+        if names and set(names) <= set(timed_out_tests(cmd, out)):  # every failure a test's own time limit
+            return "timeout", f"{why}: past its time limit", []
+        return "failed", why, names
 
     result, why, names = outcome(*within(cmd))
     if result != "failed" or not names:
@@ -883,6 +939,12 @@ def stale_entries(equivalent):
     return stale
 
 
+# A test that fails kills the mutant; one that runs past its time limit (the command's or its own) has
+# neither failed nor passed: "timeout", counted and listed apart, outside the score.
+VERDICT = {"passed": "survived", "failed": "killed", "timeout": "timeout"}
+VERDICTS = ("killed", "survived", "uncovered", "timeout", "equivalent", "identical", "stillborn")
+
+
 class Runner:
     """Runs mutants, each in a free scratch copy of the repository (one per job), against the tests the
     coverage map selects for its line; prints a line per mutant as it ends."""
@@ -935,7 +997,7 @@ class Runner:
         else:
             limit = 3 * sum(self.durations[t] for t in tests) + 60
             outcome, why = run_selected(scratch, tests, self.durations, limit)
-            verdict = {"passed": "survived", "failed": "killed", "timeout": "killed"}[outcome]
+            verdict = VERDICT[outcome]
         ctests = [t[len("ctest:"):] for t in tests if t.startswith("ctest:")]
         if verdict == "survived" and ctests and (self.replay or in_array_or_loop_code(m)):
             (verdict, why), how = self.sanitized_run(scratch, ctests), " (sanitized build)"
@@ -960,9 +1022,11 @@ class Runner:
             with self.printing:
                 self.done += 1
                 print(f"[{self.done}/{self.n_mutants} {time.monotonic() - self.t0:6.0f} s] {verdict:10s} {len(tests):3d} "
-                      f"tests {dt:5.1f} s  {m.where}  {m.ident}{how if verdict == 'killed' else ''}", flush=True)
+                      f"tests {dt:5.1f} s  {m.where}  {m.ident}{how if verdict in ('killed', 'timeout') else ''}",
+                      flush=True)
             return dict(name=m.ident, where=m.where, verdict=verdict, tests=len(tests), seconds=dt,
-                        sanitized=bool(how) and verdict == "killed", killed_by=why if verdict == "killed" else "")
+                        sanitized=bool(how) and verdict in ("killed", "timeout"),
+                        killed_by=why if verdict == "killed" else "", timed_out=why if verdict == "timeout" else "")
         finally:
             self.free.put(scratch)
 
@@ -974,7 +1038,7 @@ class Runner:
         names = sanitized_names(ctests, scratch / "build-san")
         limit = 10 * sum(self.durations[f"ctest:{t}"] for t in ctests) + 120
         outcome, why = run_selected(scratch, [f"ctest:{n}" for n in names], self.durations, limit, build="build-san")
-        return ("survived" if outcome == "passed" else "killed"), why
+        return VERDICT[outcome], why
 
     def run_all(self, mutants, jobs):
         with concurrent.futures.ThreadPoolExecutor(jobs) as pool:
@@ -992,17 +1056,18 @@ def print_names(title, rows, fmt):
 
 
 def report(results, seed, n_mutants, equivalent, timing):
-    """The score and the mutants by verdict. Returns the listed equivalents a test killed."""
-    count = {v: [r for r in results if r["verdict"] == v]
-             for v in ("killed", "survived", "uncovered", "equivalent", "identical", "stillborn")}
-    k, s, u = len(count["killed"]), len(count["survived"]), len(count["uncovered"])
+    """The score and the mutants by verdict. Returns the listed equivalents a test killed or that timed out
+    (neither is shown equivalent by the run)."""
+    count = {v: [r for r in results if r["verdict"] == v] for v in VERDICTS}
+    k, s, u, t = (len(count[v]) for v in ("killed", "survived", "uncovered", "timeout"))
     times = [r["seconds"] for r in results if r["verdict"] not in ("stillborn", "identical")]
     print()
-    print(f"seed {seed}: {n_mutants} mutants; killed {k}, survived {s}, uncovered {u}, "
+    print(f"seed {seed}: {n_mutants} mutants; killed {k}, survived {s}, uncovered {u}, timeout {t}, "
           f"equivalent {len(count['equivalent'])}, identical object code {len(count['identical'])}, "
           f"stillborn (do not compile) {len(count['stillborn'])}")
     if k + s + u:
-        print(f"mutation score: {k} of {k + s + u} non-equivalent mutants killed, {100.0 * k / (k + s + u):.1f} %")
+        print(f"mutation score: {k} of {k + s + u} non-equivalent mutants killed, {100.0 * k / (k + s + u):.1f} %"
+              + (f" ({t} timed out, not scored: listed below)" if t else ""))
     if times:
         print(f"time per mutant: mean {statistics.mean(times):.1f} s, median {statistics.median(times):.1f} s; {timing}")
 
@@ -1010,14 +1075,17 @@ def report(results, seed, n_mutants, equivalent, timing):
         return f"  {r['where']}  {r['name']}"
     for v in ("survived", "uncovered"):
         print_names(f"\n{v}:", count[v], where)
+    print_names("\ntimeout (a test ran past its time limit: neither killed nor survived; read why):", count["timeout"],
+                lambda r: where(r) + ("  [sanitized build]" if r["sanitized"] else "") + f"\n      {r['timed_out']}")
     print_names("\nidentical object code (equivalent: the compiler made the same code of it):", count["identical"], where)
     print_names(f"\nequivalent ({EQUIVALENT.relative_to(ROOT)}):", count["equivalent"],
                 lambda r: f"  {r['name']}  # {equivalent[r['name']]}")
     print_names("\nkilled in the sanitized build only:", [r for r in count["killed"] if r["sanitized"]], where)
-    listed_killed = [r for r in count["killed"] if r["name"] in equivalent]
-    print_names(f"\nlisted in {EQUIVALENT.relative_to(ROOT)}, but killed by a test (not equivalent: write down why, "
-                "then take the entry out):", listed_killed,
-                lambda r: where(r) + ("  [sanitized build]" if r["sanitized"] else "") + f"\n      by {r['killed_by']}")
+    listed_killed = [r for r in count["killed"] + count["timeout"] if r["name"] in equivalent]
+    print_names(f"\nlisted in {EQUIVALENT.relative_to(ROOT)}, but killed by a test or timed out (not shown equivalent: "
+                "write down why, then take the entry out):", listed_killed,
+                lambda r: where(r) + ("  [sanitized build]" if r["sanitized"] else "")
+                + f"\n      {'by ' + r['killed_by'] if r['verdict'] == 'killed' else 'timeout: ' + r['timed_out']}")
     return listed_killed
 
 
@@ -1051,8 +1119,15 @@ def main():
     timing = (f"mutants {time.monotonic() - runner.t0:.0f} s ({jobs} at once), whole run {time.monotonic() - t_start:.0f} s "
               f"(coverage map {'cached' if cmap.get('cached') else 'built in %.0f s' % cmap['seconds']})")
     listed_killed = report(results, seed, len(mutants), equivalent, timing)
+    if stale:  # again at the end of a long run, with the killed entries
+        print(f"\n{len(stale)} stale entries of {EQUIVALENT.relative_to(ROOT)} (they name no mutant of today's src/):")
+        for e in stale:
+            print("  " + e)
     if args.json:
-        pathlib.Path(args.json).write_text(json.dumps(dict(seed=seed, command=command, results=results), indent=1))
+        counts = {v: sum(r["verdict"] == v for r in results) for v in VERDICTS}
+        pathlib.Path(args.json).write_text(json.dumps(dict(
+            seed=seed, command=command, counts=counts, stale=stale, listed_killed=[r["name"] for r in listed_killed],
+            results=results), indent=1))
     return 1 if args.equivalents and (listed_killed or stale) else 0
 
 

@@ -36,6 +36,7 @@
 # wine64, qemu-user, dpkg-dev, llvm, zig) and, the first time, lists source packages for the Debian
 # archive entry of /etc/apt/sources.list.d/debian.sources (Types: deb deb-src).
 set -euo pipefail
+shopt -s inherit_errexit # a failing command inside $(...) fails it (the checks below run in $(...))
 cd "$(dirname "$0")/.."
 ROOT=$PWD
 JOBS=${JOBS:-$(nproc)}
@@ -140,10 +141,10 @@ configure_and_build() { # <target> <cmake arguments...>
   cmake --build "$dir" -j"$JOBS" --target "${FMUS[@]}" fmu_driver fmu3_driver LayerTest >>"$log" 2>&1 \
     || { tail -n 40 "$log"; die "build for $target failed ($log)"; }
   # the FMUs (where FMI 2.0 names the platform; and FMI 3.0 ones when the sources make them)
-  local fmu_targets
-  fmu_targets=$(cmake --build "$dir" --target help 2>/dev/null \
-                | sed -n 's/^\.\.\. \([A-Za-z0-9_]*_fmu[0-9]*\)$/\1/p; s/^\([A-Za-z0-9_]*_fmu[0-9]*\): phony$/\1/p' \
-                | grep -v '^LayerTest_' || true)
+  local help fmu_targets
+  help=$(cmake --build "$dir" --target help 2>>"$log") || die "cmake --build $dir --target help failed ($log)"
+  fmu_targets=$(sed -n 's/^\.\.\. \([A-Za-z0-9_]*_fmu[0-9]*\)$/\1/p; s/^\([A-Za-z0-9_]*_fmu[0-9]*\): phony$/\1/p' <<<"$help" \
+                | grep -v '^LayerTest_' || true) # grep: no FMU target left is no error
   if [ -n "$fmu_targets" ]; then
     # shellcheck disable=SC2086
     cmake --build "$dir" -j"$JOBS" --target $fmu_targets >>"$log" 2>&1 \
@@ -243,7 +244,7 @@ check_macho() { # <dylib> <prefix> <arch>: loads only libSystem, exports only <p
   if [ "$arch" = ARM64 ]; then
     llvm-objdump --macho --all-headers "$lib" | grep -q "cmd LC_CODE_SIGNATURE" || die "$lib is not signed (macOS on ARM loads only signed code)"
   fi
-  minos=$(llvm-objdump --macho --all-headers "$lib" | awk '$1 == "minos" { print $2; exit }')
+  minos=$(llvm-objdump --macho --all-headers "$lib" | awk '$1 == "minos" && !seen { print $2; seen = 1 }')
   echo "loads ${used% }; exports $(wc -l <<<"$exports") $prefix* functions; macOS $minos or later"
 }
 # --- end macOS binaries ---

@@ -15,6 +15,7 @@ import numpy as np
 
 from . import plotting
 from .failure import out_dir
+from .files import write_text
 from .fmu import NAME
 from .reference.closed_forms import effective
 from .reference.scenarios import SCENARIOS
@@ -250,7 +251,7 @@ def run_suite(repeat, quick, outdir, build, only=None, other_build=None):
         plotting.save(plotting.work_precision_figure(results, rtols, CASES, SOLVERS, BOUND),
                       outdir / "work_precision.png", DPI)
         plotting.save(plotting.cost_figure(results, SOLVERS), outdir / "cost.png", DPI)
-    (outdir / "bench.md").write_text("\n".join(lines) + "\n")
+    write_text(outdir / "bench.md", "\n".join(lines) + "\n")
     print(f"\nwritten: {outdir / 'bench.md'} and the PNG plots in {outdir}")
 
 

@@ -60,9 +60,10 @@ class Runner:
         self.unzipdir = unzipdir or extract(fmu)
         self.vr = {v.name: v.valueReference for v in self.md.modelVariables}
 
-    def run(self, name, t, rtol=RTOL_FMU, solver=None):
+    def run(self, name, t, rtol=RTOL_FMU, solver=None, warned=None):
         """-> ({output name: samples at t}, [(t, before, after) of each mode change]); solver: the
-        `solver` enumeration value (None: the FMU's default)."""
+        `solver` enumeration value (None: the FMU's default); warned: called with (name, the FMU's
+        warnings) when it logged any (a fmu.Relay)."""
         inst = Logged(self.md, self.unzipdir, name=name)
         s, vr = inst.instantiate(logging=True), self.vr
         s.setDebugLogging(True, ["logEvents"])
@@ -76,13 +77,16 @@ class Runner:
             out[k] = s.getReal(reals) + s.getInteger(integers)
         s.terminate()
         s.freeInstance()
+        if warned is not None and inst.warnings():
+            warned(name, inst.warnings())
         return dict(zip(REALS + INTEGERS, out.T)), fmu_events(inst.messages)
 
 
-def compare(name, runner, rtol=RTOL_FMU, solver=None):
-    """Figures of the FMU against the reference for one scenario (all over the horizon unless said)."""
+def compare(name, runner, rtol=RTOL_FMU, solver=None, warned=None):
+    """Figures of the FMU against the reference for one scenario (all over the horizon unless said);
+    warned: as Runner.run's."""
     ref, info = read_trace(name), SUMMARY[name]
-    fmu, events = runner.run(name, ref["time"], rtol, solver)
+    fmu, events = runner.run(name, ref["time"], rtol, solver, **({} if warned is None else {"warned": warned}))
     t, h = ref["time"], info["horizon"]
     within = t <= h
     err_y = np.abs(fmu["y"] - ref["y"])

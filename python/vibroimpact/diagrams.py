@@ -10,6 +10,7 @@ import csv
 
 import numpy as np
 
+from .files import replacing
 from .sweep import spec
 
 PAPER = ["R1=0.475", "R2=0", "E1=2.1e11", "E2=2.1e11", "nu1=0.3", "nu2=0.3", "P=40000", "m=407.747", "g=9.81",
@@ -53,7 +54,7 @@ def first_loss(cols, direction):
 
 def write_summary(runs, path):
     """Per sweep: where the mass first leaves the platform, the largest force and flight."""
-    with open(path, "w", newline="") as fh:
+    with replacing(path, newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["law", "amplitude", "direction", "points", "failed", "f_contact_lost_Hz",
                     "F_max_kN", "f_at_F_max_Hz", "sep_max_mm"])

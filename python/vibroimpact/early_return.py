@@ -9,14 +9,18 @@ from .failure import fmu_refused
 from .reference.scenarios import SCENARIOS, STOP_TIME
 
 
-def run(md, unzipdir, name, step, rtol, early_return, event_mode):
+def run(md, unzipdir, name, step, rtol, early_return, event_mode, warned=None):
     """-> ([(t, mode before, mode after)] of the stops, wall time [s]); a CommandError with what the
-    FMU logged when an FMI call fails."""
+    FMU logged when an FMI call fails. warned: called with (name, the FMU's warnings) when it logged
+    any (a fmu.Relay)."""
     log = fmi3.Logged(md, unzipdir, name=name)
     try:
-        return _run(md, log, name, step, rtol, early_return, event_mode)
+        out = _run(md, log, name, step, rtol, early_return, event_mode)
     except Exception as e:
         raise fmu_refused(f"the FMI 3.0 FMU on {name} at --rtol {rtol:g}", e, log.texts()) from e
+    if warned is not None and log.warnings():
+        warned(name, log.warnings())
+    return out
 
 
 def _run(md, log, name, step, rtol, early_return, event_mode):

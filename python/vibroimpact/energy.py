@@ -23,7 +23,7 @@ import math
 import numpy as np
 
 from . import laws_guide
-from .fmu import fmu3_path, fmu_path
+from .fmu import MessageLog, fmu3_path, fmu_path, logged_instance
 from .laws_guide import E_DAMPED
 
 # the variants of the guide to the laws (vibroimpact.laws_guide), with the damped Hertz forms not there
@@ -76,41 +76,60 @@ def scene_balance(r, params):
     return balance_error(r, m, platform, load_work, exchanged)
 
 
-def run(variant, scene, interface="CoSimulation", version=2, rtol=1e-9, stop=0.01, h=1e-6, fmu=None):
-    """Samples (fmpy's result) of a variant in a scene through the FMU, every h up to stop; its parameters."""
-    from fmpy import simulate_fmu
+def run(variant, scene, interface="CoSimulation", version=2, rtol=1e-9, stop=0.01, h=1e-6, fmu=None,
+        warned=None):
+    """Samples (fmpy's result) of a variant in a scene through the FMU, every h up to stop; its parameters.
+    warned: called with the FMU's warnings when it logged any (vibroimpact.fmu.Relay)."""
+    import shutil
+
+    from fmpy import extract, read_model_description, simulate_fmu
     params = dict(VARIANTS[variant], **SCENES[scene], rtol=rtol)
-    path = fmu or (fmu_path() if version == 2 else fmu3_path())
+    path = str(fmu or (fmu_path() if version == 2 else fmu3_path()))
     options = dict(solver="CVode", relative_tolerance=rtol) if interface == "ModelExchange" else {}
-    r = simulate_fmu(str(path), fmi_type=interface, start_values=params, stop_time=stop, output_interval=h,
-                     output=OUTPUTS, **options)
+    md, unzipdir = read_model_description(path), extract(path)
+    instance, log = logged_instance(md, unzipdir, interface, name="energy")
+    try:
+        r = simulate_fmu(unzipdir, fmi_type=interface, start_values=params, stop_time=stop, output_interval=h,
+                         output=OUTPUTS, model_description=md, fmu_instance=instance, **options)
+    finally:
+        instance.freeInstance()
+        shutil.rmtree(unzipdir, ignore_errors=True)
+    if warned is not None and log.warnings():
+        warned(log.warnings())
     return r, params
 
 
-def table(variants=None, scenes=None, interfaces=None, **options):
-    """Rows (variant, scene, [relative balance error per interface of `interfaces`])."""
+def table(variants=None, scenes=None, interfaces=None, warned=None, **options):
+    """Rows (variant, scene, [relative balance error per interface of `interfaces`]); warned: called with
+    ('VARIANT SCENE INTERFACE', the FMU's warnings) when it logged any in a run (a fmu.Relay)."""
     interfaces = interfaces or INTERFACES
     rows = []
     for variant in variants or VARIANTS:
         for scene in scenes or SCENES:
             errors = []
             for interface, version in interfaces:
-                r, params = run(variant, scene, interface, version, **options)
+                what = f"{variant} {scene} {'CS' if interface == 'CoSimulation' else 'ME'} FMI {version}.0"
+                r, params = run(variant, scene, interface, version,
+                                warned=warned and (lambda texts: warned(what, texts)), **options)  # noqa: B023
                 errors.append(scene_balance(r, params))
             rows.append((variant, scene, errors))
     return rows
 
 
-def vehicle_track_balance(variant, step=1e-5, stop=0.02, v0=-0.5, build=None):
+def vehicle_track_balance(variant, step=1e-5, stop=0.02, v0=-0.5, build=None, warned=None):
     """The contact FMU's balance in the vehicle-track example (vibroimpact.vehicle_track.master.run):
     the wheel (the contact FMU's mass) set onto the rail at v0 with the vehicle on it, Gauss-Seidel
     vehicle, track, contact, the rail's displacement handed as a straight line from its value at the
     step's start to that at its end (the track has stepped: no jump), the vehicle's force held. Over
-    step k the platform does s_k F_mean h (s_k the line's slope), the load (F_ext - m g) (y_k+1 - y_k)."""
+    step k the platform does s_k F_mean h (s_k the line's slope), the load (F_ext - m g) (y_k+1 - y_k).
+    warned: called with the contact FMU's warnings when it logged any (a fmu.Relay's lambda)."""
     from .vehicle_track import master
+    log = MessageLog(limit=200, unique=True)   # warnings and errors only: no event log
     r = master.run(step, stop, order=("vehicle", "track", "contact"), rail_motion="ramp", build=build,
                    rtol=1e-9, contact=dict(VARIANTS[variant], init=2, v0=v0),
-                   record=("E_contact", "W_dissipated"))
+                   record=("E_contact", "W_dissipated"), contact_log=log, contact_events=False)
+    if warned is not None and log.warnings():
+        warned(log.warnings())
     m, g = master.parameters.WHEEL["m"], master.parameters.WHEEL["g"]
     slope = np.diff(r["track.z_rail"]) / step
     F_ext = r["vehicle.F_wheel"][1:]  # the vehicle steps first: its new force acts over the contact's step

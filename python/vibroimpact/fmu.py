@@ -133,6 +133,9 @@ def process_allocator():
     return calloc, free
 
 
+WARNING = 1   # the status of a logged warning: fmi2Warning and fmi3Warning
+
+
 class Messages:
     """What an FMU instance logged: `messages`, a list of (status, category, text). limit: keep at
     most that many; unique: skip a text already kept."""
@@ -154,6 +157,33 @@ class Messages:
     def text(self):
         return "\n".join(self.texts())
 
+    def warnings(self):
+        """The texts logged as warnings (status WARNING), each once, in the order logged."""
+        return list(dict.fromkeys(m.strip() for s, _, m in self.messages if s == WARNING and m.strip()))
+
+
+class Relay:
+    """How every command passes on what the FMU warned in its runs: relay(run, texts) writes each
+    text not yet relayed for that run to `stream` (default stderr) as one line
+    'vibroimpact COMMAND: RUN: warning: TEXT' and keeps it in `by_run` (run -> [text]) for the
+    command's own record of what ran."""
+
+    def __init__(self, command, stream=None):
+        self.command, self.stream, self.by_run = command, stream, {}
+
+    def __call__(self, run, texts):
+        import sys
+        kept = self.by_run.setdefault(run, [])
+        for text in texts:
+            if text not in kept:
+                kept.append(text)
+                print(f"vibroimpact {self.command}: {run}: warning: {text}", file=self.stream or sys.stderr,
+                      flush=True)
+
+    def of(self, run):
+        """The warnings relayed for run (none: [])."""
+        return list(self.by_run.get(run, []))
+
 
 class MessageLog(Messages):
     """Messages of an FMI 2.0 instance: `callbacks` for FMU2Slave/FMU2Model.instantiate, whose logger
@@ -174,12 +204,36 @@ class MessageLog(Messages):
         self.keep(status, category, message.decode("utf-8", "replace").replace("%%", "%"))
 
 
-def simulate(what, fmu, **options):
+def logged_instance(md, unzipdir, interface="CoSimulation", name="instance"):
+    """(instance, log) for fmpy.simulate_fmu(fmu_instance=instance): an fmpy instance of the extracted
+    FMU (FMI 2.0 or 3.0, `interface` CoSimulation or ModelExchange), instantiated with a logger that
+    keeps what it logs in log (Messages; its warnings for a Relay). The caller frees the instance."""
+    cs = interface == "CoSimulation"
+    identifier = (md.coSimulation if cs else md.modelExchange).modelIdentifier
+    if md.fmiVersion == "2.0":
+        from fmpy.fmi2 import FMU2Model, FMU2Slave
+        log = MessageLog()
+        instance = (FMU2Slave if cs else FMU2Model)(guid=md.guid, unzipDirectory=unzipdir,
+                                                     modelIdentifier=identifier, instanceName=name)
+        instance.instantiate(callbacks=log.callbacks)
+        return instance, log
+    from fmpy.fmi3 import FMU3Model, FMU3Slave
+    log = Messages()
+    instance = (FMU3Slave if cs else FMU3Model)(guid=md.guid, unzipDirectory=unzipdir, modelIdentifier=identifier,
+                                                instanceName=name)
+    instance.instantiate(logMessage=lambda env, status, category, text: log.keep(status, category,
+                                                                                  text.decode("utf-8", "replace")))
+    return instance, log
+
+
+def simulate(what, fmu, warned=None, **options):
     """fmpy.simulate_fmu(fmu, **options) (Co-Simulation) on an instance whose log is kept: when an FMI
-    call fails, a failure.CommandError saying `what` failed, in the FMU's words. The instance is made
-    here with a MessageLog's callbacks: fmpy's own `logger=` option installs the logger in a native
-    proxy that all of fmpy's later default instances share, so that once this call's logger is gone,
-    the next FMU that logs through fmpy's defaults would call freed memory."""
+    call fails, a failure.CommandError saying `what` failed, in the FMU's words. warned: called with
+    the warnings the FMU logged (Messages.warnings) in a run that succeeded, when it logged any (for
+    example lambda texts: relay(run, texts) of a Relay; a failed run's CommandError holds them).
+    The instance is made here with a MessageLog's callbacks: fmpy's own `logger=` option installs the
+    logger in a native proxy that all of fmpy's later default instances share, so that once this
+    call's logger is gone, the next FMU that logs through fmpy's defaults would call freed memory."""
     import shutil
 
     import fmpy
@@ -192,7 +246,7 @@ def simulate(what, fmu, **options):
     log = Logged(md, unzipdir, name="simulate")
     slave = log.instantiate()
     try:
-        return fmpy.simulate_fmu(fmu, fmu_instance=slave, model_description=md, **options)
+        result = fmpy.simulate_fmu(fmu, fmu_instance=slave, model_description=md, **options)
     except Exception as e:
         if not log.messages:
             raise
@@ -200,6 +254,9 @@ def simulate(what, fmu, **options):
     finally:
         slave.freeInstance()
         shutil.rmtree(unzipdir, ignore_errors=True)
+    if warned is not None and log.warnings():
+        warned(log.warnings())
+    return result
 
 
 def check_start(values, what, fmu=None, tolerance=None):

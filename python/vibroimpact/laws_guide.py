@@ -21,6 +21,7 @@ import time
 import numpy as np
 
 from . import rolling
+from .files import replacing
 from .fmu import Logged, MessageLog, fmu_path
 from .vehicle_track import master as vt_master
 from .vehicle_track import me_master as vt_me
@@ -42,6 +43,7 @@ VARIANTS = {
 # the steel sphere of Johnson's Hertz case on a steel plane (the FMU's E, nu), Y = 1 GPa
 SPHERE = dict(R1=0.01, R2=0.0, m=0.03288, Y=1e9, P=0.0, g=0.0, init=2)
 DROP_SPEEDS = (0.1, 1.0, 3.0)  # m/s
+SCENES = tuple(f"drop_{V:g}" for V in DROP_SPEEDS) + ("fig4b", "rolling", "vehicle_track")  # scenes()' names
 PAPER = dict(Y=6e8, a=1e-4, f=560.0)
 STOP = {"drop": 2e-3, "fig4b": 0.05, "rolling": 0.05, "vehicle_track": 0.03}  # s
 # the vehicle-track run starts where the roughness fades in (roughness.taper), 0.9 m before its end
@@ -88,7 +90,7 @@ def scenes(profile, rough=None):
 
 
 def _events(fmu, md, unzipdir, params, stop):
-    """The result of one Co-Simulation run with its event log on, and the number of events it logged."""
+    """The result of one Co-Simulation run with its event log on, and its log (a fmu.MessageLog)."""
     from fmpy import simulate_fmu
     log = Logged(md, unzipdir, name="events")
     slave = log.instantiate(logging=True)
@@ -99,7 +101,12 @@ def _events(fmu, md, unzipdir, params, stop):
                          output=["v", "y", "F", "W_plastic", "contact"])
     finally:
         slave.freeInstance()
-    return r, sum(1 for _, _, m in log.messages if m.startswith("event t="))
+    return r, log
+
+
+def _count_events(log):
+    """The number of events an instance's event log (logEvents) holds."""
+    return sum(1 for _, _, m in log.messages if m.startswith("event t="))
 
 
 def _cpu(run, repeat):
@@ -148,15 +155,17 @@ def _vt_cs(fmu, params, stop, step=TIMED_INTERVAL, **options):
 
 def _vt_events(fmu, params, stop):
     """One co-simulation of the vehicle-track example with the contact FMU's event log on: its record in
-    the names of a contact FMU's result (time, F, y, W_plastic) and the number of events logged."""
+    the names of a contact FMU's result (time, F, y, W_plastic) and the contact FMU's log."""
     log = MessageLog()
     rec = _vt_cs(fmu, params, stop, contact_log=log, record=("W_plastic",))
     r = {"time": rec["t"], "F": rec["contact.F"], "y": rec["contact.y"], "W_plastic": rec["contact.W_plastic"]}
-    return r, sum(1 for _, _, m in log.messages if m.startswith("event t="))
+    return r, log
 
 
 def _vt_cs_run(fmu, params, stop):
-    _vt_cs(fmu, params, stop)
+    """The timed co-simulation: the contact FMU's log kept, not printed (_vt_events relays its warnings),
+    and no event log."""
+    _vt_cs(fmu, params, stop, contact_log=MessageLog(limit=0), contact_events=False)
 
 
 def _vt_me_run(fmu, params, stop):
@@ -180,27 +189,32 @@ def vt_agreement(fmu, params, stop):
     out = {}
     for h in AGREEMENT_STEPS:
         k = int(round(AGREEMENT_MEAN / h))
-        cs_mean = _vt_cs(fmu, params, stop, step=h)["contact.F_mean"][1:].reshape(-1, k).mean(axis=1)
+        cs_mean = _vt_cs(fmu, params, stop, step=h, contact_log=MessageLog(limit=0),
+                         contact_events=False)["contact.F_mean"][1:].reshape(-1, k).mean(axis=1)
         out[f"me_vs_cs_{h:g}"] = float(np.max(np.abs(cs_mean - me_mean))) / W
     return out
 
 
-def measure(scene, variant, params, stop, V, fmu, md, unzipdir, repeat=1):
-    """One table row: what the variant gives in the scene and what it costs."""
+def measure(scene, variant, params, stop, V, fmu, md, unzipdir, repeat=1, warned=None):
+    """One table row: what the variant gives in the scene and what it costs. warned: called with
+    ('SCENE VARIANT', the FMU's warnings) when the FMU logged any in the run measured (a fmu.Relay)."""
     print(f"{scene}: {variant}")
     p = dict(params, **VARIANTS[variant])
     if variant == "linear":
         p["k_spring"] = k_spring_for(scene)
     if scene == "vehicle_track":
-        r, events = _vt_events(fmu, p, stop)
+        r, log = _vt_events(fmu, p, stop)
         cs = _cpu(lambda: _vt_cs_run(fmu, p, stop), repeat)
         me = _cpu(lambda: _vt_me_run(fmu, p, stop), repeat)
         agreement = {} if math.isnan(me) else vt_agreement(fmu, p, stop)  # NaN: the master failed (printed)
     else:
         agreement = {}
-        r, events = _events(fmu, md, unzipdir, p, stop)
+        r, log = _events(fmu, md, unzipdir, p, stop)
         cs = _cpu(lambda: _cs_run(unzipdir, md, p, stop), repeat)
         me = _cpu(lambda: _me_run(fmu, unzipdir, md, p, stop), repeat)
+    if warned is not None and log.warnings():
+        warned(f"{scene} {variant}", log.warnings())
+    events = _count_events(log)
     half = r["time"] >= stop / 2
     row = dict(scene=scene, variant=variant, F_max_N=float(r["F"].max()), events=events,
                cpu_cs_s_per_s=cs / stop, cpu_me_s_per_s=me / stop, events_per_s=events / stop,
@@ -215,12 +229,18 @@ def measure(scene, variant, params, stop, V, fmu, md, unzipdir, repeat=1):
     return row
 
 
-def run(out_dir, fmu=None, only_scenes=None, variants=None, repeat=1):
-    """Every scene with every variant (or the ones named): the rows of the table. The vehicle-track scene
-    needs the example's companion FMUs beside the FMU (a checkout's build/)."""
+def run(out_dir, fmu=None, only_scenes=None, variants=None, repeat=1, warned=None):
+    """Every scene with every variant (or the ones named): the rows of the table; warned: as measure's.
+    The vehicle-track scene
+    needs the example's companion FMUs beside the FMU (a checkout's build/). A ValueError naming them
+    for names that are not in SCENES or VARIANTS, before anything is written."""
     import shutil
 
     from fmpy import extract, read_model_description
+    unknown = unknown_names(only_scenes or (), SCENES) + unknown_names(variants or (), VARIANTS)
+    if unknown:
+        raise ValueError(f"unknown scene or variant {', '.join(unknown)}: the scenes are {', '.join(SCENES)}; "
+                         f"the variants {', '.join(VARIANTS)}")
     fmu = str(fmu or fmu_path())
     md = read_model_description(fmu)
     unzipdir = extract(fmu)
@@ -238,14 +258,19 @@ def run(out_dir, fmu=None, only_scenes=None, variants=None, repeat=1):
             if only_scenes and scene not in only_scenes:
                 continue
             for variant in variants or VARIANTS:
-                rows.append(measure(scene, variant, params, stop, V, fmu, md, unzipdir, repeat))
+                rows.append(measure(scene, variant, params, stop, V, fmu, md, unzipdir, repeat, warned))
     finally:
         shutil.rmtree(unzipdir, ignore_errors=True)
     return rows
 
 
+def unknown_names(names, known):
+    """The names that are not in known, in the order given."""
+    return [n for n in names if n not in known]
+
+
 def write_csv(path, rows):
-    with open(path, "w") as f:
+    with replacing(path) as f:
         f.write(",".join(COLUMNS) + "\n")
         for r in rows:
             f.write(",".join(str(r[c]) if isinstance(r[c], str) else f"{r[c]:.6g}" for c in COLUMNS) + "\n")
@@ -286,28 +311,76 @@ def _cpu_cell(x):
     return "failed" if x != x else f"{x:.2g}"
 
 
+# each variant's look in the figure: colour, marker, line style (no two alike, so that curves that
+# cross or run close stay apart)
+STYLES = {"hertz": ("C0", "o", "-"), "johnson": ("C1", "s", "-"), "johnson_continuous": ("C2", "^", "--"),
+          "johnson_moving": ("C3", "v", ":"), "lepp": ("C4", "D", "-"), "thornton": ("C5", "P", "--"),
+          "hertz_damped": ("C6", "X", "-"), "hunt_crossley": ("C7", "*", "--"), "linear": ("C8", "h", ":")}
+COINCIDE = 1e-3   # restitutions closer than this at every speed are one curve (0.3 px on the drawn axis)
+COST_TITLES = {"fig4b": "paper's harmonic excitation (Fig. 4b)", "vehicle_track": "vehicle-track example"}
+
+
+def drop_curves(rows):
+    """The drops' restitution against the impact speed: [(label, variant of the look, speeds, restitutions)],
+    one per curve; variants whose restitutions agree within COINCIDE at every speed share one curve,
+    labelled with every name ('hertz = johnson_moving'), so that none lies hidden under another."""
+    curves = []
+    for variant in VARIANTS:
+        pts = sorted((float(r["scene"][5:]), r["restitution"]) for r in rows
+                     if r["variant"] == variant and r["scene"].startswith("drop"))
+        if not pts:
+            continue
+        x, y = (np.array(c) for c in zip(*pts))
+        for c in curves:
+            if np.array_equal(c[2], x) and np.allclose(c[3], y, rtol=0, atol=COINCIDE, equal_nan=True):
+                c[0].append(variant)
+                break
+        else:
+            curves.append(([variant], variant, x, y))
+    return [(" = ".join(names), look, x, y) for names, look, x, y in curves]
+
+
 def figure(rows):
-    """Left: the drops' restitution against the impact speed per variant; then, for the paper's harmonic
-    excitation (fig4b) and the vehicle-track example, the peak force relative to hertz's against the CPU
-    per simulated second in Co-Simulation."""
+    """Left: the drops' restitution against the impact speed, one curve per variant (those that coincide
+    share one, named together). Right, for the paper's harmonic excitation (fig4b) and the vehicle-track
+    example, one row each: every variant's peak force relative to hertz's, and its CPU per simulated
+    second in Co-Simulation (bars from zero; "failed" where the run failed)."""
     from .plotting import pyplot
     plt = pyplot()
     costs = [s for s in ("fig4b", "vehicle_track") if any(r["scene"] == s for r in rows)]
-    fig, axes = plt.subplots(1, 1 + len(costs), figsize=(5.5 * (1 + len(costs)), 4.2), layout="constrained")
-    axes = np.atleast_1d(axes)
-    a = axes[0]
-    for variant in VARIANTS:
-        pts = [(float(r["scene"][5:]), r["restitution"]) for r in rows if r["variant"] == variant and r["scene"].startswith("drop")]
-        if pts:
-            a.plot(*zip(*sorted(pts)), marker="o", label=variant)
-    a.set(xscale="log", xlabel="impact speed [m/s]", ylabel="restitution", title="drop of a steel sphere")
-    a.legend(fontsize=7)
-    titles = {"fig4b": "paper's harmonic excitation (Fig. 4b)", "vehicle_track": "vehicle-track example"}
-    for b, scene in zip(axes[1:], costs):
-        base = [r["F_max_N"] for r in rows if r["scene"] == scene and r["variant"] == "hertz"]
-        for r in rows:
-            if r["scene"] == scene and base:
-                b.scatter(r["cpu_cs_s_per_s"], r["F_max_N"] / base[0], label=r["variant"])
-                b.annotate(r["variant"], (r["cpu_cs_s_per_s"], r["F_max_N"] / base[0]), fontsize=7)
-        b.set(xlabel="CPU per simulated second, Co-Simulation [s/s]", ylabel="peak force / hertz's", title=titles[scene])
+    fig = plt.figure(figsize=(14, 1.0 + 3.6 * max(len(costs), 1.3)), layout="constrained")
+    grid = fig.add_gridspec(max(len(costs), 1), 3, width_ratios=[1.3, 1, 1])
+    a = fig.add_subplot(grid[:, 0])
+    for label, look, x, y in drop_curves(rows):
+        color, marker, ls = STYLES[look]
+        a.plot(x, y, color=color, marker=marker, ls=ls, ms=7, label=label)
+    a.set(xscale="log", xlabel="impact speed [m/s]", ylabel="restitution (rebound / impact speed)",
+          ylim=(0, 1.05), title="drop of a steel sphere")
+    a.legend(loc="upper center", bbox_to_anchor=(0.5, -0.13), ncols=2, fontsize=8)
+    for k, scene in enumerate(costs):
+        draw_costs(fig.add_subplot(grid[k, 1]), fig.add_subplot(grid[k, 2]), rows, scene)
     return fig
+
+
+def draw_costs(force_ax, cpu_ax, rows, scene):
+    """One scene's peak force / hertz's and CPU per simulated second (Co-Simulation), a bar per variant."""
+    mine = {r["variant"]: r for r in rows if r["scene"] == scene}
+    names = [v for v in VARIANTS if v in mine]
+    base = mine["hertz"]["F_max_N"] if "hertz" in mine else math.nan
+    pos = np.arange(len(names))
+    colors = [STYLES[v][0] for v in names]
+    force_ax.barh(pos, [mine[v]["F_max_N"] / base for v in names], color=colors)
+    force_ax.axvline(1.0, color="k", lw=0.6, ls=":")
+    cpu = [mine[v]["cpu_cs_s_per_s"] for v in names]
+    cpu_ax.barh(pos, np.nan_to_num(cpu), color=colors)
+    for y, c in zip(pos, cpu):
+        if c != c:
+            cpu_ax.text(0, y, " failed", va="center", fontsize=8)
+    force_ax.set(yticks=pos, yticklabels=names, ylabel="variant", xlabel="peak force / hertz's", xlim=(0, None),
+                 title=f"{COST_TITLES[scene]}: peak force")
+    cpu_ax.set(yticks=pos, yticklabels=[], xlabel="CPU per simulated second, Co-Simulation [s/s]", xlim=(0, None),
+               title=f"{COST_TITLES[scene]}: cost")
+    for ax in (force_ax, cpu_ax):
+        ax.invert_yaxis()   # the variants top down, in the table's order
+        ax.tick_params(labelsize=8)
+        ax.title.set_size(9)

@@ -22,7 +22,7 @@ import math
 import numpy as np
 
 from .compare import INTEGERS, REALS, fmu_events
-from .fmu import MessageLog, fmu_path, set_value, set_values
+from .fmu import Logged, MessageLog, fmu_path, set_value, set_values
 from .reference.scenarios import SCENARIOS
 
 
@@ -420,11 +420,12 @@ ADAMS = 2  # the co-simulation side of the cost comparison: the FMU's own CVODE 
 COST_RTOLS = (1e-6, 1e-8, 1e-10)
 
 
-def cost(names=COST_SCENARIOS, rtols=COST_RTOLS, fmu=None, repeat=3):
+def cost(names=COST_SCENARIOS, rtols=COST_RTOLS, fmu=None, repeat=3, warned=None):
     """Rows (scenario, interface, rtol, max |y - y_ref| within the horizon [m], CPU seconds, mode changes as
     the reference's) of fmpy runs on the reference grid (20 us output): Model Exchange with fmpy's CVode
     (BDF, atol = rtol x the FMU's nominals) and Co-Simulation with the FMU's own CVODE, each the best of
-    `repeat` runs."""
+    `repeat` runs. warned: called with ('SCENARIO ME' or 'SCENARIO CS', the FMU's warnings) when it logged
+    any in a run (a fmu.Relay)."""
     import time
 
     from fmpy import extract, read_model_description, simulate_fmu
@@ -448,12 +449,20 @@ def cost(names=COST_SCENARIOS, rtols=COST_RTOLS, fmu=None, repeat=3):
                                          output_interval=float(t[1] - t[0]), unzipdir=unzipdir, md=md)
                         events = [e[1:] for e in fmu_events(inst.messages) if e[0] <= h - EVENT_DT]
                     else:
-                        r = simulate_fmu(fmu, fmi_type="CoSimulation", stop_time=float(t[-1]),
-                                         start_values={**SCENARIOS[name].full, "rtol": rtol, "solver": ADAMS},
-                                         output_interval=float(t[1] - t[0]), output=["y", "mode"], model_description=md)
+                        inst = Logged(md, unzipdir, name="cs")
+                        slave = inst.instantiate()
+                        try:
+                            r = simulate_fmu(fmu, fmi_type="CoSimulation", stop_time=float(t[-1]),
+                                             start_values={**SCENARIOS[name].full, "rtol": rtol, "solver": ADAMS},
+                                             output_interval=float(t[1] - t[0]), output=["y", "mode"],
+                                             model_description=md, fmu_instance=slave)
+                        finally:
+                            slave.freeInstance()
                         events = None
                     cpu = time.process_time() - start
                     best = cpu if best is None else min(best, cpu)
+                    if warned is not None and inst.warnings():
+                        warned(f"{name} {kind}", inst.warnings())
                 y = on_grid(r, t, "y")
                 err = float(np.abs(y - ref["y"])[within].max())
                 same = "" if events is None else ("same" if events == ref_events else "DIFFERENT")

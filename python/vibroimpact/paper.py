@@ -9,6 +9,7 @@ import csv
 
 import numpy as np
 
+from .files import replacing
 from .fmu import fmu_path, simulate as simulate_logged
 from .reference.scenarios import SCENARIOS, STOP_TIME
 
@@ -17,19 +18,23 @@ RTOL = 1e-11
 OUTPUTS = ["yC", "y", "delta", "F", "v", "contact", "mode", "n_impacts", "delta_c", "delta_f", "delta_p",
            "Rbar", "W_plastic"]
 SUMMARY = ["scenario", "n_impacts", "F_min_kN", "F_max_kN", "F_mean_kN", "contact_fraction", "stick_fraction",
-           "delta_max_um", "delta_p_um", "delta_f_um", "W_plastic_J", "y_p2p_mm"]
+           "delta_max_um", "delta_p_um", "delta_f_um", "W_plastic_J", "y_p2p_mm", "warnings"]
+WARNINGS_SEP = " | "   # between the FMU's warnings in summary.csv's column warnings
 
 
-def simulate(scenario, fmu=None, stop_time=STOP_TIME):
-    """The FMU (default fmu_path()) on one scenario from 0 to stop_time [s]: fmpy's result (OUTPUTS)."""
-    return simulate_logged(f"the FMU refuses the scenario '{scenario.title}'", fmu or fmu_path(),
+def simulate(scenario, fmu=None, stop_time=STOP_TIME, warned=None):
+    """The FMU (default fmu_path()) on one scenario from 0 to stop_time [s]: fmpy's result (OUTPUTS).
+    warned: called with the FMU's warnings when it logged any (vibroimpact.fmu.simulate)."""
+    return simulate_logged(f"the FMU refuses the scenario '{scenario.title}'", fmu or fmu_path(), warned=warned,
                            start_values=scenario.full, stop_time=stop_time, output_interval=INTERVAL,
                            relative_tolerance=RTOL, output=OUTPUTS)
 
 
-def summarize(name, r):
-    """The figures of one run (Python numbers: fmpy's result keeps its own type through max() and the like)."""
-    return dict(scenario=name, n_impacts=int(r["n_impacts"][-1]), F_min_kN=float(r["F"].min()) / 1e3,
+def summarize(name, r, warnings=()):
+    """The figures of one run (Python numbers: fmpy's result keeps its own type through max() and the like)
+    and the warnings the FMU logged in it (one text, WARNINGS_SEP between them)."""
+    return dict(scenario=name, warnings=WARNINGS_SEP.join(warnings), n_impacts=int(r["n_impacts"][-1]),
+                F_min_kN=float(r["F"].min()) / 1e3,
                 F_max_kN=float(r["F"].max()) / 1e3,
                 F_mean_kN=float(np.trapezoid(r["F"], r["time"])) / (r["time"][-1] - r["time"][0]) / 1e3,
                 contact_fraction=float(np.mean(r["contact"])), stick_fraction=float(np.mean(r["mode"] == 4)),
@@ -45,8 +50,9 @@ def summary_row(s):
 
 def write_run(path, r):
     """A run's outputs as a CSV file, one column per output (read_run reads it back)."""
-    np.savetxt(path, np.column_stack([r[c] for c in r.dtype.names]), delimiter=",", header=",".join(r.dtype.names),
-               comments="", fmt="%.10g")
+    with replacing(path) as fh:
+        np.savetxt(fh, np.column_stack([r[c] for c in r.dtype.names]), delimiter=",", header=",".join(r.dtype.names),
+                   comments="", fmt="%.10g")
 
 
 def read_run(path):
@@ -57,21 +63,20 @@ def read_run(path):
 
 
 def read_summary(out):
-    """The rows of <out>/summary.csv by scenario (text as written), those of known scenarios only."""
+    """The rows of <out>/summary.csv by scenario (text as written), those of known scenarios only (a row
+    written before summary.csv had its column warnings: none recorded)."""
     path = out / "summary.csv"
     if not path.is_file():
         return {}
     with open(path, newline="") as fh:
-        found = list(csv.DictReader(fh))
+        found = [{"warnings": "", **r} for r in csv.DictReader(fh)]
     return {r["scenario"]: r for r in found if r.get("scenario") in SCENARIOS and set(SUMMARY) <= set(r)}
 
 
 def write_summary(out, rows):
     """<out>/summary.csv: one row per scenario in `rows`, in the scenario table's order."""
-    tmp = out / "summary.csv.tmp"
-    with open(tmp, "w", newline="") as fh:
+    with replacing(out / "summary.csv", newline="") as fh:
         w = csv.writer(fh, lineterminator="\n")
         w.writerow(SUMMARY)
         for name in (n for n in SCENARIOS if n in rows):
             w.writerow([rows[name][k] for k in SUMMARY])
-    tmp.replace(out / "summary.csv")

@@ -41,8 +41,10 @@ def figure_legend(fig, axes, loc="outside lower center", ncols=4, **style):
 
 
 def save(fig, path, dpi):
-    """Write fig to path (the folder must exist) and close it."""
-    fig.savefig(path, dpi=dpi)
+    """Write fig to path (the folder must exist; the file replaced only once complete: files.save_figure)
+    and close it."""
+    from .files import save_figure
+    save_figure(fig, path, dpi)
     pyplot().close(fig)
     return path
 
@@ -67,20 +69,60 @@ def draw_positions(ax, r, lepp, lw=1.0):
     ax.set_ylabel("position [mm]")
 
 
+# the FMU's output `mode` (doc/model.md section 3): name, shade of its phases in the time plots
+MODES = {0: ("free", "0.85"), 1: ("elastic (virgin curve)", "tab:blue"), 2: ("plastic loading", "tab:red"),
+         3: ("elastic unload/reload", "tab:green"), 4: ("stick", "tab:orange")}
+MODE_ALPHA = 0.18
+
+
+def draw_modes(ax, r, label=True):
+    """Shade each phase of the run by its mode (output `mode`: a phase from the sample where it is first
+    seen to the next phase's first sample), over the axes' height, edged so that a phase shorter than a
+    pixel still shows as a hairline; a legend entry per mode present (label=False: none)."""
+    ms, mode = 1e3 * np.asarray(r["time"]), np.asarray(r["mode"]).astype(int)
+    starts = np.concatenate([[0], np.flatnonzero(np.diff(mode)) + 1])
+    ends = np.append(starts[1:], len(ms) - 1)
+    for k, (name, color) in MODES.items():
+        spans = [(ms[a], ms[b] - ms[a]) for a, b in zip(starts, ends) if mode[a] == k]
+        if spans:
+            ax.broken_barh(spans, (0, 1), transform=ax.get_xaxis_transform(), facecolor=color, edgecolor=color,
+                           alpha=MODE_ALPHA, lw=0.6, label=f"mode {k}: {name}" if label else "_nolegend_")
+
+
+def entries(mode, k):
+    """How many phases of mode k the samples `mode` hold (a run that starts in it counts one)."""
+    inside = np.asarray(mode).astype(int) == k
+    return int(inside[0]) + int(np.count_nonzero(inside[1:] & ~inside[:-1]))
+
+
+def scenario_title(scenario, r, s):
+    """The title's figures: impacts (contact onsets: output n_impacts, so a run that never leaves the
+    platform has none), the contact fraction, the plastic loadings (phases of mode 2: the force spikes
+    of a run in contact), stick, the largest force and W_plastic."""
+    contact = "in contact throughout" if s["contact_fraction"] >= 1 else \
+        f"in contact {100 * s['contact_fraction']:.0f}% of the time"
+    parts = [f"{s['n_impacts']} impacts ({contact})", f"{entries(r['mode'], 2)} plastic loadings"]
+    if s["stick_fraction"] > 0:
+        parts.append(f"stick {100 * s['stick_fraction']:.0f}%")
+    parts += [f"max force {s['F_max_kN']:.0f} kN", f"W_plastic {s['W_plastic_J']:.3g} J"]
+    return f"{scenario.title}\n" + ", ".join(parts)
+
+
 def scenario_figure(scenario, r, s):
-    """One scenario: positions against time, the force against time, the force against the indentation.
-    r: the run's outputs by name; s: its summary (paper.summarize)."""
+    """One scenario: positions against time, the force against time, the force against the indentation;
+    the time plots shaded by mode. r: the run's outputs by name; s: its summary (paper.summarize)."""
     plt = pyplot()
     lepp = scenario.full.get("contact_model") == 3
     fig = plt.figure(figsize=(10, 7.5), layout="constrained")
     grid = fig.add_gridspec(2, 2, height_ratios=[1.2, 1], width_ratios=[1.6, 1])
     ax = fig.add_subplot(grid[0, :])
+    draw_modes(ax, r)
     draw_positions(ax, r, lepp)
     ax.set_xlabel("time t [ms]")
-    ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncols=3, fontsize=8, frameon=False)
-    fig.suptitle(wrap(f"{scenario.title}\n{s['n_impacts']} impacts, max force {s['F_max_kN']:.0f} kN, "
-                      f"W_plastic {s['W_plastic_J']:.3g} J", 100), fontsize=10)
+    ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncols=4, fontsize=8, frameon=False)
+    fig.suptitle(wrap(scenario_title(scenario, r, s), 110), fontsize=10)
     ax = fig.add_subplot(grid[1, 0])
+    draw_modes(ax, r, label=False)
     ax.plot(1e3 * r["time"], 1e-3 * r["F"], lw=0.7, color="C3")
     ax.set_xlabel("time t [ms]")
     ax.set_ylabel("contact force F [kN]")
@@ -227,6 +269,14 @@ def draw_response(axes, cols, x_name, mask=None, label="", **style):
     return line
 
 
+def from_zero(axes):
+    """Axes of magnitudes (force, separation) from zero once every line is drawn, when their data are not
+    negative: a spread of a few per cent is drawn as a few per cent of the height."""
+    for ax in axes:
+        if ax.dataLim.y0 >= 0:
+            ax.set_ylim(bottom=0)
+
+
 def draw_failed(ax, cols, x_name):
     """The points that failed, as red crosses on the zero line of ax, with their legend label."""
     bad = np.array([s != "ok" for s in cols["status"]])
@@ -267,6 +317,7 @@ def response_figure(sweep, cols):
         draw_response(axes, cols, x_name, select(cols, key), label=text, marker=".", ms=4, lw=1,
                       **({"color": color} if color is not None else {}))
     draw_failed(axes[0], cols, x_name)
+    from_zero(axes[:2])
     axes[-1].set_xlabel(axis_label(x_name))
     if x_name in sweep.log_axes:
         axes[-1].set_xscale("log")
@@ -310,6 +361,7 @@ def diagrams_response_figure(runs, fc, panels, stop_time, transient):
             cols, _ = runs[law, amp, direction]
             draw_response(col, cols, "f", label=f"{direction}-sweep", color=color, marker=marker, ms=3, lw=0.8)
             draw_failed(col[0], cols, "f")
+        from_zero(col[:2])
         for k, ax in enumerate(col):
             ax.axvline(fc[law], color="k", lw=0.6, ls=":", label=F_CONTACT if k == 0 else "_nolegend_")
         col[0].set_title(f"{title}, a = {a * 1e6:g} $\\mu$m ($f_{{contact}}$ = {fc[law]:.1f} Hz)", fontsize=9)
@@ -345,6 +397,8 @@ def diagrams_bifurcation_figure(runs, fc, panels):
 # ---- the benchmark (vibroimpact bench) -----------------------------------------------------------------
 
 SOLVER_COLORS = dict(bdf="tab:blue", adams="tab:orange", dop853="tab:green", auto="tab:purple")
+# a marker and line per solver: auto runs one of the others, and its curve then lies on that one's
+SOLVER_STYLES = dict(bdf="o-", adams="s--", dop853="^-.", auto="x:")
 
 
 def loglog_points(ax, pts, style, **kw):
@@ -368,7 +422,7 @@ def work_precision_figure(results, rtols, cases, solvers, bound):
     for ax, (case, res) in zip(axes, (c for c in results.items() if c[0] in cases)):
         for name in solvers:
             pts = [(res["fmu"][name, r][0], res["fmu"][name, r][1]) for r in rtols if res["fmu"][name, r][0]]
-            loglog_points(ax, pts, "o-", color=SOLVER_COLORS[name], label=f"FMU {name}")
+            loglog_points(ax, pts, SOLVER_STYLES[name], color=SOLVER_COLORS[name], label=f"FMU {name}")
         pts = [res["py"][r] for r in rtols if res["py"][r][0] is not None]
         if pts:
             loglog_points(ax, pts, "s--", color="k", label="Python reference (SciPy DOP853)")
@@ -389,18 +443,19 @@ def cost_figure(results, solvers):
     fig, axes = plt.subplots(1, 3, figsize=(16, 5), layout="constrained")
     steps = sorted({h for (_, h) in results["per_step"]})
     for name in solvers:
-        axes[0].loglog(steps, [results["per_step"][name, h] for h in steps], "o-", color=SOLVER_COLORS[name],
-                       label=name)
-        axes[1].plot(results["time_spans"], [1e3 * c for c in results["time"][name]], "o-", color=SOLVER_COLORS[name],
-                     label=name)
+        style = dict(color=SOLVER_COLORS[name], label=name)
+        axes[0].loglog(steps, [results["per_step"][name, h] for h in steps], SOLVER_STYLES[name], **style)
+        axes[1].plot(results["time_spans"], [1e3 * c for c in results["time"][name]], SOLVER_STYLES[name], **style)
         pts = results["impacts"][name]
-        axes[2].plot([a for a, _ in pts], [1e3 * c for _, c in pts], "o-", color=SOLVER_COLORS[name], label=name)
+        axes[2].plot([a for a, _ in pts], [1e3 * c for _, c in pts], SOLVER_STYLES[name], **style)
     no_minor_labels(axes[0])
     axes[0].set(xlabel="communication step [s]", ylabel="CPU time per fmi2DoStep [us]",
                 title="Fig. 4b: the cost of a step against its length")
     axes[1].set(xlabel="simulated time [s]", ylabel="CPU time [ms]", title="Fig. 4b at matched rtol: against the span")
     axes[2].set(xlabel="number of impacts", ylabel="CPU time [ms]",
                 title="Hertz, a = 0.1 mm, 0.1 s, rtol 1e-8: against the impacts")
+    for ax in axes[1:]:
+        ax.set_ylim(bottom=0)   # costs compared as ratios: a linear axis from zero
     for ax in axes:
         ax.grid(True, which="both", alpha=0.3)
     figure_legend(fig, axes, fontsize=9)

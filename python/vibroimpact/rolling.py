@@ -9,6 +9,7 @@ import csv
 
 import numpy as np
 
+from .files import replacing
 from .fmu import fmu_path, simulate
 from .reference import profile as profile_ref
 
@@ -28,15 +29,16 @@ def corrugation(path):
     x = np.linspace(0.0, LAMBDA, SAMPLES + 1)
     h = AMPLITUDE * np.cos(2 * np.pi * x / LAMBDA)
     h[-1] = h[0]
-    with open(path, "w") as f:
+    with replacing(path) as f:
         f.write(f"# corrugation: lambda = {LAMBDA} m, amplitude {AMPLITUDE} m; x [m]  h [m]\n")
         for a, b in zip(x, h):
             f.write(f"{float(a)!r} {float(b)!r}\n")
     return x, h
 
 
-def run(profile_path, fmu=None, stop_time=STOP):
-    """The FMU over the profile at each passing frequency: case -> (V [m/s], fmpy's result)."""
+def run(profile_path, fmu=None, stop_time=STOP, warned=None):
+    """The FMU over the profile at each passing frequency: case -> (V [m/s], fmpy's result). warned:
+    called with (case, the FMU's warnings) for a run in which the FMU logged any (a fmu.Relay)."""
     fmu = str(fmu or fmu_path())
     runs = {}
     for name, f_pass in PASSING.items():
@@ -44,7 +46,7 @@ def run(profile_path, fmu=None, stop_time=STOP):
         start = dict(contact_model=1, profile_file=str(profile_path.resolve()), V=V, profile_periodic=True)
         runs[name] = (V, simulate(f"the FMU refuses the rolling run {name} the resonance", fmu, start_values=start,
                                   stop_time=stop_time, output_interval=INTERVAL, relative_tolerance=1e-10,
-                                  output=OUTPUTS))
+                                  output=OUTPUTS, warned=warned and (lambda texts: warned(name, texts))))  # noqa: B023
     return runs
 
 
@@ -54,11 +56,13 @@ def constraint(x, h, periods=2, points=801):
     return s, np.interp(np.mod(s, LAMBDA), x, h), profile_ref.yb(x, h, R1, s, periodic=True)
 
 
-def rows(runs):
-    """One summary row per case."""
+def rows(runs, warnings=None):
+    """One summary row per case; warnings: case -> the FMU's warnings in its run (a fmu.Relay's by_run),
+    the column warnings (" | " between them)."""
     return [dict(case=name, V_m_s=V, passing_Hz=PASSING[name], n_impacts=int(r["n_impacts"][-1]),
                  contact_fraction=float(np.mean(r["contact"])), F_min_kN=float(r["F"].min()) / 1e3,
-                 F_max_kN=float(r["F"].max()) / 1e3, y_p2p_mm=float(np.ptp(r["y"])) * 1e3)
+                 F_max_kN=float(r["F"].max()) / 1e3, y_p2p_mm=float(np.ptp(r["y"])) * 1e3,
+                 warnings=" | ".join((warnings or {}).get(name, ())))
             for name, (V, r) in runs.items()]
 
 
@@ -69,14 +73,14 @@ def harmonics(x, h):
 
 
 def write_rows(path, table):
-    with open(path, "w", newline="") as f:
+    with replacing(path, newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(table[0]))
         w.writeheader()
         w.writerows(table)
 
 
 def write_harmonics(path, amp):
-    with open(path, "w", newline="") as f:
+    with replacing(path, newline="") as f:
         w = csv.writer(f)
         w.writerow(["order", "amplitude_um", "relative_to_first"])
         for k, a in enumerate(amp, start=1):

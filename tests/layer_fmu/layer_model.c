@@ -60,7 +60,9 @@ static int set_resources(void *m, const char *dir)
     if (!dir || vi_snprintf(path, sizeof path, "%s/value.txt", dir) >= (int)sizeof path) return 0;
     FILE *f = fopen(path, "r");
     if (!f) return 0;
-    if (fscanf(f, "%lf", &L->resource_value) != 1) L->resource_value = -1.0;
+    char text[64], *end = text; /* read in the C syntax whatever the process's locale (fscanf follows it) */
+    if (fgets(text, sizeof text, f)) L->resource_value = vi_strtod(text, &end);
+    if (end == text) L->resource_value = -1.0;
     fclose(f);
     return 0;
 }

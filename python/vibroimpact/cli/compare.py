@@ -9,7 +9,7 @@ doStep per reference sample, with every mode change recorded with its exact time
 import argparse
 
 from ..compare import RTOL_FMU, Runner, compare
-from ..fmu import check_start
+from ..fmu import Relay, check_start
 from ..reference.generate import RTOL_TRUE
 from ..reference.scenarios import SCENARIOS
 
@@ -32,12 +32,13 @@ def main(argv=None):
                 f"the FMU refuses {first} at --rtol {rtol:g}" + ("" if solver is None else f", --solver {solver}"),
                 tolerance=rtol)
     runner = Runner()
+    relay = Relay("compare")   # each scenario's warnings once, on stderr
     print(f"FMU at rtol {rtol:g} (solver {solver or 'default'}), reference at rtol {RTOL_TRUE:g}\n")
     print("| scenario | horizon [ms] | FMU within 0.1 um until [ms] | max abs(y - y_ref) [m] | max abs(F - F_ref)/max F "
           "| mode changes compared | max event time diff [s] | impacts FMU / ref (0.1 s) |")
     print("|---|---|---|---|---|---|---|---|")
     for name in SCENARIOS:
-        c = compare(name, runner, rtol, solver)
+        c = compare(name, runner, rtol, solver, relay)
         same = "same" if c["events_fmu"] == c["events_ref"] else "DIFFERENT"
         print(f"| {name} | {1e3 * c['horizon']:.1f} | {1e3 * c['agrees_until']:.1f} | {c['dy']:.1e} | {c['dF_rel']:.1e} "
               f"| {len(c['events_ref'])} ({same}) | {c['event_dt']:.1e} | {c['n_impacts']} / {c['n_impacts_ref']} |")

@@ -21,6 +21,7 @@ import time
 
 from .. import diagrams, plotting
 from ..failure import out_dir as make_out_dir
+from ..files import save_figure
 from ..fmu import fmu_path
 from ..sweep import engine, spec
 from .sweep import write_figures
@@ -59,7 +60,7 @@ def main(argv=None):
                "bifurcation.png": plotting.diagrams_bifurcation_figure(runs, fc, diagrams.panels())}
     for name, fig in figures.items():
         if gallery:
-            fig.savefig(gallery / f"sweep_{name}", dpi=GALLERY_DPI)
+            save_figure(fig, gallery / f"sweep_{name}", GALLERY_DPI)
         plotting.save(fig, args.out / name, DPI)
     diagrams.write_summary(runs, args.out / "summary.csv")
     print(f"diagrams: {sum(len(c['f']) for c, _ in runs.values())} points in {wall:.0f} s -> "

@@ -7,11 +7,12 @@ the largest error of kinetic energy + E_contact + W_dissipated against the work 
 the load, relative to the energy exchanged, in Co-Simulation and Model Exchange (fmpy's CVode), FMI 2.0
 and 3.0; samples every 1 us over 10 ms. --vehicle-track adds the contact FMU's balance inside the
 vehicle-track example's co-simulation (needs Track.fmu and Vehicle.fmu beside the FMU, as a checkout's
-build/ has them).
+build/ has them). A warning the FMU logs in a run is printed to stderr once, after the run's name.
 """
 import argparse
 
 from .. import energy
+from ..fmu import Relay
 
 
 def main(argv=None):
@@ -28,9 +29,12 @@ def main(argv=None):
     print(f"Balance error / energy exchanged (rtol {a.rtol:g}):\n")
     print("| variant | scene | " + " | ".join(heads) + " |")
     print("|---|---|" + "---|" * len(heads))
-    for variant, scene, errors in energy.table(a.variants, rtol=a.rtol):
+    relay = Relay("energy")   # the FMU's warnings, once per run, on stderr
+    for variant, scene, errors in energy.table(a.variants, rtol=a.rtol, warned=relay):
         print(f"| {variant} | {scene} | " + " | ".join(f"{e:.1e}" for e in errors) + " |")
     if a.vehicle_track:
         print("\n| variant | vehicle-track, CS FMI 2.0 |\n|---|---|")
         for variant in a.variants or energy.VARIANTS:
-            print(f"| {variant} | {energy.vehicle_track_balance(variant)[0]:.1e} |")
+            error = energy.vehicle_track_balance(
+                variant, warned=lambda texts: relay(f"{variant} vehicle-track", texts))[0]   # noqa: B023
+            print(f"| {variant} | {error:.1e} |")

@@ -12,13 +12,17 @@ them); every variant of vibroimpact.laws_guide.VARIANTS in each. A CPU time "fai
 integrator gave up (the command prints why). For vehicle_track a second table gives how far the
 co-simulation at small steps is from the Model Exchange master, per variant. CPU times are the smallest
 of --repeat runs (process time, this machine: compare them with each other, not with another machine's).
+A warning the FMU logs in a run is printed to stderr once per scene and variant and listed in laws.md. An
+unknown scene is refused before anything is written, and a run that fails or is interrupted leaves the
+files of an earlier run as they were.
 """
 import argparse
 import pathlib
 
 from .. import laws_guide, plotting
 from ..failure import out_dir
-from ..fmu import fmu_path
+from ..files import save_figure, write_text
+from ..fmu import Relay, fmu_path
 
 OUT = pathlib.Path("results", "laws")
 DPI, GALLERY_DPI = 110, 70
@@ -33,19 +37,29 @@ def main(argv=None):
     p.add_argument("--gallery", type=pathlib.Path, default=None, metavar="DIR",
                    help="also write a smaller copy of the figure to DIR/laws.png (the documentation's: doc/gallery)")
     args = p.parse_args(argv)
-    fmu = fmu_path()
+    unknown = laws_guide.unknown_names(args.scenes or (), laws_guide.SCENES)
+    if unknown:
+        p.error(f"unknown scene {', '.join(unknown)}; the scenes are {', '.join(laws_guide.SCENES)}")
+    if args.repeat < 1:
+        p.error("--repeat is at least 1")
+    fmu = fmu_path()   # no FMU: say so before anything is written
     out = out_dir(args.out)
     gallery = args.gallery and out_dir(args.gallery, "--gallery")
-    rows = laws_guide.run(out, fmu, only_scenes=args.scenes, repeat=max(args.repeat, 1))
-    laws_guide.write_csv(out / "laws.csv", rows)
+    relay = Relay("laws")
+    rows = laws_guide.run(out, fmu, only_scenes=args.scenes, repeat=args.repeat, warned=relay)
     table = laws_guide.markdown(rows)
     agreement = laws_guide.agreement_markdown(rows)
     if agreement:
         table += ("\nvehicle_track: the Model Exchange master against the co-simulation, "
                   f"max |F_mean,CS - F_mean,ME| / W over {laws_guide.AGREEMENT_MEAN:g} s\n\n" + agreement)
-    (out / "laws.md").write_text(table)
+    if relay.by_run:
+        table += "\nThe FMU's warnings (also printed as they came):\n\n" + "".join(
+            f"- {run}: {text}\n" for run, texts in relay.by_run.items() for text in texts)
     fig = laws_guide.figure(rows)
+    # every result made before the first is written; each file replaced only once complete
+    laws_guide.write_csv(out / "laws.csv", rows)
+    write_text(out / "laws.md", table)
     if gallery:
-        fig.savefig(gallery / "laws.png", dpi=GALLERY_DPI)
+        save_figure(fig, gallery / "laws.png", GALLERY_DPI)
     plotting.save(fig, out / "laws.png", DPI)
     print(table)

@@ -6,6 +6,8 @@ frequency V/lambda lies below, near and above the contact resonance.
         ->  DIR/{corrugation.txt, rolling.png, rolling.csv, constraint_harmonics.csv}
 
 --gallery DIR also writes a smaller copy of the figure there (the documentation's: --gallery doc/gallery).
+A warning the FMU logs in a case's run is printed to stderr once, after the case's name, and kept in
+rolling.csv's column warnings.
 The FMU is vibroimpact.fmu_path(); the constraint drawn beside it comes from the independent
 reference (vibroimpact.reference.profile).
 """
@@ -14,7 +16,8 @@ import pathlib
 
 from .. import plotting, rolling
 from ..failure import out_dir
-from ..fmu import fmu_path
+from ..files import save_figure
+from ..fmu import Relay, fmu_path
 
 OUT = pathlib.Path("results", "rolling")
 DPI, GALLERY_DPI = 110, 60
@@ -31,15 +34,17 @@ def main(argv=None):
     out = out_dir(args.out)
     gallery = args.gallery and out_dir(args.gallery, "--gallery")
     x, h = rolling.corrugation(out / "corrugation.txt")
-    runs = rolling.run(out / "corrugation.txt", fmu)
+    relay = Relay("rolling")
+    runs = rolling.run(out / "corrugation.txt", fmu, warned=relay)
     fig = plotting.rolling_figure((*rolling.constraint(x, h), rolling.R1), runs, rolling.PASSING)
     if gallery:
-        fig.savefig(gallery / "rolling.png", dpi=GALLERY_DPI)
+        save_figure(fig, gallery / "rolling.png", GALLERY_DPI)
     plotting.save(fig, out / "rolling.png", DPI)
-    table = rolling.rows(runs)
+    table = rolling.rows(runs, relay.by_run)
     rolling.write_rows(out / "rolling.csv", table)
     amp = rolling.harmonics(x, h)
     rolling.write_harmonics(out / "constraint_harmonics.csv", amp)
     print("harmonics of yb [um]: " + ", ".join(f"{k}: {a * 1e6:.3g}" for k, a in enumerate(amp, start=1)))
-    for row in table:
-        print(", ".join(f"{k} {v:.4g}" if isinstance(v, float) else f"{k} {v}" for k, v in row.items()))
+    for row in table:   # the warnings were printed as they came
+        print(", ".join(f"{k} {v:.4g}" if isinstance(v, float) else f"{k} {v}" for k, v in row.items()
+                        if k != "warnings"))

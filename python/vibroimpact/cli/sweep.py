@@ -143,6 +143,9 @@ def run(args, sweep, interface, output):
                        progress=not args.no_progress, connect_timeout=args.connect_timeout, done=output.done,
                        on_chain=finished)
     except KeyboardInterrupt:
+        if not output.done:
+            print(f"sweep: interrupted before the first point finished; {args.out} is as it was", file=sys.stderr)
+            return 130
         output.finish()
         print(f"sweep: interrupted; {len(output.done)} of {len(output.points)} points are in {args.out}/sweep.csv "
               "and poincare.csv: the same command with --resume runs the rest", file=sys.stderr)

@@ -19,6 +19,7 @@ import time
 
 import numpy as np
 
+from ..files import replacing, write_text
 from .model import simulate
 from .scenarios import SCENARIOS, STOP_TIME
 
@@ -50,14 +51,14 @@ def transitions(events):
 
 def write_trace(path, t, r):
     cols = np.column_stack([t, r.y, r.v, r.F, r.mode, r.W_plastic])
-    with gzip.open(path, "wt") as out:
+    with replacing(path, "wt", opener=gzip.open) as out:
         out.write("time,y,v,F,mode,W_plastic\n")
         for row in cols:
             out.write(f"{row[0]:.6g},{row[1]:.12e},{row[2]:.12e},{row[3]:.12e},{int(row[4])},{row[5]:.9e}\n")
 
 
 def write_events(path, events):
-    with open(path, "w") as out:
+    with replacing(path) as out:
         out.write("time,mode_before,mode_after,kind\n")
         for t, a, b, kind in events:
             out.write(f"{t:.15e},{a},{b},{kind}\n")
@@ -92,4 +93,4 @@ def update(names, out):
     summary = json.loads(path.read_text()) if path.exists() else {}
     for name in names:
         summary[name] = generate(name, out)
-    path.write_text(json.dumps({k: summary[k] for k in SCENARIOS if k in summary}, indent=1) + "\n")
+    write_text(path, json.dumps({k: summary[k] for k in SCENARIOS if k in summary}, indent=1) + "\n")

@@ -23,6 +23,7 @@ import zipfile
 
 from distributed import Client, LocalCluster, as_completed
 
+from ..files import replacing
 from . import spec as _spec
 from .point import STATS
 from .probe import output_vrs
@@ -202,7 +203,8 @@ class Output:
     sweep.csv means its samples are there too); finish() rewrites both files in grid order from the
     rows taken, so that a row once on disk stays whenever an interruption comes. resume=True keeps the rows
     of an earlier run of the same sweep (same settings and FMU, else a SpecError) in DIR; `done` holds
-    their point indices."""
+    their point indices. Without resume the files of DIR are left as they are until the first point
+    is added: a run that fails or is interrupted before it replaces no finished sweep with an empty one."""
 
     def __init__(self, out_dir, sweep, argv=None, fmu_sha256=None, resume=False):
         self.dir, self.names, self.points = out_dir, sweep.names, sweep.points()
@@ -212,8 +214,13 @@ class Output:
                              direction=sweep.direction, fmu_sha256=fmu_sha256)
         self.rows = {}   # point index -> (sweep.csv row, [poincare.csv rows]), as text
         os.makedirs(out_dir, exist_ok=True)
+        self._files = self._writers = None   # opened by _start
         if resume:
             self._resume()
+            self._start()
+
+    def _start(self):
+        """The files of this run: the rows taken so far (resume's), sweep.json, both CSV files open to append."""
         self._rewrite()
         self._write_meta(complete=False)
         self._files = [open(self._path(n), "a", newline="") for n in ("sweep.csv", "poincare.csv")]
@@ -253,6 +260,8 @@ class Output:
                         self.rows[i][1].append(row)
 
     def add(self, indices, results):
+        if self._files is None:
+            self._start()
         sw, pc = self._writers
         for i, r in zip(indices, results):
             values = self.points[i][1]
@@ -271,7 +280,13 @@ class Output:
         return [(self.points[i][1], self.rows[i][0][-1]) for i in sorted(self.rows) if self.rows[i][0][-2] != "ok"]
 
     def finish(self):
-        """Both files in grid order (each replaced at once) and sweep.json; True when every point is there."""
+        """Both files in grid order (each replaced at once) and sweep.json; True when every point is there.
+        Nothing written when no point was added and none kept (DIR as it was; False)."""
+        if self._files is None:
+            if not self.points:
+                self._start()
+            else:
+                return False
         for fh in self._files:
             fh.close()
         self._rewrite()
@@ -294,7 +309,7 @@ class Output:
     def _write_meta(self, complete):
         meta = dict(command=self.argv, **self.settings, points=len(self.points), finished=len(self.rows),
                     failed=len(self.failures()), complete=complete)
-        with open(self._path("sweep.json"), "w") as fh:
+        with replacing(self._path("sweep.json")) as fh:
             json.dump(meta, fh, indent=1)
 
 

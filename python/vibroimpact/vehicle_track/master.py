@@ -71,8 +71,9 @@ VEHICLE_OUT = ["F_wheel", "z_body", "v_body", "E", "W_in", "W_dissipated"]
 class Slave:
     """One FMU: an FMU2Slave with preallocated value-reference arrays for its ports."""
 
-    def __init__(self, path, name, start_values, t0=0.0, tolerance=None, log=None):
-        """log: a vibroimpact.MessageLog that keeps what the instance logs, with logEvents on."""
+    def __init__(self, path, name, start_values, t0=0.0, tolerance=None, log=None, events=True):
+        """log: a vibroimpact.MessageLog that keeps what the instance logs, with logEvents on (events=False:
+        off); None: fmpy's logger, which prints."""
         self.md = read_model_description(str(path))
         self.dir = extract(str(path), unzipdir=tempfile.mkdtemp(prefix=f"vt_{name}_"))
         self.vr, self.types = vifmu.variables(self.md)
@@ -82,7 +83,8 @@ class Slave:
             self.fmu.instantiate()
         else:
             self.fmu.instantiate(callbacks=log.callbacks)
-            self.fmu.setDebugLogging(True, ["logEvents"])
+            if events:
+                self.fmu.setDebugLogging(True, ["logEvents"])
         self.fmu.setupExperiment(tolerance=tolerance, startTime=t0)
         for k, val in start_values.items():
             self.set_start(k, val)
@@ -329,13 +331,13 @@ class Coupling:
 
 def run(step, stop_time=parameters.STOP_TIME, scheme="gauss-seidel", order=("vehicle", "contact", "track"),
         force="F_mean", rail_motion="hold", profile=None, excitation=None, build=None, rtol=1e-8,
-        max_steps=10 ** 7, contact=None, contact_log=None, record=()):
+        max_steps=10 ** 7, contact=None, contact_log=None, record=(), contact_events=True):
     """Co-simulate with a fixed communication step. Returns a dict of arrays on the grid
     t_n = n step (n = 0 .. N): contact outputs, track and vehicle outputs, the force handed to the
     track, and the cumulative energy the coupling created ('E_coupling'); Record says which. contact:
     start values of the contact FMU that replace the example's (contact_start_values); contact_log:
-    a vibroimpact.MessageLog that keeps the contact FMU's log, its events included; record: more of
-    the contact FMU's outputs to record (beside CONTACT_OUT)."""
+    a vibroimpact.MessageLog that keeps the contact FMU's log, its events included unless
+    contact_events is false; record: more of the contact FMU's outputs to record (beside CONTACT_OUT)."""
     if rail_motion not in RAIL_MOTIONS:
         raise ValueError(f"rail_motion = {rail_motion!r}: one of {', '.join(RAIL_MOTIONS)}")
     build = pathlib.Path(build or build_dir())
@@ -344,7 +346,8 @@ def run(step, stop_time=parameters.STOP_TIME, scheme="gauss-seidel", order=("veh
     sv_c = dict(contact_start_values(profile, excitation, contact), rtol=rtol, velocity_input=velocity)
     slaves = {}
     try:
-        C = slaves["contact"] = Slave(build / "VibroImpact.fmu", "contact", sv_c, log=contact_log)
+        C = slaves["contact"] = Slave(build / "VibroImpact.fmu", "contact", sv_c, log=contact_log,
+                                          events=contact_events)
         slaves["track"] = Slave(build / "Track.fmu", "track", {"rtol": rtol})
         slaves["vehicle"] = Slave(build / "Vehicle.fmu", "vehicle", {"rtol": rtol})
         if force == "F_mean" and not C.has("F_mean"):

@@ -17,6 +17,8 @@ examples/vehicle-track/roughness.py writes one from the command line.
 """
 import numpy as np
 
+from ..files import replacing
+
 # ISO 3095:2013, 6.2.5: rail roughness limit, one-third octave band centre wavelength [m] ->
 # level [dB re 1 um].
 ISO3095_LIMIT_DB = {
@@ -79,5 +81,6 @@ def band_levels(x, h, lo=0.01, hi=0.4):
 
 
 def write(path, x, h):
-    np.savetxt(path, np.column_stack([x, h]), fmt="%.10e")
+    with replacing(path) as fh:
+        np.savetxt(fh, np.column_stack([x, h]), fmt="%.10e")
 
