@@ -434,6 +434,16 @@ FACTS = [
     Fact("doc/speed.md", "While BDF runs, once it has taken {n} steps", define("VI_AUTO_BDF_MIN_STEPS")),
     Fact("doc/speed.md", "{n} steps in a row with `h rho < 1`", define("VI_AUTO_CALM_STEPS")),
     Fact("doc/speed.md", "steps in a row with `h rho < {n}`", define("VI_AUTO_NONSTIFF_HRHO")),
+    Fact("doc/speed.md", "The explicit method's steps never exceed `h rho = {n}`", define("VI_SOLVER_STABLE_HRHO")),
+    Fact("doc/speed.md", "is handed over at `t = 8 x 5.4/rho`, {n} s",
+         lambda s: s.define("VI_AUTO_STIFF_STEPS") * s.define("VI_SOLVER_STABLE_HRHO") /
+         (2 * math.pi * s.initial("f_contact", R1=1000.0, m=1e-5))),
+    Fact("doc/numerics.md", "Its steps are bounded by its stability: `h rho <= {n}`", define("VI_SOLVER_STABLE_HRHO")),
+    Fact("doc/numerics.md", "(the paper's contact, `rho` = {n}/s", lambda s: 2 * math.pi * s.initial("f_contact")),
+    Fact("doc/numerics.md", "`rho` = 1706/s: {n} steps per second)",
+         lambda s: 2 * math.pi * s.initial("f_contact") / s.define("VI_SOLVER_STABLE_HRHO")),
+    Fact("doc/numerics.md", "(absolute tolerances from `delta_Y`, {n} m", lambda s: s.initial("delta_Y", R1=1000.0, m=1e-5)),
+    Fact("doc/numerics.md", "against a resting indentation of {n} m", lambda s: s.initial("delta", R1=1000.0, m=1e-5)),
     # doc/testing.md
     Fact("doc/testing.md", "(`pytest.ini`: {n} s unless a test says otherwise", lambda s: s.pytest_timeout()),
     Fact("doc/testing.md", "the static indentation with the paper's {n} Hz", f_contact(g=0.0)),

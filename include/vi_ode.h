@@ -63,6 +63,18 @@
  *   h_fixed (or ends at t_stop) and is accepted (for convergence tests and diagnostics).
  *   The first step size: h0 > 0 given to vi_ode_init/vi_ode_restart, else Hairer's estimate (HNW
  *   II.4, one extra rhs evaluation); both limited by max_step.
+ *   Stability: with p->h_rho_max > 0 every step (the first included) is also at most
+ *   h_rho_max / rho, rho = p->spectral_radius(t, x) at its start (no bound where rho is 0 or NaN;
+ *   never below the shortest step, 16 eps |t| or h_min). The error estimate alone does not keep an
+ *   explicit method stable: at an equilibrium the solution does not move, every step's estimate
+ *   is near 0 however far h rho lies beyond the stability domain, and the rounding-sized
+ *   deviations grow by |R(h lambda)| per step until they reach the tolerance, in one step when h
+ *   rho is large (a contact at rest whose absolute tolerances are large: motion from rest). A bound
+ *   inside the stability domain keeps the deviations from growing, so a rest stays at rest. At an
+ *   exact rest (f = 0 at the step's start) a step is first tried without the bound: when all its
+ *   stages come out exactly 0 it is exact (there is no deviation to grow) and taken; otherwise the
+ *   step is retried within the bound (the trial counts in st.rejected, not in the step-size
+ *   control).
  *   Cost: 12 rhs evaluations per accepted step (11 per rejected attempt), 3 more for the dense
  *   output of a step when it is used (built lazily, once per step, on the first vi_ode_dense call
  *   or event search that needs it; deterministic, so it does not matter when), 1 guard evaluation
@@ -161,6 +173,12 @@ typedef struct {
     double h_fixed;               /* > 0: fixed step size without error control; 0: adaptive */
     int guard_samples;            /* interior guard samples per step, 0..VI_ODE_MAX_SAMPLES */
     double arm_eps[VI_ODE_MAX_G]; /* a guard arms when g > arm_eps (>= 0; 0: when g > 0) */
+    /* the stability bound (STEPS): spectral_radius(t, x, rho_env) the spectral radius of the Jacobian
+     * of f at (t, x); h_rho_max > 0 bounds every step by h rho(start of the step) <= h_rho_max (0: no
+     * bound, spectral_radius may be NULL) */
+    double (*spectral_radius)(double t, const double *x, void *rho_env);
+    void *rho_env;
+    double h_rho_max;
 } vi_ode_problem;
 
 typedef struct {

@@ -32,8 +32,11 @@
  *   stability domain): h rho, h the step and rho the spectral radius of the Jacobian at its end,
  *   against VI_AUTO_STIFF_HRHO. VI_AUTO_STIFF_STEPS such steps in a row (VI_AUTO_CALM_STEPS steps
  *   below it in a row clear the count) make the problem stiff: CVODE BDF takes over from the end of
- *   the last step. While BDF runs, once it has taken VI_AUTO_BDF_MIN_STEPS steps since it started
- *   (its first steps are short), VI_AUTO_CALM_STEPS steps in a row whose h rho lies below
+ *   the last step. The one-step method's steps are bounded by VI_SOLVER_STABLE_HRHO (above
+ *   VI_AUTO_STIFF_HRHO), so that a stiff problem is seen before it leaves the stability domain
+ *   (at a rest, whose error estimate allows any step, it would at the first step). While BDF
+ *   runs, once it has taken VI_AUTO_BDF_MIN_STEPS steps since it started (its first steps are
+ *   short), VI_AUTO_CALM_STEPS steps in a row whose h rho lies below
  *   VI_AUTO_NONSTIFF_HRHO (BDF's own step resolves the fastest motion: an explicit method is stable
  *   there) hand back to the one-step method from the end of BDF's last step. When the one-step
  *   method fails (a step size underflow, too many rejected steps, a right-hand side that is not
@@ -111,6 +114,12 @@ const char *vi_solver_method_name(int method);
 #define VI_AUTO_CALM_STEPS 6
 #define VI_AUTO_NONSTIFF_HRHO 1.0
 #define VI_AUTO_BDF_MIN_STEPS 10
+
+/* The one-step method's steps are at most VI_SOLVER_STABLE_HRHO / rho, rho the spectral radius of the
+ * Jacobian at the step's start (vi_ode.h, STEPS): 0.9 times the nearest point of the boundary of
+ * DOP853's stability domain (5.96), where |R(h lambda)| <= 0.72 on the imaginary axis. Above
+ * VI_AUTO_STIFF_HRHO, so that AUTO counts the steps this bound holds as stiff. */
+#define VI_SOLVER_STABLE_HRHO 5.4
 
 /* Interior guard samples per step of the one-step method (see vi_ode.h, EVENTS): a guard that dips
  * below zero and back within one step is seen when it is below zero at a sample. */

@@ -302,6 +302,10 @@ int vi_ode_check(const vi_ode_problem *p, char *msg, size_t size)
     if (!(p->h_min >= 0.0 && isfinite(p->h_min))) return fail_msg(msg, size, "h_min must be finite and >= 0", p->h_min);
     if (!(p->h_fixed >= 0.0 && isfinite(p->h_fixed)))
         return fail_msg(msg, size, "h_fixed must be finite and >= 0", p->h_fixed);
+    if (!(p->h_rho_max >= 0.0 && isfinite(p->h_rho_max)))
+        return fail_msg(msg, size, "h_rho_max must be finite and >= 0", p->h_rho_max);
+    if (p->h_rho_max > 0.0 && !p->spectral_radius)
+        return fail_msg(msg, size, "spectral_radius is NULL while h_rho_max > 0", p->h_rho_max);
     if (p->guard_samples < 0 || p->guard_samples > VI_ODE_MAX_SAMPLES)
         return fail_msg(msg, size, "guard_samples must be in 0..VI_ODE_MAX_SAMPLES", p->guard_samples);
     for (int i = 0; i < p->ng; i++)
@@ -528,6 +532,24 @@ static void step_bounds(const vi_ode *s, const vi_ode_problem *p, double *h_lim,
     if (p->h_min > *h_min) *h_min = p->h_min;
 }
 
+/* The stability bound of a step from s->t (STEPS): h_rho_max / rho(t, x), never below h_min (no step
+ * resolves time below it; rho = inf: h_min); INFINITY without a bound or where rho is 0 or NaN. */
+static double stable_step(const vi_ode *s, const vi_ode_problem *p, double h_min)
+{
+    if (!(p->h_rho_max > 0.0) || p->h_fixed > 0.0) return INFINITY;
+    double rho = p->spectral_radius(s->t, s->x, p->rho_env);
+    return rho > 0.0 ? fmax(p->h_rho_max / rho, h_min) : INFINITY;
+}
+
+/* Are the n components of each of the stages 0 .. last - 1 exactly 0? */
+static int stages_zero(const span *sp, int last, int n)
+{
+    for (int i = 0; i < last; i++)
+        for (int c = 0; c < n; c++)
+            if (sp->k[i][c] != 0.0) return 0;
+    return 1;
+}
+
 /* The span the new step is built in (committed by flipping s->cur), starting at the current point. */
 static span *begin_span(vi_ode *s, int n)
 {
@@ -603,6 +625,11 @@ static int accepted_step(vi_ode *s, const vi_ode_problem *p, span *sp, double t_
     int n = p->n, fixed = p->h_fixed > 0.0;
     double h_lim, h_min;
     step_bounds(s, p, &h_lim, &h_min);
+    /* At an exact rest (f = 0) a step whose stages all come out 0 is exact whatever its size (there is
+     * no deviation to grow): it is tried without the stability bound first. */
+    double h_stable = stable_step(s, p, h_min);
+    int at_rest = h_stable < h_lim && stages_zero(sp, 1, n);
+    if (!at_rest && h_stable < h_lim) h_lim = h_stable;
     double h = fixed ? p->h_fixed : s->h;
     for (r->rejections = 0;;) {
         if (h > h_lim) h = h_lim;
@@ -617,6 +644,11 @@ static int accepted_step(vi_ode *s, const vi_ode_problem *p, span *sp, double t_
             attempt_2(p, &s->st, sp, h, e5, e3);
         else
             attempt_max(p, &s->st, sp, h, e5, e3);
+        if (at_rest && !stages_zero(sp, S_STEP, n)) { /* not a rest after all: again within the bound */
+            at_rest = 0, h_lim = h_stable;
+            s->st.rejected++; /* a trial: the step-size control goes on as if it had not been */
+            continue;
+        }
         r->err = attempt_error(s, p, sp, e5, e3);
         int bad = !isfinite(r->err) || !finite_n(sp->x1, n);
         if (!bad && (fixed || r->err <= 1.0)) {

@@ -227,12 +227,20 @@ static int ode_fail(const vi_solver *s, int status, const char *call)
     return ode_fail_at(s, status, call, s->cfg.ode->t);
 }
 
+static double spectral_radius(const vi_solver *s, double t, const double *x);
+static double ode_spectral_radius(double t, const double *x, void *env) { return spectral_radius(env, t, x); }
+
+/* The one-step method's problem; with a Jacobian of at most 2 states its steps are bounded by
+ * stability (VI_SOLVER_STABLE_HRHO). */
 static int ode_setup(vi_solver *s)
 {
     const vi_solver_config *c = &s->cfg;
     vi_ode_problem *p = &s->ode_problem;
+    int bounded = c->jac && c->n <= 2;
     *p = (vi_ode_problem){.n = c->n, .ng = c->nguards, .rhs = c->rhs, .guards = c->guards, .user = c->user,
-                          .rtol = c->rtol, .max_step = c->max_step, .guard_samples = VI_SOLVER_GUARD_SAMPLES};
+                          .rtol = c->rtol, .max_step = c->max_step, .guard_samples = VI_SOLVER_GUARD_SAMPLES,
+                          .spectral_radius = bounded ? ode_spectral_radius : NULL, .rho_env = s,
+                          .h_rho_max = bounded ? VI_SOLVER_STABLE_HRHO : 0.0};
     memcpy(p->atol, c->atol, sizeof(double) * (size_t)c->n);
     char msg[256];
     if (!c->ode || vi_ode_check(p, msg, sizeof msg) < 0) {

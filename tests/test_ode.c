@@ -954,6 +954,8 @@ Test(failures, invalid_problems_and_calls)
         {"guard_samples",
          {.n = 2, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6}, .guard_samples = VI_ODE_MAX_SAMPLES + 1}},
         {"arm_eps", {.n = 2, .ng = 1, .rhs = osc_u, .guards = guards, .rtol = 1e-6, .atol = {1e-6, 1e-6}, .arm_eps = {-1}}},
+        {"h_rho_max", {.n = 2, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6}, .h_rho_max = -1}},
+        {"spectral_radius", {.n = 2, .rhs = osc_u, .rtol = 1e-6, .atol = {1e-6, 1e-6}, .h_rho_max = 5}},
     };
     vi_ode s;
     double x0[2] = {1.0, 0.0};
@@ -1798,4 +1800,61 @@ Test(state, a_step_below_the_rounding_of_t_advances_by_16_ulps_or_fails)
     cr_assert_eq(vi_ode_init(&s, &q, t0, z, 0.0, 0u), VI_ODE_OK);
     cr_assert_eq(vi_ode_step(&s, &q, INFINITY), VI_ODE_ERR_HMIN);
     cr_assert(s.t == t0 && s.x[0] == 3.0);
+}
+
+/* A stiff undamped oscillator x'' = -w^2 (x - 1), w = 1e7 rad/s, started 1e-12 off its rest at x = 1
+ * with absolute tolerances far above that motion (as a contact at rest with a law whose length
+ * scale is much larger than its indentation): rho = w. */
+#define REST_W 1e7
+static void rest_osc(double t, const double *x, double *dx, void *u)
+{
+    (void)t, (void)u;
+    dx[0] = x[1];
+    dx[1] = -REST_W * REST_W * (x[0] - 1.0);
+}
+static double rest_rho(double t, const double *x, void *env) { return (void)t, (void)x, (void)env, REST_W; }
+
+/* The largest |x - 1| (scaled by w for v: the oscillation's amplitude) over 1e-4 s (160 periods). */
+static double rest_amplitude(vi_ode_problem *p, double *h_rho)
+{
+    vi_ode s;
+    double x0[2] = {1.0 + 1e-12, 0.0}, amp = 0.0;
+    *h_rho = 0.0;
+    cr_assert_eq(vi_ode_init(&s, p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    for (long k = 0; k < 100000 && s.t < 1e-4; k++) {
+        cr_assert_eq(vi_ode_step(&s, p, 1e-4), VI_ODE_OK);
+        amp = fmax(amp, hypot(s.x[0] - 1.0, s.x[1] / REST_W));
+        *h_rho = fmax(*h_rho, (s.t - s.t_old) * REST_W);
+    }
+    cr_assert(s.t == 1e-4);
+    return amp;
+}
+
+Test(stability, steps_bounded_by_h_rho_max_keep_a_rest_at_rest)
+{
+    /* Without the bound the first step (Hairer's estimate: the state hardly moves) lies far outside
+     * the stability domain, and the 1e-12 deviation grows towards the tolerance (1e-3); with
+     * h rho <= 5.4 it never grows (|R| <= 1 on the imaginary axis up to 5.96). */
+    vi_ode_problem p = {.n = 2, .rhs = rest_osc, .rtol = 1e-6, .atol = {1e-3, 1e-3 * REST_W}};
+    double h_rho, free_amp = rest_amplitude(&p, &h_rho);
+    cr_assert(free_amp > 1e-9 && h_rho > 6.0, "unbounded: amplitude %g, h rho up to %g", free_amp, h_rho);
+    p.spectral_radius = rest_rho;
+    p.h_rho_max = 5.4;
+    double amp = rest_amplitude(&p, &h_rho);
+    cr_assert(amp <= 1e-12 * (1.0 + 1e-3), "bounded: the amplitude grew to %g", amp);
+    cr_assert(h_rho <= 5.4 * (1.0 + 1e-12), "h rho %g", h_rho);
+}
+
+Test(stability, an_exact_rest_is_not_held_to_the_bound)
+{
+    /* Started exactly at rest every stage is 0: the steps grow as the error estimate allows (factor 5
+     * per step), the state stays exact, and no step is rejected. */
+    vi_ode_problem p = {.n = 2, .rhs = rest_osc, .rtol = 1e-6, .atol = {1e-3, 1e-3 * REST_W},
+                        .spectral_radius = rest_rho, .h_rho_max = 5.4};
+    vi_ode s;
+    double x0[2] = {1.0, 0.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.0, 0u), VI_ODE_OK);
+    for (int k = 0; k < 100 && s.t < 1.0; k++) cr_assert_eq(vi_ode_step(&s, &p, 1.0), VI_ODE_OK);
+    cr_assert(s.t == 1.0 && s.x[0] == 1.0 && s.x[1] == 0.0, "t %g, x %.17g %.17g", s.t, s.x[0], s.x[1]);
+    cr_assert(s.st.accepted < 40 && s.st.rejected == 0, "%ld steps, %ld rejected", s.st.accepted, s.st.rejected);
 }

@@ -175,7 +175,7 @@ static void k_setup(fz_context *ctx, fz_slot *s, fz_reader *r)
     fz_trace("    tolerance %d %g start %g stop %d %g", flags & 1, tol, start, flags >> 1 & 1, stop);
     fmi2Status st = CALL(fmi2SetupExperiment, s->c, flags & 1, tol, start, flags >> 1 & 1, stop);
     outcome(s, "fmi2SetupExperiment", FZ_INSTANTIATED, st, 0);
-    if (st == fmi2OK) s->t = s->start_time = start;
+    if (st == fmi2OK) s->t = s->start_time = start, fz_energy_tolerance(s, flags & 1, tol);
 }
 
 static void k_enter_init(fz_context *ctx, fz_slot *s, fz_reader *r)
@@ -506,6 +506,12 @@ static double step_size(fz_reader *r)
     return k < 240 ? h[k % (sizeof h / sizeof h[0])] : fz_real(r, 1e-3);
 }
 
+/* fz_get_reals for the energy check */
+static int get_reals(fz_slot *s, const unsigned *vr, size_t n, double *x)
+{
+    return CALL(fmi2GetReal, s->c, vr, n, x) != fmi2OK;
+}
+
 static void k_do_step(fz_context *ctx, fz_slot *s, fz_reader *r)
 {
     (void)ctx;
@@ -518,6 +524,8 @@ static void k_do_step(fz_context *ctx, fz_slot *s, fz_reader *r)
         if (CALL(fmi2GetRealStatus, s->c, fmi2LastSuccessfulTime, &last) == fmi2OK && k % 16 < 13) tc = last;
     }
     fz_trace("    tc %.17g h %.17g", tc, h);
+    double before[FZ_ENERGY_VALUES], after[FZ_ENERGY_VALUES];
+    int undriven = fz_energy_read(s, get_reals, before);
     fmi2Status st = CALL(fmi2DoStep, s->c, tc, h, k >> 7);
     int accepted = st == fmi2OK || st == fmi2Warning;
     outcome(s, "fmi2DoStep", fz_by_type(s, FZ_STEP_COMPLETE, 0u), st, accepted ? FZ_STEP_COMPLETE : 0);
@@ -537,6 +545,7 @@ static void k_do_step(fz_context *ctx, fz_slot *s, fz_reader *r)
         fz_fail("fmi2DoStep returned fmi2Discard, and the last successful time %.17g is not in [%.17g, %.17g)", last,
                 s->t, tc + h);
     s->t = last;
+    if (undriven && accepted && fz_energy_read(s, get_reals, after)) fz_energy_check(s, before, after, tc, h);
 }
 
 static void k_cancel(fz_context *ctx, fz_slot *s, fz_reader *r)
@@ -583,33 +592,33 @@ static void k_version(fz_context *ctx, fz_slot *s, fz_reader *r)
 }
 
 static const fz_call calls[] = {
-    {0, "fmi2Instantiate", k_instantiate, 1},
-    {1, "fmi2FreeInstance", k_free, 0},
-    {2, "fmi2SetDebugLogging", k_debug_logging, 0},
-    {3, "fmi2SetupExperiment", k_setup, 0},
-    {4, "fmi2EnterInitializationMode", k_enter_init, 0},
-    {5, "fmi2ExitInitializationMode", k_exit_init, 0},
-    {6, "fmi2Terminate", k_terminate, 0},
-    {7, "fmi2Reset", k_reset, 0},
-    {8, "fmi2SetReal", k_set_real, 0},
-    {9, "fmi2SetInteger", k_set_integer, 0},
-    {10, "fmi2SetBoolean", k_set_boolean, 0},
-    {11, "fmi2SetString", k_set_string, 0},
-    {12, "fmi2Get*", k_get, 0},
-    {13, "fmi2GetFMUstate", k_get_state, 0},
-    {14, "fmi2SetFMUstate", k_set_state, 0},
-    {15, "fmi2FreeFMUstate", k_free_state, 0},
-    {16, "fmi2SerializeFMUstate", k_serialize, 0},
-    {17, "fmi2DeSerializeFMUstate (a serialized state, altered)", k_deserialize, 0},
-    {18, "fmi2DeSerializeFMUstate (bytes of the input)", k_deserialize_raw, 0},
-    {19, "fmi2GetDirectionalDerivative", k_directional, 0},
-    {20, "fmi2SetRealInputDerivatives", k_input_derivatives, 0},
-    {21, "fmi2GetRealOutputDerivatives", k_output_derivatives, 0},
-    {22, "fmi2DoStep", k_do_step, 0},
-    {23, "fmi2DoStep", k_do_step, 0}, /* twice the weight: stepping is where the work is */
-    {24, "fmi2CancelStep", k_cancel, 0},
-    {25, "fmi2Get*Status", k_status, 0},
-    {26, "fmi2GetVersion", k_version, 0},
+    {0, "fmi2Instantiate", k_instantiate, 1, FZ_RUN_DRIVES},
+    {1, "fmi2FreeInstance", k_free, 0, FZ_RUN_KEEPS},
+    {2, "fmi2SetDebugLogging", k_debug_logging, 0, FZ_RUN_KEEPS},
+    {3, "fmi2SetupExperiment", k_setup, 0, FZ_RUN_STARTS},
+    {4, "fmi2EnterInitializationMode", k_enter_init, 0, FZ_RUN_STARTS},
+    {5, "fmi2ExitInitializationMode", k_exit_init, 0, FZ_RUN_STARTS},
+    {6, "fmi2Terminate", k_terminate, 0, FZ_RUN_DRIVES},
+    {7, "fmi2Reset", k_reset, 0, FZ_RUN_DRIVES},
+    {8, "fmi2SetReal", k_set_real, 0, FZ_RUN_STARTS},
+    {9, "fmi2SetInteger", k_set_integer, 0, FZ_RUN_STARTS},
+    {10, "fmi2SetBoolean", k_set_boolean, 0, FZ_RUN_STARTS},
+    {11, "fmi2SetString", k_set_string, 0, FZ_RUN_STARTS},
+    {12, "fmi2Get*", k_get, 0, FZ_RUN_KEEPS},
+    {13, "fmi2GetFMUstate", k_get_state, 0, FZ_RUN_KEEPS},
+    {14, "fmi2SetFMUstate", k_set_state, 0, FZ_RUN_DRIVES},
+    {15, "fmi2FreeFMUstate", k_free_state, 0, FZ_RUN_KEEPS},
+    {16, "fmi2SerializeFMUstate", k_serialize, 0, FZ_RUN_KEEPS},
+    {17, "fmi2DeSerializeFMUstate (a serialized state, altered)", k_deserialize, 0, FZ_RUN_DRIVES},
+    {18, "fmi2DeSerializeFMUstate (bytes of the input)", k_deserialize_raw, 0, FZ_RUN_DRIVES},
+    {19, "fmi2GetDirectionalDerivative", k_directional, 0, FZ_RUN_KEEPS},
+    {20, "fmi2SetRealInputDerivatives", k_input_derivatives, 0, FZ_RUN_DRIVES},
+    {21, "fmi2GetRealOutputDerivatives", k_output_derivatives, 0, FZ_RUN_KEEPS},
+    {22, "fmi2DoStep", k_do_step, 0, FZ_RUN_KEEPS},
+    {23, "fmi2DoStep", k_do_step, 0, FZ_RUN_KEEPS}, /* twice the weight: stepping is where the work is */
+    {24, "fmi2CancelStep", k_cancel, 0, FZ_RUN_KEEPS},
+    {25, "fmi2Get*Status", k_status, 0, FZ_RUN_KEEPS},
+    {26, "fmi2GetVersion", k_version, 0, FZ_RUN_KEEPS},
 };
 
 const fz_interface fz_fmi2 = {"FMI 2.0 Co-Simulation", fmi2_available, calls, sizeof calls / sizeof calls[0], release, 2};

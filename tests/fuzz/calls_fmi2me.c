@@ -343,17 +343,17 @@ static void k_euler_order(fz_context *ctx, fz_slot *s, fz_reader *r)
 }
 
 static const fz_call calls[] = {
-    {40, "fmi2SetTime", k_set_time, 0},
-    {41, "fmi2SetContinuousStates", k_set_states, 0},
-    {42, "fmi2GetDerivatives/EventIndicators/ContinuousStates/Nominals", k_get_arrays, 0},
-    {43, "fmi2EnterEventMode", k_enter_event, 0},
-    {44, "fmi2NewDiscreteStates", k_new_discrete_states, 0},
-    {45, "fmi2EnterContinuousTimeMode", k_enter_continuous, 0},
-    {46, "fmi2CompletedIntegratorStep", k_completed_step, 0},
-    {47, "an explicit-Euler step (Model Exchange)", k_euler, 0},
-    {48, "an explicit-Euler step (Model Exchange)", k_euler, 0},
-    {49, "the call order in Continuous-Time Mode (Model Exchange)", k_call_order, 0},
-    {50, "explicit-Euler steps with a call-order check (Model Exchange)", k_euler_order, 0},
+    {40, "fmi2SetTime", k_set_time, 0, FZ_RUN_DRIVES},
+    {41, "fmi2SetContinuousStates", k_set_states, 0, FZ_RUN_DRIVES},
+    {42, "fmi2GetDerivatives/EventIndicators/ContinuousStates/Nominals", k_get_arrays, 0, FZ_RUN_DRIVES},
+    {43, "fmi2EnterEventMode", k_enter_event, 0, FZ_RUN_DRIVES},
+    {44, "fmi2NewDiscreteStates", k_new_discrete_states, 0, FZ_RUN_DRIVES},
+    {45, "fmi2EnterContinuousTimeMode", k_enter_continuous, 0, FZ_RUN_DRIVES},
+    {46, "fmi2CompletedIntegratorStep", k_completed_step, 0, FZ_RUN_DRIVES},
+    {47, "an explicit-Euler step (Model Exchange)", k_euler, 0, FZ_RUN_DRIVES},
+    {48, "an explicit-Euler step (Model Exchange)", k_euler, 0, FZ_RUN_DRIVES},
+    {49, "the call order in Continuous-Time Mode (Model Exchange)", k_call_order, 0, FZ_RUN_DRIVES},
+    {50, "explicit-Euler steps with a call-order check (Model Exchange)", k_euler_order, 0, FZ_RUN_DRIVES},
 };
 
 static void release(fz_context *ctx, fz_slot *s) { (void)ctx, (void)s; } /* calls_fmi2.c frees the instance */

@@ -231,6 +231,7 @@ static void k_enter_init(fz_context *ctx, fz_slot *s, fz_reader *r)
         if (!isfinite(start) || (flags & 1 && !(tol > 0.0 && tol < 1.0)) || (flags & 2 && !(stop >= start)))
             fz_fail("fmi3EnterInitializationMode accepted start %g, tolerance %g, stop %g", start, tol, stop);
         s->t = s->start_time = start;
+        fz_energy_tolerance(s, flags & 1, tol);
     }
 }
 
@@ -606,6 +607,12 @@ static fmi3Status do_step(fz_slot *s, double tc, double h, int no_set_prior, int
     return st;
 }
 
+/* fz_get_reals for the energy check */
+static int get_reals(fz_slot *s, const unsigned *vr, size_t n, double *x)
+{
+    return CALL(fmi3GetFloat64, s->c, vr, n, x, n) != fmi3OK;
+}
+
 static void k_do_step(fz_context *ctx, fz_slot *s, fz_reader *r)
 {
     (void)ctx;
@@ -615,7 +622,11 @@ static void k_do_step(fz_context *ctx, fz_slot *s, fz_reader *r)
     double t = isnan(s->t) ? 0.0 : s->t;
     double tc = k % 16 < 14 ? t : k % 16 == 14 ? t + 1.0 : fz_real(r, 1.0);
     double h = hk < 240 ? steps[hk % (sizeof steps / sizeof steps[0])] : fz_real(r, 1e-3);
-    do_step(s, tc, h, k >> 6 & 1, k >= 250, NULL);
+    double before[FZ_ENERGY_VALUES], after[FZ_ENERGY_VALUES];
+    int undriven = fz_energy_read(s, get_reals, before);
+    fmi3Status st = do_step(s, tc, h, k >> 6 & 1, k >= 250, NULL);
+    if (undriven && (st == fmi3OK || st == fmi3Warning) && fz_energy_read(s, get_reals, after))
+        fz_energy_check(s, before, after, tc, h);
 }
 
 /* A master's steps with early return and Event Mode: fmi3DoStep from the last successful time, and
@@ -986,28 +997,28 @@ static void k_not_offered(fz_context *ctx, fz_slot *s, fz_reader *r)
 }
 
 static const fz_call calls[] = {
-    {60, "fmi3Instantiate*", k_instantiate, 1},
-    {61, "fmi3FreeInstance", k_free, 0},
-    {62, "fmi3SetDebugLogging", k_debug_logging, 0},
-    {63, "fmi3EnterInitializationMode", k_enter_init, 0},
+    {60, "fmi3Instantiate*", k_instantiate, 1, FZ_RUN_DRIVES},
+    {61, "fmi3FreeInstance", k_free, 0, FZ_RUN_KEEPS},
+    {62, "fmi3SetDebugLogging", k_debug_logging, 0, FZ_RUN_KEEPS},
+    {63, "fmi3EnterInitializationMode", k_enter_init, 0, FZ_RUN_STARTS},
     {64, "fmi3 mode changes (exit initialization, event, step, continuous-time, configuration, terminate, reset)",
-     k_simple, 0},
-    {65, "fmi3 mode changes", k_simple, 0},
-    {66, "fmi3Get/SetFloat64", k_float64, 0},
-    {67, "fmi3Get/SetFloat64", k_float64, 0},
-    {68, "fmi3Get/Set of the other types", k_discrete, 0},
-    {69, "fmi3 FMU states", k_state, 0},
-    {70, "fmi3DoStep", k_do_step, 0},
-    {71, "fmi3DoStep", k_do_step, 0},
-    {72, "fmi3 Model Exchange and derivatives", k_me, 0},
-    {73, "fmi3 Model Exchange and derivatives", k_me, 0},
-    {74, "fmi3DeserializeFMUState (a serialized state, altered)", k_deserialize_altered, 0},
-    {75, "fmi3DeserializeFMUState (bytes of the input)", k_deserialize_raw, 0},
-    {76, "fmi3 Co-Simulation master steps (early return, Event Mode)", k_master, 0},
-    {77, "an explicit-Euler step (FMI 3.0 Model Exchange)", k_euler, 0},
-    {78, "fmi3 functions the FMU does not provide; fmi3GetVersion", k_not_offered, 0},
-    {79, "the call order in Continuous-Time Mode (FMI 3.0 Model Exchange)", k_call_order, 0},
-    {80, "explicit-Euler steps with a call-order check (FMI 3.0 Model Exchange)", k_euler_order, 0},
+     k_simple, 0, FZ_RUN_STARTS},
+    {65, "fmi3 mode changes", k_simple, 0, FZ_RUN_STARTS},
+    {66, "fmi3Get/SetFloat64", k_float64, 0, FZ_RUN_STARTS},
+    {67, "fmi3Get/SetFloat64", k_float64, 0, FZ_RUN_STARTS},
+    {68, "fmi3Get/Set of the other types", k_discrete, 0, FZ_RUN_STARTS},
+    {69, "fmi3 FMU states", k_state, 0, FZ_RUN_DRIVES},
+    {70, "fmi3DoStep", k_do_step, 0, FZ_RUN_KEEPS},
+    {71, "fmi3DoStep", k_do_step, 0, FZ_RUN_KEEPS},
+    {72, "fmi3 Model Exchange and derivatives", k_me, 0, FZ_RUN_DRIVES},
+    {73, "fmi3 Model Exchange and derivatives", k_me, 0, FZ_RUN_DRIVES},
+    {74, "fmi3DeserializeFMUState (a serialized state, altered)", k_deserialize_altered, 0, FZ_RUN_DRIVES},
+    {75, "fmi3DeserializeFMUState (bytes of the input)", k_deserialize_raw, 0, FZ_RUN_DRIVES},
+    {76, "fmi3 Co-Simulation master steps (early return, Event Mode)", k_master, 0, FZ_RUN_DRIVES},
+    {77, "an explicit-Euler step (FMI 3.0 Model Exchange)", k_euler, 0, FZ_RUN_DRIVES},
+    {78, "fmi3 functions the FMU does not provide; fmi3GetVersion", k_not_offered, 0, FZ_RUN_KEEPS},
+    {79, "the call order in Continuous-Time Mode (FMI 3.0 Model Exchange)", k_call_order, 0, FZ_RUN_DRIVES},
+    {80, "explicit-Euler steps with a call-order check (FMI 3.0 Model Exchange)", k_euler_order, 0, FZ_RUN_DRIVES},
 };
 
 const fz_interface fz_fmi3 = {"FMI 3.0", fmi3_available, calls, sizeof calls / sizeof calls[0], release, 3};

@@ -104,6 +104,12 @@ typedef struct {
     double t;     /* its communication time */
 } fz_saved;
 
+/* The energy property of an undriven run (energy.c). */
+typedef struct {
+    int off;          /* the run was driven, or its past is unknown (a restored state): no check */
+    double tolerance; /* the experiment's relative tolerance (0: none given) */
+} fz_energy;
+
 typedef struct fz_slot {
     void *c;                   /* fmi2Component, NULL when the slot is empty */
     int fmu_type;              /* fmi2CoSimulation or fmi2ModelExchange */
@@ -116,6 +122,7 @@ typedef struct fz_slot {
     int logging;               /* debug logging on (every category) */
     int version;               /* the FMI version of the functions that made c (2 or 3) */
     unsigned options;          /* FMI 3.0 Co-Simulation: FZ_EVENT_MODE_USED | FZ_EARLY_RETURN_ALLOWED */
+    fz_energy energy;
 } fz_slot;
 
 enum { FZ_EVENT_MODE_USED = 1u << 0, FZ_EARLY_RETURN_ALLOWED = 1u << 1 };
@@ -192,13 +199,38 @@ void fz_call_order(fz_slot *s, fz_reader *r, const fz_me_face *f);
 int fz_off(const char *name);
 
 /* ---- call kinds ---- */
+/* What a call does to an undriven run (energy.c): drives it or makes its past unknown (0), leaves
+ * it undriven (reads, steps), or leaves it undriven while the instance has not started (sets and
+ * mode changes in Instantiated and Initialization Mode). */
+enum { FZ_RUN_DRIVES = 0, FZ_RUN_KEEPS = 1, FZ_RUN_STARTS = 2 };
+
 typedef struct {
     uint8_t code;
     const char *name;
     /* Run the call on slot s (or both slots of ctx); read the arguments from r. */
     void (*run)(fz_context *ctx, fz_slot *s, fz_reader *r);
     int instantiates; /* makes a new instance in the slot (frees the one there first) */
+    int energy;       /* FZ_RUN_* */
 } fz_call;
+
+/* ---- the energy property of an undriven run (energy.c) ----
+ * In a Co-Simulation run with no excitation (a = 0, constant inputs) kinetic + elastic energy never
+ * grows beyond the tolerance: kinetic + E_contact + W_dissipated + W0 y is constant. */
+#define FZ_ENERGY_VALUES 12
+/* Read n Reals (0: OK): each interface's fmi2GetReal or fmi3GetFloat64. */
+typedef int (*fz_get_reals)(fz_slot *s, const unsigned *vr, size_t n, double *x);
+/* After every call on slot s (the dispatcher): a new instance starts a run, and a call that drives
+ * the run (fz_call.energy) ends its checks. */
+void fz_energy_after_call(fz_slot *s, const fz_call *call, unsigned mask_before);
+/* The experiment's tolerance, as fmi2SetupExperiment or fmi3EnterInitializationMode accepted it. */
+void fz_energy_tolerance(fz_slot *s, int defined, double tolerance);
+/* The values the check needs, before or after a step; 0 when the slot's run is not checked (driven,
+ * not Co-Simulation, not in Step Mode, a != 0 or V != 0, a value unread or not finite). */
+int fz_energy_read(fz_slot *s, fz_get_reals get, double x[FZ_ENERGY_VALUES]);
+/* The check of the step [t, t + h] from the values before (a) and after (b) it; a finding when the
+ * balance grew beyond the tolerance. */
+void fz_energy_check(const fz_slot *s, const double a[FZ_ENERGY_VALUES], const double b[FZ_ENERGY_VALUES],
+                     double t, double h);
 
 typedef struct {
     const char *name;

@@ -481,7 +481,7 @@ static void k_profile(fz_context *ctx, fz_slot *s, fz_reader *r)
 
 static int always(void) { return 1; }
 static void nothing(fz_context *c, fz_slot *s) { (void)c, (void)s; }
-static const fz_call harness_calls[] = {{100, "write a profile file", k_profile, 0}};
+static const fz_call harness_calls[] = {{100, "write a profile file", k_profile, 0, FZ_RUN_KEEPS}};
 static const fz_interface fz_harness = {"the harness", always, harness_calls, 1, nothing, 0};
 
 /* The interfaces linked into this binary (each calls_*.c defines one; weak: absent ones are NULL). */
@@ -590,7 +590,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             release_slot(s);
         }
         fz_trace("[%d] slot %d: %s", k, op >> 7, call->name);
+        unsigned mask_before = s->mask;
         call->run(&ctx, s, &r);
+        fz_energy_after_call(s, call, mask_before);
     }
     for (int i = 0; i < FZ_SLOTS; i++) release_slot(&ctx.slot[i]);
     for (int i = 0; i < FZ_BUFFERS; i++) {
