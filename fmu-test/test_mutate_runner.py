@@ -119,7 +119,6 @@ def test_f(table):
 
 RUN_PLUGIN = '''
 import json, sys
-sys.path.insert(0, sys.argv[1])
 import importlib.util
 spec = importlib.util.spec_from_file_location("mutate_tool", sys.argv[2])
 mutate = importlib.util.module_from_spec(spec)
@@ -128,8 +127,10 @@ import pytest
 
 
 def flushed():
-    import test_shared
-    lines = {"src/fake.c": sorted(set(test_shared.EXECUTED))} if test_shared.EXECUTED else {}
+    test_shared = sys.modules.get("test_shared")  # as pytest imports it from its rootdir, once collected
+    if test_shared is None or not test_shared.EXECUTED:
+        return {}
+    lines = {"src/fake.c": sorted(set(test_shared.EXECUTED))}
     test_shared.EXECUTED.clear()
     return lines
 
