@@ -274,8 +274,9 @@ void vi_sim_check_validity(vi_sim *s)
         s->warned_validity |= cause;
         s->log(s->log_env, VI_LOG_WARNING, "%s", text);
     }
+    if (s->warned_validity & VI_INVALID_FORCE) return; /* warned once: the force need not be evaluated again */
     double F_max = fmax(s->d.F_peak, vi_model_force(&s->d.model, s->d.t, s->d.x)); /* the step's so far, and now */
-    if (!(s->warned_validity & VI_INVALID_FORCE) && vi_model_force_validity(&s->d.model, F_max, s->d.t, text, sizeof text)) {
+    if (vi_model_force_validity(&s->d.model, F_max, s->d.t, text, sizeof text)) {
         s->warned_validity |= VI_INVALID_FORCE;
         s->log(s->log_env, VI_LOG_WARNING, "%s", text);
     }
