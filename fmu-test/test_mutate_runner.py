@@ -221,3 +221,34 @@ def test_the_solver_loop_runs_the_tests_the_solver_choice_reaches(tmp_path):
     assert "66/71 tests collected (5 deselected)" in r.stdout, r.stdout[-2000:]
     solvers, select = load_mutate().test_solvers()
     assert solvers == ["1", "2", "3"] and select[:3] == ["-m", "not libcosim", "--solver-tests-from"]
+
+
+# ---- a journal: a long run over several sittings ------------------------------------------------------
+
+def test_a_journal_keeps_each_result_and_gives_back_only_todays_revision(tmp_path, monkeypatch):
+    """--journal: each mutant's result is appended as it ends; a later run takes the results held for
+    today's revision (and only those: another revision's code or tests may give another verdict)."""
+    mutate = load_mutate()
+    (tmp_path / "src").mkdir()
+    (tmp_path / "src/x.c").write_text("int f(int a, int b) { return a + b; }\n")
+    source = (tmp_path / "src/x.c").read_text()
+    start = source.index("+")
+    mutant = type("M", (), dict(file="src/x.c", ident="src/x.c:f:op:+->-:1 | return a + b;", where="src/x.c:1:33",
+                                start=start, end=start + 1, new="-"))()
+    journal = tmp_path / "journal.jsonl"
+    journal.write_text(json.dumps(dict(revision="old", result=dict(name="other", verdict="killed"))) + "\n")
+    runner = object.__new__(mutate.Runner)
+    runner.journal, runner.revision, runner.n_mutants, runner.done, runner.t0 = journal, "today", 1, 0, time.monotonic()
+    runner.free = mutate.queue.Queue()
+    runner.free.put(tmp_path)
+    runner.printing = mutate.threading.Lock()
+    runner.tests_of = lambda m: ["pytest:t"]
+    seen = []
+    runner.verdict = lambda m, scratch, target, tests: (seen.append(target.read_text()), ("survived", "", ""))[1]
+    result = runner.run_mutant(mutant)
+    assert seen == ["int f(int a, int b) { return a - b; }\n"]  # the mutant was in place while it ran
+    assert (tmp_path / "src/x.c").read_text() == source  # and is gone after
+    held = mutate.read_journal(journal, "today")
+    assert held == {mutant.ident: result} and result["verdict"] == "survived"
+    assert set(mutate.read_journal(journal, "old")) == {"other"}
+    assert mutate.read_journal(tmp_path / "none.jsonl", "today") == {}

@@ -3,7 +3,7 @@
 
 Usage:
     python3 tools/mutate.py [--sample N] [--seed S] [--files GLOB ...] [--only NAME ...] [--list]
-                            [--jobs J] [--json FILE] [--rebuild-coverage] [--equivalents]
+                            [--jobs J] [--json FILE] [--rebuild-coverage] [--equivalents] [--journal FILE]
 
 Each mutant changes one place of one C file under src/ (operators, constants, a removed statement, a
 negated or forced condition, a changed return status; code compiled for Windows only, under #ifdef
@@ -910,6 +910,9 @@ def parse_args():
                     help="mutants run at once, each in its own scratch copy (default: the number of cores)")
     ap.add_argument("--json", help="write the results to this file")
     ap.add_argument("--rebuild-coverage", action="store_true", help="build the coverage map even if one is cached")
+    ap.add_argument("--journal", help="append each mutant's result to this file as it ends, and take the results it "
+                                      "holds for today's revision instead of running those mutants again (a long run "
+                                      "over several sittings)")
     ap.add_argument("--equivalents", action="store_true",
                     help="replay the mutants listed as equivalent (with --files, --only, --sample: some of them) "
                          "under every condition of the test command: the FMU tests with every solver, the C tests "
@@ -945,12 +948,26 @@ VERDICT = {"passed": "survived", "failed": "killed", "timeout": "timeout"}
 VERDICTS = ("killed", "survived", "uncovered", "timeout", "equivalent", "identical", "stillborn")
 
 
+def read_journal(path, key):
+    """The results a journal holds for the revision key, by mutant name (results of other revisions are
+    left out: the code or the tests they ran on have changed)."""
+    held = {}
+    if path and path.exists():
+        for line in path.read_text().splitlines():
+            if line.strip():
+                e = json.loads(line)
+                if e.get("revision") == key:
+                    held[e["result"]["name"]] = e["result"]
+    return held
+
+
 class Runner:
     """Runs mutants, each in a free scratch copy of the repository (one per job), against the tests the
     coverage map selects for its line; prints a line per mutant as it ends."""
 
-    def __init__(self, cmap, jobs, sources, n_mutants, equivalent, replay):
+    def __init__(self, cmap, jobs, sources, n_mutants, equivalent, replay, journal=None):
         self.index = line_index(cmap)
+        self.journal, self.revision = journal, cmap["revision"]
         self.durations = {n: t["duration"] for n, t in cmap["tests"].items()}
         self.ran = {s: set(ids) for s, ids in by_solver(cmap["tests"]).items()}  # the FMU tests run with each solver
         self.equivalent, self.replay, self.n_mutants = equivalent, replay, n_mutants
@@ -1019,14 +1036,18 @@ class Runner:
                 target.write_text(original)
                 os.utime(target, None)
             dt = time.monotonic() - t0
+            result = dict(name=m.ident, where=m.where, verdict=verdict, tests=len(tests), seconds=dt,
+                          sanitized=bool(how) and verdict in ("killed", "timeout"),
+                          killed_by=why if verdict == "killed" else "", timed_out=why if verdict == "timeout" else "")
             with self.printing:
                 self.done += 1
                 print(f"[{self.done}/{self.n_mutants} {time.monotonic() - self.t0:6.0f} s] {verdict:10s} {len(tests):3d} "
                       f"tests {dt:5.1f} s  {m.where}  {m.ident}{how if verdict in ('killed', 'timeout') else ''}",
                       flush=True)
-            return dict(name=m.ident, where=m.where, verdict=verdict, tests=len(tests), seconds=dt,
-                        sanitized=bool(how) and verdict in ("killed", "timeout"),
-                        killed_by=why if verdict == "killed" else "", timed_out=why if verdict == "timeout" else "")
+                if self.journal:
+                    with self.journal.open("a") as f:
+                        f.write(json.dumps(dict(revision=self.revision, result=result)) + "\n")
+            return result
         finally:
             self.free.put(scratch)
 
@@ -1114,9 +1135,19 @@ def main():
     if failing:
         print(f"{len(failing)} tests fail on the unmutated code and are never selected: " + ", ".join(failing))
     jobs = max(1, args.jobs)
-    runner = Runner(cmap, jobs, sorted({m.file for m in mutants}), len(mutants), equivalent, args.equivalents)
-    results = runner.run_all(mutants, jobs)
-    timing = (f"mutants {time.monotonic() - runner.t0:.0f} s ({jobs} at once), whole run {time.monotonic() - t_start:.0f} s "
+    journal = pathlib.Path(args.journal) if args.journal else None
+    held = read_journal(journal, cmap["revision"])
+    todo = [m for m in mutants if m.ident not in held]
+    if journal:
+        print(f"journal {journal}: {len(mutants) - len(todo)} of the {len(mutants)} mutants done for this revision, "
+              f"{len(todo)} to run", flush=True)
+    t_mutants = time.monotonic()
+    results = [held[m.ident] for m in mutants if m.ident in held]
+    if todo:
+        runner = Runner(cmap, jobs, sorted({m.file for m in todo}), len(todo), equivalent, args.equivalents, journal)
+        t_mutants = runner.t0
+        results += runner.run_all(todo, jobs)
+    timing = (f"mutants {time.monotonic() - t_mutants:.0f} s ({jobs} at once), whole run {time.monotonic() - t_start:.0f} s "
               f"(coverage map {'cached' if cmap.get('cached') else 'built in %.0f s' % cmap['seconds']})")
     listed_killed = report(results, seed, len(mutants), equivalent, timing)
     if stale:  # again at the end of a long run, with the killed entries
