@@ -181,7 +181,9 @@ def matched(rtols, errors):
 # The sections that need no work-precision results, for --only.
 ALONE = {"profile": lambda out, fmu, work, repeat: profile_loading(out, fmu, work, repeat),
          # the floor at rtol 1e-10 for every solver (the full suite uses the matched rtols)
-         "floor": lambda out, fmu, work, repeat: per_call_floor(out, fmu, {"fig4b": {"matched": {}}}, repeat)}
+         "floor": lambda out, fmu, work, repeat: per_call_floor(out, fmu, {"fig4b": {"matched": {}}}, repeat),
+         # Fig. 4b alone: its work-precision table, matched accuracy, and where the time goes
+         "fig4b": lambda out, fmu, work, repeat: fig4b_alone(out, fmu, work, repeat)}
 
 
 AGAINST_RTOLS = (1e-6, 1e-10)  # the tolerances of the comparison of two builds
@@ -606,3 +608,104 @@ def work_bound(out, fmu):
         fig, _ = fmu.run({**p, "solver": solver}, 1e6, 1e-6, 1, h=1e6)
         out(f"| {name} | {fig['cpu_s']:.2f} | {fig['discard_at']:.6g} |")
     out("")
+
+
+# ---- Fig. 4b alone: where the time goes -------------------------------------------------------------
+
+# The parts of a run (callgrind's inclusive cost of these functions of the FMU, and of the importer's calls)
+PROFILE_FUNCTIONS = ("sim_rhs", "attempt_2", "dense_build", "root_search", "ode_restart", "vi_ode_dense",
+                     "fmi2DoStep", "fmi2GetReal")
+
+
+def callgrind_inclusive(fmu, params, t_stop, rtol):
+    """Inclusive instructions of PROFILE_FUNCTIONS in one run of the C driver (valgrind's callgrind), and
+    the calls of sim_rhs. None without valgrind."""
+    import re
+    import shutil
+    if not (shutil.which("valgrind") and shutil.which("callgrind_annotate")):
+        return None
+    out = fmu.work / "callgrind.fig4b.out"
+    cmd = ["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}", str(fmu.build / "vi_bench_driver"),
+           fmu.so, fmu.md.guid, repr(t_stop), repr(H_COMM), "1", repr(rtol), "--vrs", fmu.vrs]
+    subprocess.run(cmd + [fmu.arg(k, v) for k, v in params.items()], capture_output=True, check=True)
+    text = subprocess.run(["callgrind_annotate", "--inclusive=yes", "--threshold=100", str(out)],
+                          capture_output=True, text=True, check=True).stdout
+    cost = {}
+    for line in text.splitlines():
+        hit = re.match(r"\s*([\d,]+) \([\s\d.]+%\)\s+(\S+)", line)
+        if hit:
+            name = hit.group(2).rsplit(":", 1)[-1].split(".")[0]
+            if name in PROFILE_FUNCTIONS:
+                cost[name] = cost.get(name, 0) + int(hit.group(1).replace(",", ""))
+    return cost
+
+
+def time_parts(fig, cost, rhs_ns, calls, floor_ns, cpu_s):
+    """[(part, instructions, share of the loop, time [ms], time the limit allows [ms])]: the loop's
+    instructions (fmi2DoStep and fmi2GetReal) split by what they do, times as shares of the CPU time
+    of the loop. rhs: its evaluations by purpose from the solver's counters (an accepted step 12, its
+    dense output 3, a rejected attempt 11, a restart 2: f at the new start and the first step size)."""
+    steps, rej, restarts, rhs = fig["solver_steps"], fig["rejected"], fig["restarts"], fig["rhs"]
+    unit = cost.get("sim_rhs", 0) / rhs  # instructions per rhs evaluation
+    loop = cost["fmi2DoStep"] + cost["fmi2GetReal"]
+    rhs_in_attempts = (steps + rej) * 11 * unit
+    parts = [
+        ("rhs: accepted steps (12 each)", 12 * steps * unit),
+        ("rhs: dense output of each step (3 each)", 3 * steps * unit),
+        ("rhs: rejected attempts (11 each)", 11 * rej * unit),
+        ("rhs: restarts after events (2 each)", 2 * restarts * unit),
+        ("stage sums and error estimates", cost.get("attempt_2", 0) - rhs_in_attempts),
+        ("dense-output coefficients", cost.get("dense_build", 0) - 3 * steps * unit),
+        ("event location (root search on the interpolant)", cost.get("root_search", 0)),
+        ("restarts besides their rhs", cost.get("ode_restart", 0) - 2 * restarts * unit),
+        ("interpolation at the communication points", cost.get("vi_ode_dense", 0)),
+        ("reading y (fmi2GetReal)", cost["fmi2GetReal"]),
+    ]
+    parts.append(("the rest of fmi2DoStep: FMI layer, loop, guards at steps, pieces", loop - sum(c for _, c in parts)))
+    ns_per_instr = cpu_s / loop
+    limits = {"rhs: accepted steps (12 each)": 12 * steps * rhs_ns * 1e-9,
+              "rhs: dense output of each step (3 each)": 3 * steps * rhs_ns * 1e-9}
+    return [(name, c, c / loop, 1e3 * c * ns_per_instr, 1e3 * limits.get(name, 0.0)) for name, c in parts], \
+        1e3 * calls * floor_ns * 1e-9
+
+
+def fig4b_alone(out, fmu, work, repeat):
+    """Fig. 4b's work-precision table and matched accuracy (as in the full suite), then where the time of
+    the fastest solver at matched accuracy goes."""
+    spec = CASES["fig4b"]
+    res = measure_case(fmu, work, "fig4b", spec, RTOLS, repeat)
+    report_case(out, "fig4b", spec, res, RTOLS)
+    report_matched(out, {"fig4b": res}, RTOLS)
+    name = "dop853"
+    rtol = res["matched"].get(name)
+    if rtol is None:
+        return
+    p = {**spec["params"], "solver": SOLVERS[name]}
+    fig, _ = fmu.run(p, spec["t_stop"], rtol, repeat)
+    floor, _ = fmu.run(p, 5e5 * FLOOR_H, rtol, repeat, h=FLOOR_H)
+    calls = round(spec["t_stop"] / H_COMM)
+    out(f"### Where the time goes (fig4b, {name} at rtol {rtol:.0e}, {calls} steps of {H_COMM:g} s, y read after each)\n")
+    out(f"Solver counters: {int(fig['solver_steps'])} accepted steps, {int(fig['rejected'])} rejected attempts, "
+        f"{int(fig['rhs'])} rhs evaluations, {int(fig['guard_evals'])} guard evaluations, {int(fig['restarts'])} "
+        f"restarts. CPU of the loop {fig['step_us'] * calls / 1e3:.3f} ms (minimum of {repeat} runs); one rhs "
+        f"evaluation alone {res['rhs_ns']:.1f} ns; the per-call floor (steps of {FLOOR_H:g} s, y read) "
+        f"{1e3 * floor['step_us']:.0f} ns.\n")
+    cost = callgrind_inclusive(fmu, p, spec["t_stop"], rtol)
+    if cost is None:
+        out("(valgrind not installed: the parts are left out.)\n")
+        return
+    rows, floor_ms = time_parts(fig, cost, res["rhs_ns"], calls, 1e3 * floor["step_us"], 1e-6 * fig["step_us"] * calls)
+    out("Instructions by part (valgrind --tool=callgrind, inclusive cost of the functions that do it; "
+        "deterministic), and the time that share of the loop's CPU makes:\n")
+    out("| part | instructions | share | time [ms] | rhs evaluations alone [ms] |")
+    out("|---|---|---|---|---|")
+    for label, c, share, ms, limit in rows:
+        out(f"| {label} | {round(c)} | {100 * share:.1f} % | {ms:.3f} | {fmt(limit or None, '.3f')} |")
+    need = sum(limit for *_, limit in rows)
+    total = sum(ms for *_, ms, _ in rows)
+    py_rtol = matched(RTOLS, [res["py"][r][1] for r in RTOLS])
+    py = res["py"][py_rtol][0] if py_rtol else None
+    out(f"\nThe limit: the rhs evaluations of the accepted steps and their dense output alone ({need:.3f} ms) plus "
+        f"the per-call floor times {calls} calls ({floor_ms:.3f} ms) = {need + floor_ms:.3f} ms"
+        + (f", {1e3 * py / (need + floor_ms):.0f} times faster than the Python reference ({1e3 * py:.0f} ms); the loop "
+           f"takes {total:.3f} ms, {1e3 * py / total:.0f} times" if py else "") + ".\n")
