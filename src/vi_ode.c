@@ -180,11 +180,20 @@ static int guards(const vi_ode_problem *p, vi_ode_stats *st, double t, const dou
  * (vi_ode_init zeroes the state, rhs writes n values), so they stay zero. */
 #define LANES(n) ((n) <= 2 ? 2 : VI_ODE_MAX_N)
 
+/* UNROLLED: the loop after it is unrolled completely (GCC, Clang), so that the stage index, and with it
+ * the coefficients and the bounds of the sums, are constants; the sums are the same, in the same order. */
+#if defined(__GNUC__)
+#define UNROLLED _Pragma("GCC unroll 16")
+#else
+#define UNROLLED
+#endif
+
 /* sum[c] = w[0] k[0][c] + sum_{j = lo}^{hi - 1} w[j] k[j][c] */
 static inline void combine(const double *w, int lo, int hi, const double k[NS][VI_ODE_MAX_N], double *sum, int lanes)
 {
     double acc[VI_ODE_MAX_N];
     for (int c = 0; c < lanes; c++) acc[c] = w[0] * k[0][c];
+    UNROLLED
     for (int j = lo; j < hi; j++) {
         double a = w[j];
         for (int c = 0; c < lanes; c++) acc[c] += a * k[j][c];
@@ -207,6 +216,7 @@ static inline void attempt(const vi_ode_problem *p, vi_ode_stats *st, span *sp, 
                            int lanes)
 {
     double sb[VI_ODE_MAX_N];
+    UNROLLED
     for (int i = 1; i < S_STEP; i++) stage(p, st, sp, i, h, lanes);
     combine(Bw, LO[S_END], S_STEP, sp->k, sb, lanes);
     combine(E5, LO[S_END], S_STEP, sp->k, e5, lanes);
@@ -233,6 +243,7 @@ static inline int dense_build_lanes(span *sp, const vi_ode_problem *p, vi_ode_st
 {
     int n = p->n;
     double h = sp->t1 - sp->t0;
+    UNROLLED
     for (int i = S_DENSE; i < NS; i++) {
         stage(p, st, sp, i, h, lanes);
         if (!finite_n(sp->k[i], n)) return VI_ODE_ERR_NONFINITE;
@@ -244,6 +255,7 @@ static inline int dense_build_lanes(span *sp, const vi_ode_problem *p, vi_ode_st
         sp->q[1][c] = q1;
         sp->q[2][c] = q0 - h * sp->k[S_END][c] - q1;
     }
+    UNROLLED
     for (int r = 0; r < 4; r++) {
         combine(D[r], LO_D, NS, sp->k, sp->q[3 + r], lanes);
         for (int c = 0; c < lanes; c++) sp->q[3 + r][c] *= h;
