@@ -632,29 +632,6 @@ static double next_step_size(const vi_ode *s, const vi_ode_problem *p, double h,
     return h_prop;
 }
 
-/* The size to try after a rejected attempt of size h with error err > 1: the controller's h max(FAC_MIN,
- * SAFETY err^(-1/8)); when the attempt before it from the same start (prev_h > h, prev_err > err) shows
- * the error falling more slowly than h^8 (a right-hand side that is not smooth near the start, as at a
- * contact's onset, where the force grows like a power 3/2 of the indentation), the size at which that
- * observed order predicts the error RETRY_TARGET (the order at least 2, the factor at least
- * RETRY_FAC_MIN), when that is smaller. */
-#define RETRY_TARGET 0.3
-#define RETRY_FAC_MIN 0.02
-
-static double retry_size(double h, double err, double prev_h, double prev_err)
-{
-    double fac = SAFETY * inv_root8(err);
-    if (fac < FAC_MIN) fac = FAC_MIN;
-    if (prev_h > h && prev_err > err) {
-        double order = log(prev_err / err) / log(prev_h / h);
-        if (order < VI_ODE_ORDER) {
-            double f = pow(RETRY_TARGET / err, 1.0 / (order > 2.0 ? order : 2.0));
-            if (f < fac) fac = f > RETRY_FAC_MIN ? f : RETRY_FAC_MIN;
-        }
-    }
-    return h * fac;
-}
-
 /* What an attempted step left: accepted or not, and what the step after it is to be. */
 typedef struct {
     double err, h_next; /* the accepted step's error and the step size proposed after it */
@@ -673,7 +650,7 @@ static int accepted_step(vi_ode *s, const vi_ode_problem *p, span *sp, double t_
     double h_stable = stable_step(s, p, h_min);
     int at_rest = h_stable < h_lim && stages_zero(sp, 1, n);
     if (!at_rest && h_stable < h_lim) h_lim = h_stable;
-    double h = fixed ? p->h_fixed : s->h, prev_h = 0.0, prev_err = 0.0; /* the attempt rejected before */
+    double h = fixed ? p->h_fixed : s->h;
     for (r->rejections = 0;;) {
         if (h > h_lim) h = h_lim;
         /* a step under 16 ulps of t does not resolve time (t + h may round to t): the shortest is h_min */
@@ -705,9 +682,8 @@ static int accepted_step(vi_ode *s, const vi_ode_problem *p, span *sp, double t_
         }
         s->st.rejected++;
         if (fixed) return VI_ODE_ERR_NONFINITE;
-        double h_next = bad ? FAC_MIN * h : retry_size(h, r->err, prev_h, prev_err);
-        prev_h = bad ? 0.0 : h, prev_err = r->err;
-        h = h_next;
+        double fac = bad ? FAC_MIN : SAFETY * inv_root8(r->err);
+        h *= fac < FAC_MIN ? FAC_MIN : fac;
         if (++r->rejections >= VI_ODE_MAX_REJECTS) return bad ? VI_ODE_ERR_NONFINITE : VI_ODE_ERR_REJECTS;
         if (h < h_min) return bad ? VI_ODE_ERR_NONFINITE : VI_ODE_ERR_HMIN;
     }

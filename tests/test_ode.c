@@ -1602,13 +1602,12 @@ Test(state, step_size_control_rules)
     cr_assert(s.t == 1e-3);
 }
 
-/* f jumps right after t = 0: the first stage (f = 0) disagrees with all others (f = 1e300) for every h,
- * so the scaled error estimate stays ~1e4 while h f is far above atol / rtol (h > 1e-300, beyond the
- * 64 rejections even at the smallest retry factor 0.02); h_min = 16 eps |t| = 0 at t = 0 */
+/* f jumps right after t = 0: the first stage (f = 0) disagrees with all others (f = 1e60) for every h,
+ * so the scaled error estimate stays ~1e4 however small h gets; h_min = 16 eps |t| = 0 at t = 0 */
 static void kink(double t, const double *x, double *dx, void *u)
 {
     (void)x, (void)u;
-    dx[0] = t > 0.0 ? 1e300 : 0.0;
+    dx[0] = t > 0.0 ? 1e60 : 0.0;
 }
 
 Test(failures, rejections_are_bounded)
@@ -1620,29 +1619,6 @@ Test(failures, rejections_are_bounded)
     cr_assert_eq(vi_ode_step(&s, &p, 1.0), VI_ODE_ERR_REJECTS);
     cr_assert_eq(s.st.rejected, VI_ODE_MAX_REJECTS);
     cr_assert(s.t == 0.0 && s.h == 1e-3, "state unchanged");
-}
-
-/* x0' = t^(3/2) from t = 0: the force at a contact's onset grows like a power 3/2 of the indentation, so
- * the solution is not smooth at the start and the error of a first step falls like h^3.5, not h^8. */
-static void onset(double t, const double *x, double *dx, void *u)
-{
-    (void)u;
-    dx[0] = t > 0.0 ? t * sqrt(t) : 0.0;
-    dx[1] = x[0];
-}
-
-Test(failures, a_step_at_a_kink_shrinks_by_the_observed_order)
-{
-    /* A first step 1e5 times too long: shrunk by SAFETY err^(-1/8) alone it takes 8 rejected attempts;
-     * from the second rejection on, the order the two attempts show (about 3.5) gives the size. */
-    vi_ode_problem p = {.n = 2, .rhs = onset, .rtol = 1e-10, .atol = {1e-12, 1e-12}};
-    vi_ode s;
-    double x0[2] = {0.0, 0.0};
-    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 0.1, 0u), VI_ODE_OK);
-    cr_assert_eq(vi_ode_step(&s, &p, 10.0), VI_ODE_OK);
-    cr_assert(s.st.rejected <= 3, "%ld rejected attempts", s.st.rejected);
-    double exact = pow(s.t, 2.5) / 2.5;
-    cr_assert(fabs(s.x[0] - exact) <= 10.0 * p.atol[0], "x %.17g, exact %.17g", s.x[0], exact);
 }
 
 Test(failures, check_bounds_and_null_arguments)
