@@ -141,6 +141,14 @@ const vi_ode_tableau *vi_ode_method(void) { return &TABLEAU; }
 
 typedef vi_ode_span span;
 
+/* The parts the profile of `vibroimpact bench` names by function (an attempted step, the event search's
+ * root finding) are kept out of line; each is called once per attempt or per event. */
+#if defined(__GNUC__)
+#define PART __attribute__((noinline))
+#else
+#define PART
+#endif
+
 static int finite_n(const double *v, int n)
 {
     for (int i = 0; i < n; i++)
@@ -172,11 +180,20 @@ static int guards(const vi_ode_problem *p, vi_ode_stats *st, double t, const dou
  * (vi_ode_init zeroes the state, rhs writes n values), so they stay zero. */
 #define LANES(n) ((n) <= 2 ? 2 : VI_ODE_MAX_N)
 
+/* UNROLLED: the loop after it is unrolled completely (GCC, Clang), so that the stage index, and with it
+ * the coefficients and the bounds of the sums, are constants; the sums are the same, in the same order. */
+#if defined(__GNUC__)
+#define UNROLLED _Pragma("GCC unroll 16")
+#else
+#define UNROLLED
+#endif
+
 /* sum[c] = w[0] k[0][c] + sum_{j = lo}^{hi - 1} w[j] k[j][c] */
 static inline void combine(const double *w, int lo, int hi, const double k[NS][VI_ODE_MAX_N], double *sum, int lanes)
 {
     double acc[VI_ODE_MAX_N];
     for (int c = 0; c < lanes; c++) acc[c] = w[0] * k[0][c];
+    UNROLLED
     for (int j = lo; j < hi; j++) {
         double a = w[j];
         for (int c = 0; c < lanes; c++) acc[c] += a * k[j][c];
@@ -199,6 +216,7 @@ static inline void attempt(const vi_ode_problem *p, vi_ode_stats *st, span *sp, 
                            int lanes)
 {
     double sb[VI_ODE_MAX_N];
+    UNROLLED
     for (int i = 1; i < S_STEP; i++) stage(p, st, sp, i, h, lanes);
     combine(Bw, LO[S_END], S_STEP, sp->k, sb, lanes);
     combine(E5, LO[S_END], S_STEP, sp->k, e5, lanes);
@@ -210,12 +228,12 @@ static inline void attempt(const vi_ode_problem *p, vi_ode_stats *st, span *sp, 
     }
 }
 
-static void attempt_2(const vi_ode_problem *p, vi_ode_stats *st, span *sp, double h, double *e5, double *e3)
+PART static void attempt_2(const vi_ode_problem *p, vi_ode_stats *st, span *sp, double h, double *e5, double *e3)
 {
     attempt(p, st, sp, h, e5, e3, 2);
 }
 
-static void attempt_max(const vi_ode_problem *p, vi_ode_stats *st, span *sp, double h, double *e5, double *e3)
+PART static void attempt_max(const vi_ode_problem *p, vi_ode_stats *st, span *sp, double h, double *e5, double *e3)
 {
     attempt(p, st, sp, h, e5, e3, VI_ODE_MAX_N);
 }
@@ -225,6 +243,7 @@ static inline int dense_build_lanes(span *sp, const vi_ode_problem *p, vi_ode_st
 {
     int n = p->n;
     double h = sp->t1 - sp->t0;
+    UNROLLED
     for (int i = S_DENSE; i < NS; i++) {
         stage(p, st, sp, i, h, lanes);
         if (!finite_n(sp->k[i], n)) return VI_ODE_ERR_NONFINITE;
@@ -236,6 +255,7 @@ static inline int dense_build_lanes(span *sp, const vi_ode_problem *p, vi_ode_st
         sp->q[1][c] = q1;
         sp->q[2][c] = q0 - h * sp->k[S_END][c] - q1;
     }
+    UNROLLED
     for (int r = 0; r < 4; r++) {
         combine(D[r], LO_D, NS, sp->k, sp->q[3 + r], lanes);
         for (int c = 0; c < lanes; c++) sp->q[3 + r][c] *= h;
@@ -442,7 +462,7 @@ static double probe_time(double a, double b, double tol, double w2, double wa, d
 
 /* Find the first root in [a, b] of the guards in cand (all > 0 at a, at least one <= 0 at b).
  * On success ev_t = b, ev_t_lo = a of the final bracket, ev_fired, ev_x. */
-static int root_search(vi_ode *s, span *sp, const vi_ode_problem *p, double a, double b, const double *g_a,
+PART static int root_search(vi_ode *s, span *sp, const vi_ode_problem *p, double a, double b, const double *g_a,
                        const double *g_b, unsigned int cand)
 {
     int n = p->n, ng = p->ng;

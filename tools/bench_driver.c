@@ -17,6 +17,8 @@
  *   heap_bytes <heap in use after initialization minus before instantiation> steps <n>
  *   impacts <n_impacts at the end> rhs <rhs evaluations the FMU reports at fmi2Terminate (logSolver)>
  *   discard_at <fmi2LastSuccessfulTime when a step returned fmi2Discard (the run stops there), else nan>
+ *   solver_steps, rejected, guard_evals, restarts <the solver's accepted internal steps, rejected attempts (error
+ *   test failures), guard evaluations and restarts, from the same statistics; -1 when not reported>
  * --out FILE writes, for the first run, the samples (t, y, v, F, delta, mode) as doubles.
  * Exit status 1 when a call fails (printed). */
 #define _GNU_SOURCE
@@ -54,16 +56,21 @@ static double cpu_now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-static long rhs_evals = -1;
+static long rhs_evals = -1, solver_steps = -1, rejected = -1, guard_evals = -1, restarts = -1;
 
 static void logger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status status, fmi2String category,
                    fmi2String message, ...)
 {
     (void)env, (void)name;
     if (status >= fmi2Discard) fprintf(stderr, "[%s] %s\n", category, message);
-    const char *stats = strstr(message, "statistics: "); /* "... statistics: N steps, M rhs evaluations, ..." */
-    long steps, rhs;
-    if (stats && sscanf(stats, "statistics: %ld steps, %ld rhs", &steps, &rhs) == 2) rhs_evals = rhs;
+    /* "... statistics: N steps, M rhs evaluations, J Jacobian evaluations, I nonlinear iterations, F nonlinear
+     * failures, E error test failures, G guard evaluations, R restarts, V events" */
+    const char *stats = strstr(message, "statistics: ");
+    long c[9];
+    if (stats && sscanf(stats, "statistics: %ld steps, %ld rhs evaluations, %ld Jacobian evaluations, %ld nonlinear "
+                        "iterations, %ld nonlinear failures, %ld error test failures, %ld guard evaluations, %ld restarts",
+                        &c[0], &c[1], &c[2], &c[3], &c[4], &c[5], &c[6], &c[7]) == 8)
+        solver_steps = c[0], rhs_evals = c[1], rejected = c[5], guard_evals = c[6], restarts = c[7];
 }
 
 #define LOAD(name) fmi2##name##TYPE *name = (fmi2##name##TYPE *)dlsym(lib, "fmi2" #name)
@@ -177,8 +184,9 @@ int main(int argc, char **argv)
         spent += c1 - c0;
         if (l1 - l0 < best_loop) best_loop = l1 - l0;
     }
-    printf("cpu_s %.9g step_us %.6g init_s %.9g heap_bytes %ld steps %ld impacts %d rhs %ld discard_at %.17g\n", best,
-           1e6 * best_loop / (double)n, best_init, heap, n, (int)impacts, rhs_evals, discard_at);
+    printf("cpu_s %.9g step_us %.6g init_s %.9g heap_bytes %ld steps %ld impacts %d rhs %ld discard_at %.17g "
+           "solver_steps %ld rejected %ld guard_evals %ld restarts %ld\n", best, 1e6 * best_loop / (double)n, best_init,
+           heap, n, (int)impacts, rhs_evals, discard_at, solver_steps, rejected, guard_evals, restarts);
     dlclose(lib);
     return 0;
 }

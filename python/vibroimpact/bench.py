@@ -181,7 +181,9 @@ def matched(rtols, errors):
 # The sections that need no work-precision results, for --only.
 ALONE = {"profile": lambda out, fmu, work, repeat: profile_loading(out, fmu, work, repeat),
          # the floor at rtol 1e-10 for every solver (the full suite uses the matched rtols)
-         "floor": lambda out, fmu, work, repeat: per_call_floor(out, fmu, {"fig4b": {"matched": {}}}, repeat)}
+         "floor": lambda out, fmu, work, repeat: per_call_floor(out, fmu, {"fig4b": {"matched": {}}}, repeat),
+         # Fig. 4b alone: its work-precision table, matched accuracy, and where the time goes
+         "fig4b": lambda out, fmu, work, repeat: fig4b_alone(out, fmu, work, repeat)}
 
 
 AGAINST_RTOLS = (1e-6, 1e-10)  # the tolerances of the comparison of two builds
@@ -606,3 +608,110 @@ def work_bound(out, fmu):
         fig, _ = fmu.run({**p, "solver": solver}, 1e6, 1e-6, 1, h=1e6)
         out(f"| {name} | {fig['cpu_s']:.2f} | {fig['discard_at']:.6g} |")
     out("")
+
+
+# ---- Fig. 4b alone: where the time goes -------------------------------------------------------------
+
+def callgrind_tree(fmu, params, t_stop, rtol):
+    """One run of the C driver under valgrind's callgrind: ({function: inclusive instructions},
+    {(caller, function): instructions of function's calls from caller}), function names without the
+    compiler's suffixes (.lto_priv.0). None without valgrind."""
+    import re
+    import shutil
+    if not (shutil.which("valgrind") and shutil.which("callgrind_annotate")):
+        return None
+    out = fmu.work / "callgrind.fig4b.out"
+    cmd = ["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}", str(fmu.build / "vi_bench_driver"),
+           fmu.so, fmu.md.guid, repr(t_stop), repr(H_COMM), "1", repr(rtol), "--vrs", fmu.vrs]
+    subprocess.run(cmd + [fmu.arg(k, v) for k, v in params.items()], capture_output=True, check=True)
+    text = subprocess.run(["callgrind_annotate", "--tree=caller", "--inclusive=yes", "--threshold=100", str(out)],
+                          capture_output=True, text=True, check=True).stdout
+    inclusive, calls, callers = {}, {}, []
+    for line in text.splitlines():
+        hit = re.match(r"\s*([\d,]+) \([\s\d.]+%\)\s+([<*])\s+(\S+)", line)
+        if not hit:
+            callers = []
+            continue
+        cost, name = int(hit.group(1).replace(",", "")), hit.group(3).rsplit(":", 1)[-1].split(".")[0]
+        if hit.group(2) == "<":
+            callers.append((name, cost))
+            continue
+        inclusive[name] = inclusive.get(name, 0) + cost
+        for caller, c in callers:
+            calls[caller, name] = calls.get((caller, name), 0) + c
+        callers = []
+    return inclusive, calls
+
+
+def time_parts(fig, tree):
+    """[(part, instructions)] of the loop (fmi2DoStep and fmi2GetReal), by what the instructions do:
+    callgrind's inclusive costs of the functions that do each part, the rhs evaluations split by purpose
+    with the solver's counters (an accepted step 12, its dense output 3, a rejected attempt 11, a restart
+    2: f at the new start and the first step size)."""
+    inc, calls = tree
+    steps, rej, restarts = fig["solver_steps"], fig["rejected"], fig["restarts"]
+    unit = inc.get("sim_rhs", 0) / fig["rhs"]  # instructions per rhs evaluation
+    ode = inc.get("ode_advance", 0)
+    inside = ["attempt_2", "dense_build", "root_search", "vi_ode_dense", "sim_piece", "sim_guards",
+              "ode_spectral_radius", "sim_rhs"]
+    parts = [
+        ("rhs: accepted steps (12 each)", 12 * steps * unit),
+        ("rhs: the dense output of each step (3 each)", 3 * steps * unit),
+        ("rhs: rejected attempts (11 each)", 11 * rej * unit),
+        ("rhs: restarts after events (2 each)", 2 * restarts * unit),
+        ("stage sums and error estimates", inc.get("attempt_2", 0) - 11 * (steps + rej) * unit),
+        ("dense-output coefficients", inc.get("dense_build", 0) - 3 * steps * unit),
+        ("guards at step ends and interior samples", calls.get(("ode_advance", "sim_guards"), 0)),
+        ("event location (root search on the interpolant)", inc.get("root_search", 0)),
+        ("stability bound (spectral radius per step)", calls.get(("ode_advance", "ode_spectral_radius"), 0)),
+        ("restarts besides their rhs", inc.get("ode_restart", 0) - 2 * restarts * unit),
+        ("the integrator's bookkeeping", ode - sum(calls.get(("ode_advance", f), 0) for f in inside)),
+        ("interpolation at the communication points", calls.get(("ode_advance", "vi_ode_dense"), 0)),
+        ("the force's peak at each communication point (pieces)", inc.get("sim_piece", 0)),
+        ("FMI layer and simulation loop of fmi2DoStep", inc["fmi2DoStep"] - ode - inc.get("ode_restart", 0)),
+        ("reading y (fmi2GetReal: FMI layer, outputs, cos)", inc["fmi2GetReal"]),
+    ]
+    return parts, inc["fmi2DoStep"] + inc["fmi2GetReal"]
+
+
+def fig4b_alone(out, fmu, work, repeat):
+    """Fig. 4b's work-precision table and matched accuracy (as in the full suite), then where the time of
+    the fastest solver at matched accuracy goes."""
+    spec = CASES["fig4b"]
+    res = measure_case(fmu, work, "fig4b", spec, RTOLS, repeat)
+    report_case(out, "fig4b", spec, res, RTOLS)
+    report_matched(out, {"fig4b": res}, RTOLS)
+    name = "dop853"
+    rtol = res["matched"].get(name)
+    if rtol is None:
+        return
+    p = {**spec["params"], "solver": SOLVERS[name]}
+    fig, _ = fmu.run(p, spec["t_stop"], rtol, repeat)
+    floor, _ = fmu.run(p, 5e5 * FLOOR_H, rtol, repeat, h=FLOOR_H)
+    calls = round(spec["t_stop"] / H_COMM)
+    out(f"### Where the time goes (fig4b, {name} at rtol {rtol:.0e}, {calls} steps of {H_COMM:g} s, y read after each)\n")
+    out(f"Solver counters: {int(fig['solver_steps'])} accepted steps, {int(fig['rejected'])} rejected attempts, "
+        f"{int(fig['rhs'])} rhs evaluations, {int(fig['guard_evals'])} guard evaluations, {int(fig['restarts'])} "
+        f"restarts. CPU of the loop {fig['step_us'] * calls / 1e3:.3f} ms (minimum of {repeat} runs); one rhs "
+        f"evaluation alone {res['rhs_ns']:.1f} ns; the per-call floor (steps of {FLOOR_H:g} s, y read) "
+        f"{1e3 * floor['step_us']:.0f} ns.\n")
+    tree = callgrind_tree(fmu, p, spec["t_stop"], rtol)
+    if tree is None:
+        out("(valgrind not installed: the parts are left out.)\n")
+        return
+    parts, loop = time_parts(fig, tree)
+    cpu_ms = 1e-3 * fig["step_us"] * calls
+    out("Instructions by part (valgrind --tool=callgrind, inclusive cost of the functions that do it; "
+        "deterministic), and the time that share of the loop's CPU makes:\n")
+    out("| part | instructions | share | time [ms] |")
+    out("|---|---|---|---|")
+    for label, c in parts + [("other (what the split above counts twice: < 0)", loop - sum(c for _, c in parts))]:
+        out(f"| {label} | {round(c)} | {100 * c / loop:.1f} % | {cpu_ms * c / loop:.3f} |")
+    need = 15 * fig["solver_steps"] * res["rhs_ns"] * 1e-6
+    floor_ms = 1e-3 * floor["step_us"] * calls
+    py_rtol = matched(RTOLS, [res["py"][r][1] for r in RTOLS])
+    py = 1e3 * res["py"][py_rtol][0] if py_rtol else None
+    out(f"\nThe limit: the rhs evaluations of the accepted steps and their dense output at {res['rhs_ns']:.1f} ns "
+        f"each ({need:.3f} ms) plus {calls} calls at the per-call floor ({floor_ms:.3f} ms): {need + floor_ms:.3f} ms"
+        + (f", {py / (need + floor_ms):.0f} times faster than the Python reference ({py:.0f} ms); the loop takes "
+           f"{cpu_ms:.3f} ms, {py / cpu_ms:.0f} times" if py else "") + ".\n")

@@ -11,8 +11,9 @@ and glibc's mallinfo2).
 --against compares two builds (this one and, say, the previous commit's): every case below with every
 solver at rtol 1e-6 and 1e-10, runs of the two FMUs alternated, the ratios of their CPU times and
 their geometric mean printed; nothing is written.
---only runs just the named sections that stand alone (profile; floor, at rtol 1e-10) and prints
-them, writing nothing.
+--only runs just the named sections that stand alone (profile; floor, at rtol 1e-10; fig4b: item 1
+and 2 for fig4b alone, then where the time of dop853 at its matched rtol goes: the solver's counters
+and, with valgrind, callgrind's instructions by part) and prints them, writing nothing.
 
 What it runs (the FMU binary through tools/bench_driver.c, dlopen'ed from C with no Python in the
 loop, unless said otherwise; CPU times are the minimum of N runs, default 5, because other
