@@ -180,6 +180,7 @@ def matched(rtols, errors):
 
 # The sections that need no work-precision results, for --only.
 ALONE = {"profile": lambda out, fmu, work, repeat: profile_loading(out, fmu, work, repeat),
+         "setup": lambda out, fmu, work, repeat: setup_cost(out, fmu, work, repeat),
          # the floor at rtol 1e-10 for every solver (the full suite uses the matched rtols)
          "floor": lambda out, fmu, work, repeat: per_call_floor(out, fmu, {"fig4b": {"matched": {}}}, repeat)}
 
@@ -248,6 +249,7 @@ def run_suite(repeat, quick, outdir, build, only=None, other_build=None):
         memory_and_checkpoints(out, fmu, results, repeat)
         work_bound(out, fmu)
         profile_loading(out, fmu, work, repeat)
+        setup_cost(out, fmu, work, repeat)
         plotting.save(plotting.work_precision_figure(results, rtols, CASES, SOLVERS, BOUND),
                       outdir / "work_precision.png", DPI)
         plotting.save(plotting.cost_figure(results, SOLVERS), outdir / "cost.png", DPI)
@@ -595,6 +597,35 @@ def profile_loading(out, fmu, work, repeat):
     verdict = "met" if worst <= PROFILE_TARGET_US and not slower else "missed"
     out(f"\nTarget: at most {PROFILE_TARGET_US} us per row and no slower than numpy.loadtxt: {verdict} (worst "
         f"{worst:.3f} us per row" + (f"; slower than numpy.loadtxt at {slower} rows" if slower else "") + ").\n")
+
+
+SETUP_LAWS = {"hertz": dict(contact_model=1),
+              "hertz_damped exact, e = 0.8": dict(contact_model=4, damping_formula=1, e_restitution=0.8),
+              "hertz_damped exact, e = 0.05": dict(contact_model=4, damping_formula=1, e_restitution=0.05),
+              "hertz_damped hunt_crossley, e = 0.8": dict(contact_model=4, damping_formula=2, e_restitution=0.8)}
+SETUP_TARGET_MS = 0.2  # hertz_damped's set-up beyond hertz's
+
+
+def setup_cost(out, fmu, work, repeat, h=1e-3):
+    """A short run per law: instantiate, initialize and one fmi2DoStep, the laws alternated."""
+    drop = CASES["drop"]["params"]
+    out(f"### A short run: instantiate, initialize, one step of {1e3 * h:g} ms, free (the drop, rtol 1e-6)\n")
+    out(f"CPU per run from fmi2Instantiate to the end of fmi2FreeInstance (tools/bench_driver.c), the laws "
+        f"alternated, the minimum of {repeat} x 20 runs of each.\n")
+    out("| law | CPU [ms] | beyond hertz [ms] |")
+    out("|---|---|---|")
+    best = {name: np.inf for name in SETUP_LAWS}
+    for _ in range(repeat):
+        for name, law in SETUP_LAWS.items():
+            fig, _ = fmu.run({**drop, **law}, h, 1e-6, 20, h=h)
+            best[name] = min(best[name], fig["cpu_s"])
+    worst = 0.0
+    for name, cpu in best.items():
+        extra = 1e3 * (cpu - best["hertz"])
+        worst = max(worst, extra)
+        out(f"| {name} | {1e3 * cpu:.3f} | {extra:+.3f} |")
+    out(f"\nTarget: every damped law within {SETUP_TARGET_MS:g} ms of hertz: "
+        f"{'met' if worst <= SETUP_TARGET_MS else 'missed'} (worst {worst:+.3f} ms).\n")
 
 
 def work_bound(out, fmu):
