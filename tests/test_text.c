@@ -195,6 +195,55 @@ Test(text, numbers_read_as_strtod_reads_them_in_the_c_locale, .timeout = 60)
     }
 }
 
+/* A number of the kind profiles hold, where vi_strtod reads in one pass (at most 19 significant digits, a
+ * power of ten within +-27): a random double of 1e-12 to 1e4 printed as numpy.savetxt and C programs
+ * write it (%.6e %.17g %.4f %g %.19g %.18e, or an integer), or up to 21 random digits with a point, zeros
+ * before and after and an exponent, beyond those limits by a few, or a tie between two doubles of 54
+ * bits (2^53 + 1 and the like, times powers of ten). */
+static void profile_number(char *out, size_t size)
+{
+    static const char *const formats[] = {"%.6e", "%.17g", "%.4f", "%g", "%.19g", "%.18e"};
+    const char *sign = rand() % 2 ? "-" : "";
+    int form = rand() % 9;
+    if (form < 6) {
+        double d = pow(10.0, -12.0 + 16.0 * rand() / RAND_MAX);
+        snprintf(out, size, formats[form], rand() % 2 ? -d : d);
+    } else if (form == 6) snprintf(out, size, "%s%d", sign, rand() % 2000001 - 1000000);
+    else if (form == 7) {
+        char *o = out + sprintf(out, "%s%.*s", sign, rand() % 3, "00");
+        int nd = 1 + rand() % 21, dot = rand() % (nd + 1);
+        for (int d = 0; d < nd; d++) o += sprintf(o, "%s%d", d == dot ? "." : "", rand() % 10);
+        if (rand() % 2) sprintf(o, "%se%d", rand() % 2 ? "000" : "", rand() % 70 - 35);
+    } else { /* (2^53 + 2k + 1) 2^j: midway between two doubles, written exactly in decimal when j >= 0 */
+        uint64_t odd = (UINT64_C(1) << 53) + 2 * (uint64_t)(rand() % 1000) + 1;
+        snprintf(out, size, "%s%llu%se%d", sign, (unsigned long long)odd, rand() % 2 ? "" : "0", rand() % 9);
+    }
+}
+
+/* Numbers of the profiles' formats, against strtod in the C locale: the value to the bit and the end. */
+Test(text, numbers_of_the_profiles_formats_read_as_strtod_reads_them)
+{
+    enum { K = 40000 };
+    static char text[K][64];
+    static double want[K];
+    static long want_end[K];
+    srand(41);
+    for (int k = 0; k < K; k++) {
+        profile_number(text[k], sizeof text[k]);
+        char *end;
+        want[k] = strtod(text[k], &end); /* still the C locale */
+        want_end[k] = end - text[k];
+    }
+    german();
+    for (int k = 0; k < K; k++) {
+        char *end;
+        double v = vi_strtod(text[k], &end);
+        if (!same_bits(v, want[k]) || end - text[k] != want_end[k])
+            cr_assert(0, "%s: read %a ending at %ld, strtod %a ending at %ld", text[k], v, (long)(end - text[k]),
+                      want[k], want_end[k]);
+    }
+}
+
 /* What is not a number, or only partly one: white space, inf and nan, an 'e' or 'p' without digits,
  * "0x" without hex digits, exponents beyond any int. */
 Test(text, the_forms_and_ends_of_strtod)
