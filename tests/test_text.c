@@ -170,29 +170,37 @@ static void random_number(char *out, size_t size)
     }
 }
 
+/* count numbers made by make (from srand(seed), each in width bytes) read by strtod in the C locale,
+ * then by vi_strtod in de_DE: the same value to the bit and the same end. */
+static void read_as_strtod(void (*make)(char *, size_t), int count, size_t width, unsigned seed)
+{
+    char *text = malloc((size_t)count * width);
+    double *want = malloc((size_t)count * sizeof *want);
+    long *want_end = malloc((size_t)count * sizeof *want_end);
+    cr_assert(text && want && want_end);
+    srand(seed);
+    for (int k = 0; k < count; k++) {
+        char *t = text + (size_t)k * width, *end;
+        make(t, width);
+        want[k] = strtod(t, &end); /* still the C locale */
+        want_end[k] = end - t;
+    }
+    german();
+    for (int k = 0; k < count; k++) {
+        char *t = text + (size_t)k * width, *end;
+        double v = vi_strtod(t, &end);
+        if (!same_bits(v, want[k]) || end - t != want_end[k])
+            cr_assert(0, "%.200s: read %a ending at %ld, strtod %a ending at %ld", t, v, (long)(end - t), want[k],
+                      want_end[k]);
+    }
+    free(text), free(want), free(want_end);
+}
+
 /* Thousands of numbers of every form, against strtod in the C locale: the value to the bit and where
  * the number ends. */
 Test(text, numbers_read_as_strtod_reads_them_in_the_c_locale, .timeout = 60)
 {
-    enum { K = 6000 };
-    static char text[K][1200];
-    static double want[K];
-    static long want_end[K];
-    srand(4242);
-    for (int k = 0; k < K; k++) {
-        random_number(text[k], sizeof text[k]);
-        char *end;
-        want[k] = strtod(text[k], &end); /* still the C locale */
-        want_end[k] = end - text[k];
-    }
-    german();
-    for (int k = 0; k < K; k++) {
-        char *end;
-        double v = vi_strtod(text[k], &end);
-        if (!same_bits(v, want[k]) || end - text[k] != want_end[k])
-            cr_assert(0, "%.200s: read %a ending at %ld, strtod %a ending at %ld", text[k], v, (long)(end - text[k]),
-                      want[k], want_end[k]);
-    }
+    read_as_strtod(random_number, 6000, 1200, 4242);
 }
 
 /* A number of the kind profiles hold, where vi_strtod reads in one pass (at most 19 significant digits, a
@@ -223,25 +231,7 @@ static void profile_number(char *out, size_t size)
 /* Numbers of the profiles' formats, against strtod in the C locale: the value to the bit and the end. */
 Test(text, numbers_of_the_profiles_formats_read_as_strtod_reads_them)
 {
-    enum { K = 40000 };
-    static char text[K][64];
-    static double want[K];
-    static long want_end[K];
-    srand(41);
-    for (int k = 0; k < K; k++) {
-        profile_number(text[k], sizeof text[k]);
-        char *end;
-        want[k] = strtod(text[k], &end); /* still the C locale */
-        want_end[k] = end - text[k];
-    }
-    german();
-    for (int k = 0; k < K; k++) {
-        char *end;
-        double v = vi_strtod(text[k], &end);
-        if (!same_bits(v, want[k]) || end - text[k] != want_end[k])
-            cr_assert(0, "%s: read %a ending at %ld, strtod %a ending at %ld", text[k], v, (long)(end - text[k]),
-                      want[k], want_end[k]);
-    }
+    read_as_strtod(profile_number, 40000, 64, 41);
 }
 
 /* What is not a number, or only partly one: white space, inf and nan, an 'e' or 'p' without digits,
