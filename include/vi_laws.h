@@ -65,8 +65,8 @@ double vi_tsuji_restitution(double alpha);
 #define VI_TSUJI_TABLE_DEGREE 16
 #define VI_TSUJI_TABLE_E_MIN 7.582560422162385e-10 /* 1/(1 + exp(21)) */
 int vi_tsuji_alpha(double e, double *alpha);
-/* The same by integration: a root search on vi_tsuji_restitution (0.5 to 4 ms of CPU), alpha to 1e-14
- * relative. */
+/* The same by integration: a root search on vi_tsuji_restitution (milliseconds of CPU), alpha to 1e-14
+ * (relative above alpha = 1, absolute below). */
 int vi_tsuji_alpha_solve(double e, double *alpha);
 /* The factor chi of a published form (VI_DAMP_HUNT_CROSSLEY ... VI_DAMP_FLORES) for e in (0, 1]; 0 for
  * any other formula. */

@@ -22,8 +22,7 @@
  * stdio; macOS), and an FMU must not change the locale of the importer's thread. The conversion (Clinger 1990, "How to read floating point numbers accurately"):
  * numbers of up to 19 significant digits whose value and power of ten are exact in a double take one
  * rounded multiplication or division; with a 128-bit integer type, up to 19 digits and exponents
- * within +-27 are exact integer arithmetic (both read in one pass over the text, the forms profiles
- * are written in); everything else is exact big-integer arithmetic on the
+ * within +-27 are exact integer arithmetic; everything else is exact big-integer arithmetic on the
  * first 768 significant digits (a nonzero digit after them is marked: no midpoint between two doubles
  * has more than 767), at most 82 32-bit words, on the stack.
  *

@@ -176,10 +176,10 @@ static double tsuji_residual(double alpha, const void *ctx)
     return vi_tsuji_restitution(alpha) - *(const double *)ctx;
 }
 
-/* alpha is found to VI_TSUJI_ALPHA_TOL (relative: the bracket [hi/2, hi] from doubling or halving; |d ln e/d ln
- * alpha| <= 2 keeps e within twice it), and the result is accepted when its restitution is e to
- * VI_TSUJI_E_RTOL (relative). The doubling search for an upper bound finds none past VI_TSUJI_ALPHA_MAX
- * (the restitution is NaN there): e below e(2^26) = 2.8e-16 is refused. */
+/* alpha is found to VI_TSUJI_ALPHA_TOL (relative; |d ln e/d ln alpha| <= 2 keeps e within twice it), and
+ * the result is accepted when its restitution is e to VI_TSUJI_E_RTOL (relative). The doubling search
+ * for an upper bound finds none past VI_TSUJI_ALPHA_MAX (the restitution is NaN there): e below
+ * e(2^26) = 2.8e-16 is refused. */
 #define VI_TSUJI_ALPHA_TOL 1e-14
 #define VI_TSUJI_E_RTOL 1e-10
 
@@ -190,15 +190,9 @@ int vi_tsuji_alpha_solve(double e, double *alpha)
         *alpha = 0.0;
         return 0;
     }
-    double lo = 0.0, hi = 1.0;
-    if (tsuji_residual(hi, &e) < 0.0) { /* alpha < 1: halve down to a bracket [hi/2, hi] */
-        for (int i = 0; i < VI_BRACKET_MAX_DOUBLINGS && tsuji_residual(0.5 * hi, &e) < 0.0; i++) hi *= 0.5;
-        lo = 0.5 * hi;
-    } else {
-        hi = bracket_up(tsuji_residual, &e, 1.0);
-        if (hi < 0.0) return -1;
-    }
-    double a = root_bracketed(tsuji_residual, &e, lo, hi, VI_TSUJI_ALPHA_TOL * hi);
+    double hi = bracket_up(tsuji_residual, &e, 1.0);
+    if (hi < 0.0) return -1;
+    double a = root_bracketed(tsuji_residual, &e, 0.0, hi, VI_TSUJI_ALPHA_TOL * hi);
     if (!(fabs(vi_tsuji_restitution(a) / e - 1.0) <= VI_TSUJI_E_RTOL)) return -1;
     *alpha = a;
     return 0;

@@ -248,52 +248,9 @@ static const char *scan_exponent(const char *c, long long *e)
     return d;
 }
 
-/* The common number in one pass: "digits[.digits][(e|E)[+-]digits]" (or ".digits") with at most 19
- * significant digits (leading zeros are not counted, trailing ones are) and w 10^e10 on Clinger's fast
- * path or the 128-bit one, w the integer of those digits. Its value in *v and the character after it;
- * NULL for any other number (decimal_number's full path reads it) or none. */
-static const char *decimal_fast(const char *c, double *v)
-{
-    uint64_t w = 0;
-    int nd = 0, any = 0;
-    long long frac = 0; /* digits after the point */
-    for (; *c >= '0' && *c <= '9'; c++, any = 1) /* bounded by the string */
-        if (w || *c != '0') {
-            if (++nd > 19) return NULL;
-            w = 10 * w + (uint64_t)(*c - '0');
-        }
-    if (*c == '.')
-        for (c++; *c >= '0' && *c <= '9'; c++, any = 1, frac++) /* bounded by the string */
-            if (w || *c != '0') {
-                if (++nd > 19) return NULL;
-                w = 10 * w + (uint64_t)(*c - '0');
-            }
-    if (!any) return NULL;
-    long long e = 0;
-    if (*c == 'e' || *c == 'E') {
-        const char *after = scan_exponent(c + 1, &e);
-        if (after != c + 1) c = after;
-    }
-    if (!w) {
-        *v = 0.0;
-        return c;
-    }
-    long long e10 = e - frac;
-    if (e10 >= -22 && e10 <= 22 && clinger(w, (int)e10, v)) return c;
-#ifdef __SIZEOF_INT128__
-    if (e10 >= -EXP10_U128_MAX && e10 <= EXP10_U128_MAX) {
-        *v = scaled(w, (int)e10);
-        return c;
-    }
-#endif
-    return NULL;
-}
-
 /* A decimal number at c (after the sign): its value in *v, the character after it; NULL if none. */
 static const char *decimal_number(const char *c, double *v)
 {
-    const char *fast = decimal_fast(c, v);
-    if (fast) return fast;
     decimal d;
     d.nd = d.sticky = 0, d.point = 0;
     c = scan_mantissa(c, &d);

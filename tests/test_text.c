@@ -203,8 +203,8 @@ Test(text, numbers_read_as_strtod_reads_them_in_the_c_locale, .timeout = 60)
     read_as_strtod(random_number, 6000, 1200, 4242);
 }
 
-/* A number of the kind profiles hold, where vi_strtod reads in one pass (at most 19 significant digits, a
- * power of ten within +-27): a random double of 1e-12 to 1e4 printed as numpy.savetxt and C programs
+/* A number of the kind profiles hold, mostly on the fast paths (at most 19 significant digits, a power of
+ * ten within +-27: one floating-point operation or 128-bit integers): a random double of 1e-12 to 1e4 printed as numpy.savetxt and C programs
  * write it (%.6e %.17g %.4f %g %.19g %.18e, or an integer), or up to 21 random digits with a point, zeros
  * before and after and an exponent, beyond those limits by a few, or a tie between two doubles of 54
  * bits (2^53 + 1 and the like, times powers of ten). */
