@@ -56,7 +56,9 @@ processes disturb single runs; instruction counts would be steadier but do not c
    every checkpoint; the one-step method carries its continuation).
 7. The work bound: fig4b in one fmi2DoStep of 1e6 s, CPU until fmi2Discard and where it stopped.
 8. Loading a rolling profile of 1e4 ... 1e6 rows (vi_profile_load: reading and the envelope; the FMU's
-   initialization with it) against numpy.loadtxt reading the same file, per row, with the memory.
+   initialization with it) against numpy.loadtxt reading the same file, per row, with the memory;
+   then the rail of 1e6 rows written in each number format (PROFILE_FORMATS: %.6e, %.17g, %.4f, %g,
+   integers, %.19g, %.18e) against numpy.loadtxt, the two alternated, and their ratio.
 9. A short run per law (setup): instantiate, initialize, one step of 1 ms and free, on the drop, for
    hertz and hertz_damped (exact at e = 0.8 and 0.05, hunt_crossley), the laws alternated, each
    against hertz (target: within SETUP_TARGET_MS).
