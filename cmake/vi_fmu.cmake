@@ -97,6 +97,8 @@ function(vi_fmu_stage_sources name version xml xml_out dir_out depends_out)
     file(GLOB h ${d}/*.h)
     list(APPEND headers ${h})
   endforeach()
+  file(GLOB tables ${VI_FMU_ROOT}/src/*.inc) # the tables the C files include (vi_laws.c: vi_tsuji_table.inc)
+  list(APPEND headers ${tables})
   set(dir ${CMAKE_CURRENT_BINARY_DIR}/${name}_fmi${version}.sources)
   set(script ${VI_FMU_ROOT}/cmake/vi_fmu_sources.py)
   set(args --out ${dir}/sources --sundials ${VI_FMU_SUNDIALS_SOURCES} --fmi-headers ${FMI2_HEADERS_DIR}

@@ -7,6 +7,7 @@ import pathlib
 import xml.etree.ElementTree as ET
 import zipfile
 
+import numpy as np
 import pytest
 from fmpy import simulate_fmu
 from fmpy.fmi2 import FMU2Slave
@@ -46,6 +47,15 @@ def test_exact_restitution_at_every_speed(fmu_path, solver, law):
         for V in SPEEDS:
             ratio, _ = drop(fmu_path, law, V, solver, e_restitution=e, damping_formula=1, k_spring=K_SPRING)
             assert ratio == pytest.approx(e, abs=1e-6), (e, V)
+
+
+def test_exact_restitution_across_e(fmu_path):
+    """damping_formula = exact (alpha from its table) rebounds at e_restitution to 1e-7 of the impact
+    speed, at e drawn at random (log-uniform over [1e-3, 1)), at the table's ends and next to 1."""
+    rng = np.random.default_rng(41)
+    for e in [1e-3, 0.999999, 1.0 - 1e-9, *10.0 ** rng.uniform(-3.0, 0.0, 8)]:
+        ratio, _ = drop(fmu_path, HERTZ_DAMPED, 0.3, 3, e_restitution=e, damping_formula=1)
+        assert ratio == pytest.approx(e, abs=1e-7), e
 
 
 @pytest.mark.timeout(300)

@@ -51,9 +51,23 @@ typedef struct {
 /* The restitution of the dimensionless Tsuji impact, by a fixed-step integration (about 1e-12 accurate);
  * NaN for alpha above 1e8 (e = 1.25e-16), where the fixed steps are no longer stable, and for a NaN alpha. */
 double vi_tsuji_restitution(double alpha);
-/* alpha with vi_tsuji_restitution(alpha) = e to 1e-12, for e in (0, 1]. 0 on success; -1 when e is
- * outside (0, 1] or not finite (alpha untouched). */
+/* alpha with vi_tsuji_restitution(alpha) = e to 1e-12 (relative), for e in (0, 1]. 0 on success; -1 when
+ * e is outside (0, 1] or not finite, or below what the integration reaches (alpha untouched).
+ * From e = VI_TSUJI_TABLE_E_MIN to 1 alpha comes from a table (below: vi_tsuji_alpha_solve):
+ *     alpha = G(u) (1 - e)/sqrt(e),  u = ln(e/(1 - e)),
+ * G smooth and bounded (1.1180 as e -> 0, 0.7118 as e -> 1), a Chebyshev series of degree
+ * VI_TSUJI_TABLE_DEGREE on each of VI_TSUJI_TABLE_PIECES pieces of u of width VI_TSUJI_TABLE_WIDTH from
+ * VI_TSUJI_TABLE_U_MIN; past the last piece (1 - e < 4.1e-8) G is its value at the end. tools/tsuji_table.c
+ * writes the table (src/vi_tsuji_table.inc) from vi_tsuji_alpha_solve. */
+#define VI_TSUJI_TABLE_U_MIN (-21.0)  /* e = 7.58e-10 */
+#define VI_TSUJI_TABLE_WIDTH 2.0
+#define VI_TSUJI_TABLE_PIECES 19      /* up to u = 17: 1 - e = 4.14e-8 */
+#define VI_TSUJI_TABLE_DEGREE 16
+#define VI_TSUJI_TABLE_E_MIN 7.582560422162385e-10 /* 1/(1 + exp(21)) */
 int vi_tsuji_alpha(double e, double *alpha);
+/* The same by integration: a root search on vi_tsuji_restitution (milliseconds of CPU), alpha to 1e-14
+ * (relative above alpha = 1, absolute below). */
+int vi_tsuji_alpha_solve(double e, double *alpha);
 /* The factor chi of a published form (VI_DAMP_HUNT_CROSSLEY ... VI_DAMP_FLORES) for e in (0, 1]; 0 for
  * any other formula. */
 double vi_damping_chi(int formula, double e);

@@ -183,7 +183,7 @@ static double tsuji_residual(double alpha, const void *ctx)
 #define VI_TSUJI_ALPHA_TOL 1e-14
 #define VI_TSUJI_E_RTOL 1e-10
 
-int vi_tsuji_alpha(double e, double *alpha)
+int vi_tsuji_alpha_solve(double e, double *alpha)
 {
     if (!(e > 0.0 && e <= 1.0)) return -1;
     if (e == 1.0) {
@@ -195,6 +195,34 @@ int vi_tsuji_alpha(double e, double *alpha)
     double a = root_bracketed(tsuji_residual, &e, 0.0, hi, VI_TSUJI_ALPHA_TOL * hi);
     if (!(fabs(vi_tsuji_restitution(a) / e - 1.0) <= VI_TSUJI_E_RTOL)) return -1;
     *alpha = a;
+    return 0;
+}
+
+/* the table of vi_laws.h: vi_tsuji_table[piece][k], the Chebyshev coefficients of G on the piece */
+#include "vi_tsuji_table.inc"
+_Static_assert(sizeof vi_tsuji_table == sizeof(double) * VI_TSUJI_TABLE_PIECES * (VI_TSUJI_TABLE_DEGREE + 1),
+               "src/vi_tsuji_table.inc does not match the table's shape in vi_laws.h");
+
+/* G(u) = sum_k c_k T_k(x), x in [-1, 1] across the piece of u (Clenshaw's recurrence) */
+static double tsuji_table_G(double u)
+{
+    double pos = (u - VI_TSUJI_TABLE_U_MIN) / VI_TSUJI_TABLE_WIDTH;
+    int i = pos < VI_TSUJI_TABLE_PIECES - 1 ? (int)pos : VI_TSUJI_TABLE_PIECES - 1;
+    double x = 2.0 * (pos - i) - 1.0, b1 = 0.0, b2 = 0.0;
+    if (x > 1.0) x = 1.0; /* past the last piece: its end */
+    const double *c = vi_tsuji_table[i];
+    for (int k = VI_TSUJI_TABLE_DEGREE; k > 0; k--) {
+        double b = 2.0 * x * b1 - b2 + c[k];
+        b2 = b1, b1 = b;
+    }
+    return x * b1 - b2 + c[0];
+}
+
+int vi_tsuji_alpha(double e, double *alpha)
+{
+    if (!(e >= VI_TSUJI_TABLE_E_MIN && e <= 1.0)) return vi_tsuji_alpha_solve(e, alpha);
+    double u = log(e / (1.0 - e)); /* +infinity at e = 1: alpha = 0 */
+    *alpha = tsuji_table_G(u) * (1.0 - e) / sqrt(e);
     return 0;
 }
 

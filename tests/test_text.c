@@ -170,29 +170,68 @@ static void random_number(char *out, size_t size)
     }
 }
 
+/* count numbers made by make (from srand(seed), each in width bytes) read by strtod in the C locale,
+ * then by vi_strtod in de_DE: the same value to the bit and the same end. */
+static void read_as_strtod(void (*make)(char *, size_t), int count, size_t width, unsigned seed)
+{
+    char *text = malloc((size_t)count * width);
+    double *want = malloc((size_t)count * sizeof *want);
+    long *want_end = malloc((size_t)count * sizeof *want_end);
+    cr_assert(text && want && want_end);
+    srand(seed);
+    for (int k = 0; k < count; k++) {
+        char *t = text + (size_t)k * width, *end;
+        make(t, width);
+        want[k] = strtod(t, &end); /* still the C locale */
+        want_end[k] = end - t;
+    }
+    german();
+    for (int k = 0; k < count; k++) {
+        char *t = text + (size_t)k * width, *end;
+        double v = vi_strtod(t, &end);
+        if (!same_bits(v, want[k]) || end - t != want_end[k])
+            cr_assert(0, "%.200s: read %a ending at %ld, strtod %a ending at %ld", t, v, (long)(end - t), want[k],
+                      want_end[k]);
+    }
+    free(text), free(want), free(want_end);
+}
+
 /* Thousands of numbers of every form, against strtod in the C locale: the value to the bit and where
  * the number ends. */
 Test(text, numbers_read_as_strtod_reads_them_in_the_c_locale, .timeout = 60)
 {
-    enum { K = 6000 };
-    static char text[K][1200];
-    static double want[K];
-    static long want_end[K];
-    srand(4242);
-    for (int k = 0; k < K; k++) {
-        random_number(text[k], sizeof text[k]);
-        char *end;
-        want[k] = strtod(text[k], &end); /* still the C locale */
-        want_end[k] = end - text[k];
+    read_as_strtod(random_number, 6000, 1200, 4242);
+}
+
+/* A number of the kind profiles hold, mostly on the fast paths (at most 19 significant digits, a power of
+ * ten within +-27: one floating-point operation or 128-bit integers): a random double of 1e-12 to 1e4 printed as numpy.savetxt and C programs
+ * write it (%.6e %.17g %.4f %g %.19g %.18e, or an integer), or up to 21 random digits with a point, zeros
+ * before and after and an exponent, beyond those limits by a few, or a tie between two doubles of 54
+ * bits (2^53 + 1 and the like, times powers of ten). */
+static void profile_number(char *out, size_t size)
+{
+    static const char *const formats[] = {"%.6e", "%.17g", "%.4f", "%g", "%.19g", "%.18e"};
+    const char *sign = rand() % 2 ? "-" : "";
+    int form = rand() % 9;
+    if (form < 6) {
+        double d = pow(10.0, -12.0 + 16.0 * rand() / RAND_MAX);
+        snprintf(out, size, formats[form], rand() % 2 ? -d : d);
+    } else if (form == 6) snprintf(out, size, "%s%d", sign, rand() % 2000001 - 1000000);
+    else if (form == 7) {
+        char *o = out + sprintf(out, "%s%.*s", sign, rand() % 3, "00");
+        int nd = 1 + rand() % 21, dot = rand() % (nd + 1);
+        for (int d = 0; d < nd; d++) o += sprintf(o, "%s%d", d == dot ? "." : "", rand() % 10);
+        if (rand() % 2) sprintf(o, "%se%d", rand() % 2 ? "000" : "", rand() % 70 - 35);
+    } else { /* (2^53 + 2k + 1) 2^j: midway between two doubles, written exactly in decimal when j >= 0 */
+        uint64_t odd = (UINT64_C(1) << 53) + 2 * (uint64_t)(rand() % 1000) + 1;
+        snprintf(out, size, "%s%llu%se%d", sign, (unsigned long long)odd, rand() % 2 ? "" : "0", rand() % 9);
     }
-    german();
-    for (int k = 0; k < K; k++) {
-        char *end;
-        double v = vi_strtod(text[k], &end);
-        if (!same_bits(v, want[k]) || end - text[k] != want_end[k])
-            cr_assert(0, "%.200s: read %a ending at %ld, strtod %a ending at %ld", text[k], v, (long)(end - text[k]),
-                      want[k], want_end[k]);
-    }
+}
+
+/* Numbers of the profiles' formats, against strtod in the C locale: the value to the bit and the end. */
+Test(text, numbers_of_the_profiles_formats_read_as_strtod_reads_them)
+{
+    read_as_strtod(profile_number, 40000, 64, 41);
 }
 
 /* What is not a number, or only partly one: white space, inf and nan, an 'e' or 'p' without digits,

@@ -179,7 +179,9 @@ def matched(rtols, errors):
 # ---- the suite ------------------------------------------------------------------------------------
 
 # The sections that need no work-precision results, for --only.
-ALONE = {"profile": lambda out, fmu, work, repeat: profile_loading(out, fmu, work, repeat),
+ALONE = {"profile": lambda out, fmu, work, repeat: (profile_loading(out, fmu, work, repeat),
+                                                   profile_formats(out, fmu, work, repeat)),
+         "setup": lambda out, fmu, work, repeat: setup_cost(out, fmu, work, repeat),
          # the floor at rtol 1e-10 for every solver (the full suite uses the matched rtols)
          "floor": lambda out, fmu, work, repeat: per_call_floor(out, fmu, {"fig4b": {"matched": {}}}, repeat),
          # Fig. 4b alone: its work-precision table, matched accuracy, and where the time goes
@@ -250,6 +252,8 @@ def run_suite(repeat, quick, outdir, build, only=None, other_build=None):
         memory_and_checkpoints(out, fmu, results, repeat)
         work_bound(out, fmu)
         profile_loading(out, fmu, work, repeat)
+        profile_formats(out, fmu, work, repeat)
+        setup_cost(out, fmu, work, repeat)
         plotting.save(plotting.work_precision_figure(results, rtols, CASES, SOLVERS, BOUND),
                       outdir / "work_precision.png", DPI)
         plotting.save(plotting.cost_figure(results, SOLVERS), outdir / "cost.png", DPI)
@@ -597,6 +601,72 @@ def profile_loading(out, fmu, work, repeat):
     verdict = "met" if worst <= PROFILE_TARGET_US and not slower else "missed"
     out(f"\nTarget: at most {PROFILE_TARGET_US} us per row and no slower than numpy.loadtxt: {verdict} (worst "
         f"{worst:.3f} us per row" + (f"; slower than numpy.loadtxt at {slower} rows" if slower else "") + ").\n")
+
+
+SETUP_LAWS = {"hertz": dict(contact_model=1),
+              "hertz_damped exact, e = 0.8": dict(contact_model=4, damping_formula=1, e_restitution=0.8),
+              "hertz_damped exact, e = 0.05": dict(contact_model=4, damping_formula=1, e_restitution=0.05),
+              "hertz_damped hunt_crossley, e = 0.8": dict(contact_model=4, damping_formula=2, e_restitution=0.8)}
+SETUP_TARGET_MS = 0.2  # hertz_damped's set-up beyond hertz's
+
+
+def setup_cost(out, fmu, work, repeat, h=1e-3):
+    """A short run per law: instantiate, initialize and one fmi2DoStep, the laws alternated."""
+    drop = CASES["drop"]["params"]
+    out(f"### A short run: instantiate, initialize, one step of {1e3 * h:g} ms, free (the drop, rtol 1e-6)\n")
+    out(f"CPU per run from fmi2Instantiate to the end of fmi2FreeInstance (tools/bench_driver.c), the laws "
+        f"alternated, the minimum of {repeat} x 20 runs of each.\n")
+    out("| law | CPU [ms] | beyond hertz [ms] |")
+    out("|---|---|---|")
+    best = {name: np.inf for name in SETUP_LAWS}
+    for _ in range(repeat):
+        for name, law in SETUP_LAWS.items():
+            fig, _ = fmu.run({**drop, **law}, h, 1e-6, 20, h=h)
+            best[name] = min(best[name], fig["cpu_s"])
+    worst = 0.0
+    for name, cpu in best.items():
+        extra = 1e3 * (cpu - best["hertz"])
+        worst = max(worst, extra)
+        out(f"| {name} | {1e3 * cpu:.3f} | {extra:+.3f} |")
+    out(f"\nTarget: every damped law within {SETUP_TARGET_MS:g} ms of hertz: "
+        f"{'met' if worst <= SETUP_TARGET_MS else 'missed'} (worst {worst:+.3f} ms).\n")
+
+
+# The number formats of profile_formats: a rail sampled every 0.1 mm as written by numpy.savetxt with fmt, and
+# integers (x = 0, 1, 2 ... m, h from -3 to 3 m).
+PROFILE_FORMATS = ("%.6e", "%.17g", "%.4f", "%g", "%d", "%.19g", "%.18e")
+
+
+def profile_formats(out, fmu, work, repeat, n=PROFILE_ROWS[-1]):
+    """vi_profile_load (reading and the envelope) against numpy.loadtxt on the same file, per number format,
+    the two alternated. -> {format: numpy.loadtxt / vi_profile_load}."""
+    out(f"### Loading a rolling profile of {n} rows against numpy.loadtxt, per number format\n")
+    out(f"The two alternated, CPU times the minimum of {repeat} runs each; R1 = 0.475 m. The rail of the table "
+        "above written with each format, and integers.\n")
+    out("| format | file [MB] | vi_profile_load [ms] | numpy.loadtxt [ms] | numpy.loadtxt / vi_profile_load |")
+    out("|---|---|---|---|---|")
+    rng = np.random.default_rng(19)
+    x = 1e-4 * np.arange(n)
+    rail = np.column_stack([x, np.cumsum(rng.normal(0.0, 1e-7, n)) + 2e-5 * np.sin(2 * np.pi * x / 0.05)])
+    ratios = {}
+    for fmt in PROFILE_FORMATS:
+        path = work / "profile_format.txt"
+        data = np.column_stack([np.arange(n), rng.integers(-3, 4, n)]) if fmt == "%d" else rail
+        np.savetxt(path, data, fmt=fmt)
+        ours = theirs = np.inf
+        for _ in range(repeat):
+            r = subprocess.run([str(fmu.build / "vi_bench_profile"), str(path), "0.475", "0", "1"], capture_output=True,
+                               text=True, check=True)
+            ours = min(ours, float(r.stdout.split()[1]))
+            t0 = time.process_time()
+            np.loadtxt(path)
+            theirs = min(theirs, time.process_time() - t0)
+        ratios[fmt] = theirs / ours
+        out(f"| `{fmt}` | {path.stat().st_size / 1e6:.1f} | {1e3 * ours:.0f} | {1e3 * theirs:.0f} | {ratios[fmt]:.2f} |")
+    slower = [f for f, r in ratios.items() if r < 1.0]
+    out(f"\nTarget: no slower than numpy.loadtxt on every format: {'missed on ' + ', '.join(slower) if slower else 'met'} "
+        f"(least ratio {min(ratios.values()):.2f}).\n")
+    return ratios
 
 
 def work_bound(out, fmu):

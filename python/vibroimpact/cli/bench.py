@@ -11,7 +11,7 @@ and glibc's mallinfo2).
 --against compares two builds (this one and, say, the previous commit's): every case below with every
 solver at rtol 1e-6 and 1e-10, runs of the two FMUs alternated, the ratios of their CPU times and
 their geometric mean printed; nothing is written.
---only runs just the named sections that stand alone (profile; floor, at rtol 1e-10; fig4b: item 1
+--only runs just the named sections that stand alone (profile; floor, at rtol 1e-10; setup; fig4b: item 1
 and 2 for fig4b alone, then where the time of dop853 at its matched rtol goes: the solver's counters
 and, with valgrind, callgrind's instructions by part) and prints them, writing nothing.
 
@@ -57,7 +57,12 @@ processes disturb single runs; instruction counts would be steadier but do not c
    every checkpoint; the one-step method carries its continuation).
 7. The work bound: fig4b in one fmi2DoStep of 1e6 s, CPU until fmi2Discard and where it stopped.
 8. Loading a rolling profile of 1e4 ... 1e6 rows (vi_profile_load: reading and the envelope; the FMU's
-   initialization with it) against numpy.loadtxt reading the same file, per row, with the memory.
+   initialization with it) against numpy.loadtxt reading the same file, per row, with the memory;
+   then the rail of 1e6 rows written in each number format (PROFILE_FORMATS: %.6e, %.17g, %.4f, %g,
+   integers, %.19g, %.18e) against numpy.loadtxt, the two alternated, and their ratio.
+9. A short run per law (setup): instantiate, initialize, one step of 1 ms and free, on the drop, for
+   hertz and hertz_damped (exact at e = 0.8 and 0.05, hunt_crossley), the laws alternated, each
+   against hertz (target: within SETUP_TARGET_MS).
 """
 import argparse
 import pathlib
