@@ -53,10 +53,12 @@ typedef struct {
                           completed steps (above) */
 } vi_me_data;
 
-/* The Model Exchange driver over a run; the states are d->y_me, the run's x[1] (v) and W_damping. */
+/* The Model Exchange driver over a run; the states are own->y_me, the run's x[1] (v) and W_damping. */
 typedef struct {
-    vi_run *r;       /* the run it drives (model, engine, outputs, message) */
-    vi_me_data *d;   /* the driver's data */
+    vi_run *r;       /* the run it drives (model, outputs, message) */
+    vi_run_data *d;  /* r->d: the run's data */
+    vi_me_data *own; /* the driver's data */
+    vi_hybrid engine; /* the event engine over the run, for the importer's integrator (y integrated) */
     int active; /* initialized for Model Exchange */
     int stale;  /* time or states set since the model last caught up with them */
     int warned_rate; /* the estimated rate of yC_in was warned of (once per instance) */

@@ -3,7 +3,8 @@
  * the event engine, time and state, the outputs computed from the model, and the validity warnings.
  * The Co-Simulation driver (vi_sim.h) integrates it with its own solver; the Model Exchange driver
  * (vi_me.h) lets the importer integrate it. Neither driver calls the other: each works on a vi_run
- * and its own data. Nothing here integrates, and nothing here calls FMI.
+ * and its own data; each driver holds an event engine (vi_hybrid.h) bound to the run's model and
+ * engine state. Nothing here integrates, and nothing here calls FMI.
  *
  * vi_run_data is plain data: part of what fmi2GetFMUstate copies and fmi2SerializeFMUstate writes.
  * Its one pointer, the model's profile (rolling), is never trusted from a saved state: vi_run_prepare
@@ -42,7 +43,6 @@ typedef struct {
 
 typedef struct {
     vi_run_data *d;
-    vi_hybrid engine;    /* the event engine over d->model and d->events, bound by the driver that starts it */
     unsigned out_valid;  /* the groups of outputs (VI_OUT_*) out holds at the current d */
     vi_outputs out;
     vi_log_fn log;
@@ -77,11 +77,9 @@ int vi_run_prepare(vi_run *r);
 /* The tolerances a prepared run integrates with: vi_run_rtol, and atol = rtol times the scales of the
  * problem at the initial state (vi_model_scales). */
 void vi_run_tolerances(const vi_run *r, double *rtol, double atol[2]);
-/* Bind the engine to the run for the driver's integrator: integrates_y, it holds y = yC(t) - delta
- * (Model Exchange), else delta (Co-Simulation). */
-void vi_run_bind_engine(vi_run *r, int integrates_y);
-/* vi_run_bind_engine, and start the engine at the current (t, x) with these tolerances. */
-void vi_run_start_engine(vi_run *r, int integrates_y, double rtol, const double atol[2]);
+/* Bind an event engine (a driver's) to the run's model and engine state, for the driver's integrator:
+ * integrates_y, it holds y = yC(t) - delta (Model Exchange), else delta (Co-Simulation). */
+void vi_run_bind_engine(const vi_run *r, vi_hybrid *engine, int integrates_y);
 /* The warnings of an initialization: options that do not apply, an rtol that overrides the
  * experiment's tolerance, and the validity of the initial state. */
 void vi_run_warn_settings(vi_run *r);

@@ -60,8 +60,10 @@ typedef struct {
 } vi_relay;
 
 typedef struct {
-    vi_run *r;           /* the run it integrates (model, engine, outputs, message) */
-    vi_sim_data *d;      /* the driver's data */
+    vi_run *r;           /* the run it integrates (model, outputs, message) */
+    vi_run_data *d;      /* r->d: the run's data */
+    vi_sim_data *own;    /* the driver's data */
+    vi_hybrid engine;    /* the event engine over the run, for this solver (delta integrated) */
     vi_solver *solver;
     int solver_stale;    /* the state changed outside the solver: restart before the next advance */
     vi_log_fn log;       /* the run's */
@@ -95,11 +97,11 @@ int vi_sim_advance(vi_sim *s, double t_end);
  *                   the new mode is in force and the state there is consistent; the next advance
  *                   continues from it as an uninterrupted one would. */
 int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change);
-/* Make the run's data and s->d the complete continuation before they are copied into an FMU state.
+/* Make the run's data and s->own the complete continuation before they are copied into an FMU state.
  * CVODE: the running solver restarts at the run's (t, x), exactly as vi_sim_restore makes a restored
  * copy start, so both continue from identical data. 0 or -1 (the run's msg). */
 int vi_sim_checkpoint(vi_sim *s);
-/* The run (vi_run_restore) and the solver from s->d after both were overwritten by a saved state (any
+/* The run (vi_run_restore) and the solver from s->own after both were overwritten by a saved state (any
  * FMI state of Co-Simulation). 0 or -1. */
 int vi_sim_restore(vi_sim *s);
 void vi_sim_statistics(const vi_sim *s, vi_solver_stats *st);

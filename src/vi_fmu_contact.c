@@ -109,7 +109,7 @@ static int initialize(void *m)
     vi_sim *s = sim_of(m);
     if (vi_sim_initialize(s) < 0) return -1;
     vi_sim_log_solver(s);
-    vi_hybrid_log_start(&s->r->engine, s->r->d->t, s->r->d->x);
+    vi_hybrid_log_start(&s->engine, s->d->t, s->d->x);
     return 0;
 }
 

@@ -15,9 +15,9 @@ static double platform(const vi_model *model, double t) { return vi_model_platfo
  * completed step. */
 static void input_ramps(const vi_me *e, double t, vi_ramp *yC_in, vi_ramp *F_ext)
 {
-    const vi_run_data *d = e->r->d;
+    const vi_run_data *d = e->d;
     vi_run_input_ramps(d, t, yC_in, F_ext);
-    if (!d->par.velocity_input) yC_in->du = e->d->yC_in_rate;
+    if (!d->par.velocity_input) yC_in->du = e->own->yC_in_rate;
     F_ext->du = 0.0;
 }
 
@@ -31,11 +31,11 @@ static void input_ramps(const vi_me *e, double t, vi_ramp *yC_in, vi_ramp *F_ext
  * `changed`) wait for the event iteration, which applies them as a jump. */
 static void sync(vi_me *e)
 {
-    vi_run_data *d = e->r->d;
+    vi_run_data *d = e->d;
     if (!e->active) return; /* before initialization: the run as prepared */
     vi_ramp yC_in, F_ext;
     input_ramps(e, d->t, &yC_in, &F_ext);
-    int take = !d->inputs_changed && vi_hybrid_inputs_differ(&e->r->engine, d->t, yC_in, F_ext);
+    int take = !d->inputs_changed && vi_hybrid_inputs_differ(&e->engine, d->t, yC_in, F_ext);
     if (!e->stale && !take) return;
     e->stale = 0;
     e->r->out_valid = 0;
@@ -43,16 +43,16 @@ static void sync(vi_me *e)
         d->model.yC_in = yC_in;
         d->model.F_ext = F_ext;
     }
-    d->x[0] = platform(&d->model, d->t) - e->d->y_me;
+    d->x[0] = platform(&d->model, d->t) - e->own->y_me;
 }
 
 /* A step completed or an event handled at the current time: the next step starts here. */
 static void mark_step(vi_me *e)
 {
-    vi_run_data *d = e->r->d;
+    vi_run_data *d = e->d;
     d->step_t0 = d->t;
     d->step_v0 = d->x[1];
-    e->d->step_u0 = vi_ramp_at(&d->model.yC_in, d->t);
+    e->own->step_u0 = vi_ramp_at(&d->model.yC_in, d->t);
 }
 
 void vi_me_init(vi_me *e, vi_run *r, vi_me_data *d)
@@ -60,13 +60,15 @@ void vi_me_init(vi_me *e, vi_run *r, vi_me_data *d)
     memset(e, 0, sizeof *e);
     memset(d, 0, sizeof *d);
     e->r = r;
-    e->d = d;
+    e->d = r->d;
+    e->own = d;
+    vi_run_bind_engine(r, &e->engine, 0);
 }
 
 /* Bind the event engine to the integrated position y (Model Exchange) and start the driver's own state. */
 static void start_driver(vi_me *e, int active)
 {
-    vi_run_bind_engine(e->r, active);
+    vi_run_bind_engine(e->r, &e->engine, active);
     e->active = active;
     e->stale = 1;
 }
@@ -81,15 +83,16 @@ int vi_me_initialize(vi_me *e)
     vi_run_tolerances(r, &rtol, atol); /* the scales of the initial state as prepared */
     d->initialized = 1;
     vi_run_warn_settings(r);
-    e->d->yC_in_rate = 0.0;
+    e->own->yC_in_rate = 0.0;
     input_ramps(e, d->t, &model->yC_in, &model->F_ext);
     mark_step(e);
     e->warned_rate = 0;
-    e->d->y_me = platform(model, d->t) - d->x[0];
+    e->own->y_me = platform(model, d->t) - d->x[0];
     e->active = 1;
     e->stale = 1;
     sync(e);
-    vi_run_start_engine(r, 1, rtol, atol); /* at the state as the importer holds it */
+    vi_run_bind_engine(r, &e->engine, 1);
+    vi_hybrid_start(&e->engine, rtol, atol, d->t, d->x); /* at the state as the importer holds it */
     double nominal[VI_ME_NSTATES];
     vi_me_nominals(e, nominal);
     r->log(r->log_env, VI_LOG_SOLVER, "Model Exchange: the importer integrates y, v and W_damping (nominals %g m, %g m/s, "
@@ -100,30 +103,30 @@ int vi_me_initialize(vi_me *e)
 
 void vi_me_set_time(vi_me *e, double t)
 {
-    e->r->d->t = t;
+    e->d->t = t;
     e->stale = 1;
 }
 
 void vi_me_get_states(vi_me *e, double x[VI_ME_NSTATES])
 {
-    const vi_run_data *d = e->r->d;
-    x[0] = e->active ? e->d->y_me : platform(&d->model, d->t) - d->x[0]; /* before: the initial state prepared */
+    const vi_run_data *d = e->d;
+    x[0] = e->active ? e->own->y_me : platform(&d->model, d->t) - d->x[0]; /* before: the initial state prepared */
     x[1] = d->x[1];
     x[2] = d->W_damping;
 }
 
 void vi_me_set_states(vi_me *e, const double x[VI_ME_NSTATES])
 {
-    e->d->y_me = x[0];
-    e->r->d->x[1] = x[1];
-    e->r->d->W_damping = x[2];
+    e->own->y_me = x[0];
+    e->d->x[1] = x[1];
+    e->d->W_damping = x[2];
     e->stale = 1;
 }
 
 void vi_me_derivatives(vi_me *e, double dx[VI_ME_NSTATES])
 {
     sync(e);
-    const vi_run_data *d = e->r->d;
+    const vi_run_data *d = e->d;
     double r[2];
     vi_model_rhs(&d->model, d->t, d->x, r);
     dx[0] = d->x[1];
@@ -134,14 +137,14 @@ void vi_me_derivatives(vi_me *e, double dx[VI_ME_NSTATES])
 void vi_me_indicators(vi_me *e, double z[VI_ME_NINDICATORS])
 {
     sync(e);
-    vi_hybrid_guards(&e->r->engine, e->r->d->t, e->r->d->x, z);
+    vi_hybrid_guards(&e->engine, e->d->t, e->d->x, z);
 }
 
 void vi_me_nominals(const vi_me *e, double nominal[VI_ME_NSTATES])
 {
-    const vi_hybrid_state *h = &e->r->d->events;
+    const vi_hybrid_state *h = &e->d->events;
     for (int i = 0; i < 2; i++) nominal[i] = e->active && h->atol[i] > 0.0 ? h->atol[i] / h->rtol : 1.0;
-    nominal[2] = e->active && h->atol[1] > 0.0 ? e->r->d->model.m * nominal[1] * nominal[1] : 1.0; /* m V^2 [J] */
+    nominal[2] = e->active && h->atol[1] > 0.0 ? e->d->model.m * nominal[1] * nominal[1] : 1.0; /* m V^2 [J] */
 }
 
 /* The end of a non-periodic profile at or before t: 1 with the reason in msg. */
@@ -154,43 +157,43 @@ static int past_profile_end(const vi_model *model, double t, char *msg, size_t n
  * (an input jump), and a kink of the profile passed since the last step. */
 static void time_events(vi_me *e, double x[2])
 {
-    vi_run_data *d = e->r->d;
+    vi_run_data *d = e->d;
     double t = d->t;
     if (d->inputs_changed || vi_model_excitation_differs(&d->model, d->par.a, d->par.f)) {
         vi_ramp yC_in = d->model.yC_in, F_ext = d->model.F_ext;
         if (d->inputs_changed) input_ramps(e, t, &yC_in, &F_ext);
         d->inputs_changed = 0;
-        vi_hybrid_input_jump(&e->r->engine, t, x, yC_in, F_ext, d->par.a, d->par.f);
+        vi_hybrid_input_jump(&e->engine, t, x, yC_in, F_ext, d->par.a, d->par.f);
     }
-    if (vi_model_next_breakpoint(&d->model, d->step_t0) <= t) vi_hybrid_kink(&e->r->engine, t, x);
+    if (vi_model_next_breakpoint(&d->model, d->step_t0) <= t) vi_hybrid_kink(&e->engine, t, x);
 }
 
 /* The first guard at or below zero, as a state event. Returns the guard, or -1 when none fired; *from:
  * the mode it belonged to. */
 static int state_event(vi_me *e, double x[2], int *from)
 {
-    vi_run_data *d = e->r->d;
-    int located, fired = vi_hybrid_fired(&e->r->engine, d->t, x, &located);
+    vi_run_data *d = e->d;
+    int located, fired = vi_hybrid_fired(&e->engine, d->t, x, &located);
     if (fired < 0) return -1;
-    *from = vi_hybrid_event(&e->r->engine, d->t, x, fired, located);
+    *from = vi_hybrid_event(&e->engine, d->t, x, fired, located);
     return fired;
 }
 
 /* Take x (the state after the pass) as the importer's: y moves only when x moved. */
 static void take_state(vi_me *e, const double x[2], vi_me_event *ev)
 {
-    vi_run_data *d = e->r->d;
+    vi_run_data *d = e->d;
     if (x[0] != d->x[0] || x[1] != d->x[1]) { /* snapped, frozen onto the platform, or a new a */
         ev->states_changed = 1;
-        e->d->y_me = platform(&d->model, d->t) - x[0];
+        e->own->y_me = platform(&d->model, d->t) - x[0];
         d->x[1] = x[1];
     }
-    d->x[0] = platform(&d->model, d->t) - e->d->y_me;
+    d->x[0] = platform(&d->model, d->t) - e->own->y_me;
 }
 
 int vi_me_event_update(vi_me *e, vi_me_event *ev)
 {
-    vi_run_data *d = e->r->d;
+    vi_run_data *d = e->d;
     memset(ev, 0, sizeof *ev);
     sync(e);
     double t = d->t, x[2] = {d->x[0], d->x[1]};
@@ -201,11 +204,11 @@ int vi_me_event_update(vi_me *e, vi_me_event *ev)
     time_events(e, x);
     int from = d->model.mode, fired = state_event(e, x, &from);
     take_state(e, x, ev);
-    vi_hybrid_arm_at_zero(&e->r->engine, t, d->x); /* at the state as the importer holds it */
-    ev->another_pass = vi_hybrid_due(&e->r->engine, t, d->x);
+    vi_hybrid_arm_at_zero(&e->engine, t, d->x); /* at the state as the importer holds it */
+    ev->another_pass = vi_hybrid_due(&e->engine, t, d->x);
     mark_step(e);
     vi_run_check_validity(e->r);
-    if (fired >= 0 && vi_hybrid_zeno(&e->r->engine, t, fired, from, e->r->msg, sizeof e->r->msg)) ev->terminate = 1;
+    if (fired >= 0 && vi_hybrid_zeno(&e->engine, t, fired, from, e->r->msg, sizeof e->r->msg)) ev->terminate = 1;
     char why[8];
     double next = fmin(vi_model_next_breakpoint(&d->model, t), vi_model_rolling_limit(&d->model, why, sizeof why));
     if (isfinite(next) && next > t) ev->next_time_defined = 1, ev->next_time = next;
@@ -215,7 +218,7 @@ int vi_me_event_update(vi_me *e, vi_me_event *ev)
 
 void vi_me_enter_continuous(vi_me *e)
 {
-    e->r->d->inputs_changed = 0;
+    e->d->inputs_changed = 0;
     sync(e);
 }
 
@@ -224,16 +227,16 @@ void vi_me_enter_continuous(vi_me *e)
  * and the mode choices. Its first change while the law needs the rate is warned of once. */
 static void estimate_rate(vi_me *e)
 {
-    vi_run_data *d = e->r->d;
+    vi_run_data *d = e->d;
     double h = d->t - d->step_t0;
     if (d->par.velocity_input || !(h > 0.0)) return;
-    e->d->yC_in_rate = (vi_ramp_at(&d->model.yC_in, d->t) - e->d->step_u0) / h;
-    if (e->d->yC_in_rate != 0.0 && !e->warned_rate && vi_model_uses_rate(&d->model)) {
+    e->own->yC_in_rate = (vi_ramp_at(&d->model.yC_in, d->t) - e->own->step_u0) / h;
+    if (e->own->yC_in_rate != 0.0 && !e->warned_rate && vi_model_uses_rate(&d->model)) {
         e->warned_rate = 1;
         e->r->log(e->r->log_env, VI_LOG_WARNING, "t = %.17g s: yC_in moves (%g m/s) and velocity_input = false: Model "
                  "Exchange passes no input derivatives, so the platform's rate is estimated from yC_in's change over "
                  "each completed step, and turning points, damping and mode choices lag by a step; set velocity_input "
-                 "= true and connect the platform's velocity to vC_in for exact results", d->t, e->d->yC_in_rate);
+                 "= true and connect the platform's velocity to vC_in for exact results", d->t, e->own->yC_in_rate);
     }
     sync(e); /* the new rate acts from now on (a continuous-time input) */
 }
@@ -245,23 +248,23 @@ static void estimate_rate(vi_me *e)
  * state is the importer's). */
 static void write_down(vi_me *e)
 {
-    vi_run_data *d = e->r->d;
-    if (d->model.mode != VI_MODE_PLASTIC || d->par.velocity_input || e->d->yC_in_rate == 0.0) return;
+    vi_run_data *d = e->d;
+    if (d->model.mode != VI_MODE_PLASTIC || d->par.velocity_input || e->own->yC_in_rate == 0.0) return;
     double x[2] = {d->x[0], d->x[1]};
     vi_model_freeze(&d->model, d->t, x);
 }
 
 int vi_me_completed_step(vi_me *e)
 {
-    vi_run_data *d = e->r->d;
+    vi_run_data *d = e->d;
     char why[8];
     sync(e);
     if (vi_model_next_breakpoint(&d->model, d->step_t0) <= d->t || past_profile_end(&d->model, d->t, why, sizeof why))
         return 1; /* a time event was stepped over: handle it here */
     estimate_rate(e);
     write_down(e);
-    if (vi_hybrid_due(&e->r->engine, d->t, d->x)) return 1; /* the new rate put a guard below zero */
-    vi_hybrid_rearm(&e->r->engine, d->t, d->x);
+    if (vi_hybrid_due(&e->engine, d->t, d->x)) return 1; /* the new rate put a guard below zero */
+    vi_hybrid_rearm(&e->engine, d->t, d->x);
     mark_step(e);
     vi_run_check_validity(e->r);
     return 0;
@@ -330,7 +333,7 @@ static vi_me_partials through_delta(double a_d, double a_v, double a_F, double a
  * state's column is the layer's), E_contact, and F_peak = F. */
 static void energy_rows(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
 {
-    const vi_run_data *d = e->r->d;
+    const vi_run_data *d = e->d;
     double dE;
     vi_model_contact_energy(&d->model, d->x, &dE);
     vi_model_power P = vi_model_damping_power(&d->model, d->t, d->x);
@@ -344,7 +347,7 @@ static void energy_rows(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
 void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
 {
     sync(e);
-    const vi_run_data *d = e->r->d;
+    const vi_run_data *d = e->d;
     const vi_model *model = &d->model;
     double m = model->m, h = d->t - d->step_t0;
     int stick = model->mode == VI_Mode_stick;

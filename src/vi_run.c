@@ -50,7 +50,6 @@ void vi_run_init(vi_run *r, vi_run_data *d, vi_log_fn log, void *log_env)
     r->d = d;
     r->log = log;
     r->log_env = log_env;
-    vi_run_bind_engine(r, 0);
     vi_parameters_default(&d->par);
     vi_inputs_default(&d->in);
 }
@@ -224,15 +223,9 @@ void vi_run_tolerances(const vi_run *r, double *rtol, double atol[2])
     atol[1] = *rtol * V;
 }
 
-void vi_run_bind_engine(vi_run *r, int integrates_y)
+void vi_run_bind_engine(const vi_run *r, vi_hybrid *engine, int integrates_y)
 {
-    vi_hybrid_bind(&r->engine, &r->d->model, &r->d->events, integrates_y, r->log, r->log_env);
-}
-
-void vi_run_start_engine(vi_run *r, int integrates_y, double rtol, const double atol[2])
-{
-    vi_run_bind_engine(r, integrates_y);
-    vi_hybrid_start(&r->engine, rtol, atol, r->d->t, r->d->x);
+    vi_hybrid_bind(engine, &r->d->model, &r->d->events, integrates_y, r->log, r->log_env);
 }
 
 void vi_run_warn_settings(vi_run *r)

@@ -13,19 +13,19 @@
 static void sim_rhs(double t, const double *x, double *dx, void *user)
 {
     const vi_sim *s = user;
-    vi_model_rhs(&s->r->d->model, t, x, dx);
+    vi_model_rhs(&s->d->model, t, x, dx);
 }
 
 static void sim_guards(double t, const double *x, double *g, void *user)
 {
     const vi_sim *s = user;
-    vi_hybrid_guards(&s->r->engine, t, x, g);
+    vi_hybrid_guards(&s->engine, t, x, g);
 }
 
 static void sim_jac(double t, const double *x, double *j, void *user)
 {
     const vi_sim *s = user;
-    vi_model_jacobian(&s->r->d->model, t, x, j);
+    vi_model_jacobian(&s->d->model, t, x, j);
 }
 
 /* ---- along the solution: the damping's work and the largest force -------------------------------- */
@@ -47,7 +47,7 @@ static const double gauss_w[VI_GAUSS_NODES] = {0.17392742256872679, 0.3260725774
  * polynomial (hertz_damped, exact: 1e-11 of the work instead of 7e-9 at rtol 1e-9). */
 static int piece_damping(vi_sim *s, const vi_solver_piece *p)
 {
-    vi_run_data *d = s->r->d;
+    vi_run_data *d = s->d;
     const vi_model *model = &d->model;
     double h = p->tb - p->ta, sum = 0.0, x[2];
     int onset = p->xa[0] == 0.0 && vi_model_damping_root_at_onset(model);
@@ -88,7 +88,7 @@ static double hermite_peak(double a, double b, double Fa, double Fb, double ga, 
  * changes sign, until the estimate stops moving; the largest force seen into *F_max. */
 static int peak_inside(vi_sim *s, const vi_solver_piece *p, double Fa, double ga, double Fb, double gb, double *F_max)
 {
-    const vi_model *model = &s->r->d->model;
+    const vi_model *model = &s->d->model;
     double a = p->ta, b = p->tb, x[2], dx[2], last = a, move = VI_PEAK_MOVE * (p->tb - p->ta);
     for (int i = 0; i < VI_PEAK_ITERS; i++) {
         double t = hermite_peak(a, b, Fa, Fb, ga, gb), F;
@@ -108,15 +108,15 @@ static int peak_inside(vi_sim *s, const vi_solver_piece *p, double Fa, double ga
 static void peak_point(vi_sim *s, double t, const double x[2], const double dx[2])
 {
     vi_peak_point *e = &s->peak_end;
-    e->t = t, e->x[0] = x[0], e->x[1] = x[1], e->mode = s->r->d->model.mode, e->valid = 1;
-    e->g = vi_model_force_rate(&s->r->d->model, t, x, dx, &e->F);
+    e->t = t, e->x[0] = x[0], e->x[1] = x[1], e->mode = s->d->model.mode, e->valid = 1;
+    e->g = vi_model_force_rate(&s->d->model, t, x, dx, &e->F);
 }
 
 /* Is the end point the point (t, x) in the current mode? */
 static int at_peak_end(const vi_sim *s, double t, const double x[2])
 {
     const vi_peak_point *e = &s->peak_end;
-    return e->valid && e->t == t && e->x[0] == x[0] && e->x[1] == x[1] && e->mode == s->r->d->model.mode;
+    return e->valid && e->t == t && e->x[0] == x[0] && e->x[1] == x[1] && e->mode == s->d->model.mode;
 }
 
 /* The largest force over a piece: at its ends, and inside where its rate changes sign from + to - (one
@@ -124,7 +124,7 @@ static int at_peak_end(const vi_sim *s, double t, const double x[2])
  * before unless the model changed in between (an event, an input, a restart: peak_restart). */
 static int piece_peak(vi_sim *s, const vi_solver_piece *p)
 {
-    vi_run_data *d = s->r->d;
+    vi_run_data *d = s->d;
     vi_peak_point *e = &s->peak_end;
     if (d->model.mode == VI_MODE_FREE) return 0; /* F = 0 */
     if (!at_peak_end(s, p->ta, p->xa)) peak_point(s, p->ta, p->xa, NULL);
@@ -137,18 +137,21 @@ static int piece_peak(vi_sim *s, const vi_solver_piece *p)
 }
 
 /* The model changed at the current point (an event, an input, a kink; changed: a restored state, a step's
- * start after inputs were set): its force raises F_peak, and the next piece starts from it. */
-static void peak_restart(vi_sim *s, int changed)
+ * start after inputs were set): its force raises F_peak (from the value given), and the next piece starts
+ * from it. */
+static void peak_restart_from(vi_sim *s, int changed, double F_peak)
 {
-    if (changed || !at_peak_end(s, s->r->d->t, s->r->d->x)) peak_point(s, s->r->d->t, s->r->d->x, NULL);
-    s->r->d->F_peak = fmax(s->r->d->F_peak, s->peak_end.F);
+    if (changed || !at_peak_end(s, s->d->t, s->d->x)) peak_point(s, s->d->t, s->d->x, NULL);
+    s->d->F_peak = fmax(F_peak, s->peak_end.F);
 }
+
+static void peak_restart(vi_sim *s, int changed) { peak_restart_from(s, changed, s->d->F_peak); }
 
 /* A piece of the solution the solver passed (vi_solver.h, PIECES). */
 static int sim_piece(const vi_solver_piece *p, void *user)
 {
     vi_sim *s = user;
-    if (vi_model_damps(&s->r->d->model) && piece_damping(s, p) < 0) return -1;
+    if (vi_model_damps(&s->d->model) && piece_damping(s, p) < 0) return -1;
     return piece_peak(s, p);
 }
 
@@ -157,9 +160,11 @@ void vi_sim_init(vi_sim *s, vi_run *r, vi_sim_data *d)
     memset(s, 0, sizeof *s);
     memset(d, 0, sizeof *d);
     s->r = r;
-    s->d = d;
+    s->d = r->d;
+    s->own = d;
     s->log = r->log;
     s->log_env = r->log_env;
+    vi_run_bind_engine(r, &s->engine, 0);
 }
 
 void vi_sim_free(vi_sim *s)
@@ -174,12 +179,12 @@ static void append_cause(vi_sim *s, double h_comm);
  * (resume) continuing the continuation in s->d as it is. */
 static int create_solver(vi_sim *s, int resume)
 {
-    vi_run_data *d = s->r->d;
+    vi_run_data *d = s->d;
     vi_solver_free(s->solver);
     vi_solver_config cfg = {
         .n = 2, .nguards = VI_NGUARDS, .rhs = sim_rhs, .guards = sim_guards, .jac = sim_jac, .user = s,
         .method = d->par.solver, .rtol = d->events.rtol, .atol = d->events.atol, .max_step = d->par.max_step,
-        .ode = &s->d->ode, .auto_choice = &s->d->auto_choice, .piece = sim_piece, .log = vi_sim_solver_log, .log_env = s};
+        .ode = &s->own->ode, .auto_choice = &s->own->auto_choice, .piece = sim_piece, .log = vi_sim_solver_log, .log_env = s};
     s->solver = resume ? vi_solver_resume(&cfg, d->t, d->x) : vi_solver_create(&cfg, d->t, d->x);
     s->solver_stale = 0;
     if (!s->solver) { /* the configuration is valid: the first step failed, a rate beyond the doubles */
@@ -198,13 +203,13 @@ static int create_solver(vi_sim *s, int resume)
 int vi_sim_initialize(vi_sim *s)
 {
     if (vi_run_prepare(s->r) < 0) return -1;
-    vi_run_data *d = s->r->d;
+    vi_run_data *d = s->d;
     double rtol, atol[2];
     vi_run_tolerances(s->r, &rtol, atol);
-    vi_run_start_engine(s->r, 0, rtol, atol);
+    vi_hybrid_start(&s->engine, rtol, atol, d->t, d->x);
     d->initialized = 1;
-    memset(&s->d->ode, 0, sizeof s->d->ode);
-    memset(&s->d->auto_choice, 0, sizeof s->d->auto_choice);
+    memset(&s->own->ode, 0, sizeof s->own->ode);
+    memset(&s->own->auto_choice, 0, sizeof s->own->auto_choice);
     if (create_solver(s, 0) < 0) return -1;
     vi_run_warn_settings(s->r);
     vi_sim_report_warnings(s); /* of the solver's creation */
@@ -213,17 +218,17 @@ int vi_sim_initialize(vi_sim *s)
 
 void vi_sim_log_solver(const vi_sim *s)
 {
-    const vi_hybrid_state *e = &s->r->d->events;
+    const vi_hybrid_state *e = &s->d->events;
     s->log(s->log_env, VI_LOG_SOLVER, "%s, rtol %g, atol %g m and %g m/s (scales %g m, %g m/s)",
-           vi_solver_method_name(s->r->d->par.solver), e->rtol, e->atol[0], e->atol[1], e->atol[0] / e->rtol,
+           vi_solver_method_name(s->d->par.solver), e->rtol, e->atol[0], e->atol[1], e->atol[0] / e->rtol,
            e->atol[1] / e->rtol);
 }
 
 int vi_sim_checkpoint(vi_sim *s)
 {
-    if (!s->r->d->initialized || !s->solver) return 0;
-    if (vi_solver_checkpoint(s->solver, s->r->d->t, s->r->d->x) < 0)
-        VI_FAIL(s->r->msg, sizeof s->r->msg, "could not restart the solver at t = %.17g s", s->r->d->t);
+    if (!s->d->initialized || !s->solver) return 0;
+    if (vi_solver_checkpoint(s->solver, s->d->t, s->d->x) < 0)
+        VI_FAIL(s->r->msg, sizeof s->r->msg, "could not restart the solver at t = %.17g s", s->d->t);
     s->solver_stale = 0;
     return 0;
 }
@@ -231,8 +236,7 @@ int vi_sim_checkpoint(vi_sim *s)
 int vi_sim_restore(vi_sim *s)
 {
     s->peak_end.valid = 0;
-    vi_run_bind_engine(s->r, 0); /* the engine works for this driver's integrator */
-    if (!s->r->d->initialized) { /* before initialization: no solver until then */
+    if (!s->d->initialized) { /* before initialization: no solver until then */
         vi_run_restore(s->r);
         vi_solver_free(s->solver);
         s->solver = NULL;
@@ -247,12 +251,12 @@ int vi_sim_restore(vi_sim *s)
  * changes nothing and does not restart the solver. */
 static void apply_inputs(vi_sim *s)
 {
-    vi_run_data *d = s->r->d;
+    vi_run_data *d = s->d;
     double t = d->t;
     vi_ramp yC_in, F_ext;
     vi_run_input_ramps(d, t, &yC_in, &F_ext);
     d->inputs_changed = 0;
-    if (!vi_hybrid_input_jump(&s->r->engine, t, d->x, yC_in, F_ext, d->par.a, d->par.f)) return;
+    if (!vi_hybrid_input_jump(&s->engine, t, d->x, yC_in, F_ext, d->par.a, d->par.f)) return;
     s->solver_stale = 1;
     vi_run_check_validity(s->r); /* a new amplitude */
 }
@@ -275,9 +279,9 @@ static const char *remedy(const vi_model *model)
 static void append_cause(vi_sim *s, double h_comm)
 {
     char note[300];
-    double k, T = vi_run_time_scale(s->r, &k, note, sizeof note), t = s->r->d->t, unit = DBL_EPSILON * fabs(t);
+    double k, T = vi_run_time_scale(s->r, &k, note, sizeof note), t = s->d->t, unit = DBL_EPSILON * fabs(t);
     int unresolved = T < VI_RESOLVED_UNITS * unit, too_many = h_comm > (double)VI_MAX_STEPS_PER_ADVANCE * T;
-    int late = T < VI_RESOLVED_UNITS * DBL_EPSILON * fabs(s->r->d->t_start); /* the start time alone is too late */
+    int late = T < VI_RESOLVED_UNITS * DBL_EPSILON * fabs(s->d->t_start); /* the start time alone is too late */
     size_t used = strlen(s->r->msg);
     used += (size_t)vi_snprintf(s->r->msg + used, sizeof s->r->msg - used, "; the contact's time scale %s", note);
     if (used < sizeof s->r->msg && unresolved)
@@ -291,7 +295,7 @@ static void append_cause(vi_sim *s, double h_comm)
     if (too_many)
         vi_snprintf(shorter, sizeof shorter, ", or use communication steps below %.3g s", (double)VI_MAX_STEPS_PER_ADVANCE * T);
     if (used < sizeof s->r->msg && (unresolved || too_many))
-        vi_snprintf(s->r->msg + used, sizeof s->r->msg - used, ": %s%s%s", remedy(&s->r->d->model),
+        vi_snprintf(s->r->msg + used, sizeof s->r->msg - used, ": %s%s%s", remedy(&s->d->model),
                     late ? ", or start the run nearer t = 0" : "", shorter);
 }
 
@@ -356,9 +360,9 @@ void vi_sim_solver_log(void *env, int category, const char *fmt, ...)
     }
     memcpy(r->kind[r->kinds++], kind, sizeof kind);
     char note[300], units[160] = "";
-    double k, T = vi_run_time_scale(s->r, &k, note, sizeof note), unit = DBL_EPSILON * fabs(s->r->d->t);
+    double k, T = vi_run_time_scale(s->r, &k, note, sizeof note), unit = DBL_EPSILON * fabs(s->d->t);
     if (unit > 0.0)
-        vi_snprintf(units, sizeof units, " is %.3g units of the time resolution at t = %.17g s%s", T / unit, s->r->d->t,
+        vi_snprintf(units, sizeof units, " is %.3g units of the time resolution at t = %.17g s%s", T / unit, s->d->t,
                     T < VI_RESOLVED_UNITS * unit ? ", too few for the solver's steps: the likely cause" : "");
     s->log(s->log_env, VI_LOG_WARNING, "%s (the contact's time scale %s%s; further warnings like this one are counted, "
            "not repeated)", text, note, units);
@@ -370,12 +374,12 @@ void vi_sim_report_warnings(vi_sim *s)
     for (int i = 0; i < r->kinds; i++)
         if (r->repeats[i] > 0) {
             s->log(s->log_env, VI_LOG_WARNING, "%ld more solver warnings like \"%s\" by t = %.17g s (counted, not relayed)",
-                   r->repeats[i], r->kind[i], s->r->d->t);
+                   r->repeats[i], r->kind[i], s->d->t);
             r->repeats[i] = 0;
         }
     if (r->others > 0)
         s->log(s->log_env, VI_LOG_WARNING, "%ld more solver warnings of other kinds by t = %.17g s (counted, not relayed)",
-               r->others, s->r->d->t);
+               r->others, s->d->t);
     r->others = 0;
 }
 
@@ -400,8 +404,8 @@ static int discard(vi_sim *s, const char *fmt, ...)
  * Zeno rule. */
 static int stop_here(const vi_sim *s, int stop_at_mode_change, int mode_before)
 {
-    double unit = DBL_EPSILON * fmax(1.0, fabs(s->r->d->t));
-    return stop_at_mode_change && s->r->d->model.mode != mode_before && s->r->d->t - s->r->d->step_t0 > VI_EARLY_RETURN_UNITS * unit;
+    double unit = DBL_EPSILON * fmax(1.0, fabs(s->d->t));
+    return stop_at_mode_change && s->d->model.mode != mode_before && s->d->t - s->d->step_t0 > VI_EARLY_RETURN_UNITS * unit;
 }
 
 /* One advance in progress. */
@@ -416,7 +420,7 @@ enum { PASS_MORE = 100, PASS_END, PASS_STOPPED };
 
 static int solver_failed(vi_sim *s)
 {
-    const vi_run_data *d = s->r->d;
+    const vi_run_data *d = s->d;
     vi_snprintf(s->r->msg, sizeof s->r->msg, "the solver failed near t = %.17g s (mode %d, delta = %g m, v = %g m/s)", d->t,
                 d->model.mode, d->x[0], d->x[1]);
     append_cause(s, s->advance_end - d->step_t0);
@@ -427,7 +431,7 @@ static int solver_failed(vi_sim *s)
  * solver. VI_SIM_OK or VI_SIM_ERROR (s->r->msg). */
 static int begin_advance(vi_sim *s, double t_end)
 {
-    vi_run_data *d = s->r->d;
+    vi_run_data *d = s->d;
     if (!s->solver) VI_FAIL(s->r->msg, sizeof s->r->msg, "the simulation is not initialized");
     if (!(t_end > d->t))
         VI_FAIL(s->r->msg, sizeof s->r->msg, "the step end %.17g s does not exceed the current time %.17g s in floating point",
@@ -435,12 +439,11 @@ static int begin_advance(vi_sim *s, double t_end)
     s->r->out_valid = 0;
     d->step_t0 = d->t;
     d->step_v0 = d->x[1];
-    vi_hybrid_count_from(&s->r->engine, d->t);
+    vi_hybrid_count_from(&s->engine, d->t);
     int changed = d->inputs_changed || s->solver_stale;
     if (d->inputs_changed) apply_inputs(s);
-    vi_hybrid_rearm(&s->r->engine, d->t, d->x);
-    d->F_peak = 0.0; /* the force now and the step's pieces raise it */
-    peak_restart(s, changed);
+    vi_hybrid_rearm(&s->engine, d->t, d->x);
+    peak_restart_from(s, changed, 0.0); /* F_peak: the force now, and the step's pieces raise it */
     if (s->solver_stale) {
         if (vi_solver_reset(s->solver, d->t, d->x) < 0) return solver_failed(s);
         s->solver_stale = 0;
@@ -452,15 +455,15 @@ static int begin_advance(vi_sim *s, double t_end)
  * the advance on the Zeno rule or the work bound on events. */
 static int state_event(vi_sim *s, advance_run *run, const int fired[])
 {
-    vi_run_data *d = s->r->d;
+    vi_run_data *d = s->d;
     int g = 0;
     while (g < VI_NGUARDS - 1 && fired[g] == 0) g++;
-    int from = vi_hybrid_event(&s->r->engine, d->t, d->x, g, 1);
+    int from = vi_hybrid_event(&s->engine, d->t, d->x, g, 1);
     peak_restart(s, 1);
-    vi_hybrid_arm_at_zero(&s->r->engine, d->t, d->x);
+    vi_hybrid_arm_at_zero(&s->engine, d->t, d->x);
     vi_run_check_validity(s->r);
     if (vi_solver_reset(s->solver, d->t, d->x) < 0) return solver_failed(s);
-    if (vi_hybrid_zeno(&s->r->engine, d->t, g, from, s->r->msg, sizeof s->r->msg)) return VI_SIM_DISCARD;
+    if (vi_hybrid_zeno(&s->engine, d->t, g, from, s->r->msg, sizeof s->r->msg)) return VI_SIM_DISCARD;
     if (++run->events >= VI_MAX_EVENTS_PER_ADVANCE && d->t < run->t_end) {
         discard(s, "work bound: %ld events in one step, stopped at t = %.17g s (mode %d); continue from there or use "
                    "smaller communication steps", VI_MAX_EVENTS_PER_ADVANCE, d->t, d->model.mode);
@@ -473,7 +476,7 @@ static int state_event(vi_sim *s, advance_run *run, const int fired[])
 /* One pass of the loop: integrate to the next kink of the profile or the target, or to an event. */
 static int advance_pass(vi_sim *s, advance_run *run)
 {
-    vi_run_data *d = s->r->d;
+    vi_run_data *d = s->d;
     int mode_before = d->model.mode, rc = VI_SOLVER_REACHED, fired[VI_SOLVER_MAX_GUARDS];
     double bp = d->model.profile ? vi_model_next_breakpoint(&d->model, d->t) : INFINITY;
     double stop = bp < run->target ? bp : run->target;
@@ -496,7 +499,7 @@ static int advance_pass(vi_sim *s, advance_run *run)
     int pass = PASS_MORE;
     if (rc == VI_SOLVER_REACHED && stop == bp) {
         run->kinks++;
-        vi_hybrid_kink(&s->r->engine, d->t, d->x); /* the rate of delta jumped: the solver restarts */
+        vi_hybrid_kink(&s->engine, d->t, d->x); /* the rate of delta jumped: the solver restarts */
         peak_restart(s, 1);
         if (vi_solver_reset(s->solver, d->t, d->x) < 0) return solver_failed(s);
     } else if (rc != VI_SOLVER_REACHED) {
@@ -518,7 +521,7 @@ static int reported(vi_sim *s, int rc)
 
 int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change)
 {
-    vi_run_data *d = s->r->d;
+    vi_run_data *d = s->d;
     s->advance_end = t_end;
     if (begin_advance(s, t_end) != VI_SIM_OK) return reported(s, VI_SIM_ERROR);
     char why[400]; /* written only where a profile ends */
