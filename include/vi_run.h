@@ -80,6 +80,9 @@ void vi_run_tolerances(const vi_run *r, double *rtol, double atol[2]);
 /* Bind an event engine (a driver's) to the run's model and engine state, for the driver's integrator:
  * integrates_y, it holds y = yC(t) - delta (Model Exchange), else delta (Co-Simulation). */
 void vi_run_bind_engine(const vi_run *r, vi_hybrid *engine, int integrates_y);
+/* A driver takes the run: its own data (own_size bytes) zeroed, its engine bound for an integrator of
+ * delta (vi_run_bind_engine); returns the run's data. */
+vi_run_data *vi_run_attach(const vi_run *r, vi_hybrid *engine, void *own, size_t own_size);
 /* The warnings of an initialization: options that do not apply, an rtol that overrides the
  * experiment's tolerance, and the validity of the initial state. */
 void vi_run_warn_settings(vi_run *r);

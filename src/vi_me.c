@@ -58,11 +58,8 @@ static void mark_step(vi_me *e)
 void vi_me_init(vi_me *e, vi_run *r, vi_me_data *d)
 {
     memset(e, 0, sizeof *e);
-    memset(d, 0, sizeof *d);
-    e->r = r;
-    e->d = r->d;
-    e->own = d;
-    vi_run_bind_engine(r, &e->engine, 0);
+    e->r = r, e->own = d;
+    e->d = vi_run_attach(r, &e->engine, d, sizeof *d);
 }
 
 /* Bind the event engine to the integrated position y (Model Exchange) and start the driver's own state. */

@@ -228,6 +228,13 @@ void vi_run_bind_engine(const vi_run *r, vi_hybrid *engine, int integrates_y)
     vi_hybrid_bind(engine, &r->d->model, &r->d->events, integrates_y, r->log, r->log_env);
 }
 
+vi_run_data *vi_run_attach(const vi_run *r, vi_hybrid *engine, void *own, size_t own_size)
+{
+    memset(own, 0, own_size);
+    vi_run_bind_engine(r, engine, 0);
+    return r->d;
+}
+
 void vi_run_warn_settings(vi_run *r)
 {
     const vi_run_data *d = r->d;

@@ -158,13 +158,10 @@ static int sim_piece(const vi_solver_piece *p, void *user)
 void vi_sim_init(vi_sim *s, vi_run *r, vi_sim_data *d)
 {
     memset(s, 0, sizeof *s);
-    memset(d, 0, sizeof *d);
-    s->r = r;
-    s->d = r->d;
-    s->own = d;
+    s->r = r, s->own = d;
+    s->d = vi_run_attach(r, &s->engine, d, sizeof *d);
     s->log = r->log;
     s->log_env = r->log_env;
-    vi_run_bind_engine(r, &s->engine, 0);
 }
 
 void vi_sim_free(vi_sim *s)
