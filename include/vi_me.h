@@ -98,21 +98,21 @@ void vi_me_enter_continuous(vi_me *e);
 /* A completed step of the importer: re-arm guards that moved away, start the mean force anew.
  * 1 when an event is due now (a kink or the profile's end was stepped over), else 0. */
 int vi_me_completed_step(vi_me *e);
-/* Outputs at the current time, states and inputs (der_y and der_v included); the mean force is
- * the one since the last event or completed step. */
-void vi_me_outputs(vi_me *e, vi_outputs *out);
-/* The outputs of `groups` only (VI_OUT_*, vi_model.h, der_y and der_v too), as vi_run_outputs_of. */
-const vi_outputs *vi_me_outputs_of(vi_me *e, unsigned groups);
+/* The outputs of `groups` (VI_OUT_*, vi_model.h; VI_OUT_DERIVATIVES: der_y, der_v, der_W_damping) at
+ * the current time, states and inputs, as vi_run_outputs_of; the mean force is the one since the
+ * last event or completed step. */
+const vi_run_values *vi_me_outputs_of(vi_me *e, unsigned groups);
 /* Make the run's data hold the current (t, delta, v) and memory before it is copied (FMU state), and
  * take the run back from a restored state (vi_run_restore; `running`: a state taken after
  * initialization, into an instance of Model Exchange). 0 or -1 (the run's msg). */
 int vi_me_checkpoint(vi_me *e);
 int vi_me_restore(vi_me *e, int running);
-/* Is (r, d) a state of Model Exchange this FMU could have produced (doc/model.md section 7.6)? The
+/* Is (r, d) a state of Model Exchange this FMU could have produced (doc/model.md section 7.6), with the
+ * start time and relative tolerance of its settings? The
  * run's fields (vi_run_data_check), the driver's, then the model's part between events
  * (vi_model_check_between_events: the importer's states may lie beyond the mode's surfaces until
  * the next event). 0, or -1 naming the first bad field in msg. */
-int vi_me_data_check(const vi_run_data *r, const vi_me_data *d, char *msg, size_t n);
+int vi_me_data_check(const vi_run_data *r, const vi_me_data *d, double t_start, double rtol, char *msg, size_t n);
 /* The driver's fields alone: finite. 0 or -1 (msg). */
 int vi_me_data_finite(const vi_me_data *d, char *msg, size_t n);
 

@@ -17,19 +17,58 @@
 #include "vi_format.h"
 #include "vi_hybrid.h"
 #include "vi_model.h"
-#include "vi_variables.h"
 
 /* Longest path of the resources folder or a profile file. */
 #define VI_PATH_MAX 4096
 
+/* What a run is set up from (SI units): the model's parameters and how it is integrated. */
 typedef struct {
-    vi_parameters par;
-    vi_inputs in;        /* input values as last set */
-    vi_inputs din;       /* their time derivatives (order 1); setting a value resets its derivative */
-    int inputs_changed;  /* set by the setters; applied at the start of the next step */
-    double t_start;
-    double tolerance;    /* the importer's (fmi2SetupExperiment, fmi3EnterInitializationMode), 0 when not
-                            defined (then par.rtol counts) */
+    vi_model_params model;
+    double t_start;           /* the start time [s] */
+    double rtol;              /* the relative tolerance in force (doc/model.md section 5) */
+    double rtol_given;        /* the parameter rtol (0: none), and */
+    double tolerance;         /* the experiment's tolerance (0: none), for the warning when both differ */
+    double max_step;          /* the solver's largest internal step [s] (0: no limit) */
+    int method;               /* the solver: VI_METHOD_* (vi_solver.h) */
+    int velocity_input;       /* the platform's rate is the input vC_in */
+    const char *profile_file; /* the profile rolled over ("": none), relative paths in the resources
+                                 folder, then the working directory */
+} vi_run_settings;
+
+/* The inputs as the importer set them (values and, in Co-Simulation, their derivatives; 0 when none
+ * was given) and the tunable excitation. */
+typedef struct {
+    double yC_in, yC_in_rate; /* platform displacement input [m], its derivative [m/s] */
+    double F_ext, F_ext_rate; /* external force [N], its derivative [N/s] */
+    double vC_in;             /* platform velocity input [m/s] (the rate of yC_in with velocity_input) */
+    double a, f;              /* harmonic excitation: amplitude [m], frequency [Hz] */
+} vi_run_inputs;
+
+/* Where a run takes its settings and inputs from: the FMI adapter's storage of the parameters and
+ * inputs (src/vi_contact_data.c), read when the run needs them. settings: 0, or -1 with the reason in
+ * msg (a value out of the run's ranges). */
+typedef struct {
+    int (*settings)(void *env, vi_run_settings *out, char *msg, size_t n);
+    void (*inputs)(void *env, vi_run_inputs *out);
+    /* the outputs the importer reads, at a prepared run: 0, or -1 naming one that is not finite */
+    int (*outputs_check)(void *env, char *msg, size_t n);
+    void *env;
+} vi_run_source;
+
+/* The outputs and calculated parameters of the run at its current time: the model's, and the run's
+ * and drivers' own. */
+typedef struct {
+    vi_model_values model;    /* groups VI_OUT_STATE ... VI_OUT_CALCULATED */
+    double F_peak;            /* the largest force since the last step's start [N] (VI_OUT_FORCE) */
+    double W_damping, W_dissipated; /* the damping's work, and W_plastic + W_damping [J] (VI_OUT_MEMORY) */
+    double F_mean;            /* N (VI_OUT_MEAN) */
+    double k_contact;         /* N/m (VI_OUT_STIFFNESS) */
+    double der_y, der_v, der_W_damping; /* Model Exchange: the states' derivatives (VI_OUT_DERIVATIVES) */
+} vi_run_values;
+
+typedef struct {
+    int inputs_changed;  /* inputs or the tunable excitation were set since they were applied (the
+                            adapter's `changed`); applied at the start of the next step or event pass */
     int initialized;     /* a driver initialized the run: atol, model and state are those of a running simulation */
     vi_model model;
     double t, x[2];      /* time [s] and state (delta [m], v [m/s]); Co-Simulation: between events x is the
@@ -43,8 +82,10 @@ typedef struct {
 
 typedef struct {
     vi_run_data *d;
+    vi_run_source src;
+    vi_run_settings set; /* as last taken from the source (vi_run_prepare, vi_run_restore) */
     unsigned out_valid;  /* the groups of outputs (VI_OUT_*) out holds at the current d */
-    vi_outputs out;
+    vi_run_values out;
     vi_log_fn log;
     void *log_env;
     int warned_validity; /* VI_INVALID_* bits: the causes warned of (once each; not part of the FMU state) */
@@ -57,22 +98,18 @@ typedef struct {
     char msg[1024];      /* last error message (of the run and of its driver) */
 } vi_run;
 
-/* The model's parameters (vi_model.h) from the FMU's. */
-vi_model_params vi_run_model_params(const vi_parameters *p);
-/* Bind r to its data d and set d to the defaults of the variable table. */
-void vi_run_init(vi_run *r, vi_run_data *d, vi_log_fn log, void *log_env);
-/* Back to the defaults, keeping the resources folder; frees the profile. */
+/* Bind r to its data d (zeroed) and to the source of its settings and inputs. */
+void vi_run_init(vi_run *r, vi_run_data *d, vi_run_source src, vi_log_fn log, void *log_env);
+/* Back to the start (d zeroed), keeping the resources folder and the source; frees the profile. */
 void vi_run_reset(vi_run *r);
 void vi_run_free(vi_run *r);
 /* The FMU's resources folder (a path, not a URI; NULL or "" for none), where a relative
  * profile_file is looked up first (then the working directory). Kept across vi_run_reset. */
 void vi_run_set_resources(vi_run *r, const char *dir);
 
-/* Check what the ranges of the variable table cannot say (each parameter lies in its range: the
- * FMI layer refuses other values when they are set): the experiment's tolerance in [VI_RTOL_MIN,
- * VI_RTOL_MAX], max_step 0 or at least VI_MAX_STEP_MIN, a radius > 0 (vi_model_setup), a profile
- * that loads for R1 > 0; then compute the derived parameters and the initial state. 0, or -1 with the
- * reason in r->msg. */
+/* Take the settings from the source (which checks their ranges), set the model up (a radius > 0,
+ * vi_model_setup; a profile that loads for R1 > 0), compute the derived parameters and the initial
+ * state, and have the source check the outputs there. 0, or -1 with the reason in r->msg. */
 int vi_run_prepare(vi_run *r);
 /* The tolerances a prepared run integrates with: vi_run_rtol, and atol = rtol times the scales of the
  * problem at the initial state (vi_model_scales). */
@@ -91,19 +128,19 @@ void vi_run_warn_settings(vi_run *r);
  * Exchange); with velocity_input, yC_in at the rate vC_in instead, so that the platform's rate is the
  * importer's wherever the model needs it (damping, rate guards, mode choice, static start) and, in
  * Co-Simulation, yC_in is carried through the step at that rate. */
-void vi_run_input_ramps(const vi_run_data *d, double t, vi_ramp *yC_in, vi_ramp *F_ext);
-/* The relative tolerance the simulation runs at: rtol when set (> 0), else the experiment's tolerance
- * when given, else VI_RTOL_DEFAULT (doc/model.md section 5). */
-double vi_run_rtol(const vi_run_data *d);
+void vi_run_input_ramps(const vi_run *r, double t, vi_ramp *yC_in, vi_ramp *F_ext);
+/* The tunable excitation as last set: amplitude a [m], frequency f [Hz]. */
+void vi_run_excitation(const vi_run *r, double *a, double *f);
 /* The outputs of the groups VI_OUT_STATE ... VI_OUT_STIFFNESS in `groups` at the current time: r->out,
  * where each group is computed when first asked for at the current state (lazy, cached until a
  * driver marks the state changed by clearing r->out_valid); other groups may be stale there. */
-const vi_outputs *vi_run_outputs_of(vi_run *r, unsigned groups);
+const vi_run_values *vi_run_outputs_of(vi_run *r, unsigned groups);
 /* Warn (once per cause and run) when the contact leaves the model's range of validity at the
  * current state (vi_model_validity). */
 void vi_run_check_validity(vi_run *r);
-/* A saved state was copied into r->d: outputs and validity to be checked afresh, and (when
- * initialized) the model's profile pointer replaced by the run's own. 0 or -1 (r->msg). */
+/* A saved state was copied into r->d (and the source's storage): the settings taken afresh, outputs
+ * and validity to be checked afresh, and (when initialized) the model's profile pointer replaced by
+ * the run's own. 0 or -1 (r->msg). */
 int vi_run_restore(vi_run *r);
 /* The contact's time scale T = sqrt(m/k) [s] at the current state, k the tangent stiffness there (out
  * of contact: the law's at the indentation scale of vi_model_scales), with m, k and what sets k in
@@ -112,12 +149,12 @@ double vi_run_time_scale(const vi_run *r, double *k_out, char *note, size_t n);
 /* Tangent contact stiffness dF/ddelta [N/m] at (t, x) (0 out of contact). */
 double vi_run_contact_stiffness(const vi_model *model, double t, const double x[2]);
 
-/* Is d a run this FMU could have produced (doc/model.md section 7.6)? Checks the fields the run owns
- * (finite times and state, the tolerances, counters >= 0, flags 0 or 1, the engine's state), not the
- * model: vi_run_data_check_model follows. The parameters and inputs (par, in, din) are the variable
- * table's: the FMI layer checks them (finite, in their ranges, items of their enumerations) before.
- * 0 when valid, else -1 with the first bad field named in msg. No pointer in d is followed. */
-int vi_run_data_check(const vi_run_data *d, char *msg, size_t n);
+/* Is d a run this FMU could have produced (doc/model.md section 7.6), with the start time t_start [s]
+ * and the relative tolerance rtol of its settings? Checks the fields the run owns (finite times and
+ * state, the tolerances, counters >= 0, flags 0 or 1, the engine's state), not the model:
+ * vi_run_data_check_model follows. 0 when valid, else -1 with the first bad field named in msg. No
+ * pointer in d is followed. */
+int vi_run_data_check(const vi_run_data *d, double t_start, double rtol, char *msg, size_t n);
 /* The model's part: with its surfaces (vi_model_check: the state lies in its mode), or between
  * events (vi_model_check_between_events: the state of an outside integrator, Model Exchange). */
 int vi_run_data_check_model(const vi_run_data *d, int surfaces, char *msg, size_t n);

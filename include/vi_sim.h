@@ -112,10 +112,10 @@ void vi_sim_solver_log(void *env, int category, const char *fmt, ...) VI_PRINTF_
  * kinds): how many, up to the current time. Every advance ends with it. */
 void vi_sim_report_warnings(vi_sim *s);
 
-/* Is (r, d) a state of Co-Simulation this FMU could have produced (doc/model.md section 7.6)? The
- * run's fields (vi_run_data_check), the one-step method's continuation, then the model's part
- * (vi_model_check). 0 when valid, else -1 with the first bad field named in msg. No pointer is
- * followed (the model's profile pointer is not). */
-int vi_sim_data_check(const vi_run_data *r, const vi_sim_data *d, char *msg, size_t n);
+/* Is (r, d) a state of Co-Simulation this FMU could have produced with the settings set (doc/model.md
+ * section 7.6)? The run's fields (vi_run_data_check), the one-step method's continuation, then the
+ * model's part (vi_model_check). 0 when valid, else -1 with the first bad field named in msg. No
+ * pointer is followed (the model's profile pointer is not). */
+int vi_sim_data_check(const vi_run_data *r, const vi_sim_data *d, const vi_run_settings *set, char *msg, size_t n);
 
 #endif

@@ -8,8 +8,7 @@
 #include <stddef.h>
 
 #include "vi_fmu.h"
-#include "vi_me.h"
-#include "vi_sim.h"
+#include "vi_contact_instance.h"
 
 _Static_assert((int)VI_FMU_LOG_EVENTS == (int)VI_LOG_EVENTS && (int)VI_FMU_LOG_SOLVER == (int)VI_LOG_SOLVER &&
                    (int)VI_FMU_LOG_WARNING == (int)VI_LOG_WARNING && (int)VI_FMU_LOG_ERROR == (int)VI_LOG_ERROR,
@@ -18,49 +17,18 @@ _Static_assert((int)VI_FMU_OK == (int)VI_SIM_OK && (int)VI_FMU_DISCARD == (int)V
                    (int)VI_FMU_ERROR == (int)VI_SIM_ERROR && (int)VI_FMU_EVENT == (int)VI_SIM_EVENT,
                "vi_sim's results are the layer's");
 
-/* The plain data of an instance, what an FMU state holds: the run's, and each driver's. */
-typedef struct {
-    vi_run_data run;
-    vi_sim_data cs;
-    vi_me_data me;
-} contact_data;
+/* One instance of the FMU, in Co-Simulation or in Model Exchange (vi_contact_instance.h): its data
+ * (the FMI storage, the run's and each driver's), the run over it and both drivers over the run;
+ * `e.active` says whether Model Exchange runs. */
+typedef vi_contact contact_instance;
 
-/* One instance of the FMU, in Co-Simulation or in Model Exchange: its data, the run over it and
- * both drivers over the run; `me.active` says whether Model Exchange runs. */
-typedef struct {
-    contact_data d;
-    vi_run run;
-    vi_sim cs;
-    vi_me me;
-} contact_instance;
+static void init(void *m, vi_fmu_log_fn log, void *env) { vi_contact_init(m, log, env); }
+static void reset(void *m) { vi_contact_reset(m); }
+static void release(void *m) { vi_contact_free(m); }
 
-static void bind(contact_instance *inst, vi_fmu_log_fn log, void *env)
-{
-    vi_run_init(&inst->run, &inst->d.run, log, env);
-    vi_sim_init(&inst->cs, &inst->run, &inst->d.cs);
-    vi_me_init(&inst->me, &inst->run, &inst->d.me);
-}
-
-static void init(void *m, vi_fmu_log_fn log, void *env) { bind(m, log, env); }
-
-static void reset(void *m)
-{
-    contact_instance *inst = m;
-    vi_sim_free(&inst->cs);
-    vi_run_reset(&inst->run);
-    vi_sim_init(&inst->cs, &inst->run, &inst->d.cs);
-    vi_me_init(&inst->me, &inst->run, &inst->d.me);
-}
-
-static vi_run *run_of(void *m) { return &((contact_instance *)m)->run; }
-static vi_sim *sim_of(void *m) { return &((contact_instance *)m)->cs; }
-static vi_me *me_of(void *m) { return &((contact_instance *)m)->me; }
-
-static void release(void *m)
-{
-    vi_sim_free(sim_of(m));
-    vi_run_free(run_of(m));
-}
+static vi_run *run_of(void *m) { return &((contact_instance *)m)->r; }
+static vi_sim *sim_of(void *m) { return &((contact_instance *)m)->s; }
+static vi_me *me_of(void *m) { return &((contact_instance *)m)->e; }
 
 static int set_resources(void *m, const char *dir)
 {
@@ -68,8 +36,8 @@ static int set_resources(void *m, const char *dir)
     return 0;
 }
 
-static void changed(void *m) { run_of(m)->d->inputs_changed = 1; }
-static void outputs(void *m, void *out) { vi_me_outputs(me_of(m), out); }
+static void changed(void *m) { ((contact_instance *)m)->d.run.inputs_changed = 1; }
+static void outputs(void *m, void *out) { *(vi_outputs *)out = *vi_contact_outputs_of(m, VI_OUT_ALL); }
 
 /* The group of outputs (VI_OUT_*) of each variable by value reference (0: no output or calculated
  * parameter). */
@@ -90,14 +58,12 @@ static const void *outputs_of(void *m, const unsigned vr[], size_t nvr)
 {
     unsigned groups = 0;
     for (size_t i = 0; i < nvr; i++) groups |= vr[i] < VI_NVARS ? output_groups[vr[i]] : 0u;
-    contact_instance *inst = m;
-    if (!inst->me.active && !(groups & VI_OUT_DERIVATIVES)) return vi_run_outputs_of(&inst->run, groups); /* co-simulation */
-    return vi_me_outputs_of(&inst->me, groups);
+    return vi_contact_outputs_of(m, groups);
 }
 
 static void setup_experiment(void *m, double start_time, int tolerance_defined, double tolerance)
 {
-    vi_run_data *d = run_of(m)->d;
+    vi_contact_data *d = &((contact_instance *)m)->d;
     d->t_start = start_time;
     d->tolerance = tolerance_defined ? tolerance : 0.0;
 }
@@ -121,8 +87,8 @@ static double time_of(const void *m) { return ((const contact_instance *)m)->d.r
 static void terminate(void *m)
 {
     const contact_instance *inst = m;
-    const vi_sim *s = &inst->cs;
-    if (inst->me.active) {
+    const vi_sim *s = &inst->s;
+    if (inst->e.active) {
         s->log(s->log_env, VI_LOG_SOLVER, "Model Exchange statistics: %ld events", inst->d.run.events.n_events);
         return;
     }
@@ -147,17 +113,13 @@ static int restore(void *m, int running)
 /* A state taken from a running instance is its complete continuation (doc/model.md section 7.5). */
 static int checkpoint(void *m) { return me_of(m)->active ? vi_me_checkpoint(me_of(m)) : vi_sim_checkpoint(sim_of(m)); }
 
-/* Every field of a saved block (doc/model.md section 7.6); before initialization only the settings
- * exist. The data of the driver the state's interface does not use stays finite (zero). */
+/* Every field of a saved block (doc/model.md section 7.6); before initialization only the settings exist. */
 static int state_check(const void *state, int running, char *msg, size_t n)
 {
-    const contact_data *d = state;
-    if (running == VI_FMU_RUNNING_ME) return vi_me_data_check(&d->run, &d->me, msg, n);
-    if (!running) return 0;
-    return vi_sim_data_check(&d->run, &d->cs, msg, n) < 0 ? -1 : vi_me_data_finite(&d->me, msg, n);
+    return vi_contact_state_check(state, running, running == VI_FMU_RUNNING_ME, msg, n);
 }
 
-static const char *message(const void *m) { return ((const contact_instance *)m)->run.msg; }
+static const char *message(const void *m) { return ((const contact_instance *)m)->r.msg; }
 
 /* ---- Model Exchange ---- */
 
@@ -170,7 +132,7 @@ static void get_states(void *m, double x[]) { vi_me_get_states(me_of(m), x); }
 static void set_states(void *m, const double x[]) { vi_me_set_states(me_of(m), x); }
 static void derivatives(void *m, double dx[]) { vi_me_derivatives(me_of(m), dx); }
 static void indicators(void *m, double z[]) { vi_me_indicators(me_of(m), z); }
-static void nominals(const void *m, double nominal[]) { vi_me_nominals(&((const contact_instance *)m)->me, nominal); }
+static void nominals(const void *m, double nominal[]) { vi_me_nominals(&((const contact_instance *)m)->e, nominal); }
 static int completed_step(void *m) { return vi_me_completed_step(me_of(m)); }
 static void enter_continuous(void *m) { vi_me_enter_continuous(me_of(m)); }
 
@@ -246,14 +208,7 @@ static int directional_derivative(void *m, const unsigned unknown[], size_t n_un
 }
 
 const vi_fmu_model vi_fmu_this_model = {
-    /* VI_FMU_TABLE_FIELDS, with the values inside the run's data */
-    .model_identifier = VI_MODEL_IDENTIFIER, .guid = VI_GUID, .description = VI_MODEL_DESCRIPTION,
-    .default_experiment = VI_DEFAULT_EXPERIMENT, .can_interpolate_inputs = VI_CAN_INTERPOLATE_INPUTS,
-    .variables = vi_variable_table, .nvariables = VI_NVARS, .enum_items = vi_enum_items,
-    .n_enum_items = VI_NENUM_ITEMS, .enum_types = vi_enum_types, .n_enum_types = VI_NENUM_TYPES,
-    .instance_size = sizeof(contact_instance), .state_size = sizeof(contact_data),
-    .outputs_size = sizeof(vi_outputs), .parameters_offset = offsetof(contact_data, run.par),
-    .inputs_offset = offsetof(contact_data, run.in), .input_derivatives_offset = offsetof(contact_data, run.din),
+    VI_FMU_TABLE_FIELDS(contact_instance, vi_contact_data),
     .init = init,
     .reset = reset,
     .release = release,

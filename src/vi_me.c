@@ -15,9 +15,8 @@ static double platform(const vi_model *model, double t) { return vi_model_platfo
  * completed step. */
 static void input_ramps(const vi_me *e, double t, vi_ramp *yC_in, vi_ramp *F_ext)
 {
-    const vi_run_data *d = e->d;
-    vi_run_input_ramps(d, t, yC_in, F_ext);
-    if (!d->par.velocity_input) yC_in->du = e->own->yC_in_rate;
+    vi_run_input_ramps(e->r, t, yC_in, F_ext);
+    if (!e->r->set.velocity_input) yC_in->du = e->own->yC_in_rate;
     F_ext->du = 0.0;
 }
 
@@ -156,11 +155,13 @@ static void time_events(vi_me *e, double x[2])
 {
     vi_run_data *d = e->d;
     double t = d->t;
-    if (d->inputs_changed || vi_model_excitation_differs(&d->model, d->par.a, d->par.f)) {
+    double a, f;
+    vi_run_excitation(e->r, &a, &f);
+    if (d->inputs_changed || vi_model_excitation_differs(&d->model, a, f)) {
         vi_ramp yC_in = d->model.yC_in, F_ext = d->model.F_ext;
         if (d->inputs_changed) input_ramps(e, t, &yC_in, &F_ext);
         d->inputs_changed = 0;
-        vi_hybrid_input_jump(&e->engine, t, x, yC_in, F_ext, d->par.a, d->par.f);
+        vi_hybrid_input_jump(&e->engine, t, x, yC_in, F_ext, a, f);
     }
     if (vi_model_next_breakpoint(&d->model, d->step_t0) <= t) vi_hybrid_kink(&e->engine, t, x);
 }
@@ -226,7 +227,7 @@ static void estimate_rate(vi_me *e)
 {
     vi_run_data *d = e->d;
     double h = d->t - d->step_t0;
-    if (d->par.velocity_input || !(h > 0.0)) return;
+    if (e->r->set.velocity_input || !(h > 0.0)) return;
     e->own->yC_in_rate = (vi_ramp_at(&d->model.yC_in, d->t) - e->own->step_u0) / h;
     if (e->own->yC_in_rate != 0.0 && !e->warned_rate && vi_model_uses_rate(&d->model)) {
         e->warned_rate = 1;
@@ -246,7 +247,7 @@ static void estimate_rate(vi_me *e)
 static void write_down(vi_me *e)
 {
     vi_run_data *d = e->d;
-    if (d->model.mode != VI_MODE_PLASTIC || d->par.velocity_input || e->own->yC_in_rate == 0.0) return;
+    if (d->model.mode != VI_MODE_PLASTIC || e->r->set.velocity_input || e->own->yC_in_rate == 0.0) return;
     double x[2] = {d->x[0], d->x[1]};
     vi_model_freeze(&d->model, d->t, x);
 }
@@ -267,13 +268,13 @@ int vi_me_completed_step(vi_me *e)
     return 0;
 }
 
-const vi_outputs *vi_me_outputs_of(vi_me *e, unsigned groups)
+const vi_run_values *vi_me_outputs_of(vi_me *e, unsigned groups)
 {
     vi_run *run = e->r;
     const vi_run_data *d = run->d;
     sync(e);
-    const vi_outputs *out = vi_run_outputs_of(run, groups);
-    if (e->active && (groups & VI_OUT_FORCE)) run->out.F_peak = run->out.F; /* the importer's steps are not seen */
+    const vi_run_values *out = vi_run_outputs_of(run, groups);
+    if (e->active && (groups & VI_OUT_FORCE)) run->out.F_peak = run->out.model.F; /* the importer's steps are not seen */
     if ((groups & VI_OUT_DERIVATIVES) && !(run->out_valid & VI_OUT_DERIVATIVES)) {
         double r[2];
         vi_model_rhs(&d->model, d->t, d->x, r);
@@ -285,7 +286,6 @@ const vi_outputs *vi_me_outputs_of(vi_me *e, unsigned groups)
     return out;
 }
 
-void vi_me_outputs(vi_me *e, vi_outputs *out) { *out = *vi_me_outputs_of(e, VI_OUT_ALL); }
 
 int vi_me_checkpoint(vi_me *e)
 {
@@ -309,9 +309,9 @@ static int me_data_check(const vi_me_data *d, char *msg, size_t n)
     return 0;
 }
 
-int vi_me_data_check(const vi_run_data *r, const vi_me_data *d, char *msg, size_t n)
+int vi_me_data_check(const vi_run_data *r, const vi_me_data *d, double t_start, double rtol, char *msg, size_t n)
 {
-    if (vi_run_data_check(r, msg, n) < 0 || me_data_check(d, msg, n) < 0) return -1;
+    if (vi_run_data_check(r, t_start, rtol, msg, n) < 0 || me_data_check(d, msg, n) < 0) return -1;
     return vi_run_data_check_model(r, 0, msg, n);
 }
 
@@ -335,7 +335,7 @@ static void energy_rows(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
     vi_model_contact_energy(&d->model, d->x, &dE);
     vi_model_power P = vi_model_damping_power(&d->model, d->t, d->x);
     jac[VI_ME_DER_W] = through_delta(P.dP_ddelta, -P.dP_drate, 0.0, 0.0); /* delta' = yC' - v */
-    if (d->par.velocity_input) jac[VI_ME_DER_W].vC_in = P.dP_drate;
+    if (e->r->set.velocity_input) jac[VI_ME_DER_W].vC_in = P.dP_drate;
     jac[VI_ME_W_DISSIPATED] = jac[VI_ME_W_PLASTIC];
     jac[VI_ME_E_CONTACT] = through_delta(dE, 0.0, 0.0, 0.0);
     jac[VI_ME_F_PEAK] = jac[VI_ME_F];
@@ -347,7 +347,7 @@ void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
     const vi_run_data *d = e->d;
     const vi_model *model = &d->model;
     double m = model->m, h = d->t - d->step_t0;
-    int stick = model->mode == VI_Mode_stick;
+    int stick = model->mode == VI_MODE_STICK;
     double k = stick ? 0.0 : m * vi_model_stiffness_over_mass(model, d->t, d->x); /* dF/ddelta */
     double c = vi_model_damping(model, d->t, d->x), k_per_rate;                 /* dF/ddelta' (delta' = yC' - v) */
     double k_rate = vi_model_stiffness_rate(model, d->t, d->x, &k_per_rate);
@@ -368,7 +368,7 @@ void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
     jac[VI_ME_RBAR] = through_delta(mem.Rbar, 0.0, 0.0, 0.0);
     jac[VI_ME_DELTA_P] = through_delta(mem.delta_p, 0.0, 0.0, 0.0);
     jac[VI_ME_W_PLASTIC] = through_delta(mem.W_plastic, 0.0, 0.0, 0.0);
-    if (d->par.velocity_input) { /* vC_in is the platform's rate in delta' = yC' - v: the partials of -v */
+    if (e->r->set.velocity_input) { /* vC_in is the platform's rate in delta' = yC' - v: the partials of -v */
         jac[VI_ME_DER_V].vC_in = c / m;
         jac[VI_ME_F].vC_in = c;
         if (h <= 0.0) jac[VI_ME_F_MEAN].vC_in = c;

@@ -180,7 +180,7 @@ static int create_solver(vi_sim *s, int resume)
     vi_solver_free(s->solver);
     vi_solver_config cfg = {
         .n = 2, .nguards = VI_NGUARDS, .rhs = sim_rhs, .guards = sim_guards, .jac = sim_jac, .user = s,
-        .method = d->par.solver, .rtol = d->events.rtol, .atol = d->events.atol, .max_step = d->par.max_step,
+        .method = s->r->set.method, .rtol = d->events.rtol, .atol = d->events.atol, .max_step = s->r->set.max_step,
         .ode = &s->own->ode, .auto_choice = &s->own->auto_choice, .piece = sim_piece, .log = vi_sim_solver_log, .log_env = s};
     s->solver = resume ? vi_solver_resume(&cfg, d->t, d->x) : vi_solver_create(&cfg, d->t, d->x);
     s->solver_stale = 0;
@@ -217,7 +217,7 @@ void vi_sim_log_solver(const vi_sim *s)
 {
     const vi_hybrid_state *e = &s->d->events;
     s->log(s->log_env, VI_LOG_SOLVER, "%s, rtol %g, atol %g m and %g m/s (scales %g m, %g m/s)",
-           vi_solver_method_name(s->d->par.solver), e->rtol, e->atol[0], e->atol[1], e->atol[0] / e->rtol,
+           vi_solver_method_name(s->r->set.method), e->rtol, e->atol[0], e->atol[1], e->atol[0] / e->rtol,
            e->atol[1] / e->rtol);
 }
 
@@ -251,9 +251,11 @@ static void apply_inputs(vi_sim *s)
     vi_run_data *d = s->d;
     double t = d->t;
     vi_ramp yC_in, F_ext;
-    vi_run_input_ramps(d, t, &yC_in, &F_ext);
+    double a, f;
+    vi_run_input_ramps(s->r, t, &yC_in, &F_ext);
+    vi_run_excitation(s->r, &a, &f);
     d->inputs_changed = 0;
-    if (!vi_hybrid_input_jump(&s->engine, t, d->x, yC_in, F_ext, d->par.a, d->par.f)) return;
+    if (!vi_hybrid_input_jump(&s->engine, t, d->x, yC_in, F_ext, a, f)) return;
     s->solver_stale = 1;
     vi_run_check_validity(s->r); /* a new amplitude */
 }
@@ -278,7 +280,7 @@ static void append_cause(vi_sim *s, double h_comm)
     char note[300];
     double k, T = vi_run_time_scale(s->r, &k, note, sizeof note), t = s->d->t, unit = DBL_EPSILON * fabs(t);
     int unresolved = T < VI_RESOLVED_UNITS * unit, too_many = h_comm > (double)VI_MAX_STEPS_PER_ADVANCE * T;
-    int late = T < VI_RESOLVED_UNITS * DBL_EPSILON * fabs(s->d->t_start); /* the start time alone is too late */
+    int late = T < VI_RESOLVED_UNITS * DBL_EPSILON * fabs(s->r->set.t_start); /* the start time alone is too late */
     size_t used = strlen(s->r->msg);
     used += (size_t)vi_snprintf(s->r->msg + used, sizeof s->r->msg - used, "; the contact's time scale %s", note);
     if (used < sizeof s->r->msg && unresolved)
@@ -547,13 +549,13 @@ int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change)
 
 /* ---- validity of a state payload (doc/model.md section 7.6) --------------------------------- */
 
-int vi_sim_data_check(const vi_run_data *r, const vi_sim_data *d, char *msg, size_t n)
+int vi_sim_data_check(const vi_run_data *r, const vi_sim_data *d, const vi_run_settings *set, char *msg, size_t n)
 {
-    if (vi_run_data_check(r, msg, n) < 0) return -1;
+    if (vi_run_data_check(r, set->t_start, set->rtol, msg, n) < 0) return -1;
     /* the solver's continuation */
-    int solver = r->initialized;
-    if (solver && r->par.solver == VI_Solver_auto && vi_solver_auto_check(&d->auto_choice, msg, n) < 0) return -1;
-    int one_step = r->par.solver == VI_Solver_dop853 || (r->par.solver == VI_Solver_auto && !d->auto_choice.bdf);
+    int solver = r->initialized, method = set->method;
+    if (solver && method == VI_METHOD_AUTO && vi_solver_auto_check(&d->auto_choice, msg, n) < 0) return -1;
+    int one_step = method == VI_METHOD_DOP853 || (method == VI_METHOD_AUTO && !d->auto_choice.bdf);
     if (solver && one_step && vi_solver_ode_check(&d->ode, 2, VI_NGUARDS, r->t, msg, n) < 0) return -1;
     return vi_run_data_check_model(r, 1, msg, n);
 }

@@ -78,7 +78,7 @@ static void lepp(vi_parameters *p) { p->contact_model = VI_ContactModel_lepp; }
 #define PLASTIC_WRITTEN 0.999
 static void put(test_run *e, int mode, double delta, double v, double dc)
 {
-    vi_model *M = &e->d.model;
+    vi_model *M = &e->d.run.model;
     M->mode = mode;
     if (M->law == VI_ContactModel_johnson && !M->moving) {
         int plastic = mode == VI_Mode_plastic;
@@ -87,16 +87,16 @@ static void put(test_run *e, int mode, double delta, double v, double dc)
         M->unload = M->yielded ? vi_johnson_unload_curve(&M->johnson, M->unloading, written) : (vi_unload_curve){0};
     }
     if (M->law == VI_ContactModel_lepp) M->delta_p = mode == VI_Mode_plastic ? PLASTIC_WRITTEN * delta - M->johnson.delta_Y : dc;
-    double x[VI_ME_NSTATES] = {vi_model_platform(M, e->d.t, NULL, NULL) - delta, v};
+    double x[VI_ME_NSTATES] = {vi_model_platform(M, e->d.run.t, NULL, NULL) - delta, v};
     vi_me_set_states(&e->e, x);
-    vi_me_outputs_of(&e->e, 0); /* a read: the model catches up with the states set */
-    e->d.events.band[0] = e->d.events.band[1] = 0.0;
-    e->d.step_t0 = e->d.t, e->d.step_v0 = v; /* a step starts here: F_mean is the force itself */
+    vi_contact_outputs_of(e, 0); /* a read: the model catches up with the states set */
+    e->d.run.events.band[0] = e->d.run.events.band[1] = 0.0;
+    e->d.run.step_t0 = e->d.run.t, e->d.run.step_v0 = v; /* a step starts here: F_mean is the force itself */
 }
 
 static double output(test_run *e, int vr)
 {
-    const vi_outputs *out = vi_me_outputs_of(&e->e, VI_OUT_ALL);
+    const vi_outputs *out = vi_contact_outputs_of(e, VI_OUT_ALL);
     const vi_variable *var = &vi_variable_table[vr];
     if (var->type == VI_Integer) return *(const int *)((const char *)out + var->offset);
     return *(const double *)((const char *)out + var->offset);
@@ -110,8 +110,8 @@ static void nudge(test_run *e, int known, double h)
     switch (known) {
     case VI_VR_y: x[0] += h; vi_me_set_states(&e->e, x); break;
     case VI_VR_v: x[1] += h; vi_me_set_states(&e->e, x); break;
-    case VI_VR_yC_in: e->d.in.yC_in += h; vi_me_set_time(&e->e, e->d.t); break;
-    case VI_VR_F_ext: e->d.in.F_ext += h; vi_me_set_time(&e->e, e->d.t); break;
+    case VI_VR_yC_in: e->d.in.yC_in += h; vi_me_set_time(&e->e, e->d.run.t); break;
+    case VI_VR_F_ext: e->d.in.F_ext += h; vi_me_set_time(&e->e, e->d.run.t); break;
     }
 }
 
@@ -124,26 +124,26 @@ static const int unknowns[] = {VI_VR_der_y, VI_VR_der_v, VI_VR_F, VI_VR_F_mean, 
  * outputs (steps of 1e-5 of the problem's scales; the point must be smooth within them). */
 static void partials_match_differences(test_run *e, const char *where)
 {
-    vi_run_data d0 = e->d;
-    double y0 = e->me.y_me, nominal[VI_ME_NSTATES];
+    vi_contact_data d0 = e->d;
+    double y0 = e->d.me.y_me, nominal[VI_ME_NSTATES];
     vi_me_nominals(&e->e, nominal);
     double scale[] = {nominal[0], nominal[1], nominal[0], 1e4};
     for (int j = 0; j < 4; j++) {
         double h = 1e-5 * scale[j];
         for (size_t i = 0; i < sizeof unknowns / sizeof *unknowns; i++) {
             int u = unknowns[i];
-            e->d = d0, e->me.y_me = y0, e->r.out_valid = 0;
+            e->d = d0, e->d.me.y_me = y0, e->r.out_valid = 0;
             double J = vi_me_partial(e, u, knowns[j]), f0 = output(e, u);
             nudge(e, knowns[j], h);
             double fp = output(e, u);
-            e->d = d0, e->me.y_me = y0, e->r.out_valid = 0;
+            e->d = d0, e->d.me.y_me = y0, e->r.out_valid = 0;
             nudge(e, knowns[j], -h);
             double fm = output(e, u);
-            e->d = d0, e->me.y_me = y0, e->r.out_valid = 0;
+            e->d = d0, e->d.me.y_me = y0, e->r.out_valid = 0;
             double fd = (fp - fm) / (2.0 * h), tol = 1e-6 * (fabs(J) + fabs(fd)) + 1e-12 * fabs(f0) / scale[j];
             if (fd == 0.0) tol = 0.0; /* the output does not move: its partial is exactly zero */
             cr_assert(fabs(J - fd) <= tol, "%s (mode %d): d%s/d%s = %.10g, central difference %.10g", where,
-                      e->d.model.mode, vi_variable_table[u].name, vi_variable_table[knowns[j]].name, J, fd);
+                      e->d.run.model.mode, vi_variable_table[u].name, vi_variable_table[knowns[j]].name, J, fd);
         }
     }
 }
@@ -153,7 +153,7 @@ static void partials_match_differences(test_run *e, const char *where)
 static void partials_match_differences_now_and_later(test_run *e, const char *where)
 {
     partials_match_differences(e, where);
-    vi_me_set_time(&e->e, e->d.t + 1e-3);
+    vi_me_set_time(&e->e, e->d.run.t + 1e-3);
     partials_match_differences(e, where);
 }
 
@@ -161,7 +161,7 @@ Test(me_jacobian, partials_of_hertz_in_free_flight_and_contact)
 {
     test_run e;
     start(&e, hertz);
-    const vi_model *M = &e.d.model;
+    const vi_model *M = &e.d.run.model;
     double d = 0.7 * vi_hertz_indentation(M->K, M->W0);
     put(&e, VI_Mode_free, -d, 0.01, 0.0);
     partials_match_differences_now_and_later(&e, "hertz free");
@@ -178,7 +178,7 @@ Test(me_jacobian, partials_of_johnson_in_every_mode)
     for (int l = 0; l < 2; l++) {
         test_run e;
         start(&e, laws[l]);
-        double dY = e.d.model.johnson.delta_Y;
+        double dY = e.d.run.model.johnson.delta_Y;
         put(&e, VI_Mode_elastic, 0.6 * dY, -0.01, 0.0);
         partials_match_differences_now_and_later(&e, "johnson elastic");
         /* continuous unloading returns the whole loading work below 4.61 delta_Y: W_plastic is 0 to rounding
@@ -201,7 +201,7 @@ Test(me_jacobian, partials_of_johnson_with_a_moving_contact_point)
 {
     test_run e;
     start(&e, johnson_moving);
-    double dY = e.d.model.johnson.delta_Y;
+    double dY = e.d.run.model.johnson.delta_Y;
     put(&e, VI_Mode_elastic, 0.6 * dY, -0.01, 0.0);
     partials_match_differences_now_and_later(&e, "moving elastic");
     put(&e, VI_Mode_plastic, 1.7 * dY, -0.01, 0.0);
@@ -213,7 +213,7 @@ Test(me_jacobian, partials_of_lepp_in_every_mode)
 {
     test_run e;
     start(&e, lepp);
-    double dY = e.d.model.johnson.delta_Y;
+    double dY = e.d.run.model.johnson.delta_Y;
     put(&e, VI_Mode_elastic, 0.6 * dY, -0.01, 0.2 * dY);
     partials_match_differences_now_and_later(&e, "lepp elastic");
     put(&e, VI_Mode_plastic, 1.7 * dY, -0.01, 0.0);
@@ -230,7 +230,7 @@ Test(me_jacobian, stiffness_rate_at_the_ends_of_each_branch)
 {
     test_run e;
     start(&e, hertz);
-    double K = e.d.model.K, dY = e.d.model.johnson.delta_Y;
+    double K = e.d.run.model.K, dY = e.d.run.model.johnson.delta_Y;
     put(&e, VI_Mode_elastic, 0.0, 0.0, 0.0); /* touching: F = K d^1.5 has F'' = 0.75 K/sqrt(d) -> its limit 0 is reported */
     cr_assert(stiffness_rate(&e) == 0.0, "hertz at delta = 0: %g", stiffness_rate(&e));
     put(&e, VI_Mode_elastic, -1e-9, 0.0, 0.0); /* a state beyond the contact surface before its event */
@@ -240,13 +240,13 @@ Test(me_jacobian, stiffness_rate_at_the_ends_of_each_branch)
     finish(&e);
 
     start(&e, johnson);
-    const vi_johnson *J = &e.d.model.johnson;
+    const vi_johnson *J = &e.d.run.model.johnson;
     put(&e, VI_Mode_elastic, 0.0, 0.0, 0.0);
     cr_assert(stiffness_rate(&e) == 0.0, "johnson at delta = 0: %g", stiffness_rate(&e));
     put(&e, VI_Mode_elastic, -1e-9, 0.0, 0.0);
     cr_assert(stiffness_rate(&e) == 0.0, "johnson at delta < 0: %g", stiffness_rate(&e));
     put(&e, VI_Mode_elastic, 1e-4 * J->delta_Y, 0.0, 0.0); /* just touching: F'' = 0.75 F_Y/(dY^2 sqrt(d/dY)) */
-    double touching = 0.75 * J->F_Y / (J->delta_Y * J->delta_Y * sqrt(e.d.x[0] / J->delta_Y));
+    double touching = 0.75 * J->F_Y / (J->delta_Y * J->delta_Y * sqrt(e.d.run.x[0] / J->delta_Y));
     cr_assert(fabs(stiffness_rate(&e) - touching) <= 1e-12 * touching, "johnson at 1e-4 delta_Y: %.17g, closed form %.17g",
               stiffness_rate(&e), touching);
     /* on the yield surface, still elastic: the elastic branch F = F_Y (d/dY)^1.5, F'' = 0.75 F_Y/dY^2 */
@@ -256,9 +256,9 @@ Test(me_jacobian, stiffness_rate_at_the_ends_of_each_branch)
               stiffness_rate(&e), elastic);
     /* unloading at and below delta_f (the force is 0 there) */
     put(&e, VI_Mode_unload, 0.0, 0.0, 2.0 * dY);
-    double df = e.d.model.unload.delta_f;
+    double df = e.d.run.model.unload.delta_f;
     put(&e, VI_Mode_unload, df, 0.0, 2.0 * dY);
-    cr_assert(e.d.x[0] == df, "delta %.17g is not delta_f %.17g", e.d.x[0], df);
+    cr_assert(e.d.run.x[0] == df, "delta %.17g is not delta_f %.17g", e.d.run.x[0], df);
     cr_assert(stiffness_rate(&e) == 0.0, "unload at delta_f: %g", stiffness_rate(&e));
     put(&e, VI_Mode_unload, 0.5 * df, 0.0, 2.0 * dY);
     cr_assert(stiffness_rate(&e) == 0.0, "unload below delta_f: %g", stiffness_rate(&e));
@@ -272,7 +272,7 @@ Test(me_jacobian, partials_are_those_of_inputs_set_since_the_last_call)
 {
     test_run e;
     start(&e, hertz);
-    double K = e.d.model.K, m = e.d.model.m, d = e.d.x[0];
+    double K = e.d.run.model.K, m = e.d.run.model.m, d = e.d.run.x[0];
     /* the platform rises by d/2 in continuous time: the stiffness is that at 1.5 d */
     e.d.in.yC_in = 0.5 * d;
     double k = 1.5 * K * sqrt(1.5 * d);
@@ -299,10 +299,10 @@ static void hertz_on_a_raised_platform(vi_parameters *p) { hertz(p), p->init = V
 /* The platform at yC_in = 1.5 m (a = 0: it does not move), the mass at y, v, in `mode`. */
 static void at(test_run *e, int mode, double y, double v)
 {
-    e->d.model.mode = mode;
+    e->d.run.model.mode = mode;
     double x[VI_ME_NSTATES] = {y, v};
     vi_me_set_states(&e->e, x);
-    e->d.events.band[0] = e->d.events.band[1] = 0.0;
+    e->d.run.events.band[0] = e->d.run.events.band[1] = 0.0;
 }
 
 static vi_me_event update(test_run *e)
@@ -330,26 +330,26 @@ Test(me_events, a_grazing_contact_is_snapped_and_its_guard_lifted_by_its_band)
     /* free flight moving up, 0.1 um into the platform: within the band of the contact guard
      * (4 (rtol |y| + atol) = 6e-6 m): a located crossing, put onto the surface; the mass moves away,
      * the mode stays free, and the guard is lifted by the band until it has moved away */
-    double y = 1.5 - 1e-7, v = 0.02, rtol = vi_run_rtol(&e.d); /* (the start had v0 = 0.01) */
+    double y = 1.5 - 1e-7, v = 0.02, rtol = vi_contact_rtol(&e.d.par, e.d.tolerance); /* (the start had v0 = 0.01) */
     at(&e, VI_Mode_free, y, v);
-    long events = e.d.events.n_events;
+    long events = e.d.run.events.n_events;
     clear_log();
     vi_me_event ev = update(&e);
-    cr_assert(e.d.model.mode == VI_Mode_free && e.d.events.n_events == events + 1, "mode %d, %ld events", e.d.model.mode, e.d.events.n_events);
+    cr_assert(e.d.run.model.mode == VI_Mode_free && e.d.run.events.n_events == events + 1, "mode %d, %ld events", e.d.run.model.mode, e.d.run.events.n_events);
     cr_assert(ev.states_changed == 1 && ev.another_pass == 0 && ev.terminate == 0 && ev.next_time_defined == 0);
     double x[VI_ME_NSTATES];
     vi_me_get_states(&e.e, x);
-    cr_assert(x[0] == 1.5 && x[1] == v && e.d.x[0] == 0.0, "snapped to y = %.17g, delta = %g", x[0], e.d.x[0]);
+    cr_assert(x[0] == 1.5 && x[1] == v && e.d.run.x[0] == 0.0, "snapped to y = %.17g, delta = %g", x[0], e.d.run.x[0]);
     /* band, at the state snapped onto the surface (y = 1.5): 4 times the guard's change under
      * rtol |y| + atol, 256 times its change under one ulp of y (2^-52 for y in [1, 2); the platform
      * does not move and the guard does not depend on v) */
-    double band = 4.0 * (rtol * x[0] + e.d.events.atol[0]) + 256.0 * 0x1p-52;
-    cr_assert(fabs(e.d.events.band[0] - band) <= 1e-12 * band, "band %.17g, closed form %.17g", e.d.events.band[0], band);
-    cr_assert(e.d.events.band[1] == 0.0, "the inactive guard has no band: %g", e.d.events.band[1]);
+    double band = 4.0 * (rtol * x[0] + e.d.run.events.atol[0]) + 256.0 * 0x1p-52;
+    cr_assert(fabs(e.d.run.events.band[0] - band) <= 1e-12 * band, "band %.17g, closed form %.17g", e.d.run.events.band[0], band);
+    cr_assert(e.d.run.events.band[1] == 0.0, "the inactive guard has no band: %g", e.d.run.events.band[1]);
     double z[2];
     vi_me_indicators(&e.e, z);
-    cr_assert(z[0] == e.d.events.band[0] && z[1] == 1.0, "indicators %g %g", z[0], z[1]);
-    cr_assert(e.d.step_t0 == e.d.t && e.d.step_v0 == v, "the mean force starts anew at the event");
+    cr_assert(z[0] == e.d.run.events.band[0] && z[1] == 1.0, "indicators %g %g", z[0], z[1]);
+    cr_assert(e.d.run.step_t0 == e.d.run.t && e.d.run.step_v0 == v, "the mean force starts anew at the event");
     char expected[256];
     snprintf(expected, sizeof expected, "event t=%.17g kind=guard guard=0 mode=0->0 delta=%.9g v=%.9g", 0.0, 0.0, v);
     cr_assert(strcmp(logged[VI_LOG_EVENTS], expected) == 0, "logged '%s'", logged[VI_LOG_EVENTS]);
@@ -357,30 +357,30 @@ Test(me_events, a_grazing_contact_is_snapped_and_its_guard_lifted_by_its_band)
     double xb[VI_ME_NSTATES] = {1.5 - 0.5 * band, v};
     vi_me_set_states(&e.e, xb);
     ev = update(&e);
-    cr_assert(e.d.events.n_events == events + 1 && ev.states_changed == 0, "a disarmed guard fired: %ld events", e.d.events.n_events);
+    cr_assert(e.d.run.events.n_events == events + 1 && ev.states_changed == 0, "a disarmed guard fired: %ld events", e.d.run.events.n_events);
     /* a completed step re-arms it once it is above its band, not before */
     cr_assert(vi_me_completed_step(&e.e) == 0);
-    cr_assert(e.d.events.band[0] > 0.0, "re-armed within its band");
+    cr_assert(e.d.run.events.band[0] > 0.0, "re-armed within its band");
     double xa[VI_ME_NSTATES] = {1.5 + 1.5 * band, v};
     vi_me_set_states(&e.e, xa);
     cr_assert(vi_me_completed_step(&e.e) == 0);
-    cr_assert(e.d.events.band[0] == 0.0, "not re-armed above its band: %g", e.d.events.band[0]);
+    cr_assert(e.d.run.events.band[0] == 0.0, "not re-armed above its band: %g", e.d.run.events.band[0]);
     /* exactly at its band it stays disarmed (1e-5 m above the platform: the guard is y - 1.5 exactly) */
     double xe[VI_ME_NSTATES] = {1.5 + 1e-5, v};
     vi_me_set_states(&e.e, xe);
     double G = xe[0] - 1.5;
-    e.d.events.band[0] = G;
+    e.d.run.events.band[0] = G;
     cr_assert(vi_me_completed_step(&e.e) == 0);
-    cr_assert(e.d.events.band[0] == G, "re-armed at its band");
-    e.d.events.band[0] = nextafter(G, 0.0);
+    cr_assert(e.d.run.events.band[0] == G, "re-armed at its band");
+    e.d.run.events.band[0] = nextafter(G, 0.0);
     cr_assert(vi_me_completed_step(&e.e) == 0);
-    cr_assert(e.d.events.band[0] == 0.0, "not re-armed an ulp above its band");
+    cr_assert(e.d.run.events.band[0] == 0.0, "not re-armed an ulp above its band");
     /* a platform input set in continuous time since the last call counts: it drops 1 mm away */
     vi_me_set_states(&e.e, xb);
-    e.d.events.band[0] = band;
+    e.d.run.events.band[0] = band;
     e.d.in.yC_in = 1.5 - 1e-3;
     cr_assert(vi_me_completed_step(&e.e) == 0);
-    cr_assert(e.d.events.band[0] == 0.0, "not re-armed after the platform moved away: %g", e.d.events.band[0]);
+    cr_assert(e.d.run.events.band[0] == 0.0, "not re-armed after the platform moved away: %g", e.d.run.events.band[0]);
     finish(&e);
 }
 
@@ -395,13 +395,13 @@ Test(me_events, a_grazing_turning_point_gets_the_band_of_the_velocity)
     test_run_init(&e, capture, NULL);
     e.d.par.P = 3e5;
     cr_assert(vi_me_initialize(&e.e) == 0, "%s", e.r.msg);
-    double dY = e.d.model.johnson.delta_Y, v = 1e-8, rtol = vi_run_rtol(&e.d);
+    double dY = e.d.run.model.johnson.delta_Y, v = 1e-8, rtol = vi_contact_rtol(&e.d.par, e.d.tolerance);
     put(&e, VI_Mode_plastic, 1.2 * dY, v, 0.0);
     vi_me_event ev = update(&e);
-    cr_assert(e.d.model.mode == VI_Mode_plastic && e.d.x[1] == 0.0 && ev.states_changed == 1, "mode %d, v %g",
-              e.d.model.mode, e.d.x[1]);
-    double band = 4.0 * (rtol * 0.0 + e.d.events.atol[1]) + 256.0 * nextafter(0.0, INFINITY);
-    cr_assert(fabs(e.d.events.band[0] - band) <= 1e-12 * band, "band %.17g, closed form %.17g", e.d.events.band[0], band);
+    cr_assert(e.d.run.model.mode == VI_Mode_plastic && e.d.run.x[1] == 0.0 && ev.states_changed == 1, "mode %d, v %g",
+              e.d.run.model.mode, e.d.run.x[1]);
+    double band = 4.0 * (rtol * 0.0 + e.d.run.events.atol[1]) + 256.0 * nextafter(0.0, INFINITY);
+    cr_assert(fabs(e.d.run.events.band[0] - band) <= 1e-12 * band, "band %.17g, closed form %.17g", e.d.run.events.band[0], band);
     finish(&e);
 }
 
@@ -412,13 +412,13 @@ Test(me_events, a_state_beyond_the_band_takes_the_mode_of_the_state_as_it_is)
     /* 10 um into the platform, moving down, beyond the band (6e-6 m): no located crossing but a state
      * the importer stepped to: elastic at the state as it is, not snapped */
     at(&e, VI_Mode_free, 1.5 - 1e-5, -0.01);
-    cr_assert(vi_me_outputs_of(&e.e, VI_OUT_ALL)->mode == VI_Mode_free);
+    cr_assert(vi_contact_outputs_of(&e, VI_OUT_ALL)->mode == VI_Mode_free);
     vi_me_event ev = update(&e);
-    cr_assert(e.d.model.mode == VI_Mode_elastic && e.d.model.n_impacts == 1, "mode %d", e.d.model.mode);
-    const vi_outputs *out = vi_me_outputs_of(&e.e, VI_OUT_STATE); /* not those read before the event */
+    cr_assert(e.d.run.model.mode == VI_Mode_elastic && e.d.run.model.n_impacts == 1, "mode %d", e.d.run.model.mode);
+    const vi_outputs *out = vi_contact_outputs_of(&e, VI_OUT_STATE); /* not those read before the event */
     cr_assert(out->mode == VI_Mode_elastic && out->n_impacts == 1 && out->contact == 1, "output mode %d", out->mode);
-    cr_assert(ev.states_changed == 0 && e.d.x[0] == 1.5 - (1.5 - 1e-5), "delta %.17g", e.d.x[0]);
-    cr_assert(e.d.events.band[0] == 0.0 && e.d.events.band[1] == 0.0, "a mode entered with its guards away from 0");
+    cr_assert(ev.states_changed == 0 && e.d.run.x[0] == 1.5 - (1.5 - 1e-5), "delta %.17g", e.d.run.x[0]);
+    cr_assert(e.d.run.events.band[0] == 0.0 && e.d.run.events.band[1] == 0.0, "a mode entered with its guards away from 0");
     finish(&e);
 }
 
@@ -428,28 +428,28 @@ Test(me_events, guards_are_armed_at_zero_up_to_their_rounding_noise_and_no_furth
     raised(&e);
     /* the touching start moving up: free flight with the contact guard at 0, lifted by its noise and
      * the band of the tolerance (those of Model Exchange, not the simulation's noise alone) */
-    double y0 = 1.5, band0 = 256.0 * 0x1p-52 + 4.0 * (vi_run_rtol(&e.d) * y0 + e.d.events.atol[0]);
-    cr_assert(e.d.model.mode == VI_Mode_free && e.me.y_me == y0);
-    cr_assert(fabs(e.d.events.band[0] - band0) <= 1e-12 * band0, "initial band %.17g, closed form %.17g",
-              e.d.events.band[0], band0);
+    double y0 = 1.5, band0 = 256.0 * 0x1p-52 + 4.0 * (vi_contact_rtol(&e.d.par, e.d.tolerance) * y0 + e.d.run.events.atol[0]);
+    cr_assert(e.d.run.model.mode == VI_Mode_free && e.d.me.y_me == y0);
+    cr_assert(fabs(e.d.run.events.band[0] - band0) <= 1e-12 * band0, "initial band %.17g, closed form %.17g",
+              e.d.run.events.band[0], band0);
     /* free flight 256 ulps of y above the platform: the contact guard equals its noise, 256 times its
      * change under one ulp of y (2^-52): lifted; 257 ulps: not */
-    double rtol = vi_run_rtol(&e.d);
+    double rtol = vi_contact_rtol(&e.d.par, e.d.tolerance);
     for (int k = 256; k <= 257; k++) {
         double y = 1.5 + k * 0x1p-52;
         at(&e, VI_Mode_free, y, 0.01);
         vi_me_event ev = update(&e);
-        cr_assert(ev.states_changed == 0 && e.d.model.mode == VI_Mode_free);
-        double band = k == 256 ? 256.0 * 0x1p-52 + 4.0 * (rtol * y + e.d.events.atol[0]) : 0.0;
-        cr_assert(fabs(e.d.events.band[0] - band) <= 1e-12 * band, "%d ulps: band %.17g, closed form %.17g", k,
-                  e.d.events.band[0], band);
-        cr_assert(e.d.events.band[1] == 0.0);
+        cr_assert(ev.states_changed == 0 && e.d.run.model.mode == VI_Mode_free);
+        double band = k == 256 ? 256.0 * 0x1p-52 + 4.0 * (rtol * y + e.d.run.events.atol[0]) : 0.0;
+        cr_assert(fabs(e.d.run.events.band[0] - band) <= 1e-12 * band, "%d ulps: band %.17g, closed form %.17g", k,
+                  e.d.run.events.band[0], band);
+        cr_assert(e.d.run.events.band[1] == 0.0);
     }
     /* a guard already lifted keeps its band */
     at(&e, VI_Mode_free, 1.5, 0.01);
-    e.d.events.band[0] = 1e-9;
+    e.d.run.events.band[0] = 1e-9;
     update(&e);
-    cr_assert(e.d.events.band[0] == 1e-9, "band %g", e.d.events.band[0]);
+    cr_assert(e.d.run.events.band[0] == 1e-9, "band %g", e.d.run.events.band[0]);
     finish(&e);
 }
 
@@ -461,12 +461,12 @@ Test(me_events, a_guard_exactly_at_zero_without_noise_is_lifted_by_the_least_nor
      * F_hold = W = F_load(delta_c) exactly (no excitation: the stick guards do not move with t, y or v) */
     test_run e;
     start(&e, preloaded_stick);
-    cr_assert(e.d.model.mode == VI_Mode_stick);
-    double z[2], W = e.d.model.W0;
+    cr_assert(e.d.run.model.mode == VI_Mode_stick);
+    double z[2], W = e.d.run.model.W0;
     vi_me_indicators(&e.e, z);
-    cr_assert(vi_johnson_load(&e.d.model.johnson, e.d.model.unload.delta_c) == W, "not exactly on the load surface");
+    cr_assert(vi_johnson_load(&e.d.run.model.johnson, e.d.run.model.unload.delta_c) == W, "not exactly on the load surface");
     cr_assert(z[0] == DBL_MIN, "load guard %g", z[0]);
-    double g1 = W - vi_unload_force(&e.d.model.unload, e.d.model.unload.delta_c);
+    double g1 = W - vi_unload_force(&e.d.run.model.unload, e.d.run.model.unload.delta_c);
     cr_assert(z[1] == g1, "unload guard %.17g, closed form %.17g", z[1], g1);
     finish(&e);
 }
@@ -480,15 +480,15 @@ Test(me_events, an_input_jump_onto_the_contact_surface_is_an_event_of_the_new_mo
     test_run e;
     raised(&e);
     at(&e, VI_Mode_free, 1.5 + 1e-6, -0.01);
-    long events = e.d.events.n_events;
+    long events = e.d.run.events.n_events;
     clear_log();
     e.d.in.yC_in = 1.5 + 1e-6;
-    e.d.inputs_changed = 1;
-    e.d.events.band[0] = 1.0; /* a band of free flight: not the elastic guard's */
+    e.d.run.inputs_changed = 1;
+    e.d.run.events.band[0] = 1.0; /* a band of free flight: not the elastic guard's */
     vi_me_event ev = update(&e);
-    cr_assert(e.d.model.mode == VI_Mode_elastic && e.d.x[0] == 0.0, "mode %d, delta %g", e.d.model.mode, e.d.x[0]);
-    cr_assert(e.d.events.n_events == events, "%ld state events", e.d.events.n_events - events);
-    cr_assert(e.d.inputs_changed == 0 && ev.another_pass == 0 && ev.terminate == 0);
+    cr_assert(e.d.run.model.mode == VI_Mode_elastic && e.d.run.x[0] == 0.0, "mode %d, delta %g", e.d.run.model.mode, e.d.run.x[0]);
+    cr_assert(e.d.run.events.n_events == events, "%ld state events", e.d.run.events.n_events - events);
+    cr_assert(e.d.run.inputs_changed == 0 && ev.another_pass == 0 && ev.terminate == 0);
     double x[VI_ME_NSTATES];
     vi_me_get_states(&e.e, x);
     cr_assert(x[0] == 1.5 + 1e-6 && x[1] == -0.01);
@@ -496,8 +496,8 @@ Test(me_events, an_input_jump_onto_the_contact_surface_is_an_event_of_the_new_mo
     char expected[256];
     snprintf(expected, sizeof expected, "event t=%.17g kind=input mode=0->1", 0.0);
     cr_assert(strcmp(logged[VI_LOG_EVENTS], expected) == 0, "logged '%s'", logged[VI_LOG_EVENTS]);
-    cr_assert(e.d.events.band[0] > 0.0 && e.d.events.band[0] < 1e-4, "the new mode's guard at 0 is armed afresh: %g",
-              e.d.events.band[0]);
+    cr_assert(e.d.run.events.band[0] > 0.0 && e.d.run.events.band[0] < 1e-4, "the new mode's guard at 0 is armed afresh: %g",
+              e.d.run.events.band[0]);
     finish(&e);
 }
 
@@ -508,21 +508,21 @@ Test(me_events, an_input_change_in_event_mode_is_logged_when_it_changes_the_mode
     at(&e, VI_Mode_free, 1.5 + 1e-3, -0.01);
     clear_log();
     e.d.in.yC_in = 1.5 + 2e-3; /* into the mass: contact */
-    e.d.inputs_changed = 1;
+    e.d.run.inputs_changed = 1;
     update(&e);
-    cr_assert(e.d.model.mode == VI_Mode_elastic && e.d.model.yC_in.u == 1.5 + 2e-3 && e.d.model.yC_in.du == 0.0);
+    cr_assert(e.d.run.model.mode == VI_Mode_elastic && e.d.run.model.yC_in.u == 1.5 + 2e-3 && e.d.run.model.yC_in.du == 0.0);
     char expected[256];
     snprintf(expected, sizeof expected, "event t=%.17g kind=input mode=0->1", 0.0);
     cr_assert(strcmp(logged[VI_LOG_EVENTS], expected) == 0, "logged '%s'", logged[VI_LOG_EVENTS]);
     double x[VI_ME_NSTATES];
     vi_me_get_states(&e.e, x);
-    cr_assert(x[0] == 1.5 + 1e-3 && fabs(e.d.x[0] - 1e-3) <= 1e-15, "the mass stays: y %.17g, delta %g", x[0], e.d.x[0]);
+    cr_assert(x[0] == 1.5 + 1e-3 && fabs(e.d.run.x[0] - 1e-3) <= 1e-15, "the mass stays: y %.17g, delta %g", x[0], e.d.run.x[0]);
     /* a force input that leaves the mode: nothing logged */
     clear_log();
     e.d.in.F_ext = 10.0;
-    e.d.inputs_changed = 1;
+    e.d.run.inputs_changed = 1;
     update(&e);
-    cr_assert(e.d.model.F_ext.u == 10.0 && e.d.model.F_ext.t == e.d.t && n_logged[VI_LOG_EVENTS] == 0, "logged '%s'",
+    cr_assert(e.d.run.model.F_ext.u == 10.0 && e.d.run.model.F_ext.t == e.d.run.t && n_logged[VI_LOG_EVENTS] == 0, "logged '%s'",
               logged[VI_LOG_EVENTS]);
     finish(&e);
 }
@@ -572,9 +572,9 @@ Test(me_states, initialization_logs_the_scales_and_the_initial_state_in_closed_f
     test_run_init(&e, capture, NULL);
     hertz_raised_with_rates(&e.d.par);
     e.d.in.yC_in = 0.25, e.d.in.F_ext = 100.0;
-    e.d.events.zeno = 50, e.d.events.band[0] = e.d.events.band[1] = 1.0; /* left from an earlier run */
+    e.d.run.events.zeno = 50, e.d.run.events.band[0] = e.d.run.events.band[1] = 1.0; /* left from an earlier run */
     cr_assert(vi_me_initialize(&e.e) == 0, "%s", e.r.msg);
-    const vi_model *M = &e.d.model;
+    const vi_model *M = &e.d.run.model;
     /* Hertz at rest under W = P + m g - F_ext: delta = (W/K)^(2/3) = L, V = L sqrt(1.5 K sqrt(L)/m) */
     double E = 1.0 / (2.0 * (1.0 - 0.09) / 2.1e11), K = 4.0 / 3.0 * E * sqrt(0.475);
     double W = 40000.0 + 407.747 * 9.81 - 100.0, L = pow(W / K, 2.0 / 3.0), V = L * sqrt(1.5 * K * sqrt(L) / 407.747);
@@ -594,10 +594,10 @@ Test(me_states, initialization_logs_the_scales_and_the_initial_state_in_closed_f
     vi_me_nominals(&e.e, nominal);
     cr_assert(fabs(nominal[0] - L) <= 1e-12 * L && fabs(nominal[1] - V) <= 1e-12 * V, "nominals %g %g", nominal[0], nominal[1]);
     vi_me_indicators(&e.e, z); /* the guards, no band */
-    cr_assert(z[0] == e.d.x[0] && z[1] == 1.0, "indicators %g %g", z[0], z[1]);
+    cr_assert(z[0] == e.d.run.x[0] && z[1] == 1.0, "indicators %g %g", z[0], z[1]);
     vi_me_derivatives(&e.e, dx);
     cr_assert(dx[0] == 0.0 && fabs(dx[1]) <= 1e-9, "at rest: %g %g", dx[0], dx[1]);
-    cr_assert(M->F_ext.u == 100.0 && vi_me_outputs_of(&e.e, VI_OUT_ALL)->yC == 0.25);
+    cr_assert(M->F_ext.u == 100.0 && vi_contact_outputs_of(&e, VI_OUT_ALL)->yC == 0.25);
     /* the Zeno count starts afresh */
     at(&e, VI_Mode_free, 0.25 - 1e-5, -0.01);
     for (int i = 1; i < VI_ZENO_EVENTS; i++) {
@@ -617,13 +617,13 @@ Test(me_states, inputs_are_held_at_their_values_from_the_initialization)
     e.d.in.yC_in = 0.25, e.d.in.F_ext = 100.0;
     e.d.din.yC_in = 1.0, e.d.din.F_ext = 1e3;
     cr_assert(vi_me_initialize(&e.e) == 0, "%s", e.r.msg);
-    const vi_model *M = &e.d.model;
+    const vi_model *M = &e.d.run.model;
     double dx[VI_ME_NSTATES], dx1[VI_ME_NSTATES];
     vi_me_derivatives(&e.e, dx);
     vi_me_set_time(&e.e, 1e-3); /* 1 ms later neither the platform nor the force has moved */
     vi_me_derivatives(&e.e, dx1);
     cr_assert(M->yC_in.du == 0.0 && M->F_ext.du == 0.0 && dx1[0] == dx[0] && dx1[1] == dx[1], "the inputs moved");
-    cr_assert(M->yC_in.u == 0.25 && M->F_ext.u == 100.0 && vi_me_outputs_of(&e.e, VI_OUT_ALL)->yC == 0.25);
+    cr_assert(M->yC_in.u == 0.25 && M->F_ext.u == 100.0 && vi_contact_outputs_of(&e, VI_OUT_ALL)->yC == 0.25);
     finish(&e);
 }
 
@@ -642,12 +642,12 @@ Test(me_states, a_sync_without_a_change_of_input_leaves_the_model_as_it_is)
 {
     test_run e;
     start(&e, johnson);
-    vi_model M0 = e.d.model;
+    vi_model M0 = e.d.run.model;
     vi_me_set_time(&e.e, 1e-3);
     double dx[VI_ME_NSTATES];
     vi_me_derivatives(&e.e, dx);
-    cr_assert(memcmp(&M0, &e.d.model, sizeof M0) == 0, "the model changed (input ramps restarted?)");
-    cr_assert(e.d.t == 1e-3);
+    cr_assert(memcmp(&M0, &e.d.run.model, sizeof M0) == 0, "the model changed (input ramps restarted?)");
+    cr_assert(e.d.run.t == 1e-3);
     finish(&e);
 }
 
@@ -655,28 +655,28 @@ Test(me_states, continuous_inputs_act_at_once_each_alone)
 {
     test_run e;
     start(&e, hertz);
-    double y = e.me.y_me, t = 2e-3;
+    double y = e.d.me.y_me, t = 2e-3;
     vi_me_set_time(&e.e, t);
     /* the force alone */
     e.d.in.F_ext = 50.0;
-    const vi_outputs *out = vi_me_outputs_of(&e.e, VI_OUT_ALL);
-    cr_assert(e.d.model.F_ext.u == 50.0 && e.d.model.F_ext.du == 0.0 && e.d.model.F_ext.t == t, "F_ext ramp");
-    double F = out->F, W = e.d.model.W0 - 50.0;
-    cr_assert(fabs(out->der_v - (F - W) / e.d.model.m) <= 1e-12 * W / e.d.model.m, "der_v %g", out->der_v);
+    const vi_outputs *out = vi_contact_outputs_of(&e, VI_OUT_ALL);
+    cr_assert(e.d.run.model.F_ext.u == 50.0 && e.d.run.model.F_ext.du == 0.0 && e.d.run.model.F_ext.t == t, "F_ext ramp");
+    double F = out->F, W = e.d.run.model.W0 - 50.0;
+    cr_assert(fabs(out->der_v - (F - W) / e.d.run.model.m) <= 1e-12 * W / e.d.run.model.m, "der_v %g", out->der_v);
     /* the platform alone: the mass stays, delta moves with the platform */
     e.d.in.yC_in = 1e-6;
-    out = vi_me_outputs_of(&e.e, VI_OUT_ALL);
-    cr_assert(e.d.model.yC_in.u == 1e-6 && e.d.model.yC_in.du == 0.0 && e.d.model.yC_in.t == t && e.me.y_me == y);
+    out = vi_contact_outputs_of(&e, VI_OUT_ALL);
+    cr_assert(e.d.run.model.yC_in.u == 1e-6 && e.d.run.model.yC_in.du == 0.0 && e.d.run.model.yC_in.t == t && e.d.me.y_me == y);
     cr_assert(out->delta == 1e-6 - y && out->yC == 1e-6, "delta %.17g, closed form %.17g", out->delta, 1e-6 - y);
     /* a ramp restored from co-simulation (a rate, the same value): Model Exchange holds the value */
-    e.d.model.yC_in.du = 1.0;
+    e.d.run.model.yC_in.du = 1.0;
     vi_me_set_time(&e.e, t);
-    vi_me_outputs_of(&e.e, 0);
-    cr_assert(e.d.model.yC_in.du == 0.0 && e.d.model.yC_in.u == 1e-6, "yC_in ramp kept its rate");
-    e.d.model.F_ext.du = 1.0;
+    vi_contact_outputs_of(&e, 0);
+    cr_assert(e.d.run.model.yC_in.du == 0.0 && e.d.run.model.yC_in.u == 1e-6, "yC_in ramp kept its rate");
+    e.d.run.model.F_ext.du = 1.0;
     vi_me_set_time(&e.e, t);
-    vi_me_outputs_of(&e.e, 0);
-    cr_assert(e.d.model.F_ext.du == 0.0 && e.d.model.F_ext.u == 50.0, "F_ext ramp kept its rate");
+    vi_contact_outputs_of(&e, 0);
+    cr_assert(e.d.run.model.F_ext.du == 0.0 && e.d.run.model.F_ext.u == 50.0, "F_ext ramp kept its rate");
     finish(&e);
 }
 
@@ -689,24 +689,24 @@ static void memory_is_written_at_completed_steps(setter law)
 {
     test_run e;
     start(&e, law);
-    vi_model *M = &e.d.model;
+    vi_model *M = &e.d.run.model;
     int johnson_law = M->law == VI_ContactModel_johnson;
     double dY = M->johnson.delta_Y, d = 1.7 * dY;
     put(&e, VI_Mode_plastic, d, -0.01, 0.0);
-    d = e.d.x[0];
+    d = e.d.run.x[0];
     if (johnson_law) M->unload = vi_johnson_unload_curve(&M->johnson, M->unloading, 1.2 * dY);
     else M->delta_p = 0.2 * dY;
     e.d.in.yC_in = 0.2 * dY; /* a trial point */
     vi_me_set_time(&e.e, 1e-6);
-    d = vi_me_outputs_of(&e.e, VI_OUT_ALL)->delta;
+    d = vi_contact_outputs_of(&e, VI_OUT_ALL)->delta;
     cr_assert(johnson_law ? M->unload.delta_c == 1.2 * dY : M->delta_p == 0.2 * dY, "a trial point wrote the memory down");
     cr_assert(vi_me_completed_step(&e.e) == 0);
     cr_assert(johnson_law ? M->unload.delta_c == d : M->delta_p == d - dY, "the completed step at %.17g wrote nothing", d);
-    const vi_outputs *out = vi_me_outputs_of(&e.e, VI_OUT_ALL);
+    const vi_outputs *out = vi_contact_outputs_of(&e, VI_OUT_ALL);
     double dc = out->delta_c, dp = out->delta_p, W = out->W_plastic;
     e.d.in.yC_in = -0.2 * dY;
     vi_me_set_time(&e.e, 2e-6);
-    out = vi_me_outputs_of(&e.e, VI_OUT_ALL);
+    out = vi_contact_outputs_of(&e, VI_OUT_ALL);
     cr_assert(out->delta_c == dc && out->delta_p == dp && out->W_plastic == W, "the memory outputs moved back");
     finish(&e);
 }
@@ -726,12 +726,12 @@ Test(me_states, co_simulation_outputs_are_the_simulations_own)
     test_run_init(&e, capture, NULL);
     hertz(&e.d.par);
     cr_assert(vi_sim_initialize(&e.s) == 0, "%s", e.r.msg);
-    double d = e.d.x[0], x[VI_ME_NSTATES];
+    double d = e.d.run.x[0], x[VI_ME_NSTATES];
     cr_assert(d > 0.0);
     vi_me_get_states(&e.e, x); /* before: the initial state prepared, y = yC - delta */
     cr_assert(x[0] == -d && x[1] == 0.0, "y %.17g", x[0]);
-    const vi_outputs *out = vi_me_outputs_of(&e.e, VI_OUT_STATE);
-    cr_assert(out->delta == d && e.d.x[0] == d, "delta %g", out->delta);
+    const vi_outputs *out = vi_contact_outputs_of(&e, VI_OUT_STATE);
+    cr_assert(out->delta == d && e.d.run.x[0] == d, "delta %g", out->delta);
     cr_assert(e.r.out_valid & VI_OUT_STATE);
     vi_me_set_time(&e.e, 0.0);
     cr_assert(e.r.out_valid & VI_OUT_STATE, "the cache was cleared");
@@ -742,13 +742,13 @@ Test(me_states, states_set_are_those_read_and_the_outputs_follow)
 {
     test_run e;
     start(&e, hertz);
-    const vi_outputs *out = vi_me_outputs_of(&e.e, VI_OUT_ALL);
-    double K = e.d.model.K, m = e.d.model.m, W = e.d.model.W0;
+    const vi_outputs *out = vi_contact_outputs_of(&e, VI_OUT_ALL);
+    double K = e.d.run.model.K, m = e.d.run.model.m, W = e.d.run.model.W0;
     double x[VI_ME_NSTATES] = {-3e-5, -0.02}, r[VI_ME_NSTATES], dx[VI_ME_NSTATES];
     vi_me_set_states(&e.e, x);
     vi_me_get_states(&e.e, r);
     cr_assert(r[0] == x[0] && r[1] == x[1], "states %g %g", r[0], r[1]);
-    out = vi_me_outputs_of(&e.e, VI_OUT_ALL); /* not the cached outputs of before */
+    out = vi_contact_outputs_of(&e, VI_OUT_ALL); /* not the cached outputs of before */
     cr_assert(out->delta == 3e-5 && out->v == -0.02 && out->y == -3e-5, "delta %g v %g", out->delta, out->v);
     double F = K * 3e-5 * sqrt(3e-5);
     cr_assert(fabs(out->F - F) <= 1e-12 * F, "F %g, closed form %g", out->F, F);
@@ -758,7 +758,7 @@ Test(me_states, states_set_are_those_read_and_the_outputs_follow)
     /* the derivatives group is recomputed after a change of state */
     x[1] = 0.03;
     vi_me_set_states(&e.e, x);
-    cr_assert(vi_me_outputs_of(&e.e, VI_OUT_DERIVATIVES)->der_y == 0.03);
+    cr_assert(vi_contact_outputs_of(&e, VI_OUT_DERIVATIVES)->der_y == 0.03);
     finish(&e);
 }
 
@@ -785,7 +785,7 @@ Test(me_events, kinks_and_the_end_of_the_profile_are_time_events)
     int rc = vi_me_initialize(&e.e);
     remove(path);
     cr_assert(rc == 0, "%s", e.r.msg);
-    const vi_model *M = &e.d.model;
+    const vi_model *M = &e.d.run.model;
     char why[512];
     double tk = vi_model_next_breakpoint(M, 0.0), end = vi_model_rolling_limit(M, why, sizeof why);
     cr_assert(fabs(tk - 0.01) <= 1e-15 && fabs(end - 10.01) <= 1e-12, "kink at %.17g s, end at %.17g s", tk, end);
@@ -826,24 +826,23 @@ Test(me_states, checkpoint_and_restore_carry_the_state_y)
 {
     test_run e;
     start(&e, johnson);
-    double dY = e.d.model.johnson.delta_Y;
+    double dY = e.d.run.model.johnson.delta_Y;
     put(&e, VI_Mode_plastic, 1.5 * dY, -0.01, 0.0);
-    e.d.model.unload = vi_johnson_unload_curve(&e.d.model.johnson, e.d.model.unloading, 1.2 * dY); /* as where it started to flow */
+    e.d.run.model.unload = vi_johnson_unload_curve(&e.d.run.model.johnson, e.d.run.model.unloading, 1.2 * dY); /* as where it started to flow */
     vi_me_set_time(&e.e, 1e-3);
     cr_assert(vi_me_checkpoint(&e.e) == 0, "%s", e.r.msg);
     /* taking a state changes nothing that follows: the memory stays where it was written down, and the
      * output delta_c is the indentation reached (delta_c = delta while loading) */
-    cr_assert(e.d.model.unload.delta_c == 1.2 * dY, "delta_c %.17g written down at %.17g", e.d.model.unload.delta_c, 1.2 * dY);
-    cr_assert(vi_me_outputs_of(&e.e, VI_OUT_ALL)->delta_c == e.d.x[0]);
-    vi_run_data saved = e.d;
-    vi_me_data saved_me = e.me;
-    double y = e.me.y_me;
+    cr_assert(e.d.run.model.unload.delta_c == 1.2 * dY, "delta_c %.17g written down at %.17g", e.d.run.model.unload.delta_c, 1.2 * dY);
+    cr_assert(vi_contact_outputs_of(&e, VI_OUT_ALL)->delta_c == e.d.run.x[0]);
+    vi_contact_data saved = e.d;
+    double y = e.d.me.y_me;
     double x[VI_ME_NSTATES] = {y + 1e-6, 0.02};
     vi_me_set_states(&e.e, x);
-    e.d.events.zeno = 7;
-    e.d = saved, e.me = saved_me;
+    e.d.run.events.zeno = 7;
+    e.d = saved;
     cr_assert(vi_me_restore(&e.e, 1) == 0, "%s", e.r.msg);
-    cr_assert(e.e.active == 1 && e.d.events.zeno == 0 && e.me.y_me == y, "restored y %.17g, saved %.17g", e.me.y_me, y);
+    cr_assert(e.e.active == 1 && e.d.run.events.zeno == 0 && e.d.me.y_me == y, "restored y %.17g, saved %.17g", e.d.me.y_me, y);
     vi_me_get_states(&e.e, x);
     cr_assert(x[0] == y && x[1] == -0.01);
     /* a state from before initialization: not running, the states are the initial ones prepared */
@@ -864,8 +863,8 @@ Test(me_states, nominals_are_one_before_initialization)
     e.d.tolerance = 1e-4;
     cr_assert(vi_me_initialize(&e.e) == 0, "%s", e.r.msg);
     vi_me_nominals(&e.e, nominal);
-    cr_assert(fabs(nominal[0] - e.d.events.atol[0] / 1e-4) <= 1e-15 * nominal[0], "%g", nominal[0]);
-    e.d.events.atol[1] = 0.0; /* no scale: 1 */
+    cr_assert(fabs(nominal[0] - e.d.run.events.atol[0] / 1e-4) <= 1e-15 * nominal[0], "%g", nominal[0]);
+    e.d.run.events.atol[1] = 0.0; /* no scale: 1 */
     vi_me_nominals(&e.e, nominal);
     cr_assert(nominal[1] == 1.0, "%g", nominal[1]);
     finish(&e);
@@ -884,21 +883,21 @@ Test(me_states, a_checkpoint_makes_the_saved_state_whole)
     char msg[512];
     /* an input set in continuous time since the last call is taken before the copy */
     e.d.in.yC_in = 1e-6;
-    double y = e.me.y_me;
+    double y = e.d.me.y_me;
     cr_assert(vi_me_checkpoint(&e.e) == 0, "%s", e.r.msg);
-    cr_assert(vi_me_data_check(&e.d, &e.me, msg, sizeof msg) == 0, "%s", msg);
-    cr_assert(e.d.x[0] == 1e-6 - y, "delta %.17g, closed form %.17g", e.d.x[0], 1e-6 - y);
-    cr_assert(e.s.solver == NULL && e.cs.ode.h == 0.0, "Model Exchange made or ran a solver");
+    cr_assert(vi_contact_state_check(&e.d, 1, 1, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(e.d.run.x[0] == 1e-6 - y, "delta %.17g, closed form %.17g", e.d.run.x[0], 1e-6 - y);
+    cr_assert(e.s.solver == NULL && e.d.cs.ode.h == 0.0, "Model Exchange made or ran a solver");
     /* a state where the force overflows: nothing is restarted, the state is saved as it is */
     double x[VI_ME_NSTATES] = {-1e200, 0.0};
     vi_me_set_states(&e.e, x);
     cr_assert(vi_me_checkpoint(&e.e) == 0, "%s", e.r.msg);
-    cr_assert(e.me.y_me == -1e200);
+    cr_assert(e.d.me.y_me == -1e200);
     /* a state naming a profile that cannot be loaded is refused; the instance stays as it was */
     snprintf(e.d.par.profile_file, sizeof e.d.par.profile_file, "/nonexistent/vi_test_me_profile.txt");
     e.d.par.V = 1.0;
     cr_assert(vi_me_restore(&e.e, 0) == -1);
-    cr_assert(e.e.active == 1 && e.me.y_me == x[0], "the instance changed");
+    cr_assert(e.e.active == 1 && e.d.me.y_me == x[0], "the instance changed");
     finish(&e);
 }
 
@@ -910,13 +909,13 @@ Test(me_events, the_band_counts_one_ulp_of_y_upwards)
      * guard moves by 2^-67 (downwards delta would round back to 2^-14, a move of 0) */
     test_run e;
     start(&e, lepp);
-    double d = 0x1p-14, rtol = vi_run_rtol(&e.d);
+    double d = 0x1p-14, rtol = vi_contact_rtol(&e.d.par, e.d.tolerance);
     put(&e, VI_Mode_elastic, d, -0.01, d);
-    cr_assert(e.me.y_me == -d && e.d.x[0] == d && e.d.model.delta_p == d);
+    cr_assert(e.d.me.y_me == -d && e.d.run.x[0] == d && e.d.run.model.delta_p == d);
     update(&e);
-    cr_assert(e.d.model.mode == VI_Mode_elastic);
-    double band = 4.0 * (rtol * d + e.d.events.atol[0]) + 256.0 * 0x1p-67;
-    cr_assert(fabs(e.d.events.band[0] - band) <= 1e-11 * band, "band %.17g, closed form %.17g", e.d.events.band[0], band);
+    cr_assert(e.d.run.model.mode == VI_Mode_elastic);
+    double band = 4.0 * (rtol * d + e.d.run.events.atol[0]) + 256.0 * 0x1p-67;
+    cr_assert(fabs(e.d.run.events.band[0] - band) <= 1e-11 * band, "band %.17g, closed form %.17g", e.d.run.events.band[0], band);
     finish(&e);
 }
 
@@ -941,14 +940,14 @@ Test(me_events, the_band_counts_one_ulp_of_v_upwards)
     int rc = vi_me_initialize(&e.e);
     remove(path);
     cr_assert(rc == 0, "%s", e.r.msg);
-    double dyC, v = -0x1p-7, rtol = vi_run_rtol(&e.d);
-    vi_model_platform(&e.d.model, 0.0, &dyC, NULL);
+    double dyC, v = -0x1p-7, rtol = vi_contact_rtol(&e.d.par, e.d.tolerance);
+    vi_model_platform(&e.d.run.model, 0.0, &dyC, NULL);
     cr_assert(dyC == v, "platform velocity %.17g", dyC);
-    put(&e, VI_Mode_plastic, 1.2 * e.d.model.johnson.delta_Y, v, 0.0);
+    put(&e, VI_Mode_plastic, 1.2 * e.d.run.model.johnson.delta_Y, v, 0.0);
     update(&e);
-    cr_assert(e.d.model.mode == VI_Mode_plastic);
-    double band = 4.0 * (rtol * -v + e.d.events.atol[1]) + 256.0 * 0x1p-60;
-    cr_assert(fabs(e.d.events.band[0] - band) <= 5e-11 * band, "band %.17g, closed form %.17g", e.d.events.band[0], band);
+    cr_assert(e.d.run.model.mode == VI_Mode_plastic);
+    double band = 4.0 * (rtol * -v + e.d.run.events.atol[1]) + 256.0 * 0x1p-60;
+    cr_assert(fabs(e.d.run.events.band[0] - band) <= 5e-11 * band, "band %.17g, closed form %.17g", e.d.run.events.band[0], band);
     finish(&e);
 }
 
@@ -956,19 +955,19 @@ Test(me_states, a_completed_step_starts_the_mean_force_anew)
 {
     test_run e;
     start(&e, hertz);
-    double x[VI_ME_NSTATES] = {e.me.y_me, 0.02};
+    double x[VI_ME_NSTATES] = {e.d.me.y_me, 0.02};
     vi_me_set_states(&e.e, x);
     vi_me_set_time(&e.e, 1e-3);
-    double m = e.d.model.m, W = e.d.model.W0;
+    double m = e.d.run.model.m, W = e.d.run.model.W0;
     /* over the step from 0: F_mean = m (v - v0)/h + W with v0 = 0 */
-    double Fm = vi_me_outputs_of(&e.e, VI_OUT_MEAN)->F_mean;
+    double Fm = vi_contact_outputs_of(&e, VI_OUT_MEAN)->F_mean;
     cr_assert(fabs(Fm - (m * 0.02 / 1e-3 + W)) <= 1e-12 * W, "F_mean %.17g", Fm);
     cr_assert(vi_me_completed_step(&e.e) == 0);
-    cr_assert(e.d.step_t0 == 1e-3 && e.d.step_v0 == 0.02, "step start %g %g", e.d.step_t0, e.d.step_v0);
+    cr_assert(e.d.run.step_t0 == 1e-3 && e.d.run.step_v0 == 0.02, "step start %g %g", e.d.run.step_t0, e.d.run.step_v0);
     vi_me_set_time(&e.e, 2e-3);
     x[1] = 0.03;
     vi_me_set_states(&e.e, x);
-    Fm = vi_me_outputs_of(&e.e, VI_OUT_MEAN)->F_mean;
+    Fm = vi_contact_outputs_of(&e, VI_OUT_MEAN)->F_mean;
     cr_assert(fabs(Fm - (m * 0.01 / 1e-3 + W)) <= 1e-12 * W, "F_mean %.17g", Fm);
     finish(&e);
 }
@@ -977,13 +976,13 @@ Test(me_states, inputs_set_after_the_last_event_pass_act_when_continuous_time_be
 {
     test_run e;
     start(&e, hertz);
-    double y = e.me.y_me;
+    double y = e.d.me.y_me;
     e.d.in.yC_in = 2e-6;
-    e.d.inputs_changed = 1; /* set in event mode: they wait for the event iteration ... */
+    e.d.run.inputs_changed = 1; /* set in event mode: they wait for the event iteration ... */
     vi_me_set_time(&e.e, 0.0);
-    cr_assert(e.d.model.yC_in.u == 0.0, "taken in event mode");
+    cr_assert(e.d.run.model.yC_in.u == 0.0, "taken in event mode");
     vi_me_enter_continuous(&e.e); /* ... or act at once when continuous time begins */
-    cr_assert(e.d.inputs_changed == 0 && e.d.model.yC_in.u == 2e-6 && e.d.x[0] == 2e-6 - y, "delta %g", e.d.x[0]);
+    cr_assert(e.d.run.inputs_changed == 0 && e.d.run.model.yC_in.u == 2e-6 && e.d.run.x[0] == 2e-6 - y, "delta %g", e.d.run.x[0]);
     finish(&e);
 }
 
@@ -994,8 +993,8 @@ Test(me_events, an_input_set_in_continuous_time_is_taken_by_the_event_iteration)
     at(&e, VI_Mode_free, 1.5 + 1e-3, -0.01);
     e.d.in.yC_in = 1.5 + 2e-3; /* into the mass, set in continuous time (no call since) */
     vi_me_event ev = update(&e);
-    cr_assert(e.d.model.mode == VI_Mode_elastic && e.d.model.yC_in.u == 1.5 + 2e-3, "mode %d", e.d.model.mode);
-    cr_assert(ev.states_changed == 0 && fabs(e.d.x[0] - 1e-3) <= 1e-15, "delta %g", e.d.x[0]);
+    cr_assert(e.d.run.model.mode == VI_Mode_elastic && e.d.run.model.yC_in.u == 1.5 + 2e-3, "mode %d", e.d.run.model.mode);
+    cr_assert(ev.states_changed == 0 && fabs(e.d.run.x[0] - 1e-3) <= 1e-15, "delta %g", e.d.run.x[0]);
     finish(&e);
 }
 
@@ -1006,11 +1005,11 @@ Test(me_events, a_stick_guard_that_fires_exactly_at_zero_is_lifted_by_the_least_
      * the tie): it stays in stick, the guard lifted by DBL_MIN (its noise and tolerance band are 0) */
     test_run e;
     start(&e, preloaded_stick);
-    e.d.events.band[0] = 0.0;
-    long events = e.d.events.n_events;
+    e.d.run.events.band[0] = 0.0;
+    long events = e.d.run.events.n_events;
     vi_me_event ev = update(&e);
-    cr_assert(e.d.model.mode == VI_Mode_stick && e.d.events.n_events == events + 1, "mode %d", e.d.model.mode);
-    cr_assert(e.d.events.band[0] == DBL_MIN && ev.another_pass == 0, "band %g, another pass %d", e.d.events.band[0],
+    cr_assert(e.d.run.model.mode == VI_Mode_stick && e.d.run.events.n_events == events + 1, "mode %d", e.d.run.model.mode);
+    cr_assert(e.d.run.events.band[0] == DBL_MIN && ev.another_pass == 0, "band %g, another pass %d", e.d.run.events.band[0],
               ev.another_pass);
     finish(&e);
 }

@@ -25,20 +25,15 @@ static void running(test_run *s)
     cr_assert(vi_sim_advance(&s->s, 1e-3) == VI_SIM_OK, "%s", s->r.msg);
 }
 
-/* A state as the FMU saves it (src/vi_fmu_contact.c): the run's data and each driver's. */
-typedef struct {
-    vi_run_data d;
-    vi_sim_data cs;
-    vi_me_data me;
-} state;
-static state state_of(const test_run *s) { return (state){s->d, s->cs, s->me}; }
+/* A state as the FMU saves it (src/vi_fmu_contact.c): the FMI storage, the run's data and each driver's. */
+typedef vi_contact_data state;
+static state state_of(const test_run *s) { return s->d; }
 
 /* The adapter's check of a state taken after initialization: of Co-Simulation (`surfaces`, with the
  * Model Exchange driver's data finite), or of Model Exchange. */
 static int state_check(const state *st, int surfaces, char *msg, size_t n)
 {
-    if (!surfaces) return vi_me_data_check(&st->d, &st->me, msg, n);
-    return vi_sim_data_check(&st->d, &st->cs, msg, n) < 0 ? -1 : vi_me_data_finite(&st->me, msg, n);
+    return vi_contact_state_check(st, 1, !surfaces, msg, n);
 }
 
 /* The check refuses d and names `field` in its message. */
@@ -54,10 +49,10 @@ Test(sim, data_check_accepts_states_the_fmu_produces)
     char msg[256];
     test_run s;
     test_run_init(&s, quiet, NULL);
-    cr_assert(state_check(&(state){s.d, s.cs, s.me}, 1, msg, sizeof msg) == 0, "defaults: %s", msg);
+    cr_assert(state_check(&s.d, 1, msg, sizeof msg) == 0, "defaults: %s", msg);
     test_run_free(&s);
     running(&s);
-    cr_assert(state_check(&(state){s.d, s.cs, s.me}, 1, msg, sizeof msg) == 0, "running: %s", msg);
+    cr_assert(state_check(&s.d, 1, msg, sizeof msg) == 0, "running: %s", msg);
     test_run_free(&s);
 }
 
@@ -67,28 +62,28 @@ Test(sim, data_check_names_the_first_bad_field)
     running(&s);
     state d;
 #define CASE(stmt, field) d = state_of(&s), stmt, refused(&d, field)
-    CASE(d.d.x[0] = NAN, "x[0]");
-    CASE(d.d.x[1] = INFINITY, "x[1]");
-    CASE(d.d.t = NAN, "t =");
-    CASE(d.d.t = d.d.t_start - 1.0, "t =");
-    CASE(d.d.t_start = INFINITY, "t_start");
-    CASE(d.d.events.atol[1] = -1.0, "atol[1]");
-    CASE(d.d.events.n_events = -1, "n_events");
-    CASE(d.d.tolerance = 0.5, "tolerance");
-    CASE(d.d.inputs_changed = 7, "inputs_changed");
-    CASE(d.d.step_t0 = NAN, "step_t0");
-    CASE(d.d.step_t0 = d.d.t + 1e-3, "step_t0");
-    CASE(d.d.step_v0 = INFINITY, "step_v0");
-    CASE(d.d.W_damping = NAN, "W_damping");
-    CASE(d.d.F_peak = -1.0, "F_peak");
-    CASE(d.d.events.band[0] = -1e-9, "guard band[0]");
-    CASE(d.d.events.band[1] = NAN, "guard band[1]");
+    CASE(d.run.x[0] = NAN, "x[0]");
+    CASE(d.run.x[1] = INFINITY, "x[1]");
+    CASE(d.run.t = NAN, "t =");
+    CASE(d.run.t = d.t_start - 1.0, "t =");
+    CASE(d.t_start = INFINITY, "t_start");
+    CASE(d.run.events.atol[1] = -1.0, "atol[1]");
+    CASE(d.run.events.n_events = -1, "n_events");
+    CASE(d.tolerance = 0.5, "tolerance");
+    CASE(d.run.inputs_changed = 7, "inputs_changed");
+    CASE(d.run.step_t0 = NAN, "step_t0");
+    CASE(d.run.step_t0 = d.run.t + 1e-3, "step_t0");
+    CASE(d.run.step_v0 = INFINITY, "step_v0");
+    CASE(d.run.W_damping = NAN, "W_damping");
+    CASE(d.run.F_peak = -1.0, "F_peak");
+    CASE(d.run.events.band[0] = -1e-9, "guard band[0]");
+    CASE(d.run.events.band[1] = NAN, "guard band[1]");
     CASE(d.me.y_me = NAN, "y_me");
-    CASE(d.d.events.rtol = 0.5, "rtol = 0.5 is neither 0 nor in");
-    CASE(d.d.events.rtol = 1e-3, "rtol = 0.001 is not the one of the settings");
-    CASE(d.d.events.t_count = d.d.t + 1e-3, "t_count");
-    CASE(d.d.events.zeno = VI_ZENO_EVENTS + 1, "zeno");
-    CASE(d.d.events.zeno = -1, "zeno");
+    CASE(d.run.events.rtol = 0.5, "rtol = 0.5 is neither 0 nor in");
+    CASE(d.run.events.rtol = 1e-3, "rtol = 0.001 is not the one of the settings");
+    CASE(d.run.events.t_count = d.run.t + 1e-3, "t_count");
+    CASE(d.run.events.zeno = VI_ZENO_EVENTS + 1, "zeno");
+    CASE(d.run.events.zeno = -1, "zeno");
 #undef CASE
     test_run_free(&s);
 }
@@ -97,14 +92,14 @@ Test(sim, refuses_a_step_end_that_does_not_exceed_the_time)
 {
     test_run s;
     running(&s);
-    double t = s.d.t, x0 = s.d.x[0];
+    double t = s.d.run.t, x0 = s.d.run.x[0];
     cr_assert(vi_sim_advance(&s.s, t) == VI_SIM_ERROR);
     cr_assert(strstr(s.r.msg, "does not exceed") != NULL, "%s", s.r.msg);
     cr_assert(vi_sim_advance(&s.s, t - 1e-3) == VI_SIM_ERROR);
     cr_assert(vi_sim_advance(&s.s, NAN) == VI_SIM_ERROR);
-    cr_assert(s.d.t == t && s.d.x[0] == x0, "a refused step changed the state");
+    cr_assert(s.d.run.t == t && s.d.run.x[0] == x0, "a refused step changed the state");
     cr_assert(vi_sim_advance(&s.s, nextafter(t, INFINITY)) == VI_SIM_OK, "%s", s.r.msg); /* one ulp is a step */
-    cr_assert(s.d.t == nextafter(t, INFINITY));
+    cr_assert(s.d.run.t == nextafter(t, INFINITY));
     cr_assert(vi_sim_advance(&s.s, t + 1e-3) == VI_SIM_OK, "%s", s.r.msg);
     test_run_free(&s);
 }
@@ -143,10 +138,10 @@ Test(sim, event_count_starts_at_zero_and_counts_the_separation)
         s.d.par.contact_model = VI_ContactModel_hertz;
         s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = v0[i];
         cr_assert(vi_sim_initialize(&s.s) == 0, "%s", s.r.msg);
-        cr_assert(s.d.events.n_events == 0, "%ld events at the start", s.d.events.n_events);
+        cr_assert(s.d.run.events.n_events == 0, "%ld events at the start", s.d.run.events.n_events);
         cr_assert(vi_sim_advance(&s.s, 0.01) == VI_SIM_OK, "%s", s.r.msg);
-        cr_assert(s.d.events.n_events == expect[i] && s.d.model.mode == VI_Mode_free, "v0 = %g: %ld events, mode %d", v0[i],
-                  s.d.events.n_events, s.d.model.mode);
+        cr_assert(s.d.run.events.n_events == expect[i] && s.d.run.model.mode == VI_Mode_free, "v0 = %g: %ld events, mode %d", v0[i],
+                  s.d.run.events.n_events, s.d.run.model.mode);
         test_run_free(&s);
     }
 }
@@ -163,13 +158,13 @@ Test(sim, restoring_data_from_before_initialization_leaves_no_solver)
         test_run_init(&fresh, quiet, NULL);
         fresh.d.par.solver = solvers[i];
         cr_assert(vi_sim_initialize(&s.s) == 0 && vi_sim_advance(&s.s, 1e-3) == VI_SIM_OK, "%s", s.r.msg);
-        double x_first = s.d.x[0];
+        double x_first = s.d.run.x[0];
         test_run_copy_data(&s, &fresh);
         cr_assert(vi_sim_restore(&s.s) == 0, "solver %d: %s", solvers[i], s.r.msg);
         cr_assert(vi_sim_advance(&s.s, 2e-3) == VI_SIM_ERROR && strstr(s.r.msg, "not initialized"), "solver %d: %s",
                   solvers[i], s.r.msg);
         cr_assert(vi_sim_initialize(&s.s) == 0 && vi_sim_advance(&s.s, 1e-3) == VI_SIM_OK, "%s", s.r.msg);
-        cr_assert(s.d.x[0] == x_first, "solver %d: the run differs", solvers[i]);
+        cr_assert(s.d.run.x[0] == x_first, "solver %d: the run differs", solvers[i]);
         test_run_free(&s), test_run_free(&fresh);
     }
 }
@@ -201,7 +196,7 @@ Test(sim, data_check_names_bad_fields_of_the_one_step_continuation)
     cr_assert(vi_sim_initialize(&s.s) == 0, "%s", s.r.msg);
     cr_assert(vi_sim_advance(&s.s, 1e-3) == VI_SIM_OK, "%s", s.r.msg);
     char msg[256];
-    cr_assert(state_check(&(state){s.d, s.cs, s.me}, 1, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(state_check(&s.d, 1, msg, sizeof msg) == 0, "%s", msg);
     state d;
 #define CASE(stmt, field) d = state_of(&s), stmt, refused(&d, field)
     CASE(d.cs.ode.event_pending = 2, "ode.event_pending");
@@ -213,8 +208,8 @@ Test(sim, data_check_names_bad_fields_of_the_one_step_continuation)
     CASE(d.cs.ode.x[0] = NAN, "ode.x[0]");
     CASE(d.cs.ode.f[1] = INFINITY, "ode.f[1]");
     CASE(d.cs.ode.g[1] = NAN, "ode.g[1]");
-    CASE(d.cs.ode.t_old = d.d.t + 1e-9, "does not span t"); /* the last step ends before the time */
-    CASE((d.cs.ode.have_step = 0, d.cs.ode.t = d.d.t + 1e-9), "a restart must be at t"); /* no step: at the time */
+    CASE(d.cs.ode.t_old = d.run.t + 1e-9, "does not span t"); /* the last step ends before the time */
+    CASE((d.cs.ode.have_step = 0, d.cs.ode.t = d.run.t + 1e-9), "a restart must be at t"); /* no step: at the time */
 #undef CASE
     test_run_free(&s);
 }
@@ -268,7 +263,7 @@ Test(sim, auto_hands_a_stiff_contact_to_bdf)
 {
     test_run s;
     light_mass(&s, VI_Solver_auto);
-    double delta_static = s.d.x[0], worst = 0.0;
+    double delta_static = s.d.run.x[0], worst = 0.0;
     for (int k = 1; k <= 100; k++) {
         cr_assert(vi_sim_advance(&s.s, 1e-4 * k) == VI_SIM_OK, "%s", s.r.msg);
         vi_outputs out;
@@ -278,7 +273,7 @@ Test(sim, auto_hands_a_stiff_contact_to_bdf)
     vi_solver_stats st;
     vi_sim_statistics(&s.s, &st);
     cr_assert(worst < 1e-10, "y departs from yC - delta_static by %g m", worst);
-    cr_assert(st.switches == 1 && s.cs.auto_choice.bdf == 1, "%ld hand-overs, bdf %d", st.switches, s.cs.auto_choice.bdf);
+    cr_assert(st.switches == 1 && s.d.cs.auto_choice.bdf == 1, "%ld hand-overs, bdf %d", st.switches, s.d.cs.auto_choice.bdf);
     cr_assert(st.rhs_evals < 5000, "%ld rhs evaluations", st.rhs_evals);
     test_run_free(&s);
 }
@@ -298,14 +293,14 @@ Test(sim, auto_hands_back_when_the_mass_flies_free)
     s.d.par.P = 1e-3;
     s.d.par.g = 0.0;
     cr_assert(vi_sim_initialize(&s.s) == 0, "%s", s.r.msg);
-    double W = 1e-3, m = 1e-7, delta_static = s.d.x[0];
+    double W = 1e-3, m = 1e-7, delta_static = s.d.run.x[0];
     cr_assert(vi_sim_advance(&s.s, 1e-3) == VI_SIM_OK, "%s", s.r.msg);
-    cr_assert(s.cs.auto_choice.bdf == 1, "not handed to BDF in contact");
+    cr_assert(s.d.cs.auto_choice.bdf == 1, "not handed to BDF in contact");
     vi_outputs out;
     test_run_outputs(&s, &out);
     double y1 = out.y;
     s.d.in.F_ext = 2.0 * W;
-    s.d.inputs_changed = 1;
+    s.d.run.inputs_changed = 1;
     for (int k = 1; k <= 10; k++) {
         double t = 1e-3 + 1e-4 * k, tau = t - 1e-3;
         cr_assert(vi_sim_advance(&s.s, t) == VI_SIM_OK, "%s", s.r.msg);
@@ -317,8 +312,8 @@ Test(sim, auto_hands_back_when_the_mass_flies_free)
     }
     vi_solver_stats st;
     vi_sim_statistics(&s.s, &st);
-    cr_assert(s.d.model.mode == VI_Mode_free && s.cs.auto_choice.bdf == 0 && st.switches == 2, "mode %d, bdf %d, %ld hand-overs",
-              s.d.model.mode, s.cs.auto_choice.bdf, st.switches);
+    cr_assert(s.d.run.model.mode == VI_Mode_free && s.d.cs.auto_choice.bdf == 0 && st.switches == 2, "mode %d, bdf %d, %ld hand-overs",
+              s.d.run.model.mode, s.d.cs.auto_choice.bdf, st.switches);
     test_run_free(&s);
 }
 
@@ -333,7 +328,7 @@ Test(sim, auto_restored_state_continues_bit_for_bit)
         test_run a, b;
         light_mass(&a, VI_Solver_auto);
         cr_assert(vi_sim_advance(&a.s, taken_at[i]) == VI_SIM_OK, "%s", a.r.msg);
-        cr_assert(a.cs.auto_choice.bdf == i, "state %d taken with bdf = %d", i, a.cs.auto_choice.bdf);
+        cr_assert(a.d.cs.auto_choice.bdf == i, "state %d taken with bdf = %d", i, a.d.cs.auto_choice.bdf);
         cr_assert(vi_sim_checkpoint(&a.s) == 0, "%s", a.r.msg);
         test_run_init(&b, quiet, NULL);
         test_run_copy_data(&b, &a);
@@ -341,10 +336,10 @@ Test(sim, auto_restored_state_continues_bit_for_bit)
         for (int k = 1; k <= 30; k++) {
             double t = taken_at[i] + 1e-4 * k;
             cr_assert(vi_sim_advance(&a.s, t) == VI_SIM_OK && vi_sim_advance(&b.s, t) == VI_SIM_OK, "%s %s", a.r.msg, b.r.msg);
-            cr_assert(memcmp(a.d.x, b.d.x, sizeof a.d.x) == 0, "state %d, t = %g: %.17g %.17g vs %.17g %.17g", i, t,
-                      a.d.x[0], a.d.x[1], b.d.x[0], b.d.x[1]);
+            cr_assert(memcmp(a.d.run.x, b.d.run.x, sizeof a.d.run.x) == 0, "state %d, t = %g: %.17g %.17g vs %.17g %.17g", i, t,
+                      a.d.run.x[0], a.d.run.x[1], b.d.run.x[0], b.d.run.x[1]);
         }
-        cr_assert(memcmp(&a.cs.auto_choice, &b.cs.auto_choice, sizeof a.cs.auto_choice) == 0 && a.cs.auto_choice.switches == 1);
+        cr_assert(memcmp(&a.d.cs.auto_choice, &b.d.cs.auto_choice, sizeof a.d.cs.auto_choice) == 0 && a.d.cs.auto_choice.switches == 1);
         test_run_free(&a), test_run_free(&b);
     }
 }
@@ -355,9 +350,9 @@ Test(sim, data_check_names_bad_fields_of_the_auto_choice)
 {
     test_run s;
     light_mass(&s, VI_Solver_auto);
-    cr_assert(vi_sim_advance(&s.s, 1e-3) == VI_SIM_OK && s.cs.auto_choice.bdf == 1, "%s", s.r.msg);
+    cr_assert(vi_sim_advance(&s.s, 1e-3) == VI_SIM_OK && s.d.cs.auto_choice.bdf == 1, "%s", s.r.msg);
     char msg[256];
-    cr_assert(state_check(&(state){s.d, s.cs, s.me}, 1, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(state_check(&s.d, 1, msg, sizeof msg) == 0, "%s", msg);
     state d;
 #define CASE(stmt, field) d = state_of(&s), stmt, refused(&d, field)
     CASE(d.cs.auto_choice.bdf = 2, "auto_choice.bdf");
@@ -414,8 +409,8 @@ Test(sim, outputs_are_computed_per_group_when_read)
     cr_assert(vi_sim_initialize(&s.s) == 0, "%s", s.r.msg);
     cr_assert(vi_sim_advance(&s.s, 2e-3) == VI_SIM_OK, "%s", s.r.msg);
     vi_outputs part, all;
-    s.r.out.W_plastic = s.r.out.F = s.r.out.F_mean = s.r.out.k_contact = s.r.out.E_star = -12345.0;
-    part = *vi_run_outputs_of(&s.r, VI_OUT_PLATFORM);
+    s.out.W_plastic = s.out.F = s.out.F_mean = s.out.k_contact = s.out.E_star = -12345.0;
+    part = *vi_contact_outputs_of(&s, VI_OUT_PLATFORM);
     cr_assert(s.r.out_valid == VI_OUT_PLATFORM, "groups computed: %#x", s.r.out_valid);
     cr_assert(part.W_plastic == -12345.0 && part.F == -12345.0 && part.F_mean == -12345.0 &&
               part.k_contact == -12345.0 && part.E_star == -12345.0, "a group nobody read was computed");
@@ -424,7 +419,7 @@ Test(sim, outputs_are_computed_per_group_when_read)
         vi_outputs one[6];
         for (int i = 0; i < 6; i++) {
             s.r.out_valid = 0;
-            one[i] = *vi_run_outputs_of(&s.r, groups[i]);
+            one[i] = *vi_contact_outputs_of(&s, groups[i]);
         }
         s.r.out_valid = 0;
         test_run_outputs(&s, &all);
@@ -436,7 +431,7 @@ Test(sim, outputs_are_computed_per_group_when_read)
         double W_before = all.W_plastic, y_before = all.y;
         cr_assert(vi_sim_advance(&s.s, 4e-3 + 2e-3 * step) == VI_SIM_OK, "%s", s.r.msg);
         cr_assert(s.r.out_valid == 0, "outputs kept over a step: %#x", s.r.out_valid);
-        part = *vi_run_outputs_of(&s.r, VI_OUT_PLATFORM | VI_OUT_MEMORY);
+        part = *vi_contact_outputs_of(&s, VI_OUT_PLATFORM | VI_OUT_MEMORY);
         cr_assert(part.y != y_before && part.W_plastic >= W_before, "y %g -> %g, W %g -> %g", y_before, part.y, W_before,
                   part.W_plastic);
     }
@@ -469,7 +464,7 @@ Test(sim, a_restored_state_is_checked_for_every_cause_of_validity)
     cr_assert(vi_sim_checkpoint(&a.s) == 0);
     test_run_copy_data(&b, &a);
     cr_assert(vi_sim_restore(&b.s) == 0, "%s", b.r.msg);
-    cr_assert(vi_sim_advance(&b.s, b.d.t + 1e-6) == VI_SIM_OK, "%s", b.r.msg);
+    cr_assert(vi_sim_advance(&b.s, b.d.run.t + 1e-6) == VI_SIM_OK, "%s", b.r.msg);
     cr_assert(warnings == 2 && (b.r.warned_validity & VI_INVALID_AMPLITUDE), "%d warnings, bits %d", warnings,
               b.r.warned_validity);
     test_run_free(&a), test_run_free(&b);
@@ -504,7 +499,7 @@ Test(sim, a_profile_needs_a_positive_body_radius)
     s.d.par.V = 1.0, s.d.par.x0 = 0.5, s.d.par.R1 = 1e-4;
     rc = vi_sim_initialize(&s.s);
     remove(path);
-    cr_assert(rc == 0 && s.d.model.profile != NULL, "%s", s.r.msg);
+    cr_assert(rc == 0 && s.d.run.model.profile != NULL, "%s", s.r.msg);
     test_run_free(&s);
 }
 
@@ -523,7 +518,7 @@ Test(sim, a_one_character_profile_file_is_read_from_the_working_directory)
     int rc = vi_sim_initialize(&s.s);
     remove("p");
     cr_assert(chdir("/") == 0 && rmdir(dir) == 0);
-    cr_assert(rc == 0 && s.d.model.profile != NULL, "%s", s.r.msg);
+    cr_assert(rc == 0 && s.d.run.model.profile != NULL, "%s", s.r.msg);
     test_run_free(&s);
 }
 
@@ -543,7 +538,7 @@ Test(sim, a_root_resources_folder_is_looked_in)
     int rc = vi_sim_initialize(&s.s);
     remove(path);
     cr_assert(chdir("/") == 0 && rmdir(dir) == 0);
-    cr_assert(rc == 0 && s.d.model.profile != NULL, "%s", s.r.msg);
+    cr_assert(rc == 0 && s.d.run.model.profile != NULL, "%s", s.r.msg);
     test_run_free(&s);
 }
 
@@ -579,82 +574,82 @@ Test(sim, data_check_each_rule_alone_with_its_message)
     const state ok = state_of(&s);
     state d;
     passes(&ok, 1, "running");
-    d = ok, d.d.inputs_changed = 1;
+    d = ok, d.run.inputs_changed = 1;
     passes(&d, 1, "inputs changed");
-    d = ok, d.d.inputs_changed = 2;
+    d = ok, d.run.inputs_changed = 2;
     refused_as(&d, 1, "inputs_changed = 2 is not 0 or 1");
-    d = ok, d.d.inputs_changed = -1;
+    d = ok, d.run.inputs_changed = -1;
     refused_as(&d, 1, "inputs_changed = -1 is not 0 or 1");
-    d = ok, d.d.t_start = INFINITY;
+    d = ok, d.t_start = INFINITY;
     refused_as(&d, 1, "t_start = inf is not finite");
-    d = ok, d.d.t_start = NAN;
+    d = ok, d.t_start = NAN;
     refused_as(&d, 1, "t_start = nan is not finite");
     double tolerances_in[] = {0.0, 1e-14, 1e-2}, tolerances_out[] = {nextafter(1e-14, 0.0), nextafter(1e-2, 1.0), -1e-3,
                                                                       NAN};
     for (int i = 0; i < 3; i++) {
-        d = ok, d.d.tolerance = tolerances_in[i];
-        d.d.events.rtol = vi_run_rtol(&d.d); /* the tolerance the simulation then runs at */
+        d = ok, d.tolerance = tolerances_in[i];
+        d.run.events.rtol = vi_contact_rtol(&d.par, d.tolerance); /* the tolerance the simulation then runs at */
         passes(&d, 1, "tolerance in range");
     }
     for (int i = 0; i < 4; i++) {
-        d = ok, d.d.tolerance = tolerances_out[i];
+        d = ok, d.tolerance = tolerances_out[i];
         refused_as(&d, 1, "tolerance = %g is neither 0 nor in [1e-14, 0.01]", tolerances_out[i]);
     }
-    d = ok, d.d.t = NAN;
+    d = ok, d.run.t = NAN;
     refused_as(&d, 1, "t = nan is not finite or before t_start = 0");
-    d = ok, d.d.t = -1e-300;
+    d = ok, d.run.t = -1e-300;
     refused_as(&d, 1, "t = -1e-300 is not finite or before t_start = 0");
-    d = ok, d.d.t_start = d.d.step_t0 = d.d.t; /* at the start itself */
+    d = ok, d.t_start = d.run.step_t0 = d.run.t; /* at the start itself */
     passes(&d, 1, "t = t_start");
-    d = ok, d.d.x[0] = NAN;
+    d = ok, d.run.x[0] = NAN;
     refused_as(&d, 1, "x[0] = nan is not finite");
-    d = ok, d.d.x[1] = -INFINITY;
+    d = ok, d.run.x[1] = -INFINITY;
     refused_as(&d, 1, "x[1] = -inf is not finite");
     for (int i = 0; i < 2; i++) {
         double bad[] = {NAN, INFINITY, -1e-300};
         for (int k = 0; k < 3; k++) {
-            d = ok, d.d.events.atol[i] = bad[k];
+            d = ok, d.run.events.atol[i] = bad[k];
             refused_as(&d, 1, "atol[%d] = %g is not finite and >= 0", i, bad[k]);
         }
-        d = ok, d.d.events.atol[i] = 0.0;
+        d = ok, d.run.events.atol[i] = 0.0;
         passes(&d, 1, "atol = 0");
     }
-    d = ok, d.d.events.n_events = -1;
+    d = ok, d.run.events.n_events = -1;
     refused_as(&d, 1, "n_events = -1 is negative");
-    d = ok, d.d.events.n_events = 0;
+    d = ok, d.run.events.n_events = 0;
     passes(&d, 1, "no events");
-    d = ok, d.d.initialized = 2;
+    d = ok, d.run.initialized = 2;
     refused_as(&d, 1, "initialized = 2 is not 0 or 1");
-    d = ok, d.d.initialized = -1;
+    d = ok, d.run.initialized = -1;
     refused_as(&d, 1, "initialized = -1 is not 0 or 1");
-    d = ok, d.d.step_t0 = NAN;
-    refused_as(&d, 1, "step_t0 = nan, step_v0 = %g: not finite or after t", ok.d.step_v0);
-    d = ok, d.d.step_t0 = nextafter(ok.d.t, INFINITY);
-    refused_as(&d, 1, "step_t0 = %g, step_v0 = %g: not finite or after t", d.d.step_t0, ok.d.step_v0);
-    d = ok, d.d.step_v0 = NAN;
-    refused_as(&d, 1, "step_t0 = %g, step_v0 = nan: not finite or after t", ok.d.step_t0);
-    d = ok, d.d.step_t0 = ok.d.t;
+    d = ok, d.run.step_t0 = NAN;
+    refused_as(&d, 1, "step_t0 = nan, step_v0 = %g: not finite or after t", ok.run.step_v0);
+    d = ok, d.run.step_t0 = nextafter(ok.run.t, INFINITY);
+    refused_as(&d, 1, "step_t0 = %g, step_v0 = %g: not finite or after t", d.run.step_t0, ok.run.step_v0);
+    d = ok, d.run.step_v0 = NAN;
+    refused_as(&d, 1, "step_t0 = %g, step_v0 = nan: not finite or after t", ok.run.step_t0);
+    d = ok, d.run.step_t0 = ok.run.t;
     passes(&d, 1, "a step of zero length");
     const double bad_peak[] = {NAN, INFINITY, -5e-324};
     for (int k = 0; k < 3; k++) {
-        d = ok, d.d.F_peak = bad_peak[k];
-        refused_as(&d, 1, "W_damping = %g, F_peak = %g: not finite, or F_peak < 0", ok.d.W_damping, bad_peak[k]);
-        d = ok, d.d.W_damping = k == 2 ? NAN : bad_peak[k];
-        refused_as(&d, 1, "W_damping = %g, F_peak = %g: not finite, or F_peak < 0", d.d.W_damping, ok.d.F_peak);
+        d = ok, d.run.F_peak = bad_peak[k];
+        refused_as(&d, 1, "W_damping = %g, F_peak = %g: not finite, or F_peak < 0", ok.run.W_damping, bad_peak[k]);
+        d = ok, d.run.W_damping = k == 2 ? NAN : bad_peak[k];
+        refused_as(&d, 1, "W_damping = %g, F_peak = %g: not finite, or F_peak < 0", d.run.W_damping, ok.run.F_peak);
     }
-    d = ok, d.d.F_peak = 0.0, d.d.W_damping = -1.0; /* Model Exchange: the importer's state, of any sign */
+    d = ok, d.run.F_peak = 0.0, d.run.W_damping = -1.0; /* Model Exchange: the importer's state, of any sign */
     passes(&d, 1, "no force yet, a negative damping work");
     for (int i = 0; i < VI_NGUARDS; i++) {
         double bad[] = {NAN, INFINITY, -1e-300};
         for (int k = 0; k < 3; k++) {
-            d = ok, d.d.events.band[i] = bad[k];
+            d = ok, d.run.events.band[i] = bad[k];
             refused_as(&d, 1, "guard band[%d] = %g is not finite and >= 0", i, bad[k]);
         }
-        d = ok, d.d.events.band[i] = 1e-12; /* a disarmed guard's band is tiny */
+        d = ok, d.run.events.band[i] = 1e-12; /* a disarmed guard's band is tiny */
         passes(&d, 1, "a small band");
     }
     /* the model's own check follows */
-    d = ok, d.d.model.mode = 9;
+    d = ok, d.run.model.mode = 9;
     refused_as(&d, 1, "mode = 9 is not in 0..4");
     test_run_free(&s);
 }
@@ -681,7 +676,7 @@ Test(sim, data_check_looks_at_the_one_step_continuation_only_where_it_is_used)
             passes(&d, 1, "a CVODE state ignores the one-step continuation");
         }
         passes(&d, 0, "between events");
-        d.d.initialized = 0;
+        d.run.initialized = 0;
         passes(&d, 1, "before initialization");
         test_run_free(&s);
     }
@@ -718,7 +713,7 @@ Test(sim, event_and_solver_log_lines_report_the_values)
     cr_assert(vi_sim_initialize(&s.s) == 0, "%s", s.r.msg);
     cr_assert(n_logged == 0, "the set-up logs nothing of a solver the driver may not use");
     vi_sim_log_solver(&s.s);
-    const vi_model *M = &s.d.model;
+    const vi_model *M = &s.d.run.model;
     double v0 = 0.1, dmax = pow(15.0 * M->m * v0 * v0 / (16.0 * M->johnson.E_star * sqrt(M->johnson.R_star)), 0.4);
     double w = sqrt(1.5 * M->K * sqrt(dmax) / M->m); /* the virgin stiffness at delta_max over m */
     cr_assert(n_logged == 1, "%d solver lines", n_logged);
@@ -734,7 +729,7 @@ Test(sim, event_and_solver_log_lines_report_the_values)
               "%s", logged[0]);
     n_logged = 0, log_category = VI_LOG_EVENTS;
     cr_assert(vi_sim_advance(&s.s, 0.01) == VI_SIM_OK, "%s", s.r.msg); /* t_c = 2.2 ms */
-    cr_assert(n_logged == 1, "%d event lines, %ld events, mode %d, t %g", n_logged, s.d.events.n_events, s.d.model.mode, s.d.t);
+    cr_assert(n_logged == 1, "%d event lines, %ld events, mode %d, t %g", n_logged, s.d.run.events.n_events, s.d.run.model.mode, s.d.run.t);
     double t, delta, v;
     int guard, from, to, end = 0;
     cr_assert(sscanf(logged[0], "event t=%lg kind=guard guard=%d mode=%d->%d delta=%lg v=%lg%n", &t, &guard, &from, &to,
@@ -756,16 +751,16 @@ Test(sim, solver_failure_message_gives_the_state)
     s.d.par.contact_model = VI_ContactModel_hertz;
     s.d.par.m = 1e-10, s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = 1.0;
     cr_assert(vi_sim_initialize(&s.s) == 0 && vi_sim_advance(&s.s, 1e-3) == VI_SIM_OK, "%s", s.r.msg);
-    cr_assert(fabs(s.d.x[0] + 1e-3) <= 1e-12 && s.d.x[1] == 1.0, "%g %g", s.d.x[0], s.d.x[1]);
+    cr_assert(fabs(s.d.run.x[0] + 1e-3) <= 1e-12 && s.d.run.x[1] == 1.0, "%g %g", s.d.run.x[0], s.d.run.x[1]);
     s.d.in.F_ext = -1e300;
-    s.d.inputs_changed = 1;
+    s.d.run.inputs_changed = 1;
     cr_assert(vi_sim_advance(&s.s, 2e-3) == VI_SIM_ERROR, "%s", s.r.msg);
     char expect[512];
-    snprintf(expect, sizeof expect, "the solver failed near t = %.17g s (mode 0, delta = %g m, v = %g m/s)", s.d.t,
-             s.d.x[0], s.d.x[1]);
+    snprintf(expect, sizeof expect, "the solver failed near t = %.17g s (mode 0, delta = %g m, v = %g m/s)", s.d.run.t,
+             s.d.run.x[0], s.d.run.x[1]);
     cr_assert(strncmp(s.r.msg, expect, strlen(expect)) == 0 && strstr(s.r.msg, "; the contact's time scale sqrt(m/k) = "),
               "expected '%s' and the time scale, got '%s'", expect, s.r.msg);
-    cr_assert(s.d.t >= 1e-3 && s.d.t < 2e-3 && s.d.x[0] < 0.0 && s.d.x[1] != s.d.x[0], "%s", s.r.msg);
+    cr_assert(s.d.run.t >= 1e-3 && s.d.run.t < 2e-3 && s.d.run.x[0] < 0.0 && s.d.run.x[1] != s.d.run.x[0], "%s", s.r.msg);
     test_run_free(&s);
 }
 
@@ -776,7 +771,7 @@ Test(sim, solver_failure_message_gives_the_state)
  * (the smallest subnormal), plus DBL_MIN. */
 static double band_at_contact(const test_run *s)
 {
-    return VI_GRAZE_TOL * s->d.events.atol[0] + VI_GRAZE_ULPS * nextafter(0.0, 1.0) + DBL_MIN;
+    return VI_GRAZE_TOL * s->d.run.events.atol[0] + VI_GRAZE_ULPS * nextafter(0.0, 1.0) + DBL_MIN;
 }
 
 /* An event that changes the mode arms the new mode's guards afresh: a band the old mode's guard had
@@ -789,12 +784,12 @@ Test(sim, a_mode_change_at_an_event_arms_the_new_guards_afresh)
     s.d.par.contact_model = VI_ContactModel_hertz;
     s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = -0.1;
     cr_assert(vi_sim_initialize(&s.s) == 0, "%s", s.r.msg);
-    cr_assert(s.d.model.mode == VI_Mode_elastic);
-    s.d.events.band[0] = 1e-9; /* the separation comes 1e-9 m late: the band is part of the guard */
+    cr_assert(s.d.run.model.mode == VI_Mode_elastic);
+    s.d.run.events.band[0] = 1e-9; /* the separation comes 1e-9 m late: the band is part of the guard */
     cr_assert(vi_sim_advance_until(&s.s, 0.01, 1) == VI_SIM_EVENT, "%s", s.r.msg);
-    cr_assert(s.d.model.mode == VI_Mode_free && s.d.x[0] == 0.0, "mode %d delta %g", s.d.model.mode, s.d.x[0]);
-    cr_assert(s.d.events.band[0] == band_at_contact(&s) && s.d.events.band[1] == 0.0, "bands %g %g", s.d.events.band[0],
-              s.d.events.band[1]);
+    cr_assert(s.d.run.model.mode == VI_Mode_free && s.d.run.x[0] == 0.0, "mode %d delta %g", s.d.run.model.mode, s.d.run.x[0]);
+    cr_assert(s.d.run.events.band[0] == band_at_contact(&s) && s.d.run.events.band[1] == 0.0, "bands %g %g", s.d.run.events.band[0],
+              s.d.run.events.band[1]);
     test_run_free(&s);
 }
 
@@ -809,19 +804,19 @@ Test(sim, a_mode_change_at_an_input_change_arms_the_new_guards_afresh)
     test_run_init(&s, capture, NULL);
     s.d.par.contact_model = VI_ContactModel_hertz;
     cr_assert(vi_sim_initialize(&s.s) == 0 && vi_sim_advance(&s.s, 1e-3) == VI_SIM_OK, "%s", s.r.msg);
-    cr_assert(s.d.model.mode == VI_Mode_elastic && s.d.x[0] > 0.0);
-    s.d.events.band[0] = 1.0;
-    s.d.x[1] = 0.0; /* at rest exactly (the solver leaves a velocity of rounding size) */
-    s.d.in.yC_in = -s.d.x[0];
-    s.d.in.F_ext = 2.0 * s.d.model.W0;
-    s.d.inputs_changed = 1;
+    cr_assert(s.d.run.model.mode == VI_Mode_elastic && s.d.run.x[0] > 0.0);
+    s.d.run.events.band[0] = 1.0;
+    s.d.run.x[1] = 0.0; /* at rest exactly (the solver leaves a velocity of rounding size) */
+    s.d.in.yC_in = -s.d.run.x[0];
+    s.d.in.F_ext = 2.0 * s.d.run.model.W0;
+    s.d.run.inputs_changed = 1;
     n_logged = 0, log_category = VI_LOG_EVENTS;
     cr_assert(vi_sim_advance(&s.s, 1e-3 + 1e-6) == VI_SIM_OK, "%s", s.r.msg);
     cr_assert(n_logged == 1 && strcmp(logged[0], "event t=0.001 kind=input mode=1->0") == 0, "%d: %s", n_logged,
               logged[0]);
-    cr_assert(s.d.model.mode == VI_Mode_free && s.d.x[0] < 0.0, "mode %d delta %g", s.d.model.mode, s.d.x[0]);
-    cr_assert(s.d.events.band[0] == band_at_contact(&s) && s.d.events.band[1] == 0.0, "bands %g %g", s.d.events.band[0],
-              s.d.events.band[1]);
+    cr_assert(s.d.run.model.mode == VI_Mode_free && s.d.run.x[0] < 0.0, "mode %d delta %g", s.d.run.model.mode, s.d.run.x[0]);
+    cr_assert(s.d.run.events.band[0] == band_at_contact(&s) && s.d.run.events.band[1] == 0.0, "bands %g %g", s.d.run.events.band[0],
+              s.d.run.events.band[1]);
     test_run_free(&s);
 }
 
@@ -888,15 +883,15 @@ Test(sim, mean_force_is_zero_in_free_flight_under_a_ramp)
     cr_assert(out.F_mean == 0.0 && out.F == 0.0, "before any step: %g", out.F_mean);
     cr_assert(vi_sim_advance(&s.s, 1e-3) == VI_SIM_OK, "%s", s.r.msg);
     test_run_outputs(&s, &out);
-    double W = s.d.model.W0;
+    double W = s.d.run.model.W0;
     cr_assert(fabs(out.F_mean) <= 1e-9 * W, "gravity only: F_mean %g", out.F_mean);
     s.d.in.F_ext = 100.0, s.d.din.F_ext = 2e4; /* 100 N growing at 20 kN/s */
-    s.d.inputs_changed = 1;
+    s.d.run.inputs_changed = 1;
     for (int k = 2; k <= 4; k++) {
         cr_assert(vi_sim_advance(&s.s, 1e-3 * k) == VI_SIM_OK, "%s", s.r.msg);
         s.r.out_valid = 0;
         test_run_outputs(&s, &out);
-        cr_assert(s.d.model.mode == VI_Mode_free && fabs(out.F_mean) <= 1e-9 * W, "step %d: F_mean %g", k, out.F_mean);
+        cr_assert(s.d.run.model.mode == VI_Mode_free && fabs(out.F_mean) <= 1e-9 * W, "step %d: F_mean %g", k, out.F_mean);
     }
     test_run_free(&s);
 }
@@ -909,17 +904,17 @@ Test(sim, contact_stiffness_of_the_mode)
     test_run_init(&s, quiet, NULL);
     s.d.par.contact_model = VI_ContactModel_hertz;
     cr_assert(vi_sim_initialize(&s.s) == 0, "%s", s.r.msg);
-    double d = s.d.x[0], k = 1.5 * s.d.model.K * sqrt(d);
-    const vi_outputs *out = vi_run_outputs_of(&s.r, VI_OUT_STIFFNESS);
-    cr_assert(s.d.model.mode == VI_Mode_elastic && fabs(out->k_contact - k) <= 1e-12 * k, "%g vs %g", out->k_contact, k);
+    double d = s.d.run.x[0], k = 1.5 * s.d.run.model.K * sqrt(d);
+    const vi_outputs *out = vi_contact_outputs_of(&s, VI_OUT_STIFFNESS);
+    cr_assert(s.d.run.model.mode == VI_Mode_elastic && fabs(out->k_contact - k) <= 1e-12 * k, "%g vs %g", out->k_contact, k);
     test_run_free(&s);
     test_run_init(&s, quiet, NULL);
     s.d.par.yield_formula = VI_YieldFormula_printed; /* F_Y below the load: plastically pre-loaded, stick */
     cr_assert(vi_sim_initialize(&s.s) == 0, "%s", s.r.msg);
-    const vi_unload_curve *U = &s.d.model.unload;
+    const vi_unload_curve *U = &s.d.run.model.unload;
     k = 1.5 * U->Kbar * sqrt(U->delta_c - U->delta_f);
-    out = vi_run_outputs_of(&s.r, VI_OUT_STIFFNESS);
-    cr_assert(s.d.model.mode == VI_Mode_stick && fabs(out->k_contact - k) <= 1e-12 * k, "mode %d: %g vs %g", s.d.model.mode,
+    out = vi_contact_outputs_of(&s, VI_OUT_STIFFNESS);
+    cr_assert(s.d.run.model.mode == VI_Mode_stick && fabs(out->k_contact - k) <= 1e-12 * k, "mode %d: %g vs %g", s.d.run.model.mode,
               out->k_contact, k);
     test_run_free(&s);
 }
@@ -933,20 +928,21 @@ Test(sim, restore_replaces_outputs_and_solver)
     running(&a);
     running(&b);
     cr_assert(vi_sim_advance(&b.s, 3e-3) == VI_SIM_OK, "%s", b.r.msg);
-    vi_outputs before, after, expect;
+    vi_outputs before, expect;
     test_run_outputs(&b, &before);
     test_run_outputs(&a, &expect);
     cr_assert(before.y != expect.y && before.delta != expect.delta);
     cr_assert(vi_sim_checkpoint(&a.s) == 0, "%s", a.r.msg);
     test_run_copy_data(&b, &a);
     cr_assert(vi_me_restore(&b.e, 1) == 0, "%s", b.r.msg); /* the run alone, as Model Exchange restores it */
-    test_run_outputs(&b, &after);
-    cr_assert(after.y == expect.y && after.delta == expect.delta && after.F == expect.F, "outputs of the old state");
+    const vi_model_values *v = &vi_run_outputs_of(&b.r, VI_OUT_ALL)->model;
+    cr_assert(v->y == expect.y && v->delta == expect.delta && v->F == expect.F, "outputs of the old state");
+    b.e.active = 0; /* a Co-Simulation instance again */
     vi_solver_stats st, zero;
     memset(&zero, 0, sizeof zero);
     cr_assert(vi_sim_restore(&b.s) == 0 && b.s.solver != NULL, "%s", b.r.msg);
     cr_assert(vi_sim_advance(&a.s, 2e-3) == VI_SIM_OK && vi_sim_advance(&b.s, 2e-3) == VI_SIM_OK, "%s", b.r.msg);
-    cr_assert(a.d.x[0] == b.d.x[0] && a.d.x[1] == b.d.x[1], "the restored run differs");
+    cr_assert(a.d.run.x[0] == b.d.run.x[0] && a.d.run.x[1] == b.d.run.x[1], "the restored run differs");
     vi_sim_statistics(&b.s, &st);
     cr_assert(st.rhs_evals > 0);
     test_run_free(&a), test_run_free(&b);
@@ -964,7 +960,7 @@ static void flying_off(test_run *s)
     s->d.par.contact_model = VI_ContactModel_hertz;
     s->d.par.P = 0.0, s->d.par.g = 0.0, s->d.par.init = VI_Init_touching, s->d.par.v0 = 1.0;
     cr_assert(vi_sim_initialize(&s->s) == 0 && vi_sim_advance(&s->s, 1e-3) == VI_SIM_OK, "%s", s->r.msg);
-    cr_assert(s->d.model.mode == VI_Mode_free && fabs(s->d.x[0] + 1e-3) <= 1e-12, "delta %g", s->d.x[0]);
+    cr_assert(s->d.run.model.mode == VI_Mode_free && fabs(s->d.run.x[0] + 1e-3) <= 1e-12, "delta %g", s->d.run.x[0]);
 }
 
 /* A disarmed guard (band > 0) is armed again (band 0) at the start of a step once it lies above its
@@ -981,10 +977,10 @@ Test(sim, a_guard_is_rearmed_once_above_its_band)
         {{1.0, 0.5}, {1.0, 0.0}},    /* each guard on its own */
     };
     for (int i = 0; i < 4; i++) {
-        s.d.events.band[0] = c[i].band[0], s.d.events.band[1] = c[i].band[1];
-        cr_assert(vi_sim_advance(&s.s, s.d.t + 1e-4) == VI_SIM_OK, "%s", s.r.msg);
-        cr_assert(s.d.events.band[0] == c[i].after[0] && s.d.events.band[1] == c[i].after[1], "case %d: bands %g %g", i,
-                  s.d.events.band[0], s.d.events.band[1]);
+        s.d.run.events.band[0] = c[i].band[0], s.d.run.events.band[1] = c[i].band[1];
+        cr_assert(vi_sim_advance(&s.s, s.d.run.t + 1e-4) == VI_SIM_OK, "%s", s.r.msg);
+        cr_assert(s.d.run.events.band[0] == c[i].after[0] && s.d.run.events.band[1] == c[i].after[1], "case %d: bands %g %g", i,
+                  s.d.run.events.band[0], s.d.run.events.band[1]);
     }
     test_run_free(&s);
 }
@@ -995,10 +991,10 @@ Test(sim, a_step_of_a_few_ulps_is_integrated)
 {
     test_run s;
     flying_off(&s);
-    double t0 = s.d.t, d0 = s.d.x[0], t1 = t0 + 32.0 * DBL_EPSILON * t0, ulp = DBL_EPSILON * fabs(d0);
+    double t0 = s.d.run.t, d0 = s.d.run.x[0], t1 = t0 + 32.0 * DBL_EPSILON * t0, ulp = DBL_EPSILON * fabs(d0);
     cr_assert(t1 - t0 <= VI_BREAKPOINT_ULPS * DBL_EPSILON * t1);
-    cr_assert(vi_sim_advance(&s.s, t1) == VI_SIM_OK && s.d.t == t1, "%s", s.r.msg);
-    cr_assert(fabs(s.d.x[0] - (d0 - (t1 - t0))) <= 4.0 * ulp, "delta %.17g -> %.17g over %g s", d0, s.d.x[0], t1 - t0);
+    cr_assert(vi_sim_advance(&s.s, t1) == VI_SIM_OK && s.d.run.t == t1, "%s", s.r.msg);
+    cr_assert(fabs(s.d.run.x[0] - (d0 - (t1 - t0))) <= 4.0 * ulp, "delta %.17g -> %.17g over %g s", d0, s.d.run.x[0], t1 - t0);
     test_run_free(&s);
 }
 
@@ -1008,9 +1004,9 @@ Test(sim, a_step_of_a_few_ulps_is_integrated)
  * mm at 100 Hz, yC_in ramping at 1 mm/s. */
 static void same_inputs_again(test_run *s)
 {
-    s->d.in.yC_in = vi_ramp_at(&s->d.model.yC_in, s->d.t), s->d.din.yC_in = s->d.model.yC_in.du;
-    s->d.in.F_ext = vi_ramp_at(&s->d.model.F_ext, s->d.t), s->d.din.F_ext = s->d.model.F_ext.du;
-    s->d.inputs_changed = 1;
+    s->d.in.yC_in = vi_ramp_at(&s->d.run.model.yC_in, s->d.run.t), s->d.din.yC_in = s->d.run.model.yC_in.du;
+    s->d.in.F_ext = vi_ramp_at(&s->d.run.model.F_ext, s->d.run.t), s->d.din.F_ext = s->d.run.model.F_ext.du;
+    s->d.run.inputs_changed = 1;
 }
 
 Test(sim, only_a_changed_input_restarts_the_solver)
@@ -1071,7 +1067,7 @@ Test(sim, reset_keeps_the_resources_folder)
     s.d.par.m = 3.0;
     test_run_reset(&s);
     cr_assert(strcmp(s.r.resources, "/opt/fmu/resources") == 0, "'%s'", s.r.resources);
-    cr_assert(s.s.solver == NULL && s.d.par.m != 3.0 && s.d.initialized == 0 && s.r.log == quiet);
+    cr_assert(s.s.solver == NULL && s.d.par.m != 3.0 && s.d.run.initialized == 0 && s.r.log == quiet);
     vi_run_set_resources(&s.r, NULL);
     cr_assert(s.r.resources[0] == '\0');
     test_run_free(&s);
@@ -1087,8 +1083,8 @@ Test(sim, outputs_after_initialization_are_those_of_the_initial_state)
     cr_assert(vi_sim_initialize(&s.s) == 0, "%s", s.r.msg);
     vi_outputs out;
     test_run_outputs(&s, &out);
-    double W = s.d.model.W0, d = pow(W / s.d.model.K, 2.0 / 3.0);
-    cr_assert(out.delta == s.d.x[0] && fabs(out.delta - d) <= 1e-12 * d && out.v == 0.0 && out.mode == VI_Mode_elastic &&
+    double W = s.d.run.model.W0, d = pow(W / s.d.run.model.K, 2.0 / 3.0);
+    cr_assert(out.delta == s.d.run.x[0] && fabs(out.delta - d) <= 1e-12 * d && out.v == 0.0 && out.mode == VI_Mode_elastic &&
               out.contact == 1 && fabs(out.F - W) <= 1e-12 * W, "delta %g v %g mode %d F %g", out.delta, out.v, out.mode, out.F);
     test_run_free(&s);
 }
@@ -1101,11 +1097,11 @@ Test(sim, preparing_again_drops_the_outputs_computed_before)
     test_run_init(&s, quiet, NULL);
     s.d.par.contact_model = VI_ContactModel_hertz;
     cr_assert(vi_run_prepare(&s.r) == 0, "%s", s.r.msg);
-    double W = s.d.model.W0;
-    cr_assert(fabs(vi_run_outputs_of(&s.r, VI_OUT_FORCE)->F - W) <= 1e-12 * W);
+    double W = s.d.run.model.W0;
+    cr_assert(fabs(vi_contact_outputs_of(&s, VI_OUT_FORCE)->F - W) <= 1e-12 * W);
     s.d.par.P *= 2.0;
     cr_assert(vi_run_prepare(&s.r) == 0, "%s", s.r.msg);
-    double W2 = s.d.model.W0, F2 = vi_run_outputs_of(&s.r, VI_OUT_FORCE)->F;
+    double W2 = s.d.run.model.W0, F2 = vi_contact_outputs_of(&s, VI_OUT_FORCE)->F;
     cr_assert(W2 > 1.5 * W && fabs(F2 - W2) <= 1e-12 * W2, "F = %g after the load went from %g to %g", F2, W, W2);
     test_run_free(&s);
 }
@@ -1119,24 +1115,24 @@ Test(sim, a_guard_within_rounding_of_zero_gets_the_band_of_its_noise)
     s.d.par.contact_model = VI_ContactModel_hertz;
     s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = -0.1;
     cr_assert(vi_sim_initialize(&s.s) == 0, "%s", s.r.msg);
-    cr_assert(s.d.model.mode == VI_Mode_elastic && s.d.events.band[0] == band_at_contact(&s), "band %g", s.d.events.band[0]);
-    s.d.events.band[0] = 0.0;
-    s.d.x[0] = 1e-310;
+    cr_assert(s.d.run.model.mode == VI_Mode_elastic && s.d.run.events.band[0] == band_at_contact(&s), "band %g", s.d.run.events.band[0]);
+    s.d.run.events.band[0] = 0.0;
+    s.d.run.x[0] = 1e-310;
     s.d.in.F_ext = 1.0;
-    s.d.inputs_changed = 1;
+    s.d.run.inputs_changed = 1;
     cr_assert(vi_sim_advance(&s.s, 1e-9) == VI_SIM_OK, "%s", s.r.msg);
-    cr_assert(s.d.model.mode == VI_Mode_elastic && s.d.events.band[0] == band_at_contact(&s) && s.d.events.band[1] == 0.0,
-              "bands %g %g", s.d.events.band[0], s.d.events.band[1]);
+    cr_assert(s.d.run.model.mode == VI_Mode_elastic && s.d.run.events.band[0] == band_at_contact(&s) && s.d.run.events.band[1] == 0.0,
+              "bands %g %g", s.d.run.events.band[0], s.d.run.events.band[1]);
     /* the bound: a guard exactly at its rounding noise (VI_GRAZE_ULPS times its change over one ulp of
      * delta, plus DBL_MIN) counts as zero, one ulp above it does not */
     const double noise = VI_GRAZE_ULPS * nextafter(0.0, 1.0) + DBL_MIN, at[2] = {noise, nextafter(noise, 1.0)};
     for (int k = 0; k < 2; k++) {
-        s.d.events.band[0] = 0.0;
-        s.d.x[0] = at[k];
+        s.d.run.events.band[0] = 0.0;
+        s.d.run.x[0] = at[k];
         s.d.in.F_ext += 1.0;
-        s.d.inputs_changed = 1;
-        cr_assert(vi_sim_advance(&s.s, s.d.t + 1e-9) == VI_SIM_OK, "%s", s.r.msg);
-        cr_assert(s.d.events.band[0] == (k ? 0.0 : band_at_contact(&s)), "delta %g: band %g", at[k], s.d.events.band[0]);
+        s.d.run.inputs_changed = 1;
+        cr_assert(vi_sim_advance(&s.s, s.d.run.t + 1e-9) == VI_SIM_OK, "%s", s.r.msg);
+        cr_assert(s.d.run.events.band[0] == (k ? 0.0 : band_at_contact(&s)), "delta %g: band %g", at[k], s.d.run.events.band[0]);
     }
     test_run_free(&s);
 }
