@@ -134,7 +134,13 @@ void vi_run_excitation(const vi_run *r, double *a, double *f);
 /* The outputs of the groups VI_OUT_STATE ... VI_OUT_STIFFNESS in `groups` at the current time: r->out,
  * where each group is computed when first asked for at the current state (lazy, cached until a
  * driver marks the state changed by clearing r->out_valid); other groups may be stale there. */
-const vi_run_values *vi_run_outputs_of(vi_run *r, unsigned groups);
+void vi_run_compute_outputs(vi_run *r, unsigned need);
+static inline const vi_run_values *vi_run_outputs_of(vi_run *r, unsigned groups)
+{
+    unsigned need = groups & (VI_OUT_ALL & ~VI_OUT_DERIVATIVES) & ~r->out_valid;
+    if (need) vi_run_compute_outputs(r, need);
+    return &r->out;
+}
 /* Warn (once per cause and run) when the contact leaves the model's range of validity at the
  * current state (vi_model_validity). */
 void vi_run_check_validity(vi_run *r);

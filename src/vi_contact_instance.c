@@ -79,28 +79,34 @@ static void inputs(void *env, vi_run_inputs *in)
                           .F_ext_rate = d->din.F_ext, .vC_in = d->in.vC_in, .a = d->par.a, .f = d->par.f};
 }
 
-/* The run's values of `groups` into the table's outputs. */
-static void take_values(const vi_run_values *r, unsigned groups, vi_outputs *out)
+/* The run's values of `groups` into the table's outputs: group by group, only those asked for (a get
+ * call asks for one or two). Returns out. */
+static const vi_outputs *take_values(const vi_run_values *r, unsigned groups, vi_outputs *out)
 {
     const vi_model_values *v = &r->model;
-    if (groups & VI_OUT_STATE) {
-        out->delta = v->delta, out->v = v->v, out->contact = v->contact, out->mode = v->mode;
-        out->n_impacts = v->n_impacts;
+    for (unsigned left = groups & VI_OUT_ALL; left; left &= left - 1u) { /* bounded: one bit fewer each time */
+        switch (left & (~left + 1u)) {
+        case VI_OUT_STATE:
+            out->delta = v->delta, out->v = v->v, out->contact = v->contact, out->mode = v->mode;
+            out->n_impacts = v->n_impacts;
+            break;
+        case VI_OUT_PLATFORM: out->yC = v->yC, out->y = v->y; break;
+        case VI_OUT_FORCE: out->F = v->F, out->F_peak = r->F_peak; break;
+        case VI_OUT_MEMORY:
+            out->delta_c = v->delta_c, out->delta_f = v->delta_f, out->delta_p = v->delta_p, out->Rbar = v->Rbar;
+            out->W_plastic = v->W_plastic, out->E_contact = v->E_contact;
+            out->W_damping = r->W_damping, out->W_dissipated = r->W_dissipated;
+            break;
+        case VI_OUT_CALCULATED:
+            out->E_star = v->E_star, out->R_star = v->R_star, out->F_Y = v->F_Y, out->delta_Y = v->delta_Y;
+            out->k_lin = v->k_lin, out->f_contact = v->f_contact;
+            break;
+        case VI_OUT_MEAN: out->F_mean = r->F_mean; break;
+        case VI_OUT_STIFFNESS: out->k_contact = r->k_contact; break;
+        default: out->der_y = r->der_y, out->der_v = r->der_v, out->der_W_damping = r->der_W_damping; /* DERIVATIVES */
+        }
     }
-    if (groups & VI_OUT_PLATFORM) out->yC = v->yC, out->y = v->y;
-    if (groups & VI_OUT_FORCE) out->F = v->F, out->F_peak = r->F_peak;
-    if (groups & VI_OUT_MEMORY) {
-        out->delta_c = v->delta_c, out->delta_f = v->delta_f, out->delta_p = v->delta_p, out->Rbar = v->Rbar;
-        out->W_plastic = v->W_plastic, out->E_contact = v->E_contact;
-        out->W_damping = r->W_damping, out->W_dissipated = r->W_dissipated;
-    }
-    if (groups & VI_OUT_CALCULATED) {
-        out->E_star = v->E_star, out->R_star = v->R_star, out->F_Y = v->F_Y, out->delta_Y = v->delta_Y;
-        out->k_lin = v->k_lin, out->f_contact = v->f_contact;
-    }
-    if (groups & VI_OUT_MEAN) out->F_mean = r->F_mean;
-    if (groups & VI_OUT_STIFFNESS) out->k_contact = r->k_contact;
-    if (groups & VI_OUT_DERIVATIVES) out->der_y = r->der_y, out->der_v = r->der_v, out->der_W_damping = r->der_W_damping;
+    return out;
 }
 
 /* Are the outputs and calculated parameters at the prepared state finite? -1 (msg, naming the first
@@ -159,8 +165,7 @@ const vi_outputs *vi_contact_outputs_of(vi_contact *c, unsigned groups)
 {
     const vi_run_values *v = !c->e.active && !(groups & VI_OUT_DERIVATIVES) ? vi_run_outputs_of(&c->r, groups)
                                                                             : vi_me_outputs_of(&c->e, groups);
-    take_values(v, groups, &c->out);
-    return &c->out;
+    return take_values(v, groups, &c->out);
 }
 
 int vi_contact_state_check(const vi_contact_data *d, int running, int model_exchange, char *msg, size_t n)

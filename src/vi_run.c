@@ -251,19 +251,15 @@ static double mean_force(const vi_run_data *d)
     return model->m * (d->x[1] - d->step_v0) / h + W_mean;
 }
 
-const vi_run_values *vi_run_outputs_of(vi_run *r, unsigned groups)
+void vi_run_compute_outputs(vi_run *r, unsigned need)
 {
-    unsigned need = groups & (VI_OUT_ALL & ~VI_OUT_DERIVATIVES) & ~r->out_valid;
-    if (need) {
-        const vi_run_data *d = r->d;
-        vi_model_outputs(&d->model, d->t, d->x, need, &r->out.model);
-        if (need & VI_OUT_MEMORY) r->out.W_damping = d->W_damping, r->out.W_dissipated = r->out.model.W_plastic + d->W_damping;
-        if (need & VI_OUT_FORCE) r->out.F_peak = fmax(d->F_peak, r->out.model.F);
-        if (need & VI_OUT_MEAN) r->out.F_mean = mean_force(d);
-        if (need & VI_OUT_STIFFNESS) r->out.k_contact = vi_run_contact_stiffness(&d->model, d->t, d->x);
-        r->out_valid |= need;
-    }
-    return &r->out;
+    const vi_run_data *d = r->d;
+    vi_model_outputs(&d->model, d->t, d->x, need, &r->out.model);
+    if (need & VI_OUT_MEMORY) r->out.W_damping = d->W_damping, r->out.W_dissipated = r->out.model.W_plastic + d->W_damping;
+    if (need & VI_OUT_FORCE) r->out.F_peak = fmax(d->F_peak, r->out.model.F);
+    if (need & VI_OUT_MEAN) r->out.F_mean = mean_force(d);
+    if (need & VI_OUT_STIFFNESS) r->out.k_contact = vi_run_contact_stiffness(&d->model, d->t, d->x);
+    r->out_valid |= need;
 }
 
 /* ---- validity of a state payload (doc/model.md section 7.6) --------------------------------- */
