@@ -1,15 +1,17 @@
 /*
- * vi_run.h - what both drivers share: one run of the contact model, set up from its parameters, with
- * the event engine, time and state, the outputs computed from the model, and the validity warnings.
- * The Co-Simulation driver (vi_sim.h) integrates it with its own solver; the Model Exchange driver
- * (vi_me.h) lets the importer integrate it. Neither driver calls the other: each works on a vi_run
- * and its own data; each driver holds an event engine (vi_hybrid.h) bound to the run's model and
- * engine state. Nothing here integrates, and nothing here calls FMI.
+ * vi_run.h - what both drivers share: one run of the contact model, set up from plain settings (SI
+ * units) with its inputs, time and state, the engine's state, the values computed from the model,
+ * and the validity warnings. The Co-Simulation driver (vi_sim.h) integrates it with its own solver;
+ * the Model Exchange driver (vi_me.h) lets the importer integrate it. Neither driver calls the
+ * other: each works on a vi_run and its own data; each driver holds an event engine (vi_hybrid.h)
+ * bound to the run's model and engine state. Nothing here integrates, and nothing here knows FMI:
+ * the settings and inputs come from a source (the FMU's instance, vi_contact_instance.h, maps its
+ * variables onto them).
  *
  * vi_run_data is plain data: part of what fmi2GetFMUstate copies and fmi2SerializeFMUstate writes.
  * Its one pointer, the model's profile (rolling), is never trusted from a saved state: vi_run_prepare
- * and vi_run_restore point it at the run's own profile. The run points to its data and the engine
- * into it: neither moves after vi_run_init.
+ * and vi_run_restore point it at the run's own profile. The run points to its data, and the drivers'
+ * engines into it: neither moves after vi_run_init.
  */
 #ifndef VI_RUN_H
 #define VI_RUN_H
@@ -35,21 +37,22 @@ typedef struct {
                                  folder, then the working directory */
 } vi_run_settings;
 
-/* The inputs as the importer set them (values and, in Co-Simulation, their derivatives; 0 when none
- * was given) and the tunable excitation. */
+/* Where the inputs as the importer set them are read, whenever the run needs them (values and, in
+ * Co-Simulation, their derivatives, 0 when none was given; the tunable excitation): the FMU
+ * instance's storage, which does not move. */
 typedef struct {
-    double yC_in, yC_in_rate; /* platform displacement input [m], its derivative [m/s] */
-    double F_ext, F_ext_rate; /* external force [N], its derivative [N/s] */
-    double vC_in;             /* platform velocity input [m/s] (the rate of yC_in with velocity_input) */
-    double a, f;              /* harmonic excitation: amplitude [m], frequency [Hz] */
+    const double *yC_in, *yC_in_rate; /* platform displacement input [m], its derivative [m/s] */
+    const double *F_ext, *F_ext_rate; /* external force [N], its derivative [N/s] */
+    const double *vC_in;              /* platform velocity input [m/s] (the rate of yC_in with velocity_input) */
+    const double *a, *f;              /* harmonic excitation: amplitude [m], frequency [Hz] */
 } vi_run_inputs;
 
-/* Where a run takes its settings and inputs from: the FMI adapter's storage of the parameters and
- * inputs (src/vi_contact_data.c), read when the run needs them. settings: 0, or -1 with the reason in
+/* Where a run takes its settings and inputs from: the FMU instance's storage of the parameters and
+ * inputs (vi_contact_instance.h). settings, read at set-up and restore: 0, or -1 with the reason in
  * msg (a value out of the run's ranges). */
 typedef struct {
     int (*settings)(void *env, vi_run_settings *out, char *msg, size_t n);
-    void (*inputs)(void *env, vi_run_inputs *out);
+    vi_run_inputs inputs;
     /* the outputs the importer reads, at a prepared run: 0, or -1 naming one that is not finite */
     int (*outputs_check)(void *env, char *msg, size_t n);
     void *env;
@@ -128,13 +131,20 @@ void vi_run_warn_settings(vi_run *r);
  * Exchange); with velocity_input, yC_in at the rate vC_in instead, so that the platform's rate is the
  * importer's wherever the model needs it (damping, rate guards, mode choice, static start) and, in
  * Co-Simulation, yC_in is carried through the step at that rate. */
-void vi_run_input_ramps(const vi_run *r, double t, vi_ramp *yC_in, vi_ramp *F_ext);
+static inline void vi_run_input_ramps(const vi_run *r, double t, vi_ramp *yC_in, vi_ramp *F_ext)
+{
+    const vi_run_inputs *in = &r->src.inputs;
+    *yC_in = (vi_ramp){*in->yC_in, r->set.velocity_input ? *in->vC_in : *in->yC_in_rate, t};
+    *F_ext = (vi_ramp){*in->F_ext, *in->F_ext_rate, t};
+}
 /* The tunable excitation as last set: amplitude a [m], frequency f [Hz]. */
-void vi_run_excitation(const vi_run *r, double *a, double *f);
-/* The outputs of the groups VI_OUT_STATE ... VI_OUT_STIFFNESS in `groups` at the current time: r->out,
- * where each group is computed when first asked for at the current state (lazy, cached until a
- * driver marks the state changed by clearing r->out_valid); other groups may be stale there. */
+static inline void vi_run_excitation(const vi_run *r, double *a, double *f) { *a = *r->src.inputs.a, *f = *r->src.inputs.f; }
+/* Compute the groups `need` (VI_OUT_STATE ... VI_OUT_STIFFNESS) into r->out and mark them valid. */
 void vi_run_compute_outputs(vi_run *r, unsigned need);
+/* The values of the groups VI_OUT_STATE ... VI_OUT_STIFFNESS in `groups` at the current time: r->out,
+ * where each group is computed when first asked for at the current state (lazy, cached until a
+ * driver marks the state changed by clearing r->out_valid); other groups may be stale there (inline:
+ * every get call of the FMU asks). */
 static inline const vi_run_values *vi_run_outputs_of(vi_run *r, unsigned groups)
 {
     unsigned need = groups & (VI_OUT_ALL & ~VI_OUT_DERIVATIVES) & ~r->out_valid;

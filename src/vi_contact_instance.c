@@ -46,7 +46,7 @@ double vi_contact_rtol(const vi_parameters *p, double tolerance)
     return tolerance > 0.0 ? tolerance : VI_RTOL_DEFAULT;
 }
 
-/* ---- the run's source: settings, inputs, the outputs' check ----------------------------------- */
+/* ---- the run's source: settings, the outputs' check (the inputs are read where they are stored) ---- */
 
 /* The run's settings from the parameters and the experiment. The parameters lie in the ranges of the
  * variable table (rtol among them); left to check: the experiment's tolerance, rtol 0 or at least
@@ -72,12 +72,6 @@ static int settings(void *env, vi_run_settings *s, char *msg, size_t n)
     return 0;
 }
 
-static void inputs(void *env, vi_run_inputs *in)
-{
-    const vi_contact_data *d = &((const vi_contact *)env)->d;
-    *in = (vi_run_inputs){.yC_in = d->in.yC_in, .yC_in_rate = d->din.yC_in, .F_ext = d->in.F_ext,
-                          .F_ext_rate = d->din.F_ext, .vC_in = d->in.vC_in, .a = d->par.a, .f = d->par.f};
-}
 
 /* The run's values of `groups` into the table's outputs: group by group, only those asked for (a get
  * call asks for one or two). Returns out. */
@@ -137,7 +131,10 @@ void vi_contact_init(vi_contact *c, vi_log_fn log, void *log_env)
     memset(c, 0, sizeof *c);
     vi_parameters_default(&c->d.par);
     vi_inputs_default(&c->d.in);
-    vi_run_source src = {.settings = settings, .inputs = inputs, .outputs_check = outputs_check, .env = c};
+    const vi_contact_data *d = &c->d;
+    vi_run_inputs in = {.yC_in = &d->in.yC_in, .yC_in_rate = &d->din.yC_in, .F_ext = &d->in.F_ext,
+                        .F_ext_rate = &d->din.F_ext, .vC_in = &d->in.vC_in, .a = &d->par.a, .f = &d->par.f};
+    vi_run_source src = {.settings = settings, .inputs = in, .outputs_check = outputs_check, .env = c};
     vi_run_init(&c->r, &c->d.run, src, log, log_env);
     vi_sim_init(&c->s, &c->r, &c->d.cs);
     vi_me_init(&c->e, &c->r, &c->d.me);

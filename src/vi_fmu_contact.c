@@ -1,14 +1,15 @@
 /*
- * vi_fmu_contact.c - the contact model as a model of the generic FMI layer (vi_fmu.h): one run of the
- * model (vi_run.h) under two drivers, Co-Simulation on vi_sim (its own solver) and Model Exchange on
- * vi_me (the importer's); an instance uses one of them. The FMI calls and their
- * checks live in the layer (src/vi_fmi_*.c and the faces vi_fmi2.c, vi_fmi3.c); this file maps the
- * layer's hooks and value references onto the simulation and the model.
+ * vi_fmu_contact.c - the contact model as a model of the generic FMI layer (vi_fmu.h): an instance
+ * (vi_contact_instance.h) holds the FMI storage and one run of the model (vi_run.h) under two
+ * drivers, Co-Simulation on vi_sim (its own solver) and Model Exchange on vi_me (the importer's); an
+ * instance uses one of them. The FMI calls and their checks live in the layer (src/vi_fmi_*.c and
+ * the faces vi_fmi2.c, vi_fmi3.c); this file maps the layer's hooks and value references onto the
+ * instance, its drivers and the model.
  */
 #include <stddef.h>
 
-#include "vi_fmu.h"
 #include "vi_contact_instance.h"
+#include "vi_fmu.h"
 
 _Static_assert((int)VI_FMU_LOG_EVENTS == (int)VI_LOG_EVENTS && (int)VI_FMU_LOG_SOLVER == (int)VI_LOG_SOLVER &&
                    (int)VI_FMU_LOG_WARNING == (int)VI_LOG_WARNING && (int)VI_FMU_LOG_ERROR == (int)VI_LOG_ERROR,

@@ -108,20 +108,6 @@ void vi_run_check_validity(vi_run *r)
     }
 }
 
-void vi_run_input_ramps(const vi_run *r, double t, vi_ramp *yC_in, vi_ramp *F_ext)
-{
-    vi_run_inputs in;
-    r->src.inputs(r->src.env, &in);
-    *yC_in = (vi_ramp){in.yC_in, r->set.velocity_input ? in.vC_in : in.yC_in_rate, t};
-    *F_ext = (vi_ramp){in.F_ext, in.F_ext_rate, t};
-}
-
-void vi_run_excitation(const vi_run *r, double *a, double *f)
-{
-    vi_run_inputs in;
-    r->src.inputs(r->src.env, &in);
-    *a = in.a, *f = in.f;
-}
 
 static int time_scale_check(vi_run *r);
 
