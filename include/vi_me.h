@@ -1,7 +1,8 @@
 /*
- * vi_me.h - one simulation (vi_sim.h) advanced by somebody else's integrator: the contact model as
- * an ODE with events for Model Exchange. Nothing here knows FMI; src/vi_fmu_contact.c maps the FMI
- * layer's hooks onto these functions.
+ * vi_me.h - the Model Exchange driver: a run of the contact model (vi_run.h) advanced by somebody
+ * else's integrator, the model as an ODE with events. It shares the run (model, event engine,
+ * outputs, validity warnings) with the Co-Simulation driver (vi_sim.h) and has no solver of its own.
+ * Nothing here knows FMI; src/vi_fmu_contact.c maps the FMI layer's hooks onto these functions.
  *
  * States (the importer integrates them):  y [m], the mass position, v [m/s], its velocity, and W_damping
  * [J], the damping's work (VI_ME_NSTATES below):
@@ -11,7 +12,7 @@
  * excitation and the rolling profile). The position y, not the indentation, is the state, so that
  * the derivatives need the input yC_in only through its value (Model Exchange passes no input
  * derivatives): a new yC_in moves the platform while the mass stays where it is. The model keeps
- * delta in the simulation's state (d->x[0]) in step with y.
+ * delta in the run's state (x[0]) in step with y.
  *
  * The plastic memory needs no state of its own: while it changes (Johnson loading beyond delta_Y,
  * LEPP flow) it equals delta (delta_c = delta, delta_p = delta - delta_Y) beyond what was written
@@ -26,7 +27,7 @@
  * The platform's rate. Model Exchange passes input values only, yet the rate of delta (the turning
  * points, stick, the damping, every choice of mode) needs the rate of yC_in. With velocity_input it is
  * the input vC_in. Without, it is estimated at each completed step from yC_in's change over that step
- * (vi_sim_data.yC_in_rate) and used, until the next completed step, by the event indicators and the mode
+ * (vi_me_data.yC_in_rate) and used, until the next completed step, by the event indicators and the mode
  * choices alike (one notion: a guard cannot fire again at once because the choice saw another rate);
  * a new estimate that puts a guard below zero asks for an event. While it is an estimate, the plastic
  * memory is written down at completed steps. F_ext is held at its value.
@@ -34,7 +35,7 @@
 #ifndef VI_ME_H
 #define VI_ME_H
 
-#include "vi_sim.h"
+#include "vi_run.h"
 
 /* The third state, W_damping [J]: the damping's work, W_damping' = vi_model_damping_power (0 for laws that
  * do not damp), so that W_dissipated = W_plastic + W_damping. F_peak is F: the FMU does not see inside
@@ -43,9 +44,21 @@
 #define VI_ME_NSTATES 3
 #define VI_ME_NINDICATORS VI_NGUARDS
 
-/* The Model Exchange driver over a simulation; the states are s.d.y_me, s.d.x[1] (v) and s.d.W_damping. */
+/* The driver's part of an FMU state (plain data). */
 typedef struct {
-    vi_sim s;   /* first member: a vi_me is a vi_sim */
+    double y_me;       /* the mass position y [m] the importer integrates (delta = yC(t) - y), kept as given so
+                          that a restored state gives it back bit for bit */
+    double step_u0;    /* yC_in [m] at the run's step_t0 */
+    double yC_in_rate; /* without velocity_input: the rate of yC_in [m/s] the model runs, estimated at
+                          completed steps (above) */
+} vi_me_data;
+
+/* The Model Exchange driver over a run; the states are own->y_me, the run's x[1] (v) and W_damping. */
+typedef struct {
+    vi_run *r;       /* the run it drives (model, outputs, message) */
+    vi_run_data *d;  /* r->d: the run's data */
+    vi_me_data *own; /* the driver's data */
+    vi_hybrid engine; /* the event engine over the run, for the importer's integrator (y integrated) */
     int active; /* initialized for Model Exchange */
     int stale;  /* time or states set since the model last caught up with them */
     int warned_rate; /* the estimated rate of yC_in was warned of (once per instance) */
@@ -57,7 +70,10 @@ typedef struct {
     double next_time;
 } vi_me_event;
 
-/* vi_sim_initialize (the initial state), then Model Exchange: 0 or -1 (s.msg). */
+/* Bind the driver to a run and to its own data (zeroed). */
+void vi_me_init(vi_me *e, vi_run *r, vi_me_data *d);
+/* vi_run_prepare (the initial state), then start the engine for the importer's integrator: 0 or -1
+ * (the run's msg). No solver is made. */
 int vi_me_initialize(vi_me *e);
 void vi_me_set_time(vi_me *e, double t);
 /* x = (y, v, W_damping). */
@@ -74,7 +90,7 @@ void vi_me_nominals(const vi_me *e, double nominal[VI_ME_NSTATES]);
  * set or stepped to: the mode is chosen for the state as it is, vi_model_resolve). another_pass
  * when a guard of the new mode is still below zero. At the end of a non-periodic profile, and when
  * events accumulate at one instant (VI_ZENO_EVENTS state events each within VI_ZENO_ULPS of the one
- * before): terminate (s.msg says why). 0, or -1 (s.msg). */
+ * before): terminate (the run's msg says why). 0, or -1 (the run's msg). */
 int vi_me_event_update(vi_me *e, vi_me_event *ev);
 /* Continuous-time mode begins: inputs set after the last event-iteration pass act from now on as
  * continuous-time inputs do (at once; the event indicators flag a jump that contradicts the mode). */
@@ -82,16 +98,23 @@ void vi_me_enter_continuous(vi_me *e);
 /* A completed step of the importer: re-arm guards that moved away, start the mean force anew.
  * 1 when an event is due now (a kink or the profile's end was stepped over), else 0. */
 int vi_me_completed_step(vi_me *e);
-/* Outputs at the current time, states and inputs (der_y and der_v included); the mean force is
- * the one since the last event or completed step. */
-void vi_me_outputs(vi_me *e, vi_outputs *out);
-/* The outputs of `groups` only (VI_OUT_*, vi_model.h, der_y and der_v too), as vi_sim_outputs_of. */
-const vi_outputs *vi_me_outputs_of(vi_me *e, unsigned groups);
-/* Make s.d hold the current (t, delta, v) and memory before it is copied (FMU state), and take y
- * back from a restored s.d (`running`: a state taken after initialization, into an instance of
- * Model Exchange). 0 or -1 (s.msg). */
+/* The outputs of `groups` (VI_OUT_*, vi_model.h; VI_OUT_DERIVATIVES: der_y, der_v, der_W_damping) at
+ * the current time, states and inputs, as vi_run_outputs_of; the mean force is the one since the
+ * last event or completed step. */
+const vi_run_values *vi_me_outputs_of(vi_me *e, unsigned groups);
+/* Make the run's data hold the current (t, delta, v) and memory before it is copied (FMU state), and
+ * take the run back from a restored state (vi_run_restore; `running`: a state taken after
+ * initialization, into an instance of Model Exchange). 0 or -1 (the run's msg). */
 int vi_me_checkpoint(vi_me *e);
 int vi_me_restore(vi_me *e, int running);
+/* Is (r, d) a state of Model Exchange this FMU could have produced (doc/model.md section 7.6), with the
+ * start time and relative tolerance of its settings? The
+ * run's fields (vi_run_data_check), the driver's, then the model's part between events
+ * (vi_model_check_between_events: the importer's states may lie beyond the mode's surfaces until
+ * the next event). 0, or -1 naming the first bad field in msg. */
+int vi_me_data_check(const vi_run_data *r, const vi_me_data *d, double t_start, double rtol, char *msg, size_t n);
+/* The driver's fields alone: finite. 0 or -1 (msg). */
+int vi_me_data_finite(const vi_me_data *d, char *msg, size_t n);
 
 /* The partial derivatives of one unknown with respect to the knowns: the states y [m], v [m/s] and
  * the inputs yC_in [m], F_ext [N], vC_in [m/s] (nonzero only with velocity_input). */

@@ -1,13 +1,15 @@
 /*
- * vi_fmu_contact.c - the contact model as a model of the generic FMI layer (vi_fmu.h): Co-Simulation
- * on vi_sim (its own solver), Model Exchange on vi_me (the importer's). The FMI calls and their
- * checks live in the layer (src/vi_fmi_*.c and the faces vi_fmi2.c, vi_fmi3.c); this file maps the
- * layer's hooks and value references onto the simulation and the model.
+ * vi_fmu_contact.c - the contact model as a model of the generic FMI layer (vi_fmu.h): an instance
+ * (vi_contact_instance.h) holds the FMI storage and one run of the model (vi_run.h) under two
+ * drivers, Co-Simulation on vi_sim (its own solver) and Model Exchange on vi_me (the importer's); an
+ * instance uses one of them. The FMI calls and their checks live in the layer (src/vi_fmi_*.c and
+ * the faces vi_fmi2.c, vi_fmi3.c); this file maps the layer's hooks and value references onto the
+ * instance, its drivers and the model.
  */
 #include <stddef.h>
 
+#include "vi_contact_instance.h"
 #include "vi_fmu.h"
-#include "vi_me.h"
 
 _Static_assert((int)VI_FMU_LOG_EVENTS == (int)VI_LOG_EVENTS && (int)VI_FMU_LOG_SOLVER == (int)VI_LOG_SOLVER &&
                    (int)VI_FMU_LOG_WARNING == (int)VI_LOG_WARNING && (int)VI_FMU_LOG_ERROR == (int)VI_LOG_ERROR,
@@ -16,37 +18,27 @@ _Static_assert((int)VI_FMU_OK == (int)VI_SIM_OK && (int)VI_FMU_DISCARD == (int)V
                    (int)VI_FMU_ERROR == (int)VI_SIM_ERROR && (int)VI_FMU_EVENT == (int)VI_SIM_EVENT,
                "vi_sim's results are the layer's");
 
-/* One instance of the FMU, in Co-Simulation or in Model Exchange: the Model Exchange driver's data
- * (vi_me) around the simulation (vi_me.s, which runs Co-Simulation with its own solver); `active`
- * says whether Model Exchange runs. */
-typedef vi_me contact_instance;
+/* One instance of the FMU, in Co-Simulation or in Model Exchange (vi_contact_instance.h): its data
+ * (the FMI storage, the run's and each driver's), the run over it and both drivers over the run;
+ * `e.active` says whether Model Exchange runs. */
+typedef vi_contact contact_instance;
 
-static void init(void *m, vi_fmu_log_fn log, void *env)
-{
-    contact_instance *inst = m;
-    vi_sim_init(&inst->s, log, env);
-    inst->active = 0;
-}
+static void init(void *m, vi_fmu_log_fn log, void *env) { vi_contact_init(m, log, env); }
+static void reset(void *m) { vi_contact_reset(m); }
+static void release(void *m) { vi_contact_free(m); }
 
-static void reset(void *m)
-{
-    contact_instance *inst = m;
-    vi_sim_reset(&inst->s);
-    inst->active = 0;
-}
-
+static vi_run *run_of(void *m) { return &((contact_instance *)m)->r; }
 static vi_sim *sim_of(void *m) { return &((contact_instance *)m)->s; }
-
-static void release(void *m) { vi_sim_free(sim_of(m)); }
+static vi_me *me_of(void *m) { return &((contact_instance *)m)->e; }
 
 static int set_resources(void *m, const char *dir)
 {
-    vi_sim_set_resources(sim_of(m), dir);
+    vi_run_set_resources(run_of(m), dir);
     return 0;
 }
 
-static void changed(void *m) { sim_of(m)->d.inputs_changed = 1; }
-static void outputs(void *m, void *out) { vi_me_outputs(m, out); }
+static void changed(void *m) { ((contact_instance *)m)->d.run.inputs_changed = 1; }
+static void outputs(void *m, void *out) { *(vi_outputs *)out = *vi_contact_outputs_of(m, VI_OUT_ALL); }
 
 /* The group of outputs (VI_OUT_*) of each variable by value reference (0: no output or calculated
  * parameter). */
@@ -67,40 +59,38 @@ static const void *outputs_of(void *m, const unsigned vr[], size_t nvr)
 {
     unsigned groups = 0;
     for (size_t i = 0; i < nvr; i++) groups |= vr[i] < VI_NVARS ? output_groups[vr[i]] : 0u;
-    contact_instance *inst = m;
-    if (!inst->active && !(groups & VI_OUT_DERIVATIVES)) return vi_sim_outputs_of(&inst->s, groups); /* co-simulation */
-    return vi_me_outputs_of(inst, groups);
+    return vi_contact_outputs_of(m, groups);
 }
 
 static void setup_experiment(void *m, double start_time, int tolerance_defined, double tolerance)
 {
-    vi_sim_data *d = &sim_of(m)->d;
+    vi_contact_data *d = &((contact_instance *)m)->d;
     d->t_start = start_time;
     d->tolerance = tolerance_defined ? tolerance : 0.0;
 }
 
-static int prepare(void *m) { return vi_sim_prepare(sim_of(m)); }
+static int prepare(void *m) { return vi_run_prepare(run_of(m)); }
 
 static int initialize(void *m)
 {
     vi_sim *s = sim_of(m);
     if (vi_sim_initialize(s) < 0) return -1;
     vi_sim_log_solver(s);
-    vi_hybrid_log_start(&s->engine, s->d.t, s->d.x);
+    vi_hybrid_log_start(&s->engine, s->d->t, s->d->x);
     return 0;
 }
 
 static int advance(void *m, double t_end) { return vi_sim_advance(sim_of(m), t_end); }
 static int advance_to_event(void *m, double t_end) { return vi_sim_advance_until(sim_of(m), t_end, 1); }
-static double time_of(const void *m) { return ((const contact_instance *)m)->s.d.t; }
+static double time_of(const void *m) { return ((const contact_instance *)m)->d.run.t; }
 
 /* The statistics of the solver that ran; Model Exchange's solver is the importer's: its events only. */
 static void terminate(void *m)
 {
     const contact_instance *inst = m;
     const vi_sim *s = &inst->s;
-    if (inst->active) {
-        s->log(s->log_env, VI_LOG_SOLVER, "Model Exchange statistics: %ld events", s->d.events.n_events);
+    if (inst->e.active) {
+        s->log(s->log_env, VI_LOG_SOLVER, "Model Exchange statistics: %ld events", inst->d.run.events.n_events);
         return;
     }
     vi_solver_stats st;
@@ -109,49 +99,48 @@ static void terminate(void *m)
            "%s statistics: %ld steps, %ld rhs evaluations, %ld Jacobian evaluations, %ld nonlinear iterations, "
            "%ld nonlinear failures, %ld error test failures, %ld guard evaluations, %ld restarts, %ld events",
            st.method ? st.method : "solver", st.steps, st.rhs_evals, st.jac_evals, st.nonlin_iters, st.nonlin_fails, st.err_test_fails, st.guard_evals,
-           st.resets, s->d.events.n_events);
+           st.resets, inst->d.run.events.n_events);
 }
 
-static void *state(void *m) { return &sim_of(m)->d; }
+static void *state(void *m) { return &((contact_instance *)m)->d; }
 
 /* A state saved before initialization needs no solver: fmi2ExitInitializationMode creates one. */
 static int restore(void *m, int running)
 {
-    if (!running) return ((contact_instance *)m)->active = 0;
-    return running == VI_FMU_RUNNING_ME ? vi_me_restore(m, 1) : vi_sim_restore(sim_of(m));
+    if (!running) return me_of(m)->active = 0;
+    return running == VI_FMU_RUNNING_ME ? vi_me_restore(me_of(m), 1) : vi_sim_restore(sim_of(m));
 }
 
 /* A state taken from a running instance is its complete continuation (doc/model.md section 7.5). */
-static int checkpoint(void *m) { return vi_me_checkpoint(m); }
+static int checkpoint(void *m) { return me_of(m)->active ? vi_me_checkpoint(me_of(m)) : vi_sim_checkpoint(sim_of(m)); }
 
 /* Every field of a saved block (doc/model.md section 7.6); before initialization only the settings exist. */
 static int state_check(const void *state, int running, char *msg, size_t n)
 {
-    if (running == VI_FMU_RUNNING_ME) return vi_sim_data_check_between_events(state, msg, n);
-    return running ? vi_sim_data_check(state, msg, n) : 0;
+    return vi_contact_state_check(state, running, running == VI_FMU_RUNNING_ME, msg, n);
 }
 
-static const char *message(const void *m) { return ((const contact_instance *)m)->s.msg; }
+static const char *message(const void *m) { return ((const contact_instance *)m)->r.msg; }
 
 /* ---- Model Exchange ---- */
 
 static const unsigned state_vrs[VI_ME_NSTATES] = {VI_VR_y, VI_VR_v, VI_VR_W_damping};
 static const unsigned derivative_vrs[VI_ME_NSTATES] = {VI_VR_der_y, VI_VR_der_v, VI_VR_der_W_damping};
 
-static int me_initialize(void *m) { return vi_me_initialize(m); }
-static void set_time(void *m, double t) { vi_me_set_time(m, t); }
-static void get_states(void *m, double x[]) { vi_me_get_states(m, x); }
-static void set_states(void *m, const double x[]) { vi_me_set_states(m, x); }
-static void derivatives(void *m, double dx[]) { vi_me_derivatives(m, dx); }
-static void indicators(void *m, double z[]) { vi_me_indicators(m, z); }
-static void nominals(const void *m, double nominal[]) { vi_me_nominals(m, nominal); }
-static int completed_step(void *m) { return vi_me_completed_step(m); }
-static void enter_continuous(void *m) { vi_me_enter_continuous(m); }
+static int me_initialize(void *m) { return vi_me_initialize(me_of(m)); }
+static void set_time(void *m, double t) { vi_me_set_time(me_of(m), t); }
+static void get_states(void *m, double x[]) { vi_me_get_states(me_of(m), x); }
+static void set_states(void *m, const double x[]) { vi_me_set_states(me_of(m), x); }
+static void derivatives(void *m, double dx[]) { vi_me_derivatives(me_of(m), dx); }
+static void indicators(void *m, double z[]) { vi_me_indicators(me_of(m), z); }
+static void nominals(const void *m, double nominal[]) { vi_me_nominals(&((const contact_instance *)m)->e, nominal); }
+static int completed_step(void *m) { return vi_me_completed_step(me_of(m)); }
+static void enter_continuous(void *m) { vi_me_enter_continuous(me_of(m)); }
 
 static int event_update(void *m, vi_fmu_event *ev)
 {
     vi_me_event e;
-    if (vi_me_event_update(m, &e) < 0) return -1;
+    if (vi_me_event_update(me_of(m), &e) < 0) return -1;
     *ev = (vi_fmu_event){.another_pass = e.another_pass, .terminate = e.terminate, .states_changed = e.states_changed,
                          .next_time_defined = e.next_time_defined, .next_time = e.next_time};
     return 0;
@@ -207,7 +196,7 @@ static int directional_derivative(void *m, const unsigned unknown[], size_t n_un
                                   size_t n_known, const double dknown[], double dunknown[])
 {
     vi_me_partials jac[VI_ME_N_UNKNOWNS];
-    vi_me_jacobian(m, jac);
+    vi_me_jacobian(me_of(m), jac);
     for (size_t i = 0; i < n_unknown; i++) {
         int row = jacobian_row(unknown[i]);
         dunknown[i] = 0.0;
@@ -220,7 +209,7 @@ static int directional_derivative(void *m, const unsigned unknown[], size_t n_un
 }
 
 const vi_fmu_model vi_fmu_this_model = {
-    VI_FMU_TABLE_FIELDS(contact_instance, vi_sim_data),
+    VI_FMU_TABLE_FIELDS(contact_instance, vi_contact_data),
     .init = init,
     .reset = reset,
     .release = release,

@@ -6,17 +6,17 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "vi_text.h"
+#include "vi_check.h"
 
 static double platform(const vi_model *model, double t) { return vi_model_platform(model, t, NULL, NULL); }
 
 /* The inputs from t on: their values (Model Exchange passes no derivatives: F_ext is held); yC_in at
- * the rate vC_in with velocity_input (vi_sim_input_ramps), else at the rate estimated at the last
+ * the rate vC_in with velocity_input (vi_run_input_ramps), else at the rate estimated at the last
  * completed step. */
-static void input_ramps(const vi_sim_data *d, double t, vi_ramp *yC_in, vi_ramp *F_ext)
+static void input_ramps(const vi_me *e, double t, vi_ramp *yC_in, vi_ramp *F_ext)
 {
-    vi_sim_input_ramps(d, t, yC_in, F_ext);
-    if (!d->par.velocity_input) yC_in->du = d->yC_in_rate;
+    vi_run_input_ramps(e->r, t, yC_in, F_ext);
+    if (!e->r->set.velocity_input) yC_in->du = e->own->yC_in_rate;
     F_ext->du = 0.0;
 }
 
@@ -30,55 +30,68 @@ static void input_ramps(const vi_sim_data *d, double t, vi_ramp *yC_in, vi_ramp 
  * `changed`) wait for the event iteration, which applies them as a jump. */
 static void sync(vi_me *e)
 {
-    vi_sim_data *d = &e->s.d;
-    if (!e->active) return; /* co-simulation: vi_sim keeps its outputs until its state changes */
+    vi_run_data *d = e->d;
+    if (!e->active) return; /* before initialization: the run as prepared */
     vi_ramp yC_in, F_ext;
-    input_ramps(d, d->t, &yC_in, &F_ext);
-    int take = !d->inputs_changed && vi_hybrid_inputs_differ(&e->s.engine, d->t, yC_in, F_ext);
+    input_ramps(e, d->t, &yC_in, &F_ext);
+    int take = !d->inputs_changed && vi_hybrid_inputs_differ(&e->engine, d->t, yC_in, F_ext);
     if (!e->stale && !take) return;
     e->stale = 0;
-    e->s.out_valid = 0;
+    e->r->out_valid = 0;
     if (take) {
         d->model.yC_in = yC_in;
         d->model.F_ext = F_ext;
     }
-    d->x[0] = platform(&d->model, d->t) - d->y_me;
+    d->x[0] = platform(&d->model, d->t) - e->own->y_me;
 }
 
 /* A step completed or an event handled at the current time: the next step starts here. */
-static void mark_step(vi_sim_data *d)
+static void mark_step(vi_me *e)
 {
+    vi_run_data *d = e->d;
     d->step_t0 = d->t;
     d->step_v0 = d->x[1];
-    d->step_u0 = vi_ramp_at(&d->model.yC_in, d->t);
+    e->own->step_u0 = vi_ramp_at(&d->model.yC_in, d->t);
+}
+
+void vi_me_init(vi_me *e, vi_run *r, vi_me_data *d)
+{
+    memset(e, 0, sizeof *e);
+    e->r = r, e->own = d;
+    e->d = vi_run_attach(r, &e->engine, d, sizeof *d);
 }
 
 /* Bind the event engine to the integrated position y (Model Exchange) and start the driver's own state. */
 static void start_driver(vi_me *e, int active)
 {
-    vi_sim *s = &e->s;
-    vi_hybrid_bind(&s->engine, &s->d.model, &s->d.events, active, s->log, s->log_env);
+    vi_run_bind_engine(e->r, &e->engine, active);
     e->active = active;
     e->stale = 1;
 }
 
 int vi_me_initialize(vi_me *e)
 {
-    vi_sim *s = &e->s;
-    if (vi_sim_initialize(s) < 0) return -1;
-    vi_sim_data *d = &s->d;
+    vi_run *r = e->r;
+    if (vi_run_prepare(r) < 0) return -1;
+    vi_run_data *d = r->d;
     vi_model *model = &d->model;
-    d->yC_in_rate = 0.0;
-    input_ramps(d, d->t, &model->yC_in, &model->F_ext);
-    mark_step(d);
+    double rtol, atol[2];
+    vi_run_tolerances(r, &rtol, atol); /* the scales of the initial state as prepared */
+    d->initialized = 1;
+    vi_run_warn_settings(r);
+    e->own->yC_in_rate = 0.0;
+    input_ramps(e, d->t, &model->yC_in, &model->F_ext);
+    mark_step(e);
     e->warned_rate = 0;
-    d->y_me = platform(model, d->t) - d->x[0];
-    start_driver(e, 1);
+    e->own->y_me = platform(model, d->t) - d->x[0];
+    e->active = 1;
+    e->stale = 1;
     sync(e);
-    vi_hybrid_start(&s->engine, d->events.rtol, d->events.atol, d->t, d->x);
+    vi_run_bind_engine(r, &e->engine, 1);
+    vi_hybrid_start(&e->engine, rtol, atol, d->t, d->x); /* at the state as the importer holds it */
     double nominal[VI_ME_NSTATES];
     vi_me_nominals(e, nominal);
-    s->log(s->log_env, VI_LOG_SOLVER, "Model Exchange: the importer integrates y, v and W_damping (nominals %g m, %g m/s, "
+    r->log(r->log_env, VI_LOG_SOLVER, "Model Exchange: the importer integrates y, v and W_damping (nominals %g m, %g m/s, "
            "%g J); initial mode %d, delta = %.9g m, v = %.9g m/s", nominal[0], nominal[1], nominal[2], model->mode, d->x[0],
            d->x[1]);
     return 0;
@@ -86,30 +99,30 @@ int vi_me_initialize(vi_me *e)
 
 void vi_me_set_time(vi_me *e, double t)
 {
-    e->s.d.t = t;
+    e->d->t = t;
     e->stale = 1;
 }
 
 void vi_me_get_states(vi_me *e, double x[VI_ME_NSTATES])
 {
-    const vi_sim_data *d = &e->s.d;
-    x[0] = e->active ? d->y_me : platform(&d->model, d->t) - d->x[0]; /* before: the initial state prepared */
+    const vi_run_data *d = e->d;
+    x[0] = e->active ? e->own->y_me : platform(&d->model, d->t) - d->x[0]; /* before: the initial state prepared */
     x[1] = d->x[1];
     x[2] = d->W_damping;
 }
 
 void vi_me_set_states(vi_me *e, const double x[VI_ME_NSTATES])
 {
-    e->s.d.y_me = x[0];
-    e->s.d.x[1] = x[1];
-    e->s.d.W_damping = x[2];
+    e->own->y_me = x[0];
+    e->d->x[1] = x[1];
+    e->d->W_damping = x[2];
     e->stale = 1;
 }
 
 void vi_me_derivatives(vi_me *e, double dx[VI_ME_NSTATES])
 {
     sync(e);
-    const vi_sim_data *d = &e->s.d;
+    const vi_run_data *d = e->d;
     double r[2];
     vi_model_rhs(&d->model, d->t, d->x, r);
     dx[0] = d->x[1];
@@ -120,14 +133,14 @@ void vi_me_derivatives(vi_me *e, double dx[VI_ME_NSTATES])
 void vi_me_indicators(vi_me *e, double z[VI_ME_NINDICATORS])
 {
     sync(e);
-    vi_hybrid_guards(&e->s.engine, e->s.d.t, e->s.d.x, z);
+    vi_hybrid_guards(&e->engine, e->d->t, e->d->x, z);
 }
 
 void vi_me_nominals(const vi_me *e, double nominal[VI_ME_NSTATES])
 {
-    const vi_hybrid_state *h = &e->s.d.events;
+    const vi_hybrid_state *h = &e->d->events;
     for (int i = 0; i < 2; i++) nominal[i] = e->active && h->atol[i] > 0.0 ? h->atol[i] / h->rtol : 1.0;
-    nominal[2] = e->active && h->atol[1] > 0.0 ? e->s.d.model.m * nominal[1] * nominal[1] : 1.0; /* m V^2 [J] */
+    nominal[2] = e->active && h->atol[1] > 0.0 ? e->d->model.m * nominal[1] * nominal[1] : 1.0; /* m V^2 [J] */
 }
 
 /* The end of a non-periodic profile at or before t: 1 with the reason in msg. */
@@ -140,69 +153,70 @@ static int past_profile_end(const vi_model *model, double t, char *msg, size_t n
  * (an input jump), and a kink of the profile passed since the last step. */
 static void time_events(vi_me *e, double x[2])
 {
-    vi_sim_data *d = &e->s.d;
+    vi_run_data *d = e->d;
     double t = d->t;
-    if (d->inputs_changed || vi_model_excitation_differs(&d->model, d->par.a, d->par.f)) {
+    double a, f;
+    vi_run_excitation(e->r, &a, &f);
+    if (d->inputs_changed || vi_model_excitation_differs(&d->model, a, f)) {
         vi_ramp yC_in = d->model.yC_in, F_ext = d->model.F_ext;
-        if (d->inputs_changed) input_ramps(d, t, &yC_in, &F_ext);
+        if (d->inputs_changed) input_ramps(e, t, &yC_in, &F_ext);
         d->inputs_changed = 0;
-        vi_hybrid_input_jump(&e->s.engine, t, x, yC_in, F_ext, d->par.a, d->par.f);
+        vi_hybrid_input_jump(&e->engine, t, x, yC_in, F_ext, a, f);
     }
-    if (vi_model_next_breakpoint(&d->model, d->step_t0) <= t) vi_hybrid_kink(&e->s.engine, t, x);
+    if (vi_model_next_breakpoint(&d->model, d->step_t0) <= t) vi_hybrid_kink(&e->engine, t, x);
 }
 
 /* The first guard at or below zero, as a state event. Returns the guard, or -1 when none fired; *from:
  * the mode it belonged to. */
 static int state_event(vi_me *e, double x[2], int *from)
 {
-    vi_sim_data *d = &e->s.d;
-    int located, fired = vi_hybrid_fired(&e->s.engine, d->t, x, &located);
+    vi_run_data *d = e->d;
+    int located, fired = vi_hybrid_fired(&e->engine, d->t, x, &located);
     if (fired < 0) return -1;
-    *from = vi_hybrid_event(&e->s.engine, d->t, x, fired, located);
+    *from = vi_hybrid_event(&e->engine, d->t, x, fired, located);
     return fired;
 }
 
 /* Take x (the state after the pass) as the importer's: y moves only when x moved. */
 static void take_state(vi_me *e, const double x[2], vi_me_event *ev)
 {
-    vi_sim_data *d = &e->s.d;
+    vi_run_data *d = e->d;
     if (x[0] != d->x[0] || x[1] != d->x[1]) { /* snapped, frozen onto the platform, or a new a */
         ev->states_changed = 1;
-        d->y_me = platform(&d->model, d->t) - x[0];
+        e->own->y_me = platform(&d->model, d->t) - x[0];
         d->x[1] = x[1];
     }
-    d->x[0] = platform(&d->model, d->t) - d->y_me;
+    d->x[0] = platform(&d->model, d->t) - e->own->y_me;
 }
 
 int vi_me_event_update(vi_me *e, vi_me_event *ev)
 {
-    vi_sim *s = &e->s;
-    vi_sim_data *d = &s->d;
+    vi_run_data *d = e->d;
     memset(ev, 0, sizeof *ev);
     sync(e);
     double t = d->t, x[2] = {d->x[0], d->x[1]};
-    if (past_profile_end(&d->model, t, s->msg, sizeof s->msg)) {
+    if (past_profile_end(&d->model, t, e->r->msg, sizeof e->r->msg)) {
         ev->terminate = 1;
         return 0;
     }
     time_events(e, x);
     int from = d->model.mode, fired = state_event(e, x, &from);
     take_state(e, x, ev);
-    vi_hybrid_arm_at_zero(&s->engine, t, d->x); /* at the state as the importer holds it */
-    ev->another_pass = vi_hybrid_due(&s->engine, t, d->x);
-    mark_step(d);
-    vi_sim_check_validity(s);
-    if (fired >= 0 && vi_hybrid_zeno(&s->engine, t, fired, from, s->msg, sizeof s->msg)) ev->terminate = 1;
+    vi_hybrid_arm_at_zero(&e->engine, t, d->x); /* at the state as the importer holds it */
+    ev->another_pass = vi_hybrid_due(&e->engine, t, d->x);
+    mark_step(e);
+    vi_run_check_validity(e->r);
+    if (fired >= 0 && vi_hybrid_zeno(&e->engine, t, fired, from, e->r->msg, sizeof e->r->msg)) ev->terminate = 1;
     char why[8];
     double next = fmin(vi_model_next_breakpoint(&d->model, t), vi_model_rolling_limit(&d->model, why, sizeof why));
     if (isfinite(next) && next > t) ev->next_time_defined = 1, ev->next_time = next;
-    s->out_valid = 0;
+    e->r->out_valid = 0;
     return 0;
 }
 
 void vi_me_enter_continuous(vi_me *e)
 {
-    e->s.d.inputs_changed = 0;
+    e->d->inputs_changed = 0;
     sync(e);
 }
 
@@ -211,16 +225,16 @@ void vi_me_enter_continuous(vi_me *e)
  * and the mode choices. Its first change while the law needs the rate is warned of once. */
 static void estimate_rate(vi_me *e)
 {
-    vi_sim_data *d = &e->s.d;
+    vi_run_data *d = e->d;
     double h = d->t - d->step_t0;
-    if (d->par.velocity_input || !(h > 0.0)) return;
-    d->yC_in_rate = (vi_ramp_at(&d->model.yC_in, d->t) - d->step_u0) / h;
-    if (d->yC_in_rate != 0.0 && !e->warned_rate && vi_model_uses_rate(&d->model)) {
+    if (e->r->set.velocity_input || !(h > 0.0)) return;
+    e->own->yC_in_rate = (vi_ramp_at(&d->model.yC_in, d->t) - e->own->step_u0) / h;
+    if (e->own->yC_in_rate != 0.0 && !e->warned_rate && vi_model_uses_rate(&d->model)) {
         e->warned_rate = 1;
-        e->s.log(e->s.log_env, VI_LOG_WARNING, "t = %.17g s: yC_in moves (%g m/s) and velocity_input = false: Model "
+        e->r->log(e->r->log_env, VI_LOG_WARNING, "t = %.17g s: yC_in moves (%g m/s) and velocity_input = false: Model "
                  "Exchange passes no input derivatives, so the platform's rate is estimated from yC_in's change over "
                  "each completed step, and turning points, damping and mode choices lag by a step; set velocity_input "
-                 "= true and connect the platform's velocity to vC_in for exact results", d->t, d->yC_in_rate);
+                 "= true and connect the platform's velocity to vC_in for exact results", d->t, e->own->yC_in_rate);
     }
     sync(e); /* the new rate acts from now on (a continuous-time input) */
 }
@@ -232,68 +246,76 @@ static void estimate_rate(vi_me *e)
  * state is the importer's). */
 static void write_down(vi_me *e)
 {
-    vi_sim_data *d = &e->s.d;
-    if (d->model.mode != VI_MODE_PLASTIC || d->par.velocity_input || d->yC_in_rate == 0.0) return;
+    vi_run_data *d = e->d;
+    if (d->model.mode != VI_MODE_PLASTIC || e->r->set.velocity_input || e->own->yC_in_rate == 0.0) return;
     double x[2] = {d->x[0], d->x[1]};
     vi_model_freeze(&d->model, d->t, x);
 }
 
 int vi_me_completed_step(vi_me *e)
 {
-    vi_sim_data *d = &e->s.d;
+    vi_run_data *d = e->d;
     char why[8];
     sync(e);
     if (vi_model_next_breakpoint(&d->model, d->step_t0) <= d->t || past_profile_end(&d->model, d->t, why, sizeof why))
         return 1; /* a time event was stepped over: handle it here */
     estimate_rate(e);
     write_down(e);
-    if (vi_hybrid_due(&e->s.engine, d->t, d->x)) return 1; /* the new rate put a guard below zero */
-    vi_hybrid_rearm(&e->s.engine, d->t, d->x);
-    mark_step(d);
-    vi_sim_check_validity(&e->s);
+    if (vi_hybrid_due(&e->engine, d->t, d->x)) return 1; /* the new rate put a guard below zero */
+    vi_hybrid_rearm(&e->engine, d->t, d->x);
+    mark_step(e);
+    vi_run_check_validity(e->r);
     return 0;
 }
 
-const vi_outputs *vi_me_outputs_of(vi_me *e, unsigned groups)
+const vi_run_values *vi_me_outputs_of(vi_me *e, unsigned groups)
 {
-    vi_sim *s = &e->s;
+    vi_run *run = e->r;
+    const vi_run_data *d = run->d;
     sync(e);
-    const vi_outputs *out = vi_sim_outputs_of(s, groups);
-    if (e->active && (groups & VI_OUT_FORCE)) s->out.F_peak = s->out.F; /* the importer's steps are not seen */
-    if ((groups & VI_OUT_DERIVATIVES) && !(s->out_valid & VI_OUT_DERIVATIVES)) {
+    const vi_run_values *out = vi_run_outputs_of(run, groups);
+    if (e->active && (groups & VI_OUT_FORCE)) run->out.F_peak = run->out.model.F; /* the importer's steps are not seen */
+    if ((groups & VI_OUT_DERIVATIVES) && !(run->out_valid & VI_OUT_DERIVATIVES)) {
         double r[2];
-        vi_model_rhs(&s->d.model, s->d.t, s->d.x, r);
-        s->out.der_y = s->d.x[1];
-        s->out.der_v = r[1];
-        s->out.der_W_damping = vi_model_damping_power(&s->d.model, s->d.t, s->d.x).P;
-        s->out_valid |= VI_OUT_DERIVATIVES;
+        vi_model_rhs(&d->model, d->t, d->x, r);
+        run->out.der_y = d->x[1];
+        run->out.der_v = r[1];
+        run->out.der_W_damping = vi_model_damping_power(&d->model, d->t, d->x).P;
+        run->out_valid |= VI_OUT_DERIVATIVES;
     }
     return out;
 }
 
-void vi_me_outputs(vi_me *e, vi_outputs *out) { *out = *vi_me_outputs_of(e, VI_OUT_ALL); }
 
 int vi_me_checkpoint(vi_me *e)
 {
-    sync(e);
-    if (e->active) { /* the memory stays as written down: a saved state changes nothing that follows */
-        vi_sim_data *d = &e->s.d;
-        /* the model's own solver does not run in Model Exchange: start it at the current point, so
-         * that its continuation (dop853) belongs to the state saved */
-        if (e->s.solver && vi_solver_reset(e->s.solver, d->t, d->x) < 0) {
-            vi_snprintf(e->s.msg, sizeof e->s.msg, "could not restart the solver at t = %.17g s", d->t);
-            return -1;
-        }
-    }
-    return vi_sim_checkpoint(&e->s);
+    sync(e); /* the memory stays as written down: a saved state changes nothing that follows */
+    return 0;
 }
 
 int vi_me_restore(vi_me *e, int running)
 {
-    if ((running ? vi_sim_restore_without_solver(&e->s) : vi_sim_restore(&e->s)) < 0) return -1;
+    if (vi_run_restore(e->r) < 0) return -1;
     start_driver(e, running);
     return 0;
 }
+
+/* Every field of the driver's data finite. */
+static int me_data_check(const vi_me_data *d, char *msg, size_t n)
+{
+    if (!isfinite(d->y_me)) VI_FAIL(msg, n, "y_me = %g is not finite", d->y_me);
+    if (!isfinite(d->step_u0) || !isfinite(d->yC_in_rate))
+        VI_FAIL(msg, n, "step_u0 = %g, yC_in_rate = %g: not finite", d->step_u0, d->yC_in_rate);
+    return 0;
+}
+
+int vi_me_data_check(const vi_run_data *r, const vi_me_data *d, double t_start, double rtol, char *msg, size_t n)
+{
+    if (vi_run_data_check(r, t_start, rtol, msg, n) < 0 || me_data_check(d, msg, n) < 0) return -1;
+    return vi_run_data_check_model(r, 0, msg, n);
+}
+
+int vi_me_data_finite(const vi_me_data *d, char *msg, size_t n) { return me_data_check(d, msg, n); }
 
 /* ---- the Jacobian ---------------------------------------------------------------------------- */
 
@@ -308,12 +330,12 @@ static vi_me_partials through_delta(double a_d, double a_v, double a_F, double a
  * state's column is the layer's), E_contact, and F_peak = F. */
 static void energy_rows(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
 {
-    const vi_sim_data *d = &e->s.d;
+    const vi_run_data *d = e->d;
     double dE;
     vi_model_contact_energy(&d->model, d->x, &dE);
     vi_model_power P = vi_model_damping_power(&d->model, d->t, d->x);
     jac[VI_ME_DER_W] = through_delta(P.dP_ddelta, -P.dP_drate, 0.0, 0.0); /* delta' = yC' - v */
-    if (d->par.velocity_input) jac[VI_ME_DER_W].vC_in = P.dP_drate;
+    if (e->r->set.velocity_input) jac[VI_ME_DER_W].vC_in = P.dP_drate;
     jac[VI_ME_W_DISSIPATED] = jac[VI_ME_W_PLASTIC];
     jac[VI_ME_E_CONTACT] = through_delta(dE, 0.0, 0.0, 0.0);
     jac[VI_ME_F_PEAK] = jac[VI_ME_F];
@@ -322,10 +344,10 @@ static void energy_rows(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
 void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
 {
     sync(e);
-    const vi_sim_data *d = &e->s.d;
+    const vi_run_data *d = e->d;
     const vi_model *model = &d->model;
     double m = model->m, h = d->t - d->step_t0;
-    int stick = model->mode == VI_Mode_stick;
+    int stick = model->mode == VI_MODE_STICK;
     double k = stick ? 0.0 : m * vi_model_stiffness_over_mass(model, d->t, d->x); /* dF/ddelta */
     double c = vi_model_damping(model, d->t, d->x), k_per_rate;                 /* dF/ddelta' (delta' = yC' - v) */
     double k_rate = vi_model_stiffness_rate(model, d->t, d->x, &k_per_rate);
@@ -346,7 +368,7 @@ void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
     jac[VI_ME_RBAR] = through_delta(mem.Rbar, 0.0, 0.0, 0.0);
     jac[VI_ME_DELTA_P] = through_delta(mem.delta_p, 0.0, 0.0, 0.0);
     jac[VI_ME_W_PLASTIC] = through_delta(mem.W_plastic, 0.0, 0.0, 0.0);
-    if (d->par.velocity_input) { /* vC_in is the platform's rate in delta' = yC' - v: the partials of -v */
+    if (e->r->set.velocity_input) { /* vC_in is the platform's rate in delta' = yC' - v: the partials of -v */
         jac[VI_ME_DER_V].vC_in = c / m;
         jac[VI_ME_F].vC_in = c;
         if (h <= 0.0) jac[VI_ME_F_MEAN].vC_in = c;

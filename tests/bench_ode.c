@@ -20,7 +20,7 @@
 
 #include "vi_model.h"
 #include "vi_ode.h"
-#include "vi_sim.h"
+#include "vi_contact_instance.h"
 
 static double now(void)
 {
@@ -100,7 +100,7 @@ static double model_run(const vi_parameters *par, double rtol, int samples, doub
 {
     vi_model M;
     char msg[256];
-    vi_model_params mp = vi_sim_model_params(par);
+    vi_model_params mp = vi_contact_model_params(par);
     if (vi_model_setup(&M, &mp, 0.0, msg, sizeof msg) < 0) {
         fprintf(stderr, "model: %s\n", msg);
         exit(1);

@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "vi_hybrid.h"
-#include "vi_sim.h" /* the defaults of the variable table (vi_parameters_default, vi_sim_model_params) */
+#include "vi_contact_instance.h" /* the defaults of the variable table (vi_parameters_default, vi_contact_model_params) */
 
 static char last_line[512];
 static int n_lines;
@@ -32,7 +32,7 @@ static void touching(vi_model *model, vi_hybrid_state *st, vi_hybrid *h, int int
     vi_parameters p;
     vi_parameters_default(&p);
     p.contact_model = VI_ContactModel_hertz;
-    vi_model_params mp = vi_sim_model_params(&p);
+    vi_model_params mp = vi_contact_model_params(&p);
     char msg[256];
     memset(model, 0, sizeof *model);
     cr_assert(vi_model_setup(model, &mp, 0.0, msg, sizeof msg) == 0, "%s", msg);
@@ -164,7 +164,7 @@ Test(hybrid, the_guards_are_named_as_the_model_lists_them)
         vi_parameters p;
         vi_parameters_default(&p);
         p.contact_model = cases[k].law, p.moving_contact = cases[k].moving;
-        vi_model_params mp = vi_sim_model_params(&p);
+        vi_model_params mp = vi_contact_model_params(&p);
         vi_model model;
         char msg[256];
         memset(&model, 0, sizeof model);

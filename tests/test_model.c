@@ -13,18 +13,18 @@
 #include <unistd.h>
 
 #include "vi_model.h"
-#include "vi_sim.h"
+#include "test_run.h"
 
 /* The model set up from (and its option warnings of) the FMU's parameters, as the simulation does. */
 static int setup_from_table(vi_model *M, const vi_parameters *p, double t0, char *msg, size_t n)
 {
-    vi_model_params mp = vi_sim_model_params(p);
+    vi_model_params mp = vi_contact_model_params(p);
     return vi_model_setup(M, &mp, t0, msg, n);
 }
 
 static int warnings_from_table(const vi_parameters *p, char *msg, size_t n)
 {
-    vi_model_params mp = vi_sim_model_params(p);
+    vi_model_params mp = vi_contact_model_params(p);
     return vi_model_option_warnings(&mp, msg, n);
 }
 
@@ -249,8 +249,8 @@ Test(model_check, accepts_every_state_of_real_runs)
         {1, 0, 1, 1, 6e8}, {2, 0, 1, 1, 6e8}, {2, 0, 2, 1, 6e8}, {2, 1, 1, 1, 6e8}, {3, 0, 1, 1, 6e8},
         {2, 0, 1, 2, 6e8}, {2, 0, 1, 1, 2e8}};
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
-        vi_sim s;
-        vi_sim_init(&s, log_nothing, NULL);
+        test_run s;
+        test_run_init(&s, log_nothing, NULL);
         s.d.par.contact_model = cases[c].law;
         s.d.par.moving_contact = cases[c].moving;
         s.d.par.unloading = cases[c].unloading;
@@ -259,16 +259,16 @@ Test(model_check, accepts_every_state_of_real_runs)
         s.d.par.a = 1e-4;
         s.d.par.f = cases[c].Y < 3e8 ? 100.0 : 560.0;
         char msg[256];
-        cr_assert(vi_model_check(&s.d.model, s.d.x, msg, sizeof msg) == 0, "never set up: %s", msg);
-        cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+        cr_assert(vi_model_check(&s.d.run.model, s.d.run.x, msg, sizeof msg) == 0, "never set up: %s", msg);
+        cr_assert(vi_sim_initialize(&s.s) == 0, "%s", s.r.msg);
         int modes = 0;
         for (int k = 1; k <= 300; k++) {
-            cr_assert(vi_sim_advance(&s, 1e-4 * k) == 0, "%s", s.msg);
-            modes |= 1 << s.d.model.mode;
-            cr_assert(vi_model_check(&s.d.model, s.d.x, msg, sizeof msg) == 0, "case %zu t = %g: %s", c, s.d.t, msg);
+            cr_assert(vi_sim_advance(&s.s, 1e-4 * k) == 0, "%s", s.r.msg);
+            modes |= 1 << s.d.run.model.mode;
+            cr_assert(vi_model_check(&s.d.run.model, s.d.run.x, msg, sizeof msg) == 0, "case %zu t = %g: %s", c, s.d.run.t, msg);
         }
         cr_assert(modes & 1 << VI_Mode_elastic || modes & 1 << VI_Mode_unload || modes & 1 << VI_Mode_stick);
-        vi_sim_free(&s);
+        test_run_free(&s);
     }
 }
 
@@ -436,17 +436,17 @@ Test(model_check, guard_tolerance)
  * delta on delta_c bit for bit (with the free-motion Jacobian it drifted by 1e-6 relative). */
 Test(model, stick_keeps_delta_exactly_on_delta_c)
 {
-    vi_sim s;
-    vi_sim_init(&s, log_nothing, NULL);
+    test_run s;
+    test_run_init(&s, log_nothing, NULL);
     s.d.par.Y = 2e8; /* the 'stick' scenario */
     s.d.par.a = 1e-4;
     s.d.par.f = 100.0;
-    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    cr_assert(vi_sim_initialize(&s.s) == 0, "%s", s.r.msg);
     int sticking = 0, touching = 0;
     for (int k = 1; k <= 500; k++) {
-        cr_assert(vi_sim_advance(&s, 1e-4 * k) == 0, "%s", s.msg);
-        const vi_model *M = &s.d.model;
-        double t = s.d.t, *x = s.d.x, j[4], fd[4];
+        cr_assert(vi_sim_advance(&s.s, 1e-4 * k) == 0, "%s", s.r.msg);
+        const vi_model *M = &s.d.run.model;
+        double t = s.d.run.t, *x = s.d.run.x, j[4], fd[4];
         vi_model_jacobian(M, t, x, j);
         /* the right-hand side's own derivatives, by central differences of relative step 1e-6 */
         for (int c = 0; c < 2; c++) {
@@ -474,7 +474,7 @@ Test(model, stick_keeps_delta_exactly_on_delta_c)
         cr_assert(x[0] == M->unload.delta_c, "t = %g: delta - delta_c = %g", t, x[0] - M->unload.delta_c);
     }
     cr_assert(sticking > 50 && touching > 50, "%d samples in stick, %d in other contact modes", sticking, touching);
-    vi_sim_free(&s);
+    test_run_free(&s);
 }
 
 /* The static state at extreme loads comes from a closed form or a bounded solve,
@@ -747,80 +747,80 @@ Test(model, validity_of_the_profile_heights)
 /* ---- tunable excitation ------------------------------------------------------------------------- */
 
 /* A mass thrown up and away (no load, v0 = 1 m/s): the platform's position is the excitation alone. */
-static void flying(vi_sim *s, double a, double f)
+static void flying(test_run *s, double a, double f)
 {
-    vi_sim_init(s, log_nothing, NULL);
+    test_run_init(s, log_nothing, NULL);
     s->d.par.contact_model = VI_ContactModel_hertz;
     s->d.par.P = 0.0, s->d.par.g = 0.0, s->d.par.init = VI_Init_touching, s->d.par.v0 = 1.0;
     s->d.par.a = a, s->d.par.f = f;
     s->d.par.rtol = 1e-9; /* the free-flight comparison below is at 1e-6: well above the global error */
-    cr_assert(vi_sim_initialize(s) == 0, "%s", s->msg);
+    cr_assert(vi_sim_initialize(&s->s) == 0, "%s", s->r.msg);
 }
 
 Test(excitation, frequency_change_keeps_phase_and_position_continuous)
 {
-    vi_sim s;
+    test_run s;
     flying(&s, 1e-4, 100.0);
     double t1 = 0.0123, t2 = 0.02;
-    cr_assert(vi_sim_advance(&s, t1) == 0, "%s", s.msg);
-    double y_before = vi_model_platform(&s.d.model, t1, NULL, NULL), v_mass = s.d.x[1], y_mass = y_before - s.d.x[0];
+    cr_assert(vi_sim_advance(&s.s, t1) == 0, "%s", s.r.msg);
+    double y_before = vi_model_platform(&s.d.run.model, t1, NULL, NULL), v_mass = s.d.run.x[1], y_mass = y_before - s.d.run.x[0];
     s.d.par.f = 250.0;
-    s.d.inputs_changed = 1;
-    cr_assert(vi_sim_advance(&s, t2) == 0, "%s", s.msg);
+    s.d.run.inputs_changed = 1;
+    cr_assert(vi_sim_advance(&s.s, t2) == 0, "%s", s.r.msg);
     double ph1 = 2.0 * VI_PI * 100.0 * t1; /* closed form: the phase at t1, then 250 Hz */
-    cr_assert(fabs(vi_model_phase(&s.d.model, t1) - fmod(ph1, 2.0 * VI_PI)) < 1e-14);
-    cr_assert(fabs(vi_model_platform(&s.d.model, t1, NULL, NULL) - y_before) <= 1e-18, "yC jumped");
+    cr_assert(fabs(vi_model_phase(&s.d.run.model, t1) - fmod(ph1, 2.0 * VI_PI)) < 1e-14);
+    cr_assert(fabs(vi_model_platform(&s.d.run.model, t1, NULL, NULL) - y_before) <= 1e-18, "yC jumped");
     double expect = 1e-4 * (cos(ph1 + 2.0 * VI_PI * 250.0 * (t2 - t1)) - 1.0);
-    cr_assert(fabs(vi_model_platform(&s.d.model, t2, NULL, NULL) - expect) <= 1e-17, "%g vs %g",
-              vi_model_platform(&s.d.model, t2, NULL, NULL), expect);
+    cr_assert(fabs(vi_model_platform(&s.d.run.model, t2, NULL, NULL) - expect) <= 1e-17, "%g vs %g",
+              vi_model_platform(&s.d.run.model, t2, NULL, NULL), expect);
     /* free flight: the mass never felt the change (y = y1 + v1 (t - t1), no load) */
-    double y2 = vi_model_platform(&s.d.model, t2, NULL, NULL) - s.d.x[0];
-    cr_assert(s.d.model.mode == VI_Mode_free && s.d.x[1] == v_mass, "the mass got a kick");
+    double y2 = vi_model_platform(&s.d.run.model, t2, NULL, NULL) - s.d.run.x[0];
+    cr_assert(s.d.run.model.mode == VI_Mode_free && s.d.run.x[1] == v_mass, "the mass got a kick");
     cr_assert(fabs(y2 - (y_mass + v_mass * (t2 - t1))) <= 1e-6 * y2, "%.17g", y2);
-    vi_sim_free(&s);
+    test_run_free(&s);
 }
 
 Test(excitation, amplitude_change_moves_the_platform_not_the_mass)
 {
-    vi_sim s;
+    test_run s;
     flying(&s, 1e-4, 100.0);
     double t1 = 0.0031;
-    cr_assert(vi_sim_advance(&s, t1) == 0, "%s", s.msg);
-    double d_before = s.d.x[0], y_mass = vi_model_platform(&s.d.model, t1, NULL, NULL) - d_before;
+    cr_assert(vi_sim_advance(&s.s, t1) == 0, "%s", s.r.msg);
+    double d_before = s.d.run.x[0], y_mass = vi_model_platform(&s.d.run.model, t1, NULL, NULL) - d_before;
     s.d.par.a = 3e-4;
-    s.d.inputs_changed = 1;
-    cr_assert(vi_sim_advance(&s, t1 + 1e-3) == 0, "%s", s.msg);
+    s.d.run.inputs_changed = 1;
+    cr_assert(vi_sim_advance(&s.s, t1 + 1e-3) == 0, "%s", s.r.msg);
     double c = cos(2.0 * VI_PI * 100.0 * t1);
     /* apply the change alone: redo it on a copy at t1 */
-    vi_sim r;
+    test_run r;
     flying(&r, 1e-4, 100.0);
-    cr_assert(vi_sim_advance(&r, t1) == 0);
-    vi_model_set_excitation(&r.d.model, t1, r.d.x, 3e-4, 100.0); /* at t1 itself, as the loop does next step */
-    cr_assert(fabs(r.d.x[0] - (d_before + 2e-4 * (c - 1.0))) <= 1e-18, "delta jumps by da (cos - 1)");
-    cr_assert(fabs(vi_model_platform(&r.d.model, t1, NULL, NULL) - r.d.x[0] - y_mass) <= 1e-18, "the mass moved");
-    cr_assert(fabs(vi_model_platform(&r.d.model, t1, NULL, NULL) - 3e-4 * (c - 1.0)) <= 1e-18);
-    vi_sim_free(&s);
-    vi_sim_free(&r);
+    cr_assert(vi_sim_advance(&r.s, t1) == 0);
+    vi_model_set_excitation(&r.d.run.model, t1, r.d.run.x, 3e-4, 100.0); /* at t1 itself, as the loop does next step */
+    cr_assert(fabs(r.d.run.x[0] - (d_before + 2e-4 * (c - 1.0))) <= 1e-18, "delta jumps by da (cos - 1)");
+    cr_assert(fabs(vi_model_platform(&r.d.run.model, t1, NULL, NULL) - r.d.run.x[0] - y_mass) <= 1e-18, "the mass moved");
+    cr_assert(fabs(vi_model_platform(&r.d.run.model, t1, NULL, NULL) - 3e-4 * (c - 1.0)) <= 1e-18);
+    test_run_free(&s);
+    test_run_free(&r);
 }
 
 /* Up and down sweeps by changes at communication points: the platform follows the closed-form
  * accumulated phase phi = sum f_k 2 pi dt_k at every point. */
 Test(excitation, sweep_up_and_down_follows_the_accumulated_phase)
 {
-    vi_sim s;
+    test_run s;
     flying(&s, 1e-4, 50.0);
     double t = 0.0, phase = 0.0, f = 50.0, h = 1e-3;
     for (int k = 0; k < 60; k++) {
         double f_next = k < 30 ? 50.0 + 10.0 * k : 50.0 + 10.0 * (59 - k); /* up, then down */
-        if (f_next != f) s.d.par.f = f_next, s.d.inputs_changed = 1, f = f_next;
-        cr_assert(vi_sim_advance(&s, t + h) == 0, "%s", s.msg);
+        if (f_next != f) s.d.par.f = f_next, s.d.run.inputs_changed = 1, f = f_next;
+        cr_assert(vi_sim_advance(&s.s, t + h) == 0, "%s", s.r.msg);
         phase += 2.0 * VI_PI * f * h;
         t += h;
-        double expect = 1e-4 * (cos(phase) - 1.0), dyC, yC = vi_model_platform(&s.d.model, t, &dyC, NULL);
+        double expect = 1e-4 * (cos(phase) - 1.0), dyC, yC = vi_model_platform(&s.d.run.model, t, &dyC, NULL);
         cr_assert(fabs(yC - expect) <= 1e-13 * 1e-4, "k %d: %g vs %g (%g)", k, yC, expect, yC - expect);
         cr_assert(fabs(dyC + 1e-4 * 2.0 * VI_PI * f * sin(phase)) <= 1e-12, "k %d: velocity", k);
     }
-    vi_sim_free(&s);
+    test_run_free(&s);
 }
 
 /* ---- rolling over a profile --------------------------------------------------------------------- */
@@ -839,15 +839,15 @@ static const char *v_trough_file(double s0)
 }
 
 /* A simulation of the defaults rolled over the trough (parameters profile_file, V, x0). */
-static void rolling_sim(vi_sim *s, double s0, double V, double x0, double rtol)
+static void rolling_sim(test_run *s, double s0, double V, double x0, double rtol)
 {
-    vi_sim_init(s, log_nothing, NULL);
+    test_run_init(s, log_nothing, NULL);
     s->d.par.contact_model = VI_ContactModel_hertz;
     s->d.par.solver = VI_Solver_adams; /* an implicit method keeps a static rest to rounding */
     s->d.par.rtol = rtol;
     snprintf(s->d.par.profile_file, sizeof s->d.par.profile_file, "%s", v_trough_file(s0));
     s->d.par.V = V, s->d.par.x0 = x0;
-    cr_assert(vi_sim_initialize(s) == 0, "%s", s->msg);
+    cr_assert(vi_sim_initialize(&s->s) == 0, "%s", s->r.msg);
 }
 
 /* Rolling at V = 0 over a profile with a kink behind (and ahead of) the start: no breakpoint ever,
@@ -855,14 +855,14 @@ static void rolling_sim(vi_sim *s, double s0, double V, double x0, double rtol)
 Test(rolling, no_breakpoint_at_zero_speed, .timeout = 10)
 {
     for (int k = 0; k < 2; k++) {
-        vi_sim s;
+        test_run s;
         rolling_sim(&s, 1e-4, 0.0, k ? -0.5 : 0.5, 1e-8);
-        cr_assert(vi_model_next_breakpoint(&s.d.model, s.d.t) == INFINITY);
-        double x0 = s.d.x[0];
-        cr_assert(vi_sim_advance(&s, 0.01) == VI_SIM_OK && s.d.t == 0.01, "%s", s.msg);
-        cr_assert(fabs(s.d.x[0] - x0) <= 1e-9 * x0 && fabs(s.d.x[1]) <= 1e-12 && s.d.events.n_events == 0,
-                  "delta %g -> %g, v %g, %ld events", x0, s.d.x[0], s.d.x[1], (long)s.d.events.n_events);
-        vi_sim_free(&s);
+        cr_assert(vi_model_next_breakpoint(&s.d.run.model, s.d.run.t) == INFINITY);
+        double x0 = s.d.run.x[0];
+        cr_assert(vi_sim_advance(&s.s, 0.01) == VI_SIM_OK && s.d.run.t == 0.01, "%s", s.r.msg);
+        cr_assert(fabs(s.d.run.x[0] - x0) <= 1e-9 * x0 && fabs(s.d.run.x[1]) <= 1e-12 && s.d.run.events.n_events == 0,
+                  "delta %g -> %g, v %g, %ld events", x0, s.d.run.x[0], s.d.run.x[1], (long)s.d.run.events.n_events);
+        test_run_free(&s);
     }
 }
 
@@ -874,57 +874,57 @@ Test(rolling, kink_is_a_breakpoint_and_rings_the_contact)
 {
     for (int dir = -1; dir <= 1; dir += 2) {
         double s0 = 1e-4, V = 1.0 * dir, x0 = -0.01 * dir, tk = 0.01; /* the kink at x = 0, t = 10 ms */
-        vi_sim s;
+        test_run s;
         rolling_sim(&s, s0, V, x0, 1e-10);
-        double ds = s.d.x[0], w = 2.0 * VI_PI * s.d.model.f_contact;
-        cr_assert(fabs(s.d.x[1] - (-s0 * V * dir)) <= 1e-18, "v0 %g", s.d.x[1]); /* yC' = -s0 |V| before the kink */
-        double bp = vi_model_next_breakpoint(&s.d.model, 0.0);
-        double xk = vi_profile_next_kink(s.d.model.profile, -dir, dir), pos = vi_model_rolling_position(&s.d.model, bp);
+        double ds = s.d.run.x[0], w = 2.0 * VI_PI * s.d.run.model.f_contact;
+        cr_assert(fabs(s.d.run.x[1] - (-s0 * V * dir)) <= 1e-18, "v0 %g", s.d.run.x[1]); /* yC' = -s0 |V| before the kink */
+        double bp = vi_model_next_breakpoint(&s.d.run.model, 0.0);
+        double xk = vi_profile_next_kink(s.d.run.model.profile, -dir, dir), pos = vi_model_rolling_position(&s.d.run.model, bp);
         cr_assert(fabs(xk) < 1e-14 && fabs(bp - tk) <= 1e-14 && (dir > 0 ? pos >= xk : pos < xk),
                   "breakpoint %.17g: position %g, kink %g", bp, pos, xk);
         double L, Vs;
-        vi_model_scales(&s.d.model, s.d.x, &L, &Vs);
-        s.d.events.atol[0] = 1e-10 * L, s.d.events.atol[1] = 1e-10 * Vs;
-        s.d.initialized = 1; /* set up by hand: the solver starts from this state */
-        cr_assert(vi_sim_restore(&s) == 0, "%s", s.msg);
+        vi_model_scales(&s.d.run.model, s.d.run.x, &L, &Vs);
+        s.d.run.events.atol[0] = 1e-10 * L, s.d.run.events.atol[1] = 1e-10 * Vs;
+        s.d.run.initialized = 1; /* set up by hand: the solver starts from this state */
+        cr_assert(vi_sim_restore(&s.s) == 0, "%s", s.r.msg);
         double before = 0.0, after = 0.0;
         for (int k = 1; k <= 400; k++) {
             double t = 5e-5 * k;
-            cr_assert(vi_sim_advance(&s, t) == 0, "%s", s.msg);
-            if (t < tk) before = fmax(before, fabs(s.d.x[0] - ds));
-            else after = fmax(after, fabs(s.d.x[0] - ds));
+            cr_assert(vi_sim_advance(&s.s, t) == 0, "%s", s.r.msg);
+            if (t < tk) before = fmax(before, fabs(s.d.run.x[0] - ds));
+            else after = fmax(after, fabs(s.d.run.x[0] - ds));
         }
         double amp = 2.0 * s0 * fabs(V) / w;
         cr_assert(before <= 1e-6 * amp, "dir %d: delta moved before the kink by %g", dir, before);
         cr_assert(fabs(after - amp) <= 0.01 * amp, "dir %d: ringing %g vs %g", dir, after, amp);
-        vi_sim_free(&s);
+        test_run_free(&s);
     }
     remove(v_trough_file(1e-4));
 }
 
 Test(rolling, the_profile_ends)
 {
-    vi_sim s;
+    test_run s;
     rolling_sim(&s, 1e-4, 1000.0, 9.0, 1e-6); /* x in [-10, 10]: the end at t = 1 ms */
-    cr_assert(vi_sim_advance(&s, 5e-4) == VI_SIM_OK, "%s", s.msg);
-    cr_assert(vi_sim_advance(&s, 2e-3) == VI_SIM_DISCARD);
-    cr_assert(fabs(s.d.t - 1e-3) < 1e-15 && strstr(s.msg, "t = 0.001") && strstr(s.msg, "x_last = 10 m"), "t %g: %s",
-              s.d.t, s.msg);
-    vi_sim_free(&s);
+    cr_assert(vi_sim_advance(&s.s, 5e-4) == VI_SIM_OK, "%s", s.r.msg);
+    cr_assert(vi_sim_advance(&s.s, 2e-3) == VI_SIM_DISCARD);
+    cr_assert(fabs(s.d.run.t - 1e-3) < 1e-15 && strstr(s.r.msg, "t = 0.001") && strstr(s.r.msg, "x_last = 10 m"), "t %g: %s",
+              s.d.run.t, s.r.msg);
+    test_run_free(&s);
     /* a step that ends exactly where the profile ends is complete: x_last is on the profile */
     rolling_sim(&s, 1e-4, 1000.0, 9.0, 1e-6);
     char why[400];
-    double end = vi_model_rolling_limit(&s.d.model, why, sizeof why);
-    cr_assert(vi_sim_advance(&s, end) == VI_SIM_OK, "%s", s.msg);
-    cr_assert(s.d.t == end && vi_model_rolling_position(&s.d.model, s.d.t) == 10.0);
-    cr_assert(vi_sim_advance(&s, end + 1e-6) == VI_SIM_DISCARD && s.d.t == end);
-    vi_sim_free(&s);
-    vi_sim_init(&s, log_nothing, NULL); /* x0 outside the table */
+    double end = vi_model_rolling_limit(&s.d.run.model, why, sizeof why);
+    cr_assert(vi_sim_advance(&s.s, end) == VI_SIM_OK, "%s", s.r.msg);
+    cr_assert(s.d.run.t == end && vi_model_rolling_position(&s.d.run.model, s.d.run.t) == 10.0);
+    cr_assert(vi_sim_advance(&s.s, end + 1e-6) == VI_SIM_DISCARD && s.d.run.t == end);
+    test_run_free(&s);
+    test_run_init(&s, log_nothing, NULL); /* x0 outside the table */
     snprintf(s.d.par.profile_file, sizeof s.d.par.profile_file, "%s", v_trough_file(1e-4));
     s.d.par.V = 1.0, s.d.par.x0 = 11.0;
-    cr_assert(vi_sim_initialize(&s) < 0);
-    cr_assert(strstr(s.msg, "x0 = 11 m lies outside the profile [-10, 10] m"), "%s", s.msg);
-    vi_sim_free(&s);
+    cr_assert(vi_sim_initialize(&s.s) < 0);
+    cr_assert(strstr(s.r.msg, "x0 = 11 m lies outside the profile [-10, 10] m"), "%s", s.r.msg);
+    test_run_free(&s);
     remove(v_trough_file(1e-4));
 }
 
@@ -952,20 +952,20 @@ Test(rolling, the_profile_ends_ahead_for_slow_rolling_too)
  * (here: a fresh instance with the same parameters, and a saved pointer spoiled on purpose). */
 Test(rolling, restore_reattaches_the_profile)
 {
-    vi_sim a, b;
+    test_run a, b;
     rolling_sim(&a, 1e-4, 1.0, -0.01, 1e-8);
     rolling_sim(&b, 1e-4, 1.0, -0.01, 1e-8);
-    cr_assert(vi_sim_advance(&a, 5e-3) == 0);
-    cr_assert(vi_sim_checkpoint(&a) == 0);
-    b.d = a.d;
-    b.d.model.profile = (const vi_profile *)(uintptr_t)0x1; /* garbage: must not be followed */
+    cr_assert(vi_sim_advance(&a.s, 5e-3) == 0);
+    cr_assert(vi_sim_checkpoint(&a.s) == 0);
+    test_run_copy_data(&b, &a);
+    b.d.run.model.profile = (const vi_profile *)(uintptr_t)0x1; /* garbage: must not be followed */
     char msg[256];
-    cr_assert(vi_sim_data_check(&b.d, msg, sizeof msg) == 0, "%s", msg);
-    cr_assert(vi_sim_restore(&b) == 0, "%s", b.msg);
-    cr_assert(b.d.model.profile == b.profile && b.profile != a.profile);
-    cr_assert(vi_sim_advance(&a, 0.02) == 0 && vi_sim_advance(&b, 0.02) == 0);
-    cr_assert(a.d.x[0] == b.d.x[0] && a.d.x[1] == b.d.x[1], "restored run differs");
-    vi_sim_free(&a), vi_sim_free(&b);
+    cr_assert(vi_contact_state_check(&b.d, 1, 0, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(vi_sim_restore(&b.s) == 0, "%s", b.r.msg);
+    cr_assert(b.d.run.model.profile == b.r.profile && b.r.profile != a.r.profile);
+    cr_assert(vi_sim_advance(&a.s, 0.02) == 0 && vi_sim_advance(&b.s, 0.02) == 0);
+    cr_assert(a.d.run.x[0] == b.d.run.x[0] && a.d.run.x[1] == b.d.run.x[1], "restored run differs");
+    test_run_free(&a), test_run_free(&b);
     remove(v_trough_file(1e-4));
 }
 
@@ -1539,11 +1539,11 @@ Test(model, setup_refuses_values_beyond_the_doubles_and_accepts_tiny_stiffnesses
 }
 
 /* The height of the attached profile at x = 5 m (trough of slope s0: about 5 s0). */
-static double profile_height_at_5(const vi_sim *s)
+static double profile_height_at_5(const test_run *s)
 {
     double y[4];
-    cr_assert(s->d.model.profile == s->profile && s->profile != NULL);
-    vi_profile_eval(s->profile, 5.0, y);
+    cr_assert(s->d.run.model.profile == s->r.profile && s->r.profile != NULL);
+    vi_profile_eval(s->r.profile, 5.0, y);
     return y[0];
 }
 
@@ -1553,38 +1553,38 @@ static double profile_height_at_5(const vi_sim *s)
  * the simulation owns none (nor the name of one). */
 Test(rolling, profile_kept_for_the_same_file_radius_and_periodicity)
 {
-    vi_sim s;
+    test_run s;
     rolling_sim(&s, 1e-4, 1.0, -0.01, 1e-8);
     cr_assert(fabs(profile_height_at_5(&s) - 5e-4) <= 1e-6, "%g", profile_height_at_5(&s));
     v_trough_file(2e-4); /* the file changes on disk */
-    cr_assert(vi_sim_restore(&s) == 0, "%s", s.msg);
+    cr_assert(vi_sim_restore(&s.s) == 0, "%s", s.r.msg);
     cr_assert(fabs(profile_height_at_5(&s) - 5e-4) <= 1e-6, "reloaded: %g", profile_height_at_5(&s));
     s.d.par.profile_periodic = 1; /* another periodicity: read again */
-    cr_assert(vi_sim_restore(&s) == 0, "%s", s.msg);
-    cr_assert(fabs(profile_height_at_5(&s) - 1e-3) <= 1e-6 && vi_profile_periodic(s.profile), "%g", profile_height_at_5(&s));
+    cr_assert(vi_sim_restore(&s.s) == 0, "%s", s.r.msg);
+    cr_assert(fabs(profile_height_at_5(&s) - 1e-3) <= 1e-6 && vi_profile_periodic(s.r.profile), "%g", profile_height_at_5(&s));
     v_trough_file(3e-4);
     s.d.par.profile_periodic = 2; /* periodic as well (any nonzero value): the same profile */
-    cr_assert(vi_sim_restore(&s) == 0, "%s", s.msg);
+    cr_assert(vi_sim_restore(&s.s) == 0, "%s", s.r.msg);
     cr_assert(fabs(profile_height_at_5(&s) - 1e-3) <= 1e-6, "reloaded: %g", profile_height_at_5(&s));
     s.d.par.R1 = 0.4; /* another radius: read again */
-    cr_assert(vi_sim_restore(&s) == 0, "%s", s.msg);
+    cr_assert(vi_sim_restore(&s.s) == 0, "%s", s.r.msg);
     cr_assert(fabs(profile_height_at_5(&s) - 1.5e-3) <= 1e-6, "%g", profile_height_at_5(&s));
     char file[sizeof s.d.par.profile_file];
     memcpy(file, s.d.par.profile_file, sizeof file);
     snprintf(s.d.par.profile_file, sizeof s.d.par.profile_file, "%.64s.missing", file); /* no such file: no profile */
-    cr_assert(vi_sim_restore(&s) == -1 && strstr(s.msg, ".missing"), "%s", s.msg);
-    cr_assert(s.profile == NULL && s.profile_key[0] == '\0');
+    cr_assert(vi_sim_restore(&s.s) == -1 && strstr(s.r.msg, ".missing"), "%s", s.r.msg);
+    cr_assert(s.r.profile == NULL && s.r.profile_key[0] == '\0');
     memcpy(s.d.par.profile_file, file, sizeof file);
-    cr_assert(vi_sim_restore(&s) == 0, "%s", s.msg);
+    cr_assert(vi_sim_restore(&s.s) == 0, "%s", s.r.msg);
     cr_assert(fabs(profile_height_at_5(&s) - 1.5e-3) <= 1e-6, "%g", profile_height_at_5(&s));
     s.d.par.profile_file[0] = '\0'; /* none: the model rolls over nothing, the profile is released */
-    cr_assert(vi_sim_restore(&s) == 0, "%s", s.msg);
-    cr_assert(s.d.model.profile == NULL && s.profile == NULL && s.profile_key[0] == '\0');
+    cr_assert(vi_sim_restore(&s.s) == 0, "%s", s.r.msg);
+    cr_assert(s.d.run.model.profile == NULL && s.r.profile == NULL && s.r.profile_key[0] == '\0');
     snprintf(s.d.par.profile_file, sizeof s.d.par.profile_file, "%s", v_trough_file(1e-4)); /* and back */
-    cr_assert(vi_sim_restore(&s) == 0, "%s", s.msg);
+    cr_assert(vi_sim_restore(&s.s) == 0, "%s", s.r.msg);
     cr_assert(fabs(profile_height_at_5(&s) - 5e-4) <= 1e-6, "%g", profile_height_at_5(&s));
-    vi_sim_free(&s);
-    cr_assert(s.profile == NULL);
+    test_run_free(&s);
+    cr_assert(s.r.profile == NULL);
     remove(v_trough_file(1e-4));
 }
 
@@ -1755,28 +1755,28 @@ static void capture_events(void *env, int category, const char *fmt, ...)
 Test(rolling, a_kink_that_changes_the_mode)
 {
     const double s0 = 1e-4, V = 1.0;
-    vi_sim s;
-    vi_sim_init(&s, capture_events, NULL);
+    test_run s;
+    test_run_init(&s, capture_events, NULL);
     s.d.par.contact_model = VI_ContactModel_hertz;
     s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = -s0 * V;
     snprintf(s.d.par.profile_file, sizeof s.d.par.profile_file, "%s", v_trough_file(s0));
     s.d.par.V = V, s.d.par.x0 = -0.01;
-    cr_assert(vi_sim_initialize(&s) == 0, "%s", s.msg);
+    cr_assert(vi_sim_initialize(&s.s) == 0, "%s", s.r.msg);
     double dyC;
-    vi_model_platform(&s.d.model, 0.0, &dyC, NULL);
-    cr_assert(s.d.model.mode == VI_Mode_free && dyC == -s0 * V, "mode %d, yC' = %.17g", s.d.model.mode, dyC);
-    s.d.events.band[0] = 1.0;
+    vi_model_platform(&s.d.run.model, 0.0, &dyC, NULL);
+    cr_assert(s.d.run.model.mode == VI_Mode_free && dyC == -s0 * V, "mode %d, yC' = %.17g", s.d.run.model.mode, dyC);
+    s.d.run.events.band[0] = 1.0;
     kink_line[0] = '\0';
-    cr_assert(vi_sim_advance_until(&s, 0.02, 1) == VI_SIM_EVENT, "%s", s.msg);
-    cr_assert(s.d.model.mode == VI_Mode_elastic && fabs(s.d.t - 0.01) <= 1e-15 && fabs(s.d.x[0]) <= 1e-12,
-              "mode %d t %.17g delta %g", s.d.model.mode, s.d.t, s.d.x[0]);
+    cr_assert(vi_sim_advance_until(&s.s, 0.02, 1) == VI_SIM_EVENT, "%s", s.r.msg);
+    cr_assert(s.d.run.model.mode == VI_Mode_elastic && fabs(s.d.run.t - 0.01) <= 1e-15 && fabs(s.d.run.x[0]) <= 1e-12,
+              "mode %d t %.17g delta %g", s.d.run.model.mode, s.d.run.t, s.d.run.x[0]);
     double t;
     int from, to;
-    cr_assert(sscanf(kink_line, "event t=%lg kind=kink mode=%d->%d", &t, &from, &to) == 3 && t == s.d.t &&
+    cr_assert(sscanf(kink_line, "event t=%lg kind=kink mode=%d->%d", &t, &from, &to) == 3 && t == s.d.run.t &&
               from == VI_Mode_free && to == VI_Mode_elastic, "%s", kink_line);
-    cr_assert(s.d.events.band[0] < 1e-300 && s.d.events.band[1] == 0.0, "bands %g %g", s.d.events.band[0],
-              s.d.events.band[1]);
-    vi_sim_free(&s);
+    cr_assert(s.d.run.events.band[0] < 1e-300 && s.d.run.events.band[1] == 0.0, "bands %g %g", s.d.run.events.band[0],
+              s.d.run.events.band[1]);
+    test_run_free(&s);
     remove(v_trough_file(s0));
 }
 
@@ -1953,27 +1953,27 @@ Test(rolling, scales_from_the_rolling_speed)
  * an error naming the time, not in a state reported as valid. */
 Test(rolling, a_state_beyond_the_doubles_at_the_end_of_the_profile_is_an_error)
 {
-    vi_sim s;
+    test_run s;
     rolling_sim(&s, 1e-4, 1000.0, 9.0, 1e-6); /* the end at t = 1 ms */
     char why[400];
-    double end = vi_model_rolling_limit(&s.d.model, why, sizeof why);
-    cr_assert(vi_sim_advance(&s, end) == VI_SIM_OK, "%s", s.msg);
+    double end = vi_model_rolling_limit(&s.d.run.model, why, sizeof why);
+    cr_assert(vi_sim_advance(&s.s, end) == VI_SIM_OK, "%s", s.r.msg);
     s.d.in.yC_in = 1.7e308;
-    s.d.inputs_changed = 1;
-    cr_assert(vi_sim_advance(&s, end + 1e-6) == VI_SIM_DISCARD && s.d.t == end, "%s", s.msg);
+    s.d.run.inputs_changed = 1;
+    cr_assert(vi_sim_advance(&s.s, end + 1e-6) == VI_SIM_DISCARD && s.d.run.t == end, "%s", s.r.msg);
     s.d.in.yC_in = -1.7e308;
-    s.d.inputs_changed = 1;
-    int rc = vi_sim_advance(&s, end + 1e-6);
+    s.d.run.inputs_changed = 1;
+    int rc = vi_sim_advance(&s.s, end + 1e-6);
     char expect[128];
     snprintf(expect, sizeof expect, "the state is not finite at t = %.17g s", end);
-    cr_assert(rc == VI_SIM_ERROR && strcmp(s.msg, expect) == 0 && isinf(s.d.x[0]), "rc %d: %s", rc, s.msg);
-    vi_sim_free(&s);
+    cr_assert(rc == VI_SIM_ERROR && strcmp(s.r.msg, expect) == 0 && isinf(s.d.run.x[0]), "rc %d: %s", rc, s.r.msg);
+    test_run_free(&s);
     rolling_sim(&s, 1e-4, 1000.0, 9.0, 1e-6); /* the velocity alone (set by hand: no input reaches it) */
-    cr_assert(vi_sim_advance(&s, end) == VI_SIM_OK, "%s", s.msg);
-    s.d.x[1] = NAN;
-    rc = vi_sim_advance(&s, end + 1e-6);
-    cr_assert(rc == VI_SIM_ERROR && strcmp(s.msg, expect) == 0, "rc %d: %s", rc, s.msg);
-    vi_sim_free(&s);
+    cr_assert(vi_sim_advance(&s.s, end) == VI_SIM_OK, "%s", s.r.msg);
+    s.d.run.x[1] = NAN;
+    rc = vi_sim_advance(&s.s, end + 1e-6);
+    cr_assert(rc == VI_SIM_ERROR && strcmp(s.r.msg, expect) == 0, "rc %d: %s", rc, s.r.msg);
+    test_run_free(&s);
     remove(v_trough_file(1e-4));
 }
 
@@ -1983,19 +1983,19 @@ Test(rolling, a_state_beyond_the_doubles_at_the_end_of_the_profile_is_an_error)
 Test(rolling, a_kink_within_rounding_of_the_step_start)
 {
     const double s0 = 1e-4, V = 1.0;
-    vi_sim s;
+    test_run s;
     rolling_sim(&s, s0, V, -0.01, 1e-10);
-    double tk = vi_model_next_breakpoint(&s.d.model, 0.0), ds = s.d.x[0], w = 2.0 * VI_PI * s.d.model.f_contact;
+    double tk = vi_model_next_breakpoint(&s.d.run.model, 0.0), ds = s.d.run.x[0], w = 2.0 * VI_PI * s.d.run.model.f_contact;
     double t1 = nextafter(nextafter(nextafter(tk, 0.0), 0.0), 0.0);
-    cr_assert(vi_sim_advance(&s, t1) == VI_SIM_OK, "%s", s.msg);
+    cr_assert(vi_sim_advance(&s.s, t1) == VI_SIM_OK, "%s", s.r.msg);
     double after = 0.0;
     for (int k = 1; k <= 200; k++) {
-        cr_assert(vi_sim_advance(&s, tk + 5e-5 * k) == VI_SIM_OK, "k %d: %s", k, s.msg);
-        after = fmax(after, fabs(s.d.x[0] - ds));
+        cr_assert(vi_sim_advance(&s.s, tk + 5e-5 * k) == VI_SIM_OK, "k %d: %s", k, s.r.msg);
+        after = fmax(after, fabs(s.d.run.x[0] - ds));
     }
     double amp = 2.0 * s0 * V / w;
     cr_assert(fabs(after - amp) <= 0.02 * amp, "ringing %g vs %g", after, amp);
-    vi_sim_free(&s);
+    test_run_free(&s);
     remove(v_trough_file(s0));
 }
 

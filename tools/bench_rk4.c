@@ -22,7 +22,7 @@
 #include <time.h>
 
 #include "vi_model.h"
-#include "vi_sim.h"
+#include "vi_contact_instance.h"
 
 static double cpu_now(void)
 {
@@ -68,7 +68,7 @@ static int rhs_cost(long n, const vi_parameters *par)
     static int modes[NS];
     vi_model M = {0};
     char msg[256];
-    vi_model_params mp = vi_sim_model_params(par);
+    vi_model_params mp = vi_contact_model_params(par);
     if (vi_model_setup(&M, &mp, 0.0, msg, sizeof msg) < 0) {
         fprintf(stderr, "%s\n", msg);
         return 1;
@@ -132,7 +132,7 @@ int main(int argc, char **argv)
         double c0 = cpu_now(), x[2];
         vi_model M = {0};
         char msg[256];
-        vi_model_params mp = vi_sim_model_params(&par);
+        vi_model_params mp = vi_contact_model_params(&par);
         if (vi_model_setup(&M, &mp, 0.0, msg, sizeof msg) < 0) {
             fprintf(stderr, "%s\n", msg);
             return 1;
