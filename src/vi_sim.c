@@ -38,7 +38,10 @@ vi_model_params vi_sim_model_params(const vi_parameters *p)
         .nu2 = p->nu2, .Y = p->Y, .theta_Y = p->theta_Y, .law = p->contact_model, .moving_contact = p->moving_contact,
         .unloading = p->unloading, .yield_formula = p->yield_formula, .init = p->init, .v0 = p->v0, .a = p->a,
         .f = p->f, .has_profile = p->profile_file[0] != '\0', .V = p->V, .x0 = p->x0,
-        .profile_periodic = p->profile_periodic, .e_restitution = p->e_restitution,
+        .profile_periodic = p->profile_periodic,
+        .profile_interpolation = p->profile_interpolation == VI_ProfileInterpolation_cubic ? VI_PROFILE_CUBIC
+                                                                                          : VI_PROFILE_LINEAR,
+        .e_restitution = p->e_restitution,
         .damping_formula = p->damping_formula, .k_spring = p->k_spring};
 }
 
@@ -234,7 +237,7 @@ static int profile_path(const vi_sim *s, const char *file, char *path, size_t n)
     return k > 0 && (size_t)k < n ? 0 : -1;
 }
 
-/* Load (or keep, when file, R1 and periodicity are those it was built for) the profile of the
+/* Load (or keep, when file, R1, periodicity and interpolation are those it was built for) the profile of the
  * parameters and hand it to the model with V and x0. Called after vi_model_setup and after a
  * restore: the profile pointer read from a saved state is never used. 0, or -1 (s->msg). */
 static int attach_profile(vi_sim *s)
@@ -252,11 +255,12 @@ static int attach_profile(vi_sim *s)
         VI_FAIL(s->msg, sizeof s->msg, "profile_file '%.200s...': the path is too long", p->profile_file);
     if (!(p->R1 > 0.0))
         VI_FAIL(s->msg, sizeof s->msg, "profile_file: rolling needs a body radius R1 > 0 (R1 = %g m)", p->R1);
-    vi_snprintf(key, sizeof key, "%s|%.17g|%d", path, p->R1, p->profile_periodic != 0);
+    int interpolation = vi_sim_model_params(p).profile_interpolation;
+    vi_snprintf(key, sizeof key, "%s|%.17g|%d|%d", path, p->R1, p->profile_periodic != 0, interpolation);
     if (!s->profile || strcmp(key, s->profile_key) != 0) {
         vi_profile_free(s->profile);
         s->profile_key[0] = '\0';
-        s->profile = vi_profile_load(path, p->R1, p->profile_periodic, s->msg, sizeof s->msg);
+        s->profile = vi_profile_load_as(path, p->R1, p->profile_periodic, interpolation, s->msg, sizeof s->msg);
         if (!s->profile) return -1;
         memcpy(s->profile_key, key, sizeof key);
     }

@@ -1,0 +1,129 @@
+"""The cost of rolling over a sampled rail, for `vibroimpact bench --only rolling` (and the full suite).
+
+The paper's wheel (R1 = 0.475 m, Hertz, P = 40 kN = 10 m g) rolls at V = 30 m/s for 0.1 s over a periodic
+corrugation h = A cos(2 pi x / L), L = 50 mm, A = 20 um, given as a table of WAVES wavelengths (1 m of rail)
+sampled with 21 ... 20001 rows per wavelength (20 ... 20000 intervals), rtol 1e-8, communication steps
+of 1 ms. Each table is rolled over with every profile_interpolation the FMU has (linear: the exact
+polyline; cubic: the spline through the rows), in Co-Simulation (the C driver tools/bench_driver.c: the
+whole run, from fmi2Instantiate through loading the table to the last step) and in Model Exchange
+(fmpy's own CVode driver, fmpy.simulate_fmu, from Python). The CPU times are the minimum of the repeats,
+the runs of one table size alternated with those of the others, so that the ratios to the 21-row table
+come from one run of the command. The peak force is the largest F_peak at the communication points in
+Co-Simulation (the largest force over each step), the largest F at the communication points in Model
+Exchange; its convergence with the sampling is the relative difference to the densest table's.
+"""
+import math
+import time
+
+import numpy as np
+
+WAVELENGTH = 0.05  # m
+AMPLITUDE = 2e-5  # m
+WAVES = 20  # wavelengths in the table (1 m of rail), repeated with profile_periodic
+ROWS = (21, 201, 2001, 20001)  # rows per wavelength, both ends counted
+V = 30.0  # m/s
+T_STOP = 0.1  # s
+H = 1e-3  # s, communication step
+RTOL = 1e-8
+ME_CAP_S = 60.0  # a Model Exchange run whose estimate (from the table before it) exceeds this is left out
+INTERPOLATIONS = {"linear": 1, "cubic": 2}
+
+
+def corrugation(path, rows):
+    """Write the table of WAVES wavelengths at `rows` rows per wavelength; the number of rows."""
+    n = WAVES * (rows - 1) + 1
+    x = np.linspace(0.0, WAVES * WAVELENGTH, n)
+    h = AMPLITUDE * np.cos(2 * np.pi * x / WAVELENGTH)
+    h[-1] = h[0]
+    np.savetxt(path, np.column_stack([x, h]), fmt="%.17g")
+    return n
+
+
+def params(path, interpolation):
+    p = dict(contact_model=1, profile_file=str(path), V=V, profile_periodic=1, rtol=RTOL)
+    if interpolation != "linear":
+        p["profile_interpolation"] = INTERPOLATIONS[interpolation]
+    return p
+
+
+def cs_run(fmu, path, interpolation):
+    """(CPU [s], peak force [N]) of one Co-Simulation run through the C driver."""
+    vrs = ",".join(str(fmu.vars[n].valueReference) for n in ("y", "v", "F_peak", "delta", "mode", "n_impacts"))
+    saved, fmu.vrs = fmu.vrs, vrs
+    try:
+        fig, samples = fmu.run(params(path, interpolation), T_STOP, 0.0, 1, h=H)
+    finally:
+        fmu.vrs = saved
+    if fig is None:
+        return math.nan, math.nan
+    return fig["cpu_s"], float(samples[:, 3].max())
+
+
+def _quiet(*_):
+    """fmpy's logger that prints nothing (the Hertz runs exceed F_Y: the FMU warns once a run)."""
+
+
+def me_run(fmu, path, interpolation):
+    """(CPU [s], peak force [N]) of one Model Exchange run through fmpy's CVode driver."""
+    from fmpy import simulate_fmu
+    start = time.process_time()
+    r = simulate_fmu(str(fmu.path), fmi_type="ModelExchange", solver="CVode", stop_time=T_STOP,
+                     relative_tolerance=RTOL, output_interval=H, start_values=params(path, interpolation),
+                     output=["F"], record_events=False, model_description=fmu.md, logger=_quiet)
+    return time.process_time() - start, float(np.max(r["F"]))
+
+
+def measure(fmu, work, repeat):
+    """{(interface, interpolation, rows): (CPU, peak)}: the minimum CPU of `repeat` rounds, each round
+    running every table once."""
+    names = [i for i in INTERPOLATIONS if i == "linear" or "profile_interpolation" in fmu.vars]
+    paths = {}
+    for rows in ROWS:
+        paths[rows] = work / f"corrugation_{rows}.txt"
+        corrugation(paths[rows], rows)
+    res = {}
+    for interface, run in (("CS", cs_run), ("ME", me_run)):
+        for name in names:
+            for _ in range(repeat):
+                estimate = 0.0  # s, the CPU of the table before, scaled by the rows
+                for k, rows in enumerate(ROWS):
+                    key = (interface, name, rows)
+                    if interface == "ME" and estimate > ME_CAP_S:
+                        res.setdefault(key, (math.nan, math.nan))
+                        continue
+                    cpu, peak = run(fmu, paths[rows], name)
+                    res[key] = (min(res.get(key, (math.inf,))[0], cpu), peak)
+                    estimate = cpu * ROWS[min(k + 1, len(ROWS) - 1)] / rows
+    return res
+
+
+def report(out, res, repeat):
+    out("### Rolling over a sampled rail: the cost of the rows\n")
+    out(f"The wheel of the paper (Hertz) at V = {V:g} m/s over a corrugation of wavelength {1e3 * WAVELENGTH:g} mm and "
+        f"amplitude {1e6 * AMPLITUDE:g} um, a periodic table of {WAVES} wavelengths at 21 ... 20001 rows per "
+        f"wavelength, {T_STOP:g} s simulated, rtol {RTOL:g}, communication steps of {1e3 * H:g} ms. CPU: the minimum of "
+        f"{repeat} rounds; CS: the C driver, loading the table included; ME: fmpy's CVode driver. Peak force: CS "
+        "the largest F_peak, ME the largest F at the communication points; 'to densest': its relative difference "
+        "to the 20001-row table's.\n")
+    out("| interface | profile_interpolation | rows per wavelength | rows | CPU [s] | CPU / 21 rows | peak force [kN] "
+        "| to densest |")
+    out("|---|---|---|---|---|---|---|---|")
+    for (interface, name, rows), (cpu, peak) in res.items():
+        base = res[interface, name, ROWS[0]][0]
+        densest = res[interface, name, ROWS[-1]][1]
+        if math.isnan(cpu):
+            out(f"| {interface} | {name} | {rows} | {WAVES * (rows - 1) + 1} | left out (estimated > {ME_CAP_S:g} s) "
+                "| | | |")
+            continue
+        out(f"| {interface} | {name} | {rows} | {WAVES * (rows - 1) + 1} | {cpu:.3f} | {cpu / base:.2f} | "
+            f"{peak / 1e3:.4f} | {abs(peak / densest - 1):.1e} |")
+    out("")
+    for (interface, name, rows), (cpu, _) in res.items():
+        if rows == ROWS[0]:
+            r2, r3 = (res[interface, name, n][0] / cpu for n in ROWS[2:])
+            out(f"- {interface}, {name}: 2001 / 21 rows {r2:.2f}, 20001 / 21 rows {r3:.2f}")
+    out("")
+
+
+def rolling(out, fmu, work, repeat):
+    report(out, measure(fmu, work, repeat), repeat)
