@@ -52,15 +52,16 @@ struct vi_profile {
 /* ---- pieces -------------------------------------------------------------------------------- */
 
 /* The position u in [a->u0, a->u1] where the body centred above x touches arc a (first row at px):
- * the root of X(u) - (x - px) = u - R h'/sqrt(1 + h'^2) - (x - px), increasing in u on the arc;
- * Newton's method from the linear guess, kept inside the bracket by bisection (at most 80 passes,
- * ending when a pass moves u by less than 4 eps of the segment). */
-static double arc_root(const arc *a, double R, double target)
+ * the root of X(u) - target = u - R h'/sqrt(1 + h'^2) - target, target = x - px, increasing in u on
+ * the arc; an end when target is within slack (the rounding of x - px) of that end's X; else Newton's
+ * method from the linear guess, kept inside the bracket by bisection (at most 80 passes, ending when
+ * a pass moves u by less than 4 eps of the segment). */
+static double arc_root(const arc *a, double R, double target, double slack)
 {
     const double *c = a->c;
     double lo = a->u0, hi = a->u1;
-    if (!(target > a->X0)) return lo;
-    if (!(target < a->X1)) return hi;
+    if (!(target > a->X0 + slack)) return lo;
+    if (!(target < a->X1 - slack)) return hi;
     double u = lo + (hi - lo) * ((target - a->X0) / (a->X1 - a->X0)), tiny = 4.0 * DBL_EPSILON * (fabs(lo) + fabs(hi));
     for (int it = 0; it < 80; it++) {
         double h1 = c[1] + u * (2.0 * c[2] + 3.0 * c[3] * u), h2 = 2.0 * c[2] + 6.0 * c[3] * u;
@@ -82,7 +83,7 @@ static double arc_root(const arc *a, double R, double target)
 static double arc_eval(const arc *a, double R, double px, double x, double d[3])
 {
     const double *c = a->c;
-    double u = arc_root(a, R, x - px);
+    double u = arc_root(a, R, x - px, 4.0 * DBL_EPSILON * fabs(x));
     double h1 = c[1] + u * (2.0 * c[2] + 3.0 * c[3] * u), w = 1.0 + h1 * h1, rw = sqrt(w);
     if (d) {
         double h2 = 2.0 * c[2] + 6.0 * c[3] * u, h3 = 6.0 * c[3];
@@ -420,8 +421,9 @@ static void spline_slopes(const double *x, const double *h, size_t n, int period
 
 /* ---- the spline's offsets: arcs -------------------------------------------------------------- */
 
-/* The centre's shift along x from the contact point of slope s: -R s/sqrt(1 + s^2). */
-static double centre_shift(double R, double s) { return -R * (s / hypot(1.0, s)); }
+/* The centre's shift along x from the contact point of slope s: -R s/sqrt(1 + s^2) (s^2 would overflow
+ * beyond 1e154: there the root is |s| to the last bit). */
+static double centre_shift(double R, double s) { return -R * (s / (fabs(s) < 1e100 ? sqrt(1.0 + s * s) : fabs(s))); }
 
 /* 1 - R times the curvature of cubic c at u: X'(u), positive where the body may touch. */
 static double touch(const double c[4], double R, double u)
@@ -497,6 +499,9 @@ static int make_arcs(const double *x, const double *h, size_t n, int periodic, d
                      double *scratch)
 {
     double *k = scratch;
+    list->a = n - 1 <= UINT32_MAX ? malloc((n - 1) * sizeof *list->a) : NULL; /* one a segment, as a rule */
+    if (!list->a) return -1;
+    list->cap = n - 1;
     spline_slopes(x, h, n, periodic, k, scratch + n);
     for (size_t j = 0; j + 1 < n; j++) { /* bounded by the rows */
         double dx = x[j + 1] - x[j], d = (h[j + 1] - h[j]) / dx;
@@ -510,8 +515,9 @@ static int make_arcs(const double *x, const double *h, size_t n, int periodic, d
 
 /* The envelope on [lo, hi] of the arcs (c->arcs, first[j]: the first arc of segment j) and, for an open
  * table, the circles around its end rows, in the order of the profile (copies kmin .. kmax of a
- * periodic table, as build takes them). An arc that starts or ends at a row starts or ends at that row's
- * x (vertex_x) plus centre_shift of the slope k there: the same number on both sides of the row. An
+ * periodic table, as build takes them; segments whose centres, within reach of them, miss [lo, hi]
+ * are passed over). An arc that starts or ends at a row starts or ends at that row's x (vertex_x) plus
+ * shift[row], the centre_shift of the slope there: the same number on both sides of the row. An
  * arc after a dropped part starts no later than the one before it ends (the dropped part's centres
  * move backwards). An end circle and the arc that starts (ends) at its row meet tangentially where
  * the arc's domain starts (ends): they are numbered as insert's neighbours, the arcs odd as tangents
@@ -519,8 +525,8 @@ static int make_arcs(const double *x, const double *h, size_t n, int periodic, d
  * not where rounding puts a numerical crossing (the spline between the row and the contact point
  * curves less than the body, so it stays below the body there); other pieces are numbered at least
  * two apart, never neighbours. 0, or -1 when out of memory. */
-static int build_cubic(const context *c, const double *x, const double *h, const double *k, const size_t *first,
-                       size_t n, int periodic, double lo, double hi, long kmin, long kmax, stack *st)
+static int build_cubic(const context *c, const double *x, const double *h, const double *shift, double reach,
+                       const size_t *first, size_t n, int periodic, double lo, double hi, long kmin, long kmax, stack *st)
 {
     double R = c->R, period = periodic ? hi - lo : 0.0, before = INFINITY; /* before: where the last arc ends */
     size_t g = 0, n_arcs = first[n - 1];
@@ -533,10 +539,14 @@ static int build_cubic(const context *c, const double *x, const double *h, const
     for (long copy = kmin; copy <= kmax && rc == 0; copy++) { /* bounded: the copies of n rows */
         for (size_t j = 0; j + 1 < n && rc == 0; j++) {
             double row = vertex_x(x, n, periodic, period, j, copy), next = vertex_x(x, n, periodic, period, j + 1, copy);
+            if (next + reach < lo || row - reach > hi) {
+                before = INFINITY;
+                continue;
+            }
             for (size_t i = first[j]; i < first[j + 1] && rc == 0; i++) { /* bounded by the arcs */
                 const arc *a = &c->arcs[i];
-                double from = a->u0 == 0.0 ? row + centre_shift(R, k[j]) : row + a->X0;
-                double to = a->u1 == x[j + 1] - x[j] ? next + centre_shift(R, k[j + 1]) : row + a->X1;
+                double from = a->u0 == 0.0 ? row + shift[j] : row + a->X0;
+                double to = a->u1 == x[j + 1] - x[j] ? next + shift[j + 1] : row + a->X1;
                 from = fmin(from, before);
                 before = to;
                 piece q = {ARC, (uint32_t)i, row, 0.0, 0.0};
@@ -556,8 +566,8 @@ static int build_cubic(const context *c, const double *x, const double *h, const
     return rc;
 }
 
-/* The spline's arcs into p and c->arcs, and the envelope of the cubic profile on st. 0, or -1 when out
- * of memory. */
+/* The spline's arcs into p and c->arcs, and the envelope of the cubic profile on st (the centres lie
+ * within R S/sqrt(1 + S^2) of the contact point, S the largest slope). 0, or -1 when out of memory. */
 static int cubic(vi_profile *p, context *c, const double *x, const double *h, size_t n, long kmin, long kmax, stack *st)
 {
     double *scratch = malloc(3 * n * sizeof *scratch);
@@ -566,7 +576,9 @@ static int cubic(vi_profile *p, context *c, const double *x, const double *h, si
     int rc = scratch && first ? make_arcs(x, h, n, p->periodic, p->R, first, &list, scratch) : -1;
     p->arcs = list.a, p->n_arcs = list.n, p->max_slope = list.max_slope;
     c->arcs = list.a;
-    if (rc == 0) rc = build_cubic(c, x, h, scratch, first, n, p->periodic, p->lo, p->hi, kmin, kmax, st);
+    double *shift = scratch + n, reach = 1.000001 * fabs(centre_shift(p->R, list.max_slope));
+    for (size_t j = 0; rc == 0 && j < n; j++) shift[j] = centre_shift(p->R, scratch[j]); /* bounded by the rows */
+    if (rc == 0) rc = build_cubic(c, x, h, shift, reach, first, n, p->periodic, p->lo, p->hi, kmin, kmax, st);
     free(scratch), free(first);
     return rc;
 }

@@ -29,14 +29,29 @@ ME_CAP_S = 60.0  # a Model Exchange run whose estimate (from the table before it
 INTERPOLATIONS = {"linear": 1, "cubic": 2}
 
 
-def corrugation(path, rows):
-    """Write the table of WAVES wavelengths at `rows` rows per wavelength; the number of rows."""
-    n = WAVES * (rows - 1) + 1
-    x = np.linspace(0.0, WAVES * WAVELENGTH, n)
+def table(rows):
+    """(x, h) [m] of the table of WAVES wavelengths at `rows` rows per wavelength."""
+    x = np.linspace(0.0, WAVES * WAVELENGTH, WAVES * (rows - 1) + 1)
     h = AMPLITUDE * np.cos(2 * np.pi * x / WAVELENGTH)
     h[-1] = h[0]
-    np.savetxt(path, np.column_stack([x, h]), fmt="%.17g")
-    return n
+    return x, h
+
+
+def corrugation(path, rows):
+    """Write the table of WAVES wavelengths at `rows` rows per wavelength (19 significant digits)."""
+    np.savetxt(path, np.column_stack(table(rows)), fmt="%.17g")
+
+
+def passed(rows):
+    """(rows, kinks of the polyline's yb) the wheel passes in the run. The corrugation curves less than
+    the wheel (A (2 pi/L)^2 < 1/R1), so the wheel follows every segment and yb has a kink at each
+    concave row, where the slope grows by more than vi_profile.h's VI_PROFILE_KINK_SLOPE (1e-9); the
+    table is passed V T_STOP / (its length) times."""
+    x, h = table(rows)
+    slope = np.diff(h) / np.diff(x)
+    jumps = np.diff(np.append(slope, slope[0]))  # at rows 1 .. n-1, the last one the seam
+    times = V * T_STOP / (x[-1] - x[0])
+    return times * (len(x) - 1), times * int(np.sum(jumps > 1e-9))
 
 
 def params(path, interpolation):
@@ -47,7 +62,8 @@ def params(path, interpolation):
 
 
 def cs_run(fmu, path, interpolation):
-    """(CPU [s], peak force [N]) of one Co-Simulation run through the C driver."""
+    """(CPU [s], peak force [N], CPU of the initialization [s]: loading the table) of one Co-Simulation
+    run through the C driver."""
     vrs = ",".join(str(fmu.vars[n].valueReference) for n in ("y", "v", "F_peak", "delta", "mode", "n_impacts"))
     saved, fmu.vrs = fmu.vrs, vrs
     try:
@@ -55,8 +71,8 @@ def cs_run(fmu, path, interpolation):
     finally:
         fmu.vrs = saved
     if fig is None:
-        return math.nan, math.nan
-    return fig["cpu_s"], float(samples[:, 3].max())
+        return math.nan, math.nan, math.nan
+    return fig["cpu_s"], float(samples[:, 3].max()), fig["init_s"]
 
 
 def _quiet(*_):
@@ -64,18 +80,18 @@ def _quiet(*_):
 
 
 def me_run(fmu, path, interpolation):
-    """(CPU [s], peak force [N]) of one Model Exchange run through fmpy's CVode driver."""
+    """(CPU [s], peak force [N], nan) of one Model Exchange run through fmpy's CVode driver."""
     from fmpy import simulate_fmu
     start = time.process_time()
     r = simulate_fmu(str(fmu.path), fmi_type="ModelExchange", solver="CVode", stop_time=T_STOP,
                      relative_tolerance=RTOL, output_interval=H, start_values=params(path, interpolation),
                      output=["F"], record_events=False, model_description=fmu.md, logger=_quiet)
-    return time.process_time() - start, float(np.max(r["F"]))
+    return time.process_time() - start, float(np.max(r["F"])), math.nan
 
 
 def measure(fmu, work, repeat):
-    """{(interface, interpolation, rows): (CPU, peak)}: the minimum CPU of `repeat` rounds, each round
-    running every table once."""
+    """{(interface, interpolation, rows): (CPU, peak, CPU of the initialization)}: the minimum CPUs of
+    `repeat` rounds, each round running every table once."""
     names = [i for i in INTERPOLATIONS if i == "linear" or "profile_interpolation" in fmu.vars]
     paths = {}
     for rows in ROWS:
@@ -89,39 +105,65 @@ def measure(fmu, work, repeat):
                 for k, rows in enumerate(ROWS):
                     key = (interface, name, rows)
                     if interface == "ME" and estimate > ME_CAP_S:
-                        res.setdefault(key, (math.nan, math.nan))
+                        res.setdefault(key, (math.nan, math.nan, math.nan))
                         continue
-                    cpu, peak = run(fmu, paths[rows], name)
-                    res[key] = (min(res.get(key, (math.inf,))[0], cpu), peak)
+                    cpu, peak, init = run(fmu, paths[rows], name)
+                    old = res.get(key, (math.inf, peak, init))
+                    res[key] = (min(old[0], cpu), peak, min(old[2], init))  # ME: init nan, min(nan, nan) nan
                     estimate = cpu * ROWS[min(k + 1, len(ROWS) - 1)] / rows
     return res
 
 
 def report(out, res, repeat):
+    """The table of measure's results and the ratios of the CPU to the 21-row table's: with the same
+    interpolation, and with the exact polyline's (what the rail cost without profile_interpolation)."""
     out("### Rolling over a sampled rail: the cost of the rows\n")
     out(f"The wheel of the paper (Hertz) at V = {V:g} m/s over a corrugation of wavelength {1e3 * WAVELENGTH:g} mm and "
         f"amplitude {1e6 * AMPLITUDE:g} um, a periodic table of {WAVES} wavelengths at 21 ... 20001 rows per "
         f"wavelength, {T_STOP:g} s simulated, rtol {RTOL:g}, communication steps of {1e3 * H:g} ms. CPU: the minimum of "
         f"{repeat} rounds; CS: the C driver, loading the table included; ME: fmpy's CVode driver. Peak force: CS "
         "the largest F_peak, ME the largest F at the communication points; 'to densest': its relative difference "
-        "to the 20001-row table's.\n")
-    out("| interface | profile_interpolation | rows per wavelength | rows | CPU [s] | CPU / 21 rows | peak force [kN] "
-        "| to densest |")
-    out("|---|---|---|---|---|---|---|---|")
-    for (interface, name, rows), (cpu, peak) in res.items():
-        base = res[interface, name, ROWS[0]][0]
-        densest = res[interface, name, ROWS[-1]][1]
+        "to that of the densest table run with the same interpolation. CS initialization: from fmi2Instantiate to "
+        "the end of fmi2ExitInitializationMode, reading the table and building yb.\n")
+    out("| interface | profile_interpolation | rows per wavelength | rows | CPU [s] | of which initialization [s] "
+        "| CPU / 21 rows | CPU / 21 rows linear | peak force [kN] | to densest |")
+    out("|---|---|---|---|---|---|---|---|---|---|")
+    for (interface, name, rows), (cpu, peak, init) in res.items():
+        base, linear = res[interface, name, ROWS[0]][0], res[interface, "linear", ROWS[0]][0]
+        densest = [v[1] for k, v in res.items() if k[:2] == (interface, name) and not math.isnan(v[0])][-1]
         if math.isnan(cpu):
             out(f"| {interface} | {name} | {rows} | {WAVES * (rows - 1) + 1} | left out (estimated > {ME_CAP_S:g} s) "
-                "| | | |")
+                "| | | | | |")
             continue
-        out(f"| {interface} | {name} | {rows} | {WAVES * (rows - 1) + 1} | {cpu:.3f} | {cpu / base:.2f} | "
+        out(f"| {interface} | {name} | {rows} | {WAVES * (rows - 1) + 1} | {cpu:.4f} | "
+            f"{'-' if math.isnan(init) else format(init, '.4f')} | {cpu / base:.2f} | {cpu / linear:.2f} | "
             f"{peak / 1e3:.4f} | {abs(peak / densest - 1):.1e} |")
     out("")
-    for (interface, name, rows), (cpu, _) in res.items():
+    costs(out, res)
+    for (interface, name, rows), (cpu, _, _) in res.items():
         if rows == ROWS[0]:
-            r2, r3 = (res[interface, name, n][0] / cpu for n in ROWS[2:])
-            out(f"- {interface}, {name}: 2001 / 21 rows {r2:.2f}, 20001 / 21 rows {r3:.2f}")
+            linear = res[interface, "linear", rows][0]
+            r2, r3 = (res[interface, name, n][0] for n in ROWS[2:])
+            out(f"- {interface}, {name}: 2001 / 21 rows {r2 / cpu:.2f}, 20001 / 21 rows {r3 / cpu:.2f}; against the "
+                f"21-row polyline {r2 / linear:.2f} and {r3 / linear:.2f}")
+    out("")
+
+
+def costs(out, res):
+    """The cost per row passed and per kink of the polyline: the CPU of a run over it less that of the
+    spline through the same rows (which has no kink), divided by the kinks passed."""
+    out("Cost per row passed and per kink: rows and kinks of the polyline the wheel passes in the run, CPU per row "
+        "passed, and (linear - cubic) / kinks passed.\n")
+    out("| interface | rows per wavelength | rows passed | kinks passed | linear per row [us] | cubic per row [us] "
+        "| per kink [us] |")
+    out("|---|---|---|---|---|---|---|")
+    for (interface, name, rows), (cpu, _, _) in res.items():
+        cubic = res.get((interface, "cubic", rows), (math.nan,))[0]
+        if name != "linear" or math.isnan(cpu):
+            continue
+        n_rows, n_kinks = passed(rows)
+        out(f"| {interface} | {rows} | {n_rows:.0f} | {n_kinks:.0f} | {1e6 * cpu / n_rows:.3g} | "
+            f"{1e6 * cubic / n_rows:.3g} | {1e6 * (cpu - cubic) / n_kinks:.3g} |")
     out("")
 
 
