@@ -30,9 +30,11 @@ typedef struct {
 
 /* The part of a spline segment the body may touch (1 - R curvature > 0 there): h = c0 + c1 u +
  * c2 u^2 + c3 u^3 on u = s - (the segment's first row) in [u0, u1]; X0, X1 = X(u) - (the first row)
- * at u0 and u1 (the centre's positions, for the first guess of Newton's method). */
+ * at u0 and u1 (the centre's positions, for the first guess of Newton's method); starts, ends: u0 is
+ * the segment's first row, u1 its last. */
 typedef struct {
     double c[4], u0, u1, X0, X1;
+    int starts, ends;
 } arc;
 
 struct vi_profile {
@@ -438,9 +440,9 @@ typedef struct {
     double max_slope;
 } arcs;
 
-/* Append the part [u0, u1] of segment cubic c as an arc (its largest |h'| into max_slope). 0, or -1
- * when out of memory or past UINT32_MAX arcs. */
-static int add_arc(arcs *list, double R, const double c[4], double u0, double u1)
+/* Append the part [u0, u1] of segment cubic c on [0, dx] as an arc (its largest |h'| into max_slope).
+ * 0, or -1 when out of memory or past UINT32_MAX arcs. */
+static int add_arc(arcs *list, double R, const double c[4], double dx, double u0, double u1)
 {
     if (!(u1 > u0)) return 0;
     if (list->n == list->cap) {
@@ -453,7 +455,8 @@ static int add_arc(arcs *list, double R, const double c[4], double u0, double u1
     double um = c[3] != 0.0 ? -c[2] / (3.0 * c[3]) : u0; /* where h' is stationary */
     double sm = um > u0 && um < u1 ? c[1] + um * (2.0 * c[2] + 3.0 * c[3] * um) : s0;
     list->max_slope = fmax(list->max_slope, fmax(fabs(sm), fmax(fabs(s0), fabs(s1))));
-    list->a[list->n++] = (arc){{c[0], c[1], c[2], c[3]}, u0, u1, u0 + centre_shift(R, s0), u1 + centre_shift(R, s1)};
+    list->a[list->n++] = (arc){{c[0], c[1], c[2], c[3]}, u0, u1, u0 + centre_shift(R, s0), u1 + centre_shift(R, s1),
+                               u0 == 0.0, u1 == dx};
     return 0;
 }
 
@@ -477,7 +480,7 @@ static double touch_root(const double c[4], double R, double lo, double hi)
 #define TOUCH_SAMPLES 32
 static int segment_arcs(arcs *list, double R, const double c[4], double dx)
 {
-    if (R * fmax(2.0 * c[2], 2.0 * c[2] + 6.0 * c[3] * dx) < 1.0) return add_arc(list, R, c, 0.0, dx);
+    if (R * fmax(2.0 * c[2], 2.0 * c[2] + 6.0 * c[3] * dx) < 1.0) return add_arc(list, R, c, dx, 0.0, dx);
     double start = touch(c, R, 0.0) > 0.0 ? 0.0 : NAN, u_prev = 0.0; /* start: of the part being kept, NAN: none */
     for (int i = 1; i <= TOUCH_SAMPLES; i++) { /* bounded: TOUCH_SAMPLES samples */
         double u = i == TOUCH_SAMPLES ? dx : dx * i / TOUCH_SAMPLES;
@@ -485,12 +488,12 @@ static int segment_arcs(arcs *list, double R, const double c[4], double dx)
         if (inside == (start == start)) { u_prev = u; continue; }
         double root = touch_root(c, R, u_prev, u);
         if (start == start) {
-            if (add_arc(list, R, c, start, root) < 0) return -1;
+            if (add_arc(list, R, c, dx, start, root) < 0) return -1;
             start = NAN;
         } else start = root;
         u_prev = u;
     }
-    return start == start ? add_arc(list, R, c, start, dx) : 0;
+    return start == start ? add_arc(list, R, c, dx, start, dx) : 0;
 }
 
 /* The arcs of the spline through the table, segment by segment (first[j]: the first arc of segment j,
@@ -545,13 +548,13 @@ static int build_cubic(const context *c, const double *x, const double *h, const
             }
             for (size_t i = first[j]; i < first[j + 1] && rc == 0; i++) { /* bounded by the arcs */
                 const arc *a = &c->arcs[i];
-                double from = a->u0 == 0.0 ? row + shift[j] : row + a->X0;
-                double to = a->u1 == x[j + 1] - x[j] ? next + shift[j + 1] : row + a->X1;
+                double from = a->starts ? row + shift[j] : row + a->X0;
+                double to = a->ends ? next + shift[j + 1] : row + a->X1;
                 from = fmin(from, before);
                 before = to;
                 piece q = {ARC, (uint32_t)i, row, 0.0, 0.0};
                 if (g == 0) /* the first arc: the first circle's neighbour when it starts at row 0 */
-                    g = periodic || i != 0 || a->u0 != 0.0 ? 3 : 1;
+                    g = periodic || i != 0 || !a->starts ? 3 : 1;
                 else g += 2;
                 rc = insert(c, st, &tail, &q, g, fmax(from, lo), fmin(to, hi));
             }
@@ -559,7 +562,7 @@ static int build_cubic(const context *c, const double *x, const double *h, const
     }
     if (!periodic && rc == 0) {
         piece circle = {CIRCLE, 0, x[n - 1], h[n - 1], 0.0};
-        int tangent = n_arcs && c->arcs[n_arcs - 1].u1 == x[n - 1] - x[n - 2];
+        int tangent = n_arcs && c->arcs[n_arcs - 1].ends && first[n - 2] < n_arcs;
         rc = insert(c, st, &tail, &circle, g + (tangent ? 1 : 3), fmax(x[n - 1] - R, lo), hi);
     }
     free(tail.s);
@@ -677,6 +680,14 @@ static int too_steep(const vi_profile *p, const table *t, const piece *q, int st
             spacing, sqrt(p->R / (2.0 * spacing)));
 }
 
+/* Pieces a and b (b after a) are the arcs either side of one row of the spline: continuous there with
+ * their slope (the spline is C2), no step or kink to look for. */
+static int joined(const vi_profile *p, const piece *a, const piece *b)
+{
+    if (a->kind != ARC || b->kind != ARC || !p->arcs[a->arc].ends || !p->arcs[b->arc].starts) return 0;
+    return b->arc == a->arc + 1 || (p->periodic && a->arc + 1 == p->n_arcs && b->arc == 0);
+}
+
 /* Continuity, slopes and kinks at the boundaries of the pieces (a periodic profile also at the seam):
  * max_slope and the kinks into p; -1 where the body cannot roll over the profile (too steep, a step).
  * tol: the rounding of the heights. */
@@ -688,6 +699,7 @@ static int check_boundaries(vi_profile *p, const table *t, double tol, const cha
         int has_left = j > 0 || p->periodic, has_right = j < p->m || p->periodic;
         size_t jl = j > 0 ? j - 1 : p->m - 1, jr = j < p->m ? j : 0;
         double xl = j > 0 ? p->xb[j] : p->hi, xr = j < p->m ? p->xb[j] : p->lo;
+        if (has_left && has_right && joined(p, &p->pieces[jl], &p->pieces[jr])) continue; /* slopes: the arcs' */
         if (has_left) {
             yl = piece_eval(&p->pieces[jl], p->arcs, R, xl, dl);
             if (!isfinite(yl) || !isfinite(dl[0])) return too_steep(p, t, &p->pieces[jl], 0, xl, name, msg, msg_size);

@@ -1233,16 +1233,18 @@ void *realloc(void *p, size_t n) { return fail_now() ? NULL : __libc_realloc(p, 
 
 /* vi_profile_create with its k-th allocation failing (malloc, calloc or realloc), for every k until
  * it needs no more: NULL and "out of memory" each time, nothing held afterwards. */
-static void every_allocation_fails_cleanly(const double *x, const double *h, size_t n, double r, int periodic)
+static void every_allocation_fails_cleanly_as(const double *x, const double *h, size_t n, double r, int periodic,
+                                              int interpolation)
 {
     char msg[256];
-    vi_profile_free(make(x, h, n, r, periodic)); /* the allocator's own first-use growth */
+    vi_profile_free(vi_profile_create_as(x, h, n, r, periodic, interpolation, "table", msg, sizeof msg)); /* the
+                                                                                  allocator's own first-use growth */
     struct mallinfo2 before = mallinfo2();
     int k = 1;
     for (;; k++) {
         msg[0] = '\0';
         fail_countdown = k;
-        vi_profile *p = vi_profile_create(x, h, n, r, periodic, "table", msg, sizeof msg);
+        vi_profile *p = vi_profile_create_as(x, h, n, r, periodic, interpolation, "table", msg, sizeof msg);
         int failed = fail_countdown == 0;
         fail_countdown = 0;
         if (!failed) {
@@ -1256,11 +1258,19 @@ static void every_allocation_fails_cleanly(const double *x, const double *h, siz
     struct mallinfo2 after = mallinfo2();
     cr_assert(after.uordblks <= before.uordblks + 4096, "heap in use grew by %zu bytes", after.uordblks - before.uordblks);
 }
+
+static void every_allocation_fails_cleanly(const double *x, const double *h, size_t n, double r, int periodic)
+{
+    every_allocation_fails_cleanly_as(x, h, n, r, periodic, VI_PROFILE_LINEAR);
+    every_allocation_fails_cleanly_as(x, h, n, r, periodic, VI_PROFILE_CUBIC);
+}
 #endif
 
-/* Every allocation checked: a smooth table (open and periodic), a rough one whose scratch stack for
- * the intervals beyond a piece's domain first takes a whole interval (not a cut one), and one of 600
- * rough rows whose interval stack outgrows its first capacity, also while intervals are put back. */
+/* Every allocation checked, the rows joined linearly and by the spline: a smooth table (open and
+ * periodic), a rough one whose scratch stack for the intervals beyond a piece's domain first takes a
+ * whole interval (not a cut one), and one of 600 rough rows whose interval stack outgrows its first
+ * capacity, also while intervals are put back (the spline's troughs sharper than the body: more arcs
+ * than segments). */
 Test(profile, every_allocation_of_create_is_checked)
 {
 #if !defined(__GLIBC__) || defined(VI_TEST_ASAN)

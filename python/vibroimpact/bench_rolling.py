@@ -38,8 +38,11 @@ def table(rows):
 
 
 def corrugation(path, rows):
-    """Write the table of WAVES wavelengths at `rows` rows per wavelength (19 significant digits)."""
-    np.savetxt(path, np.column_stack(table(rows)), fmt="%.17g")
+    """Write the table of WAVES wavelengths at `rows` rows per wavelength, each number as Python's repr
+    writes it (the shortest that reads back to the same double, as `vibroimpact rolling` writes its
+    table)."""
+    x, h = table(rows)
+    path.write_text("".join(f"{a!r} {b!r}\n" for a, b in zip(x.tolist(), h.tolist())))
 
 
 def passed(rows):
