@@ -18,7 +18,7 @@ from scipy.interpolate import CubicSpline
 from scipy.optimize import brentq, minimize_scalar
 
 from conftest import BUILD
-from test_rolling import R1, ROUND, fmu, instance, platform_samples, write  # noqa: F401 (fmu: a fixture)
+from test_rolling import R1, ROUND, fmu, instance, platform_samples, state_round_trip, write  # noqa: F401 (fmu)
 from vibroimpact.me import run_me
 
 LINEAR, CUBIC = 1, 2
@@ -145,37 +145,11 @@ def test_fmi3_gives_the_fmi2_numbers(tmp_path):
 
 def test_fmu_state_with_a_spline(fmu, tmp_path):  # noqa: F811
     """As test_rolling.py's test with the polyline: a state taken while rolling, set back in the same
-    instance and deserialized in a fresh one gives the platform to the bit, the mass to the solver's
-    tolerance."""
-    md, unzipdir, vr = fmu
+    instance and deserialized in a fresh one gives the platform to the bit, the mass and the force to
+    the solver's tolerance."""
     x, h, path = corrugation(tmp_path, 101, waves=1)
-    params = dict(profile_file=path, V=5.0, profile_periodic=True, contact_model=1, profile_interpolation=CUBIC,
-                  rtol=1e-10)
-    names = [vr[n] for n in ("yC", "y", "v", "F")]
-
-    def run(s, t0, n, hs=1e-4):
-        out = []
-        for k in range(n):
-            s.doStep(t0 + k * hs, hs)
-            out.append(s.getReal(names))
-        return np.array(out)
-
-    inst, s, init = instance(fmu, params)
-    init()
-    run(s, 0.0, 50)
-    state = s.getFMUstate()
-    a = run(s, 0.005, 100)
-    s.setFMUstate(state)
-    b = run(s, 0.005, 100)
-    blob = s.serializeFMUstate(state)
-    inst2, s2, init2 = instance(fmu, params)
-    init2()
-    s2.setFMUstate(s2.deSerializeFMUstate(blob))
-    c = run(s2, 0.005, 100)
-    assert np.ptp(a[:, 0]) > A
-    for other in (b, c):
-        assert np.array_equal(other[:, 0], a[:, 0])
-        assert np.abs(other[:, 1] - a[:, 1]).max() <= 1e-6 * A
+    state_round_trip(fmu, dict(profile_file=path, V=5.0, profile_periodic=True, contact_model=1,
+                               profile_interpolation=CUBIC, rtol=1e-10), A)
 
 
 def test_an_unknown_interpolation_is_refused_naming_its_items(fmu):  # noqa: F811

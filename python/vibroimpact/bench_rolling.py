@@ -65,8 +65,8 @@ def params(path, interpolation):
 
 
 def cs_run(fmu, path, interpolation):
-    """(CPU [s], peak force [N], CPU of the initialization [s]: loading the table) of one Co-Simulation
-    run through the C driver."""
+    """(CPU [s], peak force [N], CPU of the initialization [s]: loading the table, right-hand-side
+    evaluations) of one Co-Simulation run through the C driver."""
     vrs = ",".join(str(fmu.vars[n].valueReference) for n in ("y", "v", "F_peak", "delta", "mode", "n_impacts"))
     saved, fmu.vrs = fmu.vrs, vrs
     try:
@@ -74,8 +74,8 @@ def cs_run(fmu, path, interpolation):
     finally:
         fmu.vrs = saved
     if fig is None:
-        return math.nan, math.nan, math.nan
-    return fig["cpu_s"], float(samples[:, 3].max()), fig["init_s"]
+        return math.nan, math.nan, math.nan, math.nan
+    return fig["cpu_s"], float(samples[:, 3].max()), fig["init_s"], fig["rhs"]
 
 
 def _quiet(*_):
@@ -83,18 +83,18 @@ def _quiet(*_):
 
 
 def me_run(fmu, path, interpolation):
-    """(CPU [s], peak force [N], nan) of one Model Exchange run through fmpy's CVode driver."""
+    """(CPU [s], peak force [N], nan, nan) of one Model Exchange run through fmpy's CVode driver."""
     from fmpy import simulate_fmu
     start = time.process_time()
     r = simulate_fmu(str(fmu.path), fmi_type="ModelExchange", solver="CVode", stop_time=T_STOP,
                      relative_tolerance=RTOL, output_interval=H, start_values=params(path, interpolation),
                      output=["F"], record_events=False, model_description=fmu.md, logger=_quiet)
-    return time.process_time() - start, float(np.max(r["F"])), math.nan
+    return time.process_time() - start, float(np.max(r["F"])), math.nan, math.nan
 
 
 def measure(fmu, work, repeat):
-    """{(interface, interpolation, rows): (CPU, peak, CPU of the initialization)}: the minimum CPUs of
-    `repeat` rounds, each round running every table once."""
+    """{(interface, interpolation, rows): (CPU, peak, CPU of the initialization, rhs evaluations)}: the
+    minimum CPUs of `repeat` rounds, each round running every table once."""
     names = [i for i in INTERPOLATIONS if i == "linear" or "profile_interpolation" in fmu.vars]
     paths = {}
     for rows in ROWS:
@@ -108,11 +108,11 @@ def measure(fmu, work, repeat):
                 for k, rows in enumerate(ROWS):
                     key = (interface, name, rows)
                     if interface == "ME" and estimate > ME_CAP_S:
-                        res.setdefault(key, (math.nan, math.nan, math.nan))
+                        res.setdefault(key, (math.nan,) * 4)
                         continue
-                    cpu, peak, init = run(fmu, paths[rows], name)
-                    old = res.get(key, (math.inf, peak, init))
-                    res[key] = (min(old[0], cpu), peak, min(old[2], init))  # ME: init nan, min(nan, nan) nan
+                    cpu, peak, init, rhs = run(fmu, paths[rows], name)
+                    old = res.get(key, (math.inf, peak, init, rhs))
+                    res[key] = (min(old[0], cpu), peak, min(old[2], init), rhs)  # ME: init nan, min(nan, nan) nan
                     estimate = cpu * ROWS[min(k + 1, len(ROWS) - 1)] / rows
     return res
 
@@ -127,23 +127,25 @@ def report(out, res, repeat):
         f"{repeat} rounds; CS: the C driver, loading the table included; ME: fmpy's CVode driver. Peak force: CS "
         "the largest F_peak, ME the largest F at the communication points; 'to densest': its relative difference "
         "to that of the densest table run with the same interpolation. CS initialization: from fmi2Instantiate to "
-        "the end of fmi2ExitInitializationMode, reading the table and building yb.\n")
+        "the end of fmi2ExitInitializationMode, reading the table and building yb; rhs: the right-hand-side "
+        "evaluations the FMU counts (CS).\n")
     out("| interface | profile_interpolation | rows per wavelength | rows | CPU [s] | of which initialization [s] "
-        "| CPU / 21 rows | CPU / 21 rows linear | peak force [kN] | to densest |")
-    out("|---|---|---|---|---|---|---|---|---|---|")
-    for (interface, name, rows), (cpu, peak, init) in res.items():
+        "| rhs | CPU / 21 rows | CPU / 21 rows linear | peak force [kN] | to densest |")
+    out("|---|---|---|---|---|---|---|---|---|---|---|")
+    for (interface, name, rows), (cpu, peak, init, rhs) in res.items():
         base, linear = res[interface, name, ROWS[0]][0], res[interface, "linear", ROWS[0]][0]
         densest = [v[1] for k, v in res.items() if k[:2] == (interface, name) and not math.isnan(v[0])][-1]
         if math.isnan(cpu):
             out(f"| {interface} | {name} | {rows} | {WAVES * (rows - 1) + 1} | left out (estimated > {ME_CAP_S:g} s) "
-                "| | | | | |")
+                "| | | | | | |")
             continue
         out(f"| {interface} | {name} | {rows} | {WAVES * (rows - 1) + 1} | {cpu:.4f} | "
-            f"{'-' if math.isnan(init) else format(init, '.4f')} | {cpu / base:.2f} | {cpu / linear:.2f} | "
+            f"{'-' if math.isnan(init) else format(init, '.4f')} | {'-' if math.isnan(rhs) else int(rhs)} | "
+            f"{cpu / base:.2f} | {cpu / linear:.2f} | "
             f"{peak / 1e3:.4f} | {abs(peak / densest - 1):.1e} |")
     out("")
     costs(out, res)
-    for (interface, name, rows), (cpu, _, _) in res.items():
+    for (interface, name, rows), (cpu, *_) in res.items():
         if rows == ROWS[0]:
             linear = res[interface, "linear", rows][0]
             r2, r3 = (res[interface, name, n][0] for n in ROWS[2:])
@@ -160,7 +162,7 @@ def costs(out, res):
     out("| interface | rows per wavelength | rows passed | kinks passed | linear per row [us] | cubic per row [us] "
         "| per kink [us] |")
     out("|---|---|---|---|---|---|---|")
-    for (interface, name, rows), (cpu, _, _) in res.items():
+    for (interface, name, rows), (cpu, *_) in res.items():
         cubic = res.get((interface, "cubic", rows), (math.nan,))[0]
         if name != "linear" or math.isnan(cpu):
             continue

@@ -11,8 +11,8 @@ and glibc's mallinfo2).
 --against compares two builds (this one and, say, the previous commit's): every case below with every
 solver at rtol 1e-6 and 1e-10, runs of the two FMUs alternated, the ratios of their CPU times and
 their geometric mean printed; nothing is written.
---only runs just the named sections that stand alone (profile; floor, at rtol 1e-10) and prints
-them, writing nothing.
+--only runs just the named sections that stand alone (profile; floor, at rtol 1e-10; rolling) and
+prints them, writing nothing.
 
 What it runs (the FMU binary through tools/bench_driver.c, dlopen'ed from C with no Python in the
 loop, unless said otherwise; CPU times are the minimum of N runs, default 5, because other
@@ -57,6 +57,12 @@ processes disturb single runs; instruction counts would be steadier but do not c
 7. The work bound: fig4b in one fmi2DoStep of 1e6 s, CPU until fmi2Discard and where it stopped.
 8. Loading a rolling profile of 1e4 ... 1e6 rows (vi_profile_load: reading and the envelope; the FMU's
    initialization with it) against numpy.loadtxt reading the same file, per row, with the memory.
+9. Rolling over a sampled rail (vibroimpact.bench_rolling): the paper's wheel (Hertz) at 30 m/s for
+   0.1 s over a periodic corrugation (50 mm, 20 um) given as 21, 201, 2001 and 20001 rows per
+   wavelength, rtol 1e-8, 1 ms steps, with profile_interpolation linear and cubic, in Co-Simulation
+   (the C driver, loading the table included) and Model Exchange (fmpy's CVode driver): CPU, the
+   ratios to the 21-row table's, the peak force and its convergence with the rows, and the cost per
+   row passed and per kink of the polyline.
 """
 import argparse
 import pathlib
