@@ -192,7 +192,7 @@ static double closed_form(double R, const piece *a, const piece *b, double w, do
 {
     double r1 = NAN, r2 = NAN;
     if (a->kind == ARC || b->kind == ARC) return NAN; /* no closed form: bisection */
-    if (a->kind == CIRCLE && b->kind == CIRCLE) { /* equal circles: the upper crossing on the bisector of the two vertices */
+    if (a->kind == CIRCLE && b->kind == CIRCLE) { /* equal circles: the upper crossing on the bisector of the vertices */
         double dx = b->px - a->px, dy = b->py - a->py, d = hypot(dx, dy);
         if (!(dx > 0.0) || !(d < 2.0 * R)) return NAN;
         r1 = a->px + 0.5 * dx - dy / d * sqrt((R - 0.5 * d) * (R + 0.5 * d));
@@ -529,7 +529,8 @@ static int make_arcs(const double *x, const double *h, size_t n, int periodic, d
  * curves less than the body, so it stays below the body there); other pieces are numbered at least
  * two apart, never neighbours. 0, or -1 when out of memory. */
 static int build_cubic(const context *c, const double *x, const double *h, const double *shift, double reach,
-                       const size_t *first, size_t n, int periodic, double lo, double hi, long kmin, long kmax, stack *st)
+                       const size_t *first, size_t n, int periodic, double lo, double hi, long kmin, long kmax,
+                       stack *st)
 {
     double R = c->R, period = periodic ? hi - lo : 0.0, before = INFINITY; /* before: where the last arc ends */
     size_t g = 0, n_arcs = first[n - 1];
@@ -541,7 +542,8 @@ static int build_cubic(const context *c, const double *x, const double *h, const
     }
     for (long copy = kmin; copy <= kmax && rc == 0; copy++) { /* bounded: the copies of n rows */
         for (size_t j = 0; j + 1 < n && rc == 0; j++) {
-            double row = vertex_x(x, n, periodic, period, j, copy), next = vertex_x(x, n, periodic, period, j + 1, copy);
+            double row = vertex_x(x, n, periodic, period, j, copy);
+            double next = vertex_x(x, n, periodic, period, j + 1, copy);
             if (next + reach < lo || row - reach > hi) {
                 before = INFINITY;
                 continue;
