@@ -27,6 +27,8 @@ H = 1e-3  # s, communication step
 RTOL = 1e-8
 ME_CAP_S = 60.0  # a Model Exchange run whose estimate (from the table before it) exceeds this is left out
 INTERPOLATIONS = {"linear": 1, "cubic": 2}
+TARGETS = {2001: 2.0, 20001: 5.0}  # the spline's CPU at these rows per wavelength / the 21-row table's, at most
+PEAK_TARGET = 1e-4  # the spline's peak force at 2001 rows against 20001 rows, relative
 
 
 def table(rows):
@@ -151,6 +153,26 @@ def report(out, res, repeat):
             r2, r3 = (res[interface, name, n][0] for n in ROWS[2:])
             out(f"- {interface}, {name}: 2001 / 21 rows {r2 / cpu:.2f}, 20001 / 21 rows {r3 / cpu:.2f}; against the "
                 f"21-row polyline {r2 / linear:.2f} and {r3 / linear:.2f}")
+    out("")
+    verdicts(out, res)
+
+
+def verdicts(out, res):
+    """The spline against TARGETS (against the 21-row spline and the 21-row polyline) and PEAK_TARGET."""
+    if ("CS", "cubic", ROWS[0]) not in res:
+        return
+    for interface in ("CS", "ME"):
+        cubic, linear = res[interface, "cubic", ROWS[0]][0], res[interface, "linear", ROWS[0]][0]
+        parts = []
+        for rows, bound in TARGETS.items():
+            cpu = res[interface, "cubic", rows][0]
+            parts.append(f"{rows} / 21 rows at most {bound:g}: {cpu / cubic:.2f} "
+                         f"({'met' if cpu <= bound * cubic else 'missed'}; against the polyline's {cpu / linear:.2f}, "
+                         f"{'met' if cpu <= bound * linear else 'missed'})")
+        peak = abs(res[interface, "cubic", 2001][1] / res[interface, "cubic", 20001][1] - 1)
+        parts.append(f"peak force 2001 against 20001 rows within {PEAK_TARGET:g}: {peak:.1e} "
+                     f"({'met' if peak <= PEAK_TARGET else 'missed'})")
+        out(f"Target, {interface}, cubic: " + "; ".join(parts) + ".")
     out("")
 
 

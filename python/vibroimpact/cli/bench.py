@@ -61,8 +61,8 @@ processes disturb single runs; instruction counts would be steadier but do not c
    0.1 s over a periodic corrugation (50 mm, 20 um) given as 21, 201, 2001 and 20001 rows per
    wavelength, rtol 1e-8, 1 ms steps, with profile_interpolation linear and cubic, in Co-Simulation
    (the C driver, loading the table included) and Model Exchange (fmpy's CVode driver): CPU, the
-   ratios to the 21-row table's, the peak force and its convergence with the rows, and the cost per
-   row passed and per kink of the polyline.
+   ratios to the 21-row table's, the peak force and its convergence with the rows, the cost per
+   row passed and per kink of the polyline, and the spline against its targets (bench_rolling.TARGETS).
 """
 import argparse
 import pathlib
