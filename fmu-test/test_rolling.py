@@ -222,13 +222,20 @@ def test_fmu_state_with_a_profile(fmu, tmp_path, solver):
     instance with the same parameters: the platform (the profile, reattached from the instance's own
     copy, never from the saved pointer) is the same to the bit, the mass to the solver's tolerance
     (a restored run restarts the solver)."""
-    md, unzipdir, vr = fmu
     lam, A = 0.05, 2e-5
     x = np.linspace(0.0, lam, 101)
     h = A * np.cos(2 * np.pi * x / lam)
     h[-1] = h[0]
     params = dict(profile_file=write(tmp_path / "p.txt", x, h), V=5.0, profile_periodic=True, contact_model=1,
                   rtol=1e-10, solver=solver)  # kinks fall on communication points (t = 5 ms among them)
+    state_round_trip(fmu, params, A)
+
+
+def state_round_trip(fmu, params, A):
+    """The run from 5 ms after a state taken there, set back in the same instance and deserialized in a
+    fresh one with the same parameters: the platform yC to the bit, y within 1e-6 A and F within 1e-6 of
+    the static load of the original run's."""
+    md, unzipdir, vr = fmu
     names = [vr[n] for n in ("yC", "y", "v", "F")]
 
     def run(s, t0, n, hs=1e-4):

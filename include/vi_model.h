@@ -74,6 +74,7 @@ typedef struct {
     int has_profile;            /* a profile is rolled over (vi_model_set_rolling) */
     double V, x0;               /* rolling speed [m/s], position on the profile at the start [m] */
     int profile_periodic;
+    int profile_interpolation;  /* VI_PROFILE_LINEAR or VI_PROFILE_CUBIC (vi_profile.h) */
     double e_restitution;       /* damped Hertz, linear: restitution of an isolated impact, (0, 1] */
     int damping_formula;        /* damped Hertz: VI_DAMP_* (vi_laws.h) */
     double k_spring;            /* linear: spring stiffness [N/m] */

@@ -2,8 +2,9 @@
  * vi_profile.h - rolling over an irregular surface (paper Fig. 1b): the rigid constraint yb.
  *
  * A body of radius R (R1) rolls over a profile h(x) given as a table (x_i, h_i), x increasing,
- * linear between samples. The lowest point of the body, touching the profile without penetrating
- * it, follows the constraint
+ * linear between samples (VI_PROFILE_LINEAR) or the cubic spline through them (VI_PROFILE_CUBIC, see
+ * below). The lowest point of the body, touching the profile without penetrating it, follows the
+ * constraint
  *
  *     yb(x) = max over s in the profile with |s - x| <= R of [h(s) + sqrt(R^2 - (x - s)^2)] - R,
  *
@@ -22,6 +23,23 @@
  * yb and its first three derivatives in x. yb is continuous; its slope jumps (a kink) where the body
  * touches two points at once (it bridges a trough); vi_profile_next_kink finds them. A circle-line
  * switch is tangent (only the curvature jumps) and is no kink.
+ *
+ * Cubic (VI_PROFILE_CUBIC): h is the C2 cubic spline through the rows, with not-a-knot ends (the
+ * third derivative continuous at the second and the last but one row: a cubic is reproduced
+ * exactly; two rows give the line, three the parabola) or, for a periodic table, periodic ends (value,
+ * slope and curvature continuous across the seam). Where the body touches the curve at one point s,
+ * its centre lies on the normal at s: with h' = h'(s), w = 1 + h'^2,
+ *
+ *   x = X(s) = s - R h' / sqrt(w),   yb = h(s) + R (1/sqrt(w) - 1),   yb' = h'(s),
+ *   yb'' = h'' / X',   X' = 1 - R h'' / w^(3/2)   (1 - R times the curvature),
+ *
+ * the curve offset by R along its normal, lowered by R. Where the curvature of a trough exceeds 1/R
+ * (X' <= 0) the body cannot touch the curve; those parts are dropped, and the offsets of the parts on
+ * either side cross where the body bridges the trough: a kink. Each spline segment's part with X' > 0
+ * is a piece of the envelope (s found from x by Newton's method inside the part, safeguarded by
+ * bisection), besides the circles around the end rows of a table that is not periodic; the envelope
+ * of these pieces is built as for the polyline. A spline whose curvature stays below 1/R everywhere
+ * gives a yb with a continuous second derivative and no kink.
  *
  * Range: without periodicity the profile exists on [x_first, x_last] only (the body touches nothing
  * beyond), and yb is defined there; outside, vi_profile_eval clamps and returns -1. With periodicity
@@ -60,11 +78,19 @@ typedef struct vi_profile vi_profile;
 #define VI_PROFILE_LINE_MAX 4096
 #define VI_PROFILE_ROWS_MAX 10000000
 
+/* How the rows are joined: the values of the FMU's profile_interpolation. */
+enum { VI_PROFILE_LINEAR = 1, VI_PROFILE_CUBIC = 2 };
+
 /* From arrays (copied); name is used in messages. NULL on failure with the reason in msg. */
 vi_profile *vi_profile_create(const double *x, const double *h, size_t n, double R, int periodic, const char *name,
                               char *msg, size_t msg_size);
+/* The same with the rows joined as interpolation says (VI_PROFILE_LINEAR or VI_PROFILE_CUBIC). */
+vi_profile *vi_profile_create_as(const double *x, const double *h, size_t n, double R, int periodic, int interpolation,
+                                 const char *name, char *msg, size_t msg_size);
 /* From a two-column text file at path. NULL on failure with the reason (file and line) in msg. */
 vi_profile *vi_profile_load(const char *path, double R, int periodic, char *msg, size_t msg_size);
+/* The same with the rows joined as interpolation says. */
+vi_profile *vi_profile_load_as(const char *path, double R, int periodic, int interpolation, char *msg, size_t msg_size);
 void vi_profile_free(vi_profile *p);
 /* fopen(path, "r") of a path in UTF-8 (FMI's strings are UTF-8): on Windows, whose C library's fopen
  * takes the ANSI code page, through _wfopen of the path converted to UTF-16 (a path that is not

@@ -88,7 +88,8 @@
   X(E_contact, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "J", 0, "yC_in y", "elastic energy stored in the contact now: the work of the current branch's force from its contact surface to delta") \
   X(F_peak, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N", 0, "yC_in F_ext y v vC_in", "largest contact force since the last communication point (Co-Simulation: over the whole step, events and the inside of the solver's steps included; Model Exchange: F)") \
   X(W_damping, Real, none, local, continuous, exact, 0.0, VI_NONE, VI_NONE, "J", 1.0, "", "work of the damping of hertz_damped and linear: the power of the force beyond its spring part, (F - F_spring(delta)) delta' (Model Exchange: a continuous state)") \
-  X(der_W_damping, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "W", 0, "yC_in y v vC_in", "time derivative of W_damping, the damping's power (Model Exchange: the derivative of the state W_damping)")
+  X(der_W_damping, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "W", 0, "yC_in y v vC_in", "time derivative of W_damping, the damping's power (Model Exchange: the derivative of the state W_damping)") \
+  X(profile_interpolation, Integer, ProfileInterpolation, parameter, fixed, exact, 1, VI_NONE, VI_NONE, "", 0, "", "how the rows of profile_file are joined: linear (the exact polyline, its corners kept) or cubic (the C2 spline through them: a sampled smooth rail without a kink at every row)")
 
 /* Enumeration types: E(type, description); items in VI_ITEMS_<type>(I) as I(type, name, value).
  * Items are matched by name in the model through the constants VI_<type>_<name>. */
@@ -99,6 +100,7 @@
   E(YieldFormula, "yield force formula") \
   E(Init, "initial state") \
   E(Solver, "integration method") \
+  E(ProfileInterpolation, "joining of the profile rows") \
   E(Mode, "mode of the hybrid automaton")
 #define VI_ITEMS_ContactModel(I) I(ContactModel, hertz, 1) I(ContactModel, johnson, 2) I(ContactModel, lepp, 3) \
   I(ContactModel, hertz_damped, 4) I(ContactModel, linear, 5) I(ContactModel, thornton, 6)
@@ -108,6 +110,7 @@
 #define VI_ITEMS_YieldFormula(I) I(YieldFormula, textbook, 1) I(YieldFormula, printed, 2)
 #define VI_ITEMS_Init(I) I(Init, static, 1) I(Init, touching, 2)
 #define VI_ITEMS_Solver(I) I(Solver, bdf, 1) I(Solver, adams, 2) I(Solver, dop853, 3) I(Solver, auto, 4)
+#define VI_ITEMS_ProfileInterpolation(I) I(ProfileInterpolation, linear, 1) I(ProfileInterpolation, cubic, 2)
 #define VI_ITEMS_Mode(I) I(Mode, free, 0) I(Mode, elastic, 1) I(Mode, plastic, 2) I(Mode, unload, 3) I(Mode, stick, 4)
 
 VI_TABLE_DECLARE

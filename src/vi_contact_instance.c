@@ -36,8 +36,10 @@ vi_model_params vi_contact_model_params(const vi_parameters *p)
         .nu2 = p->nu2, .Y = p->Y, .theta_Y = p->theta_Y, .law = p->contact_model, .moving_contact = p->moving_contact,
         .unloading = p->unloading, .yield_formula = p->yield_formula, .init = p->init, .v0 = p->v0, .a = p->a,
         .f = p->f, .has_profile = p->profile_file[0] != '\0', .V = p->V, .x0 = p->x0,
-        .profile_periodic = p->profile_periodic, .e_restitution = p->e_restitution,
-        .damping_formula = p->damping_formula, .k_spring = p->k_spring};
+        .profile_periodic = p->profile_periodic,
+        .profile_interpolation = p->profile_interpolation == VI_ProfileInterpolation_cubic ? VI_PROFILE_CUBIC
+                                                                                          : VI_PROFILE_LINEAR,
+        .e_restitution = p->e_restitution, .damping_formula = p->damping_formula, .k_spring = p->k_spring};
 }
 
 double vi_contact_rtol(const vi_parameters *p, double tolerance)

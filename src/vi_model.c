@@ -1023,6 +1023,8 @@ int vi_model_option_warnings(const vi_model_params *p, char *msg, size_t n)
     OPTION(p->v0 != 0.0 && p->init == VI_INIT_STATIC, "v0 is ignored by a static start (init = static)")
     OPTION(!p->has_profile && (p->V != 0.0 || p->x0 != 0.0 || p->profile_periodic),
            "V, x0 and profile_periodic are ignored without a profile_file")
+    OPTION(!p->has_profile && p->profile_interpolation == VI_PROFILE_CUBIC,
+           "profile_interpolation = cubic is ignored without a profile_file")
 #undef OPTION
     return count;
 }

@@ -1,9 +1,11 @@
-/* vi_profile.c - the rolling constraint yb of a piecewise-linear profile; definitions in vi_profile.h. */
+/* vi_profile.c - the rolling constraint yb of a piecewise-linear or cubic-spline profile; definitions in
+ * vi_profile.h. */
 #include "vi_profile.h"
 
 #include <errno.h>
 #include <float.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,16 +19,30 @@
 #endif
 
 /* A piece of the envelope. Circle: yb = py - d^2/(R + sqrt(R^2 - d^2)), d = x - px (the vertex at
- * px, height py). Line: yb = py + s (x - px) (value py at the start px of its domain). */
+ * px, height py). Line: yb = py + s (x - px) (value py at the start px of its domain). Arc: the
+ * offset of part arc of a spline segment whose first row lies at px (arc_eval). */
+enum { CIRCLE, LINE, ARC };
 typedef struct {
-    int line;
+    int kind;
+    uint32_t arc; /* ARC: index into the profile's arcs */
     double px, py, s;
 } piece;
+
+/* The part of a spline segment the body may touch (1 - R curvature > 0 there): h = c0 + c1 u +
+ * c2 u^2 + c3 u^3 on u = s - (the segment's first row) in [u0, u1]; X0, X1 = X(u) - (the first row)
+ * at u0 and u1 (the centre's positions, for the first guess of Newton's method); starts, ends: u0 is
+ * the segment's first row, u1 its last. */
+typedef struct {
+    double c[4], u0, u1, X0, X1;
+    int starts, ends;
+} arc;
 
 struct vi_profile {
     double R, lo, hi, period; /* period = hi - lo when periodic, else 0 */
     int periodic;
     piece *pieces;  /* m pieces, one per interval */
+    arc *arcs;      /* the spline's parts (cubic interpolation), n_arcs of them, else NULL */
+    size_t n_arcs;
     size_t m;       /* intervals */
     double *xb;     /* m + 1 boundaries, xb[0] = lo, xb[m] = hi */
     double *kinks;  /* sorted kink positions in [lo, hi) */
@@ -37,10 +53,55 @@ struct vi_profile {
 
 /* ---- pieces -------------------------------------------------------------------------------- */
 
-/* Value and derivatives of piece q at x (derivatives only when d is not NULL). */
-static double piece_eval(const piece *q, double R, double x, double d[3])
+/* The position u in [a->u0, a->u1] where the body centred above x touches arc a (first row at px):
+ * the root of X(u) - target = u - R h'/sqrt(1 + h'^2) - target, target = x - px, increasing in u on
+ * the arc; an end when target is within slack (the rounding of x - px) of that end's X; else Newton's
+ * method from the linear guess, kept inside the bracket by bisection (at most 80 passes, ending when
+ * a pass moves u by less than 4 eps of the segment). */
+static double arc_root(const arc *a, double R, double target, double slack)
 {
-    if (q->line) {
+    const double *c = a->c;
+    double lo = a->u0, hi = a->u1;
+    if (!(target > a->X0 + slack)) return lo;
+    if (!(target < a->X1 - slack)) return hi;
+    double u = lo + (hi - lo) * ((target - a->X0) / (a->X1 - a->X0)), tiny = 4.0 * DBL_EPSILON * (fabs(lo) + fabs(hi));
+    for (int it = 0; it < 80; it++) {
+        double h1 = c[1] + u * (2.0 * c[2] + 3.0 * c[3] * u), h2 = 2.0 * c[2] + 6.0 * c[3] * u;
+        double w = 1.0 + h1 * h1, rw = sqrt(w);
+        double F = u - R * h1 / rw - target, dF = 1.0 - R * h2 / (w * rw);
+        if (F == 0.0) return u;
+        if (F > 0.0) hi = u;
+        else lo = u;
+        double next = u - F / dF;
+        if (!(next > lo && next < hi)) next = lo + 0.5 * (hi - lo);
+        if (fabs(next - u) <= tiny) return next;
+        u = next;
+    }
+    return u;
+}
+
+/* Value and derivatives of the offset of arc a (first row at px) at x (vi_profile.h: yb = h + R
+ * (1/sqrt(w) - 1), yb' = h', yb'' = h''/X', yb''' = (h''' X' - h'' X'')/X'^3). */
+static double arc_eval(const arc *a, double R, double px, double x, double d[3])
+{
+    const double *c = a->c;
+    double u = arc_root(a, R, x - px, 4.0 * DBL_EPSILON * fabs(x));
+    double h1 = c[1] + u * (2.0 * c[2] + 3.0 * c[3] * u), w = 1.0 + h1 * h1, rw = sqrt(w);
+    if (d) {
+        double h2 = 2.0 * c[2] + 6.0 * c[3] * u, h3 = 6.0 * c[3];
+        double X1 = 1.0 - R * h2 / (w * rw), X2 = -R * (h3 - 3.0 * h1 * h2 * h2 / w) / (w * rw);
+        d[0] = h1;
+        d[1] = h2 / X1;
+        d[2] = (h3 * X1 - h2 * X2) / (X1 * X1 * X1);
+    }
+    return c[0] + u * (c[1] + u * (c[2] + u * c[3])) - R * (h1 * h1 / (rw * (rw + 1.0)));
+}
+
+/* Value and derivatives of piece q at x (derivatives only when d is not NULL); arcs: the profile's. */
+static double piece_eval(const piece *q, const arc *arcs, double R, double x, double d[3])
+{
+    if (q->kind == ARC) return arc_eval(&arcs[q->arc], R, q->px, x, d);
+    if (q->kind == LINE) {
         if (d) d[0] = q->s, d[1] = 0.0, d[2] = 0.0;
         return q->py + q->s * (x - q->px);
     }
@@ -103,11 +164,12 @@ static int push(stack *st, double x0, double x1, const piece *q, size_t g)
 typedef struct {
     double R;
     double tol; /* values closer than this count as equal (the continuity check) */
+    const arc *arcs;
 } context;
 
 static double gap(const context *c, const piece *a, const piece *b, double x)
 {
-    return piece_eval(a, c->R, x, NULL) - piece_eval(b, c->R, x, NULL);
+    return piece_eval(a, c->arcs, c->R, x, NULL) - piece_eval(b, c->arcs, c->R, x, NULL);
 }
 
 /* The root of gap(a, b) in (lo, hi), where it changes sign strictly (bisection to the last bit,
@@ -129,14 +191,15 @@ static double bisect(const context *c, const piece *a, const piece *b, double lo
 static double closed_form(double R, const piece *a, const piece *b, double w, double v)
 {
     double r1 = NAN, r2 = NAN;
-    if (!a->line && !b->line) { /* equal circles: the upper crossing on the bisector of the two vertices */
+    if (a->kind == ARC || b->kind == ARC) return NAN; /* no closed form: bisection */
+    if (a->kind == CIRCLE && b->kind == CIRCLE) { /* equal circles: the upper crossing on the bisector of the vertices */
         double dx = b->px - a->px, dy = b->py - a->py, d = hypot(dx, dy);
         if (!(dx > 0.0) || !(d < 2.0 * R)) return NAN;
         r1 = a->px + 0.5 * dx - dy / d * sqrt((R - 0.5 * d) * (R + 0.5 * d));
-    } else if (a->line && b->line) { /* two lines */
+    } else if (a->kind == LINE && b->kind == LINE) { /* two lines */
         r1 = a->px + (b->py - a->py + b->s * (a->px - b->px)) / (a->s - b->s);
     } else { /* circle (px, py) and line: with u = x - px, sqrt(R^2 - u^2) = A + s u, A = R + e */
-        const piece *cq = a->line ? b : a, *lq = a->line ? a : b;
+        const piece *cq = a->kind == LINE ? b : a, *lq = a->kind == LINE ? a : b;
         double s = lq->s, e = lq->py + s * (cq->px - lq->px) - cq->py; /* the line above the vertex */
         double hyp = hypot(1.0, s), A = R + e;
         double disc = (R * (s * s / (hyp + 1.0)) - e) * (hyp * R + A); /* (1 + s^2) R^2 - A^2 */
@@ -211,7 +274,7 @@ static int insert(const context *c, stack *st, stack *tail, const piece *q, size
 void vi_profile_free(vi_profile *p)
 {
     if (!p) return;
-    free(p->pieces), free(p->xb), free(p->kinks);
+    free(p->pieces), free(p->xb), free(p->kinks), free(p->arcs);
     free(p);
 }
 
@@ -249,17 +312,279 @@ static int build(const context *c, const double *x, const double *h, size_t n, i
     for (long k = kmin; k <= kmax && rc == 0; k++) { /* bounded: kmax - kmin + 1 copies of n rows */
         for (size_t j = 0; j < n_vertices && rc == 0; j++, g += 2) {
             double v = vertex_x(x, n, periodic, period, j, k);
-            piece circle = {0, v, h[j], 0.0};
+            piece circle = {CIRCLE, 0, v, h[j], 0.0};
             rc = insert(c, st, &tail, &circle, g, fmax(v - R, lo), fmin(v + R, hi));
             if (rc < 0 || j + 1 >= n) break;
             double slope = (h[j + 1] - h[j]) / (x[j + 1] - x[j]), hyp = hypot(1.0, slope), shift = R * (slope / hyp);
             double next = vertex_x(x, n, periodic, period, j + 1, k);
             /* the tangent's height at its vertex: h_j + R (1/hyp - 1) */
-            piece tangent = {1, v - shift, h[j] - R * (slope * slope / (hyp * (hyp + 1.0))), slope};
+            piece tangent = {LINE, 0, v - shift, h[j] - R * (slope * slope / (hyp * (hyp + 1.0))), slope};
             rc = insert(c, st, &tail, &tangent, g + 1, fmax(tangent.px, lo), fmin(next - shift, hi));
         }
     }
     free(tail.s);
+    return rc;
+}
+
+/* ---- the cubic spline through the rows ------------------------------------------------------
+ *
+ * The slopes k_i at the rows make the spline C2 where, for each inner row i (dx_i = x_(i+1) - x_i,
+ * d_i = (h_(i+1) - h_i)/dx_i),
+ *
+ *   dx_i k_(i-1) + 2 (dx_(i-1) + dx_i) k_i + dx_(i-1) k_(i+1) = 3 (dx_i d_(i-1) + dx_(i-1) d_i);
+ *
+ * a periodic table closes the system cyclically (row 0 is the inner row between the last segment
+ * and the first, k_(n-1) = k_0); an open one by not-a-knot ends, h''' continuous at rows 1 and n-2,
+ * which with the row beside them reads (D = dx_0 + dx_1)
+ *
+ *   dx_1 k_0 + D k_1 = ((dx_0 + 2 D) dx_1 d_0 + dx_0^2 d_1) / D
+ *
+ * and its mirror image at the other end. Segment i is then the Hermite cubic of h_i, h_(i+1), k_i,
+ * k_(i+1): c2 = (3 d_i - 2 k_i - k_(i+1))/dx_i, c3 = (k_i + k_(i+1) - 2 d_i)/dx_i^2. */
+
+/* Row i of the system: coefficients of k_(i-1), k_i, k_(i+1) and the right-hand side, into e[4]. m: the
+ * unknowns (n - 1 periodic, indices cyclic; n open, m >= 4). */
+static void spline_row(const double *x, const double *h, size_t m, int periodic, size_t i, double e[4])
+{
+    size_t last = m - 1, p = i ? i - 1 : last, q = i; /* segments before and after row i (periodic) */
+    if (!periodic && (i == 0 || i == last)) {
+        size_t a = i == 0 ? 0 : last - 2, b = a + 1; /* the two end segments */
+        double da = x[a + 1] - x[a], db = x[b + 1] - x[b], D = da + db;
+        double sa = (h[a + 1] - h[a]) / da, sb = (h[b + 1] - h[b]) / db;
+        if (i == 0) e[0] = 0.0, e[1] = db, e[2] = D, e[3] = ((da + 2.0 * D) * db * sa + da * da * sb) / D;
+        else e[0] = D, e[1] = da, e[2] = 0.0, e[3] = (db * db * sa + (db + 2.0 * D) * da * sb) / D;
+        return;
+    }
+    double dp = x[p + 1] - x[p], dq = x[q + 1] - x[q];
+    e[0] = dq, e[1] = 2.0 * (dp + dq), e[2] = dp;
+    e[3] = 3.0 * (dq * (h[p + 1] - h[p]) / dp + dp * (h[q + 1] - h[q]) / dq);
+}
+
+/* Forward elimination of the tridiagonal part of the system (Thomas): cp[i] = the multiplier of
+ * k_(i+1), and rp = the reduced right-hand side of rhs (rhs NULL: the system's own). The first
+ * diagonal entry is b0 (the cyclic correction changes it), the last one's change is b_last. */
+static void eliminate(const double *x, const double *h, size_t m, int periodic, double b0, double b_last,
+                      const double *rhs, double *cp, double *rp)
+{
+    double e[4];
+    for (size_t i = 0; i < m; i++) { /* bounded by the rows */
+        spline_row(x, h, m, periodic, i, e);
+        double b = i == 0 ? b0 : e[1] - (i == m - 1 ? b_last : 0.0), r = rhs ? rhs[i] : e[3];
+        double piv = i == 0 ? b : b - e[0] * cp[i - 1];
+        cp[i] = e[2] / piv;
+        rp[i] = (i == 0 ? r : r - e[0] * rp[i - 1]) / piv;
+    }
+}
+
+static void back_substitute(size_t m, const double *cp, double *k)
+{
+    for (size_t i = m - 1; i-- > 0;) k[i] -= cp[i] * k[i + 1]; /* bounded by the rows; k holds rp on entry */
+}
+
+/* The slopes k[0..n-1] of the spline through the n >= 2 rows (periodic: k[n-1] = k[0]; open: two
+ * rows give the line, three the parabola). scratch: 2 n doubles. */
+static void spline_slopes(const double *x, const double *h, size_t n, int periodic, double *k, double *scratch)
+{
+    double d0 = (h[1] - h[0]) / (x[1] - x[0]), e[4], f[4];
+    if (n == 2) {
+        k[0] = k[1] = periodic ? 0.0 : d0;
+        return;
+    }
+    if (!periodic && n == 3) { /* the parabola h0 + d0 (x - x0) + c (x - x0)(x - x1) */
+        double dx0 = x[1] - x[0], dx1 = x[2] - x[1], c = ((h[2] - h[1]) / dx1 - d0) / (dx0 + dx1);
+        k[0] = d0 - c * dx0, k[1] = d0 + c * dx0, k[2] = d0 + c * (dx0 + 2.0 * dx1);
+        return;
+    }
+    size_t m = periodic ? n - 1 : n;
+    double *cp = scratch, *z = scratch + n;
+    if (periodic && m == 2) { /* two unknowns, both neighbours of each row the other one */
+        spline_row(x, h, m, 1, 0, e), spline_row(x, h, m, 1, 1, f);
+        double det = e[1] * f[1] - (e[0] + e[2]) * (f[0] + f[2]);
+        k[0] = (e[3] * f[1] - (e[0] + e[2]) * f[3]) / det;
+        k[1] = (e[1] * f[3] - (f[0] + f[2]) * e[3]) / det;
+    } else if (periodic) { /* Sherman-Morrison: the corners beta (row 0) and alpha (row m-1) as a rank-one term */
+        spline_row(x, h, m, 1, 0, e), spline_row(x, h, m, 1, m - 1, f);
+        double beta = e[0], alpha = f[2], gamma = -e[1];
+        eliminate(x, h, m, 1, e[1] - gamma, alpha * beta / gamma, NULL, cp, k);
+        back_substitute(m, cp, k);
+        for (size_t i = 0; i < m; i++) z[i] = 0.0; /* bounded by the rows */
+        z[0] = gamma, z[m - 1] = alpha;
+        eliminate(x, h, m, 1, e[1] - gamma, alpha * beta / gamma, z, cp, z);
+        back_substitute(m, cp, z);
+        double fact = (k[0] + beta * k[m - 1] / gamma) / (1.0 + z[0] + beta * z[m - 1] / gamma);
+        for (size_t i = 0; i < m; i++) k[i] -= fact * z[i]; /* bounded by the rows */
+    } else {
+        spline_row(x, h, m, 0, 0, e);
+        eliminate(x, h, m, 0, e[1], 0.0, NULL, cp, k);
+        back_substitute(m, cp, k);
+    }
+    if (periodic) k[n - 1] = k[0];
+}
+
+/* ---- the spline's offsets: arcs -------------------------------------------------------------- */
+
+/* The centre's shift along x from the contact point of slope s: -R s/sqrt(1 + s^2) (s^2 would overflow
+ * beyond 1e154: there the root is |s| to the last bit). */
+static double centre_shift(double R, double s) { return -R * (s / (fabs(s) < 1e100 ? sqrt(1.0 + s * s) : fabs(s))); }
+
+/* 1 - R times the curvature of cubic c at u: X'(u), positive where the body may touch. */
+static double touch(const double c[4], double R, double u)
+{
+    double h1 = c[1] + u * (2.0 * c[2] + 3.0 * c[3] * u), w = 1.0 + h1 * h1;
+    return 1.0 - R * (2.0 * c[2] + 6.0 * c[3] * u) / (w * sqrt(w));
+}
+
+typedef struct {
+    arc *a;
+    size_t n, cap;
+    double max_slope;
+} arcs;
+
+/* Append the part [u0, u1] of segment cubic c on [0, dx] as an arc (its largest |h'| into max_slope).
+ * 0, or -1 when out of memory or past UINT32_MAX arcs. */
+static int add_arc(arcs *list, double R, const double c[4], double dx, double u0, double u1)
+{
+    if (!(u1 > u0)) return 0;
+    if (list->n == list->cap) {
+        size_t cap = list->cap ? 2 * list->cap : 256;
+        arc *a = cap <= UINT32_MAX ? realloc(list->a, cap * sizeof *a) : NULL;
+        if (!a) return -1;
+        list->a = a, list->cap = cap;
+    }
+    double s0 = c[1] + u0 * (2.0 * c[2] + 3.0 * c[3] * u0), s1 = c[1] + u1 * (2.0 * c[2] + 3.0 * c[3] * u1);
+    double um = c[3] != 0.0 ? -c[2] / (3.0 * c[3]) : u0; /* where h' is stationary */
+    double sm = um > u0 && um < u1 ? c[1] + um * (2.0 * c[2] + 3.0 * c[3] * um) : s0;
+    list->max_slope = fmax(list->max_slope, fmax(fabs(sm), fmax(fabs(s0), fabs(s1))));
+    list->a[list->n++] = (arc){{c[0], c[1], c[2], c[3]}, u0, u1, u0 + centre_shift(R, s0), u1 + centre_shift(R, s1),
+                               u0 == 0.0, u1 == dx};
+    return 0;
+}
+
+/* Where touch changes sign in (lo, hi), to the last bit (at most 2100 halvings): the end of the two
+ * closest to the root on the side where touch > 0. */
+static double touch_root(const double c[4], double R, double lo, double hi)
+{
+    double tlo = touch(c, R, lo);
+    for (int it = 0; it < 2100; it++) {
+        double mid = lo + 0.5 * (hi - lo);
+        if (!(mid > lo && mid < hi)) break;
+        if ((touch(c, R, mid) > 0.0) == (tlo > 0.0)) lo = mid;
+        else hi = mid;
+    }
+    return tlo > 0.0 ? lo : hi;
+}
+
+/* The arcs of segment cubic c on [0, dx]: the whole segment when R h'' < 1 at both ends (h'' is
+ * linear, w >= 1: the body touches it everywhere), else the parts where touch > 0, their ends located
+ * between TOUCH_SAMPLES samples. 0, or -1 when out of memory. */
+#define TOUCH_SAMPLES 32
+static int segment_arcs(arcs *list, double R, const double c[4], double dx)
+{
+    if (R * fmax(2.0 * c[2], 2.0 * c[2] + 6.0 * c[3] * dx) < 1.0) return add_arc(list, R, c, dx, 0.0, dx);
+    double start = touch(c, R, 0.0) > 0.0 ? 0.0 : NAN, u_prev = 0.0; /* start: of the part being kept, NAN: none */
+    for (int i = 1; i <= TOUCH_SAMPLES; i++) { /* bounded: TOUCH_SAMPLES samples */
+        double u = i == TOUCH_SAMPLES ? dx : dx * i / TOUCH_SAMPLES;
+        int inside = touch(c, R, u) > 0.0;
+        if (inside == (start == start)) { u_prev = u; continue; }
+        double root = touch_root(c, R, u_prev, u);
+        if (start == start) {
+            if (add_arc(list, R, c, dx, start, root) < 0) return -1;
+            start = NAN;
+        } else start = root;
+        u_prev = u;
+    }
+    return start == start ? add_arc(list, R, c, dx, start, dx) : 0;
+}
+
+/* The arcs of the spline through the table, segment by segment (first[j]: the first arc of segment j,
+ * first[n - 1] = their number), and the largest |h'| of any. scratch: 3 n doubles. 0, or -1. */
+static int make_arcs(const double *x, const double *h, size_t n, int periodic, double R, size_t *first, arcs *list,
+                     double *scratch)
+{
+    double *k = scratch;
+    list->a = n - 1 <= UINT32_MAX ? malloc((n - 1) * sizeof *list->a) : NULL; /* one a segment, as a rule */
+    if (!list->a) return -1;
+    list->cap = n - 1;
+    spline_slopes(x, h, n, periodic, k, scratch + n);
+    for (size_t j = 0; j + 1 < n; j++) { /* bounded by the rows */
+        double dx = x[j + 1] - x[j], d = (h[j + 1] - h[j]) / dx;
+        double c[4] = {h[j], k[j], (3.0 * d - 2.0 * k[j] - k[j + 1]) / dx, (k[j] + k[j + 1] - 2.0 * d) / (dx * dx)};
+        first[j] = list->n;
+        if (segment_arcs(list, R, c, dx) < 0) return -1;
+    }
+    first[n - 1] = list->n;
+    return 0;
+}
+
+/* The envelope on [lo, hi] of the arcs (c->arcs, first[j]: the first arc of segment j) and, for an open
+ * table, the circles around its end rows, in the order of the profile (copies kmin .. kmax of a
+ * periodic table, as build takes them; segments whose centres, within reach of them, miss [lo, hi]
+ * are passed over). An arc that starts or ends at a row starts or ends at that row's x (vertex_x) plus
+ * shift[row], the centre_shift of the slope there: the same number on both sides of the row. An
+ * arc after a dropped part starts no later than the one before it ends (the dropped part's centres
+ * move backwards). An end circle and the arc that starts (ends) at its row meet tangentially where
+ * the arc's domain starts (ends): they are numbered as insert's neighbours, the arcs odd as tangents
+ * and the circles even (circle 0, arc 1; arc g, circle g + 1), so that the switch is there exactly,
+ * not where rounding puts a numerical crossing (the spline between the row and the contact point
+ * curves less than the body, so it stays below the body there); other pieces are numbered at least
+ * two apart, never neighbours. 0, or -1 when out of memory. */
+static int build_cubic(const context *c, const double *x, const double *h, const double *shift, double reach,
+                       const size_t *first, size_t n, int periodic, double lo, double hi, long kmin, long kmax,
+                       stack *st)
+{
+    double R = c->R, period = periodic ? hi - lo : 0.0, before = INFINITY; /* before: where the last arc ends */
+    size_t g = 0, n_arcs = first[n - 1];
+    stack tail = {0};
+    int rc = 0;
+    if (!periodic) {
+        piece circle = {CIRCLE, 0, x[0], h[0], 0.0};
+        rc = insert(c, st, &tail, &circle, g, lo, fmin(x[0] + R, hi));
+    }
+    for (long copy = kmin; copy <= kmax && rc == 0; copy++) { /* bounded: the copies of n rows */
+        for (size_t j = 0; j + 1 < n && rc == 0; j++) {
+            double row = vertex_x(x, n, periodic, period, j, copy);
+            double next = vertex_x(x, n, periodic, period, j + 1, copy);
+            if (next + reach < lo || row - reach > hi) {
+                before = INFINITY;
+                continue;
+            }
+            for (size_t i = first[j]; i < first[j + 1] && rc == 0; i++) { /* bounded by the arcs */
+                const arc *a = &c->arcs[i];
+                double from = a->starts ? row + shift[j] : row + a->X0;
+                double to = a->ends ? next + shift[j + 1] : row + a->X1;
+                from = fmin(from, before);
+                before = to;
+                piece q = {ARC, (uint32_t)i, row, 0.0, 0.0};
+                if (g == 0) /* the first arc: the first circle's neighbour when it starts at row 0 */
+                    g = periodic || i != 0 || !a->starts ? 3 : 1;
+                else g += 2;
+                rc = insert(c, st, &tail, &q, g, fmax(from, lo), fmin(to, hi));
+            }
+        }
+    }
+    if (!periodic && rc == 0) {
+        piece circle = {CIRCLE, 0, x[n - 1], h[n - 1], 0.0};
+        int tangent = n_arcs && c->arcs[n_arcs - 1].ends && first[n - 2] < n_arcs;
+        rc = insert(c, st, &tail, &circle, g + (tangent ? 1 : 3), fmax(x[n - 1] - R, lo), hi);
+    }
+    free(tail.s);
+    return rc;
+}
+
+/* The spline's arcs into p and c->arcs, and the envelope of the cubic profile on st (the centres lie
+ * within R S/sqrt(1 + S^2) of the contact point, S the largest slope). 0, or -1 when out of memory. */
+static int cubic(vi_profile *p, context *c, const double *x, const double *h, size_t n, long kmin, long kmax, stack *st)
+{
+    double *scratch = malloc(3 * n * sizeof *scratch);
+    size_t *first = malloc(n * sizeof *first);
+    arcs list = {0};
+    int rc = scratch && first ? make_arcs(x, h, n, p->periodic, p->R, first, &list, scratch) : -1;
+    p->arcs = list.a, p->n_arcs = list.n, p->max_slope = list.max_slope;
+    c->arcs = list.a;
+    double *shift = scratch + n, reach = 1.000001 * fabs(centre_shift(p->R, list.max_slope));
+    for (size_t j = 0; rc == 0 && j < n; j++) shift[j] = centre_shift(p->R, scratch[j]); /* bounded by the rows */
+    if (rc == 0) rc = build_cubic(c, x, h, shift, reach, first, n, p->periodic, p->lo, p->hi, kmin, kmax, st);
+    free(scratch), free(first);
     return rc;
 }
 
@@ -357,6 +682,14 @@ static int too_steep(const vi_profile *p, const table *t, const piece *q, int st
             spacing, sqrt(p->R / (2.0 * spacing)));
 }
 
+/* Pieces a and b (b after a) are the arcs either side of one row of the spline: continuous there with
+ * their slope (the spline is C2), no step or kink to look for. */
+static int joined(const vi_profile *p, const piece *a, const piece *b)
+{
+    if (a->kind != ARC || b->kind != ARC || !p->arcs[a->arc].ends || !p->arcs[b->arc].starts) return 0;
+    return b->arc == a->arc + 1 || (p->periodic && a->arc + 1 == p->n_arcs && b->arc == 0);
+}
+
 /* Continuity, slopes and kinks at the boundaries of the pieces (a periodic profile also at the seam):
  * max_slope and the kinks into p; -1 where the body cannot roll over the profile (too steep, a step).
  * tol: the rounding of the heights. */
@@ -368,13 +701,14 @@ static int check_boundaries(vi_profile *p, const table *t, double tol, const cha
         int has_left = j > 0 || p->periodic, has_right = j < p->m || p->periodic;
         size_t jl = j > 0 ? j - 1 : p->m - 1, jr = j < p->m ? j : 0;
         double xl = j > 0 ? p->xb[j] : p->hi, xr = j < p->m ? p->xb[j] : p->lo;
+        if (has_left && has_right && joined(p, &p->pieces[jl], &p->pieces[jr])) continue; /* slopes: the arcs' */
         if (has_left) {
-            yl = piece_eval(&p->pieces[jl], R, xl, dl);
+            yl = piece_eval(&p->pieces[jl], p->arcs, R, xl, dl);
             if (!isfinite(yl) || !isfinite(dl[0])) return too_steep(p, t, &p->pieces[jl], 0, xl, name, msg, msg_size);
             p->max_slope = fmax(p->max_slope, fabs(dl[0]));
         }
         if (has_right) {
-            yr = piece_eval(&p->pieces[jr], R, xr, dr);
+            yr = piece_eval(&p->pieces[jr], p->arcs, R, xr, dr);
             if (!isfinite(yr) || !isfinite(dr[0])) return too_steep(p, t, &p->pieces[jr], 1, xr, name, msg, msg_size);
             p->max_slope = fmax(p->max_slope, fabs(dr[0]));
         }
@@ -395,9 +729,18 @@ static int check_boundaries(vi_profile *p, const table *t, double tol, const cha
 vi_profile *vi_profile_create(const double *x, const double *h, size_t n, double R, int periodic, const char *name,
                               char *msg, size_t msg_size)
 {
+    return vi_profile_create_as(x, h, n, R, periodic, VI_PROFILE_LINEAR, name, msg, msg_size);
+}
+
+vi_profile *vi_profile_create_as(const double *x, const double *h, size_t n, double R, int periodic, int interpolation,
+                                 const char *name, char *msg, size_t msg_size)
+{
     vi_profile *p = NULL;
     stack env = {0};
     if (!name) name = "profile";
+    if (interpolation != VI_PROFILE_LINEAR && interpolation != VI_PROFILE_CUBIC)
+        FAIL("%s: interpolation %d is neither linear (%d) nor cubic (%d)", name, interpolation, VI_PROFILE_LINEAR,
+             VI_PROFILE_CUBIC);
     if (check_rows(x, h, n, R, periodic, name, msg, msg_size) < 0) return NULL;
     p = calloc(1, sizeof *p);
     if (!p) FAIL("%s: out of memory", name);
@@ -408,8 +751,10 @@ vi_profile *vi_profile_create(const double *x, const double *h, size_t n, double
     double hmax = 0.0, hlo = h[0], hhi = h[0];
     for (size_t i = 0; i < n; i++) hmax = fmax(hmax, fabs(h[i])), hlo = fmin(hlo, h[i]), hhi = fmax(hhi, h[i]);
     p->h_span = hhi - hlo;
-    context c = {R, 64.0 * DBL_EPSILON * (R + hmax)};
-    if (build(&c, x, h, n, p->periodic, p->lo, p->hi, kmin, kmax, &env) < 0) FAIL("%s: out of memory", name);
+    context c = {R, 64.0 * DBL_EPSILON * (R + hmax), NULL};
+    if (interpolation == VI_PROFILE_CUBIC ? cubic(p, &c, x, h, n, kmin, kmax, &env) < 0
+                                          : build(&c, x, h, n, p->periodic, p->lo, p->hi, kmin, kmax, &env) < 0)
+        FAIL("%s: out of memory", name);
     if (take_envelope(p, &env, name, msg, msg_size) < 0) goto fail;
     free(env.s);
     env.s = NULL;
@@ -649,6 +994,11 @@ FILE *vi_profile_fopen(const char *path)
 
 vi_profile *vi_profile_load(const char *path, double R, int periodic, char *msg, size_t msg_size)
 {
+    return vi_profile_load_as(path, R, periodic, VI_PROFILE_LINEAR, msg, msg_size);
+}
+
+vi_profile *vi_profile_load_as(const char *path, double R, int periodic, int interpolation, char *msg, size_t msg_size)
+{
     FILE *f = vi_profile_fopen(path);
     if (!f) {
         vi_snprintf(msg, msg_size, "profile_file '%s': cannot open it (%s)", path, strerror(errno));
@@ -700,7 +1050,7 @@ vi_profile *vi_profile_load(const char *path, double R, int periodic, char *msg,
     }
     char name[VI_PROFILE_LINE_MAX + 32];
     vi_snprintf(name, sizeof name, "profile_file '%s'", path);
-    p = vi_profile_create(r.x, r.h, r.n, R, periodic, name, msg, msg_size);
+    p = vi_profile_create_as(r.x, r.h, r.n, R, periodic, interpolation, name, msg, msg_size);
 fail:
     fclose(f);
     free(buf), free(r.x), free(r.h);
@@ -739,7 +1089,7 @@ int vi_profile_eval(const vi_profile *p, double x, double y[4])
 {
     int outside;
     double r = reduce(p, x, &outside);
-    y[0] = piece_eval(&p->pieces[interval(p, r)], p->R, r, y + 1);
+    y[0] = piece_eval(&p->pieces[interval(p, r)], p->arcs, p->R, r, y + 1);
     return outside ? -1 : 0;
 }
 

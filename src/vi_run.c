@@ -59,8 +59,8 @@ static int profile_path(const vi_run *r, const char *file, char *path, size_t n)
     return k > 0 && (size_t)k < n ? 0 : -1;
 }
 
-/* Load (or keep, when file, R1 and periodicity are those it was built for) the profile of the
- * settings and hand it to the model with V and x0. Called after vi_model_setup and after a
+/* Load (or keep, when file, R1, periodicity and interpolation are those it was built for) the profile of
+ * the settings and hand it to the model with V and x0. Called after vi_model_setup and after a
  * restore: the profile pointer read from a saved state is never used. 0, or -1 (r->msg). */
 static int attach_profile(vi_run *r)
 {
@@ -78,11 +78,12 @@ static int attach_profile(vi_run *r)
         VI_FAIL(r->msg, sizeof r->msg, "profile_file '%.200s...': the path is too long", profile_file);
     if (!(p->R1 > 0.0))
         VI_FAIL(r->msg, sizeof r->msg, "profile_file: rolling needs a body radius R1 > 0 (R1 = %g m)", p->R1);
-    vi_snprintf(key, sizeof key, "%s|%.17g|%d", path, p->R1, p->profile_periodic != 0);
+    vi_snprintf(key, sizeof key, "%s|%.17g|%d|%d", path, p->R1, p->profile_periodic != 0, p->profile_interpolation);
     if (!r->profile || strcmp(key, r->profile_key) != 0) {
         vi_profile_free(r->profile);
         r->profile_key[0] = '\0';
-        r->profile = vi_profile_load(path, p->R1, p->profile_periodic, r->msg, sizeof r->msg);
+        r->profile = vi_profile_load_as(path, p->R1, p->profile_periodic, p->profile_interpolation, r->msg,
+                                        sizeof r->msg);
         if (!r->profile) return -1;
         memcpy(r->profile_key, key, sizeof key);
     }

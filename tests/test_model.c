@@ -1505,6 +1505,25 @@ Test(model, each_ignored_option_warns_alone)
     cr_assert(warnings_from_table(&p, msg, sizeof msg) == 2 && strcmp(msg, expect) == 0, "%s", msg);
 }
 
+/* profile_interpolation = cubic without a profile_file warns alone, with one it is used (no warning), and
+ * linear (the default) never warns. */
+Test(model, cubic_interpolation_without_a_profile_warns)
+{
+    const char *files[] = {"", "road.txt", ""};
+    int interpolation[] = {VI_ProfileInterpolation_cubic, VI_ProfileInterpolation_cubic, VI_ProfileInterpolation_linear};
+    const char *expect[] = {"profile_interpolation = cubic is ignored without a profile_file", "", ""};
+    for (int i = 0; i < 3; i++) {
+        vi_parameters p;
+        vi_parameters_default(&p);
+        p.profile_interpolation = interpolation[i];
+        snprintf(p.profile_file, sizeof p.profile_file, "%s", files[i]);
+        char msg[512];
+        memset(msg, 'x', sizeof msg);
+        int count = warnings_from_table(&p, msg, sizeof msg);
+        cr_assert(count == (expect[i][0] != '\0') && strcmp(msg, expect[i]) == 0, "case %d: %d '%s'", i, count, msg);
+    }
+}
+
 /* The setup refuses parameters whose load or stiffness leave the doubles, naming E*, R*, F_Y, delta_Y:
  * an infinite load, a yield indentation beyond the doubles (k_lin = 0). First only the load is infinite (P + m g = 1e308 + 1e300 kg 1e10 m/s^2), every stiffness is fine. A
  * soft (E1 = E2 = 1e-6 Pa), weak (Y = 1e-10 Pa) material has stiffnesses and a yield force far below

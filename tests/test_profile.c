@@ -171,6 +171,164 @@ Test(profile, a_trough_bridged_between_two_peaks)
         }
 }
 
+/* ---- the cubic spline (VI_PROFILE_CUBIC) ---------------------------------------------------- */
+
+static vi_profile *make_cubic(const double *x, const double *h, size_t n, double r, int periodic)
+{
+    char msg[512];
+    vi_profile *p = vi_profile_create_as(x, h, n, r, periodic, VI_PROFILE_CUBIC, "test", msg, sizeof msg);
+    cr_assert(p != NULL, "%s", msg);
+    return p;
+}
+
+/* The offset of a curve at its point s of height hs, slope h1, second and third derivatives h2, h3
+ * (vi_profile.h): the centre's x, yb and its first three derivatives in x, into o[5]. */
+static void offset_at(double s, double hs, double h1, double h2, double h3, double r, double o[5])
+{
+    double w = 1.0 + h1 * h1, X1 = 1.0 - r * h2 / pow(w, 1.5), X2 = -r * (h3 / pow(w, 1.5) - 3.0 * h1 * h2 * h2 / pow(w, 2.5));
+    o[0] = s - r * h1 / sqrt(w);
+    o[1] = hs - r * h1 * h1 / (sqrt(w) * (sqrt(w) + 1.0)); /* hs + r / sqrt(w) - r without the cancellation */
+    o[2] = h1;
+    o[3] = h2 / X1;
+    o[4] = (h3 * X1 - h2 * X2) / (X1 * X1 * X1);
+}
+
+/* The not-a-knot spline through rows of a cubic is that cubic: yb is its offset, checked at the
+ * contact points s (unevenly spaced rows, the curvature below 1/R). */
+Test(profile, a_cubic_spline_through_a_cubic_is_that_cubic)
+{
+    enum { N = 9 };
+    double x[N] = {-0.2, -0.17, -0.1, -0.02, 0.0, 0.05, 0.11, 0.12, 0.2}, h[N];
+    const double a = 1e-3, b = 0.01, c = 0.2, d = -1.0; /* h = a + b x + c x^2 + d x^3, |h''| <= 1.6 < 1/R */
+    for (int i = 0; i < N; i++) h[i] = a + x[i] * (b + x[i] * (c + x[i] * d));
+    vi_profile *p = make_cubic(x, h, N, R, 0);
+    for (int i = 0; i <= 100; i++) {
+        double s = -0.15 + 0.3 * i / 100, o[5], y[4];
+        offset_at(s, a + s * (b + s * (c + s * d)), b + s * (2.0 * c + 3.0 * d * s), 2.0 * c + 6.0 * d * s, 6.0 * d, R, o);
+        cr_assert(vi_profile_eval(p, o[0], y) == 0);
+        cr_assert(fabs(y[0] - o[1]) < 1e-15, "s = %g: yb %.17g, offset %.17g", s, y[0], o[1]);
+        cr_assert(fabs(y[1] - o[2]) < 1e-12 && fabs(y[2] - o[3]) < 1e-9 * fabs(o[3]) + 1e-9, "s = %g: yb' %.17g %.17g, "
+                  "yb'' %.17g %.17g", s, y[1], o[2], y[2], o[3]);
+        cr_assert(fabs(y[3] - o[4]) < 1e-7 * fabs(o[4]) + 1e-7, "s = %g: yb''' %.17g, offset %.17g", s, y[3], o[4]);
+    }
+    cr_assert_eq(vi_profile_kinks(p), 0);
+    vi_profile_free(p);
+    /* two rows: the line; three: the parabola */
+    double x2[] = {0.0, 1.0}, h2[] = {0.0, 0.01}, x3[] = {0.0, 0.3, 1.0}, h3[3], y[4], o[5];
+    for (int i = 0; i < 3; i++) h3[i] = 0.2 * x3[i] * x3[i];
+    p = make_cubic(x2, h2, 2, R, 0);
+    offset_at(0.5, 0.005, 0.01, 0.0, 0.0, R, o);
+    vi_profile_eval(p, o[0], y);
+    cr_assert(fabs(y[0] - o[1]) < 1e-15 && fabs(y[1] - 0.01) < 1e-15 && fabs(y[2]) < 1e-15);
+    vi_profile_free(p);
+    p = make_cubic(x3, h3, 3, R, 0);
+    offset_at(0.5, 0.05, 0.2, 0.4, 0.0, R, o);
+    vi_profile_eval(p, o[0], y);
+    cr_assert(fabs(y[0] - o[1]) < 1e-15 && fabs(y[1] - 0.2) < 1e-14 && fabs(y[2] - o[3]) < 1e-12, "%g %g %g", y[0], y[1], y[2]);
+    vi_profile_free(p);
+}
+
+/* A gentle sinusoid h = A cos(2 pi x / L) (A (2 pi / L)^2 < 1/R) sampled n times a period: the
+ * periodic spline is within 5/384 dx^4 max|h''''| of it, so yb is within that (and its slope within
+ * dx^3 A k^4 / 24) of the offset of the sinusoid; no kink. Also open: away from the ends. */
+static void gentle_sinusoid(int rows, int periodic)
+{
+    const double L = 0.05, A = 2e-5, k = 2.0 * 3.14159265358979323846 / L;
+    double *x = malloc(rows * sizeof *x), *h = malloc(rows * sizeof *h), dx = 4.0 * L / (rows - 1);
+    for (int i = 0; i < rows; i++) x[i] = dx * i, h[i] = A * cos(k * x[i]);
+    h[rows - 1] = h[0];
+    vi_profile *p = make_cubic(x, h, rows, R, periodic);
+    double bound = 5.0 / 384.0 * pow(dx, 4) * A * pow(k, 4) + 1e-18, slope_bound = pow(dx, 3) * A * pow(k, 4) / 24.0 + 1e-15;
+    for (int i = 0; i <= 400; i++) {
+        double s = (periodic ? 0.0 : 0.5 * L) + 3.0 * L * i / 400, o[5], y[4], ks = k * s;
+        offset_at(s, A * cos(ks), -A * k * sin(ks), -A * k * k * cos(ks), A * k * k * k * sin(ks), R, o);
+        vi_profile_eval(p, o[0], y);
+        cr_assert(fabs(y[0] - o[1]) <= bound, "rows %d, s = %g: yb %.17g, offset %.17g (bound %g)", rows, s, y[0], o[1], bound);
+        cr_assert(fabs(y[1] - o[2]) <= slope_bound, "rows %d, s = %g: yb' %.17g, offset %.17g", rows, s, y[1], o[2]);
+    }
+    cr_assert_eq(vi_profile_kinks(p), 0, "rows %d", rows);
+    vi_profile_free(p);
+    free(x), free(h);
+}
+
+Test(profile, a_spline_through_a_gentle_sinusoid_gives_its_offset)
+{
+    for (int periodic = 0; periodic <= 1; periodic++) {
+        gentle_sinusoid(81, periodic);
+        gentle_sinusoid(801, periodic);
+        gentle_sinusoid(8001, periodic);
+    }
+}
+
+/* Across the seam of a periodic table yb, yb' and yb'' are continuous: their changes over 2 d
+ * around the first row shrink with d as yb'' and yb''' allow (uneven rows, a rough shape). */
+Test(profile, a_periodic_spline_is_c2_across_its_seam)
+{
+    enum { N = 12 };
+    double x[N] = {0.1, 0.13, 0.2, 0.26, 0.3, 0.38, 0.41, 0.5, 0.55, 0.6, 0.7, 0.74}, h[N];
+    for (int i = 0; i < N; i++) h[i] = 1e-3 * sin(7.0 * i) * (i % 3 == 0 ? 1.0 : 0.3);
+    h[N - 1] = h[0];
+    vi_profile *p = make_cubic(x, h, N, R, 1);
+    double mid[4];
+    vi_profile_eval(p, 0.1, mid);
+    for (double dd = 1e-3; dd > 1e-7; dd /= 10.0) {
+        double a[4], b[4];
+        vi_profile_eval(p, 0.1 - dd, a); /* wraps to the end of the table */
+        vi_profile_eval(p, 0.1 + dd, b);
+        double big = 1.0 + fabs(mid[3]);
+        cr_assert(fabs(b[0] - a[0] - 2.0 * dd * mid[1]) <= dd * dd * big * 10.0, "d = %g: yb %g %g", dd, a[0], b[0]);
+        cr_assert(fabs(b[1] - a[1]) <= 2.0 * dd * (fabs(mid[2]) + dd * big) * 1.5, "d = %g: yb' %g %g", dd, a[1], b[1]);
+        cr_assert(fabs(b[2] - a[2]) <= 2.0 * dd * big * 10.0, "d = %g: yb'' %g %g", dd, a[2], b[2]);
+    }
+    /* the same at the seam of a copy far along the track */
+    double far = 0.1 + 1000.0 * 0.64, a[4], b[4];
+    vi_profile_eval(p, far - 1e-6, a);
+    vi_profile_eval(p, far + 1e-6, b);
+    cr_assert(fabs(b[1] - a[1]) < 1e-5 && fabs(b[2] - a[2]) < 1e-3, "%g %g, %g %g", a[1], b[1], a[2], b[2]);
+    cr_assert_eq(vi_profile_kinks(p), 0);
+    vi_profile_free(p);
+}
+
+/* A parabola h = c x^2 sharper than the body (2 c > 1/R) is bridged: the body centred above its
+ * axis touches it at +-s*, s*^2 = R^2 - 1/(4 c^2), at the height c s*^2 + 1/(2 c) - R, one kink
+ * there with slopes -+2 c s*; beyond the bridge yb is the offset of the parabola (the not-a-knot
+ * spline through its rows is the parabola). */
+Test(profile, a_trough_sharper_than_the_body_is_bridged_with_one_kink)
+{
+    enum { N = 41 };
+    const double r = 0.05, c = 20.0;
+    double x[N], h[N];
+    for (int i = 0; i < N; i++) x[i] = -0.1 + 0.2 * i / (N - 1) + (i % 2 ? 1e-3 : 0.0), h[i] = c * x[i] * x[i];
+    vi_profile *p = make_cubic(x, h, N, r, 0);
+    double s2 = r * r - 1.0 / (4.0 * c * c), y[4];
+    cr_assert_eq(vi_profile_kinks(p), 1);
+    double kink = vi_profile_next_kink(p, -0.05, 1);
+    cr_assert(fabs(kink) < 1e-12, "kink at %g", kink);
+    vi_profile_eval(p, 0.0, y);
+    cr_assert(fabs(y[0] - (c * s2 + 1.0 / (2.0 * c) - r)) < 1e-14, "yb(0) %.17g", y[0]);
+    cr_assert(fabs(y[1] - 2.0 * c * sqrt(s2)) < 1e-9, "right-hand slope %.17g, expected %.17g", y[1], 2.0 * c * sqrt(s2));
+    for (int i = 1; i <= 20; i++) { /* contact points beyond the bridge */
+        double s = sqrt(s2) + 0.05 * i / 20, o[5];
+        for (int side = -1; side <= 1; side += 2) {
+            offset_at(side * s, c * s * s, side * 2.0 * c * s, 2.0 * c, 0.0, r, o);
+            if (fabs(o[0]) > 0.1) continue;
+            vi_profile_eval(p, o[0], y);
+            cr_assert(fabs(y[0] - o[1]) < 1e-14 && fabs(y[1] - o[2]) < 1e-9, "s = %g: yb %.17g, offset %.17g", side * s,
+                      y[0], o[1]);
+        }
+    }
+    vi_profile_free(p);
+}
+
+/* An interpolation that is neither linear nor cubic is refused, naming both. */
+Test(profile, an_unknown_interpolation_is_refused)
+{
+    double x[] = {0.0, 1.0}, h[] = {0.0, 0.0};
+    char msg[256] = "";
+    cr_assert(vi_profile_create_as(x, h, 2, R, 0, 3, "table", msg, sizeof msg) == NULL);
+    cr_assert(strstr(msg, "table: interpolation 3 is neither linear (1) nor cubic (2)"), "%s", msg);
+}
+
 /* Random rough profiles (steep and gentle, dense and sparse against R) against the brute force. */
 Test(profile, random_profiles_match_the_definition, .timeout = 60)
 {
@@ -1075,16 +1233,18 @@ void *realloc(void *p, size_t n) { return fail_now() ? NULL : __libc_realloc(p, 
 
 /* vi_profile_create with its k-th allocation failing (malloc, calloc or realloc), for every k until
  * it needs no more: NULL and "out of memory" each time, nothing held afterwards. */
-static void every_allocation_fails_cleanly(const double *x, const double *h, size_t n, double r, int periodic)
+static void every_allocation_fails_cleanly_as(const double *x, const double *h, size_t n, double r, int periodic,
+                                              int interpolation)
 {
     char msg[256];
-    vi_profile_free(make(x, h, n, r, periodic)); /* the allocator's own first-use growth */
+    vi_profile_free(vi_profile_create_as(x, h, n, r, periodic, interpolation, "table", msg, sizeof msg)); /* the
+                                                                                  allocator's own first-use growth */
     struct mallinfo2 before = mallinfo2();
     int k = 1;
     for (;; k++) {
         msg[0] = '\0';
         fail_countdown = k;
-        vi_profile *p = vi_profile_create(x, h, n, r, periodic, "table", msg, sizeof msg);
+        vi_profile *p = vi_profile_create_as(x, h, n, r, periodic, interpolation, "table", msg, sizeof msg);
         int failed = fail_countdown == 0;
         fail_countdown = 0;
         if (!failed) {
@@ -1098,11 +1258,19 @@ static void every_allocation_fails_cleanly(const double *x, const double *h, siz
     struct mallinfo2 after = mallinfo2();
     cr_assert(after.uordblks <= before.uordblks + 4096, "heap in use grew by %zu bytes", after.uordblks - before.uordblks);
 }
+
+static void every_allocation_fails_cleanly(const double *x, const double *h, size_t n, double r, int periodic)
+{
+    every_allocation_fails_cleanly_as(x, h, n, r, periodic, VI_PROFILE_LINEAR);
+    every_allocation_fails_cleanly_as(x, h, n, r, periodic, VI_PROFILE_CUBIC);
+}
 #endif
 
-/* Every allocation checked: a smooth table (open and periodic), a rough one whose scratch stack for
- * the intervals beyond a piece's domain first takes a whole interval (not a cut one), and one of 600
- * rough rows whose interval stack outgrows its first capacity, also while intervals are put back. */
+/* Every allocation checked, the rows joined linearly and by the spline: a smooth table (open and
+ * periodic), a rough one whose scratch stack for the intervals beyond a piece's domain first takes a
+ * whole interval (not a cut one), and one of 600 rough rows whose interval stack outgrows its first
+ * capacity, also while intervals are put back (the spline's troughs sharper than the body: more arcs
+ * than segments). */
 Test(profile, every_allocation_of_create_is_checked)
 {
 #if !defined(__GLIBC__) || defined(VI_TEST_ASAN)

@@ -13,7 +13,7 @@ import time
 
 import numpy as np
 
-from . import plotting
+from . import bench_rolling, plotting
 from .failure import out_dir
 from .files import write_text
 from .fmu import NAME
@@ -182,6 +182,7 @@ def matched(rtols, errors):
 ALONE = {"profile": lambda out, fmu, work, repeat: (profile_loading(out, fmu, work, repeat),
                                                    profile_formats(out, fmu, work, repeat)),
          "setup": lambda out, fmu, work, repeat: setup_cost(out, fmu, work, repeat),
+         "rolling": lambda out, fmu, work, repeat: bench_rolling.rolling(out, fmu, work, repeat),
          # the floor at rtol 1e-10 for every solver (the full suite uses the matched rtols)
          "floor": lambda out, fmu, work, repeat: per_call_floor(out, fmu, {"fig4b": {"matched": {}}}, repeat),
          # Fig. 4b alone: its work-precision table, matched accuracy, and where the time goes
@@ -254,6 +255,7 @@ def run_suite(repeat, quick, outdir, build, only=None, other_build=None):
         profile_loading(out, fmu, work, repeat)
         profile_formats(out, fmu, work, repeat)
         setup_cost(out, fmu, work, repeat)
+        bench_rolling.rolling(out, fmu, work, repeat)
         plotting.save(plotting.work_precision_figure(results, rtols, CASES, SOLVERS, BOUND),
                       outdir / "work_precision.png", DPI)
         plotting.save(plotting.cost_figure(results, SOLVERS), outdir / "cost.png", DPI)

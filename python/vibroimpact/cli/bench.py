@@ -11,7 +11,7 @@ and glibc's mallinfo2).
 --against compares two builds (this one and, say, the previous commit's): every case below with every
 solver at rtol 1e-6 and 1e-10, runs of the two FMUs alternated, the ratios of their CPU times and
 their geometric mean printed; nothing is written.
---only runs just the named sections that stand alone (profile; floor, at rtol 1e-10; setup; fig4b: item 1
+--only runs just the named sections that stand alone (profile; floor, at rtol 1e-10; setup; rolling; fig4b: item 1
 and 2 for fig4b alone, then where the time of dop853 at its matched rtol goes: the solver's counters
 and, with valgrind, callgrind's instructions by part) and prints them, writing nothing.
 
@@ -63,6 +63,13 @@ processes disturb single runs; instruction counts would be steadier but do not c
 9. A short run per law (setup): instantiate, initialize, one step of 1 ms and free, on the drop, for
    hertz and hertz_damped (exact at e = 0.8 and 0.05, hunt_crossley), the laws alternated, each
    against hertz (target: within SETUP_TARGET_MS).
+   initialization with it) against numpy.loadtxt reading the same file, per row, with the memory.
+10. Rolling over a sampled rail (vibroimpact.bench_rolling): the paper's wheel (Hertz) at 30 m/s for
+   0.1 s over a periodic corrugation (50 mm, 20 um) given as 21, 201, 2001 and 20001 rows per
+   wavelength, rtol 1e-8, 1 ms steps, with profile_interpolation linear and cubic, in Co-Simulation
+   (the C driver, loading the table included) and Model Exchange (fmpy's CVode driver): CPU, the
+   ratios to the 21-row table's, the peak force and its convergence with the rows, the cost per
+   row passed and per kink of the polyline, and the spline against its targets (bench_rolling.TARGETS).
 """
 import argparse
 import pathlib
