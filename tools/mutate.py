@@ -961,16 +961,39 @@ def read_journal(path, key):
     return held
 
 
-class Runner:
+class Selection:
+    """The tests the coverage map selects for a mutant, and their time in the map."""
+
+    def __init__(self, cmap, replay):
+        self.index = line_index(cmap)
+        self.durations = {n: t["duration"] for n, t in cmap["tests"].items()}
+        self.ran = {s: set(ids) for s, ids in by_solver(cmap["tests"]).items()}  # the FMU tests run with each solver
+        self.replay = replay
+
+    def tests_of(self, m):
+        """The tests that execute the mutant's line (or its statement's, or its function's)."""
+        index = self.index
+        tests = sorted({t for ln in range(m.line, m.last_line + 1) for t in index.get((m.file, ln), [])})
+        if not tests:  # gcov counts a statement that spans lines on one of them: those before it too
+            tests = sorted({t for ln in range(m.stmt_line, m.line) for t in index.get((m.file, ln), [])})
+        if not tests and (DECLARATION.match(m.site) or STATIC_DATA.match(source_line(m.file, m.stmt_line))):
+            # no code of its own (a declaration, or a static table's initializer): the tests of its function
+            tests = sorted({t for ln in range(m.body[0], m.body[1] + 1) for t in index.get((m.file, ln), [])})
+        return tests if self.replay else prune_solvers(tests, self.ran)
+
+    def seconds(self, mutants):
+        """The time the selected tests of these mutants took in the coverage map, summed (one core)."""
+        return sum(self.durations[t] for m in mutants for t in self.tests_of(m))
+
+
+class Runner(Selection):
     """Runs mutants, each in a free scratch copy of the repository (one per job), against the tests the
     coverage map selects for its line; prints a line per mutant as it ends."""
 
     def __init__(self, cmap, jobs, sources, n_mutants, equivalent, replay, journal=None):
-        self.index = line_index(cmap)
+        super().__init__(cmap, replay)
         self.journal, self.revision = journal, cmap["revision"]
-        self.durations = {n: t["duration"] for n, t in cmap["tests"].items()}
-        self.ran = {s: set(ids) for s, ids in by_solver(cmap["tests"]).items()}  # the FMU tests run with each solver
-        self.equivalent, self.replay, self.n_mutants = equivalent, replay, n_mutants
+        self.equivalent, self.n_mutants = equivalent, n_mutants
         self.scratches = [CACHE / ("scratch" if j == 0 else f"scratch-{j}") for j in range(jobs)]
         for scratch in self.scratches:
             print(f"scratch copy {scratch.relative_to(ROOT)}: building the original ...", flush=True)
@@ -987,17 +1010,6 @@ class Runner:
             self.free.put(scratch)
         self.printing = threading.Lock()
         self.done = 0
-
-    def tests_of(self, m):
-        """The tests that execute the mutant's line (or its statement's, or its function's)."""
-        index = self.index
-        tests = sorted({t for ln in range(m.line, m.last_line + 1) for t in index.get((m.file, ln), [])})
-        if not tests:  # gcov counts a statement that spans lines on one of them: those before it too
-            tests = sorted({t for ln in range(m.stmt_line, m.line) for t in index.get((m.file, ln), [])})
-        if not tests and (DECLARATION.match(m.site) or STATIC_DATA.match(source_line(m.file, m.stmt_line))):
-            # no code of its own (a declaration, or a static table's initializer): the tests of its function
-            tests = sorted({t for ln in range(m.body[0], m.body[1] + 1) for t in index.get((m.file, ln), [])})
-        return tests if self.replay else prune_solvers(tests, self.ran)
 
     def verdict(self, m, scratch, target, tests):
         """The mutant, in place in scratch, built and run: its verdict and how it was reached."""
@@ -1141,6 +1153,8 @@ def main():
     if journal:
         print(f"journal {journal}: {len(mutants) - len(todo)} of the {len(mutants)} mutants done for this revision, "
               f"{len(todo)} to run", flush=True)
+    print(f"the tests selected for the {len(todo)} mutants to run took {Selection(cmap, args.equivalents).seconds(todo) / 3600:.1f} "
+          f"hours in the coverage map (one core; a run takes less where a mutant is killed early)", flush=True)
     t_mutants = time.monotonic()
     results = [held[m.ident] for m in mutants if m.ident in held]
     if todo:
