@@ -7,6 +7,7 @@ quirks).
 The physics check: the paper's wheel under Hertz (Fig. 5c: a = 0.1 mm, f = 560 Hz) on a platform moved
 through yC_in = a (cos(2 pi f t) - 1) follows the same motion as the FMU's internal harmonic excitation
 `a` in Co-Simulation."""
+import ctypes
 import re
 
 import numpy as np
@@ -181,3 +182,30 @@ def test_a_run_the_fmu_ends_raises_with_its_reason_and_events_are_recorded(fmu_p
     off_grid = r["time"][np.abs(r["time"] - np.round(r["time"] / 1e-3) * 1e-3) > 1e-12]
     assert len(events) >= 2 and len(off_grid) == 2 * len(events), (events, off_grid)
     assert np.allclose(off_grid[::2], events, rtol=0, atol=1e-15) and np.all(np.diff(r["time"]) >= 0)
+
+
+def test_the_output_y_is_the_state_the_importer_set(fmu_path):
+    """In Model Exchange y is a state: the output y is the value the importer set, bit for bit, whatever
+    the inputs (computed as yC - delta with delta = yC - y it could differ by an ulp, and moved with yC_in
+    although no input may move a state)."""
+    inst = MeInstance(fmu_path)
+    inst.instantiate()
+    m, vr = inst.model, inst.vr
+    m.setupExperiment(startTime=0.0)
+    m.setReal([vr["a"], vr["f"]], [1e-4, 560.0])  # the platform moves: yC = yC_in + a (cos(2 pi f t) - 1)
+    m.enterInitializationMode()
+    m.exitInitializationMode()
+    m.enterContinuousTimeMode()
+    n = len(inst.md.derivatives)
+    rng = np.random.default_rng(7)
+    for t, y, yc in zip(rng.uniform(0.0, 1e-2, 400), rng.uniform(-2e-4, 2e-4, 400), rng.uniform(-1e-4, 1e-4, 400)):
+        m.setTime(t)
+        x = (ctypes.c_double * n)()
+        m.getContinuousStates(x, n)
+        assert inst.md.derivatives[0].variable.derivative.name == "y"
+        x[0] = y
+        m.setContinuousStates(x, n)
+        m.setReal([vr["yC_in"]], [yc])
+        assert m.getReal([vr["y"]])[0] == y, (t, y, yc)
+    m.terminate()
+    m.freeInstance()

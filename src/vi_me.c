@@ -275,6 +275,7 @@ const vi_run_values *vi_me_outputs_of(vi_me *e, unsigned groups)
     sync(e);
     const vi_run_values *out = vi_run_outputs_of(run, groups);
     if (e->active && (groups & VI_OUT_FORCE)) run->out.F_peak = run->out.model.F; /* the importer's steps are not seen */
+    if (e->active && (groups & VI_OUT_PLATFORM)) run->out.model.y = e->own->y_me; /* the state as set, not yC - delta */
     if ((groups & VI_OUT_DERIVATIVES) && !(run->out_valid & VI_OUT_DERIVATIVES)) {
         double r[2];
         vi_model_rhs(&d->model, d->t, d->x, r);
