@@ -260,6 +260,9 @@ Test(linear, zeta_inverts_and_setup_gives_c)
     double z = -1.0;
     cr_assert(vi_linear_zeta(1.0, &z) == 0 && z == 0.0);
     cr_assert(vi_linear_zeta(0.0, &z) == -1 && vi_linear_zeta(NAN, &z) == -1 && vi_linear_zeta(1.5, &z) == -1);
+    /* the range (0, 1] at its ends: the double just above 1 and just above 0 */
+    cr_assert(vi_linear_zeta(nextafter(1.0, 2.0), &z) == -1 && vi_linear_zeta(-0.0, &z) == -1);
+    cr_assert(vi_linear_zeta(nextafter(0.0, 1.0), &z) == 0 && z > 1.0);
     vi_linear_law L = {0, 0};
     double k = 1e7, m = 2.0;
     cr_assert(vi_linear_setup(&L, k, m, 0.6) == 0);
