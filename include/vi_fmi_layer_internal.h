@@ -25,8 +25,19 @@ void vi_fmi_warn_result(vi_fmi_instance *c, const char *fmt, ...) VI_PRINTF_FORM
 /* The first statement of a layer call on `instance` named `fn`: c, or VI_STATUS_ERROR when the call
  * is not allowed in the instance's state (vi_fmi_enter logged why). */
 #define ENTER(call)                                  \
-    vi_fmi_instance *c = vi_fmi_enter(instance, call, fn);  \
+    vi_fmi_instance *c = enter_call(instance, call, fn);  \
     if (!c) return VI_STATUS_ERROR
+
+/* vi_fmi_enter inline where it has nothing to log (the call allowed, its category off): every call
+ * of a communication step passes here. */
+static inline vi_fmi_instance *enter_call(void *instance, vi_call call, const char *fn)
+{
+    vi_fmi_instance *c = instance;
+    if (!c || !(c->state & vi_fmi_allowed[call]) || (c->log_mask & (1u << VI_CAT_CALL | 1u << VI_CAT_ALL)))
+        return vi_fmi_enter(instance, call, fn);
+    c->result_warning = 0;
+    return c;
+}
 
 /* ---- state machine (src/vi_fmi_state_machine.c) ---- */
 /* The FMI state s (one VI_ST_* bit) as messages name it, e.g. "step complete". */

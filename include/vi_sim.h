@@ -55,6 +55,7 @@ typedef struct {
 typedef struct {
     char kind[VI_RELAY_KINDS][VI_RELAY_KIND_MAX]; /* the first warning of each kind (truncated) */
     long repeats[VI_RELAY_KINDS]; /* warnings of each kind since the last report, not relayed */
+    int unreported;               /* warnings were counted since the last report */
     long others;                  /* warnings of further kinds since the last report */
     int kinds;                    /* kinds seen in this run */
 } vi_relay;

@@ -55,6 +55,15 @@ const vi_variable *vi_fmi_lookup(vi_fmi_instance *c, const char *fn, unsigned vr
     return v;
 }
 
+/* The row of vr when it is a Real of the table read as a Real (vi_fmi_lookup's answer without its
+ * call, for the common read of outputs), else NULL: vi_fmi_lookup decides and logs. */
+static inline const vi_variable *real_row(unsigned vr, vi_type api)
+{
+    if (api != VI_Real || vr >= (unsigned)MODEL->nvariables) return NULL;
+    const vi_variable *v = &MODEL->variables[vr];
+    return v->type == VI_Real ? v : NULL;
+}
+
 /* Is vr the independent variable time of the face? */
 static int is_time(const vi_fmi_instance *c, unsigned vr) { return c->face->has_time && vr == c->face->time_vr; }
 
@@ -154,8 +163,8 @@ vi_status vi_fmi_get(void *instance, const char *fn, const unsigned vr[], size_t
                 continue;
             }
         }
-        const vi_variable *v = vi_fmi_lookup(c, fn, vr[i], api);
-        if (!v) return VI_STATUS_ERROR;
+        const vi_variable *v = real_row(vr[i], api);
+        if (!v && !(v = vi_fmi_lookup(c, fn, vr[i], api))) return VI_STATUS_ERROR;
         const void *p = storage(c, v);
         if (api == VI_String) { /* the stored value: valid until it is set again */
             ((const char **)values)[i] = p;

@@ -241,6 +241,12 @@ static double mean_force(const vi_run_data *d)
 void vi_run_compute_outputs(vi_run *r, unsigned need)
 {
     const vi_run_data *d = r->d;
+    if (need == VI_OUT_PLATFORM) { /* y alone, an importer's usual read: vi_model_outputs' platform group */
+        r->out.model.yC = vi_model_platform(&d->model, d->t, NULL, NULL);
+        r->out.model.y = r->out.model.yC - d->x[0];
+        r->out_valid |= need;
+        return;
+    }
     vi_model_outputs(&d->model, d->t, d->x, need, &r->out.model);
     if (need & VI_OUT_MEMORY) r->out.W_damping = d->W_damping, r->out.W_dissipated = r->out.model.W_plastic + d->W_damping;
     if (need & VI_OUT_FORCE) r->out.F_peak = fmax(d->F_peak, r->out.model.F);

@@ -61,6 +61,10 @@ static int piece_damping(vi_sim *s, const vi_solver_piece *p)
     return 0;
 }
 
+/* fmax(a, b) without a call into libm (on x86-64 fmax is one): b where they are equal (+0 and -0 too), the
+ * other where one is NaN, as glibc's. */
+static inline double larger(double a, double b) { return a > b || b != b ? a : b; }
+
 /* The force's maximum inside a piece: at most this many evaluations of the interpolant, until the estimate
  * moves by less than this fraction of the piece (F is flat there: its error is of the move's square). */
 #define VI_PEAK_ITERS 8
@@ -130,9 +134,9 @@ static int piece_peak(vi_sim *s, const vi_solver_piece *p)
     if (!at_peak_end(s, p->ta, p->xa)) peak_point(s, p->ta, p->xa, NULL);
     double Fa = e->F, ga = e->g;
     peak_point(s, p->tb, p->xb, p->dxb);
-    double F_max = fmax(Fa, e->F);
+    double F_max = larger(Fa, e->F);
     if (ga > 0.0 && e->g < 0.0 && peak_inside(s, p, Fa, ga, e->F, e->g, &F_max) < 0) return -1;
-    d->F_peak = fmax(d->F_peak, F_max);
+    d->F_peak = larger(d->F_peak, F_max);
     return 0;
 }
 
@@ -142,7 +146,7 @@ static int piece_peak(vi_sim *s, const vi_solver_piece *p)
 static void peak_restart_from(vi_sim *s, int changed, double F_peak)
 {
     if (changed || !at_peak_end(s, s->d->t, s->d->x)) peak_point(s, s->d->t, s->d->x, NULL);
-    s->d->F_peak = fmax(F_peak, s->peak_end.F);
+    s->d->F_peak = larger(F_peak, s->peak_end.F);
 }
 
 static void peak_restart(vi_sim *s, int changed) { peak_restart_from(s, changed, s->d->F_peak); }
@@ -351,10 +355,12 @@ void vi_sim_solver_log(void *env, int category, const char *fmt, ...)
     for (int i = 0; i < r->kinds; i++)
         if (same_kind(r->kind[i], kind)) {
             r->repeats[i]++;
+            r->unreported = 1;
             return;
         }
     if (r->kinds == VI_RELAY_KINDS) {
         r->others++;
+        r->unreported = 1;
         return;
     }
     memcpy(r->kind[r->kinds++], kind, sizeof kind);
@@ -370,6 +376,8 @@ void vi_sim_solver_log(void *env, int category, const char *fmt, ...)
 void vi_sim_report_warnings(vi_sim *s)
 {
     vi_relay *r = &s->relay;
+    if (!r->unreported) return;
+    r->unreported = 0;
     for (int i = 0; i < r->kinds; i++)
         if (r->repeats[i] > 0) {
             s->log(s->log_env, VI_LOG_WARNING, "%ld more solver warnings like \"%s\" by t = %.17g s (counted, not relayed)",
