@@ -18,11 +18,16 @@ _Static_assert(sizeof(size_t) == sizeof(ptrdiff_t), "%zd and %tu pass through as
 /* Binary exponents beyond +-EXP2_CLAMP give infinity or zero for any 64-bit mantissa. */
 #define EXP2_CLAMP (1L << 20)
 
+/* The bits of q: 0 for 0, else one more than the place of its highest set bit. */
 static int bits64(uint64_t q)
 {
+#if defined(__GNUC__) && ULLONG_MAX == UINT64_MAX
+    return q ? 64 - __builtin_clzll(q) : 0;
+#else
     int b = 0;
     for (; q; q >>= 1) b++; /* bounded: 64 bits */
     return b;
+#endif
 }
 
 /* (q + f) 2^e2 rounded to the nearest double, ties to even, where 2^62 <= q < 2^64, 0 <= f < 1 and
@@ -248,9 +253,52 @@ static const char *scan_exponent(const char *c, long long *e)
     return d;
 }
 
+/* The short form of a decimal number at c (after the sign), read without the digit array: up to 19
+ * significant digits (leading and trailing zeros dropped) as the integer w, whose value and exponent
+ * take Clinger's path or the 128-bit one. The digits, the point and the exponent are the ones
+ * scan_mantissa and scan_exponent take, and w 10^e10 is rounded by the same function decimal_number
+ * calls for them, so the result is the same double. Its value in *v and the character
+ * after it; NULL when the number is not of that form (then decimal_number reads it whole). */
+static const char *short_decimal(const char *c, double *v)
+{
+    const char *first = c, *point_at = NULL; /* the digits [first, c), the point at point_at inside */
+    for (; (*c >= '0' && *c <= '9') || (*c == '.' && !point_at); c++) /* bounded by the string */
+        if (*c == '.') point_at = c;
+    if (c == first || (point_at == first && c == first + 1)) return NULL; /* no digit */
+    const char *dot = point_at ? point_at : c, *lead_at = first, *last = c; /* significant: [lead_at, last) */
+    while (lead_at < last && (*lead_at == '0' || *lead_at == '.')) lead_at++; /* leading zeros */
+    while (last > lead_at && (last[-1] == '0' || last[-1] == '.')) last--; /* trailing zeros */
+    /* significant digits before the point, or (negative) zeros after it before the first */
+    long long point = lead_at < dot ? dot - lead_at : -(long long)(lead_at - dot - 1);
+    if (last - lead_at > 20) return NULL; /* more than 19 digits: the long form */
+    int nd = (int)(last - lead_at) - (dot > lead_at && dot < last);
+    if (nd > 19) return NULL;
+    uint64_t w = 0;
+    for (const char *d = lead_at; d < last; d++) /* bounded: 20 characters */
+        if (*d != '.') w = 10 * w + (uint64_t)(*d - '0');
+    long long e = 0;
+    if (*c == 'e' || *c == 'E') {
+        const char *after = scan_exponent(c + 1, &e);
+        if (after != c + 1) c = after;
+    }
+    long long lead = point + e - 1; /* the exponent of the leading digit */
+    if (!nd || lead < EXP10_LEAD_MIN || lead > EXP10_LEAD_MAX) return NULL;
+    int e10 = (int)(lead + 1 - nd);
+    if (clinger(w, e10, v)) return c;
+#ifdef __SIZEOF_INT128__
+    if (e10 >= -EXP10_U128_MAX && e10 <= EXP10_U128_MAX) {
+        *v = scaled(w, e10);
+        return c;
+    }
+#endif
+    return NULL;
+}
+
 /* A decimal number at c (after the sign): its value in *v, the character after it; NULL if none. */
 static const char *decimal_number(const char *c, double *v)
 {
+    const char *fast = short_decimal(c, v);
+    if (fast) return fast;
     decimal d;
     d.nd = d.sticky = 0, d.point = 0;
     c = scan_mantissa(c, &d);
