@@ -178,18 +178,29 @@ static const uint64_t POW5[EXP10_U128_MAX + 1] = {
     95367431640625u, 476837158203125u, 2384185791015625u, 11920928955078125u, 59604644775390625u,
     298023223876953125u, 1490116119384765625u, 7450580596923828125u};
 
+/* m 2^e for m <= 2^53 and a normal result: m times the double 2^e, exact, as ldexp gives it (ldexp
+ * itself where 2^e is no normal double). */
+static double times_pow2(double m, int e)
+{
+    if (e < EXP2_MIN || e > 1023) return ldexp(m, e);
+    uint64_t bits = (uint64_t)(e + 1023) << 52;
+    double p;
+    memcpy(&p, &bits, sizeof p);
+    return m * p;
+}
+
 /* (q + a fraction that is nonzero when sticky) 2^e2, rounded to the nearest double (ties to even).
  * q has more than 53 bits when sticky; the value is a normal double (|e| <= EXP10_U128_MAX). */
 static double round_u128(u128 q, int sticky, int e2)
 {
     uint64_t hi = (uint64_t)(q >> 64);
     int bits = hi ? 64 + bits64(hi) : bits64((uint64_t)q);
-    if (bits <= MANT_BITS) return ldexp((double)(uint64_t)q, e2);
+    if (bits <= MANT_BITS) return times_pow2((double)(uint64_t)q, e2);
     int drop = bits - MANT_BITS;
     uint64_t m = (uint64_t)(q >> drop);
     u128 rest = q & (((u128)1 << drop) - 1), half = (u128)1 << (drop - 1);
     if (rest > half || (rest == half && (sticky || (m & 1u)))) m++;
-    return ldexp((double)m, e2 + drop);
+    return times_pow2((double)m, e2 + drop);
 }
 
 /* w 10^e correctly rounded, 0 < w < 2^64, |e| <= EXP10_U128_MAX, not on Clinger's fast path: w 5^e 2^e
@@ -401,9 +412,14 @@ double vi_strtod(const char *s, char **end)
     int neg = *c == '-';
     if (*c == '+' || *c == '-') c++;
     double v = 0.0;
-    const char *after = special(c, &v);
-    if (!after && c[0] == '0' && (c[1] == 'x' || c[1] == 'X')) after = hex_number(c + 2, &v);
-    if (!after) after = decimal_number(c, &v); /* also "0x" without hex digits: the 0 */
+    const char *after = NULL;
+    if ((*c >= '1' && *c <= '9') || *c == '.' || (*c == '0' && c[1] != 'x' && c[1] != 'X'))
+        after = decimal_number(c, &v); /* neither inf, nan nor hex */
+    else {
+        after = special(c, &v);
+        if (!after && c[0] == '0' && (c[1] == 'x' || c[1] == 'X')) after = hex_number(c + 2, &v);
+        if (!after) after = decimal_number(c, &v); /* also "0x" without hex digits: the 0 */
+    }
     if (end) *end = (char *)(after ? after : s);
     if (!after) return 0.0;
     return neg ? -v : v;
