@@ -361,18 +361,20 @@ static void spline_row(const double *x, const double *h, size_t m, int periodic,
 }
 
 /* Forward elimination of the tridiagonal part of the system (Thomas): cp[i] = the multiplier of
- * k_(i+1), and rp = the reduced right-hand side of rhs (rhs NULL: the system's own). The first
- * diagonal entry is b0 (the cyclic correction changes it), the last one's change is b_last. */
-static void eliminate(const double *x, const double *h, size_t m, int periodic, double b0, double b_last,
-                      const double *rhs, double *cp, double *rp)
+ * k_(i+1), rp = the reduced right-hand side of the system's own, and (z not NULL) z reduced in place
+ * as a second right-hand side. The first diagonal entry is b0 (the cyclic correction changes it),
+ * the last one's change is b_last. */
+static void eliminate(const double *x, const double *h, size_t m, int periodic, double b0, double b_last, double *cp,
+                      double *rp, double *z)
 {
     double e[4];
     for (size_t i = 0; i < m; i++) { /* bounded by the rows */
         spline_row(x, h, m, periodic, i, e);
-        double b = i == 0 ? b0 : e[1] - (i == m - 1 ? b_last : 0.0), r = rhs ? rhs[i] : e[3];
+        double b = i == 0 ? b0 : e[1] - (i == m - 1 ? b_last : 0.0);
         double piv = i == 0 ? b : b - e[0] * cp[i - 1];
         cp[i] = e[2] / piv;
-        rp[i] = (i == 0 ? r : r - e[0] * rp[i - 1]) / piv;
+        rp[i] = (i == 0 ? e[3] : e[3] - e[0] * rp[i - 1]) / piv;
+        if (z) z[i] = (i == 0 ? z[i] : z[i] - e[0] * z[i - 1]) / piv;
     }
 }
 
@@ -405,17 +407,16 @@ static void spline_slopes(const double *x, const double *h, size_t n, int period
     } else if (periodic) { /* Sherman-Morrison: the corners beta (row 0) and alpha (row m-1) as a rank-one term */
         spline_row(x, h, m, 1, 0, e), spline_row(x, h, m, 1, m - 1, f);
         double beta = e[0], alpha = f[2], gamma = -e[1];
-        eliminate(x, h, m, 1, e[1] - gamma, alpha * beta / gamma, NULL, cp, k);
-        back_substitute(m, cp, k);
         for (size_t i = 0; i < m; i++) z[i] = 0.0; /* bounded by the rows */
         z[0] = gamma, z[m - 1] = alpha;
-        eliminate(x, h, m, 1, e[1] - gamma, alpha * beta / gamma, z, cp, z);
+        eliminate(x, h, m, 1, e[1] - gamma, alpha * beta / gamma, cp, k, z);
+        back_substitute(m, cp, k);
         back_substitute(m, cp, z);
         double fact = (k[0] + beta * k[m - 1] / gamma) / (1.0 + z[0] + beta * z[m - 1] / gamma);
         for (size_t i = 0; i < m; i++) k[i] -= fact * z[i]; /* bounded by the rows */
     } else {
         spline_row(x, h, m, 0, 0, e);
-        eliminate(x, h, m, 0, e[1], 0.0, NULL, cp, k);
+        eliminate(x, h, m, 0, e[1], 0.0, cp, k, NULL);
         back_substitute(m, cp, k);
     }
     if (periodic) k[n - 1] = k[0];
@@ -625,24 +626,32 @@ static int periodic_copies(const vi_profile *p, size_t n, const char *name, long
     return 0;
 }
 
-/* The envelope's pieces and their boundaries into p (it must cover [lo, hi] without gaps). 0, or -1. */
-static int take_envelope(vi_profile *p, const stack *env, const char *name, char *msg, size_t msg_size)
+/* The envelope's pieces and their boundaries into p (it must cover [lo, hi] without gaps). The pieces
+ * are moved down within env's own memory (piece j, read from span j, lands where no later span lies),
+ * which p then owns, shrunk to them: env is left empty. 0, or -1 (env's memory then still env's). */
+static int take_envelope(vi_profile *p, stack *env, const char *name, char *msg, size_t msg_size)
 {
+    _Static_assert(sizeof(piece) <= sizeof(span) && _Alignof(span) % _Alignof(piece) == 0, "pieces fit in place");
     if (!env->n || env->s[0].x0 != p->lo || env->s[env->n - 1].x1 != p->hi)
         VI_FAIL(msg, msg_size, "%s: internal error: the envelope covers [%g, %g] instead of [%g, %g]", name,
                 env->n ? env->s[0].x0 : NAN, env->n ? env->s[env->n - 1].x1 : NAN, p->lo, p->hi);
+    for (size_t j = 1; j < env->n; j++) /* bounded by the envelope */
+        if (env->s[j].x0 != env->s[j - 1].x1)
+            VI_FAIL(msg, msg_size, "%s: internal error: a gap in the envelope at x = %g", name, env->s[j - 1].x1);
     p->m = env->n;
     p->xb = malloc((p->m + 1) * sizeof *p->xb);
-    p->pieces = malloc(p->m * sizeof *p->pieces);
     p->kinks = malloc((p->m + 1) * sizeof *p->kinks);
-    if (!p->xb || !p->pieces || !p->kinks) VI_FAIL(msg, msg_size, "%s: out of memory", name);
-    for (size_t j = 0; j < p->m; j++) {
-        if (j && env->s[j].x0 != env->s[j - 1].x1)
-            VI_FAIL(msg, msg_size, "%s: internal error: a gap in the envelope at x = %g", name, env->s[j - 1].x1);
-        p->xb[j] = env->s[j].x0;
-        p->pieces[j] = env->s[j].q;
+    if (!p->xb || !p->kinks) VI_FAIL(msg, msg_size, "%s: out of memory", name);
+    unsigned char *bytes = (unsigned char *)env->s;
+    for (size_t j = 0; j < p->m; j++) { /* bounded by the envelope */
+        span t = env->s[j];
+        p->xb[j] = t.x0;
+        memcpy(bytes + j * sizeof(piece), &t.q, sizeof(piece));
     }
     p->xb[p->m] = p->hi;
+    p->pieces = realloc(env->s, p->m * sizeof *p->pieces);
+    if (!p->pieces) VI_FAIL(msg, msg_size, "%s: out of memory", name); /* env still holds the block */
+    env->s = NULL, env->n = env->cap = 0;
     return 0;
 }
 

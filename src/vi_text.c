@@ -18,11 +18,16 @@ _Static_assert(sizeof(size_t) == sizeof(ptrdiff_t), "%zd and %tu pass through as
 /* Binary exponents beyond +-EXP2_CLAMP give infinity or zero for any 64-bit mantissa. */
 #define EXP2_CLAMP (1L << 20)
 
+/* The bits of q: 0 for 0, else one more than the place of its highest set bit. */
 static int bits64(uint64_t q)
 {
+#if defined(__GNUC__) && ULLONG_MAX == UINT64_MAX
+    return q ? 64 - __builtin_clzll(q) : 0;
+#else
     int b = 0;
     for (; q; q >>= 1) b++; /* bounded: 64 bits */
     return b;
+#endif
 }
 
 /* (q + f) 2^e2 rounded to the nearest double, ties to even, where 2^62 <= q < 2^64, 0 <= f < 1 and
@@ -173,18 +178,29 @@ static const uint64_t POW5[EXP10_U128_MAX + 1] = {
     95367431640625u, 476837158203125u, 2384185791015625u, 11920928955078125u, 59604644775390625u,
     298023223876953125u, 1490116119384765625u, 7450580596923828125u};
 
+/* m 2^e for m <= 2^53 and a normal result: m times the double 2^e, exact, as ldexp gives it (ldexp
+ * itself where 2^e is no normal double). */
+static double times_pow2(double m, int e)
+{
+    if (e < EXP2_MIN || e > 1023) return ldexp(m, e);
+    uint64_t bits = (uint64_t)(e + 1023) << 52;
+    double p;
+    memcpy(&p, &bits, sizeof p);
+    return m * p;
+}
+
 /* (q + a fraction that is nonzero when sticky) 2^e2, rounded to the nearest double (ties to even).
  * q has more than 53 bits when sticky; the value is a normal double (|e| <= EXP10_U128_MAX). */
 static double round_u128(u128 q, int sticky, int e2)
 {
     uint64_t hi = (uint64_t)(q >> 64);
     int bits = hi ? 64 + bits64(hi) : bits64((uint64_t)q);
-    if (bits <= MANT_BITS) return ldexp((double)(uint64_t)q, e2);
+    if (bits <= MANT_BITS) return times_pow2((double)(uint64_t)q, e2);
     int drop = bits - MANT_BITS;
     uint64_t m = (uint64_t)(q >> drop);
     u128 rest = q & (((u128)1 << drop) - 1), half = (u128)1 << (drop - 1);
     if (rest > half || (rest == half && (sticky || (m & 1u)))) m++;
-    return ldexp((double)m, e2 + drop);
+    return times_pow2((double)m, e2 + drop);
 }
 
 /* w 10^e correctly rounded, 0 < w < 2^64, |e| <= EXP10_U128_MAX, not on Clinger's fast path: w 5^e 2^e
@@ -248,9 +264,52 @@ static const char *scan_exponent(const char *c, long long *e)
     return d;
 }
 
+/* The short form of a decimal number at c (after the sign), read without the digit array: up to 19
+ * significant digits (leading and trailing zeros dropped) as the integer w, whose value and exponent
+ * take Clinger's path or the 128-bit one. The digits, the point and the exponent are the ones
+ * scan_mantissa and scan_exponent take, and w 10^e10 is rounded by the same function decimal_number
+ * calls for them, so the result is the same double. Its value in *v and the character
+ * after it; NULL when the number is not of that form (then decimal_number reads it whole). */
+static const char *short_decimal(const char *c, double *v)
+{
+    const char *first = c, *point_at = NULL; /* the digits [first, c), the point at point_at inside */
+    for (; (*c >= '0' && *c <= '9') || (*c == '.' && !point_at); c++) /* bounded by the string */
+        if (*c == '.') point_at = c;
+    if (c == first || (point_at == first && c == first + 1)) return NULL; /* no digit */
+    const char *dot = point_at ? point_at : c, *lead_at = first, *last = c; /* significant: [lead_at, last) */
+    while (lead_at < last && (*lead_at == '0' || *lead_at == '.')) lead_at++; /* leading zeros */
+    while (last > lead_at && (last[-1] == '0' || last[-1] == '.')) last--; /* trailing zeros */
+    /* significant digits before the point, or (negative) zeros after it before the first */
+    long long point = lead_at < dot ? dot - lead_at : -(long long)(lead_at - dot - 1);
+    if (last - lead_at > 20) return NULL; /* more than 19 digits: the long form */
+    int nd = (int)(last - lead_at) - (dot > lead_at && dot < last);
+    if (nd > 19) return NULL;
+    uint64_t w = 0;
+    for (const char *d = lead_at; d < last; d++) /* bounded: 20 characters */
+        if (*d != '.') w = 10 * w + (uint64_t)(*d - '0');
+    long long e = 0;
+    if (*c == 'e' || *c == 'E') {
+        const char *after = scan_exponent(c + 1, &e);
+        if (after != c + 1) c = after;
+    }
+    long long lead = point + e - 1; /* the exponent of the leading digit */
+    if (!nd || lead < EXP10_LEAD_MIN || lead > EXP10_LEAD_MAX) return NULL;
+    int e10 = (int)(lead + 1 - nd);
+    if (clinger(w, e10, v)) return c;
+#ifdef __SIZEOF_INT128__
+    if (e10 >= -EXP10_U128_MAX && e10 <= EXP10_U128_MAX) {
+        *v = scaled(w, e10);
+        return c;
+    }
+#endif
+    return NULL;
+}
+
 /* A decimal number at c (after the sign): its value in *v, the character after it; NULL if none. */
 static const char *decimal_number(const char *c, double *v)
 {
+    const char *fast = short_decimal(c, v);
+    if (fast) return fast;
     decimal d;
     d.nd = d.sticky = 0, d.point = 0;
     c = scan_mantissa(c, &d);
@@ -353,9 +412,14 @@ double vi_strtod(const char *s, char **end)
     int neg = *c == '-';
     if (*c == '+' || *c == '-') c++;
     double v = 0.0;
-    const char *after = special(c, &v);
-    if (!after && c[0] == '0' && (c[1] == 'x' || c[1] == 'X')) after = hex_number(c + 2, &v);
-    if (!after) after = decimal_number(c, &v); /* also "0x" without hex digits: the 0 */
+    const char *after = NULL;
+    if ((*c >= '1' && *c <= '9') || *c == '.' || (*c == '0' && c[1] != 'x' && c[1] != 'X'))
+        after = decimal_number(c, &v); /* neither inf, nan nor hex */
+    else {
+        after = special(c, &v);
+        if (!after && c[0] == '0' && (c[1] == 'x' || c[1] == 'X')) after = hex_number(c + 2, &v);
+        if (!after) after = decimal_number(c, &v); /* also "0x" without hex digits: the 0 */
+    }
     if (end) *end = (char *)(after ? after : s);
     if (!after) return 0.0;
     return neg ? -v : v;

@@ -234,6 +234,26 @@ Test(text, numbers_of_the_profiles_formats_read_as_strtod_reads_them)
     read_as_strtod(profile_number, 40000, 64, 41);
 }
 
+/* Numbers at the edges of the 19-digit form read in one pass: 19 and 20 significant digits, trailing
+ * zeros that bring 20 or more down to 19 (before the point, after it, on both sides), the point first,
+ * last or between zeros, long runs of leading zeros and powers of ten at the ends of the 128-bit path;
+ * against strtod in the C locale, the value to the bit and the end. */
+Test(text, numbers_at_the_edges_of_the_short_form_read_as_strtod_reads_them)
+{
+    static const char *const text[] = {
+        "1234567890123456789", "12345678901234567891", "12345678901234567890", "1234567890123456789000",
+        "1234567890123456789.000", "123456789.01234567890", "1.2345678901234567890", "1.23456789012345678901",
+        "0.0000000000000000000001234567890123456789", "000000000000000000000000001.5", "1200.", ".0012e3",
+        "9999999999999999999e-27", "9999999999999999999e-28", "9999999999999999999e27", "9999999999999999999e28",
+        "18446744073709551615", "18446744073709551616e-5", "0.", "0.000e5", ".5e-330", "5e-324", "1.", "10.010"};
+    for (size_t i = 0; i < sizeof text / sizeof text[0]; i++) {
+        char *end_want, *end;
+        double want = strtod(text[i], &end_want), v = vi_strtod(text[i], &end);
+        cr_assert(same_bits(v, want) && end == end_want, "%s: read %a ending at %ld, strtod %a ending at %ld", text[i],
+                  v, (long)(end - text[i]), want, (long)(end_want - text[i]));
+    }
+}
+
 /* What is not a number, or only partly one: white space, inf and nan, an 'e' or 'p' without digits,
  * "0x" without hex digits, exponents beyond any int. */
 Test(text, the_forms_and_ends_of_strtod)
