@@ -23,7 +23,9 @@
  * modes 0 and 1 only, with a force that depends on delta' as well.
  *
  * Each mode has up to VI_NGUARDS guard functions g >= 0; the mode is left when a guard falls
- * through zero (CVODE root direction -1 for all):
+ * through zero (CVODE root direction -1 for all). vi_model.c defines each mode's guards once
+ * (mode_guards: how each is measured and the surface of delta it belongs to), and the guard values,
+ * the state check (vi_model_check), the events and the guard names all read that definition:
  *   0: g0 = s - delta                  contact (s = 0, delta_f or delta_p)
  *      g0 = max(-delta, -g)            contact of a damped law (g: vi_*_guard, the sign of its force)
  *   1: g0 = delta - s                  separation
