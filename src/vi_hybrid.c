@@ -7,6 +7,7 @@
 
 #include "vi_check.h"
 #include "vi_format.h"
+#include "vi_solver.h" /* VI_RTOL_MIN, VI_RTOL_MAX: the tolerances a saved state may hold */
 
 void vi_hybrid_bind(vi_hybrid *h, vi_model *model, vi_hybrid_state *st, int integrates_y, vi_log_fn log, void *log_env)
 {
