@@ -144,6 +144,9 @@ int vi_model_setup(vi_model *model, const vi_model_params *p, double t0, char *m
  * not move, as for a jump of yC_in. Call between vi_model_freeze and vi_model_resolve (the rate of
  * delta changes). */
 void vi_model_set_excitation(vi_model *model, double t, double x[2], double a, double f);
+/* The inputs run these ramps from time t on: delta jumps with the platform's position yC_in while the
+ * mass does not move. Call between vi_model_freeze and vi_model_resolve, as for the excitation. */
+void vi_model_set_inputs(vi_model *model, double t, double x[2], vi_ramp yC_in, vi_ramp F_ext);
 /* Do (a, f) differ from the excitation the model runs? */
 int vi_model_excitation_differs(const vi_model *model, double a, double f);
 /* The excitation's phase phi(t) [rad]. */

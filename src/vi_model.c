@@ -82,6 +82,13 @@ void vi_model_set_excitation(vi_model *model, double t, double x[2], double a, d
     model->omega = 2.0 * VI_PI * f;
 }
 
+void vi_model_set_inputs(vi_model *model, double t, double x[2], vi_ramp yC_in, vi_ramp F_ext)
+{
+    x[0] += vi_ramp_at(&yC_in, t) - vi_ramp_at(&model->yC_in, t); /* the platform moves, the mass does not */
+    model->yC_in = yC_in;
+    model->F_ext = F_ext;
+}
+
 /* ---- rolling over a profile ------------------------------------------------------------------ */
 
 double vi_model_rolling_position(const vi_model *model, double t) { return model->x0 + model->V * (t - model->t0); }
