@@ -32,7 +32,7 @@
 #define VI_HYBRID_H
 
 #include "vi_model.h"
-#include "vi_solver.h" /* vi_log_fn, VI_LOG_* */
+#include "vi_log.h"
 
 #define VI_GRAZE_TOL 4.0
 #define VI_GRAZE_ULPS 256.0

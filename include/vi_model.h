@@ -23,7 +23,9 @@
  * modes 0 and 1 only, with a force that depends on delta' as well.
  *
  * Each mode has up to VI_NGUARDS guard functions g >= 0; the mode is left when a guard falls
- * through zero (CVODE root direction -1 for all):
+ * through zero (CVODE root direction -1 for all). vi_model.c defines each mode's guards once
+ * (mode_guards: how each is measured and the surface of delta it belongs to), and the guard values,
+ * the state check (vi_model_check), the events and the guard names all read that definition:
  *   0: g0 = s - delta                  contact (s = 0, delta_f or delta_p)
  *      g0 = max(-delta, -g)            contact of a damped law (g: vi_*_guard, the sign of its force)
  *   1: g0 = delta - s                  separation
@@ -142,6 +144,9 @@ int vi_model_setup(vi_model *model, const vi_model_params *p, double t0, char *m
  * not move, as for a jump of yC_in. Call between vi_model_freeze and vi_model_resolve (the rate of
  * delta changes). */
 void vi_model_set_excitation(vi_model *model, double t, double x[2], double a, double f);
+/* The inputs run these ramps from time t on: delta jumps with the platform's position yC_in while the
+ * mass does not move. Call between vi_model_freeze and vi_model_resolve, as for the excitation. */
+void vi_model_set_inputs(vi_model *model, double t, double x[2], vi_ramp yC_in, vi_ramp F_ext);
 /* Do (a, f) differ from the excitation the model runs? */
 int vi_model_excitation_differs(const vi_model *model, double a, double f);
 /* The excitation's phase phi(t) [rad]. */

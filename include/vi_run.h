@@ -19,6 +19,7 @@
 #include "vi_format.h"
 #include "vi_hybrid.h"
 #include "vi_model.h"
+#include "vi_solver.h" /* VI_METHOD_*, VI_RTOL_DEFAULT */
 
 /* Longest path of the resources folder or a profile file. */
 #define VI_PATH_MAX 4096

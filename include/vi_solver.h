@@ -59,6 +59,7 @@
 #include <stddef.h>
 
 #include "vi_ode.h"
+#include "vi_log.h"
 
 /* The relative tolerances the solvers are used with (the models' parameter rtol declares this range;
  * the tolerance of fmi2SetupExperiment is checked against it at initialization): above VI_RTOL_MAX
@@ -72,9 +73,6 @@
 /* Sizes this wrapper is made for: small dense systems. */
 #define VI_SOLVER_MAX_N 4
 #define VI_SOLVER_MAX_GUARDS 16
-
-typedef void (*vi_log_fn)(void *env, int category, const char *fmt, ...);
-enum { VI_LOG_EVENTS, VI_LOG_SOLVER, VI_LOG_WARNING, VI_LOG_ERROR };
 
 typedef void (*vi_rhs_fn)(double t, const double *x, double *dx, void *user);
 typedef void (*vi_guard_fn)(double t, const double *x, double *g, void *user);

@@ -7,6 +7,7 @@
 
 #include "vi_check.h"
 #include "vi_format.h"
+#include "vi_solver.h" /* VI_RTOL_MIN, VI_RTOL_MAX: the tolerances a saved state may hold */
 
 void vi_hybrid_bind(vi_hybrid *h, vi_model *model, vi_hybrid_state *st, int integrates_y, vi_log_fn log, void *log_env)
 {
@@ -113,11 +114,8 @@ int vi_hybrid_due(const vi_hybrid *h, double t, const double x[2])
  * platform (the mass does not move). */
 static void take_inputs(vi_hybrid *h, double t, double x[2], vi_ramp yC_in, vi_ramp F_ext)
 {
-    vi_model *model = h->model;
-    vi_model_freeze(model, t, x);
-    x[0] += vi_ramp_at(&yC_in, t) - vi_ramp_at(&model->yC_in, t); /* delta jumps with the platform */
-    model->yC_in = yC_in;
-    model->F_ext = F_ext;
+    vi_model_freeze(h->model, t, x);
+    vi_model_set_inputs(h->model, t, x, yC_in, F_ext);
 }
 
 /* The mode changed from `from` (an input jump or a kink, kind): log it, reset the bands; then arm

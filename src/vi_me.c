@@ -38,11 +38,8 @@ static void sync(vi_me *e)
     if (!e->stale && !take) return;
     e->stale = 0;
     e->r->out_valid = 0;
-    if (take) {
-        d->model.yC_in = yC_in;
-        d->model.F_ext = F_ext;
-    }
-    d->x[0] = platform(&d->model, d->t) - e->own->y_me;
+    if (take) vi_model_set_inputs(&d->model, d->t, d->x, yC_in, F_ext);
+    d->x[0] = platform(&d->model, d->t) - e->own->y_me; /* the importer holds y: delta follows from it */
 }
 
 /* A step completed or an event handled at the current time: the next step starts here. */

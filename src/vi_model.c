@@ -82,6 +82,13 @@ void vi_model_set_excitation(vi_model *model, double t, double x[2], double a, d
     model->omega = 2.0 * VI_PI * f;
 }
 
+void vi_model_set_inputs(vi_model *model, double t, double x[2], vi_ramp yC_in, vi_ramp F_ext)
+{
+    x[0] += vi_ramp_at(&yC_in, t) - vi_ramp_at(&model->yC_in, t); /* the platform moves, the mass does not */
+    model->yC_in = yC_in;
+    model->F_ext = F_ext;
+}
+
 /* ---- rolling over a profile ------------------------------------------------------------------ */
 
 double vi_model_rolling_position(const vi_model *model, double t) { return model->x0 + model->V * (t - model->t0); }
@@ -316,9 +323,9 @@ static int johnson_choose(vi_model *model, double x[2], const rates *q)
 {
     double d = x[0], r = q->r, F_hold = q->F_hold, j = q->j;
     int mode = VI_MODE_FREE;
-    if (!model->yielded || model->moving) {
-        if (!ahead(d, r, F_hold, j)) return VI_MODE_FREE;
-        mode = ahead(d - model->johnson.delta_Y, r, F_hold - model->johnson.F_Y, j) ? VI_MODE_PLASTIC : VI_MODE_ELASTIC;
+    if (!model->yielded || model->moving) { /* the surfaces of the guards: contact 0 (no memory), yield delta_Y */
+        if (!ahead(d - law(model)->contact_surface(model), r, F_hold, j)) return VI_MODE_FREE;
+        mode = ahead(d - law(model)->yield_surface(model), r, F_hold - model->johnson.F_Y, j) ? VI_MODE_PLASTIC : VI_MODE_ELASTIC;
         if (mode == VI_MODE_ELASTIC || model->moving) return mode;
         model->yielded = 1;
         model->unload = law(model)->unload_curve(model, d > model->johnson.delta_Y ? d : model->johnson.delta_Y);
@@ -491,7 +498,7 @@ static void lepp_flow_to(vi_model *model, double x[2])
 }
 static int lepp_choose(vi_model *model, double x[2], const rates *q)
 {
-    if (!ahead(x[0] - model->delta_p, q->r, q->F_hold, q->j)) return VI_MODE_FREE;
+    if (!ahead(x[0] - lepp_contact(model), q->r, q->F_hold, q->j)) return VI_MODE_FREE;
     if (x[0] > lepp_yield(model)) lepp_flow_to(model, x); /* pushed beyond yield: it flowed */
     return ahead(x[0] - lepp_yield(model), q->r, q->F_hold - model->johnson.F_Y, q->j) ? VI_MODE_PLASTIC : VI_MODE_ELASTIC;
 }
@@ -762,56 +769,98 @@ void vi_model_jacobian(const vi_model *model, double t, const double x[2], doubl
     j[3] = -vi_model_damping(model, t, x) / model->m; /* d(delta')/dv = -1 */
 }
 
-void vi_model_guards(const vi_model *model, double t, const double x[2], double g[VI_NGUARDS])
+/* ---- the guards: one definition per mode (vi_model.h lists them), read by the guard values, the
+ * state check, the events and the names ------------------------------------------------------------ */
+
+/* How a guard is measured. A position guard is the distance of delta from a surface; the others vanish
+ * with a rate or a force, and the state check holds their mode to a surface of delta all the same. */
+typedef enum {
+    GUARD_NONE,         /* not used: the value 1 */
+    GUARD_ABOVE,        /* delta - surface: the mode lies above the surface */
+    GUARD_BELOW,        /* surface - delta: the mode lies below it */
+    GUARD_TURN,         /* delta' = yC' - v, a plastic motion's turning point; the mode lies above the surface */
+    GUARD_ONSET,        /* damped laws, free: max(-delta, -g) (g the force guard); no surface to check */
+    GUARD_RELEASE,      /* damped laws, elastic: the force guard g; no surface to check */
+    GUARD_STICK_LOAD,   /* F_load(delta_c) - F_hold; the mode lies on the surface delta_c (above it) */
+    GUARD_STICK_UNLOAD, /* F_hold - F_unload(delta_c); on the surface delta_c (below it) */
+} guard_kind;
+
+typedef struct {
+    guard_kind kind;
+    double surface; /* the surface of delta [m] an event snaps onto and the state check measures from */
+    const char *name;
+} guard_def;
+
+/* The guards of `mode` for model's law and memory (any mode, also one the law does not have). */
+static void mode_guards(const vi_model *model, int mode, guard_def g[VI_NGUARDS])
 {
-    double d = x[0], dyC, yield = law(model)->yield_surface(model);
-    g[0] = g[1] = 1.0; /* inactive */
-    switch (model->mode) {
-    case VI_MODE_FREE: /* damped laws: contact where delta > 0 and the force guard > 0 both hold */
-        g[0] = law(model)->contact_surface(model) - d;
-        if (law(model)->force_guard) g[0] = fmax(-d, -law(model)->force_guard(model, d, indentation_rate(model, t, x)).g);
-        break;
-    case VI_MODE_ELASTIC:
-        g[0] = d - law(model)->contact_surface(model);
-        if (isfinite(yield)) g[1] = yield - d;
-        if (law(model)->force_guard) g[1] = law(model)->force_guard(model, d, indentation_rate(model, t, x)).g;
-        break;
-    case VI_MODE_PLASTIC:
-        if (plastic_ends_at_yield(model)) {
-            g[0] = d - yield;
-        } else {
-            vi_model_platform(model, t, &dyC, NULL);
-            g[0] = dyC - x[1]; /* delta' */
-        }
-        break;
-    case VI_MODE_UNLOAD:
-        g[0] = d - model->unload.delta_f;
-        g[1] = model->unload.delta_c - d;
-        break;
-    case VI_MODE_STICK: {
-        double F_hold = hold_force(model, t);
-        g[0] = vi_johnson_load(&model->johnson, model->unload.delta_c) - F_hold;
-        g[1] = F_hold - vi_unload_force(&model->unload, model->unload.delta_c);
+    const law_fns *L = law(model);
+    g[0] = g[1] = (guard_def){GUARD_NONE, INFINITY, "none"};
+    switch (mode) {
+    case VI_MODE_FREE: g[0] = (guard_def){L->force_guard ? GUARD_ONSET : GUARD_BELOW, L->contact_surface(model), "contact"}; break;
+    case VI_MODE_ELASTIC: {
+        double yield = L->yield_surface(model);
+        g[0] = (guard_def){GUARD_ABOVE, L->contact_surface(model), "separation"};
+        if (L->force_guard) g[1] = (guard_def){GUARD_RELEASE, yield, "release (the damped force reaches 0)"};
+        else if (isfinite(yield)) g[1] = (guard_def){GUARD_BELOW, yield, "yield"};
         break;
     }
+    case VI_MODE_PLASTIC:
+        if (plastic_ends_at_yield(model)) g[0] = (guard_def){GUARD_ABOVE, L->yield_surface(model), "back below yield"};
+        else g[0] = (guard_def){GUARD_TURN, L->plastic_floor(model), "the turning point (delta' = 0)"};
+        break;
+    case VI_MODE_UNLOAD:
+        g[0] = (guard_def){GUARD_ABOVE, model->unload.delta_f, "separation"};
+        g[1] = (guard_def){GUARD_BELOW, model->unload.delta_c, "reloading to delta_c"};
+        break;
+    case VI_MODE_STICK:
+        g[0] = (guard_def){GUARD_STICK_LOAD, model->unload.delta_c, "the end of stick (plastic loading)"};
+        g[1] = (guard_def){GUARD_STICK_UNLOAD, model->unload.delta_c, "the end of stick (unloading)"};
+        break;
     default: break;
+    }
+}
+
+/* The guard's time-free part, the signed distance of delta from its surface on the mode's side;
+ * INFINITY for a guard with no surface to check. */
+static double guard_distance(const guard_def *g, double d)
+{
+    switch (g->kind) {
+    case GUARD_ABOVE:
+    case GUARD_TURN:
+    case GUARD_STICK_LOAD: return d - g->surface;
+    case GUARD_BELOW:
+    case GUARD_STICK_UNLOAD: return g->surface - d;
+    default: return INFINITY;
+    }
+}
+
+void vi_model_guards(const vi_model *model, double t, const double x[2], double g[VI_NGUARDS])
+{
+    guard_def def[VI_NGUARDS];
+    double d = x[0], F_hold = 0.0;
+    mode_guards(model, model->mode, def);
+    if (def[0].kind == GUARD_STICK_LOAD) F_hold = hold_force(model, t); /* both stick guards: once */
+    for (int i = 0; i < VI_NGUARDS; i++) {
+        switch (def[i].kind) {
+        case GUARD_ABOVE:
+        case GUARD_BELOW: g[i] = guard_distance(&def[i], d); break;
+        case GUARD_TURN: g[i] = indentation_rate(model, t, x); break;
+        case GUARD_ONSET: g[i] = fmax(-d, -law(model)->force_guard(model, d, indentation_rate(model, t, x)).g); break;
+        case GUARD_RELEASE: g[i] = law(model)->force_guard(model, d, indentation_rate(model, t, x)).g; break;
+        case GUARD_STICK_LOAD: g[i] = vi_johnson_load(&model->johnson, def[i].surface) - F_hold; break;
+        case GUARD_STICK_UNLOAD: g[i] = F_hold - vi_unload_force(&model->unload, def[i].surface); break;
+        default: g[i] = 1.0; break; /* inactive */
+        }
     }
 }
 
 const char *vi_model_guard_name(const vi_model *model, int mode, int guard)
 {
-    int damped = law(model)->force_guard != NULL, yields = isfinite(law(model)->yield_surface(model));
-    switch (mode * VI_NGUARDS + guard) {
-    case VI_MODE_FREE * VI_NGUARDS: return "contact";
-    case VI_MODE_ELASTIC * VI_NGUARDS: return "separation";
-    case VI_MODE_ELASTIC * VI_NGUARDS + 1: return damped ? "release (the damped force reaches 0)" : yields ? "yield" : "none";
-    case VI_MODE_PLASTIC * VI_NGUARDS: return plastic_ends_at_yield(model) ? "back below yield" : "the turning point (delta' = 0)";
-    case VI_MODE_UNLOAD * VI_NGUARDS: return "separation";
-    case VI_MODE_UNLOAD * VI_NGUARDS + 1: return "reloading to delta_c";
-    case VI_MODE_STICK * VI_NGUARDS: return "the end of stick (plastic loading)";
-    case VI_MODE_STICK * VI_NGUARDS + 1: return "the end of stick (unloading)";
-    default: return "none";
-    }
+    guard_def def[VI_NGUARDS];
+    if (guard < 0 || guard >= VI_NGUARDS) return "none";
+    mode_guards(model, mode, def);
+    return def[guard].name;
 }
 
 void vi_model_freeze(vi_model *model, double t, double x[2])
@@ -860,18 +909,18 @@ static int damped_event(vi_model *model, double t, double x[2])
 
 int vi_model_event(vi_model *model, double t, double x[2], int fired)
 {
+    guard_def def[VI_NGUARDS];
     vi_model_freeze(model, t, x);
-    const law_fns *L = law(model);
-    if (L->force_guard && (model->mode == VI_MODE_FREE || fired == 1)) return damped_event(model, t, x);
-    switch (model->mode) {
-    case VI_MODE_FREE: x[0] = L->contact_surface(model); break;
-    case VI_MODE_ELASTIC: x[0] = fired == 0 ? L->contact_surface(model) : L->yield_surface(model); break;
-    case VI_MODE_PLASTIC:
-        if (plastic_ends_at_yield(model)) x[0] = law(model)->yield_surface(model);
-        else vi_model_platform(model, t, &x[1], NULL); /* turning point: delta' = 0 */
-        break;
-    case VI_MODE_UNLOAD: x[0] = fired == 0 ? model->unload.delta_f : model->unload.delta_c; break;
-    case VI_MODE_STICK: x[0] = model->unload.delta_c; return resolve(model, t, x, fired == 0 ? SNAP_LOAD : SNAP_UNLOAD);
+    mode_guards(model, model->mode, def);
+    const guard_def *g = &def[fired == 0 || def[1].kind == GUARD_NONE ? 0 : 1]; /* a mode with one guard: that one */
+    switch (g->kind) {
+    case GUARD_ABOVE:
+    case GUARD_BELOW: x[0] = g->surface; break;
+    case GUARD_TURN: vi_model_platform(model, t, &x[1], NULL); break; /* turning point: delta' = 0 */
+    case GUARD_ONSET:
+    case GUARD_RELEASE: return damped_event(model, t, x);
+    case GUARD_STICK_LOAD:
+    case GUARD_STICK_UNLOAD: x[0] = g->surface; return resolve(model, t, x, g->kind == GUARD_STICK_LOAD ? SNAP_LOAD : SNAP_UNLOAD);
     default: break;
     }
     return vi_model_resolve(model, t, x);
@@ -1111,7 +1160,8 @@ static int check_memory(const vi_model *model, char *msg, size_t n)
     return 0;
 }
 
-/* The mode is allowed for the law and the memory, and (surfaces) no time-free guard is clearly negative. */
+/* The mode is allowed for the law and the memory, and (surfaces) no guard's distance from its surface
+ * (mode_guards) is clearly negative. */
 static int check_mode(const vi_model *model, const double x[2], int surfaces, char *msg, size_t n)
 {
     const law_fns *L = law(model);
@@ -1121,20 +1171,14 @@ static int check_mode(const vi_model *model, const double x[2], int surfaces, ch
                 L->name, model->moving, model->unloading, model->yielded);
     if (!surfaces) return 0;
     double d = x[0], tol = VI_CHECK_GUARD_TOL * fmax(fmax(model->johnson.delta_Y, fabs(d)), fabs(model->unload.delta_c));
-    double g[2] = {INFINITY, INFINITY};
-    switch (mode) {
-    case VI_MODE_FREE: /* a damped law is free at delta > 0 after a release: its guard needs the rate */
-        if (!L->force_guard) g[0] = L->contact_surface(model) - d;
-        break;
-    case VI_MODE_ELASTIC: g[0] = d - L->contact_surface(model), g[1] = L->yield_surface(model) - d; break;
-    case VI_MODE_PLASTIC: g[0] = d - L->plastic_floor(model); break;
-    case VI_MODE_UNLOAD: g[0] = d - model->unload.delta_f, g[1] = model->unload.delta_c - d; break;
-    default: g[0] = d - model->unload.delta_c, g[1] = model->unload.delta_c - d; break; /* stick: on delta_c */
-    }
-    for (int i = 0; i < 2; i++)
-        if (g[i] < -tol)
+    guard_def def[VI_NGUARDS];
+    mode_guards(model, mode, def);
+    for (int i = 0; i < VI_NGUARDS; i++) {
+        double g = guard_distance(&def[i], d);
+        if (g < -tol)
             VI_FAIL(msg, n, "mode %d does not fit the state: delta = %.17g m lies %g m beyond its surface %d "
-                    "(tolerance %g m)", mode, d, -g[i], i, tol);
+                    "(tolerance %g m)", mode, d, -g, i, tol);
+    }
     return 0;
 }
 
