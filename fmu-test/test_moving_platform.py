@@ -34,6 +34,10 @@ VARIANTS = dict(laws_guide.VARIANTS,
 F_HZ = 560.0
 W = 2.0 * math.pi * F_HZ
 RTOL = 1e-10
+# Model Exchange (the importer's CVODE) against Co-Simulation (the FMU's own solver), both at RTOL, after
+# 5 ms of impacts: their y differ by up to 1.8e-7 a (hertz_damped at a = 0.3 mm: 5.5e-11 m; a change of the
+# damping coefficient by 1e-10 of itself moved it from under 1e-7 a to that), so 3e-7 of the amplitude.
+HARMONIC_TOL = 3e-7
 # Laws whose plastic work is a dissipation that cannot decrease (Johnson's paper unloading gives back more
 # than it took at low speeds: doc/model.md section 2).
 PASSIVE = ("lepp", "thornton", "johnson_continuous")
@@ -96,7 +100,7 @@ def test_harmonic_input_with_its_velocity_agrees_with_the_internal_excitation(fm
     cs = cosim(fmu_path, dict(p, a=a, f=F_HZ), 5e-3)
     assert me.integer("n_impacts") >= 1
     for name, scale in (("y", a), ("v", a * W), ("delta_c", a), ("delta_p", a)):
-        assert me.real(name) == pytest.approx(cs[name], abs=1e-7 * scale), name
+        assert me.real(name) == pytest.approx(cs[name], abs=HARMONIC_TOL * scale), name
     assert me.real("W_plastic") == pytest.approx(cs["W_plastic"], rel=1e-6, abs=1e-9)
 
 
@@ -164,4 +168,4 @@ def test_fmi3_model_exchange_takes_the_velocity_as_fmi2_does(fmu_path, variant):
     me = me_run(str(fmu3_path()), dict(p, velocity_input=True), harmonic(a), 5e-3)
     cs = cosim(fmu_path, dict(p, a=a, f=F_HZ), 5e-3)
     for name, scale in (("y", a), ("v", a * W), ("delta_c", a), ("delta_p", a)):
-        assert me.real(name) == pytest.approx(cs[name], abs=1e-7 * scale), name
+        assert me.real(name) == pytest.approx(cs[name], abs=HARMONIC_TOL * scale), name
