@@ -2189,6 +2189,9 @@ Test(model, damped_event_puts_the_rate_onto_the_force_guard)
             const double ulp = nextafter(fabs(r_surface), INFINITY) - fabs(r_surface);
             cr_assert(fabs(-x[1] - r_surface) <= 4.0 * ulp, "e = %.9g, delta = %g: r = %.17g, on the surface %.17g",
                       es[i], d, -x[1], r_surface);
+            /* on the free side of the guard, as the model computes it (no platform motion: r = -v) */
+            const double g = vi_damped_hertz_guard(&M.damped, x[0], -x[1], M.V_i).g;
+            cr_assert(g <= 0.0, "e = %.9g, delta = %g: the guard %g after the event is on the contact side", es[i], d, g);
         }
     }
 }
