@@ -187,6 +187,37 @@ def test_a_step_under_a_force_beyond_what_can_be_integrated_fails_at_once(fmu_pa
     assert "the solver failed near t = 0.01" in message, message
 
 
+
+@pytest.mark.parametrize("solver", [1, 2, 3, 4], ids=["bdf", "adams", "dop853", "auto"])
+def test_a_mass_resting_far_below_the_tolerance_moves_only_within_it(logged, vr, solver):
+    """The harness's 'energy: an undriven run ... gained 9.6e-33 J' (FMI 3.0): Johnson with
+    m = 4.6e-246 kg and P = 0 rests at delta = 5.6e-171 m, while the absolute tolerance of delta is
+    rtol times a length of at least delta_Y (doc/numerics.md, "Tolerances": a negligible load does
+    not shrink the tolerances). In a step of 1 us auto's BDF moved the mass by 8.7e-18 m, within that
+    tolerance, and the harness weighed the contact energy of the move against the energy moved alone
+    (none): a finding of the check, which now also allows the energy of an error of the absolute
+    tolerances, rtol^2 F_Y delta_Y. Every solver keeps the rest to within the tolerance, in
+    position and in energy, or refuses the step (dop853: its stable steps are 1e-86 s)."""
+    log = logged()
+    s = log.instantiate()
+    start(s, vr, dict(m=4.5767114683872232e-246, P=0.0, solver=solver))
+    names = ["y", "v", "E_contact", "W_dissipated", "F_Y", "delta_Y", "m", "g"]
+    before = dict(zip(names, s.getReal([vr[n] for n in names])))
+    try:
+        s.doStep(0.0, 1e-6)
+    except FMICallException:
+        assert solver == 3 and "work bound" in log.messages[-1][2], log.messages[-3:]
+        return
+    after = dict(zip(names, s.getReal([vr[n] for n in names])))
+    rtol = 1e-6
+
+    def balance(x):
+        return 0.5 * x["m"] * x["v"] ** 2 + x["E_contact"] + x["W_dissipated"] + x["m"] * x["g"] * x["y"]
+
+    assert abs(after["y"] - before["y"]) <= rtol * before["delta_Y"], (before, after)
+    assert balance(after) - balance(before) <= rtol**2 * before["F_Y"] * before["delta_Y"], (before, after)
+    s.freeInstance()
+
 OUTPUTS_AFTER_REFUSED_TOLERANCE = r"""
 s.setupExperiment(tolerance=2.2250738585072014e-308)
 s.enterInitializationMode()

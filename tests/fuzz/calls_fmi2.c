@@ -512,6 +512,15 @@ static int get_reals(fz_slot *s, const unsigned *vr, size_t n, double *x)
     return CALL(fmi2GetReal, s->c, vr, n, x) != fmi2OK;
 }
 
+/* fz_get_int for the energy check (the law) */
+static int get_int(fz_slot *s, unsigned vr, long *value)
+{
+    fmi2Integer v = 0;
+    if (CALL(fmi2GetInteger, s->c, &vr, 1, &v) != fmi2OK) return 1;
+    *value = v;
+    return 0;
+}
+
 static void k_do_step(fz_context *ctx, fz_slot *s, fz_reader *r)
 {
     (void)ctx;
@@ -525,7 +534,7 @@ static void k_do_step(fz_context *ctx, fz_slot *s, fz_reader *r)
     }
     fz_trace("    tc %.17g h %.17g", tc, h);
     double before[FZ_ENERGY_VALUES], after[FZ_ENERGY_VALUES];
-    int undriven = fz_energy_read(s, get_reals, before);
+    int undriven = fz_energy_read(s, get_reals, get_int, before);
     fmi2Status st = CALL(fmi2DoStep, s->c, tc, h, k >> 7);
     int accepted = st == fmi2OK || st == fmi2Warning;
     outcome(s, "fmi2DoStep", fz_by_type(s, FZ_STEP_COMPLETE, 0u), st, accepted ? FZ_STEP_COMPLETE : 0);
@@ -545,7 +554,7 @@ static void k_do_step(fz_context *ctx, fz_slot *s, fz_reader *r)
         fz_fail("fmi2DoStep returned fmi2Discard, and the last successful time %.17g is not in [%.17g, %.17g)", last,
                 s->t, tc + h);
     s->t = last;
-    if (undriven && accepted && fz_energy_read(s, get_reals, after)) fz_energy_check(s, before, after, tc, h);
+    if (undriven && accepted && fz_energy_read(s, get_reals, get_int, after)) fz_energy_check(s, before, after, tc, h);
 }
 
 static void k_cancel(fz_context *ctx, fz_slot *s, fz_reader *r)

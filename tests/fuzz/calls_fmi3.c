@@ -613,6 +613,15 @@ static int get_reals(fz_slot *s, const unsigned *vr, size_t n, double *x)
     return CALL(fmi3GetFloat64, s->c, vr, n, x, n) != fmi3OK;
 }
 
+/* fz_get_int for the energy check (the law, an enumeration) */
+static int get_int(fz_slot *s, unsigned vr, long *value)
+{
+    fmi3Int64 v = 0;
+    if (CALL(fmi3GetInt64, s->c, &vr, 1, &v, 1) != fmi3OK) return 1;
+    *value = (long)v;
+    return 0;
+}
+
 static void k_do_step(fz_context *ctx, fz_slot *s, fz_reader *r)
 {
     (void)ctx;
@@ -623,9 +632,9 @@ static void k_do_step(fz_context *ctx, fz_slot *s, fz_reader *r)
     double tc = k % 16 < 14 ? t : k % 16 == 14 ? t + 1.0 : fz_real(r, 1.0);
     double h = hk < 240 ? steps[hk % (sizeof steps / sizeof steps[0])] : fz_real(r, 1e-3);
     double before[FZ_ENERGY_VALUES], after[FZ_ENERGY_VALUES];
-    int undriven = fz_energy_read(s, get_reals, before);
+    int undriven = fz_energy_read(s, get_reals, get_int, before);
     fmi3Status st = do_step(s, tc, h, k >> 6 & 1, k >= 250, NULL);
-    if (undriven && (st == fmi3OK || st == fmi3Warning) && fz_energy_read(s, get_reals, after))
+    if (undriven && (st == fmi3OK || st == fmi3Warning) && fz_energy_read(s, get_reals, get_int, after))
         fz_energy_check(s, before, after, tc, h);
 }
 

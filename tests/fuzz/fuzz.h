@@ -216,9 +216,11 @@ typedef struct {
 /* ---- the energy property of an undriven run (energy.c) ----
  * In a Co-Simulation run with no excitation (a = 0, constant inputs) kinetic + elastic energy never
  * grows beyond the tolerance: kinetic + E_contact + W_dissipated + W0 y is constant. */
-#define FZ_ENERGY_VALUES 12
+#define FZ_ENERGY_VALUES 15
 /* Read n Reals (0: OK): each interface's fmi2GetReal or fmi3GetFloat64. */
 typedef int (*fz_get_reals)(fz_slot *s, const unsigned *vr, size_t n, double *x);
+/* Read one Integer or enumeration (0: OK): fmi2GetInteger or fmi3GetInt64. */
+typedef int (*fz_get_int)(fz_slot *s, unsigned vr, long *value);
 /* After every call on slot s (the dispatcher): a new instance starts a run, and a call that drives
  * the run (fz_call.energy) ends its checks. */
 void fz_energy_after_call(fz_slot *s, const fz_call *call, unsigned mask_before);
@@ -226,7 +228,7 @@ void fz_energy_after_call(fz_slot *s, const fz_call *call, unsigned mask_before)
 void fz_energy_tolerance(fz_slot *s, int defined, double tolerance);
 /* The values the check needs, before or after a step; 0 when the slot's run is not checked (driven,
  * not Co-Simulation, not in Step Mode, a != 0 or V != 0, a value unread or not finite). */
-int fz_energy_read(fz_slot *s, fz_get_reals get, double x[FZ_ENERGY_VALUES]);
+int fz_energy_read(fz_slot *s, fz_get_reals get, fz_get_int get_int, double x[FZ_ENERGY_VALUES]);
 /* The check of the step [t, t + h] from the values before (a) and after (b) it; a finding when the
  * balance grew beyond the tolerance. */
 void fz_energy_check(const fz_slot *s, const double a[FZ_ENERGY_VALUES], const double b[FZ_ENERGY_VALUES],
