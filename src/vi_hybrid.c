@@ -14,6 +14,41 @@ void vi_hybrid_bind(vi_hybrid *h, vi_model *model, vi_hybrid_state *st, int inte
     *h = (vi_hybrid){.model = model, .st = st, .integrates_y = integrates_y, .log = log, .log_env = log_env};
 }
 
+int vi_hybrid_setup(vi_hybrid *h, const vi_model_params *p, double t0, char *msg, size_t n)
+{
+    return vi_model_setup(h->model, p, t0, msg, n);
+}
+
+int vi_hybrid_set_rolling(vi_hybrid *h, const vi_profile *profile, double V, double x0, char *msg, size_t n)
+{
+    return vi_model_set_rolling(h->model, profile, V, x0, msg, n);
+}
+
+void vi_hybrid_prepare(vi_hybrid *h, double t, vi_ramp yC_in, vi_ramp F_ext, int init, double v0, double x[2])
+{
+    vi_hybrid_hold_inputs(h, yC_in, F_ext);
+    vi_model_initial_state(h->model, init, v0, t, x);
+    memset(h->st, 0, sizeof *h->st);
+    h->st->t_count = t;
+}
+
+void vi_hybrid_hold_inputs(vi_hybrid *h, vi_ramp yC_in, vi_ramp F_ext)
+{
+    h->model->yC_in = yC_in;
+    h->model->F_ext = F_ext;
+}
+
+void vi_hybrid_follow_inputs(vi_hybrid *h, double t, double x[2], vi_ramp yC_in, vi_ramp F_ext)
+{
+    vi_model_set_inputs(h->model, t, x, yC_in, F_ext);
+}
+
+void vi_hybrid_write_down(vi_hybrid *h, double t, const double x[2])
+{
+    double copy[2] = {x[0], x[1]};
+    vi_model_freeze(h->model, t, copy);
+}
+
 void vi_hybrid_start(vi_hybrid *h, double rtol, const double atol[2], double t, const double x[2])
 {
     vi_hybrid_state *st = h->st;
