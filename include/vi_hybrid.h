@@ -29,7 +29,10 @@
  *   event t=<s> kind=guard guard=<g> mode=<a>-><b> delta=<m> v=<m/s>
  *   event t=<s> kind=input mode=<a>-><b>
  *   event t=<s> kind=kink mode=<a>-><b>
- * t with 17 significant digits; input and kink lines only when the mode changes.
+ * t with 17 significant digits; input and kink lines only when the mode changes. The engine is
+ * sized by the model's contacts: VI_NGUARDS guards and bands, VI_CONTACT_NGUARDS per contact; guard
+ * g belongs to contact g / VI_CONTACT_NGUARDS, and a guard line's modes are that contact's (input and
+ * kink lines: the lower contact's).
  */
 #ifndef VI_HYBRID_H
 #define VI_HYBRID_H
@@ -74,8 +77,8 @@ void vi_hybrid_bind(vi_hybrid *h, vi_model *model, vi_hybrid_state *st, int inte
 /* The model as the engine runs it, and the engine's state: read-only views. */
 static inline const vi_model *vi_hybrid_model(const vi_hybrid *h) { return h->model; }
 static inline const vi_hybrid_state *vi_hybrid_state_of(const vi_hybrid *h) { return h->st; }
-/* The mode in force (VI_MODE_*), and the state events so far. */
-static inline int vi_hybrid_mode(const vi_hybrid *h) { return h->model->mode; }
+/* The lower contact's mode (VI_MODE_*, the output `mode`), and the state events so far. */
+static inline int vi_hybrid_mode(const vi_hybrid *h) { return vi_model_mode(h->model); }
 static inline long vi_hybrid_event_count(const vi_hybrid *h) { return h->st->n_events; }
 /* The inputs the model runs, as ramps. */
 static inline void vi_hybrid_inputs(const vi_hybrid *h, vi_ramp *yC_in, vi_ramp *F_ext)
@@ -155,12 +158,13 @@ int vi_hybrid_input_jump(vi_hybrid *h, double t, double x[2], vi_ramp yC_in, vi_
 /* A kink of the rolling profile at t (the platform velocity jumps): choose the mode afresh, log a
  * change, reset and arm the bands. */
 void vi_hybrid_kink(vi_hybrid *h, double t, double x[2]);
-/* A state event at t: guard `fired` of the current mode reached zero. located: snap onto its surface
- * (vi_model_event); else choose the mode of the state as it is (freeze, vi_model_resolve). The mode
- * is chosen with the inputs' ramps the guards see (one notion of the platform's rate: a guard cannot
- * fire again at the same instant because the choice saw another rate). Counts and logs the event; a change of mode resets the bands,
- * grazing disarms the guard that fired. Returns the mode before. The driver then arms the guards at
- * zero (vi_hybrid_arm_at_zero) at the state as its integrator holds it. */
+/* A state event at t: guard `fired` of its contact's current mode reached zero. located: snap onto
+ * its surface (vi_model_event); else choose the modes of the state as it is (freeze,
+ * vi_model_resolve). The mode is chosen with the inputs' ramps the guards see (one notion of the
+ * platform's rate: a guard cannot fire again at the same instant because the choice saw another
+ * rate). Counts and logs the event; a change of the contact's mode resets its bands, grazing
+ * disarms the guard that fired. Returns the contact's mode before. The driver then arms the guards
+ * at zero (vi_hybrid_arm_at_zero) at the state as its integrator holds it. */
 int vi_hybrid_event(vi_hybrid *h, double t, double x[2], int fired, int located);
 /* After a state event at t on guard `fired` of mode `from`: do events accumulate (the Zeno rule)?
  * Then 1, with the message in msg naming the time, the guard and its mode. */

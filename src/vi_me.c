@@ -94,8 +94,8 @@ int vi_me_initialize(vi_me *e)
     double nominal[VI_ME_NSTATES];
     vi_me_nominals(e, nominal);
     r->log(r->log_env, VI_LOG_SOLVER, "Model Exchange: the importer integrates y, v and W_damping (nominals %g m, %g m/s, "
-           "%g J); initial mode %d, delta = %.9g m, v = %.9g m/s", nominal[0], nominal[1], nominal[2], model->mode, d->x[0],
-           d->x[1]);
+           "%g J); initial mode %d, delta = %.9g m, v = %.9g m/s", nominal[0], nominal[1], nominal[2], vi_model_mode(model),
+           d->x[0], d->x[1]);
     return 0;
 }
 
@@ -142,7 +142,7 @@ void vi_me_nominals(const vi_me *e, double nominal[VI_ME_NSTATES])
 {
     const vi_hybrid_state *h = vi_hybrid_state_of(&e->engine);
     for (int i = 0; i < 2; i++) nominal[i] = e->active && h->atol[i] > 0.0 ? h->atol[i] / h->rtol : 1.0;
-    nominal[2] = e->active && h->atol[1] > 0.0 ? model_of(e)->m * nominal[1] * nominal[1] : 1.0; /* m V^2 [J] */
+    nominal[2] = e->active && h->atol[1] > 0.0 ? model_of(e)->body.m * nominal[1] * nominal[1] : 1.0; /* m V^2 [J] */
 }
 
 /* The end of a non-periodic profile at or before t: 1 with the reason in msg. */
@@ -349,8 +349,8 @@ void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
     sync(e);
     const vi_run_data *d = e->d;
     const vi_model *model = model_of(e);
-    double m = model->m, h = d->t - d->step_t0;
-    int stick = model->mode == VI_MODE_STICK;
+    double m = model->body.m, h = d->t - d->step_t0;
+    int stick = vi_model_mode(model) == VI_MODE_STICK;
     double k = stick ? 0.0 : m * vi_model_stiffness_over_mass(model, d->t, d->x); /* dF/ddelta */
     double c = vi_model_damping(model, d->t, d->x), k_per_rate;                 /* dF/ddelta' (delta' = yC' - v) */
     double k_rate = vi_model_stiffness_rate(model, d->t, d->x, &k_per_rate);

@@ -182,22 +182,24 @@ int vi_run_restore(vi_run *r)
 double vi_run_time_scale(const vi_run *r, double *k_out, char *note, size_t n)
 {
     const vi_model *model = vi_hybrid_model(&r->engine);
-    double k = model->mode == VI_MODE_FREE ? 0.0 : vi_run_contact_stiffness(model, r->d->t, r->d->x), at = r->d->x[0], T;
+    const vi_model_contact *c = vi_model_lower(model);
+    double m = model->body.m, at = r->d->x[0], T;
+    double k = c->mode == VI_MODE_FREE ? 0.0 : vi_run_contact_stiffness(model, r->d->t, r->d->x);
     const char *where = "at the indentation";
     if (k > 0.0 && isfinite(k)) {
-        T = sqrt(model->m) / sqrt(k);
+        T = sqrt(m) / sqrt(k);
     } else {
         double L, V;
         vi_model_scales(model, r->d->x, &L, &V);
         T = L / V, at = L, where = "at the indentation scale";
-        k = sqrt(model->m) * (V / L), k *= k; /* m (V/L)^2 without overflow for a tiny m */
+        k = sqrt(m) * (V / L), k *= k; /* m (V/L)^2 without overflow for a tiny m */
     }
-    const vi_johnson *J = &model->johnson;
-    if (model->law == VI_LAW_LINEAR)
-        vi_snprintf(note, n, "sqrt(m/k) = %.3g s (m = %g kg, k = k_spring = %g N/m)", T, model->m, k);
+    const vi_johnson *J = &c->johnson;
+    if (c->law == VI_LAW_LINEAR)
+        vi_snprintf(note, n, "sqrt(m/k) = %.3g s (m = %g kg, k = k_spring = %g N/m)", T, m, k);
     else
         vi_snprintf(note, n, "sqrt(m/k) = %.3g s (m = %g kg, k = %.3g N/m, the law's stiffness %s %.3g m, from E* = %g Pa "
-                    "and R* = %g m)", T, model->m, k, where, at, J->E_star, J->R_star);
+                    "and R* = %g m)", T, m, k, where, at, J->E_star, J->R_star);
     *k_out = k;
     return T;
 }
@@ -212,7 +214,7 @@ static int time_scale_check(vi_run *r)
     if (isfinite(rate * rate)) return 0;
     VI_FAIL(r->msg, sizeof r->msg, "m = %g kg is too small for the contact: its time scale %s makes the rate k/m = "
             "1/T^2 overflow double; use m >= %.3g kg with this contact: the motion of a "
-            "smaller mass cannot be integrated in double precision", vi_hybrid_model(&r->engine)->m, note, k / DBL_MAX * 2.0);
+            "smaller mass cannot be integrated in double precision", vi_hybrid_model(&r->engine)->body.m, note, k / DBL_MAX * 2.0);
 }
 
 
@@ -222,8 +224,9 @@ static int time_scale_check(vi_run *r)
  * unloading would follow the unloading curve, so its stiffness. */
 double vi_run_contact_stiffness(const vi_model *model, double t, const double x[2])
 {
-    if (model->mode == VI_MODE_STICK) return vi_unload_stiffness(&model->unload, model->unload.delta_c);
-    return model->m * vi_model_stiffness_over_mass(model, t, x);
+    const vi_model_contact *c = vi_model_lower(model);
+    if (c->mode == VI_MODE_STICK) return vi_unload_stiffness(&c->unload, c->unload.delta_c);
+    return model->body.m * vi_model_stiffness_over_mass(model, t, x);
 }
 
 /* The contact force averaged over the last step [t0, t]: the impulse over the step divided by it,
@@ -235,8 +238,8 @@ static double mean_force(const vi_run *r)
     const vi_model *model = vi_hybrid_model(&r->engine);
     double h = d->t - d->step_t0;
     if (!(h > 0.0)) return vi_model_force(model, d->t, d->x);
-    double W_mean = model->W0 - vi_ramp_at(&model->F_ext, d->step_t0 + 0.5 * h);
-    return model->m * (d->x[1] - d->step_v0) / h + W_mean;
+    double W_mean = model->body.W0 - vi_ramp_at(&model->F_ext, d->step_t0 + 0.5 * h);
+    return model->body.m * (d->x[1] - d->step_v0) / h + W_mean;
 }
 
 void vi_run_compute_outputs(vi_run *r, unsigned need)

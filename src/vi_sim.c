@@ -54,7 +54,7 @@ static int piece_damping(vi_sim *s, const vi_solver_piece *p)
     const vi_model *model = model_of(s);
     double h = p->tb - p->ta, sum = 0.0, x[2];
     int onset = p->xa[0] == 0.0 && vi_model_damping_root_at_onset(model);
-    for (int i = 0; i < VI_GAUSS_NODES && model->mode != VI_MODE_FREE; i++) {
+    for (int i = 0; i < VI_GAUSS_NODES && vi_model_mode(model) != VI_MODE_FREE; i++) {
         double u = gauss_t[i], u3 = u * u * u, t = p->ta + h * (onset ? u3 * u : u);
         if (vi_solver_piece_at(p, t, x, NULL) < 0) return -1;
         sum += gauss_w[i] * (onset ? 4.0 * u3 : 1.0) * vi_model_contact_power(model, t, x);
@@ -196,7 +196,7 @@ static int create_solver(vi_sim *s, int resume)
         const vi_model *model = model_of(s);
         vi_snprintf(s->r->msg, sizeof s->r->msg, "could not create the solver at t = %.17g s: no first step from the initial "
                     "state (the load's acceleration (P + m g - F_ext)/m = %g m/s2)", d->t,
-                    (model->W0 - vi_ramp_at(&model->F_ext, d->t)) / model->m);
+                    (model->body.W0 - vi_ramp_at(&model->F_ext, d->t)) / model->body.m);
         append_cause(s, 0.0);
         size_t used = strlen(s->r->msg);
         vi_snprintf(s->r->msg + used, sizeof s->r->msg - used, "; raise m, or lower P or the contact's stiffness");
@@ -277,7 +277,7 @@ static void apply_inputs(vi_sim *s)
 /* What to change: raise m or soften the contact. */
 static const char *remedy(const vi_model *model)
 {
-    return model->law == VI_LAW_LINEAR ? "raise m or lower k_spring" : "raise m or soften the contact (E1, E2, R1, R2)";
+    return vi_model_lower(model)->law == VI_LAW_LINEAR ? "raise m or lower k_spring" : "raise m or soften the contact (E1, E2, R1, R2)";
 }
 
 /* Append to s->r->msg what the contact's time scale says: whether it is too short for the time resolution
