@@ -20,13 +20,19 @@
  * delta = yC(t) - y in Model Exchange (vi_hybrid_bind's integrates_y), so the noise is that of the numbers
  * actually integrated.
  *
+ * The engine owns the model's state and its own: nothing outside this header and the model writes
+ * them (the functions under "the engine's state" below set up, restore and feed them).
+ *
  * The event log (category VI_LOG_EVENTS) has one line per event, key=value pairs separated by
  * single spaces (doc/model.md, "The event log"):
  *   event t=<s> kind=start mode=<m> delta=<m> v=<m/s>
  *   event t=<s> kind=guard guard=<g> mode=<a>-><b> delta=<m> v=<m/s>
  *   event t=<s> kind=input mode=<a>-><b>
  *   event t=<s> kind=kink mode=<a>-><b>
- * t with 17 significant digits; input and kink lines only when the mode changes.
+ * t with 17 significant digits; input and kink lines only when the mode changes. The engine is
+ * sized by the model's contacts: VI_NGUARDS guards and bands, VI_CONTACT_NGUARDS per contact; guard
+ * g belongs to contact g / VI_CONTACT_NGUARDS, and a guard line's modes are that contact's (input and
+ * kink lines: the lower contact's).
  */
 #ifndef VI_HYBRID_H
 #define VI_HYBRID_H
@@ -62,6 +68,44 @@ typedef struct {
 } vi_hybrid;
 
 void vi_hybrid_bind(vi_hybrid *h, vi_model *model, vi_hybrid_state *st, int integrates_y, vi_log_fn log, void *log_env);
+
+/* ---- the engine's state ---------------------------------------------------------------------------
+ * The model (its constants, inputs, mode and memory) and the engine's own state (vi_hybrid_state)
+ * change only through the functions of this header: the run sets them up and restores them, the
+ * drivers set inputs and call the events. Everyone reads them through the views below. */
+
+/* The model as the engine runs it, and the engine's state: read-only views. */
+static inline const vi_model *vi_hybrid_model(const vi_hybrid *h) { return h->model; }
+static inline const vi_hybrid_state *vi_hybrid_state_of(const vi_hybrid *h) { return h->st; }
+/* The lower contact's mode (VI_MODE_*, the output `mode`), and the state events so far. */
+static inline int vi_hybrid_mode(const vi_hybrid *h) { return vi_model_mode(h->model); }
+static inline long vi_hybrid_event_count(const vi_hybrid *h) { return h->st->n_events; }
+/* The inputs the model runs, as ramps. */
+static inline void vi_hybrid_inputs(const vi_hybrid *h, vi_ramp *yC_in, vi_ramp *F_ext)
+{
+    *yC_in = h->model->yC_in;
+    *F_ext = h->model->F_ext;
+}
+/* Set the model up from its parameters at the start time t0 (vi_model_setup): 0, or -1 with msg. */
+int vi_hybrid_setup(vi_hybrid *h, const vi_model_params *p, double t0, char *msg, size_t n);
+/* Roll over profile (NULL: none) at speed V from x0 (vi_model_set_rolling): at set-up, and after a
+ * restore, which never trusts the profile pointer of a saved state. 0, or -1 with msg. */
+int vi_hybrid_set_rolling(vi_hybrid *h, const vi_profile *profile, double V, double x0, char *msg, size_t n);
+/* The initial state at t: the inputs run these ramps, the model starts (vi_model_initial_state: mode,
+ * memory, f_contact, and the state x), and the engine's own state is cleared (no event yet, the Zeno
+ * count from t; the tolerances come with vi_hybrid_start). */
+void vi_hybrid_prepare(vi_hybrid *h, double t, vi_ramp yC_in, vi_ramp F_ext, int init, double v0, double x[2]);
+/* The inputs run these ramps, taken as they are: the state and the mode stay (Model Exchange restates
+ * the initial inputs at the rates it runs). */
+void vi_hybrid_hold_inputs(vi_hybrid *h, vi_ramp yC_in, vi_ramp F_ext);
+/* Continuous-time inputs (Model Exchange): from t on the inputs run these ramps, delta moves with the
+ * platform while the mass stays (vi_model_set_inputs); nothing is written down and no mode chosen
+ * (the event indicators flag a jump that contradicts the mode). */
+void vi_hybrid_follow_inputs(vi_hybrid *h, double t, double x[2], vi_ramp yC_in, vi_ramp F_ext);
+/* Write down the memory that tracks the state at (t, x) (vi_model_freeze on a copy of x: the state
+ * is the integrator's and stays as it is). */
+void vi_hybrid_write_down(vi_hybrid *h, double t, const double x[2]);
+
 /* A simulation starts at (t, x) with these tolerances: no event yet, guards at zero armed. */
 void vi_hybrid_start(vi_hybrid *h, double rtol, const double atol[2], double t, const double x[2]);
 /* Log the initial mode and state (t, x) (kind=start). */
@@ -114,12 +158,13 @@ int vi_hybrid_input_jump(vi_hybrid *h, double t, double x[2], vi_ramp yC_in, vi_
 /* A kink of the rolling profile at t (the platform velocity jumps): choose the mode afresh, log a
  * change, reset and arm the bands. */
 void vi_hybrid_kink(vi_hybrid *h, double t, double x[2]);
-/* A state event at t: guard `fired` of the current mode reached zero. located: snap onto its surface
- * (vi_model_event); else choose the mode of the state as it is (freeze, vi_model_resolve). The mode
- * is chosen with the inputs' ramps the guards see (one notion of the platform's rate: a guard cannot
- * fire again at the same instant because the choice saw another rate). Counts and logs the event; a change of mode resets the bands,
- * grazing disarms the guard that fired. Returns the mode before. The driver then arms the guards at
- * zero (vi_hybrid_arm_at_zero) at the state as its integrator holds it. */
+/* A state event at t: guard `fired` of its contact's current mode reached zero. located: snap onto
+ * its surface (vi_model_event); else choose the modes of the state as it is (freeze,
+ * vi_model_resolve). The mode is chosen with the inputs' ramps the guards see (one notion of the
+ * platform's rate: a guard cannot fire again at the same instant because the choice saw another
+ * rate). Counts and logs the event; a change of the contact's mode resets its bands, grazing
+ * disarms the guard that fired. Returns the contact's mode before. The driver then arms the guards
+ * at zero (vi_hybrid_arm_at_zero) at the state as its integrator holds it. */
 int vi_hybrid_event(vi_hybrid *h, double t, double x[2], int fired, int located);
 /* After a state event at t on guard `fired` of mode `from`: do events accumulate (the Zeno rule)?
  * Then 1, with the message in msg naming the time, the guard and its mode. */

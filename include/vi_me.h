@@ -18,7 +18,8 @@
  * LEPP flow) it equals delta (delta_c = delta, delta_p = delta - delta_Y) beyond what was written
  * down, and it is written down when that mode is left (vi_model_freeze).
  *
- * Event indicators: the VI_NGUARDS guards of the current mode (vi_model.h: contact, separation,
+ * Event indicators: the VI_NGUARDS guards of the contacts' current modes, VI_CONTACT_NGUARDS per
+ * contact (vi_model.h: contact, separation,
  * yield, Johnson turning point, stick entry and exit, LEPP flow start and end), each > 0 inside the
  * mode; a guard that starts at zero after an event is lifted by its rounding noise and a guard that
  * fired without a change of mode (grazing) by its band (vi_hybrid.h, the event engine both drivers

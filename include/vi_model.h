@@ -1,6 +1,12 @@
 /*
  * vi_model.h - the hybrid model of a mass pressed onto a vibrating platform (no solver, no FMI).
  *
+ * The model is a body (vi_body: the mass, its load, its state y, v) on a platform, and a list of
+ * contacts (vi_model_contact: each with its law, the law's parameters, its memory, its mode and its
+ * guards), today one: the lower contact, the body on the platform. The force on the body is the
+ * lower contact's less that of each further contact; the outputs (F, mode, the memory) are the
+ * lower contact's. The laws themselves are pure functions (vi_contact.h, vi_laws.h).
+ *
  * Continuous state x = (delta, v): indentation delta = yC - y [m] and mass velocity v [m/s]
  * (the indentation, not y, is integrated: it stays exact when yC carries a large offset).
  *
@@ -22,7 +28,8 @@
  * turning point, F = F_hold = W + m yC''). The damped laws (hertz_damped, linear; vi_laws.h) have
  * modes 0 and 1 only, with a force that depends on delta' as well.
  *
- * Each mode has up to VI_NGUARDS guard functions g >= 0; the mode is left when a guard falls
+ * Each mode of a contact has up to VI_CONTACT_NGUARDS guard functions g >= 0 (the model's
+ * VI_NGUARDS are those of all its contacts, contact by contact); the mode is left when a guard falls
  * through zero (CVODE root direction -1 for all). vi_model.c defines each mode's guards once
  * (mode_guards: how each is measured and the surface of delta it belongs to), and the guard values,
  * the state check (vi_model_check), the events and the guard names all read that definition:
@@ -53,7 +60,7 @@
 #include "vi_laws.h"
 #include "vi_profile.h"
 
-#define VI_NGUARDS 2
+#define VI_CONTACT_NGUARDS 2
 
 /* Contact laws, modes (doc/model.md section 3) and initial states; the FMU's enumerations
  * ContactModel, Mode and Init have these values. */
@@ -99,28 +106,29 @@ typedef struct {
 /* The ramp's value at time t. */
 static inline double vi_ramp_at(const vi_ramp *r, double t) { return r->u + r->du * (t - r->t); }
 
+/* The body: a mass pressed down by a load. Its state is its position y [m] and velocity v [m/s]; the
+ * model integrates it as x = (delta, v), delta = yC - y the lower contact's indentation (exact when
+ * yC carries a large offset), and y = yC - delta. */
 typedef struct {
-    /* constants, from the parameters (vi_model_setup) */
+    double m;  /* mass [kg] */
+    double W0; /* the load's constant part P + m g [N] (W(t) = W0 - F_ext(t)) */
+} vi_body;
+
+/* One contact of the body with a surface: its law with the law's constants, its memory and its mode.
+ * Each mode has VI_CONTACT_NGUARDS guards (vi_model.c, mode_guards), the contact's; the model's
+ * guard i belongs to contact i / VI_CONTACT_NGUARDS. The contact's indentation is the state's
+ * delta = x[0] (the lower contact) and its rate yC' - v; vi_model.c's per-contact functions
+ * (contact_force, contact_stiffness, contact_guards, resolve) take the contact and the state. */
+typedef struct {
+    /* the law and its constants, from the parameters (vi_model_setup) */
     int law;       /* VI_LAW_* */
     int moving;    /* Johnson with a moving contact point */
     int unloading; /* VI_UNLOAD_PAPER or VI_UNLOAD_CONTINUOUS */
-    double m, W0;  /* mass [kg], P + m g [N] */
     double K;      /* Hertz constant [N/m^1.5] */
     vi_johnson johnson;  /* E*, R*, theta_Y, F_Y, delta_Y */
     double k_lin;  /* F_Y/delta_Y [N/m] */
-    double a, omega, t0; /* harmonic excitation: amplitude [m], 2 pi f [rad/s]; start time [s] */
-    double phi0, t_phi;  /* phase reference: phi(t) = phi0 + omega (t - t_phi) [rad, s] (state: tunable f) */
-    double f_contact;    /* linearised contact resonance at the initial static load [Hz] (initial state) */
-    double V, x0;        /* rolling speed [m/s] and position on the profile at t0 [m] */
-    /* The profile (owned by the simulation, not the model). A pointer inside the FMU state: never
-     * trusted from a saved state; the simulation attaches its own after setup and after every
-     * restore (vi_model_set_rolling). NULL: no profile, yb = 0. */
-    const vi_profile *profile;
     vi_damped_hertz damped;  /* damped Hertz: K, alpha sqrt(m K) or chi */
     vi_linear_law linear;    /* linear spring-dashpot: k, c */
-
-    /* inputs */
-    vi_ramp yC_in, F_ext;
 
     /* discrete state */
     int mode;          /* VI_MODE_* */
@@ -129,8 +137,42 @@ typedef struct {
     double delta_p;    /* LEPP permanent set [m] (in mode 2 it is delta - delta_Y) */
     double V_i;        /* damped Hertz, published forms: approach speed at the onset of this contact [m/s]
                         * (0: a contact present at a static start, undamped until it ends) */
-    long n_impacts;
+    long n_impacts;    /* contact onsets */
+} vi_model_contact;
+
+/* The contacts of the model, in its list: the lower contact, delta = yC - y (contact 0). The engine
+ * (vi_hybrid.h), the solver's guards and Model Exchange's event indicators are sized by it:
+ * VI_CONTACT_NGUARDS guards per contact. */
+#define VI_NCONTACTS 1
+#define VI_LOWER 0
+
+typedef struct {
+    vi_body body;
+    /* the platform, from the parameters (vi_model_setup) */
+    double a, omega, t0; /* harmonic excitation: amplitude [m], 2 pi f [rad/s]; start time [s] */
+    double phi0, t_phi;  /* phase reference: phi(t) = phi0 + omega (t - t_phi) [rad, s] (state: tunable f) */
+    double f_contact;    /* linearised contact resonance at the initial static load [Hz] (initial state) */
+    double V, x0;        /* rolling speed [m/s] and position on the profile at t0 [m] */
+    /* The profile (owned by the simulation, not the model). A pointer inside the FMU state: never
+     * trusted from a saved state; the simulation attaches its own after setup and after every
+     * restore (vi_model_set_rolling). NULL: no profile, yb = 0. */
+    const vi_profile *profile;
+
+    /* inputs */
+    vi_ramp yC_in, F_ext;
+
+    /* the contacts (VI_NCONTACTS): the body against the platform's surfaces */
+    vi_model_contact contact[VI_NCONTACTS];
 } vi_model;
+
+/* The lower contact (the body on the platform): the contact whose mode, force and memory are the
+ * outputs. */
+static inline const vi_model_contact *vi_model_lower(const vi_model *model) { return &model->contact[VI_LOWER]; }
+/* The mode of the lower contact (the output `mode`). */
+static inline int vi_model_mode(const vi_model *model) { return model->contact[VI_LOWER].mode; }
+
+/* The model's guards: VI_CONTACT_NGUARDS per contact. */
+#define VI_NGUARDS (VI_CONTACT_NGUARDS * VI_NCONTACTS)
 
 /* Derive the constants from the parameters. Each parameter lies in its range of the variable table
  * (finite, m > 0, -1 < nu <= 0.5, enumerations one of their items, ...: the FMI layer refuses any
@@ -238,9 +280,11 @@ double vi_model_force_rate(const vi_model *model, double t, const double x[2], c
  * (delta' = 0, v' = yC''), so that a Newton iteration keeps delta exactly on delta_c. */
 void vi_model_jacobian(const vi_model *model, double t, const double x[2], double j[4]);
 void vi_model_guards(const vi_model *model, double t, const double x[2], double g[VI_NGUARDS]);
-/* What guard `guard` of `mode` watches, in words ("separation", "the turning point", ...; "none" for a
- * guard the mode does not use). */
+/* What guard `guard` (of the model's VI_NGUARDS) watches in `mode` of its contact, in words
+ * ("separation", "the turning point", ...; "none" for a guard the mode does not use). */
 const char *vi_model_guard_name(const vi_model *model, int mode, int guard);
+/* The mode of the contact guard `guard` belongs to. */
+int vi_model_guard_mode(const vi_model *model, int guard);
 
 /* The memory outputs never fall below the memory written down: while loading plastically delta_c is
  * max(delta, delta_c written), the LEPP set max(delta - delta_Y, delta_p written) (an importer's state may

@@ -4,7 +4,8 @@
  * and the validity warnings. The Co-Simulation driver (vi_sim.h) integrates it with its own solver;
  * the Model Exchange driver (vi_me.h) lets the importer integrate it. Neither driver calls the
  * other: each works on a vi_run and its own data; each driver holds an event engine (vi_hybrid.h)
- * bound to the run's model and engine state. Nothing here integrates, and nothing here knows FMI:
+ * bound to the run's model and engine state, and changes them only through the engine's functions
+ * (the run too: it sets the model up and restores it through its own view of the engine). Nothing here integrates, and nothing here knows FMI:
  * the settings and inputs come from a source (the FMU's instance, vi_contact_instance.h, maps its
  * variables onto them).
  *
@@ -86,6 +87,7 @@ typedef struct {
 
 typedef struct {
     vi_run_data *d;
+    vi_hybrid engine;    /* the run's view of the event engine over d (set-up, restore, reads) */
     vi_run_source src;
     vi_run_settings set; /* as last taken from the source (vi_run_prepare, vi_run_restore) */
     unsigned out_valid;  /* the groups of outputs (VI_OUT_*) out holds at the current d */

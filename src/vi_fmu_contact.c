@@ -90,7 +90,7 @@ static void terminate(void *m)
     const contact_instance *inst = m;
     const vi_sim *s = &inst->s;
     if (inst->e.active) {
-        s->log(s->log_env, VI_LOG_SOLVER, "Model Exchange statistics: %ld events", inst->d.run.events.n_events);
+        s->log(s->log_env, VI_LOG_SOLVER, "Model Exchange statistics: %ld events", vi_hybrid_event_count(&inst->r.engine));
         return;
     }
     vi_solver_stats st;
@@ -99,7 +99,7 @@ static void terminate(void *m)
            "%s statistics: %ld steps, %ld rhs evaluations, %ld Jacobian evaluations, %ld nonlinear iterations, "
            "%ld nonlinear failures, %ld error test failures, %ld guard evaluations, %ld restarts, %ld events",
            st.method ? st.method : "solver", st.steps, st.rhs_evals, st.jac_evals, st.nonlin_iters, st.nonlin_fails, st.err_test_fails, st.guard_evals,
-           st.resets, inst->d.run.events.n_events);
+           st.resets, vi_hybrid_event_count(&inst->r.engine));
 }
 
 static void *state(void *m) { return &((contact_instance *)m)->d; }

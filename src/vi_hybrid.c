@@ -14,6 +14,41 @@ void vi_hybrid_bind(vi_hybrid *h, vi_model *model, vi_hybrid_state *st, int inte
     *h = (vi_hybrid){.model = model, .st = st, .integrates_y = integrates_y, .log = log, .log_env = log_env};
 }
 
+int vi_hybrid_setup(vi_hybrid *h, const vi_model_params *p, double t0, char *msg, size_t n)
+{
+    return vi_model_setup(h->model, p, t0, msg, n);
+}
+
+int vi_hybrid_set_rolling(vi_hybrid *h, const vi_profile *profile, double V, double x0, char *msg, size_t n)
+{
+    return vi_model_set_rolling(h->model, profile, V, x0, msg, n);
+}
+
+void vi_hybrid_prepare(vi_hybrid *h, double t, vi_ramp yC_in, vi_ramp F_ext, int init, double v0, double x[2])
+{
+    vi_hybrid_hold_inputs(h, yC_in, F_ext);
+    vi_model_initial_state(h->model, init, v0, t, x);
+    memset(h->st, 0, sizeof *h->st);
+    h->st->t_count = t;
+}
+
+void vi_hybrid_hold_inputs(vi_hybrid *h, vi_ramp yC_in, vi_ramp F_ext)
+{
+    h->model->yC_in = yC_in;
+    h->model->F_ext = F_ext;
+}
+
+void vi_hybrid_follow_inputs(vi_hybrid *h, double t, double x[2], vi_ramp yC_in, vi_ramp F_ext)
+{
+    vi_model_set_inputs(h->model, t, x, yC_in, F_ext);
+}
+
+void vi_hybrid_write_down(vi_hybrid *h, double t, const double x[2])
+{
+    double copy[2] = {x[0], x[1]};
+    vi_model_freeze(h->model, t, copy);
+}
+
 void vi_hybrid_start(vi_hybrid *h, double rtol, const double atol[2], double t, const double x[2])
 {
     vi_hybrid_state *st = h->st;
@@ -74,7 +109,8 @@ void vi_hybrid_rearm_banded(vi_hybrid *h, double t, const double x[2])
 
 void vi_hybrid_log_start(const vi_hybrid *h, double t, const double x[2])
 {
-    h->log(h->log_env, VI_LOG_EVENTS, "event t=%.17g kind=start mode=%d delta=%.9g v=%.9g", t, h->model->mode, x[0], x[1]);
+    h->log(h->log_env, VI_LOG_EVENTS, "event t=%.17g kind=start mode=%d delta=%.9g v=%.9g", t, vi_model_mode(h->model),
+           x[0], x[1]);
 }
 
 void vi_hybrid_arm_at_zero(vi_hybrid *h, double t, const double x[2])
@@ -122,8 +158,8 @@ static void take_inputs(vi_hybrid *h, double t, double x[2], vi_ramp yC_in, vi_r
  * the guards at zero. */
 static void mode_chosen(vi_hybrid *h, const char *kind, int from, double t, const double x[2])
 {
-    if (h->model->mode != from) {
-        h->log(h->log_env, VI_LOG_EVENTS, "event t=%.17g kind=%s mode=%d->%d", t, kind, from, h->model->mode);
+    if (vi_model_mode(h->model) != from) {
+        h->log(h->log_env, VI_LOG_EVENTS, "event t=%.17g kind=%s mode=%d->%d", t, kind, from, vi_model_mode(h->model));
         memset(h->st->band, 0, sizeof h->st->band);
     }
     vi_hybrid_arm_at_zero(h, t, x);
@@ -132,7 +168,7 @@ static void mode_chosen(vi_hybrid *h, const char *kind, int from, double t, cons
 int vi_hybrid_input_jump(vi_hybrid *h, double t, double x[2], vi_ramp yC_in, vi_ramp F_ext, double a, double f)
 {
     vi_model *model = h->model;
-    int from = model->mode;
+    int from = vi_model_mode(model);
     if (!vi_hybrid_inputs_differ(h, t, yC_in, F_ext) && !vi_model_excitation_differs(model, a, f)) return 0;
     take_inputs(h, t, x, yC_in, F_ext);
     vi_model_set_excitation(model, t, x, a, f); /* a new a moves the platform (delta with it), the mass stays */
@@ -143,7 +179,7 @@ int vi_hybrid_input_jump(vi_hybrid *h, double t, double x[2], vi_ramp yC_in, vi_
 
 void vi_hybrid_kink(vi_hybrid *h, double t, double x[2])
 {
-    int from = h->model->mode;
+    int from = vi_model_mode(h->model);
     vi_model_breakpoint(h->model, t, x);
     mode_chosen(h, "kink", from, t, x);
 }
@@ -161,19 +197,27 @@ static void choose(vi_model *model, double t, double x[2], int fired, int locate
     }
 }
 
+/* The bands of the guards of the contact guard `fired` belongs to are cleared (its mode changed). */
+static void clear_bands(vi_hybrid_state *st, int fired)
+{
+    int first = fired / VI_CONTACT_NGUARDS * VI_CONTACT_NGUARDS;
+    for (int i = first; i < first + VI_CONTACT_NGUARDS; i++) st->band[i] = 0.0;
+}
+
 int vi_hybrid_event(vi_hybrid *h, double t, double x[2], int fired, int located)
 {
     vi_model *model = h->model;
     vi_hybrid_state *st = h->st;
-    int from = model->mode;
+    int from = vi_model_guard_mode(model, fired);
     choose(model, t, x, fired, located);
     st->n_events++;
     st->zeno = vi_hybrid_zeno_count(st->zeno, st->t_count, t);
     st->t_count = t;
+    int to = vi_model_guard_mode(model, fired);
     h->log(h->log_env, VI_LOG_EVENTS, "event t=%.17g kind=guard guard=%d mode=%d->%d delta=%.9g v=%.9g", t, fired, from,
-           model->mode, x[0], x[1]);
-    if (model->mode != from) {
-        memset(st->band, 0, sizeof st->band);
+           to, x[0], x[1]);
+    if (to != from) {
+        clear_bands(st, fired);
     } else {
         double ulps[VI_NGUARDS], tol[VI_NGUARDS];
         vi_hybrid_rearm(h, t, x);

@@ -10,6 +10,9 @@
 
 static double platform(const vi_model *model, double t) { return vi_model_platform(model, t, NULL, NULL); }
 
+/* The model as the engine runs it (read only: the engine changes it). */
+static inline const vi_model *model_of(const vi_me *e) { return vi_hybrid_model(&e->engine); }
+
 /* The inputs from t on: their values (Model Exchange passes no derivatives: F_ext is held); yC_in at
  * the rate vC_in with velocity_input (vi_run_input_ramps), else at the rate estimated at the last
  * completed step. */
@@ -38,8 +41,8 @@ static void sync(vi_me *e)
     if (!e->stale && !take) return;
     e->stale = 0;
     e->r->out_valid = 0;
-    if (take) vi_model_set_inputs(&d->model, d->t, d->x, yC_in, F_ext);
-    d->x[0] = platform(&d->model, d->t) - e->own->y_me; /* the importer holds y: delta follows from it */
+    if (take) vi_hybrid_follow_inputs(&e->engine, d->t, d->x, yC_in, F_ext);
+    d->x[0] = platform(model_of(e), d->t) - e->own->y_me; /* the importer holds y: delta follows from it */
 }
 
 /* A step completed or an event handled at the current time: the next step starts here. */
@@ -48,7 +51,7 @@ static void mark_step(vi_me *e)
     vi_run_data *d = e->d;
     d->step_t0 = d->t;
     d->step_v0 = d->x[1];
-    e->own->step_u0 = vi_ramp_at(&d->model.yC_in, d->t);
+    e->own->step_u0 = vi_ramp_at(&model_of(e)->yC_in, d->t);
 }
 
 void vi_me_init(vi_me *e, vi_run *r, vi_me_data *d)
@@ -71,13 +74,15 @@ int vi_me_initialize(vi_me *e)
     vi_run *r = e->r;
     if (vi_run_prepare(r) < 0) return -1;
     vi_run_data *d = r->d;
-    vi_model *model = &d->model;
+    const vi_model *model = model_of(e);
     double rtol, atol[2];
+    vi_ramp yC_in, F_ext;
     vi_run_tolerances(r, &rtol, atol); /* the scales of the initial state as prepared */
     d->initialized = 1;
     vi_run_warn_settings(r);
     e->own->yC_in_rate = 0.0;
-    input_ramps(e, d->t, &model->yC_in, &model->F_ext);
+    input_ramps(e, d->t, &yC_in, &F_ext);
+    vi_hybrid_hold_inputs(&e->engine, yC_in, F_ext);
     mark_step(e);
     e->warned_rate = 0;
     e->own->y_me = platform(model, d->t) - d->x[0];
@@ -89,8 +94,8 @@ int vi_me_initialize(vi_me *e)
     double nominal[VI_ME_NSTATES];
     vi_me_nominals(e, nominal);
     r->log(r->log_env, VI_LOG_SOLVER, "Model Exchange: the importer integrates y, v and W_damping (nominals %g m, %g m/s, "
-           "%g J); initial mode %d, delta = %.9g m, v = %.9g m/s", nominal[0], nominal[1], nominal[2], model->mode, d->x[0],
-           d->x[1]);
+           "%g J); initial mode %d, delta = %.9g m, v = %.9g m/s", nominal[0], nominal[1], nominal[2], vi_model_mode(model),
+           d->x[0], d->x[1]);
     return 0;
 }
 
@@ -103,7 +108,7 @@ void vi_me_set_time(vi_me *e, double t)
 void vi_me_get_states(vi_me *e, double x[VI_ME_NSTATES])
 {
     const vi_run_data *d = e->d;
-    x[0] = e->active ? e->own->y_me : platform(&d->model, d->t) - d->x[0]; /* before: the initial state prepared */
+    x[0] = e->active ? e->own->y_me : platform(model_of(e), d->t) - d->x[0]; /* before: the initial state prepared */
     x[1] = d->x[1];
     x[2] = d->W_damping;
 }
@@ -121,10 +126,10 @@ void vi_me_derivatives(vi_me *e, double dx[VI_ME_NSTATES])
     sync(e);
     const vi_run_data *d = e->d;
     double r[2];
-    vi_model_rhs(&d->model, d->t, d->x, r);
+    vi_model_rhs(model_of(e), d->t, d->x, r);
     dx[0] = d->x[1];
     dx[1] = r[1];
-    dx[2] = vi_model_damping_power(&d->model, d->t, d->x).P;
+    dx[2] = vi_model_damping_power(model_of(e), d->t, d->x).P;
 }
 
 void vi_me_indicators(vi_me *e, double z[VI_ME_NINDICATORS])
@@ -135,9 +140,9 @@ void vi_me_indicators(vi_me *e, double z[VI_ME_NINDICATORS])
 
 void vi_me_nominals(const vi_me *e, double nominal[VI_ME_NSTATES])
 {
-    const vi_hybrid_state *h = &e->d->events;
+    const vi_hybrid_state *h = vi_hybrid_state_of(&e->engine);
     for (int i = 0; i < 2; i++) nominal[i] = e->active && h->atol[i] > 0.0 ? h->atol[i] / h->rtol : 1.0;
-    nominal[2] = e->active && h->atol[1] > 0.0 ? e->d->model.m * nominal[1] * nominal[1] : 1.0; /* m V^2 [J] */
+    nominal[2] = e->active && h->atol[1] > 0.0 ? model_of(e)->body.m * nominal[1] * nominal[1] : 1.0; /* m V^2 [J] */
 }
 
 /* The end of a non-periodic profile at or before t: 1 with the reason in msg. */
@@ -154,13 +159,14 @@ static void time_events(vi_me *e, double x[2])
     double t = d->t;
     double a, f;
     vi_run_excitation(e->r, &a, &f);
-    if (d->inputs_changed || vi_model_excitation_differs(&d->model, a, f)) {
-        vi_ramp yC_in = d->model.yC_in, F_ext = d->model.F_ext;
+    if (d->inputs_changed || vi_model_excitation_differs(model_of(e), a, f)) {
+        vi_ramp yC_in, F_ext;
+        vi_hybrid_inputs(&e->engine, &yC_in, &F_ext);
         if (d->inputs_changed) input_ramps(e, t, &yC_in, &F_ext);
         d->inputs_changed = 0;
         vi_hybrid_input_jump(&e->engine, t, x, yC_in, F_ext, a, f);
     }
-    if (vi_model_next_breakpoint(&d->model, d->step_t0) <= t) vi_hybrid_kink(&e->engine, t, x);
+    if (vi_model_next_breakpoint(model_of(e), d->step_t0) <= t) vi_hybrid_kink(&e->engine, t, x);
 }
 
 /* The first guard at or below zero, as a state event. Returns the guard, or -1 when none fired; *from:
@@ -180,10 +186,10 @@ static void take_state(vi_me *e, const double x[2], vi_me_event *ev)
     vi_run_data *d = e->d;
     if (x[0] != d->x[0] || x[1] != d->x[1]) { /* snapped, frozen onto the platform, or a new a */
         ev->states_changed = 1;
-        e->own->y_me = platform(&d->model, d->t) - x[0];
+        e->own->y_me = platform(model_of(e), d->t) - x[0];
         d->x[1] = x[1];
     }
-    d->x[0] = platform(&d->model, d->t) - e->own->y_me;
+    d->x[0] = platform(model_of(e), d->t) - e->own->y_me;
 }
 
 int vi_me_event_update(vi_me *e, vi_me_event *ev)
@@ -192,12 +198,12 @@ int vi_me_event_update(vi_me *e, vi_me_event *ev)
     memset(ev, 0, sizeof *ev);
     sync(e);
     double t = d->t, x[2] = {d->x[0], d->x[1]};
-    if (past_profile_end(&d->model, t, e->r->msg, sizeof e->r->msg)) {
+    if (past_profile_end(model_of(e), t, e->r->msg, sizeof e->r->msg)) {
         ev->terminate = 1;
         return 0;
     }
     time_events(e, x);
-    int from = d->model.mode, fired = state_event(e, x, &from);
+    int from = vi_hybrid_mode(&e->engine), fired = state_event(e, x, &from);
     take_state(e, x, ev);
     vi_hybrid_arm_at_zero(&e->engine, t, d->x); /* at the state as the importer holds it */
     ev->another_pass = vi_hybrid_due(&e->engine, t, d->x);
@@ -205,7 +211,7 @@ int vi_me_event_update(vi_me *e, vi_me_event *ev)
     vi_run_check_validity(e->r);
     if (fired >= 0 && vi_hybrid_zeno(&e->engine, t, fired, from, e->r->msg, sizeof e->r->msg)) ev->terminate = 1;
     char why[8];
-    double next = fmin(vi_model_next_breakpoint(&d->model, t), vi_model_rolling_limit(&d->model, why, sizeof why));
+    double next = fmin(vi_model_next_breakpoint(model_of(e), t), vi_model_rolling_limit(model_of(e), why, sizeof why));
     if (isfinite(next) && next > t) ev->next_time_defined = 1, ev->next_time = next;
     e->r->out_valid = 0;
     return 0;
@@ -225,8 +231,8 @@ static void estimate_rate(vi_me *e)
     vi_run_data *d = e->d;
     double h = d->t - d->step_t0;
     if (e->r->set.velocity_input || !(h > 0.0)) return;
-    e->own->yC_in_rate = (vi_ramp_at(&d->model.yC_in, d->t) - e->own->step_u0) / h;
-    if (e->own->yC_in_rate != 0.0 && !e->warned_rate && vi_model_uses_rate(&d->model)) {
+    e->own->yC_in_rate = (vi_ramp_at(&model_of(e)->yC_in, d->t) - e->own->step_u0) / h;
+    if (e->own->yC_in_rate != 0.0 && !e->warned_rate && vi_model_uses_rate(model_of(e))) {
         e->warned_rate = 1;
         e->r->log(e->r->log_env, VI_LOG_WARNING, "t = %.17g s: yC_in moves (%g m/s) and velocity_input = false: Model "
                  "Exchange passes no input derivatives, so the platform's rate is estimated from yC_in's change over "
@@ -239,14 +245,13 @@ static void estimate_rate(vi_me *e)
 /* While the platform's rate is an estimate (yC_in moves, velocity_input = false), a plastic motion may
  * go on past its turning point for up to a step: its memory is written down at each completed step,
  * so that delta_c and the permanent set never decrease (the memory outputs are never below what was
- * written down). With a known rate the motion stays plastic only while delta grows. x: a copy (the
- * state is the importer's). */
+ * written down). With a known rate the motion stays plastic only while delta grows. The state stays
+ * the importer's (vi_hybrid_write_down works on a copy). */
 static void write_down(vi_me *e)
 {
     vi_run_data *d = e->d;
-    if (d->model.mode != VI_MODE_PLASTIC || e->r->set.velocity_input || e->own->yC_in_rate == 0.0) return;
-    double x[2] = {d->x[0], d->x[1]};
-    vi_model_freeze(&d->model, d->t, x);
+    if (vi_hybrid_mode(&e->engine) != VI_MODE_PLASTIC || e->r->set.velocity_input || e->own->yC_in_rate == 0.0) return;
+    vi_hybrid_write_down(&e->engine, d->t, d->x);
 }
 
 int vi_me_completed_step(vi_me *e)
@@ -254,7 +259,7 @@ int vi_me_completed_step(vi_me *e)
     vi_run_data *d = e->d;
     char why[8];
     sync(e);
-    if (vi_model_next_breakpoint(&d->model, d->step_t0) <= d->t || past_profile_end(&d->model, d->t, why, sizeof why))
+    if (vi_model_next_breakpoint(model_of(e), d->step_t0) <= d->t || past_profile_end(model_of(e), d->t, why, sizeof why))
         return 1; /* a time event was stepped over: handle it here */
     estimate_rate(e);
     write_down(e);
@@ -275,10 +280,10 @@ const vi_run_values *vi_me_outputs_of(vi_me *e, unsigned groups)
     if (e->active && (groups & VI_OUT_PLATFORM)) run->out.model.y = e->own->y_me; /* the state as set, not yC - delta */
     if ((groups & VI_OUT_DERIVATIVES) && !(run->out_valid & VI_OUT_DERIVATIVES)) {
         double r[2];
-        vi_model_rhs(&d->model, d->t, d->x, r);
+        vi_model_rhs(model_of(e), d->t, d->x, r);
         run->out.der_y = d->x[1];
         run->out.der_v = r[1];
-        run->out.der_W_damping = vi_model_damping_power(&d->model, d->t, d->x).P;
+        run->out.der_W_damping = vi_model_damping_power(model_of(e), d->t, d->x).P;
         run->out_valid |= VI_OUT_DERIVATIVES;
     }
     return out;
@@ -330,8 +335,8 @@ static void energy_rows(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
 {
     const vi_run_data *d = e->d;
     double dE;
-    vi_model_contact_energy(&d->model, d->x, &dE);
-    vi_model_power P = vi_model_damping_power(&d->model, d->t, d->x);
+    vi_model_contact_energy(model_of(e), d->x, &dE);
+    vi_model_power P = vi_model_damping_power(model_of(e), d->t, d->x);
     jac[VI_ME_DER_W] = through_delta(P.dP_ddelta, -P.dP_drate, 0.0, 0.0); /* delta' = yC' - v */
     if (e->r->set.velocity_input) jac[VI_ME_DER_W].vC_in = P.dP_drate;
     jac[VI_ME_W_DISSIPATED] = jac[VI_ME_W_PLASTIC];
@@ -343,9 +348,9 @@ void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
 {
     sync(e);
     const vi_run_data *d = e->d;
-    const vi_model *model = &d->model;
-    double m = model->m, h = d->t - d->step_t0;
-    int stick = model->mode == VI_MODE_STICK;
+    const vi_model *model = model_of(e);
+    double m = model->body.m, h = d->t - d->step_t0;
+    int stick = vi_model_mode(model) == VI_MODE_STICK;
     double k = stick ? 0.0 : m * vi_model_stiffness_over_mass(model, d->t, d->x); /* dF/ddelta */
     double c = vi_model_damping(model, d->t, d->x), k_per_rate;                 /* dF/ddelta' (delta' = yC' - v) */
     double k_rate = vi_model_stiffness_rate(model, d->t, d->x, &k_per_rate);

@@ -12,27 +12,43 @@
 
 /* Laws whose plastic memory is an unloading curve after the largest indentation (Johnson with a fixed
  * contact point, Thornton). */
-static int is_johnson_fixed(const vi_model *model)
+static int is_johnson_fixed(const vi_model_contact *c)
 {
-    return (model->law == VI_LAW_JOHNSON && !model->moving) || model->law == VI_LAW_THORNTON;
+    return (c->law == VI_LAW_JOHNSON && !c->moving) || c->law == VI_LAW_THORNTON;
 }
 
 /* Net load pressing the mass down, W(t) = P + m g - F_ext(t) [N]. */
-static double net_load(const vi_model *model, double t) { return model->W0 - vi_ramp_at(&model->F_ext, t); }
+static double net_load(const vi_model *model, double t) { return model->body.W0 - vi_ramp_at(&model->F_ext, t); }
 
-/* The damped Hertz and linear laws' constants; zero for the other laws. */
-static int setup_damping(vi_model *model, const vi_model_params *p, char *msg, size_t n)
+/* The damped Hertz and linear laws' constants for a body of mass m [kg]; zero for the other laws. */
+static int setup_damping(vi_model_contact *c, const vi_model_params *p, double m, char *msg, size_t n)
 {
-    model->damped = (vi_damped_hertz){0, 0.0, 0.0, 0.0};
-    model->linear = (vi_linear_law){0.0, 0.0};
-    if (model->law == VI_LAW_HERTZ_DAMPED &&
-        vi_damped_hertz_setup(&model->damped, p->damping_formula, p->e_restitution, model->K, model->m) < 0)
+    c->damped = (vi_damped_hertz){0, 0.0, 0.0, 0.0};
+    c->linear = (vi_linear_law){0.0, 0.0};
+    if (c->law == VI_LAW_HERTZ_DAMPED &&
+        vi_damped_hertz_setup(&c->damped, p->damping_formula, p->e_restitution, c->K, m) < 0)
         VI_FAIL(msg, n, "e_restitution = %g: no damping gives this restitution with damping_formula = %d (the exact "
                 "damping reaches restitutions in [1e-9, 1])", p->e_restitution, p->damping_formula);
-    if (model->law == VI_LAW_LINEAR && vi_linear_setup(&model->linear, p->k_spring, model->m, p->e_restitution) < 0)
+    if (c->law == VI_LAW_LINEAR && vi_linear_setup(&c->linear, p->k_spring, m, p->e_restitution) < 0)
         VI_FAIL(msg, n, "contact_model = linear needs k_spring > 0 N/m and e_restitution in (0, 1] (k_spring = %g, "
                 "e_restitution = %g)", p->k_spring, p->e_restitution);
     return 0;
+}
+
+/* A contact's law and constants from the parameters (the law and material of both bodies). */
+static void setup_contact(vi_model_contact *c, const vi_model_params *p)
+{
+    c->law = p->law;
+    c->moving = p->moving_contact != 0 && p->law == VI_LAW_JOHNSON; /* only Johnson has a moving contact point */
+    c->unloading = p->unloading == VI_UNLOAD_CONTINUOUS ? VI_UNLOAD_CONTINUOUS : VI_UNLOAD_PAPER;
+    c->johnson.E_star = vi_effective_modulus(p->E1, p->nu1, p->E2, p->nu2);
+    c->johnson.R_star = vi_effective_radius(p->R1, p->R2);
+    c->johnson.theta_Y = p->theta_Y;
+    c->K = vi_hertz_constant(c->johnson.E_star, c->johnson.R_star);
+    c->johnson.F_Y = vi_yield_force(p->yield_formula == VI_YIELD_PRINTED ? VI_YIELD_PRINTED : VI_YIELD_TEXTBOOK,
+                                    p->theta_Y, p->Y, c->johnson.R_star, c->johnson.E_star);
+    c->johnson.delta_Y = vi_hertz_indentation(c->K, c->johnson.F_Y);
+    c->k_lin = c->johnson.F_Y / c->johnson.delta_Y;
 }
 
 int vi_model_setup(vi_model *model, const vi_model_params *p, double t0, char *msg, size_t msg_size)
@@ -40,19 +56,8 @@ int vi_model_setup(vi_model *model, const vi_model_params *p, double t0, char *m
     if (!(p->R1 > 0.0 || p->R2 > 0.0))
         VI_FAIL(msg, msg_size, "R1 = R2 = 0: two planes have no point contact; give a radius");
 
-    model->law = p->law;
-    model->moving = p->moving_contact != 0 && p->law == VI_LAW_JOHNSON; /* only Johnson has a moving contact point */
-    model->unloading = p->unloading == VI_UNLOAD_CONTINUOUS ? VI_UNLOAD_CONTINUOUS : VI_UNLOAD_PAPER;
-    model->m = p->m;
-    model->W0 = p->P + p->m * p->g;
-    model->johnson.E_star = vi_effective_modulus(p->E1, p->nu1, p->E2, p->nu2);
-    model->johnson.R_star = vi_effective_radius(p->R1, p->R2);
-    model->johnson.theta_Y = p->theta_Y;
-    model->K = vi_hertz_constant(model->johnson.E_star, model->johnson.R_star);
-    model->johnson.F_Y = vi_yield_force(p->yield_formula == VI_YIELD_PRINTED ? VI_YIELD_PRINTED : VI_YIELD_TEXTBOOK,
-                              p->theta_Y, p->Y, model->johnson.R_star, model->johnson.E_star);
-    model->johnson.delta_Y = vi_hertz_indentation(model->K, model->johnson.F_Y);
-    model->k_lin = model->johnson.F_Y / model->johnson.delta_Y;
+    model->body.m = p->m;
+    model->body.W0 = p->P + p->m * p->g;
     model->a = p->a;
     model->omega = 2.0 * VI_PI * p->f;
     model->t0 = t0;
@@ -60,11 +65,16 @@ int vi_model_setup(vi_model *model, const vi_model_params *p, double t0, char *m
     model->t_phi = t0;
     model->profile = NULL;
     model->V = model->x0 = 0.0;
-    if (setup_damping(model, p, msg, msg_size) < 0) return -1;
-    if (!(isfinite(model->W0) && isfinite(model->K) && model->K > 0.0 && isfinite(model->johnson.F_Y) && model->johnson.F_Y > 0.0 &&
-          model->johnson.delta_Y > 0.0 && isfinite(model->k_lin) && model->k_lin > 0.0))
-        VI_FAIL(msg, msg_size, "the parameters give no finite positive contact stiffness or yield force (E* = %g Pa, "
-                "R* = %g m, F_Y = %g N, delta_Y = %g m)", model->johnson.E_star, model->johnson.R_star, model->johnson.F_Y, model->johnson.delta_Y);
+    for (int i = 0; i < VI_NCONTACTS; i++) {
+        vi_model_contact *c = &model->contact[i];
+        setup_contact(c, p);
+        if (setup_damping(c, p, model->body.m, msg, msg_size) < 0) return -1;
+        if (!(isfinite(model->body.W0) && isfinite(c->K) && c->K > 0.0 && isfinite(c->johnson.F_Y) && c->johnson.F_Y > 0.0 &&
+              c->johnson.delta_Y > 0.0 && isfinite(c->k_lin) && c->k_lin > 0.0))
+            VI_FAIL(msg, msg_size, "the parameters give no finite positive contact stiffness or yield force (E* = %g Pa, "
+                    "R* = %g m, F_Y = %g N, delta_Y = %g m)", c->johnson.E_star, c->johnson.R_star, c->johnson.F_Y,
+                    c->johnson.delta_Y);
+    }
     return 0;
 }
 
@@ -180,7 +190,7 @@ static double hold_force(const vi_model *model, double t)
 {
     double y[4];
     platform(model, t, y);
-    return net_load(model, t) + model->m * y[2];
+    return net_load(model, t) + model->body.m * y[2];
 }
 
 /* Its rate F_hold' = W' + m yC''' = -F_ext' + m yC''' [N/s]: with delta' = 0 it is m delta''' plus
@@ -189,7 +199,7 @@ static double hold_force_rate(const vi_model *model, double t)
 {
     double y[4];
     platform(model, t, y);
-    return -model->F_ext.du + model->m * y[3];
+    return -model->F_ext.du + model->body.m * y[3];
 }
 
 /* ---- the contact laws as the automaton uses them: one row of functions per law ---------------- */
@@ -199,66 +209,67 @@ typedef struct {
     double r;      /* delta' [m/s] */
     double F_hold; /* force holding the mass on the platform, W + m yC'' [N] */
     double j;      /* its rate [N/s] (the tie-breaker) */
+    double m;      /* the body's mass [kg] */
     int snap;      /* SNAP_*: the stick guard an event put exactly on its surface */
 } rates;
 
 typedef struct {
     const char *name;
     /* force [N] and stiffness dF/ddelta [N/m] in the elastic and the plastic mode at indentation d */
-    double (*elastic_force)(const vi_model *model, double d);
-    double (*elastic_stiffness)(const vi_model *model, double d);
-    double (*plastic_force)(const vi_model *model, double d); /* NULL: the law never yields */
-    double (*plastic_stiffness)(const vi_model *model, double d);
+    double (*elastic_force)(const vi_model_contact *c, double d);
+    double (*elastic_stiffness)(const vi_model_contact *c, double d);
+    double (*plastic_force)(const vi_model_contact *c, double d); /* NULL: the law never yields */
+    double (*plastic_stiffness)(const vi_model_contact *c, double d);
     /* their rates d(stiffness)/d(delta) [N/m^2] (Model Exchange's Jacobian) */
-    double (*elastic_stiffness_rate)(const vi_model *model, double d);
-    double (*plastic_stiffness_rate)(const vi_model *model, double d);
+    double (*elastic_stiffness_rate)(const vi_model_contact *c, double d);
+    double (*plastic_stiffness_rate)(const vi_model_contact *c, double d);
     /* the rates d/d(delta) of the memory outputs in the current mode at indentation d */
-    void (*memory_rates)(const vi_model *model, double d, vi_memory_rates *r);
+    void (*memory_rates)(const vi_model_contact *c, double d, vi_memory_rates *r);
     /* the indentation at which the bodies touch, and at which the elastic branch yields (INFINITY:
      * never) */
-    double (*contact_surface)(const vi_model *model);
-    double (*yield_surface)(const vi_model *model);
+    double (*contact_surface)(const vi_model_contact *c);
+    double (*yield_surface)(const vi_model_contact *c);
     /* the lowest indentation the plastic mode may have (vi_model_check) */
-    double (*plastic_floor)(const vi_model *model);
+    double (*plastic_floor)(const vi_model_contact *c);
     /* write down the memory a plastic motion leaves at x (mode plastic; may round x onto a surface);
      * NULL: nothing to write down */
-    void (*freeze_plastic)(vi_model *model, double x[2]);
+    void (*freeze_plastic)(vi_model_contact *c, double x[2]);
     /* the mode consistent with x and the rates (vi_model_resolve); may update the memory */
-    int (*choose)(vi_model *model, double x[2], const rates *q);
+    int (*choose)(vi_model_contact *c, double x[2], const rates *q);
     /* may the law (with its flags and memory) be in this mode? */
-    int (*mode_allowed)(const vi_model *model, int mode);
+    int (*mode_allowed)(const vi_model_contact *c, int mode);
     /* at rest under the load W > 0: indentation on the virgin curve, and the stiffness of small
      * oscillations there */
-    double (*static_indentation)(const vi_model *model, double W);
-    double (*static_stiffness)(const vi_model *model, double W);
+    double (*static_indentation)(const vi_model_contact *c, double W);
+    double (*static_stiffness)(const vi_model_contact *c, double W);
     /* the virgin curve's stiffness at d > 0, and the impact indentation at approach speed v > 0 */
-    double (*virgin_stiffness)(const vi_model *model, double d);
-    double (*impact_indentation)(const vi_model *model, double v);
+    double (*virgin_stiffness)(const vi_model_contact *c, double d);
+    double (*impact_indentation)(const vi_model_contact *c, double m, double v); /* m: the body's mass [kg] */
     /* the memory outputs (delta_c, delta_f, delta_p, Rbar, W_plastic) at indentation d */
-    void (*memory_outputs)(const vi_model *model, double d, vi_model_values *out);
+    void (*memory_outputs)(const vi_model_contact *c, double d, vi_model_values *out);
     /* the elastic energy [J] held at indentation d in the elastic and the plastic mode (vi_model_contact_energy) */
-    double (*elastic_energy)(const vi_model *model, double d);
-    double (*plastic_energy)(const vi_model *model, double d);
+    double (*elastic_energy)(const vi_model_contact *c, double d);
+    double (*plastic_energy)(const vi_model_contact *c, double d);
     int permanent_set; /* the memory is the permanent set delta_p (else delta_p stays 0) */
     /* Laws with an unloading curve (Johnson fixed, Thornton): the virgin curve's inverse and work, the
      * unloading curve after delta_c and its rates with delta_c; may_stick: the unloading curve can lie
      * below the loading force at delta_c (stick possible) */
-    double (*virgin_indentation)(const vi_model *model, double F);
-    double (*virgin_work)(const vi_model *model, double d);
-    vi_unload_curve (*unload_curve)(const vi_model *model, double delta_c);
-    vi_unload_rates (*unload_rates)(const vi_model *model, double delta_c);
+    double (*virgin_indentation)(const vi_model_contact *c, double F);
+    double (*virgin_work)(const vi_model_contact *c, double d);
+    vi_unload_curve (*unload_curve)(const vi_model_contact *c, double delta_c);
+    vi_unload_rates (*unload_rates)(const vi_model_contact *c, double delta_c);
     int may_stick;
     /* Laws whose force depends on the rate r = delta' (damped Hertz, linear), NULL otherwise: force and
      * partials in mode elastic, second partials, and the guard with the sign of the unclamped force
      * (mode elastic is left where it falls through 0, mode free entered again where it rises while
      * delta > 0) */
-    vi_law_force (*rate_force)(const vi_model *model, double d, double r);
-    vi_law_curvature (*rate_curvature)(const vi_model *model, double d, double r);
-    vi_law_guard (*force_guard)(const vi_model *model, double d, double r);
+    vi_law_force (*rate_force)(const vi_model_contact *c, double d, double r);
+    vi_law_curvature (*rate_curvature)(const vi_model_contact *c, double d, double r);
+    vi_law_guard (*force_guard)(const vi_model_contact *c, double d, double r);
 } law_fns;
 
-static const law_fns *law(const vi_model *model);
-static int below_written(const vi_model *model, double d);
+static const law_fns *law(const vi_model_contact *c);
+static int below_written(const vi_model_contact *c, double d);
 
 /* The sign of the first nonzero of (position, rate, acceleration, jerk) relative to a surface is
  * positive. With delta' = 0 the acceleration of delta is (F_hold - F)/m and its jerk F_hold'/m (F
@@ -273,260 +284,260 @@ static int ahead(double pos, double rate, double acc, double jerk)
 enum { SNAP_NONE = -1, SNAP_LOAD = 0, SNAP_UNLOAD = 1, SNAP_RELEASE = 2 /* the damped laws' force guard */ };
 
 /* Hertz and Johnson share the impact indentation (15 m v^2/(16 E* sqrt(R*)))^(2/5). */
-static double hertz_impact(const vi_model *model, double v)
+static double hertz_impact(const vi_model_contact *c, double m, double v)
 {
-    return pow(15.0 * model->m * v * v / (16.0 * model->johnson.E_star * sqrt(model->johnson.R_star)), 0.4);
+    return pow(15.0 * m * v * v / (16.0 * c->johnson.E_star * sqrt(c->johnson.R_star)), 0.4);
 }
-static double zero_surface(const vi_model *model) { return (void)model, 0.0; }
-static void no_memory(const vi_model *model, double d, vi_model_values *out) { (void)model, (void)d, (void)out; }
-static double no_rate(const vi_model *model, double d) { return (void)model, (void)d, 0.0; }
-static void no_memory_rates(const vi_model *model, double d, vi_memory_rates *r)
+static double zero_surface(const vi_model_contact *c) { return (void)c, 0.0; }
+static void no_memory(const vi_model_contact *c, double d, vi_model_values *out) { (void)c, (void)d, (void)out; }
+static double no_rate(const vi_model_contact *c, double d) { return (void)c, (void)d, 0.0; }
+static void no_memory_rates(const vi_model_contact *c, double d, vi_memory_rates *r)
 {
-    (void)model, (void)d;
+    (void)c, (void)d;
     *r = (vi_memory_rates){0.0, 0.0, 0.0, 0.0, 0.0};
 }
 
 /* Hertz (eq. 2): elastic only. */
-static double hertz_force(const vi_model *model, double d) { return vi_hertz_force(model->K, d); }
-static double hertz_stiffness(const vi_model *model, double d) { return vi_hertz_stiffness(model->K, d); }
-static double hertz_stiffness_rate(const vi_model *model, double d) { return vi_hertz_stiffness_rate(model->K, d); }
-static double hertz_no_yield(const vi_model *model) { return (void)model, INFINITY; }
-static double hertz_energy(const vi_model *model, double d) { return vi_hertz_energy(model->K, d); }
-static int hertz_choose(vi_model *model, double x[2], const rates *q)
+static double hertz_force(const vi_model_contact *c, double d) { return vi_hertz_force(c->K, d); }
+static double hertz_stiffness(const vi_model_contact *c, double d) { return vi_hertz_stiffness(c->K, d); }
+static double hertz_stiffness_rate(const vi_model_contact *c, double d) { return vi_hertz_stiffness_rate(c->K, d); }
+static double hertz_no_yield(const vi_model_contact *c) { return (void)c, INFINITY; }
+static double hertz_energy(const vi_model_contact *c, double d) { return vi_hertz_energy(c->K, d); }
+static int hertz_choose(vi_model_contact *c, double x[2], const rates *q)
 {
-    (void)model;
+    (void)c;
     return ahead(x[0], q->r, q->F_hold, q->j) ? VI_MODE_ELASTIC : VI_MODE_FREE;
 }
-static int hertz_modes(const vi_model *model, int mode) { return (void)model, mode == VI_MODE_FREE || mode == VI_MODE_ELASTIC; }
-static double hertz_static_indentation(const vi_model *model, double W) { return vi_hertz_indentation(model->K, W); }
-static double hertz_static_stiffness(const vi_model *model, double W)
+static int hertz_modes(const vi_model_contact *c, int mode) { return (void)c, mode == VI_MODE_FREE || mode == VI_MODE_ELASTIC; }
+static double hertz_static_indentation(const vi_model_contact *c, double W) { return vi_hertz_indentation(c->K, W); }
+static double hertz_static_stiffness(const vi_model_contact *c, double W)
 {
-    return vi_hertz_stiffness(model->K, vi_hertz_indentation(model->K, W));
+    return vi_hertz_stiffness(c->K, vi_hertz_indentation(c->K, W));
 }
 
 /* Johnson (eqs. 3, 4): the virgin curve, with a fixed contact point the unloading memory U. */
-static double johnson_load(const vi_model *model, double d) { return vi_johnson_load(&model->johnson, d); }
-static double johnson_load_stiffness(const vi_model *model, double d) { return vi_johnson_load_stiffness(&model->johnson, d); }
-static double johnson_load_stiffness_rate(const vi_model *model, double d) { return vi_johnson_load_stiffness_rate(&model->johnson, d); }
-static double johnson_contact(const vi_model *model) { return is_johnson_fixed(model) && model->yielded ? model->unload.delta_f : 0.0; }
-static double johnson_yield(const vi_model *model) { return model->johnson.delta_Y; }
-static double johnson_plastic_floor(const vi_model *model) { return model->moving ? model->johnson.delta_Y : model->unload.delta_c; }
+static double johnson_load(const vi_model_contact *c, double d) { return vi_johnson_load(&c->johnson, d); }
+static double johnson_load_stiffness(const vi_model_contact *c, double d) { return vi_johnson_load_stiffness(&c->johnson, d); }
+static double johnson_load_stiffness_rate(const vi_model_contact *c, double d) { return vi_johnson_load_stiffness_rate(&c->johnson, d); }
+static double johnson_contact(const vi_model_contact *c) { return is_johnson_fixed(c) && c->yielded ? c->unload.delta_f : 0.0; }
+static double johnson_yield(const vi_model_contact *c) { return c->johnson.delta_Y; }
+static double johnson_plastic_floor(const vi_model_contact *c) { return c->moving ? c->johnson.delta_Y : c->unload.delta_c; }
 /* The memory is the largest indentation reached, never below yield: a state an importer hands over
  * may lie below it (a step that went far past the turning point), and the unloading curve of an
  * indentation below delta_Y / 2 does not exist (area ratio < 0). */
-static void johnson_freeze(vi_model *model, double x[2])
+static void johnson_freeze(vi_model_contact *c, double x[2])
 {
-    double dc = fmax(x[0], model->yielded ? fmax(model->unload.delta_c, model->johnson.delta_Y) : model->johnson.delta_Y);
-    if (is_johnson_fixed(model)) model->unload = law(model)->unload_curve(model, dc);
+    double dc = fmax(x[0], c->yielded ? fmax(c->unload.delta_c, c->johnson.delta_Y) : c->johnson.delta_Y);
+    if (is_johnson_fixed(c)) c->unload = law(c)->unload_curve(c, dc);
 }
-static int johnson_choose(vi_model *model, double x[2], const rates *q)
+static int johnson_choose(vi_model_contact *c, double x[2], const rates *q)
 {
     double d = x[0], r = q->r, F_hold = q->F_hold, j = q->j;
     int mode = VI_MODE_FREE;
-    if (!model->yielded || model->moving) { /* the surfaces of the guards: contact 0 (no memory), yield delta_Y */
-        if (!ahead(d - law(model)->contact_surface(model), r, F_hold, j)) return VI_MODE_FREE;
-        mode = ahead(d - law(model)->yield_surface(model), r, F_hold - model->johnson.F_Y, j) ? VI_MODE_PLASTIC : VI_MODE_ELASTIC;
-        if (mode == VI_MODE_ELASTIC || model->moving) return mode;
-        model->yielded = 1;
-        model->unload = law(model)->unload_curve(model, d > model->johnson.delta_Y ? d : model->johnson.delta_Y);
+    if (!c->yielded || c->moving) { /* the surfaces of the guards: contact 0 (no memory), yield delta_Y */
+        if (!ahead(d - law(c)->contact_surface(c), r, F_hold, j)) return VI_MODE_FREE;
+        mode = ahead(d - law(c)->yield_surface(c), r, F_hold - c->johnson.F_Y, j) ? VI_MODE_PLASTIC : VI_MODE_ELASTIC;
+        if (mode == VI_MODE_ELASTIC || c->moving) return mode;
+        c->yielded = 1;
+        c->unload = law(c)->unload_curve(c, d > c->johnson.delta_Y ? d : c->johnson.delta_Y);
     }
-    if (d > model->unload.delta_c) model->unload = law(model)->unload_curve(model, d); /* pushed deeper */
-    double F_load = law(model)->plastic_force(model, model->unload.delta_c), F_unload = vi_unload_force(&model->unload, d);
+    if (d > c->unload.delta_c) c->unload = law(c)->unload_curve(c, d); /* pushed deeper */
+    double F_load = law(c)->plastic_force(c, c->unload.delta_c), F_unload = vi_unload_force(&c->unload, d);
     double dF_load = q->snap == SNAP_LOAD ? 0.0 : F_hold - F_load;
     double dF_unload = q->snap == SNAP_UNLOAD ? 0.0 : F_hold - F_unload;
-    if (ahead(d - model->unload.delta_c, r, dF_load, j)) return VI_MODE_PLASTIC;
-    if (d == model->unload.delta_c && r == 0.0 && ahead(0.0, 0.0, dF_unload, j) && law(model)->may_stick &&
-        model->unloading == VI_UNLOAD_PAPER)
+    if (ahead(d - c->unload.delta_c, r, dF_load, j)) return VI_MODE_PLASTIC;
+    if (d == c->unload.delta_c && r == 0.0 && ahead(0.0, 0.0, dF_unload, j) && law(c)->may_stick &&
+        c->unloading == VI_UNLOAD_PAPER)
         return VI_MODE_STICK; /* F_unload < F_hold <= F_load: neither branch is consistent */
-    if (ahead(d - model->unload.delta_f, r, dF_unload, j)) return VI_MODE_UNLOAD;
+    if (ahead(d - c->unload.delta_f, r, dF_unload, j)) return VI_MODE_UNLOAD;
     return mode;
 }
-static int johnson_modes(const vi_model *model, int mode)
+static int johnson_modes(const vi_model_contact *c, int mode)
 {
-    if (!is_johnson_fixed(model)) return mode >= VI_MODE_FREE && mode <= VI_MODE_PLASTIC;
-    if (!model->yielded) return mode == VI_MODE_FREE || mode == VI_MODE_ELASTIC;
+    if (!is_johnson_fixed(c)) return mode >= VI_MODE_FREE && mode <= VI_MODE_PLASTIC;
+    if (!c->yielded) return mode == VI_MODE_FREE || mode == VI_MODE_ELASTIC;
     return mode == VI_MODE_FREE || mode == VI_MODE_PLASTIC || mode == VI_MODE_UNLOAD ||
-           (mode == VI_MODE_STICK && law(model)->may_stick && model->unloading == VI_UNLOAD_PAPER);
+           (mode == VI_MODE_STICK && law(c)->may_stick && c->unloading == VI_UNLOAD_PAPER);
 }
 /* Indentation at rest under W > 0 on the Johnson virgin curve, with F(d) >= W where rounding allows,
  * so that a pre-loaded start does not see a spurious push into the material. The inverse is
  * accurate to a few ulps; at most VI_STATIC_NUDGES steps of 1, 2, 4, ... ulps close the gap. When F
  * cannot reach W (its value is denormal: loads below about 1e-300 N), d stays within 2^16 ulps. */
 #define VI_STATIC_NUDGES 16
-static double johnson_static_indentation(const vi_model *model, double W)
+static double johnson_static_indentation(const vi_model_contact *c, double W)
 {
-    const law_fns *L = law(model);
-    double d = L->virgin_indentation(model, W), step = nextafter(d, INFINITY) - d;
-    for (int i = 0; i < VI_STATIC_NUDGES && L->plastic_force(model, d) < W; i++, step *= 2.0) d += step;
+    const law_fns *L = law(c);
+    double d = L->virgin_indentation(c, W), step = nextafter(d, INFINITY) - d;
+    for (int i = 0; i < VI_STATIC_NUDGES && L->plastic_force(c, d) < W; i++, step *= 2.0) d += step;
     return d;
 }
-static double johnson_static_stiffness(const vi_model *model, double W)
+static double johnson_static_stiffness(const vi_model_contact *c, double W)
 {
-    const law_fns *L = law(model);
-    double d = L->virgin_indentation(model, W);
-    if (!is_johnson_fixed(model) || d <= model->johnson.delta_Y) return L->plastic_stiffness(model, d);
-    vi_unload_curve U = L->unload_curve(model, d); /* small oscillations unload */
+    const law_fns *L = law(c);
+    double d = L->virgin_indentation(c, W);
+    if (!is_johnson_fixed(c) || d <= c->johnson.delta_Y) return L->plastic_stiffness(c, d);
+    vi_unload_curve U = L->unload_curve(c, d); /* small oscillations unload */
     return vi_unload_stiffness(&U, d);
 }
-static void johnson_memory(const vi_model *model, double d, vi_model_values *out)
+static void johnson_memory(const vi_model_contact *c, double d, vi_model_values *out)
 {
-    if (!is_johnson_fixed(model) || !model->yielded) return;
-    vi_unload_curve U = model->unload; /* while loading plastically: the curve of the deepest point so far */
-    if (model->mode == VI_MODE_PLASTIC && d > U.delta_c) U = law(model)->unload_curve(model, d);
+    if (!is_johnson_fixed(c) || !c->yielded) return;
+    vi_unload_curve U = c->unload; /* while loading plastically: the curve of the deepest point so far */
+    if (c->mode == VI_MODE_PLASTIC && d > U.delta_c) U = law(c)->unload_curve(c, d);
     out->delta_c = U.delta_c;
     out->delta_f = U.delta_f;
     out->Rbar = U.Rbar;
     /* dissipated = work along the virgin curve - energy the unloading curve gives back */
-    out->W_plastic = law(model)->virgin_work(model, U.delta_c) - vi_unload_energy(&U, U.delta_c);
+    out->W_plastic = law(c)->virgin_work(c, U.delta_c) - vi_unload_energy(&U, U.delta_c);
 }
 /* While Johnson (fixed contact point) loads plastically beyond the memory written down, delta_c = d and
  * the unloading curve moves with it: W_plastic = load work(delta_c) - 0.4 Kbar delta_r^2.5, Kbar =
  * 4/3 E* sqrt(Rbar). */
-static void johnson_memory_rates(const vi_model *model, double d, vi_memory_rates *r)
+static void johnson_memory_rates(const vi_model_contact *c, double d, vi_memory_rates *r)
 {
-    if (!is_johnson_fixed(model) || model->mode != VI_MODE_PLASTIC || below_written(model, d)) {
-        no_memory_rates(model, d, r);
+    if (!is_johnson_fixed(c) || c->mode != VI_MODE_PLASTIC || below_written(c, d)) {
+        no_memory_rates(c, d, r);
         return;
     }
-    vi_unload_curve U = law(model)->unload_curve(model, d);
-    vi_unload_rates u = law(model)->unload_rates(model, d);
-    double dK = 2.0 / 3.0 * model->johnson.E_star * u.Rbar / sqrt(U.Rbar), dr = U.delta_r;
+    vi_unload_curve U = law(c)->unload_curve(c, d);
+    vi_unload_rates u = law(c)->unload_rates(c, d);
+    double dK = 2.0 / 3.0 * c->johnson.E_star * u.Rbar / sqrt(U.Rbar), dr = U.delta_r;
     r->delta_c = 1.0;
     r->delta_f = 1.0 - u.delta_r;
     r->delta_p = 0.0;
     r->Rbar = u.Rbar;
-    r->W_plastic = law(model)->plastic_force(model, d) - 0.4 * dK * dr * dr * sqrt(dr) - U.Kbar * dr * sqrt(dr) * u.delta_r;
+    r->W_plastic = law(c)->plastic_force(c, d) - 0.4 * dK * dr * dr * sqrt(dr) - U.Kbar * dr * sqrt(dr) * u.delta_r;
 }
 
 /* The energy held while loading on the virgin curve beyond delta_Y: the unloading curve of delta_c = d
  * gives it back (with a moving contact point the virgin curve itself does). */
-static double johnson_plastic_energy(const vi_model *model, double d)
+static double johnson_plastic_energy(const vi_model_contact *c, double d)
 {
-    if (!is_johnson_fixed(model)) return law(model)->virgin_work(model, d);
-    vi_unload_curve U = law(model)->unload_curve(model, d);
+    if (!is_johnson_fixed(c)) return law(c)->virgin_work(c, d);
+    vi_unload_curve U = law(c)->unload_curve(c, d);
     return vi_unload_energy(&U, d);
 }
 
-static double johnson_indentation(const vi_model *model, double F) { return vi_johnson_load_indentation(&model->johnson, F); }
-static double johnson_work(const vi_model *model, double d) { return vi_johnson_load_work(&model->johnson, d); }
-static vi_unload_curve johnson_unload(const vi_model *model, double dc) { return vi_johnson_unload_curve(&model->johnson, model->unloading, dc); }
-static vi_unload_rates johnson_unload_rates(const vi_model *model, double dc) { return vi_johnson_unload_rates(&model->johnson, model->unloading, dc); }
+static double johnson_indentation(const vi_model_contact *c, double F) { return vi_johnson_load_indentation(&c->johnson, F); }
+static double johnson_work(const vi_model_contact *c, double d) { return vi_johnson_load_work(&c->johnson, d); }
+static vi_unload_curve johnson_unload(const vi_model_contact *c, double dc) { return vi_johnson_unload_curve(&c->johnson, c->unloading, dc); }
+static vi_unload_rates johnson_unload_rates(const vi_model_contact *c, double dc) { return vi_johnson_unload_rates(&c->johnson, c->unloading, dc); }
 /* Paper unloading as printed returns more energy than the loading took after a small plastic excursion
  * (eq. 3 is stiffer than Hertz above delta_Y; W_plastic < 0 for delta_c < 1.2527 delta_Y at theta_Y = 1.1).
  * Returns 1, with the values in msg, when the unloading curve in memory does (not while delta_c moves). */
-static int johnson_makes_energy(const vi_model *model, double t, char *msg, size_t n)
+static int johnson_makes_energy(const vi_model_contact *c, double t, char *msg, size_t n)
 {
-    if (model->law != VI_LAW_JOHNSON || model->moving || model->unloading != VI_UNLOAD_PAPER || !model->yielded ||
-        model->mode == VI_MODE_PLASTIC)
+    if (c->law != VI_LAW_JOHNSON || c->moving || c->unloading != VI_UNLOAD_PAPER || !c->yielded ||
+        c->mode == VI_MODE_PLASTIC)
         return 0;
-    const vi_unload_curve *U = &model->unload;
-    double taken = vi_johnson_load_work(&model->johnson, U->delta_c), returned = vi_unload_energy(U, U->delta_c);
+    const vi_unload_curve *U = &c->unload;
+    double taken = vi_johnson_load_work(&c->johnson, U->delta_c), returned = vi_unload_energy(U, U->delta_c);
     if (!(returned > taken)) return 0;
     vi_snprintf(msg, n, "t = %.17g s: unloading = paper returns more energy than the contact took: loading to "
                 "delta_c = %g m (%.5g delta_Y) took %g J, its unloading curve (eq. 4 as printed) gives back %g J "
                 "(W_plastic = %g J), a rebound faster than the impact, as below 1.2527 delta_Y; unloading = "
-                "continuous does not", t, U->delta_c, U->delta_c / model->johnson.delta_Y, taken, returned,
+                "continuous does not", t, U->delta_c, U->delta_c / c->johnson.delta_Y, taken, returned,
                 taken - returned);
     return 1;
 }
 
 /* Thornton (vi_laws.h): Johnson's automaton with Thornton's virgin and unloading curves; the unloading
  * curve meets the loading force at delta_c, so there is no stick. */
-static double thornton_load(const vi_model *model, double d) { return vi_thornton_load(&model->johnson, d); }
-static double thornton_load_stiffness(const vi_model *model, double d) { return vi_thornton_load_stiffness(&model->johnson, d); }
-static double thornton_load_stiffness_rate(const vi_model *model, double d) { return vi_thornton_load_stiffness_rate(&model->johnson, d); }
-static double thornton_indentation(const vi_model *model, double F) { return vi_thornton_load_indentation(&model->johnson, F); }
-static double thornton_work(const vi_model *model, double d) { return vi_thornton_load_work(&model->johnson, d); }
-static vi_unload_curve thornton_unload(const vi_model *model, double dc) { return vi_thornton_unload_curve(&model->johnson, dc); }
-static vi_unload_rates thornton_unload_rates(const vi_model *model, double dc) { return vi_thornton_unload_rates(&model->johnson, dc); }
+static double thornton_load(const vi_model_contact *c, double d) { return vi_thornton_load(&c->johnson, d); }
+static double thornton_load_stiffness(const vi_model_contact *c, double d) { return vi_thornton_load_stiffness(&c->johnson, d); }
+static double thornton_load_stiffness_rate(const vi_model_contact *c, double d) { return vi_thornton_load_stiffness_rate(&c->johnson, d); }
+static double thornton_indentation(const vi_model_contact *c, double F) { return vi_thornton_load_indentation(&c->johnson, F); }
+static double thornton_work(const vi_model_contact *c, double d) { return vi_thornton_load_work(&c->johnson, d); }
+static vi_unload_curve thornton_unload(const vi_model_contact *c, double dc) { return vi_thornton_unload_curve(&c->johnson, dc); }
+static vi_unload_rates thornton_unload_rates(const vi_model_contact *c, double dc) { return vi_thornton_unload_rates(&c->johnson, dc); }
 
 /* Damped Hertz and the linear spring-dashpot (vi_laws.h): modes free and elastic, the force a function
  * of delta and its rate; the rate-free part (the spring) serves the static state and the scales. */
-static vi_law_force damped_force(const vi_model *model, double d, double r) { return vi_damped_hertz_force(&model->damped, d, r, model->V_i); }
-static vi_law_curvature damped_curvature(const vi_model *model, double d, double r) { return vi_damped_hertz_curvature(&model->damped, d, r, model->V_i); }
-static vi_law_guard damped_guard(const vi_model *model, double d, double r) { return vi_damped_hertz_guard(&model->damped, d, r, model->V_i); }
-static vi_law_force linear_force(const vi_model *model, double d, double r) { return vi_linear_force(&model->linear, d, r); }
-static vi_law_curvature linear_curvature(const vi_model *model, double d, double r) { return (void)model, (void)d, (void)r, (vi_law_curvature){0.0, 0.0}; }
-static vi_law_guard linear_guard(const vi_model *model, double d, double r) { return vi_linear_guard(&model->linear, d, r); }
-static double spring_force(const vi_model *model, double d) { return d > 0.0 ? model->linear.k * d : 0.0; }
-static double spring_stiffness(const vi_model *model, double d) { return d > 0.0 ? model->linear.k : 0.0; }
-static double spring_static_indentation(const vi_model *model, double W) { return W / model->linear.k; }
-static double spring_static_stiffness(const vi_model *model, double W) { return (void)W, model->linear.k; }
-static double spring_virgin_stiffness(const vi_model *model, double d) { return (void)d, model->linear.k; }
-static double spring_impact(const vi_model *model, double v) { return v * sqrt(model->m) / sqrt(model->linear.k); }
-static double spring_energy(const vi_model *model, double d) { return d > 0.0 ? 0.5 * model->linear.k * d * d : 0.0; }
+static vi_law_force damped_force(const vi_model_contact *c, double d, double r) { return vi_damped_hertz_force(&c->damped, d, r, c->V_i); }
+static vi_law_curvature damped_curvature(const vi_model_contact *c, double d, double r) { return vi_damped_hertz_curvature(&c->damped, d, r, c->V_i); }
+static vi_law_guard damped_guard(const vi_model_contact *c, double d, double r) { return vi_damped_hertz_guard(&c->damped, d, r, c->V_i); }
+static vi_law_force linear_force(const vi_model_contact *c, double d, double r) { return vi_linear_force(&c->linear, d, r); }
+static vi_law_curvature linear_curvature(const vi_model_contact *c, double d, double r) { return (void)c, (void)d, (void)r, (vi_law_curvature){0.0, 0.0}; }
+static vi_law_guard linear_guard(const vi_model_contact *c, double d, double r) { return vi_linear_guard(&c->linear, d, r); }
+static double spring_force(const vi_model_contact *c, double d) { return d > 0.0 ? c->linear.k * d : 0.0; }
+static double spring_stiffness(const vi_model_contact *c, double d) { return d > 0.0 ? c->linear.k : 0.0; }
+static double spring_static_indentation(const vi_model_contact *c, double W) { return W / c->linear.k; }
+static double spring_static_stiffness(const vi_model_contact *c, double W) { return (void)W, c->linear.k; }
+static double spring_virgin_stiffness(const vi_model_contact *c, double d) { return (void)d, c->linear.k; }
+static double spring_impact(const vi_model_contact *c, double m, double v) { return v * sqrt(m) / sqrt(c->linear.k); }
+static double spring_energy(const vi_model_contact *c, double d) { return d > 0.0 ? 0.5 * c->linear.k * d * d : 0.0; }
 /* Leaving the free mode where the force guard g is well inside its positive side (more than half the
  * size of its terms; at a resumed contact it is about 0) is a new contact, through delta = 0. */
 #define VI_ONSET_GUARD_FRACTION 0.5
-static int new_contact(const vi_model *model, double d, double r)
+static int new_contact(const vi_model_contact *c, double d, double r)
 {
-    vi_law_guard g = law(model)->force_guard(model, d, r);
+    vi_law_guard g = law(c)->force_guard(c, d, r);
     return d <= 0.0 || g.g > VI_ONSET_GUARD_FRACTION * (fabs(g.g - g.dg_drate * r) + fabs(g.dg_drate * r));
 }
 
 /* In contact while delta > 0 and the unclamped force is positive: the side of delta = 0, then that of
  * the guard g (with F = 0 on its surface, delta'' = F_hold/m: g' = g_d r + g_r F_hold/m). A new contact
  * takes its approach speed as V_i. */
-static int damped_choose(vi_model *model, double x[2], const rates *q)
+static int damped_choose(vi_model_contact *c, double x[2], const rates *q)
 {
     double d = x[0], r = q->r;
     if (!ahead(d, r, q->F_hold, q->j)) return VI_MODE_FREE;
-    vi_law_guard g = law(model)->force_guard(model, d, r);
+    vi_law_guard g = law(c)->force_guard(c, d, r);
     double g0 = q->snap == SNAP_RELEASE ? 0.0 : g.g;
-    if (!ahead(g0, g.dg_ddelta * r + g.dg_drate * q->F_hold / model->m, 0.0, 0.0)) return VI_MODE_FREE;
-    if (model->mode == VI_MODE_FREE && new_contact(model, d, r)) model->V_i = r > 0.0 ? r : 0.0;
+    if (!ahead(g0, g.dg_ddelta * r + g.dg_drate * q->F_hold / q->m, 0.0, 0.0)) return VI_MODE_FREE;
+    if (c->mode == VI_MODE_FREE && new_contact(c, d, r)) c->V_i = r > 0.0 ? r : 0.0;
     return VI_MODE_ELASTIC;
 }
 
 /* Linear elastic-perfectly plastic (paper Fig. 3): a spring k_lin from the permanent set delta_p,
  * flowing at F_Y. */
-static double lepp_force(const vi_model *model, double d) { return d > model->delta_p ? model->k_lin * (d - model->delta_p) : 0.0; }
-static double lepp_stiffness(const vi_model *model, double d) { return d > model->delta_p ? model->k_lin : 0.0; }
-static double lepp_flow_force(const vi_model *model, double d) { return (void)d, model->johnson.F_Y; }
-static double lepp_flow_stiffness(const vi_model *model, double d) { return (void)model, (void)d, 0.0; }
-static double lepp_contact(const vi_model *model) { return model->delta_p; }
-static double lepp_yield(const vi_model *model) { return model->delta_p + model->johnson.delta_Y; }
+static double lepp_force(const vi_model_contact *c, double d) { return d > c->delta_p ? c->k_lin * (d - c->delta_p) : 0.0; }
+static double lepp_stiffness(const vi_model_contact *c, double d) { return d > c->delta_p ? c->k_lin : 0.0; }
+static double lepp_flow_force(const vi_model_contact *c, double d) { return (void)d, c->johnson.F_Y; }
+static double lepp_flow_stiffness(const vi_model_contact *c, double d) { return (void)c, (void)d, 0.0; }
+static double lepp_contact(const vi_model_contact *c) { return c->delta_p; }
+static double lepp_yield(const vi_model_contact *c) { return c->delta_p + c->johnson.delta_Y; }
 /* Plastic flow to x[0]: the permanent set follows, delta_p = delta - delta_Y; x[0] is then rounded
  * onto the yield surface so that its guard is exactly zero, never an ulp below. The permanent set
  * never decreases: a state below the yield surface (an importer's step past the turning point) leaves
  * it and x as they are. */
-static void lepp_flow_to(vi_model *model, double x[2])
+static void lepp_flow_to(vi_model_contact *c, double x[2])
 {
-    if (!(x[0] - model->johnson.delta_Y >= model->delta_p)) return;
-    model->delta_p = x[0] - model->johnson.delta_Y;
-    x[0] = lepp_yield(model);
+    if (!(x[0] - c->johnson.delta_Y >= c->delta_p)) return;
+    c->delta_p = x[0] - c->johnson.delta_Y;
+    x[0] = lepp_yield(c);
 }
-static int lepp_choose(vi_model *model, double x[2], const rates *q)
+static int lepp_choose(vi_model_contact *c, double x[2], const rates *q)
 {
-    if (!ahead(x[0] - lepp_contact(model), q->r, q->F_hold, q->j)) return VI_MODE_FREE;
-    if (x[0] > lepp_yield(model)) lepp_flow_to(model, x); /* pushed beyond yield: it flowed */
-    return ahead(x[0] - lepp_yield(model), q->r, q->F_hold - model->johnson.F_Y, q->j) ? VI_MODE_PLASTIC : VI_MODE_ELASTIC;
+    if (!ahead(x[0] - lepp_contact(c), q->r, q->F_hold, q->j)) return VI_MODE_FREE;
+    if (x[0] > lepp_yield(c)) lepp_flow_to(c, x); /* pushed beyond yield: it flowed */
+    return ahead(x[0] - lepp_yield(c), q->r, q->F_hold - c->johnson.F_Y, q->j) ? VI_MODE_PLASTIC : VI_MODE_ELASTIC;
 }
-static int lepp_modes(const vi_model *model, int mode) { return (void)model, mode >= VI_MODE_FREE && mode <= VI_MODE_PLASTIC; }
-static double lepp_energy(const vi_model *model, double d)
+static int lepp_modes(const vi_model_contact *c, int mode) { return (void)c, mode >= VI_MODE_FREE && mode <= VI_MODE_PLASTIC; }
+static double lepp_energy(const vi_model_contact *c, double d)
 {
-    double s = d - model->delta_p;
-    return s > 0.0 ? 0.5 * model->k_lin * s * s : 0.0;
+    double s = d - c->delta_p;
+    return s > 0.0 ? 0.5 * c->k_lin * s * s : 0.0;
 }
-static double lepp_flow_energy(const vi_model *model, double d) { return (void)d, 0.5 * model->johnson.F_Y * model->johnson.delta_Y; }
-static double lepp_static_indentation(const vi_model *model, double W)
+static double lepp_flow_energy(const vi_model_contact *c, double d) { return (void)d, 0.5 * c->johnson.F_Y * c->johnson.delta_Y; }
+static double lepp_static_indentation(const vi_model_contact *c, double W)
 {
-    return W <= model->johnson.F_Y ? W / model->k_lin : model->johnson.delta_Y; /* beyond F_Y: flows from the start */
+    return W <= c->johnson.F_Y ? W / c->k_lin : c->johnson.delta_Y; /* beyond F_Y: flows from the start */
 }
-static double lepp_static_stiffness(const vi_model *model, double W) { return (void)W, model->k_lin; }
-static double lepp_virgin_stiffness(const vi_model *model, double d) { return (void)d, model->k_lin; }
-static double lepp_impact(const vi_model *model, double v) { return v * sqrt(model->m) / sqrt(model->k_lin); }
-static void lepp_memory(const vi_model *model, double d, vi_model_values *out)
+static double lepp_static_stiffness(const vi_model_contact *c, double W) { return (void)W, c->k_lin; }
+static double lepp_virgin_stiffness(const vi_model_contact *c, double d) { return (void)d, c->k_lin; }
+static double lepp_impact(const vi_model_contact *c, double m, double v) { return v * sqrt(m) / sqrt(c->k_lin); }
+static void lepp_memory(const vi_model_contact *c, double d, vi_model_values *out)
 {
-    out->delta_p = model->mode == VI_MODE_PLASTIC ? fmax(d - model->johnson.delta_Y, model->delta_p) : model->delta_p;
-    out->W_plastic = model->johnson.F_Y * out->delta_p;
+    out->delta_p = c->mode == VI_MODE_PLASTIC ? fmax(d - c->johnson.delta_Y, c->delta_p) : c->delta_p;
+    out->W_plastic = c->johnson.F_Y * out->delta_p;
 }
 /* While LEPP flows beyond the set written down, delta_p = d - delta_Y and W_plastic = F_Y delta_p. */
-static void lepp_memory_rates(const vi_model *model, double d, vi_memory_rates *r)
+static void lepp_memory_rates(const vi_model_contact *c, double d, vi_memory_rates *r)
 {
-    no_memory_rates(model, d, r);
-    if (model->mode == VI_MODE_PLASTIC && !below_written(model, d))
-        r->delta_p = 1.0, r->W_plastic = model->johnson.F_Y;
+    no_memory_rates(c, d, r);
+    if (c->mode == VI_MODE_PLASTIC && !below_written(c, d))
+        r->delta_p = 1.0, r->W_plastic = c->johnson.F_Y;
 }
 
 static const law_fns laws[] = {
@@ -589,15 +600,23 @@ static const law_fns laws[] = {
 /* The row of model's law (set up, or checked to be one of the three). */
 /* A model not set up yet (law 0: an instance before initialization, or a state restored from
  * then) has no contact force and no memory: it is evaluated as Hertz with K = 0. */
-static const law_fns *law(const vi_model *model) { return &laws[model->law == 0 ? VI_LAW_HERTZ : model->law]; }
+static const law_fns *law(const vi_model_contact *c) { return &laws[c->law == 0 ? VI_LAW_HERTZ : c->law]; }
 
 /* Johnson with a moving contact point leaves the plastic mode when it falls back below delta_Y;
  * every other plastic motion ends at a turning point (delta' = 0). */
-static int plastic_ends_at_yield(const vi_model *model) { return model->law == VI_LAW_JOHNSON && model->moving; }
+static int plastic_ends_at_yield(const vi_model_contact *c) { return c->law == VI_LAW_JOHNSON && c->moving; }
 
 /* ---- force, right-hand side, guards, events ------------------------------------------------------ */
 
-int vi_model_uses_rate(const vi_model *model) { return model->law != VI_LAW_HERTZ && !plastic_ends_at_yield(model); }
+int vi_model_uses_rate(const vi_model *model)
+{
+    int uses = 0;
+    for (int i = 0; i < VI_NCONTACTS; i++) {
+        const vi_model_contact *c = &model->contact[i];
+        uses |= c->law != VI_LAW_HERTZ && !plastic_ends_at_yield(c);
+    }
+    return uses;
+}
 
 /* The rate r = delta' = yC'(t) - v. */
 static double indentation_rate(const vi_model *model, double t, const double x[2])
@@ -607,106 +626,139 @@ static double indentation_rate(const vi_model *model, double t, const double x[2
     return dyC - x[1];
 }
 
-/* Force and partials of a rate-dependent law in mode elastic at (t, x); all zero in any other case. */
-static vi_law_force rate_force(const vi_model *model, double t, const double x[2])
+/* Force and partials of contact c's rate-dependent law in mode elastic at (t, x); all zero in any other
+ * case. */
+static vi_law_force rate_force(const vi_model *model, const vi_model_contact *c, double t, const double x[2])
 {
-    const law_fns *L = law(model);
-    if (model->mode != VI_MODE_ELASTIC || !L->rate_force) return (vi_law_force){0.0, 0.0, 0.0};
-    return L->rate_force(model, x[0], indentation_rate(model, t, x));
+    const law_fns *L = law(c);
+    if (c->mode != VI_MODE_ELASTIC || !L->rate_force) return (vi_law_force){0.0, 0.0, 0.0};
+    return L->rate_force(c, x[0], indentation_rate(model, t, x));
+}
+
+/* Contact c's force [N] at (t, x) in its mode. */
+static double contact_force(const vi_model *model, const vi_model_contact *c, double t, const double x[2])
+{
+    double d = x[0];
+    if (law(c)->rate_force) return rate_force(model, c, t, x).F;
+    switch (c->mode) {
+    case VI_MODE_ELASTIC: return law(c)->elastic_force(c, d);
+    case VI_MODE_PLASTIC: return law(c)->plastic_force(c, d);
+    case VI_MODE_UNLOAD: return vi_unload_force(&c->unload, d);
+    case VI_MODE_STICK: return hold_force(model, t);
+    default: return 0.0;
+    }
 }
 
 double vi_model_force(const vi_model *model, double t, const double x[2])
 {
-    double d = x[0];
-    if (law(model)->rate_force) return rate_force(model, t, x).F;
-    switch (model->mode) {
-    case VI_MODE_ELASTIC: return law(model)->elastic_force(model, d);
-    case VI_MODE_PLASTIC: return law(model)->plastic_force(model, d);
-    case VI_MODE_UNLOAD: return vi_unload_force(&model->unload, d);
-    case VI_MODE_STICK: return hold_force(model, t);
-    default: return 0.0;
-    }
+    return contact_force(model, vi_model_lower(model), t, x);
+}
+
+/* The contacts' force on the body [N], upwards: the lower contact's, less those of the others. */
+static double body_force(const vi_model *model, double t, const double x[2])
+{
+    double F = contact_force(model, &model->contact[0], t, x);
+    for (int i = 1; i < VI_NCONTACTS; i++) F -= contact_force(model, &model->contact[i], t, x);
+    return F;
 }
 
 void vi_model_rhs(const vi_model *model, double t, const double x[2], double dx[2])
 {
     double dyC, ddyC;
     vi_model_platform(model, t, &dyC, &ddyC);
-    if (model->mode == VI_MODE_STICK) { /* Filippov sliding on delta = delta_c: the mass moves with the platform */
+    if (vi_model_mode(model) == VI_MODE_STICK) { /* Filippov sliding on delta = delta_c: the mass moves with the platform */
         dx[0] = 0.0;
         dx[1] = ddyC;
         return;
     }
     dx[0] = dyC - x[1];
-    dx[1] = (vi_model_force(model, t, x) - net_load(model, t)) / model->m;
+    dx[1] = (body_force(model, t, x) - net_load(model, t)) / model->body.m;
+}
+
+/* Contact c's stiffness dF/d(delta) [N/m] at (t, x) in its mode (0 free and in stick). */
+static double contact_stiffness(const vi_model *model, const vi_model_contact *c, double t, const double x[2])
+{
+    if (law(c)->rate_force) return rate_force(model, c, t, x).dF_ddelta;
+    double d = x[0];
+    switch (c->mode) {
+    case VI_MODE_ELASTIC: return law(c)->elastic_stiffness(c, d);
+    case VI_MODE_PLASTIC: return law(c)->plastic_stiffness(c, d);
+    case VI_MODE_UNLOAD: return vi_unload_stiffness(&c->unload, d);
+    default: return 0.0;
+    }
 }
 
 double vi_model_stiffness_over_mass(const vi_model *model, double t, const double x[2])
 {
-    if (law(model)->rate_force) return rate_force(model, t, x).dF_ddelta / model->m;
-    double d = x[0], k = 0.0;
-    switch (model->mode) {
-    case VI_MODE_ELASTIC: k = law(model)->elastic_stiffness(model, d); break;
-    case VI_MODE_PLASTIC: k = law(model)->plastic_stiffness(model, d); break;
-    case VI_MODE_UNLOAD: k = vi_unload_stiffness(&model->unload, d); break;
-    default: break;
-    }
-    return k / model->m;
+    double k = contact_stiffness(model, &model->contact[0], t, x);
+    for (int i = 1; i < VI_NCONTACTS; i++) k += contact_stiffness(model, &model->contact[i], t, x);
+    return k / model->body.m;
 }
 
-double vi_model_damping(const vi_model *model, double t, const double x[2]) { return rate_force(model, t, x).dF_drate; }
+double vi_model_damping(const vi_model *model, double t, const double x[2])
+{
+    double c = rate_force(model, &model->contact[0], t, x).dF_drate;
+    for (int i = 1; i < VI_NCONTACTS; i++) c += rate_force(model, &model->contact[i], t, x).dF_drate;
+    return c;
+}
 
 double vi_model_stiffness_rate(const vi_model *model, double t, const double x[2], double *per_rate)
 {
+    const vi_model_contact *c = vi_model_lower(model);
     *per_rate = 0.0;
-    if (law(model)->rate_force) {
-        if (model->mode != VI_MODE_ELASTIC) return 0.0;
-        vi_law_curvature c = law(model)->rate_curvature(model, x[0], indentation_rate(model, t, x));
-        *per_rate = c.d2F_ddelta_drate;
-        return c.d2F_ddelta2;
+    if (law(c)->rate_force) {
+        if (c->mode != VI_MODE_ELASTIC) return 0.0;
+        vi_law_curvature k = law(c)->rate_curvature(c, x[0], indentation_rate(model, t, x));
+        *per_rate = k.d2F_ddelta_drate;
+        return k.d2F_ddelta2;
     }
-    switch (model->mode) {
-    case VI_MODE_ELASTIC: return law(model)->elastic_stiffness_rate(model, x[0]);
-    case VI_MODE_PLASTIC: return law(model)->plastic_stiffness_rate(model, x[0]);
-    case VI_MODE_UNLOAD: return vi_unload_stiffness_rate(&model->unload, x[0]);
+    switch (c->mode) {
+    case VI_MODE_ELASTIC: return law(c)->elastic_stiffness_rate(c, x[0]);
+    case VI_MODE_PLASTIC: return law(c)->plastic_stiffness_rate(c, x[0]);
+    case VI_MODE_UNLOAD: return vi_unload_stiffness_rate(&c->unload, x[0]);
     default: return 0.0; /* free; stick, whose stiffness is that at delta_c */
     }
 }
 
-void vi_model_memory_rates(const vi_model *model, const double x[2], vi_memory_rates *r) { law(model)->memory_rates(model, x[0], r); }
+void vi_model_memory_rates(const vi_model *model, const double x[2], vi_memory_rates *r)
+{
+    const vi_model_contact *c = vi_model_lower(model);
+    law(c)->memory_rates(c, x[0], r);
+}
 
 /* ---- energy (vi_model.h, ENERGY) --------------------------------------------------------------------- */
 
 /* A plastic state below the memory written down (Model Exchange: an importer's state past a turning
  * point it has not located yet): delta below delta_c (Johnson and Thornton with a fixed contact point)
  * or below the LEPP yield surface. */
-static int below_written(const vi_model *model, double d)
+static int below_written(const vi_model_contact *c, double d)
 {
-    if (is_johnson_fixed(model)) return model->yielded && d < model->unload.delta_c;
-    return law(model)->permanent_set && d < lepp_yield(model);
+    if (is_johnson_fixed(c)) return c->yielded && d < c->unload.delta_c;
+    return law(c)->permanent_set && d < lepp_yield(c);
 }
 
 double vi_model_contact_energy(const vi_model *model, const double x[2], double *per_delta)
 {
-    const law_fns *L = law(model);
+    const vi_model_contact *c = vi_model_lower(model);
+    const law_fns *L = law(c);
     double d = x[0], E = 0.0, k = 0.0;
     vi_memory_rates r;
     if (L->rate_force) { /* the spring part, while the bodies overlap */
-        E = L->elastic_energy(model, d), k = L->elastic_force(model, d);
+        E = L->elastic_energy(c, d), k = L->elastic_force(c, d);
     } else {
-        switch (model->mode) {
-        case VI_MODE_ELASTIC: E = L->elastic_energy(model, d), k = L->elastic_force(model, d); break;
+        switch (c->mode) {
+        case VI_MODE_ELASTIC: E = L->elastic_energy(c, d), k = L->elastic_force(c, d); break;
         case VI_MODE_PLASTIC:
-            if (below_written(model, d)) { /* past a turning point not located yet: as unloading from the memory */
-                E = L->elastic_energy(model, d), k = L->elastic_force(model, d);
-                if (is_johnson_fixed(model)) E = vi_unload_energy(&model->unload, d), k = vi_unload_force(&model->unload, d);
+            if (below_written(c, d)) { /* past a turning point not located yet: as unloading from the memory */
+                E = L->elastic_energy(c, d), k = L->elastic_force(c, d);
+                if (is_johnson_fixed(c)) E = vi_unload_energy(&c->unload, d), k = vi_unload_force(&c->unload, d);
                 break;
             }
-            E = L->plastic_energy(model, d);
-            if (per_delta) L->memory_rates(model, d, &r), k = L->plastic_force(model, d) - r.W_plastic;
+            E = L->plastic_energy(c, d);
+            if (per_delta) L->memory_rates(c, d, &r), k = L->plastic_force(c, d) - r.W_plastic;
             break;
-        case VI_MODE_UNLOAD: E = vi_unload_energy(&model->unload, d), k = vi_unload_force(&model->unload, d); break;
-        case VI_MODE_STICK: E = vi_unload_energy(&model->unload, model->unload.delta_c); break;
+        case VI_MODE_UNLOAD: E = vi_unload_energy(&c->unload, d), k = vi_unload_force(&c->unload, d); break;
+        case VI_MODE_STICK: E = vi_unload_energy(&c->unload, c->unload.delta_c); break;
         default: break;
         }
     }
@@ -716,57 +768,66 @@ double vi_model_contact_energy(const vi_model *model, const double x[2], double 
 
 double vi_model_contact_power(const vi_model *model, double t, const double x[2])
 {
-    if (model->mode == VI_MODE_FREE) return 0.0;
+    const vi_model_contact *c = vi_model_lower(model);
+    if (c->mode == VI_MODE_FREE) return 0.0;
     double r = indentation_rate(model, t, x);
-    if (law(model)->rate_force) return model->mode == VI_MODE_ELASTIC ? law(model)->rate_force(model, x[0], r).F * r : 0.0;
+    if (law(c)->rate_force) return c->mode == VI_MODE_ELASTIC ? law(c)->rate_force(c, x[0], r).F * r : 0.0;
     return vi_model_force(model, t, x) * r;
 }
 
-int vi_model_damps(const vi_model *model) { return law(model)->rate_force != NULL; }
+int vi_model_damps(const vi_model *model)
+{
+    int damps = 0;
+    for (int i = 0; i < VI_NCONTACTS; i++) damps |= law(&model->contact[i])->rate_force != NULL;
+    return damps;
+}
 
 int vi_model_damping_root_at_onset(const vi_model *model)
 {
-    return model->law == VI_LAW_HERTZ_DAMPED && model->damped.formula == VI_DAMP_EXACT;
+    const vi_model_contact *c = vi_model_lower(model);
+    return c->law == VI_LAW_HERTZ_DAMPED && c->damped.formula == VI_DAMP_EXACT;
 }
 
 vi_model_power vi_model_damping_power(const vi_model *model, double t, const double x[2])
 {
-    const law_fns *L = law(model);
+    const vi_model_contact *c = vi_model_lower(model);
+    const law_fns *L = law(c);
     if (!L->rate_force) return (vi_model_power){0.0, 0.0, 0.0};
-    double d = x[0], r = indentation_rate(model, t, x), Fs = L->elastic_force(model, d), ks = L->elastic_stiffness(model, d);
-    vi_law_force F = rate_force(model, t, x); /* 0 when free */
+    double d = x[0], r = indentation_rate(model, t, x), Fs = L->elastic_force(c, d), ks = L->elastic_stiffness(c, d);
+    vi_law_force F = rate_force(model, c, t, x); /* 0 when free */
     return (vi_model_power){(F.F - Fs) * r, (F.dF_ddelta - ks) * r, F.dF_drate * r + F.F - Fs};
 }
 
 double vi_model_force_rate(const vi_model *model, double t, const double x[2], const double dx[2], double *F)
 {
-    const law_fns *L = law(model);
+    const vi_model_contact *c = vi_model_lower(model);
+    const law_fns *L = law(c);
     double d = x[0], k = 0.0;
     *F = 0.0;
-    if (model->mode == VI_MODE_FREE) return 0.0;
-    if (model->mode == VI_MODE_STICK) return *F = hold_force(model, t), hold_force_rate(model, t);
+    if (c->mode == VI_MODE_FREE) return 0.0;
+    if (c->mode == VI_MODE_STICK) return *F = hold_force(model, t), hold_force_rate(model, t);
     if (L->rate_force) { /* dF/dt = F_delta r + F_r r', r' = yC'' - v' */
         double y[4];
         platform(model, t, y);
         double r = y[1] - x[1];
-        vi_law_force f = L->rate_force(model, d, r);
+        vi_law_force f = L->rate_force(c, d, r);
         *F = f.F;
-        return f.dF_ddelta * r + f.dF_drate * (y[2] - (dx ? dx[1] : (f.F - net_load(model, t)) / model->m));
+        return f.dF_ddelta * r + f.dF_drate * (y[2] - (dx ? dx[1] : (f.F - net_load(model, t)) / model->body.m));
     }
-    switch (model->mode) {
-    case VI_MODE_ELASTIC: *F = L->elastic_force(model, d), k = L->elastic_stiffness(model, d); break;
-    case VI_MODE_PLASTIC: *F = L->plastic_force(model, d), k = L->plastic_stiffness(model, d); break;
-    default: *F = vi_unload_force(&model->unload, d), k = vi_unload_stiffness(&model->unload, d); break;
+    switch (c->mode) {
+    case VI_MODE_ELASTIC: *F = L->elastic_force(c, d), k = L->elastic_stiffness(c, d); break;
+    case VI_MODE_PLASTIC: *F = L->plastic_force(c, d), k = L->plastic_stiffness(c, d); break;
+    default: *F = vi_unload_force(&c->unload, d), k = vi_unload_stiffness(&c->unload, d); break;
     }
     return k * (dx ? dx[0] : indentation_rate(model, t, x));
 }
 
 void vi_model_jacobian(const vi_model *model, double t, const double x[2], double j[4])
 {
-    int stick = model->mode == VI_MODE_STICK;
+    int stick = vi_model_mode(model) == VI_MODE_STICK;
     j[0] = 0.0, j[1] = stick ? 0.0 : -1.0;
     j[2] = vi_model_stiffness_over_mass(model, t, x); /* 0 in stick */
-    j[3] = -vi_model_damping(model, t, x) / model->m; /* d(delta')/dv = -1 */
+    j[3] = -vi_model_damping(model, t, x) / model->body.m; /* d(delta')/dv = -1 */
 }
 
 /* ---- the guards: one definition per mode (vi_model.h lists them), read by the guard values, the
@@ -791,31 +852,31 @@ typedef struct {
     const char *name;
 } guard_def;
 
-/* The guards of `mode` for model's law and memory (any mode, also one the law does not have). */
-static void mode_guards(const vi_model *model, int mode, guard_def g[VI_NGUARDS])
+/* The guards of `mode` for contact c's law and memory (any mode, also one the law does not have). */
+static void mode_guards(const vi_model_contact *c, int mode, guard_def g[VI_CONTACT_NGUARDS])
 {
-    const law_fns *L = law(model);
+    const law_fns *L = law(c);
     g[0] = g[1] = (guard_def){GUARD_NONE, INFINITY, "none"};
     switch (mode) {
-    case VI_MODE_FREE: g[0] = (guard_def){L->force_guard ? GUARD_ONSET : GUARD_BELOW, L->contact_surface(model), "contact"}; break;
+    case VI_MODE_FREE: g[0] = (guard_def){L->force_guard ? GUARD_ONSET : GUARD_BELOW, L->contact_surface(c), "contact"}; break;
     case VI_MODE_ELASTIC: {
-        double yield = L->yield_surface(model);
-        g[0] = (guard_def){GUARD_ABOVE, L->contact_surface(model), "separation"};
+        double yield = L->yield_surface(c);
+        g[0] = (guard_def){GUARD_ABOVE, L->contact_surface(c), "separation"};
         if (L->force_guard) g[1] = (guard_def){GUARD_RELEASE, yield, "release (the damped force reaches 0)"};
         else if (isfinite(yield)) g[1] = (guard_def){GUARD_BELOW, yield, "yield"};
         break;
     }
     case VI_MODE_PLASTIC:
-        if (plastic_ends_at_yield(model)) g[0] = (guard_def){GUARD_ABOVE, L->yield_surface(model), "back below yield"};
-        else g[0] = (guard_def){GUARD_TURN, L->plastic_floor(model), "the turning point (delta' = 0)"};
+        if (plastic_ends_at_yield(c)) g[0] = (guard_def){GUARD_ABOVE, L->yield_surface(c), "back below yield"};
+        else g[0] = (guard_def){GUARD_TURN, L->plastic_floor(c), "the turning point (delta' = 0)"};
         break;
     case VI_MODE_UNLOAD:
-        g[0] = (guard_def){GUARD_ABOVE, model->unload.delta_f, "separation"};
-        g[1] = (guard_def){GUARD_BELOW, model->unload.delta_c, "reloading to delta_c"};
+        g[0] = (guard_def){GUARD_ABOVE, c->unload.delta_f, "separation"};
+        g[1] = (guard_def){GUARD_BELOW, c->unload.delta_c, "reloading to delta_c"};
         break;
     case VI_MODE_STICK:
-        g[0] = (guard_def){GUARD_STICK_LOAD, model->unload.delta_c, "the end of stick (plastic loading)"};
-        g[1] = (guard_def){GUARD_STICK_UNLOAD, model->unload.delta_c, "the end of stick (unloading)"};
+        g[0] = (guard_def){GUARD_STICK_LOAD, c->unload.delta_c, "the end of stick (plastic loading)"};
+        g[1] = (guard_def){GUARD_STICK_UNLOAD, c->unload.delta_c, "the end of stick (unloading)"};
         break;
     default: break;
     }
@@ -835,52 +896,70 @@ static double guard_distance(const guard_def *g, double d)
     }
 }
 
-void vi_model_guards(const vi_model *model, double t, const double x[2], double g[VI_NGUARDS])
+/* Contact c's guards in its mode at (t, x) into g[0 .. VI_CONTACT_NGUARDS - 1]. */
+static void contact_guards(const vi_model *model, const vi_model_contact *c, double t, const double x[2], double *g)
 {
-    guard_def def[VI_NGUARDS];
+    guard_def def[VI_CONTACT_NGUARDS];
     double d = x[0], F_hold = 0.0;
-    mode_guards(model, model->mode, def);
+    mode_guards(c, c->mode, def);
     if (def[0].kind == GUARD_STICK_LOAD) F_hold = hold_force(model, t); /* both stick guards: once */
-    for (int i = 0; i < VI_NGUARDS; i++) {
+    for (int i = 0; i < VI_CONTACT_NGUARDS; i++) {
         switch (def[i].kind) {
         case GUARD_ABOVE:
         case GUARD_BELOW: g[i] = guard_distance(&def[i], d); break;
         case GUARD_TURN: g[i] = indentation_rate(model, t, x); break;
-        case GUARD_ONSET: g[i] = fmax(-d, -law(model)->force_guard(model, d, indentation_rate(model, t, x)).g); break;
-        case GUARD_RELEASE: g[i] = law(model)->force_guard(model, d, indentation_rate(model, t, x)).g; break;
-        case GUARD_STICK_LOAD: g[i] = vi_johnson_load(&model->johnson, def[i].surface) - F_hold; break;
-        case GUARD_STICK_UNLOAD: g[i] = F_hold - vi_unload_force(&model->unload, def[i].surface); break;
+        case GUARD_ONSET: g[i] = fmax(-d, -law(c)->force_guard(c, d, indentation_rate(model, t, x)).g); break;
+        case GUARD_RELEASE: g[i] = law(c)->force_guard(c, d, indentation_rate(model, t, x)).g; break;
+        case GUARD_STICK_LOAD: g[i] = vi_johnson_load(&c->johnson, def[i].surface) - F_hold; break;
+        case GUARD_STICK_UNLOAD: g[i] = F_hold - vi_unload_force(&c->unload, def[i].surface); break;
         default: g[i] = 1.0; break; /* inactive */
         }
     }
 }
 
+void vi_model_guards(const vi_model *model, double t, const double x[2], double g[VI_NGUARDS])
+{
+    for (int i = 0; i < VI_NCONTACTS; i++) contact_guards(model, &model->contact[i], t, x, g + i * VI_CONTACT_NGUARDS);
+}
+
 const char *vi_model_guard_name(const vi_model *model, int mode, int guard)
 {
-    guard_def def[VI_NGUARDS];
+    guard_def def[VI_CONTACT_NGUARDS];
     if (guard < 0 || guard >= VI_NGUARDS) return "none";
-    mode_guards(model, mode, def);
-    return def[guard].name;
+    mode_guards(&model->contact[guard / VI_CONTACT_NGUARDS], mode, def);
+    return def[guard % VI_CONTACT_NGUARDS].name;
 }
+
+int vi_model_guard_mode(const vi_model *model, int guard) { return model->contact[guard / VI_CONTACT_NGUARDS].mode; }
 
 void vi_model_freeze(vi_model *model, double t, double x[2])
 {
-    if (model->mode == VI_MODE_PLASTIC && law(model)->freeze_plastic) law(model)->freeze_plastic(model, x);
-    else if (model->mode == VI_MODE_STICK) vi_model_platform(model, t, &x[1], NULL);
+    for (int i = 0; i < VI_NCONTACTS; i++) {
+        vi_model_contact *c = &model->contact[i];
+        if (c->mode == VI_MODE_PLASTIC && law(c)->freeze_plastic) law(c)->freeze_plastic(c, x);
+        else if (c->mode == VI_MODE_STICK) vi_model_platform(model, t, &x[1], NULL);
+    }
 }
 
-static int resolve(vi_model *model, double t, double x[2], int snap)
+/* Choose contact c's mode at (t, x) (snap: the stick guard an event put on its surface); a contact
+ * onset counts an impact. Returns the mode. */
+static int resolve(vi_model *model, vi_model_contact *c, double t, double x[2], int snap)
 {
     double dyC;
     vi_model_platform(model, t, &dyC, NULL);
-    rates q = {.r = dyC - x[1], .F_hold = hold_force(model, t), .j = hold_force_rate(model, t), .snap = snap};
-    int mode = law(model)->choose(model, x, &q);
-    if (model->mode == VI_MODE_FREE && mode != VI_MODE_FREE) model->n_impacts++;
-    model->mode = mode;
+    rates q = {.r = dyC - x[1], .F_hold = hold_force(model, t), .j = hold_force_rate(model, t), .m = model->body.m,
+               .snap = snap};
+    int mode = law(c)->choose(c, x, &q);
+    if (c->mode == VI_MODE_FREE && mode != VI_MODE_FREE) c->n_impacts++;
+    c->mode = mode;
     return mode;
 }
 
-int vi_model_resolve(vi_model *model, double t, double x[2]) { return resolve(model, t, x, SNAP_NONE); }
+int vi_model_resolve(vi_model *model, double t, double x[2])
+{
+    for (int i = 0; i < VI_NCONTACTS; i++) resolve(model, &model->contact[i], t, x, SNAP_NONE);
+    return vi_model_mode(model);
+}
 
 /* At most this many ulp steps of v put the force guard on the side of the mode chosen (one or two do). */
 #define VI_GUARD_NUDGES 64
@@ -889,18 +968,18 @@ int vi_model_resolve(vi_model *model, double t, double x[2]) { return resolve(mo
  * again while delta > 0 (the state stays); in contact, the force guard fell through 0 while delta > 0:
  * the rate is put onto the guard's surface (g is linear in it), then on the side of the mode chosen,
  * so that the new mode starts with its guards >= 0. */
-static int damped_event(vi_model *model, double t, double x[2])
+static int damped_event(vi_model *model, vi_model_contact *c, double t, double x[2])
 {
-    const law_fns *L = law(model);
-    if (model->mode == VI_MODE_FREE) {
-        if (new_contact(model, x[0], indentation_rate(model, t, x))) x[0] = 0.0; /* onto delta = 0 */
-        return vi_model_resolve(model, t, x);
+    const law_fns *L = law(c);
+    if (c->mode == VI_MODE_FREE) {
+        if (new_contact(c, x[0], indentation_rate(model, t, x))) x[0] = 0.0; /* onto delta = 0 */
+        return resolve(model, c, t, x, SNAP_NONE);
     }
-    vi_law_guard g = L->force_guard(model, x[0], indentation_rate(model, t, x));
+    vi_law_guard g = L->force_guard(c, x[0], indentation_rate(model, t, x));
     if (g.dg_drate > 0.0) x[1] += g.g / g.dg_drate; /* r = yC' - v: a larger v lowers g */
-    int mode = resolve(model, t, x, SNAP_RELEASE);
+    int mode = resolve(model, c, t, x, SNAP_RELEASE);
     for (int i = 0; i < VI_GUARD_NUDGES; i++) {
-        double gv = L->force_guard(model, x[0], indentation_rate(model, t, x)).g;
+        double gv = L->force_guard(c, x[0], indentation_rate(model, t, x)).g;
         if (mode == VI_MODE_ELASTIC ? gv >= 0.0 : gv <= 0.0) break;
         x[1] = nextafter(x[1], mode == VI_MODE_ELASTIC ? -INFINITY : INFINITY);
     }
@@ -909,82 +988,94 @@ static int damped_event(vi_model *model, double t, double x[2])
 
 int vi_model_event(vi_model *model, double t, double x[2], int fired)
 {
-    guard_def def[VI_NGUARDS];
+    guard_def def[VI_CONTACT_NGUARDS];
+    vi_model_contact *c = &model->contact[fired / VI_CONTACT_NGUARDS];
+    int local = fired % VI_CONTACT_NGUARDS;
     vi_model_freeze(model, t, x);
-    mode_guards(model, model->mode, def);
-    const guard_def *g = &def[fired == 0 || def[1].kind == GUARD_NONE ? 0 : 1]; /* a mode with one guard: that one */
+    mode_guards(c, c->mode, def);
+    const guard_def *g = &def[local == 0 || def[1].kind == GUARD_NONE ? 0 : 1]; /* a mode with one guard: that one */
     switch (g->kind) {
     case GUARD_ABOVE:
     case GUARD_BELOW: x[0] = g->surface; break;
     case GUARD_TURN: vi_model_platform(model, t, &x[1], NULL); break; /* turning point: delta' = 0 */
     case GUARD_ONSET:
-    case GUARD_RELEASE: return damped_event(model, t, x);
+    case GUARD_RELEASE: return damped_event(model, c, t, x);
     case GUARD_STICK_LOAD:
-    case GUARD_STICK_UNLOAD: x[0] = g->surface; return resolve(model, t, x, g->kind == GUARD_STICK_LOAD ? SNAP_LOAD : SNAP_UNLOAD);
+    case GUARD_STICK_UNLOAD: x[0] = g->surface; return resolve(model, c, t, x, g->kind == GUARD_STICK_LOAD ? SNAP_LOAD : SNAP_UNLOAD);
     default: break;
     }
-    return vi_model_resolve(model, t, x);
+    return resolve(model, c, t, x, SNAP_NONE);
+}
+
+/* Contact c without memory, free (before the initial state). */
+static void clear_contact(vi_model_contact *c)
+{
+    c->mode = VI_MODE_FREE;
+    c->yielded = 0;
+    c->unload = (vi_unload_curve){0};
+    c->delta_p = 0.0;
+    c->V_i = 0.0;
 }
 
 void vi_model_initial_state(vi_model *model, int init, double v0, double t0, double x[2])
 {
+    vi_model_contact *c = &model->contact[VI_LOWER];
     double W0 = net_load(model, t0);
-    model->f_contact = sqrt(W0 > 0.0 ? law(model)->static_stiffness(model, W0) / model->m : 0.0) / (2.0 * VI_PI);
-    model->mode = VI_MODE_FREE;
-    model->yielded = 0;
-    model->unload = (vi_unload_curve){0};
-    model->delta_p = 0.0;
-    model->V_i = 0.0;
+    model->f_contact = sqrt(W0 > 0.0 ? law(c)->static_stiffness(c, W0) / model->body.m : 0.0) / (2.0 * VI_PI);
+    for (int i = 0; i < VI_NCONTACTS; i++) clear_contact(&model->contact[i]);
     x[0] = 0.0;
     x[1] = v0;
-    if (init == VI_INIT_STATIC) {
-        double d = W0 > 0.0 ? law(model)->static_indentation(model, W0) : 0.0;
-        if (is_johnson_fixed(model) && d > model->johnson.delta_Y) { /* plastically pre-loaded */
-            model->yielded = 1;
-            model->unload = law(model)->unload_curve(model, d);
+    if (init == VI_INIT_STATIC) { /* at rest on the lower contact */
+        double d = W0 > 0.0 ? law(c)->static_indentation(c, W0) : 0.0;
+        if (is_johnson_fixed(c) && d > c->johnson.delta_Y) { /* plastically pre-loaded */
+            c->yielded = 1;
+            c->unload = law(c)->unload_curve(c, d);
         }
         x[0] = d;
         vi_model_platform(model, t0, &x[1], NULL);
     }
     vi_model_resolve(model, t0, x);
-    model->n_impacts = 0;
+    for (int i = 0; i < VI_NCONTACTS; i++) model->contact[i].n_impacts = 0;
 }
 
 void vi_model_scales(const vi_model *model, const double x0[2], double *L, double *V)
 {
+    const vi_model_contact *c = vi_model_lower(model);
     double W = net_load(model, model->t0), dyC, l = 0.0;
     vi_model_platform(model, model->t0, &dyC, NULL);
-    if (W > 0.0) l = fmax(l, law(model)->static_indentation(model, W));
-    if (isfinite(law(model)->yield_surface(model))) l = fmax(l, model->johnson.delta_Y);
+    if (W > 0.0) l = fmax(l, law(c)->static_indentation(c, W));
+    if (isfinite(law(c)->yield_surface(c))) l = fmax(l, c->johnson.delta_Y);
     double v = fabs(dyC - x0[1]);
     if (!(l > 0.0 || v > 0.0)) /* only the excitation moves anything: harmonic and rolling */
         v = fabs(model->a) * model->omega + (model->profile ? fabs(model->V) * vi_profile_max_slope(model->profile) : 0.0);
     if (v > 0.0 && isfinite(v)) {
-        double dv = law(model)->impact_indentation(model, v);
+        double dv = law(c)->impact_indentation(c, model->body.m, v);
         if (isfinite(dv)) l = fmax(l, dv);
     }
-    if (!(l > 0.0)) l = VI_SCALE_FALLBACK * model->johnson.R_star;
+    if (!(l > 0.0)) l = VI_SCALE_FALLBACK * c->johnson.R_star;
     *L = l;
-    *V = l * (sqrt(law(model)->virgin_stiffness(model, l)) / sqrt(model->m));
+    *V = l * (sqrt(law(c)->virgin_stiffness(c, l)) / sqrt(model->body.m));
 }
 
 /* ---- validity ------------------------------------------------------------------------------ */
 
 /* The indentation the range of validity looks at: delta in contact, or the largest one delta_c. */
-static double validity_indentation(const vi_model *model, const double x[2])
+static double validity_indentation(const vi_model_contact *c, const double x[2])
 {
-    double d = model->mode == VI_MODE_FREE ? 0.0 : x[0], dc = model->yielded ? model->unload.delta_c : 0.0;
+    double d = c->mode == VI_MODE_FREE ? 0.0 : x[0], dc = c->yielded ? c->unload.delta_c : 0.0;
     return dc > d || d != d ? dc : d; /* fmax */
 }
 
 int vi_model_indentation_invalid(const vi_model *model, const double x[2])
 {
-    return validity_indentation(model, x) > VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * model->johnson.R_star;
+    const vi_model_contact *c = vi_model_lower(model);
+    return validity_indentation(c, x) > VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * c->johnson.R_star;
 }
 
 int vi_model_validity(const vi_model *model, double R1, double t, const double x[2], int skip, char *msg, size_t n)
 {
-    double R = model->johnson.R_star, limit = VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * R, d = validity_indentation(model, x);
+    const vi_model_contact *c = vi_model_lower(model);
+    double R = c->johnson.R_star, limit = VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * R, d = validity_indentation(c, x);
     if (!(skip & VI_INVALID_INDENTATION) && d > limit) {
         vi_snprintf(msg, n, "t = %.17g s: the indentation %g m exceeds %g R* = %g m (contact radius sqrt(R* delta) = %g m "
                     "> %g R*): the contact laws (paper eqs. 2-4) assume a contact radius small against R*, so the "
@@ -998,7 +1089,7 @@ int vi_model_validity(const vi_model *model, double R1, double t, const double x
                     "leave the model's range of validity", t, model->a, R);
         return VI_INVALID_AMPLITUDE;
     }
-    if (!(skip & VI_INVALID_ENERGY) && johnson_makes_energy(model, t, msg, n)) return VI_INVALID_ENERGY;
+    if (!(skip & VI_INVALID_ENERGY) && johnson_makes_energy(c, t, msg, n)) return VI_INVALID_ENERGY;
     double span = model->profile ? vi_profile_height_span(model->profile) : 0.0;
     if (!(skip & VI_INVALID_PROFILE) && span > R1) {
         vi_snprintf(msg, n, "t = %.17g s: the heights of profile_file span %g m, more than the rolling radius R1 = %g m: "
@@ -1011,19 +1102,21 @@ int vi_model_validity(const vi_model *model, double R1, double t, const double x
 
 double vi_model_force_limit(const vi_model *model)
 {
-    switch (model->law) {
+    const vi_model_contact *c = vi_model_lower(model);
+    switch (c->law) {
     case VI_LAW_HERTZ:
-    case VI_LAW_HERTZ_DAMPED: return model->johnson.F_Y;
-    case VI_LAW_JOHNSON: return VI_JOHNSON_FP * model->johnson.F_Y;
+    case VI_LAW_HERTZ_DAMPED: return c->johnson.F_Y;
+    case VI_LAW_JOHNSON: return VI_JOHNSON_FP * c->johnson.F_Y;
     default: return INFINITY;
     }
 }
 
 int vi_model_force_validity(const vi_model *model, double F_max, double t, char *msg, size_t n)
 {
-    double F_Y = model->johnson.F_Y, limit = vi_model_force_limit(model);
+    const vi_model_contact *c = vi_model_lower(model);
+    double F_Y = c->johnson.F_Y, limit = vi_model_force_limit(model);
     if (!(F_max > limit)) return 0;
-    if (model->law == VI_LAW_JOHNSON)
+    if (c->law == VI_LAW_JOHNSON)
         vi_snprintf(msg, n, "t = %.17g s: the contact force reached %g N = %.4g F_Y (F_Y = %g N), beyond F_p = %g F_Y: "
                     "Johnson's loading curve (paper eq. 3) holds for F_Y < F < F_p, a plastic zone contained by elastic "
                     "material (beyond, full plastic flow: contact_model = lepp), so the results leave the model's range "
@@ -1086,29 +1179,53 @@ static int close_rel(double a, double b, double rel) { return fabs(a - b) <= rel
 
 #define CONSISTENCY_TOL 1e-9
 
-static int check_constants(const vi_model *model, char *msg, size_t n)
+/* A list of named constants: each finite, and > 0 where `positive`. */
+typedef struct {
+    const char *name;
+    double value;
+    int positive;
+} named_constant;
+
+static int check_named(const named_constant *c, size_t count, char *msg, size_t n)
 {
-    const struct { const char *name; double value; int positive; } c[] = {
-        {"m", model->m, 1},           {"W0", model->W0, 0},         {"K", model->K, 1},
-        {"E_star", model->johnson.E_star, 1}, {"R_star", model->johnson.R_star, 1}, {"theta_Y", model->johnson.theta_Y, 1},
-        {"F_Y", model->johnson.F_Y, 1},     {"delta_Y", model->johnson.delta_Y, 1}, {"k_lin", model->k_lin, 1},
-        {"a", model->a, 0},           {"omega", model->omega, 0},   {"t0", model->t0, 0},
-        {"phi0", model->phi0, 0},     {"t_phi", model->t_phi, 0},   {"V", model->V, 0},
-        {"x0", model->x0, 0},
-        {"f_contact", model->f_contact, 0}};
-    for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+    for (size_t i = 0; i < count; i++) {
         if (!isfinite(c[i].value)) VI_FAIL(msg, n, "model constant %s = %g is not finite", c[i].name, c[i].value);
         if (c[i].positive && !(c[i].value > 0.0))
             VI_FAIL(msg, n, "model constant %s = %g is not positive", c[i].name, c[i].value);
     }
+    return 0;
+}
+
+/* Contact c's constants: finite, positive, and consistent with each other. */
+static int check_contact_constants(const vi_model_contact *c, char *msg, size_t n)
+{
+    const vi_johnson *J = &c->johnson;
+    const named_constant k[] = {{"K", c->K, 1},        {"E_star", J->E_star, 1},   {"R_star", J->R_star, 1},
+                                {"theta_Y", J->theta_Y, 1}, {"F_Y", J->F_Y, 1}, {"delta_Y", J->delta_Y, 1},
+                                {"k_lin", c->k_lin, 1}};
+    if (check_named(k, sizeof k / sizeof k[0], msg, n) < 0) return -1;
+    if (!close_rel(c->K, vi_hertz_constant(J->E_star, J->R_star), CONSISTENCY_TOL))
+        VI_FAIL(msg, n, "model constant K = %g does not match 4/3 E* sqrt(R*)", c->K);
+    if (!close_rel(J->F_Y, vi_hertz_force(c->K, J->delta_Y), CONSISTENCY_TOL))
+        VI_FAIL(msg, n, "model constant delta_Y = %g does not match F_Y = K delta_Y^1.5", J->delta_Y);
+    if (!close_rel(c->k_lin, J->F_Y / J->delta_Y, CONSISTENCY_TOL))
+        VI_FAIL(msg, n, "model constant k_lin = %g does not match F_Y/delta_Y", c->k_lin);
+    return 0;
+}
+
+/* The body's, the contacts' and the platform's constants, and the inputs' ramps. */
+static int check_constants(const vi_model *model, char *msg, size_t n)
+{
+    const named_constant body[] = {{"m", model->body.m, 1}, {"W0", model->body.W0, 0}};
+    const named_constant platform[] = {{"a", model->a, 0},         {"omega", model->omega, 0}, {"t0", model->t0, 0},
+                                       {"phi0", model->phi0, 0},   {"t_phi", model->t_phi, 0}, {"V", model->V, 0},
+                                       {"x0", model->x0, 0},       {"f_contact", model->f_contact, 0}};
+    if (check_named(body, sizeof body / sizeof body[0], msg, n) < 0) return -1;
+    for (int i = 0; i < VI_NCONTACTS; i++)
+        if (check_contact_constants(&model->contact[i], msg, n) < 0) return -1;
+    if (check_named(platform, sizeof platform / sizeof platform[0], msg, n) < 0) return -1;
     if (model->omega < 0.0) VI_FAIL(msg, n, "model constant omega = %g is negative", model->omega);
     if (model->f_contact < 0.0) VI_FAIL(msg, n, "model constant f_contact = %g is negative", model->f_contact);
-    if (!close_rel(model->K, vi_hertz_constant(model->johnson.E_star, model->johnson.R_star), CONSISTENCY_TOL))
-        VI_FAIL(msg, n, "model constant K = %g does not match 4/3 E* sqrt(R*)", model->K);
-    if (!close_rel(model->johnson.F_Y, vi_hertz_force(model->K, model->johnson.delta_Y), CONSISTENCY_TOL))
-        VI_FAIL(msg, n, "model constant delta_Y = %g does not match F_Y = K delta_Y^1.5", model->johnson.delta_Y);
-    if (!close_rel(model->k_lin, model->johnson.F_Y / model->johnson.delta_Y, CONSISTENCY_TOL))
-        VI_FAIL(msg, n, "model constant k_lin = %g does not match F_Y/delta_Y", model->k_lin);
     const vi_ramp *r[2] = {&model->yC_in, &model->F_ext};
     const char *rn[2] = {"yC_in", "F_ext"};
     for (int i = 0; i < 2; i++)
@@ -1117,38 +1234,38 @@ static int check_constants(const vi_model *model, char *msg, size_t n)
     return 0;
 }
 
-static int check_memory(const vi_model *model, char *msg, size_t n)
+static int check_memory(const vi_model_contact *c, char *msg, size_t n)
 {
-    if (model->yielded != 0 && model->yielded != 1) VI_FAIL(msg, n, "model flag yielded = %d is not 0 or 1", model->yielded);
-    if (model->n_impacts < 0) VI_FAIL(msg, n, "n_impacts = %ld is negative", model->n_impacts);
-    if (!isfinite(model->delta_p)) VI_FAIL(msg, n, "delta_p = %g is not finite", model->delta_p);
-    if (!(model->V_i >= 0.0 && isfinite(model->V_i))) VI_FAIL(msg, n, "V_i = %g is not finite and >= 0", model->V_i);
-    const double dc[5] = {model->damped.alpha_c, model->damped.chi, model->damped.K, model->linear.k, model->linear.c};
+    if (c->yielded != 0 && c->yielded != 1) VI_FAIL(msg, n, "model flag yielded = %d is not 0 or 1", c->yielded);
+    if (c->n_impacts < 0) VI_FAIL(msg, n, "n_impacts = %ld is negative", c->n_impacts);
+    if (!isfinite(c->delta_p)) VI_FAIL(msg, n, "delta_p = %g is not finite", c->delta_p);
+    if (!(c->V_i >= 0.0 && isfinite(c->V_i))) VI_FAIL(msg, n, "V_i = %g is not finite and >= 0", c->V_i);
+    const double dc[5] = {c->damped.alpha_c, c->damped.chi, c->damped.K, c->linear.k, c->linear.c};
     for (int i = 0; i < 5; i++)
         if (!(dc[i] >= 0.0 && isfinite(dc[i])))
             VI_FAIL(msg, n, "a damping constant (alpha_c %g, chi %g, K %g, k %g, c %g) is not finite and >= 0", dc[0], dc[1],
                     dc[2], dc[3], dc[4]);
-    if (law(model)->permanent_set ? model->delta_p < 0.0 : model->delta_p != 0.0)
-        VI_FAIL(msg, n, "delta_p = %g is impossible for contact_model %s", model->delta_p, law(model)->name);
-    const vi_unload_curve *U = &model->unload;
+    if (law(c)->permanent_set ? c->delta_p < 0.0 : c->delta_p != 0.0)
+        VI_FAIL(msg, n, "delta_p = %g is impossible for contact_model %s", c->delta_p, law(c)->name);
+    const vi_unload_curve *U = &c->unload;
     const double u[5] = {U->delta_c, U->Rbar, U->delta_r, U->delta_f, U->Kbar};
-    if (!model->yielded) {
+    if (!c->yielded) {
         for (int i = 0; i < 5; i++)
             if (u[i] != 0.0)
                 VI_FAIL(msg, n, "unloading curve (delta_c = %g, Rbar = %g) present although yielded = 0", u[0], u[1]);
         return 0;
     }
-    if (!is_johnson_fixed(model))
-        VI_FAIL(msg, n, "yielded = 1 is impossible for contact_model %s (moving %d)", law(model)->name, model->moving);
+    if (!is_johnson_fixed(c))
+        VI_FAIL(msg, n, "yielded = 1 is impossible for contact_model %s (moving %d)", law(c)->name, c->moving);
     for (int i = 0; i < 5; i++)
         if (!isfinite(u[i]))
             VI_FAIL(msg, n, "unloading curve: a value (delta_c %g, Rbar %g, delta_r %g, delta_f %g, Kbar %g) is not "
                     "finite", u[0], u[1], u[2], u[3], u[4]);
-    if (!(U->delta_c >= model->johnson.delta_Y * (1.0 - CONSISTENCY_TOL)))
-        VI_FAIL(msg, n, "delta_c = %g is below delta_Y = %g", U->delta_c, model->johnson.delta_Y);
+    if (!(U->delta_c >= c->johnson.delta_Y * (1.0 - CONSISTENCY_TOL)))
+        VI_FAIL(msg, n, "delta_c = %g is below delta_Y = %g", U->delta_c, c->johnson.delta_Y);
     if (!(U->Rbar > 0.0)) VI_FAIL(msg, n, "Rbar = %g is not positive", U->Rbar);
     if (!(U->delta_f <= U->delta_c)) VI_FAIL(msg, n, "delta_f = %g is above delta_c = %g", U->delta_f, U->delta_c);
-    vi_unload_curve E = law(model)->unload_curve(model, U->delta_c);
+    vi_unload_curve E = law(c)->unload_curve(c, U->delta_c);
     if (!close_rel(U->Rbar, E.Rbar, CONSISTENCY_TOL))
         VI_FAIL(msg, n, "Rbar = %g does not belong to delta_c (%g)", U->Rbar, E.Rbar);
     if (!close_rel(U->delta_r, E.delta_r, CONSISTENCY_TOL))
@@ -1162,18 +1279,18 @@ static int check_memory(const vi_model *model, char *msg, size_t n)
 
 /* The mode is allowed for the law and the memory, and (surfaces) no guard's distance from its surface
  * (mode_guards) is clearly negative. */
-static int check_mode(const vi_model *model, const double x[2], int surfaces, char *msg, size_t n)
+static int check_mode(const vi_model_contact *c, const double x[2], int surfaces, char *msg, size_t n)
 {
-    const law_fns *L = law(model);
-    int mode = model->mode;
-    if (!L->mode_allowed(model, mode))
+    const law_fns *L = law(c);
+    int mode = c->mode;
+    if (!L->mode_allowed(c, mode))
         VI_FAIL(msg, n, "mode = %d is impossible for contact_model %s (moving %d, unloading %d, yielded %d)", mode,
-                L->name, model->moving, model->unloading, model->yielded);
+                L->name, c->moving, c->unloading, c->yielded);
     if (!surfaces) return 0;
-    double d = x[0], tol = VI_CHECK_GUARD_TOL * fmax(fmax(model->johnson.delta_Y, fabs(d)), fabs(model->unload.delta_c));
-    guard_def def[VI_NGUARDS];
-    mode_guards(model, mode, def);
-    for (int i = 0; i < VI_NGUARDS; i++) {
+    double d = x[0], tol = VI_CHECK_GUARD_TOL * fmax(fmax(c->johnson.delta_Y, fabs(d)), fabs(c->unload.delta_c));
+    guard_def def[VI_CONTACT_NGUARDS];
+    mode_guards(c, mode, def);
+    for (int i = 0; i < VI_CONTACT_NGUARDS; i++) {
         double g = guard_distance(&def[i], d);
         if (g < -tol)
             VI_FAIL(msg, n, "mode %d does not fit the state: delta = %.17g m lies %g m beyond its surface %d "
@@ -1182,25 +1299,44 @@ static int check_mode(const vi_model *model, const double x[2], int surfaces, ch
     return 0;
 }
 
+/* Contact c's enumerations and flags. */
+static int check_flags(const vi_model_contact *c, char *msg, size_t n)
+{
+    if (c->law < VI_LAW_HERTZ || c->law > VI_LAW_THORNTON)
+        VI_FAIL(msg, n, "contact law = %d is not one of %d (hertz) ... %d (thornton)", c->law, VI_LAW_HERTZ,
+                VI_LAW_THORNTON);
+    if (c->moving != 0 && c->moving != 1) VI_FAIL(msg, n, "model flag moving = %d is not 0 or 1", c->moving);
+    if (c->unloading != VI_UNLOAD_PAPER && c->unloading != VI_UNLOAD_CONTINUOUS)
+        VI_FAIL(msg, n, "unloading = %d is not paper (%d) or continuous (%d)", c->unloading, VI_UNLOAD_PAPER,
+                VI_UNLOAD_CONTINUOUS);
+    if (c->mode < VI_MODE_FREE || c->mode > VI_MODE_STICK)
+        VI_FAIL(msg, n, "mode = %d is not in %d..%d", c->mode, VI_MODE_FREE, VI_MODE_STICK);
+    return 0;
+}
+
+/* A model never set up (law 0): every contact without a discrete state. */
+static int check_not_set_up(const vi_model *model, char *msg, size_t n)
+{
+    for (int i = 0; i < VI_NCONTACTS; i++) {
+        const vi_model_contact *c = &model->contact[i];
+        if (c->mode != 0 || c->yielded != 0 || c->n_impacts != 0 || c->delta_p != 0.0)
+            VI_FAIL(msg, n, "model not set up (law = 0) but with a discrete state (mode %d)", c->mode);
+    }
+    return 0;
+}
+
 static int check(const vi_model *model, const double x[2], int surfaces, char *msg, size_t n)
 {
     if (!isfinite(x[0]) || !isfinite(x[1])) VI_FAIL(msg, n, "state (delta %g, v %g) is not finite", x[0], x[1]);
-    if (model->law == 0) { /* never set up */
-        if (model->mode != 0 || model->yielded != 0 || model->n_impacts != 0 || model->delta_p != 0.0)
-            VI_FAIL(msg, n, "model not set up (law = 0) but with a discrete state (mode %d)", model->mode);
-        return 0;
-    }
-    if (model->law < VI_LAW_HERTZ || model->law > VI_LAW_THORNTON)
-        VI_FAIL(msg, n, "contact law = %d is not one of %d (hertz) ... %d (thornton)", model->law, VI_LAW_HERTZ,
-                VI_LAW_THORNTON);
-    if (model->moving != 0 && model->moving != 1) VI_FAIL(msg, n, "model flag moving = %d is not 0 or 1", model->moving);
-    if (model->unloading != VI_UNLOAD_PAPER && model->unloading != VI_UNLOAD_CONTINUOUS)
-        VI_FAIL(msg, n, "unloading = %d is not paper (%d) or continuous (%d)", model->unloading, VI_UNLOAD_PAPER,
-                VI_UNLOAD_CONTINUOUS);
-    if (model->mode < VI_MODE_FREE || model->mode > VI_MODE_STICK)
-        VI_FAIL(msg, n, "mode = %d is not in %d..%d", model->mode, VI_MODE_FREE, VI_MODE_STICK);
-    if (check_constants(model, msg, n) < 0 || check_memory(model, msg, n) < 0) return -1;
-    return check_mode(model, x, surfaces, msg, n);
+    if (vi_model_lower(model)->law == 0) return check_not_set_up(model, msg, n); /* never set up */
+    for (int i = 0; i < VI_NCONTACTS; i++)
+        if (check_flags(&model->contact[i], msg, n) < 0) return -1;
+    if (check_constants(model, msg, n) < 0) return -1;
+    for (int i = 0; i < VI_NCONTACTS; i++)
+        if (check_memory(&model->contact[i], msg, n) < 0) return -1;
+    for (int i = 0; i < VI_NCONTACTS; i++)
+        if (check_mode(&model->contact[i], x, surfaces, msg, n) < 0) return -1;
+    return 0;
 }
 
 int vi_model_check(const vi_model *model, const double x[2], char *msg, size_t n) { return check(model, x, 1, msg, n); }
@@ -1211,23 +1347,25 @@ int vi_model_check_between_events(const vi_model *model, const double x[2], char
 
 void vi_model_calculated(const vi_model *model, vi_model_values *out)
 {
-    out->E_star = model->johnson.E_star;
-    out->R_star = model->johnson.R_star;
-    out->F_Y = model->johnson.F_Y;
-    out->delta_Y = model->johnson.delta_Y;
-    out->k_lin = model->k_lin;
+    const vi_model_contact *c = vi_model_lower(model);
+    out->E_star = c->johnson.E_star;
+    out->R_star = c->johnson.R_star;
+    out->F_Y = c->johnson.F_Y;
+    out->delta_Y = c->johnson.delta_Y;
+    out->k_lin = c->k_lin;
     out->f_contact = model->f_contact;
 }
 
 void vi_model_outputs(const vi_model *model, double t, const double x[2], unsigned groups, vi_model_values *out)
 {
+    const vi_model_contact *c = vi_model_lower(model);
     double d = x[0];
     if (groups & VI_OUT_STATE) {
         out->delta = d;
         out->v = x[1];
-        out->contact = model->mode != VI_MODE_FREE;
-        out->mode = model->mode;
-        out->n_impacts = (int)model->n_impacts;
+        out->contact = c->mode != VI_MODE_FREE;
+        out->mode = c->mode;
+        out->n_impacts = (int)c->n_impacts;
     }
     if (groups & VI_OUT_PLATFORM) {
         out->yC = vi_model_platform(model, t, NULL, NULL);
@@ -1237,7 +1375,7 @@ void vi_model_outputs(const vi_model *model, double t, const double x[2], unsign
     if (groups & VI_OUT_CALCULATED) vi_model_calculated(model, out);
     if (!(groups & VI_OUT_MEMORY)) return;
     out->delta_c = out->delta_f = out->delta_p = out->W_plastic = 0.0;
-    out->Rbar = model->johnson.R_star;
-    law(model)->memory_outputs(model, d, out);
+    out->Rbar = c->johnson.R_star;
+    law(c)->memory_outputs(c, d, out);
     out->E_contact = vi_model_contact_energy(model, x, NULL);
 }

@@ -19,6 +19,7 @@ void vi_run_init(vi_run *r, vi_run_data *d, vi_run_source src, vi_log_fn log, vo
     r->src = src;
     r->log = log;
     r->log_env = log_env;
+    vi_run_bind_engine(r, &r->engine, 0);
 }
 
 void vi_run_set_resources(vi_run *r, const char *dir)
@@ -66,12 +67,11 @@ static int attach_profile(vi_run *r)
 {
     const vi_model_params *p = &r->set.model;
     const char *profile_file = r->set.profile_file;
-    vi_model *model = &r->d->model;
     if (!profile_file[0]) {
         vi_profile_free(r->profile);
         r->profile = NULL;
         r->profile_key[0] = '\0';
-        return vi_model_set_rolling(model, NULL, p->V, p->x0, r->msg, sizeof r->msg);
+        return vi_hybrid_set_rolling(&r->engine, NULL, p->V, p->x0, r->msg, sizeof r->msg);
     }
     char path[VI_PATH_MAX], key[sizeof r->profile_key];
     if (profile_path(r, profile_file, path, sizeof path) < 0)
@@ -87,7 +87,7 @@ static int attach_profile(vi_run *r)
         if (!r->profile) return -1;
         memcpy(r->profile_key, key, sizeof key);
     }
-    return vi_model_set_rolling(model, r->profile, p->V, p->x0, r->msg, sizeof r->msg);
+    return vi_hybrid_set_rolling(&r->engine, r->profile, p->V, p->x0, r->msg, sizeof r->msg);
 }
 
 /* Warn once per instance and cause when the simulation leaves the model's range of validity
@@ -95,15 +95,16 @@ static int attach_profile(vi_run *r)
 void vi_run_check_validity(vi_run *r)
 {
     char text[400];
+    const vi_model *model = vi_hybrid_model(&r->engine);
     r->validity_unchecked = 0;
-    for (int cause; (cause = vi_model_validity(&r->d->model, r->set.model.R1, r->d->t, r->d->x, r->warned_validity, text,
+    for (int cause; (cause = vi_model_validity(model, r->set.model.R1, r->d->t, r->d->x, r->warned_validity, text,
                                                sizeof text)) != 0;) { /* bounded: one more bit each time */
         r->warned_validity |= cause;
         r->log(r->log_env, VI_LOG_WARNING, "%s", text);
     }
     if (r->warned_validity & VI_INVALID_FORCE) return; /* warned once: the force need not be evaluated again */
-    double F_max = fmax(r->d->F_peak, vi_model_force(&r->d->model, r->d->t, r->d->x)); /* the step's so far, and now */
-    if (vi_model_force_validity(&r->d->model, F_max, r->d->t, text, sizeof text)) {
+    double F_max = fmax(r->d->F_peak, vi_model_force(model, r->d->t, r->d->x)); /* the step's so far, and now */
+    if (vi_model_force_validity(model, F_max, r->d->t, text, sizeof text)) {
         r->warned_validity |= VI_INVALID_FORCE;
         r->log(r->log_env, VI_LOG_WARNING, "%s", text);
     }
@@ -118,18 +119,17 @@ int vi_run_prepare(vi_run *r)
     r->out_valid = 0;
     if (r->src.settings(r->src.env, &r->set, r->msg, sizeof r->msg) < 0) return -1;
     const vi_run_settings *p = &r->set;
-    if (vi_model_setup(&d->model, &p->model, p->t_start, r->msg, sizeof r->msg) < 0) return -1;
+    if (vi_hybrid_setup(&r->engine, &p->model, p->t_start, r->msg, sizeof r->msg) < 0) return -1;
     if (attach_profile(r) < 0) return -1;
     d->t = p->t_start;
-    vi_run_input_ramps(r, d->t, &d->model.yC_in, &d->model.F_ext);
+    vi_ramp yC_in, F_ext;
+    vi_run_input_ramps(r, d->t, &yC_in, &F_ext);
     d->inputs_changed = 0;
-    vi_model_initial_state(&d->model, p->model.init, p->model.v0, d->t, d->x);
+    vi_hybrid_prepare(&r->engine, d->t, yC_in, F_ext, p->model.init, p->model.v0, d->x);
     d->step_t0 = d->t;
     d->step_v0 = d->x[1];
     d->W_damping = 0.0;
-    d->F_peak = vi_model_force(&d->model, d->t, d->x);
-    memset(&d->events, 0, sizeof d->events);
-    d->events.t_count = d->t;
+    d->F_peak = vi_model_force(vi_hybrid_model(&r->engine), d->t, d->x);
     if (time_scale_check(r) < 0) return -1;
     r->out_valid = 0;
     return r->src.outputs_check(r->src.env, r->msg, sizeof r->msg);
@@ -139,7 +139,7 @@ void vi_run_tolerances(const vi_run *r, double *rtol, double atol[2])
 {
     double L, V;
     *rtol = r->set.rtol;
-    vi_model_scales(&r->d->model, r->d->x, &L, &V);
+    vi_model_scales(vi_hybrid_model(&r->engine), r->d->x, &L, &V);
     atol[0] = *rtol * L;
     atol[1] = *rtol * V;
 }
@@ -181,23 +181,25 @@ int vi_run_restore(vi_run *r)
 
 double vi_run_time_scale(const vi_run *r, double *k_out, char *note, size_t n)
 {
-    const vi_model *model = &r->d->model;
-    double k = model->mode == VI_MODE_FREE ? 0.0 : vi_run_contact_stiffness(model, r->d->t, r->d->x), at = r->d->x[0], T;
+    const vi_model *model = vi_hybrid_model(&r->engine);
+    const vi_model_contact *c = vi_model_lower(model);
+    double m = model->body.m, at = r->d->x[0], T;
+    double k = c->mode == VI_MODE_FREE ? 0.0 : vi_run_contact_stiffness(model, r->d->t, r->d->x);
     const char *where = "at the indentation";
     if (k > 0.0 && isfinite(k)) {
-        T = sqrt(model->m) / sqrt(k);
+        T = sqrt(m) / sqrt(k);
     } else {
         double L, V;
         vi_model_scales(model, r->d->x, &L, &V);
         T = L / V, at = L, where = "at the indentation scale";
-        k = sqrt(model->m) * (V / L), k *= k; /* m (V/L)^2 without overflow for a tiny m */
+        k = sqrt(m) * (V / L), k *= k; /* m (V/L)^2 without overflow for a tiny m */
     }
-    const vi_johnson *J = &model->johnson;
-    if (model->law == VI_LAW_LINEAR)
-        vi_snprintf(note, n, "sqrt(m/k) = %.3g s (m = %g kg, k = k_spring = %g N/m)", T, model->m, k);
+    const vi_johnson *J = &c->johnson;
+    if (c->law == VI_LAW_LINEAR)
+        vi_snprintf(note, n, "sqrt(m/k) = %.3g s (m = %g kg, k = k_spring = %g N/m)", T, m, k);
     else
         vi_snprintf(note, n, "sqrt(m/k) = %.3g s (m = %g kg, k = %.3g N/m, the law's stiffness %s %.3g m, from E* = %g Pa "
-                    "and R* = %g m)", T, model->m, k, where, at, J->E_star, J->R_star);
+                    "and R* = %g m)", T, m, k, where, at, J->E_star, J->R_star);
     *k_out = k;
     return T;
 }
@@ -212,7 +214,7 @@ static int time_scale_check(vi_run *r)
     if (isfinite(rate * rate)) return 0;
     VI_FAIL(r->msg, sizeof r->msg, "m = %g kg is too small for the contact: its time scale %s makes the rate k/m = "
             "1/T^2 overflow double; use m >= %.3g kg with this contact: the motion of a "
-            "smaller mass cannot be integrated in double precision", r->d->model.m, note, k / DBL_MAX * 2.0);
+            "smaller mass cannot be integrated in double precision", vi_hybrid_model(&r->engine)->body.m, note, k / DBL_MAX * 2.0);
 }
 
 
@@ -222,36 +224,39 @@ static int time_scale_check(vi_run *r)
  * unloading would follow the unloading curve, so its stiffness. */
 double vi_run_contact_stiffness(const vi_model *model, double t, const double x[2])
 {
-    if (model->mode == VI_MODE_STICK) return vi_unload_stiffness(&model->unload, model->unload.delta_c);
-    return model->m * vi_model_stiffness_over_mass(model, t, x);
+    const vi_model_contact *c = vi_model_lower(model);
+    if (c->mode == VI_MODE_STICK) return vi_unload_stiffness(&c->unload, c->unload.delta_c);
+    return model->body.m * vi_model_stiffness_over_mass(model, t, x);
 }
 
 /* The contact force averaged over the last step [t0, t]: the impulse over the step divided by it,
  * from the momentum balance m v' = F - W(t), W = P + m g - F_ext(t) (F_ext linear over the step, so
  * its mean is its midpoint value). Before any step: the force itself. */
-static double mean_force(const vi_run_data *d)
+static double mean_force(const vi_run *r)
 {
-    const vi_model *model = &d->model;
+    const vi_run_data *d = r->d;
+    const vi_model *model = vi_hybrid_model(&r->engine);
     double h = d->t - d->step_t0;
     if (!(h > 0.0)) return vi_model_force(model, d->t, d->x);
-    double W_mean = model->W0 - vi_ramp_at(&model->F_ext, d->step_t0 + 0.5 * h);
-    return model->m * (d->x[1] - d->step_v0) / h + W_mean;
+    double W_mean = model->body.W0 - vi_ramp_at(&model->F_ext, d->step_t0 + 0.5 * h);
+    return model->body.m * (d->x[1] - d->step_v0) / h + W_mean;
 }
 
 void vi_run_compute_outputs(vi_run *r, unsigned need)
 {
     const vi_run_data *d = r->d;
+    const vi_model *model = vi_hybrid_model(&r->engine);
     if (need == VI_OUT_PLATFORM) { /* y alone, an importer's usual read: vi_model_outputs' platform group */
-        r->out.model.yC = vi_model_platform(&d->model, d->t, NULL, NULL);
+        r->out.model.yC = vi_model_platform(model, d->t, NULL, NULL);
         r->out.model.y = r->out.model.yC - d->x[0];
         r->out_valid |= need;
         return;
     }
-    vi_model_outputs(&d->model, d->t, d->x, need, &r->out.model);
+    vi_model_outputs(model, d->t, d->x, need, &r->out.model);
     if (need & VI_OUT_MEMORY) r->out.W_damping = d->W_damping, r->out.W_dissipated = r->out.model.W_plastic + d->W_damping;
     if (need & VI_OUT_FORCE) r->out.F_peak = fmax(d->F_peak, r->out.model.F);
-    if (need & VI_OUT_MEAN) r->out.F_mean = mean_force(d);
-    if (need & VI_OUT_STIFFNESS) r->out.k_contact = vi_run_contact_stiffness(&d->model, d->t, d->x);
+    if (need & VI_OUT_MEAN) r->out.F_mean = mean_force(r);
+    if (need & VI_OUT_STIFFNESS) r->out.k_contact = vi_run_contact_stiffness(model, d->t, d->x);
     r->out_valid |= need;
 }
 

@@ -10,10 +10,13 @@
 #include "vi_check.h"
 #include "vi_format.h"
 
+/* The model as the engine runs it (read only: the engine changes it). */
+static inline const vi_model *model_of(const vi_sim *s) { return vi_hybrid_model(&s->engine); }
+
 static void sim_rhs(double t, const double *x, double *dx, void *user)
 {
     const vi_sim *s = user;
-    vi_model_rhs(&s->d->model, t, x, dx);
+    vi_model_rhs(model_of(s), t, x, dx);
 }
 
 static void sim_guards(double t, const double *x, double *g, void *user)
@@ -25,7 +28,7 @@ static void sim_guards(double t, const double *x, double *g, void *user)
 static void sim_jac(double t, const double *x, double *j, void *user)
 {
     const vi_sim *s = user;
-    vi_model_jacobian(&s->d->model, t, x, j);
+    vi_model_jacobian(model_of(s), t, x, j);
 }
 
 /* ---- along the solution: the damping's work and the largest force -------------------------------- */
@@ -48,10 +51,10 @@ static const double gauss_w[VI_GAUSS_NODES] = {0.17392742256872679, 0.3260725774
 static int piece_damping(vi_sim *s, const vi_solver_piece *p)
 {
     vi_run_data *d = s->d;
-    const vi_model *model = &d->model;
+    const vi_model *model = model_of(s);
     double h = p->tb - p->ta, sum = 0.0, x[2];
     int onset = p->xa[0] == 0.0 && vi_model_damping_root_at_onset(model);
-    for (int i = 0; i < VI_GAUSS_NODES && model->mode != VI_MODE_FREE; i++) {
+    for (int i = 0; i < VI_GAUSS_NODES && vi_model_mode(model) != VI_MODE_FREE; i++) {
         double u = gauss_t[i], u3 = u * u * u, t = p->ta + h * (onset ? u3 * u : u);
         if (vi_solver_piece_at(p, t, x, NULL) < 0) return -1;
         sum += gauss_w[i] * (onset ? 4.0 * u3 : 1.0) * vi_model_contact_power(model, t, x);
@@ -92,7 +95,7 @@ static double hermite_peak(double a, double b, double Fa, double Fb, double ga, 
  * changes sign, until the estimate stops moving; the largest force seen into *F_max. */
 static int peak_inside(vi_sim *s, const vi_solver_piece *p, double Fa, double ga, double Fb, double gb, double *F_max)
 {
-    const vi_model *model = &s->d->model;
+    const vi_model *model = model_of(s);
     double a = p->ta, b = p->tb, x[2], dx[2], last = a, move = VI_PEAK_MOVE * (p->tb - p->ta);
     for (int i = 0; i < VI_PEAK_ITERS; i++) {
         double t = hermite_peak(a, b, Fa, Fb, ga, gb), F;
@@ -112,15 +115,15 @@ static int peak_inside(vi_sim *s, const vi_solver_piece *p, double Fa, double ga
 static void peak_point(vi_sim *s, double t, const double x[2], const double dx[2])
 {
     vi_peak_point *e = &s->peak_end;
-    e->t = t, e->x[0] = x[0], e->x[1] = x[1], e->mode = s->d->model.mode, e->valid = 1;
-    e->g = vi_model_force_rate(&s->d->model, t, x, dx, &e->F);
+    e->t = t, e->x[0] = x[0], e->x[1] = x[1], e->mode = vi_hybrid_mode(&s->engine), e->valid = 1;
+    e->g = vi_model_force_rate(model_of(s), t, x, dx, &e->F);
 }
 
 /* Is the end point the point (t, x) in the current mode? */
 static int at_peak_end(const vi_sim *s, double t, const double x[2])
 {
     const vi_peak_point *e = &s->peak_end;
-    return e->valid && e->t == t && e->x[0] == x[0] && e->x[1] == x[1] && e->mode == s->d->model.mode;
+    return e->valid && e->t == t && e->x[0] == x[0] && e->x[1] == x[1] && e->mode == vi_hybrid_mode(&s->engine);
 }
 
 /* The largest force over a piece: at its ends, and inside where its rate changes sign from + to - (one
@@ -130,7 +133,7 @@ static int piece_peak(vi_sim *s, const vi_solver_piece *p)
 {
     vi_run_data *d = s->d;
     vi_peak_point *e = &s->peak_end;
-    if (d->model.mode == VI_MODE_FREE) return 0; /* F = 0 */
+    if (vi_hybrid_mode(&s->engine) == VI_MODE_FREE) return 0; /* F = 0 */
     if (!at_peak_end(s, p->ta, p->xa)) peak_point(s, p->ta, p->xa, NULL);
     double Fa = e->F, ga = e->g;
     peak_point(s, p->tb, p->xb, p->dxb);
@@ -155,7 +158,7 @@ static void peak_restart(vi_sim *s, int changed) { peak_restart_from(s, changed,
 static int sim_piece(const vi_solver_piece *p, void *user)
 {
     vi_sim *s = user;
-    if (vi_model_damps(&s->d->model) && piece_damping(s, p) < 0) return -1;
+    if (vi_model_damps(model_of(s)) && piece_damping(s, p) < 0) return -1;
     return piece_peak(s, p);
 }
 
@@ -184,15 +187,16 @@ static int create_solver(vi_sim *s, int resume)
     vi_solver_free(s->solver);
     vi_solver_config cfg = {
         .n = 2, .nguards = VI_NGUARDS, .rhs = sim_rhs, .guards = sim_guards, .jac = sim_jac, .user = s,
-        .method = s->r->set.method, .rtol = d->events.rtol, .atol = d->events.atol, .max_step = s->r->set.max_step,
+        .method = s->r->set.method, .rtol = vi_hybrid_state_of(&s->engine)->rtol,
+        .atol = vi_hybrid_state_of(&s->engine)->atol, .max_step = s->r->set.max_step,
         .ode = &s->own->ode, .auto_choice = &s->own->auto_choice, .piece = sim_piece, .log = vi_sim_solver_log, .log_env = s};
     s->solver = resume ? vi_solver_resume(&cfg, d->t, d->x) : vi_solver_create(&cfg, d->t, d->x);
     s->solver_stale = 0;
     if (!s->solver) { /* the configuration is valid: the first step failed, a rate beyond the doubles */
-        const vi_model *model = &d->model;
+        const vi_model *model = model_of(s);
         vi_snprintf(s->r->msg, sizeof s->r->msg, "could not create the solver at t = %.17g s: no first step from the initial "
                     "state (the load's acceleration (P + m g - F_ext)/m = %g m/s2)", d->t,
-                    (model->W0 - vi_ramp_at(&model->F_ext, d->t)) / model->m);
+                    (model->body.W0 - vi_ramp_at(&model->F_ext, d->t)) / model->body.m);
         append_cause(s, 0.0);
         size_t used = strlen(s->r->msg);
         vi_snprintf(s->r->msg + used, sizeof s->r->msg - used, "; raise m, or lower P or the contact's stiffness");
@@ -219,7 +223,7 @@ int vi_sim_initialize(vi_sim *s)
 
 void vi_sim_log_solver(const vi_sim *s)
 {
-    const vi_hybrid_state *e = &s->d->events;
+    const vi_hybrid_state *e = vi_hybrid_state_of(&s->engine);
     s->log(s->log_env, VI_LOG_SOLVER, "%s, rtol %g, atol %g m and %g m/s (scales %g m, %g m/s)",
            vi_solver_method_name(s->r->set.method), e->rtol, e->atol[0], e->atol[1], e->atol[0] / e->rtol,
            e->atol[1] / e->rtol);
@@ -273,7 +277,7 @@ static void apply_inputs(vi_sim *s)
 /* What to change: raise m or soften the contact. */
 static const char *remedy(const vi_model *model)
 {
-    return model->law == VI_LAW_LINEAR ? "raise m or lower k_spring" : "raise m or soften the contact (E1, E2, R1, R2)";
+    return vi_model_lower(model)->law == VI_LAW_LINEAR ? "raise m or lower k_spring" : "raise m or soften the contact (E1, E2, R1, R2)";
 }
 
 /* Append to s->r->msg what the contact's time scale says: whether it is too short for the time resolution
@@ -298,7 +302,7 @@ static void append_cause(vi_sim *s, double h_comm)
     if (too_many)
         vi_snprintf(shorter, sizeof shorter, ", or use communication steps below %.3g s", (double)VI_MAX_STEPS_PER_ADVANCE * T);
     if (used < sizeof s->r->msg && (unresolved || too_many))
-        vi_snprintf(s->r->msg + used, sizeof s->r->msg - used, ": %s%s%s", remedy(&s->d->model),
+        vi_snprintf(s->r->msg + used, sizeof s->r->msg - used, ": %s%s%s", remedy(model_of(s)),
                     late ? ", or start the run nearer t = 0" : "", shorter);
 }
 
@@ -412,7 +416,7 @@ static int discard(vi_sim *s, const char *fmt, ...)
 static int stop_here(const vi_sim *s, int stop_at_mode_change, int mode_before)
 {
     double unit = DBL_EPSILON * fmax(1.0, fabs(s->d->t));
-    return stop_at_mode_change && s->d->model.mode != mode_before && s->d->t - s->d->step_t0 > VI_EARLY_RETURN_UNITS * unit;
+    return stop_at_mode_change && vi_hybrid_mode(&s->engine) != mode_before && s->d->t - s->d->step_t0 > VI_EARLY_RETURN_UNITS * unit;
 }
 
 /* One advance in progress. */
@@ -429,7 +433,7 @@ static int solver_failed(vi_sim *s)
 {
     const vi_run_data *d = s->d;
     vi_snprintf(s->r->msg, sizeof s->r->msg, "the solver failed near t = %.17g s (mode %d, delta = %g m, v = %g m/s)", d->t,
-                d->model.mode, d->x[0], d->x[1]);
+                vi_hybrid_mode(&s->engine), d->x[0], d->x[1]);
     append_cause(s, s->advance_end - d->step_t0);
     return VI_SIM_ERROR;
 }
@@ -473,7 +477,7 @@ static int state_event(vi_sim *s, advance_run *run, const int fired[])
     if (vi_hybrid_zeno(&s->engine, d->t, g, from, s->r->msg, sizeof s->r->msg)) return VI_SIM_DISCARD;
     if (++run->events >= VI_MAX_EVENTS_PER_ADVANCE && d->t < run->t_end) {
         discard(s, "work bound: %ld events in one step, stopped at t = %.17g s (mode %d); continue from there or use "
-                   "smaller communication steps", VI_MAX_EVENTS_PER_ADVANCE, d->t, d->model.mode);
+                   "smaller communication steps", VI_MAX_EVENTS_PER_ADVANCE, d->t, vi_hybrid_mode(&s->engine));
         append_cause(s, run->t_end - d->step_t0);
         return VI_SIM_DISCARD;
     }
@@ -484,8 +488,8 @@ static int state_event(vi_sim *s, advance_run *run, const int fired[])
 static int advance_pass(vi_sim *s, advance_run *run)
 {
     vi_run_data *d = s->d;
-    int mode_before = d->model.mode, rc = VI_SOLVER_REACHED, fired[VI_SOLVER_MAX_GUARDS];
-    double bp = d->model.profile ? vi_model_next_breakpoint(&d->model, d->t) : INFINITY;
+    int mode_before = vi_hybrid_mode(&s->engine), rc = VI_SOLVER_REACHED, fired[VI_SOLVER_MAX_GUARDS];
+    double bp = model_of(s)->profile ? vi_model_next_breakpoint(model_of(s), d->t) : INFINITY;
     double stop = bp < run->target ? bp : run->target;
     long taken = 0;
     if ((stop == bp || run->kinks) && stop - d->t <= VI_BREAKPOINT_ULPS * DBL_EPSILON * fabs(stop)) {
@@ -499,7 +503,7 @@ static int advance_pass(vi_sim *s, advance_run *run)
     if (rc == VI_SOLVER_LIMIT) {
         discard(s, "work bound: %ld internal steps in one step, stopped at t = %.17g s (mode %d); continue from there "
                    "or use smaller communication steps; its internal steps averaged %.3g s", VI_MAX_STEPS_PER_ADVANCE,
-                d->t, d->model.mode, (d->t - d->step_t0) / (double)VI_MAX_STEPS_PER_ADVANCE);
+                d->t, vi_hybrid_mode(&s->engine), (d->t - d->step_t0) / (double)VI_MAX_STEPS_PER_ADVANCE);
         append_cause(s, run->t_end - d->step_t0);
         return VI_SIM_DISCARD;
     }
@@ -533,7 +537,7 @@ int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change)
     if (begin_advance(s, t_end) != VI_SIM_OK) return reported(s, VI_SIM_ERROR);
     char why[400]; /* written only where a profile ends */
     advance_run run = {.t_end = t_end, .steps_left = VI_MAX_STEPS_PER_ADVANCE, .stop_at_mode_change = stop_at_mode_change};
-    run.limit = d->model.profile ? vi_model_rolling_limit(&d->model, why, sizeof why) : INFINITY;
+    run.limit = model_of(s)->profile ? vi_model_rolling_limit(model_of(s), why, sizeof why) : INFINITY;
     run.target = run.limit < t_end ? run.limit : t_end;
     int pass = PASS_MORE;
     /* bounded: every pass is an event (bounded below) or a kink of the profile (finitely many in the
@@ -546,8 +550,8 @@ int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change)
     /* at a communication point only the indentation can newly leave the range (a changes in
      * apply_inputs, which checks; the profile is fixed), unless a state was restored since */
     if (s->r->validity_unchecked ||
-        (!(s->r->warned_validity & VI_INVALID_INDENTATION) && vi_model_indentation_invalid(&d->model, d->x)) ||
-        (!(s->r->warned_validity & VI_INVALID_FORCE) && d->F_peak > vi_model_force_limit(&d->model)))
+        (!(s->r->warned_validity & VI_INVALID_INDENTATION) && vi_model_indentation_invalid(model_of(s), d->x)) ||
+        (!(s->r->warned_validity & VI_INVALID_FORCE) && d->F_peak > vi_model_force_limit(model_of(s))))
         vi_run_check_validity(s->r);
     if (pass == PASS_STOPPED) return VI_SIM_EVENT;
     if (t_end > run.limit) return discard(s, "%s", why); /* the end of the profile: nothing beyond it */

@@ -131,10 +131,10 @@ static double model_run(const vi_parameters *par, double rtol, int samples, doub
         if (r == VI_ODE_EVENT) {
             int g = 0;
             while (!(s.ev_fired & (1u << g))) g++;
-            int mode = M.mode;
+            int mode = M.contact[0].mode;
             double xe[2] = {s.ev_x[0], s.ev_x[1]};
             vi_model_event(&M, s.ev_t, xe, g);
-            vi_ode_restart(&s, &p, s.ev_t, xe, 0.0, M.mode == mode ? s.ev_fired : 0u);
+            vi_ode_restart(&s, &p, s.ev_t, xe, 0.0, M.contact[0].mode == mode ? s.ev_fired : 0u);
             events++;
         }
     }

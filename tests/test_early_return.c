@@ -64,7 +64,7 @@ Test(early_return, stops_at_every_mode_change_where_the_uninterrupted_run_change
         int stops = 0;
         for (int pass = 0; s.d.run.t < T_END && pass < 2 * MAX_CHANGES; pass++) {
             double t0 = s.d.run.t;
-            int mode0 = s.d.run.model.mode, n0 = c.n;
+            int mode0 = s.d.run.model.contact[0].mode, n0 = c.n;
             int rc = vi_sim_advance_until(&s.s, T_END, 1);
             cr_assert(rc == VI_SIM_OK || rc == VI_SIM_EVENT, "solver %d: rc %d: %s", solvers[k], rc, s.r.msg);
             cr_assert(s.d.run.t > t0, "solver %d: no progress from t = %.17g s", solvers[k], t0);
@@ -75,9 +75,9 @@ Test(early_return, stops_at_every_mode_change_where_the_uninterrupted_run_change
             }
             /* exactly one mode change, and the advance ended at it with the new mode in force */
             cr_assert(c.n == n0 + 1, "solver %d: %d mode changes in one early-return advance", solvers[k], c.n - n0);
-            cr_assert(c.from[n0] == mode0 && c.to[n0] == s.d.run.model.mode && c.t[n0] == s.d.run.t,
+            cr_assert(c.from[n0] == mode0 && c.to[n0] == s.d.run.model.contact[0].mode && c.t[n0] == s.d.run.t,
                       "solver %d: stopped at t = %.17g s in mode %d, the change was %d -> %d at %.17g s", solvers[k],
-                      s.d.run.t, s.d.run.model.mode, c.from[n0], c.to[n0], c.t[n0]);
+                      s.d.run.t, s.d.run.model.contact[0].mode, c.from[n0], c.to[n0], c.t[n0]);
             stops++;
         }
         cr_assert(s.d.run.t == T_END, "solver %d: did not reach the end (t = %.17g s)", solvers[k], s.d.run.t);
@@ -106,7 +106,7 @@ Test(early_return, without_the_flag_the_advance_is_the_plain_one)
     for (int i = 1; i <= 30; i++) {
         cr_assert(vi_sim_advance(&a.s, 1e-3 * i) == VI_SIM_OK, "%s", a.r.msg);
         cr_assert(vi_sim_advance_until(&b.s, 1e-3 * i, 0) == VI_SIM_OK, "%s", b.r.msg);
-        cr_assert(a.d.run.t == b.d.run.t && a.d.run.x[0] == b.d.run.x[0] && a.d.run.x[1] == b.d.run.x[1] && a.d.run.model.mode == b.d.run.model.mode);
+        cr_assert(a.d.run.t == b.d.run.t && a.d.run.x[0] == b.d.run.x[0] && a.d.run.x[1] == b.d.run.x[1] && a.d.run.model.contact[0].mode == b.d.run.model.contact[0].mode);
     }
     cr_assert(ca.n == cb.n && ca.n >= 20);
     test_run_free(&a);
@@ -124,7 +124,7 @@ Test(early_return, a_mode_change_by_an_input_at_the_start_is_not_a_stop)
     test_run_init(&s, collect, &c);
     s.d.par.contact_model = VI_ContactModel_hertz;
     cr_assert(vi_sim_initialize(&s.s) == 0, "%s", s.r.msg);
-    cr_assert(vi_sim_advance_until(&s.s, 1e-3, 1) == VI_SIM_OK && s.d.run.model.mode == VI_Mode_elastic, "%s", s.r.msg);
+    cr_assert(vi_sim_advance_until(&s.s, 1e-3, 1) == VI_SIM_OK && s.d.run.model.contact[0].mode == VI_Mode_elastic, "%s", s.r.msg);
     s.d.in.yC_in = -1e-3;
     s.d.run.inputs_changed = 1;
     int rc = vi_sim_advance_until(&s.s, 0.1, 1);
@@ -133,8 +133,8 @@ Test(early_return, a_mode_change_by_an_input_at_the_start_is_not_a_stop)
     double fall = sqrt(2e-3 / (40000.0 / 407.747 + 9.81));
     cr_assert(fabs(s.d.run.t - 1e-3 - fall) < 0.05 * fall, "stopped at t = %.17g s; the landing is at %.6g s", s.d.run.t,
               1e-3 + fall);
-    cr_assert(s.d.run.model.mode == VI_Mode_elastic && c.n == 1 && c.from[0] == VI_Mode_free, "mode %d after the landing",
-              s.d.run.model.mode);
+    cr_assert(s.d.run.model.contact[0].mode == VI_Mode_elastic && c.n == 1 && c.from[0] == VI_Mode_free, "mode %d after the landing",
+              s.d.run.model.contact[0].mode);
     test_run_free(&s);
 }
 
@@ -152,7 +152,7 @@ static void land_after_gap(double gap, changes *c, double *t0, double *t, int *m
     s.d.par.v0 = 0.05;
     s.d.par.solver = VI_Solver_adams; /* CVODE restarts at the restored state: the landing falls in the advance */
     cr_assert(vi_sim_initialize(&s.s) == 0, "%s", s.r.msg);
-    cr_assert(vi_sim_advance(&s.s, 1e-4) == VI_SIM_OK && s.d.run.model.mode == VI_Mode_free, "%s", s.r.msg);
+    cr_assert(vi_sim_advance(&s.s, 1e-4) == VI_SIM_OK && s.d.run.model.contact[0].mode == VI_Mode_free, "%s", s.r.msg);
     s.d.run.x[0] = -gap;
     s.d.run.x[1] = -0.05;
     s.d.run.events.band[0] = 0.0;
@@ -161,7 +161,7 @@ static void land_after_gap(double gap, changes *c, double *t0, double *t, int *m
     *t0 = s.d.run.t;
     cr_assert(vi_sim_advance_until(&s.s, 0.1, 1) == VI_SIM_EVENT, "%s", s.r.msg);
     *t = s.d.run.t;
-    *mode = s.d.run.model.mode;
+    *mode = s.d.run.model.contact[0].mode;
     test_run_free(&s);
 }
 
@@ -201,11 +201,11 @@ Test(early_return, stops_at_a_kink_of_the_profile_that_changes_the_mode)
     snprintf(s.d.par.profile_file, sizeof s.d.par.profile_file, "%s", path);
     s.d.par.V = 1.0, s.d.par.x0 = -0.01;
     cr_assert(vi_sim_initialize(&s.s) == 0, "%s", s.r.msg);
-    cr_assert(s.d.run.model.mode == VI_Mode_free);
+    cr_assert(s.d.run.model.contact[0].mode == VI_Mode_free);
     int rc = vi_sim_advance_until(&s.s, 0.1, 1);
     remove(path);
     cr_assert(rc == VI_SIM_EVENT, "rc %d: %s", rc, s.r.msg);
-    cr_assert(fabs(s.d.run.t - 0.01) <= 1e-12 && s.d.run.model.mode == VI_Mode_elastic && c.n == 0,
-              "stopped at t = %.17g s in mode %d after %d event mode changes", s.d.run.t, s.d.run.model.mode, c.n);
+    cr_assert(fabs(s.d.run.t - 0.01) <= 1e-12 && s.d.run.model.contact[0].mode == VI_Mode_elastic && c.n == 0,
+              "stopped at t = %.17g s in mode %d after %d event mode changes", s.d.run.t, s.d.run.model.contact[0].mode, c.n);
     test_run_free(&s);
 }

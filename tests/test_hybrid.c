@@ -38,7 +38,7 @@ static void touching(vi_model *model, vi_hybrid_state *st, vi_hybrid *h, int int
     cr_assert(vi_model_setup(model, &mp, 0.0, msg, sizeof msg) == 0, "%s", msg);
     cr_assert(vi_model_set_rolling(model, NULL, 0.0, 0.0, msg, sizeof msg) == 0, "%s", msg);
     model->yC_in = (vi_ramp){platform, 0.0, 0.0};
-    model->mode = VI_MODE_FREE;
+    model->contact[0].mode = VI_MODE_FREE;
     x[0] = 0.0, x[1] = 0.01; /* delta' = yC' - v = -0.01: the mass leaves */
     vi_hybrid_bind(h, model, st, integrates_y, capture, NULL);
     vi_hybrid_start(h, 1e-6, (const double[2]){1e-9, 1e-6}, 0.0, x);
@@ -80,8 +80,8 @@ Test(hybrid, the_same_input_signal_changes_nothing)
     cr_assert(memcmp(&before, &model, sizeof model) == 0 && x[0] == x0[0] && x[1] == x0[1] && n_lines == 0);
     /* the platform up by 1 um onto the mass: delta jumps by 1 um, elastic, logged */
     cr_assert(vi_hybrid_input_jump(&h, 1e-3, x, (vi_ramp){1.5 + 1e-6, 0.0, 1e-3}, model.F_ext, 0.0, 560.0) == 1);
-    cr_assert(x[0] == (1.5 + 1e-6) - 1.5 && x[1] == x0[1] && model.mode == VI_MODE_ELASTIC, "delta %g mode %d", x[0],
-              model.mode);
+    cr_assert(x[0] == (1.5 + 1e-6) - 1.5 && x[1] == x0[1] && model.contact[0].mode == VI_MODE_ELASTIC, "delta %g mode %d", x[0],
+              model.contact[0].mode);
     cr_assert(n_lines == 1 && strcmp(last_line, "event t=0.001 kind=input mode=0->1") == 0, "%s", last_line);
 }
 
@@ -96,7 +96,7 @@ Test(hybrid, a_state_event_is_one_line_of_key_value_pairs)
     int from = vi_hybrid_event(&h, 2e-3, x, 0, 1);
     double t, delta, v;
     int guard, a, b, end = 0;
-    cr_assert(from == VI_MODE_FREE && model.mode == VI_MODE_ELASTIC && x[0] == 0.0 && st.n_events == 1);
+    cr_assert(from == VI_MODE_FREE && model.contact[0].mode == VI_MODE_ELASTIC && x[0] == 0.0 && st.n_events == 1);
     cr_assert(sscanf(last_line, "event t=%lg kind=guard guard=%d mode=%d->%d delta=%lg v=%lg%n", &t, &guard, &a, &b,
                      &delta, &v, &end) == 6 && last_line[end] == '\0', "%s", last_line);
     cr_assert(t == 2e-3 && guard == 0 && a == 0 && b == 1 && delta == 0.0 && v == -0.02, "%s", last_line);
@@ -111,7 +111,7 @@ Test(hybrid, events_accumulating_at_one_instant_stop_at_the_64th)
     char msg[512] = "";
     touching(&model, &st, &h, 0, 1.5, x);
     for (int i = 1; i <= VI_ZENO_EVENTS; i++) {
-        model.mode = VI_MODE_FREE, x[0] = 1e-12, x[1] = -0.02;
+        model.contact[0].mode = VI_MODE_FREE, x[0] = 1e-12, x[1] = -0.02;
         int from = vi_hybrid_event(&h, 0.0, x, 0, 1);
         cr_assert(vi_hybrid_zeno(&h, 0.0, 0, from, msg, sizeof msg) == (i == VI_ZENO_EVENTS), "event %d", i);
     }

@@ -79,14 +79,14 @@ static void lepp(vi_parameters *p) { p->contact_model = VI_ContactModel_lepp; }
 static void put(test_run *e, int mode, double delta, double v, double dc)
 {
     vi_model *M = &e->d.run.model;
-    M->mode = mode;
-    if (M->law == VI_ContactModel_johnson && !M->moving) {
+    M->contact[0].mode = mode;
+    if (M->contact[0].law == VI_ContactModel_johnson && !M->contact[0].moving) {
         int plastic = mode == VI_Mode_plastic;
-        M->yielded = plastic || mode == VI_Mode_unload || mode == VI_Mode_stick;
+        M->contact[0].yielded = plastic || mode == VI_Mode_unload || mode == VI_Mode_stick;
         double written = plastic ? PLASTIC_WRITTEN * delta : dc;
-        M->unload = M->yielded ? vi_johnson_unload_curve(&M->johnson, M->unloading, written) : (vi_unload_curve){0};
+        M->contact[0].unload = M->contact[0].yielded ? vi_johnson_unload_curve(&M->contact[0].johnson, M->contact[0].unloading, written) : (vi_unload_curve){0};
     }
-    if (M->law == VI_ContactModel_lepp) M->delta_p = mode == VI_Mode_plastic ? PLASTIC_WRITTEN * delta - M->johnson.delta_Y : dc;
+    if (M->contact[0].law == VI_ContactModel_lepp) M->contact[0].delta_p = mode == VI_Mode_plastic ? PLASTIC_WRITTEN * delta - M->contact[0].johnson.delta_Y : dc;
     double x[VI_ME_NSTATES] = {vi_model_platform(M, e->d.run.t, NULL, NULL) - delta, v};
     vi_me_set_states(&e->e, x);
     vi_contact_outputs_of(e, 0); /* a read: the model catches up with the states set */
@@ -143,7 +143,7 @@ static void partials_match_differences(test_run *e, const char *where)
             double fd = (fp - fm) / (2.0 * h), tol = 1e-6 * (fabs(J) + fabs(fd)) + 1e-12 * fabs(f0) / scale[j];
             if (fd == 0.0) tol = 0.0; /* the output does not move: its partial is exactly zero */
             cr_assert(fabs(J - fd) <= tol, "%s (mode %d): d%s/d%s = %.10g, central difference %.10g", where,
-                      e->d.run.model.mode, vi_variable_table[u].name, vi_variable_table[knowns[j]].name, J, fd);
+                      e->d.run.model.contact[0].mode, vi_variable_table[u].name, vi_variable_table[knowns[j]].name, J, fd);
         }
     }
 }
@@ -162,12 +162,12 @@ Test(me_jacobian, partials_of_hertz_in_free_flight_and_contact)
     test_run e;
     start(&e, hertz);
     const vi_model *M = &e.d.run.model;
-    double d = 0.7 * vi_hertz_indentation(M->K, M->W0);
+    double d = 0.7 * vi_hertz_indentation(M->contact[0].K, M->body.W0);
     put(&e, VI_Mode_free, -d, 0.01, 0.0);
     partials_match_differences_now_and_later(&e, "hertz free");
     put(&e, VI_Mode_elastic, d, 0.01, 0.0);
     partials_match_differences_now_and_later(&e, "hertz elastic");
-    put(&e, VI_Mode_elastic, 3.0 * M->johnson.delta_Y, 0.01, 0.0); /* Hertz has no yield: the same law beyond delta_Y */
+    put(&e, VI_Mode_elastic, 3.0 * M->contact[0].johnson.delta_Y, 0.01, 0.0); /* Hertz has no yield: the same law beyond delta_Y */
     partials_match_differences_now_and_later(&e, "hertz elastic beyond delta_Y");
     finish(&e);
 }
@@ -178,7 +178,7 @@ Test(me_jacobian, partials_of_johnson_in_every_mode)
     for (int l = 0; l < 2; l++) {
         test_run e;
         start(&e, laws[l]);
-        double dY = e.d.run.model.johnson.delta_Y;
+        double dY = e.d.run.model.contact[0].johnson.delta_Y;
         put(&e, VI_Mode_elastic, 0.6 * dY, -0.01, 0.0);
         partials_match_differences_now_and_later(&e, "johnson elastic");
         /* continuous unloading returns the whole loading work below 4.61 delta_Y: W_plastic is 0 to rounding
@@ -201,7 +201,7 @@ Test(me_jacobian, partials_of_johnson_with_a_moving_contact_point)
 {
     test_run e;
     start(&e, johnson_moving);
-    double dY = e.d.run.model.johnson.delta_Y;
+    double dY = e.d.run.model.contact[0].johnson.delta_Y;
     put(&e, VI_Mode_elastic, 0.6 * dY, -0.01, 0.0);
     partials_match_differences_now_and_later(&e, "moving elastic");
     put(&e, VI_Mode_plastic, 1.7 * dY, -0.01, 0.0);
@@ -213,7 +213,7 @@ Test(me_jacobian, partials_of_lepp_in_every_mode)
 {
     test_run e;
     start(&e, lepp);
-    double dY = e.d.run.model.johnson.delta_Y;
+    double dY = e.d.run.model.contact[0].johnson.delta_Y;
     put(&e, VI_Mode_elastic, 0.6 * dY, -0.01, 0.2 * dY);
     partials_match_differences_now_and_later(&e, "lepp elastic");
     put(&e, VI_Mode_plastic, 1.7 * dY, -0.01, 0.0);
@@ -230,7 +230,7 @@ Test(me_jacobian, stiffness_rate_at_the_ends_of_each_branch)
 {
     test_run e;
     start(&e, hertz);
-    double K = e.d.run.model.K, dY = e.d.run.model.johnson.delta_Y;
+    double K = e.d.run.model.contact[0].K, dY = e.d.run.model.contact[0].johnson.delta_Y;
     put(&e, VI_Mode_elastic, 0.0, 0.0, 0.0); /* touching: F = K d^1.5 has F'' = 0.75 K/sqrt(d) -> its limit 0 is reported */
     cr_assert(stiffness_rate(&e) == 0.0, "hertz at delta = 0: %g", stiffness_rate(&e));
     put(&e, VI_Mode_elastic, -1e-9, 0.0, 0.0); /* a state beyond the contact surface before its event */
@@ -240,7 +240,7 @@ Test(me_jacobian, stiffness_rate_at_the_ends_of_each_branch)
     finish(&e);
 
     start(&e, johnson);
-    const vi_johnson *J = &e.d.run.model.johnson;
+    const vi_johnson *J = &e.d.run.model.contact[0].johnson;
     put(&e, VI_Mode_elastic, 0.0, 0.0, 0.0);
     cr_assert(stiffness_rate(&e) == 0.0, "johnson at delta = 0: %g", stiffness_rate(&e));
     put(&e, VI_Mode_elastic, -1e-9, 0.0, 0.0);
@@ -256,7 +256,7 @@ Test(me_jacobian, stiffness_rate_at_the_ends_of_each_branch)
               stiffness_rate(&e), elastic);
     /* unloading at and below delta_f (the force is 0 there) */
     put(&e, VI_Mode_unload, 0.0, 0.0, 2.0 * dY);
-    double df = e.d.run.model.unload.delta_f;
+    double df = e.d.run.model.contact[0].unload.delta_f;
     put(&e, VI_Mode_unload, df, 0.0, 2.0 * dY);
     cr_assert(e.d.run.x[0] == df, "delta %.17g is not delta_f %.17g", e.d.run.x[0], df);
     cr_assert(stiffness_rate(&e) == 0.0, "unload at delta_f: %g", stiffness_rate(&e));
@@ -272,7 +272,7 @@ Test(me_jacobian, partials_are_those_of_inputs_set_since_the_last_call)
 {
     test_run e;
     start(&e, hertz);
-    double K = e.d.run.model.K, m = e.d.run.model.m, d = e.d.run.x[0];
+    double K = e.d.run.model.contact[0].K, m = e.d.run.model.body.m, d = e.d.run.x[0];
     /* the platform rises by d/2 in continuous time: the stiffness is that at 1.5 d */
     e.d.in.yC_in = 0.5 * d;
     double k = 1.5 * K * sqrt(1.5 * d);
@@ -299,7 +299,7 @@ static void hertz_on_a_raised_platform(vi_parameters *p) { hertz(p), p->init = V
 /* The platform at yC_in = 1.5 m (a = 0: it does not move), the mass at y, v, in `mode`. */
 static void at(test_run *e, int mode, double y, double v)
 {
-    e->d.run.model.mode = mode;
+    e->d.run.model.contact[0].mode = mode;
     double x[VI_ME_NSTATES] = {y, v};
     vi_me_set_states(&e->e, x);
     e->d.run.events.band[0] = e->d.run.events.band[1] = 0.0;
@@ -335,7 +335,7 @@ Test(me_events, a_grazing_contact_is_snapped_and_its_guard_lifted_by_its_band)
     long events = e.d.run.events.n_events;
     clear_log();
     vi_me_event ev = update(&e);
-    cr_assert(e.d.run.model.mode == VI_Mode_free && e.d.run.events.n_events == events + 1, "mode %d, %ld events", e.d.run.model.mode, e.d.run.events.n_events);
+    cr_assert(e.d.run.model.contact[0].mode == VI_Mode_free && e.d.run.events.n_events == events + 1, "mode %d, %ld events", e.d.run.model.contact[0].mode, e.d.run.events.n_events);
     cr_assert(ev.states_changed == 1 && ev.another_pass == 0 && ev.terminate == 0 && ev.next_time_defined == 0);
     double x[VI_ME_NSTATES];
     vi_me_get_states(&e.e, x);
@@ -395,11 +395,11 @@ Test(me_events, a_grazing_turning_point_gets_the_band_of_the_velocity)
     test_run_init(&e, capture, NULL);
     e.d.par.P = 3e5;
     cr_assert(vi_me_initialize(&e.e) == 0, "%s", e.r.msg);
-    double dY = e.d.run.model.johnson.delta_Y, v = 1e-8, rtol = vi_contact_rtol(&e.d.par, e.d.tolerance);
+    double dY = e.d.run.model.contact[0].johnson.delta_Y, v = 1e-8, rtol = vi_contact_rtol(&e.d.par, e.d.tolerance);
     put(&e, VI_Mode_plastic, 1.2 * dY, v, 0.0);
     vi_me_event ev = update(&e);
-    cr_assert(e.d.run.model.mode == VI_Mode_plastic && e.d.run.x[1] == 0.0 && ev.states_changed == 1, "mode %d, v %g",
-              e.d.run.model.mode, e.d.run.x[1]);
+    cr_assert(e.d.run.model.contact[0].mode == VI_Mode_plastic && e.d.run.x[1] == 0.0 && ev.states_changed == 1, "mode %d, v %g",
+              e.d.run.model.contact[0].mode, e.d.run.x[1]);
     double band = 4.0 * (rtol * 0.0 + e.d.run.events.atol[1]) + 256.0 * nextafter(0.0, INFINITY);
     cr_assert(fabs(e.d.run.events.band[0] - band) <= 1e-12 * band, "band %.17g, closed form %.17g", e.d.run.events.band[0], band);
     finish(&e);
@@ -414,7 +414,7 @@ Test(me_events, a_state_beyond_the_band_takes_the_mode_of_the_state_as_it_is)
     at(&e, VI_Mode_free, 1.5 - 1e-5, -0.01);
     cr_assert(vi_contact_outputs_of(&e, VI_OUT_ALL)->mode == VI_Mode_free);
     vi_me_event ev = update(&e);
-    cr_assert(e.d.run.model.mode == VI_Mode_elastic && e.d.run.model.n_impacts == 1, "mode %d", e.d.run.model.mode);
+    cr_assert(e.d.run.model.contact[0].mode == VI_Mode_elastic && e.d.run.model.contact[0].n_impacts == 1, "mode %d", e.d.run.model.contact[0].mode);
     const vi_outputs *out = vi_contact_outputs_of(&e, VI_OUT_STATE); /* not those read before the event */
     cr_assert(out->mode == VI_Mode_elastic && out->n_impacts == 1 && out->contact == 1, "output mode %d", out->mode);
     cr_assert(ev.states_changed == 0 && e.d.run.x[0] == 1.5 - (1.5 - 1e-5), "delta %.17g", e.d.run.x[0]);
@@ -429,7 +429,7 @@ Test(me_events, guards_are_armed_at_zero_up_to_their_rounding_noise_and_no_furth
     /* the touching start moving up: free flight with the contact guard at 0, lifted by its noise and
      * the band of the tolerance (those of Model Exchange, not the simulation's noise alone) */
     double y0 = 1.5, band0 = 256.0 * 0x1p-52 + 4.0 * (vi_contact_rtol(&e.d.par, e.d.tolerance) * y0 + e.d.run.events.atol[0]);
-    cr_assert(e.d.run.model.mode == VI_Mode_free && e.d.me.y_me == y0);
+    cr_assert(e.d.run.model.contact[0].mode == VI_Mode_free && e.d.me.y_me == y0);
     cr_assert(fabs(e.d.run.events.band[0] - band0) <= 1e-12 * band0, "initial band %.17g, closed form %.17g",
               e.d.run.events.band[0], band0);
     /* free flight 256 ulps of y above the platform: the contact guard equals its noise, 256 times its
@@ -439,7 +439,7 @@ Test(me_events, guards_are_armed_at_zero_up_to_their_rounding_noise_and_no_furth
         double y = 1.5 + k * 0x1p-52;
         at(&e, VI_Mode_free, y, 0.01);
         vi_me_event ev = update(&e);
-        cr_assert(ev.states_changed == 0 && e.d.run.model.mode == VI_Mode_free);
+        cr_assert(ev.states_changed == 0 && e.d.run.model.contact[0].mode == VI_Mode_free);
         double band = k == 256 ? 256.0 * 0x1p-52 + 4.0 * (rtol * y + e.d.run.events.atol[0]) : 0.0;
         cr_assert(fabs(e.d.run.events.band[0] - band) <= 1e-12 * band, "%d ulps: band %.17g, closed form %.17g", k,
                   e.d.run.events.band[0], band);
@@ -461,12 +461,12 @@ Test(me_events, a_guard_exactly_at_zero_without_noise_is_lifted_by_the_least_nor
      * F_hold = W = F_load(delta_c) exactly (no excitation: the stick guards do not move with t, y or v) */
     test_run e;
     start(&e, preloaded_stick);
-    cr_assert(e.d.run.model.mode == VI_Mode_stick);
-    double z[2], W = e.d.run.model.W0;
+    cr_assert(e.d.run.model.contact[0].mode == VI_Mode_stick);
+    double z[2], W = e.d.run.model.body.W0;
     vi_me_indicators(&e.e, z);
-    cr_assert(vi_johnson_load(&e.d.run.model.johnson, e.d.run.model.unload.delta_c) == W, "not exactly on the load surface");
+    cr_assert(vi_johnson_load(&e.d.run.model.contact[0].johnson, e.d.run.model.contact[0].unload.delta_c) == W, "not exactly on the load surface");
     cr_assert(z[0] == DBL_MIN, "load guard %g", z[0]);
-    double g1 = W - vi_unload_force(&e.d.run.model.unload, e.d.run.model.unload.delta_c);
+    double g1 = W - vi_unload_force(&e.d.run.model.contact[0].unload, e.d.run.model.contact[0].unload.delta_c);
     cr_assert(z[1] == g1, "unload guard %.17g, closed form %.17g", z[1], g1);
     finish(&e);
 }
@@ -486,7 +486,7 @@ Test(me_events, an_input_jump_onto_the_contact_surface_is_an_event_of_the_new_mo
     e.d.run.inputs_changed = 1;
     e.d.run.events.band[0] = 1.0; /* a band of free flight: not the elastic guard's */
     vi_me_event ev = update(&e);
-    cr_assert(e.d.run.model.mode == VI_Mode_elastic && e.d.run.x[0] == 0.0, "mode %d, delta %g", e.d.run.model.mode, e.d.run.x[0]);
+    cr_assert(e.d.run.model.contact[0].mode == VI_Mode_elastic && e.d.run.x[0] == 0.0, "mode %d, delta %g", e.d.run.model.contact[0].mode, e.d.run.x[0]);
     cr_assert(e.d.run.events.n_events == events, "%ld state events", e.d.run.events.n_events - events);
     cr_assert(e.d.run.inputs_changed == 0 && ev.another_pass == 0 && ev.terminate == 0);
     double x[VI_ME_NSTATES];
@@ -510,7 +510,7 @@ Test(me_events, an_input_change_in_event_mode_is_logged_when_it_changes_the_mode
     e.d.in.yC_in = 1.5 + 2e-3; /* into the mass: contact */
     e.d.run.inputs_changed = 1;
     update(&e);
-    cr_assert(e.d.run.model.mode == VI_Mode_elastic && e.d.run.model.yC_in.u == 1.5 + 2e-3 && e.d.run.model.yC_in.du == 0.0);
+    cr_assert(e.d.run.model.contact[0].mode == VI_Mode_elastic && e.d.run.model.yC_in.u == 1.5 + 2e-3 && e.d.run.model.yC_in.du == 0.0);
     char expected[256];
     snprintf(expected, sizeof expected, "event t=%.17g kind=input mode=0->1", 0.0);
     cr_assert(strcmp(logged[VI_LOG_EVENTS], expected) == 0, "logged '%s'", logged[VI_LOG_EVENTS]);
@@ -661,8 +661,8 @@ Test(me_states, continuous_inputs_act_at_once_each_alone)
     e.d.in.F_ext = 50.0;
     const vi_outputs *out = vi_contact_outputs_of(&e, VI_OUT_ALL);
     cr_assert(e.d.run.model.F_ext.u == 50.0 && e.d.run.model.F_ext.du == 0.0 && e.d.run.model.F_ext.t == t, "F_ext ramp");
-    double F = out->F, W = e.d.run.model.W0 - 50.0;
-    cr_assert(fabs(out->der_v - (F - W) / e.d.run.model.m) <= 1e-12 * W / e.d.run.model.m, "der_v %g", out->der_v);
+    double F = out->F, W = e.d.run.model.body.W0 - 50.0;
+    cr_assert(fabs(out->der_v - (F - W) / e.d.run.model.body.m) <= 1e-12 * W / e.d.run.model.body.m, "der_v %g", out->der_v);
     /* the platform alone: the mass stays, delta moves with the platform */
     e.d.in.yC_in = 1e-6;
     out = vi_contact_outputs_of(&e, VI_OUT_ALL);
@@ -690,18 +690,18 @@ static void memory_is_written_at_completed_steps(setter law)
     test_run e;
     start(&e, law);
     vi_model *M = &e.d.run.model;
-    int johnson_law = M->law == VI_ContactModel_johnson;
-    double dY = M->johnson.delta_Y, d = 1.7 * dY;
+    int johnson_law = M->contact[0].law == VI_ContactModel_johnson;
+    double dY = M->contact[0].johnson.delta_Y, d = 1.7 * dY;
     put(&e, VI_Mode_plastic, d, -0.01, 0.0);
     d = e.d.run.x[0];
-    if (johnson_law) M->unload = vi_johnson_unload_curve(&M->johnson, M->unloading, 1.2 * dY);
-    else M->delta_p = 0.2 * dY;
+    if (johnson_law) M->contact[0].unload = vi_johnson_unload_curve(&M->contact[0].johnson, M->contact[0].unloading, 1.2 * dY);
+    else M->contact[0].delta_p = 0.2 * dY;
     e.d.in.yC_in = 0.2 * dY; /* a trial point */
     vi_me_set_time(&e.e, 1e-6);
     d = vi_contact_outputs_of(&e, VI_OUT_ALL)->delta;
-    cr_assert(johnson_law ? M->unload.delta_c == 1.2 * dY : M->delta_p == 0.2 * dY, "a trial point wrote the memory down");
+    cr_assert(johnson_law ? M->contact[0].unload.delta_c == 1.2 * dY : M->contact[0].delta_p == 0.2 * dY, "a trial point wrote the memory down");
     cr_assert(vi_me_completed_step(&e.e) == 0);
-    cr_assert(johnson_law ? M->unload.delta_c == d : M->delta_p == d - dY, "the completed step at %.17g wrote nothing", d);
+    cr_assert(johnson_law ? M->contact[0].unload.delta_c == d : M->contact[0].delta_p == d - dY, "the completed step at %.17g wrote nothing", d);
     const vi_outputs *out = vi_contact_outputs_of(&e, VI_OUT_ALL);
     double dc = out->delta_c, dp = out->delta_p, W = out->W_plastic;
     e.d.in.yC_in = -0.2 * dY;
@@ -743,7 +743,7 @@ Test(me_states, states_set_are_those_read_and_the_outputs_follow)
     test_run e;
     start(&e, hertz);
     const vi_outputs *out = vi_contact_outputs_of(&e, VI_OUT_ALL);
-    double K = e.d.run.model.K, m = e.d.run.model.m, W = e.d.run.model.W0;
+    double K = e.d.run.model.contact[0].K, m = e.d.run.model.body.m, W = e.d.run.model.body.W0;
     double x[VI_ME_NSTATES] = {-3e-5, -0.02}, r[VI_ME_NSTATES], dx[VI_ME_NSTATES];
     vi_me_set_states(&e.e, x);
     vi_me_get_states(&e.e, r);
@@ -804,7 +804,7 @@ Test(me_events, kinks_and_the_end_of_the_profile_are_time_events)
     cr_assert(vi_me_completed_step(&e.e) == 1, "the kink was stepped onto: an event is due");
     clear_log();
     ev = update(&e);
-    cr_assert(M->mode == VI_Mode_elastic && ev.terminate == 0, "mode %d after the kink", M->mode);
+    cr_assert(M->contact[0].mode == VI_Mode_elastic && ev.terminate == 0, "mode %d after the kink", M->contact[0].mode);
     char expected[128];
     snprintf(expected, sizeof expected, "event t=%.17g kind=kink mode=0->1\n", tk);
     cr_assert(strncmp(history, expected, strlen(expected)) == 0, "logged '%s'", history);
@@ -826,14 +826,14 @@ Test(me_states, checkpoint_and_restore_carry_the_state_y)
 {
     test_run e;
     start(&e, johnson);
-    double dY = e.d.run.model.johnson.delta_Y;
+    double dY = e.d.run.model.contact[0].johnson.delta_Y;
     put(&e, VI_Mode_plastic, 1.5 * dY, -0.01, 0.0);
-    e.d.run.model.unload = vi_johnson_unload_curve(&e.d.run.model.johnson, e.d.run.model.unloading, 1.2 * dY); /* as where it started to flow */
+    e.d.run.model.contact[0].unload = vi_johnson_unload_curve(&e.d.run.model.contact[0].johnson, e.d.run.model.contact[0].unloading, 1.2 * dY); /* as where it started to flow */
     vi_me_set_time(&e.e, 1e-3);
     cr_assert(vi_me_checkpoint(&e.e) == 0, "%s", e.r.msg);
     /* taking a state changes nothing that follows: the memory stays where it was written down, and the
      * output delta_c is the indentation reached (delta_c = delta while loading) */
-    cr_assert(e.d.run.model.unload.delta_c == 1.2 * dY, "delta_c %.17g written down at %.17g", e.d.run.model.unload.delta_c, 1.2 * dY);
+    cr_assert(e.d.run.model.contact[0].unload.delta_c == 1.2 * dY, "delta_c %.17g written down at %.17g", e.d.run.model.contact[0].unload.delta_c, 1.2 * dY);
     cr_assert(vi_contact_outputs_of(&e, VI_OUT_ALL)->delta_c == e.d.run.x[0]);
     vi_contact_data saved = e.d;
     double y = e.d.me.y_me;
@@ -911,9 +911,9 @@ Test(me_events, the_band_counts_one_ulp_of_y_upwards)
     start(&e, lepp);
     double d = 0x1p-14, rtol = vi_contact_rtol(&e.d.par, e.d.tolerance);
     put(&e, VI_Mode_elastic, d, -0.01, d);
-    cr_assert(e.d.me.y_me == -d && e.d.run.x[0] == d && e.d.run.model.delta_p == d);
+    cr_assert(e.d.me.y_me == -d && e.d.run.x[0] == d && e.d.run.model.contact[0].delta_p == d);
     update(&e);
-    cr_assert(e.d.run.model.mode == VI_Mode_elastic);
+    cr_assert(e.d.run.model.contact[0].mode == VI_Mode_elastic);
     double band = 4.0 * (rtol * d + e.d.run.events.atol[0]) + 256.0 * 0x1p-67;
     cr_assert(fabs(e.d.run.events.band[0] - band) <= 1e-11 * band, "band %.17g, closed form %.17g", e.d.run.events.band[0], band);
     finish(&e);
@@ -943,9 +943,9 @@ Test(me_events, the_band_counts_one_ulp_of_v_upwards)
     double dyC, v = -0x1p-7, rtol = vi_contact_rtol(&e.d.par, e.d.tolerance);
     vi_model_platform(&e.d.run.model, 0.0, &dyC, NULL);
     cr_assert(dyC == v, "platform velocity %.17g", dyC);
-    put(&e, VI_Mode_plastic, 1.2 * e.d.run.model.johnson.delta_Y, v, 0.0);
+    put(&e, VI_Mode_plastic, 1.2 * e.d.run.model.contact[0].johnson.delta_Y, v, 0.0);
     update(&e);
-    cr_assert(e.d.run.model.mode == VI_Mode_plastic);
+    cr_assert(e.d.run.model.contact[0].mode == VI_Mode_plastic);
     double band = 4.0 * (rtol * -v + e.d.run.events.atol[1]) + 256.0 * 0x1p-60;
     cr_assert(fabs(e.d.run.events.band[0] - band) <= 5e-11 * band, "band %.17g, closed form %.17g", e.d.run.events.band[0], band);
     finish(&e);
@@ -958,7 +958,7 @@ Test(me_states, a_completed_step_starts_the_mean_force_anew)
     double x[VI_ME_NSTATES] = {e.d.me.y_me, 0.02};
     vi_me_set_states(&e.e, x);
     vi_me_set_time(&e.e, 1e-3);
-    double m = e.d.run.model.m, W = e.d.run.model.W0;
+    double m = e.d.run.model.body.m, W = e.d.run.model.body.W0;
     /* over the step from 0: F_mean = m (v - v0)/h + W with v0 = 0 */
     double Fm = vi_contact_outputs_of(&e, VI_OUT_MEAN)->F_mean;
     cr_assert(fabs(Fm - (m * 0.02 / 1e-3 + W)) <= 1e-12 * W, "F_mean %.17g", Fm);
@@ -993,7 +993,7 @@ Test(me_events, an_input_set_in_continuous_time_is_taken_by_the_event_iteration)
     at(&e, VI_Mode_free, 1.5 + 1e-3, -0.01);
     e.d.in.yC_in = 1.5 + 2e-3; /* into the mass, set in continuous time (no call since) */
     vi_me_event ev = update(&e);
-    cr_assert(e.d.run.model.mode == VI_Mode_elastic && e.d.run.model.yC_in.u == 1.5 + 2e-3, "mode %d", e.d.run.model.mode);
+    cr_assert(e.d.run.model.contact[0].mode == VI_Mode_elastic && e.d.run.model.yC_in.u == 1.5 + 2e-3, "mode %d", e.d.run.model.contact[0].mode);
     cr_assert(ev.states_changed == 0 && fabs(e.d.run.x[0] - 1e-3) <= 1e-15, "delta %g", e.d.run.x[0]);
     finish(&e);
 }
@@ -1008,7 +1008,7 @@ Test(me_events, a_stick_guard_that_fires_exactly_at_zero_is_lifted_by_the_least_
     e.d.run.events.band[0] = 0.0;
     long events = e.d.run.events.n_events;
     vi_me_event ev = update(&e);
-    cr_assert(e.d.run.model.mode == VI_Mode_stick && e.d.run.events.n_events == events + 1, "mode %d", e.d.run.model.mode);
+    cr_assert(e.d.run.model.contact[0].mode == VI_Mode_stick && e.d.run.events.n_events == events + 1, "mode %d", e.d.run.model.contact[0].mode);
     cr_assert(e.d.run.events.band[0] == DBL_MIN && ev.another_pass == 0, "band %g, another pass %d", e.d.run.events.band[0],
               ev.another_pass);
     finish(&e);

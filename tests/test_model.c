@@ -110,10 +110,10 @@ Test(model, static_state_carries_the_load)
         double x[2];
         vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
         double W = 40000.0 + 407.747 * 9.81;
-        cr_assert(M.mode == VI_Mode_elastic, "law %d: mode %d", laws[i], M.mode);
+        cr_assert(M.contact[0].mode == VI_Mode_elastic, "law %d: mode %d", laws[i], M.contact[0].mode);
         cr_assert(fabs(vi_model_force(&M, 0.0, x) - W) <= 1e-12 * W, "law %d: F = %.17g", laws[i],
                   vi_model_force(&M, 0.0, x));
-        cr_assert(x[1] == 0.0 && M.n_impacts == 0);
+        cr_assert(x[1] == 0.0 && M.contact[0].n_impacts == 0);
         double dx[2];
         vi_model_rhs(&M, 0.0, x, dx);
         cr_assert(fabs(dx[1]) < 1e-12 * W / 407.747);
@@ -125,15 +125,15 @@ Test(model, touching_state_mode_from_rate_and_acceleration)
     double x[2];
     vi_model M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
     vi_model_initial_state(&M, VI_Init_touching, -0.1, 0.0, x); /* moving into the platform */
-    cr_assert(M.mode == VI_Mode_elastic && x[0] == 0.0 && x[1] == -0.1);
+    cr_assert(M.contact[0].mode == VI_Mode_elastic && x[0] == 0.0 && x[1] == -0.1);
     vi_model_initial_state(&M, VI_Init_touching, 0.1, 0.0, x); /* moving away */
-    cr_assert(M.mode == VI_Mode_free);
+    cr_assert(M.contact[0].mode == VI_Mode_free);
     vi_model_initial_state(&M, VI_Init_touching, 0.0, 0.0, x); /* at rest, no load */
-    cr_assert(M.mode == VI_Mode_free);
+    cr_assert(M.contact[0].mode == VI_Mode_free);
     M = setup(VI_ContactModel_hertz, 0, 1, 100.0, 0.0, 0.0);
     vi_model_initial_state(&M, VI_Init_touching, 0.0, 0.0, x); /* at rest, pressed: acceleration decides */
-    cr_assert(M.mode == VI_Mode_elastic);
-    cr_assert(M.n_impacts == 0);
+    cr_assert(M.contact[0].mode == VI_Mode_elastic);
+    cr_assert(M.contact[0].n_impacts == 0);
 }
 
 /* A damped law's start touching: moving in is a new contact that takes its rate as the approach speed
@@ -143,9 +143,9 @@ Test(model, touching_state_of_a_damped_law_takes_its_approach_speed_anew)
     double x[2];
     vi_model M = setup(VI_ContactModel_hertz_damped, 0, 1, 0.0, 0.0, 0.0);
     vi_model_initial_state(&M, VI_Init_touching, -0.1, 0.0, x);
-    cr_assert(M.mode == VI_Mode_elastic && M.V_i == 0.1, "mode %d, V_i %g", M.mode, M.V_i);
+    cr_assert(M.contact[0].mode == VI_Mode_elastic && M.contact[0].V_i == 0.1, "mode %d, V_i %g", M.contact[0].mode, M.contact[0].V_i);
     vi_model_initial_state(&M, VI_Init_touching, 0.1, 0.0, x);
-    cr_assert(M.mode == VI_Mode_free && M.V_i == 0.0, "mode %d, V_i %g", M.mode, M.V_i);
+    cr_assert(M.contact[0].mode == VI_Mode_free && M.contact[0].V_i == 0.0, "mode %d, V_i %g", M.contact[0].mode, M.contact[0].V_i);
 }
 
 Test(model, plastically_preloaded_static_state)
@@ -160,11 +160,11 @@ Test(model, plastically_preloaded_static_state)
         vi_model M = {0};
         p.unloading = variant;
         cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0);
-        cr_assert(M.johnson.F_Y < p.P + p.m * p.g);
+        cr_assert(M.contact[0].johnson.F_Y < p.P + p.m * p.g);
         vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
-        cr_assert(M.yielded && M.unload.delta_c == x[0] && x[0] > M.johnson.delta_Y);
+        cr_assert(M.contact[0].yielded && M.contact[0].unload.delta_c == x[0] && x[0] > M.contact[0].johnson.delta_Y);
         /* paper: the unloading force F_Y k_c is below the load: stick; continuous: on the unloading curve */
-        cr_assert(M.mode == (variant == 1 ? VI_Mode_stick : VI_Mode_unload), "variant %d: mode %d", variant, M.mode);
+        cr_assert(M.contact[0].mode == (variant == 1 ? VI_Mode_stick : VI_Mode_unload), "variant %d: mode %d", variant, M.contact[0].mode);
         cr_assert(fabs(vi_model_force(&M, 0.0, x) - (p.P + p.m * p.g)) <= 1e-9 * p.P);
     }
 }
@@ -182,30 +182,30 @@ Test(model, static_state_loaded_exactly_to_yield_has_not_yielded)
         vi_model M = {0};
         p.unloading = variant;
         cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
-        p.P = M.johnson.F_Y;
+        p.P = M.contact[0].johnson.F_Y;
         cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
         vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
-        cr_assert(x[0] == M.johnson.delta_Y, "variant %d: delta %.17g, delta_Y %.17g", variant, x[0], M.johnson.delta_Y);
-        cr_assert(!M.yielded && M.unload.delta_c == 0.0 && M.mode == VI_Mode_elastic, "variant %d: yielded %d, mode %d",
-                  variant, M.yielded, M.mode);
+        cr_assert(x[0] == M.contact[0].johnson.delta_Y, "variant %d: delta %.17g, delta_Y %.17g", variant, x[0], M.contact[0].johnson.delta_Y);
+        cr_assert(!M.contact[0].yielded && M.contact[0].unload.delta_c == 0.0 && M.contact[0].mode == VI_Mode_elastic, "variant %d: yielded %d, mode %d",
+                  variant, M.contact[0].yielded, M.contact[0].mode);
     }
 }
 
 Test(model, turning_point_chooses_plastic_stick_or_unload)
 {
     vi_model M = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
-    double dc = 3.0 * M.johnson.delta_Y;
-    vi_unload_curve U = vi_johnson_unload_curve(&M.johnson, VI_UNLOAD_PAPER, dc);
-    double Fl = vi_johnson_load(&M.johnson, dc), Fu = vi_unload_force(&U, dc);
+    double dc = 3.0 * M.contact[0].johnson.delta_Y;
+    vi_unload_curve U = vi_johnson_unload_curve(&M.contact[0].johnson, VI_UNLOAD_PAPER, dc);
+    double Fl = vi_johnson_load(&M.contact[0].johnson, dc), Fu = vi_unload_force(&U, dc);
     struct { double F_hold; int mode; } cases[] = {
         {1.01 * Fl, VI_Mode_plastic}, {0.5 * (Fl + Fu), VI_Mode_stick}, {0.99 * Fu, VI_Mode_unload}};
     for (int i = 0; i < 3; i++) {
-        M.yielded = 1;
-        M.unload = U;
-        M.mode = VI_Mode_plastic;
+        M.contact[0].yielded = 1;
+        M.contact[0].unload = U;
+        M.contact[0].mode = VI_Mode_plastic;
         M.F_ext = (vi_ramp){-cases[i].F_hold, 0.0, 0.0}; /* W = P + m g - F_ext = F_hold (a = 0) */
         double x[2] = {dc, 0.0};
-        cr_assert(vi_model_resolve(&M, 0.0, x) == cases[i].mode, "case %d: mode %d", i, M.mode);
+        cr_assert(vi_model_resolve(&M, 0.0, x) == cases[i].mode, "case %d: mode %d", i, M.contact[0].mode);
     }
 }
 
@@ -223,16 +223,16 @@ Test(model, resolved_mode_has_nonnegative_guards)
                 for (int k = 0; k < 2000; k++) {
                     double t = 1e-5 * k;
                     vi_model_freeze(&M, t, x); /* then jump, as an input change does */
-                    x[0] = M.johnson.delta_Y * (8.0 * rand() / RAND_MAX - 1.0);
+                    x[0] = M.contact[0].johnson.delta_Y * (8.0 * rand() / RAND_MAX - 1.0);
                     x[1] = 0.2 * (2.0 * rand() / RAND_MAX - 1.0);
-                    long n = M.n_impacts;
-                    int from = M.mode, mode = vi_model_resolve(&M, t, x);
+                    long n = M.contact[0].n_impacts;
+                    int from = M.contact[0].mode, mode = vi_model_resolve(&M, t, x);
                     double gv[VI_NGUARDS];
                     vi_model_guards(&M, t, x, gv);
                     for (int j = 0; j < VI_NGUARDS; j++)
                         cr_assert(gv[j] >= 0.0, "law %d moving %d variant %d: mode %d guard %d = %g", law, moving,
                                   variant, mode, j, gv[j]);
-                    cr_assert(M.n_impacts == n + (from == VI_Mode_free && mode != VI_Mode_free));
+                    cr_assert(M.contact[0].n_impacts == n + (from == VI_Mode_free && mode != VI_Mode_free));
                     cr_assert(vi_model_force(&M, t, x) >= 0.0);
                 }
             }
@@ -264,7 +264,7 @@ Test(model_check, accepts_every_state_of_real_runs)
         int modes = 0;
         for (int k = 1; k <= 300; k++) {
             cr_assert(vi_sim_advance(&s.s, 1e-4 * k) == 0, "%s", s.r.msg);
-            modes |= 1 << s.d.run.model.mode;
+            modes |= 1 << s.d.run.model.contact[0].mode;
             cr_assert(vi_model_check(&s.d.run.model, s.d.run.x, msg, sizeof msg) == 0, "case %zu t = %g: %s", c, s.d.run.t, msg);
         }
         cr_assert(modes & 1 << VI_Mode_elastic || modes & 1 << VI_Mode_unload || modes & 1 << VI_Mode_stick);
@@ -285,7 +285,7 @@ Test(model_check, accepts_resolved_random_states)
             for (int k = 0; k < 2000; k++) {
                 double t = 1e-5 * k;
                 vi_model_freeze(&M, t, x);
-                x[0] = M.johnson.delta_Y * (8.0 * rand() / RAND_MAX - 1.0);
+                x[0] = M.contact[0].johnson.delta_Y * (8.0 * rand() / RAND_MAX - 1.0);
                 x[1] = 0.2 * (2.0 * rand() / RAND_MAX - 1.0);
                 vi_model_resolve(&M, t, x);
                 cr_assert(vi_model_check(&M, x, msg, sizeof msg) == 0, "law %d: %s", law, msg);
@@ -298,9 +298,9 @@ static vi_model yielded_model(double x[2])
 {
     vi_model M = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
     vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
-    M.mode = VI_Mode_plastic;
-    M.yielded = 1;
-    x[0] = 3.0 * M.johnson.delta_Y;
+    M.contact[0].mode = VI_Mode_plastic;
+    M.contact[0].yielded = 1;
+    x[0] = 3.0 * M.contact[0].johnson.delta_Y;
     x[1] = 1.0; /* moving away: unloads */
     vi_model_freeze(&M, 0.0, x);
     cr_assert(vi_model_resolve(&M, 0.0, x) == VI_Mode_unload);
@@ -312,37 +312,37 @@ static const char *spoil(vi_model *M, double x[2], int which)
 {
     switch (which) {
     case 0: x[0] = NAN; return "state";
-    case 1: M->law = 7; return "contact law";
-    case 2: M->moving = 2; return "flag moving = 2 is not 0 or 1";
-    case 3: M->unloading = 0; return "unloading";
-    case 4: M->mode = 5; return "mode";
-    case 5: M->m = -1.0; return "constant m";
-    case 6: M->K *= 1.0 + 1e-6; return "K";
-    case 7: M->johnson.delta_Y = INFINITY; return "delta_Y";
-    case 8: M->k_lin *= 2.0; return "k_lin";
+    case 1: M->contact[0].law = 7; return "contact law";
+    case 2: M->contact[0].moving = 2; return "flag moving = 2 is not 0 or 1";
+    case 3: M->contact[0].unloading = 0; return "unloading";
+    case 4: M->contact[0].mode = 5; return "mode";
+    case 5: M->body.m = -1.0; return "constant m";
+    case 6: M->contact[0].K *= 1.0 + 1e-6; return "K";
+    case 7: M->contact[0].johnson.delta_Y = INFINITY; return "delta_Y";
+    case 8: M->contact[0].k_lin *= 2.0; return "k_lin";
     case 9: M->omega = -1.0; return "omega";
     case 10: M->yC_in.du = NAN; return "yC_in";
-    case 11: M->yielded = 3; return "yielded";
-    case 12: M->n_impacts = -1; return "n_impacts";
-    case 13: M->delta_p = 1e-6; return "delta_p";
-    case 14: M->unload.Rbar *= 1.001; return "Rbar";
-    case 15: M->unload.delta_f = M->unload.delta_c * 1.5; return "delta_f";
-    case 16: M->unload.delta_c = 0.5 * M->johnson.delta_Y; return "delta_c";
-    case 17: M->unload.Kbar = NAN; return "finite";
-    case 18: M->yielded = 0; return "yielded = 0";      /* memory left behind */
-    case 19: M->mode = VI_Mode_elastic; return "mode = 1"; /* virgin branch after yield */
-    case 20: M->mode = VI_Mode_free; return "mode 0 does not fit"; /* in contact at delta > delta_f */
-    case 21: x[0] = M->unload.delta_c * 1.01; return "mode 3 does not fit"; /* beyond delta_c while unloading */
-    case 22: M->mode = VI_Mode_stick; return "mode 4 does not fit"; /* stick off delta_c */
-    case 23: M->unloading = VI_UNLOAD_CONTINUOUS; M->unload = vi_johnson_unload_curve(&M->johnson, 2, M->unload.delta_c);
-             M->mode = VI_Mode_stick; x[0] = M->unload.delta_c; return "mode = 4"; /* stick needs paper unloading */
-    case 24: M->law = VI_ContactModel_hertz; return "yielded = 1 is impossible";
-    case 26: M->yielded = 0; M->unload = (vi_unload_curve){0}; return "mode = 3"; /* unloading without memory */
+    case 11: M->contact[0].yielded = 3; return "yielded";
+    case 12: M->contact[0].n_impacts = -1; return "n_impacts";
+    case 13: M->contact[0].delta_p = 1e-6; return "delta_p";
+    case 14: M->contact[0].unload.Rbar *= 1.001; return "Rbar";
+    case 15: M->contact[0].unload.delta_f = M->contact[0].unload.delta_c * 1.5; return "delta_f";
+    case 16: M->contact[0].unload.delta_c = 0.5 * M->contact[0].johnson.delta_Y; return "delta_c";
+    case 17: M->contact[0].unload.Kbar = NAN; return "finite";
+    case 18: M->contact[0].yielded = 0; return "yielded = 0";      /* memory left behind */
+    case 19: M->contact[0].mode = VI_Mode_elastic; return "mode = 1"; /* virgin branch after yield */
+    case 20: M->contact[0].mode = VI_Mode_free; return "mode 0 does not fit"; /* in contact at delta > delta_f */
+    case 21: x[0] = M->contact[0].unload.delta_c * 1.01; return "mode 3 does not fit"; /* beyond delta_c while unloading */
+    case 22: M->contact[0].mode = VI_Mode_stick; return "mode 4 does not fit"; /* stick off delta_c */
+    case 23: M->contact[0].unloading = VI_UNLOAD_CONTINUOUS; M->contact[0].unload = vi_johnson_unload_curve(&M->contact[0].johnson, 2, M->contact[0].unload.delta_c);
+             M->contact[0].mode = VI_Mode_stick; x[0] = M->contact[0].unload.delta_c; return "mode = 4"; /* stick needs paper unloading */
+    case 24: M->contact[0].law = VI_ContactModel_hertz; return "yielded = 1 is impossible";
+    case 26: M->contact[0].yielded = 0; M->contact[0].unload = (vi_unload_curve){0}; return "mode = 3"; /* unloading without memory */
     case 25: M->f_contact = NAN; return "f_contact";
-    case 27: M->m = 0.0; return "constant m = 0 is not positive";
-    case 28: M->K = 0.0; return "constant K = 0 is not positive"; /* before its consistency with E*, R* */
-    case 29: M->johnson.delta_Y *= 1.0 + 1e-6; return "delta_Y = "; /* F_Y = K delta_Y^1.5 off: before k_lin's check */
-    case 30: M->delta_p = NAN; return "delta_p = nan is not finite";
+    case 27: M->body.m = 0.0; return "constant m = 0 is not positive";
+    case 28: M->contact[0].K = 0.0; return "constant K = 0 is not positive"; /* before its consistency with E*, R* */
+    case 29: M->contact[0].johnson.delta_Y *= 1.0 + 1e-6; return "delta_Y = "; /* F_Y = K delta_Y^1.5 off: before k_lin's check */
+    case 30: M->contact[0].delta_p = NAN; return "delta_p = nan is not finite";
     default: return NULL;
     }
 }
@@ -353,7 +353,7 @@ Test(model_check, names_the_first_bad_field)
     char msg[256];
     vi_model ok = yielded_model(x0);
     cr_assert(vi_model_check(&ok, x0, msg, sizeof msg) == 0, "%s", msg);
-    x0[0] = 0.5 * (ok.unload.delta_c + ok.unload.delta_f); /* inside the unloading branch */
+    x0[0] = 0.5 * (ok.contact[0].unload.delta_c + ok.contact[0].unload.delta_f); /* inside the unloading branch */
     cr_assert(vi_model_check(&ok, x0, msg, sizeof msg) == 0, "%s", msg);
     for (int k = 0;; k++) {
         vi_model M = ok;
@@ -366,9 +366,9 @@ Test(model_check, names_the_first_bad_field)
     }
     /* memory left behind (yielded = 0): the message gives the curve's own delta_c and Rbar */
     vi_model M = ok;
-    M.yielded = 0;
+    M.contact[0].yielded = 0;
     char expect[128];
-    snprintf(expect, sizeof expect, "(delta_c = %g, Rbar = %g)", ok.unload.delta_c, ok.unload.Rbar);
+    snprintf(expect, sizeof expect, "(delta_c = %g, Rbar = %g)", ok.contact[0].unload.delta_c, ok.contact[0].unload.Rbar);
     cr_assert(vi_model_check(&M, x0, msg, sizeof msg) < 0 && strstr(msg, expect), "expected '%s' in: %s", expect, msg);
 }
 
@@ -381,10 +381,10 @@ Test(model_check, never_set_up_has_no_discrete_state)
     for (int k = 0; k < 5; k++) {
         vi_model M;
         memset(&M, 0, sizeof M);
-        if (k == 1) M.mode = VI_Mode_elastic;
-        if (k == 2) M.yielded = 1;
-        if (k == 3) M.n_impacts = 1;
-        if (k == 4) M.delta_p = 1e-9;
+        if (k == 1) M.contact[0].mode = VI_Mode_elastic;
+        if (k == 2) M.contact[0].yielded = 1;
+        if (k == 3) M.contact[0].n_impacts = 1;
+        if (k == 4) M.contact[0].delta_p = 1e-9;
         msg[0] = '\0';
         if (k == 0)
             cr_assert(vi_model_check(&M, x, msg, sizeof msg) == 0, "%s", msg);
@@ -402,7 +402,7 @@ Test(model, never_set_up_is_hertz_without_stiffness)
     for (int mode = VI_Mode_free; mode <= VI_Mode_elastic; mode++) {
         vi_model M;
         memset(&M, 0, sizeof M);
-        M.mode = mode;
+        M.contact[0].mode = mode;
         vi_model_values out;
         memset(&out, 0xab, sizeof out);
         vi_model_outputs(&M, 0.0, x, VI_OUT_STATE | VI_OUT_FORCE | VI_OUT_MEMORY, &out);
@@ -422,13 +422,13 @@ Test(model_check, guard_tolerance)
     double x[2];
     char msg[256];
     vi_model_initial_state(&M, VI_Init_touching, 0.0, 0.0, x);
-    M.mode = VI_Mode_free;
-    x[0] = 1e-9 * M.johnson.delta_Y; /* penetrating by a rounding error while free */
+    M.contact[0].mode = VI_Mode_free;
+    x[0] = 1e-9 * M.contact[0].johnson.delta_Y; /* penetrating by a rounding error while free */
     cr_assert(vi_model_check(&M, x, msg, sizeof msg) == 0, "%s", msg);
-    x[0] = 1e-5 * M.johnson.delta_Y;
+    x[0] = 1e-5 * M.contact[0].johnson.delta_Y;
     cr_assert(vi_model_check(&M, x, msg, sizeof msg) < 0);
-    M.mode = VI_Mode_elastic; /* in contact at -1e-5 delta_Y: separated */
-    x[0] = -1e-5 * M.johnson.delta_Y;
+    M.contact[0].mode = VI_Mode_elastic; /* in contact at -1e-5 delta_Y: separated */
+    x[0] = -1e-5 * M.contact[0].johnson.delta_Y;
     cr_assert(vi_model_check(&M, x, msg, sizeof msg) < 0);
 }
 
@@ -450,28 +450,28 @@ Test(model, stick_keeps_delta_exactly_on_delta_c)
         vi_model_jacobian(M, t, x, j);
         /* the right-hand side's own derivatives, by central differences of relative step 1e-6 */
         for (int c = 0; c < 2; c++) {
-            double h = 1e-6 * fmax(fabs(x[c]), c == 0 ? M->johnson.delta_Y : 1e-3), xp[2] = {x[0], x[1]},
+            double h = 1e-6 * fmax(fabs(x[c]), c == 0 ? M->contact[0].johnson.delta_Y : 1e-3), xp[2] = {x[0], x[1]},
                    xm[2] = {x[0], x[1]}, fp[2], fm[2];
             xp[c] += h, xm[c] -= h;
             vi_model_rhs(M, t, xp, fp);
             vi_model_rhs(M, t, xm, fm);
             fd[c] = (fp[0] - fm[0]) / (2 * h), fd[2 + c] = (fp[1] - fm[1]) / (2 * h);
         }
-        if (M->mode == VI_Mode_free) continue;
-        if (M->mode != VI_Mode_stick) {
+        if (M->contact[0].mode == VI_Mode_free) continue;
+        if (M->contact[0].mode != VI_Mode_stick) {
             /* other contact modes: d delta'/dv = -1, d v'/d delta = k/m (the difference's truncation
              * error is about (h/delta)^2 = 1e-12 relative, its rounding eps |v'| / (h k/m) about 1e-10) */
             touching++;
             cr_assert(j[0] == 0.0 && j[1] == -1.0 && j[3] == 0.0, "t = %g", t);
             cr_assert(fd[0] == 0.0 && fabs(fd[1] + 1.0) <= 1e-6 && fd[3] == 0.0, "t = %g: %g %g %g", t, fd[0], fd[1], fd[3]);
-            cr_assert(fabs(j[2] - fd[2]) <= 1e-8 * fabs(j[2]), "t = %g mode %d: %g vs %g", t, M->mode, j[2], fd[2]);
+            cr_assert(fabs(j[2] - fd[2]) <= 1e-8 * fabs(j[2]), "t = %g mode %d: %g vs %g", t, M->contact[0].mode, j[2], fd[2]);
             continue;
         }
         sticking++;
         /* stick: delta' = 0 and v' = yC'' do not depend on the state, so the Jacobian is zero */
         for (int i = 0; i < 4; i++)
             cr_assert(j[i] == 0.0 && fd[i] == 0.0, "t = %g: J[%d] = %g, difference %g", t, i, j[i], fd[i]);
-        cr_assert(x[0] == M->unload.delta_c, "t = %g: delta - delta_c = %g", t, x[0] - M->unload.delta_c);
+        cr_assert(x[0] == M->contact[0].unload.delta_c, "t = %g: delta - delta_c = %g", t, x[0] - M->contact[0].unload.delta_c);
     }
     cr_assert(sticking > 50 && touching > 50, "%d samples in stick, %d in other contact modes", sticking, touching);
     test_run_free(&s);
@@ -488,16 +488,16 @@ Test(model, static_state_at_extreme_loads, .timeout = 20)
             double W = loads[i], x[2];
             vi_model M = setup(law, 0, VI_Unloading_paper, W, 0.0, 0.0);
             vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
-            if (law == VI_ContactModel_lepp && W < M.johnson.F_Y) /* linear: W/k_lin, 0 where that underflows */
-                cr_assert(x[0] == W / M.k_lin, "law %d W %g: delta = %g", law, W, x[0]);
+            if (law == VI_ContactModel_lepp && W < M.contact[0].johnson.F_Y) /* linear: W/k_lin, 0 where that underflows */
+                cr_assert(x[0] == W / M.contact[0].k_lin, "law %d W %g: delta = %g", law, W, x[0]);
             else
                 cr_assert(x[0] > 0.0 && isfinite(x[0]), "law %d W %g: delta = %g", law, W, x[0]);
-            cr_assert(M.mode != VI_Mode_free, "law %d W %g: mode %d", law, W, M.mode);
-            if (W < M.johnson.F_Y && law != VI_ContactModel_lepp) {
-                double expect = exp(2.0 / 3.0 * (log(W) - log(M.K)));
+            cr_assert(M.contact[0].mode != VI_Mode_free, "law %d W %g: mode %d", law, W, M.contact[0].mode);
+            if (W < M.contact[0].johnson.F_Y && law != VI_ContactModel_lepp) {
+                double expect = exp(2.0 / 3.0 * (log(W) - log(M.contact[0].K)));
                 cr_assert(fabs(x[0] - expect) <= 1e-13 * expect, "law %d W %g: %.17g vs %.17g", law, W, x[0], expect);
             }
-            if (W >= 1e-290 && !(law == VI_ContactModel_lepp && W > M.johnson.F_Y)) { /* the load is carried (LEPP beyond F_Y flows) */
+            if (W >= 1e-290 && !(law == VI_ContactModel_lepp && W > M.contact[0].johnson.F_Y)) { /* the load is carried (LEPP beyond F_Y flows) */
                 double F = vi_model_force(&M, 0.0, x);
                 cr_assert(fabs(F - W) <= 1e-12 * W, "law %d W %g: F = %.17g", law, W, F);
             }
@@ -522,7 +522,7 @@ Test(model, static_state_with_extreme_parameters, .timeout = 20)
     p.P = 0.0;
     cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
     vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
-    cr_assert(x[0] > 0.0 && M.mode == VI_Mode_elastic, "delta %g mode %d", x[0], M.mode);
+    cr_assert(x[0] > 0.0 && M.contact[0].mode == VI_Mode_elastic, "delta %g mode %d", x[0], M.contact[0].mode);
 }
 
 /* The tolerance scales come from the active law: closed forms per case. */
@@ -541,9 +541,9 @@ Test(model, scales_from_the_active_law)
         cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0);
         vi_model_initial_state(&M, VI_Init_static, 1e-100, 0.0, x);
         vi_model_scales(&M, x, &L, &V);
-        double dW = pow((p.P + p.m * p.g) / M.K, 2.0 / 3.0);
+        double dW = pow((p.P + p.m * p.g) / M.contact[0].K, 2.0 / 3.0);
         cr_assert(fabs(L - dW) <= 1e-14 * dW, "Y = %g: L = %g vs %g", p.Y, L, dW);
-        double w = sqrt(1.5 * M.K * sqrt(dW) / p.m);
+        double w = sqrt(1.5 * M.contact[0].K * sqrt(dW) / p.m);
         cr_assert(fabs(V - dW * w) <= 1e-14 * dW * w, "V = %g", V);
     }
     /* Johnson and LEPP: the larger of delta_Y and the static indentation */
@@ -551,46 +551,46 @@ Test(model, scales_from_the_active_law)
         vi_model M = setup(law, 0, 1, 40000.0, 9.81, 1e-300);
         vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
         vi_model_scales(&M, x, &L, &V);
-        cr_assert(L == fmax(M.johnson.delta_Y, x[0]), "law %d: L = %g", law, L);
+        cr_assert(L == fmax(M.contact[0].johnson.delta_Y, x[0]), "law %d: L = %g", law, L);
     }
     /* a load however light (1e-4 N, at rest): its own static indentation, not a fallback */
     {
         vi_model M = setup(VI_ContactModel_hertz, 0, 1, 1e-4, 0.0, 0.0);
         vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
         vi_model_scales(&M, x, &L, &V);
-        double dW = pow(1e-4 / M.K, 2.0 / 3.0);
+        double dW = pow(1e-4 / M.contact[0].K, 2.0 / 3.0);
         cr_assert(fabs(L - dW) <= 1e-14 * dW, "L = %g vs %g", L, dW);
     }
     /* a drop (no load): the impact indentation at v0; Hertz closed form */
     vi_model M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
     vi_model_initial_state(&M, VI_Init_touching, -0.3, 0.0, x);
     vi_model_scales(&M, x, &L, &V);
-    double dv = pow(15.0 * M.m * 0.09 / (16.0 * M.johnson.E_star * sqrt(M.johnson.R_star)), 0.4);
+    double dv = pow(15.0 * M.body.m * 0.09 / (16.0 * M.contact[0].johnson.E_star * sqrt(M.contact[0].johnson.R_star)), 0.4);
     cr_assert(fabs(L - dv) <= 1e-14 * dv);
     /* a drop however slow (1e-4 m/s): its own impact indentation, not a fallback */
     M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
     vi_model_initial_state(&M, VI_Init_touching, -1e-4, 0.0, x);
     vi_model_scales(&M, x, &L, &V);
-    dv = pow(15.0 * M.m * 1e-8 / (16.0 * M.johnson.E_star * sqrt(M.johnson.R_star)), 0.4);
+    dv = pow(15.0 * M.body.m * 1e-8 / (16.0 * M.contact[0].johnson.E_star * sqrt(M.contact[0].johnson.R_star)), 0.4);
     cr_assert(fabs(L - dv) <= 1e-14 * dv, "L = %g vs %g", L, dv);
     /* a LEPP drop (no load): the larger of delta_Y and the linear spring's impact indentation
      * v sqrt(m / k_lin) (energy: m v^2 / 2 = k_lin d^2 / 2) */
     M = setup(VI_ContactModel_lepp, 0, 1, 0.0, 0.0, 0.0);
     vi_model_initial_state(&M, VI_Init_touching, -30.0, 0.0, x);
     vi_model_scales(&M, x, &L, &V);
-    dv = 30.0 * sqrt(M.m / M.k_lin);
-    cr_assert(dv > M.johnson.delta_Y && fabs(L - dv) <= 1e-14 * dv, "L = %.17g, impact %.17g, delta_Y %g", L, dv, M.johnson.delta_Y);
+    dv = 30.0 * sqrt(M.body.m / M.contact[0].k_lin);
+    cr_assert(dv > M.contact[0].johnson.delta_Y && fabs(L - dv) <= 1e-14 * dv, "L = %.17g, impact %.17g, delta_Y %g", L, dv, M.contact[0].johnson.delta_Y);
     /* no load, no speed: the excitation's speed; nothing at all: 1e-6 R* */
     M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 1e-4);
     vi_model_initial_state(&M, VI_Init_touching, 0.0, 0.0, x);
     vi_model_scales(&M, x, &L, &V);
     double va = 1e-4 * 2.0 * VI_PI * 560.0;
-    dv = pow(15.0 * M.m * va * va / (16.0 * M.johnson.E_star * sqrt(M.johnson.R_star)), 0.4);
+    dv = pow(15.0 * M.body.m * va * va / (16.0 * M.contact[0].johnson.E_star * sqrt(M.contact[0].johnson.R_star)), 0.4);
     cr_assert(fabs(L - dv) <= 1e-14 * dv);
     M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
     vi_model_initial_state(&M, VI_Init_touching, 0.0, 0.0, x);
     vi_model_scales(&M, x, &L, &V);
-    cr_assert(L == VI_SCALE_FALLBACK * M.johnson.R_star && V > 0.0);
+    cr_assert(L == VI_SCALE_FALLBACK * M.contact[0].johnson.R_star && V > 0.0);
     /* extremes: finite and positive */
     double loads[] = {1e-200, 4.9e-323, 1e100};
     for (int i = 0; i < 3; i++)
@@ -609,12 +609,12 @@ Test(model, lepp_on_its_yield_surface_keeps_its_permanent_set)
 {
     for (int k = 0; k < 2; k++) {
         vi_model M = setup(VI_ContactModel_lepp, 0, 1, k ? 40000.0 : 0.0, 0.0, 0.0);
-        M.delta_p = 1e-20;
-        double x[2] = {M.delta_p + M.johnson.delta_Y, k ? 0.0 : -1.0}, d = x[0];
-        cr_assert((d - M.johnson.delta_Y) != M.delta_p, "delta_p is recovered exactly: the test would not tell");
+        M.contact[0].delta_p = 1e-20;
+        double x[2] = {M.contact[0].delta_p + M.contact[0].johnson.delta_Y, k ? 0.0 : -1.0}, d = x[0];
+        cr_assert((d - M.contact[0].johnson.delta_Y) != M.contact[0].delta_p, "delta_p is recovered exactly: the test would not tell");
         vi_model_resolve(&M, 0.0, x);
-        cr_assert(M.delta_p == 1e-20 && x[0] == d && M.mode != VI_Mode_free, "k %d: delta_p %.17g, delta %.17g, mode %d",
-                  k, M.delta_p, x[0], M.mode);
+        cr_assert(M.contact[0].delta_p == 1e-20 && x[0] == d && M.contact[0].mode != VI_Mode_free, "k %d: delta_p %.17g, delta %.17g, mode %d",
+                  k, M.contact[0].delta_p, x[0], M.contact[0].mode);
     }
 }
 
@@ -625,11 +625,11 @@ Test(model, lepp_freeze_puts_delta_on_the_yield_surface)
     vi_model M = setup(VI_ContactModel_lepp, 0, 1, 0.0, 0.0, 0.0);
     int differs = 0;
     for (int k = 1; k <= 200; k++) {
-        double d = M.johnson.delta_Y * (1.0 + k / 7.0) + k * 1e-19, x[2] = {d, 0.0};
-        M.mode = VI_Mode_plastic, M.delta_p = 0.0;
+        double d = M.contact[0].johnson.delta_Y * (1.0 + k / 7.0) + k * 1e-19, x[2] = {d, 0.0};
+        M.contact[0].mode = VI_Mode_plastic, M.contact[0].delta_p = 0.0;
         vi_model_freeze(&M, 0.0, x);
-        cr_assert(M.delta_p == d - M.johnson.delta_Y && x[0] == M.delta_p + M.johnson.delta_Y && x[1] == 0.0, "k %d: %.17g %.17g",
-                  k, x[0], M.delta_p);
+        cr_assert(M.contact[0].delta_p == d - M.contact[0].johnson.delta_Y && x[0] == M.contact[0].delta_p + M.contact[0].johnson.delta_Y && x[1] == 0.0, "k %d: %.17g %.17g",
+                  k, x[0], M.contact[0].delta_p);
         differs += x[0] != d;
     }
     cr_assert(differs > 0, "no delta rounded: the test would not tell");
@@ -640,9 +640,9 @@ Test(model, lepp_freeze_puts_delta_on_the_yield_surface)
 Test(model, stick_band_ties_broken_by_the_rate_of_the_holding_force)
 {
     vi_model M = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
-    double dc = 3.0 * M.johnson.delta_Y;
-    vi_unload_curve U = vi_johnson_unload_curve(&M.johnson, VI_UNLOAD_PAPER, dc);
-    double F_load = vi_johnson_load(&M.johnson, dc), F_unload = vi_unload_force(&U, dc);
+    double dc = 3.0 * M.contact[0].johnson.delta_Y;
+    vi_unload_curve U = vi_johnson_unload_curve(&M.contact[0].johnson, VI_UNLOAD_PAPER, dc);
+    double F_load = vi_johnson_load(&M.contact[0].johnson, dc), F_unload = vi_unload_force(&U, dc);
     struct { double P, dF_ext; int mode; } cases[] = {
         {F_load, -1.0, VI_Mode_plastic},  /* on the load limit, the load grows: loading resumes */
         {F_load, +1.0, VI_Mode_stick},    /* on the load limit, the load falls: into the band */
@@ -653,11 +653,11 @@ Test(model, stick_band_ties_broken_by_the_rate_of_the_holding_force)
         {F_unload, +1e-6, VI_Mode_unload},
     };
     for (int i = 0; i < 7; i++) {
-        M.W0 = cases[i].P; /* g = 0, a = 0: F_hold = W = P at the ramp's time */
+        M.body.W0 = cases[i].P; /* g = 0, a = 0: F_hold = W = P at the ramp's time */
         M.F_ext = (vi_ramp){0.0, cases[i].dF_ext, 0.5};
-        M.yielded = 1, M.unload = U, M.mode = VI_Mode_stick;
+        M.contact[0].yielded = 1, M.contact[0].unload = U, M.contact[0].mode = VI_Mode_stick;
         double x[2] = {dc, 0.0};
-        cr_assert(vi_model_resolve(&M, 0.5, x) == cases[i].mode, "case %d: mode %d", i, M.mode);
+        cr_assert(vi_model_resolve(&M, 0.5, x) == cases[i].mode, "case %d: mode %d", i, M.contact[0].mode);
     }
 }
 
@@ -667,18 +667,18 @@ Test(model, stick_band_ties_broken_by_the_rate_of_the_holding_force)
 Test(model, fired_stick_guard_counts_as_on_its_surface)
 {
     vi_model M = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 1e-5);
-    double dc = 3.0 * M.johnson.delta_Y;
-    vi_unload_curve U = vi_johnson_unload_curve(&M.johnson, VI_UNLOAD_PAPER, dc);
-    M.W0 = vi_johnson_load(&M.johnson, dc);
+    double dc = 3.0 * M.contact[0].johnson.delta_Y;
+    vi_unload_curve U = vi_johnson_unload_curve(&M.contact[0].johnson, VI_UNLOAD_PAPER, dc);
+    M.body.W0 = vi_johnson_load(&M.contact[0].johnson, dc);
     double w = M.omega, tq = 0.25 * 2.0 * VI_PI / w;
     for (int k = -3; k <= 3; k++) {
         double t = tq + k * 1e-16; /* the root as a solver locates it, on either side */
-        M.yielded = 1, M.unload = U, M.mode = VI_Mode_stick;
+        M.contact[0].yielded = 1, M.contact[0].unload = U, M.contact[0].mode = VI_Mode_stick;
         double x[2] = {dc, 0.0}, g[VI_NGUARDS];
         vi_model_freeze(&M, t, x);
         vi_model_guards(&M, t, x, g);
-        cr_assert(fabs(g[0]) < 1e-9 * M.W0, "k %d: g0 = %g", k, g[0]);
-        cr_assert(vi_model_event(&M, t, x, 0) == VI_Mode_plastic, "k %d: mode %d", k, M.mode);
+        cr_assert(fabs(g[0]) < 1e-9 * M.body.W0, "k %d: g0 = %g", k, g[0]);
+        cr_assert(vi_model_event(&M, t, x, 0) == VI_Mode_plastic, "k %d: mode %d", k, M.contact[0].mode);
     }
 }
 
@@ -687,21 +687,21 @@ Test(model, fired_stick_guard_counts_as_on_its_surface)
 Test(model, validity_threshold)
 {
     vi_model M = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
-    double x[2] = {0.0, 0.0}, limit = 0.01 * M.johnson.R_star, R1 = 0.475;
+    double x[2] = {0.0, 0.0}, limit = 0.01 * M.contact[0].johnson.R_star, R1 = 0.475;
     char msg[400];
-    M.mode = VI_Mode_elastic;
+    M.contact[0].mode = VI_Mode_elastic;
     x[0] = limit * (1.0 - 1e-12);
     cr_assert(vi_model_validity(&M, R1, 0.0, x, 0, msg, sizeof msg) == 0);
     x[0] = limit * (1.0 + 1e-12);
     cr_assert(vi_model_validity(&M, R1, 1.5, x, 0, msg, sizeof msg) == VI_INVALID_INDENTATION);
     cr_assert(strstr(msg, "t = 1.5 s") && strstr(msg, "0.01 R*"), "%s", msg);
     cr_assert(vi_model_validity(&M, R1, 1.5, x, VI_INVALID_INDENTATION, msg, sizeof msg) == 0);
-    M.mode = VI_Mode_free; /* apart: no contact radius */
+    M.contact[0].mode = VI_Mode_free; /* apart: no contact radius */
     cr_assert(vi_model_validity(&M, R1, 0.0, x, 0, msg, sizeof msg) == 0);
     /* the amplitude against R* (= R1 = 0.475 m here, R2 = 0), either sign */
-    M.a = -M.johnson.R_star;
+    M.a = -M.contact[0].johnson.R_star;
     cr_assert(vi_model_validity(&M, R1, 0.0, x, 0, msg, sizeof msg) == 0);
-    M.a = nextafter(-M.johnson.R_star, -INFINITY);
+    M.a = nextafter(-M.contact[0].johnson.R_star, -INFINITY);
     cr_assert(vi_model_validity(&M, R1, 2.0, x, 0, msg, sizeof msg) == VI_INVALID_AMPLITUDE);
     cr_assert(strstr(msg, "t = 2 s") && strstr(msg, "a = -0.475 m") && strstr(msg, "R* = 0.475 m"), "%s", msg);
     cr_assert(vi_model_validity(&M, R1, 2.0, x, VI_INVALID_AMPLITUDE, msg, sizeof msg) == 0);
@@ -775,7 +775,7 @@ Test(excitation, frequency_change_keeps_phase_and_position_continuous)
               vi_model_platform(&s.d.run.model, t2, NULL, NULL), expect);
     /* free flight: the mass never felt the change (y = y1 + v1 (t - t1), no load) */
     double y2 = vi_model_platform(&s.d.run.model, t2, NULL, NULL) - s.d.run.x[0];
-    cr_assert(s.d.run.model.mode == VI_Mode_free && s.d.run.x[1] == v_mass, "the mass got a kick");
+    cr_assert(s.d.run.model.contact[0].mode == VI_Mode_free && s.d.run.x[1] == v_mass, "the mass got a kick");
     cr_assert(fabs(y2 - (y_mass + v_mass * (t2 - t1))) <= 1e-6 * y2, "%.17g", y2);
     test_run_free(&s);
 }
@@ -997,7 +997,7 @@ Test(model_check, moving_contact_has_no_unloading_or_stick)
     cr_assert(vi_model_check(&M, x, msg, sizeof msg) == 0, "%s", msg);
     for (int mode = VI_Mode_unload; mode <= VI_Mode_stick; mode++) {
         vi_model B = M;
-        B.mode = mode;
+        B.contact[0].mode = mode;
         msg[0] = '\0';
         cr_assert(vi_model_check(&B, x, msg, sizeof msg) < 0, "mode %d accepted", mode);
         char expect[96];
@@ -1035,10 +1035,10 @@ static vi_model unloading_model(const vi_parameters *p, double x[2])
     vi_model M = {0};
     char msg[256];
     cr_assert(setup_from_table(&M, p, 0.0, msg, sizeof msg) == 0, "%s", msg);
-    M.unload = vi_johnson_unload_curve(&M.johnson, M.unloading, 3.0 * M.johnson.delta_Y);
-    M.yielded = 1;
-    M.mode = VI_Mode_unload;
-    x[0] = 0.5 * (M.unload.delta_f + M.unload.delta_c);
+    M.contact[0].unload = vi_johnson_unload_curve(&M.contact[0].johnson, M.contact[0].unloading, 3.0 * M.contact[0].johnson.delta_Y);
+    M.contact[0].yielded = 1;
+    M.contact[0].mode = VI_Mode_unload;
+    x[0] = 0.5 * (M.contact[0].unload.delta_f + M.contact[0].unload.delta_c);
     x[1] = 1.0;
     accepted_as(&M, x, "unloading model");
     return M;
@@ -1058,11 +1058,11 @@ Test(model_check, every_constant_must_be_finite_and_the_positive_ones_positive)
     double x0[2];
     vi_model ok = default_unloading_model(x0);
     struct { const char *name; size_t offset; int positive; } c[] = {
-        {"m", offsetof(vi_model, m), 1},           {"W0", offsetof(vi_model, W0), 0},
-        {"K", offsetof(vi_model, K), 1},           {"E_star", offsetof(vi_model, johnson.E_star), 1},
-        {"R_star", offsetof(vi_model, johnson.R_star), 1}, {"theta_Y", offsetof(vi_model, johnson.theta_Y), 1},
-        {"F_Y", offsetof(vi_model, johnson.F_Y), 1},     {"delta_Y", offsetof(vi_model, johnson.delta_Y), 1},
-        {"k_lin", offsetof(vi_model, k_lin), 1},   {"a", offsetof(vi_model, a), 0},
+        {"m", offsetof(vi_model, body.m), 1},           {"W0", offsetof(vi_model, body.W0), 0},
+        {"K", offsetof(vi_model, contact[0].K), 1},           {"E_star", offsetof(vi_model, contact[0].johnson.E_star), 1},
+        {"R_star", offsetof(vi_model, contact[0].johnson.R_star), 1}, {"theta_Y", offsetof(vi_model, contact[0].johnson.theta_Y), 1},
+        {"F_Y", offsetof(vi_model, contact[0].johnson.F_Y), 1},     {"delta_Y", offsetof(vi_model, contact[0].johnson.delta_Y), 1},
+        {"k_lin", offsetof(vi_model, contact[0].k_lin), 1},   {"a", offsetof(vi_model, a), 0},
         {"omega", offsetof(vi_model, omega), 0},   {"t0", offsetof(vi_model, t0), 0},
         {"phi0", offsetof(vi_model, phi0), 0},     {"t_phi", offsetof(vi_model, t_phi), 0},
         {"V", offsetof(vi_model, V), 0},           {"x0", offsetof(vi_model, x0), 0},
@@ -1092,10 +1092,10 @@ Test(model_check, every_constant_must_be_finite_and_the_positive_ones_positive)
     }
     /* a mass and a yield angle far below 1 are masses and angles like any other */
     vi_model M = ok;
-    M.m = 1e-4;
+    M.body.m = 1e-4;
     accepted_as(&M, x0, "m = 1e-4 kg");
     M = ok;
-    M.johnson.theta_Y = 1e-4;
+    M.contact[0].johnson.theta_Y = 1e-4;
     accepted_as(&M, x0, "theta_Y = 1e-4");
     /* negative: omega and f_contact (0 and small values pass) */
     M = ok;
@@ -1110,7 +1110,7 @@ Test(model_check, every_constant_must_be_finite_and_the_positive_ones_positive)
     accepted_as(&M, x0, "f_contact = 1e-4 Hz");
     /* every non-positive value of a positive constant, not only 0 */
     M = ok;
-    M.johnson.R_star = -0.2;
+    M.contact[0].johnson.R_star = -0.2;
     refused_with(&M, x0, 1, "model constant R_star = -0.2 is not positive");
 }
 
@@ -1121,20 +1121,20 @@ Test(model_check, constants_consistent_to_1e_9)
     double x0[2];
     vi_model ok = default_unloading_model(x0);
     vi_model M = ok;
-    M.K = ok.K * (1.0 + 2e-9);
-    refused_with(&M, x0, 1, "model constant K = %g does not match 4/3 E* sqrt(R*)", M.K);
-    M.K = ok.K * (1.0 + 0.5e-9);
+    M.contact[0].K = ok.contact[0].K * (1.0 + 2e-9);
+    refused_with(&M, x0, 1, "model constant K = %g does not match 4/3 E* sqrt(R*)", M.contact[0].K);
+    M.contact[0].K = ok.contact[0].K * (1.0 + 0.5e-9);
     accepted_as(&M, x0, "K 0.5e-9 off");
     M = ok;
-    M.johnson.F_Y = ok.johnson.F_Y * (1.0 - 2e-9);
-    refused_with(&M, x0, 1, "model constant delta_Y = %g does not match F_Y = K delta_Y^1.5", M.johnson.delta_Y);
-    M.johnson.F_Y = ok.johnson.F_Y * (1.0 - 0.5e-9);
-    M.k_lin = M.johnson.F_Y / M.johnson.delta_Y;
+    M.contact[0].johnson.F_Y = ok.contact[0].johnson.F_Y * (1.0 - 2e-9);
+    refused_with(&M, x0, 1, "model constant delta_Y = %g does not match F_Y = K delta_Y^1.5", M.contact[0].johnson.delta_Y);
+    M.contact[0].johnson.F_Y = ok.contact[0].johnson.F_Y * (1.0 - 0.5e-9);
+    M.contact[0].k_lin = M.contact[0].johnson.F_Y / M.contact[0].johnson.delta_Y;
     accepted_as(&M, x0, "F_Y 0.5e-9 off");
     M = ok;
-    M.k_lin = ok.k_lin * (1.0 + 2e-9);
-    refused_with(&M, x0, 1, "model constant k_lin = %g does not match F_Y/delta_Y", M.k_lin);
-    M.k_lin = ok.k_lin * (1.0 - 0.5e-9);
+    M.contact[0].k_lin = ok.contact[0].k_lin * (1.0 + 2e-9);
+    refused_with(&M, x0, 1, "model constant k_lin = %g does not match F_Y/delta_Y", M.contact[0].k_lin);
+    M.contact[0].k_lin = ok.contact[0].k_lin * (1.0 - 0.5e-9);
     accepted_as(&M, x0, "k_lin 0.5e-9 off");
 }
 
@@ -1144,15 +1144,15 @@ Test(model_check, constants_consistent_to_1e_9)
 Test(model_check, consistency_bound_is_inclusive)
 {
     vi_model M = {0};
-    M.law = VI_ContactModel_hertz, M.unloading = VI_UNLOAD_PAPER, M.m = 1.0;
-    M.johnson.R_star = 1.0, M.johnson.E_star = 0.75 * 999999999.0, M.johnson.theta_Y = 1.0;
-    M.johnson.delta_Y = 1.0, M.johnson.F_Y = 999999999.0, M.K = 999999999.0;
-    M.k_lin = 1e9;
+    M.contact[0].law = VI_ContactModel_hertz, M.contact[0].unloading = VI_UNLOAD_PAPER, M.body.m = 1.0;
+    M.contact[0].johnson.R_star = 1.0, M.contact[0].johnson.E_star = 0.75 * 999999999.0, M.contact[0].johnson.theta_Y = 1.0;
+    M.contact[0].johnson.delta_Y = 1.0, M.contact[0].johnson.F_Y = 999999999.0, M.contact[0].K = 999999999.0;
+    M.contact[0].k_lin = 1e9;
     double x[2] = {0.0, 0.0};
-    cr_assert(fabs(M.k_lin - M.johnson.F_Y / M.johnson.delta_Y) == 1e-9 * fmax(M.k_lin, M.johnson.F_Y / M.johnson.delta_Y));
+    cr_assert(fabs(M.contact[0].k_lin - M.contact[0].johnson.F_Y / M.contact[0].johnson.delta_Y) == 1e-9 * fmax(M.contact[0].k_lin, M.contact[0].johnson.F_Y / M.contact[0].johnson.delta_Y));
     accepted_as(&M, x, "k_lin exactly 1e-9 off");
-    M.k_lin = nextafter(1e9, INFINITY);
-    refused_with(&M, x, 1, "model constant k_lin = %g does not match F_Y/delta_Y", M.k_lin);
+    M.contact[0].k_lin = nextafter(1e9, INFINITY);
+    refused_with(&M, x, 1, "model constant k_lin = %g does not match F_Y/delta_Y", M.contact[0].k_lin);
 }
 
 /* The input ramps: each of value, rate and time of yC_in and F_ext non-finite alone. */
@@ -1187,34 +1187,34 @@ Test(model_check, state_enumerations_and_flags)
     int laws[] = {-1, 0x7fffffff, 7};
     for (int i = 0; i < 3; i++) {
         vi_model M = ok;
-        M.law = laws[i];
+        M.contact[0].law = laws[i];
         refused_with(&M, x0, 1, "contact law = %d is not one of 1 (hertz) ... 6 (thornton)", laws[i]);
     }
     int flags[] = {-1, 2};
     for (int i = 0; i < 2; i++) {
         vi_model M = ok;
-        M.moving = flags[i];
+        M.contact[0].moving = flags[i];
         refused_with(&M, x0, 1, "model flag moving = %d is not 0 or 1", flags[i]);
         M = ok;
-        M.yielded = flags[i];
+        M.contact[0].yielded = flags[i];
         refused_with(&M, x0, 1, "model flag yielded = %d is not 0 or 1", flags[i]);
     }
     int unloading[] = {0, 3};
     for (int i = 0; i < 2; i++) {
         vi_model M = ok;
-        M.unloading = unloading[i];
+        M.contact[0].unloading = unloading[i];
         refused_with(&M, x0, 1, "unloading = %d is not paper (1) or continuous (2)", unloading[i]);
     }
     int modes[] = {-1, 5};
     for (int i = 0; i < 2; i++) {
         vi_model M = ok;
-        M.mode = modes[i];
+        M.contact[0].mode = modes[i];
         refused_with(&M, x0, 1, "mode = %d is not in 0..4", modes[i]);
     }
     vi_model M = ok;
-    M.n_impacts = -1;
+    M.contact[0].n_impacts = -1;
     refused_with(&M, x0, 1, "n_impacts = -1 is negative");
-    M.n_impacts = 0;
+    M.contact[0].n_impacts = 0;
     accepted_as(&M, x0, "no impact yet");
 }
 
@@ -1224,29 +1224,29 @@ Test(model_check, permanent_set_of_each_law)
 {
     double x[2] = {0.0, 1.0};
     vi_model L = setup(VI_ContactModel_lepp, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
-    L.mode = VI_Mode_free;
+    L.contact[0].mode = VI_Mode_free;
     double sets[] = {0.0, 5e-4, 0.5};
     for (int i = 0; i < 3; i++) {
-        L.delta_p = sets[i];
+        L.contact[0].delta_p = sets[i];
         accepted_as(&L, x, "LEPP permanent set >= 0");
     }
-    L.delta_p = -1e-9;
+    L.contact[0].delta_p = -1e-9;
     refused_with(&L, x, 1, "delta_p = -1e-09 is impossible for contact_model lepp");
-    L.delta_p = NAN;
+    L.contact[0].delta_p = NAN;
     refused_with(&L, x, 1, "delta_p = nan is not finite");
-    L.delta_p = INFINITY;
+    L.contact[0].delta_p = INFINITY;
     refused_with(&L, x, 1, "delta_p = inf is not finite");
     int laws[] = {VI_ContactModel_hertz, VI_ContactModel_johnson};
     const char *names[] = {"hertz", "johnson"};
     for (int i = 0; i < 2; i++) {
         vi_model M = setup(laws[i], 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
-        M.mode = VI_Mode_free;
+        M.contact[0].mode = VI_Mode_free;
         accepted_as(&M, x, names[i]);
-        M.delta_p = 1e-6;
+        M.contact[0].delta_p = 1e-6;
         refused_with(&M, x, 1, "delta_p = 1e-06 is impossible for contact_model %s", names[i]);
-        M.delta_p = -1e-3;
+        M.contact[0].delta_p = -1e-3;
         refused_with(&M, x, 1, "delta_p = -0.001 is impossible for contact_model %s", names[i]);
-        M.delta_p = -INFINITY;
+        M.contact[0].delta_p = -INFINITY;
         refused_with(&M, x, 1, "delta_p = -inf is not finite");
     }
 }
@@ -1257,25 +1257,25 @@ Test(model_check, unloading_curve_only_after_yield_and_only_for_fixed_johnson)
 {
     double x[2] = {0.0, 1.0};
     vi_model M0 = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
-    M0.mode = VI_Mode_free;
+    M0.contact[0].mode = VI_Mode_free;
     accepted_as(&M0, x, "virgin");
     for (int i = 0; i < 5; i++) {
         vi_model M = M0;
-        double *u[5] = {&M.unload.delta_c, &M.unload.Rbar, &M.unload.delta_r, &M.unload.delta_f, &M.unload.Kbar};
+        double *u[5] = {&M.contact[0].unload.delta_c, &M.contact[0].unload.Rbar, &M.contact[0].unload.delta_r, &M.contact[0].unload.delta_f, &M.contact[0].unload.Kbar};
         *u[i] = 1e-5 * (i + 1);
-        refused_with(&M, x, 1, "unloading curve (delta_c = %g, Rbar = %g) present although yielded = 0", M.unload.delta_c,
-                     M.unload.Rbar);
+        refused_with(&M, x, 1, "unloading curve (delta_c = %g, Rbar = %g) present although yielded = 0", M.contact[0].unload.delta_c,
+                     M.contact[0].unload.Rbar);
     }
     double x0[2];
     vi_model ok = default_unloading_model(x0);
     vi_model M = ok;
-    M.law = VI_ContactModel_lepp;
+    M.contact[0].law = VI_ContactModel_lepp;
     refused_with(&M, x0, 1, "yielded = 1 is impossible for contact_model lepp (moving 0)");
     M = ok;
-    M.law = VI_ContactModel_hertz;
+    M.contact[0].law = VI_ContactModel_hertz;
     refused_with(&M, x0, 1, "yielded = 1 is impossible for contact_model hertz (moving 0)");
     M = ok;
-    M.moving = 1;
+    M.contact[0].moving = 1;
     refused_with(&M, x0, 1, "yielded = 1 is impossible for contact_model johnson (moving 1)");
 }
 
@@ -1290,50 +1290,50 @@ Test(model_check, yielded_memory_rules)
         vi_parameters_default(&p);
         p.unloading = variant;
         vi_model ok = unloading_model(&p, x0);
-        const vi_unload_curve U = ok.unload;
+        const vi_unload_curve U = ok.contact[0].unload;
         for (int i = 0; i < 5; i++) {
             vi_model M = ok;
-            double *u[5] = {&M.unload.delta_c, &M.unload.Rbar, &M.unload.delta_r, &M.unload.delta_f, &M.unload.Kbar};
+            double *u[5] = {&M.contact[0].unload.delta_c, &M.contact[0].unload.Rbar, &M.contact[0].unload.delta_r, &M.contact[0].unload.delta_f, &M.contact[0].unload.Kbar};
             *u[i] = i % 2 ? INFINITY : NAN;
             refused_with(&M, x0, 1, "unloading curve: a value (delta_c %g, Rbar %g, delta_r %g, delta_f %g, Kbar %g) is "
-                         "not finite", M.unload.delta_c, M.unload.Rbar, M.unload.delta_r, M.unload.delta_f, M.unload.Kbar);
+                         "not finite", M.contact[0].unload.delta_c, M.contact[0].unload.Rbar, M.contact[0].unload.delta_r, M.contact[0].unload.delta_f, M.contact[0].unload.Kbar);
         }
         /* delta_c at the bound delta_Y (1 - 1e-9), with its own curve */
         vi_model M = ok;
-        double dc = ok.johnson.delta_Y * (1.0 - 1e-9);
-        M.unload = vi_johnson_unload_curve(&M.johnson, variant, dc);
-        double xb[2] = {0.5 * (M.unload.delta_f + dc), 1.0};
+        double dc = ok.contact[0].johnson.delta_Y * (1.0 - 1e-9);
+        M.contact[0].unload = vi_johnson_unload_curve(&M.contact[0].johnson, variant, dc);
+        double xb[2] = {0.5 * (M.contact[0].unload.delta_f + dc), 1.0};
         accepted_as(&M, xb, "delta_c at its lower bound");
-        M.unload = vi_johnson_unload_curve(&M.johnson, variant, nextafter(dc, 0.0));
-        refused_with(&M, xb, 1, "delta_c = %g is below delta_Y = %g", M.unload.delta_c, M.johnson.delta_Y);
+        M.contact[0].unload = vi_johnson_unload_curve(&M.contact[0].johnson, variant, nextafter(dc, 0.0));
+        refused_with(&M, xb, 1, "delta_c = %g is below delta_Y = %g", M.contact[0].unload.delta_c, M.contact[0].johnson.delta_Y);
         /* Rbar */
         double rbar[] = {0.0, -U.Rbar};
         for (int i = 0; i < 2; i++) {
             M = ok;
-            M.unload.Rbar = rbar[i];
+            M.contact[0].unload.Rbar = rbar[i];
             refused_with(&M, x0, 1, "Rbar = %g is not positive", rbar[i]);
         }
         /* delta_f: above delta_c by one ulp (the order rule), at delta_c (the curve rule) */
         M = ok;
-        M.unload.delta_f = nextafter(U.delta_c, INFINITY);
-        refused_with(&M, x0, 1, "delta_f = %g is above delta_c = %g", M.unload.delta_f, U.delta_c);
-        M.unload.delta_f = U.delta_c;
+        M.contact[0].unload.delta_f = nextafter(U.delta_c, INFINITY);
+        refused_with(&M, x0, 1, "delta_f = %g is above delta_c = %g", M.contact[0].unload.delta_f, U.delta_c);
+        M.contact[0].unload.delta_f = U.delta_c;
         refused_with(&M, x0, 1, "delta_f = %g does not belong to delta_c (%g)", U.delta_c, U.delta_f);
         /* the curve of delta_c, value by value */
         M = ok;
-        M.unload.Rbar = U.Rbar * (1.0 + 2e-9);
-        refused_with(&M, x0, 1, "Rbar = %g does not belong to delta_c (%g)", M.unload.Rbar, U.Rbar);
-        M.unload.Rbar = U.Rbar * (1.0 - 0.5e-9);
+        M.contact[0].unload.Rbar = U.Rbar * (1.0 + 2e-9);
+        refused_with(&M, x0, 1, "Rbar = %g does not belong to delta_c (%g)", M.contact[0].unload.Rbar, U.Rbar);
+        M.contact[0].unload.Rbar = U.Rbar * (1.0 - 0.5e-9);
         accepted_as(&M, x0, "Rbar 0.5e-9 off");
         M = ok;
-        M.unload.delta_r = U.delta_r * (1.0 - 2e-9);
-        refused_with(&M, x0, 1, "delta_r = %g does not belong to delta_c (%g)", M.unload.delta_r, U.delta_r);
-        M.unload.delta_r = U.delta_r * (1.0 + 0.5e-9);
+        M.contact[0].unload.delta_r = U.delta_r * (1.0 - 2e-9);
+        refused_with(&M, x0, 1, "delta_r = %g does not belong to delta_c (%g)", M.contact[0].unload.delta_r, U.delta_r);
+        M.contact[0].unload.delta_r = U.delta_r * (1.0 + 0.5e-9);
         accepted_as(&M, x0, "delta_r 0.5e-9 off");
         M = ok;
-        M.unload.delta_f = U.delta_f - 2e-9 * U.delta_c;
-        refused_with(&M, x0, 1, "delta_f = %g does not belong to delta_c (%g)", M.unload.delta_f, U.delta_f);
-        M.unload.delta_f = U.delta_f + 0.5e-9 * U.delta_c;
+        M.contact[0].unload.delta_f = U.delta_f - 2e-9 * U.delta_c;
+        refused_with(&M, x0, 1, "delta_f = %g does not belong to delta_c (%g)", M.contact[0].unload.delta_f, U.delta_f);
+        M.contact[0].unload.delta_f = U.delta_f + 0.5e-9 * U.delta_c;
         accepted_as(&M, x0, "delta_f 0.5e-9 delta_c off");
         /* delta_f exactly 1e-9 delta_c off passes and one ulp further does not: a delta_c near the model's
          * whose 1e-9 delta_c is a double of 20 significant bits, a whole number of ulps of delta_f */
@@ -1346,17 +1346,17 @@ Test(model_check, yielded_memory_rules)
         }
         cr_assert(tol > 0.0, "no delta_c with a short 1e-9 delta_c near %g", U.delta_c);
         M = ok;
-        M.unload = vi_johnson_unload_curve(&M.johnson, variant, dc);
-        double df = M.unload.delta_f, xf[2] = {0.5 * (df + dc), 1.0};
-        M.unload.delta_f = df + tol;
-        cr_assert(M.unload.delta_f - df == tol, "delta_f %.17g + %.17g is not exact", df, tol);
+        M.contact[0].unload = vi_johnson_unload_curve(&M.contact[0].johnson, variant, dc);
+        double df = M.contact[0].unload.delta_f, xf[2] = {0.5 * (df + dc), 1.0};
+        M.contact[0].unload.delta_f = df + tol;
+        cr_assert(M.contact[0].unload.delta_f - df == tol, "delta_f %.17g + %.17g is not exact", df, tol);
         accepted_as(&M, xf, "delta_f 1e-9 delta_c off");
-        M.unload.delta_f = nextafter(df + tol, INFINITY);
-        refused_with(&M, xf, 1, "delta_f = %g does not belong to delta_c (%g)", M.unload.delta_f, df);
+        M.contact[0].unload.delta_f = nextafter(df + tol, INFINITY);
+        refused_with(&M, xf, 1, "delta_f = %g does not belong to delta_c (%g)", M.contact[0].unload.delta_f, df);
         M = ok;
-        M.unload.Kbar = U.Kbar * (1.0 + 2e-9);
-        refused_with(&M, x0, 1, "Kbar = %g does not belong to Rbar (%g)", M.unload.Kbar, U.Kbar);
-        M.unload.Kbar = U.Kbar * (1.0 - 0.5e-9);
+        M.contact[0].unload.Kbar = U.Kbar * (1.0 + 2e-9);
+        refused_with(&M, x0, 1, "Kbar = %g does not belong to Rbar (%g)", M.contact[0].unload.Kbar, U.Kbar);
+        M.contact[0].unload.Kbar = U.Kbar * (1.0 - 0.5e-9);
         accepted_as(&M, x0, "Kbar 0.5e-9 off");
     }
     /* a small body: Rbar far below 1 mm is a radius like any other */
@@ -1364,7 +1364,7 @@ Test(model_check, yielded_memory_rules)
     vi_parameters_default(&p);
     p.R1 = 1e-4;
     vi_model M = unloading_model(&p, x0);
-    cr_assert(M.unload.Rbar < 1e-3, "Rbar %g", M.unload.Rbar);
+    cr_assert(M.contact[0].unload.Rbar < 1e-3, "Rbar %g", M.contact[0].unload.Rbar);
 }
 
 /* The mode against the state: each length guard of each mode a clear distance (0.5 delta_Y or more)
@@ -1374,14 +1374,14 @@ Test(model_check, each_surface_of_each_mode)
 {
     double x0[2];
     vi_model Y = default_unloading_model(x0); /* Johnson, yielded, delta_c = 3 delta_Y */
-    const double dY = Y.johnson.delta_Y, dc = Y.unload.delta_c, df = Y.unload.delta_f;
+    const double dY = Y.contact[0].johnson.delta_Y, dc = Y.contact[0].unload.delta_c, df = Y.contact[0].unload.delta_f;
     cr_assert(df > 0.5 * dY, "delta_f %g", df);
     vi_model H = setup(VI_ContactModel_hertz, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
     vi_model J = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
     vi_model Jm = setup(VI_ContactModel_johnson, 1, VI_Unloading_paper, 0.0, 0.0, 0.0);
     vi_model L = setup(VI_ContactModel_lepp, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
-    L.delta_p = 2.0 * dY; /* the laws share delta_Y (same E*, R*, Y) */
-    cr_assert(H.johnson.delta_Y == dY && L.johnson.delta_Y == dY);
+    L.contact[0].delta_p = 2.0 * dY; /* the laws share delta_Y (same E*, R*, Y) */
+    cr_assert(H.contact[0].johnson.delta_Y == dY && L.contact[0].johnson.delta_Y == dY);
     struct { vi_model *M; int mode; double d, beyond; int surface; } c[] = {
         {&H, VI_Mode_free, 0.5 * dY, 0.5 * dY, 0},             /* free, in contact */
         {&L, VI_Mode_elastic, 1.5 * dY, 0.5 * dY, 0},          /* LEPP elastic, off the permanent set */
@@ -1397,9 +1397,9 @@ Test(model_check, each_surface_of_each_mode)
     };
     for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
         vi_model M = *c[i].M;
-        M.mode = c[i].mode;
+        M.contact[0].mode = c[i].mode;
         double x[2] = {c[i].d, 0.125};
-        double tol = 1e-6 * fmax(fmax(dY, fabs(c[i].d)), fabs(M.unload.delta_c));
+        double tol = 1e-6 * fmax(fmax(dY, fabs(c[i].d)), fabs(M.contact[0].unload.delta_c));
         char expect[512];
         snprintf(expect, sizeof expect, "mode %d does not fit the state: delta = %.17g m lies %g m beyond its surface %d "
                  "(tolerance %g m)", c[i].mode, c[i].d, c[i].beyond, c[i].surface, tol);
@@ -1425,8 +1425,8 @@ Test(model_check, each_surface_of_each_mode)
 Test(model_check, guard_tolerance_bound_is_inclusive)
 {
     vi_model M = setup(VI_ContactModel_hertz, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
-    M.mode = VI_Mode_free;
-    double tol = VI_CHECK_GUARD_TOL * M.johnson.delta_Y, x[2] = {tol, -1.0};
+    M.contact[0].mode = VI_Mode_free;
+    double tol = VI_CHECK_GUARD_TOL * M.contact[0].johnson.delta_Y, x[2] = {tol, -1.0};
     accepted_as(&M, x, "at the tolerance");
     x[0] = nextafter(tol, INFINITY);
     char msg[512] = "";
@@ -1536,25 +1536,25 @@ Test(model, setup_refuses_values_beyond_the_doubles_and_accepts_tiny_stiffnesses
     vi_model M = {0};
     char msg[512], expect[512];
     cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == -1);
-    cr_assert(isinf(M.W0) && isfinite(M.K) && M.K > 0.0 && isfinite(M.k_lin) && M.johnson.F_Y > 0.0);
+    cr_assert(isinf(M.body.W0) && isfinite(M.contact[0].K) && M.contact[0].K > 0.0 && isfinite(M.contact[0].k_lin) && M.contact[0].johnson.F_Y > 0.0);
     snprintf(expect, sizeof expect, "the parameters give no finite positive contact stiffness or yield force (E* = %g Pa, "
-             "R* = %g m, F_Y = %g N, delta_Y = %g m)", M.johnson.E_star, M.johnson.R_star, M.johnson.F_Y, M.johnson.delta_Y);
+             "R* = %g m, F_Y = %g N, delta_Y = %g m)", M.contact[0].johnson.E_star, M.contact[0].johnson.R_star, M.contact[0].johnson.F_Y, M.contact[0].johnson.delta_Y);
     cr_assert(strcmp(msg, expect) == 0, "expected '%s', got '%s'", expect, msg);
-    cr_assert(p.R2 == 0.0 && fabs(M.johnson.R_star - p.R1) <= 1e-15 * p.R1, "R* %g", M.johnson.R_star); /* against a plane: R* = R1 */
+    cr_assert(p.R2 == 0.0 && fabs(M.contact[0].johnson.R_star - p.R1) <= 1e-15 * p.R1, "R* %g", M.contact[0].johnson.R_star); /* against a plane: R* = R1 */
     /* a yield force so far above the stiffness that delta_Y = (F_Y/K)^(2/3) overflows: k_lin = F_Y/delta_Y
      * is 0 (E* = 1e-120 Pa, theta_Y Y = 1e-15 Pa: F_Y about 1e194 N, K about 1e-120) */
     vi_parameters_default(&p);
     p.E1 = p.E2 = 2e-120, p.nu1 = p.nu2 = 0.0, p.theta_Y = 1e-15, p.Y = 1.0;
-    cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == -1, "accepted: k_lin %g", M.k_lin);
-    cr_assert(isfinite(M.johnson.F_Y) && M.johnson.F_Y > 0.0 && M.K > 0.0 && isinf(M.johnson.delta_Y) && M.k_lin == 0.0, "F_Y %g K %g", M.johnson.F_Y,
-              M.K);
+    cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == -1, "accepted: k_lin %g", M.contact[0].k_lin);
+    cr_assert(isfinite(M.contact[0].johnson.F_Y) && M.contact[0].johnson.F_Y > 0.0 && M.contact[0].K > 0.0 && isinf(M.contact[0].johnson.delta_Y) && M.contact[0].k_lin == 0.0, "F_Y %g K %g", M.contact[0].johnson.F_Y,
+              M.contact[0].K);
     snprintf(expect, sizeof expect, "the parameters give no finite positive contact stiffness or yield force (E* = 1e-120 Pa, "
-             "R* = %g m, F_Y = %g N, delta_Y = inf m)", M.johnson.R_star, M.johnson.F_Y);
+             "R* = %g m, F_Y = %g N, delta_Y = inf m)", M.contact[0].johnson.R_star, M.contact[0].johnson.F_Y);
     cr_assert(strcmp(msg, expect) == 0, "expected '%s', got '%s'", expect, msg);
     vi_parameters_default(&p);
     p.E1 = p.E2 = 1e-6, p.Y = 1e-10;
     cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
-    cr_assert(M.K < 1e-3 && M.johnson.F_Y < 1e-3 && M.k_lin < 1e-3, "K %g F_Y %g k_lin %g", M.K, M.johnson.F_Y, M.k_lin);
+    cr_assert(M.contact[0].K < 1e-3 && M.contact[0].johnson.F_Y < 1e-3 && M.contact[0].k_lin < 1e-3, "K %g F_Y %g k_lin %g", M.contact[0].K, M.contact[0].johnson.F_Y, M.contact[0].k_lin);
 }
 
 /* The height of the attached profile at x = 5 m (trough of slope s0: about 5 s0). */
@@ -1620,12 +1620,12 @@ Test(model, validity_messages_and_bounds)
     vi_model M = {0};
     char msg[512], expect[512];
     cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
-    const double R = M.johnson.R_star, limit = 0.01 * R;
-    M.mode = VI_Mode_free;
+    const double R = M.contact[0].johnson.R_star, limit = 0.01 * R;
+    M.contact[0].mode = VI_Mode_free;
     double x[2] = {2.0 * limit, 1.0};
     cr_assert(vi_model_validity(&M, 1e-4, 0.0, x, 0, msg, sizeof msg) == 0, "free: %s", msg);
     cr_assert(!vi_model_indentation_invalid(&M, x));
-    M.mode = VI_Mode_elastic;
+    M.contact[0].mode = VI_Mode_elastic;
     x[0] = 1e-5; /* in contact, moving at 1 m/s */
     cr_assert(vi_model_validity(&M, 1e-4, 0.0, x, 0, msg, sizeof msg) == 0, "elastic: %s", msg);
     cr_assert(!vi_model_indentation_invalid(&M, x));
@@ -1641,9 +1641,9 @@ Test(model, validity_messages_and_bounds)
     cr_assert(strcmp(msg, expect) == 0, "expected '%s', got '%s'", expect, msg);
     /* after yield: delta_c counts while unloading below it */
     vi_model J = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
-    const double lj = 0.01 * J.johnson.R_star;
-    J.yielded = 1, J.mode = VI_Mode_unload;
-    J.unload = vi_johnson_unload_curve(&J.johnson, VI_UNLOAD_PAPER, 1.5 * lj);
+    const double lj = 0.01 * J.contact[0].johnson.R_star;
+    J.contact[0].yielded = 1, J.contact[0].mode = VI_Mode_unload;
+    J.contact[0].unload = vi_johnson_unload_curve(&J.contact[0].johnson, VI_UNLOAD_PAPER, 1.5 * lj);
     double xj[2] = {0.5 * lj, 0.0};
     cr_assert(vi_model_indentation_invalid(&J, xj));
     cr_assert(vi_model_validity(&J, 0.475, 1.0, xj, 0, msg, sizeof msg) == VI_INVALID_INDENTATION);
@@ -1685,7 +1685,7 @@ Test(model, force_limits_of_the_paper)
     const double ratio[] = {1.0, 1.0, 650.0, 650.0, INFINITY, INFINITY, INFINITY};
     for (int i = 0; i < 7; i++) {
         vi_model M = setup(laws[i], i == 3, VI_Unloading_paper, 40000.0, 9.81, 0.0);
-        double F_Y = M.johnson.F_Y, limit = vi_model_force_limit(&M);
+        double F_Y = M.contact[0].johnson.F_Y, limit = vi_model_force_limit(&M);
         char msg[512], expect[128];
         cr_assert(limit == ratio[i] * F_Y, "law %d: %g", laws[i], limit);
         cr_assert(vi_model_force_validity(&M, limit, 1.0, msg, sizeof msg) == 0, "law %d at the limit: %s", laws[i], msg);
@@ -1701,7 +1701,7 @@ Test(model, force_limits_of_the_paper)
                                              : "Hertz's law (paper eq. 2) assumes purely elastic strains"), "%s", msg);
         int n = vi_model_force_validity(&M, -1.2345678901234567e-300, 0.0, msg, sizeof msg);
         cr_assert(n == 0, "a negative force is no excess");
-        M.johnson.F_Y = -1.2345678901234567e-300; /* the widest %g and %.4g numbers */
+        M.contact[0].johnson.F_Y = -1.2345678901234567e-300; /* the widest %g and %.4g numbers */
         cr_assert(vi_model_force_validity(&M, 1.2345678901234567e+300, 0.0010207383440245387, msg, sizeof msg) ==
                   VI_INVALID_FORCE);
         cr_assert(strlen(msg) < 400, "%zu bytes: %s", strlen(msg), msg);
@@ -1783,12 +1783,12 @@ Test(rolling, a_kink_that_changes_the_mode)
     cr_assert(vi_sim_initialize(&s.s) == 0, "%s", s.r.msg);
     double dyC;
     vi_model_platform(&s.d.run.model, 0.0, &dyC, NULL);
-    cr_assert(s.d.run.model.mode == VI_Mode_free && dyC == -s0 * V, "mode %d, yC' = %.17g", s.d.run.model.mode, dyC);
+    cr_assert(s.d.run.model.contact[0].mode == VI_Mode_free && dyC == -s0 * V, "mode %d, yC' = %.17g", s.d.run.model.contact[0].mode, dyC);
     s.d.run.events.band[0] = 1.0;
     kink_line[0] = '\0';
     cr_assert(vi_sim_advance_until(&s.s, 0.02, 1) == VI_SIM_EVENT, "%s", s.r.msg);
-    cr_assert(s.d.run.model.mode == VI_Mode_elastic && fabs(s.d.run.t - 0.01) <= 1e-15 && fabs(s.d.run.x[0]) <= 1e-12,
-              "mode %d t %.17g delta %g", s.d.run.model.mode, s.d.run.t, s.d.run.x[0]);
+    cr_assert(s.d.run.model.contact[0].mode == VI_Mode_elastic && fabs(s.d.run.t - 0.01) <= 1e-15 && fabs(s.d.run.x[0]) <= 1e-12,
+              "mode %d t %.17g delta %g", s.d.run.model.contact[0].mode, s.d.run.t, s.d.run.x[0]);
     double t;
     int from, to;
     cr_assert(sscanf(kink_line, "event t=%lg kind=kink mode=%d->%d", &t, &from, &to) == 3 && t == s.d.run.t &&
@@ -1808,74 +1808,74 @@ Test(rolling, a_kink_that_changes_the_mode)
 Test(model, outputs_of_each_law_and_mode)
 {
     vi_model J = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 1e-4);
-    const double dY = J.johnson.delta_Y, t = 1.25e-4, w = J.omega;
+    const double dY = J.contact[0].johnson.delta_Y, t = 1.25e-4, w = J.omega;
     J.yC_in = (vi_ramp){2e-5, 0.0, 0.0};
     J.f_contact = 123.0;
-    J.n_impacts = 7;
+    J.contact[0].n_impacts = 7;
     const double yC = 2e-5 + 1e-4 * (cos(w * t) - 1.0);
     /* Johnson, yielded, unloading at delta between delta_f and delta_c */
     vi_model M = J;
-    M.yielded = 1, M.mode = VI_Mode_unload;
-    M.unload = vi_johnson_unload_curve(&M.johnson, VI_UNLOAD_PAPER, 3.0 * dY);
-    double x[2] = {0.5 * (M.unload.delta_f + M.unload.delta_c), -0.5};
+    M.contact[0].yielded = 1, M.contact[0].mode = VI_Mode_unload;
+    M.contact[0].unload = vi_johnson_unload_curve(&M.contact[0].johnson, VI_UNLOAD_PAPER, 3.0 * dY);
+    double x[2] = {0.5 * (M.contact[0].unload.delta_f + M.contact[0].unload.delta_c), -0.5};
     vi_model_values out;
     memset(&out, 0, sizeof out);
     vi_model_outputs(&M, t, x, VI_OUT_STATE | VI_OUT_PLATFORM | VI_OUT_FORCE | VI_OUT_MEMORY | VI_OUT_CALCULATED, &out);
     cr_assert(out.delta == x[0] && out.v == -0.5 && out.contact == 1 && out.mode == VI_Mode_unload && out.n_impacts == 7);
     cr_assert(fabs(out.yC - yC) <= 1e-18 && fabs(out.y - (yC - x[0])) <= 1e-18, "yC %.17g vs %.17g", out.yC, yC);
-    double Fu = M.unload.Kbar * pow(x[0] - M.unload.delta_f, 1.5);
+    double Fu = M.contact[0].unload.Kbar * pow(x[0] - M.contact[0].unload.delta_f, 1.5);
     cr_assert(fabs(out.F - Fu) <= 1e-12 * Fu, "F %g vs %g", out.F, Fu);
-    double W = vi_johnson_load_work(&M.johnson, 3.0 * dY) - vi_unload_energy(&M.unload, 3.0 * dY);
-    cr_assert(out.delta_c == 3.0 * dY && out.delta_f == M.unload.delta_f && out.Rbar == M.unload.Rbar && out.delta_p == 0.0 &&
+    double W = vi_johnson_load_work(&M.contact[0].johnson, 3.0 * dY) - vi_unload_energy(&M.contact[0].unload, 3.0 * dY);
+    cr_assert(out.delta_c == 3.0 * dY && out.delta_f == M.contact[0].unload.delta_f && out.Rbar == M.contact[0].unload.Rbar && out.delta_p == 0.0 &&
               fabs(out.W_plastic - W) <= 1e-12 * W && W > 0.0, "memory %g %g %g %g", out.delta_c, out.delta_f, out.Rbar,
               out.W_plastic);
-    cr_assert(out.E_star == M.johnson.E_star && out.R_star == M.johnson.R_star && out.F_Y == M.johnson.F_Y && out.delta_Y == dY &&
-              out.k_lin == M.k_lin && out.f_contact == 123.0);
+    cr_assert(out.E_star == M.contact[0].johnson.E_star && out.R_star == M.contact[0].johnson.R_star && out.F_Y == M.contact[0].johnson.F_Y && out.delta_Y == dY &&
+              out.k_lin == M.contact[0].k_lin && out.f_contact == 123.0);
     /* plastic at 4 delta_Y: the memory is that of delta itself */
-    M.mode = VI_Mode_plastic;
+    M.contact[0].mode = VI_Mode_plastic;
     x[0] = 4.0 * dY;
     vi_model_outputs(&M, t, x, VI_OUT_FORCE | VI_OUT_MEMORY, &out);
-    vi_unload_curve U4 = vi_johnson_unload_curve(&M.johnson, VI_UNLOAD_PAPER, 4.0 * dY);
+    vi_unload_curve U4 = vi_johnson_unload_curve(&M.contact[0].johnson, VI_UNLOAD_PAPER, 4.0 * dY);
     cr_assert(out.delta_c == 4.0 * dY && out.delta_f == U4.delta_f && out.Rbar == U4.Rbar, "%g %g", out.delta_c, out.Rbar);
-    cr_assert(fabs(out.F - vi_johnson_load(&M.johnson, 4.0 * dY)) <= 1e-12 * out.F);
+    cr_assert(fabs(out.F - vi_johnson_load(&M.contact[0].johnson, 4.0 * dY)) <= 1e-12 * out.F);
     /* stick: the holding force W + m yC'' (no load here: m yC'') */
-    M.mode = VI_Mode_stick;
+    M.contact[0].mode = VI_Mode_stick;
     x[0] = 3.0 * dY;
     vi_model_outputs(&M, t, x, VI_OUT_FORCE, &out);
-    double hold = -M.m * 1e-4 * w * w * cos(w * t);
+    double hold = -M.body.m * 1e-4 * w * w * cos(w * t);
     cr_assert(fabs(out.F - hold) <= 1e-12 * fabs(hold), "F %g vs %g", out.F, hold);
     /* Johnson not yielded, and moving: no memory, Rbar = R*; free: no contact, no force */
     vi_model V = J;
-    V.mode = VI_Mode_free;
+    V.contact[0].mode = VI_Mode_free;
     double xf[2] = {-1e-3, 2.0};
     out.delta_c = out.delta_f = out.delta_p = out.W_plastic = out.Rbar = -1.0;
     vi_model_outputs(&V, t, xf, VI_OUT_STATE | VI_OUT_FORCE | VI_OUT_MEMORY, &out);
     cr_assert(out.contact == 0 && out.mode == 0 && out.F == 0.0 && out.delta_c == 0.0 && out.delta_f == 0.0 &&
-              out.delta_p == 0.0 && out.W_plastic == 0.0 && out.Rbar == J.johnson.R_star);
+              out.delta_p == 0.0 && out.W_plastic == 0.0 && out.Rbar == J.contact[0].johnson.R_star);
     vi_model Mv = setup(VI_ContactModel_johnson, 1, VI_Unloading_paper, 0.0, 0.0, 0.0);
-    Mv.mode = VI_Mode_plastic;
+    Mv.contact[0].mode = VI_Mode_plastic;
     double xm[2] = {2.0 * dY, 0.0};
     vi_model_outputs(&Mv, 0.0, xm, VI_OUT_MEMORY, &out);
-    cr_assert(out.delta_c == 0.0 && out.W_plastic == 0.0 && out.Rbar == Mv.johnson.R_star);
+    cr_assert(out.delta_c == 0.0 && out.W_plastic == 0.0 && out.Rbar == Mv.contact[0].johnson.R_star);
     /* LEPP: elastic from the permanent set, plastic at F_Y with delta_p = delta - delta_Y */
     vi_model L = setup(VI_ContactModel_lepp, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
-    L.delta_p = 0.5 * dY, L.mode = VI_Mode_elastic;
+    L.contact[0].delta_p = 0.5 * dY, L.contact[0].mode = VI_Mode_elastic;
     double xl[2] = {1.25 * dY, 0.0};
     vi_model_outputs(&L, 0.0, xl, VI_OUT_FORCE | VI_OUT_MEMORY, &out);
-    cr_assert(fabs(out.F - L.k_lin * 0.75 * dY) <= 1e-12 * out.F && out.delta_p == 0.5 * dY &&
-              fabs(out.W_plastic - L.johnson.F_Y * 0.5 * dY) <= 1e-12 * out.W_plastic && out.delta_c == 0.0 &&
-              out.Rbar == L.johnson.R_star, "F %g W %g", out.F, out.W_plastic);
-    L.mode = VI_Mode_plastic;
+    cr_assert(fabs(out.F - L.contact[0].k_lin * 0.75 * dY) <= 1e-12 * out.F && out.delta_p == 0.5 * dY &&
+              fabs(out.W_plastic - L.contact[0].johnson.F_Y * 0.5 * dY) <= 1e-12 * out.W_plastic && out.delta_c == 0.0 &&
+              out.Rbar == L.contact[0].johnson.R_star, "F %g W %g", out.F, out.W_plastic);
+    L.contact[0].mode = VI_Mode_plastic;
     xl[0] = 2.5 * dY;
     vi_model_outputs(&L, 0.0, xl, VI_OUT_FORCE | VI_OUT_MEMORY, &out);
-    cr_assert(out.F == L.johnson.F_Y && fabs(out.delta_p - 1.5 * dY) <= 1e-15 * dY &&
-              fabs(out.W_plastic - L.johnson.F_Y * 1.5 * dY) <= 1e-12 * out.W_plastic, "F %g delta_p %g", out.F, out.delta_p);
+    cr_assert(out.F == L.contact[0].johnson.F_Y && fabs(out.delta_p - 1.5 * dY) <= 1e-15 * dY &&
+              fabs(out.W_plastic - L.contact[0].johnson.F_Y * 1.5 * dY) <= 1e-12 * out.W_plastic, "F %g delta_p %g", out.F, out.delta_p);
     /* Hertz: K delta^1.5 */
     vi_model H = setup(VI_ContactModel_hertz, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
-    H.mode = VI_Mode_elastic;
+    H.contact[0].mode = VI_Mode_elastic;
     double xh[2] = {3.0 * dY, 0.0};
     vi_model_outputs(&H, 0.0, xh, VI_OUT_FORCE | VI_OUT_MEMORY, &out);
-    cr_assert(fabs(out.F - H.K * pow(3.0 * dY, 1.5)) <= 1e-12 * out.F && out.W_plastic == 0.0 && out.delta_p == 0.0);
+    cr_assert(fabs(out.F - H.contact[0].K * pow(3.0 * dY, 1.5)) <= 1e-12 * out.F && out.W_plastic == 0.0 && out.delta_p == 0.0);
 }
 
 /* The initial state starts from nothing, whatever the model held before (a re-initialization): no
@@ -1887,22 +1887,22 @@ Test(model, initial_state_starts_from_nothing)
     for (int i = 0; i < 3; i++) {
         for (int init = VI_Init_static; init <= VI_Init_touching; init++) {
             vi_model M = setup(laws[i], 0, VI_Unloading_paper, 40000.0, 9.81, 0.0);
-            M.mode = VI_Mode_stick, M.yielded = 1, M.delta_p = 1e-6, M.n_impacts = 5;
-            M.unload = vi_johnson_unload_curve(&M.johnson, VI_UNLOAD_PAPER, 3.0 * M.johnson.delta_Y);
+            M.contact[0].mode = VI_Mode_stick, M.contact[0].yielded = 1, M.contact[0].delta_p = 1e-6, M.contact[0].n_impacts = 5;
+            M.contact[0].unload = vi_johnson_unload_curve(&M.contact[0].johnson, VI_UNLOAD_PAPER, 3.0 * M.contact[0].johnson.delta_Y);
             double x[2] = {1.0, 1.0};
             vi_model_initial_state(&M, init, init == VI_Init_static ? 0.0 : 2.0, 0.0, x);
-            double W = M.W0, d = init == VI_Init_static ? (laws[i] == VI_ContactModel_lepp ? W / M.k_lin
-                                                                                          : pow(W / M.K, 2.0 / 3.0))
+            double W = M.body.W0, d = init == VI_Init_static ? (laws[i] == VI_ContactModel_lepp ? W / M.contact[0].k_lin
+                                                                                          : pow(W / M.contact[0].K, 2.0 / 3.0))
                                                         : 0.0;
             if (laws[i] == VI_ContactModel_johnson && init == VI_Init_static)
-                d = vi_johnson_load_indentation(&M.johnson, W); /* below yield here: the Hertz branch */
-            cr_assert(M.yielded == 0 && M.delta_p == 0.0 && M.n_impacts == 0 && M.unload.delta_c == 0.0 && M.unload.Rbar == 0.0 &&
-                      M.unload.delta_r == 0.0 && M.unload.delta_f == 0.0 && M.unload.Kbar == 0.0, "law %d init %d", laws[i], init);
+                d = vi_johnson_load_indentation(&M.contact[0].johnson, W); /* below yield here: the Hertz branch */
+            cr_assert(M.contact[0].yielded == 0 && M.contact[0].delta_p == 0.0 && M.contact[0].n_impacts == 0 && M.contact[0].unload.delta_c == 0.0 && M.contact[0].unload.Rbar == 0.0 &&
+                      M.contact[0].unload.delta_r == 0.0 && M.contact[0].unload.delta_f == 0.0 && M.contact[0].unload.Kbar == 0.0, "law %d init %d", laws[i], init);
             cr_assert(fabs(x[0] - d) <= 1e-12 * d, "law %d init %d: delta %.17g vs %.17g", laws[i], init, x[0], d);
-            cr_assert(init == VI_Init_static ? x[1] == 0.0 && M.mode == VI_Mode_elastic : x[1] == 2.0 && M.mode == VI_Mode_free,
-                      "law %d init %d: v %g mode %d", laws[i], init, x[1], M.mode);
-            double k = laws[i] == VI_ContactModel_lepp ? M.k_lin : 1.5 * M.K * sqrt(pow(W / M.K, 2.0 / 3.0));
-            double f = sqrt(k / M.m) / (2.0 * VI_PI);
+            cr_assert(init == VI_Init_static ? x[1] == 0.0 && M.contact[0].mode == VI_Mode_elastic : x[1] == 2.0 && M.contact[0].mode == VI_Mode_free,
+                      "law %d init %d: v %g mode %d", laws[i], init, x[1], M.contact[0].mode);
+            double k = laws[i] == VI_ContactModel_lepp ? M.contact[0].k_lin : 1.5 * M.contact[0].K * sqrt(pow(W / M.contact[0].K, 2.0 / 3.0));
+            double f = sqrt(k / M.body.m) / (2.0 * VI_PI);
             cr_assert(fabs(M.f_contact - f) <= 1e-9 * f, "law %d: f_contact %.17g vs %.17g", laws[i], M.f_contact, f);
         }
         /* no load pressing (W = 0, and W < 0: pulled up): no static indentation, no resonance */
@@ -1911,8 +1911,8 @@ Test(model, initial_state_starts_from_nothing)
             vi_model M = setup(laws[i], 0, VI_Unloading_paper, loads[k][0], loads[k][1], 0.0);
             double x[2];
             vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
-            cr_assert(x[0] == 0.0 && M.f_contact == 0.0 && M.mode == VI_Mode_free, "law %d W %g: delta %g f %g mode %d", laws[i],
-                      M.W0, x[0], M.f_contact, M.mode);
+            cr_assert(x[0] == 0.0 && M.f_contact == 0.0 && M.contact[0].mode == VI_Mode_free, "law %d W %g: delta %g f %g mode %d", laws[i],
+                      M.body.W0, x[0], M.f_contact, M.contact[0].mode);
         }
         /* a tiny load presses all the same */
         vi_model M = setup(laws[i], 0, VI_Unloading_paper, 1e-4, 0.0, 0.0);
@@ -1927,18 +1927,18 @@ Test(model, initial_state_starts_from_nothing)
     vi_model L = setup(VI_ContactModel_lepp, 0, VI_Unloading_paper, 1e7, 0.0, 0.0);
     double x[2];
     vi_model_initial_state(&J, VI_Init_static, 0.0, 0.0, x);
-    cr_assert(J.yielded == 1 && J.unload.delta_c == x[0] && x[0] > J.johnson.delta_Y);
+    cr_assert(J.contact[0].yielded == 1 && J.contact[0].unload.delta_c == x[0] && x[0] > J.contact[0].johnson.delta_Y);
     vi_model_initial_state(&Jm, VI_Init_static, 0.0, 0.0, x);
-    cr_assert(Jm.yielded == 0 && Jm.unload.delta_c == 0.0 && x[0] > Jm.johnson.delta_Y);
+    cr_assert(Jm.contact[0].yielded == 0 && Jm.contact[0].unload.delta_c == 0.0 && x[0] > Jm.contact[0].johnson.delta_Y);
     vi_model_initial_state(&L, VI_Init_static, 0.0, 0.0, x);
-    cr_assert(L.yielded == 0 && L.unload.delta_c == 0.0 && x[0] == L.johnson.delta_Y && L.delta_p == 0.0, "%g", x[0]);
+    cr_assert(L.contact[0].yielded == 0 && L.contact[0].unload.delta_c == 0.0 && x[0] == L.contact[0].johnson.delta_Y && L.contact[0].delta_p == 0.0, "%g", x[0]);
     /* small oscillations there: on the unloading curve of the static indentation (fixed contact point),
      * on the virgin curve (moving) */
-    double d = vi_johnson_load_indentation(&J.johnson, 1e7);
-    vi_unload_curve U = vi_johnson_unload_curve(&J.johnson, VI_UNLOAD_PAPER, d);
-    double k = 1.5 * U.Kbar * sqrt(d - U.delta_f), f = sqrt(k / J.m) / (2.0 * VI_PI);
+    double d = vi_johnson_load_indentation(&J.contact[0].johnson, 1e7);
+    vi_unload_curve U = vi_johnson_unload_curve(&J.contact[0].johnson, VI_UNLOAD_PAPER, d);
+    double k = 1.5 * U.Kbar * sqrt(d - U.delta_f), f = sqrt(k / J.body.m) / (2.0 * VI_PI);
     cr_assert(fabs(J.f_contact - f) <= 1e-9 * f, "fixed: f_contact %.17g vs %.17g", J.f_contact, f);
-    k = vi_johnson_load_stiffness(&Jm.johnson, d), f = sqrt(k / Jm.m) / (2.0 * VI_PI);
+    k = vi_johnson_load_stiffness(&Jm.contact[0].johnson, d), f = sqrt(k / Jm.body.m) / (2.0 * VI_PI);
     cr_assert(fabs(Jm.f_contact - f) <= 1e-9 * f, "moving: f_contact %.17g vs %.17g", Jm.f_contact, f);
 }
 
@@ -1961,7 +1961,7 @@ Test(rolling, scales_from_the_rolling_speed)
         vi_model_initial_state(&M, VI_Init_touching, 0.0, 0.0, s);
         vi_model_scales(&M, s, &L, &Vs);
         double v = a * 2.0 * VI_PI * 560.0 + 2.0 * vi_profile_max_slope(prof);
-        double dv = pow(15.0 * M.m * v * v / (16.0 * M.johnson.E_star * sqrt(M.johnson.R_star)), 0.4);
+        double dv = pow(15.0 * M.body.m * v * v / (16.0 * M.contact[0].johnson.E_star * sqrt(M.contact[0].johnson.R_star)), 0.4);
         cr_assert(fabs(L - dv) <= 1e-14 * dv, "case %d: L = %.17g vs %.17g", k, L, dv);
     }
     vi_profile_free(prof);
@@ -2030,11 +2030,11 @@ Test(model, guards_of_each_mode)
     vi_model Y = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, P, 0.0, 1e-4);
     vi_model Jm = setup(VI_ContactModel_johnson, 1, VI_Unloading_paper, P, 0.0, 1e-4);
     vi_model L = setup(VI_ContactModel_lepp, 0, VI_Unloading_paper, P, 0.0, 1e-4);
-    const double dY = H.johnson.delta_Y, w = H.omega, dyC = -1e-4 * w * sin(w * t), ddyC = -1e-4 * w * w * cos(w * t);
-    Y.yielded = 1, Y.unload = vi_johnson_unload_curve(&Y.johnson, VI_UNLOAD_PAPER, 3.0 * dY);
-    L.delta_p = 0.5 * dY;
-    const double d = 2.0 * dY, v = 0.3, df = Y.unload.delta_f, dc = Y.unload.delta_c;
-    const double F_hold = P + Y.m * ddyC;
+    const double dY = H.contact[0].johnson.delta_Y, w = H.omega, dyC = -1e-4 * w * sin(w * t), ddyC = -1e-4 * w * w * cos(w * t);
+    Y.contact[0].yielded = 1, Y.contact[0].unload = vi_johnson_unload_curve(&Y.contact[0].johnson, VI_UNLOAD_PAPER, 3.0 * dY);
+    L.contact[0].delta_p = 0.5 * dY;
+    const double d = 2.0 * dY, v = 0.3, df = Y.contact[0].unload.delta_f, dc = Y.contact[0].unload.delta_c;
+    const double F_hold = P + Y.body.m * ddyC;
     struct { vi_model *M; int mode; double g0, g1; } c[] = {
         {&H, VI_Mode_free, -d, 1.0},
         {&Y, VI_Mode_free, df - d, 1.0},
@@ -2046,11 +2046,11 @@ Test(model, guards_of_each_mode)
         {&L, VI_Mode_plastic, dyC - v, 1.0},
         {&Jm, VI_Mode_plastic, d - dY, 1.0},
         {&Y, VI_Mode_unload, d - df, dc - d},
-        {&Y, VI_Mode_stick, vi_johnson_load(&Y.johnson, dc) - F_hold, F_hold - vi_unload_force(&Y.unload, dc)},
+        {&Y, VI_Mode_stick, vi_johnson_load(&Y.contact[0].johnson, dc) - F_hold, F_hold - vi_unload_force(&Y.contact[0].unload, dc)},
     };
     for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
         vi_model M = *c[i].M;
-        M.mode = c[i].mode;
+        M.contact[0].mode = c[i].mode;
         double x[2] = {d, v}, g[VI_NGUARDS];
         vi_model_guards(&M, t, x, g);
         for (int k = 0; k < 2; k++) {
@@ -2069,47 +2069,47 @@ Test(model, right_hand_side_of_each_mode)
     const double t = 1e-4, P = 40000.0;
     vi_model H = setup(VI_ContactModel_hertz, 0, VI_Unloading_paper, P, 9.81, 1e-4);
     H.F_ext = (vi_ramp){100.0, 2e4, 0.0}; /* F_ext(t) = 100 N + 20 kN/s t */
-    const double dY = H.johnson.delta_Y, w = H.omega, m = H.m, dyC = -1e-4 * w * sin(w * t), ddyC = -1e-4 * w * w * cos(w * t);
+    const double dY = H.contact[0].johnson.delta_Y, w = H.omega, m = H.body.m, dyC = -1e-4 * w * sin(w * t), ddyC = -1e-4 * w * w * cos(w * t);
     const double W = P + m * 9.81 - (100.0 + 2e4 * t), d = 2.0 * dY, v = 0.3;
     double x[2] = {d, v}, dx[2], j[4];
-    H.mode = VI_Mode_free;
+    H.contact[0].mode = VI_Mode_free;
     vi_model_rhs(&H, t, x, dx);
     vi_model_jacobian(&H, t, x, j);
     cr_assert(fabs(dx[0] - (dyC - v)) <= 1e-15 && fabs(dx[1] + W / m) <= 1e-12 * W / m, "free: %g %g", dx[0], dx[1]);
     cr_assert(j[0] == 0.0 && j[1] == -1.0 && j[2] == 0.0 && j[3] == 0.0);
-    H.mode = VI_Mode_elastic;
+    H.contact[0].mode = VI_Mode_elastic;
     vi_model_rhs(&H, t, x, dx);
     vi_model_jacobian(&H, t, x, j);
-    double F = H.K * pow(d, 1.5);
+    double F = H.contact[0].K * pow(d, 1.5);
     cr_assert(fabs(dx[0] - (dyC - v)) <= 1e-15 && fabs(dx[1] - (F - W) / m) <= 1e-12 * F / m, "elastic: %g", dx[1]);
-    cr_assert(j[1] == -1.0 && fabs(j[2] - 1.5 * H.K * sqrt(d) / m) <= 1e-12 * j[2], "jacobian %g", j[2]);
+    cr_assert(j[1] == -1.0 && fabs(j[2] - 1.5 * H.contact[0].K * sqrt(d) / m) <= 1e-12 * j[2], "jacobian %g", j[2]);
     vi_model Y = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, P, 9.81, 1e-4);
-    Y.yielded = 1, Y.unload = vi_johnson_unload_curve(&Y.johnson, VI_UNLOAD_PAPER, 3.0 * dY), Y.mode = VI_Mode_stick;
-    x[0] = Y.unload.delta_c;
+    Y.contact[0].yielded = 1, Y.contact[0].unload = vi_johnson_unload_curve(&Y.contact[0].johnson, VI_UNLOAD_PAPER, 3.0 * dY), Y.contact[0].mode = VI_Mode_stick;
+    x[0] = Y.contact[0].unload.delta_c;
     vi_model_rhs(&Y, t, x, dx);
     vi_model_jacobian(&Y, t, x, j);
     cr_assert(dx[0] == 0.0 && fabs(dx[1] - ddyC) <= 1e-12 * fabs(ddyC), "stick: %g %g", dx[0], dx[1]);
     cr_assert(j[0] == 0.0 && j[1] == 0.0 && j[2] == 0.0 && j[3] == 0.0);
-    Y.mode = VI_Mode_unload;
-    x[0] = 0.5 * (Y.unload.delta_f + Y.unload.delta_c);
+    Y.contact[0].mode = VI_Mode_unload;
+    x[0] = 0.5 * (Y.contact[0].unload.delta_f + Y.contact[0].unload.delta_c);
     vi_model_jacobian(&Y, t, x, j);
-    double k = 1.5 * Y.unload.Kbar * sqrt(x[0] - Y.unload.delta_f);
+    double k = 1.5 * Y.contact[0].unload.Kbar * sqrt(x[0] - Y.contact[0].unload.delta_f);
     cr_assert(j[1] == -1.0 && fabs(j[2] - k / m) <= 1e-12 * k / m, "unloading stiffness %g vs %g", j[2] * m, k);
     vi_model L = setup(VI_ContactModel_lepp, 0, VI_Unloading_paper, P, 9.81, 1e-4);
-    L.mode = VI_Mode_plastic;
+    L.contact[0].mode = VI_Mode_plastic;
     x[0] = 2.0 * dY;
     vi_model_rhs(&L, t, x, dx);
     vi_model_jacobian(&L, t, x, j);
     double WL = P + m * 9.81;
-    cr_assert(fabs(dx[1] - (L.johnson.F_Y - WL) / m) <= 1e-12 * WL / m && j[2] == 0.0, "LEPP plastic: %g %g", dx[1], j[2]);
+    cr_assert(fabs(dx[1] - (L.contact[0].johnson.F_Y - WL) / m) <= 1e-12 * WL / m && j[2] == 0.0, "LEPP plastic: %g %g", dx[1], j[2]);
     /* LEPP elastic from its permanent set: no stiffness at delta_p itself (no force there), k_lin beyond */
-    L.mode = VI_Mode_elastic, L.delta_p = 0.5 * dY;
+    L.contact[0].mode = VI_Mode_elastic, L.contact[0].delta_p = 0.5 * dY;
     x[0] = 0.5 * dY;
     vi_model_jacobian(&L, t, x, j);
     cr_assert(j[2] == 0.0 && vi_model_force(&L, t, x) == 0.0, "at delta_p: %g", j[2]);
     x[0] = nextafter(0.5 * dY, 1.0);
     vi_model_jacobian(&L, t, x, j);
-    cr_assert(j[2] == L.k_lin / m, "beyond delta_p: %g", j[2]);
+    cr_assert(j[2] == L.contact[0].k_lin / m, "beyond delta_p: %g", j[2]);
 }
 
 /* An event puts the state exactly onto the surface of the guard that fired and chooses the mode from
@@ -2121,10 +2121,10 @@ Test(model, event_snaps_onto_the_fired_surface)
     vi_model Jm = setup(VI_ContactModel_johnson, 1, VI_Unloading_paper, 0.0, 0.0, 0.0);
     vi_model L = setup(VI_ContactModel_lepp, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
     vi_model Y = J;
-    const double dY = H.johnson.delta_Y;
-    L.delta_p = 0.5 * dY;
-    Y.yielded = 1, Y.unload = vi_johnson_unload_curve(&Y.johnson, VI_UNLOAD_PAPER, 3.0 * dY);
-    const double df = Y.unload.delta_f, dc = Y.unload.delta_c;
+    const double dY = H.contact[0].johnson.delta_Y;
+    L.contact[0].delta_p = 0.5 * dY;
+    Y.contact[0].yielded = 1, Y.contact[0].unload = vi_johnson_unload_curve(&Y.contact[0].johnson, VI_UNLOAD_PAPER, 3.0 * dY);
+    const double df = Y.contact[0].unload.delta_f, dc = Y.contact[0].unload.delta_c;
     struct { vi_model *M; int mode, fired; double d, v, snapped; int after; } c[] = {
         {&H, VI_Mode_free, 0, 1e-12, -0.1, 0.0, VI_Mode_elastic},
         {&H, VI_Mode_elastic, 0, -1e-12, 0.1, 0.0, VI_Mode_free},
@@ -2137,19 +2137,19 @@ Test(model, event_snaps_onto_the_fired_surface)
     };
     for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
         vi_model M = *c[i].M;
-        M.mode = c[i].mode;
+        M.contact[0].mode = c[i].mode;
         double x[2] = {c[i].d, c[i].v};
         int mode = vi_model_event(&M, 0.0, x, c[i].fired);
-        cr_assert(x[0] == c[i].snapped && x[1] == c[i].v && mode == c[i].after && M.mode == mode,
+        cr_assert(x[0] == c[i].snapped && x[1] == c[i].v && mode == c[i].after && M.contact[0].mode == mode,
                   "case %zu: delta %.17g (surface %.17g), v %g, mode %d", i, x[0], c[i].snapped, x[1], mode);
     }
     /* the turning point of a plastic motion (fixed contact point): delta' = 0 (v = yC' = 0), the
      * memory written down at delta, then unloading (no load holds it) */
     vi_model M = Y;
-    M.mode = VI_Mode_plastic;
+    M.contact[0].mode = VI_Mode_plastic;
     double x[2] = {4.0 * dY, 1e-9};
-    cr_assert(vi_model_event(&M, 0.0, x, 0) == VI_Mode_unload && x[1] == 0.0 && x[0] == 4.0 * dY && M.unload.delta_c == 4.0 * dY,
-              "mode %d v %g delta_c %g", M.mode, x[1], M.unload.delta_c);
+    cr_assert(vi_model_event(&M, 0.0, x, 0) == VI_Mode_unload && x[1] == 0.0 && x[0] == 4.0 * dY && M.contact[0].unload.delta_c == 4.0 * dY,
+              "mode %d v %g delta_c %g", M.contact[0].mode, x[1], M.contact[0].unload.delta_c);
 }
 
 /* Hertz with Tsuji's exact damping of restitution e, a 10 g ball on steel, no load and no platform
@@ -2178,19 +2178,19 @@ Test(model, damped_event_puts_the_rate_onto_the_force_guard)
     const double es[] = {0.5, 0.99999999}, ds[] = {1e-12, 3.3e-9, 1e-6}, past[] = {2.0, 1.0 + 1e-9};
     for (size_t i = 0; i < sizeof es / sizeof es[0]; i++) {
         const vi_model M0 = damped_ball(es[i]);
-        const double K = M0.damped.K, ac = M0.damped.alpha_c;
+        const double K = M0.contact[0].damped.K, ac = M0.contact[0].damped.alpha_c;
         if (i == 1) cr_assert(ac < 1e-3, "alpha_c = %g", ac);
         for (size_t j = 0; j < sizeof ds / sizeof ds[0] * 2; j++) {
             vi_model M = M0;
-            M.mode = VI_Mode_elastic;
+            M.contact[0].mode = VI_Mode_elastic;
             const double d = ds[j / 2], r_surface = -K * d * sqrt(sqrt(d)) / ac;
             double x[2] = {d, -past[j % 2] * r_surface}; /* r = -v beyond the surface: g < 0 */
-            cr_assert(vi_model_event(&M, 0.0, x, 1) == VI_Mode_free && x[0] == d, "e = %.9g: mode %d", es[i], M.mode);
+            cr_assert(vi_model_event(&M, 0.0, x, 1) == VI_Mode_free && x[0] == d, "e = %.9g: mode %d", es[i], M.contact[0].mode);
             const double ulp = nextafter(fabs(r_surface), INFINITY) - fabs(r_surface);
             cr_assert(fabs(-x[1] - r_surface) <= 4.0 * ulp, "e = %.9g, delta = %g: r = %.17g, on the surface %.17g",
                       es[i], d, -x[1], r_surface);
             /* on the free side of the guard, as the model computes it (no platform motion: r = -v) */
-            const double g = vi_damped_hertz_guard(&M.damped, x[0], -x[1], M.V_i).g;
+            const double g = vi_damped_hertz_guard(&M.contact[0].damped, x[0], -x[1], M.contact[0].V_i).g;
             cr_assert(g <= 0.0, "e = %.9g, delta = %g: the guard %g after the event is on the contact side", es[i], d, g);
         }
     }
@@ -2203,20 +2203,20 @@ Test(model, damped_event_puts_the_rate_onto_the_force_guard)
 Test(model, damped_contact_resumed_keeps_delta_and_the_approach_speed)
 {
     const vi_model M0 = damped_ball(0.5);
-    const double K = M0.damped.K, ac = M0.damped.alpha_c, ds[] = {1e-12, 3.3e-9, 1e-6};
+    const double K = M0.contact[0].damped.K, ac = M0.contact[0].damped.alpha_c, ds[] = {1e-12, 3.3e-9, 1e-6};
     for (size_t j = 0; j < sizeof ds / sizeof ds[0]; j++) {
         const double d = ds[j], r_surface = -K * d * sqrt(sqrt(d)) / ac;
         vi_model M = M0;
-        M.mode = VI_Mode_free, M.V_i = 0.3;
+        M.contact[0].mode = VI_Mode_free, M.contact[0].V_i = 0.3;
         double x[2] = {d, -r_surface * (1.0 - 1e-9)}; /* r = -v just inside the contact side: g > 0 */
-        cr_assert(vi_model_event(&M, 0.0, x, 1) == VI_Mode_elastic && x[0] == d && M.V_i == 0.3,
-                  "delta = %g: mode %d, delta %g, V_i %g", d, M.mode, x[0], M.V_i);
+        cr_assert(vi_model_event(&M, 0.0, x, 1) == VI_Mode_elastic && x[0] == d && M.contact[0].V_i == 0.3,
+                  "delta = %g: mode %d, delta %g, V_i %g", d, M.contact[0].mode, x[0], M.contact[0].V_i);
         M = M0;
-        M.mode = VI_Mode_free, M.V_i = 0.3;
+        M.contact[0].mode = VI_Mode_free, M.contact[0].V_i = 0.3;
         const double r_in = 1e-3 / ac, g = K * d * sqrt(sqrt(d)) + 1e-3; /* moving in slowly */
         double in[2] = {d, -r_in};
-        cr_assert(vi_model_resolve(&M, 0.0, in) == VI_Mode_elastic && M.V_i == r_in,
-                  "delta = %g, g = %g: mode %d, V_i %g (r = %g)", d, g, M.mode, M.V_i, r_in);
+        cr_assert(vi_model_resolve(&M, 0.0, in) == VI_Mode_elastic && M.contact[0].V_i == r_in,
+                  "delta = %g, g = %g: mode %d, V_i %g (r = %g)", d, g, M.contact[0].mode, M.contact[0].V_i, r_in);
     }
 }
 
@@ -2228,7 +2228,7 @@ Test(model, damped_contact_resumed_keeps_delta_and_the_approach_speed)
 Test(model, johnson_mode_choice_and_memory)
 {
     vi_model J = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
-    const double dY = J.johnson.delta_Y;
+    const double dY = J.contact[0].johnson.delta_Y;
     struct { int yielded; double d, v; int mode, yielded_after; double dc_after; } c[] = {
         {0, 0.5, -0.1, VI_Mode_elastic, 0, 0.0},
         {0, 0.5, 0.1, VI_Mode_elastic, 0, 0.0},
@@ -2240,26 +2240,26 @@ Test(model, johnson_mode_choice_and_memory)
     };
     for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
         vi_model M = J;
-        M.mode = VI_Mode_free;
-        if (c[i].yielded) M.yielded = 1, M.unload = vi_johnson_unload_curve(&M.johnson, VI_UNLOAD_PAPER, 3.0 * dY);
+        M.contact[0].mode = VI_Mode_free;
+        if (c[i].yielded) M.contact[0].yielded = 1, M.contact[0].unload = vi_johnson_unload_curve(&M.contact[0].johnson, VI_UNLOAD_PAPER, 3.0 * dY);
         double x[2] = {c[i].d * dY, c[i].v};
         int mode = vi_model_resolve(&M, 0.0, x);
-        cr_assert(mode == c[i].mode && M.yielded == c[i].yielded_after && M.unload.delta_c == c[i].dc_after * dY,
-                  "case %zu: mode %d yielded %d delta_c %g delta_Y", i, mode, M.yielded, M.unload.delta_c / dY);
-        if (M.yielded) {
-            vi_unload_curve U = vi_johnson_unload_curve(&M.johnson, VI_UNLOAD_PAPER, M.unload.delta_c);
-            cr_assert(M.unload.Rbar == U.Rbar && M.unload.delta_f == U.delta_f, "case %zu: not the curve of delta_c", i);
+        cr_assert(mode == c[i].mode && M.contact[0].yielded == c[i].yielded_after && M.contact[0].unload.delta_c == c[i].dc_after * dY,
+                  "case %zu: mode %d yielded %d delta_c %g delta_Y", i, mode, M.contact[0].yielded, M.contact[0].unload.delta_c / dY);
+        if (M.contact[0].yielded) {
+            vi_unload_curve U = vi_johnson_unload_curve(&M.contact[0].johnson, VI_UNLOAD_PAPER, M.contact[0].unload.delta_c);
+            cr_assert(M.contact[0].unload.Rbar == U.Rbar && M.contact[0].unload.delta_f == U.delta_f, "case %zu: not the curve of delta_c", i);
         }
     }
     for (int variant = VI_UNLOAD_PAPER; variant <= VI_UNLOAD_CONTINUOUS; variant++) {
         vi_model M = setup(VI_ContactModel_johnson, 0, variant, 0.0, 0.0, 0.0);
         double dc = 3.0 * dY;
-        M.yielded = 1, M.unload = vi_johnson_unload_curve(&M.johnson, variant, dc), M.mode = VI_Mode_plastic;
-        double Fl = vi_johnson_load(&M.johnson, dc), Fu = vi_unload_force(&M.unload, dc);
+        M.contact[0].yielded = 1, M.contact[0].unload = vi_johnson_unload_curve(&M.contact[0].johnson, variant, dc), M.contact[0].mode = VI_Mode_plastic;
+        double Fl = vi_johnson_load(&M.contact[0].johnson, dc), Fu = vi_unload_force(&M.contact[0].unload, dc);
         M.F_ext = (vi_ramp){-(variant == VI_UNLOAD_PAPER ? 0.5 * (Fl + Fu) : 0.99 * Fl), 0.0, 0.0};
         double x[2] = {dc, 0.0};
         int expect = variant == VI_UNLOAD_PAPER ? VI_Mode_stick : VI_Mode_unload;
-        cr_assert(vi_model_resolve(&M, 0.0, x) == expect, "variant %d: mode %d (F_unload %g, F_load %g)", variant, M.mode,
+        cr_assert(vi_model_resolve(&M, 0.0, x) == expect, "variant %d: mode %d (F_unload %g, F_load %g)", variant, M.contact[0].mode,
                   Fu, Fl);
     }
 }
@@ -2272,11 +2272,11 @@ Test(model, tie_at_the_load_limit_broken_by_the_jerk_against_the_load_rate)
     const double t = 1e-4;
     for (int k = 0; k < 2; k++) {
         vi_model M = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 1e-5);
-        const double w = M.omega, s = sin(w * t), c = cos(w * t), dc = 3.0 * M.johnson.delta_Y;
+        const double w = M.omega, s = sin(w * t), c = cos(w * t), dc = 3.0 * M.contact[0].johnson.delta_Y;
         cr_assert(s > 0.3);
-        M.yielded = 1, M.unload = vi_johnson_unload_curve(&M.johnson, VI_UNLOAD_PAPER, dc), M.mode = VI_Mode_stick;
-        M.W0 = vi_johnson_load(&M.johnson, dc) + M.m * 1e-5 * w * w * c; /* F_hold(t) = F_load(delta_c) */
-        double jerk = M.m * 1e-5 * w * w * w * s;
+        M.contact[0].yielded = 1, M.contact[0].unload = vi_johnson_unload_curve(&M.contact[0].johnson, VI_UNLOAD_PAPER, dc), M.contact[0].mode = VI_Mode_stick;
+        M.body.W0 = vi_johnson_load(&M.contact[0].johnson, dc) + M.body.m * 1e-5 * w * w * c; /* F_hold(t) = F_load(delta_c) */
+        double jerk = M.body.m * 1e-5 * w * w * w * s;
         M.F_ext = (vi_ramp){0.0, (k ? 1.5 : 0.5) * jerk, t};
         double x[2] = {dc, 0.0};
         int mode = vi_model_event(&M, t, x, 0);
@@ -2295,13 +2295,13 @@ Test(rolling, tie_at_the_load_limit_broken_by_the_profile_jerk)
     cr_assert(prof != NULL, "%s", msg);
     vi_model M = setup(VI_ContactModel_johnson, 0, VI_Unloading_paper, 0.0, 0.0, 0.0);
     cr_assert(vi_model_set_rolling(&M, prof, 3.0, -0.05, msg, sizeof msg) == 0, "%s", msg);
-    const double t = 0.004, V = 3.0, dc = 3.0 * M.johnson.delta_Y;
+    const double t = 0.004, V = 3.0, dc = 3.0 * M.contact[0].johnson.delta_Y;
     double b[4];
     vi_profile_eval(prof, vi_model_rolling_position(&M, t), b);
     cr_assert(fabs(b[3]) > 1.0, "yb''' = %g", b[3]);
-    M.yielded = 1, M.unload = vi_johnson_unload_curve(&M.johnson, VI_UNLOAD_PAPER, dc), M.mode = VI_Mode_stick;
-    M.W0 = vi_johnson_load(&M.johnson, dc) - M.m * V * V * b[2]; /* F_hold(t) = F_load(delta_c) */
-    M.F_ext = (vi_ramp){0.0, 0.9 * M.m * V * V * V * b[3], t};
+    M.contact[0].yielded = 1, M.contact[0].unload = vi_johnson_unload_curve(&M.contact[0].johnson, VI_UNLOAD_PAPER, dc), M.contact[0].mode = VI_Mode_stick;
+    M.body.W0 = vi_johnson_load(&M.contact[0].johnson, dc) - M.body.m * V * V * b[2]; /* F_hold(t) = F_load(delta_c) */
+    M.F_ext = (vi_ramp){0.0, 0.9 * M.body.m * V * V * V * b[3], t};
     double x[2] = {dc, 0.0};
     int mode = vi_model_event(&M, t, x, 0);
     cr_assert(mode == (b[3] > 0.0 ? VI_Mode_plastic : VI_Mode_stick), "yb''' = %g: mode %d", b[3], mode);
@@ -2315,14 +2315,14 @@ Test(rolling, tie_at_the_load_limit_broken_by_the_profile_jerk)
 static vi_model in_mode(int law, int moving, int unloading, int mode, double dc, double dp)
 {
     vi_model M = setup(law, moving, unloading, 0.0, 0.0, 0.0);
-    M.mode = mode;
-    M.delta_p = law == VI_ContactModel_lepp ? dp : 0.0;
+    M.contact[0].mode = mode;
+    M.contact[0].delta_p = law == VI_ContactModel_lepp ? dp : 0.0;
     if ((law == VI_ContactModel_johnson && !moving) || law == VI_ContactModel_thornton) {
         int memory = mode == VI_Mode_plastic || mode == VI_Mode_unload || mode == VI_Mode_stick;
-        M.yielded = memory;
+        M.contact[0].yielded = memory;
         if (memory)
-            M.unload = law == VI_ContactModel_thornton ? vi_thornton_unload_curve(&M.johnson, dc)
-                                                       : vi_johnson_unload_curve(&M.johnson, unloading, dc);
+            M.contact[0].unload = law == VI_ContactModel_thornton ? vi_thornton_unload_curve(&M.contact[0].johnson, dc)
+                                                       : vi_johnson_unload_curve(&M.contact[0].johnson, unloading, dc);
     }
     return M;
 }
@@ -2336,7 +2336,7 @@ static vi_model in_mode(int law, int moving, int unloading, int mode, double dc,
 Test(energy, contact_energy_is_the_work_of_the_branch_force)
 {
     vi_model H = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
-    double dY = H.johnson.delta_Y, FY = H.johnson.F_Y, K = H.K;
+    double dY = H.contact[0].johnson.delta_Y, FY = H.contact[0].johnson.F_Y, K = H.contact[0].K;
     struct { int law, moving, unloading, mode; double d, dc, dp, closed; } c[] = {
         {VI_ContactModel_hertz, 0, 1, VI_Mode_elastic, 2.0 * dY, 0, 0, 0.4 * K * pow(2.0 * dY, 2.5)},
         {VI_ContactModel_hertz, 0, 1, VI_Mode_free, -dY, 0, 0, 0.0},
@@ -2370,8 +2370,8 @@ Test(energy, contact_energy_is_the_work_of_the_branch_force)
         if (c[i].mode == VI_Mode_plastic && !c[i].moving && c[i].law != VI_ContactModel_lepp) {
             vi_model_values out;
             vi_model_outputs(&M, 0.0, x, VI_OUT_MEMORY, &out);
-            double work = c[i].law == VI_ContactModel_thornton ? vi_thornton_load_work(&M.johnson, c[i].d)
-                                                                : vi_johnson_load_work(&M.johnson, c[i].d);
+            double work = c[i].law == VI_ContactModel_thornton ? vi_thornton_load_work(&M.contact[0].johnson, c[i].d)
+                                                                : vi_johnson_load_work(&M.contact[0].johnson, c[i].d);
             cr_assert(fabs(out.E_contact + out.W_plastic - work) <= 1e-12 * work, "case %zu: %.17g + %.17g != %.17g", i,
                       out.E_contact, out.W_plastic, work);
             cr_assert(out.E_contact == E);
@@ -2390,12 +2390,12 @@ Test(energy, damping_power_is_the_force_beyond_the_spring_times_the_rate)
     double d = 2e-5, r[2] = {0.3, -0.2};
     for (int k = 0; k < 2; k++) {
         double x[2] = {d, -r[k]}; /* yC' = 0: delta' = -v */
-        Md.mode = Ml.mode = VI_Mode_elastic;
+        Md.contact[0].mode = Ml.contact[0].mode = VI_Mode_elastic;
         vi_model_power Pd = vi_model_damping_power(&Md, 0.0, x), Pl = vi_model_damping_power(&Ml, 0.0, x);
-        double want_d = Md.damped.alpha_c * pow(d, 0.25) * r[k] * r[k], want_l = Ml.linear.c * r[k] * r[k];
-        if (vi_damped_hertz_force(&Md.damped, d, r[k], 0.0).F > 0.0)
+        double want_d = Md.contact[0].damped.alpha_c * pow(d, 0.25) * r[k] * r[k], want_l = Ml.contact[0].linear.c * r[k] * r[k];
+        if (vi_damped_hertz_force(&Md.contact[0].damped, d, r[k], 0.0).F > 0.0)
             cr_assert(fabs(Pd.P - want_d) <= 1e-12 * want_d, "Tsuji %.17g, closed form %.17g", Pd.P, want_d);
-        if (vi_linear_force(&Ml.linear, d, r[k]).F > 0.0)
+        if (vi_linear_force(&Ml.contact[0].linear, d, r[k]).F > 0.0)
             cr_assert(fabs(Pl.P - want_l) <= 1e-12 * want_l, "linear %.17g, closed form %.17g", Pl.P, want_l);
         const vi_model *models[2] = {&Md, &Ml};
         for (int j = 0; j < 2; j++) {
@@ -2412,17 +2412,17 @@ Test(energy, damping_power_is_the_force_beyond_the_spring_times_the_rate)
         }
     }
     double away[2] = {d, 0.2}; /* free, still overlapping, delta falling at 0.2 m/s */
-    Md.mode = Ml.mode = VI_Mode_free;
-    double Fs = Md.K * pow(d, 1.5);
+    Md.contact[0].mode = Ml.contact[0].mode = VI_Mode_free;
+    double Fs = Md.contact[0].K * pow(d, 1.5);
     cr_assert(fabs(vi_model_damping_power(&Md, 0.0, away).P - 0.2 * Fs) <= 1e-12 * 0.2 * Fs);
-    cr_assert(fabs(vi_model_damping_power(&Ml, 0.0, away).P - 0.2 * Ml.linear.k * d) <= 1e-12 * 0.2 * Ml.linear.k * d);
+    cr_assert(fabs(vi_model_damping_power(&Ml, 0.0, away).P - 0.2 * Ml.contact[0].linear.k * d) <= 1e-12 * 0.2 * Ml.contact[0].linear.k * d);
     double apart[2] = {-d, 0.2};
     cr_assert(vi_model_damping_power(&Md, 0.0, apart).P == 0.0 && vi_model_damping_power(&Ml, 0.0, apart).P == 0.0);
     cr_assert(vi_model_damps(&Md) && vi_model_damps(&Ml));
     for (int law = VI_ContactModel_hertz; law <= VI_ContactModel_thornton; law++) {
         if (law == VI_ContactModel_hertz_damped || law == VI_ContactModel_linear) continue;
         vi_model M = setup(law, 0, 1, 0.0, 0.0, 0.0);
-        M.mode = VI_Mode_elastic;
+        M.contact[0].mode = VI_Mode_elastic;
         double x[2] = {d, -0.3};
         cr_assert(!vi_model_damps(&M) && vi_model_damping_power(&M, 0.0, x).P == 0.0, "law %d", law);
     }
@@ -2434,7 +2434,7 @@ Test(energy, damping_power_is_the_force_beyond_the_spring_times_the_rate)
 Test(energy, force_rate_is_the_time_derivative_of_the_force)
 {
     vi_model H = setup(VI_ContactModel_hertz, 0, 1, 0.0, 0.0, 0.0);
-    double dY = H.johnson.delta_Y;
+    double dY = H.contact[0].johnson.delta_Y;
     struct { int law, unloading, mode; double d, dc, v; } c[] = {
         {VI_ContactModel_hertz, 1, VI_Mode_elastic, 2.0 * dY, 0, -0.1},
         {VI_ContactModel_johnson, 1, VI_Mode_plastic, 3.0 * dY, 3.0 * dY, -0.1},
@@ -2455,7 +2455,7 @@ Test(energy, force_rate_is_the_time_derivative_of_the_force)
         double g = vi_model_force_rate(&M, t, x, NULL, &F), g_dx = vi_model_force_rate(&M, t, x, dx, &F);
         double xp[2] = {x[0] + h * dx[0], x[1] + h * dx[1]}, xm[2] = {x[0] - h * dx[0], x[1] - h * dx[1]};
         double fd = (vi_model_force(&M, t + h, xp) - vi_model_force(&M, t - h, xm)) / (2.0 * h);
-        double scale = fabs(fd) + 1e-6 * H.johnson.F_Y / 1e-3;
+        double scale = fabs(fd) + 1e-6 * H.contact[0].johnson.F_Y / 1e-3;
         cr_assert(F == vi_model_force(&M, t, x), "case %zu: F %.17g, %.17g", i, F, vi_model_force(&M, t, x));
         cr_assert(fabs(g - fd) <= 1e-5 * scale, "case %zu: rate %.17g, difference %.17g", i, g, fd);
         cr_assert(fabs(g_dx - g) <= 1e-9 * scale, "case %zu: with x' given %.17g, %.17g", i, g_dx, g);

@@ -140,8 +140,8 @@ Test(sim, event_count_starts_at_zero_and_counts_the_separation)
         cr_assert(vi_sim_initialize(&s.s) == 0, "%s", s.r.msg);
         cr_assert(s.d.run.events.n_events == 0, "%ld events at the start", s.d.run.events.n_events);
         cr_assert(vi_sim_advance(&s.s, 0.01) == VI_SIM_OK, "%s", s.r.msg);
-        cr_assert(s.d.run.events.n_events == expect[i] && s.d.run.model.mode == VI_Mode_free, "v0 = %g: %ld events, mode %d", v0[i],
-                  s.d.run.events.n_events, s.d.run.model.mode);
+        cr_assert(s.d.run.events.n_events == expect[i] && s.d.run.model.contact[0].mode == VI_Mode_free, "v0 = %g: %ld events, mode %d", v0[i],
+                  s.d.run.events.n_events, s.d.run.model.contact[0].mode);
         test_run_free(&s);
     }
 }
@@ -312,8 +312,8 @@ Test(sim, auto_hands_back_when_the_mass_flies_free)
     }
     vi_solver_stats st;
     vi_sim_statistics(&s.s, &st);
-    cr_assert(s.d.run.model.mode == VI_Mode_free && s.d.cs.auto_choice.bdf == 0 && st.switches == 2, "mode %d, bdf %d, %ld hand-overs",
-              s.d.run.model.mode, s.d.cs.auto_choice.bdf, st.switches);
+    cr_assert(s.d.run.model.contact[0].mode == VI_Mode_free && s.d.cs.auto_choice.bdf == 0 && st.switches == 2, "mode %d, bdf %d, %ld hand-overs",
+              s.d.run.model.contact[0].mode, s.d.cs.auto_choice.bdf, st.switches);
     test_run_free(&s);
 }
 
@@ -649,7 +649,7 @@ Test(sim, data_check_each_rule_alone_with_its_message)
         passes(&d, 1, "a small band");
     }
     /* the model's own check follows */
-    d = ok, d.run.model.mode = 9;
+    d = ok, d.run.model.contact[0].mode = 9;
     refused_as(&d, 1, "mode = 9 is not in 0..4");
     test_run_free(&s);
 }
@@ -714,8 +714,8 @@ Test(sim, event_and_solver_log_lines_report_the_values)
     cr_assert(n_logged == 0, "the set-up logs nothing of a solver the driver may not use");
     vi_sim_log_solver(&s.s);
     const vi_model *M = &s.d.run.model;
-    double v0 = 0.1, dmax = pow(15.0 * M->m * v0 * v0 / (16.0 * M->johnson.E_star * sqrt(M->johnson.R_star)), 0.4);
-    double w = sqrt(1.5 * M->K * sqrt(dmax) / M->m); /* the virgin stiffness at delta_max over m */
+    double v0 = 0.1, dmax = pow(15.0 * M->body.m * v0 * v0 / (16.0 * M->contact[0].johnson.E_star * sqrt(M->contact[0].johnson.R_star)), 0.4);
+    double w = sqrt(1.5 * M->contact[0].K * sqrt(dmax) / M->body.m); /* the virgin stiffness at delta_max over m */
     cr_assert(n_logged == 1, "%d solver lines", n_logged);
     const char *name = vi_solver_method_name(VI_Solver_dop853), *rest = logged[0] + strlen(name);
     double rtol, atol0, atol1, L, V;
@@ -729,7 +729,7 @@ Test(sim, event_and_solver_log_lines_report_the_values)
               "%s", logged[0]);
     n_logged = 0, log_category = VI_LOG_EVENTS;
     cr_assert(vi_sim_advance(&s.s, 0.01) == VI_SIM_OK, "%s", s.r.msg); /* t_c = 2.2 ms */
-    cr_assert(n_logged == 1, "%d event lines, %ld events, mode %d, t %g", n_logged, s.d.run.events.n_events, s.d.run.model.mode, s.d.run.t);
+    cr_assert(n_logged == 1, "%d event lines, %ld events, mode %d, t %g", n_logged, s.d.run.events.n_events, s.d.run.model.contact[0].mode, s.d.run.t);
     double t, delta, v;
     int guard, from, to, end = 0;
     cr_assert(sscanf(logged[0], "event t=%lg kind=guard guard=%d mode=%d->%d delta=%lg v=%lg%n", &t, &guard, &from, &to,
@@ -784,10 +784,10 @@ Test(sim, a_mode_change_at_an_event_arms_the_new_guards_afresh)
     s.d.par.contact_model = VI_ContactModel_hertz;
     s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = -0.1;
     cr_assert(vi_sim_initialize(&s.s) == 0, "%s", s.r.msg);
-    cr_assert(s.d.run.model.mode == VI_Mode_elastic);
+    cr_assert(s.d.run.model.contact[0].mode == VI_Mode_elastic);
     s.d.run.events.band[0] = 1e-9; /* the separation comes 1e-9 m late: the band is part of the guard */
     cr_assert(vi_sim_advance_until(&s.s, 0.01, 1) == VI_SIM_EVENT, "%s", s.r.msg);
-    cr_assert(s.d.run.model.mode == VI_Mode_free && s.d.run.x[0] == 0.0, "mode %d delta %g", s.d.run.model.mode, s.d.run.x[0]);
+    cr_assert(s.d.run.model.contact[0].mode == VI_Mode_free && s.d.run.x[0] == 0.0, "mode %d delta %g", s.d.run.model.contact[0].mode, s.d.run.x[0]);
     cr_assert(s.d.run.events.band[0] == band_at_contact(&s) && s.d.run.events.band[1] == 0.0, "bands %g %g", s.d.run.events.band[0],
               s.d.run.events.band[1]);
     test_run_free(&s);
@@ -804,17 +804,17 @@ Test(sim, a_mode_change_at_an_input_change_arms_the_new_guards_afresh)
     test_run_init(&s, capture, NULL);
     s.d.par.contact_model = VI_ContactModel_hertz;
     cr_assert(vi_sim_initialize(&s.s) == 0 && vi_sim_advance(&s.s, 1e-3) == VI_SIM_OK, "%s", s.r.msg);
-    cr_assert(s.d.run.model.mode == VI_Mode_elastic && s.d.run.x[0] > 0.0);
+    cr_assert(s.d.run.model.contact[0].mode == VI_Mode_elastic && s.d.run.x[0] > 0.0);
     s.d.run.events.band[0] = 1.0;
     s.d.run.x[1] = 0.0; /* at rest exactly (the solver leaves a velocity of rounding size) */
     s.d.in.yC_in = -s.d.run.x[0];
-    s.d.in.F_ext = 2.0 * s.d.run.model.W0;
+    s.d.in.F_ext = 2.0 * s.d.run.model.body.W0;
     s.d.run.inputs_changed = 1;
     n_logged = 0, log_category = VI_LOG_EVENTS;
     cr_assert(vi_sim_advance(&s.s, 1e-3 + 1e-6) == VI_SIM_OK, "%s", s.r.msg);
     cr_assert(n_logged == 1 && strcmp(logged[0], "event t=0.001 kind=input mode=1->0") == 0, "%d: %s", n_logged,
               logged[0]);
-    cr_assert(s.d.run.model.mode == VI_Mode_free && s.d.run.x[0] < 0.0, "mode %d delta %g", s.d.run.model.mode, s.d.run.x[0]);
+    cr_assert(s.d.run.model.contact[0].mode == VI_Mode_free && s.d.run.x[0] < 0.0, "mode %d delta %g", s.d.run.model.contact[0].mode, s.d.run.x[0]);
     cr_assert(s.d.run.events.band[0] == band_at_contact(&s) && s.d.run.events.band[1] == 0.0, "bands %g %g", s.d.run.events.band[0],
               s.d.run.events.band[1]);
     test_run_free(&s);
@@ -883,7 +883,7 @@ Test(sim, mean_force_is_zero_in_free_flight_under_a_ramp)
     cr_assert(out.F_mean == 0.0 && out.F == 0.0, "before any step: %g", out.F_mean);
     cr_assert(vi_sim_advance(&s.s, 1e-3) == VI_SIM_OK, "%s", s.r.msg);
     test_run_outputs(&s, &out);
-    double W = s.d.run.model.W0;
+    double W = s.d.run.model.body.W0;
     cr_assert(fabs(out.F_mean) <= 1e-9 * W, "gravity only: F_mean %g", out.F_mean);
     s.d.in.F_ext = 100.0, s.d.din.F_ext = 2e4; /* 100 N growing at 20 kN/s */
     s.d.run.inputs_changed = 1;
@@ -891,7 +891,7 @@ Test(sim, mean_force_is_zero_in_free_flight_under_a_ramp)
         cr_assert(vi_sim_advance(&s.s, 1e-3 * k) == VI_SIM_OK, "%s", s.r.msg);
         s.r.out_valid = 0;
         test_run_outputs(&s, &out);
-        cr_assert(s.d.run.model.mode == VI_Mode_free && fabs(out.F_mean) <= 1e-9 * W, "step %d: F_mean %g", k, out.F_mean);
+        cr_assert(s.d.run.model.contact[0].mode == VI_Mode_free && fabs(out.F_mean) <= 1e-9 * W, "step %d: F_mean %g", k, out.F_mean);
     }
     test_run_free(&s);
 }
@@ -904,17 +904,17 @@ Test(sim, contact_stiffness_of_the_mode)
     test_run_init(&s, quiet, NULL);
     s.d.par.contact_model = VI_ContactModel_hertz;
     cr_assert(vi_sim_initialize(&s.s) == 0, "%s", s.r.msg);
-    double d = s.d.run.x[0], k = 1.5 * s.d.run.model.K * sqrt(d);
+    double d = s.d.run.x[0], k = 1.5 * s.d.run.model.contact[0].K * sqrt(d);
     const vi_outputs *out = vi_contact_outputs_of(&s, VI_OUT_STIFFNESS);
-    cr_assert(s.d.run.model.mode == VI_Mode_elastic && fabs(out->k_contact - k) <= 1e-12 * k, "%g vs %g", out->k_contact, k);
+    cr_assert(s.d.run.model.contact[0].mode == VI_Mode_elastic && fabs(out->k_contact - k) <= 1e-12 * k, "%g vs %g", out->k_contact, k);
     test_run_free(&s);
     test_run_init(&s, quiet, NULL);
     s.d.par.yield_formula = VI_YieldFormula_printed; /* F_Y below the load: plastically pre-loaded, stick */
     cr_assert(vi_sim_initialize(&s.s) == 0, "%s", s.r.msg);
-    const vi_unload_curve *U = &s.d.run.model.unload;
+    const vi_unload_curve *U = &s.d.run.model.contact[0].unload;
     k = 1.5 * U->Kbar * sqrt(U->delta_c - U->delta_f);
     out = vi_contact_outputs_of(&s, VI_OUT_STIFFNESS);
-    cr_assert(s.d.run.model.mode == VI_Mode_stick && fabs(out->k_contact - k) <= 1e-12 * k, "mode %d: %g vs %g", s.d.run.model.mode,
+    cr_assert(s.d.run.model.contact[0].mode == VI_Mode_stick && fabs(out->k_contact - k) <= 1e-12 * k, "mode %d: %g vs %g", s.d.run.model.contact[0].mode,
               out->k_contact, k);
     test_run_free(&s);
 }
@@ -960,7 +960,7 @@ static void flying_off(test_run *s)
     s->d.par.contact_model = VI_ContactModel_hertz;
     s->d.par.P = 0.0, s->d.par.g = 0.0, s->d.par.init = VI_Init_touching, s->d.par.v0 = 1.0;
     cr_assert(vi_sim_initialize(&s->s) == 0 && vi_sim_advance(&s->s, 1e-3) == VI_SIM_OK, "%s", s->r.msg);
-    cr_assert(s->d.run.model.mode == VI_Mode_free && fabs(s->d.run.x[0] + 1e-3) <= 1e-12, "delta %g", s->d.run.x[0]);
+    cr_assert(s->d.run.model.contact[0].mode == VI_Mode_free && fabs(s->d.run.x[0] + 1e-3) <= 1e-12, "delta %g", s->d.run.x[0]);
 }
 
 /* A disarmed guard (band > 0) is armed again (band 0) at the start of a step once it lies above its
@@ -1083,7 +1083,7 @@ Test(sim, outputs_after_initialization_are_those_of_the_initial_state)
     cr_assert(vi_sim_initialize(&s.s) == 0, "%s", s.r.msg);
     vi_outputs out;
     test_run_outputs(&s, &out);
-    double W = s.d.run.model.W0, d = pow(W / s.d.run.model.K, 2.0 / 3.0);
+    double W = s.d.run.model.body.W0, d = pow(W / s.d.run.model.contact[0].K, 2.0 / 3.0);
     cr_assert(out.delta == s.d.run.x[0] && fabs(out.delta - d) <= 1e-12 * d && out.v == 0.0 && out.mode == VI_Mode_elastic &&
               out.contact == 1 && fabs(out.F - W) <= 1e-12 * W, "delta %g v %g mode %d F %g", out.delta, out.v, out.mode, out.F);
     test_run_free(&s);
@@ -1097,11 +1097,11 @@ Test(sim, preparing_again_drops_the_outputs_computed_before)
     test_run_init(&s, quiet, NULL);
     s.d.par.contact_model = VI_ContactModel_hertz;
     cr_assert(vi_run_prepare(&s.r) == 0, "%s", s.r.msg);
-    double W = s.d.run.model.W0;
+    double W = s.d.run.model.body.W0;
     cr_assert(fabs(vi_contact_outputs_of(&s, VI_OUT_FORCE)->F - W) <= 1e-12 * W);
     s.d.par.P *= 2.0;
     cr_assert(vi_run_prepare(&s.r) == 0, "%s", s.r.msg);
-    double W2 = s.d.run.model.W0, F2 = vi_contact_outputs_of(&s, VI_OUT_FORCE)->F;
+    double W2 = s.d.run.model.body.W0, F2 = vi_contact_outputs_of(&s, VI_OUT_FORCE)->F;
     cr_assert(W2 > 1.5 * W && fabs(F2 - W2) <= 1e-12 * W2, "F = %g after the load went from %g to %g", F2, W, W2);
     test_run_free(&s);
 }
@@ -1115,13 +1115,13 @@ Test(sim, a_guard_within_rounding_of_zero_gets_the_band_of_its_noise)
     s.d.par.contact_model = VI_ContactModel_hertz;
     s.d.par.P = 0.0, s.d.par.g = 0.0, s.d.par.init = VI_Init_touching, s.d.par.v0 = -0.1;
     cr_assert(vi_sim_initialize(&s.s) == 0, "%s", s.r.msg);
-    cr_assert(s.d.run.model.mode == VI_Mode_elastic && s.d.run.events.band[0] == band_at_contact(&s), "band %g", s.d.run.events.band[0]);
+    cr_assert(s.d.run.model.contact[0].mode == VI_Mode_elastic && s.d.run.events.band[0] == band_at_contact(&s), "band %g", s.d.run.events.band[0]);
     s.d.run.events.band[0] = 0.0;
     s.d.run.x[0] = 1e-310;
     s.d.in.F_ext = 1.0;
     s.d.run.inputs_changed = 1;
     cr_assert(vi_sim_advance(&s.s, 1e-9) == VI_SIM_OK, "%s", s.r.msg);
-    cr_assert(s.d.run.model.mode == VI_Mode_elastic && s.d.run.events.band[0] == band_at_contact(&s) && s.d.run.events.band[1] == 0.0,
+    cr_assert(s.d.run.model.contact[0].mode == VI_Mode_elastic && s.d.run.events.band[0] == band_at_contact(&s) && s.d.run.events.band[1] == 0.0,
               "bands %g %g", s.d.run.events.band[0], s.d.run.events.band[1]);
     /* the bound: a guard exactly at its rounding noise (VI_GRAZE_ULPS times its change over one ulp of
      * delta, plus DBL_MIN) counts as zero, one ulp above it does not */

@@ -84,14 +84,14 @@ static int rhs_cost(long n, const vi_parameters *par)
                 vi_model_event(&M, (k + 1) * h, x, i);
                 break;
             }
-        if (k % 1000 == 0) ts[k / 1000] = (k + 1) * h, xs[k / 1000][0] = x[0], xs[k / 1000][1] = x[1], modes[k / 1000] = M.mode;
+        if (k % 1000 == 0) ts[k / 1000] = (k + 1) * h, xs[k / 1000][0] = x[0], xs[k / 1000][1] = x[1], modes[k / 1000] = M.contact[0].mode;
     }
     double best = INFINITY, sink = 0.0;
     for (int round = 0; round < 5; round++) {
         double c0 = cpu_now();
         for (long k = 0; k < n; k++) {
             double dx[2];
-            M.mode = modes[k % NS];
+            M.contact[0].mode = modes[k % NS];
             vi_model_rhs(&M, ts[k % NS], xs[k % NS], dx);
             sink += dx[1];
         }
@@ -155,7 +155,7 @@ int main(int argc, char **argv)
             }
             if (out) {
                 double tc = (double)(k + 1) * h_comm, yC = vi_model_platform(&M, tc, NULL, NULL);
-                double row[6] = {tc, yC - x[0], x[1], vi_model_force(&M, tc, x), x[0], M.mode};
+                double row[6] = {tc, yC - x[0], x[1], vi_model_force(&M, tc, x), x[0], M.contact[0].mode};
                 fwrite(row, sizeof row, 1, out);
             }
         }
