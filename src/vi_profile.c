@@ -51,6 +51,11 @@ struct vi_profile {
     double h_span; /* max h - min h of the table [m] */
 };
 
+/* fmax and fmin as the C library's are on x86-64 (of two equal numbers, such as 0 and -0, the second; a
+ * NaN loses to a number), inlined: the loops over the rows call them per row. */
+static double larger(double a, double b) { return a > b || b != b ? a : b; }
+static double smaller(double a, double b) { return a < b || b != b ? a : b; }
+
 /* ---- pieces -------------------------------------------------------------------------------- */
 
 /* The position u in [a->u0, a->u1] where the body centred above x touches arc a (first row at px):
@@ -236,11 +241,11 @@ static int insert(const context *c, stack *st, stack *tail, const piece *q, size
         t->x1 = b;
     }
     /* q holds [start, b); where nothing lies yet it wins */
-    double start = !st->n ? a : fmax(a, fmin(b, st->s[st->n - 1].x1));
+    double start = !st->n ? a : larger(a, smaller(b, st->s[st->n - 1].x1));
     while (st->n) { /* bounded by the stack: every pass pops an interval or ends */
         span *t = &st->s[st->n - 1];
         if (t->x1 != start || !(start > a)) break;
-        double w = fmax(t->x0, a), from; /* q wins on [from, start) */
+        double w = larger(t->x0, a), from; /* q wins on [from, start) */
         if (t->g + 1 == g) /* neighbours: a tangent wins inside its domain */
             from = (g & 1u) ? w : start;
         else if (gap(c, &t->q, q, w) < 0.0)
@@ -313,13 +318,13 @@ static int build(const context *c, const double *x, const double *h, size_t n, i
         for (size_t j = 0; j < n_vertices && rc == 0; j++, g += 2) {
             double v = vertex_x(x, n, periodic, period, j, k);
             piece circle = {CIRCLE, 0, v, h[j], 0.0};
-            rc = insert(c, st, &tail, &circle, g, fmax(v - R, lo), fmin(v + R, hi));
+            rc = insert(c, st, &tail, &circle, g, larger(v - R, lo), smaller(v + R, hi));
             if (rc < 0 || j + 1 >= n) break;
             double slope = (h[j + 1] - h[j]) / (x[j + 1] - x[j]), hyp = hypot(1.0, slope), shift = R * (slope / hyp);
             double next = vertex_x(x, n, periodic, period, j + 1, k);
             /* the tangent's height at its vertex: h_j + R (1/hyp - 1) */
             piece tangent = {LINE, 0, v - shift, h[j] - R * (slope * slope / (hyp * (hyp + 1.0))), slope};
-            rc = insert(c, st, &tail, &tangent, g + 1, fmax(tangent.px, lo), fmin(next - shift, hi));
+            rc = insert(c, st, &tail, &tangent, g + 1, larger(tangent.px, lo), smaller(next - shift, hi));
         }
     }
     free(tail.s);
@@ -455,7 +460,7 @@ static int add_arc(arcs *list, double R, const double c[4], double dx, double u0
     double s0 = c[1] + u0 * (2.0 * c[2] + 3.0 * c[3] * u0), s1 = c[1] + u1 * (2.0 * c[2] + 3.0 * c[3] * u1);
     double um = c[3] != 0.0 ? -c[2] / (3.0 * c[3]) : u0; /* where h' is stationary */
     double sm = um > u0 && um < u1 ? c[1] + um * (2.0 * c[2] + 3.0 * c[3] * um) : s0;
-    list->max_slope = fmax(list->max_slope, fmax(fabs(sm), fmax(fabs(s0), fabs(s1))));
+    list->max_slope = larger(list->max_slope, larger(fabs(sm), larger(fabs(s0), fabs(s1))));
     list->a[list->n++] = (arc){{c[0], c[1], c[2], c[3]}, u0, u1, u0 + centre_shift(R, s0), u1 + centre_shift(R, s1),
                                u0 == 0.0, u1 == dx};
     return 0;
@@ -481,7 +486,7 @@ static double touch_root(const double c[4], double R, double lo, double hi)
 #define TOUCH_SAMPLES 32
 static int segment_arcs(arcs *list, double R, const double c[4], double dx)
 {
-    if (R * fmax(2.0 * c[2], 2.0 * c[2] + 6.0 * c[3] * dx) < 1.0) return add_arc(list, R, c, dx, 0.0, dx);
+    if (R * larger(2.0 * c[2], 2.0 * c[2] + 6.0 * c[3] * dx) < 1.0) return add_arc(list, R, c, dx, 0.0, dx);
     double start = touch(c, R, 0.0) > 0.0 ? 0.0 : NAN, u_prev = 0.0; /* start: of the part being kept, NAN: none */
     for (int i = 1; i <= TOUCH_SAMPLES; i++) { /* bounded: TOUCH_SAMPLES samples */
         double u = i == TOUCH_SAMPLES ? dx : dx * i / TOUCH_SAMPLES;
@@ -517,6 +522,21 @@ static int make_arcs(const double *x, const double *h, size_t n, int periodic, d
     return 0;
 }
 
+/* The first segment j of copy k of the table whose end vertex_x(j + 1) + reach is not below lo (as
+ * build_cubic computes it: the segments before it pass over, their centres missing [lo, hi]), or the
+ * last segment: found by bisection, as vertex_x(j + 1) + reach does not decrease with j (x increases, and
+ * rounding keeps the order) up to the last segment, whose end may be the next copy's first vertex. */
+static size_t first_in_reach(const double *x, size_t n, int periodic, double period, long k, double reach, double lo)
+{
+    size_t a = 0, b = n - 2; /* the answer in [a, b] */
+    while (a < b) { /* log2(n) halvings */
+        size_t mid = a + (b - a) / 2;
+        if (vertex_x(x, n, periodic, period, mid + 1, k) + reach < lo) a = mid + 1;
+        else b = mid;
+    }
+    return a;
+}
+
 /* The envelope on [lo, hi] of the arcs (c->arcs, first[j]: the first arc of segment j) and, for an open
  * table, the circles around its end rows, in the order of the profile (copies kmin .. kmax of a
  * periodic table, as build takes them; segments whose centres, within reach of them, miss [lo, hi]
@@ -539,34 +559,40 @@ static int build_cubic(const context *c, const double *x, const double *h, const
     int rc = 0;
     if (!periodic) {
         piece circle = {CIRCLE, 0, x[0], h[0], 0.0};
-        rc = insert(c, st, &tail, &circle, g, lo, fmin(x[0] + R, hi));
+        rc = insert(c, st, &tail, &circle, g, lo, smaller(x[0] + R, hi));
     }
     for (long copy = kmin; copy <= kmax && rc == 0; copy++) { /* bounded: the copies of n rows */
-        for (size_t j = 0; j + 1 < n && rc == 0; j++) {
+        size_t j = first_in_reach(x, n, periodic, period, copy, reach, lo);
+        if (j > 0) before = INFINITY;
+        for (; j + 1 < n && rc == 0; j++) {
             double row = vertex_x(x, n, periodic, period, j, copy);
             double next = vertex_x(x, n, periodic, period, j + 1, copy);
-            if (next + reach < lo || row - reach > hi) {
+            if (next + reach < lo) {
                 before = INFINITY;
                 continue;
+            }
+            if (row - reach > hi) { /* and every later segment of this copy */
+                before = INFINITY;
+                break;
             }
             for (size_t i = first[j]; i < first[j + 1] && rc == 0; i++) { /* bounded by the arcs */
                 const arc *a = &c->arcs[i];
                 double from = a->starts ? row + shift[j] : row + a->X0;
                 double to = a->ends ? next + shift[j + 1] : row + a->X1;
-                from = fmin(from, before);
+                from = smaller(from, before);
                 before = to;
                 piece q = {ARC, (uint32_t)i, row, 0.0, 0.0};
                 if (g == 0) /* the first arc: the first circle's neighbour when it starts at row 0 */
                     g = periodic || i != 0 || !a->starts ? 3 : 1;
                 else g += 2;
-                rc = insert(c, st, &tail, &q, g, fmax(from, lo), fmin(to, hi));
+                rc = insert(c, st, &tail, &q, g, larger(from, lo), smaller(to, hi));
             }
         }
     }
     if (!periodic && rc == 0) {
         piece circle = {CIRCLE, 0, x[n - 1], h[n - 1], 0.0};
         int tangent = n_arcs && c->arcs[n_arcs - 1].ends && first[n - 2] < n_arcs;
-        rc = insert(c, st, &tail, &circle, g + (tangent ? 1 : 3), fmax(x[n - 1] - R, lo), hi);
+        rc = insert(c, st, &tail, &circle, g + (tangent ? 1 : 3), larger(x[n - 1] - R, lo), hi);
     }
     free(tail.s);
     return rc;
@@ -714,19 +740,19 @@ static int check_boundaries(vi_profile *p, const table *t, double tol, const cha
         if (has_left) {
             yl = piece_eval(&p->pieces[jl], p->arcs, R, xl, dl);
             if (!isfinite(yl) || !isfinite(dl[0])) return too_steep(p, t, &p->pieces[jl], 0, xl, name, msg, msg_size);
-            p->max_slope = fmax(p->max_slope, fabs(dl[0]));
+            p->max_slope = larger(p->max_slope, fabs(dl[0]));
         }
         if (has_right) {
             yr = piece_eval(&p->pieces[jr], p->arcs, R, xr, dr);
             if (!isfinite(yr) || !isfinite(dr[0])) return too_steep(p, t, &p->pieces[jr], 1, xr, name, msg, msg_size);
-            p->max_slope = fmax(p->max_slope, fabs(dr[0]));
+            p->max_slope = larger(p->max_slope, fabs(dr[0]));
         }
         if (!has_left || !has_right) continue;
         /* a step: the pieces differ at the boundary by more than their rounding there; besides the
          * heights' (tol), the boundary is rounded to a few eps of its position (at the seam of a
          * periodic profile xl = x_last, xr = x_first, one period apart), which moves each piece by its
          * slope times that */
-        double rounding = 1e3 * tol + 16.0 * DBL_EPSILON * fmax(fabs(xl), fabs(xr)) * (fabs(dl[0]) + fabs(dr[0]));
+        double rounding = 1e3 * tol + 16.0 * DBL_EPSILON * larger(fabs(xl), fabs(xr)) * (fabs(dl[0]) + fabs(dr[0]));
         if (fabs(yl - yr) > rounding)
             VI_FAIL(msg, msg_size, "%s: a step of more than R1 = %g m near x = %g m: yb jumps by %g m there (the body "
                                    "cannot roll over it)", name, R, xr, yr - yl);
@@ -758,7 +784,7 @@ vi_profile *vi_profile_create_as(const double *x, const double *h, size_t n, dou
     long kmin, kmax;
     if (periodic_copies(p, n, name, &kmin, &kmax, msg, msg_size) < 0) goto fail;
     double hmax = 0.0, hlo = h[0], hhi = h[0];
-    for (size_t i = 0; i < n; i++) hmax = fmax(hmax, fabs(h[i])), hlo = fmin(hlo, h[i]), hhi = fmax(hhi, h[i]);
+    for (size_t i = 0; i < n; i++) hmax = larger(hmax, fabs(h[i])), hlo = smaller(hlo, h[i]), hhi = larger(hhi, h[i]);
     p->h_span = hhi - hlo;
     context c = {R, 64.0 * DBL_EPSILON * (R + hmax), NULL};
     if (interpolation == VI_PROFILE_CUBIC ? cubic(p, &c, x, h, n, kmin, kmax, &env) < 0
@@ -1079,7 +1105,7 @@ static double reduce(const vi_profile *p, double x, int *outside)
         return r < p->hi ? r : p->lo;
     }
     if (x < p->lo || x > p->hi) *outside = 1;
-    return fmin(fmax(x, p->lo), p->hi);
+    return smaller(larger(x, p->lo), p->hi);
 }
 
 /* Interval holding x in [lo, hi]: the last j with xb[j] <= x (the right-hand piece at a boundary). */

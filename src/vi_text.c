@@ -264,41 +264,61 @@ static const char *scan_exponent(const char *c, long long *e)
     return d;
 }
 
-/* The short form of a decimal number at c (after the sign), read without the digit array: up to 19
- * significant digits (leading and trailing zeros dropped) as the integer w, whose value and exponent
- * take Clinger's path or the 128-bit one. The digits, the point and the exponent are the ones
- * scan_mantissa and scan_exponent take, and w 10^e10 is rounded by the same function decimal_number
- * calls for them, so the result is the same double. Its value in *v and the character
- * after it; NULL when the number is not of that form (then decimal_number reads it whole). */
+/* The end of the digits at s. */
+static const char *digit_run(const char *s)
+{
+    while ((unsigned)(*s - '0') <= 9) s++; /* bounded by the string */
+    return s;
+}
+
+/* w 10^k + the integer of the k digits [s, end), modulo 2^64; four digits a pass, whose value does not
+ * wait for w (the chain of multiplications is a quarter as long). */
+static uint64_t append_digits(uint64_t w, const char *s, const char *end)
+{
+    for (; end - s >= 4; s += 4) /* bounded by end */
+        w = 10000 * w + (uint64_t)(((s[0] - '0') * 10 + (s[1] - '0')) * 100 + (s[2] - '0') * 10 + (s[3] - '0'));
+    for (; s < end; s++) w = 10 * w + (uint64_t)(*s - '0'); /* bounded: 3 digits */
+    return w;
+}
+
+/* The short form of a decimal number at c (after the sign), read in one pass without the digit array:
+ * up to 19 digits from the first nonzero one to the last digit (trailing zeros counted) as the integer
+ * w, w 10^e10 the value, which takes Clinger's path or the 128-bit one. The digits, the point and the
+ * exponent are the ones scan_mantissa and scan_exponent take, and w 10^e10 is rounded by the same
+ * functions decimal_number calls for them, so the result is the same double. Its value in *v and the
+ * character after it; NULL when the number is not of that form (then decimal_number reads it whole). */
 static const char *short_decimal(const char *c, double *v)
 {
-    const char *first = c, *point_at = NULL; /* the digits [first, c), the point at point_at inside */
-    for (; (*c >= '0' && *c <= '9') || (*c == '.' && !point_at); c++) /* bounded by the string */
-        if (*c == '.') point_at = c;
-    if (c == first || (point_at == first && c == first + 1)) return NULL; /* no digit */
-    const char *dot = point_at ? point_at : c, *lead_at = first, *last = c; /* significant: [lead_at, last) */
-    while (lead_at < last && (*lead_at == '0' || *lead_at == '.')) lead_at++; /* leading zeros */
-    while (last > lead_at && (last[-1] == '0' || last[-1] == '.')) last--; /* trailing zeros */
-    /* significant digits before the point, or (negative) zeros after it before the first */
-    long long point = lead_at < dot ? dot - lead_at : -(long long)(lead_at - dot - 1);
-    if (last - lead_at > 20) return NULL; /* more than 19 digits: the long form */
-    int nd = (int)(last - lead_at) - (dot > lead_at && dot < last);
-    if (nd > 19) return NULL;
     uint64_t w = 0;
-    for (const char *d = lead_at; d < last; d++) /* bounded: 20 characters */
-        if (*d != '.') w = 10 * w + (uint64_t)(*d - '0');
+    const char *first = c;
+    while (*c == '0') c++; /* leading zeros: bounded by the string */
+    const char *lead_at = c;
+    c = digit_run(c);
+    w = append_digits(w, lead_at, c);
+    long long nd = c - lead_at, frac = 0; /* the digits in w; those after the point */
+    int digit = c > first;
+    if (*c == '.') {
+        const char *point = ++c;
+        if (!nd)
+            while (*c == '0') c++; /* zeros after the point before the first nonzero digit: bounded */
+        lead_at = c;
+        c = digit_run(c);
+        w = append_digits(w, lead_at, c);
+        nd += c - lead_at, frac = c - point, digit |= c > point;
+    }
+    if (!digit || !w || nd > 19) return NULL; /* no digit; zero or more than 19 digits: the long form */
     long long e = 0;
     if (*c == 'e' || *c == 'E') {
         const char *after = scan_exponent(c + 1, &e);
         if (after != c + 1) c = after;
     }
-    long long lead = point + e - 1; /* the exponent of the leading digit */
-    if (!nd || lead < EXP10_LEAD_MIN || lead > EXP10_LEAD_MAX) return NULL;
-    int e10 = (int)(lead + 1 - nd);
-    if (clinger(w, e10, v)) return c;
+    long long e10 = e - frac, lead = e10 + nd - 1; /* the exponents of the last and the leading digit */
+    if (lead < EXP10_LEAD_MIN || lead > EXP10_LEAD_MAX) return NULL;
+    for (; w > (UINT64_C(1) << 53) && w % 10 == 0; e10++) w /= 10; /* trailing zeros, for Clinger's path: bounded by 19 */
+    if (clinger(w, (int)e10, v)) return c;
 #ifdef __SIZEOF_INT128__
     if (e10 >= -EXP10_U128_MAX && e10 <= EXP10_U128_MAX) {
-        *v = scaled(w, e10);
+        *v = scaled(w, (int)e10);
         return c;
     }
 #endif
