@@ -45,6 +45,9 @@ struct vi_profile {
     size_t n_arcs;
     size_t m;       /* intervals */
     double *xb;     /* m + 1 boundaries, xb[0] = lo, xb[m] = hi */
+    size_t *bucket; /* n_buckets + 1 entries, or NULL: where the search for x starts (index_intervals) */
+    size_t n_buckets;
+    double bucket_scale; /* buckets per metre */
     double *kinks;  /* sorted kink positions in [lo, hi) */
     size_t n_kinks;
     double max_slope;
@@ -279,7 +282,7 @@ static int insert(const context *c, stack *st, stack *tail, const piece *q, size
 void vi_profile_free(vi_profile *p)
 {
     if (!p) return;
-    free(p->pieces), free(p->xb), free(p->kinks), free(p->arcs);
+    free(p->pieces), free(p->xb), free(p->kinks), free(p->arcs), free(p->bucket);
     free(p);
 }
 
@@ -681,6 +684,27 @@ static int take_envelope(vi_profile *p, stack *env, const char *name, char *msg,
     return 0;
 }
 
+/* The buckets of interval: n_buckets equal parts of [lo, hi], about INTERVALS_PER_BUCKET intervals each;
+ * bucket[k] is the interval holding the start of part k (bucket[n_buckets] the last interval), so
+ * that the intervals of part k are bucket[k] .. bucket[k + 1]. None for few intervals. 0, or -1 when out
+ * of memory. */
+#define INTERVALS_PER_BUCKET 8
+static int index_intervals(vi_profile *p)
+{
+    if (p->m < 4 * INTERVALS_PER_BUCKET) return 0;
+    p->n_buckets = p->m / INTERVALS_PER_BUCKET;
+    p->bucket = malloc((p->n_buckets + 1) * sizeof *p->bucket);
+    if (!p->bucket) return -1;
+    p->bucket_scale = (double)p->n_buckets / (p->hi - p->lo);
+    size_t j = 0;
+    for (size_t k = 0; k <= p->n_buckets; k++) { /* bounded by the buckets and the intervals */
+        double start = p->lo + (double)k / p->bucket_scale;
+        while (j + 1 < p->m && p->xb[j + 1] <= start) j++;
+        p->bucket[k] = k == p->n_buckets ? p->m - 1 : j;
+    }
+    return 0;
+}
+
 /* The table a profile is built from, for the messages. */
 typedef struct {
     const double *x, *h;
@@ -791,6 +815,7 @@ vi_profile *vi_profile_create_as(const double *x, const double *h, size_t n, dou
                                           : build(&c, x, h, n, p->periodic, p->lo, p->hi, kmin, kmax, &env) < 0)
         FAIL("%s: out of memory", name);
     if (take_envelope(p, &env, name, msg, msg_size) < 0) goto fail;
+    if (index_intervals(p) < 0) FAIL("%s: out of memory", name);
     free(env.s);
     env.s = NULL;
     table t = {x, h, n};
@@ -1108,10 +1133,17 @@ static double reduce(const vi_profile *p, double x, int *outside)
     return smaller(larger(x, p->lo), p->hi);
 }
 
-/* Interval holding x in [lo, hi]: the last j with xb[j] <= x (the right-hand piece at a boundary). */
+/* Interval holding x in [lo, hi]: the last j with xb[j] <= x (the right-hand piece at a boundary). The
+ * search starts in x's bucket when that brackets x (rounding of the bucket's number may miss by one),
+ * else over all intervals. */
 static size_t interval(const vi_profile *p, double x)
 {
     size_t a = 0, b = p->m; /* xb[a] <= x < xb[b] */
+    if (p->bucket) {
+        double u = (x - p->lo) * p->bucket_scale; /* >= 0: x >= lo */
+        size_t k = u < (double)p->n_buckets ? (size_t)u : p->n_buckets - 1, ka = p->bucket[k], kb = p->bucket[k + 1] + 1;
+        if (p->xb[ka] <= x && x < p->xb[kb]) a = ka, b = kb;
+    }
     while (b - a > 1) {     /* log2(m) halvings */
         size_t mid = a + (b - a) / 2;
         if (p->xb[mid] <= x) a = mid;
