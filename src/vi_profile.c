@@ -37,14 +37,20 @@ typedef struct {
     int starts, ends;
 } arc;
 
+/* An interval [x0, x1) of the envelope and its piece. */
+typedef struct {
+    double x0, x1; /* [x0, x1) */
+    piece q;
+    size_t g; /* place in the order of the profile: 2 i the circle of vertex i, 2 i + 1 the tangent of segment i */
+} span;
+
 struct vi_profile {
     double R, lo, hi, period; /* period = hi - lo when periodic, else 0 */
     int periodic;
-    piece *pieces;  /* m pieces, one per interval */
+    span *spans;    /* m intervals, spans[0].x0 = lo, spans[m - 1].x1 = hi, each ending where the next starts */
     arc *arcs;      /* the spline's parts (cubic interpolation), n_arcs of them, else NULL */
     size_t n_arcs;
     size_t m;       /* intervals */
-    double *xb;     /* m + 1 boundaries, xb[0] = lo, xb[m] = hi */
     size_t *bucket; /* n_buckets + 1 entries, or NULL: where the search for x starts (index_intervals) */
     size_t n_buckets;
     double bucket_scale; /* buckets per metre */
@@ -138,12 +144,6 @@ static double piece_eval(const piece *q, const arc *arcs, double R, double x, do
  * next tangent) are set aside and put back. A vertex circle and the tangent of a segment at that
  * vertex meet where the tangent's domain starts or ends (the tangent is the higher inside its
  * domain); such neighbours are not compared numerically, so the switch between them is exact. */
-
-typedef struct {
-    double x0, x1; /* [x0, x1) */
-    piece q;
-    size_t g; /* place in the order of the profile: 2 i the circle of vertex i, 2 i + 1 the tangent of segment i */
-} span;
 
 typedef struct {
     span *s;
@@ -282,7 +282,7 @@ static int insert(const context *c, stack *st, stack *tail, const piece *q, size
 void vi_profile_free(vi_profile *p)
 {
     if (!p) return;
-    free(p->pieces), free(p->xb), free(p->kinks), free(p->arcs), free(p->bucket);
+    free(p->spans), free(p->kinks), free(p->arcs), free(p->bucket);
     free(p);
 }
 
@@ -655,12 +655,10 @@ static int periodic_copies(const vi_profile *p, size_t n, const char *name, long
     return 0;
 }
 
-/* The envelope's pieces and their boundaries into p (it must cover [lo, hi] without gaps). The pieces
- * are moved down within env's own memory (piece j, read from span j, lands where no later span lies),
- * which p then owns, shrunk to them: env is left empty. 0, or -1 (env's memory then still env's). */
+/* The envelope's intervals into p, which then owns env's memory, shrunk to them (env is left empty); it
+ * must cover [lo, hi] without gaps. 0, or -1 (env's memory then still env's). */
 static int take_envelope(vi_profile *p, stack *env, const char *name, char *msg, size_t msg_size)
 {
-    _Static_assert(sizeof(piece) <= sizeof(span) && _Alignof(span) % _Alignof(piece) == 0, "pieces fit in place");
     if (!env->n || env->s[0].x0 != p->lo || env->s[env->n - 1].x1 != p->hi)
         VI_FAIL(msg, msg_size, "%s: internal error: the envelope covers [%g, %g] instead of [%g, %g]", name,
                 env->n ? env->s[0].x0 : NAN, env->n ? env->s[env->n - 1].x1 : NAN, p->lo, p->hi);
@@ -668,18 +666,10 @@ static int take_envelope(vi_profile *p, stack *env, const char *name, char *msg,
         if (env->s[j].x0 != env->s[j - 1].x1)
             VI_FAIL(msg, msg_size, "%s: internal error: a gap in the envelope at x = %g", name, env->s[j - 1].x1);
     p->m = env->n;
-    p->xb = malloc((p->m + 1) * sizeof *p->xb);
     p->kinks = malloc((p->m + 1) * sizeof *p->kinks);
-    if (!p->xb || !p->kinks) VI_FAIL(msg, msg_size, "%s: out of memory", name);
-    unsigned char *bytes = (unsigned char *)env->s;
-    for (size_t j = 0; j < p->m; j++) { /* bounded by the envelope */
-        span t = env->s[j];
-        p->xb[j] = t.x0;
-        memcpy(bytes + j * sizeof(piece), &t.q, sizeof(piece));
-    }
-    p->xb[p->m] = p->hi;
-    p->pieces = realloc(env->s, p->m * sizeof *p->pieces);
-    if (!p->pieces) VI_FAIL(msg, msg_size, "%s: out of memory", name); /* env still holds the block */
+    if (!p->kinks) VI_FAIL(msg, msg_size, "%s: out of memory", name);
+    p->spans = realloc(env->s, p->m * sizeof *p->spans);
+    if (!p->spans) VI_FAIL(msg, msg_size, "%s: out of memory", name); /* env still holds the block */
     env->s = NULL, env->n = env->cap = 0;
     return 0;
 }
@@ -699,7 +689,7 @@ static int index_intervals(vi_profile *p)
     size_t j = 0;
     for (size_t k = 0; k <= p->n_buckets; k++) { /* bounded by the buckets and the intervals */
         double start = p->lo + (double)k / p->bucket_scale;
-        while (j + 1 < p->m && p->xb[j + 1] <= start) j++;
+        while (j + 1 < p->m && p->spans[j + 1].x0 <= start) j++;
         p->bucket[k] = k == p->n_buckets ? p->m - 1 : j;
     }
     return 0;
@@ -759,16 +749,17 @@ static int check_boundaries(vi_profile *p, const table *t, double tol, const cha
         double dl[3], dr[3], yl = NAN, yr = NAN; /* set before use (has_left, has_right); gcc -fsanitize cannot tell */
         int has_left = j > 0 || p->periodic, has_right = j < p->m || p->periodic;
         size_t jl = j > 0 ? j - 1 : p->m - 1, jr = j < p->m ? j : 0;
-        double xl = j > 0 ? p->xb[j] : p->hi, xr = j < p->m ? p->xb[j] : p->lo;
-        if (has_left && has_right && joined(p, &p->pieces[jl], &p->pieces[jr])) continue; /* slopes: the arcs' */
+        double xl = j > 0 && j < p->m ? p->spans[j].x0 : p->hi, xr = j < p->m ? p->spans[j].x0 : p->lo;
+        const piece *ql = &p->spans[jl].q, *qr = &p->spans[jr].q;
+        if (has_left && has_right && joined(p, ql, qr)) continue; /* slopes: the arcs' */
         if (has_left) {
-            yl = piece_eval(&p->pieces[jl], p->arcs, R, xl, dl);
-            if (!isfinite(yl) || !isfinite(dl[0])) return too_steep(p, t, &p->pieces[jl], 0, xl, name, msg, msg_size);
+            yl = piece_eval(ql, p->arcs, R, xl, dl);
+            if (!isfinite(yl) || !isfinite(dl[0])) return too_steep(p, t, ql, 0, xl, name, msg, msg_size);
             p->max_slope = larger(p->max_slope, fabs(dl[0]));
         }
         if (has_right) {
-            yr = piece_eval(&p->pieces[jr], p->arcs, R, xr, dr);
-            if (!isfinite(yr) || !isfinite(dr[0])) return too_steep(p, t, &p->pieces[jr], 1, xr, name, msg, msg_size);
+            yr = piece_eval(qr, p->arcs, R, xr, dr);
+            if (!isfinite(yr) || !isfinite(dr[0])) return too_steep(p, t, qr, 1, xr, name, msg, msg_size);
             p->max_slope = larger(p->max_slope, fabs(dr[0]));
         }
         if (!has_left || !has_right) continue;
@@ -1133,20 +1124,20 @@ static double reduce(const vi_profile *p, double x, int *outside)
     return smaller(larger(x, p->lo), p->hi);
 }
 
-/* Interval holding x in [lo, hi]: the last j with xb[j] <= x (the right-hand piece at a boundary). The
+/* Interval holding x in [lo, hi]: the last j with x0 <= x (the right-hand piece at a boundary). The
  * search starts in x's bucket when that brackets x (rounding of the bucket's number may miss by one),
  * else over all intervals. */
 static size_t interval(const vi_profile *p, double x)
 {
-    size_t a = 0, b = p->m; /* xb[a] <= x < xb[b] */
+    size_t a = 0, b = p->m; /* spans[a].x0 <= x < spans[b - 1].x1 */
     if (p->bucket) {
         double u = (x - p->lo) * p->bucket_scale; /* >= 0: x >= lo */
         size_t k = u < (double)p->n_buckets ? (size_t)u : p->n_buckets - 1, ka = p->bucket[k], kb = p->bucket[k + 1] + 1;
-        if (p->xb[ka] <= x && x < p->xb[kb]) a = ka, b = kb;
+        if (p->spans[ka].x0 <= x && x < p->spans[kb - 1].x1) a = ka, b = kb;
     }
     while (b - a > 1) {     /* log2(m) halvings */
         size_t mid = a + (b - a) / 2;
-        if (p->xb[mid] <= x) a = mid;
+        if (p->spans[mid].x0 <= x) a = mid;
         else b = mid;
     }
     return a;
@@ -1156,7 +1147,7 @@ int vi_profile_eval(const vi_profile *p, double x, double y[4])
 {
     int outside;
     double r = reduce(p, x, &outside);
-    y[0] = piece_eval(&p->pieces[interval(p, r)], p->arcs, p->R, r, y + 1);
+    y[0] = piece_eval(&p->spans[interval(p, r)].q, p->arcs, p->R, r, y + 1);
     return outside ? -1 : 0;
 }
 
