@@ -29,11 +29,10 @@ typedef struct {
 } piece;
 
 /* The part of a spline segment the body may touch (1 - R curvature > 0 there): h = c0 + c1 u +
- * c2 u^2 + c3 u^3 on u = s - (the segment's first row) in [u0, u1]; X0, X1 = X(u) - (the first row)
- * at u0 and u1 (the centre's positions, for the first guess of Newton's method); starts, ends: u0 is
- * the segment's first row, u1 its last. */
+ * c2 u^2 + c3 u^3 on u = s - (the segment's first row) in [u0, u1]; starts, ends: u0 is the segment's
+ * first row, u1 its last. */
 typedef struct {
-    double c[4], u0, u1, X0, X1;
+    double c[4], u0, u1;
     int starts, ends;
 } arc;
 
@@ -67,18 +66,31 @@ static double smaller(double a, double b) { return a < b || b != b ? a : b; }
 
 /* ---- pieces -------------------------------------------------------------------------------- */
 
+/* The centre's shift along x from the contact point of slope s: -R s/sqrt(1 + s^2) (s^2 would overflow
+ * beyond 1e154: there the root is |s| to the last bit). */
+static double centre_shift(double R, double s) { return -R * (s / (fabs(s) < 1e100 ? sqrt(1.0 + s * s) : fabs(s))); }
+
+/* X(u) - (the first row) on arc a: the position of the centre of the body touching it at u. */
+static double arc_centre(const arc *a, double R, double u)
+{
+    const double *c = a->c;
+    return u + centre_shift(R, c[1] + u * (2.0 * c[2] + 3.0 * c[3] * u));
+}
+
 /* The position u in [a->u0, a->u1] where the body centred above x touches arc a (first row at px):
  * the root of X(u) - target = u - R h'/sqrt(1 + h'^2) - target, target = x - px, increasing in u on
  * the arc; an end when target is within slack (the rounding of x - px) of that end's X; else Newton's
- * method from the linear guess, kept inside the bracket by bisection (at most 80 passes, ending when
+ * method from the linear guess between the ends' X, kept inside the bracket by bisection (at most 80 passes, ending when
  * a pass moves u by less than 4 eps of the segment). */
 static double arc_root(const arc *a, double R, double target, double slack)
 {
     const double *c = a->c;
     double lo = a->u0, hi = a->u1;
-    if (!(target > a->X0 + slack)) return lo;
-    if (!(target < a->X1 - slack)) return hi;
-    double u = lo + (hi - lo) * ((target - a->X0) / (a->X1 - a->X0)), tiny = 4.0 * DBL_EPSILON * (fabs(lo) + fabs(hi));
+    double X0 = arc_centre(a, R, lo);
+    if (!(target > X0 + slack)) return lo;
+    double X1 = arc_centre(a, R, hi);
+    if (!(target < X1 - slack)) return hi;
+    double u = lo + (hi - lo) * ((target - X0) / (X1 - X0)), tiny = 4.0 * DBL_EPSILON * (fabs(lo) + fabs(hi));
     for (int it = 0; it < 80; it++) {
         double h1 = c[1] + u * (2.0 * c[2] + 3.0 * c[3] * u), h2 = 2.0 * c[2] + 6.0 * c[3] * u;
         double w = 1.0 + h1 * h1, rw = sqrt(w);
@@ -432,10 +444,6 @@ static void spline_slopes(const double *x, const double *h, size_t n, int period
 
 /* ---- the spline's offsets: arcs -------------------------------------------------------------- */
 
-/* The centre's shift along x from the contact point of slope s: -R s/sqrt(1 + s^2) (s^2 would overflow
- * beyond 1e154: there the root is |s| to the last bit). */
-static double centre_shift(double R, double s) { return -R * (s / (fabs(s) < 1e100 ? sqrt(1.0 + s * s) : fabs(s))); }
-
 /* 1 - R times the curvature of cubic c at u: X'(u), positive where the body may touch. */
 static double touch(const double c[4], double R, double u)
 {
@@ -451,7 +459,7 @@ typedef struct {
 
 /* Append the part [u0, u1] of segment cubic c on [0, dx] as an arc (its largest |h'| into max_slope).
  * 0, or -1 when out of memory or past UINT32_MAX arcs. */
-static int add_arc(arcs *list, double R, const double c[4], double dx, double u0, double u1)
+static int add_arc(arcs *list, const double c[4], double dx, double u0, double u1)
 {
     if (!(u1 > u0)) return 0;
     if (list->n == list->cap) {
@@ -464,8 +472,7 @@ static int add_arc(arcs *list, double R, const double c[4], double dx, double u0
     double um = c[3] != 0.0 ? -c[2] / (3.0 * c[3]) : u0; /* where h' is stationary */
     double sm = um > u0 && um < u1 ? c[1] + um * (2.0 * c[2] + 3.0 * c[3] * um) : s0;
     list->max_slope = larger(list->max_slope, larger(fabs(sm), larger(fabs(s0), fabs(s1))));
-    list->a[list->n++] = (arc){{c[0], c[1], c[2], c[3]}, u0, u1, u0 + centre_shift(R, s0), u1 + centre_shift(R, s1),
-                               u0 == 0.0, u1 == dx};
+    list->a[list->n++] = (arc){{c[0], c[1], c[2], c[3]}, u0, u1, u0 == 0.0, u1 == dx};
     return 0;
 }
 
@@ -489,7 +496,7 @@ static double touch_root(const double c[4], double R, double lo, double hi)
 #define TOUCH_SAMPLES 32
 static int segment_arcs(arcs *list, double R, const double c[4], double dx)
 {
-    if (R * larger(2.0 * c[2], 2.0 * c[2] + 6.0 * c[3] * dx) < 1.0) return add_arc(list, R, c, dx, 0.0, dx);
+    if (R * larger(2.0 * c[2], 2.0 * c[2] + 6.0 * c[3] * dx) < 1.0) return add_arc(list, c, dx, 0.0, dx);
     double start = touch(c, R, 0.0) > 0.0 ? 0.0 : NAN, u_prev = 0.0; /* start: of the part being kept, NAN: none */
     for (int i = 1; i <= TOUCH_SAMPLES; i++) { /* bounded: TOUCH_SAMPLES samples */
         double u = i == TOUCH_SAMPLES ? dx : dx * i / TOUCH_SAMPLES;
@@ -497,12 +504,12 @@ static int segment_arcs(arcs *list, double R, const double c[4], double dx)
         if (inside == (start == start)) { u_prev = u; continue; }
         double root = touch_root(c, R, u_prev, u);
         if (start == start) {
-            if (add_arc(list, R, c, dx, start, root) < 0) return -1;
+            if (add_arc(list, c, dx, start, root) < 0) return -1;
             start = NAN;
         } else start = root;
         u_prev = u;
     }
-    return start == start ? add_arc(list, R, c, dx, start, dx) : 0;
+    return start == start ? add_arc(list, c, dx, start, dx) : 0;
 }
 
 /* The arcs of the spline through the table, segment by segment (first[j]: the first arc of segment j,
@@ -580,8 +587,8 @@ static int build_cubic(const context *c, const double *x, const double *h, const
             }
             for (size_t i = first[j]; i < first[j + 1] && rc == 0; i++) { /* bounded by the arcs */
                 const arc *a = &c->arcs[i];
-                double from = a->starts ? row + shift[j] : row + a->X0;
-                double to = a->ends ? next + shift[j + 1] : row + a->X1;
+                double from = a->starts ? row + shift[j] : row + arc_centre(a, R, a->u0);
+                double to = a->ends ? next + shift[j + 1] : row + arc_centre(a, R, a->u1);
                 from = smaller(from, before);
                 before = to;
                 piece q = {ARC, (uint32_t)i, row, 0.0, 0.0};
