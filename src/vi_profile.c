@@ -398,9 +398,14 @@ static void eliminate(const double *x, const double *h, size_t m, int periodic, 
     }
 }
 
-static void back_substitute(size_t m, const double *cp, double *k)
+/* Back substitution into k and (z not NULL) z, which hold the reduced right-hand sides on entry; the two
+ * in one pass, their chains of operations side by side. */
+static void back_substitute(size_t m, const double *cp, double *k, double *z)
 {
-    for (size_t i = m - 1; i-- > 0;) k[i] -= cp[i] * k[i + 1]; /* bounded by the rows; k holds rp on entry */
+    if (!z)
+        for (size_t i = m - 1; i-- > 0;) k[i] -= cp[i] * k[i + 1]; /* bounded by the rows */
+    else
+        for (size_t i = m - 1; i-- > 0;) k[i] -= cp[i] * k[i + 1], z[i] -= cp[i] * z[i + 1]; /* bounded by the rows */
 }
 
 /* The slopes k[0..n-1] of the spline through the n >= 2 rows (periodic: k[n-1] = k[0]; open: two
@@ -430,14 +435,13 @@ static void spline_slopes(const double *x, const double *h, size_t n, int period
         for (size_t i = 0; i < m; i++) z[i] = 0.0; /* bounded by the rows */
         z[0] = gamma, z[m - 1] = alpha;
         eliminate(x, h, m, 1, e[1] - gamma, alpha * beta / gamma, cp, k, z);
-        back_substitute(m, cp, k);
-        back_substitute(m, cp, z);
+        back_substitute(m, cp, k, z);
         double fact = (k[0] + beta * k[m - 1] / gamma) / (1.0 + z[0] + beta * z[m - 1] / gamma);
         for (size_t i = 0; i < m; i++) k[i] -= fact * z[i]; /* bounded by the rows */
     } else {
         spline_row(x, h, m, 0, 0, e);
         eliminate(x, h, m, 0, e[1], 0.0, cp, k, NULL);
-        back_substitute(m, cp, k);
+        back_substitute(m, cp, k, NULL);
     }
     if (periodic) k[n - 1] = k[0];
 }
@@ -513,7 +517,8 @@ static int segment_arcs(arcs *list, double R, const double c[4], double dx)
 }
 
 /* The arcs of the spline through the table, segment by segment (first[j]: the first arc of segment j,
- * first[n - 1] = their number), and the largest |h'| of any. scratch: 3 n doubles. 0, or -1. */
+ * first[n - 1] = their number, written after the slopes are solved for), and the largest |h'| of any.
+ * scratch: 3 n doubles, the slopes k in the first n. 0, or -1. */
 static int make_arcs(const double *x, const double *h, size_t n, int periodic, double R, size_t *first, arcs *list,
                      double *scratch)
 {
@@ -612,16 +617,17 @@ static int build_cubic(const context *c, const double *x, const double *h, const
  * within R S/sqrt(1 + S^2) of the contact point, S the largest slope). 0, or -1 when out of memory. */
 static int cubic(vi_profile *p, context *c, const double *x, const double *h, size_t n, long kmin, long kmax, stack *st)
 {
+    _Static_assert(sizeof(size_t) <= sizeof(double) && _Alignof(double) % _Alignof(size_t) == 0, "first fits");
     double *scratch = malloc(3 * n * sizeof *scratch);
-    size_t *first = malloc(n * sizeof *first);
+    size_t *first = (size_t *)(scratch + 2 * n); /* where the spline's slopes were solved for */
     arcs list = {0};
-    int rc = scratch && first ? make_arcs(x, h, n, p->periodic, p->R, first, &list, scratch) : -1;
+    int rc = scratch ? make_arcs(x, h, n, p->periodic, p->R, first, &list, scratch) : -1;
     p->arcs = list.a, p->n_arcs = list.n, p->max_slope = list.max_slope;
     c->arcs = list.a;
     double *shift = scratch + n, reach = 1.000001 * fabs(centre_shift(p->R, list.max_slope));
     for (size_t j = 0; rc == 0 && j < n; j++) shift[j] = centre_shift(p->R, scratch[j]); /* bounded by the rows */
     if (rc == 0) rc = build_cubic(c, x, h, shift, reach, first, n, p->periodic, p->lo, p->hi, kmin, kmax, st);
-    free(scratch), free(first);
+    free(scratch);
     return rc;
 }
 
