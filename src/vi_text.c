@@ -203,15 +203,36 @@ static double round_u128(u128 q, int sticky, int e2)
     return times_pow2((double)m, e2 + drop);
 }
 
+/* RECIP[k] = floor(2^(63 + b) / 5^k), b the bits of 5^k, for k = 1 .. EXP10_U128_MAX: the reciprocals
+ * that take the place of a division in scaled (tests/test_text.c reads numbers of every such exponent,
+ * their quotients exact and not, against strtod). */
+static const uint64_t RECIP[EXP10_U128_MAX + 1] = {
+    0u, UINT64_C(14757395258967641292), UINT64_C(11805916207174113034), UINT64_C(9444732965739290427),
+    UINT64_C(15111572745182864683), UINT64_C(12089258196146291747), UINT64_C(9671406556917033397),
+    UINT64_C(15474250491067253436), UINT64_C(12379400392853802748), UINT64_C(9903520314283042199),
+    UINT64_C(15845632502852867518), UINT64_C(12676506002282294014), UINT64_C(10141204801825835211),
+    UINT64_C(16225927682921336339), UINT64_C(12980742146337069071), UINT64_C(10384593717069655257),
+    UINT64_C(16615349947311448411), UINT64_C(13292279957849158729), UINT64_C(10633823966279326983),
+    UINT64_C(17014118346046923173), UINT64_C(13611294676837538538), UINT64_C(10889035741470030830),
+    UINT64_C(17422457186352049329), UINT64_C(13937965749081639463), UINT64_C(11150372599265311570),
+    UINT64_C(17840596158824498513), UINT64_C(14272476927059598810), UINT64_C(11417981541647679048)};
+
 /* w 10^e correctly rounded, 0 < w < 2^64, |e| <= EXP10_U128_MAX, not on Clinger's fast path: w 5^e 2^e
  * is exact in 128 bits for e >= 0 (54 bits or more: w > 2^53 or 5^e > 2^53); for e < 0 the quotient
- * (w 2^sh) / 5^-e has 64 bits or more and its remainder decides the rounding of a tie. */
+ * q = floor(n / d), n = w 2^sh < 2^(63 + b), d = 5^-e of b bits (3 to 63), has 63 or 64 bits, and the
+ * remainder decides the rounding of a tie. With t = floor(n / 2^(b - 1)) < 2^64, t RECIP / 2^64 lies
+ * within 2 below n / d (t 2^(b - 1) is within 2^(b - 1) <= d below n, RECIP within 1 below 2^(63 + b) / d,
+ * t < 2^64): its integer part is q, q - 1 or q - 2, and the exact remainder puts it right. */
 static double scaled(uint64_t w, int e)
 {
     if (e >= 0) return round_u128((u128)w * POW5[e], 0, e);
-    int sh = 127 - bits64(w); /* w 2^sh < 2^127 */
-    u128 n = (u128)w << sh, d = POW5[-e];
-    return round_u128(n / d, n % d != 0, -sh + e);
+    uint64_t d = POW5[-e];
+    int b = bits64(d), sh = 63 + b - bits64(w); /* 2 to 125 */
+    u128 n = (u128)w << sh;
+    uint64_t q = (uint64_t)(((u128)(uint64_t)(n >> (b - 1)) * RECIP[-e]) >> 64);
+    u128 rem = n - (u128)q * d;
+    for (int i = 0; i < 2 && rem >= d; i++) rem -= d, q++; /* bounded: two passes */
+    return round_u128(q, rem != 0, -sh + e);
 }
 #endif
 
