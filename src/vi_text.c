@@ -285,21 +285,31 @@ static const char *scan_exponent(const char *c, long long *e)
     return d;
 }
 
-/* The end of the digits at s. */
-static const char *digit_run(const char *s)
+/* The digits at s appended to *w (*w 10^k + their integer, modulo 2^64, for k digits), four a pass:
+ * their values do not wait for *w (the chain of multiplications is a quarter as long), and a byte is
+ * read only after a digit. The character after them. */
+static const char *read_digits(const char *s, uint64_t *w)
 {
-    while ((unsigned)(*s - '0') <= 9) s++; /* bounded by the string */
+    uint64_t v = *w;
+    for (;; s += 4) { /* bounded by the string */
+        unsigned d0 = (unsigned)(s[0] - '0'), d1, d2, d3;
+        if (d0 > 9) break;
+        if ((d1 = (unsigned)(s[1] - '0')) > 9) {
+            v = 10 * v + d0, s += 1;
+            break;
+        }
+        if ((d2 = (unsigned)(s[2] - '0')) > 9) {
+            v = 100 * v + (10 * d0 + d1), s += 2;
+            break;
+        }
+        if ((d3 = (unsigned)(s[3] - '0')) > 9) {
+            v = 1000 * v + (100 * d0 + 10 * d1 + d2), s += 3;
+            break;
+        }
+        v = 10000 * v + (1000 * d0 + 100 * d1 + 10 * d2 + d3);
+    }
+    *w = v;
     return s;
-}
-
-/* w 10^k + the integer of the k digits [s, end), modulo 2^64; four digits a pass, whose value does not
- * wait for w (the chain of multiplications is a quarter as long). */
-static uint64_t append_digits(uint64_t w, const char *s, const char *end)
-{
-    for (; end - s >= 4; s += 4) /* bounded by end */
-        w = 10000 * w + (uint64_t)(((s[0] - '0') * 10 + (s[1] - '0')) * 100 + (s[2] - '0') * 10 + (s[3] - '0'));
-    for (; s < end; s++) w = 10 * w + (uint64_t)(*s - '0'); /* bounded: 3 digits */
-    return w;
 }
 
 /* The short form of a decimal number at c (after the sign), read in one pass without the digit array:
@@ -314,8 +324,7 @@ static const char *short_decimal(const char *c, double *v)
     const char *first = c;
     while (*c == '0') c++; /* leading zeros: bounded by the string */
     const char *lead_at = c;
-    c = digit_run(c);
-    w = append_digits(w, lead_at, c);
+    c = read_digits(c, &w);
     long long nd = c - lead_at, frac = 0; /* the digits in w; those after the point */
     int digit = c > first;
     if (*c == '.') {
@@ -323,8 +332,7 @@ static const char *short_decimal(const char *c, double *v)
         if (!nd)
             while (*c == '0') c++; /* zeros after the point before the first nonzero digit: bounded */
         lead_at = c;
-        c = digit_run(c);
-        w = append_digits(w, lead_at, c);
+        c = read_digits(c, &w);
         nd += c - lead_at, frac = c - point, digit |= c > point;
     }
     if (!digit || !w || nd > 19) return NULL; /* no digit; zero or more than 19 digits: the long form */
