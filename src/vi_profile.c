@@ -518,7 +518,8 @@ static int segment_arcs(arcs *list, double R, const double c[4], double dx)
 
 /* The arcs of the spline through the table, segment by segment (first[j]: the first arc of segment j,
  * first[n - 1] = their number, written after the slopes are solved for), and the largest |h'| of any.
- * scratch: 3 n doubles, the slopes k in the first n. 0, or -1. */
+ * scratch: 3 n doubles, the slopes k in the first n, then the centre_shift of each row's slope in the
+ * next n. 0, or -1. */
 static int make_arcs(const double *x, const double *h, size_t n, int periodic, double R, size_t *first, arcs *list,
                      double *scratch)
 {
@@ -527,13 +528,15 @@ static int make_arcs(const double *x, const double *h, size_t n, int periodic, d
     if (!list->a) return -1;
     list->cap = n - 1;
     spline_slopes(x, h, n, periodic, k, scratch + n);
+    double *shift = scratch + n;
     for (size_t j = 0; j + 1 < n; j++) { /* bounded by the rows */
+        shift[j] = centre_shift(R, k[j]);
         double dx = x[j + 1] - x[j], d = (h[j + 1] - h[j]) / dx;
         double c[4] = {h[j], k[j], (3.0 * d - 2.0 * k[j] - k[j + 1]) / dx, (k[j] + k[j + 1] - 2.0 * d) / (dx * dx)};
         first[j] = list->n;
         if (segment_arcs(list, R, c, dx) < 0) return -1;
     }
-    first[n - 1] = list->n;
+    first[n - 1] = list->n, shift[n - 1] = centre_shift(R, k[n - 1]);
     return 0;
 }
 
@@ -625,14 +628,36 @@ static int cubic(vi_profile *p, context *c, const double *x, const double *h, si
     p->arcs = list.a, p->n_arcs = list.n, p->max_slope = list.max_slope;
     c->arcs = list.a;
     double *shift = scratch + n, reach = 1.000001 * fabs(centre_shift(p->R, list.max_slope));
-    for (size_t j = 0; rc == 0 && j < n; j++) shift[j] = centre_shift(p->R, scratch[j]); /* bounded by the rows */
     if (rc == 0) rc = build_cubic(c, x, h, shift, reach, first, n, p->periodic, p->lo, p->hi, kmin, kmax, st);
     free(scratch);
     return rc;
 }
 
+/* The largest |h| and the least and largest h of a table's heights, taken row by row (heights_add). */
+typedef struct {
+    double abs_max, lo, hi;
+} heights;
+
+static void heights_add(heights *s, size_t i, double h)
+{
+    if (i == 0) s->abs_max = 0.0, s->lo = s->hi = h;
+    s->abs_max = larger(s->abs_max, fabs(h)), s->lo = smaller(s->lo, h), s->hi = larger(s->hi, h);
+}
+
+/* R positive, and a periodic table ending at its first height. 0, or -1 with the reason in msg. */
+static int check_ends(const double *h, size_t n, double R, int periodic, const char *name, char *msg, size_t msg_size)
+{
+    if (!(R > 0.0 && isfinite(R)))
+        VI_FAIL(msg, msg_size, "%s: the rolling radius R1 = %g m must be positive and finite", name, R);
+    if (periodic && h[n - 1] != h[0])
+        VI_FAIL(msg, msg_size, "%s: profile_periodic needs the last height to repeat the first (h = %.17g on row %zu, "
+                               "%.17g on row 1)", name, h[n - 1], n, h[0]);
+    return 0;
+}
+
 /* The rows as a profile needs them: at least two, finite, x increasing, a periodic one ending at
- * its first height; and R positive. 0, or -1 with the reason in msg. */
+ * its first height; and R positive (after the rows' count, before the rows). 0, or -1 with the reason
+ * in msg. */
 static int check_rows(const double *x, const double *h, size_t n, double R, int periodic, const char *name, char *msg,
                       size_t msg_size)
 {
@@ -646,10 +671,7 @@ static int check_rows(const double *x, const double *h, size_t n, double R, int 
             VI_FAIL(msg, msg_size, "%s, row %zu: x = %.17g is not greater than x = %.17g of the row before (x must "
                                    "increase)", name, i + 1, x[i], x[i - 1]);
     }
-    if (periodic && h[n - 1] != h[0])
-        VI_FAIL(msg, msg_size, "%s: profile_periodic needs the last height to repeat the first (h = %.17g on row %zu, "
-                               "%.17g on row 1)", name, h[n - 1], n, h[0]);
-    return 0;
+    return check_ends(h, n, R, periodic, name, msg, msg_size);
 }
 
 /* The copies of a periodic profile the envelope is built from, k = *kmin..*kmax (0..0 when it is
@@ -795,26 +817,20 @@ vi_profile *vi_profile_create(const double *x, const double *h, size_t n, double
     return vi_profile_create_as(x, h, n, R, periodic, VI_PROFILE_LINEAR, name, msg, msg_size);
 }
 
-vi_profile *vi_profile_create_as(const double *x, const double *h, size_t n, double R, int periodic, int interpolation,
-                                 const char *name, char *msg, size_t msg_size)
+/* The profile of n checked rows (check_rows) whose heights are hs, joined as interpolation says. */
+static vi_profile *create(const double *x, const double *h, size_t n, double R, int periodic, int interpolation,
+                          const heights *hs, const char *name, char *msg, size_t msg_size)
 {
     vi_profile *p = NULL;
     stack env = {0};
-    if (!name) name = "profile";
-    if (interpolation != VI_PROFILE_LINEAR && interpolation != VI_PROFILE_CUBIC)
-        FAIL("%s: interpolation %d is neither linear (%d) nor cubic (%d)", name, interpolation, VI_PROFILE_LINEAR,
-             VI_PROFILE_CUBIC);
-    if (check_rows(x, h, n, R, periodic, name, msg, msg_size) < 0) return NULL;
     p = calloc(1, sizeof *p);
     if (!p) FAIL("%s: out of memory", name);
     p->R = R, p->lo = x[0], p->hi = x[n - 1], p->periodic = periodic != 0;
     p->period = periodic ? p->hi - p->lo : 0.0;
     long kmin, kmax;
     if (periodic_copies(p, n, name, &kmin, &kmax, msg, msg_size) < 0) goto fail;
-    double hmax = 0.0, hlo = h[0], hhi = h[0];
-    for (size_t i = 0; i < n; i++) hmax = larger(hmax, fabs(h[i])), hlo = smaller(hlo, h[i]), hhi = larger(hhi, h[i]);
-    p->h_span = hhi - hlo;
-    context c = {R, 64.0 * DBL_EPSILON * (R + hmax), NULL};
+    p->h_span = hs->hi - hs->lo;
+    context c = {R, 64.0 * DBL_EPSILON * (R + hs->abs_max), NULL};
     if (interpolation == VI_PROFILE_CUBIC ? cubic(p, &c, x, h, n, kmin, kmax, &env) < 0
                                           : build(&c, x, h, n, p->periodic, p->lo, p->hi, kmin, kmax, &env) < 0)
         FAIL("%s: out of memory", name);
@@ -829,6 +845,26 @@ fail:
     free(env.s);
     vi_profile_free(p);
     return NULL;
+}
+
+/* The interpolation's name: 0, or -1 with the reason in msg. */
+static int check_interpolation(int interpolation, const char *name, char *msg, size_t msg_size)
+{
+    if (interpolation != VI_PROFILE_LINEAR && interpolation != VI_PROFILE_CUBIC)
+        VI_FAIL(msg, msg_size, "%s: interpolation %d is neither linear (%d) nor cubic (%d)", name, interpolation,
+                VI_PROFILE_LINEAR, VI_PROFILE_CUBIC);
+    return 0;
+}
+
+vi_profile *vi_profile_create_as(const double *x, const double *h, size_t n, double R, int periodic, int interpolation,
+                                 const char *name, char *msg, size_t msg_size)
+{
+    if (!name) name = "profile";
+    if (check_interpolation(interpolation, name, msg, msg_size) < 0) return NULL;
+    if (check_rows(x, h, n, R, periodic, name, msg, msg_size) < 0) return NULL;
+    heights hs;
+    for (size_t i = 0; i < n; i++) heights_add(&hs, i, h[i]); /* bounded by the rows */
+    return create(x, h, n, R, periodic, interpolation, &hs, name, msg, msg_size);
 }
 
 /* ---- reading a file -------------------------------------------------------------------------
@@ -989,6 +1025,7 @@ _Static_assert(VI_PROFILE_BLOCK >= 2 * VI_PROFILE_LINE_MAX, "a block holds the l
 typedef struct {
     double *x, *h;
     size_t n, cap, last_line;
+    heights hs; /* of the rows so far */
 } rows;
 
 /* Append the row of line line_no of file path after checking it (finite, x increasing, at most
@@ -1013,6 +1050,7 @@ static int add_row(rows *r, double xv, double hv, const char *path, size_t line_
         if (!nx || !nh) VI_FAIL(msg, msg_size, "profile_file '%s': out of memory at line %zu", path, line_no);
     }
     r->x[r->n] = xv, r->h[r->n] = hv;
+    heights_add(&r->hs, r->n, hv);
     r->n++, r->last_line = line_no;
     return 0;
 }
@@ -1114,7 +1152,10 @@ vi_profile *vi_profile_load_as(const char *path, double R, int periodic, int int
     }
     char name[VI_PROFILE_LINE_MAX + 32];
     vi_snprintf(name, sizeof name, "profile_file '%s'", path);
-    p = vi_profile_create_as(r.x, r.h, r.n, R, periodic, interpolation, name, msg, msg_size);
+    /* the rows are checked as they are read (add_row) */
+    if (check_interpolation(interpolation, name, msg, msg_size) == 0 &&
+        check_ends(r.h, r.n, R, periodic, name, msg, msg_size) == 0)
+        p = create(r.x, r.h, r.n, R, periodic, interpolation, &r.hs, name, msg, msg_size);
 fail:
     fclose(f);
     free(buf), free(r.x), free(r.h);
