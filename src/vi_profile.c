@@ -603,7 +603,12 @@ static int build_cubic(const context *c, const double *x, const double *h, const
                 if (g == 0) /* the first arc: the first circle's neighbour when it starts at row 0 */
                     g = periodic || i != 0 || !a->starts ? 3 : 1;
                 else g += 2;
-                rc = insert(c, st, &tail, &q, g, larger(from, lo), smaller(to, hi));
+                from = larger(from, lo), to = smaller(to, hi);
+                const span *top = st->n ? &st->s[st->n - 1] : NULL;
+                if (top && top->x1 <= from && to > from) /* after all the stack holds: insert would push it there */
+                    rc = push(st, larger(from, smaller(to, top->x1)), to, &q, g);
+                else
+                    rc = insert(c, st, &tail, &q, g, from, to);
             }
         }
     }
@@ -1178,23 +1183,31 @@ static double reduce(const vi_profile *p, double x, int *outside)
     return smaller(larger(x, p->lo), p->hi);
 }
 
-/* Interval holding x in [lo, hi]: the last j with x0 <= x (the right-hand piece at a boundary). The
- * search starts in x's bucket when that brackets x (rounding of the bucket's number may miss by one),
- * else over all intervals. */
-static size_t interval(const vi_profile *p, double x)
+/* The last j in [a, b) with spans[j].x0 <= x, given spans[a].x0 <= x. */
+static size_t search(const vi_profile *p, double x, size_t a, size_t b)
 {
-    size_t a = 0, b = p->m; /* spans[a].x0 <= x < spans[b - 1].x1 */
-    if (p->bucket) {
-        double u = (x - p->lo) * p->bucket_scale; /* >= 0: x >= lo */
-        size_t k = u < (double)p->n_buckets ? (size_t)u : p->n_buckets - 1, ka = p->bucket[k], kb = p->bucket[k + 1] + 1;
-        if (p->spans[ka].x0 <= x && x < p->spans[kb - 1].x1) a = ka, b = kb;
-    }
-    while (b - a > 1) {     /* log2(m) halvings */
+    while (b - a > 1) { /* log2(b - a) halvings */
         size_t mid = a + (b - a) / 2;
         if (p->spans[mid].x0 <= x) a = mid;
         else b = mid;
     }
     return a;
+}
+
+/* Interval holding x in [lo, hi]: the last j with x0 <= x (the right-hand piece at a boundary). The
+ * search is made among the intervals of x's bucket, and its result kept when it holds x (rounding of
+ * the bucket's number may miss by one), else over all intervals. */
+static size_t interval(const vi_profile *p, double x)
+{
+    if (p->bucket) {
+        double u = (x - p->lo) * p->bucket_scale; /* >= 0: x >= lo */
+        size_t k = u < (double)p->n_buckets ? (size_t)u : p->n_buckets - 1, ka = p->bucket[k];
+        if (p->spans[ka].x0 <= x) {
+            size_t j = search(p, x, ka, p->bucket[k + 1] + 1);
+            if (x < p->spans[j].x1) return j;
+        }
+    }
+    return search(p, x, 0, p->m);
 }
 
 int vi_profile_eval(const vi_profile *p, double x, double y[4])
