@@ -87,6 +87,8 @@ typedef struct {
     double e_restitution;       /* damped Hertz, linear: restitution of an isolated impact, (0, 1] */
     int damping_formula;        /* damped Hertz: VI_DAMP_* (vi_laws.h) */
     double k_spring;            /* linear: spring stiffness [N/m] */
+    int upper_stop;             /* a second surface at yC + gap above the mass (the upper contact) */
+    double gap;                 /* its clearance [m], > 0 with upper_stop */
 } vi_model_params;
 
 /* The model's outputs and calculated parameters (doc/model.md section 5). */
@@ -96,6 +98,11 @@ typedef struct {
     double delta_c, delta_f, delta_p, Rbar, W_plastic; /* m, m, m, m, J */
     double E_contact;           /* J (vi_model_contact_energy) */
     double E_star, R_star, F_Y, delta_Y, k_lin, f_contact; /* Pa, m, N, m, N/m, Hz */
+    /* the upper contact (all 0 without one): its force on the mass (down) [N], indentation y - (yC +
+     * gap) [m], mode, onsets, plastic work [J] (E_contact above is both contacts' energy) */
+    double F_upper, delta_upper;
+    int mode_upper, n_impacts_upper;
+    double W_plastic_upper;
 } vi_model_values;
 
 /* An input over a communication step: value u + du (t - t). */
@@ -116,12 +123,18 @@ typedef struct {
 
 /* One contact of the body with a surface: its law with the law's constants, its memory and its mode.
  * Each mode has VI_CONTACT_NGUARDS guards (vi_model.c, mode_guards), the contact's; the model's
- * guard i belongs to contact i / VI_CONTACT_NGUARDS. The contact's indentation is the state's
- * delta = x[0] (the lower contact) and its rate yC' - v; vi_model.c's per-contact functions
- * (contact_force, contact_stiffness, contact_guards, resolve) take the contact and the state. */
+ * guard i belongs to contact i / VI_CONTACT_NGUARDS. The lower contact's indentation is the state's
+ * delta = x[0] and its rate yC' - v; the upper contact's (its surface at yC + gap, moving with the
+ * platform) is delta_u = y - yC - gap = -gap - delta and its rate v - yC' = -delta'. In its own
+ * indentation and rate each contact is the one-sided contact: its law, surfaces, snapping and mode
+ * choice; its holding force in stick is that of the lower contact with the sign turned
+ * (-(W + m yC'')). vi_model.c's per-contact functions (contact_force, contact_stiffness,
+ * contact_guards, resolve) take the contact and the state. */
 typedef struct {
     /* the law and its constants, from the parameters (vi_model_setup) */
     int law;       /* VI_LAW_* */
+    int upper;     /* the upper contact: indentation -gap - delta, rate -delta' */
+    double gap;    /* the upper contact's clearance [m] (0 for the lower contact) */
     int moving;    /* Johnson with a moving contact point */
     int unloading; /* VI_UNLOAD_PAPER or VI_UNLOAD_CONTINUOUS */
     double K;      /* Hertz constant [N/m^1.5] */
@@ -140,11 +153,13 @@ typedef struct {
     long n_impacts;    /* contact onsets */
 } vi_model_contact;
 
-/* The contacts of the model, in its list: the lower contact, delta = yC - y (contact 0). The engine
- * (vi_hybrid.h), the solver's guards and Model Exchange's event indicators are sized by it:
- * VI_CONTACT_NGUARDS guards per contact. */
-#define VI_NCONTACTS 1
+/* The contacts of the model, in its list: the lower contact, delta = yC - y (contact 0), and with
+ * upper_stop the upper contact (contact 1). The engine (vi_hybrid.h), the solver's guards and Model
+ * Exchange's event indicators are sized by the list's capacity: VI_CONTACT_NGUARDS guards per contact;
+ * the guards of a contact the model does not use are 1 (never fire). */
+#define VI_NCONTACTS 2
 #define VI_LOWER 0
+#define VI_UPPER 1
 
 typedef struct {
     vi_body body;
@@ -161,7 +176,9 @@ typedef struct {
     /* inputs */
     vi_ramp yC_in, F_ext;
 
-    /* the contacts (VI_NCONTACTS): the body against the platform's surfaces */
+    /* the contacts: the body against the platform's surfaces, the first ncontacts in use (1, or 2
+     * with upper_stop); the others all zero */
+    int ncontacts;
     vi_model_contact contact[VI_NCONTACTS];
 } vi_model;
 
@@ -265,6 +282,11 @@ vi_model_power vi_model_damping_power(const vi_model *model, double t, const dou
 /* The power the bodies put into the contact at (t, x) [W]: F delta', the rate of E_contact + W_plastic +
  * W_damping. */
 double vi_model_contact_power(const vi_model *model, double t, const double x[2]);
+/* Is any contact not free? */
+int vi_model_touching(const vi_model *model);
+/* Does a contact of hertz_damped, exact (vi_model_damping_root_at_onset) sit exactly at its onset
+ * (indentation 0) at x? */
+int vi_model_damping_onset(const vi_model *model, const double x[2]);
 /* Does the law damp (hertz_damped, linear: W_damping grows)? */
 int vi_model_damps(const vi_model *model);
 /* Does its damping's power grow as (t - t_onset)^(1/4) from a contact's onset (Tsuji's delta^(1/4)

@@ -253,7 +253,11 @@ void vi_run_compute_outputs(vi_run *r, unsigned need)
         return;
     }
     vi_model_outputs(model, d->t, d->x, need, &r->out.model);
-    if (need & VI_OUT_MEMORY) r->out.W_damping = d->W_damping, r->out.W_dissipated = r->out.model.W_plastic + d->W_damping;
+    if (need & VI_OUT_MEMORY) { /* both contacts' plastic work */
+        double W_plastic = r->out.model.W_plastic;
+        if (model->ncontacts > 1) W_plastic += r->out.model.W_plastic_upper;
+        r->out.W_damping = d->W_damping, r->out.W_dissipated = W_plastic + d->W_damping;
+    }
     if (need & VI_OUT_FORCE) r->out.F_peak = fmax(d->F_peak, r->out.model.F);
     if (need & VI_OUT_MEAN) r->out.F_mean = mean_force(r);
     if (need & VI_OUT_STIFFNESS) r->out.k_contact = vi_run_contact_stiffness(model, d->t, d->x);

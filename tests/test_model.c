@@ -1148,6 +1148,7 @@ Test(model_check, consistency_bound_is_inclusive)
     M.contact[0].johnson.R_star = 1.0, M.contact[0].johnson.E_star = 0.75 * 999999999.0, M.contact[0].johnson.theta_Y = 1.0;
     M.contact[0].johnson.delta_Y = 1.0, M.contact[0].johnson.F_Y = 999999999.0, M.contact[0].K = 999999999.0;
     M.contact[0].k_lin = 1e9;
+    M.ncontacts = 1, M.contact[VI_UPPER].upper = 1; /* the lower contact alone */
     double x[2] = {0.0, 0.0};
     cr_assert(fabs(M.contact[0].k_lin - M.contact[0].johnson.F_Y / M.contact[0].johnson.delta_Y) == 1e-9 * fmax(M.contact[0].k_lin, M.contact[0].johnson.F_Y / M.contact[0].johnson.delta_Y));
     accepted_as(&M, x, "k_lin exactly 1e-9 off");
