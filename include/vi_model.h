@@ -242,6 +242,11 @@ int vi_model_uses_rate(const vi_model *model);
 /* Contact force [N] in the current mode. */
 double vi_model_force(const vi_model *model, double t, const double x[2]);
 void vi_model_rhs(const vi_model *model, double t, const double x[2], double dx[2]);
+/* Contact i's stiffness dF_i/d(delta_i) [N/m] and damping dF_i/d(delta_i') [N s/m] in its own
+ * indentation and rate at (t, x) in its mode (0 free, in stick, and for a contact not in use). */
+void vi_model_contact_slopes(const vi_model *model, int i, double t, const double x[2], double *k, double *c);
+/* Is a contact in stick (the mass moves with the platform: delta' = 0, v' = yC'')? */
+int vi_model_sticks(const vi_model *model);
 /* d(v')/d(delta): the only nonzero state derivative of the right-hand side besides d(delta')/dv = -1. */
 double vi_model_stiffness_over_mass(const vi_model *model, double t, const double x[2]);
 /* d(stiffness)/d(delta) [N/m^2]: the second derivative of the force in the current mode (0 where it

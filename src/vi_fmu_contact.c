@@ -171,6 +171,8 @@ static int jacobian_row(unsigned vr)
     case VI_VR_W_dissipated: return VI_ME_W_DISSIPATED;
     case VI_VR_E_contact: return VI_ME_E_CONTACT;
     case VI_VR_F_peak: return VI_ME_F_PEAK;
+    case VI_VR_F_upper: return VI_ME_F_UPPER;
+    case VI_VR_delta_upper: return VI_ME_DELTA_UPPER;
     default: return -1;
     }
 }

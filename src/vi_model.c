@@ -738,6 +738,16 @@ static double contact_stiffness(const vi_model *model, const vi_model_contact *c
     }
 }
 
+void vi_model_contact_slopes(const vi_model *model, int i, double t, const double x[2], double *k, double *c)
+{
+    *k = *c = 0.0;
+    if (i < 0 || i >= model->ncontacts) return;
+    *k = contact_stiffness(model, &model->contact[i], t, x);
+    *c = rate_force(model, &model->contact[i], t, x).dF_drate;
+}
+
+int vi_model_sticks(const vi_model *model) { return any_stick(model); }
+
 double vi_model_stiffness_over_mass(const vi_model *model, double t, const double x[2])
 {
     double k = contact_stiffness(model, &model->contact[0], t, x);
