@@ -304,3 +304,23 @@ def test_model_exchange_partials_of_the_upper_contact(fmu_path, law):
         assert np.all(np.abs(J - fd) <= 1e-6 * scale), (known, dict(zip(names, J)), dict(zip(names, fd)))
         assert J[2] == 0.0 and f0[2] == 0.0
     assert f.getDirectionalDerivative([imp.vr["delta_upper"]], [imp.vr["y"]], [1.0])[0] == 1.0
+
+
+def test_the_upper_contact_is_checked_against_the_range_of_validity(fmu_path):
+    """Hertz's law beyond F_Y on the upper surface (the mass falls up 5 mm under g = -9.81: about 380 N
+    against F_Y = 38 N) is warned about as on the lower one (Co-Simulation: at the communication points,
+    every 10 us here); the same fall without the upper stop touches nothing and warns of nothing."""
+    md = read_model_description(fmu_path)
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    for upper, warned in ((True, True), (False, False)):
+        log = _fmu.MessageLog()
+        s = FMU2Slave(guid=md.guid, unzipDirectory=extract(fmu_path), modelIdentifier=md.coSimulation.modelIdentifier,
+                      instanceName="validity")
+        s.instantiate(callbacks=log.callbacks, loggingOn=True)
+        _fmu.initialize(s, vr, dict(mirror_params(M.HERTZ), g=-9.81, init=2, upper_stop=upper,
+                                    gap=mirror_params(M.HERTZ)["gap"] if upper else 0.0))
+        for k in range(3300):
+            s.doStep(k * 1e-5, 1e-5)
+        assert any("the contact force reached" in m and "F_Y" in m for m in log.texts()) == warned, log.texts()
+        s.terminate()
+        s.freeInstance()

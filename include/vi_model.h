@@ -239,8 +239,10 @@ void vi_model_initial_state(vi_model *model, int init, double v0, double t0, dou
  * turning point of a plastic motion, stick; a force that depends on delta')? Hertz and Johnson with a
  * moving contact point do not. */
 int vi_model_uses_rate(const vi_model *model);
-/* Contact force [N] in the current mode. */
+/* Contact force [N] in the current mode (the lower contact's). */
 double vi_model_force(const vi_model *model, double t, const double x[2]);
+/* The upper contact's force on the mass [N], down positive; 0 without an upper contact. */
+double vi_model_force_upper(const vi_model *model, double t, const double x[2]);
 void vi_model_rhs(const vi_model *model, double t, const double x[2], double dx[2]);
 /* Contact i's stiffness dF_i/d(delta_i) [N/m] and damping dF_i/d(delta_i') [N s/m] in its own
  * indentation and rate at (t, x) in its mode (0 free, in stick, and for a contact not in use). */

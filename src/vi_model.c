@@ -704,6 +704,11 @@ double vi_model_force(const vi_model *model, double t, const double x[2])
     return contact_force(model, vi_model_lower(model), t, x);
 }
 
+double vi_model_force_upper(const vi_model *model, double t, const double x[2])
+{
+    return model->ncontacts > 1 ? contact_force(model, &model->contact[VI_UPPER], t, x) : 0.0;
+}
+
 /* The contacts' force on the body [N], upwards: the lower contact's, less those of the others. */
 static double body_force(const vi_model *model, double t, const double x[2])
 {
@@ -1173,23 +1178,31 @@ void vi_model_scales(const vi_model *model, const double x0[2], double *L, doubl
 
 /* ---- validity ------------------------------------------------------------------------------ */
 
-/* The indentation the range of validity looks at: delta in contact, or the largest one delta_c. */
-static double validity_indentation(const vi_model_contact *c, const double x[2])
+/* The indentation the range of validity looks at: contact c's own in contact, or its largest one
+ * delta_c. */
+static double contact_validity_indentation(const vi_model_contact *c, const double x[2])
 {
-    double d = c->mode == VI_MODE_FREE ? 0.0 : x[0], dc = c->yielded ? c->unload.delta_c : 0.0;
+    double d = c->mode == VI_MODE_FREE ? 0.0 : contact_indentation(c, x), dc = c->yielded ? c->unload.delta_c : 0.0;
     return dc > d || d != d ? dc : d; /* fmax */
+}
+/* The larger of the contacts' (the same material on both sides). */
+static double validity_indentation(const vi_model *model, const double x[2])
+{
+    double d = contact_validity_indentation(vi_model_lower(model), x);
+    if (model->ncontacts > 1) d = fmax(d, contact_validity_indentation(&model->contact[VI_UPPER], x));
+    return d;
 }
 
 int vi_model_indentation_invalid(const vi_model *model, const double x[2])
 {
     const vi_model_contact *c = vi_model_lower(model);
-    return validity_indentation(c, x) > VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * c->johnson.R_star;
+    return validity_indentation(model, x) > VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * c->johnson.R_star;
 }
 
 int vi_model_validity(const vi_model *model, double R1, double t, const double x[2], int skip, char *msg, size_t n)
 {
     const vi_model_contact *c = vi_model_lower(model);
-    double R = c->johnson.R_star, limit = VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * R, d = validity_indentation(c, x);
+    double R = c->johnson.R_star, limit = VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * R, d = validity_indentation(model, x);
     if (!(skip & VI_INVALID_INDENTATION) && d > limit) {
         vi_snprintf(msg, n, "t = %.17g s: the indentation %g m exceeds %g R* = %g m (contact radius sqrt(R* delta) = %g m "
                     "> %g R*): the contact laws (paper eqs. 2-4) assume a contact radius small against R*, so the "

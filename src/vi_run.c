@@ -104,6 +104,7 @@ void vi_run_check_validity(vi_run *r)
     }
     if (r->warned_validity & VI_INVALID_FORCE) return; /* warned once: the force need not be evaluated again */
     double F_max = fmax(r->d->F_peak, vi_model_force(model, r->d->t, r->d->x)); /* the step's so far, and now */
+    if (model->ncontacts > 1) F_max = fmax(F_max, vi_model_force_upper(model, r->d->t, r->d->x)); /* the upper one's now */
     if (vi_model_force_validity(model, F_max, r->d->t, text, sizeof text)) {
         r->warned_validity |= VI_INVALID_FORCE;
         r->log(r->log_env, VI_LOG_WARNING, "%s", text);

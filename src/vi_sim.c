@@ -551,7 +551,8 @@ int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change)
      * apply_inputs, which checks; the profile is fixed), unless a state was restored since */
     if (s->r->validity_unchecked ||
         (!(s->r->warned_validity & VI_INVALID_INDENTATION) && vi_model_indentation_invalid(model_of(s), d->x)) ||
-        (!(s->r->warned_validity & VI_INVALID_FORCE) && d->F_peak > vi_model_force_limit(model_of(s))))
+        (!(s->r->warned_validity & VI_INVALID_FORCE) &&
+         fmax(d->F_peak, vi_model_force_upper(model_of(s), d->t, d->x)) > vi_model_force_limit(model_of(s))))
         vi_run_check_validity(s->r);
     if (pass == PASS_STOPPED) return VI_SIM_EVENT;
     if (t_end > run.limit) return discard(s, "%s", why); /* the end of the profile: nothing beyond it */
