@@ -3,9 +3,10 @@
  *
  * The model is a body (vi_body: the mass, its load, its state y, v) on a platform, and a list of
  * contacts (vi_model_contact: each with its law, the law's parameters, its memory, its mode and its
- * guards), today one: the lower contact, the body on the platform. The force on the body is the
- * lower contact's less that of each further contact; the outputs (F, mode, the memory) are the
- * lower contact's. The laws themselves are pure functions (vi_contact.h, vi_laws.h).
+ * guards): the lower contact, the body on the platform, and with upper_stop the upper contact, the
+ * body under a second surface at yC + gap that moves with the platform. The force on the body is the
+ * lower contact's less the upper one's; the outputs (F, mode, the memory) are the lower contact's,
+ * the upper one's F_upper, delta_upper, mode_upper, n_impacts_upper, and E_contact both. The laws themselves are pure functions (vi_contact.h, vi_laws.h).
  *
  * Continuous state x = (delta, v): indentation delta = yC - y [m] and mass velocity v [m/s]
  * (the indentation, not y, is integrated: it stays exact when yC carries a large offset).
@@ -276,7 +277,9 @@ void vi_model_memory_rates(const vi_model *model, const double x[2], vi_memory_r
  * F_spring = K delta^1.5 or k_spring delta, 0.4 K delta^2.5 or 0.5 k_spring delta^2, while the bodies
  * overlap (delta > 0), in either mode: after a release (the force reached 0 at delta > 0) the spring
  * still holds its energy, and gives it to the damping while delta falls to 0, or keeps it when the
- * contact resumes. per_delta (when not NULL): d(E_contact)/d(delta) [N] in the current mode. */
+ * contact resumes. With an upper contact E_contact is the sum of both contacts' (the upper one's in
+ * its own indentation -gap - delta). per_delta (when not NULL): d(E_contact)/d(delta) [N] in the
+ * current modes. */
 double vi_model_contact_energy(const vi_model *model, const double x[2], double *per_delta);
 /* The damping's power of a damped law at (t, x) [W], the rate of W_damping: the power of the force
  * beyond its spring part, P = (F - F_spring(delta)) delta' (elastic: F_damping delta' >= 0; free at
@@ -285,9 +288,10 @@ double vi_model_contact_energy(const vi_model *model, const double x[2], double 
 typedef struct {
     double P, dP_ddelta, dP_drate;
 } vi_model_power;
+/* With an upper contact: the sum of both contacts' powers, the partials in the lower contact's delta and delta'. */
 vi_model_power vi_model_damping_power(const vi_model *model, double t, const double x[2]);
 /* The power the bodies put into the contact at (t, x) [W]: F delta', the rate of E_contact + W_plastic +
- * W_damping. */
+ * W_damping (with an upper contact the sum of both contacts', each its force times its own rate). */
 double vi_model_contact_power(const vi_model *model, double t, const double x[2]);
 /* Is any contact not free? */
 int vi_model_touching(const vi_model *model);
