@@ -343,3 +343,28 @@ def test_stick_on_the_upper_surface():
             assert ref_stick.sum() > (100 if kind == "cs" else 10) and abs(int(stick.sum()) - int(ref_stick.sum())) <= 2, (kind, stick.sum(), ref_stick.sum())
             assert r["n_impacts"][-1] >= 1 and r["n_impacts"][-1] == len(ref.impacts[T.LOWER]), kind
             assert_along(r, ref, (path, kind))
+
+
+@pytest.mark.timeout(300)
+def test_model_exchange_rollback_with_the_upper_stop_is_exact(fmu_path):
+    """Model Exchange: a state taken between impacts on both walls (the cavity started at the lower wall
+    at the closed form's speed) and set back gives the same states, modes and counts along the same
+    steps of the importer, bit for bit."""
+    c = CAVITY
+    params = dict(SPHERE, e_restitution=c["e"], a=c["a"], f=c["f"], gap=c["gap"], init=2, upper_stop=True)
+    (phi, u, y0, v0), _ = periodic_orbits(c["e"], c["a"], c["f"], c["gap"])
+    imp = Importer(fmu_path, dict(params, v0=u), rtol=1e-9, max_step=1e-4)
+    imp.run(0.013)
+    state, t0, x0 = imp.model.getFMUstate(), imp.t, imp.x.copy()
+    counts = (imp.integer("n_impacts"), imp.integer("n_impacts_upper"))
+
+    def record_run():
+        out = []
+        imp.run(0.05, lambda i, t: out.append((t, *i._states(), i.integer("mode"), i.integer("mode_upper"),
+                                               i.integer("n_impacts"), i.integer("n_impacts_upper"))))
+        return out
+    first = record_run()
+    assert first[-1][-2] > counts[0] and first[-1][-1] > counts[1], (first[-1], counts)  # both walls hit
+    imp.model.setFMUstate(state)
+    imp.t, imp.x = t0, x0
+    assert record_run() == first
