@@ -59,7 +59,13 @@
  *   RMS norms of the two estimators scaled by sc; err = err5^2 / sqrt(err5^2 + 0.01 err3^2) (HNW
  *   II.10); the step is accepted when err <= 1; the next h is h min(5, max(0.2, 0.9 err^(-1/8))),
  *   not larger than h after a rejection (a step shortened to reach t_stop keeps the earlier
- *   proposal when that was larger). p->h_fixed > 0 turns the control off: every step has size
+ *   proposal when that was larger). A rejected attempt is retried with h max(0.04, 0.9 err^(-1/8))
+ *   (0.2 h when it was not finite), except in the first step after vi_ode_init/vi_ode_restart once
+ *   two attempts have been rejected in a row with the error falling slower than h^8: where the
+ *   solution is not smooth at the start (a contact beginning there: a force growing like a power
+ *   3/2 of the indentation leaves an error like h^(5/2)), the two errors show the order
+ *   q = ln(err1/err2) / ln(h1/h2) < 8, and the next attempt takes h (0.25/err)^(1/q) (q at least 1;
+ *   between 0.04 h and 0.9 h). p->h_fixed > 0 turns the control off: every step has size
  *   h_fixed (or ends at t_stop) and is accepted (for convergence tests and diagnostics).
  *   The first step size: h0 > 0 given to vi_ode_init/vi_ode_restart, else Hairer's estimate (HNW
  *   II.4, one extra rhs evaluation); both limited by max_step.

@@ -19,7 +19,8 @@
  *   segment tangent i:         yb = h_i + s (x - x_i) + R (sqrt(1 + s^2) - 1),  s the segment's slope,
  *                              where the tangent point x + R s/sqrt(1 + s^2) lies on the segment.
  *
- * Evaluation (vi_profile_eval) only searches the interval (binary search, no allocation) and returns
+ * Evaluation (vi_profile_eval) only searches the interval (a binary search among the few that start in
+ * x's part of the range, cut into parts of about eight intervals each; no allocation) and returns
  * yb and its first three derivatives in x. yb is continuous; its slope jumps (a kink) where the body
  * touches two points at once (it bridges a trough); vi_profile_next_kink finds them. A circle-line
  * switch is tangent (only the curvature jumps) and is no kink.

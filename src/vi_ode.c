@@ -138,6 +138,7 @@ const vi_ode_tableau *vi_ode_method(void) { return &TABLEAU; }
 #define FAC_MIN 0.2
 #define FAC_MAX 5.0
 #define STRETCH 1.01 /* a step ending within 1 % of h before t_stop is stretched to t_stop */
+#define LOW_ORDER_TARGET 0.25 /* the error a step size from an order below 8 aims at */
 
 typedef vi_ode_span span;
 
@@ -638,6 +639,23 @@ typedef struct {
     int rejections;     /* attempts rejected before it */
 } step_result;
 
+/* The step size after a rejected attempt of size h with error err (bad: err or the step not finite:
+ * FAC_MIN h). After a rejected attempt of size h_prev > h with error err_prev > err whose ratio shows
+ * an order q = ln(err_prev/err) / ln(h_prev/h) below the method's 8 (where the solution is not smooth:
+ * a contact beginning at the step's start, with a force growing like a power 3/2 of the indentation,
+ * leaves an error like h^2.5), the step that order asks for: h (0.25/err)^(1/q), q at least 1; else
+ * h 0.9 err^(-1/8) (HNW II.4). Either between FAC_MIN^2 h and 0.9 h. */
+static double shrunk_step(double h, double err, int bad, double h_prev, double err_prev)
+{
+    if (bad) return FAC_MIN * h;
+    double fac = SAFETY * inv_root8(err);
+    if (h_prev > h && err_prev > err) {
+        double q = log(err_prev / err) / log(h_prev / h);
+        if (q < VI_ODE_ORDER) fac = pow(LOW_ORDER_TARGET / err, 1.0 / fmax(q, 1.0));
+    }
+    return h * (fac < FAC_MIN * FAC_MIN ? FAC_MIN * FAC_MIN : fac > SAFETY ? SAFETY : fac);
+}
+
 /* Attempt steps from s->t, shrinking after each rejection, until one is accepted into sp (sp->t1,
  * sp->x1, its last stage the derivative at t1): VI_ODE_OK with *r filled, or an error status. */
 static int accepted_step(vi_ode *s, const vi_ode_problem *p, span *sp, double t_stop, step_result *r)
@@ -651,6 +669,8 @@ static int accepted_step(vi_ode *s, const vi_ode_problem *p, span *sp, double t_
     int at_rest = h_stable < h_lim && stages_zero(sp, 1, n);
     if (!at_rest && h_stable < h_lim) h_lim = h_stable;
     double h = fixed ? p->h_fixed : s->h;
+    /* the last rejected attempt of the first step after a start (h_prev 0: none, or not finite) */
+    double h_prev = 0.0, err_prev = 0.0;
     for (r->rejections = 0;;) {
         if (h > h_lim) h = h_lim;
         /* a step under 16 ulps of t does not resolve time (t + h may round to t): the shortest is h_min */
@@ -682,8 +702,9 @@ static int accepted_step(vi_ode *s, const vi_ode_problem *p, span *sp, double t_
         }
         s->st.rejected++;
         if (fixed) return VI_ODE_ERR_NONFINITE;
-        double fac = bad ? FAC_MIN : SAFETY * inv_root8(r->err);
-        h *= fac < FAC_MIN ? FAC_MIN : fac;
+        double h_next = shrunk_step(h, r->err, bad, h_prev, err_prev);
+        h_prev = bad || s->have_step ? 0.0 : h, err_prev = r->err;
+        h = h_next;
         if (++r->rejections >= VI_ODE_MAX_REJECTS) return bad ? VI_ODE_ERR_NONFINITE : VI_ODE_ERR_REJECTS;
         if (h < h_min) return bad ? VI_ODE_ERR_NONFINITE : VI_ODE_ERR_HMIN;
     }

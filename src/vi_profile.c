@@ -29,42 +29,68 @@ typedef struct {
 } piece;
 
 /* The part of a spline segment the body may touch (1 - R curvature > 0 there): h = c0 + c1 u +
- * c2 u^2 + c3 u^3 on u = s - (the segment's first row) in [u0, u1]; X0, X1 = X(u) - (the first row)
- * at u0 and u1 (the centre's positions, for the first guess of Newton's method); starts, ends: u0 is
- * the segment's first row, u1 its last. */
+ * c2 u^2 + c3 u^3 on u = s - (the segment's first row) in [u0, u1]; starts, ends: u0 is the segment's
+ * first row, u1 its last. */
 typedef struct {
-    double c[4], u0, u1, X0, X1;
+    double c[4], u0, u1;
     int starts, ends;
 } arc;
+
+/* An interval [x0, x1) of the envelope and its piece. */
+typedef struct {
+    double x0, x1; /* [x0, x1) */
+    piece q;
+    size_t g; /* place in the order of the profile: 2 i the circle of vertex i, 2 i + 1 the tangent of segment i */
+} span;
 
 struct vi_profile {
     double R, lo, hi, period; /* period = hi - lo when periodic, else 0 */
     int periodic;
-    piece *pieces;  /* m pieces, one per interval */
+    span *spans;    /* m intervals, spans[0].x0 = lo, spans[m - 1].x1 = hi, each ending where the next starts */
     arc *arcs;      /* the spline's parts (cubic interpolation), n_arcs of them, else NULL */
     size_t n_arcs;
     size_t m;       /* intervals */
-    double *xb;     /* m + 1 boundaries, xb[0] = lo, xb[m] = hi */
+    size_t *bucket; /* n_buckets + 1 entries, or NULL: where the search for x starts (index_intervals) */
+    size_t n_buckets;
+    double bucket_scale; /* buckets per metre */
     double *kinks;  /* sorted kink positions in [lo, hi) */
     size_t n_kinks;
     double max_slope;
     double h_span; /* max h - min h of the table [m] */
 };
 
+/* fmax and fmin as the C library's are on x86-64 (of two equal numbers, such as 0 and -0, the second; a
+ * NaN loses to a number), inlined: the loops over the rows call them per row. */
+static double larger(double a, double b) { return a > b || b != b ? a : b; }
+static double smaller(double a, double b) { return a < b || b != b ? a : b; }
+
 /* ---- pieces -------------------------------------------------------------------------------- */
+
+/* The centre's shift along x from the contact point of slope s: -R s/sqrt(1 + s^2) (s^2 would overflow
+ * beyond 1e154: there the root is |s| to the last bit). */
+static double centre_shift(double R, double s) { return -R * (s / (fabs(s) < 1e100 ? sqrt(1.0 + s * s) : fabs(s))); }
+
+/* X(u) - (the first row) on arc a: the position of the centre of the body touching it at u. */
+static double arc_centre(const arc *a, double R, double u)
+{
+    const double *c = a->c;
+    return u + centre_shift(R, c[1] + u * (2.0 * c[2] + 3.0 * c[3] * u));
+}
 
 /* The position u in [a->u0, a->u1] where the body centred above x touches arc a (first row at px):
  * the root of X(u) - target = u - R h'/sqrt(1 + h'^2) - target, target = x - px, increasing in u on
  * the arc; an end when target is within slack (the rounding of x - px) of that end's X; else Newton's
- * method from the linear guess, kept inside the bracket by bisection (at most 80 passes, ending when
+ * method from the linear guess between the ends' X, kept inside the bracket by bisection (at most 80 passes, ending when
  * a pass moves u by less than 4 eps of the segment). */
 static double arc_root(const arc *a, double R, double target, double slack)
 {
     const double *c = a->c;
     double lo = a->u0, hi = a->u1;
-    if (!(target > a->X0 + slack)) return lo;
-    if (!(target < a->X1 - slack)) return hi;
-    double u = lo + (hi - lo) * ((target - a->X0) / (a->X1 - a->X0)), tiny = 4.0 * DBL_EPSILON * (fabs(lo) + fabs(hi));
+    double X0 = arc_centre(a, R, lo);
+    if (!(target > X0 + slack)) return lo;
+    double X1 = arc_centre(a, R, hi);
+    if (!(target < X1 - slack)) return hi;
+    double u = lo + (hi - lo) * ((target - X0) / (X1 - X0)), tiny = 4.0 * DBL_EPSILON * (fabs(lo) + fabs(hi));
     for (int it = 0; it < 80; it++) {
         double h1 = c[1] + u * (2.0 * c[2] + 3.0 * c[3] * u), h2 = 2.0 * c[2] + 6.0 * c[3] * u;
         double w = 1.0 + h1 * h1, rw = sqrt(w);
@@ -130,12 +156,6 @@ static double piece_eval(const piece *q, const arc *arcs, double R, double x, do
  * next tangent) are set aside and put back. A vertex circle and the tangent of a segment at that
  * vertex meet where the tangent's domain starts or ends (the tangent is the higher inside its
  * domain); such neighbours are not compared numerically, so the switch between them is exact. */
-
-typedef struct {
-    double x0, x1; /* [x0, x1) */
-    piece q;
-    size_t g; /* place in the order of the profile: 2 i the circle of vertex i, 2 i + 1 the tangent of segment i */
-} span;
 
 typedef struct {
     span *s;
@@ -236,11 +256,11 @@ static int insert(const context *c, stack *st, stack *tail, const piece *q, size
         t->x1 = b;
     }
     /* q holds [start, b); where nothing lies yet it wins */
-    double start = !st->n ? a : fmax(a, fmin(b, st->s[st->n - 1].x1));
+    double start = !st->n ? a : larger(a, smaller(b, st->s[st->n - 1].x1));
     while (st->n) { /* bounded by the stack: every pass pops an interval or ends */
         span *t = &st->s[st->n - 1];
         if (t->x1 != start || !(start > a)) break;
-        double w = fmax(t->x0, a), from; /* q wins on [from, start) */
+        double w = larger(t->x0, a), from; /* q wins on [from, start) */
         if (t->g + 1 == g) /* neighbours: a tangent wins inside its domain */
             from = (g & 1u) ? w : start;
         else if (gap(c, &t->q, q, w) < 0.0)
@@ -274,7 +294,7 @@ static int insert(const context *c, stack *st, stack *tail, const piece *q, size
 void vi_profile_free(vi_profile *p)
 {
     if (!p) return;
-    free(p->pieces), free(p->xb), free(p->kinks), free(p->arcs);
+    free(p->spans), free(p->kinks), free(p->arcs), free(p->bucket);
     free(p);
 }
 
@@ -313,13 +333,13 @@ static int build(const context *c, const double *x, const double *h, size_t n, i
         for (size_t j = 0; j < n_vertices && rc == 0; j++, g += 2) {
             double v = vertex_x(x, n, periodic, period, j, k);
             piece circle = {CIRCLE, 0, v, h[j], 0.0};
-            rc = insert(c, st, &tail, &circle, g, fmax(v - R, lo), fmin(v + R, hi));
+            rc = insert(c, st, &tail, &circle, g, larger(v - R, lo), smaller(v + R, hi));
             if (rc < 0 || j + 1 >= n) break;
             double slope = (h[j + 1] - h[j]) / (x[j + 1] - x[j]), hyp = hypot(1.0, slope), shift = R * (slope / hyp);
             double next = vertex_x(x, n, periodic, period, j + 1, k);
             /* the tangent's height at its vertex: h_j + R (1/hyp - 1) */
             piece tangent = {LINE, 0, v - shift, h[j] - R * (slope * slope / (hyp * (hyp + 1.0))), slope};
-            rc = insert(c, st, &tail, &tangent, g + 1, fmax(tangent.px, lo), fmin(next - shift, hi));
+            rc = insert(c, st, &tail, &tangent, g + 1, larger(tangent.px, lo), smaller(next - shift, hi));
         }
     }
     free(tail.s);
@@ -378,9 +398,14 @@ static void eliminate(const double *x, const double *h, size_t m, int periodic, 
     }
 }
 
-static void back_substitute(size_t m, const double *cp, double *k)
+/* Back substitution into k and (z not NULL) z, which hold the reduced right-hand sides on entry; the two
+ * in one pass, their chains of operations side by side. */
+static void back_substitute(size_t m, const double *cp, double *k, double *z)
 {
-    for (size_t i = m - 1; i-- > 0;) k[i] -= cp[i] * k[i + 1]; /* bounded by the rows; k holds rp on entry */
+    if (!z)
+        for (size_t i = m - 1; i-- > 0;) k[i] -= cp[i] * k[i + 1]; /* bounded by the rows */
+    else
+        for (size_t i = m - 1; i-- > 0;) k[i] -= cp[i] * k[i + 1], z[i] -= cp[i] * z[i + 1]; /* bounded by the rows */
 }
 
 /* The slopes k[0..n-1] of the spline through the n >= 2 rows (periodic: k[n-1] = k[0]; open: two
@@ -410,23 +435,18 @@ static void spline_slopes(const double *x, const double *h, size_t n, int period
         for (size_t i = 0; i < m; i++) z[i] = 0.0; /* bounded by the rows */
         z[0] = gamma, z[m - 1] = alpha;
         eliminate(x, h, m, 1, e[1] - gamma, alpha * beta / gamma, cp, k, z);
-        back_substitute(m, cp, k);
-        back_substitute(m, cp, z);
+        back_substitute(m, cp, k, z);
         double fact = (k[0] + beta * k[m - 1] / gamma) / (1.0 + z[0] + beta * z[m - 1] / gamma);
         for (size_t i = 0; i < m; i++) k[i] -= fact * z[i]; /* bounded by the rows */
     } else {
         spline_row(x, h, m, 0, 0, e);
         eliminate(x, h, m, 0, e[1], 0.0, cp, k, NULL);
-        back_substitute(m, cp, k);
+        back_substitute(m, cp, k, NULL);
     }
     if (periodic) k[n - 1] = k[0];
 }
 
 /* ---- the spline's offsets: arcs -------------------------------------------------------------- */
-
-/* The centre's shift along x from the contact point of slope s: -R s/sqrt(1 + s^2) (s^2 would overflow
- * beyond 1e154: there the root is |s| to the last bit). */
-static double centre_shift(double R, double s) { return -R * (s / (fabs(s) < 1e100 ? sqrt(1.0 + s * s) : fabs(s))); }
 
 /* 1 - R times the curvature of cubic c at u: X'(u), positive where the body may touch. */
 static double touch(const double c[4], double R, double u)
@@ -443,7 +463,7 @@ typedef struct {
 
 /* Append the part [u0, u1] of segment cubic c on [0, dx] as an arc (its largest |h'| into max_slope).
  * 0, or -1 when out of memory or past UINT32_MAX arcs. */
-static int add_arc(arcs *list, double R, const double c[4], double dx, double u0, double u1)
+static int add_arc(arcs *list, const double c[4], double dx, double u0, double u1)
 {
     if (!(u1 > u0)) return 0;
     if (list->n == list->cap) {
@@ -455,9 +475,8 @@ static int add_arc(arcs *list, double R, const double c[4], double dx, double u0
     double s0 = c[1] + u0 * (2.0 * c[2] + 3.0 * c[3] * u0), s1 = c[1] + u1 * (2.0 * c[2] + 3.0 * c[3] * u1);
     double um = c[3] != 0.0 ? -c[2] / (3.0 * c[3]) : u0; /* where h' is stationary */
     double sm = um > u0 && um < u1 ? c[1] + um * (2.0 * c[2] + 3.0 * c[3] * um) : s0;
-    list->max_slope = fmax(list->max_slope, fmax(fabs(sm), fmax(fabs(s0), fabs(s1))));
-    list->a[list->n++] = (arc){{c[0], c[1], c[2], c[3]}, u0, u1, u0 + centre_shift(R, s0), u1 + centre_shift(R, s1),
-                               u0 == 0.0, u1 == dx};
+    list->max_slope = larger(list->max_slope, larger(fabs(sm), larger(fabs(s0), fabs(s1))));
+    list->a[list->n++] = (arc){{c[0], c[1], c[2], c[3]}, u0, u1, u0 == 0.0, u1 == dx};
     return 0;
 }
 
@@ -481,7 +500,7 @@ static double touch_root(const double c[4], double R, double lo, double hi)
 #define TOUCH_SAMPLES 32
 static int segment_arcs(arcs *list, double R, const double c[4], double dx)
 {
-    if (R * fmax(2.0 * c[2], 2.0 * c[2] + 6.0 * c[3] * dx) < 1.0) return add_arc(list, R, c, dx, 0.0, dx);
+    if (R * larger(2.0 * c[2], 2.0 * c[2] + 6.0 * c[3] * dx) < 1.0) return add_arc(list, c, dx, 0.0, dx);
     double start = touch(c, R, 0.0) > 0.0 ? 0.0 : NAN, u_prev = 0.0; /* start: of the part being kept, NAN: none */
     for (int i = 1; i <= TOUCH_SAMPLES; i++) { /* bounded: TOUCH_SAMPLES samples */
         double u = i == TOUCH_SAMPLES ? dx : dx * i / TOUCH_SAMPLES;
@@ -489,16 +508,18 @@ static int segment_arcs(arcs *list, double R, const double c[4], double dx)
         if (inside == (start == start)) { u_prev = u; continue; }
         double root = touch_root(c, R, u_prev, u);
         if (start == start) {
-            if (add_arc(list, R, c, dx, start, root) < 0) return -1;
+            if (add_arc(list, c, dx, start, root) < 0) return -1;
             start = NAN;
         } else start = root;
         u_prev = u;
     }
-    return start == start ? add_arc(list, R, c, dx, start, dx) : 0;
+    return start == start ? add_arc(list, c, dx, start, dx) : 0;
 }
 
 /* The arcs of the spline through the table, segment by segment (first[j]: the first arc of segment j,
- * first[n - 1] = their number), and the largest |h'| of any. scratch: 3 n doubles. 0, or -1. */
+ * first[n - 1] = their number, written after the slopes are solved for), and the largest |h'| of any.
+ * scratch: 3 n doubles, the slopes k in the first n, then the centre_shift of each row's slope in the
+ * next n. 0, or -1. */
 static int make_arcs(const double *x, const double *h, size_t n, int periodic, double R, size_t *first, arcs *list,
                      double *scratch)
 {
@@ -507,14 +528,31 @@ static int make_arcs(const double *x, const double *h, size_t n, int periodic, d
     if (!list->a) return -1;
     list->cap = n - 1;
     spline_slopes(x, h, n, periodic, k, scratch + n);
+    double *shift = scratch + n;
     for (size_t j = 0; j + 1 < n; j++) { /* bounded by the rows */
+        shift[j] = centre_shift(R, k[j]);
         double dx = x[j + 1] - x[j], d = (h[j + 1] - h[j]) / dx;
         double c[4] = {h[j], k[j], (3.0 * d - 2.0 * k[j] - k[j + 1]) / dx, (k[j] + k[j + 1] - 2.0 * d) / (dx * dx)};
         first[j] = list->n;
         if (segment_arcs(list, R, c, dx) < 0) return -1;
     }
-    first[n - 1] = list->n;
+    first[n - 1] = list->n, shift[n - 1] = centre_shift(R, k[n - 1]);
     return 0;
+}
+
+/* The first segment j of copy k of the table whose end vertex_x(j + 1) + reach is not below lo (as
+ * build_cubic computes it: the segments before it pass over, their centres missing [lo, hi]), or the
+ * last segment: found by bisection, as vertex_x(j + 1) + reach does not decrease with j (x increases, and
+ * rounding keeps the order) up to the last segment, whose end may be the next copy's first vertex. */
+static size_t first_in_reach(const double *x, size_t n, int periodic, double period, long k, double reach, double lo)
+{
+    size_t a = 0, b = n - 2; /* the answer in [a, b] */
+    while (a < b) { /* log2(n) halvings */
+        size_t mid = a + (b - a) / 2;
+        if (vertex_x(x, n, periodic, period, mid + 1, k) + reach < lo) a = mid + 1;
+        else b = mid;
+    }
+    return a;
 }
 
 /* The envelope on [lo, hi] of the arcs (c->arcs, first[j]: the first arc of segment j) and, for an open
@@ -539,34 +577,45 @@ static int build_cubic(const context *c, const double *x, const double *h, const
     int rc = 0;
     if (!periodic) {
         piece circle = {CIRCLE, 0, x[0], h[0], 0.0};
-        rc = insert(c, st, &tail, &circle, g, lo, fmin(x[0] + R, hi));
+        rc = insert(c, st, &tail, &circle, g, lo, smaller(x[0] + R, hi));
     }
     for (long copy = kmin; copy <= kmax && rc == 0; copy++) { /* bounded: the copies of n rows */
-        for (size_t j = 0; j + 1 < n && rc == 0; j++) {
+        size_t j = first_in_reach(x, n, periodic, period, copy, reach, lo);
+        if (j > 0) before = INFINITY;
+        for (; j + 1 < n && rc == 0; j++) {
             double row = vertex_x(x, n, periodic, period, j, copy);
             double next = vertex_x(x, n, periodic, period, j + 1, copy);
-            if (next + reach < lo || row - reach > hi) {
+            if (next + reach < lo) {
                 before = INFINITY;
                 continue;
             }
+            if (row - reach > hi) { /* and every later segment of this copy */
+                before = INFINITY;
+                break;
+            }
             for (size_t i = first[j]; i < first[j + 1] && rc == 0; i++) { /* bounded by the arcs */
                 const arc *a = &c->arcs[i];
-                double from = a->starts ? row + shift[j] : row + a->X0;
-                double to = a->ends ? next + shift[j + 1] : row + a->X1;
-                from = fmin(from, before);
+                double from = a->starts ? row + shift[j] : row + arc_centre(a, R, a->u0);
+                double to = a->ends ? next + shift[j + 1] : row + arc_centre(a, R, a->u1);
+                from = smaller(from, before);
                 before = to;
                 piece q = {ARC, (uint32_t)i, row, 0.0, 0.0};
                 if (g == 0) /* the first arc: the first circle's neighbour when it starts at row 0 */
                     g = periodic || i != 0 || !a->starts ? 3 : 1;
                 else g += 2;
-                rc = insert(c, st, &tail, &q, g, fmax(from, lo), fmin(to, hi));
+                from = larger(from, lo), to = smaller(to, hi);
+                const span *top = st->n ? &st->s[st->n - 1] : NULL;
+                if (top && top->x1 <= from && to > from) /* after all the stack holds: insert would push it there */
+                    rc = push(st, larger(from, smaller(to, top->x1)), to, &q, g);
+                else
+                    rc = insert(c, st, &tail, &q, g, from, to);
             }
         }
     }
     if (!periodic && rc == 0) {
         piece circle = {CIRCLE, 0, x[n - 1], h[n - 1], 0.0};
         int tangent = n_arcs && c->arcs[n_arcs - 1].ends && first[n - 2] < n_arcs;
-        rc = insert(c, st, &tail, &circle, g + (tangent ? 1 : 3), fmax(x[n - 1] - R, lo), hi);
+        rc = insert(c, st, &tail, &circle, g + (tangent ? 1 : 3), larger(x[n - 1] - R, lo), hi);
     }
     free(tail.s);
     return rc;
@@ -576,21 +625,44 @@ static int build_cubic(const context *c, const double *x, const double *h, const
  * within R S/sqrt(1 + S^2) of the contact point, S the largest slope). 0, or -1 when out of memory. */
 static int cubic(vi_profile *p, context *c, const double *x, const double *h, size_t n, long kmin, long kmax, stack *st)
 {
+    _Static_assert(sizeof(size_t) <= sizeof(double) && _Alignof(double) % _Alignof(size_t) == 0, "first fits");
     double *scratch = malloc(3 * n * sizeof *scratch);
-    size_t *first = malloc(n * sizeof *first);
+    size_t *first = (size_t *)(scratch + 2 * n); /* where the spline's slopes were solved for */
     arcs list = {0};
-    int rc = scratch && first ? make_arcs(x, h, n, p->periodic, p->R, first, &list, scratch) : -1;
+    int rc = scratch ? make_arcs(x, h, n, p->periodic, p->R, first, &list, scratch) : -1;
     p->arcs = list.a, p->n_arcs = list.n, p->max_slope = list.max_slope;
     c->arcs = list.a;
     double *shift = scratch + n, reach = 1.000001 * fabs(centre_shift(p->R, list.max_slope));
-    for (size_t j = 0; rc == 0 && j < n; j++) shift[j] = centre_shift(p->R, scratch[j]); /* bounded by the rows */
     if (rc == 0) rc = build_cubic(c, x, h, shift, reach, first, n, p->periodic, p->lo, p->hi, kmin, kmax, st);
-    free(scratch), free(first);
+    free(scratch);
     return rc;
 }
 
+/* The largest |h| and the least and largest h of a table's heights, taken row by row (heights_add). */
+typedef struct {
+    double abs_max, lo, hi;
+} heights;
+
+static void heights_add(heights *s, size_t i, double h)
+{
+    if (i == 0) s->abs_max = 0.0, s->lo = s->hi = h;
+    s->abs_max = larger(s->abs_max, fabs(h)), s->lo = smaller(s->lo, h), s->hi = larger(s->hi, h);
+}
+
+/* R positive, and a periodic table ending at its first height. 0, or -1 with the reason in msg. */
+static int check_ends(const double *h, size_t n, double R, int periodic, const char *name, char *msg, size_t msg_size)
+{
+    if (!(R > 0.0 && isfinite(R)))
+        VI_FAIL(msg, msg_size, "%s: the rolling radius R1 = %g m must be positive and finite", name, R);
+    if (periodic && h[n - 1] != h[0])
+        VI_FAIL(msg, msg_size, "%s: profile_periodic needs the last height to repeat the first (h = %.17g on row %zu, "
+                               "%.17g on row 1)", name, h[n - 1], n, h[0]);
+    return 0;
+}
+
 /* The rows as a profile needs them: at least two, finite, x increasing, a periodic one ending at
- * its first height; and R positive. 0, or -1 with the reason in msg. */
+ * its first height; and R positive (after the rows' count, before the rows). 0, or -1 with the reason
+ * in msg. */
 static int check_rows(const double *x, const double *h, size_t n, double R, int periodic, const char *name, char *msg,
                       size_t msg_size)
 {
@@ -604,10 +676,7 @@ static int check_rows(const double *x, const double *h, size_t n, double R, int 
             VI_FAIL(msg, msg_size, "%s, row %zu: x = %.17g is not greater than x = %.17g of the row before (x must "
                                    "increase)", name, i + 1, x[i], x[i - 1]);
     }
-    if (periodic && h[n - 1] != h[0])
-        VI_FAIL(msg, msg_size, "%s: profile_periodic needs the last height to repeat the first (h = %.17g on row %zu, "
-                               "%.17g on row 1)", name, h[n - 1], n, h[0]);
-    return 0;
+    return check_ends(h, n, R, periodic, name, msg, msg_size);
 }
 
 /* The copies of a periodic profile the envelope is built from, k = *kmin..*kmax (0..0 when it is
@@ -626,12 +695,10 @@ static int periodic_copies(const vi_profile *p, size_t n, const char *name, long
     return 0;
 }
 
-/* The envelope's pieces and their boundaries into p (it must cover [lo, hi] without gaps). The pieces
- * are moved down within env's own memory (piece j, read from span j, lands where no later span lies),
- * which p then owns, shrunk to them: env is left empty. 0, or -1 (env's memory then still env's). */
+/* The envelope's intervals into p, which then owns env's memory, shrunk to them (env is left empty); it
+ * must cover [lo, hi] without gaps. 0, or -1 (env's memory then still env's). */
 static int take_envelope(vi_profile *p, stack *env, const char *name, char *msg, size_t msg_size)
 {
-    _Static_assert(sizeof(piece) <= sizeof(span) && _Alignof(span) % _Alignof(piece) == 0, "pieces fit in place");
     if (!env->n || env->s[0].x0 != p->lo || env->s[env->n - 1].x1 != p->hi)
         VI_FAIL(msg, msg_size, "%s: internal error: the envelope covers [%g, %g] instead of [%g, %g]", name,
                 env->n ? env->s[0].x0 : NAN, env->n ? env->s[env->n - 1].x1 : NAN, p->lo, p->hi);
@@ -639,19 +706,32 @@ static int take_envelope(vi_profile *p, stack *env, const char *name, char *msg,
         if (env->s[j].x0 != env->s[j - 1].x1)
             VI_FAIL(msg, msg_size, "%s: internal error: a gap in the envelope at x = %g", name, env->s[j - 1].x1);
     p->m = env->n;
-    p->xb = malloc((p->m + 1) * sizeof *p->xb);
     p->kinks = malloc((p->m + 1) * sizeof *p->kinks);
-    if (!p->xb || !p->kinks) VI_FAIL(msg, msg_size, "%s: out of memory", name);
-    unsigned char *bytes = (unsigned char *)env->s;
-    for (size_t j = 0; j < p->m; j++) { /* bounded by the envelope */
-        span t = env->s[j];
-        p->xb[j] = t.x0;
-        memcpy(bytes + j * sizeof(piece), &t.q, sizeof(piece));
-    }
-    p->xb[p->m] = p->hi;
-    p->pieces = realloc(env->s, p->m * sizeof *p->pieces);
-    if (!p->pieces) VI_FAIL(msg, msg_size, "%s: out of memory", name); /* env still holds the block */
+    if (!p->kinks) VI_FAIL(msg, msg_size, "%s: out of memory", name);
+    p->spans = realloc(env->s, p->m * sizeof *p->spans);
+    if (!p->spans) VI_FAIL(msg, msg_size, "%s: out of memory", name); /* env still holds the block */
     env->s = NULL, env->n = env->cap = 0;
+    return 0;
+}
+
+/* The buckets of interval: n_buckets equal parts of [lo, hi], about INTERVALS_PER_BUCKET intervals each;
+ * bucket[k] is the interval holding the start of part k (bucket[n_buckets] the last interval), so
+ * that the intervals of part k are bucket[k] .. bucket[k + 1]. None for few intervals. 0, or -1 when out
+ * of memory. */
+#define INTERVALS_PER_BUCKET 8
+static int index_intervals(vi_profile *p)
+{
+    if (p->m < 4 * INTERVALS_PER_BUCKET) return 0;
+    p->n_buckets = p->m / INTERVALS_PER_BUCKET;
+    p->bucket = malloc((p->n_buckets + 1) * sizeof *p->bucket);
+    if (!p->bucket) return -1;
+    p->bucket_scale = (double)p->n_buckets / (p->hi - p->lo);
+    size_t j = 0;
+    for (size_t k = 0; k <= p->n_buckets; k++) { /* bounded by the buckets and the intervals */
+        double start = p->lo + (double)k / p->bucket_scale;
+        while (j + 1 < p->m && p->spans[j + 1].x0 <= start) j++;
+        p->bucket[k] = k == p->n_buckets ? p->m - 1 : j;
+    }
     return 0;
 }
 
@@ -709,24 +789,25 @@ static int check_boundaries(vi_profile *p, const table *t, double tol, const cha
         double dl[3], dr[3], yl = NAN, yr = NAN; /* set before use (has_left, has_right); gcc -fsanitize cannot tell */
         int has_left = j > 0 || p->periodic, has_right = j < p->m || p->periodic;
         size_t jl = j > 0 ? j - 1 : p->m - 1, jr = j < p->m ? j : 0;
-        double xl = j > 0 ? p->xb[j] : p->hi, xr = j < p->m ? p->xb[j] : p->lo;
-        if (has_left && has_right && joined(p, &p->pieces[jl], &p->pieces[jr])) continue; /* slopes: the arcs' */
+        double xl = j > 0 && j < p->m ? p->spans[j].x0 : p->hi, xr = j < p->m ? p->spans[j].x0 : p->lo;
+        const piece *ql = &p->spans[jl].q, *qr = &p->spans[jr].q;
+        if (has_left && has_right && joined(p, ql, qr)) continue; /* slopes: the arcs' */
         if (has_left) {
-            yl = piece_eval(&p->pieces[jl], p->arcs, R, xl, dl);
-            if (!isfinite(yl) || !isfinite(dl[0])) return too_steep(p, t, &p->pieces[jl], 0, xl, name, msg, msg_size);
-            p->max_slope = fmax(p->max_slope, fabs(dl[0]));
+            yl = piece_eval(ql, p->arcs, R, xl, dl);
+            if (!isfinite(yl) || !isfinite(dl[0])) return too_steep(p, t, ql, 0, xl, name, msg, msg_size);
+            p->max_slope = larger(p->max_slope, fabs(dl[0]));
         }
         if (has_right) {
-            yr = piece_eval(&p->pieces[jr], p->arcs, R, xr, dr);
-            if (!isfinite(yr) || !isfinite(dr[0])) return too_steep(p, t, &p->pieces[jr], 1, xr, name, msg, msg_size);
-            p->max_slope = fmax(p->max_slope, fabs(dr[0]));
+            yr = piece_eval(qr, p->arcs, R, xr, dr);
+            if (!isfinite(yr) || !isfinite(dr[0])) return too_steep(p, t, qr, 1, xr, name, msg, msg_size);
+            p->max_slope = larger(p->max_slope, fabs(dr[0]));
         }
         if (!has_left || !has_right) continue;
         /* a step: the pieces differ at the boundary by more than their rounding there; besides the
          * heights' (tol), the boundary is rounded to a few eps of its position (at the seam of a
          * periodic profile xl = x_last, xr = x_first, one period apart), which moves each piece by its
          * slope times that */
-        double rounding = 1e3 * tol + 16.0 * DBL_EPSILON * fmax(fabs(xl), fabs(xr)) * (fabs(dl[0]) + fabs(dr[0]));
+        double rounding = 1e3 * tol + 16.0 * DBL_EPSILON * larger(fabs(xl), fabs(xr)) * (fabs(dl[0]) + fabs(dr[0]));
         if (fabs(yl - yr) > rounding)
             VI_FAIL(msg, msg_size, "%s: a step of more than R1 = %g m near x = %g m: yb jumps by %g m there (the body "
                                    "cannot roll over it)", name, R, xr, yr - yl);
@@ -741,30 +822,25 @@ vi_profile *vi_profile_create(const double *x, const double *h, size_t n, double
     return vi_profile_create_as(x, h, n, R, periodic, VI_PROFILE_LINEAR, name, msg, msg_size);
 }
 
-vi_profile *vi_profile_create_as(const double *x, const double *h, size_t n, double R, int periodic, int interpolation,
-                                 const char *name, char *msg, size_t msg_size)
+/* The profile of n checked rows (check_rows) whose heights are hs, joined as interpolation says. */
+static vi_profile *create(const double *x, const double *h, size_t n, double R, int periodic, int interpolation,
+                          const heights *hs, const char *name, char *msg, size_t msg_size)
 {
     vi_profile *p = NULL;
     stack env = {0};
-    if (!name) name = "profile";
-    if (interpolation != VI_PROFILE_LINEAR && interpolation != VI_PROFILE_CUBIC)
-        FAIL("%s: interpolation %d is neither linear (%d) nor cubic (%d)", name, interpolation, VI_PROFILE_LINEAR,
-             VI_PROFILE_CUBIC);
-    if (check_rows(x, h, n, R, periodic, name, msg, msg_size) < 0) return NULL;
     p = calloc(1, sizeof *p);
     if (!p) FAIL("%s: out of memory", name);
     p->R = R, p->lo = x[0], p->hi = x[n - 1], p->periodic = periodic != 0;
     p->period = periodic ? p->hi - p->lo : 0.0;
     long kmin, kmax;
     if (periodic_copies(p, n, name, &kmin, &kmax, msg, msg_size) < 0) goto fail;
-    double hmax = 0.0, hlo = h[0], hhi = h[0];
-    for (size_t i = 0; i < n; i++) hmax = fmax(hmax, fabs(h[i])), hlo = fmin(hlo, h[i]), hhi = fmax(hhi, h[i]);
-    p->h_span = hhi - hlo;
-    context c = {R, 64.0 * DBL_EPSILON * (R + hmax), NULL};
+    p->h_span = hs->hi - hs->lo;
+    context c = {R, 64.0 * DBL_EPSILON * (R + hs->abs_max), NULL};
     if (interpolation == VI_PROFILE_CUBIC ? cubic(p, &c, x, h, n, kmin, kmax, &env) < 0
                                           : build(&c, x, h, n, p->periodic, p->lo, p->hi, kmin, kmax, &env) < 0)
         FAIL("%s: out of memory", name);
     if (take_envelope(p, &env, name, msg, msg_size) < 0) goto fail;
+    if (index_intervals(p) < 0) FAIL("%s: out of memory", name);
     free(env.s);
     env.s = NULL;
     table t = {x, h, n};
@@ -774,6 +850,26 @@ fail:
     free(env.s);
     vi_profile_free(p);
     return NULL;
+}
+
+/* The interpolation's name: 0, or -1 with the reason in msg. */
+static int check_interpolation(int interpolation, const char *name, char *msg, size_t msg_size)
+{
+    if (interpolation != VI_PROFILE_LINEAR && interpolation != VI_PROFILE_CUBIC)
+        VI_FAIL(msg, msg_size, "%s: interpolation %d is neither linear (%d) nor cubic (%d)", name, interpolation,
+                VI_PROFILE_LINEAR, VI_PROFILE_CUBIC);
+    return 0;
+}
+
+vi_profile *vi_profile_create_as(const double *x, const double *h, size_t n, double R, int periodic, int interpolation,
+                                 const char *name, char *msg, size_t msg_size)
+{
+    if (!name) name = "profile";
+    if (check_interpolation(interpolation, name, msg, msg_size) < 0) return NULL;
+    if (check_rows(x, h, n, R, periodic, name, msg, msg_size) < 0) return NULL;
+    heights hs;
+    for (size_t i = 0; i < n; i++) heights_add(&hs, i, h[i]); /* bounded by the rows */
+    return create(x, h, n, R, periodic, interpolation, &hs, name, msg, msg_size);
 }
 
 /* ---- reading a file -------------------------------------------------------------------------
@@ -934,6 +1030,7 @@ _Static_assert(VI_PROFILE_BLOCK >= 2 * VI_PROFILE_LINE_MAX, "a block holds the l
 typedef struct {
     double *x, *h;
     size_t n, cap, last_line;
+    heights hs; /* of the rows so far */
 } rows;
 
 /* Append the row of line line_no of file path after checking it (finite, x increasing, at most
@@ -958,6 +1055,7 @@ static int add_row(rows *r, double xv, double hv, const char *path, size_t line_
         if (!nx || !nh) VI_FAIL(msg, msg_size, "profile_file '%s': out of memory at line %zu", path, line_no);
     }
     r->x[r->n] = xv, r->h[r->n] = hv;
+    heights_add(&r->hs, r->n, hv);
     r->n++, r->last_line = line_no;
     return 0;
 }
@@ -1059,7 +1157,10 @@ vi_profile *vi_profile_load_as(const char *path, double R, int periodic, int int
     }
     char name[VI_PROFILE_LINE_MAX + 32];
     vi_snprintf(name, sizeof name, "profile_file '%s'", path);
-    p = vi_profile_create_as(r.x, r.h, r.n, R, periodic, interpolation, name, msg, msg_size);
+    /* the rows are checked as they are read (add_row) */
+    if (check_interpolation(interpolation, name, msg, msg_size) == 0 &&
+        check_ends(r.h, r.n, R, periodic, name, msg, msg_size) == 0)
+        p = create(r.x, r.h, r.n, R, periodic, interpolation, &r.hs, name, msg, msg_size);
 fail:
     fclose(f);
     free(buf), free(r.x), free(r.h);
@@ -1079,26 +1180,41 @@ static double reduce(const vi_profile *p, double x, int *outside)
         return r < p->hi ? r : p->lo;
     }
     if (x < p->lo || x > p->hi) *outside = 1;
-    return fmin(fmax(x, p->lo), p->hi);
+    return smaller(larger(x, p->lo), p->hi);
 }
 
-/* Interval holding x in [lo, hi]: the last j with xb[j] <= x (the right-hand piece at a boundary). */
-static size_t interval(const vi_profile *p, double x)
+/* The last j in [a, b) with spans[j].x0 <= x, given spans[a].x0 <= x. */
+static size_t search(const vi_profile *p, double x, size_t a, size_t b)
 {
-    size_t a = 0, b = p->m; /* xb[a] <= x < xb[b] */
-    while (b - a > 1) {     /* log2(m) halvings */
+    while (b - a > 1) { /* log2(b - a) halvings */
         size_t mid = a + (b - a) / 2;
-        if (p->xb[mid] <= x) a = mid;
+        if (p->spans[mid].x0 <= x) a = mid;
         else b = mid;
     }
     return a;
+}
+
+/* Interval holding x in [lo, hi]: the last j with x0 <= x (the right-hand piece at a boundary). The
+ * search is made among the intervals of x's bucket, and its result kept when it holds x (rounding of
+ * the bucket's number may miss by one), else over all intervals. */
+static size_t interval(const vi_profile *p, double x)
+{
+    if (p->bucket) {
+        double u = (x - p->lo) * p->bucket_scale; /* >= 0: x >= lo */
+        size_t k = u < (double)p->n_buckets ? (size_t)u : p->n_buckets - 1, ka = p->bucket[k];
+        if (p->spans[ka].x0 <= x) {
+            size_t j = search(p, x, ka, p->bucket[k + 1] + 1);
+            if (x < p->spans[j].x1) return j;
+        }
+    }
+    return search(p, x, 0, p->m);
 }
 
 int vi_profile_eval(const vi_profile *p, double x, double y[4])
 {
     int outside;
     double r = reduce(p, x, &outside);
-    y[0] = piece_eval(&p->pieces[interval(p, r)], p->arcs, p->R, r, y + 1);
+    y[0] = piece_eval(&p->spans[interval(p, r)].q, p->arcs, p->R, r, y + 1);
     return outside ? -1 : 0;
 }
 

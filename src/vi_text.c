@@ -203,15 +203,36 @@ static double round_u128(u128 q, int sticky, int e2)
     return times_pow2((double)m, e2 + drop);
 }
 
+/* RECIP[k] = floor(2^(63 + b) / 5^k), b the bits of 5^k, for k = 1 .. EXP10_U128_MAX: the reciprocals
+ * that take the place of a division in scaled (tests/test_text.c reads numbers of every such exponent,
+ * their quotients exact and not, against strtod). */
+static const uint64_t RECIP[EXP10_U128_MAX + 1] = {
+    0u, UINT64_C(14757395258967641292), UINT64_C(11805916207174113034), UINT64_C(9444732965739290427),
+    UINT64_C(15111572745182864683), UINT64_C(12089258196146291747), UINT64_C(9671406556917033397),
+    UINT64_C(15474250491067253436), UINT64_C(12379400392853802748), UINT64_C(9903520314283042199),
+    UINT64_C(15845632502852867518), UINT64_C(12676506002282294014), UINT64_C(10141204801825835211),
+    UINT64_C(16225927682921336339), UINT64_C(12980742146337069071), UINT64_C(10384593717069655257),
+    UINT64_C(16615349947311448411), UINT64_C(13292279957849158729), UINT64_C(10633823966279326983),
+    UINT64_C(17014118346046923173), UINT64_C(13611294676837538538), UINT64_C(10889035741470030830),
+    UINT64_C(17422457186352049329), UINT64_C(13937965749081639463), UINT64_C(11150372599265311570),
+    UINT64_C(17840596158824498513), UINT64_C(14272476927059598810), UINT64_C(11417981541647679048)};
+
 /* w 10^e correctly rounded, 0 < w < 2^64, |e| <= EXP10_U128_MAX, not on Clinger's fast path: w 5^e 2^e
  * is exact in 128 bits for e >= 0 (54 bits or more: w > 2^53 or 5^e > 2^53); for e < 0 the quotient
- * (w 2^sh) / 5^-e has 64 bits or more and its remainder decides the rounding of a tie. */
+ * q = floor(n / d), n = w 2^sh < 2^(63 + b), d = 5^-e of b bits (3 to 63), has 63 or 64 bits, and the
+ * remainder decides the rounding of a tie. With t = floor(n / 2^(b - 1)) < 2^64, t RECIP / 2^64 lies
+ * within 2 below n / d (t 2^(b - 1) is within 2^(b - 1) <= d below n, RECIP within 1 below 2^(63 + b) / d,
+ * t < 2^64): its integer part is q, q - 1 or q - 2, and the exact remainder puts it right. */
 static double scaled(uint64_t w, int e)
 {
     if (e >= 0) return round_u128((u128)w * POW5[e], 0, e);
-    int sh = 127 - bits64(w); /* w 2^sh < 2^127 */
-    u128 n = (u128)w << sh, d = POW5[-e];
-    return round_u128(n / d, n % d != 0, -sh + e);
+    uint64_t d = POW5[-e];
+    int b = bits64(d), sh = 63 + b - bits64(w); /* 2 to 125 */
+    u128 n = (u128)w << sh;
+    uint64_t q = (uint64_t)(((u128)(uint64_t)(n >> (b - 1)) * RECIP[-e]) >> 64);
+    u128 rem = n - (u128)q * d;
+    for (int i = 0; i < 2 && rem >= d; i++) rem -= d, q++; /* bounded: two passes */
+    return round_u128(q, rem != 0, -sh + e);
 }
 #endif
 
@@ -264,41 +285,69 @@ static const char *scan_exponent(const char *c, long long *e)
     return d;
 }
 
-/* The short form of a decimal number at c (after the sign), read without the digit array: up to 19
- * significant digits (leading and trailing zeros dropped) as the integer w, whose value and exponent
- * take Clinger's path or the 128-bit one. The digits, the point and the exponent are the ones
- * scan_mantissa and scan_exponent take, and w 10^e10 is rounded by the same function decimal_number
- * calls for them, so the result is the same double. Its value in *v and the character
- * after it; NULL when the number is not of that form (then decimal_number reads it whole). */
+/* The digits at s appended to *w (*w 10^k + their integer, modulo 2^64, for k digits), four a pass:
+ * their values do not wait for *w (the chain of multiplications is a quarter as long), and a byte is
+ * read only after a digit. The character after them. */
+static const char *read_digits(const char *s, uint64_t *w)
+{
+    uint64_t v = *w;
+    for (;; s += 4) { /* bounded by the string */
+        unsigned d0 = (unsigned)(s[0] - '0'), d1, d2, d3;
+        if (d0 > 9) break;
+        if ((d1 = (unsigned)(s[1] - '0')) > 9) {
+            v = 10 * v + d0, s += 1;
+            break;
+        }
+        if ((d2 = (unsigned)(s[2] - '0')) > 9) {
+            v = 100 * v + (10 * d0 + d1), s += 2;
+            break;
+        }
+        if ((d3 = (unsigned)(s[3] - '0')) > 9) {
+            v = 1000 * v + (100 * d0 + 10 * d1 + d2), s += 3;
+            break;
+        }
+        v = 10000 * v + (1000 * d0 + 100 * d1 + 10 * d2 + d3);
+    }
+    *w = v;
+    return s;
+}
+
+/* The short form of a decimal number at c (after the sign), read in one pass without the digit array:
+ * up to 19 digits from the first nonzero one to the last digit (trailing zeros counted) as the integer
+ * w, w 10^e10 the value, which takes Clinger's path or the 128-bit one. The digits, the point and the
+ * exponent are the ones scan_mantissa and scan_exponent take, and w 10^e10 is rounded by the same
+ * functions decimal_number calls for them, so the result is the same double. Its value in *v and the
+ * character after it; NULL when the number is not of that form (then decimal_number reads it whole). */
 static const char *short_decimal(const char *c, double *v)
 {
-    const char *first = c, *point_at = NULL; /* the digits [first, c), the point at point_at inside */
-    for (; (*c >= '0' && *c <= '9') || (*c == '.' && !point_at); c++) /* bounded by the string */
-        if (*c == '.') point_at = c;
-    if (c == first || (point_at == first && c == first + 1)) return NULL; /* no digit */
-    const char *dot = point_at ? point_at : c, *lead_at = first, *last = c; /* significant: [lead_at, last) */
-    while (lead_at < last && (*lead_at == '0' || *lead_at == '.')) lead_at++; /* leading zeros */
-    while (last > lead_at && (last[-1] == '0' || last[-1] == '.')) last--; /* trailing zeros */
-    /* significant digits before the point, or (negative) zeros after it before the first */
-    long long point = lead_at < dot ? dot - lead_at : -(long long)(lead_at - dot - 1);
-    if (last - lead_at > 20) return NULL; /* more than 19 digits: the long form */
-    int nd = (int)(last - lead_at) - (dot > lead_at && dot < last);
-    if (nd > 19) return NULL;
     uint64_t w = 0;
-    for (const char *d = lead_at; d < last; d++) /* bounded: 20 characters */
-        if (*d != '.') w = 10 * w + (uint64_t)(*d - '0');
+    const char *first = c;
+    while (*c == '0') c++; /* leading zeros: bounded by the string */
+    const char *lead_at = c;
+    c = read_digits(c, &w);
+    long long nd = c - lead_at, frac = 0; /* the digits in w; those after the point */
+    int digit = c > first;
+    if (*c == '.') {
+        const char *point = ++c;
+        if (!nd)
+            while (*c == '0') c++; /* zeros after the point before the first nonzero digit: bounded */
+        lead_at = c;
+        c = read_digits(c, &w);
+        nd += c - lead_at, frac = c - point, digit |= c > point;
+    }
+    if (!digit || !w || nd > 19) return NULL; /* no digit; zero or more than 19 digits: the long form */
     long long e = 0;
     if (*c == 'e' || *c == 'E') {
         const char *after = scan_exponent(c + 1, &e);
         if (after != c + 1) c = after;
     }
-    long long lead = point + e - 1; /* the exponent of the leading digit */
-    if (!nd || lead < EXP10_LEAD_MIN || lead > EXP10_LEAD_MAX) return NULL;
-    int e10 = (int)(lead + 1 - nd);
-    if (clinger(w, e10, v)) return c;
+    long long e10 = e - frac, lead = e10 + nd - 1; /* the exponents of the last and the leading digit */
+    if (lead < EXP10_LEAD_MIN || lead > EXP10_LEAD_MAX) return NULL;
+    for (; w > (UINT64_C(1) << 53) && w % 10 == 0; e10++) w /= 10; /* trailing zeros, for Clinger's path: bounded by 19 */
+    if (clinger(w, (int)e10, v)) return c;
 #ifdef __SIZEOF_INT128__
     if (e10 >= -EXP10_U128_MAX && e10 <= EXP10_U128_MAX) {
-        *v = scaled(w, e10);
+        *v = scaled(w, (int)e10);
         return c;
     }
 #endif

@@ -1024,6 +1024,33 @@ Test(state, statistics_count_the_work)
     cr_assert(s.st.accepted == 0 && s.h == 0.5, "init clears the statistics; h0 used");
 }
 
+/* A contact beginning at t = 0: x0 the indentation, x1 its rate, x1' = -x0^(3/2) (Hertz, unit
+ * constants). The solution carries t^(7/2) and t^(5/2) terms, so the first step's error falls like
+ * h^(5/2), not h^8: after two rejected attempts the step size follows the order the two errors show,
+ * h (0.25/err)^(1/q), and the first step is accepted after at most 4 rejected attempts; the rule of
+ * h^8 (0.9 err^(-1/8), at least 0.2 h, as for a smooth solution) needs 7 from the same start. */
+static void onset_rhs(double t, const double *x, double *dx, void *user)
+{
+    (void)t, (void)user;
+    double d = x[0] > 0.0 ? x[0] : 0.0;
+    dx[0] = x[1];
+    dx[1] = -d * sqrt(d);
+}
+
+Test(state, a_rejection_at_a_start_that_is_not_smooth_follows_the_order_of_the_errors)
+{
+    vi_ode_problem p = {.n = 2, .rhs = onset_rhs, .rtol = 1e-10, .atol = {1e-12, 1e-12}};
+    vi_ode s;
+    double x0[2] = {0.0, 1.0};
+    cr_assert_eq(vi_ode_init(&s, &p, 0.0, x0, 1.0, 0u), VI_ODE_OK);
+    cr_assert_eq(vi_ode_step(&s, &p, 10.0), VI_ODE_OK);
+    cr_log_info("first step %g after %d rejected attempts", s.t, s.rejected_last);
+    cr_assert(s.rejected_last >= 2 && s.rejected_last <= 4, "%d rejected attempts", s.rejected_last);
+    /* the accepted step is within the tolerance: x1(t) = 1 - (2/5) t^(5/2) + (6/175) t^5 + O(t^(15/2)) */
+    double t = s.t, exact = 1.0 - 0.4 * pow(t, 2.5) + 6.0 / 175.0 * pow(t, 5.0);
+    cr_assert(fabs(s.x[1] - exact) <= 1e-12 + 1e-10 + pow(t, 7.5), "x1 %.17g against %.17g at t %g", s.x[1], exact, t);
+}
+
 Test(state, a_rejected_attempt_costs_eleven_evaluations)
 {
     /* A first step of 0.5 given at rtol 1e-10 is rejected (and then some): f(t0) at the start, 12

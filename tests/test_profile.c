@@ -1350,6 +1350,34 @@ Test(profile, long_profile, .timeout = 30)
     free(x), free(h);
 }
 
+/* The search for x's interval starts in a bucket of equal parts of the range: a table of 3000 rows,
+ * dense in its first tenth (0.01 mm apart) and sparse after it (up to 2 mm), so that a bucket holds
+ * hundreds of intervals in one part and none in another, evaluated at every row, halfway between rows
+ * and at 20001 points between, against the definition (the highest circle over the rows and segments),
+ * for a body of 1 cm (its definition looks at fewer rows). */
+Test(profile, the_interval_search_finds_every_piece_of_an_uneven_table, .timeout = 30)
+{
+    enum { N = 3000 };
+    double *x = malloc(N * sizeof *x), *h = malloc(N * sizeof *h);
+    srand(11);
+    x[0] = 0.0, h[0] = 0.0;
+    for (int i = 1; i < N; i++) {
+        x[i] = x[i - 1] + (i < N / 10 ? 1e-5 : 2e-3 * rand() / RAND_MAX + 1e-6);
+        h[i] = 1e-3 * sin(300.0 * x[i]) + 2e-5 * (2.0 * rand() / RAND_MAX - 1.0);
+    }
+    double r = 0.01;
+    vi_profile *p = make(x, h, N, r, 0);
+    for (int k = 0; k < 3 * N + 20001; k++) {
+        double at = k < N ? x[k] : k < 2 * N - 1 ? 0.5 * (x[k - N] + x[k - N + 1])
+                  : x[0] + (x[N - 1] - x[0]) * (k - 3 * N) / 20000.0;
+        if (k >= 2 * N - 1 && k < 3 * N) continue;
+        double want = brute(x, h, N, r, at);
+        cr_assert(fabs(yb(p, at) - want) <= 1e-15, "x %.17g: yb %.17g, definition %.17g", at, yb(p, at), want);
+    }
+    vi_profile_free(p);
+    free(x), free(h);
+}
+
 /* Tables given as arrays are checked like files: a row that is not finite is refused naming the
  * table and the row (NaN height, infinite position: no other check catches either); the name is
  * "profile" when none is given. */

@@ -254,6 +254,37 @@ Test(text, numbers_at_the_edges_of_the_short_form_read_as_strtod_reads_them)
     }
 }
 
+/* Integers of 54 to 64 bits times 10^-k, k = 1 .. 27 (read with one 128-bit quotient by 5^k, from a
+ * reciprocal of it): random ones (the quotient inexact), multiples of 5^k (exact: m 2^-k), and odd
+ * integers of 54 bits times 5^k for k <= 4 (exactly halfway between two doubles: the tie goes to the
+ * even one); against strtod in the C locale, the value to the bit. */
+Test(text, integers_times_negative_powers_of_ten_read_as_strtod_reads_them)
+{
+    srand(27);
+    char text[64];
+    for (int k = 1; k <= 27; k++) {
+        uint64_t p5 = 1;
+        for (int i = 0; i < k; i++) p5 *= 5;
+        for (int i = 0; i < 400; i++) {
+            uint64_t w;
+            if (i < 300) { /* 54 to 64 bits */
+                int bits = 54 + i % 11;
+                w = (UINT64_C(1) << (bits - 1)) | ((((uint64_t)rand() << 31) ^ (uint64_t)rand() << 16 ^ (uint64_t)rand())
+                                                   & ((UINT64_C(1) << (bits - 1)) - 1));
+            } else if (i < 350) { /* a multiple of 5^k above 2^53, below 2^64 */
+                uint64_t lo = (UINT64_C(1) << 53) / p5 + 1, hi = UINT64_MAX / p5;
+                w = p5 * (lo + (uint64_t)rand() % (hi - lo + 1));
+            } else if (k <= 4) /* (2^53 + odd) 5^k 10^-k = (2^53 + odd) 2^-k */
+                w = ((UINT64_C(1) << 53) + 2 * (uint64_t)(rand() % 100000) + 1) * p5;
+            else
+                continue;
+            snprintf(text, sizeof text, "%llue-%d", (unsigned long long)w, k);
+            double want = strtod(text, NULL), v = vi_strtod(text, NULL);
+            cr_assert(same_bits(v, want), "%s: read %a, strtod %a", text, v, want);
+        }
+    }
+}
+
 /* What is not a number, or only partly one: white space, inf and nan, an 'e' or 'p' without digits,
  * "0x" without hex digits, exponents beyond any int. */
 Test(text, the_forms_and_ends_of_strtod)
