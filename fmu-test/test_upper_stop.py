@@ -52,15 +52,7 @@ class Slave:
         self.t = 0.0
 
     def set(self, name, value):
-        vr, kind = [self.vr[name]], self.kinds[name]
-        if kind in ("Real", "Float64"):
-            (self.s.setFloat64 if self.fmi3 else self.s.setReal)(vr, [float(value)])
-        elif kind == "Boolean":
-            self.s.setBoolean(vr, [bool(value)])
-        elif self.fmi3:
-            (self.s.setInt64 if kind == "Enumeration" else self.s.setInt32)(vr, [int(value)])
-        else:
-            self.s.setInteger(vr, [int(value)])
+        _fmu.set_value(self.s, self.vr[name], value, self.kinds[name])
 
     def get(self, name):
         vr, kind = [self.vr[name]], self.kinds[name]
