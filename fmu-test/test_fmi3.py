@@ -482,10 +482,10 @@ def test_model_exchange_calls(md3, dir3, vr3):
     fmi3.update_discrete_states(m3)
     m3.enterContinuousTimeMode()
     assert m3.getNumberOfContinuousStates() == len(md3.derivatives) == 3
-    assert m3.getNumberOfEventIndicators() == len(md3.eventIndicators) == 2
+    assert m3.getNumberOfEventIndicators() == len(md3.eventIndicators) == 4  # two per contact
     m3.setTime(1e-4)
-    z = (ctypes.c_double * 2)()
-    m3.getEventIndicators(z, 2)
+    z = (ctypes.c_double * 4)()
+    m3.getEventIndicators(z, 4)
     assert m3.getFloat64([u.variable.valueReference for u in md3.eventIndicators]) == list(z)
     assert raw(m3, "fmi3SetFloat64", (ctypes.c_uint * 1)(md3.eventIndicators[0].variable.valueReference), 1,
                (ctypes.c_double * 1)(1.0), 1) == ERROR

@@ -128,6 +128,7 @@ enum {
     VI_ME_DER_Y, VI_ME_DER_V, VI_ME_F, VI_ME_F_MEAN, VI_ME_DELTA, VI_ME_Y, VI_ME_V, VI_ME_YC, VI_ME_K_CONTACT,
     VI_ME_DELTA_C, VI_ME_DELTA_F, VI_ME_RBAR, VI_ME_DELTA_P, VI_ME_W_PLASTIC,
     VI_ME_DER_W, VI_ME_W_DISSIPATED, VI_ME_E_CONTACT, VI_ME_F_PEAK, /* W_dissipated: its W_damping column is 1 */
+    VI_ME_F_UPPER, VI_ME_DELTA_UPPER, /* the upper contact's force and indentation (0 without one) */
     VI_ME_N_UNKNOWNS
 };
 /* The Jacobian at the current point, analytic, in the current mode: jac[unknown]. */

@@ -3,9 +3,10 @@
  *
  * The model is a body (vi_body: the mass, its load, its state y, v) on a platform, and a list of
  * contacts (vi_model_contact: each with its law, the law's parameters, its memory, its mode and its
- * guards), today one: the lower contact, the body on the platform. The force on the body is the
- * lower contact's less that of each further contact; the outputs (F, mode, the memory) are the
- * lower contact's. The laws themselves are pure functions (vi_contact.h, vi_laws.h).
+ * guards): the lower contact, the body on the platform, and with upper_stop the upper contact, the
+ * body under a second surface at yC + gap that moves with the platform. The force on the body is the
+ * lower contact's less the upper one's; the outputs (F, mode, the memory) are the lower contact's,
+ * the upper one's F_upper, delta_upper, mode_upper, n_impacts_upper, and E_contact both. The laws themselves are pure functions (vi_contact.h, vi_laws.h).
  *
  * Continuous state x = (delta, v): indentation delta = yC - y [m] and mass velocity v [m/s]
  * (the indentation, not y, is integrated: it stays exact when yC carries a large offset).
@@ -87,6 +88,8 @@ typedef struct {
     double e_restitution;       /* damped Hertz, linear: restitution of an isolated impact, (0, 1] */
     int damping_formula;        /* damped Hertz: VI_DAMP_* (vi_laws.h) */
     double k_spring;            /* linear: spring stiffness [N/m] */
+    int upper_stop;             /* a second surface at yC + gap above the mass (the upper contact) */
+    double gap;                 /* its clearance [m], > 0 with upper_stop */
 } vi_model_params;
 
 /* The model's outputs and calculated parameters (doc/model.md section 5). */
@@ -96,6 +99,11 @@ typedef struct {
     double delta_c, delta_f, delta_p, Rbar, W_plastic; /* m, m, m, m, J */
     double E_contact;           /* J (vi_model_contact_energy) */
     double E_star, R_star, F_Y, delta_Y, k_lin, f_contact; /* Pa, m, N, m, N/m, Hz */
+    /* the upper contact (all 0 without one): its force on the mass (down) [N], indentation y - (yC +
+     * gap) [m], mode, onsets, plastic work [J] (E_contact above is both contacts' energy) */
+    double F_upper, delta_upper;
+    int mode_upper, n_impacts_upper;
+    double W_plastic_upper;
 } vi_model_values;
 
 /* An input over a communication step: value u + du (t - t). */
@@ -116,12 +124,18 @@ typedef struct {
 
 /* One contact of the body with a surface: its law with the law's constants, its memory and its mode.
  * Each mode has VI_CONTACT_NGUARDS guards (vi_model.c, mode_guards), the contact's; the model's
- * guard i belongs to contact i / VI_CONTACT_NGUARDS. The contact's indentation is the state's
- * delta = x[0] (the lower contact) and its rate yC' - v; vi_model.c's per-contact functions
- * (contact_force, contact_stiffness, contact_guards, resolve) take the contact and the state. */
+ * guard i belongs to contact i / VI_CONTACT_NGUARDS. The lower contact's indentation is the state's
+ * delta = x[0] and its rate yC' - v; the upper contact's (its surface at yC + gap, moving with the
+ * platform) is delta_u = y - yC - gap = -gap - delta and its rate v - yC' = -delta'. In its own
+ * indentation and rate each contact is the one-sided contact: its law, surfaces, snapping and mode
+ * choice; its holding force in stick is that of the lower contact with the sign turned
+ * (-(W + m yC'')). vi_model.c's per-contact functions (contact_force, contact_stiffness,
+ * contact_guards, resolve) take the contact and the state. */
 typedef struct {
     /* the law and its constants, from the parameters (vi_model_setup) */
     int law;       /* VI_LAW_* */
+    int upper;     /* the upper contact: indentation -gap - delta, rate -delta' */
+    double gap;    /* the upper contact's clearance [m] (0 for the lower contact) */
     int moving;    /* Johnson with a moving contact point */
     int unloading; /* VI_UNLOAD_PAPER or VI_UNLOAD_CONTINUOUS */
     double K;      /* Hertz constant [N/m^1.5] */
@@ -140,11 +154,13 @@ typedef struct {
     long n_impacts;    /* contact onsets */
 } vi_model_contact;
 
-/* The contacts of the model, in its list: the lower contact, delta = yC - y (contact 0). The engine
- * (vi_hybrid.h), the solver's guards and Model Exchange's event indicators are sized by it:
- * VI_CONTACT_NGUARDS guards per contact. */
-#define VI_NCONTACTS 1
+/* The contacts of the model, in its list: the lower contact, delta = yC - y (contact 0), and with
+ * upper_stop the upper contact (contact 1). The engine (vi_hybrid.h), the solver's guards and Model
+ * Exchange's event indicators are sized by the list's capacity: VI_CONTACT_NGUARDS guards per contact;
+ * the guards of a contact the model does not use are 1 (never fire). */
+#define VI_NCONTACTS 2
 #define VI_LOWER 0
+#define VI_UPPER 1
 
 typedef struct {
     vi_body body;
@@ -161,7 +177,9 @@ typedef struct {
     /* inputs */
     vi_ramp yC_in, F_ext;
 
-    /* the contacts (VI_NCONTACTS): the body against the platform's surfaces */
+    /* the contacts: the body against the platform's surfaces, the first ncontacts in use (1, or 2
+     * with upper_stop); the others all zero */
+    int ncontacts;
     vi_model_contact contact[VI_NCONTACTS];
 } vi_model;
 
@@ -222,9 +240,16 @@ void vi_model_initial_state(vi_model *model, int init, double v0, double t0, dou
  * turning point of a plastic motion, stick; a force that depends on delta')? Hertz and Johnson with a
  * moving contact point do not. */
 int vi_model_uses_rate(const vi_model *model);
-/* Contact force [N] in the current mode. */
+/* Contact force [N] in the current mode (the lower contact's). */
 double vi_model_force(const vi_model *model, double t, const double x[2]);
+/* The upper contact's force on the mass [N], down positive; 0 without an upper contact. */
+double vi_model_force_upper(const vi_model *model, double t, const double x[2]);
 void vi_model_rhs(const vi_model *model, double t, const double x[2], double dx[2]);
+/* Contact i's stiffness dF_i/d(delta_i) [N/m] and damping dF_i/d(delta_i') [N s/m] in its own
+ * indentation and rate at (t, x) in its mode (0 free, in stick, and for a contact not in use). */
+void vi_model_contact_slopes(const vi_model *model, int i, double t, const double x[2], double *k, double *c);
+/* Is a contact in stick (the mass moves with the platform: delta' = 0, v' = yC'')? */
+int vi_model_sticks(const vi_model *model);
 /* d(v')/d(delta): the only nonzero state derivative of the right-hand side besides d(delta')/dv = -1. */
 double vi_model_stiffness_over_mass(const vi_model *model, double t, const double x[2]);
 /* d(stiffness)/d(delta) [N/m^2]: the second derivative of the force in the current mode (0 where it
@@ -252,7 +277,9 @@ void vi_model_memory_rates(const vi_model *model, const double x[2], vi_memory_r
  * F_spring = K delta^1.5 or k_spring delta, 0.4 K delta^2.5 or 0.5 k_spring delta^2, while the bodies
  * overlap (delta > 0), in either mode: after a release (the force reached 0 at delta > 0) the spring
  * still holds its energy, and gives it to the damping while delta falls to 0, or keeps it when the
- * contact resumes. per_delta (when not NULL): d(E_contact)/d(delta) [N] in the current mode. */
+ * contact resumes. With an upper contact E_contact is the sum of both contacts' (the upper one's in
+ * its own indentation -gap - delta). per_delta (when not NULL): d(E_contact)/d(delta) [N] in the
+ * current modes. */
 double vi_model_contact_energy(const vi_model *model, const double x[2], double *per_delta);
 /* The damping's power of a damped law at (t, x) [W], the rate of W_damping: the power of the force
  * beyond its spring part, P = (F - F_spring(delta)) delta' (elastic: F_damping delta' >= 0; free at
@@ -261,10 +288,16 @@ double vi_model_contact_energy(const vi_model *model, const double x[2], double 
 typedef struct {
     double P, dP_ddelta, dP_drate;
 } vi_model_power;
+/* With an upper contact: the sum of both contacts' powers, the partials in the lower contact's delta and delta'. */
 vi_model_power vi_model_damping_power(const vi_model *model, double t, const double x[2]);
 /* The power the bodies put into the contact at (t, x) [W]: F delta', the rate of E_contact + W_plastic +
- * W_damping. */
+ * W_damping (with an upper contact the sum of both contacts', each its force times its own rate). */
 double vi_model_contact_power(const vi_model *model, double t, const double x[2]);
+/* Is any contact not free? */
+int vi_model_touching(const vi_model *model);
+/* Does a contact of hertz_damped, exact (vi_model_damping_root_at_onset) sit exactly at its onset
+ * (indentation 0) at x? */
+int vi_model_damping_onset(const vi_model *model, const double x[2]);
 /* Does the law damp (hertz_damped, linear: W_damping grows)? */
 int vi_model_damps(const vi_model *model);
 /* Does its damping's power grow as (t - t_onset)^(1/4) from a contact's onset (Tsuji's delta^(1/4)

@@ -23,7 +23,7 @@
 
 #define VI_GUID "{5b7e0c3a-2f1d-4e8b-9a61-7c4d2e9f1a03}"
 #define VI_MODEL_IDENTIFIER "VibroImpact"
-#define VI_MODEL_DESCRIPTION "Mass pressed onto a vibrating platform through a Hertz, Johnson elastic-plastic, linear elastic-perfectly plastic, Thornton elastic-perfectly plastic, damped Hertz or linear spring-dashpot contact; Co-Simulation (its own solvers with event location inside the step) and Model Exchange (states y, v; the guards of the mode as event indicators)"
+#define VI_MODEL_DESCRIPTION "Mass pressed onto a vibrating platform through a Hertz, Johnson elastic-plastic, linear elastic-perfectly plastic, Thornton elastic-perfectly plastic, damped Hertz or linear spring-dashpot contact; Co-Simulation (its own solvers with event location inside the step) and Model Exchange (states y, v; the guards of the mode as event indicators); optionally a second surface above the mass (upper_stop)"
 #define VI_DEFAULT_EXPERIMENT {.start_s = 0.0, .stop_s = 0.1, .tolerance = 1e-6, .step_s = 1e-4}
 #define VI_CAN_INTERPOLATE_INPUTS 1
 
@@ -89,7 +89,13 @@
   X(F_peak, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N", 0, "yC_in F_ext y v vC_in", "largest contact force since the last communication point (Co-Simulation: over the whole step, events and the inside of the solver's steps included; Model Exchange: F)") \
   X(W_damping, Real, none, local, continuous, exact, 0.0, VI_NONE, VI_NONE, "J", 1.0, "", "work of the damping of hertz_damped and linear: the power of the force beyond its spring part, (F - F_spring(delta)) delta' (Model Exchange: a continuous state)") \
   X(der_W_damping, Real, none, local, continuous, calculated, 0.0, VI_NONE, VI_NONE, "W", 0, "yC_in y v vC_in", "time derivative of W_damping, the damping's power (Model Exchange: the derivative of the state W_damping)") \
-  X(profile_interpolation, Integer, ProfileInterpolation, parameter, fixed, exact, 1, VI_NONE, VI_NONE, "", 0, "", "how the rows of profile_file are joined: linear (the exact polyline, its corners kept) or cubic (the C2 spline through them: a sampled smooth rail without a kink at every row)")
+  X(profile_interpolation, Integer, ProfileInterpolation, parameter, fixed, exact, 1, VI_NONE, VI_NONE, "", 0, "", "how the rows of profile_file are joined: linear (the exact polyline, its corners kept) or cubic (the C2 spline through them: a sampled smooth rail without a kink at every row)") \
+  X(upper_stop, Boolean, none, parameter, fixed, exact, 0, VI_NONE, VI_NONE, "", 0, "", "a second surface at yC + gap above the mass, moving with the platform, with the same law and material (the upper contact: a cavity's lid, the other flank of a clearance)") \
+  X(gap, Real, none, parameter, fixed, exact, 0.0, VI_AT(0.0), VI_NONE, "m", 0, "", "clearance between the two surfaces' contact points, > 0 with upper_stop (the upper surface at yC + gap)") \
+  X(F_upper, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "N", 0, "yC_in F_ext y v vC_in", "the upper contact's force on the mass, down positive (0 without upper_stop)") \
+  X(delta_upper, Real, none, output, continuous, calculated, 0.0, VI_NONE, VI_NONE, "m", 0, "yC_in y", "the upper contact's indentation y - (yC + gap) (0 without upper_stop)") \
+  X(mode_upper, Integer, Mode, output, discrete, calculated, 0, VI_NONE, VI_NONE, "", 0, "", "mode of the upper contact") \
+  X(n_impacts_upper, Integer, none, output, discrete, calculated, 0, VI_NONE, VI_NONE, "", 0, "", "contact onsets on the upper surface so far")
 
 /* Enumeration types: E(type, description); items in VI_ITEMS_<type>(I) as I(type, name, value).
  * Items are matched by name in the model through the constants VI_<type>_<name>. */

@@ -39,7 +39,8 @@ vi_model_params vi_contact_model_params(const vi_parameters *p)
         .profile_periodic = p->profile_periodic,
         .profile_interpolation = p->profile_interpolation == VI_ProfileInterpolation_cubic ? VI_PROFILE_CUBIC
                                                                                           : VI_PROFILE_LINEAR,
-        .e_restitution = p->e_restitution, .damping_formula = p->damping_formula, .k_spring = p->k_spring};
+        .e_restitution = p->e_restitution, .damping_formula = p->damping_formula, .k_spring = p->k_spring,
+        .upper_stop = p->upper_stop, .gap = p->gap};
 }
 
 double vi_contact_rtol(const vi_parameters *p, double tolerance)
@@ -85,9 +86,10 @@ static const vi_outputs *take_values(const vi_run_values *r, unsigned groups, vi
         case VI_OUT_STATE:
             out->delta = v->delta, out->v = v->v, out->contact = v->contact, out->mode = v->mode;
             out->n_impacts = v->n_impacts;
+            out->delta_upper = v->delta_upper, out->mode_upper = v->mode_upper, out->n_impacts_upper = v->n_impacts_upper;
             break;
         case VI_OUT_PLATFORM: out->yC = v->yC, out->y = v->y; break;
-        case VI_OUT_FORCE: out->F = v->F, out->F_peak = r->F_peak; break;
+        case VI_OUT_FORCE: out->F = v->F, out->F_peak = r->F_peak, out->F_upper = v->F_upper; break;
         case VI_OUT_MEMORY:
             out->delta_c = v->delta_c, out->delta_f = v->delta_f, out->delta_p = v->delta_p, out->Rbar = v->Rbar;
             out->W_plastic = v->W_plastic, out->E_contact = v->E_contact;

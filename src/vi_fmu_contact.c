@@ -52,7 +52,9 @@ static const unsigned char output_groups[VI_NVARS] = {
     [VI_VR_f_contact] = VI_OUT_CALCULATED, [VI_VR_F_mean] = VI_OUT_MEAN, [VI_VR_k_contact] = VI_OUT_STIFFNESS,
     [VI_VR_der_y] = VI_OUT_DERIVATIVES, [VI_VR_der_v] = VI_OUT_DERIVATIVES,
     [VI_VR_W_dissipated] = VI_OUT_MEMORY, [VI_VR_E_contact] = VI_OUT_MEMORY, [VI_VR_F_peak] = VI_OUT_FORCE,
-    [VI_VR_W_damping] = VI_OUT_MEMORY, [VI_VR_der_W_damping] = VI_OUT_DERIVATIVES};
+    [VI_VR_W_damping] = VI_OUT_MEMORY, [VI_VR_der_W_damping] = VI_OUT_DERIVATIVES,
+    [VI_VR_F_upper] = VI_OUT_FORCE, [VI_VR_delta_upper] = VI_OUT_STATE, [VI_VR_mode_upper] = VI_OUT_STATE,
+    [VI_VR_n_impacts_upper] = VI_OUT_STATE};
 
 /* Only the groups of outputs the get call reads (reading y computes no force and no plastic work). */
 static const void *outputs_of(void *m, const unsigned vr[], size_t nvr)
@@ -169,6 +171,8 @@ static int jacobian_row(unsigned vr)
     case VI_VR_W_dissipated: return VI_ME_W_DISSIPATED;
     case VI_VR_E_contact: return VI_ME_E_CONTACT;
     case VI_VR_F_peak: return VI_ME_F_PEAK;
+    case VI_VR_F_upper: return VI_ME_F_UPPER;
+    case VI_VR_delta_upper: return VI_ME_DELTA_UPPER;
     default: return -1;
     }
 }

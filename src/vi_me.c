@@ -344,13 +344,31 @@ static void energy_rows(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
     jac[VI_ME_F_PEAK] = jac[VI_ME_F];
 }
 
+/* The rows of the upper contact (force F_upper(delta_u, r_u) with delta_u = -gap - delta, r_u = v - yC';
+ * in stick -F_hold), and F's row with the lower contact's slopes alone (without an upper contact the
+ * model's stiffness and damping are the lower contact's, as vi_me_jacobian writes them). */
+static void upper_rows(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
+{
+    const vi_run_data *d = e->d;
+    const vi_model *model = model_of(e);
+    jac[VI_ME_F_UPPER] = jac[VI_ME_DELTA_UPPER] = through_delta(0.0, 0.0, 0.0, 0.0);
+    if (model->ncontacts < 2) return;
+    double k, c, k_up, c_up;
+    vi_model_contact_slopes(model, VI_LOWER, d->t, d->x, &k, &c);
+    vi_model_contact_slopes(model, VI_UPPER, d->t, d->x, &k_up, &c_up);
+    jac[VI_ME_F] = through_delta(k, -c, vi_model_mode(model) == VI_MODE_STICK ? -1.0 : 0.0, 0.0);
+    jac[VI_ME_F_UPPER] = through_delta(-k_up, c_up, model->contact[VI_UPPER].mode == VI_MODE_STICK ? 1.0 : 0.0, 0.0);
+    jac[VI_ME_DELTA_UPPER] = through_delta(-1.0, 0.0, 0.0, 0.0);
+    if (e->r->set.velocity_input) jac[VI_ME_F].vC_in = c, jac[VI_ME_F_UPPER].vC_in = -c_up;
+}
+
 void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
 {
     sync(e);
     const vi_run_data *d = e->d;
     const vi_model *model = model_of(e);
     double m = model->body.m, h = d->t - d->step_t0;
-    int stick = vi_model_mode(model) == VI_MODE_STICK;
+    int stick = vi_model_sticks(model);
     double k = stick ? 0.0 : m * vi_model_stiffness_over_mass(model, d->t, d->x); /* dF/ddelta */
     double c = vi_model_damping(model, d->t, d->x), k_per_rate;                 /* dF/ddelta' (delta' = yC' - v) */
     double k_rate = vi_model_stiffness_rate(model, d->t, d->x, &k_per_rate);
@@ -377,5 +395,6 @@ void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
         if (h <= 0.0) jac[VI_ME_F_MEAN].vC_in = c;
         jac[VI_ME_K_CONTACT].vC_in = k_per_rate;
     }
+    upper_rows(e, jac);
     energy_rows(e, jac);
 }

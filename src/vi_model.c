@@ -55,6 +55,9 @@ int vi_model_setup(vi_model *model, const vi_model_params *p, double t0, char *m
 {
     if (!(p->R1 > 0.0 || p->R2 > 0.0))
         VI_FAIL(msg, msg_size, "R1 = R2 = 0: two planes have no point contact; give a radius");
+    if (p->upper_stop && !(p->gap > 0.0 && isfinite(p->gap)))
+        VI_FAIL(msg, msg_size, "gap = %g m: with upper_stop = true the clearance between the two surfaces must be "
+                "finite and > 0", p->gap);
 
     model->body.m = p->m;
     model->body.W0 = p->P + p->m * p->g;
@@ -65,7 +68,11 @@ int vi_model_setup(vi_model *model, const vi_model_params *p, double t0, char *m
     model->t_phi = t0;
     model->profile = NULL;
     model->V = model->x0 = 0.0;
-    for (int i = 0; i < VI_NCONTACTS; i++) {
+    model->ncontacts = p->upper_stop ? 2 : 1;
+    for (int i = 0; i < VI_NCONTACTS; i++) model->contact[i] = (vi_model_contact){0};
+    model->contact[VI_UPPER].upper = 1;
+    model->contact[VI_UPPER].gap = p->upper_stop ? p->gap : 0.0;
+    for (int i = 0; i < model->ncontacts; i++) {
         vi_model_contact *c = &model->contact[i];
         setup_contact(c, p);
         if (setup_damping(c, p, model->body.m, msg, msg_size) < 0) return -1;
@@ -611,7 +618,7 @@ static int plastic_ends_at_yield(const vi_model_contact *c) { return c->law == V
 int vi_model_uses_rate(const vi_model *model)
 {
     int uses = 0;
-    for (int i = 0; i < VI_NCONTACTS; i++) {
+    for (int i = 0; i < model->ncontacts; i++) {
         const vi_model_contact *c = &model->contact[i];
         uses |= c->law != VI_LAW_HERTZ && !plastic_ends_at_yield(c);
     }
@@ -626,25 +633,68 @@ static double indentation_rate(const vi_model *model, double t, const double x[2
     return dyC - x[1];
 }
 
+/* Contact c's own indentation and rate: the lower contact's delta = x[0] and delta'; the upper
+ * contact's -gap - delta and -delta'. side: +1 lower, -1 upper (the sign of its rate and its force on
+ * the body). */
+static double side(const vi_model_contact *c) { return c->upper ? -1.0 : 1.0; }
+static double contact_indentation(const vi_model_contact *c, const double x[2]) { return c->upper ? -c->gap - x[0] : x[0]; }
+static double contact_rate(const vi_model *model, const vi_model_contact *c, double t, const double x[2])
+{
+    double r = indentation_rate(model, t, x);
+    return c->upper ? -r : r;
+}
+/* Put the state's delta where contact c's indentation is d. */
+static void put_indentation(const vi_model_contact *c, double x[2], double d) { x[0] = c->upper ? -c->gap - d : d; }
+
+/* The law's mode choice and plastic write-down on contact c's own indentation d (the upper contact:
+ * on a copy, written back where the law moved it onto a surface; d is exactly the surface an event
+ * snapped onto, which -gap - delta may miss by rounding). */
+static int law_choose(vi_model_contact *c, double x[2], double d, const rates *q)
+{
+    if (!c->upper) return law(c)->choose(c, x, q);
+    double xc[2] = {d, x[1]};
+    int mode = law(c)->choose(c, xc, q);
+    if (xc[0] != d) put_indentation(c, x, xc[0]);
+    return mode;
+}
+static void law_freeze(vi_model_contact *c, double x[2])
+{
+    if (!c->upper) {
+        law(c)->freeze_plastic(c, x);
+        return;
+    }
+    double xc[2] = {contact_indentation(c, x), x[1]}, d = xc[0];
+    law(c)->freeze_plastic(c, xc);
+    if (xc[0] != d) put_indentation(c, x, xc[0]);
+}
+
+/* Is any contact in stick (the mass moves with the platform)? */
+static int any_stick(const vi_model *model)
+{
+    int stick = 0;
+    for (int i = 0; i < model->ncontacts; i++) stick |= model->contact[i].mode == VI_MODE_STICK;
+    return stick;
+}
+
 /* Force and partials of contact c's rate-dependent law in mode elastic at (t, x); all zero in any other
  * case. */
 static vi_law_force rate_force(const vi_model *model, const vi_model_contact *c, double t, const double x[2])
 {
     const law_fns *L = law(c);
     if (c->mode != VI_MODE_ELASTIC || !L->rate_force) return (vi_law_force){0.0, 0.0, 0.0};
-    return L->rate_force(c, x[0], indentation_rate(model, t, x));
+    return L->rate_force(c, contact_indentation(c, x), contact_rate(model, c, t, x));
 }
 
 /* Contact c's force [N] at (t, x) in its mode. */
 static double contact_force(const vi_model *model, const vi_model_contact *c, double t, const double x[2])
 {
-    double d = x[0];
+    double d = contact_indentation(c, x);
     if (law(c)->rate_force) return rate_force(model, c, t, x).F;
     switch (c->mode) {
     case VI_MODE_ELASTIC: return law(c)->elastic_force(c, d);
     case VI_MODE_PLASTIC: return law(c)->plastic_force(c, d);
     case VI_MODE_UNLOAD: return vi_unload_force(&c->unload, d);
-    case VI_MODE_STICK: return hold_force(model, t);
+    case VI_MODE_STICK: return side(c) * hold_force(model, t);
     default: return 0.0;
     }
 }
@@ -654,11 +704,16 @@ double vi_model_force(const vi_model *model, double t, const double x[2])
     return contact_force(model, vi_model_lower(model), t, x);
 }
 
+double vi_model_force_upper(const vi_model *model, double t, const double x[2])
+{
+    return model->ncontacts > 1 ? contact_force(model, &model->contact[VI_UPPER], t, x) : 0.0;
+}
+
 /* The contacts' force on the body [N], upwards: the lower contact's, less those of the others. */
 static double body_force(const vi_model *model, double t, const double x[2])
 {
     double F = contact_force(model, &model->contact[0], t, x);
-    for (int i = 1; i < VI_NCONTACTS; i++) F -= contact_force(model, &model->contact[i], t, x);
+    for (int i = 1; i < model->ncontacts; i++) F -= contact_force(model, &model->contact[i], t, x);
     return F;
 }
 
@@ -666,7 +721,7 @@ void vi_model_rhs(const vi_model *model, double t, const double x[2], double dx[
 {
     double dyC, ddyC;
     vi_model_platform(model, t, &dyC, &ddyC);
-    if (vi_model_mode(model) == VI_MODE_STICK) { /* Filippov sliding on delta = delta_c: the mass moves with the platform */
+    if (any_stick(model)) { /* Filippov sliding on delta = delta_c: the mass moves with the platform */
         dx[0] = 0.0;
         dx[1] = ddyC;
         return;
@@ -679,7 +734,7 @@ void vi_model_rhs(const vi_model *model, double t, const double x[2], double dx[
 static double contact_stiffness(const vi_model *model, const vi_model_contact *c, double t, const double x[2])
 {
     if (law(c)->rate_force) return rate_force(model, c, t, x).dF_ddelta;
-    double d = x[0];
+    double d = contact_indentation(c, x);
     switch (c->mode) {
     case VI_MODE_ELASTIC: return law(c)->elastic_stiffness(c, d);
     case VI_MODE_PLASTIC: return law(c)->plastic_stiffness(c, d);
@@ -688,17 +743,27 @@ static double contact_stiffness(const vi_model *model, const vi_model_contact *c
     }
 }
 
+void vi_model_contact_slopes(const vi_model *model, int i, double t, const double x[2], double *k, double *c)
+{
+    *k = *c = 0.0;
+    if (i < 0 || i >= model->ncontacts) return;
+    *k = contact_stiffness(model, &model->contact[i], t, x);
+    *c = rate_force(model, &model->contact[i], t, x).dF_drate;
+}
+
+int vi_model_sticks(const vi_model *model) { return any_stick(model); }
+
 double vi_model_stiffness_over_mass(const vi_model *model, double t, const double x[2])
 {
     double k = contact_stiffness(model, &model->contact[0], t, x);
-    for (int i = 1; i < VI_NCONTACTS; i++) k += contact_stiffness(model, &model->contact[i], t, x);
+    for (int i = 1; i < model->ncontacts; i++) k += contact_stiffness(model, &model->contact[i], t, x);
     return k / model->body.m;
 }
 
 double vi_model_damping(const vi_model *model, double t, const double x[2])
 {
     double c = rate_force(model, &model->contact[0], t, x).dF_drate;
-    for (int i = 1; i < VI_NCONTACTS; i++) c += rate_force(model, &model->contact[i], t, x).dF_drate;
+    for (int i = 1; i < model->ncontacts; i++) c += rate_force(model, &model->contact[i], t, x).dF_drate;
     return c;
 }
 
@@ -737,11 +802,11 @@ static int below_written(const vi_model_contact *c, double d)
     return law(c)->permanent_set && d < lepp_yield(c);
 }
 
-double vi_model_contact_energy(const vi_model *model, const double x[2], double *per_delta)
+/* Contact c's elastic energy at its indentation d [J], and dE/dd into *k (per_delta: wanted). */
+static double contact_energy(const vi_model_contact *c, double d, int per_delta, double *k_out)
 {
-    const vi_model_contact *c = vi_model_lower(model);
     const law_fns *L = law(c);
-    double d = x[0], E = 0.0, k = 0.0;
+    double E = 0.0, k = 0.0;
     vi_memory_rates r;
     if (L->rate_force) { /* the spring part, while the bodies overlap */
         E = L->elastic_energy(c, d), k = L->elastic_force(c, d);
@@ -762,23 +827,51 @@ double vi_model_contact_energy(const vi_model *model, const double x[2], double 
         default: break;
         }
     }
+    *k_out = k;
+    return E;
+}
+
+double vi_model_contact_energy(const vi_model *model, const double x[2], double *per_delta)
+{
+    double k, E = contact_energy(vi_model_lower(model), x[0], per_delta != NULL, &k);
+    if (model->ncontacts > 1) { /* the upper contact: d(delta_u)/d(delta) = -1 */
+        const vi_model_contact *c = &model->contact[VI_UPPER];
+        double ku;
+        E += contact_energy(c, contact_indentation(c, x), per_delta != NULL, &ku);
+        k -= ku;
+    }
     if (per_delta) *per_delta = k;
     return E;
 }
 
+/* The power the body puts into contact c at (t, x) [W]: its force times its indentation's rate. */
+static double contact_power(const vi_model *model, const vi_model_contact *c, double t, const double x[2])
+{
+    if (c->mode == VI_MODE_FREE) return 0.0;
+    double r = contact_rate(model, c, t, x);
+    if (law(c)->rate_force)
+        return c->mode == VI_MODE_ELASTIC ? law(c)->rate_force(c, contact_indentation(c, x), r).F * r : 0.0;
+    return contact_force(model, c, t, x) * r;
+}
+
 double vi_model_contact_power(const vi_model *model, double t, const double x[2])
 {
-    const vi_model_contact *c = vi_model_lower(model);
-    if (c->mode == VI_MODE_FREE) return 0.0;
-    double r = indentation_rate(model, t, x);
-    if (law(c)->rate_force) return c->mode == VI_MODE_ELASTIC ? law(c)->rate_force(c, x[0], r).F * r : 0.0;
-    return vi_model_force(model, t, x) * r;
+    double P = contact_power(model, vi_model_lower(model), t, x);
+    if (model->ncontacts > 1) P += contact_power(model, &model->contact[VI_UPPER], t, x);
+    return P;
+}
+
+int vi_model_touching(const vi_model *model)
+{
+    int touching = 0;
+    for (int i = 0; i < model->ncontacts; i++) touching |= model->contact[i].mode != VI_MODE_FREE;
+    return touching;
 }
 
 int vi_model_damps(const vi_model *model)
 {
     int damps = 0;
-    for (int i = 0; i < VI_NCONTACTS; i++) damps |= law(&model->contact[i])->rate_force != NULL;
+    for (int i = 0; i < model->ncontacts; i++) damps |= law(&model->contact[i])->rate_force != NULL;
     return damps;
 }
 
@@ -788,14 +881,32 @@ int vi_model_damping_root_at_onset(const vi_model *model)
     return c->law == VI_LAW_HERTZ_DAMPED && c->damped.formula == VI_DAMP_EXACT;
 }
 
-vi_model_power vi_model_damping_power(const vi_model *model, double t, const double x[2])
+int vi_model_damping_onset(const vi_model *model, const double x[2])
 {
-    const vi_model_contact *c = vi_model_lower(model);
+    int onset = x[0] == 0.0;
+    if (model->ncontacts > 1) onset |= contact_indentation(&model->contact[VI_UPPER], x) == 0.0;
+    return onset && vi_model_damping_root_at_onset(model);
+}
+
+/* Contact c's damping power at (t, x) with its partials in its own indentation and rate. */
+static vi_model_power contact_damping_power(const vi_model *model, const vi_model_contact *c, double t, const double x[2])
+{
     const law_fns *L = law(c);
     if (!L->rate_force) return (vi_model_power){0.0, 0.0, 0.0};
-    double d = x[0], r = indentation_rate(model, t, x), Fs = L->elastic_force(c, d), ks = L->elastic_stiffness(c, d);
+    double d = contact_indentation(c, x), r = contact_rate(model, c, t, x);
+    double Fs = L->elastic_force(c, d), ks = L->elastic_stiffness(c, d);
     vi_law_force F = rate_force(model, c, t, x); /* 0 when free */
     return (vi_model_power){(F.F - Fs) * r, (F.dF_ddelta - ks) * r, F.dF_drate * r + F.F - Fs};
+}
+
+vi_model_power vi_model_damping_power(const vi_model *model, double t, const double x[2])
+{
+    vi_model_power P = contact_damping_power(model, vi_model_lower(model), t, x);
+    if (model->ncontacts > 1) { /* the upper contact's indentation and rate are -delta and -delta' (plus -gap) */
+        vi_model_power U = contact_damping_power(model, &model->contact[VI_UPPER], t, x);
+        P.P += U.P, P.dP_ddelta -= U.dP_ddelta, P.dP_drate -= U.dP_drate;
+    }
+    return P;
 }
 
 double vi_model_force_rate(const vi_model *model, double t, const double x[2], const double dx[2], double *F)
@@ -824,7 +935,7 @@ double vi_model_force_rate(const vi_model *model, double t, const double x[2], c
 
 void vi_model_jacobian(const vi_model *model, double t, const double x[2], double j[4])
 {
-    int stick = vi_model_mode(model) == VI_MODE_STICK;
+    int stick = any_stick(model);
     j[0] = 0.0, j[1] = stick ? 0.0 : -1.0;
     j[2] = vi_model_stiffness_over_mass(model, t, x); /* 0 in stick */
     j[3] = -vi_model_damping(model, t, x) / model->body.m; /* d(delta')/dv = -1 */
@@ -900,16 +1011,16 @@ static double guard_distance(const guard_def *g, double d)
 static void contact_guards(const vi_model *model, const vi_model_contact *c, double t, const double x[2], double *g)
 {
     guard_def def[VI_CONTACT_NGUARDS];
-    double d = x[0], F_hold = 0.0;
+    double d = contact_indentation(c, x), F_hold = 0.0;
     mode_guards(c, c->mode, def);
-    if (def[0].kind == GUARD_STICK_LOAD) F_hold = hold_force(model, t); /* both stick guards: once */
+    if (def[0].kind == GUARD_STICK_LOAD) F_hold = side(c) * hold_force(model, t); /* both stick guards: once */
     for (int i = 0; i < VI_CONTACT_NGUARDS; i++) {
         switch (def[i].kind) {
         case GUARD_ABOVE:
         case GUARD_BELOW: g[i] = guard_distance(&def[i], d); break;
-        case GUARD_TURN: g[i] = indentation_rate(model, t, x); break;
-        case GUARD_ONSET: g[i] = fmax(-d, -law(c)->force_guard(c, d, indentation_rate(model, t, x)).g); break;
-        case GUARD_RELEASE: g[i] = law(c)->force_guard(c, d, indentation_rate(model, t, x)).g; break;
+        case GUARD_TURN: g[i] = contact_rate(model, c, t, x); break;
+        case GUARD_ONSET: g[i] = fmax(-d, -law(c)->force_guard(c, d, contact_rate(model, c, t, x)).g); break;
+        case GUARD_RELEASE: g[i] = law(c)->force_guard(c, d, contact_rate(model, c, t, x)).g; break;
         case GUARD_STICK_LOAD: g[i] = vi_johnson_load(&c->johnson, def[i].surface) - F_hold; break;
         case GUARD_STICK_UNLOAD: g[i] = F_hold - vi_unload_force(&c->unload, def[i].surface); break;
         default: g[i] = 1.0; break; /* inactive */
@@ -919,13 +1030,14 @@ static void contact_guards(const vi_model *model, const vi_model_contact *c, dou
 
 void vi_model_guards(const vi_model *model, double t, const double x[2], double g[VI_NGUARDS])
 {
-    for (int i = 0; i < VI_NCONTACTS; i++) contact_guards(model, &model->contact[i], t, x, g + i * VI_CONTACT_NGUARDS);
+    for (int i = 0; i < model->ncontacts; i++) contact_guards(model, &model->contact[i], t, x, g + i * VI_CONTACT_NGUARDS);
+    for (int i = model->ncontacts * VI_CONTACT_NGUARDS; i < VI_NGUARDS; i++) g[i] = 1.0; /* contacts not in use */
 }
 
 const char *vi_model_guard_name(const vi_model *model, int mode, int guard)
 {
     guard_def def[VI_CONTACT_NGUARDS];
-    if (guard < 0 || guard >= VI_NGUARDS) return "none";
+    if (guard < 0 || guard >= model->ncontacts * VI_CONTACT_NGUARDS) return "none"; /* also a contact not in use */
     mode_guards(&model->contact[guard / VI_CONTACT_NGUARDS], mode, def);
     return def[guard % VI_CONTACT_NGUARDS].name;
 }
@@ -934,30 +1046,34 @@ int vi_model_guard_mode(const vi_model *model, int guard) { return model->contac
 
 void vi_model_freeze(vi_model *model, double t, double x[2])
 {
-    for (int i = 0; i < VI_NCONTACTS; i++) {
+    for (int i = 0; i < model->ncontacts; i++) {
         vi_model_contact *c = &model->contact[i];
-        if (c->mode == VI_MODE_PLASTIC && law(c)->freeze_plastic) law(c)->freeze_plastic(c, x);
+        if (c->mode == VI_MODE_PLASTIC && law(c)->freeze_plastic) law_freeze(c, x);
         else if (c->mode == VI_MODE_STICK) vi_model_platform(model, t, &x[1], NULL);
     }
 }
 
-/* Choose contact c's mode at (t, x) (snap: the stick guard an event put on its surface); a contact
- * onset counts an impact. Returns the mode. */
-static int resolve(vi_model *model, vi_model_contact *c, double t, double x[2], int snap)
+/* Choose contact c's mode at (t, x) with its indentation d (snap: the stick guard an event put on its
+ * surface); a contact onset counts an impact. Returns the mode. */
+static int resolve_at(vi_model *model, vi_model_contact *c, double t, double x[2], double d, int snap)
 {
-    double dyC;
+    double dyC, s = side(c);
     vi_model_platform(model, t, &dyC, NULL);
-    rates q = {.r = dyC - x[1], .F_hold = hold_force(model, t), .j = hold_force_rate(model, t), .m = model->body.m,
-               .snap = snap};
-    int mode = law(c)->choose(c, x, &q);
+    rates q = {.r = s * (dyC - x[1]), .F_hold = s * hold_force(model, t), .j = s * hold_force_rate(model, t),
+               .m = model->body.m, .snap = snap};
+    int mode = law_choose(c, x, d, &q);
     if (c->mode == VI_MODE_FREE && mode != VI_MODE_FREE) c->n_impacts++;
     c->mode = mode;
     return mode;
 }
+static int resolve(vi_model *model, vi_model_contact *c, double t, double x[2], int snap)
+{
+    return resolve_at(model, c, t, x, contact_indentation(c, x), snap);
+}
 
 int vi_model_resolve(vi_model *model, double t, double x[2])
 {
-    for (int i = 0; i < VI_NCONTACTS; i++) resolve(model, &model->contact[i], t, x, SNAP_NONE);
+    for (int i = 0; i < model->ncontacts; i++) resolve(model, &model->contact[i], t, x, SNAP_NONE);
     return vi_model_mode(model);
 }
 
@@ -971,17 +1087,18 @@ int vi_model_resolve(vi_model *model, double t, double x[2])
 static int damped_event(vi_model *model, vi_model_contact *c, double t, double x[2])
 {
     const law_fns *L = law(c);
+    double s = side(c);
     if (c->mode == VI_MODE_FREE) {
-        if (new_contact(c, x[0], indentation_rate(model, t, x))) x[0] = 0.0; /* onto delta = 0 */
+        if (new_contact(c, contact_indentation(c, x), contact_rate(model, c, t, x))) put_indentation(c, x, 0.0); /* onto 0 */
         return resolve(model, c, t, x, SNAP_NONE);
     }
-    vi_law_guard g = L->force_guard(c, x[0], indentation_rate(model, t, x));
-    if (g.dg_drate > 0.0) x[1] += g.g / g.dg_drate; /* r = yC' - v: a larger v lowers g */
+    vi_law_guard g = L->force_guard(c, contact_indentation(c, x), contact_rate(model, c, t, x));
+    if (g.dg_drate > 0.0) x[1] += s * (g.g / g.dg_drate); /* r = s (yC' - v): a larger s v lowers g */
     int mode = resolve(model, c, t, x, SNAP_RELEASE);
     for (int i = 0; i < VI_GUARD_NUDGES; i++) {
-        double gv = L->force_guard(c, x[0], indentation_rate(model, t, x)).g;
+        double gv = L->force_guard(c, contact_indentation(c, x), contact_rate(model, c, t, x)).g;
         if (mode == VI_MODE_ELASTIC ? gv >= 0.0 : gv <= 0.0) break;
-        x[1] = nextafter(x[1], mode == VI_MODE_ELASTIC ? -INFINITY : INFINITY);
+        x[1] = nextafter(x[1], (mode == VI_MODE_ELASTIC) == (s > 0.0) ? -INFINITY : INFINITY);
     }
     return mode;
 }
@@ -996,12 +1113,14 @@ int vi_model_event(vi_model *model, double t, double x[2], int fired)
     const guard_def *g = &def[local == 0 || def[1].kind == GUARD_NONE ? 0 : 1]; /* a mode with one guard: that one */
     switch (g->kind) {
     case GUARD_ABOVE:
-    case GUARD_BELOW: x[0] = g->surface; break;
+    case GUARD_BELOW: put_indentation(c, x, g->surface); return resolve_at(model, c, t, x, g->surface, SNAP_NONE);
     case GUARD_TURN: vi_model_platform(model, t, &x[1], NULL); break; /* turning point: delta' = 0 */
     case GUARD_ONSET:
     case GUARD_RELEASE: return damped_event(model, c, t, x);
     case GUARD_STICK_LOAD:
-    case GUARD_STICK_UNLOAD: x[0] = g->surface; return resolve(model, c, t, x, g->kind == GUARD_STICK_LOAD ? SNAP_LOAD : SNAP_UNLOAD);
+    case GUARD_STICK_UNLOAD:
+        put_indentation(c, x, g->surface);
+        return resolve_at(model, c, t, x, g->surface, g->kind == GUARD_STICK_LOAD ? SNAP_LOAD : SNAP_UNLOAD);
     default: break;
     }
     return resolve(model, c, t, x, SNAP_NONE);
@@ -1022,7 +1141,7 @@ void vi_model_initial_state(vi_model *model, int init, double v0, double t0, dou
     vi_model_contact *c = &model->contact[VI_LOWER];
     double W0 = net_load(model, t0);
     model->f_contact = sqrt(W0 > 0.0 ? law(c)->static_stiffness(c, W0) / model->body.m : 0.0) / (2.0 * VI_PI);
-    for (int i = 0; i < VI_NCONTACTS; i++) clear_contact(&model->contact[i]);
+    for (int i = 0; i < model->ncontacts; i++) clear_contact(&model->contact[i]);
     x[0] = 0.0;
     x[1] = v0;
     if (init == VI_INIT_STATIC) { /* at rest on the lower contact */
@@ -1035,7 +1154,7 @@ void vi_model_initial_state(vi_model *model, int init, double v0, double t0, dou
         vi_model_platform(model, t0, &x[1], NULL);
     }
     vi_model_resolve(model, t0, x);
-    for (int i = 0; i < VI_NCONTACTS; i++) model->contact[i].n_impacts = 0;
+    for (int i = 0; i < model->ncontacts; i++) model->contact[i].n_impacts = 0;
 }
 
 void vi_model_scales(const vi_model *model, const double x0[2], double *L, double *V)
@@ -1059,23 +1178,31 @@ void vi_model_scales(const vi_model *model, const double x0[2], double *L, doubl
 
 /* ---- validity ------------------------------------------------------------------------------ */
 
-/* The indentation the range of validity looks at: delta in contact, or the largest one delta_c. */
-static double validity_indentation(const vi_model_contact *c, const double x[2])
+/* The indentation the range of validity looks at: contact c's own in contact, or its largest one
+ * delta_c. */
+static double contact_validity_indentation(const vi_model_contact *c, const double x[2])
 {
-    double d = c->mode == VI_MODE_FREE ? 0.0 : x[0], dc = c->yielded ? c->unload.delta_c : 0.0;
+    double d = c->mode == VI_MODE_FREE ? 0.0 : contact_indentation(c, x), dc = c->yielded ? c->unload.delta_c : 0.0;
     return dc > d || d != d ? dc : d; /* fmax */
+}
+/* The larger of the contacts' (the same material on both sides). */
+static double validity_indentation(const vi_model *model, const double x[2])
+{
+    double d = contact_validity_indentation(vi_model_lower(model), x);
+    if (model->ncontacts > 1) d = fmax(d, contact_validity_indentation(&model->contact[VI_UPPER], x));
+    return d;
 }
 
 int vi_model_indentation_invalid(const vi_model *model, const double x[2])
 {
     const vi_model_contact *c = vi_model_lower(model);
-    return validity_indentation(c, x) > VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * c->johnson.R_star;
+    return validity_indentation(model, x) > VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * c->johnson.R_star;
 }
 
 int vi_model_validity(const vi_model *model, double R1, double t, const double x[2], int skip, char *msg, size_t n)
 {
     const vi_model_contact *c = vi_model_lower(model);
-    double R = c->johnson.R_star, limit = VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * R, d = validity_indentation(c, x);
+    double R = c->johnson.R_star, limit = VI_VALIDITY_RADIUS * VI_VALIDITY_RADIUS * R, d = validity_indentation(model, x);
     if (!(skip & VI_INVALID_INDENTATION) && d > limit) {
         vi_snprintf(msg, n, "t = %.17g s: the indentation %g m exceeds %g R* = %g m (contact radius sqrt(R* delta) = %g m "
                     "> %g R*): the contact laws (paper eqs. 2-4) assume a contact radius small against R*, so the "
@@ -1221,7 +1348,7 @@ static int check_constants(const vi_model *model, char *msg, size_t n)
                                        {"phi0", model->phi0, 0},   {"t_phi", model->t_phi, 0}, {"V", model->V, 0},
                                        {"x0", model->x0, 0},       {"f_contact", model->f_contact, 0}};
     if (check_named(body, sizeof body / sizeof body[0], msg, n) < 0) return -1;
-    for (int i = 0; i < VI_NCONTACTS; i++)
+    for (int i = 0; i < model->ncontacts; i++)
         if (check_contact_constants(&model->contact[i], msg, n) < 0) return -1;
     if (check_named(platform, sizeof platform / sizeof platform[0], msg, n) < 0) return -1;
     if (model->omega < 0.0) VI_FAIL(msg, n, "model constant omega = %g is negative", model->omega);
@@ -1287,7 +1414,7 @@ static int check_mode(const vi_model_contact *c, const double x[2], int surfaces
         VI_FAIL(msg, n, "mode = %d is impossible for contact_model %s (moving %d, unloading %d, yielded %d)", mode,
                 L->name, c->moving, c->unloading, c->yielded);
     if (!surfaces) return 0;
-    double d = x[0], tol = VI_CHECK_GUARD_TOL * fmax(fmax(c->johnson.delta_Y, fabs(d)), fabs(c->unload.delta_c));
+    double d = contact_indentation(c, x), tol = VI_CHECK_GUARD_TOL * fmax(fmax(c->johnson.delta_Y, fabs(d)), fabs(c->unload.delta_c));
     guard_def def[VI_CONTACT_NGUARDS];
     mode_guards(c, mode, def);
     for (int i = 0; i < VI_CONTACT_NGUARDS; i++) {
@@ -1325,16 +1452,46 @@ static int check_not_set_up(const vi_model *model, char *msg, size_t n)
     return 0;
 }
 
+/* A contact not in use: every field zero (its side aside). */
+static int contact_blank(const vi_model_contact *c)
+{
+    const vi_unload_curve *U = &c->unload;
+    const vi_johnson *J = &c->johnson;
+    const double d[] = {c->gap, c->K, J->E_star, J->R_star, J->theta_Y, J->F_Y, J->delta_Y, c->k_lin,
+                        c->damped.alpha_c, c->damped.chi, c->damped.K, c->linear.k, c->linear.c, U->delta_c,
+                        U->Rbar, U->delta_r, U->delta_f, U->Kbar, c->delta_p, c->V_i};
+    int blank = c->law == 0 && c->moving == 0 && c->unloading == 0 && c->mode == 0 && c->yielded == 0 &&
+                c->n_impacts == 0 && c->damped.formula == 0;
+    for (size_t i = 0; i < sizeof d / sizeof d[0]; i++) blank &= d[i] == 0.0;
+    return blank;
+}
+
+/* The list of contacts: one or two in use, the upper one with its clearance > 0, the others zero. */
+static int check_list(const vi_model *model, char *msg, size_t n)
+{
+    if (model->ncontacts != 1 && model->ncontacts != 2) VI_FAIL(msg, n, "ncontacts = %d is not 1 or 2", model->ncontacts);
+    const vi_model_contact *lower = &model->contact[VI_LOWER], *upper = &model->contact[VI_UPPER];
+    if (lower->upper != 0 || lower->gap != 0.0 || upper->upper != 1)
+        VI_FAIL(msg, n, "the contacts' sides (lower %d, upper %d) are not lower and upper", lower->upper, upper->upper);
+    if (model->ncontacts == 2 && !(upper->gap > 0.0 && isfinite(upper->gap)))
+        VI_FAIL(msg, n, "gap = %g m of the upper contact is not finite and > 0", upper->gap);
+    if (model->ncontacts == 1 && !contact_blank(upper))
+        VI_FAIL(msg, n, "the upper contact is not in use but has a state (law %d, mode %d, gap %g m)", upper->law,
+                upper->mode, upper->gap);
+    return 0;
+}
+
 static int check(const vi_model *model, const double x[2], int surfaces, char *msg, size_t n)
 {
     if (!isfinite(x[0]) || !isfinite(x[1])) VI_FAIL(msg, n, "state (delta %g, v %g) is not finite", x[0], x[1]);
     if (vi_model_lower(model)->law == 0) return check_not_set_up(model, msg, n); /* never set up */
-    for (int i = 0; i < VI_NCONTACTS; i++)
+    if (check_list(model, msg, n) < 0) return -1;
+    for (int i = 0; i < model->ncontacts; i++)
         if (check_flags(&model->contact[i], msg, n) < 0) return -1;
     if (check_constants(model, msg, n) < 0) return -1;
-    for (int i = 0; i < VI_NCONTACTS; i++)
+    for (int i = 0; i < model->ncontacts; i++)
         if (check_memory(&model->contact[i], msg, n) < 0) return -1;
-    for (int i = 0; i < VI_NCONTACTS; i++)
+    for (int i = 0; i < model->ncontacts; i++)
         if (check_mode(&model->contact[i], x, surfaces, msg, n) < 0) return -1;
     return 0;
 }
@@ -1356,6 +1513,24 @@ void vi_model_calculated(const vi_model *model, vi_model_values *out)
     out->f_contact = model->f_contact;
 }
 
+/* The upper contact's outputs of `groups` (all 0 without an upper contact). */
+static void upper_outputs(const vi_model *model, double t, const double x[2], unsigned groups, vi_model_values *out)
+{
+    const vi_model_contact *c = &model->contact[VI_UPPER];
+    int on = model->ncontacts > 1;
+    if (groups & VI_OUT_STATE) {
+        out->delta_upper = on ? contact_indentation(c, x) : 0.0;
+        out->mode_upper = on ? c->mode : VI_MODE_FREE;
+        out->n_impacts_upper = on ? (int)c->n_impacts : 0;
+    }
+    if (groups & VI_OUT_FORCE) out->F_upper = on ? contact_force(model, c, t, x) : 0.0;
+    if (groups & VI_OUT_MEMORY) {
+        vi_model_values m = {.W_plastic = 0.0};
+        if (on) law(c)->memory_outputs(c, contact_indentation(c, x), &m);
+        out->W_plastic_upper = m.W_plastic;
+    }
+}
+
 void vi_model_outputs(const vi_model *model, double t, const double x[2], unsigned groups, vi_model_values *out)
 {
     const vi_model_contact *c = vi_model_lower(model);
@@ -1373,6 +1548,7 @@ void vi_model_outputs(const vi_model *model, double t, const double x[2], unsign
     }
     if (groups & VI_OUT_FORCE) out->F = vi_model_force(model, t, x);
     if (groups & VI_OUT_CALCULATED) vi_model_calculated(model, out);
+    upper_outputs(model, t, x, groups, out);
     if (!(groups & VI_OUT_MEMORY)) return;
     out->delta_c = out->delta_f = out->delta_p = out->W_plastic = 0.0;
     out->Rbar = c->johnson.R_star;

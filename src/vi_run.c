@@ -104,6 +104,7 @@ void vi_run_check_validity(vi_run *r)
     }
     if (r->warned_validity & VI_INVALID_FORCE) return; /* warned once: the force need not be evaluated again */
     double F_max = fmax(r->d->F_peak, vi_model_force(model, r->d->t, r->d->x)); /* the step's so far, and now */
+    if (model->ncontacts > 1) F_max = fmax(F_max, vi_model_force_upper(model, r->d->t, r->d->x)); /* the upper one's now */
     if (vi_model_force_validity(model, F_max, r->d->t, text, sizeof text)) {
         r->warned_validity |= VI_INVALID_FORCE;
         r->log(r->log_env, VI_LOG_WARNING, "%s", text);
@@ -253,7 +254,11 @@ void vi_run_compute_outputs(vi_run *r, unsigned need)
         return;
     }
     vi_model_outputs(model, d->t, d->x, need, &r->out.model);
-    if (need & VI_OUT_MEMORY) r->out.W_damping = d->W_damping, r->out.W_dissipated = r->out.model.W_plastic + d->W_damping;
+    if (need & VI_OUT_MEMORY) { /* both contacts' plastic work */
+        double W_plastic = r->out.model.W_plastic;
+        if (model->ncontacts > 1) W_plastic += r->out.model.W_plastic_upper;
+        r->out.W_damping = d->W_damping, r->out.W_dissipated = W_plastic + d->W_damping;
+    }
     if (need & VI_OUT_FORCE) r->out.F_peak = fmax(d->F_peak, r->out.model.F);
     if (need & VI_OUT_MEAN) r->out.F_mean = mean_force(r);
     if (need & VI_OUT_STIFFNESS) r->out.k_contact = vi_run_contact_stiffness(model, d->t, d->x);

@@ -53,8 +53,8 @@ static int piece_damping(vi_sim *s, const vi_solver_piece *p)
     vi_run_data *d = s->d;
     const vi_model *model = model_of(s);
     double h = p->tb - p->ta, sum = 0.0, x[2];
-    int onset = p->xa[0] == 0.0 && vi_model_damping_root_at_onset(model);
-    for (int i = 0; i < VI_GAUSS_NODES && vi_model_mode(model) != VI_MODE_FREE; i++) {
+    int onset = vi_model_damping_onset(model, p->xa);
+    for (int i = 0; i < VI_GAUSS_NODES && vi_model_touching(model); i++) {
         double u = gauss_t[i], u3 = u * u * u, t = p->ta + h * (onset ? u3 * u : u);
         if (vi_solver_piece_at(p, t, x, NULL) < 0) return -1;
         sum += gauss_w[i] * (onset ? 4.0 * u3 : 1.0) * vi_model_contact_power(model, t, x);
@@ -551,7 +551,8 @@ int vi_sim_advance_until(vi_sim *s, double t_end, int stop_at_mode_change)
      * apply_inputs, which checks; the profile is fixed), unless a state was restored since */
     if (s->r->validity_unchecked ||
         (!(s->r->warned_validity & VI_INVALID_INDENTATION) && vi_model_indentation_invalid(model_of(s), d->x)) ||
-        (!(s->r->warned_validity & VI_INVALID_FORCE) && d->F_peak > vi_model_force_limit(model_of(s))))
+        (!(s->r->warned_validity & VI_INVALID_FORCE) &&
+         fmax(d->F_peak, vi_model_force_upper(model_of(s), d->t, d->x)) > vi_model_force_limit(model_of(s))))
         vi_run_check_validity(s->r);
     if (pass == PASS_STOPPED) return VI_SIM_EVENT;
     if (t_end > run.limit) return discard(s, "%s", why); /* the end of the profile: nothing beyond it */

@@ -67,7 +67,7 @@ static void lib_close(void)
 #define RTOL_CASES 1e-10 /* relative tolerance of the trajectory cases */
 #define H_CASES 1e-5     /* s, communication step of the trajectory cases (and the recording interval) */
 #define ME_NX 3          /* continuous states of VibroImpact: y, v, W_damping (modelDescription.xml, Derivatives) */
-#define ME_NZ 2          /* its event indicators (numberOfEventIndicators) */
+#define ME_NZ 4          /* its event indicators (numberOfEventIndicators): two per contact */
 #define ME_H 1e-6        /* s, the fixed step of the drivers' classical Runge-Kutta method (Model Exchange) */
 #define ME_EVENT_PASSES 100 /* bound of the event iteration (fmi2NewDiscreteStates, fmi3UpdateDiscreteStates) */
 

@@ -297,25 +297,27 @@ static void model_exchange(const char *resources)
         if (!c) continue;
         EXPECT(initialize(c, law, 1e-4, 6e8) == fmi2OK);
         event_iteration(c);
-        double x[ME_NX], dx[ME_NX], z[2], z_old[2], nominal[ME_NX], t = 0.0, h = 1e-7;
+        double x[ME_NX], dx[ME_NX], z[ME_NZ], z_old[ME_NZ], nominal[ME_NX], t = 0.0, h = 1e-7;
         EXPECT(F.get_states(c, x, ME_NX) == fmi2OK && F.get_nominals(c, nominal, ME_NX) == fmi2OK);
-        EXPECT(F.get_indicators(c, z_old, 2) == fmi2OK);
+        EXPECT(F.get_indicators(c, z_old, ME_NZ) == fmi2OK);
         int events = 0;
         for (int k = 0; k < 30000; k++) { /* 3 ms */
             EXPECT(F.get_derivatives(c, dx, ME_NX) == fmi2OK);
             t += h;
             for (int i = 0; i < ME_NX; i++) x[i] += h * dx[i];
             EXPECT(F.set_time(c, t) == fmi2OK && F.set_states(c, x, ME_NX) == fmi2OK);
-            EXPECT(F.get_indicators(c, z, 2) == fmi2OK);
+            EXPECT(F.get_indicators(c, z, ME_NZ) == fmi2OK);
             fmi2Boolean enter = fmi2False, terminate = fmi2False;
             EXPECT(F.completed(c, fmi2True, &enter, &terminate) == fmi2OK);
-            if ((z[0] > 0) != (z_old[0] > 0) || (z[1] > 0) != (z_old[1] > 0) || enter) {
+            int crossed = 0;
+            for (int i = 0; i < ME_NZ; i++) crossed |= (z[i] > 0) != (z_old[i] > 0);
+            if (crossed || enter) {
                 EXPECT(F.enter_event(c) == fmi2OK);
                 event_iteration(c);
-                EXPECT(F.get_states(c, x, ME_NX) == fmi2OK && F.get_indicators(c, z, 2) == fmi2OK);
+                EXPECT(F.get_states(c, x, ME_NX) == fmi2OK && F.get_indicators(c, z, ME_NZ) == fmi2OK);
                 events++;
             }
-            z_old[0] = z[0], z_old[1] = z[1];
+            for (int i = 0; i < ME_NZ; i++) z_old[i] = z[i];
         }
         EXPECT(events > 0);
         read_all(c);

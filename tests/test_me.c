@@ -346,7 +346,7 @@ Test(me_events, a_grazing_contact_is_snapped_and_its_guard_lifted_by_its_band)
     double band = 4.0 * (rtol * x[0] + e.d.run.events.atol[0]) + 256.0 * 0x1p-52;
     cr_assert(fabs(e.d.run.events.band[0] - band) <= 1e-12 * band, "band %.17g, closed form %.17g", e.d.run.events.band[0], band);
     cr_assert(e.d.run.events.band[1] == 0.0, "the inactive guard has no band: %g", e.d.run.events.band[1]);
-    double z[2];
+    double z[VI_ME_NINDICATORS];
     vi_me_indicators(&e.e, z);
     cr_assert(z[0] == e.d.run.events.band[0] && z[1] == 1.0, "indicators %g %g", z[0], z[1]);
     cr_assert(e.d.run.step_t0 == e.d.run.t && e.d.run.step_v0 == v, "the mean force starts anew at the event");
@@ -462,7 +462,7 @@ Test(me_events, a_guard_exactly_at_zero_without_noise_is_lifted_by_the_least_nor
     test_run e;
     start(&e, preloaded_stick);
     cr_assert(e.d.run.model.contact[0].mode == VI_Mode_stick);
-    double z[2], W = e.d.run.model.body.W0;
+    double z[VI_ME_NINDICATORS], W = e.d.run.model.body.W0;
     vi_me_indicators(&e.e, z);
     cr_assert(vi_johnson_load(&e.d.run.model.contact[0].johnson, e.d.run.model.contact[0].unload.delta_c) == W, "not exactly on the load surface");
     cr_assert(z[0] == DBL_MIN, "load guard %g", z[0]);
@@ -588,7 +588,7 @@ Test(me_states, initialization_logs_the_scales_and_the_initial_state_in_closed_f
     cr_assert(fabs(nl - L) <= 1e-5 * L && fabs(nv - V) <= 1e-5 * V, "nominals %g %g, closed form %g %g", nl, nv, L, V);
     cr_assert(fabs(nw - 407.747 * V * V) <= 1e-5 * nw, "nominal %g, closed form m V^2 = %g", nw, 407.747 * V * V);
     cr_assert(mode == VI_Mode_elastic && fabs(delta - L) <= 1e-8 * L && v == 0.0, "mode %d, delta %.9g, v %g", mode, delta, v);
-    double x[VI_ME_NSTATES], z[2], dx[VI_ME_NSTATES], nominal[VI_ME_NSTATES];
+    double x[VI_ME_NSTATES], z[VI_ME_NINDICATORS], dx[VI_ME_NSTATES], nominal[VI_ME_NSTATES];
     vi_me_get_states(&e.e, x);
     cr_assert(fabs(x[0] - (0.25 - L)) <= 1e-15 && x[1] == 0.0, "y = %.17g, closed form %.17g", x[0], 0.25 - L);
     vi_me_nominals(&e.e, nominal);

@@ -1148,6 +1148,7 @@ Test(model_check, consistency_bound_is_inclusive)
     M.contact[0].johnson.R_star = 1.0, M.contact[0].johnson.E_star = 0.75 * 999999999.0, M.contact[0].johnson.theta_Y = 1.0;
     M.contact[0].johnson.delta_Y = 1.0, M.contact[0].johnson.F_Y = 999999999.0, M.contact[0].K = 999999999.0;
     M.contact[0].k_lin = 1e9;
+    M.ncontacts = 1, M.contact[VI_UPPER].upper = 1; /* the lower contact alone */
     double x[2] = {0.0, 0.0};
     cr_assert(fabs(M.contact[0].k_lin - M.contact[0].johnson.F_Y / M.contact[0].johnson.delta_Y) == 1e-9 * fmax(M.contact[0].k_lin, M.contact[0].johnson.F_Y / M.contact[0].johnson.delta_Y));
     accepted_as(&M, x, "k_lin exactly 1e-9 off");
@@ -2460,4 +2461,36 @@ Test(energy, force_rate_is_the_time_derivative_of_the_force)
         cr_assert(fabs(g - fd) <= 1e-5 * scale, "case %zu: rate %.17g, difference %.17g", i, g, fd);
         cr_assert(fabs(g_dx - g) <= 1e-9 * scale, "case %zu: with x' given %.17g, %.17g", i, g_dx, g);
     }
+}
+
+/* The upper stop needs a clearance > 0, and sets up a second contact at -gap - delta. */
+Test(model, an_upper_stop_needs_a_positive_gap)
+{
+    vi_parameters p;
+    vi_parameters_default(&p);
+    p.upper_stop = 1, p.gap = 0.0;
+    vi_model M;
+    char msg[256];
+    cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) < 0 && strstr(msg, "gap = 0 m") != NULL, "%s", msg);
+    p.gap = 1e-3;
+    cr_assert(setup_from_table(&M, &p, 0.0, msg, sizeof msg) == 0, "%s", msg);
+    cr_assert(M.ncontacts == 2 && M.contact[VI_UPPER].upper == 1 && M.contact[VI_UPPER].gap == 1e-3);
+    cr_assert(M.contact[VI_UPPER].K == M.contact[VI_LOWER].K, "the same law and material on both sides");
+}
+
+/* A saved model: one or two contacts, and a contact not in use blank in every field. */
+Test(model_check, the_upper_contact_not_in_use_is_blank)
+{
+    double x0[2];
+    vi_model ok = default_unloading_model(x0);
+    accepted_as(&ok, x0, "the lower contact alone");
+    vi_model bad = ok;
+    bad.contact[VI_UPPER].johnson.F_Y = 1.0;
+    refused_with(&bad, x0, 1, "the upper contact is not in use but has a state (law 0, mode 0, gap 0 m)");
+    bad = ok, bad.contact[VI_UPPER].n_impacts = 1;
+    refused_with(&bad, x0, 1, "the upper contact is not in use but has a state (law 0, mode 0, gap 0 m)");
+    bad = ok, bad.ncontacts = 3;
+    refused_with(&bad, x0, 1, "ncontacts = 3 is not 1 or 2");
+    bad = ok, bad.contact[VI_UPPER].upper = 0;
+    refused_with(&bad, x0, 1, "the contacts' sides (lower 0, upper 0) are not lower and upper");
 }

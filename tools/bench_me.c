@@ -118,7 +118,7 @@ int main(int argc, char **argv)
     CHECK(enter_ct(c));
 
     double x0[MAX_N], x[MAX_N], dx[MAX_N], z[MAX_N], t0 = 1e-9;
-    const size_t nx = 3, nz = 2; /* the contact FMU (y, v, W_damping); a model with other sizes fails the calls below */
+    const size_t nx = 3, nz = 4; /* the contact FMU (y, v, W_damping; two guards per contact); a model with other sizes fails the calls below */
     CHECK(set_time(c, t0));
     CHECK(get_states(c, x0, nx));
     double best[4] = {INFINITY, INFINITY, INFINITY, INFINITY};
