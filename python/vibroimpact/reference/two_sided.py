@@ -31,7 +31,6 @@ from scipy.integrate import solve_ivp
 from . import model as one
 
 LOWER, UPPER = 0, 1
-SIDES = ("lower", "upper")
 
 
 def contacts(params: dict, gap: float):
