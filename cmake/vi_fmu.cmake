@@ -5,14 +5,14 @@
 #            [DOC_INTRO <README.md>] [DOCUMENTATION <pages.md...>] [DOCUMENTATION_FMI3 <pages.md...>]
 #            [LICENSES <NAME=file>...] [ICON <png>] [GENERATION_TOOL <text>])
 #
-# Builds Co-Simulation and Model Exchange FMUs of one model on the generic layer (include/vi_fmu.h), one
+# Builds Co-Simulation and Model Exchange FMUs of one model on the generic layer (src/fmi/vi_fmu.h), one
 # per FMI version, all from the same compiled model (<Name>_model). Both model descriptions are
 # generated from the model's variable table (cmake/vi_model_description.py reading <Name>_dump_variables)
 # and stamped with the release (cmake/vi_fmu_stamp.py: version, generationDateAndTime, copyright, license;
 # generationTool when GENERATION_TOOL is given, e.g. what the binaries carry):
 #   FMI 2.0:
 #     <Name>               the shared library <Name>.so (.dll on Windows): the model + the layer
-#                          (VI_FMU_LAYER_SOURCES and the FMI 2.0 face src/vi_fmi2.c), exporting the fmi2*
+#                          (VI_FMU_LAYER_SOURCES and the FMI 2.0 face src/fmi/vi_fmi2.c), exporting the fmi2*
 #                          functions only (static libraries linked in stay hidden); VI_MODEL_IDENTIFIER
 #                          of the table must be <Name>
 #     <Name>_fmu (ALL)     packs <OUTPUT_DIRECTORY>/<Name>.fmu (default: the top build directory):
@@ -21,7 +21,7 @@
 #                          platform: aarch64 Linux)
 #   FMI 3.0:
 #     <Name>_fmi3          the shared library <OUTPUT_DIRECTORY>/fmi3/<Name>.so: the model + the layer
-#                          (VI_FMU_LAYER_SOURCES and the FMI 3.0 face src/vi_fmi3.c), exporting the fmi3*
+#                          (VI_FMU_LAYER_SOURCES and the FMI 3.0 face src/fmi/vi_fmi3.c), exporting the fmi3*
 #                          functions only
 #     <Name>_fmi3_fmu (ALL) packs <OUTPUT_DIRECTORY>/fmi3/<Name>.fmu: modelDescription.xml,
 #                          binaries/<VI_FMI3_PLATFORM>/<Name>.so, resources/, documentation/index.html,
@@ -52,12 +52,14 @@
 # and in sources/buildDescription.xml for FMI 3.0.
 # --- end source FMUs ---
 set(VI_FMU_ROOT ${CMAKE_CURRENT_LIST_DIR}/..)
-# The generic FMI layer that every face builds on (include/vi_fmu.h, include/vi_fmi_layer.h): the files
+# The layer's headers (src/fmi) and what it shares with every layer (src/base: checks, numbers as text).
+set(VI_FMU_LAYER_INCLUDE_DIRS ${VI_FMU_ROOT}/src/fmi ${VI_FMU_ROOT}/src/base)
+# The generic FMI layer that every face builds on (src/fmi/vi_fmu.h, src/fmi/vi_fmi_layer.h): the files
 # shared by both versions, one concern each.
 set(VI_FMU_LAYER_SOURCES
-    ${VI_FMU_ROOT}/src/vi_fmi_state_machine.c ${VI_FMU_ROOT}/src/vi_fmi_log.c ${VI_FMU_ROOT}/src/vi_fmi_instance.c
-    ${VI_FMU_ROOT}/src/vi_fmi_values.c ${VI_FMU_ROOT}/src/vi_fmi_fmu_state.c ${VI_FMU_ROOT}/src/vi_fmi_cosim.c
-    ${VI_FMU_ROOT}/src/vi_fmi_model_exchange.c)
+    ${VI_FMU_ROOT}/src/fmi/vi_fmi_state_machine.c ${VI_FMU_ROOT}/src/fmi/vi_fmi_log.c ${VI_FMU_ROOT}/src/fmi/vi_fmi_instance.c
+    ${VI_FMU_ROOT}/src/fmi/vi_fmi_values.c ${VI_FMU_ROOT}/src/fmi/vi_fmi_fmu_state.c ${VI_FMU_ROOT}/src/fmi/vi_fmi_cosim.c
+    ${VI_FMU_ROOT}/src/fmi/vi_fmi_model_exchange.c)
 include(${CMAKE_CURRENT_LIST_DIR}/vi_platform.cmake)
 set(VI_FMU_MERGE_BINARIES "" CACHE STRING
     "Build directories of other platforms whose FMU binaries the FMUs packed here also hold")
@@ -91,13 +93,22 @@ function(vi_fmu_stage_sources name version xml xml_out dir_out depends_out)
     endif()
   endforeach()
   list(REMOVE_DUPLICATES c_files)
-  set(include_dirs ${VI_FMU_ROOT}/include ${CMAKE_CURRENT_SOURCE_DIR} ${ARG_INCLUDE_DIRS})
+  set(include_dirs ${VI_FMU_LAYER_INCLUDE_DIRS} ${CMAKE_CURRENT_SOURCE_DIR} ${ARG_INCLUDE_DIRS})
+  foreach(lib ${ARG_LIBRARIES}) # the folders the libraries' headers are in (vi_simulator: every layer's)
+    if(TARGET ${lib})
+      get_target_property(lib_includes ${lib} INTERFACE_INCLUDE_DIRECTORIES)
+      if(lib_includes)
+        list(APPEND include_dirs ${lib_includes})
+      endif()
+    endif()
+  endforeach()
+  list(REMOVE_DUPLICATES include_dirs)
   set(headers "")
   foreach(d ${include_dirs})
     file(GLOB h ${d}/*.h)
     list(APPEND headers ${h})
   endforeach()
-  file(GLOB tables ${VI_FMU_ROOT}/src/*.inc) # the tables the C files include (vi_laws.c: vi_tsuji_table.inc)
+  file(GLOB tables ${VI_FMU_ROOT}/src/*/*.inc) # the tables the C files include (vi_laws.c: vi_tsuji_table.inc)
   list(APPEND headers ${tables})
   set(dir ${CMAKE_CURRENT_BINARY_DIR}/${name}_fmi${version}.sources)
   set(script ${VI_FMU_ROOT}/cmake/vi_fmu_sources.py)
@@ -196,7 +207,7 @@ function(vi_add_fmu name)
 
   # The model without the FMI layer: shared by the FMU binaries and the table dump.
   add_library(${name}_model OBJECT ${ARG_SOURCES})
-  target_include_directories(${name}_model PUBLIC ${VI_FMU_ROOT}/include ${CMAKE_CURRENT_SOURCE_DIR} ${ARG_INCLUDE_DIRS})
+  target_include_directories(${name}_model PUBLIC ${VI_FMU_LAYER_INCLUDE_DIRS} ${CMAKE_CURRENT_SOURCE_DIR} ${ARG_INCLUDE_DIRS})
   target_compile_options(${name}_model PRIVATE ${VI_WARNINGS})
   target_link_libraries(${name}_model PUBLIC ${ARG_LIBRARIES} vi_text m) # the layer formats with vi_text
   set_target_properties(${name}_model PROPERTIES C_VISIBILITY_PRESET hidden POSITION_INDEPENDENT_CODE ON)
@@ -240,7 +251,7 @@ function(vi_add_fmu name)
   foreach(version ${ARG_FMI_VERSIONS})
     if(version STREQUAL "2")
       set(target ${name})
-      set(face ${VI_FMU_ROOT}/src/vi_fmi2.c)
+      set(face ${VI_FMU_ROOT}/src/fmi/vi_fmi2.c)
       set(platform ${VI_FMI2_PLATFORM})
       set(out_dir ${ARG_OUTPUT_DIRECTORY})
       set(version_xml ${xml_2})
@@ -248,7 +259,7 @@ function(vi_add_fmu name)
       set(defs "")
     elseif(version STREQUAL "3")
       set(target ${name}_fmi3)
-      set(face ${VI_FMU_ROOT}/src/vi_fmi3.c)
+      set(face ${VI_FMU_ROOT}/src/fmi/vi_fmi3.c)
       set(platform ${VI_FMI3_PLATFORM})
       set(out_dir ${ARG_OUTPUT_DIRECTORY}/fmi3)
       set(version_xml ${xml_3})
@@ -260,7 +271,7 @@ function(vi_add_fmu name)
     endif()
 
     add_library(${target} SHARED ${face} ${VI_FMU_LAYER_SOURCES})
-    target_include_directories(${target} PRIVATE ${FMI2_HEADERS_DIR} ${VI_FMU_ROOT}/include)
+    target_include_directories(${target} PRIVATE ${FMI2_HEADERS_DIR} ${VI_FMU_LAYER_INCLUDE_DIRS})
     target_compile_definitions(${target} PRIVATE ${defs})
     target_compile_options(${target} PRIVATE ${VI_WARNINGS})
     target_link_libraries(${target} PRIVATE ${name}_model) # an object library: its objects go in

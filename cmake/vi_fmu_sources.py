@@ -34,7 +34,7 @@ import sys
 from xml.sax.saxutils import quoteattr
 
 # The C files of SUNDIALS 6.4.1's CVODE library that the FMUs use: the members of libsundials_cvode.a
-# that the linker takes for src/vi_solver.c (ld -Map). A missing one fails the links of the source
+# that the linker takes for src/solvers/vi_solver.c (ld -Map). A missing one fails the links of the source
 # builds (tools/fmu_source_build.py: undefined symbols).
 SUNDIALS_SOURCES = [
     "src/cvode/cvode.c", "src/cvode/cvode_io.c", "src/cvode/cvode_ls.c", "src/cvode/cvode_nls.c",

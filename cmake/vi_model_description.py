@@ -1,4 +1,4 @@
-"""Write the FMI 2.0 or FMI 3.0 modelDescription.xml of a model on the generic FMI layer (include/vi_fmu.h)
+"""Write the FMI 2.0 or FMI 3.0 modelDescription.xml of a model on the generic FMI layer (src/fmi/vi_fmu.h)
 from its variable table, the one source of both.
 
 Run at build time by vi_add_fmu (cmake/vi_fmu.cmake), once per FMI version:
@@ -30,7 +30,7 @@ enumeration -> Enumeration; the independent variable `time` at VR (VI_FMI3_TIME_
 interpolates its inputs, each Real input `u` of row r gets an input `der(u)` at BASE + r
 (VI_FMI3_DERIVATIVE_VR_BASE), which the face maps onto the input's derivative; with Model Exchange the
 event indicators are variables event_indicator_<i> at INDICATOR_BASE + i.
-The capability flags are the layer's (src/vi_fmi2.c, src/vi_fmi3.c), written once here.
+The capability flags are the layer's (src/fmi/vi_fmi2.c, src/fmi/vi_fmi3.c), written once here.
 """
 import argparse
 import re
@@ -57,7 +57,7 @@ MODEL_EXCHANGE_3 = dict(needsExecutionTool="false", canBeInstantiatedOnlyOncePer
                         canGetAndSetFMUState="true", canSerializeFMUState="true", providesAdjointDerivatives="false",
                         providesEvaluateDiscreteStates="false", needsCompletedIntegratorStep="true")
 
-# The layer's log categories (VI_CAT_* in include/vi_fmi_layer.h, in that order); the call category is
+# The layer's log categories (VI_CAT_* in src/fmi/vi_fmi_layer.h, in that order); the call category is
 # named after the version.
 LOG_CATEGORIES = [
     ("logEvents", "every event of the model: changes of its mode, state and time events"),

@@ -1,4 +1,4 @@
-# SUNDIALS for the solver (src/vi_solver.c, include/vi_sundials.h): 6.4 or 7.x, linked statically
+# SUNDIALS for the solver (src/solvers/vi_solver.c, src/solvers/vi_sundials.h): 6.4 or 7.x, linked statically
 # (the FMU binaries export their fmi* functions only: cmake/vi_fmu.cmake).
 #
 # The SUNDIALS CMake package CMake finds (Debian's libsundials-dev: 6.4.1), or the one -DSUNDIALS_DIR=

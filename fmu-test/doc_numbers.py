@@ -139,15 +139,15 @@ class Sources:
 
     @functools.cached_property
     def defines(self):
-        """#define NAME value of every C file under include/ and src/ whose value is a number."""
+        """#define NAME value of every C file and header under src/ whose value is a number."""
         found = {}
-        for path in sorted(glob.glob(str(ROOT / "include" / "*.h")) + glob.glob(str(ROOT / "src" / "*.c"))):
+        for path in sorted(glob.glob(str(ROOT / "src" / "*" / "*.[ch]"))):
             for m in re.finditer(r"^#define (VI_\w+) ([0-9][0-9.e+-]*)L?\b", pathlib.Path(path).read_text(), re.M):
                 found[m.group(1)] = float(m.group(2))
         return found
 
     def define(self, name):
-        assert name in self.defines, f"no #define {name} in include/*.h or src/*.c: the page names a constant that is gone"
+        assert name in self.defines, f"no #define {name} in src/: the page names a constant that is gone"
         return self.defines[name]
 
     @functools.cached_property

@@ -311,7 +311,7 @@ def test_table_number_is_what_the_data_give(sources, fact):
 
 # ---- names the pages give ---------------------------------------------------------------------------------
 
-REPO_FOLDERS = ("src/", "include/", "tools/", "tests/", "fmu-test/", "cmake/", "python/", "examples/", "doc/")
+REPO_FOLDERS = ("src/", "tools/", "tests/", "fmu-test/", "cmake/", "python/", "examples/", "doc/")
 
 
 def named_paths():
@@ -341,7 +341,7 @@ def test_named_files_exist():
 def code_identifiers():
     """Every identifier of the C and CMake code (also the tests, tools and package, for options and variables)."""
     words = set()
-    for top in ("src", "include", "tests", "tools", "cmake", "python", "fmu-test", "examples"):
+    for top in ("src", "tests", "tools", "cmake", "python", "fmu-test", "examples"):
         for p in (ROOT / top).rglob("*"):
             if p.suffix in {".c", ".h", ".cmake", ".py", ".sh", ".txt"} and p.is_file():
                 words.update(re.findall(r"\w+", p.read_text(errors="replace")))

@@ -2,7 +2,7 @@
 FMI 3.0 (build/fmi3/VibroImpact.fmu): rollback and serialized states continue bit for bit, altered
 or foreign states are refused with the reason, bad calls and bad values are refused with a message
 naming the variable and leave the instance usable, and no function crashes on a NULL instance.
-Both faces share one layer (src/vi_fmi_*.c), so these tests hold the FMI 3.0 face to everything
+Both faces share one layer (src/fmi/vi_fmi_*.c), so these tests hold the FMI 3.0 face to everything
 the FMI 2.0 one was tested for; the FMI 2.0 suites (test_fmi.py, test_state.py, test_rollback.py,
 test_status.py) go further on the FMI 2.0 face alone."""
 import ctypes

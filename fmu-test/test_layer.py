@@ -1,4 +1,4 @@
-"""The generic FMI 2.0 layer (include/vi_fmu.h, src/vi_fmi2.c) on LayerTest, its smallest model
+"""The generic FMI 2.0 layer (src/fmi/vi_fmu.h, src/fmi/vi_fmi2.c) on LayerTest, its smallest model
 (tests/layer_fmu: x' = -k x + u, advanced by its closed form), so that what the layer does is
 tested apart from any physics: table against XML, String and tunable parameters, input
 derivatives, fmi2Discard and the recovery the standard describes, the error state, the resources

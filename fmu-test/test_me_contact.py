@@ -234,7 +234,7 @@ def test_crossing_within_the_graze_band_is_put_onto_the_surface(me, inside):
     """At t = 1e5 s one ulp of time moves the platform (560 Hz, 0.1 mm) by ~2e-12 m: an importer
     cannot locate a crossing better. The band the event update takes as "on the surface" is
     VI_GRAZE_TOL (4) times the change of the guard under a state error of the tolerance plus
-    VI_GRAZE_ULPS (256) times its change under one ulp of t and y (include/vi_sim.h); here the ulps
+    VI_GRAZE_ULPS (256) times its change under one ulp of t and y (src/drivers/vi_sim.h); here the ulps
     term dominates. A penetration of a quarter of that band is snapped onto the surface (delta = 0,
     states changed); four times the band is taken as it is (elastic at that delta)."""
     inst, m = me()

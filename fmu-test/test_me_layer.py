@@ -1,4 +1,4 @@
-"""The generic layer's Model Exchange part (src/vi_fmi_model_exchange.c, src/vi_fmi2.c) on LayerTest, apart from
+"""The generic layer's Model Exchange part (src/fmi/vi_fmi_model_exchange.c, src/fmi/vi_fmi2.c) on LayerTest, apart from
 any physics: x' = -k x + u integrated by the importer, a state event where x crosses x_event (x jumps
 by `jump`), a time event at t_event, and a switch that keeps the event iteration from settling.
 The state machine (every Model Exchange call refused in the states the standard does not allow it

@@ -23,7 +23,7 @@ from conftest import BUILD
 from vibroimpact.fmu import MessageLog, Messages
 
 ERROR = 3  # fmi2Error and fmi3Error
-ROWS_MAX = 10_000_000  # VI_PROFILE_ROWS_MAX of include/vi_profile.h
+ROWS_MAX = 10_000_000  # VI_PROFILE_ROWS_MAX of src/profile/vi_profile.h
 FACES = ["fmi2-cs", "fmi2-me", "fmi3-cs", "fmi3-me"]
 each_face = pytest.mark.parametrize("face", FACES)
 

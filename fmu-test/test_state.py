@@ -30,7 +30,7 @@ def fnv_round(h, w):
 
 
 def words_hash(data, h):
-    """The documented checksum (src/vi_fmi2.c): four lanes over 32-byte blocks of little-endian
+    """The documented checksum (src/fmi/vi_fmi2.c): four lanes over 32-byte blocks of little-endian
     words, folded with the length, then the tail bytes."""
     lanes = [fnv_round(h, k) for k in range(4)]
     n = len(data) - len(data) % 32

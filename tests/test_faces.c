@@ -1,4 +1,4 @@
-/* Unit tests of the FMI 2.0 and 3.0 faces of the generic layer (src/vi_fmi2.c, src/vi_fmi3.c) on the
+/* Unit tests of the FMI 2.0 and 3.0 faces of the generic layer (src/fmi/vi_fmi2.c, src/fmi/vi_fmi3.c) on the
  * layer with the stub model of tests/stub_model.h: what each face adds to the layer (the logger's
  * calling convention, the resource URI, instantiation's arguments, the status queries, the results
  * the importer reads back, the size arguments of FMI 3.0, the functions not provided). */

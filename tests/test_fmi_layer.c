@@ -1,4 +1,4 @@
-/* Unit tests of the generic FMI layer (src/vi_fmi_*.c) with a stub model that has no
+/* Unit tests of the generic FMI layer (src/fmi/vi_fmi_*.c) with a stub model that has no
  * physics but every hook, each of which can be told to fail or to answer a given value: the
  * life cycle and its argument checks, logging with categories, value access with its checks, the
  * FMU-state envelope, the Co-Simulation step checks and the Model Exchange calls. Two faces: a
@@ -939,7 +939,7 @@ Test(fmi_layer, input_derivatives_need_every_array_order_1_a_finite_value_and_an
 
 /* ---- FMU state ---- */
 
-/* The envelope's header as its format is documented (src/vi_fmi_fmu_state.c). */
+/* The envelope's header as its format is documented (src/fmi/vi_fmi_fmu_state.c). */
 typedef struct {
     uint32_t magic, version;
     uint64_t size, model;

@@ -58,7 +58,7 @@ Test(model, rejects_two_planes)
     cr_assert(setup_from_table(&M, &p, 0, msg, sizeof msg) == 0, "%s", msg);
 }
 
-/* The variable table's ranges (include/vi_variables.h): the exclusive bounds are exactly the doubles
+/* The variable table's ranges (src/adapter/vi_variables.h): the exclusive bounds are exactly the doubles
  * beyond them (m > 0: 5e-324 is in, 0 is out; -1 < nu <= 0.5), the inclusive ones contain their
  * bound, every start value lies in its range, and the range reads as written in model.md. */
 static const vi_variable *var(const char *name)

@@ -25,7 +25,7 @@ static void running(test_run *s)
     cr_assert(vi_sim_advance(&s->s, 1e-3) == VI_SIM_OK, "%s", s->r.msg);
 }
 
-/* A state as the FMU saves it (src/vi_fmu_contact.c): the FMI storage, the run's data and each driver's. */
+/* A state as the FMU saves it (src/adapter/vi_fmu_contact.c): the FMI storage, the run's data and each driver's. */
 typedef vi_contact_data state;
 static state state_of(const test_run *s) { return s->d; }
 

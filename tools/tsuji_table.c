@@ -1,6 +1,6 @@
-/* tsuji_table - writes src/vi_tsuji_table.inc, the table of alpha(e) of the exact damping (vi_laws.h):
+/* tsuji_table - writes src/model/vi_tsuji_table.inc, the table of alpha(e) of the exact damping (vi_laws.h):
  *
- *   vi_tsuji_table > src/vi_tsuji_table.inc
+ *   vi_tsuji_table > src/model/vi_tsuji_table.inc
  *
  * On each piece of u = ln(e/(1 - e)) (VI_TSUJI_TABLE_PIECES of width VI_TSUJI_TABLE_WIDTH from
  * VI_TSUJI_TABLE_U_MIN), G = alpha sqrt(e)/(1 - e) at the N = VI_TSUJI_TABLE_DEGREE + 1 Chebyshev nodes
@@ -34,7 +34,7 @@ static int piece_values(int i, double G[N])
 
 int main(void)
 {
-    printf("/* vi_tsuji_table.inc - written by tools/tsuji_table.c (vi_tsuji_table > src/vi_tsuji_table.inc); "
+    printf("/* vi_tsuji_table.inc - written by tools/tsuji_table.c (vi_tsuji_table > src/model/vi_tsuji_table.inc); "
            "do not edit.\n * The Chebyshev coefficients of G(u) = alpha sqrt(e)/(1 - e), u = ln(e/(1 - e)), on "
            "each piece of vi_laws.h. */\n");
     printf("static const double vi_tsuji_table[%d][%d] = {\n", VI_TSUJI_TABLE_PIECES, N);

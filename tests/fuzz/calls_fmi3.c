@@ -5,7 +5,7 @@
  *
  * Besides the sanitizers, the watchdog and the logger's checks (FMI 3.0's logger takes the message as
  * it is, not as a format, and names no instance: its instanceEnvironment must be a slot), each kind
- * checks what the standard and the FMU's documentation (doc/fmi3.md, src/vi_fmi3.c) promise:
+ * checks what the standard and the FMU's documentation (doc/fmi3.md, src/fmi/vi_fmi3.c) promise:
  *   - the state machines of FMI 3.0 (Co-Simulation: Instantiated, Initialization Mode, Step Mode,
  *     Event Mode with eventModeUsed, Step Discarded, Terminated; Model Exchange: Event Mode and
  *     Continuous-Time Mode instead of the step states): a call that changes the mode or sets values
@@ -306,7 +306,7 @@ static int of_type(const vi_variable *v, int t)
     }
 }
 
-/* The states in which vr may be set through the call of type t (the FMU's rules, src/vi_fmi_values.c
+/* The states in which vr may be set through the call of type t (the FMU's rules, src/fmi/vi_fmi_values.c
  * settable and doc/fmi3.md); 0: never. */
 static unsigned settable_in(const fz_slot *s, fmi3ValueReference vr, int t)
 {

@@ -45,7 +45,7 @@ if(VI_FUZZ_HARNESS)
       endif()
     endforeach()
     add_executable(fuzz_${target} ${VI_FUZZ_DIR}/fuzz_main.c ${VI_FUZZ_DIR}/order.c ${VI_FUZZ_DIR}/energy.c ${calls} "$<REMOVE_DUPLICATES:${sources}>")
-    target_include_directories(fuzz_${target} PRIVATE ${FMI2_HEADERS_DIR} ${VI_FUZZ_DIR} ${CMAKE_SOURCE_DIR}/include)
+    target_include_directories(fuzz_${target} PRIVATE ${FMI2_HEADERS_DIR} ${VI_FUZZ_DIR} ${VI_INCLUDE_DIRS})
     target_compile_definitions(fuzz_${target} PRIVATE "$<REMOVE_DUPLICATES:${definitions}>")
     string(REGEX REPLACE "_fmi3$" "" fmu ${target}) # both binaries of an FMU link its model objects
     target_link_libraries(fuzz_${target} PRIVATE ${fmu}_model Threads::Threads m)

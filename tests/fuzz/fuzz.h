@@ -82,7 +82,7 @@ fmi2Status fz_status(const char *call, fmi2Status s);
 /* ---- instances ---- */
 /* The FMI states of the state machines, as bits (a mask: the states the instance may be in, after
  * a call whose outcome leaves it open). The bits are those the FMU records in its FMU states
- * (include/vi_fmi_layer.h VI_ST_*). FMI 2.0 Co-Simulation has the first six (FZ_ANY); FMI 3.0 names
+ * (src/fmi/vi_fmi_layer.h VI_ST_*). FMI 2.0 Co-Simulation has the first six (FZ_ANY); FMI 3.0 names
  * step complete "Step Mode" and step failed "Step Discarded", and adds Event Mode (Co-Simulation with
  * eventModeUsed, Model Exchange) and Continuous-Time Mode (Model Exchange): FZ_ANY3. */
 enum {
@@ -147,7 +147,7 @@ void fz_expect_name(fz_slot *s, const char *name);
  * format, as in FMI 2.0, so that a '%' must be "%%"); a finding when one fails. */
 void fz_check_message(const fz_slot *s, int status, const char *category, const char *message, int format);
 
-/* ---- serialized FMU states (both versions have one format, src/vi_fmi_fmu_state.c) ---- */
+/* ---- serialized FMU states (both versions have one format, src/fmi/vi_fmi_fmu_state.c) ---- */
 /* Seal p (n bytes) again with the documented checksum (FNV-1a's round over 64-bit words in four
  * lanes over the 48-byte header, its checksum at 40 taken as 0, then the model's block). */
 void fz_reseal(uint8_t *p, size_t n);

@@ -375,7 +375,7 @@ fmi2CallbackFunctions fz_callbacks(fz_slot *s)
 
 void fz_expect_name(fz_slot *s, const char *name) { s->expected_name = name ? name : "?"; }
 
-/* ---- serialized FMU states: the documented checksum (src/vi_fmi_fmu_state.c), written again ---------- */
+/* ---- serialized FMU states: the documented checksum (src/fmi/vi_fmi_fmu_state.c), written again ---------- */
 
 static uint64_t round_(uint64_t h, uint64_t w)
 {

@@ -1,6 +1,6 @@
 /*
  * layer_variables.h - variables of LayerTest, the smallest model on the generic FMI layer
- * (include/vi_fmu.h). It exists to test the layer apart from any physics, and shows a model author
+ * (src/fmi/vi_fmu.h). It exists to test the layer apart from any physics, and shows a model author
  * the whole of what a model writes: this table, layer_model.c, modelDescription.xml, and one
  * vi_add_fmu() call in CMakeLists.txt.
  *

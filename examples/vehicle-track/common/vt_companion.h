@@ -1,8 +1,8 @@
 /*
  * vt_companion.h - what the companion models of the vehicle-track example (track/, vehicle/)
  * share: a small ODE system x' = f(t, x; parameters, inputs), advanced over each communication
- * step by the repository's CVODE wrapper (include/vi_solver.h), as a model of the generic FMI
- * layer (include/vi_fmu.h). A model folder holds only its physics: its variable table, one
+ * step by the repository's CVODE wrapper (src/solvers/vi_solver.h), as a model of the generic FMI
+ * layer (src/fmi/vi_fmu.h). A model folder holds only its physics: its variable table, one
  * vt_model_def (right-hand side, Jacobian, parameter check, initial state, tolerance scales,
  * outputs) and VT_DEFINE_FMU. This file turns that into the layer's hooks.
  *

@@ -1,6 +1,6 @@
 /*
  * track_variables.h - the variables of the Track FMU (vehicle-track example): one row per FMU
- * variable, value reference = row number (see include/vi_table.h). modelDescription.xml mirrors
+ * variable, value reference = row number (see src/fmi/vi_table.h). modelDescription.xml mirrors
  * it; fmu-test/test_vehicle_track.py fails when the two disagree. Parameter values and their
  * sources: examples/vehicle-track/parameters.py.
  */

@@ -201,7 +201,7 @@ int vi_tsuji_alpha_solve(double e, double *alpha)
 /* the table of vi_laws.h: vi_tsuji_table[piece][k], the Chebyshev coefficients of G on the piece */
 #include "vi_tsuji_table.inc"
 _Static_assert(sizeof vi_tsuji_table == sizeof(double) * VI_TSUJI_TABLE_PIECES * (VI_TSUJI_TABLE_DEGREE + 1),
-               "src/vi_tsuji_table.inc does not match the table's shape in vi_laws.h");
+               "src/model/vi_tsuji_table.inc does not match the table's shape in vi_laws.h");
 
 /* G(u) = sum_k c_k T_k(x), x in [-1, 1] across the piece of u (Clenshaw's recurrence) */
 static double tsuji_table_G(double u)

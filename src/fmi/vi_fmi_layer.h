@@ -1,13 +1,13 @@
 /*
  * vi_fmi_layer.h - the generic FMI layer as its faces see it: what every version of the standard
- * shares, in src/vi_fmi_*.c, one concern a file: the state machine (vi_fmi_state_machine.c, a table
+ * shares, in src/fmi/vi_fmi_*.c, one concern a file: the state machine (vi_fmi_state_machine.c, a table
  * of the FMI states in which each call is allowed), logging with categories (vi_fmi_log.c), the
  * instance life cycle (vi_fmi_instance.c), value access through the model's variable table with
  * its checks (vi_fmi_values.c), the checked FMU-state envelope with its checksum and serialization
  * (vi_fmi_fmu_state.c), the Co-Simulation step (vi_fmi_cosim.c) and the Model Exchange calls
  * (vi_fmi_model_exchange.c), all reaching the model through its hooks (vi_fmu.h).
  *
- * A face (src/vi_fmi2.c, src/vi_fmi3.c) is a thin translation of one version's C API into the calls
+ * A face (src/fmi/vi_fmi2.c, src/fmi/vi_fmi3.c) is a thin translation of one version's C API into the calls
  * below. It writes no state machine, checksum or state format, and checks only what exists in its
  * version alone (FMI 2.0: the status queries; FMI 3.0: nValues, nSeed and nSensitivity, the result
  * pointers of fmi3DoStep and fmi3UpdateDiscreteStates, Event Mode asked for at instantiation),

@@ -1,8 +1,8 @@
 /*
  * vi_fmu.h - the generic FMI layer and what a model gives it.
  *
- * The layer (src/vi_fmi_*.c, include/vi_fmi_layer.h, with one face per version of the standard: src/vi_fmi2.c,
- * src/vi_fmi3.c) implements every function of a Co-Simulation and a Model Exchange FMU and knows no
+ * The layer (src/fmi/vi_fmi_*.c, src/fmi/vi_fmi_layer.h, with one face per version of the standard: src/fmi/vi_fmi2.c,
+ * src/fmi/vi_fmi3.c) implements every function of a Co-Simulation and a Model Exchange FMU and knows no
  * model: argument and state-machine checks, value access through the model's variable table
  * (vi_table.h), logging with categories, the FMU state envelope and its serialization, the status
  * functions, the checks of a step (communication point, step size, stop time), and the Model

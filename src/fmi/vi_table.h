@@ -4,7 +4,7 @@
  * compiler generates from the rows the C structs that hold the values, the value-reference
  * constants, the start values and the descriptor array the layer uses to get and set values.
  *
- * How a model uses it (see include/vi_variables.h for the contact model):
+ * How a model uses it (see src/adapter/vi_variables.h for the contact model):
  *
  *   // <model>_variables.h
  *   #include "vi_table.h"

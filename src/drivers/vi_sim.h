@@ -1,7 +1,7 @@
 /*
  * vi_sim.h - the Co-Simulation driver: integrates a run of the contact model (vi_run.h) with its own
  * solver between the events, which the event engine locates and applies (doc/model.md section 7.1).
- * The FMI glue (src/vi_fmu_contact.c) owns one vi_run and one vi_sim per instance and calls them
+ * The FMI glue (src/adapter/vi_fmu_contact.c) owns one vi_run and one vi_sim per instance and calls them
  * through the functions below; nothing here calls FMI. Comments and messages name the FMI call a
  * value comes from where the user needs it: the tolerance is the one of fmi2SetupExperiment.
  *

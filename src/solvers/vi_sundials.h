@@ -1,5 +1,5 @@
 /*
- * vi_sundials.h - the SUNDIALS headers the solver (src/vi_solver.c) and its tests use, for every
+ * vi_sundials.h - the SUNDIALS headers the solver (src/solvers/vi_solver.c) and its tests use, for every
  * SUNDIALS the build takes (CMakeLists.txt): 6.4 or 7.x, with CVODE or, where only it is installed,
  * CVODES. CVODES holds CVODE's whole API (the same CVode* functions, under cvodes/); the build
  * defines VI_SUNDIALS_CVODES when it links CVODES.

@@ -1,5 +1,5 @@
 /*
- * vi_fmi_layer_internal.h - what the files of the FMI layer (src/vi_fmi_*.c) share among themselves
+ * vi_fmi_layer_internal.h - what the files of the FMI layer (src/fmi/vi_fmi_*.c) share among themselves
  * and no face uses: the one model of the binary, the entry of a call, and the helpers that more than
  * one concern needs (state and category names, the variable's storage, range checks).
  */
@@ -39,11 +39,11 @@ static inline vi_fmi_instance *enter_call(void *instance, vi_call call, const ch
     return c;
 }
 
-/* ---- state machine (src/vi_fmi_state_machine.c) ---- */
+/* ---- state machine (src/fmi/vi_fmi_state_machine.c) ---- */
 /* The FMI state s (one VI_ST_* bit) as messages name it, e.g. "step complete". */
 const char *vi_fmi_state_name(unsigned s);
 
-/* ---- logging (src/vi_fmi_log.c) ---- */
+/* ---- logging (src/fmi/vi_fmi_log.c) ---- */
 /* The name of log category cat (the call category as the face names it). */
 const char *vi_fmi_category_name(const vi_fmi_instance *c, int cat);
 /* Hand text to the face's emit with every byte outside printable ASCII written \xNN. */
@@ -51,7 +51,7 @@ void vi_fmi_emit(const vi_fmi_instance *c, vi_status status, const char *categor
 /* The logger handed to the model (vi_fmu_log_fn); env is the instance. */
 void vi_fmi_model_log(void *env, int category, const char *fmt, ...) VI_PRINTF_FORMAT(3, 4);
 
-/* ---- values (src/vi_fmi_values.c) ---- */
+/* ---- values (src/fmi/vi_fmi_values.c) ---- */
 /* The struct of a group inside a plain-data block of the model (NULL for outputs). */
 void *vi_fmi_group_in(const void *block, vi_group group);
 /* The variable behind vr if it is accessed through the API type `api`; NULL (logged) otherwise. */

@@ -2,7 +2,7 @@
  * vi_me.h - the Model Exchange driver: a run of the contact model (vi_run.h) advanced by somebody
  * else's integrator, the model as an ODE with events. It shares the run (model, event engine,
  * outputs, validity warnings) with the Co-Simulation driver (vi_sim.h) and has no solver of its own.
- * Nothing here knows FMI; src/vi_fmu_contact.c maps the FMI layer's hooks onto these functions.
+ * Nothing here knows FMI; src/adapter/vi_fmu_contact.c maps the FMI layer's hooks onto these functions.
  *
  * States (the importer integrates them):  y [m], the mass position, v [m/s], its velocity, and W_damping
  * [J], the damping's work (VI_ME_NSTATES below):

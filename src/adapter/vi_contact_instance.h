@@ -3,7 +3,7 @@
  * as the importer set them, the experiment) beside the run's data and each driver's (together what an
  * FMU state holds), the run over them and both drivers over the run; and the mapping of the FMI
  * storage onto the run: its settings and inputs from the variable table's structs, its values into
- * the table's outputs, the checks of a saved block. The FMI adapter (src/vi_fmu_contact.c) maps the
+ * the table's outputs, the checks of a saved block. The FMI adapter (src/adapter/vi_fmu_contact.c) maps the
  * layer's hooks onto an instance; the C tests use one without the layer. The run and the drivers
  * know no FMI: the variable table (vi_variables.h) is known here and in the adapter only.
  */

@@ -58,7 +58,7 @@ double vi_tsuji_restitution(double alpha);
  * G smooth and bounded (1.1180 as e -> 0, 0.7118 as e -> 1), a Chebyshev series of degree
  * VI_TSUJI_TABLE_DEGREE on each of VI_TSUJI_TABLE_PIECES pieces of u of width VI_TSUJI_TABLE_WIDTH from
  * VI_TSUJI_TABLE_U_MIN; past the last piece (1 - e < 4.1e-8) G is its value at the end. tools/tsuji_table.c
- * writes the table (src/vi_tsuji_table.inc) from vi_tsuji_alpha_solve. */
+ * writes the table (src/model/vi_tsuji_table.inc) from vi_tsuji_alpha_solve. */
 #define VI_TSUJI_TABLE_U_MIN (-21.0)  /* e = 7.58e-10 */
 #define VI_TSUJI_TABLE_WIDTH 2.0
 #define VI_TSUJI_TABLE_PIECES 19      /* up to u = 17: 1 - e = 4.14e-8 */

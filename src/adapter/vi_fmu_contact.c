@@ -2,7 +2,7 @@
  * vi_fmu_contact.c - the contact model as a model of the generic FMI layer (vi_fmu.h): an instance
  * (vi_contact_instance.h) holds the FMI storage and one run of the model (vi_run.h) under two
  * drivers, Co-Simulation on vi_sim (its own solver) and Model Exchange on vi_me (the importer's); an
- * instance uses one of them. The FMI calls and their checks live in the layer (src/vi_fmi_*.c and
+ * instance uses one of them. The FMI calls and their checks live in the layer (src/fmi/vi_fmi_*.c and
  * the faces vi_fmi2.c, vi_fmi3.c); this file maps the layer's hooks and value references onto the
  * instance, its drivers and the model.
  */
