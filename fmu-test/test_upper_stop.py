@@ -360,3 +360,22 @@ def test_model_exchange_rollback_with_the_upper_stop_is_exact(fmu_path):
     imp.model.setFMUstate(state)
     imp.t, imp.x = t0, x0
     assert record_run() == first
+
+
+@pytest.mark.timeout(300)
+def test_model_exchange_mean_force_at_a_step_end_is_the_net_force():
+    """Model Exchange, after each completed integrator step (a step of no length: the mean is the force
+    itself): F_mean is the net contact force F - F_upper, also while the mass is pressed into the upper
+    surface (the mass fallen up under g = -9.81 onto it, Hertz), FMI 2.0 and 3.0."""
+    for path in fmus():
+        imp = Importer(str(path), dict(mirror_params(M.HERTZ), g=-9.81, init=2, upper_stop=True), rtol=1e-10,
+                       max_step=1e-5)
+        pressed = []
+
+        def record(i, t):
+            F, F_upper, F_mean = i.real("F"), i.real("F_upper"), i.real("F_mean")
+            assert F_mean == F - F_upper, (path, t, F_mean, F, F_upper)
+            if F_upper > 0.0:
+                pressed.append(t)
+        imp.run(0.0321, record)
+        assert len(pressed) >= 3, (path, pressed)

@@ -330,36 +330,48 @@ static vi_me_partials through_delta(double a_d, double a_v, double a_F, double a
 }
 
 /* The rows of the energy outputs and of the damping's power: W_dissipated = W_plastic + W_damping (the
- * state's column is the layer's), E_contact, and F_peak = F. */
+ * state's column is the layer's; with an upper contact also its plastic work, whose rate in delta is
+ * minus that in its own indentation -gap - delta), E_contact (both contacts'), and F_peak = F. */
 static void energy_rows(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
 {
     const vi_run_data *d = e->d;
+    const vi_model *model = model_of(e);
     double dE;
-    vi_model_contact_energy(model_of(e), d->x, &dE);
-    vi_model_power P = vi_model_damping_power(model_of(e), d->t, d->x);
+    vi_model_contact_energy(model, d->x, &dE);
+    vi_model_power P = vi_model_damping_power(model, d->t, d->x);
+    vi_memory_rates up;
+    vi_model_memory_rates(model, VI_UPPER, d->x, &up); /* all 0 without an upper contact */
     jac[VI_ME_DER_W] = through_delta(P.dP_ddelta, -P.dP_drate, 0.0, 0.0); /* delta' = yC' - v */
     if (e->r->set.velocity_input) jac[VI_ME_DER_W].vC_in = P.dP_drate;
     jac[VI_ME_W_DISSIPATED] = jac[VI_ME_W_PLASTIC];
+    if (model->ncontacts > 1) jac[VI_ME_W_DISSIPATED].y += up.W_plastic, jac[VI_ME_W_DISSIPATED].yC_in -= up.W_plastic;
     jac[VI_ME_E_CONTACT] = through_delta(dE, 0.0, 0.0, 0.0);
     jac[VI_ME_F_PEAK] = jac[VI_ME_F];
 }
 
 /* The rows of the upper contact (force F_upper(delta_u, r_u) with delta_u = -gap - delta, r_u = v - yC';
- * in stick -F_hold), and F's row with the lower contact's slopes alone (without an upper contact the
- * model's stiffness and damping are the lower contact's, as vi_me_jacobian writes them). */
+ * in stick -F_hold), F's row with the lower contact's slopes alone (without an upper contact the
+ * model's stiffness and damping are the lower contact's, as vi_me_jacobian writes them), and
+ * k_contact's (the sum of both contacts' stiffnesses, each in its own indentation and rate; in the
+ * lower contact's stick its stiffness at delta_c alone, a constant). */
 static void upper_rows(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
 {
     const vi_run_data *d = e->d;
     const vi_model *model = model_of(e);
     jac[VI_ME_F_UPPER] = jac[VI_ME_DELTA_UPPER] = through_delta(0.0, 0.0, 0.0, 0.0);
     if (model->ncontacts < 2) return;
-    double k, c, k_up, c_up;
+    double k, c, k_up, c_up, k_rate_up, k_per_rate_up;
     vi_model_contact_slopes(model, VI_LOWER, d->t, d->x, &k, &c);
     vi_model_contact_slopes(model, VI_UPPER, d->t, d->x, &k_up, &c_up);
     jac[VI_ME_F] = through_delta(k, -c, vi_model_mode(model) == VI_MODE_STICK ? -1.0 : 0.0, 0.0);
     jac[VI_ME_F_UPPER] = through_delta(-k_up, c_up, model->contact[VI_UPPER].mode == VI_MODE_STICK ? 1.0 : 0.0, 0.0);
     jac[VI_ME_DELTA_UPPER] = through_delta(-1.0, 0.0, 0.0, 0.0);
     if (e->r->set.velocity_input) jac[VI_ME_F].vC_in = c, jac[VI_ME_F_UPPER].vC_in = -c_up;
+    if (vi_model_mode(model) == VI_MODE_STICK) return;
+    k_rate_up = vi_model_stiffness_rate(model, VI_UPPER, d->t, d->x, &k_per_rate_up); /* d/d(delta_u), d/d(r_u) */
+    vi_me_partials *K = &jac[VI_ME_K_CONTACT]; /* d(delta_u)/d(delta) = -1, d(r_u)/dv = 1, d(r_u)/d(vC_in) = -1 */
+    K->y += k_rate_up, K->yC_in -= k_rate_up, K->v += k_per_rate_up;
+    if (e->r->set.velocity_input) K->vC_in -= k_per_rate_up;
 }
 
 void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
@@ -371,14 +383,14 @@ void vi_me_jacobian(vi_me *e, vi_me_partials jac[VI_ME_N_UNKNOWNS])
     int stick = vi_model_sticks(model);
     double k = stick ? 0.0 : m * vi_model_stiffness_over_mass(model, d->t, d->x); /* dF/ddelta */
     double c = vi_model_damping(model, d->t, d->x), k_per_rate;                 /* dF/ddelta' (delta' = yC' - v) */
-    double k_rate = vi_model_stiffness_rate(model, d->t, d->x, &k_per_rate);
+    double k_rate = vi_model_stiffness_rate(model, VI_LOWER, d->t, d->x, &k_per_rate);
     vi_memory_rates mem;
-    vi_model_memory_rates(model, d->x, &mem);
+    vi_model_memory_rates(model, VI_LOWER, d->x, &mem);
     jac[VI_ME_DER_Y] = through_delta(0.0, 1.0, 0.0, 0.0);
-    jac[VI_ME_DER_V] = through_delta(k / m, -c / m, stick ? 0.0 : 1.0 / m, 0.0); /* (F - W0 + F_ext)/m; stick: yC'' */
+    jac[VI_ME_DER_V] = through_delta(k / m, -c / m, stick ? 0.0 : 1.0 / m, 0.0); /* (F - F_upper - W0 + F_ext)/m; stick: yC'' */
     jac[VI_ME_F] = through_delta(k, -c, stick ? -1.0 : 0.0, 0.0);                /* stick: F_hold = W0 - F_ext + m yC'' */
     jac[VI_ME_F_MEAN] = h > 0.0 ? through_delta(0.0, m / h, -1.0, 0.0)        /* m (v - v0)/h + W0 - F_ext */
-                              : jac[VI_ME_F];
+                              : jac[VI_ME_F];                                 /* F - F_upper */
     jac[VI_ME_DELTA] = through_delta(1.0, 0.0, 0.0, 0.0);
     jac[VI_ME_Y] = through_delta(-1.0, 0.0, 0.0, 1.0);
     jac[VI_ME_V] = through_delta(0.0, 1.0, 0.0, 0.0);

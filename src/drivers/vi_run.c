@@ -232,13 +232,13 @@ double vi_run_contact_stiffness(const vi_model *model, double t, const double x[
 
 /* The contact force averaged over the last step [t0, t]: the impulse over the step divided by it,
  * from the momentum balance m v' = F - W(t), W = P + m g - F_ext(t) (F_ext linear over the step, so
- * its mean is its midpoint value). Before any step: the force itself. */
+ * its mean is its midpoint value). Before any step: the net contact force itself, F - F_upper. */
 static double mean_force(const vi_run *r)
 {
     const vi_run_data *d = r->d;
     const vi_model *model = vi_hybrid_model(&r->engine);
     double h = d->t - d->step_t0;
-    if (!(h > 0.0)) return vi_model_force(model, d->t, d->x);
+    if (!(h > 0.0)) return vi_model_force(model, d->t, d->x) - vi_model_force_upper(model, d->t, d->x);
     double W_mean = model->body.W0 - vi_ramp_at(&model->F_ext, d->step_t0 + 0.5 * h);
     return model->body.m * (d->x[1] - d->step_v0) / h + W_mean;
 }

@@ -767,28 +767,34 @@ double vi_model_damping(const vi_model *model, double t, const double x[2])
     return c;
 }
 
-double vi_model_stiffness_rate(const vi_model *model, double t, const double x[2], double *per_rate)
+double vi_model_stiffness_rate(const vi_model *model, int i, double t, const double x[2], double *per_rate)
 {
-    const vi_model_contact *c = vi_model_lower(model);
     *per_rate = 0.0;
+    if (i < 0 || i >= model->ncontacts) return 0.0;
+    const vi_model_contact *c = &model->contact[i];
+    double d = contact_indentation(c, x);
     if (law(c)->rate_force) {
         if (c->mode != VI_MODE_ELASTIC) return 0.0;
-        vi_law_curvature k = law(c)->rate_curvature(c, x[0], indentation_rate(model, t, x));
+        vi_law_curvature k = law(c)->rate_curvature(c, d, contact_rate(model, c, t, x));
         *per_rate = k.d2F_ddelta_drate;
         return k.d2F_ddelta2;
     }
     switch (c->mode) {
-    case VI_MODE_ELASTIC: return law(c)->elastic_stiffness_rate(c, x[0]);
-    case VI_MODE_PLASTIC: return law(c)->plastic_stiffness_rate(c, x[0]);
-    case VI_MODE_UNLOAD: return vi_unload_stiffness_rate(&c->unload, x[0]);
+    case VI_MODE_ELASTIC: return law(c)->elastic_stiffness_rate(c, d);
+    case VI_MODE_PLASTIC: return law(c)->plastic_stiffness_rate(c, d);
+    case VI_MODE_UNLOAD: return vi_unload_stiffness_rate(&c->unload, d);
     default: return 0.0; /* free; stick, whose stiffness is that at delta_c */
     }
 }
 
-void vi_model_memory_rates(const vi_model *model, const double x[2], vi_memory_rates *r)
+void vi_model_memory_rates(const vi_model *model, int i, const double x[2], vi_memory_rates *r)
 {
-    const vi_model_contact *c = vi_model_lower(model);
-    law(c)->memory_rates(c, x[0], r);
+    if (i < 0 || i >= model->ncontacts) {
+        *r = (vi_memory_rates){0.0, 0.0, 0.0, 0.0, 0.0};
+        return;
+    }
+    const vi_model_contact *c = &model->contact[i];
+    law(c)->memory_rates(c, contact_indentation(c, x), r);
 }
 
 /* ---- energy (vi_model.h, ENERGY) --------------------------------------------------------------------- */
@@ -1043,6 +1049,11 @@ const char *vi_model_guard_name(const vi_model *model, int mode, int guard)
 }
 
 int vi_model_guard_mode(const vi_model *model, int guard) { return model->contact[guard / VI_CONTACT_NGUARDS].mode; }
+
+double vi_model_contact_indentation(const vi_model *model, int i, const double x[2])
+{
+    return contact_indentation(&model->contact[i], x);
+}
 
 void vi_model_freeze(vi_model *model, double t, double x[2])
 {

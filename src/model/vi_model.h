@@ -252,19 +252,21 @@ void vi_model_contact_slopes(const vi_model *model, int i, double t, const doubl
 int vi_model_sticks(const vi_model *model);
 /* d(v')/d(delta): the only nonzero state derivative of the right-hand side besides d(delta')/dv = -1. */
 double vi_model_stiffness_over_mass(const vi_model *model, double t, const double x[2]);
-/* d(stiffness)/d(delta) [N/m^2]: the second derivative of the force in the current mode (0 where it
- * is linear or constant, and in stick, whose stiffness is that at delta_c). */
-double vi_model_stiffness_rate(const vi_model *model, double t, const double x[2], double *per_rate);
+/* Contact i's d(stiffness)/d(delta_i) [N/m^2] in its own indentation delta_i (the lower contact's
+ * delta; the upper one's -gap - delta): the second derivative of its force in its mode (0 where it is
+ * linear or constant, in stick, whose stiffness is that at delta_c, and for a contact not in use). */
+double vi_model_stiffness_rate(const vi_model *model, int i, double t, const double x[2], double *per_rate);
 /* dF/d(delta') [N s/m] of a law that damps (damped Hertz, linear spring-dashpot) in contact; else 0.
- * per_rate above: d(stiffness)/d(delta') [N s/m^2] for those laws, else 0. */
+ * per_rate above: d(stiffness_i)/d(delta_i') [N s/m^2] for those laws, else 0. */
 double vi_model_damping(const vi_model *model, double t, const double x[2]);
-/* The rates d/d(delta) [1, except W_plastic: N] of the memory outputs at x in the current mode:
- * nonzero only while the memory tracks delta (Johnson loading plastically with a fixed contact
- * point: delta_c = delta; LEPP flowing: delta_p = delta - delta_Y). */
+/* The rates d/d(delta_i) [1, except W_plastic: N] of contact i's memory outputs at x in its mode, in
+ * its own indentation delta_i: nonzero only while the memory tracks delta_i (Johnson loading
+ * plastically with a fixed contact point: delta_c = delta_i; LEPP flowing: delta_p = delta_i -
+ * delta_Y); all 0 for a contact not in use. */
 typedef struct {
     double delta_c, delta_f, delta_p, Rbar, W_plastic;
 } vi_memory_rates;
-void vi_model_memory_rates(const vi_model *model, const double x[2], vi_memory_rates *r);
+void vi_model_memory_rates(const vi_model *model, int i, const double x[2], vi_memory_rates *r);
 /* ENERGY. Along a motion, 1/2 m v^2 + E_contact + W_plastic + W_damping = the work of the platform,
  * integral of F yC' dt, plus the work of the net load, -integral of W(t) v dt: the power F delta' the
  * bodies put into the contact is the rate of E_contact + W_plastic + W_damping.
@@ -318,6 +320,8 @@ void vi_model_guards(const vi_model *model, double t, const double x[2], double 
 const char *vi_model_guard_name(const vi_model *model, int mode, int guard);
 /* The mode of the contact guard `guard` belongs to. */
 int vi_model_guard_mode(const vi_model *model, int guard);
+/* Contact i's own indentation at x [m]: the lower contact's delta, the upper one's -gap - delta. */
+double vi_model_contact_indentation(const vi_model *model, int i, const double x[2]);
 
 /* The memory outputs never fall below the memory written down: while loading plastically delta_c is
  * max(delta, delta_c written), the LEPP set max(delta - delta_Y, delta_p written) (an importer's state may
