@@ -8,6 +8,8 @@ The closed form (fmu-test/test_two_sided_reference.py): a sphere in a cavity sha
 cycle, one on each wall, half a period apart, at the free-flight speed u = (1+e)/(1-e) a w cos(phi),
 gap = 2 a sin(phi) + (1+e)/(1-e) a pi cos(phi); a Hertz contact's finite duration moves it by under 1 %.
 """
+import re
+
 import numpy as np
 import pytest
 from fmpy import extract, read_model_description
@@ -29,9 +31,10 @@ CAVITY = dict(e=0.8, a=1e-3, f=50.0, gap=0.02)   # the steel sphere of SPHERE in
 class Slave:
     """An FMI 2.0 or 3.0 Co-Simulation instance of the contact FMU with the upper stop, started touching
     the lower surface (init = touching, v0) at the platform yC_in = y0, which then steps down to 0 (an
-    input jump at t = 0: the mass stays, y0 above the lower surface)."""
+    input jump at t = 0: the mass stays, y0 above the lower surface). log: a vibroimpact.fmu.Messages
+    that keeps the event log (logEvents) and what else the instance logs."""
 
-    def __init__(self, path, params, y0=0.0, v0=0.0):
+    def __init__(self, path, params, y0=0.0, v0=0.0, log=None):
         md = read_model_description(path)
         self.fmi3 = md.fmiVersion.startswith("3")
         self.vr = {v.name: v.valueReference for v in md.modelVariables}
@@ -39,13 +42,21 @@ class Slave:
         kind = FMU3Slave if self.fmi3 else FMU2Slave
         self.s = kind(guid=md.guid, unzipDirectory=extract(path), modelIdentifier=md.coSimulation.modelIdentifier,
                       instanceName="upper")
-        self.s.instantiate()
+        if log is None:
+            self.s.instantiate()
+        elif self.fmi3:
+            self._log3 = lambda env, status, category, message: log.keep(status, category, message.decode())
+            self.s.instantiate(loggingOn=True, logMessage=self._log3)
+        else:
+            self.s.instantiate(callbacks=log.callbacks, loggingOn=True)
+        if log is not None:
+            self.s.setDebugLogging(True, ["logEvents"])
         if self.fmi3:
             self.s.enterInitializationMode(startTime=0.0)
         else:
             self.s.setupExperiment(startTime=0.0)
             self.s.enterInitializationMode()
-        for name, value in dict(params, init=2, v0=v0, upper_stop=True, yC_in=y0).items():
+        for name, value in {"upper_stop": True, **params, "init": 2, "v0": v0, "yC_in": y0}.items():
             self.set(name, value)
         self.s.exitInitializationMode()
         self.set("yC_in", 0.0)
@@ -379,3 +390,65 @@ def test_model_exchange_mean_force_at_a_step_end_is_the_net_force():
                 pressed.append(t)
         imp.run(0.0321, record)
         assert len(pressed) >= 3, (path, pressed)
+
+
+# the event log's lines (doc/using.md, "The event log"); with the upper stop each ends in its contact
+EVENT_LINE = re.compile(r"event t=(?P<t>\S+) kind=(?P<kind>start|guard|input|kink)(?: guard=(?P<guard>\d))? "
+                        r"mode=(?:(?P<start>\d)|(?P<before>\d)->(?P<after>\d))(?: delta=(?P<delta>\S+) v=(?P<v>\S+))?"
+                        r"(?: contact=(?P<contact>lower|upper))?")
+
+
+def event_lines(log):
+    lines = [m for _, cat, m in log.messages if cat == "logEvents" and m.startswith("event ")]
+    matches = [EVENT_LINE.fullmatch(m) for m in lines]
+    assert all(matches), [m for m, k in zip(lines, matches) if not k]
+    return matches
+
+
+@pytest.mark.timeout(300)
+@pytest.mark.parametrize("path", fmus(), ids=["fmi2", "fmi3"][:len(fmus())])
+def test_the_event_log_names_each_contact(path):
+    """With the upper stop every event line ends in contact=lower or contact=upper and gives that
+    contact's mode and indentation: the cavity (both walls hit) logs one start line per contact (the
+    lower one at delta = 0, the upper one at -gap), its guard lines hold guards 0, 1 (lower) and 2, 3
+    (upper), every contact onset is at its own surface (delta = 0) and their counts are n_impacts and
+    n_impacts_upper; then a jump of yC_in that pushes the upper surface 0.1 um into the free mass logs
+    the upper contact's switch to elastic (kind=input mode=0->1 contact=upper). Without the upper stop
+    the lines of a fall onto the platform carry no contact field (the one-sided log as it always was)."""
+    c = CAVITY
+    (phi, u, y0, v0), _ = periodic_orbits(c["e"], c["a"], c["f"], c["gap"])
+    params = dict(SPHERE, e_restitution=c["e"], a=c["a"], f=c["f"], gap=c["gap"], rtol=1e-10)
+    log = _fmu.MessageLog() if "fmi3" not in str(path) else _fmu.Messages()
+    s = Slave(str(path), params, y0, v0, log=log)
+    try:
+        s.run(0.06, 1e-4)
+        while s.get("mode") or s.get("mode_upper"):   # into a free flight
+            s.step(1e-4)
+        counts = {"lower": s.get("n_impacts"), "upper": s.get("n_impacts_upper")}
+        lines = event_lines(log)
+        assert counts["lower"] >= 2 and counts["upper"] >= 2, counts
+        assert all(m["contact"] for m in lines), [m.string for m in lines if not m["contact"]]
+        starts = [(m["contact"], float(m["delta"])) for m in lines if m["kind"] == "start"]
+        assert starts == [("lower", 0.0), ("upper", -c["gap"])], starts
+        guards = [m for m in lines if m["kind"] == "guard"]
+        assert all((int(m["guard"]) >= 2) == (m["contact"] == "upper") for m in guards), [m.string for m in guards]
+        for side in ("lower", "upper"):
+            onsets = [m for m in guards if m["contact"] == side and m["before"] == "0" and m["after"] != "0"]
+            assert len(onsets) == counts[side] and all(float(m["delta"]) == 0.0 for m in onsets), (side, counts)
+        # the upper surface jumps 0.1 um into the mass: yC_in moves the platform by the difference
+        yC = s.get("yC")
+        s.set("yC_in", s.get("yC_in") + (s.get("y") - c["gap"] - 1e-7) - yC)
+        s.step(1e-6)
+        jumps = [m for m in event_lines(log)[len(lines):] if m["kind"] == "input"]
+        assert [(m["before"], m["after"], m["contact"]) for m in jumps] == [("0", "1", "upper")], [m.string for m in jumps]
+    finally:
+        s.close()
+    # the one-sided FMU's lines: no contact field
+    log = _fmu.MessageLog() if "fmi3" not in str(path) else _fmu.Messages()
+    s = Slave(str(path), dict(params, upper_stop=False, gap=0.0, g=9.81), 1e-3, 0.0, log=log)   # falls onto the platform
+    try:
+        s.run(0.05, 1e-4)
+        lines = event_lines(log)
+        assert s.get("n_impacts") >= 1 and lines and not any(m["contact"] for m in lines), [m.string for m in lines]
+    finally:
+        s.close()

@@ -36,7 +36,7 @@ def read_events(name):
 
 def fmu_events(messages):
     """(t, before, after) of every mode change at a state event the FMU logged, from the event log's
-    lines "event t=<t> kind=guard guard=<g> mode=<a>-><b> ..." (doc/model.md, "The event log");
+    lines "event t=<t> kind=guard guard=<g> mode=<a>-><b> ..." (doc/using.md, "The event log");
     events that keep the mode are skipped."""
     out = []
     for _, category, text in messages:

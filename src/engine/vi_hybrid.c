@@ -107,10 +107,20 @@ void vi_hybrid_rearm_banded(vi_hybrid *h, double t, const double x[2])
         if (band[i] > 0.0 && g[i] > band[i]) band[i] = 0.0;
 }
 
+/* The event log's field naming contact i, with a space before it: " contact=lower" or " contact=upper"
+ * in a model with an upper contact; none in a model with one contact (its lines as they always were). */
+static const char *contact_field(const vi_model *model, int i)
+{
+    if (model->ncontacts < 2) return "";
+    return i == VI_LOWER ? " contact=lower" : " contact=upper";
+}
+
 void vi_hybrid_log_start(const vi_hybrid *h, double t, const double x[2])
 {
-    h->log(h->log_env, VI_LOG_EVENTS, "event t=%.17g kind=start mode=%d delta=%.9g v=%.9g", t, vi_model_mode(h->model),
-           x[0], x[1]);
+    const vi_model *model = h->model;
+    for (int i = 0; i < model->ncontacts; i++)
+        h->log(h->log_env, VI_LOG_EVENTS, "event t=%.17g kind=start mode=%d delta=%.9g v=%.9g%s", t,
+               model->contact[i].mode, vi_model_contact_indentation(model, i, x), x[1], contact_field(model, i));
 }
 
 void vi_hybrid_arm_at_zero(vi_hybrid *h, double t, const double x[2])
@@ -154,21 +164,34 @@ static void take_inputs(vi_hybrid *h, double t, double x[2], vi_ramp yC_in, vi_r
     vi_model_set_inputs(h->model, t, x, yC_in, F_ext);
 }
 
-/* The mode changed from `from` (an input jump or a kink, kind): log it, reset the bands; then arm
- * the guards at zero. */
-static void mode_chosen(vi_hybrid *h, const char *kind, int from, double t, const double x[2])
+/* The modes of the model's contacts into from (before an input jump or a kink). */
+static void modes_of(const vi_model *model, int from[VI_NCONTACTS])
 {
-    if (vi_model_mode(h->model) != from) {
-        h->log(h->log_env, VI_LOG_EVENTS, "event t=%.17g kind=%s mode=%d->%d", t, kind, from, vi_model_mode(h->model));
-        memset(h->st->band, 0, sizeof h->st->band);
+    for (int i = 0; i < VI_NCONTACTS; i++) from[i] = model->contact[i].mode;
+}
+
+/* The modes were `from` before an input jump or a kink (kind): log each contact's mode that changed
+ * and, when one did, reset the bands; then arm the guards at zero. */
+static void mode_chosen(vi_hybrid *h, const char *kind, const int from[VI_NCONTACTS], double t, const double x[2])
+{
+    const vi_model *model = h->model;
+    int changed = 0;
+    for (int i = 0; i < model->ncontacts; i++) {
+        int to = model->contact[i].mode;
+        if (to == from[i]) continue;
+        h->log(h->log_env, VI_LOG_EVENTS, "event t=%.17g kind=%s mode=%d->%d%s", t, kind, from[i], to,
+               contact_field(model, i));
+        changed = 1;
     }
+    if (changed) memset(h->st->band, 0, sizeof h->st->band);
     vi_hybrid_arm_at_zero(h, t, x);
 }
 
 int vi_hybrid_input_jump(vi_hybrid *h, double t, double x[2], vi_ramp yC_in, vi_ramp F_ext, double a, double f)
 {
     vi_model *model = h->model;
-    int from = vi_model_mode(model);
+    int from[VI_NCONTACTS];
+    modes_of(model, from);
     if (!vi_hybrid_inputs_differ(h, t, yC_in, F_ext) && !vi_model_excitation_differs(model, a, f)) return 0;
     take_inputs(h, t, x, yC_in, F_ext);
     vi_model_set_excitation(model, t, x, a, f); /* a new a moves the platform (delta with it), the mass stays */
@@ -179,7 +202,8 @@ int vi_hybrid_input_jump(vi_hybrid *h, double t, double x[2], vi_ramp yC_in, vi_
 
 void vi_hybrid_kink(vi_hybrid *h, double t, double x[2])
 {
-    int from = vi_model_mode(h->model);
+    int from[VI_NCONTACTS];
+    modes_of(h->model, from);
     vi_model_breakpoint(h->model, t, x);
     mode_chosen(h, "kink", from, t, x);
 }
@@ -213,9 +237,9 @@ int vi_hybrid_event(vi_hybrid *h, double t, double x[2], int fired, int located)
     st->n_events++;
     st->zeno = vi_hybrid_zeno_count(st->zeno, st->t_count, t);
     st->t_count = t;
-    int to = vi_model_guard_mode(model, fired);
-    h->log(h->log_env, VI_LOG_EVENTS, "event t=%.17g kind=guard guard=%d mode=%d->%d delta=%.9g v=%.9g", t, fired, from,
-           to, x[0], x[1]);
+    int to = vi_model_guard_mode(model, fired), contact = fired / VI_CONTACT_NGUARDS;
+    h->log(h->log_env, VI_LOG_EVENTS, "event t=%.17g kind=guard guard=%d mode=%d->%d delta=%.9g v=%.9g%s", t, fired,
+           from, to, vi_model_contact_indentation(model, contact, x), x[1], contact_field(model, contact));
     if (to != from) {
         clear_bands(st, fired);
     } else {

@@ -23,16 +23,17 @@
  * The engine owns the model's state and its own: nothing outside this header and the model writes
  * them (the functions under "the engine's state" below set up, restore and feed them).
  *
- * The event log (category VI_LOG_EVENTS) has one line per event, key=value pairs separated by
- * single spaces (doc/model.md, "The event log"):
- *   event t=<s> kind=start mode=<m> delta=<m> v=<m/s>
- *   event t=<s> kind=guard guard=<g> mode=<a>-><b> delta=<m> v=<m/s>
- *   event t=<s> kind=input mode=<a>-><b>
- *   event t=<s> kind=kink mode=<a>-><b>
- * t with 17 significant digits; input and kink lines only when the mode changes. The engine is
- * sized by the model's contacts: VI_NGUARDS guards and bands, VI_CONTACT_NGUARDS per contact; guard
- * g belongs to contact g / VI_CONTACT_NGUARDS, and a guard line's modes are that contact's (input and
- * kink lines: the lower contact's).
+ * The event log (category VI_LOG_EVENTS) has one line per event and contact, key=value pairs
+ * separated by single spaces (doc/using.md, "The event log"):
+ *   event t=<s> kind=start mode=<m> delta=<m> v=<m/s>[ contact=<c>]
+ *   event t=<s> kind=guard guard=<g> mode=<a>-><b> delta=<m> v=<m/s>[ contact=<c>]
+ *   event t=<s> kind=input mode=<a>-><b>[ contact=<c>]
+ *   event t=<s> kind=kink mode=<a>-><b>[ contact=<c>]
+ * t with 17 significant digits; input and kink lines only for a contact whose mode changed. The
+ * engine is sized by the model's contacts: VI_NGUARDS guards and bands, VI_CONTACT_NGUARDS per
+ * contact; guard g belongs to contact g / VI_CONTACT_NGUARDS. A line's mode and delta are its
+ * contact's (its own indentation); with an upper contact every line ends in contact=lower or
+ * contact=upper, and a start logs one line per contact; with one contact there is no such field.
  */
 #ifndef VI_HYBRID_H
 #define VI_HYBRID_H
