@@ -23,9 +23,11 @@
  *   cs-fig4b-<solver>, cs-fig5a-<solver>   Co-Simulation with early return and Event Mode: y at every
  *                    communication point, the time of every early return (its number as the
  *                    abscissa), the counts of early returns and impacts
- *   me-fig4b, me-fig5a   Model Exchange, this driver integrating as fmu_driver's fig4b-me and fig5a-me
- *                    (classical Runge-Kutta, fixed step 1e-6 s, events at the end of a step where an
- *                    event indicator changes sign): y, the event and impact counts
+ *   cs-cavity-<solver>   the same for the two-sided case (upper_stop: the impact damper of
+ *                    tests/driver_common.h, 0.1 s), also the upper wall's impact count (both checked > 0)
+ *   me-fig4b, me-fig5a, me-cavity   Model Exchange, this driver integrating as fmu_driver's fig4b-me,
+ *                    fig5a-me and cavity-me (classical Runge-Kutta, fixed step 1e-6 s, events at the end
+ *                    of a step where an event indicator changes sign): y, the event and impact counts
  */
 #include <math.h>
 #include <stdio.h>
@@ -66,6 +68,7 @@ static struct {
     fmi3GetStringTYPE *get_string;
     fmi3SetFloat64TYPE *set_float64;
     fmi3SetInt64TYPE *set_int64;
+    fmi3SetBooleanTYPE *set_boolean;
     fmi3SetStringTYPE *set_string;
     fmi3DoStepTYPE *do_step;
     fmi3GetFMUStateTYPE *get_state;
@@ -113,6 +116,7 @@ static void load(const char *path)
     SYM(get_string, "fmi3GetString");
     SYM(set_float64, "fmi3SetFloat64");
     SYM(set_int64, "fmi3SetInt64");
+    SYM(set_boolean, "fmi3SetBoolean");
     SYM(set_string, "fmi3SetString");
     SYM(do_step, "fmi3DoStep");
     SYM(get_state, "fmi3GetFMUState");
@@ -282,6 +286,26 @@ static void case_logger(fmi3InstanceEnvironment env, fmi3Status status, fmi3Stri
     if (status > fmi3Warning) fprintf(stderr, "fmu3_driver: FMU: %s\n", message);
 }
 
+/* The two-sided case's settings (upper_stop = true and the impact damper's parameters); fmi3OK or
+ * the first failure. */
+static fmi3Status set_two_sided(fmi3Instance c)
+{
+    const fmi3ValueReference upper_stop = VI_VR_upper_stop;
+    const fmi3Boolean on = fmi3True;
+    fmi3Status st = F.set_boolean(c, &upper_stop, 1, &on, 1);
+    for (size_t i = 0; i < N_TWO_SIDED_REALS && st == fmi3OK; i++) {
+        const fmi3ValueReference vr = two_sided_reals[i].vr;
+        const fmi3Float64 v = two_sided_reals[i].value;
+        st = F.set_float64(c, &vr, 1, &v, 1);
+    }
+    for (size_t i = 0; i < N_TWO_SIDED_ENUMS && st == fmi3OK; i++) {
+        const fmi3ValueReference vr = two_sided_enums[i].vr;
+        const fmi3Int64 v = (fmi3Int64)two_sided_enums[i].value;
+        st = F.set_int64(c, &vr, 1, &v, 1);
+    }
+    return st;
+}
+
 /* The scenario's parameters set in Initialization Mode (tolerance RTOL_CASES); fmi3OK or the first
  * failure. solver < 0: Model Exchange (no solver). */
 static fmi3Status setup_scenario(fmi3Instance c, const scenario *sc, int solver)
@@ -294,6 +318,7 @@ static fmi3Status setup_scenario(fmi3Instance c, const scenario *sc, int solver)
     if (st == fmi3OK) st = F.set_float64(c, real_vr, 3, real_v, 3);
     if (st == fmi3OK) st = F.set_int64(c, &law_vr, 1, &law_v, 1);
     if (st == fmi3OK && solver >= 0) st = F.set_int64(c, &solver_vr, 1, &solver_v, 1);
+    if (st == fmi3OK && sc->two_sided) st = set_two_sided(c);
     if (st == fmi3OK) st = F.exit_init(c);
     return st;
 }
@@ -312,6 +337,17 @@ static int get_impacts(fmi3Instance c)
     fmi3Int32 n = -1;
     EXPECT(F.get_int32(c, &vr, 1, &n, 1) == fmi3OK);
     return (int)n;
+}
+
+/* The two-sided case's record line: the upper contact's impacts; both walls must have been hit. */
+static void print_two_sided(fmi3Instance c, const scenario *sc)
+{
+    if (!sc->two_sided) return;
+    const fmi3ValueReference vr = VI_VR_n_impacts_upper;
+    fmi3Int32 upper = -1;
+    EXPECT(F.get_int32(c, &vr, 1, &upper, 1) == fmi3OK);
+    printf("= n_impacts_upper %d\n", (int)upper);
+    EXPECT(get_impacts(c) > 0 && upper > 0);
 }
 
 /* The event iteration of Event Mode; 0, or -1. */
@@ -367,6 +403,7 @@ static void case_cs(const scenario *sc, size_t solver)
         printf("~ y %.17g %.17g\n", (k + 1) * H_CASES, get_y(c));
     }
     printf("= %ld early returns, n_impacts %d\n", early_returns, get_impacts(c));
+    print_two_sided(c, sc);
     F.free_instance(c);
 }
 
@@ -432,6 +469,7 @@ static void case_me(const scenario *sc)
     }
     printf("= Model Exchange: %ld events, %ld passes of fmi3UpdateDiscreteStates, n_impacts %d\n", events, passes,
            get_impacts(c));
+    print_two_sided(c, sc);
     F.free_instance(c);
 }
 

@@ -41,9 +41,12 @@
  *   fig4b_thornton-<solver>, fig4b_hertz_damped-<solver>, fig4b_linear-<solver>
  *                    Fig. 4b's excitation for 20 ms with Thornton's law, damped Hertz and the linear
  *                    spring-dashpot
- *   fig4b-me, fig5a-me    the same runs through Model Exchange, this driver integrating (classical
- *                    Runge-Kutta, fixed step 1e-6 s, events at the end of the step where an event
- *                    indicator changes sign): y every 1e-5 s, the event and impact counts
+ *   cavity-<solver>  the two-sided case (upper_stop): an impact damper, a steel sphere in a cavity
+ *                    20 mm high shaken at 1 mm, 50 Hz, damped Hertz (tests/driver_common.h), for
+ *                    0.1 s: y every 1e-5 s, the impact counts of both walls (each checked > 0)
+ *   fig4b-me, fig5a-me, cavity-me    the same runs through Model Exchange, this driver integrating
+ *                    (classical Runge-Kutta, fixed step 1e-6 s, events at the end of the step where an
+ *                    event indicator changes sign): y every 1e-5 s, the event and impact counts
  *   refusals         bad parameter values, calls in the wrong order or with bad arguments, a missing
  *                    profile file: the status of every call and the messages logged
  *   rollback         per solver: a run from an FMU state, from its serialized copy and after
@@ -102,6 +105,7 @@ static struct {
     fmi2GetStringTYPE *get_string;
     fmi2SetRealTYPE *set_real;
     fmi2SetIntegerTYPE *set_integer;
+    fmi2SetBooleanTYPE *set_boolean;
     fmi2SetStringTYPE *set_string;
     fmi2SetRealInputDerivativesTYPE *set_derivatives;
     fmi2DoStepTYPE *do_step;
@@ -152,6 +156,7 @@ static void load(const char *path)
     SYM(get_string, "fmi2GetString");
     SYM(set_real, "fmi2SetReal");
     SYM(set_integer, "fmi2SetInteger");
+    SYM(set_boolean, "fmi2SetBoolean");
     SYM(set_string, "fmi2SetString");
     SYM(set_derivatives, "fmi2SetRealInputDerivatives");
     SYM(do_step, "fmi2DoStep");
@@ -517,6 +522,29 @@ static int get_integer_value(fmi2Component c, fmi2ValueReference vr)
 
 /* The scenarios, solvers and record settings: tests/driver_common.h. */
 
+/* The two-sided case's settings (upper_stop = true and the impact damper's parameters); fmi2OK or
+ * the first failure. */
+static fmi2Status set_two_sided(fmi2Component c)
+{
+    const fmi2ValueReference upper_stop = VI_VR_upper_stop;
+    const fmi2Boolean on = fmi2True;
+    fmi2Status st = F.set_boolean(c, &upper_stop, 1, &on);
+    for (size_t i = 0; i < N_TWO_SIDED_REALS && st == fmi2OK; i++)
+        st = set_real_value(c, two_sided_reals[i].vr, two_sided_reals[i].value);
+    for (size_t i = 0; i < N_TWO_SIDED_ENUMS && st == fmi2OK; i++)
+        st = set_integer_value(c, two_sided_enums[i].vr, (int)two_sided_enums[i].value);
+    return st;
+}
+
+/* The two-sided case's record line: the upper contact's impacts; both walls must have been hit. */
+static void print_two_sided(fmi2Component c, const scenario *sc)
+{
+    if (!sc->two_sided) return;
+    int lower = get_integer_value(c, VI_VR_n_impacts), upper = get_integer_value(c, VI_VR_n_impacts_upper);
+    printf("= n_impacts_upper %d\n", upper);
+    EXPECT(lower > 0 && upper > 0);
+}
+
 /* Instantiate and initialize one scenario with one solver at RTOL_CASES; NULL on failure. */
 static fmi2Component start_scenario(const scenario *sc, int solver)
 {
@@ -530,6 +558,7 @@ static fmi2Component start_scenario(const scenario *sc, int solver)
     if (st == fmi2OK) st = set_real_value(c, VI_VR_a, sc->a);
     if (st == fmi2OK) st = set_real_value(c, VI_VR_f, sc->f);
     if (st == fmi2OK) st = set_real_value(c, VI_VR_Y, sc->Y);
+    if (st == fmi2OK && sc->two_sided) st = set_two_sided(c);
     if (st == fmi2OK) st = F.exit_init(c);
     if (st != fmi2OK) {
         fprintf(stderr, "fmu_driver: %s did not initialize:%s\n", sc->name, logged);
@@ -571,6 +600,7 @@ static void case_trajectory(const scenario *sc, size_t solver)
         printf("~ y %.17g %.17g\n", (k + 1) * H_CASES, get_real_value(c, VI_VR_y));
     }
     printf("= n_impacts %d\n", get_integer_value(c, VI_VR_n_impacts));
+    print_two_sided(c, sc);
     F.free_instance(c);
 }
 
@@ -758,6 +788,7 @@ static void case_model_exchange(const scenario *sc)
     if (st == fmi2OK) st = set_real_value(c, VI_VR_a, sc->a);
     if (st == fmi2OK) st = set_real_value(c, VI_VR_f, sc->f);
     if (st == fmi2OK) st = set_real_value(c, VI_VR_Y, sc->Y);
+    if (st == fmi2OK && sc->two_sided) st = set_two_sided(c);
     if (st == fmi2OK) st = F.exit_init(c);
     double x[ME_NX], z[ME_NZ];
     long events = 0, passes = 0;
@@ -794,6 +825,7 @@ static void case_model_exchange(const scenario *sc)
     }
     printf("= Model Exchange: %ld events, %ld passes of fmi2NewDiscreteStates, n_impacts %d\n", events, passes,
            get_integer_value(c, VI_VR_n_impacts));
+    print_two_sided(c, sc);
     F.free_instance(c);
 }
 
