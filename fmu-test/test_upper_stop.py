@@ -452,3 +452,33 @@ def test_the_event_log_names_each_contact(path):
         assert s.get("n_impacts") >= 1 and lines and not any(m["contact"] for m in lines), [m.string for m in lines]
     finally:
         s.close()
+
+
+@pytest.mark.timeout(300)
+@pytest.mark.parametrize("event_mode", [False, True])
+def test_fmi3_returns_early_at_each_contacts_mode_change(event_mode):
+    """FMI 3.0 Co-Simulation with early return (with and without Event Mode): a step ends at every
+    change of mode of either contact, so the cavity started at the lower wall at 2 m/s up (its walls
+    hit in turn, an onset and a separation each) returns early as often as its two contacts switch:
+    2 (n_impacts + n_impacts_upper) times, at the times the event log gives."""
+    from vibroimpact import fmi3 as _fmi3
+    path = _fmu.fmu3_path(required=False)
+    if not path.is_file():
+        pytest.skip("no FMI 3.0 build")
+    md = read_model_description(str(path))
+    vr = {v.name: v.valueReference for v in md.modelVariables}
+    kinds = {v.name: v.type for v in md.modelVariables}
+    inst = _fmi3.Logged(md, extract(str(path)), name="early")
+    s = inst.instantiate(event_mode=event_mode, early_return=True, logging=True)
+    s.setDebugLogging(True, ["logEvents"])
+    params = dict(SPHERE, e_restitution=CAVITY["e"], a=CAVITY["a"], f=CAVITY["f"], gap=CAVITY["gap"], init=2, v0=2.0,
+                  upper_stop=True)
+    _fmi3.initialize(s, vr, params, kinds=kinds, tolerance=1e-10, event_mode=event_mode)
+    times, _ = _fmi3.run_to_events(s, 0.0, 0.1, 1e-3)
+    lower, upper = s.getInt32([vr["n_impacts"]])[0], s.getInt32([vr["n_impacts_upper"]])[0]
+    switches = [float(m["t"]) for m in event_lines(inst) if m["kind"] == "guard" and m["before"] != m["after"]]
+    s.terminate()
+    s.freeInstance()
+    assert lower > 0 and upper > 0, (lower, upper)
+    assert len(times) == len(switches) == 2 * (lower + upper), (times, switches, lower, upper)
+    assert times == switches

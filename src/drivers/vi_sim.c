@@ -408,15 +408,15 @@ static int discard(vi_sim *s, const char *fmt, ...)
 }
 
 /* Early return: does the advance end here, after an event or a profile kink that may have switched
- * the mode from mode_before? Only when asked, the mode changed, and the time lies beyond the instant
- * the advance started (more than VI_EARLY_RETURN_UNITS units of the time resolution after it): mode
- * changes at that instant are taken in the same advance, so every early return makes a step an
- * importer can take with its other FMUs, and events accumulating at one instant still meet the
- * Zeno rule. */
-static int stop_here(const vi_sim *s, int stop_at_mode_change, int mode_before)
+ * a contact's mode from modes_before (vi_hybrid_modes)? Only when asked, a mode changed, and the time
+ * lies beyond the instant the advance started (more than VI_EARLY_RETURN_UNITS units of the time
+ * resolution after it): mode changes at that instant are taken in the same advance, so every early
+ * return makes a step an importer can take with its other FMUs, and events accumulating at one
+ * instant still meet the Zeno rule. */
+static int stop_here(const vi_sim *s, int stop_at_mode_change, int modes_before)
 {
     double unit = DBL_EPSILON * fmax(1.0, fabs(s->d->t));
-    return stop_at_mode_change && vi_hybrid_mode(&s->engine) != mode_before && s->d->t - s->d->step_t0 > VI_EARLY_RETURN_UNITS * unit;
+    return stop_at_mode_change && vi_hybrid_modes(&s->engine) != modes_before && s->d->t - s->d->step_t0 > VI_EARLY_RETURN_UNITS * unit;
 }
 
 /* One advance in progress. */
@@ -488,7 +488,7 @@ static int state_event(vi_sim *s, advance_run *run, const int fired[])
 static int advance_pass(vi_sim *s, advance_run *run)
 {
     vi_run_data *d = s->d;
-    int mode_before = vi_hybrid_mode(&s->engine), rc = VI_SOLVER_REACHED, fired[VI_SOLVER_MAX_GUARDS];
+    int modes_before = vi_hybrid_modes(&s->engine), rc = VI_SOLVER_REACHED, fired[VI_SOLVER_MAX_GUARDS];
     double bp = model_of(s)->profile ? vi_model_next_breakpoint(model_of(s), d->t) : INFINITY;
     double stop = bp < run->target ? bp : run->target;
     long taken = 0;
@@ -517,7 +517,7 @@ static int advance_pass(vi_sim *s, advance_run *run)
         pass = state_event(s, run, fired);
     }
     if (pass != PASS_MORE) return pass;
-    if (stop_here(s, run->stop_at_mode_change, mode_before)) return PASS_STOPPED;
+    if (stop_here(s, run->stop_at_mode_change, modes_before)) return PASS_STOPPED;
     return rc == VI_SOLVER_REACHED && d->t >= run->target ? PASS_END : PASS_MORE;
 }
 
