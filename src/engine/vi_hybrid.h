@@ -80,6 +80,7 @@ static inline const vi_model *vi_hybrid_model(const vi_hybrid *h) { return h->mo
 static inline const vi_hybrid_state *vi_hybrid_state_of(const vi_hybrid *h) { return h->st; }
 /* The lower contact's mode (VI_MODE_*, the output `mode`), and the state events so far. */
 static inline int vi_hybrid_mode(const vi_hybrid *h) { return vi_model_mode(h->model); }
+static inline long vi_hybrid_event_count(const vi_hybrid *h) { return h->st->n_events; }
 /* Every contact's mode as one number, mode + 8 mode_upper (VI_MODE_* < 8): two are equal exactly when
  * each contact's mode is (the lower contact's mode alone without an upper contact). */
 static inline int vi_hybrid_modes(const vi_hybrid *h)
@@ -88,7 +89,6 @@ static inline int vi_hybrid_modes(const vi_hybrid *h)
     for (int i = h->model->ncontacts - 1; i >= 0; i--) modes = 8 * modes + h->model->contact[i].mode;
     return modes;
 }
-static inline long vi_hybrid_event_count(const vi_hybrid *h) { return h->st->n_events; }
 /* The inputs the model runs, as ramps. */
 static inline void vi_hybrid_inputs(const vi_hybrid *h, vi_ramp *yC_in, vi_ramp *F_ext)
 {
