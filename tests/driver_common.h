@@ -89,10 +89,12 @@ typedef struct {
 
 /* The two-sided case, an impact damper: a steel sphere (R = 5 mm, 4.1103 g) in a cavity 20 mm high
  * (upper_stop, gap) shaken a (cos(2 pi f t) - 1), a = 1 mm, f = 50 Hz, without gravity or load, damped
- * Hertz (exact damping, e = 0.8), started touching the lower wall at 2 m/s up: it hits both walls
- * (the run checks that n_impacts and n_impacts_upper are > 0) and settles towards the cavity's
- * two-impact orbit (fmu-test/test_two_sided_reference.py), stable, so that the last bits a platform
- * differs by do not grow. */
+ * Hertz (exact damping, e = 0.8), started touching the lower wall at 2 m/s up, for 30 ms: it hits
+ * the upper wall at 9 ms and the lower one at 19 ms (the run checks that n_impacts and
+ * n_impacts_upper are > 0). 30 ms, not longer: CVODE's BDF and Adams on aarch64 (whose SUNDIALS
+ * fuses multiplications and additions) leave an impact at a speed that differs within their error,
+ * and each flight carries the difference into y, which grows with time (to 8e-7 of the range of y
+ * after 0.1 s, beyond the cross test's 1e-7). */
 static const setting two_sided_reals[] = {
     {VI_VR_m, 4.1103e-3}, {VI_VR_R1, 5e-3}, {VI_VR_R2, 0.0}, {VI_VR_P, 0.0}, {VI_VR_g, 0.0},
     {VI_VR_e_restitution, 0.8}, {VI_VR_gap, 0.02}, {VI_VR_v0, 2.0},
@@ -110,7 +112,7 @@ static const setting two_sided_enums[] = {
 static const scenario scenarios[] = {
     {"fig4b", VI_ContactModel_johnson, 1e-4, 560.0, 6e8, 0.02, 0},
     {"fig5a", VI_ContactModel_hertz, 1e-4, 100.0, 6e8, 0.1, 0},
-    {"cavity", VI_ContactModel_hertz_damped, 1e-3, 50.0, 6e8, 0.1, 1}, /* the two-sided case above */
+    {"cavity", VI_ContactModel_hertz_damped, 1e-3, 50.0, 6e8, 0.03, 1}, /* the two-sided case above */
     {"fig4b_100ms", VI_ContactModel_johnson, 1e-4, 560.0, 6e8, 0.1, 0},
     /* the laws beyond the paper's, under Fig. 4b's excitation (their other parameters at their defaults) */
     {"fig4b_thornton", VI_ContactModel_thornton, 1e-4, 560.0, 6e8, 0.02, 0},

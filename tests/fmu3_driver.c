@@ -24,7 +24,7 @@
  *                    communication point, the time of every early return (its number as the
  *                    abscissa), the counts of early returns and impacts
  *   cs-cavity-<solver>   the same for the two-sided case (upper_stop: the impact damper of
- *                    tests/driver_common.h, 0.1 s), also the upper wall's impact count (both checked > 0)
+ *                    tests/driver_common.h, 30 ms), also the upper wall's impact count (both checked > 0)
  *   me-fig4b, me-fig5a, me-cavity   Model Exchange, this driver integrating as fmu_driver's fig4b-me,
  *                    fig5a-me and cavity-me (classical Runge-Kutta, fixed step 1e-6 s, events at the end
  *                    of a step where an event indicator changes sign): y, the event and impact counts

@@ -43,7 +43,7 @@
  *                    spring-dashpot
  *   cavity-<solver>  the two-sided case (upper_stop): an impact damper, a steel sphere in a cavity
  *                    20 mm high shaken at 1 mm, 50 Hz, damped Hertz (tests/driver_common.h), for
- *                    0.1 s: y every 1e-5 s, the impact counts of both walls (each checked > 0)
+ *                    30 ms: y every 1e-5 s, the impact counts of both walls (each checked > 0)
  *   fig4b-me, fig5a-me, cavity-me    the same runs through Model Exchange, this driver integrating
  *                    (classical Runge-Kutta, fixed step 1e-6 s, events at the end of the step where an
  *                    event indicator changes sign): y every 1e-5 s, the event and impact counts
