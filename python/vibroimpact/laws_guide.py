@@ -53,7 +53,8 @@ VARIANTS = {
 SPHERE = dict(R1=0.01, R2=0.0, m=0.03288, Y=1e9, P=0.0, g=0.0, init=2)
 DROP_SPEEDS = (0.1, 1.0, 3.0)  # m/s
 WALL_SCENES = ("impact_damper", "clearance")   # the sphere between two walls (the upper stop)
-SCENES = tuple(f"drop_{V:g}" for V in DROP_SPEEDS) + ("fig4b", "rolling", "vehicle_track") + WALL_SCENES  # scenes()'
+# scenes()' names
+SCENES = tuple(f"drop_{V:g}" for V in DROP_SPEEDS) + ("fig4b", "rolling", "vehicle_track") + WALL_SCENES
 PAPER = dict(Y=6e8, a=1e-4, f=560.0)
 STOP = {"drop": 2e-3, "fig4b": 0.05, "rolling": 0.05, "vehicle_track": 0.03, "walls": 0.4}  # s
 # the two-wall scenes: the sphere on a platform shaken a (cos(2 pi f t) - 1), a second surface gap above
@@ -83,8 +84,8 @@ def hertz_constant(R, E=2.1e11, nu=0.3):
 
 def k_spring_for(scene):
     """The linear variant's spring: the Hertz secant stiffness F_max/delta_max of the sphere's 1 m/s impact for
-    the drops and the two-wall scenes (the closed form, delta_max = (5 m V^2/(4 K))^(2/5)); the FMU's default (about the Hertz tangent
-    stiffness of the paper's static load) for the paper's wheel."""
+    the drops and the two-wall scenes (the closed form, delta_max = (5 m V^2/(4 K))^(2/5)); the FMU's default
+    (about the Hertz tangent stiffness of the paper's static load) for the paper's wheel."""
     if not (scene.startswith("drop") or scene in WALL_SCENES):
         return 1.2e9
     K = hertz_constant(SPHERE["R1"])
@@ -132,7 +133,8 @@ def _events(fmu, md, unzipdir, params, stop):
     try:
         r = simulate_fmu(fmu, fmu_instance=slave, model_description=md, start_values=params, stop_time=stop,
                          output_interval=INTERVAL if stop <= STOP["drop"] else 1e-5, relative_tolerance=RTOL,
-                         output=["v", "y", "F", "W_plastic", "contact"] + (WALL_OUTPUTS if params.get("upper_stop") else []))
+                         output=["v", "y", "F", "W_plastic", "contact"]
+                         + (WALL_OUTPUTS if params.get("upper_stop") else []))
     finally:
         slave.freeInstance()
     return r, log
@@ -305,13 +307,13 @@ def run(out_dir, fmu=None, only_scenes=None, variants=None, repeat=1, warned=Non
 def walls(r, p, stop, log=None):
     """What each wall sees in a two-wall run r (the outputs of _events) of parameters p, over its second
     half (settled): {'speed_m_s': the mean speed the sphere leaves a wall with (|v| on the first sample of
-    each free flight), 'speed_closed_form': its ratio to cavity_orbit's u for the variant's e_restitution (NaN for a law
-    without one, or under gravity or load),
-    'impacts_lower_per_cycle', 'impacts_upper_per_cycle', 'F_lower_N', 'F_upper_N' (peak forces),
+    each free flight), 'speed_closed_form': its ratio to cavity_orbit's u for the variant's e_restitution
+    (NaN for a law without one, or under gravity or load), 'impacts_lower_per_cycle',
+    'impacts_upper_per_cycle', 'F_lower_N', 'F_upper_N' (peak forces),
     'W_cycle_J' (W_dissipated per cycle), 'first_upper_s' (the first contact onset on the upper wall,
     from the event log; NaN without one), 'trace' (the last TRACE_CYCLES cycles for walls_figure)}."""
     half = r["time"] >= stop / 2
-    cycles = p["f"] * float(r["time"][-1] - r["time"][half][0])
+    cycles = p["f"] * stop / 2
     free = (r["mode"] == 0) & (r["mode_upper"] == 0)
     onsets = r["n_impacts"] + r["n_impacts_upper"]
     # a flight's first sample: free after a contact, or after a contact that began and ended between samples

@@ -4,9 +4,9 @@ doc/choosing.md.
     vibroimpact laws [--out DIR] [--scenes NAME ...] [--repeat N] [--gallery DIR]
         ->  DIR/{laws.csv, laws.md, laws.png, laws_walls.png, corrugation.txt, roughness.txt}
 
---gallery DIR also writes smaller copies of the figures there (the documentation's: --gallery
-doc/gallery). Scenes: drop_0.1, drop_1, drop_3 (a steel sphere dropped on a steel plane), fig4b (the
-paper's harmonic excitation), rolling (the paper's wheel over a corrugated rail near resonance),
+--gallery DIR also writes smaller copies there of the figures whose scenes ran (the documentation's:
+--gallery doc/gallery). Scenes: drop_0.1, drop_1, drop_3 (a steel sphere dropped on a steel plane), fig4b
+(the paper's harmonic excitation), rolling (the paper's wheel over a corrugated rail near resonance),
 vehicle_track (the vehicle-track example: needs its Track.fmu and Vehicle.fmu beside the FMU, as a
 checkout's build/ has them), impact_damper (the sphere in a cavity 10 mm high shaken 1 mm at 50 Hz, no
 gravity: the upper stop) and clearance (the sphere in a clearance of 0.5 mm under gravity on the same
@@ -69,8 +69,9 @@ def main(argv=None):
     # every result made before the first is written; each file replaced only once complete
     laws_guide.write_csv(out / "laws.csv", rows)
     write_text(out / "laws.md", table)
-    if gallery:
-        save_figure(fig, gallery / "laws.png", GALLERY_DPI)
+    if gallery:   # the copies of the figures whose scenes ran
+        if any(r["scene"] not in laws_guide.WALL_SCENES for r in rows):
+            save_figure(fig, gallery / "laws.png", GALLERY_DPI)
         if walls_fig is not None:
             save_figure(walls_fig, gallery / "laws_walls.png", GALLERY_DPI)
     plotting.save(fig, out / "laws.png", DPI)
