@@ -5,7 +5,8 @@ no legend sits on the data, and no panel is empty.
 The figures come from vibroimpact.plotting, the functions the commands save (paper: each scenario and
 the overview; rolling; sweep: response and bifurcation of a one-grid sweep with failed points, of
 doc/sweeps.md's product sweep, of a continuation and of a sweep with more lines than a legend takes;
-diagrams: response and bifurcation; bench: work-precision and cost; laws: the drops and Fig. 4b). The
+diagrams: response and bifurcation; bench: work-precision and cost; laws: the drops and Fig. 4b, and the
+sphere between two walls of its impact_damper and clearance scenes). The
 runs are the commands' own, shortened: the paper's scenarios whole (they take a fraction of a second
 each), rolling and the sweeps over a few hundredths of a second and a few points, the benchmark on two
 tolerances and short spans, laws without its rolling and vehicle-track scenes and one run per CPU time.
@@ -360,6 +361,40 @@ def test_a_scenario_figure_says_what_the_run_did(paper_runs, name):
 @pytest.mark.timeout(RUN_TIMEOUT_S)
 def test_the_laws_figure_reads_well(laws_rows):
     check(laws_guide.figure(laws_rows))
+
+
+@pytest.fixture(scope="module")
+def laws_wall_rows(tmp_path_factory):
+    """The laws command's rows of its two-wall scenes with the variants its wall figure draws."""
+    return laws_guide.run(tmp_path_factory.mktemp("laws_walls"), FMU, only_scenes=list(laws_guide.WALL_SCENES),
+                          variants=list(laws_guide.TRACE_VARIANTS), repeat=1)
+
+
+@pytest.mark.timeout(RUN_TIMEOUT_S)
+def test_the_laws_wall_figure_reads_well(laws_wall_rows):
+    check(laws_guide.walls_figure(laws_wall_rows))
+
+
+@pytest.mark.timeout(RUN_TIMEOUT_S)
+def test_the_laws_wall_figure_marks_every_impact(laws_wall_rows):
+    """Each variant's impacts in the last cycles are marked on its curve, on the wall they hit: as many
+    markers of each kind as contact onsets its trace counts, each where the sphere touches that wall (y
+    within 0.1 mm of yC, or of yC + gap)."""
+    fig = laws_guide.walls_figure(laws_wall_rows)
+    try:
+        fig.canvas.draw()
+        f = laws_guide.SHAKEN["f"]
+        for ax, scene in zip(fig.axes, laws_guide.WALL_SCENES):
+            marks = {c.get_label(): c.get_offsets() for c in ax.collections if isinstance(c, PathCollection)}
+            for r in (r for r in laws_wall_rows if r["scene"] == scene):
+                tr = r["trace"]
+                for key, wall, offset in (("n_impacts", "lower", 0.0), ("n_impacts_upper", "upper", tr["gap"])):
+                    xy = np.asarray(marks[f"impact on the {wall} wall, {r['variant']}"])
+                    assert len(xy) == int(tr[key][-1] - tr[key][0]) > 0, (scene, r["variant"], wall)
+                    wall_mm = 1e3 * (np.interp(xy[:, 0] / f, tr["time"], tr["yC"]) + offset)
+                    assert np.all(np.abs(xy[:, 1] - wall_mm) < 0.1), (scene, r["variant"], wall)
+    finally:
+        plotting.pyplot().close(fig)
 
 
 @pytest.mark.timeout(RUN_TIMEOUT_S)

@@ -1,6 +1,8 @@
 """The guide to the laws (vibroimpact laws, doc/choosing.md): its drop rows against closed forms and the
-independent reference, and the page's table cells that do not depend on the machine (peak force,
-restitution, events of the 1 m/s drop) against a rerun of the command's code."""
+independent reference, its two-wall scenes (the upper stop) against the closed form of a shaken cavity and
+the free fall onto a descending lid, and the page's table cells that do not depend on the machine (peak
+force, restitution, events of the 1 m/s drop; the vehicle-track and two-wall rows) against a rerun of the
+command's code."""
 import math
 import pathlib
 import subprocess
@@ -9,6 +11,7 @@ import sys
 import numpy as np
 import pytest
 
+from test_two_sided_reference import periodic_orbits
 from vibroimpact import laws_guide as G
 from vibroimpact.reference import laws as L
 from vibroimpact.reference.closed_forms import effective
@@ -121,3 +124,130 @@ def test_choosing_md_quotes_the_vehicle_track_agreement(vt_rows):
     rerun = {line for line in G.agreement_markdown(list(rows.values())).splitlines()[2:]}
     page = set((ROOT / "doc" / "choosing.md").read_text().splitlines())
     assert len(rerun) == 2 and rerun <= page, rerun
+
+
+@pytest.fixture(scope="module")
+def wall_rows(tmp_path_factory, fmu_path):
+    """Both two-wall scenes with every variant: {(scene, variant): row}."""
+    rows = G.run(tmp_path_factory.mktemp("laws_walls"), fmu_path, only_scenes=list(G.WALL_SCENES), repeat=1)
+    return {(r["scene"], r["variant"]): r for r in rows}
+
+
+@pytest.mark.timeout(300)
+def test_the_wall_scenes_give_every_variant_finite_numbers(wall_rows):
+    """impact_damper and clearance, each with every variant: finite peak force, dissipated work, response,
+    costs and wall quantities; every variant hits both walls in both scenes; no law gives energy back
+    (the work dissipated, over the run and per cycle, is not negative beyond rounding)."""
+    assert set(wall_rows) == {(s, v) for s in G.WALL_SCENES for v in G.VARIANTS}
+    for key, r in wall_rows.items():
+        numbers = [r[k] for k in ("F_max_N", "W_dissipated_J", "y_pp_um", "cpu_cs_s_per_s", "cpu_me_s_per_s",
+                                  "speed_m_s", "impacts_lower_per_cycle", "impacts_upper_per_cycle", "F_lower_N",
+                                  "F_upper_N", "W_cycle_J")]
+        assert all(math.isfinite(x) for x in numbers), (key, numbers)
+        assert r["events"] > 0 and r["cpu_cs_s_per_s"] > 0 and r["cpu_me_s_per_s"] > 0, key
+        assert r["impacts_lower_per_cycle"] > 0 and r["impacts_upper_per_cycle"] > 0, key
+        assert r["F_lower_N"] > 0 and r["F_upper_N"] > 0, key
+        assert r["W_dissipated_J"] > -1e-12 and r["W_cycle_J"] > -1e-12, key
+    text = G.markdown(list(wall_rows.values())) + G.walls_markdown(list(wall_rows.values()))
+    assert "nan" not in text.lower() and "inf" not in text.lower()
+
+
+@pytest.mark.timeout(300)
+def test_the_impact_damper_settles_at_the_closed_form(wall_rows):
+    """With restitution e exact (hertz_damped, linear: e = 0.6) the sphere thrown up at 1.5 m/s settles into
+    the closed form's motion (test_two_sided_reference.periodic_orbits): one impact per cycle on each wall,
+    the speed it leaves a wall with within 1 % of u = (1+e)/(1-e) a w cos(phi) (the contact time, about
+    60 us, against the half period of 10 ms), and each cycle dissipates the closed form's 4 m u^2 (1-e)/(1+e)
+    within 2 % (u squared); an elastic law dissipates nothing."""
+    p = dict(G.SPHERE, **G.SHAKEN, **G.WALLS["impact_damper"])
+    (phi, u, _, _), _ = periodic_orbits(G.E_DAMPED, p["a"], p["f"], p["gap"])
+    assert G.cavity_orbit(G.E_DAMPED, p["a"], p["f"], p["gap"]) == pytest.approx((phi, u), rel=1e-12)
+    for variant in ("hertz_damped", "linear"):
+        r = wall_rows["impact_damper", variant]
+        assert r["impacts_lower_per_cycle"] == r["impacts_upper_per_cycle"] == 1.0, variant
+        assert r["speed_m_s"] == pytest.approx(u, rel=1e-2), variant
+        assert r["speed_closed_form"] == pytest.approx(r["speed_m_s"] / u, rel=1e-12)
+        e = G.E_DAMPED
+        assert r["W_cycle_J"] == pytest.approx(4 * p["m"] * u * u * (1 - e) / (1 + e), rel=2e-2), variant
+        assert r["F_lower_N"] == pytest.approx(r["F_upper_N"], rel=1e-2), variant   # the two walls alike
+    assert wall_rows["impact_damper", "hertz"]["W_cycle_J"] == 0.0
+
+
+@pytest.mark.timeout(300)
+def test_the_clearance_starts_with_a_free_fall_onto_the_lid(wall_rows):
+    """At rest on the lower flank when the platform starts down at a w^2 = 10 g, the sphere falls freely
+    (y = -g t^2/2) until the upper flank, a (cos(w t) - 1) + gap, comes down onto it: the first onset on the
+    upper wall, whatever the law, is that free fall's (to 1e-9 s); then it rattles, both flanks hit."""
+    from scipy.optimize import brentq
+    p = dict(G.SPHERE, **G.SHAKEN, **G.WALLS["clearance"])
+    w = 2 * math.pi * p["f"]
+    assert p["a"] * w * w > p["g"]
+    lid = lambda t: p["a"] * (math.cos(w * t) - 1) + p["gap"] + 0.5 * p["g"] * t * t
+    t1 = brentq(lid, 1e-9, 0.5 / p["f"], xtol=1e-15)
+    for variant in G.VARIANTS:
+        r = wall_rows["clearance", variant]
+        assert r["first_upper_s"] == pytest.approx(t1, abs=1e-9), variant
+        assert r["impacts_lower_per_cycle"] >= 1 and r["impacts_upper_per_cycle"] >= 1, variant
+    assert wall_rows["clearance", "hertz"]["W_cycle_J"] == 0.0
+    assert wall_rows["clearance", "hertz_damped"]["W_cycle_J"] > 0.0
+
+
+def page_rows(scenes):
+    """doc/choosing.md's main table rows of `scenes`: {(scene, variant): the machine-independent cells}."""
+    page = {}
+    for line in (ROOT / "doc" / "choosing.md").read_text().splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) == 10 and cells[0] in scenes:
+            page[cells[0], cells[1]] = cells[2:7]
+    return page
+
+
+def test_choosing_md_quotes_the_wall_scenes(wall_rows):
+    """doc/choosing.md's rows of impact_damper and clearance have the peak force, dissipated work,
+    response and event count a rerun gives, and its table of what each wall sees is the rerun's."""
+    rows = list(wall_rows.values())
+    rerun = {}
+    for line in G.markdown(rows).splitlines()[2:]:
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        rerun[cells[0], cells[1]] = cells[2:7]
+    page = page_rows(G.WALL_SCENES)
+    assert page.keys() == rerun.keys()
+    for key, cells in page.items():
+        assert all(map(same_cell, cells, rerun[key])), (key, cells, rerun[key])
+    walls = {tuple(c.strip() for c in line.strip().strip("|").split("|"))
+             for line in G.walls_markdown(rows).splitlines()[2:]}
+    on_page = {}
+    for line in (ROOT / "doc" / "choosing.md").read_text().splitlines():
+        cells = tuple(c.strip() for c in line.strip().strip("|").split("|"))
+        if len(cells) == 9 and cells[0] in G.WALL_SCENES:
+            on_page[cells[:2]] = cells
+    assert len(walls) == len(rows) and {c[:2] for c in walls} == on_page.keys()
+    for cells in walls:
+        assert all(map(same_cell, on_page[cells[:2]], cells)), (on_page[cells[:2]], cells)
+
+
+def same_cell(a, b):
+    """Two table cells agree: the same text, or both a work an elastic law "dissipates" (the solver's
+    rounding, below 1e-9 in J or mJ), which differs with the machine's arithmetic."""
+    try:
+        return a == b or (abs(float(a)) < 1e-9 and abs(float(b)) < 1e-9)
+    except ValueError:
+        return False
+
+
+def test_an_unknown_scene_is_refused_before_the_wall_figure_is_written(tmp_path):
+    """--scenes impact_damper nosuch: exit 2 naming nosuch and the two-wall scenes, every file of a
+    finished run (laws_walls.png too) as it was."""
+    out = tmp_path / "laws"
+    out.mkdir()
+    files = ("laws.csv", "laws.md", "laws.png", "laws_walls.png")
+    for name in files:
+        (out / name).write_text(f"finished {name}\n")
+    r = subprocess.run([sys.executable, "-m", "vibroimpact", "laws", "--out", "laws", "--scenes", "impact_damper",
+                        "nosuch"], capture_output=True, text=True, timeout=60, cwd=tmp_path)
+    assert r.returncode == 2 and "Traceback" not in r.stderr, r.stderr
+    last = r.stderr.strip().splitlines()[-1]
+    assert "unknown scene nosuch" in last and "impact_damper" in last and "clearance" in last, last
+    assert sorted(p.name for p in out.iterdir()) == sorted(files)
+    for name in files:
+        assert (out / name).read_text() == f"finished {name}\n"

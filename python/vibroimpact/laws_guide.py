@@ -7,12 +7,21 @@ The same scenes run with each law and each option that can be switched off, thro
     vehicle_track  the vehicle-track example (vibroimpact.vehicle_track): the contact FMU as the wheel-rail
                contact between a vehicle FMU and a track FMU, 30 m/s over a rough rail (ISO 3095 + 15 dB),
                in the example's recommended co-simulation and its Model Exchange master
+    impact_damper  the sphere in a cavity 10 mm high (the upper stop: upper_stop, gap) shaken
+               a (cos(2 pi f t) - 1) at a = 1 mm, 50 Hz, without gravity, thrown up from the floor at
+               1.5 m/s; 0.4 s, the second half settled (the closed form: cavity_orbit)
+    clearance  the sphere in a clearance of 0.5 mm under gravity on the same platform, from rest on the
+               lower flank: it rattles between the flanks (backlash); 0.4 s
 and each run gives what it changes (peak force, restitution, dissipated work, response amplitude, event
 count) and what it costs (CPU per simulated second in Co-Simulation and Model Exchange, events per
 simulated second); in the vehicle-track scene also how far its co-simulation is from its Model Exchange
 master at small steps (vt_agreement). The variants: hertz (elastic), johnson (plasticity, fixed contact
 point, the paper's unloading with stick), johnson_continuous (no stick), johnson_moving (moving contact
 point), lepp, thornton, hertz_damped (exact damping, e = 0.6), hunt_crossley (e = 0.6), linear (e = 0.6).
+The two-wall scenes (impact_damper, clearance) also give, over their settled second half, what each wall
+sees: the speed the sphere leaves a wall with, the impacts per cycle and the peak force on each wall, and
+the energy dissipated per cycle (walls()); and a trace of the last cycles for their figure
+(walls_figure).
 """
 import math
 import pathlib
@@ -43,9 +52,16 @@ VARIANTS = {
 # the steel sphere of Johnson's Hertz case on a steel plane (the FMU's E, nu), Y = 1 GPa
 SPHERE = dict(R1=0.01, R2=0.0, m=0.03288, Y=1e9, P=0.0, g=0.0, init=2)
 DROP_SPEEDS = (0.1, 1.0, 3.0)  # m/s
-SCENES = tuple(f"drop_{V:g}" for V in DROP_SPEEDS) + ("fig4b", "rolling", "vehicle_track")  # scenes()' names
+WALL_SCENES = ("impact_damper", "clearance")   # the sphere between two walls (the upper stop)
+# scenes()' names
+SCENES = tuple(f"drop_{V:g}" for V in DROP_SPEEDS) + ("fig4b", "rolling", "vehicle_track") + WALL_SCENES
 PAPER = dict(Y=6e8, a=1e-4, f=560.0)
-STOP = {"drop": 2e-3, "fig4b": 0.05, "rolling": 0.05, "vehicle_track": 0.03}  # s
+STOP = {"drop": 2e-3, "fig4b": 0.05, "rolling": 0.05, "vehicle_track": 0.03, "walls": 0.4}  # s
+# the two-wall scenes: the sphere on a platform shaken a (cos(2 pi f t) - 1), a second surface gap above
+# the floor moving with it; the impact damper without gravity, thrown up at v0; the clearance under gravity
+SHAKEN = dict(a=1e-3, f=50.0, upper_stop=True)   # m, Hz
+WALLS = {"impact_damper": dict(gap=0.01, v0=1.5), "clearance": dict(gap=5e-4, g=9.81)}   # m, m/s, m/s2
+TRACE_CYCLES = 3   # the last cycles the figure of the two-wall scenes draws
 # the vehicle-track run starts where the roughness fades in (roughness.taper), 0.9 m before its end
 VT_X0 = 1.0  # m
 INTERVAL = 1e-6  # s, output interval of the drops (contact times of tens of us)
@@ -68,9 +84,9 @@ def hertz_constant(R, E=2.1e11, nu=0.3):
 
 def k_spring_for(scene):
     """The linear variant's spring: the Hertz secant stiffness F_max/delta_max of the sphere's 1 m/s impact for
-    the drops (the closed form, delta_max = (5 m V^2/(4 K))^(2/5)); the FMU's default (about the Hertz tangent
-    stiffness of the paper's static load) for the paper's wheel."""
-    if not scene.startswith("drop"):
+    the drops and the two-wall scenes (the closed form, delta_max = (5 m V^2/(4 K))^(2/5)); the FMU's default
+    (about the Hertz tangent stiffness of the paper's static load) for the paper's wheel."""
+    if not (scene.startswith("drop") or scene in WALL_SCENES):
         return 1.2e9
     K = hertz_constant(SPHERE["R1"])
     d = (1.25 * SPHERE["m"] / K) ** 0.4
@@ -86,11 +102,30 @@ def scenes(profile, rough=None):
                            profile_periodic=True, Y=6e8), STOP["rolling"], None)
     if rough is not None:
         out["vehicle_track"] = (dict(profile_file=str(rough), x0=VT_X0), STOP["vehicle_track"], None)
+    for scene in WALL_SCENES:
+        out[scene] = (dict(SPHERE, **SHAKEN, **WALLS[scene]), STOP["walls"], None)
     return out
 
 
+def cavity_orbit(e, a, f, gap):
+    """The closed form of the impact damper: (phi, u) of the periodic motion a sphere in a cavity shaken
+    a (cos(2 pi f t) - 1), without gravity or load, with instantaneous impacts of restitution e, settles
+    into: two impacts per cycle, one on each wall, half a period apart, each at the free-flight speed
+    u = (1+e)/(1-e) a w cos(phi) [m/s], the phase phi in (-pi/2, 0) solving
+    gap = 2 a sin(phi) + (1+e)/(1-e) a pi cos(phi) (the stable one of its two solutions). Each impact
+    takes 1/2 m (1 - e^2) (2u/(1+e))^2 in the wall's frame: 4 m u^2 (1-e)/(1+e) per cycle."""
+    from scipy.optimize import brentq
+    w, r = 2 * math.pi * f, (1 + e) / (1 - e)
+    phi = brentq(lambda p: 2 * a * math.sin(p) + r * a * math.pi * math.cos(p) - gap, -math.pi / 2, 0.0, xtol=1e-15)
+    return phi, r * a * w * math.cos(phi)
+
+
+WALL_OUTPUTS = ["yC", "F_upper", "mode", "mode_upper", "n_impacts", "n_impacts_upper", "W_dissipated"]
+
+
 def _events(fmu, md, unzipdir, params, stop):
-    """The result of one Co-Simulation run with its event log on, and its log (a fmu.MessageLog)."""
+    """The result of one Co-Simulation run with its event log on, and its log (a fmu.MessageLog); with
+    the upper stop also both walls' outputs (WALL_OUTPUTS)."""
     from fmpy import simulate_fmu
     log = Logged(md, unzipdir, name="events")
     slave = log.instantiate(logging=True)
@@ -98,7 +133,8 @@ def _events(fmu, md, unzipdir, params, stop):
     try:
         r = simulate_fmu(fmu, fmu_instance=slave, model_description=md, start_values=params, stop_time=stop,
                          output_interval=INTERVAL if stop <= STOP["drop"] else 1e-5, relative_tolerance=RTOL,
-                         output=["v", "y", "F", "W_plastic", "contact"])
+                         output=["v", "y", "F", "W_plastic", "contact"]
+                         + (WALL_OUTPUTS if params.get("upper_stop") else []))
     finally:
         slave.freeInstance()
     return r, log
@@ -223,6 +259,10 @@ def measure(scene, variant, params, stop, V, fmu, md, unzipdir, repeat=1, warned
         row["y_pp_um"] = math.nan
         row["restitution"] = float(r["v"][-1]) / V
         row["W_dissipated_J"] = 0.5 * p["m"] * (V * V - float(r["v"][-1]) ** 2)
+    elif scene in WALL_SCENES:  # both walls: the larger peak, the contacts' plastic and damping work
+        row["F_max_N"] = max(row["F_max_N"], float(r["F_upper"].max()))
+        row["W_dissipated_J"] = float(r["W_dissipated"][-1])
+        row.update(walls(r, p, stop, log))
     elif variant in ("hertz_damped", "hunt_crossley", "linear"):
         row["W_dissipated_J"] = math.nan  # the damping's work is no output
     row.update(agreement)
@@ -264,16 +304,60 @@ def run(out_dir, fmu=None, only_scenes=None, variants=None, repeat=1, warned=Non
     return rows
 
 
+def walls(r, p, stop, log=None):
+    """What each wall sees in a two-wall run r (the outputs of _events) of parameters p, over its second
+    half (settled): {'speed_m_s': the mean speed the sphere leaves a wall with (|v| on the first sample of
+    each free flight), 'speed_closed_form': its ratio to cavity_orbit's u for the variant's e_restitution
+    (NaN for a law without one, or under gravity or load), 'impacts_lower_per_cycle',
+    'impacts_upper_per_cycle', 'F_lower_N', 'F_upper_N' (peak forces),
+    'W_cycle_J' (W_dissipated per cycle), 'first_upper_s' (the first contact onset on the upper wall,
+    from the event log; NaN without one), 'trace' (the last TRACE_CYCLES cycles for walls_figure)}."""
+    half = r["time"] >= stop / 2
+    cycles = p["f"] * stop / 2
+    free = (r["mode"] == 0) & (r["mode_upper"] == 0)
+    onsets = r["n_impacts"] + r["n_impacts_upper"]
+    # a flight's first sample: free after a contact, or after a contact that began and ended between samples
+    first = free & half & np.concatenate(([False], ~free[:-1] | (onsets[1:] != onsets[:-1])))
+    speed = float(np.mean(np.abs(r["v"][first]))) if first.any() else math.nan
+    u = math.nan
+    if p.get("g", 9.81) == 0.0 and p.get("P", 0.0) == 0.0 and "e_restitution" in p:
+        u = cavity_orbit(p["e_restitution"], p["a"], p["f"], p["gap"])[1]
+    out = dict(speed_m_s=speed, speed_closed_form=speed / u,
+               impacts_lower_per_cycle=float(r["n_impacts"][-1] - r["n_impacts"][half][0]) / cycles,
+               impacts_upper_per_cycle=float(r["n_impacts_upper"][-1] - r["n_impacts_upper"][half][0]) / cycles,
+               F_lower_N=float(r["F"][half].max()), F_upper_N=float(r["F_upper"][half].max()),
+               W_cycle_J=float(r["W_dissipated"][-1] - r["W_dissipated"][half][0]) / cycles,
+               first_upper_s=_first_onset(log, -p["gap"]) if log is not None else math.nan)
+    last = r["time"] >= r["time"][-1] - TRACE_CYCLES / p["f"] - 1e-12
+    out["trace"] = {k: np.asarray(r[k][last], float) for k in ("time", "y", "yC", "n_impacts", "n_impacts_upper")}
+    out["trace"]["gap"] = p["gap"]
+    return out
+
+
+def _first_onset(log, delta):
+    """The time of the first contact onset (a guard event from mode 0) at indentation `delta` [m] in an
+    event log (logEvents: 'event t=T kind=guard guard=G mode=0->M delta=D ...'); NaN when none."""
+    for _, _, m in log.messages:
+        if m.startswith("event t=") and "mode=0->" in m:
+            fields = dict(f.split("=", 1) for f in m.split() if "=" in f)
+            if math.isclose(float(fields["delta"]), delta, rel_tol=1e-6, abs_tol=1e-12):
+                return float(fields["t"])
+    return math.nan
+
+
 def unknown_names(names, known):
     """The names that are not in known, in the order given."""
     return [n for n in names if n not in known]
 
 
 def write_csv(path, rows):
+    """The rows' COLUMNS, and the two-wall scenes' WALL_KEYS when a row has them (empty in the others)."""
+    columns = COLUMNS + [k for k in WALL_KEYS if any(k in r for r in rows)]
     with replacing(path) as f:
-        f.write(",".join(COLUMNS) + "\n")
+        f.write(",".join(columns) + "\n")
         for r in rows:
-            f.write(",".join(str(r[c]) if isinstance(r[c], str) else f"{r[c]:.6g}" for c in COLUMNS) + "\n")
+            cells = [r[c] if c in COLUMNS else r.get(c, math.nan) for c in columns]
+            f.write(",".join(c if isinstance(c, str) else f"{c:.6g}" for c in cells) + "\n")
 
 
 def markdown(rows):
@@ -299,6 +383,27 @@ def agreement_markdown(rows):
     head = ["variant"] + [f"step {h:g} s" for h in AGREEMENT_STEPS]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     lines += ["| " + " | ".join([r["variant"]] + [f"{r[k]:.2g}" for k in keys]) + " |" for r in have]
+    return "\n".join(lines) + "\n"
+
+
+WALL_KEYS = ("speed_m_s", "speed_closed_form", "impacts_lower_per_cycle", "impacts_upper_per_cycle", "F_lower_N",
+             "F_upper_N", "W_cycle_J")
+
+
+def walls_markdown(rows):
+    """The two-wall scenes over their settled second half (walls()), a row per scene and variant; empty
+    when no row has them."""
+    have = [r for r in rows if all(k in r for k in WALL_KEYS)]
+    if not have:
+        return ""
+    head = ["scene", "variant", "leaves a wall at [m/s]", "/ closed form", "impacts per cycle, lower", "upper",
+            "peak force, lower [N]", "upper [N]", "dissipated per cycle [mJ]"]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for r in have:
+        cells = [r["scene"], r["variant"], _num(r["speed_m_s"], "{:.4g}"), _num(r["speed_closed_form"], "{:.4f}"),
+                 f"{r['impacts_lower_per_cycle']:.2g}", f"{r['impacts_upper_per_cycle']:.2g}", f"{r['F_lower_N']:.4g}",
+                 f"{r['F_upper_N']:.4g}", f"{1e3 * r['W_cycle_J']:.3g}"]
+        lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines) + "\n"
 
 
@@ -384,3 +489,31 @@ def draw_costs(force_ax, cpu_ax, rows, scene):
         ax.invert_yaxis()   # the variants top down, in the table's order
         ax.tick_params(labelsize=8)
         ax.title.set_size(9)
+
+
+# the variants walls_figure draws the sphere of: the damper's law of choice and the paper's plastic law
+TRACE_VARIANTS = ("hertz_damped", "johnson")
+WALL_TITLES = {"impact_damper": "impact damper: a cavity 10 mm high, no gravity",
+               "clearance": "clearance of 0.5 mm under gravity (backlash)"}
+
+
+def walls_figure(rows):
+    """The two-wall scenes, a panel each: the lower wall yC, the upper wall yC + gap and the sphere's y over
+    the last TRACE_CYCLES cycles, for each variant of TRACE_VARIANTS that ran (the first one that did when
+    none), each contact onset marked on the wall it hits (^ the lower, v the upper). None when no row has
+    a trace."""
+    from .plotting import draw_walls, figure_legend, pyplot
+    traced = [r for r in rows if "trace" in r]
+    scenes = [s for s in WALL_SCENES if any(r["scene"] == s for r in traced)]
+    if not scenes:
+        return None
+    plt = pyplot()
+    fig, axes = plt.subplots(1, len(scenes), figsize=(6.5 * len(scenes), 4.6), layout="constrained", squeeze=False)
+    for ax, scene in zip(axes[0], scenes):
+        mine = {r["variant"]: r for r in traced if r["scene"] == scene}
+        names = [v for v in TRACE_VARIANTS if v in mine] or [next(iter(mine))]
+        draw_walls(ax, mine[names[0]]["trace"], [(v, mine[v]["trace"], STYLES[v][0], STYLES[v][2]) for v in names],
+                   f=SHAKEN["f"])
+        ax.set_title(WALL_TITLES[scene], fontsize=10)
+    figure_legend(fig, axes[0], ncols=4, fontsize=8)
+    return fig

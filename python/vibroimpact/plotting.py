@@ -49,6 +49,26 @@ def save(fig, path, dpi):
     return path
 
 
+# ---- a mass between two walls (vibroimpact laws: the upper stop) -----------------------------------------
+
+def draw_walls(ax, walls, masses, f):
+    """The lower wall yC (thin, black), the upper wall yC + gap (thin, grey) from `walls` (a trace: time,
+    yC, gap) and the mass of each (label, trace, colour, line style) of `masses`, in mm against the
+    platform's cycles t f; each contact onset (n_impacts, n_impacts_upper rising) marked on the mass in
+    its colour, ^ on the lower wall, v on the upper one."""
+    cyc = walls["time"] * f
+    ax.plot(cyc, 1e3 * walls["yC"], color="k", lw=0.8, label="lower wall $y_C$")
+    ax.plot(cyc, 1e3 * (walls["yC"] + walls["gap"]), color="0.5", lw=0.8, label="upper wall $y_C$ + gap")
+    for label, tr, color, ls in masses:
+        t, y = tr["time"] * f, 1e3 * tr["y"]
+        ax.plot(t, y, color=color, ls=ls, lw=1.3, label=f"sphere $y$, {label}")
+        for key, marker, wall in (("n_impacts", "^", "lower"), ("n_impacts_upper", "v", "upper")):
+            hit = np.nonzero(np.diff(tr[key]) > 0)[0] + 1
+            ax.scatter(t[hit], y[hit], marker=marker, s=36, color=color, edgecolors="k", linewidths=0.5, zorder=3,
+                       label=f"impact on the {wall} wall, {label}")
+    ax.set(xlabel="time [platform cycles]", ylabel="position [mm]")
+
+
 # ---- the paper's scenarios (vibroimpact paper) ---------------------------------------------------------
 
 POSITION_LINES = {   # what draw_positions draws: label, colour, line width against the figure's lw

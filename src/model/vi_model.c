@@ -1013,6 +1013,18 @@ static double guard_distance(const guard_def *g, double d)
     }
 }
 
+/* The length per unit of contact c's force guard: its value at rest at the yield indentation delta_Y
+ * taken as delta_Y (1 where that is no finite positive number). The onset guard max(-delta, -L g)
+ * (GUARD_ONSET) is then a length on both branches, so that its band (vi_hybrid.h), set where the force
+ * guard's branch reaches zero at a release, is a band of the indentation where the next contact
+ * crosses on the other branch: a band in the force guard's own units (newtons, or 1 for the
+ * dimensionless guard) would hide a whole flight of a few micrometres. */
+static double guard_length(const vi_model_contact *c)
+{
+    double d = c->johnson.delta_Y, L = d / fabs(law(c)->force_guard(c, d, 0.0).g);
+    return isfinite(L) && L > 0.0 ? L : 1.0;
+}
+
 /* Contact c's guards in its mode at (t, x) into g[0 .. VI_CONTACT_NGUARDS - 1]. */
 static void contact_guards(const vi_model *model, const vi_model_contact *c, double t, const double x[2], double *g)
 {
@@ -1025,7 +1037,7 @@ static void contact_guards(const vi_model *model, const vi_model_contact *c, dou
         case GUARD_ABOVE:
         case GUARD_BELOW: g[i] = guard_distance(&def[i], d); break;
         case GUARD_TURN: g[i] = contact_rate(model, c, t, x); break;
-        case GUARD_ONSET: g[i] = fmax(-d, -law(c)->force_guard(c, d, contact_rate(model, c, t, x)).g); break;
+        case GUARD_ONSET: g[i] = fmax(-d, -guard_length(c) * law(c)->force_guard(c, d, contact_rate(model, c, t, x)).g); break;
         case GUARD_RELEASE: g[i] = law(c)->force_guard(c, d, contact_rate(model, c, t, x)).g; break;
         case GUARD_STICK_LOAD: g[i] = vi_johnson_load(&c->johnson, def[i].surface) - F_hold; break;
         case GUARD_STICK_UNLOAD: g[i] = F_hold - vi_unload_force(&c->unload, def[i].surface); break;

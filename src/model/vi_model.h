@@ -35,7 +35,8 @@
  * (mode_guards: how each is measured and the surface of delta it belongs to), and the guard values,
  * the state check (vi_model_check), the events and the guard names all read that definition:
  *   0: g0 = s - delta                  contact (s = 0, delta_f or delta_p)
- *      g0 = max(-delta, -g)            contact of a damped law (g: vi_*_guard, the sign of its force)
+ *      g0 = max(-delta, -L g)          contact of a damped law (g: vi_*_guard, the sign of its force;
+ *                                      L = delta_Y / g(delta_Y, 0): both branches lengths)
  *   1: g0 = delta - s                  separation
  *      g1 = delta_Y - delta            yield (Johnson), delta_p + delta_Y - delta (LEPP)
  *      g1 = g                          release of a damped law: its force reaches 0 while delta > 0
