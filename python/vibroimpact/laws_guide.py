@@ -141,8 +141,10 @@ def _events(fmu, md, unzipdir, params, stop):
 
 
 def _count_events(log):
-    """The number of events an instance's event log (logEvents) holds."""
-    return sum(1 for _, _, m in log.messages if m.startswith("event t="))
+    """The number of events an instance's event log (logEvents) holds, the start once (with the upper
+    stop the start has a line per contact)."""
+    return sum(1 for _, _, m in log.messages
+               if m.startswith("event t=") and not ("kind=start" in m and "contact=upper" in m))
 
 
 def _cpu(run, repeat):
@@ -327,20 +329,21 @@ def walls(r, p, stop, log=None):
                impacts_upper_per_cycle=float(r["n_impacts_upper"][-1] - r["n_impacts_upper"][half][0]) / cycles,
                F_lower_N=float(r["F"][half].max()), F_upper_N=float(r["F_upper"][half].max()),
                W_cycle_J=float(r["W_dissipated"][-1] - r["W_dissipated"][half][0]) / cycles,
-               first_upper_s=_first_onset(log, -p["gap"]) if log is not None else math.nan)
+               first_upper_s=_first_onset(log, "upper") if log is not None else math.nan)
     last = r["time"] >= r["time"][-1] - TRACE_CYCLES / p["f"] - 1e-12
     out["trace"] = {k: np.asarray(r[k][last], float) for k in ("time", "y", "yC", "n_impacts", "n_impacts_upper")}
     out["trace"]["gap"] = p["gap"]
     return out
 
 
-def _first_onset(log, delta):
-    """The time of the first contact onset (a guard event from mode 0) at indentation `delta` [m] in an
-    event log (logEvents: 'event t=T kind=guard guard=G mode=0->M delta=D ...'); NaN when none."""
+def _first_onset(log, contact):
+    """The time of the first contact onset (a guard event from mode 0) of `contact` ("lower" or "upper")
+    in an event log of a run with the upper stop (logEvents: 'event t=T kind=guard guard=G mode=0->M
+    delta=D v=V contact=C', delta that contact's own indentation); NaN when none."""
     for _, _, m in log.messages:
-        if m.startswith("event t=") and "mode=0->" in m:
+        if m.startswith("event t=") and "kind=guard" in m and "mode=0->" in m:
             fields = dict(f.split("=", 1) for f in m.split() if "=" in f)
-            if math.isclose(float(fields["delta"]), delta, rel_tol=1e-6, abs_tol=1e-12):
+            if fields.get("contact") == contact:
                 return float(fields["t"])
     return math.nan
 
