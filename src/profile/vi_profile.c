@@ -36,6 +36,14 @@ typedef struct {
     int starts, ends;
 } arc;
 
+/* The arcs of a cubic profile: stored (list), or, when every segment of the spline is one whole arc
+ * (list NULL), none stored: arc i is then segment i whole, its cubic computed from the rows x, h and
+ * the spline's slopes k (arc_at) as make_arcs computes it, to the bit. */
+typedef struct {
+    const arc *list;
+    const double *x, *h, *k;
+} arc_set;
+
 /* An interval [x0, x1) of the envelope and its piece. */
 typedef struct {
     double x0, x1; /* [x0, x1) */
@@ -47,8 +55,10 @@ struct vi_profile {
     double R, lo, hi, period; /* period = hi - lo when periodic, else 0 */
     int periodic;
     span *spans;    /* m intervals, spans[0].x0 = lo, spans[m - 1].x1 = hi, each ending where the next starts */
-    arc *arcs;      /* the spline's parts (cubic interpolation), n_arcs of them, else NULL */
+    arc_set arcs;   /* the spline's parts (cubic interpolation), n_arcs of them */
     size_t n_arcs;
+    arc *arc_list;  /* the memory the profile owns behind arcs: the stored arcs, or the rows and slopes */
+    double *own_x, *own_h, *own_k;
     size_t m;       /* intervals */
     size_t *bucket; /* n_buckets + 1 entries, or NULL: where the search for x starts (index_intervals) */
     size_t n_buckets;
@@ -123,10 +133,30 @@ static double arc_eval(const arc *a, double R, double px, double x, double d[3])
     return c[0] + u * (c[1] + u * (c[2] + u * c[3])) - R * (h1 * h1 / (rw * (rw + 1.0)));
 }
 
-/* Value and derivatives of piece q at x (derivatives only when d is not NULL); arcs: the profile's. */
-static double piece_eval(const piece *q, const arc *arcs, double R, double x, double d[3])
+/* The Hermite cubic of segment j of the spline through rows x, h with slopes k: c[0..3] in u = s - x_j;
+ * the segment's length dx returned. */
+static double segment_cubic(const double *x, const double *h, const double *k, size_t j, double c[4])
 {
-    if (q->kind == ARC) return arc_eval(&arcs[q->arc], R, q->px, x, d);
+    double dx = x[j + 1] - x[j], d = (h[j + 1] - h[j]) / dx;
+    c[0] = h[j], c[1] = k[j], c[2] = (3.0 * d - 2.0 * k[j] - k[j + 1]) / dx;
+    c[3] = (k[j] + k[j + 1] - 2.0 * d) / (dx * dx);
+    return dx;
+}
+
+/* Arc i of set: the stored one, or segment i whole, written into tmp. */
+static const arc *arc_at(const arc_set *set, size_t i, arc *tmp)
+{
+    if (set->list) return &set->list[i];
+    double dx = segment_cubic(set->x, set->h, set->k, i, tmp->c);
+    tmp->u0 = 0.0, tmp->u1 = dx, tmp->starts = 1, tmp->ends = 1;
+    return tmp;
+}
+
+/* Value and derivatives of piece q at x (derivatives only when d is not NULL); arcs: the profile's. */
+static double piece_eval(const piece *q, const arc_set *arcs, double R, double x, double d[3])
+{
+    arc tmp;
+    if (q->kind == ARC) return arc_eval(arc_at(arcs, q->arc, &tmp), R, q->px, x, d);
     if (q->kind == LINE) {
         if (d) d[0] = q->s, d[1] = 0.0, d[2] = 0.0;
         return q->py + q->s * (x - q->px);
@@ -184,12 +214,12 @@ static int push(stack *st, double x0, double x1, const piece *q, size_t g)
 typedef struct {
     double R;
     double tol; /* values closer than this count as equal (the continuity check) */
-    const arc *arcs;
+    arc_set arcs;
 } context;
 
 static double gap(const context *c, const piece *a, const piece *b, double x)
 {
-    return piece_eval(a, c->arcs, c->R, x, NULL) - piece_eval(b, c->arcs, c->R, x, NULL);
+    return piece_eval(a, &c->arcs, c->R, x, NULL) - piece_eval(b, &c->arcs, c->R, x, NULL);
 }
 
 /* The root of gap(a, b) in (lo, hi), where it changes sign strictly (bisection to the last bit,
@@ -294,7 +324,8 @@ static int insert(const context *c, stack *st, stack *tail, const piece *q, size
 void vi_profile_free(vi_profile *p)
 {
     if (!p) return;
-    free(p->spans), free(p->kinks), free(p->arcs), free(p->bucket);
+    free(p->spans), free(p->kinks), free(p->arc_list), free(p->bucket);
+    free(p->own_x), free(p->own_h), free(p->own_k);
     free(p);
 }
 
@@ -461,6 +492,15 @@ typedef struct {
     double max_slope;
 } arcs;
 
+/* The largest |h'| of cubic c on [u0, u1]: at the ends or where h' is stationary. */
+static double arc_slope(const double c[4], double u0, double u1)
+{
+    double s0 = c[1] + u0 * (2.0 * c[2] + 3.0 * c[3] * u0), s1 = c[1] + u1 * (2.0 * c[2] + 3.0 * c[3] * u1);
+    double um = c[3] != 0.0 ? -c[2] / (3.0 * c[3]) : u0; /* where h' is stationary */
+    double sm = um > u0 && um < u1 ? c[1] + um * (2.0 * c[2] + 3.0 * c[3] * um) : s0;
+    return larger(fabs(sm), larger(fabs(s0), fabs(s1)));
+}
+
 /* Append the part [u0, u1] of segment cubic c on [0, dx] as an arc (its largest |h'| into max_slope).
  * 0, or -1 when out of memory or past UINT32_MAX arcs. */
 static int add_arc(arcs *list, const double c[4], double dx, double u0, double u1)
@@ -472,12 +512,15 @@ static int add_arc(arcs *list, const double c[4], double dx, double u0, double u
         if (!a) return -1;
         list->a = a, list->cap = cap;
     }
-    double s0 = c[1] + u0 * (2.0 * c[2] + 3.0 * c[3] * u0), s1 = c[1] + u1 * (2.0 * c[2] + 3.0 * c[3] * u1);
-    double um = c[3] != 0.0 ? -c[2] / (3.0 * c[3]) : u0; /* where h' is stationary */
-    double sm = um > u0 && um < u1 ? c[1] + um * (2.0 * c[2] + 3.0 * c[3] * um) : s0;
-    list->max_slope = larger(list->max_slope, larger(fabs(sm), larger(fabs(s0), fabs(s1))));
+    list->max_slope = larger(list->max_slope, arc_slope(c, u0, u1));
     list->a[list->n++] = (arc){{c[0], c[1], c[2], c[3]}, u0, u1, u0 == 0.0, u1 == dx};
     return 0;
+}
+
+/* The body touches segment cubic c on [0, dx] everywhere: R h'' < 1 at both ends (h'' is linear, w >= 1). */
+static int whole_arc(double R, const double c[4], double dx)
+{
+    return R * larger(2.0 * c[2], 2.0 * c[2] + 6.0 * c[3] * dx) < 1.0;
 }
 
 /* Where touch changes sign in (lo, hi), to the last bit (at most 2100 halvings): the end of the two
@@ -494,13 +537,13 @@ static double touch_root(const double c[4], double R, double lo, double hi)
     return tlo > 0.0 ? lo : hi;
 }
 
-/* The arcs of segment cubic c on [0, dx]: the whole segment when R h'' < 1 at both ends (h'' is
- * linear, w >= 1: the body touches it everywhere), else the parts where touch > 0, their ends located
- * between TOUCH_SAMPLES samples. 0, or -1 when out of memory. */
+/* The arcs of segment cubic c on [0, dx]: the whole segment when the body touches it everywhere
+ * (whole_arc), else the parts where touch > 0, their ends located between TOUCH_SAMPLES samples. 0, or
+ * -1 when out of memory. */
 #define TOUCH_SAMPLES 32
 static int segment_arcs(arcs *list, double R, const double c[4], double dx)
 {
-    if (R * larger(2.0 * c[2], 2.0 * c[2] + 6.0 * c[3] * dx) < 1.0) return add_arc(list, c, dx, 0.0, dx);
+    if (whole_arc(R, c, dx)) return add_arc(list, c, dx, 0.0, dx);
     double start = touch(c, R, 0.0) > 0.0 ? 0.0 : NAN, u_prev = 0.0; /* start: of the part being kept, NAN: none */
     for (int i = 1; i <= TOUCH_SAMPLES; i++) { /* bounded: TOUCH_SAMPLES samples */
         double u = i == TOUCH_SAMPLES ? dx : dx * i / TOUCH_SAMPLES;
@@ -516,23 +559,41 @@ static int segment_arcs(arcs *list, double R, const double c[4], double dx)
     return start == start ? add_arc(list, c, dx, start, dx) : 0;
 }
 
-/* The arcs of the spline through the table, segment by segment (first[j]: the first arc of segment j,
- * first[n - 1] = their number, written after the slopes are solved for), and the largest |h'| of any.
- * scratch: 3 n doubles, the slopes k in the first n, then the centre_shift of each row's slope in the
- * next n. 0, or -1. */
-static int make_arcs(const double *x, const double *h, size_t n, int periodic, double R, size_t *first, arcs *list,
-                     double *scratch)
+/* Whether the body touches every segment of the spline through the rows (slopes k) everywhere
+ * (whole_arc): then each segment is one arc, none is stored (arc_set), and the largest |h'| of any is
+ * *max_slope, as add_arc takes it; shift[j]: the centre_shift of the slope at row j. */
+static int whole_segments(const double *x, const double *h, const double *k, size_t n, double R, double *max_slope,
+                          double *shift)
 {
-    double *k = scratch;
+    double slope = 0.0, c[4];
+    for (size_t j = 0; j + 1 < n; j++) { /* bounded by the rows */
+        double dx = segment_cubic(x, h, k, j, c);
+        if (!whole_arc(R, c, dx)) return 0;
+        slope = larger(slope, arc_slope(c, 0.0, dx));
+        shift[j] = centre_shift(R, k[j]);
+    }
+    shift[n - 1] = centre_shift(R, k[n - 1]);
+    *max_slope = slope;
+    return 1;
+}
+
+/* The arcs of the spline through the table with slopes k, segment by segment: none stored when every
+ * segment is whole (whole_segments: list->a NULL, list->n the segments), else in list->a (first[j]: the
+ * first arc of segment j, first[n - 1] = their number); and the largest |h'| of any. shift[j]: the
+ * centre_shift of the slope at row j. 0, or -1 when out of memory. */
+static int make_arcs(const double *x, const double *h, const double *k, size_t n, double R, size_t *first,
+                     arcs *list, double *shift)
+{
+    if (whole_segments(x, h, k, n, R, &list->max_slope, shift)) {
+        list->n = n - 1;
+        return 0;
+    }
     list->a = n - 1 <= UINT32_MAX ? malloc((n - 1) * sizeof *list->a) : NULL; /* one a segment, as a rule */
     if (!list->a) return -1;
     list->cap = n - 1;
-    spline_slopes(x, h, n, periodic, k, scratch + n);
-    double *shift = scratch + n;
     for (size_t j = 0; j + 1 < n; j++) { /* bounded by the rows */
         shift[j] = centre_shift(R, k[j]);
-        double dx = x[j + 1] - x[j], d = (h[j + 1] - h[j]) / dx;
-        double c[4] = {h[j], k[j], (3.0 * d - 2.0 * k[j] - k[j + 1]) / dx, (k[j] + k[j + 1] - 2.0 * d) / (dx * dx)};
+        double c[4], dx = segment_cubic(x, h, k, j, c);
         first[j] = list->n;
         if (segment_arcs(list, R, c, dx) < 0) return -1;
     }
@@ -555,7 +616,10 @@ static size_t first_in_reach(const double *x, size_t n, int periodic, double per
     return a;
 }
 
-/* The envelope on [lo, hi] of the arcs (c->arcs, first[j]: the first arc of segment j) and, for an open
+/* The first arc of segment j: first[j], or j when every segment is one whole arc (first NULL). */
+static size_t first_arc(const size_t *first, size_t j) { return first ? first[j] : j; }
+
+/* The envelope on [lo, hi] of the arcs (c->arcs, first_arc: the first arc of segment j) and, for an open
  * table, the circles around its end rows, in the order of the profile (copies kmin .. kmax of a
  * periodic table, as build takes them; segments whose centres, within reach of them, miss [lo, hi]
  * are passed over). An arc that starts or ends at a row starts or ends at that row's x (vertex_x) plus
@@ -572,7 +636,7 @@ static int build_cubic(const context *c, const double *x, const double *h, const
                        stack *st)
 {
     double R = c->R, period = periodic ? hi - lo : 0.0, before = INFINITY; /* before: where the last arc ends */
-    size_t g = 0, n_arcs = first[n - 1];
+    size_t g = 0, n_arcs = first_arc(first, n - 1);
     stack tail = {0};
     int rc = 0;
     if (!periodic) {
@@ -593,15 +657,16 @@ static int build_cubic(const context *c, const double *x, const double *h, const
                 before = INFINITY;
                 break;
             }
-            for (size_t i = first[j]; i < first[j + 1] && rc == 0; i++) { /* bounded by the arcs */
-                const arc *a = &c->arcs[i];
-                double from = a->starts ? row + shift[j] : row + arc_centre(a, R, a->u0);
-                double to = a->ends ? next + shift[j + 1] : row + arc_centre(a, R, a->u1);
+            for (size_t i = first_arc(first, j); i < first_arc(first, j + 1) && rc == 0; i++) { /* bounded by the arcs */
+                const arc *a = c->arcs.list ? &c->arcs.list[i] : NULL; /* NULL: segment j whole */
+                int starts = !a || a->starts, ends = !a || a->ends;
+                double from = starts ? row + shift[j] : row + arc_centre(a, R, a->u0);
+                double to = ends ? next + shift[j + 1] : row + arc_centre(a, R, a->u1);
                 from = smaller(from, before);
                 before = to;
                 piece q = {ARC, (uint32_t)i, row, 0.0, 0.0};
                 if (g == 0) /* the first arc: the first circle's neighbour when it starts at row 0 */
-                    g = periodic || i != 0 || !a->starts ? 3 : 1;
+                    g = periodic || i != 0 || !starts ? 3 : 1;
                 else g += 2;
                 from = larger(from, lo), to = smaller(to, hi);
                 const span *top = st->n ? &st->s[st->n - 1] : NULL;
@@ -614,7 +679,8 @@ static int build_cubic(const context *c, const double *x, const double *h, const
     }
     if (!periodic && rc == 0) {
         piece circle = {CIRCLE, 0, x[n - 1], h[n - 1], 0.0};
-        int tangent = n_arcs && c->arcs[n_arcs - 1].ends && first[n - 2] < n_arcs;
+        arc tmp;
+        int tangent = n_arcs && arc_at(&c->arcs, n_arcs - 1, &tmp)->ends && first_arc(first, n - 2) < n_arcs;
         rc = insert(c, st, &tail, &circle, g + (tangent ? 1 : 3), larger(x[n - 1] - R, lo), hi);
     }
     free(tail.s);
@@ -622,18 +688,29 @@ static int build_cubic(const context *c, const double *x, const double *h, const
 }
 
 /* The spline's arcs into p and c->arcs, and the envelope of the cubic profile on st (the centres lie
- * within R S/sqrt(1 + S^2) of the contact point, S the largest slope). 0, or -1 when out of memory. */
+ * within R S/sqrt(1 + S^2) of the contact point, S the largest slope). When no arc is stored (arc_set),
+ * the profile keeps the spline's slopes (p->own_k) and reads the rows x, h, which must outlive it (its
+ * caller sees p->arcs.list NULL). 0, or -1 when out of memory. */
 static int cubic(vi_profile *p, context *c, const double *x, const double *h, size_t n, long kmin, long kmax, stack *st)
 {
     _Static_assert(sizeof(size_t) <= sizeof(double) && _Alignof(double) % _Alignof(size_t) == 0, "first fits");
-    double *scratch = malloc(3 * n * sizeof *scratch);
-    size_t *first = (size_t *)(scratch + 2 * n); /* where the spline's slopes were solved for */
+    double *k = malloc(n * sizeof *k), *scratch = malloc(2 * n * sizeof *scratch);
+    double *shift = scratch; /* after the slopes are solved for in scratch */
+    size_t *first = (size_t *)(scratch + n);
     arcs list = {0};
-    int rc = scratch ? make_arcs(x, h, n, p->periodic, p->R, first, &list, scratch) : -1;
-    p->arcs = list.a, p->n_arcs = list.n, p->max_slope = list.max_slope;
-    c->arcs = list.a;
-    double *shift = scratch + n, reach = 1.000001 * fabs(centre_shift(p->R, list.max_slope));
-    if (rc == 0) rc = build_cubic(c, x, h, shift, reach, first, n, p->periodic, p->lo, p->hi, kmin, kmax, st);
+    int rc = -1;
+    if (k && scratch) {
+        spline_slopes(x, h, n, p->periodic, k, scratch);
+        rc = make_arcs(x, h, k, n, p->R, first, &list, shift);
+    }
+    p->arc_list = list.a, p->n_arcs = list.n, p->max_slope = list.max_slope;
+    p->arcs = (arc_set){list.a, x, h, k};
+    if (list.a || rc < 0) free(k), p->arcs.k = NULL;
+    else p->own_k = k;
+    c->arcs = p->arcs;
+    double reach = 1.000001 * fabs(centre_shift(p->R, list.max_slope));
+    if (rc == 0)
+        rc = build_cubic(c, x, h, shift, reach, list.a ? first : NULL, n, p->periodic, p->lo, p->hi, kmin, kmax, st);
     free(scratch);
     return rc;
 }
@@ -775,7 +852,9 @@ static int too_steep(const vi_profile *p, const table *t, const piece *q, int st
  * their slope (the spline is C2), no step or kink to look for. */
 static int joined(const vi_profile *p, const piece *a, const piece *b)
 {
-    if (a->kind != ARC || b->kind != ARC || !p->arcs[a->arc].ends || !p->arcs[b->arc].starts) return 0;
+    arc ta, tb;
+    if (a->kind != ARC || b->kind != ARC || !arc_at(&p->arcs, a->arc, &ta)->ends || !arc_at(&p->arcs, b->arc, &tb)->starts)
+        return 0;
     return b->arc == a->arc + 1 || (p->periodic && a->arc + 1 == p->n_arcs && b->arc == 0);
 }
 
@@ -793,12 +872,12 @@ static int check_boundaries(vi_profile *p, const table *t, double tol, const cha
         const piece *ql = &p->spans[jl].q, *qr = &p->spans[jr].q;
         if (has_left && has_right && joined(p, ql, qr)) continue; /* slopes: the arcs' */
         if (has_left) {
-            yl = piece_eval(ql, p->arcs, R, xl, dl);
+            yl = piece_eval(ql, &p->arcs, R, xl, dl);
             if (!isfinite(yl) || !isfinite(dl[0])) return too_steep(p, t, ql, 0, xl, name, msg, msg_size);
             p->max_slope = larger(p->max_slope, fabs(dl[0]));
         }
         if (has_right) {
-            yr = piece_eval(qr, p->arcs, R, xr, dr);
+            yr = piece_eval(qr, &p->arcs, R, xr, dr);
             if (!isfinite(yr) || !isfinite(dr[0])) return too_steep(p, t, qr, 1, xr, name, msg, msg_size);
             p->max_slope = larger(p->max_slope, fabs(dr[0]));
         }
@@ -822,9 +901,25 @@ vi_profile *vi_profile_create(const double *x, const double *h, size_t n, double
     return vi_profile_create_as(x, h, n, R, periodic, VI_PROFILE_LINEAR, name, msg, msg_size);
 }
 
-/* The profile of n checked rows (check_rows) whose heights are hs, joined as interpolation says. */
+/* The rows x, h of a spline whose arcs are not stored (cubic: arc_set) into p: own[0] and own[1] (x and h
+ * themselves), taken over and set NULL, or when own is NULL a copy. 0, or -1 when out of memory. */
+static int keep_rows(vi_profile *p, const double *x, const double *h, size_t n, double **own)
+{
+    if (own) {
+        p->own_x = own[0], p->own_h = own[1], own[0] = own[1] = NULL;
+    } else {
+        p->own_x = malloc(n * sizeof *p->own_x), p->own_h = malloc(n * sizeof *p->own_h);
+        if (!p->own_x || !p->own_h) return -1;
+        memcpy(p->own_x, x, n * sizeof *x), memcpy(p->own_h, h, n * sizeof *h);
+    }
+    p->arcs.x = p->own_x, p->arcs.h = p->own_h;
+    return 0;
+}
+
+/* The profile of n checked rows (check_rows) whose heights are hs, joined as interpolation says. own:
+ * NULL, or the blocks of x and h, which the profile may take over (keep_rows). */
 static vi_profile *create(const double *x, const double *h, size_t n, double R, int periodic, int interpolation,
-                          const heights *hs, const char *name, char *msg, size_t msg_size)
+                          const heights *hs, double **own, const char *name, char *msg, size_t msg_size)
 {
     vi_profile *p = NULL;
     stack env = {0};
@@ -835,10 +930,11 @@ static vi_profile *create(const double *x, const double *h, size_t n, double R, 
     long kmin, kmax;
     if (periodic_copies(p, n, name, &kmin, &kmax, msg, msg_size) < 0) goto fail;
     p->h_span = hs->hi - hs->lo;
-    context c = {R, 64.0 * DBL_EPSILON * (R + hs->abs_max), NULL};
+    context c = {R, 64.0 * DBL_EPSILON * (R + hs->abs_max), {NULL, NULL, NULL, NULL}};
     if (interpolation == VI_PROFILE_CUBIC ? cubic(p, &c, x, h, n, kmin, kmax, &env) < 0
                                           : build(&c, x, h, n, p->periodic, p->lo, p->hi, kmin, kmax, &env) < 0)
         FAIL("%s: out of memory", name);
+    if (p->own_k && keep_rows(p, x, h, n, own) < 0) FAIL("%s: out of memory", name);
     if (take_envelope(p, &env, name, msg, msg_size) < 0) goto fail;
     if (index_intervals(p) < 0) FAIL("%s: out of memory", name);
     free(env.s);
@@ -869,7 +965,7 @@ vi_profile *vi_profile_create_as(const double *x, const double *h, size_t n, dou
     if (check_rows(x, h, n, R, periodic, name, msg, msg_size) < 0) return NULL;
     heights hs;
     for (size_t i = 0; i < n; i++) heights_add(&hs, i, h[i]); /* bounded by the rows */
-    return create(x, h, n, R, periodic, interpolation, &hs, name, msg, msg_size);
+    return create(x, h, n, R, periodic, interpolation, &hs, NULL, name, msg, msg_size);
 }
 
 /* ---- reading a file -------------------------------------------------------------------------
@@ -1159,8 +1255,11 @@ vi_profile *vi_profile_load_as(const char *path, double R, int periodic, int int
     vi_snprintf(name, sizeof name, "profile_file '%s'", path);
     /* the rows are checked as they are read (add_row) */
     if (check_interpolation(interpolation, name, msg, msg_size) == 0 &&
-        check_ends(r.h, r.n, R, periodic, name, msg, msg_size) == 0)
-        p = create(r.x, r.h, r.n, R, periodic, interpolation, &r.hs, name, msg, msg_size);
+        check_ends(r.h, r.n, R, periodic, name, msg, msg_size) == 0) {
+        double *own[2] = {r.x, r.h}; /* the profile may take them over */
+        p = create(r.x, r.h, r.n, R, periodic, interpolation, &r.hs, own, name, msg, msg_size);
+        r.x = own[0], r.h = own[1];
+    }
 fail:
     fclose(f);
     free(buf), free(r.x), free(r.h);
@@ -1214,7 +1313,7 @@ int vi_profile_eval(const vi_profile *p, double x, double y[4])
 {
     int outside;
     double r = reduce(p, x, &outside);
-    y[0] = piece_eval(&p->spans[interval(p, r)].q, p->arcs, p->R, r, y + 1);
+    y[0] = piece_eval(&p->spans[interval(p, r)].q, &p->arcs, p->R, r, y + 1);
     return outside ? -1 : 0;
 }
 
