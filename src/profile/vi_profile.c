@@ -155,8 +155,11 @@ static const arc *arc_at(const arc_set *set, size_t i, arc *tmp)
 /* Value and derivatives of piece q at x (derivatives only when d is not NULL); arcs: the profile's. */
 static double piece_eval(const piece *q, const arc_set *arcs, double R, double x, double d[3])
 {
-    arc tmp;
-    if (q->kind == ARC) return arc_eval(arc_at(arcs, q->arc, &tmp), R, q->px, x, d);
+    if (q->kind == ARC && arcs->list) return arc_eval(&arcs->list[q->arc], R, q->px, x, d);
+    if (q->kind == ARC) {
+        arc tmp;
+        return arc_eval(arc_at(arcs, q->arc, &tmp), R, q->px, x, d);
+    }
     if (q->kind == LINE) {
         if (d) d[0] = q->s, d[1] = 0.0, d[2] = 0.0;
         return q->py + q->s * (x - q->px);
@@ -559,13 +562,20 @@ static int segment_arcs(arcs *list, double R, const double c[4], double dx)
     return start == start ? add_arc(list, c, dx, start, dx) : 0;
 }
 
+/* Whether a spline of n rows leaves its arcs unstored when its segments are all whole: one of more than
+ * STORED_ARCS_MAX segments, whose arcs would take more memory than a cache holds (reading and building
+ * it costs less without them); the arcs of a shorter one are stored, their cubics evaluated faster. */
+#define STORED_ARCS_MAX 16384
+
 /* Whether the body touches every segment of the spline through the rows (slopes k) everywhere
- * (whole_arc): then each segment is one arc, none is stored (arc_set), and the largest |h'| of any is
- * *max_slope, as add_arc takes it; shift[j]: the centre_shift of the slope at row j. */
+ * (whole_arc) and the spline is long (STORED_ARCS_MAX): then each segment is one arc, none is stored
+ * (arc_set), and the largest |h'| of any is *max_slope, as add_arc takes it; shift[j]: the
+ * centre_shift of the slope at row j. */
 static int whole_segments(const double *x, const double *h, const double *k, size_t n, double R, double *max_slope,
                           double *shift)
 {
     double slope = 0.0, c[4];
+    if (n - 1 <= STORED_ARCS_MAX) return 0;
     for (size_t j = 0; j + 1 < n; j++) { /* bounded by the rows */
         double dx = segment_cubic(x, h, k, j, c);
         if (!whole_arc(R, c, dx)) return 0;
