@@ -22,10 +22,15 @@
  * px, height py). Line: yb = py + s (x - px) (value py at the start px of its domain). Arc: the
  * offset of part arc of a spline segment whose first row lies at px (arc_eval). */
 enum { CIRCLE, LINE, ARC };
+/* The most arcs a profile may have: their index fits in piece's 30 bits. */
+#define ARCS_MAX (1u << 30)
 typedef struct {
-    int kind;
-    uint32_t arc; /* ARC: index into the profile's arcs */
     double px, py, s;
+    unsigned arc : 30; /* ARC: index into the profile's arcs */
+    unsigned kind : 2;
+    uint32_t g; /* in an interval: its place in the order of the profile (insert): 2 i the circle of vertex i,
+                 * 2 i + 1 the tangent of segment i; below 2^32 (at most VI_PROFILE_ROWS_MAX rows and their
+                 * arcs on the copies in reach, periodic_copies) */
 } piece;
 
 /* The part of a spline segment the body may touch (1 - R curvature > 0 there): h = c0 + c1 u +
@@ -44,11 +49,10 @@ typedef struct {
     const double *x, *h, *k;
 } arc_set;
 
-/* An interval [x0, x1) of the envelope and its piece. */
+/* An interval [x0, x1) of the envelope and its piece (and the piece's place, q.g). */
 typedef struct {
     double x0, x1; /* [x0, x1) */
     piece q;
-    size_t g; /* place in the order of the profile: 2 i the circle of vertex i, 2 i + 1 the tangent of segment i */
 } span;
 
 struct vi_profile {
@@ -200,7 +204,7 @@ typedef struct {
 static int push(stack *st, double x0, double x1, const piece *q, size_t g)
 {
     if (!(x1 > x0)) return 0;
-    if (st->n && st->s[st->n - 1].g == g && st->s[st->n - 1].x1 == x0) {
+    if (st->n && st->s[st->n - 1].q.g == g && st->s[st->n - 1].x1 == x0) {
         st->s[st->n - 1].x1 = x1;
         return 0;
     }
@@ -210,7 +214,9 @@ static int push(stack *st, double x0, double x1, const piece *q, size_t g)
         if (!s) return -1;
         st->s = s, st->cap = cap;
     }
-    st->s[st->n++] = (span){x0, x1, *q, g};
+    span *t = &st->s[st->n++];
+    *t = (span){x0, x1, *q};
+    t->q.g = (uint32_t)g;
     return 0;
 }
 
@@ -281,11 +287,11 @@ static int insert(const context *c, stack *st, stack *tail, const piece *q, size
     tail->n = 0;
     while (st->n && st->s[st->n - 1].x0 >= b) { /* bounded by the stack */
         span *t = &st->s[--st->n];
-        if (push(tail, t->x0, t->x1, &t->q, t->g) < 0) return -1;
+        if (push(tail, t->x0, t->x1, &t->q, t->q.g) < 0) return -1;
     }
     if (st->n && st->s[st->n - 1].x1 > b) {
         span *t = &st->s[st->n - 1];
-        if (push(tail, b, t->x1, &t->q, t->g) < 0) return -1;
+        if (push(tail, b, t->x1, &t->q, t->q.g) < 0) return -1;
         t->x1 = b;
     }
     /* q holds [start, b); where nothing lies yet it wins */
@@ -294,7 +300,7 @@ static int insert(const context *c, stack *st, stack *tail, const piece *q, size
         span *t = &st->s[st->n - 1];
         if (t->x1 != start || !(start > a)) break;
         double w = larger(t->x0, a), from; /* q wins on [from, start) */
-        if (t->g + 1 == g) /* neighbours: a tangent wins inside its domain */
+        if ((size_t)t->q.g + 1 == g) /* neighbours: a tangent wins inside its domain */
             from = (g & 1u) ? w : start;
         else if (gap(c, &t->q, q, w) < 0.0)
             from = w;
@@ -317,7 +323,7 @@ static int insert(const context *c, stack *st, stack *tail, const piece *q, size
     if (push(st, start, b, q, g) < 0) return -1;
     while (tail->n) { /* bounded by the tail */
         span *t = &tail->s[--tail->n];
-        if (push(st, t->x0, t->x1, &t->q, t->g) < 0) return -1;
+        if (push(st, t->x0, t->x1, &t->q, t->q.g) < 0) return -1;
     }
     return 0;
 }
@@ -366,13 +372,14 @@ static int build(const context *c, const double *x, const double *h, size_t n, i
     for (long k = kmin; k <= kmax && rc == 0; k++) { /* bounded: kmax - kmin + 1 copies of n rows */
         for (size_t j = 0; j < n_vertices && rc == 0; j++, g += 2) {
             double v = vertex_x(x, n, periodic, period, j, k);
-            piece circle = {CIRCLE, 0, v, h[j], 0.0};
+            piece circle = {.px = v, .py = h[j], .kind = CIRCLE};
             rc = insert(c, st, &tail, &circle, g, larger(v - R, lo), smaller(v + R, hi));
             if (rc < 0 || j + 1 >= n) break;
             double slope = (h[j + 1] - h[j]) / (x[j + 1] - x[j]), hyp = hypot(1.0, slope), shift = R * (slope / hyp);
             double next = vertex_x(x, n, periodic, period, j + 1, k);
             /* the tangent's height at its vertex: h_j + R (1/hyp - 1) */
-            piece tangent = {LINE, 0, v - shift, h[j] - R * (slope * slope / (hyp * (hyp + 1.0))), slope};
+            piece tangent = {.px = v - shift, .py = h[j] - R * (slope * slope / (hyp * (hyp + 1.0))), .s = slope,
+                             .kind = LINE};
             rc = insert(c, st, &tail, &tangent, g + 1, larger(tangent.px, lo), smaller(next - shift, hi));
         }
     }
@@ -505,13 +512,13 @@ static double arc_slope(const double c[4], double u0, double u1)
 }
 
 /* Append the part [u0, u1] of segment cubic c on [0, dx] as an arc (its largest |h'| into max_slope).
- * 0, or -1 when out of memory or past UINT32_MAX arcs. */
+ * 0, or -1 when out of memory or past ARCS_MAX arcs. */
 static int add_arc(arcs *list, const double c[4], double dx, double u0, double u1)
 {
     if (!(u1 > u0)) return 0;
     if (list->n == list->cap) {
         size_t cap = list->cap ? 2 * list->cap : 256;
-        arc *a = cap <= UINT32_MAX ? realloc(list->a, cap * sizeof *a) : NULL;
+        arc *a = cap <= ARCS_MAX ? realloc(list->a, cap * sizeof *a) : NULL;
         if (!a) return -1;
         list->a = a, list->cap = cap;
     }
@@ -598,7 +605,7 @@ static int make_arcs(const double *x, const double *h, const double *k, size_t n
         list->n = n - 1;
         return 0;
     }
-    list->a = n - 1 <= UINT32_MAX ? malloc((n - 1) * sizeof *list->a) : NULL; /* one a segment, as a rule */
+    list->a = n - 1 <= ARCS_MAX ? malloc((n - 1) * sizeof *list->a) : NULL; /* one a segment, as a rule */
     if (!list->a) return -1;
     list->cap = n - 1;
     for (size_t j = 0; j + 1 < n; j++) { /* bounded by the rows */
@@ -650,7 +657,7 @@ static int build_cubic(const context *c, const double *x, const double *h, const
     stack tail = {0};
     int rc = 0;
     if (!periodic) {
-        piece circle = {CIRCLE, 0, x[0], h[0], 0.0};
+        piece circle = {.px = x[0], .py = h[0], .kind = CIRCLE};
         rc = insert(c, st, &tail, &circle, g, lo, smaller(x[0] + R, hi));
     }
     for (long copy = kmin; copy <= kmax && rc == 0; copy++) { /* bounded: the copies of n rows */
@@ -674,7 +681,7 @@ static int build_cubic(const context *c, const double *x, const double *h, const
                 double to = ends ? next + shift[j + 1] : row + arc_centre(a, R, a->u1);
                 from = smaller(from, before);
                 before = to;
-                piece q = {ARC, (uint32_t)i, row, 0.0, 0.0};
+                piece q = {.px = row, .arc = (unsigned)i, .kind = ARC};
                 if (g == 0) /* the first arc: the first circle's neighbour when it starts at row 0 */
                     g = periodic || i != 0 || !starts ? 3 : 1;
                 else g += 2;
@@ -688,7 +695,7 @@ static int build_cubic(const context *c, const double *x, const double *h, const
         }
     }
     if (!periodic && rc == 0) {
-        piece circle = {CIRCLE, 0, x[n - 1], h[n - 1], 0.0};
+        piece circle = {.px = x[n - 1], .py = h[n - 1], .kind = CIRCLE};
         arc tmp;
         int tangent = n_arcs && arc_at(&c->arcs, n_arcs - 1, &tmp)->ends && first_arc(first, n - 2) < n_arcs;
         rc = insert(c, st, &tail, &circle, g + (tangent ? 1 : 3), larger(x[n - 1] - R, lo), hi);
@@ -865,7 +872,7 @@ static int joined(const vi_profile *p, const piece *a, const piece *b)
     arc ta, tb;
     if (a->kind != ARC || b->kind != ARC || !arc_at(&p->arcs, a->arc, &ta)->ends || !arc_at(&p->arcs, b->arc, &tb)->starts)
         return 0;
-    return b->arc == a->arc + 1 || (p->periodic && a->arc + 1 == p->n_arcs && b->arc == 0);
+    return (size_t)b->arc == (size_t)a->arc + 1 || (p->periodic && (size_t)a->arc + 1 == p->n_arcs && b->arc == 0);
 }
 
 /* Continuity, slopes and kinks at the boundaries of the pieces (a periodic profile also at the seam):
