@@ -576,10 +576,8 @@ static int segment_arcs(arcs *list, double R, const double c[4], double dx)
 
 /* Whether the body touches every segment of the spline through the rows (slopes k) everywhere
  * (whole_arc) and the spline is long (STORED_ARCS_MAX): then each segment is one arc, none is stored
- * (arc_set), and the largest |h'| of any is *max_slope, as add_arc takes it; shift[j]: the
- * centre_shift of the slope at row j. */
-static int whole_segments(const double *x, const double *h, const double *k, size_t n, double R, double *max_slope,
-                          double *shift)
+ * (arc_set), and the largest |h'| of any is *max_slope, as add_arc takes it. */
+static int whole_segments(const double *x, const double *h, const double *k, size_t n, double R, double *max_slope)
 {
     double slope = 0.0, c[4];
     if (n - 1 <= STORED_ARCS_MAX) return 0;
@@ -587,25 +585,28 @@ static int whole_segments(const double *x, const double *h, const double *k, siz
         double dx = segment_cubic(x, h, k, j, c);
         if (!whole_arc(R, c, dx)) return 0;
         slope = larger(slope, arc_slope(c, 0.0, dx));
-        shift[j] = centre_shift(R, k[j]);
     }
-    shift[n - 1] = centre_shift(R, k[n - 1]);
     *max_slope = slope;
     return 1;
 }
 
 /* The arcs of the spline through the table with slopes k, segment by segment: none stored when every
- * segment is whole (whole_segments: list->a NULL, list->n the segments), else in list->a (first[j]: the
- * first arc of segment j, first[n - 1] = their number); and the largest |h'| of any. shift[j]: the
- * centre_shift of the slope at row j. 0, or -1 when out of memory. */
-static int make_arcs(const double *x, const double *h, const double *k, size_t n, double R, size_t *first,
-                     arcs *list, double *shift)
+ * segment is whole (whole_segments: list->a NULL, list->n the segments, *scratch NULL), else in list->a,
+ * with *scratch (2 n doubles, the caller's to free) holding the centre_shift of the slope at each row,
+ * then where the arcs of each segment start (first[j]: the first arc of segment j, first[n - 1] = their
+ * number); and the largest |h'| of any arc. 0, or -1 when out of memory. */
+static int make_arcs(const double *x, const double *h, const double *k, size_t n, double R, arcs *list,
+                     double **scratch)
 {
-    if (whole_segments(x, h, k, n, R, &list->max_slope, shift)) {
+    _Static_assert(sizeof(size_t) <= sizeof(double) && _Alignof(double) % _Alignof(size_t) == 0, "first fits");
+    *scratch = NULL;
+    if (whole_segments(x, h, k, n, R, &list->max_slope)) {
         list->n = n - 1;
         return 0;
     }
-    list->a = n - 1 <= ARCS_MAX ? malloc((n - 1) * sizeof *list->a) : NULL; /* one a segment, as a rule */
+    double *shift = *scratch = malloc(2 * n * sizeof *shift);
+    size_t *first = (size_t *)(shift + n);
+    list->a = shift && n - 1 <= ARCS_MAX ? malloc((n - 1) * sizeof *list->a) : NULL; /* one a segment, as a rule */
     if (!list->a) return -1;
     list->cap = n - 1;
     for (size_t j = 0; j + 1 < n; j++) { /* bounded by the rows */
@@ -633,6 +634,21 @@ static size_t first_in_reach(const double *x, size_t n, int periodic, double per
     return a;
 }
 
+/* The centre_shift of the slopes at the rows: stored, or (stored NULL) computed from the slopes k, the
+ * last one kept for the next call (build_cubic asks for row j, then j + 1, then j + 1 again). */
+typedef struct {
+    const double *stored, *k;
+    double R, last;
+    size_t row; /* of last; SIZE_MAX: none */
+} shifts;
+
+static double shift_at(shifts *s, size_t j)
+{
+    if (s->stored) return s->stored[j];
+    if (j != s->row) s->row = j, s->last = centre_shift(s->R, s->k[j]);
+    return s->last;
+}
+
 /* The first arc of segment j: first[j], or j when every segment is one whole arc (first NULL). */
 static size_t first_arc(const size_t *first, size_t j) { return first ? first[j] : j; }
 
@@ -640,7 +656,7 @@ static size_t first_arc(const size_t *first, size_t j) { return first ? first[j]
  * table, the circles around its end rows, in the order of the profile (copies kmin .. kmax of a
  * periodic table, as build takes them; segments whose centres, within reach of them, miss [lo, hi]
  * are passed over). An arc that starts or ends at a row starts or ends at that row's x (vertex_x) plus
- * shift[row], the centre_shift of the slope there: the same number on both sides of the row. An
+ * shift_at(row), the centre_shift of the slope there: the same number on both sides of the row. An
  * arc after a dropped part starts no later than the one before it ends (the dropped part's centres
  * move backwards). An end circle and the arc that starts (ends) at its row meet tangentially where
  * the arc's domain starts (ends): they are numbered as insert's neighbours, the arcs odd as tangents
@@ -648,7 +664,7 @@ static size_t first_arc(const size_t *first, size_t j) { return first ? first[j]
  * not where rounding puts a numerical crossing (the spline between the row and the contact point
  * curves less than the body, so it stays below the body there); other pieces are numbered at least
  * two apart, never neighbours. 0, or -1 when out of memory. */
-static int build_cubic(const context *c, const double *x, const double *h, const double *shift, double reach,
+static int build_cubic(const context *c, const double *x, const double *h, shifts *shift, double reach,
                        const size_t *first, size_t n, int periodic, double lo, double hi, long kmin, long kmax,
                        stack *st)
 {
@@ -677,8 +693,8 @@ static int build_cubic(const context *c, const double *x, const double *h, const
             for (size_t i = first_arc(first, j); i < first_arc(first, j + 1) && rc == 0; i++) { /* bounded by the arcs */
                 const arc *a = c->arcs.list ? &c->arcs.list[i] : NULL; /* NULL: segment j whole */
                 int starts = !a || a->starts, ends = !a || a->ends;
-                double from = starts ? row + shift[j] : row + arc_centre(a, R, a->u0);
-                double to = ends ? next + shift[j + 1] : row + arc_centre(a, R, a->u1);
+                double from = starts ? row + shift_at(shift, j) : row + arc_centre(a, R, a->u0);
+                double to = ends ? next + shift_at(shift, j + 1) : row + arc_centre(a, R, a->u1);
                 from = smaller(from, before);
                 before = to;
                 piece q = {.px = row, .arc = (unsigned)i, .kind = ARC};
@@ -705,29 +721,30 @@ static int build_cubic(const context *c, const double *x, const double *h, const
 }
 
 /* The spline's arcs into p and c->arcs, and the envelope of the cubic profile on st (the centres lie
- * within R S/sqrt(1 + S^2) of the contact point, S the largest slope). When no arc is stored (arc_set),
- * the profile keeps the spline's slopes (p->own_k) and reads the rows x, h, which must outlive it (its
- * caller sees p->arcs.list NULL). 0, or -1 when out of memory. */
+ * within R S/sqrt(1 + S^2) of the contact point, S the largest slope). The slopes are solved for in
+ * the memory of the envelope's intervals (st reserved for one an arc, as a rule), which no interval
+ * holds yet. When no arc is stored (arc_set), the profile keeps the spline's slopes (p->own_k) and
+ * reads the rows x, h, which must outlive it (its caller sees p->own_k). 0, or -1 when out of memory. */
 static int cubic(vi_profile *p, context *c, const double *x, const double *h, size_t n, long kmin, long kmax, stack *st)
 {
-    _Static_assert(sizeof(size_t) <= sizeof(double) && _Alignof(double) % _Alignof(size_t) == 0, "first fits");
-    double *k = malloc(n * sizeof *k), *scratch = malloc(2 * n * sizeof *scratch);
-    double *shift = scratch; /* after the slopes are solved for in scratch */
-    size_t *first = (size_t *)(scratch + n);
+    _Static_assert(sizeof(span) >= 2 * sizeof(double), "the solver's 2 n doubles fit in n intervals");
+    double *k = malloc(n * sizeof *k), *scratch = NULL;
     arcs list = {0};
-    int rc = -1;
-    if (k && scratch) {
-        spline_slopes(x, h, n, p->periodic, k, scratch);
-        rc = make_arcs(x, h, k, n, p->R, first, &list, shift);
+    st->cap = n, st->n = 0, st->s = malloc(n * sizeof *st->s);
+    int rc = k && st->s ? 0 : -1;
+    if (rc == 0) {
+        spline_slopes(x, h, n, p->periodic, k, (double *)(void *)st->s);
+        rc = make_arcs(x, h, k, n, p->R, &list, &scratch);
     }
     p->arc_list = list.a, p->n_arcs = list.n, p->max_slope = list.max_slope;
     p->arcs = (arc_set){list.a, x, h, k};
-    if (list.a || rc < 0) free(k), p->arcs.k = NULL;
+    if (list.a || rc < 0) free(k), k = NULL, p->arcs.k = NULL;
     else p->own_k = k;
     c->arcs = p->arcs;
     double reach = 1.000001 * fabs(centre_shift(p->R, list.max_slope));
-    if (rc == 0)
-        rc = build_cubic(c, x, h, shift, reach, list.a ? first : NULL, n, p->periodic, p->lo, p->hi, kmin, kmax, st);
+    shifts shift = {scratch, k, p->R, 0.0, SIZE_MAX};
+    size_t *first = scratch ? (size_t *)(scratch + n) : NULL;
+    if (rc == 0) rc = build_cubic(c, x, h, &shift, reach, first, n, p->periodic, p->lo, p->hi, kmin, kmax, st);
     free(scratch);
     return rc;
 }
