@@ -26,7 +26,8 @@ enum { CIRCLE, LINE, ARC };
 #define ARCS_MAX (1u << 30)
 typedef struct {
     double px, py, s;
-    unsigned arc : 30; /* ARC: index into the profile's arcs */
+    unsigned arc : 30; /* ARC: index into the profile's arcs; LINE: 1 + the index of its slope s in the
+                        * profile's slopes once an interval holds the piece (push), 0 before */
     unsigned kind : 2;
     uint32_t g; /* in an interval: its place in the order of the profile (insert): 2 i the circle of vertex i,
                  * 2 i + 1 the tangent of segment i; below 2^32 (at most VI_PROFILE_ROWS_MAX rows and their
@@ -49,16 +50,26 @@ typedef struct {
     const double *x, *h, *k;
 } arc_set;
 
-/* An interval [x0, x1) of the envelope and its piece (and the piece's place, q.g). */
+/* The slopes s of the lines that carry intervals of the envelope. */
+typedef struct {
+    double *v;
+    size_t n, cap;
+} levels;
+
+/* An interval [x0, x1) of the envelope and its piece: px, py, arc (for a line the reference of its
+ * slope), kind and place g of the piece (piece_at gives the piece back). */
 typedef struct {
     double x0, x1; /* [x0, x1) */
-    piece q;
+    double px, py;
+    unsigned arc : 30, kind : 2;
+    uint32_t g;
 } span;
 
 struct vi_profile {
     double R, lo, hi, period; /* period = hi - lo when periodic, else 0 */
     int periodic;
     span *spans;    /* m intervals, spans[0].x0 = lo, spans[m - 1].x1 = hi, each ending where the next starts */
+    levels lv;      /* the slopes of their lines */
     arc_set arcs;   /* the spline's parts (cubic interpolation), n_arcs of them */
     size_t n_arcs;
     arc *arc_list;  /* the memory the profile owns behind arcs: the stored arcs, or the rows and slopes */
@@ -197,14 +208,44 @@ static double piece_eval(const piece *q, const arc_set *arcs, double R, double x
 typedef struct {
     span *s;
     size_t n, cap;
+    levels *lv; /* the slopes of the lines its intervals carry (shared with the tail's) */
 } stack;
 
-/* Push [x0, x1) carried by q (joined to the top when that is the same piece and ends at x0). 0, or -1
+/* The piece of interval t, whose levels are lv. */
+static piece piece_at(const levels *lv, const span *t)
+{
+    piece q = {.px = t->px, .py = t->py, .arc = t->arc, .kind = t->kind, .g = t->g};
+    if (t->kind == LINE) q.s = lv->v[t->arc - 1];
+    return q;
+}
+
+/* The interval t of piece q at place g (its bounds set by push). */
+static span piece_span(const piece *q, size_t g)
+{
+    return (span){0.0, 0.0, q->px, q->py, q->arc, q->kind, (uint32_t)g};
+}
+
+/* The slope of t's piece q, a line not yet held by an interval, into lv (t->arc refers to it). 0, or -1
  * when out of memory. */
-static int push(stack *st, double x0, double x1, const piece *q, size_t g)
+static int add_level(levels *lv, span *t, const piece *q)
+{
+    if (lv->n == lv->cap) {
+        size_t cap = lv->cap ? 2 * lv->cap : 256;
+        double *v = cap < ARCS_MAX ? realloc(lv->v, cap * sizeof *v) : NULL;
+        if (!v) return -1;
+        lv->v = v, lv->cap = cap;
+    }
+    lv->v[lv->n++] = q->s;
+    t->arc = (unsigned)lv->n;
+    return 0;
+}
+
+/* Push [x0, x1) carried by t's piece (joined to the top when that is the same piece and ends at x0);
+ * q: that piece when it is new (piece_span), else NULL. 0, or -1 when out of memory. */
+static int push(stack *st, double x0, double x1, const span *t, const piece *q)
 {
     if (!(x1 > x0)) return 0;
-    if (st->n && st->s[st->n - 1].q.g == g && st->s[st->n - 1].x1 == x0) {
+    if (st->n && st->s[st->n - 1].g == t->g && st->s[st->n - 1].x1 == x0) {
         st->s[st->n - 1].x1 = x1;
         return 0;
     }
@@ -214,9 +255,9 @@ static int push(stack *st, double x0, double x1, const piece *q, size_t g)
         if (!s) return -1;
         st->s = s, st->cap = cap;
     }
-    span *t = &st->s[st->n++];
-    *t = (span){x0, x1, *q};
-    t->q.g = (uint32_t)g;
+    st->s[st->n] = *t, st->s[st->n].x0 = x0, st->s[st->n].x1 = x1;
+    if (q && q->kind == LINE && !q->arc && add_level(st->lv, &st->s[st->n], q) < 0) return -1;
+    st->n++;
     return 0;
 }
 
@@ -279,6 +320,27 @@ static double crossing(const context *c, const piece *p, const piece *q, double 
     return r == r ? r : bisect(c, p, q, w, v, gap(c, p, q, w));
 }
 
+/* Where q takes over from the piece of interval t (levels lv) in [w, start]: w when q is above there,
+ * start when q is not above at start, else where they cross. */
+static double takeover(const context *c, const levels *lv, const span *t, const piece *q, double w, double start)
+{
+    piece tq = piece_at(lv, t);
+    if (gap(c, &tq, q, w) < 0.0) return w;
+    if (gap(c, &tq, q, start) >= 0.0) return start;
+    return crossing(c, &tq, q, w, start);
+}
+
+/* Pop the top interval of st; the slope of its line with it when that is the last slope and no
+ * interval set aside in tail holds the same line. */
+static void drop_top(stack *st, const stack *tail)
+{
+    const span *t = &st->s[--st->n];
+    if (t->kind != LINE || t->arc != st->lv->n) return;
+    for (size_t i = 0; i < tail->n; i++) /* bounded by the tail */
+        if (tail->s[i].kind == LINE && tail->s[i].arc == t->arc) return;
+    st->lv->n--;
+}
+
 /* Add piece q (place g in the order of the profile) on its domain [a, b) to the envelope of the
  * pieces before it. tail: scratch for what lies beyond b. 0, or -1 when out of memory. */
 static int insert(const context *c, stack *st, stack *tail, const piece *q, size_t g, double a, double b)
@@ -287,11 +349,11 @@ static int insert(const context *c, stack *st, stack *tail, const piece *q, size
     tail->n = 0;
     while (st->n && st->s[st->n - 1].x0 >= b) { /* bounded by the stack */
         span *t = &st->s[--st->n];
-        if (push(tail, t->x0, t->x1, &t->q, t->q.g) < 0) return -1;
+        if (push(tail, t->x0, t->x1, t, NULL) < 0) return -1;
     }
     if (st->n && st->s[st->n - 1].x1 > b) {
         span *t = &st->s[st->n - 1];
-        if (push(tail, b, t->x1, &t->q, t->q.g) < 0) return -1;
+        if (push(tail, b, t->x1, t, NULL) < 0) return -1;
         t->x1 = b;
     }
     /* q holds [start, b); where nothing lies yet it wins */
@@ -300,14 +362,10 @@ static int insert(const context *c, stack *st, stack *tail, const piece *q, size
         span *t = &st->s[st->n - 1];
         if (t->x1 != start || !(start > a)) break;
         double w = larger(t->x0, a), from; /* q wins on [from, start) */
-        if ((size_t)t->q.g + 1 == g) /* neighbours: a tangent wins inside its domain */
+        if ((size_t)t->g + 1 == g) /* neighbours: a tangent wins inside its domain */
             from = (g & 1u) ? w : start;
-        else if (gap(c, &t->q, q, w) < 0.0)
-            from = w;
-        else if (gap(c, &t->q, q, start) >= 0.0)
-            from = start;
         else
-            from = crossing(c, &t->q, q, w, start);
+            from = takeover(c, st->lv, t, q, w, start);
         if (from > w) {
             t->x1 = from;
             start = from;
@@ -318,12 +376,13 @@ static int insert(const context *c, stack *st, stack *tail, const piece *q, size
             t->x1 = a;
             break;
         }
-        st->n--;
+        drop_top(st, tail);
     }
-    if (push(st, start, b, q, g) < 0) return -1;
+    span sq = piece_span(q, g);
+    if (push(st, start, b, &sq, q) < 0) return -1;
     while (tail->n) { /* bounded by the tail */
         span *t = &tail->s[--tail->n];
-        if (push(st, t->x0, t->x1, &t->q, t->q.g) < 0) return -1;
+        if (push(st, t->x0, t->x1, t, NULL) < 0) return -1;
     }
     return 0;
 }
@@ -333,7 +392,7 @@ static int insert(const context *c, stack *st, stack *tail, const piece *q, size
 void vi_profile_free(vi_profile *p)
 {
     if (!p) return;
-    free(p->spans), free(p->kinks), free(p->arc_list), free(p->bucket);
+    free(p->spans), free(p->lv.v), free(p->kinks), free(p->arc_list), free(p->bucket);
     free(p->own_x), free(p->own_h), free(p->own_k);
     free(p);
 }
@@ -367,7 +426,7 @@ static int build(const context *c, const double *x, const double *h, size_t n, i
 {
     double R = c->R, period = periodic ? hi - lo : 0.0;
     size_t n_vertices = periodic ? n - 1 : n, g = 0;
-    stack tail = {0};
+    stack tail = {.lv = st->lv};
     int rc = 0;
     for (long k = kmin; k <= kmax && rc == 0; k++) { /* bounded: kmax - kmin + 1 copies of n rows */
         for (size_t j = 0; j < n_vertices && rc == 0; j++, g += 2) {
@@ -670,7 +729,7 @@ static int build_cubic(const context *c, const double *x, const double *h, shift
 {
     double R = c->R, period = periodic ? hi - lo : 0.0, before = INFINITY; /* before: where the last arc ends */
     size_t g = 0, n_arcs = first_arc(first, n - 1);
-    stack tail = {0};
+    stack tail = {.lv = st->lv};
     int rc = 0;
     if (!periodic) {
         piece circle = {.px = x[0], .py = h[0], .kind = CIRCLE};
@@ -703,8 +762,9 @@ static int build_cubic(const context *c, const double *x, const double *h, shift
                 else g += 2;
                 from = larger(from, lo), to = smaller(to, hi);
                 const span *top = st->n ? &st->s[st->n - 1] : NULL;
+                span sq = piece_span(&q, g);
                 if (top && top->x1 <= from && to > from) /* after all the stack holds: insert would push it there */
-                    rc = push(st, larger(from, smaller(to, top->x1)), to, &q, g);
+                    rc = push(st, larger(from, smaller(to, top->x1)), to, &sq, &q);
                 else
                     rc = insert(c, st, &tail, &q, g, from, to);
             }
@@ -903,7 +963,8 @@ static int check_boundaries(vi_profile *p, const table *t, double tol, const cha
         int has_left = j > 0 || p->periodic, has_right = j < p->m || p->periodic;
         size_t jl = j > 0 ? j - 1 : p->m - 1, jr = j < p->m ? j : 0;
         double xl = j > 0 && j < p->m ? p->spans[j].x0 : p->hi, xr = j < p->m ? p->spans[j].x0 : p->lo;
-        const piece *ql = &p->spans[jl].q, *qr = &p->spans[jr].q;
+        piece pl = piece_at(&p->lv, &p->spans[jl]), pr = piece_at(&p->lv, &p->spans[jr]);
+        const piece *ql = &pl, *qr = &pr;
         if (has_left && has_right && joined(p, ql, qr)) continue; /* slopes: the arcs' */
         if (has_left) {
             yl = piece_eval(ql, &p->arcs, R, xl, dl);
@@ -959,6 +1020,7 @@ static vi_profile *create(const double *x, const double *h, size_t n, double R, 
     stack env = {0};
     p = calloc(1, sizeof *p);
     if (!p) FAIL("%s: out of memory", name);
+    env.lv = &p->lv;
     p->R = R, p->lo = x[0], p->hi = x[n - 1], p->periodic = periodic != 0;
     p->period = periodic ? p->hi - p->lo : 0.0;
     long kmin, kmax;
@@ -1347,7 +1409,8 @@ int vi_profile_eval(const vi_profile *p, double x, double y[4])
 {
     int outside;
     double r = reduce(p, x, &outside);
-    y[0] = piece_eval(&p->spans[interval(p, r)].q, &p->arcs, p->R, r, y + 1);
+    piece q = piece_at(&p->lv, &p->spans[interval(p, r)]);
+    y[0] = piece_eval(&q, &p->arcs, p->R, r, y + 1);
     return outside ? -1 : 0;
 }
 
