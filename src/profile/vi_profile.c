@@ -54,7 +54,7 @@ typedef struct {
 typedef struct {
     double *v;
     size_t n, cap;
-} levels;
+} slope_list;
 
 /* An interval [x0, x1) of the envelope and its piece: px, py, arc (for a line the reference of its
  * slope), kind and place g of the piece (piece_at gives the piece back). */
@@ -69,7 +69,7 @@ struct vi_profile {
     double R, lo, hi, period; /* period = hi - lo when periodic, else 0 */
     int periodic;
     span *spans;    /* m intervals, spans[0].x0 = lo, spans[m - 1].x1 = hi, each ending where the next starts */
-    levels lv;      /* the slopes of their lines */
+    slope_list sl;  /* the slopes of their lines */
     arc_set arcs;   /* the spline's parts (cubic interpolation), n_arcs of them */
     size_t n_arcs;
     arc *arc_list;  /* the memory the profile owns behind arcs: the stored arcs, or the rows and slopes */
@@ -208,14 +208,14 @@ static double piece_eval(const piece *q, const arc_set *arcs, double R, double x
 typedef struct {
     span *s;
     size_t n, cap;
-    levels *lv; /* the slopes of the lines its intervals carry (shared with the tail's) */
+    slope_list *sl; /* the slopes of the lines its intervals carry (shared with the tail's) */
 } stack;
 
-/* The piece of interval t, whose levels are lv. */
-static piece piece_at(const levels *lv, const span *t)
+/* The piece of interval t, the slopes of whose lines are sl. */
+static piece piece_at(const slope_list *sl, const span *t)
 {
     piece q = {.px = t->px, .py = t->py, .arc = t->arc, .kind = t->kind, .g = t->g};
-    if (t->kind == LINE) q.s = lv->v[t->arc - 1];
+    if (t->kind == LINE) q.s = sl->v[t->arc - 1];
     return q;
 }
 
@@ -225,18 +225,18 @@ static span piece_span(const piece *q, size_t g)
     return (span){0.0, 0.0, q->px, q->py, q->arc, q->kind, (uint32_t)g};
 }
 
-/* The slope of t's piece q, a line not yet held by an interval, into lv (t->arc refers to it). 0, or -1
+/* The slope of t's piece q, a line not yet held by an interval, into sl (t->arc refers to it). 0, or -1
  * when out of memory. */
-static int add_level(levels *lv, span *t, const piece *q)
+static int add_slope(slope_list *sl, span *t, const piece *q)
 {
-    if (lv->n == lv->cap) {
-        size_t cap = lv->cap ? 2 * lv->cap : 256;
-        double *v = cap < ARCS_MAX ? realloc(lv->v, cap * sizeof *v) : NULL;
+    if (sl->n == sl->cap) {
+        size_t cap = sl->cap ? 2 * sl->cap : 256;
+        double *v = cap < ARCS_MAX ? realloc(sl->v, cap * sizeof *v) : NULL;
         if (!v) return -1;
-        lv->v = v, lv->cap = cap;
+        sl->v = v, sl->cap = cap;
     }
-    lv->v[lv->n++] = q->s;
-    t->arc = (unsigned)lv->n;
+    sl->v[sl->n++] = q->s;
+    t->arc = (unsigned)sl->n;
     return 0;
 }
 
@@ -256,7 +256,7 @@ static int push(stack *st, double x0, double x1, const span *t, const piece *q)
         st->s = s, st->cap = cap;
     }
     st->s[st->n] = *t, st->s[st->n].x0 = x0, st->s[st->n].x1 = x1;
-    if (q && q->kind == LINE && !q->arc && add_level(st->lv, &st->s[st->n], q) < 0) return -1;
+    if (q && q->kind == LINE && !q->arc && add_slope(st->sl, &st->s[st->n], q) < 0) return -1;
     st->n++;
     return 0;
 }
@@ -320,25 +320,28 @@ static double crossing(const context *c, const piece *p, const piece *q, double 
     return r == r ? r : bisect(c, p, q, w, v, gap(c, p, q, w));
 }
 
-/* Where q takes over from the piece of interval t (levels lv) in [w, start]: w when q is above there,
- * start when q is not above at start, else where they cross. */
-static double takeover(const context *c, const levels *lv, const span *t, const piece *q, double w, double start)
+/* Where q takes over from the piece of interval t (its line's slope in sl) in [w, start]: w when q is
+ * above there, start when q is not above at start, else where they cross. */
+static double takeover(const context *c, const slope_list *sl, const span *t, const piece *q, double w, double start)
 {
-    piece tq = piece_at(lv, t);
+    piece tq = piece_at(sl, t);
     if (gap(c, &tq, q, w) < 0.0) return w;
     if (gap(c, &tq, q, start) >= 0.0) return start;
     return crossing(c, &tq, q, w, start);
 }
 
 /* Pop the top interval of st; the slope of its line with it when that is the last slope and no
- * interval set aside in tail holds the same line. */
+ * interval set aside in tail holds the same line. No other interval of the stack holds it then: a
+ * line is split in two only by a piece inserted after it whose domain ends before its own (insert's
+ * tail); a later line would hold a later slope, and no later circle ends first (circle i ends at
+ * x_i + R, at or beyond the end x_j+1 - shift_j of tangent j < i, rounded the same way). */
 static void drop_top(stack *st, const stack *tail)
 {
     const span *t = &st->s[--st->n];
-    if (t->kind != LINE || t->arc != st->lv->n) return;
+    if (t->kind != LINE || t->arc != st->sl->n) return;
     for (size_t i = 0; i < tail->n; i++) /* bounded by the tail */
         if (tail->s[i].kind == LINE && tail->s[i].arc == t->arc) return;
-    st->lv->n--;
+    st->sl->n--;
 }
 
 /* Add piece q (place g in the order of the profile) on its domain [a, b) to the envelope of the
@@ -365,7 +368,7 @@ static int insert(const context *c, stack *st, stack *tail, const piece *q, size
         if ((size_t)t->g + 1 == g) /* neighbours: a tangent wins inside its domain */
             from = (g & 1u) ? w : start;
         else
-            from = takeover(c, st->lv, t, q, w, start);
+            from = takeover(c, st->sl, t, q, w, start);
         if (from > w) {
             t->x1 = from;
             start = from;
@@ -392,7 +395,7 @@ static int insert(const context *c, stack *st, stack *tail, const piece *q, size
 void vi_profile_free(vi_profile *p)
 {
     if (!p) return;
-    free(p->spans), free(p->lv.v), free(p->kinks), free(p->arc_list), free(p->bucket);
+    free(p->spans), free(p->sl.v), free(p->kinks), free(p->arc_list), free(p->bucket);
     free(p->own_x), free(p->own_h), free(p->own_k);
     free(p);
 }
@@ -426,7 +429,7 @@ static int build(const context *c, const double *x, const double *h, size_t n, i
 {
     double R = c->R, period = periodic ? hi - lo : 0.0;
     size_t n_vertices = periodic ? n - 1 : n, g = 0;
-    stack tail = {.lv = st->lv};
+    stack tail = {.sl = st->sl};
     int rc = 0;
     for (long k = kmin; k <= kmax && rc == 0; k++) { /* bounded: kmax - kmin + 1 copies of n rows */
         for (size_t j = 0; j < n_vertices && rc == 0; j++, g += 2) {
@@ -729,7 +732,7 @@ static int build_cubic(const context *c, const double *x, const double *h, shift
 {
     double R = c->R, period = periodic ? hi - lo : 0.0, before = INFINITY; /* before: where the last arc ends */
     size_t g = 0, n_arcs = first_arc(first, n - 1);
-    stack tail = {.lv = st->lv};
+    stack tail = {.sl = st->sl};
     int rc = 0;
     if (!periodic) {
         piece circle = {.px = x[0], .py = h[0], .kind = CIRCLE};
@@ -963,7 +966,7 @@ static int check_boundaries(vi_profile *p, const table *t, double tol, const cha
         int has_left = j > 0 || p->periodic, has_right = j < p->m || p->periodic;
         size_t jl = j > 0 ? j - 1 : p->m - 1, jr = j < p->m ? j : 0;
         double xl = j > 0 && j < p->m ? p->spans[j].x0 : p->hi, xr = j < p->m ? p->spans[j].x0 : p->lo;
-        piece pl = piece_at(&p->lv, &p->spans[jl]), pr = piece_at(&p->lv, &p->spans[jr]);
+        piece pl = piece_at(&p->sl, &p->spans[jl]), pr = piece_at(&p->sl, &p->spans[jr]);
         const piece *ql = &pl, *qr = &pr;
         if (has_left && has_right && joined(p, ql, qr)) continue; /* slopes: the arcs' */
         if (has_left) {
@@ -1020,7 +1023,7 @@ static vi_profile *create(const double *x, const double *h, size_t n, double R, 
     stack env = {0};
     p = calloc(1, sizeof *p);
     if (!p) FAIL("%s: out of memory", name);
-    env.lv = &p->lv;
+    env.sl = &p->sl;
     p->R = R, p->lo = x[0], p->hi = x[n - 1], p->periodic = periodic != 0;
     p->period = periodic ? p->hi - p->lo : 0.0;
     long kmin, kmax;
@@ -1409,7 +1412,7 @@ int vi_profile_eval(const vi_profile *p, double x, double y[4])
 {
     int outside;
     double r = reduce(p, x, &outside);
-    piece q = piece_at(&p->lv, &p->spans[interval(p, r)]);
+    piece q = piece_at(&p->sl, &p->spans[interval(p, r)]);
     y[0] = piece_eval(&q, &p->arcs, p->R, r, y + 1);
     return outside ? -1 : 0;
 }
