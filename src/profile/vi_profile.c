@@ -1299,6 +1299,22 @@ vi_profile *vi_profile_load(const char *path, double R, int periodic, char *msg,
     return vi_profile_load_as(path, R, periodic, VI_PROFILE_LINEAR, msg, msg_size);
 }
 
+/* The profile of the rows r read from path (at least two, checked as they were read: add_row), which
+ * it may take over (r's pointers then NULL). NULL on failure with the reason in msg. */
+static vi_profile *profile_of_rows(rows *r, const char *path, double R, int periodic, int interpolation, char *msg,
+                                   size_t msg_size)
+{
+    char name[VI_PROFILE_LINE_MAX + 32];
+    vi_snprintf(name, sizeof name, "profile_file '%s'", path);
+    if (check_interpolation(interpolation, name, msg, msg_size) < 0 ||
+        check_ends(r->h, r->n, R, periodic, name, msg, msg_size) < 0)
+        return NULL;
+    double *own[2] = {r->x, r->h};
+    vi_profile *p = create(r->x, r->h, r->n, R, periodic, interpolation, &r->hs, own, name, msg, msg_size);
+    r->x = own[0], r->h = own[1];
+    return p;
+}
+
 vi_profile *vi_profile_load_as(const char *path, double R, int periodic, int interpolation, char *msg, size_t msg_size)
 {
     FILE *f = vi_profile_fopen(path);
@@ -1350,15 +1366,7 @@ vi_profile *vi_profile_load_as(const char *path, double R, int periodic, int int
         too_few_rows(&r, path, line_no, msg, msg_size);
         goto fail;
     }
-    char name[VI_PROFILE_LINE_MAX + 32];
-    vi_snprintf(name, sizeof name, "profile_file '%s'", path);
-    /* the rows are checked as they are read (add_row) */
-    if (check_interpolation(interpolation, name, msg, msg_size) == 0 &&
-        check_ends(r.h, r.n, R, periodic, name, msg, msg_size) == 0) {
-        double *own[2] = {r.x, r.h}; /* the profile may take them over */
-        p = create(r.x, r.h, r.n, R, periodic, interpolation, &r.hs, own, name, msg, msg_size);
-        r.x = own[0], r.h = own[1];
-    }
+    p = profile_of_rows(&r, path, R, periodic, interpolation, msg, msg_size);
 fail:
     fclose(f);
     free(buf), free(r.x), free(r.h);
