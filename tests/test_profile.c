@@ -251,12 +251,15 @@ static void gentle_sinusoid(int rows, int periodic)
     free(x), free(h);
 }
 
+/* 20001 rows: more than 16,384 segments, all touched everywhere, whose arcs the profile does not
+ * store (their cubics computed from the rows and slopes when evaluated). */
 Test(profile, a_spline_through_a_gentle_sinusoid_gives_its_offset)
 {
     for (int periodic = 0; periodic <= 1; periodic++) {
         gentle_sinusoid(81, periodic);
         gentle_sinusoid(801, periodic);
         gentle_sinusoid(8001, periodic);
+        gentle_sinusoid(20001, periodic);
     }
 }
 
@@ -1270,7 +1273,8 @@ static void every_allocation_fails_cleanly(const double *x, const double *h, siz
  * periodic), a rough one whose scratch stack for the intervals beyond a piece's domain first takes a
  * whole interval (not a cut one), and one of 600 rough rows whose interval stack outgrows its first
  * capacity, also while intervals are put back (the spline's troughs sharper than the body: more arcs
- * than segments). */
+ * than segments); and a smooth spline long enough to keep its rows instead of its arcs, from arrays
+ * (copied). */
 Test(profile, every_allocation_of_create_is_checked)
 {
 #if !defined(__GLIBC__) || defined(VI_TEST_ASAN)
@@ -1287,6 +1291,12 @@ Test(profile, every_allocation_of_create_is_checked)
     srand(5);
     for (int i = 0; i < 600; i++) xl[i] = 0.05 * i, hl[i] = 0.02 * rand() / RAND_MAX;
     every_allocation_fails_cleanly(xl, hl, 600, R, 0);
+    enum { LONG = 16500 };
+    static double xs[LONG], hs[LONG];
+    for (int i = 0; i < LONG; i++) xs[i] = 1e-4 * i, hs[i] = 1e-5 * cos(2.0 * 3.14159265358979323846 * xs[i] / 0.05);
+    hs[LONG - 1] = hs[0];
+    every_allocation_fails_cleanly_as(xs, hs, LONG, R, 0, VI_PROFILE_CUBIC);
+    every_allocation_fails_cleanly_as(xs, hs, LONG, R, 1, VI_PROFILE_CUBIC);
 #endif
 }
 

@@ -1,9 +1,10 @@
 /* bench_profile - the cost of loading a rolling profile (vi_profile_load: reading the file and building
  * the rigid-constraint envelope), for tools/bench.py.
  *
- *   vi_bench_profile FILE R1 PERIODIC REPEATS
+ *   vi_bench_profile FILE R1 PERIODIC REPEATS [INTERPOLATION]
  *
- * Loads FILE REPEATS times with radius R1 [m] (PERIODIC 0 or 1) and prints
+ * Loads FILE REPEATS times with radius R1 [m] (PERIODIC 0 or 1), the rows joined as INTERPOLATION says
+ * (1 linear, the default; 2 the cubic spline: vi_profile.h), and prints
  *   cpu_s <min CPU seconds of one load> kinks <kinks of the rigid constraint>
  *   maxrss_kb <peak resident memory of this process [kB]: VmHWM of /proc/self/status, which starts
  *              afresh at exec (getrusage's maxrss where there is none; Linux carries that one over
@@ -27,17 +28,17 @@ static double cpu_now(void)
 
 int main(int argc, char **argv)
 {
-    if (argc != 5) {
-        fprintf(stderr, "usage: %s FILE R1 PERIODIC REPEATS\n", argv[0]);
+    if (argc != 5 && argc != 6) {
+        fprintf(stderr, "usage: %s FILE R1 PERIODIC REPEATS [INTERPOLATION]\n", argv[0]);
         return 2;
     }
     double R = atof(argv[2]), best = 1e300;
-    int periodic = atoi(argv[3]), repeats = atoi(argv[4]);
+    int periodic = atoi(argv[3]), repeats = atoi(argv[4]), interpolation = argc == 6 ? atoi(argv[5]) : VI_PROFILE_LINEAR;
     size_t kinks = 0;
     char msg[8192];
     for (int k = 0; k < repeats; k++) {
         double c0 = cpu_now();
-        vi_profile *p = vi_profile_load(argv[1], R, periodic, msg, sizeof msg);
+        vi_profile *p = vi_profile_load_as(argv[1], R, periodic, interpolation, msg, sizeof msg);
         double c1 = cpu_now();
         if (!p) {
             fprintf(stderr, "%s\n", msg);

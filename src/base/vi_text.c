@@ -199,7 +199,8 @@ static double round_u128(u128 q, int sticky, int e2)
     int drop = bits - MANT_BITS;
     uint64_t m = (uint64_t)(q >> drop);
     u128 rest = q & (((u128)1 << drop) - 1), half = (u128)1 << (drop - 1);
-    if (rest > half || (rest == half && (sticky || (m & 1u)))) m++;
+    m += (uint64_t)(rest > half) | ((uint64_t)(rest == half) & ((uint64_t)(sticky != 0) | (m & 1u))); /* no branch: the
+                                                                                  * bits that decide are random */
     return times_pow2((double)m, e2 + drop);
 }
 
@@ -231,7 +232,10 @@ static double scaled(uint64_t w, int e)
     u128 n = (u128)w << sh;
     uint64_t q = (uint64_t)(((u128)(uint64_t)(n >> (b - 1)) * RECIP[-e]) >> 64);
     u128 rem = n - (u128)q * d;
-    for (int i = 0; i < 2 && rem >= d; i++) rem -= d, q++; /* bounded: two passes */
+    for (int i = 0; i < 2; i++) { /* bounded: two passes, without a branch (whether rem >= d is random) */
+        uint64_t more = rem >= d;
+        rem -= (u128)(d & (0 - more)), q += more;
+    }
     return round_u128(q, rem != 0, -sh + e);
 }
 #endif

@@ -22,10 +22,16 @@
  * px, height py). Line: yb = py + s (x - px) (value py at the start px of its domain). Arc: the
  * offset of part arc of a spline segment whose first row lies at px (arc_eval). */
 enum { CIRCLE, LINE, ARC };
+/* The most arcs a profile may have: their index fits in piece's 30 bits. */
+#define ARCS_MAX (1u << 30)
 typedef struct {
-    int kind;
-    uint32_t arc; /* ARC: index into the profile's arcs */
     double px, py, s;
+    unsigned arc : 30; /* ARC: index into the profile's arcs; LINE: 1 + the index of its slope s in the
+                        * profile's slopes once an interval holds the piece (push), 0 before */
+    unsigned kind : 2;
+    uint32_t g; /* in an interval: its place in the order of the profile (insert): 2 i the circle of vertex i,
+                 * 2 i + 1 the tangent of segment i; below 2^32 (at most VI_PROFILE_ROWS_MAX rows and their
+                 * arcs on the copies in reach, periodic_copies) */
 } piece;
 
 /* The part of a spline segment the body may touch (1 - R curvature > 0 there): h = c0 + c1 u +
@@ -36,19 +42,38 @@ typedef struct {
     int starts, ends;
 } arc;
 
-/* An interval [x0, x1) of the envelope and its piece. */
+/* The arcs of a cubic profile: stored (list), or, when every segment of the spline is one whole arc
+ * (list NULL), none stored: arc i is then segment i whole, its cubic computed from the rows x, h and
+ * the spline's slopes k (arc_at) as make_arcs computes it, to the bit. */
+typedef struct {
+    const arc *list;
+    const double *x, *h, *k;
+} arc_set;
+
+/* The slopes s of the lines that carry intervals of the envelope. */
+typedef struct {
+    double *v;
+    size_t n, cap;
+} slope_list;
+
+/* An interval [x0, x1) of the envelope and its piece: px, py, arc (for a line the reference of its
+ * slope), kind and place g of the piece (piece_at gives the piece back). */
 typedef struct {
     double x0, x1; /* [x0, x1) */
-    piece q;
-    size_t g; /* place in the order of the profile: 2 i the circle of vertex i, 2 i + 1 the tangent of segment i */
+    double px, py;
+    unsigned arc : 30, kind : 2;
+    uint32_t g;
 } span;
 
 struct vi_profile {
     double R, lo, hi, period; /* period = hi - lo when periodic, else 0 */
     int periodic;
     span *spans;    /* m intervals, spans[0].x0 = lo, spans[m - 1].x1 = hi, each ending where the next starts */
-    arc *arcs;      /* the spline's parts (cubic interpolation), n_arcs of them, else NULL */
+    slope_list sl;  /* the slopes of their lines */
+    arc_set arcs;   /* the spline's parts (cubic interpolation), n_arcs of them */
     size_t n_arcs;
+    arc *arc_list;  /* the memory the profile owns behind arcs: the stored arcs, or the rows and slopes */
+    double *own_x, *own_h, *own_k;
     size_t m;       /* intervals */
     size_t *bucket; /* n_buckets + 1 entries, or NULL: where the search for x starts (index_intervals) */
     size_t n_buckets;
@@ -123,10 +148,33 @@ static double arc_eval(const arc *a, double R, double px, double x, double d[3])
     return c[0] + u * (c[1] + u * (c[2] + u * c[3])) - R * (h1 * h1 / (rw * (rw + 1.0)));
 }
 
-/* Value and derivatives of piece q at x (derivatives only when d is not NULL); arcs: the profile's. */
-static double piece_eval(const piece *q, const arc *arcs, double R, double x, double d[3])
+/* The Hermite cubic of segment j of the spline through rows x, h with slopes k: c[0..3] in u = s - x_j;
+ * the segment's length dx returned. */
+static double segment_cubic(const double *x, const double *h, const double *k, size_t j, double c[4])
 {
-    if (q->kind == ARC) return arc_eval(&arcs[q->arc], R, q->px, x, d);
+    double dx = x[j + 1] - x[j], d = (h[j + 1] - h[j]) / dx;
+    c[0] = h[j], c[1] = k[j], c[2] = (3.0 * d - 2.0 * k[j] - k[j + 1]) / dx;
+    c[3] = (k[j] + k[j + 1] - 2.0 * d) / (dx * dx);
+    return dx;
+}
+
+/* Arc i of set: the stored one, or segment i whole, written into tmp. */
+static const arc *arc_at(const arc_set *set, size_t i, arc *tmp)
+{
+    if (set->list) return &set->list[i];
+    double dx = segment_cubic(set->x, set->h, set->k, i, tmp->c);
+    tmp->u0 = 0.0, tmp->u1 = dx, tmp->starts = 1, tmp->ends = 1;
+    return tmp;
+}
+
+/* Value and derivatives of piece q at x (derivatives only when d is not NULL); arcs: the profile's. */
+static double piece_eval(const piece *q, const arc_set *arcs, double R, double x, double d[3])
+{
+    if (q->kind == ARC && arcs->list) return arc_eval(&arcs->list[q->arc], R, q->px, x, d);
+    if (q->kind == ARC) {
+        arc tmp;
+        return arc_eval(arc_at(arcs, q->arc, &tmp), R, q->px, x, d);
+    }
     if (q->kind == LINE) {
         if (d) d[0] = q->s, d[1] = 0.0, d[2] = 0.0;
         return q->py + q->s * (x - q->px);
@@ -160,14 +208,44 @@ static double piece_eval(const piece *q, const arc *arcs, double R, double x, do
 typedef struct {
     span *s;
     size_t n, cap;
+    slope_list *sl; /* the slopes of the lines its intervals carry (shared with the tail's) */
 } stack;
 
-/* Push [x0, x1) carried by q (joined to the top when that is the same piece and ends at x0). 0, or -1
+/* The piece of interval t, the slopes of whose lines are sl. */
+static piece piece_at(const slope_list *sl, const span *t)
+{
+    piece q = {.px = t->px, .py = t->py, .arc = t->arc, .kind = t->kind, .g = t->g};
+    if (t->kind == LINE) q.s = sl->v[t->arc - 1];
+    return q;
+}
+
+/* The interval t of piece q at place g (its bounds set by push). */
+static span piece_span(const piece *q, size_t g)
+{
+    return (span){0.0, 0.0, q->px, q->py, q->arc, q->kind, (uint32_t)g};
+}
+
+/* The slope of t's piece q, a line not yet held by an interval, into sl (t->arc refers to it). 0, or -1
  * when out of memory. */
-static int push(stack *st, double x0, double x1, const piece *q, size_t g)
+static int add_slope(slope_list *sl, span *t, const piece *q)
+{
+    if (sl->n == sl->cap) {
+        size_t cap = sl->cap ? 2 * sl->cap : 256;
+        double *v = cap < ARCS_MAX ? realloc(sl->v, cap * sizeof *v) : NULL;
+        if (!v) return -1;
+        sl->v = v, sl->cap = cap;
+    }
+    sl->v[sl->n++] = q->s;
+    t->arc = (unsigned)sl->n;
+    return 0;
+}
+
+/* Push [x0, x1) carried by t's piece (joined to the top when that is the same piece and ends at x0);
+ * q: that piece when it is new (piece_span), else NULL. 0, or -1 when out of memory. */
+static int push(stack *st, double x0, double x1, const span *t, const piece *q)
 {
     if (!(x1 > x0)) return 0;
-    if (st->n && st->s[st->n - 1].g == g && st->s[st->n - 1].x1 == x0) {
+    if (st->n && st->s[st->n - 1].g == t->g && st->s[st->n - 1].x1 == x0) {
         st->s[st->n - 1].x1 = x1;
         return 0;
     }
@@ -177,19 +255,21 @@ static int push(stack *st, double x0, double x1, const piece *q, size_t g)
         if (!s) return -1;
         st->s = s, st->cap = cap;
     }
-    st->s[st->n++] = (span){x0, x1, *q, g};
+    st->s[st->n] = *t, st->s[st->n].x0 = x0, st->s[st->n].x1 = x1;
+    if (q && q->kind == LINE && !q->arc && add_slope(st->sl, &st->s[st->n], q) < 0) return -1;
+    st->n++;
     return 0;
 }
 
 typedef struct {
     double R;
     double tol; /* values closer than this count as equal (the continuity check) */
-    const arc *arcs;
+    arc_set arcs;
 } context;
 
 static double gap(const context *c, const piece *a, const piece *b, double x)
 {
-    return piece_eval(a, c->arcs, c->R, x, NULL) - piece_eval(b, c->arcs, c->R, x, NULL);
+    return piece_eval(a, &c->arcs, c->R, x, NULL) - piece_eval(b, &c->arcs, c->R, x, NULL);
 }
 
 /* The root of gap(a, b) in (lo, hi), where it changes sign strictly (bisection to the last bit,
@@ -240,6 +320,30 @@ static double crossing(const context *c, const piece *p, const piece *q, double 
     return r == r ? r : bisect(c, p, q, w, v, gap(c, p, q, w));
 }
 
+/* Where q takes over from the piece of interval t (its line's slope in sl) in [w, start]: w when q is
+ * above there, start when q is not above at start, else where they cross. */
+static double takeover(const context *c, const slope_list *sl, const span *t, const piece *q, double w, double start)
+{
+    piece tq = piece_at(sl, t);
+    if (gap(c, &tq, q, w) < 0.0) return w;
+    if (gap(c, &tq, q, start) >= 0.0) return start;
+    return crossing(c, &tq, q, w, start);
+}
+
+/* Pop the top interval of st; the slope of its line with it when that is the last slope and no
+ * interval set aside in tail holds the same line. No other interval of the stack holds it then: a
+ * line is split in two only by a piece inserted after it whose domain ends before its own (insert's
+ * tail); a later line would hold a later slope, and no later circle ends first (circle i ends at
+ * x_i + R, at or beyond the end x_j+1 - shift_j of tangent j < i, rounded the same way). */
+static void drop_top(stack *st, const stack *tail)
+{
+    const span *t = &st->s[--st->n];
+    if (t->kind != LINE || t->arc != st->sl->n) return;
+    for (size_t i = 0; i < tail->n; i++) /* bounded by the tail */
+        if (tail->s[i].kind == LINE && tail->s[i].arc == t->arc) return;
+    st->sl->n--;
+}
+
 /* Add piece q (place g in the order of the profile) on its domain [a, b) to the envelope of the
  * pieces before it. tail: scratch for what lies beyond b. 0, or -1 when out of memory. */
 static int insert(const context *c, stack *st, stack *tail, const piece *q, size_t g, double a, double b)
@@ -248,11 +352,11 @@ static int insert(const context *c, stack *st, stack *tail, const piece *q, size
     tail->n = 0;
     while (st->n && st->s[st->n - 1].x0 >= b) { /* bounded by the stack */
         span *t = &st->s[--st->n];
-        if (push(tail, t->x0, t->x1, &t->q, t->g) < 0) return -1;
+        if (push(tail, t->x0, t->x1, t, NULL) < 0) return -1;
     }
     if (st->n && st->s[st->n - 1].x1 > b) {
         span *t = &st->s[st->n - 1];
-        if (push(tail, b, t->x1, &t->q, t->g) < 0) return -1;
+        if (push(tail, b, t->x1, t, NULL) < 0) return -1;
         t->x1 = b;
     }
     /* q holds [start, b); where nothing lies yet it wins */
@@ -261,14 +365,10 @@ static int insert(const context *c, stack *st, stack *tail, const piece *q, size
         span *t = &st->s[st->n - 1];
         if (t->x1 != start || !(start > a)) break;
         double w = larger(t->x0, a), from; /* q wins on [from, start) */
-        if (t->g + 1 == g) /* neighbours: a tangent wins inside its domain */
+        if ((size_t)t->g + 1 == g) /* neighbours: a tangent wins inside its domain */
             from = (g & 1u) ? w : start;
-        else if (gap(c, &t->q, q, w) < 0.0)
-            from = w;
-        else if (gap(c, &t->q, q, start) >= 0.0)
-            from = start;
         else
-            from = crossing(c, &t->q, q, w, start);
+            from = takeover(c, st->sl, t, q, w, start);
         if (from > w) {
             t->x1 = from;
             start = from;
@@ -279,12 +379,13 @@ static int insert(const context *c, stack *st, stack *tail, const piece *q, size
             t->x1 = a;
             break;
         }
-        st->n--;
+        drop_top(st, tail);
     }
-    if (push(st, start, b, q, g) < 0) return -1;
+    span sq = piece_span(q, g);
+    if (push(st, start, b, &sq, q) < 0) return -1;
     while (tail->n) { /* bounded by the tail */
         span *t = &tail->s[--tail->n];
-        if (push(st, t->x0, t->x1, &t->q, t->g) < 0) return -1;
+        if (push(st, t->x0, t->x1, t, NULL) < 0) return -1;
     }
     return 0;
 }
@@ -294,7 +395,8 @@ static int insert(const context *c, stack *st, stack *tail, const piece *q, size
 void vi_profile_free(vi_profile *p)
 {
     if (!p) return;
-    free(p->spans), free(p->kinks), free(p->arcs), free(p->bucket);
+    free(p->spans), free(p->sl.v), free(p->kinks), free(p->arc_list), free(p->bucket);
+    free(p->own_x), free(p->own_h), free(p->own_k);
     free(p);
 }
 
@@ -327,18 +429,19 @@ static int build(const context *c, const double *x, const double *h, size_t n, i
 {
     double R = c->R, period = periodic ? hi - lo : 0.0;
     size_t n_vertices = periodic ? n - 1 : n, g = 0;
-    stack tail = {0};
+    stack tail = {.sl = st->sl};
     int rc = 0;
     for (long k = kmin; k <= kmax && rc == 0; k++) { /* bounded: kmax - kmin + 1 copies of n rows */
         for (size_t j = 0; j < n_vertices && rc == 0; j++, g += 2) {
             double v = vertex_x(x, n, periodic, period, j, k);
-            piece circle = {CIRCLE, 0, v, h[j], 0.0};
+            piece circle = {.px = v, .py = h[j], .kind = CIRCLE};
             rc = insert(c, st, &tail, &circle, g, larger(v - R, lo), smaller(v + R, hi));
             if (rc < 0 || j + 1 >= n) break;
             double slope = (h[j + 1] - h[j]) / (x[j + 1] - x[j]), hyp = hypot(1.0, slope), shift = R * (slope / hyp);
             double next = vertex_x(x, n, periodic, period, j + 1, k);
             /* the tangent's height at its vertex: h_j + R (1/hyp - 1) */
-            piece tangent = {LINE, 0, v - shift, h[j] - R * (slope * slope / (hyp * (hyp + 1.0))), slope};
+            piece tangent = {.px = v - shift, .py = h[j] - R * (slope * slope / (hyp * (hyp + 1.0))), .s = slope,
+                             .kind = LINE};
             rc = insert(c, st, &tail, &tangent, g + 1, larger(tangent.px, lo), smaller(next - shift, hi));
         }
     }
@@ -461,23 +564,35 @@ typedef struct {
     double max_slope;
 } arcs;
 
+/* The largest |h'| of cubic c on [u0, u1]: at the ends or where h' is stationary. */
+static double arc_slope(const double c[4], double u0, double u1)
+{
+    double s0 = c[1] + u0 * (2.0 * c[2] + 3.0 * c[3] * u0), s1 = c[1] + u1 * (2.0 * c[2] + 3.0 * c[3] * u1);
+    double um = c[3] != 0.0 ? -c[2] / (3.0 * c[3]) : u0; /* where h' is stationary */
+    double sm = um > u0 && um < u1 ? c[1] + um * (2.0 * c[2] + 3.0 * c[3] * um) : s0;
+    return larger(fabs(sm), larger(fabs(s0), fabs(s1)));
+}
+
 /* Append the part [u0, u1] of segment cubic c on [0, dx] as an arc (its largest |h'| into max_slope).
- * 0, or -1 when out of memory or past UINT32_MAX arcs. */
+ * 0, or -1 when out of memory or past ARCS_MAX arcs. */
 static int add_arc(arcs *list, const double c[4], double dx, double u0, double u1)
 {
     if (!(u1 > u0)) return 0;
     if (list->n == list->cap) {
         size_t cap = list->cap ? 2 * list->cap : 256;
-        arc *a = cap <= UINT32_MAX ? realloc(list->a, cap * sizeof *a) : NULL;
+        arc *a = cap <= ARCS_MAX ? realloc(list->a, cap * sizeof *a) : NULL;
         if (!a) return -1;
         list->a = a, list->cap = cap;
     }
-    double s0 = c[1] + u0 * (2.0 * c[2] + 3.0 * c[3] * u0), s1 = c[1] + u1 * (2.0 * c[2] + 3.0 * c[3] * u1);
-    double um = c[3] != 0.0 ? -c[2] / (3.0 * c[3]) : u0; /* where h' is stationary */
-    double sm = um > u0 && um < u1 ? c[1] + um * (2.0 * c[2] + 3.0 * c[3] * um) : s0;
-    list->max_slope = larger(list->max_slope, larger(fabs(sm), larger(fabs(s0), fabs(s1))));
+    list->max_slope = larger(list->max_slope, arc_slope(c, u0, u1));
     list->a[list->n++] = (arc){{c[0], c[1], c[2], c[3]}, u0, u1, u0 == 0.0, u1 == dx};
     return 0;
+}
+
+/* The body touches segment cubic c on [0, dx] everywhere: R h'' < 1 at both ends (h'' is linear, w >= 1). */
+static int whole_arc(double R, const double c[4], double dx)
+{
+    return R * larger(2.0 * c[2], 2.0 * c[2] + 6.0 * c[3] * dx) < 1.0;
 }
 
 /* Where touch changes sign in (lo, hi), to the last bit (at most 2100 halvings): the end of the two
@@ -494,13 +609,13 @@ static double touch_root(const double c[4], double R, double lo, double hi)
     return tlo > 0.0 ? lo : hi;
 }
 
-/* The arcs of segment cubic c on [0, dx]: the whole segment when R h'' < 1 at both ends (h'' is
- * linear, w >= 1: the body touches it everywhere), else the parts where touch > 0, their ends located
- * between TOUCH_SAMPLES samples. 0, or -1 when out of memory. */
+/* The arcs of segment cubic c on [0, dx]: the whole segment when the body touches it everywhere
+ * (whole_arc), else the parts where touch > 0, their ends located between TOUCH_SAMPLES samples. 0, or
+ * -1 when out of memory. */
 #define TOUCH_SAMPLES 32
 static int segment_arcs(arcs *list, double R, const double c[4], double dx)
 {
-    if (R * larger(2.0 * c[2], 2.0 * c[2] + 6.0 * c[3] * dx) < 1.0) return add_arc(list, c, dx, 0.0, dx);
+    if (whole_arc(R, c, dx)) return add_arc(list, c, dx, 0.0, dx);
     double start = touch(c, R, 0.0) > 0.0 ? 0.0 : NAN, u_prev = 0.0; /* start: of the part being kept, NAN: none */
     for (int i = 1; i <= TOUCH_SAMPLES; i++) { /* bounded: TOUCH_SAMPLES samples */
         double u = i == TOUCH_SAMPLES ? dx : dx * i / TOUCH_SAMPLES;
@@ -516,23 +631,49 @@ static int segment_arcs(arcs *list, double R, const double c[4], double dx)
     return start == start ? add_arc(list, c, dx, start, dx) : 0;
 }
 
-/* The arcs of the spline through the table, segment by segment (first[j]: the first arc of segment j,
- * first[n - 1] = their number, written after the slopes are solved for), and the largest |h'| of any.
- * scratch: 3 n doubles, the slopes k in the first n, then the centre_shift of each row's slope in the
- * next n. 0, or -1. */
-static int make_arcs(const double *x, const double *h, size_t n, int periodic, double R, size_t *first, arcs *list,
-                     double *scratch)
+/* Whether a spline of n rows leaves its arcs unstored when its segments are all whole: one of more than
+ * STORED_ARCS_MAX segments, whose arcs would take more memory than a cache holds (reading and building
+ * it costs less without them); the arcs of a shorter one are stored, their cubics evaluated faster. */
+#define STORED_ARCS_MAX 16384
+
+/* Whether the body touches every segment of the spline through the rows (slopes k) everywhere
+ * (whole_arc) and the spline is long (STORED_ARCS_MAX): then each segment is one arc, none is stored
+ * (arc_set), and the largest |h'| of any is *max_slope, as add_arc takes it. */
+static int whole_segments(const double *x, const double *h, const double *k, size_t n, double R, double *max_slope)
 {
-    double *k = scratch;
-    list->a = n - 1 <= UINT32_MAX ? malloc((n - 1) * sizeof *list->a) : NULL; /* one a segment, as a rule */
+    double slope = 0.0, c[4];
+    if (n - 1 <= STORED_ARCS_MAX) return 0;
+    for (size_t j = 0; j + 1 < n; j++) { /* bounded by the rows */
+        double dx = segment_cubic(x, h, k, j, c);
+        if (!whole_arc(R, c, dx)) return 0;
+        slope = larger(slope, arc_slope(c, 0.0, dx));
+    }
+    *max_slope = slope;
+    return 1;
+}
+
+/* The arcs of the spline through the table with slopes k, segment by segment: none stored when every
+ * segment is whole (whole_segments: list->a NULL, list->n the segments, *scratch NULL), else in list->a,
+ * with *scratch (2 n doubles, the caller's to free) holding the centre_shift of the slope at each row,
+ * then where the arcs of each segment start (first[j]: the first arc of segment j, first[n - 1] = their
+ * number); and the largest |h'| of any arc. 0, or -1 when out of memory. */
+static int make_arcs(const double *x, const double *h, const double *k, size_t n, double R, arcs *list,
+                     double **scratch)
+{
+    _Static_assert(sizeof(size_t) <= sizeof(double) && _Alignof(double) % _Alignof(size_t) == 0, "first fits");
+    *scratch = NULL;
+    if (whole_segments(x, h, k, n, R, &list->max_slope)) {
+        list->n = n - 1;
+        return 0;
+    }
+    double *shift = *scratch = malloc(2 * n * sizeof *shift);
+    size_t *first = (size_t *)(shift + n);
+    list->a = shift && n - 1 <= ARCS_MAX ? malloc((n - 1) * sizeof *list->a) : NULL; /* one a segment, as a rule */
     if (!list->a) return -1;
     list->cap = n - 1;
-    spline_slopes(x, h, n, periodic, k, scratch + n);
-    double *shift = scratch + n;
     for (size_t j = 0; j + 1 < n; j++) { /* bounded by the rows */
         shift[j] = centre_shift(R, k[j]);
-        double dx = x[j + 1] - x[j], d = (h[j + 1] - h[j]) / dx;
-        double c[4] = {h[j], k[j], (3.0 * d - 2.0 * k[j] - k[j + 1]) / dx, (k[j] + k[j + 1] - 2.0 * d) / (dx * dx)};
+        double c[4], dx = segment_cubic(x, h, k, j, c);
         first[j] = list->n;
         if (segment_arcs(list, R, c, dx) < 0) return -1;
     }
@@ -555,11 +696,29 @@ static size_t first_in_reach(const double *x, size_t n, int periodic, double per
     return a;
 }
 
-/* The envelope on [lo, hi] of the arcs (c->arcs, first[j]: the first arc of segment j) and, for an open
+/* The centre_shift of the slopes at the rows: stored, or (stored NULL) computed from the slopes k, the
+ * last one kept for the next call (build_cubic asks for row j, then j + 1, then j + 1 again). */
+typedef struct {
+    const double *stored, *k;
+    double R, last;
+    size_t row; /* of last; SIZE_MAX: none */
+} shifts;
+
+static double shift_at(shifts *s, size_t j)
+{
+    if (s->stored) return s->stored[j];
+    if (j != s->row) s->row = j, s->last = centre_shift(s->R, s->k[j]);
+    return s->last;
+}
+
+/* The first arc of segment j: first[j], or j when every segment is one whole arc (first NULL). */
+static size_t first_arc(const size_t *first, size_t j) { return first ? first[j] : j; }
+
+/* The envelope on [lo, hi] of the arcs (c->arcs, first_arc: the first arc of segment j) and, for an open
  * table, the circles around its end rows, in the order of the profile (copies kmin .. kmax of a
  * periodic table, as build takes them; segments whose centres, within reach of them, miss [lo, hi]
  * are passed over). An arc that starts or ends at a row starts or ends at that row's x (vertex_x) plus
- * shift[row], the centre_shift of the slope there: the same number on both sides of the row. An
+ * shift_at(row), the centre_shift of the slope there: the same number on both sides of the row. An
  * arc after a dropped part starts no later than the one before it ends (the dropped part's centres
  * move backwards). An end circle and the arc that starts (ends) at its row meet tangentially where
  * the arc's domain starts (ends): they are numbered as insert's neighbours, the arcs odd as tangents
@@ -567,16 +726,16 @@ static size_t first_in_reach(const double *x, size_t n, int periodic, double per
  * not where rounding puts a numerical crossing (the spline between the row and the contact point
  * curves less than the body, so it stays below the body there); other pieces are numbered at least
  * two apart, never neighbours. 0, or -1 when out of memory. */
-static int build_cubic(const context *c, const double *x, const double *h, const double *shift, double reach,
+static int build_cubic(const context *c, const double *x, const double *h, shifts *shift, double reach,
                        const size_t *first, size_t n, int periodic, double lo, double hi, long kmin, long kmax,
                        stack *st)
 {
     double R = c->R, period = periodic ? hi - lo : 0.0, before = INFINITY; /* before: where the last arc ends */
-    size_t g = 0, n_arcs = first[n - 1];
-    stack tail = {0};
+    size_t g = 0, n_arcs = first_arc(first, n - 1);
+    stack tail = {.sl = st->sl};
     int rc = 0;
     if (!periodic) {
-        piece circle = {CIRCLE, 0, x[0], h[0], 0.0};
+        piece circle = {.px = x[0], .py = h[0], .kind = CIRCLE};
         rc = insert(c, st, &tail, &circle, g, lo, smaller(x[0] + R, hi));
     }
     for (long copy = kmin; copy <= kmax && rc == 0; copy++) { /* bounded: the copies of n rows */
@@ -593,28 +752,31 @@ static int build_cubic(const context *c, const double *x, const double *h, const
                 before = INFINITY;
                 break;
             }
-            for (size_t i = first[j]; i < first[j + 1] && rc == 0; i++) { /* bounded by the arcs */
-                const arc *a = &c->arcs[i];
-                double from = a->starts ? row + shift[j] : row + arc_centre(a, R, a->u0);
-                double to = a->ends ? next + shift[j + 1] : row + arc_centre(a, R, a->u1);
+            for (size_t i = first_arc(first, j); i < first_arc(first, j + 1) && rc == 0; i++) { /* bounded by the arcs */
+                const arc *a = c->arcs.list ? &c->arcs.list[i] : NULL; /* NULL: segment j whole */
+                int starts = !a || a->starts, ends = !a || a->ends;
+                double from = starts ? row + shift_at(shift, j) : row + arc_centre(a, R, a->u0);
+                double to = ends ? next + shift_at(shift, j + 1) : row + arc_centre(a, R, a->u1);
                 from = smaller(from, before);
                 before = to;
-                piece q = {ARC, (uint32_t)i, row, 0.0, 0.0};
+                piece q = {.px = row, .arc = (unsigned)i, .kind = ARC};
                 if (g == 0) /* the first arc: the first circle's neighbour when it starts at row 0 */
-                    g = periodic || i != 0 || !a->starts ? 3 : 1;
+                    g = periodic || i != 0 || !starts ? 3 : 1;
                 else g += 2;
                 from = larger(from, lo), to = smaller(to, hi);
                 const span *top = st->n ? &st->s[st->n - 1] : NULL;
+                span sq = piece_span(&q, g);
                 if (top && top->x1 <= from && to > from) /* after all the stack holds: insert would push it there */
-                    rc = push(st, larger(from, smaller(to, top->x1)), to, &q, g);
+                    rc = push(st, larger(from, smaller(to, top->x1)), to, &sq, &q);
                 else
                     rc = insert(c, st, &tail, &q, g, from, to);
             }
         }
     }
     if (!periodic && rc == 0) {
-        piece circle = {CIRCLE, 0, x[n - 1], h[n - 1], 0.0};
-        int tangent = n_arcs && c->arcs[n_arcs - 1].ends && first[n - 2] < n_arcs;
+        piece circle = {.px = x[n - 1], .py = h[n - 1], .kind = CIRCLE};
+        arc tmp;
+        int tangent = n_arcs && arc_at(&c->arcs, n_arcs - 1, &tmp)->ends && first_arc(first, n - 2) < n_arcs;
         rc = insert(c, st, &tail, &circle, g + (tangent ? 1 : 3), larger(x[n - 1] - R, lo), hi);
     }
     free(tail.s);
@@ -622,18 +784,30 @@ static int build_cubic(const context *c, const double *x, const double *h, const
 }
 
 /* The spline's arcs into p and c->arcs, and the envelope of the cubic profile on st (the centres lie
- * within R S/sqrt(1 + S^2) of the contact point, S the largest slope). 0, or -1 when out of memory. */
+ * within R S/sqrt(1 + S^2) of the contact point, S the largest slope). The slopes are solved for in
+ * the memory of the envelope's intervals (st reserved for one an arc, as a rule), which no interval
+ * holds yet. When no arc is stored (arc_set), the profile keeps the spline's slopes (p->own_k) and
+ * reads the rows x, h, which must outlive it (its caller sees p->own_k). 0, or -1 when out of memory. */
 static int cubic(vi_profile *p, context *c, const double *x, const double *h, size_t n, long kmin, long kmax, stack *st)
 {
-    _Static_assert(sizeof(size_t) <= sizeof(double) && _Alignof(double) % _Alignof(size_t) == 0, "first fits");
-    double *scratch = malloc(3 * n * sizeof *scratch);
-    size_t *first = (size_t *)(scratch + 2 * n); /* where the spline's slopes were solved for */
+    _Static_assert(sizeof(span) >= 2 * sizeof(double), "the solver's 2 n doubles fit in n intervals");
+    double *k = malloc(n * sizeof *k), *scratch = NULL;
     arcs list = {0};
-    int rc = scratch ? make_arcs(x, h, n, p->periodic, p->R, first, &list, scratch) : -1;
-    p->arcs = list.a, p->n_arcs = list.n, p->max_slope = list.max_slope;
-    c->arcs = list.a;
-    double *shift = scratch + n, reach = 1.000001 * fabs(centre_shift(p->R, list.max_slope));
-    if (rc == 0) rc = build_cubic(c, x, h, shift, reach, first, n, p->periodic, p->lo, p->hi, kmin, kmax, st);
+    st->cap = n, st->n = 0, st->s = malloc(n * sizeof *st->s);
+    int rc = k && st->s ? 0 : -1;
+    if (rc == 0) {
+        spline_slopes(x, h, n, p->periodic, k, (double *)(void *)st->s);
+        rc = make_arcs(x, h, k, n, p->R, &list, &scratch);
+    }
+    p->arc_list = list.a, p->n_arcs = list.n, p->max_slope = list.max_slope;
+    p->arcs = (arc_set){list.a, x, h, k};
+    if (list.a || rc < 0) free(k), k = NULL, p->arcs.k = NULL;
+    else p->own_k = k;
+    c->arcs = p->arcs;
+    double reach = 1.000001 * fabs(centre_shift(p->R, list.max_slope));
+    shifts shift = {scratch, k, p->R, 0.0, SIZE_MAX};
+    size_t *first = scratch ? (size_t *)(scratch + n) : NULL;
+    if (rc == 0) rc = build_cubic(c, x, h, &shift, reach, first, n, p->periodic, p->lo, p->hi, kmin, kmax, st);
     free(scratch);
     return rc;
 }
@@ -775,8 +949,10 @@ static int too_steep(const vi_profile *p, const table *t, const piece *q, int st
  * their slope (the spline is C2), no step or kink to look for. */
 static int joined(const vi_profile *p, const piece *a, const piece *b)
 {
-    if (a->kind != ARC || b->kind != ARC || !p->arcs[a->arc].ends || !p->arcs[b->arc].starts) return 0;
-    return b->arc == a->arc + 1 || (p->periodic && a->arc + 1 == p->n_arcs && b->arc == 0);
+    arc ta, tb;
+    if (a->kind != ARC || b->kind != ARC || !arc_at(&p->arcs, a->arc, &ta)->ends || !arc_at(&p->arcs, b->arc, &tb)->starts)
+        return 0;
+    return (size_t)b->arc == (size_t)a->arc + 1 || (p->periodic && (size_t)a->arc + 1 == p->n_arcs && b->arc == 0);
 }
 
 /* Continuity, slopes and kinks at the boundaries of the pieces (a periodic profile also at the seam):
@@ -790,15 +966,16 @@ static int check_boundaries(vi_profile *p, const table *t, double tol, const cha
         int has_left = j > 0 || p->periodic, has_right = j < p->m || p->periodic;
         size_t jl = j > 0 ? j - 1 : p->m - 1, jr = j < p->m ? j : 0;
         double xl = j > 0 && j < p->m ? p->spans[j].x0 : p->hi, xr = j < p->m ? p->spans[j].x0 : p->lo;
-        const piece *ql = &p->spans[jl].q, *qr = &p->spans[jr].q;
+        piece pl = piece_at(&p->sl, &p->spans[jl]), pr = piece_at(&p->sl, &p->spans[jr]);
+        const piece *ql = &pl, *qr = &pr;
         if (has_left && has_right && joined(p, ql, qr)) continue; /* slopes: the arcs' */
         if (has_left) {
-            yl = piece_eval(ql, p->arcs, R, xl, dl);
+            yl = piece_eval(ql, &p->arcs, R, xl, dl);
             if (!isfinite(yl) || !isfinite(dl[0])) return too_steep(p, t, ql, 0, xl, name, msg, msg_size);
             p->max_slope = larger(p->max_slope, fabs(dl[0]));
         }
         if (has_right) {
-            yr = piece_eval(qr, p->arcs, R, xr, dr);
+            yr = piece_eval(qr, &p->arcs, R, xr, dr);
             if (!isfinite(yr) || !isfinite(dr[0])) return too_steep(p, t, qr, 1, xr, name, msg, msg_size);
             p->max_slope = larger(p->max_slope, fabs(dr[0]));
         }
@@ -822,23 +999,41 @@ vi_profile *vi_profile_create(const double *x, const double *h, size_t n, double
     return vi_profile_create_as(x, h, n, R, periodic, VI_PROFILE_LINEAR, name, msg, msg_size);
 }
 
-/* The profile of n checked rows (check_rows) whose heights are hs, joined as interpolation says. */
+/* The rows x, h of a spline whose arcs are not stored (cubic: arc_set) into p: own[0] and own[1] (x and h
+ * themselves), taken over and set NULL, or when own is NULL a copy. 0, or -1 when out of memory. */
+static int keep_rows(vi_profile *p, const double *x, const double *h, size_t n, double **own)
+{
+    if (own) {
+        p->own_x = own[0], p->own_h = own[1], own[0] = own[1] = NULL;
+    } else {
+        p->own_x = malloc(n * sizeof *p->own_x), p->own_h = malloc(n * sizeof *p->own_h);
+        if (!p->own_x || !p->own_h) return -1;
+        memcpy(p->own_x, x, n * sizeof *x), memcpy(p->own_h, h, n * sizeof *h);
+    }
+    p->arcs.x = p->own_x, p->arcs.h = p->own_h;
+    return 0;
+}
+
+/* The profile of n checked rows (check_rows) whose heights are hs, joined as interpolation says. own:
+ * NULL, or the blocks of x and h, which the profile may take over (keep_rows). */
 static vi_profile *create(const double *x, const double *h, size_t n, double R, int periodic, int interpolation,
-                          const heights *hs, const char *name, char *msg, size_t msg_size)
+                          const heights *hs, double **own, const char *name, char *msg, size_t msg_size)
 {
     vi_profile *p = NULL;
     stack env = {0};
     p = calloc(1, sizeof *p);
     if (!p) FAIL("%s: out of memory", name);
+    env.sl = &p->sl;
     p->R = R, p->lo = x[0], p->hi = x[n - 1], p->periodic = periodic != 0;
     p->period = periodic ? p->hi - p->lo : 0.0;
     long kmin, kmax;
     if (periodic_copies(p, n, name, &kmin, &kmax, msg, msg_size) < 0) goto fail;
     p->h_span = hs->hi - hs->lo;
-    context c = {R, 64.0 * DBL_EPSILON * (R + hs->abs_max), NULL};
+    context c = {R, 64.0 * DBL_EPSILON * (R + hs->abs_max), {NULL, NULL, NULL, NULL}};
     if (interpolation == VI_PROFILE_CUBIC ? cubic(p, &c, x, h, n, kmin, kmax, &env) < 0
                                           : build(&c, x, h, n, p->periodic, p->lo, p->hi, kmin, kmax, &env) < 0)
         FAIL("%s: out of memory", name);
+    if (p->own_k && keep_rows(p, x, h, n, own) < 0) FAIL("%s: out of memory", name);
     if (take_envelope(p, &env, name, msg, msg_size) < 0) goto fail;
     if (index_intervals(p) < 0) FAIL("%s: out of memory", name);
     free(env.s);
@@ -869,7 +1064,7 @@ vi_profile *vi_profile_create_as(const double *x, const double *h, size_t n, dou
     if (check_rows(x, h, n, R, periodic, name, msg, msg_size) < 0) return NULL;
     heights hs;
     for (size_t i = 0; i < n; i++) heights_add(&hs, i, h[i]); /* bounded by the rows */
-    return create(x, h, n, R, periodic, interpolation, &hs, name, msg, msg_size);
+    return create(x, h, n, R, periodic, interpolation, &hs, NULL, name, msg, msg_size);
 }
 
 /* ---- reading a file -------------------------------------------------------------------------
@@ -1104,6 +1299,22 @@ vi_profile *vi_profile_load(const char *path, double R, int periodic, char *msg,
     return vi_profile_load_as(path, R, periodic, VI_PROFILE_LINEAR, msg, msg_size);
 }
 
+/* The profile of the rows r read from path (at least two, checked as they were read: add_row), which
+ * it may take over (r's pointers then NULL). NULL on failure with the reason in msg. */
+static vi_profile *profile_of_rows(rows *r, const char *path, double R, int periodic, int interpolation, char *msg,
+                                   size_t msg_size)
+{
+    char name[VI_PROFILE_LINE_MAX + 32];
+    vi_snprintf(name, sizeof name, "profile_file '%s'", path);
+    if (check_interpolation(interpolation, name, msg, msg_size) < 0 ||
+        check_ends(r->h, r->n, R, periodic, name, msg, msg_size) < 0)
+        return NULL;
+    double *own[2] = {r->x, r->h};
+    vi_profile *p = create(r->x, r->h, r->n, R, periodic, interpolation, &r->hs, own, name, msg, msg_size);
+    r->x = own[0], r->h = own[1];
+    return p;
+}
+
 vi_profile *vi_profile_load_as(const char *path, double R, int periodic, int interpolation, char *msg, size_t msg_size)
 {
     FILE *f = vi_profile_fopen(path);
@@ -1155,12 +1366,7 @@ vi_profile *vi_profile_load_as(const char *path, double R, int periodic, int int
         too_few_rows(&r, path, line_no, msg, msg_size);
         goto fail;
     }
-    char name[VI_PROFILE_LINE_MAX + 32];
-    vi_snprintf(name, sizeof name, "profile_file '%s'", path);
-    /* the rows are checked as they are read (add_row) */
-    if (check_interpolation(interpolation, name, msg, msg_size) == 0 &&
-        check_ends(r.h, r.n, R, periodic, name, msg, msg_size) == 0)
-        p = create(r.x, r.h, r.n, R, periodic, interpolation, &r.hs, name, msg, msg_size);
+    p = profile_of_rows(&r, path, R, periodic, interpolation, msg, msg_size);
 fail:
     fclose(f);
     free(buf), free(r.x), free(r.h);
@@ -1214,7 +1420,8 @@ int vi_profile_eval(const vi_profile *p, double x, double y[4])
 {
     int outside;
     double r = reduce(p, x, &outside);
-    y[0] = piece_eval(&p->spans[interval(p, r)].q, p->arcs, p->R, r, y + 1);
+    piece q = piece_at(&p->sl, &p->spans[interval(p, r)]);
+    y[0] = piece_eval(&q, &p->arcs, p->R, r, y + 1);
     return outside ? -1 : 0;
 }
 
