@@ -172,7 +172,8 @@ def test_a_timeout_is_its_own_verdict_counted_and_listed_apart(tmp_path, monkeyp
     runner.durations, runner.equivalent, runner.replay, runner.make_jobs = {"pytest:t": 1.0}, {}, False, "-j1"
     monkeypatch.setattr(mutate, "run", lambda *a, **k: (0, ""))  # the build of the mutant
     monkeypatch.setattr(mutate, "run_selected", lambda *a, **k: ("timeout", "pytest: past the limit of 63 s"))
-    verdict, _, why = runner.verdict(mutant, tmp_path, tmp_path / "src/x.c", ["pytest:t"])
+    runner.compilers = []
+    verdict, _, why = runner.verdict(mutant, tmp_path, tmp_path / "src/x.c", ["pytest:t"], "")
     assert verdict == "timeout" and "past the limit" in why  # before: "killed"
 
     base = dict(where="src/x.c:3:5", tests=1, seconds=1.0, sanitized=False, killed_by="", timed_out="")
@@ -185,6 +186,58 @@ def test_a_timeout_is_its_own_verdict_counted_and_listed_apart(tmp_path, monkeyp
     assert "1 of 2 non-equivalent mutants killed, 50.0 %" in text  # the timeouts are outside the score
     assert "timeout (a test ran past its time limit" in text and "slow" in text.split("timeout (")[1]
     assert [r["name"] for r in listed] == ["listed"]  # a listed equivalent that timed out is not shown equivalent
+
+
+# A source compiled by two targets (the second defines TWICE); the mutants change the store to unused.
+TCE_SOURCE = """int f(int x) {
+    int unused = x + 1;
+#ifdef TWICE
+    return 2 * unused;
+#endif
+    return x;
+}
+int g(int x) { return x + 3; }
+"""
+
+
+def test_a_mutant_compiled_to_the_original_assembly_in_every_target_is_identical(tmp_path):
+    """Trivial compiler equivalence beyond the build's objects: a mutant whose source a compiler of
+    TCE_COMPILERS turns into the original's assembly in every way the build compiles it is "identical" and
+    runs no test; one that differs in one target (a store dead only without TWICE) or anywhere (g's
+    constant) is not."""
+    import shutil
+    if not shutil.which("gcc"):
+        raise AssertionError("gcc is not installed (Debian: apt-get install gcc)")
+    mutate = load_mutate()
+    src = tmp_path / "src" / "fake.c"
+    src.parent.mkdir()
+    src.write_text(TCE_SOURCE)
+    (tmp_path / "build").mkdir()
+
+    def commands(defines):
+        entries = [dict(directory=str(tmp_path / "build"), file=str(src),
+                        command=f"/usr/bin/cc {d} -O3 -flto=auto -Wall -o CMakeFiles/t{k}.dir/fake.c.o -c {src}")
+                   for k, d in enumerate(defines)]
+        (tmp_path / "build" / "compile_commands.json").write_text(json.dumps(entries))
+
+    runner = object.__new__(mutate.Runner)
+    runner.compilers, runner.original_asm = [("gcc", "-O2")], {}
+    store = TCE_SOURCE.index("x + 1") + 2
+
+    def mutant(at, new):
+        m = type("M", (), dict(file="src/fake.c", start=at, end=at + 1, new=new))()
+        src.write_text(TCE_SOURCE[:at] + new + TCE_SOURCE[at + 1:])  # in place, as run_mutant writes it
+        return runner.same_assembly(m, tmp_path, src, TCE_SOURCE)
+
+    commands(["-DONE"])
+    assert mutate.compile_flags(tmp_path / "build", "src/fake.c") == [
+        (str(tmp_path / "build"), ["-DONE", "-Wall", str(src)])]  # no output, level or link-time flags
+    assert mutant(store, "-") == "gcc -O2"  # the store is dead: the same code
+    assert src.read_text() == TCE_SOURCE[:store] + "-" + TCE_SOURCE[store + 1:]  # the mutant left in place
+    assert mutant(TCE_SOURCE.index("x + 3") + 2, "-") == ""  # g returns another value
+    runner.original_asm = {}
+    commands(["-DONE", "-DTWICE"])
+    assert mutant(store, "-") == ""  # the store is read where TWICE is defined
 
 
 def test_a_test_stopped_at_its_own_time_limit_is_a_timeout(tmp_path):
@@ -244,7 +297,7 @@ def test_a_journal_keeps_each_result_and_gives_back_only_todays_revision(tmp_pat
     runner.printing = mutate.threading.Lock()
     runner.tests_of = lambda m: ["pytest:t"]
     seen = []
-    runner.verdict = lambda m, scratch, target, tests: (seen.append(target.read_text()), ("survived", "", ""))[1]
+    runner.verdict = lambda m, scratch, target, tests, original: (seen.append(target.read_text()), ("survived", "", ""))[1]
     result = runner.run_mutant(mutant)
     assert seen == ["int f(int a, int b) { return a - b; }\n"]  # the mutant was in place while it ran
     assert (tmp_path / "src/x.c").read_text() == source  # and is gone after

@@ -27,8 +27,11 @@ The score is
 killed / (killed + survived + uncovered);
 mutants listed in tools/mutants-equivalent.txt are left out (no test can tell them apart from the
 original; each entry gives the reason), and so are those the compiler turns into the same object
-code as the original ("identical": every object file built from the mutated source is byte for byte
-the original's, so no test can tell them apart; trivial compiler equivalence). --jobs J (default: the number of cores) runs J mutants at
+code as the original ("identical", trivial compiler equivalence: every object file built from the
+mutated source is byte for byte the original's, or the mutated source compiles to the original's
+assembly under one of the compilers and optimization levels of TCE_COMPILERS; a correct compiler gives
+two sources the same code only when they compute the same on every input without undefined
+behaviour, so no test can tell them apart and none is run). --jobs J (default: the number of cores) runs J mutants at
 once, each in its own scratch copy (build/mutate/scratch, scratch-1, ...).
 
 Which test executes which line comes from a coverage map, built once per revision of the
@@ -72,6 +75,7 @@ import pathlib
 import queue
 import random
 import re
+import shlex
 import shutil
 import signal
 import statistics
@@ -501,7 +505,7 @@ def revision_key():
 
 def configure_and_build(source, build, extra, label):
     if not (build / "CMakeCache.txt").exists():
-        rc, out = run(["cmake", "-S", str(source), "-B", str(build),
+        rc, out = run(["cmake", "-S", str(source), "-B", str(build), "-DCMAKE_EXPORT_COMPILE_COMMANDS=ON",
                        "-DVI_FUZZ=OFF", "-DVI_REQUIRE_TESTS=ON", f"-DPython3_EXECUTABLE={python_exe()}"] + extra,
                       ROOT, 900)
         if rc != 0:
@@ -787,6 +791,47 @@ def objects_of(build, rel):
     return sorted(p for p in build.glob("**/" + name) if "CMakeFiles" in p.parts and p.as_posix().endswith("/" + rel + ".o"))
 
 
+# Trivial compiler equivalence beyond the build's own objects: the source compiled to assembly by each of
+# these (those installed), with the build's other flags.
+TCE_COMPILERS = (("gcc", "-O1"), ("gcc", "-O2"), ("gcc", "-O3"), ("gcc", "-Os"), ("clang", "-O2"), ("clang", "-O3"))
+
+
+def compile_flags(build, rel):
+    """[(directory, flags)]: each distinct way the build compiles the source rel (compile_commands.json: one
+    per target, their definitions and include folders differ), the flags without the compiler, output,
+    optimization level and link-time optimization."""
+    commands = build / "compile_commands.json"
+    if not commands.exists():
+        run(["cmake", "-DCMAKE_EXPORT_COMPILE_COMMANDS=ON", str(build)], ROOT, 900)
+    ways = []
+    for e in json.loads(commands.read_text()) if commands.exists() else []:
+        if pathlib.Path(e["file"]).as_posix().endswith("/" + rel):
+            words, flags, skip = shlex.split(e["command"])[1:], [], False
+            for w in words:
+                if skip or w in ("-o", "-c"):
+                    skip = not skip
+                    continue
+                if not (w.startswith(("-O", "-flto")) or w == "-fno-fat-lto-objects" or w == e["file"]):
+                    flags.append(w)
+            if (e["directory"], flags + [e["file"]]) not in ways:
+                ways.append((e["directory"], flags + [e["file"]]))
+    return ways
+
+
+def assembly(compiler, opt, where):
+    """The assembly compiler gives the source at opt (where: compile_flags' answer), without the lines that
+    name the file or the compiler; None if it does not compile."""
+    directory, flags = where
+    try:  # the assembly alone: a warning (on stderr) quotes the code
+        r = subprocess.run([compiler, opt, "-S", "-o", "-", *flags], cwd=directory, capture_output=True, text=True,
+                           errors="replace", timeout=300)
+    except subprocess.TimeoutExpired:
+        return None
+    if r.returncode != 0:
+        return None
+    return "\n".join(ln for ln in r.stdout.splitlines() if not ln.lstrip().startswith((".file", ".ident")))
+
+
 def sync_scratch(scratch):
     """Make scratch a copy of the tracked files (copying only what differs)."""
     for f in tracked_files():
@@ -1004,6 +1049,8 @@ class Runner(Selection):
         # is equivalent: "identical")
         self.original_code = {scratch: {f: {p: p.read_bytes() for p in objects_of(scratch / "build", f)}
                                         for f in sources} for scratch in self.scratches}
+        self.compilers = [(c, o) for c, o in TCE_COMPILERS if shutil.which(c)]
+        self.original_asm = {}  # (scratch, source, compiler, level): the original's assembly
         self.t0 = time.monotonic()
         self.free = queue.Queue()
         for scratch in self.scratches:
@@ -1011,8 +1058,29 @@ class Runner(Selection):
         self.printing = threading.Lock()
         self.done = 0
 
-    def verdict(self, m, scratch, target, tests):
+    def same_assembly(self, m, scratch, target, original):
+        """The first compiler and level of TCE_COMPILERS under which the mutant (in place in scratch) compiles to
+        the original's assembly in every way the build compiles its source, as "gcc -O2"; "" if none does."""
+        ways = compile_flags(scratch / "build", m.file)
+        for compiler, opt in self.compilers if ways else []:
+            for k, where in enumerate(ways):
+                key = (scratch, m.file, compiler, opt, k)
+                if key not in self.original_asm:
+                    target.write_text(original)
+                    self.original_asm[key] = assembly(compiler, opt, where)
+                    target.write_text(original[:m.start] + m.new + original[m.end:])
+                mutated = assembly(compiler, opt, where)
+                if mutated is None or mutated != self.original_asm[key]:
+                    break
+            else:
+                return f"{compiler} {opt}"
+        return ""
+
+    def verdict(self, m, scratch, target, tests, original):
         """The mutant, in place in scratch, built and run: its verdict and how it was reached."""
+        same = self.same_assembly(m, scratch, target, original)
+        if same:
+            return "identical", f" (the same assembly with {same})", ""
         rc, _ = run(["cmake", "--build", "build", self.make_jobs], scratch, 900)
         before = self.original_code[scratch][m.file]
         how = why = ""
@@ -1043,18 +1111,19 @@ class Runner(Selection):
             target.write_text(original[:m.start] + m.new + original[m.end:])
             tests = self.tests_of(m)
             try:
-                verdict, how, why = self.verdict(m, scratch, target, tests)
+                verdict, how, why = self.verdict(m, scratch, target, tests, original)
             finally:
                 target.write_text(original)
                 os.utime(target, None)
             dt = time.monotonic() - t0
             result = dict(name=m.ident, where=m.where, verdict=verdict, tests=len(tests), seconds=dt,
                           sanitized=bool(how) and verdict in ("killed", "timeout"),
+                          identical_under=how.strip(" ()") if verdict == "identical" else "",
                           killed_by=why if verdict == "killed" else "", timed_out=why if verdict == "timeout" else "")
             with self.printing:
                 self.done += 1
                 print(f"[{self.done}/{self.n_mutants} {time.monotonic() - self.t0:6.0f} s] {verdict:10s} {len(tests):3d} "
-                      f"tests {dt:5.1f} s  {m.where}  {m.ident}{how if verdict in ('killed', 'timeout') else ''}",
+                      f"tests {dt:5.1f} s  {m.where}  {m.ident}{how if verdict in ('killed', 'timeout', 'identical') else ''}",
                       flush=True)
                 if self.journal:
                     with self.journal.open("a") as f:
@@ -1110,7 +1179,8 @@ def report(results, seed, n_mutants, equivalent, timing):
         print_names(f"\n{v}:", count[v], where)
     print_names("\ntimeout (a test ran past its time limit: neither killed nor survived; read why):", count["timeout"],
                 lambda r: where(r) + ("  [sanitized build]" if r["sanitized"] else "") + f"\n      {r['timed_out']}")
-    print_names("\nidentical object code (equivalent: the compiler made the same code of it):", count["identical"], where)
+    print_names("\nidentical object code (equivalent: the compiler made the same code of it):", count["identical"],
+                lambda r: where(r) + (f"  [{r['identical_under']}]" if r.get("identical_under") else ""))
     print_names(f"\nequivalent ({EQUIVALENT.relative_to(ROOT)}):", count["equivalent"],
                 lambda r: f"  {r['name']}  # {equivalent[r['name']]}")
     print_names("\nkilled in the sanitized build only:", [r for r in count["killed"] if r["sanitized"]], where)
