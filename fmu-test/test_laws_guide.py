@@ -119,11 +119,27 @@ def test_choosing_md_quotes_the_vehicle_track_rows(vt_rows):
 
 def test_choosing_md_quotes_the_vehicle_track_agreement(vt_rows):
     """doc/choosing.md's table of the vehicle-track Model Exchange master against its co-simulation has
-    the rerun's rows of hertz and johnson (laws_guide.vt_agreement)."""
+    the rerun's rows of hertz and johnson (laws_guide.vt_agreement) within 10 %: each number is the
+    largest difference of two integrations near their tolerance, which moves with the step sequence of
+    the master's SciPy integrator (hertz's 8.7e-05 and 7.5e-05 were 8.9e-05 and 7.7e-05 with another
+    SciPy and NumPy build)."""
     rows, _ = vt_rows
-    rerun = {line for line in G.agreement_markdown(list(rows.values())).splitlines()[2:]}
-    page = set((ROOT / "doc" / "choosing.md").read_text().splitlines())
-    assert len(rerun) == 2 and rerun <= page, rerun
+
+    def table(text):
+        out = {}
+        for line in text.splitlines():
+            cells = [c.strip() for c in line.strip().strip("|").split("|")]
+            if len(cells) == 1 + len(G.AGREEMENT_STEPS) and cells[0] in rows:
+                try:
+                    out[cells[0]] = [float(c) for c in cells[1:]]
+                except ValueError:
+                    continue
+        return out
+    rerun = table(G.agreement_markdown(list(rows.values())))
+    page = table((ROOT / "doc" / "choosing.md").read_text().split("**The Model Exchange master and the co-simulation agree**")[1])
+    assert set(rerun) == {"hertz", "johnson"} and set(rerun) <= set(page), (rerun, page)
+    for variant, numbers in rerun.items():
+        assert np.allclose(page[variant], numbers, rtol=0.1, atol=0.0), (variant, page[variant], numbers)
 
 
 @pytest.fixture(scope="module")
