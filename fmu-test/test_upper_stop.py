@@ -482,3 +482,19 @@ def test_fmi3_returns_early_at_each_contacts_mode_change(event_mode):
     assert lower > 0 and upper > 0, (lower, upper)
     assert len(times) == len(switches) == 2 * (lower + upper), (times, switches, lower, upper)
     assert times == switches
+
+
+def test_fmu_events_keeps_the_mode_changes_of_the_contact_asked_for():
+    """compare.fmu_events reads one contact's mode changes: the lower one's by default (the lines that name
+    contact=lower, and a one-sided run's, which name none), the upper one's when asked; a mode number of
+    one contact never enters the other's list."""
+    from vibroimpact.compare import fmu_events
+    log = [(0, "logEvents", "event t=0 kind=start mode=0 delta=0 v=2 contact=lower"),
+           (0, "logEvents", "event t=0.25 kind=guard guard=2 mode=0->1 delta=0 v=2 contact=upper"),
+           (0, "logEvents", "event t=0.5 kind=guard guard=3 mode=1->0 delta=1e-06 v=-2 contact=upper"),
+           (0, "logEvents", "event t=0.75 kind=guard guard=0 mode=0->1 delta=0 v=-2 contact=lower"),
+           (0, "logEvents", "event t=1 kind=guard guard=1 mode=1->1 delta=0 v=-2 contact=lower")]
+    assert fmu_events(log) == [(0.75, 0, 1)]  # before: the upper contact's two changes too
+    assert fmu_events(log, "upper") == [(0.25, 0, 1), (0.5, 1, 0)]
+    one_sided = [(0, "logEvents", "event t=0.75 kind=guard guard=0 mode=0->1 delta=0 v=-2")]
+    assert fmu_events(one_sided) == [(0.75, 0, 1)] and fmu_events(one_sided, "upper") == []

@@ -34,15 +34,18 @@ def read_events(name):
         return [(float(r["time"]), int(r["mode_before"]), int(r["mode_after"])) for r in csv.DictReader(f)]
 
 
-def fmu_events(messages):
-    """(t, before, after) of every mode change at a state event the FMU logged, from the event log's
-    lines "event t=<t> kind=guard guard=<g> mode=<a>-><b> ..." (doc/using.md, "The event log");
-    events that keep the mode are skipped."""
+def fmu_events(messages, contact="lower"):
+    """(t, before, after) of every mode change of one contact at a state event the FMU logged, from the
+    event log's lines "event t=<t> kind=guard guard=<g> mode=<a>-><b> ..." (doc/using.md, "The event
+    log"); events that keep the mode are skipped. contact: "lower" (the platform's, the only one
+    without the upper stop, whose lines name none) or "upper" (the lines ending in contact=upper)."""
     out = []
     for _, category, text in messages:
         if category != "logEvents" or not text.startswith("event "):
             continue
         fields = dict(word.split("=", 1) for word in text.split()[1:])
+        if fields.get("contact", "lower") != contact:
+            continue
         if fields["kind"] == "guard":
             before, after = (int(x) for x in fields["mode"].split("->"))
             if before != after:
