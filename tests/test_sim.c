@@ -1186,3 +1186,20 @@ Test(sim, solver_warnings_are_relayed_once_a_kind_and_counted_exactly)
               "%d: %s", n_logged, logged[7]);
     test_run_free(&s);
 }
+
+/* A number in a warning may start with a sign or a point before its digit ("+2", "-3", ".5"): the
+ * warnings that differ from the first only there are of its kind, counted, not relayed. */
+Test(sim, solver_warnings_numbers_may_start_with_a_sign_or_a_point)
+{
+    test_run s;
+    n_logged = 0, log_category = VI_LOG_WARNING;
+    test_run_init(&s, capture, NULL);
+    cr_assert(vi_sim_initialize(&s.s) == 0 && n_logged == 0, "%s", s.r.msg);
+    const char *texts[] = {"step at t = 1 s", "step at t = +2 s", "step at t = -3 s", "step at t = .5 s"};
+    for (int i = 0; i < 4; i++) vi_sim_solver_log(&s.s, VI_LOG_WARNING, "%s", texts[i]);
+    cr_assert(n_logged == 1, "%d relayed, the last: %s", n_logged, logged[n_logged - 1]);
+    vi_sim_report_warnings(&s.s);
+    cr_assert(n_logged == 2 && strcmp(logged[1], "3 more solver warnings like \"step at t = 1 s\" by t = 0 s (counted, not "
+                                                 "relayed)") == 0, "%d: %s", n_logged, logged[n_logged - 1]);
+    test_run_free(&s);
+}
