@@ -1187,6 +1187,24 @@ Test(sim, solver_warnings_are_relayed_once_a_kind_and_counted_exactly)
     test_run_free(&s);
 }
 
+/* With every kind remembered, a warning of another kind alone is still reported, counted among the others. */
+Test(sim, solver_warnings_of_other_kinds_alone_are_reported)
+{
+    test_run s;
+    n_logged = 0, log_category = VI_LOG_WARNING;
+    test_run_init(&s, capture, NULL);
+    cr_assert(vi_sim_initialize(&s.s) == 0 && n_logged == 0, "%s", s.r.msg);
+    for (int i = 0; i < VI_RELAY_KINDS; i++) vi_sim_solver_log(&s.s, VI_LOG_WARNING, "kind %c", 'A' + i);
+    vi_sim_report_warnings(&s.s);
+    cr_assert(n_logged == VI_RELAY_KINDS, "%d: %s", n_logged, logged[n_logged - 1]);
+    vi_sim_solver_log(&s.s, VI_LOG_WARNING, "%s", "another kind");
+    vi_sim_report_warnings(&s.s);
+    cr_assert(n_logged == VI_RELAY_KINDS + 1 &&
+              strcmp(logged[VI_RELAY_KINDS], "1 more solver warnings of other kinds by t = 0 s (counted, not relayed)") == 0,
+              "%d: %s", n_logged, logged[n_logged - 1]);
+    test_run_free(&s);
+}
+
 /* A number in a warning may start with a sign or a point before its digit ("+2", "-3", ".5"): the
  * warnings that differ from the first only there are of its kind, counted, not relayed. */
 Test(sim, solver_warnings_numbers_may_start_with_a_sign_or_a_point)
