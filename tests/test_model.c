@@ -2494,3 +2494,28 @@ Test(model_check, the_upper_contact_not_in_use_is_blank)
     bad = ok, bad.contact[VI_UPPER].upper = 0;
     refused_with(&bad, x0, 1, "the contacts' sides (lower 0, upper 0) are not lower and upper");
 }
+
+/* A contact not in use (the upper one without the upper stop, or an index outside the model's contacts) has
+ * no stiffness rate, slopes or memory rates, whatever its slot holds: here a copy of the loaded lower
+ * contact. */
+Test(model, a_contact_not_in_use_gives_zeros_whatever_its_slot_holds)
+{
+    vi_model M = setup(VI_ContactModel_hertz, 0, VI_Unloading_paper, 40000.0, 9.81, 1e-4);
+    double x[2];
+    vi_model_initial_state(&M, VI_Init_static, 0.0, 0.0, x);
+    cr_assert(M.ncontacts == 1 && M.contact[VI_LOWER].mode == VI_Mode_elastic);
+    double per_rate = 1.0, k = 1.0, c = 1.0;
+    cr_assert(vi_model_stiffness_rate(&M, VI_LOWER, 0.0, x, &per_rate) != 0.0); /* Hertz: F'' != 0 at delta > 0 */
+    M.contact[VI_UPPER] = M.contact[VI_LOWER];
+    int unused[] = {VI_UPPER, -1, VI_NCONTACTS};
+    for (int j = 0; j < 3; j++) {
+        per_rate = k = c = 1.0;
+        cr_assert(vi_model_stiffness_rate(&M, unused[j], 0.0, x, &per_rate) == 0.0 && per_rate == 0.0, "i = %d", unused[j]);
+        vi_model_contact_slopes(&M, unused[j], 0.0, x, &k, &c);
+        cr_assert(k == 0.0 && c == 0.0, "i = %d: k = %g, c = %g", unused[j], k, c);
+        vi_memory_rates r = {1.0, 1.0, 1.0, 1.0, 1.0};
+        vi_model_memory_rates(&M, unused[j], x, &r);
+        cr_assert(r.delta_c == 0.0 && r.delta_f == 0.0 && r.delta_p == 0.0 && r.Rbar == 0.0 && r.W_plastic == 0.0,
+                  "i = %d", unused[j]);
+    }
+}
