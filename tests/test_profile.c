@@ -1731,3 +1731,41 @@ Test(profile, a_steep_wall_at_the_seam_that_doubles_resolve_is_rolled_over)
               vi_profile_max_slope(p), s);
     vi_profile_free(p);
 }
+
+/* A spline long enough that its arcs are not stored (more segments than STORED_ARCS_MAX, each touched
+ * whole by the body): its largest slope is still the curve's, 2 pi A / lambda for a sinusoid of amplitude A
+ * and wavelength lambda sampled 500 times a wavelength (the spline's slopes within 1e-6 of it). */
+Test(profile, a_long_spline_of_whole_segments_keeps_its_largest_slope)
+{
+    enum { LONG = 16500 };
+    static double xs[LONG], hs[LONG];
+    const double A = 1e-5, lambda = 0.05, pi = 3.14159265358979323846, s = 2.0 * pi * A / lambda;
+    for (int i = 0; i < LONG; i++) xs[i] = 1e-4 * i, hs[i] = A * cos(2.0 * pi * xs[i] / lambda);
+    vi_profile *p = make_cubic(xs, hs, LONG, R, 0);
+    cr_assert(fabs(vi_profile_max_slope(p) - s) <= 1e-6 * s, "max slope %.17g, the sinusoid's %.17g",
+              vi_profile_max_slope(p), s);
+    vi_profile_free(p);
+}
+
+/* A periodic table of three rows (two unknown slopes, solved in closed form) is C2 at both of its rows:
+ * yb'' changes smoothly as the contact point passes each row (samples 1e-5 m apart on the centre's
+ * path differ by at most 1e-4, where yb''' allows 2e-6), uneven rows so that no symmetry hides a
+ * wrong slope. */
+Test(profile, a_periodic_spline_of_three_rows_is_c2_at_both)
+{
+    double x[3] = {0.0, 0.07, 0.2}, h[3] = {1e-4, -5e-5, 1e-4};
+    vi_profile *p = make_cubic(x, h, 3, R, 1);
+    double knots[2] = {0.0, 0.07};
+    for (int j = 0; j < 2; j++) {
+        double prev[4], y[4], worst = 0.0;
+        cr_assert(vi_profile_eval(p, knots[j] - 0.01, prev) == 0);
+        for (int i = 1; i <= 2000; i++) {
+            cr_assert(vi_profile_eval(p, knots[j] - 0.01 + 1e-5 * i, y) == 0);
+            worst = fmax(worst, fabs(y[2] - prev[2]));
+            memcpy(prev, y, sizeof y);
+        }
+        cr_assert(worst <= 1e-4, "row %d: yb'' jumps by %g", j, worst);
+    }
+    cr_assert_eq(vi_profile_kinks(p), 0);
+    vi_profile_free(p);
+}
