@@ -1692,6 +1692,10 @@ Test(profile, a_wall_steeper_than_doubles_resolve_is_refused_naming_its_rows)
     double xm[] = {16.0, 16.000048687368214, 32.942102687368212};
     refused(xm, h, 3, r, 1, "bad: rows 1 and 2 (x = 16 and 16.000048687368214 m) make a slope of -24131, too steep for "
                             "R1 = 1.21723e-06 m near x = 16 m");
+    /* an open table whose wall rises into its second row: the segment into that vertex, rows 1 and 2 */
+    double xo[] = {16.478735101136888, 16.478783788505101, 33.0}, ho[] = {2.1854535280021321, 3.3603288399901734, 3.3603288399901734};
+    refused(xo, ho, 3, r, 0, "bad: rows 1 and 2 (x = 16.478735101136888 and 16.478783788505101 m) make a slope of 24131, "
+                             "too steep for R1 = 1.21723e-06 m near x = 16.4788 m");
     /* 8 times the radius: 8e-15 m, above the spacing and the rounding of x, and it is rolled over */
     vi_profile *p = make(x, h, 3, 8.0 * r, 1);
     cr_assert(fabs(vi_profile_max_slope(p) - s) <= 1e-6 * s, "max slope %.17g, the wall's %.17g", vi_profile_max_slope(p), s);
