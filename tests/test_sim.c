@@ -1187,13 +1187,19 @@ Test(sim, solver_warnings_are_relayed_once_a_kind_and_counted_exactly)
     test_run_free(&s);
 }
 
+/* A run initialized with its warnings captured (nothing logged yet): the relay's tests below. */
+static void relay_run(test_run *s)
+{
+    n_logged = 0, log_category = VI_LOG_WARNING;
+    test_run_init(s, capture, NULL);
+    cr_assert(vi_sim_initialize(&s->s) == 0 && n_logged == 0, "%s", s->r.msg);
+}
+
 /* With every kind remembered, a warning of another kind alone is still reported, counted among the others. */
 Test(sim, solver_warnings_of_other_kinds_alone_are_reported)
 {
     test_run s;
-    n_logged = 0, log_category = VI_LOG_WARNING;
-    test_run_init(&s, capture, NULL);
-    cr_assert(vi_sim_initialize(&s.s) == 0 && n_logged == 0, "%s", s.r.msg);
+    relay_run(&s);
     for (int i = 0; i < VI_RELAY_KINDS; i++) vi_sim_solver_log(&s.s, VI_LOG_WARNING, "kind %c", 'A' + i);
     vi_sim_report_warnings(&s.s);
     cr_assert(n_logged == VI_RELAY_KINDS, "%d: %s", n_logged, logged[n_logged - 1]);
@@ -1210,9 +1216,7 @@ Test(sim, solver_warnings_of_other_kinds_alone_are_reported)
 Test(sim, solver_warnings_numbers_may_start_with_a_sign_or_a_point)
 {
     test_run s;
-    n_logged = 0, log_category = VI_LOG_WARNING;
-    test_run_init(&s, capture, NULL);
-    cr_assert(vi_sim_initialize(&s.s) == 0 && n_logged == 0, "%s", s.r.msg);
+    relay_run(&s);
     const char *texts[] = {"step at t = 1 s", "step at t = +2 s", "step at t = -3 s", "step at t = .5 s"};
     for (int i = 0; i < 4; i++) vi_sim_solver_log(&s.s, VI_LOG_WARNING, "%s", texts[i]);
     cr_assert(n_logged == 1, "%d relayed, the last: %s", n_logged, logged[n_logged - 1]);
