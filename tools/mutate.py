@@ -1050,7 +1050,7 @@ class Runner(Selection):
         self.original_code = {scratch: {f: {p: p.read_bytes() for p in objects_of(scratch / "build", f)}
                                         for f in sources} for scratch in self.scratches}
         self.compilers = [(c, o) for c, o in TCE_COMPILERS if shutil.which(c)]
-        self.original_asm = {}  # (scratch, source, compiler, level): the original's assembly
+        self.original_asm = {}  # (scratch, source, compiler, level, way): the original's assembly
         self.t0 = time.monotonic()
         self.free = queue.Queue()
         for scratch in self.scratches:
